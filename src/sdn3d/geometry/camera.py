@@ -1,0 +1,145 @@
+"""Pinhole camera in the KITTI convention (x right, y down, z forward, metres).
+
+Pixel convention: pixel ``(row i, column j)`` has its centre at ``(u, v) = (j, i)``;
+the image spans ``[-0.5, W - 0.5] x [-0.5, H - 0.5]``. Virtual KITTI's
+``cx = 620.5`` for ``W = 1242`` is exactly the image centre under this convention.
+Intrinsics keep ``fx``, ``fy``, ``cx``, ``cy`` separately because resizing to a
+working size (624x192 from 1242x375) is anisotropic.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import torch
+from kornia.geometry.camera import project_points as _kornia_project
+from kornia.geometry.camera import unproject_points as _kornia_unproject
+from torch import Tensor
+
+__all__ = [
+    "Intrinsics",
+    "VKITTI_INTRINSICS",
+    "project_points",
+    "unproject_pixels",
+    "intrinsics_matrix",
+]
+
+
+@dataclass(frozen=True)
+class Intrinsics:
+    """Pinhole intrinsics of one image size.
+
+    Args:
+        fx, fy: focal lengths in pixels.
+        cx, cy: principal point in pixels (pixel-centre convention, see module doc).
+        width, height: image size in pixels.
+    """
+
+    fx: float
+    fy: float
+    cx: float
+    cy: float
+    width: int
+    height: int
+
+    def __post_init__(self) -> None:
+        for name in ("fx", "fy", "cx", "cy"):
+            value = float(getattr(self, name))
+            if not torch.isfinite(torch.tensor(value)):
+                raise ValueError(f"Intrinsics.{name} must be finite, got {value}")
+        if self.fx <= 0 or self.fy <= 0:
+            raise ValueError(f"Intrinsics focal lengths must be positive, got fx={self.fx}, fy={self.fy}")
+        if int(self.width) <= 0 or int(self.height) <= 0:
+            raise ValueError(f"Intrinsics image size must be positive, got {self.width}x{self.height}")
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """``(height, width)``, the order tensors use."""
+        return (int(self.height), int(self.width))
+
+    def matrix(self, dtype: torch.dtype = torch.float32, device: torch.device | str | None = None) -> Tensor:
+        """The ``(3, 3)`` calibration matrix K."""
+        return torch.tensor(
+            [[self.fx, 0.0, self.cx], [0.0, self.fy, self.cy], [0.0, 0.0, 1.0]], dtype=dtype, device=device
+        )
+
+    def resized(self, width: int, height: int) -> Intrinsics:
+        """Intrinsics of the same camera after resizing the image to ``width x height``.
+
+        Scale factors may differ per axis. With pixel centres at integer coordinates,
+        ``u' + 0.5 = (u + 0.5) * sx``, hence ``cx' = (cx + 0.5) * sx - 0.5``.
+        """
+        sx = width / self.width
+        sy = height / self.height
+        return Intrinsics(
+            fx=self.fx * sx,
+            fy=self.fy * sy,
+            cx=(self.cx + 0.5) * sx - 0.5,
+            cy=(self.cy + 0.5) * sy - 0.5,
+            width=int(width),
+            height=int(height),
+        )
+
+    def cropped(self, left: float, top: float, width: int, height: int) -> Intrinsics:
+        """Intrinsics of the crop whose top-left pixel centre is at ``(left, top)``."""
+        return Intrinsics(self.fx, self.fy, self.cx - left, self.cy - top, int(width), int(height))
+
+    def to_dict(self) -> dict[str, float | int]:
+        return {
+            "fx": self.fx,
+            "fy": self.fy,
+            "cx": self.cx,
+            "cy": self.cy,
+            "width": self.width,
+            "height": self.height,
+        }
+
+
+#: Virtual KITTI 1.3.1 (and 2) camera at its native 1242x375 resolution.
+VKITTI_INTRINSICS = Intrinsics(fx=725.0, fy=725.0, cx=620.5, cy=187.0, width=1242, height=375)
+
+
+def intrinsics_matrix(fx: Tensor, fy: Tensor, cx: Tensor, cy: Tensor) -> Tensor:
+    """Batched calibration matrices from ``(B,)`` tensors; returns ``(B, 3, 3)``."""
+    zeros = torch.zeros_like(fx)
+    ones = torch.ones_like(fx)
+    rows = [
+        torch.stack([fx, zeros, cx], -1),
+        torch.stack([zeros, fy, cy], -1),
+        torch.stack([zeros, zeros, ones], -1),
+    ]
+    return torch.stack(rows, -2)
+
+
+def project_points(points: Tensor, K: Tensor) -> Tensor:
+    """Project camera-frame points to pixels.
+
+    Args:
+        points: ``(..., 3)`` camera-frame points, ``z > 0`` in front of the camera.
+        K: ``(3, 3)`` or ``(..., 3, 3)`` broadcastable calibration matrices.
+
+    Returns:
+        ``(..., 2)`` pixel coordinates ``(u, v)``.
+    """
+    if K.dim() == 2:
+        K = K.expand(*points.shape[:-1], 3, 3)
+    else:
+        K = K.expand(*points.shape[:-1], 3, 3)
+    return _kornia_project(points, K)
+
+
+def unproject_pixels(uv: Tensor, depth: Tensor, K: Tensor) -> Tensor:
+    """Inverse of :func:`project_points` for a given camera-frame depth ``z``.
+
+    Args:
+        uv: ``(..., 2)`` pixel coordinates.
+        depth: ``(..., 1)`` or ``(...)`` camera-frame z.
+        K: ``(3, 3)`` or broadcastable ``(..., 3, 3)``.
+
+    Returns:
+        ``(..., 3)`` camera-frame points.
+    """
+    if depth.dim() == uv.dim() - 1:
+        depth = depth.unsqueeze(-1)
+    K = K.expand(*uv.shape[:-1], 3, 3)
+    return _kornia_unproject(uv, depth, K)

@@ -1,0 +1,73 @@
+"""Atomic output writing: every file sdn3d writes goes to a temporary file in the
+target directory first and is renamed into place, so a crash or a bad input never
+leaves a half-written output or replaces a good one with a broken one."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["atomic_write", "write_bytes_atomic", "write_text_atomic", "write_json_atomic", "write_png_atomic"]
+
+
+def atomic_write(path: str | os.PathLike, writer: Callable[[io.BufferedWriter], None]) -> Path:
+    """Call ``writer(file)`` on a temporary file next to ``path``, then rename it onto ``path``.
+
+    The temporary file is removed if ``writer`` raises; ``path`` keeps its old content.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            writer(handle)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    return path
+
+
+def write_bytes_atomic(path: str | os.PathLike, data: bytes) -> Path:
+    return atomic_write(path, lambda f: f.write(data))
+
+
+def write_text_atomic(path: str | os.PathLike, text: str) -> Path:
+    return write_bytes_atomic(path, text.encode("utf-8"))
+
+
+def write_json_atomic(path: str | os.PathLike, obj: Any, indent: int = 2) -> Path:
+    return write_text_atomic(path, json.dumps(obj, indent=indent, sort_keys=False) + "\n")
+
+
+def write_png_atomic(path: str | os.PathLike, array: np.ndarray) -> Path:
+    """Write a ``(H, W)`` or ``(H, W, 3)`` uint8/uint16 array as PNG, atomically.
+
+    PNG metadata is fixed (no timestamps), so the same array always gives the same bytes.
+    """
+    from PIL import Image
+
+    array = np.ascontiguousarray(array)
+    if array.dtype == np.uint16 and array.ndim == 2:
+        image = Image.fromarray(array)
+    elif array.dtype == np.uint8:
+        image = Image.fromarray(array)
+    else:
+        raise ValueError(f"write_png_atomic: {path}: expected uint8 or 2-D uint16 array, got {array.dtype}")
+
+    def _write(handle: io.BufferedWriter) -> None:
+        image.save(handle, format="PNG", optimize=False)
+
+    return atomic_write(path, _write)

@@ -1,0 +1,164 @@
+"""A bank of M meshes as padded tensors, indexed by mesh id in batched code."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import torch
+import trimesh
+from torch import Tensor
+
+from sdn3d.geometry.ffd import bernstein_basis
+from sdn3d.meshes.shapenet import load_mesh_directory
+from sdn3d.meshes.templates import TEMPLATE_NAMES, all_templates
+
+__all__ = ["MeshBank"]
+
+
+class MeshBank:
+    """M meshes padded to common sizes so that a batch of mesh ids gathers with one index.
+
+    Attributes:
+        verts: ``(M, Vmax, 3)`` float32 canonical vertices; padding vertices are zero.
+        faces: ``(M, Fmax, 3)`` long; padding faces are ``(0, 0, 0)``, degenerate (zero area), which
+            the renderers cull. They refer to vertex 0, a real vertex, so every index is valid.
+        num_verts: ``(M,)`` long, real vertex counts.
+        num_faces: ``(M,)`` long, real face counts.
+        face_mask: ``(M, Fmax)`` bool, True for real faces.
+        ffd_basis: ``(M, Vmax, 64)`` float32 cubic Bernstein weights of the 4x4x4 FFD lattice
+            (:func:`sdn3d.geometry.ffd.bernstein_basis`); rows of padding vertices are zero so
+            that ``verts + ffd_basis @ phi`` keeps padding at zero.
+        names: the M mesh names.
+    """
+
+    def __init__(self, verts: Tensor, faces: Tensor, num_verts: Tensor, num_faces: Tensor,
+                 names: Sequence[str]) -> None:
+        m = verts.shape[0]
+        if verts.dim() != 3 or verts.shape[-1] != 3:
+            raise ValueError(f"verts must have shape (M, Vmax, 3), got {tuple(verts.shape)}")
+        if faces.dim() != 3 or faces.shape[0] != m or faces.shape[-1] != 3:
+            raise ValueError(f"faces must have shape (M={m}, Fmax, 3), got {tuple(faces.shape)}")
+        if num_verts.shape != (m,) or num_faces.shape != (m,):
+            raise ValueError(f"num_verts and num_faces must have shape ({m},), got "
+                             f"{tuple(num_verts.shape)} and {tuple(num_faces.shape)}")
+        if len(names) != m:
+            raise ValueError(f"names must have {m} entries, got {len(names)}")
+        self.verts = verts.float()
+        self.faces = faces.long()
+        self.num_verts = num_verts.long()
+        self.num_faces = num_faces.long()
+        self.names = list(names)
+        self.face_mask = torch.arange(self.faces.shape[1], device=faces.device) < self.num_faces[:, None]
+        vert_mask = torch.arange(self.verts.shape[1], device=verts.device) < self.num_verts[:, None]
+        self.ffd_basis = bernstein_basis(self.verts) * vert_mask[..., None]
+
+    # -- constructors -------------------------------------------------------------------------
+
+    @classmethod
+    def from_trimeshes(cls, meshes: Sequence[trimesh.Trimesh], names: Sequence[str]) -> MeshBank:
+        """Pad ``meshes`` (taken as given: canonical frame, not re-normalised) into a bank."""
+        if len(meshes) == 0:
+            raise ValueError("meshes must not be empty")
+        if len(names) != len(meshes):
+            raise ValueError(f"names must have one entry per mesh ({len(meshes)}), got {len(names)}")
+        if len(set(names)) != len(names):
+            raise ValueError(f"names must be unique, got {list(names)}")
+        vs = [np.asarray(m.vertices, dtype=np.float32) for m in meshes]
+        fs = [np.asarray(m.faces, dtype=np.int64) for m in meshes]
+        for name, v, f in zip(names, vs, fs, strict=True):
+            if len(v) == 0 or len(f) == 0:
+                raise ValueError(f"mesh {name!r} is empty ({len(v)} vertices, {len(f)} faces)")
+            if not np.all(np.isfinite(v)):
+                raise ValueError(f"mesh {name!r} has non-finite vertices")
+            if f.min() < 0 or f.max() >= len(v):
+                raise ValueError(f"mesh {name!r} has face indices outside [0, {len(v)})")
+        m, vmax, fmax = len(meshes), max(len(v) for v in vs), max(len(f) for f in fs)
+        verts = np.zeros((m, vmax, 3), dtype=np.float32)
+        faces = np.zeros((m, fmax, 3), dtype=np.int64)
+        for i, (v, f) in enumerate(zip(vs, fs, strict=True)):
+            verts[i, : len(v)] = v
+            faces[i, : len(f)] = f
+        return cls(torch.from_numpy(verts), torch.from_numpy(faces),
+                   torch.tensor([len(v) for v in vs]), torch.tensor([len(f) for f in fs]), names)
+
+    @classmethod
+    def templates(cls) -> MeshBank:
+        """The 8 procedural templates, mesh id = index in :data:`TEMPLATE_NAMES`."""
+        return cls.from_trimeshes(all_templates(), TEMPLATE_NAMES)
+
+    @classmethod
+    def from_directory(cls, path: str | Path, pattern: str = "**/model_normalized.obj",
+                       max_faces: int | None = 4000) -> MeshBank:
+        """ShapeNet OBJs under ``path`` (see :func:`load_mesh_directory`), sorted by name.
+
+        ``max_faces`` bounds each mesh (vertex clustering) because every mesh is padded to the
+        largest one; ``None`` keeps the full resolution.
+        """
+        loaded = load_mesh_directory(path, pattern=pattern, max_faces=max_faces)
+        if not loaded:
+            raise ValueError(f"no files matching {pattern!r} under {str(path)!r}")
+        return cls.from_trimeshes([m for _, m in loaded], [n for n, _ in loaded])
+
+    # -- access -------------------------------------------------------------------------------
+
+    def __len__(self) -> int:
+        return self.verts.shape[0]
+
+    @property
+    def device(self) -> torch.device:
+        return self.verts.device
+
+    def index(self, name: str) -> int:
+        """Mesh id of ``name``."""
+        if name not in self.names:
+            raise ValueError(f"name {name!r} is not in the bank; known: {self.names}")
+        return self.names.index(name)
+
+    def to(self, device: torch.device | str) -> MeshBank:
+        """Move every tensor to ``device`` in place (like ``nn.Module.to``) and return ``self``."""
+        for attr in ("verts", "faces", "num_verts", "num_faces", "face_mask", "ffd_basis"):
+            setattr(self, attr, getattr(self, attr).to(device))
+        return self
+
+    def gather(self, mesh_ids: Tensor) -> tuple[Tensor, Tensor]:
+        """Meshes of a batch of ids.
+
+        Args:
+            mesh_ids: ``(N,)`` integer mesh ids in ``[0, M)`` (any device; moved to the bank's).
+
+        Returns:
+            ``verts (N, Vmax, 3)`` and ``faces (N, Fmax, 3)``; index ``ffd_basis``, ``face_mask``
+            the same way for the rest.
+        """
+        if mesh_ids.dim() != 1 or mesh_ids.dtype.is_floating_point or mesh_ids.dtype == torch.bool:
+            raise ValueError(f"mesh_ids must be a 1-D integer tensor, got {mesh_ids.dtype} "
+                             f"{tuple(mesh_ids.shape)}")
+        mesh_ids = mesh_ids.to(device=self.device, dtype=torch.long)
+        if mesh_ids.numel() and (int(mesh_ids.min()) < 0 or int(mesh_ids.max()) >= len(self)):
+            raise ValueError(f"mesh_ids must lie in [0, {len(self)}), got range "
+                             f"[{int(mesh_ids.min())}, {int(mesh_ids.max())}]")
+        return self.verts[mesh_ids], self.faces[mesh_ids]
+
+    def to_trimesh(self, i: int, verts: Tensor | np.ndarray | None = None) -> trimesh.Trimesh:
+        """Mesh ``i`` as a :class:`trimesh.Trimesh` (e.g. for glTF export).
+
+        Args:
+            i: mesh id.
+            verts: optional ``(Vmax, 3)`` or ``(num_verts[i], 3)`` replacement vertices, e.g. the
+                FFD-deformed ones; padding rows are dropped.
+        """
+        if not 0 <= i < len(self):
+            raise ValueError(f"i must lie in [0, {len(self)}), got {i}")
+        nv, nf = int(self.num_verts[i]), int(self.num_faces[i])
+        if verts is None:
+            verts = self.verts[i]
+        if isinstance(verts, Tensor):
+            verts = verts.detach().cpu().numpy()
+        verts = np.asarray(verts)
+        if verts.ndim != 2 or verts.shape[1] != 3 or verts.shape[0] not in (nv, self.verts.shape[1]):
+            raise ValueError(f"verts must have shape ({nv}, 3) or ({self.verts.shape[1]}, 3), "
+                             f"got {verts.shape}")
+        faces = self.faces[i, :nf].cpu().numpy()
+        return trimesh.Trimesh(verts[:nv].astype(np.float64), faces, process=False)

@@ -1,0 +1,285 @@
+"""Cityscapes reader (fine annotations).
+
+On-disk layout under ``root``::
+
+    leftImg8bit/<split>/<city>/<city>_<seq>_<frame>_leftImg8bit.png       8-bit RGB
+    gtFine/<split>/<city>/<city>_<seq>_<frame>_gtFine_labelIds.png        8-bit label ids 0..33
+    gtFine/<split>/<city>/<city>_<seq>_<frame>_gtFine_instanceIds.png     16-bit, see below
+    camera/<split>/<city>/<city>_<seq>_<frame>_camera.json                intrinsic fx fy u0 v0, extrinsic
+    disparity/<split>/<city>/<city>_<seq>_<frame>_disparity.png           16-bit (optional)
+
+Semantic maps are the 19 train ids (0..18) of :data:`CITYSCAPES_LABELS`, 255 ignore.
+
+instanceIds hold ``label_id * 1000 + k`` (k from 0) for individual objects of
+classes with instances and the plain label id (< 1000) everywhere else, crowd
+regions included. Instance maps keep only values >= 1000 and become
+``train_id * 1000 + k``, the file's ``k`` unchanged (train ids of instance classes
+are >= 11, so no id is 0); instances of classes without a train id (caravan,
+trailer) become 0 like the rest.
+
+Depth comes from the disparity maps when present: ``d = (p - 1) / 256`` for
+``p > 0`` and ``z = baseline * fx / d``; invalid pixels (``p == 0``) are 0.
+
+The label table is embedded (it matches ``cityscapesscripts.helpers.labels``;
+``license plate``, id -1, never appears in label images and is left out). If
+``cityscapesscripts`` is importable its table is used instead.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from sdn3d.data.errors import DataFormatError, missing
+from sdn3d.data.imageio import image_size, read_index_png, read_rgb, read_uint16_png
+from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR, FrameRecord, SemanticClass, check_size
+from sdn3d.geometry.camera import Intrinsics
+
+__all__ = [
+    "CITYSCAPES_LABELS",
+    "CITYSCAPES_TRAIN_CLASSES",
+    "LABEL_TO_TRAIN",
+    "EMBEDDED_LABELS",
+    "camera_to_vehicle",
+    "read_camera",
+    "read_frames",
+    "load_rgb",
+    "load_semantic",
+    "load_instances",
+    "load_depth",
+]
+
+# (name, id, trainId, hasInstances, color) as in cityscapesscripts.helpers.labels.
+EMBEDDED_LABELS: tuple[tuple[str, int, int, bool, tuple[int, int, int]], ...] = (
+    ("unlabeled", 0, 255, False, (0, 0, 0)),
+    ("ego vehicle", 1, 255, False, (0, 0, 0)),
+    ("rectification border", 2, 255, False, (0, 0, 0)),
+    ("out of roi", 3, 255, False, (0, 0, 0)),
+    ("static", 4, 255, False, (0, 0, 0)),
+    ("dynamic", 5, 255, False, (111, 74, 0)),
+    ("ground", 6, 255, False, (81, 0, 81)),
+    ("road", 7, 0, False, (128, 64, 128)),
+    ("sidewalk", 8, 1, False, (244, 35, 232)),
+    ("parking", 9, 255, False, (250, 170, 160)),
+    ("rail track", 10, 255, False, (230, 150, 140)),
+    ("building", 11, 2, False, (70, 70, 70)),
+    ("wall", 12, 3, False, (102, 102, 156)),
+    ("fence", 13, 4, False, (190, 153, 153)),
+    ("guard rail", 14, 255, False, (180, 165, 180)),
+    ("bridge", 15, 255, False, (150, 100, 100)),
+    ("tunnel", 16, 255, False, (150, 120, 90)),
+    ("pole", 17, 5, False, (153, 153, 153)),
+    ("polegroup", 18, 255, False, (153, 153, 153)),
+    ("traffic light", 19, 6, False, (250, 170, 30)),
+    ("traffic sign", 20, 7, False, (220, 220, 0)),
+    ("vegetation", 21, 8, False, (107, 142, 35)),
+    ("terrain", 22, 9, False, (152, 251, 152)),
+    ("sky", 23, 10, False, (70, 130, 180)),
+    ("person", 24, 11, True, (220, 20, 60)),
+    ("rider", 25, 12, True, (255, 0, 0)),
+    ("car", 26, 13, True, (0, 0, 142)),
+    ("truck", 27, 14, True, (0, 0, 70)),
+    ("bus", 28, 15, True, (0, 60, 100)),
+    ("caravan", 29, 255, True, (0, 0, 90)),
+    ("trailer", 30, 255, True, (0, 0, 110)),
+    ("train", 31, 16, True, (0, 80, 100)),
+    ("motorcycle", 32, 17, True, (0, 0, 230)),
+    ("bicycle", 33, 18, True, (119, 11, 32)),
+)
+
+
+def _label_table() -> tuple[tuple[str, int, int, bool, tuple[int, int, int]], ...]:
+    try:
+        from cityscapesscripts.helpers.labels import labels
+    except ImportError:
+        return EMBEDDED_LABELS
+    rows = [
+        (lb.name, lb.id, lb.trainId, bool(lb.hasInstances), tuple(lb.color)) for lb in labels if lb.id >= 0
+    ]
+    return tuple(sorted(rows, key=lambda r: r[1]))
+
+
+#: The 34 label ids 0..33: ``(name, id, train_id, has_instances, color)``.
+CITYSCAPES_LABELS = _label_table()
+#: Label id -> train id (255 for ignored and for ids 34..255, which are rejected when read).
+LABEL_TO_TRAIN = np.full(256, IGNORE_INDEX, dtype=np.int64)
+for _name, _id, _train, _inst, _color in CITYSCAPES_LABELS:
+    LABEL_TO_TRAIN[_id] = _train
+#: The 19 training classes, indexed by train id.
+CITYSCAPES_TRAIN_CLASSES: tuple[SemanticClass, ...] = tuple(
+    SemanticClass(row[2], row[0], row[4], row[3])
+    for row in sorted((r for r in CITYSCAPES_LABELS if r[2] != IGNORE_INDEX), key=lambda r: r[2])
+)
+_NUM_LABEL_IDS = len(CITYSCAPES_LABELS)
+_NAME = re.compile(r"^(?P<city>.+)_(?P<seq>\d{6})_(?P<frame>\d{6})_leftImg8bit\.png$")
+
+
+def _rotation(yaw: float, pitch: float, roll: float) -> np.ndarray:
+    cy, sy, cp, sp, cr, sr = (math.cos(yaw), math.sin(yaw), math.cos(pitch), math.sin(pitch),
+                              math.cos(roll), math.sin(roll))  # fmt: skip
+    rz = np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
+    ry = np.array([[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]])
+    rx = np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
+    return rz @ ry @ rx
+
+
+#: ISO 8855 camera axes (x forward, y left, z up) -> KITTI camera axes (x right, y down, z forward).
+ISO_TO_KITTI = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
+
+
+def camera_to_vehicle(extrinsic: dict) -> np.ndarray:
+    """``(4, 4)`` transform from the KITTI-axes camera frame to the vehicle frame.
+
+    Per the Cityscapes calibration notes, the vehicle frame is ISO 8855 (x forward,
+    y left, z up); the camera sits at ``(x, y, z)`` in it with orientation
+    ``R = Rz(yaw) Ry(pitch) Rx(roll)`` of camera axes that are also x forward, y left,
+    z up. The camera's KITTI axes are then ``ISO_TO_KITTI`` applied to those.
+    """
+    rotation = _rotation(extrinsic["yaw"], extrinsic["pitch"], extrinsic["roll"]) @ ISO_TO_KITTI.T
+    transform = np.eye(4)
+    transform[:3, :3] = rotation
+    transform[:3, 3] = [extrinsic["x"], extrinsic["y"], extrinsic["z"]]
+    return transform
+
+
+def read_camera(path: str | os.PathLike) -> tuple[dict[str, float], dict[str, float]]:
+    """``(intrinsic, extrinsic)`` dicts of a ``*_camera.json`` file, all values finite floats."""
+    path = Path(path)
+    if not path.is_file():
+        raise missing(path, "camera file")
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise DataFormatError(f"{path}: invalid JSON ({exc})") from exc
+    fields = {
+        "intrinsic": ("fx", "fy", "u0", "v0"),
+        "extrinsic": ("baseline", "pitch", "roll", "x", "y", "yaw", "z"),
+    }
+    out = []
+    for section, keys in fields.items():
+        block = data.get(section) if isinstance(data, dict) else None
+        if not isinstance(block, dict):
+            raise DataFormatError(f"{path}: missing object {section!r}")
+        values = {}
+        for key in keys:
+            value = block.get(key)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise DataFormatError(f"{path}: {section}.{key} must be a finite number, got {value!r}")
+            values[key] = float(value)
+        out.append(values)
+    if out[0]["fx"] <= 0 or out[0]["fy"] <= 0:
+        raise DataFormatError(f"{path}: intrinsic focal lengths must be positive")
+    return out[0], out[1]
+
+
+def read_frames(
+    root: str | os.PathLike, split: str = "train", cities: Sequence[str] | None = None
+) -> list[FrameRecord]:
+    """Index one split into frame records, sorted by city, sequence, frame.
+
+    ``world`` is the city, ``variation`` the split, ``sequence``/``frame`` the two
+    numbers of the file name. ``extrinsics`` is the vehicle->camera transform
+    (inverse of :func:`camera_to_vehicle`): Cityscapes has no world frame, so the
+    vehicle frame (ISO 8855) stands in. Camera files are required.
+    """
+    root = Path(root)
+    image_root = root / "leftImg8bit" / split
+    if not image_root.is_dir():
+        raise missing(image_root, f"Cityscapes leftImg8bit/{split} folder")
+    if cities is None:
+        cities = sorted(p.name for p in image_root.iterdir() if p.is_dir())
+    records: list[FrameRecord] = []
+    for city in cities:
+        city_dir = image_root / city
+        if not city_dir.is_dir():
+            raise missing(city_dir, "city folder")
+        names = sorted((m for p in city_dir.iterdir() if (m := _NAME.match(p.name))), key=lambda m: m.string)
+        for match in names:
+            records.append(_record(root, split, city, match))
+    return records
+
+
+def _record(root: Path, split: str, city: str, match: re.Match) -> FrameRecord:
+    stem = f"{match['city']}_{match['seq']}_{match['frame']}"
+    rgb_path = root / "leftImg8bit" / split / city / match.string
+    gt = root / "gtFine" / split / city
+    disparity = root / "disparity" / split / city / f"{stem}_disparity.png"
+    camera_path = root / "camera" / split / city / f"{stem}_camera.json"
+    intrinsic, extrinsic = read_camera(camera_path)
+    width, height = image_size(rgb_path)
+    semantic = gt / f"{stem}_gtFine_labelIds.png"
+    instance = gt / f"{stem}_gtFine_instanceIds.png"
+    to_camera = np.linalg.inv(camera_to_vehicle(extrinsic))
+    return FrameRecord(
+        dataset="cityscapes",
+        world=city,
+        variation=split,
+        frame=int(match["frame"]),
+        sequence=int(match["seq"]),
+        intrinsics=Intrinsics(
+            intrinsic["fx"], intrinsic["fy"], intrinsic["u0"], intrinsic["v0"], width, height
+        ),
+        rgb_path=rgb_path,
+        semantic_path=semantic if semantic.is_file() else None,
+        instance_path=instance if instance.is_file() else None,
+        depth_path=disparity if disparity.is_file() else None,
+        extrinsics=tuple(float(v) for v in to_camera.reshape(-1)),
+        aux=(("camera", camera_path),),
+    )
+
+
+def _require(record: FrameRecord, path: Path | None, what: str) -> Path:
+    if path is None:
+        raise DataFormatError(f"{record.key}: no {what} on disk for this frame")
+    return path
+
+
+def _label_ids(values: np.ndarray, path: Path) -> np.ndarray:
+    bad = values >= _NUM_LABEL_IDS
+    if bad.any():
+        ids, counts = np.unique(values[bad], return_counts=True)
+        pairs = zip(ids[:5].tolist(), counts[:5].tolist(), strict=True)
+        listed = ", ".join(f"{i} x {n} px" for i, n in pairs)
+        raise DataFormatError(f"{path}: label ids outside 0..{_NUM_LABEL_IDS - 1}: {listed}")
+    return values
+
+
+def load_rgb(record: FrameRecord) -> np.ndarray:
+    """``(H, W, 3)`` uint8."""
+    return check_size(read_rgb(record.rgb_path), record, record.rgb_path)
+
+
+def load_semantic(record: FrameRecord) -> np.ndarray:
+    """``(H, W)`` int64 train ids 0..18, 255 ignore."""
+    path = _require(record, record.semantic_path, "gtFine labelIds")
+    labels = _label_ids(check_size(read_index_png(path), record, path), path)
+    return LABEL_TO_TRAIN[labels]
+
+
+def load_instances(record: FrameRecord) -> np.ndarray:
+    """``(H, W)`` int64 ``train_id * 1000 + k`` for individual instances, 0 elsewhere."""
+    path = _require(record, record.instance_path, "gtFine instanceIds")
+    values = check_size(read_index_png(path), record, path)
+    is_instance = values >= INSTANCE_DIVISOR
+    label = np.where(is_instance, values // INSTANCE_DIVISOR, values)
+    train = LABEL_TO_TRAIN[_label_ids(label, path)]
+    keep = is_instance & (train != IGNORE_INDEX)
+    return np.where(keep, train * INSTANCE_DIVISOR + values % INSTANCE_DIVISOR, 0)
+
+
+def load_depth(record: FrameRecord) -> np.ndarray:
+    """``(H, W)`` float32 metres from disparity (0 where the disparity is invalid)."""
+    path = _require(record, record.depth_path, "disparity")
+    raw = check_size(read_uint16_png(path), record, path).astype(np.float32)
+    _, extrinsic = read_camera(record.aux_path("camera"))
+    disparity = (raw - 1.0) / 256.0
+    valid = raw > 1.0  # p == 1 would be zero disparity, i.e. infinitely far
+    depth = np.zeros_like(raw)
+    depth[valid] = extrinsic["baseline"] * record.intrinsics.fx / disparity[valid]
+    return depth

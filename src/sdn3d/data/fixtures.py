@@ -1,0 +1,482 @@
+"""Writers of tiny, deterministic datasets in the exact on-disk formats the readers parse.
+
+Each writer builds a small street scene (stuff bands, a few Car/Van tracks whose 2D
+boxes are the projections of their 3D boxes under the ARCHITECTURE.md conventions),
+encodes it exactly as the real dataset does (colour-coded PNGs with their tables,
+centimetre depth PNGs, KITTI-like text annotations) and returns the ground truth it
+encoded as :class:`FixtureFrame` objects, so tests can compare what a reader
+decodes with what was written. Object masks are the pixel rectangles of the
+projected boxes, painted far to near.
+
+Used by the reader tests and as format templates for the synthetic generator.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import os
+import shutil
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from sdn3d.data.cityscapes import CITYSCAPES_LABELS, LABEL_TO_TRAIN
+from sdn3d.data.imageio import image_size
+from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR, ObjectAnnotation
+from sdn3d.data.vkitti1 import (
+    ENCODING_HEADER,
+    EXTRINSICS_HEADER,
+    MOTGT_HEADER,
+    VKITTI_CLASS_INDEX,
+    VKITTI_CLASSES,
+)
+from sdn3d.data.vkitti2 import (
+    BBOX_HEADER,
+    COLORS_HEADER,
+    EXTRINSIC_HEADER,
+    INFO_HEADER,
+    INTRINSIC_HEADER,
+    POSE_HEADER,
+)
+from sdn3d.geometry.camera import VKITTI_INTRINSICS, Intrinsics
+from sdn3d.io import write_png_atomic
+
+__all__ = [
+    "FixtureFrame",
+    "VKITTI2_COLORS",
+    "VKITTI2_BASELINE",
+    "write_vkitti1_fixture",
+    "write_vkitti2_fixture",
+    "write_cityscapes_fixture",
+    "CITYSCAPES_FIXTURE_FRAMES",
+]
+
+#: Virtual KITTI 2 ``colors.txt`` (differs from VKITTI 1 in GuardRail and in class colours for Car/Van).
+VKITTI2_COLORS: tuple[tuple[str, tuple[int, int, int]], ...] = (
+    *((c.name, (250, 100, 255) if c.name == "GuardRail" else c.color) for c in VKITTI_CLASSES),
+    ("Undefined", (0, 0, 0)),
+)
+#: Distance of Camera_1 to the right of Camera_0 in Virtual KITTI 2, metres.
+VKITTI2_BASELINE = 0.532725
+_CAMERA_HEIGHT = 1.65  # y of the ground plane in the camera frame (metres, y down)
+_FAR_CM = 65535
+
+
+@dataclass(frozen=True, eq=False)
+class FixtureFrame:
+    """Ground truth of one written frame (arrays are what the reader should return)."""
+
+    world: str
+    variation: str
+    frame: int
+    camera: str | None
+    intrinsics: Intrinsics
+    semantic: np.ndarray  # (H, W) int64
+    instances: np.ndarray  # (H, W) int64
+    depth: np.ndarray  # (H, W) float32 metres, as quantised on disk
+    objects: tuple[ObjectAnnotation, ...]
+    extrinsics: np.ndarray | None  # (4, 4) world->camera
+
+
+@dataclass(frozen=True)
+class _Track:
+    tid: int
+    label: str
+    dims: tuple[float, float, float]  # l, h, w
+    x: float
+    z: float
+    dz: float  # metres per frame
+    ry: float
+    model: str
+    color: str
+
+
+# At frame 43 (43 % 8 == 3) tracks 0 and 1 sit roughly where the two cars of the reference
+# frame 0006/30-deg-right/00043 are (track 0's centre projects near (552, 251), the point the
+# shipped edit example picks); the van is partly hidden by track 1, track 5 cut by the border.
+_TRACKS = (
+    _Track(0, "Car", (3.9, 1.5, 1.75), -0.96, 11.7, -0.5, -1.5, "Hatchback", "Red"),
+    _Track(1, "Car", (3.9, 1.45, 1.75), 3.03, 10.7, 0.3, -1.6, "Hatchback", "Black"),
+    _Track(3, "Van", (4.9, 2.0, 1.95), 4.5, 22.0, 0.0, -1.57, "MPV", "White"),
+    _Track(5, "Car", (4.5, 1.5, 1.85), 7.5, 11.0, 0.0, 0.2, "SUV", "Black"),
+)
+_UNSEEN_TIDS = (7, 8)  # listed in tables but never visible, as in the real files
+
+
+def _r6(value: float) -> float:
+    return float(f"{value:.6f}")
+
+
+def _roty(ry: float) -> np.ndarray:
+    c, s = math.cos(ry), math.sin(ry)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def _stuff(width: int, height: int, horizon: int) -> np.ndarray:
+    """Class-name index map of the static background (every VKITTI stuff class appears)."""
+    ids = VKITTI_CLASS_INDEX
+    sem = np.full((height, width), ids["Sky"], dtype=np.int64)
+
+    def rows(a: float) -> int:
+        return int(a * height)
+
+    def cols(a: float) -> int:
+        return int(a * width)
+
+    thick = max(1, width // 200)
+    sem[rows(0.3) : horizon, :] = ids["Building"]
+    sem[rows(0.3) : horizon, cols(0.4) : cols(0.7)] = ids["Tree"]
+    sem[rows(0.4) : horizon, cols(0.7) :] = ids["Vegetation"]
+    sem[rows(0.38) : horizon, cols(0.02) : cols(0.1)] = ids["Truck"]
+    sem[horizon:, :] = ids["Road"]
+    sem[horizon:, : cols(0.12)] = ids["Terrain"]
+    sem[horizon:, cols(0.88) :] = ids["Terrain"]
+    sem[horizon : horizon + max(1, height // 40), cols(0.12) : cols(0.3)] = ids["GuardRail"]
+    sem[rows(0.25) : horizon, cols(0.85) : cols(0.85) + thick] = ids["Pole"]
+    sem[rows(0.2) : rows(0.25), cols(0.85) - thick : cols(0.85) + 2 * thick] = ids["TrafficSign"]
+    sem[rows(0.2) : rows(0.25), cols(0.6) : cols(0.6) + 2 * thick] = ids["TrafficLight"]
+    sem[horizon - max(1, height // 30) : horizon, cols(0.32) : cols(0.36)] = ids["Misc"]
+    return sem
+
+
+def _scene(intr: Intrinsics, frame: int, shift: float = 0.0):
+    """Semantic ids, per-pixel track ids (-1 none), depth (m) and object rows for one frame.
+
+    ``shift`` moves the camera ``shift`` metres to the right (Camera_1 of VKITTI 2).
+    """
+    width, height = intr.width, intr.height
+    horizon = math.floor(intr.cy) + 1  # first row strictly below the horizon
+    sem = _stuff(width, height, horizon)
+    depth = np.full((height, width), _FAR_CM / 100.0)
+    rows = np.arange(height, dtype=np.float64)[:, None]
+    ground = _CAMERA_HEIGHT * intr.fy / np.maximum(rows - intr.cy, 1e-6)
+    depth = np.where(rows >= horizon, np.minimum(ground, 655.0), depth)
+    depth[(sem != VKITTI_CLASS_INDEX["Sky"]) & (rows < horizon)] = 60.0
+    tids = np.full((height, width), -1, dtype=np.int64)
+    corners = np.array(list(itertools.product((-0.5, 0.5), repeat=3)))
+    placed = []
+    for t in _TRACKS:
+        l, h, w = t.dims
+        # Motion repeats every 8 frames so that any frame index keeps the tracks in front.
+        x, y, z = t.x - shift, _CAMERA_HEIGHT, t.z + t.dz * (frame % 8)
+        pts = (_roty(t.ry) @ (corners * [l, h, w]).T).T + [x, y - h / 2, z]
+        if pts[:, 2].min() < 1.0:
+            continue
+        u = intr.fx * pts[:, 0] / pts[:, 2] + intr.cx
+        v = intr.fy * pts[:, 1] / pts[:, 2] + intr.cy
+        j0, j1, i0, i1 = math.ceil(u.min()), math.floor(u.max()), math.ceil(v.min()), math.floor(v.max())
+        c0, c1, r0, r1 = max(j0, 0), min(j1, width - 1), max(i0, 0), min(i1, height - 1)
+        if c1 < c0 or r1 < r0:
+            continue
+        full = (j1 - j0 + 1) * (i1 - i0 + 1)
+        clipped = (c1 - c0 + 1) * (r1 - r0 + 1)
+        placed.append((z, t, (x, y, z), (c0, r0, c1, r1), 1.0 - clipped / full, clipped))
+    objects = []
+    for z, t, _, (c0, r0, c1, r1), _, _ in sorted(placed, key=lambda p: -p[0]):  # far to near
+        tids[r0 : r1 + 1, c0 : c1 + 1] = t.tid
+        sem[r0 : r1 + 1, c0 : c1 + 1] = VKITTI_CLASS_INDEX[t.label]
+        depth[r0 : r1 + 1, c0 : c1 + 1] = z
+    for _, t, loc, box, truncr, clipped in placed:
+        visible = int((tids == t.tid).sum())
+        if visible == 0:
+            continue
+        alpha = math.remainder(t.ry - math.atan2(loc[0], loc[2]), 2 * math.pi)
+        objects.append((t, loc, box, truncr, visible / clipped, alpha, visible))
+    depth_cm = np.clip(np.round(depth * 100.0), 0, _FAR_CM).astype(np.uint16)
+    return sem, tids, depth_cm, objects
+
+
+def _annotation(t: _Track, loc, box, truncr, occupr, alpha, visible, with_flags: bool) -> ObjectAnnotation:
+    truncated = 0 if truncr < 0.15 else (1 if truncr < 0.5 else 2)
+    occluded = 0 if occupr > 0.9 else (1 if occupr > 0.4 else 2)
+    dont_care = with_flags and 2 in (truncated, occluded)
+    return ObjectAnnotation(
+        track_id=t.tid,
+        label="DontCare" if dont_care else t.label,
+        box2d=tuple(float(b) for b in box),
+        dims=tuple(_r6(d) for d in t.dims),
+        location=tuple(_r6(c) for c in loc),
+        ry=_r6(t.ry),
+        alpha=_r6(alpha),
+        truncr=_r6(truncr),
+        occupr=_r6(occupr),
+        truncated=truncated if with_flags else None,
+        occluded=occluded if with_flags else None,
+        orig_label=t.label if with_flags else None,
+        moving=t.dz != 0.0,
+        model=t.model,
+        color=t.color,
+        num_pixels=None if with_flags else visible,
+    )
+
+
+def _extrinsics(frame: int, shift: float = 0.0) -> np.ndarray:
+    """World->camera: the camera drives 0.8 m/frame along world z, turning 0.01 rad/frame."""
+    yaw = 0.01 * frame
+    rotation = _roty(yaw)
+    centre = np.array([shift * math.cos(yaw), 0.0, 0.8 * frame - shift * math.sin(yaw)])
+    matrix = np.eye(4)
+    matrix[:3, :3] = rotation.T
+    matrix[:3, 3] = -rotation.T @ centre
+    return np.array([[float(f"{v:.9g}") for v in row] for row in matrix])
+
+
+def _matrix_text(matrix: np.ndarray) -> str:
+    return " ".join(f"{v:.9g}" for v in matrix.reshape(-1))
+
+
+def _rgb_from(sem: np.ndarray, palette: dict[int, tuple[int, int, int]]) -> np.ndarray:
+    lut = np.zeros((max(palette) + 1, 3), dtype=np.int64)
+    for class_id, color in palette.items():
+        lut[class_id] = color
+    shade = (np.indices(sem.shape).sum(0) % 16)[..., None]
+    return (lut[sem] * 0.7 + shade * 2).astype(np.uint8)
+
+
+def _instances(sem: np.ndarray, tids: np.ndarray) -> np.ndarray:
+    """VKITTI instance ids ``class_id * 1000 + tid + 1`` (0 where ``tids`` is -1)."""
+    return np.where(tids >= 0, sem * INSTANCE_DIVISOR + tids + 1, 0)
+
+
+def _rgb_text(color: Sequence[int]) -> str:
+    return " ".join(str(int(c)) for c in color)
+
+
+def _track_color(tid: int) -> tuple[int, int, int]:
+    return (200 - (tid * 37) % 100, 100 + (tid * 53) % 150, 35 + (tid * 71) % 200)
+
+
+def _write_table(path: Path, header: Sequence[str], lines: Sequence[str]) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join([" ".join(header), *lines]) + "\n", encoding="utf-8")
+
+
+def _vkitti_intrinsics(size: tuple[int, int]) -> Intrinsics:
+    if tuple(size) == (VKITTI_INTRINSICS.width, VKITTI_INTRINSICS.height):
+        return VKITTI_INTRINSICS
+    return VKITTI_INTRINSICS.resized(*size)
+
+
+def write_vkitti1_fixture(
+    root: str | os.PathLike,
+    world: str = "0001",
+    variation: str = "clone",
+    frames: Sequence[int] = (0, 1, 2),
+    size: tuple[int, int] = (64, 32),
+    rgb_image: str | os.PathLike | None = None,
+) -> list[FixtureFrame]:
+    """Write one Virtual KITTI 1.3.1 sequence (rgb, scenegt + encoding, depthgt, motgt, extrinsicsgt).
+
+    Args:
+        root: dataset root (created); other sequences already there are kept.
+        world, variation, frames: what to write.
+        size: ``(width, height)``; ignored when ``rgb_image`` is given.
+        rgb_image: a real RGB PNG copied byte-for-byte as every frame's image (its size
+            is used); otherwise a synthetic colour rendering of the labels is written.
+    """
+    root = Path(root)
+    if rgb_image is not None:
+        size = image_size(rgb_image)
+    intr = _vkitti_intrinsics(size)
+    seq = f"{world}/{variation}"
+    palette = {c.id: c.color for c in VKITTI_CLASSES}
+    enc = [f"{c.name} {_rgb_text(c.color)}" for c in VKITTI_CLASSES if not c.has_instances]
+    tracks = sorted([(t.tid, t.label) for t in _TRACKS] + [(tid, "Car") for tid in _UNSEEN_TIDS])
+    enc += [f"{label}:{tid} {_rgb_text(_track_color(tid))}" for tid, label in tracks]
+    _write_table(root / "vkitti_1.3.1_scenegt" / f"{world}_{variation}_scenegt_rgb_encoding.txt",
+                 ENCODING_HEADER, enc)  # fmt: skip
+    mot_lines, ext_lines, out = [], [], []
+    for frame in frames:
+        sem, tids, depth_cm, objs = _scene(intr, frame)
+        name = f"{frame:05d}.png"
+        if rgb_image is not None:
+            (root / "vkitti_1.3.1_rgb" / seq).mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(rgb_image, root / "vkitti_1.3.1_rgb" / seq / name)
+        else:
+            write_png_atomic(root / "vkitti_1.3.1_rgb" / seq / name, _rgb_from(sem, palette))
+        scene_rgb = np.array([c.color for c in VKITTI_CLASSES], dtype=np.uint8)[sem]
+        for tid, _ in tracks:
+            scene_rgb[tids == tid] = _track_color(tid)
+        write_png_atomic(root / "vkitti_1.3.1_scenegt" / seq / name, scene_rgb)
+        write_png_atomic(root / "vkitti_1.3.1_depthgt" / seq / name, depth_cm)
+        annotations = tuple(_annotation(*o, with_flags=True) for o in objs)
+        for a in annotations:
+            l, t, r, b = (int(v) for v in a.box2d)
+            mot_lines.append(
+                f"{frame} {a.track_id} {a.label} {a.truncated} {a.occluded} {a.alpha:.6f} {l} {t} {r} {b} "
+                f"{a.dims[2]:.6f} {a.dims[1]:.6f} {a.dims[0]:.6f} "
+                + " ".join(f"{v:.6f}" for v in (*a.location, a.ry, a.rx, a.rz, a.truncr, a.occupr))
+                + f" {a.orig_label} {int(a.moving)} {a.model} {a.color}"
+            )
+        extr = _extrinsics(frame)
+        ext_lines.append(f"{frame} {_matrix_text(extr)}")
+        instances, depth = _instances(sem, tids), depth_cm.astype(np.float32) / np.float32(100.0)
+        out.append(FixtureFrame(world, variation, frame, None, intr, sem, instances, depth, annotations,
+                                extr))
+    seq_txt = f"{world}_{variation}.txt"
+    _write_table(root / "vkitti_1.3.1_motgt" / seq_txt, MOTGT_HEADER, mot_lines)
+    _write_table(root / "vkitti_1.3.1_extrinsicsgt" / seq_txt, EXTRINSICS_HEADER, ext_lines)
+    return out
+
+
+def write_vkitti2_fixture(
+    root: str | os.PathLike,
+    scene: str = "Scene01",
+    variation: str = "clone",
+    frames: Sequence[int] = (0, 1),
+    size: tuple[int, int] = (64, 32),
+    instance_mode: str = "L",
+) -> list[FixtureFrame]:
+    """Write one Virtual KITTI 2.0.3 sequence for both cameras (jpg rgb, classgt, instancegt,
+    depth, colors/bbox/pose/info/intrinsic/extrinsic text files).
+
+    ``instance_mode`` is the PNG mode of ``instancegt`` (``'L'``, ``'P'`` or ``'I;16'``),
+    values ``trackID + 1``. A 2x2 ``Undefined`` patch sits in the top-left corner.
+    Returns Camera_0 frames then Camera_1 frames.
+    """
+    if instance_mode not in ("L", "P", "I;16"):
+        raise ValueError(f"instance_mode must be 'L', 'P' or 'I;16', got {instance_mode!r}")
+    seq = Path(root) / scene / variation
+    intr = _vkitti_intrinsics(size)
+    palette = {VKITTI_CLASS_INDEX.get(n, IGNORE_INDEX): c for n, c in VKITTI2_COLORS}
+    _write_table(seq / "colors.txt", COLORS_HEADER, [f"{n} {_rgb_text(c)}" for n, c in VKITTI2_COLORS])
+    info = [(t.tid, t.label, t.model, t.color) for t in _TRACKS]
+    info = sorted(info + [(i, "Car", "Sedan2Door", "Blue") for i in _UNSEEN_TIDS])
+    _write_table(seq / "info.txt", INFO_HEADER, [" ".join(map(str, row)) for row in info])
+    bbox, pose, k_lines, e_lines, out = [], [], [], [], []
+    for cam in (0, 1):
+        camera = f"Camera_{cam}"
+        for frame in frames:
+            sem, tids, depth_cm, objs = _scene(intr, frame, shift=cam * VKITTI2_BASELINE)
+            sem[:2, :2], tids[:2, :2] = IGNORE_INDEX, -1
+            frames_dir = seq / "frames"
+            rgb = _rgb_from(sem, palette)
+            (frames_dir / "rgb" / camera).mkdir(parents=True, exist_ok=True)
+            Image.fromarray(rgb).save(frames_dir / "rgb" / camera / f"rgb_{frame:05d}.jpg", quality=95)
+            lut = np.zeros((IGNORE_INDEX + 1, 3), dtype=np.uint8)
+            for class_id, color in palette.items():
+                lut[class_id] = color
+            write_png_atomic(frames_dir / "classSegmentation" / camera / f"classgt_{frame:05d}.png", lut[sem])
+            values = (tids + 1).astype(np.uint16 if instance_mode == "I;16" else np.uint8)
+            image = Image.fromarray(values)
+            if instance_mode == "P":
+                image = image.convert("P")
+                image.putpalette([v for i in range(256) for v in _track_color(i)])
+            path = frames_dir / "instanceSegmentation" / camera / f"instancegt_{frame:05d}.png"
+            path.parent.mkdir(parents=True, exist_ok=True)
+            image.save(path)
+            write_png_atomic(frames_dir / "depth" / camera / f"depth_{frame:05d}.png", depth_cm)
+            annotations = tuple(_annotation(*o, with_flags=False) for o in objs)
+            extr = _extrinsics(frame, shift=cam * VKITTI2_BASELINE)
+            for a in annotations:
+                l, t, r, b = (int(v) for v in a.box2d)
+                bbox.append(f"{frame} {cam} {a.track_id} {l} {r} {t} {b} {a.num_pixels} {a.truncr:.6f} "
+                            f"{a.occupr:.6f} {a.moving}")  # fmt: skip
+                world_xyz = np.linalg.inv(extr) @ np.array([*a.location, 1.0])
+                values = (a.alpha, a.dims[2], a.dims[1], a.dims[0], *world_xyz[:3], a.ry - 0.01 * frame,
+                          0.0, 0.0, *a.location, a.ry, a.rx, a.rz)  # fmt: skip
+                pose.append(f"{frame} {cam} {a.track_id} " + " ".join(f"{v:.6f}" for v in values))
+            k_lines.append(f"{frame} {cam} {intr.fx:.9g} {intr.fy:.9g} {intr.cx:.9g} {intr.cy:.9g}")
+            e_lines.append(f"{frame} {cam} {_matrix_text(extr)}")
+            instances, depth = _instances(sem, tids), depth_cm.astype(np.float32) / np.float32(100.0)
+            k = Intrinsics(*(float(f"{v:.9g}") for v in (intr.fx, intr.fy, intr.cx, intr.cy)), *size)
+            out.append(FixtureFrame(scene, variation, frame, camera, k, sem, instances, depth, annotations,
+                                    extr))
+    _write_table(seq / "bbox.txt", BBOX_HEADER, bbox)
+    _write_table(seq / "pose.txt", POSE_HEADER, pose)
+    _write_table(seq / "intrinsic.txt", INTRINSIC_HEADER, k_lines)
+    _write_table(seq / "extrinsic.txt", EXTRINSIC_HEADER, e_lines)
+    return out
+
+
+#: Default Cityscapes fixture frames: split -> (city, sequence, frame).
+CITYSCAPES_FIXTURE_FRAMES = {
+    "train": (("aachen", 0, 19), ("aachen", 1, 19)),
+    "val": (("frankfurt", 0, 294),),
+}
+_CS_EXTRINSIC = {"baseline": 0.209313, "pitch": 0.038, "roll": 0.0, "x": 1.7, "y": 0.1, "yaw": -0.0195}
+_CS_EXTRINSIC["z"] = 1.22
+
+
+def _cityscapes_labels(width: int, height: int, shift: int) -> tuple[np.ndarray, np.ndarray]:
+    """(labelIds, instanceIds) of one frame; instance ids follow the gtFine convention."""
+    lab = np.full((height, width), 23, dtype=np.int64)  # sky
+
+    def box(a: np.ndarray, t: float, b: float, l: float, r: float, value: int, dx: int = 0) -> None:
+        a[int(t * height) : int(b * height), int(l * width) + dx : int(r * width) + dx] = value
+
+    box(lab, 0.3, 0.5, 0.0, 1.0, 11)  # building
+    box(lab, 0.3, 0.5, 0.6, 1.0, 21)  # vegetation
+    box(lab, 0.5, 1.0, 0.0, 1.0, 7)  # road
+    box(lab, 0.5, 1.0, 0.0, 0.15, 8)  # sidewalk
+    box(lab, 0.2, 0.5, 0.5, 0.52, 17)  # pole
+    box(lab, 0.15, 0.2, 0.48, 0.55, 20)  # traffic sign
+    box(lab, 0.85, 0.95, 0.8, 0.9, 9)  # parking
+    inst = lab.copy()
+    for t, b, l, r, label_id, instance_id, dx in (
+        (0.5, 0.75, 0.2, 0.4, 26, 26000, shift),  # car k=0
+        (0.55, 0.8, 0.45, 0.6, 26, 26001, 0),  # car k=1
+        (0.4, 0.7, 0.65, 0.7, 24, 24000, 0),  # person k=0
+        (0.5, 0.6, 0.85, 0.95, 26, 26, 0),  # crowd of cars: plain label id
+        (0.5, 0.6, 0.72, 0.8, 29, 29000, 0),  # caravan (no train id)
+    ):
+        box(lab, t, b, l, r, label_id, dx)
+        box(inst, t, b, l, r, instance_id, dx)
+    lab[int(0.95 * height) :, :] = 1  # ego vehicle
+    inst[int(0.95 * height) :, :] = 1
+    return lab, inst
+
+
+def write_cityscapes_fixture(
+    root: str | os.PathLike,
+    frames: dict[str, Sequence[tuple[str, int, int]]] | None = None,
+    size: tuple[int, int] = (64, 32),
+    disparity: bool = True,
+) -> list[FixtureFrame]:
+    """Write Cityscapes frames: leftImg8bit, gtFine labelIds/instanceIds/color, camera json
+    and (optionally) disparity. ``frames`` maps split -> ``(city, sequence, frame)``;
+    default :data:`CITYSCAPES_FIXTURE_FRAMES`. FixtureFrame.semantic holds train ids."""
+    root = Path(root)
+    width, height = size
+    sx, sy = width / 2048, height / 1024
+    intrinsic = {"fx": 2262.52 * sx, "fy": 2265.3017905988 * sy, "u0": 1096.98 * sx, "v0": 513.137 * sy}
+    colors = np.zeros((256, 3), dtype=np.uint8)
+    for name, label_id, _train, _inst, color in CITYSCAPES_LABELS:
+        del name
+        colors[label_id] = color
+    out = []
+    for split, items in (frames or CITYSCAPES_FIXTURE_FRAMES).items():
+        for index, (city, sequence, frame) in enumerate(items):
+            stem = f"{city}_{sequence:06d}_{frame:06d}"
+            lab, inst = _cityscapes_labels(width, height, shift=index % 3)
+            write_png_atomic(root / "leftImg8bit" / split / city / f"{stem}_leftImg8bit.png", colors[lab])
+            gt = root / "gtFine" / split / city
+            write_png_atomic(gt / f"{stem}_gtFine_labelIds.png", lab.astype(np.uint8))
+            write_png_atomic(gt / f"{stem}_gtFine_instanceIds.png", inst.astype(np.uint16))
+            write_png_atomic(gt / f"{stem}_gtFine_color.png", colors[lab])
+            camera = root / "camera" / split / city / f"{stem}_camera.json"
+            camera.parent.mkdir(parents=True, exist_ok=True)
+            camera.write_text(json.dumps({"extrinsic": _CS_EXTRINSIC, "intrinsic": intrinsic}, indent=4))
+            rows = np.arange(height, dtype=np.float64)[:, None].repeat(width, 1)
+            depth = np.zeros((height, width), dtype=np.float32)
+            if disparity:
+                below = rows > intrinsic["v0"] + 1
+                z = np.where(below, _CS_EXTRINSIC["z"] * intrinsic["fy"] / (rows - intrinsic["v0"]), 0.0)
+                d = np.where(z > 0, _CS_EXTRINSIC["baseline"] * intrinsic["fx"] / np.maximum(z, 1e-9), 0.0)
+                p = np.where(z > 0, np.clip(np.round(d * 256.0) + 1, 2, 65535), 0).astype(np.uint16)
+                write_png_atomic(root / "disparity" / split / city / f"{stem}_disparity.png", p)
+                raw = p.astype(np.float32)
+                valid = raw > 1.0
+                depth[valid] = _CS_EXTRINSIC["baseline"] * intrinsic["fx"] / ((raw[valid] - 1.0) / 256.0)
+            train = LABEL_TO_TRAIN[np.where(inst >= INSTANCE_DIVISOR, inst // INSTANCE_DIVISOR, inst)]
+            keep = (inst >= INSTANCE_DIVISOR) & (train != IGNORE_INDEX)
+            instances = np.where(keep, train * INSTANCE_DIVISOR + inst % INSTANCE_DIVISOR, 0)
+            k = Intrinsics(intrinsic["fx"], intrinsic["fy"], intrinsic["u0"], intrinsic["v0"], width, height)
+            semantic = LABEL_TO_TRAIN[lab]
+            out.append(FixtureFrame(city, split, frame, None, k, semantic, instances, depth, (), None))
+    return out

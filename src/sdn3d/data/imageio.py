@@ -1,0 +1,259 @@
+"""File reading helpers shared by the dataset readers, each failing with a clear error.
+
+Images: PNG/JPG through Pillow. A missing file raises :class:`MissingDataError`
+(a ``FileNotFoundError``); an unreadable or truncated one, or one with the wrong
+pixel format, raises :class:`DataFormatError`; both name the path.
+
+Colour tables: :class:`ColorEncoding` decodes colour-coded label images (VKITTI
+scenegt/classgt) with one ``np.searchsorted`` over packed colours.
+
+Text tables: the whitespace-separated, one-header-line files Virtual KITTI ships
+(motgt, extrinsics, bbox, pose, ...). :func:`read_table` checks the header and the
+column count of every line and reports the file and line number of the first bad one.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from PIL import Image, UnidentifiedImageError
+
+from sdn3d.data.errors import DataFormatError, missing
+from sdn3d.data.records import INSTANCE_DIVISOR
+
+__all__ = [
+    "open_image",
+    "image_size",
+    "read_rgb",
+    "read_index_png",
+    "read_uint16_png",
+    "read_table",
+    "TableRow",
+    "pack_rgb",
+    "ColorEncoding",
+    "build_encoding",
+]
+
+#: Single-channel modes whose pixel values are integers (palette images give indices).
+_INDEX_MODES = ("L", "P", "I;16", "I;16B", "I;16L", "I")
+
+
+def open_image(path: str | os.PathLike) -> Image.Image:
+    """Open and fully decode an image; errors name ``path``."""
+    path = Path(path)
+    if not path.is_file():
+        raise missing(path, "image file")
+    try:
+        image = Image.open(path)
+        image.load()  # decode now so a truncated file fails here, with its path
+    except (UnidentifiedImageError, OSError, SyntaxError, ValueError) as exc:
+        raise DataFormatError(f"{path}: unreadable image ({exc})") from exc
+    return image
+
+
+def image_size(path: str | os.PathLike) -> tuple[int, int]:
+    """``(width, height)`` read from the header only (no pixel decoding)."""
+    path = Path(path)
+    if not path.is_file():
+        raise missing(path, "image file")
+    try:
+        with Image.open(path) as image:
+            return int(image.width), int(image.height)
+    except (UnidentifiedImageError, OSError, SyntaxError, ValueError) as exc:
+        raise DataFormatError(f"{path}: unreadable image ({exc})") from exc
+
+
+def read_rgb(path: str | os.PathLike) -> np.ndarray:
+    """An 8-bit colour image as ``(H, W, 3)`` uint8 (grey, palette and RGBA are converted)."""
+    image = open_image(path)
+    if image.mode not in ("RGB", "RGBA", "P", "L", "LA", "PA"):
+        raise DataFormatError(f"{path}: expected an 8-bit colour image, got mode {image.mode!r}")
+    if image.mode != "RGB":
+        image = image.convert("RGB")
+    return np.asarray(image, dtype=np.uint8).copy()
+
+
+def read_index_png(path: str | os.PathLike) -> np.ndarray:
+    """A single-channel integer image (8/16-bit grey or palette indices) as ``(H, W)`` int64."""
+    image = open_image(path)
+    if image.mode not in _INDEX_MODES:
+        raise DataFormatError(
+            f"{path}: expected a single-channel integer image (one of {_INDEX_MODES}), "
+            f"got mode {image.mode!r}"
+        )
+    return np.asarray(image).astype(np.int64)
+
+
+def read_uint16_png(path: str | os.PathLike) -> np.ndarray:
+    """A 16-bit single-channel PNG as ``(H, W)`` uint16 (8-bit images are rejected)."""
+    image = open_image(path)
+    if image.mode not in ("I;16", "I;16B", "I;16L", "I"):
+        raise DataFormatError(f"{path}: expected a 16-bit single-channel PNG, got mode {image.mode!r}")
+    array = np.asarray(image)
+    if array.dtype != np.uint16:
+        if array.size and (array.min() < 0 or array.max() > 65535):
+            raise DataFormatError(f"{path}: 16-bit PNG holds values outside [0, 65535]")
+        array = array.astype(np.uint16)
+    return array
+
+
+def pack_rgb(rgb: np.ndarray) -> np.ndarray:
+    """``(..., 3)`` uint8 colours -> ``(...)`` int64 keys ``r << 16 | g << 8 | b``."""
+    rgb = np.asarray(rgb).astype(np.int64)
+    return (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
+
+
+@dataclass(frozen=True, eq=False)
+class ColorEncoding:
+    """Colour -> (class id, track id) table of a colour-coded label image.
+
+    ``keys`` are packed colours (see :func:`~sdn3d.data.imageio.pack_rgb`) sorted
+    ascending, so decoding is one ``np.searchsorted`` over all pixels.
+    ``track_ids`` is -1 for colours that are not instances.
+    """
+
+    path: Path
+    keys: np.ndarray
+    class_ids: np.ndarray
+    track_ids: np.ndarray
+
+    def lookup(self, rgb: np.ndarray, image_path: str | os.PathLike) -> np.ndarray:
+        """``(H, W, 3)`` uint8 colours -> ``(H, W)`` row indices into the table.
+
+        Raises :class:`DataFormatError` naming both files, the unknown colours and
+        their pixel counts if any pixel's colour is not in the table.
+        """
+        packed = pack_rgb(rgb)
+        index = np.searchsorted(self.keys, packed).clip(0, len(self.keys) - 1)
+        known = self.keys[index] == packed
+        if not known.all():
+            colors, counts = np.unique(packed[~known], return_counts=True)
+            order = np.argsort(-counts, kind="stable")[:5]
+            listed = ", ".join(
+                f"rgb({c >> 16}, {(c >> 8) & 255}, {c & 255}) x {n} px"
+                for c, n in zip(colors[order].tolist(), counts[order].tolist(), strict=True)
+            )
+            raise DataFormatError(
+                f"{image_path}: {len(colors)} colour(s) not in the class table {self.path}: {listed}"
+            )
+        return index
+
+    def decode(self, rgb: np.ndarray, image_path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
+        """``(semantic, instances)`` int64 maps; instances use ``k = tid + 1`` (0 = none)."""
+        index = self.lookup(rgb, image_path)
+        semantic = self.class_ids[index]
+        tids = self.track_ids[index]
+        instances = np.where(tids >= 0, semantic * INSTANCE_DIVISOR + tids + 1, 0)
+        return semantic, instances
+
+
+def build_encoding(
+    path: Path, entries: Sequence[tuple[int, tuple[int, int, int], int, int]]
+) -> ColorEncoding:
+    """Table from ``(lineno, (r, g, b), class_id, track_id)``; duplicate colours are an error."""
+    keys = np.array([pack_rgb(np.array(rgb)) for _, rgb, _, _ in entries], dtype=np.int64)
+    order = np.argsort(keys, kind="stable")
+    sorted_keys = keys[order]
+    duplicate = np.nonzero(np.diff(sorted_keys) == 0)[0]
+    if duplicate.size:
+        first, second = entries[order[duplicate[0]]], entries[order[duplicate[0] + 1]]
+        raise DataFormatError(f"{path}:{second[0]}: colour {second[1]} already used on line {first[0]}")
+    class_ids = np.array([e[2] for e in entries], dtype=np.int64)[order]
+    track_ids = np.array([e[3] for e in entries], dtype=np.int64)[order]
+    return ColorEncoding(path, sorted_keys, class_ids, track_ids)
+
+
+class TableRow:
+    """One data line of a table with typed getters whose errors name the file, the
+    line number and the column.
+
+    Columns are addressed by header name or, where names repeat (the constant
+    ``0 0 0 1`` row of extrinsics files), by position.
+    """
+
+    __slots__ = ("path", "lineno", "header", "tokens")
+
+    def __init__(self, path: Path, lineno: int, header: tuple[str, ...], tokens: list[str]) -> None:
+        self.path = path
+        self.lineno = lineno
+        self.header = header
+        self.tokens = tokens
+
+    def _index(self, column: str | int) -> int:
+        return column if isinstance(column, int) else self.header.index(column)
+
+    def _error(self, column: str | int, kind: str) -> DataFormatError:
+        index = self._index(column)
+        return DataFormatError(
+            f"{self.path}:{self.lineno}: column {index + 1} ({self.header[index]!r}): expected {kind}, "
+            f"got {self.tokens[index]!r}"
+        )
+
+    def text(self, column: str | int) -> str:
+        return self.tokens[self._index(column)]
+
+    def number(self, column: str | int) -> float:
+        try:
+            value = float(self.text(column))
+        except ValueError as exc:
+            raise self._error(column, "a number") from exc
+        if not math.isfinite(value):
+            raise self._error(column, "a finite number")
+        return value
+
+    def integer(self, column: str | int) -> int:
+        value = self.number(column)
+        if value != int(value):
+            raise self._error(column, "an integer")
+        return int(value)
+
+    def flag(self, column: str | int) -> bool:
+        text = self.text(column).lower()
+        if text in ("1", "true"):
+            return True
+        if text in ("0", "false"):
+            return False
+        raise self._error(column, "a boolean (0/1/True/False)")
+
+
+def read_table(path: str | os.PathLike, header: Sequence[str], what: str) -> list[TableRow]:
+    """Read a whitespace-separated table with exactly the header line ``header``.
+
+    Blank lines are skipped; every other line must have ``len(header)`` fields.
+
+    Args:
+        path: the text file.
+        header: the expected column names, in order.
+        what: a short description for error messages ("motgt file", ...).
+
+    Returns:
+        One :class:`TableRow` per data line, in file order.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise missing(path, what)
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except UnicodeDecodeError as exc:
+        raise DataFormatError(f"{path}: {what} is not UTF-8 text ({exc})") from exc
+    if not lines or lines[0].split() != list(header):
+        got = lines[0].strip() if lines else "<empty file>"
+        raise DataFormatError(f"{path}:1: {what} header must be {' '.join(header)!r}, got {got!r}")
+    header = tuple(header)
+    rows: list[TableRow] = []
+    for lineno, line in enumerate(lines[1:], start=2):
+        tokens = line.split()
+        if not tokens:
+            continue
+        if len(tokens) != len(header):
+            raise DataFormatError(
+                f"{path}:{lineno}: {what} line has {len(tokens)} fields, expected {len(header)}: "
+                f"{line.strip()!r}"
+            )
+        rows.append(TableRow(path, lineno, header, tokens))
+    return rows

@@ -1,0 +1,280 @@
+"""Virtual KITTI 1.3.1 reader on fixtures written in the exact on-disk format."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from sdn3d.data import (
+    DataFormatError,
+    MissingDataError,
+    load_depth,
+    load_instances,
+    load_rgb,
+    load_semantic,
+    paper_object_filter,
+    paper_split,
+    visible_pixel_counts,
+)
+from sdn3d.data.fixtures import write_vkitti1_fixture
+from sdn3d.data.records import ObjectAnnotation, split_instance_ids
+from sdn3d.data.vkitti1 import (
+    MOTGT_HEADER,
+    VKITTI_CLASS_INDEX,
+    VKITTI_CLASSES,
+    parse_encoding,
+    parse_motgt,
+    read_frames,
+)
+from sdn3d.geometry.camera import VKITTI_INTRINSICS
+
+REFERENCE_FRAME = "0006_30-deg-right_00043.png"
+
+
+@pytest.fixture(scope="module")
+def reference_tree(tmp_path_factory, reference_dir):
+    root = tmp_path_factory.mktemp("vkitti1_ref")
+    truth = write_vkitti1_fixture(
+        root, world="0006", variation="30-deg-right", frames=(43,), rgb_image=reference_dir / REFERENCE_FRAME
+    )
+    return root, truth
+
+
+@pytest.fixture()
+def small_tree(tmp_path):
+    truth = write_vkitti1_fixture(tmp_path, world="0001", variation="clone", frames=(0, 1, 2))
+    return tmp_path, truth
+
+
+def test_class_table_is_the_official_vkitti1_list():
+    names = [c.name for c in VKITTI_CLASSES]
+    assert names == ["Terrain", "Sky", "Tree", "Vegetation", "Building", "Road", "GuardRail", "TrafficSign",
+                     "TrafficLight", "Pole", "Misc", "Truck", "Car", "Van"]  # fmt: skip
+    colors = {c.name: c.color for c in VKITTI_CLASSES}
+    assert colors["Terrain"] == (210, 0, 200) and colors["GuardRail"] == (255, 100, 255)
+    assert colors["Road"] == (100, 60, 100) and colors["Truck"] == (160, 60, 60)
+    assert [c.id for c in VKITTI_CLASSES] == list(range(14))
+    assert {c.name for c in VKITTI_CLASSES if c.has_instances} == {"Car", "Van"}
+
+
+def test_reference_frame_loads_with_native_size_and_intrinsics(reference_tree, reference_dir):
+    root, truth = reference_tree
+    (record,) = read_frames(root)
+    assert (record.world, record.variation, record.frame) == ("0006", "30-deg-right", 43)
+    assert record.intrinsics == VKITTI_INTRINSICS
+    rgb = load_rgb(record)
+    assert rgb.shape == (375, 1242, 3) and rgb.dtype == np.uint8
+    np.testing.assert_array_equal(rgb, np.asarray(Image.open(reference_dir / REFERENCE_FRAME).convert("RGB")))
+    semantic, instances, depth = load_semantic(record), load_instances(record), load_depth(record)
+    assert semantic.dtype == np.int64 and instances.dtype == np.int64 and depth.dtype == np.float32
+    np.testing.assert_array_equal(semantic, truth[0].semantic)
+    np.testing.assert_array_equal(instances, truth[0].instances)
+    np.testing.assert_array_equal(depth, truth[0].depth)
+    assert record.objects == truth[0].objects
+    np.testing.assert_allclose(record.extrinsics_matrix(), truth[0].extrinsics)
+
+
+def test_instance_ids_encode_class_and_track(reference_tree):
+    root, _ = reference_tree
+    (record,) = read_frames(root)
+    instances, semantic = load_instances(record), load_semantic(record)
+    counts = visible_pixel_counts(instances)
+    classes, k = split_instance_ids(np.array(sorted(counts)))
+    tids = {o.track_id: o.label for o in record.objects}
+    # k = tid + 1; the class part is Car (12) or Van (13) as the motgt's original label says.
+    assert sorted((k - 1).tolist()) == sorted(tids)
+    for cls, tid in zip(classes.tolist(), (k - 1).tolist(), strict=True):
+        orig = next(o.orig_label for o in record.objects if o.track_id == tid)
+        assert cls == VKITTI_CLASS_INDEX[orig]
+    # Every instance pixel carries its class in the semantic map; no instance outside Car/Van.
+    np.testing.assert_array_equal(semantic[instances > 0], instances[instances > 0] // 1000)
+    assert not np.isin(semantic[instances == 0], [12, 13]).any()
+
+
+def test_motgt_dims_are_reordered_and_boxes_match_projections(reference_tree):
+    root, _ = reference_tree
+    motgt = root / "vkitti_1.3.1_motgt" / "0006_30-deg-right.txt"
+    header, first = motgt.read_text().splitlines()[:2]
+    cols = dict(zip(header.split(), first.split(), strict=True))
+    obj = parse_motgt(motgt)[43][0]
+    # Files store w3d h3d l3d; records hold (l, h, w).
+    assert obj.dims == (float(cols["l3d"]), float(cols["h3d"]), float(cols["w3d"]))
+    assert obj.box2d == tuple(float(cols[c]) for c in "ltrb")
+    assert (obj.truncr, obj.occupr) == (float(cols["truncr"]), float(cols["occupr"]))
+    k = VKITTI_INTRINSICS
+    for o in parse_motgt(motgt)[43]:
+        # Observation angle convention and projected 3D box == stored 2D box (when not truncated).
+        alpha = math.remainder(o.ry - math.atan2(o.location[0], o.location[2]), 2 * math.pi)
+        assert math.isclose(o.alpha, alpha, abs_tol=2e-6)
+        l, h, w = o.dims
+        corners = np.array([[a, b, c] for a in (-0.5, 0.5) for b in (-0.5, 0.5) for c in (-0.5, 0.5)])
+        cos, sin = math.cos(o.ry), math.sin(o.ry)
+        rot = np.array([[cos, 0, sin], [0, 1, 0], [-sin, 0, cos]])
+        pts = corners * [l, h, w] @ rot.T + np.array(o.center)
+        u, v = k.fx * pts[:, 0] / pts[:, 2] + k.cx, k.fy * pts[:, 1] / pts[:, 2] + k.cy
+        if o.truncr == 0:
+            np.testing.assert_allclose(o.box2d, [u.min(), v.min(), u.max(), v.max()], atol=1.0)
+
+
+def test_reference_fixture_car_sits_under_the_edit_example_point(reference_tree):
+    root, _ = reference_tree
+    (record,) = read_frames(root)
+    k = record.intrinsics
+    centres = {o.track_id: o.center for o in record.objects}
+    uv = {t: (k.fx * c[0] / c[2] + k.cx, k.fy * c[1] / c[2] + k.cy) for t, c in centres.items()}
+    nearest = min(uv, key=lambda t: math.dist(uv[t], (552, 251)))
+    assert nearest == 0 and math.dist(uv[0], (552, 251)) < 2.0
+
+
+def test_small_sequence_rescales_intrinsics_and_keeps_frame_order(small_tree):
+    root, truth = small_tree
+    records = read_frames(root)
+    assert [r.frame for r in records] == [0, 1, 2]
+    assert records[0].intrinsics == VKITTI_INTRINSICS.resized(64, 32)
+    for record, expected in zip(records, truth, strict=True):
+        assert load_rgb(record).shape == (32, 64, 3)
+        np.testing.assert_array_equal(load_semantic(record), expected.semantic)
+        np.testing.assert_array_equal(load_instances(record), expected.instances)
+        assert record.objects == expected.objects
+    # The camera advances 0.8 m per frame: world->camera translations differ accordingly.
+    t = [np.linalg.inv(r.extrinsics_matrix())[:3, 3] for r in records]
+    np.testing.assert_allclose(np.diff([p[2] for p in t]), [0.8, 0.8], atol=1e-6)
+    # The fixture's first frame shows every class of the list.
+    assert np.unique(load_semantic(records[0])).tolist() == list(range(len(VKITTI_CLASSES)))
+
+
+def test_subsets_and_missing_modalities(small_tree):
+    root, _ = small_tree
+    assert read_frames(root, worlds=["0001"], variations=["clone"])[0].key == "vkitti1/0001/clone/00000"
+    with pytest.raises(FileNotFoundError, match="0002"):
+        read_frames(root, worlds=["0002"])
+    with pytest.raises(MissingDataError, match="vkitti_1.3.1_rgb"):
+        read_frames(root / "nowhere")
+    for sub in ("vkitti_1.3.1_depthgt", "vkitti_1.3.1_motgt", "vkitti_1.3.1_extrinsicsgt"):
+        path = root / sub
+        path.rename(root / f"{sub}.off")
+    records = read_frames(root, annotations=False)
+    assert records[0].depth_path is None and records[0].objects == () and records[0].extrinsics is None
+    with pytest.raises(DataFormatError, match="no depth"):
+        load_depth(records[0])
+    with pytest.raises(FileNotFoundError, match="motgt"):
+        read_frames(root)
+
+
+def test_unknown_scenegt_colour_names_file_colour_and_count(small_tree):
+    root, _ = small_tree
+    record = read_frames(root)[1]
+    image = np.asarray(Image.open(record.semantic_path)).copy()
+    image[:3, :4] = (1, 2, 3)
+    Image.fromarray(image).save(record.semantic_path)
+    with pytest.raises(DataFormatError) as info:
+        load_semantic(record)
+    message = str(info.value)
+    assert str(record.semantic_path) in message and "rgb(1, 2, 3) x 12 px" in message
+    assert "scenegt_rgb_encoding.txt" in message
+
+
+def test_encoding_file_errors(tmp_path):
+    path = tmp_path / "enc.txt"
+    path.write_text("Category(:id) r g b\nSky 90 200 255\nCar:0 90 200 255\n")
+    with pytest.raises(DataFormatError, match=r"enc.txt:3: colour \(90, 200, 255\) already used on line 2"):
+        parse_encoding(path)
+    path.write_text("Category(:id) r g b\nPlanet 1 2 3\n")
+    with pytest.raises(DataFormatError, match="enc.txt:2: unknown category 'Planet'"):
+        parse_encoding(path)
+    path.write_text("Category r g b\nSky 90 200 255\n")
+    with pytest.raises(DataFormatError, match="enc.txt:1: .*header"):
+        parse_encoding(path)
+
+
+def test_malformed_motgt_line_names_file_and_line(small_tree):
+    root, _ = small_tree
+    motgt = root / "vkitti_1.3.1_motgt" / "0001_clone.txt"
+    lines = motgt.read_text().splitlines()
+    assert lines[0].split() == list(MOTGT_HEADER)
+    fields = lines[2].split()
+    fields[10] = "wide"  # w3d
+    motgt.write_text("\n".join([*lines[:2], " ".join(fields), *lines[3:]]) + "\n")
+    expected = r"0001_clone.txt:3: column 11 \('w3d'\): expected a number, got 'wide'"
+    with pytest.raises(DataFormatError, match=expected):
+        read_frames(root)
+    motgt.write_text("\n".join([*lines[:3], "0 1 Car", *lines[3:]]) + "\n")
+    with pytest.raises(DataFormatError, match="0001_clone.txt:4: motgt file line has 3 fields, expected 25"):
+        read_frames(root)
+
+
+def test_unreadable_and_missing_images(small_tree):
+    root, _ = small_tree
+    records = read_frames(root)
+    records[0].rgb_path.write_bytes(b"\x89PNG\r\n\x1a\nnot really")
+    with pytest.raises(DataFormatError, match=str(records[0].rgb_path)):
+        load_rgb(records[0])
+    records[1].depth_path.unlink()
+    with pytest.raises(FileNotFoundError, match=str(records[1].depth_path)):
+        load_depth(records[1])
+    # A depth map saved as 8-bit is a format error, not silently rescaled.
+    Image.fromarray(np.zeros((32, 64), np.uint8)).save(records[2].depth_path)
+    with pytest.raises(DataFormatError, match="16-bit"):
+        load_depth(records[2])
+    # Label images must have the sequence's image size.
+    Image.fromarray(np.zeros((10, 12, 3), np.uint8)).save(records[2].semantic_path)
+    with pytest.raises(DataFormatError, match="image is 12x10, expected 64x32"):
+        load_semantic(records[2])
+
+
+def _obj(truncr: float, occupr: float) -> ObjectAnnotation:
+    return ObjectAnnotation(0, "Car", (0, 0, 10, 10), (4, 1.5, 1.8), (0, 1.6, 10), 0.0, 0.0, truncr, occupr)
+
+
+@pytest.mark.parametrize(
+    ("pixels", "truncr", "occupr", "keep"),
+    [(257, 0.0, 1.0, True), (256, 0.0, 1.0, False), (5000, 0.69, 0.31, True), (5000, 0.7, 1.0, False),
+     (5000, 0.0, 0.3, False), (5000, 0.0, 0.301, True)],
+)  # fmt: skip
+def test_paper_object_filter_thresholds(pixels, truncr, occupr, keep):
+    assert paper_object_filter(_obj(truncr, occupr), pixels) is keep
+
+
+def test_paper_split_first_or_last_80_percent_per_sequence(tmp_path):
+    write_vkitti1_fixture(tmp_path, world="0001", variation="clone", frames=range(10))
+    write_vkitti1_fixture(tmp_path, world="0002", variation="fog", frames=range(5))
+    frames = read_frames(tmp_path, annotations=False)
+    train, test = paper_split(frames, "train"), paper_split(frames, "test")
+    by_world = {w: [r.frame for r in train if r.world == w] for w in ("0001", "0002")}
+    assert by_world == {"0001": list(range(8)), "0002": list(range(4))}
+    assert [(r.world, r.frame) for r in test] == [("0001", 8), ("0001", 9), ("0002", 4)]
+    last = paper_split(frames, "train", first=False)
+    assert [r.frame for r in last if r.world == "0001"] == list(range(2, 10))
+    assert {r.key for r in last} | {r.key for r in paper_split(frames, "test", first=False)} == {
+        r.key for r in frames
+    }
+    with pytest.raises(ValueError, match="part"):
+        paper_split(frames, "val")
+
+
+def test_reader_is_fast_on_full_resolution(reference_tree):
+    import time
+
+    root, _ = reference_tree
+    (record,) = read_frames(root)
+    start = time.perf_counter()
+    load_instances(record)
+    assert time.perf_counter() - start < 1.0  # vectorised decode, no per-pixel Python
+
+
+def test_paths_follow_the_official_layout(reference_tree):
+    root, _ = reference_tree
+    (record,) = read_frames(root)
+    paths = {"rgb": record.rgb_path, "scenegt": record.semantic_path, "depth": record.depth_path,
+             "enc": record.aux_path("encoding")}  # fmt: skip
+    rel = {k: Path(p).relative_to(root).as_posix() for k, p in paths.items()}
+    assert rel == {
+        "rgb": "vkitti_1.3.1_rgb/0006/30-deg-right/00043.png",
+        "scenegt": "vkitti_1.3.1_scenegt/0006/30-deg-right/00043.png",
+        "depth": "vkitti_1.3.1_depthgt/0006/30-deg-right/00043.png",
+        "enc": "vkitti_1.3.1_scenegt/0006_30-deg-right_scenegt_rgb_encoding.txt",
+    }

@@ -1,0 +1,227 @@
+"""The 3D-SDN edit benchmark format: the shipped files, round trips, scaling, validation."""
+
+from __future__ import annotations
+
+import json
+import math
+from collections import Counter
+
+import pytest
+import torch
+
+from sdn3d.data import DataFormatError
+from sdn3d.data.edits import (
+    EditEntry,
+    EditOperation,
+    load_edit_benchmark,
+    save_edit_benchmark,
+    scale_entry,
+    scale_operation,
+    scale_point,
+    validate_in_frame,
+)
+from sdn3d.geometry.camera import VKITTI_INTRINSICS, project_points
+
+
+@pytest.fixture(scope="module")
+def benchmark(reference_dir):
+    return load_edit_benchmark(reference_dir / "vkitti_edit_benchmark.json")
+
+
+def test_shipped_benchmark_counts(benchmark):
+    assert len(benchmark) == 184
+    real, identity = benchmark[:92], benchmark[92:]
+    assert all(e.operations for e in real) and all(e.is_identity for e in identity)
+    ops = [op for e in benchmark for op in e.operations]
+    assert len(ops) == 424
+    assert Counter(op.kind for op in ops) == {"modify": 393, "delete": 31}
+    # Identity entries repeat each real entry's source frame as its own target.
+    for edit, same in zip(real, identity, strict=True):
+        assert (same.world, same.variation) == (edit.world, edit.variation)
+        assert same.source_frame == edit.source_frame
+        assert same.target_frame == same.source_frame
+    assert {e.world for e in benchmark} <= {"0001", "0002", "0006", "0018", "0020"}
+
+
+def test_shipped_benchmark_values(benchmark):
+    first = benchmark[0]
+    assert (first.world, first.variation, first.source_frame, first.target_frame) == ("0006", "fog", 55, 50)
+    op = first.operations[0]
+    assert op == EditOperation("modify", (750.9, 213.9), (804.4, 227.1), 1.338, 0.007, (194, 756, 269, 865))
+    delete = first.operations[2]
+    assert delete.kind == "delete" and delete.to_uv is None and delete.zoom is None and delete.ry is None
+    # Deletes carry no target; every modify of the benchmark has a target point and an roi.
+    ops = [op for e in benchmark for op in e.operations]
+    assert all(op.to_uv is not None and op.roi is not None for op in ops if op.kind == "modify")
+    assert all(op.zoom > 0 and math.isfinite(op.ry) for op in ops if op.kind == "modify")
+
+
+def test_out_of_frame_points_load_but_fail_user_validation(benchmark):
+    delete = benchmark[0].operations[2]
+    assert delete.from_uv == (1328.5, 271.3)  # outside 1242x375, yet in the published file
+    with pytest.raises(ValueError, match=r"entry 0 .*operation 2 \(delete\) 'from' point \(1328.5, 271.3\)"):
+        validate_in_frame(benchmark[0], index=0)
+    validate_in_frame(benchmark[0], margin=100.0)
+    validate_in_frame(benchmark[1])
+    outside = [i for i, e in enumerate(benchmark) if _fails(e)]
+    assert 0 < len(outside) < 92 and all(i < 92 for i in outside)
+    with pytest.raises(ValueError, match="margin"):
+        validate_in_frame(benchmark[1], margin=-1)
+
+
+def _fails(entry: EditEntry) -> bool:
+    try:
+        validate_in_frame(entry)
+    except ValueError:
+        return True
+    return False
+
+
+def test_example_file(reference_dir):
+    entries = load_edit_benchmark(reference_dir / "vkitti_edit_example.json")
+    assert [e.target_frame for e in entries] == [0, 1, 2, 3, 4]
+    assert {(e.world, e.variation, e.source_frame) for e in entries} == {("0006", "30-deg-right", 43)}
+    ops = [e.operations[0] for e in entries]
+    assert all(op.kind == "modify" and op.to_uv is None and op.zoom == 1.0 for op in ops)
+    assert all(op.from_uv == (552.0, 251.0) for op in ops)
+    assert [op.ry for op in ops] == [0.0, 0.837758, 3.141593, 4.18879, 6.073746]
+
+
+def test_round_trip_keeps_entries_and_format(benchmark, reference_dir, tmp_path):
+    path = tmp_path / "out" / "bench.json"
+    save_edit_benchmark(benchmark, path)
+    assert load_edit_benchmark(path) == benchmark
+    original = json.loads((reference_dir / "vkitti_edit_benchmark.json").read_text())
+    saved = json.loads(path.read_text())
+    assert _numbers_as_floats(saved) == _numbers_as_floats(original)
+    # Numbers stay strings as in the published file; `to` null vs {} is kept.
+    assert isinstance(saved[0]["operations"][0]["zoom"], str) and saved[0]["operations"][2]["to"] is None
+    text = path.read_text()
+    save_edit_benchmark(load_edit_benchmark(path), path)
+    assert path.read_text() == text  # stable once written
+    example = load_edit_benchmark(reference_dir / "vkitti_edit_example.json")
+    save_edit_benchmark(example, path)
+    assert json.loads(path.read_text())[0]["operations"][0]["to"] == {}
+    assert load_edit_benchmark(path) == example
+
+
+def _numbers_as_floats(node):
+    if isinstance(node, dict):
+        return {k: _numbers_as_floats(v) for k, v in node.items()}
+    if isinstance(node, list):
+        return [_numbers_as_floats(v) for v in node]
+    if isinstance(node, str):
+        try:
+            return float(node)
+        except ValueError:
+            return node
+    return float(node) if isinstance(node, int) else node
+
+
+def test_save_is_atomic(tmp_path, monkeypatch, benchmark):
+    path = tmp_path / "bench.json"
+    save_edit_benchmark(benchmark[:2], path)
+    before = path.read_bytes()
+
+    def boom(*args, **kwargs):
+        raise RuntimeError("disk full")
+
+    monkeypatch.setattr("sdn3d.io.os.replace", boom)
+    with pytest.raises(RuntimeError):
+        save_edit_benchmark(benchmark, path)
+    assert path.read_bytes() == before
+    assert [p.name for p in tmp_path.iterdir()] == ["bench.json"]
+
+
+def _write(tmp_path, data) -> str:
+    path = tmp_path / "edits.json"
+    path.write_text(data if isinstance(data, str) else json.dumps(data))
+    return str(path)
+
+
+def _entry(**op):
+    operation = {"type": "modify", "from": {"u": "10", "v": "20"}, "to": {}, "zoom": "1.0", "ry": "0.1"}
+    operation.update(op)
+    entry = {"world": "0001", "topic": "clone", "source": "00001", "target": "00002"}
+    return {**entry, "operations": [operation]}
+
+
+@pytest.mark.parametrize(
+    ("data", "pattern"),
+    [
+        ("[{", r"invalid JSON at line 1"),
+        ({"world": "0001"}, r"expected a JSON list"),
+        ([_entry(), {"world": "0001", "source": "1", "target": "2", "operations": []}],
+         r"entry 1: field 'topic': missing"),
+        ([_entry(zoom="abc")], r"entry 0 operation 0: field 'zoom': expected a number, got 'abc'"),
+        ([_entry(zoom="-1.5")], r"entry 0 operation 0: field 'zoom': expected a number > 0"),
+        ([_entry(zoom="0")], r"field 'zoom': expected a number > 0"),
+        ([_entry(zoom="nan")], r"field 'zoom': expected a finite number"),
+        ([_entry(ry="inf")], r"field 'ry': expected a finite number"),
+        ([_entry(zoom=None)], r"field 'zoom': expected a number or numeric string, got None"),
+        ([_entry(type="move")], r"field 'type': expected one of"),
+        ([_entry(**{"from": {"u": "1"}})], r"field 'from.v': missing"),
+        ([_entry(to={"u": "1", "v": "2", "roi": [1, 2, 3]})], r"field 'to.roi': expected \[top, left"),
+        ([_entry(to={"u": "1", "v": "2", "roi": [5, 2, 3, 4]})], r"field 'to.roi': expected top <= bottom"),
+        ([_entry(zoom=True)], r"field 'zoom'"),
+    ],
+)  # fmt: skip
+def test_malformed_inputs_name_path_entry_and_field(tmp_path, data, pattern):
+    path = _write(tmp_path, data)
+    with pytest.raises(ValueError, match=pattern) as info:
+        load_edit_benchmark(path)
+    assert isinstance(info.value, DataFormatError) and str(info.value).startswith(path)
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(FileNotFoundError, match="nope.json"):
+        load_edit_benchmark(tmp_path / "nope.json")
+
+
+def test_numbers_may_be_json_numbers(tmp_path):
+    entry = _entry(zoom=1.25, ry=-0.5)
+    entry["source"], entry["operations"][0]["from"] = 7, {"u": 3, "v": 4.5}
+    (loaded,) = load_edit_benchmark(_write(tmp_path, [entry]))
+    assert loaded.source_frame == 7
+    assert loaded.operations[0] == EditOperation.modify((3, 4.5), zoom=1.25, ry=-0.5)
+
+
+def test_scaling_matches_resized_intrinsics():
+    working = VKITTI_INTRINSICS.resized(624, 192)
+    # A 3D point projects, in both sizes, where scale_point maps its full-size pixel.
+    points = torch.tensor([[1.0, 1.2, 10.0], [-4.0, 0.5, 25.0], [0.0, 0.0, 5.0]], dtype=torch.float64)
+    full = project_points(points, VKITTI_INTRINSICS.matrix(torch.float64))
+    small = project_points(points, working.matrix(torch.float64))
+    for uv_full, uv_small in zip(full.tolist(), small.tolist(), strict=True):
+        assert scale_point(uv_full, (1242, 375), (624, 192)) == pytest.approx(uv_small, abs=1e-9)
+    # The principal point and the image corners map onto themselves.
+    assert scale_point((620.5, 187.0), (1242, 375), (624, 192)) == pytest.approx((working.cx, working.cy))
+    assert scale_point((-0.5, 374.5), (1242, 375), (624, 192)) == pytest.approx((-0.5, 191.5))
+
+
+def test_scale_operation_and_back(benchmark):
+    op = benchmark[0].operations[0]
+    small = scale_operation(op)
+    assert (small.kind, small.zoom, small.ry) == (op.kind, op.zoom, op.ry)
+    top, left, bottom, right = small.roi
+    assert left <= small.to_uv[0] <= right and top <= small.to_uv[1] <= bottom
+    back = scale_operation(small, (624, 192), (1242, 375))
+    assert back.from_uv == pytest.approx(op.from_uv) and back.roi == pytest.approx(op.roi)
+    delete = scale_operation(benchmark[0].operations[2])
+    assert delete.to_uv is None and delete.roi is None
+    scaled = scale_entry(benchmark[0])
+    assert scaled.operations[1] == scale_operation(benchmark[0].operations[1])
+    with pytest.raises(ValueError, match="to_size"):
+        scale_operation(op, to_size=(0, 192))
+
+
+def test_operation_constructor_validation():
+    assert EditOperation.delete((1, 2)).zoom is None
+    with pytest.raises(ValueError, match="zoom must be > 0"):
+        EditOperation.modify((1, 2), zoom=-1.0)
+    with pytest.raises(ValueError, match="needs zoom and ry"):
+        EditOperation("modify", (1, 2))
+    with pytest.raises(ValueError, match="kind"):
+        EditOperation("rotate", (1, 2))
+    with pytest.raises(ValueError, match="finite"):
+        EditOperation.modify((1, float("nan")))

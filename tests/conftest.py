@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import random
 from pathlib import Path
 
@@ -11,6 +12,11 @@ import torch
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
 SHARED_REFERENCE = REPO_ROOT.parent / "shared" / "reference"
+
+# One intra-op thread by default: OpenMP worker threads spin-wait, and on a 2-core machine any
+# other busy process makes multi-threaded small ops orders of magnitude slower. Benchmarks,
+# not tests, measure multi-threaded speed. SDN3D_TEST_THREADS overrides.
+torch.set_num_threads(int(os.environ.get("SDN3D_TEST_THREADS", "1")))
 
 
 @pytest.fixture(autouse=True)

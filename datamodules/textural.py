@@ -1,0 +1,40 @@
+"""Textural branch datamodule (thin: see :class:`sdn3d.data.datasets.TexturalDataset`)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from datamodules._base import BranchDataModule
+from sdn3d.data.datasets import SourceConfig, TexturalDataset
+
+__all__ = ["TexturalDataModule"]
+
+
+class TexturalDataModule(BranchDataModule):
+    """Frames with label / instance / boundary / normal / pose / depth maps.
+
+    Args:
+        data, image_size, batch_size, num_workers, seed, pin_memory: see :class:`BranchDataModule`.
+        render: draw the ground-truth normal and pose maps (False leaves them zero).
+    """
+
+    def __init__(
+        self,
+        data: Mapping[str, Any] | SourceConfig,
+        image_size: tuple[int, int] | list[int] | None = None,
+        batch_size: int = 1,
+        num_workers: int = 0,
+        seed: int = 0,
+        pin_memory: bool = False,
+        render: bool = True,
+    ) -> None:
+        super().__init__(data, image_size, batch_size, num_workers, seed, pin_memory)
+        self.render = bool(render)
+
+    @property
+    def classes(self):
+        return self.source.class_list
+
+    def make_dataset(self, part: str) -> TexturalDataset:
+        return TexturalDataset.from_source(self.source, part, render=self.render)

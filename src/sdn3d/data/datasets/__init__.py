@@ -1,0 +1,80 @@
+"""torch Datasets of the three 3D-SDN branches (plain PyTorch, no Lightning).
+
+- :class:`SemanticDataset`: one frame per item (image, semantic and instance maps).
+- :class:`GeometricDataset`: one object per item (masked square crop, masks, 3D targets).
+- :class:`TexturalDataset`: one frame per item (label / instance / boundary / normal / pose maps).
+
+Frames come from a :class:`SourceConfig` (one ``conf/data`` file) through :func:`load_split`;
+everything is resized to the working size with intrinsics following
+(:mod:`sdn3d.data.datasets.transforms`).
+"""
+
+from sdn3d.data.datasets.geometric import (
+    GeometricDataset,
+    ObjectFilter,
+    closer_object_mask,
+    crop_maps,
+    object_mask,
+    square_crop_window,
+    template_id,
+    track_pixel_counts,
+)
+from sdn3d.data.datasets.semantic import SemanticDataset
+from sdn3d.data.datasets.sources import (
+    DEFAULT_IMAGE_SIZE,
+    KINDS,
+    PARTS,
+    SourceConfig,
+    classes_for,
+    load_split,
+    read_source,
+    split_records,
+)
+from sdn3d.data.datasets.textural import (
+    TexturalDataset,
+    boundary_map,
+    instance_label_map,
+    mesh_name_for,
+    render_geometry_maps,
+)
+from sdn3d.data.datasets.transforms import (
+    Frame,
+    intrinsics_vector,
+    load_frame,
+    resize_frame,
+    resize_image,
+    resize_map,
+    scale_boxes,
+)
+
+__all__ = [
+    "SemanticDataset",
+    "GeometricDataset",
+    "TexturalDataset",
+    "ObjectFilter",
+    "SourceConfig",
+    "KINDS",
+    "PARTS",
+    "DEFAULT_IMAGE_SIZE",
+    "classes_for",
+    "read_source",
+    "split_records",
+    "load_split",
+    "Frame",
+    "load_frame",
+    "resize_frame",
+    "resize_image",
+    "resize_map",
+    "scale_boxes",
+    "intrinsics_vector",
+    "object_mask",
+    "closer_object_mask",
+    "square_crop_window",
+    "crop_maps",
+    "template_id",
+    "track_pixel_counts",
+    "instance_label_map",
+    "boundary_map",
+    "mesh_name_for",
+    "render_geometry_maps",
+]

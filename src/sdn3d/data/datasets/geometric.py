@@ -1,0 +1,282 @@
+"""Geometric branch dataset: one item per annotated object passing the paper's filter.
+
+Index building (at construction): every frame's objects are filtered with
+:func:`~sdn3d.data.vkitti1.paper_object_filter` on their visible pixel count at the *native*
+resolution. Counts come from the annotation when every object of the frame carries one
+(Virtual KITTI 2's ``number_pixels``), otherwise from the frame's instance map, which is then
+read once at construction (cached in memory per file version). That costs one instance-map
+decode per frame, fine for the datasets used here (a few thousand frames); items only read
+their own frame.
+
+Object <-> instance: Virtual KITTI instance ids are ``class_id * 1000 + tid + 1``, so an
+object's visible pixels are those with ``id % 1000 == tid + 1`` (any class; this also
+covers objects labelled ``DontCare``).
+
+Crops are **square**: the 2D box (working-size pixels) is enlarged by ``margin`` of its
+larger side on every side, made square around the box centre and snapped to whole pixels,
+then resampled to ``crop_size x crop_size``. Square crops resize isotropically, so the
+crop camera keeps the image's ``fx / fy`` ratio and the posed mesh's soft silhouette can be
+rendered straight into the crop with ``crop_intrinsics``. Windows may leave the image
+(padding is zero).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+from torch import Tensor
+from torch.utils.data import Dataset
+
+from sdn3d.data.datasets.sources import SourceConfig, load_split
+from sdn3d.data.datasets.transforms import Frame, intrinsics_vector, load_frame, scale_boxes
+from sdn3d.data.records import INSTANCE_DIVISOR, FrameRecord, ObjectAnnotation, load_instances
+from sdn3d.data.vkitti1 import paper_object_filter
+from sdn3d.geometry.camera import Intrinsics
+from sdn3d.geometry.encodings import AttributeEncoding
+from sdn3d.geometry.transforms import bottom_to_center
+from sdn3d.meshes.templates import TEMPLATE_NAMES
+
+__all__ = [
+    "ObjectFilter",
+    "ObjectRef",
+    "GeometricDataset",
+    "track_pixel_counts",
+    "object_mask",
+    "closer_object_mask",
+    "square_crop_window",
+    "crop_maps",
+    "template_id",
+]
+
+
+@dataclass(frozen=True)
+class ObjectFilter:
+    """Thresholds of the paper's object filter (``> min_pixels`` visible pixels at native size,
+    occlusion ``1 - occupr < max_occlusion``, truncation ``truncr < max_truncation``)."""
+
+    min_pixels: int = 256
+    max_occlusion: float = 0.7
+    max_truncation: float = 0.7
+
+    def __call__(self, obj: ObjectAnnotation, visible_pixels: int) -> bool:
+        return paper_object_filter(obj, visible_pixels, self.min_pixels, self.max_occlusion,
+                                   self.max_truncation)
+
+
+@dataclass(frozen=True)
+class ObjectRef:
+    """One indexed object: frame index into ``records``, object index in ``record.objects``."""
+
+    frame: int
+    object: int
+    visible_pixels: int
+
+
+def track_pixel_counts(instances: np.ndarray) -> dict[int, int]:
+    """Visible pixels per track id (``id % 1000 - 1``) of a Virtual KITTI ``(H, W)`` instance map."""
+    ids, counts = np.unique(np.asarray(instances), return_counts=True)
+    keep = ids != 0
+    tids = ids[keep] % INSTANCE_DIVISOR - 1
+    out: dict[int, int] = {}
+    for tid, count in zip(tids.tolist(), counts[keep].tolist(), strict=True):
+        out[tid] = out.get(tid, 0) + count
+    return out
+
+
+@functools.lru_cache(maxsize=8192)
+def _cached_counts(record: FrameRecord, _mtime_ns: int) -> dict[int, int]:
+    return track_pixel_counts(load_instances(record))
+
+
+def _frame_counts(record: FrameRecord) -> dict[int, int]:
+    if record.objects and all(o.num_pixels is not None for o in record.objects):
+        return {o.track_id: int(o.num_pixels) for o in record.objects}
+    if record.instance_path is None:
+        raise ValueError(f"{record.key}: no instance map and no annotated pixel counts to filter with")
+    return _cached_counts(record, os.stat(Path(record.instance_path)).st_mtime_ns)
+
+
+def object_mask(instances: Tensor, track_id: int) -> Tensor:
+    """``(H, W)`` bool visible pixels of track ``track_id`` (ids ``class * 1000 + tid + 1``)."""
+    return (instances > 0) & (instances % INSTANCE_DIVISOR == track_id + 1)
+
+
+def closer_object_mask(
+    instances: Tensor, depth: Tensor, mask: Tensor, reference_depth: float | Tensor
+) -> Tensor:
+    """``(H, W)`` bool pixels of *other* instances nearer than the object.
+
+    A pixel is marked when it belongs to an instance (id != 0) other than the object
+    (``~mask``) and its depth is below ``reference_depth`` (the object's median visible
+    depth): those objects may hide part of the object, so a silhouette loss must not
+    penalise the object's projection there. Farther objects and background are not marked.
+
+    Args:
+        instances: ``(H, W)`` int64 instance ids; depth: ``(H, W)`` metres; mask: ``(H, W)`` bool.
+    """
+    if instances.shape != depth.shape or instances.shape != mask.shape:
+        raise ValueError(f"instances, depth and mask must share one (H, W) shape, got "
+                         f"{tuple(instances.shape)}, {tuple(depth.shape)}, {tuple(mask.shape)}")
+    return (instances != 0) & ~mask & (depth < reference_depth)
+
+
+def square_crop_window(box: Tensor, margin: float) -> tuple[int, int, int]:
+    """Square window ``(left, top, side)`` in whole pixels around a ``(4,)`` box ``(l, t, r, b)``.
+
+    Box coordinates are pixel centres, so the box spans ``r - l + 1`` pixels; the side is
+    ``ceil((1 + 2 margin) * max(r - l + 1, b - t + 1))``, centred on the box centre.
+    ``left``/``top`` are the indices of the window's first column/row (may be outside the image).
+    """
+    if margin < 0:
+        raise ValueError(f"margin must be non-negative, got {margin}")
+    l, t, r, b = (float(v) for v in box)
+    side = max(1, math.ceil((1.0 + 2.0 * margin) * max(r - l + 1.0, b - t + 1.0) - 1e-6))
+    left = math.floor((l + r) / 2.0 - (side - 1) / 2.0 + 0.5)
+    top = math.floor((t + b) / 2.0 - (side - 1) / 2.0 + 0.5)
+    return left, top, side
+
+
+def crop_maps(maps: Tensor, left: int, top: int, side: int, out_size: int, mode: str) -> Tensor:
+    """Resample the window ``[left, left + side) x [top, top + side)`` of ``(C, H, W)`` maps to
+    ``(C, out_size, out_size)`` (``mode`` ``'bilinear'`` or ``'nearest'``; zeros outside the image).
+
+    Output pixel ``j`` samples ``u = left + (j + 0.5) side / out_size - 0.5``, the map of
+    ``Intrinsics.cropped(left, top, side, side).resized(out_size, out_size)``.
+    """
+    _, height, width = maps.shape
+    centres = (torch.arange(out_size, dtype=torch.float32) + 0.5) * (side / out_size) - 0.5
+    u = (left + centres) * (2.0 / width) + (1.0 / width - 1.0)
+    v = (top + centres) * (2.0 / height) + (1.0 / height - 1.0)
+    grid = torch.stack(torch.meshgrid(u, v, indexing="xy"), dim=-1)  # (S, S, 2) as (x, y)
+    out = F.grid_sample(maps[None].float(), grid[None], mode=mode, padding_mode="zeros", align_corners=False)
+    return out[0]
+
+
+def template_id(model: str) -> int:
+    """Index of ``model`` in :data:`TEMPLATE_NAMES`, -1 when it is not a template name."""
+    return TEMPLATE_NAMES.index(model) if model in TEMPLATE_NAMES else -1
+
+
+class GeometricDataset(Dataset):
+    """Objects for the geometric branch (ResNet-18 on masked object crops).
+
+    Item (``S`` = crop_size, boxes in working-size pixels)::
+
+        crop             (3, S, S) float32 masked object crop (pixels outside the object's mask are 0)
+        mask             (1, S, S) float32 the object's visible mask
+        ignore           (1, S, S) float32 pixels of closer objects (see closer_object_mask)
+        box              (4,) l, t, r, b of the 2D box (annotation box scaled to the working size)
+        crop_box         (4,) edges l, t, r, b of the square crop window
+        crop_intrinsics  (4,) fx, fy, cx, cy of the S x S crop
+        intrinsics       (4,) fx, fy, cx, cy of the working-size image
+        targets          dict of AttributeEncoding.encode: log_scale (3,), rotation (4,), offset (2,),
+                         log_distance (1,), from the working-size box and intrinsics
+        dims (3,) l h w; ry (); center (3,) box centre (camera frame)
+        template_id      int64, index of obj.model in TEMPLATE_NAMES or -1
+        track_id         int64; visible_pixels int64 (native resolution)
+        key              str, "<frame key>/<track id>"
+
+    Args:
+        records: frames.
+        image_size: working size ``(W, H)``.
+        crop_size: ``S``.
+        margin: crop enlargement per side, as a fraction of the box's larger side.
+        object_filter: thresholds of the paper's filter.
+        encoding: target parameterisation (paper default).
+    """
+
+    def __init__(
+        self,
+        records: Sequence[FrameRecord],
+        image_size: tuple[int, int],
+        crop_size: int = 64,
+        margin: float = 0.1,
+        object_filter: ObjectFilter | None = None,
+        encoding: AttributeEncoding | None = None,
+    ) -> None:
+        if crop_size <= 0:
+            raise ValueError(f"crop_size must be positive, got {crop_size}")
+        if margin < 0:
+            raise ValueError(f"margin must be non-negative, got {margin}")
+        self.records = list(records)
+        self.image_size = (int(image_size[0]), int(image_size[1]))
+        self.crop_size = int(crop_size)
+        self.margin = float(margin)
+        self.object_filter = object_filter or ObjectFilter()
+        self.encoding = encoding or AttributeEncoding()
+        self.objects: list[ObjectRef] = self._build_index()
+        self._last: tuple[int, Frame] | None = None  # items of one frame are adjacent when not shuffled
+
+    @classmethod
+    def from_source(cls, source: SourceConfig, part: str, **kwargs) -> GeometricDataset:
+        return cls(load_split(source, part), source.image_size, **kwargs)
+
+    def _build_index(self) -> list[ObjectRef]:
+        refs = []
+        for f, record in enumerate(self.records):
+            if not record.objects:
+                continue
+            counts = _frame_counts(record)
+            for o, obj in enumerate(record.objects):
+                l, t, r, b = obj.box2d
+                visible = counts.get(obj.track_id, 0)
+                if r > l and b > t and obj.location[2] > 0 and self.object_filter(obj, visible):
+                    refs.append(ObjectRef(f, o, visible))
+        return refs
+
+    def __len__(self) -> int:
+        return len(self.objects)
+
+    def _frame(self, index: int) -> Frame:
+        if self._last is None or self._last[0] != index:
+            record = self.records[index]
+            frame = load_frame(record, self.image_size, semantic=False, instances=True, depth=True)
+            self._last = (index, frame)
+        return self._last[1]
+
+    def __getitem__(self, index: int) -> dict:
+        ref = self.objects[index]
+        record = self.records[ref.frame]
+        obj = record.objects[ref.object]
+        frame = self._frame(ref.frame)
+        intr: Intrinsics = frame.intrinsics
+        mask = object_mask(frame.instances, obj.track_id)
+        dims = torch.tensor(obj.dims, dtype=torch.float32)
+        ry = torch.tensor(obj.ry, dtype=torch.float32)
+        center = bottom_to_center(torch.tensor([obj.location], dtype=torch.float32), dims[1:2])[0]
+        reference = frame.depth[mask].median() if bool(mask.any()) else center[2]
+        ignore = closer_object_mask(frame.instances, frame.depth, mask, reference)
+
+        box = scale_boxes(torch.tensor(obj.box2d, dtype=torch.float32), record.intrinsics, self.image_size)
+        left, top, side = square_crop_window(box, self.margin)
+        s = self.crop_size
+        image = crop_maps(frame.image, left, top, side, s, "bilinear")
+        masks = crop_maps(torch.stack([mask, ignore]).float(), left, top, side, s, "nearest")
+        crop_intr = intr.cropped(left, top, side, side).resized(s, s)
+        K = intr.matrix()
+        targets = self.encoding.encode(dims[None], ry[None], center[None], box[None], K)
+        return {
+            "crop": image * masks[:1],
+            "mask": masks[:1],
+            "ignore": masks[1:],
+            "box": box,
+            "crop_box": torch.tensor([left - 0.5, top - 0.5, left + side - 0.5, top + side - 0.5]),
+            "crop_intrinsics": intrinsics_vector(crop_intr),
+            "intrinsics": intrinsics_vector(intr),
+            "targets": {k: v[0] for k, v in targets.items()},
+            "dims": dims,
+            "ry": ry,
+            "center": center,
+            "template_id": torch.tensor(template_id(obj.model), dtype=torch.long),
+            "track_id": torch.tensor(obj.track_id, dtype=torch.long),
+            "visible_pixels": torch.tensor(ref.visible_pixels, dtype=torch.long),
+            "key": f"{record.key}/{obj.track_id}",
+        }

@@ -1,0 +1,74 @@
+"""Semantic branch dataset: one item per frame, image and label maps at the working size."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from torch import Tensor
+from torch.utils.data import Dataset
+
+from sdn3d.data.datasets.sources import SourceConfig, classes_for, load_split
+from sdn3d.data.datasets.transforms import intrinsics_vector, load_frame
+from sdn3d.data.records import FrameRecord, SemanticClass
+
+__all__ = ["SemanticDataset"]
+
+
+class SemanticDataset(Dataset):
+    """Frames for the semantic branch (DRN).
+
+    Item (``H, W`` = working size)::
+
+        image       (3, H, W) float32 in [0, 1]
+        label       (H, W) int64 class index, 255 = ignore (IGNORE_INDEX)
+        instance    (H, W) int64 class_id * 1000 + k, 0 = no instance
+        intrinsics  (4,) float32 fx, fy, cx, cy at the working size
+        key         str, FrameRecord.key
+
+    Args:
+        records: frames (all of one dataset kind).
+        image_size: working size ``(W, H)``.
+        classes: class list for logging; default from the records' dataset.
+    """
+
+    def __init__(
+        self,
+        records: Sequence[FrameRecord],
+        image_size: tuple[int, int],
+        classes: Sequence[SemanticClass] | None = None,
+    ) -> None:
+        self.records = list(records)
+        self.image_size = (int(image_size[0]), int(image_size[1]))
+        kinds = {r.dataset for r in self.records}
+        if len(kinds) > 1:
+            raise ValueError(f"records must all come from one dataset kind, got {sorted(kinds)}")
+        if classes is None:
+            classes = classes_for(kinds.pop()) if kinds else ()
+        self.classes: tuple[SemanticClass, ...] = tuple(classes)
+
+    @classmethod
+    def from_source(cls, source: SourceConfig, part: str) -> SemanticDataset:
+        """The ``part`` (train / val / test) of ``source`` at its working size."""
+        return cls(load_split(source, part), source.image_size, source.class_list)
+
+    @property
+    def class_names(self) -> list[str]:
+        return [c.name for c in self.classes]
+
+    @property
+    def class_colors(self) -> list[tuple[int, int, int]]:
+        return [c.color for c in self.classes]
+
+    def __len__(self) -> int:
+        return len(self.records)
+
+    def __getitem__(self, index: int) -> dict[str, Tensor | str]:
+        record = self.records[index]
+        frame = load_frame(record, self.image_size, semantic=True, instances=True)
+        return {
+            "image": frame.image,
+            "label": frame.semantic,
+            "instance": frame.instances,
+            "intrinsics": intrinsics_vector(frame.intrinsics),
+            "key": record.key,
+        }

@@ -1,0 +1,173 @@
+"""Source configs: which dataset, where, which subsets, which split rule -> frame records.
+
+A :class:`SourceConfig` mirrors one file of ``conf/data`` (plain fields, no ``_target_``):
+
+- ``kind``: ``'vkitti1'`` (also the synthetic data, written in the VKITTI 1.3.1 format),
+  ``'vkitti2'`` or ``'cityscapes'``.
+- ``root``: dataset root folder.
+- ``image_size``: working size ``(W, H)`` (paper: VKITTI 624x192, Cityscapes 512x256).
+- ``subsets``: worlds (vkitti1), scenes (vkitti2) or cities (cityscapes); None = all.
+- ``variations``: VKITTI variations; None = all (ignored for Cityscapes).
+- ``camera``: VKITTI 2 camera (0 or 1).
+- ``split``: the split rule, see :func:`split_records`.
+- ``classes``: name of the class list (``'vkitti'`` or ``'cityscapes'``); checked against ``kind``.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, fields
+from typing import Any
+
+from sdn3d.data import cityscapes, vkitti1, vkitti2
+from sdn3d.data.cityscapes import CITYSCAPES_TRAIN_CLASSES
+from sdn3d.data.records import FrameRecord, SemanticClass
+from sdn3d.data.vkitti1 import VKITTI_CLASSES, paper_split
+
+__all__ = [
+    "KINDS",
+    "PARTS",
+    "DEFAULT_IMAGE_SIZE",
+    "SourceConfig",
+    "classes_for",
+    "read_source",
+    "split_records",
+    "load_split",
+]
+
+KINDS = ("vkitti1", "vkitti2", "cityscapes")
+#: The parts a split rule yields (Lightning's fit/validate/test stages use them).
+PARTS = ("train", "val", "test")
+#: Paper working sizes ``(W, H)``.
+DEFAULT_IMAGE_SIZE = {"vkitti1": (624, 192), "vkitti2": (624, 192), "cityscapes": (512, 256)}
+_CLASS_LISTS = {"vkitti": VKITTI_CLASSES, "cityscapes": CITYSCAPES_TRAIN_CLASSES}
+_KIND_CLASSES = {"vkitti1": "vkitti", "vkitti2": "vkitti", "cityscapes": "cityscapes"}
+# Default split rules. The paper has no validation split for Virtual KITTI: "val" reads the
+# held-out 20% (the test part); Cityscapes' test labels are not public, so "test" reads "val".
+_DEFAULT_SPLIT = {
+    "vkitti1": {"rule": "paper", "fraction": 0.8, "first": True},
+    "vkitti2": {"rule": "paper", "fraction": 0.8, "first": True},
+    "cityscapes": {"rule": "folders", "train": "train", "val": "val", "test": "val"},
+}
+
+
+@dataclass(frozen=True)
+class SourceConfig:
+    """Where the frames come from; see the module doc for the fields."""
+
+    kind: str
+    root: str
+    image_size: tuple[int, int] | None = None
+    subsets: tuple[str, ...] | None = None
+    variations: tuple[str, ...] | None = None
+    camera: int = 0
+    split: Mapping[str, Any] = field(default_factory=dict)
+    classes: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"SourceConfig.kind must be one of {KINDS}, got {self.kind!r}")
+        size = DEFAULT_IMAGE_SIZE[self.kind] if self.image_size is None else tuple(self.image_size)
+        if len(size) != 2 or any(int(s) != s or s <= 0 for s in size):
+            raise ValueError(f"SourceConfig.image_size must be two positive integers [W, H], "
+                             f"got {self.image_size!r}")
+        object.__setattr__(self, "image_size", (int(size[0]), int(size[1])))
+        for name in ("subsets", "variations"):
+            value = getattr(self, name)
+            if isinstance(value, str):
+                value = (value,)
+            object.__setattr__(self, name, None if value is None else tuple(str(v) for v in value))
+        split = {**_DEFAULT_SPLIT[self.kind], **dict(self.split or {})}
+        _check_split(split, self.kind)
+        object.__setattr__(self, "split", split)
+        expected = _KIND_CLASSES[self.kind]
+        if self.classes is not None and self.classes != expected:
+            raise ValueError(f"SourceConfig.classes must be {expected!r} for kind {self.kind!r}, "
+                             f"got {self.classes!r}")
+        object.__setattr__(self, "classes", expected)
+
+    @classmethod
+    def from_mapping(cls, cfg: Mapping[str, Any] | SourceConfig) -> SourceConfig:
+        """Build from a plain mapping or an OmegaConf ``DictConfig`` (unknown keys are an error)."""
+        if isinstance(cfg, SourceConfig):
+            return cfg
+        if hasattr(cfg, "_metadata"):  # DictConfig: resolve interpolations, drop OmegaConf types
+            from omegaconf import OmegaConf
+
+            cfg = OmegaConf.to_container(cfg, resolve=True)
+        if not isinstance(cfg, Mapping):
+            raise ValueError(f"data config must be a mapping, got {type(cfg).__name__}")
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(cfg) - known)
+        if unknown:
+            raise ValueError(f"data config has unknown keys {unknown}; known keys are {sorted(known)}")
+        return cls(**{k: v for k, v in cfg.items()})
+
+    @property
+    def class_list(self) -> tuple[SemanticClass, ...]:
+        return _CLASS_LISTS[self.classes]
+
+
+def _check_split(split: Mapping[str, Any], kind: str) -> None:
+    rule = split.get("rule")
+    if rule == "paper":
+        fraction = float(split.get("fraction", 0.8))
+        if not 0.0 < fraction < 1.0:
+            raise ValueError(f"split.fraction must lie in (0, 1), got {fraction}")
+        for part in ("val", "test"):
+            if split.get(part, "test") not in ("train", "test"):
+                raise ValueError(f"split.{part} must name a paper-split part ('train' or 'test'), "
+                                 f"got {split.get(part)!r}")
+    elif rule == "folders":
+        if kind != "cityscapes":
+            raise ValueError(f"split.rule 'folders' is only for cityscapes, got kind {kind!r}")
+        for part in PARTS:
+            if not isinstance(split.get(part), str):
+                raise ValueError(f"split.{part} must name a Cityscapes split folder, got {split.get(part)!r}")
+    else:
+        raise ValueError(f"split.rule must be 'paper' or 'folders', got {rule!r}")
+
+
+def classes_for(kind: str) -> tuple[SemanticClass, ...]:
+    """Class list (names and colours, for logging) of a dataset kind."""
+    if kind not in KINDS:
+        raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
+    return _CLASS_LISTS[_KIND_CLASSES[kind]]
+
+
+def read_source(source: SourceConfig, cityscapes_split: str = "train") -> list[FrameRecord]:
+    """All frames of ``source`` (for Cityscapes: those of the folder ``cityscapes_split``)."""
+    root = os.fspath(source.root)
+    if source.kind == "vkitti1":
+        return vkitti1.read_frames(root, worlds=source.subsets, variations=source.variations)
+    if source.kind == "vkitti2":
+        return vkitti2.read_frames(root, scenes=source.subsets, variations=source.variations,
+                                   camera=source.camera)
+    return cityscapes.read_frames(root, split=cityscapes_split, cities=source.subsets)
+
+
+def split_records(records: Sequence[FrameRecord], split: Mapping[str, Any], part: str) -> list[FrameRecord]:
+    """Apply a ``'paper'`` split rule to records.
+
+    ``split = {rule: paper, fraction: 0.8, first: true, val: test, test: test}``: the first
+    (``first``) ``floor(fraction * n)`` frames of each sequence are the train part, the rest
+    the test part (:func:`~sdn3d.data.vkitti1.paper_split`); ``val`` and ``test`` name the
+    paper part they read (default: the held-out one).
+    """
+    if part not in PARTS:
+        raise ValueError(f"part must be one of {PARTS}, got {part!r}")
+    if split.get("rule") != "paper":
+        raise ValueError(f"split_records applies the 'paper' rule, got rule {split.get('rule')!r}")
+    paper_part = "train" if part == "train" else str(split.get(part, "test"))
+    return paper_split(records, paper_part, first=bool(split.get("first", True)),
+                       fraction=float(split.get("fraction", 0.8)))
+
+
+def load_split(source: SourceConfig, part: str) -> list[FrameRecord]:
+    """Frame records of one part (``'train'``, ``'val'`` or ``'test'``) of ``source``."""
+    if part not in PARTS:
+        raise ValueError(f"part must be one of {PARTS}, got {part!r}")
+    if source.split["rule"] == "folders":
+        return read_source(source, cityscapes_split=source.split[part])
+    return split_records(read_source(source), source.split, part)

@@ -1,0 +1,195 @@
+"""Editing-benchmark pairs with exact ground truth: edit a frame's 3D scene, render the result.
+
+For a source frame, a few cars are picked and edited in 3D: ``modify`` moves a car on the
+ground (a new bottom-centre position on the road, so it still stands on the ground) and/or
+adds to its yaw; ``delete`` removes it. The edited scene is rendered as a new frame of the same
+sequence (see ``generate.py``: numbers after the sequence's regular frames), which is the
+exact target of the edit. The operations are described in the 3D-SDN benchmark format
+(:mod:`sdn3d.data.edits`), in pixels of the 1242x375 Virtual KITTI frame:
+
+- ``from``: projection of the car's 3D box centre in the source frame (1 decimal);
+- ``to``: projection of the moved centre, and ``roi = [top, left, bottom, right]``: the tight 2D
+  box of the moved car's projected 3D box, clipped to the frame (``to = {}`` for a pure rotation);
+- ``zoom = |c_source| / |c_target|`` (3 decimals) and the yaw increment ``ry`` (3 decimals).
+
+The yaw increment is drawn already rounded, so it is exact; ``to`` and ``zoom`` are rounded
+from the exact target (decoding them moves a car by a few millimetres at most).
+Cars are only picked when their projected centre is unambiguous (no other visible car within
+12 px) and they are well visible (occupancy >= 0.5, truncation <= 0.3).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from sdn3d.data.edits import EditOperation
+from sdn3d.data.synth.layout import FrameObjects, World
+from sdn3d.data.synth.stats import ObjectStats
+from sdn3d.geometry.camera import VKITTI_INTRINSICS, Intrinsics
+
+__all__ = ["sample_edit", "project_full", "footprints_overlap"]
+
+_MIN_SEPARATION = 12.0  # full-resolution pixels between projected centres
+_MAX_TRIES = 25
+
+
+def project_full(points: np.ndarray) -> np.ndarray:
+    """``(N, 3)`` camera-frame points -> ``(N, 2)`` pixels of the 1242x375 Virtual KITTI frame."""
+    k = VKITTI_INTRINSICS
+    z = np.maximum(points[:, 2], 1e-6)
+    return np.stack([k.fx * points[:, 0] / z + k.cx, k.fy * points[:, 1] / z + k.cy], axis=1)
+
+
+def _footprint(center: np.ndarray, dims: np.ndarray, ry: float) -> np.ndarray:
+    """``(4, 2)`` (x, z) corners of a car's ground rectangle."""
+    c, s = math.cos(ry), math.sin(ry)
+    half_l, half_w = dims[0] / 2, dims[2] / 2
+    local = np.array([[half_l, half_w], [half_l, -half_w], [-half_l, -half_w], [-half_l, half_w]])
+    # R_y(ry) maps canonical (x, z) to camera (c x + s z, -s x + c z).
+    return np.stack([c * local[:, 0] + s * local[:, 1], -s * local[:, 0] + c * local[:, 1]], 1) + center[[0, 2]]
+
+
+def footprints_overlap(a: np.ndarray, b: np.ndarray, margin: float = 0.3) -> bool:
+    """Whether two ``(4, 2)`` rectangles, each grown by ``margin``, overlap (separating axis test)."""
+    for rect in (a, b):
+        for i in range(2):
+            axis = rect[i + 1] - rect[i]
+            axis = axis / max(np.linalg.norm(axis), 1e-9)
+            pa, pb = a @ axis, b @ axis
+            if pa.max() + margin < pb.min() or pb.max() + margin < pa.min():
+                return False
+    return True
+
+
+def _roi(center: np.ndarray, dims: np.ndarray, ry: float) -> list[int]:
+    """``[top, left, bottom, right]`` of the projected 3D box at full resolution, clipped to the frame."""
+    c, s = math.cos(ry), math.sin(ry)
+    signs = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)])
+    local = signs * dims
+    rot = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+    uv = project_full(local @ rot.T + center)
+    k = VKITTI_INTRINSICS
+    left, right = np.clip([uv[:, 0].min(), uv[:, 0].max()], 0, k.width - 1)
+    top, bottom = np.clip([uv[:, 1].min(), uv[:, 1].max()], 0, k.height - 1)
+    return [int(math.floor(top)), int(math.floor(left)), int(math.ceil(bottom)), int(math.ceil(right))]
+
+
+def _in_frame(uv: np.ndarray, margin: float) -> bool:
+    k = VKITTI_INTRINSICS
+    return bool(margin - 0.5 <= uv[0] <= k.width - 0.5 - margin and margin - 0.5 <= uv[1] <= k.height - 0.5 - margin)
+
+
+def sample_edit(
+    rng: np.random.Generator,
+    world: World,
+    objects: FrameObjects,
+    stats: ObjectStats,
+    world_to_cam: np.ndarray,
+    intrinsics: Intrinsics,
+    max_operations: int = 3,
+) -> tuple[FrameObjects, list[EditOperation], np.ndarray]:
+    """Edit the cars of a source frame; returns the target frame's cars and the operations.
+
+    Args:
+        rng: the pair's generator.
+        world: the world (car dimensions, road extent).
+        objects, stats: the source frame's cars and their statistics.
+        world_to_cam: ``(4, 4)`` source (and target) extrinsics.
+        intrinsics: working-size intrinsics (only for the minimum visible size).
+        max_operations: at most this many operations (fewer if fewer cars qualify).
+
+    Returns:
+        The edited :class:`FrameObjects` (deleted cars removed), the operations (empty when no
+        car qualifies) and a ``(N',)`` bool mask of the edited objects that were modified.
+    """
+    dims_all = world.cars.dims[objects.track]
+    center = objects.center.copy()
+    ry = objects.ry.copy()
+    uv = project_full(center)
+    min_pixels = max(40, int(0.002 * intrinsics.width * intrinsics.height))
+    visible = stats.visible > 0
+    eligible = []
+    for i in range(len(objects)):
+        others = visible.copy()
+        others[i] = False
+        separated = not others.any() or np.linalg.norm(uv[others] - uv[i], axis=1).min() > _MIN_SEPARATION
+        if (
+            stats.visible[i] >= min_pixels
+            and stats.occupr[i] >= 0.5
+            and stats.truncr[i] <= 0.3
+            and center[i, 2] > 3.0
+            and separated
+            and _in_frame(uv[i], 0.0)
+        ):
+            eligible.append(i)
+    if not eligible:
+        return objects, [], np.zeros(len(objects), dtype=bool)
+    count = int(rng.integers(1, min(max_operations, len(eligible)) + 1))
+    chosen = rng.choice(np.array(eligible), size=count, replace=False)
+    cam_to_world = np.linalg.inv(world_to_cam)
+    road = world.road
+    alive = np.ones(len(objects), dtype=bool)
+    modified = np.zeros(len(objects), dtype=bool)
+    operations: list[EditOperation] = []
+    for i in sorted(int(c) for c in chosen):
+        from_uv = (round(float(uv[i, 0]), 1), round(float(uv[i, 1]), 1))
+        if rng.uniform() < 0.15:
+            alive[i] = False
+            operations.append(EditOperation.delete(from_uv))
+            continue
+        dims = dims_all[i]
+        rotate_only = rng.uniform() < 0.2
+        for _ in range(_MAX_TRIES):
+            draw = rng.uniform()
+            if rotate_only:
+                d_ry = round(float(rng.choice([-1, 1]) * rng.uniform(0.2, math.pi)), 3)
+            else:
+                d_ry = (
+                    round(float(rng.uniform(-0.3, 0.3)), 3)
+                    if draw < 0.5
+                    else (round(float(rng.uniform(-math.pi, math.pi)), 3) if draw < 0.7 else 0.0)
+                )
+            new_ry = float(np.remainder(ry[i] + d_ry + math.pi, 2 * math.pi) - math.pi)
+            new_center = center[i].copy()
+            if not rotate_only:
+                bottom_w = cam_to_world[:3, :3] @ (center[i] + [0.0, dims[1] / 2, 0.0]) + cam_to_world[:3, 3]
+                bottom_w += [rng.uniform(-2.5, 2.5), 0.0, rng.uniform(-8.0, 8.0)]
+                half = dims[2] / 2 + 0.2
+                if not road.kerb_left + half <= bottom_w[0] <= road.kerb_right - half:
+                    continue
+                new_center = world_to_cam[:3, :3] @ bottom_w + world_to_cam[:3, 3] - [0.0, dims[1] / 2, 0.0]
+                if not 5.0 + dims[0] / 2 <= new_center[2] <= 60.0:
+                    continue
+            new_uv = project_full(new_center[None])[0]
+            if not _in_frame(new_uv, 20.0):
+                continue
+            rect = _footprint(new_center, dims, new_ry)
+            others = [j for j in range(len(objects)) if j != i and alive[j]]
+            if any(footprints_overlap(rect, _footprint(center[j], dims_all[j], ry[j])) for j in others):
+                continue
+            break
+        else:
+            if rotate_only:
+                continue  # no collision-free rotation found: leave this car alone
+            rotate_only, new_center = True, center[i].copy()  # no free spot to move to: rotate in place
+            for _ in range(_MAX_TRIES):
+                d_ry = round(float(rng.choice([-1, 1]) * rng.uniform(0.2, math.pi)), 3)
+                new_ry = float(np.remainder(ry[i] + d_ry + math.pi, 2 * math.pi) - math.pi)
+                rect = _footprint(new_center, dims, new_ry)
+                others = [j for j in range(len(objects)) if j != i and alive[j]]
+                if not any(footprints_overlap(rect, _footprint(center[j], dims_all[j], ry[j])) for j in others):
+                    break
+            else:
+                continue
+        if rotate_only:
+            operations.append(EditOperation.modify(from_uv, None, 1.0, d_ry))
+        else:
+            zoom = round(float(np.linalg.norm(center[i]) / np.linalg.norm(new_center)), 3)
+            to_uv = (round(float(new_uv[0]), 1), round(float(new_uv[1]), 1))
+            operations.append(EditOperation.modify(from_uv, to_uv, zoom, d_ry, tuple(_roi(new_center, dims, new_ry))))
+        center[i], ry[i] = new_center, new_ry
+        modified[i] = True
+    edited = FrameObjects(objects.track.copy(), center, ry, objects.moving.copy())
+    return edited.subset(alive), operations, modified[alive]

@@ -1,0 +1,329 @@
+"""Generate a synthetic dataset in the Virtual KITTI 1.3.1 format (the project's embedded data).
+
+:func:`generate_dataset` renders every ``<world>/<variation>`` sequence of a
+:class:`SynthConfig` and writes the Virtual KITTI 1.3.1 tree (see ``writer.py``), the editing
+benchmark ``vkitti_edit_benchmark.json`` (3D-SDN format, see ``edits.py``) and
+``synth_manifest.json``. Edit targets are frames of their own sequence numbered after the
+regular frames: a sequence of ``F`` frames and ``E`` edit pairs holds frames ``0 .. F-1``
+(the camera drives on) and ``F .. F+E-1`` (edited copies of a source frame, same camera).
+
+The write is all-or-nothing: everything goes to a temporary sibling directory that is renamed
+onto ``output_dir`` at the end (after ``_SUCCESS`` is written in it). An existing non-empty
+``output_dir`` is refused unless ``overwrite``; it is then replaced only once the new tree is
+complete. The same config gives byte-identical files: every random draw comes from a numpy
+Generator seeded by ``(seed, world[, variation, frame])``, independently of worker count.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from sdn3d.data.edits import EditEntry, save_edit_benchmark
+from sdn3d.data.synth.edits import sample_edit
+from sdn3d.data.synth.layout import (
+    CAMERA_YAW_DEG,
+    VARIATIONS,
+    FrameObjects,
+    World,
+    build_world,
+    frame_objects,
+    rng_for,
+)
+from sdn3d.data.synth.scene_render import RenderedFrame, render_frame
+from sdn3d.data.synth.stats import ObjectStats
+from sdn3d.data.synth.writer import SequenceWriter
+from sdn3d.geometry.camera import VKITTI_INTRINSICS, Intrinsics
+from sdn3d.io import write_json_atomic, write_text_atomic
+
+__all__ = [
+    "SynthConfig",
+    "generate_dataset",
+    "generate_sequence",
+    "SequenceSummary",
+    "BENCHMARK_NAME",
+    "MANIFEST_NAME",
+]
+
+BENCHMARK_NAME = "vkitti_edit_benchmark.json"
+MANIFEST_NAME = "synth_manifest.json"
+#: Edits are re-drawn (at most this many times) until every modified car is visible in the target.
+_EDIT_ATTEMPTS = 5
+
+
+@dataclass(frozen=True)
+class SynthConfig:
+    """What to generate (``conf/synth.yaml`` documents every field).
+
+    Attributes:
+        output_dir: dataset root to create.
+        seed: dataset seed.
+        image_size: ``(width, height)``; intrinsics are ``VKITTI_INTRINSICS.resized(width, height)``.
+        worlds: 4-digit world names.
+        variations: Virtual KITTI variation names.
+        frames_per_sequence: regular frames per sequence.
+        cars_per_frame: ``(min, max)`` cars placed along the 100 m ahead of the camera.
+        edit_pairs: edit pairs per sequence (each adds one target frame).
+        max_edit_operations: at most this many operations per pair.
+        overwrite: replace a non-empty ``output_dir``.
+        workers: processes rendering sequences in parallel (1: in this process).
+        threads: torch threads per process.
+    """
+
+    output_dir: str
+    seed: int = 0
+    image_size: tuple[int, int] = (624, 192)
+    worlds: tuple[str, ...] = ("0001",)
+    variations: tuple[str, ...] = ("clone",)
+    frames_per_sequence: int = 10
+    cars_per_frame: tuple[int, int] = (4, 12)
+    edit_pairs: int = 2
+    max_edit_operations: int = 3
+    overwrite: bool = False
+    workers: int = 1
+    threads: int = 1
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "image_size", tuple(int(v) for v in self.image_size))
+        object.__setattr__(self, "worlds", tuple(str(v) for v in self.worlds))
+        object.__setattr__(self, "variations", tuple(str(v) for v in self.variations))
+        object.__setattr__(self, "cars_per_frame", tuple(int(v) for v in self.cars_per_frame))
+        if not str(self.output_dir):
+            raise ValueError("output_dir must be a non-empty path")
+        if len(self.image_size) != 2 or min(self.image_size) < 8:
+            raise ValueError(f"image_size must be [width, height], both >= 8, got {list(self.image_size)}")
+        if not self.worlds or any(not (len(w) == 4 and w.isdigit()) for w in self.worlds):
+            raise ValueError(f"worlds must be a non-empty list of 4-digit names like '0001', got {list(self.worlds)}")
+        if len(set(self.worlds)) != len(self.worlds):
+            raise ValueError(f"worlds must not repeat, got {list(self.worlds)}")
+        unknown = [v for v in self.variations if v not in VARIATIONS]
+        if not self.variations or unknown or len(set(self.variations)) != len(self.variations):
+            raise ValueError(f"variations must be distinct names from {list(VARIATIONS)}, got {list(self.variations)}")
+        if self.frames_per_sequence < 1:
+            raise ValueError(f"frames_per_sequence must be >= 1, got {self.frames_per_sequence}")
+        lo, hi = self.cars_per_frame if len(self.cars_per_frame) == 2 else (-1, -1)
+        if lo < 0 or hi < lo:
+            raise ValueError(f"cars_per_frame must be [min, max] with 0 <= min <= max, got {list(self.cars_per_frame)}")
+        if self.edit_pairs < 0 or self.max_edit_operations < 1:
+            raise ValueError(
+                f"edit_pairs must be >= 0 and max_edit_operations >= 1, got {self.edit_pairs} "
+                f"and {self.max_edit_operations}"
+            )
+        if self.frames_per_sequence + self.edit_pairs > 99999:
+            raise ValueError("frames_per_sequence + edit_pairs must fit 5-digit frame numbers (<= 99999)")
+        if self.workers < 1 or self.threads < 1:
+            raise ValueError(f"workers and threads must be >= 1, got {self.workers} and {self.threads}")
+
+    @property
+    def intrinsics(self) -> Intrinsics:
+        width, height = self.image_size
+        return VKITTI_INTRINSICS.resized(width, height)
+
+    def to_dict(self) -> dict:
+        out = asdict(self)
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in out.items()}
+
+
+@dataclass
+class SequenceSummary:
+    """What one sequence wrote: frame and object-row counts and its benchmark entries."""
+
+    world: str
+    variation: str
+    frames: int
+    edit_frames: list[int]
+    object_rows: int
+    entries: list[EditEntry]
+
+
+@functools.lru_cache(maxsize=4)
+def _world(seed: int, name: str, frames: int, cars: tuple[int, int]) -> World:
+    return build_world(seed, name, frames, cars)
+
+
+def _annotations(world: World, objects: FrameObjects, frame: RenderedFrame) -> dict[str, np.ndarray]:
+    cars = world.cars
+    dims = cars.dims[objects.track]
+    bottom = objects.center + np.stack([np.zeros(len(objects)), dims[:, 1] / 2, np.zeros(len(objects))], 1)
+    return {
+        "tid": cars.tid[objects.track],
+        "dims": dims,
+        "bottom": bottom,
+        "ry": objects.ry,
+        "box": frame.stats.box,
+        "truncr": frame.stats.truncr,
+        "occupr": frame.stats.occupr,
+        "visible": frame.stats.visible,
+        "moving": objects.moving,
+        "model": np.array(cars.model, dtype=object)[objects.track] if len(cars) else np.zeros(0, object),
+        "color": np.array(cars.color_name, dtype=object)[objects.track] if len(cars) else np.zeros(0, object),
+        "category": np.array(cars.category, dtype=object)[objects.track] if len(cars) else np.zeros(0, object),
+    }
+
+
+def _frame_seed(cfg: SynthConfig, world: str, variation: str, frame: int) -> int:
+    return int(rng_for(cfg.seed, world, variation, "frame", frame).integers(0, 2**31 - 1))
+
+
+def generate_sequence(root: Path, cfg: SynthConfig, world_name: str, variation: str) -> SequenceSummary:
+    """Render and write one ``<world>/<variation>`` sequence (regular frames, then edit targets)."""
+    world = _world(cfg.seed, world_name, cfg.frames_per_sequence, cfg.cars_per_frame)
+    yaw = CAMERA_YAW_DEG.get(variation, 0.0)
+    intrinsics = cfg.intrinsics
+    writer = SequenceWriter(
+        Path(root),
+        world_name,
+        variation,
+        world.cars.tid,
+        world.cars.category,
+        color_seed=int(rng_for(cfg.seed, "colors", world_name).integers(0, 2**31 - 1)),
+    )
+    rendered: list[tuple[FrameObjects, ObjectStats, np.ndarray]] = []
+    rows = 0
+    for f in range(cfg.frames_per_sequence):
+        objects = frame_objects(world, f, yaw)
+        pose = world.camera.pose(f, yaw)
+        frame = render_frame(world, objects, pose, intrinsics, variation, _frame_seed(cfg, world_name, variation, f))
+        writer.write_frame(
+            f,
+            frame.rgb,
+            frame.class_map,
+            frame.instance,
+            frame.depth,
+            pose,
+            _annotations(world, objects, frame),
+        )
+        rows += int((frame.stats.visible > 0).sum())
+        # Keep only what edit sampling needs (objects and statistics), not the images.
+        rendered.append((objects, frame.stats, pose))
+    # Edit sources come from the test part of the sequence: the last 20% (paper_split, first=True).
+    first_test = min(math.floor(0.8 * cfg.frames_per_sequence + 1e-9), cfg.frames_per_sequence - 1)
+    entries, edit_frames = [], []
+    for k in range(cfg.edit_pairs):
+        rng = rng_for(cfg.seed, world_name, variation, "edit", k)
+        source = int(rng.integers(first_test, cfg.frames_per_sequence))
+        objects, stats, pose = rendered[source]
+        frame_seed = _frame_seed(cfg, world_name, variation, source)
+        for _ in range(_EDIT_ATTEMPTS):
+            edited, operations, modified = sample_edit(
+                rng, world, objects, stats, pose, intrinsics, cfg.max_edit_operations
+            )
+            frame = render_frame(world, edited, pose, intrinsics, variation, frame_seed)
+            # Every modified car must stay visible in the target (motgt lists visible cars only).
+            if (frame.stats.visible[modified] > 0).all():
+                break
+        else:  # no such edit found: an entry without operations (the target re-renders the source)
+            edited, operations = objects, []
+            frame = render_frame(world, edited, pose, intrinsics, variation, frame_seed)
+        target = cfg.frames_per_sequence + k
+        writer.write_frame(
+            target,
+            frame.rgb,
+            frame.class_map,
+            frame.instance,
+            frame.depth,
+            pose,
+            _annotations(world, edited, frame),
+        )
+        rows += int((frame.stats.visible > 0).sum())
+        edit_frames.append(target)
+        entries.append(EditEntry(world_name, variation, source, target, tuple(operations)))
+    writer.close()
+    return SequenceSummary(world_name, variation, cfg.frames_per_sequence + cfg.edit_pairs, edit_frames, rows, entries)
+
+
+def _run_sequence(args: tuple[str, SynthConfig, str, str]) -> SequenceSummary:
+    root, cfg, world, variation = args
+    previous = torch.get_num_threads()
+    torch.set_num_threads(cfg.threads)
+    try:
+        return generate_sequence(Path(root), cfg, world, variation)
+    finally:  # in-process runs must not change the caller's thread count
+        torch.set_num_threads(previous)
+
+
+def _prepare_output(out: Path, overwrite: bool) -> None:
+    if out.exists() and not out.is_dir():
+        raise FileExistsError(f"output_dir {str(out)!r} exists and is not a directory")
+    if out.is_dir() and any(out.iterdir()) and not overwrite:
+        raise FileExistsError(
+            f"output_dir {str(out)!r} exists and is not empty; choose another output_dir or set "
+            "overwrite=true to replace it (it is replaced only after the new dataset is complete)"
+        )
+
+
+def _swap_into_place(tmp: Path, out: Path) -> None:
+    """Rename the finished tree onto ``out``; an old ``out`` is moved aside first, then deleted."""
+    old = None
+    if out.exists():
+        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
+        os.rename(out, old / "tree")
+    os.rename(tmp, out)
+    if old is not None:
+        shutil.rmtree(old)
+
+
+def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | None = None) -> Path:
+    """Generate the dataset described by ``cfg``; returns the output directory.
+
+    Args:
+        cfg: the configuration.
+        sequences: optional ``(world, variation)`` subset (default: every world x variation).
+
+    Raises:
+        FileExistsError: ``output_dir`` is a non-empty directory and ``overwrite`` is false.
+    """
+    out = Path(cfg.output_dir).expanduser().resolve()
+    _prepare_output(out, cfg.overwrite)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    jobs = list(sequences) if sequences is not None else [(w, v) for w in cfg.worlds for v in cfg.variations]
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
+    try:
+        args = [(str(tmp), cfg, w, v) for w, v in jobs]
+        if cfg.workers > 1 and len(jobs) > 1:
+            with ProcessPoolExecutor(max_workers=min(cfg.workers, len(jobs))) as pool:
+                summaries = list(pool.map(_run_sequence, args))
+        else:
+            summaries = [_run_sequence(a) for a in args]
+        entries = [e for s in summaries for e in s.entries]
+        save_edit_benchmark(entries, tmp / BENCHMARK_NAME)
+        intrinsics = cfg.intrinsics
+        write_json_atomic(
+            tmp / MANIFEST_NAME,
+            {
+                "format": "Virtual KITTI 1.3.1 (synthetic, sdn3d)",
+                "config": {
+                    k: v for k, v in cfg.to_dict().items() if k not in ("output_dir", "overwrite", "workers", "threads")
+                },
+                "intrinsics": intrinsics.to_dict(),
+                "intrinsics_note": ("VKITTI_INTRINSICS (1242x375, fx=fy=725, cx=620.5, cy=187) resized to image_size"),
+                "benchmark": BENCHMARK_NAME,
+                "benchmark_coordinates": "pixels of the 1242x375 frame",
+                "sequences": [
+                    {
+                        "world": s.world,
+                        "variation": s.variation,
+                        "frames": s.frames,
+                        "edit_target_frames": s.edit_frames,
+                        "object_rows": s.object_rows,
+                    }
+                    for s in summaries
+                ],
+            },
+        )
+        write_text_atomic(tmp / "_SUCCESS", "")
+        _swap_into_place(tmp, out)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return out

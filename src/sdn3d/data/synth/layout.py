@@ -1,0 +1,407 @@
+"""World layouts of the synthetic Virtual KITTI generator: road, static scenery, cars, camera path.
+
+A *world* (named like Virtual KITTI's ``0001`` ... ``0020``) is a straight street sampled from
+``(seed, world)``: its cross-section (lanes, parking strips, sidewalks), the static scenery
+along it (buildings, trees, bushes, poles, signs, traffic lights, guard rails, misc objects,
+parked trucks), the car tracks (parked along the kerb or driving in lanes at a constant speed)
+and the camera path (driving forward in one lane). Every variation of a world renders this same
+scene; variations only change the camera yaw or the lighting (see ``appearance.py``).
+
+World frame: x right, y down, z forward along the road, metres; the ground is ``y = 0``. The
+camera has no pitch or roll, so the ground is at camera-frame height ``y = camera_height`` in
+every frame and every variation: that is each car's ``y3d``.
+"""
+
+from __future__ import annotations
+
+import math
+import zlib
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+
+from sdn3d.data.synth.classes import CAR_COLORS
+from sdn3d.data.synth.primitives import StaticMesh
+from sdn3d.data.synth.scenery import RoadGeometry, build_static_scene
+from sdn3d.geometry.ffd import expand_half_ffd
+from sdn3d.meshes.templates import TEMPLATE_CATEGORY, TEMPLATE_DIMENSIONS, TEMPLATE_NAMES
+
+__all__ = [
+    "VARIATIONS",
+    "CAMERA_YAW_DEG",
+    "WorldStyle",
+    "WORLD_STYLES",
+    "CarTracks",
+    "CameraPath",
+    "World",
+    "FrameObjects",
+    "rng_for",
+    "build_world",
+    "frame_objects",
+]
+
+#: Virtual KITTI 1.3.1 variations; the four angle variations rotate the camera yaw.
+VARIATIONS: tuple[str, ...] = (
+    "clone",
+    "morning",
+    "sunset",
+    "overcast",
+    "fog",
+    "rain",
+    "15-deg-left",
+    "15-deg-right",
+    "30-deg-left",
+    "30-deg-right",
+)
+#: Camera yaw of each variation in degrees (negative turns the camera to the left).
+CAMERA_YAW_DEG: dict[str, float] = {
+    "15-deg-left": -15.0,
+    "15-deg-right": 15.0,
+    "30-deg-left": -30.0,
+    "30-deg-right": 30.0,
+}
+
+#: Cars are placed and counted over this stretch of road ahead of the camera (metres).
+VIEW_DEPTH = 100.0
+#: Track ids must stay below this (the readers' instance ids are class * 1000 + tid + 1).
+MAX_TRACKS = 999
+#: Cars more than this far behind the camera (camera-frame z) are not rendered at all.
+BEHIND_LIMIT = 15.0
+
+
+@dataclass(frozen=True)
+class WorldStyle:
+    """Street type of a world: cross-section and how dense each kind of scenery is."""
+
+    fwd_lanes: int
+    bwd_lanes: int
+    lane_width: float
+    parking: tuple[bool, bool]  # (left, right) parking strips with parked cars
+    sidewalk: float  # sidewalk width (0: a narrow shoulder, then terrain)
+    building_prob: float  # share of the roadside occupied by buildings
+    building_height: tuple[float, float]
+    tree_spacing: float  # mean spacing of roadside trees (0: none)
+    forest: float  # trees per 100 m and side behind the roadside
+    guard_rail: bool
+    lamps: bool
+    hedge_prob: float
+    traffic_lights: bool
+    trucks: int  # at most this many parked trucks
+
+
+#: Styles of the five Virtual KITTI world names (loosely after the KITTI sequences they clone):
+#: 0001 town street, 0002 country road, 0006 wide suburban road, 0018 tree-lined street,
+#: 0020 highway. Other 4-digit names get a style drawn from their seed.
+WORLD_STYLES: dict[str, WorldStyle] = {
+    "0001": WorldStyle(1, 1, 3.5, (True, True), 2.5, 0.75, (6.0, 22.0), 10.0, 1.0, False, True, 0.2, True, 1),
+    "0002": WorldStyle(1, 1, 3.3, (False, True), 0.0, 0.12, (4.0, 8.0), 0.0, 14.0, True, False, 0.5, False, 0),
+    "0006": WorldStyle(2, 2, 3.5, (True, True), 3.0, 0.6, (8.0, 30.0), 13.0, 0.0, False, True, 0.3, True, 1),
+    "0018": WorldStyle(1, 1, 3.4, (True, True), 2.0, 0.35, (5.0, 12.0), 7.0, 6.0, False, True, 0.4, False, 1),
+    "0020": WorldStyle(2, 2, 3.7, (False, False), 0.0, 0.04, (5.0, 10.0), 0.0, 10.0, True, True, 0.3, False, 0),
+}
+
+# Template frequencies (sedan ... bus) and named-colour frequencies.
+_TEMPLATE_WEIGHTS = np.array([0.22, 0.19, 0.14, 0.15, 0.08, 0.11, 0.07, 0.04])
+_COLOR_NAMES = tuple(CAR_COLORS)
+_COLOR_WEIGHTS = np.array([0.16, 0.16, 0.16, 0.12, 0.09, 0.08, 0.04, 0.04, 0.03, 0.03, 0.04, 0.05])
+
+
+def rng_for(seed: int, *keys: str | int) -> np.random.Generator:
+    """A numpy Generator seeded from ``seed`` and a path of keys (world, variation, frame, ...).
+
+    String keys are hashed with CRC32 (stable across processes, unlike ``hash``).
+    """
+    words = [int(seed) & 0xFFFFFFFF]
+    for key in keys:
+        words.append(zlib.crc32(key.encode()) if isinstance(key, str) else int(key) & 0xFFFFFFFF)
+    return np.random.default_rng(words)
+
+
+@dataclass
+class CarTracks:
+    """All cars of a world, one row per track (world frame; positions at frame 0).
+
+    Attributes:
+        tid: ``(N,)`` track ids ``0..N-1``.
+        template: ``(N,)`` template ids (index into ``TEMPLATE_NAMES``).
+        dims: ``(N, 3)`` ``(l, h, w)`` metres.
+        phi: ``(N, 64, 3)`` float32 mirror-symmetric FFD displacements.
+        color_name: N colour names; ``color_rgb`` ``(N, 3)`` linear albedo.
+        x, z0: ``(N,)`` world position of the bottom-face centre at frame 0.
+        yaw: ``(N,)`` world yaw (``-pi/2`` drives along +z).
+        speed: ``(N,)`` metres per frame along +z (0: parked).
+    """
+
+    tid: np.ndarray
+    template: np.ndarray
+    dims: np.ndarray
+    phi: np.ndarray
+    color_name: list[str]
+    color_rgb: np.ndarray
+    x: np.ndarray
+    z0: np.ndarray
+    yaw: np.ndarray
+    speed: np.ndarray
+
+    def __len__(self) -> int:
+        return int(len(self.tid))
+
+    @property
+    def model(self) -> list[str]:
+        return [TEMPLATE_NAMES[t] for t in self.template]
+
+    @property
+    def category(self) -> list[str]:
+        return [TEMPLATE_CATEGORY[TEMPLATE_NAMES[t]] for t in self.template]
+
+
+@dataclass(frozen=True)
+class CameraPath:
+    """The camera drives along +z at ``x`` with constant ``speed`` (m/frame), no pitch or roll."""
+
+    x: float
+    height: float
+    speed: float
+
+    def pose(self, frame: int, yaw_deg: float) -> np.ndarray:
+        """World->camera ``(4, 4)`` float64 matrix of ``frame`` with the camera turned by ``yaw_deg``.
+
+        The camera-to-world rotation is ``roty(psi)``, ``psi = radians(yaw_deg)``: its optical
+        axis points along ``(sin psi, 0, cos psi)``, so a negative yaw looks left.
+        """
+        psi = math.radians(yaw_deg)
+        c, s = math.cos(psi), math.sin(psi)
+        rot_cw = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+        center = np.array([self.x, -self.height, self.speed * frame])
+        out = np.eye(4)
+        out[:3, :3] = rot_cw.T
+        out[:3, 3] = -rot_cw.T @ center
+        return out
+
+
+@dataclass
+class World:
+    """One sampled world: scenery mesh, road geometry, car tracks and camera path."""
+
+    name: str
+    seed: int
+    style: WorldStyle
+    road: RoadGeometry
+    static: StaticMesh
+    cars: CarTracks
+    camera: CameraPath
+    num_frames: int
+
+
+@dataclass
+class FrameObjects:
+    """The cars of one rendered frame in the camera frame (what motgt describes).
+
+    Attributes:
+        track: ``(N,)`` row in the world's :class:`CarTracks`.
+        center: ``(N, 3)`` box centres ``(x3d, y3d - h/2, z3d)``.
+        ry: ``(N,)`` camera-frame yaw.
+        moving: ``(N,)`` bool.
+    """
+
+    track: np.ndarray
+    center: np.ndarray
+    ry: np.ndarray
+    moving: np.ndarray
+
+    def __len__(self) -> int:
+        return int(len(self.track))
+
+    def subset(self, keep: np.ndarray) -> FrameObjects:
+        return FrameObjects(self.track[keep], self.center[keep], self.ry[keep], self.moving[keep])
+
+
+def _style_for(world: str, rng: np.random.Generator) -> WorldStyle:
+    if world in WORLD_STYLES:
+        return WORLD_STYLES[world]
+    base = WORLD_STYLES[("0001", "0002", "0006", "0018", "0020")[int(rng.integers(5))]]
+    return WorldStyle(
+        base.fwd_lanes,
+        base.bwd_lanes,
+        float(rng.uniform(3.2, 3.8)),
+        base.parking,
+        base.sidewalk,
+        float(np.clip(base.building_prob + rng.uniform(-0.1, 0.1), 0, 1)),
+        base.building_height,
+        base.tree_spacing,
+        base.forest,
+        base.guard_rail,
+        base.lamps,
+        base.hedge_prob,
+        base.traffic_lights,
+        base.trucks,
+    )
+
+
+def _sample_car(rng: np.random.Generator, allow_bus: bool) -> tuple[int, np.ndarray, np.ndarray, int]:
+    """Template id, jittered dims ``(l, h, w)``, FFD ``(64, 3)`` and colour index of one car."""
+    weights = _TEMPLATE_WEIGHTS.copy()
+    if not allow_bus:
+        weights[TEMPLATE_NAMES.index("bus")] = 0.0
+    template = int(rng.choice(len(TEMPLATE_NAMES), p=weights / weights.sum()))
+    base = np.array(TEMPLATE_DIMENSIONS[TEMPLATE_NAMES[template]])
+    dims = base * (1.0 + rng.uniform(-0.05, 0.05)) * (1.0 + rng.uniform(-0.04, 0.04, size=3))
+    # Small symmetric FFD; the bottom lattice layer (j = 3, y = +0.5) keeps its height so the
+    # wheels stay exactly on the ground (y3d is the ground height).
+    half = rng.normal(0.0, 0.02, size=(4, 4, 2, 3)).clip(-0.05, 0.05)
+    half[:, 3, :, 1] = 0.0
+    phi = expand_half_ffd(torch.from_numpy(half.reshape(32, 3))).numpy()
+    color = int(rng.choice(len(_COLOR_NAMES), p=_COLOR_WEIGHTS / _COLOR_WEIGHTS.sum()))
+    return template, dims, phi, color
+
+
+def _place_row(
+    rng: np.random.Generator, z_lo: float, z_hi: float, spacing: float, allow_bus: bool
+) -> list[tuple[float, int, np.ndarray, np.ndarray, int]]:
+    """Cars along one row (lane or parking strip) between ``z_lo`` and ``z_hi``, no overlaps.
+
+    Gaps are ``0.8 m`` plus an exponential with the mean that makes the mean centre spacing
+    ``spacing``. Returns ``(z_centre, template, dims, phi, colour)`` per car.
+    """
+    out = []
+    z = z_lo + rng.uniform(0.0, spacing)
+    while True:
+        template, dims, phi, color = _sample_car(rng, allow_bus)
+        if z + dims[0] > z_hi:
+            return out
+        out.append((z + dims[0] / 2, template, dims, phi, color))
+        z += dims[0] + 0.8 + rng.exponential(max(spacing - 5.3, 0.5))
+
+
+def _sample_cars(
+    rng: np.random.Generator,
+    style: WorldStyle,
+    road: RoadGeometry,
+    camera: CameraPath,
+    num_frames: int,
+    cars_per_frame: tuple[int, int],
+) -> CarTracks:
+    """Car tracks along every lane and parking strip (see :func:`build_world`)."""
+    rows = []  # (x, yaw (None: parked), speed in m/frame, same lane as the camera)
+    travel = camera.speed * max(num_frames - 1, 0)
+    for lane_x, direction in zip(road.lane_centers, road.lane_directions, strict=True):
+        same_lane = abs(lane_x - camera.x) < 0.1
+        if same_lane:
+            speed = camera.speed
+        elif direction > 0:
+            speed = camera.speed * rng.uniform(0.6, 1.4)
+        else:
+            speed = -camera.speed * rng.uniform(0.7, 1.3)
+        yaw = -math.pi / 2 if direction > 0 else math.pi / 2
+        rows.append((lane_x, yaw, speed, same_lane))
+    for x in road.parking_centers:
+        rows.append((x, None, 0.0, False))
+    n_target = int(rng.integers(cars_per_frame[0], cars_per_frame[1] + 1))
+    if n_target <= 0 or not rows:
+        empty = np.zeros(0)
+        return CarTracks(
+            empty.astype(np.int64),
+            empty.astype(np.int64),
+            np.zeros((0, 3)),
+            np.zeros((0, 64, 3), np.float32),
+            [],
+            np.zeros((0, 3)),
+            empty,
+            empty,
+            empty,
+            empty,
+        )
+    spacing = VIEW_DEPTH * len(rows) / n_target
+    cars = []
+    for x, yaw, speed, same_lane in rows:
+        rel = (camera.speed - speed) * travel / max(camera.speed, 1e-6)
+        if same_lane:  # ahead of the camera only, driving at its speed: never reached
+            z_lo, z_hi = 8.0, VIEW_DEPTH
+        else:  # every car that is in view at some frame
+            z_lo = -BEHIND_LIMIT + min(0.0, rel)
+            z_hi = VIEW_DEPTH + max(0.0, rel)
+        for z, template, dims, phi, color in _place_row(rng, z_lo, z_hi, spacing, yaw is not None):
+            if yaw is None:  # parked: mostly facing the traffic of its side, slightly askew
+                forward = x > 0
+                if rng.uniform() < 0.15:
+                    forward = not forward
+                car_yaw = (-math.pi / 2 if forward else math.pi / 2) + rng.normal(0.0, 0.04)
+                car_x = x + rng.normal(0.0, 0.12)
+            else:
+                car_yaw, car_x = yaw + rng.normal(0.0, 0.01), x + rng.normal(0.0, 0.1)
+            cars.append((car_x, z, car_yaw, speed, template, dims, phi, color))
+    cars.sort(key=lambda c: (c[1], c[0]))
+    n = len(cars)
+    return CarTracks(
+        tid=np.arange(n, dtype=np.int64),
+        template=np.array([c[4] for c in cars], dtype=np.int64),
+        dims=np.array([c[5] for c in cars], dtype=np.float64).reshape(n, 3),
+        phi=np.array([c[6] for c in cars], dtype=np.float32).reshape(n, 64, 3),
+        color_name=[_COLOR_NAMES[c[7]] for c in cars],
+        color_rgb=np.array([CAR_COLORS[_COLOR_NAMES[c[7]]] for c in cars], dtype=np.float64).reshape(n, 3),
+        x=np.array([c[0] for c in cars], dtype=np.float64),
+        z0=np.array([c[1] for c in cars], dtype=np.float64),
+        yaw=np.array([c[2] for c in cars], dtype=np.float64),
+        speed=np.array([c[3] for c in cars], dtype=np.float64),
+    )
+
+
+def build_world(seed: int, world: str, num_frames: int, cars_per_frame: tuple[int, int] = (4, 12)) -> World:
+    """Sample world ``world`` of dataset seed ``seed``.
+
+    Args:
+        seed: dataset seed.
+        world: 4-digit world name; the five Virtual KITTI names have fixed street styles.
+        num_frames: frames of the sequence (sets how far the camera drives, hence how long
+            the scenery and car rows are).
+        cars_per_frame: ``[min, max]``: the number of cars placed along the first
+            ``VIEW_DEPTH`` = 100 m of road ahead of the camera, drawn once per world; the same
+            density continues along the sequence. How many are visible in a frame varies with
+            occlusion and the frame's field of view.
+    """
+    if not (len(world) == 4 and world.isdigit()):
+        raise ValueError(f"world must be a 4-digit name like '0001', got {world!r}")
+    if num_frames < 1:
+        raise ValueError(f"num_frames must be >= 1, got {num_frames}")
+    lo, hi = (int(v) for v in cars_per_frame)
+    if lo < 0 or hi < lo:
+        raise ValueError(f"cars_per_frame must be [min, max] with 0 <= min <= max, got {cars_per_frame}")
+    rng = rng_for(seed, "world", world)
+    style = _style_for(world, rng)
+    road = RoadGeometry.from_style(style, rng)
+    lane = int(rng.integers(len(road.forward_lanes)))
+    camera = CameraPath(
+        x=float(road.forward_lanes[lane]),
+        height=float(rng.uniform(1.5, 1.65)),
+        speed=float(rng.uniform(0.7, 1.3)),
+    )
+    travel = camera.speed * (num_frames - 1)
+    static = build_static_scene(rng_for(seed, "scenery", world), style, road, z_range=(-40.0, travel + 220.0))
+    cars = _sample_cars(rng_for(seed, "cars", world), style, road, camera, num_frames, (lo, hi))
+    if len(cars) > MAX_TRACKS:
+        raise ValueError(
+            f"world {world} has {len(cars)} car tracks but Virtual KITTI readers accept track ids up to "
+            f"{MAX_TRACKS - 1} (instance ids are class * 1000 + tid + 1); lower frames_per_sequence or "
+            "cars_per_frame"
+        )
+    return World(world, int(seed), style, road, static, cars, camera, int(num_frames))
+
+
+def frame_objects(world: World, frame: int, yaw_deg: float) -> FrameObjects:
+    """Cars of ``frame`` in the camera frame (variation yaw ``yaw_deg``), far-behind ones dropped.
+
+    Moving cars advance ``speed`` metres per frame; ``moving`` is their motgt flag.
+    """
+    cars = world.cars
+    world_to_cam = world.camera.pose(frame, yaw_deg)
+    h = cars.dims[:, 1]
+    bottom = np.stack([cars.x, np.zeros(len(cars)), cars.z0 + cars.speed * frame], axis=1)
+    center_w = bottom - np.stack([np.zeros(len(cars)), h / 2, np.zeros(len(cars))], axis=1)
+    center = center_w @ world_to_cam[:3, :3].T + world_to_cam[:3, 3]
+    ry = cars.yaw - math.radians(yaw_deg)
+    ry = np.remainder(ry + math.pi, 2 * math.pi) - math.pi
+    objects = FrameObjects(np.arange(len(cars)), center, ry, cars.speed != 0)
+    radius = 0.5 * np.linalg.norm(cars.dims[:, [0, 2]], axis=1)
+    keep = (center[:, 2] + radius > -BEHIND_LIMIT) & (center[:, 2] - radius < VIEW_DEPTH + 60.0)
+    return objects.subset(keep)

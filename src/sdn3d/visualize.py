@@ -1,0 +1,118 @@
+"""Turn label, depth, normal and pose maps into uint8 RGB pictures (for reports and TensorBoard).
+
+All functions take torch tensors or numpy arrays and return ``(H, W, 3)`` uint8 numpy arrays.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+
+__all__ = [
+    "colorize_ids",
+    "colorize_depth",
+    "normals_to_rgb",
+    "pose_to_rgb",
+    "overlay_mask",
+    "hstack_panels",
+]
+
+
+def _numpy(x: torch.Tensor | np.ndarray) -> np.ndarray:
+    if isinstance(x, torch.Tensor):
+        return x.detach().cpu().numpy()
+    return np.asarray(x)
+
+
+def colorize_ids(ids: torch.Tensor | np.ndarray, background: tuple[int, int, int] = (0, 0, 0)) -> np.ndarray:
+    """Stable pseudo-random colours for integer ids ``(H, W)``; ids <= 0 get ``background``.
+
+    The colour of an id depends only on the id (a multiplicative hash), so the same
+    instance has the same colour in every picture.
+    """
+    ids = _numpy(ids).astype(np.int64)
+    hashed = (ids * 2654435761) & 0xFFFFFF
+    rgb = np.stack([(hashed >> 16) & 255, (hashed >> 8) & 255, hashed & 255], -1)
+    rgb = 64 + (rgb * 191) // 255  # keep colours away from black
+    rgb[ids <= 0] = background
+    return rgb.astype(np.uint8)
+
+
+def colorize_depth(depth: torch.Tensor | np.ndarray, max_depth: float | None = None) -> np.ndarray:
+    """Inverse-depth shading of a ``(H, W)`` metric depth map; empty (inf/<=0) pixels are black."""
+    depth = _numpy(depth).astype(np.float64)
+    valid = np.isfinite(depth) & (depth > 0)
+    if not valid.any():
+        return np.zeros((*depth.shape, 3), np.uint8)
+    near = depth[valid].min()
+    far = max_depth if max_depth is not None else depth[valid].max()
+    inv = np.zeros_like(depth)
+    inv[valid] = (1.0 / np.clip(depth[valid], near, None) - 1.0 / far) / max(1.0 / near - 1.0 / far, 1e-12)
+    inv = np.clip(inv, 0.0, 1.0)
+    # a warm-to-cold ramp: near is bright yellow, far is dark blue
+    rgb = np.stack([inv, inv**2, 0.4 * (1 - inv) + 0.1], -1)
+    rgb[~valid] = 0
+    return (rgb * 255).astype(np.uint8)
+
+
+def normals_to_rgb(normals: torch.Tensor | np.ndarray) -> np.ndarray:
+    """Camera-frame unit normals ``(3, H, W)`` to RGB ``(n + 1) / 2``; zero normals are black."""
+    n = _numpy(normals).astype(np.float64)
+    rgb = (np.transpose(n, (1, 2, 0)) + 1.0) * 0.5
+    rgb[np.abs(n).sum(0) == 0] = 0
+    return (np.clip(rgb, 0, 1) * 255).astype(np.uint8)
+
+
+def pose_to_rgb(pose: torch.Tensor | np.ndarray) -> np.ndarray:
+    """One-hot pose map ``(K, H, W)`` to a hue wheel over the K bins; empty pixels black."""
+    p = _numpy(pose)
+    k = p.shape[0]
+    filled = p.sum(0) > 0
+    hue = p.argmax(0).astype(np.float64) / k
+    # HSV -> RGB with full saturation and value
+    h6 = hue * 6
+    x = 1 - np.abs(np.mod(h6, 2) - 1)
+    sector = np.floor(h6).astype(int) % 6
+    zeros, ones = np.zeros_like(x), np.ones_like(x)
+    table = [
+        (ones, x, zeros),
+        (x, ones, zeros),
+        (zeros, ones, x),
+        (zeros, x, ones),
+        (x, zeros, ones),
+        (ones, zeros, x),
+    ]
+    rgb = np.zeros((*hue.shape, 3))
+    for s, (r, g, b) in enumerate(table):
+        sel = sector == s
+        rgb[sel] = np.stack([r[sel], g[sel], b[sel]], -1)
+    rgb[~filled] = 0
+    return (rgb * 255).astype(np.uint8)
+
+
+def overlay_mask(
+    image: np.ndarray, mask: torch.Tensor | np.ndarray, color: tuple[int, int, int], alpha: float = 0.5
+) -> np.ndarray:
+    """Blend ``color`` into ``image (H, W, 3) uint8`` where ``mask (H, W)`` is true (or weighted)."""
+    m = _numpy(mask).astype(np.float64)
+    if m.max(initial=0) > 1:
+        raise ValueError("overlay_mask: mask must be boolean or in [0, 1]")
+    w = (alpha * m)[..., None]
+    out = image.astype(np.float64) * (1 - w) + np.asarray(color, np.float64) * w
+    return np.clip(out, 0, 255).astype(np.uint8)
+
+
+def hstack_panels(panels: list[np.ndarray], gap: int = 4) -> np.ndarray:
+    """Place ``(H, W, 3)`` uint8 panels side by side with white gaps (heights must match)."""
+    if not panels:
+        raise ValueError("hstack_panels: no panels")
+    height = panels[0].shape[0]
+    if any(p.shape[0] != height for p in panels):
+        raise ValueError(f"hstack_panels: panel heights differ: {[p.shape[0] for p in panels]}")
+    spacer = np.full((height, gap, 3), 255, np.uint8)
+    parts: list[np.ndarray] = []
+    for i, panel in enumerate(panels):
+        if i:
+            parts.append(spacer)
+        parts.append(panel)
+    return np.concatenate(parts, 1)

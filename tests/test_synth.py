@@ -1,0 +1,395 @@
+"""Synthetic Virtual KITTI 1.3.1 generator: file tree, formats, consistency, determinism, edits."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+import torch
+from PIL import Image
+
+from sdn3d.data.synth import BENCHMARK_NAME, MANIFEST_NAME, SynthConfig, generate_dataset
+from sdn3d.data.synth.classes import CLASS_COLORS
+from sdn3d.data.synth.clip import clip_near
+from sdn3d.data.synth.writer import ENCODING_HEADER, EXTRINSICS_HEADER, MOTGT_HEADER
+from sdn3d.geometry.camera import VKITTI_INTRINSICS
+
+WORLD = "0001"
+VARIATIONS = ("clone", "30-deg-left")
+FRAMES, EDITS = 3, 2
+WIDTH, HEIGHT = 312, 96
+
+
+@pytest.fixture(autouse=True)
+def _one_thread() -> Iterator[None]:
+    """Render with one torch thread: on a shared 2-core machine two threads contend badly."""
+    previous = torch.get_num_threads()
+    torch.set_num_threads(1)
+    yield
+    torch.set_num_threads(previous)
+
+
+def _config(out: Path, **kw) -> SynthConfig:
+    base = dict(
+        output_dir=str(out),
+        seed=3,
+        image_size=(WIDTH, HEIGHT),
+        worlds=(WORLD,),
+        variations=VARIATIONS,
+        frames_per_sequence=FRAMES,
+        cars_per_frame=(10, 14),
+        edit_pairs=EDITS,
+        workers=1,
+        threads=1,
+    )
+    base.update(kw)
+    return SynthConfig(**base)
+
+
+@pytest.fixture(scope="module")
+def dataset(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return generate_dataset(_config(tmp_path_factory.mktemp("synth") / "data"))
+
+
+def _motgt(root: Path, variation: str) -> list[dict]:
+    lines = (root / "vkitti_1.3.1_motgt" / f"{WORLD}_{variation}.txt").read_text().splitlines()
+    assert lines[0] == MOTGT_HEADER
+    header = lines[0].split()
+    return [dict(zip(header, line.split(), strict=True)) for line in lines[1:]]
+
+
+def _extrinsics(root: Path, variation: str) -> dict[int, np.ndarray]:
+    lines = (root / "vkitti_1.3.1_extrinsicsgt" / f"{WORLD}_{variation}.txt").read_text().splitlines()
+    assert lines[0] == EXTRINSICS_HEADER
+    out = {}
+    for line in lines[1:]:
+        values = line.split()
+        out[int(values[0])] = np.array([float(v) for v in values[1:]]).reshape(4, 4)
+    return out
+
+
+def _encoding(root: Path, variation: str) -> dict[tuple[int, int, int], str]:
+    path = root / "vkitti_1.3.1_scenegt" / f"{WORLD}_{variation}_scenegt_rgb_encoding.txt"
+    lines = path.read_text().splitlines()
+    assert lines[0] == ENCODING_HEADER
+    table = {}
+    for line in lines[1:]:
+        name, r, g, b = line.split()
+        color = (int(r), int(g), int(b))
+        assert color not in table, f"duplicate colour {color} in {path.name}"
+        table[color] = name
+    return table
+
+
+def _project_full(center: np.ndarray) -> np.ndarray:
+    k = VKITTI_INTRINSICS
+    return np.array([k.fx * center[0] / center[2] + k.cx, k.fy * center[1] / center[2] + k.cy])
+
+
+def _center(row: dict) -> np.ndarray:
+    return np.array([float(row["x3d"]), float(row["y3d"]) - float(row["h3d"]) / 2, float(row["z3d"])])
+
+
+def test_tree_is_exactly_vkitti_131(dataset: Path) -> None:
+    frames = [f"{i:05d}.png" for i in range(FRAMES + EDITS)]
+    expected = {BENCHMARK_NAME, MANIFEST_NAME, "_SUCCESS"}
+    for v in VARIATIONS:
+        for kind in ("rgb", "scenegt", "depthgt"):
+            expected |= {f"vkitti_1.3.1_{kind}/{WORLD}/{v}/{f}" for f in frames}
+        expected |= {
+            f"vkitti_1.3.1_motgt/{WORLD}_{v}.txt",
+            f"vkitti_1.3.1_extrinsicsgt/{WORLD}_{v}.txt",
+            f"vkitti_1.3.1_scenegt/{WORLD}_{v}_scenegt_rgb_encoding.txt",
+        }
+    found = {p.relative_to(dataset).as_posix() for p in dataset.rglob("*") if p.is_file()}
+    assert found == expected
+    assert [p.name for p in dataset.parent.iterdir()] == [dataset.name]  # no temporary siblings left
+
+
+def test_scenegt_colours_depth_and_boxes(dataset: Path) -> None:
+    for v in VARIATIONS:
+        table = _encoding(dataset, v)
+        for name, color in CLASS_COLORS.items():
+            assert table[color] == name
+        instances = {c: n for c, n in table.items() if ":" in n}
+        assert instances and all(n.split(":")[0] in ("Car", "Van") for n in instances.values())
+        rows = _motgt(dataset, v)
+        for frame in range(FRAMES + EDITS):
+            scenegt = np.asarray(Image.open(dataset / "vkitti_1.3.1_scenegt" / WORLD / v / f"{frame:05d}.png"))
+            assert scenegt.shape == (HEIGHT, WIDTH, 3) and scenegt.dtype == np.uint8
+            colors, counts = np.unique(scenegt.reshape(-1, 3), axis=0, return_counts=True)
+            assert all(tuple(c) in table for c in colors.tolist()), "scenegt colour missing from the encoding"
+            depth_img = Image.open(dataset / "vkitti_1.3.1_depthgt" / WORLD / v / f"{frame:05d}.png")
+            depth = np.asarray(depth_img)
+            assert depth_img.mode.startswith("I;16") and depth.dtype == np.uint16 and depth.shape == (HEIGHT, WIDTH)
+            sky = (scenegt == CLASS_COLORS["Sky"]).all(-1)
+            assert (depth[sky] == 65535).all() and (depth[~sky] > 0).all()
+            # Surfaces beyond 655.35 m (the far ground at the horizon) are clipped to 65535 too: rare.
+            assert (depth[~sky] == 65535).mean() < 0.01
+            by_tid = {int(r["tid"]): r for r in rows if int(r["frame"]) == frame}
+            for color, count in zip(colors.tolist(), counts.tolist(), strict=True):
+                name = table[tuple(color)]
+                if ":" not in name:
+                    continue
+                tid = int(name.split(":")[1])
+                assert tid in by_tid, f"frame {frame}: instance {name} visible but not in motgt"
+                r = by_tid[tid]
+                ys, xs = np.nonzero((scenegt == color).all(-1))
+                # The 2D box is the box of the visible instance pixels.
+                assert (int(r["l"]), int(r["t"]), int(r["r"]), int(r["b"])) == (
+                    xs.min(),
+                    ys.min(),
+                    xs.max(),
+                    ys.max(),
+                )
+                assert r["orig_label"] == name.split(":")[0] and count > 0
+
+
+def test_motgt_values(dataset: Path) -> None:
+    for v in VARIATIONS:
+        rows = _motgt(dataset, v)
+        poses = _extrinsics(dataset, v)
+        assert rows and set(poses) == set(range(FRAMES + EDITS))
+        for r in rows:
+            left, top, right, bottom = (int(r[k]) for k in "ltrb")
+            assert 0 <= left <= right < WIDTH and 0 <= top <= bottom < HEIGHT
+            x, y, z, ry = (float(r[k]) for k in ("x3d", "y3d", "z3d", "ry"))
+            alpha = math.remainder(ry - math.atan2(x, z), 2 * math.pi)
+            assert abs(math.remainder(float(r["alpha"]) - alpha, 2 * math.pi)) < 2e-6
+            assert 0.0 < float(r["occupr"]) <= 1.0 and 0.0 <= float(r["truncr"]) <= 1.0
+            assert min(float(r[k]) for k in ("w3d", "h3d", "l3d")) > 0
+            assert float(r["l3d"]) > float(r["w3d"])  # the file's order is w3d h3d l3d
+            # Cars stand on the road: y3d is the ground's height in the camera frame (no pitch / roll).
+            assert y == pytest.approx(poses[int(r["frame"])][1, 3], abs=2e-6)
+            assert r["rx"] == r["rz"] == "0.000000" and r["moving"] in ("0", "1")
+            heavy = r["truncated"] == "2" or r["occluded"] == "2"
+            assert r["label"] == ("DontCare" if heavy else r["orig_label"])
+            assert r["orig_label"] in ("Car", "Van")
+
+
+def test_sequences_are_consistent(dataset: Path) -> None:
+    """Same tids across frames and variations; parked cars stay put in the world, moving ones move."""
+    world_pos: dict[str, dict[tuple[int, int], np.ndarray]] = {}
+    for v in VARIATIONS:
+        poses = _extrinsics(dataset, v)
+        world_pos[v] = {}
+        for r in _motgt(dataset, v):
+            frame = int(r["frame"])
+            if frame >= FRAMES:
+                continue
+            bottom = np.array([float(r[k]) for k in ("x3d", "y3d", "z3d")])
+            rot, t = poses[frame][:3, :3], poses[frame][:3, 3]
+            world_pos[v][int(r["tid"]), frame] = rot.T @ (bottom - t)
+            assert np.linalg.det(rot) == pytest.approx(1.0, abs=1e-6)
+        camera_z = [(-poses[f][:3, :3].T @ poses[f][:3, 3])[2] for f in range(FRAMES)]
+        assert np.all(np.diff(camera_z) > 0.5)  # the camera drives forward
+    moving = {int(r["tid"]): r["moving"] == "1" for r in _motgt(dataset, "clone")}
+    checked = 0
+    for (tid, frame), pos in world_pos["clone"].items():
+        nxt = world_pos["clone"].get((tid, frame + 1))
+        if nxt is not None:
+            assert (np.linalg.norm(nxt - pos) > 0.1) == moving[tid]
+            checked += 1
+        other = world_pos["30-deg-left"].get((tid, frame))
+        if other is not None:  # the same car at the same world place in another variation
+            np.testing.assert_allclose(other, pos, atol=1e-4)
+    assert checked > 0
+
+
+def test_determinism(dataset: Path, tmp_path: Path) -> None:
+    """Same seed, same bytes, whether the sequences are rendered in this process or in two workers."""
+    again = generate_dataset(_config(tmp_path / "again", workers=2))
+    files = sorted(p.relative_to(dataset) for p in dataset.rglob("*") if p.is_file())
+    assert files == sorted(p.relative_to(again) for p in again.rglob("*") if p.is_file())
+    for rel in files:
+        assert (dataset / rel).read_bytes() == (again / rel).read_bytes(), f"{rel} differs between runs"
+
+
+def test_vkitti1_reader_loads_it(dataset: Path) -> None:
+    vkitti1 = pytest.importorskip("sdn3d.data.vkitti1")
+    records = vkitti1.read_frames(dataset)
+    assert len(records) == len(VARIATIONS) * (FRAMES + EDITS)
+    record = records[0]
+    assert record.intrinsics == VKITTI_INTRINSICS.resized(WIDTH, HEIGHT)
+    semantic, instances = vkitti1.load_semantic(record), vkitti1.load_instances(record)
+    depth = vkitti1.load_depth(record)
+    assert semantic.shape == instances.shape == depth.shape == (HEIGHT, WIDTH)
+    tids = {o.track_id for o in record.objects}
+    seen = {int(i % 1000) - 1 for i in np.unique(instances) if i > 0}
+    assert seen == tids
+
+
+def test_edit_benchmark_matches_targets(dataset: Path) -> None:
+    edits = pytest.importorskip("sdn3d.data.edits")
+    entries = edits.load_edit_benchmark(dataset / BENCHMARK_NAME)
+    assert len(entries) == len(VARIATIONS) * EDITS
+    assert sum(len(e.operations) for e in entries) > 0
+    for entry in entries:
+        assert entry.world == WORLD and entry.source_frame < FRAMES <= entry.target_frame
+        rows = _motgt(dataset, entry.variation)
+        src = {int(r["tid"]): r for r in rows if int(r["frame"]) == entry.source_frame}
+        tgt = {int(r["tid"]): r for r in rows if int(r["frame"]) == entry.target_frame}
+        poses = _extrinsics(dataset, entry.variation)
+        np.testing.assert_array_equal(poses[entry.source_frame], poses[entry.target_frame])
+        for op in entry.operations:
+            # The operation's object: the source car whose projected 3D centre is at `from`.
+            tid = min(src, key=lambda t: np.linalg.norm(_project_full(_center(src[t])) - op.from_uv))
+            assert np.abs(_project_full(_center(src[tid])) - op.from_uv).max() <= 0.051
+            if op.kind == "delete":
+                assert tid not in tgt
+                continue
+            before, after = _center(src[tid]), _center(tgt[tid])
+            assert float(tgt[tid]["y3d"]) == pytest.approx(float(src[tid]["y3d"]), abs=1e-6)  # still on the ground
+            delta = math.remainder(float(tgt[tid]["ry"]) - float(src[tid]["ry"]) - op.ry, 2 * math.pi)
+            assert abs(delta) < 2e-6
+            assert np.linalg.norm(before) / np.linalg.norm(after) == pytest.approx(op.zoom, abs=6e-4)
+            if op.to_uv is None:
+                np.testing.assert_allclose(after, before, atol=1e-5)
+            else:
+                assert np.abs(_project_full(after) - op.to_uv).max() <= 0.051
+                top, left, bottom, right = op.roi
+                assert top <= op.to_uv[1] <= bottom and left <= op.to_uv[0] <= right
+
+
+def test_refuses_non_empty_output_unless_overwrite(tmp_path: Path) -> None:
+    out = tmp_path / "busy"
+    out.mkdir()
+    (out / "keep.txt").write_text("mine")
+    small = dict(variations=("clone",), frames_per_sequence=1, edit_pairs=0, image_size=(64, 24))
+    with pytest.raises(FileExistsError, match="overwrite=true"):
+        generate_dataset(_config(out, **small))
+    assert (out / "keep.txt").read_text() == "mine"
+    generate_dataset(_config(out, overwrite=True, **small))
+    assert not (out / "keep.txt").exists() and (out / "_SUCCESS").is_file()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["busy"]
+
+
+@pytest.mark.parametrize(
+    "bad, message",
+    [
+        ({"worlds": ("1",)}, "4-digit"),
+        ({"variations": ("snow",)}, "variations"),
+        ({"cars_per_frame": (5, 2)}, "cars_per_frame"),
+        ({"image_size": (4, 4)}, "image_size"),
+        ({"frames_per_sequence": 0}, "frames_per_sequence"),
+    ],
+)
+def test_config_validation(tmp_path: Path, bad: dict, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        _config(tmp_path / "x", **bad)
+
+
+def test_clip_near_keeps_the_front_part_with_its_winding() -> None:
+    verts = torch.tensor(
+        [
+            [0.0, 0.0, -1.0],
+            [1.0, 0.0, 3.0],
+            [0.0, 1.0, 3.0],  # one vertex behind
+            [0.0, 0.0, 2.0],
+            [1.0, 0.0, -2.0],
+            [0.0, 1.0, -2.0],  # two behind
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [0.0, 1.0, 1.0],  # in front
+            [0.0, 0.0, -1.0],
+            [1.0, 0.0, -1.0],
+            [0.0, 1.0, -1.0],
+        ]
+    )  # behind
+    faces = torch.arange(12).view(4, 3)
+    out_v, out_f, parent = clip_near(verts, faces, 0.5)
+    assert sorted(parent.tolist()) == [0, 0, 1, 2]  # quad, triangle, untouched, dropped
+    tri = out_v[out_f]
+    assert (tri[..., 2] >= 0.5 - 1e-6).all()
+
+    def normal(t: torch.Tensor) -> torch.Tensor:
+        return torch.linalg.cross(t[..., 1, :] - t[..., 0, :], t[..., 2, :] - t[..., 0, :], dim=-1)
+
+    # Same facing as the parent (the plane of each parent is kept, winding too).
+    cos = torch.nn.functional.cosine_similarity(normal(tri), normal(verts[faces][parent]), dim=-1)
+    assert torch.allclose(cos, torch.ones_like(cos), atol=1e-5)
+    # The quad of face 0 covers exactly the part of the triangle at z >= 0.5: area from the
+    # cut (z spans 4 along the edges from the back vertex: the cut is at 1.5 / 4 of them).
+    area = 0.5 * normal(tri[parent == 0]).norm(dim=-1).sum()
+    full = 0.5 * normal(verts[faces[0]][None]).norm(dim=-1)[0]
+    assert float(area / full) == pytest.approx(1 - (1.5 / 4) ** 2, rel=1e-5)
+
+
+def test_hydra_config_composes(tmp_path: Path) -> None:
+    hydra = pytest.importorskip("hydra")
+    from sdn3d.cli._config import CONFIG_DIR
+    from sdn3d.cli.synth import config_from_hydra
+
+    with hydra.initialize_config_dir(config_dir=CONFIG_DIR, version_base="1.3"):
+        cfg = hydra.compose(config_name="synth", overrides=[f"output_dir={tmp_path / 'd'}", "frames_per_sequence=3"])
+    config = config_from_hydra(cfg)
+    assert config.image_size == (624, 192) and config.frames_per_sequence == 3
+    assert config.output_dir == str(tmp_path / "d")
+
+
+def test_truncation_and_occupancy_of_a_car_leaving_the_frame() -> None:
+    from sdn3d.data.synth.scene_render import template_bank
+    from sdn3d.data.synth.stats import object_statistics
+    from sdn3d.geometry.transforms import object_to_camera
+    from sdn3d.render.rasterize import rasterize_meshes
+    from sdn3d.render.settings import RasterSettings
+
+    bank, _ = template_bank()
+    intr = VKITTI_INTRINSICS.resized(WIDTH, HEIGHT)
+    nf = int(bank.num_faces[0])
+    dims = torch.tensor([[4.6, 1.45, 1.8], [4.6, 1.45, 1.8]])
+    # Car 0 sticks out of the left edge of the frame, car 1 is fully inside.
+    centers = torch.tensor([[-5.0, 0.9, 7.0], [1.0, 0.9, 20.0]])
+    verts = object_to_camera(bank.verts[0, : int(bank.num_verts[0])], dims, torch.tensor([0.3, -1.2]), centers)
+    nv = verts.shape[1]
+    faces = torch.cat([bank.faces[0, :nf], bank.faces[0, :nf] + nv])
+    owner = torch.cat([torch.zeros(nf, dtype=torch.long), torch.ones(nf, dtype=torch.long)])
+    flat = verts.reshape(-1, 3)
+    settings = RasterSettings(image_size=(HEIGHT, WIDTH), cull_backfaces=True)
+    frags = rasterize_meshes(flat[None], faces[None], intr.matrix(), settings)
+    instance = torch.where(frags.pix_to_face[0] >= 0, owner[frags.pix_to_face[0].clamp(min=0)], -1)
+    full = torch.bincount(instance[instance >= 0], minlength=2)
+    # Hide the left half of car 1's pixels: its occupancy becomes visible / unoccluded.
+    cols = torch.arange(WIDTH).expand(HEIGHT, WIDTH)
+    hidden = (instance == 1) & (cols < int(cols[instance == 1].float().median()))
+    instance = torch.where(hidden, torch.full_like(instance, -1), instance)
+    stats = object_statistics(flat, faces, owner, 2, instance, intr, 0.15, 0.1, 1000.0, cull_backfaces=True)
+    # Reference truncation: the car alone on a canvas with a wide margin on every side (same pixel grid).
+    margin = 3 * WIDTH
+    wide = intr.cropped(-margin, -margin, WIDTH + 2 * margin, HEIGHT + 2 * margin)
+    ref = (
+        rasterize_meshes(
+            flat[None],
+            faces[None, :nf],
+            wide.matrix(),
+            RasterSettings(image_size=wide.size, cull_backfaces=True),
+        ).pix_to_face[0]
+        >= 0
+    )
+    inside = ref[margin : margin + HEIGHT, margin : margin + WIDTH].sum()
+    assert stats.unoccluded.tolist() == [int(inside), int(full[1])]
+    assert 0.2 < stats.truncr[0] < 0.95
+    assert stats.truncr[0] == pytest.approx(1 - float(inside) / float(ref.sum()), abs=0.03)
+    assert stats.truncr[1] == 0.0 and stats.occupr[0] == 1.0
+    assert stats.occupr[1] == pytest.approx(float((instance == 1).sum()) / float(full[1]))
+    assert 0.3 < stats.occupr[1] < 0.7
+
+
+def test_occlusion_shortcut_gives_the_exact_counts(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Cars that nothing nearer overlaps on screen skip the draw-alone pass: same statistics."""
+    from sdn3d.data.synth import build_world, frame_objects, render_frame, scene_render
+
+    world = build_world(5, "0006", 4, (12, 14))
+    intr = VKITTI_INTRINSICS.resized(WIDTH, HEIGHT)
+    objects, pose = frame_objects(world, 3, 15.0), world.camera.pose(3, 15.0)
+    fast = render_frame(world, objects, pose, intr, "15-deg-right", 0).stats
+    monkeypatch.setattr(scene_render, "_occluder_boxes", lambda *args: None)
+    full = render_frame(world, objects, pose, intr, "15-deg-right", 0).stats
+    assert (fast.visible > 0).sum() >= 3
+    np.testing.assert_array_equal(fast.unoccluded, full.unoccluded)
+    np.testing.assert_array_equal(fast.truncr, full.truncr)
+    np.testing.assert_array_equal(fast.occupr, full.occupr)
+    assert (full.occupr[full.visible > 0] == 1.0).any() and (full.occupr[full.visible > 0] < 1.0).any()

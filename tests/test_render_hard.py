@@ -98,7 +98,9 @@ def test_barycentrics_are_perspective_correct() -> None:
     hit = frags.mask[0]
     assert hit.sum() > 100
     packed = frags.pix_to_face[0][hit]
-    tri = verts.reshape(-1, 3)[(faces + torch.arange(len(meshes)).view(-1, 1, 1) * verts.shape[1]).view(-1, 3)[packed]]
+    tri = verts.reshape(-1, 3)[
+        (faces + torch.arange(len(meshes)).view(-1, 1, 1) * verts.shape[1]).view(-1, 3)[packed]
+    ]
     bary = frags.bary[0][hit]
     assert torch.allclose(bary.sum(-1), torch.ones((), dtype=bary.dtype), atol=1e-9) and (bary >= 0).all()
     point = (bary.unsqueeze(-1) * tri).sum(1)  # surface point from barycentrics
@@ -111,7 +113,9 @@ def test_barycentrics_are_perspective_correct() -> None:
 
 def test_ground_plane_depth_is_exact() -> None:
     height = 1.65  # camera above a ground plane y = 1.65 (y points down)
-    verts = torch.tensor([[[-80.0, height, 1.0], [80.0, height, 1.0], [80.0, height, 400.0], [-80.0, height, 400.0]]])
+    verts = torch.tensor(
+        [[[-80.0, height, 1.0], [80.0, height, 1.0], [80.0, height, 400.0], [-80.0, height, 400.0]]]
+    )
     faces = torch.tensor([[[0, 1, 2], [0, 2, 3]]])
     frags = render(verts, faces)
     rows = torch.arange(H, dtype=torch.float64).view(-1, 1).expand(H, W)
@@ -155,11 +159,15 @@ def test_batches_chunks_and_intrinsics_per_image() -> None:
         assert torch.equal(batched.depth[b], alone.depth[0])
     for field in ("pix_to_face", "pix_to_mesh", "depth", "bary"):
         assert torch.equal(getattr(batched, field), getattr(chunked, field))
-    assert torch.equal(batched.pix_to_mesh, torch.where(batched.mask, batched.pix_to_face // faces.shape[1], -1))
+    assert torch.equal(
+        batched.pix_to_mesh, torch.where(batched.mask, batched.pix_to_face // faces.shape[1], -1)
+    )
 
 
 def test_empty_and_invisible_inputs() -> None:
-    empty = rasterize_meshes(torch.zeros(0, 0, 3), torch.zeros(0, 0, 3, dtype=torch.long), K, SETTINGS, batch_size=2)
+    empty = rasterize_meshes(
+        torch.zeros(0, 0, 3), torch.zeros(0, 0, 3, dtype=torch.long), K, SETTINGS, batch_size=2
+    )
     assert empty.pix_to_face.shape == (2, H, W) and (empty.pix_to_face == -1).all()
     assert torch.isinf(empty.depth).all() and (empty.bary == 0).all()
     box = trimesh.creation.box(extents=(2.0, 2.0, 2.0))
@@ -178,8 +186,18 @@ def test_near_plane_degenerate_and_nan_faces_are_culled() -> None:
     verts, faces = pad_meshes([box], torch.float64)
     reference = render(verts, faces)
     # Extra faces: straddling the near plane, degenerate (repeated / collinear vertices), NaN.
-    extra_v = torch.tensor([[-5.0, -5.0, -1.0], [5.0, -5.0, 20.0], [0.0, 5.0, 20.0], [1.0, 1.0, 8.0],
-                            [2.0, 2.0, 8.0], [3.0, 3.0, 8.0], [math.nan, 0.0, 9.0]], dtype=torch.float64)
+    extra_v = torch.tensor(
+        [
+            [-5.0, -5.0, -1.0],
+            [5.0, -5.0, 20.0],
+            [0.0, 5.0, 20.0],
+            [1.0, 1.0, 8.0],
+            [2.0, 2.0, 8.0],
+            [3.0, 3.0, 8.0],
+            [math.nan, 0.0, 9.0],
+        ],
+        dtype=torch.float64,
+    )
     base = verts.shape[1]
     extra_f = torch.tensor([[0, 1, 2], [3, 3, 4], [3, 4, 5], [6, 3, 4], [6, 6, 6]]) + base
     verts2 = torch.cat([verts, extra_v[None]], 1)

@@ -24,7 +24,9 @@ K = torch.tensor([[60.0, 0.0, (W - 1) / 2], [0.0, 60.0, (H - 1) / 2], [0.0, 0.0,
 SETTINGS = RasterSettings(image_size=(H, W))
 
 
-def boxes(*specs: tuple[tuple[float, float, float], tuple[float, float, float]]) -> tuple[torch.Tensor, torch.Tensor]:
+def boxes(
+    *specs: tuple[tuple[float, float, float], tuple[float, float, float]],
+) -> tuple[torch.Tensor, torch.Tensor]:
     """Axis-aligned boxes ``(extents, centre)`` as padded ``(N, 8, 3)`` verts and ``(N, 12, 3)`` faces."""
     verts, faces = [], []
     for extents, centre in specs:
@@ -39,7 +41,7 @@ def test_front_face_normal_depth_and_instance() -> None:
     frags = rasterize_meshes(verts, faces, K, SETTINGS)
     normals = normal_map(frags, verts, faces)
     assert normals.shape == (1, 3, H, W)
-    centre = normals[0, :, H // 2 - 3: H // 2 + 3, W // 2 - 3: W // 2 + 3]
+    centre = normals[0, :, H // 2 - 3 : H // 2 + 3, W // 2 - 3 : W // 2 + 3]
     assert torch.allclose(centre, torch.tensor([0.0, 0.0, -1.0]).view(3, 1, 1).expand_as(centre), atol=1e-6)
     depth = depth_map(frags)
     assert torch.allclose(depth[0][frags.mask[0]], torch.tensor(9.0))  # the front face is at z = 10 - 1
@@ -70,18 +72,32 @@ def test_side_face_normal_points_to_camera() -> None:
 
 def test_front_most_object_wins_instance_and_depth() -> None:
     verts, faces = boxes(((4.0, 2.0, 2.0), (0.0, 0.0, 15.0)), ((1.0, 1.0, 1.0), (0.0, 0.0, 8.0)))
-    maps = render_scene_maps(verts, faces, K, SETTINGS, torch.tensor([26001, 26002]), torch.tensor([0.1, -2.0]),
-                             mesh_to_image=torch.tensor([0, 0]), batch_size=1)
+    maps = render_scene_maps(
+        verts,
+        faces,
+        K,
+        SETTINGS,
+        torch.tensor([26001, 26002]),
+        torch.tensor([0.1, -2.0]),
+        mesh_to_image=torch.tensor([0, 0]),
+        batch_size=1,
+    )
     centre = (0, H // 2, W // 2)
     assert maps.instance[centre] == 26002 and maps.depth[centre] == pytest.approx(7.5)
     assert (maps.instance == 26001).sum() > (maps.instance == 26002).sum() > 0
     assert torch.equal(maps.mask, maps.instance > 0)
-    assert maps.depth.shape == (1, H, W) and maps.normal.shape == (1, 3, H, W) and maps.pose.shape == (1, 24, H, W)
+    assert (
+        maps.depth.shape == (1, H, W)
+        and maps.normal.shape == (1, 3, H, W)
+        and maps.pose.shape == (1, 24, H, W)
+    )
 
 
 def test_pose_map_one_hot_inside_objects_only() -> None:
     verts, faces = boxes(
-        ((2.0, 2.0, 2.0), (-4.0, 0.0, 12.0)), ((2.0, 2.0, 2.0), (4.0, 0.0, 12.0)), ((40.0, 0.1, 40.0), (0.0, 3.0, 30.0))
+        ((2.0, 2.0, 2.0), (-4.0, 0.0, 12.0)),
+        ((2.0, 2.0, 2.0), (4.0, 0.0, 12.0)),
+        ((40.0, 0.1, 40.0), (0.0, 3.0, 30.0)),
     )
     alpha = torch.tensor([0.3, -2.9, math.nan])  # the third mesh (ground) has no pose
     frags = rasterize_meshes(verts, faces, K, SETTINGS, torch.zeros(3, dtype=torch.long), 1)

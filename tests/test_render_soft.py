@@ -17,7 +17,9 @@ def crop_K(f: float, size: int, dtype: torch.dtype = torch.float32) -> torch.Ten
     return torch.tensor([[f, 0.0, c], [0.0, f, c], [0.0, 0.0, 1.0]], dtype=dtype)
 
 
-def mesh_tensors(mesh: trimesh.Trimesh, dtype: torch.dtype = torch.float32) -> tuple[torch.Tensor, torch.Tensor]:
+def mesh_tensors(
+    mesh: trimesh.Trimesh, dtype: torch.dtype = torch.float32
+) -> tuple[torch.Tensor, torch.Tensor]:
     return torch.tensor(mesh.vertices, dtype=dtype), torch.tensor(mesh.faces)
 
 
@@ -39,10 +41,10 @@ def small_scene(dtype: torch.dtype = torch.float32) -> tuple[torch.Tensor, torch
     return verts, faces, K
 
 
-@pytest.mark.parametrize("sigma", [0.5, 2.0])
+@pytest.mark.parametrize("sigma", [SoftSilhouetteSettings((1, 1)).sigma, 1.0])
 def test_sparse_matches_dense_reference(sigma: float) -> None:
     verts, faces, K = small_scene()
-    settings = SoftSilhouetteSettings(image_size=(32, 32), sigma=sigma)
+    settings = SoftSilhouetteSettings(image_size=(32, 32), sigma=sigma)  # documented default cull_eps
     sparse = soft_silhouette(verts, faces, K, settings)
     dense = soft_silhouette_dense(verts, faces, K, settings)
     assert sparse.shape == (3, 32, 32)
@@ -52,6 +54,17 @@ def test_sparse_matches_dense_reference(sigma: float) -> None:
     tiny_chunks = SoftSilhouetteSettings(image_size=(32, 32), sigma=sigma, max_pairs_per_chunk=50)
     assert torch.allclose(soft_silhouette(verts, faces, K, tiny_chunks), sparse, atol=1e-6)
     assert torch.allclose(soft_silhouette(verts[1:2], faces[1:2], K[1], settings)[0], sparse[1], atol=1e-6)
+
+
+def test_culling_error_follows_cull_eps() -> None:
+    # Each culled term is below cull_eps; the error shrinks with it even for a very soft edge.
+    verts, faces, K = small_scene()
+    for cull_eps, tolerance in ((1e-3, 2e-2), (1e-6, 2e-5)):
+        settings = SoftSilhouetteSettings(image_size=(32, 32), sigma=3.0, cull_eps=cull_eps)
+        error = (
+            soft_silhouette(verts, faces, K, settings) - soft_silhouette_dense(verts, faces, K, settings)
+        ).abs()
+        assert cull_eps / 10 < error.max() < tolerance
 
 
 def test_sparse_gradient_matches_dense_autograd() -> None:
@@ -111,7 +124,7 @@ def test_pose_is_recovered_by_optimisation() -> None:
     box = trimesh.creation.box(extents=(1.0, 1.0, 1.0)).subdivide().subdivide()
     canonical, faces = mesh_tensors(box)
     K = crop_K(90.0, 64)
-    settings = SoftSilhouetteSettings(image_size=(64, 64), sigma=1.0)
+    settings = SoftSilhouetteSettings(image_size=(64, 64))  # default sigma
     target_pose = torch.tensor([0.6, 0.4, 0.3, 14.0])
     with torch.no_grad():
         target = soft_silhouette(_box_verts(target_pose, canonical)[None], faces, K, settings)
@@ -135,7 +148,9 @@ def test_pose_is_recovered_by_optimisation() -> None:
 
 def test_no_nan_gradients_with_degenerate_and_clipped_faces() -> None:
     verts, faces, K = small_scene()
-    extra = torch.tensor([[0.1, 0.1, 8.0], [0.2, 0.2, 8.0], [0.3, 0.3, 8.0], [0.0, 0.0, -3.0], [1.0, 0.0, 0.0]])
+    extra = torch.tensor(
+        [[0.1, 0.1, 8.0], [0.2, 0.2, 8.0], [0.3, 0.3, 8.0], [0.0, 0.0, -3.0], [1.0, 0.0, 0.0]]
+    )
     base = verts.shape[1]
     # Repeated-vertex, collinear, behind-the-camera and at-the-camera faces added to every mesh.
     new_faces = torch.tensor([[0, 0, 1], [0, 1, 2], [3, 0, 1], [4, 0, 1], [3, 4, 2]]) + base
@@ -164,16 +179,24 @@ def test_nan_mesh_renders_empty_with_zero_gradient() -> None:
 
 def test_empty_inputs_and_settings() -> None:
     settings = SoftSilhouetteSettings(image_size=(8, 12))
-    empty = soft_silhouette(torch.zeros(0, 4, 3), torch.zeros(0, 3, dtype=torch.long), crop_K(10.0, 8), settings)
+    empty = soft_silhouette(
+        torch.zeros(0, 4, 3), torch.zeros(0, 3, dtype=torch.long), crop_K(10.0, 8), settings
+    )
     assert empty.shape == (0, 8, 12)
-    no_faces = soft_silhouette(torch.ones(2, 4, 3), torch.zeros(0, 3, dtype=torch.long), crop_K(10.0, 8), settings)
+    no_faces = soft_silhouette(
+        torch.ones(2, 4, 3), torch.zeros(0, 3, dtype=torch.long), crop_K(10.0, 8), settings
+    )
     assert no_faces.shape == (2, 8, 12) and (no_faces == 0).all()
     s = SoftSilhouetteSettings(image_size=(64, 64), sigma=0.7, cull_eps=1e-4)
-    assert torch.sigmoid(torch.tensor(-s.cull_radius_sq / s.sigma, dtype=torch.float64)).item() == pytest.approx(1e-4)
+    assert torch.sigmoid(
+        torch.tensor(-s.cull_radius_sq / s.sigma, dtype=torch.float64)
+    ).item() == pytest.approx(1e-4)
     assert sigma_from_ndc(1e-4, (64, 64)) == pytest.approx(0.1024)
     with pytest.raises(ValueError, match="sigma"):
         SoftSilhouetteSettings(image_size=(8, 8), sigma=0.0)
     with pytest.raises(ValueError, match="cull_eps"):
         SoftSilhouetteSettings(image_size=(8, 8), cull_eps=0.7)
     with pytest.raises(ValueError, match="K"):
-        soft_silhouette(torch.ones(2, 4, 3), torch.zeros(1, 3, dtype=torch.long), torch.eye(3).expand(3, 3, 3), settings)
+        soft_silhouette(
+            torch.ones(2, 4, 3), torch.zeros(1, 3, dtype=torch.long), torch.eye(3).expand(3, 3, 3), settings
+        )

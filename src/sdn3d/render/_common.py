@@ -13,7 +13,14 @@ from torch import Tensor
 
 from sdn3d.geometry.camera import project_points
 
-__all__ = ["check_verts", "check_faces", "check_intrinsics", "face_vertices", "project_vertices", "twice_area"]
+__all__ = [
+    "check_verts",
+    "check_faces",
+    "check_intrinsics",
+    "face_vertices",
+    "project_vertices",
+    "twice_area",
+]
 
 #: Faces whose projected area (in pixels^2, times two) is below this are degenerate.
 AREA_EPS = 1e-10

@@ -32,7 +32,9 @@ def _per_mesh(values: Tensor, pix_to_mesh: Tensor, name: str) -> Tensor:
 def instance_map(fragments: Fragments, mesh_ids: Tensor) -> Tensor:
     """``(B, H, W)`` int64 id of the visible mesh (``mesh_ids (N,)``, e.g. ``class * 1000 + k``), 0 where empty."""
     if mesh_ids.dim() != 1 or mesh_ids.is_floating_point():
-        raise ValueError(f"mesh_ids must be a (N,) integer tensor, got {tuple(mesh_ids.shape)} {mesh_ids.dtype}")
+        raise ValueError(
+            f"mesh_ids must be a (N,) integer tensor, got {tuple(mesh_ids.shape)} {mesh_ids.dtype}"
+        )
     ids = _per_mesh(mesh_ids.long(), fragments.pix_to_mesh, "mesh_ids")
     return torch.where(fragments.mask, ids, torch.zeros_like(ids))
 
@@ -65,7 +67,9 @@ def normal_map(fragments: Fragments, verts: Tensor, faces: Tensor) -> Tensor:
     fverts = face_vertices(verts.detach().to(out.device), faces).reshape(-1, 3, 3)
     packed = fragments.pix_to_face[hit]
     if int(packed.max()) >= fverts.shape[0]:
-        raise ValueError("fragments reference faces beyond the given meshes: pass the rasterized verts / faces")
+        raise ValueError(
+            "fragments reference faces beyond the given meshes: pass the rasterized verts / faces"
+        )
     tri = fverts[packed].to(out.dtype)  # (P, 3, 3)
     normal = torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1)
     point = (fragments.bary[hit].unsqueeze(-1) * tri).sum(1)
@@ -82,7 +86,9 @@ def pose_map(fragments: Fragments, alpha: Tensor, num_bins: int = NUM_POSE_BINS)
     ``[-pi, pi)``); meshes with a non-finite alpha (e.g. the ground) give zeros.
     """
     if alpha.dim() != 1 or not alpha.is_floating_point():
-        raise ValueError(f"alpha must be a (N,) floating-point tensor, got {tuple(alpha.shape)} {alpha.dtype}")
+        raise ValueError(
+            f"alpha must be a (N,) floating-point tensor, got {tuple(alpha.shape)} {alpha.dtype}"
+        )
     if num_bins <= 0:
         raise ValueError(f"num_bins must be positive, got {num_bins}")
     finite = torch.isfinite(alpha)

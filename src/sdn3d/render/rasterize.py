@@ -68,7 +68,9 @@ class Fragments:
         return self.pix_to_face >= 0
 
 
-def _empty_fragments(batch: int, height: int, width: int, dtype: torch.dtype, device: torch.device) -> Fragments:
+def _empty_fragments(
+    batch: int, height: int, width: int, dtype: torch.dtype, device: torch.device
+) -> Fragments:
     shape = (batch, height, width)
     return Fragments(
         pix_to_face=torch.full(shape, -1, dtype=torch.long, device=device),
@@ -85,7 +87,9 @@ def _check_mesh_to_image(
         index = torch.arange(num_meshes, device=device)
         return index, num_meshes if batch_size is None else int(batch_size)
     if not isinstance(mesh_to_image, Tensor) or mesh_to_image.shape != (num_meshes,):
-        shape = tuple(mesh_to_image.shape) if isinstance(mesh_to_image, Tensor) else type(mesh_to_image).__name__
+        shape = (
+            tuple(mesh_to_image.shape) if isinstance(mesh_to_image, Tensor) else type(mesh_to_image).__name__
+        )
         raise ValueError(f"mesh_to_image must be a ({num_meshes},) tensor of image indices, got {shape}")
     if mesh_to_image.is_floating_point() or mesh_to_image.dtype == torch.bool:
         raise ValueError(f"mesh_to_image must be an integer tensor, got dtype {mesh_to_image.dtype}")
@@ -93,7 +97,9 @@ def _check_mesh_to_image(
     top = int(index.max()) + 1 if num_meshes > 0 else 0
     batch = top if batch_size is None else int(batch_size)
     if num_meshes > 0 and (int(index.min()) < 0 or top > batch):
-        raise ValueError(f"mesh_to_image values must lie in [0, batch_size={batch}), got [{int(index.min())}, {top - 1}]")
+        raise ValueError(
+            f"mesh_to_image values must lie in [0, batch_size={batch}), got [{int(index.min())}, {top - 1}]"
+        )
     return index, batch
 
 
@@ -191,20 +197,31 @@ def rasterize_meshes(
         # (face, row) pairs and their spans of covered pixel centres.
         pair_face = torch.repeat_interleave(rows_per_face)  # index into face_ids
         row_start = torch.cumsum(rows_per_face, 0) - rows_per_face
-        rows = first_row[face_ids][pair_face] + torch.arange(pair_face.numel(), device=device) - row_start[pair_face]
+        rows = (
+            first_row[face_ids][pair_face]
+            + torch.arange(pair_face.numel(), device=device)
+            - row_start[pair_face]
+        )
         first_col, cols = _row_spans(a[pair_face], b[pair_face], c[pair_face], rows.to(torch.float64), width)
         keep = cols > 0
+        if not bool(keep.any()):
+            return out
         pair_face, rows, first_col, cols = pair_face[keep], rows[keep], first_col[keep], cols[keep]
         packed_face = face_ids[pair_face]
         pixel_base = image_of_mesh[packed_face // num_faces] * (height * width) + rows * width
         inv_z_row = bz[pair_face] * rows + cz[pair_face]
         slope = az[pair_face]
 
-        zbuf = torch.full((batch * height * width,), torch.iinfo(torch.int64).max, dtype=torch.long, device=device)
+        zbuf = torch.full(
+            (batch * height * width,), torch.iinfo(torch.int64).max, dtype=torch.long, device=device
+        )
         # Chunk boundaries over (face, row) pairs so each chunk covers <= max_pairs pixels.
         ends = torch.cumsum(cols, 0)
-        bounds = torch.searchsorted(ends, torch.arange(1, int(ends[-1]) // settings.max_pairs_per_chunk + 1,
-                                                       device=device) * settings.max_pairs_per_chunk)
+        bounds = torch.searchsorted(
+            ends,
+            torch.arange(1, int(ends[-1]) // settings.max_pairs_per_chunk + 1, device=device)
+            * settings.max_pairs_per_chunk,
+        )
         edges = [0, *bounds.tolist(), cols.numel()]
         for lo, hi in zip(edges[:-1], edges[1:], strict=True):
             if hi <= lo:

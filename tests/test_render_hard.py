@@ -9,7 +9,7 @@ import pytest
 import torch
 import trimesh
 
-from sdn3d.render import Fragments, RasterSettings, rasterize_meshes
+from sdn3d.render import Fragments, MeshRasterizer, RasterSettings, rasterize_meshes
 
 H, W = 96, 160
 FX = FY = 110.0
@@ -157,8 +157,10 @@ def test_batches_chunks_and_intrinsics_per_image() -> None:
         expected = torch.where(alone.mask[0], sel[alone.pix_to_mesh[0].clamp(min=0)], -1)
         assert torch.equal(batched.pix_to_mesh[b], expected)
         assert torch.equal(batched.depth[b], alone.depth[0])
+    module = MeshRasterizer(SETTINGS)(verts, faces, K2, image, 2)
     for field in ("pix_to_face", "pix_to_mesh", "depth", "bary"):
         assert torch.equal(getattr(batched, field), getattr(chunked, field))
+        assert torch.equal(getattr(batched, field), getattr(module, field))
     assert torch.equal(
         batched.pix_to_mesh, torch.where(batched.mask, batched.pix_to_face // faces.shape[1], -1)
     )
@@ -244,6 +246,8 @@ def test_bad_input_raises() -> None:
         rasterize_meshes(verts, faces, K[:2], SETTINGS)
     with pytest.raises(ValueError, match="mesh_to_image"):
         rasterize_meshes(verts, faces, K, SETTINGS, torch.tensor([3]), 2)
+    with pytest.raises(ValueError, match="batch_size"):
+        rasterize_meshes(verts.expand(2, -1, -1), faces[0], K, SETTINGS, batch_size=1)
     with pytest.raises(ValueError, match="image_size"):
         RasterSettings(image_size=(0, 10))
     with pytest.raises(ValueError, match="far"):

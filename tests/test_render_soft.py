@@ -9,7 +9,13 @@ import torch
 import trimesh
 
 from sdn3d.geometry.rotations import roty
-from sdn3d.render import SoftSilhouetteSettings, sigma_from_ndc, soft_silhouette, soft_silhouette_dense
+from sdn3d.render import (
+    SoftSilhouetteRenderer,
+    SoftSilhouetteSettings,
+    sigma_from_ndc,
+    soft_silhouette,
+    soft_silhouette_dense,
+)
 
 
 def crop_K(f: float, size: int, dtype: torch.dtype = torch.float32) -> torch.Tensor:
@@ -54,6 +60,36 @@ def test_sparse_matches_dense_reference(sigma: float) -> None:
     tiny_chunks = SoftSilhouetteSettings(image_size=(32, 32), sigma=sigma, max_pairs_per_chunk=50)
     assert torch.allclose(soft_silhouette(verts, faces, K, tiny_chunks), sparse, atol=1e-6)
     assert torch.allclose(soft_silhouette(verts[1:2], faces[1:2], K[1], settings)[0], sparse[1], atol=1e-6)
+
+
+def test_crop_borders_and_module_wrapper() -> None:
+    # Objects cut by the crop border: boxes are clipped, padding pixels must not leak.
+    verts, faces, K = small_scene()
+    shifted = K.clone()
+    shifted[:, 0, 2] += torch.tensor([-20.0, 18.0, 0.0])
+    shifted[:, 1, 2] += torch.tensor([0.0, -17.0, 21.0])
+    settings = SoftSilhouetteSettings(image_size=(32, 32))
+    sparse = SoftSilhouetteRenderer(settings)(verts, faces, shifted)
+    dense = soft_silhouette_dense(verts, faces, shifted, settings)
+    assert (sparse - dense).abs().max() < 1e-3
+    assert (sparse.amax((1, 2)) > 0.9).all() and (sparse.amin((1, 2)) < 1e-3).all()
+    # Half precision is computed in float32.
+    half = soft_silhouette(verts.half(), faces, K, settings)
+    assert (
+        half.dtype == torch.float32 and (half - soft_silhouette(verts, faces, K, settings)).abs().max() < 2e-2
+    )
+
+
+def test_huge_projected_faces_near_the_camera() -> None:
+    # A ground-like quad reaching almost to the near plane projects ~1e4 px out of the crop.
+    quad = torch.tensor([[[-30.0, 1.6, 0.11], [30.0, 1.6, 0.11], [30.0, 1.6, 60.0], [-30.0, 1.6, 60.0]]])
+    faces = torch.tensor([[0, 1, 2], [0, 2, 3]])
+    K = crop_K(40.0, 32)
+    settings = SoftSilhouetteSettings(image_size=(32, 32))
+    sparse = soft_silhouette(quad, faces, K, settings)
+    dense = soft_silhouette_dense(quad, faces, K, settings)
+    assert (sparse - dense).abs().max() < 1e-3
+    assert sparse[0, -1].min() > 0.99 and sparse[0, 0].max() < 1e-3  # ground below the horizon only
 
 
 def test_culling_error_follows_cull_eps() -> None:

@@ -69,9 +69,11 @@ def check_intrinsics(K: Tensor, count: int, dtype: torch.dtype, device: torch.de
 
 def face_vertices(values: Tensor, faces: Tensor) -> Tensor:
     """Gather per-vertex ``values (N, V, C)`` into ``(N, F, 3, C)`` with ``faces (N, F, 3)``."""
-    num_meshes, num_verts = values.shape[:2]
+    num_meshes, num_verts, channels = values.shape
     offset = torch.arange(num_meshes, device=values.device).view(-1, 1, 1) * num_verts
-    return values.reshape(num_meshes * num_verts, values.shape[-1])[faces + offset]
+    # index_select: its backward (index_add) is much faster than advanced indexing's.
+    flat = values.reshape(num_meshes * num_verts, channels).index_select(0, (faces + offset).view(-1))
+    return flat.view(*faces.shape, channels)
 
 
 def project_vertices(verts: Tensor, K: Tensor, near: float) -> tuple[Tensor, Tensor]:

@@ -51,10 +51,11 @@ class Fragments:
     Attributes:
         pix_to_face: ``(B, H, W)`` int64 packed face index ``n * F + f`` of the visible face
             (``F`` = padded faces per mesh), ``-1`` where empty.
-        pix_to_mesh: ``(B, H, W)`` int64 mesh index ``n``, ``-1`` where empty.
-        depth: ``(B, H, W)`` camera-frame z of the visible surface, ``+inf`` where empty.
-        bary: ``(B, H, W, 3)`` perspective-correct barycentric coordinates (sum to 1),
-            zeros where empty.
+        pix_to_mesh: ``(B, H, W)`` int64 mesh index ``n = pix_to_face // F``, ``-1`` where empty.
+        depth: ``(B, H, W)`` camera-frame z of the visible surface (the vertices' dtype),
+            ``+inf`` where empty (:func:`sdn3d.render.depth_map` gives 0 there).
+        bary: ``(B, H, W, 3)`` perspective-correct barycentric coordinates of the visible face's
+            vertices ``faces[n, f]`` (non-negative, sum to 1), zeros where empty.
     """
 
     pix_to_face: Tensor
@@ -84,8 +85,11 @@ def _check_mesh_to_image(
     mesh_to_image: Tensor | None, batch_size: int | None, num_meshes: int, device: torch.device
 ) -> tuple[Tensor, int]:
     if mesh_to_image is None:
-        index = torch.arange(num_meshes, device=device)
-        return index, num_meshes if batch_size is None else int(batch_size)
+        if batch_size is not None and int(batch_size) < num_meshes:
+            raise ValueError(
+                f"batch_size={batch_size} is below the {num_meshes} meshes; pass mesh_to_image to share images"
+            )
+        return torch.arange(num_meshes, device=device), num_meshes if batch_size is None else int(batch_size)
     if not isinstance(mesh_to_image, Tensor) or mesh_to_image.shape != (num_meshes,):
         shape = (
             tuple(mesh_to_image.shape) if isinstance(mesh_to_image, Tensor) else type(mesh_to_image).__name__

@@ -13,10 +13,11 @@ Culling (never a dense pixels x faces tensor): a face only reaches pixels outsid
 pairs of each face's bounding box grown by ``r`` are enumerated as dense windows: faces are
 sorted by box size and processed in chunks of equal padded window ``(Hb, Wb)``, laid out
 ``(Hb, Wb, faces)`` with faces innermost, so pairs need no gathers and rows and columns enter
-the distance computation separately. Pairs outside farther than ``r`` (and window padding) are
-dropped, the rest are summed per pixel with ``scatter_add``. Each dropped term is below
-``cull_eps``, so the result is within a few ``cull_eps`` of the dense sum (up to ~10
-``cull_eps`` where many small faces lie just beyond ``r``, e.g. large ``sigma``).
+the distance computation separately; the terms are summed per pixel with ``scatter_add``.
+Pairs outside the grown box are never evaluated: each such term is below ``cull_eps``, so the
+result is within a few ``cull_eps`` of the dense sum (up to ~10 ``cull_eps`` where many small
+faces lie just beyond ``r``, e.g. large ``sigma``). Pairs in the box corners beyond ``r`` are
+kept (masking them costs more than it saves); window padding is placed ``3 r + 1`` away.
 
 The backward pass is analytic (:class:`_SoftSilhouetteFunction`, not twice differentiable):
 ``dA/dx_j = (1 - A) D_j``; with ``q`` the closest boundary point on edge ``(a, b)``,
@@ -54,8 +55,6 @@ from sdn3d.render.settings import SoftSilhouetteSettings
 
 __all__ = ["soft_silhouette", "soft_silhouette_dense", "SoftSilhouetteRenderer"]
 
-#: Stand-in coordinate for padding pixels of a window: far beyond any culling radius.
-_FAR = 1e7
 #: Per-chunk overhead (about 50 tensor ops) expressed in (face, pixel) pairs, for chunking.
 _CHUNK_COST = 8192
 
@@ -66,7 +65,7 @@ def _screen_triangles(
     """Counter-clockwise screen triangles ``(N * F, 3, 2)`` and their validity ``(N * F,)``."""
     verts = check_verts(verts)
     if verts.dtype not in (torch.float32, torch.float64):
-        verts = verts.float()  # the padding stand-in _FAR and squared distances overflow half precision
+        verts = verts.float()  # squared pixel distances overflow half precision
     num_meshes, num_verts = verts.shape[:2]
     faces = check_faces(faces, num_meshes, num_verts, verts.device)
     K = check_intrinsics(K, num_meshes, verts.dtype, verts.device, "meshes")
@@ -76,7 +75,8 @@ def _screen_triangles(
     area2 = twice_area(screen)
     valid = valid & (area2.abs() > AREA_EPS)
     # Orient every face counter-clockwise so "inside" is "all edge cross products >= 0".
-    screen = torch.where((area2 < 0).view(-1, 1, 1), screen[:, [0, 2, 1]], screen)
+    swapped = screen.index_select(1, torch.tensor([0, 2, 1], device=screen.device))
+    screen = torch.where((area2 < 0).view(-1, 1, 1), swapped, screen)
     return screen, valid, num_meshes, faces.shape[1]
 
 
@@ -104,8 +104,9 @@ def _nearest_edge(
     Returns:
         ``d2`` (squared distance to the nearest edge segment) and ``cmin`` (smallest edge cross
         product: ``>= 0`` inside a counter-clockwise triangle), each ``(Hb, Wb, M)``; with
-        ``details`` also the nearest edge (uint8), its clamped segment parameter ``t`` and
-        ``rx, ry`` (pixel minus the closest point).
+        ``details`` also the nearest edge as two 0 / 1 float flags (edge 1 nearer than edge 0;
+        edge 2 nearest), its clamped segment parameter ``t`` and ``rx, ry`` (pixel minus the
+        closest point).
     """
     ax, ay, ex, ey, ex_s, ey_s = tables
     # This is the hot loop. Faces are the innermost (contiguous, vectorised) dimension, and
@@ -116,30 +117,32 @@ def _nearest_edge(
     d0, d1, d2 = torch.addcmul(rx * rx, ry, ry).unbind(0)
     c0, c1, c2 = (ex * wy - ey * wx).unbind(0)
     cmin = torch.minimum(torch.minimum(c0, c1), c2)
-    # Explicit 3-way selections: reductions over a size-3 dim (min, gather) are slow on CPU.
-    first = d1 < d0
-    best = torch.where(first, d1, d0)
-    last = d2 < best
-    best = torch.where(last, d2, best)
+    nearer = torch.minimum(d0, d1)
+    best = torch.minimum(nearer, d2)
     if not details:
         return best, cmin
+    # The nearest edge as float flags and lerp selections: bool tensors (where, masked_fill) and
+    # reductions over a size-3 dim are an order of magnitude slower on CPU than arithmetic.
+    pick1 = torch.gt(d0, d1, out=torch.empty_like(d0))  # edge 1 nearer than edge 0
+    pick2 = torch.gt(nearer, d2, out=torch.empty_like(d0))  # edge 2 nearest
 
     def pick(v: Tensor) -> Tensor:
-        return torch.where(last, v[2], torch.where(first, v[1], v[0]))
+        return torch.lerp(torch.lerp(v[0], v[1], pick1), v[2], pick2)  # exact for 0 / 1 weights
 
-    edge = first.to(torch.uint8).masked_fill_(last, 2)
-    return best, cmin, edge, pick(t), pick(rx), pick(ry)
+    return best, cmin, pick1, pick2, pick(t), pick(rx), pick(ry)
 
 
 def _face_boxes(screen: Tensor, valid: Tensor, radius: float, height: int, width: int) -> tuple[Tensor, ...]:
-    """Pixel boxes grown by ``radius``: first column / row and box width / height (0 if culled)."""
+    """Pixel boxes grown by ``radius``: first column / row and box width / height (0 if culled),
+    and a column / row farther than ``radius`` from the face (for window padding)."""
     lo, hi = screen.amin(1), screen.amax(1)
+    away = lo - (3.0 * radius + 1.0)  # D there is below cull_eps ** 9: negligible
     size = screen.new_tensor([width, height])
     # Clamp before the integer cast: faces near the ``near`` plane project very far away.
     first = torch.ceil((lo - radius).clamp(min=-1.0).minimum(size)).clamp(min=0).long()
     last = torch.floor((hi + radius).clamp(min=-1.0).minimum(size)).minimum(size - 1).long()
     extent = (last - first + 1).clamp(min=0) * valid.unsqueeze(1)
-    return first[:, 0], first[:, 1], extent[:, 0], extent[:, 1]
+    return first[:, 0], first[:, 1], extent[:, 0], extent[:, 1], away[:, 0], away[:, 1]
 
 
 def _window_chunks(
@@ -191,15 +194,20 @@ class _SoftSilhouetteFunction(torch.autograd.Function):
     def forward(ctx, screen: Tensor, valid: Tensor, faces_per_mesh: int, settings: SoftSilhouetteSettings):
         height, width = settings.image_size
         log_keep = screen.new_zeros(screen.shape[0] // faces_per_mesh * height * width)
-        col0, row0, box_w, box_h = _face_boxes(screen, valid, settings.cull_radius, height, width)
+        col0, row0, box_w, box_h, away_u, away_v = _face_boxes(
+            screen, valid, settings.cull_radius, height, width
+        )
         face_ids = (box_w * box_h).nonzero().squeeze(1)
         chunks: list[tuple[int, int, int, int]] = []
         saved: list[Tensor] = []
         if face_ids.numel() > 0:
             order, chunks = _window_chunks(box_w[face_ids], box_h[face_ids], settings.max_pairs_per_chunk)
             face_ids = face_ids[order]  # faces sorted by window size: chunks are contiguous slices
-            tables = tuple(tab[:, face_ids].unsqueeze(1).unsqueeze(1) for tab in _edge_tables(screen))
-            boxes = tuple(b[face_ids].to(screen.dtype) for b in (col0, row0, box_w, box_h))
+            tables = tuple(tab.index_select(1, face_ids).view(3, 1, 1, -1) for tab in _edge_tables(screen))
+            boxes = tuple(
+                b.index_select(0, face_ids).to(screen.dtype)
+                for b in (col0, row0, box_w, box_h, away_u, away_v)
+            )
             base = face_ids // faces_per_mesh * (height * width)
             for lo, hi, win_h, win_w in chunks:
                 saved += _forward_chunk(
@@ -227,18 +235,20 @@ class _SoftSilhouetteFunction(torch.autograd.Function):
         # envelope theorem: d(d^2)/da = -2 (1 - t) r, d(d^2)/db = -2 t r with r = p - q.
         pixel_grad = grad_silhouette * torch.exp(log_keep) * (-2.0 / ctx.settings.sigma)
         for i, (lo, hi, _, _) in enumerate(ctx.chunks):
-            pixel, edge, t, rx, ry, x = saved[6 * i : 6 * i + 6]  # (window, faces)
+            pixel, pick1, pick2, t, rx, ry, x = saved[7 * i : 7 * i + 7]  # (window, faces)
             coef = pixel_grad.index_select(0, pixel.view(-1)).view_as(x).mul_(torch.sigmoid(x).copysign_(x))
-            end = coef * t  # weight of the edge's end vertex; its start gets coef - end
+            end = coef * t  # weight of the nearest edge's end vertex; its start gets coef - end
             start = coef - end
-            nearest = [edge == k for k in range(3)]
-            zero = coef.new_zeros(())
+            # One-hot of the nearest edge from the two flags (arithmetic, no bool tensors).
+            not2 = 1.0 - pick2
+            on1 = pick1 * not2
+            on = (not2 - on1, on1, pick2)
             grads = []
             for v in range(3):  # vertex v starts edge v and ends edge v - 1
-                weight = torch.where(nearest[v], start, torch.where(nearest[v - 1], end, zero))
+                weight = torch.addcmul(on[v] * start, on[v - 1], end)
                 grads.append(torch.stack([(weight * rx).sum(0), (weight * ry).sum(0)], -1))
             grad_sorted[lo:hi] = torch.stack(grads, 1)
-        grad_screen[face_ids] = grad_sorted
+        grad_screen.index_copy_(0, face_ids, grad_sorted)
         return grad_screen, None, None, None
 
 
@@ -254,21 +264,22 @@ def _forward_chunk(
     """One dense ``(Hb, Wb, faces)`` block of (face, pixel) pairs; accumulates ``-softplus(x)``.
 
     Returns what the backward needs (nothing unless ``for_backward``), each ``(Hb * Wb, faces)``:
-    pixel index, nearest edge (uint8), ``t``, ``rx``, ``ry`` of that edge and ``x`` (``-inf`` for
-    culled pairs).
+    pixel index, the nearest-edge flags, ``t``, ``rx``, ``ry`` of that edge and ``x``.
     """
     height, width = settings.image_size
-    col0, row0, box_w, box_h = boxes  # (faces,)
+    col0, row0, box_w, box_h, away_u, away_v = boxes  # (faces,)
     dc = torch.arange(window[1], dtype=col0.dtype, device=col0.device).view(-1, 1)
     dr = torch.arange(window[0], dtype=col0.dtype, device=col0.device).view(-1, 1, 1)
     col, row = col0 + dc, row0 + dr  # (Wb, faces), (Hb, 1, faces)
-    # Padding columns / rows beyond a face's box are moved far away, so the radius test drops
-    # them; their (clamped) pixel index stays valid and receives softplus(-inf) = 0.
-    px, py = torch.where(dc < box_w, col, _FAR), torch.where(dr < box_h, row, _FAR)
+    # Padding columns / rows beyond a face's box are moved beyond the culling radius of the face,
+    # so the radius test drops them; their (clamped) pixel index stays valid and receives
+    # softplus(-inf) = 0.
+    px, py = torch.where(dc < box_w, col, away_u), torch.where(dr < box_h, row, away_v)
     pixel = (base + row.clamp(max=height - 1).long() * width) + col.clamp(max=width - 1).long()
     d2, cmin, *details = _nearest_edge(px, py, tuple(tables), details=for_backward)
     x = torch.copysign(d2, cmin).mul_(1.0 / settings.sigma)
-    x.masked_fill_(x < -settings.cull_radius_sq / settings.sigma, float("-inf"))
+    # Pairs in the box but beyond the culling radius are kept (each adds less than cull_eps, and
+    # masking them would cost more than it saves); padding pairs add ~0 to a valid pixel.
     log_keep.scatter_add_(0, pixel.view(-1), tnf.softplus(x).neg_().view(-1))  # faster than index_add_
     if not for_backward:
         return []

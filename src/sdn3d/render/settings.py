@@ -99,7 +99,7 @@ class SoftSilhouetteSettings:
         near: faces with any vertex at ``z < near`` are culled.
         max_pairs_per_chunk: (face, pixel) pairs processed at once. Each chunk costs ~50 tensor
             ops of overhead; ~1e5 pairs balances that against cache use on CPU (GPUs like more).
-            Temporaries are ~100 bytes per pair; the backward keeps ~25 bytes per kept pair.
+            Temporaries are ~100 bytes per pair; the backward keeps 32 bytes per pair.
     """
 
     image_size: tuple[int, int]

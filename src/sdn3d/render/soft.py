@@ -271,9 +271,8 @@ def _forward_chunk(
     dc = torch.arange(window[1], dtype=col0.dtype, device=col0.device).view(-1, 1)
     dr = torch.arange(window[0], dtype=col0.dtype, device=col0.device).view(-1, 1, 1)
     col, row = col0 + dc, row0 + dr  # (Wb, faces), (Hb, 1, faces)
-    # Padding columns / rows beyond a face's box are moved beyond the culling radius of the face,
-    # so the radius test drops them; their (clamped) pixel index stays valid and receives
-    # softplus(-inf) = 0.
+    # Padding columns / rows beyond a face's box are moved 3 r + 1 away from the face, so their
+    # terms are ~0 (below cull_eps ** 9); their clamped pixel index stays valid.
     px, py = torch.where(dc < box_w, col, away_u), torch.where(dr < box_h, row, away_v)
     pixel = (base + row.clamp(max=height - 1).long() * width) + col.clamp(max=width - 1).long()
     d2, cmin, *details = _nearest_edge(px, py, tuple(tables), details=for_backward)

@@ -13,6 +13,7 @@ import lightning as L
 import torch
 from torch.utils.data import DataLoader, Dataset
 
+from datamodules.guard import CORRUPT_POLICIES, SampleGuard
 from sdn3d.data.datasets import PARTS, SourceConfig
 
 __all__ = ["BranchDataModule"]
@@ -31,6 +32,8 @@ class BranchDataModule(L.LightningDataModule):
         num_workers: loader worker processes (default 0: CI machines have 2 cores).
         seed: seed of the training loader's shuffling generator.
         pin_memory: passed to the loaders.
+        corrupt_sample: ``'fail'`` (stop, naming the file) or ``'skip'`` (report the file, use the next
+            sample); ``sdn3d-train`` sets it from ``fault.corrupt_sample``.
     """
 
     def __init__(
@@ -41,6 +44,7 @@ class BranchDataModule(L.LightningDataModule):
         num_workers: int = 0,
         seed: int = 0,
         pin_memory: bool = False,
+        corrupt_sample: str = "fail",
     ) -> None:
         super().__init__()
         source = SourceConfig.from_mapping(data)
@@ -55,6 +59,9 @@ class BranchDataModule(L.LightningDataModule):
         self.num_workers = int(num_workers)
         self.seed = int(seed)
         self.pin_memory = bool(pin_memory)
+        if corrupt_sample not in CORRUPT_POLICIES:
+            raise ValueError(f"corrupt_sample must be one of {CORRUPT_POLICIES}, got {corrupt_sample!r}")
+        self.corrupt_sample = corrupt_sample
         self.datasets: dict[str, Dataset] = {}
 
     @property
@@ -71,11 +78,11 @@ class BranchDataModule(L.LightningDataModule):
             raise ValueError(f"stage must be one of {sorted(_STAGE_PARTS)} or None, got {stage!r}")
         for part in parts:
             if part not in self.datasets:
-                self.datasets[part] = self.make_dataset(part)
+                self.datasets[part] = SampleGuard(self.make_dataset(part), self.corrupt_sample)
 
     def _loader(self, part: str, shuffle: bool) -> DataLoader:
         if part not in self.datasets:  # loaders asked for without setup() (e.g. in notebooks)
-            self.datasets[part] = self.make_dataset(part)
+            self.datasets[part] = SampleGuard(self.make_dataset(part), self.corrupt_sample)
         generator = torch.Generator().manual_seed(self.seed) if shuffle else None
         return DataLoader(
             self.datasets[part],

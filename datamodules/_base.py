@@ -84,6 +84,10 @@ class BranchDataModule(L.LightningDataModule):
         if part not in self.datasets:  # loaders asked for without setup() (e.g. in notebooks)
             self.datasets[part] = SampleGuard(self.make_dataset(part), self.corrupt_sample)
         generator = torch.Generator().manual_seed(self.seed) if shuffle else None
+        # Training drops a ragged last batch: a batch of one breaks BatchNorm (and skews its statistics);
+        # never when that would leave no batch at all.
+        ranks = self.trainer.world_size if self.trainer is not None else 1  # DDP splits the data first
+        drop_last = shuffle and len(self.datasets[part]) // max(ranks, 1) > self.batch_size
         return DataLoader(
             self.datasets[part],
             batch_size=self.batch_size,
@@ -91,6 +95,7 @@ class BranchDataModule(L.LightningDataModule):
             num_workers=self.num_workers,
             pin_memory=self.pin_memory,
             generator=generator,
+            drop_last=drop_last,
             persistent_workers=self.num_workers > 0,
         )
 

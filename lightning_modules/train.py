@@ -35,8 +35,17 @@ class TrainingError(RuntimeError):
     """A run could not start or stopped for a reason the user can act on (message says which)."""
 
 
-def apply_preset(cfg: DictConfig) -> DictConfig:
-    """Merge ``cfg.presets[cfg.preset]`` (a branch's demo / paper budget) over the root config."""
+def _dotted(overrides: list[str] | None) -> list[str]:
+    """The ``key.sub=value`` command-line overrides (not group choices, not hydra.*, not deletions)."""
+    return [o.lstrip("+") for o in (overrides or []) if "=" in o and "." in o.split("=", 1)[0]
+            and not o.lstrip("+").startswith("hydra.") and not o.startswith("~")]
+
+
+def apply_preset(cfg: DictConfig, overrides: list[str] | None = None) -> DictConfig:
+    """Merge ``cfg.presets[cfg.preset]`` (a branch's demo / paper budget) over the root config.
+
+    Dotted command-line ``overrides`` are applied again afterwards: what the user typed beats the preset.
+    """
     name = cfg.get("preset")
     if not name:
         return cfg
@@ -45,6 +54,8 @@ def apply_preset(cfg: DictConfig) -> DictConfig:
         raise TrainingError(f"preset {name!r} is not defined for branch {cfg.get('branch_name')!r}; "
                             f"it has {sorted(presets)} (conf/branch/{cfg.get('branch_name')}.yaml, key presets)")
     merged = OmegaConf.merge(cfg, presets[name])
+    if _dotted(overrides):
+        merged = OmegaConf.merge(merged, OmegaConf.from_dotlist(_dotted(overrides)))
     assert isinstance(merged, DictConfig)
     return merged
 
@@ -63,10 +74,8 @@ def resolve_resume(cfg: DictConfig, overrides: list[str] | None = None) -> DictC
     if not ckpt.is_file():
         raise TrainingError(f"resume={str(run)!r}: no checkpoints/last.ckpt to resume from")
     base = OmegaConf.load(saved)
-    dotted = [o for o in (overrides or []) if "=" in o and "." in o.split("=", 1)[0].lstrip("+~")
-              and not o.startswith(("hydra.", "~"))]
-    if dotted:
-        base = OmegaConf.merge(base, OmegaConf.from_dotlist([o.lstrip("+") for o in dotted]))
+    if _dotted(overrides):
+        base = OmegaConf.merge(base, OmegaConf.from_dotlist(_dotted(overrides)))
     base.resume = str(run)
     base.run_dir = str(run)
     base.ckpt_path = str(ckpt)
@@ -134,7 +143,7 @@ def run_training(cfg: DictConfig, overrides: list[str] | None = None) -> dict[st
     if cfg.get("resume"):
         cfg = resolve_resume(cfg, overrides)
     else:
-        cfg = apply_preset(cfg)
+        cfg = apply_preset(cfg, overrides)
     run_dir = Path(str(cfg.run_dir))
     check_writable(run_dir)
     if not cfg.get("resume"):
@@ -152,10 +161,13 @@ def run_training(cfg: DictConfig, overrides: list[str] | None = None) -> dict[st
     model.nonfinite = str(cfg.fault.nonfinite)
     callbacks = _instantiate_group(cfg.get("callbacks"))
     loggers = _instantiate_group(cfg.get("logger"))
+    if not loggers:  # LearningRateMonitor refuses to run without a logger; nothing to monitor into anyway
+        callbacks = [c for c in callbacks if type(c).__name__ != "LearningRateMonitor"]
     trainer: L.Trainer = instantiate(cfg.trainer, callbacks=callbacks, logger=loggers or False,
                                      plugins=[AtomicCheckpointIO()])
+    params = _flat(OmegaConf.to_container(cfg, resolve=True))
     for logger in loggers:  # the run's whole config next to the module's own hyperparameters
-        logger.log_hyperparams(_flat(OmegaConf.to_container(cfg, resolve=True)))
+        logger.log_hyperparams(params)
 
     ckpt_path = cfg.get("ckpt_path")
     if ckpt_path and not Path(str(ckpt_path)).is_file():
@@ -174,6 +186,10 @@ def run_training(cfg: DictConfig, overrides: list[str] | None = None) -> dict[st
         results = trainer.test(model, datamodule=datamodule, ckpt_path=best if best else None)
         test_metrics = _scalars(results[0]) if results else {}
     last = run_dir / "checkpoints" / "last.ckpt"
+    if status == "ok":  # TensorBoard's HPARAMS tab: the run's config next to its final metrics
+        for logger in loggers:
+            if type(logger).__name__ == "TensorBoardLogger":
+                logger.log_hyperparams(params, metrics={**fit_metrics, **test_metrics} or {"status_ok": 1.0})
     summary = {
         "branch": str(cfg.branch_name),
         "ablation": str(cfg.ablation.name) if cfg.branch_name == "geometric" and cfg.get("ablation") else None,

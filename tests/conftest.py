@@ -32,3 +32,17 @@ def reference_dir() -> Path:
     if not SHARED_REFERENCE.is_dir():
         pytest.skip(f"reference material not found at {SHARED_REFERENCE}")
     return SHARED_REFERENCE
+
+
+@pytest.fixture(scope="session")
+def tiny_synth(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A tiny synthetic Virtual KITTI 1.3.1 dataset (1 world, 1 variation, 5 frames + 1 edit target, 160x64).
+
+    Shared by the training tests of every branch; generated once per test session (~1 s).
+    """
+    from sdn3d.data.synth import SynthConfig, generate_dataset
+
+    root = tmp_path_factory.mktemp("tiny_synth") / "vkitti"
+    generate_dataset(SynthConfig(output_dir=str(root), seed=0, image_size=(160, 64), frames_per_sequence=5,
+                                 cars_per_frame=(3, 5), edit_pairs=1, max_edit_operations=2))
+    return root

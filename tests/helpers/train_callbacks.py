@@ -11,26 +11,34 @@ import torch
 
 
 class KillAtStep(L.Callback):
-    """SIGKILL the training process right after optimiser step ``step`` (a hard crash, no cleanup)."""
+    """SIGKILL the training process right after optimiser step ``step`` (a hard crash, no cleanup).
 
-    def __init__(self, step: int) -> None:
+    Armed only while the environment variable ``env`` is set: the resumed run (same saved config,
+    so the same callbacks) runs without it.
+    """
+
+    def __init__(self, step: int, env: str = "SDN3D_TEST_KILL") -> None:
         self.step = int(step)
+        self.armed = bool(os.environ.get(env))
 
     def on_train_batch_end(self, trainer, pl_module, outputs, batch, batch_idx) -> None:
-        if trainer.global_step >= self.step:
+        if self.armed and trainer.global_step >= self.step:
             os.kill(os.getpid(), signal.SIGKILL)
 
 
 class SaveRankWeights(L.Callback):
-    """At the end of fit, each DDP rank writes its parameters to ``<dirpath>/rank<r>.pt``."""
+    """Each DDP rank writes its initial and final parameters to ``<dirpath>/rank<r>.pt``."""
 
     def __init__(self, dirpath: str) -> None:
         self.dirpath = dirpath
 
+    def on_train_start(self, trainer, pl_module) -> None:
+        self.initial = {k: v.detach().cpu().clone() for k, v in pl_module.state_dict().items()}
+
     def on_train_end(self, trainer, pl_module) -> None:
         Path(self.dirpath).mkdir(parents=True, exist_ok=True)
         state = {k: v.detach().cpu().clone() for k, v in pl_module.state_dict().items()}
-        torch.save({"state": state, "step": trainer.global_step},
+        torch.save({"state": state, "initial": self.initial, "step": trainer.global_step},
                    Path(self.dirpath) / f"rank{trainer.global_rank}.pt")
 
 

@@ -10,16 +10,37 @@ Lightning is imported only here and in ``lightning_modules/``: the library stays
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import sys
 
 import hydra
 from hydra.core.hydra_config import HydraConfig
-from omegaconf import DictConfig
+from omegaconf import DictConfig, OmegaConf
 
 import sdn3d.cli._config
 
 log = logging.getLogger("sdn3d.train")
+
+
+def short_job_name(overrides: str, limit: int = 80) -> str:
+    """A sweep job's directory name from its overrides, cut to ``limit`` characters plus a hash.
+
+    File systems limit names to 255 bytes; paths in overrides (data.root=...) easily exceed that.
+    """
+    name = overrides.replace("/", "_") or "default"
+    if len(name) <= limit:
+        return name
+    return name[:limit] + "-" + hashlib.sha1(overrides.encode()).hexdigest()[:8]
+
+
+def first_set(value, default):
+    """``value`` unless it is null/empty, else ``default`` (``oc.select`` returns a null value as is)."""
+    return default if value in (None, "", "None", "null") else value
+
+
+OmegaConf.register_new_resolver("sdn3d_job_name", short_job_name, replace=True)
+OmegaConf.register_new_resolver("sdn3d_first_set", first_set, replace=True)
 
 
 @hydra.main(config_path=sdn3d.cli._config.CONFIG_DIR, config_name="train", version_base="1.3")

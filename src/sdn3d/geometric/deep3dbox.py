@@ -16,14 +16,21 @@ vertical in the camera frame. The two corners of a vertical edge share ``x`` and
 hence project to the same ``u``, and the top corner of an edge always projects above its
 bottom corner (``z > 0``). So the top side touches one of the 4 top corners, the bottom side
 one of the 4 bottom corners, and the left/right sides each one of the 4 vertical edges
-(different ones): ``4 * 16 * 3 = 192`` assignments (the ``upright`` set), which always
+(different ones): ``4 * 3 * 4 * 4 = 192`` assignments (the ``upright`` set), which always
 contains the true one. Mousavian et al. reduce this to 64 with a heuristic on the
 observation angle; enumerating all 192 is cheap and needs no heuristic.
 
 The matrix ``A`` (rows ``a``) does not depend on the assignment, only the right-hand side
 does, so one pseudo-inverse per object solves all 192 systems. Each candidate is scored by
 projecting its 8 corners and comparing the tight box with the 2D box (IoU); candidates with a
-corner at ``z <= 0`` are rejected, ties go to the smaller algebraic residual.
+corner at ``z <= 0`` are rejected, ties go to the smaller pixel error of the box sides.
+
+Truncated objects: a side of the 2D box cut by the image border does not touch the projected
+box. ``sides`` marks, per object, the sides to use; an unused side drops out of the linear
+system, and when scoring, the candidate's projected box is clipped to the 2D box on that side
+(a projection reaching past the border costs nothing there, one falling short still does).
+At least three sides (so one of l/r and one of t/b) are needed for a unique solution; objects
+with fewer use all four.
 
 Solving runs in float64 (the systems mix pixel-scale and metre-scale terms); outputs come
 back in the input dtype. No gradients are needed or provided (``torch.no_grad`` inside).
@@ -32,20 +39,24 @@ back in the input dtype. No gradients are needed or provided (``torch.no_grad`` 
 from __future__ import annotations
 
 import itertools
-from typing import NamedTuple
+from collections.abc import Iterable, Mapping
+from typing import Any, NamedTuple, Protocol
 
 import torch
 from torch import Tensor
 
-from sdn3d.geometry.camera import project_points
+from sdn3d.geometry.camera import intrinsics_matrix, project_points
+from sdn3d.geometry.rotations import roty
 from sdn3d.geometry.transforms import box_corners, center_to_bottom
 
 __all__ = [
     "Deep3DBoxSolution",
     "upright_assignments",
     "box_iou",
+    "border_sides",
     "solve_translation",
     "deep3dbox_translation",
+    "evaluate_deep3dbox",
 ]
 
 # Which row of K each box side constrains: l -> u, t -> v, r -> u, b -> v.
@@ -61,7 +72,8 @@ class Deep3DBoxSolution(NamedTuple):
         location: ``(N, 3)`` bottom-face centre (KITTI ``x3d, y3d, z3d``); NaN where no candidate is valid.
         center: ``(N, 3)`` box centre; NaN where no candidate is valid.
         iou: ``(N,)`` IoU of the chosen candidate's projected box with the 2D box (0 where invalid).
-        residual: ``(N,)`` root-mean-square pixel error of the four box sides of the chosen candidate.
+        residual: ``(N,)`` root-mean-square pixel error of the four box sides of the chosen candidate
+            (NaN where invalid).
         assignment: ``(N, 4)`` int64 corner indices (order of
             :func:`~sdn3d.geometry.transforms.canonical_box_corners`) touching the sides ``l, t, r, b``.
         valid: ``(N,)`` bool, some candidate had every corner in front of the camera.
@@ -133,16 +145,19 @@ def _check_inputs(box: Tensor, dims: Tensor, ry: Tensor, K: Tensor) -> Tensor:
     return K
 
 
-def _solve_chunk(box: Tensor, offsets: Tensor, K: Tensor, assign: Tensor) -> tuple[Tensor, ...]:
+def _solve_chunk(box: Tensor, offsets: Tensor, K: Tensor, assign: Tensor, use: Tensor) -> tuple[Tensor, ...]:
     """All candidates of one chunk (float64). box ``(N, 4)``, offsets ``(N, 8, 3)``, K ``(N, 3, 3)``,
-    assign ``(M, 4)``. Returns center ``(N, 3)``, iou, residual ``(N,)``, index ``(N,)``, valid ``(N,)``."""
+    assign ``(M, 4)``, use ``(N, 4)`` bool. Returns center ``(N, 3)``, iou, residual ``(N,)``,
+    index ``(N,)``, valid ``(N,)``."""
     n, m = box.shape[0], assign.shape[0]
     rows = K[:, list(_SIDE_ROWS), :]  # (N, 4, 3): K_k per side
     A = rows - box.unsqueeze(-1) * K[:, 2:3, :]  # (N, 4, 3): a = K_k - p K_2
     aX = A @ offsets.transpose(1, 2)  # (N, 4, 8): a_s . X_c for every side and corner
     side = torch.arange(4, device=box.device)
-    rhs = -aX[:, side, assign]  # (N, M, 4): b[n, m, s] = -a_s . X_{assign[m, s]}
-    T = torch.einsum("nks,nms->nmk", torch.linalg.pinv(A), rhs)  # (N, M, 3)
+    weight = use.to(A.dtype)
+    rhs = -aX[:, side, assign] * weight.unsqueeze(1)  # (N, M, 4): b[n, m, s] = -a_s . X_{assign[m, s]}
+    # Zero rows of unused sides leave pinv's least-squares solution of the other rows unchanged.
+    T = torch.einsum("nks,nms->nmk", torch.linalg.pinv(A * weight.unsqueeze(-1)), rhs)  # (N, M, 3)
 
     corners = offsets.unsqueeze(1) + T.unsqueeze(2)  # (N, M, 8, 3)
     valid = (corners[..., 2] > 0).all(-1)  # (N, M)
@@ -150,9 +165,13 @@ def _solve_chunk(box: Tensor, offsets: Tensor, K: Tensor, assign: Tensor) -> tup
     safe = torch.where(valid[..., None, None], corners, torch.ones_like(corners))
     uv = project_points(safe, K[:, None, None])  # (N, M, 8, 2)
     proj = torch.cat([uv.amin(2), uv.amax(2)], -1)  # (N, M, 4)
-    iou = torch.where(valid, box_iou(proj, box.unsqueeze(1).expand(n, m, 4)), torch.full_like(valid, -1.0,
-                                                                                          dtype=box.dtype))
-    residual = (proj - box.unsqueeze(1)).pow(2).mean(-1).sqrt()  # (N, M) pixels
+    # Unused (truncated) sides: clip the projection to the 2D box there.
+    target = box.unsqueeze(1).expand(n, m, 4)
+    clipped = torch.cat([torch.maximum(proj[..., :2], target[..., :2]), torch.minimum(proj[..., 2:], target[..., 2:])],
+                        -1)
+    proj = torch.where(use.unsqueeze(1), proj, clipped)
+    iou = torch.where(valid, box_iou(proj, target), torch.full_like(valid, -1.0, dtype=box.dtype))
+    residual = (proj - target).pow(2).mean(-1).sqrt()  # (N, M) pixels
 
     best = iou.amax(1, keepdim=True)
     ties = valid & (iou >= best - _IOU_TIE)
@@ -161,8 +180,9 @@ def _solve_chunk(box: Tensor, offsets: Tensor, K: Tensor, assign: Tensor) -> tup
     ok = valid.any(1)
     center = torch.gather(T, 1, pick[..., None].expand(n, 1, 3))[:, 0]
     center = torch.where(ok[:, None], center, torch.full_like(center, float("nan")))
-    return (center, torch.gather(iou, 1, pick)[:, 0].clamp(min=0),
-            torch.gather(residual, 1, pick)[:, 0], index, ok)
+    residual = torch.gather(residual, 1, pick)[:, 0]
+    residual = torch.where(ok, residual, torch.full_like(residual, float("nan")))
+    return center, torch.gather(iou, 1, pick)[:, 0].clamp(min=0), residual, index, ok
 
 
 def solve_translation(
@@ -171,6 +191,7 @@ def solve_translation(
     ry: Tensor,
     K: Tensor,
     assignments: Tensor | None = None,
+    sides: Tensor | None = None,
     chunk_size: int = 1024,
 ) -> Deep3DBoxSolution:
     """Deep3DBox translation of ``N`` objects from their 2D boxes (see the module doc).
@@ -183,6 +204,8 @@ def solve_translation(
         K: ``(3, 3)`` or ``(N, 3, 3)`` calibration.
         assignments: ``(M, 4)`` candidate corner indices for the sides ``(l, t, r, b)``;
             default :func:`upright_assignments` (exact for yaw-only boxes).
+        sides: ``(N, 4)`` bool, the box sides ``(l, t, r, b)`` that the projection touches (False for
+            sides cut by the image border); default all. Objects with fewer than 3 use all 4.
         chunk_size: objects solved at once (bounds memory: about ``chunk_size * M * 0.5`` KB).
 
     Returns:
@@ -198,12 +221,19 @@ def solve_translation(
     if bool((assign < 0).any()) or bool((assign > 7).any()):
         raise ValueError("assignments must hold corner indices in [0, 7]")
 
+    use = torch.ones(box.shape[0], 4, dtype=torch.bool, device=device) if sides is None else sides.to(device)
+    if use.shape != (box.shape[0], 4) or use.dtype != torch.bool:
+        raise ValueError(f"sides must be a bool tensor of shape ({box.shape[0]}, 4), got {use.dtype} "
+                         f"{tuple(use.shape)}")
+    use = torch.where(use.sum(-1, keepdim=True) >= 3, use, torch.ones_like(use))
+
     with torch.no_grad():
         box64, K64 = box.double(), K.double()
         dims64, ry64 = dims.double(), ry.double()
         offsets = box_corners(dims64, ry64, torch.zeros_like(dims64))  # (N, 8, 3) corners about the centre
         parts = [
-            _solve_chunk(box64[i:i + chunk_size], offsets[i:i + chunk_size], K64[i:i + chunk_size], assign)
+            _solve_chunk(box64[i:i + chunk_size], offsets[i:i + chunk_size], K64[i:i + chunk_size], assign,
+                         use[i:i + chunk_size])
             for i in range(0, box.shape[0], chunk_size)
         ]
         if parts:
@@ -222,3 +252,132 @@ def deep3dbox_translation(box: Tensor, dims: Tensor, ry: Tensor, K: Tensor) -> t
     """``(location (N, 3), center (N, 3))``: bottom-face and box centres; see :func:`solve_translation`."""
     solution = solve_translation(box, dims, ry, K)
     return solution.location, solution.center
+
+
+def border_sides(box: Tensor, image_size: tuple[int, int], tol: float = 1.0) -> Tensor:
+    """``(N, 4)`` bool: the sides of ``(N, 4)`` boxes that lie more than ``tol`` pixels inside the image.
+
+    A side within ``tol`` of the image border (``-0.5`` or ``W - 0.5`` / ``H - 0.5``, pixel-centre
+    convention) is taken as cut by the border; pass the result as ``sides`` to :func:`solve_translation`.
+
+    Args:
+        box: ``(N, 4)`` boxes ``(l, t, r, b)`` in pixels.
+        image_size: ``(W, H)``.
+    """
+    if box.dim() != 2 or box.shape[-1] != 4:
+        raise ValueError(f"box must have shape (N, 4) as (l, t, r, b), got {tuple(box.shape)}")
+    width, height = image_size
+    if width <= 0 or height <= 0:
+        raise ValueError(f"image_size must be positive (W, H), got {image_size}")
+    lo = box.new_tensor([-0.5, -0.5]) + tol
+    hi = box.new_tensor([width - 0.5, height - 0.5]) - tol
+    return torch.cat([box[:, :2] > lo, box[:, 2:] < hi], dim=-1)
+
+
+class _Predictor(Protocol):
+    def predict(self, crop: Tensor, mask: Tensor | None, box: Tensor, intrinsics: Tensor,
+                crop_intrinsics: Tensor | None = None) -> Mapping[str, Tensor]: ...
+
+
+def _default_box_pad(dataset: Any) -> float:
+    """Half a *native* pixel in working-size pixels: annotation boxes bound pixel centres."""
+    records, size = getattr(dataset, "records", None), getattr(dataset, "image_size", None)
+    if records and size is not None and getattr(records[0], "intrinsics", None) is not None:
+        return 0.5 * size[0] / records[0].intrinsics.width
+    return 0.5
+
+
+def evaluate_deep3dbox(
+    predictor: _Predictor | None,
+    dataloader: Iterable[Mapping[str, Any]],
+    box_pad: float | None = None,
+    truncation: bool = False,
+    reprojection: bool = True,
+    max_batches: int | None = None,
+) -> dict[str, float]:
+    """Table 2's Deep3DBox row: yaw, dimensions and mesh from ``predictor``, translation from the 2D box.
+
+    For every batch of a geometric dataloader (:class:`~sdn3d.data.datasets.GeometricDataset`
+    items), ``predictor.predict(crop, mask, box, intrinsics)`` gives ``dims``, ``ry``,
+    ``template_id`` and ``phi``; :func:`solve_translation` replaces its translation. ``predictor=None``
+    uses the ground-truth yaw, dimensions and template without FFD (an oracle: the error left is
+    the box fit's own). Metrics are :mod:`sdn3d.geometric.metrics`' (means over objects; the
+    reprojection error pooled over crop pixels): the mesh is rendered at the Deep3DBox pose into
+    each crop and compared with the visible mask, ignoring pixels of closer objects and pixels
+    outside the image (as ``L_reproj``).
+
+    Args:
+        predictor: object with a ``predict`` method as above (``sdn3d.geometric.GeometricPredictor``),
+            or None for ground truth.
+        dataloader: batches with ``box (B, 4)``, ``intrinsics (B, 4)`` (fx, fy, cx, cy), targets ``dims``,
+            ``ry``, ``center``, ``template_id`` and ``crop``, ``mask``, ``ignore``, ``crop_box``,
+            ``crop_intrinsics``.
+        box_pad: pixels added on every side of ``box`` (the dataset's boxes are inclusive bounds of
+            pixel centres; the silhouette extends half a native pixel further). None: half a native
+            pixel as the dataloader's dataset gives it (its ``records`` and ``image_size``), else 0.5.
+        truncation: drop the box sides at the image border from the fit (:func:`border_sides`; needs
+            ``dataloader.dataset.image_size``). False is the plain baseline.
+        reprojection: compute the reprojection error (renders one soft silhouette per object).
+        max_batches: stop after this many batches (None: all).
+
+    Returns:
+        ``test/orientation_similarity``, ``test/distance_error``, ``test/scale_error``,
+        ``test/reprojection_error`` (when computed and some object has a known mesh), ``count``
+        (objects with a solution), ``invalid`` (objects without: left out of every mean), ``mean_iou``
+        (projected 3D box vs 2D box) and ``box_pad``.
+    """
+    from sdn3d.geometric.losses import outside_image_mask, render_silhouettes
+    from sdn3d.geometric.metrics import ReprojectionError, distance_error, orientation_similarity, scale_error
+    from sdn3d.meshes.bank import MeshBank
+
+    dataset = getattr(dataloader, "dataset", None)
+    pad = _default_box_pad(dataset) if box_pad is None else float(box_pad)
+    image_size = getattr(dataset, "image_size", None)
+    if (truncation or reprojection) and image_size is None:
+        raise ValueError("evaluate_deep3dbox: truncation and reprojection need dataloader.dataset.image_size")
+    sums = {"test/orientation_similarity": 0.0, "test/distance_error": 0.0, "test/scale_error": 0.0, "mean_iou": 0.0}
+    reproj, bank = ReprojectionError(), None
+    count = invalid = 0
+    for i, batch in enumerate(dataloader):
+        if max_batches is not None and i >= max_batches:
+            break
+        box, intr = batch["box"].double(), batch["intrinsics"].double()
+        if predictor is None:
+            dims, ry, template, phi = batch["dims"].double(), batch["ry"].double(), batch["template_id"], None
+        else:
+            with torch.no_grad():
+                out = predictor.predict(batch["crop"], batch["mask"], batch["box"], batch["intrinsics"])
+            dims, ry = out["dims"].detach().cpu().double(), out["ry"].detach().cpu().double()
+            template, phi = out["template_id"].detach().cpu(), out["phi"].detach().cpu().float()
+        sides = border_sides(box, image_size) if truncation else None
+        solution = solve_translation(box + box.new_tensor([-pad, -pad, pad, pad]), dims, ry,
+                                     intrinsics_matrix(*intr.unbind(-1)), sides=sides)
+        ok = solution.valid
+        center = solution.center[ok]
+        terms = {
+            "test/orientation_similarity": orientation_similarity(roty(ry[ok]), roty(batch["ry"].double()[ok])),
+            "test/distance_error": distance_error(center, batch["center"].double()[ok]),
+            "test/scale_error": scale_error(dims[ok], batch["dims"].double()[ok]),
+            "mean_iou": solution.iou[ok],
+        }
+        for key, value in terms.items():
+            sums[key] += float(value.sum())
+        count += int(ok.sum())
+        invalid += int((~ok).sum())
+        known = ok & (template >= 0)
+        if reprojection and bool(known.any()):
+            bank = bank or MeshBank.templates()
+            size = batch["crop"].shape[-1]
+            silhouette = render_silhouettes(bank, template[known], dims[known].float(), ry[known].float(),
+                                            solution.center[known].float(), None if phi is None else phi[known],
+                                            batch["crop_intrinsics"][known], size)
+            ignore = torch.maximum(batch["ignore"][known],
+                                   outside_image_mask(batch["crop_box"][known], image_size, size))
+            reproj.update(silhouette, batch["mask"][known], ignore)
+    if count == 0:
+        raise ValueError("evaluate_deep3dbox: no object with a valid solution (empty dataloader?)")
+    result = {key: value / count for key, value in sums.items()}
+    if reprojection and reproj.count > 0:
+        result["test/reprojection_error"] = float(reproj.compute())
+    result.update(count=float(count), invalid=float(invalid), box_pad=pad)
+    return result

@@ -1,0 +1,136 @@
+"""The paper's 2D and 2D+ editing baselines (3D-SDN, Sec. 4.1), as edits of the label maps.
+
+A benchmark ``modify`` (``from``, ``to``, ``zoom``, ``ry``) is realised without 3D:
+
+- ``'2d'``: the object's visible 2D region is translated and scaled about ``from``: output pixel
+  ``q`` takes the object's pixel ``p = from + (q - to) / s`` (nearest), ``s = (zoom, zoom)``
+  (``zoom`` divides the distance, so the image size grows by ``zoom``); rotation is ignored.
+- ``'2d+'``: as ``'2d'`` but the width is also squeezed by ``|cos(ry)|``, ``s = (zoom |cos ry|, zoom)``.
+
+``delete`` removes the object. Both baselines share everything else with the 3D edit so that only
+the realisation of the edit differs: objects are picked as :func:`sdn3d.edit.ops_from_benchmark`
+does, edited and deleted objects are first deleted with :func:`sdn3d.edit.apply_edits` (same
+freed-pixel rule), the rest is composed by :func:`sdn3d.scene_maps.scene_maps`, and the warped
+regions are pasted back. Occlusion uses the 2D ground-plane cue: a region whose lowest pixel is
+lower in the image is nearer (ties go to the edited object). Codes are kept. With
+``geometry='move'`` the normal, pose and depth maps move with the region (depth divided by
+``zoom``); with ``'empty'`` they are zero everywhere (a baseline without any 3D input).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import torch
+from torch import Tensor
+
+from sdn3d.data.datasets.textural import boundary_map, instance_label_map
+from sdn3d.data.edits import VKITTI_FRAME_SIZE, EditEntry, EditOperation, scale_operation
+from sdn3d.edit import Delete, EditError, apply_edits, match_objects
+from sdn3d.meshes.bank import MeshBank
+from sdn3d.scene import SceneCode
+from sdn3d.scene_maps import ComposedMaps, code_map, default_bank, scene_maps
+
+__all__ = ["BASELINE_MODES", "baseline_maps", "warp_regions"]
+
+BASELINE_MODES = ("2d", "2d+")
+
+
+def warp_regions(regions: Tensor, values: Tensor, src: Tensor, dst: Tensor, scale: Tensor) -> tuple[Tensor, Tensor]:
+    """Move ``M`` regions by ``q = dst + scale * (p - src)`` with nearest-pixel inverse sampling.
+
+    Args:
+        regions: ``(M, H, W)`` bool source regions.
+        values: ``(C, H, W)`` per-pixel maps carried along (normals, pose, depth, ...).
+        src, dst: ``(M, 2)`` ``(u, v)`` anchor and its image; ``scale``: ``(M, 2)`` positive ``(s_u, s_v)``.
+
+    Returns:
+        ``(M, H, W)`` bool warped regions and ``(M, C, H, W)`` the values sampled with them.
+    """
+    num, height, width = regions.shape
+    v, u = torch.meshgrid(torch.arange(height, dtype=torch.float64), torch.arange(width, dtype=torch.float64),
+                          indexing="ij")
+    q = torch.stack([u, v], -1).to(regions.device)  # (H, W, 2)
+    p = src[:, None, None] + (q[None] - dst[:, None, None]) / scale[:, None, None]  # (M, H, W, 2)
+    # Round half up (not half to even) so that a scale of 2 maps every pixel to exactly 2x2 pixels.
+    j, i = torch.floor(p[..., 0] + 0.5).long(), torch.floor(p[..., 1] + 0.5).long()
+    inside = (j >= 0) & (j < width) & (i >= 0) & (i < height)
+    flat = (i.clamp(0, height - 1) * width + j.clamp(0, width - 1)).reshape(num, -1)  # (M, H*W)
+    hit = regions.reshape(num, -1).gather(1, flat).reshape(num, height, width) & inside
+    channels = values.shape[0]
+    sampled = values.reshape(channels, -1)[:, flat].permute(1, 0, 2).reshape(num, channels, height, width)
+    return hit, sampled * hit[:, None]
+
+
+def baseline_maps(scene: SceneCode, entry: EditEntry | Sequence[EditOperation], mode: str = "2d",
+                  frame_size: tuple[int, int] | None = VKITTI_FRAME_SIZE, geometry: str = "move",
+                  bank: MeshBank | None = None, max_distance: float | None = None) -> ComposedMaps:
+    """Generator inputs of the ``mode`` baseline's edit of ``scene`` (module doc).
+
+    Args:
+        scene: the source scene (its composed maps give the objects' visible regions).
+        entry: benchmark operations (coordinates in ``frame_size`` pixels, mapped to the scene's size).
+        mode: ``'2d'`` or ``'2d+'``.
+        frame_size: ``(W, H)`` of the operations' coordinates; None = the scene's pixels.
+        geometry: ``'move'`` or ``'empty'`` (normal / pose / depth maps).
+        bank, max_distance: as :func:`sdn3d.edit.apply_edits` / :func:`sdn3d.edit.match_objects`.
+    """
+    if mode not in BASELINE_MODES:
+        raise ValueError(f"mode must be one of {BASELINE_MODES}, got {mode!r}")
+    if geometry not in ("move", "empty"):
+        raise ValueError(f"geometry must be 'move' or 'empty', got {geometry!r}")
+    bank = bank or default_bank()
+    ops = list(entry.operations if isinstance(entry, EditEntry) else entry)
+    if frame_size is not None and tuple(frame_size) != scene.image_size:
+        ops = [scale_operation(op, tuple(frame_size), scene.image_size) for op in ops]
+    ids = match_objects(scene, [op.from_uv for op in ops], None, max_distance)
+    source = scene_maps(scene, bank)
+    base_scene = apply_edits(scene, [Delete(i) for i in ids], bank)
+    base = scene_maps(base_scene, bank)
+    device = base.instance.device
+    height, width = scene.intrinsics.size
+
+    mods = [(op, i) for op, i in zip(ops, ids, strict=True) if op.kind == "modify"]
+    instance = base.instance
+    normal, pose, depth = base.normal, base.pose, base.depth
+    if mods:
+        src = torch.tensor([op.from_uv for op, _ in mods], dtype=torch.float64, device=device)
+        dst = torch.tensor([op.to_uv if op.to_uv is not None else op.from_uv for op, _ in mods],
+                           dtype=torch.float64, device=device)
+        squeeze = [abs(math.cos(op.ry)) if mode == "2d+" else 1.0 for op, _ in mods]
+        scale = torch.tensor([[op.zoom * s, op.zoom] for (op, _), s in zip(mods, squeeze, strict=True)],
+                             dtype=torch.float64, device=device)
+        if not bool((scale > 0).all()):
+            raise EditError(f"{mode}: an edit squeezes an object to zero width (|cos ry| = 0)")
+        mod_ids = torch.tensor([i for _, i in mods], device=device)
+        regions = source.instance[None] == mod_ids[:, None, None]
+        carried = torch.cat([source.normal, source.pose, source.depth])
+        warped, values = warp_regions(regions, carried, src, dst, scale)
+        zoom = scale[:, 1].float()
+        values[:, -1] /= zoom[:, None, None]
+        # 2D depth cue: lowest pixel row of each region (edited regions first so that they win ties).
+        rows = torch.arange(height, device=device)[None, :, None]
+        mod_key = torch.where(warped, rows, -1).flatten(1).amax(1)
+        base_ids = base.instance.unique()
+        base_ids = base_ids[base_ids != 0]
+        base_key = torch.where(base.instance[None] == base_ids[:, None, None], rows, -1).flatten(1).amax(1)
+        lut_pos = torch.searchsorted(base_ids, base.instance.contiguous()).clamp(max=max(len(base_ids) - 1, 0))
+        base_pixel_key = base_key[lut_pos] if len(base_ids) else torch.full_like(base.instance, -1)
+        base_pixel_key = torch.where(base.instance != 0, base_pixel_key, -2)
+        keys = torch.cat([torch.where(warped, mod_key[:, None, None], -2), base_pixel_key[None]])
+        top = keys.argmax(0)
+        from_mod = (top < len(mods)) & (keys.amax(0) > -2)
+        pick = top.clamp(max=len(mods) - 1)
+        instance = torch.where(from_mod, mod_ids[pick], base.instance)
+        picked = values.gather(0, pick[None, None].expand(1, values.shape[1], height, width))[0]
+        merged = torch.where(from_mod[None], picked, torch.cat([base.normal, base.pose, base.depth]))
+        normal, pose, depth = merged[:3], merged[3:-1], merged[-1:]
+    if geometry == "empty":
+        normal, pose, depth = torch.zeros_like(normal), torch.zeros_like(pose), torch.zeros_like(depth)
+    label, lmap = instance_label_map(base_scene.semantic.to(device), instance)
+    obj = scene.objects
+    return ComposedMaps(instance=instance, label=label, instance_label_map=lmap, boundary=boundary_map(lmap),
+                        normal=normal, pose=pose, depth=depth,
+                        feature=code_map(lmap, obj.instance_id.to(device), obj.code.to(device),
+                                         scene.background_codes.to(device)))

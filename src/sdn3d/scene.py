@@ -1,0 +1,484 @@
+"""SceneCode: the de-rendered, editable representation of one image (3D-SDN, Sec. 3.4).
+
+A scene is a *background layer* plus *objects*:
+
+- ``semantic`` ``(H, W)`` int64: class indices of the class list ``classes`` (``'vkitti'`` or
+  ``'cityscapes'``; 255 = ignore), objects' pixels included as the semantic branch saw them.
+  Edits that move or delete an observed object relabel the pixels it leaves
+  (:func:`sdn3d.edit.apply_edits`), so this map is always the background the objects are drawn on.
+- ``objects``: an :class:`ObjectTable`, the objects stacked into batched tensors. Per object:
+  instance id ``class_id * 1000 + k``, template id (index into
+  :data:`~sdn3d.meshes.templates.TEMPLATE_NAMES`, ``-1`` = no geometry), FFD ``phi (64, 3)``,
+  ``dims (l, h, w)``, yaw ``ry``, ``location`` = KITTI bottom-face centre ``(x3d, y3d, z3d)``,
+  texture ``code (C,)`` (C = 5 in the paper), an optional 2D ``mask`` and ``observed``.
+  ``observed`` means "the object is where the image shows it": ``semantic`` holds its pixels, and
+  a mask, if any, is its visible footprint. Objects without geometry must have a mask.
+- ``background_codes`` ``(num_classes, C)``: one texture code per semantic class.
+
+Storage (:meth:`SceneCode.save` / :meth:`SceneCode.load`): ``<name>.json`` (format tag
+``sdn3d-scene``, version, intrinsics, per-object scalars as exact float64 reprs) and
+``<name>.npz`` (semantic map, phi, codes, masks; its SHA-256 is recorded in the JSON), both
+written atomically. Loading is lossless and checks every field.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import io
+import json
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+from torch import Tensor
+
+from sdn3d.data.cityscapes import CITYSCAPES_TRAIN_CLASSES
+from sdn3d.data.datasets.textural import mesh_name_for
+from sdn3d.data.datasets.transforms import resize_map
+from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR, FrameRecord, SemanticClass, load_instances, load_semantic
+from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX, VKITTI_CLASSES
+from sdn3d.geometry.camera import Intrinsics
+from sdn3d.geometry.ffd import FFD_NUM_POINTS
+from sdn3d.geometry.transforms import bottom_to_center
+from sdn3d.io import write_bytes_atomic, write_json_atomic
+from sdn3d.meshes.templates import TEMPLATE_NAMES
+
+__all__ = [
+    "SCENE_FORMAT",
+    "SCENE_VERSION",
+    "CLASS_LISTS",
+    "DEFAULT_CODE_DIM",
+    "SceneFormatError",
+    "SceneObject",
+    "ObjectTable",
+    "SceneCode",
+]
+
+SCENE_FORMAT = "sdn3d-scene"
+SCENE_VERSION = 1
+CLASS_LISTS: dict[str, tuple[SemanticClass, ...]] = {"vkitti": VKITTI_CLASSES, "cityscapes": CITYSCAPES_TRAIN_CLASSES}
+#: Texture code size of the paper's encoder.
+DEFAULT_CODE_DIM = 5
+_TABLE_FIELDS = ("instance_id", "template_id", "phi", "dims", "ry", "location", "code", "mask", "has_mask", "observed")
+
+
+class SceneFormatError(ValueError):
+    """A scene file is missing, of another format or version, or has a bad field."""
+
+
+def _as(value: Any, dtype: torch.dtype) -> Tensor:
+    return torch.as_tensor(np.asarray(value) if not isinstance(value, Tensor) else value).to(dtype)
+
+
+@dataclass(frozen=True)
+class SceneObject:
+    """One object, for building and inspecting scenes (:class:`ObjectTable` stores them stacked).
+
+    ``phi``/``code`` default to zeros; ``template_id = -1`` means no geometry (then ``mask`` is required).
+    """
+
+    instance_id: int
+    template_id: int = -1
+    dims: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    ry: float = 0.0
+    location: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    phi: Any = None
+    code: Any = None
+    mask: Any = None
+    observed: bool = True
+
+    @property
+    def class_id(self) -> int:
+        return int(self.instance_id) // INSTANCE_DIVISOR
+
+
+@dataclass(frozen=True, eq=False)
+class ObjectTable:
+    """``N`` objects as batched tensors (see the module doc).
+
+    Attributes:
+        instance_id: ``(N,)`` int64, unique, ``class_id * 1000 + k`` (``k`` in [0, 999]).
+        template_id: ``(N,)`` int64 mesh id, ``-1`` = no geometry.
+        phi: ``(N, 64, 3)`` float32 FFD control displacements.
+        dims: ``(N, 3)`` float64 ``(l, h, w)`` metres.
+        ry: ``(N,)`` float64 yaw.
+        location: ``(N, 3)`` float64 bottom-face centre (KITTI camera frame).
+        code: ``(N, C)`` float32 texture codes.
+        mask: ``(N, H, W)`` bool 2D masks (all False where ``has_mask`` is False).
+        has_mask: ``(N,)`` bool.
+        observed: ``(N,)`` bool, see the module doc.
+    """
+
+    instance_id: Tensor
+    template_id: Tensor
+    phi: Tensor
+    dims: Tensor
+    ry: Tensor
+    location: Tensor
+    code: Tensor
+    mask: Tensor
+    has_mask: Tensor
+    observed: Tensor
+
+    def __post_init__(self) -> None:
+        n = self.instance_id.shape[0] if self.instance_id.dim() == 1 else -1
+        shapes = {"instance_id": (n,), "template_id": (n,), "phi": (n, FFD_NUM_POINTS, 3), "dims": (n, 3),
+                  "ry": (n,), "location": (n, 3), "has_mask": (n,), "observed": (n,)}
+        for name, shape in shapes.items():
+            if tuple(getattr(self, name).shape) != shape:
+                raise ValueError(f"ObjectTable.{name} must have shape {shape}, got {tuple(getattr(self, name).shape)}")
+        if self.code.dim() != 2 or self.code.shape[0] != n or self.mask.dim() != 3 or self.mask.shape[0] != n:
+            raise ValueError(f"ObjectTable.code must be (N={n}, C) and mask (N, H, W), got "
+                             f"{tuple(self.code.shape)} and {tuple(self.mask.shape)}")
+        ids = self.instance_id
+        if n and int(ids.min()) < INSTANCE_DIVISOR:
+            raise ValueError(f"ObjectTable.instance_id must be class_id * 1000 + k, class_id >= 1, got {ids.tolist()}")
+        if ids.unique().numel() != n:
+            raise ValueError(f"ObjectTable.instance_id must be unique, got {ids.tolist()}")
+        if n and int(self.template_id.min()) < -1:
+            raise ValueError(f"ObjectTable.template_id must be >= -1, got {self.template_id.tolist()}")
+        geo = self.has_geometry
+        if bool((~geo & ~self.has_mask).any()):
+            bad = ids[~geo & ~self.has_mask].tolist()
+            raise ValueError(f"objects {bad} have neither geometry (template_id -1) nor a mask")
+        pose = torch.cat([self.dims, self.location, self.ry[:, None]], 1)[geo]
+        if not bool(torch.isfinite(pose).all()) or bool((self.dims[geo] <= 0).any()):
+            raise ValueError("ObjectTable: objects with geometry need finite dims > 0, location and ry")
+        if not (bool(torch.isfinite(self.phi).all()) and bool(torch.isfinite(self.code).all())):
+            raise ValueError("ObjectTable.phi and code must be finite")
+
+    @classmethod
+    def empty(cls, height: int, width: int, code_dim: int = DEFAULT_CODE_DIM) -> ObjectTable:
+        return cls.from_objects([], height, width, code_dim)
+
+    @classmethod
+    def from_objects(cls, objects: Sequence[SceneObject], height: int, width: int,
+                     code_dim: int = DEFAULT_CODE_DIM) -> ObjectTable:
+        """Stack :class:`SceneObject` s (masks must be ``(H, W)``)."""
+        n = len(objects)
+
+        def stack(values: list, shape: tuple[int, ...], dtype: torch.dtype) -> Tensor:
+            out = torch.zeros((n, *shape), dtype=dtype)
+            for i, value in enumerate(values):
+                if value is not None:
+                    value = _as(value, dtype)
+                    if tuple(value.shape) != shape:
+                        raise ValueError(f"object {objects[i].instance_id}: expected shape {shape}, "
+                                         f"got {tuple(value.shape)}")
+                    out[i] = value
+            return out
+
+        return cls(
+            instance_id=torch.tensor([int(o.instance_id) for o in objects], dtype=torch.long),
+            template_id=torch.tensor([int(o.template_id) for o in objects], dtype=torch.long),
+            phi=stack([o.phi for o in objects], (FFD_NUM_POINTS, 3), torch.float32),
+            dims=stack([o.dims for o in objects], (3,), torch.float64),
+            ry=torch.tensor([float(o.ry) for o in objects], dtype=torch.float64),
+            location=stack([o.location for o in objects], (3,), torch.float64),
+            code=stack([o.code for o in objects], (code_dim,), torch.float32),
+            mask=stack([o.mask for o in objects], (height, width), torch.bool),
+            has_mask=torch.tensor([o.mask is not None for o in objects], dtype=torch.bool),
+            observed=torch.tensor([bool(o.observed) for o in objects], dtype=torch.bool),
+        )
+
+    def __len__(self) -> int:
+        return self.instance_id.shape[0]
+
+    @property
+    def class_id(self) -> Tensor:
+        """``(N,)`` ``instance_id // 1000``."""
+        return self.instance_id // INSTANCE_DIVISOR
+
+    @property
+    def has_geometry(self) -> Tensor:
+        """``(N,)`` bool, ``template_id >= 0``."""
+        return self.template_id >= 0
+
+    @property
+    def center(self) -> Tensor:
+        """``(N, 3)`` box centres ``(x3d, y3d - h/2, z3d)``."""
+        return bottom_to_center(self.location, self.dims[:, 1])
+
+    def index_of(self, instance_id: int) -> int:
+        """Row of ``instance_id``; ``KeyError`` if absent."""
+        hit = (self.instance_id == int(instance_id)).nonzero()
+        if hit.numel() == 0:
+            raise KeyError(f"no object with instance id {instance_id} (have {self.instance_id.tolist()})")
+        return int(hit[0, 0])
+
+    def object(self, i: int) -> SceneObject:
+        return SceneObject(int(self.instance_id[i]), int(self.template_id[i]), tuple(self.dims[i].tolist()),
+                           float(self.ry[i]), tuple(self.location[i].tolist()), self.phi[i], self.code[i],
+                           self.mask[i] if bool(self.has_mask[i]) else None, bool(self.observed[i]))
+
+    def select(self, index: Tensor) -> ObjectTable:
+        """Rows ``index`` (bool ``(N,)`` or long indices)."""
+        return ObjectTable(**{name: getattr(self, name)[index] for name in _TABLE_FIELDS})
+
+    def cat(self, other: ObjectTable) -> ObjectTable:
+        return ObjectTable(**{n: torch.cat([getattr(self, n), getattr(other, n)]) for n in _TABLE_FIELDS})
+
+    def replace(self, **changes: Tensor) -> ObjectTable:
+        return dataclasses.replace(self, **changes)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, ObjectTable):
+            return NotImplemented
+        return all(torch.equal(getattr(self, n), getattr(other, n)) for n in _TABLE_FIELDS)
+
+    __hash__ = None  # type: ignore[assignment]
+
+
+@dataclass(frozen=True, eq=False)
+class SceneCode:
+    """One de-rendered image; see the module doc. Equality (``==``) is exact."""
+
+    intrinsics: Intrinsics
+    semantic: Tensor
+    classes: str
+    objects: ObjectTable
+    background_codes: Tensor
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.classes not in CLASS_LISTS:
+            raise ValueError(f"SceneCode.classes must be one of {sorted(CLASS_LISTS)}, got {self.classes!r}")
+        semantic = self.semantic
+        if semantic.dim() != 2 or tuple(semantic.shape) != self.intrinsics.size:
+            raise ValueError(f"SceneCode.semantic must be (H, W) = {self.intrinsics.size} (the intrinsics' size), "
+                             f"got {tuple(semantic.shape)}")
+        if semantic.is_floating_point():
+            raise ValueError(f"SceneCode.semantic must hold integer class indices, got {semantic.dtype}")
+        object.__setattr__(self, "semantic", semantic.long())
+        num = len(self.class_list)
+        bad = (semantic < 0) | ((semantic >= num) & (semantic != IGNORE_INDEX))
+        if bool(bad.any()):
+            raise ValueError(f"SceneCode.semantic has values outside [0, {num}) and {IGNORE_INDEX}: "
+                             f"{semantic[bad].unique()[:10].tolist()}")
+        codes = self.background_codes
+        if isinstance(codes, Mapping):
+            codes = self._codes_from_mapping(codes, num, self.objects.code.shape[1])
+        codes = _as(codes, torch.float32)
+        if tuple(codes.shape) != (num, self.objects.code.shape[1]):
+            raise ValueError(f"SceneCode.background_codes must be (num_classes={num}, C={self.objects.code.shape[1]}), "
+                             f"got {tuple(codes.shape)}")
+        if not bool(torch.isfinite(codes).all()):
+            raise ValueError("SceneCode.background_codes must be finite")
+        object.__setattr__(self, "background_codes", codes)
+        if tuple(self.objects.mask.shape[1:]) != self.intrinsics.size:
+            raise ValueError(f"SceneCode.objects.mask must be (N, {self.intrinsics.size}), "
+                             f"got {tuple(self.objects.mask.shape)}")
+        cls = self.objects.class_id
+        things = self.thing_classes
+        if len(cls) and not bool(torch.isin(cls, things).all()):
+            raise ValueError(f"SceneCode: instance ids {self.objects.instance_id[~torch.isin(cls, things)].tolist()} "
+                             f"belong to classes without instances in {self.classes!r} (instance classes: "
+                             f"{things.tolist()})")
+        json.dumps(self.meta)  # meta is stored as JSON: fail early, not at save time
+
+    @staticmethod
+    def _codes_from_mapping(codes: Mapping[int, Any], num: int, dim: int) -> Tensor:
+        out = torch.zeros(num, dim)
+        for key, value in codes.items():
+            if not 0 <= int(key) < num:
+                raise ValueError(f"SceneCode.background_codes: class {key} is outside [0, {num})")
+            out[int(key)] = _as(value, torch.float32)
+        return out
+
+    # -- properties ---------------------------------------------------------------------------
+
+    @property
+    def image_size(self) -> tuple[int, int]:
+        """``(W, H)``."""
+        return (int(self.intrinsics.width), int(self.intrinsics.height))
+
+    @property
+    def class_list(self) -> tuple[SemanticClass, ...]:
+        return CLASS_LISTS[self.classes]
+
+    @property
+    def thing_classes(self) -> Tensor:
+        """``(T,)`` ids of the classes that have instances (e.g. Car, Van)."""
+        return torch.tensor([c.id for c in self.class_list if c.has_instances], dtype=torch.long)
+
+    @property
+    def code_dim(self) -> int:
+        return int(self.objects.code.shape[1])
+
+    def replace(self, **changes: Any) -> SceneCode:
+        return dataclasses.replace(self, **changes)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, SceneCode):
+            return NotImplemented
+        return (self.intrinsics == other.intrinsics and self.classes == other.classes and self.meta == other.meta
+                and torch.equal(self.semantic, other.semantic) and self.objects == other.objects
+                and torch.equal(self.background_codes, other.background_codes))
+
+    __hash__ = None  # type: ignore[assignment]
+
+    # -- construction from data ---------------------------------------------------------------
+
+    @classmethod
+    def from_frame(cls, record: FrameRecord, image_size: tuple[int, int] | None = None,
+                   code_dim: int = DEFAULT_CODE_DIM) -> SceneCode:
+        """A scene from a frame's ground truth (the editing benchmark's "oracle" de-rendering).
+
+        Every instance of the instance map becomes an observed object with its visible mask.
+        Annotated objects in front of the camera get geometry: dims, yaw and location from the
+        annotation, template from ``obj.model`` (:func:`~sdn3d.data.datasets.textural.mesh_name_for`),
+        ``phi = 0``; one with no visible pixel gets an empty mask (hidden until edited). Codes are zeros.
+
+        Args:
+            record: a frame of any reader (Cityscapes frames have no 3D annotations: mask-only objects).
+            image_size: ``(W, H)`` working size (maps resized nearest-exact, intrinsics follow); None = stored size.
+        """
+        semantic = torch.from_numpy(load_semantic(record)).long()
+        instances = torch.from_numpy(load_instances(record)).long()
+        intrinsics = record.intrinsics
+        if image_size is not None:
+            semantic, instances = resize_map(semantic, image_size), resize_map(instances, image_size)
+            intrinsics = intrinsics.resized(*image_size)
+        height, width = intrinsics.size
+        visible = [int(i) for i in instances.unique().tolist() if i != 0]
+        objects: dict[int, SceneObject] = {}
+        for obj in record.objects:
+            if obj.location[2] <= 0:
+                continue
+            matches = [i for i in visible if i % INSTANCE_DIVISOR == obj.track_id + 1]
+            label = obj.orig_label if obj.label == "DontCare" and obj.orig_label else obj.label
+            class_id = VKITTI_CLASS_INDEX.get(label, VKITTI_CLASS_INDEX["Car"])
+            iid = matches[0] if matches else class_id * INSTANCE_DIVISOR + obj.track_id + 1
+            # An annotated object with no visible pixel at this size keeps an empty footprint.
+            objects[iid] = SceneObject(iid, TEMPLATE_NAMES.index(mesh_name_for(obj)), tuple(obj.dims), obj.ry,
+                                       tuple(obj.location), mask=instances == iid)
+        for iid in visible:
+            if iid not in objects:
+                objects[iid] = SceneObject(iid, mask=instances == iid)
+        table = ObjectTable.from_objects([objects[k] for k in sorted(objects)], height, width, code_dim)
+        classes = "cityscapes" if record.dataset == "cityscapes" else "vkitti"
+        return cls(intrinsics, semantic, classes, table, torch.zeros(len(CLASS_LISTS[classes]), code_dim),
+                   {"source": record.key})
+
+    # -- storage ------------------------------------------------------------------------------
+
+    def save(self, path: str | os.PathLike) -> Path:
+        """Write ``<path>.json`` and ``<path>.npz`` (suffix replaced), atomically; returns the JSON path."""
+        json_path, npz_path = Path(path).with_suffix(".json"), Path(path).with_suffix(".npz")
+        obj = self.objects
+        buffer = io.BytesIO()
+        np.savez_compressed(
+            buffer,
+            semantic=self.semantic.cpu().numpy().astype(np.uint8),
+            phi=obj.phi.cpu().numpy(),
+            code=obj.code.cpu().numpy(),
+            masks=obj.mask[obj.has_mask].cpu().numpy(),
+            background_codes=self.background_codes.cpu().numpy(),
+        )
+        data = buffer.getvalue()
+        rows = [
+            {"instance_id": int(obj.instance_id[i]), "class_id": int(obj.class_id[i]),
+             "template_id": int(obj.template_id[i]),
+             "template": TEMPLATE_NAMES[int(obj.template_id[i])] if 0 <= obj.template_id[i] < len(TEMPLATE_NAMES)
+             else None,
+             "dims": obj.dims[i].tolist(), "ry": float(obj.ry[i]), "location": obj.location[i].tolist(),
+             "has_mask": bool(obj.has_mask[i]), "observed": bool(obj.observed[i])}
+            for i in range(len(obj))
+        ]
+        header = {"format": SCENE_FORMAT, "version": SCENE_VERSION, "image_size": list(self.image_size),
+                  "intrinsics": self.intrinsics.to_dict(), "classes": self.classes, "code_dim": self.code_dim,
+                  "arrays": {"file": npz_path.name, "sha256": hashlib.sha256(data).hexdigest()},
+                  "meta": self.meta, "objects": rows}
+        write_bytes_atomic(npz_path, data)
+        write_json_atomic(json_path, header)
+        return json_path
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> SceneCode:
+        """Read a scene written by :meth:`save` (``path``: the JSON file, or the same stem).
+
+        Raises:
+            SceneFormatError: naming the file and the field, for a missing file, another format,
+                an unknown version, a checksum mismatch or a malformed field.
+        """
+        return _read_scene(Path(path).with_suffix(".json"))
+
+
+def _read_scene(json_path: Path) -> SceneCode:
+    def fail(field: str, problem: str, where: Path = json_path) -> SceneFormatError:
+        return SceneFormatError(f"{where}: field {field!r}: {problem}")
+
+    if not json_path.is_file():
+        raise SceneFormatError(f"{json_path}: scene file not found")
+    try:
+        head = json.loads(json_path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise SceneFormatError(f"{json_path}: not a JSON scene file ({exc})") from exc
+    if not isinstance(head, dict):
+        raise fail("format", f"expected a JSON object, got {type(head).__name__}")
+    if head.get("format") != SCENE_FORMAT:
+        raise fail("format", f"expected {SCENE_FORMAT!r}, got {head.get('format')!r}")
+    if head.get("version") != SCENE_VERSION:
+        raise fail("version", f"unsupported version {head.get('version')!r} (this sdn3d reads {SCENE_VERSION})")
+
+    def get(key: str, kind: type | tuple[type, ...], container: dict = head, prefix: str = "") -> Any:
+        if key not in container:
+            raise fail(prefix + key, "missing")
+        value = container[key]
+        if not isinstance(value, kind) or isinstance(value, bool) and kind is not bool:
+            raise fail(prefix + key, f"expected {getattr(kind, '__name__', kind)}, got {value!r}")
+        return value
+
+    try:
+        intrinsics = Intrinsics(**get("intrinsics", dict))
+    except (TypeError, ValueError) as exc:
+        raise fail("intrinsics", str(exc)) from exc
+    if get("image_size", list) != list(intrinsics.size[::-1]):
+        raise fail("image_size", f"{head['image_size']} does not match the intrinsics' {list(intrinsics.size[::-1])}")
+    arrays = get("arrays", dict)
+    npz_path = json_path.parent / get("file", str, arrays, "arrays.")
+    if not npz_path.is_file():
+        raise fail("arrays.file", f"array file {npz_path} not found")
+    data = npz_path.read_bytes()
+    if hashlib.sha256(data).hexdigest() != get("sha256", str, arrays, "arrays."):
+        raise fail("arrays.sha256", f"{npz_path.name} does not match the recorded checksum (mixed saves?)")
+    with np.load(io.BytesIO(data), allow_pickle=False) as npz:
+        missing = {"semantic", "phi", "code", "masks", "background_codes"} - set(npz.files)
+        if missing:
+            raise fail(sorted(missing)[0], "array missing", npz_path)
+        arr = {k: torch.from_numpy(npz[k].copy()) for k in npz.files}
+    rows = get("objects", list)
+    for i, row in enumerate(rows):
+        if not isinstance(row, dict):
+            raise fail(f"objects[{i}]", "expected an object")
+        for key, kind in (("instance_id", int), ("template_id", int), ("dims", list), ("ry", (int, float)),
+                          ("location", list), ("has_mask", bool), ("observed", bool)):
+            get(key, kind, row, f"objects[{i}].")
+        for key in ("dims", "location"):
+            if len(row[key]) != 3 or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in row[key]):
+                raise fail(f"objects[{i}].{key}", f"expected 3 numbers, got {row[key]!r}")
+    n, (height, width) = len(rows), intrinsics.size
+    has_mask = torch.tensor([r["has_mask"] for r in rows], dtype=torch.bool)
+    masks = torch.zeros(n, height, width, dtype=torch.bool)
+    if tuple(arr["masks"].shape) != (int(has_mask.sum()), height, width):
+        expected = (int(has_mask.sum()), height, width)
+        raise fail("masks", f"expected shape {expected}, got {tuple(arr['masks'].shape)}", npz_path)
+    masks[has_mask] = arr["masks"].bool()
+    try:
+        table = ObjectTable(
+            instance_id=torch.tensor([r["instance_id"] for r in rows], dtype=torch.long),
+            template_id=torch.tensor([r["template_id"] for r in rows], dtype=torch.long),
+            phi=arr["phi"].float(), dims=torch.tensor([r["dims"] for r in rows], dtype=torch.float64).reshape(n, 3),
+            ry=torch.tensor([float(r["ry"]) for r in rows], dtype=torch.float64),
+            location=torch.tensor([r["location"] for r in rows], dtype=torch.float64).reshape(n, 3),
+            code=arr["code"].float(), mask=masks, has_mask=has_mask,
+            observed=torch.tensor([r["observed"] for r in rows], dtype=torch.bool))
+        return SceneCode(intrinsics, arr["semantic"].long(), get("classes", str), table, arr["background_codes"],
+                         get("meta", dict))
+    except ValueError as exc:
+        raise SceneFormatError(f"{json_path}: {exc}") from exc

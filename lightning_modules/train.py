@@ -163,6 +163,8 @@ def run_training(cfg: DictConfig, overrides: list[str] | None = None) -> dict[st
     loggers = _instantiate_group(cfg.get("logger"))
     if not loggers:  # LearningRateMonitor refuses to run without a logger; nothing to monitor into anyway
         callbacks = [c for c in callbacks if type(c).__name__ != "LearningRateMonitor"]
+    if not cfg.trainer.get("enable_progress_bar", True):  # Lightning refuses a progress bar callback then
+        callbacks = [c for c in callbacks if not isinstance(c, L.pytorch.callbacks.ProgressBar)]
     trainer: L.Trainer = instantiate(cfg.trainer, callbacks=callbacks, logger=loggers or False,
                                      plugins=[AtomicCheckpointIO()])
     params = _flat(OmegaConf.to_container(cfg, resolve=True))

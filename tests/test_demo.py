@@ -37,11 +37,11 @@ def test_pose_meshes_matches_object_to_camera_and_keeps_padding_degenerate():
 
 
 def test_demo_runs_end_to_end(tmp_path):
-    from sdn3d.cli.demo import run_demo
+    from sdn3d.cli.render_demo import run_demo
 
     with initialize_config_dir(config_dir=CONFIG_DIR, version_base="1.3"):
         cfg = compose(
-            config_name="demo",
+            config_name="render_demo",
             overrides=[
                 f"output_dir={tmp_path / 'demo'}",
                 f"data_dir={tmp_path / 'data'}",

@@ -54,7 +54,12 @@ def test_configs_compose_with_presets(branch, experiment, tmp_path):
 
     pytest.importorskip(f"lightning_modules.{branch}")
     cfg = _compose([f"branch={branch}", f"experiment={experiment}", f"run_dir={tmp_path}"])
-    cfg = apply_preset(cfg)
+    assert cfg.preset == ("demo" if experiment == "demo" else "paper")
+    before = OmegaConf.to_container(cfg.trainer, resolve=True)
+    cfg = apply_preset(cfg, ["trainer.log_every_n_steps=7"])
+    assert cfg.trainer.log_every_n_steps == 7  # the command line beats the preset
+    if experiment == "demo":  # every demo preset shrinks the budget
+        assert OmegaConf.to_container(cfg.trainer, resolve=True) != before
     assert cfg.branch_name == branch and cfg.model._target_.startswith("lightning_modules.")
     assert cfg.datamodule._target_.startswith("datamodules.")
     assert cfg.monitor.startswith("val/") and cfg.monitor_mode in ("min", "max")

@@ -147,7 +147,10 @@ class DRN(nn.Module):
         return nn.Sequential(*modules)
 
     def stages(self, x: Tensor) -> list[Tensor]:
-        """Outputs of the 8 levels for ``x`` ``(B, 3, H, W)`` (normalised): strides 1, 1, 2, 4, 8, 8, 8, 8."""
+        """Outputs of ``layer1`` ... ``layer8`` for ``x`` ``(B, 3, H, W)`` (normalised).
+
+        Strides 1, 2, 4, 8, 8, 8, 8, 8; channels ``self.channels``.
+        """
         if self.arch == "C":
             x = self.relu(self.bn1(self.conv1(x)))
         else:
@@ -211,24 +214,34 @@ class InstanceHead(nn.Module):
 
     The stride-8 features are reduced, upsampled x2 and fused with projected stride-4 features
     (small cars are only a few stride-8 cells wide); two 1x1 predictors give the centre heatmap
-    (1 channel, regressed, not a probability) and the offset to the instance centre (2 channels,
-    ``(du, dv)`` in input pixels).
+    (1 channel, logits of a heatmap in [0, 1]) and the offset to the instance centre (2 channels,
+    ``(du, dv)`` in input pixels, predicted in units of ``offset_scale`` pixels).
     """
 
-    def __init__(self, in_channels: int, skip_channels: int, channels: int = 128, skip_proj: int = 32) -> None:
+    def __init__(self, in_channels: int, skip_channels: int, channels: int = 128, skip_proj: int = 32,
+                 offset_scale: float = 8.0) -> None:
         super().__init__()
+        self.offset_scale = float(offset_scale)
         self.reduce = _conv_bn_relu(in_channels, channels, 1)
         self.skip = _conv_bn_relu(skip_channels, skip_proj, 1)
         self.fuse = _conv_bn_relu(channels + skip_proj, channels, 3)
         self.center = nn.Sequential(_conv_bn_relu(channels, channels // 4, 3), nn.Conv2d(channels // 4, 1, 1))
         self.offset = nn.Sequential(_conv_bn_relu(channels, channels // 4, 3), nn.Conv2d(channels // 4, 2, 1))
         _init_weights(self)
+        # Start near "no centre anywhere" (sigmoid 0.01, the focal-loss prior init) and near-zero offsets, so
+        # the first steps do not swamp the segmentation loss.
+        for predictor, bias in ((self.center[-1], math.log(0.01 / 0.99)), (self.offset[-1], 0.0)):
+            nn.init.normal_(predictor.weight, std=1e-3)
+            nn.init.constant_(predictor.bias, bias)
 
     def forward(self, deep: Tensor, skip: Tensor) -> tuple[Tensor, Tensor]:
-        """``deep`` ``(B, C8, h8, w8)``, ``skip`` ``(B, C4, h4, w4)`` -> centre ``(B, 1, h4, w4)``, offset ``(B, 2, h4, w4)``."""
+        """``deep`` ``(B, C8, h8, w8)``, ``skip`` ``(B, C4, h4, w4)`` -> centre logits ``(B, 1, h4, w4)``,
+        offsets ``(B, 2, h4, w4)``."""
         x = F.interpolate(self.reduce(deep), size=skip.shape[-2:], mode="bilinear", align_corners=False)
         x = self.fuse(torch.cat([x, self.skip(skip)], dim=1))
-        return self.center(x), self.offset(x)
+        # Offsets are tens of pixels: the predictor works in units of `offset_scale` pixels (the output
+        # stride), else plain SGD takes thousands of steps to grow them from the near-zero init.
+        return self.center(x), self.offset(x) * self.offset_scale
 
 
 class DRNSeg(nn.Module):
@@ -271,7 +284,8 @@ class DRNSeg(nn.Module):
 
     def forward(self, image: Tensor) -> dict[str, Tensor]:
         """``image`` ``(B, 3, H, W)`` in [0, 1] -> ``{'logits': (B, C, H, W)}``, plus with the instance head
-        ``'center'`` ``(B, 1, H, W)`` and ``'offset'`` ``(B, 2, H, W)`` (pixels, ``(du, dv)``)."""
+        ``'center_logits'`` and ``'center'`` (its sigmoid, the heatmap) ``(B, 1, H, W)`` and ``'offset'``
+        ``(B, 2, H, W)`` (pixels, ``(du, dv)``)."""
         if image.dim() != 4 or image.shape[1] != 3:
             raise ValueError(f"image must be (B, 3, H, W), got {tuple(image.shape)}")
         size = image.shape[-2:]
@@ -280,6 +294,7 @@ class DRNSeg(nn.Module):
         out = {"logits": F.interpolate(self.seg(stages[-1]), size=size, mode="bilinear", align_corners=False)}
         if self.instance is not None:
             center, offset = self.instance(stages[-1], stages[2])
-            out["center"] = F.interpolate(center, size=size, mode="bilinear", align_corners=False)
+            out["center_logits"] = F.interpolate(center, size=size, mode="bilinear", align_corners=False)
+            out["center"] = out["center_logits"].sigmoid()
             out["offset"] = F.interpolate(offset, size=size, mode="bilinear", align_corners=False)
         return out

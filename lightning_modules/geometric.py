@@ -1,0 +1,330 @@
+"""Geometric branch training (``sdn3d-train branch=geometric``): 3D-SDN Sec. 3.1 in two stages.
+
+Stage 1 (``pred_epochs``): ``L_pred`` only, Adam at ``lr_pred`` (paper 1e-3).
+Stage 2 (``joint_epochs``): ``L_pred + reproj_weight * L_reproj`` (paper 0.1) plus REINFORCE for the
+mesh choice and ``ffd_reg * mean(phi^2)``, at ``lr_joint`` (paper 1e-4). The loss switches at the
+epoch boundary; the learning rate comes from an epoch-wise ``LambdaLR`` (stage factor times
+``lr_decay_rate ** (epochs into the stage // lr_decay_epochs)``), so a resumed run gets the same
+rates. Adam's moments are kept across the boundary (restarting them would make a resume from a
+mid-epoch checkpoint differ from an uninterrupted run). The REINFORCE baseline is a buffer.
+
+Ablations (``conf/ablation``): ``reproj=False`` keeps stage 2 at ``L_pred`` only; ``single_cad``
+uses one template and no FFD; ``rotation`` / ``distance`` pick the target parameterisation.
+
+Logged: ``train/loss``, ``train/loss_pred`` and its terms, ``train/loss_reproj``, ``train/reinforce``,
+``train/baseline``, ``train/template_entropy``, ``train/stage``; ``val|test/`` ``loss_pred``,
+``orientation_similarity``, ``distance_error``, ``scale_error``, ``reprojection_error``,
+``mesh_accuracy`` (objects with a known template only) and ``template_prob/<name>``; TensorBoard
+grids ``val|test/silhouettes`` (crop | mask | rendered silhouette | overlay) and a histogram of the
+selected templates.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import torch
+from torch import Tensor
+
+from lightning_modules._base import BranchModule
+from sdn3d.geometric import (
+    BASELINES,
+    PRED_KEYS,
+    GeometricMetrics,
+    GeometricNet,
+    MovingAverageBaseline,
+    decode_outputs,
+    ffd_regularizer,
+    leave_one_out_baseline,
+    net_kwargs_from_hparams,
+    outside_image_mask,
+    predicted_rotation,
+    prediction_loss,
+    prediction_losses,
+    reinforce_loss,
+    render_silhouettes,
+    reprojection_error,
+    sample_templates,
+)
+from sdn3d.geometry.encodings import AttributeEncoding
+from sdn3d.meshes.bank import MeshBank
+from sdn3d.meshes.templates import TEMPLATE_NAMES
+from sdn3d.nets.weights import load_pretrained
+from sdn3d.render.settings import SoftSilhouetteSettings
+
+__all__ = ["GeometricModule", "lr_factor"]
+
+log = logging.getLogger(__name__)
+
+
+def _plain(value: Any) -> Any:
+    """Hydra containers -> plain lists / dicts (checkpoints must load with ``weights_only=True``)."""
+    if isinstance(value, Mapping):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, Sequence) and not isinstance(value, str):
+        return [_plain(v) for v in value]
+    return value
+
+
+def lr_factor(epoch: int, pred_epochs: int, lr_pred: float, lr_joint: float, decay_epochs: int,
+              decay_rate: float) -> float:
+    """Multiplier of ``lr_pred`` at ``epoch``: stage rate times step decay within the stage."""
+    stage_epoch = epoch if epoch < pred_epochs else epoch - pred_epochs
+    base = 1.0 if epoch < pred_epochs else lr_joint / lr_pred
+    return base * (decay_rate ** (stage_epoch // decay_epochs) if decay_epochs > 0 else 1.0)
+
+
+class GeometricModule(BranchModule):
+    """ResNet-18 de-renderer of object geometry (see the module doc for the schedule).
+
+    Args:
+        pretrained: optional local ImageNet ResNet-18 weights (torchvision names); None: random init.
+        rotation, distance: target parameterisation (``${ablation.rotation}``, ``${ablation.distance}``).
+        single_cad: one template (``single_template``) and no FFD (ablation).
+        reproj: use L_reproj + REINFORCE in stage 2 (ablation ``no_reproj``: False).
+        pred_epochs, joint_epochs: stage lengths (paper 256 + 256).
+        lr_pred, lr_joint, lr_decay_epochs, lr_decay_rate, weight_decay: Adam and its step schedule
+            (released code: x0.5 every 16 epochs, weight decay 1e-3).
+        regression: ``'l2'`` (paper) or ``'smooth_l1'`` for the scale / offset / distance terms.
+        reproj_weight: weight of L_reproj (paper 0.1).
+        reinforce_weight: weight of the REINFORCE surrogate.
+        num_samples: templates sampled per object for REINFORCE (each rendered).
+        baseline: ``'moving_average'`` (buffer) or ``'leave_one_out'``; baseline_momentum: its EMA momentum.
+        ffd_reg: weight of ``mean(phi^2)`` in stage 2 (released code: 10).
+        sigma: soft-silhouette softness in pixels^2.
+        hidden, scale_prior: MLP width and initial ``(l, h, w)`` of the net.
+        image_size: working image ``(W, H)`` (``${data.image_size}``): crop pixels outside it are
+            ignored by L_reproj and the reprojection error; None: no such pixels are ignored.
+        log_images: crops per TensorBoard grid (first validation / test batch); 0 = none.
+    """
+
+    def __init__(
+        self,
+        pretrained: str | None = None,
+        rotation: str = "yaw_quaternion",
+        distance: str = "log_tau",
+        single_cad: bool = False,
+        single_template: str = "sedan",
+        reproj: bool = True,
+        pred_epochs: int = 256,
+        joint_epochs: int = 256,
+        lr_pred: float = 1e-3,
+        lr_joint: float = 1e-4,
+        lr_decay_epochs: int = 16,
+        lr_decay_rate: float = 0.5,
+        weight_decay: float = 1e-3,
+        regression: str = "l2",
+        reproj_weight: float = 0.1,
+        reinforce_weight: float = 1.0,
+        num_samples: int = 4,
+        baseline: str = "moving_average",
+        baseline_momentum: float = 0.9,
+        ffd_reg: float = 10.0,
+        sigma: float = 0.25,
+        hidden: int = 256,
+        scale_prior: Sequence[float] = (4.0, 1.6, 1.8),
+        image_size: Sequence[int] | None = None,
+        log_images: int = 8,
+    ) -> None:
+        super().__init__()
+        args = {k: _plain(v) for k, v in locals().items() if k not in ("self", "__class__")}
+        self.save_hyperparameters(args)
+        if pred_epochs < 0 or joint_epochs < 0 or lr_pred <= 0 or lr_joint <= 0:
+            raise ValueError(f"need pred_epochs, joint_epochs >= 0 and lr_pred, lr_joint > 0; got {pred_epochs}, "
+                             f"{joint_epochs}, {lr_pred}, {lr_joint}")
+        if baseline not in BASELINES:
+            raise ValueError(f"baseline must be one of {BASELINES}, got {baseline!r}")
+        if num_samples < 1 or (baseline == "leave_one_out" and num_samples < 2):
+            raise ValueError(f"num_samples must be >= 1 (>= 2 for leave_one_out), got {num_samples}")
+        if single_cad and single_template not in TEMPLATE_NAMES:
+            raise ValueError(f"single_template must be one of {TEMPLATE_NAMES}, got {single_template!r}")
+        self.encoding = AttributeEncoding(rotation, distance)
+        self.net = GeometricNet(**net_kwargs_from_hparams(self.hparams))
+        load_pretrained(self.net.backbone, pretrained, what="ResNet-18 backbone", ignore_prefixes=("fc.",))
+        self.baseline = MovingAverageBaseline(baseline_momentum)
+        self.metrics = torch.nn.ModuleDict({stage: GeometricMetrics() for stage in ("val", "test")})
+        self.image_size = None if image_size is None else tuple(int(v) for v in args["image_size"])
+        self._bank = MeshBank.templates()
+        self._template_stats: dict[str, list[Tensor]] = {}
+
+    # -- helpers ----------------------------------------------------------------------------------------------
+    def stage(self, epoch: int | None = None) -> str:
+        """``'pred'`` during the first ``pred_epochs`` epochs, then ``'joint'``."""
+        return "pred" if (self.current_epoch if epoch is None else epoch) < self.hparams.pred_epochs else "joint"
+
+    def bank(self, device: torch.device) -> MeshBank:
+        if self._bank.device != device:
+            self._bank.to(device)
+        return self._bank
+
+    def forward(self, crop: Tensor, box: Tensor, intrinsics: Tensor) -> dict[str, Tensor]:
+        return self.net(crop, box, intrinsics)
+
+    def _ignore(self, batch: Mapping[str, Any]) -> Tensor:
+        """Crop pixels L_reproj does not count: closer objects, and outside the image when its size is known."""
+        ignore = batch["ignore"]
+        if self.image_size is not None:
+            ignore = torch.maximum(ignore, outside_image_mask(batch["crop_box"], self.image_size, ignore.shape[-1]))
+        return ignore
+
+    def _render(self, pred: Mapping[str, Tensor], objects: Tensor, template_ids: Tensor, crop_intrinsics: Tensor,
+                size: int) -> Tensor:
+        """Silhouettes ``(P, S, S)`` of ``objects (P,)`` (batch indices, may repeat), meshes ``template_ids (P,)``."""
+        def pick(t: Tensor) -> Tensor:
+            return t.index_select(0, objects)
+
+        phi = pick(pred["phi"]) if self.net.use_ffd else None
+        settings = SoftSilhouetteSettings((size, size), sigma=self.hparams.sigma)
+        return render_silhouettes(self.bank(template_ids.device), template_ids, pick(pred["dims"]), pick(pred["ry"]),
+                                  pick(pred["center"]), phi, pick(crop_intrinsics), settings)
+
+    def _reprojection_terms(self, raw: dict[str, Tensor], batch: Mapping[str, Any]) -> dict[str, Tensor]:
+        """L_reproj (mean over objects and samples), the REINFORCE surrogate and diagnostics."""
+        hp = self.hparams
+        pred = decode_outputs(raw, batch["box"], batch["intrinsics"], self.encoding, self.net.templates)
+        n, size = batch["crop"].shape[0], batch["crop"].shape[-1]
+        multi = self.net.num_templates > 1
+        k = int(hp.num_samples) if multi else 1
+        if multi:
+            idx, log_probs = sample_templates(raw["template_logits"], k)
+            ids = self.net.templates[idx]
+        else:
+            ids = self.net.templates.expand(n, 1)
+        # Render each distinct (object, template) pair once: samples of a peaked distribution coincide.
+        num_meshes = len(self._bank)
+        pairs = torch.arange(n, device=ids.device).repeat_interleave(k) * num_meshes + ids.reshape(-1)
+        unique, inverse = torch.unique(pairs, return_inverse=True)
+        objects = unique // num_meshes
+        sil = self._render(pred, objects, unique % num_meshes, batch["crop_intrinsics"], size)
+        err = reprojection_error(sil, batch["mask"].index_select(0, objects),
+                                 self._ignore(batch).index_select(0, objects))[inverse].view(n, k)
+        terms = {"loss_reproj": err.mean()}
+        if multi:
+            rewards = -err.detach()
+            if hp.baseline == "leave_one_out":
+                b = leave_one_out_baseline(rewards)
+            else:
+                b = self.baseline().to(rewards.dtype)
+                self.baseline.update(rewards)
+            terms["reinforce"] = reinforce_loss(log_probs, rewards, b)
+            terms["baseline"] = self.baseline.value if hp.baseline == "moving_average" else b.mean()
+            probs = raw["template_logits"].softmax(1)
+            terms["template_entropy"] = -(probs * probs.clamp_min(1e-12).log()).sum(1).mean()
+        return terms
+
+    # -- training ---------------------------------------------------------------------------------------------
+    def training_step(self, batch: dict[str, Any], batch_idx: int) -> Tensor | None:
+        hp = self.hparams
+        raw = self.net(batch["crop"], batch["box"], batch["intrinsics"])
+        n = batch["crop"].shape[0]
+        if not all(bool(torch.isfinite(v).all()) for v in raw.values()):
+            # decode_outputs rejects non-finite values: the guard applies the NaN policy (stop / skip).
+            self.guard_loss(raw["log_scale"].sum() * float("nan"))
+            return None
+        terms = prediction_losses(raw, batch["targets"], self.encoding.rotation, hp.regression)
+        loss_pred = prediction_loss(terms)
+        loss = loss_pred
+        joint = self.stage() == "joint"
+        logs = {"loss_pred": loss_pred, **{f"loss_{k}": terms[k].mean() for k in PRED_KEYS},
+                "stage": loss_pred.new_tensor(float(joint))}
+        if joint and hp.reproj:
+            rep = self._reprojection_terms(raw, batch)
+            loss = loss + hp.reproj_weight * rep["loss_reproj"]
+            logs["loss_reproj"] = rep["loss_reproj"]
+            if "reinforce" in rep:
+                loss = loss + hp.reinforce_weight * rep["reinforce"]
+                logs.update({k: rep[k] for k in ("reinforce", "baseline", "template_entropy")})
+            if self.net.use_ffd and hp.ffd_reg > 0:
+                logs["ffd_reg"] = ffd_regularizer(raw["phi"])
+                loss = loss + hp.ffd_reg * logs["ffd_reg"]
+        if not self.guard_loss(loss):
+            return None
+        self.log("train/loss", loss, on_step=True, on_epoch=True, prog_bar=True, batch_size=n, sync_dist=True)
+        for key, value in logs.items():
+            self.log(f"train/{key}", value.detach().float(), on_step=False, on_epoch=True, batch_size=n,
+                     sync_dist=True)
+        return loss
+
+    def configure_optimizers(self):
+        hp = self.hparams
+        optimizer = torch.optim.Adam(self.net.parameters(), lr=hp.lr_pred, weight_decay=hp.weight_decay)
+        args = (int(hp.pred_epochs), float(hp.lr_pred), float(hp.lr_joint), int(hp.lr_decay_epochs),
+                float(hp.lr_decay_rate))
+
+        def factor(epoch: int) -> float:  # a plain function: LambdaLR's state_dict skips it
+            return lr_factor(epoch, *args)
+
+        scheduler = torch.optim.lr_scheduler.LambdaLR(optimizer, factor)
+        return {"optimizer": optimizer, "lr_scheduler": {"scheduler": scheduler, "interval": "epoch"}}
+
+    def on_fit_start(self) -> None:
+        total = int(self.hparams.pred_epochs) + int(self.hparams.joint_epochs)
+        if self.trainer.max_epochs is not None and self.trainer.max_epochs not in (-1, total):
+            log.warning("trainer.max_epochs=%s but pred_epochs + joint_epochs = %d: the joint stage %s",
+                        self.trainer.max_epochs, total,
+                        "is cut short" if self.trainer.max_epochs < total else "runs longer")
+
+    def on_save_checkpoint(self, checkpoint: dict[str, Any]) -> None:
+        if "hyper_parameters" in checkpoint:
+            checkpoint["hyper_parameters"] = _plain(checkpoint["hyper_parameters"])
+
+    # -- evaluation -------------------------------------------------------------------------------------------
+    @torch.no_grad()
+    def _eval_step(self, stage: str, batch: dict[str, Any], batch_idx: int) -> None:
+        raw = self.net(batch["crop"], batch["box"], batch["intrinsics"])
+        n, size = batch["crop"].shape[0], batch["crop"].shape[-1]
+        terms = prediction_losses(raw, batch["targets"], self.encoding.rotation, self.hparams.regression)
+        self.log(f"{stage}/loss_pred", prediction_loss(terms), on_step=False, on_epoch=True, batch_size=n,
+                 sync_dist=True)
+        pred = decode_outputs(raw, batch["box"], batch["intrinsics"], self.encoding, self.net.templates)
+        pred["rot"] = predicted_rotation(raw["rotation"], pred["ry"], self.encoding.rotation)
+        sil = self._render(pred, torch.arange(n, device=raw["phi"].device), pred["template_id"],
+                           batch["crop_intrinsics"], size)
+        ignore = self._ignore(batch)
+        self.metrics[stage].update(pred, batch, sil, ignore)
+        stats = self._template_stats.setdefault(stage, [])
+        stats.append(torch.cat([pred["template_probs"], pred["template_id"].unsqueeze(1).float()], 1).cpu())
+        count = min(int(self.hparams.log_images), n)
+        if batch_idx == 0 and count > 0:
+            crop, mask, s = batch["crop"][:count], batch["mask"][:count], sil[:count].unsqueeze(1)
+            overlay = crop * 0.5
+            overlay[:, :1] = torch.maximum(overlay[:, :1], s)  # silhouette in red over the darkened crop
+            self.log_image_grid(f"{stage}/silhouettes", [crop, mask, s, overlay])
+
+    def _eval_epoch_end(self, stage: str) -> None:
+        values = self.metrics[stage].compute()
+        self.metrics[stage].reset()
+        for name, value in values.items():
+            if name == "mesh_accuracy" and not bool(torch.isfinite(value)):
+                continue  # no object with a known template (real data)
+            self.log(f"{stage}/{name}", value.to(self.device), sync_dist=True)
+        stats = self._template_stats.pop(stage, [])
+        if not stats:
+            return
+        stats = torch.cat(stats)
+        mean_probs = stats[:, :-1].mean(0)
+        for i, name in enumerate(TEMPLATE_NAMES):
+            self.log(f"{stage}/template_prob/{name}", mean_probs[i].to(self.device), sync_dist=True)
+        writer = self.tensorboard
+        if writer is not None and not self.trainer.sanity_checking:
+            writer.add_histogram(f"{stage}/selected_template", stats[:, -1], global_step=self.global_step,
+                                 bins=torch.arange(len(TEMPLATE_NAMES) + 1).float().sub(0.5).numpy())
+
+    def validation_step(self, batch: dict[str, Any], batch_idx: int) -> None:
+        self._eval_step("val", batch, batch_idx)
+
+    def on_validation_epoch_end(self) -> None:
+        self._eval_epoch_end("val")
+
+    def test_step(self, batch: dict[str, Any], batch_idx: int) -> None:
+        self._eval_step("test", batch, batch_idx)
+
+    def on_test_epoch_end(self) -> None:
+        self._eval_epoch_end("test")
+
+    @torch.no_grad()
+    def predict_step(self, batch: dict[str, Any], batch_idx: int) -> dict[str, Tensor]:
+        raw = self.net(batch["crop"], batch["box"], batch["intrinsics"])
+        return decode_outputs(raw, batch["box"], batch["intrinsics"], self.encoding, self.net.templates)

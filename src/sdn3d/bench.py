@@ -1,0 +1,331 @@
+"""The editing benchmark of 3D-SDN (Sec. 4.1, Table 1): 3D-SDN against the 2D and 2D+ baselines.
+
+Each benchmark entry edits a source frame; its target frame shows the true result (real frames of
+Virtual KITTI for the paper's file, exact re-renders for the synthetic ``vkitti_edit_benchmark.json``
+written by ``sdn3d-synth``). Per entry:
+
+1. the source scene: :func:`sdn3d.derender.derender` (``scene='derender'``; with ``proposals='gt'``
+   the masks and semantics come from the frame, geometry and codes from the branches) or, as an
+   *oracle geometry* option, :meth:`SceneCode.from_frame` with codes from the texture encoder
+   (``scene='oracle'``);
+2. the three edits of that same scene: ``3d-sdn`` (:func:`~sdn3d.edit.ops_from_benchmark` +
+   :func:`~sdn3d.edit.apply_edits` + :func:`~sdn3d.scene_maps.scene_maps`), ``2d`` and ``2d+``
+   (:func:`~sdn3d.baselines.baseline_maps`), all drawn by the same textural generator;
+3. metrics against the target (:mod:`sdn3d.metrics`): LPIPS (with weights), L1, SSIM, PSNR on the
+   ``whole`` image, on ``all`` edited regions and on the ``largest`` one (a crop).
+
+Edited regions come from the ground truth only, so they are the same for every method: the
+benchmark's picks are resolved on the frame's ground-truth scene (:meth:`SceneCode.from_frame`,
+:func:`~sdn3d.edit.match_objects`, scaled ``from`` points), and an edited object's region is the
+union of its visible pixels in the source and the target frames (instance maps at the working
+size). ``all`` = the union over the edited objects; ``largest`` = the object with the largest
+region, cropped to its box in the target frame (in the source frame when it left the view or was
+deleted). Latency = de-render + edit + render of the 3D-SDN path, per entry, at the working size.
+
+A layout diagnostic that needs no trained generator is reported too (not in the paper):
+:func:`mask_iou`, the IoU between where a method draws each edited object (its composed instance
+map) and where the target frame shows it.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+import torch
+from torch import Tensor
+
+from sdn3d.baselines import baseline_maps
+from sdn3d.data.datasets.transforms import load_frame, resize_map
+from sdn3d.data.edits import VKITTI_FRAME_SIZE, EditEntry, scale_operation
+from sdn3d.data.records import FrameRecord, load_instances
+from sdn3d.derender import Models, derender, encode_scene, render_maps
+from sdn3d.edit import apply_edits, match_objects, ops_from_benchmark
+from sdn3d.metrics import crop_metrics, image_metrics, mask_to_box
+from sdn3d.scene import SceneCode
+from sdn3d.scene_maps import scene_maps
+
+if TYPE_CHECKING:
+    from sdn3d.nets.lpips import LPIPS
+
+__all__ = [
+    "METHODS",
+    "REGIONS",
+    "LAYOUT",
+    "BenchSettings",
+    "EntryResult",
+    "index_records",
+    "edit_regions",
+    "region_metrics",
+    "mask_iou",
+    "evaluate_entry",
+    "run_benchmark",
+    "summarize",
+]
+
+METHODS = ("3d-sdn", "2d", "2d+")
+REGIONS = ("whole", "all", "largest")
+#: Per-method values besides the image metrics: ``metrics[method]['layout']['mask_iou']`` (:func:`mask_iou`).
+LAYOUT = "layout"
+SCENES = ("derender", "oracle")
+
+
+@dataclass(frozen=True)
+class BenchSettings:
+    """How the benchmark runs.
+
+    Attributes:
+        image_size: working size ``(W, H)``.
+        scene: ``'derender'`` or ``'oracle'`` (module doc).
+        proposals: :func:`~sdn3d.derender.derender` proposals (``'gt'``: masks from the frame).
+        frame_size: ``(W, H)`` of the benchmark's coordinates (1242x375).
+        strict: reject ``to`` points outside the frame (False for the published file).
+        pick_radius: max distance (working pixels) of a ``from`` pick; None: nearest object.
+        min_pixels: visible pixels an object needs for 3D geometry in :func:`derender`.
+        include_identity: also evaluate the entries without operations.
+        limit: evaluate at most this many entries (None: all).
+        examples: entries whose pictures are kept for the example grids.
+    """
+
+    image_size: tuple[int, int] = (624, 192)
+    scene: str = "derender"
+    proposals: str = "gt"
+    frame_size: tuple[int, int] = VKITTI_FRAME_SIZE
+    strict: bool = False
+    pick_radius: float | None = None
+    min_pixels: int = 64
+    include_identity: bool = False
+    limit: int | None = None
+    examples: int = 8
+
+    def __post_init__(self) -> None:
+        if self.scene not in SCENES:
+            raise ValueError(f"BenchSettings.scene must be one of {SCENES}, got {self.scene!r}")
+        object.__setattr__(self, "image_size", (int(self.image_size[0]), int(self.image_size[1])))
+        object.__setattr__(self, "frame_size", (int(self.frame_size[0]), int(self.frame_size[1])))
+        if self.limit is not None and self.limit < 0 or self.examples < 0:
+            raise ValueError(f"BenchSettings.limit and examples must be >= 0, got {self.limit}, {self.examples}")
+
+
+@dataclass
+class EntryResult:
+    """One evaluated entry.
+
+    Attributes:
+        index: entry index in the file; key: ``world/variation source->target``; operations: count.
+        metrics: ``{method: {region: {metric: value}}}`` (NaN: not computable, e.g. empty region).
+        latency_ms: ``derender``, ``edit``, ``render``, ``total`` of the 3D-SDN path.
+        errors: ``{method or 'entry': message}`` for what could not be evaluated.
+        images: ``{'source', 'target', method...: (H, W, 3) uint8}`` for example entries, else None.
+        regions: ``(H, W)`` bool union of edited regions (example entries only).
+    """
+
+    index: int
+    key: str
+    operations: int
+    metrics: dict[str, dict[str, dict[str, float]]] = field(default_factory=dict)
+    latency_ms: dict[str, float] = field(default_factory=dict)
+    errors: dict[str, str] = field(default_factory=dict)
+    images: dict[str, np.ndarray] | None = None
+    regions: np.ndarray | None = None
+
+    def to_json(self) -> dict:
+        return {"index": self.index, "key": self.key, "operations": self.operations, "metrics": self.metrics,
+                "latency_ms": self.latency_ms, "errors": self.errors}
+
+
+def index_records(records: Sequence[FrameRecord]) -> dict[tuple[str, str, int], FrameRecord]:
+    """``{(world, variation, frame): record}`` (the benchmark names frames that way)."""
+    return {(r.world, r.variation, int(r.frame)): r for r in records}
+
+
+def _instances(record: FrameRecord, size: tuple[int, int]) -> Tensor:
+    if record.instance_path is None:
+        raise ValueError(f"{record.key} has no instance map: edited regions need one")
+    return resize_map(torch.from_numpy(load_instances(record)).long(), size)
+
+
+def edit_regions(entry: EditEntry, source: FrameRecord, target: FrameRecord, image_size: tuple[int, int],
+                 frame_size: tuple[int, int] = VKITTI_FRAME_SIZE) -> tuple[Tensor, Tensor, list[int]]:
+    """Ground-truth edited regions of ``entry`` (module doc).
+
+    Returns:
+        ``all (H, W)`` bool, ``largest_box (4,)`` half-open ``(x0, y0, x1, y1)`` and the edited
+        objects' instance ids.
+    """
+    oracle = SceneCode.from_frame(source, image_size)
+    ops = [scale_operation(op, frame_size, image_size) for op in entry.operations]
+    ids = match_objects(oracle, [op.from_uv for op in ops], [op.kind == "modify" for op in ops])
+    src, tgt = _instances(source, image_size), _instances(target, image_size)
+    id_t = torch.tensor(ids, dtype=torch.long)
+    regions = (src[None] == id_t[:, None, None]) | (tgt[None] == id_t[:, None, None])  # (K, H, W)
+    area = regions.flatten(1).sum(1)
+    k = int(area.argmax()) if len(ids) else 0
+    in_target = tgt == (ids[k] if ids else -1)
+    box = mask_to_box((in_target if bool(in_target.any()) else regions[k] if len(ids) else in_target)[None])[0]
+    return regions.any(0) if len(ids) else torch.zeros_like(src, dtype=torch.bool), box, ids
+
+
+def region_metrics(pred: Tensor, target: Tensor, regions: Tensor, box: Tensor,
+                   lpips_net: LPIPS | None = None) -> dict[str, dict[str, float]]:
+    """``{region: {metric: value}}`` of ``pred`` vs ``target`` ``(3, H, W)`` (module doc)."""
+    p, t = pred[None].float().cpu(), target[None].float().cpu()
+    net = lpips_net.cpu() if lpips_net is not None else None
+    out = {"whole": image_metrics(p, t, lpips_net=net), "all": image_metrics(p, t, regions[None], net),
+           "largest": crop_metrics(p, t, box[None].float(), net)}
+    return {region: {k: float(v[0]) for k, v in values.items()} for region, values in out.items()}
+
+
+def mask_iou(instances: Tensor, target: Tensor, ids: Sequence[int], scene_ids: Tensor) -> float:
+    """Mean IoU of the edited objects ``ids`` between a method's instance map and the target's ``(H, W)``.
+
+    A geometry diagnostic (not in the paper): where the edit puts each object, independent of the
+    texture. Objects absent from the scene (other proposals than the ground truth's) and objects
+    absent from both maps (deleted) are skipped; NaN when none is left.
+    """
+    ids_t = torch.tensor([i for i in ids if bool((scene_ids == i).any())], dtype=torch.long)
+    if not len(ids_t):
+        return float("nan")
+    pred = instances[None] == ids_t[:, None, None]
+    true = target[None] == ids_t[:, None, None]
+    union = (pred | true).flatten(1).sum(1)
+    inter = (pred & true).flatten(1).sum(1)
+    keep = union > 0
+    return float((inter[keep] / union[keep]).mean()) if bool(keep.any()) else float("nan")
+
+
+def _sync(models: Models) -> None:
+    if models.textural is not None and models.textural.device.type == "cuda":
+        torch.cuda.synchronize(models.textural.device)
+
+
+def _source_scene(image: Tensor, intrinsics, record: FrameRecord, models: Models,
+                  settings: BenchSettings) -> SceneCode:
+    if settings.scene == "oracle":
+        scene = SceneCode.from_frame(record, settings.image_size, models.textural.spec.code_dim)
+        return encode_scene(scene, image, models.textural)
+    return derender(image, intrinsics, models, settings.proposals, record, min_pixels=settings.min_pixels)
+
+
+def _to_uint8(image: Tensor) -> np.ndarray:
+    return (image.detach().cpu().clamp(0, 1).permute(1, 2, 0).numpy() * 255 + 0.5).astype(np.uint8)
+
+
+def evaluate_entry(index: int, entry: EditEntry, source: FrameRecord, target: FrameRecord, models: Models,
+                   settings: BenchSettings, lpips_net: LPIPS | None = None, keep_images: bool = False
+                   ) -> EntryResult:
+    """Evaluate one entry with every method (a method's :class:`ValueError` is recorded, not raised)."""
+    result = EntryResult(index, f"{entry.world}/{entry.variation} {entry.source_frame:05d}->{entry.target_frame:05d}",
+                         len(entry.operations))
+    size = settings.image_size
+    src = load_frame(source, size, semantic=False, instances=False)
+    tgt = load_frame(target, size, semantic=False, instances=False).image
+    regions, box, ids = edit_regions(entry, source, target, size, settings.frame_size)
+    target_instances = _instances(target, size)
+    bins = models.textural.spec.pose_bins
+    _sync(models)
+    t0 = time.perf_counter()
+    scene = _source_scene(src.image, src.intrinsics, source, models, settings)
+    _sync(models)
+    t1 = time.perf_counter()
+    images: dict[str, Tensor] = {}
+    layouts: dict[str, Tensor] = {}
+    try:
+        ops = ops_from_benchmark(entry, scene, settings.frame_size, settings.strict, settings.pick_radius)
+        edited = apply_edits(scene, ops)
+        t2 = time.perf_counter()
+        maps = scene_maps(edited, num_bins=bins)
+        images["3d-sdn"], layouts["3d-sdn"] = render_maps(maps, models.textural), maps.instance.cpu()
+        _sync(models)
+        t3 = time.perf_counter()
+        result.latency_ms = {"derender": 1000 * (t1 - t0), "edit": 1000 * (t2 - t1), "render": 1000 * (t3 - t2),
+                             "total": 1000 * (t3 - t0)}
+    except ValueError as exc:
+        result.errors["3d-sdn"] = str(exc)
+    for mode in ("2d", "2d+"):
+        try:
+            maps = baseline_maps(scene, entry, mode, settings.frame_size, max_distance=settings.pick_radius)
+            images[mode], layouts[mode] = render_maps(maps, models.textural), maps.instance.cpu()
+        except ValueError as exc:
+            result.errors[mode] = str(exc)
+    for method in METHODS:
+        if method in images:
+            result.metrics[method] = region_metrics(images[method], tgt, regions, box, lpips_net)
+            result.metrics[method]["layout"] = {"mask_iou": mask_iou(layouts[method], target_instances, ids,
+                                                                     scene.objects.instance_id)}
+    if keep_images:
+        result.images = {"source": _to_uint8(src.image), "target": _to_uint8(tgt)}
+        result.images |= {m: _to_uint8(img) for m, img in images.items()}
+        result.regions = regions.numpy()
+    return result
+
+
+def run_benchmark(entries: Sequence[EditEntry], records: Mapping[tuple[str, str, int], FrameRecord],
+                  models: Models, settings: BenchSettings, lpips_net: LPIPS | None = None,
+                  progress: Callable[[int, int, EntryResult], None] | None = None) -> list[EntryResult]:
+    """Evaluate ``entries`` (identity ones only with ``include_identity``); frames from ``records``.
+
+    Raises:
+        ValueError: no textural model, or not a single entry whose frames exist in ``records``.
+    """
+    if models.textural is None:
+        raise ValueError("the benchmark renders every method with the textural branch: models.textural is None")
+    chosen = [(i, e) for i, e in enumerate(entries) if settings.include_identity or not e.is_identity]
+    if settings.limit is not None:
+        chosen = chosen[: settings.limit]
+    results: list[EntryResult] = []
+    found = 0
+    for n, (i, entry) in enumerate(chosen):
+        pair = [records.get((entry.world, entry.variation, f)) for f in (entry.source_frame, entry.target_frame)]
+        if None in pair:
+            which = "source" if pair[0] is None else "target"
+            frame = entry.source_frame if pair[0] is None else entry.target_frame
+            result = EntryResult(i, f"{entry.world}/{entry.variation} {entry.source_frame:05d}->"
+                                    f"{entry.target_frame:05d}", len(entry.operations),
+                                 errors={"entry": f"{which} frame {entry.world}/{entry.variation}/{frame:05d} "
+                                                  "not in the dataset"})
+        else:
+            found += 1
+            try:
+                result = evaluate_entry(i, entry, pair[0], pair[1], models, settings, lpips_net,
+                                        keep_images=found <= settings.examples)
+            except ValueError as exc:  # e.g. no object to pick: the entry is reported, the run goes on
+                result = EntryResult(i, f"{entry.world}/{entry.variation} {entry.source_frame:05d}->"
+                                        f"{entry.target_frame:05d}", len(entry.operations), errors={"entry": str(exc)})
+        results.append(result)
+        if progress is not None:
+            progress(n + 1, len(chosen), result)
+    if chosen and not found:
+        raise ValueError(f"none of the {len(chosen)} benchmark entries has its frames in the dataset "
+                         f"(first: {chosen[0][1].world}/{chosen[0][1].variation} frame {chosen[0][1].source_frame}); "
+                         "is data.root the benchmark's dataset?")
+    return results
+
+
+def _stats(values: list[float]) -> dict[str, float | int]:
+    finite = [v for v in values if math.isfinite(v)]
+    if not finite:
+        return {"mean": float("nan"), "n": 0}
+    return {"mean": float(np.mean(finite)), "median": float(np.median(finite)), "n": len(finite)}
+
+
+def summarize(results: Sequence[EntryResult]) -> dict:
+    """Means over entries: ``{'methods': {method: {region: {metric: {mean, median, n}}}}, 'latency_ms':
+    {...}, 'entries', 'failed': {method: count}}`` (non-finite values, e.g. empty regions, are skipped)."""
+    methods: dict = {}
+    for method in METHODS:
+        per_region: dict = {}
+        for region in (*REGIONS, LAYOUT):
+            names = sorted({k for r in results for k in r.metrics.get(method, {}).get(region, {})})
+            per_region[region] = {k: _stats([r.metrics[method].get(region, {}).get(k, math.nan) for r in results
+                                             if method in r.metrics]) for k in names}
+        methods[method] = per_region
+    latency = {k: _stats([r.latency_ms[k] for r in results if k in r.latency_ms])
+               for k in ("derender", "edit", "render", "total")}
+    failed = {m: sum(1 for r in results if m in r.errors or "entry" in r.errors) for m in METHODS}
+    return {"entries": len(results), "evaluated": sum(1 for r in results if r.metrics), "failed": failed,
+            "methods": methods, "latency_ms": latency}

@@ -1,0 +1,185 @@
+"""``sdn3d-bench``: the editing benchmark (paper Table 1), see :mod:`sdn3d.bench`.
+
+Configuration ``conf/bench.yaml`` (Hydra overrides as arguments). Outputs, written all at once:
+
+    results.json     settings, summary (means per method / region / metric, latency) and every entry
+    table1.md        the paper's Table 1 layout (LPIPS whole / all / largest) plus L1, SSIM, PSNR
+    index.html       example grids (source | target | 3D-SDN | 2D | 2D+) with their metrics
+    examples/*.png   the grids
+
+Exit status: 0 done; 2 bad input (missing benchmark / checkpoint, no matching frames; nothing written).
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+from rich.console import Console
+
+from sdn3d.bench import METHODS, REGIONS
+from sdn3d.cli._config import CONFIG_DIR
+from sdn3d.cli._staging import check_output_dir, staged_directory
+from sdn3d.cli.edit import InputError, compose_config, user_errors
+
+__all__ = ["main", "run_bench", "table1_markdown", "examples_html"]
+
+MARKER = "results.json"
+LABELS = {"2d": "2D", "2d+": "2D+", "3d-sdn": "3D-SDN (ours)"}
+ROW_ORDER = ("2d", "2d+", "3d-sdn")  # the paper's row order
+console = Console(stderr=True)
+
+
+def _fmt(stat: dict | None, digits: int = 4) -> str:
+    if not stat or stat.get("n", 0) == 0 or not math.isfinite(stat["mean"]):
+        return "n/a"
+    return f"{stat['mean']:.{digits}f}"
+
+
+def table1_markdown(summary: dict, info: dict) -> str:
+    """The paper's Table 1 layout (rows 2D, 2D+, 3D-SDN) from :func:`sdn3d.bench.summarize` output."""
+    methods = summary["methods"]
+    has_lpips = any("lpips" in methods[m]["whole"] for m in METHODS)
+    lines = ["# Editing benchmark (3D-SDN Table 1 layout)", "",
+             f"{summary['evaluated']} of {summary['entries']} entries evaluated on `{info['benchmark']}` "
+             f"({info['data']}), working size {info['image_size'][0]}x{info['image_size'][1]}, source scene: "
+             f"{info['scene']}" + (f" (proposals: {info['proposals']})" if info["scene"] == "derender" else "")
+             + ". All methods are drawn by the same textural generator. Lower LPIPS / L1 and higher SSIM / "
+             "PSNR are better; *all* = the union of the edited objects' source and target regions, *largest* "
+             "= the largest edited object's target box (crop).", ""]
+    lines += ["| Method | LPIPS (whole) | LPIPS (all) | LPIPS (largest) |", "|---|---|---|---|"]
+    for m in ROW_ORDER:
+        cells = [_fmt(methods[m][r].get("lpips")) for r in REGIONS]
+        lines.append(f"| {LABELS[m]} | " + " | ".join(cells) + " |")
+    if not has_lpips:
+        lines += ["", "LPIPS: n/a, no LPIPS weights were given (`lpips_weights=`, see sdn3d.nets.lpips)."]
+    lines += ["", "| Method | " + " | ".join(f"{k} ({r})" for k in ("L1", "SSIM", "PSNR") for r in REGIONS) + " |",
+              "|---" * 10 + "|"]
+    for m in ROW_ORDER:
+        cells = [_fmt(methods[m][r].get(k), 2 if k == "psnr" else 4) for k in ("l1", "ssim", "psnr") for r in REGIONS]
+        lines.append(f"| {LABELS[m]} | " + " | ".join(cells) + " |")
+    lines += ["", "Layout diagnostic (not in the paper; needs no trained generator): mean IoU between where each "
+                  "method draws the edited objects and where the target frame shows them.", "",
+              "| Method | edited-object mask IoU |", "|---|---|"]
+    lines += [f"| {LABELS[m]} | {_fmt(methods[m]['layout'].get('mask_iou'), 3)} |" for m in ROW_ORDER]
+    lat = summary["latency_ms"]
+    lines += ["", f"3D-SDN latency per edit (de-render + edit + render, {info['device']}, "
+                  f"{info['threads']} threads): mean {_fmt(lat['total'], 0)} ms (de-render {_fmt(lat['derender'], 0)}, "
+                  f"edit {_fmt(lat['edit'], 0)}, render {_fmt(lat['render'], 0)} ms).",
+              "", "Entries that failed per method: " + ", ".join(f"{LABELS[m]} {summary['failed'][m]}"
+                                                                  for m in ROW_ORDER) + "."]
+    return "\n".join(lines) + "\n"
+
+
+def examples_html(examples: list[dict], info: dict) -> str:
+    """A page of example grids; ``examples``: ``{'file', 'key', 'metrics'}`` per grid."""
+    rows = []
+    for ex in examples:
+        cells = []
+        for m in ("3d-sdn", "2d", "2d+"):
+            v = ex["metrics"].get(m, {}).get("all", {})
+            text = ", ".join(f"{k} {v[k]:.3f}" for k in ("lpips", "l1", "ssim") if k in v and math.isfinite(v[k]))
+            cells.append(f"<td>{html.escape(LABELS[m])}: {html.escape(text or 'n/a')}</td>")
+        rows.append(f"<h3>{html.escape(ex['key'])}</h3>\n<img src=\"{html.escape(ex['file'])}\" alt=\"grid\">\n"
+                    f"<table><tr>{''.join(cells)}</tr></table>")
+    title = "sdn3d editing benchmark: examples"
+    return (f"<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>{title}</title>\n"
+            "<style>body{font-family:sans-serif} img{image-rendering:pixelated;max-width:100%} "
+            "td{padding:0 1em}</style></head><body>\n"
+            f"<h1>{title}</h1>\n<p>{html.escape(info['benchmark'])}, scene: {html.escape(info['scene'])}. "
+            "Columns: source | target | 3D-SDN | 2D | 2D+ (metrics on all edited regions; "
+            "see <a href=\"table1.md\">table1.md</a>).</p>\n" + "\n".join(rows) + "\n</body></html>\n")
+
+
+def run_bench(cfg: Any) -> dict:
+    """Run the benchmark of a composed ``conf/bench.yaml`` config; returns ``results.json``'s content."""
+    from omegaconf import OmegaConf
+
+    from sdn3d.bench import BenchSettings, index_records, run_benchmark, summarize
+    from sdn3d.data.datasets.sources import SourceConfig, read_source
+    from sdn3d.data.edits import load_edit_benchmark
+    from sdn3d.derender import Models
+    from sdn3d.io import write_json_atomic, write_png_atomic, write_text_atomic
+    from sdn3d.nets.lpips import load_lpips
+    from sdn3d.visualize import hstack_panels
+
+    if cfg.threads:
+        torch.set_num_threads(int(cfg.threads))
+    out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite))
+    source = SourceConfig.from_mapping(cfg.data)
+    path = Path(str(cfg.benchmark)) if cfg.benchmark else Path(source.root) / "vkitti_edit_benchmark.json"
+    entries = load_edit_benchmark(path.expanduser())
+    if cfg.checkpoints.textural is None:
+        raise InputError("checkpoints.textural is required: every method is rendered by the textural generator")
+    if cfg.device != "cpu" and not torch.cuda.is_available():
+        raise InputError(f"device={cfg.device!r} but CUDA is not available")
+    size = tuple(cfg.image_size) if cfg.image_size else source.image_size
+    settings = BenchSettings(image_size=size, scene=str(cfg.scene), proposals=str(cfg.proposals),
+                             frame_size=tuple(cfg.frame_size), strict=bool(cfg.strict), pick_radius=cfg.pick_radius,
+                             min_pixels=int(cfg.geometric.min_pixels), include_identity=bool(cfg.include_identity),
+                             limit=cfg.limit, examples=int(cfg.examples))
+    ck = cfg.checkpoints
+    # The semantic branch only runs for derender proposals other than 'gt': do not load it otherwise.
+    semantic = ck.semantic if settings.scene == "derender" and settings.proposals != "gt" else None
+    geometric = ck.geometric if settings.scene == "derender" else None
+    models = Models.from_checkpoints(semantic, geometric, ck.textural, map_location=cfg.device,
+                                     crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin)
+    if cfg.lpips_weights is not None and not Path(str(cfg.lpips_weights)).expanduser().is_file():
+        raise InputError(f"lpips_weights {str(cfg.lpips_weights)!r} not found")
+    lpips_net = load_lpips(cfg.lpips_weights)
+    records = index_records(read_source(source))
+
+    def progress(i: int, n: int, result: Any) -> None:
+        status = "failed: " + "; ".join(result.errors.values()) if not result.metrics else "ok"
+        console.print(f"[{i}/{n}] entry {result.index} {result.key}: {status}")
+
+    t0 = time.perf_counter()
+    results = run_benchmark(entries, records, models, settings, lpips_net, progress)
+    summary = summarize(results)
+    info = {"benchmark": str(path), "data": f"{source.kind} at {source.root}", "image_size": list(settings.image_size),
+            "scene": settings.scene, "proposals": settings.proposals, "device": str(cfg.device),
+            "threads": torch.get_num_threads(), "lpips": lpips_net is not None,
+            "wall_s": time.perf_counter() - t0}
+    report = {"info": info, "config": OmegaConf.to_container(cfg, resolve=True), "summary": summary,
+              "entries": [r.to_json() for r in results]}
+    with staged_directory(out, MARKER, bool(cfg.overwrite)) as tmp:
+        examples = []
+        for r in results:
+            if r.images is None:
+                continue
+            blank = np.zeros_like(r.images["source"])
+            grid = hstack_panels([r.images.get(k, blank) for k in ("source", "target", "3d-sdn", "2d", "2d+")])
+            name = f"examples/{r.index:04d}.png"
+            write_png_atomic(tmp / name, grid)
+            examples.append({"file": name, "key": r.key, "metrics": r.metrics})
+        write_text_atomic(tmp / "table1.md", table1_markdown(summary, info))
+        write_text_atomic(tmp / "index.html", examples_html(examples, info))
+        write_json_atomic(tmp / MARKER, report)
+    return report
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Console entry point: ``sdn3d-bench [overrides...]``; returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if any(a in ("-h", "--help") for a in argv):
+        print(__doc__)
+        print(Path(CONFIG_DIR, "bench.yaml").read_text())
+        return 0
+    try:
+        report = run_bench(compose_config(argv, "bench"))
+    except user_errors() as exc:
+        print(f"sdn3d-bench: error: {exc}", file=sys.stderr)
+        return 2
+    print(table1_markdown(report["summary"], report["info"]))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

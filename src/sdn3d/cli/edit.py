@@ -1,0 +1,266 @@
+"""``sdn3d-edit``: de-render an image (or a dataset frame), edit it in 3D, render the result.
+
+Configuration ``conf/edit.yaml`` (Hydra overrides as arguments, e.g. ``input.image=x.png``).
+Everything is checked before anything is written: the edit spec's syntax and numbers first
+(before loading networks), then against the de-rendered scene (objects exist, targets inside the
+frame, 3D edits on objects with geometry). The output directory is then written all at once:
+
+    source.png reconstruction.png edited.png overview.png   images (working size)
+    maps/{source,edited}_{label,instance,normal,pose,depth}.png
+    scene.json/.npz edited_scene.json/.npz                  SceneCode (sdn3d.scene)
+    scene.glb edited_scene.glb                              3D scenes (sdn3d.export)
+    edit.json                                               resolved ops, objects, timings
+
+Exit status: 0 done; 2 bad input (message on stderr names the op or the setting; no output).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+
+from sdn3d.cli._config import CONFIG_DIR
+from sdn3d.cli._staging import check_output_dir, staged_directory
+
+__all__ = ["main", "run_edit", "compose_config", "load_input", "user_errors", "InputError"]
+
+MARKER = "edit.json"
+DEFAULT_SIZE = (624, 192)
+
+
+class InputError(ValueError):
+    """A bad setting or input file (exit status 2)."""
+
+
+def compose_config(overrides: Sequence[str], name: str) -> Any:
+    """Compose ``conf/<name>.yaml`` with Hydra ``overrides`` (no run directory, no logging set-up)."""
+    from hydra import compose, initialize_config_dir
+    from hydra.core.global_hydra import GlobalHydra
+    from hydra.errors import HydraException
+    from omegaconf.errors import OmegaConfBaseException
+
+    GlobalHydra.instance().clear()  # an earlier in-process Hydra app (e.g. a test) may have left it set
+    try:
+        with initialize_config_dir(config_dir=CONFIG_DIR, version_base="1.3"):
+            return compose(name, overrides=list(overrides))
+    except (HydraException, OmegaConfBaseException) as exc:
+        raise InputError(f"bad configuration override: {exc}") from exc
+
+
+def _to_uint8(image: torch.Tensor) -> np.ndarray:
+    """``(3, H, W)`` float in [0, 1] -> ``(H, W, 3)`` uint8."""
+    return (image.detach().cpu().clamp(0, 1).permute(1, 2, 0).numpy() * 255 + 0.5).astype(np.uint8)
+
+
+def _find_record(records: list, frame: Any, entry: Any) -> Any:
+    if frame is None:
+        if entry is None:
+            raise InputError("input.frame is required with data= (or give a benchmark entry to take it from)")
+        hits = [r for r in records if (r.world, r.variation, r.frame) == (entry.world, entry.variation,
+                                                                         entry.source_frame)]
+        what = f"{entry.world}/{entry.variation} frame {entry.source_frame} (benchmark entry source)"
+    elif isinstance(frame, int):
+        if not 0 <= frame < len(records):
+            raise InputError(f"input.frame {frame} is outside the {len(records)} frames of the dataset")
+        return records[frame]
+    else:
+        key = str(frame).strip("/")
+        hits = [r for r in records if r.key == key] or [r for r in records if r.key.endswith("/" + key)]
+        what = f"input.frame {frame!r}"
+    if len(hits) != 1:
+        raise InputError(f"{what} matches {len(hits)} frames of the dataset"
+                         + (f", e.g. {[r.key for r in hits[:3]]}" if hits else ""))
+    return hits[0]
+
+
+def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any]:
+    """``(image (3, H, W), intrinsics, record or None)`` at the working size."""
+    from sdn3d.data.datasets.transforms import load_frame, resize_image, to_image_tensor
+    from sdn3d.geometry.camera import VKITTI_INTRINSICS, Intrinsics
+
+    data = cfg.get("data")
+    size = cfg.image_size or (data.image_size if data is not None and cfg.input.image is None else DEFAULT_SIZE)
+    size = (int(size[0]), int(size[1]))
+    if cfg.input.image is not None:
+        from PIL import Image, UnidentifiedImageError
+
+        path = Path(str(cfg.input.image)).expanduser()
+        if not path.is_file():
+            raise InputError(f"input.image {str(path)!r} not found")
+        try:
+            with Image.open(path) as im:
+                rgb = np.array(im.convert("RGB"))
+        except (UnidentifiedImageError, OSError) as exc:
+            raise InputError(f"input.image {str(path)!r} is not a readable image ({exc})") from exc
+        height, width = rgb.shape[:2]
+        if cfg.input.intrinsics is not None:
+            try:
+                intr = Intrinsics(**dict(cfg.input.intrinsics))
+            except (TypeError, ValueError) as exc:
+                raise InputError(f"input.intrinsics: {exc}") from exc
+            if (intr.width, intr.height) != (width, height):
+                raise InputError(f"input.intrinsics are for {intr.width}x{intr.height} but the image is "
+                                 f"{width}x{height}")
+        else:
+            intr = VKITTI_INTRINSICS
+        return resize_image(to_image_tensor(rgb), size), intr.resized(*size), None
+    if data is None:
+        raise InputError("give input.image=<file> or a dataset (data=<name> and input.frame=<key>)")
+    from sdn3d.data.datasets.sources import SourceConfig, read_source
+
+    source = SourceConfig.from_mapping(data)
+    records = read_source(source)
+    if not records:
+        raise InputError(f"no frames found under data.root={source.root!r}")
+    record = _find_record(records, cfg.input.frame, entry)
+    frame = load_frame(record, size, semantic=False, instances=False)
+    return frame.image, frame.intrinsics, record
+
+
+def _op_json(op: Any) -> dict:
+    return {"op": type(op).__name__, **{k: list(v) if isinstance(v, tuple) else v
+                                        for k, v in dataclasses.asdict(op).items()}}
+
+
+def _map_pictures(maps: Any, classes: Any) -> dict[str, np.ndarray]:
+    from sdn3d.semantic.classes import colorize_labels
+    from sdn3d.visualize import colorize_depth, colorize_ids, normals_to_rgb, pose_to_rgb
+
+    label = colorize_labels(maps.label[None].cpu(), classes)[0]
+    return {"label": _to_uint8(label), "instance": colorize_ids(maps.instance), "normal": normals_to_rgb(maps.normal),
+            "pose": pose_to_rgb(maps.pose), "depth": colorize_depth(maps.depth[0])}
+
+
+def _grid(rows: list[list[np.ndarray]]) -> np.ndarray:
+    from sdn3d.visualize import hstack_panels
+
+    lines = [hstack_panels(r) for r in rows]
+    gap = np.full((4, lines[0].shape[1], 3), 255, np.uint8)
+    return np.concatenate([x for line in lines for x in (line, gap)][:-1], 0)
+
+
+def run_edit(cfg: Any) -> dict:
+    """Run the edit described by a composed ``conf/edit.yaml`` config; returns the ``edit.json`` summary.
+
+    Raises:
+        InputError, EditSpecError, EditError, FileNotFoundError, FileExistsError: bad input (nothing written).
+    """
+    from omegaconf import OmegaConf
+
+    from sdn3d.derender import Models, derender, render_maps
+    from sdn3d.edit_spec import apply_spec, load_edit_spec, resolve_ops
+    from sdn3d.export import export_gltf
+    from sdn3d.io import write_json_atomic, write_png_atomic
+    from sdn3d.scene_maps import scene_maps
+
+    if cfg.threads:
+        torch.set_num_threads(int(cfg.threads))
+    out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite))
+    if cfg.proposals not in ("auto", "gt", "semantic"):
+        raise InputError(f"proposals must be auto, gt or semantic, got {cfg.proposals!r}")
+    spec = load_edit_spec(str(cfg.edits), int(cfg.entry), tuple(cfg.frame_size) if cfg.frame_size else None,
+                          bool(cfg.strict))
+    image, intrinsics, record = load_input(cfg, spec.entry)
+    ckpt = cfg.checkpoints
+    if ckpt.textural is None:
+        raise InputError("checkpoints.textural is required (the generator renders the result)")
+    if cfg.device != "cpu" and not torch.cuda.is_available():
+        raise InputError(f"device={cfg.device!r} but CUDA is not available")
+    models = Models.from_checkpoints(ckpt.semantic, ckpt.geometric, ckpt.textural, map_location=cfg.device,
+                                     crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin)
+    code_bank = None
+    if cfg.code_bank is not None:
+        from sdn3d.texture import CodeBank
+
+        path = Path(str(cfg.code_bank)).expanduser()
+        if not path.is_file():
+            raise InputError(f"code_bank {str(path)!r} not found")
+        code_bank = CodeBank.from_state_dict(torch.load(path, map_location="cpu", weights_only=True))
+    generator = torch.Generator().manual_seed(int(cfg.seed))
+
+    times = {}
+    t0 = time.perf_counter()
+    scene = derender(image, intrinsics, models, str(cfg.proposals), record, min_pixels=int(cfg.geometric.min_pixels))
+    times["derender_ms"] = 1000 * (time.perf_counter() - t0)
+    t0 = time.perf_counter()
+    ops = resolve_ops(spec, scene, code_bank, cfg.pick_radius, strict=bool(cfg.strict), generator=generator)
+    edited_scene = apply_spec(scene, ops, spec)
+    times["edit_ms"] = 1000 * (time.perf_counter() - t0)
+    t0 = time.perf_counter()
+    bins = models.textural.spec.pose_bins
+    edited_maps = scene_maps(edited_scene, num_bins=bins)
+    edited = render_maps(edited_maps, models.textural)
+    times["render_ms"] = 1000 * (time.perf_counter() - t0)
+    source_maps = scene_maps(scene, num_bins=bins)
+    reconstruction = render_maps(source_maps, models.textural)
+
+    summary = {
+        "input": str(cfg.input.image) if record is None else record.key,
+        "image_size": list(scene.image_size),
+        "intrinsics": intrinsics.to_dict(),
+        "edits": spec.source,
+        "ops": [_op_json(op) for op in ops],
+        "objects": {"source": scene.objects.instance_id.tolist(), "edited": edited_scene.objects.instance_id.tolist(),
+                    "with_geometry": scene.objects.instance_id[scene.objects.has_geometry].tolist()},
+        "timings_ms": times,
+        "config": OmegaConf.to_container(cfg, resolve=True),
+    }
+    pictures = {name: _map_pictures(m, scene.class_list) for name, m in (("source", source_maps),
+                                                                         ("edited", edited_maps))}
+    src, rec, edt = _to_uint8(image), _to_uint8(reconstruction), _to_uint8(edited)
+    with staged_directory(out, MARKER, bool(cfg.overwrite)) as tmp:
+        write_png_atomic(tmp / "source.png", src)
+        write_png_atomic(tmp / "reconstruction.png", rec)
+        write_png_atomic(tmp / "edited.png", edt)
+        for which, maps in pictures.items():
+            for kind, picture in maps.items():
+                write_png_atomic(tmp / "maps" / f"{which}_{kind}.png", picture)
+        s, e = pictures["source"], pictures["edited"]
+        write_png_atomic(tmp / "overview.png", _grid([[src, rec, edt], [s["label"], s["instance"], e["instance"]],
+                                                      [s["normal"], e["normal"], e["pose"]]]))
+        scene.save(tmp / "scene.json")
+        edited_scene.save(tmp / "edited_scene.json")
+        export_gltf(scene, tmp / "scene.glb")
+        export_gltf(edited_scene, tmp / "edited_scene.glb")
+        summary["outputs"] = sorted(str(p.relative_to(tmp)) for p in tmp.rglob("*") if p.is_file()) + [MARKER]
+        write_json_atomic(tmp / MARKER, summary)
+    return summary
+
+
+def user_errors() -> tuple[type[BaseException], ...]:
+    """Bad input: our errors are ``ValueError`` s naming the setting or op (EditError, EditSpecError,
+    DataFormatError, SceneFormatError, InputError), plus missing / existing files and config errors."""
+    from omegaconf.errors import OmegaConfBaseException
+
+    return (ValueError, FileNotFoundError, FileExistsError, OmegaConfBaseException)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Console entry point: ``sdn3d-edit [overrides...]``; returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if any(a in ("-h", "--help") for a in argv):
+        print(__doc__)
+        print(Path(CONFIG_DIR, "edit.yaml").read_text())
+        return 0
+    errors = user_errors()
+    try:
+        cfg = compose_config(argv, "edit")
+        summary = run_edit(cfg)
+    except errors as exc:
+        print(f"sdn3d-edit: error: {exc}", file=sys.stderr)
+        return 2
+    print(f"sdn3d-edit: {len(summary['ops'])} edit(s) applied; wrote {summary['config']['output_dir']} "
+          f"(derender {summary['timings_ms']['derender_ms']:.0f} ms, edit {summary['timings_ms']['edit_ms']:.0f} ms, "
+          f"render {summary['timings_ms']['render_ms']:.0f} ms)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

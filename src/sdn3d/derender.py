@@ -1,0 +1,403 @@
+"""De-render an image into a :class:`~sdn3d.scene.SceneCode`, and render scenes back (3D-SDN, Fig. 2).
+
+:func:`derender` runs the three branches on one image:
+
+1. **Semantics**: the semantic branch's label map (or the frame's ground truth with
+   ``proposals='gt'``, or when there is no semantic model). Object pixels are labelled with their
+   object's class, so the map is the background the objects are drawn on (:mod:`sdn3d.scene`).
+2. **Proposals**: instance masks from the frame's ground-truth instance map when ``record`` has
+   one (``'auto'``, ``'gt'``), else from the semantic branch's instance head (``'semantic'``).
+3. **Geometry**: every object with at least ``min_pixels`` visible pixels becomes a square masked
+   crop (the :class:`~sdn3d.data.datasets.GeometricDataset` recipe: its 2D box grown by ``margin``,
+   resampled to ``crop_size``), all crops go through the geometric branch in one forward
+   (:meth:`GeometricPredictor.predict`): template, FFD ``phi``, dims, yaw, location. The 2D box is
+   the annotation's when the object comes from a ground-truth frame (what the branch is trained
+   on), else the mask's bounding box. Objects without a prediction (no geometric model, too small,
+   a box one pixel wide or high, non-finite output or behind the camera) keep only their 2D mask.
+4. **Texture**: the textural encoder pools one code per region of the instance label map ``L``
+   (objects and background classes): :func:`encode_scene`.
+
+Every object is *observed* and keeps its visible mask, so rendering an unedited scene redraws the
+image's own layout; edits (:func:`sdn3d.edit.apply_edits`) free the masks of moved objects.
+:func:`render` draws a scene with :func:`sdn3d.scene_maps.scene_maps` and the textural generator;
+:func:`edit_image` chains de-render, edit and render.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, NamedTuple
+
+import torch
+from torch import Tensor
+
+from sdn3d.data.datasets.geometric import square_crop_window
+from sdn3d.data.datasets.transforms import resize_map, scale_boxes
+from sdn3d.data.edits import EditEntry, EditOperation
+from sdn3d.data.records import INSTANCE_DIVISOR, FrameRecord, load_instances, load_semantic
+from sdn3d.edit import EditOp, apply_edits, ops_from_benchmark
+from sdn3d.geometry.camera import Intrinsics
+from sdn3d.meshes.bank import MeshBank
+from sdn3d.object_crops import crop_intrinsics, crop_windows, mask_boxes
+from sdn3d.scene import CLASS_LISTS, DEFAULT_CODE_DIM, ObjectTable, SceneCode
+from sdn3d.scene_maps import ComposedMaps, scene_maps
+
+if TYPE_CHECKING:
+    from sdn3d.geometric.predict import GeometricPredictor
+    from sdn3d.geometric.refine import RefineSettings
+    from sdn3d.semantic.predict import SemanticPredictor
+    from sdn3d.texture import TexturalRenderer
+
+__all__ = [
+    "PROPOSALS",
+    "Models",
+    "EditResult",
+    "geometric_crop_settings",
+    "crop_windows",
+    "mask_boxes",
+    "derender",
+    "encode_scene",
+    "render",
+    "render_maps",
+    "edit_image",
+]
+
+log = logging.getLogger(__name__)
+
+PROPOSALS = ("auto", "gt", "semantic")
+#: Paper crop side of the geometric branch (released 3D-SDN code), used when a run does not say.
+DEFAULT_CROP_SIZE = 256
+DEFAULT_MARGIN = 0.1
+
+
+def geometric_crop_settings(checkpoint: str | os.PathLike) -> tuple[int, float] | None:
+    """``(crop_size, margin)`` the geometric run of ``checkpoint`` trained with, or None if unknown.
+
+    Read from the run's saved config (``<run>/config.yaml`` beside ``<run>/checkpoints/*.ckpt``,
+    written by ``sdn3d-train``): the crop size is a datamodule setting, not in the checkpoint.
+    """
+    from omegaconf import OmegaConf
+
+    path = Path(checkpoint).expanduser().resolve()
+    for run_dir in (path.parent.parent, path.parent):
+        config = run_dir / "config.yaml"
+        if not config.is_file():
+            continue
+        dm = OmegaConf.to_container(OmegaConf.load(config), resolve=False).get("datamodule") or {}
+        if isinstance(dm, dict) and isinstance(dm.get("crop_size"), int):
+            return int(dm["crop_size"]), float(dm.get("margin", DEFAULT_MARGIN))
+    return None
+
+
+@dataclass
+class Models:
+    """The trained branches (any may be None; rendering needs ``textural``).
+
+    Attributes:
+        semantic, geometric, textural: the branch predictors.
+        crop_size, margin: object crops of the geometric branch (as it was trained).
+    """
+
+    semantic: SemanticPredictor | None = None
+    geometric: GeometricPredictor | None = None
+    textural: TexturalRenderer | None = None
+    crop_size: int = DEFAULT_CROP_SIZE
+    margin: float = DEFAULT_MARGIN
+
+    def __post_init__(self) -> None:
+        if int(self.crop_size) != self.crop_size or self.crop_size < 8:
+            raise ValueError(f"Models.crop_size must be an integer >= 8, got {self.crop_size!r}")
+        if not (math.isfinite(self.margin) and self.margin >= 0):
+            raise ValueError(f"Models.margin must be finite and >= 0, got {self.margin!r}")
+
+    @classmethod
+    def from_checkpoints(cls, semantic: str | os.PathLike | None = None, geometric: str | os.PathLike | None = None,
+                         textural: str | os.PathLike | None = None, map_location: str | torch.device = "cpu",
+                         crop_size: int | None = None, margin: float | None = None) -> Models:
+        """Load the branches' Lightning checkpoints (None: branch absent).
+
+        ``crop_size`` / ``margin`` None: the geometric run's settings (:func:`geometric_crop_settings`),
+        else :data:`DEFAULT_CROP_SIZE` / :data:`DEFAULT_MARGIN`.
+        """
+        for name, path in (("semantic", semantic), ("geometric", geometric), ("textural", textural)):
+            if path is not None and not Path(path).expanduser().is_file():
+                raise FileNotFoundError(f"{name} checkpoint {os.fspath(path)!r} does not exist")
+        sem = geo = tex = None
+        if semantic is not None:
+            from sdn3d.semantic.predict import SemanticPredictor
+
+            sem = SemanticPredictor.from_checkpoint(Path(semantic).expanduser(), map_location=map_location)
+        found = None
+        if geometric is not None:
+            from sdn3d.geometric.predict import GeometricPredictor
+
+            geo = GeometricPredictor.from_checkpoint(geometric, map_location=map_location)
+            found = geometric_crop_settings(geometric)
+        if textural is not None:
+            from sdn3d.texture import TexturalRenderer
+
+            tex = TexturalRenderer.from_checkpoint(Path(textural).expanduser(), map_location=map_location)
+            tex.to(map_location)
+        if geometric is not None and found is None and crop_size is None:
+            log.warning("geometric crop size unknown (no run config.yaml beside %s): using %d", geometric,
+                        DEFAULT_CROP_SIZE)
+        size = crop_size if crop_size is not None else (found[0] if found else DEFAULT_CROP_SIZE)
+        grow = margin if margin is not None else (found[1] if found else DEFAULT_MARGIN)
+        return cls(sem, geo, tex, int(size), float(grow))
+
+
+class EditResult(NamedTuple):
+    """Output of :func:`edit_image`: ``edited (3, H, W)``, the scenes before / after and the edited maps."""
+
+    edited: Tensor
+    scene: SceneCode
+    edited_scene: SceneCode
+    maps: ComposedMaps
+
+
+# -- de-rendering -----------------------------------------------------------------------------
+
+
+def _class_list_name(models: Models, record: FrameRecord | None, classes: str | None) -> str:
+    if classes is not None:
+        if classes not in CLASS_LISTS:
+            raise ValueError(f"classes must be one of {sorted(CLASS_LISTS)}, got {classes!r}")
+        return classes
+    if record is not None:
+        return "cityscapes" if record.dataset == "cityscapes" else "vkitti"
+    count = (len(models.semantic.classes) if models.semantic is not None
+             else models.textural.spec.num_classes if models.textural is not None else None)
+    names = [k for k, v in CLASS_LISTS.items() if len(v) == count]
+    if not names:
+        raise ValueError(f"cannot tell the class list from the models ({count} classes): pass classes=")
+    return names[0]
+
+
+def _ground_truth(record: FrameRecord, size: tuple[int, int]) -> tuple[Tensor, Tensor | None]:
+    """``(semantic, instances or None)`` of ``record`` at ``size = (W, H)`` (nearest-exact)."""
+    semantic = resize_map(torch.from_numpy(load_semantic(record)).long(), size)
+    if record.instance_path is None:
+        return semantic, None
+    return semantic, resize_map(torch.from_numpy(load_instances(record)).long(), size)
+
+
+def _annotation_boxes(record: FrameRecord, ids: Tensor, size: tuple[int, int]) -> tuple[Tensor, Tensor]:
+    """``(N, 4)`` annotated 2D boxes of the objects ``ids`` (Virtual KITTI ``k = track_id + 1``) at ``size``
+    and ``(N,)`` bool: found."""
+    boxes = torch.zeros(len(ids), 4)
+    found = torch.zeros(len(ids), dtype=torch.bool)
+    by_track = {o.track_id + 1: o for o in record.objects}
+    for i, iid in enumerate(ids.tolist()):  # a dict lookup per object, not tensor work
+        obj = by_track.get(iid % INSTANCE_DIVISOR)
+        if obj is not None and obj.box2d[2] > obj.box2d[0] and obj.box2d[3] > obj.box2d[1]:
+            boxes[i] = scale_boxes(torch.tensor(obj.box2d, dtype=torch.float32), record.intrinsics, size)
+            found[i] = True
+    return boxes, found
+
+
+def _predict_geometry(image: Tensor, intr: Intrinsics, masks: Tensor, boxes: Tensor, models: Models,
+                      refine: RefineSettings | None) -> dict[str, Tensor]:
+    """Batched geometric branch on the objects ``masks (N, H, W)`` with 2D ``boxes (N, 4)``."""
+    windows = torch.tensor([square_crop_window(b, models.margin) for b in boxes], dtype=torch.float32)
+    size = models.crop_size
+    crops = crop_windows(image, windows, size, "bilinear")
+    crop_masks = crop_windows(masks[:, None].float(), windows, size, "nearest")
+    n = len(boxes)
+    intr_vec = torch.tensor([intr.fx, intr.fy, intr.cx, intr.cy], dtype=torch.float32).expand(n, 4)
+    crop_intr = crop_intrinsics(intr, windows, size) if refine is not None else None
+    return models.geometric.predict(crops * crop_masks, crop_masks, boxes, intr_vec, crop_intr, refine=refine)
+
+
+def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, record: FrameRecord | None,
+              models: Models, min_pixels: int, refine: RefineSettings | None) -> tuple[Tensor, ...]:
+    """``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64, 3)`` of the objects ``masks``
+    (template -1 and placeholders for objects without a usable prediction); ``record``: annotated boxes."""
+    n = len(ids)
+    template = torch.full((n,), -1, dtype=torch.long)
+    dims, location = torch.ones(n, 3, dtype=torch.float64), torch.zeros(n, 3, dtype=torch.float64)
+    location[:, 2] = 1.0
+    ry, phi = torch.zeros(n, dtype=torch.float64), torch.zeros(n, 64, 3)
+    rows = (masks.flatten(1).sum(1) >= min_pixels).nonzero().flatten()
+    if models.geometric is None or not len(rows):
+        return template, dims, ry, location, phi
+    boxes = mask_boxes(masks[rows])
+    if record is not None:
+        annotated, found = _annotation_boxes(record, ids[rows], (intr.width, intr.height))
+        boxes = torch.where(found[:, None], annotated, boxes)
+    # The branch's box encoding needs r > l and b > t (a one-pixel-wide sliver has r == l).
+    wide = (boxes[:, 2] > boxes[:, 0]) & (boxes[:, 3] > boxes[:, 1])
+    rows, boxes = rows[wide], boxes[wide]
+    if not len(rows):
+        return template, dims, ry, location, phi
+    pred = {k: v.detach().cpu() for k, v in _predict_geometry(image, intr, masks[rows], boxes, models, refine).items()}
+    ok = (torch.isfinite(pred["dims"]).all(1) & torch.isfinite(pred["location"]).all(1) & torch.isfinite(pred["ry"])
+          & torch.isfinite(pred["phi"]).flatten(1).all(1) & (pred["dims"] > 0).all(1) & (pred["center"][:, 2] > 0))
+    if not bool(ok.all()):
+        log.warning("derender: %d object(s) got no usable 3D prediction and keep their 2D mask", int((~ok).sum()))
+    keep = rows[ok]
+    template[keep] = pred["template_id"][ok].long()
+    dims[keep], location[keep] = pred["dims"][ok].double(), pred["location"][ok].double()
+    ry[keep], phi[keep] = pred["ry"][ok].double(), pred["phi"][ok].float()
+    return template, dims, ry, location, phi
+
+
+def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: str = "auto",
+             record: FrameRecord | None = None, *, classes: str | None = None, min_pixels: int = 64,
+             refine: RefineSettings | None = None) -> SceneCode:
+    """De-render ``image (3, H, W)`` float in ``[0, 1]`` into a scene (module doc).
+
+    Args:
+        image: the image at the working size; ``intrinsics`` must be of that size.
+        models: the branches (None ones are skipped; see ``proposals``).
+        proposals: ``'auto'``: semantic map from the semantic branch (the record's ground truth without
+            one), masks from the record's instance map if it has one, else the branch's instance head;
+            ``'gt'``: semantic map and masks from ``record``; ``'semantic'``: both from the semantic branch.
+        record: the frame ``image`` shows (ground-truth maps and annotated boxes), optional.
+        classes: class list name (default: from the record or the models).
+        min_pixels: visible pixels (at the working size) an object needs to get 3D geometry.
+        refine: optional reprojection refinement of the geometric predictions (Cityscapes setting).
+
+    Raises:
+        ValueError: bad image / intrinsics, an unknown ``proposals``, or no source for the semantic
+            map or the proposals.
+    """
+    if proposals not in PROPOSALS:
+        raise ValueError(f"proposals must be one of {PROPOSALS}, got {proposals!r}")
+    if image.dim() != 3 or image.shape[0] != 3 or not image.is_floating_point():
+        raise ValueError(f"image must be a float (3, H, W) tensor in [0, 1], got {image.dtype} {tuple(image.shape)}")
+    if tuple(image.shape[-2:]) != intrinsics.size:
+        raise ValueError(f"image is {image.shape[-1]}x{image.shape[-2]} but intrinsics are for "
+                         f"{intrinsics.width}x{intrinsics.height}")
+    if not bool(torch.isfinite(image).all()) or float(image.min()) < -1e-3 or float(image.max()) > 1 + 1e-3:
+        raise ValueError("image values must be finite and in [0, 1]")
+    image = image.detach().float().cpu().clamp(0, 1)
+    size = (int(intrinsics.width), int(intrinsics.height))
+    name = _class_list_name(models, record, classes)
+    class_list = CLASS_LISTS[name]
+    use_branch = proposals == "semantic" or (proposals == "auto" and models.semantic is not None)
+    use_gt_masks = proposals == "gt" or (proposals == "auto" and record is not None
+                                         and record.instance_path is not None)
+    if (use_branch or not use_gt_masks) and models.semantic is None:
+        raise ValueError(f"proposals={proposals!r} needs a semantic model"
+                         + ("" if use_branch else " (no record with an instance map was given)"))
+    if (not use_branch or use_gt_masks) and record is None:
+        raise ValueError(f"proposals={proposals!r} needs a record (the frame's ground truth)")
+    gt_semantic = gt_instances = None
+    if record is not None and (not use_branch or use_gt_masks):
+        gt_semantic, gt_instances = _ground_truth(record, size)
+        if use_gt_masks and gt_instances is None:
+            raise ValueError(f"proposals={proposals!r}: record {record.key} has no instance map")
+    seg = None
+    if use_branch or not use_gt_masks:
+        if len(models.semantic.classes) != len(class_list):
+            raise ValueError(f"the semantic model predicts {len(models.semantic.classes)} classes, the scene's "
+                             f"class list {name!r} has {len(class_list)}")
+        seg = models.semantic(image)
+    semantic = seg.label[0].cpu() if use_branch else gt_semantic
+    instances, source = (gt_instances, "gt") if use_gt_masks else (seg.instance[0].cpu(), "semantic")
+
+    # Proposals: ids of instance classes only (a scene's objects must be things).
+    things = torch.tensor([c.id for c in class_list if c.has_instances], dtype=torch.long)
+    ids = instances.unique()
+    ids = ids[(ids >= INSTANCE_DIVISOR) & torch.isin(ids // INSTANCE_DIVISOR, things)]
+    masks = instances[None] == ids[:, None, None]  # (N, H, W)
+    semantic = torch.where(masks.any(0), (instances // INSTANCE_DIVISOR), semantic)
+    n = len(ids)
+    template, dims, ry, location, phi = _geometry(image, intrinsics, masks, ids, record if source == "gt" else None,
+                                                  models, min_pixels, refine)
+    geo = template >= 0
+    code_dim = models.textural.spec.code_dim if models.textural is not None else DEFAULT_CODE_DIM
+    table = ObjectTable(instance_id=ids, template_id=template, phi=phi, dims=dims, ry=ry, location=location,
+                        code=torch.zeros(n, code_dim), mask=masks, has_mask=torch.ones(n, dtype=torch.bool),
+                        observed=torch.ones(n, dtype=torch.bool))
+    meta = {"source": record.key if record is not None else "image", "proposals": source,
+            "semantic": "branch" if use_branch else "gt",
+            "objects": n, "with_geometry": int(geo.sum()), "crop_size": models.crop_size, "min_pixels": min_pixels}
+    scene = SceneCode(intrinsics, semantic, name, table, torch.zeros(len(class_list), code_dim), meta)
+    if models.textural is None:
+        return scene
+    L = torch.where(masks.any(0), instances, semantic)  # dropped (non-thing) proposals count as background
+    return encode_scene(scene, image, models.textural, L)
+
+
+def encode_scene(scene: SceneCode, image: Tensor, textural: TexturalRenderer, L: Tensor | None = None,
+                 bank: MeshBank | None = None) -> SceneCode:
+    """The scene with the texture codes the encoder pools from ``image (3, H, W)`` over ``L``.
+
+    Args:
+        L: ``(H, W)`` instance label map of the image; None: the scene's composed one
+            (:func:`~sdn3d.scene_maps.scene_maps`, e.g. for :meth:`SceneCode.from_frame` scenes).
+
+    Objects absent from ``L`` and classes without pixels get zero codes.
+    """
+    if L is None:
+        L = scene_maps(scene, bank).instance_label_map.cpu()
+    if tuple(L.shape) != scene.intrinsics.size or tuple(image.shape) != (3, *scene.intrinsics.size):
+        raise ValueError(f"image (3, H, W) and L (H, W) must have the scene's size {scene.intrinsics.size}, got "
+                         f"{tuple(image.shape)} and {tuple(L.shape)}")
+    dev = textural.device
+    codes = textural.encode(image[None].to(dev, torch.float32), L[None].to(dev))
+    ids, values = codes.ids.cpu(), codes.codes.detach().float().cpu()
+    obj = scene.objects
+    hit = (obj.instance_id[:, None] == ids[None]).float()  # (N, R): at most one region per object
+    object_codes = hit @ values
+    num = len(scene.class_list)
+    background = torch.zeros(num, values.shape[1])
+    sel = ids < num
+    background[ids[sel]] = values[sel]
+    return scene.replace(objects=obj.replace(code=object_codes), background_codes=background)
+
+
+# -- rendering --------------------------------------------------------------------------------
+
+
+def render_maps(maps: ComposedMaps, textural: TexturalRenderer) -> Tensor:
+    """``(3, H, W)`` image in ``[0, 1]`` the generator draws from composed maps (their code map included)."""
+    if textural is None:
+        raise ValueError("rendering needs the textural branch (models.textural is None)")
+    spec = textural.spec
+    if spec.use_codes and maps.feature.shape[0] != spec.code_dim:
+        raise ValueError(f"the scene's texture codes have {maps.feature.shape[0]} values, the generator "
+                         f"expects {spec.code_dim}")
+    dev = textural.device
+    out = textural.render(maps.label[None].to(dev), maps.instance_label_map[None].to(dev),
+                          maps.boundary[None].to(dev), code_map=maps.feature[None].to(dev),
+                          pose=maps.pose[None].to(dev), normal=maps.normal[None].to(dev))
+    return out[0].clamp(0, 1)
+
+
+def render(scene: SceneCode, textural: TexturalRenderer, bank: MeshBank | None = None) -> Tensor:
+    """Draw ``scene``: ``(3, H, W)`` in ``[0, 1]`` (:func:`scene_maps` + the textural generator)."""
+    if textural is None:
+        raise ValueError("rendering needs the textural branch (models.textural is None)")
+    return render_maps(scene_maps(scene, bank, num_bins=textural.spec.pose_bins), textural)
+
+
+def edit_image(image: Tensor, intrinsics: Intrinsics,
+               ops: Sequence[EditOp] | EditEntry | Sequence[EditOperation], models: Models,
+               proposals: str = "auto", record: FrameRecord | None = None,
+               frame_size: tuple[int, int] | None = None, strict: bool = True, bank: MeshBank | None = None,
+               **derender_kwargs) -> EditResult:
+    """De-render ``image``, apply ``ops`` and render the edited scene.
+
+    Args:
+        ops: :mod:`sdn3d.edit` operations, or benchmark operations / an entry (objects picked by
+            :func:`~sdn3d.edit.ops_from_benchmark`, coordinates in ``frame_size`` pixels; None = image pixels).
+        strict: reject benchmark ``to`` points outside the frame.
+        derender_kwargs: passed to :func:`derender`.
+    """
+    if models.textural is None:
+        raise ValueError("edit_image needs the textural branch (models.textural is None)")
+    scene = derender(image, intrinsics, models, proposals, record, **derender_kwargs)
+    ops = list(ops.operations) if isinstance(ops, EditEntry) else list(ops)
+    if ops and all(isinstance(op, EditOperation) for op in ops):
+        ops = ops_from_benchmark(ops, scene, frame_size, strict)
+    edited_scene = apply_edits(scene, ops, bank)
+    maps = scene_maps(edited_scene, bank, num_bins=models.textural.spec.pose_bins)
+    return EditResult(render_maps(maps, models.textural), scene, edited_scene, maps)
+

@@ -1,0 +1,413 @@
+"""Edit specifications typed by a user (``sdn3d-edit``): a YAML list of operations or a benchmark entry.
+
+YAML (a list, or a mapping ``{frame_size: [W, H], ops: [...]}`` when the pixel coordinates refer
+to another image size than the working size)::
+
+    - {op: move, id: 12001, to: [300, 120]}        # slide on the ground so the centre projects to (u, v)
+    - {op: rotate, at: [210, 130], ry: 0.5}        # add 0.5 rad to the yaw of the object at pixel (u, v)
+    - {op: zoom, id: 12001, zoom: 1.5}             # distance / 1.5 (on_ground: true keeps its height)
+    - {op: delete, at: [400, 110]}
+    - {op: recolor, id: 12002, sample: true}       # a training code of its class (needs a code bank)
+    - {op: recolor, id: 12002, code: [0.1, -0.2, 0.3, 0.0, 0.5]}
+    - {op: recolor, class: Road, code: [...]}      # a background class' code
+    - {op: duplicate, id: 12001, to: [500, 130]}   # optional new_id
+    - {op: modify, from: [300, 120], to: [350, 125], zoom: 1.2, ry: 0.3}   # the benchmark's modify
+
+Objects are selected by ``id`` (instance id) or ``at: [u, v]`` (the object visible at that pixel,
+else the one whose projected centre is nearest, within ``pick_radius``); ``modify`` also takes
+``from`` (nearest projected centre, the benchmark's rule). All selections are resolved on the
+unedited scene. A JSON file is read as a 3D-SDN benchmark (:mod:`sdn3d.data.edits`; one entry,
+coordinates in 1242x375 pixels by default).
+
+:func:`parse_edit_spec` / :func:`load_edit_spec` check the syntax and the numbers (finite,
+``zoom > 0``) without a scene; :func:`resolve_ops` checks everything that needs the scene (the
+object exists and has geometry, targets inside the frame, code sizes) and :func:`apply_spec`
+applies them. Errors are :class:`EditSpecError` / :class:`~sdn3d.edit.EditError` naming the op.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import torch
+
+from sdn3d.data.edits import VKITTI_FRAME_SIZE, EditEntry, load_edit_benchmark, scale_point, validate_in_frame
+from sdn3d.edit import (
+    Delete,
+    Duplicate,
+    EditError,
+    EditOp,
+    Modify,
+    Move,
+    Rotate,
+    SetBackgroundCode,
+    SetCode,
+    Zoom,
+    apply_edits,
+    match_objects,
+    ops_from_benchmark,
+    projected_centers,
+)
+from sdn3d.meshes.bank import MeshBank
+from sdn3d.scene import SceneCode
+from sdn3d.scene_maps import compose_instances
+from sdn3d.texture import CodeBank
+
+__all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
+           "apply_spec"]
+
+OP_KINDS = ("move", "rotate", "zoom", "delete", "recolor", "duplicate", "modify")
+_FIELDS = {"move": {"to"}, "rotate": {"ry"}, "zoom": {"zoom", "on_ground"}, "delete": set(),
+           "recolor": {"code", "sample", "seed", "class"}, "duplicate": {"to", "new_id"},
+           "modify": {"to", "zoom", "ry", "from"}}
+_GEOMETRIC = ("move", "rotate", "zoom", "duplicate", "modify")
+
+
+class EditSpecError(ValueError):
+    """A malformed edit specification (message names the file, the op and the field)."""
+
+
+@dataclass(frozen=True)
+class OpSpec:
+    """One parsed operation (not yet resolved against a scene); see the module doc for the fields."""
+
+    index: int
+    kind: str
+    id: int | None = None
+    at: tuple[float, float] | None = None
+    from_uv: tuple[float, float] | None = None
+    class_: int | str | None = None
+    to: tuple[float, float] | None = None
+    ry: float = 0.0
+    zoom: float = 1.0
+    on_ground: bool = False
+    code: tuple[float, ...] | None = None
+    sample: bool = False
+    seed: int | None = None
+    new_id: int | None = None
+
+    def describe(self) -> str:
+        """E.g. ``op 2 (move id=12001)``."""
+        if self.id is not None:
+            who = f"id={self.id}"
+        elif self.at is not None:
+            who = f"at={list(self.at)}"
+        elif self.from_uv is not None:
+            who = f"from={list(self.from_uv)}"
+        else:
+            who = f"class={self.class_}"
+        return f"op {self.index} ({self.kind} {who})"
+
+
+@dataclass(frozen=True)
+class EditSpec:
+    """Parsed edits: user ``ops`` or a benchmark ``entry``, with the ``frame_size (W, H)`` their pixel
+    coordinates refer to (None: the scene's own pixels)."""
+
+    ops: tuple[OpSpec, ...] = ()
+    entry: EditEntry | None = None
+    frame_size: tuple[int, int] | None = None
+    source: str = "<edit spec>"
+
+    def __len__(self) -> int:
+        return len(self.entry.operations) if self.entry is not None else len(self.ops)
+
+
+def _number(value: Any, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise EditSpecError(f"{what} must be a number, got {value!r}")
+    if not math.isfinite(float(value)):
+        raise EditSpecError(f"{what} must be finite, got {value!r}")
+    return float(value)
+
+
+def _point(value: Any, what: str) -> tuple[float, float]:
+    if not isinstance(value, (list, tuple)) or len(value) != 2:
+        raise EditSpecError(f"{what} must be a pixel [u, v], got {value!r}")
+    return (_number(value[0], f"{what}[0]"), _number(value[1], f"{what}[1]"))
+
+
+def _int(value: Any, what: str, minimum: int = 0) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise EditSpecError(f"{what} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
+    if not isinstance(raw, Mapping):
+        raise EditSpecError(f"{where}: op {index} must be a mapping like {{op: move, id: 12001, to: [u, v]}}, "
+                            f"got {raw!r}")
+    kind = raw.get("op")
+    if not isinstance(kind, str) or kind.lower() not in OP_KINDS:
+        raise EditSpecError(f"{where}: op {index}: field 'op' must be one of {OP_KINDS}, got {kind!r}")
+    kind = kind.lower()
+    name = f"{where}: op {index} ({kind})"
+    unknown = set(raw) - {"op", "id", "at"} - _FIELDS[kind]
+    if unknown:
+        raise EditSpecError(f"{name}: unknown field(s) {sorted(unknown)}; allowed: "
+                            f"{sorted({'op', 'id', 'at'} | _FIELDS[kind])}")
+    selectors = [k for k in ("id", "at", "from", "class") if k in raw]
+    if len(selectors) != 1:
+        raise EditSpecError(f"{name}: select the object with exactly one of 'id' or 'at'"
+                            + (" (or 'class' for a background class)" if kind == "recolor" else "")
+                            + (" (or 'from')" if kind == "modify" else "") + f", got {selectors or 'none'}")
+    fields: dict[str, Any] = {}
+    if "id" in raw:
+        fields["id"] = _int(raw["id"], f"{name}: field 'id'", 1000)
+    if "at" in raw:
+        fields["at"] = _point(raw["at"], f"{name}: field 'at'")
+    if "from" in raw:
+        fields["from_uv"] = _point(raw["from"], f"{name}: field 'from'")
+    if "class" in raw:
+        if isinstance(raw["class"], bool) or not isinstance(raw["class"], (int, str)):
+            raise EditSpecError(f"{name}: field 'class' must be a class name or id, got {raw['class']!r}")
+        fields["class_"] = raw["class"]
+    if kind in ("move", "duplicate") and "to" not in raw:
+        raise EditSpecError(f"{name}: field 'to' (target pixel [u, v]) is required")
+    if raw.get("to") is not None:
+        fields["to"] = _point(raw["to"], f"{name}: field 'to'")
+    if kind == "rotate" and "ry" not in raw:
+        raise EditSpecError(f"{name}: field 'ry' (radians added to the yaw) is required")
+    if "ry" in raw:
+        fields["ry"] = _number(raw["ry"], f"{name}: field 'ry'")
+    if kind == "zoom" and "zoom" not in raw:
+        raise EditSpecError(f"{name}: field 'zoom' (distance divisor > 0) is required")
+    if "zoom" in raw:
+        zoom = _number(raw["zoom"], f"{name}: field 'zoom'")
+        if zoom <= 0:
+            raise EditSpecError(f"{name}: field 'zoom' must be > 0, got {raw['zoom']!r}")
+        fields["zoom"] = zoom
+    if "on_ground" in raw:
+        if not isinstance(raw["on_ground"], bool):
+            raise EditSpecError(f"{name}: field 'on_ground' must be true or false, got {raw['on_ground']!r}")
+        fields["on_ground"] = raw["on_ground"]
+    if kind == "recolor":
+        has_code, sample = "code" in raw, raw.get("sample", False)
+        if not isinstance(sample, bool) or has_code == bool(sample):
+            raise EditSpecError(f"{name}: give exactly one of 'code: [...]' or 'sample: true'")
+        if has_code:
+            code = raw["code"]
+            if not isinstance(code, (list, tuple)) or not code:
+                raise EditSpecError(f"{name}: field 'code' must be a non-empty list of numbers, got {code!r}")
+            fields["code"] = tuple(_number(c, f"{name}: field 'code[{i}]'") for i, c in enumerate(code))
+        fields["sample"] = bool(sample)
+        if "seed" in raw:
+            fields["seed"] = _int(raw["seed"], f"{name}: field 'seed'")
+    if "new_id" in raw and raw["new_id"] is not None:
+        fields["new_id"] = _int(raw["new_id"], f"{name}: field 'new_id'", 1000)
+    return OpSpec(index, kind, **fields)
+
+
+def parse_edit_spec(data: Any, source: str = "<edit spec>") -> EditSpec:
+    """Check a YAML-style spec (a list of ops, or ``{frame_size: [W, H], ops: [...]}``); see the module doc."""
+    frame_size = None
+    if isinstance(data, Mapping):
+        unknown = set(data) - {"ops", "frame_size"}
+        if unknown or "ops" not in data:
+            raise EditSpecError(f"{source}: a mapping spec needs 'ops' (and optionally 'frame_size'), "
+                                f"got keys {sorted(data)}")
+        if data.get("frame_size") is not None:
+            size = data["frame_size"]
+            if not isinstance(size, (list, tuple)) or len(size) != 2:
+                raise EditSpecError(f"{source}: frame_size must be [W, H], got {size!r}")
+            frame_size = (_int(size[0], f"{source}: frame_size[0]", 1), _int(size[1], f"{source}: frame_size[1]", 1))
+        data = data["ops"]
+    if not isinstance(data, (list, tuple)) or not data:
+        raise EditSpecError(f"{source}: expected a non-empty list of edit operations, got {data!r}")
+    return EditSpec(tuple(_parse_op(raw, i, source) for i, raw in enumerate(data)), None, frame_size, source)
+
+
+def load_edit_spec(path: str | os.PathLike, entry: int = 0, frame_size: tuple[int, int] | None = None,
+                   strict: bool = True) -> EditSpec:
+    """Read a YAML ops file, or a benchmark JSON file's ``entry`` (``.json``).
+
+    Args:
+        frame_size: override the coordinates' frame (default: the YAML's ``frame_size`` or the scene's
+            pixels; for a benchmark, 1242x375).
+        strict: benchmark ``from`` / ``to`` points must lie inside the frame.
+    """
+    path = Path(path).expanduser()
+    if not path.is_file():
+        raise EditSpecError(f"edit spec {str(path)!r} not found")
+    if path.suffix.lower() == ".json":
+        text = path.read_text(encoding="utf-8")
+        try:
+            looks_benchmark = isinstance(json.loads(text), list) and all(
+                isinstance(e, Mapping) and "operations" in e for e in json.loads(text))
+        except json.JSONDecodeError as exc:
+            raise EditSpecError(f"{path}: invalid JSON ({exc})") from exc
+        if looks_benchmark:
+            try:
+                entries = load_edit_benchmark(path)
+            except ValueError as exc:
+                raise EditSpecError(str(exc)) from exc
+            if not 0 <= entry < len(entries):
+                raise EditSpecError(f"{path}: entry {entry} does not exist (the file has {len(entries)} entries)")
+            chosen = entries[entry]
+            if chosen.is_identity:
+                raise EditSpecError(f"{path}: entry {entry} has no operations (an identity entry)")
+            size = tuple(frame_size) if frame_size is not None else VKITTI_FRAME_SIZE
+            if strict:
+                try:
+                    validate_in_frame(chosen, size, index=entry)
+                except ValueError as exc:
+                    raise EditSpecError(f"{path}: {exc}") from exc
+            return EditSpec((), chosen, size, f"{path} entry {entry}")
+        data = json.loads(text)
+    else:
+        import yaml
+
+        try:
+            data = yaml.safe_load(path.read_text(encoding="utf-8"))
+        except yaml.YAMLError as exc:
+            raise EditSpecError(f"{path}: invalid YAML ({exc})") from exc
+    spec = parse_edit_spec(data, str(path))
+    if frame_size is not None:
+        spec = EditSpec(spec.ops, None, (int(frame_size[0]), int(frame_size[1])), spec.source)
+    return spec
+
+
+# -- resolution against a scene ---------------------------------------------------------------
+
+
+def _scaled(uv: tuple[float, float] | None, spec: EditSpec, scene: SceneCode) -> tuple[float, float] | None:
+    if uv is None or spec.frame_size is None or tuple(spec.frame_size) == scene.image_size:
+        return uv
+    return scale_point(uv, tuple(spec.frame_size), scene.image_size)
+
+
+def _inside(uv: tuple[float, float], scene: SceneCode) -> bool:
+    width, height = scene.image_size
+    return -0.5 <= uv[0] <= width - 0.5 and -0.5 <= uv[1] <= height - 0.5
+
+
+def _class_id(value: int | str, scene: SceneCode, what: str) -> int:
+    names = {c.name.lower(): c.id for c in scene.class_list}
+    if isinstance(value, str):
+        if value.lower() not in names:
+            raise EditError(f"{what}: unknown class {value!r}; classes: {[c.name for c in scene.class_list]}")
+        return names[value.lower()]
+    if not 0 <= int(value) < len(scene.class_list):
+        raise EditError(f"{what}: class id {value} is outside [0, {len(scene.class_list)})")
+    return int(value)
+
+
+def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = None,
+                pick_radius: float | None = 16.0, bank: MeshBank | None = None, strict: bool = True,
+                generator: torch.Generator | None = None) -> list[EditOp]:
+    """Turn ``spec`` into :mod:`sdn3d.edit` operations on ``scene`` (every check that needs the scene).
+
+    Args:
+        code_bank: training codes for ``recolor: sample``.
+        pick_radius: pixels (scene size) a pick by position may be from the object's projected centre.
+        strict: benchmark ``to`` points must lie inside the frame.
+        generator: randomness of ``sample`` (an op's ``seed`` overrides it).
+
+    Raises:
+        EditError: naming the op: no such object, an object without geometry for a 3D edit, a target
+            outside the frame, a code of the wrong size, no code bank or no codes of the class.
+    """
+    if spec.entry is not None:
+        try:
+            return ops_from_benchmark(spec.entry, scene, spec.frame_size, strict, pick_radius)
+        except EditError as exc:
+            raise EditError(f"{spec.source}: {exc}") from None
+    obj = scene.objects
+    instance_map = compose_instances(scene, bank).cpu() if any(op.at is not None for op in spec.ops) else None
+    centers, valid = projected_centers(scene)
+    ops: list[EditOp] = []
+    for op in spec.ops:
+        what = op.describe()
+        at, frm, to = _scaled(op.at, spec, scene), _scaled(op.from_uv, spec, scene), _scaled(op.to, spec, scene)
+        for name, uv in (("at", at), ("from", frm), ("to", to)):
+            if uv is not None and not _inside(uv, scene):
+                raise EditError(f"{what}: '{name}' point {list(uv)} lies outside the "
+                                f"{scene.image_size[0]}x{scene.image_size[1]} frame")
+        if op.kind == "recolor" and op.class_ is not None:
+            cls = _class_id(op.class_, scene, what)
+            ops.append(SetBackgroundCode(cls, _code(op, cls, scene, code_bank, generator, what)))
+            continue
+        need_geo = op.kind in _GEOMETRIC
+        if op.id is not None:
+            if not bool((obj.instance_id == op.id).any()):
+                raise EditError(f"{what}: no object with id {op.id} (the scene has {obj.instance_id.tolist()})")
+            iid = op.id
+        elif at is not None:
+            width, height = scene.image_size
+            under = int(instance_map[min(max(round(at[1]), 0), height - 1), min(max(round(at[0]), 0), width - 1)])
+            if under:
+                iid = under
+            else:
+                ok = valid & (obj.has_geometry | ~torch.tensor(need_geo))
+                dist = (centers - torch.tensor(at, dtype=centers.dtype)).norm(dim=1)
+                dist = torch.where(ok, dist, torch.full_like(dist, math.inf))
+                best = int(dist.argmin()) if len(dist) else -1
+                if best < 0 or not math.isfinite(float(dist[best])) or (
+                        pick_radius is not None and float(dist[best]) > pick_radius):
+                    raise EditError(f"{what}: no object at {list(at)} or within {pick_radius} px of it")
+                iid = int(obj.instance_id[best])
+        else:
+            try:
+                iid = match_objects(scene, [frm], [True], pick_radius)[0]
+            except EditError as exc:
+                raise EditError(f"{what}: {exc}") from None
+        row = obj.index_of(iid)
+        if need_geo and not bool(obj.has_geometry[row]):
+            raise EditError(f"{what}: object {iid} has no 3D geometry (mask only); it can only be deleted or "
+                            "recoloured")
+        if op.kind == "move":
+            ops.append(Move(iid, to))
+        elif op.kind == "rotate":
+            ops.append(Rotate(iid, op.ry))
+        elif op.kind == "zoom":
+            ops.append(Zoom(iid, op.zoom, op.on_ground))
+        elif op.kind == "delete":
+            ops.append(Delete(iid))
+        elif op.kind == "duplicate":
+            ops.append(Duplicate(iid, to, op.new_id))
+        elif op.kind == "modify":
+            ops.append(Modify(iid, to, op.zoom, op.ry))
+        else:
+            ops.append(SetCode(iid, _code(op, int(obj.class_id[row]), scene, code_bank, generator, what)))
+    return ops
+
+
+def _code(op: OpSpec, class_id: int, scene: SceneCode, code_bank: CodeBank | None,
+          generator: torch.Generator | None, what: str) -> tuple[float, ...]:
+    if op.code is not None:
+        if len(op.code) != scene.code_dim:
+            raise EditError(f"{what}: code has {len(op.code)} values, the scene's texture codes have {scene.code_dim}")
+        return op.code
+    if code_bank is None:
+        raise EditError(f"{what}: 'sample: true' needs a code bank of training codes (code_bank=<file>)")
+    if op.seed is not None:
+        generator = torch.Generator().manual_seed(op.seed)
+    try:
+        code = code_bank.sample(class_id, 1, generator)[0]
+    except KeyError as exc:
+        raise EditError(f"{what}: {exc.args[0]}") from None
+    if code.numel() != scene.code_dim:
+        raise EditError(f"{what}: the code bank's codes have {code.numel()} values, the scene's {scene.code_dim}")
+    return tuple(float(c) for c in code)
+
+
+def apply_spec(scene: SceneCode, ops: Sequence[EditOp], spec: EditSpec | None = None,
+               bank: MeshBank | None = None) -> SceneCode:
+    """:func:`~sdn3d.edit.apply_edits`, naming the failing op of ``spec`` in the error."""
+    try:
+        return apply_edits(scene, ops, bank)
+    except EditError as exc:
+        # Find the first failing op (only on this error path: applying prefixes costs a few renders).
+        for k in range(len(ops)):
+            try:
+                apply_edits(scene, ops[:k + 1], bank)
+            except EditError:
+                name = spec.ops[k].describe() if spec is not None and spec.ops else f"op {k}"
+                raise EditError(f"{name}: {exc}") from None
+        raise

@@ -1,0 +1,85 @@
+"""The geometric branch of 3D-SDN: per-object 3D attributes, mesh choice and FFD from a masked crop.
+
+Plain PyTorch (no Lightning): the network (:class:`GeometricNet`), its losses (L_pred, L_reproj,
+REINFORCE for the mesh choice), Table-2 metrics, a checkpoint predictor, per-image refinement by
+reprojection (Cityscapes) and rendering of predictions into scene maps. Training orchestration
+lives in ``lightning_modules.geometric``.
+"""
+
+from sdn3d.geometric.losses import (
+    PRED_KEYS,
+    ffd_regularizer,
+    outside_image_mask,
+    prediction_loss,
+    prediction_losses,
+    render_silhouettes,
+    reprojection_error,
+)
+from sdn3d.geometric.metrics import (
+    METRIC_NAMES,
+    DistanceError,
+    GeometricMetrics,
+    MeshSelectionAccuracy,
+    OrientationSimilarity,
+    ReprojectionError,
+    ScaleError,
+    distance_error,
+    orientation_similarity,
+    predicted_rotation,
+    scale_error,
+)
+from sdn3d.geometric.model import OUTPUT_KEYS, GeometricNet, box_features
+from sdn3d.geometric.predict import (
+    GeometricPredictor,
+    as_intrinsics_matrix,
+    decode_outputs,
+    net_kwargs_from_hparams,
+    render_objects,
+    template_distribution,
+)
+from sdn3d.geometric.refine import RefineResult, RefineSettings, refine_by_reprojection
+from sdn3d.geometric.reinforce import (
+    BASELINES,
+    MovingAverageBaseline,
+    leave_one_out_baseline,
+    reinforce_loss,
+    sample_templates,
+)
+
+__all__ = [
+    "GeometricNet",
+    "box_features",
+    "OUTPUT_KEYS",
+    "decode_outputs",
+    "as_intrinsics_matrix",
+    "template_distribution",
+    "net_kwargs_from_hparams",
+    "GeometricPredictor",
+    "render_objects",
+    "PRED_KEYS",
+    "prediction_losses",
+    "prediction_loss",
+    "ffd_regularizer",
+    "outside_image_mask",
+    "reprojection_error",
+    "render_silhouettes",
+    "BASELINES",
+    "sample_templates",
+    "reinforce_loss",
+    "leave_one_out_baseline",
+    "MovingAverageBaseline",
+    "METRIC_NAMES",
+    "orientation_similarity",
+    "distance_error",
+    "scale_error",
+    "predicted_rotation",
+    "OrientationSimilarity",
+    "DistanceError",
+    "ScaleError",
+    "ReprojectionError",
+    "MeshSelectionAccuracy",
+    "GeometricMetrics",
+    "RefineSettings",
+    "RefineResult",
+    "refine_by_reprojection",
+]

@@ -1,0 +1,56 @@
+"""Semantic branch of 3D-SDN (plain PyTorch): DRN segmentation, instance proposals, PQ, inference API.
+
+- :mod:`~sdn3d.semantic.panoptic`: Panoptic-DeepLab centre / offset targets and grouping, so
+  instances come without ground-truth masks.
+- :mod:`~sdn3d.semantic.pq`: panoptic quality per thing class.
+- :mod:`~sdn3d.semantic.predict`: :class:`SemanticPredictor` (image in, label + instance maps out)
+  loading a ``SemanticModule`` checkpoint.
+- :mod:`~sdn3d.semantic.classes`: class lists by name, thing classes, colouring.
+- :mod:`~sdn3d.semantic.augment`: batched random crop / flip (training).
+The network itself is :class:`sdn3d.nets.drn.DRNSeg`.
+"""
+
+from sdn3d.semantic.augment import crop_size_for, random_crop_flip
+from sdn3d.semantic.classes import (
+    CLASS_LIST_NAMES,
+    colorize_instances,
+    colorize_labels,
+    resolve_classes,
+    thing_class_ids,
+)
+from sdn3d.semantic.panoptic import (
+    PanopticTargets,
+    center_focal_loss,
+    center_heatmap,
+    find_centers,
+    group_instances,
+    instance_segments,
+    panoptic_targets,
+    thing_mask,
+)
+from sdn3d.semantic.pq import pq_from_stats, pq_stats
+from sdn3d.semantic.predict import GROUPING_DEFAULTS, Segmentation, SemanticPredictor, segment
+
+__all__ = [
+    "crop_size_for",
+    "random_crop_flip",
+    "CLASS_LIST_NAMES",
+    "resolve_classes",
+    "thing_class_ids",
+    "colorize_labels",
+    "colorize_instances",
+    "PanopticTargets",
+    "thing_mask",
+    "instance_segments",
+    "center_heatmap",
+    "center_focal_loss",
+    "panoptic_targets",
+    "find_centers",
+    "group_instances",
+    "pq_stats",
+    "pq_from_stats",
+    "GROUPING_DEFAULTS",
+    "Segmentation",
+    "SemanticPredictor",
+    "segment",
+]

@@ -1,0 +1,146 @@
+"""Inference API of the semantic branch, without Lightning: image in, label map and instance map out.
+
+    from sdn3d.semantic import SemanticPredictor
+    predictor = SemanticPredictor.from_checkpoint("outputs/train/semantic/<run>/checkpoints/last.ckpt")
+    result = predictor(image)            # image (3, H, W) or (B, 3, H, W) float in [0, 1]
+    result.label                         # (B, H, W) int64 class ids
+    result.instance                      # (B, H, W) int64 class_id * 1000 + k, 0 = none
+
+A checkpoint written by ``lightning_modules.SemanticModule`` is read with
+``torch.load(weights_only=True)``: its ``hyper_parameters`` rebuild the network and the
+grouping settings, its ``state_dict`` (prefix ``net.``) fills the network.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import torch
+import torch.nn.functional as F
+from torch import Tensor
+
+from sdn3d.data.records import SemanticClass
+from sdn3d.nets.drn import DRNSeg
+from sdn3d.semantic.classes import resolve_classes, thing_class_ids
+from sdn3d.semantic.panoptic import group_instances
+
+__all__ = ["Segmentation", "SemanticPredictor", "segment", "GROUPING_DEFAULTS"]
+
+#: Default grouping settings (``SemanticModule`` hyper-parameters of the same names override them).
+GROUPING_DEFAULTS = {"center_threshold": 0.1, "nms_kernel": 7, "top_k": 50, "min_area": 16}
+_STATE_PREFIX = "net."
+
+
+@dataclass
+class Segmentation:
+    """Output of :class:`SemanticPredictor` (all ``(B, H, W)`` at the input image's size).
+
+    Attributes:
+        label: int64 semantic class per pixel (instance pixels carry their instance's class).
+        instance: int64 ``class_id * 1000 + k``, 0 = no instance (all zeros without an instance head).
+        probability: float32 ``(B, C, H, W)`` softmax of the semantic logits.
+    """
+
+    label: Tensor
+    instance: Tensor
+    probability: Tensor
+
+
+class SemanticPredictor:
+    """A trained :class:`~sdn3d.nets.drn.DRNSeg` with its class list and grouping settings.
+
+    Args:
+        net: the network (put in eval mode).
+        classes: the class list (or its name, e.g. ``'vkitti'``).
+        thing_classes: class ids split into instances; None = classes with ``has_instances``.
+        grouping: overrides of :data:`GROUPING_DEFAULTS`.
+        image_size: optional working size ``(W, H)``: images are resized to it for the network
+            and the maps resized back (nearest) to the image size; None runs at the image size.
+    """
+
+    def __init__(
+        self,
+        net: DRNSeg,
+        classes: str | Sequence[SemanticClass],
+        thing_classes: Sequence[int] | None = None,
+        grouping: Mapping[str, Any] | None = None,
+        image_size: tuple[int, int] | None = None,
+    ) -> None:
+        self.net = net.eval()
+        self.classes = resolve_classes(classes)
+        if len(self.classes) != net.num_classes:
+            raise ValueError(f"classes has {len(self.classes)} entries but the network predicts {net.num_classes}")
+        self.thing_classes = thing_class_ids(self.classes) if thing_classes is None else list(thing_classes)
+        unknown = set(grouping or {}) - set(GROUPING_DEFAULTS)
+        if unknown:
+            raise ValueError(f"grouping has unknown keys {sorted(unknown)}; known: {sorted(GROUPING_DEFAULTS)}")
+        self.grouping = {**GROUPING_DEFAULTS, **dict(grouping or {})}
+        self.image_size = None if image_size is None else (int(image_size[0]), int(image_size[1]))
+
+    @classmethod
+    def from_checkpoint(cls, path: str | os.PathLike, map_location: str | torch.device = "cpu",
+                        image_size: tuple[int, int] | None = None) -> SemanticPredictor:
+        """Load a ``SemanticModule`` Lightning checkpoint (``weights_only=True``)."""
+        ckpt = torch.load(os.fspath(path), map_location=map_location, weights_only=True)
+        if not isinstance(ckpt, Mapping) or "state_dict" not in ckpt:
+            raise ValueError(f"{os.fspath(path)!r} is not a Lightning checkpoint (no 'state_dict')")
+        hp = dict(ckpt.get("hyper_parameters") or {})
+        classes = resolve_classes(hp.get("classes", "vkitti"))
+        net = DRNSeg(len(classes), arch=hp.get("arch", "drn_d_22"), instance_head=hp.get("instance_head", True),
+                     head_channels=hp.get("head_channels", 128), pretrained=None,
+                     **({"channels": hp["channels"]} if hp.get("channels") else {}))
+        state = {k[len(_STATE_PREFIX):]: v for k, v in ckpt["state_dict"].items() if k.startswith(_STATE_PREFIX)}
+        net.load_state_dict(state, strict=True)
+        net.to(map_location)
+        things = hp.get("thing_classes")
+        return cls(net, classes, thing_classes=None if things is None else thing_class_ids(classes, things),
+                   grouping={k: hp[k] for k in GROUPING_DEFAULTS if k in hp}, image_size=image_size)
+
+    def to(self, device: str | torch.device) -> SemanticPredictor:
+        self.net.to(device)
+        return self
+
+    @torch.no_grad()
+    def __call__(self, image: Tensor) -> Segmentation:
+        """Segment ``image`` ``(3, H, W)`` or ``(B, 3, H, W)`` float in [0, 1] (a uint8 image is scaled)."""
+        if image.dim() == 3:
+            image = image.unsqueeze(0)
+        if image.dim() != 4 or image.shape[1] != 3:
+            raise ValueError(f"image must be (3, H, W) or (B, 3, H, W), got {tuple(image.shape)}")
+        if image.dtype == torch.uint8:
+            image = image.float() / 255.0
+        device = next(self.net.parameters()).device
+        image = image.to(device=device, dtype=torch.float32)
+        size = image.shape[-2:]
+        if self.image_size is not None and (size[1], size[0]) != self.image_size:
+            work = F.interpolate(image, size=(self.image_size[1], self.image_size[0]), mode="bilinear",
+                                 align_corners=False, antialias=True)
+        else:
+            work = image
+        out = self.net(work)
+        probability = out["logits"].softmax(1)
+        label = probability.argmax(1)
+        if "center" in out and self.thing_classes:
+            g = self.grouping
+            instance, label = group_instances(label, out["center"], out["offset"], self.thing_classes,
+                                              threshold=g["center_threshold"], nms_kernel=g["nms_kernel"],
+                                              top_k=g["top_k"], min_area=g["min_area"])
+        else:
+            instance = torch.zeros_like(label)
+        if work.shape[-2:] != size:
+            probability = F.interpolate(probability, size=size, mode="bilinear", align_corners=False)
+            label = F.interpolate(label[:, None].float(), size=size, mode="nearest")[:, 0].long()
+            instance = F.interpolate(instance[:, None].double(), size=size, mode="nearest")[:, 0].long()
+        return Segmentation(label=label, instance=instance, probability=probability)
+
+
+def segment(image: Tensor, predictor: SemanticPredictor | str | os.PathLike) -> tuple[Tensor, Tensor]:
+    """``(label, instance)`` maps of ``image`` (see :meth:`SemanticPredictor.__call__`); ``predictor`` may be a
+    checkpoint path (loaded on every call: keep a :class:`SemanticPredictor` for repeated use)."""
+    if not isinstance(predictor, SemanticPredictor):
+        predictor = SemanticPredictor.from_checkpoint(predictor)
+    result = predictor(image)
+    return result.label, result.instance

@@ -1,0 +1,161 @@
+"""The editing benchmark (Table 1) on the tiny synthetic dataset with random-weight branches."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+import torch
+from helpers.tiny_models import geometric_net, textural_spec, write_checkpoints
+
+from sdn3d.bench import (
+    BenchSettings,
+    EntryResult,
+    edit_regions,
+    index_records,
+    region_metrics,
+    run_benchmark,
+    summarize,
+)
+from sdn3d.cli.bench import main
+from sdn3d.data import vkitti1
+from sdn3d.data.datasets import resize_map
+from sdn3d.data.edits import EditEntry, load_edit_benchmark, scale_operation
+from sdn3d.data.records import load_instances
+from sdn3d.derender import Models
+from sdn3d.edit import projected_centers
+from sdn3d.geometric.predict import GeometricPredictor
+from sdn3d.metrics import mask_to_box
+from sdn3d.nets.lpips import LPIPS
+from sdn3d.scene import SceneCode
+from sdn3d.texture import TexturalRenderer
+
+SIZE = (160, 64)
+
+
+@pytest.fixture(scope="module")
+def bench(tiny_synth):
+    entries = load_edit_benchmark(tiny_synth / "vkitti_edit_benchmark.json")
+    return entries, index_records(vkitti1.read_frames(tiny_synth))
+
+
+@pytest.fixture(scope="module")
+def models() -> Models:
+    torch.manual_seed(0)
+    return Models(None, GeometricPredictor(geometric_net()), TexturalRenderer(textural_spec()), crop_size=32)
+
+
+def _gt(record):
+    return resize_map(torch.from_numpy(load_instances(record)).long(), SIZE)
+
+
+def test_edit_regions_are_source_and_target_masks_of_the_picked_objects(bench):
+    entries, records = bench
+    entry = entries[0]
+    source, target = (records[(entry.world, entry.variation, f)] for f in (entry.source_frame, entry.target_frame))
+    regions, box, ids = edit_regions(entry, source, target, SIZE)
+    oracle = SceneCode.from_frame(source, SIZE)
+    centres, _ = projected_centers(oracle)
+    expected = []
+    for op in entry.operations:
+        uv = torch.tensor(scale_operation(op, (1242, 375), SIZE).from_uv, dtype=torch.float64)
+        expected.append(int(oracle.objects.instance_id[(centres - uv).norm(dim=1).argmin()]))
+    assert ids == expected and len(set(ids)) == len(ids)
+    src, tgt = _gt(source), _gt(target)
+    union = torch.zeros_like(regions)
+    for iid in ids:
+        union |= (src == iid) | (tgt == iid)
+    assert torch.equal(regions, union) and bool(regions.any())
+    areas = [int(((src == i) | (tgt == i)).sum()) for i in ids]
+    largest = ids[areas.index(max(areas))]
+    assert box.tolist() == mask_to_box((tgt == largest)[None])[0].tolist()
+
+
+def test_region_metrics_whole_all_and_largest():
+    target = torch.rand(3, 40, 60)
+    regions = torch.zeros(40, 60, dtype=torch.bool)
+    regions[5:10, 4:12] = True
+    same = region_metrics(target, target, regions, torch.tensor([4, 5, 12, 10]))
+    assert all(same[r]["l1"] == 0 for r in ("whole", "all", "largest"))
+    assert same["whole"]["ssim"] == pytest.approx(1.0, abs=1e-5) and same["all"]["psnr"] == math.inf
+    pred = target.clone()
+    pred[:, regions] = (pred[:, regions] + 0.5) % 1  # changed only inside the edited region
+    out = region_metrics(pred, target, regions, torch.tensor([4, 5, 12, 10]))
+    assert out["all"]["l1"] == pytest.approx(out["largest"]["l1"])  # the box is the region here
+    assert out["whole"]["l1"] == pytest.approx(out["all"]["l1"] * 40 / 2400)
+    net = LPIPS().eval()
+    with_lpips = region_metrics(pred, target, regions, torch.tensor([4, 5, 12, 10]), net)
+    assert {"lpips", "l1", "ssim", "psnr"} == set(with_lpips["largest"]) and math.isfinite(with_lpips["all"]["lpips"])
+
+
+@pytest.mark.parametrize("scene", ["derender", "oracle"])
+def test_run_benchmark_evaluates_every_method(bench, models, scene):
+    entries, records = bench
+    settings = BenchSettings(image_size=SIZE, scene=scene, min_pixels=1, examples=1)
+    results = run_benchmark(entries, records, models, settings)
+    assert len(results) == 1 and not results[0].errors
+    r = results[0]
+    assert set(r.metrics) == {"3d-sdn", "2d", "2d+"}
+    for method in r.metrics.values():
+        for region in ("whole", "all", "largest"):
+            assert all(math.isfinite(v) for v in method[region].values()) and "lpips" not in method[region]
+    assert r.latency_ms["total"] == pytest.approx(sum(r.latency_ms[k] for k in ("derender", "edit", "render")))
+    assert set(r.images) == {"source", "target", "3d-sdn", "2d", "2d+"} and r.images["target"].shape == (64, 160, 3)
+    assert r.regions.any()
+    iou = {m: r.metrics[m]["layout"]["mask_iou"] for m in r.metrics}
+    if scene == "oracle":  # true geometry: the 3D edit puts the rotated cars where the target shows them
+        assert iou["3d-sdn"] > 0.95 and iou["3d-sdn"] > iou["2d"] + 0.2 and iou["3d-sdn"] > iou["2d+"] + 0.2
+
+
+def test_identity_entry_gives_the_same_image_for_every_method(bench, models):
+    entries, records = bench
+    e = entries[0]
+    identity = EditEntry(e.world, e.variation, e.source_frame, e.source_frame, ())
+    missing = EditEntry(e.world, e.variation, 90, 91, e.operations)
+    settings = BenchSettings(image_size=SIZE, scene="oracle", include_identity=True, examples=1)
+    results = run_benchmark([identity, missing], records, models, settings)
+    same = results[0]
+    assert same.metrics["3d-sdn"]["whole"] == same.metrics["2d"]["whole"] == same.metrics["2d+"]["whole"]
+    assert torch.equal(torch.from_numpy(same.images["3d-sdn"]), torch.from_numpy(same.images["2d+"]))
+    assert math.isnan(same.metrics["3d-sdn"]["all"]["l1"])  # nothing edited: no region
+    assert "not in the dataset" in results[1].errors["entry"]
+    summary = summarize(results)
+    assert summary["entries"] == 2 and summary["evaluated"] == 1 and summary["failed"]["2d"] == 1
+    assert summary["methods"]["2d"]["whole"]["l1"]["n"] == 1 and summary["methods"]["2d"]["all"]["l1"]["n"] == 0
+    with pytest.raises(ValueError, match="none of the 1 benchmark entries"):
+        run_benchmark([missing], records, models, settings)
+
+
+def test_summarize_averages_entries():
+    def entry(i, l1):
+        return EntryResult(i, f"k{i}", 1, {"3d-sdn": {"whole": {"l1": l1}, "all": {}, "largest": {}}},
+                           {"derender": 1.0, "edit": 2.0, "render": 3.0, "total": 6.0 + i})
+    summary = summarize([entry(0, 0.2), entry(1, 0.4), entry(2, float("nan"))])
+    stat = summary["methods"]["3d-sdn"]["whole"]["l1"]
+    assert stat["mean"] == pytest.approx(0.3) and stat["n"] == 2
+    assert summary["latency_ms"]["total"]["mean"] == pytest.approx(7.0)
+
+
+def test_bench_cli_writes_table_page_and_examples(tiny_synth, tmp_path, capsys):
+    ckpts = write_checkpoints(tmp_path / "ckpt")
+    torch.save(LPIPS().state_dict(), tmp_path / "lpips.pth")
+    out = tmp_path / "bench"
+    args = [f"data.root={tiny_synth}", "data.image_size=[160,64]", f"checkpoints.geometric={ckpts['geometric']}",
+            f"checkpoints.textural={ckpts['textural']}", "geometric.crop_size=32", "geometric.min_pixels=1",
+            f"lpips_weights={tmp_path / 'lpips.pth'}", f"output_dir={out}"]
+    assert main(args) == 0
+    report = json.loads((out / "results.json").read_text())
+    assert report["summary"]["evaluated"] == 1 and report["info"]["lpips"] is True
+    assert math.isfinite(report["summary"]["methods"]["3d-sdn"]["largest"]["lpips"]["mean"])
+    table = (out / "table1.md").read_text()
+    rows = [line for line in table.splitlines() if line.startswith("| 2D") or line.startswith("| 3D-SDN")]
+    assert len(rows) == 9 and "LPIPS (whole) | LPIPS (all) | LPIPS (largest)" in table and "n/a" not in rows[0]
+    assert "| edited-object mask IoU |" in table
+    page = (out / "index.html").read_text()
+    assert 'src="examples/0000.png"' in page and (out / "examples" / "0000.png").is_file()
+    assert "3D-SDN (ours)" in capsys.readouterr().out
+    bad = args[:-1] + [f"output_dir={tmp_path / 'b2'}"]
+    assert main(bad + [f"benchmark={tmp_path / 'none.json'}"]) == 2
+    assert main(bad + ["checkpoints.textural=null"]) == 2
+    assert "checkpoints.textural is required" in capsys.readouterr().err and not (tmp_path / "b2").exists()

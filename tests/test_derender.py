@@ -1,0 +1,218 @@
+"""De-rendering an image into a SceneCode and rendering it back (tiny random-weight branches)."""
+
+from __future__ import annotations
+
+import pytest
+import torch
+from helpers.tiny_models import geometric_net, semantic_net, textural_spec, write_checkpoints
+
+from sdn3d.data import vkitti1
+from sdn3d.data.datasets import GeometricDataset, ObjectFilter, crop_maps, instance_label_map, load_frame
+from sdn3d.data.edits import EditOperation
+from sdn3d.data.records import INSTANCE_DIVISOR
+from sdn3d.derender import (
+    Models,
+    crop_windows,
+    derender,
+    edit_image,
+    encode_scene,
+    geometric_crop_settings,
+    mask_boxes,
+    render,
+    render_maps,
+)
+from sdn3d.edit import Delete, projected_centers
+from sdn3d.geometric.predict import GeometricPredictor
+from sdn3d.geometry.camera import VKITTI_INTRINSICS
+from sdn3d.metrics import mask_to_box
+from sdn3d.object_crops import crop_intrinsics
+from sdn3d.scene import SceneCode
+from sdn3d.scene_maps import scene_maps
+from sdn3d.semantic.predict import Segmentation, SemanticPredictor
+from sdn3d.texture import TexturalRenderer
+
+SIZE = (160, 64)
+CAR, VAN, ROAD = 12, 13, 5
+
+
+@pytest.fixture(scope="module")
+def frame(tiny_synth):
+    record = vkitti1.read_frames(tiny_synth)[4]  # the benchmark's source frame
+    return record, load_frame(record, SIZE, semantic=True, instances=True)
+
+
+@pytest.fixture(scope="module")
+def models() -> Models:
+    torch.manual_seed(0)
+    return Models(SemanticPredictor(semantic_net(), "vkitti"), GeometricPredictor(geometric_net()),
+                  TexturalRenderer(textural_spec()), crop_size=32, margin=0.1)
+
+
+class Spy(GeometricPredictor):
+    """Records what the geometric branch is given."""
+
+    def __init__(self, net) -> None:
+        super().__init__(net)
+        self.calls: list[dict] = []
+
+    def predict(self, crop, mask, box, intrinsics, crop_intrinsics=None, ignore=None, refine=None):
+        self.calls.append({"crop": crop, "mask": mask, "box": box, "intrinsics": intrinsics})
+        return super().predict(crop, mask, box, intrinsics, crop_intrinsics, ignore, refine)
+
+
+def test_crop_windows_match_the_dataset_crops():
+    maps = torch.rand(2, 20, 30)
+    windows = torch.tensor([[3.0, 4.0, 9.0], [-5.0, 12.0, 14.0], [25.0, -3.0, 7.0]])  # partly outside too
+    for mode in ("bilinear", "nearest"):
+        got = crop_windows(maps, windows, 16, mode)
+        assert got.shape == (3, 2, 16, 16)
+        for i, (left, top, side) in enumerate(windows.long().tolist()):
+            assert torch.equal(got[i], crop_maps(maps, left, top, side, 16, mode))
+    per_window = torch.rand(3, 1, 20, 30)
+    one = crop_windows(per_window, windows, 8, "nearest")
+    torch.testing.assert_close(one[1], crop_maps(per_window[1], -5, 12, 14, 8, "nearest"))
+
+
+def test_crop_intrinsics_follow_crop_and_resize():
+    windows = torch.tensor([[3.0, 4.0, 9.0], [-5.0, 12.0, 14.0]])
+    got = crop_intrinsics(VKITTI_INTRINSICS, windows, 32)
+    for i, (left, top, side) in enumerate(windows.long().tolist()):
+        ref = VKITTI_INTRINSICS.cropped(left, top, side, side).resized(32, 32)
+        torch.testing.assert_close(got[i], torch.tensor([ref.fx, ref.fy, ref.cx, ref.cy]))
+
+
+def test_mask_boxes_are_inclusive_pixel_boxes():
+    masks = torch.zeros(3, 10, 12, dtype=torch.bool)
+    masks[0, 2:5, 3:9] = True
+    masks[1, 9, 0] = True
+    boxes = mask_boxes(masks)
+    assert boxes.tolist() == [[3, 2, 8, 4], [0, 9, 0, 9], [0, 0, 0, 0]]
+    half_open = mask_to_box(masks[:2]).float()
+    torch.testing.assert_close(boxes[:2, 2:] + 1, half_open[:, 2:])
+
+
+def test_gt_proposals_feed_the_dataset_crops_to_one_geometric_forward(frame, models):
+    record, f = frame
+    spy = Spy(models.geometric.net)
+    spied = Models(None, spy, models.textural, crop_size=32, margin=0.1)
+    scene = derender(f.image, f.intrinsics, spied, "gt", record, min_pixels=1)
+    assert len(spy.calls) == 1  # every object in one batched forward
+    obj = scene.objects
+    ids = f.instances.unique()
+    assert obj.instance_id.tolist() == ids[ids > 0].tolist()
+    assert torch.equal(obj.mask, f.instances[None] == obj.instance_id[:, None, None])
+    assert bool(obj.has_geometry.all()) and bool(obj.observed.all())
+    # The semantic map is the frame's, with object pixels labelled by their object's class.
+    assert torch.equal(scene.semantic, instance_label_map(f.semantic, f.instances)[0])
+    call = spy.calls[0]
+    dataset = GeometricDataset([record], SIZE, crop_size=32, margin=0.1, object_filter=ObjectFilter(0, 1.01, 1.01))
+    compared = 0
+    for item in dataset:
+        tid = int(item["track_id"])
+        row = [i for i, iid in enumerate(obj.instance_id.tolist()) if iid % INSTANCE_DIVISOR == tid + 1]
+        if not row:
+            continue
+        r = row[0]
+        compared += 1
+        torch.testing.assert_close(call["box"][r], item["box"])
+        torch.testing.assert_close(call["intrinsics"][r], item["intrinsics"])
+        torch.testing.assert_close(call["mask"][r], item["mask"])
+        torch.testing.assert_close(call["crop"][r], item["crop"], atol=1e-5, rtol=0)
+    assert compared >= 2
+    # The stored geometry is the predictor's output for those inputs.
+    pred = models.geometric.predict(call["crop"], call["mask"], call["box"], call["intrinsics"])
+    torch.testing.assert_close(obj.location, pred["location"].double())
+    torch.testing.assert_close(obj.dims, pred["dims"].double())
+    torch.testing.assert_close(obj.ry, pred["ry"].double())
+    assert torch.equal(obj.template_id, pred["template_id"]) and torch.equal(obj.phi, pred["phi"])
+
+
+def test_codes_are_the_encoders_region_means(frame, models):
+    record, f = frame
+    scene = derender(f.image, f.intrinsics, models, "gt", record, min_pixels=10**6)
+    assert not bool(scene.objects.has_geometry.any()) and bool(scene.objects.has_mask.all())  # too small: 2D only
+    _, L = instance_label_map(f.semantic, f.instances)
+    feats = models.textural.encoder.model(f.image[None] * 2 - 1)[0]  # (C, H, W) per-pixel features
+    for k, iid in enumerate(scene.objects.instance_id.tolist()):
+        torch.testing.assert_close(scene.objects.code[k], feats[:, L == iid].mean(1), atol=1e-5, rtol=1e-4)
+    present = set(L.unique().tolist())
+    for cls in range(14):
+        expected = feats[:, L == cls].mean(1) if cls in present else torch.zeros(5)
+        torch.testing.assert_close(scene.background_codes[cls], expected, atol=1e-5, rtol=1e-4)
+    # encode_scene on the ground-truth scene (composed L) gives the same object codes.
+    oracle = encode_scene(SceneCode.from_frame(record, SIZE), f.image, models.textural)
+    for k, iid in enumerate(scene.objects.instance_id.tolist()):
+        torch.testing.assert_close(oracle.objects.code[oracle.objects.index_of(iid)], scene.objects.code[k])
+
+
+def test_semantic_proposals_and_small_objects_keep_their_masks(models):
+    label = torch.full((1, 32, 48), ROAD)
+    instance = torch.zeros(1, 32, 48, dtype=torch.long)
+    instance[0, 10:20, 5:25] = CAR * 1000 + 1     # 200 px: gets geometry
+    instance[0, 25:28, 30:33] = VAN * 1000 + 7    # 9 px: mask only
+    instance[0, 0:4, 40:48] = ROAD * 1000 + 1     # not an instance class: dropped
+    instance[0, 10:22, 45] = CAR * 1000 + 3       # 12 px but one pixel wide: no box, mask only
+    seg = Segmentation(label, instance, torch.zeros(1, 14, 32, 48))
+    stub = type("Stub", (), {"classes": models.semantic.classes, "__call__": lambda self, image: seg})()
+    intr = VKITTI_INTRINSICS.resized(48, 32)
+    scene = derender(torch.rand(3, 32, 48), intr, Models(stub, models.geometric, models.textural, crop_size=32),
+                     "auto", None, min_pixels=10)
+    obj = scene.objects
+    assert obj.instance_id.tolist() == [12001, 12003, 13007] and obj.template_id.tolist()[1:] == [-1, -1]
+    assert obj.template_id[0] >= 0 and bool(obj.has_mask.all())
+    assert torch.equal(obj.mask[2], instance[0] == 13007) and int(obj.mask[0].sum()) == 200
+    assert scene.meta["proposals"] == "semantic" and scene.meta["with_geometry"] == 1
+    assert int(scene.semantic[2, 44]) == ROAD and int(scene.semantic[15, 10]) == CAR  # dropped proposal: background
+
+
+def test_bad_inputs_are_rejected(frame, models):
+    record, f = frame
+    with pytest.raises(ValueError, match="needs a record"):
+        derender(f.image, f.intrinsics, models, "gt", None)
+    with pytest.raises(ValueError, match="needs a semantic model"):
+        derender(f.image, f.intrinsics, Models(None, None, models.textural), "semantic", record)
+    with pytest.raises(ValueError, match="intrinsics are for"):
+        derender(f.image[:, :32], f.intrinsics, models, "gt", record)
+    with pytest.raises(ValueError, match="proposals"):
+        derender(f.image, f.intrinsics, models, "mask-rcnn", record)
+    with pytest.raises(ValueError, match=r"\[0, 1\]"):
+        derender(f.image * 3, f.intrinsics, models, "gt", record)
+
+
+def test_render_and_edit_image(frame, models):
+    record, f = frame
+    result = edit_image(f.image, f.intrinsics, [], models, "gt", record, min_pixels=1)
+    again = render(result.scene, models.textural)
+    assert result.edited.shape == (3, *SIZE[::-1]) and 0 <= float(again.min()) and float(again.max()) <= 1
+    torch.testing.assert_close(result.edited, again)  # no edit: the reconstruction
+    assert result.edited_scene == result.scene
+    victim = int(result.scene.objects.instance_id[0])
+    deleted = edit_image(f.image, f.intrinsics, [Delete(victim)], models, "gt", record, min_pixels=1)
+    assert victim not in deleted.edited_scene.objects.instance_id.tolist()
+    assert victim not in deleted.maps.instance.unique().tolist()
+    assert not torch.allclose(deleted.edited, again)
+    torch.testing.assert_close(render_maps(deleted.maps, models.textural), deleted.edited)
+    # Benchmark operations are resolved on the de-rendered scene (picks by projected centre).
+    uv, _ = projected_centers(result.scene)
+    op = EditOperation.modify(tuple(uv[0].tolist()), None, 1.0, 0.7)
+    bench = edit_image(f.image, f.intrinsics, [op], models, "gt", record, frame_size=None, min_pixels=1)
+    row = bench.edited_scene.objects.index_of(victim)
+    assert float(bench.edited_scene.objects.ry[row] - result.scene.objects.ry[0]) == pytest.approx(0.7, abs=1e-9)
+
+
+def test_models_from_checkpoints_reads_the_run_crop_size(tmp_path, frame):
+    run = tmp_path / "run"
+    paths = write_checkpoints(run / "checkpoints")
+    (run / "config.yaml").write_text("datamodule:\n  crop_size: 48\n  margin: 0.2\n")
+    assert geometric_crop_settings(paths["geometric"]) == (48, 0.2)
+    models = Models.from_checkpoints(**paths)
+    assert (models.crop_size, models.margin) == (48, 0.2)
+    assert models.semantic.net.num_classes == 14 and models.textural.spec.code_dim == 5
+    assert Models.from_checkpoints(geometric=paths["geometric"], crop_size=40).crop_size == 40
+    with pytest.raises(FileNotFoundError, match="textural checkpoint"):
+        Models.from_checkpoints(textural=tmp_path / "missing.ckpt")
+    record, f = frame
+    scene = derender(f.image, f.intrinsics, models, "auto", record, min_pixels=1)  # all three branches
+    assert scene.meta["semantic"] == "branch" and scene.meta["proposals"] == "gt"
+    assert torch.isfinite(render(scene, models.textural)).all()
+    assert torch.equal(scene_maps(scene).instance, f.instances)  # unedited: the image's own layout

@@ -1,0 +1,169 @@
+"""``sdn3d-edit`` end to end on the tiny synthetic dataset with random-weight checkpoints."""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+
+import numpy as np
+import pytest
+import torch
+import trimesh
+from helpers.tiny_models import write_checkpoints
+from PIL import Image
+
+from sdn3d.cli.edit import main
+from sdn3d.data import vkitti1
+from sdn3d.edit_spec import EditSpecError, parse_edit_spec
+from sdn3d.geometry.rotations import wrap_angle
+from sdn3d.scene import SceneCode
+from sdn3d.texture import CodeBank
+
+FRAME = "0001/clone/00004"
+BANK = {12: torch.arange(40.0).view(8, 5), 13: torch.ones(2, 5)}  # training codes per class (Car, Van)
+
+
+@pytest.fixture(scope="module")
+def ckpts(tmp_path_factory):
+    return write_checkpoints(tmp_path_factory.mktemp("ckpt"))
+
+
+def _args(tiny_synth, ckpts, out, edits, *extra):
+    return ["data=synth", f"data.root={tiny_synth}", "data.image_size=[160,64]", f"edits={edits}",
+            *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32",
+            "geometric.min_pixels=1", f"output_dir={out}", *extra]
+
+
+def _write(path, text):
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture(scope="module")
+def done(tiny_synth, ckpts, tmp_path_factory):
+    """One successful run: rotate, move (picked by pixel), delete and recolour on frame 00004."""
+    tmp = tmp_path_factory.mktemp("edit")
+    source = SceneCode.from_frame(vkitti1.read_frames(tiny_synth)[4], (160, 64))
+    ids = source.objects.instance_id.tolist()
+    ys, xs = source.objects.mask[1].nonzero(as_tuple=True)
+    at = [int(xs[len(xs) // 2]), int(ys[len(ys) // 2])]
+    edits = _write(tmp / "ops.yaml", f"""
+- {{op: rotate, id: {ids[0]}, ry: 0.5}}
+- {{op: move, at: {at}, to: [40, 55]}}
+- {{op: delete, id: {ids[2]}}}
+- {{op: recolor, class: Road, code: [0.1, 0.2, 0.3, 0.4, 0.5]}}
+- {{op: recolor, id: {ids[3]}, sample: true, seed: 3}}
+- {{op: duplicate, id: {ids[0]}, to: [120, 50]}}
+""")
+    torch.save(CodeBank(BANK).state_dict(), tmp / "bank.pt")
+    out = tmp / "out"
+    code = main(_args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}", f"code_bank={tmp / 'bank.pt'}"))
+    return code, out, ids
+
+
+def test_edit_writes_every_output(done):
+    code, out, ids = done
+    assert code == 0
+    for name in ("source.png", "reconstruction.png", "edited.png", "overview.png", "scene.json", "scene.npz",
+                 "edited_scene.json", "edited_scene.npz", "scene.glb", "edited_scene.glb", "edit.json"):
+        assert (out / name).is_file(), name
+    for which in ("source", "edited"):
+        for kind in ("label", "instance", "normal", "pose", "depth"):
+            assert np.asarray(Image.open(out / "maps" / f"{which}_{kind}.png")).shape == (64, 160, 3)
+    assert np.asarray(Image.open(out / "edited.png")).shape == (64, 160, 3)
+    assert not any(p.name.startswith(".") for p in out.parent.iterdir())  # no staging leftovers
+
+
+def test_edit_applies_the_resolved_ops(done):
+    _, out, ids = done
+    summary = json.loads((out / "edit.json").read_text())
+    ops = summary["ops"]
+    assert [o["op"] for o in ops] == ["Rotate", "Move", "Delete", "SetBackgroundCode", "SetCode", "Duplicate"]
+    assert ops[1]["instance_id"] == ids[1]  # `at` picked the object under the pixel
+    scene, edited = SceneCode.load(out / "scene.json"), SceneCode.load(out / "edited_scene.json")
+    assert scene.objects.instance_id.tolist() == ids
+    assert ids[2] not in edited.objects.instance_id.tolist()
+    r0, e0 = scene.objects.index_of(ids[0]), edited.objects.index_of(ids[0])
+    assert float(wrap_angle(edited.objects.ry[e0] - scene.objects.ry[r0] - 0.5)) == pytest.approx(0, abs=1e-9)
+    moved = edited.objects.index_of(ids[1])
+    intr = edited.intrinsics
+    c = edited.objects.center[moved]
+    uv = (float(c[0] / c[2] * intr.fx + intr.cx), float(c[1] / c[2] * intr.fy + intr.cy))
+    assert uv == pytest.approx((40, 55), abs=1e-6)  # the centre projects to the target pixel
+    road = [c.id for c in scene.class_list if c.name == "Road"][0]
+    assert edited.background_codes[road].tolist() == pytest.approx([0.1, 0.2, 0.3, 0.4, 0.5])
+    sampled = CodeBank(BANK).sample(ids[3] // 1000, 1, torch.Generator().manual_seed(3))
+    assert edited.objects.code[edited.objects.index_of(ids[3])].tolist() == sampled[0].tolist()
+    copy = edited.objects.index_of(max(edited.objects.instance_id.tolist()))
+    assert len(edited.objects) == len(ids) and not bool(edited.objects.observed[copy])  # one deleted, one added
+    torch.testing.assert_close(edited.objects.code[copy], edited.objects.code[e0])
+    glb = trimesh.load(out / "edited_scene.glb")
+    assert "ground" in glb.graph.nodes and f"instance_{ids[2]}" not in glb.graph.nodes
+
+
+@pytest.mark.parametrize("ops, message", [
+    ("- {op: rotate, id: 12999, ry: 0.5}", r"op 0 \(rotate id=12999\): no object with id 12999"),
+    ("- {op: zoom, id: 12001, zoom: .nan}", r"op 0 \(zoom\): field 'zoom' must be finite"),
+    ("- {op: rotate, id: 12001, ry: 0.1}\n- {op: zoom, id: 12001, zoom: -2}", r"op 1 \(zoom\).*must be > 0"),
+    ("- {op: move, id: 12001, to: [400, 20]}", r"op 0 \(move id=12001\): 'to' point \[400.0, 20.0\] lies outside"),
+    ("- {op: delete, at: [2, 2]}", r"op 0 \(delete at=\[2.0, 2.0\]\): no object at"),
+    ("- {op: recolor, id: 12001, sample: true}", r"op 0 \(recolor id=12001\): 'sample: true' needs a code bank"),
+    ("- {op: spin, id: 12001}", r"field 'op' must be one of"),
+])
+def test_bad_edits_exit_2_and_write_nothing(tiny_synth, ckpts, tmp_path, capsys, ops, message):
+    edits = _write(tmp_path / "ops.yaml", ops)
+    out = tmp_path / "out"
+    assert main(_args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}", "pick_radius=3")) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("sdn3d-edit: error:") and re.search(message, err), err
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["ops.yaml"]
+
+
+def test_output_dir_safety(tiny_synth, ckpts, tmp_path, capsys):
+    edits = _write(tmp_path / "ops.yaml", "- {op: recolor, class: Sky, code: [0, 0, 0, 0, 1]}")
+    unrelated = tmp_path / "mine"
+    unrelated.mkdir()
+    (unrelated / "notes.txt").write_text("keep me")
+    assert main(_args(tiny_synth, ckpts, unrelated, edits, f"input.frame={FRAME}")) == 2
+    assert "holds no edit.json" in capsys.readouterr().err and (unrelated / "notes.txt").read_text() == "keep me"
+    out = tmp_path / "out"
+    assert main(_args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}")) == 0
+    (out / "stale.txt").write_text("old")
+    assert main(_args(tiny_synth, ckpts, out, edits, "input.frame=4")) == 0  # an earlier result: replaced
+    assert not (out / "stale.txt").exists() and (out / "edited.png").is_file()
+
+
+def test_image_file_input_with_default_camera(tiny_synth, ckpts, tmp_path):
+    rgb = vkitti1.load_rgb(vkitti1.read_frames(tiny_synth)[4])
+    Image.fromarray(np.ascontiguousarray(rgb)).resize((320, 128)).save(tmp_path / "street.png")
+    edits = _write(tmp_path / "ops.yaml", "- {op: recolor, class: Sky, code: [0, 0, 0, 0, 1]}")
+    out = tmp_path / "out"
+    args = [f"input.image={tmp_path / 'street.png'}", "image_size=[160,64]", f"edits={edits}",
+            *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32", f"output_dir={out}"]
+    assert main(args) == 0
+    summary = json.loads((out / "edit.json").read_text())
+    assert summary["intrinsics"]["width"] == 160 and math.isclose(summary["intrinsics"]["fx"], 725 * 160 / 1242)
+    assert np.asarray(Image.open(out / "source.png")).shape == (64, 160, 3)
+    assert main(args[:-1] + [f"output_dir={tmp_path / 'o2'}", "checkpoints.textural=null"]) == 2
+
+
+def test_benchmark_entry_picks_its_source_frame(tiny_synth, ckpts, tmp_path):
+    out = tmp_path / "out"
+    assert main(_args(tiny_synth, ckpts, out, tiny_synth / "vkitti_edit_benchmark.json", "entry=0")) == 0
+    summary = json.loads((out / "edit.json").read_text())
+    assert summary["input"] == "vkitti1/0001/clone/00004" and {o["op"] for o in summary["ops"]} == {"Modify"}
+    assert main(_args(tiny_synth, ckpts, tmp_path / "o2", tiny_synth / "vkitti_edit_benchmark.json",
+                      "entry=3")) == 2
+
+
+def test_spec_parser_checks_fields():
+    spec = parse_edit_spec({"frame_size": [1242, 375], "ops": [{"op": "duplicate", "id": 12001, "to": [1, 2]}]})
+    assert spec.frame_size == (1242, 375) and spec.ops[0].to == (1.0, 2.0) and spec.ops[0].new_id is None
+    for bad, message in [([{"op": "move", "id": 12001}], "'to'"),
+                         ([{"op": "move", "id": 12001, "at": [1, 2], "to": [1, 2]}], "exactly one"),
+                         ([{"op": "rotate", "id": 12001, "ry": 1, "zom": 2}], "unknown field"),
+                         ([{"op": "recolor", "id": 12001, "code": [1], "sample": True}], "exactly one"),
+                         ([{"op": "rotate", "id": True, "ry": 1}], "'id'"), ([], "non-empty")]:
+        with pytest.raises(EditSpecError, match=message):
+            parse_edit_spec(bad)

@@ -1,0 +1,145 @@
+"""GeometricModule: both stages, LR schedule, resume of the REINFORCE baseline, ablations, configs, logging."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import lightning as L
+import pytest
+import torch
+from hydra import compose, initialize_config_dir
+from hydra.utils import instantiate
+from lightning.pytorch.loggers import TensorBoardLogger
+
+from datamodules import GeometricDataModule
+from lightning_modules.geometric import GeometricModule, lr_factor
+from sdn3d.geometric import GeometricPredictor, decode_outputs
+
+CONF = str(Path(__file__).resolve().parents[1] / "conf")
+SIZE = (312, 96)
+
+
+@pytest.fixture(scope="module")
+def synth_root(tmp_path_factory) -> Path:
+    from sdn3d.data.synth import SynthConfig, generate_dataset
+
+    root = tmp_path_factory.mktemp("geo_synth") / "vkitti"
+    generate_dataset(SynthConfig(output_dir=str(root), image_size=SIZE, frames_per_sequence=5,
+                                 cars_per_frame=(4, 6), edit_pairs=0))
+    return root
+
+
+def _datamodule(root: Path, **kwargs) -> GeometricDataModule:
+    data = {"kind": "vkitti1", "root": str(root), "image_size": list(SIZE)}
+    return GeometricDataModule(data, batch_size=4, crop_size=32, min_pixels=32, **kwargs)
+
+
+class _LrRecorder(L.Callback):
+    def __init__(self) -> None:
+        self.lrs: list[float] = []
+
+    def on_train_epoch_start(self, trainer, pl_module) -> None:
+        self.lrs.append(trainer.optimizers[0].param_groups[0]["lr"])
+
+
+def _trainer(max_epochs: int, recorder: L.Callback, train_batches: int = 2, **kwargs) -> L.Trainer:
+    return L.Trainer(max_epochs=max_epochs, limit_train_batches=train_batches, limit_val_batches=1, accelerator="cpu",
+                     enable_checkpointing=False, enable_progress_bar=False, enable_model_summary=False,
+                     num_sanity_val_steps=0, callbacks=[recorder], **kwargs)
+
+
+def test_lr_factor_steps_within_each_stage():
+    args = dict(pred_epochs=4, lr_pred=1e-3, lr_joint=1e-4, decay_epochs=2, decay_rate=0.5)
+    assert [lr_factor(e, **args) for e in range(4)] == [1.0, 1.0, 0.5, 0.5]
+    assert [lr_factor(e, **args) for e in range(4, 8)] == pytest.approx([0.1, 0.1, 0.05, 0.05])
+    assert lr_factor(100, **{**args, "decay_epochs": 0}) == pytest.approx(0.1)
+
+
+def test_two_stages_logging_checkpoint_and_exact_resume(synth_root, tmp_path):
+    model = GeometricModule(pred_epochs=1, joint_epochs=2, lr_decay_epochs=1, num_samples=2, image_size=SIZE,
+                            log_images=2)
+    rec = _LrRecorder()
+    logger = TensorBoardLogger(str(tmp_path), name="tb", version="")
+    trainer = _trainer(2, rec, logger=logger, log_every_n_steps=1)
+    trainer.fit(model, datamodule=_datamodule(synth_root))
+    assert rec.lrs == pytest.approx([1e-3, 1e-4])  # the loss and the rate switch at the epoch boundary
+    metrics = trainer.callback_metrics
+    assert float(metrics["train/stage"]) == 1.0 and "train/loss_reproj" in metrics and "train/reinforce" in metrics
+    for name in ("orientation_similarity", "distance_error", "scale_error", "reprojection_error",
+                 "mesh_accuracy", "template_prob/sedan", "loss_pred"):
+        assert torch.isfinite(metrics[f"val/{name}"]), name
+    assert 0.0 <= float(metrics["val/orientation_similarity"]) <= 1.0
+    assert int(model.baseline.count) == 2 and float(model.baseline.value) < 0  # one update per joint step
+    ckpt = tmp_path / "epoch2.ckpt"
+    trainer.save_checkpoint(ckpt)
+
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    acc = EventAccumulator(str(tmp_path / "tb"), size_guidance={"images": 0, "histograms": 0, "scalars": 0})
+    acc.Reload()
+    tags = acc.Tags()
+    assert "val/silhouettes" in tags["images"] and "val/selected_template" in tags["histograms"]
+    assert "train/loss_pred" in tags["scalars"] and "val/template_prob/bus" in tags["scalars"]
+
+    # The checkpoint is plain data (weights_only) and the predictor reproduces the module.
+    state = torch.load(ckpt, map_location="cpu", weights_only=True)
+    assert state["hyper_parameters"]["image_size"] == list(SIZE)
+    predictor = GeometricPredictor.from_checkpoint(ckpt)
+    batch = next(iter(_datamodule(synth_root).val_dataloader()))
+    out = predictor.predict(batch["crop"], batch["mask"], batch["box"], batch["intrinsics"])
+    model.eval()
+    with torch.no_grad():
+        raw = model.net(batch["crop"], batch["box"], batch["intrinsics"])
+        expected = decode_outputs(raw, batch["box"], batch["intrinsics"], model.encoding, model.net.templates)
+    torch.testing.assert_close(out["center"], expected["center"])
+    torch.testing.assert_close(out["template_probs"], expected["template_probs"])
+
+    # Resume for a third epoch: the baseline buffer and the scheduler continue where they were.
+    resumed = GeometricModule(pred_epochs=1, joint_epochs=2, lr_decay_epochs=1, num_samples=2, image_size=SIZE)
+    rec2 = _LrRecorder()
+    _trainer(3, rec2, logger=False).fit(resumed, datamodule=_datamodule(synth_root), ckpt_path=str(ckpt))
+    assert rec2.lrs == pytest.approx([5e-5])  # joint epoch 2: 1e-4 * 0.5
+    assert int(resumed.baseline.count) == 4
+
+
+@pytest.mark.parametrize("ablation", ["no_reproj", "single_cad", "full_quaternion"])
+def test_ablations_change_the_joint_stage(synth_root, ablation):
+    kwargs = {"no_reproj": {"reproj": False}, "single_cad": {"single_cad": True},
+              "full_quaternion": {"rotation": "full_quaternion", "num_samples": 1}}[ablation]
+    model = GeometricModule(pred_epochs=0, joint_epochs=1, image_size=SIZE, **kwargs)
+    dm = _datamodule(synth_root, rotation=model.encoding.rotation)
+    trainer = _trainer(1, _LrRecorder(), train_batches=1, logger=False)
+    trainer.fit(model, datamodule=dm)
+    metrics = trainer.callback_metrics
+    if ablation == "no_reproj":
+        assert "train/loss_reproj" not in metrics and "train/reinforce" not in metrics
+        torch.testing.assert_close(metrics["train/loss"], metrics["train/loss_pred"])
+    elif ablation == "single_cad":
+        assert model.net.num_templates == 1 and not model.net.use_ffd
+        assert "train/loss_reproj" in metrics and "train/reinforce" not in metrics
+        assert float(metrics["val/template_prob/sedan"]) == 1.0
+    else:
+        assert "train/reinforce" in metrics and float(metrics["train/stage"]) == 1.0
+    assert torch.isfinite(metrics["val/orientation_similarity"])
+
+
+def test_branch_config_follows_each_ablation(synth_root, tmp_path):
+    from omegaconf import OmegaConf
+
+    for ablation in ("full", "no_reproj", "full_quaternion", "no_tau", "single_cad"):
+        with initialize_config_dir(config_dir=CONF, version_base="1.3"):
+            cfg = compose("train", overrides=["branch=geometric", f"ablation={ablation}", f"data.root={synth_root}",
+                                              f"run_dir={tmp_path}", "datamodule.crop_size=32"])
+        model_cfg = OmegaConf.to_container(cfg.model, resolve=True)
+        dm = instantiate(cfg.datamodule)
+        assert model_cfg["rotation"] == cfg.ablation.rotation == dm.encoding.rotation
+        assert model_cfg["distance"] == cfg.ablation.distance == dm.encoding.distance
+        assert model_cfg["reproj"] == cfg.ablation.reproj and model_cfg["single_cad"] == cfg.ablation.single_cad
+        assert model_cfg["image_size"] == list(cfg.data.image_size)
+        for name in ("demo", "paper"):
+            preset = cfg.presets[name]
+            assert preset.trainer.max_epochs == preset.model.pred_epochs + preset.model.joint_epochs
+        if ablation in ("full", "single_cad"):  # building the ResNet is the slow part: two suffice
+            model = instantiate(cfg.model)
+            assert model.net.num_templates == (1 if cfg.ablation.single_cad else 8)
+            assert model.hparams.rotation == cfg.ablation.rotation

@@ -1,0 +1,133 @@
+"""SemanticModule on a tiny Virtual KITTI fixture: training, metrics, TensorBoard grids, checkpoint -> predictor."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import lightning as L
+import pytest
+import torch
+from hydra import compose, initialize_config_dir
+from hydra.utils import instantiate
+from lightning.pytorch.loggers import TensorBoardLogger
+from omegaconf import OmegaConf
+
+from datamodules import SemanticDataModule
+from lightning_modules.semantic import SemanticModule
+from sdn3d.data.fixtures import write_vkitti1_fixture
+from sdn3d.semantic import SemanticPredictor, segment
+
+CONF = Path(__file__).resolve().parents[1] / "conf"
+SIZE = (96, 32)
+
+
+@pytest.fixture(scope="module")
+def data_cfg(tmp_path_factory: pytest.TempPathFactory):
+    root = tmp_path_factory.mktemp("vkitti")
+    write_vkitti1_fixture(root, frames=range(5), size=(310, 94))
+    cfg = OmegaConf.load(CONF / "data" / "vkitti.yaml")
+    cfg.root = str(root)
+    cfg.image_size = list(SIZE)
+    return cfg
+
+
+def _small_module(**kw) -> SemanticModule:
+    args = dict(classes="vkitti", head_channels=32, crop_size=[64, 32], log_images=2, min_area=1)
+    args.update(kw)
+    return SemanticModule(**args)
+
+
+def test_fit_validate_test_logs_metrics_grids_and_poly_schedule(data_cfg, tmp_path):
+    dm = SemanticDataModule(data_cfg, batch_size=2)
+    model = _small_module()
+    logger = TensorBoardLogger(tmp_path, name="tb")
+    trainer = L.Trainer(accelerator="cpu", max_steps=2, limit_val_batches=1, limit_test_batches=1, logger=logger,
+                        enable_checkpointing=False, enable_progress_bar=False, enable_model_summary=False,
+                        num_sanity_val_steps=0, val_check_interval=2)
+    trainer.fit(model, datamodule=dm)
+    metrics = trainer.callback_metrics
+    for key in ("train/loss", "train/ce", "train/center", "train/offset", "val/loss", "val/miou", "val/pixel_acc",
+                "val/iou_Road", "val/pq", "val/sq", "val/rq"):
+        assert key in metrics and torch.isfinite(metrics[key]), key
+    assert 0.0 <= float(metrics["val/miou"]) <= 1.0
+    # Poly schedule per step: lr * (1 - step / total) ** 0.9 reaches 0 after the last of 2 steps.
+    assert trainer.optimizers[0].param_groups[0]["lr"] == pytest.approx(0.0)
+    sched = trainer.lr_scheduler_configs[0].scheduler
+    assert sched.lr_lambdas[0](1) == pytest.approx(0.5**0.9)
+    results = trainer.test(model, datamodule=dm, verbose=False)[0]
+    assert {"test/miou", "test/pq"} <= set(results)
+    assert all(k.startswith("test/") for k in results)
+
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    events = EventAccumulator(str(Path(logger.log_dir)), size_guidance={"images": 0})
+    events.Reload()
+    tags = set(events.Tags()["images"])
+    assert {"val/segmentation", "val/instances", "test/segmentation"} <= tags
+    img = events.Images("val/segmentation")[0]
+    assert img.width > 3 * SIZE[0] and SIZE[1] < img.height < 2 * SIZE[1]  # 3 columns, 1 val frame
+
+
+def test_checkpoint_loads_weights_only_into_the_predictor(data_cfg, tmp_path):
+    dm = SemanticDataModule(data_cfg, batch_size=2)
+    model = _small_module(crop_size=OmegaConf.create([64, 32]))  # a ListConfig, as Hydra passes it
+    trainer = L.Trainer(accelerator="cpu", max_steps=1, limit_val_batches=0, logger=False,
+                        enable_checkpointing=False, enable_progress_bar=False, enable_model_summary=False)
+    trainer.fit(model, datamodule=dm)
+    path = tmp_path / "semantic.ckpt"
+    trainer.save_checkpoint(path)
+    ckpt = torch.load(path, map_location="cpu", weights_only=True)
+    assert ckpt["hyper_parameters"]["crop_size"] == [64, 32] and ckpt["hyper_parameters"]["classes"] == "vkitti"
+
+    predictor = SemanticPredictor.from_checkpoint(path)
+    assert predictor.thing_classes == [12, 13] and predictor.grouping["min_area"] == 1
+    batch = next(iter(dm.val_dataloader()))
+    model.eval()
+    with torch.no_grad():
+        label, instance = model.predict_maps(model(batch["image"]))
+    result = predictor(batch["image"])
+    assert result.label.shape == (batch["image"].shape[0], SIZE[1], SIZE[0]) and result.label.dtype == torch.int64
+    torch.testing.assert_close(result.instance, instance)
+    inst_px = instance > 0
+    torch.testing.assert_close(result.label[~inst_px], label[~inst_px])
+    assert (result.label[inst_px] == instance[inst_px] // 1000).all()  # instance pixels carry their class
+    torch.testing.assert_close(result.probability.sum(1), torch.ones_like(result.probability[:, 0]))
+    # segment(): single image, path; a predictor with a working size resizes and maps back.
+    lab1, inst1 = segment(batch["image"][0], path)
+    torch.testing.assert_close(lab1, result.label[:1])
+    big = torch.nn.functional.interpolate(batch["image"][:1], scale_factor=2, mode="bilinear")
+    resized = SemanticPredictor.from_checkpoint(path, image_size=SIZE)(big)
+    assert resized.label.shape == (1, 2 * SIZE[1], 2 * SIZE[0]) and resized.instance.shape == resized.label.shape
+
+
+def test_hydra_branch_config_and_presets(data_cfg):
+    with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
+        cfg = compose("train", overrides=["branch=semantic", "data=synth", f"data.root={data_cfg.root}",
+                                          "data.image_size=[96,32]"])
+    assert cfg.branch_name == "semantic" and cfg.monitor == "val/miou" and cfg.monitor_mode == "max"
+    assert OmegaConf.load(CONF / "branch" / "semantic.yaml").trainer.max_epochs == 25  # the paper's 25 epochs
+    paper = cfg.presets.paper
+    assert (paper.model.lr, paper.model.momentum, paper.model.weight_decay, paper.model.poly_power) == \
+           (0.01, 0.9, 1e-4, 0.9)
+    assert paper.datamodule.batch_size == 8 and paper.trainer.max_epochs == 25
+    assert cfg.presets.demo.trainer.max_epochs * cfg.presets.demo.trainer.limit_train_batches <= 60
+    from lightning_modules.train import apply_preset
+
+    cfg.preset = "demo"
+    demo = apply_preset(cfg.copy(), ["data.image_size=[96,32]"])
+    assert list(demo.data.image_size) == [96, 32] and demo.trainer.limit_train_batches == 12  # CLI beats preset
+    assert list(apply_preset(cfg.copy(), []).data.image_size) == [312, 96]
+    merged = OmegaConf.merge(cfg, cfg.presets.paper)
+    model = instantiate(merged.model, head_channels=32)
+    dm = instantiate(merged.datamodule)
+    assert isinstance(model, SemanticModule) and model.hparams.classes == "vkitti" and model.num_classes == 14
+    assert model.hparams.crop_size == 224 and dm.batch_size == 8 and dm.image_size == SIZE
+
+
+def test_rejects_bad_hyperparameters():
+    with pytest.raises(ValueError, match="lr"):
+        SemanticModule(lr=0.0, head_channels=32)
+    with pytest.raises(ValueError, match="classes"):
+        SemanticModule(classes="ade20k")
+    assert math.isclose(SemanticModule(instance_head=False).hparams.poly_power, 0.9)

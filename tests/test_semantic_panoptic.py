@@ -1,0 +1,256 @@
+"""Instance proposals (centre / offset targets, grouping), panoptic quality, augmentation, colours."""
+
+from __future__ import annotations
+
+import pytest
+import torch
+
+from sdn3d.data.records import IGNORE_INDEX
+from sdn3d.semantic import (
+    center_focal_loss,
+    center_heatmap,
+    colorize_labels,
+    crop_size_for,
+    find_centers,
+    group_instances,
+    panoptic_targets,
+    pq_from_stats,
+    pq_stats,
+    random_crop_flip,
+    resolve_classes,
+    thing_class_ids,
+    thing_mask,
+)
+
+CAR, VAN, ROAD = 12, 13, 5
+THINGS = [CAR, VAN]
+
+
+def _scene() -> tuple[torch.Tensor, torch.Tensor]:
+    """Two images: rectangles of Car / Van instances on road, one non-thing instance id."""
+    inst = torch.zeros(2, 40, 64, dtype=torch.long)
+    inst[0, 5:15, 4:20] = CAR * 1000 + 1
+    inst[0, 20:32, 30:52] = VAN * 1000 + 2
+    inst[0, 20:32, 52:60] = CAR * 1000 + 3  # touches the van
+    inst[1, 0:10, 0:12] = CAR * 1000 + 7
+    inst[1, 30:40, 50:64] = ROAD * 1000 + 9  # an id of a non-thing class: ignored
+    label = torch.full((2, 40, 64), ROAD)
+    cls = inst // 1000
+    label[(cls == CAR) | (cls == VAN)] = cls[(cls == CAR) | (cls == VAN)]
+    return inst, label
+
+
+def test_thing_mask_and_class_helpers():
+    inst, _ = _scene()
+    mask = thing_mask(inst, THINGS)
+    assert mask.sum() == 10 * 16 + 12 * 22 + 12 * 8 + 10 * 12
+    vk = resolve_classes("vkitti")
+    assert thing_class_ids(vk) == THINGS and thing_class_ids(vk, ["Van"]) == [VAN]
+    assert len(resolve_classes("cityscapes")) == 19
+    with pytest.raises(ValueError, match="classes"):
+        resolve_classes("kitti360")
+    with pytest.raises(ValueError, match="Bus"):
+        thing_class_ids(vk, ["Bus"])
+    with pytest.raises(ValueError, match="integer"):
+        thing_mask(inst.float(), THINGS)
+
+
+def test_targets_point_every_pixel_at_its_centre_of_mass():
+    inst, _ = _scene()
+    t = panoptic_targets(inst, THINGS, sigma=2.0)
+    mask = t.offset_mask[:, 0]
+    v, u = torch.meshgrid(torch.arange(40.0), torch.arange(64.0), indexing="ij")
+    pointed = torch.stack([u + t.offset[:, 0], v + t.offset[:, 1]], dim=1)  # (B, 2, H, W)
+    for b, iid, centre in ((0, CAR * 1000 + 1, (11.5, 9.5)), (0, VAN * 1000 + 2, (40.5, 25.5)),
+                           (1, CAR * 1000 + 7, (5.5, 4.5))):
+        sel = inst[b] == iid
+        torch.testing.assert_close(pointed[b, 0][sel], torch.full((int(sel.sum()),), centre[0]))
+        torch.testing.assert_close(pointed[b, 1][sel], torch.full((int(sel.sum()),), centre[1]))
+    assert not mask[1, 30:, 50:].any() and (t.offset[:, :, ~mask.any(0)] == 0).all()
+    # One unit peak per instance, at the rounded centre; 4 instances -> 4 peaks.
+    assert t.center.shape == (2, 1, 40, 64) and t.center.max() == 1.0
+    assert int((t.center == 1.0).sum()) == 4
+    assert t.center[0, 0, 10, 12] == 1.0  # (11.5, 9.5) rounds half to even -> (12, 10)
+
+
+def test_center_heatmap_is_max_of_gaussians_and_clipped():
+    centers = torch.tensor([[3.0, 3.0], [5.0, 3.0], [0.0, 0.0]])
+    heat = center_heatmap(centers, torch.tensor([0, 0, 1]), (2, 8, 10), sigma=1.0)
+    g = torch.exp(torch.tensor(-0.5))
+    assert heat[0, 0, 3, 4] == pytest.approx(float(g))  # 1 px from both: max, not sum
+    assert heat[0, 0, 3, 3] == 1.0 and heat[1, 0, 0, 0] == 1.0 and heat[1, 0, 4, 4] == 0  # 3-sigma window
+    with pytest.raises(ValueError, match="sigma"):
+        center_heatmap(centers, torch.zeros(3, dtype=torch.long), (1, 8, 10), sigma=0)
+
+
+def test_center_focal_loss_rewards_the_target_heatmap():
+    inst, _ = _scene()
+    target = panoptic_targets(inst, THINGS, sigma=2.0).center
+    good = torch.where(target >= 1, 9.0, -9.0)  # sure at the peaks, nothing elsewhere
+    prior = torch.full_like(target, torch.logit(torch.tensor(0.01)).item())
+    assert center_focal_loss(good, target) < 1e-3 < center_focal_loss(prior, target)
+    # Near a peak, negatives are penalised less (penalty reduction (1 - t)^4): a false peak next to the
+    # true one costs less than the same false peak far away.
+    near, far = prior.clone(), prior.clone()
+    near[0, 0, 10, 13], far[0, 0, 38, 2] = 3.0, 3.0
+    assert center_focal_loss(near, target) < center_focal_loss(far, target)
+    with pytest.raises(ValueError, match="one shape"):
+        center_focal_loss(good[:, :, :5], target)
+
+
+def test_find_centers_suppresses_non_maxima():
+    heat = torch.zeros(1, 1, 20, 20)
+    heat[0, 0, 5, 5], heat[0, 0, 6, 6], heat[0, 0, 15, 12], heat[0, 0, 1, 18] = 0.9, 0.8, 0.7, 0.05
+    uv, scores, valid = find_centers(heat, threshold=0.1, nms_kernel=5, top_k=4)
+    assert valid[0].tolist() == [True, True, False, False]
+    assert uv[0, :2].tolist() == [[5.0, 5.0], [12.0, 15.0]] and scores[0, 0] == pytest.approx(0.9)
+    with pytest.raises(ValueError, match="odd"):
+        find_centers(heat, nms_kernel=4)
+
+
+def test_grouping_recovers_instances_from_perfect_predictions():
+    inst, label = _scene()
+    t = panoptic_targets(inst, THINGS, sigma=2.0)
+    pred, new_label = group_instances(label, t.center, t.offset, THINGS, threshold=0.5, nms_kernel=3)
+    gt = torch.where(thing_mask(inst, THINGS), inst, 0)
+    # Same partition of the pixels (ids are renumbered by centre score), class kept in the id.
+    for b in range(2):
+        pairs = torch.unique(torch.stack([gt[b].flatten(), pred[b].flatten()]), dim=1)
+        assert pairs.shape[1] == torch.unique(gt[b]).numel()
+        assert ((pairs[0] // 1000) == (pairs[1] // 1000)).all()
+    torch.testing.assert_close(new_label, label)
+    stats = pq_stats(pred, gt, label, THINGS)
+    assert pq_from_stats(stats)["pq"].tolist() == [1.0, 1.0]
+
+
+def test_grouping_majority_class_area_filter_and_no_centres():
+    label = torch.full((1, 20, 20), ROAD)
+    label[0, 2:12, 2:12] = CAR
+    label[0, 2:5, 2:12] = VAN  # 30 van pixels, 70 car pixels in one instance
+    label[0, 15:17, 15:17] = CAR  # a 4-pixel speck far from every centre
+    center = torch.zeros(1, 1, 20, 20)
+    center[0, 0, 7, 7] = 1.0
+    offset = torch.zeros(1, 2, 20, 20)
+    inst, new_label = group_instances(label, center, offset, THINGS, min_area=5)
+    assert (inst[0, 2:12, 2:12] == CAR * 1000 + 1).all() and (new_label[0, 2:12, 2:12] == CAR).all()
+    # The speck joins the only centre (nearest), so the instance is kept; with min_area above its size
+    # a lone speck is dropped.
+    lone = torch.full((1, 20, 20), ROAD)
+    lone[0, 15:17, 15:17] = CAR
+    center2 = torch.zeros(1, 1, 20, 20)
+    center2[0, 0, 15, 15] = 1.0
+    assert (group_instances(lone, center2, offset, THINGS, min_area=5)[0] == 0).all()
+    assert (group_instances(label, torch.zeros_like(center), offset, THINGS)[0] == 0).all()
+
+
+def _reference_pq(pred, gt, label, things):
+    """Loop implementation of PQ (one image at a time) to check the batched one."""
+    stats = torch.zeros(4, len(things), dtype=torch.float64)
+    for b in range(gt.shape[0]):
+        valid = label[b] != IGNORE_INDEX
+        gts = [i for i in torch.unique(gt[b][valid]).tolist() if i > 0 and i // 1000 in things]
+        prs = [i for i in torch.unique(pred[b]).tolist() if i > 0 and i // 1000 in things]
+        matched_g, matched_p = set(), set()
+        for g in gts:
+            for p in prs:
+                if g // 1000 != p // 1000:
+                    continue
+                gm, pm = (gt[b] == g) & valid, (pred[b] == p) & valid
+                inter = (gm & pm).sum().item()
+                iou = inter / ((gm | pm).sum().item())
+                if iou > 0.5:
+                    c = things.index(g // 1000)
+                    stats[0, c] += iou
+                    stats[1, c] += 1
+                    matched_g.add(g)
+                    matched_p.add(p)
+        for g in set(gts) - matched_g:
+            stats[3, things.index(g // 1000)] += 1
+        for p in set(prs) - matched_p:
+            pm = pred[b] == p
+            crowd = (label[b] == p // 1000) & (gt[b] == 0)
+            if ((~valid | crowd) & pm).sum() <= 0.5 * pm.sum():
+                stats[2, things.index(p // 1000)] += 1
+    return stats
+
+
+def test_pq_matches_a_loop_reference_on_random_maps():
+    g = torch.Generator().manual_seed(1)
+    totals = []
+    for _ in range(4):
+        gt = torch.zeros(2, 24, 32, dtype=torch.long)
+        pred = torch.zeros_like(gt)
+        label = torch.full_like(gt, ROAD)
+        for b in range(2):
+            for k in range(5):  # random overlapping boxes (later ones occlude earlier ones); predictions are
+                # the ground-truth boxes shifted by 0-5 px, some with the other class
+                x0, y0, dx, dy = torch.randint(0, 24, (4,), generator=g).tolist()
+                cls, flip = torch.randint(0, 2, (2,), generator=g).tolist()
+                gt[b, y0 % 20:y0 % 20 + 6, x0:x0 + 8] = THINGS[cls] * 1000 + k + 1
+                px, py = x0 + dx % 6, y0 % 20 + dy % 3
+                pcls = THINGS[cls] if k % 2 or not flip else THINGS[1 - cls]
+                pred[b, py:py + 6, px:px + 8] = pcls * 1000 + k + 1
+            label[b][gt[b] > 0] = gt[b][gt[b] > 0] // 1000
+        label[:, :3] = IGNORE_INDEX
+        label[0, 20:, :6] = CAR  # crowd: car pixels without an instance id
+        gt[label == IGNORE_INDEX] = 0
+        stats = pq_stats(pred, gt, label, THINGS)
+        torch.testing.assert_close(stats, _reference_pq(pred, gt, label, THINGS))
+        totals.append(stats[1:].sum(1))
+    assert (torch.stack(totals).sum(0) > 0).all()  # the draws did produce TPs, FPs and FNs
+
+
+def test_pq_hand_examples():
+    gt = torch.zeros(1, 10, 10, dtype=torch.long)
+    gt[0, 0:4, 0:5] = CAR * 1000 + 1  # 20 px
+    label = torch.full_like(gt, ROAD)
+    label[gt > 0] = CAR
+    pred = torch.zeros_like(gt)
+    pred[0, 0:4, 1:5] = CAR * 1000 + 5  # 16 px inside: IoU 0.8
+    pred[0, 6:9, 6:9] = VAN * 1000 + 6  # a false positive van
+    stats = pq_stats(pred, gt, label, THINGS)
+    assert stats[:, 0].tolist() == pytest.approx([0.8, 1, 0, 0]) and stats[:, 1].tolist() == [0, 0, 1, 0]
+    out = pq_from_stats(stats)
+    assert out["pq"][0] == pytest.approx(0.8) and out["rq"][1] == 0 and out["pq"][1] == 0
+    # A false positive on void pixels does not count; a class with no segments at all is NaN.
+    label[0, 6:9, 6:9] = IGNORE_INDEX
+    stats = pq_stats(pred, gt, label, THINGS)
+    assert stats[2, 1] == 0 and torch.isnan(pq_from_stats(stats)["pq"][1])
+    # IoU 0.5 exactly is no match: one FP and one FN.
+    half = torch.zeros_like(gt)
+    half[0, 0:4, 0:5] = CAR * 1000 + 2
+    half[0, 4:8, 0:5] = CAR * 1000 + 2
+    label[0, 4:8, 0:5] = CAR  # crowd under half of the prediction: still an FP (not more than half)
+    stats = pq_stats(half, gt, label, THINGS)
+    assert stats[:, 0].tolist() == [0, 0, 1, 1]
+    with pytest.raises(ValueError, match="must all be"):
+        pq_stats(pred[0], gt, label, THINGS)
+
+
+def test_random_crop_flip_keeps_image_and_maps_aligned():
+    b, h, w = 4, 12, 20
+    v, u = torch.meshgrid(torch.arange(h), torch.arange(w), indexing="ij")
+    code = (v * 100 + u).expand(b, h, w)
+    image = torch.stack([u.float(), v.float(), torch.zeros(h, w)]).expand(b, 3, h, w)
+    torch.manual_seed(3)
+    out, (m,) = random_crop_flip(image, [code], crop_size=[8, 6], hflip=True)
+    assert out.shape == (b, 3, 6, 8) and m.shape == (b, 6, 8)
+    torch.testing.assert_close(out[:, 0].long(), m % 100)
+    torch.testing.assert_close(out[:, 1].long(), m // 100)
+    steps = (m[:, :, 1:] - m[:, :, :-1]).flatten(1)
+    assert ((steps == 1).all(1) | (steps == -1).all(1)).all()  # contiguous columns, maybe mirrored
+    assert (m[:, 1:, :] - m[:, :-1, :] == 100).all()  # rows are never flipped
+    assert crop_size_for(224, 192, 624) == (192, 224) and crop_size_for(None, 5, 7) == (5, 7)
+    with pytest.raises(ValueError, match="crop_size"):
+        crop_size_for([1, 2, 3], 5, 5)
+    same, _ = random_crop_flip(image, [code], crop_size=None, hflip=False)
+    assert same is image
+
+
+def test_colorize_labels_uses_dataset_colours():
+    classes = resolve_classes("vkitti")
+    label = torch.tensor([[[1, 12, IGNORE_INDEX]]])
+    rgb = colorize_labels(label, classes)
+    assert rgb.shape == (1, 3, 1, 3)
+    torch.testing.assert_close(rgb[0, :, 0, 1] * 255, torch.tensor([255.0, 127.0, 80.0]))
+    assert rgb[0, :, 0, 2].sum() == 0

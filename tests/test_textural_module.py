@@ -1,0 +1,145 @@
+"""TexturalModule: manual GAN optimisation, step counting, resume, metrics, checkpoint -> renderer, config."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import lightning as L
+import pytest
+import torch
+from hydra.utils import instantiate
+from omegaconf import OmegaConf
+
+from datamodules import TexturalDataModule
+from lightning_modules._base import NonFiniteLossError
+from lightning_modules.textural import LinearDecay, TexturalModule
+from sdn3d.data.fixtures import write_vkitti1_fixture
+from sdn3d.nets.vgg import VGG19Features
+from sdn3d.texture import TexturalRenderer
+
+CONF = Path(__file__).resolve().parents[1] / "conf"
+SMALL = dict(ngf=8, n_downsampling=2, n_blocks=1, nef=4, n_downsampling_encoder=2, ndf=8)
+
+
+@pytest.fixture(scope="module")
+def data_root(tmp_path_factory) -> Path:
+    root = tmp_path_factory.mktemp("vk1")
+    write_vkitti1_fixture(root, frames=range(5), size=(128, 48))  # 4 train frames, 1 val/test frame
+    return root
+
+
+def _datamodule(root: Path, batch_size: int = 2) -> TexturalDataModule:
+    cfg = OmegaConf.load(CONF / "data" / "vkitti.yaml")
+    cfg.root = str(root)
+    return TexturalDataModule(cfg, image_size=(64, 32), batch_size=batch_size)
+
+
+def _trainer(**kwargs) -> L.Trainer:
+    base = dict(accelerator="cpu", logger=False, enable_checkpointing=False, enable_progress_bar=False,
+                enable_model_summary=False, num_sanity_val_steps=0)
+    return L.Trainer(**{**base, **kwargs})
+
+
+def test_linear_decay_schedule():
+    f = LinearDecay(2, 4)
+    assert [f(e) for e in range(7)] == [1.0, 1.0, 1.0, 0.75, 0.5, 0.25, 0.0]
+    assert LinearDecay(3, 0)(10) == 1.0
+    with pytest.raises(ValueError, match="lr_constant_epochs"):
+        LinearDecay(-1, 2)
+
+
+def test_fit_counts_steps_decays_lr_logs_metrics_and_resumes(data_root, tmp_path):
+    torch.manual_seed(0)
+    model = TexturalModule(**SMALL, lr=2e-4, lr_constant_epochs=0, lr_decay_epochs=4)
+    grids = []
+    model.log_image_grid = lambda tag, rows, step=None: grids.append((tag, rows, step)) or False
+    dm = _datamodule(data_root)
+    before = {k: v.clone() for k, v in model.state_dict().items()}
+    trainer = _trainer(max_epochs=2)
+    trainer.fit(model, datamodule=dm)
+    # 2 batches per epoch: 4 G updates; Lightning's global_step counts both optimizers' steps
+    assert int(model.g_updates) == 4 and trainer.global_step == 8
+    trained = [k for k in before if k.startswith(("generator.model.1.", "encoder.model.1.", "discriminator.scales.0."))]
+    assert len(trained) > 6 and all(not torch.equal(before[k], model.state_dict()[k]) for k in trained)
+    opt_g, opt_d = model.optimizers()
+    assert opt_g.param_groups[0]["lr"] == pytest.approx(1e-4) == opt_d.param_groups[0]["lr"]  # factor 1 - 2/4
+    metrics = trainer.callback_metrics
+    for key in ("val/l1", "val/psnr", "val/ssim", "val/obj_l1", "val/obj_psnr", "val/obj_ssim",
+                "train/loss_g", "train/loss_d", "train/g_fm", "train/g_l1"):
+        assert key in metrics and torch.isfinite(metrics[key]), key
+    assert "train/g_vgg" not in metrics and "val/lpips" not in metrics  # no weights: off
+    assert 0 < float(metrics["val/ssim"]) < 1 and float(metrics["val/psnr"]) > 0
+    tag, rows, step = grids[-1]
+    assert tag == "val/label_reconstruction_real" and step == 4 and len(rows) == 3
+    assert all(r.shape == (1, 3, 32, 64) for r in rows) and rows[0].max() <= 1
+
+    ckpt = tmp_path / "textural.ckpt"
+    trainer.save_checkpoint(ckpt)
+    renderer = TexturalRenderer.from_checkpoint(ckpt)
+    batch = next(iter(dm.val_dataloader()))
+    model.eval()
+    with torch.no_grad():
+        expected = model(batch)
+    got = renderer.reconstruct(batch["image"], batch["label"], batch["instance_label_map"], batch["boundary"],
+                               batch["pose"], batch["normal"])
+    assert torch.allclose(got, expected, atol=1e-5)
+
+    # resume: counters, optimizer and scheduler state continue
+    resumed = TexturalModule(**SMALL, lr=2e-4, lr_constant_epochs=0, lr_decay_epochs=4)
+    trainer = _trainer(max_epochs=3, limit_val_batches=0)
+    trainer.fit(resumed, datamodule=_datamodule(data_root), ckpt_path=ckpt)
+    assert int(resumed.g_updates) == 6 and trainer.global_step == 12
+    assert resumed.optimizers()[0].param_groups[0]["lr"] == pytest.approx(0.5e-4)
+
+
+def test_max_steps_counts_both_optimizers(data_root):
+    model = TexturalModule(**SMALL)
+    trainer = _trainer(max_steps=2, limit_val_batches=0)
+    trainer.fit(model, datamodule=_datamodule(data_root))
+    assert int(model.g_updates) == 1
+
+
+@pytest.mark.parametrize("policy", ["stop", "skip"])
+def test_nonfinite_loss_policy(data_root, policy):
+    model = TexturalModule(**SMALL)
+    model.nonfinite = policy
+    generate = model._generate
+    model._generate = lambda batch: (generate(batch)[0] * float("nan"), *generate(batch)[1:])
+    before = {k: v.clone() for k, v in model.generator.state_dict().items()}
+    trainer = _trainer(max_epochs=1, limit_val_batches=0)
+    if policy == "stop":
+        with pytest.raises(NonFiniteLossError, match="loss_g"):
+            trainer.fit(model, datamodule=_datamodule(data_root))
+        return
+    trainer.fit(model, datamodule=_datamodule(data_root))
+    assert model.skipped_batches == 2 and int(model.g_updates) == 0 and trainer.global_step == 0
+    assert all(torch.equal(before[k], v) for k, v in model.generator.state_dict().items())
+
+
+def test_perceptual_loss_and_decoupling_switches(data_root, tmp_path):
+    torch.save(VGG19Features().state_dict(), tmp_path / "vgg19.pth")
+    model = TexturalModule(**SMALL, use_pose=False, use_normal=False, vgg_weights=str(tmp_path / "vgg19.pth"))
+    assert model.generator.model[1].in_channels == 14 + 1 + 5
+    assert not any(k.startswith("_frozen") or "vgg" in k for k in model.state_dict())  # VGG stays out of ckpts
+    trainer = _trainer(fast_dev_run=True)
+    trainer.fit(model, datamodule=_datamodule(data_root))
+    assert torch.isfinite(trainer.callback_metrics["train/g_vgg"])
+    no_codes = TexturalModule(**SMALL, use_codes=False, classes="cityscapes")
+    assert no_codes.generator.model[1].in_channels == 19 + 1 + 24 + 3
+
+
+def test_branch_config_and_presets(data_root):
+    branch = OmegaConf.load(CONF / "branch" / "textural.yaml")
+    data = OmegaConf.load(CONF / "data" / "vkitti.yaml")
+    data.root = str(data_root)
+    cfg = OmegaConf.merge({"data": data, "seed": 0}, branch)
+    assert cfg.branch_name == "textural" and cfg.monitor == "val/psnr" and cfg.monitor_mode == "max"
+    paper = OmegaConf.merge(cfg, cfg.presets.paper)
+    assert (paper.model.ngf, paper.model.n_downsampling, paper.model.n_blocks) == (64, 4, 9)
+    assert (paper.model.lambda_fm, paper.model.lambda_recon, paper.model.code_dim) == (5.0, 10.0, 5)
+    demo = OmegaConf.merge(cfg, cfg.presets.demo)
+    model = instantiate(demo.model)
+    assert isinstance(model, TexturalModule) and model.hparams.ngf == 16 and model.hparams.classes == "vkitti"
+    dm = instantiate(demo.datamodule)
+    assert dm.image_size == (312, 96) and dm.batch_size == 2
+    assert demo.trainer.max_epochs * demo.trainer.limit_train_batches <= 400  # a few CPU minutes

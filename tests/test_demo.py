@@ -62,3 +62,34 @@ def test_demo_runs_end_to_end(tmp_path):
     fit = saved["silhouette_fit"]
     assert fit["iou_final"] > fit["iou_start"] + 0.05
     assert "Short CPU run" in (out / "report.md").read_text()
+
+
+def test_full_demo_tiny_budget(tmp_path):
+    """The README's main command end to end (train 3 branches, benchmark, edits, report) on a tiny budget."""
+    from sdn3d.cli.demo import main
+
+    out = tmp_path / "demo"
+    status = main([f"output_dir={out}", f"data_dir={tmp_path / 'data'}", "threads=1", "synth.image_size=[160,64]",
+                   "synth.worlds=[0001]", "synth.frames_per_sequence=5", "synth.edit_pairs=2", "synth.workers=1",
+                   'train.common=["trainer.max_steps=2","trainer.limit_val_batches=1","trainer.limit_test_batches=1",'
+                   '"trainer.enable_progress_bar=false","trainer.num_sanity_val_steps=0"]',
+                   'train.semantic=["datamodule.image_size=null"]', 'train.textural=["datamodule.image_size=null"]',
+                   "bench.limit=1", "bench.examples=1", "edits.angles_deg=[45]"])
+    assert status == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert set(summary["training"]) == {"semantic", "geometric", "textural"}
+    assert all(s["status"] == "ok" for s in summary["training"].values())
+    for name in ("report.md", "bench/table1.md", "bench/index.html", "edits/edits_grid.png", "edits/deleted.png",
+                 "edits/recoloured.png", "edits/rotated_p45_deg.png", "edits/closer.png"):
+        assert (out / name).is_file(), name
+    report = (out / "report.md").read_text()
+    assert "short CPU run" in report and "| 3D-SDN" in report
+    assert summary["peak_memory"]["largest_child_mib"] > 0
+
+
+def test_demo_bad_override_exits_2_without_output(tmp_path, capsys):
+    from sdn3d.cli.demo import main
+
+    assert main([f"output_dir={tmp_path / 'demo'}", "no_such_key=1"]) == 2
+    assert "bad configuration override" in capsys.readouterr().err
+    assert not (tmp_path / "demo").exists()

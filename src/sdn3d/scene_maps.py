@@ -96,6 +96,20 @@ def _renderable(objects: ObjectTable) -> Tensor:
     return objects.has_geometry & (objects.location[:, 2] > 0)
 
 
+def _check_templates(objects: ObjectTable, rows: Tensor, bank: MeshBank) -> None:
+    if len(rows) and int(objects.template_id[rows].max()) >= len(bank):
+        raise ValueError(f"template ids up to {int(objects.template_id[rows].max())} but the bank has {len(bank)} "
+                         "meshes")
+
+
+def _pose(objects: ObjectTable, rows: Tensor, bank: MeshBank) -> tuple[Tensor, Tensor]:
+    """Camera-frame ``verts (G, V, 3)`` float32 and ``faces (G, F, 3)`` of ``objects[rows]`` on ``bank``'s device."""
+    device = bank.device
+    pick = objects.select(rows.cpu())
+    return pose_meshes(bank, pick.template_id.to(device), pick.dims.float().to(device), pick.ry.float().to(device),
+                       pick.center.float().to(device), pick.phi.to(device))
+
+
 def posed_meshes(objects: ObjectTable, bank: MeshBank) -> tuple[Tensor, Tensor, Tensor]:
     """Camera-frame meshes of the renderable objects.
 
@@ -103,52 +117,193 @@ def posed_meshes(objects: ObjectTable, bank: MeshBank) -> tuple[Tensor, Tensor, 
         ``rows (G,)`` their indices in ``objects``, ``verts (G, V, 3)`` float32 and ``faces (G, F, 3)``.
     """
     rows = _renderable(objects).nonzero().flatten()
-    if len(rows) and int(objects.template_id[rows].max()) >= len(bank):
-        raise ValueError(f"template ids up to {int(objects.template_id[rows].max())} but the bank has {len(bank)} "
-                         "meshes")
-    device = bank.device
-    pick = objects.select(rows)
-    verts, faces = pose_meshes(bank, pick.template_id.to(device), pick.dims.float().to(device),
-                               pick.ry.float().to(device), pick.center.float().to(device), pick.phi.to(device))
-    return rows.to(device), verts, faces
+    _check_templates(objects, rows, bank)
+    verts, faces = _pose(objects, rows, bank)
+    return rows.to(bank.device), verts, faces
 
 
-def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -> tuple:
-    """Per-object rendering and the per-pixel winner (steps 1-3 of the module doc)."""
+@dataclass
+class _Layers:
+    """Result of steps 1-3 of the module doc.
+
+    ``winner (H, W)`` row of the frontmost covering object (0 where nothing covers), ``visible (H, W)``,
+    ``fragments`` ``(1, H, W)`` of the winner where it was rendered there (packed face indices into
+    ``verts (G, V, 3)`` / ``faces (G, F, 3)``, the rasterized meshes).
+    """
+
+    winner: Tensor
+    visible: Tensor
+    fragments: Fragments
+    verts: Tensor
+    faces: Tensor
+
+
+def _settings(scene: SceneCode, settings: RasterSettings | None) -> RasterSettings:
+    size = scene.intrinsics.size
+    settings = settings or RasterSettings(image_size=size)
+    if settings.image_size != size:
+        raise ValueError(f"settings.image_size {settings.image_size} differs from the scene's {size}")
+    return settings
+
+
+def _fallback_depth(objects: ObjectTable, device: torch.device) -> Tensor:
+    """``(N,)`` float32 depth where an object covers a pixel it was not rendered at (module doc, step 3)."""
+    behind = torch.finfo(torch.float32).max
+    return torch.where(objects.has_geometry, objects.center[:, 2], behind).float().to(device)
+
+
+def _spans(any_along: Tensor) -> tuple[Tensor, Tensor]:
+    """First and one-past-last true index of each row of ``any_along (G, L)`` bool (0, 0 if none)."""
+    length = any_along.shape[1]
+    idx = torch.arange(length, device=any_along.device)
+    first = torch.where(any_along, idx, length).amin(1)
+    last = torch.where(any_along, idx + 1, 0).amax(1)
+    return first.clamp(max=last), last
+
+
+def _projected_boxes(verts: Tensor, K: Tensor, near: float, height: int, width: int) -> Tensor:
+    """``(G, 4)`` int64 pixel boxes ``(y0, x0, y1, x1)`` (end exclusive) holding every pixel a mesh can cover.
+
+    Faces with a vertex at ``z < near`` are culled by the rasterizer, so only vertices at ``z >= near``
+    count; one pixel of margin absorbs rounding. Empty (``y1 <= y0``) when no vertex can be drawn.
+    """
+    v = verts.detach().double()
+    ok = torch.isfinite(v).all(-1) & (v[..., 2] >= near)
+    safe = torch.where(ok[..., None], v, v.new_tensor([0.0, 0.0, 1.0]))
+    uv = project_points(safe, K.double())  # (G, V, 2)
+    inf = torch.tensor(float("inf"), dtype=v.dtype, device=v.device)
+    lo = torch.where(ok[..., None], uv, inf).amin(1).nan_to_num(posinf=1e9, neginf=-1e9)  # (G, 2)
+    hi = torch.where(ok[..., None], uv, -inf).amax(1).nan_to_num(posinf=1e9, neginf=-1e9)
+    lo = (lo.clamp(-2.0, 1e9).floor() - 1).clamp(min=0)
+    hi = (hi.clamp(-1e9, 1e9).ceil() + 2).minimum(torch.tensor([width, height], dtype=v.dtype, device=v.device))
+    x0, y0 = lo.long().unbind(1)
+    x1, y1 = hi.long().unbind(1)
+    return torch.stack([y0, x0, y1.clamp(min=y0), x1.clamp(min=x0)], 1)
+
+
+def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -> _Layers:
+    """Steps 1-3 of the module doc, sparse.
+
+    Each drawn object is rasterized alone (one batched call, an image per object) into a crop window
+    around the only pixels it can contribute: its mask's bounding box if it has a mask (its cover), else
+    its mesh's projected box. The windows share the largest box's size and sit inside the frame. The
+    z-buffer across objects then runs over (object, pixel) candidates: mask pixels and rendered pixels
+    of mask-less objects, with a minimum depth per pixel and, among its ties, the lowest object row
+    (the dense per-object composition's first minimum: :func:`_dense_layers`).
+    """
     obj = scene.objects
     device = bank.device
-    height, width = scene.intrinsics.size
-    settings = settings or RasterSettings(image_size=(height, width))
-    if settings.image_size != (height, width):
-        raise ValueError(f"settings.image_size {settings.image_size} differs from the scene's {(height, width)}")
-    rows, verts, faces = posed_meshes(obj, bank)
+    settings = _settings(scene, settings)
+    height, width = settings.image_size
+    n, hw = len(obj), height * width
+    mask = obj.mask.to(device) & obj.has_mask.to(device)[:, None, None]
+    has_mask = obj.has_mask.to(device)
+    rows_any, cols_any = mask.any(2), mask.any(1)
+    # A mask is the object's whole cover: an empty one needs no rendering.
+    draw = _renderable(obj).to(device) & (~has_mask | rows_any.any(1))
+    rows = draw.nonzero().flatten()
+    _check_templates(obj, rows.cpu(), bank)
+    verts, faces = _pose(obj, rows, bank)
+    K = scene.intrinsics.matrix(device=device).double()
+    y0, y1 = _spans(rows_any[rows])
+    x0, x1 = _spans(cols_any[rows])
+    box = torch.where(has_mask[rows, None], torch.stack([y0, x0, y1, x1], 1),
+                      _projected_boxes(verts, K, settings.near, height, width))
+    keep = (box[:, 2] > box[:, 0]) & (box[:, 3] > box[:, 1])
+    rows, verts, faces, box = rows[keep], verts[keep], faces[keep], box[keep]
     g = len(rows)
+    crop_h = int((box[:, 2] - box[:, 0]).max()) if g else 1
+    crop_w = int((box[:, 3] - box[:, 1]).max()) if g else 1
+    y0, x0 = box[:, 0].clamp(max=height - crop_h), box[:, 1].clamp(max=width - crop_w)
+    # Integer shifts of (cx, cy) are exact in float64, so crop pixel (i, j) is frame pixel (y0 + i, x0 + j).
+    K_crop = K.expand(g, 3, 3).clone()
+    K_crop[:, 0, 2] -= x0
+    K_crop[:, 1, 2] -= y0
+    frags = rasterize_meshes(verts, faces, K_crop, dataclasses.replace(settings, image_size=(crop_h, crop_w)),
+                             mesh_to_image=torch.arange(g, device=device), batch_size=g)
+    crop = crop_h * crop_w
+    slot = torch.full((n,), -1, dtype=torch.long, device=device)
+    slot[rows] = torch.arange(g, device=device)
+
+    # Candidates of mask-less objects: their rendered pixels.
+    free = (~has_mask[rows]).nonzero().flatten()
+    c, i, j = (frags.mask[free].nonzero() if len(free) else torch.zeros(0, 3, dtype=torch.long, device=device)).T
+    c = free[c]
+    obj_a, pix_a, flat_a = rows[c], (i + y0[c]) * width + j + x0[c], c * crop + i * crop_w + j
+    # Candidates of masked objects: their mask pixels, rendered there or not.
+    k, i, j = mask.nonzero().T
+    c = slot[k]
+    drawn = c >= 0
+    cc = c.clamp(min=0)
+    flat_b = torch.where(drawn, cc * crop + (i - y0[cc]) * crop_w + j - x0[cc], 0) if g else torch.zeros_like(k)
+    hit_b = frags.mask.view(-1)[flat_b] & drawn if g else torch.zeros_like(drawn)
+    obj_ = torch.cat([obj_a, k])
+    pix = torch.cat([pix_a, i * width + j])
+    flat = torch.cat([flat_a, flat_b])
+    hit = torch.cat([torch.ones_like(obj_a, dtype=torch.bool), hit_b])
+    depth = torch.where(hit, frags.depth.view(-1)[flat].float() if g else 0.0, _fallback_depth(obj, device)[obj_])
+
+    # z-buffer across objects: least depth, then the lowest row among equals.
+    least = torch.full((hw,), float("inf"), device=device).scatter_reduce_(0, pix, depth, "amin")
+    tie = depth == least[pix]
+    win = torch.full((hw,), n, dtype=torch.long, device=device).scatter_reduce_(0, pix[tie], obj_[tie], "amin")
+    visible = win < n
+    chosen = (obj_ == win[pix]) & hit
+    p, f = pix[chosen], flat[chosen]
+    out = _empty_fragments(1, height, width, torch.float32, device)
+    if g:
+        out.pix_to_face.view(-1)[p] = frags.pix_to_face.view(-1)[f]
+        out.pix_to_mesh.view(-1)[p] = frags.pix_to_mesh.view(-1)[f]
+        out.depth.view(-1)[p] = frags.depth.view(-1)[f].float()
+        out.bary.view(-1, 3)[p] = frags.bary.view(-1, 3)[f].float()
+    return _Layers(torch.where(visible, win, 0).view(height, width), visible.view(height, width), out, verts, faces)
+
+
+def _dense_layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -> _Layers:
+    """Reference of :func:`_layers`: every renderable object rendered over the whole frame, composed densely.
+
+    Kept to pin the sparse path's results (tests) and time it (``benchmarks/edit_latency.py``).
+    """
+    obj = scene.objects
+    device = bank.device
+    settings = _settings(scene, settings)
+    height, width = settings.image_size
+    rows, verts, faces = posed_meshes(obj, bank)
+    g, n = len(rows), len(obj)
     frags = rasterize_meshes(verts, faces, scene.intrinsics.matrix(device=device), settings,
                              mesh_to_image=torch.arange(g, device=device), batch_size=g)
-    n = len(obj)
     mask, has_mask = obj.mask.to(device), obj.has_mask.to(device)
     rendered = torch.zeros(n, height, width, dtype=torch.bool, device=device)
     rendered[rows] = frags.mask
     cover = torch.where(has_mask[:, None, None], mask, rendered)
-    # Fallback depth where an object covers a pixel it was not rendered at (see module doc).
-    behind = torch.finfo(torch.float32).max
-    fallback = torch.where(obj.has_geometry, obj.center[:, 2], behind).float().to(device)
-    depth = fallback[:, None, None].expand(n, height, width).clone()
+    depth = _fallback_depth(obj, device)[:, None, None].expand(n, height, width).clone()
     depth[rows] = torch.where(frags.mask, frags.depth.float(), depth[rows])
     depth = torch.where(cover, depth, torch.full_like(depth, float("inf")))
     # min(0) rather than argmin(0): the same first-minimum indices, several times faster on CPU.
     winner = depth.min(0).indices if n else torch.zeros(height, width, dtype=torch.long, device=device)
     visible = cover.any(0) if n else torch.zeros(height, width, dtype=torch.bool, device=device)
-    return rows, verts, faces, frags, winner, visible
+    out = _empty_fragments(1, height, width, torch.float32, device)
+    if g:
+        slot = torch.full((n,), -1, dtype=torch.long, device=device)
+        slot[rows] = torch.arange(g, device=device)
+        s = slot[winner]
+        gi = s.clamp(min=0)[None]
+        hit = visible & (s >= 0) & frags.mask.gather(0, gi)[0]
+        out.pix_to_face[0] = torch.where(hit, frags.pix_to_face.gather(0, gi)[0], -1)
+        out.pix_to_mesh[0] = torch.where(hit, frags.pix_to_mesh.gather(0, gi)[0], -1)
+        out.depth[0] = torch.where(hit, frags.depth.gather(0, gi)[0].float(), float("inf"))
+        out.bary[0] = torch.where(hit[..., None], frags.bary.gather(0, gi[..., None].expand(1, height, width, 3))[0],
+                                  0.0)
+    return _Layers(winner, visible, out, verts, faces)
 
 
 def compose_instances(scene: SceneCode, bank: MeshBank | None = None, settings: RasterSettings | None = None
                       ) -> Tensor:
     """``(H, W)`` int64 instance map of the scene's objects alone (0 = none), occlusion by depth."""
     bank = bank or default_bank()
-    _, _, _, _, winner, visible = _layers(scene, bank, settings)
+    layers = _layers(scene, bank, settings)
     ids = scene.objects.instance_id.to(bank.device)
-    return torch.where(visible, ids[winner] if len(ids) else torch.zeros_like(winner), 0)
+    return torch.where(layers.visible, ids[layers.winner] if len(ids) else torch.zeros_like(layers.winner), 0)
 
 
 def scene_maps(scene: SceneCode, bank: MeshBank | None = None, settings: RasterSettings | None = None,
@@ -162,29 +317,28 @@ def scene_maps(scene: SceneCode, bank: MeshBank | None = None, settings: RasterS
         num_bins: pose bins.
     """
     bank = bank or default_bank()
-    device = bank.device
+    return _maps(scene, _layers(scene, bank, settings), bank.device, num_bins)
+
+
+def _scene_maps_reference(scene: SceneCode, bank: MeshBank | None = None, settings: RasterSettings | None = None,
+                          num_bins: int = NUM_POSE_BINS) -> ComposedMaps:
+    """:func:`scene_maps` through the dense reference :func:`_dense_layers` (tests, benchmarks)."""
+    bank = bank or default_bank()
+    return _maps(scene, _dense_layers(scene, bank, settings), bank.device, num_bins)
+
+
+def _maps(scene: SceneCode, layers: _Layers, device: torch.device, num_bins: int) -> ComposedMaps:
+    """Steps 4 and the map formats of the module doc from the composition ``layers``."""
     obj = scene.objects
-    rows, verts, faces, frags, winner, visible = _layers(scene, bank, settings)
-    height, width = scene.intrinsics.size
+    winner, visible = layers.winner, layers.visible
     ids = obj.instance_id.to(device)
     instance = torch.where(visible, ids[winner] if len(ids) else torch.zeros_like(winner), 0)
-
-    # Fragments of the winning object at each pixel, where it was rendered there.
-    slot = torch.full((len(obj),), -1, dtype=torch.long, device=device)
-    slot[rows] = torch.arange(len(rows), device=device)
-    g = slot[winner] if len(obj) else torch.full_like(winner, -1)
-    gi = g.clamp(min=0)[None]
-    hit = visible & (g >= 0)
-    if len(rows):
-        hit &= frags.mask.gather(0, gi)[0]
-        pix_to_face = torch.where(hit, frags.pix_to_face.gather(0, gi)[0], -1)
-        bary = frags.bary.gather(0, gi[..., None].expand(1, height, width, 3))[0]
-        depth = torch.where(hit, frags.depth.gather(0, gi)[0], torch.zeros((), device=device)).float()
-        merged = Fragments(pix_to_face[None], torch.where(hit, g, -1)[None], depth[None], bary[None])
-        normal = normal_map(merged, verts, faces)[0].float()
+    frags = layers.fragments
+    depth = torch.where(frags.mask, frags.depth, 0.0)[0].float()
+    if len(layers.verts):
+        normal = normal_map(frags, layers.verts, layers.faces)[0].float()
     else:
-        depth = torch.zeros(height, width, device=device)
-        normal = torch.zeros(3, height, width, device=device)
+        normal = torch.zeros(3, *winner.shape, device=device)
 
     geo = obj.has_geometry.to(device)
     alpha = observation_angle(obj.ry, obj.location[:, 0], obj.location[:, 2]).to(device)

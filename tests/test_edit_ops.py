@@ -21,13 +21,14 @@ from sdn3d.edit import (
     SetBackgroundCode,
     SetCode,
     Zoom,
+    _apply_edits_reference,
     apply_edits,
     match_objects,
     ops_from_benchmark,
     projected_centers,
 )
 from sdn3d.scene import ObjectTable, SceneCode, SceneObject
-from sdn3d.scene_maps import scene_maps
+from sdn3d.scene_maps import compose_instances, scene_maps
 
 SIZE = (208, 64)
 
@@ -226,3 +227,31 @@ def test_published_example_rotates_the_picked_car(reference_dir, tmp_path):
         assert math.isclose(math.remainder(turned - entry.operations[0].ry, 2 * math.pi), 0.0, abs_tol=1e-9)
         assert torch.equal(edited.objects.location, scene.objects.location)
         assert (edited == scene) == (abs(math.remainder(entry.operations[0].ry, 2 * math.pi)) < 1e-9)
+
+
+def test_freed_pixels_match_the_reference_and_need_no_rendering_with_masks(scene, monkeypatch):
+    """All observed objects have masks: the freed pixels come from the masks alone (no rasterization), and
+    equal the reference that composes the observed objects' renders; without masks both render."""
+    import sdn3d.edit as module
+
+    order = scene.objects.mask.flatten(1).sum(1).argsort(descending=True).tolist()
+    a, b, c = (int(scene.objects.instance_id[i]) for i in order[:3])
+    ops = [Delete(a), Move(b, (40.0, 50.0)), Modify(c, (150.0, 48.0), 1.3, 0.4), Rotate(b, 0.3)]
+    ref = _apply_edits_reference(scene, ops)
+    assert bool(scene.objects.has_mask.all()) and not torch.equal(ref.semantic, scene.semantic)
+
+    def no_render(*args, **kwargs):
+        raise AssertionError("compose_instances called although every observed object has a mask")
+
+    with monkeypatch.context() as patch:
+        patch.setattr(module, "compose_instances", no_render)
+        assert apply_edits(scene, ops) == ref
+    # Observed objects without masks (their footprint is where their render wins) take the rendering path.
+    obj = scene.objects
+    drop = torch.isin(obj.instance_id, torch.tensor([a, int(obj.instance_id[order[3]])]))
+    unmasked = scene.replace(objects=obj.replace(mask=obj.mask & ~drop[:, None, None], has_mask=obj.has_mask & ~drop))
+    calls = []
+    with monkeypatch.context() as patch:
+        patch.setattr(module, "compose_instances", lambda *a, **k: calls.append(1) or compose_instances(*a, **k))
+        out = apply_edits(unmasked, ops)
+    assert calls and out == _apply_edits_reference(unmasked, ops)

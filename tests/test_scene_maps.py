@@ -11,8 +11,19 @@ from sdn3d.data.fixtures import write_vkitti1_fixture
 from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX
 from sdn3d.geometry.camera import VKITTI_INTRINSICS
 from sdn3d.geometry.rotations import alpha_bins, observation_angle
+from sdn3d.render.rasterize import rasterize_meshes
+from sdn3d.render.settings import RasterSettings
 from sdn3d.scene import ObjectTable, SceneCode, SceneObject
-from sdn3d.scene_maps import code_map, compose_instances, fill_background, scene_maps
+from sdn3d.scene_maps import (
+    _projected_boxes,
+    _scene_maps_reference,
+    code_map,
+    compose_instances,
+    default_bank,
+    fill_background,
+    posed_meshes,
+    scene_maps,
+)
 
 WORK = (160, 64)
 ROAD, SKY, TREE = (VKITTI_CLASS_INDEX[n] for n in ("Road", "Sky", "Tree"))
@@ -131,3 +142,66 @@ def test_fill_background_takes_nearest_non_object_labels():
     assert torch.equal(fill_background(sem, torch.zeros_like(vacated), torch.tensor([CAR])), sem)
     with pytest.raises(ValueError, match="must match"):
         fill_background(sem, vacated[:-1], torch.tensor([CAR]))
+
+
+def _mixed_scene() -> SceneCode:
+    """One object of every kind the composition tells apart (module doc), overlapping."""
+    box = torch.zeros(H, W, dtype=torch.bool)
+    box[30:40, 40:90] = True
+    car = CAR * 1000
+    return _scene([
+        SceneObject(car + 1, 0, NEAR.dims, NEAR.ry, NEAR.location, mask=box.roll(6, 1)),  # mask != silhouette
+        FAR,  # drawn from its silhouette
+        SceneObject(car + 2, -1, mask=box.roll(-4, 0) & ~box),  # mask only: behind everything with geometry
+        SceneObject(car + 3, 2, (4.0, 1.5, 1.8), 0.3, (-5.0, 1.65, 8.0)),  # across the left border
+        SceneObject(car + 4, 1, (4.0, 1.5, 1.8), 1.57, (2.0, 1.65, 1.2)),  # vertices behind the near plane
+        SceneObject(car + 5, 3, (4.0, 1.5, 1.8), 0.0, (0.0, 1.65, -3.0), mask=box.roll(3, 0)),  # behind the camera
+        SceneObject(car + 6, 4, (4.0, 1.5, 1.8), 0.0, (1.0, 1.65, 12.0), mask=torch.zeros(H, W, dtype=torch.bool)),
+        SceneObject(car + 7, 5, (4.0, 1.5, 1.8), 0.0, (60.0, 1.65, 10.0)),  # outside the frame
+        SceneObject(car + 8, 6, (4.0, 1.5, 1.8), -0.8, (3.0, 1.65, 11.0)),  # and its exact twin, one row later:
+        SceneObject(car + 9, 6, (4.0, 1.5, 1.8), -0.8, (3.0, 1.65, 11.0)),  # equal depths, the first row wins
+    ])
+
+
+def test_sparse_composition_equals_the_dense_reference():
+    scene = _mixed_scene()
+    maps, ref = scene_maps(scene), _scene_maps_reference(scene)
+    for key in ref.as_dict():
+        assert torch.equal(getattr(maps, key), getattr(ref, key)), key
+    assert torch.equal(compose_instances(scene), ref.instance)
+    # The fixture exercises what it claims: ties go to the first row, a mask-less object crossing the
+    # near plane and one across the border are drawn, the object behind the camera wins its mask.
+    ids = set(maps.instance.unique().tolist())
+    car = CAR * 1000
+    assert {car + 1, FAR.instance_id, car + 3, car + 4, car + 5, car + 8} <= ids
+    assert not {car + 6, car + 7, car + 9} & ids
+    assert bool((maps.instance[scene.objects.mask[5]] == car + 5).all())
+    # Reversing the table moves the twins' tie to the other one and changes nothing else.
+    flipped = scene.replace(objects=scene.objects.select(torch.arange(len(scene.objects)).flip(0)))
+    other = scene_maps(flipped).instance
+    assert torch.equal(other, torch.where(ref.instance == car + 8, car + 9, ref.instance))
+
+
+def test_objects_are_rasterized_in_crops_holding_every_pixel_they_cover(monkeypatch):
+    scene = _mixed_scene()
+    bank = default_bank()
+    rows, verts, faces = posed_meshes(scene.objects, bank)
+    K = scene.intrinsics.matrix().double()
+    full = rasterize_meshes(verts, faces, K, RasterSettings(image_size=(H, W)))
+    box = _projected_boxes(verts, K, 0.1, H, W)
+    ii, jj = torch.meshgrid(torch.arange(H), torch.arange(W), indexing="ij")
+    inside = ((ii >= box[:, 0, None, None]) & (ii < box[:, 2, None, None]) & (jj >= box[:, 1, None, None])
+              & (jj < box[:, 3, None, None]))
+    assert bool(full.mask.any()) and bool((full.mask <= inside).all())
+    # One rasterizer call, with windows smaller than the frame (a regression to full-frame images shows here).
+    import sdn3d.scene_maps as module
+
+    sizes = []
+
+    def spy(*args, **kwargs):
+        sizes.append(args[3].image_size)
+        return rasterize_meshes(*args, **kwargs)
+
+    monkeypatch.setattr(module, "rasterize_meshes", spy)
+    scene_maps(_scene([NEAR, FAR]))
+    assert len(sizes) == 1 and sizes[0][0] * sizes[0][1] < H * W / 4

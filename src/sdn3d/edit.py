@@ -19,15 +19,16 @@ Freed pixels: when an *observed* object (see :mod:`sdn3d.scene`) ends up moved o
 pixels it occupied in the image take background labels (:func:`sdn3d.scene_maps.fill_background`).
 Its footprint is its mask (or, without one, where it wins among the observed objects'
 rendered silhouettes), grown by ``grow`` pixels into unclaimed pixels of its own class (the
-semantic map's object region is rarely exactly the mask or silhouette). Moved objects lose their
-mask and are drawn from geometry. An object whose pose ends where it started (e.g. rotated by
-``2 pi``) is left exactly as it was.
+semantic map's object region is rarely exactly the mask or silhouette; "claimed" pixels are those
+of the other observed objects, i.e. their masks, so nothing is rendered unless an observed object lacks
+a mask). Moved objects lose their mask and are drawn from geometry. An object whose pose ends where
+it started (e.g. rotated by ``2 pi``) is left exactly as it was.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,7 +43,7 @@ from sdn3d.geometry.camera import Intrinsics, project_points
 from sdn3d.geometry.rotations import wrap_angle
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene import ObjectTable, SceneCode
-from sdn3d.scene_maps import compose_instances, fill_background
+from sdn3d.scene_maps import _dense_layers, compose_instances, default_bank, fill_background
 
 __all__ = [
     "EditError",
@@ -341,6 +342,17 @@ def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None =
     Raises:
         EditError: unknown instance id, target outside the frame or below/above reach, wrong code size.
     """
+    return _apply_edits(scene, ops, bank, grow, _footprints)
+
+
+def _apply_edits_reference(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None = None,
+                           grow: int = 2) -> SceneCode:
+    """:func:`apply_edits` with the freed pixels of :func:`_footprints_reference` (tests, benchmarks)."""
+    return _apply_edits(scene, ops, bank, grow, _footprints_reference)
+
+
+def _apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None, grow: int,
+                 footprints: Callable[[SceneCode, Tensor, MeshBank | None, int], Tensor]) -> SceneCode:
     table, codes = scene.objects, scene.background_codes
     for op in ops:
         table, codes = _apply_one(scene, table, codes, op)
@@ -366,7 +378,7 @@ def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None =
     vacate = before.observed & ~same
     semantic = scene.semantic
     if bool(vacate.any()):
-        vacated = _footprints(scene, vacate, bank, grow)
+        vacated = footprints(scene, vacate, bank, grow)
         semantic = fill_background(scene.semantic, vacated, scene.thing_classes)
     return scene.replace(semantic=semantic, objects=table, background_codes=codes)
 
@@ -374,14 +386,36 @@ def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None =
 def _footprints(scene: SceneCode, vacate: Tensor, bank: MeshBank | None, grow: int) -> Tensor:
     """``(H, W)`` pixels the objects ``vacate (N,)`` (observed) occupied in the image (module doc)."""
     obj = scene.objects
+    region = obj.mask[vacate & obj.has_mask].any(0)
+    if bool(obj.has_mask[obj.observed].all()):
+        # Every observed object covers exactly its mask (sdn3d.scene_maps, step 2): nothing to render.
+        occupied = obj.mask[obj.observed].any(0)
+    else:
+        inst = compose_instances(scene.replace(objects=obj.select(obj.observed)), bank).cpu()
+        region |= torch.isin(inst, obj.instance_id[vacate])
+        occupied = inst != 0
+    return _grow(scene, vacate, region, occupied, grow)
+
+
+def _footprints_reference(scene: SceneCode, vacate: Tensor, bank: MeshBank | None, grow: int) -> Tensor:
+    """:func:`_footprints` as it was: the observed objects always composed (dense reference renderer)."""
+    obj = scene.objects
     observed = scene.replace(objects=obj.select(obj.observed))
-    inst = compose_instances(observed, bank).cpu()
+    layers = _dense_layers(observed, bank or default_bank(), None)
+    ids = observed.objects.instance_id.to(layers.winner.device)
+    inst = torch.where(layers.visible, ids[layers.winner] if len(ids) else 0, 0).cpu()
     region = torch.isin(inst, obj.instance_id[vacate]) | obj.mask[vacate & obj.has_mask].any(0)
+    return _grow(scene, vacate, region, inst != 0, grow)
+
+
+def _grow(scene: SceneCode, vacate: Tensor, region: Tensor, occupied: Tensor, grow: int) -> Tensor:
+    """``region`` grown by ``grow`` pixels into pixels of the vacating objects' classes not ``occupied``
+    by other observed objects."""
     if grow > 0:
         grown = binary_dilation(region.numpy(), iterations=int(grow))
-        claimed = (inst != 0) & ~region
-        same_class = torch.isin(scene.semantic.cpu(), obj.class_id[vacate])
-        region |= torch.from_numpy(grown) & same_class & ~claimed
+        claimed = occupied & ~region
+        same_class = torch.isin(scene.semantic.cpu(), scene.objects.class_id[vacate])
+        region = region | (torch.from_numpy(grown) & same_class & ~claimed)
     return region
 
 

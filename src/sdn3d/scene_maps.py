@@ -4,8 +4,11 @@ Composition (:func:`scene_maps`; the scene's tensors live on the CPU, rendering 
 mesh bank's device and the maps come back there):
 
 1. Every object with geometry in front of the camera is posed (FFD, scale, yaw, translation:
-   :func:`sdn3d.render.objects.pose_meshes`) and rasterized *alone* into its own image with the
-   hard rasterizer, giving per-object coverage and depth ``(N, H, W)``.
+   :func:`sdn3d.render.objects.pose_meshes`) and rasterized *alone* with the hard rasterizer, giving
+   per-object coverage and depth. All objects go through one batched call, each into its own crop
+   window around the only pixels it can contribute (its mask's box, else its projected mesh's box),
+   and steps 2-3 run over the covered (object, pixel) pairs only (:func:`_layers`; it equals the
+   dense composition over full-frame renders, :func:`_dense_layers`, kept as the reference).
 2. An object covers its 2D ``mask`` if it has one (an observed object keeps its exact visible
    footprint; objects without geometry only have that), else its rendered silhouette.
 3. Occlusion follows depth: at each pixel the covering object with the smallest depth wins
@@ -28,6 +31,7 @@ with geometry only), depth of the visible rendered surface (0 elsewhere) and the
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from dataclasses import dataclass
 
@@ -38,6 +42,7 @@ from torch import Tensor
 
 from sdn3d.data.datasets.textural import boundary_map, instance_label_map
 from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR
+from sdn3d.geometry.camera import project_points
 from sdn3d.geometry.rotations import NUM_POSE_BINS, alpha_bins, observation_angle
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.render.maps import normal_map
@@ -152,13 +157,22 @@ def _fallback_depth(objects: ObjectTable, device: torch.device) -> Tensor:
     return torch.where(objects.has_geometry, objects.center[:, 2], behind).float().to(device)
 
 
-def _spans(any_along: Tensor) -> tuple[Tensor, Tensor]:
-    """First and one-past-last true index of each row of ``any_along (G, L)`` bool (0, 0 if none)."""
-    length = any_along.shape[1]
-    idx = torch.arange(length, device=any_along.device)
-    first = torch.where(any_along, idx, length).amin(1)
-    last = torch.where(any_along, idx + 1, 0).amax(1)
-    return first.clamp(max=last), last
+def _no_fragments(height: int, width: int, device: torch.device) -> Fragments:
+    """Empty ``(1, H, W)`` float32 fragments (the rasterizer's conventions)."""
+    return Fragments(torch.full((1, height, width), -1, dtype=torch.long, device=device),
+                     torch.full((1, height, width), -1, dtype=torch.long, device=device),
+                     torch.full((1, height, width), float("inf"), device=device),
+                     torch.zeros(1, height, width, 3, device=device))
+
+
+def _mask_boxes(k: Tensor, i: Tensor, j: Tensor, n: int) -> Tensor:
+    """``(n, 4)`` int64 boxes ``(y0, x0, y1, x1)`` (end exclusive) of the mask pixels ``(i, j)`` of objects ``k``."""
+    box = torch.zeros(n, 4, dtype=torch.long, device=k.device)
+    big = torch.iinfo(torch.long).max
+    box[:, :2] = big
+    for col, value, reduce in ((0, i, "amin"), (1, j, "amin"), (2, i + 1, "amax"), (3, j + 1, "amax")):
+        box[:, col].scatter_reduce_(0, k, value, reduce)
+    return torch.where(box[:, :1] == big, 0, box)
 
 
 def _projected_boxes(verts: Tensor, K: Tensor, near: float, height: int, width: int) -> Tensor:
@@ -174,8 +188,8 @@ def _projected_boxes(verts: Tensor, K: Tensor, near: float, height: int, width: 
     inf = torch.tensor(float("inf"), dtype=v.dtype, device=v.device)
     lo = torch.where(ok[..., None], uv, inf).amin(1).nan_to_num(posinf=1e9, neginf=-1e9)  # (G, 2)
     hi = torch.where(ok[..., None], uv, -inf).amax(1).nan_to_num(posinf=1e9, neginf=-1e9)
-    lo = (lo.clamp(-2.0, 1e9).floor() - 1).clamp(min=0)
-    hi = (hi.clamp(-1e9, 1e9).ceil() + 2).minimum(torch.tensor([width, height], dtype=v.dtype, device=v.device))
+    lo = (lo.floor() - 1).clamp(min=0)
+    hi = (hi.ceil() + 2).clamp(min=0).minimum(torch.tensor([width, height], dtype=v.dtype, device=v.device))
     x0, y0 = lo.long().unbind(1)
     x1, y1 = hi.long().unbind(1)
     return torch.stack([y0, x0, y1.clamp(min=y0), x1.clamp(min=x0)], 1)
@@ -196,18 +210,17 @@ def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -
     settings = _settings(scene, settings)
     height, width = settings.image_size
     n, hw = len(obj), height * width
-    mask = obj.mask.to(device) & obj.has_mask.to(device)[:, None, None]
     has_mask = obj.has_mask.to(device)
-    rows_any, cols_any = mask.any(2), mask.any(1)
+    k, i, j = obj.mask.to(device).nonzero().T
+    keep = has_mask[k]
+    k, i, j = k[keep], i[keep], j[keep]
     # A mask is the object's whole cover: an empty one needs no rendering.
-    draw = _renderable(obj).to(device) & (~has_mask | rows_any.any(1))
+    draw = _renderable(obj).to(device) & (~has_mask | (torch.bincount(k, minlength=n) > 0))
     rows = draw.nonzero().flatten()
     _check_templates(obj, rows.cpu(), bank)
     verts, faces = _pose(obj, rows, bank)
     K = scene.intrinsics.matrix(device=device).double()
-    y0, y1 = _spans(rows_any[rows])
-    x0, x1 = _spans(cols_any[rows])
-    box = torch.where(has_mask[rows, None], torch.stack([y0, x0, y1, x1], 1),
+    box = torch.where(has_mask[rows, None], _mask_boxes(k, i, j, n)[rows],
                       _projected_boxes(verts, K, settings.near, height, width))
     keep = (box[:, 2] > box[:, 0]) & (box[:, 3] > box[:, 1])
     rows, verts, faces, box = rows[keep], verts[keep], faces[keep], box[keep]
@@ -227,11 +240,10 @@ def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -
 
     # Candidates of mask-less objects: their rendered pixels.
     free = (~has_mask[rows]).nonzero().flatten()
-    c, i, j = (frags.mask[free].nonzero() if len(free) else torch.zeros(0, 3, dtype=torch.long, device=device)).T
+    c, ci, cj = (frags.mask[free].nonzero() if len(free) else torch.zeros(0, 3, dtype=torch.long, device=device)).T
     c = free[c]
-    obj_a, pix_a, flat_a = rows[c], (i + y0[c]) * width + j + x0[c], c * crop + i * crop_w + j
+    obj_a, pix_a, flat_a = rows[c], (ci + y0[c]) * width + cj + x0[c], c * crop + ci * crop_w + cj
     # Candidates of masked objects: their mask pixels, rendered there or not.
-    k, i, j = mask.nonzero().T
     c = slot[k]
     drawn = c >= 0
     cc = c.clamp(min=0)
@@ -250,7 +262,7 @@ def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -
     visible = win < n
     chosen = (obj_ == win[pix]) & hit
     p, f = pix[chosen], flat[chosen]
-    out = _empty_fragments(1, height, width, torch.float32, device)
+    out = _no_fragments(height, width, device)
     if g:
         out.pix_to_face.view(-1)[p] = frags.pix_to_face.view(-1)[f]
         out.pix_to_mesh.view(-1)[p] = frags.pix_to_mesh.view(-1)[f]
@@ -282,7 +294,7 @@ def _dense_layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | N
     # min(0) rather than argmin(0): the same first-minimum indices, several times faster on CPU.
     winner = depth.min(0).indices if n else torch.zeros(height, width, dtype=torch.long, device=device)
     visible = cover.any(0) if n else torch.zeros(height, width, dtype=torch.bool, device=device)
-    out = _empty_fragments(1, height, width, torch.float32, device)
+    out = _no_fragments(height, width, device)
     if g:
         slot = torch.full((n,), -1, dtype=torch.long, device=device)
         slot[rows] = torch.arange(g, device=device)
@@ -343,8 +355,12 @@ def _maps(scene: SceneCode, layers: _Layers, device: torch.device, num_bins: int
     geo = obj.has_geometry.to(device)
     alpha = observation_angle(obj.ry, obj.location[:, 0], obj.location[:, 2]).to(device)
     bins = torch.where(geo, alpha_bins(alpha, num_bins), -1)
-    pixel_bin = torch.where(visible, bins[winner] if len(obj) else -torch.ones_like(winner), -1)
-    pose = (pixel_bin[None] == torch.arange(num_bins, device=device)[:, None, None]).float()
+    pose = torch.zeros(num_bins, winner.numel(), device=device)
+    if len(obj):
+        pixel_bin = torch.where(visible, bins[winner], -1).view(-1)
+        at = (pixel_bin >= 0).nonzero().flatten()
+        pose[pixel_bin[at], at] = 1.0
+    pose = pose.view(num_bins, *winner.shape)
 
     label, lmap = instance_label_map(scene.semantic.to(device), instance)
     return ComposedMaps(
@@ -370,18 +386,17 @@ def code_map(label_map: Tensor, instance_ids: Tensor, codes: Tensor, background_
     """
     num, dim = background_codes.shape
     is_obj = label_map >= INSTANCE_DIVISOR
-    # One gather for the background: row ``num`` of the extended table is the zero code.
-    table = torch.cat([background_codes, background_codes.new_zeros(1, dim)])
-    known = ~is_obj & (label_map >= 0) & (label_map < num)
-    out = table[torch.where(known, label_map, num)]
-    if len(instance_ids) and bool(is_obj.any()):
+    # One gather from a table of the background codes, the zero code (row ``num``) and the object codes.
+    index = torch.where(~is_obj & (label_map >= 0) & (label_map < num), label_map, num)
+    table = [background_codes, background_codes.new_zeros(1, dim)]
+    if len(instance_ids):
         order = instance_ids.argsort()
         sorted_ids = instance_ids[order]
-        values = label_map[is_obj]
-        pos = torch.searchsorted(sorted_ids, values).clamp(max=len(sorted_ids) - 1)
-        found = sorted_ids[pos] == values
-        out[is_obj] = codes[order[pos]].to(out.dtype) * found[:, None]
-    return out.permute(2, 0, 1)
+        pos = torch.searchsorted(sorted_ids, label_map).clamp(max=len(sorted_ids) - 1)
+        index = torch.where(is_obj & (sorted_ids[pos] == label_map), num + 1 + pos, index)
+        table.append(codes[order].to(background_codes.dtype))
+    # index_select over the flattened map: several times faster on CPU than advanced indexing.
+    return torch.cat(table).T.contiguous().index_select(1, index.flatten()).view(dim, *label_map.shape)
 
 
 def fill_background(semantic: Tensor, vacated: Tensor, thing_classes: Tensor) -> Tensor:

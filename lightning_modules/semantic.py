@@ -26,6 +26,7 @@ from torchmetrics.classification import MulticlassConfusionMatrix
 from lightning_modules._base import BranchModule
 from sdn3d.data.records import IGNORE_INDEX
 from sdn3d.nets.drn import DRNSeg
+from sdn3d.nets.weights import load_pretrained
 from sdn3d.semantic import (
     center_focal_loss,
     colorize_instances,
@@ -126,7 +127,9 @@ class SemanticModule(BranchModule):
         self.things = thing_class_ids(self.classes, args["thing_classes"])
         extra = {} if args["channels"] is None else {"channels": args["channels"]}
         self.net = DRNSeg(self.num_classes, arch=arch, instance_head=instance_head, head_channels=head_channels,
-                          pretrained=pretrained, **extra)
+                          **extra)
+        # Loaded here rather than by DRNSeg so that training without weights says so (load_pretrained warns).
+        load_pretrained(self.net.backbone, pretrained, what=f"{arch} backbone", ignore_prefixes=("fc.",))
         self.crop_size = args["crop_size"]
         self.metrics = torch.nn.ModuleDict({
             f"{stage}_confmat": MulticlassConfusionMatrix(self.num_classes, ignore_index=IGNORE_INDEX,

@@ -272,7 +272,8 @@ class DRNSeg(nn.Module):
         self.num_classes = int(num_classes)
         self.arch = arch
         self.backbone = build_drn(arch, num_classes=0, channels=channels)
-        load_pretrained(self.backbone, pretrained, what=f"{arch} backbone", ignore_prefixes=("fc.",))
+        if pretrained:  # None stays silent here: a predictor fills the weights from its checkpoint next
+            load_pretrained(self.backbone, pretrained, what=f"{arch} backbone", ignore_prefixes=("fc.",))
         self.seg = nn.Conv2d(self.backbone.out_dim, num_classes, 1)
         n = self.seg.kernel_size[0] * self.seg.kernel_size[1] * self.seg.out_channels
         self.seg.weight.data.normal_(0.0, math.sqrt(2.0 / n))

@@ -77,7 +77,9 @@ def load_pretrained(
             continue
         cleaned[key] = value
     expected = module.state_dict()
-    missing = sorted(set(expected) - set(cleaned))
+    # BatchNorm's num_batches_tracked counter (PyTorch >= 0.4.1) is absent from older published checkpoints
+    # (e.g. DRN 2017); it only matters for momentum=None, so a missing one keeps its initial value.
+    missing = sorted(k for k in set(expected) - set(cleaned) if not k.endswith("num_batches_tracked"))
     unexpected = sorted(set(cleaned) - set(expected))
     wrong = sorted(k for k in set(expected) & set(cleaned) if expected[k].shape != cleaned[k].shape)
     if missing or unexpected or wrong:
@@ -93,6 +95,8 @@ def load_pretrained(
             parts.append("shape mismatch: " + head(
                 [f"{k} {tuple(cleaned[k].shape)} vs {tuple(expected[k].shape)}" for k in wrong]))
         raise PretrainedWeightsError(f"{what}: weights file {str(path)!r} does not match; " + "; ".join(parts))
+    for key in set(expected) - set(cleaned):  # only num_batches_tracked here (checked above)
+        cleaned[key] = expected[key]
     module.load_state_dict(cleaned, strict=True)
     log.info("%s: loaded pretrained weights from %s", what, path)
     return True

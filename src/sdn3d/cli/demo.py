@@ -59,7 +59,8 @@ def train_branch(branch: str, cfg: Any, data_root: Path, runs: Path) -> dict:
     if run_dir.exists():
         shutil.rmtree(run_dir)
     args = [sys.executable, "-m", "sdn3d.cli.train", f"branch={branch}", "experiment=demo",
-            f"data.root={data_root.resolve()}", f"seed={int(cfg.seed)}", f"torch_threads={int(cfg.threads)}", f"hydra.run.dir={run_dir}",
+            f"data.root={data_root.resolve()}", f"seed={int(cfg.seed)}", f"torch_threads={int(cfg.threads)}",
+            f"hydra.run.dir={run_dir}",
             f"summary_file={runs / 'summary.jsonl'}"]
     if cfg.device != "cpu":
         args.append("trainer=gpu")

@@ -73,6 +73,7 @@ def test_full_demo_tiny_budget(tmp_path):
                    "synth.worlds=[0001]", "synth.frames_per_sequence=5", "synth.edit_pairs=2", "synth.workers=1",
                    'train.common=["data.image_size=[160,64]","trainer.max_steps=2","trainer.limit_val_batches=1","trainer.limit_test_batches=1",'
                    '"trainer.enable_progress_bar=false","trainer.num_sanity_val_steps=0"]',
+                   "train.semantic=[]", "train.geometric=[]", "train.textural=[]",
                    "bench.limit=1", "bench.examples=1", "edits.angles_deg=[45]"])
     assert status == 0
     summary = json.loads((out / "summary.json").read_text())

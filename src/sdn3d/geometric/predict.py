@@ -130,7 +130,7 @@ class GeometricPredictor:
 
     def __init__(self, net: GeometricNet, encoding: AttributeEncoding | None = None) -> None:
         self.net = net.eval()
-        self.bank: MeshBank | None = None  # built on first use: only silhouettes need meshes
+        self.bank: MeshBank | None = None  # built on first use
         self.encoding = encoding or AttributeEncoding(rotation=net.rotation)
         if self.encoding.rotation != net.rotation:
             raise ValueError(f"encoding.rotation={self.encoding.rotation!r} does not match the net's {net.rotation!r}")
@@ -194,9 +194,9 @@ class GeometricPredictor:
         if mask is not None:
             crop = crop * mask.to(device)
         raw = self.net(crop, box, intrinsics)
-        if self.bank is None:
-            self.bank = MeshBank.templates()
-        bank = self.bank.to(device)
+        if (refine is not None or crop_intrinsics is not None) and self.bank is None:
+            self.bank = MeshBank.templates()  # only silhouettes need meshes
+        bank = None if self.bank is None else self.bank.to(device)
         if refine is not None:
             if mask is None or crop_intrinsics is None:
                 raise ValueError("refine needs mask and crop_intrinsics")

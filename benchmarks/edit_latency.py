@@ -3,6 +3,7 @@
     python benchmarks/edit_latency.py [--threads 1 [2 ...]] [--repeats 3] [--entries 3] [--cars 11]
                                       [--presets demo paper] [--geometric CKPT] [--textural CKPT]
                                       [--data DIR] [--out FILE] [--no-reference] [--semantic]
+                                      [--device cpu|cuda]
 
 What one edit is (the path of :func:`sdn3d.bench.evaluate_entry`, ``proposals='gt'``): a source frame
 of a synthetic Virtual KITTI dataset written at ``--size`` (``sdn3d-synth`` recipe, ``--cars`` cars per
@@ -22,6 +23,10 @@ Networks, with random weights unless checkpoints are given: ``demo`` and ``paper
 ``--geometric`` / ``--textural`` checkpoints replace the demo ones (their own hyper-parameters).
 ``--semantic`` also times the semantic branch's forward on the frame (not on the ``gt`` path: it is
 what de-rendering an image without ground truth adds).
+
+``--device cuda`` puts the networks and the mesh bank (so ``scene_maps``' rasterization) on the GPU;
+every timed call ends with ``torch.cuda.synchronize``, so a stage's time includes its kernels. The
+frame is still read and cropped on the CPU, as :func:`sdn3d.derender.derender` does.
 
 The editing code alone is timed against its dense reference too (``reference``:
 ``sdn3d.scene_maps._scene_maps_reference``, every object rasterized over the whole frame and composed
@@ -60,6 +65,7 @@ from sdn3d.edit import _apply_edits_reference, apply_edits, ops_from_benchmark
 from sdn3d.geometric.model import GeometricNet
 from sdn3d.geometric.predict import GeometricPredictor, net_kwargs_from_hparams
 from sdn3d.geometry.encodings import AttributeEncoding
+from sdn3d.meshes import MeshBank
 from sdn3d.nets.pix2pixhd import TexturalSpec
 from sdn3d.scene_maps import _scene_maps_reference, scene_maps
 from sdn3d.texture import TexturalRenderer, class_list
@@ -110,19 +116,21 @@ def build_models(preset: str, geometric: str | None, textural: str | None) -> tu
     return Models(None, geo, tex, crop_size=crop, margin=margin), info
 
 
-def _semantic_forward(preset: str, image: torch.Tensor, repeats: int) -> dict:
+def _semantic_forward(preset: str, image: torch.Tensor, repeats: int, device: torch.device) -> dict:
     from sdn3d.nets.drn import DRNSeg
     from sdn3d.semantic.predict import SemanticPredictor
 
     model, _ = branch_model("semantic", preset)
     net = DRNSeg(14, arch=model["arch"], instance_head=model["instance_head"], head_channels=model["head_channels"],
                  pretrained=None, **({"channels": model["channels"]} if model.get("channels") else {}))
-    predictor = SemanticPredictor(net, "vkitti")
+    predictor = SemanticPredictor(net, "vkitti").to(device)
     predictor(image)
     wall, cpu = [], []
     for _ in range(repeats):
         w, c = time.perf_counter(), time.process_time()
         predictor(image)
+        if device.type == "cuda":
+            torch.cuda.synchronize()
         wall.append(1000 * (time.perf_counter() - w))
         cpu.append(1000 * (time.process_time() - c))
     return {"arch": model["arch"], "params": _params(net), "input": list(image.shape[-2:][::-1]),
@@ -132,14 +140,17 @@ def _semantic_forward(preset: str, image: torch.Tensor, repeats: int) -> dict:
 class _Clock:
     """Wall and process CPU milliseconds per named stage; ``wrap`` times a method inside another stage."""
 
-    def __init__(self) -> None:
+    def __init__(self, device: torch.device | None = None) -> None:
         self.wall: dict[str, list[float]] = {}
         self.cpu: dict[str, list[float]] = {}
         self.on = False
+        self.cuda = device is not None and device.type == "cuda"
 
     def time(self, name: str, fn: Callable, *args, **kwargs):
         w, c = time.perf_counter(), time.process_time()
         out = fn(*args, **kwargs)
+        if self.cuda:  # kernels are asynchronous: count them in the stage that launched them
+            torch.cuda.synchronize()
         if self.on:
             self.wall.setdefault(name, []).append(1000 * (time.perf_counter() - w))
             self.cpu.setdefault(name, []).append(1000 * (time.process_time() - c))
@@ -159,9 +170,11 @@ def _same_maps(a, b) -> bool:
     return all(torch.equal(getattr(a, k), getattr(b, k)) for k in a.as_dict())
 
 
-def run_preset(models: Models, cases: list, repeats: int, reference: bool) -> dict:
+def run_preset(models: Models, cases: list, repeats: int, reference: bool, device: torch.device | None = None) -> dict:
     """Time every stage over ``repeats`` passes of ``cases`` (after one warm-up pass)."""
-    clock = _Clock()
+    device = device or torch.device("cpu")
+    clock = _Clock(device)
+    bank = MeshBank.templates().to(device) if device.type != "cpu" else None
     clock.wrap(models.geometric, "predict", "derender.geometric")
     clock.wrap(models.textural, "encode", "derender.encoder")
     bins = models.textural.spec.pose_bins
@@ -176,7 +189,7 @@ def run_preset(models: Models, cases: list, repeats: int, reference: bool) -> di
                 objects.append({"objects": len(scene.objects), "with_geometry": int(scene.objects.has_geometry.sum())})
             ops = clock.time("edit_ops", ops_from_benchmark, entry, scene, strict=False)
             edited = clock.time("apply_edits", apply_edits, scene, ops)
-            maps = clock.time("scene_maps", scene_maps, edited, num_bins=bins)
+            maps = clock.time("scene_maps", scene_maps, edited, bank, num_bins=bins)
             clock.time("generator", render_maps, maps, models.textural)
             if reference:
                 old_edit = clock.time("reference.apply_edits", _apply_edits_reference, scene, ops)
@@ -222,7 +235,11 @@ def main(argv: list[str] | None = None) -> None:
     p.add_argument("--no-reference", action="store_true", help="skip the dense reference editing code")
     p.add_argument("--semantic", action="store_true", help="also time the semantic branch's forward")
     p.add_argument("--out", default=None, help="also write the JSON here")
+    p.add_argument("--device", default="cpu", help="cpu | cuda (networks and mesh bank)")
     args = p.parse_args(argv)
+    device = torch.device(args.device)
+    if device.type == "cuda" and not torch.cuda.is_available():
+        raise SystemExit("--device cuda but CUDA is not available")
     size = (int(args.size[0]), int(args.size[1]))
     torch.manual_seed(0)
     with tempfile.TemporaryDirectory() as tmp:
@@ -235,17 +252,21 @@ def main(argv: list[str] | None = None) -> None:
             "size": list(size), "entries": [f"{e.world}/{e.variation} {e.source_frame}->{e.target_frame} "
                                             f"{[o.kind for o in e.operations]}" for e, _, _ in cases],
             "repeats": args.repeats, "statistic": "median (min) over repeats x entries after one warm-up pass",
-            "cpu_count": os.cpu_count(), "torch": torch.__version__, "target_ms": TARGET_MS, "runs": []}
+            "cpu_count": os.cpu_count(), "torch": torch.__version__, "device": str(device),
+            "gpu": torch.cuda.get_device_name(device) if device.type == "cuda" else None,
+            "target_ms": TARGET_MS, "runs": []}
         for threads in args.threads:
             torch.set_num_threads(threads)
             for preset in args.presets:
                 load_before = os.getloadavg()
                 ckpt = preset == "demo"
                 models, info = build_models(preset, args.geometric if ckpt else None, args.textural if ckpt else None)
-                run = {"preset": preset, "threads": torch.get_num_threads(), "nets": info,
-                       **run_preset(models, cases, args.repeats, not args.no_reference)}
+                models.geometric.net.to(device)
+                models.textural.to(device)
+                run = {"preset": preset, "threads": torch.get_num_threads(), "device": str(device), "nets": info,
+                       **run_preset(models, cases, args.repeats, not args.no_reference, device)}
                 if args.semantic:
-                    run["semantic_forward"] = _semantic_forward(preset, cases[0][2].image, args.repeats)
+                    run["semantic_forward"] = _semantic_forward(preset, cases[0][2].image, args.repeats, device)
                 run["loadavg_before"] = [round(v, 2) for v in load_before]
                 run["loadavg_after"] = [round(v, 2) for v in os.getloadavg()]
                 result["runs"].append(run)

@@ -1,6 +1,6 @@
 """Textural branch benchmark: training / inference throughput, and a short training run with test metrics.
 
-    python benchmarks/textural.py speed [--threads 2] [--repeats 3] [--size 624 192]
+    python benchmarks/textural.py speed [--threads 2] [--repeats 3] [--size 624 192] [--device cpu|cuda]
     python benchmarks/textural.py train [--data-root /work/data/synth] [--preset demo] [--epochs N]
                                         [--train-batches N] [--threads 2] [--out outputs/bench/textural]
 
@@ -60,13 +60,16 @@ def _model_kwargs(cfg) -> dict:
     return kw
 
 
-def _timed(fn, repeats: int) -> tuple[float, float, float]:
-    """Median and min wall seconds per call, and median process CPU seconds per call (all threads)."""
+def _timed(fn, repeats: int, cuda: bool = False) -> tuple[float, float, float]:
+    """Median and min wall seconds per call, and median process CPU seconds per call (all threads);
+    ``cuda``: synchronize after each call, so its kernels count."""
     fn()  # warm-up
     times, cpu = [], []
     for _ in range(repeats):
         t0, c0 = time.perf_counter(), time.process_time()
         fn()
+        if cuda:
+            torch.cuda.synchronize()
         times.append(time.perf_counter() - t0)
         cpu.append(time.process_time() - c0)
     return statistics.median(times), min(times), statistics.median(cpu)
@@ -75,10 +78,12 @@ def _timed(fn, repeats: int) -> tuple[float, float, float]:
 def speed(args) -> dict:
     w, h = args.size
     dm = TexturalDataModule(branch_config(None, args.data_root).data, image_size=(w, h), batch_size=1)
-    batch = next(iter(dm.val_dataloader()))
+    device = torch.device(args.device)
+    cuda = device.type == "cuda"
+    batch = {k: v.to(device) if torch.is_tensor(v) else v for k, v in next(iter(dm.val_dataloader())).items()}
     results = {}
     for preset in ("demo", "paper"):
-        model = TexturalModule(**_model_kwargs(branch_config(preset, args.data_root)))
+        model = TexturalModule(**_model_kwargs(branch_config(preset, args.data_root))).to(device)
         opt_g, opt_d = model.configure_optimizers()[0]
 
         def train_iter(model=model, opt_g=opt_g, opt_d=opt_d) -> None:
@@ -99,14 +104,14 @@ def speed(args) -> dict:
             loss_d.backward()
             opt_d.step()
 
-        renderer = TexturalRenderer.from_state_dict(model.state_dict(), dict(model.hparams))
+        renderer = TexturalRenderer.from_state_dict(model.state_dict(), dict(model.hparams)).to(device)
 
         def infer(renderer=renderer) -> None:
             renderer.reconstruct(batch["image"], batch["label"], batch["instance_label_map"], batch["boundary"],
                                  batch["pose"], batch["normal"])
 
-        tm, tmin, tcpu = _timed(train_iter, args.repeats)
-        im, imin, icpu = _timed(infer, args.repeats)
+        tm, tmin, tcpu = _timed(train_iter, args.repeats, cuda)
+        im, imin, icpu = _timed(infer, args.repeats, cuda)
         results[preset] = {
             "generator_params_M": round(sum(p.numel() for p in model.generator.parameters()) / 1e6, 3),
             "train_images_per_s": round(1 / tm, 3), "train_images_per_s_best": round(1 / tmin, 3),
@@ -116,6 +121,7 @@ def speed(args) -> dict:
         }
         print(preset, results[preset], flush=True)
     return {"mode": "speed", "size": [w, h], "batch_size": 1, "threads": torch.get_num_threads(),
+            "device": str(device), "gpu": torch.cuda.get_device_name(device) if cuda else None,
             "repeats": args.repeats, "results": results}
 
 
@@ -208,6 +214,7 @@ def main(argv: list[str] | None = None) -> None:
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--size", type=int, nargs=2, default=(624, 192), metavar=("W", "H"))
     p.add_argument("--preset", default="demo")
+    p.add_argument("--device", default="cpu", help="speed mode: cpu | cuda")
     p.add_argument("--epochs", type=int, default=None)
     p.add_argument("--train-batches", type=int, default=None)
     p.add_argument("--out", default=str(REPO / "outputs" / "bench" / "textural"))

@@ -21,6 +21,7 @@ class GeometricDataModule(BranchDataModule):
         margin: crop enlargement per side (fraction of the box's larger side).
         min_pixels, max_occlusion, max_truncation: the paper's filter thresholds.
         rotation, distance: target parameterisation (:class:`AttributeEncoding`; ablations).
+        cache_items: keep decoded items in memory (:class:`GeometricDataset`).
     """
 
     def __init__(
@@ -38,13 +39,16 @@ class GeometricDataModule(BranchDataModule):
         max_truncation: float = 0.7,
         rotation: str = "yaw_quaternion",
         distance: str = "log_tau",
+        cache_items: bool = False,
     ) -> None:
         super().__init__(data, image_size, batch_size, num_workers, seed, pin_memory)
         self.crop_size = int(crop_size)
         self.margin = float(margin)
         self.object_filter = ObjectFilter(int(min_pixels), float(max_occlusion), float(max_truncation))
         self.encoding = AttributeEncoding(rotation, distance)
+        self.cache_items = bool(cache_items)
 
     def make_dataset(self, part: str) -> GeometricDataset:
         return GeometricDataset.from_source(self.source, part, crop_size=self.crop_size, margin=self.margin,
-                                            object_filter=self.object_filter, encoding=self.encoding)
+                                            object_filter=self.object_filter, encoding=self.encoding,
+                                            cache_items=self.cache_items)

@@ -153,6 +153,21 @@ def test_geometric_item_layout_and_targets_decode(geo):
     torch.testing.assert_close(center, batch["center"], rtol=1e-4, atol=1e-4)
 
 
+def test_geometric_item_cache_serves_identical_items_without_decoding(geo, monkeypatch):
+    ds, _ = geo
+    cached = GeometricDataset(ds.records, WORK, cache_items=True)
+    order = list(range(len(cached)))[::-1]
+    first = [cached[i] for i in order]
+    decoded = []
+    monkeypatch.setattr(cached, "_frame", lambda index: decoded.append(index))  # must not be called again
+    again = [cached[i] for i in order]
+    assert decoded == []
+    for a, b, c in zip(first, again, [ds[i] for i in order], strict=True):
+        assert a["key"] == b["key"] == c["key"]
+        for k in ("crop", "mask", "ignore", "box", "crop_intrinsics"):
+            assert torch.equal(a[k], c[k]) and torch.equal(b[k], c[k])
+
+
 def test_crop_intrinsics_match_crop_pixels(geo):
     ds, frames = geo
     for i in range(len(ds)):

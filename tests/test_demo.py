@@ -87,6 +87,30 @@ def test_full_demo_tiny_budget(tmp_path):
     assert summary["peak_memory"]["largest_child_mib"] > 0
 
 
+def test_demo_trains_branches_in_parallel_and_composes_the_long_budget(tmp_path):
+    from sdn3d.cli.demo import main
+    from sdn3d.cli.edit import compose_config
+
+    long = compose_config(["budget=long"], "demo")
+    assert long.budget_name == "long" and long.train.experiment.geometric == "table2"
+    assert len(long.synth.worlds) == 5 and "trainer.max_epochs=16" in long.train.textural
+    out = tmp_path / "demo"
+    status = main([f"output_dir={out}", f"data_dir={tmp_path / 'data'}", "threads=1", "synth.image_size=[160,64]",
+                   "synth.worlds=[0001]", "synth.frames_per_sequence=5", "synth.edit_pairs=1", "synth.workers=1",
+                   "train.parallel=true", "train.branches=[geometric,textural]",
+                   'train.common=["data.image_size=[160,64]","trainer.max_steps=2","trainer.limit_val_batches=1",'
+                   '"trainer.limit_test_batches=1","trainer.num_sanity_val_steps=0"]',
+                   "train.geometric=[]", "train.textural=[]", "bench.limit=1", "bench.examples=1",
+                   "edits.angles_deg=[45]"])
+    assert status == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert set(summary["training"]) == {"geometric", "textural"} and summary["budget"] == "short"
+    for branch in ("geometric", "textural"):  # each child's output went to its own file
+        assert (out / "runs" / f"{branch}.out").stat().st_size > 0
+        assert (out / "runs" / branch / "summary.json").is_file()
+    assert (out / "bench" / "table1.md").is_file()
+
+
 def test_demo_bad_override_exits_2_without_output(tmp_path, capsys):
     from sdn3d.cli.demo import main
 

@@ -66,6 +66,17 @@ def test_configs_compose_with_presets(branch, experiment, tmp_path):
     OmegaConf.to_container(cfg.model, resolve=True)  # every interpolation resolves
 
 
+def test_table2_experiment_sets_the_geometric_budget(tmp_path):
+    from lightning_modules.train import TrainingError, apply_preset
+
+    cfg = apply_preset(_compose(["branch=geometric", "experiment=table2", "ablation=no_tau", f"run_dir={tmp_path}"]),
+                       ["model.joint_epochs=3"])
+    assert cfg.model.pred_epochs == 40 and cfg.model.joint_epochs == 3 and cfg.datamodule.cache_items is True
+    assert cfg.trainer.max_epochs == 60 and cfg.model.distance == "log_distance"
+    with pytest.raises(TrainingError, match="table2"):  # only the geometric branch has this budget
+        apply_preset(_compose(["branch=semantic", "experiment=table2", f"run_dir={tmp_path}"]))
+
+
 def test_geometric_ablations_reach_the_model(tmp_path):
     pytest.importorskip("lightning_modules.geometric")
     for name in ("full", "no_reproj", "full_quaternion", "no_tau", "single_cad"):

@@ -41,6 +41,21 @@ def _dotted(overrides: list[str] | None) -> list[str]:
             and not o.lstrip("+").startswith("hydra.") and not o.startswith("~")]
 
 
+def _reapply(target: DictConfig, overrides: list[str] | None) -> DictConfig:
+    """``target`` with the dotted command-line ``overrides`` set again, their values read by Hydra's own
+    override grammar: a multirun hands them over escaped (``trainer.max_time=00\\:01\\:00\\:00``), and
+    plain YAML reads some strings differently (``1:30`` is a number to YAML 1.1)."""
+    dotted = _dotted(overrides)
+    if not dotted:
+        return target
+    from hydra.core.override_parser.overrides_parser import OverridesParser
+
+    for override in OverridesParser.create().parse_overrides(dotted):
+        value = override.value()
+        OmegaConf.update(target, override.key_or_group, value, merge=False, force_add=True)
+    return target
+
+
 def apply_preset(cfg: DictConfig, overrides: list[str] | None = None) -> DictConfig:
     """Merge ``cfg.presets[cfg.preset]`` (a branch's demo / paper budget) over the root config.
 
@@ -53,9 +68,7 @@ def apply_preset(cfg: DictConfig, overrides: list[str] | None = None) -> DictCon
     if name not in presets:
         raise TrainingError(f"preset {name!r} is not defined for branch {cfg.get('branch_name')!r}; "
                             f"it has {sorted(presets)} (conf/branch/{cfg.get('branch_name')}.yaml, key presets)")
-    merged = OmegaConf.merge(cfg, presets[name])
-    if _dotted(overrides):
-        merged = OmegaConf.merge(merged, OmegaConf.from_dotlist(_dotted(overrides)))
+    merged = _reapply(OmegaConf.merge(cfg, presets[name]), overrides)
     assert isinstance(merged, DictConfig)
     return merged
 
@@ -74,8 +87,7 @@ def resolve_resume(cfg: DictConfig, overrides: list[str] | None = None) -> DictC
     if not ckpt.is_file():
         raise TrainingError(f"resume={str(run)!r}: no checkpoints/last.ckpt to resume from")
     base = OmegaConf.load(saved)
-    if _dotted(overrides):
-        base = OmegaConf.merge(base, OmegaConf.from_dotlist(_dotted(overrides)))
+    base = _reapply(base, overrides)
     base.resume = str(run)
     base.run_dir = str(run)
     base.ckpt_path = str(ckpt)

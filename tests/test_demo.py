@@ -93,7 +93,7 @@ def test_demo_trains_branches_in_parallel_and_composes_the_long_budget(tmp_path)
 
     long = compose_config(["budget=long"], "demo")
     assert long.budget_name == "long" and long.train.experiment.geometric == "table2"
-    assert len(long.synth.worlds) == 5 and "trainer.max_epochs=16" in long.train.textural
+    assert len(long.synth.worlds) == 5 and "trainer.max_epochs=12" in long.train.textural
     out = tmp_path / "demo"
     status = main([f"output_dir={out}", f"data_dir={tmp_path / 'data'}", "threads=1", "synth.image_size=[160,64]",
                    "synth.worlds=[0001]", "synth.frames_per_sequence=5", "synth.edit_pairs=1", "synth.workers=1",

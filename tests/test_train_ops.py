@@ -7,6 +7,7 @@ shrunk further by overrides; each run is a few optimiser steps.
 from __future__ import annotations
 
 import json
+import logging
 import os
 import subprocess
 import sys
@@ -73,6 +74,11 @@ def test_table2_experiment_sets_the_geometric_budget(tmp_path):
                        ["model.joint_epochs=3"])
     assert cfg.model.pred_epochs == 40 and cfg.model.joint_epochs == 3 and cfg.datamodule.cache_items is True
     assert cfg.trainer.max_epochs == 60 and cfg.model.distance == "log_distance"
+    # A multirun hands the overrides over escaped; the value re-applied over the preset is Hydra's parsed one.
+    cfg = apply_preset(_compose(["branch=geometric", "experiment=table2", "trainer.max_time=00:00:06:00",
+                                 "model.pred_epochs=7", f"run_dir={tmp_path}"]),
+                       ["trainer.max_time=00\\:00\\:06\\:00", "model.pred_epochs=7"])
+    assert cfg.trainer.max_time == "00:00:06:00" and cfg.model.pred_epochs == 7
     with pytest.raises(TrainingError, match="table2"):  # only the geometric branch has this budget
         apply_preset(_compose(["branch=semantic", "experiment=table2", f"run_dir={tmp_path}"]))
 
@@ -88,7 +94,7 @@ def test_geometric_ablations_reach_the_model(tmp_path):
 
 
 @pytest.mark.parametrize("branch", BRANCHES)
-def test_each_branch_trains_tests_and_logs_to_tensorboard(branch, tiny_synth, tmp_path):
+def test_each_branch_trains_tests_and_logs_to_tensorboard(branch, tiny_synth, tmp_path, caplog):
     from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
     from lightning_modules.train import run_training
@@ -96,7 +102,11 @@ def test_each_branch_trains_tests_and_logs_to_tensorboard(branch, tiny_synth, tm
     pytest.importorskip(f"lightning_modules.{branch}")
     run_dir = tmp_path / "run"
     cfg = _compose(_overrides(branch, tiny_synth, run_dir, "trainer.limit_train_batches=2"))
-    summary = run_training(cfg, [])
+    with caplog.at_level(logging.INFO, logger="sdn3d.train"):
+        summary = run_training(cfg, [])
+    # EpochLog: progress in the run's log even without a progress bar
+    assert any(r.getMessage().startswith("epoch 1/") and "train/" in r.getMessage()
+               for r in caplog.records), [r.getMessage() for r in caplog.records]
     assert summary["status"] == "ok" and summary["global_step"] >= 1
     assert any(k.startswith("test/") for k in summary["metrics"]), summary["metrics"]
     assert (run_dir / "checkpoints" / "last.ckpt").is_file() and (run_dir / "config.yaml").is_file()

@@ -1,0 +1,46 @@
+"""Small training callbacks shared by every branch."""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import lightning as L
+import torch
+
+__all__ = ["EpochLog"]
+
+log = logging.getLogger("sdn3d.train")
+_PER_CLASS = ("/iou_", "/pq_", "/sq_", "/rq_", "/template_prob")  # one per class: too many for a line
+
+
+class EpochLog(L.Callback):
+    """One line per training epoch in the run's log (``train.log``): epoch, steps, seconds and the epoch's
+    logged metrics. Without a progress bar (``trainer.enable_progress_bar=false``, runs in the background
+    or ``sdn3d-demo train.parallel=true``) it is how a user sees how far a run has got.
+
+    Args:
+        keys: metric name prefixes to print (default: the training losses and the validation metrics).
+        max_metrics: at most this many metrics per line.
+    """
+
+    def __init__(self, keys: tuple[str, ...] = ("train/", "val/"), max_metrics: int = 12) -> None:
+        self.keys = tuple(keys)
+        self.max_metrics = int(max_metrics)
+        self._started = time.perf_counter()
+
+    def on_train_epoch_start(self, trainer: L.Trainer, pl_module: L.LightningModule) -> None:
+        self._started = time.perf_counter()
+
+    def on_train_epoch_end(self, trainer: L.Trainer, pl_module: L.LightningModule) -> None:
+        if trainer.sanity_checking or not trainer.is_global_zero:
+            return
+        metrics = []
+        for name, value in sorted(trainer.callback_metrics.items()):
+            if (name.startswith(self.keys) and not name.endswith(("_step", "_epoch")) and not any(
+                    part in name for part in _PER_CLASS) and torch.is_tensor(value) and value.numel() == 1):
+                metrics.append(f"{name} {float(value):.4g}")
+        total = trainer.max_epochs if trainer.max_epochs and trainer.max_epochs > 0 else "?"
+        log.info("epoch %d/%s done: step %d, %.1f s%s", trainer.current_epoch + 1, total, trainer.global_step,
+                 time.perf_counter() - self._started,
+                 ("; " + ", ".join(metrics[: self.max_metrics])) if metrics else "")

@@ -42,15 +42,17 @@ def identifiability(root: str, crop_size: int, split: str, batch: int = 64) -> d
     dm.setup("fit" if split == "train" else "test")
     ds = dm.datasets[split]
     bank = MeshBank.templates()
+    t = len(bank)
     errors, truth = [], []
     for start in range(0, len(ds), batch):  # batches of objects, every template at once per batch
         items = torch.utils.data.default_collate([ds[i] for i in range(start, min(start + batch, len(ds)))])
-        n, t = len(items["dims"]), len(bank)
+        n = len(items["dims"])
         ids = torch.arange(t).repeat(n)
-        rep = lambda x: x.repeat_interleave(t, 0)  # noqa: E731 - object rows, one per template
-        sil = render_silhouettes(bank, ids, rep(items["dims"]), rep(items["ry"]), rep(items["center"]), None,
-                                 rep(items["crop_intrinsics"]), crop_size)
-        err = reprojection_error(sil, rep(items["mask"]), rep(items["ignore"])).view(n, t)
+        rows = {k: items[k].repeat_interleave(t, 0) for k in ("dims", "ry", "center", "crop_intrinsics", "mask",
+                                                               "ignore")}  # object rows, one per template
+        sil = render_silhouettes(bank, ids, rows["dims"], rows["ry"], rows["center"], None, rows["crop_intrinsics"],
+                                 crop_size)
+        err = reprojection_error(sil, rows["mask"], rows["ignore"]).view(n, t)
         errors.append(err)
         truth.append(items["template_id"])
     err, tid = torch.cat(errors), torch.cat(truth)

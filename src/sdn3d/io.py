@@ -71,3 +71,29 @@ def write_png_atomic(path: str | os.PathLike, array: np.ndarray) -> Path:
         image.save(handle, format="PNG", optimize=False)
 
     return atomic_write(path, _write)
+
+
+def load_lightning_checkpoint(path: str | os.PathLike, map_location: Any = "cpu",
+                              required: tuple[str, ...] = ("state_dict",)) -> dict:
+    """A Lightning checkpoint read with ``torch.load(weights_only=True)`` (no code from the file runs).
+
+    Raises:
+        ValueError: naming the file: missing, unreadable (truncated, not a torch file, or holding objects
+            ``weights_only`` refuses), or not a mapping with the ``required`` keys.
+    """
+    import pickle
+    import zipfile
+
+    import torch
+
+    path = Path(path).expanduser()
+    if not path.is_file():
+        raise ValueError(f"checkpoint {str(path)!r} does not exist")
+    try:
+        ckpt = torch.load(path, map_location=map_location, weights_only=True)
+    except (pickle.UnpicklingError, RuntimeError, EOFError, zipfile.BadZipFile, OSError) as exc:
+        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise ValueError(f"could not read checkpoint {str(path)!r}: {first}") from exc
+    if not isinstance(ckpt, dict) or any(k not in ckpt for k in required):
+        raise ValueError(f"{str(path)!r} is not a Lightning checkpoint (needs {', '.join(map(repr, required))})")
+    return ckpt

@@ -25,7 +25,7 @@ from typing import Any
 import torch
 from torch import Tensor, nn
 
-from sdn3d.data.datasets.sources import _CLASS_LISTS
+from sdn3d.data.datasets.sources import CLASS_LISTS as _CLASS_LISTS
 from sdn3d.data.records import INSTANCE_DIVISOR, SemanticClass
 from sdn3d.nets.pix2pixhd import TexturalSpec
 
@@ -262,9 +262,9 @@ class TexturalRenderer(nn.Module):
     @classmethod
     def from_checkpoint(cls, path: str | Path, map_location: str | torch.device = "cpu") -> TexturalRenderer:
         """Load G and E from a ``TexturalModule`` Lightning checkpoint (``torch.load(weights_only=True)``)."""
-        ckpt = torch.load(Path(path), map_location=map_location, weights_only=True)
-        if not isinstance(ckpt, Mapping) or "state_dict" not in ckpt or "hyper_parameters" not in ckpt:
-            raise ValueError(f"{str(path)!r} is not a Lightning checkpoint with 'state_dict' and 'hyper_parameters'")
+        from sdn3d.io import load_lightning_checkpoint
+
+        ckpt = load_lightning_checkpoint(path, map_location, required=("state_dict", "hyper_parameters"))
         return cls.from_state_dict(ckpt["state_dict"], ckpt["hyper_parameters"])
 
     @classmethod

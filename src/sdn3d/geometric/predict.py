@@ -142,12 +142,10 @@ class GeometricPredictor:
         Uses its ``hyper_parameters`` (rotation, distance, single_cad, ...) to rebuild the net and
         the ``net.``-prefixed entries of its ``state_dict``.
         """
+        from sdn3d.io import load_lightning_checkpoint
+
         path = Path(path).expanduser()
-        if not path.is_file():
-            raise ValueError(f"checkpoint {str(path)!r} does not exist")
-        ckpt = torch.load(path, map_location=map_location, weights_only=True)
-        if not isinstance(ckpt, Mapping) or "state_dict" not in ckpt:
-            raise ValueError(f"{str(path)!r} is not a Lightning checkpoint (no 'state_dict')")
+        ckpt = load_lightning_checkpoint(path, map_location)
         hparams = dict(ckpt.get("hyper_parameters") or {})
         net = GeometricNet(**net_kwargs_from_hparams(hparams))
         state = {k[len("net."):]: v for k, v in ckpt["state_dict"].items() if k.startswith("net.")}

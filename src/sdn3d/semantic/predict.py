@@ -84,9 +84,9 @@ class SemanticPredictor:
     def from_checkpoint(cls, path: str | os.PathLike, map_location: str | torch.device = "cpu",
                         image_size: tuple[int, int] | None = None) -> SemanticPredictor:
         """Load a ``SemanticModule`` Lightning checkpoint (``weights_only=True``)."""
-        ckpt = torch.load(os.fspath(path), map_location=map_location, weights_only=True)
-        if not isinstance(ckpt, Mapping) or "state_dict" not in ckpt:
-            raise ValueError(f"{os.fspath(path)!r} is not a Lightning checkpoint (no 'state_dict')")
+        from sdn3d.io import load_lightning_checkpoint
+
+        ckpt = load_lightning_checkpoint(path, map_location)
         hp = dict(ckpt.get("hyper_parameters") or {})
         classes = resolve_classes(hp.get("classes", "vkitti"))
         net = DRNSeg(len(classes), arch=hp.get("arch", "drn_d_22"), instance_head=hp.get("instance_head", True),

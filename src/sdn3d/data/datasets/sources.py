@@ -41,7 +41,8 @@ KINDS = ("vkitti1", "vkitti2", "cityscapes")
 PARTS = ("train", "val", "test")
 #: Paper working sizes ``(W, H)``.
 DEFAULT_IMAGE_SIZE = {"vkitti1": (624, 192), "vkitti2": (624, 192), "cityscapes": (512, 256)}
-_CLASS_LISTS = {"vkitti": VKITTI_CLASSES, "cityscapes": CITYSCAPES_TRAIN_CLASSES}
+CLASS_LISTS = {"vkitti": VKITTI_CLASSES, "cityscapes": CITYSCAPES_TRAIN_CLASSES}
+_CLASS_LISTS = CLASS_LISTS  # the older private name
 _KIND_CLASSES = {"vkitti1": "vkitti", "vkitti2": "vkitti", "cityscapes": "cityscapes"}
 # Default split rules. The paper has no validation split for Virtual KITTI: "val" reads the
 # held-out 20% (the test part); Cityscapes' test labels are not public, so "test" reads "val".

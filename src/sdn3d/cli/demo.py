@@ -213,7 +213,8 @@ def _training_rows(training: dict) -> str:
     rows = []
     for branch, summary in training.items():
         metrics = {k[5:]: v for k, v in sorted(summary.get("metrics", {}).items())
-                   if k.startswith("test/") and not k.startswith(("test/iou_", "test/pq_", "test/sq_", "test/rq_"))}
+                   if k.startswith("test/") and not k.startswith(("test/iou_", "test/pq_", "test/sq_", "test/rq_",
+                                                                  "test/template_prob/"))}
         text = ", ".join(f"{k} {v:.4g}" for k, v in metrics.items()) or "n/a"
         rows.append(f"| {branch} | {summary.get('demo_wall_s')} | {summary.get('global_step')} | {text} |")
     return "\n".join(rows)

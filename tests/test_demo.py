@@ -74,7 +74,7 @@ def test_full_demo_tiny_budget(tmp_path):
                    'train.common=["data.image_size=[160,64]","trainer.max_steps=2","trainer.limit_val_batches=1","trainer.limit_test_batches=1",'
                    '"trainer.enable_progress_bar=false","trainer.num_sanity_val_steps=0"]',
                    "train.semantic=[]", "train.geometric=[]", "train.textural=[]",
-                   "bench.limit=1", "bench.examples=1", "edits.angles_deg=[45]"])
+                   "bench.limit=1", "bench.examples=1", "edits.angles_deg=[45]", "render_size=null"])
     assert status == 0
     summary = json.loads((out / "summary.json").read_text())
     assert set(summary["training"]) == {"semantic", "geometric", "textural"}
@@ -101,7 +101,7 @@ def test_demo_trains_branches_in_parallel_and_composes_the_long_budget(tmp_path)
                    'train.common=["data.image_size=[160,64]","trainer.max_steps=2","trainer.limit_val_batches=1",'
                    '"trainer.limit_test_batches=1","trainer.num_sanity_val_steps=0"]',
                    "train.geometric=[]", "train.textural=[]", "bench.limit=1", "bench.examples=1",
-                   "edits.angles_deg=[45]"])
+                   "render_size=[128,48]", "edits.angles_deg=[45]"])
     assert status == 0
     summary = json.loads((out / "summary.json").read_text())
     assert set(summary["training"]) == {"geometric", "textural"} and summary["budget"] == "short"
@@ -109,6 +109,10 @@ def test_demo_trains_branches_in_parallel_and_composes_the_long_budget(tmp_path)
         assert (out / "runs" / f"{branch}.out").stat().st_size > 0
         assert (out / "runs" / branch / "summary.json").is_file()
     assert (out / "bench" / "table1.md").is_file()
+    from PIL import Image  # benchmark and edits at render_size, not the data's 160x64
+
+    assert summary["data"]["render_size"] == [128, 48]
+    assert Image.open(out / "edits" / "deleted.png").size == (128, 48)
 
 
 def test_demo_bad_override_exits_2_without_output(tmp_path, capsys):

@@ -124,7 +124,7 @@ def run_bench(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.cli.bench import run_bench as bench_main
     from sdn3d.cli.edit import compose_config
 
-    overrides = [f"data.root={data_root.resolve()}", f"data.image_size={list(cfg.synth.image_size)}",
+    overrides = [f"data.root={data_root.resolve()}", f"data.image_size={render_size(cfg)}",
                  f"checkpoints.geometric={ckpts['geometric']}", f"checkpoints.textural={ckpts['textural']}",
                  f"checkpoints.semantic={ckpts.get('semantic')}" if ckpts.get("semantic") else
                  "checkpoints.semantic=null", f"proposals={cfg.bench.proposals}", f"examples={int(cfg.bench.examples)}",
@@ -132,6 +132,16 @@ def run_bench(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     if cfg.bench.limit is not None:
         overrides.append(f"limit={int(cfg.bench.limit)}")
     return bench_main(compose_config(overrides, "bench"))
+
+
+def render_size(cfg: Any) -> list[int]:
+    """``[W, H]`` the benchmark and the example edits work at: ``render_size``, else the data's size.
+
+    The textural generator draws best at the size it was trained at (the short budget trains it at half
+    size); frames are resized to it and the intrinsics with them.
+    """
+    size = cfg.get("render_size") or cfg.synth.image_size
+    return [int(size[0]), int(size[1])]
 
 
 def _pick_frame(records: Sequence[Any], size: tuple[int, int], wanted: str | None):
@@ -161,7 +171,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
 
     data_cfg = OC.load(Path(__file__).resolve().parents[3] / "conf" / "data" / "synth.yaml")
     data_cfg.root = str(data_root.resolve())
-    data_cfg.image_size = list(cfg.synth.image_size)
+    data_cfg.image_size = render_size(cfg)
     source = SourceConfig.from_mapping(data_cfg)
     records = [r for r in load_split(source, "test") if r.objects]
     record = _pick_frame(records, source.image_size, cfg.edits.frame)
@@ -241,7 +251,8 @@ def write_report(out: Path, info: dict) -> str:
 
 {intro} The paper's configurations are `experiment=paper_vkitti|paper_cityscapes`.
 
-- Data: {info['data']['frames']} synthetic frames at {info['data']['image_size'][0]}x{info['data']['image_size'][1]}
+- Data: {info['data']['frames']} synthetic frames at {info['data']['image_size'][0]}x{info['data']['image_size'][1]};
+  benchmark and edits at {info['data']['render_size'][0]}x{info['data']['render_size'][1]}
   (`{info['data']['root']}`), generated in {info['stages_s']['data']:.0f} s.
 - Wall time {info['wall_s'] / 60:.1f} min; peak memory {info['peak_memory']['largest_child_mib']:.0f} MiB (largest
   training process), {info['peak_memory']['demo_process_mib']:.0f} MiB (this process: benchmark and edits).
@@ -285,7 +296,8 @@ def run_demo(cfg: Any) -> dict:
     t0 = time.perf_counter()
     root = make_data(cfg)
     frames = sorted((root / "vkitti_1.3.1_rgb").rglob("*.png"))
-    info["data"] = {"root": str(root), "frames": len(frames), "image_size": list(cfg.synth.image_size)}
+    info["data"] = {"root": str(root), "frames": len(frames), "image_size": list(cfg.synth.image_size),
+                    "render_size": render_size(cfg)}
     info["stages_s"]["data"] = round(time.perf_counter() - t0, 1)
 
     ckpts: dict[str, str] = {}

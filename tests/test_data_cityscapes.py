@@ -17,7 +17,7 @@ from sdn3d.data.cityscapes import (
     camera_to_vehicle,
     read_frames,
 )
-from sdn3d.data.fixtures import CITYSCAPES_FIXTURE_FRAMES, write_cityscapes_fixture
+from sdn3d.data.fixtures_cityscapes import CITYSCAPES_FIXTURE_FRAMES, write_cityscapes_fixture
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,8 @@ import torch
 from omegaconf import OmegaConf
 
 from datamodules import GeometricDataModule, SemanticDataModule, TexturalDataModule
-from sdn3d.data.fixtures import write_cityscapes_fixture, write_vkitti1_fixture, write_vkitti2_fixture
+from sdn3d.data.fixtures import write_vkitti1_fixture, write_vkitti2_fixture
+from sdn3d.data.fixtures_cityscapes import write_cityscapes_fixture
 
 CONF = Path(__file__).resolve().parents[1] / "conf" / "data"
 

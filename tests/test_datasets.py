@@ -22,7 +22,8 @@ from sdn3d.data.datasets import (
     resize_map,
     scale_boxes,
 )
-from sdn3d.data.fixtures import write_cityscapes_fixture, write_vkitti1_fixture, write_vkitti2_fixture
+from sdn3d.data.fixtures import write_vkitti1_fixture, write_vkitti2_fixture
+from sdn3d.data.fixtures_cityscapes import write_cityscapes_fixture
 from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR
 from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX, VKITTI_CLASSES, paper_object_filter
 from sdn3d.geometry.camera import project_points

@@ -1,6 +1,8 @@
 """Semantic branch training: DRN segmentation + Panoptic-DeepLab instance head (``sdn3d-train branch=semantic``).
 
-Loss: cross-entropy (ignore index 255) + ``center_weight`` * focal loss of the centre heatmap
+Loss: cross-entropy (ignore index 255; optionally class-weighted, ``class_weighting``, with weights from
+the training split's label histogram computed once at the start of fitting and kept in the checkpoint)
++ ``center_weight`` * focal loss of the centre heatmap
 (CenterNet's; Panoptic-DeepLab's 200x MSE diverges under plain SGD) + ``offset_weight`` * L1 of
 the offsets on thing pixels.
 Optimiser: SGD with a per-step poly schedule ``lr * (1 - step / total) ** poly_power`` (DRN code).
@@ -12,6 +14,7 @@ grids (input | prediction | ground truth, in the dataset's colours) and ``<stage
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Sequence
 from typing import Any
@@ -28,10 +31,13 @@ from sdn3d.data.records import IGNORE_INDEX
 from sdn3d.nets.drn import DRNSeg
 from sdn3d.nets.weights import load_pretrained
 from sdn3d.semantic import (
+    CLASS_WEIGHTINGS,
     center_focal_loss,
+    class_weights,
     colorize_instances,
     colorize_labels,
     group_instances,
+    label_histogram,
     panoptic_targets,
     pq_from_stats,
     pq_stats,
@@ -41,6 +47,8 @@ from sdn3d.semantic import (
 )
 
 __all__ = ["SemanticModule", "PanopticQuality"]
+
+log = logging.getLogger(__name__)
 
 
 class PanopticQuality(Metric):
@@ -90,6 +98,9 @@ class SemanticModule(BranchModule):
         center_weight, offset_weight: loss weights of the instance head.
         center_threshold, nms_kernel, top_k, min_area: instance grouping at evaluation / inference.
         log_images: samples per TensorBoard grid (first validation / test batch); 0 = none.
+        class_weighting: None (plain cross-entropy), ``'median_frequency'`` or ``'enet'``
+            (:mod:`sdn3d.semantic.balance`), for rare classes.
+        max_class_weight: upper clip of those weights.
     """
 
     def __init__(
@@ -115,6 +126,8 @@ class SemanticModule(BranchModule):
         top_k: int = 50,
         min_area: int = 16,
         log_images: int = 4,
+        class_weighting: str | None = None,
+        max_class_weight: float = 10.0,
     ) -> None:
         super().__init__()
         args = {k: _plain(v) for k, v in locals().items() if k not in ("self", "__class__")}
@@ -131,6 +144,11 @@ class SemanticModule(BranchModule):
         # Loaded here rather than by DRNSeg so that training without weights says so (load_pretrained warns).
         load_pretrained(self.net.backbone, pretrained, what=f"{arch} backbone", ignore_prefixes=("fc.",))
         self.crop_size = args["crop_size"]
+        if class_weighting is not None and class_weighting not in CLASS_WEIGHTINGS:
+            raise ValueError(f"class_weighting must be null or one of {CLASS_WEIGHTINGS}, got {class_weighting!r}")
+        # Filled from the training labels at the first fit (on_fit_start); a checkpoint carries them on.
+        self.register_buffer("ce_weight", torch.ones(self.num_classes))
+        self.register_buffer("ce_weight_ready", torch.tensor(class_weighting is None))
         self.metrics = torch.nn.ModuleDict({
             f"{stage}_confmat": MulticlassConfusionMatrix(self.num_classes, ignore_index=IGNORE_INDEX,
                                                           validate_args=False)
@@ -138,6 +156,26 @@ class SemanticModule(BranchModule):
         })
         if instance_head and self.things:
             self.metrics.update({f"{stage}_pq": PanopticQuality(self.things) for stage in ("val", "test")})
+
+    def on_load_checkpoint(self, checkpoint: dict[str, Any]) -> None:
+        # Checkpoints written before class weighting existed have no such buffers: plain cross-entropy.
+        state = checkpoint.get("state_dict", {})
+        state.setdefault("ce_weight", torch.ones(self.num_classes))
+        state.setdefault("ce_weight_ready", torch.tensor(True))
+
+    def on_fit_start(self) -> None:
+        if bool(self.ce_weight_ready):
+            return
+        datamodule = getattr(self.trainer, "datamodule", None)
+        dataset = getattr(datamodule, "datasets", {}).get("train") if datamodule is not None else None
+        if dataset is None:
+            raise RuntimeError("class_weighting needs the datamodule's training split (datamodule.datasets['train'])")
+        counts = label_histogram((dataset[i]["label"] for i in range(len(dataset))), self.num_classes)
+        weights = class_weights(counts, self.hparams.class_weighting, float(self.hparams.max_class_weight))
+        self.ce_weight.copy_(weights.to(self.ce_weight.device))
+        self.ce_weight_ready.fill_(True)
+        shown = ", ".join(f"{c.name} {float(w):.2f}" for c, w in zip(self.classes, weights, strict=True))
+        log.info("class weights (%s, %d training images): %s", self.hparams.class_weighting, len(dataset), shown)
 
     def forward(self, image: Tensor) -> dict[str, Tensor]:
         """``image`` ``(B, 3, H, W)`` in [0, 1] -> network outputs (see :class:`~sdn3d.nets.drn.DRNSeg`)."""
@@ -147,7 +185,8 @@ class SemanticModule(BranchModule):
     def losses(self, out: dict[str, Tensor], label: Tensor, instance: Tensor) -> dict[str, Tensor]:
         """Loss terms for network outputs and ``(B, H, W)`` targets; ``'loss'`` is the weighted total."""
         hp = self.hparams
-        terms = {"ce": F.cross_entropy(out["logits"], label, ignore_index=IGNORE_INDEX)}
+        weight = None if self.hparams.get("class_weighting") is None else self.ce_weight.to(out["logits"].dtype)
+        terms = {"ce": F.cross_entropy(out["logits"], label, weight=weight, ignore_index=IGNORE_INDEX)}
         loss = terms["ce"]
         if "center" in out and self.things:
             target = panoptic_targets(instance, self.things, sigma=hp.center_sigma)

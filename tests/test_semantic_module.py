@@ -131,3 +131,51 @@ def test_rejects_bad_hyperparameters():
     with pytest.raises(ValueError, match="classes"):
         SemanticModule(classes="ade20k")
     assert math.isclose(SemanticModule(instance_head=False).hparams.poly_power, 0.9)
+
+
+def test_class_weights_from_label_histograms():
+    from sdn3d.semantic import class_weights, label_histogram
+
+    labels = [torch.tensor([[0, 0, 0, 1], [0, 0, 2, 255]]), torch.tensor([[0, 0, 0, 0]])]
+    counts = label_histogram(labels, 4)
+    assert counts.tolist() == [9, 1, 1, 0]  # 255 ignored, class 3 absent
+    w = class_weights(counts, "median_frequency", max_weight=100.0)
+    # frequencies 9/11, 1/11, 1/11; median 1/11 -> weights 1/9, 1, 1; absent class 0
+    torch.testing.assert_close(w, torch.tensor([1 / 9, 1.0, 1.0, 0.0]))
+    clipped = class_weights(torch.tensor([1000, 10, 1, 0]), "median_frequency", max_weight=5.0)
+    assert clipped[2] == 5.0 and clipped[1] == 1.0 and clipped[3] == 0.0 and clipped[0] < 1.0  # 10 clipped to 5
+    enet = class_weights(counts, "enet")
+    assert enet[1] > enet[0] > 0 and enet[3] == 0
+    with pytest.raises(ValueError, match="class weighting"):
+        class_weights(counts, "inverse")
+    with pytest.raises(ValueError, match="no labelled pixel"):
+        class_weights(torch.zeros(3, dtype=torch.int64))
+
+
+def test_class_weighted_training_computes_weights_once_and_checkpoints_them(data_cfg, tmp_path):
+    dm = SemanticDataModule(data_cfg, batch_size=2)
+    model = _small_module(class_weighting="median_frequency")
+    assert not bool(model.ce_weight_ready)
+    trainer = L.Trainer(accelerator="cpu", max_steps=1, limit_val_batches=0, logger=False,
+                        enable_checkpointing=False, enable_progress_bar=False, enable_model_summary=False)
+    trainer.fit(model, datamodule=dm)
+    assert bool(model.ce_weight_ready)
+    weights = model.ce_weight.clone()
+    road, pole = (next(c.id for c in model.classes if c.name == n) for n in ("Road", "Pole"))
+    assert weights[pole] > weights[road] > 0  # the rare class weighs more
+    path = tmp_path / "weighted.ckpt"
+    trainer.save_checkpoint(path)
+    again = SemanticModule.load_from_checkpoint(path, weights_only=True)
+    torch.testing.assert_close(again.ce_weight, weights)
+    assert bool(again.ce_weight_ready)
+    # A checkpoint from before class weighting existed still loads (plain cross-entropy).
+    ckpt = torch.load(path, weights_only=True)
+    for key in ("ce_weight", "ce_weight_ready"):
+        del ckpt["state_dict"][key]
+    ckpt["hyper_parameters"].pop("class_weighting")
+    ckpt["hyper_parameters"].pop("max_class_weight")
+    torch.save(ckpt, tmp_path / "old.ckpt")
+    old = SemanticModule.load_from_checkpoint(tmp_path / "old.ckpt", weights_only=True)
+    assert bool(old.ce_weight_ready) and torch.equal(old.ce_weight, torch.ones(old.num_classes))
+    with pytest.raises(ValueError, match="class_weighting"):
+        _small_module(class_weighting="inverse")

@@ -11,6 +11,7 @@ The network itself is :class:`sdn3d.nets.drn.DRNSeg`.
 """
 
 from sdn3d.semantic.augment import crop_size_for, random_crop_flip
+from sdn3d.semantic.balance import CLASS_WEIGHTINGS, class_weights, label_histogram
 from sdn3d.semantic.classes import (
     CLASS_LIST_NAMES,
     colorize_instances,
@@ -32,6 +33,9 @@ from sdn3d.semantic.pq import pq_from_stats, pq_stats
 from sdn3d.semantic.predict import GROUPING_DEFAULTS, Segmentation, SemanticPredictor, segment
 
 __all__ = [
+    "CLASS_WEIGHTINGS",
+    "class_weights",
+    "label_histogram",
     "crop_size_for",
     "random_crop_flip",
     "CLASS_LIST_NAMES",

@@ -393,3 +393,37 @@ def test_occlusion_shortcut_gives_the_exact_counts(monkeypatch: pytest.MonkeyPat
     np.testing.assert_array_equal(fast.truncr, full.truncr)
     np.testing.assert_array_equal(fast.occupr, full.occupr)
     assert (full.occupr[full.visible > 0] == 1.0).any() and (full.occupr[full.visible > 0] < 1.0).any()
+
+
+def test_edit_benchmark_frames_are_never_trained_on(dataset: Path) -> None:
+    """The paper split runs over the regular frames: benchmark sources (their last 20 %) and the appended
+    edit targets are test frames, whatever the number of edit pairs."""
+    import json
+
+    from sdn3d.data.datasets.sources import SYNTH_MANIFEST, SourceConfig, edit_target_frames, load_split
+
+    assert SYNTH_MANIFEST == MANIFEST_NAME
+    source = SourceConfig.from_mapping({"kind": "vkitti1", "root": str(dataset), "image_size": [WIDTH, HEIGHT]})
+    keys = {part: {(r.world, r.variation, r.frame) for r in load_split(source, part)} for part in ("train", "test")}
+    targets = edit_target_frames(dataset)
+    assert len(targets) == len(VARIATIONS) * EDITS
+    assert not targets & keys["train"] and targets <= keys["test"]
+    assert not keys["train"] & keys["test"]
+    entries = json.loads((dataset / BENCHMARK_NAME).read_text())
+    for e in entries:
+        assert (e["world"], e["topic"], int(e["source"])) in keys["test"], e
+        assert (e["world"], e["topic"], int(e["source"])) not in keys["train"], e
+    # Regular frames: floor(0.8 * FRAMES) of each sequence train.
+    assert len(keys["train"]) == len(VARIATIONS) * math.floor(0.8 * FRAMES)
+    assert edit_target_frames(dataset / "vkitti_1.3.1_rgb") == set()  # no manifest: a real dataset
+
+
+def test_unreadable_manifest_is_a_clear_error(tmp_path: Path) -> None:
+    from sdn3d.data.datasets.sources import edit_target_frames
+
+    (tmp_path / MANIFEST_NAME).write_text('{"sequences": [{"world": "0001"}], ')
+    with pytest.raises(ValueError, match=MANIFEST_NAME):
+        edit_target_frames(tmp_path)
+    (tmp_path / MANIFEST_NAME).write_text('{"sequences": [{"variation": "clone", "edit_target_frames": [3]}]}')
+    with pytest.raises(ValueError, match="edit target frames"):
+        edit_target_frames(tmp_path)

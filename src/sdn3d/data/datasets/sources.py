@@ -15,9 +15,11 @@ A :class:`SourceConfig` mirrors one file of ``conf/data`` (plain fields, no ``_t
 
 from __future__ import annotations
 
+import json
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields
+from pathlib import Path
 from typing import Any
 
 from sdn3d.data import cityscapes, vkitti1, vkitti2
@@ -165,10 +167,42 @@ def split_records(records: Sequence[FrameRecord], split: Mapping[str, Any], part
                        fraction=float(split.get("fraction", 0.8)))
 
 
+SYNTH_MANIFEST = "synth_manifest.json"
+
+
+def edit_target_frames(root: str | os.PathLike) -> set[tuple[str, str, int]]:
+    """``(world, variation, frame)`` of the edit-benchmark target frames a synthetic dataset appended to its
+    sequences (``synth_manifest.json``); empty for any other dataset (real Virtual KITTI has none)."""
+    path = Path(root) / SYNTH_MANIFEST
+    if not path.is_file():
+        return set()
+    try:
+        sequences = json.loads(path.read_text()).get("sequences") or []
+        return {(str(s["world"]), str(s["variation"]), int(f)) for s in sequences
+                for f in s.get("edit_target_frames") or []}
+    except (ValueError, KeyError, TypeError, AttributeError) as exc:
+        raise ValueError(f"{str(path)!r}: cannot read the edit target frames: {exc}") from exc
+
+
 def load_split(source: SourceConfig, part: str) -> list[FrameRecord]:
-    """Frame records of one part (``'train'``, ``'val'`` or ``'test'``) of ``source``."""
+    """Frame records of one part (``'train'``, ``'val'`` or ``'test'``) of ``source``.
+
+    A synthetic dataset's edit-benchmark target frames (appended after each sequence's regular frames) are
+    never trained on: the paper split is taken over the regular frames, so the benchmark's source frames
+    (drawn from their last 20 %) are test frames, and the targets join the test part.
+    """
     if part not in PARTS:
         raise ValueError(f"part must be one of {PARTS}, got {part!r}")
     if source.split["rule"] == "folders":
         return read_source(source, cityscapes_split=source.split[part])
-    return split_records(read_source(source), source.split, part)
+    records = read_source(source)
+    targets = edit_target_frames(source.root) if source.kind == "vkitti1" else set()
+    if not targets:
+        return split_records(records, source.split, part)
+    is_target = [(r.world, r.variation, r.frame) in targets for r in records]
+    regular = [r for r, t in zip(records, is_target, strict=True) if not t]
+    selected = split_records(regular, source.split, part)
+    paper_part = "train" if part == "train" else str(source.split.get(part, "test"))
+    if paper_part == "test":
+        selected += [r for r, t in zip(records, is_target, strict=True) if t]
+    return selected

@@ -292,7 +292,7 @@ def run_demo(cfg: Any) -> dict:
     if str(cfg.device).startswith("cuda"):
         info["gpu"] = torch.cuda.get_device_name(torch.device(str(cfg.device)))
 
-    if str(cfg.budget_name) != "short" and str(cfg.device) == "cpu":
+    if cfg.get("gpu_budget") and str(cfg.device) == "cpu":
         console.print(f"[yellow]sdn3d-demo: budget={cfg.budget_name} on the CPU takes many hours (see "
                       f"conf/budget/{cfg.budget_name}.yaml); it is meant for device=cuda.[/yellow]")
     _stage("1/4 synthetic data")

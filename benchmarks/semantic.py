@@ -1,14 +1,26 @@
 """Semantic branch benchmark: DRN speed (forward / training step) and a timed training run; prints JSON.
 
     python benchmarks/semantic.py speed [--size W H] [--batch B] [--threads T] [--repeats N] [--arch drn_d_22]
-        [--device cpu|cuda]
+        [--decoder bilinear|skip] [--channels C1 ... C8] [--device cpu|cuda]
+    python benchmarks/semantic.py ceiling --root /work/data/synth [--size W H] [--part test]
+    python benchmarks/semantic.py evaluate --ckpt CKPT --root /work/data/synth [--size W H] [--work-size W H]
     python benchmarks/semantic.py train --root /work/data/synth [--size W H] [--epochs E] [--batch B]
         [--lr LR] [--crop C] [--threads T] [--out DIR] [--set key=value ...] [--device cpu|cuda]
-        [--precision 32-true|16-mixed|bf16-mixed]
+        [--precision 32-true|16-mixed|bf16-mixed] [--preset cpu]
 
 ``speed``: images/s of ``DRNSeg`` (with the instance head) for inference (eval, no grad) and
 for a training step (forward, loss, backward, SGD step) on random images; medians over
 ``--repeats`` after one warm-up call (the minimum too, the CPU may be shared).
+
+``ceiling``: the best mIoU a head predicting at output stride ``s`` (1, 2, 4, 8) could reach on a split
+when its class scores are upsampled bilinearly: ideal scores = the one-hot ground truth average-pooled
+over ``s`` x ``s`` cells, upsampled to the working size, argmax. Shows what the stride-8 DRN head
+loses on thin classes (poles, signs, lights) and what the skip decoder can win back.
+
+``evaluate``: mIoU / per-class IoU of a ``SemanticModule`` checkpoint on a split at ``--size``
+(the labels' resolution), through :class:`sdn3d.semantic.SemanticPredictor`: with ``--work-size``
+the network runs at that size and its class probabilities are upsampled bilinearly to ``--size``
+(how a model trained at half the working size is scored at the full one).
 
 ``train``: ``SemanticModule`` + ``SemanticDataModule`` on a ``conf/data/synth.yaml`` dataset
 (frames decoded once and kept in memory, so the timing is the network's), ``lightning.Trainer``
@@ -17,7 +29,9 @@ thing-class PQ), the fit wall time (validation included) and the training images
 inside training batches only). ``--max-minutes`` stops fitting early (Trainer ``max_time``; the poly
 schedule still assumes ``--epochs``). ``--device cuda`` runs the same on one GPU (``--precision``
 defaults to 32-true, the CPU run's arithmetic; CUDA timings synchronize before the clock stops).
-``--set`` passes other ``SemanticModule`` arguments
+``--preset NAME`` takes the module arguments, batch size, working size, epochs and validation interval
+from ``conf/branch/semantic.yaml`` ``presets.NAME`` (``--size`` / ``--epochs`` / ``--batch`` / ``--lr``
+given explicitly on the command line still win). ``--set`` passes other ``SemanticModule`` arguments
 (e.g. ``--set center_sigma=3``). Checkpoints and TensorBoard logs go under ``--out``.
 """
 
@@ -26,6 +40,7 @@ from __future__ import annotations
 import argparse
 import json
 import statistics
+import sys
 import time
 from pathlib import Path
 
@@ -41,7 +56,8 @@ def speed(args: argparse.Namespace) -> dict:
     torch.manual_seed(0)
     w, h = args.size
     device = torch.device(args.device)
-    net = DRNSeg(14, arch=args.arch).to(device, memory_format=torch.channels_last)
+    extra = {"channels": args.channels} if args.channels else {}
+    net = DRNSeg(14, arch=args.arch, decoder=args.decoder, **extra).to(device, memory_format=torch.channels_last)
     image = torch.rand(args.batch, 3, h, w).to(device).contiguous(memory_format=torch.channels_last)
     label = torch.randint(0, 14, (args.batch, h, w)).to(device)
     opt = torch.optim.SGD(net.parameters(), lr=1e-3, momentum=0.9)
@@ -58,7 +74,8 @@ def speed(args: argparse.Namespace) -> dict:
         with torch.no_grad():
             net(image)
 
-    result = {"arch": args.arch, "size": [w, h], "batch": args.batch, "threads": torch.get_num_threads(),
+    result = {"arch": args.arch, "decoder": args.decoder, "channels": args.channels,
+              "size": [w, h], "batch": args.batch, "threads": torch.get_num_threads(),
               "device": str(device), "gpu": torch.cuda.get_device_name(device) if device.type == "cuda" else None,
               "params_M": round(sum(p.numel() for p in net.parameters()) / 1e6, 3)}
     for name, fn, mode in (("train", train_step, True), ("inference", infer, False)):
@@ -75,6 +92,69 @@ def speed(args: argparse.Namespace) -> dict:
         result[f"{name}_images_per_s_median"] = round(args.batch / statistics.median(times), 3)
         result[f"{name}_images_per_s_best"] = round(args.batch / min(times), 3)
     return result
+
+
+def ceiling(args: argparse.Namespace) -> dict:
+    import torch.nn.functional as F
+    from omegaconf import OmegaConf
+
+    from sdn3d.data.datasets import SemanticDataset, SourceConfig
+
+    data = OmegaConf.load(REPO / "conf" / "data" / "synth.yaml")
+    data.root, data.image_size = str(args.root), list(args.size)
+    dataset = SemanticDataset.from_source(SourceConfig.from_mapping(OmegaConf.to_container(data)), args.part)
+    labels = torch.stack([dataset[i]["label"] for i in range(len(dataset))])  # (N, H, W)
+    n = len(dataset.classes)
+    valid = labels != 255
+    share = torch.bincount(labels[valid], minlength=n).double()
+    result = {"size": list(args.size), "part": args.part, "images": len(dataset),
+              "pixel_share_percent": {c.name: round(100 * float(v), 3)
+                                      for c, v in zip(dataset.classes, share / share.sum(), strict=True)},
+              "method": "one-hot ground truth avg-pooled over s x s, bilinear upsampling, argmax; mIoU over "
+                        "classes present"}
+    one_hot = F.one_hot(labels.masked_fill(~valid, 0), n).permute(0, 3, 1, 2).float()
+    for stride in (1, 2, 4, 8):
+        scores = F.interpolate(F.avg_pool2d(one_hot, stride, ceil_mode=True), size=labels.shape[-2:],
+                               mode="bilinear", align_corners=False)
+        pred = scores.argmax(1)
+        confmat = torch.bincount(labels[valid] * n + pred[valid], minlength=n * n).reshape(n, n).double()
+        tp = confmat.diagonal()
+        union = confmat.sum(0) + confmat.sum(1) - tp
+        iou = tp / union.clamp_min(1)
+        result[f"stride_{stride}"] = {"miou": round(float(iou[union > 0].mean()), 4),
+                                      "iou": {c.name: round(float(v), 3) for c, v in zip(dataset.classes, iou,
+                                                                                         strict=True)}}
+    return result
+
+
+def evaluate(args: argparse.Namespace) -> dict:
+    from omegaconf import OmegaConf
+
+    from sdn3d.data.datasets import SemanticDataset, SourceConfig
+    from sdn3d.semantic import SemanticPredictor
+
+    data = OmegaConf.load(REPO / "conf" / "data" / "synth.yaml")
+    data.root, data.image_size = str(args.root), list(args.size)
+    dataset = SemanticDataset.from_source(SourceConfig.from_mapping(OmegaConf.to_container(data)), args.part)
+    predictor = SemanticPredictor.from_checkpoint(args.ckpt, map_location=args.device,
+                                                  image_size=tuple(args.work_size) if args.work_size else None)
+    n = len(predictor.classes)
+    confmat = torch.zeros(n, n, dtype=torch.float64)
+    t0 = time.perf_counter()
+    for start in range(0, len(dataset), args.batch):
+        items = [dataset[i] for i in range(start, min(start + args.batch, len(dataset)))]
+        image = torch.stack([it["image"] for it in items])
+        label = torch.stack([it["label"] for it in items])
+        pred = predictor(image).probability.argmax(1).cpu()
+        valid = label != 255
+        confmat += torch.bincount(label[valid] * n + pred[valid], minlength=n * n).reshape(n, n).double()
+    tp = confmat.diagonal()
+    union = confmat.sum(0) + confmat.sum(1) - tp
+    iou = tp / union.clamp_min(1)
+    return {"checkpoint": str(args.ckpt), "size": list(args.size), "work_size": args.work_size, "part": args.part,
+            "images": len(dataset), "seconds": round(time.perf_counter() - t0, 1),
+            "miou": round(float(iou[union > 0].mean()), 4), "pixel_acc": round(float(tp.sum() / confmat.sum()), 4),
+            "iou": {c.name: round(float(v), 4) for c, v, u in zip(predictor.classes, iou, union, strict=True) if u > 0}}
 
 
 class _InMemory(torch.utils.data.Dataset):
@@ -118,10 +198,34 @@ def train(args: argparse.Namespace) -> dict:
         def __init__(self) -> None:
             self.points: list[tuple[int, float]] = []
 
-        def on_validation_epoch_end(self, trainer, pl_module) -> None:
+        # on_validation_end, not on_validation_epoch_end: callbacks' epoch-end hooks run before the module's,
+        # which is where val/miou is computed, so they would read the previous validation's value.
+        def on_validation_end(self, trainer, pl_module) -> None:
             if not trainer.sanity_checking and "val/miou" in trainer.callback_metrics:
                 self.points.append((trainer.current_epoch + 1, round(float(trainer.callback_metrics["val/miou"]), 4)))
 
+    preset_model: dict = {}
+    if args.preset:
+        presets = OmegaConf.load(REPO / "conf" / "branch" / "semantic.yaml").presets
+        if args.preset not in presets:
+            raise SystemExit(f"--preset {args.preset!r} is not in conf/branch/semantic.yaml presets "
+                             f"({sorted(presets)})")
+        preset = OmegaConf.to_container(presets[args.preset], resolve=True)
+        preset_model = dict(preset.get("model", {}))
+        given = set(args.given)
+        if "size" not in given and "image_size" in preset.get("data", {}):
+            args.size = list(preset["data"]["image_size"])
+        if "epochs" not in given and "max_epochs" in preset.get("trainer", {}):
+            args.epochs = int(preset["trainer"]["max_epochs"])
+        if "batch" not in given and "batch_size" in preset.get("datamodule", {}):
+            args.batch = int(preset["datamodule"]["batch_size"])
+        if "val_every" not in given and "check_val_every_n_epoch" in preset.get("trainer", {}):
+            args.val_every = int(preset["trainer"]["check_val_every_n_epoch"])
+        if "lr" in given:
+            preset_model["lr"] = args.lr
+        args.lr = float(preset_model.pop("lr", args.lr))
+        crop = preset_model.pop("crop_size", args.crop)
+        args.crop = args.crop if "crop" in given else crop
     L.seed_everything(args.seed, workers=True)
     data = OmegaConf.load(REPO / "conf" / "data" / "synth.yaml")
     data.root = str(args.root)
@@ -131,7 +235,7 @@ def train(args: argparse.Namespace) -> dict:
     dm.setup("test")
     dm.datasets = {part: _InMemory(ds) for part, ds in dm.datasets.items()}
     load_s = time.perf_counter() - t0
-    extra = {k: yaml.safe_load(v) for k, v in (s.split("=", 1) for s in args.set)}
+    extra = {**preset_model, **{k: yaml.safe_load(v) for k, v in (s.split("=", 1) for s in args.set)}}
     model = SemanticModule(classes="vkitti", lr=args.lr, crop_size=args.crop, **extra)
     out = Path(args.out)
     timer, curve = TrainTimer(), ValCurve()
@@ -149,7 +253,8 @@ def train(args: argparse.Namespace) -> dict:
     test = trainer.test(model, datamodule=dm, ckpt_path="last", verbose=False)[0]
     test_s = time.perf_counter() - t0
     return {
-        "size": list(args.size), "epochs": args.epochs, "batch": args.batch, "lr": args.lr, "crop": args.crop,
+        "preset": args.preset, "size": list(args.size), "epochs": args.epochs, "batch": args.batch, "lr": args.lr,
+        "crop": args.crop,
         "threads": torch.get_num_threads(), "device": args.device, "precision": args.precision,
         "gpu": torch.cuda.get_device_name() if cuda else None, "extra": extra,
         "train_images": len(dm.datasets["train"]),
@@ -165,7 +270,7 @@ def train(args: argparse.Namespace) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="mode", required=True)
-    for name in ("speed", "train"):
+    for name in ("speed", "train", "ceiling", "evaluate"):
         p = sub.add_parser(name)
         p.add_argument("--size", type=int, nargs=2, default=[312, 96], metavar=("W", "H"))
         p.add_argument("--batch", type=int, default=8)
@@ -175,6 +280,16 @@ def main() -> None:
     sp = sub.choices["speed"]
     sp.add_argument("--repeats", type=int, default=5)
     sp.add_argument("--arch", default="drn_d_22")
+    sp.add_argument("--decoder", default="bilinear", choices=["bilinear", "skip"])
+    sp.add_argument("--channels", type=int, nargs=8, default=None)
+    cp = sub.choices["ceiling"]
+    cp.add_argument("--root", default="/work/data/synth")
+    cp.add_argument("--part", default="test", choices=["train", "val", "test"])
+    ep = sub.choices["evaluate"]
+    ep.add_argument("--ckpt", required=True)
+    ep.add_argument("--root", default="/work/data/synth")
+    ep.add_argument("--part", default="test", choices=["train", "val", "test"])
+    ep.add_argument("--work-size", type=int, nargs=2, default=None, metavar=("W", "H"))
     tp = sub.choices["train"]
     tp.add_argument("--root", default="/work/data/synth")
     tp.add_argument("--epochs", type=int, default=10)
@@ -185,9 +300,13 @@ def main() -> None:
     tp.add_argument("--max-minutes", type=float, default=None, help="stop fitting after this long (then test)")
     tp.add_argument("--out", default=str(REPO / "outputs" / "bench" / "semantic"))
     tp.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    args = parser.parse_args()
+    tp.add_argument("--preset", default=None, help="conf/branch/semantic.yaml presets.NAME (e.g. cpu)")
+    argv = sys.argv[1:]
+    args = parser.parse_args(argv)
+    # Which options were typed (a preset must not override them).
+    args.given = [a[2:].split("=", 1)[0].replace("-", "_") for a in argv if a.startswith("--")]
     torch.set_num_threads(args.threads)
-    result = speed(args) if args.mode == "speed" else train(args)
+    result = {"speed": speed, "train": train, "ceiling": ceiling, "evaluate": evaluate}[args.mode](args)
     print(json.dumps(result, indent=1))
 
 

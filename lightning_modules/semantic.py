@@ -5,7 +5,8 @@ the training split's label histogram computed once at the start of fitting and k
 + ``center_weight`` * focal loss of the centre heatmap
 (CenterNet's; Panoptic-DeepLab's 200x MSE diverges under plain SGD) + ``offset_weight`` * L1 of
 the offsets on thing pixels.
-Optimiser: SGD with a per-step poly schedule ``lr * (1 - step / total) ** poly_power`` (DRN code).
+Optimiser: SGD (DRN code; or AdamW, ``optimizer=adamw``) with a per-step poly schedule
+``lr * (1 - step / total) ** poly_power`` (DRN code).
 Metrics (val/ and test/): ``miou`` and ``iou_<class>`` from a torchmetrics confusion matrix,
 ``pq`` / ``sq`` / ``rq`` and ``pq_<class>`` of the thing classes (instances grouped from the
 predictions, compared with the ground-truth instance maps). TensorBoard: ``<stage>/segmentation``
@@ -34,6 +35,7 @@ from sdn3d.semantic import (
     CLASS_WEIGHTINGS,
     center_focal_loss,
     class_weights,
+    color_jitter,
     colorize_instances,
     colorize_labels,
     group_instances,
@@ -46,7 +48,10 @@ from sdn3d.semantic import (
     thing_class_ids,
 )
 
-__all__ = ["SemanticModule", "PanopticQuality"]
+__all__ = ["SemanticModule", "PanopticQuality", "OPTIMIZERS"]
+
+#: ``SemanticModule(optimizer=...)``.
+OPTIMIZERS = ("sgd", "adamw")
 
 log = logging.getLogger(__name__)
 
@@ -101,6 +106,11 @@ class SemanticModule(BranchModule):
         class_weighting: None (plain cross-entropy), ``'median_frequency'`` or ``'enet'``
             (:mod:`sdn3d.semantic.balance`), for rare classes.
         max_class_weight: upper clip of those weights.
+        decoder: ``'bilinear'`` (the paper's stride-8 head) or ``'skip'`` (full-resolution skip decoder,
+            :class:`~sdn3d.nets.drn.SkipDecoder`; thin classes need it).
+        decoder_channels: skip-decoder widths at strides 4, 2, 1.
+        optimizer: ``'sgd'`` (the paper; ``momentum`` applies) or ``'adamw'`` (faster on short budgets).
+        color_jitter: strength of the random brightness / contrast / saturation in training; 0 = none.
     """
 
     def __init__(
@@ -128,6 +138,10 @@ class SemanticModule(BranchModule):
         log_images: int = 4,
         class_weighting: str | None = None,
         max_class_weight: float = 10.0,
+        decoder: str = "bilinear",
+        decoder_channels: Sequence[int] = (64, 32, 16),
+        optimizer: str = "sgd",
+        color_jitter: float = 0.0,
     ) -> None:
         super().__init__()
         args = {k: _plain(v) for k, v in locals().items() if k not in ("self", "__class__")}
@@ -137,10 +151,14 @@ class SemanticModule(BranchModule):
                              f"momentum={momentum}, weight_decay={weight_decay}, poly_power={poly_power}")
         self.classes = resolve_classes(classes)
         self.num_classes = len(self.classes)
+        if optimizer not in OPTIMIZERS:
+            raise ValueError(f"optimizer must be one of {OPTIMIZERS}, got {optimizer!r}")
+        if not 0.0 <= color_jitter < 1.0:
+            raise ValueError(f"color_jitter must be in [0, 1), got {color_jitter}")
         self.things = thing_class_ids(self.classes, args["thing_classes"])
         extra = {} if args["channels"] is None else {"channels": args["channels"]}
         self.net = DRNSeg(self.num_classes, arch=arch, instance_head=instance_head, head_channels=head_channels,
-                          **extra)
+                          decoder=decoder, decoder_channels=args["decoder_channels"], **extra)
         # Loaded here rather than by DRNSeg so that training without weights says so (load_pretrained warns).
         load_pretrained(self.net.backbone, pretrained, what=f"{arch} backbone", ignore_prefixes=("fc.",))
         self.crop_size = args["crop_size"]
@@ -200,6 +218,7 @@ class SemanticModule(BranchModule):
     def training_step(self, batch: dict[str, Any], batch_idx: int) -> Tensor | None:
         image, (label, instance) = random_crop_flip(batch["image"], [batch["label"], batch["instance"]],
                                                     self.crop_size, self.hparams.hflip)
+        image = color_jitter(image, float(self.hparams.get("color_jitter", 0.0)))
         terms = self.losses(self(image), label, instance)
         if not self.guard_loss(terms["loss"]):
             return None
@@ -281,7 +300,11 @@ class SemanticModule(BranchModule):
     # -- optimisation ---------------------------------------------------------------------------------------
     def configure_optimizers(self) -> dict[str, Any]:
         hp = self.hparams
-        optimizer = torch.optim.SGD(self.parameters(), lr=hp.lr, momentum=hp.momentum, weight_decay=hp.weight_decay)
+        if hp.get("optimizer", "sgd") == "adamw":
+            optimizer = torch.optim.AdamW(self.parameters(), lr=hp.lr, weight_decay=hp.weight_decay)
+        else:
+            optimizer = torch.optim.SGD(self.parameters(), lr=hp.lr, momentum=hp.momentum,
+                                        weight_decay=hp.weight_decay)
         total = float(self.trainer.estimated_stepping_batches)
         power = float(hp.poly_power)
 

@@ -179,3 +179,53 @@ def test_class_weighted_training_computes_weights_once_and_checkpoints_them(data
     assert bool(old.ce_weight_ready) and torch.equal(old.ce_weight, torch.ones(old.num_classes))
     with pytest.raises(ValueError, match="class_weighting"):
         _small_module(class_weighting="inverse")
+
+
+def test_adamw_skip_decoder_and_jitter_train_and_reload_into_the_predictor(data_cfg, tmp_path):
+    torch.manual_seed(0)
+    dm = SemanticDataModule(data_cfg, batch_size=2)
+    slim = [8, 16, 16, 32, 32, 32, 32, 32]
+    model = _small_module(decoder="skip", decoder_channels=[16, 8, 8], channels=slim, optimizer="adamw",
+                          lr=1e-3, color_jitter=0.3)
+    trainer = L.Trainer(accelerator="cpu", max_steps=2, limit_val_batches=0, logger=False,
+                        enable_checkpointing=False, enable_progress_bar=False, enable_model_summary=False)
+    before = model.net.decoder.fuse[-1][0].weight.detach().clone()
+    trainer.fit(model, datamodule=dm)
+    assert isinstance(trainer.optimizers[0], torch.optim.AdamW)
+    assert not torch.equal(before, model.net.decoder.fuse[-1][0].weight)
+    path = tmp_path / "skip.ckpt"
+    trainer.save_checkpoint(path)
+    predictor = SemanticPredictor.from_checkpoint(path)
+    assert predictor.net.decoder is not None
+    image = next(iter(dm.val_dataloader()))["image"]
+    model.eval()
+    with torch.no_grad():
+        expected = model(image)["logits"].softmax(1)
+    torch.testing.assert_close(predictor(image).probability, expected, atol=1e-5, rtol=1e-4)
+
+
+def test_rejects_bad_optimizer_decoder_and_jitter():
+    with pytest.raises(ValueError, match="optimizer"):
+        SemanticModule(optimizer="lbfgs", head_channels=32)
+    with pytest.raises(ValueError, match="decoder"):
+        SemanticModule(decoder="fpn", head_channels=32)
+    with pytest.raises(ValueError, match="color_jitter"):
+        SemanticModule(color_jitter=1.5, head_channels=32)
+
+
+def test_semantic_cpu_experiment_composes_the_documented_cpu_preset(data_cfg):
+    with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
+        cfg = compose("train", overrides=["branch=semantic", "experiment=semantic_cpu", f"data.root={data_cfg.root}"])
+    from lightning_modules.train import apply_preset
+
+    assert cfg.preset == "cpu" and cfg.data.kind == "vkitti1"
+    merged = apply_preset(cfg.copy(), [])
+    assert list(merged.data.image_size) == [312, 96] and merged.trainer.max_epochs == 20
+    assert merged.trainer.check_val_every_n_epoch == 2
+    model = instantiate(merged.model, head_channels=32)
+    assert model.hparams.decoder == "skip" and model.hparams.optimizer == "adamw"
+    assert model.hparams.class_weighting == "enet" and model.net.decoder is not None
+    assert model.net.backbone.channels == (16, 32, 64, 128, 128, 256, 256, 256)
+    # The paper preset keeps the paper's head and optimiser.
+    paper = instantiate(OmegaConf.merge(cfg, cfg.presets.paper).model, head_channels=32)
+    assert paper.hparams.decoder == "bilinear" and paper.hparams.optimizer == "sgd" and paper.net.decoder is None

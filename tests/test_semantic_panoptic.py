@@ -254,3 +254,21 @@ def test_colorize_labels_uses_dataset_colours():
     assert rgb.shape == (1, 3, 1, 3)
     torch.testing.assert_close(rgb[0, :, 0, 1] * 255, torch.tensor([255.0, 127.0, 80.0]))
     assert rgb[0, :, 0, 2].sum() == 0
+
+
+def test_color_jitter_ranges_identity_and_per_sample_factors():
+    from sdn3d.semantic import color_jitter
+
+    g = torch.Generator().manual_seed(0)
+    image = torch.rand(4, 3, 8, 8, generator=g)
+    assert color_jitter(image, 0.0) is image
+    out = color_jitter(image, 0.4, generator=torch.Generator().manual_seed(1))
+    assert out.shape == image.shape and out.min() >= 0 and out.max() <= 1
+    assert not torch.allclose(out, image)
+    # One draw per sample: a grey image stays grey (saturation has nothing to act on), and samples differ.
+    grey = torch.full((3, 3, 4, 4), 0.5)
+    jittered = color_jitter(grey, 0.4, generator=torch.Generator().manual_seed(2))
+    torch.testing.assert_close(jittered, jittered[:, :1].expand_as(jittered))
+    assert jittered[:, 0, 0, 0].unique().numel() == 3
+    with pytest.raises(ValueError, match="strength"):
+        color_jitter(image, 1.0)

@@ -6,11 +6,11 @@
 - :mod:`~sdn3d.semantic.predict`: :class:`SemanticPredictor` (image in, label + instance maps out)
   loading a ``SemanticModule`` checkpoint.
 - :mod:`~sdn3d.semantic.classes`: class lists by name, thing classes, colouring.
-- :mod:`~sdn3d.semantic.augment`: batched random crop / flip (training).
+- :mod:`~sdn3d.semantic.augment`: batched random crop / flip, colour jitter (training).
 The network itself is :class:`sdn3d.nets.drn.DRNSeg`.
 """
 
-from sdn3d.semantic.augment import crop_size_for, random_crop_flip
+from sdn3d.semantic.augment import color_jitter, crop_size_for, random_crop_flip
 from sdn3d.semantic.balance import CLASS_WEIGHTINGS, class_weights, label_histogram
 from sdn3d.semantic.classes import (
     CLASS_LIST_NAMES,
@@ -36,6 +36,7 @@ __all__ = [
     "CLASS_WEIGHTINGS",
     "class_weights",
     "label_histogram",
+    "color_jitter",
     "crop_size_for",
     "random_crop_flip",
     "CLASS_LIST_NAMES",

@@ -1,4 +1,5 @@
-"""Batched training augmentation of the semantic branch (as in the DRN code: random crop, horizontal flip).
+"""Batched training augmentation of the semantic branch (as in the DRN code: random crop, horizontal flip;
+plus an optional photometric jitter).
 
 Done on the batch (on the training device) rather than in the dataset, so the shared
 :class:`~sdn3d.data.datasets.SemanticDataset` stays deterministic and the crop is one gather.
@@ -9,7 +10,7 @@ from __future__ import annotations
 import torch
 from torch import Tensor
 
-__all__ = ["crop_size_for", "random_crop_flip"]
+__all__ = ["color_jitter", "crop_size_for", "random_crop_flip"]
 
 
 def crop_size_for(crop_size: int | tuple[int, int] | list[int] | None, height: int, width: int) -> tuple[int, int]:
@@ -67,3 +68,34 @@ def random_crop_flip(
     # Advanced indices around a slice put the indexed dims first: (B, h, w, C).
     out = image[bi, :, ri, ci].permute(0, 3, 1, 2).contiguous()
     return out, [m[bi, ri, ci] for m in maps]
+
+
+def color_jitter(image: Tensor, strength: float, generator: torch.Generator | None = None) -> Tensor:
+    """Random brightness, contrast and saturation per sample, each a factor in ``[1 - strength, 1 + strength]``.
+
+    Why: the synthetic worlds are seen under a few lights (clone, fog, ...); jitter keeps the network
+    from keying classes on exact colours. Labels are unchanged, so only the image is returned.
+
+    Args:
+        image: ``(B, 3, H, W)`` in [0, 1].
+        strength: in [0, 1); 0 returns ``image`` unchanged.
+        generator: random generator (default: torch's global one).
+
+    Returns:
+        ``(B, 3, H, W)`` in [0, 1].
+    """
+    if not 0.0 <= strength < 1.0:
+        raise ValueError(f"color jitter strength must be in [0, 1), got {strength}")
+    if image.dim() != 4 or image.shape[1] != 3:
+        raise ValueError(f"image must be (B, 3, H, W), got {tuple(image.shape)}")
+    if strength == 0.0:
+        return image
+    b = image.shape[0]
+    factors = (1.0 + strength * (2.0 * torch.rand(3, b, 1, 1, 1, generator=generator) - 1.0)).to(image)
+    brightness, contrast, saturation = factors
+    out = image * brightness
+    gray = (0.299 * out[:, 0:1] + 0.587 * out[:, 1:2] + 0.114 * out[:, 2:3])  # (B, 1, H, W)
+    out = (out - gray.mean(dim=(2, 3), keepdim=True)) * contrast + gray.mean(dim=(2, 3), keepdim=True)
+    gray = (0.299 * out[:, 0:1] + 0.587 * out[:, 1:2] + 0.114 * out[:, 2:3])
+    out = (out - gray) * saturation + gray
+    return out.clamp(0.0, 1.0)

@@ -91,6 +91,7 @@ class SemanticPredictor:
         classes = resolve_classes(hp.get("classes", "vkitti"))
         net = DRNSeg(len(classes), arch=hp.get("arch", "drn_d_22"), instance_head=hp.get("instance_head", True),
                      head_channels=hp.get("head_channels", 128), pretrained=None,
+                     decoder=hp.get("decoder", "bilinear"), decoder_channels=hp.get("decoder_channels", (64, 32, 16)),
                      **({"channels": hp["channels"]} if hp.get("channels") else {}))
         state = {k[len(_STATE_PREFIX):]: v for k, v in ckpt["state_dict"].items() if k.startswith(_STATE_PREFIX)}
         net.load_state_dict(state, strict=True)

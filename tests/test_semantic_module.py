@@ -229,3 +229,50 @@ def test_semantic_cpu_experiment_composes_the_documented_cpu_preset(data_cfg):
     # The paper preset keeps the paper's head and optimiser.
     paper = instantiate(OmegaConf.merge(cfg, cfg.presets.paper).model, head_channels=32)
     assert paper.hparams.decoder == "bilinear" and paper.hparams.optimizer == "sgd" and paper.net.decoder is None
+
+
+def _bench_module():
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "semantic.py"
+    spec = importlib.util.spec_from_file_location("semantic_bench", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_benchmark_ceiling_and_evaluate_on_the_fixture(data_cfg, tmp_path):
+    import argparse
+
+    from sdn3d.data.datasets import SemanticDataset, SourceConfig
+
+    bench = _bench_module()
+    ceiling = bench.ceiling(argparse.Namespace(root=data_cfg.root, size=list(SIZE), part="test"))
+    assert ceiling["stride_1"]["miou"] == 1.0  # full-resolution scores reproduce the labels exactly
+    assert ceiling["stride_8"]["miou"] < 1.0
+    assert sum(ceiling["pixel_share_percent"].values()) == pytest.approx(100.0, abs=0.01)
+
+    dm = SemanticDataModule(data_cfg, batch_size=2)
+    model = _small_module()
+    trainer = L.Trainer(accelerator="cpu", max_steps=1, limit_val_batches=0, logger=False,
+                        enable_checkpointing=False, enable_progress_bar=False, enable_model_summary=False)
+    trainer.fit(model, datamodule=dm)
+    path = tmp_path / "m.ckpt"
+    trainer.save_checkpoint(path)
+    result = bench.evaluate(argparse.Namespace(ckpt=str(path), root=data_cfg.root, size=list(SIZE), part="test",
+                                               work_size=None, device="cpu", batch=2))
+    # The same mIoU by hand from the module's own predictions on that split.
+    synth = OmegaConf.load(CONF / "data" / "synth.yaml")
+    synth.root, synth.image_size = str(data_cfg.root), list(SIZE)
+    ds = SemanticDataset.from_source(SourceConfig.from_mapping(OmegaConf.to_container(synth)), "test")
+    model.eval()
+    images = torch.stack([ds[i]["image"] for i in range(len(ds))])
+    labels = torch.stack([ds[i]["label"] for i in range(len(ds))])
+    with torch.no_grad():
+        pred = model(images)["logits"].argmax(1)
+    valid = labels != 255
+    cm = torch.bincount(labels[valid] * 14 + pred[valid], minlength=196).reshape(14, 14).double()
+    tp = cm.diagonal()
+    union = cm.sum(0) + cm.sum(1) - tp
+    assert result["images"] == len(ds)
+    assert result["miou"] == pytest.approx(float((tp / union.clamp_min(1))[union > 0].mean()), abs=1e-4)

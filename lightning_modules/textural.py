@@ -24,6 +24,7 @@ the ``g_updates`` buffer (G updates, saved in checkpoints so that a resumed run 
 from __future__ import annotations
 
 import logging
+import warnings
 
 import torch
 import torch.nn.functional as F
@@ -41,6 +42,19 @@ from sdn3d.texture import class_list
 __all__ = ["LinearDecay", "TexturalModule"]
 
 log = logging.getLogger(__name__)
+
+
+
+def silence_step_checkpoint_warning() -> None:
+    """Ignore Lightning's warning that step-interval checkpoints of a manually optimised module hold the
+    weights after the step (called when fitting starts).
+
+    For this module that is the right state: those checkpoints are for resuming (weights, optimiser moments
+    and step counters must all be from after the same step), never for picking a model by a training
+    metric. Only this exact message is silenced.
+    """
+    warnings.filterwarnings("ignore", message=r"Using ModelCheckpoint with manual optimization and "
+                            r"every_n_train_steps", category=UserWarning)
 
 
 class LinearDecay:
@@ -148,6 +162,9 @@ class TexturalModule(BranchModule):
         return self.generator(x), real, cond
 
     # ----------------------------------------------------------------- training
+    def on_fit_start(self) -> None:
+        silence_step_checkpoint_warning()
+
     def training_step(self, batch: dict, batch_idx: int) -> None:
         opt_g, opt_d = self.optimizers()
         fake, real, cond = self._generate(batch)

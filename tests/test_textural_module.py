@@ -143,3 +143,17 @@ def test_branch_config_and_presets(data_root):
     dm = instantiate(demo.datamodule)
     assert dm.image_size == (312, 96) and dm.batch_size == 2
     assert demo.trainer.max_epochs * demo.trainer.limit_train_batches <= 400  # a few CPU minutes
+
+
+def test_only_lightnings_manual_optimisation_checkpoint_warning_is_silenced():
+    import warnings
+
+    from lightning_modules.textural import silence_step_checkpoint_warning
+
+    with warnings.catch_warnings(record=True) as caught:
+        silence_step_checkpoint_warning()  # what TexturalModule.on_fit_start does
+        warnings.filterwarnings("always", message="an unrelated warning")
+        warnings.warn("Using ModelCheckpoint with manual optimization and every_n_train_steps, but no "
+                      "pre-optimization state was saved.", UserWarning, stacklevel=1)
+        warnings.warn("an unrelated warning", UserWarning, stacklevel=1)
+    assert [str(w.message) for w in caught] == ["an unrelated warning"]

@@ -117,3 +117,26 @@ def test_lpips_names_identity_and_masks(tmp_path, caplog):
     with caplog.at_level(logging.WARNING):
         assert load_lpips(None) is None
     assert "LPIPS is off" in caplog.text
+
+
+def test_lpips_small_whole_images_upsample_like_crops():
+    """Whole images under 32 px (AlexNet's minimum) are upsampled inside LPIPS, as crops always were."""
+    net = LPIPS()
+    torch.manual_seed(1)
+    for p in net.parameters():
+        p.data = p.data.abs() if p.dim() == 4 and p.shape[-1] == 1 else p.data
+    p, t = _pair(2, 12, 20)  # (B, 3, 12, 20)
+    d = metrics.image_metrics(p, t, lpips_net=net)["lpips"]
+    assert d.shape == (2,) and torch.isfinite(d).all() and torch.all(d > 0)
+    assert torch.allclose(net(t, t), torch.zeros(2))
+    spatial = net(p, t, spatial=True)
+    assert spatial.shape == (2, 1, 12, 20)  # the map keeps the input's size
+    mask = torch.zeros(2, 12, 20, dtype=torch.bool)
+    mask[:, 2:8, 3:15] = True
+    masked = metrics.lpips(p, t, net, mask)
+    assert torch.allclose(masked, spatial[:, 0][mask].view(2, -1).mean(1))
+    # Same result as the explicit upsampling to a 32-px short side (aspect kept: 12x20 -> 32x53).
+    up = [torch.nn.functional.interpolate(x, size=(32, 53), mode="bilinear", align_corners=False) for x in (p, t)]
+    assert torch.allclose(d, net(*up), atol=1e-6)
+    crop = metrics.crop_metrics(p, t, torch.tensor([[0, 0, 20, 12], [0, 0, 20, 12]]), lpips_net=net)["lpips"]
+    assert torch.allclose(crop, d, atol=1e-6)

@@ -12,8 +12,8 @@ Conventions (all functions):
 Masked PSNR is ``10 log10(range^2 / masked MSE)``; masked SSIM is the mean of torchmetrics' SSIM map
 (Gaussian window 11, sigma 1.5, reflect padding: the map has the image's size) over the mask, so
 an all-True mask gives the whole-image SSIM. On crops with a side under 7 px the Gaussian window
-shrinks (sigma = (side - 1) / 3.5) so that it fits; LPIPS upsamples crops with a side under 32 px
-(bilinear, both images) because AlexNet needs that much input.
+shrinks (sigma = (side - 1) / 3.5) so that it fits; LPIPS upsamples images and crops with a side
+under 32 px (bilinear, both images; :data:`sdn3d.nets.lpips.MIN_SIDE`) because AlexNet needs that much input.
 """
 
 from __future__ import annotations
@@ -21,7 +21,6 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import torch
-import torch.nn.functional as F
 from torch import Tensor
 from torchmetrics.functional.image import peak_signal_noise_ratio, structural_similarity_index_measure
 
@@ -39,7 +38,6 @@ __all__ = [
     "ssim",
 ]
 
-LPIPS_MIN_SIDE = 32
 
 
 def _check(pred: Tensor, target: Tensor, mask: Tensor | None) -> Tensor | None:
@@ -165,10 +163,5 @@ def crop_metrics(pred: Tensor, target: Tensor, boxes: Tensor, lpips_net: LPIPS |
         out["psnr"].append(psnr(p, t, data_range=data_range))
         out["ssim"].append(_crop_ssim(p, t, data_range))
         if lpips_net is not None:
-            side = min(p.shape[-2:])
-            if side < LPIPS_MIN_SIDE:
-                size = [max(LPIPS_MIN_SIDE, round(s * LPIPS_MIN_SIDE / side)) for s in p.shape[-2:]]
-                p = F.interpolate(p, size=size, mode="bilinear", align_corners=False)
-                t = F.interpolate(t, size=size, mode="bilinear", align_corners=False)
             out["lpips"].append(lpips(p, t, lpips_net))
     return {k: torch.cat(v) for k, v in out.items()}

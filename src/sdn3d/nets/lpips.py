@@ -19,11 +19,13 @@ from torch import Tensor, nn
 
 from sdn3d.nets.weights import PretrainedWeightsError, load_pretrained, read_state_dict
 
-__all__ = ["LPIPS", "load_lpips", "merge_lpips_weights"]
+__all__ = ["LPIPS", "MIN_SIDE", "load_lpips", "merge_lpips_weights"]
 
 log = logging.getLogger(__name__)
 
 _CHANNELS = (64, 192, 384, 256, 256)
+#: Inputs whose shorter side is under this many pixels are upsampled (bilinear, both images) first.
+MIN_SIDE = 32
 #: Indices of the ReLUs after conv1..conv5 in torchvision's ``alexnet().features``.
 _TAPS = (1, 4, 7, 9, 11)
 # The LPIPS input scaling layer (constants of the reference implementation).
@@ -47,7 +49,8 @@ class LPIPS(nn.Module):
 
     ``forward(pred, target)`` -> ``(B,)``; ``forward(..., spatial=True)`` -> ``(B, 1, H, W)``
     per-pixel distances (each layer's map bilinearly upsampled), whose mean over a region gives
-    a masked LPIPS.
+    a masked LPIPS. Images with a side under ``MIN_SIDE`` (32) px are upsampled bilinearly (both
+    alike, aspect kept) before AlexNet, which cannot take less; spatial maps keep the input's size.
     """
 
     def __init__(self) -> None:
@@ -81,6 +84,10 @@ class LPIPS(nn.Module):
             raise ValueError(f"pred and target must both be (B, 3, H, W), got {tuple(pred.shape)} and "
                              f"{tuple(target.shape)}")
         x = ((torch.cat([pred, target]) * 2 - 1) - self.shift) / self.scale
+        side = min(x.shape[-2:])
+        if side < MIN_SIDE:  # AlexNet's strides and pools need this much input: upsample both images alike
+            size = [max(MIN_SIDE, round(s * MIN_SIDE / side)) for s in x.shape[-2:]]
+            x = F.interpolate(x, size=size, mode="bilinear", align_corners=False)
         maps = []
         for k, f in enumerate(self._taps(x)):
             f = f / (f.pow(2).sum(1, keepdim=True).sqrt() + 1e-10)

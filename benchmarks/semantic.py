@@ -137,7 +137,8 @@ def evaluate(args: argparse.Namespace) -> dict:
     data.root, data.image_size = str(args.root), list(args.size)
     dataset = SemanticDataset.from_source(SourceConfig.from_mapping(OmegaConf.to_container(data)), args.part)
     predictor = SemanticPredictor.from_checkpoint(args.ckpt, map_location=args.device,
-                                                  image_size=tuple(args.work_size) if args.work_size else None)
+                                                  image_size=tuple(args.work_size) if args.work_size else None,
+                                                  flip=args.flip)
     n = len(predictor.classes)
     confmat = torch.zeros(n, n, dtype=torch.float64)
     t0 = time.perf_counter()
@@ -152,6 +153,7 @@ def evaluate(args: argparse.Namespace) -> dict:
     union = confmat.sum(0) + confmat.sum(1) - tp
     iou = tp / union.clamp_min(1)
     return {"checkpoint": str(args.ckpt), "size": list(args.size), "work_size": args.work_size, "part": args.part,
+            "flip": args.flip,
             "images": len(dataset), "seconds": round(time.perf_counter() - t0, 1),
             "miou": round(float(iou[union > 0].mean()), 4), "pixel_acc": round(float(tp.sum() / confmat.sum()), 4),
             "iou": {c.name: round(float(v), 4) for c, v, u in zip(predictor.classes, iou, union, strict=True) if u > 0}}
@@ -226,6 +228,10 @@ def train(args: argparse.Namespace) -> dict:
         args.lr = float(preset_model.pop("lr", args.lr))
         crop = preset_model.pop("crop_size", args.crop)
         args.crop = args.crop if "crop" in given else crop
+    if isinstance(args.crop, list):
+        if len(args.crop) not in (1, 2):
+            raise SystemExit(f"--crop takes a square side or W H, got {args.crop}")
+        args.crop = args.crop[0] if len(args.crop) == 1 else list(args.crop)
     L.seed_everything(args.seed, workers=True)
     data = OmegaConf.load(REPO / "conf" / "data" / "synth.yaml")
     data.root = str(args.root)
@@ -290,11 +296,13 @@ def main() -> None:
     ep.add_argument("--root", default="/work/data/synth")
     ep.add_argument("--part", default="test", choices=["train", "val", "test"])
     ep.add_argument("--work-size", type=int, nargs=2, default=None, metavar=("W", "H"))
+    ep.add_argument("--flip", action="store_true", help="flip test-time augmentation (image + mirror, averaged)")
     tp = sub.choices["train"]
     tp.add_argument("--root", default="/work/data/synth")
     tp.add_argument("--epochs", type=int, default=10)
     tp.add_argument("--lr", type=float, default=0.01)
-    tp.add_argument("--crop", type=int, default=None)
+    tp.add_argument("--crop", type=int, nargs="+", default=None, metavar="SIDE | W H",
+                    help="training crop: a square side or W H (clamped to the image)")
     tp.add_argument("--val-every", type=int, default=5)
     tp.add_argument("--precision", default="32-true", help="Lightning precision (cuda: 16-mixed / bf16-mixed)")
     tp.add_argument("--max-minutes", type=float, default=None, help="stop fitting after this long (then test)")

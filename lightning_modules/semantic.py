@@ -38,6 +38,7 @@ from sdn3d.semantic import (
     color_jitter,
     colorize_instances,
     colorize_labels,
+    flip_averaged_outputs,
     group_instances,
     label_histogram,
     panoptic_targets,
@@ -111,6 +112,8 @@ class SemanticModule(BranchModule):
         decoder_channels: skip-decoder widths at strides 4, 2, 1.
         optimizer: ``'sgd'`` (the paper; ``momentum`` applies) or ``'adamw'`` (faster on short budgets).
         color_jitter: strength of the random brightness / contrast / saturation in training; 0 = none.
+        test_flip: validate and test on the image and its mirror image, outputs averaged
+            (:func:`sdn3d.semantic.tta.flip_averaged_outputs`); checkpoints carry it to ``SemanticPredictor``.
     """
 
     def __init__(
@@ -142,6 +145,7 @@ class SemanticModule(BranchModule):
         decoder_channels: Sequence[int] = (64, 32, 16),
         optimizer: str = "sgd",
         color_jitter: float = 0.0,
+        test_flip: bool = False,
     ) -> None:
         super().__init__()
         args = {k: _plain(v) for k, v in locals().items() if k not in ("self", "__class__")}
@@ -245,7 +249,7 @@ class SemanticModule(BranchModule):
 
     def _eval_step(self, stage: str, batch: dict[str, Any], batch_idx: int) -> None:
         image, label, instance = batch["image"], batch["label"], batch["instance"]
-        out = self(image)
+        out = flip_averaged_outputs(self.net, image) if self.hparams.get("test_flip", False) else self(image)
         terms = self.losses(out, label, instance)
         self.log(f"{stage}/loss", terms["loss"], on_step=False, on_epoch=True, batch_size=image.shape[0],
                  sync_dist=True)

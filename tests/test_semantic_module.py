@@ -260,7 +260,7 @@ def test_benchmark_ceiling_and_evaluate_on_the_fixture(data_cfg, tmp_path):
     path = tmp_path / "m.ckpt"
     trainer.save_checkpoint(path)
     result = bench.evaluate(argparse.Namespace(ckpt=str(path), root=data_cfg.root, size=list(SIZE), part="test",
-                                               work_size=None, device="cpu", batch=2))
+                                               work_size=None, device="cpu", batch=2, flip=False))
     # The same mIoU by hand from the module's own predictions on that split.
     synth = OmegaConf.load(CONF / "data" / "synth.yaml")
     synth.root, synth.image_size = str(data_cfg.root), list(SIZE)
@@ -276,3 +276,29 @@ def test_benchmark_ceiling_and_evaluate_on_the_fixture(data_cfg, tmp_path):
     union = cm.sum(0) + cm.sum(1) - tp
     assert result["images"] == len(ds)
     assert result["miou"] == pytest.approx(float((tp / union.clamp_min(1))[union > 0].mean()), abs=1e-4)
+
+
+def test_test_flip_validates_with_flip_averaging_and_travels_to_the_predictor(data_cfg, tmp_path):
+    from sdn3d.semantic import flip_averaged_outputs
+
+    torch.manual_seed(0)
+    dm = SemanticDataModule(data_cfg, batch_size=2)
+    model = _small_module(channels=[8, 16, 16, 32, 32, 32, 32, 32], decoder="skip", decoder_channels=[16, 8, 8],
+                          test_flip=True)
+    trainer = L.Trainer(accelerator="cpu", max_epochs=1, limit_train_batches=1, limit_val_batches=1, logger=False,
+                        num_sanity_val_steps=0, enable_checkpointing=False, enable_progress_bar=False,
+                        enable_model_summary=False)
+    trainer.fit(model, datamodule=dm)
+    assert math.isfinite(float(trainer.callback_metrics["val/miou"]))
+    path = tmp_path / "flip.ckpt"
+    trainer.save_checkpoint(path)
+    predictor = SemanticPredictor.from_checkpoint(path)
+    assert predictor.flip and not SemanticPredictor.from_checkpoint(path, flip=False).flip
+    image = next(iter(dm.val_dataloader()))["image"]
+    model.eval()
+    with torch.no_grad():
+        expected = flip_averaged_outputs(model.net, image)["logits"].softmax(1)
+        plain = model(image)["logits"].softmax(1)
+    got = predictor(image).probability
+    torch.testing.assert_close(got, expected, atol=1e-5, rtol=1e-4)
+    assert not torch.allclose(got, plain, atol=1e-4)

@@ -7,6 +7,7 @@
   loading a ``SemanticModule`` checkpoint.
 - :mod:`~sdn3d.semantic.classes`: class lists by name, thing classes, colouring.
 - :mod:`~sdn3d.semantic.augment`: batched random crop / flip, colour jitter (training).
+- :mod:`~sdn3d.semantic.tta`: flip test-time augmentation (image and mirror image in one batch).
 The network itself is :class:`sdn3d.nets.drn.DRNSeg`.
 """
 
@@ -31,6 +32,7 @@ from sdn3d.semantic.panoptic import (
 )
 from sdn3d.semantic.pq import pq_from_stats, pq_stats
 from sdn3d.semantic.predict import GROUPING_DEFAULTS, Segmentation, SemanticPredictor, segment
+from sdn3d.semantic.tta import flip_averaged_outputs, hflip_outputs
 
 __all__ = [
     "CLASS_WEIGHTINGS",
@@ -58,4 +60,6 @@ __all__ = [
     "Segmentation",
     "SemanticPredictor",
     "segment",
+    "flip_averaged_outputs",
+    "hflip_outputs",
 ]

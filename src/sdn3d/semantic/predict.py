@@ -26,6 +26,7 @@ from sdn3d.data.records import SemanticClass
 from sdn3d.nets.drn import DRNSeg
 from sdn3d.semantic.classes import resolve_classes, thing_class_ids
 from sdn3d.semantic.panoptic import group_instances
+from sdn3d.semantic.tta import flip_averaged_outputs
 
 __all__ = ["Segmentation", "SemanticPredictor", "segment", "GROUPING_DEFAULTS"]
 
@@ -59,6 +60,8 @@ class SemanticPredictor:
         grouping: overrides of :data:`GROUPING_DEFAULTS`.
         image_size: optional working size ``(W, H)``: images are resized to it for the network
             and the maps resized back (nearest) to the image size; None runs at the image size.
+        flip: test-time augmentation: average the outputs on the image and on its mirror image
+            (:func:`~sdn3d.semantic.tta.flip_averaged_outputs`; twice the compute).
     """
 
     def __init__(
@@ -68,8 +71,10 @@ class SemanticPredictor:
         thing_classes: Sequence[int] | None = None,
         grouping: Mapping[str, Any] | None = None,
         image_size: tuple[int, int] | None = None,
+        flip: bool = False,
     ) -> None:
         self.net = net.eval()
+        self.flip = bool(flip)
         self.classes = resolve_classes(classes)
         if len(self.classes) != net.num_classes:
             raise ValueError(f"classes has {len(self.classes)} entries but the network predicts {net.num_classes}")
@@ -82,8 +87,9 @@ class SemanticPredictor:
 
     @classmethod
     def from_checkpoint(cls, path: str | os.PathLike, map_location: str | torch.device = "cpu",
-                        image_size: tuple[int, int] | None = None) -> SemanticPredictor:
-        """Load a ``SemanticModule`` Lightning checkpoint (``weights_only=True``)."""
+                        image_size: tuple[int, int] | None = None, flip: bool | None = None) -> SemanticPredictor:
+        """Load a ``SemanticModule`` Lightning checkpoint (``weights_only=True``); ``flip=None`` takes the
+        module's ``test_flip`` setting."""
         from sdn3d.io import load_lightning_checkpoint
 
         ckpt = load_lightning_checkpoint(path, map_location)
@@ -98,7 +104,8 @@ class SemanticPredictor:
         net.to(map_location)
         things = hp.get("thing_classes")
         return cls(net, classes, thing_classes=None if things is None else thing_class_ids(classes, things),
-                   grouping={k: hp[k] for k in GROUPING_DEFAULTS if k in hp}, image_size=image_size)
+                   grouping={k: hp[k] for k in GROUPING_DEFAULTS if k in hp}, image_size=image_size,
+                   flip=bool(hp.get("test_flip", False)) if flip is None else flip)
 
     def to(self, device: str | torch.device) -> SemanticPredictor:
         self.net.to(device)
@@ -121,7 +128,7 @@ class SemanticPredictor:
                                  align_corners=False, antialias=True)
         else:
             work = image
-        out = self.net(work)
+        out = flip_averaged_outputs(self.net, work) if self.flip else self.net(work)
         probability = out["logits"].softmax(1)
         label = probability.argmax(1)
         if "center" in out and self.thing_classes:

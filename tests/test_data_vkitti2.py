@@ -41,6 +41,8 @@ def test_records_match_what_was_written(tree, camera):
     ]  # fmt: skip
     for record, exp in zip(records, expected, strict=True):
         assert record.intrinsics == exp.intrinsics
+        # The README: instance maps are 8-bit indexed PNGs holding trackID + 1.
+        assert Image.open(record.instance_path).mode == "P"
         rgb = load_rgb(record)
         assert rgb.shape == (32, 64, 3) and rgb.dtype == np.uint8
         np.testing.assert_array_equal(load_semantic(record), exp.semantic)
@@ -64,6 +66,23 @@ def test_bbox_columns_are_left_right_top_bottom(tree):
     pose = dict(zip(POSE_HEADER, (seq / "pose.txt").read_text().splitlines()[1].split(), strict=True))
     assert obj.dims == (float(pose["length"]), float(pose["height"]), float(pose["width"]))
     assert obj.location == tuple(float(pose[f"camera_space_{c}"]) for c in "XYZ")
+
+
+def test_occupancy_ratio_is_pixels_over_box_area(tree):
+    """Real bbox.txt rows satisfy occupancy_ratio = number_pixels / ((right - left) * (bottom - top))
+    (e.g. 41767 / (253 * 215) = 0.7678463 for ``0 0 0 988 1241 159 374 41767 0.4230517 0.7678463``)."""
+    root, truth = tree
+    lines = (root / "Scene06" / "fog" / "bbox.txt").read_text().splitlines()[1:]
+    rows = [dict(zip(BBOX_HEADER, line.split(), strict=True)) for line in lines]
+    assert len(rows) >= 4
+    for row in rows:
+        left, right, top, bottom = (int(row[c]) for c in ("left", "right", "top", "bottom"))
+        expected = int(row["number_pixels"]) / ((right - left) * (bottom - top))
+        assert float(row["occupancy_ratio"]) == pytest.approx(expected, abs=1e-6)
+    record = read_frames(root)[0]
+    for obj in record.objects:
+        l, t, r, b = obj.box2d
+        assert obj.occupr == pytest.approx(obj.num_pixels / ((r - l) * (b - t)), abs=1e-6)
 
 
 def test_visible_pixels_match_instance_map(tree):
@@ -102,11 +121,23 @@ def test_colors_table_maps_names_and_undefined(tree):
     assert guard.any() and (classgt[guard] == (250, 100, 255)).all()
 
 
-@pytest.mark.parametrize("mode", ["P", "I;16"])
+@pytest.mark.parametrize("mode", ["L", "I;16"])
 def test_instance_png_modes(tmp_path, mode):
     truth = write_vkitti2_fixture(tmp_path, frames=(0,), instance_mode=mode)
     record = read_frames(tmp_path)[0]
     assert Image.open(record.instance_path).mode == mode
+    np.testing.assert_array_equal(load_instances(record), truth[0].instances)
+
+
+def test_readme_lowercase_segmentation_folders(tmp_path):
+    """The README spells the folders classsegmentation / instancesegmentation; the archives use camel case."""
+    truth = write_vkitti2_fixture(tmp_path, frames=(0,))
+    frames_dir = tmp_path / "Scene01" / "clone" / "frames"
+    for name in ("classSegmentation", "instanceSegmentation"):
+        (frames_dir / name).rename(frames_dir / name.lower())
+    record = read_frames(tmp_path)[0]
+    assert record.semantic_path.parent.parent.name == "classsegmentation"
+    np.testing.assert_array_equal(load_semantic(record), truth[0].semantic)
     np.testing.assert_array_equal(load_instances(record), truth[0].instances)
 
 

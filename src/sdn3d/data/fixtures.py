@@ -14,6 +14,7 @@ Used by the reader tests and as format templates for the synthetic generator. Th
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 import os
@@ -321,19 +322,28 @@ def write_vkitti1_fixture(
     return out
 
 
+def _box_occupancy(annotation: ObjectAnnotation) -> ObjectAnnotation:
+    """VKITTI 2 ``occupancy_ratio``: visible pixels / ``((r - l) * (b - t))`` (fits bbox.txt sample rows)."""
+    left, top, right, bottom = annotation.box2d
+    area = max((right - left) * (bottom - top), 1.0)  # guard against /0 only; no such box at fixture sizes
+    return dataclasses.replace(annotation, occupr=_r6(annotation.num_pixels / area))
+
+
 def write_vkitti2_fixture(
     root: str | os.PathLike,
     scene: str = "Scene01",
     variation: str = "clone",
     frames: Sequence[int] = (0, 1),
     size: tuple[int, int] = (64, 32),
-    instance_mode: str = "L",
+    instance_mode: str = "P",
 ) -> list[FixtureFrame]:
     """Write one Virtual KITTI 2.0.3 sequence for both cameras (jpg rgb, classgt, instancegt,
     depth, colors/bbox/pose/info/intrinsic/extrinsic text files).
 
-    ``instance_mode`` is the PNG mode of ``instancegt`` (``'L'``, ``'P'`` or ``'I;16'``),
-    values ``trackID + 1``. A 2x2 ``Undefined`` patch sits in the top-left corner.
+    ``instance_mode``: PNG mode of ``instancegt`` (values ``trackID + 1``): ``'P'`` (8-bit indexed, as
+    shipped), ``'L'`` or ``'I;16'``. ``occupancy_ratio`` is ``number_pixels / ((r - l) * (b - t))`` as in
+    the real files; fixture masks fill their boxes, so unoccluded objects get values a little above 1.
+    A 2x2 ``Undefined`` patch sits in the top-left corner.
     Returns Camera_0 frames then Camera_1 frames.
     """
     if instance_mode not in ("L", "P", "I;16"):
@@ -368,7 +378,7 @@ def write_vkitti2_fixture(
             path.parent.mkdir(parents=True, exist_ok=True)
             image.save(path)
             write_png_atomic(frames_dir / "depth" / camera / f"depth_{frame:05d}.png", depth_cm)
-            annotations = tuple(_annotation(*o, with_flags=False) for o in objs)
+            annotations = tuple(_box_occupancy(_annotation(*o, with_flags=False)) for o in objs)
             extr = _extrinsics(frame, shift=cam * VKITTI2_BASELINE)
             for a in annotations:
                 l, t, r, b = (int(v) for v in a.box2d)

@@ -13,21 +13,31 @@ On-disk layout under ``root`` (the official tarballs extracted into one tree)::
     <Scene>/<variation>/intrinsic.txt    frame cameraID K[0,0] K[1,1] K[0,2] K[1,2]
     <Scene>/<variation>/extrinsic.txt    frame cameraID + world->camera 4x4 row-major
 
+The archives spell the segmentation folders ``classSegmentation`` / ``instanceSegmentation``
+while the dataset README writes ``classsegmentation`` / ``instancesegmentation``; both are
+accepted (the archive spelling first).
+
 ``Camera_0`` is the left camera (default), ``Camera_1`` the right one.
 
 Semantic maps index :data:`~sdn3d.data.vkitti1.VKITTI_CLASSES` (matched by name
 through ``colors.txt``, whose colours differ slightly from VKITTI 1, e.g. GuardRail);
 ``Undefined`` pixels get :data:`~sdn3d.data.records.IGNORE_INDEX`.
 
-Instance PNGs hold ``trackID + 1`` per pixel (0 = no instance) as a single-channel
-8-bit grey or palette image (palette indices are the values) or 16-bit grey; all
-three are accepted. Instance maps are ``class_id * 1000 + (trackID + 1)``, the same
+Instance PNGs hold ``trackID + 1`` per pixel (0 = no instance). The README says 8-bit
+indexed (palette) PNG, whose indices are the values; 8-bit grey and 16-bit grey are
+accepted too. Instance maps are ``class_id * 1000 + (trackID + 1)``, the same
 ``k = tid + 1`` as :mod:`sdn3d.data.vkitti1`, with the class from ``info.txt``.
 
 Objects are the rows of ``bbox.txt`` for the chosen camera joined with ``pose.txt``
 (3D) and ``info.txt`` (label, model, colour); a bbox row without a pose row is an
-error. Locations are taken as KITTI's bottom-face centre in the camera frame (the
-Virtual KITTI 2 README keeps the KITTI/VKITTI 1 conventions).
+error. ``bbox.txt``'s ``occupancy_ratio`` is ``number_pixels / ((right - left) *
+(bottom - top))``, the share of the 2D box covered by visible pixels (it reproduces
+the published sample rows), not the visible fraction of the object that
+:class:`~sdn3d.data.records.ObjectAnnotation` documents for ``occupr``. It is passed
+through unchanged as ``occupr``, so even an unoccluded car reads well below 1.
+Locations are taken as KITTI's bottom-face centre in the camera frame, as in VKITTI 1;
+the VKITTI 2 documentation we could check does not say which point of the box
+``camera_space_X/Y/Z`` is.
 """
 
 from __future__ import annotations
@@ -254,6 +264,15 @@ def read_frames(
     return records
 
 
+def _modality_dir(seq: Path, modality: str, camera: str) -> Path:
+    """``frames/<modality>/<camera>``, or its all-lowercase spelling (the README's) if only that exists."""
+    for folder in dict.fromkeys((modality, modality.lower())):
+        path = seq / "frames" / folder / camera
+        if path.is_dir():
+            return path
+    return seq / "frames" / modality / camera
+
+
 def _read_sequence(seq: Path, scene: str, variation: str, cam: int, annotations: bool) -> list[FrameRecord]:
     camera = f"Camera_{cam}"
     rgb_dir = seq / "frames" / "rgb" / camera
@@ -262,7 +281,7 @@ def _read_sequence(seq: Path, scene: str, variation: str, cam: int, annotations:
     frames = sorted(int(m.group(1)) for p in rgb_dir.iterdir() if (m := _RGB_NAME.match(p.name)))
     if not frames:
         return []
-    dirs = {m: seq / "frames" / m / camera for m in ("classSegmentation", "instanceSegmentation", "depth")}
+    dirs = {m: _modality_dir(seq, m, camera) for m in ("classSegmentation", "instanceSegmentation", "depth")}
     if dirs["classSegmentation"].is_dir() and not (seq / "colors.txt").is_file():
         raise missing(seq / "colors.txt", "colors.txt")
     nominal = sequence_intrinsics(rgb_dir / f"rgb_{frames[0]:05d}.jpg")

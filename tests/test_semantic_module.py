@@ -226,6 +226,16 @@ def test_semantic_cpu_experiment_composes_the_documented_cpu_preset(data_cfg):
     assert model.hparams.decoder == "skip" and model.hparams.optimizer == "adamw"
     assert model.hparams.class_weighting == "enet" and model.net.decoder is not None
     assert model.net.backbone.channels == (16, 32, 64, 128, 128, 256, 256, 256)
+    # preset=cpu_fullres on the command line wins over the experiment's preset: full-size frames, crops, flip.
+    with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
+        full = compose("train", overrides=["branch=semantic", "experiment=semantic_cpu", "preset=cpu_fullres",
+                                           f"data.root={data_cfg.root}"])
+    assert full.preset == "cpu_fullres"
+    full = apply_preset(full, [])
+    assert list(full.data.image_size) == [624, 192] and full.trainer.max_epochs == 22
+    fm = instantiate(full.model, head_channels=32)
+    assert fm.hparams.crop_size == [312, 96] and fm.hparams.test_flip and fm.hparams.offset_weight == 0.05
+    assert fm.net.backbone.channels == model.net.backbone.channels and fm.net.decoder is not None
     # The paper preset keeps the paper's head and optimiser.
     paper = instantiate(OmegaConf.merge(cfg, cfg.presets.paper).model, head_channels=32)
     assert paper.hparams.decoder == "bilinear" and paper.hparams.optimizer == "sgd" and paper.net.decoder is None

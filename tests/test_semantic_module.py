@@ -241,6 +241,26 @@ def test_semantic_cpu_experiment_composes_the_documented_cpu_preset(data_cfg):
     assert paper.hparams.decoder == "bilinear" and paper.hparams.optimizer == "sgd" and paper.net.decoder is None
 
 
+def test_semantic_gpu_experiment_composes_the_gpu_preset(data_cfg):
+    with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
+        cfg = compose("train", overrides=["branch=semantic", "experiment=semantic_gpu", f"data.root={data_cfg.root}",
+                                          "trainer.max_epochs=7"])
+    from lightning_modules.train import apply_preset
+
+    assert cfg.preset == "gpu" and cfg.data.kind == "vkitti1" and cfg.trainer.accelerator == "gpu"
+    merged = apply_preset(cfg.copy(), ["trainer.max_epochs=7"])
+    assert merged.trainer.precision == "bf16-mixed" and merged.trainer.check_val_every_n_epoch == 22
+    assert merged.trainer.max_epochs == 7  # what the user typed beats the preset
+    assert list(merged.data.image_size) == [624, 192] and merged.datamodule.num_workers == 6
+    model = instantiate(merged.model, head_channels=32)
+    assert model.hparams.crop_size is None and model.hparams.test_flip and model.hparams.offset_weight == 0.05
+    # The full DRN-D-22 (published widths) with the wider skip decoder.
+    published = instantiate(OmegaConf.merge(cfg, {"model": {"decoder": "bilinear"}}).model, head_channels=32)
+    assert model.net.backbone.channels == published.net.backbone.channels
+    assert model.net.backbone.channels[-1] == 512 and model.net.decoder is not None
+    assert list(model.hparams.decoder_channels) == [128, 64, 32]
+
+
 def _bench_module():
     import importlib.util
 

@@ -28,15 +28,25 @@ class EpochLog(L.Callback):
         self.keys = tuple(keys)
         self.max_metrics = int(max_metrics)
         self._started = time.perf_counter()
+        self._validated_epoch = -1
 
     def on_train_epoch_start(self, trainer: L.Trainer, pl_module: L.LightningModule) -> None:
         self._started = time.perf_counter()
 
+    def on_validation_epoch_end(self, trainer: L.Trainer, pl_module: L.LightningModule) -> None:
+        if not trainer.sanity_checking:
+            self._validated_epoch = trainer.current_epoch
+
     def on_train_epoch_end(self, trainer: L.Trainer, pl_module: L.LightningModule) -> None:
         if trainer.sanity_checking or not trainer.is_global_zero:
             return
+        # callback_metrics keeps the last validation's values through epochs without validation
+        # (check_val_every_n_epoch > 1): print val/ only for an epoch that validated.
+        stale = "val/" if self._validated_epoch != trainer.current_epoch else None
         metrics = []
         for name, value in sorted(trainer.callback_metrics.items()):
+            if stale is not None and name.startswith(stale):
+                continue
             if (name.startswith(self.keys) and not name.endswith(("_step", "_epoch")) and not any(
                     part in name for part in _PER_CLASS) and torch.is_tensor(value) and value.numel() == 1):
                 metrics.append(f"{name} {float(value):.4g}")

@@ -5,16 +5,17 @@
                                       [--data DIR] [--out FILE] [--no-reference] [--semantic]
                                       [--device cpu|cuda]
 
-What one edit is (the path of :func:`sdn3d.bench.evaluate_entry`, ``proposals='gt'``): a source frame
-of a synthetic Virtual KITTI dataset written at ``--size`` (``sdn3d-synth`` recipe, ``--cars`` cars per
+What one edit is (the path of :func:`sdn3d.evaluation.edit_benchmark.evaluate_entry`, ``proposals='gt'``):
+a source frame of a synthetic Virtual KITTI dataset written at ``--size`` (``sdn3d-synth`` recipe, ``--cars`` cars per
 frame, into a temporary folder unless ``--data`` names an existing one) and one entry of its editing
 benchmark file (``vkitti_edit_benchmark.json``: deletes and modifies of several cars), split into
 
 - ``derender``: :func:`sdn3d.derender.derender` (ground-truth masks and semantics read from disk, the
   geometric branch on every object's crop, the texture encoder); its ``geometric`` and ``encoder``
   parts are timed inside it too;
-- ``edit_ops``: :func:`sdn3d.edit.ops_from_benchmark` (picks), ``apply_edits``: :func:`sdn3d.edit.apply_edits`;
-- ``scene_maps``: :func:`sdn3d.scene_maps.scene_maps` of the edited scene; ``generator``:
+- ``edit_ops``: :func:`sdn3d.editing.apply.ops_from_benchmark` (picks),
+  ``apply_edits``: :func:`sdn3d.editing.apply.apply_edits`;
+- ``scene_maps``: :func:`sdn3d.scene.maps.scene_maps` of the edited scene; ``generator``:
   :func:`sdn3d.derender.render_maps` (the textural generator);
 - ``total``: the sum.
 
@@ -29,8 +30,8 @@ every timed call ends with ``torch.cuda.synchronize``, so a stage's time include
 frame is still read and cropped on the CPU, as :func:`sdn3d.derender.derender` does.
 
 The editing code alone is timed against its dense reference too (``reference``:
-``sdn3d.scene_maps._scene_maps_reference``, every object rasterized over the whole frame and composed
-densely, and ``sdn3d.edit._apply_edits_reference``, which always re-composes the observed objects to
+``sdn3d.scene.maps._scene_maps_reference``, every object rasterized over the whole frame and composed
+densely, and ``sdn3d.editing.apply._apply_edits_reference``, which always re-composes the observed objects to
 find freed pixels), on the same scenes, with a check that both give identical results.
 
 Every figure is the median (and min) over ``--repeats`` passes over ``--entries`` entries after one
@@ -55,20 +56,20 @@ from typing import Any
 import torch
 from omegaconf import OmegaConf
 
-from sdn3d.bench import index_records
 from sdn3d.data.datasets.transforms import load_frame
-from sdn3d.data.edits import load_edit_benchmark
+from sdn3d.data.edit_benchmark import load_edit_benchmark
 from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
 from sdn3d.data.vkitti1 import read_frames
 from sdn3d.derender import Models, derender, render_maps
-from sdn3d.edit import _apply_edits_reference, apply_edits, ops_from_benchmark
+from sdn3d.editing.apply import _apply_edits_reference, apply_edits, ops_from_benchmark
+from sdn3d.evaluation.edit_benchmark import index_records
 from sdn3d.geometric.model import GeometricNet
 from sdn3d.geometric.predict import GeometricPredictor, net_kwargs_from_hparams
-from sdn3d.geometry.encodings import AttributeEncoding
+from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.meshes import MeshBank
 from sdn3d.nets.pix2pixhd import TexturalSpec
-from sdn3d.scene_maps import _scene_maps_reference, scene_maps
-from sdn3d.texture import TexturalRenderer, class_list
+from sdn3d.scene.maps import _scene_maps_reference, scene_maps
+from sdn3d.textural.renderer import TexturalRenderer, class_list
 
 REPO = Path(__file__).resolve().parents[1]
 STAGES = ("derender", "edit_ops", "apply_edits", "scene_maps", "generator")

@@ -45,9 +45,9 @@ def _batches(root: str | None, batch_size: int, crop_size: int, count: int) -> l
                 out.append(batch)
             if len(out) == count:
                 return out
-    from sdn3d.geometry.camera import VKITTI_INTRINSICS
-    from sdn3d.geometry.encodings import AttributeEncoding
-    from sdn3d.geometry.transforms import project_box
+    from sdn3d.math3d.camera import VKITTI_INTRINSICS
+    from sdn3d.math3d.encodings import AttributeEncoding
+    from sdn3d.math3d.transforms import project_box
 
     intr = VKITTI_INTRINSICS.resized(624, 192)
     K = intr.matrix()

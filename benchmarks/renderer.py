@@ -33,7 +33,7 @@ import time
 import torch
 import trimesh
 
-from sdn3d.geometry import VKITTI_INTRINSICS, object_to_camera, project_points
+from sdn3d.math3d import VKITTI_INTRINSICS, object_to_camera, project_points
 from sdn3d.render import (
     RasterSettings,
     SoftSilhouetteSettings,

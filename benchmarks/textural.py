@@ -5,7 +5,7 @@
                                         [--train-batches N] [--threads 2] [--out outputs/bench/textural]
 
 ``speed``: images/s of one training iteration (encoder + generator forward, 3 discriminator passes,
-G/E and D backward + Adam steps) and of inference (:meth:`sdn3d.texture.TexturalRenderer.reconstruct`:
+G/E and D backward + Adam steps) and of inference (:meth:`sdn3d.textural.renderer.TexturalRenderer.reconstruct`:
 encode + render), batch 1, at ``--size`` (default the VKITTI working size 624x192), for the demo
 and paper network sizes of ``conf/branch/textural.yaml``. Inputs are one real synthetic frame
 (data loading excluded). Median over ``--repeats`` after one warm-up; min given too, and the process
@@ -18,7 +18,7 @@ constant, half linear decay), trained with Lightning on ``--data-root`` (a VKITT
 folder, e.g. the synthetic one), then evaluated on the whole test split (PSNR / SSIM / L1 on whole
 images and on object pixels). Writes ``<out>/textural.json``, ``<out>/last.ckpt`` and the grid
 ``docs/images/textural_grid.png``: label | reconstruction | real | reconstruction with every car's
-code resampled from the training code bank (:class:`sdn3d.texture.CodeBank`).
+code resampled from the training code bank (:class:`sdn3d.textural.renderer.CodeBank`).
 """
 
 from __future__ import annotations
@@ -41,8 +41,8 @@ from datamodules import TexturalDataModule  # noqa: E402
 from lightning_modules._base import image_grid  # noqa: E402
 from lightning_modules.textural import TexturalModule  # noqa: E402
 from sdn3d.data.records import INSTANCE_DIVISOR  # noqa: E402
-from sdn3d.metrics import image_metrics  # noqa: E402
-from sdn3d.texture import CodeBank, TexturalRenderer, sample_code  # noqa: E402
+from sdn3d.evaluation.image_metrics import image_metrics  # noqa: E402
+from sdn3d.textural.renderer import CodeBank, TexturalRenderer, sample_code  # noqa: E402
 
 GRID_PATH = REPO / "docs" / "images" / "textural_grid.png"
 

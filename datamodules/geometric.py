@@ -7,7 +7,7 @@ from typing import Any
 
 from datamodules._base import BranchDataModule
 from sdn3d.data.datasets import GeometricDataset, ObjectFilter, SourceConfig
-from sdn3d.geometry.encodings import AttributeEncoding
+from sdn3d.math3d.encodings import AttributeEncoding
 
 __all__ = ["GeometricDataModule"]
 

@@ -48,7 +48,7 @@ from sdn3d.geometric import (
     reprojection_error,
     sample_templates,
 )
-from sdn3d.geometry.encodings import AttributeEncoding
+from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.meshes.templates import TEMPLATE_NAMES
 from sdn3d.nets.weights import load_pretrained

@@ -7,13 +7,13 @@ import math
 import pytest
 import torch
 
-from sdn3d.baselines import baseline_maps, warp_regions
-from sdn3d.data.edits import EditOperation
+from sdn3d.data.edit_benchmark import EditOperation
 from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX
-from sdn3d.edit import projected_centers
-from sdn3d.geometry.camera import VKITTI_INTRINSICS
-from sdn3d.scene import ObjectTable, SceneCode, SceneObject
-from sdn3d.scene_maps import scene_maps
+from sdn3d.editing.apply import projected_centers
+from sdn3d.evaluation.baselines import baseline_maps, warp_regions
+from sdn3d.math3d.camera import VKITTI_INTRINSICS
+from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
+from sdn3d.scene.maps import scene_maps
 
 W, H = 128, 48
 ROAD, SKY = VKITTI_CLASS_INDEX["Road"], VKITTI_CLASS_INDEX["Sky"]

@@ -9,7 +9,14 @@ import pytest
 import torch
 from helpers.tiny_models import geometric_net, textural_spec, write_checkpoints
 
-from sdn3d.bench import (
+from sdn3d.cli.bench import main
+from sdn3d.data import vkitti1
+from sdn3d.data.datasets import resize_map
+from sdn3d.data.edit_benchmark import EditEntry, load_edit_benchmark, scale_operation
+from sdn3d.data.records import load_instances
+from sdn3d.derender import Models
+from sdn3d.editing.apply import projected_centers
+from sdn3d.evaluation.edit_benchmark import (
     BenchSettings,
     EntryResult,
     edit_regions,
@@ -18,18 +25,11 @@ from sdn3d.bench import (
     run_benchmark,
     summarize,
 )
-from sdn3d.cli.bench import main
-from sdn3d.data import vkitti1
-from sdn3d.data.datasets import resize_map
-from sdn3d.data.edits import EditEntry, load_edit_benchmark, scale_operation
-from sdn3d.data.records import load_instances
-from sdn3d.derender import Models
-from sdn3d.edit import projected_centers
+from sdn3d.evaluation.image_metrics import mask_to_box
 from sdn3d.geometric.predict import GeometricPredictor
-from sdn3d.metrics import mask_to_box
 from sdn3d.nets.lpips import LPIPS
-from sdn3d.scene import SceneCode
-from sdn3d.texture import TexturalRenderer
+from sdn3d.scene.code import SceneCode
+from sdn3d.textural.renderer import TexturalRenderer
 
 SIZE = (160, 64)
 

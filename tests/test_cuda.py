@@ -16,12 +16,12 @@ from hydra import compose, initialize_config_dir
 from sdn3d.data import vkitti1
 from sdn3d.data.datasets import load_frame
 from sdn3d.derender import Models, derender, render
-from sdn3d.edit import Rotate, Zoom, apply_edits
+from sdn3d.editing.apply import Rotate, Zoom, apply_edits
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.meshes import MeshBank
 from sdn3d.render import RasterSettings, SoftSilhouetteSettings, rasterize_meshes, soft_silhouette
-from sdn3d.scene_maps import scene_maps
-from sdn3d.texture import TexturalRenderer
+from sdn3d.scene.maps import scene_maps
+from sdn3d.textural.renderer import TexturalRenderer
 
 pytestmark = pytest.mark.skipif(not torch.cuda.is_available(), reason="needs a CUDA GPU")
 CUDA = torch.device("cuda")

@@ -30,7 +30,7 @@ from sdn3d.data.vkitti1 import (
     parse_motgt,
     read_frames,
 )
-from sdn3d.geometry.camera import VKITTI_INTRINSICS
+from sdn3d.math3d.camera import VKITTI_INTRINSICS
 
 REFERENCE_FRAME = "0006_30-deg-right_00043.png"
 

@@ -26,9 +26,9 @@ from sdn3d.data.fixtures import write_vkitti1_fixture, write_vkitti2_fixture
 from sdn3d.data.fixtures_cityscapes import write_cityscapes_fixture
 from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR
 from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX, VKITTI_CLASSES, paper_object_filter
-from sdn3d.geometry.camera import project_points
-from sdn3d.geometry.encodings import AttributeEncoding
-from sdn3d.geometry.rotations import alpha_bins, wrap_angle
+from sdn3d.math3d.camera import project_points
+from sdn3d.math3d.encodings import AttributeEncoding
+from sdn3d.math3d.rotations import alpha_bins, wrap_angle
 
 NATIVE = (310, 94)  # a fifth of 1242x375: cars have several hundred pixels, the occluded van < 256
 WORK = (160, 64)  # anisotropic resize (sx = 0.516, sy = 0.681)

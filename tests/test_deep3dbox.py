@@ -17,8 +17,8 @@ from sdn3d.geometric.deep3dbox import (
     solve_translation,
     upright_assignments,
 )
-from sdn3d.geometry.camera import project_points
-from sdn3d.geometry.transforms import bottom_to_center, box_corners, project_box
+from sdn3d.math3d.camera import project_points
+from sdn3d.math3d.transforms import bottom_to_center, box_corners, project_box
 
 CONF = Path(__file__).resolve().parents[1] / "conf" / "data"
 # The synthetic data's camera (Virtual KITTI resized to 624x192).

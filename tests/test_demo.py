@@ -8,8 +8,8 @@ import torch
 from hydra import compose, initialize_config_dir
 
 from sdn3d.cli._config import CONFIG_DIR
-from sdn3d.geometry.ffd import expand_half_ffd
-from sdn3d.geometry.transforms import object_to_camera
+from sdn3d.math3d.ffd import expand_half_ffd
+from sdn3d.math3d.transforms import object_to_camera
 from sdn3d.meshes import MeshBank
 from sdn3d.render.objects import pose_meshes
 

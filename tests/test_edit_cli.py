@@ -15,10 +15,10 @@ from PIL import Image
 
 from sdn3d.cli.edit import main
 from sdn3d.data import vkitti1
-from sdn3d.edit_spec import EditSpecError, parse_edit_spec
-from sdn3d.geometry.rotations import wrap_angle
-from sdn3d.scene import SceneCode
-from sdn3d.texture import CodeBank
+from sdn3d.editing.spec import EditSpecError, parse_edit_spec
+from sdn3d.math3d.rotations import wrap_angle
+from sdn3d.scene.code import SceneCode
+from sdn3d.textural.renderer import CodeBank
 
 FRAME = "0001/clone/00004"
 BANK = {12: torch.arange(40.0).view(8, 5), 13: torch.ones(2, 5)}  # training codes per class (Car, Van)

@@ -7,11 +7,11 @@ import math
 import pytest
 import torch
 
-from sdn3d.data.edits import EditEntry, EditOperation, load_edit_benchmark, scale_point
+from sdn3d.data.edit_benchmark import EditEntry, EditOperation, load_edit_benchmark, scale_point
 from sdn3d.data.fixtures import write_vkitti1_fixture
 from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
 from sdn3d.data.vkitti1 import read_frames
-from sdn3d.edit import (
+from sdn3d.editing.apply import (
     Delete,
     Duplicate,
     EditError,
@@ -27,8 +27,8 @@ from sdn3d.edit import (
     ops_from_benchmark,
     projected_centers,
 )
-from sdn3d.scene import ObjectTable, SceneCode, SceneObject
-from sdn3d.scene_maps import compose_instances, scene_maps
+from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
+from sdn3d.scene.maps import compose_instances, scene_maps
 
 SIZE = (208, 64)
 
@@ -232,7 +232,7 @@ def test_published_example_rotates_the_picked_car(reference_dir, tmp_path):
 def test_freed_pixels_match_the_reference_and_need_no_rendering_with_masks(scene, monkeypatch):
     """All observed objects have masks: the freed pixels come from the masks alone (no rasterization), and
     equal the reference that composes the observed objects' renders; without masks both render."""
-    import sdn3d.edit as module
+    import sdn3d.editing.apply as module
 
     order = scene.objects.mask.flatten(1).sum(1).argsort(descending=True).tolist()
     a, b, c = (int(scene.objects.instance_id[i]) for i in order[:3])

@@ -10,7 +10,7 @@ import pytest
 import torch
 
 from sdn3d.data import DataFormatError
-from sdn3d.data.edits import (
+from sdn3d.data.edit_benchmark import (
     EditEntry,
     EditOperation,
     load_edit_benchmark,
@@ -20,7 +20,7 @@ from sdn3d.data.edits import (
     scale_point,
     validate_in_frame,
 )
-from sdn3d.geometry.camera import VKITTI_INTRINSICS, project_points
+from sdn3d.math3d.camera import VKITTI_INTRINSICS, project_points
 
 
 @pytest.fixture(scope="module")

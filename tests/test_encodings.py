@@ -7,8 +7,8 @@ import math
 import pytest
 import torch
 
-from sdn3d.geometry import VKITTI_INTRINSICS, observation_angle, project_points, wrap_angle
-from sdn3d.geometry.encodings import (
+from sdn3d.math3d import VKITTI_INTRINSICS, observation_angle, project_points, wrap_angle
+from sdn3d.math3d.encodings import (
     AttributeEncoding,
     decode_full_quaternion,
     decode_yaw_quaternion,
@@ -16,7 +16,7 @@ from sdn3d.geometry.encodings import (
     encode_yaw_quaternion,
     rotation_loss,
 )
-from sdn3d.geometry.transforms import box_corners, from_kitti_fields, project_box
+from sdn3d.math3d.transforms import box_corners, from_kitti_fields, project_box
 
 F64 = torch.float64
 VARIANTS = [
@@ -133,7 +133,7 @@ def test_full_decoder_reads_heading_of_tilted_rotation() -> None:
     # A small roll about the vehicle's length axis must not change the decoded heading.
     from kornia.geometry.conversions import axis_angle_to_rotation_matrix, rotation_matrix_to_quaternion
 
-    from sdn3d.geometry import roty
+    from sdn3d.math3d import roty
 
     ry = torch.tensor([0.4, -2.0, 3.0], dtype=F64)
     roll = axis_angle_to_rotation_matrix(torch.tensor([[0.2, 0.0, 0.0]] * 3, dtype=F64))

@@ -7,7 +7,7 @@ import math
 import pytest
 import torch
 
-from sdn3d.geometry.ffd import (
+from sdn3d.math3d.ffd import (
     FFD_NUM_HALF,
     FFD_NUM_POINTS,
     FreeFormDeformation,

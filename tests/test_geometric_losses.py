@@ -19,8 +19,8 @@ from sdn3d.geometric import (
     reprojection_error,
     sample_templates,
 )
-from sdn3d.geometry.encodings import AttributeEncoding, encode_yaw_quaternion
-from sdn3d.geometry.ffd import expand_half_ffd
+from sdn3d.math3d.encodings import AttributeEncoding, encode_yaw_quaternion
+from sdn3d.math3d.ffd import expand_half_ffd
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.render.settings import SoftSilhouetteSettings
 

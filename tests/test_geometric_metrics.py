@@ -19,8 +19,8 @@ from sdn3d.geometric import (
     predicted_rotation,
     scale_error,
 )
-from sdn3d.geometry.encodings import encode_full_quaternion
-from sdn3d.geometry.rotations import roty
+from sdn3d.math3d.encodings import encode_full_quaternion
+from sdn3d.math3d.rotations import roty
 
 
 def test_orientation_similarity_is_half_one_plus_cos_of_the_geodesic_angle():

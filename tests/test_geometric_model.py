@@ -15,11 +15,11 @@ from sdn3d.geometric import (
     decode_outputs,
     render_objects,
 )
-from sdn3d.geometry.camera import VKITTI_INTRINSICS, project_points
-from sdn3d.geometry.encodings import AttributeEncoding
-from sdn3d.geometry.ffd import mirror_ffd
-from sdn3d.geometry.rotations import wrap_angle
-from sdn3d.geometry.transforms import project_box
+from sdn3d.math3d.camera import VKITTI_INTRINSICS, project_points
+from sdn3d.math3d.encodings import AttributeEncoding
+from sdn3d.math3d.ffd import mirror_ffd
+from sdn3d.math3d.rotations import wrap_angle
+from sdn3d.math3d.transforms import project_box
 from sdn3d.meshes.templates import TEMPLATE_NAMES
 
 INTR = VKITTI_INTRINSICS.resized(624, 192)

@@ -12,10 +12,10 @@ from sdn3d.geometric import (
     refine_by_reprojection,
     render_silhouettes,
 )
-from sdn3d.geometry.camera import intrinsics_matrix, project_points
-from sdn3d.geometry.encodings import AttributeEncoding
-from sdn3d.geometry.rotations import wrap_angle
-from sdn3d.geometry.transforms import project_box
+from sdn3d.math3d.camera import intrinsics_matrix, project_points
+from sdn3d.math3d.encodings import AttributeEncoding
+from sdn3d.math3d.rotations import wrap_angle
+from sdn3d.math3d.transforms import project_box
 from sdn3d.meshes.bank import MeshBank
 
 S = 32
@@ -84,7 +84,7 @@ def test_refinement_keeps_the_ffd_symmetric_and_small(scene):
     result = refine_by_reprojection(scene["raw"], scene["box"], scene["intr"], scene["crop_intr"], scene["mask"],
                                     bank=scene["bank"], settings=RefineSettings(iterations=4, params=("phi",)))
     phi = result.raw["phi"]
-    from sdn3d.geometry.ffd import mirror_ffd
+    from sdn3d.math3d.ffd import mirror_ffd
 
     torch.testing.assert_close(mirror_ffd(phi), phi)
     assert float(phi.abs().max()) < 0.2

@@ -7,7 +7,7 @@ import math
 import pytest
 import torch
 
-from sdn3d.geometry import (
+from sdn3d.math3d import (
     NUM_POSE_BINS,
     VKITTI_INTRINSICS,
     Intrinsics,

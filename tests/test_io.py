@@ -44,7 +44,7 @@ def test_bad_checkpoints_are_clear_errors_naming_the_file(tmp_path):
     from sdn3d.geometric.predict import GeometricPredictor
     from sdn3d.io import load_lightning_checkpoint
     from sdn3d.semantic.predict import SemanticPredictor
-    from sdn3d.texture import TexturalRenderer
+    from sdn3d.textural.renderer import TexturalRenderer
 
     garbage = tmp_path / "garbage.ckpt"
     garbage.write_bytes(b"not a checkpoint at all")

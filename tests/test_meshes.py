@@ -13,7 +13,7 @@ import trimesh
 from PIL import Image, ImageDraw
 from scipy.spatial import cKDTree
 
-from sdn3d.geometry.ffd import bernstein_basis, ffd_deform
+from sdn3d.math3d.ffd import bernstein_basis, ffd_deform
 from sdn3d.meshes import (
     SHAPENET_TO_CANONICAL,
     TEMPLATE_CATEGORY,

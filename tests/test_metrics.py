@@ -9,7 +9,7 @@ import pytest
 import torch
 from torchmetrics.functional.image import structural_similarity_index_measure
 
-from sdn3d import metrics
+from sdn3d.evaluation import image_metrics as metrics
 from sdn3d.nets.lpips import LPIPS, load_lpips, merge_lpips_weights
 from sdn3d.nets.weights import PretrainedWeightsError
 

@@ -8,7 +8,7 @@ import pytest
 import torch
 import trimesh
 
-from sdn3d.geometry.rotations import alpha_bins
+from sdn3d.math3d.rotations import alpha_bins
 from sdn3d.render import (
     RasterSettings,
     depth_map,

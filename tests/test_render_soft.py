@@ -8,7 +8,7 @@ import pytest
 import torch
 import trimesh
 
-from sdn3d.geometry.rotations import roty
+from sdn3d.math3d.rotations import roty
 from sdn3d.render import (
     SoftSilhouetteRenderer,
     SoftSilhouetteSettings,

@@ -17,10 +17,10 @@ from sdn3d.data.fixtures import write_vkitti1_fixture
 from sdn3d.data.fixtures_cityscapes import write_cityscapes_fixture
 from sdn3d.data.records import load_instances, load_semantic
 from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX
-from sdn3d.geometry.camera import VKITTI_INTRINSICS
-from sdn3d.geometry.transforms import bottom_to_center
+from sdn3d.math3d.camera import VKITTI_INTRINSICS
+from sdn3d.math3d.transforms import bottom_to_center
 from sdn3d.meshes.templates import TEMPLATE_NAMES
-from sdn3d.scene import SCENE_FORMAT, SCENE_VERSION, ObjectTable, SceneCode, SceneFormatError, SceneObject
+from sdn3d.scene.code import SCENE_FORMAT, SCENE_VERSION, ObjectTable, SceneCode, SceneFormatError, SceneObject
 
 WORK = (160, 64)
 CAR, VAN = VKITTI_CLASS_INDEX["Car"], VKITTI_CLASS_INDEX["Van"]

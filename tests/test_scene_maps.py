@@ -9,12 +9,12 @@ from sdn3d.data import vkitti1
 from sdn3d.data.datasets import TexturalDataset
 from sdn3d.data.fixtures import write_vkitti1_fixture
 from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX
-from sdn3d.geometry.camera import VKITTI_INTRINSICS
-from sdn3d.geometry.rotations import alpha_bins, observation_angle
+from sdn3d.math3d.camera import VKITTI_INTRINSICS
+from sdn3d.math3d.rotations import alpha_bins, observation_angle
 from sdn3d.render.rasterize import rasterize_meshes
 from sdn3d.render.settings import RasterSettings
-from sdn3d.scene import ObjectTable, SceneCode, SceneObject
-from sdn3d.scene_maps import (
+from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
+from sdn3d.scene.maps import (
     _projected_boxes,
     _scene_maps_reference,
     code_map,
@@ -194,7 +194,7 @@ def test_objects_are_rasterized_in_crops_holding_every_pixel_they_cover(monkeypa
               & (jj < box[:, 3, None, None]))
     assert bool(full.mask.any()) and bool((full.mask <= inside).all())
     # One rasterizer call, with windows smaller than the frame (a regression to full-frame images shows here).
-    import sdn3d.scene_maps as module
+    import sdn3d.scene.maps as module
 
     sizes = []
 

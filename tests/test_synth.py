@@ -15,7 +15,7 @@ from sdn3d.data.synth import BENCHMARK_NAME, MANIFEST_NAME, SynthConfig, generat
 from sdn3d.data.synth.classes import CLASS_COLORS
 from sdn3d.data.synth.clip import clip_near
 from sdn3d.data.synth.writer import ENCODING_HEADER, EXTRINSICS_HEADER, MOTGT_HEADER
-from sdn3d.geometry.camera import VKITTI_INTRINSICS
+from sdn3d.math3d.camera import VKITTI_INTRINSICS
 
 WORLD = "0001"
 VARIATIONS = ("clone", "30-deg-left")
@@ -223,7 +223,7 @@ def test_vkitti1_reader_loads_it(dataset: Path) -> None:
 
 
 def test_edit_benchmark_matches_targets(dataset: Path) -> None:
-    edits = pytest.importorskip("sdn3d.data.edits")
+    edits = pytest.importorskip("sdn3d.data.edit_benchmark")
     entries = edits.load_edit_benchmark(dataset / BENCHMARK_NAME)
     assert len(entries) == len(VARIATIONS) * EDITS
     assert sum(len(e.operations) for e in entries) > 0
@@ -333,7 +333,7 @@ def test_hydra_config_composes(tmp_path: Path) -> None:
 def test_truncation_and_occupancy_of_a_car_leaving_the_frame() -> None:
     from sdn3d.data.synth.scene_render import template_bank
     from sdn3d.data.synth.stats import object_statistics
-    from sdn3d.geometry.transforms import object_to_camera
+    from sdn3d.math3d.transforms import object_to_camera
     from sdn3d.render.rasterize import rasterize_meshes
     from sdn3d.render.settings import RasterSettings
 

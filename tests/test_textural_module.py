@@ -15,7 +15,7 @@ from lightning_modules._base import NonFiniteLossError
 from lightning_modules.textural import LinearDecay, TexturalModule
 from sdn3d.data.fixtures import write_vkitti1_fixture
 from sdn3d.nets.vgg import VGG19Features
-from sdn3d.texture import TexturalRenderer
+from sdn3d.textural.renderer import TexturalRenderer
 
 CONF = Path(__file__).resolve().parents[1] / "conf"
 SMALL = dict(ngf=8, n_downsampling=2, n_blocks=1, nef=4, n_downsampling_encoder=2, ndf=8)

@@ -7,7 +7,7 @@ import torch
 
 from sdn3d.data.datasets.textural import boundary_map
 from sdn3d.nets.pix2pixhd import TexturalSpec
-from sdn3d.texture import (
+from sdn3d.textural.renderer import (
     CodeBank,
     TexturalRenderer,
     TextureCodes,

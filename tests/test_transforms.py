@@ -7,8 +7,8 @@ import math
 import pytest
 import torch
 
-from sdn3d.geometry import VKITTI_INTRINSICS, project_points, roty
-from sdn3d.geometry.transforms import (
+from sdn3d.math3d import VKITTI_INTRINSICS, project_points, roty
+from sdn3d.math3d.transforms import (
     bottom_to_center,
     box_corners,
     camera_to_object,

@@ -1,10 +1,10 @@
-"""De-render an image into a :class:`~sdn3d.scene.SceneCode`, and render scenes back (3D-SDN, Fig. 2).
+"""De-render an image into a :class:`~sdn3d.scene.code.SceneCode`, and render scenes back (3D-SDN, Fig. 2).
 
 :func:`derender` runs the three branches on one image:
 
 1. **Semantics**: the semantic branch's label map (or the frame's ground truth with
    ``proposals='gt'``, or when there is no semantic model). Object pixels are labelled with their
-   object's class, so the map is the background the objects are drawn on (:mod:`sdn3d.scene`).
+   object's class, so the map is the background the objects are drawn on (:mod:`sdn3d.scene.code`).
 2. **Proposals**: instance masks from the frame's ground-truth instance map when ``record`` has
    one (``'auto'``, ``'gt'``), else from the semantic branch's instance head (``'semantic'``).
 3. **Geometry**: every object with at least ``min_pixels`` visible pixels becomes a square masked
@@ -18,8 +18,8 @@
    (objects and background classes): :func:`encode_scene`.
 
 Every object is *observed* and keeps its visible mask, so rendering an unedited scene redraws the
-image's own layout; edits (:func:`sdn3d.edit.apply_edits`) free the masks of moved objects.
-:func:`render` draws a scene with :func:`sdn3d.scene_maps.scene_maps` and the textural generator;
+image's own layout; edits (:func:`sdn3d.editing.apply.apply_edits`) free the masks of moved objects.
+:func:`render` draws a scene with :func:`sdn3d.scene.maps.scene_maps` and the textural generator;
 :func:`edit_image` chains de-render, edit and render.
 """
 
@@ -38,20 +38,20 @@ from torch import Tensor
 
 from sdn3d.data.datasets.geometric import square_crop_window
 from sdn3d.data.datasets.transforms import resize_map, scale_boxes
-from sdn3d.data.edits import EditEntry, EditOperation
+from sdn3d.data.edit_benchmark import EditEntry, EditOperation
 from sdn3d.data.records import INSTANCE_DIVISOR, FrameRecord, load_instances, load_semantic
-from sdn3d.edit import EditOp, apply_edits, ops_from_benchmark
-from sdn3d.geometry.camera import Intrinsics
+from sdn3d.editing.apply import EditOp, apply_edits, ops_from_benchmark
+from sdn3d.image_ops import crop_intrinsics, crop_windows, mask_boxes
+from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
-from sdn3d.object_crops import crop_intrinsics, crop_windows, mask_boxes
-from sdn3d.scene import CLASS_LISTS, DEFAULT_CODE_DIM, ObjectTable, SceneCode
-from sdn3d.scene_maps import ComposedMaps, scene_maps
+from sdn3d.scene.code import CLASS_LISTS, DEFAULT_CODE_DIM, ObjectTable, SceneCode
+from sdn3d.scene.maps import ComposedMaps, scene_maps
 
 if TYPE_CHECKING:
     from sdn3d.geometric.predict import GeometricPredictor
     from sdn3d.geometric.refine import RefineSettings
     from sdn3d.semantic.predict import SemanticPredictor
-    from sdn3d.texture import TexturalRenderer
+    from sdn3d.textural.renderer import TexturalRenderer
 
 __all__ = [
     "PROPOSALS",
@@ -139,7 +139,7 @@ class Models:
             geo = GeometricPredictor.from_checkpoint(geometric, map_location=map_location)
             found = geometric_crop_settings(geometric)
         if textural is not None:
-            from sdn3d.texture import TexturalRenderer
+            from sdn3d.textural.renderer import TexturalRenderer
 
             tex = TexturalRenderer.from_checkpoint(Path(textural).expanduser(), map_location=map_location)
             tex.to(map_location)
@@ -331,7 +331,7 @@ def encode_scene(scene: SceneCode, image: Tensor, textural: TexturalRenderer, L:
 
     Args:
         L: ``(H, W)`` instance label map of the image; None: the scene's composed one
-            (:func:`~sdn3d.scene_maps.scene_maps`, e.g. for :meth:`SceneCode.from_frame` scenes).
+            (:func:`~sdn3d.scene.maps.scene_maps`, e.g. for :meth:`SceneCode.from_frame` scenes).
 
     Objects absent from ``L`` and classes without pixels get zero codes.
     """
@@ -386,8 +386,8 @@ def edit_image(image: Tensor, intrinsics: Intrinsics,
     """De-render ``image``, apply ``ops`` and render the edited scene.
 
     Args:
-        ops: :mod:`sdn3d.edit` operations, or benchmark operations / an entry (objects picked by
-            :func:`~sdn3d.edit.ops_from_benchmark`, coordinates in ``frame_size`` pixels; None = image pixels).
+        ops: :mod:`sdn3d.editing.apply` operations, or benchmark operations / an entry (objects picked by
+            :func:`~sdn3d.editing.apply.ops_from_benchmark`, coordinates in ``frame_size`` pixels; None = image pixels).
         strict: reject benchmark ``to`` points outside the frame.
         derender_kwargs: passed to :func:`derender`.
     """

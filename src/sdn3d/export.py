@@ -1,4 +1,4 @@
-"""Export a :class:`~sdn3d.scene.SceneCode` as a 3D scene (glTF 2.0 / GLB, through trimesh).
+"""Export a :class:`~sdn3d.scene.code.SceneCode` as a 3D scene (glTF 2.0 / GLB, through trimesh).
 
 Contents: one mesh per object with geometry in front of the camera (posed and FFD-deformed as
 the renderer draws it, node and mesh named ``instance_<id>``, coloured by class), a ground quad
@@ -24,8 +24,8 @@ import trimesh
 
 from sdn3d.io import write_bytes_atomic
 from sdn3d.meshes.bank import MeshBank
-from sdn3d.scene import SceneCode
-from sdn3d.scene_maps import default_bank, posed_meshes
+from sdn3d.scene.code import SceneCode
+from sdn3d.scene.maps import default_bank, posed_meshes
 
 __all__ = ["KITTI_TO_GLTF", "DEFAULT_GROUND_HEIGHT", "scene_to_trimesh", "export_gltf"]
 

@@ -1,4 +1,4 @@
-"""``sdn3d-bench``: the editing benchmark (paper Table 1), see :mod:`sdn3d.bench`.
+"""``sdn3d-bench``: the editing benchmark (paper Table 1), see :mod:`sdn3d.evaluation.edit_benchmark`.
 
 Configuration ``conf/bench.yaml`` (Hydra overrides as arguments). Outputs, written all at once:
 
@@ -24,10 +24,10 @@ import numpy as np
 import torch
 from rich.console import Console
 
-from sdn3d.bench import METHODS, REGIONS
 from sdn3d.cli._config import CONFIG_DIR
 from sdn3d.cli._staging import check_output_dir, staged_directory
 from sdn3d.cli.edit import InputError, compose_config, user_errors
+from sdn3d.evaluation.edit_benchmark import METHODS, REGIONS
 
 __all__ = ["main", "run_bench", "table1_markdown", "examples_html"]
 
@@ -44,7 +44,8 @@ def _fmt(stat: dict | None, digits: int = 4) -> str:
 
 
 def table1_markdown(summary: dict, info: dict) -> str:
-    """The paper's Table 1 layout (rows 2D, 2D+, 3D-SDN) from :func:`sdn3d.bench.summarize` output."""
+    """The paper's Table 1 layout (rows 2D, 2D+, 3D-SDN) from
+    :func:`sdn3d.evaluation.edit_benchmark.summarize` output."""
     methods = summary["methods"]
     has_lpips = any("lpips" in methods[m]["whole"] for m in METHODS)
     lines = ["# Editing benchmark (3D-SDN Table 1 layout)", "",
@@ -102,10 +103,10 @@ def run_bench(cfg: Any) -> dict:
     """Run the benchmark of a composed ``conf/bench.yaml`` config; returns ``results.json``'s content."""
     from omegaconf import OmegaConf
 
-    from sdn3d.bench import BenchSettings, index_records, run_benchmark, summarize
     from sdn3d.data.datasets.sources import SourceConfig, read_source
-    from sdn3d.data.edits import load_edit_benchmark
+    from sdn3d.data.edit_benchmark import load_edit_benchmark
     from sdn3d.derender import Models
+    from sdn3d.evaluation.edit_benchmark import BenchSettings, index_records, run_benchmark, summarize
     from sdn3d.io import write_json_atomic, write_png_atomic, write_text_atomic
     from sdn3d.nets.lpips import load_lpips
     from sdn3d.visualize import hstack_panels

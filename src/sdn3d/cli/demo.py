@@ -165,7 +165,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.data.datasets.sources import SourceConfig, load_split
     from sdn3d.data.datasets.transforms import load_frame
     from sdn3d.derender import Models, derender, render
-    from sdn3d.edit import Delete, Rotate, SetCode, Zoom, apply_edits
+    from sdn3d.editing.apply import Delete, Rotate, SetCode, Zoom, apply_edits
     from sdn3d.io import write_png_atomic
     from sdn3d.visualize import hstack_panels
 

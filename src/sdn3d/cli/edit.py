@@ -7,7 +7,7 @@ frame, 3D edits on objects with geometry). The output directory is then written 
 
     source.png reconstruction.png edited.png overview.png   images (working size)
     maps/{source,edited}_{label,instance,normal,pose,depth}.png
-    scene.json/.npz edited_scene.json/.npz                  SceneCode (sdn3d.scene)
+    scene.json/.npz edited_scene.json/.npz                  SceneCode (sdn3d.scene.code)
     scene.glb edited_scene.glb                              3D scenes (sdn3d.export)
     edit.json                                               resolved ops, objects, timings
 
@@ -83,7 +83,7 @@ def _find_record(records: list, frame: Any, entry: Any) -> Any:
 def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any]:
     """``(image (3, H, W), intrinsics, record or None)`` at the working size."""
     from sdn3d.data.datasets.transforms import load_frame, resize_image, to_image_tensor
-    from sdn3d.geometry.camera import VKITTI_INTRINSICS, Intrinsics
+    from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
     data = cfg.get("data")
     size = cfg.image_size or (data.image_size if data is not None and cfg.input.image is None else DEFAULT_SIZE)
@@ -155,10 +155,10 @@ def run_edit(cfg: Any) -> dict:
     from omegaconf import OmegaConf
 
     from sdn3d.derender import Models, derender, render_maps
-    from sdn3d.edit_spec import apply_spec, load_edit_spec, resolve_ops
+    from sdn3d.editing.spec import apply_spec, load_edit_spec, resolve_ops
     from sdn3d.export import export_gltf
     from sdn3d.io import write_json_atomic, write_png_atomic
-    from sdn3d.scene_maps import scene_maps
+    from sdn3d.scene.maps import scene_maps
 
     if cfg.threads:
         torch.set_num_threads(int(cfg.threads))
@@ -177,7 +177,7 @@ def run_edit(cfg: Any) -> dict:
                                      crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin)
     code_bank = None
     if cfg.code_bank is not None:
-        from sdn3d.texture import CodeBank
+        from sdn3d.textural.renderer import CodeBank
 
         path = Path(str(cfg.code_bank)).expanduser()
         if not path.is_file():

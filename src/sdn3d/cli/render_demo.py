@@ -32,7 +32,7 @@ console = Console(stderr=True)
 
 
 def _meshes_for_objects(objects, bank, device: torch.device):
-    from sdn3d.geometry.transforms import bottom_to_center
+    from sdn3d.math3d.transforms import bottom_to_center
     from sdn3d.meshes import TEMPLATE_NAMES
 
     fallback = {"Car": "sedan", "Van": "van"}
@@ -51,7 +51,7 @@ def _meshes_for_objects(objects, bank, device: torch.device):
 
 
 def _render_maps(bank, template_ids, dims, ry, center, K, size, labels):
-    from sdn3d.geometry.rotations import observation_angle
+    from sdn3d.math3d.rotations import observation_angle
     from sdn3d.render import RasterSettings, rasterize_meshes
     from sdn3d.render.maps import normal_map, pose_map
     from sdn3d.render.objects import pose_meshes

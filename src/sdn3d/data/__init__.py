@@ -9,7 +9,7 @@ same formats (not imported here: it is a test and generator helper).
 """
 
 from sdn3d.data import cityscapes, vkitti1, vkitti2
-from sdn3d.data.edits import (
+from sdn3d.data.edit_benchmark import (
     EditEntry,
     EditOperation,
     load_edit_benchmark,

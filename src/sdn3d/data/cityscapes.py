@@ -39,7 +39,7 @@ import numpy as np
 from sdn3d.data.errors import DataFormatError, missing
 from sdn3d.data.imageio import image_size, read_index_png, read_rgb, read_uint16_png
 from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR, FrameRecord, SemanticClass, check_size
-from sdn3d.geometry.camera import Intrinsics
+from sdn3d.math3d.camera import Intrinsics
 
 __all__ = [
     "CITYSCAPES_LABELS",

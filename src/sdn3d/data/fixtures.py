@@ -43,8 +43,8 @@ from sdn3d.data.vkitti2 import (
     INTRINSIC_HEADER,
     POSE_HEADER,
 )
-from sdn3d.geometry.camera import VKITTI_INTRINSICS, Intrinsics
 from sdn3d.io import write_png_atomic
+from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
 __all__ = [
     "FixtureFrame",

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from sdn3d.data.errors import DataFormatError
-from sdn3d.geometry.camera import Intrinsics
+from sdn3d.math3d.camera import Intrinsics
 
 __all__ = [
     "IGNORE_INDEX",

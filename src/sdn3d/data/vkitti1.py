@@ -40,7 +40,7 @@ from sdn3d.data.imageio import (
     read_uint16_png,
 )
 from sdn3d.data.records import INSTANCE_DIVISOR, FrameRecord, ObjectAnnotation, SemanticClass, check_size
-from sdn3d.geometry.camera import VKITTI_INTRINSICS, Intrinsics
+from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
 __all__ = [
     "VKITTI1_WORLDS",

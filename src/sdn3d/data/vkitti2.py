@@ -61,7 +61,7 @@ from sdn3d.data.imageio import (
 )
 from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR, FrameRecord, ObjectAnnotation, check_size
 from sdn3d.data.vkitti1 import MATRIX_COLUMNS, VKITTI_CLASS_INDEX, VKITTI_VARIATIONS, sequence_intrinsics
-from sdn3d.geometry.camera import Intrinsics
+from sdn3d.math3d.camera import Intrinsics
 
 __all__ = [
     "VKITTI2_SCENES",

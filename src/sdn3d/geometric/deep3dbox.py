@@ -45,9 +45,9 @@ from typing import Any, NamedTuple, Protocol
 import torch
 from torch import Tensor
 
-from sdn3d.geometry.camera import intrinsics_matrix, project_points
-from sdn3d.geometry.rotations import roty
-from sdn3d.geometry.transforms import box_corners, center_to_bottom
+from sdn3d.math3d.camera import intrinsics_matrix, project_points
+from sdn3d.math3d.rotations import roty
+from sdn3d.math3d.transforms import box_corners, center_to_bottom
 
 __all__ = [
     "Deep3DBoxSolution",
@@ -75,7 +75,7 @@ class Deep3DBoxSolution(NamedTuple):
         residual: ``(N,)`` root-mean-square pixel error of the four box sides of the chosen candidate
             (NaN where invalid).
         assignment: ``(N, 4)`` int64 corner indices (order of
-            :func:`~sdn3d.geometry.transforms.canonical_box_corners`) touching the sides ``l, t, r, b``.
+            :func:`~sdn3d.math3d.transforms.canonical_box_corners`) touching the sides ``l, t, r, b``.
         valid: ``(N,)`` bool, some candidate had every corner in front of the camera.
     """
 
@@ -90,7 +90,7 @@ class Deep3DBoxSolution(NamedTuple):
 def upright_assignments(device: torch.device | str | None = None) -> Tensor:
     """The ``(192, 4)`` int64 corner assignments ``(left, top, right, bottom)`` of yaw-only boxes.
 
-    Corners follow :func:`~sdn3d.geometry.transforms.canonical_box_corners`: 0-3 bottom face,
+    Corners follow :func:`~sdn3d.math3d.transforms.canonical_box_corners`: 0-3 bottom face,
     4-7 top face, corner ``k + 4`` directly above corner ``k``. Left and right use the bottom
     corner ``k`` to stand for vertical edge ``k`` (both of its corners project to the same ``u``).
     """

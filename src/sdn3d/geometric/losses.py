@@ -19,7 +19,7 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.geometric.predict import as_intrinsics_matrix
-from sdn3d.geometry.encodings import RotationMode, rotation_loss
+from sdn3d.math3d.encodings import RotationMode, rotation_loss
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.render.objects import pose_meshes
 from sdn3d.render.settings import SoftSilhouetteSettings

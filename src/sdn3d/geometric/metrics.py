@@ -21,8 +21,8 @@ from kornia.geometry.conversions import quaternion_to_rotation_matrix
 from torch import Tensor, nn
 from torchmetrics import Metric
 
-from sdn3d.geometry.encodings import RotationMode
-from sdn3d.geometry.rotations import roty
+from sdn3d.math3d.encodings import RotationMode
+from sdn3d.math3d.rotations import roty
 
 __all__ = [
     "orientation_similarity",

@@ -8,7 +8,7 @@ Heads (from a 2-layer MLP on ``[pooled ResNet features, box features]``):
 - ``offset (N, 2)``: projected-centre offset ``e``;
 - ``log_distance (N, 1)``: ``log tau`` (or ``log t``, by the encoding; the net does not care);
 - ``phi (N, 64, 3)``: mirror-symmetric FFD displacements, predicted as the free half lattice
-  ``(N, 32, 3)`` and expanded with :func:`~sdn3d.geometry.ffd.expand_half_ffd` (zeros without FFD);
+  ``(N, 32, 3)`` and expanded with :func:`~sdn3d.math3d.ffd.expand_half_ffd` (zeros without FFD);
 - ``template_logits (N, T)``: a distribution over the ``T`` mesh templates in ``templates``.
 
 The crop is expected in ``[0, 1]``; ImageNet normalisation happens inside (so pretrained
@@ -23,8 +23,8 @@ from pathlib import Path
 import torch
 from torch import Tensor, nn
 
-from sdn3d.geometry.encodings import RotationMode
-from sdn3d.geometry.ffd import FFD_NUM_HALF, expand_half_ffd
+from sdn3d.math3d.encodings import RotationMode
+from sdn3d.math3d.ffd import FFD_NUM_HALF, expand_half_ffd
 from sdn3d.meshes.templates import TEMPLATE_NAMES
 from sdn3d.nets.resnet import resnet18
 

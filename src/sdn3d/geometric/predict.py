@@ -16,10 +16,10 @@ import torch
 from torch import Tensor
 
 from sdn3d.geometric.model import GeometricNet
-from sdn3d.geometry.camera import intrinsics_matrix
-from sdn3d.geometry.encodings import AttributeEncoding
-from sdn3d.geometry.rotations import observation_angle
-from sdn3d.geometry.transforms import center_to_bottom
+from sdn3d.math3d.camera import intrinsics_matrix
+from sdn3d.math3d.encodings import AttributeEncoding
+from sdn3d.math3d.rotations import observation_angle
+from sdn3d.math3d.transforms import center_to_bottom
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.meshes.templates import TEMPLATE_NAMES
 from sdn3d.render.maps import SceneMaps, render_scene_maps

@@ -18,8 +18,8 @@ from torch import Tensor
 
 from sdn3d.geometric.losses import outside_image_mask, render_silhouettes, reprojection_error
 from sdn3d.geometric.predict import as_intrinsics_matrix, decode_outputs
-from sdn3d.geometry.encodings import AttributeEncoding
-from sdn3d.geometry.ffd import expand_half_ffd, half_indices
+from sdn3d.math3d.encodings import AttributeEncoding
+from sdn3d.math3d.ffd import expand_half_ffd, half_indices
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.render.settings import SoftSilhouetteSettings
 

@@ -10,7 +10,7 @@ import torch
 import trimesh
 from torch import Tensor
 
-from sdn3d.geometry.ffd import bernstein_basis
+from sdn3d.math3d.ffd import bernstein_basis
 from sdn3d.meshes.shapenet import load_mesh_directory
 from sdn3d.meshes.templates import TEMPLATE_NAMES, all_templates
 
@@ -28,7 +28,7 @@ class MeshBank:
         num_faces: ``(M,)`` long, real face counts.
         face_mask: ``(M, Fmax)`` bool, True for real faces.
         ffd_basis: ``(M, Vmax, 64)`` float32 cubic Bernstein weights of the 4x4x4 FFD lattice
-            (:func:`sdn3d.geometry.ffd.bernstein_basis`); rows of padding vertices are zero so
+            (:func:`sdn3d.math3d.ffd.bernstein_basis`); rows of padding vertices are zero so
             that ``verts + ffd_basis @ phi`` keeps padding at zero.
         names: the M mesh names.
     """

@@ -11,7 +11,7 @@ from __future__ import annotations
 import torch
 from torch import Tensor
 
-from sdn3d.geometry.camera import project_points
+from sdn3d.math3d.camera import project_points
 
 __all__ = [
     "check_verts",

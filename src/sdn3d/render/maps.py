@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
-from sdn3d.geometry.rotations import NUM_POSE_BINS, alpha_bins
+from sdn3d.math3d.rotations import NUM_POSE_BINS, alpha_bins
 from sdn3d.render._common import check_faces, check_verts, face_vertices
 from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings
@@ -82,7 +82,7 @@ def normal_map(fragments: Fragments, verts: Tensor, faces: Tensor) -> Tensor:
 def pose_map(fragments: Fragments, alpha: Tensor, num_bins: int = NUM_POSE_BINS) -> Tensor:
     """``(B, num_bins, H, W)`` one-hot observation-angle bin of the visible object, zeros elsewhere.
 
-    ``alpha (N,)`` is quantised with :func:`sdn3d.geometry.rotations.alpha_bins` (equal bins over
+    ``alpha (N,)`` is quantised with :func:`sdn3d.math3d.rotations.alpha_bins` (equal bins over
     ``[-pi, pi)``); meshes with a non-finite alpha (e.g. the ground) give zeros.
     """
     if alpha.dim() != 1 or not alpha.is_floating_point():

@@ -5,8 +5,8 @@ from __future__ import annotations
 import torch
 from torch import Tensor
 
-from sdn3d.geometry.ffd import ffd_deform
-from sdn3d.geometry.transforms import object_to_camera
+from sdn3d.math3d.ffd import ffd_deform
+from sdn3d.math3d.transforms import object_to_camera
 from sdn3d.meshes.bank import MeshBank
 
 __all__ = ["pose_meshes"]

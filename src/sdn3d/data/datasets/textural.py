@@ -30,9 +30,9 @@ from torch.utils.data import Dataset
 from sdn3d.data.datasets.sources import SourceConfig, classes_for, load_split
 from sdn3d.data.datasets.transforms import intrinsics_vector, load_frame
 from sdn3d.data.records import INSTANCE_DIVISOR, FrameRecord, ObjectAnnotation, SemanticClass
-from sdn3d.geometry.camera import Intrinsics
-from sdn3d.geometry.rotations import NUM_POSE_BINS, alpha_bins, observation_angle
-from sdn3d.geometry.transforms import bottom_to_center
+from sdn3d.math3d.camera import Intrinsics
+from sdn3d.math3d.rotations import NUM_POSE_BINS, alpha_bins, observation_angle
+from sdn3d.math3d.transforms import bottom_to_center
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.meshes.templates import TEMPLATE_NAMES
 from sdn3d.render.maps import normal_map

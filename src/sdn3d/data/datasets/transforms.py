@@ -1,6 +1,6 @@
 """Resizing frames to the working size, keeping intrinsics consistent.
 
-Pixel convention (:mod:`sdn3d.geometry.camera`): pixel ``(i, j)`` has its centre at
+Pixel convention (:mod:`sdn3d.math3d.camera`): pixel ``(i, j)`` has its centre at
 ``(u, v) = (j, i)``; resizing maps ``u' + 0.5 = (u + 0.5) * sx`` (and the same for ``v``), which
 is what :meth:`Intrinsics.resized` implements and what ``F.interpolate`` does with
 ``align_corners=False``. Label-like maps (semantic, instance, depth) use ``'nearest-exact'``,
@@ -19,7 +19,7 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.data.records import FrameRecord, load_depth, load_instances, load_rgb, load_semantic
-from sdn3d.geometry.camera import Intrinsics
+from sdn3d.math3d.camera import Intrinsics
 
 __all__ = [
     "Frame",

@@ -5,7 +5,7 @@ ground (a new bottom-centre position on the road, so it still stands on the grou
 adds to its yaw; ``delete`` removes it. The edited scene is rendered as a new frame of the same
 sequence (see ``generate.py``: numbers after the sequence's regular frames), which is the
 exact target of the edit. The operations are described in the 3D-SDN benchmark format
-(:mod:`sdn3d.data.edits`), in pixels of the 1242x375 Virtual KITTI frame:
+(:mod:`sdn3d.data.edit_benchmark`), in pixels of the 1242x375 Virtual KITTI frame:
 
 - ``from``: projection of the car's 3D box centre in the source frame (1 decimal);
 - ``to``: projection of the moved centre, and ``roi = [top, left, bottom, right]``: the tight 2D
@@ -24,10 +24,10 @@ import math
 
 import numpy as np
 
-from sdn3d.data.edits import EditOperation
+from sdn3d.data.edit_benchmark import EditOperation
 from sdn3d.data.synth.layout import FrameObjects, World
 from sdn3d.data.synth.stats import ObjectStats
-from sdn3d.geometry.camera import VKITTI_INTRINSICS, Intrinsics
+from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
 __all__ = ["sample_edit", "project_full", "footprints_overlap"]
 

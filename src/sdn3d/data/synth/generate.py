@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from sdn3d.data.edits import EditEntry, save_edit_benchmark
+from sdn3d.data.edit_benchmark import EditEntry, save_edit_benchmark
 from sdn3d.data.synth.edits import sample_edit
 from sdn3d.data.synth.layout import (
     CAMERA_YAW_DEG,
@@ -46,8 +46,8 @@ from sdn3d.data.synth.layout import (
 from sdn3d.data.synth.scene_render import RenderedFrame, render_frame
 from sdn3d.data.synth.stats import ObjectStats
 from sdn3d.data.synth.writer import SequenceWriter
-from sdn3d.geometry.camera import VKITTI_INTRINSICS, Intrinsics
 from sdn3d.io import write_json_atomic, write_text_atomic
+from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
 __all__ = [
     "SynthConfig",

@@ -24,7 +24,7 @@ import torch
 from sdn3d.data.synth.classes import CAR_COLORS
 from sdn3d.data.synth.primitives import StaticMesh
 from sdn3d.data.synth.scenery import RoadGeometry, build_static_scene
-from sdn3d.geometry.ffd import expand_half_ffd
+from sdn3d.math3d.ffd import expand_half_ffd
 from sdn3d.meshes.templates import TEMPLATE_CATEGORY, TEMPLATE_DIMENSIONS, TEMPLATE_NAMES
 
 __all__ = [

@@ -31,10 +31,10 @@ from sdn3d.data.synth.clip import clip_near
 from sdn3d.data.synth.layout import FrameObjects, World
 from sdn3d.data.synth.primitives import StaticMesh
 from sdn3d.data.synth.stats import ObjectStats, object_statistics
-from sdn3d.geometry.camera import Intrinsics
-from sdn3d.geometry.ffd import ffd_deform
-from sdn3d.geometry.rotations import roty
-from sdn3d.geometry.transforms import object_to_camera
+from sdn3d.math3d.camera import Intrinsics
+from sdn3d.math3d.ffd import ffd_deform
+from sdn3d.math3d.rotations import roty
+from sdn3d.math3d.transforms import object_to_camera
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.meshes.templates import TEMPLATE_CATEGORY, TEMPLATE_NAMES
 from sdn3d.render.rasterize import rasterize_meshes

@@ -28,7 +28,7 @@ import torch
 from torch import Tensor
 
 from sdn3d.data.synth.clip import clip_near
-from sdn3d.geometry.camera import Intrinsics
+from sdn3d.math3d.camera import Intrinsics
 from sdn3d.render.rasterize import rasterize_meshes
 from sdn3d.render.settings import RasterSettings
 

@@ -1,8 +1,8 @@
-"""Per-pixel fills of a scene's maps, shared by :mod:`sdn3d.scene_maps` and :mod:`sdn3d.edit`.
+"""Per-pixel fills of a scene's maps, shared by :mod:`sdn3d.scene.maps` and :mod:`sdn3d.editing.apply`.
 
 :func:`code_map` gives each pixel the texture code of its ``L`` value (the generator's z-map);
 :func:`fill_background` relabels the pixels that moved or deleted objects leave. Neither renders
-anything. Both are re-exported by :mod:`sdn3d.scene_maps`, so imports from there keep working.
+anything. Both are re-exported by :mod:`sdn3d.scene.maps`, so imports from there keep working.
 """
 
 from __future__ import annotations

@@ -8,9 +8,9 @@ A benchmark ``modify`` (``from``, ``to``, ``zoom``, ``ry``) is realised without 
 - ``'2d+'``: as ``'2d'`` but the width is also squeezed by ``|cos(ry)|``, ``s = (zoom |cos ry|, zoom)``.
 
 ``delete`` removes the object. Both baselines share everything else with the 3D edit so that only
-the realisation of the edit differs: objects are picked as :func:`sdn3d.edit.ops_from_benchmark`
-does, edited and deleted objects are first deleted with :func:`sdn3d.edit.apply_edits` (same
-freed-pixel rule), the rest is composed by :func:`sdn3d.scene_maps.scene_maps`, and the warped
+the realisation of the edit differs: objects are picked as :func:`sdn3d.editing.apply.ops_from_benchmark`
+does, edited and deleted objects are first deleted with :func:`sdn3d.editing.apply.apply_edits` (same
+freed-pixel rule), the rest is composed by :func:`sdn3d.scene.maps.scene_maps`, and the warped
 regions are pasted back. Occlusion uses the 2D ground-plane cue: a region whose lowest pixel is
 lower in the image is nearer (ties go to the edited object). Codes are kept. With
 ``geometry='move'`` the normal, pose and depth maps move with the region (depth divided by
@@ -26,11 +26,11 @@ import torch
 from torch import Tensor
 
 from sdn3d.data.datasets.textural import boundary_map, instance_label_map
-from sdn3d.data.edits import VKITTI_FRAME_SIZE, EditEntry, EditOperation, scale_operation
-from sdn3d.edit import Delete, EditError, apply_edits, match_objects
+from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, EditOperation, scale_operation
+from sdn3d.editing.apply import Delete, EditError, apply_edits, match_objects
 from sdn3d.meshes.bank import MeshBank
-from sdn3d.scene import SceneCode
-from sdn3d.scene_maps import ComposedMaps, code_map, default_bank, scene_maps
+from sdn3d.scene.code import SceneCode
+from sdn3d.scene.maps import ComposedMaps, code_map, default_bank, scene_maps
 
 __all__ = ["BASELINE_MODES", "baseline_maps", "warp_regions"]
 
@@ -74,7 +74,7 @@ def baseline_maps(scene: SceneCode, entry: EditEntry | Sequence[EditOperation], 
         mode: ``'2d'`` or ``'2d+'``.
         frame_size: ``(W, H)`` of the operations' coordinates; None = the scene's pixels.
         geometry: ``'move'`` or ``'empty'`` (normal / pose / depth maps).
-        bank, max_distance: as :func:`sdn3d.edit.apply_edits` / :func:`sdn3d.edit.match_objects`.
+        bank, max_distance: as :func:`sdn3d.editing.apply.apply_edits` / :func:`sdn3d.editing.apply.match_objects`.
     """
     if mode not in BASELINE_MODES:
         raise ValueError(f"mode must be one of {BASELINE_MODES}, got {mode!r}")

@@ -13,8 +13,8 @@ from __future__ import annotations
 import torch
 from torch import Tensor
 
-from sdn3d.geometry.camera import project_points
-from sdn3d.geometry.rotations import roty
+from sdn3d.math3d.camera import project_points
+from sdn3d.math3d.rotations import roty
 
 __all__ = [
     "object_to_camera",

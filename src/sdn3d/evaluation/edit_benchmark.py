@@ -8,15 +8,15 @@ written by ``sdn3d-synth``). Per entry:
    the masks and semantics come from the frame, geometry and codes from the branches) or, as an
    *oracle geometry* option, :meth:`SceneCode.from_frame` with codes from the texture encoder
    (``scene='oracle'``);
-2. the three edits of that same scene: ``3d-sdn`` (:func:`~sdn3d.edit.ops_from_benchmark` +
-   :func:`~sdn3d.edit.apply_edits` + :func:`~sdn3d.scene_maps.scene_maps`), ``2d`` and ``2d+``
-   (:func:`~sdn3d.baselines.baseline_maps`), all drawn by the same textural generator;
-3. metrics against the target (:mod:`sdn3d.metrics`): LPIPS (with weights), L1, SSIM, PSNR on the
+2. the three edits of that same scene: ``3d-sdn`` (:func:`~sdn3d.editing.apply.ops_from_benchmark` +
+   :func:`~sdn3d.editing.apply.apply_edits` + :func:`~sdn3d.scene.maps.scene_maps`), ``2d`` and ``2d+``
+   (:func:`~sdn3d.evaluation.baselines.baseline_maps`), all drawn by the same textural generator;
+3. metrics against the target (:mod:`sdn3d.evaluation.image_metrics`): LPIPS (with weights), L1, SSIM, PSNR on the
    ``whole`` image, on ``all`` edited regions and on the ``largest`` one (a crop).
 
 Edited regions come from the ground truth only, so they are the same for every method: the
 benchmark's picks are resolved on the frame's ground-truth scene (:meth:`SceneCode.from_frame`,
-:func:`~sdn3d.edit.match_objects`, scaled ``from`` points), and an edited object's region is the
+:func:`~sdn3d.editing.apply.match_objects`, scaled ``from`` points), and an edited object's region is the
 union of its visible pixels in the source and the target frames (instance maps at the working
 size). ``all`` = the union over the edited objects; ``largest`` = the object with the largest
 region, cropped to its box in the target frame (in the source frame when it left the view or was
@@ -39,15 +39,15 @@ import numpy as np
 import torch
 from torch import Tensor
 
-from sdn3d.baselines import baseline_maps
 from sdn3d.data.datasets.transforms import load_frame, resize_map
-from sdn3d.data.edits import VKITTI_FRAME_SIZE, EditEntry, scale_operation
+from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, scale_operation
 from sdn3d.data.records import FrameRecord, load_instances
 from sdn3d.derender import Models, derender, encode_scene, render_maps
-from sdn3d.edit import apply_edits, match_objects, ops_from_benchmark
-from sdn3d.metrics import crop_metrics, image_metrics, mask_to_box
-from sdn3d.scene import SceneCode
-from sdn3d.scene_maps import scene_maps
+from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
+from sdn3d.evaluation.baselines import baseline_maps
+from sdn3d.evaluation.image_metrics import crop_metrics, image_metrics, mask_to_box
+from sdn3d.scene.code import SceneCode
+from sdn3d.scene.maps import scene_maps
 
 if TYPE_CHECKING:
     from sdn3d.nets.lpips import LPIPS

@@ -294,7 +294,7 @@ def scale_point(
     """Map a pixel coordinate between image sizes ``(width, height)``.
 
     Pixel centres sit at integers, so ``u' + 0.5 = (u + 0.5) * sx`` exactly as
-    :meth:`sdn3d.geometry.camera.Intrinsics.resized` maps the principal point.
+    :meth:`sdn3d.math3d.camera.Intrinsics.resized` maps the principal point.
     """
     sx, sy = to_size[0] / from_size[0], to_size[1] / from_size[1]
     return ((uv[0] + 0.5) * sx - 0.5, (uv[1] + 0.5) * sy - 0.5)

@@ -14,7 +14,7 @@ frame) and 2D box ``(l, t, r, b)`` in pixels with centre ``(x2D, y2D)`` and size
 
 Decoding inverts this exactly: ``(x3D, y3D) = (x2D + e_x w2D, y2D + e_y h2D)``,
 ``d = K^-1 (x3D, y3D, 1)``, ``c = t d / |d|``. ``K`` is a pinhole matrix without skew, as
-everywhere in sdn3d (see :mod:`sdn3d.geometry.camera`).
+everywhere in sdn3d (see :mod:`sdn3d.math3d.camera`).
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ import torch.nn.functional as F
 from kornia.geometry.conversions import quaternion_to_rotation_matrix, rotation_matrix_to_quaternion
 from torch import Tensor
 
-from sdn3d.geometry.camera import project_points, unproject_pixels
-from sdn3d.geometry.rotations import roty, wrap_angle
+from sdn3d.math3d.camera import project_points, unproject_pixels
+from sdn3d.math3d.rotations import roty, wrap_angle
 
 __all__ = [
     "RotationMode",

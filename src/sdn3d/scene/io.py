@@ -1,9 +1,9 @@
-"""Storage of a :class:`~sdn3d.scene.SceneCode`: the files of :meth:`SceneCode.save` / :meth:`SceneCode.load`.
+"""Storage of a :class:`~sdn3d.scene.code.SceneCode`: the files of :meth:`SceneCode.save` / :meth:`SceneCode.load`.
 
 ``<name>.json`` holds the format tag ``sdn3d-scene``, the version, the intrinsics and the per-object
 scalars as exact float64 reprs; ``<name>.npz`` holds the semantic map, phi, codes and masks, and its
 SHA-256 is recorded in the JSON. Both are written atomically. Reading is lossless and checks every
-field, raising :class:`~sdn3d.scene.SceneFormatError`. Kept apart from :mod:`sdn3d.scene` (the data
+field, raising :class:`~sdn3d.scene.code.SceneFormatError`. Kept apart from :mod:`sdn3d.scene.code` (the data
 model), which imports this module inside ``save`` / ``load`` because this one imports its classes.
 """
 
@@ -19,10 +19,10 @@ from typing import Any
 import numpy as np
 import torch
 
-from sdn3d.geometry.camera import Intrinsics
 from sdn3d.io import write_bytes_atomic, write_json_atomic
+from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.templates import TEMPLATE_NAMES
-from sdn3d.scene import SCENE_FORMAT, SCENE_VERSION, ObjectTable, SceneCode, SceneFormatError
+from sdn3d.scene.code import SCENE_FORMAT, SCENE_VERSION, ObjectTable, SceneCode, SceneFormatError
 
 __all__ = ["read_scene", "write_scene"]
 

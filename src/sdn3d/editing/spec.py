@@ -16,13 +16,13 @@ to another image size than the working size)::
 Objects are selected by ``id`` (instance id) or ``at: [u, v]`` (the object visible at that pixel,
 else the one whose projected centre is nearest, within ``pick_radius``); ``modify`` also takes
 ``from`` (nearest projected centre, the benchmark's rule). All selections are resolved on the
-unedited scene. A JSON file is read as a 3D-SDN benchmark (:mod:`sdn3d.data.edits`; one entry,
+unedited scene. A JSON file is read as a 3D-SDN benchmark (:mod:`sdn3d.data.edit_benchmark`; one entry,
 coordinates in 1242x375 pixels by default).
 
 :func:`parse_edit_spec` / :func:`load_edit_spec` check the syntax and the numbers (finite,
 ``zoom > 0``) without a scene; :func:`resolve_ops` checks everything that needs the scene (the
 object exists and has geometry, targets inside the frame, code sizes) and :func:`apply_spec`
-applies them. Errors are :class:`EditSpecError` / :class:`~sdn3d.edit.EditError` naming the op.
+applies them. Errors are :class:`EditSpecError` / :class:`~sdn3d.editing.apply.EditError` naming the op.
 """
 
 from __future__ import annotations
@@ -37,8 +37,8 @@ from typing import Any
 
 import torch
 
-from sdn3d.data.edits import VKITTI_FRAME_SIZE, EditEntry, load_edit_benchmark, scale_point, validate_in_frame
-from sdn3d.edit import (
+from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, load_edit_benchmark, scale_point, validate_in_frame
+from sdn3d.editing.apply import (
     Delete,
     Duplicate,
     EditError,
@@ -55,9 +55,9 @@ from sdn3d.edit import (
     projected_centers,
 )
 from sdn3d.meshes.bank import MeshBank
-from sdn3d.scene import SceneCode
-from sdn3d.scene_maps import compose_instances
-from sdn3d.texture import CodeBank
+from sdn3d.scene.code import SceneCode
+from sdn3d.scene.maps import compose_instances
+from sdn3d.textural.renderer import CodeBank
 
 __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
            "apply_spec"]
@@ -301,7 +301,7 @@ def _class_id(value: int | str, scene: SceneCode, what: str) -> int:
 def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = None,
                 pick_radius: float | None = 16.0, bank: MeshBank | None = None, strict: bool = True,
                 generator: torch.Generator | None = None) -> list[EditOp]:
-    """Turn ``spec`` into :mod:`sdn3d.edit` operations on ``scene`` (every check that needs the scene).
+    """Turn ``spec`` into :mod:`sdn3d.editing.apply` operations on ``scene`` (every check that needs the scene).
 
     Args:
         code_bank: training codes for ``recolor: sample``.
@@ -399,7 +399,7 @@ def _code(op: OpSpec, class_id: int, scene: SceneCode, code_bank: CodeBank | Non
 
 def apply_spec(scene: SceneCode, ops: Sequence[EditOp], spec: EditSpec | None = None,
                bank: MeshBank | None = None) -> SceneCode:
-    """:func:`~sdn3d.edit.apply_edits`, naming the failing op of ``spec`` in the error."""
+    """:func:`~sdn3d.editing.apply.apply_edits`, naming the failing op of ``spec`` in the error."""
     try:
         return apply_edits(scene, ops, bank)
     except EditError as exc:

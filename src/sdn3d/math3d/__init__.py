@@ -1,19 +1,19 @@
 """Camera, rotations, attribute encodings and free-form deformation."""
 
-from sdn3d.geometry.camera import (
+from sdn3d.math3d.camera import (
     VKITTI_INTRINSICS,
     Intrinsics,
     intrinsics_matrix,
     project_points,
     unproject_pixels,
 )
-from sdn3d.geometry.encodings import (
+from sdn3d.math3d.encodings import (
     AttributeEncoding,
     decode_attributes,
     encode_attributes,
     rotation_loss,
 )
-from sdn3d.geometry.ffd import (
+from sdn3d.math3d.ffd import (
     FreeFormDeformation,
     bernstein_basis,
     expand_half_ffd,
@@ -21,8 +21,8 @@ from sdn3d.geometry.ffd import (
     half_indices,
     symmetrize_ffd,
 )
-from sdn3d.geometry.rotations import NUM_POSE_BINS, alpha_bins, observation_angle, roty, wrap_angle
-from sdn3d.geometry.transforms import (
+from sdn3d.math3d.rotations import NUM_POSE_BINS, alpha_bins, observation_angle, roty, wrap_angle
+from sdn3d.math3d.transforms import (
     bottom_to_center,
     box_corners,
     center_to_bottom,

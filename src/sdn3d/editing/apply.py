@@ -1,4 +1,4 @@
-"""3D-aware edits of a :class:`~sdn3d.scene.SceneCode` (3D-SDN, Sec. 4): pure geometry, no networks.
+"""3D-aware edits of a :class:`~sdn3d.scene.code.SceneCode` (3D-SDN, Sec. 4): pure geometry, no networks.
 
 Operations address objects by instance id (:func:`ops_from_benchmark` resolves the benchmark's
 pixel picks). Positions refer to the box centre ``c = (x3d, y3d - h/2, z3d)`` and its projection.
@@ -15,8 +15,8 @@ pixel picks). Positions refer to the box centre ``c = (x3d, y3d - h/2, z3d)`` an
 - :class:`Delete`, :class:`SetCode`, :class:`SetBackgroundCode`, :class:`Duplicate` (a copy with a
   new instance id, placed like :class:`Move`).
 
-Freed pixels: when an *observed* object (see :mod:`sdn3d.scene`) ends up moved or deleted, the
-pixels it occupied in the image take background labels (:func:`sdn3d.scene_maps.fill_background`).
+Freed pixels: when an *observed* object (see :mod:`sdn3d.scene.code`) ends up moved or deleted, the
+pixels it occupied in the image take background labels (:func:`sdn3d.scene.maps.fill_background`).
 Its footprint is its mask (or, without one, where it wins among the observed objects'
 rendered silhouettes), grown by ``grow`` pixels into unclaimed pixels of its own class (the
 semantic map's object region is rarely exactly the mask or silhouette; "claimed" pixels are those
@@ -35,9 +35,9 @@ from scipy.ndimage import binary_dilation
 from scipy.optimize import linear_sum_assignment
 from torch import Tensor
 
-from sdn3d.data.edits import VKITTI_FRAME_SIZE, EditEntry, EditOperation, scale_operation
+from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, EditOperation, scale_operation
 from sdn3d.data.records import INSTANCE_DIVISOR
-from sdn3d.edit_ops import (
+from sdn3d.editing.ops import (
     Delete,
     Duplicate,
     EditError,
@@ -50,11 +50,11 @@ from sdn3d.edit_ops import (
     Zoom,
     _uv,
 )
-from sdn3d.geometry.camera import Intrinsics, project_points
-from sdn3d.geometry.rotations import wrap_angle
+from sdn3d.math3d.camera import Intrinsics, project_points
+from sdn3d.math3d.rotations import wrap_angle
 from sdn3d.meshes.bank import MeshBank
-from sdn3d.scene import ObjectTable, SceneCode
-from sdn3d.scene_maps import _dense_layers, compose_instances, default_bank, fill_background
+from sdn3d.scene.code import ObjectTable, SceneCode
+from sdn3d.scene.maps import _dense_layers, compose_instances, default_bank, fill_background
 
 __all__ = [
     "EditError",
@@ -74,7 +74,7 @@ __all__ = [
 ]
 
 
-# -- the operations live in sdn3d.edit_ops (re-exported here) -----------------------------------
+# -- the operations live in sdn3d.editing.ops (re-exported here) -----------------------------------
 
 # -- geometry -----------------------------------------------------------------------------------
 
@@ -289,7 +289,7 @@ def _footprints(scene: SceneCode, vacate: Tensor, bank: MeshBank | None, grow: i
     obj = scene.objects
     region = obj.mask[vacate & obj.has_mask].any(0)
     if bool(obj.has_mask[obj.observed].all()):
-        # Every observed object covers exactly its mask (sdn3d.scene_maps, step 2): nothing to render.
+        # Every observed object covers exactly its mask (sdn3d.scene.maps, step 2): nothing to render.
         occupied = obj.mask[obj.observed].any(0)
     else:
         inst = compose_instances(scene.replace(objects=obj.select(obj.observed)), bank).cpu()
@@ -323,7 +323,7 @@ def _grow(scene: SceneCode, vacate: Tensor, region: Tensor, occupied: Tensor, gr
 def ops_from_benchmark(entry: EditEntry | Sequence[EditOperation], scene: SceneCode,
                        frame_size: tuple[int, int] | None = VKITTI_FRAME_SIZE, strict: bool = True,
                        max_distance: float | None = None) -> list[EditOp]:
-    """Convert benchmark operations (:mod:`sdn3d.data.edits`) to :class:`Modify` / :class:`Delete`.
+    """Convert benchmark operations (:mod:`sdn3d.data.edit_benchmark`) to :class:`Modify` / :class:`Delete`.
 
     Args:
         entry: an entry or its operations.

@@ -1,4 +1,4 @@
-"""Draw a :class:`~sdn3d.scene.SceneCode` into the textural generator's inputs.
+"""Draw a :class:`~sdn3d.scene.code.SceneCode` into the textural generator's inputs.
 
 Composition (:func:`scene_maps`; the scene's tensors live on the CPU, rendering runs on the
 mesh bank's device and the maps come back there):
@@ -16,7 +16,7 @@ mesh bank's device and the maps come back there):
    there, else (mask pixel outside the silhouette) its box-centre z; objects without geometry
    have no depth and lie behind every object that has one.
 4. Every other pixel keeps the scene's semantic map (edits have already relabelled the pixels
-   that moved or deleted objects left: :func:`sdn3d.edit.apply_edits`, rule :func:`fill_background`).
+   that moved or deleted objects left: :func:`sdn3d.editing.apply.apply_edits`, rule :func:`fill_background`).
 
 The maps follow the formats of :class:`sdn3d.data.datasets.TexturalDataset` (for an unedited
 scene from ground truth, :meth:`SceneCode.from_frame`, the instance, label, ``L``, boundary and
@@ -28,7 +28,7 @@ pose one-hot of the winning object's observation-angle bin over its whole visibl
 with geometry only), depth of the visible rendered surface (0 elsewhere) and the code map
 (each pixel takes the code of its ``L`` value: the object's, or its class' background code).
 
-:func:`code_map` and :func:`fill_background` live in :mod:`sdn3d.scene_fill` and are re-exported here.
+:func:`code_map` and :func:`fill_background` live in :mod:`sdn3d.scene.fill` and are re-exported here.
 """
 
 from __future__ import annotations
@@ -41,15 +41,15 @@ import torch
 from torch import Tensor
 
 from sdn3d.data.datasets.textural import boundary_map, instance_label_map
-from sdn3d.geometry.camera import project_points
-from sdn3d.geometry.rotations import NUM_POSE_BINS, alpha_bins, observation_angle
+from sdn3d.math3d.camera import project_points
+from sdn3d.math3d.rotations import NUM_POSE_BINS, alpha_bins, observation_angle
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.render.maps import normal_map
 from sdn3d.render.objects import pose_meshes
 from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings
-from sdn3d.scene import ObjectTable, SceneCode
-from sdn3d.scene_fill import code_map, fill_background
+from sdn3d.scene.code import ObjectTable, SceneCode
+from sdn3d.scene.fill import code_map, fill_background
 
 __all__ = [
     "ComposedMaps",

@@ -5,7 +5,7 @@ A scene is a *background layer* plus *objects*:
 - ``semantic`` ``(H, W)`` int64: class indices of the class list ``classes`` (``'vkitti'`` or
   ``'cityscapes'``; 255 = ignore), objects' pixels included as the semantic branch saw them.
   Edits that move or delete an observed object relabel the pixels it leaves
-  (:func:`sdn3d.edit.apply_edits`), so this map is always the background the objects are drawn on.
+  (:func:`sdn3d.editing.apply.apply_edits`), so this map is always the background the objects are drawn on.
 - ``objects``: an :class:`ObjectTable`, the objects stacked into batched tensors. Per object:
   instance id ``class_id * 1000 + k``, template id (index into
   :data:`~sdn3d.meshes.templates.TEMPLATE_NAMES`, ``-1`` = no geometry), FFD ``phi (64, 3)``,
@@ -15,7 +15,7 @@ A scene is a *background layer* plus *objects*:
   a mask, if any, is its visible footprint. Objects without geometry must have a mask.
 - ``background_codes`` ``(num_classes, C)``: one texture code per semantic class.
 
-Storage (:meth:`SceneCode.save` / :meth:`SceneCode.load`, implemented in :mod:`sdn3d.scene_io`):
+Storage (:meth:`SceneCode.save` / :meth:`SceneCode.load`, implemented in :mod:`sdn3d.scene.io`):
 ``<name>.json`` (format tag ``sdn3d-scene``, version, intrinsics, per-object scalars as exact float64
 reprs) and ``<name>.npz`` (semantic map, phi, codes, masks; its SHA-256 is recorded in the JSON), both
 written atomically. Loading is lossless and checks every field.
@@ -40,9 +40,9 @@ from sdn3d.data.datasets.textural import mesh_name_for
 from sdn3d.data.datasets.transforms import resize_map
 from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR, FrameRecord, SemanticClass, load_instances, load_semantic
 from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX, VKITTI_CLASSES
-from sdn3d.geometry.camera import Intrinsics
-from sdn3d.geometry.ffd import FFD_NUM_POINTS
-from sdn3d.geometry.transforms import bottom_to_center
+from sdn3d.math3d.camera import Intrinsics
+from sdn3d.math3d.ffd import FFD_NUM_POINTS
+from sdn3d.math3d.transforms import bottom_to_center
 from sdn3d.meshes.templates import TEMPLATE_NAMES
 
 __all__ = [
@@ -366,8 +366,8 @@ class SceneCode:
 
     def save(self, path: str | os.PathLike) -> Path:
         """Write ``<path>.json`` and ``<path>.npz`` (suffix replaced), atomically; returns the JSON path."""
-        # sdn3d.scene_io imports this module: import it at call time.
-        from sdn3d.scene_io import write_scene
+        # sdn3d.scene.io imports this module: import it at call time.
+        from sdn3d.scene.io import write_scene
 
         return write_scene(self, path)
 
@@ -379,6 +379,6 @@ class SceneCode:
             SceneFormatError: naming the file and the field, for a missing file, another format,
                 an unknown version, a checksum mismatch or a malformed field.
         """
-        from sdn3d.scene_io import read_scene
+        from sdn3d.scene.io import read_scene
 
         return read_scene(Path(path).with_suffix(".json"))

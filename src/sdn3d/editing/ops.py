@@ -1,6 +1,6 @@
-"""The edit operations of :mod:`sdn3d.edit`: small frozen dataclasses that validate their arguments.
+"""The edit operations of :mod:`sdn3d.editing.apply`: small frozen dataclasses that validate their arguments.
 
-Each names its object by instance id; :mod:`sdn3d.edit` documents what each one does to a scene.
+Each names its object by instance id; :mod:`sdn3d.editing.apply` documents what each one does to a scene.
 """
 
 from __future__ import annotations

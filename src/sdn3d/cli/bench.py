@@ -25,9 +25,9 @@ import torch
 from rich.console import Console
 
 from sdn3d.cli._config import CONFIG_DIR
-from sdn3d.cli._staging import check_output_dir, staged_directory
 from sdn3d.cli.edit import InputError, compose_config, user_errors
 from sdn3d.evaluation.edit_benchmark import METHODS, REGIONS
+from sdn3d.io import check_output_dir, staged_directory
 
 __all__ = ["main", "run_bench", "table1_markdown", "examples_html"]
 

@@ -27,7 +27,7 @@ import numpy as np
 import torch
 
 from sdn3d.cli._config import CONFIG_DIR
-from sdn3d.cli._staging import check_output_dir, staged_directory
+from sdn3d.io import check_output_dir, staged_directory
 
 __all__ = ["main", "run_edit", "compose_config", "load_input", "user_errors", "InputError"]
 

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import functools
 import math
-import os
 import shutil
 import tempfile
 from collections.abc import Sequence
@@ -46,7 +45,7 @@ from sdn3d.data.synth.layout import (
 from sdn3d.data.synth.scene_render import RenderedFrame, render_frame
 from sdn3d.data.synth.stats import ObjectStats
 from sdn3d.data.synth.writer import SequenceWriter
-from sdn3d.io import write_json_atomic, write_text_atomic
+from sdn3d.io import swap_into_place, write_json_atomic, write_text_atomic
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
 __all__ = [
@@ -265,16 +264,6 @@ def _prepare_output(out: Path, overwrite: bool) -> None:
         )
 
 
-def _swap_into_place(tmp: Path, out: Path) -> None:
-    """Rename the finished tree onto ``out``; an old ``out`` is moved aside first, then deleted."""
-    old = None
-    if out.exists():
-        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
-        os.rename(out, old / "tree")
-    os.rename(tmp, out)
-    if old is not None:
-        shutil.rmtree(old)
-
 
 def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | None = None) -> Path:
     """Generate the dataset described by ``cfg``; returns the output directory.
@@ -325,7 +314,7 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
             },
         )
         write_text_atomic(tmp / "_SUCCESS", "")
-        _swap_into_place(tmp, out)
+        swap_into_place(tmp, out)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise

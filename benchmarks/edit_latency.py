@@ -65,11 +65,12 @@ from sdn3d.editing.apply import _apply_edits_reference, apply_edits, ops_from_be
 from sdn3d.evaluation.edit_benchmark import index_records
 from sdn3d.geometric.model import GeometricNet
 from sdn3d.geometric.predict import GeometricPredictor, net_kwargs_from_hparams
+from sdn3d.labels import class_list
 from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.meshes import MeshBank
 from sdn3d.nets.pix2pixhd import TexturalSpec
 from sdn3d.scene.maps import _scene_maps_reference, scene_maps
-from sdn3d.textural.renderer import TexturalRenderer, class_list
+from sdn3d.textural.renderer import TexturalRenderer
 
 REPO = Path(__file__).resolve().parents[1]
 STAGES = ("derender", "edit_ops", "apply_edits", "scene_maps", "generator")

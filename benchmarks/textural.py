@@ -40,8 +40,8 @@ sys.path.insert(0, str(REPO))  # lightning_modules / datamodules when run as a s
 from datamodules import TexturalDataModule  # noqa: E402
 from lightning_modules._base import image_grid  # noqa: E402
 from lightning_modules.textural import TexturalModule  # noqa: E402
-from sdn3d.data.records import INSTANCE_DIVISOR  # noqa: E402
 from sdn3d.evaluation.image_metrics import image_metrics  # noqa: E402
+from sdn3d.labels import INSTANCE_DIVISOR  # noqa: E402
 from sdn3d.textural.renderer import CodeBank, TexturalRenderer, sample_code  # noqa: E402
 
 GRID_PATH = REPO / "docs" / "images" / "textural_grid.png"

@@ -28,7 +28,7 @@ from torchmetrics import Metric
 from torchmetrics.classification import MulticlassConfusionMatrix
 
 from lightning_modules._base import BranchModule
-from sdn3d.data.records import IGNORE_INDEX
+from sdn3d.labels import IGNORE_INDEX, class_list, thing_class_ids
 from sdn3d.nets.drn import DRNSeg
 from sdn3d.nets.weights import load_pretrained
 from sdn3d.semantic import (
@@ -36,8 +36,6 @@ from sdn3d.semantic import (
     center_focal_loss,
     class_weights,
     color_jitter,
-    colorize_instances,
-    colorize_labels,
     flip_averaged_outputs,
     group_instances,
     label_histogram,
@@ -45,9 +43,8 @@ from sdn3d.semantic import (
     pq_from_stats,
     pq_stats,
     random_crop_flip,
-    resolve_classes,
-    thing_class_ids,
 )
+from sdn3d.visualize import colorize_instances, colorize_labels
 
 __all__ = ["SemanticModule", "PanopticQuality", "OPTIMIZERS"]
 
@@ -153,7 +150,7 @@ class SemanticModule(BranchModule):
         if lr <= 0 or not 0 <= momentum < 1 or weight_decay < 0 or poly_power < 0:
             raise ValueError(f"need lr > 0, 0 <= momentum < 1, weight_decay >= 0, poly_power >= 0; got lr={lr}, "
                              f"momentum={momentum}, weight_decay={weight_decay}, poly_power={poly_power}")
-        self.classes = resolve_classes(classes)
+        self.classes = class_list(classes)
         self.num_classes = len(self.classes)
         if optimizer not in OPTIMIZERS:
             raise ValueError(f"optimizer must be one of {OPTIMIZERS}, got {optimizer!r}")

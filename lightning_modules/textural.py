@@ -32,12 +32,11 @@ from torch import Tensor
 from torch.optim.lr_scheduler import LambdaLR
 
 from lightning_modules._base import BranchModule
-from sdn3d.data.records import INSTANCE_DIVISOR
 from sdn3d.evaluation.image_metrics import image_metrics
+from sdn3d.labels import INSTANCE_DIVISOR, class_list
 from sdn3d.nets.lpips import load_lpips
 from sdn3d.nets.pix2pixhd import TexturalSpec, feature_matching_loss, lsgan_loss
 from sdn3d.nets.vgg import VGGPerceptualLoss
-from sdn3d.textural.renderer import class_list
 
 __all__ = ["LinearDecay", "TexturalModule"]
 

@@ -8,9 +8,9 @@ import pytest
 import torch
 
 from sdn3d.data.edit_benchmark import EditOperation
-from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX
 from sdn3d.editing.apply import projected_centers
 from sdn3d.evaluation.baselines import baseline_maps, warp_regions
+from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
 from sdn3d.scene.maps import scene_maps

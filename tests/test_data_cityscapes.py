@@ -9,15 +9,9 @@ import pytest
 from PIL import Image
 
 from sdn3d.data import DataFormatError, load_depth, load_instances, load_rgb, load_semantic
-from sdn3d.data.cityscapes import (
-    CITYSCAPES_LABELS,
-    CITYSCAPES_TRAIN_CLASSES,
-    EMBEDDED_LABELS,
-    LABEL_TO_TRAIN,
-    camera_to_vehicle,
-    read_frames,
-)
+from sdn3d.data.cityscapes import camera_to_vehicle, read_frames
 from sdn3d.data.fixtures_cityscapes import CITYSCAPES_FIXTURE_FRAMES, write_cityscapes_fixture
+from sdn3d.labels import CITYSCAPES_EMBEDDED_LABELS, CITYSCAPES_LABELS, CITYSCAPES_TRAIN_CLASSES, LABEL_TO_TRAIN
 
 
 @pytest.fixture(scope="module")
@@ -46,7 +40,7 @@ def test_embedded_table_agrees_with_cityscapesscripts():
     official = sorted(
         (lb.name, lb.id, lb.trainId, bool(lb.hasInstances), tuple(lb.color)) for lb in labels if lb.id >= 0
     )
-    assert sorted(EMBEDDED_LABELS) == official
+    assert sorted(CITYSCAPES_EMBEDDED_LABELS) == official
 
 
 def test_records_and_arrays_match_what_was_written(tree):

@@ -21,15 +21,9 @@ from sdn3d.data import (
     visible_pixel_counts,
 )
 from sdn3d.data.fixtures import write_vkitti1_fixture
-from sdn3d.data.records import ObjectAnnotation, split_instance_ids
-from sdn3d.data.vkitti1 import (
-    MOTGT_HEADER,
-    VKITTI_CLASS_INDEX,
-    VKITTI_CLASSES,
-    parse_encoding,
-    parse_motgt,
-    read_frames,
-)
+from sdn3d.data.records import ObjectAnnotation
+from sdn3d.data.vkitti1 import MOTGT_HEADER, parse_encoding, parse_motgt, read_frames
+from sdn3d.labels import VKITTI_CLASS_INDEX, VKITTI_CLASSES, split_instance_ids
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 
 REFERENCE_FRAME = "0006_30-deg-right_00043.png"

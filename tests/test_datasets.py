@@ -7,7 +7,6 @@ import math
 import pytest
 import torch
 
-from sdn3d.data.cityscapes import CITYSCAPES_TRAIN_CLASSES
 from sdn3d.data.datasets import (
     GeometricDataset,
     ObjectFilter,
@@ -24,8 +23,8 @@ from sdn3d.data.datasets import (
 )
 from sdn3d.data.fixtures import write_vkitti1_fixture, write_vkitti2_fixture
 from sdn3d.data.fixtures_cityscapes import write_cityscapes_fixture
-from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR
-from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX, VKITTI_CLASSES, paper_object_filter
+from sdn3d.data.vkitti1 import paper_object_filter
+from sdn3d.labels import CITYSCAPES_TRAIN_CLASSES, IGNORE_INDEX, INSTANCE_DIVISOR, VKITTI_CLASS_INDEX, VKITTI_CLASSES
 from sdn3d.math3d.camera import project_points
 from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.math3d.rotations import alpha_bins, wrap_angle

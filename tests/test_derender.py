@@ -9,7 +9,6 @@ from helpers.tiny_models import geometric_net, semantic_net, textural_spec, writ
 from sdn3d.data import vkitti1
 from sdn3d.data.datasets import GeometricDataset, ObjectFilter, crop_maps, instance_label_map, load_frame
 from sdn3d.data.edit_benchmark import EditOperation
-from sdn3d.data.records import INSTANCE_DIVISOR
 from sdn3d.derender import (
     Models,
     crop_windows,
@@ -25,6 +24,7 @@ from sdn3d.editing.apply import Delete, projected_centers
 from sdn3d.evaluation.image_metrics import mask_to_box
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.image_ops import crop_intrinsics
+from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import scene_maps

@@ -7,8 +7,8 @@ import pytest
 import torch
 import trimesh
 
-from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX
 from sdn3d.export import KITTI_TO_GLTF, export_gltf, scene_to_trimesh
+from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, project_points
 from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
 from sdn3d.scene.maps import default_bank, posed_meshes

@@ -8,7 +8,7 @@ import torch
 from sdn3d.data import vkitti1
 from sdn3d.data.datasets import TexturalDataset
 from sdn3d.data.fixtures import write_vkitti1_fixture
-from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX
+from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 from sdn3d.math3d.rotations import alpha_bins, observation_angle
 from sdn3d.render.rasterize import rasterize_meshes

@@ -5,11 +5,10 @@ from __future__ import annotations
 import pytest
 import torch
 
-from sdn3d.data.records import IGNORE_INDEX
+from sdn3d.labels import IGNORE_INDEX, class_list, thing_class_ids
 from sdn3d.semantic import (
     center_focal_loss,
     center_heatmap,
-    colorize_labels,
     crop_size_for,
     find_centers,
     group_instances,
@@ -17,10 +16,9 @@ from sdn3d.semantic import (
     pq_from_stats,
     pq_stats,
     random_crop_flip,
-    resolve_classes,
-    thing_class_ids,
     thing_mask,
 )
+from sdn3d.visualize import colorize_labels
 
 CAR, VAN, ROAD = 12, 13, 5
 THINGS = [CAR, VAN]
@@ -44,11 +42,11 @@ def test_thing_mask_and_class_helpers():
     inst, _ = _scene()
     mask = thing_mask(inst, THINGS)
     assert mask.sum() == 10 * 16 + 12 * 22 + 12 * 8 + 10 * 12
-    vk = resolve_classes("vkitti")
+    vk = class_list("vkitti")
     assert thing_class_ids(vk) == THINGS and thing_class_ids(vk, ["Van"]) == [VAN]
-    assert len(resolve_classes("cityscapes")) == 19
+    assert len(class_list("cityscapes")) == 19
     with pytest.raises(ValueError, match="classes"):
-        resolve_classes("kitti360")
+        class_list("kitti360")
     with pytest.raises(ValueError, match="Bus"):
         thing_class_ids(vk, ["Bus"])
     with pytest.raises(ValueError, match="integer"):
@@ -248,7 +246,7 @@ def test_random_crop_flip_keeps_image_and_maps_aligned():
 
 
 def test_colorize_labels_uses_dataset_colours():
-    classes = resolve_classes("vkitti")
+    classes = class_list("vkitti")
     label = torch.tensor([[[1, 12, IGNORE_INDEX]]])
     rgb = colorize_labels(label, classes)
     assert rgb.shape == (1, 3, 1, 3)

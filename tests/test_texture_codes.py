@@ -6,15 +6,14 @@ import pytest
 import torch
 
 from sdn3d.data.datasets.textural import boundary_map
+from sdn3d.labels import class_list, region_class
 from sdn3d.nets.pix2pixhd import TexturalSpec
 from sdn3d.textural.renderer import (
     CodeBank,
     TexturalRenderer,
     TextureCodes,
     boundary_maps,
-    class_list,
     code_map,
-    region_class,
     sample_code,
     set_code,
     swap_codes,

@@ -39,12 +39,13 @@ from torch import Tensor
 from sdn3d.data.datasets.geometric import square_crop_window
 from sdn3d.data.datasets.transforms import resize_map, scale_boxes
 from sdn3d.data.edit_benchmark import EditEntry, EditOperation
-from sdn3d.data.records import INSTANCE_DIVISOR, FrameRecord, load_instances, load_semantic
+from sdn3d.data.records import FrameRecord, load_instances, load_semantic
 from sdn3d.editing.apply import EditOp, apply_edits, ops_from_benchmark
 from sdn3d.image_ops import crop_intrinsics, crop_windows, mask_boxes
+from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
-from sdn3d.scene.code import CLASS_LISTS, DEFAULT_CODE_DIM, ObjectTable, SceneCode
+from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
 from sdn3d.scene.maps import ComposedMaps, scene_maps
 
 if TYPE_CHECKING:

@@ -1,14 +1,23 @@
 """Turn label, depth, normal and pose maps into uint8 RGB pictures (for reports and TensorBoard).
 
-All functions take torch tensors or numpy arrays and return ``(H, W, 3)`` uint8 numpy arrays.
+The picture functions take torch tensors or numpy arrays and return ``(H, W, 3)`` uint8 numpy arrays;
+:func:`colorize_labels` and :func:`colorize_instances` colour batches for TensorBoard grids and return
+``(B, 3, H, W)`` float tensors in [0, 1].
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 import torch
+from torch import Tensor
+
+from sdn3d.labels import IGNORE_INDEX, SemanticClass
 
 __all__ = [
+    "colorize_labels",
+    "colorize_instances",
     "colorize_ids",
     "colorize_depth",
     "normals_to_rgb",
@@ -116,3 +125,22 @@ def hstack_panels(panels: list[np.ndarray], gap: int = 4) -> np.ndarray:
             parts.append(spacer)
         parts.append(panel)
     return np.concatenate(parts, 1)
+
+
+def colorize_labels(label: Tensor, classes: Sequence[SemanticClass], ignore_index: int = IGNORE_INDEX) -> Tensor:
+    """``(B, H, W)`` class indices -> ``(B, 3, H, W)`` float in [0, 1], in the dataset's colours
+    (``ignore_index`` and out-of-range values black)."""
+    palette = torch.zeros(len(classes) + 1, 3, device=label.device)
+    palette[:-1] = torch.tensor([c.color for c in classes], dtype=torch.float32, device=label.device) / 255.0
+    idx = torch.where((label >= 0) & (label < len(classes)) & (label != ignore_index), label,
+                      torch.full_like(label, len(classes)))
+    return palette[idx].permute(0, 3, 1, 2)
+
+
+def colorize_instances(instance: Tensor) -> Tensor:
+    """``(B, H, W)`` instance ids -> ``(B, 3, H, W)`` float in [0, 1]: a colour per id (a multiplicative
+    hash of the id, so an id keeps its colour across images), black where the id is <= 0."""
+    ids = instance.long().clamp_min(0)
+    mult = torch.tensor([97, 57, 151], device=instance.device)
+    rgb = ((ids.unsqueeze(1) * mult.view(1, 3, 1, 1) + 31) % 200 + 55).float() / 255.0
+    return torch.where(ids.unsqueeze(1) > 0, rgb, torch.zeros_like(rgb))

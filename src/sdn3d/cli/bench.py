@@ -104,7 +104,7 @@ def run_bench(cfg: Any) -> dict:
     from omegaconf import OmegaConf
 
     from sdn3d.data.datasets.sources import SourceConfig, read_source
-    from sdn3d.data.edit_benchmark import load_edit_benchmark
+    from sdn3d.data.edit_benchmark import benchmark_path, load_edit_benchmark
     from sdn3d.derender import Models
     from sdn3d.evaluation.edit_benchmark import BenchSettings, index_records, run_benchmark, summarize
     from sdn3d.io import write_json_atomic, write_png_atomic, write_text_atomic
@@ -115,7 +115,8 @@ def run_bench(cfg: Any) -> dict:
         torch.set_num_threads(int(cfg.threads))
     out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite))
     source = SourceConfig.from_mapping(cfg.data)
-    path = Path(str(cfg.benchmark)) if cfg.benchmark else Path(source.root) / "vkitti_edit_benchmark.json"
+    # benchmark=paper: the paper's file shipped in sdn3d.resources; otherwise a path.
+    path = benchmark_path(str(cfg.benchmark)) if cfg.benchmark else Path(source.root) / "vkitti_edit_benchmark.json"
     entries = load_edit_benchmark(path.expanduser())
     if cfg.checkpoints.textural is None:
         raise InputError("checkpoints.textural is required: every method is rendered by the textural generator")

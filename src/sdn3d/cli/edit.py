@@ -130,8 +130,7 @@ def _op_json(op: Any) -> dict:
 
 
 def _map_pictures(maps: Any, classes: Any) -> dict[str, np.ndarray]:
-    from sdn3d.semantic.classes import colorize_labels
-    from sdn3d.visualize import colorize_depth, colorize_ids, normals_to_rgb, pose_to_rgb
+    from sdn3d.visualize import colorize_depth, colorize_ids, colorize_labels, normals_to_rgb, pose_to_rgb
 
     label = colorize_labels(maps.label[None].cpu(), classes)[0]
     return {"label": _to_uint8(label), "instance": colorize_ids(maps.instance), "normal": normals_to_rgb(maps.normal),

@@ -20,20 +20,15 @@ from sdn3d.data.edit_benchmark import (
 )
 from sdn3d.data.errors import DataFormatError, MissingDataError
 from sdn3d.data.records import (
-    IGNORE_INDEX,
-    INSTANCE_DIVISOR,
     FrameRecord,
     ObjectAnnotation,
-    SemanticClass,
-    instance_ids,
     load_depth,
     load_instances,
     load_rgb,
     load_semantic,
-    split_instance_ids,
     visible_pixel_counts,
 )
-from sdn3d.data.vkitti1 import VKITTI_CLASSES, paper_object_filter, paper_split
+from sdn3d.data.vkitti1 import paper_object_filter, paper_split
 
 __all__ = [
     "cityscapes",
@@ -41,19 +36,13 @@ __all__ = [
     "vkitti2",
     "DataFormatError",
     "MissingDataError",
-    "IGNORE_INDEX",
-    "INSTANCE_DIVISOR",
     "FrameRecord",
     "ObjectAnnotation",
-    "SemanticClass",
-    "instance_ids",
-    "split_instance_ids",
     "visible_pixel_counts",
     "load_rgb",
     "load_semantic",
     "load_instances",
     "load_depth",
-    "VKITTI_CLASSES",
     "paper_object_filter",
     "paper_split",
     "EditEntry",

@@ -20,9 +20,8 @@ trailer) become 0 like the rest.
 Depth comes from the disparity maps when present: ``d = (p - 1) / 256`` for
 ``p > 0`` and ``z = baseline * fx / d``; invalid pixels (``p == 0``) are 0.
 
-The label table is embedded (it matches ``cityscapesscripts.helpers.labels``;
-``license plate``, id -1, never appears in label images and is left out). If
-``cityscapesscripts`` is importable its table is used instead.
+The label table (:data:`sdn3d.labels.CITYSCAPES_LABELS`) lives with the other class lists in
+:mod:`sdn3d.labels`.
 """
 
 from __future__ import annotations
@@ -38,14 +37,11 @@ import numpy as np
 
 from sdn3d.data.errors import DataFormatError, missing
 from sdn3d.data.imageio import image_size, read_index_png, read_rgb, read_uint16_png
-from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR, FrameRecord, SemanticClass, check_size
+from sdn3d.data.records import FrameRecord, check_size
+from sdn3d.labels import CITYSCAPES_LABELS, IGNORE_INDEX, INSTANCE_DIVISOR, LABEL_TO_TRAIN
 from sdn3d.math3d.camera import Intrinsics
 
 __all__ = [
-    "CITYSCAPES_LABELS",
-    "CITYSCAPES_TRAIN_CLASSES",
-    "LABEL_TO_TRAIN",
-    "EMBEDDED_LABELS",
     "camera_to_vehicle",
     "read_camera",
     "read_frames",
@@ -55,67 +51,6 @@ __all__ = [
     "load_depth",
 ]
 
-# (name, id, trainId, hasInstances, color) as in cityscapesscripts.helpers.labels.
-EMBEDDED_LABELS: tuple[tuple[str, int, int, bool, tuple[int, int, int]], ...] = (
-    ("unlabeled", 0, 255, False, (0, 0, 0)),
-    ("ego vehicle", 1, 255, False, (0, 0, 0)),
-    ("rectification border", 2, 255, False, (0, 0, 0)),
-    ("out of roi", 3, 255, False, (0, 0, 0)),
-    ("static", 4, 255, False, (0, 0, 0)),
-    ("dynamic", 5, 255, False, (111, 74, 0)),
-    ("ground", 6, 255, False, (81, 0, 81)),
-    ("road", 7, 0, False, (128, 64, 128)),
-    ("sidewalk", 8, 1, False, (244, 35, 232)),
-    ("parking", 9, 255, False, (250, 170, 160)),
-    ("rail track", 10, 255, False, (230, 150, 140)),
-    ("building", 11, 2, False, (70, 70, 70)),
-    ("wall", 12, 3, False, (102, 102, 156)),
-    ("fence", 13, 4, False, (190, 153, 153)),
-    ("guard rail", 14, 255, False, (180, 165, 180)),
-    ("bridge", 15, 255, False, (150, 100, 100)),
-    ("tunnel", 16, 255, False, (150, 120, 90)),
-    ("pole", 17, 5, False, (153, 153, 153)),
-    ("polegroup", 18, 255, False, (153, 153, 153)),
-    ("traffic light", 19, 6, False, (250, 170, 30)),
-    ("traffic sign", 20, 7, False, (220, 220, 0)),
-    ("vegetation", 21, 8, False, (107, 142, 35)),
-    ("terrain", 22, 9, False, (152, 251, 152)),
-    ("sky", 23, 10, False, (70, 130, 180)),
-    ("person", 24, 11, True, (220, 20, 60)),
-    ("rider", 25, 12, True, (255, 0, 0)),
-    ("car", 26, 13, True, (0, 0, 142)),
-    ("truck", 27, 14, True, (0, 0, 70)),
-    ("bus", 28, 15, True, (0, 60, 100)),
-    ("caravan", 29, 255, True, (0, 0, 90)),
-    ("trailer", 30, 255, True, (0, 0, 110)),
-    ("train", 31, 16, True, (0, 80, 100)),
-    ("motorcycle", 32, 17, True, (0, 0, 230)),
-    ("bicycle", 33, 18, True, (119, 11, 32)),
-)
-
-
-def _label_table() -> tuple[tuple[str, int, int, bool, tuple[int, int, int]], ...]:
-    try:
-        from cityscapesscripts.helpers.labels import labels
-    except ImportError:
-        return EMBEDDED_LABELS
-    rows = [
-        (lb.name, lb.id, lb.trainId, bool(lb.hasInstances), tuple(lb.color)) for lb in labels if lb.id >= 0
-    ]
-    return tuple(sorted(rows, key=lambda r: r[1]))
-
-
-#: The 34 label ids 0..33: ``(name, id, train_id, has_instances, color)``.
-CITYSCAPES_LABELS = _label_table()
-#: Label id -> train id (255 for ignored and for ids 34..255, which are rejected when read).
-LABEL_TO_TRAIN = np.full(256, IGNORE_INDEX, dtype=np.int64)
-for _name, _id, _train, _inst, _color in CITYSCAPES_LABELS:
-    LABEL_TO_TRAIN[_id] = _train
-#: The 19 training classes, indexed by train id.
-CITYSCAPES_TRAIN_CLASSES: tuple[SemanticClass, ...] = tuple(
-    SemanticClass(row[2], row[0], row[4], row[3])
-    for row in sorted((r for r in CITYSCAPES_LABELS if r[2] != IGNORE_INDEX), key=lambda r: r[2])
-)
 _NUM_LABEL_IDS = len(CITYSCAPES_LABELS)
 _NAME = re.compile(r"^(?P<city>.+)_(?P<seq>\d{6})_(?P<frame>\d{6})_leftImg8bit\.png$")
 

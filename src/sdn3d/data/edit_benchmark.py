@@ -22,6 +22,10 @@ and known kinds. It deliberately does NOT check that points lie inside the frame
 the shipped benchmark has ``from`` points outside 1242x375 (e.g. a delete at
 u = 1328.5, objects whose centre projects off-screen) and must load as published.
 Use :func:`validate_in_frame` where a user types an edit (the editing CLI).
+
+The published file and its example ship with sdn3d (:mod:`sdn3d.resources`);
+:func:`benchmark_path` resolves their names (:data:`SHIPPED_BENCHMARKS`, e.g. ``"paper"``)
+or a path, as ``sdn3d-bench benchmark=...`` does.
 """
 
 from __future__ import annotations
@@ -43,6 +47,8 @@ __all__ = [
     "WORKING_SIZE",
     "EditOperation",
     "EditEntry",
+    "SHIPPED_BENCHMARKS",
+    "benchmark_path",
     "load_edit_benchmark",
     "save_edit_benchmark",
     "scale_point",
@@ -56,6 +62,8 @@ EDIT_KINDS = ("modify", "delete")
 VKITTI_FRAME_SIZE = (1242, 375)
 #: (width, height) the paper works at on Virtual KITTI.
 WORKING_SIZE = (624, 192)
+#: Names of the benchmark files shipped in :mod:`sdn3d.resources`, for :func:`benchmark_path`.
+SHIPPED_BENCHMARKS = {"paper": "vkitti_edit_benchmark.json", "paper_example": "vkitti_edit_example.json"}
 
 
 def _finite(value: float, what: str) -> float:
@@ -225,6 +233,21 @@ def _parse_entry(raw: Any, where: _Where) -> EditEntry:
     ops = tuple(_parse_operation(op, _Where(where.path, where.entry, j)) for j, op in enumerate(operations))
     source, target = _parse_frame(raw, "source", where), _parse_frame(raw, "target", where)
     return EditEntry(raw["world"], raw["topic"], source, target, ops)
+
+
+def benchmark_path(benchmark: str | os.PathLike) -> Path:
+    """The file of a benchmark given by name or path.
+
+    A name of :data:`SHIPPED_BENCHMARKS` (``"paper"``: the paper's 184-entry file,
+    ``"paper_example"``: its 5-entry example) gives the shipped file; anything else is a
+    path (``~`` expanded; write ``./paper`` for a file named ``paper``). The file is not
+    checked here: :func:`load_edit_benchmark` reports a missing one.
+    """
+    if isinstance(benchmark, str) and benchmark in SHIPPED_BENCHMARKS:
+        from sdn3d.resources import resource_path
+
+        return resource_path(SHIPPED_BENCHMARKS[benchmark])
+    return Path(benchmark).expanduser()
 
 
 def load_edit_benchmark(path: str | os.PathLike) -> list[EditEntry]:

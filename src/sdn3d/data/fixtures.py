@@ -27,14 +27,8 @@ import numpy as np
 from PIL import Image
 
 from sdn3d.data.imageio import image_size
-from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR, ObjectAnnotation
-from sdn3d.data.vkitti1 import (
-    ENCODING_HEADER,
-    EXTRINSICS_HEADER,
-    MOTGT_HEADER,
-    VKITTI_CLASS_INDEX,
-    VKITTI_CLASSES,
-)
+from sdn3d.data.records import ObjectAnnotation
+from sdn3d.data.vkitti1 import ENCODING_HEADER, EXTRINSICS_HEADER, MOTGT_HEADER
 from sdn3d.data.vkitti2 import (
     BBOX_HEADER,
     COLORS_HEADER,
@@ -44,6 +38,7 @@ from sdn3d.data.vkitti2 import (
     POSE_HEADER,
 )
 from sdn3d.io import write_png_atomic
+from sdn3d.labels import IGNORE_INDEX, INSTANCE_DIVISOR, VKITTI_CLASS_INDEX, VKITTI_CLASSES
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
 __all__ = [

@@ -13,10 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from sdn3d.data.cityscapes import CITYSCAPES_LABELS, LABEL_TO_TRAIN
 from sdn3d.data.fixtures import FixtureFrame
-from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR
 from sdn3d.io import write_png_atomic
+from sdn3d.labels import CITYSCAPES_LABELS, IGNORE_INDEX, INSTANCE_DIVISOR, LABEL_TO_TRAIN
 from sdn3d.math3d.camera import Intrinsics
 
 __all__ = ["CITYSCAPES_FIXTURE_FRAMES", "write_cityscapes_fixture"]

@@ -24,7 +24,7 @@ import numpy as np
 from PIL import Image, UnidentifiedImageError
 
 from sdn3d.data.errors import DataFormatError, missing
-from sdn3d.data.records import INSTANCE_DIVISOR
+from sdn3d.labels import INSTANCE_DIVISOR
 
 __all__ = [
     "open_image",

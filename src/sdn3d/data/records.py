@@ -29,13 +29,8 @@ from sdn3d.data.errors import DataFormatError
 from sdn3d.math3d.camera import Intrinsics
 
 __all__ = [
-    "IGNORE_INDEX",
-    "INSTANCE_DIVISOR",
-    "SemanticClass",
     "ObjectAnnotation",
     "FrameRecord",
-    "instance_ids",
-    "split_instance_ids",
     "visible_pixel_counts",
     "check_size",
     "load_rgb",
@@ -44,26 +39,11 @@ __all__ = [
     "load_depth",
 ]
 
-#: Semantic label for "no usable class" (Cityscapes trainId convention).
-IGNORE_INDEX = 255
-#: Instance ids are ``class_id * INSTANCE_DIVISOR + k``.
-INSTANCE_DIVISOR = 1000
-
 _READER_MODULES = {
     "vkitti1": "sdn3d.data.vkitti1",
     "vkitti2": "sdn3d.data.vkitti2",
     "cityscapes": "sdn3d.data.cityscapes",
 }
-
-
-@dataclass(frozen=True)
-class SemanticClass:
-    """One entry of a dataset's class list: index ``id``, name, display colour."""
-
-    id: int
-    name: str
-    color: tuple[int, int, int]
-    has_instances: bool = False
 
 
 @dataclass(frozen=True)
@@ -186,22 +166,6 @@ class FrameRecord:
             if key == name:
                 return path
         raise KeyError(f"{self.key}: no auxiliary file {name!r} (have {[k for k, _ in self.aux]})")
-
-
-def instance_ids(class_ids: np.ndarray, k: np.ndarray) -> np.ndarray:
-    """``class_id * 1000 + k`` as int64 (``k`` must lie in [0, 999])."""
-    k = np.asarray(k, dtype=np.int64)
-    if k.size and (k.min() < 0 or k.max() >= INSTANCE_DIVISOR):
-        raise ValueError(
-            f"instance_ids: k must lie in [0, {INSTANCE_DIVISOR - 1}], got [{k.min()}, {k.max()}]"
-        )
-    return np.asarray(class_ids, dtype=np.int64) * INSTANCE_DIVISOR + k
-
-
-def split_instance_ids(ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Inverse of :func:`instance_ids`: ``(class_id, k)`` arrays."""
-    ids = np.asarray(ids, dtype=np.int64)
-    return ids // INSTANCE_DIVISOR, ids % INSTANCE_DIVISOR
 
 
 def visible_pixel_counts(instances: np.ndarray) -> dict[int, int]:

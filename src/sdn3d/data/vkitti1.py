@@ -39,14 +39,13 @@ from sdn3d.data.imageio import (
     read_table,
     read_uint16_png,
 )
-from sdn3d.data.records import INSTANCE_DIVISOR, FrameRecord, ObjectAnnotation, SemanticClass, check_size
+from sdn3d.data.records import FrameRecord, ObjectAnnotation, check_size
+from sdn3d.labels import INSTANCE_DIVISOR, VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
 __all__ = [
     "VKITTI1_WORLDS",
     "VKITTI_VARIATIONS",
-    "VKITTI_CLASSES",
-    "VKITTI_CLASS_INDEX",
     "MOTGT_HEADER",
     "EXTRINSICS_HEADER",
     "ENCODING_HEADER",
@@ -69,32 +68,6 @@ VKITTI_VARIATIONS = (
     "clone", "morning", "sunset", "overcast", "fog", "rain",
     "15-deg-left", "15-deg-right", "30-deg-left", "30-deg-right",
 )  # fmt: skip
-
-# Colours of the Virtual KITTI 1.3.1 scene ground truth (README / encoding files).
-# Car and Van have no class colour in VKITTI 1 (each track has its own colour);
-# the colours given here are Virtual KITTI 2's, used for display only.
-VKITTI_CLASSES: tuple[SemanticClass, ...] = tuple(
-    SemanticClass(i, name, color, name in ("Car", "Van"))
-    for i, (name, color) in enumerate(
-        [
-            ("Terrain", (210, 0, 200)),
-            ("Sky", (90, 200, 255)),
-            ("Tree", (0, 199, 0)),
-            ("Vegetation", (90, 240, 0)),
-            ("Building", (140, 140, 140)),
-            ("Road", (100, 60, 100)),
-            ("GuardRail", (255, 100, 255)),
-            ("TrafficSign", (255, 255, 0)),
-            ("TrafficLight", (200, 200, 0)),
-            ("Pole", (255, 130, 0)),
-            ("Misc", (80, 80, 80)),
-            ("Truck", (160, 60, 60)),
-            ("Car", (255, 127, 80)),
-            ("Van", (0, 139, 139)),
-        ]
-    )
-)
-VKITTI_CLASS_INDEX = {c.name: c.id for c in VKITTI_CLASSES}
 
 MOTGT_HEADER = tuple(
     "frame tid label truncated occluded alpha l t r b w3d h3d l3d x3d y3d z3d ry rx rz "

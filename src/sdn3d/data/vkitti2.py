@@ -59,8 +59,9 @@ from sdn3d.data.imageio import (
     read_table,
     read_uint16_png,
 )
-from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR, FrameRecord, ObjectAnnotation, check_size
-from sdn3d.data.vkitti1 import MATRIX_COLUMNS, VKITTI_CLASS_INDEX, VKITTI_VARIATIONS, sequence_intrinsics
+from sdn3d.data.records import FrameRecord, ObjectAnnotation, check_size
+from sdn3d.data.vkitti1 import MATRIX_COLUMNS, VKITTI_VARIATIONS, sequence_intrinsics
+from sdn3d.labels import IGNORE_INDEX, INSTANCE_DIVISOR, VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import Intrinsics
 
 __all__ = [

@@ -36,7 +36,6 @@ from scipy.optimize import linear_sum_assignment
 from torch import Tensor
 
 from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, EditOperation, scale_operation
-from sdn3d.data.records import INSTANCE_DIVISOR
 from sdn3d.editing.ops import (
     Delete,
     Duplicate,
@@ -50,6 +49,7 @@ from sdn3d.editing.ops import (
     Zoom,
     _uv,
 )
+from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics, project_points
 from sdn3d.math3d.rotations import wrap_angle
 from sdn3d.meshes.bank import MeshBank

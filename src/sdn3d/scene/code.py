@@ -35,11 +35,16 @@ import numpy as np
 import torch
 from torch import Tensor
 
-from sdn3d.data.cityscapes import CITYSCAPES_TRAIN_CLASSES
 from sdn3d.data.datasets.textural import mesh_name_for
 from sdn3d.data.datasets.transforms import resize_map
-from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR, FrameRecord, SemanticClass, load_instances, load_semantic
-from sdn3d.data.vkitti1 import VKITTI_CLASS_INDEX, VKITTI_CLASSES
+from sdn3d.data.records import FrameRecord, load_instances, load_semantic
+from sdn3d.labels import (
+    CLASS_LISTS,
+    IGNORE_INDEX,
+    INSTANCE_DIVISOR,
+    VKITTI_CLASS_INDEX,
+    SemanticClass,
+)
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.ffd import FFD_NUM_POINTS
 from sdn3d.math3d.transforms import bottom_to_center
@@ -48,7 +53,6 @@ from sdn3d.meshes.templates import TEMPLATE_NAMES
 __all__ = [
     "SCENE_FORMAT",
     "SCENE_VERSION",
-    "CLASS_LISTS",
     "DEFAULT_CODE_DIM",
     "SceneFormatError",
     "SceneObject",
@@ -58,7 +62,6 @@ __all__ = [
 
 SCENE_FORMAT = "sdn3d-scene"
 SCENE_VERSION = 1
-CLASS_LISTS: dict[str, tuple[SemanticClass, ...]] = {"vkitti": VKITTI_CLASSES, "cityscapes": CITYSCAPES_TRAIN_CLASSES}
 #: Texture code size of the paper's encoder.
 DEFAULT_CODE_DIM = 5
 _TABLE_FIELDS = ("instance_id", "template_id", "phi", "dims", "ry", "location", "code", "mask", "has_mask", "observed")

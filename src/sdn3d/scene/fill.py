@@ -12,7 +12,7 @@ import torch
 from scipy.ndimage import distance_transform_edt
 from torch import Tensor
 
-from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR
+from sdn3d.labels import IGNORE_INDEX, INSTANCE_DIVISOR
 
 __all__ = ["code_map", "fill_background"]
 

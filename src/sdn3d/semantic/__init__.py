@@ -5,7 +5,6 @@
 - :mod:`~sdn3d.semantic.pq`: panoptic quality per thing class.
 - :mod:`~sdn3d.semantic.predict`: :class:`SemanticPredictor` (image in, label + instance maps out)
   loading a ``SemanticModule`` checkpoint.
-- :mod:`~sdn3d.semantic.classes`: class lists by name, thing classes, colouring.
 - :mod:`~sdn3d.semantic.augment`: batched random crop / flip, colour jitter (training).
 - :mod:`~sdn3d.semantic.tta`: flip test-time augmentation (image and mirror image in one batch).
 The network itself is :class:`sdn3d.nets.drn.DRNSeg`.
@@ -13,13 +12,6 @@ The network itself is :class:`sdn3d.nets.drn.DRNSeg`.
 
 from sdn3d.semantic.augment import color_jitter, crop_size_for, random_crop_flip
 from sdn3d.semantic.balance import CLASS_WEIGHTINGS, class_weights, label_histogram
-from sdn3d.semantic.classes import (
-    CLASS_LIST_NAMES,
-    colorize_instances,
-    colorize_labels,
-    resolve_classes,
-    thing_class_ids,
-)
 from sdn3d.semantic.panoptic import (
     PanopticTargets,
     center_focal_loss,
@@ -41,11 +33,6 @@ __all__ = [
     "color_jitter",
     "crop_size_for",
     "random_crop_flip",
-    "CLASS_LIST_NAMES",
-    "resolve_classes",
-    "thing_class_ids",
-    "colorize_labels",
-    "colorize_instances",
     "PanopticTargets",
     "thing_mask",
     "instance_segments",

@@ -18,7 +18,7 @@ from collections.abc import Iterable
 import torch
 from torch import Tensor
 
-from sdn3d.data.records import IGNORE_INDEX
+from sdn3d.labels import IGNORE_INDEX
 
 __all__ = ["CLASS_WEIGHTINGS", "label_histogram", "class_weights"]
 

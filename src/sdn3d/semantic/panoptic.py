@@ -24,7 +24,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.data.records import INSTANCE_DIVISOR
+from sdn3d.labels import INSTANCE_DIVISOR
 
 __all__ = [
     "PanopticTargets",

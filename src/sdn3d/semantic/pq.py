@@ -21,7 +21,7 @@ from collections.abc import Sequence
 import torch
 from torch import Tensor
 
-from sdn3d.data.records import IGNORE_INDEX, INSTANCE_DIVISOR
+from sdn3d.labels import IGNORE_INDEX, INSTANCE_DIVISOR
 from sdn3d.semantic.panoptic import instance_segments
 
 __all__ = ["pq_stats", "pq_from_stats"]

@@ -22,9 +22,8 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.data.records import SemanticClass
+from sdn3d.labels import SemanticClass, class_list, thing_class_ids
 from sdn3d.nets.drn import DRNSeg
-from sdn3d.semantic.classes import resolve_classes, thing_class_ids
 from sdn3d.semantic.panoptic import group_instances
 from sdn3d.semantic.tta import flip_averaged_outputs
 
@@ -75,7 +74,7 @@ class SemanticPredictor:
     ) -> None:
         self.net = net.eval()
         self.flip = bool(flip)
-        self.classes = resolve_classes(classes)
+        self.classes = class_list(classes)
         if len(self.classes) != net.num_classes:
             raise ValueError(f"classes has {len(self.classes)} entries but the network predicts {net.num_classes}")
         self.thing_classes = thing_class_ids(self.classes) if thing_classes is None else list(thing_classes)
@@ -94,7 +93,7 @@ class SemanticPredictor:
 
         ckpt = load_lightning_checkpoint(path, map_location)
         hp = dict(ckpt.get("hyper_parameters") or {})
-        classes = resolve_classes(hp.get("classes", "vkitti"))
+        classes = class_list(hp.get("classes", "vkitti"))
         net = DRNSeg(len(classes), arch=hp.get("arch", "drn_d_22"), instance_head=hp.get("instance_head", True),
                      head_channels=hp.get("head_channels", 128), pretrained=None,
                      decoder=hp.get("decoder", "bilinear"), decoder_channels=hp.get("decoder_channels", (64, 32, 16)),

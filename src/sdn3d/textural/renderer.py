@@ -25,8 +25,7 @@ from typing import Any
 import torch
 from torch import Tensor, nn
 
-from sdn3d.data.datasets.sources import CLASS_LISTS as _CLASS_LISTS
-from sdn3d.data.records import INSTANCE_DIVISOR, SemanticClass
+from sdn3d.labels import INSTANCE_DIVISOR, class_list, region_class
 from sdn3d.nets.pix2pixhd import TexturalSpec
 
 __all__ = [
@@ -34,25 +33,11 @@ __all__ = [
     "TextureCodes",
     "TexturalRenderer",
     "boundary_maps",
-    "class_list",
     "code_map",
-    "region_class",
     "sample_code",
     "set_code",
     "swap_codes",
 ]
-
-
-def class_list(name: str) -> tuple[SemanticClass, ...]:
-    """The class list called ``name`` (``'vkitti'``: 14 classes, ``'cityscapes'``: 19)."""
-    if name not in _CLASS_LISTS:
-        raise ValueError(f"classes must be one of {sorted(_CLASS_LISTS)}, got {name!r}")
-    return _CLASS_LISTS[name]
-
-
-def region_class(ids: Tensor) -> Tensor:
-    """Semantic class of region ids: ``id // 1000`` for instances (>= 1000), the id itself otherwise."""
-    return torch.where(ids >= INSTANCE_DIVISOR, torch.div(ids, INSTANCE_DIVISOR, rounding_mode="floor"), ids)
 
 
 def boundary_maps(L: Tensor) -> Tensor:

@@ -37,8 +37,9 @@ from torch.utils.data import Dataset
 
 from sdn3d.data.datasets.sources import SourceConfig, load_split
 from sdn3d.data.datasets.transforms import Frame, intrinsics_vector, load_frame, scale_boxes
-from sdn3d.data.records import INSTANCE_DIVISOR, FrameRecord, ObjectAnnotation, load_instances
+from sdn3d.data.records import FrameRecord, ObjectAnnotation, load_instances
 from sdn3d.data.vkitti1 import paper_object_filter
+from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.math3d.transforms import bottom_to_center

@@ -7,9 +7,10 @@ from collections.abc import Sequence
 from torch import Tensor
 from torch.utils.data import Dataset
 
-from sdn3d.data.datasets.sources import SourceConfig, classes_for, load_split
+from sdn3d.data.datasets.sources import SourceConfig, load_split
 from sdn3d.data.datasets.transforms import intrinsics_vector, load_frame
-from sdn3d.data.records import FrameRecord, SemanticClass
+from sdn3d.data.records import FrameRecord
+from sdn3d.labels import SemanticClass, class_list
 
 __all__ = ["SemanticDataset"]
 
@@ -43,7 +44,7 @@ class SemanticDataset(Dataset):
         if len(kinds) > 1:
             raise ValueError(f"records must all come from one dataset kind, got {sorted(kinds)}")
         if classes is None:
-            classes = classes_for(kinds.pop()) if kinds else ()
+            classes = class_list(kinds.pop()) if kinds else ()
         self.classes: tuple[SemanticClass, ...] = tuple(classes)
 
     @classmethod

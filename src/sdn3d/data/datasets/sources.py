@@ -23,16 +23,15 @@ from pathlib import Path
 from typing import Any
 
 from sdn3d.data import cityscapes, vkitti1, vkitti2
-from sdn3d.data.cityscapes import CITYSCAPES_TRAIN_CLASSES
-from sdn3d.data.records import FrameRecord, SemanticClass
-from sdn3d.data.vkitti1 import VKITTI_CLASSES, paper_split
+from sdn3d.data.records import FrameRecord
+from sdn3d.data.vkitti1 import paper_split
+from sdn3d.labels import CLASS_LISTS, KIND_CLASS_LIST, SemanticClass
 
 __all__ = [
     "KINDS",
     "PARTS",
     "DEFAULT_IMAGE_SIZE",
     "SourceConfig",
-    "classes_for",
     "read_source",
     "split_records",
     "load_split",
@@ -43,9 +42,6 @@ KINDS = ("vkitti1", "vkitti2", "cityscapes")
 PARTS = ("train", "val", "test")
 #: Paper working sizes ``(W, H)``.
 DEFAULT_IMAGE_SIZE = {"vkitti1": (624, 192), "vkitti2": (624, 192), "cityscapes": (512, 256)}
-CLASS_LISTS = {"vkitti": VKITTI_CLASSES, "cityscapes": CITYSCAPES_TRAIN_CLASSES}
-_CLASS_LISTS = CLASS_LISTS  # the older private name
-_KIND_CLASSES = {"vkitti1": "vkitti", "vkitti2": "vkitti", "cityscapes": "cityscapes"}
 # Default split rules. The paper has no validation split for Virtual KITTI: "val" reads the
 # held-out 20% (the test part); Cityscapes' test labels are not public, so "test" reads "val".
 _DEFAULT_SPLIT = {
@@ -84,7 +80,7 @@ class SourceConfig:
         split = {**_DEFAULT_SPLIT[self.kind], **dict(self.split or {})}
         _check_split(split, self.kind)
         object.__setattr__(self, "split", split)
-        expected = _KIND_CLASSES[self.kind]
+        expected = KIND_CLASS_LIST[self.kind]
         if self.classes is not None and self.classes != expected:
             raise ValueError(f"SourceConfig.classes must be {expected!r} for kind {self.kind!r}, "
                              f"got {self.classes!r}")
@@ -109,7 +105,7 @@ class SourceConfig:
 
     @property
     def class_list(self) -> tuple[SemanticClass, ...]:
-        return _CLASS_LISTS[self.classes]
+        return CLASS_LISTS[self.classes]
 
 
 def _check_split(split: Mapping[str, Any], kind: str) -> None:
@@ -130,13 +126,6 @@ def _check_split(split: Mapping[str, Any], kind: str) -> None:
                 raise ValueError(f"split.{part} must name a Cityscapes split folder, got {split.get(part)!r}")
     else:
         raise ValueError(f"split.rule must be 'paper' or 'folders', got {rule!r}")
-
-
-def classes_for(kind: str) -> tuple[SemanticClass, ...]:
-    """Class list (names and colours, for logging) of a dataset kind."""
-    if kind not in KINDS:
-        raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
-    return _CLASS_LISTS[_KIND_CLASSES[kind]]
 
 
 def read_source(source: SourceConfig, cityscapes_split: str = "train") -> list[FrameRecord]:

@@ -27,9 +27,10 @@ import torch.nn.functional as F
 from torch import Tensor
 from torch.utils.data import Dataset
 
-from sdn3d.data.datasets.sources import SourceConfig, classes_for, load_split
+from sdn3d.data.datasets.sources import SourceConfig, load_split
 from sdn3d.data.datasets.transforms import intrinsics_vector, load_frame
-from sdn3d.data.records import INSTANCE_DIVISOR, FrameRecord, ObjectAnnotation, SemanticClass
+from sdn3d.data.records import FrameRecord, ObjectAnnotation
+from sdn3d.labels import INSTANCE_DIVISOR, SemanticClass, class_list
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.rotations import NUM_POSE_BINS, alpha_bins, observation_angle
 from sdn3d.math3d.transforms import bottom_to_center
@@ -167,7 +168,7 @@ class TexturalDataset(Dataset):
         kinds = {r.dataset for r in self.records}
         if len(kinds) > 1:
             raise ValueError(f"records must all come from one dataset kind, got {sorted(kinds)}")
-        self.classes = tuple(classes) if classes is not None else (classes_for(kinds.pop()) if kinds else ())
+        self.classes = tuple(classes) if classes is not None else (class_list(kinds.pop()) if kinds else ())
         self.render = render
         self._bank: MeshBank | None = None
 

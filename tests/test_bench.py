@@ -11,7 +11,6 @@ from helpers.tiny_models import geometric_net, textural_spec, write_checkpoints
 
 from sdn3d.cli.bench import main
 from sdn3d.data import vkitti1
-from sdn3d.data.datasets import resize_map
 from sdn3d.data.edit_benchmark import EditEntry, load_edit_benchmark, scale_operation
 from sdn3d.data.records import load_instances
 from sdn3d.derender import Models
@@ -25,8 +24,8 @@ from sdn3d.evaluation.edit_benchmark import (
     run_benchmark,
     summarize,
 )
-from sdn3d.evaluation.image_metrics import mask_to_box
 from sdn3d.geometric.predict import GeometricPredictor
+from sdn3d.image_ops import mask_boxes, resize_map
 from sdn3d.nets.lpips import LPIPS
 from sdn3d.scene.code import SceneCode
 from sdn3d.textural.renderer import TexturalRenderer
@@ -69,7 +68,7 @@ def test_edit_regions_are_source_and_target_masks_of_the_picked_objects(bench):
     assert torch.equal(regions, union) and bool(regions.any())
     areas = [int(((src == i) | (tgt == i)).sum()) for i in ids]
     largest = ids[areas.index(max(areas))]
-    assert box.tolist() == mask_to_box((tgt == largest)[None])[0].tolist()
+    assert box.tolist() == mask_boxes((tgt == largest)[None])[0].tolist()
 
 
 def test_region_metrics_whole_all_and_largest():

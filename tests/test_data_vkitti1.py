@@ -30,10 +30,12 @@ REFERENCE_FRAME = "0006_30-deg-right_00043.png"
 
 
 @pytest.fixture(scope="module")
-def reference_tree(tmp_path_factory, reference_dir):
+def reference_tree(tmp_path_factory, real_vkitti_frame):
+    """Frame 0006/30-deg-right/00043 at the native 1242x375 size. Its RGB is the real Virtual KITTI frame where
+    ``../shared/reference`` has it (not shipped: 678 kB), else the fixture's synthetic rendering of the labels."""
     root = tmp_path_factory.mktemp("vkitti1_ref")
     truth = write_vkitti1_fixture(
-        root, world="0006", variation="30-deg-right", frames=(43,), rgb_image=reference_dir / REFERENCE_FRAME
+        root, world="0006", variation="30-deg-right", frames=(43,), size=(1242, 375), rgb_image=real_vkitti_frame
     )
     return root, truth
 

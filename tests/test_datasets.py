@@ -13,17 +13,13 @@ from sdn3d.data.datasets import (
     SemanticDataset,
     SourceConfig,
     TexturalDataset,
-    boundary_map,
     closer_object_mask,
-    crop_maps,
-    instance_label_map,
     load_split,
-    resize_map,
-    scale_boxes,
 )
 from sdn3d.data.fixtures import write_vkitti1_fixture, write_vkitti2_fixture
 from sdn3d.data.fixtures_cityscapes import write_cityscapes_fixture
 from sdn3d.data.vkitti1 import paper_object_filter
+from sdn3d.image_ops import boundary_map, crop_windows, instance_label_map, resize_map, scale_boxes
 from sdn3d.labels import CITYSCAPES_TRAIN_CLASSES, IGNORE_INDEX, INSTANCE_DIVISOR, VKITTI_CLASS_INDEX, VKITTI_CLASSES
 from sdn3d.math3d.camera import project_points
 from sdn3d.math3d.encodings import AttributeEncoding
@@ -204,11 +200,12 @@ def test_geometric_ignore_marks_only_closer_objects(vk1):
     inst = resize_map(torch.from_numpy(frames[0].instances), WORK)
     left, top = (int(v + 0.5) for v in van["crop_box"][:2])
     side = int(van["crop_box"][2] - van["crop_box"][0])
-    others = crop_maps(((inst != 0) & (inst % 1000 != 4)).float()[None], left, top, side, 64, "nearest")
+    others = crop_windows(((inst != 0) & (inst % 1000 != 4)).float()[None], torch.tensor([[left, top, side]]), 64,
+                          "nearest")[0]
     assert van["ignore"].sum() > 0 and torch.equal(van["ignore"], others)  # every other car is closer
     left, top = (int(v + 0.5) for v in car1["crop_box"][:2])
     side = int(car1["crop_box"][2] - car1["crop_box"][0])
-    van_px = crop_maps((inst % 1000 == 4).float()[None], left, top, side, 64, "nearest")
+    van_px = crop_windows((inst % 1000 == 4).float()[None], torch.tensor([[left, top, side]]), 64, "nearest")[0]
     assert van_px.sum() > 0 and (car1["ignore"] * van_px).sum() == 0  # the farther van is not ignored
 
 
@@ -218,7 +215,7 @@ def test_instance_label_map_and_boundary():
     label, lmap = instance_label_map(sem, inst)
     assert int(label[2, 2]) == 13  # instance wins the conflict with the semantic map
     assert torch.equal(lmap, torch.tensor([[5, 5, 5, 1], [5, 12001, 12001, 1], [5, 12001, 13002, 1]]))
-    edge = boundary_map(lmap)[0]
+    edge = boundary_map(lmap[None])[0, 0]
     assert edge.shape == (3, 4) and edge[0, 0] == 0 and edge[1, 1] == 1 and edge[2, 2] == 1
     assert edge[0, 2] == 1 and edge[0, 3] == 1  # the 5 | 1 border marks both sides
 

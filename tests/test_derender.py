@@ -7,23 +7,20 @@ import torch
 from helpers.tiny_models import geometric_net, semantic_net, textural_spec, write_checkpoints
 
 from sdn3d.data import vkitti1
-from sdn3d.data.datasets import GeometricDataset, ObjectFilter, crop_maps, instance_label_map, load_frame
+from sdn3d.data.datasets import GeometricDataset, ObjectFilter, load_frame
 from sdn3d.data.edit_benchmark import EditOperation
 from sdn3d.derender import (
     Models,
-    crop_windows,
     derender,
     edit_image,
     encode_scene,
     geometric_crop_settings,
-    mask_boxes,
     render,
     render_maps,
 )
 from sdn3d.editing.apply import Delete, projected_centers
-from sdn3d.evaluation.image_metrics import mask_to_box
 from sdn3d.geometric.predict import GeometricPredictor
-from sdn3d.image_ops import crop_intrinsics
+from sdn3d.image_ops import crop_intrinsics, crop_windows, instance_label_map, mask_boxes, pixel_centre_boxes
 from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 from sdn3d.scene.code import SceneCode
@@ -60,17 +57,28 @@ class Spy(GeometricPredictor):
         return super().predict(crop, mask, box, intrinsics, crop_intrinsics, ignore, refine)
 
 
-def test_crop_windows_match_the_dataset_crops():
+def _one_window(maps, left, top, side, out_size, mode):
+    """The sampling rule written out for one window: output pixel j samples u = left + (j + 0.5) side / S - 0.5."""
+    _, height, width = maps.shape
+    centres = (torch.arange(out_size, dtype=torch.float32) + 0.5) * (side / out_size) - 0.5
+    u = (left + centres) * (2.0 / width) + (1.0 / width - 1.0)
+    v = (top + centres) * (2.0 / height) + (1.0 / height - 1.0)
+    grid = torch.stack(torch.meshgrid(u, v, indexing="xy"), dim=-1)
+    return torch.nn.functional.grid_sample(maps[None].float(), grid[None], mode=mode, padding_mode="zeros",
+                                           align_corners=False)[0]
+
+
+def test_crop_windows_follow_the_sampling_rule_window_by_window():
     maps = torch.rand(2, 20, 30)
     windows = torch.tensor([[3.0, 4.0, 9.0], [-5.0, 12.0, 14.0], [25.0, -3.0, 7.0]])  # partly outside too
     for mode in ("bilinear", "nearest"):
         got = crop_windows(maps, windows, 16, mode)
         assert got.shape == (3, 2, 16, 16)
         for i, (left, top, side) in enumerate(windows.long().tolist()):
-            assert torch.equal(got[i], crop_maps(maps, left, top, side, 16, mode))
+            assert torch.equal(got[i], _one_window(maps, left, top, side, 16, mode))
     per_window = torch.rand(3, 1, 20, 30)
     one = crop_windows(per_window, windows, 8, "nearest")
-    torch.testing.assert_close(one[1], crop_maps(per_window[1], -5, 12, 14, 8, "nearest"))
+    torch.testing.assert_close(one[1], _one_window(per_window[1], -5, 12, 14, 8, "nearest"))
 
 
 def test_crop_intrinsics_follow_crop_and_resize():
@@ -81,14 +89,14 @@ def test_crop_intrinsics_follow_crop_and_resize():
         torch.testing.assert_close(got[i], torch.tensor([ref.fx, ref.fy, ref.cx, ref.cy]))
 
 
-def test_mask_boxes_are_inclusive_pixel_boxes():
+def test_mask_boxes_are_half_open_and_convert_to_pixel_centres():
     masks = torch.zeros(3, 10, 12, dtype=torch.bool)
     masks[0, 2:5, 3:9] = True
     masks[1, 9, 0] = True
     boxes = mask_boxes(masks)
-    assert boxes.tolist() == [[3, 2, 8, 4], [0, 9, 0, 9], [0, 0, 0, 0]]
-    half_open = mask_to_box(masks[:2]).float()
-    torch.testing.assert_close(boxes[:2, 2:] + 1, half_open[:, 2:])
+    assert boxes.dtype == torch.long
+    assert boxes.tolist() == [[3, 2, 9, 5], [0, 9, 1, 10], [0, 0, 0, 0]]
+    assert pixel_centre_boxes(boxes[:2]).tolist() == [[3.0, 2.0, 8.0, 4.0], [0.0, 9.0, 0.0, 9.0]]
 
 
 def test_gt_proposals_feed_the_dataset_crops_to_one_geometric_forward(frame, models):

@@ -27,6 +27,7 @@ from sdn3d.editing.apply import (
     ops_from_benchmark,
     projected_centers,
 )
+from sdn3d.resources import paper_example_path
 from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
 from sdn3d.scene.maps import compose_instances, scene_maps
 
@@ -214,12 +215,12 @@ def test_benchmark_picks_and_frame_checks(scene):
         ops_from_benchmark([EditOperation.delete((10.0, 10.0))], empty)
 
 
-def test_published_example_rotates_the_picked_car(reference_dir, tmp_path):
+def test_published_example_rotates_the_picked_car(tmp_path):
     """The shipped 5-rotation example picks track 0 of the fixture's frame 0006/30-deg-right/00043."""
     write_vkitti1_fixture(tmp_path, world="0006", variation="30-deg-right", frames=(43,), size=(1242, 375))
     scene = SceneCode.from_frame(read_frames(tmp_path)[0], image_size=(624, 192))
     car = scene.objects.index_of(12001)  # track 0 (k = tid + 1)
-    for entry in load_edit_benchmark(reference_dir / "vkitti_edit_example.json"):
+    for entry in load_edit_benchmark(paper_example_path()):
         (op,) = ops_from_benchmark(entry, scene)
         assert isinstance(op, Modify) and op.instance_id == 12001
         edited = apply_edits(scene, [op])

@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
+import sys
 from collections import Counter
+from pathlib import Path
 
 import pytest
 import torch
@@ -13,6 +16,7 @@ from sdn3d.data import DataFormatError
 from sdn3d.data.edit_benchmark import (
     EditEntry,
     EditOperation,
+    benchmark_path,
     load_edit_benchmark,
     save_edit_benchmark,
     scale_entry,
@@ -21,11 +25,12 @@ from sdn3d.data.edit_benchmark import (
     validate_in_frame,
 )
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, project_points
+from sdn3d.resources import PAPER_LICENSE, paper_benchmark_path, paper_example_path, resource_path
 
 
 @pytest.fixture(scope="module")
-def benchmark(reference_dir):
-    return load_edit_benchmark(reference_dir / "vkitti_edit_benchmark.json")
+def benchmark():
+    return load_edit_benchmark(paper_benchmark_path())
 
 
 def test_shipped_benchmark_counts(benchmark):
@@ -77,8 +82,8 @@ def _fails(entry: EditEntry) -> bool:
     return False
 
 
-def test_example_file(reference_dir):
-    entries = load_edit_benchmark(reference_dir / "vkitti_edit_example.json")
+def test_example_file():
+    entries = load_edit_benchmark(paper_example_path())
     assert [e.target_frame for e in entries] == [0, 1, 2, 3, 4]
     assert {(e.world, e.variation, e.source_frame) for e in entries} == {("0006", "30-deg-right", 43)}
     ops = [e.operations[0] for e in entries]
@@ -87,11 +92,11 @@ def test_example_file(reference_dir):
     assert [op.ry for op in ops] == [0.0, 0.837758, 3.141593, 4.18879, 6.073746]
 
 
-def test_round_trip_keeps_entries_and_format(benchmark, reference_dir, tmp_path):
+def test_round_trip_keeps_entries_and_format(benchmark, tmp_path):
     path = tmp_path / "out" / "bench.json"
     save_edit_benchmark(benchmark, path)
     assert load_edit_benchmark(path) == benchmark
-    original = json.loads((reference_dir / "vkitti_edit_benchmark.json").read_text())
+    original = json.loads(paper_benchmark_path().read_text())
     saved = json.loads(path.read_text())
     assert _numbers_as_floats(saved) == _numbers_as_floats(original)
     # Numbers stay strings as in the published file; `to` null vs {} is kept.
@@ -99,7 +104,7 @@ def test_round_trip_keeps_entries_and_format(benchmark, reference_dir, tmp_path)
     text = path.read_text()
     save_edit_benchmark(load_edit_benchmark(path), path)
     assert path.read_text() == text  # stable once written
-    example = load_edit_benchmark(reference_dir / "vkitti_edit_example.json")
+    example = load_edit_benchmark(paper_example_path())
     save_edit_benchmark(example, path)
     assert json.loads(path.read_text())[0]["operations"][0]["to"] == {}
     assert load_edit_benchmark(path) == example
@@ -116,6 +121,34 @@ def _numbers_as_floats(node):
         except ValueError:
             return node
     return float(node) if isinstance(node, int) else node
+
+
+def test_shipped_files_are_package_data_with_their_licence():
+    """The paper's files ship in sdn3d.resources, byte for byte, with the BSD licence they come under."""
+    assert paper_benchmark_path().parent == Path(sys.modules[resource_path.__module__].__file__).parent
+    assert benchmark_path("paper") == paper_benchmark_path()
+    assert benchmark_path("paper_example") == paper_example_path()
+    # Redistributed unchanged (the authors' release).
+    assert hashlib.sha256(paper_benchmark_path().read_bytes()).hexdigest() == (
+        "8cf4548f3add2991c833ec7bebab3559e6aa5f988d8be82f0d2d792a4da0bca0")
+    assert hashlib.sha256(paper_example_path().read_bytes()).hexdigest() == (
+        "35437c7cc9bdaa640836217b6da8ee907c07be45d2a28dd1fa166124abd9d377")
+    licence = resource_path(PAPER_LICENSE).read_text()
+    assert "Shunyu Yao" in licence and "Redistribution and use in source and binary forms" in licence
+    assert benchmark_path("~/x.json") == Path.home() / "x.json" and benchmark_path("./paper") == Path("paper")
+    with pytest.raises(ValueError, match="unknown sdn3d resource"):
+        resource_path("nope.json")
+
+
+def test_bench_cli_finds_the_shipped_paper_benchmark(tmp_path, capsys):
+    """``sdn3d-bench benchmark=paper`` loads the shipped file: it gets past the benchmark to the checkpoints."""
+    from sdn3d.cli.bench import main
+
+    assert main(["benchmark=paper", f"output_dir={tmp_path / 'out'}"]) == 2
+    err = capsys.readouterr().err
+    assert "checkpoints.textural" in err and "benchmark" not in err, err
+    assert main([f"benchmark={tmp_path / 'paper'}", f"output_dir={tmp_path / 'out'}"]) == 2
+    assert "benchmark" in capsys.readouterr().err  # any other value is a path
 
 
 def test_save_is_atomic(tmp_path, monkeypatch, benchmark):

@@ -10,6 +10,7 @@ import torch
 from torchmetrics.functional.image import structural_similarity_index_measure
 
 from sdn3d.evaluation import image_metrics as metrics
+from sdn3d.image_ops import mask_boxes
 from sdn3d.nets.lpips import LPIPS, load_lpips, merge_lpips_weights
 from sdn3d.nets.weights import PretrainedWeightsError
 
@@ -59,11 +60,11 @@ def test_masked_metrics():
         metrics.l1(p, t, mask[:, :10])
 
 
-def test_mask_to_box_and_crop_metrics():
+def test_mask_boxes_and_crop_metrics():
     mask = torch.zeros(3, 20, 30, dtype=torch.bool)
     mask[0, 3:7, 10:25] = True
     mask[1, 19, 0] = True
-    assert metrics.mask_to_box(mask).tolist() == [[10, 3, 25, 7], [0, 19, 1, 20], [0, 0, 0, 0]]
+    assert mask_boxes(mask).tolist() == [[10, 3, 25, 7], [0, 19, 1, 20], [0, 0, 0, 0]]
 
     p, t = _pair(3, 20, 30)
     boxes = torch.tensor([[10, 3, 25, 17], [-5, -5, 4, 3], [10, 10, 10, 15]])

@@ -12,10 +12,10 @@ import torch
 
 from sdn3d.data import cityscapes, vkitti1
 from sdn3d.data.datasets.textural import mesh_name_for
-from sdn3d.data.datasets.transforms import resize_map
 from sdn3d.data.fixtures import write_vkitti1_fixture
 from sdn3d.data.fixtures_cityscapes import write_cityscapes_fixture
 from sdn3d.data.records import load_instances, load_semantic
+from sdn3d.image_ops import resize_map
 from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 from sdn3d.math3d.transforms import bottom_to_center

@@ -190,8 +190,8 @@ def test_objects_are_rasterized_in_crops_holding_every_pixel_they_cover(monkeypa
     full = rasterize_meshes(verts, faces, K, RasterSettings(image_size=(H, W)))
     box = _projected_boxes(verts, K, 0.1, H, W)
     ii, jj = torch.meshgrid(torch.arange(H), torch.arange(W), indexing="ij")
-    inside = ((ii >= box[:, 0, None, None]) & (ii < box[:, 2, None, None]) & (jj >= box[:, 1, None, None])
-              & (jj < box[:, 3, None, None]))
+    inside = ((jj >= box[:, 0, None, None]) & (jj < box[:, 2, None, None]) & (ii >= box[:, 1, None, None])
+              & (ii < box[:, 3, None, None]))  # (x0, y0, x1, y1), half-open
     assert bool(full.mask.any()) and bool((full.mask <= inside).all())
     # One rasterizer call, with windows smaller than the frame (a regression to full-frame images shows here).
     import sdn3d.scene.maps as module

@@ -5,14 +5,13 @@ from __future__ import annotations
 import pytest
 import torch
 
-from sdn3d.data.datasets.textural import boundary_map
+from sdn3d.image_ops import boundary_map
 from sdn3d.labels import class_list, region_class
 from sdn3d.nets.pix2pixhd import TexturalSpec
 from sdn3d.textural.renderer import (
     CodeBank,
     TexturalRenderer,
     TextureCodes,
-    boundary_maps,
     code_map,
     sample_code,
     set_code,
@@ -45,12 +44,18 @@ def test_region_class_and_class_lists():
         class_list("kitti")
 
 
-def test_boundary_maps_match_dataset_definition():
+def test_boundary_map_marks_both_sides_of_every_4_neighbour_change():
     _, L = _scene()
-    b = boundary_maps(L)
+    b = boundary_map(L)
     assert b.shape == (2, 1, 16, 32)
-    for i in range(2):
-        assert torch.equal(b[i], boundary_map(L[i]))
+    for i in range(2):  # the definition written out pixel by pixel
+        ref = torch.zeros(16, 32)
+        for y in range(16):
+            for x in range(32):
+                neighbours = [(y + dy, x + dx) for dy, dx in ((0, 1), (0, -1), (1, 0), (-1, 0))
+                              if 0 <= y + dy < 16 and 0 <= x + dx < 32]
+                ref[y, x] = float(any(L[i, yy, xx] != L[i, y, x] for yy, xx in neighbours))
+        assert torch.equal(b[i, 0], ref)
 
 
 def test_code_map_broadcasts_codes_and_handles_missing_regions():
@@ -121,7 +126,7 @@ def test_renderer_render_and_local_code_edit():
     out = r.render(label, L, codes=codes, pose=pose, normal=normal)
     assert out.shape == (2, 3, 32, 64) and out.min() >= 0 and out.max() <= 1
     assert torch.allclose(out, r.reconstruct(image, label, L, pose=pose, normal=normal))
-    assert torch.allclose(out, r.render(label, L, boundary_maps(L), code_map=code_map(codes, L), pose=pose,
+    assert torch.allclose(out, r.render(label, L, boundary_map(L), code_map=code_map(codes, L), pose=pose,
                                         normal=normal))
     # a new appearance for image 0's car changes the car more than the far side of the image (instance
     # norm spreads some change everywhere)

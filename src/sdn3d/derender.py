@@ -36,12 +36,18 @@ from typing import TYPE_CHECKING, NamedTuple
 import torch
 from torch import Tensor
 
-from sdn3d.data.datasets.geometric import square_crop_window
-from sdn3d.data.datasets.transforms import resize_map, scale_boxes
 from sdn3d.data.edit_benchmark import EditEntry, EditOperation
 from sdn3d.data.records import FrameRecord, load_instances, load_semantic
 from sdn3d.editing.apply import EditOp, apply_edits, ops_from_benchmark
-from sdn3d.image_ops import crop_intrinsics, crop_windows, mask_boxes
+from sdn3d.image_ops import (
+    crop_intrinsics,
+    crop_windows,
+    mask_boxes,
+    pixel_centre_boxes,
+    resize_map,
+    scale_boxes,
+    square_crop_window,
+)
 from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
@@ -59,8 +65,6 @@ __all__ = [
     "Models",
     "EditResult",
     "geometric_crop_settings",
-    "crop_windows",
-    "mask_boxes",
     "derender",
     "encode_scene",
     "render",
@@ -226,7 +230,7 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, recor
     rows = (masks.flatten(1).sum(1) >= min_pixels).nonzero().flatten()
     if models.geometric is None or not len(rows):
         return template, dims, ry, location, phi
-    boxes = mask_boxes(masks[rows])
+    boxes = pixel_centre_boxes(mask_boxes(masks[rows]))  # the branch encodes pixel-centre boxes
     if record is not None:
         annotated, found = _annotation_boxes(record, ids[rows], (intr.width, intr.height))
         boxes = torch.where(found[:, None], annotated, boxes)

@@ -1,38 +1,191 @@
-"""Object crops for the geometric branch, batched: boxes of masks, square windows, crop intrinsics.
+"""Image-space operations shared by the datasets and the inference path.
 
-:func:`crop_windows` is the batched form of :func:`sdn3d.data.datasets.geometric.crop_maps` (same
-sampling, bit for bit), so :func:`sdn3d.derender.derender` feeds the branch exactly the crops of
-:class:`~sdn3d.data.datasets.GeometricDataset`, all objects in one ``grid_sample``.
+One box convention everywhere in the library: ``(x0, y0, x1, y1)`` in pixels, half-open (pixel ``i``
+covers ``[i, i + 1)``; a one-pixel mask at column 3 is ``x0 = 3, x1 = 4``). Two format edges keep
+their own convention and convert here: the KITTI / Virtual KITTI annotation box
+(:attr:`sdn3d.data.records.ObjectAnnotation.box2d`, ``(l, t, r, b)`` pixel centres, inclusive), which is
+also the form the geometric branch's box encoding and crop windows are defined on
+(:func:`pixel_centre_boxes` converts), and the editing benchmark's ``roi`` ``[top, left, bottom, right]``
+(:mod:`sdn3d.data.edit_benchmark`).
+
+- sizes and resizing: :func:`check_size`, :func:`to_image_tensor`, :func:`resize_image`,
+  :func:`resize_map`, :func:`scale_boxes`;
+- boxes: :func:`mask_boxes`, :func:`pixel_centre_boxes`;
+- label maps: :func:`instance_label_map`, :func:`boundary_map`;
+- square object crops of the geometric branch: :func:`square_crop_window`, :func:`crop_windows`,
+  :func:`crop_intrinsics` (the datasets and :func:`sdn3d.derender.derender` use the same code, so the
+  branch sees identical crops in training and at inference).
+
+Example:
+    >>> mask = torch.zeros(1, 4, 6, dtype=torch.bool)
+    >>> mask[0, 1:3, 2:5] = True
+    >>> mask_boxes(mask).tolist(), pixel_centre_boxes(mask_boxes(mask)).tolist()
+    ([[2, 1, 5, 3]], [[2.0, 1.0, 4.0, 2.0]])
 """
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
 import torch
 import torch.nn.functional as F
 from torch import Tensor
 
+from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 
-__all__ = ["mask_boxes", "crop_windows", "crop_intrinsics"]
+__all__ = [
+    "check_size",
+    "to_image_tensor",
+    "resize_image",
+    "resize_map",
+    "scale_boxes",
+    "mask_boxes",
+    "pixel_centre_boxes",
+    "instance_label_map",
+    "boundary_map",
+    "square_crop_window",
+    "crop_windows",
+    "crop_intrinsics",
+]
+
+
+def check_size(size: tuple[int, int], name: str = "size") -> tuple[int, int]:
+    """``size`` as two positive ints ``(W, H)``; a ``ValueError`` naming ``name`` otherwise."""
+    if len(tuple(size)) != 2 or any(int(s) != s or s <= 0 for s in size):
+        raise ValueError(f"{name} must be two positive integers (W, H), got {size!r}")
+    return int(size[0]), int(size[1])
+
+
+def to_image_tensor(rgb: np.ndarray) -> Tensor:
+    """``(H, W, 3)`` uint8 -> ``(3, H, W)`` float32 in [0, 1]."""
+    if rgb.ndim != 3 or rgb.shape[-1] != 3:
+        raise ValueError(f"rgb must have shape (H, W, 3), got {rgb.shape}")
+    return torch.from_numpy(np.ascontiguousarray(rgb)).permute(2, 0, 1).float().div_(255.0)
+
+
+def resize_image(image: Tensor, size: tuple[int, int]) -> Tensor:
+    """Resize a ``(C, H, W)`` float image to ``size = (W, H)`` (area when shrinking, else bilinear)."""
+    width, height = check_size(size)
+    if image.dim() != 3 or not image.is_floating_point():
+        raise ValueError(f"image must be a float (C, H, W) tensor, got {image.dtype} {tuple(image.shape)}")
+    if tuple(image.shape[-2:]) == (height, width):
+        return image
+    if height <= image.shape[-2] and width <= image.shape[-1]:
+        return F.interpolate(image[None], size=(height, width), mode="area")[0]
+    # Bilinear weights are convex, so values stay in the input range.
+    return F.interpolate(image[None], size=(height, width), mode="bilinear", align_corners=False)[0]
+
+
+def resize_map(values: Tensor, size: tuple[int, int]) -> Tensor:
+    """Resize a ``(H, W)`` label / instance / depth map to ``size = (W, H)`` with nearest-exact."""
+    width, height = check_size(size)
+    if values.dim() != 2:
+        raise ValueError(f"values must have shape (H, W), got {tuple(values.shape)}")
+    if tuple(values.shape) == (height, width):
+        return values
+    if values.is_floating_point():
+        return F.interpolate(values[None, None], size=(height, width), mode="nearest-exact")[0, 0]
+    # Integer ids go through float64, which represents every id below 2**53 exactly.
+    out = F.interpolate(values[None, None].double(), size=(height, width), mode="nearest-exact")
+    return out[0, 0].to(values.dtype)
+
+
+def scale_boxes(boxes: Tensor, source: Intrinsics, target_size: tuple[int, int]) -> Tensor:
+    """Map ``(..., 4)`` pixel-centre boxes ``(l, t, r, b)`` (annotation form) from ``source``'s size to
+    ``target_size = (W, H)``.
+
+    Box coordinates are treated as points under the pixel-centre convention
+    (``u' = (u + 0.5) sx - 0.5``), the same map :meth:`Intrinsics.resized` applies to the
+    principal point, so a projected point inside the box stays inside after resizing.
+    """
+    width, height = check_size(target_size, "target_size")
+    if boxes.shape[-1] != 4:
+        raise ValueError(f"boxes must have a last dimension of 4 (l, t, r, b), got {tuple(boxes.shape)}")
+    sx, sy = width / source.width, height / source.height
+    scale = boxes.new_tensor([sx, sy, sx, sy])
+    return (boxes + 0.5) * scale - 0.5
 
 
 def mask_boxes(masks: Tensor) -> Tensor:
-    """``(N, 4)`` float ``(l, t, r, b)`` pixel-centre boxes (inclusive) of ``masks (N, H, W)``; empty: zeros."""
+    """``(N, 4)`` int64 boxes ``(x0, y0, x1, y1)`` (half-open) of ``masks (N, H, W)``; an empty mask: all 0."""
     if masks.dim() != 3:
         raise ValueError(f"masks must be (N, H, W), got {tuple(masks.shape)}")
-    n, height, width = masks.shape
-    cols, rows = masks.any(1), masks.any(2)
-    xs = torch.arange(width, device=masks.device).expand(n, width)
-    ys = torch.arange(height, device=masks.device).expand(n, height)
-    box = torch.stack([torch.where(cols, xs, width).amin(1), torch.where(rows, ys, height).amin(1),
-                       torch.where(cols, xs, -1).amax(1), torch.where(rows, ys, -1).amax(1)], 1)
-    return torch.where(masks.flatten(1).any(1, keepdim=True), box, 0).float()
+    masks = masks.bool()
+    h, w = masks.shape[-2:]
+    cols, rows = masks.any(1), masks.any(2)  # (N, W), (N, H)
+    xs = torch.arange(w, device=masks.device)
+    ys = torch.arange(h, device=masks.device)
+    big = max(h, w) + 1
+    x0 = torch.where(cols, xs, big).amin(1)
+    x1 = torch.where(cols, xs, -1).amax(1) + 1
+    y0 = torch.where(rows, ys, big).amin(1)
+    y1 = torch.where(rows, ys, -1).amax(1) + 1
+    box = torch.stack([x0, y0, x1, y1], 1)
+    return torch.where(masks.flatten(1).any(1, keepdim=True), box, torch.zeros_like(box))
+
+
+def pixel_centre_boxes(boxes: Tensor) -> Tensor:
+    """``(..., 4)`` half-open ``(x0, y0, x1, y1)`` -> float ``(l, t, r, b)`` pixel centres, inclusive (the
+    annotation files' and the geometric branch's form): ``(x0, y0, x1 - 1, y1 - 1)``."""
+    if boxes.shape[-1] != 4:
+        raise ValueError(f"boxes must have a last dimension of 4, got {tuple(boxes.shape)}")
+    return (boxes - boxes.new_tensor([0, 0, 1, 1])).float()
+
+
+def instance_label_map(semantic: Tensor, instances: Tensor) -> tuple[Tensor, Tensor]:
+    """``(label, L)`` from ``(H, W)`` semantic and instance maps (instance wins conflicts).
+
+    Returns:
+        label: ``(H, W)`` semantic classes with instance pixels set to ``id // 1000``.
+        L: ``(H, W)`` instance id on instance pixels, semantic class elsewhere.
+    """
+    if semantic.shape != instances.shape:
+        raise ValueError(f"semantic and instances must share one shape, got {tuple(semantic.shape)} "
+                         f"and {tuple(instances.shape)}")
+    is_instance = instances != 0
+    label = torch.where(is_instance, instances // INSTANCE_DIVISOR, semantic)
+    return label, torch.where(is_instance, instances, label)
+
+
+def boundary_map(L: Tensor) -> Tensor:
+    """pix2pixHD instance boundaries of label maps ``L (B, H, W)``: ``(B, 1, H, W)`` float, 1 where a pixel
+    differs from a 4-neighbour (one image: ``boundary_map(L[None])[0]`` is ``(1, H, W)``)."""
+    if L.dim() != 3:
+        raise ValueError(f"L must be (B, H, W), got {tuple(L.shape)}")
+    edge = torch.zeros_like(L, dtype=torch.bool)
+    dx = L[:, :, 1:] != L[:, :, :-1]
+    dy = L[:, 1:, :] != L[:, :-1, :]
+    edge[:, :, 1:] |= dx
+    edge[:, :, :-1] |= dx
+    edge[:, 1:, :] |= dy
+    edge[:, :-1, :] |= dy
+    return edge[:, None].float()
+
+
+def square_crop_window(box: Tensor, margin: float) -> tuple[int, int, int]:
+    """Square window ``(left, top, side)`` in whole pixels around a ``(4,)`` box ``(l, t, r, b)``.
+
+    Box coordinates are pixel centres, so the box spans ``r - l + 1`` pixels; the side is
+    ``ceil((1 + 2 margin) * max(r - l + 1, b - t + 1))``, centred on the box centre.
+    ``left``/``top`` are the indices of the window's first column/row (may be outside the image).
+    """
+    if margin < 0:
+        raise ValueError(f"margin must be non-negative, got {margin}")
+    l, t, r, b = (float(v) for v in box)
+    side = max(1, math.ceil((1.0 + 2.0 * margin) * max(r - l + 1.0, b - t + 1.0) - 1e-6))
+    left = math.floor((l + r) / 2.0 - (side - 1) / 2.0 + 0.5)
+    top = math.floor((t + b) / 2.0 - (side - 1) / 2.0 + 0.5)
+    return left, top, side
+
+
 
 
 def crop_windows(maps: Tensor, windows: Tensor, size: int, mode: str) -> Tensor:
     """Resample ``N`` square windows of ``maps`` to ``(N, C, size, size)`` in one ``grid_sample``.
 
-    Batched :func:`~sdn3d.data.datasets.geometric.crop_maps`: output pixel ``j`` of window
+    Output pixel ``j`` of window
     ``(left, top, side)`` samples ``u = left + (j + 0.5) side / size - 0.5`` (zeros outside).
 
     Args:
@@ -49,7 +202,6 @@ def crop_windows(maps: Tensor, windows: Tensor, size: int, mode: str) -> Tensor:
         raise ValueError(f"maps must be (C, H, W) or (N={n}, C, H, W), got {tuple(maps.shape)}")
     height, width = maps.shape[-2:]
     w = windows.to(device=maps.device, dtype=torch.float32)
-    # The same float32 operations as crop_maps, so both give identical samples (nearest picks included).
     centres = (torch.arange(size, dtype=torch.float32, device=maps.device) + 0.5)[None] * (w[:, 2:3] / size) - 0.5
     gx = (w[:, :1] + centres) * (2.0 / width) + (1.0 / width - 1.0)  # (N, S)
     gy = (w[:, 1:2] + centres) * (2.0 / height) + (1.0 / height - 1.0)

@@ -82,7 +82,8 @@ def _find_record(records: list, frame: Any, entry: Any) -> Any:
 
 def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any]:
     """``(image (3, H, W), intrinsics, record or None)`` at the working size."""
-    from sdn3d.data.datasets.transforms import load_frame, resize_image, to_image_tensor
+    from sdn3d.data.datasets.transforms import load_frame
+    from sdn3d.image_ops import resize_image, to_image_tensor
     from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
     data = cfg.get("data")

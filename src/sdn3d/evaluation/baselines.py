@@ -25,9 +25,9 @@ from collections.abc import Sequence
 import torch
 from torch import Tensor
 
-from sdn3d.data.datasets.textural import boundary_map, instance_label_map
 from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, EditOperation, scale_operation
 from sdn3d.editing.apply import Delete, EditError, apply_edits, match_objects
+from sdn3d.image_ops import boundary_map, instance_label_map
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import ComposedMaps, code_map, default_bank, scene_maps
@@ -130,7 +130,7 @@ def baseline_maps(scene: SceneCode, entry: EditEntry | Sequence[EditOperation], 
         normal, pose, depth = torch.zeros_like(normal), torch.zeros_like(pose), torch.zeros_like(depth)
     label, lmap = instance_label_map(base_scene.semantic.to(device), instance)
     obj = scene.objects
-    return ComposedMaps(instance=instance, label=label, instance_label_map=lmap, boundary=boundary_map(lmap),
+    return ComposedMaps(instance=instance, label=label, instance_label_map=lmap, boundary=boundary_map(lmap[None])[0],
                         normal=normal, pose=pose, depth=depth,
                         feature=code_map(lmap, obj.instance_id.to(device), obj.code.to(device),
                                          scene.background_codes.to(device)))

@@ -39,13 +39,14 @@ import numpy as np
 import torch
 from torch import Tensor
 
-from sdn3d.data.datasets.transforms import load_frame, resize_map
+from sdn3d.data.datasets.transforms import load_frame
 from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, scale_operation
 from sdn3d.data.records import FrameRecord, load_instances
 from sdn3d.derender import Models, derender, encode_scene, render_maps
 from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
 from sdn3d.evaluation.baselines import baseline_maps
-from sdn3d.evaluation.image_metrics import crop_metrics, image_metrics, mask_to_box
+from sdn3d.evaluation.image_metrics import crop_metrics, image_metrics
+from sdn3d.image_ops import mask_boxes, resize_map
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import scene_maps
 
@@ -166,7 +167,7 @@ def edit_regions(entry: EditEntry, source: FrameRecord, target: FrameRecord, ima
     area = regions.flatten(1).sum(1)
     k = int(area.argmax()) if len(ids) else 0
     in_target = tgt == (ids[k] if ids else -1)
-    box = mask_to_box((in_target if bool(in_target.any()) else regions[k] if len(ids) else in_target)[None])[0]
+    box = mask_boxes((in_target if bool(in_target.any()) else regions[k] if len(ids) else in_target)[None])[0]
     return regions.any(0) if len(ids) else torch.zeros_like(src, dtype=torch.bool), box, ids
 
 

@@ -32,7 +32,6 @@ __all__ = [
     "image_metrics",
     "l1",
     "lpips",
-    "mask_to_box",
     "mse",
     "psnr",
     "ssim",
@@ -113,24 +112,6 @@ def image_metrics(pred: Tensor, target: Tensor, mask: Tensor | None = None,
     if lpips_net is not None:
         out["lpips"] = lpips(pred, target, lpips_net, mask)
     return out
-
-
-def mask_to_box(mask: Tensor) -> Tensor:
-    """Bounding boxes ``(B, 4)`` long ``(x0, y0, x1, y1)`` (half-open) of ``mask (B, H, W)``; empty: all 0."""
-    if mask.dim() != 3:
-        raise ValueError(f"mask must be (B, H, W), got {tuple(mask.shape)}")
-    mask = mask.bool()
-    h, w = mask.shape[-2:]
-    cols, rows = mask.any(1), mask.any(2)  # (B, W), (B, H)
-    xs = torch.arange(w, device=mask.device)
-    ys = torch.arange(h, device=mask.device)
-    big = max(h, w) + 1
-    x0 = torch.where(cols, xs, big).amin(1)
-    x1 = torch.where(cols, xs, -1).amax(1) + 1
-    y0 = torch.where(rows, ys, big).amin(1)
-    y1 = torch.where(rows, ys, -1).amax(1) + 1
-    box = torch.stack([x0, y0, x1, y1], 1)
-    return torch.where(mask.flatten(1).any(1, keepdim=True), box, torch.zeros_like(box))
 
 
 def _crop_ssim(p: Tensor, t: Tensor, data_range: float) -> Tensor:

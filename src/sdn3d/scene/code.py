@@ -36,8 +36,8 @@ import torch
 from torch import Tensor
 
 from sdn3d.data.datasets.textural import mesh_name_for
-from sdn3d.data.datasets.transforms import resize_map
 from sdn3d.data.records import FrameRecord, load_instances, load_semantic
+from sdn3d.image_ops import resize_map
 from sdn3d.labels import (
     CLASS_LISTS,
     IGNORE_INDEX,

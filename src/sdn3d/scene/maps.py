@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
-from sdn3d.data.datasets.textural import boundary_map, instance_label_map
+from sdn3d.image_ops import boundary_map, instance_label_map
 from sdn3d.math3d.camera import project_points
 from sdn3d.math3d.rotations import NUM_POSE_BINS, alpha_bins, observation_angle
 from sdn3d.meshes.bank import MeshBank
@@ -166,17 +166,17 @@ def _no_fragments(height: int, width: int, device: torch.device) -> Fragments:
 
 
 def _mask_boxes(k: Tensor, i: Tensor, j: Tensor, n: int) -> Tensor:
-    """``(n, 4)`` int64 boxes ``(y0, x0, y1, x1)`` (end exclusive) of the mask pixels ``(i, j)`` of objects ``k``."""
+    """``(n, 4)`` int64 boxes ``(x0, y0, x1, y1)`` (half-open) of the mask pixels ``(i, j)`` of objects ``k``."""
     box = torch.zeros(n, 4, dtype=torch.long, device=k.device)
     big = torch.iinfo(torch.long).max
     box[:, :2] = big
-    for col, value, reduce in ((0, i, "amin"), (1, j, "amin"), (2, i + 1, "amax"), (3, j + 1, "amax")):
+    for col, value, reduce in ((0, j, "amin"), (1, i, "amin"), (2, j + 1, "amax"), (3, i + 1, "amax")):
         box[:, col].scatter_reduce_(0, k, value, reduce)
     return torch.where(box[:, :1] == big, 0, box)
 
 
 def _projected_boxes(verts: Tensor, K: Tensor, near: float, height: int, width: int) -> Tensor:
-    """``(G, 4)`` int64 pixel boxes ``(y0, x0, y1, x1)`` (end exclusive) holding every pixel a mesh can cover.
+    """``(G, 4)`` int64 pixel boxes ``(x0, y0, x1, y1)`` (half-open) holding every pixel a mesh can cover.
 
     Faces with a vertex at ``z < near`` are culled by the rasterizer, so only vertices at ``z >= near``
     count; one pixel of margin absorbs rounding. Empty (``y1 <= y0``) when no vertex can be drawn.
@@ -192,7 +192,7 @@ def _projected_boxes(verts: Tensor, K: Tensor, near: float, height: int, width: 
     hi = (hi.ceil() + 2).clamp(min=0).minimum(torch.tensor([width, height], dtype=v.dtype, device=v.device))
     x0, y0 = lo.long().unbind(1)
     x1, y1 = hi.long().unbind(1)
-    return torch.stack([y0, x0, y1.clamp(min=y0), x1.clamp(min=x0)], 1)
+    return torch.stack([x0, y0, x1.clamp(min=x0), y1.clamp(min=y0)], 1)
 
 
 def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -> _Layers:
@@ -225,9 +225,9 @@ def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -
     keep = (box[:, 2] > box[:, 0]) & (box[:, 3] > box[:, 1])
     rows, verts, faces, box = rows[keep], verts[keep], faces[keep], box[keep]
     g = len(rows)
-    crop_h = int((box[:, 2] - box[:, 0]).max()) if g else 1
-    crop_w = int((box[:, 3] - box[:, 1]).max()) if g else 1
-    y0, x0 = box[:, 0].clamp(max=height - crop_h), box[:, 1].clamp(max=width - crop_w)
+    crop_w = int((box[:, 2] - box[:, 0]).max()) if g else 1
+    crop_h = int((box[:, 3] - box[:, 1]).max()) if g else 1
+    x0, y0 = box[:, 0].clamp(max=width - crop_w), box[:, 1].clamp(max=height - crop_h)
     # Integer shifts of (cx, cy) are exact in float64, so crop pixel (i, j) is frame pixel (y0 + i, x0 + j).
     K_crop = K.expand(g, 3, 3).clone()
     K_crop[:, 0, 2] -= x0
@@ -367,7 +367,7 @@ def _maps(scene: SceneCode, layers: _Layers, device: torch.device, num_bins: int
         instance=instance,
         label=label,
         instance_label_map=lmap,
-        boundary=boundary_map(lmap),
+        boundary=boundary_map(lmap[None])[0],
         normal=normal,
         pose=pose,
         depth=depth[None],

@@ -25,6 +25,7 @@ from typing import Any
 import torch
 from torch import Tensor, nn
 
+from sdn3d.image_ops import boundary_map
 from sdn3d.labels import INSTANCE_DIVISOR, class_list, region_class
 from sdn3d.nets.pix2pixhd import TexturalSpec
 
@@ -32,29 +33,11 @@ __all__ = [
     "CodeBank",
     "TextureCodes",
     "TexturalRenderer",
-    "boundary_maps",
     "code_map",
     "sample_code",
     "set_code",
     "swap_codes",
 ]
-
-
-def boundary_maps(L: Tensor) -> Tensor:
-    """Batched pix2pixHD boundaries of ``L (B, H, W)``: ``(B, 1, H, W)`` float, 1 where a 4-neighbour differs.
-
-    Same definition as :func:`sdn3d.data.datasets.textural.boundary_map` (one image).
-    """
-    if L.dim() != 3:
-        raise ValueError(f"L must be (B, H, W), got {tuple(L.shape)}")
-    edge = torch.zeros_like(L, dtype=torch.bool)
-    dx = L[:, :, 1:] != L[:, :, :-1]
-    dy = L[:, 1:, :] != L[:, :-1, :]
-    edge[:, :, 1:] |= dx
-    edge[:, :, :-1] |= dx
-    edge[:, 1:, :] |= dy
-    edge[:, :-1, :] |= dy
-    return edge[:, None].float()
 
 
 @dataclass(frozen=True)
@@ -284,7 +267,7 @@ class TexturalRenderer(nn.Module):
         Args:
             label: ``(B, H, W)`` semantic classes (instance classes win; 255 = none).
             L: ``(B, H, W)`` instance label map.
-            boundary: ``(B, 1, H, W)``; None computes :func:`boundary_maps` of ``L``.
+            boundary: ``(B, 1, H, W)``; None computes :func:`sdn3d.image_ops.boundary_map` of ``L``.
             codes / code_map: region codes, or an explicit ``(B, code_dim, H, W)`` map (one is required
                 when the generator uses codes; regions without a code get zeros).
             pose: ``(B, 24, H, W)`` one-hot pose bins; normal: ``(B, 3, H, W)``; None = zeros.
@@ -292,7 +275,7 @@ class TexturalRenderer(nn.Module):
         if label.dim() != 3 or L.shape != label.shape:
             raise ValueError(f"label and L must both be (B, H, W), got {tuple(label.shape)} and {tuple(L.shape)}")
         if boundary is None:
-            boundary = boundary_maps(L)
+            boundary = boundary_map(L)
         if self.spec.use_codes and code_map is None:
             if codes is None:
                 raise ValueError("render needs codes or code_map: this generator was trained with texture codes")

@@ -13,9 +13,7 @@ from sdn3d.data.datasets.geometric import (
     GeometricDataset,
     ObjectFilter,
     closer_object_mask,
-    crop_maps,
     object_mask,
-    square_crop_window,
     template_id,
     track_pixel_counts,
 )
@@ -29,22 +27,8 @@ from sdn3d.data.datasets.sources import (
     read_source,
     split_records,
 )
-from sdn3d.data.datasets.textural import (
-    TexturalDataset,
-    boundary_map,
-    instance_label_map,
-    mesh_name_for,
-    render_geometry_maps,
-)
-from sdn3d.data.datasets.transforms import (
-    Frame,
-    intrinsics_vector,
-    load_frame,
-    resize_frame,
-    resize_image,
-    resize_map,
-    scale_boxes,
-)
+from sdn3d.data.datasets.textural import TexturalDataset, mesh_name_for, render_geometry_maps
+from sdn3d.data.datasets.transforms import Frame, intrinsics_vector, load_frame, resize_frame
 
 __all__ = [
     "SemanticDataset",
@@ -61,18 +45,12 @@ __all__ = [
     "Frame",
     "load_frame",
     "resize_frame",
-    "resize_image",
-    "resize_map",
-    "scale_boxes",
     "intrinsics_vector",
     "object_mask",
     "closer_object_mask",
-    "square_crop_window",
-    "crop_maps",
+    "crop_windows",
     "template_id",
     "track_pixel_counts",
-    "instance_label_map",
-    "boundary_map",
     "mesh_name_for",
     "render_geometry_maps",
 ]

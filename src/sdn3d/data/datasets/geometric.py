@@ -23,7 +23,6 @@ rendered straight into the crop with ``crop_intrinsics``. Windows may leave the 
 from __future__ import annotations
 
 import functools
-import math
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -31,14 +30,14 @@ from pathlib import Path
 
 import numpy as np
 import torch
-import torch.nn.functional as F
 from torch import Tensor
 from torch.utils.data import Dataset
 
 from sdn3d.data.datasets.sources import SourceConfig, load_split
-from sdn3d.data.datasets.transforms import Frame, intrinsics_vector, load_frame, scale_boxes
+from sdn3d.data.datasets.transforms import Frame, intrinsics_vector, load_frame
 from sdn3d.data.records import FrameRecord, ObjectAnnotation, load_instances
 from sdn3d.data.vkitti1 import paper_object_filter
+from sdn3d.image_ops import crop_windows, scale_boxes, square_crop_window
 from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.encodings import AttributeEncoding
@@ -52,8 +51,6 @@ __all__ = [
     "track_pixel_counts",
     "object_mask",
     "closer_object_mask",
-    "square_crop_window",
-    "crop_maps",
     "template_id",
 ]
 
@@ -127,38 +124,6 @@ def closer_object_mask(
         raise ValueError(f"instances, depth and mask must share one (H, W) shape, got "
                          f"{tuple(instances.shape)}, {tuple(depth.shape)}, {tuple(mask.shape)}")
     return (instances != 0) & ~mask & (depth < reference_depth)
-
-
-def square_crop_window(box: Tensor, margin: float) -> tuple[int, int, int]:
-    """Square window ``(left, top, side)`` in whole pixels around a ``(4,)`` box ``(l, t, r, b)``.
-
-    Box coordinates are pixel centres, so the box spans ``r - l + 1`` pixels; the side is
-    ``ceil((1 + 2 margin) * max(r - l + 1, b - t + 1))``, centred on the box centre.
-    ``left``/``top`` are the indices of the window's first column/row (may be outside the image).
-    """
-    if margin < 0:
-        raise ValueError(f"margin must be non-negative, got {margin}")
-    l, t, r, b = (float(v) for v in box)
-    side = max(1, math.ceil((1.0 + 2.0 * margin) * max(r - l + 1.0, b - t + 1.0) - 1e-6))
-    left = math.floor((l + r) / 2.0 - (side - 1) / 2.0 + 0.5)
-    top = math.floor((t + b) / 2.0 - (side - 1) / 2.0 + 0.5)
-    return left, top, side
-
-
-def crop_maps(maps: Tensor, left: int, top: int, side: int, out_size: int, mode: str) -> Tensor:
-    """Resample the window ``[left, left + side) x [top, top + side)`` of ``(C, H, W)`` maps to
-    ``(C, out_size, out_size)`` (``mode`` ``'bilinear'`` or ``'nearest'``; zeros outside the image).
-
-    Output pixel ``j`` samples ``u = left + (j + 0.5) side / out_size - 0.5``, the map of
-    ``Intrinsics.cropped(left, top, side, side).resized(out_size, out_size)``.
-    """
-    _, height, width = maps.shape
-    centres = (torch.arange(out_size, dtype=torch.float32) + 0.5) * (side / out_size) - 0.5
-    u = (left + centres) * (2.0 / width) + (1.0 / width - 1.0)
-    v = (top + centres) * (2.0 / height) + (1.0 / height - 1.0)
-    grid = torch.stack(torch.meshgrid(u, v, indexing="xy"), dim=-1)  # (S, S, 2) as (x, y)
-    out = F.grid_sample(maps[None].float(), grid[None], mode=mode, padding_mode="zeros", align_corners=False)
-    return out[0]
 
 
 def template_id(model: str) -> int:
@@ -272,8 +237,9 @@ class GeometricDataset(Dataset):
         box = scale_boxes(torch.tensor(obj.box2d, dtype=torch.float32), record.intrinsics, self.image_size)
         left, top, side = square_crop_window(box, self.margin)
         s = self.crop_size
-        image = crop_maps(frame.image, left, top, side, s, "bilinear")
-        masks = crop_maps(torch.stack([mask, ignore]).float(), left, top, side, s, "nearest")
+        window = torch.tensor([[left, top, side]], dtype=torch.float32)
+        image = crop_windows(frame.image, window, s, "bilinear")[0]
+        masks = crop_windows(torch.stack([mask, ignore]).float(), window, s, "nearest")[0]
         crop_intr = intr.cropped(left, top, side, side).resized(s, s)
         K = intr.matrix()
         targets = self.encoding.encode(dims[None], ry[None], center[None], box[None], K)

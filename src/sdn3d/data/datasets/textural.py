@@ -30,6 +30,7 @@ from torch.utils.data import Dataset
 from sdn3d.data.datasets.sources import SourceConfig, load_split
 from sdn3d.data.datasets.transforms import intrinsics_vector, load_frame
 from sdn3d.data.records import FrameRecord, ObjectAnnotation
+from sdn3d.image_ops import boundary_map, instance_label_map
 from sdn3d.labels import INSTANCE_DIVISOR, SemanticClass, class_list
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.rotations import NUM_POSE_BINS, alpha_bins, observation_angle
@@ -43,40 +44,9 @@ from sdn3d.render.settings import RasterSettings
 
 __all__ = [
     "TexturalDataset",
-    "instance_label_map",
-    "boundary_map",
     "mesh_name_for",
     "render_geometry_maps",
 ]
-
-
-def instance_label_map(semantic: Tensor, instances: Tensor) -> tuple[Tensor, Tensor]:
-    """``(label, L)`` from ``(H, W)`` semantic and instance maps (instance wins conflicts).
-
-    Returns:
-        label: ``(H, W)`` semantic classes with instance pixels set to ``id // 1000``.
-        L: ``(H, W)`` instance id on instance pixels, semantic class elsewhere.
-    """
-    if semantic.shape != instances.shape:
-        raise ValueError(f"semantic and instances must share one shape, got {tuple(semantic.shape)} "
-                         f"and {tuple(instances.shape)}")
-    is_instance = instances != 0
-    label = torch.where(is_instance, instances // INSTANCE_DIVISOR, semantic)
-    return label, torch.where(is_instance, instances, label)
-
-
-def boundary_map(label_map: Tensor) -> Tensor:
-    """pix2pixHD instance boundaries: ``(1, H, W)`` float, 1 where a pixel differs from a 4-neighbour."""
-    if label_map.dim() != 2:
-        raise ValueError(f"label_map must have shape (H, W), got {tuple(label_map.shape)}")
-    edge = torch.zeros_like(label_map, dtype=torch.bool)
-    dx = label_map[:, 1:] != label_map[:, :-1]
-    dy = label_map[1:, :] != label_map[:-1, :]
-    edge[:, 1:] |= dx
-    edge[:, :-1] |= dx
-    edge[1:, :] |= dy
-    edge[:-1, :] |= dy
-    return edge.float()[None]
 
 
 def mesh_name_for(obj: ObjectAnnotation) -> str:
@@ -200,7 +170,7 @@ class TexturalDataset(Dataset):
             "label": label,
             "instance": frame.instances,
             "instance_label_map": lmap,
-            "boundary": boundary_map(lmap),
+            "boundary": boundary_map(lmap[None])[0],
             "normal": normal,
             "pose": pose,
             "depth": frame.depth[None],

@@ -56,8 +56,8 @@ from typing import Any
 import torch
 from omegaconf import OmegaConf
 
-from sdn3d.data.datasets.transforms import load_frame
 from sdn3d.data.edit_benchmark import load_edit_benchmark
+from sdn3d.data.frames import load_frame
 from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
 from sdn3d.data.vkitti1 import read_frames
 from sdn3d.derender import Models, derender, render_maps

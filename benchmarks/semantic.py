@@ -98,7 +98,8 @@ def ceiling(args: argparse.Namespace) -> dict:
     import torch.nn.functional as F
     from omegaconf import OmegaConf
 
-    from sdn3d.data.datasets import SemanticDataset, SourceConfig
+    from sdn3d.data.datasets import SemanticDataset
+    from sdn3d.data.sources import SourceConfig
 
     data = OmegaConf.load(REPO / "conf" / "data" / "synth.yaml")
     data.root, data.image_size = str(args.root), list(args.size)
@@ -130,7 +131,8 @@ def ceiling(args: argparse.Namespace) -> dict:
 def evaluate(args: argparse.Namespace) -> dict:
     from omegaconf import OmegaConf
 
-    from sdn3d.data.datasets import SemanticDataset, SourceConfig
+    from sdn3d.data.datasets import SemanticDataset
+    from sdn3d.data.sources import SourceConfig
     from sdn3d.semantic import SemanticPredictor
 
     data = OmegaConf.load(REPO / "conf" / "data" / "synth.yaml")

@@ -14,7 +14,7 @@ import torch
 from torch.utils.data import DataLoader, Dataset
 
 from datamodules.guard import CORRUPT_POLICIES, SampleGuard
-from sdn3d.data.datasets import PARTS, SourceConfig
+from sdn3d.data.sources import PARTS, SourceConfig
 
 __all__ = ["BranchDataModule"]
 

@@ -6,7 +6,8 @@ from collections.abc import Mapping
 from typing import Any
 
 from datamodules._base import BranchDataModule
-from sdn3d.data.datasets import GeometricDataset, ObjectFilter, SourceConfig
+from sdn3d.data.datasets import GeometricDataset, ObjectFilter
+from sdn3d.data.sources import SourceConfig
 from sdn3d.math3d.encodings import AttributeEncoding
 
 __all__ = ["GeometricDataModule"]

@@ -6,7 +6,8 @@ from collections.abc import Mapping
 from typing import Any
 
 from datamodules._base import BranchDataModule
-from sdn3d.data.datasets import SourceConfig, TexturalDataset
+from sdn3d.data.datasets import TexturalDataset
+from sdn3d.data.sources import SourceConfig
 
 __all__ = ["TexturalDataModule"]
 

@@ -22,6 +22,7 @@ from omegaconf import DictConfig, OmegaConf
 
 from lightning_modules._base import NonFiniteLossError
 from lightning_modules.checkpointing import AtomicCheckpointIO
+from sdn3d.errors import UserInputError
 from sdn3d.io import write_json_atomic, write_text_atomic
 
 __all__ = ["TrainingError", "apply_preset", "resolve_resume", "run_training", "check_writable"]
@@ -31,7 +32,7 @@ log = logging.getLogger(__name__)
 SAVED_CONFIG = "config.yaml"
 
 
-class TrainingError(RuntimeError):
+class TrainingError(UserInputError, RuntimeError):
     """A run could not start or stopped for a reason the user can act on (message says which)."""
 
 

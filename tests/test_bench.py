@@ -13,6 +13,7 @@ from sdn3d.cli.bench import main
 from sdn3d.data import vkitti1
 from sdn3d.data.edit_benchmark import EditEntry, load_edit_benchmark, scale_operation
 from sdn3d.data.records import load_instances
+from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.derender import Models
 from sdn3d.editing.apply import projected_centers
 from sdn3d.evaluation.edit_benchmark import (
@@ -27,7 +28,6 @@ from sdn3d.evaluation.edit_benchmark import (
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.image_ops import mask_boxes, resize_map
 from sdn3d.nets.lpips import LPIPS
-from sdn3d.scene.code import SceneCode
 from sdn3d.textural.renderer import TexturalRenderer
 
 SIZE = (160, 64)
@@ -54,7 +54,7 @@ def test_edit_regions_are_source_and_target_masks_of_the_picked_objects(bench):
     entry = entries[0]
     source, target = (records[(entry.world, entry.variation, f)] for f in (entry.source_frame, entry.target_frame))
     regions, box, ids = edit_regions(entry, source, target, SIZE)
-    oracle = SceneCode.from_frame(source, SIZE)
+    oracle = scene_from_frame(source, SIZE)
     centres, _ = projected_centers(oracle)
     expected = []
     for op in entry.operations:

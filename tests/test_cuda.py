@@ -14,7 +14,8 @@ from helpers.tiny_models import geometric_net, textural_spec
 from hydra import compose, initialize_config_dir
 
 from sdn3d.data import vkitti1
-from sdn3d.data.datasets import load_frame
+from sdn3d.data.frames import load_frame
+from sdn3d.data.scene_gt import ground_truth
 from sdn3d.derender import Models, derender, render
 from sdn3d.editing.apply import Rotate, Zoom, apply_edits
 from sdn3d.geometric.predict import GeometricPredictor
@@ -91,7 +92,8 @@ def test_derender_edit_render_on_cuda_match_the_cpu(tiny_synth, no_tf32):
     gpu_models.textural.to(CUDA)
     images = []
     for models, bank in ((cpu_models, MeshBank.templates()), (gpu_models, MeshBank.templates().to(CUDA))):
-        scene = derender(frame.image, frame.intrinsics, models, "gt", record, min_pixels=1)
+        gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
+        scene = derender(frame.image, frame.intrinsics, models, "gt", gt, min_pixels=1)
         obj = int(scene.objects.instance_id[0])
         edited = apply_edits(scene, [Rotate(obj, 0.5), Zoom(obj, 1.2)])
         maps = scene_maps(edited, bank, num_bins=models.textural.spec.pose_bins)

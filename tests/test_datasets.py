@@ -7,17 +7,10 @@ import math
 import pytest
 import torch
 
-from sdn3d.data.datasets import (
-    GeometricDataset,
-    ObjectFilter,
-    SemanticDataset,
-    SourceConfig,
-    TexturalDataset,
-    closer_object_mask,
-    load_split,
-)
+from sdn3d.data.datasets import GeometricDataset, ObjectFilter, SemanticDataset, TexturalDataset, closer_object_mask
 from sdn3d.data.fixtures import write_vkitti1_fixture, write_vkitti2_fixture
 from sdn3d.data.fixtures_cityscapes import write_cityscapes_fixture
+from sdn3d.data.sources import SourceConfig, load_split
 from sdn3d.data.vkitti1 import paper_object_filter
 from sdn3d.image_ops import boundary_map, crop_windows, instance_label_map, resize_map, scale_boxes
 from sdn3d.labels import CITYSCAPES_TRAIN_CLASSES, IGNORE_INDEX, INSTANCE_DIVISOR, VKITTI_CLASS_INDEX, VKITTI_CLASSES

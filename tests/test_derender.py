@@ -7,8 +7,10 @@ import torch
 from helpers.tiny_models import geometric_net, semantic_net, textural_spec, write_checkpoints
 
 from sdn3d.data import vkitti1
-from sdn3d.data.datasets import GeometricDataset, ObjectFilter, load_frame
+from sdn3d.data.datasets import GeometricDataset, ObjectFilter
 from sdn3d.data.edit_benchmark import EditOperation
+from sdn3d.data.frames import load_frame
+from sdn3d.data.scene_gt import ground_truth, scene_from_frame
 from sdn3d.derender import (
     Models,
     derender,
@@ -23,12 +25,15 @@ from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.image_ops import crop_intrinsics, crop_windows, instance_label_map, mask_boxes, pixel_centre_boxes
 from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
-from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import scene_maps
 from sdn3d.semantic.predict import Segmentation, SemanticPredictor
 from sdn3d.textural.renderer import TexturalRenderer
 
 SIZE = (160, 64)
+
+
+def gt(record):
+    return ground_truth(record, SIZE)
 CAR, VAN, ROAD = 12, 13, 5
 
 
@@ -103,7 +108,7 @@ def test_gt_proposals_feed_the_dataset_crops_to_one_geometric_forward(frame, mod
     record, f = frame
     spy = Spy(models.geometric.net)
     spied = Models(None, spy, models.textural, crop_size=32, margin=0.1)
-    scene = derender(f.image, f.intrinsics, spied, "gt", record, min_pixels=1)
+    scene = derender(f.image, f.intrinsics, spied, "gt", gt(record), min_pixels=1)
     assert len(spy.calls) == 1  # every object in one batched forward
     obj = scene.objects
     ids = f.instances.unique()
@@ -137,7 +142,7 @@ def test_gt_proposals_feed_the_dataset_crops_to_one_geometric_forward(frame, mod
 
 def test_codes_are_the_encoders_region_means(frame, models):
     record, f = frame
-    scene = derender(f.image, f.intrinsics, models, "gt", record, min_pixels=10**6)
+    scene = derender(f.image, f.intrinsics, models, "gt", gt(record), min_pixels=10**6)
     assert not bool(scene.objects.has_geometry.any()) and bool(scene.objects.has_mask.all())  # too small: 2D only
     _, L = instance_label_map(f.semantic, f.instances)
     feats = models.textural.encoder.model(f.image[None] * 2 - 1)[0]  # (C, H, W) per-pixel features
@@ -148,7 +153,7 @@ def test_codes_are_the_encoders_region_means(frame, models):
         expected = feats[:, L == cls].mean(1) if cls in present else torch.zeros(5)
         torch.testing.assert_close(scene.background_codes[cls], expected, atol=1e-5, rtol=1e-4)
     # encode_scene on the ground-truth scene (composed L) gives the same object codes.
-    oracle = encode_scene(SceneCode.from_frame(record, SIZE), f.image, models.textural)
+    oracle = encode_scene(scene_from_frame(record, SIZE), f.image, models.textural)
     for k, iid in enumerate(scene.objects.instance_id.tolist()):
         torch.testing.assert_close(oracle.objects.code[oracle.objects.index_of(iid)], scene.objects.code[k])
 
@@ -175,27 +180,29 @@ def test_semantic_proposals_and_small_objects_keep_their_masks(models):
 
 def test_bad_inputs_are_rejected(frame, models):
     record, f = frame
-    with pytest.raises(ValueError, match="needs a record"):
+    with pytest.raises(ValueError, match="needs the frame's ground truth"):
         derender(f.image, f.intrinsics, models, "gt", None)
+    with pytest.raises(ValueError, match="ground_truth is"):
+        derender(f.image, f.intrinsics, models, "gt", ground_truth(record, (80, 32)))
     with pytest.raises(ValueError, match="needs a semantic model"):
-        derender(f.image, f.intrinsics, Models(None, None, models.textural), "semantic", record)
+        derender(f.image, f.intrinsics, Models(None, None, models.textural), "semantic", gt(record))
     with pytest.raises(ValueError, match="intrinsics are for"):
-        derender(f.image[:, :32], f.intrinsics, models, "gt", record)
+        derender(f.image[:, :32], f.intrinsics, models, "gt", gt(record))
     with pytest.raises(ValueError, match="proposals"):
-        derender(f.image, f.intrinsics, models, "mask-rcnn", record)
+        derender(f.image, f.intrinsics, models, "mask-rcnn", gt(record))
     with pytest.raises(ValueError, match=r"\[0, 1\]"):
-        derender(f.image * 3, f.intrinsics, models, "gt", record)
+        derender(f.image * 3, f.intrinsics, models, "gt", gt(record))
 
 
 def test_render_and_edit_image(frame, models):
     record, f = frame
-    result = edit_image(f.image, f.intrinsics, [], models, "gt", record, min_pixels=1)
+    result = edit_image(f.image, f.intrinsics, [], models, "gt", gt(record), min_pixels=1)
     again = render(result.scene, models.textural)
     assert result.edited.shape == (3, *SIZE[::-1]) and 0 <= float(again.min()) and float(again.max()) <= 1
     torch.testing.assert_close(result.edited, again)  # no edit: the reconstruction
     assert result.edited_scene == result.scene
     victim = int(result.scene.objects.instance_id[0])
-    deleted = edit_image(f.image, f.intrinsics, [Delete(victim)], models, "gt", record, min_pixels=1)
+    deleted = edit_image(f.image, f.intrinsics, [Delete(victim)], models, "gt", gt(record), min_pixels=1)
     assert victim not in deleted.edited_scene.objects.instance_id.tolist()
     assert victim not in deleted.maps.instance.unique().tolist()
     assert not torch.allclose(deleted.edited, again)
@@ -203,7 +210,7 @@ def test_render_and_edit_image(frame, models):
     # Benchmark operations are resolved on the de-rendered scene (picks by projected centre).
     uv, _ = projected_centers(result.scene)
     op = EditOperation.modify(tuple(uv[0].tolist()), None, 1.0, 0.7)
-    bench = edit_image(f.image, f.intrinsics, [op], models, "gt", record, frame_size=None, min_pixels=1)
+    bench = edit_image(f.image, f.intrinsics, [op], models, "gt", gt(record), frame_size=None, min_pixels=1)
     row = bench.edited_scene.objects.index_of(victim)
     assert float(bench.edited_scene.objects.ry[row] - result.scene.objects.ry[0]) == pytest.approx(0.7, abs=1e-9)
 
@@ -220,7 +227,7 @@ def test_models_from_checkpoints_reads_the_run_crop_size(tmp_path, frame):
     with pytest.raises(FileNotFoundError, match="textural checkpoint"):
         Models.from_checkpoints(textural=tmp_path / "missing.ckpt")
     record, f = frame
-    scene = derender(f.image, f.intrinsics, models, "auto", record, min_pixels=1)  # all three branches
+    scene = derender(f.image, f.intrinsics, models, "auto", gt(record), min_pixels=1)  # all three branches
     assert scene.meta["semantic"] == "branch" and scene.meta["proposals"] == "gt"
     assert torch.isfinite(render(scene, models.textural)).all()
     assert torch.equal(scene_maps(scene).instance, f.instances)  # unedited: the image's own layout

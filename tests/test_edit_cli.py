@@ -15,9 +15,10 @@ from PIL import Image
 
 from sdn3d.cli.edit import main
 from sdn3d.data import vkitti1
+from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.editing.spec import EditSpecError, parse_edit_spec
 from sdn3d.math3d.rotations import wrap_angle
-from sdn3d.scene.code import SceneCode
+from sdn3d.scene.io import load_scene
 from sdn3d.textural.renderer import CodeBank
 
 FRAME = "0001/clone/00004"
@@ -44,7 +45,7 @@ def _write(path, text):
 def done(tiny_synth, ckpts, tmp_path_factory):
     """One successful run: rotate, move (picked by pixel), delete and recolour on frame 00004."""
     tmp = tmp_path_factory.mktemp("edit")
-    source = SceneCode.from_frame(vkitti1.read_frames(tiny_synth)[4], (160, 64))
+    source = scene_from_frame(vkitti1.read_frames(tiny_synth)[4], (160, 64))
     ids = source.objects.instance_id.tolist()
     ys, xs = source.objects.mask[1].nonzero(as_tuple=True)
     at = [int(xs[len(xs) // 2]), int(ys[len(ys) // 2])]
@@ -81,7 +82,7 @@ def test_edit_applies_the_resolved_ops(done):
     ops = summary["ops"]
     assert [o["op"] for o in ops] == ["Rotate", "Move", "Delete", "SetBackgroundCode", "SetCode", "Duplicate"]
     assert ops[1]["instance_id"] == ids[1]  # `at` picked the object under the pixel
-    scene, edited = SceneCode.load(out / "scene.json"), SceneCode.load(out / "edited_scene.json")
+    scene, edited = load_scene(out / "scene.json"), load_scene(out / "edited_scene.json")
     assert scene.objects.instance_id.tolist() == ids
     assert ids[2] not in edited.objects.instance_id.tolist()
     r0, e0 = scene.objects.index_of(ids[0]), edited.objects.index_of(ids[0])

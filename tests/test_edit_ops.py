@@ -9,6 +9,7 @@ import torch
 
 from sdn3d.data.edit_benchmark import EditEntry, EditOperation, load_edit_benchmark, scale_point
 from sdn3d.data.fixtures import write_vkitti1_fixture
+from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
 from sdn3d.data.vkitti1 import read_frames
 from sdn3d.editing.apply import (
@@ -45,7 +46,7 @@ def synth(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def scene(synth) -> SceneCode:
-    return SceneCode.from_frame(synth[1][1])
+    return scene_from_frame(synth[1][1])
 
 
 def _big(scene: SceneCode) -> int:
@@ -175,8 +176,8 @@ def test_benchmark_ops_reproduce_the_synthetic_targets(synth):
     entries = [e for e in load_edit_benchmark(root / BENCHMARK_NAME) if e.operations]
     assert entries
     for entry in entries:
-        source = SceneCode.from_frame(records[entry.source_frame])
-        target = SceneCode.from_frame(records[entry.target_frame])
+        source = scene_from_frame(records[entry.source_frame])
+        target = scene_from_frame(records[entry.target_frame])
         ops = ops_from_benchmark(entry, source)
         assert [type(o).__name__ for o in ops] == ["Delete" if o.kind == "delete" else "Modify"
                                                     for o in entry.operations]
@@ -218,7 +219,7 @@ def test_benchmark_picks_and_frame_checks(scene):
 def test_published_example_rotates_the_picked_car(tmp_path):
     """The shipped 5-rotation example picks track 0 of the fixture's frame 0006/30-deg-right/00043."""
     write_vkitti1_fixture(tmp_path, world="0006", variation="30-deg-right", frames=(43,), size=(1242, 375))
-    scene = SceneCode.from_frame(read_frames(tmp_path)[0], image_size=(624, 192))
+    scene = scene_from_frame(read_frames(tmp_path)[0], image_size=(624, 192))
     car = scene.objects.index_of(12001)  # track 0 (k = tid + 1)
     for entry in load_edit_benchmark(paper_example_path()):
         (op,) = ops_from_benchmark(entry, scene)

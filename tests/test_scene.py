@@ -11,16 +11,17 @@ import pytest
 import torch
 
 from sdn3d.data import cityscapes, vkitti1
-from sdn3d.data.datasets.textural import mesh_name_for
 from sdn3d.data.fixtures import write_vkitti1_fixture
 from sdn3d.data.fixtures_cityscapes import write_cityscapes_fixture
-from sdn3d.data.records import load_instances, load_semantic
+from sdn3d.data.records import load_instances, load_semantic, mesh_name_for
+from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.image_ops import resize_map
 from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 from sdn3d.math3d.transforms import bottom_to_center
 from sdn3d.meshes.templates import TEMPLATE_NAMES
 from sdn3d.scene.code import SCENE_FORMAT, SCENE_VERSION, ObjectTable, SceneCode, SceneFormatError, SceneObject
+from sdn3d.scene.io import load_scene, save_scene
 
 WORK = (160, 64)
 CAR, VAN = VKITTI_CLASS_INDEX["Car"], VKITTI_CLASS_INDEX["Van"]
@@ -54,7 +55,7 @@ def _hand_scene(code_dim: int = 5) -> SceneCode:
 
 
 def test_from_frame_takes_ground_truth(record):
-    scene = SceneCode.from_frame(record, image_size=WORK)
+    scene = scene_from_frame(record, image_size=WORK)
     instances = resize_map(torch.from_numpy(load_instances(record)), WORK)
     assert scene.image_size == WORK and scene.intrinsics == record.intrinsics.resized(*WORK)
     assert torch.equal(scene.semantic, resize_map(torch.from_numpy(load_semantic(record)), WORK))
@@ -75,7 +76,7 @@ def test_from_frame_takes_ground_truth(record):
 def test_from_frame_cityscapes_gives_mask_only_objects(tmp_path):
     write_cityscapes_fixture(tmp_path, size=(128, 64))
     record = cityscapes.read_frames(tmp_path, "train")[0]
-    scene = SceneCode.from_frame(record)
+    scene = scene_from_frame(record)
     instances = torch.from_numpy(load_instances(record))
     assert scene.classes == "cityscapes" and len(scene.objects) == len(instances.unique()) - 1 > 0
     assert not bool(scene.objects.has_geometry.any()) and bool(scene.objects.has_mask.all())
@@ -84,23 +85,23 @@ def test_from_frame_cityscapes_gives_mask_only_objects(tmp_path):
 
 def test_save_load_round_trip_is_lossless(tmp_path):
     scene = _hand_scene()
-    path = scene.save(tmp_path / "out" / "scene")
+    path = save_scene(scene, tmp_path / "out" / "scene")
     assert path.suffix == ".json" and path.with_suffix(".npz").is_file()
     head = json.loads(path.read_text())
     assert head["format"] == SCENE_FORMAT and head["version"] == SCENE_VERSION
     assert [o["template"] for o in head["objects"]] == ["wagon", "van", None]
-    loaded = SceneCode.load(path)
+    loaded = load_scene(path)
     assert loaded == scene
     assert loaded.objects.ry.dtype == torch.float64 and loaded.objects.phi.dtype == torch.float32
     assert float(loaded.objects.ry[0]) == 0.3 and loaded.meta == {"source": "hand", "note": 1.5}
     # The empty scene round-trips too, and a second save over the first replaces it.
     empty = scene.replace(objects=ObjectTable.empty(32, 64))
-    assert SceneCode.load(empty.save(path)) == empty
+    assert load_scene(save_scene(empty, path)) == empty
 
 
 def test_from_frame_scene_round_trips(record, tmp_path):
-    scene = SceneCode.from_frame(record, image_size=WORK)
-    assert SceneCode.load(scene.save(tmp_path / "gt.json")) == scene
+    scene = scene_from_frame(record, image_size=WORK)
+    assert load_scene(save_scene(scene, tmp_path / "gt.json")) == scene
 
 
 def _edit_header(path, change) -> None:
@@ -122,22 +123,22 @@ def _edit_header(path, change) -> None:
     ],
 )
 def test_load_rejects_bad_files_naming_file_and_field(tmp_path, change, field):
-    path = _hand_scene().save(tmp_path / "scene")
+    path = save_scene(_hand_scene(), tmp_path / "scene")
     _edit_header(path, change)
     with pytest.raises(SceneFormatError, match=rf"{re.escape(str(path))}.*field '{re.escape(field)}'"):
-        SceneCode.load(path)
+        load_scene(path)
 
 
 def test_load_rejects_missing_and_corrupt_files(tmp_path):
     with pytest.raises(SceneFormatError, match="not found"):
-        SceneCode.load(tmp_path / "absent.json")
+        load_scene(tmp_path / "absent.json")
     (tmp_path / "junk.json").write_text("{not json")
     with pytest.raises(SceneFormatError, match="junk.json"):
-        SceneCode.load(tmp_path / "junk.json")
-    path = _hand_scene().save(tmp_path / "scene")
+        load_scene(tmp_path / "junk.json")
+    path = save_scene(_hand_scene(), tmp_path / "scene")
     path.with_suffix(".npz").write_bytes(b"garbage")
     with pytest.raises(SceneFormatError, match="sha256"):
-        SceneCode.load(path)
+        load_scene(path)
 
 
 def test_validation_errors_name_the_problem():

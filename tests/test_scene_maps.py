@@ -8,6 +8,7 @@ import torch
 from sdn3d.data import vkitti1
 from sdn3d.data.datasets import TexturalDataset
 from sdn3d.data.fixtures import write_vkitti1_fixture
+from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 from sdn3d.math3d.rotations import alpha_bins, observation_angle
@@ -53,7 +54,7 @@ def fixture_records(tmp_path_factory):
 def test_ground_truth_scene_matches_textural_dataset(fixture_records):
     dataset = TexturalDataset(fixture_records, WORK)
     for index, record in enumerate(fixture_records):
-        maps = scene_maps(SceneCode.from_frame(record, image_size=WORK))
+        maps = scene_maps(scene_from_frame(record, image_size=WORK))
         item = dataset[index]
         for key in ("instance", "label", "instance_label_map", "boundary", "pose"):
             assert torch.equal(getattr(maps, key), item[key]), key

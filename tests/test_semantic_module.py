@@ -274,7 +274,8 @@ def _bench_module():
 def test_benchmark_ceiling_and_evaluate_on_the_fixture(data_cfg, tmp_path):
     import argparse
 
-    from sdn3d.data.datasets import SemanticDataset, SourceConfig
+    from sdn3d.data.datasets import SemanticDataset
+    from sdn3d.data.sources import SourceConfig
 
     bench = _bench_module()
     ceiling = bench.ceiling(argparse.Namespace(root=data_cfg.root, size=list(SIZE), part="test"))

@@ -400,7 +400,7 @@ def test_edit_benchmark_frames_are_never_trained_on(dataset: Path) -> None:
     edit targets are test frames, whatever the number of edit pairs."""
     import json
 
-    from sdn3d.data.datasets.sources import SYNTH_MANIFEST, SourceConfig, edit_target_frames, load_split
+    from sdn3d.data.sources import SYNTH_MANIFEST, SourceConfig, edit_target_frames, load_split
 
     assert SYNTH_MANIFEST == MANIFEST_NAME
     source = SourceConfig.from_mapping({"kind": "vkitti1", "root": str(dataset), "image_size": [WIDTH, HEIGHT]})
@@ -419,7 +419,7 @@ def test_edit_benchmark_frames_are_never_trained_on(dataset: Path) -> None:
 
 
 def test_unreadable_manifest_is_a_clear_error(tmp_path: Path) -> None:
-    from sdn3d.data.datasets.sources import edit_target_frames
+    from sdn3d.data.sources import edit_target_frames
 
     (tmp_path / MANIFEST_NAME).write_text('{"sequences": [{"world": "0001"}], ')
     with pytest.raises(ValueError, match=MANIFEST_NAME):

@@ -5,8 +5,9 @@
 1. **Semantics**: the semantic branch's label map (or the frame's ground truth with
    ``proposals='gt'``, or when there is no semantic model). Object pixels are labelled with their
    object's class, so the map is the background the objects are drawn on (:mod:`sdn3d.scene.code`).
-2. **Proposals**: instance masks from the frame's ground-truth instance map when ``record`` has
-   one (``'auto'``, ``'gt'``), else from the semantic branch's instance head (``'semantic'``).
+2. **Proposals**: instance masks from the frame's ground-truth instance map when a
+   :class:`GroundTruth` with one is given (``'auto'``, ``'gt'``: an oracle), else from the semantic
+   branch's instance head (``'semantic'``).
 3. **Geometry**: every object with at least ``min_pixels`` visible pixels becomes a square masked
    crop (the :class:`~sdn3d.data.datasets.GeometricDataset` recipe: its 2D box grown by ``margin``,
    resampled to ``crop_size``), all crops go through the geometric branch in one forward
@@ -28,8 +29,8 @@ from __future__ import annotations
 import logging
 import math
 import os
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -37,15 +38,12 @@ import torch
 from torch import Tensor
 
 from sdn3d.data.edit_benchmark import EditEntry, EditOperation
-from sdn3d.data.records import FrameRecord, load_instances, load_semantic
 from sdn3d.editing.apply import EditOp, apply_edits, ops_from_benchmark
 from sdn3d.image_ops import (
     crop_intrinsics,
     crop_windows,
     mask_boxes,
     pixel_centre_boxes,
-    resize_map,
-    scale_boxes,
     square_crop_window,
 )
 from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR
@@ -62,6 +60,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "PROPOSALS",
+    "GroundTruth",
     "Models",
     "EditResult",
     "geometric_crop_settings",
@@ -97,6 +96,26 @@ def geometric_crop_settings(checkpoint: str | os.PathLike) -> tuple[int, float] 
         if isinstance(dm, dict) and isinstance(dm.get("crop_size"), int):
             return int(dm["crop_size"]), float(dm.get("margin", DEFAULT_MARGIN))
     return None
+
+
+@dataclass(frozen=True)
+class GroundTruth:
+    """A frame's ground truth at the working size, for oracle de-rendering (never needed for real images).
+
+    Attributes:
+        key: the frame's name (recorded in the scene's ``meta['source']``).
+        classes: its class list name (``'vkitti'`` or ``'cityscapes'``).
+        semantic: ``(H, W)`` int64 class indices.
+        instances: ``(H, W)`` int64 instance ids (``class_id * 1000 + k``), or None.
+        boxes: annotated 2D boxes by instance number ``k`` (``id % 1000``): ``(4,)`` float pixel-centre
+            ``(l, t, r, b)`` at the working size (the geometric branch's training boxes).
+    """
+
+    key: str
+    classes: str
+    semantic: Tensor
+    instances: Tensor | None = None
+    boxes: Mapping[int, Tensor] = field(default_factory=dict)
 
 
 @dataclass
@@ -168,41 +187,19 @@ class EditResult(NamedTuple):
 # -- de-rendering -----------------------------------------------------------------------------
 
 
-def _class_list_name(models: Models, record: FrameRecord | None, classes: str | None) -> str:
+def _class_list_name(models: Models, gt: GroundTruth | None, classes: str | None) -> str:
     if classes is not None:
         if classes not in CLASS_LISTS:
             raise ValueError(f"classes must be one of {sorted(CLASS_LISTS)}, got {classes!r}")
         return classes
-    if record is not None:
-        return "cityscapes" if record.dataset == "cityscapes" else "vkitti"
+    if gt is not None:
+        return gt.classes
     count = (len(models.semantic.classes) if models.semantic is not None
              else models.textural.spec.num_classes if models.textural is not None else None)
     names = [k for k, v in CLASS_LISTS.items() if len(v) == count]
     if not names:
         raise ValueError(f"cannot tell the class list from the models ({count} classes): pass classes=")
     return names[0]
-
-
-def _ground_truth(record: FrameRecord, size: tuple[int, int]) -> tuple[Tensor, Tensor | None]:
-    """``(semantic, instances or None)`` of ``record`` at ``size = (W, H)`` (nearest-exact)."""
-    semantic = resize_map(torch.from_numpy(load_semantic(record)).long(), size)
-    if record.instance_path is None:
-        return semantic, None
-    return semantic, resize_map(torch.from_numpy(load_instances(record)).long(), size)
-
-
-def _annotation_boxes(record: FrameRecord, ids: Tensor, size: tuple[int, int]) -> tuple[Tensor, Tensor]:
-    """``(N, 4)`` annotated 2D boxes of the objects ``ids`` (Virtual KITTI ``k = track_id + 1``) at ``size``
-    and ``(N,)`` bool: found."""
-    boxes = torch.zeros(len(ids), 4)
-    found = torch.zeros(len(ids), dtype=torch.bool)
-    by_track = {o.track_id + 1: o for o in record.objects}
-    for i, iid in enumerate(ids.tolist()):  # a dict lookup per object, not tensor work
-        obj = by_track.get(iid % INSTANCE_DIVISOR)
-        if obj is not None and obj.box2d[2] > obj.box2d[0] and obj.box2d[3] > obj.box2d[1]:
-            boxes[i] = scale_boxes(torch.tensor(obj.box2d, dtype=torch.float32), record.intrinsics, size)
-            found[i] = True
-    return boxes, found
 
 
 def _predict_geometry(image: Tensor, intr: Intrinsics, masks: Tensor, boxes: Tensor, models: Models,
@@ -218,10 +215,22 @@ def _predict_geometry(image: Tensor, intr: Intrinsics, masks: Tensor, boxes: Ten
     return models.geometric.predict(crops * crop_masks, crop_masks, boxes, intr_vec, crop_intr, refine=refine)
 
 
-def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, record: FrameRecord | None,
+def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:
+    """``(N, 4)`` annotated pixel-centre boxes of the objects ``ids`` and ``(N,)`` bool: found."""
+    boxes = torch.zeros(len(ids), 4)
+    found = torch.zeros(len(ids), dtype=torch.bool)
+    for i, iid in enumerate(ids.tolist()):  # a dict lookup per object, not tensor work
+        box = gt.boxes.get(iid % INSTANCE_DIVISOR)
+        if box is not None:
+            boxes[i] = box
+            found[i] = True
+    return boxes, found
+
+
+def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: GroundTruth | None,
               models: Models, min_pixels: int, refine: RefineSettings | None) -> tuple[Tensor, ...]:
     """``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64, 3)`` of the objects ``masks``
-    (template -1 and placeholders for objects without a usable prediction); ``record``: annotated boxes."""
+    (template -1 and placeholders for objects without a usable prediction); ``gt``: annotated boxes."""
     n = len(ids)
     template = torch.full((n,), -1, dtype=torch.long)
     dims, location = torch.ones(n, 3, dtype=torch.float64), torch.zeros(n, 3, dtype=torch.float64)
@@ -231,8 +240,8 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, recor
     if models.geometric is None or not len(rows):
         return template, dims, ry, location, phi
     boxes = pixel_centre_boxes(mask_boxes(masks[rows]))  # the branch encodes pixel-centre boxes
-    if record is not None:
-        annotated, found = _annotation_boxes(record, ids[rows], (intr.width, intr.height))
+    if gt is not None:
+        annotated, found = _annotation_boxes(gt, ids[rows])
         boxes = torch.where(found[:, None], annotated, boxes)
     # The branch's box encoding needs r > l and b > t (a one-pixel-wide sliver has r == l).
     wide = (boxes[:, 2] > boxes[:, 0]) & (boxes[:, 3] > boxes[:, 1])
@@ -252,18 +261,20 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, recor
 
 
 def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: str = "auto",
-             record: FrameRecord | None = None, *, classes: str | None = None, min_pixels: int = 64,
+             ground_truth: GroundTruth | None = None, *, classes: str | None = None, min_pixels: int = 64,
              refine: RefineSettings | None = None) -> SceneCode:
     """De-render ``image (3, H, W)`` float in ``[0, 1]`` into a scene (module doc).
 
     Args:
         image: the image at the working size; ``intrinsics`` must be of that size.
         models: the branches (None ones are skipped; see ``proposals``).
-        proposals: ``'auto'``: semantic map from the semantic branch (the record's ground truth without
-            one), masks from the record's instance map if it has one, else the branch's instance head;
-            ``'gt'``: semantic map and masks from ``record``; ``'semantic'``: both from the semantic branch.
-        record: the frame ``image`` shows (ground-truth maps and annotated boxes), optional.
-        classes: class list name (default: from the record or the models).
+        proposals: ``'auto'``: semantic map from the semantic branch (the ground truth's without one),
+            masks from the ground-truth instance map if there is one, else the branch's instance head;
+            ``'gt'``: semantic map and masks from ``ground_truth`` (an oracle); ``'semantic'``: both from
+            the semantic branch.
+        ground_truth: the frame's ground truth at the working size (oracle maps and annotated boxes),
+            optional; :func:`sdn3d.data.scene_gt.ground_truth` builds it from a dataset frame.
+        classes: class list name (default: from the ground truth or the models).
         min_pixels: visible pixels (at the working size) an object needs to get 3D geometry.
         refine: optional reprojection refinement of the geometric predictions (Cityscapes setting).
 
@@ -281,22 +292,23 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
     if not bool(torch.isfinite(image).all()) or float(image.min()) < -1e-3 or float(image.max()) > 1 + 1e-3:
         raise ValueError("image values must be finite and in [0, 1]")
     image = image.detach().float().cpu().clamp(0, 1)
-    size = (int(intrinsics.width), int(intrinsics.height))
-    name = _class_list_name(models, record, classes)
+    gt = ground_truth
+    if gt is not None and tuple(gt.semantic.shape) != intrinsics.size:
+        raise ValueError(f"ground_truth is {tuple(gt.semantic.shape)} but the image is {intrinsics.size} (H, W)")
+    name = _class_list_name(models, gt, classes)
     class_list = CLASS_LISTS[name]
     use_branch = proposals == "semantic" or (proposals == "auto" and models.semantic is not None)
-    use_gt_masks = proposals == "gt" or (proposals == "auto" and record is not None
-                                         and record.instance_path is not None)
+    use_gt_masks = proposals == "gt" or (proposals == "auto" and gt is not None and gt.instances is not None)
     if (use_branch or not use_gt_masks) and models.semantic is None:
         raise ValueError(f"proposals={proposals!r} needs a semantic model"
-                         + ("" if use_branch else " (no record with an instance map was given)"))
-    if (not use_branch or use_gt_masks) and record is None:
-        raise ValueError(f"proposals={proposals!r} needs a record (the frame's ground truth)")
+                         + ("" if use_branch else " (no ground truth with an instance map was given)"))
+    if (not use_branch or use_gt_masks) and gt is None:
+        raise ValueError(f"proposals={proposals!r} needs the frame's ground truth (ground_truth=)")
     gt_semantic = gt_instances = None
-    if record is not None and (not use_branch or use_gt_masks):
-        gt_semantic, gt_instances = _ground_truth(record, size)
+    if gt is not None and (not use_branch or use_gt_masks):
+        gt_semantic, gt_instances = gt.semantic, gt.instances
         if use_gt_masks and gt_instances is None:
-            raise ValueError(f"proposals={proposals!r}: record {record.key} has no instance map")
+            raise ValueError(f"proposals={proposals!r}: ground truth {gt.key} has no instance map")
     seg = None
     if use_branch or not use_gt_masks:
         if len(models.semantic.classes) != len(class_list):
@@ -313,14 +325,14 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
     masks = instances[None] == ids[:, None, None]  # (N, H, W)
     semantic = torch.where(masks.any(0), (instances // INSTANCE_DIVISOR), semantic)
     n = len(ids)
-    template, dims, ry, location, phi = _geometry(image, intrinsics, masks, ids, record if source == "gt" else None,
+    template, dims, ry, location, phi = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None,
                                                   models, min_pixels, refine)
     geo = template >= 0
     code_dim = models.textural.spec.code_dim if models.textural is not None else DEFAULT_CODE_DIM
     table = ObjectTable(instance_id=ids, template_id=template, phi=phi, dims=dims, ry=ry, location=location,
                         code=torch.zeros(n, code_dim), mask=masks, has_mask=torch.ones(n, dtype=torch.bool),
                         observed=torch.ones(n, dtype=torch.bool))
-    meta = {"source": record.key if record is not None else "image", "proposals": source,
+    meta = {"source": gt.key if gt is not None else "image", "proposals": source,
             "semantic": "branch" if use_branch else "gt",
             "objects": n, "with_geometry": int(geo.sum()), "crop_size": models.crop_size, "min_pixels": min_pixels}
     scene = SceneCode(intrinsics, semantic, name, table, torch.zeros(len(class_list), code_dim), meta)
@@ -385,7 +397,7 @@ def render(scene: SceneCode, textural: TexturalRenderer, bank: MeshBank | None =
 
 def edit_image(image: Tensor, intrinsics: Intrinsics,
                ops: Sequence[EditOp] | EditEntry | Sequence[EditOperation], models: Models,
-               proposals: str = "auto", record: FrameRecord | None = None,
+               proposals: str = "auto", ground_truth: GroundTruth | None = None,
                frame_size: tuple[int, int] | None = None, strict: bool = True, bank: MeshBank | None = None,
                **derender_kwargs) -> EditResult:
     """De-render ``image``, apply ``ops`` and render the edited scene.
@@ -398,7 +410,7 @@ def edit_image(image: Tensor, intrinsics: Intrinsics,
     """
     if models.textural is None:
         raise ValueError("edit_image needs the textural branch (models.textural is None)")
-    scene = derender(image, intrinsics, models, proposals, record, **derender_kwargs)
+    scene = derender(image, intrinsics, models, proposals, ground_truth, **derender_kwargs)
     ops = list(ops.operations) if isinstance(ops, EditEntry) else list(ops)
     if ops and all(isinstance(op, EditOperation) for op in ops):
         ops = ops_from_benchmark(ops, scene, frame_size, strict)

@@ -25,7 +25,9 @@ import torch
 from rich.console import Console
 
 from sdn3d.cli._config import CONFIG_DIR
-from sdn3d.cli.edit import InputError, compose_config, user_errors
+from sdn3d.cli._errors import run_cli
+from sdn3d.cli.edit import compose_config
+from sdn3d.errors import InputError
 from sdn3d.evaluation.edit_benchmark import METHODS, REGIONS
 from sdn3d.io import check_output_dir, staged_directory
 
@@ -103,8 +105,8 @@ def run_bench(cfg: Any) -> dict:
     """Run the benchmark of a composed ``conf/bench.yaml`` config; returns ``results.json``'s content."""
     from omegaconf import OmegaConf
 
-    from sdn3d.data.datasets.sources import SourceConfig, read_source
     from sdn3d.data.edit_benchmark import benchmark_path, load_edit_benchmark
+    from sdn3d.data.sources import SourceConfig, read_source
     from sdn3d.derender import Models
     from sdn3d.evaluation.edit_benchmark import BenchSettings, index_records, run_benchmark, summarize
     from sdn3d.io import write_json_atomic, write_png_atomic, write_text_atomic
@@ -174,11 +176,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(__doc__)
         print(Path(CONFIG_DIR, "bench.yaml").read_text())
         return 0
-    try:
-        report = run_bench(compose_config(argv, "bench"))
-    except user_errors() as exc:
-        print(f"sdn3d-bench: error: {exc}", file=sys.stderr)
-        return 2
+    return run_cli("bench", _main, argv)
+
+
+def _main(argv: list[str]) -> int:
+    report = run_bench(compose_config(argv, "bench"))
     print(table1_markdown(report["summary"], report["info"]))
     return 0
 

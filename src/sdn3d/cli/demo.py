@@ -162,11 +162,13 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     """De-render one test frame and render a series of 3D edits of its nearest car."""
     from omegaconf import OmegaConf as OC
 
-    from sdn3d.data.datasets.sources import SourceConfig, load_split
-    from sdn3d.data.datasets.transforms import load_frame
+    from sdn3d.data.frames import load_frame
+    from sdn3d.data.scene_gt import ground_truth
+    from sdn3d.data.sources import SourceConfig, load_split
     from sdn3d.derender import Models, derender, render
     from sdn3d.editing.apply import Delete, Rotate, SetCode, Zoom, apply_edits
     from sdn3d.io import write_png_atomic
+    from sdn3d.scene.io import save_scene
     from sdn3d.visualize import hstack_panels
 
     data_cfg = OC.load(Path(__file__).resolve().parents[3] / "conf" / "data" / "synth.yaml")
@@ -178,7 +180,8 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     frame = load_frame(record, source.image_size, semantic=True, instances=True)
     models = Models.from_checkpoints(None, ckpts["geometric"], ckpts["textural"], map_location=str(cfg.device))
     started = time.perf_counter()
-    scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, proposals="gt", record=record)
+    gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
+    scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, proposals="gt", ground_truth=gt)
     derender_s = time.perf_counter() - started
     table = scene.objects
     has_geo = table.has_geometry
@@ -213,7 +216,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     width = max(r.shape[1] for r in rows)
     grid = np.concatenate([np.pad(r, ((0, 4), (0, width - r.shape[1]), (0, 0)), constant_values=255) for r in rows])
     write_png_atomic(out / "edits_grid.png", grid)
-    scene.save(out / "scene")
+    save_scene(scene, out / "scene")
     return {"frame": record.key, "car": car, "edits": names, "derender_s": round(derender_s, 3),
             "edit_render_s": timings, "grid": "edits/edits_grid.png", "grid_layout": ["source"] + names}
 

@@ -27,16 +27,14 @@ import numpy as np
 import torch
 
 from sdn3d.cli._config import CONFIG_DIR
+from sdn3d.cli._errors import run_cli, user_errors
+from sdn3d.errors import InputError
 from sdn3d.io import check_output_dir, staged_directory
 
 __all__ = ["main", "run_edit", "compose_config", "load_input", "user_errors", "InputError"]
 
 MARKER = "edit.json"
 DEFAULT_SIZE = (624, 192)
-
-
-class InputError(ValueError):
-    """A bad setting or input file (exit status 2)."""
 
 
 def compose_config(overrides: Sequence[str], name: str) -> Any:
@@ -82,7 +80,7 @@ def _find_record(records: list, frame: Any, entry: Any) -> Any:
 
 def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any]:
     """``(image (3, H, W), intrinsics, record or None)`` at the working size."""
-    from sdn3d.data.datasets.transforms import load_frame
+    from sdn3d.data.frames import load_frame
     from sdn3d.image_ops import resize_image, to_image_tensor
     from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
@@ -114,7 +112,7 @@ def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any]:
         return resize_image(to_image_tensor(rgb), size), intr.resized(*size), None
     if data is None:
         raise InputError("give input.image=<file> or a dataset (data=<name> and input.frame=<key>)")
-    from sdn3d.data.datasets.sources import SourceConfig, read_source
+    from sdn3d.data.sources import SourceConfig, read_source
 
     source = SourceConfig.from_mapping(data)
     records = read_source(source)
@@ -149,25 +147,42 @@ def _grid(rows: list[list[np.ndarray]]) -> np.ndarray:
 def run_edit(cfg: Any) -> dict:
     """Run the edit described by a composed ``conf/edit.yaml`` config; returns the ``edit.json`` summary.
 
+    Stages: inputs (settings, edit spec, image), networks, de-render, edit, render, write outputs.
+
     Raises:
-        InputError, EditSpecError, EditError, FileNotFoundError, FileExistsError: bad input (nothing written).
+        UserInputError (InputError, EditSpecError, EditError, DataFormatError, ...), FileNotFoundError,
+        FileExistsError: bad input (nothing written).
     """
-    from omegaconf import OmegaConf
-
-    from sdn3d.derender import Models, derender, render_maps
-    from sdn3d.editing.spec import apply_spec, load_edit_spec, resolve_ops
-    from sdn3d.export import export_gltf
-    from sdn3d.io import write_json_atomic, write_png_atomic
-    from sdn3d.scene.maps import scene_maps
-
     if cfg.threads:
         torch.set_num_threads(int(cfg.threads))
+    out, spec, (image, intrinsics, record) = _read_inputs(cfg)
+    models, code_bank = _load_models(cfg)
+    times: dict[str, float] = {}
+    scene = _derender(cfg, image, intrinsics, record, models, times)
+    ops, edited_scene = _edit(cfg, spec, scene, code_bank, times)
+    rendered = _render(scene, edited_scene, models, times)
+    summary = _summary(cfg, record, intrinsics, spec, ops, scene, edited_scene, times)
+    _write_outputs(out, bool(cfg.overwrite), image, scene, edited_scene, rendered, summary)
+    return summary
+
+
+def _read_inputs(cfg: Any) -> tuple[Path, Any, tuple[torch.Tensor, Any, Any]]:
+    """The checked output directory, the parsed edit spec and :func:`load_input`'s image (nothing loaded
+    before the spec's syntax and numbers are checked)."""
+    from sdn3d.editing.spec import load_edit_spec
+
     out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite))
     if cfg.proposals not in ("auto", "gt", "semantic"):
         raise InputError(f"proposals must be auto, gt or semantic, got {cfg.proposals!r}")
     spec = load_edit_spec(str(cfg.edits), int(cfg.entry), tuple(cfg.frame_size) if cfg.frame_size else None,
                           bool(cfg.strict))
-    image, intrinsics, record = load_input(cfg, spec.entry)
+    return out, spec, load_input(cfg, spec.entry)
+
+
+def _load_models(cfg: Any) -> tuple[Any, Any]:
+    """``(Models, CodeBank or None)`` of ``checkpoints.*`` and ``code_bank``."""
+    from sdn3d.derender import Models
+
     ckpt = cfg.checkpoints
     if ckpt.textural is None:
         raise InputError("checkpoints.textural is required (the generator renders the result)")
@@ -175,24 +190,49 @@ def run_edit(cfg: Any) -> dict:
         raise InputError(f"device={cfg.device!r} but CUDA is not available")
     models = Models.from_checkpoints(ckpt.semantic, ckpt.geometric, ckpt.textural, map_location=cfg.device,
                                      crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin)
-    code_bank = None
-    if cfg.code_bank is not None:
-        from sdn3d.textural.renderer import CodeBank
+    if cfg.code_bank is None:
+        return models, None
+    from sdn3d.textural.renderer import CodeBank
 
-        path = Path(str(cfg.code_bank)).expanduser()
-        if not path.is_file():
-            raise InputError(f"code_bank {str(path)!r} not found")
+    path = Path(str(cfg.code_bank)).expanduser()
+    if not path.is_file():
+        raise InputError(f"code_bank {str(path)!r} not found")
+    try:
         code_bank = CodeBank.from_state_dict(torch.load(path, map_location="cpu", weights_only=True))
-    generator = torch.Generator().manual_seed(int(cfg.seed))
+    except ValueError as exc:  # the file's content does not make a code bank
+        raise InputError(f"code_bank {str(path)!r}: {exc}") from exc
+    return models, code_bank
 
-    times = {}
+
+def _derender(cfg: Any, image: torch.Tensor, intrinsics: Any, record: Any, models: Any,
+              times: dict[str, float]) -> Any:
+    from sdn3d.data.scene_gt import ground_truth
+    from sdn3d.derender import derender
+
+    gt = ground_truth(record, (intrinsics.width, intrinsics.height)) if record is not None else None
     t0 = time.perf_counter()
-    scene = derender(image, intrinsics, models, str(cfg.proposals), record, min_pixels=int(cfg.geometric.min_pixels))
+    scene = derender(image, intrinsics, models, str(cfg.proposals), gt, min_pixels=int(cfg.geometric.min_pixels))
     times["derender_ms"] = 1000 * (time.perf_counter() - t0)
+    return scene
+
+
+def _edit(cfg: Any, spec: Any, scene: Any, code_bank: Any, times: dict[str, float]) -> tuple[list, Any]:
+    """``(resolved ops, edited scene)``: the spec checked against ``scene`` and applied."""
+    from sdn3d.editing.spec import apply_spec, resolve_ops
+
+    generator = torch.Generator().manual_seed(int(cfg.seed))
     t0 = time.perf_counter()
     ops = resolve_ops(spec, scene, code_bank, cfg.pick_radius, strict=bool(cfg.strict), generator=generator)
     edited_scene = apply_spec(scene, ops, spec)
     times["edit_ms"] = 1000 * (time.perf_counter() - t0)
+    return ops, edited_scene
+
+
+def _render(scene: Any, edited_scene: Any, models: Any, times: dict[str, float]) -> dict[str, Any]:
+    """The edited image (timed), the reconstruction and both scenes' maps."""
+    from sdn3d.derender import render_maps
+    from sdn3d.scene.maps import scene_maps
+
     t0 = time.perf_counter()
     bins = models.textural.spec.pose_bins
     edited_maps = scene_maps(edited_scene, num_bins=bins)
@@ -200,8 +240,16 @@ def run_edit(cfg: Any) -> dict:
     times["render_ms"] = 1000 * (time.perf_counter() - t0)
     source_maps = scene_maps(scene, num_bins=bins)
     reconstruction = render_maps(source_maps, models.textural)
+    return {"edited": edited, "reconstruction": reconstruction, "source_maps": source_maps,
+            "edited_maps": edited_maps}
 
-    summary = {
+
+def _summary(cfg: Any, record: Any, intrinsics: Any, spec: Any, ops: list, scene: Any, edited_scene: Any,
+             times: dict[str, float]) -> dict:
+    """``edit.json``'s content (``outputs`` is added when they are written)."""
+    from omegaconf import OmegaConf
+
+    return {
         "input": str(cfg.input.image) if record is None else record.key,
         "image_size": list(scene.image_size),
         "intrinsics": intrinsics.to_dict(),
@@ -212,10 +260,18 @@ def run_edit(cfg: Any) -> dict:
         "timings_ms": times,
         "config": OmegaConf.to_container(cfg, resolve=True),
     }
-    pictures = {name: _map_pictures(m, scene.class_list) for name, m in (("source", source_maps),
-                                                                         ("edited", edited_maps))}
-    src, rec, edt = _to_uint8(image), _to_uint8(reconstruction), _to_uint8(edited)
-    with staged_directory(out, MARKER, bool(cfg.overwrite)) as tmp:
+
+
+def _write_outputs(out: Path, overwrite: bool, image: torch.Tensor, scene: Any, edited_scene: Any,
+                   rendered: dict[str, Any], summary: dict) -> None:
+    """Write the output directory all at once (see the module doc); adds ``summary['outputs']``."""
+    from sdn3d.export import export_gltf
+    from sdn3d.io import write_json_atomic, write_png_atomic
+    from sdn3d.scene.io import save_scene
+
+    pictures = {name: _map_pictures(rendered[f"{name}_maps"], scene.class_list) for name in ("source", "edited")}
+    src, rec, edt = _to_uint8(image), _to_uint8(rendered["reconstruction"]), _to_uint8(rendered["edited"])
+    with staged_directory(out, MARKER, overwrite) as tmp:
         write_png_atomic(tmp / "source.png", src)
         write_png_atomic(tmp / "reconstruction.png", rec)
         write_png_atomic(tmp / "edited.png", edt)
@@ -225,21 +281,12 @@ def run_edit(cfg: Any) -> dict:
         s, e = pictures["source"], pictures["edited"]
         write_png_atomic(tmp / "overview.png", _grid([[src, rec, edt], [s["label"], s["instance"], e["instance"]],
                                                       [s["normal"], e["normal"], e["pose"]]]))
-        scene.save(tmp / "scene.json")
-        edited_scene.save(tmp / "edited_scene.json")
+        save_scene(scene, tmp / "scene.json")
+        save_scene(edited_scene, tmp / "edited_scene.json")
         export_gltf(scene, tmp / "scene.glb")
         export_gltf(edited_scene, tmp / "edited_scene.glb")
         summary["outputs"] = sorted(str(p.relative_to(tmp)) for p in tmp.rglob("*") if p.is_file()) + [MARKER]
         write_json_atomic(tmp / MARKER, summary)
-    return summary
-
-
-def user_errors() -> tuple[type[BaseException], ...]:
-    """Bad input: our errors are ``ValueError`` s naming the setting or op (EditError, EditSpecError,
-    DataFormatError, SceneFormatError, InputError), plus missing / existing files and config errors."""
-    from omegaconf.errors import OmegaConfBaseException
-
-    return (ValueError, FileNotFoundError, FileExistsError, OmegaConfBaseException)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -249,16 +296,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(__doc__)
         print(Path(CONFIG_DIR, "edit.yaml").read_text())
         return 0
-    errors = user_errors()
-    try:
-        cfg = compose_config(argv, "edit")
-        summary = run_edit(cfg)
-    except errors as exc:
-        print(f"sdn3d-edit: error: {exc}", file=sys.stderr)
-        return 2
+    return run_cli("edit", _main, argv)
+
+
+def _main(argv: list[str]) -> int:
+    summary = run_edit(compose_config(argv, "edit"))
+    times = summary["timings_ms"]
     print(f"sdn3d-edit: {len(summary['ops'])} edit(s) applied; wrote {summary['config']['output_dir']} "
-          f"(derender {summary['timings_ms']['derender_ms']:.0f} ms, edit {summary['timings_ms']['edit_ms']:.0f} ms, "
-          f"render {summary['timings_ms']['render_ms']:.0f} ms)")
+          f"(derender {times['derender_ms']:.0f} ms, edit {times['edit_ms']:.0f} ms, "
+          f"render {times['render_ms']:.0f} ms)")
     return 0
 
 

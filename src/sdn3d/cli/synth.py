@@ -2,6 +2,7 @@
 
 Every option is a Hydra override, e.g. ``sdn3d-synth frames_per_sequence=20 overwrite=true``.
 Relative ``output_dir`` paths are resolved against the directory the command starts in.
+Exit status: 0 done; 2 bad input (a bad setting, an existing output_dir: one line on stderr).
 """
 
 from __future__ import annotations
@@ -12,7 +13,9 @@ import hydra
 from omegaconf import DictConfig, OmegaConf
 
 import sdn3d.cli._config
+from sdn3d.cli._errors import exit_on_error, run_cli
 from sdn3d.data.synth import SynthConfig, generate_dataset
+from sdn3d.errors import InputError
 
 log = logging.getLogger(__name__)
 
@@ -36,11 +39,11 @@ def config_from_hydra(cfg: DictConfig) -> SynthConfig:
     """Build a :class:`SynthConfig` from the composed config; unknown keys are an error."""
     data = OmegaConf.to_container(cfg, resolve=True)
     if not isinstance(data, dict):
-        raise ValueError("the synth config must be a mapping")
+        raise InputError("the synth config must be a mapping")
     data.pop("hydra", None)
     unknown = sorted(set(data) - set(_FIELDS))
     if unknown:
-        raise ValueError(f"unknown synth config keys {unknown}; known: {list(_FIELDS)}")
+        raise InputError(f"unknown synth config keys {unknown}; known: {list(_FIELDS)}")
     if "output_dir" in data:
         data["output_dir"] = hydra.utils.to_absolute_path(str(data["output_dir"]))
     return SynthConfig(**data)
@@ -48,6 +51,10 @@ def config_from_hydra(cfg: DictConfig) -> SynthConfig:
 
 @hydra.main(config_path=sdn3d.cli._config.CONFIG_DIR, config_name="synth", version_base="1.3")
 def main(cfg: DictConfig) -> None:
+    exit_on_error(run_cli("synth", _generate, cfg))
+
+
+def _generate(cfg: DictConfig) -> None:
     config = config_from_hydra(cfg)
     log.info(
         "generating %d world(s) x %d variation(s) x %d frames (+%d edit targets) at %dx%d into %s",

@@ -33,6 +33,8 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
+from sdn3d.cli._errors import run_cli
+from sdn3d.errors import InputError, UserInputError
 from sdn3d.io import write_json_atomic, write_text_atomic
 
 __all__ = ["ROWS", "COLUMNS", "PAPER", "SummaryError", "load_runs", "latest_runs", "build_table",
@@ -63,7 +65,7 @@ PAPER: dict[str, dict[str, float]] = {
 _ORACLE_LABEL = "Deep3DBox-style, ground-truth yaw/dims (oracle)"
 
 
-class SummaryError(ValueError):
+class SummaryError(UserInputError):
     """A summary file that cannot be read or is malformed (message names the file and line)."""
 
 
@@ -338,17 +340,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = _parser().parse_args(argv)
     except SystemExit as exc:  # argparse exits on --help and on bad usage; keep main's int contract
         return int(exc.code or 0)
+    return run_cli("table2", _main, args)
+
+
+def _check_args(args: argparse.Namespace) -> None:
     if not args.summary and not args.multirun:
-        print("sdn3d-table2: give at least one --summary FILE or --multirun DIR", file=sys.stderr)
-        return 2
+        raise InputError("give at least one --summary FILE or --multirun DIR")
     if args.batch_size <= 0:
-        print(f"sdn3d-table2: --batch-size must be positive, got {args.batch_size}", file=sys.stderr)
-        return 2
-    try:
-        runs = latest_runs(load_runs(args.summary, args.multirun))
-    except SummaryError as exc:
-        print(f"sdn3d-table2: {exc}", file=sys.stderr)
-        return 2
+        raise InputError(f"--batch-size must be positive, got {args.batch_size}")
+
+
+def _main(args: argparse.Namespace) -> int:
+    _check_args(args)
+    runs = latest_runs(load_runs(args.summary, args.multirun))
     try:
         deep3dbox = _deep3dbox_row(args, runs)
     except (ValueError, OSError, RuntimeError, KeyError, ImportError, pickle.UnpicklingError) as exc:

@@ -9,10 +9,12 @@ from __future__ import annotations
 
 import os
 
+from sdn3d.errors import UserInputError
+
 __all__ = ["DataFormatError", "MissingDataError", "missing"]
 
 
-class DataFormatError(ValueError):
+class DataFormatError(UserInputError):
     """A dataset or edit-spec file exists but does not follow its format."""
 
 

@@ -27,11 +27,13 @@ import numpy as np
 
 from sdn3d.data.errors import DataFormatError
 from sdn3d.math3d.camera import Intrinsics
+from sdn3d.meshes.templates import TEMPLATE_NAMES
 
 __all__ = [
     "ObjectAnnotation",
     "FrameRecord",
     "visible_pixel_counts",
+    "mesh_name_for",
     "check_size",
     "load_rgb",
     "load_semantic",
@@ -166,6 +168,14 @@ class FrameRecord:
             if key == name:
                 return path
         raise KeyError(f"{self.key}: no auxiliary file {name!r} (have {[k for k, _ in self.aux]})")
+
+
+def mesh_name_for(obj: ObjectAnnotation) -> str:
+    """Template drawn for ``obj``: ``obj.model`` if it names a template, else by type."""
+    if obj.model in TEMPLATE_NAMES:
+        return obj.model
+    label = obj.orig_label if obj.label == "DontCare" and obj.orig_label else obj.label
+    return "van" if label == "Van" else "sedan"
 
 
 def visible_pixel_counts(instances: np.ndarray) -> dict[int, int]:

@@ -242,6 +242,21 @@ def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None =
 
     Raises:
         EditError: unknown instance id, target outside the frame or below/above reach, wrong code size.
+
+    Example:
+        >>> import torch
+        >>> from sdn3d.editing.ops import Delete, Zoom
+        >>> from sdn3d.math3d.camera import Intrinsics
+        >>> from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
+        >>> car = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), location=(0.0, 1.6, 12.0))
+        >>> scene = SceneCode(Intrinsics(60.0, 60.0, 31.5, 11.5, width=64, height=24),
+        ...                   torch.zeros(24, 64, dtype=torch.long), "vkitti",
+        ...                   ObjectTable.from_objects([car], 24, 64), background_codes={})
+        >>> closer = apply_edits(scene, [Zoom(12001, 2.0)])  # half the distance, along the viewing ray
+        >>> [round(x, 3) for x in closer.objects.center[0].tolist()], scene.objects.center[0, 2].item()
+        ([0.0, 0.425, 6.0], 12.0)
+        >>> len(apply_edits(scene, [Delete(12001)]).objects)
+        0
     """
     return _apply_edits(scene, ops, bank, grow, _footprints)
 

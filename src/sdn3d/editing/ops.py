@@ -11,11 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sdn3d.errors import UserInputError
+
 __all__ = ["EditError", "Move", "Zoom", "Rotate", "Modify", "Delete", "SetCode", "SetBackgroundCode", "Duplicate",
            "EditOp"]
 
 
-class EditError(ValueError):
+class EditError(UserInputError):
     """An edit that cannot be applied (no such object, target outside the frame, bad numbers)."""
 
 

@@ -54,6 +54,7 @@ from sdn3d.editing.apply import (
     ops_from_benchmark,
     projected_centers,
 )
+from sdn3d.errors import UserInputError
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import compose_instances
@@ -69,7 +70,7 @@ _FIELDS = {"move": {"to"}, "rotate": {"ry"}, "zoom": {"zoom", "on_ground"}, "del
 _GEOMETRIC = ("move", "rotate", "zoom", "duplicate", "modify")
 
 
-class EditSpecError(ValueError):
+class EditSpecError(UserInputError):
     """A malformed edit specification (message names the file, the op and the field)."""
 
 

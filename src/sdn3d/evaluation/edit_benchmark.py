@@ -6,7 +6,7 @@ written by ``sdn3d-synth``). Per entry:
 
 1. the source scene: :func:`sdn3d.derender.derender` (``scene='derender'``; with ``proposals='gt'``
    the masks and semantics come from the frame, geometry and codes from the branches) or, as an
-   *oracle geometry* option, :meth:`SceneCode.from_frame` with codes from the texture encoder
+   *oracle geometry* option, :func:`~sdn3d.data.scene_gt.scene_from_frame` with codes from the texture encoder
    (``scene='oracle'``);
 2. the three edits of that same scene: ``3d-sdn`` (:func:`~sdn3d.editing.apply.ops_from_benchmark` +
    :func:`~sdn3d.editing.apply.apply_edits` + :func:`~sdn3d.scene.maps.scene_maps`), ``2d`` and ``2d+``
@@ -15,7 +15,7 @@ written by ``sdn3d-synth``). Per entry:
    ``whole`` image, on ``all`` edited regions and on the ``largest`` one (a crop).
 
 Edited regions come from the ground truth only, so they are the same for every method: the
-benchmark's picks are resolved on the frame's ground-truth scene (:meth:`SceneCode.from_frame`,
+benchmark's picks are resolved on the frame's ground-truth scene (:func:`~sdn3d.data.scene_gt.scene_from_frame`,
 :func:`~sdn3d.editing.apply.match_objects`, scaled ``from`` points), and an edited object's region is the
 union of its visible pixels in the source and the target frames (instance maps at the working
 size). ``all`` = the union over the edited objects; ``largest`` = the object with the largest
@@ -39,9 +39,10 @@ import numpy as np
 import torch
 from torch import Tensor
 
-from sdn3d.data.datasets.transforms import load_frame
 from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, scale_operation
+from sdn3d.data.frames import load_frame
 from sdn3d.data.records import FrameRecord, load_instances
+from sdn3d.data.scene_gt import ground_truth, scene_from_frame
 from sdn3d.derender import Models, derender, encode_scene, render_maps
 from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
 from sdn3d.evaluation.baselines import baseline_maps
@@ -158,7 +159,7 @@ def edit_regions(entry: EditEntry, source: FrameRecord, target: FrameRecord, ima
         ``all (H, W)`` bool, ``largest_box (4,)`` half-open ``(x0, y0, x1, y1)`` and the edited
         objects' instance ids.
     """
-    oracle = SceneCode.from_frame(source, image_size)
+    oracle = scene_from_frame(source, image_size)
     ops = [scale_operation(op, frame_size, image_size) for op in entry.operations]
     ids = match_objects(oracle, [op.from_uv for op in ops], [op.kind == "modify" for op in ops])
     src, tgt = _instances(source, image_size), _instances(target, image_size)
@@ -207,9 +208,10 @@ def _sync(models: Models) -> None:
 def _source_scene(image: Tensor, intrinsics, record: FrameRecord, models: Models,
                   settings: BenchSettings) -> SceneCode:
     if settings.scene == "oracle":
-        scene = SceneCode.from_frame(record, settings.image_size, models.textural.spec.code_dim)
+        scene = scene_from_frame(record, settings.image_size, models.textural.spec.code_dim)
         return encode_scene(scene, image, models.textural)
-    return derender(image, intrinsics, models, settings.proposals, record, min_pixels=settings.min_pixels)
+    gt = ground_truth(record, (intrinsics.width, intrinsics.height))
+    return derender(image, intrinsics, models, settings.proposals, gt, min_pixels=settings.min_pixels)
 
 
 def _to_uint8(image: Tensor) -> np.ndarray:

@@ -10,7 +10,7 @@ The FFD stays mirror-symmetric: its free half lattice is what is optimised.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import torch
@@ -23,7 +23,7 @@ from sdn3d.math3d.ffd import expand_half_ffd, half_indices
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.render.settings import SoftSilhouetteSettings
 
-__all__ = ["RefineSettings", "RefineResult", "refine_by_reprojection", "REFINABLE"]
+__all__ = ["RefineSettings", "RefineResult", "refine_by_reprojection", "adam_fit", "REFINABLE"]
 
 #: Raw outputs that can be refined.
 REFINABLE = ("rotation", "offset", "log_scale", "log_distance", "phi")
@@ -139,18 +139,36 @@ def refine_by_reprojection(
         per_phi = values["phi"].square().flatten(1).mean(1)
         return reprojection_error(sil, mask, ign) + settings.ffd_reg * per_phi
 
-    history = []
-    with torch.enable_grad():  # callers may run inference under no_grad
-        optimizer = torch.optim.Adam(list(free.values()), lr=settings.lr)
-        for _ in range(settings.iterations):
-            optimizer.zero_grad(set_to_none=True)
-            loss = objective(current())
-            history.append(loss.detach())
-            # Objects are independent: the sum gives each object its own gradient.
-            loss.sum().backward()
-            optimizer.step()
+    history = adam_fit(list(free.values()), lambda: objective(current()), settings.iterations, settings.lr)
     with torch.no_grad():
         refined = {k: v.detach() for k, v in current().items()}
         history.append(objective(refined))
         pred = decode_outputs(refined, box, K, encoding, templates)
     return RefineResult(raw=refined, pred=pred, losses=torch.stack(history))
+
+
+def adam_fit(params: Sequence[Tensor], objective: Callable[[], Tensor], iterations: int, lr: float) -> list[Tensor]:
+    """Minimise ``objective()`` over ``params`` with ``iterations`` Adam steps: the one pose-fitting loop.
+
+    Used by :func:`refine_by_reprojection` and by ``sdn3d-render-demo``'s soft-silhouette fit.
+
+    Args:
+        params: leaf tensors with ``requires_grad`` (updated in place).
+        objective: the loss at the current ``params``, a scalar or per-object ``(N,)``: objects are
+            independent, so minimising the sum gives each one its own gradient.
+        iterations, lr: Adam steps and learning rate.
+
+    Returns:
+        the detached loss before each step (gradients are enabled even when the caller runs under
+        ``no_grad``, e.g. inference).
+    """
+    history = []
+    with torch.enable_grad():
+        optimizer = torch.optim.Adam(list(params), lr=lr)
+        for _ in range(iterations):
+            optimizer.zero_grad(set_to_none=True)
+            loss = objective()
+            history.append(loss.detach())
+            loss.sum().backward()
+            optimizer.step()
+    return history

@@ -16,12 +16,14 @@ from pathlib import Path
 import torch
 from torch import Tensor, nn
 
+from sdn3d.errors import UserInputError
+
 __all__ = ["PretrainedWeightsError", "load_pretrained", "read_state_dict"]
 
 log = logging.getLogger(__name__)
 
 
-class PretrainedWeightsError(ValueError):
+class PretrainedWeightsError(UserInputError):
     """A weights file is missing, unreadable or does not match the network."""
 
 

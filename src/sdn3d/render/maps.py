@@ -56,6 +56,18 @@ def normal_map(fragments: Fragments, verts: Tensor, faces: Tensor) -> Tensor:
         fragments: output of :func:`~sdn3d.render.rasterize_meshes` for these meshes.
         verts: ``(N, V, 3)`` the camera-frame vertices that were rasterized.
         faces: ``(N, F, 3)`` or shared ``(F, 3)`` faces that were rasterized.
+
+    Example:
+        >>> import torch
+        >>> from sdn3d.render import RasterSettings, normal_map, rasterize_meshes
+        >>> verts = torch.tensor([[[-3.0, -3.0, 5.0], [3.0, -3.0, 5.0], [0.0, 3.0, 5.0]]])
+        >>> faces = torch.tensor([[0, 1, 2]])
+        >>> K = torch.tensor([[10.0, 0.0, 7.5], [0.0, 10.0, 7.5], [0.0, 0.0, 1.0]])
+        >>> normals = normal_map(rasterize_meshes(verts, faces, K, RasterSettings((16, 16))), verts, faces)
+        >>> normals.shape
+        torch.Size([1, 3, 16, 16])
+        >>> normals[0, :, 6, 7].tolist() == [0.0, 0.0, -1.0]  # faces the camera
+        True
     """
     verts = check_verts(verts)
     faces = check_faces(faces, verts.shape[0], verts.shape[1], verts.device)
@@ -84,6 +96,18 @@ def pose_map(fragments: Fragments, alpha: Tensor, num_bins: int = NUM_POSE_BINS)
 
     ``alpha (N,)`` is quantised with :func:`sdn3d.math3d.rotations.alpha_bins` (equal bins over
     ``[-pi, pi)``); meshes with a non-finite alpha (e.g. the ground) give zeros.
+
+    Example:
+        >>> import torch
+        >>> from sdn3d.render import RasterSettings, pose_map, rasterize_meshes
+        >>> verts = torch.tensor([[[-3.0, -3.0, 5.0], [3.0, -3.0, 5.0], [0.0, 3.0, 5.0]]])
+        >>> faces = torch.tensor([[0, 1, 2]])
+        >>> K = torch.tensor([[10.0, 0.0, 7.5], [0.0, 10.0, 7.5], [0.0, 0.0, 1.0]])
+        >>> pose = pose_map(rasterize_meshes(verts, faces, K, RasterSettings((16, 16))), torch.tensor([0.0]))
+        >>> pose.shape
+        torch.Size([1, 24, 16, 16])
+        >>> pose[0, :, 6, 7].argmax().item(), int(pose.sum())  # alpha = 0 is bin 12 of 24; 72 pixels
+        (12, 72)
     """
     if alpha.dim() != 1 or not alpha.is_floating_point():
         raise ValueError(
@@ -134,6 +158,19 @@ def render_scene_maps(
     Args:
         mesh_ids: ``(N,)`` instance id of each mesh (0 for stuff such as the ground, if wanted).
         alpha: ``(N,)`` observation angle of each mesh, NaN for meshes without a pose.
+
+    Example:
+        >>> import torch
+        >>> from sdn3d.render import RasterSettings, render_scene_maps
+        >>> verts = torch.tensor([[[-3.0, -3.0, 5.0], [3.0, -3.0, 5.0], [0.0, 3.0, 5.0]]])  # one car's mesh
+        >>> faces = torch.tensor([[0, 1, 2]])
+        >>> K = torch.tensor([[10.0, 0.0, 7.5], [0.0, 10.0, 7.5], [0.0, 0.0, 1.0]])
+        >>> maps = render_scene_maps(verts, faces, K, RasterSettings(image_size=(16, 16)),
+        ...                          mesh_ids=torch.tensor([12001]), alpha=torch.tensor([0.0]))
+        >>> maps.instance.shape, maps.normal.shape, maps.pose.shape
+        (torch.Size([1, 16, 16]), torch.Size([1, 3, 16, 16]), torch.Size([1, 24, 16, 16]))
+        >>> maps.instance[0, 6, 7].item(), maps.depth[0, 6, 7].item(), maps.depth[0, 0, 0].item()
+        (12001, 5.0, 0.0)
     """
     fragments = rasterize_meshes(verts, faces, K, settings, mesh_to_image, batch_size)
     return SceneMaps(

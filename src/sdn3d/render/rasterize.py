@@ -155,6 +155,20 @@ def rasterize_meshes(
     Returns:
         :class:`Fragments` of ``(B, H, W)`` maps; ``pix_to_face`` indexes the packed face
         list ``n * F + f``.
+
+    Example:
+        >>> import torch
+        >>> from sdn3d.render import RasterSettings, rasterize_meshes
+        >>> verts = torch.tensor([[[-3.0, -3.0, 5.0], [3.0, -3.0, 5.0], [0.0, 3.0, 5.0]]])  # 5 m ahead
+        >>> faces = torch.tensor([[0, 1, 2]])
+        >>> K = torch.tensor([[10.0, 0.0, 7.5], [0.0, 10.0, 7.5], [0.0, 0.0, 1.0]])
+        >>> fragments = rasterize_meshes(verts, faces, K, RasterSettings(image_size=(16, 16)))
+        >>> fragments.pix_to_face.shape, fragments.bary.shape
+        (torch.Size([1, 16, 16]), torch.Size([1, 16, 16, 3]))
+        >>> int(fragments.mask.sum())  # pixel centres inside the 12 x 12 px triangle
+        72
+        >>> fragments.pix_to_face[0, 6, 7].item(), fragments.depth[0, 6, 7].item()
+        (0, 5.0)
     """
     verts = check_verts(verts)
     device, dtype = verts.device, verts.dtype

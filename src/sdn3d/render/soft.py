@@ -301,6 +301,21 @@ def soft_silhouette(verts: Tensor, faces: Tensor, K: Tensor, settings: SoftSilho
 
     Faces with a vertex behind ``near`` or non-finite, and zero-area faces, are culled: a mesh
     of NaN vertices renders all zeros, and culled faces get zero (never NaN) gradients.
+
+    Example:
+        >>> import torch
+        >>> from sdn3d.render import SoftSilhouetteSettings, soft_silhouette
+        >>> verts = torch.tensor([[[-3.0, -3.0, 5.0], [3.0, -3.0, 5.0], [0.0, 3.0, 5.0]]], requires_grad=True)
+        >>> faces = torch.tensor([[0, 1, 2]])
+        >>> K = torch.tensor([[10.0, 0.0, 7.5], [0.0, 10.0, 7.5], [0.0, 0.0, 1.0]])
+        >>> silhouette = soft_silhouette(verts, faces, K, SoftSilhouetteSettings(image_size=(16, 16)))
+        >>> silhouette.shape
+        torch.Size([1, 16, 16])
+        >>> round(silhouette[0, 6, 7].item(), 3), round(silhouette.sum().item())  # 72 px^2 + soft edges
+        (1.0, 73)
+        >>> silhouette.sum().backward()
+        >>> verts.grad.shape
+        torch.Size([1, 3, 3])
     """
     screen, valid, num_meshes, faces_per_mesh = _screen_triangles(verts, faces, K, settings.near)
     height, width = settings.image_size

@@ -15,7 +15,7 @@ A scene is a *background layer* plus *objects*:
   a mask, if any, is its visible footprint. Objects without geometry must have a mask.
 - ``background_codes`` ``(num_classes, C)``: one texture code per semantic class.
 
-Storage (:meth:`SceneCode.save` / :meth:`SceneCode.load`, implemented in :mod:`sdn3d.scene.io`):
+Storage (:func:`sdn3d.scene.io.save_scene` / :func:`~sdn3d.scene.io.load_scene`):
 ``<name>.json`` (format tag ``sdn3d-scene``, version, intrinsics, per-object scalars as exact float64
 reprs) and ``<name>.npz`` (semantic map, phi, codes, masks; its SHA-256 is recorded in the JSON), both
 written atomically. Loading is lossless and checks every field.
@@ -25,30 +25,24 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import torch
 from torch import Tensor
 
-from sdn3d.data.datasets.textural import mesh_name_for
-from sdn3d.data.records import FrameRecord, load_instances, load_semantic
-from sdn3d.image_ops import resize_map
+from sdn3d.errors import UserInputError
 from sdn3d.labels import (
     CLASS_LISTS,
     IGNORE_INDEX,
     INSTANCE_DIVISOR,
-    VKITTI_CLASS_INDEX,
     SemanticClass,
 )
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.ffd import FFD_NUM_POINTS
 from sdn3d.math3d.transforms import bottom_to_center
-from sdn3d.meshes.templates import TEMPLATE_NAMES
 
 __all__ = [
     "SCENE_FORMAT",
@@ -67,7 +61,7 @@ DEFAULT_CODE_DIM = 5
 _TABLE_FIELDS = ("instance_id", "template_id", "phi", "dims", "ry", "location", "code", "mask", "has_mask", "observed")
 
 
-class SceneFormatError(ValueError):
+class SceneFormatError(UserInputError):
     """A scene file is missing, of another format or version, or has a bad field."""
 
 
@@ -236,7 +230,23 @@ class ObjectTable:
 
 @dataclass(frozen=True, eq=False)
 class SceneCode:
-    """One de-rendered image; see the module doc. Equality (``==``) is exact."""
+    """One de-rendered image; see the module doc. Equality (``==``) is exact.
+
+    Example:
+        >>> import torch
+        >>> from sdn3d.math3d.camera import Intrinsics
+        >>> car = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.3, location=(0.0, 1.6, 12.0))
+        >>> scene = SceneCode(Intrinsics(fx=60.0, fy=60.0, cx=31.5, cy=11.5, width=64, height=24),
+        ...                   semantic=torch.zeros(24, 64, dtype=torch.long), classes="vkitti",
+        ...                   objects=ObjectTable.from_objects([car], height=24, width=64), background_codes={})
+        >>> len(scene.objects), scene.image_size, scene.code_dim, scene.background_codes.shape
+        (1, (64, 24), 5, torch.Size([14, 5]))
+        >>> scene.objects.center  # the box centre is half a height above the bottom-face location
+        tensor([[ 0.0000,  0.8500, 12.0000]], dtype=torch.float64)
+        >>> farther = scene.replace(objects=scene.objects.replace(location=scene.objects.location * 2))
+        >>> farther == scene, farther.objects.location[0, 2].item()
+        (False, 24.0)
+    """
 
     intrinsics: Intrinsics
     semantic: Tensor
@@ -321,67 +331,3 @@ class SceneCode:
                 and torch.equal(self.background_codes, other.background_codes))
 
     __hash__ = None  # type: ignore[assignment]
-
-    # -- construction from data ---------------------------------------------------------------
-
-    @classmethod
-    def from_frame(cls, record: FrameRecord, image_size: tuple[int, int] | None = None,
-                   code_dim: int = DEFAULT_CODE_DIM) -> SceneCode:
-        """A scene from a frame's ground truth (the editing benchmark's "oracle" de-rendering).
-
-        Every instance of the instance map becomes an observed object with its visible mask.
-        Annotated objects in front of the camera get geometry: dims, yaw and location from the
-        annotation, template from ``obj.model`` (:func:`~sdn3d.data.datasets.textural.mesh_name_for`),
-        ``phi = 0``; one with no visible pixel gets an empty mask (hidden until edited). Codes are zeros.
-
-        Args:
-            record: a frame of any reader (Cityscapes frames have no 3D annotations: mask-only objects).
-            image_size: ``(W, H)`` working size (maps resized nearest-exact, intrinsics follow); None = stored size.
-        """
-        semantic = torch.from_numpy(load_semantic(record)).long()
-        instances = torch.from_numpy(load_instances(record)).long()
-        intrinsics = record.intrinsics
-        if image_size is not None:
-            semantic, instances = resize_map(semantic, image_size), resize_map(instances, image_size)
-            intrinsics = intrinsics.resized(*image_size)
-        height, width = intrinsics.size
-        visible = [int(i) for i in instances.unique().tolist() if i != 0]
-        objects: dict[int, SceneObject] = {}
-        for obj in record.objects:
-            if obj.location[2] <= 0:
-                continue
-            matches = [i for i in visible if i % INSTANCE_DIVISOR == obj.track_id + 1]
-            label = obj.orig_label if obj.label == "DontCare" and obj.orig_label else obj.label
-            class_id = VKITTI_CLASS_INDEX.get(label, VKITTI_CLASS_INDEX["Car"])
-            iid = matches[0] if matches else class_id * INSTANCE_DIVISOR + obj.track_id + 1
-            # An annotated object with no visible pixel at this size keeps an empty footprint.
-            objects[iid] = SceneObject(iid, TEMPLATE_NAMES.index(mesh_name_for(obj)), tuple(obj.dims), obj.ry,
-                                       tuple(obj.location), mask=instances == iid)
-        for iid in visible:
-            if iid not in objects:
-                objects[iid] = SceneObject(iid, mask=instances == iid)
-        table = ObjectTable.from_objects([objects[k] for k in sorted(objects)], height, width, code_dim)
-        classes = "cityscapes" if record.dataset == "cityscapes" else "vkitti"
-        return cls(intrinsics, semantic, classes, table, torch.zeros(len(CLASS_LISTS[classes]), code_dim),
-                   {"source": record.key})
-
-    # -- storage ------------------------------------------------------------------------------
-
-    def save(self, path: str | os.PathLike) -> Path:
-        """Write ``<path>.json`` and ``<path>.npz`` (suffix replaced), atomically; returns the JSON path."""
-        # sdn3d.scene.io imports this module: import it at call time.
-        from sdn3d.scene.io import write_scene
-
-        return write_scene(self, path)
-
-    @classmethod
-    def load(cls, path: str | os.PathLike) -> SceneCode:
-        """Read a scene written by :meth:`save` (``path``: the JSON file, or the same stem).
-
-        Raises:
-            SceneFormatError: naming the file and the field, for a missing file, another format,
-                an unknown version, a checksum mismatch or a malformed field.
-        """
-        from sdn3d.scene.io import read_scene
-
-        return read_scene(Path(path).with_suffix(".json"))

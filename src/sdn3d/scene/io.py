@@ -1,4 +1,4 @@
-"""Storage of a :class:`~sdn3d.scene.code.SceneCode`: the files of :meth:`SceneCode.save` / :meth:`SceneCode.load`.
+"""Storage of a :class:`~sdn3d.scene.code.SceneCode`: :func:`save_scene` / :func:`load_scene`.
 
 ``<name>.json`` holds the format tag ``sdn3d-scene``, the version, the intrinsics and the per-object
 scalars as exact float64 reprs; ``<name>.npz`` holds the semantic map, phi, codes and masks, and its
@@ -24,10 +24,10 @@ from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.templates import TEMPLATE_NAMES
 from sdn3d.scene.code import SCENE_FORMAT, SCENE_VERSION, ObjectTable, SceneCode, SceneFormatError
 
-__all__ = ["read_scene", "write_scene"]
+__all__ = ["load_scene", "save_scene"]
 
 
-def write_scene(scene: SceneCode, path: str | os.PathLike) -> Path:
+def save_scene(scene: SceneCode, path: str | os.PathLike) -> Path:
     """Write ``<path>.json`` and ``<path>.npz`` (suffix replaced), atomically; returns the JSON path."""
     json_path, npz_path = Path(path).with_suffix(".json"), Path(path).with_suffix(".npz")
     obj = scene.objects
@@ -59,8 +59,8 @@ def write_scene(scene: SceneCode, path: str | os.PathLike) -> Path:
     return json_path
 
 
-def read_scene(json_path: Path) -> SceneCode:
-    """Read the scene whose JSON file is ``json_path`` (see :meth:`SceneCode.load`)."""
+def _read_scene(json_path: Path) -> SceneCode:
+    """Read the scene whose JSON file is ``json_path`` (see :func:`load_scene`)."""
     def fail(field: str, problem: str, where: Path = json_path) -> SceneFormatError:
         return SceneFormatError(f"{where}: field {field!r}: {problem}")
 
@@ -133,3 +133,13 @@ def read_scene(json_path: Path) -> SceneCode:
                          get("meta", dict))
     except ValueError as exc:
         raise SceneFormatError(f"{json_path}: {exc}") from exc
+
+
+def load_scene(path: str | os.PathLike) -> SceneCode:
+    """Read a scene written by :func:`save_scene` (``path``: the JSON file, or the same stem).
+
+    Raises:
+        SceneFormatError: naming the file and the field, for a missing file, another format,
+            an unknown version, a checksum mismatch or a malformed field.
+    """
+    return _read_scene(Path(path).with_suffix(".json"))

@@ -19,7 +19,7 @@ mesh bank's device and the maps come back there):
    that moved or deleted objects left: :func:`sdn3d.editing.apply.apply_edits`, rule :func:`fill_background`).
 
 The maps follow the formats of :class:`sdn3d.data.datasets.TexturalDataset` (for an unedited
-scene from ground truth, :meth:`SceneCode.from_frame`, the instance, label, ``L``, boundary and
+scene from ground truth, :func:`sdn3d.data.scene_gt.scene_from_frame`, the instance, label, ``L``, boundary and
 pose maps are identical to the dataset's, and the normals agree wherever the dataset has them: it
 keeps a normal only where the object's own render is frontmost among all renders, we keep it
 wherever the visible object was rendered): instance map, label map (instances win), instance

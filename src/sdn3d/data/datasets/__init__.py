@@ -6,7 +6,7 @@
 
 Frames come from a :class:`SourceConfig` (one ``conf/data`` file) through :func:`load_split`;
 everything is resized to the working size with intrinsics following
-(:mod:`sdn3d.data.datasets.transforms`).
+(:mod:`sdn3d.data.frames`).
 """
 
 from sdn3d.data.datasets.geometric import (
@@ -18,39 +18,16 @@ from sdn3d.data.datasets.geometric import (
     track_pixel_counts,
 )
 from sdn3d.data.datasets.semantic import SemanticDataset
-from sdn3d.data.datasets.sources import (
-    DEFAULT_IMAGE_SIZE,
-    KINDS,
-    PARTS,
-    SourceConfig,
-    load_split,
-    read_source,
-    split_records,
-)
-from sdn3d.data.datasets.textural import TexturalDataset, mesh_name_for, render_geometry_maps
-from sdn3d.data.datasets.transforms import Frame, intrinsics_vector, load_frame, resize_frame
+from sdn3d.data.datasets.textural import TexturalDataset, render_geometry_maps
 
 __all__ = [
     "SemanticDataset",
     "GeometricDataset",
     "TexturalDataset",
     "ObjectFilter",
-    "SourceConfig",
-    "KINDS",
-    "PARTS",
-    "DEFAULT_IMAGE_SIZE",
-    "read_source",
-    "split_records",
-    "load_split",
-    "Frame",
-    "load_frame",
-    "resize_frame",
-    "intrinsics_vector",
     "object_mask",
     "closer_object_mask",
-    "crop_windows",
     "template_id",
     "track_pixel_counts",
-    "mesh_name_for",
     "render_geometry_maps",
 ]

@@ -33,9 +33,9 @@ import torch
 from torch import Tensor
 from torch.utils.data import Dataset
 
-from sdn3d.data.datasets.sources import SourceConfig, load_split
-from sdn3d.data.datasets.transforms import Frame, intrinsics_vector, load_frame
+from sdn3d.data.frames import Frame, intrinsics_vector, load_frame
 from sdn3d.data.records import FrameRecord, ObjectAnnotation, load_instances
+from sdn3d.data.sources import SourceConfig, load_split
 from sdn3d.data.vkitti1 import paper_object_filter
 from sdn3d.image_ops import crop_windows, scale_boxes, square_crop_window
 from sdn3d.labels import INSTANCE_DIVISOR

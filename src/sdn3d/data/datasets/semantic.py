@@ -7,9 +7,9 @@ from collections.abc import Sequence
 from torch import Tensor
 from torch.utils.data import Dataset
 
-from sdn3d.data.datasets.sources import SourceConfig, load_split
-from sdn3d.data.datasets.transforms import intrinsics_vector, load_frame
+from sdn3d.data.frames import intrinsics_vector, load_frame
 from sdn3d.data.records import FrameRecord
+from sdn3d.data.sources import SourceConfig, load_split
 from sdn3d.labels import SemanticClass, class_list
 
 __all__ = ["SemanticDataset"]

@@ -27,16 +27,15 @@ import torch.nn.functional as F
 from torch import Tensor
 from torch.utils.data import Dataset
 
-from sdn3d.data.datasets.sources import SourceConfig, load_split
-from sdn3d.data.datasets.transforms import intrinsics_vector, load_frame
-from sdn3d.data.records import FrameRecord, ObjectAnnotation
+from sdn3d.data.frames import intrinsics_vector, load_frame
+from sdn3d.data.records import FrameRecord, ObjectAnnotation, mesh_name_for
+from sdn3d.data.sources import SourceConfig, load_split
 from sdn3d.image_ops import boundary_map, instance_label_map
 from sdn3d.labels import INSTANCE_DIVISOR, SemanticClass, class_list
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.rotations import NUM_POSE_BINS, alpha_bins, observation_angle
 from sdn3d.math3d.transforms import bottom_to_center
 from sdn3d.meshes.bank import MeshBank
-from sdn3d.meshes.templates import TEMPLATE_NAMES
 from sdn3d.render.maps import normal_map
 from sdn3d.render.objects import pose_meshes
 from sdn3d.render.rasterize import rasterize_meshes
@@ -44,17 +43,8 @@ from sdn3d.render.settings import RasterSettings
 
 __all__ = [
     "TexturalDataset",
-    "mesh_name_for",
     "render_geometry_maps",
 ]
-
-
-def mesh_name_for(obj: ObjectAnnotation) -> str:
-    """Template drawn for ``obj``: ``obj.model`` if it names a template, else by type."""
-    if obj.model in TEMPLATE_NAMES:
-        return obj.model
-    label = obj.orig_label if obj.label == "DontCare" and obj.orig_label else obj.label
-    return "van" if label == "Van" else "sedan"
 
 
 def render_geometry_maps(

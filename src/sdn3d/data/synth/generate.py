@@ -45,6 +45,7 @@ from sdn3d.data.synth.layout import (
 from sdn3d.data.synth.scene_render import RenderedFrame, render_frame
 from sdn3d.data.synth.stats import ObjectStats
 from sdn3d.data.synth.writer import SequenceWriter
+from sdn3d.errors import UserInputError
 from sdn3d.io import swap_into_place, write_json_atomic, write_text_atomic
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
@@ -101,30 +102,33 @@ class SynthConfig:
         object.__setattr__(self, "variations", tuple(str(v) for v in self.variations))
         object.__setattr__(self, "cars_per_frame", tuple(int(v) for v in self.cars_per_frame))
         if not str(self.output_dir):
-            raise ValueError("output_dir must be a non-empty path")
+            raise UserInputError("output_dir must be a non-empty path")
         if len(self.image_size) != 2 or min(self.image_size) < 8:
-            raise ValueError(f"image_size must be [width, height], both >= 8, got {list(self.image_size)}")
+            raise UserInputError(f"image_size must be [width, height], both >= 8, got {list(self.image_size)}")
         if not self.worlds or any(not (len(w) == 4 and w.isdigit()) for w in self.worlds):
-            raise ValueError(f"worlds must be a non-empty list of 4-digit names like '0001', got {list(self.worlds)}")
+            raise UserInputError(f"worlds must be a non-empty list of 4-digit names like '0001', "
+                                 f"got {list(self.worlds)}")
         if len(set(self.worlds)) != len(self.worlds):
-            raise ValueError(f"worlds must not repeat, got {list(self.worlds)}")
+            raise UserInputError(f"worlds must not repeat, got {list(self.worlds)}")
         unknown = [v for v in self.variations if v not in VARIATIONS]
         if not self.variations or unknown or len(set(self.variations)) != len(self.variations):
-            raise ValueError(f"variations must be distinct names from {list(VARIATIONS)}, got {list(self.variations)}")
+            raise UserInputError(f"variations must be distinct names from {list(VARIATIONS)}, "
+                                 f"got {list(self.variations)}")
         if self.frames_per_sequence < 1:
-            raise ValueError(f"frames_per_sequence must be >= 1, got {self.frames_per_sequence}")
+            raise UserInputError(f"frames_per_sequence must be >= 1, got {self.frames_per_sequence}")
         lo, hi = self.cars_per_frame if len(self.cars_per_frame) == 2 else (-1, -1)
         if lo < 0 or hi < lo:
-            raise ValueError(f"cars_per_frame must be [min, max] with 0 <= min <= max, got {list(self.cars_per_frame)}")
+            raise UserInputError(f"cars_per_frame must be [min, max] with 0 <= min <= max, "
+                                 f"got {list(self.cars_per_frame)}")
         if self.edit_pairs < 0 or self.max_edit_operations < 1:
-            raise ValueError(
+            raise UserInputError(
                 f"edit_pairs must be >= 0 and max_edit_operations >= 1, got {self.edit_pairs} "
                 f"and {self.max_edit_operations}"
             )
         if self.frames_per_sequence + self.edit_pairs > 99999:
-            raise ValueError("frames_per_sequence + edit_pairs must fit 5-digit frame numbers (<= 99999)")
+            raise UserInputError("frames_per_sequence + edit_pairs must fit 5-digit frame numbers (<= 99999)")
         if self.workers < 1 or self.threads < 1:
-            raise ValueError(f"workers and threads must be >= 1, got {self.workers} and {self.threads}")
+            raise UserInputError(f"workers and threads must be >= 1, got {self.workers} and {self.threads}")
 
     @property
     def intrinsics(self) -> Intrinsics:

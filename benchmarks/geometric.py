@@ -149,7 +149,7 @@ def main() -> None:
     batch = batches[0]
     with torch.no_grad():
         raw = joint.net(batch["crop"], batch["box"], batch["intrinsics"])
-    from sdn3d.geometric import decode_outputs
+    from sdn3d.geometric.decode import decode_outputs
 
     pred = decode_outputs(raw, batch["box"], batch["intrinsics"])
     pred = {k: v.detach().requires_grad_(v.is_floating_point()) for k, v in pred.items()}

@@ -35,7 +35,6 @@ from sdn3d.geometric import (
     GeometricMetrics,
     GeometricNet,
     MovingAverageBaseline,
-    decode_outputs,
     ffd_regularizer,
     leave_one_out_baseline,
     net_kwargs_from_hparams,
@@ -48,6 +47,7 @@ from sdn3d.geometric import (
     reprojection_error,
     sample_templates,
 )
+from sdn3d.geometric.decode import decode_outputs
 from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.meshes.templates import TEMPLATE_NAMES

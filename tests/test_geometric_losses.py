@@ -9,7 +9,6 @@ import torch
 
 from sdn3d.geometric import (
     MovingAverageBaseline,
-    decode_outputs,
     leave_one_out_baseline,
     outside_image_mask,
     prediction_loss,
@@ -19,6 +18,7 @@ from sdn3d.geometric import (
     reprojection_error,
     sample_templates,
 )
+from sdn3d.geometric.decode import decode_outputs
 from sdn3d.math3d.encodings import AttributeEncoding, encode_yaw_quaternion
 from sdn3d.math3d.ffd import expand_half_ffd
 from sdn3d.meshes.bank import MeshBank

@@ -7,15 +7,9 @@ import math
 import pytest
 import torch
 
-from sdn3d.geometric import (
-    GeometricNet,
-    GeometricPredictor,
-    as_intrinsics_matrix,
-    box_features,
-    decode_outputs,
-    render_objects,
-)
-from sdn3d.math3d.camera import VKITTI_INTRINSICS, project_points
+from sdn3d.geometric import GeometricNet, GeometricPredictor, box_features
+from sdn3d.geometric.decode import decode_outputs
+from sdn3d.math3d.camera import VKITTI_INTRINSICS, as_intrinsics_matrix
 from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.math3d.ffd import mirror_ffd
 from sdn3d.math3d.rotations import wrap_angle
@@ -136,17 +130,3 @@ def test_predictor_from_checkpoint_matches_the_net(tmp_path):
         GeometricPredictor.from_checkpoint(tmp_path / "missing.ckpt")
 
 
-def test_render_objects_draws_each_prediction_where_it_projects():
-    dims, ry, center, box, intr = _objects(3, seed=3)
-    center[:, 0] = torch.tensor([-6.0, 0.0, 6.0])  # apart: no occlusion
-    center[:, 2] = torch.tensor([15.0, 20.0, 25.0])
-    pred = {"dims": dims, "ry": ry, "center": center, "template_id": torch.tensor([0, 3, 7]),
-            "phi": torch.zeros(3, 64, 3)}
-    maps = render_objects(pred, K_VEC, (192, 624), instance_ids=torch.tensor([26001, 26002, 26003]))
-    assert maps.instance.shape == (1, 192, 624) and maps.pose.shape == (1, 24, 192, 624)
-    uv = project_points(center, INTR.matrix()).round().long()
-    for i, (u, v) in enumerate(uv.tolist()):
-        assert int(maps.instance[0, v, u]) == 26001 + i
-        # The visible surface lies in front of the centre, within the object's half-diagonal.
-        assert center[i, 2] - dims[i].norm() / 2 <= maps.depth[0, v, u] <= center[i, 2]
-    assert int(maps.mask.sum()) == int((maps.instance > 0).sum()) > 0

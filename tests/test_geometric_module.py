@@ -13,7 +13,8 @@ from lightning.pytorch.loggers import TensorBoardLogger
 
 from datamodules import GeometricDataModule
 from lightning_modules.geometric import GeometricModule, lr_factor
-from sdn3d.geometric import GeometricPredictor, decode_outputs
+from sdn3d.geometric import GeometricPredictor
+from sdn3d.geometric.decode import decode_outputs
 
 CONF = str(Path(__file__).resolve().parents[1] / "conf")
 SIZE = (312, 96)

@@ -2,10 +2,11 @@
 
 Plain PyTorch (no Lightning): the network (:class:`GeometricNet`), its losses (L_pred, L_reproj,
 REINFORCE for the mesh choice), Table-2 metrics, a checkpoint predictor, per-image refinement by
-reprojection (Cityscapes) and rendering of predictions into scene maps. Training orchestration
+reprojection (Cityscapes). Training orchestration
 lives in ``lightning_modules.geometric``.
 """
 
+from sdn3d.geometric.decode import decode_outputs, template_distribution
 from sdn3d.geometric.losses import (
     PRED_KEYS,
     ffd_regularizer,
@@ -29,14 +30,7 @@ from sdn3d.geometric.metrics import (
     scale_error,
 )
 from sdn3d.geometric.model import OUTPUT_KEYS, GeometricNet, box_features
-from sdn3d.geometric.predict import (
-    GeometricPredictor,
-    as_intrinsics_matrix,
-    decode_outputs,
-    net_kwargs_from_hparams,
-    render_objects,
-    template_distribution,
-)
+from sdn3d.geometric.predict import GeometricPredictor, net_kwargs_from_hparams
 from sdn3d.geometric.refine import RefineResult, RefineSettings, refine_by_reprojection
 from sdn3d.geometric.reinforce import (
     BASELINES,
@@ -51,11 +45,9 @@ __all__ = [
     "box_features",
     "OUTPUT_KEYS",
     "decode_outputs",
-    "as_intrinsics_matrix",
     "template_distribution",
     "net_kwargs_from_hparams",
     "GeometricPredictor",
-    "render_objects",
     "PRED_KEYS",
     "prediction_losses",
     "prediction_loss",

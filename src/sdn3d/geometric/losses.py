@@ -18,7 +18,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.geometric.predict import as_intrinsics_matrix
+from sdn3d.math3d.camera import as_intrinsics_matrix
 from sdn3d.math3d.encodings import RotationMode, rotation_loss
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.render.objects import pose_meshes

@@ -16,8 +16,9 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
+from sdn3d.geometric.decode import decode_outputs
 from sdn3d.geometric.losses import outside_image_mask, render_silhouettes, reprojection_error
-from sdn3d.geometric.predict import as_intrinsics_matrix, decode_outputs
+from sdn3d.math3d.camera import as_intrinsics_matrix
 from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.math3d.ffd import expand_half_ffd, half_indices
 from sdn3d.meshes.bank import MeshBank

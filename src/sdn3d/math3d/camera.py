@@ -17,6 +17,7 @@ from kornia.geometry.camera import unproject_points as _kornia_unproject
 from torch import Tensor
 
 __all__ = [
+    "as_intrinsics_matrix",
     "Intrinsics",
     "VKITTI_INTRINSICS",
     "project_points",
@@ -143,3 +144,23 @@ def unproject_pixels(uv: Tensor, depth: Tensor, K: Tensor) -> Tensor:
         depth = depth.unsqueeze(-1)
     K = K.expand(*uv.shape[:-1], 3, 3)
     return _kornia_unproject(uv, depth, K)
+
+
+def as_intrinsics_matrix(K: Tensor, batch: int | None = None) -> Tensor:
+    """``(N, 4)`` vectors ``(fx, fy, cx, cy)``, ``(N, 3, 3)`` or ``(3, 3)`` -> ``(N, 3, 3)`` matrices.
+
+    ``batch`` expands a single ``(3, 3)`` / ``(4,)`` calibration to ``N`` objects.
+    """
+    if K.dim() == 1 and K.shape[0] == 4:
+        K = K.unsqueeze(0)
+    if K.dim() == 2 and K.shape[1] == 4:
+        K = intrinsics_matrix(K[:, 0], K[:, 1], K[:, 2], K[:, 3])
+    elif K.dim() == 2 and K.shape == (3, 3):
+        K = K.unsqueeze(0)
+    elif K.dim() != 3 or K.shape[1:] != (3, 3):
+        raise ValueError(f"K must have shape (N, 4) as (fx, fy, cx, cy), (N, 3, 3) or (3, 3), got {tuple(K.shape)}")
+    if batch is not None:
+        if K.shape[0] not in (1, batch):
+            raise ValueError(f"K has {K.shape[0]} calibrations but there are {batch} objects")
+        K = K.expand(batch, 3, 3)
+    return K

@@ -16,7 +16,7 @@ benchmark file (``vkitti_edit_benchmark.json``: deletes and modifies of several 
 - ``edit_ops``: :func:`sdn3d.editing.apply.ops_from_benchmark` (picks),
   ``apply_edits``: :func:`sdn3d.editing.apply.apply_edits`;
 - ``scene_maps``: :func:`sdn3d.scene.maps.scene_maps` of the edited scene; ``generator``:
-  :func:`sdn3d.derender.render_maps` (the textural generator);
+  :func:`sdn3d.editing.render.render_maps` (the textural generator);
 - ``total``: the sum.
 
 Networks, with random weights unless checkpoints are given: ``demo`` and ``paper`` take the model
@@ -60,8 +60,9 @@ from sdn3d.data.edit_benchmark import load_edit_benchmark
 from sdn3d.data.frames import load_frame
 from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
 from sdn3d.data.vkitti1 import read_frames
-from sdn3d.derender import Models, derender, render_maps
+from sdn3d.derender import Models, derender
 from sdn3d.editing.apply import _apply_edits_reference, apply_edits, ops_from_benchmark
+from sdn3d.editing.render import render_maps
 from sdn3d.evaluation.edit_benchmark import index_records
 from sdn3d.geometric.model import GeometricNet
 from sdn3d.geometric.predict import GeometricPredictor, net_kwargs_from_hparams

@@ -42,7 +42,8 @@ from lightning_modules._base import image_grid  # noqa: E402
 from lightning_modules.textural import TexturalModule  # noqa: E402
 from sdn3d.evaluation.image_metrics import image_metrics  # noqa: E402
 from sdn3d.labels import INSTANCE_DIVISOR  # noqa: E402
-from sdn3d.textural.renderer import CodeBank, TexturalRenderer, sample_code  # noqa: E402
+from sdn3d.textural.codes import CodeBank, sample_code  # noqa: E402
+from sdn3d.textural.renderer import TexturalRenderer  # noqa: E402
 
 GRID_PATH = REPO / "docs" / "images" / "textural_grid.png"
 

@@ -33,7 +33,7 @@ class BranchDataModule(L.LightningDataModule):
         seed: seed of the training loader's shuffling generator.
         pin_memory: passed to the loaders.
         corrupt_sample: ``'fail'`` (stop, naming the file) or ``'skip'`` (report the file, use the next
-            sample); ``sdn3d-train`` sets it from ``fault.corrupt_sample``.
+            sample); ``sdn3d-train`` passes ``fault.corrupt_sample`` (conf/train.yaml).
     """
 
     def __init__(

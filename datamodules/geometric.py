@@ -17,7 +17,8 @@ class GeometricDataModule(BranchDataModule):
     """Objects passing the paper's filter, as masked square crops with 3D targets.
 
     Args:
-        data, image_size, batch_size, num_workers, seed, pin_memory: see :class:`BranchDataModule`.
+        data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample: see
+            :class:`BranchDataModule`.
         crop_size: side of the square object crops in pixels.
         margin: crop enlargement per side (fraction of the box's larger side).
         min_pixels, max_occlusion, max_truncation: the paper's filter thresholds.
@@ -41,8 +42,9 @@ class GeometricDataModule(BranchDataModule):
         rotation: str = "yaw_quaternion",
         distance: str = "log_tau",
         cache_items: bool = False,
+        corrupt_sample: str = "fail",
     ) -> None:
-        super().__init__(data, image_size, batch_size, num_workers, seed, pin_memory)
+        super().__init__(data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample)
         self.crop_size = int(crop_size)
         self.margin = float(margin)
         self.object_filter = ObjectFilter(int(min_pixels), float(max_occlusion), float(max_truncation))

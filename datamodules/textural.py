@@ -16,7 +16,8 @@ class TexturalDataModule(BranchDataModule):
     """Frames with label / instance / boundary / normal / pose / depth maps.
 
     Args:
-        data, image_size, batch_size, num_workers, seed, pin_memory: see :class:`BranchDataModule`.
+        data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample: see
+            :class:`BranchDataModule`.
         render: draw the ground-truth normal and pose maps (False leaves them zero).
     """
 
@@ -29,8 +30,9 @@ class TexturalDataModule(BranchDataModule):
         seed: int = 0,
         pin_memory: bool = False,
         render: bool = True,
+        corrupt_sample: str = "fail",
     ) -> None:
-        super().__init__(data, image_size, batch_size, num_workers, seed, pin_memory)
+        super().__init__(data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample)
         self.render = bool(render)
 
     @property

@@ -51,16 +51,21 @@ def image_grid(rows: list[Tensor], pad: int = 2) -> Tensor:
 class BranchModule(L.LightningModule):
     """Base class of SemanticModule, GeometricModule and TexturalModule.
 
-    Attributes:
+    Args:
         nonfinite: what a non-finite training loss does: ``'stop'`` raises
             :class:`NonFiniteLossError` (the last good checkpoint stays), ``'skip'`` drops the batch.
+            ``sdn3d-train`` passes ``fault.nonfinite`` (conf/train.yaml); not a hyperparameter.
+
+    Attributes:
+        nonfinite: the policy above.
         skipped_batches: batches dropped by the ``'skip'`` policy so far.
     """
 
     nonfinite: str = "stop"
 
-    def __init__(self) -> None:
+    def __init__(self, nonfinite: str = "stop") -> None:
         super().__init__()
+        self.nonfinite = nonfinite
         self.skipped_batches = 0
 
     def guard_loss(self, loss: Tensor, name: str = "loss") -> bool:

@@ -98,6 +98,7 @@ class GeometricModule(BranchModule):
         image_size: working image ``(W, H)`` (``${data.image_size}``): crop pixels outside it are
             ignored by L_reproj and the reprojection error; None: no such pixels are ignored.
         log_images: crops per TensorBoard grid (first validation / test batch); 0 = none.
+        nonfinite: non-finite loss policy (:class:`BranchModule`; ``fault.nonfinite``); not a hyperparameter.
     """
 
     def __init__(
@@ -127,9 +128,10 @@ class GeometricModule(BranchModule):
         scale_prior: Sequence[float] = (4.0, 1.6, 1.8),
         image_size: Sequence[int] | None = None,
         log_images: int = 8,
+        nonfinite: str = "stop",
     ) -> None:
-        super().__init__()
-        args = {k: _plain(v) for k, v in locals().items() if k not in ("self", "__class__")}
+        super().__init__(nonfinite=nonfinite)
+        args = {k: _plain(v) for k, v in locals().items() if k not in ("self", "__class__", "nonfinite")}
         self.save_hyperparameters(args)
         if pred_epochs < 0 or joint_epochs < 0 or lr_pred <= 0 or lr_joint <= 0:
             raise ValueError(f"need pred_epochs, joint_epochs >= 0 and lr_pred, lr_joint > 0; got {pred_epochs}, "

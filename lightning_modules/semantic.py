@@ -111,6 +111,7 @@ class SemanticModule(BranchModule):
         color_jitter: strength of the random brightness / contrast / saturation in training; 0 = none.
         test_flip: validate and test on the image and its mirror image, outputs averaged
             (:func:`sdn3d.semantic.tta.flip_averaged_outputs`); checkpoints carry it to ``SemanticPredictor``.
+        nonfinite: non-finite loss policy (:class:`BranchModule`; ``fault.nonfinite``); not a hyperparameter.
     """
 
     def __init__(
@@ -143,9 +144,10 @@ class SemanticModule(BranchModule):
         optimizer: str = "sgd",
         color_jitter: float = 0.0,
         test_flip: bool = False,
+        nonfinite: str = "stop",
     ) -> None:
-        super().__init__()
-        args = {k: _plain(v) for k, v in locals().items() if k not in ("self", "__class__")}
+        super().__init__(nonfinite=nonfinite)
+        args = {k: _plain(v) for k, v in locals().items() if k not in ("self", "__class__", "nonfinite")}
         self.save_hyperparameters(args)
         if lr <= 0 or not 0 <= momentum < 1 or weight_decay < 0 or poly_power < 0:
             raise ValueError(f"need lr > 0, 0 <= momentum < 1, weight_decay >= 0, poly_power >= 0; got lr={lr}, "

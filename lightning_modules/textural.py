@@ -91,6 +91,7 @@ class TexturalModule(BranchModule):
         vgg_weights: torchvision VGG-19 state dict file (None: no perceptual loss).
         lpips_weights: LPIPS file (see :mod:`sdn3d.nets.lpips`; None: no LPIPS metric).
         grid_samples: images per TensorBoard grid.
+        nonfinite: non-finite loss policy (:class:`BranchModule`; ``fault.nonfinite``); not a hyperparameter.
     """
 
     def __init__(
@@ -120,9 +121,10 @@ class TexturalModule(BranchModule):
         vgg_weights: str | None = None,
         lpips_weights: str | None = None,
         grid_samples: int = 4,
+        nonfinite: str = "stop",
     ) -> None:
-        super().__init__()
-        self.save_hyperparameters()
+        super().__init__(nonfinite=nonfinite)
+        self.save_hyperparameters(ignore=["nonfinite"])
         self.automatic_optimization = False
         self.classes = class_list(classes)
         self.spec = TexturalSpec(

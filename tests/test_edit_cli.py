@@ -19,7 +19,7 @@ from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.editing.spec import EditSpecError, parse_edit_spec
 from sdn3d.math3d.rotations import wrap_angle
 from sdn3d.scene.io import load_scene
-from sdn3d.textural.renderer import CodeBank
+from sdn3d.textural.codes import CodeBank
 
 FRAME = "0001/clone/00004"
 BANK = {12: torch.arange(40.0).view(8, 5), 13: torch.ones(2, 5)}  # training codes per class (Car, Van)

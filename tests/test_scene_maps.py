@@ -15,13 +15,12 @@ from sdn3d.math3d.rotations import alpha_bins, observation_angle
 from sdn3d.render.rasterize import rasterize_meshes
 from sdn3d.render.settings import RasterSettings
 from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
+from sdn3d.scene.fill import fill_background, scene_code_map
 from sdn3d.scene.maps import (
     _projected_boxes,
     _scene_maps_reference,
-    code_map,
     compose_instances,
     default_bank,
-    fill_background,
     posed_meshes,
     scene_maps,
 )
@@ -123,7 +122,7 @@ def test_empty_scene_is_the_semantic_map():
 
 def test_code_map_handles_unknown_and_ignore():
     lmap = torch.tensor([[12001, 12005, 255], [0, 1, 13000]])
-    out = code_map(lmap, torch.tensor([13000, 12001]), torch.tensor([[1.0, 1.0], [2.0, 2.0]]),
+    out = scene_code_map(lmap, torch.tensor([13000, 12001]), torch.tensor([[1.0, 1.0], [2.0, 2.0]]),
                    torch.tensor([[5.0, 5.0], [6.0, 6.0]]))
     assert out[:, 0, 0].tolist() == [2.0, 2.0] and out[:, 1, 2].tolist() == [1.0, 1.0]
     assert out[:, 0, 1].tolist() == [0.0, 0.0] and out[:, 0, 2].tolist() == [0.0, 0.0]

@@ -8,15 +8,8 @@ import torch
 from sdn3d.image_ops import boundary_map
 from sdn3d.labels import class_list, region_class
 from sdn3d.nets.pix2pixhd import TexturalSpec
-from sdn3d.textural.renderer import (
-    CodeBank,
-    TexturalRenderer,
-    TextureCodes,
-    code_map,
-    sample_code,
-    set_code,
-    swap_codes,
-)
+from sdn3d.textural.codes import CodeBank, TextureCodes, code_map, sample_code, set_code, swap_codes
+from sdn3d.textural.renderer import TexturalRenderer
 
 SPEC = dict(num_classes=14, ngf=8, n_downsampling=2, n_blocks=1, nef=4, n_downsampling_encoder=2, ndf=8)
 

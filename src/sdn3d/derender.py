@@ -20,8 +20,7 @@
 
 Every object is *observed* and keeps its visible mask, so rendering an unedited scene redraws the
 image's own layout; edits (:func:`sdn3d.editing.apply.apply_edits`) free the masks of moved objects.
-:func:`render` draws a scene with :func:`sdn3d.scene.maps.scene_maps` and the textural generator;
-:func:`edit_image` chains de-render, edit and render.
+Drawing a scene and editing an image end to end are :mod:`sdn3d.editing.render`.
 """
 
 from __future__ import annotations
@@ -29,16 +28,14 @@ from __future__ import annotations
 import logging
 import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 import torch
 from torch import Tensor
 
-from sdn3d.data.edit_benchmark import EditEntry, EditOperation
-from sdn3d.editing.apply import EditOp, apply_edits, ops_from_benchmark
 from sdn3d.image_ops import (
     crop_intrinsics,
     crop_windows,
@@ -50,7 +47,7 @@ from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
-from sdn3d.scene.maps import ComposedMaps, scene_maps
+from sdn3d.scene.maps import scene_maps
 
 if TYPE_CHECKING:
     from sdn3d.geometric.predict import GeometricPredictor
@@ -62,13 +59,9 @@ __all__ = [
     "PROPOSALS",
     "GroundTruth",
     "Models",
-    "EditResult",
     "geometric_crop_settings",
     "derender",
     "encode_scene",
-    "render",
-    "render_maps",
-    "edit_image",
 ]
 
 log = logging.getLogger(__name__)
@@ -173,15 +166,6 @@ class Models:
         size = crop_size if crop_size is not None else (found[0] if found else DEFAULT_CROP_SIZE)
         grow = margin if margin is not None else (found[1] if found else DEFAULT_MARGIN)
         return cls(sem, geo, tex, int(size), float(grow))
-
-
-class EditResult(NamedTuple):
-    """Output of :func:`edit_image`: ``edited (3, H, W)``, the scenes before / after and the edited maps."""
-
-    edited: Tensor
-    scene: SceneCode
-    edited_scene: SceneCode
-    maps: ComposedMaps
 
 
 # -- de-rendering -----------------------------------------------------------------------------
@@ -368,53 +352,3 @@ def encode_scene(scene: SceneCode, image: Tensor, textural: TexturalRenderer, L:
     sel = ids < num
     background[ids[sel]] = values[sel]
     return scene.replace(objects=obj.replace(code=object_codes), background_codes=background)
-
-
-# -- rendering --------------------------------------------------------------------------------
-
-
-def render_maps(maps: ComposedMaps, textural: TexturalRenderer) -> Tensor:
-    """``(3, H, W)`` image in ``[0, 1]`` the generator draws from composed maps (their code map included)."""
-    if textural is None:
-        raise ValueError("rendering needs the textural branch (models.textural is None)")
-    spec = textural.spec
-    if spec.use_codes and maps.feature.shape[0] != spec.code_dim:
-        raise ValueError(f"the scene's texture codes have {maps.feature.shape[0]} values, the generator "
-                         f"expects {spec.code_dim}")
-    dev = textural.device
-    out = textural.render(maps.label[None].to(dev), maps.instance_label_map[None].to(dev),
-                          maps.boundary[None].to(dev), code_map=maps.feature[None].to(dev),
-                          pose=maps.pose[None].to(dev), normal=maps.normal[None].to(dev))
-    return out[0].clamp(0, 1)
-
-
-def render(scene: SceneCode, textural: TexturalRenderer, bank: MeshBank | None = None) -> Tensor:
-    """Draw ``scene``: ``(3, H, W)`` in ``[0, 1]`` (:func:`scene_maps` + the textural generator)."""
-    if textural is None:
-        raise ValueError("rendering needs the textural branch (models.textural is None)")
-    return render_maps(scene_maps(scene, bank, num_bins=textural.spec.pose_bins), textural)
-
-
-def edit_image(image: Tensor, intrinsics: Intrinsics,
-               ops: Sequence[EditOp] | EditEntry | Sequence[EditOperation], models: Models,
-               proposals: str = "auto", ground_truth: GroundTruth | None = None,
-               frame_size: tuple[int, int] | None = None, strict: bool = True, bank: MeshBank | None = None,
-               **derender_kwargs) -> EditResult:
-    """De-render ``image``, apply ``ops`` and render the edited scene.
-
-    Args:
-        ops: :mod:`sdn3d.editing.apply` operations, or benchmark operations / an entry (objects picked by
-            :func:`~sdn3d.editing.apply.ops_from_benchmark`, coordinates in ``frame_size`` pixels; None = image pixels).
-        strict: reject benchmark ``to`` points outside the frame.
-        derender_kwargs: passed to :func:`derender`.
-    """
-    if models.textural is None:
-        raise ValueError("edit_image needs the textural branch (models.textural is None)")
-    scene = derender(image, intrinsics, models, proposals, ground_truth, **derender_kwargs)
-    ops = list(ops.operations) if isinstance(ops, EditEntry) else list(ops)
-    if ops and all(isinstance(op, EditOperation) for op in ops):
-        ops = ops_from_benchmark(ops, scene, frame_size, strict)
-    edited_scene = apply_edits(scene, ops, bank)
-    maps = scene_maps(edited_scene, bank, num_bins=models.textural.spec.pose_bins)
-    return EditResult(render_maps(maps, models.textural), scene, edited_scene, maps)
-

@@ -1,16 +1,17 @@
 """``sdn3d-demo``: the README's main command, a short CPU run of the whole system.
 
 1. ``data``: a synthetic street-scene dataset in the Virtual KITTI 1.3.1 format (+ its editing benchmark);
-2. ``train``: the semantic, geometric and textural branches with their ``presets.demo`` budgets, each as an
-   ``sdn3d-train`` run in its own process (checkpoints, TensorBoard and summaries under ``runs/``);
+2. ``train``: the semantic, geometric and textural branches, each as an ``sdn3d-train experiment=demo_<budget>``
+   run in its own process (checkpoints, TensorBoard and summaries under ``runs/``); the budgets are config
+   files, ``conf/recipe/<branch>_demo_<budget>.yaml``;
 3. ``bench``: the editing benchmark, 3D-SDN vs the 2D and 2D+ baselines (``sdn3d-bench``) on the test pairs;
 4. ``edits``: one test frame de-rendered and edited: a car moved closer, rotated through several angles,
    recoloured, deleted;
 5. ``report.md`` / ``summary.json``: what ran, the numbers, wall time and peak memory.
 
-``budget=short`` (default) is the README's few-minute CPU run; ``budget=long`` (``conf/budget/long.yaml``)
-is the longer documented run, meant for a GPU (``device=cuda train.parallel=true workers=4``). The report
-names the budget and the device its numbers come from.
+``budget=short`` (default) is the README's few-minute CPU run; ``budget=medium`` about half an hour on the
+CPU; ``budget=long`` (``conf/budget/long.yaml``) is the longer documented run, meant for a GPU
+(``device=cuda train.parallel=true workers=4``). The report names the budget and the device its numbers come from.
 """
 
 from __future__ import annotations
@@ -54,7 +55,9 @@ def make_data(cfg: Any) -> Path:
 
 
 def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path) -> list[str]:
-    experiment = (cfg.train.get("experiment") or {}).get(branch, "demo")
+    """The ``sdn3d-train`` child: the branch's experiment (its budget) plus this machine's options; then the
+    user's extra ``train.common`` / ``train.<branch>`` overrides (empty by default)."""
+    experiment = (cfg.train.get("experiment") or {}).get(branch, f"demo_{cfg.budget_name}")
     args = [sys.executable, "-m", "sdn3d.cli.train", f"branch={branch}", f"experiment={experiment}",
             f"data.root={data_root.resolve()}", f"seed={int(cfg.seed)}", f"torch_threads={int(cfg.threads)}",
             f"datamodule.num_workers={int(cfg.workers)}", f"hydra.run.dir={runs / branch}",
@@ -165,8 +168,9 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.data.frames import load_frame
     from sdn3d.data.scene_gt import ground_truth
     from sdn3d.data.sources import SourceConfig, load_split
-    from sdn3d.derender import Models, derender, render
+    from sdn3d.derender import Models, derender
     from sdn3d.editing.apply import Delete, Rotate, SetCode, Zoom, apply_edits
+    from sdn3d.editing.render import render
     from sdn3d.io import write_png_atomic
     from sdn3d.scene.io import save_scene
     from sdn3d.visualize import hstack_panels
@@ -244,8 +248,8 @@ def write_report(out: Path, info: dict) -> str:
     if info.get("budget", "short") == "short":
         kind = "CPU" if info["device"] == "cpu" else "GPU"
         intro = (f"**These numbers come from a short {kind} run** ({where}) on a small synthetic dataset with the "
-                 "branches' `presets.demo` budgets: they show that the whole system works end to end, not what the "
-                 "method reaches.")
+                 "branches' `experiment=demo_short` budgets: they show that the whole system works end to end, not "
+                 "what the method reaches.")
     else:
         intro = (f"**These numbers come from the `{info['budget']}` budget** on {where} "
                  f"(`conf/budget/{info['budget']}.yaml`): longer than the README's demo, still far shorter than "

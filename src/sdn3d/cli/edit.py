@@ -192,7 +192,7 @@ def _load_models(cfg: Any) -> tuple[Any, Any]:
                                      crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin)
     if cfg.code_bank is None:
         return models, None
-    from sdn3d.textural.renderer import CodeBank
+    from sdn3d.textural.codes import CodeBank
 
     path = Path(str(cfg.code_bank)).expanduser()
     if not path.is_file():
@@ -230,7 +230,7 @@ def _edit(cfg: Any, spec: Any, scene: Any, code_bank: Any, times: dict[str, floa
 
 def _render(scene: Any, edited_scene: Any, models: Any, times: dict[str, float]) -> dict[str, Any]:
     """The edited image (timed), the reconstruction and both scenes' maps."""
-    from sdn3d.derender import render_maps
+    from sdn3d.editing.render import render_maps
     from sdn3d.scene.maps import scene_maps
 
     t0 = time.perf_counter()

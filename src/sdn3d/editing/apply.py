@@ -54,7 +54,8 @@ from sdn3d.math3d.camera import Intrinsics, project_points
 from sdn3d.math3d.rotations import wrap_angle
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import ObjectTable, SceneCode
-from sdn3d.scene.maps import _dense_layers, compose_instances, default_bank, fill_background
+from sdn3d.scene.fill import fill_background
+from sdn3d.scene.maps import _dense_layers, compose_instances, default_bank
 
 __all__ = [
     "EditError",

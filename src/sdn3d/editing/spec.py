@@ -58,7 +58,7 @@ from sdn3d.errors import UserInputError
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import compose_instances
-from sdn3d.textural.renderer import CodeBank
+from sdn3d.textural.codes import CodeBank
 
 __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
            "apply_spec"]

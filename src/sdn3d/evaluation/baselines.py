@@ -30,7 +30,8 @@ from sdn3d.editing.apply import Delete, EditError, apply_edits, match_objects
 from sdn3d.image_ops import boundary_map, instance_label_map
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
-from sdn3d.scene.maps import ComposedMaps, code_map, default_bank, scene_maps
+from sdn3d.scene.fill import scene_code_map
+from sdn3d.scene.maps import ComposedMaps, default_bank, scene_maps
 
 __all__ = ["BASELINE_MODES", "baseline_maps", "warp_regions"]
 
@@ -132,5 +133,5 @@ def baseline_maps(scene: SceneCode, entry: EditEntry | Sequence[EditOperation], 
     obj = scene.objects
     return ComposedMaps(instance=instance, label=label, instance_label_map=lmap, boundary=boundary_map(lmap[None])[0],
                         normal=normal, pose=pose, depth=depth,
-                        feature=code_map(lmap, obj.instance_id.to(device), obj.code.to(device),
+                        feature=scene_code_map(lmap, obj.instance_id.to(device), obj.code.to(device),
                                          scene.background_codes.to(device)))

@@ -43,8 +43,9 @@ from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, scale_operat
 from sdn3d.data.frames import load_frame
 from sdn3d.data.records import FrameRecord, load_instances
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame
-from sdn3d.derender import Models, derender, encode_scene, render_maps
+from sdn3d.derender import Models, derender, encode_scene
 from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
+from sdn3d.editing.render import render_maps
 from sdn3d.evaluation.baselines import baseline_maps
 from sdn3d.evaluation.image_metrics import crop_metrics, image_metrics
 from sdn3d.image_ops import mask_boxes, resize_map

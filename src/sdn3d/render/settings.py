@@ -1,7 +1,16 @@
-"""Renderer settings: small frozen dataclasses (Hydra's ``conf/renderer`` maps onto them).
+"""Renderer settings: small frozen dataclasses.
 
 Units: image sizes are ``(H, W)`` in pixels; ``near`` / ``far`` are camera-frame z in metres;
 the soft silhouette's ``sigma`` is in **pixels squared** (see :class:`SoftSilhouetteSettings`).
+
+Hydra config group ``conf/renderer`` (``default.yaml``, in ``sdn3d-train``'s and ``sdn3d-render-demo``'s
+configs) holds one ``_target_`` node per dataclass, field for field: ``renderer.soft`` is
+:class:`SoftSilhouetteSettings` (``sigma``, ``cull_eps``, ``near``, ``max_pairs_per_chunk``) and
+``renderer.hard`` is :class:`RasterSettings` (``near``, ``far``, ``cull_backfaces``,
+``max_pairs_per_chunk``). ``image_size`` is left out: it is the crop or frame at hand, given when
+building one, ``hydra.utils.instantiate(cfg.renderer.soft, image_size=(64, 64))``. Configs that
+need the softness interpolate ``${renderer.soft.sigma}`` (the geometric branch's ``model.sigma``,
+``geometric_refine.sigma``).
 """
 
 from __future__ import annotations

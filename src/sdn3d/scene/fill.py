@@ -1,8 +1,9 @@
 """Per-pixel fills of a scene's maps, shared by :mod:`sdn3d.scene.maps` and :mod:`sdn3d.editing.apply`.
 
-:func:`code_map` gives each pixel the texture code of its ``L`` value (the generator's z-map);
-:func:`fill_background` relabels the pixels that moved or deleted objects leave. Neither renders
-anything. Both are re-exported by :mod:`sdn3d.scene.maps`, so imports from there keep working.
+:func:`scene_code_map` gives each pixel the texture code of its ``L`` value from a scene's object and
+background codes (the generator's z-map; :func:`sdn3d.textural.codes.code_map` is the same for the
+encoder's :class:`~sdn3d.textural.codes.TextureCodes` rows); :func:`fill_background` relabels the pixels
+that moved or deleted objects leave. Neither renders anything.
 """
 
 from __future__ import annotations
@@ -14,10 +15,10 @@ from torch import Tensor
 
 from sdn3d.labels import IGNORE_INDEX, INSTANCE_DIVISOR
 
-__all__ = ["code_map", "fill_background"]
+__all__ = ["scene_code_map", "fill_background"]
 
 
-def code_map(label_map: Tensor, instance_ids: Tensor, codes: Tensor, background_codes: Tensor) -> Tensor:
+def scene_code_map(label_map: Tensor, instance_ids: Tensor, codes: Tensor, background_codes: Tensor) -> Tensor:
     """``(C, H, W)`` code of each pixel's ``L`` value (the generator's z-map).
 
     Args:

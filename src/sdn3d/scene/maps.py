@@ -28,7 +28,6 @@ pose one-hot of the winning object's observation-angle bin over its whole visibl
 with geometry only), depth of the visible rendered surface (0 elsewhere) and the code map
 (each pixel takes the code of its ``L`` value: the object's, or its class' background code).
 
-:func:`code_map` and :func:`fill_background` live in :mod:`sdn3d.scene.fill` and are re-exported here.
 """
 
 from __future__ import annotations
@@ -49,7 +48,7 @@ from sdn3d.render.objects import pose_meshes
 from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings
 from sdn3d.scene.code import ObjectTable, SceneCode
-from sdn3d.scene.fill import code_map, fill_background
+from sdn3d.scene.fill import scene_code_map
 
 __all__ = [
     "ComposedMaps",
@@ -57,8 +56,6 @@ __all__ = [
     "posed_meshes",
     "scene_maps",
     "compose_instances",
-    "code_map",
-    "fill_background",
 ]
 
 
@@ -371,5 +368,5 @@ def _maps(scene: SceneCode, layers: _Layers, device: torch.device, num_bins: int
         normal=normal,
         pose=pose,
         depth=depth[None],
-        feature=code_map(lmap, ids, obj.code.to(device), scene.background_codes.to(device)),
+        feature=scene_code_map(lmap, ids, obj.code.to(device), scene.background_codes.to(device)),
     )

@@ -30,8 +30,8 @@ every timed call ends with ``torch.cuda.synchronize``, so a stage's time include
 frame is still read and cropped on the CPU, as :func:`sdn3d.derender.derender` does.
 
 The editing code alone is timed against its dense reference too (``reference``:
-``sdn3d.scene.maps._scene_maps_reference``, every object rasterized over the whole frame and composed
-densely, and ``sdn3d.editing.apply._apply_edits_reference``, which always re-composes the observed objects to
+``sdn3d.reference.scene_maps.scene_maps_dense``, every object rasterized over the whole frame and composed
+densely, and ``sdn3d.reference.editing.apply_edits_dense``, which always re-composes the observed objects to
 find freed pixels), on the same scenes, with a check that both give identical results.
 
 Every figure is the median (and min) over ``--repeats`` passes over ``--entries`` entries after one
@@ -61,7 +61,7 @@ from sdn3d.data.frames import load_frame
 from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
 from sdn3d.data.vkitti1 import read_frames
 from sdn3d.derender import Models, derender
-from sdn3d.editing.apply import _apply_edits_reference, apply_edits, ops_from_benchmark
+from sdn3d.editing.apply import apply_edits, ops_from_benchmark
 from sdn3d.editing.render import render_maps
 from sdn3d.evaluation.edit_benchmark import index_records
 from sdn3d.geometric.model import GeometricNet
@@ -70,7 +70,9 @@ from sdn3d.labels import class_list
 from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.meshes import MeshBank
 from sdn3d.nets.pix2pixhd import TexturalSpec
-from sdn3d.scene.maps import _scene_maps_reference, scene_maps
+from sdn3d.reference.editing import apply_edits_dense
+from sdn3d.reference.scene_maps import scene_maps_dense
+from sdn3d.scene.maps import scene_maps
 from sdn3d.textural.renderer import TexturalRenderer
 
 REPO = Path(__file__).resolve().parents[1]
@@ -195,8 +197,8 @@ def run_preset(models: Models, cases: list, repeats: int, reference: bool, devic
             maps = clock.time("scene_maps", scene_maps, edited, bank, num_bins=bins)
             clock.time("generator", render_maps, maps, models.textural)
             if reference:
-                old_edit = clock.time("reference.apply_edits", _apply_edits_reference, scene, ops)
-                old_maps = clock.time("reference.scene_maps", _scene_maps_reference, edited, num_bins=bins)
+                old_edit = clock.time("reference.apply_edits", apply_edits_dense, scene, ops)
+                old_maps = clock.time("reference.scene_maps", scene_maps_dense, edited, num_bins=bins)
                 identical &= (old_edit == edited) and _same_maps(old_maps, maps)
     n = len(clock.wall["derender"])
     total_wall = [sum(clock.wall[s][i] for s in STAGES) for i in range(n)]

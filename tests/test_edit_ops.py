@@ -22,12 +22,12 @@ from sdn3d.editing.apply import (
     SetBackgroundCode,
     SetCode,
     Zoom,
-    _apply_edits_reference,
     apply_edits,
     match_objects,
     ops_from_benchmark,
     projected_centers,
 )
+from sdn3d.reference.editing import apply_edits_dense
 from sdn3d.resources import paper_example_path
 from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
 from sdn3d.scene.maps import compose_instances, scene_maps
@@ -239,7 +239,7 @@ def test_freed_pixels_match_the_reference_and_need_no_rendering_with_masks(scene
     order = scene.objects.mask.flatten(1).sum(1).argsort(descending=True).tolist()
     a, b, c = (int(scene.objects.instance_id[i]) for i in order[:3])
     ops = [Delete(a), Move(b, (40.0, 50.0)), Modify(c, (150.0, 48.0), 1.3, 0.4), Rotate(b, 0.3)]
-    ref = _apply_edits_reference(scene, ops)
+    ref = apply_edits_dense(scene, ops)
     assert bool(scene.objects.has_mask.all()) and not torch.equal(ref.semantic, scene.semantic)
 
     def no_render(*args, **kwargs):
@@ -256,4 +256,4 @@ def test_freed_pixels_match_the_reference_and_need_no_rendering_with_masks(scene
     with monkeypatch.context() as patch:
         patch.setattr(module, "compose_instances", lambda *a, **k: calls.append(1) or compose_instances(*a, **k))
         out = apply_edits(unmasked, ops)
-    assert calls and out == _apply_edits_reference(unmasked, ops)
+    assert calls and out == apply_edits_dense(unmasked, ops)

@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING
 import torch
 from torch import Tensor
 
+from sdn3d.errors import UserInputError
 from sdn3d.image_ops import (
     crop_intrinsics,
     crop_windows,
@@ -128,9 +129,9 @@ class Models:
 
     def __post_init__(self) -> None:
         if int(self.crop_size) != self.crop_size or self.crop_size < 8:
-            raise ValueError(f"Models.crop_size must be an integer >= 8, got {self.crop_size!r}")
+            raise UserInputError(f"Models.crop_size must be an integer >= 8, got {self.crop_size!r}")
         if not (math.isfinite(self.margin) and self.margin >= 0):
-            raise ValueError(f"Models.margin must be finite and >= 0, got {self.margin!r}")
+            raise UserInputError(f"Models.margin must be finite and >= 0, got {self.margin!r}")
 
     @classmethod
     def from_checkpoints(cls, semantic: str | os.PathLike | None = None, geometric: str | os.PathLike | None = None,
@@ -182,7 +183,7 @@ def _class_list_name(models: Models, gt: GroundTruth | None, classes: str | None
              else models.textural.spec.num_classes if models.textural is not None else None)
     names = [k for k, v in CLASS_LISTS.items() if len(v) == count]
     if not names:
-        raise ValueError(f"cannot tell the class list from the models ({count} classes): pass classes=")
+        raise UserInputError(f"cannot tell the class list from the models ({count} classes): pass classes=")
     return names[0]
 
 
@@ -263,8 +264,9 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
         refine: optional reprojection refinement of the geometric predictions (Cityscapes setting).
 
     Raises:
-        ValueError: bad image / intrinsics, an unknown ``proposals``, or no source for the semantic
-            map or the proposals.
+        ValueError: bad image / intrinsics or an unknown ``proposals`` (the caller's mistake).
+        UserInputError (a ValueError): no source for the semantic map or the proposals, or a semantic
+            model of another class list (the user's settings or checkpoints).
     """
     if proposals not in PROPOSALS:
         raise ValueError(f"proposals must be one of {PROPOSALS}, got {proposals!r}")
@@ -284,20 +286,20 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
     use_branch = proposals == "semantic" or (proposals == "auto" and models.semantic is not None)
     use_gt_masks = proposals == "gt" or (proposals == "auto" and gt is not None and gt.instances is not None)
     if (use_branch or not use_gt_masks) and models.semantic is None:
-        raise ValueError(f"proposals={proposals!r} needs a semantic model"
-                         + ("" if use_branch else " (no ground truth with an instance map was given)"))
+        raise UserInputError(f"proposals={proposals!r} needs a semantic model"
+                             + ("" if use_branch else " (no ground truth with an instance map was given)"))
     if (not use_branch or use_gt_masks) and gt is None:
-        raise ValueError(f"proposals={proposals!r} needs the frame's ground truth (ground_truth=)")
+        raise UserInputError(f"proposals={proposals!r} needs the frame's ground truth (ground_truth=)")
     gt_semantic = gt_instances = None
     if gt is not None and (not use_branch or use_gt_masks):
         gt_semantic, gt_instances = gt.semantic, gt.instances
         if use_gt_masks and gt_instances is None:
-            raise ValueError(f"proposals={proposals!r}: ground truth {gt.key} has no instance map")
+            raise UserInputError(f"proposals={proposals!r}: ground truth {gt.key} has no instance map")
     seg = None
     if use_branch or not use_gt_masks:
         if len(models.semantic.classes) != len(class_list):
-            raise ValueError(f"the semantic model predicts {len(models.semantic.classes)} classes, the scene's "
-                             f"class list {name!r} has {len(class_list)}")
+            raise UserInputError(f"the semantic model predicts {len(models.semantic.classes)} classes, the scene's "
+                                 f"class list {name!r} has {len(class_list)}")
         seg = models.semantic(image)
     semantic = seg.label[0].cpu() if use_branch else gt_semantic
     instances, source = (gt_instances, "gt") if use_gt_masks else (seg.instance[0].cpu(), "semantic")

@@ -22,6 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from sdn3d.errors import UserInputError
+
 __all__ = [
     "atomic_write", "write_bytes_atomic", "write_text_atomic", "write_json_atomic", "write_png_atomic",
     "check_output_dir", "staged_directory", "swap_into_place",
@@ -89,7 +91,7 @@ def load_lightning_checkpoint(path: str | os.PathLike, map_location: Any = "cpu"
     """A Lightning checkpoint read with ``torch.load(weights_only=True)`` (no code from the file runs).
 
     Raises:
-        ValueError: naming the file: missing, unreadable (truncated, not a torch file, or holding objects
+        UserInputError (a ValueError): naming the file: missing, unreadable (truncated, not a torch file, or holding objects
             ``weights_only`` refuses), or not a mapping with the ``required`` keys.
     """
     import pickle
@@ -99,14 +101,14 @@ def load_lightning_checkpoint(path: str | os.PathLike, map_location: Any = "cpu"
 
     path = Path(path).expanduser()
     if not path.is_file():
-        raise ValueError(f"checkpoint {str(path)!r} does not exist")
+        raise UserInputError(f"checkpoint {str(path)!r} does not exist")
     try:
         ckpt = torch.load(path, map_location=map_location, weights_only=True)
     except (pickle.UnpicklingError, RuntimeError, EOFError, zipfile.BadZipFile, OSError) as exc:
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise ValueError(f"could not read checkpoint {str(path)!r}: {first}") from exc
+        raise UserInputError(f"could not read checkpoint {str(path)!r}: {first}") from exc
     if not isinstance(ckpt, dict) or any(k not in ckpt for k in required):
-        raise ValueError(f"{str(path)!r} is not a Lightning checkpoint (needs {', '.join(map(repr, required))})")
+        raise UserInputError(f"{str(path)!r} is not a Lightning checkpoint (needs {', '.join(map(repr, required))})")
     return ckpt
 
 

@@ -25,6 +25,7 @@ from typing import Any
 from sdn3d.data import cityscapes, vkitti1, vkitti2
 from sdn3d.data.records import FrameRecord
 from sdn3d.data.vkitti1 import paper_split
+from sdn3d.errors import UserInputError
 from sdn3d.labels import CLASS_LISTS, KIND_CLASS_LIST, SemanticClass
 
 __all__ = [
@@ -66,11 +67,11 @@ class SourceConfig:
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
-            raise ValueError(f"SourceConfig.kind must be one of {KINDS}, got {self.kind!r}")
+            raise UserInputError(f"SourceConfig.kind must be one of {KINDS}, got {self.kind!r}")
         size = DEFAULT_IMAGE_SIZE[self.kind] if self.image_size is None else tuple(self.image_size)
         if len(size) != 2 or any(int(s) != s or s <= 0 for s in size):
-            raise ValueError(f"SourceConfig.image_size must be two positive integers [W, H], "
-                             f"got {self.image_size!r}")
+            raise UserInputError(f"SourceConfig.image_size must be two positive integers [W, H], "
+                                 f"got {self.image_size!r}")
         object.__setattr__(self, "image_size", (int(size[0]), int(size[1])))
         for name in ("subsets", "variations"):
             value = getattr(self, name)
@@ -82,8 +83,8 @@ class SourceConfig:
         object.__setattr__(self, "split", split)
         expected = KIND_CLASS_LIST[self.kind]
         if self.classes is not None and self.classes != expected:
-            raise ValueError(f"SourceConfig.classes must be {expected!r} for kind {self.kind!r}, "
-                             f"got {self.classes!r}")
+            raise UserInputError(f"SourceConfig.classes must be {expected!r} for kind {self.kind!r}, "
+                                 f"got {self.classes!r}")
         object.__setattr__(self, "classes", expected)
 
     @classmethod
@@ -96,11 +97,11 @@ class SourceConfig:
 
             cfg = OmegaConf.to_container(cfg, resolve=True)
         if not isinstance(cfg, Mapping):
-            raise ValueError(f"data config must be a mapping, got {type(cfg).__name__}")
+            raise UserInputError(f"data config must be a mapping, got {type(cfg).__name__}")
         known = {f.name for f in fields(cls)}
         unknown = sorted(set(cfg) - known)
         if unknown:
-            raise ValueError(f"data config has unknown keys {unknown}; known keys are {sorted(known)}")
+            raise UserInputError(f"data config has unknown keys {unknown}; known keys are {sorted(known)}")
         return cls(**{k: v for k, v in cfg.items()})
 
     @property
@@ -113,19 +114,19 @@ def _check_split(split: Mapping[str, Any], kind: str) -> None:
     if rule == "paper":
         fraction = float(split.get("fraction", 0.8))
         if not 0.0 < fraction < 1.0:
-            raise ValueError(f"split.fraction must lie in (0, 1), got {fraction}")
+            raise UserInputError(f"split.fraction must lie in (0, 1), got {fraction}")
         for part in ("val", "test"):
             if split.get(part, "test") not in ("train", "test"):
-                raise ValueError(f"split.{part} must name a paper-split part ('train' or 'test'), "
-                                 f"got {split.get(part)!r}")
+                raise UserInputError(f"split.{part} must name a paper-split part ('train' or 'test'), "
+                                     f"got {split.get(part)!r}")
     elif rule == "folders":
         if kind != "cityscapes":
-            raise ValueError(f"split.rule 'folders' is only for cityscapes, got kind {kind!r}")
+            raise UserInputError(f"split.rule 'folders' is only for cityscapes, got kind {kind!r}")
         for part in PARTS:
             if not isinstance(split.get(part), str):
-                raise ValueError(f"split.{part} must name a Cityscapes split folder, got {split.get(part)!r}")
+                raise UserInputError(f"split.{part} must name a Cityscapes split folder, got {split.get(part)!r}")
     else:
-        raise ValueError(f"split.rule must be 'paper' or 'folders', got {rule!r}")
+        raise UserInputError(f"split.rule must be 'paper' or 'folders', got {rule!r}")
 
 
 def read_source(source: SourceConfig, cityscapes_split: str = "train") -> list[FrameRecord]:
@@ -170,7 +171,7 @@ def edit_target_frames(root: str | os.PathLike) -> set[tuple[str, str, int]]:
         return {(str(s["world"]), str(s["variation"]), int(f)) for s in sequences
                 for f in s.get("edit_target_frames") or []}
     except (ValueError, KeyError, TypeError, AttributeError) as exc:
-        raise ValueError(f"{str(path)!r}: cannot read the edit target frames: {exc}") from exc
+        raise UserInputError(f"{str(path)!r}: cannot read the edit target frames: {exc}") from exc
 
 
 def load_split(source: SourceConfig, part: str) -> list[FrameRecord]:

@@ -55,7 +55,7 @@ from sdn3d.math3d.rotations import wrap_angle
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import ObjectTable, SceneCode
 from sdn3d.scene.fill import fill_background
-from sdn3d.scene.maps import _dense_layers, compose_instances, default_bank
+from sdn3d.scene.maps import compose_instances
 
 __all__ = [
     "EditError",
@@ -262,12 +262,6 @@ def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None =
     return _apply_edits(scene, ops, bank, grow, _footprints)
 
 
-def _apply_edits_reference(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None = None,
-                           grow: int = 2) -> SceneCode:
-    """:func:`apply_edits` with the freed pixels of :func:`_footprints_reference` (tests, benchmarks)."""
-    return _apply_edits(scene, ops, bank, grow, _footprints_reference)
-
-
 def _apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None, grow: int,
                  footprints: Callable[[SceneCode, Tensor, MeshBank | None, int], Tensor]) -> SceneCode:
     table, codes = scene.objects, scene.background_codes
@@ -312,17 +306,6 @@ def _footprints(scene: SceneCode, vacate: Tensor, bank: MeshBank | None, grow: i
         region |= torch.isin(inst, obj.instance_id[vacate])
         occupied = inst != 0
     return _grow(scene, vacate, region, occupied, grow)
-
-
-def _footprints_reference(scene: SceneCode, vacate: Tensor, bank: MeshBank | None, grow: int) -> Tensor:
-    """:func:`_footprints` as it was: the observed objects always composed (dense reference renderer)."""
-    obj = scene.objects
-    observed = scene.replace(objects=obj.select(obj.observed))
-    layers = _dense_layers(observed, bank or default_bank(), None)
-    ids = observed.objects.instance_id.to(layers.winner.device)
-    inst = torch.where(layers.visible, ids[layers.winner] if len(ids) else 0, 0).cpu()
-    region = torch.isin(inst, obj.instance_id[vacate]) | obj.mask[vacate & obj.has_mask].any(0)
-    return _grow(scene, vacate, region, inst != 0, grow)
 
 
 def _grow(scene: SceneCode, vacate: Tensor, region: Tensor, occupied: Tensor, grow: int) -> Tensor:

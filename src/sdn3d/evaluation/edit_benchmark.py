@@ -46,6 +46,7 @@ from sdn3d.data.scene_gt import ground_truth, scene_from_frame
 from sdn3d.derender import Models, derender, encode_scene
 from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
 from sdn3d.editing.render import render_maps
+from sdn3d.errors import UserInputError
 from sdn3d.evaluation.baselines import baseline_maps
 from sdn3d.evaluation.image_metrics import crop_metrics, image_metrics
 from sdn3d.image_ops import mask_boxes, resize_map
@@ -107,11 +108,11 @@ class BenchSettings:
 
     def __post_init__(self) -> None:
         if self.scene not in SCENES:
-            raise ValueError(f"BenchSettings.scene must be one of {SCENES}, got {self.scene!r}")
+            raise UserInputError(f"BenchSettings.scene must be one of {SCENES}, got {self.scene!r}")
         object.__setattr__(self, "image_size", (int(self.image_size[0]), int(self.image_size[1])))
         object.__setattr__(self, "frame_size", (int(self.frame_size[0]), int(self.frame_size[1])))
         if self.limit is not None and self.limit < 0 or self.examples < 0:
-            raise ValueError(f"BenchSettings.limit and examples must be >= 0, got {self.limit}, {self.examples}")
+            raise UserInputError(f"BenchSettings.limit and examples must be >= 0, got {self.limit}, {self.examples}")
 
 
 @dataclass
@@ -304,9 +305,10 @@ def run_benchmark(entries: Sequence[EditEntry], records: Mapping[tuple[str, str,
         if progress is not None:
             progress(n + 1, len(chosen), result)
     if chosen and not found:
-        raise ValueError(f"none of the {len(chosen)} benchmark entries has its frames in the dataset "
-                         f"(first: {chosen[0][1].world}/{chosen[0][1].variation} frame {chosen[0][1].source_frame}); "
-                         "is data.root the benchmark's dataset?")
+        first = chosen[0][1]
+        raise UserInputError(f"none of the {len(chosen)} benchmark entries has its frames in the dataset "
+                             f"(first: {first.world}/{first.variation} frame {first.source_frame}); "
+                             "is data.root the benchmark's dataset?")
     return results
 
 

@@ -12,6 +12,7 @@ from typing import Any
 import torch
 from torch import Tensor
 
+from sdn3d.errors import UserInputError
 from sdn3d.geometric.decode import decode_outputs
 from sdn3d.geometric.losses import render_silhouettes
 from sdn3d.geometric.model import GeometricNet
@@ -71,7 +72,7 @@ class GeometricPredictor:
         net = GeometricNet(**net_kwargs_from_hparams(hparams))
         state = {k[len("net."):]: v for k, v in ckpt["state_dict"].items() if k.startswith("net.")}
         if not state:
-            raise ValueError(f"{str(path)!r} has no 'net.' weights: not a GeometricModule checkpoint")
+            raise UserInputError(f"{str(path)!r} has no 'net.' weights: not a GeometricModule checkpoint")
         net.load_state_dict(state, strict=True)
         encoding = AttributeEncoding(hparams.get("rotation", "yaw_quaternion"), hparams.get("distance", "log_tau"))
         return cls(net.to(map_location), encoding)

@@ -8,7 +8,8 @@ mesh bank's device and the maps come back there):
    per-object coverage and depth. All objects go through one batched call, each into its own crop
    window around the only pixels it can contribute (its mask's box, else its projected mesh's box),
    and steps 2-3 run over the covered (object, pixel) pairs only (:func:`_layers`; it equals the
-   dense composition over full-frame renders, :func:`_dense_layers`, kept as the reference).
+   dense composition over full-frame renders, :func:`sdn3d.reference.scene_maps.dense_layers`, kept as the
+   reference).
 2. An object covers its 2D ``mask`` if it has one (an observed object keeps its exact visible
    footprint; objects without geometry only have that), else its rendered silhouette.
 3. Occlusion follows depth: at each pixel the covering object with the smallest depth wins
@@ -200,7 +201,7 @@ def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -
     its mesh's projected box. The windows share the largest box's size and sit inside the frame. The
     z-buffer across objects then runs over (object, pixel) candidates: mask pixels and rendered pixels
     of mask-less objects, with a minimum depth per pixel and, among its ties, the lowest object row
-    (the dense per-object composition's first minimum: :func:`_dense_layers`).
+    (the dense per-object composition's first minimum: :func:`sdn3d.reference.scene_maps.dense_layers`).
     """
     obj = scene.objects
     device = bank.device
@@ -268,44 +269,6 @@ def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -
     return _Layers(torch.where(visible, win, 0).view(height, width), visible.view(height, width), out, verts, faces)
 
 
-def _dense_layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -> _Layers:
-    """Reference of :func:`_layers`: every renderable object rendered over the whole frame, composed densely.
-
-    Kept to pin the sparse path's results (tests) and time it (``benchmarks/edit_latency.py``).
-    """
-    obj = scene.objects
-    device = bank.device
-    settings = _settings(scene, settings)
-    height, width = settings.image_size
-    rows, verts, faces = posed_meshes(obj, bank)
-    g, n = len(rows), len(obj)
-    frags = rasterize_meshes(verts, faces, scene.intrinsics.matrix(device=device), settings,
-                             mesh_to_image=torch.arange(g, device=device), batch_size=g)
-    mask, has_mask = obj.mask.to(device), obj.has_mask.to(device)
-    rendered = torch.zeros(n, height, width, dtype=torch.bool, device=device)
-    rendered[rows] = frags.mask
-    cover = torch.where(has_mask[:, None, None], mask, rendered)
-    depth = _fallback_depth(obj, device)[:, None, None].expand(n, height, width).clone()
-    depth[rows] = torch.where(frags.mask, frags.depth.float(), depth[rows])
-    depth = torch.where(cover, depth, torch.full_like(depth, float("inf")))
-    # min(0) rather than argmin(0): the same first-minimum indices, several times faster on CPU.
-    winner = depth.min(0).indices if n else torch.zeros(height, width, dtype=torch.long, device=device)
-    visible = cover.any(0) if n else torch.zeros(height, width, dtype=torch.bool, device=device)
-    out = _no_fragments(height, width, device)
-    if g:
-        slot = torch.full((n,), -1, dtype=torch.long, device=device)
-        slot[rows] = torch.arange(g, device=device)
-        s = slot[winner]
-        gi = s.clamp(min=0)[None]
-        hit = visible & (s >= 0) & frags.mask.gather(0, gi)[0]
-        out.pix_to_face[0] = torch.where(hit, frags.pix_to_face.gather(0, gi)[0], -1)
-        out.pix_to_mesh[0] = torch.where(hit, frags.pix_to_mesh.gather(0, gi)[0], -1)
-        out.depth[0] = torch.where(hit, frags.depth.gather(0, gi)[0].float(), float("inf"))
-        out.bary[0] = torch.where(hit[..., None], frags.bary.gather(0, gi[..., None].expand(1, height, width, 3))[0],
-                                  0.0)
-    return _Layers(winner, visible, out, verts, faces)
-
-
 def compose_instances(scene: SceneCode, bank: MeshBank | None = None, settings: RasterSettings | None = None
                       ) -> Tensor:
     """``(H, W)`` int64 instance map of the scene's objects alone (0 = none), occlusion by depth."""
@@ -327,13 +290,6 @@ def scene_maps(scene: SceneCode, bank: MeshBank | None = None, settings: RasterS
     """
     bank = bank or default_bank()
     return _maps(scene, _layers(scene, bank, settings), bank.device, num_bins)
-
-
-def _scene_maps_reference(scene: SceneCode, bank: MeshBank | None = None, settings: RasterSettings | None = None,
-                          num_bins: int = NUM_POSE_BINS) -> ComposedMaps:
-    """:func:`scene_maps` through the dense reference :func:`_dense_layers` (tests, benchmarks)."""
-    bank = bank or default_bank()
-    return _maps(scene, _dense_layers(scene, bank, settings), bank.device, num_bins)
 
 
 def _maps(scene: SceneCode, layers: _Layers, device: torch.device, num_bins: int) -> ComposedMaps:

@@ -7,6 +7,8 @@ losses (set by ``sdn3d-train``'s ``fault.nonfinite``) and one way to write image
 from __future__ import annotations
 
 import logging
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import lightning as L
 import torch
@@ -21,6 +23,16 @@ NONFINITE_POLICIES = ("stop", "skip")
 
 class NonFiniteLossError(RuntimeError):
     """A training loss became NaN or infinite (policy ``stop``)."""
+
+
+def plain_hparams(value: Any) -> Any:
+    """Hydra / OmegaConf containers (and tuples) -> plain dicts and lists, so the hyper-parameters a
+    checkpoint stores load with ``torch.load(weights_only=True)``."""
+    if isinstance(value, Mapping):
+        return {str(k): plain_hparams(v) for k, v in value.items()}
+    if isinstance(value, Sequence) and not isinstance(value, str):
+        return [plain_hparams(v) for v in value]
+    return value
 
 
 def image_grid(rows: list[Tensor], pad: int = 2) -> Tensor:

@@ -28,7 +28,7 @@ from typing import Any
 import torch
 from torch import Tensor
 
-from lightning_modules._base import BranchModule
+from lightning_modules._base import BranchModule, plain_hparams
 from sdn3d.geometric import (
     BASELINES,
     PRED_KEYS,
@@ -57,15 +57,6 @@ from sdn3d.render.settings import SoftSilhouetteSettings
 __all__ = ["GeometricModule", "lr_factor"]
 
 log = logging.getLogger(__name__)
-
-
-def _plain(value: Any) -> Any:
-    """Hydra containers -> plain lists / dicts (checkpoints must load with ``weights_only=True``)."""
-    if isinstance(value, Mapping):
-        return {str(k): _plain(v) for k, v in value.items()}
-    if isinstance(value, Sequence) and not isinstance(value, str):
-        return [_plain(v) for v in value]
-    return value
 
 
 def lr_factor(epoch: int, pred_epochs: int, lr_pred: float, lr_joint: float, decay_epochs: int,
@@ -131,7 +122,7 @@ class GeometricModule(BranchModule):
         nonfinite: str = "stop",
     ) -> None:
         super().__init__(nonfinite=nonfinite)
-        args = {k: _plain(v) for k, v in locals().items() if k not in ("self", "__class__", "nonfinite")}
+        args = {k: plain_hparams(v) for k, v in locals().items() if k not in ("self", "__class__", "nonfinite")}
         self.save_hyperparameters(args)
         if pred_epochs < 0 or joint_epochs < 0 or lr_pred <= 0 or lr_joint <= 0:
             raise ValueError(f"need pred_epochs, joint_epochs >= 0 and lr_pred, lr_joint > 0; got {pred_epochs}, "
@@ -270,7 +261,7 @@ class GeometricModule(BranchModule):
 
     def on_save_checkpoint(self, checkpoint: dict[str, Any]) -> None:
         if "hyper_parameters" in checkpoint:
-            checkpoint["hyper_parameters"] = _plain(checkpoint["hyper_parameters"])
+            checkpoint["hyper_parameters"] = plain_hparams(checkpoint["hyper_parameters"])
 
     # -- evaluation -------------------------------------------------------------------------------------------
     @torch.no_grad()

@@ -22,12 +22,11 @@ from typing import Any
 
 import torch
 import torch.nn.functional as F
-from omegaconf import DictConfig, ListConfig, OmegaConf
 from torch import Tensor
 from torchmetrics import Metric
 from torchmetrics.classification import MulticlassConfusionMatrix
 
-from lightning_modules._base import BranchModule
+from lightning_modules._base import BranchModule, plain_hparams
 from sdn3d.labels import IGNORE_INDEX, class_list, thing_class_ids
 from sdn3d.nets.drn import DRNSeg
 from sdn3d.nets.weights import load_pretrained
@@ -70,13 +69,6 @@ class PanopticQuality(Metric):
 
     def compute(self) -> dict[str, Tensor]:
         return pq_from_stats(self.stats)
-
-
-def _plain(value: Any) -> Any:
-    """OmegaConf containers (Hydra passes them) -> plain lists / dicts, so checkpoints load with weights_only."""
-    if isinstance(value, (DictConfig, ListConfig)):
-        return OmegaConf.to_container(value, resolve=True)
-    return value
 
 
 def _tag(name: str) -> str:
@@ -147,7 +139,7 @@ class SemanticModule(BranchModule):
         nonfinite: str = "stop",
     ) -> None:
         super().__init__(nonfinite=nonfinite)
-        args = {k: _plain(v) for k, v in locals().items() if k not in ("self", "__class__", "nonfinite")}
+        args = {k: plain_hparams(v) for k, v in locals().items() if k not in ("self", "__class__", "nonfinite")}
         self.save_hyperparameters(args)
         if lr <= 0 or not 0 <= momentum < 1 or weight_decay < 0 or poly_power < 0:
             raise ValueError(f"need lr > 0, 0 <= momentum < 1, weight_decay >= 0, poly_power >= 0; got lr={lr}, "

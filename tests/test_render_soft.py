@@ -10,7 +10,6 @@ import trimesh
 
 from sdn3d.math3d.rotations import roty
 from sdn3d.render import (
-    SoftSilhouetteRenderer,
     SoftSilhouetteSettings,
     sigma_from_ndc,
     soft_silhouette,
@@ -69,7 +68,7 @@ def test_crop_borders_and_module_wrapper() -> None:
     shifted[:, 0, 2] += torch.tensor([-20.0, 18.0, 0.0])
     shifted[:, 1, 2] += torch.tensor([0.0, -17.0, 21.0])
     settings = SoftSilhouetteSettings(image_size=(32, 32))
-    sparse = SoftSilhouetteRenderer(settings)(verts, faces, shifted)
+    sparse = soft_silhouette(verts, faces, shifted, settings)
     dense = soft_silhouette_dense(verts, faces, shifted, settings)
     assert (sparse - dense).abs().max() < 1e-3
     assert (sparse.amax((1, 2)) > 0.9).all() and (sparse.amin((1, 2)) < 1e-3).all()

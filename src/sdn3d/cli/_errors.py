@@ -25,7 +25,8 @@ __all__ = ["EXIT_USER_ERROR", "PATH_ERRORS", "user_errors", "report_user_error",
 #: Exit status of a tool stopped by a user's mistake.
 EXIT_USER_ERROR = 2
 #: OS-level errors that, on the paths a tool is given, are the user's mistake.
-PATH_ERRORS: tuple[type[OSError], ...] = (FileNotFoundError, FileExistsError, IsADirectoryError, PermissionError)
+PATH_ERRORS: tuple[type[OSError], ...] = (FileNotFoundError, FileExistsError, IsADirectoryError, NotADirectoryError,
+                                          PermissionError)
 
 
 def user_errors() -> tuple[type[BaseException], ...]:

@@ -122,11 +122,7 @@ def project_points(points: Tensor, K: Tensor) -> Tensor:
     Returns:
         ``(..., 2)`` pixel coordinates ``(u, v)``.
     """
-    if K.dim() == 2:
-        K = K.expand(*points.shape[:-1], 3, 3)
-    else:
-        K = K.expand(*points.shape[:-1], 3, 3)
-    return _kornia_project(points, K)
+    return _kornia_project(points, K.expand(*points.shape[:-1], 3, 3))
 
 
 def unproject_pixels(uv: Tensor, depth: Tensor, K: Tensor) -> Tensor:

@@ -13,9 +13,9 @@ from sdn3d.render.maps import (
     pose_map,
     render_scene_maps,
 )
-from sdn3d.render.rasterize import Fragments, MeshRasterizer, rasterize_meshes
+from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings, SoftSilhouetteSettings, sigma_from_ndc
-from sdn3d.render.soft import SoftSilhouetteRenderer, soft_silhouette, soft_silhouette_dense
+from sdn3d.render.soft import soft_silhouette, soft_silhouette_dense
 
 __all__ = [
     "RasterSettings",
@@ -23,10 +23,8 @@ __all__ = [
     "sigma_from_ndc",
     "Fragments",
     "rasterize_meshes",
-    "MeshRasterizer",
     "soft_silhouette",
     "soft_silhouette_dense",
-    "SoftSilhouetteRenderer",
     "SceneMaps",
     "instance_map",
     "depth_map",

@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import torch
-from torch import Tensor, nn
+from torch import Tensor
 
 from sdn3d.render._common import (
     AREA_EPS,
@@ -38,7 +38,7 @@ from sdn3d.render._common import (
 )
 from sdn3d.render.settings import RasterSettings
 
-__all__ = ["Fragments", "rasterize_meshes", "MeshRasterizer"]
+__all__ = ["Fragments", "rasterize_meshes"]
 
 #: Inclusive inside test tolerance, in barycentric units.
 _INSIDE_EPS = 1e-9
@@ -273,21 +273,3 @@ def rasterize_meshes(
         out.depth.view(-1)[hit] = depth.to(dtype)
         out.bary.view(-1, 3)[hit] = bary.to(dtype)
     return out
-
-
-class MeshRasterizer(nn.Module):
-    """Thin module wrapper around :func:`rasterize_meshes` holding its settings."""
-
-    def __init__(self, settings: RasterSettings) -> None:
-        super().__init__()
-        self.settings = settings
-
-    def forward(
-        self,
-        verts: Tensor,
-        faces: Tensor,
-        K: Tensor,
-        mesh_to_image: Tensor | None = None,
-        batch_size: int | None = None,
-    ) -> Fragments:
-        return rasterize_meshes(verts, faces, K, self.settings, mesh_to_image, batch_size)

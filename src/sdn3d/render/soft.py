@@ -39,7 +39,7 @@ import math
 
 import torch
 import torch.nn.functional as tnf
-from torch import Tensor, nn
+from torch import Tensor
 from torch.autograd.function import once_differentiable
 
 from sdn3d.render._common import (
@@ -53,7 +53,7 @@ from sdn3d.render._common import (
 )
 from sdn3d.render.settings import SoftSilhouetteSettings
 
-__all__ = ["soft_silhouette", "soft_silhouette_dense", "SoftSilhouetteRenderer"]
+__all__ = ["soft_silhouette", "soft_silhouette_dense"]
 
 #: Per-chunk overhead (about 50 tensor ops) expressed in (face, pixel) pairs, for chunking.
 _CHUNK_COST = 8192
@@ -346,14 +346,3 @@ def soft_silhouette_dense(
     log_keep = torch.where(valid, -tnf.softplus(x), x.new_zeros(()))
     log_keep = log_keep.view(height, width, num_meshes, faces_per_mesh).sum(-1)
     return -torch.expm1(log_keep).permute(2, 0, 1)
-
-
-class SoftSilhouetteRenderer(nn.Module):
-    """Thin module wrapper around :func:`soft_silhouette` holding its settings."""
-
-    def __init__(self, settings: SoftSilhouetteSettings) -> None:
-        super().__init__()
-        self.settings = settings
-
-    def forward(self, verts: Tensor, faces: Tensor, K: Tensor) -> Tensor:
-        return soft_silhouette(verts, faces, K, self.settings)

@@ -56,10 +56,6 @@ class SemanticDataset(Dataset):
     def class_names(self) -> list[str]:
         return [c.name for c in self.classes]
 
-    @property
-    def class_colors(self) -> list[tuple[int, int, int]]:
-        return [c.color for c in self.classes]
-
     def __len__(self) -> int:
         return len(self.records)
 

@@ -7,7 +7,7 @@ import math
 import pytest
 import torch
 
-from sdn3d.data.edit_benchmark import EditOperation
+from sdn3d.data.edit_benchmark import BenchmarkOperation
 from sdn3d.editing.apply import projected_centers
 from sdn3d.evaluation.baselines import baseline_maps, warp_regions
 from sdn3d.labels import VKITTI_CLASS_INDEX
@@ -53,7 +53,7 @@ def _at(scene: SceneCode, iid: int) -> tuple[float, float]:
 
 @pytest.mark.parametrize("mode", ["2d", "2d+"])
 def test_identity_edit_reproduces_the_scene_maps(scene, mode):
-    ops = [EditOperation.modify(_at(scene, i), _at(scene, i), 1.0, 0.0) for i in (12001, 12003)]
+    ops = [BenchmarkOperation.modify(_at(scene, i), _at(scene, i), 1.0, 0.0) for i in (12001, 12003)]
     maps = baseline_maps(scene, ops, mode=mode, frame_size=None)
     ref = scene_maps(scene)
     for key in ("instance", "label", "instance_label_map", "boundary", "normal", "pose", "depth", "feature"):
@@ -64,7 +64,7 @@ def test_translation_moves_the_region_and_its_maps(scene):
     ref = scene_maps(scene)
     src = _at(scene, 12001)
     du, dv = -20, 3
-    maps = baseline_maps(scene, [EditOperation.modify(src, (src[0] + du, src[1] + dv), 1.0, 1.2)], frame_size=None)
+    maps = baseline_maps(scene, [BenchmarkOperation.modify(src, (src[0] + du, src[1] + dv), 1.0, 1.2)], frame_size=None)
     old = ref.instance == 12001
     new = maps.instance == 12001
     shifted = torch.zeros_like(old)
@@ -85,7 +85,7 @@ def _extent(mask: torch.Tensor) -> tuple[int, int]:
 def test_zoom_scales_and_2d_plus_squeezes_the_width(scene):
     src = _at(scene, 12003)
     # The car is deleted so that nothing occludes the scaled region.
-    ops = [EditOperation.modify(src, (60.0, 30.0), 2.0, math.pi / 3), EditOperation.delete(_at(scene, 12001))]
+    ops = [BenchmarkOperation.modify(src, (60.0, 30.0), 2.0, math.pi / 3), BenchmarkOperation.delete(_at(scene, 12001))]
     plain = baseline_maps(scene, ops, mode="2d", frame_size=None).instance == 12003
     plus = baseline_maps(scene, ops, mode="2d+", frame_size=None).instance == 12003
     h0, w0 = _extent(scene.objects.mask[2])
@@ -99,8 +99,9 @@ def test_zoom_scales_and_2d_plus_squeezes_the_width(scene):
 
 def test_occlusion_uses_the_lowest_row(scene):
     src = _at(scene, 12002)  # region rows 26..30, cols 90..99; object 12003 spans rows 30..40, cols 100..115
-    below = baseline_maps(scene, [EditOperation.modify(src, (src[0] + 12, src[1] + 12), 1.0, 0.0)], frame_size=None)
-    above = baseline_maps(scene, [EditOperation.modify(src, (src[0] + 5, src[1] + 5), 1.0, 0.0)], frame_size=None)
+    below = baseline_maps(scene, [BenchmarkOperation.modify(src, (src[0] + 12, src[1] + 12), 1.0, 0.0)],
+                          frame_size=None)
+    above = baseline_maps(scene, [BenchmarkOperation.modify(src, (src[0] + 5, src[1] + 5), 1.0, 0.0)], frame_size=None)
     assert (below.instance == 12002).sum() == 50  # rows 38..42, lowest 42 > 40: in front, fully visible
     # rows 31..35, cols 95..104: lowest row 35 < 40, so cols 100..104 are behind 12003.
     assert (above.instance == 12002).sum() == 25 and (above.instance[31:36, 95:100] == 12002).all()
@@ -108,7 +109,8 @@ def test_occlusion_uses_the_lowest_row(scene):
 
 
 def test_delete_and_empty_geometry(scene):
-    ops = [EditOperation.delete(_at(scene, 12001)), EditOperation.modify(_at(scene, 12002), (40.0, 35.0), 1.5, 0.0)]
+    ops = [BenchmarkOperation.delete(_at(scene, 12001)),
+           BenchmarkOperation.modify(_at(scene, 12002), (40.0, 35.0), 1.5, 0.0)]
     maps = baseline_maps(scene, ops, mode="2d+", frame_size=None, geometry="empty")
     assert not bool((maps.instance == 12001).any()) and bool((maps.instance == 12002).any())
     assert maps.normal.abs().sum() == 0 and maps.pose.sum() == 0 and maps.depth.abs().sum() == 0

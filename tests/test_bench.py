@@ -11,7 +11,7 @@ from helpers.tiny_models import geometric_net, textural_spec, write_checkpoints
 
 from sdn3d.cli.bench import main
 from sdn3d.data import vkitti1
-from sdn3d.data.edit_benchmark import EditEntry, load_edit_benchmark, scale_operation
+from sdn3d.data.edit_benchmark import BenchmarkEntry, load_edit_benchmark, scale_operation
 from sdn3d.data.records import load_instances
 from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.derender import Models
@@ -110,8 +110,8 @@ def test_run_benchmark_evaluates_every_method(bench, models, scene):
 def test_identity_entry_gives_the_same_image_for_every_method(bench, models):
     entries, records = bench
     e = entries[0]
-    identity = EditEntry(e.world, e.variation, e.source_frame, e.source_frame, ())
-    missing = EditEntry(e.world, e.variation, 90, 91, e.operations)
+    identity = BenchmarkEntry(e.world, e.variation, e.source_frame, e.source_frame, ())
+    missing = BenchmarkEntry(e.world, e.variation, 90, 91, e.operations)
     settings = BenchSettings(image_size=SIZE, scene="oracle", include_identity=True, examples=1)
     results = run_benchmark([identity, missing], records, models, settings)
     same = results[0]

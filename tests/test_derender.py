@@ -8,7 +8,7 @@ from helpers.tiny_models import geometric_net, semantic_net, textural_spec, writ
 
 from sdn3d.data import vkitti1
 from sdn3d.data.datasets import GeometricDataset, ObjectFilter
-from sdn3d.data.edit_benchmark import EditOperation
+from sdn3d.data.edit_benchmark import BenchmarkOperation
 from sdn3d.data.frames import load_frame
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame
 from sdn3d.derender import Models, derender, encode_scene, geometric_crop_settings
@@ -202,7 +202,7 @@ def test_render_and_edit_image(frame, models):
     torch.testing.assert_close(render_maps(deleted.maps, models.textural), deleted.edited)
     # Benchmark operations are resolved on the de-rendered scene (picks by projected centre).
     uv, _ = projected_centers(result.scene)
-    op = EditOperation.modify(tuple(uv[0].tolist()), None, 1.0, 0.7)
+    op = BenchmarkOperation.modify(tuple(uv[0].tolist()), None, 1.0, 0.7)
     bench = edit_image(f.image, f.intrinsics, [op], models, "gt", gt(record), frame_size=None, min_pixels=1)
     row = bench.edited_scene.objects.index_of(victim)
     assert float(bench.edited_scene.objects.ry[row] - result.scene.objects.ry[0]) == pytest.approx(0.7, abs=1e-9)

@@ -7,7 +7,7 @@ import math
 import pytest
 import torch
 
-from sdn3d.data.edit_benchmark import EditEntry, EditOperation, load_edit_benchmark, scale_point
+from sdn3d.data.edit_benchmark import BenchmarkEntry, BenchmarkOperation, load_edit_benchmark, scale_point
 from sdn3d.data.fixtures import write_vkitti1_fixture
 from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
@@ -200,9 +200,9 @@ def test_benchmark_picks_and_frame_checks(scene):
     iid = _big(scene)
     i = scene.objects.index_of(iid)
     full = scale_point(tuple(uv[i].tolist()), SIZE, (1242, 375))
-    off = EditOperation.modify(full, (1300.0, 300.0), 1.0, 0.0)
+    off = BenchmarkOperation.modify(full, (1300.0, 300.0), 1.0, 0.0)
     with pytest.raises(EditError, match="outside"):
-        apply_edits(scene, ops_from_benchmark(EditEntry("0001", "clone", 1, 2, (off,)), scene))
+        apply_edits(scene, ops_from_benchmark(BenchmarkEntry("0001", "clone", 1, 2, (off,)), scene))
     ops = ops_from_benchmark([off], scene, strict=False)
     assert ops[0].instance_id == iid and not ops[0].check_frame
     apply_edits(scene, ops)  # an off-frame target is accepted when not strict
@@ -213,7 +213,7 @@ def test_benchmark_picks_and_frame_checks(scene):
         match_objects(scene, [(uv[i, 0].item() + 50, uv[i, 1].item())], max_distance=1.0)
     empty = scene.replace(objects=ObjectTable.empty(SIZE[1], SIZE[0]))
     with pytest.raises(EditError, match="only 0 objects"):
-        ops_from_benchmark([EditOperation.delete((10.0, 10.0))], empty)
+        ops_from_benchmark([BenchmarkOperation.delete((10.0, 10.0))], empty)
 
 
 def test_published_example_rotates_the_picked_car(tmp_path):

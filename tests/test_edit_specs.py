@@ -14,8 +14,8 @@ import torch
 
 from sdn3d.data import DataFormatError
 from sdn3d.data.edit_benchmark import (
-    EditEntry,
-    EditOperation,
+    BenchmarkEntry,
+    BenchmarkOperation,
     benchmark_path,
     load_edit_benchmark,
     save_edit_benchmark,
@@ -52,7 +52,7 @@ def test_shipped_benchmark_values(benchmark):
     first = benchmark[0]
     assert (first.world, first.variation, first.source_frame, first.target_frame) == ("0006", "fog", 55, 50)
     op = first.operations[0]
-    assert op == EditOperation("modify", (750.9, 213.9), (804.4, 227.1), 1.338, 0.007, (194, 756, 269, 865))
+    assert op == BenchmarkOperation("modify", (750.9, 213.9), (804.4, 227.1), 1.338, 0.007, (194, 756, 269, 865))
     delete = first.operations[2]
     assert delete.kind == "delete" and delete.to_uv is None and delete.zoom is None and delete.ry is None
     # Deletes carry no target; every modify of the benchmark has a target point and an roi.
@@ -74,7 +74,7 @@ def test_out_of_frame_points_load_but_fail_user_validation(benchmark):
         validate_in_frame(benchmark[1], margin=-1)
 
 
-def _fails(entry: EditEntry) -> bool:
+def _fails(entry: BenchmarkEntry) -> bool:
     try:
         validate_in_frame(entry)
     except ValueError:
@@ -216,7 +216,7 @@ def test_numbers_may_be_json_numbers(tmp_path):
     entry["source"], entry["operations"][0]["from"] = 7, {"u": 3, "v": 4.5}
     (loaded,) = load_edit_benchmark(_write(tmp_path, [entry]))
     assert loaded.source_frame == 7
-    assert loaded.operations[0] == EditOperation.modify((3, 4.5), zoom=1.25, ry=-0.5)
+    assert loaded.operations[0] == BenchmarkOperation.modify((3, 4.5), zoom=1.25, ry=-0.5)
 
 
 def test_scaling_matches_resized_intrinsics():
@@ -249,12 +249,12 @@ def test_scale_operation_and_back(benchmark):
 
 
 def test_operation_constructor_validation():
-    assert EditOperation.delete((1, 2)).zoom is None
+    assert BenchmarkOperation.delete((1, 2)).zoom is None
     with pytest.raises(ValueError, match="zoom must be > 0"):
-        EditOperation.modify((1, 2), zoom=-1.0)
+        BenchmarkOperation.modify((1, 2), zoom=-1.0)
     with pytest.raises(ValueError, match="needs zoom and ry"):
-        EditOperation("modify", (1, 2))
+        BenchmarkOperation("modify", (1, 2))
     with pytest.raises(ValueError, match="kind"):
-        EditOperation("rotate", (1, 2))
+        BenchmarkOperation("rotate", (1, 2))
     with pytest.raises(ValueError, match="finite"):
-        EditOperation.modify((1, float("nan")))
+        BenchmarkOperation.modify((1, float("nan")))

@@ -9,11 +9,11 @@ import torch
 from kornia.geometry.conversions import axis_angle_to_rotation_matrix
 
 from sdn3d.geometric import (
-    DistanceError,
+    DistanceErrorMetric,
     GeometricMetrics,
     MeshSelectionAccuracy,
     OrientationSimilarity,
-    ReprojectionError,
+    ReprojectionErrorMetric,
     distance_error,
     orientation_similarity,
     predicted_rotation,
@@ -53,7 +53,7 @@ def test_distance_and_scale_errors():
 
 
 def test_metrics_accumulate_over_batches():
-    m = DistanceError()
+    m = DistanceErrorMetric()
     c = torch.tensor([[0.0, 1.0, 10.0]])
     m.update(c * math.e, c)
     m.update(c, c)
@@ -66,7 +66,7 @@ def test_metrics_accumulate_over_batches():
     empty = MeshSelectionAccuracy()
     empty.update(torch.tensor([1]), torch.tensor([-1]))
     assert math.isnan(float(empty.compute()))  # no object with a known template
-    rep = ReprojectionError()
+    rep = ReprojectionErrorMetric()
     sil = torch.zeros(2, 2, 2)
     mask = torch.ones(2, 1, 2, 2)
     ignore = torch.zeros(2, 1, 2, 2)

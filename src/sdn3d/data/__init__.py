@@ -10,8 +10,8 @@ same formats (not imported here: it is a test and generator helper).
 
 from sdn3d.data import cityscapes, vkitti1, vkitti2
 from sdn3d.data.edit_benchmark import (
-    EditEntry,
-    EditOperation,
+    BenchmarkEntry,
+    BenchmarkOperation,
     load_edit_benchmark,
     save_edit_benchmark,
     scale_entry,
@@ -45,8 +45,8 @@ __all__ = [
     "load_depth",
     "paper_object_filter",
     "paper_split",
-    "EditEntry",
-    "EditOperation",
+    "BenchmarkEntry",
+    "BenchmarkOperation",
     "load_edit_benchmark",
     "save_edit_benchmark",
     "scale_operation",

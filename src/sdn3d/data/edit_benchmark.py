@@ -45,8 +45,8 @@ __all__ = [
     "EDIT_KINDS",
     "VKITTI_FRAME_SIZE",
     "WORKING_SIZE",
-    "EditOperation",
-    "EditEntry",
+    "BenchmarkOperation",
+    "BenchmarkEntry",
     "SHIPPED_BENCHMARKS",
     "benchmark_path",
     "load_edit_benchmark",
@@ -74,7 +74,7 @@ def _finite(value: float, what: str) -> float:
 
 
 @dataclass(frozen=True)
-class EditOperation:
+class BenchmarkOperation:
     """One edit. Build with :meth:`modify` / :meth:`delete`.
 
     Attributes:
@@ -95,25 +95,25 @@ class EditOperation:
 
     def __post_init__(self) -> None:
         if self.kind not in EDIT_KINDS:
-            raise ValueError(f"EditOperation.kind must be one of {EDIT_KINDS}, got {self.kind!r}")
+            raise ValueError(f"BenchmarkOperation.kind must be one of {EDIT_KINDS}, got {self.kind!r}")
         for name, size in (("from_uv", 2), ("to_uv", 2), ("roi", 4)):
             value = getattr(self, name)
             if value is None:
                 continue
             if len(value) != size:
-                raise ValueError(f"EditOperation.{name} must have {size} values, got {value!r}")
-            object.__setattr__(self, name, tuple(_finite(x, f"EditOperation.{name}") for x in value))
+                raise ValueError(f"BenchmarkOperation.{name} must have {size} values, got {value!r}")
+            object.__setattr__(self, name, tuple(_finite(x, f"BenchmarkOperation.{name}") for x in value))
         if self.kind == "modify" and (self.zoom is None or self.ry is None):
-            raise ValueError("EditOperation: a modify needs zoom and ry (use 1.0 and 0.0 for no change)")
+            raise ValueError("BenchmarkOperation: a modify needs zoom and ry (use 1.0 and 0.0 for no change)")
         if self.zoom is not None:
-            zoom = _finite(self.zoom, "EditOperation.zoom")
+            zoom = _finite(self.zoom, "BenchmarkOperation.zoom")
             if zoom <= 0:
-                raise ValueError(f"EditOperation.zoom must be > 0, got {zoom}")
+                raise ValueError(f"BenchmarkOperation.zoom must be > 0, got {zoom}")
             object.__setattr__(self, "zoom", zoom)
         if self.ry is not None:
-            object.__setattr__(self, "ry", _finite(self.ry, "EditOperation.ry"))
+            object.__setattr__(self, "ry", _finite(self.ry, "BenchmarkOperation.ry"))
         if self.roi is not None and (self.roi[0] > self.roi[2] or self.roi[1] > self.roi[3]):
-            raise ValueError(f"EditOperation.roi must be (top, left, bottom, right) with top <= bottom "
+            raise ValueError(f"BenchmarkOperation.roi must be (top, left, bottom, right) with top <= bottom "
                              f"and left <= right, got {self.roi}")  # fmt: skip
 
     @classmethod
@@ -124,28 +124,28 @@ class EditOperation:
         zoom: float = 1.0,
         ry: float = 0.0,
         roi: tuple[float, float, float, float] | None = None,
-    ) -> EditOperation:
+    ) -> BenchmarkOperation:
         return cls("modify", from_uv, to_uv, zoom, ry, roi)
 
     @classmethod
-    def delete(cls, from_uv: tuple[float, float]) -> EditOperation:
+    def delete(cls, from_uv: tuple[float, float]) -> BenchmarkOperation:
         return cls("delete", from_uv)
 
 
 @dataclass(frozen=True)
-class EditEntry:
+class BenchmarkEntry:
     """One benchmark entry: edit ``source_frame`` of ``world/variation`` (target = reference frame)."""
 
     world: str
     variation: str
     source_frame: int
     target_frame: int
-    operations: tuple[EditOperation, ...] = ()
+    operations: tuple[BenchmarkOperation, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "operations", tuple(self.operations))
         if self.source_frame < 0 or self.target_frame < 0:
-            raise ValueError(f"EditEntry frames must be >= 0, got {self.source_frame}, {self.target_frame}")
+            raise ValueError(f"BenchmarkEntry frames must be >= 0, got {self.source_frame}, {self.target_frame}")
 
     @property
     def is_identity(self) -> bool:
@@ -180,7 +180,7 @@ class _Where:
         return number
 
 
-def _parse_operation(raw: Any, where: _Where) -> EditOperation:
+def _parse_operation(raw: Any, where: _Where) -> BenchmarkOperation:
     if not isinstance(raw, dict):
         raise where.error("operations", f"expected an object, got {type(raw).__name__}")
     kind = raw.get("type")
@@ -210,7 +210,7 @@ def _parse_operation(raw: Any, where: _Where) -> EditOperation:
             raise where.error("zoom", f"expected a number > 0, got {raw['zoom']!r}")
     if kind == "modify" or raw.get("ry") is not None:
         ry = where.number(raw, "ry", "ry")
-    return EditOperation(kind, from_uv, to_uv, zoom, ry, roi)
+    return BenchmarkOperation(kind, from_uv, to_uv, zoom, ry, roi)
 
 
 def _parse_frame(raw: dict, key: str, where: _Where) -> int:
@@ -220,7 +220,7 @@ def _parse_frame(raw: dict, key: str, where: _Where) -> int:
     return int(value)
 
 
-def _parse_entry(raw: Any, where: _Where) -> EditEntry:
+def _parse_entry(raw: Any, where: _Where) -> BenchmarkEntry:
     if not isinstance(raw, dict):
         raise where.error("entry", f"expected an object, got {type(raw).__name__}")
     for key in ("world", "topic"):
@@ -232,7 +232,7 @@ def _parse_entry(raw: Any, where: _Where) -> EditEntry:
         raise where.error("operations", "missing" if "operations" not in raw else "expected a list")
     ops = tuple(_parse_operation(op, _Where(where.path, where.entry, j)) for j, op in enumerate(operations))
     source, target = _parse_frame(raw, "source", where), _parse_frame(raw, "target", where)
-    return EditEntry(raw["world"], raw["topic"], source, target, ops)
+    return BenchmarkEntry(raw["world"], raw["topic"], source, target, ops)
 
 
 def benchmark_path(benchmark: str | os.PathLike) -> Path:
@@ -250,7 +250,7 @@ def benchmark_path(benchmark: str | os.PathLike) -> Path:
     return Path(benchmark).expanduser()
 
 
-def load_edit_benchmark(path: str | os.PathLike) -> list[EditEntry]:
+def load_edit_benchmark(path: str | os.PathLike) -> list[BenchmarkEntry]:
     """Parse a benchmark JSON file. Errors (``DataFormatError``, a ``ValueError``) name
     the file, the entry index, the operation index and the field."""
     path = Path(path)
@@ -278,7 +278,7 @@ def _json_number(value: float) -> int | float:
     return int(value) if float(value).is_integer() else float(value)
 
 
-def _operation_json(op: EditOperation) -> dict[str, Any]:
+def _operation_json(op: BenchmarkOperation) -> dict[str, Any]:
     to: dict[str, Any] | None
     if op.to_uv is None:
         to = None if op.kind == "delete" else {}
@@ -295,7 +295,7 @@ def _operation_json(op: EditOperation) -> dict[str, Any]:
     }
 
 
-def save_edit_benchmark(entries: Sequence[EditEntry], path: str | os.PathLike) -> Path:
+def save_edit_benchmark(entries: Sequence[BenchmarkEntry], path: str | os.PathLike) -> Path:
     """Write ``entries`` in the benchmark format (4-space indent, numbers as strings,
     frames as ``%05d``), atomically: a temporary file renamed over ``path``."""
     data = [
@@ -324,10 +324,10 @@ def scale_point(
 
 
 def scale_operation(
-    op: EditOperation,
+    op: BenchmarkOperation,
     from_size: tuple[int, int] = VKITTI_FRAME_SIZE,
     to_size: tuple[int, int] = WORKING_SIZE,
-) -> EditOperation:
+) -> BenchmarkOperation:
     """``op`` with ``from``/``to``/``roi`` pixel coordinates mapped from ``from_size`` to
     ``to_size`` (both ``(width, height)``); zoom and ry do not depend on image size."""
     for name, size in (("from_size", from_size), ("to_size", to_size)):
@@ -343,17 +343,17 @@ def scale_operation(
 
 
 def scale_entry(
-    entry: EditEntry,
+    entry: BenchmarkEntry,
     from_size: tuple[int, int] = VKITTI_FRAME_SIZE,
     to_size: tuple[int, int] = WORKING_SIZE,
-) -> EditEntry:
+) -> BenchmarkEntry:
     """:func:`scale_operation` applied to every operation of ``entry``."""
     operations = tuple(scale_operation(op, from_size, to_size) for op in entry.operations)
     return replace(entry, operations=operations)
 
 
 def validate_in_frame(
-    entry: EditEntry,
+    entry: BenchmarkEntry,
     size: tuple[int, int] = VKITTI_FRAME_SIZE,
     margin: float = 0.0,
     index: int | None = None,

@@ -35,7 +35,7 @@ from scipy.ndimage import binary_dilation
 from scipy.optimize import linear_sum_assignment
 from torch import Tensor
 
-from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, EditOperation, scale_operation
+from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, BenchmarkEntry, BenchmarkOperation, scale_operation
 from sdn3d.editing.ops import (
     Delete,
     Duplicate,
@@ -319,7 +319,7 @@ def _grow(scene: SceneCode, vacate: Tensor, region: Tensor, occupied: Tensor, gr
     return region
 
 
-def ops_from_benchmark(entry: EditEntry | Sequence[EditOperation], scene: SceneCode,
+def ops_from_benchmark(entry: BenchmarkEntry | Sequence[BenchmarkOperation], scene: SceneCode,
                        frame_size: tuple[int, int] | None = VKITTI_FRAME_SIZE, strict: bool = True,
                        max_distance: float | None = None) -> list[EditOp]:
     """Convert benchmark operations (:mod:`sdn3d.data.edit_benchmark`) to :class:`Modify` / :class:`Delete`.
@@ -333,7 +333,7 @@ def ops_from_benchmark(entry: EditEntry | Sequence[EditOperation], scene: SceneC
         strict: reject ``to`` points outside the frame (the published file needs ``strict=False``).
         max_distance: reject picks farther than this many pixels (scene size) from any object.
     """
-    ops = list(entry.operations if isinstance(entry, EditEntry) else entry)
+    ops = list(entry.operations if isinstance(entry, BenchmarkEntry) else entry)
     if frame_size is not None and tuple(frame_size) != scene.image_size:
         ops = [scale_operation(op, tuple(frame_size), scene.image_size) for op in ops]
     ids = match_objects(scene, [op.from_uv for op in ops], [op.kind == "modify" for op in ops], max_distance)

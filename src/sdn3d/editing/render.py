@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from torch import Tensor
 
-from sdn3d.data.edit_benchmark import EditEntry, EditOperation
+from sdn3d.data.edit_benchmark import BenchmarkEntry, BenchmarkOperation
 from sdn3d.derender import GroundTruth, Models, derender
 from sdn3d.editing.apply import EditOp, apply_edits, ops_from_benchmark
 from sdn3d.math3d.camera import Intrinsics
@@ -59,7 +59,7 @@ def render(scene: SceneCode, textural: TexturalRenderer, bank: MeshBank | None =
 
 
 def edit_image(image: Tensor, intrinsics: Intrinsics,
-               ops: Sequence[EditOp] | EditEntry | Sequence[EditOperation], models: Models,
+               ops: Sequence[EditOp] | BenchmarkEntry | Sequence[BenchmarkOperation], models: Models,
                proposals: str = "auto", ground_truth: GroundTruth | None = None,
                frame_size: tuple[int, int] | None = None, strict: bool = True, bank: MeshBank | None = None,
                **derender_kwargs) -> EditResult:
@@ -74,8 +74,8 @@ def edit_image(image: Tensor, intrinsics: Intrinsics,
     if models.textural is None:
         raise ValueError("edit_image needs the textural branch (models.textural is None)")
     scene = derender(image, intrinsics, models, proposals, ground_truth, **derender_kwargs)
-    ops = list(ops.operations) if isinstance(ops, EditEntry) else list(ops)
-    if ops and all(isinstance(op, EditOperation) for op in ops):
+    ops = list(ops.operations) if isinstance(ops, BenchmarkEntry) else list(ops)
+    if ops and all(isinstance(op, BenchmarkOperation) for op in ops):
         ops = ops_from_benchmark(ops, scene, frame_size, strict)
     edited_scene = apply_edits(scene, ops, bank)
     maps = scene_maps(edited_scene, bank, num_bins=models.textural.spec.pose_bins)

@@ -37,7 +37,13 @@ from typing import Any
 
 import torch
 
-from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, load_edit_benchmark, scale_point, validate_in_frame
+from sdn3d.data.edit_benchmark import (
+    VKITTI_FRAME_SIZE,
+    BenchmarkEntry,
+    load_edit_benchmark,
+    scale_point,
+    validate_in_frame,
+)
 from sdn3d.editing.apply import (
     Delete,
     Duplicate,
@@ -112,7 +118,7 @@ class EditSpec:
     coordinates refer to (None: the scene's own pixels)."""
 
     ops: tuple[OpSpec, ...] = ()
-    entry: EditEntry | None = None
+    entry: BenchmarkEntry | None = None
     frame_size: tuple[int, int] | None = None
     source: str = "<edit spec>"
 

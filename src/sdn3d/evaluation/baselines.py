@@ -25,7 +25,7 @@ from collections.abc import Sequence
 import torch
 from torch import Tensor
 
-from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, EditOperation, scale_operation
+from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, BenchmarkEntry, BenchmarkOperation, scale_operation
 from sdn3d.editing.apply import Delete, EditError, apply_edits, match_objects
 from sdn3d.image_ops import boundary_map, instance_label_map
 from sdn3d.meshes.bank import MeshBank
@@ -64,7 +64,7 @@ def warp_regions(regions: Tensor, values: Tensor, src: Tensor, dst: Tensor, scal
     return hit, sampled * hit[:, None]
 
 
-def baseline_maps(scene: SceneCode, entry: EditEntry | Sequence[EditOperation], mode: str = "2d",
+def baseline_maps(scene: SceneCode, entry: BenchmarkEntry | Sequence[BenchmarkOperation], mode: str = "2d",
                   frame_size: tuple[int, int] | None = VKITTI_FRAME_SIZE, geometry: str = "move",
                   bank: MeshBank | None = None, max_distance: float | None = None) -> ComposedMaps:
     """Generator inputs of the ``mode`` baseline's edit of ``scene`` (module doc).
@@ -82,7 +82,7 @@ def baseline_maps(scene: SceneCode, entry: EditEntry | Sequence[EditOperation], 
     if geometry not in ("move", "empty"):
         raise ValueError(f"geometry must be 'move' or 'empty', got {geometry!r}")
     bank = bank or default_bank()
-    ops = list(entry.operations if isinstance(entry, EditEntry) else entry)
+    ops = list(entry.operations if isinstance(entry, BenchmarkEntry) else entry)
     if frame_size is not None and tuple(frame_size) != scene.image_size:
         ops = [scale_operation(op, tuple(frame_size), scene.image_size) for op in ops]
     ids = match_objects(scene, [op.from_uv for op in ops], None, max_distance)

@@ -39,7 +39,7 @@ import numpy as np
 import torch
 from torch import Tensor
 
-from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, EditEntry, scale_operation
+from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, BenchmarkEntry, scale_operation
 from sdn3d.data.frames import load_frame
 from sdn3d.data.records import FrameRecord, load_instances
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame
@@ -153,7 +153,7 @@ def _instances(record: FrameRecord, size: tuple[int, int]) -> Tensor:
     return resize_map(torch.from_numpy(load_instances(record)).long(), size)
 
 
-def edit_regions(entry: EditEntry, source: FrameRecord, target: FrameRecord, image_size: tuple[int, int],
+def edit_regions(entry: BenchmarkEntry, source: FrameRecord, target: FrameRecord, image_size: tuple[int, int],
                  frame_size: tuple[int, int] = VKITTI_FRAME_SIZE) -> tuple[Tensor, Tensor, list[int]]:
     """Ground-truth edited regions of ``entry`` (module doc).
 
@@ -220,7 +220,7 @@ def _to_uint8(image: Tensor) -> np.ndarray:
     return (image.detach().cpu().clamp(0, 1).permute(1, 2, 0).numpy() * 255 + 0.5).astype(np.uint8)
 
 
-def evaluate_entry(index: int, entry: EditEntry, source: FrameRecord, target: FrameRecord, models: Models,
+def evaluate_entry(index: int, entry: BenchmarkEntry, source: FrameRecord, target: FrameRecord, models: Models,
                    settings: BenchSettings, lpips_net: LPIPS | None = None, keep_images: bool = False
                    ) -> EntryResult:
     """Evaluate one entry with every method (a method's :class:`ValueError` is recorded, not raised)."""
@@ -269,7 +269,7 @@ def evaluate_entry(index: int, entry: EditEntry, source: FrameRecord, target: Fr
     return result
 
 
-def run_benchmark(entries: Sequence[EditEntry], records: Mapping[tuple[str, str, int], FrameRecord],
+def run_benchmark(entries: Sequence[BenchmarkEntry], records: Mapping[tuple[str, str, int], FrameRecord],
                   models: Models, settings: BenchSettings, lpips_net: LPIPS | None = None,
                   progress: Callable[[int, int, EntryResult], None] | None = None) -> list[EntryResult]:
     """Evaluate ``entries`` (identity ones only with ``include_identity``); frames from ``records``.

@@ -327,7 +327,7 @@ def evaluate_deep3dbox(
         (projected 3D box vs 2D box) and ``box_pad``.
     """
     from sdn3d.geometric.losses import outside_image_mask, render_silhouettes
-    from sdn3d.geometric.metrics import ReprojectionError, distance_error, orientation_similarity, scale_error
+    from sdn3d.geometric.metrics import ReprojectionErrorMetric, distance_error, orientation_similarity, scale_error
     from sdn3d.meshes.bank import MeshBank
 
     dataset = getattr(dataloader, "dataset", None)
@@ -336,7 +336,7 @@ def evaluate_deep3dbox(
     if (truncation or reprojection) and image_size is None:
         raise ValueError("evaluate_deep3dbox: truncation and reprojection need dataloader.dataset.image_size")
     sums = {"test/orientation_similarity": 0.0, "test/distance_error": 0.0, "test/scale_error": 0.0, "mean_iou": 0.0}
-    reproj, bank = ReprojectionError(), None
+    reproj, bank = ReprojectionErrorMetric(), None
     count = invalid = 0
     for i, batch in enumerate(dataloader):
         if max_batches is not None and i >= max_batches:

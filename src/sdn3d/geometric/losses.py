@@ -141,7 +141,7 @@ def render_silhouettes(
     center: Tensor,
     phi: Tensor | None,
     crop_intrinsics: Tensor,
-    size: int | tuple[int, int] | SoftSilhouetteSettings,
+    settings: SoftSilhouetteSettings | int | tuple[int, int],
 ) -> Tensor:
     """Soft silhouettes ``(N, H, W)`` of deformed, posed templates in each object's crop camera.
 
@@ -153,12 +153,11 @@ def render_silhouettes(
         dims, ry, center: ``(N, 3)``, ``(N,)``, ``(N, 3)`` object placement (camera frame).
         phi: ``(N, 64, 3)`` FFD displacements or None.
         crop_intrinsics: ``(N, 4)`` ``(fx, fy, cx, cy)`` or ``(N, 3, 3)`` of each crop.
-        size: crop side ``S``, ``(H, W)``, or full :class:`SoftSilhouetteSettings`.
+        settings: the soft rasterizer's settings, or just the crop size (a side ``S`` or ``(H, W)``) with
+            the default settings.
     """
-    if isinstance(size, SoftSilhouetteSettings):
-        settings = size
-    else:
-        settings = SoftSilhouetteSettings((size, size) if isinstance(size, int) else tuple(size))
+    if not isinstance(settings, SoftSilhouetteSettings):
+        settings = SoftSilhouetteSettings((settings, settings) if isinstance(settings, int) else tuple(settings))
     verts, faces = pose_meshes(bank, template_ids, dims, ry, center, phi)
     K = as_intrinsics_matrix(crop_intrinsics, dims.shape[0]).to(verts.dtype)
     return soft_silhouette(verts, faces, K, settings)

@@ -30,9 +30,9 @@ __all__ = [
     "scale_error",
     "predicted_rotation",
     "OrientationSimilarity",
-    "DistanceError",
-    "ScaleError",
-    "ReprojectionError",
+    "DistanceErrorMetric",
+    "ScaleErrorMetric",
+    "ReprojectionErrorMetric",
     "MeshSelectionAccuracy",
     "GeometricMetrics",
     "METRIC_NAMES",
@@ -109,7 +109,7 @@ class OrientationSimilarity(_SumCount):
         self._add(orientation_similarity(pred_rot, target_rot))
 
 
-class DistanceError(_SumCount):
+class DistanceErrorMetric(_SumCount):
     """Mean ``|log t - log t~|``; ``update(pred_center (N, 3), target_center (N, 3))``."""
 
     higher_is_better = False
@@ -118,7 +118,7 @@ class DistanceError(_SumCount):
         self._add(distance_error(pred_center, target_center))
 
 
-class ScaleError(_SumCount):
+class ScaleErrorMetric(_SumCount):
     """Mean ``||s - s~||_2``; ``update(pred_dims (N, 3), target_dims (N, 3))``."""
 
     higher_is_better = False
@@ -127,7 +127,7 @@ class ScaleError(_SumCount):
         self._add(scale_error(pred_dims, target_dims))
 
 
-class ReprojectionError(_SumCount):
+class ReprojectionErrorMetric(_SumCount):
     """Per-pixel mean ``|S~ - S|`` over non-ignored pixels; ``update(silhouette (N, H, W), mask, ignore=None)``.
 
     ``mask`` and ``ignore`` are ``(N, H, W)`` or ``(N, 1, H, W)``; ignored pixels (value 1) do not count.
@@ -171,9 +171,9 @@ class GeometricMetrics(nn.Module):
         super().__init__()
         self.metrics = nn.ModuleDict({
             "orientation_similarity": OrientationSimilarity(),
-            "distance_error": DistanceError(),
-            "scale_error": ScaleError(),
-            "reprojection_error": ReprojectionError(),
+            "distance_error": DistanceErrorMetric(),
+            "scale_error": ScaleErrorMetric(),
+            "reprojection_error": ReprojectionErrorMetric(),
             "mesh_accuracy": MeshSelectionAccuracy(),
         })
 

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from sdn3d.data.edit_benchmark import EditOperation
+from sdn3d.data.edit_benchmark import BenchmarkOperation
 from sdn3d.data.synth.layout import FrameObjects, World
 from sdn3d.data.synth.stats import ObjectStats
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
@@ -89,7 +89,7 @@ def sample_edit(
     world_to_cam: np.ndarray,
     intrinsics: Intrinsics,
     max_operations: int = 3,
-) -> tuple[FrameObjects, list[EditOperation], np.ndarray]:
+) -> tuple[FrameObjects, list[BenchmarkOperation], np.ndarray]:
     """Edit the cars of a source frame; returns the target frame's cars and the operations.
 
     Args:
@@ -132,12 +132,12 @@ def sample_edit(
     road = world.road
     alive = np.ones(len(objects), dtype=bool)
     modified = np.zeros(len(objects), dtype=bool)
-    operations: list[EditOperation] = []
+    operations: list[BenchmarkOperation] = []
     for i in sorted(int(c) for c in chosen):
         from_uv = (round(float(uv[i, 0]), 1), round(float(uv[i, 1]), 1))
         if rng.uniform() < 0.15:
             alive[i] = False
-            operations.append(EditOperation.delete(from_uv))
+            operations.append(BenchmarkOperation.delete(from_uv))
             continue
         dims = dims_all[i]
         rotate_only = rng.uniform() < 0.2
@@ -184,11 +184,12 @@ def sample_edit(
             else:
                 continue
         if rotate_only:
-            operations.append(EditOperation.modify(from_uv, None, 1.0, d_ry))
+            operations.append(BenchmarkOperation.modify(from_uv, None, 1.0, d_ry))
         else:
             zoom = round(float(np.linalg.norm(center[i]) / np.linalg.norm(new_center)), 3)
             to_uv = (round(float(new_uv[0]), 1), round(float(new_uv[1]), 1))
-            operations.append(EditOperation.modify(from_uv, to_uv, zoom, d_ry, tuple(_roi(new_center, dims, new_ry))))
+            roi = tuple(_roi(new_center, dims, new_ry))
+            operations.append(BenchmarkOperation.modify(from_uv, to_uv, zoom, d_ry, roi))
         center[i], ry[i] = new_center, new_ry
         modified[i] = True
     edited = FrameObjects(objects.track.copy(), center, ry, objects.moving.copy())

@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from sdn3d.data.edit_benchmark import EditEntry, save_edit_benchmark
+from sdn3d.data.edit_benchmark import BenchmarkEntry, save_edit_benchmark
 from sdn3d.data.synth.edits import sample_edit
 from sdn3d.data.synth.layout import (
     CAMERA_YAW_DEG,
@@ -149,7 +149,7 @@ class SequenceSummary:
     frames: int
     edit_frames: list[int]
     object_rows: int
-    entries: list[EditEntry]
+    entries: list[BenchmarkEntry]
 
 
 @functools.lru_cache(maxsize=4)
@@ -243,7 +243,7 @@ def generate_sequence(root: Path, cfg: SynthConfig, world_name: str, variation: 
         )
         rows += int((frame.stats.visible > 0).sum())
         edit_frames.append(target)
-        entries.append(EditEntry(world_name, variation, source, target, tuple(operations)))
+        entries.append(BenchmarkEntry(world_name, variation, source, target, tuple(operations)))
     writer.close()
     return SequenceSummary(world_name, variation, cfg.frames_per_sequence + cfg.edit_pairs, edit_frames, rows, entries)
 

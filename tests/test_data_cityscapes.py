@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from sdn3d.data import DataFormatError, load_depth, load_instances, load_rgb, load_semantic
 from sdn3d.data.cityscapes import camera_to_vehicle, read_frames
+from sdn3d.data.errors import DataFormatError
 from sdn3d.data.fixtures_cityscapes import CITYSCAPES_FIXTURE_FRAMES, write_cityscapes_fixture
+from sdn3d.data.records import load_depth, load_instances, load_rgb, load_semantic
 from sdn3d.labels import CITYSCAPES_EMBEDDED_LABELS, CITYSCAPES_LABELS, CITYSCAPES_TRAIN_CLASSES, LABEL_TO_TRAIN
 
 

@@ -9,20 +9,17 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from sdn3d.data import (
-    DataFormatError,
-    MissingDataError,
+from sdn3d.data.errors import DataFormatError, MissingDataError
+from sdn3d.data.fixtures import write_vkitti1_fixture
+from sdn3d.data.records import (
+    ObjectAnnotation,
     load_depth,
     load_instances,
     load_rgb,
     load_semantic,
-    paper_object_filter,
-    paper_split,
     visible_pixel_counts,
 )
-from sdn3d.data.fixtures import write_vkitti1_fixture
-from sdn3d.data.records import ObjectAnnotation
-from sdn3d.data.vkitti1 import MOTGT_HEADER, parse_encoding, parse_motgt, read_frames
+from sdn3d.data.vkitti1 import MOTGT_HEADER, paper_object_filter, paper_split, parse_encoding, parse_motgt, read_frames
 from sdn3d.labels import VKITTI_CLASS_INDEX, VKITTI_CLASSES, split_instance_ids
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 

@@ -12,7 +12,6 @@ from pathlib import Path
 import pytest
 import torch
 
-from sdn3d.data import DataFormatError
 from sdn3d.data.edit_benchmark import (
     BenchmarkEntry,
     BenchmarkOperation,
@@ -24,6 +23,7 @@ from sdn3d.data.edit_benchmark import (
     scale_point,
     validate_in_frame,
 )
+from sdn3d.data.errors import DataFormatError
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, project_points
 from sdn3d.resources import PAPER_LICENSE, paper_benchmark_path, paper_example_path, resource_path
 

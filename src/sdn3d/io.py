@@ -91,8 +91,8 @@ def load_lightning_checkpoint(path: str | os.PathLike, map_location: Any = "cpu"
     """A Lightning checkpoint read with ``torch.load(weights_only=True)`` (no code from the file runs).
 
     Raises:
-        UserInputError (a ValueError): naming the file: missing, unreadable (truncated, not a torch file, or holding objects
-            ``weights_only`` refuses), or not a mapping with the ``required`` keys.
+        UserInputError (a ValueError): naming the file: missing, unreadable (truncated, not a torch file,
+            or holding objects ``weights_only`` refuses), or not a mapping with the ``required`` keys.
     """
     import pickle
     import zipfile

@@ -87,6 +87,9 @@ def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any]:
     data = cfg.get("data")
     size = cfg.image_size or (data.image_size if data is not None and cfg.input.image is None else DEFAULT_SIZE)
     size = (int(size[0]), int(size[1]))
+    if min(size) <= 0:
+        raise InputError(f"the working size (image_size, else data.image_size) must be two positive integers "
+                         f"[W, H], got {list(size)}")
     if cfg.input.image is not None:
         from PIL import Image, UnidentifiedImageError
 

@@ -132,7 +132,7 @@ def _fit_pose(bank, tid, dims, ry0, center0, target, ignore, K_crop, steps, lr, 
     losses = adam_fit([d_ry, d_xz], lambda: ((silhouette() - target.float()).abs() * keep).mean(), steps, lr)
     with torch.no_grad():
         final = silhouette()
-    r, c = current()
+        r, c = current()
     return {
         "start_iou": start_iou,
         "final_iou": iou(final),

@@ -8,13 +8,11 @@ every frame and every variation of a world; only the lighting, fog and rain chan
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import torch
 from torch import Tensor
 
 from sdn3d.data.synth.classes import Material
-from sdn3d.data.synth.lighting import LOOKS, Look, apply_weather, look_for, shade, sky_color, tonemap
+from sdn3d.data.synth.lighting import LOOKS, Look, Surface, apply_weather, look_for, shade, sky_color, tonemap
 from sdn3d.data.synth.noise import fbm, hash_cells, value_noise
 
 __all__ = [
@@ -43,31 +41,6 @@ def _smooth_band(dist: Tensor, half_width: float | Tensor, footprint: Tensor) ->
 
 
 # --- textures -----------------------------------------------------------------------------------
-
-
-@dataclass
-class Surface:
-    """Flat per-pixel surface attributes of the foreground pixels (P of them).
-
-    Attributes:
-        material: ``(P,)`` material ids; color ``(P, 3)`` base albedo; param ``(P, 8)``.
-        world: ``(P, 3)`` world-frame position; normal: ``(P, 3)`` world-frame unit normal facing
-            the camera; view: ``(P, 3)`` unit world direction from the surface to the camera.
-        footprint: ``(P,)`` metres covered by one pixel at that depth (for anti-aliasing).
-        local: ``(P, 3)`` canonical car coordinates (car pixels only, else 0).
-        template: ``(P,)`` car template id (-1 elsewhere); wheel: ``(P,)`` bool, wheel faces.
-    """
-
-    material: Tensor
-    color: Tensor
-    param: Tensor
-    world: Tensor
-    normal: Tensor
-    view: Tensor
-    footprint: Tensor
-    local: Tensor
-    template: Tensor
-    wheel: Tensor
 
 
 def _road(s: Surface, idx: Tensor, seed: int, markings: tuple[Tensor, Tensor, float]) -> Tensor:

@@ -23,7 +23,7 @@ import torch
 
 from sdn3d.data.synth.classes import CAR_COLORS
 from sdn3d.data.synth.primitives import StaticMesh
-from sdn3d.data.synth.scenery import RoadGeometry, build_static_scene
+from sdn3d.data.synth.scenery import WORLD_STYLES, RoadGeometry, WorldStyle, build_static_scene
 from sdn3d.math3d.ffd import expand_half_ffd
 from sdn3d.meshes.templates import TEMPLATE_CATEGORY, TEMPLATE_DIMENSIONS, TEMPLATE_NAMES
 
@@ -69,37 +69,6 @@ MAX_TRACKS = 999
 #: Cars more than this far behind the camera (camera-frame z) are not rendered at all.
 BEHIND_LIMIT = 15.0
 
-
-@dataclass(frozen=True)
-class WorldStyle:
-    """Street type of a world: cross-section and how dense each kind of scenery is."""
-
-    fwd_lanes: int
-    bwd_lanes: int
-    lane_width: float
-    parking: tuple[bool, bool]  # (left, right) parking strips with parked cars
-    sidewalk: float  # sidewalk width (0: a narrow shoulder, then terrain)
-    building_prob: float  # share of the roadside occupied by buildings
-    building_height: tuple[float, float]
-    tree_spacing: float  # mean spacing of roadside trees (0: none)
-    forest: float  # trees per 100 m and side behind the roadside
-    guard_rail: bool
-    lamps: bool
-    hedge_prob: float
-    traffic_lights: bool
-    trucks: int  # at most this many parked trucks
-
-
-#: Styles of the five Virtual KITTI world names (loosely after the KITTI sequences they clone):
-#: 0001 town street, 0002 country road, 0006 wide suburban road, 0018 tree-lined street,
-#: 0020 highway. Other 4-digit names get a style drawn from their seed.
-WORLD_STYLES: dict[str, WorldStyle] = {
-    "0001": WorldStyle(1, 1, 3.5, (True, True), 2.5, 0.75, (6.0, 22.0), 10.0, 1.0, False, True, 0.2, True, 1),
-    "0002": WorldStyle(1, 1, 3.3, (False, True), 0.0, 0.12, (4.0, 8.0), 0.0, 14.0, True, False, 0.5, False, 0),
-    "0006": WorldStyle(2, 2, 3.5, (True, True), 3.0, 0.6, (8.0, 30.0), 13.0, 0.0, False, True, 0.3, True, 1),
-    "0018": WorldStyle(1, 1, 3.4, (True, True), 2.0, 0.35, (5.0, 12.0), 7.0, 6.0, False, True, 0.4, False, 1),
-    "0020": WorldStyle(2, 2, 3.7, (False, False), 0.0, 0.04, (5.0, 10.0), 0.0, 10.0, True, True, 0.3, False, 0),
-}
 
 # Template frequencies (sedan ... bus) and named-colour frequencies.
 _TEMPLATE_WEIGHTS = np.array([0.22, 0.19, 0.14, 0.15, 0.08, 0.11, 0.07, 0.04])

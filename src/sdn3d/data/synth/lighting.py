@@ -8,17 +8,38 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import torch
 from torch import Tensor
 
 from sdn3d.data.synth.noise import fbm, hash_cells
 
-if TYPE_CHECKING:
-    from sdn3d.data.synth.appearance import Surface
+__all__ = ["Surface", "Look", "LOOKS", "look_for", "shade", "sky_color", "apply_weather", "tonemap"]
 
-__all__ = ["Look", "LOOKS", "look_for", "shade", "sky_color", "apply_weather", "tonemap"]
+
+@dataclass
+class Surface:
+    """Flat per-pixel surface attributes of the foreground pixels (P of them).
+
+    Attributes:
+        material: ``(P,)`` material ids; color ``(P, 3)`` base albedo; param ``(P, 8)``.
+        world: ``(P, 3)`` world-frame position; normal: ``(P, 3)`` world-frame unit normal facing
+            the camera; view: ``(P, 3)`` unit world direction from the surface to the camera.
+        footprint: ``(P,)`` metres covered by one pixel at that depth (for anti-aliasing).
+        local: ``(P, 3)`` canonical car coordinates (car pixels only, else 0).
+        template: ``(P,)`` car template id (-1 elsewhere); wheel: ``(P,)`` bool, wheel faces.
+    """
+
+    material: Tensor
+    color: Tensor
+    param: Tensor
+    world: Tensor
+    normal: Tensor
+    view: Tensor
+    footprint: Tensor
+    local: Tensor
+    template: Tensor
+    wheel: Tensor
 
 
 def _sun(elevation_deg: float, azimuth_deg: float) -> tuple[float, float, float]:

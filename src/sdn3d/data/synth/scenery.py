@@ -9,17 +9,13 @@ small and the far ground coarse.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from sdn3d.data.synth.classes import CLASS_ID, Material
 from sdn3d.data.synth.primitives import MeshBuilder, StaticMesh, icosphere
 
-if TYPE_CHECKING:
-    from sdn3d.data.synth.layout import WorldStyle
-
-__all__ = ["RoadGeometry", "build_static_scene"]
+__all__ = ["WorldStyle", "WORLD_STYLES", "RoadGeometry", "build_static_scene"]
 
 _FACADE_COLORS = np.array(
     [
@@ -38,6 +34,37 @@ _FACADE_COLORS = np.array(
 _TRUCK_COLORS = np.array([[0.6, 0.6, 0.6], [0.5, 0.05, 0.03], [0.05, 0.1, 0.35], [0.7, 0.55, 0.05]])
 _SIGN_COLORS = np.array([[0.55, 0.03, 0.02], [0.03, 0.12, 0.45], [0.75, 0.60, 0.02], [0.04, 0.25, 0.08]])
 
+
+@dataclass(frozen=True)
+class WorldStyle:
+    """Street type of a world: cross-section and how dense each kind of scenery is."""
+
+    fwd_lanes: int
+    bwd_lanes: int
+    lane_width: float
+    parking: tuple[bool, bool]  # (left, right) parking strips with parked cars
+    sidewalk: float  # sidewalk width (0: a narrow shoulder, then terrain)
+    building_prob: float  # share of the roadside occupied by buildings
+    building_height: tuple[float, float]
+    tree_spacing: float  # mean spacing of roadside trees (0: none)
+    forest: float  # trees per 100 m and side behind the roadside
+    guard_rail: bool
+    lamps: bool
+    hedge_prob: float
+    traffic_lights: bool
+    trucks: int  # at most this many parked trucks
+
+
+#: Styles of the five Virtual KITTI world names (loosely after the KITTI sequences they clone):
+#: 0001 town street, 0002 country road, 0006 wide suburban road, 0018 tree-lined street,
+#: 0020 highway. Other 4-digit names get a style drawn from their seed.
+WORLD_STYLES: dict[str, WorldStyle] = {
+    "0001": WorldStyle(1, 1, 3.5, (True, True), 2.5, 0.75, (6.0, 22.0), 10.0, 1.0, False, True, 0.2, True, 1),
+    "0002": WorldStyle(1, 1, 3.3, (False, True), 0.0, 0.12, (4.0, 8.0), 0.0, 14.0, True, False, 0.5, False, 0),
+    "0006": WorldStyle(2, 2, 3.5, (True, True), 3.0, 0.6, (8.0, 30.0), 13.0, 0.0, False, True, 0.3, True, 1),
+    "0018": WorldStyle(1, 1, 3.4, (True, True), 2.0, 0.35, (5.0, 12.0), 7.0, 6.0, False, True, 0.4, False, 1),
+    "0020": WorldStyle(2, 2, 3.7, (False, False), 0.0, 0.04, (5.0, 10.0), 0.0, 10.0, True, True, 0.3, False, 0),
+}
 
 @dataclass(frozen=True)
 class RoadGeometry:

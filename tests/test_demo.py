@@ -92,10 +92,10 @@ def test_demo_trains_branches_in_parallel_and_composes_the_long_budget(tmp_path)
     from sdn3d.cli.edit import compose_config
 
     long = compose_config(["budget=long"], "demo")
-    assert long.budget_name == "long" and long.train.experiment.geometric == "table2" and long.gpu_budget
+    assert long.budget_name == "long" and long.train.experiment.geometric == "demo_long" and long.gpu_budget
     medium = compose_config(["budget=medium"], "demo")
     assert medium.train.branches == ["geometric", "textural"] and medium.render_size == [312, 96]
-    assert len(long.synth.worlds) == 5 and "trainer.max_epochs=12" in long.train.textural
+    assert len(long.synth.worlds) == 5 and long.train.textural == []  # the budget is in experiment=demo_long
     out = tmp_path / "demo"
     status = main([f"output_dir={out}", f"data_dir={tmp_path / 'data'}", "threads=1", "synth.image_size=[160,64]",
                    "synth.worlds=[0001]", "synth.frames_per_sequence=5", "synth.edit_pairs=1", "synth.workers=1",

@@ -138,8 +138,8 @@ def test_branch_config_follows_each_ablation(synth_root, tmp_path):
         assert model_cfg["reproj"] == cfg.ablation.reproj and model_cfg["single_cad"] == cfg.ablation.single_cad
         assert model_cfg["image_size"] == list(cfg.data.image_size)
         for name in ("demo", "paper"):
-            preset = cfg.presets[name]
-            assert preset.trainer.max_epochs == preset.model.pred_epochs + preset.model.joint_epochs
+            recipe = OmegaConf.load(Path(CONF) / "recipe" / f"geometric_{name}.yaml")
+            assert recipe.trainer.max_epochs == recipe.model.pred_epochs + recipe.model.joint_epochs
         if ablation in ("full", "single_cad"):  # building the ResNet is the slow part: two suffice
             model = instantiate(cfg.model)
             assert model.net.num_templates == (1 if cfg.ablation.single_cad else 8)

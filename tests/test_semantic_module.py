@@ -101,26 +101,26 @@ def test_checkpoint_loads_weights_only_into_the_predictor(data_cfg, tmp_path):
     assert resized.label.shape == (1, 2 * SIZE[1], 2 * SIZE[0]) and resized.instance.shape == resized.label.shape
 
 
-def test_hydra_branch_config_and_presets(data_cfg):
+def _train_cfg(*overrides: str):
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
-        cfg = compose("train", overrides=["branch=semantic", "data=synth", f"data.root={data_cfg.root}",
-                                          "data.image_size=[96,32]"])
+        return compose("train", overrides=list(overrides))
+
+
+def test_hydra_branch_config_and_experiments(data_cfg):
+    base = ["branch=semantic", "data=synth", f"data.root={data_cfg.root}"]
+    cfg = _train_cfg(*base, "data.image_size=[96,32]")
     assert cfg.branch_name == "semantic" and cfg.monitor == "val/miou" and cfg.monitor_mode == "max"
     assert OmegaConf.load(CONF / "branch" / "semantic.yaml").trainer.max_epochs == 25  # the paper's 25 epochs
-    paper = cfg.presets.paper
+    paper = _train_cfg(*base, "data.image_size=[96,32]", "experiment=paper_vkitti")  # data=synth wins
     assert (paper.model.lr, paper.model.momentum, paper.model.weight_decay, paper.model.poly_power) == \
            (0.01, 0.9, 1e-4, 0.9)
     assert paper.datamodule.batch_size == 8 and paper.trainer.max_epochs == 25
-    assert cfg.presets.demo.trainer.max_epochs * cfg.presets.demo.trainer.limit_train_batches <= 60
-    from lightning_modules.train import apply_preset
-
-    cfg.preset = "demo"
-    demo = apply_preset(cfg.copy(), ["data.image_size=[96,32]"])
-    assert list(demo.data.image_size) == [96, 32] and demo.trainer.limit_train_batches == 12  # CLI beats preset
-    assert list(apply_preset(cfg.copy(), []).data.image_size) == [312, 96]
-    merged = OmegaConf.merge(cfg, cfg.presets.paper)
-    model = instantiate(merged.model, head_channels=32)
-    dm = instantiate(merged.datamodule)
+    demo = _train_cfg(*base, "data.image_size=[96,32]", "experiment=demo")
+    assert demo.trainer.max_epochs * demo.trainer.limit_train_batches <= 60
+    assert list(demo.data.image_size) == [96, 32] and demo.trainer.limit_train_batches == 12  # CLI beats experiment
+    assert list(_train_cfg(*base, "experiment=demo").data.image_size) == [312, 96]
+    model = instantiate(paper.model, head_channels=32)
+    dm = instantiate(paper.datamodule)
     assert isinstance(model, SemanticModule) and model.hparams.classes == "vkitti" and model.num_classes == 14
     assert model.hparams.crop_size == 224 and dm.batch_size == 8 and dm.image_size == SIZE
 
@@ -213,46 +213,33 @@ def test_rejects_bad_optimizer_decoder_and_jitter():
         SemanticModule(color_jitter=1.5, head_channels=32)
 
 
-def test_semantic_cpu_experiment_composes_the_documented_cpu_preset(data_cfg):
-    with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
-        cfg = compose("train", overrides=["branch=semantic", "experiment=semantic_cpu", f"data.root={data_cfg.root}"])
-    from lightning_modules.train import apply_preset
-
-    assert cfg.preset == "cpu" and cfg.data.kind == "vkitti1"
-    merged = apply_preset(cfg.copy(), [])
-    assert list(merged.data.image_size) == [312, 96] and merged.trainer.max_epochs == 20
-    assert merged.trainer.check_val_every_n_epoch == 2
-    model = instantiate(merged.model, head_channels=32)
+def test_semantic_cpu_experiment_composes_the_documented_cpu_recipe(data_cfg):
+    cfg = _train_cfg("branch=semantic", "experiment=semantic_cpu", f"data.root={data_cfg.root}")
+    assert cfg.data.kind == "vkitti1"
+    assert list(cfg.data.image_size) == [312, 96] and cfg.trainer.max_epochs == 20
+    assert cfg.trainer.check_val_every_n_epoch == 2
+    model = instantiate(cfg.model, head_channels=32)
     assert model.hparams.decoder == "skip" and model.hparams.optimizer == "adamw"
     assert model.hparams.class_weighting == "enet" and model.net.decoder is not None
     assert model.net.backbone.channels == (16, 32, 64, 128, 128, 256, 256, 256)
-    # preset=cpu_fullres on the command line wins over the experiment's preset: full-size frames, crops, flip.
-    with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
-        full = compose("train", overrides=["branch=semantic", "experiment=semantic_cpu", "preset=cpu_fullres",
-                                           f"data.root={data_cfg.root}"])
-    assert full.preset == "cpu_fullres"
-    full = apply_preset(full, [])
+    # experiment=semantic_cpu_fullres: full-size frames, crops, flip.
+    full = _train_cfg("branch=semantic", "experiment=semantic_cpu_fullres", f"data.root={data_cfg.root}")
     assert list(full.data.image_size) == [624, 192] and full.trainer.max_epochs == 22
     fm = instantiate(full.model, head_channels=32)
     assert fm.hparams.crop_size == [312, 96] and fm.hparams.test_flip and fm.hparams.offset_weight == 0.05
     assert fm.net.backbone.channels == model.net.backbone.channels and fm.net.decoder is not None
-    # The paper preset keeps the paper's head and optimiser.
-    paper = instantiate(OmegaConf.merge(cfg, cfg.presets.paper).model, head_channels=32)
+    # The paper recipe keeps the paper's head and optimiser.
+    paper = instantiate(_train_cfg("branch=semantic", "experiment=paper_vkitti").model, head_channels=32)
     assert paper.hparams.decoder == "bilinear" and paper.hparams.optimizer == "sgd" and paper.net.decoder is None
 
 
-def test_semantic_gpu_experiment_composes_the_gpu_preset(data_cfg):
-    with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
-        cfg = compose("train", overrides=["branch=semantic", "experiment=semantic_gpu", f"data.root={data_cfg.root}",
-                                          "trainer.max_epochs=7"])
-    from lightning_modules.train import apply_preset
-
-    assert cfg.preset == "gpu" and cfg.data.kind == "vkitti1" and cfg.trainer.accelerator == "gpu"
-    merged = apply_preset(cfg.copy(), ["trainer.max_epochs=7"])
-    assert merged.trainer.precision == "bf16-mixed" and merged.trainer.check_val_every_n_epoch == 22
-    assert merged.trainer.max_epochs == 7  # what the user typed beats the preset
-    assert list(merged.data.image_size) == [624, 192] and merged.datamodule.num_workers == 6
-    model = instantiate(merged.model, head_channels=32)
+def test_semantic_gpu_experiment_composes_the_gpu_recipe(data_cfg):
+    cfg = _train_cfg("branch=semantic", "experiment=semantic_gpu", f"data.root={data_cfg.root}", "trainer.max_epochs=7")
+    assert cfg.data.kind == "vkitti1" and cfg.trainer.accelerator == "gpu"
+    assert cfg.trainer.precision == "bf16-mixed" and cfg.trainer.check_val_every_n_epoch == 22
+    assert cfg.trainer.max_epochs == 7  # what the user typed beats the experiment
+    assert list(cfg.data.image_size) == [624, 192] and cfg.datamodule.num_workers == 6
+    model = instantiate(cfg.model, head_channels=32)
     assert model.hparams.crop_size is None and model.hparams.test_flip and model.hparams.offset_weight == 0.05
     # The full DRN-D-22 (published widths) with the wider skip decoder.
     published = instantiate(OmegaConf.merge(cfg, {"model": {"decoder": "bilinear"}}).model, head_channels=32)

@@ -128,16 +128,16 @@ def test_perceptual_loss_and_decoupling_switches(data_root, tmp_path):
     assert no_codes.generator.model[1].in_channels == 19 + 1 + 24 + 3
 
 
-def test_branch_config_and_presets(data_root):
+def test_branch_config_and_recipes(data_root):
     branch = OmegaConf.load(CONF / "branch" / "textural.yaml")
     data = OmegaConf.load(CONF / "data" / "vkitti.yaml")
     data.root = str(data_root)
     cfg = OmegaConf.merge({"data": data, "seed": 0}, branch)
     assert cfg.branch_name == "textural" and cfg.monitor == "val/psnr" and cfg.monitor_mode == "max"
-    paper = OmegaConf.merge(cfg, cfg.presets.paper)
+    paper = OmegaConf.merge(cfg, OmegaConf.load(CONF / "recipe" / "textural_paper.yaml"))  # experiment=paper_*
     assert (paper.model.ngf, paper.model.n_downsampling, paper.model.n_blocks) == (64, 4, 9)
     assert (paper.model.lambda_fm, paper.model.lambda_recon, paper.model.code_dim) == (5.0, 10.0, 5)
-    demo = OmegaConf.merge(cfg, cfg.presets.demo)
+    demo = OmegaConf.merge(cfg, OmegaConf.load(CONF / "recipe" / "textural_demo.yaml"))  # experiment=demo
     model = instantiate(demo.model)
     assert isinstance(model, TexturalModule) and model.hparams.ngf == 16 and model.hparams.classes == "vkitti"
     dm = instantiate(demo.datamodule)

@@ -1,4 +1,4 @@
-"""Atomic checkpoints, corrupt-sample policy, presets and resume resolution (no training here)."""
+"""Atomic checkpoints, corrupt-sample policy and resume resolution (no training here)."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ from torch.utils.data import Dataset
 from datamodules.guard import CorruptSampleError, SampleGuard
 from lightning_modules._base import image_grid
 from lightning_modules.checkpointing import AtomicCheckpointIO, CheckpointWriteError
-from lightning_modules.train import TrainingError, apply_preset, check_writable, resolve_resume
+from lightning_modules.train import TrainingError, check_writable, resolve_resume
 from sdn3d.data.errors import DataFormatError
 
 REPO = Path(__file__).resolve().parents[1]
@@ -84,16 +84,6 @@ def test_sample_guard_fail_names_file_and_skip_serves_next():
         SampleGuard(_Flaky(set(range(5))), "skip", max_skips=3)[0]
     with pytest.raises(ValueError, match="corrupt_sample"):
         SampleGuard(_Flaky(set()), "ignore")
-
-
-def test_apply_preset_and_unknown_preset():
-    cfg = OmegaConf.create({"branch_name": "x", "preset": "demo", "trainer": {"max_epochs": 10, "devices": 1},
-                            "presets": {"demo": {"trainer": {"max_epochs": 2}}}})
-    merged = apply_preset(cfg)
-    assert merged.trainer.max_epochs == 2 and merged.trainer.devices == 1
-    cfg.preset = "paper"
-    with pytest.raises(TrainingError, match="preset 'paper' is not defined for branch 'x'"):
-        apply_preset(cfg)
 
 
 def test_resolve_resume_errors_and_overrides(tmp_path):

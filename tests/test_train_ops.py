@@ -1,6 +1,6 @@
 """sdn3d-train end to end: config composition, every branch, TensorBoard, resume after SIGKILL, faults.
 
-Runs on the tiny synthetic dataset (conftest ``tiny_synth``) with the branches' demo presets
+Runs on the tiny synthetic dataset (conftest ``tiny_synth``) with the branches' demo experiment
 shrunk further by overrides; each run is a few optimiser steps.
 """
 
@@ -50,16 +50,13 @@ def _cli(args: list[str], cwd: Path, timeout: int = 300, env: dict | None = None
 
 @pytest.mark.parametrize("branch", BRANCHES)
 @pytest.mark.parametrize("experiment", ["demo", "paper_vkitti", "paper_cityscapes"])
-def test_configs_compose_with_presets(branch, experiment, tmp_path):
-    from lightning_modules.train import apply_preset
-
+def test_configs_compose_with_experiments(branch, experiment, tmp_path):
     pytest.importorskip(f"lightning_modules.{branch}")
-    cfg = _compose([f"branch={branch}", f"experiment={experiment}", f"run_dir={tmp_path}"])
-    assert cfg.preset == ("demo" if experiment == "demo" else "paper")
-    before = OmegaConf.to_container(cfg.trainer, resolve=True)
-    cfg = apply_preset(cfg, ["trainer.log_every_n_steps=7"])
-    assert cfg.trainer.log_every_n_steps == 7  # the command line beats the preset
-    if experiment == "demo":  # every demo preset shrinks the budget
+    before = OmegaConf.to_container(_compose([f"branch={branch}", f"run_dir={tmp_path}"]).trainer, resolve=True)
+    cfg = _compose([f"branch={branch}", f"experiment={experiment}", f"run_dir={tmp_path}",
+                    "trainer.log_every_n_steps=7"])
+    assert cfg.trainer.log_every_n_steps == 7  # the command line beats the experiment
+    if experiment == "demo":  # every demo recipe shrinks the budget
         assert OmegaConf.to_container(cfg.trainer, resolve=True) != before
     assert cfg.branch_name == branch and cfg.model._target_.startswith("lightning_modules.")
     assert cfg.datamodule._target_.startswith("datamodules.")
@@ -68,19 +65,20 @@ def test_configs_compose_with_presets(branch, experiment, tmp_path):
 
 
 def test_table2_experiment_sets_the_geometric_budget(tmp_path):
-    from lightning_modules.train import TrainingError, apply_preset
+    from hydra.errors import MissingConfigException
 
-    cfg = apply_preset(_compose(["branch=geometric", "experiment=table2", "ablation=no_tau", f"run_dir={tmp_path}"]),
-                       ["model.joint_epochs=3"])
+    cfg = _compose(["branch=geometric", "experiment=table2", "ablation=no_tau", f"run_dir={tmp_path}",
+                    "model.joint_epochs=3"])
     assert cfg.model.pred_epochs == 40 and cfg.model.joint_epochs == 3 and cfg.datamodule.cache_items is True
     assert cfg.trainer.max_epochs == 60 and cfg.model.distance == "log_distance"
-    # A multirun hands the overrides over escaped; the value re-applied over the preset is Hydra's parsed one.
-    cfg = apply_preset(_compose(["branch=geometric", "experiment=table2", "trainer.max_time=00:00:06:00",
-                                 "model.pred_epochs=7", f"run_dir={tmp_path}"]),
-                       ["trainer.max_time=00\\:00\\:06\\:00", "model.pred_epochs=7"])
+    # A multirun hands the overrides over escaped; Hydra parses them as on the command line.
+    cfg = _compose(["branch=geometric", "experiment=table2", "trainer.max_time=00\\:00\\:06\\:00",
+                    "model.pred_epochs=7", f"run_dir={tmp_path}"])
     assert cfg.trainer.max_time == "00:00:06:00" and cfg.model.pred_epochs == 7
-    with pytest.raises(TrainingError, match="table2"):  # only the geometric branch has this budget
-        apply_preset(_compose(["branch=semantic", "experiment=table2", f"run_dir={tmp_path}"]))
+    # only the geometric branch has this budget; the error lists the recipes there are
+    with pytest.raises(MissingConfigException, match="recipe/semantic_table2") as err:
+        _compose(["branch=semantic", "experiment=table2", f"run_dir={tmp_path}"])
+    assert "geometric_table2" in str(err.value)
 
 
 def test_geometric_ablations_reach_the_model(tmp_path):

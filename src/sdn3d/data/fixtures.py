@@ -1,7 +1,7 @@
 """Writers of tiny, deterministic datasets in the exact on-disk formats the readers parse.
 
 Each writer builds a small street scene (stuff bands, a few Car/Van tracks whose 2D
-boxes are the projections of their 3D boxes under the ARCHITECTURE.md conventions),
+boxes are the projections of their 3D boxes under the docs/ARCHITECTURE.md conventions),
 encodes it exactly as the real dataset does (colour-coded PNGs with their tables,
 centimetre depth PNGs, KITTI-like text annotations) and returns the ground truth it
 encoded as :class:`FixtureFrame` objects, so tests can compare what a reader

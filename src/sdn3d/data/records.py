@@ -12,7 +12,7 @@ Array conventions (all readers):
 - semantic: ``(H, W)`` int64 indices into the dataset's class list;
   :data:`IGNORE_INDEX` (255) where the dataset has no usable label.
 - instances: ``(H, W)`` int64, ``class_id * 1000 + k``, 0 where there is no
-  instance (Cityscapes style, see ARCHITECTURE.md). How ``k`` is chosen is
+  instance (Cityscapes style, see docs/ARCHITECTURE.md). How ``k`` is chosen is
   dataset specific and documented in each reader (Virtual KITTI: ``k = tid + 1``).
 - depth: ``(H, W)`` float32 metres along the camera z axis.
 """

@@ -1,6 +1,6 @@
 """Object placement: canonical mesh frame to camera frame, 3D boxes and KITTI label fields.
 
-Conventions (ARCHITECTURE.md): the canonical frame is the unit box ``[-0.5, 0.5]^3`` with
+Conventions (docs/ARCHITECTURE.md): the canonical frame is the unit box ``[-0.5, 0.5]^3`` with
 +x the vehicle front (length l), +y down (height h, wheels at +0.5) and z the width w.
 A canonical vertex ``v`` goes to the camera frame as ``R_y(ry) diag(l, h, w) v + c`` where
 ``c`` is the box centre. KITTI / Virtual KITTI labels give the centre of the *bottom* face

@@ -2,7 +2,7 @@
 
 ShapeNetCore v2 ``models/model_normalized.obj`` files are ``+y`` up with the vehicle's front
 facing ``-z``: length along ``z``, width along ``x`` (seen from behind, the car's right side is
-``+x``). The canonical frame (``shared/ARCHITECTURE.md``) is ``+x`` = front, ``+y`` = down,
+``+x``). The canonical frame (``docs/ARCHITECTURE.md``) is ``+x`` = front, ``+y`` = down,
 ``z`` = width. The axis map used here is the proper rotation (det = +1)::
 
     x_c = -z_s      (front)

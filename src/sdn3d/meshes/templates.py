@@ -1,6 +1,6 @@
 """Eight procedural vehicle templates in the canonical mesh frame.
 
-Canonical frame (see ``shared/ARCHITECTURE.md``): unit box ``[-0.5, 0.5]^3``, ``+x`` = vehicle
+Canonical frame (see ``docs/ARCHITECTURE.md``): unit box ``[-0.5, 0.5]^3``, ``+x`` = vehicle
 front (length), ``+y`` = down (height: wheels touch ``y = +0.5``, the roof is at ``y = -0.5``),
 ``z`` = width. Every template's axis-aligned bounds are exactly that box (anisotropic scale; the
 real size comes from the predicted ``(l, h, w)``), so e.g. a pickup's low bed sits below

@@ -1,6 +1,6 @@
 """Scene maps from rasterizer fragments: instance, depth, normal and pose maps.
 
-These are the inputs of the textural branch's generator (ARCHITECTURE.md, data flow): the
+These are the inputs of the textural branch's generator (docs/ARCHITECTURE.md, data flow): the
 hard renderer draws the (edited) scene and each map is filled from the visible face.
 """
 

@@ -14,7 +14,7 @@ box centre, no FFD. The normal map is the camera-frame unit normal of the visibl
 (oriented towards the camera), kept only where the rendered object coincides with the
 object's visible instance pixels; elsewhere it is 0. The pose map is the one-hot bin
 (24 bins over [-pi, pi)) of the object's observation angle, filled inside the object's visible
-silhouette (the instance pixels), as in ARCHITECTURE.md. Frames without 3D annotations
+silhouette (the instance pixels), as in docs/ARCHITECTURE.md. Frames without 3D annotations
 (Cityscapes) get zero normal and pose maps and ``has_geometry = False``.
 """
 

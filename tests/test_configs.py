@@ -1,0 +1,187 @@
+"""The Hydra configs compose: every experiment for every branch it has a recipe for, the demo's budgets,
+command-line overrides over experiments, the renderer group, fault policies and geometric_refine."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from pathlib import Path
+
+import pytest
+from hydra import compose, initialize_config_dir
+from hydra.errors import MissingConfigException
+from hydra.utils import get_class, instantiate
+from omegaconf import OmegaConf
+
+REPO = Path(__file__).resolve().parents[1]
+CONF = REPO / "conf"
+BRANCHES = ("semantic", "geometric", "textural")
+EXPERIMENTS = sorted(p.stem for p in (CONF / "experiment").glob("*.yaml"))
+
+
+def _compose(overrides: list[str], name: str = "train"):
+    with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
+        return compose(name, overrides=overrides)
+
+
+def _recipe(experiment: str, branch: str) -> str:
+    """The recipe an experiment picks for a branch (its `override /recipe: ${branch}_<name>` line)."""
+    text = (CONF / "experiment" / f"{experiment}.yaml").read_text()
+    match = re.search(r"override /recipe: \$\{branch\}_(\w+)", text)
+    assert match, f"experiment/{experiment}.yaml picks no recipe"
+    return f"{branch}_{match.group(1)}"
+
+
+PAIRS = [(b, e) for e in EXPERIMENTS for b in BRANCHES if (CONF / "recipe" / f"{_recipe(e, b)}.yaml").is_file()]
+
+
+def test_the_documented_experiments_exist():
+    for name in ("demo", "table2", "semantic_cpu", "semantic_cpu_fullres", "semantic_gpu", "paper_vkitti",
+                 "paper_cityscapes", "demo_short", "demo_medium", "demo_long"):
+        assert name in EXPERIMENTS
+    assert ("geometric", "table2") in PAIRS and ("semantic", "table2") not in PAIRS
+    assert all((b, e) in PAIRS for b in BRANCHES for e in ("demo", "paper_vkitti", "paper_cityscapes",
+                                                           "demo_short", "demo_medium", "demo_long"))
+
+
+@pytest.mark.parametrize(("branch", "experiment"), PAIRS)
+def test_every_experiment_composes_for_its_branches(branch, experiment, tmp_path):
+    cfg = _compose([f"branch={branch}", f"experiment={experiment}", f"run_dir={tmp_path}"])
+    resolved = OmegaConf.to_container(cfg, resolve=True)  # every interpolation resolves
+    assert resolved["branch_name"] == branch
+    assert "preset" not in resolved and "presets" not in resolved
+    for node in ("model", "datamodule", "trainer"):
+        get_class(resolved[node]["_target_"])  # importable
+    assert resolved["model"]["_target_"].startswith("lightning_modules.")
+    assert resolved["datamodule"]["_target_"].startswith("datamodules.")
+    # the fault policies reach the constructors
+    assert resolved["model"]["nonfinite"] == resolved["fault"]["nonfinite"] == "stop"
+    assert resolved["datamodule"]["corrupt_sample"] == resolved["fault"]["corrupt_sample"] == "fail"
+    # the experiment's recipe is applied over the branch defaults
+    recipe = OmegaConf.load(CONF / "recipe" / f"{_recipe(experiment, branch)}.yaml")
+    for key in ("model", "datamodule", "trainer"):
+        for field, value in (recipe.get(key) or {}).items():
+            assert resolved[key][field] == OmegaConf.to_container(OmegaConf.create({"v": value}))["v"], (key, field)
+
+
+@pytest.mark.parametrize("experiment", [e for e in EXPERIMENTS if any(p[1] == e for p in PAIRS)])
+def test_an_experiment_a_branch_lacks_fails_naming_what_exists(experiment, tmp_path):
+    for branch in BRANCHES:
+        if (branch, experiment) in PAIRS:
+            continue
+        with pytest.raises(MissingConfigException, match=f"recipe/{_recipe(experiment, branch)}") as err:
+            _compose([f"branch={branch}", f"experiment={experiment}", f"run_dir={tmp_path}"])
+        others = [b for b in BRANCHES if (b, experiment) in PAIRS]
+        assert all(_recipe(experiment, b) in str(err.value) for b in others)
+
+
+@pytest.mark.parametrize("branch", BRANCHES)
+def test_the_command_line_wins_over_the_experiment(branch, tmp_path):
+    assert _compose([f"branch={branch}", "experiment=demo", f"run_dir={tmp_path}"]).trainer.max_epochs != 7
+    cfg = _compose([f"branch={branch}", "experiment=demo", "trainer.max_epochs=7", "datamodule.batch_size=5",
+                    f"run_dir={tmp_path}"])
+    assert cfg.trainer.max_epochs == 7 and cfg.datamodule.batch_size == 5
+    # whatever the order on the command line
+    cfg = _compose([f"branch={branch}", "trainer.max_epochs=7", "experiment=demo_long", f"run_dir={tmp_path}"])
+    assert cfg.trainer.max_epochs == 7
+    # a multirun job gets its values escaped; they arrive as typed
+    cfg = _compose([f"branch={branch}", "experiment=demo", "trainer.max_time=00\\:01\\:00\\:00", f"run_dir={tmp_path}"])
+    assert cfg.trainer.max_time == "00:01:00:00"
+
+
+def test_no_experiment_is_the_branch_defaults(tmp_path):
+    cfg = _compose(["branch=semantic", f"run_dir={tmp_path}"])
+    assert cfg.trainer.max_epochs == 25 and list(cfg.data.image_size) == [624, 192]
+
+
+# What each budget trains (the values conf/demo.yaml and conf/budget/*.yaml passed as override lists before).
+BUDGETS = {
+    "short": {"semantic": {"trainer.max_epochs": 6, "model.lr": 0.005, "trainer.limit_train_batches": 12},
+              "geometric": {"model.pred_epochs": 8, "model.joint_epochs": 2, "trainer.max_epochs": 10,
+                            "trainer.limit_train_batches": 16, "datamodule.crop_size": 64},
+              "textural": {"model.lr_constant_epochs": 6, "model.lr_decay_epochs": 6, "trainer.max_epochs": 12,
+                           "model.ngf": 16}},
+    "medium": {"geometric": {"model.pred_epochs": 40, "model.joint_epochs": 20, "trainer.max_epochs": 60},
+               "textural": {"trainer.max_epochs": 12, "trainer.limit_train_batches": 1.0,
+                            "trainer.limit_val_batches": 16, "trainer.limit_test_batches": 1.0}},
+    "long": {"semantic": {"data.image_size": [624, 192], "trainer.max_epochs": 40, "model.lr": 0.01,
+                          "trainer.limit_train_batches": 1.0, "trainer.check_val_every_n_epoch": 5},
+             "geometric": {"model.pred_epochs": 40, "model.joint_epochs": 20, "trainer.max_epochs": 60},
+             "textural": {"model.ngf": 32, "model.n_blocks": 6, "datamodule.image_size": [624, 192],
+                          "datamodule.batch_size": 1, "trainer.max_epochs": 12, "trainer.log_every_n_steps": 50}},
+}
+
+
+@pytest.mark.parametrize("budget", sorted(BUDGETS))
+def test_the_demo_passes_experiments_and_machine_options_only(budget, tmp_path):
+    from sdn3d.cli.demo import _train_command
+
+    demo = _compose([f"budget={budget}", "device=cuda"], "demo")
+    assert list(demo.train.common) == [] and all(list(demo.train[b]) == [] for b in BRANCHES)  # user hooks
+    for branch in demo.train.branches:
+        cmd = _train_command(branch, demo, tmp_path / "data", tmp_path / "runs")[3:]
+        assert cmd[:2] == [f"branch={branch}", f"experiment=demo_{budget}"]
+        assert {o.split("=")[0] for o in cmd[2:]} == {"data.root", "seed", "torch_threads", "datamodule.num_workers",
+                                                      "hydra.run.dir", "summary_file", "trainer"}
+        cfg = OmegaConf.to_container(_compose([o for o in cmd if not o.startswith("hydra.")]
+                                              + [f"run_dir={tmp_path}"]), resolve=True)
+        assert cfg["trainer"]["accelerator"] == "gpu" and cfg["data"]["root"] == str((tmp_path / "data").resolve())
+        for key, value in BUDGETS[budget][branch].items():
+            node, field = key.split(".")
+            assert cfg[node][field] == value, (budget, branch, key)
+    assert sorted(demo.train.branches) == sorted(BUDGETS[budget])
+
+
+def test_renderer_group_maps_field_for_field_onto_the_settings():
+    from sdn3d.render.settings import RasterSettings, SoftSilhouetteSettings
+
+    cfg = _compose(["branch=geometric", "renderer.soft.sigma=0.5", "run_dir=x"])
+    for node, cls in ((cfg.renderer.soft, SoftSilhouetteSettings), (cfg.renderer.hard, RasterSettings)):
+        assert get_class(node._target_) is cls
+        fields = {f.name for f in dataclasses.fields(cls)} - {"image_size"}  # image_size: per call
+        assert set(node) - {"_target_"} == fields
+        settings = instantiate(node, image_size=(48, 64))
+        assert isinstance(settings, cls) and settings.image_size == (48, 64)
+    defaults = _compose(["branch=geometric", "run_dir=x"]).renderer
+    assert instantiate(defaults.soft, image_size=(8, 8)) == SoftSilhouetteSettings((8, 8))  # the code's defaults
+    assert instantiate(defaults.hard, image_size=(8, 8)) == RasterSettings((8, 8))
+    # sigma is set once: the geometric branch and geometric_refine follow it
+    assert cfg.model.sigma == cfg.geometric_refine.sigma == 0.5
+    demo = _compose([], "render_demo")
+    assert demo.fit.sigma == demo.renderer.soft.sigma == 1.0
+    assert _compose(["renderer.soft.sigma=2.0"], "render_demo").fit.sigma == 2.0
+
+
+def test_geometric_refine_instantiates_the_refine_settings():
+    from sdn3d.geometric.refine import RefineSettings
+
+    cfg = _compose(["branch=geometric", "run_dir=x"])
+    settings = instantiate(cfg.geometric_refine)
+    assert isinstance(settings, RefineSettings) and settings == RefineSettings()  # the paper's Cityscapes setting
+    assert settings.params == ("rotation", "offset", "log_scale", "phi")
+
+
+def test_fault_policies_are_constructor_arguments(tmp_path):
+    from datamodules import GeometricDataModule, SemanticDataModule, TexturalDataModule
+    from lightning_modules.textural import TexturalModule
+    from lightning_modules.train import resolve_resume
+
+    for branch, cls in (("semantic", SemanticDataModule), ("geometric", GeometricDataModule),
+                        ("textural", TexturalDataModule)):
+        cfg = _compose([f"branch={branch}", "fault.corrupt_sample=skip", f"run_dir={tmp_path}"])
+        dm = instantiate(cfg.datamodule)
+        assert isinstance(dm, cls) and dm.corrupt_sample == "skip"
+    cfg = _compose(["branch=textural", "experiment=demo", "fault.nonfinite=skip", f"run_dir={tmp_path}"])
+    model = instantiate(cfg.model)
+    assert isinstance(model, TexturalModule) and model.nonfinite == "skip"
+    assert "nonfinite" not in model.hparams  # a run policy, not a hyperparameter of the checkpoint
+    # resume: the saved (resolved) config's policies follow fault.* given on the command line again
+    run = tmp_path / "run"
+    (run / "checkpoints").mkdir(parents=True)
+    (run / "checkpoints" / "last.ckpt").write_bytes(b"x")
+    (run / "config.yaml").write_text(OmegaConf.to_yaml(cfg, resolve=True))
+    resumed = resolve_resume(OmegaConf.create({"resume": str(run)}), ["fault.nonfinite=skip",
+                                                                      "fault.corrupt_sample=skip"])
+    assert resumed.model.nonfinite == "skip" and resumed.datamodule.corrupt_sample == "skip"
+    resumed = resolve_resume(OmegaConf.create({"resume": str(run)}), [])
+    assert resumed.model.nonfinite == "skip" and resumed.datamodule.corrupt_sample == "fail"  # as saved

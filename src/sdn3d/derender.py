@@ -245,6 +245,50 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
     return template, dims, ry, location, phi
 
 
+def _checked_image(image: Tensor, intrinsics: Intrinsics, proposals: str, gt: GroundTruth | None) -> Tensor:
+    """``image`` as float32 on the CPU, clamped to ``[0, 1]``, after checking it and its companions."""
+    if proposals not in PROPOSALS:
+        raise ValueError(f"proposals must be one of {PROPOSALS}, got {proposals!r}")
+    if image.dim() != 3 or image.shape[0] != 3 or not image.is_floating_point():
+        raise ValueError(f"image must be a float (3, H, W) tensor in [0, 1], got {image.dtype} {tuple(image.shape)}")
+    if tuple(image.shape[-2:]) != intrinsics.size:
+        raise ValueError(f"image is {image.shape[-1]}x{image.shape[-2]} but intrinsics are for "
+                         f"{intrinsics.width}x{intrinsics.height}")
+    if not bool(torch.isfinite(image).all()) or float(image.min()) < -1e-3 or float(image.max()) > 1 + 1e-3:
+        raise ValueError("image values must be finite and in [0, 1]")
+    if gt is not None and tuple(gt.semantic.shape) != intrinsics.size:
+        raise ValueError(f"ground_truth is {tuple(gt.semantic.shape)} but the image is {intrinsics.size} (H, W)")
+    return image.detach().float().cpu().clamp(0, 1)
+
+
+def _semantics_and_instances(image: Tensor, models: Models, proposals: str, gt: GroundTruth | None,
+                             name: str) -> tuple[Tensor, Tensor, str, str]:
+    """Steps 1-2 of the module doc: ``(semantic (H, W), instances (H, W), proposal source, semantic source)``
+    with sources ``'gt'`` (the oracle) or ``'semantic'`` / ``'branch'`` (the semantic branch)."""
+    class_list = CLASS_LISTS[name]
+    use_branch = proposals == "semantic" or (proposals == "auto" and models.semantic is not None)
+    use_gt_masks = proposals == "gt" or (proposals == "auto" and gt is not None and gt.instances is not None)
+    if (use_branch or not use_gt_masks) and models.semantic is None:
+        raise UserInputError(f"proposals={proposals!r} needs a semantic model"
+                             + ("" if use_branch else " (no ground truth with an instance map was given)"))
+    if (not use_branch or use_gt_masks) and gt is None:
+        raise UserInputError(f"proposals={proposals!r} needs the frame's ground truth (ground_truth=)")
+    gt_semantic = gt_instances = None
+    if gt is not None and (not use_branch or use_gt_masks):
+        gt_semantic, gt_instances = gt.semantic, gt.instances
+        if use_gt_masks and gt_instances is None:
+            raise UserInputError(f"proposals={proposals!r}: ground truth {gt.key} has no instance map")
+    seg = None
+    if use_branch or not use_gt_masks:
+        if len(models.semantic.classes) != len(class_list):
+            raise UserInputError(f"the semantic model predicts {len(models.semantic.classes)} classes, the scene's "
+                                 f"class list {name!r} has {len(class_list)}")
+        seg = models.semantic(image)
+    semantic = seg.label[0].cpu() if use_branch else gt_semantic
+    instances, source = (gt_instances, "gt") if use_gt_masks else (seg.instance[0].cpu(), "semantic")
+    return semantic, instances, source, "branch" if use_branch else "gt"
+
+
 def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: str = "auto",
              ground_truth: GroundTruth | None = None, *, classes: str | None = None, min_pixels: int = 64,
              refine: RefineSettings | None = None) -> SceneCode:
@@ -268,41 +312,11 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
         UserInputError (a ValueError): no source for the semantic map or the proposals, or a semantic
             model of another class list (the user's settings or checkpoints).
     """
-    if proposals not in PROPOSALS:
-        raise ValueError(f"proposals must be one of {PROPOSALS}, got {proposals!r}")
-    if image.dim() != 3 or image.shape[0] != 3 or not image.is_floating_point():
-        raise ValueError(f"image must be a float (3, H, W) tensor in [0, 1], got {image.dtype} {tuple(image.shape)}")
-    if tuple(image.shape[-2:]) != intrinsics.size:
-        raise ValueError(f"image is {image.shape[-1]}x{image.shape[-2]} but intrinsics are for "
-                         f"{intrinsics.width}x{intrinsics.height}")
-    if not bool(torch.isfinite(image).all()) or float(image.min()) < -1e-3 or float(image.max()) > 1 + 1e-3:
-        raise ValueError("image values must be finite and in [0, 1]")
-    image = image.detach().float().cpu().clamp(0, 1)
     gt = ground_truth
-    if gt is not None and tuple(gt.semantic.shape) != intrinsics.size:
-        raise ValueError(f"ground_truth is {tuple(gt.semantic.shape)} but the image is {intrinsics.size} (H, W)")
+    image = _checked_image(image, intrinsics, proposals, gt)
     name = _class_list_name(models, gt, classes)
     class_list = CLASS_LISTS[name]
-    use_branch = proposals == "semantic" or (proposals == "auto" and models.semantic is not None)
-    use_gt_masks = proposals == "gt" or (proposals == "auto" and gt is not None and gt.instances is not None)
-    if (use_branch or not use_gt_masks) and models.semantic is None:
-        raise UserInputError(f"proposals={proposals!r} needs a semantic model"
-                             + ("" if use_branch else " (no ground truth with an instance map was given)"))
-    if (not use_branch or use_gt_masks) and gt is None:
-        raise UserInputError(f"proposals={proposals!r} needs the frame's ground truth (ground_truth=)")
-    gt_semantic = gt_instances = None
-    if gt is not None and (not use_branch or use_gt_masks):
-        gt_semantic, gt_instances = gt.semantic, gt.instances
-        if use_gt_masks and gt_instances is None:
-            raise UserInputError(f"proposals={proposals!r}: ground truth {gt.key} has no instance map")
-    seg = None
-    if use_branch or not use_gt_masks:
-        if len(models.semantic.classes) != len(class_list):
-            raise UserInputError(f"the semantic model predicts {len(models.semantic.classes)} classes, the scene's "
-                                 f"class list {name!r} has {len(class_list)}")
-        seg = models.semantic(image)
-    semantic = seg.label[0].cpu() if use_branch else gt_semantic
-    instances, source = (gt_instances, "gt") if use_gt_masks else (seg.instance[0].cpu(), "semantic")
+    semantic, instances, source, semantic_source = _semantics_and_instances(image, models, proposals, gt, name)
 
     # Proposals: ids of instance classes only (a scene's objects must be things).
     things = torch.tensor([c.id for c in class_list if c.has_instances], dtype=torch.long)
@@ -319,7 +333,7 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
                         code=torch.zeros(n, code_dim), mask=masks, has_mask=torch.ones(n, dtype=torch.bool),
                         observed=torch.ones(n, dtype=torch.bool))
     meta = {"source": gt.key if gt is not None else "image", "proposals": source,
-            "semantic": "branch" if use_branch else "gt",
+            "semantic": semantic_source,
             "objects": n, "with_geometry": int(geo.sum()), "crop_size": models.crop_size, "min_pixels": min_pixels}
     scene = SceneCode(intrinsics, semantic, name, table, torch.zeros(len(class_list), code_dim), meta)
     if models.textural is None:

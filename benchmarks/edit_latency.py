@@ -20,7 +20,7 @@ benchmark file (``vkitti_edit_benchmark.json``: deletes and modifies of several 
 - ``total``: the sum.
 
 Networks, with random weights unless checkpoints are given: ``demo`` and ``paper`` take the model
-(and crop size) settings of ``presets.demo`` / ``presets.paper`` in ``conf/branch/{geometric,textural}.yaml``;
+(and crop size) settings of ``conf/recipe/{geometric,textural}_{demo,paper}.yaml`` over ``conf/branch``;
 ``--geometric`` / ``--textural`` checkpoints replace the demo ones (their own hyper-parameters).
 ``--semantic`` also times the semantic branch's forward on the frame (not on the ``gt`` path: it is
 what de-rendering an image without ground truth adds).
@@ -81,11 +81,14 @@ TARGET_MS = 1000.0
 
 
 def branch_model(branch: str, preset: str) -> tuple[dict[str, Any], dict[str, Any]]:
-    """``(model, datamodule)`` settings of ``conf/branch/<branch>.yaml`` with ``presets.<preset>`` merged."""
+    """``(model, datamodule)`` settings of ``conf/branch/<branch>.yaml`` with ``conf/recipe/<branch>_<preset>.yaml``
+    merged."""
     cfg = OmegaConf.merge({"data": {"classes": "vkitti", "image_size": [624, 192]}, "seed": 0,
-                           "ablation": OmegaConf.load(REPO / "conf" / "ablation" / "full.yaml")},
+                           "ablation": OmegaConf.load(REPO / "conf" / "ablation" / "full.yaml"),
+                           "renderer": OmegaConf.load(REPO / "conf" / "renderer" / "default.yaml")},
                           OmegaConf.load(REPO / "conf" / "branch" / f"{branch}.yaml"))
-    cfg = OmegaConf.merge(cfg, {k: v for k, v in cfg.presets[preset].items() if k in ("model", "datamodule")})
+    recipe = OmegaConf.load(REPO / "conf" / "recipe" / f"{branch}_{preset}.yaml")
+    cfg = OmegaConf.merge(cfg, {k: v for k, v in recipe.items() if k in ("model", "datamodule")})
     return OmegaConf.to_container(cfg.model, resolve=True), OmegaConf.to_container(cfg.datamodule, resolve=True)
 
 
@@ -105,7 +108,7 @@ def build_models(preset: str, geometric: str | None, textural: str | None) -> tu
         geo = GeometricPredictor(GeometricNet(**net_kwargs_from_hparams(model)),
                                  AttributeEncoding(model["rotation"], model["distance"]))
         crop, margin = int(dm["crop_size"]), float(dm["margin"])
-        info["geometric"] = {"source": f"random weights, conf/branch/geometric.yaml presets.{preset}"}
+        info["geometric"] = {"source": f"random weights, conf/recipe/geometric_{preset}.yaml"}
     info["geometric"] |= {"params": _params(geo.net), "crop_size": crop}
     if textural:
         tex = TexturalRenderer.from_checkpoint(textural)
@@ -113,7 +116,7 @@ def build_models(preset: str, geometric: str | None, textural: str | None) -> tu
     else:
         model, _ = branch_model("textural", preset)
         tex = TexturalRenderer(TexturalSpec.from_mapping(model, num_classes=len(class_list("vkitti"))))
-        info["textural"] = {"source": f"random weights, conf/branch/textural.yaml presets.{preset}"}
+        info["textural"] = {"source": f"random weights, conf/recipe/textural_{preset}.yaml"}
     spec = tex.spec
     info["textural"] |= {"generator_params": _params(tex.generator), "encoder_params": _params(tex.encoder),
                          "ngf": spec.ngf, "n_downsampling": spec.n_downsampling, "n_blocks": spec.n_blocks,

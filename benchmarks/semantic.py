@@ -30,7 +30,7 @@ inside training batches only). ``--max-minutes`` stops fitting early (Trainer ``
 schedule still assumes ``--epochs``). ``--device cuda`` runs the same on one GPU (``--precision``
 defaults to 32-true, the CPU run's arithmetic; CUDA timings synchronize before the clock stops).
 ``--preset NAME`` takes the module arguments, batch size, working size, epochs and validation interval
-from ``conf/branch/semantic.yaml`` ``presets.NAME`` (``--size`` / ``--epochs`` / ``--batch`` / ``--lr``
+from ``conf/recipe/semantic_NAME.yaml`` (``--size`` / ``--epochs`` / ``--batch`` / ``--lr``
 given explicitly on the command line still win). ``--set`` passes other ``SemanticModule`` arguments
 (e.g. ``--set center_sigma=3``). Checkpoints and TensorBoard logs go under ``--out``.
 """
@@ -210,9 +210,11 @@ def train(args: argparse.Namespace) -> dict:
 
     preset_model: dict = {}
     if args.preset:
-        presets = OmegaConf.load(REPO / "conf" / "branch" / "semantic.yaml").presets
+        presets = {p.stem.removeprefix("semantic_"): OmegaConf.load(p)
+                   for p in (REPO / "conf" / "recipe").glob("semantic_*.yaml")}
+        presets = {name: recipe for name, recipe in presets.items() if "defaults" not in recipe}  # plain recipes
         if args.preset not in presets:
-            raise SystemExit(f"--preset {args.preset!r} is not in conf/branch/semantic.yaml presets "
+            raise SystemExit(f"--preset {args.preset!r} is not a conf/recipe/semantic_NAME.yaml "
                              f"({sorted(presets)})")
         preset = OmegaConf.to_container(presets[args.preset], resolve=True)
         preset_model = dict(preset.get("model", {}))
@@ -310,7 +312,7 @@ def main() -> None:
     tp.add_argument("--max-minutes", type=float, default=None, help="stop fitting after this long (then test)")
     tp.add_argument("--out", default=str(REPO / "outputs" / "bench" / "semantic"))
     tp.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    tp.add_argument("--preset", default=None, help="conf/branch/semantic.yaml presets.NAME (e.g. cpu)")
+    tp.add_argument("--preset", default=None, help="conf/recipe/semantic_NAME.yaml (e.g. cpu)")
     argv = sys.argv[1:]
     args = parser.parse_args(argv)
     # Which options were typed (a preset must not override them).

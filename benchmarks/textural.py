@@ -52,7 +52,7 @@ def branch_config(preset: str | None, data_root: str) -> OmegaConf:
     data = OmegaConf.load(REPO / "conf" / "data" / "synth.yaml")
     data.root = data_root
     cfg = OmegaConf.merge({"data": data, "seed": 0}, OmegaConf.load(REPO / "conf" / "branch" / "textural.yaml"))
-    return OmegaConf.merge(cfg, cfg.presets[preset]) if preset else cfg
+    return OmegaConf.merge(cfg, OmegaConf.load(REPO / "conf" / "recipe" / f"textural_{preset}.yaml")) if preset else cfg
 
 
 def _model_kwargs(cfg) -> dict:

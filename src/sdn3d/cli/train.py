@@ -2,8 +2,13 @@
 
     sdn3d-train branch=semantic data=synth
     sdn3d-train branch=geometric experiment=demo
+    sdn3d-train branch=semantic experiment=semantic_cpu_fullres trainer.max_epochs=30
     sdn3d-train -m branch=geometric ablation=full,no_reproj,full_quaternion,no_tau,single_cad experiment=demo
     sdn3d-train resume=outputs/train/textural/2026-11-22_10-00-00     # continue a run where it stopped
+
+Hydra composes the whole run: ``experiment=<name>`` picks data (and trainer) and the branch's recipe,
+``conf/recipe/<branch>_<name>.yaml``; command-line overrides are applied last, so they win. An experiment
+the branch has no recipe for stops before anything runs, listing the recipes there are.
 
 Lightning is imported only here and in ``lightning_modules/``: the library stays usable without it.
 """

@@ -88,8 +88,8 @@ def test_full_demo_tiny_budget(tmp_path):
 
 
 def test_demo_trains_branches_in_parallel_and_composes_the_long_budget(tmp_path):
+    from sdn3d.cli._config import compose_config
     from sdn3d.cli.demo import main
-    from sdn3d.cli.edit import compose_config
 
     long = compose_config(["budget=long"], "demo")
     assert long.budget_name == "long" and long.train.experiment.geometric == "demo_long" and long.gpu_budget

@@ -1,4 +1,4 @@
-"""Where the Hydra configs live.
+"""Where the Hydra configs live, and composing one in-process (:func:`compose_config`).
 
 The configs sit in ``conf/`` at the repository root (one config group per axis of
 variation). The package is installed editable, so the entry points find them next to
@@ -8,7 +8,11 @@ variation). The package is installed editable, so the entry points find them nex
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
+
+from sdn3d.errors import InputError
 
 
 def config_dir() -> str:
@@ -28,3 +32,18 @@ def config_dir() -> str:
 
 
 CONFIG_DIR = config_dir()
+
+
+def compose_config(overrides: Sequence[str], name: str) -> Any:
+    """Compose ``conf/<name>.yaml`` with Hydra ``overrides`` (no run directory, no logging set-up)."""
+    from hydra import compose, initialize_config_dir
+    from hydra.core.global_hydra import GlobalHydra
+    from hydra.errors import HydraException
+    from omegaconf.errors import OmegaConfBaseException
+
+    GlobalHydra.instance().clear()  # an earlier in-process Hydra app (e.g. a test) may have left it set
+    try:
+        with initialize_config_dir(config_dir=CONFIG_DIR, version_base="1.3"):
+            return compose(name, overrides=list(overrides))
+    except (HydraException, OmegaConfBaseException) as exc:
+        raise InputError(f"bad configuration override: {exc}") from exc

@@ -24,9 +24,8 @@ import numpy as np
 import torch
 from rich.console import Console
 
-from sdn3d.cli._config import CONFIG_DIR
+from sdn3d.cli._config import CONFIG_DIR, compose_config
 from sdn3d.cli._errors import run_cli
-from sdn3d.cli.edit import compose_config
 from sdn3d.errors import InputError
 from sdn3d.evaluation.edit_benchmark import METHODS, REGIONS
 from sdn3d.io import check_output_dir, staged_directory

@@ -31,7 +31,14 @@ import torch
 from omegaconf import OmegaConf
 from rich.console import Console
 
+from sdn3d.errors import InputError
+
 console = Console(stderr=True)
+
+
+class DemoStageError(RuntimeError):
+    """A stage of the demo could not go on (a training run failed, wrote no checkpoint, ...); the message
+    says which and where its log is. Exit status 1, no traceback."""
 
 
 def _peak_rss_mib() -> dict[str, float]:
@@ -79,7 +86,7 @@ def _finish(branch: str, run_dir: Path, returncode: int, started: float) -> dict
     import json
 
     if returncode != 0:
-        raise RuntimeError(f"training the {branch} branch failed (exit {returncode}); see {run_dir}/train.log")
+        raise DemoStageError(f"training the {branch} branch failed (exit {returncode}); see {run_dir}/train.log")
     summary = json.loads((run_dir / "summary.json").read_text())
     summary["demo_wall_s"] = round(time.perf_counter() - started, 1)
     return summary
@@ -119,13 +126,13 @@ def train_parallel(branches: Sequence[str], cfg: Any, data_root: Path, runs: Pat
 def _checkpoint(summary: dict) -> str:
     path = summary.get("best_ckpt") or summary.get("last_ckpt")
     if not path:
-        raise RuntimeError(f"run {summary.get('run_dir')} wrote no checkpoint")
+        raise DemoStageError(f"run {summary.get('run_dir')} wrote no checkpoint")
     return str(path)
 
 
 def run_bench(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> dict:
+    from sdn3d.cli._config import compose_config
     from sdn3d.cli.bench import run_bench as bench_main
-    from sdn3d.cli.edit import compose_config
 
     overrides = [f"data.root={data_root.resolve()}", f"data.image_size={render_size(cfg)}",
                  f"checkpoints.geometric={ckpts['geometric']}", f"checkpoints.textural={ckpts['textural']}",
@@ -152,7 +159,7 @@ def _pick_frame(records: Sequence[Any], size: tuple[int, int], wanted: str | Non
         for r in records:
             if r.key == wanted or r.key.endswith(str(wanted)):
                 return r
-        raise ValueError(f"edits.frame={wanted!r} is not a test frame; e.g. {records[0].key}")
+        raise InputError(f"edits.frame={wanted!r} is not a test frame; e.g. {records[0].key}")
 
     def nearest_car(r) -> float:
         zs = [o.location[2] for o in r.objects if o.label in ("Car", "Van") and o.location[2] > 3]
@@ -190,7 +197,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     table = scene.objects
     has_geo = table.has_geometry
     if not bool(has_geo.any()):
-        raise RuntimeError(f"no object of {record.key} got 3D geometry")
+        raise DemoStageError(f"no object of {record.key} got 3D geometry")
     depth = torch.where(has_geo, table.location[:, 2], torch.full_like(table.location[:, 2], float("inf")))
     car = int(table.instance_id[int(depth.argmin())])
     others = [int(i) for i, g in zip(table.instance_id.tolist(), has_geo.tolist(), strict=True) if g and i != car]
@@ -343,21 +350,22 @@ def run_demo(cfg: Any) -> dict:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``sdn3d-demo [overrides...]``; returns the exit status."""
-    from sdn3d.cli.edit import InputError, compose_config
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli._errors import run_cli
 
     argv = list(sys.argv[1:] if argv is None else argv)
-    try:
+
+    def demo() -> int:
         cfg = compose_config(argv, "demo")
-    except InputError as exc:
-        print(f"sdn3d-demo: error: {exc}", file=sys.stderr)
-        return 2
-    console.print(OmegaConf.to_yaml(cfg))
-    try:
-        run_demo(cfg)
-    except (RuntimeError, ValueError, OSError) as exc:
-        print(f"sdn3d-demo: error: {exc}", file=sys.stderr)
-        return 1
-    return 0
+        console.print(OmegaConf.to_yaml(cfg))
+        try:
+            run_demo(cfg)
+        except DemoStageError as exc:  # a stage failed for a reason it names (e.g. a training run's exit)
+            print(f"sdn3d-demo: error: {exc}", file=sys.stderr)
+            return 1
+        return 0
+
+    return run_cli("demo", demo)
 
 
 if __name__ == "__main__":

@@ -26,30 +26,15 @@ from typing import Any
 import numpy as np
 import torch
 
-from sdn3d.cli._config import CONFIG_DIR
-from sdn3d.cli._errors import run_cli, user_errors
+from sdn3d.cli._config import CONFIG_DIR, compose_config
+from sdn3d.cli._errors import run_cli
 from sdn3d.errors import InputError
 from sdn3d.io import check_output_dir, staged_directory
 
-__all__ = ["main", "run_edit", "compose_config", "load_input", "user_errors", "InputError"]
+__all__ = ["main", "run_edit", "load_input"]
 
 MARKER = "edit.json"
 DEFAULT_SIZE = (624, 192)
-
-
-def compose_config(overrides: Sequence[str], name: str) -> Any:
-    """Compose ``conf/<name>.yaml`` with Hydra ``overrides`` (no run directory, no logging set-up)."""
-    from hydra import compose, initialize_config_dir
-    from hydra.core.global_hydra import GlobalHydra
-    from hydra.errors import HydraException
-    from omegaconf.errors import OmegaConfBaseException
-
-    GlobalHydra.instance().clear()  # an earlier in-process Hydra app (e.g. a test) may have left it set
-    try:
-        with initialize_config_dir(config_dir=CONFIG_DIR, version_base="1.3"):
-            return compose(name, overrides=list(overrides))
-    except (HydraException, OmegaConfBaseException) as exc:
-        raise InputError(f"bad configuration override: {exc}") from exc
 
 
 def _to_uint8(image: torch.Tensor) -> np.ndarray:

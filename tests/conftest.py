@@ -13,7 +13,6 @@ import torch
 REPO_ROOT = Path(__file__).resolve().parents[1]
 # Only for the real Virtual KITTI frame 0006_30-deg-right_00043.png (678 kB, not shipped). The paper's
 # benchmark files ship with the package: sdn3d.resources (paper_benchmark_path, paper_example_path).
-SHARED_REFERENCE = REPO_ROOT.parent / "shared" / "reference"
 
 # One intra-op thread by default: OpenMP worker threads spin-wait, and on a 2-core machine any
 # other busy process makes multi-threaded small ops orders of magnitude slower. Benchmarks,
@@ -29,22 +28,9 @@ def _seed_everything() -> None:
 
 
 @pytest.fixture(scope="session")
-def reference_dir() -> Path:
-    """``../shared/reference`` beside the checkout, for the real Virtual KITTI frame only; skips without it.
-
-    Everything else the tests need ships with the package (:mod:`sdn3d.resources`).
-    """
-    if not SHARED_REFERENCE.is_dir():
-        pytest.skip(f"reference material not found at {SHARED_REFERENCE}")
-    return SHARED_REFERENCE
-
-
-@pytest.fixture(scope="session")
-def real_vkitti_frame() -> Path | None:
-    """The real Virtual KITTI frame ``0006_30-deg-right_00043.png`` (1242x375 RGB) from ``../shared/reference``,
-    or None without it: for fixtures that use it where present and a synthetic image otherwise."""
-    path = SHARED_REFERENCE / "0006_30-deg-right_00043.png"
-    return path if path.is_file() else None
+def real_vkitti_frame() -> Path:
+    """The real Virtual KITTI frame ``0006_30-deg-right_00043.png`` (1242x375 RGB), shipped in ``tests/data``."""
+    return Path(__file__).resolve().parent / "data" / "0006_30-deg-right_00043.png"
 
 
 @pytest.fixture(scope="session")

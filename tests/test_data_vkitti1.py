@@ -23,13 +23,11 @@ from sdn3d.data.vkitti1 import MOTGT_HEADER, paper_object_filter, paper_split, p
 from sdn3d.labels import VKITTI_CLASS_INDEX, VKITTI_CLASSES, split_instance_ids
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 
-REFERENCE_FRAME = "0006_30-deg-right_00043.png"
-
 
 @pytest.fixture(scope="module")
 def reference_tree(tmp_path_factory, real_vkitti_frame):
-    """Frame 0006/30-deg-right/00043 at the native 1242x375 size. Its RGB is the real Virtual KITTI frame where
-    ``../shared/reference`` has it (not shipped: 678 kB), else the fixture's synthetic rendering of the labels."""
+    """Frame 0006/30-deg-right/00043 at the native 1242x375 size; its RGB is the real Virtual KITTI frame
+    (tests/data)."""
     root = tmp_path_factory.mktemp("vkitti1_ref")
     truth = write_vkitti1_fixture(
         root, world="0006", variation="30-deg-right", frames=(43,), size=(1242, 375), rgb_image=real_vkitti_frame
@@ -54,14 +52,14 @@ def test_class_table_is_the_official_vkitti1_list():
     assert {c.name for c in VKITTI_CLASSES if c.has_instances} == {"Car", "Van"}
 
 
-def test_reference_frame_loads_with_native_size_and_intrinsics(reference_tree, reference_dir):
+def test_reference_frame_loads_with_native_size_and_intrinsics(reference_tree, real_vkitti_frame):
     root, truth = reference_tree
     (record,) = read_frames(root)
     assert (record.world, record.variation, record.frame) == ("0006", "30-deg-right", 43)
     assert record.intrinsics == VKITTI_INTRINSICS
     rgb = load_rgb(record)
     assert rgb.shape == (375, 1242, 3) and rgb.dtype == np.uint8
-    np.testing.assert_array_equal(rgb, np.asarray(Image.open(reference_dir / REFERENCE_FRAME).convert("RGB")))
+    np.testing.assert_array_equal(rgb, np.asarray(Image.open(real_vkitti_frame).convert("RGB")))
     semantic, instances, depth = load_semantic(record), load_instances(record), load_depth(record)
     assert semantic.dtype == np.int64 and instances.dtype == np.int64 and depth.dtype == np.float32
     np.testing.assert_array_equal(semantic, truth[0].semantic)

@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 import torch
 
-REPO_ROOT = Path(__file__).resolve().parents[1]
 # Only for the real Virtual KITTI frame 0006_30-deg-right_00043.png (678 kB, not shipped). The paper's
 # benchmark files ship with the package: sdn3d.resources (paper_benchmark_path, paper_example_path).
 

@@ -37,8 +37,9 @@ def read_state_dict(path: str | Path) -> dict[str, Tensor]:
         raise PretrainedWeightsError(f"pretrained weights file {str(path)!r} does not exist")
     try:
         state = torch.load(path, map_location="cpu", weights_only=True)
-    except (RuntimeError, EOFError, OSError, ValueError) as exc:
-        raise PretrainedWeightsError(f"could not read pretrained weights {str(path)!r}: {exc}") from exc
+    except Exception as exc:  # whatever unpickling the user's file raises (IndexError, KeyError, ...), it is bad
+        raise PretrainedWeightsError(f"could not read pretrained weights {str(path)!r}: "
+                                     f"{type(exc).__name__}: {exc}") from exc
     if isinstance(state, Mapping) and "state_dict" in state and isinstance(state["state_dict"], Mapping):
         state = state["state_dict"]
     if not isinstance(state, Mapping) or not all(isinstance(v, Tensor) for v in state.values()):

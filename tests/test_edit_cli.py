@@ -111,6 +111,9 @@ def test_edit_applies_the_resolved_ops(done):
     ("- {op: delete, at: [2, 2]}", r"op 0 \(delete at=\[2.0, 2.0\]\): no object at"),
     ("- {op: recolor, id: 12001, sample: true}", r"op 0 \(recolor id=12001\): 'sample: true' needs a code bank"),
     ("- {op: spin, id: 12001}", r"field 'op' must be one of"),
+    ("- {op: zoom, id: 12001, zoom: 1.0e9}", r"op 0 \(zoom id=12001\): Zoom: object 12001 would end .* closer than"),
+    ("- {op: zoom, id: 12001, zoom: 1e-9}", r"op 0 \(zoom id=12001\): .* farther than 1000 m \(the far plane"),
+    ("- {op: zoom, id: 12001, zoom: huge}", r"op 0 \(zoom\): field 'zoom' must be a number, got 'huge'"),
 ])
 def test_bad_edits_exit_2_and_write_nothing(tiny_synth, ckpts, tmp_path, capsys, ops, message):
     edits = _write(tmp_path / "ops.yaml", ops)
@@ -147,6 +150,24 @@ def test_image_file_input_with_default_camera(tiny_synth, ckpts, tmp_path):
     assert summary["intrinsics"]["width"] == 160 and math.isclose(summary["intrinsics"]["fx"], 725 * 160 / 1242)
     assert np.asarray(Image.open(out / "source.png")).shape == (64, 160, 3)
     assert main(args[:-1] + [f"output_dir={tmp_path / 'o2'}", "checkpoints.textural=null"]) == 2
+
+
+@pytest.mark.parametrize("bomb", ["declared", "blank"])
+def test_decompression_bomb_image_is_refused_naming_the_file(ckpts, tmp_path, capsys, bomb):
+    """Issue 20: a PNG declaring 400 MP crashed with PIL's DecompressionBombError; one of 105 MP was decoded."""
+    from faults.images import blank_png, declared_size_png
+
+    image = (declared_size_png(tmp_path / "bomb.png", 20000, 20000) if bomb == "declared"
+             else blank_png(tmp_path / "bomb.png", 10500, 10000))
+    assert image.stat().st_size < 20_000
+    edits = _write(tmp_path / "ops.yaml", "- {op: recolor, class: Sky, code: [0, 0, 0, 0, 1]}")
+    out = tmp_path / "out"
+    args = [f"input.image={image}", "image_size=[160,64]", f"edits={edits}",
+            *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32", f"output_dir={out}"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"sdn3d-edit: error: input.image {str(image)!r}: image too large") and err.count("\n") == 1
+    assert "100 MP limit" in err and not out.exists()
 
 
 def test_benchmark_entry_picks_its_source_frame(tiny_synth, ckpts, tmp_path):

@@ -171,6 +171,32 @@ def test_errors(scene):
     assert not bool(apply_edits(flat, [Delete(12001)]).objects.has_mask.any())
 
 
+def test_extreme_distances_are_refused_saying_why(scene):
+    """Issue 20: ``zoom: 1e9`` put the camera inside the car, ``1e-9`` sent it 3e10 m away (both accepted)."""
+    from sdn3d.editing.apply import MAX_DISTANCE, MIN_CLEARANCE
+
+    iid = _big(scene)
+    i = scene.objects.index_of(iid)
+    distance, length = float(scene.objects.center[i].norm()), float(scene.objects.dims[i, 0])
+    low = MIN_CLEARANCE + length / 2
+    assert (MIN_CLEARANCE, MAX_DISTANCE) == (0.1, 1000.0)  # the rasterizer's default near / far planes
+    for op, pattern in [(Zoom(iid, 1e9), "closer than .* near plane .* half its length"),
+                        (Zoom(iid, distance / (0.99 * low)), "closer than"),
+                        (Modify(iid, None, zoom=1e9), "closer than"),
+                        (Zoom(iid, 1e-9), "farther than 1000 m .*far plane"),
+                        (Zoom(iid, 1e-9, on_ground=True), "farther than 1000 m"),
+                        (Zoom(iid, distance / 1001), "farther than 1000 m"),
+                        (Modify(iid, (100.0, 40.0), zoom=1e-9), "farther than"),
+                        (Move(iid, (100.0, scene.intrinsics.cy + 1e-3)), "farther than 1000 m .*below the horizon")]:
+        with pytest.raises(EditError, match=f"object {iid} would end .*{pattern}"):
+            apply_edits(scene, [op])
+    # Just inside the bounds is fine, and exact as before.
+    for zoom in (distance / (1.01 * low), distance / 999):
+        edited = apply_edits(scene, [Zoom(iid, zoom)])
+        c = edited.objects.center[edited.objects.index_of(iid)]
+        assert float(c.norm()) == pytest.approx(distance / zoom, rel=1e-12)
+
+
 def test_benchmark_ops_reproduce_the_synthetic_targets(synth):
     root, records = synth
     entries = [e for e in load_edit_benchmark(root / BENCHMARK_NAME) if e.operations]

@@ -258,3 +258,38 @@ def test_operation_constructor_validation():
         BenchmarkOperation("rotate", (1, 2))
     with pytest.raises(ValueError, match="finite"):
         BenchmarkOperation.modify((1, float("nan")))
+
+
+# -- the YAML edit spec's number fields (sdn3d.editing.spec) ------------------------------------------
+
+
+def test_yaml_spec_reads_numbers_pyyaml_leaves_as_strings(tmp_path):
+    """Issue 20: PyYAML (YAML 1.1) reads ``1e9`` / ``1.0e9`` / ``5e-1`` as strings; they are numbers."""
+    from sdn3d.editing.spec import load_edit_spec
+
+    path = tmp_path / "ops.yaml"
+    path.write_text("- {op: zoom, id: 12001, zoom: 1.0e9}\n- {op: zoom, id: 12002, zoom: 1e-9}\n"
+                    "- {op: rotate, at: [1e2, 5E1], ry: 5e-1}\n- {op: recolor, id: 12003, code: [1e-1, '2', 3]}\n"
+                    "- {op: modify, from: ['10', 20], zoom: ' 2.5 ', ry: -1e0}\n")
+    ops = load_edit_spec(path).ops
+    assert (ops[0].zoom, ops[1].zoom) == (1e9, 1e-9)
+    assert ops[2].at == (100.0, 50.0) and ops[2].ry == 0.5 and ops[3].code == (0.1, 2.0, 3.0)
+    assert ops[4].from_uv == (10.0, 20.0) and (ops[4].zoom, ops[4].ry) == (2.5, -1.0)
+
+
+@pytest.mark.parametrize(("op", "pattern"), [
+    ({"op": "zoom", "id": 12001, "zoom": "big"}, r"op 0 \(zoom\): field 'zoom' must be a number, got 'big'"),
+    ({"op": "zoom", "id": 12001, "zoom": "1e9x"}, r"field 'zoom' must be a number, got '1e9x'"),
+    ({"op": "zoom", "id": 12001, "zoom": ""}, r"field 'zoom' must be a number, got ''"),
+    ({"op": "zoom", "id": 12001, "zoom": "nan"}, r"field 'zoom' must be finite"),
+    ({"op": "zoom", "id": 12001, "zoom": "-1e0"}, r"field 'zoom' must be > 0"),
+    ({"op": "rotate", "id": 12001, "ry": "inf"}, r"field 'ry' must be finite"),
+    ({"op": "rotate", "id": 12001, "ry": True}, r"field 'ry' must be a number"),
+    ({"op": "move", "id": 12001, "to": ["left", 3]}, r"field 'to'\[0\] must be a number, got 'left'"),
+    ({"op": "recolor", "id": 12001, "code": [0.1, "x"]}, r"field 'code\[1\]' must be a number, got 'x'"),
+])  # fmt: skip
+def test_yaml_spec_still_rejects_non_numbers_naming_the_field(op, pattern):
+    from sdn3d.editing.spec import EditSpecError, parse_edit_spec
+
+    with pytest.raises(EditSpecError, match=pattern):
+        parse_edit_spec([op])

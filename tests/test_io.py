@@ -60,3 +60,29 @@ def test_bad_checkpoints_are_clear_errors_naming_the_file(tmp_path):
         for path in (garbage, truncated, code, not_lightning, tmp_path / "missing.ckpt"):
             with pytest.raises(ValueError, match=path.name):
                 loader(path)
+
+
+def test_image_readers_refuse_decompression_bombs_before_decoding(tmp_path):
+    """Issue 20: a small PNG declaring a huge image (Pillow: DecompressionBombError over ~179 MP, only a
+    warning and a full decode between ~89 MP and that) is a clear error naming the file, limit 100 MP."""
+    import warnings
+
+    from faults.images import blank_png, declared_size_png
+
+    from sdn3d.data.errors import DataFormatError
+    from sdn3d.data.imageio import MAX_IMAGE_PIXELS, image_size, open_image, read_rgb
+
+    assert MAX_IMAGE_PIXELS == 100_000_000
+    bombs = {declared_size_png(tmp_path / "declared_400mp.png", 20000, 20000): "400 MP",
+             declared_size_png(tmp_path / "declared_105mp.png", 10500, 10000): "10500x10000 = 105 MP",
+             blank_png(tmp_path / "blank_105mp.png", 10500, 10000): "10500x10000 = 105 MP"}
+    for path, size in bombs.items():
+        for reader in (open_image, read_rgb, image_size):
+            with pytest.raises(DataFormatError, match="image too large") as info:
+                reader(path)
+            assert str(info.value).startswith(f"{path}: ") and size in str(info.value)
+            assert "100 MP limit" in str(info.value)
+    under = blank_png(tmp_path / "blank_90mp.png", 10000, 9000)  # over Pillow's warning threshold, under ours
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert image_size(under) == (10000, 9000)

@@ -77,18 +77,36 @@ def geometric_crop_settings(checkpoint: str | os.PathLike) -> tuple[int, float] 
     """``(crop_size, margin)`` the geometric run of ``checkpoint`` trained with, or None if unknown.
 
     Read from the run's saved config (``<run>/config.yaml`` beside ``<run>/checkpoints/*.ckpt``,
-    written by ``sdn3d-train``): the crop size is a datamodule setting, not in the checkpoint.
+    written by ``sdn3d-train``): the crop size is a datamodule setting, not in the checkpoint. The file
+    is only read (nothing in it is instantiated or resolved).
+
+    Raises:
+        UserInputError: naming the config file, when it is not readable YAML or its ``datamodule.crop_size``
+            / ``margin`` are not numbers (pass ``crop_size`` and ``margin`` explicitly to skip it).
     """
+    import yaml
     from omegaconf import OmegaConf
+    from omegaconf.errors import OmegaConfBaseException
 
     path = Path(checkpoint).expanduser().resolve()
     for run_dir in (path.parent.parent, path.parent):
         config = run_dir / "config.yaml"
         if not config.is_file():
             continue
-        dm = OmegaConf.to_container(OmegaConf.load(config), resolve=False).get("datamodule") or {}
+        try:
+            tree = OmegaConf.to_container(OmegaConf.load(config), resolve=False)
+        except (yaml.YAMLError, OmegaConfBaseException, UnicodeDecodeError) as exc:
+            reason = " ".join(str(exc).split())[:200]
+            raise UserInputError(f"the geometric run's config {str(config)!r} (read for its crop size) is not "
+                                 f"readable YAML ({reason}); fix it or give the crop size and margin") from exc
+        dm = (tree.get("datamodule") if isinstance(tree, dict) else None) or {}
         if isinstance(dm, dict) and isinstance(dm.get("crop_size"), int):
-            return int(dm["crop_size"]), float(dm.get("margin", DEFAULT_MARGIN))
+            crop, margin = dm["crop_size"], dm.get("margin", DEFAULT_MARGIN)
+            if isinstance(crop, bool) or isinstance(margin, bool) or not isinstance(margin, (int, float)):
+                raise UserInputError(f"the geometric run's config {str(config)!r}: datamodule.crop_size and margin "
+                                     f"must be numbers, got {crop!r} and {margin!r}; fix it or give the crop size "
+                                     "and margin")
+            return int(crop), float(margin)
     return None
 
 
@@ -155,7 +173,8 @@ class Models:
             from sdn3d.geometric.predict import GeometricPredictor
 
             geo = GeometricPredictor.from_checkpoint(geometric, map_location=map_location)
-            found = geometric_crop_settings(geometric)
+            if crop_size is None or margin is None:  # the run's config is only read when needed
+                found = geometric_crop_settings(geometric)
         if textural is not None:
             from sdn3d.textural.renderer import TexturalRenderer
 

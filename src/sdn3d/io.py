@@ -6,16 +6,21 @@ Whole output directories (``sdn3d-edit``, ``sdn3d-bench``, ``sdn3d-synth``) are 
 everything goes into a temporary sibling directory that replaces the output directory only once
 everything is written, so a failure leaves no partial output and an old result intact. An existing
 non-empty directory is only replaced when it holds the tool's ``marker`` file (it is a previous result
-of the same tool), never an unrelated folder."""
+of the same tool), never an unrelated folder, and never the working directory, the home directory, one
+of their parents or ``/`` (:func:`refuse_unsafe_output_dir`). A staged tree may carry an owner record
+(``staged_directory(..., owned=True)``) so that the next run removes what a killed run left behind
+(:func:`remove_stale_staging`)."""
 
 from __future__ import annotations
 
 import io
 import json
+import logging
 import os
 import shutil
+import socket
 import tempfile
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -26,7 +31,10 @@ from sdn3d.errors import UserInputError
 
 __all__ = [
     "atomic_write", "write_bytes_atomic", "write_text_atomic", "write_json_atomic", "write_png_atomic",
-    "check_output_dir", "staged_directory", "swap_into_place",
+    "check_output_dir", "staged_directory", "swap_into_place", "load_torch_file", "load_lightning_checkpoint",
+    "checkpoint_branch", "CHECKPOINT_BRANCHES",
+    "OutputDirError", "refuse_unsafe_output_dir", "OWNER_FILE", "owner_record", "process_alive",
+    "remove_stale_staging",
 ]
 
 
@@ -86,68 +94,328 @@ def write_png_atomic(path: str | os.PathLike, array: np.ndarray) -> Path:
     return atomic_write(path, _write)
 
 
-def load_lightning_checkpoint(path: str | os.PathLike, map_location: Any = "cpu",
-                              required: tuple[str, ...] = ("state_dict",)) -> dict:
-    """A Lightning checkpoint read with ``torch.load(weights_only=True)`` (no code from the file runs).
+#: How each branch's Lightning checkpoint is told apart (:func:`checkpoint_branch`): ``state_dict`` key prefixes
+#: that only that branch's network has, hyper-parameter names that only its module takes, and what its weights are.
+CHECKPOINT_BRANCHES: dict[str, tuple[tuple[str, ...], tuple[str, ...], str]] = {
+    "semantic": (("net.seg.", "net.instance.", "net.decoder."), ("arch", "instance_head", "head_channels"),
+                 "DRN weights 'net.seg.*'"),
+    "geometric": (("net.heads.", "net.mlp."), ("rotation", "distance", "single_cad", "scale_prior"),
+                  "GeometricNet weights 'net.heads.*', 'net.mlp.*'"),
+    "textural": (("generator.", "encoder."), ("ngf", "nef", "code_dim", "n_downsampling"),
+                 "pix2pixHD G and E weights 'generator.*', 'encoder.*'"),
+}
+
+
+def checkpoint_branch(ckpt: Mapping[str, Any]) -> str | None:
+    """The branch (``'semantic'``, ``'geometric'``, ``'textural'``) whose weights a loaded Lightning
+    checkpoint holds, or None if it cannot tell (:data:`CHECKPOINT_BRANCHES`).
+
+    The ``state_dict`` key prefixes decide; the hyper-parameter names only when no prefix matches.
+    """
+    state = ckpt.get("state_dict")
+    keys = [k for k in state if isinstance(k, str)] if isinstance(state, Mapping) else []
+    found = [b for b, (prefixes, _, _) in CHECKPOINT_BRANCHES.items() if any(k.startswith(prefixes) for k in keys)]
+    if not found:
+        hparams = ckpt.get("hyper_parameters")
+        names = {k for k in hparams if isinstance(k, str)} if isinstance(hparams, Mapping) else set()
+        found = [b for b, (_, hp_names, _) in CHECKPOINT_BRANCHES.items() if names & set(hp_names)]
+    return found[0] if len(found) == 1 else None
+
+
+def _load_failure(exc: BaseException) -> str:
+    """One line saying why ``torch.load`` failed (torch's weights-only message is long and advises
+    ``weights_only=False``, which would run the file's code: keep only its reason)."""
+    text = str(exc)
+    if "WeightsUnpickler error:" in text:
+        text = text.split("WeightsUnpickler error:", 1)[1].split("Check the documentation", 1)[0]
+        reason = "weights-only loading refused it: " + " ".join(text.split())
+    else:
+        reason = f"{type(exc).__name__}: {' '.join(text.split())}" if text.strip() else type(exc).__name__
+    return reason if len(reason) <= 200 else reason[:197] + "..."
+
+
+def load_torch_file(path: str | os.PathLike, what: str = "checkpoint", map_location: Any = "cpu") -> Any:
+    """The content of a file the user named, read with ``torch.load(weights_only=True)`` (no code from the
+    file runs); ``what`` names it in errors (``'checkpoint'``, ``'code_bank'``, ...).
 
     Raises:
-        UserInputError (a ValueError): naming the file: missing, unreadable (truncated, not a torch file,
-            or holding objects ``weights_only`` refuses), or not a mapping with the ``required`` keys.
+        UserInputError: the file is missing, or ``torch.load`` failed in any way (truncated, corrupt, not a
+            torch file, objects ``weights_only`` refuses): the file is bad; the exception is kept as the cause.
     """
-    import pickle
-    import zipfile
-
     import torch
 
     path = Path(path).expanduser()
     if not path.is_file():
-        raise UserInputError(f"checkpoint {str(path)!r} does not exist")
+        raise UserInputError(f"{what} {str(path)!r} does not exist")
     try:
-        ckpt = torch.load(path, map_location=map_location, weights_only=True)
-    except (pickle.UnpicklingError, RuntimeError, EOFError, zipfile.BadZipFile, OSError) as exc:
-        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise UserInputError(f"could not read checkpoint {str(path)!r}: {first}") from exc
+        return torch.load(path, map_location=map_location, weights_only=True)
+    except Exception as exc:  # whatever unpickling the user's file raises, the file is bad
+        raise UserInputError(f"could not read {what} {str(path)!r}: not a loadable PyTorch file (truncated, corrupt, "
+                             f"not a torch file, or holding more than tensors and plain data) "
+                             f"[{_load_failure(exc)}]") from exc
+
+
+def load_lightning_checkpoint(path: str | os.PathLike, map_location: Any = "cpu",
+                              required: tuple[str, ...] = ("state_dict",), branch: str | None = None) -> dict:
+    """A Lightning checkpoint read with ``torch.load(weights_only=True)`` (no code from the file runs).
+
+    Args:
+        branch: ``'semantic'``, ``'geometric'`` or ``'textural'``: the file must hold that branch's
+            weights (:func:`checkpoint_branch`); None accepts any.
+
+    Raises:
+        UserInputError (a ValueError): naming the file: missing, unreadable (truncated, corrupt, not a
+            torch file, or holding objects ``weights_only`` refuses: any exception of ``torch.load``,
+            kept as the cause), not a mapping with the ``required`` keys, or another branch's checkpoint
+            (the message says which branch it holds).
+    """
+    if branch is not None and branch not in CHECKPOINT_BRANCHES:
+        raise ValueError(f"branch must be one of {sorted(CHECKPOINT_BRANCHES)}, got {branch!r}")
+    path = Path(path).expanduser()
+    ckpt = load_torch_file(path, "checkpoint", map_location)
     if not isinstance(ckpt, dict) or any(k not in ckpt for k in required):
         raise UserInputError(f"{str(path)!r} is not a Lightning checkpoint (needs {', '.join(map(repr, required))})")
+    for key in ("state_dict", "hyper_parameters"):
+        if ckpt.get(key) is not None and not isinstance(ckpt[key], Mapping):
+            raise UserInputError(f"{str(path)!r} is not a Lightning checkpoint: its {key!r} is a "
+                                 f"{type(ckpt[key]).__name__}, not a mapping")
+    if branch is not None:
+        _check_branch(path, ckpt, branch)
     return ckpt
 
 
-def swap_into_place(tmp: Path, out: Path) -> None:
-    """Rename the finished tree ``tmp`` onto ``out``; an old ``out`` is moved aside first, then deleted."""
+def _check_branch(path: Path, ckpt: dict, branch: str) -> None:
+    """Raise a :class:`UserInputError` if ``ckpt`` holds another branch's weights, or none of ``branch``'s."""
+    held = checkpoint_branch(ckpt)
+    if held == branch:
+        return
+    prefixes, _, what = CHECKPOINT_BRANCHES[branch]
+    if held is not None:
+        raise UserInputError(f"checkpoint {str(path)!r} holds the {held} branch ({CHECKPOINT_BRANCHES[held][2]}), "
+                             f"not the {branch} branch ({what}): pass it as the {held} checkpoint")
+    state = ckpt.get("state_dict") or {}
+    if not any(isinstance(k, str) and k.startswith(prefixes) for k in state):
+        raise UserInputError(f"checkpoint {str(path)!r} is not a {branch}-branch checkpoint: it has none of the "
+                             f"{what}")
+
+
+def swap_into_place(tmp: Path, out: Path, owned: bool = False) -> None:
+    """Rename the finished tree ``tmp`` onto ``out``; an old ``out`` is moved aside first, then deleted.
+
+    ``owned``: ``tmp`` carries an owner record (:data:`OWNER_FILE`, see :func:`staged_directory`); the tree
+    the old ``out`` is moved into gets one too and is deleted before its record, and ``tmp``'s record is
+    removed just before the rename, so a run killed at any point leaves only trees that
+    :func:`remove_stale_staging` recognises as its own.
+    """
     old = None
     if out.exists():
         old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
+        if owned:
+            write_json_atomic(old / OWNER_FILE, owner_record())
         os.rename(out, old / "tree")
+    if owned:
+        (tmp / OWNER_FILE).unlink(missing_ok=True)
     os.rename(tmp, out)
     if old is not None:
-        shutil.rmtree(old)
+        if owned:
+            _remove_owned_tree(old)
+        else:
+            shutil.rmtree(old)
+
+
+class OutputDirError(UserInputError, FileExistsError):
+    """An output directory a tool may not write or replace; the message names it and says what to do.
+
+    Also a :class:`FileExistsError` (what these refusals raised before).
+    """
+
+
+def refuse_unsafe_output_dir(out: str | os.PathLike) -> None:
+    """Raise :class:`OutputDirError` if ``out`` is a directory that must never be replaced, marker or not:
+    the file-system root, the current working directory or one of its parents, the home directory or one
+    of its parents. (Replacing an output directory removes the directory itself, not only its files.)
+    """
+    out = Path(out).expanduser().resolve()
+    what = None
+    if out == Path(out.anchor):
+        what = "the file-system root"
+    else:
+        try:
+            cwd = Path.cwd().resolve()
+        except OSError:  # the working directory was removed: nothing there to protect
+            cwd = None
+        try:
+            home = Path.home().resolve()
+        except (RuntimeError, KeyError, OSError):  # no HOME and no password entry
+            home = None
+        if cwd is not None and out == cwd:
+            what = "the current working directory"
+        elif cwd is not None and out in cwd.parents:
+            what = f"a parent of the current working directory {str(cwd)!r}"
+        elif home is not None and out == home:
+            what = "the home directory"
+        elif home is not None and out in home.parents:
+            what = f"a parent of the home directory {str(home)!r}"
+    if what is not None:
+        raise OutputDirError(f"output_dir {str(out)!r} is {what}: refusing to use it as an output directory "
+                             "(replacing an output removes the whole directory); choose a dedicated directory "
+                             "that does not exist yet, e.g. a new subdirectory")
 
 
 def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool) -> Path:
-    """Raise ``FileExistsError`` if ``out`` may not be (re)written; returns it resolved."""
+    """Raise :class:`OutputDirError` (a ``FileExistsError``) if ``out`` may not be (re)written; returns it resolved.
+
+    An existing directory is refused if it is one :func:`refuse_unsafe_output_dir` protects, or if it is not
+    empty and either ``overwrite`` is false or it holds no ``marker`` file (no earlier output of the tool).
+    """
     out = Path(out).expanduser().resolve()
     if out.exists() and not out.is_dir():
-        raise FileExistsError(f"output_dir {str(out)!r} exists and is not a directory")
+        raise OutputDirError(f"output_dir {str(out)!r} exists and is not a directory; choose another output_dir")
+    if out.is_dir():
+        refuse_unsafe_output_dir(out)
     if out.is_dir() and any(out.iterdir()):
         if not overwrite:
-            raise FileExistsError(f"output_dir {str(out)!r} is not empty (set overwrite=true to replace it)")
+            raise OutputDirError(f"output_dir {str(out)!r} is not empty (set overwrite=true to replace it)")
         if not (out / marker).is_file():
-            raise FileExistsError(f"output_dir {str(out)!r} is not empty and holds no {marker} (not an earlier "
-                                  "output of this tool): refusing to replace it; choose another output_dir")
+            raise OutputDirError(f"output_dir {str(out)!r} is not empty and holds no {marker} (not an earlier "
+                                 "output of this tool): refusing to replace it; choose another output_dir")
     return out
 
 
 @contextmanager
-def staged_directory(out: str | os.PathLike, marker: str, overwrite: bool = True) -> Iterator[Path]:
-    """Yield a temporary directory; on success it becomes ``out`` (write ``marker`` in it), on error it goes."""
+def staged_directory(out: str | os.PathLike, marker: str, overwrite: bool = True,
+                     owned: bool = False) -> Iterator[Path]:
+    """Yield a temporary directory; on success it becomes ``out`` (write ``marker`` in it), on error it goes.
+
+    ``owned``: first remove what killed runs into ``out`` left behind (:func:`remove_stale_staging`), and
+    keep an owner record (:data:`OWNER_FILE`: this process and host) in the temporary directory while it
+    is written (it is removed before the swap; callers listing the tree must skip it), so that a later
+    run can remove the tree if this process is killed.
+    """
+    if owned:
+        remove_stale_staging(out)
     out = check_output_dir(out, marker, overwrite)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
     try:
+        if owned:
+            write_json_atomic(tmp / OWNER_FILE, owner_record())
         yield tmp
         if not (tmp / marker).is_file():
             raise RuntimeError(f"staged output misses its marker file {marker}")
-        swap_into_place(tmp, out)
+        swap_into_place(tmp, out, owned=owned)
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        if owned:
+            try:
+                _remove_owned_tree(tmp)
+            except OSError:
+                shutil.rmtree(tmp, ignore_errors=True)
+        else:
+            shutil.rmtree(tmp, ignore_errors=True)
         raise
+
+
+# -- owner records of staged trees: telling a killed run's leftovers from a live run's ---------------------
+
+#: The owner record (JSON: pid, host, process start time) in a staged tree while its run writes it.
+OWNER_FILE = ".sdn3d-owner.json"
+
+
+def _proc_stat(pid: int) -> tuple[str, int] | None:
+    """``(state, start time in clock ticks after boot)`` of ``pid`` from ``/proc`` (Linux), or None."""
+    try:
+        text = Path(f"/proc/{int(pid)}/stat").read_text()
+        fields = text.rpartition(")")[2].split()  # the command name may hold spaces and parentheses
+        return fields[0], int(fields[19])
+    except (OSError, IndexError, ValueError):
+        return None
+
+
+def process_alive(pid: int, start: int | None = None) -> bool:
+    """Whether process ``pid`` runs on this machine (a zombie does not).
+
+    Args:
+        start: the start time :func:`owner_record` recorded for it; where ``/proc`` shows another start
+            time, ``pid`` was reused by a later process and the recorded one is gone.
+    """
+    if pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # it exists (another user's process)
+        pass
+    except (OSError, OverflowError):
+        return False
+    stat = _proc_stat(pid)
+    if stat is not None:
+        state, started = stat
+        if state in ("Z", "X", "x") or (start is not None and started != start):
+            return False
+    return True
+
+
+def owner_record() -> dict:
+    """Who writes a staged tree: this process (pid and start time) on this host."""
+    stat = _proc_stat(os.getpid())
+    return {"pid": os.getpid(), "host": socket.gethostname(), "start": stat[1] if stat else None}
+
+
+def _owner_gone(tree: Path) -> bool:
+    """True only if ``tree`` holds a readable owner record naming a process of this host that has ended."""
+    try:
+        record = json.loads((tree / OWNER_FILE).read_text())
+    except (OSError, ValueError):
+        return False
+    if not isinstance(record, dict) or record.get("host") != socket.gethostname():
+        return False
+    pid, start = record.get("pid"), record.get("start")
+    if not isinstance(pid, int) or isinstance(pid, bool) or not (start is None or isinstance(start, int)):
+        return False
+    return not process_alive(pid, start)
+
+
+def _remove_owned_tree(tree: Path) -> None:
+    """Delete a staged tree, its owner record last: a run killed meanwhile leaves a tree still marked as its."""
+    for child in list(tree.iterdir()):
+        if child.name == OWNER_FILE:
+            continue
+        if child.is_dir() and not child.is_symlink():
+            shutil.rmtree(child)
+        else:
+            child.unlink()
+    shutil.rmtree(tree)
+
+
+def remove_stale_staging(out: str | os.PathLike) -> list[Path]:
+    """Remove what killed runs into ``out`` left beside it; returns the trees removed.
+
+    Candidates are ``.<name>.partial-*`` (a staged tree being written) and ``.<name>.old-*`` (the previous
+    ``out`` being deleted) next to ``out``. Only trees whose owner record (:data:`OWNER_FILE`) names a
+    process of this host that has ended are touched: a live run's trees, another host's, and trees
+    without a record (another tool's, or older versions') are left alone. An ``.old-*`` tree whose run
+    died between its two renames, ``out`` missing, is moved back to ``out`` (the previous result), not
+    deleted.
+    """
+    log = logging.getLogger(__name__)
+    out = Path(out).expanduser().resolve()
+    if not out.parent.is_dir() or not out.name:
+        return []
+    removed = []
+    for kind in ("partial", "old"):
+        prefix = f".{out.name}.{kind}-"
+        for tree in sorted(p for p in out.parent.iterdir() if p.name.startswith(prefix)):
+            try:
+                if tree.is_symlink() or not tree.is_dir() or not _owner_gone(tree):
+                    continue
+                if kind == "old" and (tree / "tree").is_dir() and not os.path.lexists(out):
+                    os.rename(tree / "tree", out)
+                    log.warning("restored %s from %s (a run was killed while replacing it)", out, tree.name)
+                _remove_owned_tree(tree)
+            except OSError as exc:  # e.g. another run removing it at the same time: not this run's problem
+                log.warning("could not remove the stale staging tree %s: %s", tree, exc)
+                continue
+            log.info("removed %s, left by a killed run", tree)
+            removed.append(tree)
+    return removed

@@ -29,7 +29,7 @@ import torch
 from sdn3d.cli._config import CONFIG_DIR, compose_config
 from sdn3d.cli._errors import run_cli
 from sdn3d.errors import InputError
-from sdn3d.io import check_output_dir, staged_directory
+from sdn3d.io import check_output_dir, load_torch_file, staged_directory
 
 __all__ = ["main", "run_edit", "load_input"]
 
@@ -76,16 +76,17 @@ def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any]:
         raise InputError(f"the working size (image_size, else data.image_size) must be two positive integers "
                          f"[W, H], got {list(size)}")
     if cfg.input.image is not None:
-        from PIL import Image, UnidentifiedImageError
+        from sdn3d.data.errors import DataFormatError
+        from sdn3d.data.imageio import open_image
 
         path = Path(str(cfg.input.image)).expanduser()
         if not path.is_file():
             raise InputError(f"input.image {str(path)!r} not found")
-        try:
-            with Image.open(path) as im:
+        try:  # refuses images over imageio.MAX_IMAGE_PIXELS (decompression bombs) before decoding them
+            with open_image(path) as im:
                 rgb = np.array(im.convert("RGB"))
-        except (UnidentifiedImageError, OSError) as exc:
-            raise InputError(f"input.image {str(path)!r} is not a readable image ({exc})") from exc
+        except DataFormatError as exc:
+            raise InputError(f"input.image {str(path)!r}: {str(exc).removeprefix(f'{path}: ')}") from exc
         height, width = rgb.shape[:2]
         if cfg.input.intrinsics is not None:
             try:
@@ -185,8 +186,11 @@ def _load_models(cfg: Any) -> tuple[Any, Any]:
     path = Path(str(cfg.code_bank)).expanduser()
     if not path.is_file():
         raise InputError(f"code_bank {str(path)!r} not found")
+    state = load_torch_file(path, "code_bank")  # a bad file: UserInputError naming it
+    if not isinstance(state, dict) or not all(isinstance(v, torch.Tensor) and v.dim() == 2 for v in state.values()):
+        raise InputError(f"code_bank {str(path)!r} does not hold a {{class id: (M, C) tensor of codes}} mapping")
     try:
-        code_bank = CodeBank.from_state_dict(torch.load(path, map_location="cpu", weights_only=True))
+        code_bank = CodeBank.from_state_dict(state)
     except ValueError as exc:  # the file's content does not make a code bank
         raise InputError(f"code_bank {str(path)!r}: {exc}") from exc
     return models, code_bank

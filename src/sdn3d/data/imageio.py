@@ -1,22 +1,31 @@
 """File reading helpers shared by the dataset readers, each failing with a clear error.
 
 Images: PNG/JPG through Pillow. A missing file raises :class:`MissingDataError`
-(a ``FileNotFoundError``); an unreadable or truncated one, or one with the wrong
-pixel format, raises :class:`DataFormatError`; both name the path.
+(a ``FileNotFoundError``); an unreadable or truncated one, one with the wrong
+pixel format, or one larger than :data:`MAX_IMAGE_PIXELS` (a decompression bomb:
+a small file declaring a huge image; refused from its header, before decoding)
+raises :class:`DataFormatError`; both name the path.
 
 Colour tables: :class:`ColorEncoding` decodes colour-coded label images (VKITTI
 scenegt/classgt) with one ``np.searchsorted`` over packed colours.
 
 Text tables: the whitespace-separated, one-header-line files Virtual KITTI ships
 (motgt, extrinsics, bbox, pose, ...). :func:`read_table` checks the header and the
-column count of every line and reports the file and line number of the first bad one.
+column count of every line and reports the file and line number of the first bad one (or, given
+``on_error``, hands each bad line to it and goes on: the skip policy of a training run).
+
+Sequence sizes: :func:`agreed_size` decides a sequence's image size by agreement of its frames' headers,
+so one odd frame (even the first) is named instead of every good one.
 """
 
 from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
+import re
+import warnings
+from collections import Counter
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,8 +36,10 @@ from sdn3d.data.errors import DataFormatError, missing
 from sdn3d.labels import INSTANCE_DIVISOR
 
 __all__ = [
+    "MAX_IMAGE_PIXELS",
     "open_image",
     "image_size",
+    "agreed_size",
     "read_rgb",
     "read_index_png",
     "read_uint16_png",
@@ -43,29 +54,96 @@ __all__ = [
 _INDEX_MODES = ("L", "P", "I;16", "I;16B", "I;16L", "I")
 
 
-def open_image(path: str | os.PathLike) -> Image.Image:
-    """Open and fully decode an image; errors name ``path``."""
-    path = Path(path)
+#: Largest image read, in pixels (100 MP; the largest dataset frames are 2 MP). Pillow's own guard
+#: only warns from about 89 MP and stops at about 179 MP; a larger file is refused here from its header,
+#: before its pixels are decoded (a few-kB PNG can declare gigabytes of pixels).
+MAX_IMAGE_PIXELS = 100_000_000
+
+
+def _too_large(path: Path, width: int | None = None, height: int | None = None,
+               exc: BaseException | None = None) -> DataFormatError:
+    if width and height:
+        size = f"{width}x{height} = {width * height / 1e6:.0f} MP"
+    else:  # Pillow refused it first: its message has the pixel count
+        found = re.search(r"\((\d+) pixels\)", str(exc))
+        size = f"{int(found.group(1)) / 1e6:.0f} MP" if found else "its declared size"
+    return DataFormatError(f"{path}: image too large ({size}, more than the {MAX_IMAGE_PIXELS // 10**6} MP limit "
+                           "for input images; a decompression bomb?): refused before decoding; resize it")
+
+
+def _open_header(path: Path) -> Image.Image:
+    """``Image.open(path)`` (the header only), refusing images over :data:`MAX_IMAGE_PIXELS`; errors name ``path``."""
     if not path.is_file():
         raise missing(path, "image file")
     try:
-        image = Image.open(path)
-        image.load()  # decode now so a truncated file fails here, with its path
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)  # the limit is checked below
+            image = Image.open(path)
+    except Image.DecompressionBombError as exc:
+        raise _too_large(path, exc=exc) from exc
     except (UnidentifiedImageError, OSError, SyntaxError, ValueError) as exc:
+        raise DataFormatError(f"{path}: unreadable image ({exc})") from exc
+    if image.width * image.height > MAX_IMAGE_PIXELS:
+        image.close()
+        raise _too_large(path, image.width, image.height)
+    return image
+
+
+def open_image(path: str | os.PathLike) -> Image.Image:
+    """Open and fully decode an image; errors name ``path`` (over :data:`MAX_IMAGE_PIXELS`: refused undecoded)."""
+    path = Path(path)
+    image = _open_header(path)
+    try:
+        image.load()  # decode now so a truncated file fails here, with its path
+    except Image.DecompressionBombError as exc:
+        image.close()
+        raise _too_large(path, exc=exc) from exc
+    except (UnidentifiedImageError, OSError, SyntaxError, ValueError) as exc:
+        image.close()
         raise DataFormatError(f"{path}: unreadable image ({exc})") from exc
     return image
 
 
 def image_size(path: str | os.PathLike) -> tuple[int, int]:
     """``(width, height)`` read from the header only (no pixel decoding)."""
-    path = Path(path)
-    if not path.is_file():
-        raise missing(path, "image file")
-    try:
-        with Image.open(path) as image:
-            return int(image.width), int(image.height)
-    except (UnidentifiedImageError, OSError, SyntaxError, ValueError) as exc:
-        raise DataFormatError(f"{path}: unreadable image ({exc})") from exc
+    with _open_header(Path(path)) as image:
+        return int(image.width), int(image.height)
+
+
+def agreed_size(
+    paths: Sequence[Path], what: str, preferred: tuple[int, int] | None = None
+) -> tuple[tuple[int, int] | None, dict[Path, DataFormatError]]:
+    """The ``(width, height)`` most of ``paths`` have (headers only), and an error for every other file.
+
+    A file whose header can not be read, or whose size differs from the agreed one, gets a
+    :class:`DataFormatError` naming it (in ``paths`` order). A tie goes to ``preferred`` (the format's
+    known size) when it is one of the tied sizes, else to the size of the earliest file. The size is None
+    when no header could be read.
+
+    Args:
+        paths: the frames of one sequence (or one city).
+        what: the sequence, for messages ("sequence 0001/clone").
+        preferred: the format's nominal size, e.g. Virtual KITTI's 1242x375.
+    """
+    sizes: dict[Path, tuple[int, int]] = {}
+    errors: dict[Path, DataFormatError] = {}
+    for path in paths:
+        try:
+            sizes[path] = image_size(path)
+        except DataFormatError as exc:
+            errors[path] = exc
+    if not sizes:
+        return None, errors
+    counts = Counter(sizes.values())
+    top = max(counts.values())
+    tied = [s for s, c in counts.items() if c == top]
+    size = preferred if preferred in tied else next(s for s in sizes.values() if s in tied)
+    for path, got in sizes.items():
+        if got != size:
+            errors[path] = DataFormatError(
+                f"{path}: image is {got[0]}x{got[1]}, but {top} of the {len(paths)} frames of {what} are "
+                f"{size[0]}x{size[1]}: this frame is the odd one", path=path)
+    return size, {p: errors[p] for p in paths if p in errors}
 
 
 def read_rgb(path: str | os.PathLike) -> np.ndarray:
@@ -221,7 +299,12 @@ class TableRow:
         raise self._error(column, "a boolean (0/1/True/False)")
 
 
-def read_table(path: str | os.PathLike, header: Sequence[str], what: str) -> list[TableRow]:
+def read_table(
+    path: str | os.PathLike,
+    header: Sequence[str],
+    what: str,
+    on_error: Callable[[DataFormatError, list[str]], None] | None = None,
+) -> list[TableRow]:
     """Read a whitespace-separated table with exactly the header line ``header``.
 
     Blank lines are skipped; every other line must have ``len(header)`` fields.
@@ -230,6 +313,8 @@ def read_table(path: str | os.PathLike, header: Sequence[str], what: str) -> lis
         path: the text file.
         header: the expected column names, in order.
         what: a short description for error messages ("motgt file", ...).
+        on_error: None raises on the first line with the wrong number of fields; otherwise that line is
+            left out and ``on_error(error, tokens)`` is called (a missing file or a bad header still raise).
 
     Returns:
         One :class:`TableRow` per data line, in file order.
@@ -251,9 +336,13 @@ def read_table(path: str | os.PathLike, header: Sequence[str], what: str) -> lis
         if not tokens:
             continue
         if len(tokens) != len(header):
-            raise DataFormatError(
+            error = DataFormatError(
                 f"{path}:{lineno}: {what} line has {len(tokens)} fields, expected {len(header)}: "
-                f"{line.strip()!r}"
+                f"{line.strip()!r}", path=path, line=lineno
             )
+            if on_error is None:
+                raise error
+            on_error(error, tokens)
+            continue
         rows.append(TableRow(path, lineno, header, tokens))
     return rows

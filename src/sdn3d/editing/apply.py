@@ -53,6 +53,7 @@ from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics, project_points
 from sdn3d.math3d.rotations import wrap_angle
 from sdn3d.meshes.bank import MeshBank
+from sdn3d.render.settings import RasterSettings
 from sdn3d.scene.code import ObjectTable, SceneCode
 from sdn3d.scene.fill import fill_background
 from sdn3d.scene.maps import compose_instances
@@ -72,10 +73,20 @@ __all__ = [
     "ops_from_benchmark",
     "match_objects",
     "projected_centers",
+    "MIN_CLEARANCE",
+    "MAX_DISTANCE",
 ]
 
 
 # -- the operations live in sdn3d.editing.ops (re-exported here) -----------------------------------
+
+#: Bounds on an edited object's distance ``|c|`` (metres): its centre stays beyond the rasterizer's near
+#: plane by at least half its length (:data:`MIN_CLEARANCE` + l / 2) and within its far plane; scenes are
+#: drawn with the default :class:`~sdn3d.render.settings.RasterSettings`. A Zoom or Modify that changes the
+#: distance is checked against both (``zoom: 1e9`` would put the camera inside the car, ``1e-9`` send it
+#: 3e10 m away), a Move or Duplicate against the far one (a target just below the horizon).
+MIN_CLEARANCE = RasterSettings.near
+MAX_DISTANCE = RasterSettings.far
 
 # -- geometry -----------------------------------------------------------------------------------
 
@@ -98,6 +109,20 @@ def _on_ground(center: Tensor, uv: tuple[float, float], intr: Intrinsics, what: 
         raise EditError(f"{what}: the ray through {uv} never meets the object's ground plane y = {float(center[1]):.3f}"
                         " in front of the camera (target on or above its horizon)")
     return d * t
+
+
+def _check_distance(center: Tensor, length: float, what: str, near: bool = True) -> None:
+    """An edit must leave the object's centre between :data:`MIN_CLEARANCE` + half its length (``near``)
+    and :data:`MAX_DISTANCE` metres from the camera (the range the rasterizer draws it in)."""
+    distance, low = float(center.norm()), MIN_CLEARANCE + length / 2
+    if near and not distance >= low:
+        raise EditError(f"{what} would end {distance:.3g} m from the camera, closer than {low:.2f} m (the near plane "
+                        f"{MIN_CLEARANCE:g} m + half its length {length:.2f} m): the camera would be inside it and it "
+                        "would not be drawn; use a smaller zoom")
+    if not distance <= MAX_DISTANCE:  # also NaN
+        hint = "use a larger zoom" if near else "pick a target farther below the horizon"
+        raise EditError(f"{what} would end {distance:.3g} m from the camera, farther than {MAX_DISTANCE:g} m (the "
+                        f"far plane, beyond which nothing is drawn); {hint}")
 
 
 def projected_centers(scene: SceneCode) -> tuple[Tensor, Tensor]:
@@ -209,6 +234,10 @@ def _apply_one(scene: SceneCode, table: ObjectTable, codes: Tensor, op: EditOp) 
             new_center = d / d.norm() * (center.norm() / op.zoom)
     else:
         raise EditError(f"unknown edit operation {op!r}")
+    # Zoom / Modify change the distance: both bounds; Move / Duplicate slide on the object's ground plane:
+    # the far bound (a target just below the horizon), the ground and the frame bound how close it comes.
+    changes_distance = isinstance(op, (Zoom, Modify)) and op.zoom != 1.0
+    _check_distance(new_center, float(table.dims[i, 0]), f"{name}: object {op.instance_id}", near=changes_distance)
     location = new_center + new_center.new_tensor([0.0, h / 2, 0.0])
     if isinstance(op, Duplicate):
         return _duplicate(table, i, op, location), codes
@@ -242,7 +271,9 @@ def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None =
         grow: pixels a freed footprint grows into unclaimed pixels of the object's class.
 
     Raises:
-        EditError: unknown instance id, target outside the frame or below/above reach, wrong code size.
+        EditError: unknown instance id, target outside the frame or below/above reach, an object moved
+            closer than :data:`MIN_CLEARANCE` + half its length or farther than :data:`MAX_DISTANCE`, wrong
+            code size.
 
     Example:
         >>> import torch

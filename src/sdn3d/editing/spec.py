@@ -127,6 +127,13 @@ class EditSpec:
 
 
 def _number(value: Any, what: str) -> float:
+    """A finite float; a string ``float()`` reads is a number too (PyYAML, following YAML 1.1, reads
+    ``1e9`` and ``1.0e9`` as strings: its float pattern needs a dot and a signed exponent)."""
+    if isinstance(value, str):
+        try:
+            value = float(value)
+        except ValueError:
+            raise EditSpecError(f"{what} must be a number, got {value!r}") from None
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise EditSpecError(f"{what} must be a number, got {value!r}")
     if not math.isfinite(float(value)):

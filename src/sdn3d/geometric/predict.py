@@ -67,7 +67,7 @@ class GeometricPredictor:
         from sdn3d.io import load_lightning_checkpoint
 
         path = Path(path).expanduser()
-        ckpt = load_lightning_checkpoint(path, map_location)
+        ckpt = load_lightning_checkpoint(path, map_location, branch="geometric")
         hparams = dict(ckpt.get("hyper_parameters") or {})
         net = GeometricNet(**net_kwargs_from_hparams(hparams))
         state = {k[len("net."):]: v for k, v in ckpt["state_dict"].items() if k.startswith("net.")}

@@ -91,7 +91,7 @@ class SemanticPredictor:
         module's ``test_flip`` setting."""
         from sdn3d.io import load_lightning_checkpoint
 
-        ckpt = load_lightning_checkpoint(path, map_location)
+        ckpt = load_lightning_checkpoint(path, map_location, branch="semantic")
         hp = dict(ckpt.get("hyper_parameters") or {})
         classes = class_list(hp.get("classes", "vkitti"))
         net = DRNSeg(len(classes), arch=hp.get("arch", "drn_d_22"), instance_head=hp.get("instance_head", True),

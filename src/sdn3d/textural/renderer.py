@@ -17,6 +17,7 @@ from typing import Any
 import torch
 from torch import Tensor, nn
 
+from sdn3d.errors import UserInputError
 from sdn3d.image_ops import boundary_map
 from sdn3d.labels import class_list
 from sdn3d.nets.pix2pixhd import TexturalSpec
@@ -45,7 +46,11 @@ class TexturalRenderer(nn.Module):
         """Load G and E from a ``TexturalModule`` Lightning checkpoint (``torch.load(weights_only=True)``)."""
         from sdn3d.io import load_lightning_checkpoint
 
-        ckpt = load_lightning_checkpoint(path, map_location, required=("state_dict", "hyper_parameters"))
+        ckpt = load_lightning_checkpoint(path, map_location, required=("state_dict", "hyper_parameters"),
+                                         branch="textural")
+        if "classes" not in (ckpt["hyper_parameters"] or {}):
+            raise UserInputError(f"textural checkpoint {str(path)!r} does not name its class list "
+                                 "(hyper-parameter 'classes')")
         return cls.from_state_dict(ckpt["state_dict"], ckpt["hyper_parameters"])
 
     @classmethod

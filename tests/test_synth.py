@@ -254,17 +254,76 @@ def test_edit_benchmark_matches_targets(dataset: Path) -> None:
                 assert top <= op.to_uv[1] <= bottom and left <= op.to_uv[0] <= right
 
 
-def test_refuses_non_empty_output_unless_overwrite(tmp_path: Path) -> None:
+SMALL = dict(variations=("clone",), frames_per_sequence=1, edit_pairs=0, image_size=(64, 24))
+
+
+def test_overwrite_replaces_only_an_earlier_dataset(tmp_path: Path) -> None:
+    """overwrite=true replaces a previous dataset of the generator (it holds the manifest), never an
+    unrelated non-empty folder (issue 20: it used to delete any folder, exit 0)."""
+    from sdn3d.errors import UserInputError
+
     out = tmp_path / "busy"
     out.mkdir()
     (out / "keep.txt").write_text("mine")
-    small = dict(variations=("clone",), frames_per_sequence=1, edit_pairs=0, image_size=(64, 24))
     with pytest.raises(FileExistsError, match="overwrite=true"):
-        generate_dataset(_config(out, **small))
-    assert (out / "keep.txt").read_text() == "mine"
-    generate_dataset(_config(out, overwrite=True, **small))
-    assert not (out / "keep.txt").exists() and (out / "_SUCCESS").is_file()
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["busy"]
+        generate_dataset(_config(out, **SMALL))
+    with pytest.raises(UserInputError, match=f"{out}.*holds no {MANIFEST_NAME}.*choose another output_dir"):
+        generate_dataset(_config(out, overwrite=True, **SMALL))
+    assert sorted(p.name for p in out.iterdir()) == ["keep.txt"] and (out / "keep.txt").read_text() == "mine"
+    data = generate_dataset(_config(tmp_path / "data", **SMALL))
+    (data / "extra.txt").write_text("from an older run")
+    generate_dataset(_config(data, overwrite=True, **SMALL))
+    assert not (data / "extra.txt").exists() and (data / "_SUCCESS").is_file() and (data / MANIFEST_NAME).is_file()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["busy", "data"]  # no staging trees left
+
+
+@pytest.mark.parametrize(
+    "case, message",
+    [
+        ("cwd", "is the current working directory"),
+        ("cwd_parent", "is a parent of the current working directory"),
+        ("home", "is the home directory"),
+        ("home_parent", "is a parent of the home directory"),
+        ("empty_cwd", "is the current working directory"),
+    ],
+)
+def test_never_replaces_the_working_or_home_directory(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                      case: str, message: str) -> None:
+    """Not even with overwrite=true and the generator's marker in it: replacing removes the directory itself."""
+    from sdn3d.errors import UserInputError
+
+    work = tmp_path / "top" / "work"
+    (tmp_path / "elsewhere").mkdir(parents=True)
+    work.mkdir(parents=True)
+    for d in (work, work.parent):
+        (d / MANIFEST_NAME).write_text("{}")
+        (d / "notes.txt").write_text("mine")
+    if case.startswith("home"):
+        monkeypatch.setenv("HOME", str(work))
+        monkeypatch.chdir(tmp_path / "elsewhere")
+        out = str(work if case == "home" else work.parent)
+    else:
+        monkeypatch.chdir(work)
+        out = "." if case != "cwd_parent" else ".."
+    if case == "empty_cwd":  # an empty directory too: the shell would be left in a deleted directory
+        monkeypatch.chdir(tmp_path / "elsewhere")
+        out = "."
+    with pytest.raises(UserInputError, match=message) as info:
+        generate_dataset(_config(out, overwrite=True, **SMALL))
+    assert str(Path(out).resolve()) in str(info.value) and "choose" in str(info.value)
+    assert isinstance(info.value, FileExistsError)
+    assert (work / "notes.txt").is_file() and (work.parent / "notes.txt").is_file()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["elsewhere", "top"]
+    assert sorted(p.name for p in work.parent.iterdir()) == sorted([MANIFEST_NAME, "notes.txt", "work"])
+
+
+def test_never_replaces_the_root() -> None:
+    from sdn3d.io import OutputDirError, check_output_dir, refuse_unsafe_output_dir
+
+    with pytest.raises(OutputDirError, match="'/' is the file-system root"):
+        refuse_unsafe_output_dir("/")
+    with pytest.raises(OutputDirError, match="file-system root"):
+        check_output_dir("/", MANIFEST_NAME, overwrite=True)
 
 
 @pytest.mark.parametrize(
@@ -275,11 +334,73 @@ def test_refuses_non_empty_output_unless_overwrite(tmp_path: Path) -> None:
         ({"cars_per_frame": (5, 2)}, "cars_per_frame"),
         ({"image_size": (4, 4)}, "image_size"),
         ({"frames_per_sequence": 0}, "frames_per_sequence"),
+        # Badly typed settings name their field (issue 20: raw TypeError / ValueError tracebacks before).
+        ({"frames_per_sequence": "abc"}, r"frames_per_sequence must be an integer >= 1, got 'abc' \(str\)"),
+        ({"frames_per_sequence": 2.5}, r"frames_per_sequence must be an integer >= 1, got 2.5 \(float\)"),
+        ({"frames_per_sequence": True}, "frames_per_sequence must be an integer"),
+        ({"image_size": ("a", "b")}, r"image_size must be \[width, height\]: a list of two integers"),
+        ({"image_size": 5}, "image_size must be"),
+        ({"image_size": (64,)}, "image_size must be"),
+        ({"cars_per_frame": ("a", 3)}, "cars_per_frame must be"),
+        ({"cars_per_frame": (-1, 3)}, "cars_per_frame must be"),
+        ({"edit_pairs": -1}, "edit_pairs must be >= 0, got -1"),
+        ({"max_edit_operations": "x"}, "max_edit_operations must be an integer >= 1"),
+        ({"workers": -2}, "workers must be >= 1, got -2"),
+        ({"threads": "abc"}, "threads must be an integer >= 1"),
+        ({"seed": "abc"}, "seed must be an integer"),
+        ({"seed": 1.5}, "seed must be an integer"),
+        ({"overwrite": "maybe"}, "overwrite must be true or false"),
+        ({"worlds": "0001"}, "worlds must be a list"),
+        ({"worlds": ("0001", None)}, "worlds must be a list of names"),
+        ({"variations": "clone"}, "variations must be a list"),
+        ({"output_dir": None}, "output_dir must be a non-empty path"),
+        ({"output_dir": ""}, "output_dir must be a non-empty path"),
     ],
 )
 def test_config_validation(tmp_path: Path, bad: dict, message: str) -> None:
-    with pytest.raises(ValueError, match=message):
+    from sdn3d.data.synth.generate import SynthConfigError
+    from sdn3d.errors import UserInputError
+
+    assert issubclass(SynthConfigError, UserInputError)
+    with pytest.raises(SynthConfigError, match=message):
         _config(tmp_path / "x", **bad)
+
+
+def test_config_normalises_integers(tmp_path: Path) -> None:
+    cfg = _config(tmp_path / "x", image_size=[np.int64(64), 24], frames_per_sequence=np.int32(2), seed=-3,
+                  worlds=["0001", 1234], cars_per_frame=[1, 2])
+    assert cfg.image_size == (64, 24) and type(cfg.image_size[0]) is int
+    assert cfg.frames_per_sequence == 2 and type(cfg.frames_per_sequence) is int and cfg.seed == -3
+    assert cfg.worlds == ("0001", "1234") and cfg.cars_per_frame == (1, 2)
+
+
+@pytest.mark.parametrize(
+    "override, message",
+    [
+        ("frames_per_sequence=abc", "frames_per_sequence must be an integer >= 1, got 'abc' (str)"),
+        ("image_size=[a,b]", "image_size must be [width, height]: a list of two integers, got ['a', 'b']"),
+        ("frames_per_sequence=-3", "frames_per_sequence must be >= 1, got -3"),
+        ("overwrite=maybe", "overwrite must be true or false"),
+        ("output_dir=null", "output_dir must be a non-empty path"),
+    ],
+)
+def test_cli_rejects_badly_typed_settings_in_one_line(tmp_path: Path, capsys: pytest.CaptureFixture,
+                                                      monkeypatch: pytest.MonkeyPatch, override: str,
+                                                      message: str) -> None:
+    """Through ``@hydra.main`` as the console script runs it: exit status 2, one line, nothing written."""
+    hydra = pytest.importorskip("hydra")
+    monkeypatch.chdir(tmp_path)  # output_dir=null used to become <cwd>/None: keep the checkout clean
+    import sdn3d.cli.synth as synth
+    from sdn3d.cli._config import CONFIG_DIR
+
+    with hydra.initialize_config_dir(config_dir=CONFIG_DIR, version_base="1.3"):
+        cfg = hydra.compose(config_name="synth", overrides=[f"output_dir={tmp_path / 'd'}", override])
+    with pytest.raises(SystemExit) as info:
+        synth.main(cfg)
+    assert info.value.code == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("sdn3d-synth: error: ") and message in lines[0], lines
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
 
 
 def test_clip_near_keeps_the_front_part_with_its_winding() -> None:

@@ -402,10 +402,14 @@ def remove_stale_staging(out: str | os.PathLike) -> list[Path]:
     out = Path(out).expanduser().resolve()
     if not out.parent.is_dir() or not out.name:
         return []
+    try:
+        siblings = sorted(out.parent.iterdir())
+    except OSError:  # unreadable: the run itself fails on it with a clearer error
+        return []
     removed = []
     for kind in ("partial", "old"):
         prefix = f".{out.name}.{kind}-"
-        for tree in sorted(p for p in out.parent.iterdir() if p.name.startswith(prefix)):
+        for tree in (p for p in siblings if p.name.startswith(prefix)):
             try:
                 if tree.is_symlink() or not tree.is_dir() or not _owner_gone(tree):
                     continue

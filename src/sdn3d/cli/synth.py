@@ -2,7 +2,11 @@
 
 Every option is a Hydra override, e.g. ``sdn3d-synth frames_per_sequence=20 overwrite=true``.
 Relative ``output_dir`` paths are resolved against the directory the command starts in.
-Exit status: 0 done; 2 bad input (a bad setting, an existing output_dir: one line on stderr).
+Every setting is checked (type and range, :class:`sdn3d.data.synth.SynthConfig`) before any work.
+``overwrite=true`` replaces only an earlier dataset of this tool (a directory holding
+``synth_manifest.json``), never the working directory, the home directory, their parents or ``/``.
+Exit status: 0 done; 2 bad input (a bad setting, an output_dir that may not be written: one line on
+stderr).
 """
 
 from __future__ import annotations
@@ -45,7 +49,10 @@ def config_from_hydra(cfg: DictConfig) -> SynthConfig:
     if unknown:
         raise InputError(f"unknown synth config keys {unknown}; known: {list(_FIELDS)}")
     if "output_dir" in data:
-        data["output_dir"] = hydra.utils.to_absolute_path(str(data["output_dir"]))
+        out = data["output_dir"]
+        if isinstance(out, bool) or not isinstance(out, (str, int)) or not str(out):
+            raise InputError(f"output_dir must be a non-empty path, got {out!r}")
+        data["output_dir"] = hydra.utils.to_absolute_path(str(out))
     return SynthConfig(**data)
 
 

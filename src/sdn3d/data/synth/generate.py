@@ -8,9 +8,17 @@ regular frames: a sequence of ``F`` frames and ``E`` edit pairs holds frames ``0
 (the camera drives on) and ``F .. F+E-1`` (edited copies of a source frame, same camera).
 
 The write is all-or-nothing: everything goes to a temporary sibling directory that is renamed
-onto ``output_dir`` at the end (after ``_SUCCESS`` is written in it). An existing non-empty
-``output_dir`` is refused unless ``overwrite``; it is then replaced only once the new tree is
-complete. The same config gives byte-identical files on one software stack: every random draw comes
+onto ``output_dir`` at the end (after ``_SUCCESS`` is written in it; :func:`sdn3d.io.staged_directory`).
+An existing non-empty ``output_dir`` is refused unless ``overwrite``, and even then unless it is an earlier
+dataset of this generator (it holds ``synth_manifest.json``); it is then replaced only once the new tree
+is complete. The working directory, the home directory, their parents and ``/`` are never replaced.
+While it is written the temporary tree holds an owner record (this process and host): a run that was
+killed (SIGKILL, OOM) leaves it behind, and the next run into the same ``output_dir`` removes it.
+Rendering processes (``workers > 1``) end with the process that started them (Linux: the kernel
+SIGKILLs them when it dies, ``prctl(PR_SET_PDEATHSIG)``; elsewhere they poll for it), so a killed run
+leaves no process behind.
+
+The same config gives byte-identical files on one software stack: every random draw comes
 from a numpy Generator seeded by ``(seed, world[, variation, frame])``, independently of worker count.
 Across stacks (other numpy / PyTorch builds, other CPUs) labels, object tables, cameras and the edit
 benchmark stay identical, while a few RGB and depth pixels may differ by floating-point rounding in the
@@ -19,10 +27,15 @@ shading (measured: at most 8 pixels per frame, docs/results/2026-11-22_h100/READ
 
 from __future__ import annotations
 
+import ctypes
 import functools
 import math
-import shutil
-import tempfile
+import numbers
+import os
+import signal
+import sys
+import threading
+import time
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass
@@ -46,11 +59,12 @@ from sdn3d.data.synth.scene_render import RenderedFrame, render_frame
 from sdn3d.data.synth.stats import ObjectStats
 from sdn3d.data.synth.writer import SequenceWriter
 from sdn3d.errors import UserInputError
-from sdn3d.io import swap_into_place, write_json_atomic, write_text_atomic
+from sdn3d.io import process_alive, staged_directory, write_json_atomic, write_text_atomic
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
 __all__ = [
     "SynthConfig",
+    "SynthConfigError",
     "generate_dataset",
     "generate_sequence",
     "SequenceSummary",
@@ -62,6 +76,44 @@ BENCHMARK_NAME = "vkitti_edit_benchmark.json"
 MANIFEST_NAME = "synth_manifest.json"
 #: Edits are re-drawn (at most this many times) until every modified car is visible in the target.
 _EDIT_ATTEMPTS = 5
+
+
+class SynthConfigError(UserInputError):
+    """A bad :class:`SynthConfig` field (a ``conf/synth.yaml`` setting); the message names the field."""
+
+
+def _got(value: object) -> str:
+    return f"{value!r} ({type(value).__name__})"
+
+
+def _integer(name: str, value: object, minimum: int | None = None) -> int:
+    """``value`` as a plain int, if it is an integer (not a bool, float or string) ``>= minimum``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        bound = "" if minimum is None else f" >= {minimum}"
+        raise SynthConfigError(f"{name} must be an integer{bound}, got {_got(value)}")
+    if minimum is not None and value < minimum:
+        raise SynthConfigError(f"{name} must be >= {minimum}, got {value}")
+    return int(value)
+
+
+def _integer_pair(name: str, value: object, form: str) -> tuple[int, int]:
+    """``value`` as two plain ints (a list or tuple of two integers); ``form`` names them in the message."""
+    listed = isinstance(value, (Sequence, np.ndarray)) and not isinstance(value, (str, bytes))
+    if (not listed or len(value) != 2
+            or any(isinstance(v, bool) or not isinstance(v, numbers.Integral) for v in value)):
+        shown = list(value) if listed else value
+        raise SynthConfigError(f"{name} must be {form}: a list of two integers, got {shown!r}")
+    return int(value[0]), int(value[1])
+
+
+def _names(name: str, value: object, example: str) -> tuple[str, ...]:
+    """``value`` as a tuple of names: a list or tuple of strings (integers are written out)."""
+    if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
+        raise SynthConfigError(f"{name} must be a list like {example}, got {_got(value)}")
+    bad = [v for v in value if isinstance(v, bool) or not isinstance(v, (str, numbers.Integral))]
+    if bad:
+        raise SynthConfigError(f"{name} must be a list of names like {example}, got {list(value)!r}")
+    return tuple(str(v) for v in value)
 
 
 @dataclass(frozen=True)
@@ -97,38 +149,45 @@ class SynthConfig:
     threads: int = 1
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "image_size", tuple(int(v) for v in self.image_size))
-        object.__setattr__(self, "worlds", tuple(str(v) for v in self.worlds))
-        object.__setattr__(self, "variations", tuple(str(v) for v in self.variations))
-        object.__setattr__(self, "cars_per_frame", tuple(int(v) for v in self.cars_per_frame))
-        if not str(self.output_dir):
-            raise UserInputError("output_dir must be a non-empty path")
-        if len(self.image_size) != 2 or min(self.image_size) < 8:
-            raise UserInputError(f"image_size must be [width, height], both >= 8, got {list(self.image_size)}")
+        """Check every field's type and range (:class:`SynthConfigError` naming the field); normalise
+        sequences to tuples and integers to plain ints."""
+
+        def put(name: str, value: object) -> None:
+            object.__setattr__(self, name, value)
+
+        if isinstance(self.output_dir, bool) or not isinstance(self.output_dir, (str, os.PathLike)) \
+                or not os.fspath(self.output_dir):
+            raise SynthConfigError(f"output_dir must be a non-empty path, got {_got(self.output_dir)}")
+        put("seed", _integer("seed", self.seed))
+        width, height = _integer_pair("image_size", self.image_size, "[width, height]")
+        if min(width, height) < 8:
+            raise SynthConfigError(f"image_size must be [width, height], both >= 8, got {[width, height]}")
+        put("image_size", (width, height))
+        put("worlds", _names("worlds", self.worlds, "['0001', '0002']"))
         if not self.worlds or any(not (len(w) == 4 and w.isdigit()) for w in self.worlds):
-            raise UserInputError(f"worlds must be a non-empty list of 4-digit names like '0001', "
-                                 f"got {list(self.worlds)}")
+            raise SynthConfigError(f"worlds must be a non-empty list of 4-digit names like '0001', "
+                                   f"got {list(self.worlds)}")
         if len(set(self.worlds)) != len(self.worlds):
-            raise UserInputError(f"worlds must not repeat, got {list(self.worlds)}")
+            raise SynthConfigError(f"worlds must not repeat, got {list(self.worlds)}")
+        put("variations", _names("variations", self.variations, "[clone, fog]"))
         unknown = [v for v in self.variations if v not in VARIATIONS]
         if not self.variations or unknown or len(set(self.variations)) != len(self.variations):
-            raise UserInputError(f"variations must be distinct names from {list(VARIATIONS)}, "
-                                 f"got {list(self.variations)}")
-        if self.frames_per_sequence < 1:
-            raise UserInputError(f"frames_per_sequence must be >= 1, got {self.frames_per_sequence}")
-        lo, hi = self.cars_per_frame if len(self.cars_per_frame) == 2 else (-1, -1)
+            raise SynthConfigError(f"variations must be distinct names from {list(VARIATIONS)}, "
+                                   f"got {list(self.variations)}")
+        put("frames_per_sequence", _integer("frames_per_sequence", self.frames_per_sequence, 1))
+        lo, hi = _integer_pair("cars_per_frame", self.cars_per_frame, "[min, max]")
         if lo < 0 or hi < lo:
-            raise UserInputError(f"cars_per_frame must be [min, max] with 0 <= min <= max, "
-                                 f"got {list(self.cars_per_frame)}")
-        if self.edit_pairs < 0 or self.max_edit_operations < 1:
-            raise UserInputError(
-                f"edit_pairs must be >= 0 and max_edit_operations >= 1, got {self.edit_pairs} "
-                f"and {self.max_edit_operations}"
-            )
+            raise SynthConfigError(f"cars_per_frame must be [min, max] with 0 <= min <= max, got {[lo, hi]}")
+        put("cars_per_frame", (lo, hi))
+        put("edit_pairs", _integer("edit_pairs", self.edit_pairs, 0))
+        put("max_edit_operations", _integer("max_edit_operations", self.max_edit_operations, 1))
         if self.frames_per_sequence + self.edit_pairs > 99999:
-            raise UserInputError("frames_per_sequence + edit_pairs must fit 5-digit frame numbers (<= 99999)")
-        if self.workers < 1 or self.threads < 1:
-            raise UserInputError(f"workers and threads must be >= 1, got {self.workers} and {self.threads}")
+            raise SynthConfigError("frames_per_sequence + edit_pairs must fit 5-digit frame numbers (<= 99999)")
+        if not isinstance(self.overwrite, (bool, np.bool_)):
+            raise SynthConfigError(f"overwrite must be true or false, got {_got(self.overwrite)}")
+        put("overwrite", bool(self.overwrite))
+        put("workers", _integer("workers", self.workers, 1))
+        put("threads", _integer("threads", self.threads, 1))
 
     @property
     def intrinsics(self) -> Intrinsics:
@@ -258,15 +317,43 @@ def _run_sequence(args: tuple[str, SynthConfig, str, str]) -> SequenceSummary:
         torch.set_num_threads(previous)
 
 
-def _prepare_output(out: Path, overwrite: bool) -> None:
-    if out.exists() and not out.is_dir():
-        raise FileExistsError(f"output_dir {str(out)!r} exists and is not a directory")
-    if out.is_dir() and any(out.iterdir()) and not overwrite:
-        raise FileExistsError(
-            f"output_dir {str(out)!r} exists and is not empty; choose another output_dir or set "
-            "overwrite=true to replace it (it is replaced only after the new dataset is complete)"
-        )
+#: ``PR_SET_PDEATHSIG`` of ``<linux/prctl.h>``: the signal a process gets when its parent ends.
+_PR_SET_PDEATHSIG = 1
 
+
+def _die_with_parent() -> bool:
+    """Ask Linux to SIGKILL this process when its parent ends; False where ``prctl`` is unavailable."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        zero = ctypes.c_ulong(0)
+        return libc.prctl(_PR_SET_PDEATHSIG, ctypes.c_ulong(int(signal.SIGKILL)), zero, zero, zero) == 0
+    except (OSError, AttributeError):
+        return False
+
+
+def _watch_parent(owner: int, parent: int, interval: float = 0.5) -> None:
+    """Fallback of :func:`_die_with_parent`: end this process once ``owner`` or its parent is gone."""
+    while True:
+        time.sleep(interval)
+        if os.getppid() != parent or not process_alive(owner):
+            os._exit(1)
+
+
+def _init_worker(owner: int) -> None:
+    """Initializer of the rendering processes: they end with ``owner``, the process generating the dataset.
+
+    A killed ``sdn3d-synth`` (SIGKILL, OOM) must not leave workers rendering into a tree nobody will use.
+    """
+    if _die_with_parent():
+        # The parent may have ended before prctl took effect: then no signal comes (with the default fork
+        # start method the parent is ``owner``; with forkserver it is the server, which ends with it).
+        if os.getppid() != owner and not process_alive(owner):
+            os._exit(1)
+        return
+    threading.Thread(target=_watch_parent, args=(owner, os.getppid()), name="sdn3d-synth-parent-watch",
+                     daemon=True).start()
 
 
 def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | None = None) -> Path:
@@ -277,17 +364,18 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
         sequences: optional ``(world, variation)`` subset (default: every world x variation).
 
     Raises:
-        FileExistsError: ``output_dir`` is a non-empty directory and ``overwrite`` is false.
+        sdn3d.io.OutputDirError (a UserInputError and FileExistsError): ``output_dir`` may not be written:
+            it is not a directory, or a non-empty one while ``overwrite`` is false or that holds no
+            ``synth_manifest.json`` (not an earlier dataset), or the working directory, the home
+            directory, one of their parents or ``/``. Checked before anything is rendered.
     """
     out = Path(cfg.output_dir).expanduser().resolve()
-    _prepare_output(out, cfg.overwrite)
-    out.parent.mkdir(parents=True, exist_ok=True)
     jobs = list(sequences) if sequences is not None else [(w, v) for w in cfg.worlds for v in cfg.variations]
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
-    try:
+    with staged_directory(out, MANIFEST_NAME, cfg.overwrite, owned=True) as tmp:
         args = [(str(tmp), cfg, w, v) for w, v in jobs]
         if cfg.workers > 1 and len(jobs) > 1:
-            with ProcessPoolExecutor(max_workers=min(cfg.workers, len(jobs))) as pool:
+            with ProcessPoolExecutor(max_workers=min(cfg.workers, len(jobs)), initializer=_init_worker,
+                                     initargs=(os.getpid(),)) as pool:
                 summaries = list(pool.map(_run_sequence, args))
         else:
             summaries = [_run_sequence(a) for a in args]
@@ -318,8 +406,4 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
             },
         )
         write_text_atomic(tmp / "_SUCCESS", "")
-        swap_into_place(tmp, out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     return out

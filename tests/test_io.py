@@ -1,5 +1,7 @@
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 from PIL import Image
@@ -86,3 +88,24 @@ def test_image_readers_refuse_decompression_bombs_before_decoding(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert image_size(under) == (10000, 9000)
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o077, 0o002])
+def test_outputs_follow_the_users_umask(tmp_path, umask):
+    """Files and staged directories get what a plain open() / mkdir() would give them (mkstemp / mkdtemp
+    alone make every output 0600 / 0700 whatever the umask)."""
+    import stat
+
+    from sdn3d.io import current_umask, staged_directory, write_text_atomic
+
+    old = os.umask(umask)
+    try:
+        assert current_umask() == umask
+        path = write_text_atomic(tmp_path / "a.txt", "x")
+        with staged_directory(tmp_path / "out", "DONE") as tmp:
+            write_text_atomic(tmp / "DONE", "")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~umask
+    assert stat.S_IMODE((tmp_path / "out").stat().st_mode) == 0o777 & ~umask
+    assert stat.S_IMODE((tmp_path / "out" / "DONE").stat().st_mode) == 0o666 & ~umask

@@ -31,22 +31,38 @@ from sdn3d.errors import UserInputError
 
 __all__ = [
     "atomic_write", "write_bytes_atomic", "write_text_atomic", "write_json_atomic", "write_png_atomic",
-    "check_output_dir", "staged_directory", "swap_into_place", "load_torch_file", "load_lightning_checkpoint",
+    "check_output_dir", "staged_directory", "swap_into_place", "current_umask",
+    "load_torch_file", "load_lightning_checkpoint",
     "checkpoint_branch", "CHECKPOINT_BRANCHES",
     "OutputDirError", "refuse_unsafe_output_dir", "OWNER_FILE", "owner_record", "process_alive",
     "remove_stale_staging",
 ]
 
 
+def current_umask() -> int:
+    """The process's umask (read from ``/proc`` where it can be, so the umask itself is never changed)."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("Umask:"):
+                return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 def atomic_write(path: str | os.PathLike, writer: Callable[[io.BufferedWriter], None]) -> Path:
     """Call ``writer(file)`` on a temporary file next to ``path``, then rename it onto ``path``.
 
-    The temporary file is removed if ``writer`` raises; ``path`` keeps its old content.
+    The temporary file is removed if ``writer`` raises; ``path`` keeps its old content. The file gets the
+    mode a plain ``open()`` would give it under the user's umask (``mkstemp`` alone would make it 0600).
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
+        os.fchmod(fd, 0o666 & ~current_umask())
         with os.fdopen(fd, "wb") as handle:
             writer(handle)
             handle.flush()
@@ -297,6 +313,7 @@ def staged_directory(out: str | os.PathLike, marker: str, overwrite: bool = True
     out = check_output_dir(out, marker, overwrite)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
+    os.chmod(tmp, 0o777 & ~current_umask())  # the finished directory gets a plain mkdir's mode, not 0700
     try:
         if owned:
             write_json_atomic(tmp / OWNER_FILE, owner_record())

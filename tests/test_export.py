@@ -83,3 +83,29 @@ def test_export_rejects_bad_arguments(tmp_path):
         scene_to_trimesh(_scene(), ground_extent=(1.0, -1.0, 1.0, 5.0))
     empty = _scene().replace(objects=ObjectTable.empty(H, W))
     assert set(scene_to_trimesh(empty).geometry) == {"ground"}
+
+
+@pytest.mark.parametrize("suffix", [".glb", ".gltf"])
+def test_camera_aspect_ratio_is_gltfs_tangent_ratio(tmp_path, suffix):
+    """glTF defines aspectRatio as tan(xfov / 2) / tan(yfov / 2); with fx != fy (an anisotropic resize) that
+    differs from both W / H and the angle ratio xfov / yfov trimesh writes."""
+    import json
+    import math
+    import struct
+
+    scene = _scene()
+    intr = scene.intrinsics
+    path = export_gltf(scene, tmp_path / f"scene{suffix}")
+    data = path.read_bytes()
+    if suffix == ".glb":
+        (length,) = struct.unpack_from("<I", data, 12)
+        doc = json.loads(data[20:20 + length])
+    else:
+        doc = json.loads(data)
+    (camera,) = doc["cameras"]
+    yfov = camera["perspective"]["yfov"]
+    xfov = 2 * math.atan(intr.width / (2 * intr.fx))
+    assert math.isclose(yfov, 2 * math.atan(intr.height / (2 * intr.fy)), rel_tol=1e-6)
+    assert math.isclose(camera["perspective"]["aspectRatio"], math.tan(xfov / 2) / math.tan(yfov / 2), rel_tol=1e-9)
+    loaded = trimesh.load(path)  # still a valid file
+    assert loaded.has_camera

@@ -15,8 +15,10 @@ in the camera itself; the exact intrinsics and the image size go into the scene'
 
 from __future__ import annotations
 
+import json
 import math
 import os
+import struct
 from pathlib import Path
 
 import numpy as np
@@ -97,4 +99,38 @@ def export_gltf(scene: SceneCode, path: str | os.PathLike, bank: MeshBank | None
         data = data[next(iter(data))]
     if isinstance(data, str):
         data = data.encode("utf-8")
-    return write_bytes_atomic(path, data)
+    return write_bytes_atomic(path, _with_gltf_aspect_ratio(data, kind, gltf_aspect_ratio(scene.intrinsics)))
+
+
+def gltf_aspect_ratio(intr) -> float:
+    """glTF's ``aspectRatio`` of the image's camera: ``tan(xfov / 2) / tan(yfov / 2) = (W / fx) / (H / fy)``.
+
+    trimesh writes the ratio of the angles ``xfov / yfov`` instead, which viewers (Blender, three.js) read
+    as the tangent ratio, so the view would not line up with the image.
+    """
+    return (intr.width / intr.fx) / (intr.height / intr.fy)
+
+
+def _with_gltf_aspect_ratio(data: bytes, kind: str, aspect: float) -> bytes:
+    """``data`` (a .glb or an embedded .gltf) with every perspective camera's ``aspectRatio`` set to ``aspect``."""
+    if kind == "gltf":
+        doc = json.loads(data)
+        _set_aspect(doc, aspect)
+        return json.dumps(doc).encode("utf-8")
+    magic, version, _ = struct.unpack_from("<4sII", data, 0)
+    json_len, json_type = struct.unpack_from("<I4s", data, 12)
+    if magic != b"glTF" or json_type != b"JSON":
+        raise ValueError("trimesh wrote an unexpected GLB layout")
+    doc = json.loads(data[20:20 + json_len])
+    _set_aspect(doc, aspect)
+    chunk = json.dumps(doc).encode("utf-8")
+    chunk += b" " * (-len(chunk) % 4)  # GLB chunks are 4-byte aligned; JSON pads with spaces
+    rest = data[20 + json_len:]
+    header = struct.pack("<4sII", b"glTF", version, 12 + 8 + len(chunk) + len(rest))
+    return header + struct.pack("<I4s", len(chunk), b"JSON") + chunk + rest
+
+
+def _set_aspect(doc: dict, aspect: float) -> None:
+    for camera in doc.get("cameras", []):
+        if camera.get("type") == "perspective":
+            camera["perspective"]["aspectRatio"] = aspect

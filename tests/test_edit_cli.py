@@ -50,7 +50,7 @@ def done(tiny_synth, ckpts, tmp_path_factory):
     ys, xs = source.objects.mask[1].nonzero(as_tuple=True)
     at = [int(xs[len(xs) // 2]), int(ys[len(ys) // 2])]
     edits = _write(tmp / "ops.yaml", f"""
-- {{op: rotate, id: {ids[0]}, ry: 0.5}}
+- {{op: rotate, id: {ids[0]}, ry_rad: 0.5}}
 - {{op: move, at: {at}, to: [40, 55]}}
 - {{op: delete, id: {ids[2]}}}
 - {{op: recolor, class: Road, code: [0.1, 0.2, 0.3, 0.4, 0.5]}}
@@ -104,9 +104,9 @@ def test_edit_applies_the_resolved_ops(done):
 
 
 @pytest.mark.parametrize("ops, message", [
-    ("- {op: rotate, id: 12999, ry: 0.5}", r"op 0 \(rotate id=12999\): no object with id 12999"),
+    ("- {op: rotate, id: 12999, ry_deg: 30}", r"op 0 \(rotate id=12999\): no object with id 12999"),
     ("- {op: zoom, id: 12001, zoom: .nan}", r"op 0 \(zoom\): field 'zoom' must be finite"),
-    ("- {op: rotate, id: 12001, ry: 0.1}\n- {op: zoom, id: 12001, zoom: -2}", r"op 1 \(zoom\).*must be > 0"),
+    ("- {op: rotate, id: 12001, ry_deg: 5}\n- {op: zoom, id: 12001, zoom: -2}", r"op 1 \(zoom\).*must be > 0"),
     ("- {op: move, id: 12001, to: [400, 20]}", r"op 0 \(move id=12001\): 'to' point \[400.0, 20.0\] lies outside"),
     ("- {op: delete, at: [2, 2]}", r"op 0 \(delete at=\[2.0, 2.0\]\): no object at"),
     ("- {op: recolor, id: 12001, sample: true}", r"op 0 \(recolor id=12001\): 'sample: true' needs a code bank"),
@@ -184,8 +184,8 @@ def test_spec_parser_checks_fields():
     assert spec.frame_size == (1242, 375) and spec.ops[0].to == (1.0, 2.0) and spec.ops[0].new_id is None
     for bad, message in [([{"op": "move", "id": 12001}], "'to'"),
                          ([{"op": "move", "id": 12001, "at": [1, 2], "to": [1, 2]}], "exactly one"),
-                         ([{"op": "rotate", "id": 12001, "ry": 1, "zom": 2}], "unknown field"),
+                         ([{"op": "rotate", "id": 12001, "ry_deg": 1, "zom": 2}], "unknown field"),
                          ([{"op": "recolor", "id": 12001, "code": [1], "sample": True}], "exactly one"),
-                         ([{"op": "rotate", "id": True, "ry": 1}], "'id'"), ([], "non-empty")]:
+                         ([{"op": "rotate", "id": True, "ry_deg": 1}], "'id'"), ([], "non-empty")]:
         with pytest.raises(EditSpecError, match=message):
             parse_edit_spec(bad)

@@ -269,8 +269,8 @@ def test_yaml_spec_reads_numbers_pyyaml_leaves_as_strings(tmp_path):
 
     path = tmp_path / "ops.yaml"
     path.write_text("- {op: zoom, id: 12001, zoom: 1.0e9}\n- {op: zoom, id: 12002, zoom: 1e-9}\n"
-                    "- {op: rotate, at: [1e2, 5E1], ry: 5e-1}\n- {op: recolor, id: 12003, code: [1e-1, '2', 3]}\n"
-                    "- {op: modify, from: ['10', 20], zoom: ' 2.5 ', ry: -1e0}\n")
+                    "- {op: rotate, at: [1e2, 5E1], ry_rad: 5e-1}\n- {op: recolor, id: 12003, code: [1e-1, '2', 3]}\n"
+                    "- {op: modify, from: ['10', 20], zoom: ' 2.5 ', ry_rad: -1e0}\n")
     ops = load_edit_spec(path).ops
     assert (ops[0].zoom, ops[1].zoom) == (1e9, 1e-9)
     assert ops[2].at == (100.0, 50.0) and ops[2].ry == 0.5 and ops[3].code == (0.1, 2.0, 3.0)
@@ -283,8 +283,12 @@ def test_yaml_spec_reads_numbers_pyyaml_leaves_as_strings(tmp_path):
     ({"op": "zoom", "id": 12001, "zoom": ""}, r"field 'zoom' must be a number, got ''"),
     ({"op": "zoom", "id": 12001, "zoom": "nan"}, r"field 'zoom' must be finite"),
     ({"op": "zoom", "id": 12001, "zoom": "-1e0"}, r"field 'zoom' must be > 0"),
-    ({"op": "rotate", "id": 12001, "ry": "inf"}, r"field 'ry' must be finite"),
-    ({"op": "rotate", "id": 12001, "ry": True}, r"field 'ry' must be a number"),
+    ({"op": "rotate", "id": 12001, "ry_rad": "inf"}, r"field 'ry_rad' must be finite"),
+    ({"op": "rotate", "id": 12001, "ry_deg": True}, r"field 'ry_deg' must be a number"),
+    ({"op": "rotate", "id": 12001, "ry": 45}, r"field 'ry' has no unit: .*ry_deg .*ry_rad"),
+    ({"op": "rotate", "id": 12001, "ry_rad": 45}, r"more than a full turn \(2 pi\): did you mean ry_deg: 45\?"),
+    ({"op": "rotate", "id": 12001, "ry_rad": 0.5, "ry_deg": 30}, r"not both"),
+    ({"op": "rotate", "id": 12001}, r"'ry_deg' \(degrees added to the yaw\) or 'ry_rad'"),
     ({"op": "move", "id": 12001, "to": ["left", 3]}, r"field 'to'\[0\] must be a number, got 'left'"),
     ({"op": "recolor", "id": 12001, "code": [0.1, "x"]}, r"field 'code\[1\]' must be a number, got 'x'"),
 ])  # fmt: skip
@@ -293,3 +297,12 @@ def test_yaml_spec_still_rejects_non_numbers_naming_the_field(op, pattern):
 
     with pytest.raises(EditSpecError, match=pattern):
         parse_edit_spec([op])
+
+
+def test_angles_are_degrees_or_explicit_radians():
+    from sdn3d.editing.spec import parse_edit_spec
+
+    spec = parse_edit_spec([{"op": "rotate", "id": 12001, "ry_deg": 45}, {"op": "rotate", "id": 12001, "ry_rad": -0.5},
+                            {"op": "modify", "from": [10, 20], "ry_deg": -90}])
+    assert [round(op.ry, 12) for op in spec.ops] == [round(math.pi / 4, 12), -0.5, round(-math.pi / 2, 12)]
+

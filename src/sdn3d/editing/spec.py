@@ -4,14 +4,15 @@ YAML (a list, or a mapping ``{frame_size: [W, H], ops: [...]}`` when the pixel c
 to another image size than the working size)::
 
     - {op: move, id: 12001, to: [300, 120]}        # slide on the ground so the centre projects to (u, v)
-    - {op: rotate, at: [210, 130], ry: 0.5}        # add 0.5 rad to the yaw of the object at pixel (u, v)
+    - {op: rotate, at: [210, 130], ry_deg: 30}     # add 30 degrees to the yaw of the object at pixel (u, v)
+    - {op: rotate, id: 12001, ry_rad: 0.5}         # ... or radians, said explicitly (at most 2 pi)
     - {op: zoom, id: 12001, zoom: 1.5}             # distance / 1.5 (on_ground: true keeps its height)
     - {op: delete, at: [400, 110]}
     - {op: recolor, id: 12002, sample: true}       # a training code of its class (needs a code bank)
     - {op: recolor, id: 12002, code: [0.1, -0.2, 0.3, 0.0, 0.5]}
     - {op: recolor, class: Road, code: [...]}      # a background class' code
     - {op: duplicate, id: 12001, to: [500, 130]}   # optional new_id
-    - {op: modify, from: [300, 120], to: [350, 125], zoom: 1.2, ry: 0.3}   # the benchmark's modify
+    - {op: modify, from: [300, 120], to: [350, 125], zoom: 1.2, ry_deg: 15}   # the benchmark's modify
 
 Objects are selected by ``id`` (instance id) or ``at: [u, v]`` (the object visible at that pixel,
 else the one whose projected centre is nearest, within ``pick_radius``); ``modify`` also takes
@@ -70,9 +71,9 @@ __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec",
            "apply_spec"]
 
 OP_KINDS = ("move", "rotate", "zoom", "delete", "recolor", "duplicate", "modify")
-_FIELDS = {"move": {"to"}, "rotate": {"ry"}, "zoom": {"zoom", "on_ground"}, "delete": set(),
+_FIELDS = {"move": {"to"}, "rotate": {"ry_deg", "ry_rad"}, "zoom": {"zoom", "on_ground"}, "delete": set(),
            "recolor": {"code", "sample", "seed", "class"}, "duplicate": {"to", "new_id"},
-           "modify": {"to", "zoom", "ry", "from"}}
+           "modify": {"to", "zoom", "ry_deg", "ry_rad", "from"}}
 _GEOMETRIC = ("move", "rotate", "zoom", "duplicate", "modify")
 
 
@@ -162,6 +163,9 @@ def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
         raise EditSpecError(f"{where}: op {index}: field 'op' must be one of {OP_KINDS}, got {kind!r}")
     kind = kind.lower()
     name = f"{where}: op {index} ({kind})"
+    if "ry" in raw and kind in ("rotate", "modify"):
+        raise EditSpecError(f"{name}: field 'ry' has no unit: write the angle added to the yaw as ry_deg (degrees, "
+                            f"e.g. ry_deg: 45) or ry_rad (radians, e.g. ry_rad: 0.785)")
     unknown = set(raw) - {"op", "id", "at"} - _FIELDS[kind]
     if unknown:
         raise EditSpecError(f"{name}: unknown field(s) {sorted(unknown)}; allowed: "
@@ -186,10 +190,18 @@ def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
         raise EditSpecError(f"{name}: field 'to' (target pixel [u, v]) is required")
     if raw.get("to") is not None:
         fields["to"] = _point(raw["to"], f"{name}: field 'to'")
-    if kind == "rotate" and "ry" not in raw:
-        raise EditSpecError(f"{name}: field 'ry' (radians added to the yaw) is required")
-    if "ry" in raw:
-        fields["ry"] = _number(raw["ry"], f"{name}: field 'ry'")
+    if "ry_deg" in raw and "ry_rad" in raw:
+        raise EditSpecError(f"{name}: give the angle once, as ry_deg or as ry_rad, not both")
+    if kind == "rotate" and "ry_deg" not in raw and "ry_rad" not in raw:
+        raise EditSpecError(f"{name}: field 'ry_deg' (degrees added to the yaw) or 'ry_rad' (radians) is required")
+    if "ry_deg" in raw:
+        fields["ry"] = math.radians(_number(raw["ry_deg"], f"{name}: field 'ry_deg'"))
+    if "ry_rad" in raw:
+        ry = _number(raw["ry_rad"], f"{name}: field 'ry_rad'")
+        if abs(ry) > 2 * math.pi:
+            raise EditSpecError(f"{name}: field 'ry_rad' is {raw['ry_rad']!r} radians, more than a full turn (2 pi): "
+                                f"did you mean ry_deg: {raw['ry_rad']}?")
+        fields["ry"] = ry
     if kind == "zoom" and "zoom" not in raw:
         raise EditSpecError(f"{name}: field 'zoom' (distance divisor > 0) is required")
     if "zoom" in raw:

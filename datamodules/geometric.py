@@ -7,6 +7,7 @@ from typing import Any
 
 from datamodules._base import BranchDataModule
 from sdn3d.data.datasets import GeometricDataset, ObjectFilter
+from sdn3d.data.errors import SkipLog
 from sdn3d.data.sources import SourceConfig
 from sdn3d.math3d.encodings import AttributeEncoding
 
@@ -17,7 +18,7 @@ class GeometricDataModule(BranchDataModule):
     """Objects passing the paper's filter, as masked square crops with 3D targets.
 
     Args:
-        data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample: see
+        data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample, max_skipped_fraction: see
             :class:`BranchDataModule`.
         crop_size: side of the square object crops in pixels.
         margin: crop enlargement per side (fraction of the box's larger side).
@@ -25,6 +26,8 @@ class GeometricDataModule(BranchDataModule):
         rotation, distance: target parameterisation (:class:`AttributeEncoding`; ablations).
         cache_items: keep decoded items in memory (:class:`GeometricDataset`).
     """
+
+    sample_name = "objects passing the object filter (datamodule.min_pixels, max_occlusion, max_truncation)"
 
     def __init__(
         self,
@@ -43,15 +46,17 @@ class GeometricDataModule(BranchDataModule):
         distance: str = "log_tau",
         cache_items: bool = False,
         corrupt_sample: str = "fail",
+        max_skipped_fraction: float = 0.1,
     ) -> None:
-        super().__init__(data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample)
+        super().__init__(data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample,
+                         max_skipped_fraction)
         self.crop_size = int(crop_size)
         self.margin = float(margin)
         self.object_filter = ObjectFilter(int(min_pixels), float(max_occlusion), float(max_truncation))
         self.encoding = AttributeEncoding(rotation, distance)
         self.cache_items = bool(cache_items)
 
-    def make_dataset(self, part: str) -> GeometricDataset:
-        return GeometricDataset.from_source(self.source, part, crop_size=self.crop_size, margin=self.margin,
+    def make_dataset(self, part: str, skip: SkipLog | None = None) -> GeometricDataset:
+        return GeometricDataset.from_source(self.source, part, skip, crop_size=self.crop_size, margin=self.margin,
                                             object_filter=self.object_filter, encoding=self.encoding,
                                             cache_items=self.cache_items)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from datamodules._base import BranchDataModule
 from sdn3d.data.datasets import SemanticDataset
+from sdn3d.data.errors import SkipLog
 
 __all__ = ["SemanticDataModule"]
 
@@ -15,5 +16,5 @@ class SemanticDataModule(BranchDataModule):
     def classes(self):
         return self.source.class_list
 
-    def make_dataset(self, part: str) -> SemanticDataset:
-        return SemanticDataset.from_source(self.source, part)
+    def make_dataset(self, part: str, skip: SkipLog | None = None) -> SemanticDataset:
+        return SemanticDataset.from_source(self.source, part, skip)

@@ -7,6 +7,7 @@ from typing import Any
 
 from datamodules._base import BranchDataModule
 from sdn3d.data.datasets import TexturalDataset
+from sdn3d.data.errors import SkipLog
 from sdn3d.data.sources import SourceConfig
 
 __all__ = ["TexturalDataModule"]
@@ -16,7 +17,7 @@ class TexturalDataModule(BranchDataModule):
     """Frames with label / instance / boundary / normal / pose / depth maps.
 
     Args:
-        data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample: see
+        data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample, max_skipped_fraction: see
             :class:`BranchDataModule`.
         render: draw the ground-truth normal and pose maps (False leaves them zero).
     """
@@ -31,13 +32,15 @@ class TexturalDataModule(BranchDataModule):
         pin_memory: bool = False,
         render: bool = True,
         corrupt_sample: str = "fail",
+        max_skipped_fraction: float = 0.1,
     ) -> None:
-        super().__init__(data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample)
+        super().__init__(data, image_size, batch_size, num_workers, seed, pin_memory, corrupt_sample,
+                         max_skipped_fraction)
         self.render = bool(render)
 
     @property
     def classes(self):
         return self.source.class_list
 
-    def make_dataset(self, part: str) -> TexturalDataset:
-        return TexturalDataset.from_source(self.source, part, render=self.render)
+    def make_dataset(self, part: str, skip: SkipLog | None = None) -> TexturalDataset:
+        return TexturalDataset.from_source(self.source, part, skip, render=self.render)

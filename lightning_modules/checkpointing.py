@@ -1,7 +1,17 @@
-"""Checkpoints that are never half-written: serialise, write a temp file, fsync, rename.
+"""Checkpoints that are never half-written, never hold diverged weights, and never run code when loaded.
 
-A process killed (SIGKILL, OOM, pre-emption) while a checkpoint is being written leaves the
-previous ``last.ckpt`` intact; a full disk raises :class:`CheckpointWriteError` naming the file.
+Saving: serialise, write a temp file, fsync, rename. A process killed (SIGKILL, OOM, pre-emption) while
+a checkpoint is being written leaves the previous ``last.ckpt`` intact (and a stale temp file, which
+:func:`remove_stale_temp_files` clears when the run starts or resumes); a full disk raises
+:class:`CheckpointWriteError` naming the file. Weights holding NaN or infinity are refused
+(:class:`NonFiniteCheckpointError`, naming the tensors): the previous checkpoint stays.
+
+Loading (every Lightning load: ``trainer.fit(ckpt_path=...)``, resuming, ``trainer.test(ckpt_path=...)``):
+``torch.load(weights_only=True)`` always, whatever the caller or ``TORCH_FORCE_NO_WEIGHTS_ONLY_LOAD`` ask
+for, so a crafted checkpoint can not run code; one that needs more than tensors and plain containers is
+refused with :class:`CheckpointLoadError`. Everything Lightning and the sdn3d modules store loads that
+way (hyper-parameters are plain dicts and lists: ``lightning_modules._base.plain_hparams``; the loader's
+place in the data order is ints and byte tensors: ``datamodules.sampler``).
 """
 
 from __future__ import annotations
@@ -9,30 +19,90 @@ from __future__ import annotations
 import errno
 import io
 import logging
+import pickle
+import re
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
 import torch
 from lightning.fabric.plugins.io.torch_io import TorchCheckpointIO
 
+from sdn3d.errors import UserInputError
 from sdn3d.io import atomic_write
 
-__all__ = ["AtomicCheckpointIO", "CheckpointWriteError"]
+__all__ = ["AtomicCheckpointIO", "CheckpointLoadError", "CheckpointWriteError", "NonFiniteCheckpointError",
+           "nonfinite_tensors", "remove_stale_temp_files"]
 
 log = logging.getLogger(__name__)
 
+# sdn3d.io.atomic_write's temp files: ".<name>.<random>.tmp" next to <name>.
+_TEMP_NAME = re.compile(r"^\.(?P<name>.+)\.[A-Za-z0-9_]+\.tmp$")
+
 
 class CheckpointWriteError(OSError):
-    """A checkpoint could not be written (disk full, permission, missing directory)."""
+    """A checkpoint could not be written (disk full, permission, missing directory); ``path``: the file."""
+
+
+class NonFiniteCheckpointError(RuntimeError):
+    """A checkpoint was refused because weights hold NaN or infinity (``path``: the file it would have been)."""
+
+
+class CheckpointLoadError(UserInputError):
+    """A checkpoint can not be loaded with ``torch.load(weights_only=True)`` (not a checkpoint, damaged, or
+    holding objects other than tensors and plain containers); ``path``: the file."""
+
+
+def nonfinite_tensors(state: Mapping[str, Any]) -> list[str]:
+    """Names of the floating-point tensors of ``state`` (a state dict) that hold NaN or infinity."""
+    return [name for name, value in state.items()
+            if isinstance(value, torch.Tensor) and value.is_floating_point() and not bool(torch.isfinite(value).all())]
+
+
+def remove_stale_temp_files(folder: Path, suffixes: tuple[str, ...] = (".ckpt",)) -> list[Path]:
+    """Delete the temp files a killed atomic write left in ``folder`` (``.<name>.<random>.tmp`` whose
+    ``<name>`` ends with one of ``suffixes``); returns them. Call it only where no write is under way."""
+    removed = []
+    if not folder.is_dir():
+        return removed
+    for path in sorted(folder.iterdir()):
+        match = _TEMP_NAME.match(path.name)
+        if match and match["name"].endswith(suffixes) and path.is_file():
+            try:
+                path.unlink()
+            except FileNotFoundError:
+                continue
+            removed.append(path)
+    if removed:
+        log.info("removed %d stale temp file(s) of killed checkpoint writes in %s", len(removed), folder)
+    return removed
+
+
+def _unpickling_reason(exc: BaseException) -> str:
+    """The line of torch's weights-only refusal that says what was refused (its message is a page long)."""
+    lines = [re.sub(r"\x1b\[[0-9;]*m", "", line).strip() for line in str(exc).splitlines()]
+    lines = [line for line in lines if line]
+    for line in lines:
+        if "Unsupported global" in line or "WeightsUnpickler error" in line:
+            return line.split(". Please")[0]  # not torch's advice to allowlist what the file asks for
+    return lines[0] if lines else type(exc).__name__
 
 
 class AtomicCheckpointIO(TorchCheckpointIO):
-    """Lightning ``CheckpointIO`` writing local checkpoints atomically (temp file + ``os.replace``)."""
+    """Lightning ``CheckpointIO``: atomic local writes, finite weights only, ``weights_only=True`` loads."""
 
     def save_checkpoint(self, checkpoint: dict[str, Any], path: Any, storage_options: Any | None = None) -> None:
         if storage_options is not None:
             raise TypeError(f"{type(self).__name__} takes no storage_options, got {storage_options!r}")
         path = Path(path)
+        bad = nonfinite_tensors(checkpoint.get("state_dict") or {})
+        if bad:
+            listed = ", ".join(bad[:8]) + (f" and {len(bad) - 8} more" if len(bad) > 8 else "")
+            error = NonFiniteCheckpointError(
+                f"refusing to write checkpoint {str(path)!r}: the weights hold NaN or infinity ({listed}); the "
+                "previous checkpoint (if any) is kept")
+            error.path = str(path)  # type: ignore[attr-defined]
+            raise error
         # Serialise in memory first: a pickling error must not touch the directory at all.
         buffer = io.BytesIO()
         torch.save(checkpoint, buffer)
@@ -40,7 +110,39 @@ class AtomicCheckpointIO(TorchCheckpointIO):
             atomic_write(path, lambda f: f.write(buffer.getbuffer()))
         except OSError as exc:
             reason = "the disk is full" if exc.errno == errno.ENOSPC else (exc.strerror or str(exc))
-            raise CheckpointWriteError(
+            error = CheckpointWriteError(
                 exc.errno, f"could not write checkpoint {str(path)!r}: {reason}; the previous checkpoint "
-                "(if any) is unchanged") from exc
+                "(if any) is unchanged")
+            error.path = str(path)  # type: ignore[attr-defined]
+            raise error from exc
         log.debug("wrote checkpoint %s (%d bytes)", path, buffer.getbuffer().nbytes)
+
+    def load_checkpoint(
+        self,
+        path: Any,
+        map_location: Callable | None = lambda storage, loc: storage,
+        weights_only: bool | None = None,
+    ) -> dict[str, Any]:
+        """``torch.load(path, weights_only=True)``; ``weights_only`` is accepted for Lightning's sake and ignored."""
+        path = Path(path)
+        if not path.is_file():
+            raise FileNotFoundError(f"Checkpoint file not found: {path}")
+        try:
+            with path.open("rb") as handle:
+                checkpoint = torch.load(handle, map_location=map_location, weights_only=True)
+        except pickle.UnpicklingError as exc:
+            error = CheckpointLoadError(
+                f"{path}: refused: it holds objects other than tensors and plain containers, which could run code "
+                f"when loaded (torch.load(weights_only=True): {_unpickling_reason(exc)})")
+            error.path = str(path)  # type: ignore[attr-defined]
+            raise error from exc
+        except (RuntimeError, EOFError, OSError, ValueError) as exc:
+            error = CheckpointLoadError(f"{path}: not a readable checkpoint ({type(exc).__name__}: "
+                                        f"{str(exc).strip().splitlines()[0] if str(exc).strip() else ''})")
+            error.path = str(path)  # type: ignore[attr-defined]
+            raise error from exc
+        if not isinstance(checkpoint, dict):
+            error = CheckpointLoadError(f"{path}: not a Lightning checkpoint (holds a {type(checkpoint).__name__})")
+            error.path = str(path)  # type: ignore[attr-defined]
+            raise error
+        return checkpoint

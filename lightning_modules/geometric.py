@@ -89,7 +89,8 @@ class GeometricModule(BranchModule):
         image_size: working image ``(W, H)`` (``${data.image_size}``): crop pixels outside it are
             ignored by L_reproj and the reprojection error; None: no such pixels are ignored.
         log_images: crops per TensorBoard grid (first validation / test batch); 0 = none.
-        nonfinite: non-finite loss policy (:class:`BranchModule`; ``fault.nonfinite``); not a hyperparameter.
+        nonfinite, max_skipped_batches: non-finite loss policy (:class:`BranchModule`; ``fault.nonfinite``,
+            ``fault.max_skipped_batches``); not hyperparameters.
     """
 
     def __init__(
@@ -120,9 +121,11 @@ class GeometricModule(BranchModule):
         image_size: Sequence[int] | None = None,
         log_images: int = 8,
         nonfinite: str = "stop",
+        max_skipped_batches: int = 10,
     ) -> None:
-        super().__init__(nonfinite=nonfinite)
-        args = {k: plain_hparams(v) for k, v in locals().items() if k not in ("self", "__class__", "nonfinite")}
+        super().__init__(nonfinite=nonfinite, max_skipped_batches=max_skipped_batches)
+        args = {k: plain_hparams(v) for k, v in locals().items()
+                if k not in ("self", "__class__", "nonfinite", "max_skipped_batches")}
         self.save_hyperparameters(args)
         if pred_epochs < 0 or joint_epochs < 0 or lr_pred <= 0 or lr_joint <= 0:
             raise ValueError(f"need pred_epochs, joint_epochs >= 0 and lr_pred, lr_joint > 0; got {pred_epochs}, "
@@ -260,6 +263,7 @@ class GeometricModule(BranchModule):
                         "is cut short" if self.trainer.max_epochs < total else "runs longer")
 
     def on_save_checkpoint(self, checkpoint: dict[str, Any]) -> None:
+        super().on_save_checkpoint(checkpoint)
         if "hyper_parameters" in checkpoint:
             checkpoint["hyper_parameters"] = plain_hparams(checkpoint["hyper_parameters"])
 

@@ -103,7 +103,8 @@ class SemanticModule(BranchModule):
         color_jitter: strength of the random brightness / contrast / saturation in training; 0 = none.
         test_flip: validate and test on the image and its mirror image, outputs averaged
             (:func:`sdn3d.semantic.tta.flip_averaged_outputs`); checkpoints carry it to ``SemanticPredictor``.
-        nonfinite: non-finite loss policy (:class:`BranchModule`; ``fault.nonfinite``); not a hyperparameter.
+        nonfinite, max_skipped_batches: non-finite loss policy (:class:`BranchModule`; ``fault.nonfinite``,
+            ``fault.max_skipped_batches``); not hyperparameters.
     """
 
     def __init__(
@@ -137,9 +138,11 @@ class SemanticModule(BranchModule):
         color_jitter: float = 0.0,
         test_flip: bool = False,
         nonfinite: str = "stop",
+        max_skipped_batches: int = 10,
     ) -> None:
-        super().__init__(nonfinite=nonfinite)
-        args = {k: plain_hparams(v) for k, v in locals().items() if k not in ("self", "__class__", "nonfinite")}
+        super().__init__(nonfinite=nonfinite, max_skipped_batches=max_skipped_batches)
+        args = {k: plain_hparams(v) for k, v in locals().items()
+                if k not in ("self", "__class__", "nonfinite", "max_skipped_batches")}
         self.save_hyperparameters(args)
         if lr <= 0 or not 0 <= momentum < 1 or weight_decay < 0 or poly_power < 0:
             raise ValueError(f"need lr > 0, 0 <= momentum < 1, weight_decay >= 0, poly_power >= 0; got lr={lr}, "
@@ -171,6 +174,7 @@ class SemanticModule(BranchModule):
             self.metrics.update({f"{stage}_pq": PanopticQuality(self.things) for stage in ("val", "test")})
 
     def on_load_checkpoint(self, checkpoint: dict[str, Any]) -> None:
+        super().on_load_checkpoint(checkpoint)
         # Checkpoints written before class weighting existed have no such buffers: plain cross-entropy.
         state = checkpoint.get("state_dict", {})
         state.setdefault("ce_weight", torch.ones(self.num_classes))

@@ -91,7 +91,8 @@ class TexturalModule(BranchModule):
         vgg_weights: torchvision VGG-19 state dict file (None: no perceptual loss).
         lpips_weights: LPIPS file (see :mod:`sdn3d.nets.lpips`; None: no LPIPS metric).
         grid_samples: images per TensorBoard grid.
-        nonfinite: non-finite loss policy (:class:`BranchModule`; ``fault.nonfinite``); not a hyperparameter.
+        nonfinite, max_skipped_batches: non-finite loss policy (:class:`BranchModule`; ``fault.nonfinite``,
+            ``fault.max_skipped_batches``); not hyperparameters.
     """
 
     def __init__(
@@ -122,9 +123,10 @@ class TexturalModule(BranchModule):
         lpips_weights: str | None = None,
         grid_samples: int = 4,
         nonfinite: str = "stop",
+        max_skipped_batches: int = 10,
     ) -> None:
-        super().__init__(nonfinite=nonfinite)
-        self.save_hyperparameters(ignore=["nonfinite"])
+        super().__init__(nonfinite=nonfinite, max_skipped_batches=max_skipped_batches)
+        self.save_hyperparameters(ignore=["nonfinite", "max_skipped_batches"])
         self.automatic_optimization = False
         self.classes = class_list(classes)
         self.spec = TexturalSpec(

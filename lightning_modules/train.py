@@ -5,6 +5,12 @@ Kept apart from the Hydra entry point (:mod:`sdn3d.cli.train`) so tests and note
 command-line overrides); :func:`run_training` runs the stages :func:`resolve_config`,
 :func:`prepare_run_dir`, :func:`configure_process`, :func:`build_objects`, :func:`fit_and_test` and
 :func:`write_summary`.
+
+Every run that starts (once its run directory and ``summary_file`` are found writable) writes its summary,
+``<run dir>/summary.json`` and one ``summary_file`` line, whatever stops it: ``status`` ok / failed,
+``error`` (one sentence), ``error_file`` (the file at fault, when known) and what the fault policies
+skipped. A resumed run's saved ``config.yaml`` may only name classes of sdn3d, the training packages,
+Lightning and torch (:data:`RESUME_TARGET_PREFIXES`): it is a file, and instantiating it runs what it names.
 """
 
 from __future__ import annotations
@@ -12,8 +18,9 @@ from __future__ import annotations
 import json
 import logging
 import os
+import re
 import time
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
@@ -25,11 +32,13 @@ from hydra.utils import instantiate
 from omegaconf import DictConfig, OmegaConf
 
 from lightning_modules._base import NonFiniteLossError
-from lightning_modules.checkpointing import AtomicCheckpointIO
+from lightning_modules.checkpointing import AtomicCheckpointIO, NonFiniteCheckpointError, remove_stale_temp_files
 from sdn3d.errors import UserInputError
 from sdn3d.io import write_json_atomic, write_text_atomic
 
-__all__ = ["TrainingError", "check_writable", "resolve_config", "resolve_resume", "run_training"]
+__all__ = ["RESUME_TARGET_PREFIXES", "RunFailedError", "TrainingError", "check_resume_targets",
+           "check_summary_file", "check_writable", "error_file", "error_sentence", "resolve_config",
+           "resolve_resume", "run_training"]
 
 log = logging.getLogger(__name__)
 
@@ -38,6 +47,16 @@ SAVED_CONFIG = "config.yaml"
 
 class TrainingError(UserInputError, RuntimeError):
     """A run could not start or stopped for a reason the user can act on (message says which)."""
+
+
+class RunFailedError(TrainingError):
+    """A run started and ended with status ``failed`` (e.g. a non-finite loss); its summary says why.
+    ``sdn3d-train`` prints it in one line and exits 1."""
+
+
+#: The ``_target_`` prefixes a resumed run's saved config may name (and they must be classes). More can be
+#: trusted from the command line only: ``resume_allow_targets=[helpers.]``.
+RESUME_TARGET_PREFIXES = ("sdn3d.", "lightning_modules.", "datamodules.", "lightning.", "torch.")
 
 
 def _apply_command_line(target: DictConfig, overrides: list[str] | None) -> None:
@@ -60,14 +79,56 @@ def _apply_command_line(target: DictConfig, overrides: list[str] | None) -> None
 
 
 # (node, constructor argument, source): conf/train.yaml hands the fault policies to the module and datamodule.
-_FAULT_LINKS = (("model", "nonfinite", "fault.nonfinite"), ("datamodule", "corrupt_sample", "fault.corrupt_sample"))
+_FAULT_LINKS = (("model", "nonfinite", "fault.nonfinite"),
+                ("model", "max_skipped_batches", "fault.max_skipped_batches"),
+                ("datamodule", "corrupt_sample", "fault.corrupt_sample"),
+                ("datamodule", "max_skipped_fraction", "fault.max_skipped_fraction"))
+
+
+def _targets(node: Any, key: str = "") -> Iterator[tuple[str, Any]]:
+    """``(dotted key, value)`` of every ``_target_`` in a plain (unresolved) config tree."""
+    if isinstance(node, Mapping):
+        for name, value in node.items():
+            if name == "_target_":
+                yield key or "<root>", value
+            else:
+                yield from _targets(value, f"{key}.{name}" if key else str(name))
+    elif isinstance(node, (list, tuple)):
+        for i, value in enumerate(node):
+            yield from _targets(value, f"{key}[{i}]")
+
+
+def check_resume_targets(cfg: DictConfig, source: Path, extra: Sequence[str] = ()) -> None:
+    """Refuse a saved config naming a ``_target_`` outside :data:`RESUME_TARGET_PREFIXES` (plus ``extra``), or
+    one that is not a class, before anything is imported from it or instantiated.
+
+    Raises:
+        TrainingError: naming ``source``, the key and the target.
+    """
+    from hydra.utils import get_class
+
+    allowed = tuple(RESUME_TARGET_PREFIXES) + tuple(str(e) for e in extra or ())
+    tree = OmegaConf.to_container(cfg, resolve=False)
+    for key, target in _targets(tree):
+        if not isinstance(target, str) or not target.startswith(allowed):
+            raise TrainingError(
+                f"{source}: {key}._target_ = {target!r} is not allowed in a resumed run's config: it may only name "
+                f"classes under {', '.join(allowed)}; remove that entry (or, if you trust it, pass "
+                "resume_allow_targets=[<prefix>] on the command line)")
+        try:
+            get_class(target)
+        except Exception as exc:  # noqa: BLE001 - any failure to find a class is the config's fault
+            raise TrainingError(f"{source}: {key}._target_ = {target!r} is not a class that can be imported "
+                                f"({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})") from None
 
 
 def resolve_resume(cfg: DictConfig, overrides: list[str] | None = None) -> DictConfig:
     """``resume=<run dir>``: the run's saved config, its ``last.ckpt``, plus dotted CLI overrides.
 
     Group choices (``branch=...``) can not change on resume; dotted overrides such as
-    ``trainer.max_epochs=30`` apply (e.g. to train a finished run longer).
+    ``trainer.max_epochs=30`` apply (e.g. to train a finished run longer). The saved config may only name
+    trusted classes (:func:`check_resume_targets`; ``cfg.resume_allow_targets``, from the command line, adds
+    prefixes).
     """
     run = Path(str(cfg.resume)).expanduser()
     saved = run / SAVED_CONFIG
@@ -77,7 +138,10 @@ def resolve_resume(cfg: DictConfig, overrides: list[str] | None = None) -> DictC
     if not ckpt.is_file():
         raise TrainingError(f"resume={str(run)!r}: no checkpoints/last.ckpt to resume from")
     base = OmegaConf.load(saved)
-    assert isinstance(base, DictConfig)
+    if not isinstance(base, DictConfig):
+        raise TrainingError(f"{saved}: not a config (a mapping of settings)")
+    extra = cfg.get("resume_allow_targets") or ()
+    check_resume_targets(base, saved, [extra] if isinstance(extra, str) else list(extra))
     # The saved config is resolved: link the fault policies to fault.* again, so that `fault.nonfinite=skip`
     # on resume reaches the module and datamodule (as conf/train.yaml does for a new run).
     for node, key, source in _FAULT_LINKS:
@@ -98,6 +162,16 @@ def check_writable(run_dir: Path) -> None:
         (run_dir / ".write_probe").unlink()
     except OSError as exc:
         raise TrainingError(f"output directory {str(run_dir)!r} is not writable: {exc.strerror or exc}") from exc
+
+
+def check_summary_file(path: Path) -> None:
+    """Fail early, with the path, when ``summary_file`` can not be appended to (the line is written last)."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o644)
+        os.close(fd)
+    except OSError as exc:
+        raise TrainingError(f"summary_file {str(path)!r} is not writable: {exc.strerror or exc}") from exc
 
 
 def _flat(cfg: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
@@ -147,9 +221,15 @@ def resolve_config(cfg: DictConfig, overrides: list[str] | None = None) -> DictC
 
 
 def prepare_run_dir(cfg: DictConfig) -> Path:
-    """The run directory, checked writable; a new run saves its resolved config there (``config.yaml``)."""
+    """The run directory and ``summary_file``, checked writable, cleared of temp files a killed write left; a new
+    run saves its resolved config there (``config.yaml``)."""
     run_dir = Path(str(cfg.run_dir))
     check_writable(run_dir)
+    if cfg.get("summary_file"):
+        check_summary_file(Path(str(cfg.summary_file)))
+    if _rank_zero():  # a killed checkpoint or summary write left a temp file: this run is the only writer
+        remove_stale_temp_files(run_dir / "checkpoints")
+        remove_stale_temp_files(run_dir, (".json", ".yaml"))
     if not cfg.get("resume"):
         write_text_atomic(run_dir / SAVED_CONFIG, OmegaConf.to_yaml(cfg, resolve=True))
     return run_dir
@@ -195,31 +275,33 @@ def build_objects(cfg: DictConfig) -> RunObjects:
 
 @dataclass
 class FitResult:
-    """How :func:`fit_and_test` went: ``status`` ok | failed (``error`` says why), the metrics, the best
-    checkpoint, and when fitting started (``time.perf_counter``)."""
+    """How :func:`fit_and_test` went: ``status`` ok | failed (``error`` says why, ``error_file`` names the file
+    at fault when known), the metrics, the best checkpoint, and when fitting started (``time.perf_counter``)."""
 
     status: str
     error: str | None
     metrics: dict[str, float]
     best: str | None
     started: float
+    error_file: str | None = None
 
 
 def fit_and_test(cfg: DictConfig, run: RunObjects) -> FitResult:
     """Fit (from ``ckpt_path`` if set), then test the best checkpoint (``test_after_fit``).
 
-    A non-finite loss under ``fault.nonfinite=stop`` ends the fit with status ``failed``, not an exception.
+    A non-finite loss under ``fault.nonfinite=stop`` (or too many under ``skip``), or weights that became
+    non-finite (no checkpoint is written then), end the fit with status ``failed``, not an exception.
     """
     trainer, model, datamodule = run.trainer, run.model, run.datamodule
     ckpt_path = cfg.get("ckpt_path")
     if ckpt_path and not Path(str(ckpt_path)).is_file():
         raise TrainingError(f"ckpt_path={str(ckpt_path)!r} does not exist")
     started = time.perf_counter()
-    status, error = "ok", None
+    status, error, where = "ok", None, None
     try:
         trainer.fit(model, datamodule=datamodule, ckpt_path=str(ckpt_path) if ckpt_path else None)
-    except NonFiniteLossError as exc:
-        status, error = "failed", str(exc)
+    except (NonFiniteLossError, NonFiniteCheckpointError) as exc:
+        status, error, where = "failed", error_sentence(exc), error_file(exc)
     fit_metrics = _scalars(trainer.callback_metrics)
     test_metrics: dict[str, float] = {}
     checkpoint = trainer.checkpoint_callback
@@ -231,7 +313,7 @@ def fit_and_test(cfg: DictConfig, run: RunObjects) -> FitResult:
         for logger in run.loggers:
             if type(logger).__name__ == "TensorBoardLogger":
                 logger.log_hyperparams(run.params, metrics={**fit_metrics, **test_metrics} or {"status_ok": 1.0})
-    return FitResult(status, error, {**fit_metrics, **test_metrics}, best, started)
+    return FitResult(status, error, {**fit_metrics, **test_metrics}, best, started, where)
 
 
 def _experiment_choice() -> str | None:
@@ -244,52 +326,129 @@ def _experiment_choice() -> str | None:
     return str(choice) if choice else None
 
 
-def write_summary(cfg: DictConfig, run_dir: Path, run: RunObjects, result: FitResult,
+def _rank_zero(run: RunObjects | None = None) -> bool:
+    """Whether this process writes the run's files: the trainer's global rank 0, or (before there is a trainer)
+    not a DDP child process."""
+    if run is not None:
+        return bool(run.trainer.is_global_zero)
+    return all(int(os.environ.get(name, "0") or 0) == 0 for name in ("RANK", "LOCAL_RANK", "NODE_RANK"))
+
+
+# A file named in a message: an absolute path with a suffix (e.g. in a loader worker's re-raised traceback).
+_PATH_IN_TEXT = re.compile(r"(?<![\w.])/[^\s:'\"(),;]+\.[A-Za-z0-9]{1,8}\b")
+
+
+def error_file(exc: BaseException) -> str | None:
+    """The file at fault in ``exc`` or its causes (a ``path`` / ``filename`` attribute, else the first absolute
+    path in its :func:`error_sentence`); None when none is named."""
+    seen: set[int] = set()
+    current: BaseException | None = exc
+    while current is not None and id(current) not in seen:
+        seen.add(id(current))
+        for attribute in ("path", "filename"):
+            value = getattr(current, attribute, None)
+            if value:
+                return os.fspath(value)
+        current = current.__cause__ or current.__context__
+    match = _PATH_IN_TEXT.search(error_sentence(exc))  # a worker's traceback names source files: not those
+    return match.group(0) if match else None
+
+
+def error_sentence(exc: BaseException) -> str:
+    """``exc`` in one line: a user's mistake as its message says it, anything else with its type in front.
+
+    A loader worker's error arrives as "Caught X in DataLoader worker process N. Original Traceback ...": its
+    last line (the original error) is the sentence.
+    """
+    text = str(exc).strip()
+    lines = [line.strip() for line in text.splitlines() if line.strip()]
+    if lines and lines[0].startswith("Caught ") and "Original Traceback" in text:
+        return lines[-1]
+    first = lines[0] if lines else ""
+    if isinstance(exc, UserInputError):
+        return first or type(exc).__name__
+    return f"{type(exc).__name__}: {first}" if first else type(exc).__name__
+
+
+def write_summary(cfg: DictConfig, run_dir: Path, run: RunObjects | None, result: FitResult,
                   overrides: list[str] | None = None) -> dict[str, Any]:
-    """The run's summary: ``<run dir>/summary.json`` and one line of ``summary_file`` (global rank 0)."""
-    trainer = run.trainer
+    """The run's summary: ``<run dir>/summary.json`` and one line of ``summary_file`` (global rank 0).
+
+    ``run`` is None when the run failed before its objects were built. ``skipped_batches`` counts batches the
+    non-finite policy dropped; ``skipped_samples`` / ``skipped_fraction`` / ``skipped_files`` what the
+    corrupt-sample policy left out (:meth:`datamodules._base.BranchDataModule.skip_summary`).
+    """
+    trainer = run.trainer if run is not None else None
     last = run_dir / "checkpoints" / "last.ckpt"
+    skipped = {"skipped_samples": 0, "skipped_fraction": 0.0, "skipped_files": []}
+    if run is not None and hasattr(run.datamodule, "skip_summary"):
+        skipped.update(run.datamodule.skip_summary())
+    branch = cfg.get("branch_name")
     summary = {
-        "branch": str(cfg.branch_name),
-        "ablation": str(cfg.ablation.name) if cfg.branch_name == "geometric" and cfg.get("ablation") else None,
+        "branch": str(branch) if branch is not None else None,
+        "ablation": str(cfg.ablation.name) if branch == "geometric" and cfg.get("ablation") else None,
         "experiment": _experiment_choice(),
         "run_dir": str(run_dir.resolve()),
         "best_ckpt": str(Path(result.best).resolve()) if result.best else None,
         "last_ckpt": str(last.resolve()) if last.is_file() else None,
         "metrics": result.metrics,
-        "global_step": int(trainer.global_step),
-        "epoch": int(trainer.current_epoch),
-        "skipped_batches": int(getattr(run.model, "skipped_batches", 0)),
+        "global_step": int(trainer.global_step) if trainer is not None else 0,
+        "epoch": int(trainer.current_epoch) if trainer is not None else 0,
+        "skipped_batches": int(getattr(run.model, "skipped_batches", 0)) if run is not None else 0,
+        **skipped,
         "overrides": list(overrides or []),
         "seed": int(cfg.seed),
         "wall_s": round(time.perf_counter() - result.started, 3),
         "finished": datetime.now(timezone.utc).isoformat(timespec="seconds"),
         "status": result.status,
         "error": result.error,
+        "error_file": result.error_file,
     }
-    if trainer.is_global_zero:
+    if _rank_zero(run):
         write_json_atomic(run_dir / "summary.json", summary)
         if cfg.get("summary_file"):
             _append_summary(Path(str(cfg.summary_file)), summary)
     return summary
 
 
+def _record_failure(cfg: DictConfig, run_dir: Path, run: RunObjects | None, exc: BaseException, started: float,
+                    overrides: list[str] | None) -> None:
+    """Write the summary of a run stopped by ``exc`` (best effort: a full disk may refuse it too)."""
+    metrics = _scalars(run.trainer.callback_metrics) if run is not None else {}
+    best = getattr(run.trainer.checkpoint_callback, "best_model_path", "") or None if run is not None else None
+    result = FitResult("failed", error_sentence(exc), metrics, best, started, error_file(exc))
+    try:
+        write_summary(cfg, run_dir, run, result, overrides)
+    except Exception as write_error:  # noqa: BLE001 - the run's own error is the one to raise
+        log.error("could not record the failed run's summary in %s: %s", run_dir, write_error)
+
+
 def run_training(cfg: DictConfig, overrides: list[str] | None = None) -> dict[str, Any]:
     """Train (and test) one branch as configured; returns the run summary (also written to disk).
 
     ``overrides`` are the command line's (Hydra's task overrides): recorded in the summary, and applied to a
-    resumed run's saved config.
+    resumed run's saved config. Once the run directory and ``summary_file`` are found writable, whatever
+    stops the run is recorded in its summary (status ``failed``, ``error``, ``error_file``) and then raised.
 
     Raises:
-        TrainingError: bad resume target / checkpoint / unwritable output, or a non-finite loss under
-            ``fault.nonfinite=stop`` (the last good checkpoint stays in ``<run>/checkpoints``).
+        TrainingError: bad resume target / checkpoint / unwritable output (before the run starts).
+        RunFailedError: the run ended with status ``failed``: a non-finite loss under ``fault.nonfinite=stop``
+            or too many under ``skip``, or non-finite weights (the last good checkpoint stays in
+            ``<run>/checkpoints``).
+        Any other error of the run (a corrupt sample, a full disk, a bug), after recording it.
     """
     cfg = resolve_config(cfg, overrides)
     run_dir = prepare_run_dir(cfg)
-    configure_process(cfg)
-    run = build_objects(cfg)
-    result = fit_and_test(cfg, run)
+    started = time.perf_counter()
+    run: RunObjects | None = None
+    try:
+        configure_process(cfg)
+        run = build_objects(cfg)
+        result = fit_and_test(cfg, run)
+    except Exception as exc:
+        _record_failure(cfg, run_dir, run, exc, started, overrides)
+        raise
     summary = write_summary(cfg, run_dir, run, result, overrides)
     if result.status != "ok":
-        raise TrainingError(f"{result.error}\nrun directory: {run_dir}")
+        raise RunFailedError(f"{result.error} (run directory: {run_dir})")
     return summary

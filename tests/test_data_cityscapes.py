@@ -126,3 +126,27 @@ def test_errors_name_the_file(tmp_path):
         read_frames(tmp_path, "train")
     with pytest.raises(FileNotFoundError, match="leftImg8bit/test"):
         read_frames(tmp_path, "test")
+
+
+def test_missing_camera_file_or_odd_size_is_named_or_skipped(tmp_path):
+    from faults.data import wrong_size_png
+
+    from sdn3d.data.errors import SkipLog
+
+    write_cityscapes_fixture(tmp_path, frames={"train": (("bochum", 0, 1), ("bochum", 0, 2), ("bochum", 0, 3))})
+    records = read_frames(tmp_path, "train")
+    camera = records[1].aux_path("camera")
+    saved = camera.read_bytes()
+    camera.unlink()
+    with pytest.raises(FileNotFoundError, match=str(camera)):
+        read_frames(tmp_path, "train")
+    skip = SkipLog()
+    assert [r.key for r in read_frames(tmp_path, "train", skip=skip)] == [records[0].key, records[2].key]
+    assert skip.skipped_frames == {records[1].key} and skip.files == [str(camera)]
+    camera.write_bytes(saved)
+    wrong_size_png(records[0].rgb_path, (32, 16))  # the city's first frame is the odd one
+    with pytest.raises(DataFormatError, match=str(records[0].rgb_path) + ": image is 32x16, but 2 of the 3"):
+        read_frames(tmp_path, "train")
+    skip = SkipLog()
+    assert [r.key for r in read_frames(tmp_path, "train", skip=skip)] == [records[1].key, records[2].key]
+    assert skip.skipped_frames == {records[0].key}

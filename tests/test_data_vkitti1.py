@@ -269,3 +269,51 @@ def test_paths_follow_the_official_layout(reference_tree):
         "depth": "vkitti_1.3.1_depthgt/0006/30-deg-right/00043.png",
         "enc": "vkitti_1.3.1_scenegt/0006_30-deg-right_scenegt_rgb_encoding.txt",
     }
+
+
+# -- issue 20: the size of a sequence, bad rows and the skip policy ------------------------------------------------
+@pytest.mark.parametrize("fault", ["wrong_size", "zero_byte", "corrupt"])
+def test_bad_first_frame_is_the_file_named(tmp_path, fault):
+    from faults.data import corrupt_png, wrong_size_png, zero_byte
+
+    from sdn3d.data.errors import SkipLog
+
+    write_vkitti1_fixture(tmp_path, frames=(0, 1, 2, 3))
+    good = read_frames(tmp_path)
+    first = good[0].rgb_path
+    {"wrong_size": lambda p: wrong_size_png(p, (40, 20)), "zero_byte": zero_byte, "corrupt": corrupt_png}[fault](first)
+    with pytest.raises(DataFormatError, match=str(first)) as info:
+        read_frames(tmp_path)  # the sequence's size is the one its frames agree on, not frame 0's
+    assert str(good[1].rgb_path) not in str(info.value)
+    skip = SkipLog()
+    records = read_frames(tmp_path, skip=skip)
+    assert len(records) == 4 and skip.skipped_frames == {good[0].key} and skip.files == [str(first)]
+    assert all(r.intrinsics == VKITTI_INTRINSICS.resized(64, 32) for r in records)
+    assert load_rgb(records[1]).shape == (32, 64, 3)  # the good frames are not blamed
+
+
+def test_nonpositive_dimensions_name_file_and_line_or_are_skipped(small_tree):
+    from faults.data import bad_motgt_row, negative_dims
+
+    from sdn3d.data.errors import SkipLog
+
+    root, truth = small_tree
+    motgt = root / "vkitti_1.3.1_motgt" / "0001_clone.txt"
+    negative_dims(motgt, row=0, dims=(1.8, 0.0, 4.2))
+    with pytest.raises(DataFormatError, match=r"0001_clone.txt:2: object dimensions must be positive, got length 4.2, "
+                                              r"height 0, width 1.8"):
+        read_frames(root)
+    other = len(truth[0].objects)  # the first row of frame 1: its frame number can not even be read
+    bad_motgt_row(motgt, row=other, column="frame", value="x")
+    skip = SkipLog()
+    records = read_frames(root, skip=skip)
+    assert len(records[0].objects) == len(truth[0].objects) - 1
+    assert len(records[1].objects) == len(truth[1].objects) - 1
+    assert [(i.kind, i.line, i.frame) for i in skip.items] == [("object", 2, records[0].key),
+                                                               ("object", other + 2, None)]
+    assert skip.files == [f"{motgt}:2", f"{motgt}:{other + 2}"]
+    # KITTI's DontCare rows carry -1 -1 -1 (no 3D box): not an error
+    bad_motgt_row(motgt, row=other, column="frame", value="1")
+    negative_dims(motgt, row=0, dims=(-1, -1, -1))
+    bad_motgt_row(motgt, row=0, column="label", value="DontCare")
+    assert len(read_frames(root)[0].objects) == len(truth[0].objects)

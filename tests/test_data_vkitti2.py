@@ -184,3 +184,27 @@ def test_scene_names_and_camera_argument():
         scene_to_world("world6")
     with pytest.raises(ValueError, match="camera"):
         read_frames("/nonexistent", camera=2)
+
+
+def test_bad_first_frame_and_nonpositive_dimensions_are_named(tmp_path):
+    from sdn3d.data.errors import SkipLog
+
+    write_vkitti2_fixture(tmp_path, frames=(0, 1, 2))
+    records = read_frames(tmp_path)
+    Image.new("RGB", (40, 20)).save(records[0].rgb_path, format="JPEG")
+    with pytest.raises(DataFormatError, match=str(records[0].rgb_path) + r": image is 40x20, but 2 of the 3 frames"):
+        read_frames(tmp_path)
+    skip = SkipLog()
+    assert [r.intrinsics.size for r in read_frames(tmp_path, skip=skip)] == [(32, 64)] * 3
+    assert skip.skipped_frames == {records[0].key}
+    records[0].rgb_path.write_bytes(records[1].rgb_path.read_bytes())
+    pose = tmp_path / "Scene01" / "clone" / "pose.txt"
+    lines = pose.read_text().splitlines()
+    fields = lines[1].split()
+    fields[POSE_HEADER.index("length")] = "-4.2"
+    pose.write_text("\n".join([lines[0], " ".join(fields), *lines[2:]]) + "\n")
+    with pytest.raises(DataFormatError, match=r"pose.txt:2: object dimensions must be positive, got length -4.2"):
+        read_frames(tmp_path)
+    skip = SkipLog()
+    records = read_frames(tmp_path, skip=skip)
+    assert [i.kind for i in skip.items] == ["object"] and skip.items[0].frame == records[0].key

@@ -9,6 +9,7 @@ import torch
 from omegaconf import OmegaConf
 
 from datamodules import GeometricDataModule, SemanticDataModule, TexturalDataModule
+from sdn3d.data.errors import DataFormatError
 from sdn3d.data.fixtures import write_vkitti1_fixture, write_vkitti2_fixture
 from sdn3d.data.fixtures_cityscapes import write_cityscapes_fixture
 
@@ -105,3 +106,77 @@ def test_end_to_end_synthetic(tmp_path):
     batch = next(iter(tex.train_dataloader()))
     on = batch["instance"][0] != 0
     assert batch["normal"][0].norm(dim=0)[on].gt(0).float().mean() > 0.5  # render agrees with the data
+
+
+# -- issue 20: resumable data order, skipped data, empty data ------------------------------------------------------
+def test_resumable_sampler_draws_what_shuffle_draws_and_resumes_mid_epoch():
+    from torch.utils.data import DataLoader
+
+    from datamodules.sampler import ResumableRandomSampler
+
+    data = list(range(11))
+
+    def loader(sampler_cls):
+        generator = torch.Generator().manual_seed(3)
+        if sampler_cls is None:
+            return DataLoader(data, batch_size=2, shuffle=True, generator=generator, drop_last=True)
+        return DataLoader(data, batch_size=2, sampler=sampler_cls(data, generator), generator=generator,
+                          drop_last=True)
+
+    def epochs(dl, limits):  # a limit cuts an epoch short (limit_train_batches)
+        out = []
+        for limit in limits:
+            out.append([])
+            for i, batch in enumerate(dl):
+                if i == limit:
+                    break
+                out[-1].append(batch.tolist())
+        return out
+
+    limits = [None, 2, None, 3]
+    assert epochs(loader(None), limits) == epochs(loader(ResumableRandomSampler), limits)  # a clean run: as before
+    straight = epochs(loader(ResumableRandomSampler), [None] * 3)
+    first = loader(ResumableRandomSampler)
+    epochs(first, [None])
+    it = iter(first)
+    seen = [next(it).tolist(), next(it).tolist()]  # epoch 1, two batches trained on, then checkpointed
+    first.sampler.consumed = 4
+    state = first.sampler.state_dict()
+    resumed = loader(lambda d, g: ResumableRandomSampler(d, g, epoch_fn=lambda: resumed_epoch[0]))
+    resumed_epoch = [1]
+    resumed.sampler.load_state_dict(state)
+    rest = epochs(resumed, [None])[0]
+    resumed_epoch[0] = 2
+    assert seen + rest == straight[1] and epochs(resumed, [None])[0] == straight[2]
+
+
+def test_skip_policy_leaves_out_bad_frames_counts_them_and_has_a_bound(tmp_path):
+    from faults.data import zero_byte
+
+    from datamodules.guard import TooMuchSkippedError
+
+    write_vkitti1_fixture(tmp_path, frames=range(6))
+    bad = zero_byte(tmp_path / "vkitti_1.3.1_rgb" / "0001" / "clone" / "00000.png")
+    cfg = _data_cfg("vkitti", tmp_path, (64, 32))
+    with pytest.raises(DataFormatError, match="00000.png"):
+        SemanticDataModule(cfg).setup("fit")
+    dm = SemanticDataModule(cfg, corrupt_sample="skip", max_skipped_fraction=0.5)
+    dm.setup("fit")
+    # the split is taken before the bad frame is dropped: frames 1-3 train, 4-5 validate
+    assert [r.frame for r in dm.datasets["train"].records] == [1, 2, 3]
+    assert [r.frame for r in dm.datasets["val"].records] == [4, 5]
+    assert dm.skip_summary() == {"skipped_samples": 1, "skipped_fraction": 0.25, "skipped_files": [str(bad)]}
+    with pytest.raises(TooMuchSkippedError, match=r"the train part of the vkitti1 data at .*: 1 of its 4 frames"):
+        SemanticDataModule(cfg, corrupt_sample="skip").setup("fit")  # default bound 0.1
+
+
+def test_empty_part_names_the_data_root_and_the_part(tmp_path):
+    from datamodules import EmptyDataError
+
+    write_vkitti1_fixture(tmp_path, frames=(0,))  # the paper split trains on floor(0.8 * 1) = 0 frames
+    dm = SemanticDataModule(_data_cfg("vkitti", tmp_path, (64, 32)))
+    with pytest.raises(EmptyDataError, match=f"the train part of the vkitti1 data at '{tmp_path}'.* has no frames"):
+        dm.setup("fit")
+    geo = GeometricDataModule(_data_cfg("vkitti", tmp_path, (64, 32)), min_pixels=10**6)
+    with pytest.raises(EmptyDataError, match="test part .* has no objects passing the object filter"):
+        geo.setup("test")

@@ -118,3 +118,46 @@ def test_image_grid_layout():
     assert grid[:, 1:5, 1:6].max() == 0 and grid[:, 1:5, 7:12].min() == 1
     with pytest.raises(ValueError, match="image_grid"):
         image_grid([a, torch.zeros(3, 3, 4, 5)])
+
+
+def test_stale_checkpoint_temp_files_are_removed_at_start_and_resume(tmp_path):
+    from lightning_modules.train import prepare_run_dir
+
+    run = tmp_path / "run"
+    checkpoints = run / "checkpoints"
+    checkpoints.mkdir(parents=True)
+    for resume in (None, str(run)):
+        stale = [checkpoints / ".last.ckpt.k2j3h4x_.tmp", checkpoints / ".best-epoch003.ckpt.abc12.tmp",
+                 run / ".summary.json.q1w2.tmp"]  # what a SIGKILL during an atomic write leaves behind
+        keep = [checkpoints / "last.ckpt", checkpoints / ".notes.tmp", run / "train.log"]
+        for path in stale + keep:
+            path.write_bytes(b"x")
+        prepare_run_dir(OmegaConf.create({"run_dir": str(run), "resume": resume, "summary_file": None}))
+        assert not [p for p in stale if p.exists()] and all(p.exists() for p in keep)
+
+
+class _FlakyDicts(_Flaky):
+    def __getitem__(self, i: int) -> dict:
+        return {"x": torch.tensor(float(super().__getitem__(i)))}
+
+
+def test_skip_policy_tags_dict_samples_so_the_training_process_counts_them():
+    from torch.utils.data import DataLoader
+
+    from datamodules import SemanticDataModule
+    from datamodules.guard import SKIP_KEY
+
+    guard = SampleGuard(_FlakyDicts({2}), "skip")
+    batch = next(iter(DataLoader(guard, batch_size=5)))  # what a loader worker hands back
+    assert batch["x"].tolist() == [0, 1, 3, 3, 4]
+    assert batch[SKIP_KEY] == ["", "", "2\t/data/frame_00002.png\t/data/frame_00002.png: unreadable image (truncated)",
+                               "", ""]
+    dm = SemanticDataModule({"kind": "vkitti1", "root": "/data"}, corrupt_sample="skip", max_skipped_fraction=0.5)
+    dm.datasets["train"] = guard
+    guard.skipped.clear()
+    guard.messages.clear()  # as in the main process when a worker did the reading
+    out = dm.on_before_batch_transfer(batch, 0)
+    assert SKIP_KEY not in out and out["x"] is batch["x"]
+    assert dm.skip_summary() == {"skipped_samples": 1, "skipped_fraction": 0.2,
+                                 "skipped_files": ["/data/frame_00002.png"]}
+    assert SampleGuard(_FlakyDicts({2}), "fail")[0] == {"x": torch.tensor(0.0)}  # fail: samples unchanged

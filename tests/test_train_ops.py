@@ -132,24 +132,39 @@ def test_each_branch_trains_tests_and_logs_to_tensorboard(branch, tiny_synth, tm
 
 
 def test_resume_after_sigkill_reaches_the_same_final_step(tiny_synth, tmp_path):
+    from lightning_modules.train import run_training
+
     pytest.importorskip("lightning_modules.semantic")
     run_dir = tmp_path / "run"
+    # 4 batches an epoch: the last checkpoint before the kill (step 2) is in the middle of epoch 0
     args = _overrides("semantic", tiny_synth, run_dir, "trainer.max_epochs=-1", "trainer.max_steps=6",
                       "callbacks.step_checkpoint.every_n_train_steps=2", "test_after_fit=false",
-                      "trainer.check_val_every_n_epoch=100")
+                      "trainer.check_val_every_n_epoch=100", "datamodule.batch_size=1")
+    killer = ["+callbacks.killer._target_=helpers.train_callbacks.KillAtStep", "+callbacks.killer.env=SDN3D_TEST_KILL",
+              "+callbacks.killer.step=3"]
+    sys.path.insert(0, str(REPO / "tests"))
+    try:  # the same run, never killed
+        elsewhere = [f"run_dir={tmp_path / 'straight'}" if a.startswith("run_dir=") else a for a in args]
+        straight = run_training(_compose(elsewhere + killer), [])
+    finally:
+        sys.path.remove(str(REPO / "tests"))
     args = [a for a in args if not a.startswith("run_dir=")] + [f"hydra.run.dir={run_dir}"]
-    killed = _cli(args + ["+callbacks.killer._target_=helpers.train_callbacks.KillAtStep",
-                          "+callbacks.killer.env=SDN3D_TEST_KILL", "+callbacks.killer.step=3"],
-                  cwd=tmp_path, env={"SDN3D_TEST_KILL": "1"})
+    killed = _cli(args + killer, cwd=tmp_path, env={"SDN3D_TEST_KILL": "1"})
     assert killed.returncode == -9, killed.stderr[-2000:]
     state = torch.load(run_dir / "checkpoints" / "last.ckpt", map_location="cpu", weights_only=False)
     assert state["global_step"] == 2  # the last good checkpoint: step 2 (step 3 died before its save)
-    resumed = _cli([f"resume={run_dir}"], cwd=tmp_path)
+    # The saved config names the test's killer callback: a resumed config is trusted only for sdn3d's, Lightning's
+    # and torch's classes unless the command line says otherwise.
+    resumed = _cli([f"resume={run_dir}", "resume_allow_targets=[helpers.]"], cwd=tmp_path)
     assert resumed.returncode == 0, resumed.stdout[-3000:] + resumed.stderr[-3000:]
     summary = json.loads((run_dir / "summary.json").read_text())
     assert summary["global_step"] == 6 and summary["status"] == "ok"
-    final = torch.load(run_dir / "checkpoints" / "last.ckpt", map_location="cpu", weights_only=False)
+    final = torch.load(run_dir / "checkpoints" / "last.ckpt", map_location="cpu", weights_only=True)
     assert final["global_step"] == 6 and "optimizer_states" in final and final["optimizer_states"]
+    # ...and the same weights as the run that was never killed: the resumed run went on with the data order
+    # (the rest of epoch 0, then epoch 1) and the random state of the killed one
+    reference = torch.load(straight["last_ckpt"], map_location="cpu", weights_only=True)["state_dict"]
+    assert not [k for k, v in final["state_dict"].items() if not torch.equal(v, reference[k])]
     assert len(list((run_dir / "tensorboard").glob("events.out.tfevents.*"))) >= 1
     assert not list((tmp_path / "outputs").rglob("config.yaml"))  # nothing written outside the resumed run
 
@@ -189,15 +204,20 @@ def test_corrupt_sample_fails_naming_the_file_or_is_skipped(tiny_synth, tmp_path
     pytest.importorskip("lightning_modules.semantic")
     root = tmp_path / "data"
     shutil.copytree(tiny_synth, root)
-    # Frame 2 (frame 0 also gives the sequence's image size at indexing time, where any policy stops).
+    # Frame 2: found unreadable while indexing (its header), named under fail, left out under skip.
     bad = sorted((root / "vkitti_1.3.1_rgb").rglob("00002.png"))[0]
     bad.write_bytes(b"\x89PNG\r\n\x1a\n truncated")
     cfg = _compose(_overrides("semantic", root, tmp_path / "fail", "trainer.max_steps=2"))
     with pytest.raises(DataFormatError, match="00002.png"):
         run_training(cfg, [])
+    failed = json.loads((tmp_path / "fail" / "summary.json").read_text())
+    assert failed["status"] == "failed" and failed["error_file"] == str(bad) and "00002.png" in failed["error"]
+    # 1 of the 4 training frames is more than the default fault.max_skipped_fraction (0.1) allows
     cfg = _compose(_overrides("semantic", root, tmp_path / "skip", "trainer.max_steps=2",
-                              "fault.corrupt_sample=skip"))
-    assert run_training(cfg, [])["status"] == "ok"
+                              "fault.corrupt_sample=skip", "fault.max_skipped_fraction=0.5"))
+    summary = run_training(cfg, [])
+    assert summary["status"] == "ok" and summary["skipped_samples"] == 1 and summary["skipped_files"] == [str(bad)]
+    assert summary["skipped_fraction"] == 0.25
 
 
 def test_unwritable_output_dir_is_a_clear_error(tiny_synth, tmp_path):
@@ -205,8 +225,9 @@ def test_unwritable_output_dir_is_a_clear_error(tiny_synth, tmp_path):
     blocker.write_text("x")
     proc = _cli(_overrides("semantic", tiny_synth, blocker / "run") + [f"hydra.run.dir={tmp_path / 'h'}"],
                 cwd=tmp_path)
-    assert proc.returncode == 1
-    assert "is not writable" in proc.stderr + proc.stdout
+    assert proc.returncode == 2  # a user's mistake: one line, no traceback
+    assert "sdn3d-train: error: output directory" in proc.stderr and "is not writable" in proc.stderr
+    assert "Traceback" not in proc.stderr
 
 
 def test_multirun_ablations_write_one_summary(tiny_synth, tmp_path):

@@ -10,6 +10,10 @@ Hydra composes the whole run: ``experiment=<name>`` picks data (and trainer) and
 ``conf/recipe/<branch>_<name>.yaml``; command-line overrides are applied last, so they win. An experiment
 the branch has no recipe for stops before anything runs, listing the recipes there are.
 
+Exit status: 0 when the run finished with status ok; 2 after a user's mistake (a bad setting, data file,
+resume target: ``sdn3d-train: error: <message>``, one line); 1 when the run failed (a diverged loss: one
+line) or on any other error (with its traceback). Either way a run that started has written its summary.
+
 Lightning is imported only here and in ``lightning_modules/``: the library stays usable without it.
 """
 
@@ -50,14 +54,17 @@ OmegaConf.register_new_resolver("sdn3d_first_set", first_set, replace=True)
 
 @hydra.main(config_path=sdn3d.cli._config.CONFIG_DIR, config_name="train", version_base="1.3")
 def main(cfg: DictConfig) -> float | None:
-    from lightning_modules.train import TrainingError, run_training
+    from lightning_modules.train import RunFailedError, run_training
+    from sdn3d.cli._errors import report_user_error, user_errors
 
     overrides = list(HydraConfig.get().overrides.task)
     try:
         summary = run_training(cfg, overrides)
-    except TrainingError as exc:
+    except RunFailedError as exc:  # recorded in the run's summary; not a bug
         log.error("%s", exc)
         sys.exit(1)
+    except user_errors() as exc:
+        sys.exit(report_user_error("train", exc))
     metric = summary["metrics"].get(str(cfg.get("monitor")))
     log.info("run finished: %s (%s = %s)", summary["run_dir"], cfg.get("monitor"), metric)
     return metric  # for Hydra sweepers that optimise the monitored metric

@@ -22,6 +22,10 @@ Depth comes from the disparity maps when present: ``d = (p - 1) / 256`` for
 
 The label table (:data:`sdn3d.labels.CITYSCAPES_LABELS`) lives with the other class lists in
 :mod:`sdn3d.labels`.
+
+A city's image size is the one its frames agree on (:func:`~sdn3d.data.imageio.agreed_size`); an
+unreadable or odd-sized image, or a missing or broken camera file, stops indexing naming the file, or under
+the skip policy (:func:`read_frames` ``skip=``) drops that frame and records it.
 """
 
 from __future__ import annotations
@@ -30,12 +34,13 @@ import json
 import math
 import os
 import re
+from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from sdn3d.data.errors import DataFormatError, missing
+from sdn3d.data.errors import DataFormatError, SkipLog, missing
 from sdn3d.data.imageio import image_size, read_index_png, read_rgb, read_uint16_png
 from sdn3d.data.records import FrameRecord, check_size
 from sdn3d.labels import CITYSCAPES_LABELS, IGNORE_INDEX, INSTANCE_DIVISOR, LABEL_TO_TRAIN
@@ -114,7 +119,8 @@ def read_camera(path: str | os.PathLike) -> tuple[dict[str, float], dict[str, fl
 
 
 def read_frames(
-    root: str | os.PathLike, split: str = "train", cities: Sequence[str] | None = None
+    root: str | os.PathLike, split: str = "train", cities: Sequence[str] | None = None,
+    skip: SkipLog | None = None,
 ) -> list[FrameRecord]:
     """Index one split into frame records, sorted by city, sequence, frame.
 
@@ -122,6 +128,9 @@ def read_frames(
     numbers of the file name. ``extrinsics`` is the vehicle->camera transform
     (inverse of :func:`camera_to_vehicle`): Cityscapes has no world frame, so the
     vehicle frame (ISO 8855) stands in. Camera files are required.
+
+    ``skip``: None raises on the first bad frame (image header, size, camera file); a :class:`SkipLog`
+    records it and leaves the frame out instead.
     """
     root = Path(root)
     image_root = root / "leftImg8bit" / split
@@ -135,9 +144,37 @@ def read_frames(
         if not city_dir.is_dir():
             raise missing(city_dir, "city folder")
         names = sorted((m for p in city_dir.iterdir() if (m := _NAME.match(p.name))), key=lambda m: m.string)
+        found: list[FrameRecord] = []
         for match in names:
-            records.append(_record(root, split, city, match))
+            try:
+                found.append(_record(root, split, city, match))
+            except DataFormatError as exc:
+                if skip is None:
+                    raise
+                skip.skip(exc, "frame", f"cityscapes/{city}/{split}/{int(match['seq']):06d}/{int(match['frame']):06d}")
+        records.extend(_agreeing(found, f"city {split}/{city}", skip))
     return records
+
+
+def _agreeing(records: list[FrameRecord], what: str, skip: SkipLog | None) -> list[FrameRecord]:
+    """The records whose image size most of ``records`` share; each other one raises (or is skipped)."""
+    if not records:
+        return records
+    counts = Counter(r.intrinsics.size for r in records)
+    top = max(counts.values())
+    size = next(r.intrinsics.size for r in records if counts[r.intrinsics.size] == top)
+    kept = []
+    for record in records:
+        if record.intrinsics.size == size:
+            kept.append(record)
+            continue
+        height, width = record.intrinsics.size
+        error = DataFormatError(f"{record.rgb_path}: image is {width}x{height}, but {top} of the {len(records)} "
+                                f"frames of {what} are {size[1]}x{size[0]}: this frame is the odd one")
+        if skip is None:
+            raise error
+        skip.skip(error, "frame", record.key)
+    return kept
 
 
 def _record(root: Path, split: str, city: str, match: re.Match) -> FrameRecord:

@@ -20,6 +20,7 @@ so one odd frame (even the first) is named instead of every good one.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import re
@@ -110,6 +111,11 @@ def image_size(path: str | os.PathLike) -> tuple[int, int]:
         return int(image.width), int(image.height)
 
 
+@functools.lru_cache(maxsize=1 << 16)
+def _cached_size(path: Path, _mtime_ns: int, _size: int) -> tuple[int, int]:
+    return image_size(path)
+
+
 def agreed_size(
     paths: Sequence[Path], what: str, preferred: tuple[int, int] | None = None
 ) -> tuple[tuple[int, int] | None, dict[Path, DataFormatError]]:
@@ -129,7 +135,12 @@ def agreed_size(
     errors: dict[Path, DataFormatError] = {}
     for path in paths:
         try:
-            sizes[path] = image_size(path)
+            stat = os.stat(path)
+        except OSError:
+            stat = None
+        try:  # headers are read once per file version: each part of a split indexes the whole dataset
+            sizes[path] = image_size(path) if stat is None else _cached_size(Path(path), stat.st_mtime_ns,
+                                                                            stat.st_size)
         except DataFormatError as exc:
             errors[path] = exc
     if not sizes:

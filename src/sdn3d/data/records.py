@@ -34,6 +34,7 @@ __all__ = [
     "FrameRecord",
     "visible_pixel_counts",
     "mesh_name_for",
+    "check_dims",
     "check_size",
     "load_rgb",
     "load_semantic",
@@ -185,8 +186,25 @@ def visible_pixel_counts(instances: np.ndarray) -> dict[int, int]:
     return {int(i): int(c) for i, c in zip(ids[keep], counts[keep], strict=True)}
 
 
+def check_dims(dims: tuple[float, float, float], label: str, where: str) -> None:
+    """Raise naming ``where`` (``file:line``) unless the object's ``dims = (l, h, w)`` are all positive.
+
+    The one exception is KITTI's ``DontCare`` convention, all three ``-1`` (no 3D box): such an object
+    passes (its location is then far behind the camera, which the datasets' ``z > 0`` tests drop).
+    """
+    if all(d > 0 for d in dims) or (label == "DontCare" and all(d == -1 for d in dims)):
+        return
+    length, height, width = dims
+    raise DataFormatError(f"{where}: object dimensions must be positive, got length {length:g}, height "
+                          f"{height:g}, width {width:g} ({label})")
+
+
 def check_size(array: np.ndarray, record: FrameRecord, path: Path | None) -> np.ndarray:
-    """Raise if ``array`` does not have the record's image size."""
+    """Raise if ``array`` does not have the record's image size.
+
+    The record's size is the one its sequence's frames agree on (:func:`~sdn3d.data.imageio.agreed_size`,
+    decided when the dataset is indexed), so the file named here is the odd one.
+    """
     expected = record.intrinsics.size
     if tuple(array.shape[:2]) != expected:
         raise DataFormatError(

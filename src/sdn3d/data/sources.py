@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from sdn3d.data import cityscapes, vkitti1, vkitti2
+from sdn3d.data.errors import SkipLog
 from sdn3d.data.records import FrameRecord
 from sdn3d.data.vkitti1 import paper_split
 from sdn3d.errors import UserInputError
@@ -129,15 +130,20 @@ def _check_split(split: Mapping[str, Any], kind: str) -> None:
         raise UserInputError(f"split.rule must be 'paper' or 'folders', got {rule!r}")
 
 
-def read_source(source: SourceConfig, cityscapes_split: str = "train") -> list[FrameRecord]:
-    """All frames of ``source`` (for Cityscapes: those of the folder ``cityscapes_split``)."""
+def read_source(source: SourceConfig, cityscapes_split: str = "train", skip: SkipLog | None = None
+                ) -> list[FrameRecord]:
+    """All frames of ``source`` (for Cityscapes: those of the folder ``cityscapes_split``).
+
+    ``skip``: None raises on the first bad frame or annotation row; a :class:`SkipLog` records them (the
+    readers' skip policy: Virtual KITTI still returns a skipped frame, :func:`load_split` drops it).
+    """
     root = os.fspath(source.root)
     if source.kind == "vkitti1":
-        return vkitti1.read_frames(root, worlds=source.subsets, variations=source.variations)
+        return vkitti1.read_frames(root, worlds=source.subsets, variations=source.variations, skip=skip)
     if source.kind == "vkitti2":
         return vkitti2.read_frames(root, scenes=source.subsets, variations=source.variations,
-                                   camera=source.camera)
-    return cityscapes.read_frames(root, split=cityscapes_split, cities=source.subsets)
+                                   camera=source.camera, skip=skip)
+    return cityscapes.read_frames(root, split=cityscapes_split, cities=source.subsets, skip=skip)
 
 
 def split_records(records: Sequence[FrameRecord], split: Mapping[str, Any], part: str) -> list[FrameRecord]:
@@ -174,18 +180,38 @@ def edit_target_frames(root: str | os.PathLike) -> set[tuple[str, str, int]]:
         raise UserInputError(f"{str(path)!r}: cannot read the edit target frames: {exc}") from exc
 
 
-def load_split(source: SourceConfig, part: str) -> list[FrameRecord]:
+def load_split(source: SourceConfig, part: str, skip: SkipLog | None = None) -> list[FrameRecord]:
     """Frame records of one part (``'train'``, ``'val'`` or ``'test'``) of ``source``.
 
     A synthetic dataset's edit-benchmark target frames (appended after each sequence's regular frames) are
     never trained on: the paper split is taken over the regular frames, so the benchmark's source frames
     (drawn from their last 20 %) are test frames, and the targets join the test part.
+
+    ``skip``: None raises on the first bad frame or annotation row (naming the file). A :class:`SkipLog`
+    gets what this part lost instead (its frames dropped, its objects' rows left out) and ``skip.frames``
+    the part's frame count, skipped frames included; the split is taken before skipped frames are dropped,
+    so a bad frame does not move the others between parts.
     """
     if part not in PARTS:
         raise ValueError(f"part must be one of {PARTS}, got {part!r}")
+    found = None if skip is None else SkipLog()
     if source.split["rule"] == "folders":
-        return read_source(source, cityscapes_split=source.split[part])
-    records = read_source(source)
+        selected = read_source(source, cityscapes_split=source.split[part], skip=found)
+    else:
+        selected = _paper_part(source, part, found)
+    if skip is None or found is None:
+        return selected
+    keys = {r.key for r in selected}
+    folders = source.split["rule"] == "folders"  # every skipped frame of the folder is this part's
+    mine = [i for i in found.items if i.frame is None or i.frame in keys or folders]
+    dropped = {i.frame for i in mine if i.kind == "frame" and i.frame is not None}
+    skip.extend(mine)
+    skip.frames += len(keys | dropped)
+    return [r for r in selected if r.key not in dropped]
+
+
+def _paper_part(source: SourceConfig, part: str, skip: SkipLog | None) -> list[FrameRecord]:
+    records = read_source(source, skip=skip)
     targets = edit_target_frames(source.root) if source.kind == "vkitti1" else set()
     if not targets:
         return split_records(records, source.split, part)

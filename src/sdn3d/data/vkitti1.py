@@ -17,6 +17,15 @@ with "no instance": ``tid = id % 1000 - 1``.
 
 Depth is the z-buffer depth (distance to the camera plane), stored in centimetres;
 the far plane (sky) is 65535 cm = 655.35 m and is returned as such.
+
+A sequence's image size is the one its RGB frames agree on (:func:`~sdn3d.data.imageio.agreed_size`,
+ties going to the format's 1242x375): an unreadable or odd-sized frame, the first one included, is named
+as the bad file. Object dimensions must be positive (:func:`~sdn3d.data.records.check_dims`).
+
+Skip policy: :func:`read_frames` given a :class:`~sdn3d.data.errors.SkipLog` does not raise for a bad
+frame (unreadable or odd-sized image, no extrinsics) or a bad motgt row: it records it there; the frame is
+still returned (so splits do not shift) and :func:`~sdn3d.data.sources.load_split` drops it, a bad row's
+object is left out. Missing folders and files, and bad headers, raise under every policy.
 """
 
 from __future__ import annotations
@@ -25,21 +34,21 @@ import functools
 import math
 import os
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
 
-from sdn3d.data.errors import DataFormatError, missing
+from sdn3d.data.errors import DataFormatError, SkipLog, missing
 from sdn3d.data.imageio import (
     ColorEncoding,
+    agreed_size,
     build_encoding,
-    image_size,
     read_rgb,
     read_table,
     read_uint16_png,
 )
-from sdn3d.data.records import FrameRecord, ObjectAnnotation, check_size
+from sdn3d.data.records import FrameRecord, ObjectAnnotation, check_dims, check_size
 from sdn3d.labels import INSTANCE_DIVISOR, VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
@@ -54,7 +63,10 @@ __all__ = [
     "parse_motgt",
     "parse_extrinsics",
     "read_frames",
-    "sequence_intrinsics",
+    "VKITTI_SIZE",
+    "intrinsics_for_size",
+    "RowErrorHandler",
+    "row_frame",
     "load_rgb",
     "load_semantic",
     "load_instances",
@@ -79,6 +91,21 @@ EXTRINSICS_HEADER = ("frame", *MATRIX_COLUMNS, "0", "0", "0", "1")
 ENCODING_HEADER = ("Category(:id)", "r", "g", "b")
 
 _FRAME_PNG = re.compile(r"^(\d{5})\.png$")
+
+#: The size Virtual KITTI (1 and 2) images have, ``(width, height)``; it wins ties in a sequence's size vote.
+VKITTI_SIZE = (VKITTI_INTRINSICS.width, VKITTI_INTRINSICS.height)
+
+#: ``on_error(error, frame)`` for a bad annotation row; ``frame`` is the row's frame number when it can be read.
+RowErrorHandler = Callable[[DataFormatError, "int | None"], None]
+
+
+def row_frame(tokens: Sequence[str]) -> int | None:
+    """The frame number in the first field of a broken row, if it is one."""
+    try:
+        value = float(tokens[0]) if tokens else math.nan
+    except ValueError:
+        return None
+    return int(value) if math.isfinite(value) and value == int(value) else None
 
 
 def parse_encoding(path: str | os.PathLike) -> ColorEncoding:
@@ -116,20 +143,27 @@ def _parse_encoding_cached(path: Path, _mtime_ns: int, _size: int) -> ColorEncod
     return build_encoding(path, entries)
 
 
-def parse_motgt(path: str | os.PathLike) -> dict[int, tuple[ObjectAnnotation, ...]]:
-    """Objects per frame from a motgt file (``w3d h3d l3d`` are reordered to ``dims=(l, h, w)``)."""
+def parse_motgt(path: str | os.PathLike, on_error: RowErrorHandler | None = None
+                ) -> dict[int, tuple[ObjectAnnotation, ...]]:
+    """Objects per frame from a motgt file (``w3d h3d l3d`` are reordered to ``dims=(l, h, w)``).
+
+    A bad row (field count, a value, a repeated frame/track, non-positive dimensions) raises naming the file
+    and line; with ``on_error`` it is left out and ``on_error(error, frame)`` is called instead.
+    """
     objects: dict[int, list[ObjectAnnotation]] = {}
     seen: dict[tuple[int, int], int] = {}
-    for row in read_table(path, MOTGT_HEADER, "motgt file"):
-        frame, tid = row.integer("frame"), row.integer("tid")
-        if (frame, tid) in seen:
-            raise DataFormatError(
-                f"{row.path}:{row.lineno}: frame {frame} track {tid} already annotated "
-                f"on line {seen[frame, tid]}"
-            )
-        seen[frame, tid] = row.lineno
-        objects.setdefault(frame, []).append(
-            ObjectAnnotation(
+    rows = read_table(path, MOTGT_HEADER, "motgt file",
+                      None if on_error is None else (lambda exc, tokens: on_error(exc, row_frame(tokens))))
+    for row in rows:
+        frame: int | None = None
+        try:
+            frame, tid = row.integer("frame"), row.integer("tid")
+            if (frame, tid) in seen:
+                raise DataFormatError(
+                    f"{row.path}:{row.lineno}: frame {frame} track {tid} already annotated "
+                    f"on line {seen[frame, tid]}"
+                )
+            annotation = ObjectAnnotation(
                 track_id=tid,
                 label=row.text("label"),
                 box2d=tuple(row.number(c) for c in "ltrb"),
@@ -148,22 +182,43 @@ def parse_motgt(path: str | os.PathLike) -> dict[int, tuple[ObjectAnnotation, ..
                 model=row.text("model"),
                 color=row.text("color"),
             )
-        )
+            check_dims(annotation.dims, annotation.label, f"{row.path}:{row.lineno}")
+        except DataFormatError as exc:
+            if on_error is None:
+                raise
+            on_error(exc, frame)
+            continue
+        seen[frame, tid] = row.lineno
+        objects.setdefault(frame, []).append(annotation)
     return {frame: tuple(objs) for frame, objs in objects.items()}
 
 
-def parse_extrinsics(path: str | os.PathLike) -> dict[int, tuple[float, ...]]:
-    """World->camera matrices per frame (row-major 16-tuples) from an extrinsicsgt file."""
+def parse_extrinsics(path: str | os.PathLike, on_error: RowErrorHandler | None = None
+                     ) -> dict[int, tuple[float, ...]]:
+    """World->camera matrices per frame (row-major 16-tuples) from an extrinsicsgt file.
+
+    A bad row raises naming the file and line; with ``on_error`` it is left out (its frame then has no
+    matrix) and ``on_error(error, frame)`` is called instead.
+    """
     matrices: dict[int, tuple[float, ...]] = {}
-    for row in read_table(path, EXTRINSICS_HEADER, "extrinsics file"):
-        frame = row.integer("frame")
-        if frame in matrices:
-            raise DataFormatError(f"{row.path}:{row.lineno}: frame {frame} listed twice")
-        values = [row.number(i) for i in range(1, 13)]
+    rows = read_table(path, EXTRINSICS_HEADER, "extrinsics file",
+                      None if on_error is None else (lambda exc, tokens: on_error(exc, row_frame(tokens))))
+    for row in rows:
+        frame: int | None = None
+        try:
+            frame = row.integer("frame")
+            if frame in matrices:
+                raise DataFormatError(f"{row.path}:{row.lineno}: frame {frame} listed twice")
+            values = [row.number(i) for i in range(1, 13)]
+            last = [row.number(i) for i in range(13, 17)]
+            if last != [0.0, 0.0, 0.0, 1.0]:
+                raise DataFormatError(f"{row.path}:{row.lineno}: last matrix row must be 0 0 0 1, got {last}")
+        except DataFormatError as exc:
+            if on_error is None:
+                raise
+            on_error(exc, frame)
+            continue
         matrices[frame] = (*values, 0.0, 0.0, 0.0, 1.0)
-        last = [row.number(i) for i in range(13, 17)]
-        if last != [0.0, 0.0, 0.0, 1.0]:
-            raise DataFormatError(f"{row.path}:{row.lineno}: last matrix row must be 0 0 0 1, got {last}")
     return matrices
 
 
@@ -176,12 +231,11 @@ def _subdirs(folder: Path, requested: Sequence[str] | None, what: str) -> list[s
     return list(requested)
 
 
-def sequence_intrinsics(first_image: Path) -> Intrinsics:
-    """VKITTI intrinsics at the stored size (rescaled if the images are not 1242x375)."""
-    width, height = image_size(first_image)
-    if (width, height) == (VKITTI_INTRINSICS.width, VKITTI_INTRINSICS.height):
+def intrinsics_for_size(size: tuple[int, int] | None) -> Intrinsics:
+    """VKITTI intrinsics at the stored ``(width, height)`` (rescaled if not 1242x375; nominal for None)."""
+    if size is None or tuple(size) == VKITTI_SIZE:
         return VKITTI_INTRINSICS
-    return VKITTI_INTRINSICS.resized(width, height)
+    return VKITTI_INTRINSICS.resized(*size)
 
 
 def read_frames(
@@ -189,6 +243,7 @@ def read_frames(
     worlds: Sequence[str] | None = None,
     variations: Sequence[str] | None = None,
     annotations: bool = True,
+    skip: SkipLog | None = None,
 ) -> list[FrameRecord]:
     """Index a Virtual KITTI 1.3.1 tree into frame records, sorted by world, variation, frame.
 
@@ -196,6 +251,8 @@ def read_frames(
         root: folder holding ``vkitti_1.3.1_rgb`` and the other modality folders.
         worlds, variations: subsets to read; None reads every folder present.
         annotations: parse motgt and extrinsics (both must then exist).
+        skip: None raises on the first bad frame or row; a :class:`SkipLog` records them instead
+            (module doc: skipped frames are still returned, ``load_split`` drops them).
 
     Scene GT and depth paths are set when their sequence folders exist, else None.
     """
@@ -206,11 +263,12 @@ def read_frames(
     records: list[FrameRecord] = []
     for world in _subdirs(rgb_root, worlds, "world folder"):
         for variation in _subdirs(rgb_root / world, variations, "variation folder"):
-            records.extend(_read_sequence(root, world, variation, annotations))
+            records.extend(_read_sequence(root, world, variation, annotations, skip))
     return records
 
 
-def _read_sequence(root: Path, world: str, variation: str, annotations: bool) -> list[FrameRecord]:
+def _read_sequence(root: Path, world: str, variation: str, annotations: bool,
+                   skip: SkipLog | None = None) -> list[FrameRecord]:
     rgb_dir = root / "vkitti_1.3.1_rgb" / world / variation
     frames = sorted(int(m.group(1)) for p in rgb_dir.iterdir() if (m := _FRAME_PNG.match(p.name)))
     if not frames:
@@ -221,17 +279,41 @@ def _read_sequence(root: Path, world: str, variation: str, annotations: bool) ->
     has_scenegt = scenegt_dir.is_dir()
     if has_scenegt and not encoding.is_file():
         raise missing(encoding, "scenegt rgb encoding file")
+
+    def key(frame: int | None) -> str | None:  # FrameRecord.key
+        return None if frame is None else f"vkitti1/{world}/{variation}/{frame:05d}"
+
+    bad: dict[int, DataFormatError] = {}  # frames to drop (skip policy only)
+
+    def bad_frame(exc: DataFormatError, frame: int | None) -> None:
+        if frame is None or frame not in frames:
+            skip.skip(exc, "frame", key(frame))  # a row of no frame we have: report it, nothing to drop
+        else:
+            bad.setdefault(frame, exc)
+
     objects: dict[int, tuple[ObjectAnnotation, ...]] = {}
     extrinsics: dict[int, tuple[float, ...]] = {}
     if annotations:
-        objects = parse_motgt(root / "vkitti_1.3.1_motgt" / f"{world}_{variation}.txt")
+        objects = parse_motgt(root / "vkitti_1.3.1_motgt" / f"{world}_{variation}.txt",
+                              None if skip is None else (lambda exc, frame: skip.skip(exc, "object", key(frame))))
         extrinsics_path = root / "vkitti_1.3.1_extrinsicsgt" / f"{world}_{variation}.txt"
-        extrinsics = parse_extrinsics(extrinsics_path)
+        extrinsics = parse_extrinsics(extrinsics_path, None if skip is None else bad_frame)
         absent = [f for f in frames if f not in extrinsics]
-        if absent:
+        if absent and skip is None:
             raise DataFormatError(f"{extrinsics_path}: no matrix for frame(s) {absent[:10]}")
-    intrinsics = sequence_intrinsics(rgb_dir / f"{frames[0]:05d}.png")
+        for frame in absent:
+            bad.setdefault(frame, DataFormatError(f"{extrinsics_path}: no matrix for frame {frame}"))
     name = "{:05d}.png".format
+    size, odd = agreed_size([rgb_dir / name(f) for f in frames], f"sequence {world}/{variation}", VKITTI_SIZE)
+    for frame in frames:
+        error = odd.get(rgb_dir / name(frame))
+        if error is not None:
+            if skip is None:
+                raise error
+            bad.setdefault(frame, error)
+    intrinsics = intrinsics_for_size(size)
+    for frame in sorted(bad):
+        skip.skip(bad[frame], "frame", key(frame))
     return [
         FrameRecord(
             dataset="vkitti1",

@@ -38,6 +38,10 @@ through unchanged as ``occupr``, so even an unoccluded car reads well below 1.
 Locations are taken as KITTI's bottom-face centre in the camera frame, as in VKITTI 1;
 the VKITTI 2 documentation we could check does not say which point of the box
 ``camera_space_X/Y/Z`` is.
+
+A sequence's image size is the one its RGB frames agree on, and dimensions must be positive, as in
+:mod:`sdn3d.data.vkitti1`; so is the skip policy (:func:`read_frames` ``skip=``): a bad frame (image,
+intrinsic or extrinsic row) is recorded and still returned, a bad bbox/pose row loses its object.
 """
 
 from __future__ import annotations
@@ -50,17 +54,25 @@ from pathlib import Path
 
 import numpy as np
 
-from sdn3d.data.errors import DataFormatError, missing
+from sdn3d.data.errors import DataFormatError, SkipLog, missing
 from sdn3d.data.imageio import (
     ColorEncoding,
+    agreed_size,
     build_encoding,
     read_index_png,
     read_rgb,
     read_table,
     read_uint16_png,
 )
-from sdn3d.data.records import FrameRecord, ObjectAnnotation, check_size
-from sdn3d.data.vkitti1 import MATRIX_COLUMNS, VKITTI_VARIATIONS, sequence_intrinsics
+from sdn3d.data.records import FrameRecord, ObjectAnnotation, check_dims, check_size
+from sdn3d.data.vkitti1 import (
+    MATRIX_COLUMNS,
+    VKITTI_SIZE,
+    VKITTI_VARIATIONS,
+    RowErrorHandler,
+    intrinsics_for_size,
+    row_frame,
+)
 from sdn3d.labels import IGNORE_INDEX, INSTANCE_DIVISOR, VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import Intrinsics
 
@@ -156,37 +168,52 @@ def _parse_info(path: Path, _mtime: int, _size: int) -> dict[int, tuple[str, str
     return info
 
 
-def _keyed(rows, path: Path, what: str) -> dict[tuple[int, int, int], object]:
+def _table(path: Path, header: Sequence[str], what: str, on_error: RowErrorHandler | None):
+    return read_table(path, header, what,
+                      None if on_error is None else (lambda exc, tokens: on_error(exc, row_frame(tokens))))
+
+
+def _keyed(rows, path: Path, what: str, on_error: RowErrorHandler | None = None) -> dict[tuple[int, int, int], object]:
     table = {}
     for row in rows:
-        key = (row.integer("frame"), row.integer("cameraID"), row.integer("trackID"))
-        if key in table:
-            raise DataFormatError(f"{path}:{row.lineno}: {what} repeats frame/camera/track {key}")
+        frame = None
+        try:
+            frame = row.integer("frame")
+            key = (frame, row.integer("cameraID"), row.integer("trackID"))
+            if key in table:
+                raise DataFormatError(f"{path}:{row.lineno}: {what} repeats frame/camera/track {key}")
+        except DataFormatError as exc:
+            if on_error is None:
+                raise
+            on_error(exc, frame)
+            continue
         table[key] = row
     return table
 
 
-def _objects(seq: Path, camera: int) -> dict[int, tuple[ObjectAnnotation, ...]]:
+def _objects(seq: Path, camera: int,
+             on_error: RowErrorHandler | None = None) -> dict[int, tuple[ObjectAnnotation, ...]]:
     bbox_path, pose_path = seq / "bbox.txt", seq / "pose.txt"
-    poses = _keyed(read_table(pose_path, POSE_HEADER, "pose.txt"), pose_path, "pose.txt")
+    poses = _keyed(_table(pose_path, POSE_HEADER, "pose.txt", on_error), pose_path, "pose.txt", on_error)
     info = parse_info(seq / "info.txt")
     objects: dict[int, list[ObjectAnnotation]] = {}
-    for box in read_table(bbox_path, BBOX_HEADER, "bbox.txt"):
-        frame, cam, tid = box.integer("frame"), box.integer("cameraID"), box.integer("trackID")
-        if cam != camera:
-            continue
-        pose = poses.get((frame, cam, tid))
-        if pose is None:
-            raise DataFormatError(
-                f"{bbox_path}:{box.lineno}: no row in {pose_path} for frame {frame} camera {cam} track {tid}"
-            )
-        if tid not in info:
-            raise DataFormatError(
-                f"{bbox_path}:{box.lineno}: track {tid} is not listed in {seq / 'info.txt'}"
-            )
-        label, model, color = info[tid]
-        objects.setdefault(frame, []).append(
-            ObjectAnnotation(
+    for box in _table(bbox_path, BBOX_HEADER, "bbox.txt", on_error):
+        frame = None
+        try:
+            frame, cam, tid = box.integer("frame"), box.integer("cameraID"), box.integer("trackID")
+            if cam != camera:
+                continue
+            pose = poses.get((frame, cam, tid))
+            if pose is None:
+                raise DataFormatError(
+                    f"{bbox_path}:{box.lineno}: no row in {pose_path} for frame {frame} camera {cam} track {tid}"
+                )
+            if tid not in info:
+                raise DataFormatError(
+                    f"{bbox_path}:{box.lineno}: track {tid} is not listed in {seq / 'info.txt'}"
+                )
+            label, model, color = info[tid]
+            annotation = ObjectAnnotation(
                 track_id=tid,
                 label=label,
                 box2d=tuple(box.number(c) for c in ("left", "top", "right", "bottom")),
@@ -203,22 +230,37 @@ def _objects(seq: Path, camera: int) -> dict[int, tuple[ObjectAnnotation, ...]]:
                 color=color,
                 num_pixels=box.integer("number_pixels"),
             )
-        )
+            check_dims(annotation.dims, label, f"{pose_path}:{pose.lineno}")
+        except DataFormatError as exc:
+            if on_error is None:
+                raise
+            on_error(exc, frame)
+            continue
+        objects.setdefault(frame, []).append(annotation)
     return {frame: tuple(objs) for frame, objs in objects.items()}
 
 
-def _per_frame(path: Path, header: Sequence[str], what: str, camera: int) -> dict[int, tuple[float, ...]]:
+def _per_frame(path: Path, header: Sequence[str], what: str, camera: int,
+               on_error: RowErrorHandler | None = None) -> dict[int, tuple[float, ...]]:
     """Columns 2.. of a ``frame cameraID ...`` file for one camera, keyed by frame."""
     values: dict[int, tuple[float, ...]] = {}
-    for row in read_table(path, header, what):
-        if row.integer("cameraID") != camera:
+    for row in _table(path, header, what, on_error):
+        frame = None
+        try:
+            if row.integer("cameraID") != camera:
+                continue
+            frame = row.integer("frame")
+            if frame in values:
+                raise DataFormatError(f"{path}:{row.lineno}: frame {frame} camera {camera} listed twice")
+            numbers = tuple(row.number(i) for i in range(2, len(header)))
+            if len(header) == len(EXTRINSIC_HEADER) and numbers[12:] != (0.0, 0.0, 0.0, 1.0):
+                raise DataFormatError(f"{path}:{row.lineno}: last matrix row must be 0 0 0 1")
+        except DataFormatError as exc:
+            if on_error is None:
+                raise
+            on_error(exc, frame)
             continue
-        frame = row.integer("frame")
-        if frame in values:
-            raise DataFormatError(f"{path}:{row.lineno}: frame {frame} camera {camera} listed twice")
-        values[frame] = tuple(row.number(i) for i in range(2, len(header)))
-        if len(header) == len(EXTRINSIC_HEADER) and values[frame][12:] != (0.0, 0.0, 0.0, 1.0):
-            raise DataFormatError(f"{path}:{row.lineno}: last matrix row must be 0 0 0 1")
+        values[frame] = numbers
     return values
 
 
@@ -237,6 +279,7 @@ def read_frames(
     variations: Sequence[str] | None = None,
     camera: int | str = 0,
     annotations: bool = True,
+    skip: SkipLog | None = None,
 ) -> list[FrameRecord]:
     """Index a Virtual KITTI 2.0.3 tree into frame records (sorted by scene, variation, frame).
 
@@ -246,6 +289,7 @@ def read_frames(
         camera: 0/``'Camera_0'`` (left, default) or 1/``'Camera_1'``.
         annotations: parse bbox/pose/info/intrinsic/extrinsic (they must then exist);
             without them intrinsics are the nominal VKITTI ones and objects are empty.
+        skip: None raises on the first bad frame or row; a :class:`SkipLog` records them instead (module doc).
     """
     root = Path(root)
     cam = _camera_index(camera)
@@ -261,7 +305,7 @@ def read_frames(
         if names is None:
             names = sorted(p.name for p in (root / scene).iterdir() if (p / "frames").is_dir())
         for variation in names:
-            records.extend(_read_sequence(root / scene / variation, scene, variation, cam, annotations))
+            records.extend(_read_sequence(root / scene / variation, scene, variation, cam, annotations, skip))
     return records
 
 
@@ -274,7 +318,8 @@ def _modality_dir(seq: Path, modality: str, camera: str) -> Path:
     return seq / "frames" / modality / camera
 
 
-def _read_sequence(seq: Path, scene: str, variation: str, cam: int, annotations: bool) -> list[FrameRecord]:
+def _read_sequence(seq: Path, scene: str, variation: str, cam: int, annotations: bool,
+                   skip: SkipLog | None = None) -> list[FrameRecord]:
     camera = f"Camera_{cam}"
     rgb_dir = seq / "frames" / "rgb" / camera
     if not rgb_dir.is_dir():
@@ -285,22 +330,48 @@ def _read_sequence(seq: Path, scene: str, variation: str, cam: int, annotations:
     dirs = {m: _modality_dir(seq, m, camera) for m in ("classSegmentation", "instanceSegmentation", "depth")}
     if dirs["classSegmentation"].is_dir() and not (seq / "colors.txt").is_file():
         raise missing(seq / "colors.txt", "colors.txt")
-    nominal = sequence_intrinsics(rgb_dir / f"rgb_{frames[0]:05d}.jpg")
+
+    def key(frame: int | None) -> str | None:  # FrameRecord.key
+        return None if frame is None else f"vkitti2/{scene}/{variation}/{camera}/{frame:05d}"
+
+    bad: dict[int, DataFormatError] = {}  # frames to drop (skip policy only)
+
+    def bad_frame(exc: DataFormatError, frame: int | None) -> None:
+        if frame is None or frame not in frames:
+            skip.skip(exc, "frame", key(frame))
+        else:
+            bad.setdefault(frame, exc)
+
     intrinsics: dict[int, tuple[float, ...]] = {}
     extrinsics: dict[int, tuple[float, ...]] = {}
     objects: dict[int, tuple[ObjectAnnotation, ...]] = {}
     if annotations:
-        intrinsics = _per_frame(seq / "intrinsic.txt", INTRINSIC_HEADER, "intrinsic.txt", cam)
-        extrinsics = _per_frame(seq / "extrinsic.txt", EXTRINSIC_HEADER, "extrinsic.txt", cam)
+        on_frame = None if skip is None else bad_frame
+        intrinsics = _per_frame(seq / "intrinsic.txt", INTRINSIC_HEADER, "intrinsic.txt", cam, on_frame)
+        extrinsics = _per_frame(seq / "extrinsic.txt", EXTRINSIC_HEADER, "extrinsic.txt", cam, on_frame)
         for name, table in (("intrinsic.txt", intrinsics), ("extrinsic.txt", extrinsics)):
             absent = [f for f in frames if f not in table]
-            if absent:
+            if absent and skip is None:
                 raise DataFormatError(f"{seq / name}: no {camera} entry for frame(s) {absent[:10]}")
-        objects = _objects(seq, cam)
+            for frame in absent:
+                bad.setdefault(frame, DataFormatError(f"{seq / name}: no {camera} entry for frame {frame}"))
+        objects = _objects(seq, cam, None if skip is None else (lambda exc, frame: skip.skip(exc, "object",
+                                                                                             key(frame))))
+    size, odd = agreed_size([rgb_dir / f"rgb_{f:05d}.jpg" for f in frames], f"sequence {scene}/{variation}/{camera}",
+                            VKITTI_SIZE)
+    for frame in frames:
+        error = odd.get(rgb_dir / f"rgb_{frame:05d}.jpg")
+        if error is not None:
+            if skip is None:
+                raise error
+            bad.setdefault(frame, error)
+    nominal = intrinsics_for_size(size)
+    for frame in sorted(bad):
+        skip.skip(bad[frame], "frame", key(frame))
     made: dict[tuple[float, ...], Intrinsics] = {}
 
     def frame_intrinsics(frame: int) -> Intrinsics:
-        if not annotations:
+        if not annotations or frame not in intrinsics:  # no intrinsic row: a skipped frame
             return nominal
         k = intrinsics[frame]
         if k not in made:
@@ -323,7 +394,7 @@ def _read_sequence(seq: Path, scene: str, variation: str, cam: int, annotations:
             semantic_path=path("classSegmentation", "classgt", frame),
             instance_path=path("instanceSegmentation", "instancegt", frame),
             depth_path=path("depth", "depth", frame),
-            extrinsics=extrinsics[frame] if annotations else None,
+            extrinsics=extrinsics.get(frame) if annotations else None,
             objects=objects.get(frame, ()),
             camera=camera,
             aux=aux,

@@ -7,6 +7,9 @@ resolution. Counts come from the annotation when every object of the frame carri
 read once at construction (cached in memory per file version). That costs one instance-map
 decode per frame, fine for the datasets used here (a few thousand frames); items only read
 their own frame.
+An instance map that can not be read there stops indexing naming the file; with a
+:class:`~sdn3d.data.errors.SkipLog` (``skip=``, the skip policy) that frame's objects are left out and
+the file is recorded instead.
 
 Object <-> instance: Virtual KITTI instance ids are ``class_id * 1000 + tid + 1``, so an
 object's visible pixels are those with ``id % 1000 == tid + 1`` (any class; this also
@@ -33,6 +36,7 @@ import torch
 from torch import Tensor
 from torch.utils.data import Dataset
 
+from sdn3d.data.errors import DataFormatError, SkipLog, missing
 from sdn3d.data.frames import Frame, intrinsics_vector, load_frame
 from sdn3d.data.records import FrameRecord, ObjectAnnotation, load_instances
 from sdn3d.data.sources import SourceConfig, load_split
@@ -99,7 +103,11 @@ def _frame_counts(record: FrameRecord) -> dict[int, int]:
         return {o.track_id: int(o.num_pixels) for o in record.objects}
     if record.instance_path is None:
         raise ValueError(f"{record.key}: no instance map and no annotated pixel counts to filter with")
-    return _cached_counts(record, os.stat(Path(record.instance_path)).st_mtime_ns)
+    try:
+        mtime = os.stat(Path(record.instance_path)).st_mtime_ns
+    except FileNotFoundError:
+        raise missing(record.instance_path, "instance map") from None
+    return _cached_counts(record, mtime)
 
 
 def object_mask(instances: Tensor, track_id: int) -> Tensor:
@@ -160,6 +168,8 @@ class GeometricDataset(Dataset):
         cache_items: keep every item after its first read (items are deterministic). A shuffled epoch
             otherwise decodes a whole frame per object; with 64-px crops an object is ~90 kB, so a few
             thousand objects fit easily (256-px crops: ~1.4 MB each). Each loader worker keeps its own.
+        skip: None: an instance map unreadable while indexing raises; a :class:`SkipLog`: that frame's
+            objects are left out and the file recorded (the skip policy).
     """
 
     def __init__(
@@ -171,6 +181,7 @@ class GeometricDataset(Dataset):
         object_filter: ObjectFilter | None = None,
         encoding: AttributeEncoding | None = None,
         cache_items: bool = False,
+        skip: SkipLog | None = None,
     ) -> None:
         if crop_size <= 0:
             raise ValueError(f"crop_size must be positive, got {crop_size}")
@@ -182,20 +193,28 @@ class GeometricDataset(Dataset):
         self.margin = float(margin)
         self.object_filter = object_filter or ObjectFilter()
         self.encoding = encoding or AttributeEncoding()
-        self.objects: list[ObjectRef] = self._build_index()
+        self.objects: list[ObjectRef] = self._build_index(skip)
         self._last: tuple[int, Frame] | None = None  # items of one frame are adjacent when not shuffled
         self._items: dict[int, dict] | None = {} if cache_items else None
 
     @classmethod
-    def from_source(cls, source: SourceConfig, part: str, **kwargs) -> GeometricDataset:
-        return cls(load_split(source, part), source.image_size, **kwargs)
+    def from_source(cls, source: SourceConfig, part: str, skip: SkipLog | None = None,
+                    **kwargs) -> GeometricDataset:
+        """The ``part`` of ``source``; ``skip`` as in :func:`~sdn3d.data.sources.load_split` and the class."""
+        return cls(load_split(source, part, skip), source.image_size, skip=skip, **kwargs)
 
-    def _build_index(self) -> list[ObjectRef]:
+    def _build_index(self, skip: SkipLog | None = None) -> list[ObjectRef]:
         refs = []
         for f, record in enumerate(self.records):
             if not record.objects:
                 continue
-            counts = _frame_counts(record)
+            try:
+                counts = _frame_counts(record)
+            except DataFormatError as exc:
+                if skip is None:
+                    raise
+                skip.skip(exc, "frame", record.key)
+                continue
             for o, obj in enumerate(record.objects):
                 l, t, r, b = obj.box2d
                 visible = counts.get(obj.track_id, 0)

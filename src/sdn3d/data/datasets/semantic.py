@@ -7,6 +7,7 @@ from collections.abc import Sequence
 from torch import Tensor
 from torch.utils.data import Dataset
 
+from sdn3d.data.errors import SkipLog
 from sdn3d.data.frames import intrinsics_vector, load_frame
 from sdn3d.data.records import FrameRecord
 from sdn3d.data.sources import SourceConfig, load_split
@@ -48,9 +49,10 @@ class SemanticDataset(Dataset):
         self.classes: tuple[SemanticClass, ...] = tuple(classes)
 
     @classmethod
-    def from_source(cls, source: SourceConfig, part: str) -> SemanticDataset:
-        """The ``part`` (train / val / test) of ``source`` at its working size."""
-        return cls(load_split(source, part), source.image_size, source.class_list)
+    def from_source(cls, source: SourceConfig, part: str, skip: SkipLog | None = None) -> SemanticDataset:
+        """The ``part`` (train / val / test) of ``source`` at its working size; ``skip`` as in
+        :func:`~sdn3d.data.sources.load_split` (the skip policy)."""
+        return cls(load_split(source, part, skip), source.image_size, source.class_list)
 
     @property
     def class_names(self) -> list[str]:

@@ -27,6 +27,7 @@ import torch.nn.functional as F
 from torch import Tensor
 from torch.utils.data import Dataset
 
+from sdn3d.data.errors import SkipLog
 from sdn3d.data.frames import intrinsics_vector, load_frame
 from sdn3d.data.records import FrameRecord, ObjectAnnotation, mesh_name_for
 from sdn3d.data.sources import SourceConfig, load_split
@@ -133,8 +134,9 @@ class TexturalDataset(Dataset):
         self._bank: MeshBank | None = None
 
     @classmethod
-    def from_source(cls, source: SourceConfig, part: str, **kwargs) -> TexturalDataset:
-        return cls(load_split(source, part), source.image_size, source.class_list, **kwargs)
+    def from_source(cls, source: SourceConfig, part: str, skip: SkipLog | None = None, **kwargs) -> TexturalDataset:
+        """The ``part`` of ``source``; ``skip`` as in :func:`~sdn3d.data.sources.load_split` (the skip policy)."""
+        return cls(load_split(source, part, skip), source.image_size, source.class_list, **kwargs)
 
     @property
     def bank(self) -> MeshBank:

@@ -26,7 +26,7 @@ import os
 import re
 import warnings
 from collections import Counter
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -41,6 +41,7 @@ __all__ = [
     "open_image",
     "image_size",
     "agreed_size",
+    "frames_agreed_size",
     "read_rgb",
     "read_index_png",
     "read_uint16_png",
@@ -155,6 +156,20 @@ def agreed_size(
                 f"{path}: image is {got[0]}x{got[1]}, but {top} of the {len(paths)} frames of {what} are "
                 f"{size[0]}x{size[1]}: this frame is the odd one", path=path)
     return size, {p: errors[p] for p in paths if p in errors}
+
+
+def frames_agreed_size(paths: Mapping[int, Path], what: str, bad: dict[int, DataFormatError], strict: bool,
+                       preferred: tuple[int, int] | None = None) -> tuple[int, int] | None:
+    """:func:`agreed_size` of a sequence's frames ``{frame: path}``: a frame of another size (or an unreadable
+    header) raises its error when ``strict``, else goes into ``bad`` (``{frame: error}``, first error kept)."""
+    size, odd = agreed_size(list(paths.values()), what, preferred)
+    for frame, path in paths.items():
+        error = odd.get(path)
+        if error is not None:
+            if strict:
+                raise error
+            bad.setdefault(frame, error)
+    return size
 
 
 def read_rgb(path: str | os.PathLike) -> np.ndarray:

@@ -42,8 +42,8 @@ import numpy as np
 from sdn3d.data.errors import DataFormatError, SkipLog, missing
 from sdn3d.data.imageio import (
     ColorEncoding,
-    agreed_size,
     build_encoding,
+    frames_agreed_size,
     read_rgb,
     read_table,
     read_uint16_png,
@@ -304,13 +304,8 @@ def _read_sequence(root: Path, world: str, variation: str, annotations: bool,
         for frame in absent:
             bad.setdefault(frame, DataFormatError(f"{extrinsics_path}: no matrix for frame {frame}"))
     name = "{:05d}.png".format
-    size, odd = agreed_size([rgb_dir / name(f) for f in frames], f"sequence {world}/{variation}", VKITTI_SIZE)
-    for frame in frames:
-        error = odd.get(rgb_dir / name(frame))
-        if error is not None:
-            if skip is None:
-                raise error
-            bad.setdefault(frame, error)
+    size = frames_agreed_size({f: rgb_dir / name(f) for f in frames}, f"sequence {world}/{variation}", bad,
+                              skip is None, VKITTI_SIZE)
     intrinsics = intrinsics_for_size(size)
     for frame in sorted(bad):
         skip.skip(bad[frame], "frame", key(frame))

@@ -57,8 +57,8 @@ import numpy as np
 from sdn3d.data.errors import DataFormatError, SkipLog, missing
 from sdn3d.data.imageio import (
     ColorEncoding,
-    agreed_size,
     build_encoding,
+    frames_agreed_size,
     read_index_png,
     read_rgb,
     read_table,
@@ -357,14 +357,8 @@ def _read_sequence(seq: Path, scene: str, variation: str, cam: int, annotations:
                 bad.setdefault(frame, DataFormatError(f"{seq / name}: no {camera} entry for frame {frame}"))
         objects = _objects(seq, cam, None if skip is None else (lambda exc, frame: skip.skip(exc, "object",
                                                                                              key(frame))))
-    size, odd = agreed_size([rgb_dir / f"rgb_{f:05d}.jpg" for f in frames], f"sequence {scene}/{variation}/{camera}",
-                            VKITTI_SIZE)
-    for frame in frames:
-        error = odd.get(rgb_dir / f"rgb_{frame:05d}.jpg")
-        if error is not None:
-            if skip is None:
-                raise error
-            bad.setdefault(frame, error)
+    size = frames_agreed_size({f: rgb_dir / f"rgb_{f:05d}.jpg" for f in frames},
+                              f"sequence {scene}/{variation}/{camera}", bad, skip is None, VKITTI_SIZE)
     nominal = intrinsics_for_size(size)
     for frame in sorted(bad):
         skip.skip(bad[frame], "frame", key(frame))

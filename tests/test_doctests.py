@@ -22,6 +22,8 @@ EXAMPLES = {
     "sdn3d.scene.code": ("SceneCode",),
     "sdn3d.editing.apply": ("apply_edits",),
     "sdn3d.resources": ("",),  # the module docstring
+    "sdn3d.labels": ("",),
+    "sdn3d.image_ops": ("",),
 }
 OPTIONS = doctest.NORMALIZE_WHITESPACE
 

@@ -189,3 +189,101 @@ def test_spec_parser_checks_fields():
                          ([{"op": "rotate", "id": True, "ry_deg": 1}], "'id'"), ([], "non-empty")]:
         with pytest.raises(EditSpecError, match=message):
             parse_edit_spec(bad)
+
+
+# -- run=: the branches' checkpoints from training summaries ----------------------------------------------
+
+
+def _train_run(run_dir, branch, ckpt, status="ok", finished="2026-01-01T10:00:00+00:00", best=True):
+    """A ``sdn3d-train`` run directory: ``checkpoints/{best,last}.ckpt`` (copies of ``ckpt``) and summary.json."""
+    import shutil
+
+    (run_dir / "checkpoints").mkdir(parents=True)
+    last = shutil.copy(ckpt, run_dir / "checkpoints" / "last.ckpt")
+    best_path = shutil.copy(ckpt, run_dir / "checkpoints" / "epoch=0-step=1.ckpt") if best else None
+    summary = {"branch": branch, "run_dir": str(run_dir), "best_ckpt": best_path and str(best_path),
+               "last_ckpt": str(last), "status": status, "finished": finished}
+    (run_dir / "summary.json").write_text(json.dumps(summary))
+    return run_dir
+
+
+def _demo_layout(root, ckpts, branches=("semantic", "geometric", "textural")):
+    for branch in branches:
+        _train_run(root / "runs" / branch, branch, ckpts[branch])
+    (root / "summary.json").write_text(json.dumps({"stages": {}, "wall_s": 1.0}))  # the demo's own summary
+    (root / "runs" / "summary.jsonl").write_text("")
+    return root
+
+
+def test_run_dir_finds_the_demo_checkpoints(tiny_synth, ckpts, tmp_path, capsys):
+    run = _demo_layout(tmp_path / "demo", ckpts)
+    edits = _write(tmp_path / "ops.yaml", "- {op: recolor, class: Sky, code: [0, 0, 0, 0, 1]}")
+    out = tmp_path / "out"
+    args = ["data=synth", f"data.root={tiny_synth}", "data.image_size=[160,64]", f"edits={edits}", f"run={run}",
+            "geometric.crop_size=32", f"output_dir={out}", f"input.frame={FRAME}"]
+    assert main(args) == 0
+    err = capsys.readouterr().err
+    used = json.loads((out / "edit.json").read_text())["checkpoints"]
+    for branch in ("semantic", "geometric", "textural"):
+        expected = (run / "runs" / branch / "checkpoints" / "epoch=0-step=1.ckpt").resolve()
+        assert used[branch]["path"] == str(expected) and used[branch]["which"] == "best"
+        assert used[branch]["from"] == str(run / "runs" / branch / "summary.json")
+        assert f"sdn3d-edit: {branch} checkpoint: {expected} (best checkpoint" in err
+    # an explicit checkpoints.<branch> wins over the run's
+    assert main([*args[:-2], f"output_dir={tmp_path / 'o2'}", f"input.frame={FRAME}",
+                 f"checkpoints.textural={ckpts['textural']}"]) == 0
+    used = json.loads((tmp_path / "o2" / "edit.json").read_text())["checkpoints"]
+    assert used["textural"] == {"path": str(ckpts["textural"]), "from": "checkpoints.textural"}
+    assert used["geometric"]["which"] == "best"
+
+
+def test_run_dir_layouts_and_choice(ckpts, tmp_path):
+    from sdn3d.cli.edit import find_run_checkpoints
+
+    single = _train_run(tmp_path / "one", "geometric", ckpts["geometric"], best=False)  # a single run directory
+    chosen, missing = find_run_checkpoints(single)
+    assert chosen["geometric"]["which"] == "last" and set(missing) == {"semantic", "textural"}
+    assert chosen["geometric"]["path"] == str((single / "checkpoints" / "last.ckpt").resolve())
+
+    root = tmp_path / "train"  # a training root: <branch>/<time>/summary.json
+    _train_run(root / "geometric" / "a", "geometric", ckpts["geometric"], finished="2026-01-01T10:00:00+00:00")
+    newest = _train_run(root / "geometric" / "b", "geometric", ckpts["geometric"], finished="2026-01-02T10:00:00+00:00")
+    _train_run(root / "textural" / "a", "textural", ckpts["textural"], finished="2026-01-01T10:00:00+00:00", best=False)
+    _train_run(root / "textural" / "b", "textural", ckpts["textural"], status="failed",
+               finished="2026-01-03T10:00:00+00:00")  # newer but failed: not used
+    _train_run(root / "semantic" / "a", "semantic", ckpts["semantic"], status="interrupted")
+    chosen, missing = find_run_checkpoints(root)
+    assert chosen["geometric"]["summary"] == str(newest / "summary.json")
+    assert chosen["textural"]["which"] == "last" and "textural/a/" in chosen["textural"]["path"]
+    assert "semantic" not in chosen and "status interrupted" in missing["semantic"]
+
+    moved = tmp_path / "moved"  # a run directory moved after training: checkpoints/ beside the summary
+    (tmp_path / "one").rename(moved)
+    assert find_run_checkpoints(moved)[0]["geometric"]["path"] == str((moved / "checkpoints" / "last.ckpt").resolve())
+
+
+@pytest.mark.parametrize("case, message", [
+    ("missing", r"run '.*nowhere' does not exist"),
+    ("empty", r"run '.*empty' holds no training summary \(1 summary.json file\(s\), none from sdn3d-train\)"),
+    ("no_textural", r"run '.*demo' lacks the textural branch the edit needs \(textural: no run\); found "
+                    r"semantic: epoch=0-step=1.ckpt \(best\); geometric: .* give checkpoints.textural="),
+    ("failed_geometric", r"lacks the geometric branch .*geometric: 1 run\(s\) \(status failed\) but none ok"),
+])
+def test_bad_run_dir_exits_2(tiny_synth, ckpts, tmp_path, capsys, case, message):
+    run = {"missing": tmp_path / "nowhere", "empty": tmp_path / "empty"}.get(case, tmp_path / "demo")
+    if case == "empty":
+        run.mkdir()
+        (run / "summary.json").write_text(json.dumps({"stages": {}}))
+    elif case == "no_textural":
+        _demo_layout(run, ckpts, ("semantic", "geometric"))
+    elif case == "failed_geometric":
+        _demo_layout(run, ckpts, ("semantic", "textural"))
+        _train_run(run / "runs" / "geometric", "geometric", ckpts["geometric"], status="failed")
+    edits = _write(tmp_path / "ops.yaml", "- {op: recolor, class: Sky, code: [0, 0, 0, 0, 1]}")
+    out = tmp_path / "out"
+    args = ["data=synth", f"data.root={tiny_synth}", "data.image_size=[160,64]", f"edits={edits}", f"run={run}",
+            f"output_dir={out}", f"input.frame={FRAME}"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("sdn3d-edit: error: run ") and err.count("\n") == 1 and re.search(message, err), err
+    assert not out.exists()

@@ -24,6 +24,8 @@ __all__ = [
     "pose_to_rgb",
     "overlay_mask",
     "hstack_panels",
+    "BOX_COLORS",
+    "draw_boxes",
 ]
 
 
@@ -144,3 +146,82 @@ def colorize_instances(instance: Tensor) -> Tensor:
     mult = torch.tensor([97, 57, 151], device=instance.device)
     rgb = ((ids.unsqueeze(1) * mult.view(1, 3, 1, 1) + 31) % 200 + 55).float() / 255.0
     return torch.where(ids.unsqueeze(1) > 0, rgb, torch.zeros_like(rgb))
+
+
+#: Distinct, saturated colours for boxes drawn over a photo (cycled by the box's index).
+BOX_COLORS: tuple[tuple[int, int, int], ...] = (
+    (255, 59, 48), (52, 199, 89), (0, 122, 255), (255, 204, 0), (175, 82, 222), (0, 199, 190),
+    (255, 149, 0), (255, 45, 146), (162, 132, 94), (90, 200, 250), (128, 255, 0), (255, 255, 255))
+
+
+def _font(size: int):  # noqa: ANN202 - a PIL font
+    from PIL import ImageFont
+
+    try:
+        return ImageFont.load_default(size=size)  # scalable (Pillow >= 10.1 with FreeType)
+    except (TypeError, OSError):  # older Pillow / no FreeType: the fixed bitmap font
+        return ImageFont.load_default()
+
+
+def _overlaps(a: tuple[float, float, float, float], b: tuple[float, float, float, float]) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+
+def draw_boxes(image: np.ndarray, boxes: Sequence[Sequence[float] | None], labels: Sequence[str],
+               title: str | None = None, font_size: int | None = None,
+               points: Sequence[Sequence[float] | None] | None = None) -> np.ndarray:
+    """``image (H, W, 3)`` uint8 with each box ``(x0, y0, x1, y1)`` (half-open pixels; None: not drawn)
+    outlined in its own colour (:data:`BOX_COLORS`, by index) and its label on a filled tag (placed above
+    the box, else inside it or below, away from the tags already placed); ``points[i]`` ``(u, v)`` (pixel
+    centres at integers), if given, is marked with a cross in box i's colour; ``title`` goes on a white band
+    above the image. Returns a new ``(H + band, W, 3)`` uint8 array.
+
+    ``font_size`` None: about a fifteenth of the image's smaller side, at least 12 px.
+    """
+    from PIL import Image, ImageDraw
+
+    if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
+        raise ValueError(f"draw_boxes: image must be (H, W, 3) uint8, got {image.shape} {image.dtype}")
+    points = list(points) if points is not None else [None] * len(boxes)
+    if not len(boxes) == len(labels) == len(points):
+        raise ValueError(f"draw_boxes: {len(boxes)} boxes, {len(labels)} labels and {len(points)} points")
+    height, width = image.shape[:2]
+    size = int(font_size) if font_size else max(12, round(min(height, width) / 15))
+    font = _font(size)
+    line = max(2, size // 7)
+    pad = max(2, size // 6)
+    band = size + 2 * pad if title else 0
+    canvas = Image.new("RGB", (width, height + band), (255, 255, 255))
+    canvas.paste(Image.fromarray(np.ascontiguousarray(image)), (0, band))
+    draw = ImageDraw.Draw(canvas)
+    if title:
+        draw.text((pad, pad), title, fill=(0, 0, 0), font=font)
+    tags = []
+    for i, (box, label) in enumerate(zip(boxes, labels, strict=True)):
+        color = BOX_COLORS[i % len(BOX_COLORS)]
+        if box is None:
+            continue
+        x0, y0, x1, y1 = (float(b) for b in box)
+        draw.rectangle((x0, y0 + band, max(x0, x1 - 1), max(y0, y1 - 1) + band), outline=color, width=line)
+        tags.append((x0, y0 + band, y1 + band, label, color))
+    placed: list[tuple[float, float, float, float]] = []
+    for x0, top, bottom, label, color in tags:  # tags after all boxes, so no box line crosses a label
+        left, up, right, down = draw.textbbox((0, 0), label, font=font)
+        tw, th = right - left + 2 * pad, down - up + 2 * pad
+        tx = min(max(0.0, x0), max(0.0, width - tw))
+        low = band + height - th
+        candidates = [top - th, top, bottom, bottom - th] + [top + k * th for k in range(1, 8)]
+        spots = [(tx, min(max(band, ty), low)) for ty in candidates]
+        tx, ty = next((p for p in spots if not any(_overlaps((*p, p[0] + tw, p[1] + th), q) for q in placed)),
+                      spots[0])
+        placed.append((tx, ty, tx + tw, ty + th))
+        draw.rectangle((tx, ty, tx + tw, ty + th), fill=color)
+        dark = 0.299 * color[0] + 0.587 * color[1] + 0.114 * color[2] < 150
+        draw.text((tx + pad - left, ty + pad - up), label, fill=(255, 255, 255) if dark else (0, 0, 0), font=font)
+    for i, point in enumerate(points):  # crosses last: always visible
+        if point is not None:
+            u, v, r = float(point[0]), float(point[1]) + band, max(3, size // 3)
+            for color, w in (((0, 0, 0), line + 2), (BOX_COLORS[i % len(BOX_COLORS)], line)):
+                draw.line((u - r, v, u + r, v), fill=color, width=w)
+                draw.line((u, v - r, u, v + r), fill=color, width=w)
+    return np.asarray(canvas, dtype=np.uint8).copy()

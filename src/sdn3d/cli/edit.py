@@ -9,7 +9,16 @@ frame, 3D edits on objects with geometry). The output directory is then written 
     maps/{source,edited}_{label,instance,normal,pose,depth}.png
     scene.json/.npz edited_scene.json/.npz                  SceneCode (sdn3d.scene.code)
     scene.glb edited_scene.glb                              3D scenes (sdn3d.export)
-    edit.json                                               resolved ops, objects, timings
+    edit.json                                               resolved ops, objects, checkpoints, timings
+
+``list=true`` (or an empty edit spec) de-renders and edits nothing: it prints the found objects (id,
+class, box, projected centre, distance, yaw, template; boxes and centres in the input image's pixels)
+and writes only ``objects.json``, ``objects.png`` (the input image with the boxes) and ``edit.json``.
+
+``run=<dir>`` takes the branches' checkpoints from the ``sdn3d-train`` summaries under ``dir`` (a demo
+output ``<dir>/runs/<branch>/summary.json``, one run directory, or a training root
+``<branch>/<time>/summary.json``): per branch the latest run with status ok, its best checkpoint else
+its last. ``checkpoints.<branch>=`` given explicitly wins.
 
 Exit status: 0 done; 2 bad input (message on stderr names the op or the setting; no output).
 """
@@ -17,9 +26,12 @@ Exit status: 0 done; 2 bad input (message on stderr names the op or the setting;
 from __future__ import annotations
 
 import dataclasses
+import json
+import math
 import sys
 import time
 from collections.abc import Sequence
+from datetime import datetime
 from pathlib import Path
 from typing import Any
 
@@ -31,10 +43,11 @@ from sdn3d.cli._errors import run_cli
 from sdn3d.errors import InputError
 from sdn3d.io import check_output_dir, load_torch_file, staged_directory
 
-__all__ = ["main", "run_edit", "load_input"]
+__all__ = ["main", "run_edit", "load_input", "find_run_checkpoints", "list_objects"]
 
 MARKER = "edit.json"
 DEFAULT_SIZE = (624, 192)
+BRANCHES = ("semantic", "geometric", "textural")
 
 
 def _to_uint8(image: torch.Tensor) -> np.ndarray:
@@ -145,39 +158,183 @@ def run_edit(cfg: Any) -> dict:
     if cfg.threads:
         torch.set_num_threads(int(cfg.threads))
     out, spec, (image, intrinsics, record) = _read_inputs(cfg)
-    models, code_bank = _load_models(cfg)
+    checkpoints = resolve_checkpoints(cfg, record)
+    models, code_bank = _load_models(cfg, checkpoints)
     times: dict[str, float] = {}
     scene = _derender(cfg, image, intrinsics, record, models, times)
+    if spec is None:  # list=true or an empty spec: the objects, nothing edited
+        return _write_listing(cfg, out, record, image, scene, checkpoints, times)
     ops, edited_scene = _edit(cfg, spec, scene, code_bank, times)
     rendered = _render(scene, edited_scene, models, times)
     summary = _summary(cfg, record, intrinsics, spec, ops, scene, edited_scene, times)
+    summary["checkpoints"] = checkpoints
     _write_outputs(out, bool(cfg.overwrite), image, scene, edited_scene, rendered, summary)
     return summary
 
 
+def _is_empty_spec(path: Path) -> bool:
+    """Whether the edit spec file holds no ops (empty, ``[]``, ``ops: []``); unreadable files are left to
+    :func:`sdn3d.editing.spec.load_edit_spec` to report."""
+    import yaml
+
+    try:
+        text = path.read_text(encoding="utf-8")
+        data = json.loads(text) if path.suffix.lower() == ".json" else yaml.safe_load(text)
+    except (OSError, UnicodeDecodeError, ValueError, yaml.YAMLError):
+        return False
+    if isinstance(data, dict) and set(data) <= {"ops", "frame_size"}:
+        data = data.get("ops")
+    return data is None or data == []
+
+
 def _read_inputs(cfg: Any) -> tuple[Path, Any, tuple[torch.Tensor, Any, Any]]:
-    """The checked output directory, the parsed edit spec and :func:`load_input`'s image (nothing loaded
-    before the spec's syntax and numbers are checked)."""
+    """The checked output directory, the parsed edit spec (None: list the objects, edit nothing) and
+    :func:`load_input`'s image (nothing loaded before the spec's syntax and numbers are checked)."""
     from sdn3d.editing.spec import load_edit_spec
 
     out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite))
     if cfg.proposals not in ("auto", "gt", "semantic"):
         raise InputError(f"proposals must be auto, gt or semantic, got {cfg.proposals!r}")
-    spec = load_edit_spec(str(cfg.edits), int(cfg.entry), tuple(cfg.frame_size) if cfg.frame_size else None,
-                          bool(cfg.strict))
-    return out, spec, load_input(cfg, spec.entry)
+    listing = cfg.get("list")
+    if not isinstance(listing, bool):
+        raise InputError(f"list must be true or false, got {listing!r}")
+    spec = None
+    if cfg.edits is None:
+        if not listing:
+            raise InputError("give an edit spec (edits=<file.yaml or benchmark .json>), or list=true to list "
+                             "the objects of the image first")
+    elif not _is_empty_spec(Path(str(cfg.edits)).expanduser()):
+        spec = load_edit_spec(str(cfg.edits), int(cfg.entry), tuple(cfg.frame_size) if cfg.frame_size else None,
+                              bool(cfg.strict))
+    inputs = load_input(cfg, spec.entry if spec is not None else None)
+    return out, None if listing else spec, inputs
 
 
-def _load_models(cfg: Any) -> tuple[Any, Any]:
-    """``(Models, CodeBank or None)`` of ``checkpoints.*`` and ``code_bank``."""
+# -- checkpoints from a training output directory (run=) ---------------------------------------
+
+
+def _finished(summary: dict, path: Path) -> float:
+    """When the run ended (its ``finished`` stamp, else the summary file's time), as a POSIX time."""
+    try:
+        stamp = datetime.fromisoformat(str(summary.get("finished")))
+        return stamp.timestamp()
+    except (TypeError, ValueError):
+        return path.stat().st_mtime
+
+
+def _summary_checkpoint(summary: dict, path: Path) -> tuple[str, Path] | None:
+    """``('best' | 'last', file)`` of a run's summary: its best checkpoint, else its last; a recorded path
+    that no longer exists is also looked for in ``<summary dir>/checkpoints/`` (a moved run directory)."""
+    for which in ("best", "last"):
+        recorded = summary.get(f"{which}_ckpt")
+        if not isinstance(recorded, str) or not recorded:
+            continue
+        for candidate in (Path(recorded), path.parent / "checkpoints" / Path(recorded).name):
+            if candidate.is_file():
+                return which, candidate.resolve()
+    return None
+
+
+def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, str]]:
+    """The branches' checkpoints recorded by the ``sdn3d-train`` summaries under ``run``.
+
+    Returns ``(chosen, missing)``: per branch found, ``{'path', 'which' ('best' | 'last'), 'summary',
+    'finished'}`` of its latest run with status ok and a checkpoint on disk; per branch without one, why.
+
+    Raises:
+        InputError: ``run`` is not a directory or holds no branch summary.
+    """
+    root = Path(str(run)).expanduser()
+    if not root.exists():
+        raise InputError(f"run {str(root)!r} does not exist (give a training output directory, e.g. "
+                         f"run=outputs/demo or run=outputs/train)")
+    if not root.is_dir():
+        raise InputError(f"run {str(root)!r} is not a directory (give a training output directory, e.g. "
+                         f"run=outputs/demo)")
+    runs: dict[str, list[tuple[Path, dict]]] = {b: [] for b in BRANCHES}
+    files = sorted(root.rglob("summary.json"))
+    for path in files:
+        try:
+            summary = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, ValueError):
+            continue
+        if isinstance(summary, dict) and summary.get("branch") in runs:
+            runs[summary["branch"]].append((path, summary))
+    if not any(runs.values()):
+        seen = f" ({len(files)} summary.json file(s), none from sdn3d-train)" if files else ""
+        raise InputError(f"run {str(root)!r} holds no training summary{seen}: expected sdn3d-train's "
+                         f"summary.json files (<run>/runs/<branch>/, <run>/ or <run>/<branch>/<time>/)")
+    chosen: dict[str, dict] = {}
+    missing: dict[str, str] = {}
+    for branch, found in runs.items():
+        usable = []
+        for path, summary in found:
+            ckpt = _summary_checkpoint(summary, path) if summary.get("status") == "ok" else None
+            if ckpt is not None:
+                usable.append((_finished(summary, path), str(path), ckpt))
+        if usable:
+            finished, path, (which, file) = max(usable)
+            chosen[branch] = {"path": str(file), "which": which, "summary": path,
+                              "finished": datetime.fromtimestamp(finished).astimezone().isoformat(timespec="seconds")}
+        elif not found:
+            missing[branch] = "no run"
+        else:
+            statuses = sorted({str(s.get("status")) for _, s in found})
+            missing[branch] = (f"{len(found)} run(s) (status {', '.join(statuses)}) but none ok with a checkpoint "
+                               f"on disk")
+    return chosen, missing
+
+
+def _needed_branches(cfg: Any, record: Any) -> tuple[str, ...]:
+    """The branches an edit cannot do without: the generator, the 3D geometry, and the semantic branch
+    where no dataset ground truth stands in for it (an image file, or ``proposals=semantic``)."""
+    semantic = record is None or cfg.proposals == "semantic"
+    return ("semantic", "geometric", "textural") if semantic else ("geometric", "textural")
+
+
+def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
+    """Per branch ``{'path', 'from', ...}`` (None: no checkpoint): ``checkpoints.<branch>`` where given, else
+    the ``run`` directory's (:func:`find_run_checkpoints`); prints the run's choices on stderr.
+
+    Raises:
+        InputError: a bad ``run``, or ``run`` lacks a branch the edit needs (:func:`_needed_branches`).
+    """
+    result: dict[str, dict | None] = {}
+    for branch in BRANCHES:
+        given = cfg.checkpoints.get(branch)
+        result[branch] = None if given is None else {"path": str(given), "from": f"checkpoints.{branch}"}
+    if cfg.get("run") is None:
+        return result
+    chosen, missing = find_run_checkpoints(cfg.run)
+    lacking = [b for b in _needed_branches(cfg, record) if result[b] is None and b in missing]
+    if lacking:
+        found = "; ".join(f"{b}: {Path(c['path']).name} ({c['which']})" for b, c in chosen.items()) or "nothing usable"
+        why = "; ".join(f"{b}: {missing[b]}" for b in lacking)
+        raise InputError(f"run {str(cfg.run)!r} lacks the {' and '.join(lacking)} branch the edit needs ({why}); "
+                         f"found {found}. Train it, or give checkpoints.{lacking[0]}=<file>")
+    for branch, info in chosen.items():
+        if result[branch] is None:
+            result[branch] = {"path": info["path"], "from": info["summary"], "which": info["which"],
+                              "finished": info["finished"]}
+    for branch in BRANCHES:
+        info = result[branch]
+        how = ("none" if info is None else f"{info['path']} (given)" if "which" not in info
+               else f"{info['path']} ({info['which']} checkpoint of the run finished {info['finished']})")
+        print(f"sdn3d-edit: {branch} checkpoint: {how}", file=sys.stderr)
+    return result
+
+
+def _load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any]:
+    """``(Models, CodeBank or None)`` of :func:`resolve_checkpoints`' files and ``code_bank``."""
     from sdn3d.derender import Models
 
-    ckpt = cfg.checkpoints
-    if ckpt.textural is None:
-        raise InputError("checkpoints.textural is required (the generator renders the result)")
+    ckpt = {b: None if info is None else info["path"] for b, info in checkpoints.items()}
+    if ckpt["textural"] is None:
+        raise InputError("checkpoints.textural is required (the generator renders the result; or give "
+                         "run=<training output directory>)")
     if cfg.device != "cpu" and not torch.cuda.is_available():
         raise InputError(f"device={cfg.device!r} but CUDA is not available")
-    models = Models.from_checkpoints(ckpt.semantic, ckpt.geometric, ckpt.textural, map_location=cfg.device,
+    models = Models.from_checkpoints(ckpt["semantic"], ckpt["geometric"], ckpt["textural"], map_location=cfg.device,
                                      crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin)
     if cfg.code_bank is None:
         return models, None
@@ -254,6 +411,116 @@ def _summary(cfg: Any, record: Any, intrinsics: Any, spec: Any, ops: list, scene
     }
 
 
+# -- listing the objects (list=true, or an empty edit spec) ---------------------------------------
+
+
+def _input_picture(cfg: Any, record: Any) -> np.ndarray:
+    """The input image at its own size, ``(H, W, 3)`` uint8 (the dataset frame's file or input.image)."""
+    if record is not None:
+        from sdn3d.data.records import load_rgb
+
+        return np.ascontiguousarray(load_rgb(record), dtype=np.uint8)
+    from sdn3d.data.imageio import open_image
+
+    with open_image(Path(str(cfg.input.image)).expanduser()) as im:  # checked by load_input already
+        return np.array(im.convert("RGB"))
+
+
+def list_objects(scene: Any, input_size: tuple[int, int]) -> list[dict]:
+    """The scene's objects as JSON-ready rows, positions in the pixels of an image of ``input_size (W, H)``.
+
+    Each row: ``id``, ``class``, ``box`` ``[x0, y0, x1, y1]`` (half-open, the visible mask's box scaled out
+    to whole input pixels; None without a mask), ``centre`` ``[u, v]`` (the projected 3D box centre, pixel
+    centres at integers), ``distance_m`` (camera to 3D centre), ``yaw_deg`` (``ry``), ``template``; the last
+    four (and ``xyz_m``, the 3D box centre in the camera frame) None for an object without geometry.
+    """
+    from sdn3d.image_ops import mask_boxes
+    from sdn3d.labels import INSTANCE_DIVISOR
+    from sdn3d.meshes.templates import TEMPLATE_NAMES
+
+    objects, intr = scene.objects, scene.intrinsics
+    width, height = scene.image_size
+    sx, sy = input_size[0] / width, input_size[1] / height
+    names = {c.id: c.name for c in scene.class_list}
+    boxes = mask_boxes(objects.mask).tolist() if len(objects) else []
+    rows = []
+    for i in range(len(objects)):
+        iid = int(objects.instance_id[i])
+        row: dict[str, Any] = {"id": iid, "class": names.get(iid // INSTANCE_DIVISOR, str(iid // INSTANCE_DIVISOR)),
+                               "box": None, "centre": None, "distance_m": None, "yaw_deg": None, "template": None,
+                               "xyz_m": None}
+        if bool(objects.has_mask[i]) and bool(objects.mask[i].any()):
+            x0, y0, x1, y1 = boxes[i]
+            row["box"] = [math.floor(x0 * sx), math.floor(y0 * sy), min(input_size[0], math.ceil(x1 * sx)),
+                          min(input_size[1], math.ceil(y1 * sy))]
+        tid = int(objects.template_id[i])
+        if tid >= 0:
+            c = objects.center[i].double().tolist()
+            if c[2] > 0:  # in front of the camera: it projects
+                u, v = intr.fx * c[0] / c[2] + intr.cx, intr.fy * c[1] / c[2] + intr.cy
+                row["centre"] = [round((u + 0.5) * sx - 0.5, 1), round((v + 0.5) * sy - 0.5, 1)]
+            row["distance_m"] = round(math.sqrt(sum(x * x for x in c)), 2)
+            row["xyz_m"] = [round(x, 3) for x in c]
+            row["yaw_deg"] = round(math.degrees(float(objects.ry[i])), 1)
+            row["template"] = TEMPLATE_NAMES[tid] if tid < len(TEMPLATE_NAMES) else str(tid)
+        rows.append(row)
+    return rows
+
+
+def _table(rows: list[dict]) -> str:
+    """The rows of :func:`list_objects` as an aligned text table ('-': no value)."""
+    def cell(value: Any) -> str:
+        if value is None:
+            return "-"
+        if isinstance(value, list):
+            return " ".join(f"{v:g}" if isinstance(v, float) else str(v) for v in value)
+        return f"{value:g}" if isinstance(value, float) else str(value)
+
+    head = ["id", "class", "box x0 y0 x1 y1", "centre u v", "distance m", "yaw deg", "template"]
+    keys = ["id", "class", "box", "centre", "distance_m", "yaw_deg", "template"]
+    body = [[cell(r[k]) for k in keys] for r in rows]
+    widths = [max(len(x) for x in col) for col in zip(head, *body, strict=True)]
+    lines = ["  ".join(x.ljust(w) for x, w in zip(line, widths, strict=True)).rstrip() for line in [head, *body]]
+    return "\n".join(lines if rows else ["(no objects found)"])
+
+
+def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene: Any,
+                   checkpoints: dict, times: dict[str, float]) -> dict:
+    """Print the objects table; write ``objects.json``, ``objects.png`` and ``edit.json`` (staged)."""
+    from omegaconf import OmegaConf
+
+    from sdn3d.io import write_json_atomic, write_png_atomic
+    from sdn3d.visualize import draw_boxes
+
+    picture = _input_picture(cfg, record)
+    size = (picture.shape[1], picture.shape[0])
+    rows = list_objects(scene, size)
+    source = str(cfg.input.image) if record is None else record.key
+    frame = (f"boxes and centres in input-image pixels ({size[0]}x{size[1]}, pixel centres at integers; "
+             f"working size {scene.image_size[0]}x{scene.image_size[1]})")
+    print(f"sdn3d-edit: {len(rows)} object(s) in {source}; {frame}")
+    print(_table(rows))
+    if size != scene.image_size:
+        print(f"sdn3d-edit: to give at/to in these pixels, put frame_size: [{size[0]}, {size[1]}] in the edit spec "
+              f"(else they are working-size pixels)")
+    title = f"{source}: {len(rows)} object(s), id + class; + = projected 3D centre; {size[0]}x{size[1]} px"
+    drawn = draw_boxes(picture, [r["box"] for r in rows], [f"{r['id']} {r['class']}" for r in rows], title,
+                       points=[r["centre"] for r in rows])
+    listing = {"input": source, "input_size": list(size), "working_size": list(scene.image_size),
+               "pixel_frame": frame, "objects": rows}
+    summary = {"mode": "list", "input": source, "input_size": list(size), "image_size": list(scene.image_size),
+               "objects": {"source": [r["id"] for r in rows],
+                           "with_geometry": [r["id"] for r in rows if r["template"] is not None]},
+               "checkpoints": checkpoints, "timings_ms": times,
+               "config": OmegaConf.to_container(cfg, resolve=True)}
+    with staged_directory(out, MARKER, bool(cfg.overwrite)) as tmp:
+        write_json_atomic(tmp / "objects.json", listing)
+        write_png_atomic(tmp / "objects.png", drawn)
+        summary["outputs"] = ["objects.json", "objects.png", MARKER]
+        write_json_atomic(tmp / MARKER, summary)
+    return summary
+
+
 def _write_outputs(out: Path, overwrite: bool, image: torch.Tensor, scene: Any, edited_scene: Any,
                    rendered: dict[str, Any], summary: dict) -> None:
     """Write the output directory all at once (see the module doc); adds ``summary['outputs']``."""
@@ -294,6 +561,10 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _main(argv: list[str]) -> int:
     summary = run_edit(compose_config(argv, "edit"))
     times = summary["timings_ms"]
+    if summary.get("mode") == "list":
+        print(f"sdn3d-edit: listed {len(summary['objects']['source'])} object(s); wrote objects.json and "
+              f"objects.png to {summary['config']['output_dir']} (derender {times['derender_ms']:.0f} ms)")
+        return 0
     print(f"sdn3d-edit: {len(summary['ops'])} edit(s) applied; wrote {summary['config']['output_dir']} "
           f"(derender {times['derender_ms']:.0f} ms, edit {times['edit_ms']:.0f} ms, "
           f"render {times['render_ms']:.0f} ms)")

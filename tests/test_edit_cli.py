@@ -238,7 +238,7 @@ def test_run_dir_finds_the_demo_checkpoints(tiny_synth, ckpts, tmp_path, capsys)
 
 
 def test_run_dir_layouts_and_choice(ckpts, tmp_path):
-    from sdn3d.cli.edit import find_run_checkpoints
+    from sdn3d.runs import find_run_checkpoints
 
     single = _train_run(tmp_path / "one", "geometric", ckpts["geometric"], best=False)  # a single run directory
     chosen, missing = find_run_checkpoints(single)

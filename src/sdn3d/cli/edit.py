@@ -27,11 +27,9 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
 import sys
 import time
 from collections.abc import Sequence
-from datetime import datetime
 from pathlib import Path
 from typing import Any
 
@@ -42,12 +40,13 @@ from sdn3d.cli._config import CONFIG_DIR, compose_config
 from sdn3d.cli._errors import run_cli
 from sdn3d.errors import InputError
 from sdn3d.io import check_output_dir, load_torch_file, staged_directory
+from sdn3d.runs import BRANCHES, find_run_checkpoints
+from sdn3d.scene.listing import list_objects, objects_table
 
-__all__ = ["main", "run_edit", "load_input", "find_run_checkpoints", "list_objects"]
+__all__ = ["main", "run_edit", "load_input", "resolve_checkpoints"]
 
 MARKER = "edit.json"
 DEFAULT_SIZE = (624, 192)
-BRANCHES = ("semantic", "geometric", "textural")
 
 
 def _to_uint8(image: torch.Tensor) -> np.ndarray:
@@ -210,81 +209,6 @@ def _read_inputs(cfg: Any) -> tuple[Path, Any, tuple[torch.Tensor, Any, Any]]:
     return out, None if listing else spec, inputs
 
 
-# -- checkpoints from a training output directory (run=) ---------------------------------------
-
-
-def _finished(summary: dict, path: Path) -> float:
-    """When the run ended (its ``finished`` stamp, else the summary file's time), as a POSIX time."""
-    try:
-        stamp = datetime.fromisoformat(str(summary.get("finished")))
-        return stamp.timestamp()
-    except (TypeError, ValueError):
-        return path.stat().st_mtime
-
-
-def _summary_checkpoint(summary: dict, path: Path) -> tuple[str, Path] | None:
-    """``('best' | 'last', file)`` of a run's summary: its best checkpoint, else its last; a recorded path
-    that no longer exists is also looked for in ``<summary dir>/checkpoints/`` (a moved run directory)."""
-    for which in ("best", "last"):
-        recorded = summary.get(f"{which}_ckpt")
-        if not isinstance(recorded, str) or not recorded:
-            continue
-        for candidate in (Path(recorded), path.parent / "checkpoints" / Path(recorded).name):
-            if candidate.is_file():
-                return which, candidate.resolve()
-    return None
-
-
-def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, str]]:
-    """The branches' checkpoints recorded by the ``sdn3d-train`` summaries under ``run``.
-
-    Returns ``(chosen, missing)``: per branch found, ``{'path', 'which' ('best' | 'last'), 'summary',
-    'finished'}`` of its latest run with status ok and a checkpoint on disk; per branch without one, why.
-
-    Raises:
-        InputError: ``run`` is not a directory or holds no branch summary.
-    """
-    root = Path(str(run)).expanduser()
-    if not root.exists():
-        raise InputError(f"run {str(root)!r} does not exist (give a training output directory, e.g. "
-                         f"run=outputs/demo or run=outputs/train)")
-    if not root.is_dir():
-        raise InputError(f"run {str(root)!r} is not a directory (give a training output directory, e.g. "
-                         f"run=outputs/demo)")
-    runs: dict[str, list[tuple[Path, dict]]] = {b: [] for b in BRANCHES}
-    files = sorted(root.rglob("summary.json"))
-    for path in files:
-        try:
-            summary = json.loads(path.read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, ValueError):
-            continue
-        if isinstance(summary, dict) and summary.get("branch") in runs:
-            runs[summary["branch"]].append((path, summary))
-    if not any(runs.values()):
-        seen = f" ({len(files)} summary.json file(s), none from sdn3d-train)" if files else ""
-        raise InputError(f"run {str(root)!r} holds no training summary{seen}: expected sdn3d-train's "
-                         f"summary.json files (<run>/runs/<branch>/, <run>/ or <run>/<branch>/<time>/)")
-    chosen: dict[str, dict] = {}
-    missing: dict[str, str] = {}
-    for branch, found in runs.items():
-        usable = []
-        for path, summary in found:
-            ckpt = _summary_checkpoint(summary, path) if summary.get("status") == "ok" else None
-            if ckpt is not None:
-                usable.append((_finished(summary, path), str(path), ckpt))
-        if usable:
-            finished, path, (which, file) = max(usable)
-            chosen[branch] = {"path": str(file), "which": which, "summary": path,
-                              "finished": datetime.fromtimestamp(finished).astimezone().isoformat(timespec="seconds")}
-        elif not found:
-            missing[branch] = "no run"
-        else:
-            statuses = sorted({str(s.get("status")) for _, s in found})
-            missing[branch] = (f"{len(found)} run(s) (status {', '.join(statuses)}) but none ok with a checkpoint "
-                               f"on disk")
-    return chosen, missing
-
-
 def _needed_branches(cfg: Any, record: Any) -> tuple[str, ...]:
     """The branches an edit cannot do without: the generator, the 3D geometry, and the semantic branch
     where no dataset ground truth stands in for it (an image file, or ``proposals=semantic``)."""
@@ -426,64 +350,6 @@ def _input_picture(cfg: Any, record: Any) -> np.ndarray:
         return np.array(im.convert("RGB"))
 
 
-def list_objects(scene: Any, input_size: tuple[int, int]) -> list[dict]:
-    """The scene's objects as JSON-ready rows, positions in the pixels of an image of ``input_size (W, H)``.
-
-    Each row: ``id``, ``class``, ``box`` ``[x0, y0, x1, y1]`` (half-open, the visible mask's box scaled out
-    to whole input pixels; None without a mask), ``centre`` ``[u, v]`` (the projected 3D box centre, pixel
-    centres at integers), ``distance_m`` (camera to 3D centre), ``yaw_deg`` (``ry``), ``template``; the last
-    four (and ``xyz_m``, the 3D box centre in the camera frame) None for an object without geometry.
-    """
-    from sdn3d.image_ops import mask_boxes
-    from sdn3d.labels import INSTANCE_DIVISOR
-    from sdn3d.meshes.templates import TEMPLATE_NAMES
-
-    objects, intr = scene.objects, scene.intrinsics
-    width, height = scene.image_size
-    sx, sy = input_size[0] / width, input_size[1] / height
-    names = {c.id: c.name for c in scene.class_list}
-    boxes = mask_boxes(objects.mask).tolist() if len(objects) else []
-    rows = []
-    for i in range(len(objects)):
-        iid = int(objects.instance_id[i])
-        row: dict[str, Any] = {"id": iid, "class": names.get(iid // INSTANCE_DIVISOR, str(iid // INSTANCE_DIVISOR)),
-                               "box": None, "centre": None, "distance_m": None, "yaw_deg": None, "template": None,
-                               "xyz_m": None}
-        if bool(objects.has_mask[i]) and bool(objects.mask[i].any()):
-            x0, y0, x1, y1 = boxes[i]
-            row["box"] = [math.floor(x0 * sx), math.floor(y0 * sy), min(input_size[0], math.ceil(x1 * sx)),
-                          min(input_size[1], math.ceil(y1 * sy))]
-        tid = int(objects.template_id[i])
-        if tid >= 0:
-            c = objects.center[i].double().tolist()
-            if c[2] > 0:  # in front of the camera: it projects
-                u, v = intr.fx * c[0] / c[2] + intr.cx, intr.fy * c[1] / c[2] + intr.cy
-                row["centre"] = [round((u + 0.5) * sx - 0.5, 1), round((v + 0.5) * sy - 0.5, 1)]
-            row["distance_m"] = round(math.sqrt(sum(x * x for x in c)), 2)
-            row["xyz_m"] = [round(x, 3) for x in c]
-            row["yaw_deg"] = round(math.degrees(float(objects.ry[i])), 1)
-            row["template"] = TEMPLATE_NAMES[tid] if tid < len(TEMPLATE_NAMES) else str(tid)
-        rows.append(row)
-    return rows
-
-
-def _table(rows: list[dict]) -> str:
-    """The rows of :func:`list_objects` as an aligned text table ('-': no value)."""
-    def cell(value: Any) -> str:
-        if value is None:
-            return "-"
-        if isinstance(value, list):
-            return " ".join(f"{v:g}" if isinstance(v, float) else str(v) for v in value)
-        return f"{value:g}" if isinstance(value, float) else str(value)
-
-    head = ["id", "class", "box x0 y0 x1 y1", "centre u v", "distance m", "yaw deg", "template"]
-    keys = ["id", "class", "box", "centre", "distance_m", "yaw_deg", "template"]
-    body = [[cell(r[k]) for k in keys] for r in rows]
-    widths = [max(len(x) for x in col) for col in zip(head, *body, strict=True)]
-    lines = ["  ".join(x.ljust(w) for x, w in zip(line, widths, strict=True)).rstrip() for line in [head, *body]]
-    return "\n".join(lines if rows else ["(no objects found)"])
-
-
 def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene: Any,
                    checkpoints: dict, times: dict[str, float]) -> dict:
     """Print the objects table; write ``objects.json``, ``objects.png`` and ``edit.json`` (staged)."""
@@ -499,7 +365,7 @@ def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene:
     frame = (f"boxes and centres in input-image pixels ({size[0]}x{size[1]}, pixel centres at integers; "
              f"working size {scene.image_size[0]}x{scene.image_size[1]})")
     print(f"sdn3d-edit: {len(rows)} object(s) in {source}; {frame}")
-    print(_table(rows))
+    print(objects_table(rows))
     if size != scene.image_size:
         print(f"sdn3d-edit: to give at/to in these pixels, put frame_size: [{size[0]}, {size[1]}] in the edit spec "
               f"(else they are working-size pixels)")

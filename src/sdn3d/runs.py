@@ -1,0 +1,90 @@
+"""Training runs on disk: the checkpoints that ``sdn3d-train`` summaries record.
+
+A run directory holds ``summary.json`` (branch, status, ``best_ckpt`` / ``last_ckpt``, finish time);
+:func:`find_run_checkpoints` finds, under any directory (the demo's ``<out>/runs/<branch>/``, one run, or a
+training root ``<branch>/<time>/``), each branch's latest successful run and its checkpoint.
+"""
+
+from __future__ import annotations
+
+import json
+from datetime import datetime
+from pathlib import Path
+
+from sdn3d.errors import InputError
+
+__all__ = ["BRANCHES", "find_run_checkpoints"]
+
+BRANCHES = ("semantic", "geometric", "textural")
+
+
+def _finished(summary: dict, path: Path) -> float:
+    """When the run ended (its ``finished`` stamp, else the summary file's time), as a POSIX time."""
+    try:
+        stamp = datetime.fromisoformat(str(summary.get("finished")))
+        return stamp.timestamp()
+    except (TypeError, ValueError):
+        return path.stat().st_mtime
+
+
+def _summary_checkpoint(summary: dict, path: Path) -> tuple[str, Path] | None:
+    """``('best' | 'last', file)`` of a run's summary: its best checkpoint, else its last; a recorded path
+    that no longer exists is also looked for in ``<summary dir>/checkpoints/`` (a moved run directory)."""
+    for which in ("best", "last"):
+        recorded = summary.get(f"{which}_ckpt")
+        if not isinstance(recorded, str) or not recorded:
+            continue
+        for candidate in (Path(recorded), path.parent / "checkpoints" / Path(recorded).name):
+            if candidate.is_file():
+                return which, candidate.resolve()
+    return None
+
+
+def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, str]]:
+    """The branches' checkpoints recorded by the ``sdn3d-train`` summaries under ``run``.
+
+    Returns ``(chosen, missing)``: per branch found, ``{'path', 'which' ('best' | 'last'), 'summary',
+    'finished'}`` of its latest run with status ok and a checkpoint on disk; per branch without one, why.
+
+    Raises:
+        InputError: ``run`` is not a directory or holds no branch summary.
+    """
+    root = Path(str(run)).expanduser()
+    if not root.exists():
+        raise InputError(f"run {str(root)!r} does not exist (give a training output directory, e.g. "
+                         f"run=outputs/demo or run=outputs/train)")
+    if not root.is_dir():
+        raise InputError(f"run {str(root)!r} is not a directory (give a training output directory, e.g. "
+                         f"run=outputs/demo)")
+    runs: dict[str, list[tuple[Path, dict]]] = {b: [] for b in BRANCHES}
+    files = sorted(root.rglob("summary.json"))
+    for path in files:
+        try:
+            summary = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, ValueError):
+            continue
+        if isinstance(summary, dict) and summary.get("branch") in runs:
+            runs[summary["branch"]].append((path, summary))
+    if not any(runs.values()):
+        seen = f" ({len(files)} summary.json file(s), none from sdn3d-train)" if files else ""
+        raise InputError(f"run {str(root)!r} holds no training summary{seen}: expected sdn3d-train's "
+                         f"summary.json files (<run>/runs/<branch>/, <run>/ or <run>/<branch>/<time>/)")
+    chosen: dict[str, dict] = {}
+    missing: dict[str, str] = {}
+    for branch, found in runs.items():
+        usable = []
+        for path, summary in found:
+            ckpt = _summary_checkpoint(summary, path) if summary.get("status") == "ok" else None
+            if ckpt is not None:
+                usable.append((_finished(summary, path), str(path), ckpt))
+        if usable:
+            finished, path, (which, file) = max(usable)
+            chosen[branch] = {"path": str(file), "which": which, "summary": path,
+                              "finished": datetime.fromtimestamp(finished).astimezone().isoformat(timespec="seconds")}
+        elif not found:
+            missing[branch] = "no run"
+        else:
+            statuses = sorted({str(s.get("status")) for _, s in found})
+            missing[branch] = (f"{len(found)} run(s) (status {', '.join(statuses)}) but none ok with a checkpoint "
+                               f"on disk")
+    return chosen, missing

@@ -138,12 +138,18 @@ def test_output_dir_safety(tiny_synth, ckpts, tmp_path, capsys):
     assert not (out / "stale.txt").exists() and (out / "edited.png").is_file()
 
 
-def test_image_file_input_with_default_camera(tiny_synth, ckpts, tmp_path):
+# The Virtual KITTI camera resized to 320x128: what a 320x128 image silently got before the camera had to be
+# given (piece 1 of "Editing a picture as a user would"); 320x128 is not Virtual KITTI's aspect ratio.
+VKITTI_AT_320x128 = ("input.intrinsics={fx:" + repr(725 * 320 / 1242) + ",fy:" + repr(725 * 128 / 375)
+                     + ",cx:" + repr(621 * 320 / 1242 - 0.5) + ",cy:" + repr(187.5 * 128 / 375 - 0.5) + "}")
+
+
+def test_image_file_input_with_given_camera(tiny_synth, ckpts, tmp_path):
     rgb = vkitti1.load_rgb(vkitti1.read_frames(tiny_synth)[4])
     Image.fromarray(np.ascontiguousarray(rgb)).resize((320, 128)).save(tmp_path / "street.png")
     edits = _write(tmp_path / "ops.yaml", "- {op: recolor, class: Sky, code: [0, 0, 0, 0, 1]}")
     out = tmp_path / "out"
-    args = [f"input.image={tmp_path / 'street.png'}", "image_size=[160,64]", f"edits={edits}",
+    args = [f"input.image={tmp_path / 'street.png'}", "image_size=[160,64]", f"edits={edits}", VKITTI_AT_320x128,
             *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32", f"output_dir={out}"]
     assert main(args) == 0
     summary = json.loads((out / "edit.json").read_text())

@@ -88,6 +88,7 @@ def test_image_file_listing_is_in_the_files_pixels(ckpts, tiny_synth, tmp_path):
     Image.fromarray(np.ascontiguousarray(rgb)).resize((320, 128)).save(tmp_path / "street.png")
     out = tmp_path / "out"
     args = [f"input.image={tmp_path / 'street.png'}", "image_size=[160,64]", "list=true",
+            "input.intrinsics={fx:187,fy:247,cx:159.5,cy:63.5}",  # 320x128 is not Virtual KITTI's camera
             *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32", f"output_dir={out}"]
     assert main(args) == 0
     listing = json.loads((out / "objects.json").read_text())

@@ -9,7 +9,14 @@ frame, 3D edits on objects with geometry). The output directory is then written 
     maps/{source,edited}_{label,instance,normal,pose,depth}.png
     scene.json/.npz edited_scene.json/.npz                  SceneCode (sdn3d.scene.code)
     scene.glb edited_scene.glb                              3D scenes (sdn3d.export)
-    edit.json                                               resolved ops, objects, checkpoints, timings
+    edit.json                                               resolved ops, objects, checkpoints, timings,
+                                                            input_transform, warnings
+
+The camera is never guessed silently: an image file needs ``input.intrinsics`` or ``input.camera`` (a
+Cityscapes ``camera.json``) unless it has Virtual KITTI's aspect ratio. It is scaled to the working size
+keeping its aspect ratio, the excess cropped centrally (``input_transform`` in ``edit.json``); the edit
+spec's pixels are the input image's (``frame_size`` overrides). Warnings (stderr and ``edit.json``) say when
+the semantic branch's recorded validation quality is low or its proposals cover most of the frame.
 
 ``list=true`` (or an empty edit spec) de-renders and edits nothing: it prints the found objects (id,
 class, box, projected centre, distance, yaw, template; boxes and centres in the input image's pixels)
@@ -75,11 +82,78 @@ def _find_record(records: list, frame: Any, entry: Any) -> Any:
     return hits[0]
 
 
-def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any]:
-    """``(image (3, H, W), intrinsics, record or None)`` at the working size."""
-    from sdn3d.data.frames import load_frame
-    from sdn3d.image_ops import resize_image, to_image_tensor
+#: How far (relative) an image's aspect ratio may be from another's and still count as the same camera
+#: resized: Virtual KITTI's 1242x375 (3.312) and the paper's 624x192 working size (3.25) are 1.9 % apart.
+ASPECT_TOLERANCE = 0.02
+
+
+def _same_aspect(a: tuple[int, int], b: tuple[int, int]) -> bool:
+    return abs((a[0] / a[1]) / (b[0] / b[1]) - 1) <= ASPECT_TOLERANCE
+
+
+def _image_camera(cfg: Any, width: int, height: int) -> tuple[Any, str]:
+    """``(Intrinsics at the image's size, where they came from)`` of an image file: ``input.intrinsics``,
+    ``input.camera`` (a Cityscapes ``camera.json``), else the Virtual KITTI camera for an image of its aspect
+    ratio (within :data:`ASPECT_TOLERANCE`); any other image is refused rather than guessed."""
     from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
+
+    given, camera = cfg.input.get("intrinsics"), cfg.input.get("camera")
+    if given is not None and camera is not None:
+        raise InputError("give input.intrinsics or input.camera, not both")
+    if given is not None:
+        try:
+            values = dict(given)
+            values.setdefault("width", width)
+            values.setdefault("height", height)
+            intr = Intrinsics(**values)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"input.intrinsics: {exc} (give fx, fy, cx, cy in the image's pixels)") from exc
+        if (intr.width, intr.height) != (width, height):
+            raise InputError(f"input.intrinsics are for {intr.width}x{intr.height} but the image is "
+                             f"{width}x{height}")
+        return intr, "input.intrinsics"
+    if camera is not None:
+        from sdn3d.data.cityscapes import read_camera
+        from sdn3d.errors import UserInputError
+
+        try:
+            intrinsic, _ = read_camera(Path(str(camera)).expanduser())
+            intr = Intrinsics(intrinsic["fx"], intrinsic["fy"], intrinsic["u0"], intrinsic["v0"], width, height)
+        except (UserInputError, ValueError) as exc:
+            raise InputError(f"input.camera: {exc}") from exc
+        return intr, f"input.camera {str(camera)!r}"
+    vkitti = (VKITTI_INTRINSICS.width, VKITTI_INTRINSICS.height)
+    if _same_aspect((width, height), vkitti):
+        return VKITTI_INTRINSICS.resized(width, height), "the Virtual KITTI camera (the image has its aspect ratio)"
+    raise InputError(
+        f"input.image is {width}x{height}, not Virtual KITTI's {vkitti[0]}x{vkitti[1]} (or that aspect ratio), so "
+        f"its camera is unknown: give input.intrinsics={{fx: F, fy: F, cx: CX, cy: CY}} (pixels of the "
+        f"{width}x{height} image) or input.camera=<Cityscapes camera.json>")
+
+
+def _fit(size: tuple[int, int], image_size: tuple[int, int]) -> Any:
+    """The input -> working transform (:class:`~sdn3d.editing.spec.PixelFrame`): a plain resize when the
+    aspect ratios agree (within :data:`ASPECT_TOLERANCE`), else scale to cover the working size keeping the
+    aspect ratio and crop the excess centrally (no invented pixels)."""
+    from sdn3d.editing.spec import PixelFrame
+
+    if _same_aspect(image_size, size):
+        return PixelFrame(tuple(image_size), tuple(size))
+    scale = max(size[0] / image_size[0], size[1] / image_size[1])
+    scaled = (max(size[0], round(image_size[0] * scale)), max(size[1], round(image_size[1] * scale)))
+    return PixelFrame(tuple(image_size), tuple(size), scaled, ((scaled[0] - size[0]) // 2, (scaled[1] - size[1]) // 2))
+
+
+def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any, Any]:
+    """``(image (3, H, W), intrinsics, record or None, PixelFrame)`` at the working size.
+
+    An image file needs a known camera (:func:`_image_camera`) and keeps its aspect ratio (:func:`_fit`); a
+    dataset frame is resized to the working size as in training. The :class:`~sdn3d.editing.spec.PixelFrame`
+    maps the input's pixels (the file, or the frame at its stored size) to the working image's.
+    """
+    from sdn3d.data.frames import load_frame
+    from sdn3d.editing.spec import PixelFrame
+    from sdn3d.image_ops import resize_image, to_image_tensor
 
     data = cfg.get("data")
     size = cfg.image_size or (data.image_size if data is not None and cfg.input.image is None else DEFAULT_SIZE)
@@ -100,17 +174,16 @@ def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any]:
         except DataFormatError as exc:
             raise InputError(f"input.image {str(path)!r}: {str(exc).removeprefix(f'{path}: ')}") from exc
         height, width = rgb.shape[:2]
-        if cfg.input.intrinsics is not None:
-            try:
-                intr = Intrinsics(**dict(cfg.input.intrinsics))
-            except (TypeError, ValueError) as exc:
-                raise InputError(f"input.intrinsics: {exc}") from exc
-            if (intr.width, intr.height) != (width, height):
-                raise InputError(f"input.intrinsics are for {intr.width}x{intr.height} but the image is "
-                                 f"{width}x{height}")
-        else:
-            intr = VKITTI_INTRINSICS
-        return resize_image(to_image_tensor(rgb), size), intr.resized(*size), None
+        intr, _ = _image_camera(cfg, width, height)
+        frame = _fit(size, (width, height))
+        scaled = frame.scaled_size or size
+        image = resize_image(to_image_tensor(rgb), scaled)
+        left, top = frame.offset
+        image = image[:, top:top + size[1], left:left + size[0]]
+        intr = intr.resized(*scaled)
+        if not frame.is_plain_resize:
+            intr = intr.cropped(left, top, *size)
+        return image, intr, None, frame
     if data is None:
         raise InputError("give input.image=<file> or a dataset (data=<name> and input.frame=<key>)")
     from sdn3d.data.sources import SourceConfig, read_source
@@ -120,8 +193,9 @@ def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any]:
     if not records:
         raise InputError(f"no frames found under data.root={source.root!r}")
     record = _find_record(records, cfg.input.frame, entry)
-    frame = load_frame(record, size, semantic=False, instances=False)
-    return frame.image, frame.intrinsics, record
+    loaded = load_frame(record, size, semantic=False, instances=False)
+    stored = (int(record.intrinsics.width), int(record.intrinsics.height))
+    return loaded.image, loaded.intrinsics, record, PixelFrame(stored, size)
 
 
 def _op_json(op: Any) -> dict:
@@ -156,16 +230,21 @@ def run_edit(cfg: Any) -> dict:
     """
     if cfg.threads:
         torch.set_num_threads(int(cfg.threads))
-    out, spec, (image, intrinsics, record) = _read_inputs(cfg)
+    out, spec, (image, intrinsics, record, frame) = _read_inputs(cfg)
     checkpoints = resolve_checkpoints(cfg, record)
     models, code_bank = _load_models(cfg, checkpoints)
     times: dict[str, float] = {}
     scene = _derender(cfg, image, intrinsics, record, models, times)
+    warnings = trust_warnings(cfg, record, checkpoints, scene)
+    for line in warnings:
+        print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
     if spec is None:  # list=true or an empty spec: the objects, nothing edited
-        return _write_listing(cfg, out, record, image, scene, checkpoints, times)
-    ops, edited_scene = _edit(cfg, spec, scene, code_bank, times)
+        return _write_listing(cfg, out, record, image, scene, checkpoints, times, frame, warnings)
+    ops, edited_scene = _edit(cfg, spec, scene, code_bank, times, frame)
     rendered = _render(scene, edited_scene, models, times)
     summary = _summary(cfg, record, intrinsics, spec, ops, scene, edited_scene, times)
+    summary["input_transform"] = frame.to_dict()
+    summary["warnings"] = warnings
     summary["checkpoints"] = checkpoints
     _write_outputs(out, bool(cfg.overwrite), image, scene, edited_scene, rendered, summary)
     return summary
@@ -186,7 +265,7 @@ def _is_empty_spec(path: Path) -> bool:
     return data is None or data == []
 
 
-def _read_inputs(cfg: Any) -> tuple[Path, Any, tuple[torch.Tensor, Any, Any]]:
+def _read_inputs(cfg: Any) -> tuple[Path, Any, tuple[torch.Tensor, Any, Any, Any]]:
     """The checked output directory, the parsed edit spec (None: list the objects, edit nothing) and
     :func:`load_input`'s image (nothing loaded before the spec's syntax and numbers are checked)."""
     from sdn3d.editing.spec import load_edit_spec
@@ -248,6 +327,70 @@ def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
     return result
 
 
+# -- honest about what the weights can do ------------------------------------------------------------
+
+#: Below these recorded validation scores of the semantic branch its proposals are not to be trusted.
+MIN_VEHICLE_PQ = 0.3
+MIN_MIOU = 0.3
+#: Proposals covering more of the frame than this are not a street's vehicles.
+MAX_PROPOSAL_COVER = 0.5
+_VEHICLES = ("car", "van", "truck", "bus", "train", "caravan", "trailer")
+
+
+def semantic_summary(info: dict | None) -> Path | None:
+    """The ``summary.json`` of the semantic branch's run: the one ``run=`` chose it from, else
+    ``<checkpoint dir>/../summary.json`` (``sdn3d-train``'s ``<run>/checkpoints/<file>.ckpt``); None: none."""
+    if info is None:
+        return None
+    path = Path(str(info["from"])) if "which" in info else Path(str(info["path"])).expanduser().parent.parent / \
+        "summary.json"
+    return path if path.is_file() else None
+
+
+def quality_warnings(metrics: dict | None, coverage: float | None, where: str = "the semantic run") -> list[str]:
+    """Warnings on the semantic branch's proposals: its recorded validation quality (vehicle PQ, else
+    ``val/pq``, else ``val/miou``) under :data:`MIN_VEHICLE_PQ` / :data:`MIN_MIOU`, or proposals covering
+    more than :data:`MAX_PROPOSAL_COVER` of the frame (``coverage``, a fraction; None: not known)."""
+    out = []
+    metrics = metrics if isinstance(metrics, dict) else {}
+
+    def number(key: str) -> float | None:
+        value = metrics.get(key)
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and value == value
+        return float(value) if ok else None
+
+    vehicles = [v for v in (number(f"val/pq_{c}") for c in _VEHICLES) if v is not None]
+    pq = sum(vehicles) / len(vehicles) if vehicles else number("val/pq")
+    miou = number("val/miou")
+    advice = ("its objects are likely wrong; real photos need branches trained on Virtual KITTI or Cityscapes "
+              "(README: Editing a picture)")
+    if pq is not None and pq < MIN_VEHICLE_PQ:
+        what = "vehicle PQ" if vehicles else "val/pq"
+        out.append(f"the semantic branch's recorded {what} is {pq:.3f} (< {MIN_VEHICLE_PQ}, {where}): {advice}")
+    elif pq is None and miou is not None and miou < MIN_MIOU:
+        out.append(f"the semantic branch's recorded val/miou is {miou:.3f} (< {MIN_MIOU}, {where}): {advice}")
+    if coverage is not None and coverage > MAX_PROPOSAL_COVER:
+        out.append(f"the semantic branch's object proposals cover {100 * coverage:.0f} % of the frame "
+                   f"(> {100 * MAX_PROPOSAL_COVER:.0f} %): not plausible vehicles; {advice}")
+    return out
+
+
+def trust_warnings(cfg: Any, record: Any, checkpoints: dict[str, dict | None], scene: Any) -> list[str]:
+    """:func:`quality_warnings` for an edit whose proposals come from the semantic branch (none else)."""
+    if "semantic" not in _needed_branches(cfg, record):
+        return []
+    path = semantic_summary(checkpoints.get("semantic"))
+    metrics = None
+    if path is not None:
+        try:
+            metrics = json.loads(path.read_text(encoding="utf-8")).get("metrics")
+        except (OSError, UnicodeDecodeError, ValueError, AttributeError):
+            metrics = None
+    masks = scene.objects.mask
+    coverage = float(masks.any(0).float().mean()) if len(masks) else 0.0
+    return quality_warnings(metrics, coverage, str(path) if path is not None else "")
+
+
 def _load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any]:
     """``(Models, CodeBank or None)`` of :func:`resolve_checkpoints`' files and ``code_bank``."""
     from sdn3d.derender import Models
@@ -289,13 +432,15 @@ def _derender(cfg: Any, image: torch.Tensor, intrinsics: Any, record: Any, model
     return scene
 
 
-def _edit(cfg: Any, spec: Any, scene: Any, code_bank: Any, times: dict[str, float]) -> tuple[list, Any]:
+def _edit(cfg: Any, spec: Any, scene: Any, code_bank: Any, times: dict[str, float],
+          frame: Any = None) -> tuple[list, Any]:
     """``(resolved ops, edited scene)``: the spec checked against ``scene`` and applied."""
     from sdn3d.editing.spec import apply_spec, resolve_ops
 
     generator = torch.Generator().manual_seed(int(cfg.seed))
     t0 = time.perf_counter()
-    ops = resolve_ops(spec, scene, code_bank, cfg.pick_radius, strict=bool(cfg.strict), generator=generator)
+    ops = resolve_ops(spec, scene, code_bank, cfg.pick_radius, strict=bool(cfg.strict), generator=generator,
+                      frame=frame)
     edited_scene = apply_spec(scene, ops, spec)
     times["edit_ms"] = 1000 * (time.perf_counter() - t0)
     return ops, edited_scene
@@ -351,30 +496,32 @@ def _input_picture(cfg: Any, record: Any) -> np.ndarray:
 
 
 def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene: Any,
-                   checkpoints: dict, times: dict[str, float]) -> dict:
+                   checkpoints: dict, times: dict[str, float], frame: Any = None,
+                   warnings: list[str] | None = None) -> dict:
     """Print the objects table; write ``objects.json``, ``objects.png`` and ``edit.json`` (staged)."""
     from omegaconf import OmegaConf
 
+    from sdn3d.editing.spec import PixelFrame
     from sdn3d.io import write_json_atomic, write_png_atomic
     from sdn3d.visualize import draw_boxes
 
     picture = _input_picture(cfg, record)
     size = (picture.shape[1], picture.shape[0])
-    rows = list_objects(scene, size)
+    rows = list_objects(scene, size, frame if frame is not None and tuple(frame.input_size) == size else None)
     source = str(cfg.input.image) if record is None else record.key
-    frame = (f"boxes and centres in input-image pixels ({size[0]}x{size[1]}, pixel centres at integers; "
-             f"working size {scene.image_size[0]}x{scene.image_size[1]})")
-    print(f"sdn3d-edit: {len(rows)} object(s) in {source}; {frame}")
+    frame_text = (f"boxes and centres in input-image pixels ({size[0]}x{size[1]}, pixel centres at integers; "
+                  f"working size {scene.image_size[0]}x{scene.image_size[1]})")
+    print(f"sdn3d-edit: {len(rows)} object(s) in {source}; {frame_text}")
     print(objects_table(rows))
-    if size != scene.image_size:
-        print(f"sdn3d-edit: to give at/to in these pixels, put frame_size: [{size[0]}, {size[1]}] in the edit spec "
-              f"(else they are working-size pixels)")
+    print("sdn3d-edit: at/to/from in an edit spec are these pixels (no frame_size needed)")
     title = f"{source}: {len(rows)} object(s), id + class; + = projected 3D centre; {size[0]}x{size[1]} px"
     drawn = draw_boxes(picture, [r["box"] for r in rows], [f"{r['id']} {r['class']}" for r in rows], title,
                        points=[r["centre"] for r in rows])
+    transform = (frame if frame is not None else PixelFrame(size, tuple(scene.image_size))).to_dict()
     listing = {"input": source, "input_size": list(size), "working_size": list(scene.image_size),
-               "pixel_frame": frame, "objects": rows}
+               "pixel_frame": frame_text, "input_transform": transform, "objects": rows}
     summary = {"mode": "list", "input": source, "input_size": list(size), "image_size": list(scene.image_size),
+               "input_transform": transform, "warnings": list(warnings or []),
                "objects": {"source": [r["id"] for r in rows],
                            "with_geometry": [r["id"] for r in rows if r["template"] is not None]},
                "checkpoints": checkpoints, "timings_ms": times,

@@ -1,7 +1,7 @@
 """Edit specifications typed by a user (``sdn3d-edit``): a YAML list of operations or a benchmark entry.
 
 YAML (a list, or a mapping ``{frame_size: [W, H], ops: [...]}`` when the pixel coordinates refer
-to another image size than the working size)::
+to the input image resized to another size)::
 
     - {op: move, id: 12001, to: [300, 120]}        # slide on the ground so the centre projects to (u, v)
     - {op: rotate, at: [210, 130], ry_deg: 30}     # add 30 degrees to the yaw of the object at pixel (u, v)
@@ -17,7 +17,14 @@ to another image size than the working size)::
 Objects are selected by ``id`` (instance id) or ``at: [u, v]`` (the object visible at that pixel,
 else the one whose projected centre is nearest, within ``pick_radius``); ``modify`` also takes
 ``from`` (nearest projected centre, the benchmark's rule). All selections are resolved on the
-unedited scene. A JSON file is read as a 3D-SDN benchmark (:mod:`sdn3d.data.edit_benchmark`; one entry,
+unedited scene.
+
+Pixel frame: ``sdn3d-edit`` passes a :class:`PixelFrame` (the input image -> working size transform), so
+``at`` / ``to`` / ``from`` are pixels of the input image (the image file, or the dataset frame at its stored
+size), as ``list=true`` prints them; ``frame_size: [W, H]`` says they are pixels of the input image resized
+to ``W x H`` instead. Without a :class:`PixelFrame` (library use) they are the scene's (working-size) pixels,
+or ``frame_size`` pixels scaled to it. Error messages show points in the user's frame (0.1 px).
+A JSON file is read as a 3D-SDN benchmark (:mod:`sdn3d.data.edit_benchmark`; one entry,
 coordinates in 1242x375 pixels by default).
 
 :func:`parse_edit_spec` / :func:`load_edit_spec` check the syntax and the numbers (finite,
@@ -68,7 +75,7 @@ from sdn3d.scene.maps import compose_instances
 from sdn3d.textural.codes import CodeBank
 
 __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
-           "apply_spec"]
+           "apply_spec", "PixelFrame"]
 
 OP_KINDS = ("move", "rotate", "zoom", "delete", "recolor", "duplicate", "modify")
 _FIELDS = {"move": {"to"}, "rotate": {"ry_deg", "ry_rad"}, "zoom": {"zoom", "on_ground"}, "delete": set(),
@@ -125,6 +132,50 @@ class EditSpec:
 
     def __len__(self) -> int:
         return len(self.entry.operations) if self.entry is not None else len(self.ops)
+
+
+@dataclass(frozen=True)
+class PixelFrame:
+    """How the input image became the working image: resized to ``scaled_size`` (per-axis scale
+    ``scaled / input``), then the working size cropped at ``offset (left, top)`` of it.
+
+    Pixel centres at integers: ``u_work = (u_in + 0.5) * sx - 0.5 - left`` (as
+    :meth:`~sdn3d.math3d.camera.Intrinsics.resized` then ``.cropped`` map the principal point).
+    """
+
+    input_size: tuple[int, int]
+    working_size: tuple[int, int]
+    scaled_size: tuple[int, int] | None = None  # None: the working size (a plain resize)
+    offset: tuple[int, int] = (0, 0)
+
+    @property
+    def scale(self) -> tuple[float, float]:
+        sw, sh = self.scaled_size or self.working_size
+        return sw / self.input_size[0], sh / self.input_size[1]
+
+    @property
+    def is_plain_resize(self) -> bool:
+        return tuple(self.offset) == (0, 0) and tuple(self.scaled_size or self.working_size) == tuple(self.working_size)
+
+    def to_working(self, uv: tuple[float, float]) -> tuple[float, float]:
+        """An input-image pixel -> the working image's pixel."""
+        if self.is_plain_resize:
+            return scale_point(uv, self.input_size, self.working_size)
+        sx, sy = self.scale
+        return ((uv[0] + 0.5) * sx - 0.5 - self.offset[0], (uv[1] + 0.5) * sy - 0.5 - self.offset[1])
+
+    def to_input(self, uv: tuple[float, float]) -> tuple[float, float]:
+        """A working-image pixel -> the input image's pixel."""
+        sx, sy = self.scale
+        return ((uv[0] + self.offset[0] + 0.5) / sx - 0.5, (uv[1] + self.offset[1] + 0.5) / sy - 0.5)
+
+    def to_dict(self) -> dict:
+        sx, sy = self.scale
+        return {"input_size": list(self.input_size), "working_size": list(self.working_size),
+                "mode": "resize" if self.is_plain_resize else "scale_crop",
+                "scaled_size": list(self.scaled_size or self.working_size), "scale": [sx, sy],
+                "crop_offset": list(self.offset),
+                "rule": "u_work = (u_in + 0.5) * scale_x - 0.5 - crop_offset_x (same for v)"}
 
 
 def _number(value: Any, what: str) -> float:
@@ -302,10 +353,42 @@ def load_edit_spec(path: str | os.PathLike, entry: int = 0, frame_size: tuple[in
 # -- resolution against a scene ---------------------------------------------------------------
 
 
-def _scaled(uv: tuple[float, float] | None, spec: EditSpec, scene: SceneCode) -> tuple[float, float] | None:
-    if uv is None or spec.frame_size is None or tuple(spec.frame_size) == scene.image_size:
-        return uv
-    return scale_point(uv, tuple(spec.frame_size), scene.image_size)
+def _scaled(uv: tuple[float, float] | None, spec: EditSpec, scene: SceneCode,
+            frame: PixelFrame | None = None) -> tuple[float, float] | None:
+    """A spec point in the scene's (working) pixels: through ``frame`` (input pixels, or ``frame_size``
+    pixels of the resized input), else ``frame_size`` pixels scaled to the scene (None: the scene's own)."""
+    if uv is None:
+        return None
+    if frame is None or (spec.frame_size is not None and frame.is_plain_resize):
+        if spec.frame_size is None or tuple(spec.frame_size) == scene.image_size:
+            return uv
+        return scale_point(uv, tuple(spec.frame_size), scene.image_size)
+    if spec.frame_size is not None and tuple(spec.frame_size) != tuple(frame.input_size):
+        uv = scale_point(uv, tuple(spec.frame_size), tuple(frame.input_size))
+    return frame.to_working(uv)
+
+
+def _user_frame(spec: EditSpec, scene: SceneCode, frame: PixelFrame | None) -> tuple[int, int]:
+    """The size of the frame the spec's points are given in."""
+    if spec.frame_size is not None:
+        return tuple(spec.frame_size)
+    return tuple(frame.input_size) if frame is not None else tuple(scene.image_size)
+
+
+def _shown(uv: tuple[float, float]) -> list[float]:
+    return [round(float(uv[0]), 1), round(float(uv[1]), 1)]
+
+
+def _unscaled(uv: tuple[float, float], spec: EditSpec, scene: SceneCode,
+              frame: PixelFrame | None) -> tuple[float, float]:
+    """The inverse of :func:`_scaled` (a working pixel in the user's frame), for messages."""
+    if frame is None or (spec.frame_size is not None and frame.is_plain_resize):
+        size = _user_frame(spec, scene, frame)
+        return uv if tuple(size) == tuple(scene.image_size) else scale_point(uv, scene.image_size, size)
+    back = frame.to_input(uv)
+    if spec.frame_size is not None and tuple(spec.frame_size) != tuple(frame.input_size):
+        back = scale_point(back, tuple(frame.input_size), tuple(spec.frame_size))
+    return back
 
 
 def _inside(uv: tuple[float, float], scene: SceneCode) -> bool:
@@ -326,7 +409,7 @@ def _class_id(value: int | str, scene: SceneCode, what: str) -> int:
 
 def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = None,
                 pick_radius: float | None = 16.0, bank: MeshBank | None = None, strict: bool = True,
-                generator: torch.Generator | None = None) -> list[EditOp]:
+                generator: torch.Generator | None = None, frame: PixelFrame | None = None) -> list[EditOp]:
     """Turn ``spec`` into :mod:`sdn3d.editing.apply` operations on ``scene`` (every check that needs the scene).
 
     Args:
@@ -334,6 +417,8 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
         pick_radius: pixels (scene size) a pick by position may be from the object's projected centre.
         strict: benchmark ``to`` points must lie inside the frame.
         generator: randomness of ``sample`` (an op's ``seed`` overrides it).
+        frame: the input image -> scene transform; the spec's points are then input-image pixels (or
+            ``frame_size`` pixels of the resized input). None: the scene's pixels (or ``frame_size``'s).
 
     Raises:
         EditError: naming the op: no such object, an object without geometry for a 3D edit, a target
@@ -350,11 +435,17 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
     ops: list[EditOp] = []
     for op in spec.ops:
         what = op.describe()
-        at, frm, to = _scaled(op.at, spec, scene), _scaled(op.from_uv, spec, scene), _scaled(op.to, spec, scene)
-        for name, uv in (("at", at), ("from", frm), ("to", to)):
+        at, frm, to = (_scaled(op.at, spec, scene, frame), _scaled(op.from_uv, spec, scene, frame),
+                       _scaled(op.to, spec, scene, frame))
+        for name, uv, given in (("at", at, op.at), ("from", frm, op.from_uv), ("to", to, op.to)):
             if uv is not None and not _inside(uv, scene):
-                raise EditError(f"{what}: '{name}' point {list(uv)} lies outside the "
-                                f"{scene.image_size[0]}x{scene.image_size[1]} frame")
+                fw, fh = _user_frame(spec, scene, frame)
+                where = f"the {fw}x{fh} frame"
+                if frame is not None and not frame.is_plain_resize:
+                    (x0, y0), (x1, y1) = (_shown(_unscaled(c, spec, scene, frame)) for c in
+                                          ((-0.5, -0.5), (scene.image_size[0] - 0.5, scene.image_size[1] - 0.5)))
+                    where = f"the part of the {fw}x{fh} frame the working image keeps (x {x0}..{x1}, y {y0}..{y1})"
+                raise EditError(f"{what}: '{name}' point {_shown(given)} lies outside {where}")
         if op.kind == "recolor" and op.class_ is not None:
             cls = _class_id(op.class_, scene, what)
             ops.append(SetBackgroundCode(cls, _code(op, cls, scene, code_bank, generator, what)))
@@ -376,13 +467,15 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
                 best = int(dist.argmin()) if len(dist) else -1
                 if best < 0 or not math.isfinite(float(dist[best])) or (
                         pick_radius is not None and float(dist[best]) > pick_radius):
-                    raise EditError(f"{what}: no object at {list(at)} or within {pick_radius} px of it")
+                    raise EditError(f"{what}: no object at {_shown(op.at)} or within {pick_radius} px (working "
+                                    f"size) of it")
                 iid = int(obj.instance_id[best])
         else:
             try:
                 iid = match_objects(scene, [frm], [True], pick_radius)[0]
             except EditError as exc:
-                raise EditError(f"{what}: {exc}") from None
+                message = str(exc).replace(str(frm), str(_shown(op.from_uv)))
+                raise EditError(f"{what}: {message}") from None
         row = obj.index_of(iid)
         if need_geo and not bool(obj.has_geometry[row]):
             raise EditError(f"{what}: object {iid} has no 3D geometry (mask only); it can only be deleted or "

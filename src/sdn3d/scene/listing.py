@@ -14,8 +14,11 @@ from sdn3d.scene.code import SceneCode
 __all__ = ["list_objects", "objects_table"]
 
 
-def list_objects(scene: SceneCode, input_size: tuple[int, int]) -> list[dict]:
+def list_objects(scene: SceneCode, input_size: tuple[int, int], frame: Any = None) -> list[dict]:
     """The scene's objects as JSON-ready rows, positions in the pixels of an image of ``input_size (W, H)``.
+
+    ``frame`` (a :class:`sdn3d.editing.spec.PixelFrame`, input -> working transform: scale then crop offset)
+    maps the working pixels back to the input's; None: the scene is ``input_size`` resized.
 
     Each row: ``id``, ``class``, ``box`` ``[x0, y0, x1, y1]`` (half-open, the visible mask's box scaled out
     to whole input pixels; None without a mask), ``centre`` ``[u, v]`` (the projected 3D box centre, pixel
@@ -24,7 +27,11 @@ def list_objects(scene: SceneCode, input_size: tuple[int, int]) -> list[dict]:
     """
     objects, intr = scene.objects, scene.intrinsics
     width, height = scene.image_size
-    sx, sy = input_size[0] / width, input_size[1] / height
+    if frame is None:
+        sx, sy, ox, oy = input_size[0] / width, input_size[1] / height, 0, 0
+    else:
+        sx, sy = 1 / frame.scale[0], 1 / frame.scale[1]
+        ox, oy = frame.offset
     names = {c.id: c.name for c in scene.class_list}
     boxes = mask_boxes(objects.mask).tolist() if len(objects) else []
     rows = []
@@ -35,14 +42,14 @@ def list_objects(scene: SceneCode, input_size: tuple[int, int]) -> list[dict]:
                                "xyz_m": None}
         if bool(objects.has_mask[i]) and bool(objects.mask[i].any()):
             x0, y0, x1, y1 = boxes[i]
-            row["box"] = [math.floor(x0 * sx), math.floor(y0 * sy), min(input_size[0], math.ceil(x1 * sx)),
-                          min(input_size[1], math.ceil(y1 * sy))]
+            row["box"] = [max(0, math.floor((x0 + ox) * sx)), max(0, math.floor((y0 + oy) * sy)),
+                          min(input_size[0], math.ceil((x1 + ox) * sx)), min(input_size[1], math.ceil((y1 + oy) * sy))]
         tid = int(objects.template_id[i])
         if tid >= 0:
             c = objects.center[i].double().tolist()
             if c[2] > 0:  # in front of the camera: it projects
                 u, v = intr.fx * c[0] / c[2] + intr.cx, intr.fy * c[1] / c[2] + intr.cy
-                row["centre"] = [round((u + 0.5) * sx - 0.5, 1), round((v + 0.5) * sy - 0.5, 1)]
+                row["centre"] = [round((u + ox + 0.5) * sx - 0.5, 1), round((v + oy + 0.5) * sy - 0.5, 1)]
             row["distance_m"] = round(math.sqrt(sum(x * x for x in c)), 2)
             row["xyz_m"] = [round(x, 3) for x in c]
             row["yaw_deg"] = round(math.degrees(float(objects.ry[i])), 1)

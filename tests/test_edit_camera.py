@@ -197,7 +197,7 @@ def test_cli_spec_in_input_pixels(tiny_synth, ckpts, scene, tmp_path):
 
 
 def test_quality_warning_rules():
-    from sdn3d.cli.edit import quality_warnings
+    from sdn3d.runs import quality_warnings
 
     assert quality_warnings({"val/pq": 0.8, "val/miou": 0.1}, 0.2) == []  # PQ known and good: mIoU not asked
     [low] = quality_warnings({"val/pq": 0.9, "val/pq_car": 0.1, "val/pq_van": 0.2}, 0.2, "s.json")

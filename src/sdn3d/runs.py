@@ -2,7 +2,8 @@
 
 A run directory holds ``summary.json`` (branch, status, ``best_ckpt`` / ``last_ckpt``, finish time);
 :func:`find_run_checkpoints` finds, under any directory (the demo's ``<out>/runs/<branch>/``, one run, or a
-training root ``<branch>/<time>/``), each branch's latest successful run and its checkpoint.
+training root ``<branch>/<time>/``), each branch's latest successful run and its checkpoint;
+:func:`quality_warnings` says when the semantic branch's recorded validation quality is too low to trust.
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ from pathlib import Path
 
 from sdn3d.errors import InputError
 
-__all__ = ["BRANCHES", "find_run_checkpoints"]
+__all__ = ["BRANCHES", "find_run_checkpoints", "semantic_summary", "quality_warnings", "MIN_VEHICLE_PQ", "MIN_MIOU",
+           "MAX_PROPOSAL_COVER"]
 
 BRANCHES = ("semantic", "geometric", "textural")
 
@@ -88,3 +90,51 @@ def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, st
             missing[branch] = (f"{len(found)} run(s) (status {', '.join(statuses)}) but none ok with a checkpoint "
                                f"on disk")
     return chosen, missing
+
+
+# -- what a run recorded: is the semantic branch good enough to trust? --------------------------------
+
+#: Below these recorded validation scores of the semantic branch its proposals are not to be trusted.
+MIN_VEHICLE_PQ = 0.3
+MIN_MIOU = 0.3
+#: Proposals covering more of the frame than this are not a street's vehicles.
+MAX_PROPOSAL_COVER = 0.5
+_VEHICLES = ("car", "van", "truck", "bus", "train", "caravan", "trailer")
+
+
+def semantic_summary(info: dict | None) -> Path | None:
+    """The ``summary.json`` of the semantic branch's run: the one ``run=`` chose it from, else
+    ``<checkpoint dir>/../summary.json`` (``sdn3d-train``'s ``<run>/checkpoints/<file>.ckpt``); None: none."""
+    if info is None:
+        return None
+    path = Path(str(info["from"])) if "which" in info else Path(str(info["path"])).expanduser().parent.parent / \
+        "summary.json"
+    return path if path.is_file() else None
+
+
+def quality_warnings(metrics: dict | None, coverage: float | None, where: str = "the semantic run") -> list[str]:
+    """Warnings on the semantic branch's proposals: its recorded validation quality (vehicle PQ, else
+    ``val/pq``, else ``val/miou``) under :data:`MIN_VEHICLE_PQ` / :data:`MIN_MIOU`, or proposals covering
+    more than :data:`MAX_PROPOSAL_COVER` of the frame (``coverage``, a fraction; None: not known)."""
+    out = []
+    metrics = metrics if isinstance(metrics, dict) else {}
+
+    def number(key: str) -> float | None:
+        value = metrics.get(key)
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and value == value
+        return float(value) if ok else None
+
+    vehicles = [v for v in (number(f"val/pq_{c}") for c in _VEHICLES) if v is not None]
+    pq = sum(vehicles) / len(vehicles) if vehicles else number("val/pq")
+    miou = number("val/miou")
+    advice = ("its objects are likely wrong; real photos need branches trained on Virtual KITTI or Cityscapes "
+              "(README: Editing a picture)")
+    if pq is not None and pq < MIN_VEHICLE_PQ:
+        what = "vehicle PQ" if vehicles else "val/pq"
+        out.append(f"the semantic branch's recorded {what} is {pq:.3f} (< {MIN_VEHICLE_PQ}, {where}): {advice}")
+    elif pq is None and miou is not None and miou < MIN_MIOU:
+        out.append(f"the semantic branch's recorded val/miou is {miou:.3f} (< {MIN_MIOU}, {where}): {advice}")
+    if coverage is not None and coverage > MAX_PROPOSAL_COVER:
+        out.append(f"the semantic branch's object proposals cover {100 * coverage:.0f} % of the frame "
+                   f"(> {100 * MAX_PROPOSAL_COVER:.0f} %): not plausible vehicles; {advice}")
+    return out

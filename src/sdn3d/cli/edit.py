@@ -45,9 +45,10 @@ import torch
 
 from sdn3d.cli._config import CONFIG_DIR, compose_config
 from sdn3d.cli._errors import run_cli
+from sdn3d.editing.inputs import camera_for_image, fit_image
 from sdn3d.errors import InputError
 from sdn3d.io import check_output_dir, load_torch_file, staged_directory
-from sdn3d.runs import BRANCHES, find_run_checkpoints
+from sdn3d.runs import BRANCHES, find_run_checkpoints, quality_warnings, semantic_summary
 from sdn3d.scene.listing import list_objects, objects_table
 
 __all__ = ["main", "run_edit", "load_input", "resolve_checkpoints"]
@@ -82,20 +83,10 @@ def _find_record(records: list, frame: Any, entry: Any) -> Any:
     return hits[0]
 
 
-#: How far (relative) an image's aspect ratio may be from another's and still count as the same camera
-#: resized: Virtual KITTI's 1242x375 (3.312) and the paper's 624x192 working size (3.25) are 1.9 % apart.
-ASPECT_TOLERANCE = 0.02
-
-
-def _same_aspect(a: tuple[int, int], b: tuple[int, int]) -> bool:
-    return abs((a[0] / a[1]) / (b[0] / b[1]) - 1) <= ASPECT_TOLERANCE
-
-
-def _image_camera(cfg: Any, width: int, height: int) -> tuple[Any, str]:
-    """``(Intrinsics at the image's size, where they came from)`` of an image file: ``input.intrinsics``,
-    ``input.camera`` (a Cityscapes ``camera.json``), else the Virtual KITTI camera for an image of its aspect
-    ratio (within :data:`ASPECT_TOLERANCE`); any other image is refused rather than guessed."""
-    from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
+def _given_camera(cfg: Any, width: int, height: int) -> Any:
+    """The camera the user gave for an image file: ``input.intrinsics`` (fx, fy, cx, cy in its pixels) or
+    ``input.camera`` (a Cityscapes ``camera.json``), else None."""
+    from sdn3d.math3d.camera import Intrinsics
 
     given, camera = cfg.input.get("intrinsics"), cfg.input.get("camera")
     if given is not None and camera is not None:
@@ -105,55 +96,31 @@ def _image_camera(cfg: Any, width: int, height: int) -> tuple[Any, str]:
             values = dict(given)
             values.setdefault("width", width)
             values.setdefault("height", height)
-            intr = Intrinsics(**values)
+            return Intrinsics(**values)
         except (TypeError, ValueError) as exc:
             raise InputError(f"input.intrinsics: {exc} (give fx, fy, cx, cy in the image's pixels)") from exc
-        if (intr.width, intr.height) != (width, height):
-            raise InputError(f"input.intrinsics are for {intr.width}x{intr.height} but the image is "
-                             f"{width}x{height}")
-        return intr, "input.intrinsics"
     if camera is not None:
         from sdn3d.data.cityscapes import read_camera
         from sdn3d.errors import UserInputError
 
         try:
             intrinsic, _ = read_camera(Path(str(camera)).expanduser())
-            intr = Intrinsics(intrinsic["fx"], intrinsic["fy"], intrinsic["u0"], intrinsic["v0"], width, height)
+            return Intrinsics(intrinsic["fx"], intrinsic["fy"], intrinsic["u0"], intrinsic["v0"], width, height)
         except (UserInputError, ValueError) as exc:
             raise InputError(f"input.camera: {exc}") from exc
-        return intr, f"input.camera {str(camera)!r}"
-    vkitti = (VKITTI_INTRINSICS.width, VKITTI_INTRINSICS.height)
-    if _same_aspect((width, height), vkitti):
-        return VKITTI_INTRINSICS.resized(width, height), "the Virtual KITTI camera (the image has its aspect ratio)"
-    raise InputError(
-        f"input.image is {width}x{height}, not Virtual KITTI's {vkitti[0]}x{vkitti[1]} (or that aspect ratio), so "
-        f"its camera is unknown: give input.intrinsics={{fx: F, fy: F, cx: CX, cy: CY}} (pixels of the "
-        f"{width}x{height} image) or input.camera=<Cityscapes camera.json>")
-
-
-def _fit(size: tuple[int, int], image_size: tuple[int, int]) -> Any:
-    """The input -> working transform (:class:`~sdn3d.editing.spec.PixelFrame`): a plain resize when the
-    aspect ratios agree (within :data:`ASPECT_TOLERANCE`), else scale to cover the working size keeping the
-    aspect ratio and crop the excess centrally (no invented pixels)."""
-    from sdn3d.editing.spec import PixelFrame
-
-    if _same_aspect(image_size, size):
-        return PixelFrame(tuple(image_size), tuple(size))
-    scale = max(size[0] / image_size[0], size[1] / image_size[1])
-    scaled = (max(size[0], round(image_size[0] * scale)), max(size[1], round(image_size[1] * scale)))
-    return PixelFrame(tuple(image_size), tuple(size), scaled, ((scaled[0] - size[0]) // 2, (scaled[1] - size[1]) // 2))
+    return None
 
 
 def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any, Any]:
     """``(image (3, H, W), intrinsics, record or None, PixelFrame)`` at the working size.
 
-    An image file needs a known camera (:func:`_image_camera`) and keeps its aspect ratio (:func:`_fit`); a
+    An image file needs a known camera (:func:`sdn3d.editing.inputs.camera_for_image`) and keeps its aspect
+    ratio (:func:`~sdn3d.editing.inputs.fit_image`); a
     dataset frame is resized to the working size as in training. The :class:`~sdn3d.editing.spec.PixelFrame`
     maps the input's pixels (the file, or the frame at its stored size) to the working image's.
     """
     from sdn3d.data.frames import load_frame
     from sdn3d.editing.spec import PixelFrame
-    from sdn3d.image_ops import resize_image, to_image_tensor
 
     data = cfg.get("data")
     size = cfg.image_size or (data.image_size if data is not None and cfg.input.image is None else DEFAULT_SIZE)
@@ -174,15 +141,8 @@ def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any, Any
         except DataFormatError as exc:
             raise InputError(f"input.image {str(path)!r}: {str(exc).removeprefix(f'{path}: ')}") from exc
         height, width = rgb.shape[:2]
-        intr, _ = _image_camera(cfg, width, height)
-        frame = _fit(size, (width, height))
-        scaled = frame.scaled_size or size
-        image = resize_image(to_image_tensor(rgb), scaled)
-        left, top = frame.offset
-        image = image[:, top:top + size[1], left:left + size[0]]
-        intr = intr.resized(*scaled)
-        if not frame.is_plain_resize:
-            intr = intr.cropped(left, top, *size)
+        intr, _ = camera_for_image(width, height, _given_camera(cfg, width, height))
+        image, intr, frame = fit_image(rgb, intr, size)
         return image, intr, None, frame
     if data is None:
         raise InputError("give input.image=<file> or a dataset (data=<name> and input.frame=<key>)")
@@ -325,54 +285,6 @@ def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
                else f"{info['path']} ({info['which']} checkpoint of the run finished {info['finished']})")
         print(f"sdn3d-edit: {branch} checkpoint: {how}", file=sys.stderr)
     return result
-
-
-# -- honest about what the weights can do ------------------------------------------------------------
-
-#: Below these recorded validation scores of the semantic branch its proposals are not to be trusted.
-MIN_VEHICLE_PQ = 0.3
-MIN_MIOU = 0.3
-#: Proposals covering more of the frame than this are not a street's vehicles.
-MAX_PROPOSAL_COVER = 0.5
-_VEHICLES = ("car", "van", "truck", "bus", "train", "caravan", "trailer")
-
-
-def semantic_summary(info: dict | None) -> Path | None:
-    """The ``summary.json`` of the semantic branch's run: the one ``run=`` chose it from, else
-    ``<checkpoint dir>/../summary.json`` (``sdn3d-train``'s ``<run>/checkpoints/<file>.ckpt``); None: none."""
-    if info is None:
-        return None
-    path = Path(str(info["from"])) if "which" in info else Path(str(info["path"])).expanduser().parent.parent / \
-        "summary.json"
-    return path if path.is_file() else None
-
-
-def quality_warnings(metrics: dict | None, coverage: float | None, where: str = "the semantic run") -> list[str]:
-    """Warnings on the semantic branch's proposals: its recorded validation quality (vehicle PQ, else
-    ``val/pq``, else ``val/miou``) under :data:`MIN_VEHICLE_PQ` / :data:`MIN_MIOU`, or proposals covering
-    more than :data:`MAX_PROPOSAL_COVER` of the frame (``coverage``, a fraction; None: not known)."""
-    out = []
-    metrics = metrics if isinstance(metrics, dict) else {}
-
-    def number(key: str) -> float | None:
-        value = metrics.get(key)
-        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and value == value
-        return float(value) if ok else None
-
-    vehicles = [v for v in (number(f"val/pq_{c}") for c in _VEHICLES) if v is not None]
-    pq = sum(vehicles) / len(vehicles) if vehicles else number("val/pq")
-    miou = number("val/miou")
-    advice = ("its objects are likely wrong; real photos need branches trained on Virtual KITTI or Cityscapes "
-              "(README: Editing a picture)")
-    if pq is not None and pq < MIN_VEHICLE_PQ:
-        what = "vehicle PQ" if vehicles else "val/pq"
-        out.append(f"the semantic branch's recorded {what} is {pq:.3f} (< {MIN_VEHICLE_PQ}, {where}): {advice}")
-    elif pq is None and miou is not None and miou < MIN_MIOU:
-        out.append(f"the semantic branch's recorded val/miou is {miou:.3f} (< {MIN_MIOU}, {where}): {advice}")
-    if coverage is not None and coverage > MAX_PROPOSAL_COVER:
-        out.append(f"the semantic branch's object proposals cover {100 * coverage:.0f} % of the frame "
-                   f"(> {100 * MAX_PROPOSAL_COVER:.0f} %): not plausible vehicles; {advice}")
-    return out
 
 
 def trust_warnings(cfg: Any, record: Any, checkpoints: dict[str, dict | None], scene: Any) -> list[str]:

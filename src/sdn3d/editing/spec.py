@@ -407,6 +407,20 @@ def _class_id(value: int | str, scene: SceneCode, what: str) -> int:
     return int(value)
 
 
+def _check_inside(op: OpSpec, points: tuple, spec: EditSpec, scene: SceneCode, frame: PixelFrame | None) -> None:
+    """Raise naming the op and the point (in the user's pixels) when one of ``points`` (``at``, ``from``, ``to``
+    in scene pixels, None where not given) lies outside the working image."""
+    for name, uv, given in zip(("at", "from", "to"), points, (op.at, op.from_uv, op.to), strict=True):
+        if uv is not None and not _inside(uv, scene):
+            fw, fh = _user_frame(spec, scene, frame)
+            where = f"the {fw}x{fh} frame"
+            if frame is not None and not frame.is_plain_resize:
+                (x0, y0), (x1, y1) = (_shown(_unscaled(c, spec, scene, frame)) for c in
+                                      ((-0.5, -0.5), (scene.image_size[0] - 0.5, scene.image_size[1] - 0.5)))
+                where = f"the part of the {fw}x{fh} frame the working image keeps (x {x0}..{x1}, y {y0}..{y1})"
+            raise EditError(f"{op.describe()}: '{name}' point {_shown(given)} lies outside {where}")
+
+
 def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = None,
                 pick_radius: float | None = 16.0, bank: MeshBank | None = None, strict: bool = True,
                 generator: torch.Generator | None = None, frame: PixelFrame | None = None) -> list[EditOp]:
@@ -437,15 +451,7 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
         what = op.describe()
         at, frm, to = (_scaled(op.at, spec, scene, frame), _scaled(op.from_uv, spec, scene, frame),
                        _scaled(op.to, spec, scene, frame))
-        for name, uv, given in (("at", at, op.at), ("from", frm, op.from_uv), ("to", to, op.to)):
-            if uv is not None and not _inside(uv, scene):
-                fw, fh = _user_frame(spec, scene, frame)
-                where = f"the {fw}x{fh} frame"
-                if frame is not None and not frame.is_plain_resize:
-                    (x0, y0), (x1, y1) = (_shown(_unscaled(c, spec, scene, frame)) for c in
-                                          ((-0.5, -0.5), (scene.image_size[0] - 0.5, scene.image_size[1] - 0.5)))
-                    where = f"the part of the {fw}x{fh} frame the working image keeps (x {x0}..{x1}, y {y0}..{y1})"
-                raise EditError(f"{what}: '{name}' point {_shown(given)} lies outside {where}")
+        _check_inside(op, (at, frm, to), spec, scene, frame)
         if op.kind == "recolor" and op.class_ is not None:
             cls = _class_id(op.class_, scene, what)
             ops.append(SetBackgroundCode(cls, _code(op, cls, scene, code_bank, generator, what)))

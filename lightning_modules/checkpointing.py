@@ -29,7 +29,7 @@ import torch
 from lightning.fabric.plugins.io.torch_io import TorchCheckpointIO
 
 from sdn3d.errors import UserInputError
-from sdn3d.io import atomic_write
+from sdn3d.io import atomic_write, describe_load_failure
 
 __all__ = ["AtomicCheckpointIO", "CheckpointLoadError", "CheckpointWriteError", "NonFiniteCheckpointError",
            "nonfinite_tensors", "remove_stale_temp_files"]
@@ -78,16 +78,6 @@ def remove_stale_temp_files(folder: Path, suffixes: tuple[str, ...] = (".ckpt",)
     return removed
 
 
-def _unpickling_reason(exc: BaseException) -> str:
-    """The line of torch's weights-only refusal that says what was refused (its message is a page long)."""
-    lines = [re.sub(r"\x1b\[[0-9;]*m", "", line).strip() for line in str(exc).splitlines()]
-    lines = [line for line in lines if line]
-    for line in lines:
-        if "Unsupported global" in line or "WeightsUnpickler error" in line:
-            return line.split(". Please")[0]  # not torch's advice to allowlist what the file asks for
-    return lines[0] if lines else type(exc).__name__
-
-
 class AtomicCheckpointIO(TorchCheckpointIO):
     """Lightning ``CheckpointIO``: atomic local writes, finite weights only, ``weights_only=True`` loads."""
 
@@ -133,12 +123,11 @@ class AtomicCheckpointIO(TorchCheckpointIO):
         except pickle.UnpicklingError as exc:
             error = CheckpointLoadError(
                 f"{path}: refused: it holds objects other than tensors and plain containers, which could run code "
-                f"when loaded (torch.load(weights_only=True): {_unpickling_reason(exc)})")
+                f"when loaded ({describe_load_failure(exc)})")
             error.path = str(path)  # type: ignore[attr-defined]
             raise error from exc
-        except (RuntimeError, EOFError, OSError, ValueError) as exc:
-            error = CheckpointLoadError(f"{path}: not a readable checkpoint ({type(exc).__name__}: "
-                                        f"{str(exc).strip().splitlines()[0] if str(exc).strip() else ''})")
+        except Exception as exc:  # whatever else unpickling a damaged file raises (IndexError, KeyError, ...)
+            error = CheckpointLoadError(f"{path}: not a readable checkpoint ({describe_load_failure(exc)})")
             error.path = str(path)  # type: ignore[attr-defined]
             raise error from exc
         if not isinstance(checkpoint, dict):

@@ -16,6 +16,7 @@ from pathlib import Path
 import lightning as L
 import pytest
 import torch
+from faults.checkpoints import RANDOM_SEEDS, random_bytes
 from faults.data import bad_motgt_row, truncated_png, unknown_colour_png, vkitti1_frame_files
 from hydra import compose, initialize_config_dir
 from lightning.fabric.plugins.io.torch_io import TorchCheckpointIO
@@ -115,6 +116,14 @@ def test_checkpoints_load_weights_only_even_when_torch_is_told_otherwise(tmp_pat
     with pytest.raises(CheckpointLoadError, match=r"crafted\.ckpt: refused"):
         AtomicCheckpointIO().load_checkpoint(crafted, weights_only=False)
     assert not marker.exists()
+
+
+@pytest.mark.parametrize("seed", RANDOM_SEEDS)
+def test_a_damaged_checkpoint_is_a_load_error_whatever_torch_raises(tmp_path, seed):
+    """Random bytes make torch's loader raise IndexError, KeyError, UnicodeDecodeError, ... (see faults.checkpoints)."""
+    path = random_bytes(tmp_path / "damaged.ckpt", seed)
+    with pytest.raises(CheckpointLoadError, match=r"damaged\.ckpt: (not a readable checkpoint|refused)"):
+        AtomicCheckpointIO().load_checkpoint(path)
 
 
 def test_fit_from_a_crafted_checkpoint_is_refused_and_recorded(tiny_synth, tmp_path, monkeypatch):

@@ -32,7 +32,7 @@ from sdn3d.errors import UserInputError
 __all__ = [
     "atomic_write", "write_bytes_atomic", "write_text_atomic", "write_json_atomic", "write_png_atomic",
     "check_output_dir", "staged_directory", "swap_into_place", "current_umask",
-    "load_torch_file", "load_lightning_checkpoint",
+    "load_torch_file", "load_lightning_checkpoint", "describe_load_failure",
     "checkpoint_branch", "CHECKPOINT_BRANCHES",
     "OutputDirError", "refuse_unsafe_output_dir", "OWNER_FILE", "owner_record", "process_alive",
     "remove_stale_staging",
@@ -138,7 +138,7 @@ def checkpoint_branch(ckpt: Mapping[str, Any]) -> str | None:
     return found[0] if len(found) == 1 else None
 
 
-def _load_failure(exc: BaseException) -> str:
+def describe_load_failure(exc: BaseException) -> str:
     """One line saying why ``torch.load`` failed (torch's weights-only message is long and advises
     ``weights_only=False``, which would run the file's code: keep only its reason)."""
     text = str(exc)
@@ -168,7 +168,7 @@ def load_torch_file(path: str | os.PathLike, what: str = "checkpoint", map_locat
     except Exception as exc:  # whatever unpickling the user's file raises, the file is bad
         raise UserInputError(f"could not read {what} {str(path)!r}: not a loadable PyTorch file (truncated, corrupt, "
                              f"not a torch file, or holding more than tensors and plain data) "
-                             f"[{_load_failure(exc)}]") from exc
+                             f"[{describe_load_failure(exc)}]") from exc
 
 
 def load_lightning_checkpoint(path: str | os.PathLike, map_location: Any = "cpu",

@@ -17,6 +17,7 @@ import torch
 from torch import Tensor, nn
 
 from sdn3d.errors import UserInputError
+from sdn3d.io import describe_load_failure
 
 __all__ = ["PretrainedWeightsError", "load_pretrained", "read_state_dict"]
 
@@ -39,7 +40,7 @@ def read_state_dict(path: str | Path) -> dict[str, Tensor]:
         state = torch.load(path, map_location="cpu", weights_only=True)
     except Exception as exc:  # whatever unpickling the user's file raises (IndexError, KeyError, ...), it is bad
         raise PretrainedWeightsError(f"could not read pretrained weights {str(path)!r}: "
-                                     f"{type(exc).__name__}: {exc}") from exc
+                                     f"{describe_load_failure(exc)}") from exc
     if isinstance(state, Mapping) and "state_dict" in state and isinstance(state["state_dict"], Mapping):
         state = state["state_dict"]
     if not isinstance(state, Mapping) or not all(isinstance(v, Tensor) for v in state.values()):

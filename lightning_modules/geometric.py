@@ -269,15 +269,26 @@ class GeometricModule(BranchModule):
 
     # -- evaluation -------------------------------------------------------------------------------------------
     @torch.no_grad()
-    def _eval_step(self, stage: str, batch: dict[str, Any], batch_idx: int) -> None:
+    def decode_batch(self, stage: str, batch: Mapping[str, Any]) -> dict[str, Tensor]:
+        """Per-object predictions of one evaluation batch, decoded (the seam a baseline module overrides).
+
+        Returns the :func:`~sdn3d.geometric.decode.decode_outputs` dict (``template_id (N,)``,
+        ``template_probs (N, T)``, ``phi (N, 64, 3)``, ``dims (N, 3)``, ``ry (N,)``, ``center (N, 3)``, ...)
+        plus ``rot (N, 4)`` for the orientation metric; logs ``<stage>/loss_pred``.
+        """
         raw = self.net(batch["crop"], batch["box"], batch["intrinsics"])
-        n, size = batch["crop"].shape[0], batch["crop"].shape[-1]
         terms = prediction_losses(raw, batch["targets"], self.encoding.rotation, self.hparams.regression)
-        self.log(f"{stage}/loss_pred", prediction_loss(terms), on_step=False, on_epoch=True, batch_size=n,
-                 sync_dist=True)
+        self.log(f"{stage}/loss_pred", prediction_loss(terms), on_step=False, on_epoch=True,
+                 batch_size=batch["crop"].shape[0], sync_dist=True)
         pred = decode_outputs(raw, batch["box"], batch["intrinsics"], self.encoding, self.net.templates)
         pred["rot"] = predicted_rotation(raw["rotation"], pred["ry"], self.encoding.rotation)
-        sil = self._render(pred, torch.arange(n, device=raw["phi"].device), pred["template_id"],
+        return pred
+
+    @torch.no_grad()
+    def _eval_step(self, stage: str, batch: dict[str, Any], batch_idx: int) -> None:
+        n, size = batch["crop"].shape[0], batch["crop"].shape[-1]
+        pred = self.decode_batch(stage, batch)
+        sil = self._render(pred, torch.arange(n, device=batch["crop"].device), pred["template_id"],
                            batch["crop_intrinsics"], size)
         ignore = self._ignore(batch)
         self.metrics[stage].update(pred, batch, sil, ignore)

@@ -34,13 +34,15 @@ def real_vkitti_frame() -> Path:
 
 @pytest.fixture(scope="session")
 def tiny_synth(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A tiny synthetic Virtual KITTI 1.3.1 dataset (1 world, 1 variation, 5 frames + 1 edit target, 160x64).
+    """A tiny synthetic Virtual KITTI 1.3.1 dataset (1 world, 1 variation, 8 frames + 1 edit target, 160x64).
+
+    With ``conf/data/synth.yaml``'s split: frames 0-3 train, 4 is the gap, 5 validates, 6-7 and the target test.
 
     Shared by the training tests of every branch; generated once per test session (~1 s).
     """
     from sdn3d.data.synth import SynthConfig, generate_dataset
 
     root = tmp_path_factory.mktemp("tiny_synth") / "vkitti"
-    generate_dataset(SynthConfig(output_dir=str(root), seed=0, image_size=(160, 64), frames_per_sequence=5,
+    generate_dataset(SynthConfig(output_dir=str(root), seed=0, image_size=(160, 64), frames_per_sequence=8,
                                  cars_per_frame=(3, 5), edit_pairs=1, max_edit_operations=2))
     return root

@@ -19,7 +19,8 @@ from sdn3d.data.records import (
     load_semantic,
     visible_pixel_counts,
 )
-from sdn3d.data.vkitti1 import MOTGT_HEADER, paper_object_filter, paper_split, parse_encoding, parse_motgt, read_frames
+from sdn3d.data.splits import paper_split
+from sdn3d.data.vkitti1 import MOTGT_HEADER, paper_object_filter, parse_encoding, parse_motgt, read_frames
 from sdn3d.labels import VKITTI_CLASS_INDEX, VKITTI_CLASSES, split_instance_ids
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 

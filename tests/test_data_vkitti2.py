@@ -9,7 +9,7 @@ from PIL import Image
 from sdn3d.data.errors import DataFormatError
 from sdn3d.data.fixtures import VKITTI2_BASELINE, VKITTI2_COLORS, write_vkitti2_fixture
 from sdn3d.data.records import load_depth, load_instances, load_rgb, load_semantic
-from sdn3d.data.vkitti1 import paper_split
+from sdn3d.data.splits import paper_split
 from sdn3d.data.vkitti2 import BBOX_HEADER, POSE_HEADER, parse_colors, read_frames, scene_to_world
 from sdn3d.labels import IGNORE_INDEX, VKITTI_CLASS_INDEX
 

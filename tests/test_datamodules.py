@@ -16,9 +16,18 @@ from sdn3d.data.fixtures_cityscapes import write_cityscapes_fixture
 CONF = Path(__file__).resolve().parents[1] / "conf" / "data"
 
 
+# A fixture-sized split (the released ranges need Virtual KITTI's frame numbers): of frames 0-4, 0-2 train,
+# 3 validates, 4 tests.
+FIXTURE_SPLIT = {"rule": "paper", "val_fraction": 0.25, "val_gap": 0}
+
+
 def _data_cfg(name: str, root: Path, image_size=None):
     cfg = OmegaConf.load(CONF / f"{name}.yaml")
     cfg.root = str(root)
+    if cfg.kind != "cityscapes":
+        cfg.split = dict(FIXTURE_SPLIT)
+    else:  # of the fixture's three aachen train frames, 2 train and 1 validates
+        cfg.split.val_gap = 0
     if image_size is not None:
         cfg.image_size = list(image_size)
     return cfg
@@ -35,14 +44,14 @@ def test_datamodules_vkitti1(tmp_path):
     cfg = _data_cfg("vkitti", tmp_path)
     sem = SemanticDataModule(cfg, image_size=(160, 64), batch_size=2)
     sem.setup("fit")
-    assert len(sem.datasets["train"]) == 4 and len(sem.datasets["val"]) == 1
+    assert len(sem.datasets["train"]) == 3 and len(sem.datasets["val"]) == 1
     batch = next(iter(sem.train_dataloader()))
     assert batch["image"].shape == (2, 3, 64, 160) and batch["label"].dtype == torch.long
     assert batch["intrinsics"].shape == (2, 4) and len(batch["key"]) == 2
     # Seeded shuffling: same seed, same order; the val loader keeps file order.
     again = SemanticDataModule(cfg, image_size=(160, 64), batch_size=2)
     assert [b["key"] for b in sem.train_dataloader()] == [b["key"] for b in again.train_dataloader()]
-    assert next(iter(sem.val_dataloader()))["key"] == ["vkitti1/0001/clone/00004"]
+    assert next(iter(sem.val_dataloader()))["key"] == ["vkitti1/0001/clone/00003"]
 
     geo = GeometricDataModule(cfg, image_size=(160, 64), batch_size=4, crop_size=32)
     geo.setup("fit")
@@ -162,11 +171,11 @@ def test_skip_policy_leaves_out_bad_frames_counts_them_and_has_a_bound(tmp_path)
         SemanticDataModule(cfg).setup("fit")
     dm = SemanticDataModule(cfg, corrupt_sample="skip", max_skipped_fraction=0.5)
     dm.setup("fit")
-    # the split is taken before the bad frame is dropped: frames 1-3 train, 4-5 validate
-    assert [r.frame for r in dm.datasets["train"].records] == [1, 2, 3]
-    assert [r.frame for r in dm.datasets["val"].records] == [4, 5]
-    assert dm.skip_summary() == {"skipped_samples": 1, "skipped_fraction": 0.25, "skipped_files": [str(bad)]}
-    with pytest.raises(TooMuchSkippedError, match=r"the train part of the vkitti1 data at .*: 1 of its 4 frames"):
+    # the split is taken before the bad frame is dropped: frames 1-2 train, 3 validates (4-5 test)
+    assert [r.frame for r in dm.datasets["train"].records] == [1, 2]
+    assert [r.frame for r in dm.datasets["val"].records] == [3]
+    assert dm.skip_summary() == {"skipped_samples": 1, "skipped_fraction": 0.333333, "skipped_files": [str(bad)]}
+    with pytest.raises(TooMuchSkippedError, match=r"the train part of the vkitti1 data at .*: 1 of its 3 frames"):
         SemanticDataModule(cfg, corrupt_sample="skip").setup("fit")  # default bound 0.1
 
 

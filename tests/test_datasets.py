@@ -22,6 +22,9 @@ NATIVE = (310, 94)  # a fifth of 1242x375: cars have several hundred pixels, the
 WORK = (160, 64)  # anisotropic resize (sx = 0.516, sy = 0.681)
 
 
+FIXTURE_SPLIT = {"rule": "paper", "val_fraction": 0.25, "val_gap": 0}
+
+
 def _k(vec: torch.Tensor) -> torch.Tensor:
     fx, fy, cx, cy = vec.tolist()
     return torch.tensor([[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]])
@@ -31,16 +34,18 @@ def _k(vec: torch.Tensor) -> torch.Tensor:
 def vk1(tmp_path_factory):
     root = tmp_path_factory.mktemp("vkitti1")
     frames = write_vkitti1_fixture(root, frames=range(5), size=NATIVE)
-    return SourceConfig(kind="vkitti1", root=str(root), image_size=WORK), frames
+    # A fixture-sized split (the released ranges need Virtual KITTI's frame numbers): train 0-2, val 3, test 4.
+    return SourceConfig(kind="vkitti1", root=str(root), image_size=WORK, split=FIXTURE_SPLIT), frames
 
 
 def test_split_follows_paper_rule(vk1):
     source, frames = vk1
-    train, test = load_split(source, "train"), load_split(source, "test")
-    assert [r.frame for r in train] == [0, 1, 2, 3] and [r.frame for r in test] == [4]
-    assert [r.frame for r in load_split(source, "val")] == [4]
-    last = SourceConfig(kind="vkitti1", root=source.root, split={"first": False})
-    assert [r.frame for r in load_split(last, "train")] == [1, 2, 3, 4]
+    paper = source
+    train, test = load_split(paper, "train"), load_split(paper, "test")
+    assert [r.frame for r in train] == [0, 1, 2] and [r.frame for r in test] == [4]
+    assert [r.frame for r in load_split(paper, "val")] == [3]  # carved from the training frames, not test
+    last = SourceConfig(kind="vkitti1", root=source.root, split={"rule": "paper", "first": False, "val_gap": 0})
+    assert [r.frame for r in load_split(last, "train")] == [1, 2, 3] and [r.frame for r in load_split(last, "val")] == [4]
 
 
 def test_source_config_rejects_bad_input(vk1):
@@ -56,7 +61,7 @@ def test_source_config_rejects_bad_input(vk1):
 def test_semantic_items_and_instance_ids(vk1):
     source, frames = vk1
     ds = SemanticDataset.from_source(source, "train")
-    assert len(ds) == 4 and len(ds.classes) == 14 and ds.class_names[12] == "Car"
+    assert len(ds) == 3 and len(ds.classes) == 14 and ds.class_names[12] == "Car"
     item = ds[0]
     assert item["image"].shape == (3, 64, 160) and item["image"].dtype == torch.float32
     assert 0.0 <= float(item["image"].min()) and float(item["image"].max()) <= 1.0
@@ -111,7 +116,7 @@ def test_geometric_filter_drops_tiny_objects(geo):
     ds, frames = geo
     expected = set()
     dropped_small = 0
-    for f in frames[:4]:
+    for f in frames[:3]:
         counts = torch.from_numpy(f.instances)
         for obj in f.objects:
             visible = int((counts % INSTANCE_DIVISOR == obj.track_id + 1).logical_and(counts > 0).sum())
@@ -246,7 +251,7 @@ def test_textural_items(vk1):
 
 def test_vkitti2_and_cityscapes(tmp_path):
     write_vkitti2_fixture(tmp_path / "vk2", frames=range(5), size=NATIVE)
-    vk2 = SourceConfig(kind="vkitti2", root=str(tmp_path / "vk2"), image_size=WORK)
+    vk2 = SourceConfig(kind="vkitti2", root=str(tmp_path / "vk2"), image_size=WORK, split=FIXTURE_SPLIT)
     item = SemanticDataset.from_source(vk2, "train")[0]
     assert item["label"].shape == (64, 160) and int(item["label"][0, 0]) == IGNORE_INDEX  # Undefined patch
     geo = GeometricDataset.from_source(vk2, "train")  # counts from bbox.txt's number_pixels
@@ -255,7 +260,9 @@ def test_vkitti2_and_cityscapes(tmp_path):
     write_cityscapes_fixture(tmp_path / "cs", size=(128, 64))
     cs = SourceConfig(kind="cityscapes", root=str(tmp_path / "cs"), image_size=(64, 32))
     sem = SemanticDataset.from_source(cs, "train")
-    assert len(sem) == 2 and len(SemanticDataset.from_source(cs, "val")) == 1
+    # train and validation from the train folder (aachen 0 | gap 1 | val 2), test = the official val folder
+    assert len(sem) == 1 and len(SemanticDataset.from_source(cs, "val")) == 1
+    assert [r.world for r in SemanticDataset.from_source(cs, "test").records] == ["frankfurt"]
     assert sem.classes == CITYSCAPES_TRAIN_CLASSES and len(sem.classes) == 19
     item = sem[0]
     ids = item["instance"].unique()

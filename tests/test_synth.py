@@ -518,24 +518,27 @@ def test_occlusion_shortcut_gives_the_exact_counts(monkeypatch: pytest.MonkeyPat
 
 def test_edit_benchmark_frames_are_never_trained_on(dataset: Path) -> None:
     """The paper split runs over the regular frames: benchmark sources (their last 20 %) and the appended
-    edit targets are test frames, whatever the number of edit pairs."""
+    edit targets are test frames, never training or validation frames, whatever the number of edit pairs."""
     import json
 
     from sdn3d.data.sources import SYNTH_MANIFEST, SourceConfig, edit_target_frames, load_split
 
     assert SYNTH_MANIFEST == MANIFEST_NAME
-    source = SourceConfig.from_mapping({"kind": "vkitti1", "root": str(dataset), "image_size": [WIDTH, HEIGHT]})
-    keys = {part: {(r.world, r.variation, r.frame) for r in load_split(source, part)} for part in ("train", "test")}
+    split = {"rule": "paper", "val_fraction": 0.1, "val_gap": 0}
+    source = SourceConfig.from_mapping({"kind": "vkitti1", "root": str(dataset), "image_size": [WIDTH, HEIGHT],
+                                        "split": split})
+    keys = {part: {(r.world, r.variation, r.frame) for r in load_split(source, part)}
+            for part in ("train", "val", "test")}
     targets = edit_target_frames(dataset)
     assert len(targets) == len(VARIATIONS) * EDITS
-    assert not targets & keys["train"] and targets <= keys["test"]
-    assert not keys["train"] & keys["test"]
+    assert targets <= keys["test"] and not targets & (keys["train"] | keys["val"])
+    assert not keys["train"] & keys["test"] and not keys["val"] & keys["test"] and not keys["train"] & keys["val"]
     entries = json.loads((dataset / BENCHMARK_NAME).read_text())
     for e in entries:
         assert (e["world"], e["topic"], int(e["source"])) in keys["test"], e
-        assert (e["world"], e["topic"], int(e["source"])) not in keys["train"], e
-    # Regular frames: floor(0.8 * FRAMES) of each sequence train.
-    assert len(keys["train"]) == len(VARIATIONS) * math.floor(0.8 * FRAMES)
+    # Regular frames: floor(0.8 * FRAMES) of each sequence train or validate (less the gap), the rest test.
+    assert len(keys["train"] | keys["val"]) <= len(VARIATIONS) * math.floor(0.8 * FRAMES)
+    assert len(keys["test"] - targets) == len(VARIATIONS) * (FRAMES - math.floor(0.8 * FRAMES))
     assert edit_target_frames(dataset / "vkitti_1.3.1_rgb") == set()  # no manifest: a real dataset
 
 

@@ -107,6 +107,9 @@ def test_each_branch_trains_tests_and_logs_to_tensorboard(branch, tiny_synth, tm
                for r in caplog.records), [r.getMessage() for r in caplog.records]
     assert summary["status"] == "ok" and summary["global_step"] >= 1
     assert any(k.startswith("test/") for k in summary["metrics"]), summary["metrics"]
+    # the tested weights are named: the checkpoint the monitor picked on the validation part
+    assert summary["tested_checkpoint"] == "best" and summary["best_ckpt"]
+    assert summary["selected_by"].endswith("on the validation part") and cfg.monitor in summary["selected_by"]
     assert (run_dir / "checkpoints" / "last.ckpt").is_file() and (run_dir / "config.yaml").is_file()
     saved = json.loads((run_dir / "summary.json").read_text())
     assert saved["run_dir"] == str(run_dir.resolve())

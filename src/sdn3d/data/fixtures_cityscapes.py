@@ -23,7 +23,7 @@ __all__ = ["CITYSCAPES_FIXTURE_FRAMES", "write_cityscapes_fixture"]
 
 #: Default Cityscapes fixture frames: split -> (city, sequence, frame).
 CITYSCAPES_FIXTURE_FRAMES = {
-    "train": (("aachen", 0, 19), ("aachen", 1, 19)),
+    "train": (("aachen", 0, 19), ("aachen", 1, 19), ("aachen", 2, 19)),
     "val": (("frankfurt", 0, 294),),
 }
 _CS_EXTRINSIC = {"baseline": 0.209313, "pitch": 0.038, "roll": 0.0, "x": 1.7, "y": 0.1, "yaw": -0.0195}

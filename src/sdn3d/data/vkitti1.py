@@ -72,7 +72,6 @@ __all__ = [
     "load_instances",
     "load_depth",
     "paper_object_filter",
-    "paper_split",
 ]
 
 VKITTI1_WORLDS = ("0001", "0002", "0006", "0018", "0020")
@@ -383,43 +382,3 @@ def paper_object_filter(
         and (1.0 - obj.occupr) < max_occlusion
         and obj.truncr < max_truncation
     )
-
-
-def paper_split(
-    frames: Sequence[FrameRecord], part: str = "train", first: bool = True, fraction: float = 0.8
-) -> list[FrameRecord]:
-    """The paper's per-sequence split: train on 80% of each world's frames, test on the rest.
-
-    Frames are grouped by (dataset, world, variation, camera, sequence) and sorted by
-    frame index; the training part holds ``floor(fraction * n)`` frames of each group.
-
-    Args:
-        frames: records to split.
-        part: ``'train'`` or ``'test'``.
-        first: True trains on the first 80% of each world and tests on the last 20%;
-            False trains on the last 80% and tests on the first 20%. The paper says
-            "first or last 80%" without fixing which. The shipped edit benchmark does
-            not settle it: with worlds of 447 (0001), 270 (0006), 339 (0018) and 837
-            (0020) frames, its frames fall in the last 20% of 0001 and 0018, the first
-            20% of 0020, and frames 0-67 of 0006 straddle the first-20% boundary.
-        fraction: training fraction in (0, 1).
-
-    Returns:
-        The selected records, grouped and in frame order.
-    """
-    if part not in ("train", "test"):
-        raise ValueError(f"paper_split: part must be 'train' or 'test', got {part!r}")
-    if not 0.0 < fraction < 1.0:
-        raise ValueError(f"paper_split: fraction must lie in (0, 1), got {fraction}")
-    groups: dict[tuple, list[FrameRecord]] = {}
-    for record in frames:
-        key = (record.dataset, record.world, record.variation, record.camera, record.sequence)
-        groups.setdefault(key, []).append(record)
-    selected: list[FrameRecord] = []
-    for group in groups.values():
-        group = sorted(group, key=lambda r: r.frame)
-        n_train = math.floor(fraction * len(group) + 1e-9)
-        n_first = n_train if first else len(group) - n_train
-        head, tail = group[:n_first], group[n_first:]
-        selected.extend(head if (part == "train") == first else tail)
-    return selected

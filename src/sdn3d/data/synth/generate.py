@@ -271,7 +271,7 @@ def generate_sequence(root: Path, cfg: SynthConfig, world_name: str, variation: 
         rows += int((frame.stats.visible > 0).sum())
         # Keep only what edit sampling needs (objects and statistics), not the images.
         rendered.append((objects, frame.stats, pose))
-    # Edit sources come from the test part of the sequence: the last 20% (paper_split, first=True).
+    # Edit sources come from the test part of the sequence: the last 20% (sdn3d.data.splits.paper_split, first=True).
     first_test = min(math.floor(0.8 * cfg.frames_per_sequence + 1e-9), cfg.frames_per_sequence - 1)
     entries, edit_frames = [], []
     for k in range(cfg.edit_pairs):

@@ -20,7 +20,7 @@ from sdn3d.data.records import (
     visible_pixel_counts,
 )
 from sdn3d.data.splits import paper_split
-from sdn3d.data.vkitti1 import MOTGT_HEADER, paper_object_filter, parse_encoding, parse_motgt, read_frames
+from sdn3d.data.vkitti1 import MOTGT_HEADER, paper_object_filter, parse_encoding, parse_extrinsics, parse_motgt, read_frames
 from sdn3d.labels import VKITTI_CLASS_INDEX, VKITTI_CLASSES, split_instance_ids
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 
@@ -181,6 +181,26 @@ def test_encoding_file_errors(tmp_path):
     path.write_text("Category r g b\nSky 90 200 255\n")
     with pytest.raises(DataFormatError, match="enc.txt:1: .*header"):
         parse_encoding(path)
+
+
+@pytest.mark.parametrize("ending", ["0 0 0 1", "0 0.1 0.2 1"])
+def test_extrinsics_header_wording_of_published_files_is_accepted(tmp_path, ending):
+    """Published extrinsicsgt files word the header's last four columns differently: the data rows are
+    validated (count, numbers, last row 0 0 0 1), not that wording."""
+    path = tmp_path / "0001_clone.txt"
+    head = "frame r1,1 r1,2 r1,3 t1 r2,1 r2,2 r2,3 t2 r3,1 r3,2 r3,3 t3"
+    path.write_text(f"{head} {ending}\n0 1 0 0 0.5 0 1 0 1.5 0 0 1 -2 0 0 0 1\n")
+    assert parse_extrinsics(path)[0] == (1.0, 0.0, 0.0, 0.5, 0.0, 1.0, 0.0, 1.5, 0.0, 0.0, 1.0, -2.0, 0.0, 0.0, 0.0, 1.0)
+    path.write_text(f"{head} {ending}\n0 1 0 0 0.5 0 1 0 1.5 0 0 1 -2 0 0.1 0.2 1\n")
+    with pytest.raises(DataFormatError, match=r"0001_clone.txt:2: last matrix row must be 0 0 0 1"):
+        parse_extrinsics(path)
+    path.write_text(f"frame {head[6:].replace('t3', 'z3')} {ending}\n")
+    with pytest.raises(DataFormatError, match=r"0001_clone.txt:1: extrinsics file header must be 'frame r1,1 .* t3 "
+                                              r"followed by 4 more columns'"):
+        parse_extrinsics(path)
+    path.write_text(f"{head} 0 0 1\n")  # a column short
+    with pytest.raises(DataFormatError, match="0001_clone.txt:1: extrinsics file header"):
+        parse_extrinsics(path)
 
 
 def test_malformed_motgt_line_names_file_and_line(small_tree):

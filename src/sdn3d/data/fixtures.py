@@ -28,7 +28,7 @@ from PIL import Image
 
 from sdn3d.data.imageio import image_size
 from sdn3d.data.records import ObjectAnnotation
-from sdn3d.data.vkitti1 import ENCODING_HEADER, EXTRINSICS_HEADER, MOTGT_HEADER
+from sdn3d.data.vkitti1 import ENCODING_HEADER, MOTGT_HEADER, PUBLISHED_EXTRINSICS_HEADER
 from sdn3d.data.vkitti2 import (
     BBOX_HEADER,
     COLORS_HEADER,
@@ -313,7 +313,7 @@ def write_vkitti1_fixture(
                                 extr))
     seq_txt = f"{world}_{variation}.txt"
     _write_table(root / "vkitti_1.3.1_motgt" / seq_txt, MOTGT_HEADER, mot_lines)
-    _write_table(root / "vkitti_1.3.1_extrinsicsgt" / seq_txt, EXTRINSICS_HEADER, ext_lines)
+    _write_table(root / "vkitti_1.3.1_extrinsicsgt" / seq_txt, PUBLISHED_EXTRINSICS_HEADER, ext_lines)
     return out
 
 

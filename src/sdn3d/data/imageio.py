@@ -330,8 +330,9 @@ def read_table(
     header: Sequence[str],
     what: str,
     on_error: Callable[[DataFormatError, list[str]], None] | None = None,
+    named_columns: int | None = None,
 ) -> list[TableRow]:
-    """Read a whitespace-separated table with exactly the header line ``header``.
+    """Read a whitespace-separated table with the header line ``header``.
 
     Blank lines are skipped; every other line must have ``len(header)`` fields.
 
@@ -341,6 +342,8 @@ def read_table(
         what: a short description for error messages ("motgt file", ...).
         on_error: None raises on the first line with the wrong number of fields; otherwise that line is
             left out and ``on_error(error, tokens)`` is called (a missing file or a bad header still raise).
+        named_columns: how many leading header words must read exactly as ``header`` (None: all); the
+            others only count. Published files word the trailing columns of some headers differently.
 
     Returns:
         One :class:`TableRow` per data line, in file order.
@@ -352,9 +355,13 @@ def read_table(
         lines = path.read_text(encoding="utf-8").splitlines()
     except UnicodeDecodeError as exc:
         raise DataFormatError(f"{path}: {what} is not UTF-8 text ({exc})") from exc
-    if not lines or lines[0].split() != list(header):
+    words = lines[0].split() if lines else []
+    fixed = len(header) if named_columns is None else named_columns
+    if len(words) != len(header) or words[:fixed] != list(header[:fixed]):
         got = lines[0].strip() if lines else "<empty file>"
-        raise DataFormatError(f"{path}:1: {what} header must be {' '.join(header)!r}, got {got!r}")
+        expected = " ".join(header) if fixed == len(header) else (
+            f"{' '.join(header[:fixed])} followed by {len(header) - fixed} more columns")
+        raise DataFormatError(f"{path}:1: {what} header must be {expected!r}, got {got!r}")
     header = tuple(header)
     rows: list[TableRow] = []
     for lineno, line in enumerate(lines[1:], start=2):

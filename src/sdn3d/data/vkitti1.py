@@ -57,6 +57,7 @@ __all__ = [
     "VKITTI_VARIATIONS",
     "MOTGT_HEADER",
     "EXTRINSICS_HEADER",
+    "PUBLISHED_EXTRINSICS_HEADER",
     "ENCODING_HEADER",
     "MATRIX_COLUMNS",
     "parse_encoding",
@@ -84,9 +85,13 @@ MOTGT_HEADER = tuple(
     "frame tid label truncated occluded alpha l t r b w3d h3d l3d x3d y3d z3d ry rx rz "
     "truncr occupr orig_label moving model color".split()
 )
-#: The 12 varying matrix columns ``r1,1 r1,2 r1,3 t1 ... r3,3 t3`` (headers end with ``0 0 0 1``).
+#: The 12 varying matrix columns ``r1,1 r1,2 r1,3 t1 ... r3,3 t3``. The header's last four words name the
+#: constant last matrix row; published files word them differently (``0 0 0 1``, ``0 0.1 0.2 1``, ...), so
+#: only the first 13 words are checked, and every data row's last four numbers must read 0 0 0 1.
 MATRIX_COLUMNS = tuple(c for i in (1, 2, 3) for c in (f"r{i},1", f"r{i},2", f"r{i},3", f"t{i}"))
 EXTRINSICS_HEADER = ("frame", *MATRIX_COLUMNS, "0", "0", "0", "1")
+#: The header as the published Virtual KITTI 1.3.1 extrinsicsgt files word it (what the fixtures write).
+PUBLISHED_EXTRINSICS_HEADER = ("frame", *MATRIX_COLUMNS, "0", "0.1", "0.2", "1")
 ENCODING_HEADER = ("Category(:id)", "r", "g", "b")
 
 _FRAME_PNG = re.compile(r"^(\d{5})\.png$")
@@ -201,7 +206,8 @@ def parse_extrinsics(path: str | os.PathLike, on_error: RowErrorHandler | None =
     """
     matrices: dict[int, tuple[float, ...]] = {}
     rows = read_table(path, EXTRINSICS_HEADER, "extrinsics file",
-                      None if on_error is None else (lambda exc, tokens: on_error(exc, row_frame(tokens))))
+                      None if on_error is None else (lambda exc, tokens: on_error(exc, row_frame(tokens))),
+                      named_columns=1 + len(MATRIX_COLUMNS))
     for row in rows:
         frame: int | None = None
         try:

@@ -51,7 +51,8 @@ MOTGT_HEADER = (
     "frame tid label truncated occluded alpha l t r b w3d h3d l3d x3d y3d z3d ry rx rz "
     "truncr occupr orig_label moving model color"
 )
-EXTRINSICS_HEADER = "frame r1,1 r1,2 r1,3 t1 r2,1 r2,2 r2,3 t2 r3,1 r3,2 r3,3 t3 0 0 0 1"
+# Worded as the published Virtual KITTI 1.3.1 files word it (the readers check only the first 13 words).
+EXTRINSICS_HEADER = "frame r1,1 r1,2 r1,3 t1 r2,1 r2,2 r2,3 t2 r3,1 r3,2 r3,3 t3 0 0.1 0.2 1"
 ENCODING_HEADER = "Category(:id) r g b"
 
 _DIRS = {

@@ -118,6 +118,37 @@ def test_delete_removes_every_pixel_and_fills_background(scene):
                                                                    before.label[~freed & (maps.instance == 0)])
 
 
+def _occluded_pair(scene: SceneCode) -> tuple[int, int, torch.Tensor]:
+    """(front id, behind id, pixels of the front object's mask where the one behind renders) with the most
+    such pixels."""
+    obj = scene.objects
+    alone = obj.replace(mask=torch.zeros_like(obj.mask), has_mask=torch.zeros_like(obj.has_mask))
+    best = (0, 0, torch.zeros(0))
+    for row in range(len(obj)):  # each object's silhouette alone: what it would cover unoccluded
+        sil = compose_instances(scene.replace(objects=alone.select(torch.tensor([row])))) != 0
+        for front in range(len(obj)):
+            if front != row and float(obj.center[front, 2]) < float(obj.center[row, 2]):
+                hidden = sil & obj.mask[front] & ~obj.mask[row]
+                if int(hidden.sum()) > int(best[2].sum()):
+                    best = (int(obj.instance_id[front]), int(obj.instance_id[row]), hidden)
+    return best
+
+
+def test_occluded_car_comes_back_when_its_occluder_leaves(scene):
+    """Amodal completion: deleting (or moving) the car in front re-draws the hidden part of the car behind it
+    from its geometry instead of turning it into road."""
+    front, behind, hidden = _occluded_pair(scene)
+    assert int(hidden.sum()) >= 20, "the fixture scene needs an occluded car"
+    before = scene_maps(scene)
+    assert not bool((before.instance[hidden] == behind).any())
+    for op in (Delete(front), Move(front, (5.0, 60.0))):
+        after = scene_maps(apply_edits(scene, [op]))
+        uncovered = hidden & (after.instance != front)  # a moved car may still cover some of them
+        assert float((after.instance[uncovered] == behind).float().mean()) > 0.9, op
+        # the car behind keeps its own visible pixels
+        assert bool((after.instance[before.instance == behind] == behind).all())
+
+
 def test_edits_are_pure(scene):
     copy = scene.replace(semantic=scene.semantic.clone(), objects=ObjectTable(
         **{k: v.clone() for k, v in scene.objects.__dict__.items()}))
@@ -271,9 +302,11 @@ def test_freed_pixels_match_the_reference_and_need_no_rendering_with_masks(scene
     def no_render(*args, **kwargs):
         raise AssertionError("compose_instances called although every observed object has a mask")
 
+    assert apply_edits(scene, ops) == ref
+    vacate = torch.isin(scene.objects.instance_id, torch.tensor([a, b, c]))
     with monkeypatch.context() as patch:
         patch.setattr(module, "compose_instances", no_render)
-        assert apply_edits(scene, ops) == ref
+        module._footprints(scene, vacate, None, 2)
     # Observed objects without masks (their footprint is where their render wins) take the rendering path.
     obj = scene.objects
     drop = torch.isin(obj.instance_id, torch.tensor([a, int(obj.instance_id[order[3]])]))

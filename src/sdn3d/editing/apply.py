@@ -23,6 +23,11 @@ semantic map's object region is rarely exactly the mask or silhouette; "claimed"
 of the other observed objects, i.e. their masks, so nothing is rendered unless an observed object lacks
 a mask). Moved objects lose their mask and are drawn from geometry. An object whose pose ends where
 it started (e.g. rotated by ``2 pi``) is left exactly as it was.
+
+Amodal completion (the paper's occlusion recovery, its Fig. 4d and 6a): the freed pixels do not all turn
+into background. Every unmoved object with geometry and a mask also covers the freed pixels where its
+rendered silhouette lies, nearest object first (:func:`_reclaim`): the car that stood behind a deleted or
+moved one comes back whole. Only freed pixels no such object covers take background labels.
 """
 
 from __future__ import annotations
@@ -321,8 +326,28 @@ def _apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None,
     semantic = scene.semantic
     if bool(vacate.any()):
         vacated = footprints(scene, vacate, bank, grow)
+        table = _reclaim(scene.replace(objects=table), vacated, bank)
         semantic = fill_background(scene.semantic, vacated, scene.thing_classes)
     return scene.replace(semantic=semantic, objects=table, background_codes=codes)
+
+
+def _reclaim(scene: SceneCode, vacated: Tensor, bank: MeshBank | None) -> ObjectTable:
+    """``scene.objects`` with each unmoved masked object's mask grown by its share of the ``vacated (H, W)``
+    pixels: those where its rendered silhouette is the nearest among such objects' silhouettes (module doc)."""
+    obj = scene.objects
+    rows = (obj.has_mask & obj.has_geometry).nonzero().flatten()
+    if not len(rows):
+        return obj
+    # Their silhouettes alone, composed in depth order (no masks: each object covers its render).
+    alone = obj.select(rows)
+    alone = alone.replace(mask=torch.zeros_like(alone.mask), has_mask=torch.zeros_like(alone.has_mask))
+    silhouettes = compose_instances(scene.replace(objects=alone), bank).cpu()
+    gained = vacated[None] & (silhouettes[None] == alone.instance_id[:, None, None])  # (R, H, W)
+    if not bool(gained.any()):
+        return obj
+    mask = obj.mask.clone()
+    mask[rows] |= gained
+    return obj.replace(mask=mask)
 
 
 def _footprints(scene: SceneCode, vacate: Tensor, bank: MeshBank | None, grow: int) -> Tensor:

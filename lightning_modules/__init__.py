@@ -8,11 +8,12 @@ from __future__ import annotations
 from importlib import import_module
 from typing import Any
 
-__all__ = ["SemanticModule", "GeometricModule", "TexturalModule", "BranchModule"]
+__all__ = ["SemanticModule", "GeometricModule", "Deep3DBoxModule", "TexturalModule", "BranchModule"]
 
 _WHERE = {
     "SemanticModule": "lightning_modules.semantic",
     "GeometricModule": "lightning_modules.geometric",
+    "Deep3DBoxModule": "lightning_modules.deep3dbox",
     "TexturalModule": "lightning_modules.textural",
     "BranchModule": "lightning_modules._base",
 }

@@ -127,9 +127,9 @@ def test_table2(tmp_path, capsys, monkeypatch):
     assert table2.main(["--out", str(tmp_path / "out")]) == 2
     assert "give at least one --summary" in _one_error_line(capsys.readouterr().err, "table2")
     (tmp_path / "s.jsonl").write_text("")
-    args = ["--summary", str(tmp_path / "s.jsonl"), "--out", str(tmp_path / "out"), "--deep3dbox", "skip"]
-    monkeypatch.setattr(table2, "latest_runs", _raise(ValueError("a bug in latest_runs")))
-    with pytest.raises(ValueError, match="a bug in latest_runs"):
+    args = ["--summary", str(tmp_path / "s.jsonl"), "--out", str(tmp_path / "out")]
+    monkeypatch.setattr(table2, "group_runs", _raise(ValueError("a bug in group_runs")))
+    with pytest.raises(ValueError, match="a bug in group_runs"):
         table2.main(args)
     assert not (tmp_path / "out").exists()
 

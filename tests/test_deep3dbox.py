@@ -7,13 +7,11 @@ from pathlib import Path
 
 import pytest
 import torch
-from omegaconf import OmegaConf
 
 from sdn3d.geometric.deep3dbox import (
     border_sides,
     box_iou,
     deep3dbox_translation,
-    evaluate_deep3dbox,
     solve_translation,
     upright_assignments,
 )
@@ -142,87 +140,3 @@ def test_bad_inputs_raise():
         solve_translation(box * float("nan"), dims, ry, K)
     with pytest.raises(ValueError, match="sides must be a bool"):
         solve_translation(box, dims, ry, K, sides=torch.ones(3, 4))
-
-
-class _Loader(list):
-    """A list of batches with a ``dataset`` (image size only), like a DataLoader."""
-
-    class _Dataset:
-        image_size = IMAGE
-
-    dataset = _Dataset()
-
-
-def _fake_batches(n=40, batch=16):
-    dims, ry, center = _objects(n, seed=3)
-    box = project_box(dims, ry, center, K)
-    intr = torch.tensor([K[0, 0], K[1, 1], K[0, 2], K[1, 2]]).expand(n, 4)
-    out = _Loader()
-    for i in range(0, n, batch):
-        s = slice(i, i + batch)
-        out.append({"box": box[s].float(), "intrinsics": intr[s].float(), "dims": dims[s].float(),
-                    "ry": ry[s].float(), "center": center[s].float(), "template_id": torch.full((len(box[s]),), -1),
-                    "crop": torch.zeros(len(box[s]), 3, 8, 8), "mask": torch.zeros(len(box[s]), 1, 8, 8)})
-    return out
-
-
-class _StandIn:
-    """Predictor stand-in: ground truth yaw / dims, perturbed by a known amount."""
-
-    def __init__(self, loader, dyaw=0.0, dscale=1.0):
-        self.targets = {id(b["box"]): b for b in loader}
-        self.dyaw, self.dscale = dyaw, dscale
-
-    def predict(self, crop, mask, box, intrinsics, crop_intrinsics=None):
-        b = self.targets[id(box)]
-        n = box.shape[0]
-        return {"dims": b["dims"] * self.dscale, "ry": b["ry"] + self.dyaw,
-                "template_id": torch.zeros(n, dtype=torch.long), "phi": torch.zeros(n, 64, 3)}
-
-
-def test_evaluate_with_oracle_and_stand_in_predictor():
-    loader = _fake_batches()
-    oracle = evaluate_deep3dbox(None, loader, box_pad=0.0, reprojection=False)
-    assert oracle["count"] == 40 and oracle["invalid"] == 0
-    assert oracle["test/distance_error"] < 1e-5 and oracle["test/scale_error"] < 1e-6
-    assert oracle["test/orientation_similarity"] == pytest.approx(1.0, abs=1e-6)
-    assert "test/reprojection_error" not in oracle
-
-    same = evaluate_deep3dbox(_StandIn(loader), loader, box_pad=0.0, reprojection=False)
-    assert same["test/distance_error"] == pytest.approx(oracle["test/distance_error"], abs=1e-6)
-    off = evaluate_deep3dbox(_StandIn(loader, dyaw=0.2, dscale=1.1), loader, box_pad=0.0, reprojection=False)
-    assert off["test/orientation_similarity"] == pytest.approx((1 + math.cos(0.2)) / 2, abs=1e-5)
-    dims = torch.cat([b["dims"] for b in loader]).double()
-    assert off["test/scale_error"] == pytest.approx(float((0.1 * dims).norm(dim=-1).mean()), rel=1e-4)
-    assert off["test/distance_error"] > 0.02  # wrong dims and yaw move the fitted translation
-    padded = evaluate_deep3dbox(None, loader, box_pad=2.0, reprojection=False)
-    assert padded["test/distance_error"] > oracle["test/distance_error"]  # a larger box pulls the car nearer
-
-
-def test_evaluate_on_a_dataset_fixture(tmp_path):
-    """The real batch layout: oracle and a (random-weight) GeometricPredictor, with reprojection."""
-    from datamodules import GeometricDataModule
-    from sdn3d.data.fixtures import write_vkitti1_fixture
-
-    write_vkitti1_fixture(tmp_path, frames=range(5), size=(310, 94))
-    cfg = OmegaConf.load(CONF / "vkitti.yaml")
-    cfg.root = str(tmp_path)
-    dm = GeometricDataModule(cfg, image_size=(160, 64), batch_size=4, crop_size=32)
-    dm.setup("test")
-    loader = dm.test_dataloader()
-    n = len(dm.datasets["test"])
-    assert n > 0
-    oracle = evaluate_deep3dbox(None, loader)
-    assert oracle["count"] + oracle["invalid"] == n
-    assert oracle["box_pad"] == pytest.approx(0.5 * 160 / 310)  # half a native pixel
-    assert oracle["test/orientation_similarity"] == pytest.approx(1.0, abs=1e-6)
-
-    predict = pytest.importorskip("sdn3d.geometric.predict")
-    from sdn3d.geometric.model import GeometricNet
-
-    torch.manual_seed(0)
-    result = evaluate_deep3dbox(predict.GeometricPredictor(GeometricNet()), loader)
-    for key in ("test/orientation_similarity", "test/distance_error", "test/scale_error",
-                "test/reprojection_error"):
-        assert math.isfinite(result[key]), key
-    assert 0.0 <= result["test/reprojection_error"] <= 1.0

@@ -30,9 +30,13 @@ def synth_root(tmp_path_factory) -> Path:
     return root
 
 
-def _datamodule(root: Path, **kwargs) -> GeometricDataModule:
-    data = {"kind": "vkitti1", "root": str(root), "image_size": list(SIZE)}
-    return GeometricDataModule(data, batch_size=4, crop_size=32, min_pixels=32, **kwargs)
+# Of the fixture's 5 frames per sequence, 0-2 train, 3 validates and 4 tests.
+FIXTURE_SPLIT = {"rule": "paper", "val_fraction": 0.25, "val_gap": 0}
+
+
+def _datamodule(root: Path, batch_size: int = 4, **kwargs) -> GeometricDataModule:
+    data = {"kind": "vkitti1", "root": str(root), "image_size": list(SIZE), "split": dict(FIXTURE_SPLIT)}
+    return GeometricDataModule(data, batch_size=batch_size, crop_size=32, min_pixels=32, **kwargs)
 
 
 class _LrRecorder(L.Callback):
@@ -66,8 +70,9 @@ def test_two_stages_logging_checkpoint_and_exact_resume(synth_root, tmp_path):
     assert rec.lrs == pytest.approx([1e-3, 1e-4])  # the loss and the rate switch at the epoch boundary
     metrics = trainer.callback_metrics
     assert float(metrics["train/stage"]) == 1.0 and "train/loss_reproj" in metrics and "train/reinforce" in metrics
-    for name in ("orientation_similarity", "distance_error", "scale_error", "reprojection_error",
-                 "mesh_accuracy", "template_prob/sedan", "loss_pred"):
+    for name in ("orientation_similarity", "distance_error", "scale_error", "reprojection_error_image",
+                 "reprojection_error_crop_soft", "mesh_accuracy", "mesh_uniform_floor", "mesh_majority_floor",
+                 "template_prob/sedan", "loss_pred"):
         assert torch.isfinite(metrics[f"val/{name}"]), name
     assert 0.0 <= float(metrics["val/orientation_similarity"]) <= 1.0
     assert int(model.baseline.count) == 2 and float(model.baseline.value) < 0  # one update per joint step
@@ -85,6 +90,7 @@ def test_two_stages_logging_checkpoint_and_exact_resume(synth_root, tmp_path):
     # The checkpoint is plain data (weights_only) and the predictor reproduces the module.
     state = torch.load(ckpt, map_location="cpu", weights_only=True)
     assert state["hyper_parameters"]["image_size"] == list(SIZE)
+    assert int(state["state_dict"]["train_template_counts"].sum()) == len(trainer.datamodule.datasets["train"])
     predictor = GeometricPredictor.from_checkpoint(ckpt)
     batch = next(iter(_datamodule(synth_root).val_dataloader()))
     out = predictor.predict(batch["crop"], batch["mask"], batch["box"], batch["intrinsics"])
@@ -144,3 +150,57 @@ def test_branch_config_follows_each_ablation(synth_root, tmp_path):
             model = instantiate(cfg.model)
             assert model.net.num_templates == (1 if cfg.ablation.single_cad else 8)
             assert model.hparams.rotation == cfg.ablation.rotation
+
+
+def _template_ids(dataset) -> torch.Tensor:
+    return torch.stack([dataset[i]["template_id"] for i in range(len(dataset))])
+
+
+def test_test_metrics_mesh_floors_from_the_training_part(synth_root):
+    """The counted templates are the training part's (all of it, however few batches train), and the majority
+    floor scores the training majority on the test objects."""
+    model = GeometricModule(pred_epochs=1, joint_epochs=0, image_size=SIZE, log_images=0)
+    dm = _datamodule(synth_root)
+    trainer = _trainer(1, _LrRecorder(), train_batches=1, logger=False)
+    trainer.fit(model, datamodule=dm)
+    train_ids = _template_ids(dm.datasets["train"])
+    assert model.train_template_counts.tolist() == torch.bincount(train_ids, minlength=8).tolist()
+    metrics = trainer.test(model, datamodule=dm, verbose=False)[0]
+    test_ids = _template_ids(dm.datasets["test"])
+    majority = int(torch.bincount(train_ids, minlength=8).argmax())
+    assert metrics["test/mesh_majority_floor"] == pytest.approx(float((test_ids == majority).float().mean()))
+    assert metrics["test/mesh_uniform_floor"] == 0.125
+    assert 0.0 <= metrics["test/mesh_identifiability_ceiling"] <= 1.0 and metrics["test/selection_regret"] >= 0.0
+    assert 0.0 < metrics["test/reprojection_error_image"] < metrics["test/reprojection_error_crop_soft"]
+    assert "val/selection_regret" not in trainer.callback_metrics  # the 8-template renders are test-only
+
+
+class _Oracle(GeometricModule):
+    """A baseline-shaped module: decode_batch gives the true pose, undeformed meshes (phi = 0) and, one-hot,
+    the template that fits the mask best at that pose."""
+
+    @torch.no_grad()
+    def decode_batch(self, stage, batch):
+        from sdn3d.geometric.metrics import template_reprojection_errors
+        from sdn3d.math3d.rotations import roty
+
+        n, size = batch["crop"].shape[0], batch["crop"].shape[-1]
+        errors = template_reprojection_errors(self.bank(batch["crop"].device), batch["dims"], batch["ry"],
+                                              batch["center"], None, batch["crop_intrinsics"], batch["mask"],
+                                              self._ignore(batch), self.soft_settings(size))
+        best = errors.argmin(1)
+        return {"template_id": best, "template_probs": torch.nn.functional.one_hot(best, 8).float(),
+                "phi": torch.zeros(n, 64, 3), "dims": batch["dims"], "ry": batch["ry"], "center": batch["center"],
+                "rot": roty(batch["ry"])}
+
+
+def test_metrics_work_from_decode_batch_alone(synth_root):
+    model = _Oracle(image_size=SIZE, log_images=0)
+    trainer = _trainer(1, _LrRecorder(), logger=False)
+    metrics = trainer.test(model, datamodule=_datamodule(synth_root), verbose=False)[0]
+    assert metrics["test/orientation_similarity"] == pytest.approx(1.0, abs=1e-6)
+    assert metrics["test/distance_error"] == pytest.approx(0.0, abs=1e-6) and metrics["test/scale_error"] == 0.0
+    assert metrics["test/selection_regret"] == 0.0  # it chose the best template at its own pose
+    assert metrics["test/mesh_accuracy"] == pytest.approx(metrics["test/mesh_identifiability_ceiling"])
+    assert "test/mesh_majority_floor" not in metrics  # never trained: no training templates counted
+    assert 0.0 <= metrics["test/reprojection_error_image"] < 0.01

@@ -1,4 +1,4 @@
-"""``sdn3d-table2``: Table 2 from sdn3d-train run summaries."""
+"""``sdn3d-table2``: Table 2 from sdn3d-train run summaries (grouped over seeds, the paper's six rows)."""
 
 from __future__ import annotations
 
@@ -6,20 +6,25 @@ import json
 from pathlib import Path
 
 import pytest
-import torch
 
-from sdn3d.cli.table2 import PAPER, ROWS, build_table, latest_runs, main, render_markdown
+from sdn3d.cli.table2 import PAPER, ROWS, build_table, group_runs, main, render_markdown, summarize
 
-CONF = Path(__file__).resolve().parents[1] / "conf"
+LABELS = dict(ROWS)
 
 
-def _run(ablation, finished, value, status="ok", branch="geometric", run_dir=None, **extra):
+def _run(ablation, finished, value, status="ok", branch="geometric", run_dir=None, seed=0, experiment="table2",
+         overrides=(), **extra):
     metrics = {"test/orientation_similarity": 0.9 + value, "test/distance_error": value,
-               "test/scale_error": 0.3 + value, "test/reprojection_error": value / 10, "val/distance_error": 9.0}
-    return {"branch": branch, "ablation": ablation, "run_dir": run_dir or f"/runs/{ablation}/{finished}",
-            "best_ckpt": None, "last_ckpt": None, "metrics": metrics if status == "ok" else {},
-            "overrides": [f"ablation={ablation}"], "seed": 0, "wall_s": 1.0, "finished": finished,
-            "status": status, **extra}
+               "test/scale_error": 0.3 + value, "test/reprojection_error_image": value / 10,
+               "test/reprojection_error_crop_soft": value + 0.05, "test/mesh_accuracy": 0.2 + value,
+               "test/mesh_majority_floor": 0.21, "test/mesh_uniform_floor": 0.125,
+               "test/mesh_identifiability_ceiling": 0.4, "test/selection_regret": value / 100,
+               "val/distance_error": 9.0}
+    return {"branch": branch, "ablation": ablation, "experiment": experiment,
+            "run_dir": run_dir or f"/runs/{ablation}/{seed}/{finished}", "best_ckpt": None, "last_ckpt": None,
+            "metrics": metrics if status == "ok" else {}, "seed": seed,
+            "overrides": [f"ablation={ablation}", f"seed={seed}", "torch_threads=2", *overrides], "wall_s": 1.0,
+            "finished": finished, "status": status, **extra}
 
 
 def _write_jsonl(path: Path, records) -> Path:
@@ -27,64 +32,152 @@ def _write_jsonl(path: Path, records) -> Path:
     return path
 
 
-def _table_rows(markdown: str) -> dict[str, list[str]]:
-    rows = {}
+def _tables(markdown: str) -> list[dict[str, list[str]]]:
+    """Each markdown table as {method: cells after the method}."""
+    tables: list[dict[str, list[str]]] = []
     for line in markdown.splitlines():
-        if line.startswith("| ") and not line.startswith("| Method"):
+        if line.startswith("| Method"):
+            tables.append({"header": [c.strip() for c in line.strip("|").split("|")][1:]})
+        elif line.startswith("| ") and tables:
             cells = [c.strip() for c in line.strip("|").split("|")]
-            rows[cells[0]] = cells[1:]
-    return rows
+            tables[-1][cells[0]] = cells[1:]
+    return tables
+
+
+def _t(hour: int) -> str:
+    return f"2026-11-22T{hour:02d}:00:00+00:00"
 
 
 RECORDS = [
-    _run("full", "2026-11-22T10:00:00+00:00", 0.05),
-    _run("full", "2026-11-22T12:00:00+00:00", 0.04),   # latest full run: this one
-    _run("full", "2026-11-22T11:00:00+00:00", 0.06),
-    _run("full", "2026-11-22T13:00:00+00:00", 0.0, status="failed"),  # failed runs never beat ok ones
-    _run("no_reproj", "2026-11-22T09:00:00+00:00", 0.07),
-    _run("no_tau", "2026-11-22T09:00:00+00:00", 0.0, status="failed"),
-    _run(None, "2026-11-22T14:00:00+00:00", 0.01, branch="semantic"),
-    _run("my_ablation", "2026-11-22T09:00:00+00:00", 0.02),
+    _run("full", _t(10), 0.05, seed=0),
+    _run("full", _t(11), 0.03, seed=1),
+    _run("full", _t(9), 0.04, seed=2),
+    _run("full", _t(12), 0.04, seed=0),  # a re-run of seed 0: replaces the 10:00 run
+    _run("full", _t(13), 0.0, status="failed", seed=3),  # left out of the mean, counted
+    _run("no_reproj", _t(9), 0.07),
+    _run("no_tau", _t(9), 0.0, status="failed"),
+    _run(None, _t(14), 0.01, branch="semantic"),
+    _run("my_ablation", _t(9), 0.02),
+    _run("full", _t(8), 0.5, experiment="demo"),  # another experiment: another table
 ]
 
 
-def test_latest_ok_run_per_ablation():
-    runs = latest_runs(RECORDS)
-    assert runs["full"]["metrics"]["test/distance_error"] == 0.04
-    assert runs["no_tau"]["status"] == "failed"
-    assert set(runs) == {"full", "no_reproj", "no_tau", "my_ablation"}
+def test_runs_grouped_by_experiment_and_ablation_one_per_seed():
+    groups = group_runs(RECORDS)
+    assert set(groups) == {"table2", "demo"}
+    assert set(groups["table2"]) == {"full", "no_reproj", "no_tau", "my_ablation"}
+    full = groups["table2"]["full"]
+    assert sorted((r["seed"], r["status"]) for r in full) == [(0, "ok"), (1, "ok"), (2, "ok"), (3, "failed")]
+    assert next(r for r in full if r["seed"] == 0)["finished"] == _t(12)
     # A geometric run without an ablation name is the default (full) model.
-    runs = latest_runs([_run(None, "2026-11-22T15:00:00+00:00", 0.03)])
-    assert set(runs) == {"full"}
+    assert set(group_runs([_run(None, _t(15), 0.03)])["table2"]) == {"full"}
 
 
-def test_table_from_jsonl(tmp_path, capsys):
+def test_mean_and_sample_std_over_seeds(tmp_path, capsys):
     summary = _write_jsonl(tmp_path / "summary.jsonl", RECORDS)
     out = tmp_path / "out"
-    assert main(["--summary", str(summary), "--out", str(out), "--deep3dbox", "skip"]) == 0
+    assert main(["--summary", str(summary), "--out", str(out)]) == 0
     markdown = (out / "table2.md").read_text()
     assert markdown == capsys.readouterr().out
-    rows = _table_rows(markdown)
-    labels = [label for _, label in ROWS]
-    assert list(rows) == labels  # the paper's row order
-    full = rows["full model"]
-    assert full[:4] == ["0.940", "4.00e-2", "0.340", "4.00e-3"]
-    assert full[4:] == ["0.987", "3.87e-2", "0.382", "3.37e-3"]  # the paper's full-model numbers
-    assert rows["w/o reprojection"][:4] == ["0.970", "7.00e-2", "0.370", "7.00e-3"]
-    assert rows["w/o tau (log distance)"][:4] == ["failed"] * 4
-    assert rows["single CAD"][:4] == ["not run"] * 4 and rows["single CAD"][4:] == [""] * 4
-    assert rows[labels[0]][:4] == ["not run"] * 4
-    assert "my_ablation" in markdown  # reported as left out, not silently dropped
+    table2, mesh = _tables(markdown)
+    assert [k for k in table2 if k != "header"] == [label for _, label in ROWS]  # the paper's row order
+    full = table2[LABELS["full"]]
+    # distance 0.04, 0.03, 0.04 -> mean 0.03667, sample std 0.00577; shown x1e-2
+    assert full[:4] == ["3", "0.937 ± 0.006", "3.67 ± 0.58", "0.337 ± 0.006"]
+    assert full[4] == "3.67 ± 0.58"  # reprojection x1e-3: value / 10
+    assert table2[LABELS["no_reproj"]][:3] == ["1", "0.970", "7.00"]  # one run: no spread
+    assert table2[LABELS["no_tau"]][1:6] == ["failed"] * 5
+    assert table2[LABELS["single_cad"]][1:6] == ["not run"] * 5
+    assert "full model" not in markdown and "1 failed run(s) left out" in markdown
+    assert "my_ablation" in markdown and "demo" in markdown  # reported as left out, not silently dropped
+    assert mesh[LABELS["full"]] == ["3", "0.237 ± 0.006", "0.210 ± 0.000", "0.125 ± 0.000", "0.400 ± 0.000",
+                                    "0.0004 ± 0.0001"]
 
     table = json.loads((out / "table2.json").read_text())
+    assert table["experiment"] == "table2" and table["other_experiments"] == ["demo"]
     by_key = {row["key"]: row for row in table["rows"]}
-    assert [row["key"] for row in table["rows"]] == [key for key, _ in ROWS]
-    assert by_key["full"]["metrics"]["test/distance_error"] == 0.04
-    assert by_key["full"]["source"]["run_dir"] == "/runs/full/2026-11-22T12:00:00+00:00"
-    assert by_key["full"]["paper"] == PAPER["full"]
-    assert by_key["single_cad"]["status"] == "not run" and by_key["no_tau"]["status"] == "failed"
-    assert by_key["deep3dbox"]["note"].startswith("not evaluated")
+    dist = by_key["full"]["metrics"]["test/distance_error"]
+    assert dist["n"] == 3 and dist["mean"] == pytest.approx(0.11 / 3)
+    assert dist["std"] == pytest.approx(0.005773502, rel=1e-6) and sorted(dist["values"]) == [0.03, 0.04, 0.04]
+    assert sorted(by_key["full"]["seeds"]) == [0, 1, 2] and by_key["full"]["failed"] == 1
     assert table["ignored_ablations"] == ["my_ablation"]
+
+
+def test_the_six_reference_rows_of_the_paper(tmp_path):
+    assert [key for key, _ in ROWS] == list(PAPER)
+    table = build_table({}, None)
+    markdown = render_markdown(table)
+    rows = _tables(markdown)[0]
+    header = rows["header"]
+    assert header[-4:] == ["paper: orientation", "paper: distance (x1e-2)", "paper: scale (m)",
+                           "paper: reprojection (x1e-3, per image pixel)"]
+    expected = {
+        "Mousavian et al. (Deep3DBox)": ["0.976", "4.41", "0.391", "9.80"],
+        "w/o L_reproj": ["0.980", "3.76", "0.372", "9.54"],
+        "w/o quaternion constraint": ["0.970", "4.59", "0.403", "7.58"],
+        "w/o normalized distance tau": ["0.979", "4.27", "0.420", "6.42"],
+        "w/o MultiCAD and FFD": ["0.984", "3.37", "0.464", "4.60"],
+        "3D-SDN (full)": ["0.987", "3.87", "0.382", "3.37"],
+    }
+    for label, values in expected.items():
+        assert rows[label][-4:] == values and rows[label][1:6] == ["not run"] * 5
+    assert PAPER["full"]["test/reprojection_error_image"] == 3.37e-3 and PAPER["deep3dbox"]["test/distance_error"] \
+        == 4.41e-2
+
+
+def test_units_and_frame_size_in_the_header(tmp_path):
+    run_dir = tmp_path / "runs" / "full"
+    run_dir.mkdir(parents=True)
+    (run_dir / "config.yaml").write_text("data:\n  image_size: [624, 192]\ndatamodule:\n  crop_size: 64\n")
+    summary = _write_jsonl(tmp_path / "s.jsonl", [_run("full", _t(9), 0.04, run_dir=str(run_dir))])
+    out = tmp_path / "out"
+    assert main(["--summary", str(summary), "--out", str(out)]) == 0
+    markdown = (out / "table2.md").read_text()
+    header = _tables(markdown)[0]["header"]
+    assert header[:6] == ["n", "Orientation similarity ↑", "Distance error (x1e-2) ↓", "Scale error (m) ↓",
+                          "Reprojection error (x1e-3; hard, per pixel of the 624x192 frame) ↓",
+                          "Soft crop mean (64-px crops; training loss, not the paper's) ↓"]
+    assert "frame 624x192 (W x H, the working size" in markdown
+    table = json.loads((out / "table2.json").read_text())
+    assert table["frame_size"] == [624, 192] and table["crop_size"] == 64
+    assert table["columns"][3]["scale"] == 1e3 and table["columns"][1]["scale"] == 1e2
+
+
+def test_runs_that_differ_in_more_than_the_seed_are_reported(tmp_path, capsys):
+    records = [_run("full", _t(9), 0.04, seed=0, overrides=["data.root=/a"]),
+               _run("full", _t(10), 0.05, seed=1, overrides=["data.root=/b"]),
+               _run("no_tau", _t(9), 0.04, seed=0, overrides=["data.root=/a", "trainer.enable_progress_bar=False"]),
+               _run("no_tau", _t(10), 0.05, seed=1, overrides=["data.root=/a"])]
+    summary = _write_jsonl(tmp_path / "s.jsonl", records)
+    assert main(["--summary", str(summary), "--out", str(tmp_path / "out")]) == 0
+    captured = capsys.readouterr()
+    assert "warning: 3D-SDN (full): its 2 runs differ in more than the seed: data.root=/a; data.root=/b" \
+        in captured.err
+    assert "warning: 3D-SDN (full)" in captured.out and "w/o normalized distance tau: its" not in captured.err
+    table = json.loads((tmp_path / "out" / "table2.json").read_text())
+    assert len(table["warnings"]) == 1
+
+
+def test_experiment_choice(tmp_path, capsys):
+    summary = _write_jsonl(tmp_path / "s.jsonl", RECORDS)
+    out = tmp_path / "out"
+    assert main(["--summary", str(summary), "--out", str(out), "--experiment", "demo"]) == 0
+    table = json.loads((out / "table2.json").read_text())
+    assert table["experiment"] == "demo" and table["other_experiments"] == ["table2"]
+    full = next(row for row in table["rows"] if row["key"] == "full")
+    assert full["n"] == 1 and full["metrics"]["test/distance_error"]["mean"] == 0.5
+    capsys.readouterr()
+    assert main(["--summary", str(summary), "--out", str(out), "--experiment", "paper"]) == 2
+    assert "--experiment 'paper': no geometric run of that experiment" in capsys.readouterr().err
+    # Runs recorded without an experiment are 'none'.
+    summary = _write_jsonl(tmp_path / "n.jsonl", [_run("full", _t(9), 0.04, experiment=None)])
+    assert main(["--summary", str(summary), "--out", str(out), "--experiment", "none"]) == 0
+
+
+def test_summarize():
+    assert summarize([]) is None
+    assert summarize([2.0]) == {"mean": 2.0, "std": None, "n": 1, "values": [2.0]}
+    assert summarize([1.0, 3.0])["std"] == pytest.approx(2 ** 0.5)
 
 
 def test_multirun_directories_and_missing_metrics(tmp_path):
@@ -92,18 +185,17 @@ def test_multirun_directories_and_missing_metrics(tmp_path):
     for i, ablation in enumerate(("single_cad", "full_quaternion")):
         run = multirun / f"{i}_ablation={ablation}"
         run.mkdir(parents=True)
-        record = _run(ablation, f"2026-11-22T0{i}:00:00+00:00", 0.02 * (i + 1), run_dir=str(run))
+        record = _run(ablation, _t(i), 0.02 * (i + 1), run_dir=str(run))
         if ablation == "full_quaternion":
-            del record["metrics"]["test/reprojection_error"]
+            del record["metrics"]["test/reprojection_error_image"]
         (run / "summary.json").write_text(json.dumps(record, indent=2))
     summary = _write_jsonl(tmp_path / "s.jsonl", [_run("single_cad", "2026-11-21T00:00:00+00:00", 0.5)])
     out = tmp_path / "out"
-    assert main(["--summary", str(summary), "--multirun", str(multirun), "--out", str(out),
-                 "--deep3dbox", "skip"]) == 0
-    rows = _table_rows((out / "table2.md").read_text())
-    assert rows["single CAD"][1] == "2.00e-2"  # the multirun's run is later than the JSONL's
-    assert rows["quaternion (4-D)"][:4] == ["0.940", "4.00e-2", "0.340", "n/a"]
-    assert rows["full model"][:4] == ["not run"] * 4
+    assert main(["--summary", str(summary), "--multirun", str(multirun), "--out", str(out)]) == 0
+    rows = _tables((out / "table2.md").read_text())[0]
+    assert rows[LABELS["single_cad"]][2] == "2.00"  # the multirun's run is later than the JSONL's (same seed)
+    assert rows[LABELS["full_quaternion"]][1:5] == ["0.940", "4.00", "0.340", "n/a"]
+    assert rows[LABELS["full"]][1:6] == ["not run"] * 5
 
 
 @pytest.mark.parametrize("bad, message", [
@@ -112,18 +204,19 @@ def test_multirun_directories_and_missing_metrics(tmp_path):
     ('{"branch": "geometric", "status": "ok"}', "s.jsonl:2: missing key 'metrics'"),
     ('{"branch": "geometric", "status": "ok", "metrics": {"test/distance_error": "0.1"}}', "must be a number"),
     ('{"branch": "geometric", "status": "ok", "metrics": {}, "finished": "yesterday"}', "not an ISO time"),
+    ('{"branch": "geometric", "status": "ok", "metrics": {}, "seed": "1"}', "'seed' must be an integer"),
 ])
 def test_bad_line_exits_2_and_leaves_outputs(tmp_path, capsys, bad, message):
     summary = tmp_path / "s.jsonl"
     summary.write_text(json.dumps(RECORDS[0]) + "\n" + bad + "\n" + json.dumps(RECORDS[1]) + "\n")
     out = tmp_path / "out"
-    assert main(["--summary", str(summary), "--out", str(out), "--deep3dbox", "skip"]) == 2
+    assert main(["--summary", str(summary), "--out", str(out)]) == 2
     assert message in capsys.readouterr().err
     assert not out.exists()
     # Existing outputs are not touched either.
     out.mkdir()
     (out / "table2.md").write_text("old\n")
-    assert main(["--summary", str(summary), "--out", str(out), "--deep3dbox", "skip"]) == 2
+    assert main(["--summary", str(summary), "--out", str(out)]) == 2
     assert (out / "table2.md").read_text() == "old\n" and sorted(p.name for p in out.iterdir()) == ["table2.md"]
 
 
@@ -139,62 +232,7 @@ def test_bad_multirun_file_and_missing_inputs(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
-def test_deep3dbox_row_needs_a_full_checkpoint(tmp_path):
-    summary = _write_jsonl(tmp_path / "s.jsonl", [_run("no_reproj", "2026-11-22T09:00:00+00:00", 0.07)])
-    assert main(["--summary", str(summary), "--out", str(tmp_path / "out")]) == 0
-    row = json.loads((tmp_path / "out" / "table2.json").read_text())["rows"][0]
-    assert row["status"] == "not run" and "checkpoint" in row["note"]
-
-
-def test_deep3dbox_row_from_a_checkpoint_and_oracle(tmp_path):
-    """The full path: the full run's config.yaml (data) and checkpoint (GeometricPredictor)."""
-    pytest.importorskip("sdn3d.geometric.predict")
-    from omegaconf import OmegaConf
-
-    from sdn3d.data.fixtures import write_vkitti1_fixture
-    from sdn3d.geometric.model import GeometricNet
-
-    data_root = tmp_path / "data"
-    write_vkitti1_fixture(data_root, frames=range(5), size=(310, 94))
-    run_dir = tmp_path / "runs" / "full"
-    run_dir.mkdir(parents=True)
-    data = OmegaConf.to_container(OmegaConf.load(CONF / "data" / "vkitti.yaml"))
-    data.update(root="/elsewhere", image_size=[160, 64])
-    config = {"data": data, "datamodule": {"_target_": "datamodules.GeometricDataModule", "data": data,
-                                           "batch_size": 32, "crop_size": 32}}
-    (run_dir / "config.yaml").write_text(OmegaConf.to_yaml(OmegaConf.create(config)))
-    torch.manual_seed(0)
-    net = GeometricNet()
-    ckpt = run_dir / "best.ckpt"
-    torch.save({"state_dict": {f"net.{k}": v for k, v in net.state_dict().items()},
-                "hyper_parameters": {"rotation": "yaw_quaternion", "distance": "log_tau"}}, ckpt)
-    record = _run("full", "2026-11-22T09:00:00+00:00", 0.05, run_dir=str(run_dir), best_ckpt=str(ckpt))
-    summary = _write_jsonl(tmp_path / "s.jsonl", [record])
-
-    out = tmp_path / "out"
-    assert main(["--summary", str(summary), "--out", str(out), "--data-root", str(data_root),
-                 "--batch-size", "4"]) == 0
-    row = json.loads((out / "table2.json").read_text())["rows"][0]
-    assert row["status"] == "ok" and row["source"]["checkpoint"] == str(ckpt)
-    assert all(v is not None for v in row["metrics"].values())
-    assert row["extra"]["count"] > 0
-
-    assert main(["--summary", str(summary), "--out", str(out), "--data-root", str(data_root),
-                 "--deep3dbox", "oracle"]) == 0
-    table = json.loads((out / "table2.json").read_text())
-    row = table["rows"][0]
-    assert row["label"].endswith("(oracle)") and row["metrics"]["test/orientation_similarity"] == pytest.approx(1.0)
-    assert row["metrics"]["test/scale_error"] == pytest.approx(0.0, abs=1e-6)
-    assert _table_rows(render_markdown(table))[row["label"]][0] == "1.000"
-
-    # A broken checkpoint is an evaluation failure (exit 1), outputs stay as they were.
-    ckpt.write_bytes(b"not a checkpoint")
-    before = (out / "table2.json").read_text()
-    assert main(["--summary", str(summary), "--out", str(out), "--data-root", str(data_root)]) == 1
-    assert (out / "table2.json").read_text() == before
-
-
 def test_build_table_without_runs():
     table = build_table({}, None)
-    assert all(row["status"] == "not run" for row in table["rows"])
-    assert "not run" in render_markdown(table)
+    assert all(row["status"] == "not run" and row["n"] == 0 for row in table["rows"])
+    assert "not run" in render_markdown(table) and table["frame_size"] is None

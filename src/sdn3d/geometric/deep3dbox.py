@@ -1,4 +1,5 @@
-"""Deep3DBox-style translation from a 2D box (Mousavian et al., CVPR 2017), the baseline of Table 2.
+"""Deep3DBox translation from a 2D box (Mousavian et al., CVPR 2017): the box fit of Table 2's baseline
+(:mod:`sdn3d.geometric.deep3dbox_net` predicts its yaw and dimensions).
 
 Given an object's dimensions ``(l, h, w)``, yaw ``ry`` and calibration ``K``, the box centre
 ``T`` is chosen so that the projected 3D box fits tightly in the 2D box ``(l, t, r, b)``: each
@@ -39,14 +40,12 @@ back in the input dtype. No gradients are needed or provided (``torch.no_grad`` 
 from __future__ import annotations
 
 import itertools
-from collections.abc import Iterable, Mapping
-from typing import Any, NamedTuple, Protocol
+from typing import NamedTuple
 
 import torch
 from torch import Tensor
 
-from sdn3d.math3d.camera import intrinsics_matrix, project_points
-from sdn3d.math3d.rotations import roty
+from sdn3d.math3d.camera import project_points
 from sdn3d.math3d.transforms import box_corners, center_to_bottom
 
 __all__ = [
@@ -56,7 +55,6 @@ __all__ = [
     "border_sides",
     "solve_translation",
     "deep3dbox_translation",
-    "evaluate_deep3dbox",
 ]
 
 # Which row of K each box side constrains: l -> u, t -> v, r -> u, b -> v.
@@ -272,112 +270,3 @@ def border_sides(box: Tensor, image_size: tuple[int, int], tol: float = 1.0) -> 
     lo = box.new_tensor([-0.5, -0.5]) + tol
     hi = box.new_tensor([width - 0.5, height - 0.5]) - tol
     return torch.cat([box[:, :2] > lo, box[:, 2:] < hi], dim=-1)
-
-
-class _Predictor(Protocol):
-    def predict(self, crop: Tensor, mask: Tensor | None, box: Tensor, intrinsics: Tensor,
-                crop_intrinsics: Tensor | None = None) -> Mapping[str, Tensor]: ...
-
-
-def _default_box_pad(dataset: Any) -> float:
-    """Half a *native* pixel in working-size pixels: annotation boxes bound pixel centres."""
-    records, size = getattr(dataset, "records", None), getattr(dataset, "image_size", None)
-    if records and size is not None and getattr(records[0], "intrinsics", None) is not None:
-        return 0.5 * size[0] / records[0].intrinsics.width
-    return 0.5
-
-
-def evaluate_deep3dbox(
-    predictor: _Predictor | None,
-    dataloader: Iterable[Mapping[str, Any]],
-    box_pad: float | None = None,
-    truncation: bool = False,
-    reprojection: bool = True,
-    max_batches: int | None = None,
-) -> dict[str, float]:
-    """Table 2's Deep3DBox row: yaw, dimensions and mesh from ``predictor``, translation from the 2D box.
-
-    For every batch of a geometric dataloader (:class:`~sdn3d.data.datasets.GeometricDataset`
-    items), ``predictor.predict(crop, mask, box, intrinsics)`` gives ``dims``, ``ry``,
-    ``template_id`` and ``phi``; :func:`solve_translation` replaces its translation. ``predictor=None``
-    uses the ground-truth yaw, dimensions and template without FFD (an oracle: the error left is
-    the box fit's own). Metrics are :mod:`sdn3d.geometric.metrics`' (means over objects; the
-    reprojection error pooled over crop pixels): the mesh is rendered at the Deep3DBox pose into
-    each crop and compared with the visible mask, ignoring pixels of closer objects and pixels
-    outside the image (as ``L_reproj``).
-
-    Args:
-        predictor: object with a ``predict`` method as above (``sdn3d.geometric.GeometricPredictor``),
-            or None for ground truth.
-        dataloader: batches with ``box (B, 4)``, ``intrinsics (B, 4)`` (fx, fy, cx, cy), targets ``dims``,
-            ``ry``, ``center``, ``template_id`` and ``crop``, ``mask``, ``ignore``, ``crop_box``,
-            ``crop_intrinsics``.
-        box_pad: pixels added on every side of ``box`` (the dataset's boxes are inclusive bounds of
-            pixel centres; the silhouette extends half a native pixel further). None: half a native
-            pixel as the dataloader's dataset gives it (its ``records`` and ``image_size``), else 0.5.
-        truncation: drop the box sides at the image border from the fit (:func:`border_sides`; needs
-            ``dataloader.dataset.image_size``). False is the plain baseline.
-        reprojection: compute the reprojection error (renders one soft silhouette per object).
-        max_batches: stop after this many batches (None: all).
-
-    Returns:
-        ``test/orientation_similarity``, ``test/distance_error``, ``test/scale_error``,
-        ``test/reprojection_error`` (when computed and some object has a known mesh), ``count``
-        (objects with a solution), ``invalid`` (objects without: left out of every mean), ``mean_iou``
-        (projected 3D box vs 2D box) and ``box_pad``.
-    """
-    from sdn3d.geometric.losses import outside_image_mask, render_silhouettes
-    from sdn3d.geometric.metrics import ReprojectionErrorMetric, distance_error, orientation_similarity, scale_error
-    from sdn3d.meshes.bank import MeshBank
-
-    dataset = getattr(dataloader, "dataset", None)
-    pad = _default_box_pad(dataset) if box_pad is None else float(box_pad)
-    image_size = getattr(dataset, "image_size", None)
-    if (truncation or reprojection) and image_size is None:
-        raise ValueError("evaluate_deep3dbox: truncation and reprojection need dataloader.dataset.image_size")
-    sums = {"test/orientation_similarity": 0.0, "test/distance_error": 0.0, "test/scale_error": 0.0, "mean_iou": 0.0}
-    reproj, bank = ReprojectionErrorMetric(), None
-    count = invalid = 0
-    for i, batch in enumerate(dataloader):
-        if max_batches is not None and i >= max_batches:
-            break
-        box, intr = batch["box"].double(), batch["intrinsics"].double()
-        if predictor is None:
-            dims, ry, template, phi = batch["dims"].double(), batch["ry"].double(), batch["template_id"], None
-        else:
-            with torch.no_grad():
-                out = predictor.predict(batch["crop"], batch["mask"], batch["box"], batch["intrinsics"])
-            dims, ry = out["dims"].detach().cpu().double(), out["ry"].detach().cpu().double()
-            template, phi = out["template_id"].detach().cpu(), out["phi"].detach().cpu().float()
-        sides = border_sides(box, image_size) if truncation else None
-        solution = solve_translation(box + box.new_tensor([-pad, -pad, pad, pad]), dims, ry,
-                                     intrinsics_matrix(*intr.unbind(-1)), sides=sides)
-        ok = solution.valid
-        center = solution.center[ok]
-        terms = {
-            "test/orientation_similarity": orientation_similarity(roty(ry[ok]), roty(batch["ry"].double()[ok])),
-            "test/distance_error": distance_error(center, batch["center"].double()[ok]),
-            "test/scale_error": scale_error(dims[ok], batch["dims"].double()[ok]),
-            "mean_iou": solution.iou[ok],
-        }
-        for key, value in terms.items():
-            sums[key] += float(value.sum())
-        count += int(ok.sum())
-        invalid += int((~ok).sum())
-        known = ok & (template >= 0)
-        if reprojection and bool(known.any()):
-            bank = bank or MeshBank.templates()
-            size = batch["crop"].shape[-1]
-            silhouette = render_silhouettes(bank, template[known], dims[known].float(), ry[known].float(),
-                                            solution.center[known].float(), None if phi is None else phi[known],
-                                            batch["crop_intrinsics"][known], size)
-            ignore = torch.maximum(batch["ignore"][known],
-                                   outside_image_mask(batch["crop_box"][known], image_size, size))
-            reproj.update(silhouette, batch["mask"][known], ignore)
-    if count == 0:
-        raise ValueError("evaluate_deep3dbox: no object with a valid solution (empty dataloader?)")
-    result = {key: value / count for key, value in sums.items()}
-    if reprojection and reproj.count > 0:
-        result["test/reprojection_error"] = float(reproj.compute())
-    result.update(count=float(count), invalid=float(invalid), box_pad=pad)
-    return result

@@ -276,7 +276,8 @@ def build_objects(cfg: DictConfig) -> RunObjects:
 @dataclass
 class FitResult:
     """How :func:`fit_and_test` went: ``status`` ok | failed (``error`` says why, ``error_file`` names the file
-    at fault when known), the metrics, the best checkpoint, and when fitting started (``time.perf_counter``)."""
+    at fault when known), the metrics, the best checkpoint, when fitting started (``time.perf_counter``), and
+    which weights the test figures come from (``tested``: see :func:`fit_and_test`)."""
 
     status: str
     error: str | None
@@ -284,10 +285,15 @@ class FitResult:
     best: str | None
     started: float
     error_file: str | None = None
+    tested: str | None = None
 
 
 def fit_and_test(cfg: DictConfig, run: RunObjects) -> FitResult:
     """Fit (from ``ckpt_path`` if set), then test the best checkpoint (``test_after_fit``).
+
+    The best checkpoint is the one the branch's ``monitor`` picks on the *validation* part (the split rules
+    carve it from the training frames; :mod:`sdn3d.data.splits`): ``tested`` is ``'best'`` then, ``'final'``
+    when no checkpoint was selected (the weights at the end of fitting), None when nothing was tested.
 
     A non-finite loss under ``fault.nonfinite=stop`` (or too many under ``skip``), or weights that became
     non-finite (no checkpoint is written then), end the fit with status ``failed``, not an exception.
@@ -306,14 +312,16 @@ def fit_and_test(cfg: DictConfig, run: RunObjects) -> FitResult:
     test_metrics: dict[str, float] = {}
     checkpoint = trainer.checkpoint_callback
     best = getattr(checkpoint, "best_model_path", "") or None
+    tested = None
     if status == "ok" and cfg.get("test_after_fit") and not trainer.fast_dev_run and not trainer.interrupted:
         results = trainer.test(model, datamodule=datamodule, ckpt_path=best if best else None)
         test_metrics = _scalars(results[0]) if results else {}
+        tested = "best" if best else "final"
     if status == "ok":  # TensorBoard's HPARAMS tab: the run's config next to its final metrics
         for logger in run.loggers:
             if type(logger).__name__ == "TensorBoardLogger":
                 logger.log_hyperparams(run.params, metrics={**fit_metrics, **test_metrics} or {"status_ok": 1.0})
-    return FitResult(status, error, {**fit_metrics, **test_metrics}, best, started, where)
+    return FitResult(status, error, {**fit_metrics, **test_metrics}, best, started, where, tested)
 
 
 def _experiment_choice() -> str | None:
@@ -392,6 +400,11 @@ def write_summary(cfg: DictConfig, run_dir: Path, run: RunObjects | None, result
         "best_ckpt": str(Path(result.best).resolve()) if result.best else None,
         "last_ckpt": str(last.resolve()) if last.is_file() else None,
         "metrics": result.metrics,
+        # Which weights the test/ metrics come from: 'best' = best_ckpt, selected by `selected_by` on the
+        # validation part (never on test); 'final' = the weights at the end of fitting; None = not tested.
+        "tested_checkpoint": result.tested,
+        "selected_by": (f"{cfg.monitor} ({cfg.get('monitor_mode', 'min')}) on the validation part"
+                        if cfg.get("monitor") else None),
         "global_step": int(trainer.global_step) if trainer is not None else 0,
         "epoch": int(trainer.current_epoch) if trainer is not None else 0,
         "skipped_batches": int(getattr(run.model, "skipped_batches", 0)) if run is not None else 0,
@@ -451,4 +464,11 @@ def run_training(cfg: DictConfig, overrides: list[str] | None = None) -> dict[st
     summary = write_summary(cfg, run_dir, run, result, overrides)
     if result.status != "ok":
         raise RunFailedError(f"{result.error} (run directory: {run_dir})")
+    if _rank_zero(run):  # checkpoints/inference.pt: what sdn3d-edit run= loads instead (sdn3d.inference_export)
+        from sdn3d.runs import export_run_checkpoint
+
+        try:
+            log.info("inference export: %s", export_run_checkpoint(run_dir / "summary.json"))
+        except (UserInputError, OSError) as exc:
+            log.warning("no inference export written (%s); run= loads the checkpoint", exc)
     return summary

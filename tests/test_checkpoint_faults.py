@@ -171,7 +171,7 @@ def test_edit_cli_corrupt_files_exit_2(ckpts, image_args, tmp_path, capsys):
             args = image_args + [f"checkpoints.{k}={v}" for k, v in given.items()] + [f"output_dir={tmp_path / 'o'}"]
             _edit_fails(args, capsys, str(path))
     assert not marker.exists() and not (tmp_path / "o").exists()
-    # The code bank is a user-named torch file too.
+    # The code bank (JSON) is a user-named file too: random bytes, a checkpoint or a torch file are not one.
     args = image_args + [f"checkpoints.{k}={v}" for k, v in ckpts.items()] + [f"output_dir={tmp_path / 'o'}"]
     for path in (bad[1], bad[-1]):
         _edit_fails(args + [f"code_bank={path}"], capsys, "code_bank", str(path))

@@ -51,7 +51,8 @@ class Spy(GeometricPredictor):
         self.calls: list[dict] = []
 
     def predict(self, crop, mask, box, intrinsics, crop_intrinsics=None, ignore=None, refine=None):
-        self.calls.append({"crop": crop, "mask": mask, "box": box, "intrinsics": intrinsics})
+        self.calls.append({"crop": crop, "mask": mask, "box": box, "intrinsics": intrinsics, "ignore": ignore,
+                           "refine": refine})
         return super().predict(crop, mask, box, intrinsics, crop_intrinsics, ignore, refine)
 
 
@@ -189,13 +190,14 @@ def test_bad_inputs_are_rejected(frame, models):
 
 def test_render_and_edit_image(frame, models):
     record, f = frame
-    result = edit_image(f.image, f.intrinsics, [], models, "gt", gt(record), min_pixels=1)
+    result = edit_image(f.image, f.intrinsics, [], models, "gt", gt(record), compose="full", min_pixels=1)
     again = render(result.scene, models.textural)
     assert result.edited.shape == (3, *SIZE[::-1]) and 0 <= float(again.min()) and float(again.max()) <= 1
     torch.testing.assert_close(result.edited, again)  # no edit: the reconstruction
     assert result.edited_scene == result.scene
     victim = int(result.scene.objects.instance_id[0])
-    deleted = edit_image(f.image, f.intrinsics, [Delete(victim)], models, "gt", gt(record), min_pixels=1)
+    deleted = edit_image(f.image, f.intrinsics, [Delete(victim)], models, "gt", gt(record), compose="full",
+                         min_pixels=1)
     assert victim not in deleted.edited_scene.objects.instance_id.tolist()
     assert victim not in deleted.maps.instance.unique().tolist()
     assert not torch.allclose(deleted.edited, again)
@@ -224,3 +226,22 @@ def test_models_from_checkpoints_reads_the_run_crop_size(tmp_path, frame):
     assert scene.meta["semantic"] == "branch" and scene.meta["proposals"] == "gt"
     assert torch.isfinite(render(scene, models.textural)).all()
     assert torch.equal(scene_maps(scene).instance, f.instances)  # unedited: the image's own layout
+
+
+def test_refinement_ignores_the_objects_in_front(frame, models):
+    """derender(refine=...) (the Cityscapes fit): a first pass orders the objects by predicted depth, the refined
+    pass ignores, in each crop, the masks of the objects nearer than it."""
+    from sdn3d.geometric.refine import RefineSettings
+
+    record, f = frame
+    spy = Spy(models.geometric.net)
+    spied = Models(None, spy, models.textural, crop_size=32, margin=0.1)
+    derender(f.image, f.intrinsics, spied, "gt", gt(record), min_pixels=1, refine=RefineSettings(iterations=1))
+    first, refined = spy.calls
+    assert first["refine"] is None and refined["refine"] is not None
+    depth = spy.predict(first["crop"], first["mask"], first["box"], first["intrinsics"])["center"][:, 2]
+    ignore = refined["ignore"][:, 0] > 0
+    front = int(depth.argmin())
+    assert not bool(ignore[front].any())  # nothing is in front of the nearest object
+    others = ignore.sum((1, 2)) > 0
+    assert bool(others.any()) and not bool(others[front])

@@ -113,3 +113,41 @@ def test_refine_settings_validation():
     with pytest.raises(ValueError, match="lr"):
         RefineSettings(lr=0.0)
     assert RefineSettings(params=["phi"]).params == ("phi",)
+
+
+def test_refinement_with_occluder_masks_fits_the_car_behind():
+    """An occluded pair: car B stands behind car A, whose mask hides part of B. Refining B's perturbed pose on
+    L_reproj lowers it, and ignoring A's pixels (derender's occluder masks, ordered by depth) keeps the fit
+    on B instead of pulling it onto B's visible remainder."""
+    from sdn3d.derender import occluder_masks
+
+    intr = torch.tensor([[364.0, 371.0, 311.5, 95.5]]).expand(2, 4)
+    dims = torch.tensor([[4.2, 1.5, 1.8], [4.4, 1.6, 1.8]])
+    ry = torch.tensor([0.3, 0.2])
+    center = torch.tensor([[-0.6, 0.9, 9.0], [0.8, 0.9, 13.0]])  # A in front, B behind and to the right
+    K = intrinsics_matrix(*intr.unbind(1))
+    box = project_box(dims, ry, center, K)
+    crop_b = _crop_camera(box[1:], intr[1:]).expand(2, 4)  # both cars seen through B's crop
+    bank = MeshBank.templates()
+    ids = torch.tensor([0, 0])
+    sil = render_silhouettes(bank, ids, dims, ry, center, None, crop_b, S) > 0.5  # (2, S, S)
+    hidden = sil[0] & sil[1]
+    assert int(hidden.sum()) > 0.15 * int(sil[1].sum()), "the pair must overlap"
+    # The ignore mask derender builds: the nearer object's mask (here, A's silhouette in B's crop).
+    ignore = occluder_masks(sil, center[:, 2])[1:].float().unsqueeze(1)
+    torch.testing.assert_close(ignore[0, 0], sil[0].float())
+    visible_b = (sil[1] & ~sil[0]).float()[None, None]
+    enc = AttributeEncoding()
+    raw = enc.encode(dims[1:], ry[1:], center[1:], box[1:], K[1:])
+    logits = torch.full((1, 8), -5.0)
+    logits[0, 0] = 5.0
+    raw.update(phi=torch.zeros(1, 64, 3), template_logits=logits, offset=raw["offset"] + 0.1,
+               log_scale=raw["log_scale"] + 0.12)
+    fit = {name: refine_by_reprojection(raw, box[1:], intr[1:], crop_b[1:], visible_b, ign, bank=bank,
+                                        settings=RefineSettings(iterations=16))
+           for name, ign in (("ignore", ignore), ("plain", None))}
+    losses = fit["ignore"].losses[:, 0]
+    assert float(losses[-1]) < 0.5 * float(losses[0]), losses
+    uv_true = project_points(center[1:], K[1:])
+    err = {k: float((project_points(r.pred["center"], K[1:]) - uv_true).norm()) for k, r in fit.items()}
+    assert err["ignore"] < err["plain"], err

@@ -63,6 +63,7 @@ __all__ = [
     "geometric_crop_settings",
     "derender",
     "encode_scene",
+    "occluder_masks",
 ]
 
 log = logging.getLogger(__name__)
@@ -155,10 +156,11 @@ class Models:
     def from_checkpoints(cls, semantic: str | os.PathLike | None = None, geometric: str | os.PathLike | None = None,
                          textural: str | os.PathLike | None = None, map_location: str | torch.device = "cpu",
                          crop_size: int | None = None, margin: float | None = None) -> Models:
-        """Load the branches' Lightning checkpoints (None: branch absent).
+        """Load the branches from their Lightning checkpoints or inference exports (None: branch absent;
+        :func:`sdn3d.inference_export.load_branch_weights` tells the two apart by content).
 
-        ``crop_size`` / ``margin`` None: the geometric run's settings (:func:`geometric_crop_settings`),
-        else :data:`DEFAULT_CROP_SIZE` / :data:`DEFAULT_MARGIN`.
+        ``crop_size`` / ``margin`` None: the geometric export's settings, else the geometric run's
+        (:func:`geometric_crop_settings`), else :data:`DEFAULT_CROP_SIZE` / :data:`DEFAULT_MARGIN`.
         """
         for name, path in (("semantic", semantic), ("geometric", geometric), ("textural", textural)):
             if path is not None and not Path(path).expanduser().is_file():
@@ -171,10 +173,12 @@ class Models:
         found = None
         if geometric is not None:
             from sdn3d.geometric.predict import GeometricPredictor
+            from sdn3d.inference_export import load_branch_weights
 
-            geo = GeometricPredictor.from_checkpoint(geometric, map_location=map_location)
+            weights = load_branch_weights(geometric, "geometric", map_location)
+            geo = GeometricPredictor.from_weights(weights, map_location=map_location)
             if crop_size is None or margin is None:  # the run's config is only read when needed
-                found = geometric_crop_settings(geometric)
+                found = _export_crop_settings(weights.settings, weights.path) or geometric_crop_settings(geometric)
         if textural is not None:
             from sdn3d.textural.renderer import TexturalRenderer
 
@@ -186,6 +190,18 @@ class Models:
         size = crop_size if crop_size is not None else (found[0] if found else DEFAULT_CROP_SIZE)
         grow = margin if margin is not None else (found[1] if found else DEFAULT_MARGIN)
         return cls(sem, geo, tex, int(size), float(grow))
+
+
+def _export_crop_settings(settings: Mapping[str, object], path: Path) -> tuple[int, float] | None:
+    """``(crop_size, margin)`` an inference export records (None: it records none)."""
+    if "crop_size" not in settings:
+        return None
+    crop, margin = settings.get("crop_size"), settings.get("margin", DEFAULT_MARGIN)
+    if (isinstance(crop, bool) or not isinstance(crop, int) or isinstance(margin, bool)
+            or not isinstance(margin, (int, float))):
+        raise UserInputError(f"inference export {str(path)!r}: settings crop_size and margin must be numbers, got "
+                             f"{crop!r} and {margin!r}; export the checkpoint again")
+    return int(crop), float(margin)
 
 
 # -- de-rendering -----------------------------------------------------------------------------
@@ -208,15 +224,36 @@ def _class_list_name(models: Models, gt: GroundTruth | None, classes: str | None
 
 def _predict_geometry(image: Tensor, intr: Intrinsics, masks: Tensor, boxes: Tensor, models: Models,
                       refine: RefineSettings | None) -> dict[str, Tensor]:
-    """Batched geometric branch on the objects ``masks (N, H, W)`` with 2D ``boxes (N, 4)``."""
+    """Batched geometric branch on the objects ``masks (N, H, W)`` with 2D ``boxes (N, 4)``.
+
+    With ``refine`` (the paper's Cityscapes test-time fit on L_reproj) the objects are predicted once, ordered
+    by predicted depth, and refined with each object's crop ignoring the masks of the objects in front of it
+    (:func:`occluder_masks`), so that an occluder does not pull the fit.
+    """
     windows = torch.tensor([square_crop_window(b, models.margin) for b in boxes], dtype=torch.float32)
     size = models.crop_size
     crops = crop_windows(image, windows, size, "bilinear")
     crop_masks = crop_windows(masks[:, None].float(), windows, size, "nearest")
     n = len(boxes)
     intr_vec = torch.tensor([intr.fx, intr.fy, intr.cx, intr.cy], dtype=torch.float32).expand(n, 4)
-    crop_intr = crop_intrinsics(intr, windows, size) if refine is not None else None
-    return models.geometric.predict(crops * crop_masks, crop_masks, boxes, intr_vec, crop_intr, refine=refine)
+    if refine is None:
+        return models.geometric.predict(crops * crop_masks, crop_masks, boxes, intr_vec)
+    crop_intr = crop_intrinsics(intr, windows, size)
+    depth = models.geometric.predict(crops * crop_masks, crop_masks, boxes, intr_vec)["center"][:, 2].cpu()
+    ignore = crop_windows(occluder_masks(masks, depth)[:, None].float(), windows, size, "nearest")
+    return models.geometric.predict(crops * crop_masks, crop_masks, boxes, intr_vec, crop_intr, ignore, refine)
+
+
+def occluder_masks(masks: Tensor, depth: Tensor) -> Tensor:
+    """``(N, H, W)`` bool: for each object, the pixels of the ``masks (N, H, W)`` of the objects nearer than it
+    (``depth (N,)``, e.g. predicted box-centre z), which its silhouette may cover unseen.
+
+    >>> masks = torch.zeros(2, 1, 4, dtype=torch.bool); masks[0, 0, :2] = True; masks[1, 0, 1:] = True
+    >>> occluder_masks(masks, torch.tensor([5.0, 9.0]))[:, 0].int().tolist()  # object 0 is in front
+    [[0, 0, 0, 0], [1, 1, 0, 0]]
+    """
+    nearer = (depth[None, :] < depth[:, None]).float()  # (N, N): row i, column j in front of i
+    return (nearer @ masks.flatten(1).float()).view(masks.shape) > 0
 
 
 def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:

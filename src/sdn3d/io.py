@@ -32,8 +32,8 @@ from sdn3d.errors import UserInputError
 __all__ = [
     "atomic_write", "write_bytes_atomic", "write_text_atomic", "write_json_atomic", "write_png_atomic",
     "check_output_dir", "staged_directory", "swap_into_place", "current_umask",
-    "load_torch_file", "load_lightning_checkpoint", "describe_load_failure",
-    "checkpoint_branch", "CHECKPOINT_BRANCHES",
+    "load_torch_file", "load_lightning_checkpoint", "check_lightning_checkpoint", "describe_load_failure",
+    "checkpoint_branch", "CHECKPOINT_BRANCHES", "file_sha256",
     "OutputDirError", "refuse_unsafe_output_dir", "OWNER_FILE", "owner_record", "process_alive",
     "remove_stale_staging",
 ]
@@ -150,9 +150,24 @@ def describe_load_failure(exc: BaseException) -> str:
     return reason if len(reason) <= 200 else reason[:197] + "..."
 
 
-def load_torch_file(path: str | os.PathLike, what: str = "checkpoint", map_location: Any = "cpu") -> Any:
+def file_sha256(path: str | os.PathLike) -> str:
+    """The SHA-256 of a file's bytes, as 64 hex digits (read in chunks: a checkpoint need not fit in memory)."""
+    import hashlib
+
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        while chunk := handle.read(1 << 20):
+            digest.update(chunk)
+    return digest.hexdigest()
+
+
+def load_torch_file(path: str | os.PathLike, what: str = "checkpoint", map_location: Any = "cpu",
+                    mmap: bool = False) -> Any:
     """The content of a file the user named, read with ``torch.load(weights_only=True)`` (no code from the
     file runs); ``what`` names it in errors (``'checkpoint'``, ``'code_bank'``, ...).
+
+    ``mmap``: map the file's tensors instead of reading them (``torch.load(mmap=True)``): reading a few small
+    entries of a large file then costs almost nothing. The tensors stay backed by the file.
 
     Raises:
         UserInputError: the file is missing, or ``torch.load`` failed in any way (truncated, corrupt, not a
@@ -164,7 +179,7 @@ def load_torch_file(path: str | os.PathLike, what: str = "checkpoint", map_locat
     if not path.is_file():
         raise UserInputError(f"{what} {str(path)!r} does not exist")
     try:
-        return torch.load(path, map_location=map_location, weights_only=True)
+        return torch.load(path, map_location=map_location, weights_only=True, mmap=mmap)
     except Exception as exc:  # whatever unpickling the user's file raises, the file is bad
         raise UserInputError(f"could not read {what} {str(path)!r}: not a loadable PyTorch file (truncated, corrupt, "
                              f"not a torch file, or holding more than tensors and plain data) "
@@ -188,7 +203,18 @@ def load_lightning_checkpoint(path: str | os.PathLike, map_location: Any = "cpu"
     if branch is not None and branch not in CHECKPOINT_BRANCHES:
         raise ValueError(f"branch must be one of {sorted(CHECKPOINT_BRANCHES)}, got {branch!r}")
     path = Path(path).expanduser()
-    ckpt = load_torch_file(path, "checkpoint", map_location)
+    return check_lightning_checkpoint(path, load_torch_file(path, "checkpoint", map_location), required, branch)
+
+
+def check_lightning_checkpoint(path: str | os.PathLike, ckpt: Any, required: tuple[str, ...] = ("state_dict",),
+                               branch: str | None = None) -> dict:
+    """``ckpt``, the loaded content of ``path``, checked as :func:`load_lightning_checkpoint` checks it.
+
+    Raises:
+        UserInputError: naming ``path``: not a mapping with the ``required`` keys, ``state_dict`` or
+            ``hyper_parameters`` not mappings, or another branch's checkpoint.
+    """
+    path = Path(path)
     if not isinstance(ckpt, dict) or any(k not in ckpt for k in required):
         raise UserInputError(f"{str(path)!r} is not a Lightning checkpoint (needs {', '.join(map(repr, required))})")
     for key in ("state_dict", "hyper_parameters"):

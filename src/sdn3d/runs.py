@@ -1,21 +1,28 @@
-"""Training runs on disk: the checkpoints that ``sdn3d-train`` summaries record.
+"""Training runs on disk: the checkpoints that ``sdn3d-train`` summaries record, and their inference exports.
 
 A run directory holds ``summary.json`` (branch, status, ``best_ckpt`` / ``last_ckpt``, finish time);
 :func:`find_run_checkpoints` finds, under any directory (the demo's ``<out>/runs/<branch>/``, one run, or a
-training root ``<branch>/<time>/``), each branch's latest successful run and its checkpoint;
-:func:`quality_warnings` says when the semantic branch's recorded validation quality is too low to trust.
+training root ``<branch>/<time>/``), each branch's latest successful run and its checkpoint, and the inference
+export made from that checkpoint (``checkpoints/inference.pt``, :mod:`sdn3d.inference_export`) when there is
+one; :func:`export_checkpoint` writes such an export (``sdn3d-train`` at the end of a run,
+``sdn3d-export-weights``); :func:`quality_warnings` says when the semantic branch's recorded validation quality
+is too low to trust.
 """
 
 from __future__ import annotations
 
 import json
+import logging
+import os
 from datetime import datetime
 from pathlib import Path
 
-from sdn3d.errors import InputError
+from sdn3d.errors import InputError, UserInputError
 
-__all__ = ["BRANCHES", "find_run_checkpoints", "semantic_summary", "quality_warnings", "MIN_VEHICLE_PQ", "MIN_MIOU",
-           "MAX_PROPOSAL_COVER"]
+__all__ = ["BRANCHES", "find_run_checkpoints", "export_checkpoint", "export_run_checkpoint", "semantic_summary",
+           "quality_warnings", "MIN_VEHICLE_PQ", "MIN_MIOU", "MAX_PROPOSAL_COVER"]
+
+log = logging.getLogger(__name__)
 
 BRANCHES = ("semantic", "geometric", "textural")
 
@@ -42,11 +49,34 @@ def _summary_checkpoint(summary: dict, path: Path) -> tuple[str, Path] | None:
     return None
 
 
+def _matching_export(checkpoint: Path) -> Path | None:
+    """The inference export beside ``checkpoint`` (``<its dir>/inference.pt``) if it was made from this very file
+    (:func:`sdn3d.inference_export.export_matches`); a stale or unreadable one is logged and passed over."""
+    from sdn3d.inference_export import EXPORT_NAME, export_matches, read_export_source
+
+    export = checkpoint.parent / EXPORT_NAME
+    if not export.is_file():
+        return None
+    try:
+        source = read_export_source(export)
+    except UserInputError as exc:
+        log.warning("ignoring %s: %s", export, exc)
+        return None
+    if export_matches(source, checkpoint):
+        return export
+    log.warning("ignoring %s: it was made from %s (sha256 %s...), not from %s as it is now; loading the checkpoint "
+                "(export it again: sdn3d-export-weights %s)", export, source.get("file"),
+                str(source.get("sha256"))[:12], checkpoint.name, checkpoint)
+    return None
+
+
 def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, str]]:
     """The branches' checkpoints recorded by the ``sdn3d-train`` summaries under ``run``.
 
-    Returns ``(chosen, missing)``: per branch found, ``{'path', 'which' ('best' | 'last'), 'summary',
-    'finished'}`` of its latest run with status ok and a checkpoint on disk; per branch without one, why.
+    Returns ``(chosen, missing)``: per branch found, ``{'path', 'checkpoint', 'export', 'which' ('best' |
+    'last'), 'summary', 'finished'}`` of its latest run with status ok and a checkpoint on disk (``checkpoint``;
+    ``path``, the file to load, is its inference export when one made from it lies beside it, ``export``
+    True, else the checkpoint itself); per branch without one, why.
 
     Raises:
         InputError: ``run`` is not a directory or holds no branch summary.
@@ -81,7 +111,9 @@ def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, st
                 usable.append((_finished(summary, path), str(path), ckpt))
         if usable:
             finished, path, (which, file) = max(usable)
-            chosen[branch] = {"path": str(file), "which": which, "summary": path,
+            export = _matching_export(file)
+            chosen[branch] = {"path": str(export or file), "checkpoint": str(file), "export": export is not None,
+                              "which": which, "summary": path,
                               "finished": datetime.fromtimestamp(finished).astimezone().isoformat(timespec="seconds")}
         elif not found:
             missing[branch] = "no run"
@@ -90,6 +122,49 @@ def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, st
             missing[branch] = (f"{len(found)} run(s) (status {', '.join(statuses)}) but none ok with a checkpoint "
                                f"on disk")
     return chosen, missing
+
+
+def export_checkpoint(checkpoint: str | os.PathLike, out: str | os.PathLike | None = None) -> Path:
+    """Write the inference export of a branch's Lightning checkpoint (:mod:`sdn3d.inference_export`); returns it.
+
+    ``out`` None: ``inference.pt`` beside the checkpoint. A geometric checkpoint's export records its run's crop
+    size and margin (:func:`sdn3d.derender.geometric_crop_settings`) when the run's ``config.yaml`` says them.
+
+    Raises:
+        UserInputError: naming the file: the checkpoint is missing, unreadable or holds no branch's weights,
+            or its run's config is unreadable.
+    """
+    from sdn3d.derender import geometric_crop_settings
+    from sdn3d.inference_export import write_inference_export
+    from sdn3d.io import checkpoint_branch, load_lightning_checkpoint
+
+    path = Path(checkpoint).expanduser()
+    ckpt = load_lightning_checkpoint(path)
+    settings = {}
+    if checkpoint_branch(ckpt) == "geometric":
+        found = geometric_crop_settings(path)
+        if found is not None:
+            settings = {"crop_size": found[0], "margin": found[1]}
+    return write_inference_export(path, ckpt, out, settings)
+
+
+def export_run_checkpoint(summary_file: str | os.PathLike) -> Path | None:
+    """Write the inference export of the checkpoint a run's ``summary.json`` selects (its best, else its last:
+    the one ``run=`` loads) beside it (:func:`export_checkpoint`); returns it, or None without a checkpoint or for
+    the Deep3DBox baseline (``ablation: deep3dbox``, Table 2 only).
+
+    Raises:
+        UserInputError: the summary is not readable JSON, or :func:`export_checkpoint`'s errors.
+    """
+    path = Path(summary_file)
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise UserInputError(f"run summary {str(path)!r} is not readable JSON ({exc})") from exc
+    if isinstance(summary, dict) and summary.get("ablation") == "deep3dbox":
+        return None  # the Table 2 baseline cannot de-render: nothing to export for inference
+    selected = _summary_checkpoint(summary, path) if isinstance(summary, dict) else None
+    return None if selected is None else export_checkpoint(selected[1])
 
 
 # -- what a run recorded: is the semantic branch good enough to trust? --------------------------------

@@ -2,11 +2,19 @@
 
 Plain PyTorch (no Lightning): the network (:class:`GeometricNet`), its losses (L_pred, L_reproj,
 REINFORCE for the mesh choice), Table-2 metrics, a checkpoint predictor, per-image refinement by
-reprojection (Cityscapes). Training orchestration
+reprojection (Cityscapes), and the independent Deep3DBox baseline of Table 2 (:class:`Deep3DBoxNet`,
+MultiBin orientation). Training orchestration
 lives in ``lightning_modules.geometric``.
+
+The Table-2 metrics (:mod:`sdn3d.geometric.metrics`) need torchmetrics, whose import alone takes 1-2 s
+on a CPU: their names are loaded on first use (``__getattr__``), so that inference (the predictor,
+``sdn3d-edit``) never imports torchmetrics.
 """
 
+from typing import Any
+
 from sdn3d.geometric.decode import decode_outputs, template_distribution
+from sdn3d.geometric.deep3dbox_net import Deep3DBoxNet, decode_deep3dbox
 from sdn3d.geometric.losses import (
     PRED_KEYS,
     ffd_regularizer,
@@ -16,20 +24,8 @@ from sdn3d.geometric.losses import (
     render_silhouettes,
     reprojection_error,
 )
-from sdn3d.geometric.metrics import (
-    METRIC_NAMES,
-    DistanceErrorMetric,
-    GeometricMetrics,
-    MeshSelectionAccuracy,
-    OrientationSimilarity,
-    ReprojectionErrorMetric,
-    ScaleErrorMetric,
-    distance_error,
-    orientation_similarity,
-    predicted_rotation,
-    scale_error,
-)
 from sdn3d.geometric.model import OUTPUT_KEYS, GeometricNet, box_features
+from sdn3d.geometric.multibin import decode_multibin, encode_multibin, multibin_losses
 from sdn3d.geometric.predict import GeometricPredictor, net_kwargs_from_hparams
 from sdn3d.geometric.refine import RefineResult, RefineSettings, refine_by_reprojection
 from sdn3d.geometric.reinforce import (
@@ -74,4 +70,22 @@ __all__ = [
     "RefineSettings",
     "RefineResult",
     "refine_by_reprojection",
+    "Deep3DBoxNet",
+    "decode_deep3dbox",
+    "encode_multibin",
+    "decode_multibin",
+    "multibin_losses",
 ]
+
+#: Names of :mod:`sdn3d.geometric.metrics` (torchmetrics) this package gives on first use.
+_METRICS = ("METRIC_NAMES", "DistanceErrorMetric", "GeometricMetrics", "MeshSelectionAccuracy", "OrientationSimilarity",
+            "ReprojectionErrorMetric", "ScaleErrorMetric", "distance_error", "orientation_similarity",
+            "predicted_rotation", "scale_error")
+
+
+def __getattr__(name: str) -> Any:
+    if name in _METRICS:
+        from sdn3d.geometric import metrics
+
+        return getattr(metrics, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

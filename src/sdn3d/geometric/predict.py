@@ -1,6 +1,7 @@
 """The geometric branch at inference: :class:`GeometricPredictor` loads a Lightning checkpoint of
-``lightning_modules.GeometricModule`` without importing Lightning and predicts object attributes
-(decoded by :func:`sdn3d.geometric.decode.decode_outputs`), optionally refined by reprojection.
+``lightning_modules.GeometricModule`` or its inference export (:mod:`sdn3d.inference_export`) without
+importing Lightning and predicts object attributes (decoded by :func:`sdn3d.geometric.decode.decode_outputs`),
+optionally refined by reprojection.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from sdn3d.geometric.decode import decode_outputs
 from sdn3d.geometric.losses import render_silhouettes
 from sdn3d.geometric.model import GeometricNet
 from sdn3d.geometric.refine import RefineSettings, refine_by_reprojection
+from sdn3d.inference_export import BranchWeights, load_branch_weights, module_with_weights
 from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.meshes.templates import TEMPLATE_NAMES
@@ -59,21 +61,26 @@ class GeometricPredictor:
 
     @classmethod
     def from_checkpoint(cls, path: str | Path, map_location: str | torch.device = "cpu") -> GeometricPredictor:
-        """Load a ``GeometricModule`` Lightning checkpoint (``torch.load(weights_only=True)``).
+        """Load a ``GeometricModule`` Lightning checkpoint or its inference export (``weights_only=True``).
 
         Uses its ``hyper_parameters`` (rotation, distance, single_cad, ...) to rebuild the net and
         the ``net.``-prefixed entries of its ``state_dict``.
         """
-        from sdn3d.io import load_lightning_checkpoint
+        return cls.from_weights(load_branch_weights(path, "geometric", map_location), map_location)
 
-        path = Path(path).expanduser()
-        ckpt = load_lightning_checkpoint(path, map_location, branch="geometric")
-        hparams = dict(ckpt.get("hyper_parameters") or {})
-        net = GeometricNet(**net_kwargs_from_hparams(hparams))
-        state = {k[len("net."):]: v for k, v in ckpt["state_dict"].items() if k.startswith("net.")}
+    @classmethod
+    def from_weights(cls, weights: BranchWeights, map_location: str | torch.device = "cpu") -> GeometricPredictor:
+        """The predictor of loaded geometric-branch weights (:func:`~sdn3d.inference_export.load_branch_weights`;
+        the network takes over their tensors)."""
+        hparams = dict(weights.hyper_parameters)
+        if "num_bins" in hparams:  # lightning_modules.Deep3DBoxModule's MultiBin head
+            raise UserInputError(f"{str(weights.path)!r} is a Deep3DBox baseline checkpoint (ablation=deep3dbox): it "
+                                 f"scores Table 2 only and cannot de-render; use a geometric run of another ablation")
+        kwargs = net_kwargs_from_hparams(hparams)
+        state = {k[len("net."):]: v for k, v in weights.state_dict.items() if k.startswith("net.")}
         if not state:
-            raise UserInputError(f"{str(path)!r} has no 'net.' weights: not a GeometricModule checkpoint")
-        net.load_state_dict(state, strict=True)
+            raise UserInputError(f"{str(weights.path)!r} has no 'net.' weights: not a GeometricModule checkpoint")
+        net = module_with_weights(lambda: GeometricNet(**kwargs), state, weights.path)
         encoding = AttributeEncoding(hparams.get("rotation", "yaw_quaternion"), hparams.get("distance", "log_tau"))
         return cls(net.to(map_location), encoding)
 

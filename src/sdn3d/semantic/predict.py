@@ -6,9 +6,9 @@
     result.label                         # (B, H, W) int64 class ids
     result.instance                      # (B, H, W) int64 class_id * 1000 + k, 0 = none
 
-A checkpoint written by ``lightning_modules.SemanticModule`` is read with
-``torch.load(weights_only=True)``: its ``hyper_parameters`` rebuild the network and the
-grouping settings, its ``state_dict`` (prefix ``net.``) fills the network.
+A checkpoint written by ``lightning_modules.SemanticModule``, or its inference export
+(:mod:`sdn3d.inference_export`), is read with ``torch.load(weights_only=True)``: its ``hyper_parameters``
+rebuild the network and the grouping settings, its ``state_dict`` (prefix ``net.``) fills the network.
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
+from sdn3d.inference_export import BranchWeights, load_branch_weights, module_with_weights
 from sdn3d.labels import SemanticClass, class_list, thing_class_ids
 from sdn3d.nets.drn import DRNSeg
 from sdn3d.semantic.panoptic import group_instances
@@ -87,20 +88,27 @@ class SemanticPredictor:
     @classmethod
     def from_checkpoint(cls, path: str | os.PathLike, map_location: str | torch.device = "cpu",
                         image_size: tuple[int, int] | None = None, flip: bool | None = None) -> SemanticPredictor:
-        """Load a ``SemanticModule`` Lightning checkpoint (``weights_only=True``); ``flip=None`` takes the
-        module's ``test_flip`` setting."""
-        from sdn3d.io import load_lightning_checkpoint
+        """Load a ``SemanticModule`` Lightning checkpoint or its inference export (``weights_only=True``);
+        ``flip=None`` takes the module's ``test_flip`` setting."""
+        return cls.from_weights(load_branch_weights(path, "semantic", map_location), map_location, image_size, flip)
 
-        ckpt = load_lightning_checkpoint(path, map_location, branch="semantic")
-        hp = dict(ckpt.get("hyper_parameters") or {})
+    @classmethod
+    def from_weights(cls, weights: BranchWeights, map_location: str | torch.device = "cpu",
+                     image_size: tuple[int, int] | None = None, flip: bool | None = None) -> SemanticPredictor:
+        """The predictor of loaded semantic-branch weights (:func:`~sdn3d.inference_export.load_branch_weights`;
+        the network takes over their tensors)."""
+        hp = dict(weights.hyper_parameters)
         classes = class_list(hp.get("classes", "vkitti"))
-        net = DRNSeg(len(classes), arch=hp.get("arch", "drn_d_22"), instance_head=hp.get("instance_head", True),
-                     head_channels=hp.get("head_channels", 128), pretrained=None,
-                     decoder=hp.get("decoder", "bilinear"), decoder_channels=hp.get("decoder_channels", (64, 32, 16)),
-                     **({"channels": hp["channels"]} if hp.get("channels") else {}))
-        state = {k[len(_STATE_PREFIX):]: v for k, v in ckpt["state_dict"].items() if k.startswith(_STATE_PREFIX)}
-        net.load_state_dict(state, strict=True)
-        net.to(map_location)
+
+        def build() -> DRNSeg:
+            return DRNSeg(len(classes), arch=hp.get("arch", "drn_d_22"), instance_head=hp.get("instance_head", True),
+                          head_channels=hp.get("head_channels", 128), pretrained=None,
+                          decoder=hp.get("decoder", "bilinear"),
+                          decoder_channels=hp.get("decoder_channels", (64, 32, 16)),
+                          **({"channels": hp["channels"]} if hp.get("channels") else {}))
+
+        state = {k[len(_STATE_PREFIX):]: v for k, v in weights.state_dict.items() if k.startswith(_STATE_PREFIX)}
+        net = module_with_weights(build, state, weights.path).to(map_location)
         things = hp.get("thing_classes")
         return cls(net, classes, thing_classes=None if things is None else thing_class_ids(classes, things),
                    grouping={k: hp[k] for k in GROUPING_DEFAULTS if k in hp}, image_size=image_size,

@@ -43,14 +43,12 @@ from sdn3d.data.datasets.geometric import template_id
 from sdn3d.geometric import (
     BASELINES,
     PRED_KEYS,
-    GeometricMetrics,
     GeometricNet,
     MovingAverageBaseline,
     ffd_regularizer,
     leave_one_out_baseline,
     net_kwargs_from_hparams,
     outside_image_mask,
-    predicted_rotation,
     prediction_loss,
     prediction_losses,
     reinforce_loss,
@@ -59,7 +57,13 @@ from sdn3d.geometric import (
     sample_templates,
 )
 from sdn3d.geometric.decode import decode_outputs
-from sdn3d.geometric.metrics import image_reprojection_error, template_reprojection_errors, window_silhouettes
+from sdn3d.geometric.metrics import (
+    GeometricMetrics,
+    image_reprojection_error,
+    predicted_rotation,
+    template_reprojection_errors,
+    window_silhouettes,
+)
 from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.meshes.templates import TEMPLATE_NAMES

@@ -11,24 +11,21 @@ import torch
 from kornia.geometry.conversions import axis_angle_to_rotation_matrix
 
 from sdn3d.data.frames import intrinsics_vector
-from sdn3d.geometric import (
+from sdn3d.geometric import render_silhouettes, reprojection_error
+from sdn3d.geometric.metrics import (
     DistanceErrorMetric,
     GeometricMetrics,
     MeshSelectionAccuracy,
     OrientationSimilarity,
     ReprojectionErrorMetric,
-    distance_error,
-    orientation_similarity,
-    predicted_rotation,
-    render_silhouettes,
-    reprojection_error,
-    scale_error,
-)
-from sdn3d.geometric.metrics import (
     TemplateCounts,
     crop_sample_pixels,
+    distance_error,
     image_reprojection_error,
     mesh_floors,
+    orientation_similarity,
+    predicted_rotation,
+    scale_error,
     selection_regret,
     template_reprojection_errors,
     window_silhouettes,

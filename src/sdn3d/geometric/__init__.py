@@ -6,12 +6,10 @@ reprojection (Cityscapes), and the independent Deep3DBox baseline of Table 2 (:c
 MultiBin orientation). Training orchestration
 lives in ``lightning_modules.geometric``.
 
-The Table-2 metrics (:mod:`sdn3d.geometric.metrics`) need torchmetrics, whose import alone takes 1-2 s
-on a CPU: their names are loaded on first use (``__getattr__``), so that inference (the predictor,
-``sdn3d-edit``) never imports torchmetrics.
+The Table-2 metrics live in :mod:`sdn3d.geometric.metrics` and are not re-exported here: they need
+torchmetrics, whose import alone takes 1-2 s on a CPU, and inference (the predictor, ``sdn3d-edit``) never
+imports it.
 """
-
-from typing import Any
 
 from sdn3d.geometric.decode import decode_outputs, template_distribution
 from sdn3d.geometric.deep3dbox_net import Deep3DBoxNet, decode_deep3dbox
@@ -56,17 +54,6 @@ __all__ = [
     "reinforce_loss",
     "leave_one_out_baseline",
     "MovingAverageBaseline",
-    "METRIC_NAMES",
-    "orientation_similarity",
-    "distance_error",
-    "scale_error",
-    "predicted_rotation",
-    "OrientationSimilarity",
-    "DistanceErrorMetric",
-    "ScaleErrorMetric",
-    "ReprojectionErrorMetric",
-    "MeshSelectionAccuracy",
-    "GeometricMetrics",
     "RefineSettings",
     "RefineResult",
     "refine_by_reprojection",
@@ -76,16 +63,3 @@ __all__ = [
     "decode_multibin",
     "multibin_losses",
 ]
-
-#: Names of :mod:`sdn3d.geometric.metrics` (torchmetrics) this package gives on first use.
-_METRICS = ("METRIC_NAMES", "DistanceErrorMetric", "GeometricMetrics", "MeshSelectionAccuracy", "OrientationSimilarity",
-            "ReprojectionErrorMetric", "ScaleErrorMetric", "distance_error", "orientation_similarity",
-            "predicted_rotation", "scale_error")
-
-
-def __getattr__(name: str) -> Any:
-    if name in _METRICS:
-        from sdn3d.geometric import metrics
-
-        return getattr(metrics, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

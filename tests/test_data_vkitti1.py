@@ -20,7 +20,14 @@ from sdn3d.data.records import (
     visible_pixel_counts,
 )
 from sdn3d.data.splits import paper_split
-from sdn3d.data.vkitti1 import MOTGT_HEADER, paper_object_filter, parse_encoding, parse_extrinsics, parse_motgt, read_frames
+from sdn3d.data.vkitti1 import (
+    MOTGT_HEADER,
+    paper_object_filter,
+    parse_encoding,
+    parse_extrinsics,
+    parse_motgt,
+    read_frames,
+)
 from sdn3d.labels import VKITTI_CLASS_INDEX, VKITTI_CLASSES, split_instance_ids
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 
@@ -190,7 +197,8 @@ def test_extrinsics_header_wording_of_published_files_is_accepted(tmp_path, endi
     path = tmp_path / "0001_clone.txt"
     head = "frame r1,1 r1,2 r1,3 t1 r2,1 r2,2 r2,3 t2 r3,1 r3,2 r3,3 t3"
     path.write_text(f"{head} {ending}\n0 1 0 0 0.5 0 1 0 1.5 0 0 1 -2 0 0 0 1\n")
-    assert parse_extrinsics(path)[0] == (1.0, 0.0, 0.0, 0.5, 0.0, 1.0, 0.0, 1.5, 0.0, 0.0, 1.0, -2.0, 0.0, 0.0, 0.0, 1.0)
+    expected = (1.0, 0.0, 0.0, 0.5, 0.0, 1.0, 0.0, 1.5, 0.0, 0.0, 1.0, -2.0, 0.0, 0.0, 0.0, 1.0)
+    assert parse_extrinsics(path)[0] == expected
     path.write_text(f"{head} {ending}\n0 1 0 0 0.5 0 1 0 1.5 0 0 1 -2 0 0.1 0.2 1\n")
     with pytest.raises(DataFormatError, match=r"0001_clone.txt:2: last matrix row must be 0 0 0 1"):
         parse_extrinsics(path)

@@ -45,7 +45,8 @@ def test_split_follows_paper_rule(vk1):
     assert [r.frame for r in train] == [0, 1, 2] and [r.frame for r in test] == [4]
     assert [r.frame for r in load_split(paper, "val")] == [3]  # carved from the training frames, not test
     last = SourceConfig(kind="vkitti1", root=source.root, split={"rule": "paper", "first": False, "val_gap": 0})
-    assert [r.frame for r in load_split(last, "train")] == [1, 2, 3] and [r.frame for r in load_split(last, "val")] == [4]
+    assert [r.frame for r in load_split(last, "train")] == [1, 2, 3]
+    assert [r.frame for r in load_split(last, "val")] == [4]
 
 
 def test_source_config_rejects_bad_input(vk1):

@@ -111,9 +111,10 @@ def released_split(frames: Sequence[FrameRecord], part: str = "train") -> list[F
                                      f" use split.rule=paper for data other than Virtual KITTI")
         if all(in_train) or not any(in_train):
             where = "/".join(str(k) for k in _sequence_key(group[0])[1:] if k is not None)
+            part = "training" if all(in_train) else "test"
             raise UserInputError(f"sequence {where} has frames {group[0].frame}-{group[-1].frame}, all in the released "
-                                 f"{'training' if all(in_train) else 'test'} range of world {group[0].world}: it is not "
-                                 f"Virtual KITTI's sequence; use split.rule=paper (as conf/data/synth.yaml does)")
+                                 f"{part} range of world {group[0].world}: it is not Virtual KITTI's sequence; use "
+                                 f"split.rule=paper (as conf/data/synth.yaml does)")
         selected.extend(r for r, a in zip(group, in_train, strict=True) if a == (part == "train"))
     return selected
 

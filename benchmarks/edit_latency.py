@@ -1,9 +1,9 @@
-"""Per-edit latency of 3D-SDN (de-render + edit + render) at 624x192 on the CPU; prints JSON.
+"""Per-edit latency of 3D-SDN (de-render + edit + render, + compose) at 624x192 on the CPU; prints JSON.
 
     python benchmarks/edit_latency.py [--threads 1 [2 ...]] [--repeats 3] [--entries 3] [--cars 11]
                                       [--presets demo paper] [--geometric CKPT] [--textural CKPT]
                                       [--data DIR] [--out FILE] [--no-reference] [--semantic]
-                                      [--device cpu|cuda]
+                                      [--device cpu|cuda] [--input-size 1242 375]
 
 What one edit is (the path of :func:`sdn3d.evaluation.edit_benchmark.evaluate_entry`, ``proposals='gt'``):
 a source frame of a synthetic Virtual KITTI dataset written at ``--size`` (``sdn3d-synth`` recipe, ``--cars`` cars per
@@ -17,7 +17,14 @@ benchmark file (``vkitti_edit_benchmark.json``: deletes and modifies of several 
   ``apply_edits``: :func:`sdn3d.editing.apply.apply_edits`;
 - ``scene_maps``: :func:`sdn3d.scene.maps.scene_maps` of the edited scene; ``generator``:
   :func:`sdn3d.editing.render.render_maps` (the textural generator);
-- ``total``: the sum.
+- ``total``: the sum (``compose='full'``, the paper's protocol: the generator's picture at the working size);
+- ``compose='edited'`` (the default of ``sdn3d-edit``): the edit put into the input at its own resolution
+  (``--input-size``, default Virtual KITTI's 1242x375: the source frame's RGB upscaled bilinearly to it, mapped
+  to the working size by :func:`sdn3d.editing.inputs.fit_transform`): ``compose.source_maps`` (the unedited
+  scene's maps, which the edit region compares against; ``sdn3d-edit`` computes them anyway for its
+  reconstruction) and ``compose.blend`` (:func:`sdn3d.editing.compose.compose_edit`: edited objects, edit
+  region, feathered alpha, upsampling and blend); ``compose`` is their sum and ``total_edited`` = ``total`` +
+  ``compose``.
 
 Networks, with random weights unless checkpoints are given: ``demo`` and ``paper`` take the model
 (and crop size) settings of ``conf/recipe/{geometric,textural}_{demo,paper}.yaml`` over ``conf/branch``;
@@ -53,15 +60,20 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import torch
 from omegaconf import OmegaConf
 
 from sdn3d.data.edit_benchmark import load_edit_benchmark
 from sdn3d.data.frames import load_frame
+from sdn3d.data.records import load_rgb
+from sdn3d.data.scene_gt import ground_truth
 from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
 from sdn3d.data.vkitti1 import read_frames
 from sdn3d.derender import Models, derender
 from sdn3d.editing.apply import apply_edits, ops_from_benchmark
+from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
+from sdn3d.editing.inputs import fit_transform
 from sdn3d.editing.render import render_maps
 from sdn3d.evaluation.edit_benchmark import index_records
 from sdn3d.geometric.model import GeometricNet
@@ -77,6 +89,7 @@ from sdn3d.textural.renderer import TexturalRenderer
 
 REPO = Path(__file__).resolve().parents[1]
 STAGES = ("derender", "edit_ops", "apply_edits", "scene_maps", "generator")
+COMPOSE_STAGES = ("compose.source_maps", "compose.blend")
 TARGET_MS = 1000.0
 
 
@@ -178,6 +191,20 @@ def _same_maps(a, b) -> bool:
     return all(torch.equal(getattr(a, k), getattr(b, k)) for k in a.as_dict())
 
 
+def _derender_gt(frame: Any, record: Any, models: Models) -> Any:
+    """:func:`derender` with ``proposals='gt'``: the frame's masks and semantics read from disk, then the branches."""
+    gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
+    return derender(frame.image, frame.intrinsics, models, "gt", gt, min_pixels=64)
+
+
+def _compose_edited(settings: ComposeSettings, generated: torch.Tensor, original: torch.Tensor, transform: Any,
+                    before: Any, after: Any, scene: Any, edited: Any) -> torch.Tensor:
+    """What ``sdn3d-edit`` does after the generator with ``compose='edited'`` (the edit region and the blend)."""
+    picture, _ = compose_edit(settings, generated, original, transform, before, after,
+                              edited_object_ids(scene.objects, edited.objects))
+    return picture
+
+
 def run_preset(models: Models, cases: list, repeats: int, reference: bool, device: torch.device | None = None) -> dict:
     """Time every stage over ``repeats`` passes of ``cases`` (after one warm-up pass)."""
     device = device or torch.device("cpu")
@@ -188,17 +215,20 @@ def run_preset(models: Models, cases: list, repeats: int, reference: bool, devic
     bins = models.textural.spec.pose_bins
     identical = True
     objects: list[dict[str, int]] = []
+    settings = ComposeSettings("edited")
     for rep in range(repeats + 1):
         clock.on = rep > 0
-        for entry, record, frame in cases:
-            scene = clock.time("derender", derender, frame.image, frame.intrinsics, models, "gt", record,
-                               min_pixels=64)
+        for entry, record, frame, original, transform in cases:
+            scene = clock.time("derender", _derender_gt, frame, record, models)
             if rep == 0:
                 objects.append({"objects": len(scene.objects), "with_geometry": int(scene.objects.has_geometry.sum())})
             ops = clock.time("edit_ops", ops_from_benchmark, entry, scene, strict=False)
             edited = clock.time("apply_edits", apply_edits, scene, ops)
             maps = clock.time("scene_maps", scene_maps, edited, bank, num_bins=bins)
-            clock.time("generator", render_maps, maps, models.textural)
+            generated = clock.time("generator", render_maps, maps, models.textural)
+            before = clock.time("compose.source_maps", scene_maps, scene, bank, num_bins=bins)
+            clock.time("compose.blend", _compose_edited, settings, generated, original, transform, before, maps, scene,
+                       edited)
             if reference:
                 old_edit = clock.time("reference.apply_edits", apply_edits_dense, scene, ops)
                 old_maps = clock.time("reference.scene_maps", scene_maps_dense, edited, num_bins=bins)
@@ -206,8 +236,12 @@ def run_preset(models: Models, cases: list, repeats: int, reference: bool, devic
     n = len(clock.wall["derender"])
     total_wall = [sum(clock.wall[s][i] for s in STAGES) for i in range(n)]
     total_cpu = [sum(clock.cpu[s][i] for s in STAGES) for i in range(n)]
+    compose_wall = [sum(clock.wall[s][i] for s in COMPOSE_STAGES) for i in range(n)]
+    compose_cpu = [sum(clock.cpu[s][i] for s in COMPOSE_STAGES) for i in range(n)]
     out = {"stages": {k: _summary(clock.wall[k], clock.cpu[k]) for k in clock.wall},
-           "total": _summary(total_wall, total_cpu)}
+           "total": _summary(total_wall, total_cpu), "compose": _summary(compose_wall, compose_cpu),
+           "total_edited": _summary([a + b for a, b in zip(total_wall, compose_wall, strict=True)],
+                                    [a + b for a, b in zip(total_cpu, compose_cpu, strict=True)])}
     out["scenes"] = objects
     if reference:
         out["reference_identical"] = bool(identical)
@@ -217,7 +251,11 @@ def run_preset(models: Models, cases: list, repeats: int, reference: bool, devic
     return out
 
 
-def load_cases(root: Path, size: tuple[int, int], count: int) -> list:
+def load_cases(root: Path, size: tuple[int, int], count: int, input_size: tuple[int, int]) -> list:
+    """``(entry, record, frame at size, original (3, H_in, W_in) uint8, input -> working transform)`` per entry;
+    the original is the frame's RGB resized to ``input_size`` (bilinear)."""
+    from PIL import Image
+
     records = index_records(read_frames(root))
     entries = [e for e in load_edit_benchmark(root / BENCHMARK_NAME) if e.operations][:count]
     if not entries:
@@ -225,7 +263,10 @@ def load_cases(root: Path, size: tuple[int, int], count: int) -> list:
     cases = []
     for entry in entries:
         record = records[(entry.world, entry.variation, entry.source_frame)]
-        cases.append((entry, record, load_frame(record, size, semantic=False, instances=False)))
+        rgb = np.asarray(Image.fromarray(load_rgb(record)).resize(input_size, Image.BILINEAR))
+        original = torch.from_numpy(np.ascontiguousarray(rgb)).permute(2, 0, 1)
+        cases.append((entry, record, load_frame(record, size, semantic=False, instances=False), original,
+                      fit_transform(size, input_size)))
     return cases
 
 
@@ -244,6 +285,8 @@ def main(argv: list[str] | None = None) -> None:
     p.add_argument("--semantic", action="store_true", help="also time the semantic branch's forward")
     p.add_argument("--out", default=None, help="also write the JSON here")
     p.add_argument("--device", default="cpu", help="cpu | cuda (networks and mesh bank)")
+    p.add_argument("--input-size", type=int, nargs=2, default=(1242, 375), metavar=("W", "H"),
+                   help="resolution of the input picture compose='edited' writes (the frame's RGB resized to it)")
     args = p.parse_args(argv)
     device = torch.device(args.device)
     if device.type == "cuda" and not torch.cuda.is_available():
@@ -254,11 +297,14 @@ def main(argv: list[str] | None = None) -> None:
         root = Path(args.data) if args.data else generate_dataset(SynthConfig(
             output_dir=str(Path(tmp) / "synth"), seed=0, image_size=size, frames_per_sequence=2,
             cars_per_frame=(args.cars, args.cars), edit_pairs=max(args.entries, 1)))
-        cases = load_cases(root, size, args.entries)
+        input_size = (int(args.input_size[0]), int(args.input_size[1]))
+        cases = load_cases(root, size, args.entries, input_size)
         result: dict[str, Any] = {
-            "what": "per-edit latency (derender + edit_ops + apply_edits + scene_maps + generator), ms",
-            "size": list(size), "entries": [f"{e.world}/{e.variation} {e.source_frame}->{e.target_frame} "
-                                            f"{[o.kind for o in e.operations]}" for e, _, _ in cases],
+            "what": "per-edit latency (derender + edit_ops + apply_edits + scene_maps + generator; compose='edited' "
+                    "adds compose.source_maps + compose.blend at input_size), ms",
+            "size": list(size), "input_size": list(input_size), "input_transform": cases[0][4].to_dict(),
+            "entries": [f"{c[0].world}/{c[0].variation} {c[0].source_frame}->{c[0].target_frame} "
+                        f"{[o.kind for o in c[0].operations]}" for c in cases],
             "repeats": args.repeats, "statistic": "median (min) over repeats x entries after one warm-up pass",
             "cpu_count": os.cpu_count(), "torch": torch.__version__, "device": str(device),
             "gpu": torch.cuda.get_device_name(device) if device.type == "cuda" else None,
@@ -278,7 +324,8 @@ def main(argv: list[str] | None = None) -> None:
                 run["loadavg_before"] = [round(v, 2) for v in load_before]
                 run["loadavg_after"] = [round(v, 2) for v in os.getloadavg()]
                 result["runs"].append(run)
-                print(json.dumps({"preset": preset, "threads": threads, "total": run["total"]}), file=sys.stderr)
+                print(json.dumps({"preset": preset, "threads": threads, "total": run["total"],
+                                  "compose": run["compose"], "total_edited": run["total_edited"]}), file=sys.stderr)
     text = json.dumps(result, indent=2)
     print(text)
     if args.out:

@@ -3,7 +3,9 @@ editing an image end to end (3D-SDN, Fig. 2, right half).
 
 :func:`render_maps` runs the generator on composed maps, :func:`render` draws a scene
 (:func:`sdn3d.scene.maps.scene_maps` + :func:`render_maps`), :func:`edit_image` chains
-:func:`sdn3d.derender.derender`, :func:`sdn3d.editing.apply.apply_edits` and :func:`render`.
+:func:`sdn3d.derender.derender`, :func:`sdn3d.editing.apply.apply_edits`, :func:`render_maps` and
+:func:`sdn3d.editing.compose.compose_edit` (by default the input with only the edited region redrawn,
+at the input's resolution; ``compose='full'``: the generator's whole picture, the paper's protocol).
 """
 
 from __future__ import annotations
@@ -16,6 +18,9 @@ from torch import Tensor
 from sdn3d.data.edit_benchmark import BenchmarkEntry, BenchmarkOperation
 from sdn3d.derender import GroundTruth, Models, derender
 from sdn3d.editing.apply import EditOp, apply_edits, ops_from_benchmark
+from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
+from sdn3d.editing.inputs import same_aspect
+from sdn3d.editing.spec import PixelFrame
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
@@ -28,9 +33,19 @@ __all__ = ["EditResult", "render_maps", "render", "edit_image"]
 
 
 class EditResult(NamedTuple):
-    """Output of :func:`edit_image`: ``edited (3, H, W)``, the scenes before / after and the edited maps."""
+    """Output of :func:`edit_image`.
+
+    Attributes:
+        edited: the result: ``compose='edited'``: ``(3, H_in, W_in)`` the input with the edit region redrawn
+            (``original``'s dtype); ``'full'``: ``generated``.
+        generated: ``(3, H, W)`` in [0, 1], the generator's whole edited picture at the working size.
+        region: ``(H, W)`` bool edit region (working size; None with ``compose='full'``).
+        scene, edited_scene: the scenes before / after; maps: the edited scene's maps.
+    """
 
     edited: Tensor
+    generated: Tensor
+    region: Tensor | None
     scene: SceneCode
     edited_scene: SceneCode
     maps: ComposedMaps
@@ -62,22 +77,55 @@ def edit_image(image: Tensor, intrinsics: Intrinsics,
                ops: Sequence[EditOp] | BenchmarkEntry | Sequence[BenchmarkOperation], models: Models,
                proposals: str = "auto", ground_truth: GroundTruth | None = None,
                frame_size: tuple[int, int] | None = None, strict: bool = True, bank: MeshBank | None = None,
-               **derender_kwargs) -> EditResult:
-    """De-render ``image``, apply ``ops`` and render the edited scene.
+               compose: ComposeSettings | str = "edited", original: Tensor | None = None,
+               transform: PixelFrame | None = None, **derender_kwargs) -> EditResult:
+    """De-render ``image``, apply ``ops``, render the edited scene and compose the result.
 
     Args:
+        image: ``(3, H, W)`` float in [0, 1] at the working size.
         ops: :mod:`sdn3d.editing.apply` operations, or benchmark operations / an entry (objects picked by
             :func:`~sdn3d.editing.apply.ops_from_benchmark`, coordinates in ``frame_size`` pixels; None = image pixels).
         strict: reject benchmark ``to`` points outside the frame.
+        compose: ``'edited'`` / ``'full'`` or :class:`~sdn3d.editing.compose.ComposeSettings` (module doc).
+        original: ``(3, H_in, W_in)`` the input at its own resolution (uint8 or float); None: ``image``.
+        transform: how ``original`` became ``image`` (:func:`sdn3d.editing.inputs.fit_image`'s); None: a plain
+            resize, which needs the same aspect ratio.
         derender_kwargs: passed to :func:`derender`.
     """
     if models.textural is None:
         raise ValueError("edit_image needs the textural branch (models.textural is None)")
+    settings = compose if isinstance(compose, ComposeSettings) else ComposeSettings(mode=compose)
+    original, transform = _input_frame(image, original, transform)
     scene = derender(image, intrinsics, models, proposals, ground_truth, **derender_kwargs)
     ops = list(ops.operations) if isinstance(ops, BenchmarkEntry) else list(ops)
     if ops and all(isinstance(op, BenchmarkOperation) for op in ops):
         ops = ops_from_benchmark(ops, scene, frame_size, strict)
     edited_scene = apply_edits(scene, ops, bank)
-    maps = scene_maps(edited_scene, bank, num_bins=models.textural.spec.pose_bins)
-    return EditResult(render_maps(maps, models.textural), scene, edited_scene, maps)
+    bins = models.textural.spec.pose_bins
+    maps = scene_maps(edited_scene, bank, num_bins=bins)
+    generated = render_maps(maps, models.textural)
+    before = scene_maps(scene, bank, num_bins=bins) if settings.mode == "edited" else maps
+    edited, region = compose_edit(settings, generated, original, transform, before, maps,
+                                  edited_object_ids(scene.objects, edited_scene.objects))
+    return EditResult(edited, generated, region, scene, edited_scene, maps)
 
+
+def _input_frame(image: Tensor, original: Tensor | None, transform: PixelFrame | None) -> tuple[Tensor, PixelFrame]:
+    """``(original (3, H_in, W_in), transform)`` of :func:`edit_image`'s arguments (checked)."""
+    size = (int(image.shape[-1]), int(image.shape[-2]))
+    if original is None:
+        if transform is not None:
+            raise ValueError("edit_image: a transform needs the original it maps from")
+        return image, PixelFrame(size, size)
+    if original.dim() != 3 or original.shape[0] != 3:
+        raise ValueError(f"edit_image: original must be (3, H, W), got {tuple(original.shape)}")
+    input_size = (int(original.shape[-1]), int(original.shape[-2]))
+    if transform is None:
+        if not same_aspect(input_size, size):
+            raise ValueError(f"edit_image: the original {input_size[0]}x{input_size[1]} and the image "
+                             f"{size[0]}x{size[1]} differ in aspect ratio: give the transform (fit_image's)")
+        transform = PixelFrame(input_size, size)
+    if tuple(transform.input_size) != input_size or tuple(transform.working_size) != size:
+        raise ValueError(f"edit_image: the transform maps {tuple(transform.input_size)} to "
+                         f"{tuple(transform.working_size)}, not the original {input_size} to the image {size}")
+    return original, transform

@@ -11,8 +11,12 @@ written by ``sdn3d-synth``). Per entry:
 2. the three edits of that same scene: ``3d-sdn`` (:func:`~sdn3d.editing.apply.ops_from_benchmark` +
    :func:`~sdn3d.editing.apply.apply_edits` + :func:`~sdn3d.scene.maps.scene_maps`), ``2d`` and ``2d+``
    (:func:`~sdn3d.evaluation.baselines.baseline_maps`), all drawn by the same textural generator;
-3. metrics against the target (:mod:`sdn3d.evaluation.image_metrics`): LPIPS (with weights), L1, SSIM, PSNR on the
-   ``whole`` image, on ``all`` edited regions and on the ``largest`` one (a crop).
+3. each method's picture in every compose mode of ``settings.compose`` (:mod:`sdn3d.editing.compose`):
+   ``full``, the generator's whole picture (the paper's protocol, Table 1), and ``edited``, the source frame
+   with only the method's own edit region (its maps against the source scene's, the edited objects'
+   footprints) redrawn and blended in, at the working size (what ``sdn3d-edit`` gives a user);
+4. metrics against the target (:mod:`sdn3d.evaluation.image_metrics`): LPIPS (with weights), L1, SSIM, PSNR on the
+   ``whole`` image, on ``all`` edited regions and on the ``largest`` one (a crop), per compose mode.
 
 Edited regions come from the ground truth only, so they are the same for every method: the
 benchmark's picks are resolved on the frame's ground-truth scene (:func:`~sdn3d.data.scene_gt.scene_from_frame`,
@@ -20,7 +24,8 @@ benchmark's picks are resolved on the frame's ground-truth scene (:func:`~sdn3d.
 union of its visible pixels in the source and the target frames (instance maps at the working
 size). ``all`` = the union over the edited objects; ``largest`` = the object with the largest
 region, cropped to its box in the target frame (in the source frame when it left the view or was
-deleted). Latency = de-render + edit + render of the 3D-SDN path, per entry, at the working size.
+deleted). Latency = de-render + edit + render of the 3D-SDN path, per entry, at the working size;
+``compose`` apart: the edit region and the blend of ``compose='edited'``.
 
 A layout diagnostic that needs no trained generator is reported too (not in the paper):
 :func:`mask_iou`, the IoU between where a method draws each edited object (its composed instance
@@ -45,13 +50,15 @@ from sdn3d.data.records import FrameRecord, load_instances
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame
 from sdn3d.derender import Models, derender, encode_scene
 from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
+from sdn3d.editing.compose import COMPOSE_MODES, ComposeSettings, ComposeSettingsError, compose_edit, edited_object_ids
 from sdn3d.editing.render import render_maps
+from sdn3d.editing.spec import PixelFrame
 from sdn3d.errors import UserInputError
 from sdn3d.evaluation.baselines import baseline_maps
 from sdn3d.evaluation.image_metrics import crop_metrics, image_metrics
 from sdn3d.image_ops import mask_boxes, resize_map
 from sdn3d.scene.code import SceneCode
-from sdn3d.scene.maps import scene_maps
+from sdn3d.scene.maps import ComposedMaps, scene_maps
 
 if TYPE_CHECKING:
     from sdn3d.nets.lpips import LPIPS
@@ -59,6 +66,7 @@ if TYPE_CHECKING:
 __all__ = [
     "METHODS",
     "REGIONS",
+    "COMPOSE_MODES",
     "LAYOUT",
     "BenchSettings",
     "EntryResult",
@@ -93,6 +101,8 @@ class BenchSettings:
         include_identity: also evaluate the entries without operations.
         limit: evaluate at most this many entries (None: all).
         examples: entries whose pictures are kept for the example grids.
+        compose: the compose modes evaluated, each reported apart (module doc); ``full`` is the paper's.
+        dilate_px, feather_px: the edit region's dilation and blend ramp of ``compose='edited'`` (working pixels).
     """
 
     image_size: tuple[int, int] = (624, 192)
@@ -105,14 +115,26 @@ class BenchSettings:
     include_identity: bool = False
     limit: int | None = None
     examples: int = 8
+    compose: tuple[str, ...] = ("full", "edited")
+    dilate_px: int = 4
+    feather_px: int = 4
 
     def __post_init__(self) -> None:
         if self.scene not in SCENES:
             raise UserInputError(f"BenchSettings.scene must be one of {SCENES}, got {self.scene!r}")
+        compose = tuple(str(c) for c in self.compose)
+        if not compose or len(set(compose)) != len(compose):
+            raise ComposeSettingsError(f"compose must list distinct modes of {COMPOSE_MODES}, got {list(compose)}")
+        object.__setattr__(self, "compose", compose)
+        for mode in compose:
+            self.compose_settings(mode)  # checks the mode, dilate_px and feather_px
         object.__setattr__(self, "image_size", (int(self.image_size[0]), int(self.image_size[1])))
         object.__setattr__(self, "frame_size", (int(self.frame_size[0]), int(self.frame_size[1])))
         if self.limit is not None and self.limit < 0 or self.examples < 0:
             raise UserInputError(f"BenchSettings.limit and examples must be >= 0, got {self.limit}, {self.examples}")
+
+    def compose_settings(self, mode: str) -> ComposeSettings:
+        return ComposeSettings(mode, self.dilate_px, self.feather_px)
 
 
 @dataclass
@@ -121,10 +143,12 @@ class EntryResult:
 
     Attributes:
         index: entry index in the file; key: ``world/variation source->target``; operations: count.
-        metrics: ``{method: {region: {metric: value}}}`` (NaN: not computable, e.g. empty region).
-        latency_ms: ``derender``, ``edit``, ``render``, ``total`` of the 3D-SDN path.
+        metrics: ``{compose: {method: {region: {metric: value}}}}`` (NaN: not computable, e.g. empty region);
+            ``[compose][method]['layout']``: :func:`mask_iou` (the same in every compose mode).
+        latency_ms: ``derender``, ``edit``, ``render``, ``total`` (their sum) of the 3D-SDN path, and
+            ``compose`` (``compose='edited'``: edit region + blend) when evaluated.
         errors: ``{method or 'entry': message}`` for what could not be evaluated.
-        images: ``{'source', 'target', method...: (H, W, 3) uint8}`` for example entries, else None.
+        images: ``{'source', 'target', '<compose>:<method>': (H, W, 3) uint8}`` for example entries, else None.
         regions: ``(H, W)`` bool union of edited regions (example entries only).
     """
 
@@ -220,51 +244,83 @@ def _to_uint8(image: Tensor) -> np.ndarray:
     return (image.detach().cpu().clamp(0, 1).permute(1, 2, 0).numpy() * 255 + 0.5).astype(np.uint8)
 
 
+def _method_pictures(entry: BenchmarkEntry, scene: SceneCode, models: Models, settings: BenchSettings,
+                     result: EntryResult, derender_ms: float
+                     ) -> tuple[dict[str, Tensor], dict[str, ComposedMaps], Tensor]:
+    """``({method: (3, H, W) picture}, {method: maps}, edited ids (K,))`` of every method that could draw the
+    entry (a method's :class:`ValueError` goes to ``result.errors``); sets the 3D-SDN path's latency."""
+    t1 = time.perf_counter()
+    images: dict[str, Tensor] = {}
+    maps: dict[str, ComposedMaps] = {}
+    ids = torch.zeros(0, dtype=torch.long)
+    try:
+        ops = ops_from_benchmark(entry, scene, settings.frame_size, settings.strict, settings.pick_radius)
+        edited = apply_edits(scene, ops)
+        t2 = time.perf_counter()
+        maps["3d-sdn"] = scene_maps(edited, num_bins=models.textural.spec.pose_bins)
+        images["3d-sdn"] = render_maps(maps["3d-sdn"], models.textural)
+        _sync(models)
+        t3 = time.perf_counter()
+        result.latency_ms = {"derender": derender_ms, "edit": 1000 * (t2 - t1), "render": 1000 * (t3 - t2),
+                             "total": derender_ms + 1000 * (t3 - t1)}
+        ids = edited_object_ids(scene.objects, edited.objects)
+    except ValueError as exc:
+        result.errors["3d-sdn"] = str(exc)
+    for mode in ("2d", "2d+"):
+        try:
+            maps[mode] = baseline_maps(scene, entry, mode, settings.frame_size, max_distance=settings.pick_radius)
+            images[mode] = render_maps(maps[mode], models.textural)
+        except ValueError as exc:
+            result.errors[mode] = str(exc)
+    return images, maps, ids
+
+
+def _composed(images: dict[str, Tensor], maps: dict[str, ComposedMaps], source: Tensor, scene: SceneCode,
+              ids: Tensor, models: Models, settings: BenchSettings, result: EntryResult
+              ) -> dict[str, dict[str, Tensor]]:
+    """``{compose: {method: (3, H, W)}}``: every method's picture in every compose mode (working size; the
+    source frame is the original); times the 3D-SDN path's ``compose='edited'`` step."""
+    identity = PixelFrame(settings.image_size, settings.image_size)
+    before = scene_maps(scene, num_bins=models.textural.spec.pose_bins) if "edited" in settings.compose else None
+    out: dict[str, dict[str, Tensor]] = {}
+    for mode in settings.compose:
+        out[mode] = {}
+        for method, picture in images.items():
+            t0 = time.perf_counter()
+            out[mode][method], _ = compose_edit(settings.compose_settings(mode), picture, source, identity, before,
+                                                maps[method], ids)
+            if method == "3d-sdn" and mode == "edited" and result.latency_ms:
+                result.latency_ms["compose"] = 1000 * (time.perf_counter() - t0)
+    return out
+
+
 def evaluate_entry(index: int, entry: BenchmarkEntry, source: FrameRecord, target: FrameRecord, models: Models,
                    settings: BenchSettings, lpips_net: LPIPS | None = None, keep_images: bool = False
                    ) -> EntryResult:
-    """Evaluate one entry with every method (a method's :class:`ValueError` is recorded, not raised)."""
+    """Evaluate one entry with every method in every compose mode (a method's :class:`ValueError` is recorded,
+    not raised)."""
     result = EntryResult(index, f"{entry.world}/{entry.variation} {entry.source_frame:05d}->{entry.target_frame:05d}",
                          len(entry.operations))
     size = settings.image_size
     src = load_frame(source, size, semantic=False, instances=False)
     tgt = load_frame(target, size, semantic=False, instances=False).image
-    regions, box, ids = edit_regions(entry, source, target, size, settings.frame_size)
+    regions, box, gt_ids = edit_regions(entry, source, target, size, settings.frame_size)
     target_instances = _instances(target, size)
-    bins = models.textural.spec.pose_bins
     _sync(models)
     t0 = time.perf_counter()
     scene = _source_scene(src.image, src.intrinsics, source, models, settings)
     _sync(models)
-    t1 = time.perf_counter()
-    images: dict[str, Tensor] = {}
-    layouts: dict[str, Tensor] = {}
-    try:
-        ops = ops_from_benchmark(entry, scene, settings.frame_size, settings.strict, settings.pick_radius)
-        edited = apply_edits(scene, ops)
-        t2 = time.perf_counter()
-        maps = scene_maps(edited, num_bins=bins)
-        images["3d-sdn"], layouts["3d-sdn"] = render_maps(maps, models.textural), maps.instance.cpu()
-        _sync(models)
-        t3 = time.perf_counter()
-        result.latency_ms = {"derender": 1000 * (t1 - t0), "edit": 1000 * (t2 - t1), "render": 1000 * (t3 - t2),
-                             "total": 1000 * (t3 - t0)}
-    except ValueError as exc:
-        result.errors["3d-sdn"] = str(exc)
-    for mode in ("2d", "2d+"):
-        try:
-            maps = baseline_maps(scene, entry, mode, settings.frame_size, max_distance=settings.pick_radius)
-            images[mode], layouts[mode] = render_maps(maps, models.textural), maps.instance.cpu()
-        except ValueError as exc:
-            result.errors[mode] = str(exc)
-    for method in METHODS:
-        if method in images:
-            result.metrics[method] = region_metrics(images[method], tgt, regions, box, lpips_net)
-            result.metrics[method]["layout"] = {"mask_iou": mask_iou(layouts[method], target_instances, ids,
-                                                                     scene.objects.instance_id)}
+    images, maps, ids = _method_pictures(entry, scene, models, settings, result, 1000 * (time.perf_counter() - t0))
+    composed = _composed(images, maps, src.image, scene, ids, models, settings, result)
+    layout = {m: {"mask_iou": mask_iou(maps[m].instance.cpu(), target_instances, gt_ids, scene.objects.instance_id)}
+              for m in images}
+    for mode, pictures in composed.items():
+        result.metrics[mode] = {m: region_metrics(pictures[m], tgt, regions, box, lpips_net) | {LAYOUT: layout[m]}
+                                for m in METHODS if m in pictures}
     if keep_images:
         result.images = {"source": _to_uint8(src.image), "target": _to_uint8(tgt)}
-        result.images |= {m: _to_uint8(img) for m, img in images.items()}
+        result.images |= {f"{mode}:{m}": _to_uint8(img) for mode, pictures in composed.items()
+                          for m, img in pictures.items()}
         result.regions = regions.numpy()
     return result
 
@@ -320,18 +376,20 @@ def _stats(values: list[float]) -> dict[str, float | int]:
 
 
 def summarize(results: Sequence[EntryResult]) -> dict:
-    """Means over entries: ``{'methods': {method: {region: {metric: {mean, median, n}}}}, 'latency_ms':
-    {...}, 'entries', 'failed': {method: count}}`` (non-finite values, e.g. empty regions, are skipped)."""
+    """Means over entries: ``{'methods': {compose: {method: {region: {metric: {mean, median, n}}}}},
+    'latency_ms': {...}, 'entries', 'evaluated', 'failed': {method: count}}`` (non-finite values, e.g. empty
+    regions, are skipped)."""
+    modes = list(dict.fromkeys(c for r in results for c in r.metrics))  # in the order evaluated
     methods: dict = {}
-    for method in METHODS:
-        per_region: dict = {}
-        for region in (*REGIONS, LAYOUT):
-            names = sorted({k for r in results for k in r.metrics.get(method, {}).get(region, {})})
-            per_region[region] = {k: _stats([r.metrics[method].get(region, {}).get(k, math.nan) for r in results
-                                             if method in r.metrics]) for k in names}
-        methods[method] = per_region
+    for mode in modes:
+        methods[mode] = {}
+        for method in METHODS:
+            rows = [r.metrics[mode][method] for r in results if method in r.metrics.get(mode, {})]
+            methods[mode][method] = {region: {k: _stats([row.get(region, {}).get(k, math.nan) for row in rows])
+                                              for k in sorted({k for row in rows for k in row.get(region, {})})}
+                                     for region in (*REGIONS, LAYOUT)}
     latency = {k: _stats([r.latency_ms[k] for r in results if k in r.latency_ms])
-               for k in ("derender", "edit", "render", "total")}
+               for k in ("derender", "edit", "render", "total", "compose")}
     failed = {m: sum(1 for r in results if m in r.errors or "entry" in r.errors) for m in METHODS}
     return {"entries": len(results), "evaluated": sum(1 for r in results if r.metrics), "failed": failed,
-            "methods": methods, "latency_ms": latency}
+            "compose": modes, "methods": methods, "latency_ms": latency}

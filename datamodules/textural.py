@@ -5,6 +5,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from torch.utils.data import DataLoader
+
 from datamodules._base import BranchDataModule
 from sdn3d.data.datasets import TexturalDataset
 from sdn3d.data.errors import SkipLog
@@ -44,3 +46,9 @@ class TexturalDataModule(BranchDataModule):
 
     def make_dataset(self, part: str, skip: SkipLog | None = None) -> TexturalDataset:
         return TexturalDataset.from_source(self.source, part, skip, render=self.render)
+
+    def code_bank_loader(self) -> DataLoader:
+        """The training part in order, without geometry maps: the frames a code bank is encoded from
+        (:meth:`lightning_modules.TexturalModule.on_fit_end`, :func:`sdn3d.textural.code_bank.build_code_bank`)."""
+        dataset = TexturalDataset.from_source(self.source, "train", render=False)
+        return DataLoader(dataset, batch_size=self.batch_size, shuffle=False, num_workers=0)

@@ -306,3 +306,47 @@ def test_angles_are_degrees_or_explicit_radians():
                             {"op": "modify", "from": [10, 20], "ry_deg": -90}])
     assert [round(op.ry, 12) for op in spec.ops] == [round(math.pi / 4, 12), -0.5, round(-math.pi / 2, 12)]
 
+
+
+@pytest.mark.parametrize("op, pattern", [
+    ({"op": "recolor", "id": 12001, "color": "chartreuse"}, r"op 0 \(recolor\): field 'color': unknown colour "
+                                                              r"'chartreuse'; known colours: red"),
+    ({"op": "recolor", "id": 12001, "color": 3}, r"field 'color' must be a colour name"),
+    ({"op": "recolor", "id": 12001, "color": "red", "sample": True}, r"exactly one of 'code: \[...\]', 'sample: true' "
+                                                                       r"or 'color: <name>'"),
+    ({"op": "recolor", "id": 12001}, r"exactly one of"),
+])  # fmt: skip
+def test_recolor_by_colour_name_is_checked_when_parsed(op, pattern):
+    from sdn3d.editing.spec import EditSpecError, parse_edit_spec
+
+    with pytest.raises(EditSpecError, match=pattern):
+        parse_edit_spec([op])
+    assert parse_edit_spec([{"op": "recolor", "id": 12001, "color": "Dark_Blue"}]).ops[0].color == "Dark_Blue"
+
+
+def test_recolor_color_takes_the_bank_code_of_the_nearest_colour_of_the_objects_class(tiny_synth):
+    from sdn3d.data import vkitti1
+    from sdn3d.data.scene_gt import scene_from_frame
+    from sdn3d.editing.apply import EditError, SetBackgroundCode, SetCode
+    from sdn3d.editing.spec import parse_edit_spec, resolve_ops
+    from sdn3d.textural.codes import CodeBank
+
+    scene = scene_from_frame(vkitti1.read_frames(tiny_synth)[4], (160, 64))
+    car = int(scene.objects.instance_id[0])
+    cls = car // 1000
+    codes = {cls: torch.arange(15.0).view(3, 5), 3: torch.full((2, 5), 7.0)}
+    colors = {cls: torch.tensor([[0.9, 0.9, 0.9], [0.7, 0.1, 0.1], [0.1, 0.2, 0.7]]),
+              3: torch.tensor([[0.4] * 3, [0.1] * 3])}
+    bank = CodeBank(codes, colors)
+    spec = parse_edit_spec([{"op": "recolor", "id": car, "color": "red"}, {"op": "recolor", "id": car, "color": "blue"},
+                            {"op": "recolor", "class": 3, "color": "black"}])
+    ops = resolve_ops(spec, scene, bank)
+    assert ops[0] == SetCode(car, tuple(codes[cls][1].tolist()))  # red
+    assert ops[1] == SetCode(car, tuple(codes[cls][2].tolist()))  # blue
+    assert ops[2] == SetBackgroundCode(3, tuple(codes[3][1].tolist()))
+    with pytest.raises(EditError, match=r"op 0 \(recolor id=\d+\): 'color: red' needs a code bank .*code_bank="):
+        resolve_ops(spec, scene, None)
+    with pytest.raises(EditError, match=r"needs a code bank with its objects' colours"):
+        resolve_ops(spec, scene, CodeBank(codes))
+    with pytest.raises(EditError, match=r"no training codes for class"):
+        resolve_ops(spec, scene, CodeBank({3: codes[3]}, {3: colors[3]}))

@@ -7,6 +7,7 @@ from pathlib import Path
 import lightning as L
 import pytest
 import torch
+from helpers.tiny_models import write_checkpoints
 from hydra.utils import instantiate
 from omegaconf import OmegaConf
 
@@ -15,6 +16,7 @@ from lightning_modules._base import NonFiniteLossError
 from lightning_modules.textural import LinearDecay, TexturalModule
 from sdn3d.data.fixtures import write_vkitti1_fixture
 from sdn3d.nets.vgg import VGG19Features
+from sdn3d.textural.code_bank import code_bank_path, load_code_bank
 from sdn3d.textural.renderer import TexturalRenderer
 
 CONF = Path(__file__).resolve().parents[1] / "conf"
@@ -24,13 +26,14 @@ SMALL = dict(ngf=8, n_downsampling=2, n_blocks=1, nef=4, n_downsampling_encoder=
 @pytest.fixture(scope="module")
 def data_root(tmp_path_factory) -> Path:
     root = tmp_path_factory.mktemp("vk1")
-    write_vkitti1_fixture(root, frames=range(5), size=(128, 48))  # 4 train frames, 1 val/test frame
+    write_vkitti1_fixture(root, frames=range(7), size=(128, 48))  # 4 train, 1 validation, 2 test frames
     return root
 
 
 def _datamodule(root: Path, batch_size: int = 2) -> TexturalDataModule:
     cfg = OmegaConf.load(CONF / "data" / "vkitti.yaml")
     cfg.root = str(root)
+    cfg.split = {"rule": "paper", "fraction": 0.8, "val_fraction": 0.2, "val_gap": 0}  # a fixture, not VKITTI's worlds
     return TexturalDataModule(cfg, image_size=(64, 32), batch_size=batch_size)
 
 
@@ -67,7 +70,8 @@ def test_fit_counts_steps_decays_lr_logs_metrics_and_resumes(data_root, tmp_path
     for key in ("val/l1", "val/psnr", "val/ssim", "val/obj_l1", "val/obj_psnr", "val/obj_ssim",
                 "train/loss_g", "train/loss_d", "train/g_fm", "train/g_l1"):
         assert key in metrics and torch.isfinite(metrics[key]), key
-    assert "train/g_vgg" not in metrics and "val/lpips" not in metrics  # no weights: off
+    assert "train/g_perceptual" not in metrics and "val/lpips" not in metrics  # perceptual=none: off
+    assert "train/g_swap" not in metrics  # lambda_swap=0 (the paper's losses)
     assert 0 < float(metrics["val/ssim"]) < 1 and float(metrics["val/psnr"]) > 0
     tag, rows, step = grids[-1]
     assert tag == "val/label_reconstruction_real" and step == 4 and len(rows) == 3
@@ -116,27 +120,86 @@ def test_nonfinite_loss_policy(data_root, policy):
     assert all(torch.equal(before[k], v) for k, v in model.generator.state_dict().items())
 
 
-def test_perceptual_loss_and_decoupling_switches(data_root, tmp_path):
+@pytest.mark.parametrize("net", ["vgg", "drn"])
+def test_perceptual_loss_and_decoupling_switches(data_root, tmp_path, net):
     torch.save(VGG19Features().state_dict(), tmp_path / "vgg19.pth")
-    model = TexturalModule(**SMALL, use_pose=False, use_normal=False, vgg_weights=str(tmp_path / "vgg19.pth"))
+    weights = tmp_path / "vgg19.pth" if net == "vgg" else write_checkpoints(tmp_path)["semantic"]
+    model = TexturalModule(**SMALL, use_pose=False, use_normal=False, perceptual=net, perceptual_weights=str(weights))
     assert model.generator.model[1].in_channels == 14 + 1 + 5
-    assert not any(k.startswith("_frozen") or "vgg" in k for k in model.state_dict())  # VGG stays out of ckpts
+    assert not any(k.startswith("_frozen") or "vgg" in k or "backbone" in k for k in model.state_dict())  # F stays out
     trainer = _trainer(fast_dev_run=True)
     trainer.fit(model, datamodule=_datamodule(data_root))
-    assert torch.isfinite(trainer.callback_metrics["train/g_vgg"])
+    assert torch.isfinite(trainer.callback_metrics["train/g_perceptual"])
     no_codes = TexturalModule(**SMALL, use_codes=False, classes="cityscapes")
     assert no_codes.generator.model[1].in_channels == 19 + 1 + 24 + 3
+
+
+def test_swap_term_makes_the_code_decide_the_colour_it_is_scored_on(data_root):
+    """The swap term compares G's drawing with swapped codes against the donors' real colours, and its gradient
+    reaches both G and E."""
+    torch.manual_seed(0)
+    model = TexturalModule(**SMALL, lambda_swap=10.0, swap_min_pixels=1)
+    batch = next(iter(_datamodule(data_root).train_dataloader()))
+    fake, real, cond, codes = model._generate(batch)
+    torch.manual_seed(1)
+    term = model.swap_term(batch, real, cond, codes)
+    assert term.dim() == 0 and float(term.detach()) > 0
+    term.backward()
+    assert model.encoder.model[1].weight.grad.abs().sum() > 0 and model.generator.model[1].weight.grad.abs().sum() > 0
+    # the same number by hand: swap the codes with the same donors, draw, compare mean colours per object
+    from sdn3d.nets.pix2pixhd import instance_mean, region_index
+    from sdn3d.textural.codes import code_donors
+
+    L_map = batch["instance_label_map"]
+    index, _, ids = region_index(L_map)
+    torch.manual_seed(1)
+    donors = code_donors(ids)
+    with torch.no_grad():
+        drawn = model.generator(model.spec.generator_input(cond, codes[donors][index].permute(0, 3, 1, 2),
+                                                           batch["pose"], batch["normal"]))
+    _, drawn_colors, _, _ = instance_mean(drawn, L_map)
+    _, real_colors, _, _ = instance_mean(real, L_map)
+    swapped = [i for i in range(ids.numel()) if int(donors[i]) != i]
+    assert swapped and all(int(ids[i]) >= 1000 for i in swapped)
+    expected = torch.stack([(drawn_colors[i] - real_colors[int(donors[i])]).abs() for i in swapped]).mean()
+    torch.testing.assert_close(term.detach(), expected)
+
+
+def test_fit_writes_a_code_bank_next_to_each_kept_checkpoint(data_root, tmp_path):
+    torch.manual_seed(0)
+    model = TexturalModule(**SMALL, lambda_swap=10.0)
+    checkpoint = L.pytorch.callbacks.ModelCheckpoint(dirpath=tmp_path / "checkpoints", monitor="val/psnr",
+                                                     mode="max", save_last=True, filename="best")
+    trainer = _trainer(max_epochs=1, enable_checkpointing=True, callbacks=[checkpoint])
+    dm = _datamodule(data_root)
+    trainer.fit(model, datamodule=dm)
+    assert "train/g_swap" in trainer.callback_metrics
+    for name in ("best.ckpt", "last.ckpt"):
+        bank = load_code_bank(code_bank_path(tmp_path / "checkpoints" / name))
+        renderer = TexturalRenderer.from_checkpoint(tmp_path / "checkpoints" / name)
+        frames = list(dm.code_bank_loader())
+        image = torch.cat([b["image"] for b in frames])
+        L_map = torch.cat([b["instance_label_map"] for b in frames])
+        codes = renderer.encode(image, L_map)
+        cars = codes.ids >= 1000
+        assert len(bank) == len(codes) and sorted(bank.classes) == sorted(set(codes.classes.tolist()))
+        car_class = int(codes.classes[cars][0])
+        torch.testing.assert_close(bank.codes[car_class], codes.codes[codes.classes == car_class], atol=1e-5, rtol=0)
+        assert bank.colors[car_class].shape == (int((codes.classes == car_class).sum()), 3)
 
 
 def test_branch_config_and_recipes(data_root):
     branch = OmegaConf.load(CONF / "branch" / "textural.yaml")
     data = OmegaConf.load(CONF / "data" / "vkitti.yaml")
     data.root = str(data_root)
+    data.split = {"rule": "paper", "fraction": 0.8, "val_fraction": 0.2, "val_gap": 0}
     cfg = OmegaConf.merge({"data": data, "seed": 0}, branch)
     assert cfg.branch_name == "textural" and cfg.monitor == "val/psnr" and cfg.monitor_mode == "max"
     paper = OmegaConf.merge(cfg, OmegaConf.load(CONF / "recipe" / "textural_paper.yaml"))  # experiment=paper_*
     assert (paper.model.ngf, paper.model.n_downsampling, paper.model.n_blocks) == (64, 4, 9)
     assert (paper.model.lambda_fm, paper.model.lambda_recon, paper.model.code_dim) == (5.0, 10.0, 5)
+    assert paper.model.lambda_swap == 0 and cfg.model.lambda_swap > 0  # the swap term: on, except the paper's recipe
+    assert cfg.model.perceptual == "none" and cfg.model.write_code_bank
     demo = OmegaConf.merge(cfg, OmegaConf.load(CONF / "recipe" / "textural_demo.yaml"))  # experiment=demo
     model = instantiate(demo.model)
     assert isinstance(model, TexturalModule) and model.hparams.ngf == 16 and model.hparams.classes == "vkitti"

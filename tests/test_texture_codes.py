@@ -8,7 +8,7 @@ import torch
 from sdn3d.image_ops import boundary_map
 from sdn3d.labels import class_list, region_class
 from sdn3d.nets.pix2pixhd import TexturalSpec
-from sdn3d.textural.codes import CodeBank, TextureCodes, code_map, sample_code, set_code, swap_codes
+from sdn3d.textural.codes import CodeBank, TextureCodes, code_donors, code_map, sample_code, set_code, swap_codes
 from sdn3d.textural.renderer import TexturalRenderer
 
 SPEC = dict(num_classes=14, ngf=8, n_downsampling=2, n_blocks=1, nef=4, n_downsampling_encoder=2, ndf=8)
@@ -105,8 +105,32 @@ def test_set_swap_and_sample_codes():
     with pytest.raises(KeyError, match="class 1"):
         sample_code(codes, bank, 0, 1)
     assert CodeBank.from_codes([codes], objects_only=True).classes == [12]
-    again = CodeBank.from_state_dict(bank.state_dict())
-    assert again.classes == bank.classes and torch.equal(again.codes[12], bank.codes[12])
+    assert bank.colors is None and bank.code_dim == 2  # codes only: no colour to pick a code by
+
+
+def test_code_bank_from_regions_groups_codes_and_colours_by_class():
+    ids = torch.tensor([5, 12001, 13002, 12004, 5])
+    codes = torch.arange(10.0).view(5, 2)
+    colors = torch.arange(15.0).view(5, 3) / 15
+    bank = CodeBank.from_regions(ids, codes, colors)
+    assert bank.classes == [5, 12, 13] and len(bank) == 5
+    assert bank.codes[12].tolist() == [[2, 3], [6, 7]] and torch.equal(bank.colors[12], colors[[1, 3]])
+    assert torch.equal(bank.colors[5], colors[[0, 4]])
+
+
+def test_code_donors_swap_objects_within_their_class_only():
+    ids = torch.tensor([1, 12001, 12002, 5, 13001, 12003, 12004, 13002, 14001, 12005])
+    for seed in range(20):
+        donors = code_donors(ids, torch.Generator().manual_seed(seed))
+        got = ids[donors]
+        objects = ids >= 1000
+        assert torch.equal(got[~objects], ids[~objects])  # background regions keep their code
+        assert torch.equal(region_class(got), region_class(ids))  # a car gets a car's code, a van a van's
+        assert torch.equal(torch.sort(donors[objects]).values, torch.nonzero(objects).view(-1))  # a permutation
+        lonely = ids == 14001  # the only object of its class keeps its own
+        assert bool((got[objects & ~lonely] != ids[objects & ~lonely]).all())
+        assert bool((got[lonely] == ids[lonely]).all())
+    assert len({tuple(code_donors(ids, torch.Generator().manual_seed(s)).tolist()) for s in range(20)}) > 1
 
 
 def test_renderer_render_and_local_code_edit():

@@ -9,6 +9,7 @@ to the input image resized to another size)::
     - {op: zoom, id: 12001, zoom: 1.5}             # distance / 1.5 (on_ground: true keeps its height)
     - {op: delete, at: [400, 110]}
     - {op: recolor, id: 12002, sample: true}       # a training code of its class (needs a code bank)
+    - {op: recolor, id: 12002, color: red}         # the training code whose object's colour is nearest red
     - {op: recolor, id: 12002, code: [0.1, -0.2, 0.3, 0.0, 0.5]}
     - {op: recolor, class: Road, code: [...]}      # a background class' code
     - {op: duplicate, id: 12001, to: [500, 130]}   # optional new_id
@@ -72,6 +73,7 @@ from sdn3d.errors import UserInputError
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import compose_instances
+from sdn3d.textural.code_bank import named_color
 from sdn3d.textural.codes import CodeBank
 
 __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
@@ -79,7 +81,7 @@ __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec",
 
 OP_KINDS = ("move", "rotate", "zoom", "delete", "recolor", "duplicate", "modify")
 _FIELDS = {"move": {"to"}, "rotate": {"ry_deg", "ry_rad"}, "zoom": {"zoom", "on_ground"}, "delete": set(),
-           "recolor": {"code", "sample", "seed", "class"}, "duplicate": {"to", "new_id"},
+           "recolor": {"code", "sample", "color", "seed", "class"}, "duplicate": {"to", "new_id"},
            "modify": {"to", "zoom", "ry_deg", "ry_rad", "from"}}
 _GEOMETRIC = ("move", "rotate", "zoom", "duplicate", "modify")
 
@@ -104,6 +106,7 @@ class OpSpec:
     on_ground: bool = False
     code: tuple[float, ...] | None = None
     sample: bool = False
+    color: str | None = None
     seed: int | None = None
     new_id: int | None = None
 
@@ -265,9 +268,17 @@ def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
             raise EditSpecError(f"{name}: field 'on_ground' must be true or false, got {raw['on_ground']!r}")
         fields["on_ground"] = raw["on_ground"]
     if kind == "recolor":
-        has_code, sample = "code" in raw, raw.get("sample", False)
-        if not isinstance(sample, bool) or has_code == bool(sample):
-            raise EditSpecError(f"{name}: give exactly one of 'code: [...]' or 'sample: true'")
+        has_code, sample, has_color = "code" in raw, raw.get("sample", False), "color" in raw
+        if not isinstance(sample, bool) or has_code + bool(sample) + has_color != 1:
+            raise EditSpecError(f"{name}: give exactly one of 'code: [...]', 'sample: true' or 'color: <name>'")
+        if has_color:
+            if not isinstance(raw["color"], str):
+                raise EditSpecError(f"{name}: field 'color' must be a colour name, e.g. red, got {raw['color']!r}")
+            try:
+                named_color(raw["color"], f"{name}: field 'color'")
+            except UserInputError as exc:
+                raise EditSpecError(str(exc)) from None
+            fields["color"] = raw["color"]
         if has_code:
             code = raw["code"]
             if not isinstance(code, (list, tuple)) or not code:
@@ -427,7 +438,7 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
     """Turn ``spec`` into :mod:`sdn3d.editing.apply` operations on ``scene`` (every check that needs the scene).
 
     Args:
-        code_bank: training codes for ``recolor: sample``.
+        code_bank: training codes (and their objects' colours) for ``recolor`` with ``sample`` or ``color``.
         pick_radius: pixels (scene size) a pick by position may be from the object's projected centre.
         strict: benchmark ``to`` points must lie inside the frame.
         generator: randomness of ``sample`` (an op's ``seed`` overrides it).
@@ -505,16 +516,24 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
 
 def _code(op: OpSpec, class_id: int, scene: SceneCode, code_bank: CodeBank | None,
           generator: torch.Generator | None, what: str) -> tuple[float, ...]:
+    """The code an op gives: its own ``code``, a bank code drawn (``sample``) or picked by ``color``."""
     if op.code is not None:
         if len(op.code) != scene.code_dim:
             raise EditError(f"{what}: code has {len(op.code)} values, the scene's texture codes have {scene.code_dim}")
         return op.code
+    field = f"'color: {op.color}'" if op.color is not None else "'sample: true'"
     if code_bank is None:
-        raise EditError(f"{what}: 'sample: true' needs a code bank of training codes (code_bank=<file>)")
+        raise EditError(f"{what}: {field} needs a code bank of training codes (code_bank=<file>; sdn3d-train writes "
+                        "<checkpoint>.code_bank.json next to the textural checkpoint)")
     if op.seed is not None:
         generator = torch.Generator().manual_seed(op.seed)
     try:
-        code = code_bank.sample(class_id, 1, generator)[0]
+        if op.color is None:
+            code = code_bank.sample(class_id, 1, generator)[0]
+        elif code_bank.colors is None:
+            raise EditError(f"{what}: {field} needs a code bank with its objects' colours; this one has codes only")
+        else:
+            code = code_bank.nearest(class_id, torch.tensor(named_color(op.color)))[0]
     except KeyError as exc:
         raise EditError(f"{what}: {exc.args[0]}") from None
     if code.numel() != scene.code_dim:

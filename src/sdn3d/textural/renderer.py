@@ -43,15 +43,15 @@ class TexturalRenderer(nn.Module):
 
     @classmethod
     def from_checkpoint(cls, path: str | Path, map_location: str | torch.device = "cpu") -> TexturalRenderer:
-        """Load G and E from a ``TexturalModule`` Lightning checkpoint (``torch.load(weights_only=True)``)."""
-        from sdn3d.io import load_lightning_checkpoint
+        """Load G and E from a ``TexturalModule`` Lightning checkpoint or its inference export
+        (:mod:`sdn3d.inference_export`; ``torch.load(weights_only=True)``)."""
+        from sdn3d.inference_export import load_branch_weights
 
-        ckpt = load_lightning_checkpoint(path, map_location, required=("state_dict", "hyper_parameters"),
-                                         branch="textural")
-        if "classes" not in (ckpt["hyper_parameters"] or {}):
-            raise UserInputError(f"textural checkpoint {str(path)!r} does not name its class list "
+        weights = load_branch_weights(path, "textural", map_location)
+        if "classes" not in weights.hyper_parameters:
+            raise UserInputError(f"textural checkpoint {str(weights.path)!r} does not name its class list "
                                  "(hyper-parameter 'classes')")
-        return cls.from_state_dict(ckpt["state_dict"], ckpt["hyper_parameters"])
+        return cls.from_state_dict(weights.state_dict, weights.hyper_parameters)
 
     @classmethod
     def from_state_dict(cls, state: Mapping[str, Tensor], hparams: Mapping[str, Any]) -> TexturalRenderer:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import pytest
 import torch
 from hydra import compose, initialize_config_dir
 
@@ -114,7 +115,47 @@ def test_demo_trains_branches_in_parallel_and_composes_the_long_budget(tmp_path)
     from PIL import Image  # benchmark and edits at render_size, not the data's 160x64
 
     assert summary["data"]["render_size"] == [128, 48]
-    assert Image.open(out / "edits" / "deleted.png").size == (128, 48)
+    # compose=edited (the default): the edits at the frame's own 160x64, the generator's pictures at 128x48
+    assert Image.open(out / "edits" / "deleted.png").size == (160, 64)
+    assert Image.open(out / "edits" / "generated" / "deleted.png").size == (128, 48)
+
+
+@pytest.mark.parametrize("mode", ["edited", "full"])
+def test_demo_edits_are_composed_into_the_frame(tiny_synth, tmp_path, mode):
+    """``edits.compose=edited``: every example edit is the frame at its own size with only the edit region
+    redrawn; ``full``: the generator's pictures at render_size."""
+    import numpy as np
+    from helpers.tiny_models import write_checkpoints
+    from PIL import Image
+
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli.demo import run_edits
+    from sdn3d.data import vkitti1
+
+    ckpts = {k: str(v) for k, v in write_checkpoints(tmp_path / "ckpt").items()}
+    (tmp_path / "config.yaml").write_text("datamodule:\n  crop_size: 32\n")  # the geometric run's crop size
+    # Random weights put cars anywhere: move the car away (zoom < 1) so that no edit reaches the near plane.
+    cfg = compose_config(["render_size=[80,32]", "edits.angles_deg=[45]", "edits.zoom=0.8", f"edits.compose={mode}"],
+                         "demo")
+    info = run_edits(cfg, tiny_synth, ckpts, tmp_path / "edits")
+    assert info["compose"] == mode and info["picture_size"] == ([160, 64] if mode == "edited" else [80, 32])
+    frame = [r for r in vkitti1.read_frames(tiny_synth) if r.key == info["frame"]][0]
+    original = vkitti1.load_rgb(frame)
+    pictures = {n: np.asarray(Image.open(tmp_path / "edits" / f"{n}.png"))
+                for n in ("reconstruction", "deleted", "recoloured", "rotated_p45_deg")}
+    generated = np.asarray(Image.open(tmp_path / "edits" / "generated" / "deleted.png"))
+    assert generated.shape == (32, 80, 3)
+    if mode == "full":
+        assert (pictures["deleted"] == generated).all()
+        return
+    for name, picture in pictures.items():
+        assert picture.shape == original.shape
+        kept = (picture == original).all(-1).mean()
+        assert (kept < 0.05) if name == "reconstruction" else (0.3 < kept < 1), (name, kept)
+    grid = np.asarray(Image.open(tmp_path / "edits" / "edits_grid.png"))
+    assert (grid[:64, :160] == original).all()  # the source panel is the frame itself
+    rows = 1 + len(info["edits"]) // 2  # source + reconstruction, then two edits a row (the last one alone)
+    assert grid.shape[0] == rows * (64 + 4)
 
 
 def test_demo_bad_override_exits_2_without_output(tmp_path, capsys):

@@ -17,12 +17,15 @@ from sdn3d.cli.edit import main
 from sdn3d.data import vkitti1
 from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.editing.spec import EditSpecError, parse_edit_spec
+from sdn3d.math3d.camera import VKITTI_INTRINSICS
 from sdn3d.math3d.rotations import wrap_angle
 from sdn3d.scene.io import load_scene
+from sdn3d.textural.code_bank import save_code_bank
 from sdn3d.textural.codes import CodeBank
 
 FRAME = "0001/clone/00004"
 BANK = {12: torch.arange(40.0).view(8, 5), 13: torch.ones(2, 5)}  # training codes per class (Car, Van)
+BANK_COLORS = {12: torch.linspace(0, 1, 24).view(8, 3), 13: torch.ones(2, 3)}  # their objects' mean colours
 
 
 @pytest.fixture(scope="module")
@@ -57,17 +60,18 @@ def done(tiny_synth, ckpts, tmp_path_factory):
 - {{op: recolor, id: {ids[3]}, sample: true, seed: 3}}
 - {{op: duplicate, id: {ids[0]}, to: [120, 50]}}
 """)
-    torch.save(CodeBank(BANK).state_dict(), tmp / "bank.pt")
+    save_code_bank(CodeBank(BANK, BANK_COLORS), tmp / "bank.json")
     out = tmp / "out"
-    code = main(_args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}", f"code_bank={tmp / 'bank.pt'}"))
+    code = main(_args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}", f"code_bank={tmp / 'bank.json'}"))
     return code, out, ids
 
 
 def test_edit_writes_every_output(done):
     code, out, ids = done
     assert code == 0
-    for name in ("source.png", "reconstruction.png", "edited.png", "overview.png", "scene.json", "scene.npz",
-                 "edited_scene.json", "edited_scene.npz", "scene.glb", "edited_scene.glb", "edit.json"):
+    for name in ("source.png", "reconstruction.png", "generated.png", "edited.png", "overview.png", "scene.json",
+                 "scene.npz", "edited_scene.json", "edited_scene.npz", "scene.glb", "edited_scene.glb", "edit.json",
+                 "maps/edit_region.png"):
         assert (out / name).is_file(), name
     for which in ("source", "edited"):
         for kind in ("label", "instance", "normal", "pose", "depth"):
@@ -101,6 +105,46 @@ def test_edit_applies_the_resolved_ops(done):
     torch.testing.assert_close(edited.objects.code[copy], edited.objects.code[e0])
     glb = trimesh.load(out / "edited_scene.glb")
     assert "ground" in glb.graph.nodes and f"instance_{ids[2]}" not in glb.graph.nodes
+
+
+def _kept(out, input_size):
+    """``(H_in, W_in)`` bool: input pixels whose nearest working pixel is more than one pixel from the edit
+    region (maps/edit_region.png), i.e. pixels compose=edited must leave exactly as they were."""
+    from sdn3d.editing.spec import PixelFrame
+
+    summary = json.loads((out / "edit.json").read_text())
+    t = summary["input_transform"]
+    frame = PixelFrame(tuple(t["input_size"]), tuple(t["working_size"]), tuple(t["scaled_size"]),
+                       tuple(t["crop_offset"]))
+    region = torch.from_numpy(np.asarray(Image.open(out / "maps" / "edit_region.png")) > 0)
+    near = torch.nn.functional.max_pool2d(region[None, None].float(), 3, 1, 1)[0, 0].bool()
+    w, h = frame.working_size
+    v, u = np.meshgrid(np.arange(input_size[1]), np.arange(input_size[0]), indexing="ij")
+    uw, vw = frame.to_working((u, v))
+    ju, iv = np.rint(uw).astype(int), np.rint(vw).astype(int)
+    inside = (ju >= 0) & (ju < w) & (iv >= 0) & (iv < h)
+    touched = np.zeros(inside.shape, bool)
+    touched[inside] = near.numpy()[iv[inside], ju[inside]]
+    return ~touched
+
+
+def test_edited_png_keeps_every_untouched_pixel_of_the_frame(done, tiny_synth, ckpts, tmp_path):
+    _, out, ids = done
+    summary = json.loads((out / "edit.json").read_text())
+    assert summary["compose"]["mode"] == "edited" and summary["compose"]["output_size"] == [160, 64]
+    assert set(ids[:4]) <= set(summary["compose"]["edited_objects"]) and summary["timings_ms"]["compose_ms"] > 0
+    assert summary["compose"]["region_fraction"] == 1.0  # the road was recoloured: it spans the frame
+    edits = _write(tmp_path / "ops.yaml", f"- {{op: delete, id: {ids[2]}}}")
+    out = tmp_path / "out"
+    assert main(_args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}")) == 0
+    summary = json.loads((out / "edit.json").read_text())
+    assert summary["compose"]["edited_objects"] == [ids[2]] and 0 < summary["compose"]["region_fraction"] < 0.5
+    source = vkitti1.load_rgb([r for r in vkitti1.read_frames(tiny_synth) if r.key.endswith(FRAME)][0])
+    edited, generated = (np.asarray(Image.open(out / name)) for name in ("edited.png", "generated.png"))
+    kept = _kept(out, (160, 64))
+    assert kept.any() and (edited[kept] == source[kept]).all()  # bit for bit
+    deleted = scene_from_frame(vkitti1.read_frames(tiny_synth)[4], (160, 64)).objects.mask[2].numpy()
+    assert (edited[deleted] != source[deleted]).any() and (generated[kept] != source[kept]).any()
 
 
 @pytest.mark.parametrize("ops, message", [
@@ -158,6 +202,52 @@ def test_image_file_input_with_given_camera(tiny_synth, ckpts, tmp_path):
     assert main(args[:-1] + [f"output_dir={tmp_path / 'o2'}", "checkpoints.textural=null"]) == 2
 
 
+def _oracle_scene(record, frame, intrinsics):
+    """The frame's ground-truth scene seen through ``frame`` (scaled, then cropped) with ``intrinsics``."""
+    scene = scene_from_frame(record, frame.scaled_size or frame.working_size, 5)
+    (left, top), (w, h) = frame.offset, frame.working_size
+    objects = scene.objects.replace(mask=scene.objects.mask[:, top:top + h, left:left + w])
+    return scene.replace(intrinsics=intrinsics, semantic=scene.semantic[top:top + h, left:left + w], objects=objects)
+
+
+@pytest.mark.parametrize("size", [(320, 128), (240, 120)])
+def test_edited_png_has_the_input_images_resolution(tiny_synth, ckpts, tmp_path, capsys, monkeypatch, size):
+    """320x128: a plain 2x resize to 160x64; 240x120 (another aspect ratio): scaled to 160x80 and cropped.
+    The random-weight semantic branch finds no object, so the frame's ground-truth scene stands in for
+    de-rendering (the compose step is under test)."""
+    import sdn3d.derender
+    from sdn3d.editing.inputs import fit_transform
+
+    record = vkitti1.read_frames(tiny_synth)[4]
+    Image.fromarray(np.ascontiguousarray(vkitti1.load_rgb(record))).resize(size).save(tmp_path / "street.png")
+    picture = np.asarray(Image.open(tmp_path / "street.png").convert("RGB"))
+    frame = fit_transform((160, 64), size)
+    monkeypatch.setattr(sdn3d.derender, "derender", lambda image, intrinsics, *a, **k:
+                        _oracle_scene(record, frame, intrinsics))
+    masks = _oracle_scene(record, frame, VKITTI_INTRINSICS.resized(160, 64)).objects
+    victim = int(masks.instance_id[int(masks.mask.flatten(1).sum(1).argmax())])  # the largest object in view
+    edits = _write(tmp_path / "ops.yaml", f"- {{op: delete, id: {victim}}}")
+    camera = f"input.intrinsics={{fx:{size[0]},fy:{size[0]},cx:{size[0] / 2 - 0.5},cy:{size[1] / 2 - 0.5}}}"
+    base = [f"input.image={tmp_path / 'street.png'}", "image_size=[160,64]", f"edits={edits}", camera,
+            *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32", "geometric.min_pixels=1"]
+    out = tmp_path / "out"
+    assert main([*base, f"output_dir={out}"]) == 0
+    summary = json.loads((out / "edit.json").read_text())
+    assert summary["input_transform"]["mode"] == ("resize" if size == (320, 128) else "scale_crop")
+    edited = np.asarray(Image.open(out / "edited.png"))
+    assert edited.shape == (size[1], size[0], 3) and summary["compose"]["output_size"] == list(size)
+    kept = _kept(out, size)
+    assert (edited[kept] == picture[kept]).all() and (edited[~kept] != picture[~kept]).any()
+    full = tmp_path / "full"
+    assert main([*base, f"output_dir={full}", "compose=full"]) == 0
+    edited_full = np.asarray(Image.open(full / "edited.png"))
+    assert edited_full.shape == (64, 160, 3) and (edited_full == np.asarray(Image.open(full / "generated.png"))).all()
+    assert json.loads((full / "edit.json").read_text())["compose"]["mode"] == "full"
+    assert not (full / "maps" / "edit_region.png").exists()
+    assert main([*base, f"output_dir={tmp_path / 'bad'}", "compose=partial"]) == 2
+    assert "compose must be one of ('edited', 'full'), got 'partial'" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("bomb", ["declared", "blank"])
 def test_decompression_bomb_image_is_refused_naming_the_file(ckpts, tmp_path, capsys, bomb):
     """Issue 20: a PNG declaring 400 MP crashed with PIL's DecompressionBombError; one of 105 MP was decoded."""
@@ -180,7 +270,7 @@ def test_benchmark_entry_picks_its_source_frame(tiny_synth, ckpts, tmp_path):
     out = tmp_path / "out"
     assert main(_args(tiny_synth, ckpts, out, tiny_synth / "vkitti_edit_benchmark.json", "entry=0")) == 0
     summary = json.loads((out / "edit.json").read_text())
-    assert summary["input"] == "vkitti1/0001/clone/00004" and {o["op"] for o in summary["ops"]} == {"Modify"}
+    assert summary["input"] == "vkitti1/0001/clone/00007" and {o["op"] for o in summary["ops"]} == {"Modify"}
     assert main(_args(tiny_synth, ckpts, tmp_path / "o2", tiny_synth / "vkitti_edit_benchmark.json",
                       "entry=3")) == 2
 

@@ -23,6 +23,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Sequence
+from itertools import zip_longest
 from pathlib import Path
 from typing import Any
 
@@ -169,19 +170,22 @@ def _pick_frame(records: Sequence[Any], size: tuple[int, int], wanted: str | Non
 
 
 def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> dict:
-    """De-render one test frame and render a series of 3D edits of its nearest car."""
+    """De-render one test frame and render a series of 3D edits of its nearest car (``edits.compose``:
+    ``edited`` puts each edit into the frame at its own resolution, ``full`` shows the generator's picture)."""
     from omegaconf import OmegaConf as OC
 
     from sdn3d.data.frames import load_frame
+    from sdn3d.data.records import load_rgb
     from sdn3d.data.scene_gt import ground_truth
     from sdn3d.data.sources import SourceConfig, load_split
     from sdn3d.derender import Models, derender
-    from sdn3d.editing.apply import Delete, Rotate, SetCode, Zoom, apply_edits
-    from sdn3d.editing.render import render
+    from sdn3d.editing.compose import ComposeSettings
+    from sdn3d.editing.spec import PixelFrame
     from sdn3d.io import write_png_atomic
     from sdn3d.scene.io import save_scene
     from sdn3d.visualize import hstack_panels
 
+    compose = ComposeSettings(str(cfg.edits.compose))
     data_cfg = OC.load(Path(__file__).resolve().parents[3] / "conf" / "data" / "synth.yaml")
     data_cfg.root = str(data_root.resolve())
     data_cfg.image_size = render_size(cfg)
@@ -194,15 +198,57 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
     scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, proposals="gt", ground_truth=gt)
     derender_s = time.perf_counter() - started
+    car, edits, recoloured = _example_edits(cfg, scene, record.key, ckpts["textural"])
+    original = np.ascontiguousarray(load_rgb(record), dtype=np.uint8)
+    transform = PixelFrame((original.shape[1], original.shape[0]), tuple(source.image_size))
+    pictures, timings = _edit_pictures(edits, scene, models, compose, original, transform, out)
+    source_rgb = original if compose.mode == "edited" else _uint8_picture(frame.image)
+    write_png_atomic(out / "source.png", source_rgb)
+    names = list(pictures)
+    rows = [hstack_panels([source_rgb, pictures[names[0]]])]
+    blank = np.full_like(pictures[names[0]], 255)  # an odd count of edits leaves the last row half empty
+    pairs = [(pictures[a], pictures[b] if b is not None else blank) for a, b in zip_longest(names[1::2], names[2::2])]
+    rows += [hstack_panels(list(pair)) for pair in pairs]
+    width = max(r.shape[1] for r in rows)
+    grid = np.concatenate([np.pad(r, ((0, 4), (0, width - r.shape[1]), (0, 0)), constant_values=255) for r in rows])
+    write_png_atomic(out / "edits_grid.png", grid)
+    save_scene(scene, out / "scene")
+    return {"frame": record.key, "car": car, "edits": names, "derender_s": round(derender_s, 3),
+            "edit_render_s": timings, "grid": "edits/edits_grid.png", "grid_layout": ["source"] + names,
+            "compose": compose.mode, "recoloured": recoloured,
+            "picture_size": [int(source_rgb.shape[1]), int(source_rgb.shape[0])]}
+
+
+def _uint8_picture(image: torch.Tensor) -> np.ndarray:
+    """``(3, H, W)`` float in [0, 1] -> ``(H, W, 3)`` uint8."""
+    return (image.detach().cpu().clamp(0, 1).permute(1, 2, 0).numpy() * 255).round().astype(np.uint8)
+
+
+def _example_edits(cfg: Any, scene: Any, key: str, textural: Path) -> tuple[int, dict[str, list], str]:
+    """``(car, {name: ops}, how it was recoloured)``: the nearest car with geometry moved closer, rotated,
+    recoloured (the code bank's code nearest ``edits.recolor``; a random code when the textural run wrote no
+    bank), deleted."""
+    from sdn3d.editing.apply import Delete, Rotate, SetCode, Zoom
+    from sdn3d.labels import INSTANCE_DIVISOR
+    from sdn3d.textural.code_bank import code_bank_path, load_code_bank, named_color
+
     table = scene.objects
     has_geo = table.has_geometry
     if not bool(has_geo.any()):
-        raise DemoStageError(f"no object of {record.key} got 3D geometry")
+        raise DemoStageError(f"no object of {key} got 3D geometry")
     depth = torch.where(has_geo, table.location[:, 2], torch.full_like(table.location[:, 2], float("inf")))
     car = int(table.instance_id[int(depth.argmin())])
     others = [int(i) for i, g in zip(table.instance_id.tolist(), has_geo.tolist(), strict=True) if g and i != car]
-    gen = torch.Generator().manual_seed(int(cfg.seed))
-    new_code = torch.randn(scene.code_dim, generator=gen) * float(table.code.std().clamp_min(0.5))
+    bank_file = code_bank_path(textural)
+    colour = str(cfg.edits.recolor)
+    if bank_file.is_file():
+        rgb = torch.tensor(named_color(colour, "edits.recolor"))
+        new_code, _ = load_code_bank(bank_file, "the textural run's code bank").nearest(car // INSTANCE_DIVISOR, rgb)
+        recolour = f"{colour} (the code bank's nearest code)"
+    else:
+        gen = torch.Generator().manual_seed(int(cfg.seed))
+        new_code = torch.randn(scene.code_dim, generator=gen) * float(table.code.std().clamp_min(0.5))
+        recolour = "a random code (the textural run wrote no code bank)"
     edits: dict[str, list] = {"reconstruction": [], f"closer (zoom {cfg.edits.zoom})": [Zoom(car, float(cfg.edits.zoom),
                                                                                                on_ground=True)]}
     for angle in cfg.edits.angles_deg:
@@ -211,25 +257,42 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     edits["deleted"] = [Delete(car)]
     if others:
         edits["another car deleted"] = [Delete(others[0])]
+    return car, edits, recolour
+
+
+def _edit_pictures(edits: dict[str, list], scene: Any, models: Any, compose: Any, original: np.ndarray,
+                   transform: Any, out: Path) -> tuple[dict[str, np.ndarray], dict[str, float]]:
+    """``({name: (H, W, 3) uint8}, {name: seconds})``: each edit applied, drawn and composed (timed), written
+    as ``<name>.png``, the generator's own picture as ``generated/<name>.png``. The reconstruction (no edit)
+    is the generator's picture, upsampled to the frame's size with ``compose='edited'``."""
+    from sdn3d.editing.apply import apply_edits
+    from sdn3d.editing.compose import compose_edit, edited_object_ids
+    from sdn3d.editing.render import render_maps
+    from sdn3d.image_ops import resize_image
+    from sdn3d.io import write_png_atomic
+    from sdn3d.scene.maps import scene_maps
+
+    bins = models.textural.spec.pose_bins
+    before = scene_maps(scene, num_bins=bins)
+    original_t = torch.from_numpy(original).permute(2, 0, 1)
     pictures, timings = {}, {}
-    source_rgb = (frame.image.permute(1, 2, 0).numpy() * 255).round().astype(np.uint8)
     for name, ops in edits.items():
         t0 = time.perf_counter()
-        image = render(apply_edits(scene, ops), models.textural)
+        edited = apply_edits(scene, ops)
+        maps = scene_maps(edited, num_bins=bins)
+        generated = render_maps(maps, models.textural).detach().cpu()
+        picture, _ = compose_edit(compose, generated, original_t, transform, before, maps,
+                                  edited_object_ids(scene.objects, edited.objects))
         timings[name] = round(time.perf_counter() - t0, 3)
-        pictures[name] = (image.detach().cpu().clamp(0, 1).permute(1, 2, 0).numpy() * 255).round().astype(np.uint8)
+        if ops and compose.mode == "edited":
+            pictures[name] = picture.permute(1, 2, 0).numpy()
+        else:  # the reconstruction shows the generator (composing nothing would give the frame itself)
+            size = tuple(transform.input_size) if compose.mode == "edited" else tuple(transform.working_size)
+            pictures[name] = _uint8_picture(resize_image(generated, size))
         slug = name.split(" (")[0].replace(" ", "_").replace("+", "p").replace("-", "m")
         write_png_atomic(out / f"{slug}.png", pictures[name])
-    write_png_atomic(out / "source.png", source_rgb)
-    names = list(pictures)
-    rows = [hstack_panels([source_rgb, pictures[names[0]]])]
-    rows += [hstack_panels([pictures[a], pictures[b]]) for a, b in zip(names[1::2], names[2::2], strict=False)]
-    width = max(r.shape[1] for r in rows)
-    grid = np.concatenate([np.pad(r, ((0, 4), (0, width - r.shape[1]), (0, 0)), constant_values=255) for r in rows])
-    write_png_atomic(out / "edits_grid.png", grid)
-    save_scene(scene, out / "scene")
-    return {"frame": record.key, "car": car, "edits": names, "derender_s": round(derender_s, 3),
-            "edit_render_s": timings, "grid": "edits/edits_grid.png", "grid_layout": ["source"] + names}
+        write_png_atomic(out / "generated" / f"{slug}.png", _uint8_picture(generated))
+    return pictures, timings
 
 
 def _training_rows(training: dict) -> str:
@@ -242,6 +305,16 @@ def _training_rows(training: dict) -> str:
         text = ", ".join(f"{k} {v:.4g}" for k, v in metrics.items()) or "n/a"
         rows.append(f"| {branch} | {summary.get('demo_wall_s')} | {summary.get('global_step')} | {text} |")
     return "\n".join(rows)
+
+
+def _compose_note(edits: dict) -> str:
+    """What the example edits' pictures are (``edits.compose``)."""
+    size = "x".join(str(v) for v in edits.get("picture_size", []))
+    if edits.get("compose") == "edited":
+        return (f"Compose *edited*: each edit is put into the frame at its own {size} resolution, only the edited "
+                "region redrawn by the generator, every other pixel the frame's; the reconstruction is the "
+                "generator's whole picture, upsampled; `edits/generated/` holds the generator's pictures.")
+    return f"Compose *full*: the generator's whole pictures at {size} (the paper's protocol)."
 
 
 def write_report(out: Path, info: dict) -> str:
@@ -284,9 +357,10 @@ def write_report(out: Path, info: dict) -> str:
 ## Example edits (`edits/`)
 
 Frame `{edits.get('frame')}`, car {edits.get('car')} (the nearest one): `edits/edits_grid.png` holds, row by row,
-{', '.join(edits.get('grid_layout', []))}. De-rendering took {edits.get('derender_s', float('nan')):.2f} s.
+{', '.join(edits.get('grid_layout', []))}. Recoloured: {edits.get('recoloured', 'n/a')}.
+{_compose_note(edits)} De-rendering took {edits.get('derender_s', float('nan')):.2f} s.
 
-| edit | edit + render s |
+| edit | edit + render + compose s |
 |---|---|
 {rows}
 """

@@ -5,8 +5,10 @@ Everything is checked before anything is written: the edit spec's syntax and num
 (before loading networks), then against the de-rendered scene (objects exist, targets inside the
 frame, 3D edits on objects with geometry). The output directory is then written all at once:
 
-    source.png reconstruction.png edited.png overview.png   images (working size)
-    maps/{source,edited}_{label,instance,normal,pose,depth}.png
+    edited.png                                              the result (``compose``, below)
+    generated.png                                           the generator's whole edited picture (working size)
+    source.png reconstruction.png overview.png              images (working size)
+    maps/{source,edited}_{label,instance,normal,pose,depth}.png, maps/edit_region.png (compose=edited)
     scene.json/.npz edited_scene.json/.npz                  SceneCode (sdn3d.scene.code)
     scene.glb edited_scene.glb                              3D scenes (sdn3d.export)
     edit.json                                               resolved ops, objects, checkpoints, timings,
@@ -17,6 +19,13 @@ Cityscapes ``camera.json``) unless it has Virtual KITTI's aspect ratio. It is sc
 keeping its aspect ratio, the excess cropped centrally (``input_transform`` in ``edit.json``); the edit
 spec's pixels are the input image's (``frame_size`` overrides). Warnings (stderr and ``edit.json``) say when
 the semantic branch's recorded validation quality is low or its proposals cover most of the frame.
+
+``compose=edited`` (default): ``edited.png`` has the input's resolution; only the edit region (the edited
+objects' source and target footprints and every pixel whose generator inputs changed, dilated by
+``compose_dilate_px``) comes from the generator, upsampled through the inverse of ``input_transform`` and
+blended with a mask feathered over ``compose_feather_px``; every other pixel is the input's, bit for bit
+(:mod:`sdn3d.editing.compose`). ``compose=full``: ``edited.png`` is the generator's whole picture at the
+working size (the paper's protocol). ``edit.json`` records the mode, the region and the compose time.
 
 ``list=true`` (or an empty edit spec) de-renders and edits nothing: it prints the found objects (id,
 class, box, projected centre, distance, yaw, template; boxes and centres in the input image's pixels)
@@ -47,7 +56,7 @@ from sdn3d.cli._config import CONFIG_DIR, compose_config
 from sdn3d.cli._errors import run_cli
 from sdn3d.editing.inputs import camera_for_image, fit_image
 from sdn3d.errors import InputError
-from sdn3d.io import check_output_dir, load_torch_file, staged_directory
+from sdn3d.io import check_output_dir, staged_directory
 from sdn3d.runs import BRANCHES, find_run_checkpoints, quality_warnings, semantic_summary
 from sdn3d.scene.listing import list_objects, objects_table
 
@@ -190,6 +199,7 @@ def run_edit(cfg: Any) -> dict:
     """
     if cfg.threads:
         torch.set_num_threads(int(cfg.threads))
+    compose = _compose_settings(cfg)
     out, spec, (image, intrinsics, record, frame) = _read_inputs(cfg)
     checkpoints = resolve_checkpoints(cfg, record)
     models, code_bank = _load_models(cfg, checkpoints)
@@ -202,12 +212,21 @@ def run_edit(cfg: Any) -> dict:
         return _write_listing(cfg, out, record, image, scene, checkpoints, times, frame, warnings)
     ops, edited_scene = _edit(cfg, spec, scene, code_bank, times, frame)
     rendered = _render(scene, edited_scene, models, times)
+    rendered |= _compose(cfg, compose, record, frame, scene, edited_scene, rendered, times)
     summary = _summary(cfg, record, intrinsics, spec, ops, scene, edited_scene, times)
+    summary["compose"] = rendered["compose"]
     summary["input_transform"] = frame.to_dict()
     summary["warnings"] = warnings
     summary["checkpoints"] = checkpoints
     _write_outputs(out, bool(cfg.overwrite), image, scene, edited_scene, rendered, summary)
     return summary
+
+
+def _compose_settings(cfg: Any) -> Any:
+    """:class:`~sdn3d.editing.compose.ComposeSettings` of ``compose``, ``compose_dilate_px``, ``compose_feather_px``."""
+    from sdn3d.editing.compose import ComposeSettings
+
+    return ComposeSettings(str(cfg.compose), cfg.compose_dilate_px, cfg.compose_feather_px)
 
 
 def _is_empty_spec(path: Path) -> bool:
@@ -278,11 +297,12 @@ def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
     for branch, info in chosen.items():
         if result[branch] is None:
             result[branch] = {"path": info["path"], "from": info["summary"], "which": info["which"],
-                              "finished": info["finished"]}
+                              "finished": info["finished"], "checkpoint": info["checkpoint"], "export": info["export"]}
     for branch in BRANCHES:
         info = result[branch]
+        export = "inference export of the " if info is not None and info.get("export") else ""
         how = ("none" if info is None else f"{info['path']} (given)" if "which" not in info
-               else f"{info['path']} ({info['which']} checkpoint of the run finished {info['finished']})")
+               else f"{info['path']} ({export}{info['which']} checkpoint of the run finished {info['finished']})")
         print(f"sdn3d-edit: {branch} checkpoint: {how}", file=sys.stderr)
     return result
 
@@ -315,21 +335,13 @@ def _load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, An
         raise InputError(f"device={cfg.device!r} but CUDA is not available")
     models = Models.from_checkpoints(ckpt["semantic"], ckpt["geometric"], ckpt["textural"], map_location=cfg.device,
                                      crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin)
-    if cfg.code_bank is None:
-        return models, None
-    from sdn3d.textural.codes import CodeBank
+    from sdn3d.textural.code_bank import code_bank_path, load_code_bank
 
-    path = Path(str(cfg.code_bank)).expanduser()
-    if not path.is_file():
-        raise InputError(f"code_bank {str(path)!r} not found")
-    state = load_torch_file(path, "code_bank")  # a bad file: UserInputError naming it
-    if not isinstance(state, dict) or not all(isinstance(v, torch.Tensor) and v.dim() == 2 for v in state.values()):
-        raise InputError(f"code_bank {str(path)!r} does not hold a {{class id: (M, C) tensor of codes}} mapping")
-    try:
-        code_bank = CodeBank.from_state_dict(state)
-    except ValueError as exc:  # the file's content does not make a code bank
-        raise InputError(f"code_bank {str(path)!r}: {exc}") from exc
-    return models, code_bank
+    # sdn3d-train writes <checkpoint>.code_bank.json next to the checkpoint (not to its inference export)
+    beside = code_bank_path(checkpoints["textural"].get("checkpoint") or ckpt["textural"])
+    if cfg.code_bank is None:
+        return models, load_code_bank(beside, "the textural checkpoint's code bank") if beside.is_file() else None
+    return models, load_code_bank(str(cfg.code_bank))  # a bad file: UserInputError naming code_bank and it
 
 
 def _derender(cfg: Any, image: torch.Tensor, intrinsics: Any, record: Any, models: Any,
@@ -359,19 +371,41 @@ def _edit(cfg: Any, spec: Any, scene: Any, code_bank: Any, times: dict[str, floa
 
 
 def _render(scene: Any, edited_scene: Any, models: Any, times: dict[str, float]) -> dict[str, Any]:
-    """The edited image (timed), the reconstruction and both scenes' maps."""
+    """The generator's edited picture (timed), the reconstruction and both scenes' maps."""
     from sdn3d.editing.render import render_maps
     from sdn3d.scene.maps import scene_maps
 
     t0 = time.perf_counter()
     bins = models.textural.spec.pose_bins
     edited_maps = scene_maps(edited_scene, num_bins=bins)
-    edited = render_maps(edited_maps, models.textural)
+    generated = render_maps(edited_maps, models.textural)
     times["render_ms"] = 1000 * (time.perf_counter() - t0)
     source_maps = scene_maps(scene, num_bins=bins)
     reconstruction = render_maps(source_maps, models.textural)
-    return {"edited": edited, "reconstruction": reconstruction, "source_maps": source_maps,
+    return {"generated": generated, "reconstruction": reconstruction, "source_maps": source_maps,
             "edited_maps": edited_maps}
+
+
+def _compose(cfg: Any, settings: Any, record: Any, frame: Any, scene: Any, edited_scene: Any,
+             rendered: dict[str, Any], times: dict[str, float]) -> dict[str, Any]:
+    """``{'edited': (H, W, 3) uint8, 'region': (h, w) bool or None, 'compose': edit.json's record}``: the result
+    of :func:`sdn3d.editing.compose.compose_edit` (the input at its resolution read again; timed without it)."""
+    from sdn3d.editing.compose import compose_edit, edited_object_ids
+
+    original = None
+    if settings.mode == "edited":
+        original = torch.from_numpy(np.ascontiguousarray(_input_picture(cfg, record))).permute(2, 0, 1)
+    t0 = time.perf_counter()
+    ids = edited_object_ids(scene.objects, edited_scene.objects)
+    picture, region = compose_edit(settings, rendered["generated"], original, frame, rendered["source_maps"],
+                                   rendered["edited_maps"], ids)
+    times["compose_ms"] = 1000 * (time.perf_counter() - t0)
+    edited = _to_uint8(picture) if region is None else picture.permute(1, 2, 0).numpy()
+    info = {**settings.to_dict(), "output_size": [edited.shape[1], edited.shape[0]],
+            "edited_objects": ids.tolist()}
+    if region is not None:
+        info |= {"region_pixels": int(region.sum()), "region_fraction": float(region.float().mean())}
+    return {"edited": edited, "region": region, "compose": info}
 
 
 def _summary(cfg: Any, record: Any, intrinsics: Any, spec: Any, ops: list, scene: Any, edited_scene: Any,
@@ -454,16 +488,19 @@ def _write_outputs(out: Path, overwrite: bool, image: torch.Tensor, scene: Any, 
     from sdn3d.scene.io import save_scene
 
     pictures = {name: _map_pictures(rendered[f"{name}_maps"], scene.class_list) for name in ("source", "edited")}
-    src, rec, edt = _to_uint8(image), _to_uint8(rendered["reconstruction"]), _to_uint8(rendered["edited"])
+    src, rec, gen = (_to_uint8(image), _to_uint8(rendered["reconstruction"]), _to_uint8(rendered["generated"]))
     with staged_directory(out, MARKER, overwrite) as tmp:
         write_png_atomic(tmp / "source.png", src)
         write_png_atomic(tmp / "reconstruction.png", rec)
-        write_png_atomic(tmp / "edited.png", edt)
+        write_png_atomic(tmp / "generated.png", gen)
+        write_png_atomic(tmp / "edited.png", rendered["edited"])
+        if rendered["region"] is not None:
+            write_png_atomic(tmp / "maps" / "edit_region.png", rendered["region"].numpy().astype(np.uint8) * 255)
         for which, maps in pictures.items():
             for kind, picture in maps.items():
                 write_png_atomic(tmp / "maps" / f"{which}_{kind}.png", picture)
         s, e = pictures["source"], pictures["edited"]
-        write_png_atomic(tmp / "overview.png", _grid([[src, rec, edt], [s["label"], s["instance"], e["instance"]],
+        write_png_atomic(tmp / "overview.png", _grid([[src, rec, gen], [s["label"], s["instance"], e["instance"]],
                                                       [s["normal"], e["normal"], e["pose"]]]))
         save_scene(scene, tmp / "scene.json")
         save_scene(edited_scene, tmp / "edited_scene.json")
@@ -475,6 +512,10 @@ def _write_outputs(out: Path, overwrite: bool, image: torch.Tensor, scene: Any, 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Console entry point: ``sdn3d-edit [overrides...]``; returns the exit status."""
+    import atexit
+    import gc
+
+    atexit.register(gc.freeze)  # the exit's collections then skip the ~10^6 objects torch & co. made: ~0.5 s CPU
     argv = list(sys.argv[1:] if argv is None else argv)
     if any(a in ("-h", "--help") for a in argv):
         print(__doc__)
@@ -490,9 +531,11 @@ def _main(argv: list[str]) -> int:
         print(f"sdn3d-edit: listed {len(summary['objects']['source'])} object(s); wrote objects.json and "
               f"objects.png to {summary['config']['output_dir']} (derender {times['derender_ms']:.0f} ms)")
         return 0
+    width, height = summary["compose"]["output_size"]
     print(f"sdn3d-edit: {len(summary['ops'])} edit(s) applied; wrote {summary['config']['output_dir']} "
-          f"(derender {times['derender_ms']:.0f} ms, edit {times['edit_ms']:.0f} ms, "
-          f"render {times['render_ms']:.0f} ms)")
+          f"(edited.png {width}x{height}, compose {summary['compose']['mode']}; derender {times['derender_ms']:.0f} "
+          f"ms, edit {times['edit_ms']:.0f} ms, render {times['render_ms']:.0f} ms, "
+          f"compose {times['compose_ms']:.0f} ms)")
     return 0
 
 

@@ -63,7 +63,7 @@ class VGG19Features(nn.Module):
 def load_vgg19(path: str | Path | None) -> VGG19Features | None:
     """Frozen, eval-mode :class:`VGG19Features` from a torchvision VGG-19 state dict; None when ``path`` is None."""
     if path is None or str(path) == "":
-        log.warning("VGG-19 perceptual loss is off: no weights file given (vgg_weights=null)")
+        log.warning("VGG-19 perceptual loss is off: no weights file given (model.perceptual_weights=null)")
         return None
     net = VGG19Features()
     load_pretrained(net, path, what="VGG-19 (perceptual loss)", ignore_prefixes=_UNUSED_PREFIXES)

@@ -14,8 +14,10 @@ its traceback.
 
 from __future__ import annotations
 
+import argparse
+
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from sdn3d.errors import UserInputError
@@ -56,6 +58,17 @@ def run_cli(tool: str, fn: Callable[..., int | None], *args: Any, **kwargs: Any)
     except user_errors() as exc:
         return report_user_error(tool, exc)
     return 0 if code is None else int(code)
+
+
+def run_argparse_cli(tool: str, parser: argparse.ArgumentParser, fn: Callable[[argparse.Namespace], int | None],
+                     argv: Sequence[str] | None = None) -> int:
+    """:func:`run_cli` of ``fn(parser.parse_args(argv))`` for an argparse tool: ``--help`` and bad usage (argparse
+    exits) give their exit status instead of raising, so ``main`` always returns an int."""
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    return run_cli(tool, fn, args)
 
 
 def exit_on_error(code: int) -> None:

@@ -20,7 +20,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from sdn3d.cli._errors import run_cli
+from sdn3d.cli._errors import run_argparse_cli
 from sdn3d.errors import InputError
 
 __all__ = ["main"]
@@ -62,11 +62,7 @@ def _main(args: argparse.Namespace) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Console entry point; returns the exit status."""
-    try:
-        args = _parser().parse_args(argv)
-    except SystemExit as exc:  # argparse exits on --help and on bad usage; keep main's int contract
-        return int(exc.code or 0)
-    return run_cli("export-weights", _main, args)
+    return run_argparse_cli("export-weights", _parser(), _main, argv)
 
 
 if __name__ == "__main__":

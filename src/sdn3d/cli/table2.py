@@ -42,7 +42,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
-from sdn3d.cli._errors import run_cli
+from sdn3d.cli._errors import run_argparse_cli
 from sdn3d.errors import InputError, UserInputError
 from sdn3d.io import write_json_atomic, write_text_atomic
 
@@ -430,11 +430,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    try:
-        args = _parser().parse_args(argv)
-    except SystemExit as exc:  # argparse exits on --help and on bad usage; keep main's int contract
-        return int(exc.code or 0)
-    return run_cli("table2", _main, args)
+    return run_argparse_cli("table2", _parser(), _main, argv)
 
 
 def _main(args: argparse.Namespace) -> int:

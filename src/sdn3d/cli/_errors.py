@@ -15,7 +15,6 @@ its traceback.
 from __future__ import annotations
 
 import argparse
-
 import sys
 from collections.abc import Callable, Sequence
 from typing import Any

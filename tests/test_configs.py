@@ -1,5 +1,5 @@
 """The Hydra configs compose: every experiment for every branch it has a recipe for, the demo's budgets,
-command-line overrides over experiments, the renderer group, fault policies and geometric_refine."""
+command-line overrides over experiments, the renderer group, fault policies and the refinement settings."""
 
 from __future__ import annotations
 
@@ -145,20 +145,30 @@ def test_renderer_group_maps_field_for_field_onto_the_settings():
     defaults = _compose(["branch=geometric", "run_dir=x"]).renderer
     assert instantiate(defaults.soft, image_size=(8, 8)) == SoftSilhouetteSettings((8, 8))  # the code's defaults
     assert instantiate(defaults.hard, image_size=(8, 8)) == RasterSettings((8, 8))
-    # sigma is set once: the geometric branch and geometric_refine follow it
-    assert cfg.model.sigma == cfg.geometric_refine.sigma == 0.5
+    # sigma is set once: the geometric branch and sdn3d-edit's refinement follow it
+    assert cfg.model.sigma == 0.5
+    assert _compose(["renderer.soft.sigma=0.5"], "edit").refine.sigma == 0.5
     demo = _compose([], "render_demo")
     assert demo.fit.sigma == demo.renderer.soft.sigma == 1.0
     assert _compose(["renderer.soft.sigma=2.0"], "render_demo").fit.sigma == 2.0
 
 
-def test_geometric_refine_instantiates_the_refine_settings():
+def test_edit_refinement_is_the_papers_and_on_for_cityscapes_only():
+    from sdn3d.cli.edit import refine_settings
+    from sdn3d.errors import UserInputError
     from sdn3d.geometric.refine import RefineSettings
 
-    cfg = _compose(["branch=geometric", "run_dir=x"])
-    settings = instantiate(cfg.geometric_refine)
-    assert isinstance(settings, RefineSettings) and settings == RefineSettings()  # the paper's Cityscapes setting
+    assert refine_settings(_compose(["data=vkitti"], "edit")) is None  # off for Virtual KITTI, as in the paper
+    assert refine_settings(_compose(["input.image=x.png"], "edit")) is None
+    settings = refine_settings(_compose(["data=cityscapes"], "edit"))
+    assert settings == RefineSettings()  # the paper's Cityscapes setting: Adam lr 0.03, 16 steps
     assert settings.params == ("rotation", "offset", "log_scale", "phi")
+    assert refine_settings(_compose(["input.image=x.png", "input.camera=c.json"], "edit")) == settings
+    assert refine_settings(_compose(["data=cityscapes", "refine.enabled=false"], "edit")) is None
+    forced = refine_settings(_compose(["data=vkitti", "refine.enabled=true", "refine.iterations=3"], "edit"))
+    assert forced.iterations == 3
+    with pytest.raises(UserInputError, match="refine.enabled must be auto, true or false"):
+        refine_settings(_compose(["refine.enabled=maybe"], "edit"))
 
 
 def test_fault_policies_are_constructor_arguments(tmp_path):

@@ -270,9 +270,20 @@ def test_benchmark_entry_picks_its_source_frame(tiny_synth, ckpts, tmp_path):
     out = tmp_path / "out"
     assert main(_args(tiny_synth, ckpts, out, tiny_synth / "vkitti_edit_benchmark.json", "entry=0")) == 0
     summary = json.loads((out / "edit.json").read_text())
+    assert summary["refined"] is False  # Virtual KITTI data: the Cityscapes fit is off by default
     assert summary["input"] == "vkitti1/0001/clone/00007" and {o["op"] for o in summary["ops"]} == {"Modify"}
     assert main(_args(tiny_synth, ckpts, tmp_path / "o2", tiny_synth / "vkitti_edit_benchmark.json",
                       "entry=3")) == 2
+
+
+def test_refinement_runs_when_enabled(tiny_synth, ckpts, tmp_path):
+    """refine.enabled=true (auto: Cityscapes only) runs the paper's test-time fit inside the de-rendering."""
+    out = tmp_path / "out"
+    assert main(_args(tiny_synth, ckpts, out, tiny_synth / "vkitti_edit_benchmark.json", "entry=0",
+                      "refine.enabled=true", "refine.iterations=2")) == 0
+    assert json.loads((out / "edit.json").read_text())["refined"] is True
+    assert main(_args(tiny_synth, ckpts, tmp_path / "bad", tiny_synth / "vkitti_edit_benchmark.json", "entry=0",
+                      "refine.enabled=sometimes")) == 2
 
 
 def test_spec_parser_checks_fields():

@@ -215,6 +215,7 @@ def run_edit(cfg: Any) -> dict:
     rendered |= _compose(cfg, compose, record, frame, scene, edited_scene, rendered, times)
     summary = _summary(cfg, record, intrinsics, spec, ops, scene, edited_scene, times)
     summary["compose"] = rendered["compose"]
+    summary["refined"] = bool(scene.meta.get("refined", False))  # the Cityscapes test-time fit (refine.enabled)
     summary["input_transform"] = frame.to_dict()
     summary["warnings"] = warnings
     summary["checkpoints"] = checkpoints
@@ -344,6 +345,29 @@ def _load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, An
     return models, load_code_bank(str(cfg.code_bank))  # a bad file: UserInputError naming code_bank and it
 
 
+def refine_settings(cfg: Any) -> Any:
+    """The :class:`~sdn3d.geometric.refine.RefineSettings` of ``cfg.refine`` (``conf/refine/paper.yaml``), or
+    None when it is off: ``enabled: auto`` turns it on for Cityscapes (``data=cityscapes``, or an image file
+    with ``input.camera``), as the paper does, and off for Virtual KITTI."""
+    from sdn3d.geometric.refine import RefineSettings
+
+    node = cfg.get("refine")
+    enabled = None if node is None else node.get("enabled")
+    if enabled == "auto":
+        data = cfg.get("data")
+        enabled = (data is not None and data.get("kind") == "cityscapes") or (
+            data is None and cfg.input.get("camera") is not None)
+    if not isinstance(enabled, bool):
+        raise InputError(f"refine.enabled must be auto, true or false, got {enabled!r}")
+    if not enabled:
+        return None
+    try:
+        return RefineSettings(iterations=int(node.iterations), lr=float(node.lr), params=tuple(node.params),
+                              ffd_reg=float(node.ffd_reg), sigma=float(node.sigma))
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"refine: {exc}") from exc
+
+
 def _derender(cfg: Any, image: torch.Tensor, intrinsics: Any, record: Any, models: Any,
               times: dict[str, float]) -> Any:
     from sdn3d.data.scene_gt import ground_truth
@@ -351,7 +375,10 @@ def _derender(cfg: Any, image: torch.Tensor, intrinsics: Any, record: Any, model
 
     gt = ground_truth(record, (intrinsics.width, intrinsics.height)) if record is not None else None
     t0 = time.perf_counter()
-    scene = derender(image, intrinsics, models, str(cfg.proposals), gt, min_pixels=int(cfg.geometric.min_pixels))
+    refine = refine_settings(cfg)
+    scene = derender(image, intrinsics, models, str(cfg.proposals), gt, min_pixels=int(cfg.geometric.min_pixels),
+                     refine=refine)
+    scene.meta["refined"] = refine is not None
     times["derender_ms"] = 1000 * (time.perf_counter() - t0)
     return scene
 

@@ -10,7 +10,7 @@ configs) holds one ``_target_`` node per dataclass, field for field: ``renderer.
 ``max_pairs_per_chunk``). ``image_size`` is left out: it is the crop or frame at hand, given when
 building one, ``hydra.utils.instantiate(cfg.renderer.soft, image_size=(64, 64))``. Configs that
 need the softness interpolate ``${renderer.soft.sigma}`` (the geometric branch's ``model.sigma``,
-``geometric_refine.sigma``).
+``refine.sigma`` of ``conf/refine/paper.yaml``).
 """
 
 from __future__ import annotations

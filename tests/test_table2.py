@@ -236,3 +236,15 @@ def test_build_table_without_runs():
     table = build_table({}, None)
     assert all(row["status"] == "not run" and row["n"] == 0 for row in table["rows"])
     assert "not run" in render_markdown(table) and table["frame_size"] is None
+
+
+def test_sources_say_which_checkpoint_the_test_figures_come_from():
+    runs = [_run("full", "2026-11-24T09:00:00+00:00", 0.05, tested_checkpoint="best",
+                 selected_by="val/reprojection_error_image (min) on the validation part"),
+            _run("no_reproj", "2026-11-24T09:00:00+00:00", 0.05, tested_checkpoint="final"),
+            _run("single_cad", "2026-11-22T09:00:00+00:00", 0.05)]
+    markdown = render_markdown(build_table(group_runs(runs), "table2"))
+    assert "test figures from the checkpoint selected by val/reprojection_error_image (min) on the validation part" \
+        in markdown
+    assert "test figures from the weights at the end of fitting" in markdown
+    assert "test figures from tested weights not recorded (a run from before 2026-11-24" in markdown

@@ -272,7 +272,18 @@ def _run_config(record: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def _source(record: Mapping[str, Any]) -> dict[str, Any]:
-    return {k: record.get(k) for k in ("run_dir", "finished", "seed", "status", "_source")}
+    return {k: record.get(k) for k in ("run_dir", "finished", "seed", "status", "_source", "tested_checkpoint",
+                                       "selected_by")}
+
+
+def _tested(source: Mapping[str, Any]) -> str:
+    """Which weights a run's test figures come from (its summary's ``tested_checkpoint``, ``selected_by``)."""
+    tested = source.get("tested_checkpoint")
+    if tested == "best":
+        return f"the checkpoint selected by {source.get('selected_by') or 'validation'}"
+    if tested == "final":
+        return "the weights at the end of fitting (no checkpoint selected)"
+    return "tested weights not recorded (a run from before 2026-11-24: selected on the test part)"
 
 
 def _row(key: str, label: str, runs: Sequence[Mapping[str, Any]], columns: Sequence[Column]) -> dict[str, Any]:
@@ -406,7 +417,8 @@ def render_markdown(table: Mapping[str, Any]) -> str:
     if table["other_experiments"]:
         notes.append(f"- runs of other experiments (--experiment): {', '.join(table['other_experiments'])}")
     sources = [f"- {row['label']}: {s.get('run_dir') or s.get('_source')} (seed {s.get('seed')}, {s.get('status')}, "
-               f"finished {s.get('finished') or '?'})" for row in table["rows"] for s in row["sources"]]
+               f"finished {s.get('finished') or '?'}; test figures from {_tested(s)})"
+               for row in table["rows"] for s in row["sources"]]
     if notes:
         lines += ["", "Notes:", *notes]
     if sources:

@@ -208,3 +208,15 @@ def test_bad_first_frame_and_nonpositive_dimensions_are_named(tmp_path):
     skip = SkipLog()
     records = read_frames(tmp_path, skip=skip)
     assert [i.kind for i in skip.items] == ["object"] and skip.items[0].frame == records[0].key
+
+
+def test_alpha_is_kept_as_stored_even_outside_pi(tmp_path):
+    """Real VKITTI 2 pose files have a few alphas outside [-pi, pi]: read as stored, not refused, not wrapped."""
+    write_vkitti2_fixture(tmp_path, scene="Scene06", variation="fog", frames=(0,))
+    pose = next(tmp_path.rglob("pose.txt"))
+    lines = pose.read_text().splitlines()
+    header, first = lines[0].split(), lines[1].split()
+    first[header.index("alpha")] = "3.3000001"
+    pose.write_text("\n".join([lines[0], " ".join(first), *lines[2:]]) + "\n")
+    objects = {o.track_id: o for o in read_frames(tmp_path)[0].objects}
+    assert objects[int(first[header.index("trackID")])].alpha == pytest.approx(3.3000001)

@@ -62,7 +62,10 @@ class ObjectAnnotation:
             ``w3d h3d l3d`` / ``width height length``; readers reorder.
         location: ``(x3d, y3d, z3d)``, centre of the bottom face of the 3D box, camera frame.
         ry: yaw about the camera y axis; 0 points the object along +x.
-        alpha: observation angle ``wrap(ry - atan2(x3d, z3d))`` as stored in the file.
+        alpha: observation angle ``ry - atan2(x3d, z3d)`` exactly as stored in the file, not re-wrapped: Virtual
+            KITTI 1 keeps it in ``[-pi, pi]``, but a few rows of real Virtual KITTI 2 files fall outside. Nothing
+            in the library reads it: the pose maps and the geometric targets recompute the angle from ``ry`` and
+            the location, wrapped (:func:`sdn3d.math3d.rotations.observation_angle`).
         truncr: fraction of the object outside the image, in [0, 1].
         occupr: fraction of the object's pixels that are visible (not occluded), in [0, 1].
         truncated, occluded: VKITTI 1 KITTI-like flags (0, 1, 2); None where absent.

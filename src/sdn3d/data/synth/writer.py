@@ -14,9 +14,9 @@ object's *visible* pixels; ``w3d h3d l3d`` in that order (the library's dims are
 ``x3d y3d z3d`` the bottom-face centre in the camera frame; ``alpha = wrap(ry - atan2(x3d, z3d))``;
 ``truncr`` / ``occupr`` as in ``stats.py``; ``rx = rz = 0``. The KITTI-like flags are derived:
 ``truncated`` = 0 if truncr < 0.05, 1 if truncr < 0.5, else 2; ``occluded`` = 0 if occupr >= 0.95,
-1 if occupr >= 0.4, else 2; ``label`` is ``DontCare`` when either flag is 2 (``orig_label``
-keeps Car / Van). Objects with no visible pixel are not listed. Depth is clipped at 655.35 m;
-empty (sky) pixels are 65535.
+1 if occupr >= 0.4, else 2; ``label`` is ``DontCare`` when either flag is 2 or the 2D box is under 25 px
+tall at 375 rows (the real files' rules; ``orig_label`` keeps Car / Van). Objects with no visible pixel
+are not listed. Depth is clipped at 655.35 m; empty (sky) pixels are 65535.
 """
 
 from __future__ import annotations
@@ -131,6 +131,15 @@ def occlusion_flag(occupr: np.ndarray) -> np.ndarray:
     return np.where(occupr >= 0.95, 0, np.where(occupr >= 0.4, 1, 2))
 
 
+#: Real motgt rows are DontCare when their 2D box is under 25 px tall at Virtual KITTI's 375 rows.
+MIN_BOX_HEIGHT_375 = 25
+
+
+def _too_short(top: int, bottom: int, image_height: int) -> bool:
+    """Whether an inclusive box ``top..bottom`` is under :data:`MIN_BOX_HEIGHT_375` px tall at 375 rows."""
+    return (bottom - top + 1) * 375.0 / image_height < MIN_BOX_HEIGHT_375
+
+
 def _wrap(angle: np.ndarray) -> np.ndarray:
     return np.remainder(angle + math.pi, 2 * math.pi) - math.pi
 
@@ -189,9 +198,9 @@ class SequenceWriter:
         )
         values = " ".join(f"{v:.9f}" for v in np.asarray(world_to_cam, dtype=np.float64)[:3].reshape(-1))
         self._extrinsics.append(f"{frame} {values} 0 0 0 1")
-        self._motgt += self._motgt_rows(frame, annotations)
+        self._motgt += self._motgt_rows(frame, annotations, int(class_map.shape[0]))
 
-    def _motgt_rows(self, frame: int, a: dict[str, np.ndarray]) -> list[str]:
+    def _motgt_rows(self, frame: int, a: dict[str, np.ndarray], image_height: int) -> list[str]:
         rows = []
         truncated = truncation_flag(a["truncr"])
         occluded = occlusion_flag(a["occupr"])
@@ -204,8 +213,9 @@ class SequenceWriter:
             ry = float(_wrap(np.asarray(a["ry"][i])))
             alpha = float(_wrap(np.asarray(ry - math.atan2(x, z))))
             category = a["category"][i]
-            label = "DontCare" if truncated[i] == 2 or occluded[i] == 2 else category
             left, top, right, bottom = (int(v) for v in a["box"][i])
+            label = "DontCare" if truncated[i] == 2 or occluded[i] == 2 or _too_short(top, bottom, image_height) \
+                else category
             rows.append(
                 f"{frame} {int(a['tid'][i])} {label} {int(truncated[i])} {int(occluded[i])} {alpha:.6f} "
                 f"{left} {top} {right} {bottom} {w3d:.6f} {h3d:.6f} {l3d:.6f} {x:.6f} {y:.6f} {z:.6f} "

@@ -232,8 +232,8 @@ class TexturalModule(BranchModule):
         donors = code_donors(ids)
         swapped = codes[donors][index].permute(0, 3, 1, 2)
         fake = self.generator(self.spec.generator_input(cond, swapped, batch.get("pose"), batch.get("normal")))
-        _, fake_colors, _, _ = instance_mean(fake, L)
-        _, real_colors, _, _ = instance_mean(real, L)
+        _, colors, _, _ = instance_mean(torch.cat([fake, real], 1), L)  # one scatter-mean for both pictures
+        fake_colors, real_colors = colors[:, :3], colors[:, 3:]
         pixels = torch.bincount(index.reshape(-1), minlength=ids.numel())
         used = (donors != torch.arange(ids.numel(), device=ids.device)) & (pixels >= self.hparams.swap_min_pixels)
         if not bool(used.any()):

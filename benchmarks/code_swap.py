@@ -14,7 +14,9 @@ What it measures, on the frames of ``--part`` (a Virtual KITTI-format folder, e.
   (1 - IoU of the pixels that read as A in the two renders), the leak of the change outside A. Means and
   medians over all pairs; the module doc of :mod:`sdn3d.evaluation.code_swap` defines each.
 - **reconstruction**: PSNR / SSIM / L1 of G(E(image)) with the frame's ground-truth maps (as the training's
-  test step) on whole images and on object pixels (``obj_*``), mean over frames.
+  test step) on whole images and on object pixels (``obj_*``), mean over frames. With ``--semantic`` and
+  ``--geometric`` checkpoints also on the maps those branches predict (``reconstruction_predicted``: 3D-SDN's
+  inputs, :mod:`sdn3d.predicted_maps`, cached in ``--map-cache``); object pixels are then the predicted objects'.
 
 Prints one JSON object (and writes it to ``--out``). Use the checkpoint you would edit with (``last.ckpt``:
 no selection on the test part).
@@ -44,6 +46,7 @@ from sdn3d.evaluation.code_swap import CodeSwapSettings, code_swap_frame, summar
 from sdn3d.evaluation.image_metrics import image_metrics  # noqa: E402
 from sdn3d.io import write_json_atomic  # noqa: E402
 from sdn3d.labels import INSTANCE_DIVISOR  # noqa: E402
+from sdn3d.predicted_maps import build_predicted_maps  # noqa: E402
 from sdn3d.textural.renderer import TexturalRenderer  # noqa: E402
 
 
@@ -68,8 +71,16 @@ def code_swap(renderer: TexturalRenderer, source: SourceConfig, part: str, frame
 
 
 @torch.no_grad()
-def reconstruction(renderer: TexturalRenderer, source: SourceConfig, part: str, frames: int | None) -> dict:
-    dataset = TexturalDataset.from_source(source, part)
+def reconstruction(renderer: TexturalRenderer, source: SourceConfig, part: str, frames: int | None,
+                   predicted: tuple[str, str, str] | None = None) -> dict:
+    """Mean image metrics of G(E(image)) over ``part``; ``predicted = (semantic, geometric, cache_dir)``: on the
+    maps those branches predict instead of the ground truth."""
+    if predicted is None:
+        dataset = TexturalDataset.from_source(source, part)
+    else:
+        records = load_split(source, part)
+        cache = build_predicted_maps(records, source.image_size, predicted[0], predicted[1], predicted[2], part)
+        dataset = TexturalDataset(records, source.image_size, source.class_list, predicted=cache)
     count = len(dataset) if frames is None else min(frames, len(dataset))
     sums: dict[str, list[float]] = {}
     for i in range(count):
@@ -95,8 +106,13 @@ def main(argv: list[str] | None = None) -> dict:
     p.add_argument("--frames", type=int, default=None, help="first N frames of the part (default: all)")
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--max-pairs", type=int, default=CodeSwapSettings.max_pairs_per_frame)
+    p.add_argument("--semantic", default=None, help="with --geometric: also reconstruct from predicted maps")
+    p.add_argument("--geometric", default=None)
+    p.add_argument("--map-cache", default="outputs/map_cache", help="predicted-map cache directory")
     p.add_argument("--out", default=None)
     args = p.parse_args(argv)
+    if (args.semantic is None) != (args.geometric is None):
+        p.error("--semantic and --geometric go together")
     torch.set_num_threads(args.threads)
     renderer = TexturalRenderer.from_checkpoint(args.checkpoint)
     source = source_for(args.data_root, tuple(args.size))
@@ -105,10 +121,17 @@ def main(argv: list[str] | None = None) -> dict:
     swap = code_swap(renderer, source, args.part, args.frames, settings)
     t1 = time.perf_counter()
     recon = reconstruction(renderer, source, args.part, args.frames)
+    t2 = time.perf_counter()
+    predicted = None
+    if args.semantic is not None:
+        predicted = reconstruction(renderer, source, args.part, args.frames,
+                                   (args.semantic, args.geometric, args.map_cache))
     result = {
         "checkpoint": str(Path(args.checkpoint).resolve()), "data_root": str(Path(args.data_root).resolve()),
         "part": args.part, "size": list(args.size), "code_swap": swap, "reconstruction": recon,
-        "seconds": {"code_swap": round(t1 - t0, 2), "reconstruction": round(time.perf_counter() - t1, 2)},
+        "reconstruction_predicted": predicted,
+        "seconds": {"code_swap": round(t1 - t0, 2), "reconstruction": round(t2 - t1, 2),
+                    "reconstruction_predicted": round(time.perf_counter() - t2, 2)},
         "machine": f"{platform.machine()} cpu, {args.threads} threads, torch {torch.__version__}",
         "how": "pairs of same-class objects of one frame with real mean colours >= 20 CIE76 apart; A drawn with "
                "B's code via SetCode + scene_maps + G; colour move = projection of A's rendered mean-colour change "

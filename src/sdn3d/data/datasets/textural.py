@@ -6,7 +6,12 @@ pixel its semantic class id (< 1000; 255 = ignore). ``L >= 1000`` therefore mean
 Instances win conflicts with the semantic map, so ``label`` is the semantic map with each
 instance pixel set to the instance's class.
 
-Geometry maps come from the ground truth: every annotated object of the frame is drawn with
+Two sources of the generator inputs (``maps``): the ground truth (below), or the other branches'
+predictions read from a :class:`~sdn3d.data.map_cache.MapCache` (``predicted``: the semantic branch's
+labels and proposals and the geometric branch's meshes, FFD and poses composed by the edit-time code,
+:mod:`sdn3d.predicted_maps`), as 3D-SDN trains. The image (the target) is always the frame's own.
+
+With ground-truth maps, geometry maps come from the ground truth: every annotated object of the frame is drawn with
 the project's hard rasterizer at the working size (:func:`sdn3d.render.objects.pose_meshes`,
 :func:`sdn3d.render.rasterize_meshes`, :func:`sdn3d.render.maps.normal_map`), using the template
 named in ``obj.model`` (fallback ``'van'`` for vans, ``'sedan'`` otherwise), its dims, yaw and
@@ -29,6 +34,7 @@ from torch.utils.data import Dataset
 
 from sdn3d.data.errors import SkipLog
 from sdn3d.data.frames import intrinsics_vector, load_frame
+from sdn3d.data.map_cache import MapCache
 from sdn3d.data.records import FrameRecord, ObjectAnnotation, mesh_name_for
 from sdn3d.data.sources import SourceConfig, load_split
 from sdn3d.image_ops import boundary_map, instance_label_map
@@ -114,7 +120,8 @@ class TexturalDataset(Dataset):
 
     Args:
         records, image_size, classes: as :class:`~sdn3d.data.datasets.SemanticDataset`.
-        render: draw normal/pose maps (False leaves them zero).
+        render: draw normal/pose maps (False leaves them zero); ground-truth maps only.
+        predicted: read label, instance, normal and pose maps from this cache instead of the ground truth.
     """
 
     def __init__(
@@ -123,6 +130,7 @@ class TexturalDataset(Dataset):
         image_size: tuple[int, int],
         classes: Sequence[SemanticClass] | None = None,
         render: bool = True,
+        predicted: MapCache | None = None,
     ) -> None:
         self.records = list(records)
         self.image_size = (int(image_size[0]), int(image_size[1]))
@@ -131,6 +139,10 @@ class TexturalDataset(Dataset):
             raise ValueError(f"records must all come from one dataset kind, got {sorted(kinds)}")
         self.classes = tuple(classes) if classes is not None else (class_list(kinds.pop()) if kinds else ())
         self.render = render
+        self.predicted = predicted
+        if predicted is not None and predicted.size != (self.image_size[1], self.image_size[0]):
+            raise ValueError(f"the predicted-map cache {predicted.directory} is at {predicted.size[::-1]}, the "
+                             f"dataset at {self.image_size}")
         self._bank: MeshBank | None = None
 
     @classmethod
@@ -149,18 +161,28 @@ class TexturalDataset(Dataset):
 
     def __getitem__(self, index: int) -> dict:
         record = self.records[index]
-        frame = load_frame(record, self.image_size, semantic=True, instances=True, depth=True)
-        label, lmap = instance_label_map(frame.semantic, frame.instances)
-        height, width = label.shape
-        has_geometry = self.render and bool(record.objects)
-        if has_geometry:
-            normal, pose = render_geometry_maps(record.objects, frame.intrinsics, frame.instances, self.bank)
+        gt_maps = self.predicted is None
+        frame = load_frame(record, self.image_size, semantic=gt_maps, instances=gt_maps, depth=True)
+        if gt_maps:
+            instances = frame.instances
+            label, lmap = instance_label_map(frame.semantic, instances)
+            height, width = label.shape
+            has_geometry = self.render and bool(record.objects)
+            if has_geometry:
+                normal, pose = render_geometry_maps(record.objects, frame.intrinsics, instances, self.bank)
+            else:
+                normal, pose = torch.zeros(3, height, width), torch.zeros(NUM_POSE_BINS, height, width)
         else:
-            normal, pose = torch.zeros(3, height, width), torch.zeros(NUM_POSE_BINS, height, width)
+            maps = self.predicted.load(record.key)
+            instances, normal = maps.instance, maps.normal
+            label, lmap = instance_label_map(maps.semantic, instances)
+            drawn = maps.pose_bin >= 0
+            pose = F.one_hot(maps.pose_bin.clamp(min=0), NUM_POSE_BINS).permute(2, 0, 1).float() * drawn
+            has_geometry = bool(drawn.any())
         return {
             "image": frame.image,
             "label": label,
-            "instance": frame.instances,
+            "instance": instances,
             "instance_label_map": lmap,
             "boundary": boundary_map(lmap[None])[0],
             "normal": normal,

@@ -22,8 +22,12 @@ closer objects and pixels outside the image ignored) is computed. Reported per c
 And the floors of mesh accuracy on the split: ``uniform_floor`` (1/8) and ``majority_floor`` (always the
 most frequent template of the *training* part, :func:`sdn3d.geometric.metrics.mesh_floors`).
 
-The synthetic cars are templates with a random FFD and wheels, so a template other than the true one
-can fit the mask better.
+On synthetic data generated with ``vehicles: bank`` the cars are the templates themselves with a random
+FFD, so a template other than the true one can fit the mask better. With ``vehicles: heldout`` (the default)
+they are held-out family shapes (:mod:`sdn3d.meshes.vehicle_family`) and the "true template" of an object is
+its shape's approximating template (the readers' mapping, :func:`sdn3d.data.datasets.geometric.template_id`):
+``true_is_best`` then measures how often the reward prefers that approximation. The output names the data's
+``vehicles`` setting (from ``synth_manifest.json``; ``null`` for data without one, e.g. real Virtual KITTI).
 """
 
 from __future__ import annotations
@@ -61,6 +65,14 @@ def _template_ids(dataset) -> torch.Tensor:
     inner = getattr(dataset, "dataset", dataset)
     return torch.tensor([template_id(inner.records[ref.frame].objects[ref.object].model) for ref in inner.objects],
                         dtype=torch.long)
+
+
+def _vehicles(root: str) -> str | None:
+    """The ``vehicles`` setting a synthetic dataset was generated with (``'bank'`` before the setting existed)."""
+    manifest = Path(root) / "synth_manifest.json"
+    if not manifest.is_file():
+        return None
+    return json.loads(manifest.read_text()).get("config", {}).get("vehicles", "bank")
 
 
 def identifiability(dm: GeometricDataModule, split: str, batch: int = 64) -> dict:
@@ -112,7 +124,7 @@ def main() -> None:
     train_counts = torch.bincount(train_ids[train_ids >= 0], minlength=8)
     split_ids = _template_ids(dm.datasets[args.split])
     floors = mesh_floors(torch.bincount(split_ids[split_ids >= 0], minlength=8), train_counts)
-    out = {"root": args.root, "split": args.split, "image_size": list(dm.image_size),
+    out = {"root": args.root, "vehicles": _vehicles(args.root), "split": args.split, "image_size": list(dm.image_size),
            "what": "ground-truth pose, no FFD, each of the 8 templates",
            "floors": {k: round(float(v), 4) for k, v in floors.items()},
            "train_counts": train_counts.tolist(), "results": results}

@@ -121,3 +121,14 @@ def test_inference_path_reads_no_dataset():
             "                      or m.startswith(('lightning.', 'lightning_modules', 'datamodules')))))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
     assert set(out) <= ALLOWED_DATA, sorted(set(out) - ALLOWED_DATA)
+
+
+def test_edit_command_starts_without_trimesh_or_scipy():
+    """``sdn3d-edit`` start-up time (issue 19): the edit path builds the template bank from arrays and grows regions
+    with torch; trimesh (glTF, with ``diagnostics=true``) and scipy (amodal fill, point matching) load when used."""
+    code = ("import sys, sdn3d.cli.edit, sdn3d.editing.render, sdn3d.derender\n"
+            "from sdn3d.meshes.bank import MeshBank\n"
+            "MeshBank.templates()\n"
+            "print(' '.join(sorted({m.split('.')[0] for m in sys.modules} & {'trimesh', 'scipy'})))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert out == []

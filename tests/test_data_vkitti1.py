@@ -246,17 +246,49 @@ def test_unreadable_and_missing_images(small_tree):
         load_semantic(records[2])
 
 
-def _obj(truncr: float, occupr: float) -> ObjectAnnotation:
-    return ObjectAnnotation(0, "Car", (0, 0, 10, 10), (4, 1.5, 1.8), (0, 1.6, 10), 0.0, 0.0, truncr, occupr)
+def _obj(truncr: float, occupr: float, occluded: int | None = None) -> ObjectAnnotation:
+    return ObjectAnnotation(0, "Car", (0, 0, 10, 10), (4, 1.5, 1.8), (0, 1.6, 10), 0.0, 0.0, truncr, occupr,
+                            occluded=occluded)
 
 
 @pytest.mark.parametrize(
-    ("pixels", "truncr", "occupr", "keep"),
-    [(257, 0.0, 1.0, True), (256, 0.0, 1.0, False), (5000, 0.69, 0.31, True), (5000, 0.7, 1.0, False),
-     (5000, 0.0, 0.3, False), (5000, 0.0, 0.301, True)],
+    ("pixels", "truncr", "occupr", "occluded", "keep"),
+    [(257, 0.0, 1.0, None, True), (256, 0.0, 1.0, None, False), (5000, 0.69, 0.31, None, True),
+     (5000, 0.7, 1.0, None, False),
+     # occupr is visible / box area (an unoccluded car: about 0.8), so 70 % occlusion is occupr = 0.3 * 0.8
+     (5000, 0.0, 0.239, None, False), (5000, 0.0, 0.241, None, True), (5000, 0.0, 0.3, None, True),
+     (5000, 0.0, 0.241, 1, True), (5000, 0.0, 0.85, 0, True),
+     # the occluded flag, where the format has it: "largely occluded" is dropped whatever occupr says
+     (5000, 0.0, 0.85, 2, False)],
 )  # fmt: skip
-def test_paper_object_filter_thresholds(pixels, truncr, occupr, keep):
-    assert paper_object_filter(_obj(truncr, occupr), pixels) is keep
+def test_paper_object_filter_thresholds(pixels, truncr, occupr, occluded, keep):
+    assert paper_object_filter(_obj(truncr, occupr, occluded), pixels) is keep
+
+
+def test_fixture_occupr_is_box_occupancy_and_flag_follows_visible_share(tmp_path):
+    """As in the real files: occupr = visible pixels / box area (an unoccluded car well below 1), while the
+    occluded flag says how much of the car itself is hidden (0 for the unoccluded cars)."""
+    truth = write_vkitti1_fixture(tmp_path, frames=(3,), size=(310, 94))  # frame 3: the van is half hidden
+    (record,) = read_frames(tmp_path)
+    ids = truth[0].instances
+    flags = {}
+    for obj in record.objects:
+        visible = int(((ids > 0) & (ids % 1000 == obj.track_id + 1)).sum())
+        left, top, right, bottom = obj.box2d
+        assert obj.occupr == pytest.approx(visible / ((right - left + 1) * (bottom - top + 1)), abs=1e-6)
+        flags[obj.track_id] = obj.occluded
+        if obj.occluded == 0 and obj.truncr == 0:
+            assert 0.6 <= obj.occupr <= 0.95
+    assert flags[0] == 0 and flags[3] >= 1  # track 0 is in the clear, the van (track 3) is behind track 1
+
+
+def test_occlusion_estimate_reads_occupr_as_box_occupancy():
+    from sdn3d.data.vkitti1 import UNOCCLUDED_OCCUPR, occlusion_estimate
+
+    assert occlusion_estimate(_obj(0.0, UNOCCLUDED_OCCUPR)) == 0.0  # a typical unoccluded car
+    assert occlusion_estimate(_obj(0.0, 0.95)) == 0.0  # boxier than typical: still unoccluded, clipped at 0
+    assert occlusion_estimate(_obj(0.0, 0.4)) == pytest.approx(0.5)
+    assert occlusion_estimate(_obj(0.0, 0.0)) == 1.0
 
 
 def test_paper_split_first_or_last_80_percent_per_sequence(tmp_path):
@@ -346,3 +378,69 @@ def test_nonpositive_dimensions_name_file_and_line_or_are_skipped(small_tree):
     negative_dims(motgt, row=0, dims=(-1, -1, -1))
     bad_motgt_row(motgt, row=0, column="label", value="DontCare")
     assert len(read_frames(root)[0].objects) == len(truth[0].objects)
+
+
+# -- issue 16, point 4: indexing at Virtual KITTI scale -------------------------------------------------------------
+def test_fast_motgt_path_gives_the_checked_path_values(tmp_path, monkeypatch):
+    """Well-formed files are converted in one pass; the result equals the column-by-column checked path."""
+    import sdn3d.data.vkitti1 as vk1
+
+    write_vkitti1_fixture(tmp_path, frames=(0, 1, 3, 7), size=(310, 94))
+    motgt = tmp_path / "vkitti_1.3.1_motgt" / "0001_clone.txt"
+    fast = vk1.parse_motgt(motgt)
+    monkeypatch.setattr(vk1, "_motgt_values", lambda rows: None)
+    checked = vk1.parse_motgt(motgt)
+    assert fast == checked and sum(len(v) for v in fast.values()) >= 8
+    assert all(type(o.track_id) is int and type(o.occluded) is int and type(o.moving) is bool
+               for objs in fast.values() for o in objs)
+
+
+@pytest.mark.parametrize(("column", "value", "message"), [
+    ("occupr", "nan", r"0001_clone.txt:3: column 21 \('occupr'\): expected a finite number, got 'nan'"),
+    ("tid", "1.5", r"0001_clone.txt:3: column 2 \('tid'\): expected an integer, got '1.5'"),
+    ("moving", "maybe", r"0001_clone.txt:3: column 23 \('moving'\): expected a boolean"),
+    ("x3d", "1,5", r"0001_clone.txt:3: column 14 \('x3d'\): expected a number, got '1,5'"),
+])
+def test_a_bad_value_in_a_large_file_still_names_file_line_and_column(tmp_path, column, value, message):
+    from faults.data import bad_motgt_row
+
+    write_vkitti1_fixture(tmp_path, frames=(0, 1, 2))
+    bad_motgt_row(tmp_path / "vkitti_1.3.1_motgt" / "0001_clone.txt", row=1, column=column, value=value)
+    with pytest.raises(DataFormatError, match=message):
+        read_frames(tmp_path)
+
+
+def test_png_sizes_read_from_the_header_agree_with_pillow(tmp_path):
+    from sdn3d.data.imageio import _png_size, image_size
+
+    arrays = {"rgb": np.zeros((7, 9, 3), np.uint8), "grey16": np.zeros((5, 4), np.uint16),
+              "grey": np.zeros((3, 11), np.uint8)}
+    for name, array in arrays.items():
+        Image.fromarray(array).save(tmp_path / f"{name}.png")
+        assert _png_size(tmp_path / f"{name}.png") == image_size(tmp_path / f"{name}.png") == array.shape[1::-1]
+    Image.fromarray(arrays["rgb"]).convert("P").save(tmp_path / "palette.png")
+    assert _png_size(tmp_path / "palette.png") == (9, 7)
+    Image.fromarray(arrays["rgb"]).save(tmp_path / "photo.jpg")
+    assert _png_size(tmp_path / "photo.jpg") is None and image_size(tmp_path / "photo.jpg") == (9, 7)
+    data = bytearray((tmp_path / "rgb.png").read_bytes())
+    data[20] ^= 1  # the height, without fixing the IHDR checksum: Pillow reads (and refuses) it
+    (tmp_path / "bad_crc.png").write_bytes(bytes(data))
+    assert _png_size(tmp_path / "bad_crc.png") is None
+    with pytest.raises(DataFormatError, match="bad_crc.png"):
+        image_size(tmp_path / "bad_crc.png")
+
+
+def test_index_benchmark_tree_is_read_whole(tmp_path):
+    """benchmarks/index_frames.py builds the release's tree (here at 1 %); read_frames indexes all of it."""
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "index_frames.py"
+    spec = importlib.util.spec_from_file_location("index_bench", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert 10 * sum(module.WORLD_FRAMES.values()) == 21260  # 10 variations of each world
+    frames = module.build_tree(tmp_path, objects=3, scale=0.01)
+    records = read_frames(tmp_path)
+    assert len(records) == frames == 10 * sum(max(1, round(n * 0.01)) for n in module.WORLD_FRAMES.values())
+    assert all(len(r.objects) == 3 and r.intrinsics == VKITTI_INTRINSICS for r in records)
+    assert records[0].semantic_path == records[0].instance_path is not None and records[0].depth_path is not None

@@ -110,7 +110,7 @@ def test_end_to_end_synthetic(tmp_path):
     geo = GeometricDataModule(cfg, batch_size=2, min_pixels=16)
     batch = next(iter(geo.train_dataloader()))
     assert batch["crop"].shape == (2, 3, 64, 64)
-    assert (batch["template_id"] >= 0).all()  # the generator writes template names as models
+    assert (batch["template_id"] >= 0).all()  # models are family shapes, read as their approximating template
     tex = TexturalDataModule(cfg, batch_size=1)
     batch = next(iter(tex.train_dataloader()))
     on = batch["instance"][0] != 0

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 import torch
 
@@ -316,3 +317,15 @@ def test_freed_pixels_match_the_reference_and_need_no_rendering_with_masks(scene
         patch.setattr(module, "compose_instances", lambda *a, **k: calls.append(1) or compose_instances(*a, **k))
         out = apply_edits(unmasked, ops)
     assert calls and out == apply_edits_dense(unmasked, ops)
+
+
+@pytest.mark.parametrize("iterations", [1, 2, 5])
+def test_vacated_region_growth_matches_scipy_binary_dilation(iterations):
+    """editing.apply grows regions with torch (scipy.ndimage is not imported on the edit path)."""
+    from scipy.ndimage import binary_dilation
+
+    from sdn3d.editing.apply import _dilate_cross
+
+    mask = torch.rand(37, 53, generator=torch.Generator().manual_seed(iterations)) > 0.97
+    mask[0, :3] = mask[-1, -1] = True  # borders: nothing grows in from outside the image
+    assert np.array_equal(_dilate_cross(mask, iterations).numpy(), binary_dilation(mask.numpy(), iterations=iterations))

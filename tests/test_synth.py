@@ -12,6 +12,7 @@ import torch
 from PIL import Image
 
 from sdn3d.data.synth import BENCHMARK_NAME, MANIFEST_NAME, SynthConfig, generate_dataset
+from sdn3d.data.synth.class_stats import STATISTICS_NAME
 from sdn3d.data.synth.classes import CLASS_COLORS
 from sdn3d.data.synth.clip import clip_near
 from sdn3d.data.synth.writer import ENCODING_HEADER, EXTRINSICS_HEADER, MOTGT_HEADER
@@ -42,6 +43,7 @@ def _config(out: Path, **kw) -> SynthConfig:
         frames_per_sequence=FRAMES,
         cars_per_frame=(10, 14),
         edit_pairs=EDITS,
+        occluder_pairs=0,  # tests/test_occluder_removed.py covers those pairs
         workers=1,
         threads=1,
     )
@@ -95,7 +97,7 @@ def _center(row: dict) -> np.ndarray:
 
 def test_tree_is_exactly_vkitti_131(dataset: Path) -> None:
     frames = [f"{i:05d}.png" for i in range(FRAMES + EDITS)]
-    expected = {BENCHMARK_NAME, MANIFEST_NAME, "_SUCCESS"}
+    expected = {BENCHMARK_NAME, MANIFEST_NAME, STATISTICS_NAME, "_SUCCESS"}
     for v in VARIATIONS:
         for kind in ("rgb", "scenegt", "depthgt"):
             expected |= {f"vkitti_1.3.1_{kind}/{WORLD}/{v}/{f}" for f in frames}
@@ -146,6 +148,22 @@ def test_scenegt_colours_depth_and_boxes(dataset: Path) -> None:
                     ys.max(),
                 )
                 assert r["orig_label"] == name.split(":")[0] and count > 0
+                # occupr is the real files' quantity: visible pixels / the 2D box's pixel count.
+                area = (xs.max() - xs.min() + 1) * (ys.max() - ys.min() + 1)
+                assert float(r["occupr"]) == pytest.approx(count / area, abs=1e-6)
+
+
+def test_unoccluded_cars_read_occupr_as_in_real_files(dataset: Path) -> None:
+    """An unoccluded car covers about 0.75-0.85 of its box in real files (0.7-0.93 here), not 1.0; the
+    occluded flag follows the true occlusion, so unoccluded cars keep flag 0 and occluded ones get 1 or 2.
+    (Boxy vans seen from behind fill up to about 0.96 of their box.)"""
+    rows = [r for v in VARIATIONS for r in _motgt(dataset, v)]
+    clear = [r for r in rows
+             if r["occluded"] == "0" and r["truncated"] == "0" and (int(r["b"]) - int(r["t"]) + 1) >= 12]
+    cars = [float(r["occupr"]) for r in clear if r["orig_label"] == "Car"]
+    assert len(cars) >= 5 and all(0.6 <= v <= 0.95 for v in cars)
+    assert all(0.6 <= float(r["occupr"]) < 0.99 for r in clear)
+    assert any(r["occluded"] in ("1", "2") for r in rows)
 
 
 def test_motgt_values(dataset: Path) -> None:
@@ -498,9 +516,16 @@ def test_truncation_and_occupancy_of_a_car_leaving_the_frame() -> None:
     assert stats.unoccluded.tolist() == [int(inside), int(full[1])]
     assert 0.2 < stats.truncr[0] < 0.95
     assert stats.truncr[0] == pytest.approx(1 - float(inside) / float(ref.sum()), abs=0.03)
-    assert stats.truncr[1] == 0.0 and stats.occupr[0] == 1.0
-    assert stats.occupr[1] == pytest.approx(float((instance == 1).sum()) / float(full[1]))
-    assert 0.3 < stats.occupr[1] < 0.7
+    assert stats.truncr[1] == 0.0 and stats.visible_fraction[0] == 1.0
+    assert stats.visible_fraction[1] == pytest.approx(float((instance == 1).sum()) / float(full[1]))
+    assert 0.3 < stats.visible_fraction[1] < 0.7
+    # occupr: visible pixels over the inclusive box of the visible pixels (the motgt row's box).
+    for k in (0, 1):
+        rows, cols = (instance == k).nonzero(as_tuple=True)
+        area = (int(cols.max() - cols.min()) + 1) * (int(rows.max() - rows.min()) + 1)
+        assert stats.occupr[k] == pytest.approx(len(rows) / area)
+        assert stats.box[k].tolist() == [int(cols.min()), int(rows.min()), int(cols.max()), int(rows.max())]
+    assert 0.5 < stats.occupr[0] < 0.95  # a car's silhouette does not fill its box
 
 
 def test_occlusion_shortcut_gives_the_exact_counts(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -517,7 +542,9 @@ def test_occlusion_shortcut_gives_the_exact_counts(monkeypatch: pytest.MonkeyPat
     np.testing.assert_array_equal(fast.unoccluded, full.unoccluded)
     np.testing.assert_array_equal(fast.truncr, full.truncr)
     np.testing.assert_array_equal(fast.occupr, full.occupr)
-    assert (full.occupr[full.visible > 0] == 1.0).any() and (full.occupr[full.visible > 0] < 1.0).any()
+    np.testing.assert_array_equal(fast.visible_fraction, full.visible_fraction)
+    seen = full.visible > 0
+    assert (full.visible_fraction[seen] == 1.0).any() and (full.visible_fraction[seen] < 1.0).any()
 
 
 def test_edit_benchmark_frames_are_never_trained_on(dataset: Path) -> None:
@@ -555,3 +582,81 @@ def test_unreadable_manifest_is_a_clear_error(tmp_path: Path) -> None:
     (tmp_path / MANIFEST_NAME).write_text('{"sequences": [{"variation": "clone", "edit_target_frames": [3]}]}')
     with pytest.raises(ValueError, match="edit target frames"):
         edit_target_frames(tmp_path)
+
+
+def test_variations_sharing_the_camera_are_rendered_once_with_the_same_bytes(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """clone and fog share each frame's geometry (one rasterization, lit twice): the files are those of
+    rendering each sequence alone."""
+    import sys
+
+    from sdn3d.data.synth import generate as gen
+
+    cfg = dict(variations=("clone", "fog", "30-deg-left"), frames_per_sequence=2, edit_pairs=1)
+    assert gen.sequence_groups([(WORLD, v) for v in cfg["variations"]]) == [
+        (WORLD, ("clone", "fog")), (WORLD, ("30-deg-left",))]
+    calls = []
+    real = gen.render_geometry
+    monkeypatch.setattr(gen, "render_geometry", lambda *a: calls.append(sys._getframe(1).f_code.co_name) or real(*a))
+    shared = generate_dataset(_config(tmp_path / "shared", **cfg))
+    assert calls.count("generate_sequences") == 2 + 2  # the frames of (clone, fog) once, those of 30-deg-left
+    assert calls.count("_edit_targets") >= 3  # each edit target (a rejected edit is drawn again)
+    monkeypatch.setattr(gen, "sequence_groups", lambda jobs: [(w, (v,)) for w, v in jobs])
+    alone = generate_dataset(_config(tmp_path / "alone", **cfg))
+    files = sorted(p.relative_to(shared) for p in shared.rglob("*") if p.is_file())
+    assert files == sorted(p.relative_to(alone) for p in alone.rglob("*") if p.is_file())
+    for rel in files:
+        assert (shared / rel).read_bytes() == (alone / rel).read_bytes(), f"{rel} differs"
+
+
+def test_progress_lines_count_every_frame_from_the_workers(tmp_path: Path) -> None:
+    """Not a terminal: one line at the first frame and one at the last (30 s apart at most otherwise)."""
+    import io
+
+    stream = io.StringIO()
+    generate_dataset(_config(tmp_path / "data", frames_per_sequence=2, edit_pairs=1, workers=2), progress=stream)
+    lines = stream.getvalue().splitlines()
+    total = len(VARIATIONS) * 3
+    assert lines[0].startswith(f"sdn3d-synth: 1/{total} frames (") and "frames/s, ETA " in lines[0]
+    assert lines[-1].startswith(f"sdn3d-synth: {total}/{total} frames (100.0%)") and "done in" in lines[-1]
+    assert "\r" not in stream.getvalue()
+
+
+def test_progress_on_a_terminal_rewrites_one_line_with_rate_and_eta() -> None:
+    import io
+
+    from sdn3d.data.synth.progress import FrameProgress, format_duration
+
+    class Terminal(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    now = [100.0]
+    stream = Terminal()
+    progress = FrameProgress(10, stream, clock=lambda: now[0])
+    now[0] += 2.0
+    progress.update(4)  # 2 frames/s: 6 frames left take 3 s
+    assert stream.getvalue() == "\r\x1b[2Ksdn3d-synth: 4/10 frames (40.0%), 2.00 frames/s, ETA 3s"
+    now[0] += 0.1
+    progress.update()  # within 0.2 s of the last report: not redrawn
+    assert stream.getvalue().count("\r") == 1
+    now[0] += 2.9
+    progress.update(5)
+    assert stream.getvalue().endswith("\r\x1b[2Ksdn3d-synth: 10/10 frames (100.0%), 2.00 frames/s, done in 5s")
+    progress.close()
+    assert stream.getvalue().endswith("\n") and "\n" not in stream.getvalue()[:-1]
+    assert [format_duration(s) for s in (7, 185, 7440)] == ["7s", "3m05s", "2h04m"]
+
+
+def test_cli_reports_progress_on_stderr(tmp_path: Path) -> None:
+    import subprocess
+    import sys
+
+    proc = subprocess.run(
+        [sys.executable, "-m", "sdn3d.cli.synth", f"output_dir={tmp_path / 'data'}", "worlds=[\"0001\"]",
+         "variations=[clone,fog]", "frames_per_sequence=1", "edit_pairs=0", "occluder_pairs=0", "image_size=[96,32]",
+         "workers=1",
+         f"hydra.run.dir={tmp_path / 'hydra'}"], capture_output=True, text=True, timeout=300,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "sdn3d-synth: 2/2 frames (100.0%)" in proc.stderr and "done in" in proc.stderr

@@ -2,6 +2,9 @@
 
 Every option is a Hydra override, e.g. ``sdn3d-synth frames_per_sequence=20 overwrite=true``.
 Relative ``output_dir`` paths are resolved against the directory the command starts in.
+At the end it prints the class statistics of the new dataset (pixel share and segments per class and world,
+for every frame and for the test part; :mod:`sdn3d.data.synth.class_stats`), also written to
+``class_statistics.json`` in the dataset root.
 Every setting is checked (type and range, :class:`sdn3d.data.synth.SynthConfig`) before any work.
 ``overwrite=true`` replaces only an earlier dataset of this tool (a directory holding
 ``synth_manifest.json``), never the working directory, the home directory, their parents or ``/``.
@@ -19,6 +22,7 @@ from omegaconf import DictConfig, OmegaConf
 import sdn3d.cli._config
 from sdn3d.cli._errors import exit_on_error, run_cli
 from sdn3d.data.synth import SynthConfig, generate_dataset
+from sdn3d.data.synth.class_stats import PARTS, STATISTICS_NAME, format_table, read_class_statistics
 from sdn3d.errors import InputError
 
 log = logging.getLogger(__name__)
@@ -32,10 +36,12 @@ _FIELDS = (
     "frames_per_sequence",
     "cars_per_frame",
     "edit_pairs",
+    "occluder_pairs",
     "max_edit_operations",
     "overwrite",
     "workers",
     "threads",
+    "vehicles",
 )
 
 
@@ -68,12 +74,15 @@ def _generate(cfg: DictConfig) -> None:
         len(config.worlds),
         len(config.variations),
         config.frames_per_sequence,
-        config.edit_pairs,
+        config.target_frames,
         *config.image_size,
         config.output_dir,
     )
-    out = generate_dataset(config)
-    log.info("wrote %s", out)
+    out = generate_dataset(config, progress=True)  # frames done / total, frames/s, ETA on stderr
+    stats = read_class_statistics(out)
+    for part in PARTS:
+        log.info("%s", format_table(stats, part))
+    log.info("wrote %s (class statistics: %s)", out, out / STATISTICS_NAME)
 
 
 if __name__ == "__main__":

@@ -17,6 +17,11 @@ and adds ``ry`` to its yaw; ``delete`` removes it (``to``, ``zoom``, ``ry`` are 
 1242x375 frame (pixel centres at integers). Identity entries (source == target,
 no operations) pair every real edit in the shipped file.
 
+An entry may carry ``"kind"``: ``"edit"`` (the default, and every entry of the paper's file) or
+``"occluder_removed"`` (this project's synthetic benchmark: a car in front of a partly hidden one is deleted,
+and the target shows the hidden car whole; benchmarks report such entries apart). ``"kind"`` is written only
+when it is not ``"edit"``, so the paper's format is unchanged.
+
 Validation in :func:`load_edit_benchmark` covers types, finiteness, ``zoom > 0``
 and known kinds. It deliberately does NOT check that points lie inside the frame:
 the shipped benchmark has ``from`` points outside 1242x375 (e.g. a delete at
@@ -43,6 +48,7 @@ from sdn3d.io import write_text_atomic
 
 __all__ = [
     "EDIT_KINDS",
+    "ENTRY_KINDS",
     "VKITTI_FRAME_SIZE",
     "WORKING_SIZE",
     "BenchmarkOperation",
@@ -58,6 +64,8 @@ __all__ = [
 ]
 
 EDIT_KINDS = ("modify", "delete")
+#: What a benchmark entry tests (module doc).
+ENTRY_KINDS = ("edit", "occluder_removed")
 #: (width, height) of the frames the benchmark coordinates refer to.
 VKITTI_FRAME_SIZE = (1242, 375)
 #: (width, height) the paper works at on Virtual KITTI.
@@ -141,9 +149,12 @@ class BenchmarkEntry:
     source_frame: int
     target_frame: int
     operations: tuple[BenchmarkOperation, ...] = ()
+    kind: str = "edit"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "operations", tuple(self.operations))
+        if self.kind not in ENTRY_KINDS:
+            raise ValueError(f"BenchmarkEntry.kind must be one of {ENTRY_KINDS}, got {self.kind!r}")
         if self.source_frame < 0 or self.target_frame < 0:
             raise ValueError(f"BenchmarkEntry frames must be >= 0, got {self.source_frame}, {self.target_frame}")
 
@@ -232,7 +243,10 @@ def _parse_entry(raw: Any, where: _Where) -> BenchmarkEntry:
         raise where.error("operations", "missing" if "operations" not in raw else "expected a list")
     ops = tuple(_parse_operation(op, _Where(where.path, where.entry, j)) for j, op in enumerate(operations))
     source, target = _parse_frame(raw, "source", where), _parse_frame(raw, "target", where)
-    return BenchmarkEntry(raw["world"], raw["topic"], source, target, ops)
+    kind = raw.get("kind", "edit")
+    if kind not in ENTRY_KINDS:
+        raise where.error("kind", f"expected one of {list(ENTRY_KINDS)}, got {kind!r}")
+    return BenchmarkEntry(raw["world"], raw["topic"], source, target, ops, kind)
 
 
 def benchmark_path(benchmark: str | os.PathLike) -> Path:
@@ -305,6 +319,7 @@ def save_edit_benchmark(entries: Sequence[BenchmarkEntry], path: str | os.PathLi
             "source": f"{entry.source_frame:05d}",
             "target": f"{entry.target_frame:05d}",
             "operations": [_operation_json(op) for op in entry.operations],
+            **({} if entry.kind == "edit" else {"kind": entry.kind}),
         }
         for entry in entries
     ]

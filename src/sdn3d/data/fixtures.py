@@ -5,8 +5,11 @@ boxes are the projections of their 3D boxes under the docs/ARCHITECTURE.md conve
 encodes it exactly as the real dataset does (colour-coded PNGs with their tables,
 centimetre depth PNGs, KITTI-like text annotations) and returns the ground truth it
 encoded as :class:`FixtureFrame` objects, so tests can compare what a reader
-decodes with what was written. Object masks are the pixel rectangles of the
-projected boxes, painted far to near.
+decodes with what was written. Object masks are car-like silhouettes in the pixel rectangles of the
+projected boxes (the top :data:`_CABIN_ROWS` of the rows cover only the middle :data:`_CABIN_COLS` of the
+columns, so an unoccluded car covers about 84 % of its box, as real cars cover about 75-85 %), painted far to
+near. As in the real files, ``occupr`` is visible pixels / box area and the ``occluded`` flag (Virtual KITTI 1)
+follows the share of the object's in-frame silhouette that is visible.
 
 Used by the reader tests and as format templates for the synthetic generator. The Cityscapes writer is
 :mod:`sdn3d.data.fixtures_cityscapes`.
@@ -137,6 +140,27 @@ def _stuff(width: int, height: int, horizon: int) -> np.ndarray:
     return sem
 
 
+#: Car silhouettes: the top ``_CABIN_ROWS`` of a box's rows cover only its middle ``_CABIN_COLS`` columns.
+_CABIN_ROWS, _CABIN_COLS = 0.4, 0.6
+
+
+def _silhouette(j0: int, j1: int, i0: int, i1: int, width: int, height: int) -> np.ndarray:
+    """``(height, width)`` bool car silhouette of the full (unclipped) inclusive pixel box ``j0..j1 x i0..i1``."""
+    cols = np.arange(width)[None, :]
+    rows = np.arange(height)[:, None]
+    in_box = (cols >= j0) & (cols <= j1) & (rows >= i0) & (rows <= i1)
+    margin = math.floor((j1 - j0 + 1) * (1.0 - _CABIN_COLS) / 2)
+    cabin = rows < i0 + math.floor((i1 - i0 + 1) * _CABIN_ROWS)
+    return in_box & (~cabin | ((cols >= j0 + margin) & (cols <= j1 - margin)))
+
+
+def _silhouette_area(j0: int, j1: int, i0: int, i1: int) -> int:
+    """Pixel count of the whole silhouette of :func:`_silhouette` (in and out of the frame)."""
+    box_w, box_h = j1 - j0 + 1, i1 - i0 + 1
+    margin = math.floor(box_w * (1.0 - _CABIN_COLS) / 2)
+    return box_w * box_h - math.floor(box_h * _CABIN_ROWS) * 2 * margin
+
+
 def _scene(intr: Intrinsics, frame: int, shift: float = 0.0):
     """Semantic ids, per-pixel track ids (-1 none), depth (m) and object rows for one frame.
 
@@ -166,27 +190,31 @@ def _scene(intr: Intrinsics, frame: int, shift: float = 0.0):
         c0, c1, r0, r1 = max(j0, 0), min(j1, width - 1), max(i0, 0), min(i1, height - 1)
         if c1 < c0 or r1 < r0:
             continue
-        full = (j1 - j0 + 1) * (i1 - i0 + 1)
-        clipped = (c1 - c0 + 1) * (r1 - r0 + 1)
-        placed.append((z, t, (x, y, z), (c0, r0, c1, r1), 1.0 - clipped / full, clipped))
+        mask = _silhouette(j0, j1, i0, i1, width, height)
+        truncr = 1.0 - int(mask.sum()) / _silhouette_area(j0, j1, i0, i1)
+        placed.append((z, t, (x, y, z), (c0, r0, c1, r1), truncr, mask))
     objects = []
-    for z, t, _, (c0, r0, c1, r1), _, _ in sorted(placed, key=lambda p: -p[0]):  # far to near
-        tids[r0 : r1 + 1, c0 : c1 + 1] = t.tid
-        sem[r0 : r1 + 1, c0 : c1 + 1] = VKITTI_CLASS_INDEX[t.label]
-        depth[r0 : r1 + 1, c0 : c1 + 1] = z
-    for _, t, loc, box, truncr, clipped in placed:
+    for z, t, _, _, _, mask in sorted(placed, key=lambda p: -p[0]):  # far to near
+        tids[mask] = t.tid
+        sem[mask] = VKITTI_CLASS_INDEX[t.label]
+        depth[mask] = z
+    for _, t, loc, (c0, r0, c1, r1), truncr, mask in placed:
         visible = int((tids == t.tid).sum())
         if visible == 0:
             continue
         alpha = math.remainder(t.ry - math.atan2(loc[0], loc[2]), 2 * math.pi)
-        objects.append((t, loc, box, truncr, visible / clipped, alpha, visible))
+        occupr = visible / ((c1 - c0 + 1) * (r1 - r0 + 1))  # the real files' occupr: visible / box area
+        objects.append((t, loc, (c0, r0, c1, r1), truncr, occupr, alpha, visible, visible / int(mask.sum())))
     depth_cm = np.clip(np.round(depth * 100.0), 0, _FAR_CM).astype(np.uint16)
     return sem, tids, depth_cm, objects
 
 
-def _annotation(t: _Track, loc, box, truncr, occupr, alpha, visible, with_flags: bool) -> ObjectAnnotation:
+def _annotation(t: _Track, loc, box, truncr, occupr, alpha, visible, visible_fraction,
+                with_flags: bool) -> ObjectAnnotation:
+    """One object's annotation; the ``occluded`` flag follows ``visible_fraction`` (visible / in-frame
+    silhouette pixels), not ``occupr`` (visible / box area)."""
     truncated = 0 if truncr < 0.15 else (1 if truncr < 0.5 else 2)
-    occluded = 0 if occupr > 0.9 else (1 if occupr > 0.4 else 2)
+    occluded = 0 if visible_fraction > 0.9 else (1 if visible_fraction > 0.4 else 2)
     dont_care = with_flags and 2 in (truncated, occluded)
     return ObjectAnnotation(
         track_id=t.tid,
@@ -337,7 +365,7 @@ def write_vkitti2_fixture(
 
     ``instance_mode``: PNG mode of ``instancegt`` (values ``trackID + 1``): ``'P'`` (8-bit indexed, as
     shipped), ``'L'`` or ``'I;16'``. ``occupancy_ratio`` is ``number_pixels / ((r - l) * (b - t))`` as in
-    the real files; fixture masks fill their boxes, so unoccluded objects get values a little above 1.
+    the real files (about 0.9 for an unoccluded fixture car: its silhouette over the exclusive box).
     A 2x2 ``Undefined`` patch sits in the top-left corner.
     Returns Camera_0 frames then Camera_1 frames.
     """

@@ -27,7 +27,7 @@ import numpy as np
 
 from sdn3d.data.errors import DataFormatError
 from sdn3d.math3d.camera import Intrinsics
-from sdn3d.meshes.templates import TEMPLATE_NAMES
+from sdn3d.meshes.vehicle_family import approximating_template
 
 __all__ = [
     "ObjectAnnotation",
@@ -67,7 +67,12 @@ class ObjectAnnotation:
             in the library reads it: the pose maps and the geometric targets recompute the angle from ``ry`` and
             the location, wrapped (:func:`sdn3d.math3d.rotations.observation_angle`).
         truncr: fraction of the object outside the image, in [0, 1].
-        occupr: fraction of the object's pixels that are visible (not occluded), in [0, 1].
+        occupr: the share of the 2D box that the object's visible pixels cover, in [0, 1], as the file holds it:
+            Virtual KITTI 1.3.1 motgt ``occupr`` (visible pixels / 2D box area; the synthetic data divides by the
+            inclusive box's pixel count ``(r - l + 1) (b - t + 1)``) and Virtual KITTI 2 ``occupancy_ratio``
+            (visible pixels / ``((r - l) (b - t))``, which reproduces the published rows). It is *not* the
+            visible share of the object: an unoccluded car reads about 0.8 (its silhouette does not fill its
+            box); see :func:`sdn3d.data.vkitti1.occlusion_estimate`.
         truncated, occluded: VKITTI 1 KITTI-like flags (0, 1, 2); None where absent.
         rx, rz: pitch and roll in the camera frame.
         orig_label: type before the DontCare rule (VKITTI 1); None where absent.
@@ -175,9 +180,12 @@ class FrameRecord:
 
 
 def mesh_name_for(obj: ObjectAnnotation) -> str:
-    """Template drawn for ``obj``: ``obj.model`` if it names a template, else by type."""
-    if obj.model in TEMPLATE_NAMES:
-        return obj.model
+    """Template drawn for ``obj``: the template ``obj.model`` names, or the approximating template of the
+    held-out vehicle shape it names (synthetic ``vehicles: heldout`` data, :mod:`sdn3d.meshes.vehicle_family`;
+    mesh accuracy there means "picked the approximating template"), else by type."""
+    template = approximating_template(obj.model)
+    if template is not None:
+        return template
     label = obj.orig_label if obj.label == "DontCare" and obj.orig_label else obj.label
     return "van" if label == "Van" else "sedan"
 

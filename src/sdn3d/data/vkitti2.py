@@ -32,9 +32,11 @@ Objects are the rows of ``bbox.txt`` for the chosen camera joined with ``pose.tx
 (3D) and ``info.txt`` (label, model, colour); a bbox row without a pose row is an
 error. ``bbox.txt``'s ``occupancy_ratio`` is ``number_pixels / ((right - left) *
 (bottom - top))``, the share of the 2D box covered by visible pixels (it reproduces
-the published sample rows), not the visible fraction of the object that
-:class:`~sdn3d.data.records.ObjectAnnotation` documents for ``occupr``. It is passed
-through unchanged as ``occupr``, so even an unoccluded car reads well below 1.
+the published sample rows), the same quantity as Virtual KITTI 1.3.1's motgt ``occupr`` (whose box
+area is the inclusive pixel count); it is passed through unchanged as ``occupr``
+(:class:`~sdn3d.data.records.ObjectAnnotation`), so even an unoccluded car reads about 0.8. Virtual KITTI 2
+has no ``occluded`` flag: the paper's object filter estimates occlusion from ``occupr`` alone
+(:func:`~sdn3d.data.vkitti1.paper_object_filter`).
 Locations are taken as KITTI's bottom-face centre in the camera frame, as in VKITTI 1;
 the VKITTI 2 documentation we could check does not say which point of the box
 ``camera_space_X/Y/Z`` is.
@@ -70,6 +72,7 @@ from sdn3d.data.vkitti1 import (
     VKITTI_SIZE,
     VKITTI_VARIATIONS,
     RowErrorHandler,
+    gc_paused,
     intrinsics_for_size,
     row_frame,
 )
@@ -304,8 +307,9 @@ def read_frames(
         names = variations
         if names is None:
             names = sorted(p.name for p in (root / scene).iterdir() if (p / "frames").is_dir())
-        for variation in names:
-            records.extend(_read_sequence(root / scene / variation, scene, variation, cam, annotations, skip))
+        with gc_paused():  # as in vkitti1.read_frames: no cycles among the records, and many of them
+            for variation in names:
+                records.extend(_read_sequence(root / scene / variation, scene, variation, cam, annotations, skip))
     return records
 
 

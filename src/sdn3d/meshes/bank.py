@@ -4,15 +4,18 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import torch
-import trimesh
 from torch import Tensor
 
 from sdn3d.math3d.ffd import bernstein_basis
-from sdn3d.meshes.shapenet import load_mesh_directory
-from sdn3d.meshes.templates import TEMPLATE_NAMES, all_templates
+from sdn3d.meshes.templates import TEMPLATE_NAMES, template_arrays
+from sdn3d.meshes.vehicle_family import FAMILY_NAMES, VEHICLE_SHAPE_NAMES, family_arrays
+
+if TYPE_CHECKING:  # imported where a Trimesh is read or built: the edit path never loads trimesh
+    import trimesh
 
 __all__ = ["MeshBank"]
 
@@ -59,14 +62,21 @@ class MeshBank:
     @classmethod
     def from_trimeshes(cls, meshes: Sequence[trimesh.Trimesh], names: Sequence[str]) -> MeshBank:
         """Pad ``meshes`` (taken as given: canonical frame, not re-normalised) into a bank."""
-        if len(meshes) == 0:
+        return cls.from_arrays([m.vertices for m in meshes], [m.faces for m in meshes], names)
+
+    @classmethod
+    def from_arrays(cls, vertices: Sequence[np.ndarray], faces: Sequence[np.ndarray], names: Sequence[str]
+                    ) -> MeshBank:
+        """Pad meshes given as ``vertices[i] (V_i, 3)`` and ``faces[i] (F_i, 3)`` (canonical frame) into a bank."""
+        if len(vertices) == 0:
             raise ValueError("meshes must not be empty")
-        if len(names) != len(meshes):
-            raise ValueError(f"names must have one entry per mesh ({len(meshes)}), got {len(names)}")
+        if len(names) != len(vertices) or len(faces) != len(vertices):
+            raise ValueError(f"names and faces must have one entry per mesh ({len(vertices)}), got {len(names)} "
+                             f"and {len(faces)}")
         if len(set(names)) != len(names):
             raise ValueError(f"names must be unique, got {list(names)}")
-        vs = [np.asarray(m.vertices, dtype=np.float32) for m in meshes]
-        fs = [np.asarray(m.faces, dtype=np.int64) for m in meshes]
+        vs = [np.asarray(v, dtype=np.float32) for v in vertices]
+        fs = [np.asarray(f, dtype=np.int64) for f in faces]
         for name, v, f in zip(names, vs, fs, strict=True):
             if len(v) == 0 or len(f) == 0:
                 raise ValueError(f"mesh {name!r} is empty ({len(v)} vertices, {len(f)} faces)")
@@ -74,7 +84,7 @@ class MeshBank:
                 raise ValueError(f"mesh {name!r} has non-finite vertices")
             if f.min() < 0 or f.max() >= len(v):
                 raise ValueError(f"mesh {name!r} has face indices outside [0, {len(v)})")
-        m, vmax, fmax = len(meshes), max(len(v) for v in vs), max(len(f) for f in fs)
+        m, vmax, fmax = len(vs), max(len(v) for v in vs), max(len(f) for f in fs)
         verts = np.zeros((m, vmax, 3), dtype=np.float32)
         faces = np.zeros((m, fmax, 3), dtype=np.int64)
         for i, (v, f) in enumerate(zip(vs, fs, strict=True)):
@@ -86,7 +96,15 @@ class MeshBank:
     @classmethod
     def templates(cls) -> MeshBank:
         """The 8 procedural templates, mesh id = index in :data:`TEMPLATE_NAMES`."""
-        return cls.from_trimeshes(all_templates(), TEMPLATE_NAMES)
+        return cls.from_arrays(*zip(*(template_arrays(n) for n in TEMPLATE_NAMES), strict=True), TEMPLATE_NAMES)
+
+    @classmethod
+    def vehicle_shapes(cls) -> MeshBank:
+        """Every vehicle shape: the 8 templates then the held-out family, mesh id = shape id
+        (:data:`~sdn3d.meshes.vehicle_family.VEHICLE_SHAPE_NAMES`). The synthetic generator draws its
+        held-out cars from it; the geometric branch never chooses from it."""
+        arrays = [template_arrays(n) for n in TEMPLATE_NAMES] + [family_arrays(n) for n in FAMILY_NAMES]
+        return cls.from_arrays(*zip(*arrays, strict=True), VEHICLE_SHAPE_NAMES)
 
     @classmethod
     def from_directory(cls, path: str | Path, pattern: str = "**/model_normalized.obj",
@@ -96,6 +114,8 @@ class MeshBank:
         ``max_faces`` bounds each mesh (vertex clustering) because every mesh is padded to the
         largest one; ``None`` keeps the full resolution.
         """
+        from sdn3d.meshes.shapenet import load_mesh_directory
+
         loaded = load_mesh_directory(path, pattern=pattern, max_faces=max_faces)
         if not loaded:
             raise ValueError(f"no files matching {pattern!r} under {str(path)!r}")
@@ -161,4 +181,6 @@ class MeshBank:
             raise ValueError(f"verts must have shape ({nv}, 3) or ({self.verts.shape[1]}, 3), "
                              f"got {verts.shape}")
         faces = self.faces[i, :nf].cpu().numpy()
+        import trimesh
+
         return trimesh.Trimesh(verts[:nv].astype(np.float64), faces, process=False)

@@ -26,11 +26,14 @@ but may change topology.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from sdn3d.meshes.templates import normalize_to_unit_box
+
+if TYPE_CHECKING:  # imported by the loaders: importing sdn3d.meshes does not load trimesh
+    import trimesh
 
 __all__ = ["SHAPENET_TO_CANONICAL", "load_shapenet_obj", "load_mesh_directory", "cluster_simplify"]
 
@@ -101,6 +104,8 @@ def load_shapenet_obj(path: str | Path, max_faces: int | None = None) -> trimesh
         ValueError: the file is missing or unreadable, has no faces, has non-finite vertices, or
             is flat along an axis. The message names the file.
     """
+    import trimesh
+
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"ShapeNet mesh file {str(path)!r} does not exist or is not a file")

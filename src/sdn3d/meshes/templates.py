@@ -21,24 +21,36 @@ last bit (the FFD is mirror-symmetric too).
 Simplification, documented: a pickup bed is a solid at rail height (no open box), and wheels are
 12-sided prisms.
 
-Categories (Virtual KITTI has ``Car`` and ``Van``): sedan, hatchback, wagon, suv and pickup are
-``Car``; van, minibus and bus are ``Van`` (Virtual KITTI has no bus class; its ``Van`` is the
-closest box-shaped category).
+Categories (Virtual KITTI has ``Car`` and ``Van``): sedan, hatchback, wagon, suv, pickup and van
+(a minivan / MPV, car-sized) are ``Car``; minibus and bus are ``Van`` (Virtual KITTI has no bus
+class; its ``Van`` is the closest box-shaped category).
+
+The lofting machinery is public (:class:`VehicleSpec`, :func:`loft_vehicle`) so that other vehicle
+shapes can be built the same way (``vehicle_family.py``: the synthetic generator's held-out shapes).
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cache
+from types import MappingProxyType
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
+
+if TYPE_CHECKING:  # trimesh is imported where a Trimesh is built: the edit path never needs it
+    import trimesh
 
 __all__ = [
     "TEMPLATE_NAMES",
     "TEMPLATE_DIMENSIONS",
     "TEMPLATE_CATEGORY",
+    "TEMPLATE_SPECS",
+    "VehicleSpec",
+    "loft_vehicle",
     "build_template",
+    "template_arrays",
     "all_templates",
     "normalize_to_unit_box",
 ]
@@ -50,8 +62,8 @@ _WHEEL_SECTIONS = 12
 
 
 @dataclass(frozen=True)
-class _Spec:
-    """One template, in metres, height measured up from the ground.
+class VehicleSpec:
+    """One lofted vehicle shape (a template or a family shape), in metres, height up from the ground.
 
     ``top`` is the roof line as ``(u, height)`` keypoints, ``u`` in ``[0, 1]`` from the rear
     (``u = 0``) to the front (``u = 1``); it is piecewise linear and every keypoint is a station,
@@ -75,55 +87,55 @@ class _Spec:
     category: str = "Car"
 
 
-_SPECS: dict[str, _Spec] = {
+_SPECS: dict[str, VehicleSpec] = {
     # Three-box: long hood, steep windscreen base, sloped rear window, trunk deck.
-    "sedan": _Spec(
+    "sedan": VehicleSpec(
         4.6, 1.45, 1.8,
         top=((0.0, 0.72), (0.02, 0.90), (0.06, 0.99), (0.20, 1.03), (0.26, 1.07), (0.38, 1.38),
              (0.44, 1.45), (0.62, 1.45), (0.68, 1.37), (0.78, 1.00), (0.95, 0.86), (0.99, 0.74),
              (1.0, 0.62)),
         belt=0.98, clearance=0.15, wheel_radius=0.32, axles=(0.20, 0.80)),
     # Two-box, short: fast-sloping rear hatch from the roof, short hood.
-    "hatchback": _Spec(
+    "hatchback": VehicleSpec(
         4.1, 1.48, 1.76,
         top=((0.0, 0.80), (0.02, 1.02), (0.10, 1.28), (0.18, 1.44), (0.24, 1.48), (0.56, 1.48),
              (0.62, 1.40), (0.74, 0.98), (0.94, 0.85), (0.99, 0.74), (1.0, 0.62)),
         belt=0.98, clearance=0.15, wheel_radius=0.31, axles=(0.17, 0.81)),
     # Long roof to an upright tailgate, long low hood.
-    "wagon": _Spec(
+    "wagon": VehicleSpec(
         4.8, 1.50, 1.8,
         top=((0.0, 0.78), (0.01, 1.02), (0.025, 1.38), (0.05, 1.48), (0.08, 1.50), (0.60, 1.50),
              (0.67, 1.41), (0.79, 0.96), (0.96, 0.84), (0.99, 0.73), (1.0, 0.60)),
         belt=0.96, clearance=0.14, wheel_radius=0.32, axles=(0.20, 0.81)),
     # Tall ground clearance, big wheels, high flat hood, upright windscreen and tailgate.
-    "suv": _Spec(
+    "suv": VehicleSpec(
         4.7, 1.78, 1.9,
         top=((0.0, 1.00), (0.01, 1.40), (0.03, 1.68), (0.06, 1.78), (0.70, 1.78), (0.76, 1.66),
              (0.82, 1.24), (0.97, 1.18), (0.995, 1.05), (1.0, 0.90)),
         belt=1.22, clearance=0.24, wheel_radius=0.38, axles=(0.19, 0.82),
         bumper_lift=(0.15, 0.12), tumble=0.15),
     # Hood, high cab, then a long bed at rail height behind a near-vertical cab back wall.
-    "pickup": _Spec(
+    "pickup": VehicleSpec(
         5.3, 1.80, 1.9,
         top=((0.0, 0.95), (0.01, 1.08), (0.42, 1.10), (0.43, 1.66), (0.45, 1.80), (0.62, 1.80),
              (0.66, 1.70), (0.74, 1.25), (0.96, 1.17), (0.99, 1.05), (1.0, 0.88)),
         belt=1.15, clearance=0.22, wheel_radius=0.38, axles=(0.16, 0.78),
         bumper_lift=(0.12, 0.12), tumble=0.12),
     # One-box minivan / MPV: raked windscreen running into a short sloped nose.
-    "van": _Spec(
+    "van": VehicleSpec(
         4.9, 1.85, 1.9,
         top=((0.0, 0.80), (0.01, 1.50), (0.025, 1.78), (0.05, 1.85), (0.62, 1.85), (0.70, 1.72),
              (0.86, 1.12), (0.97, 0.95), (0.995, 0.82), (1.0, 0.66)),
         belt=1.05, clearance=0.16, wheel_radius=0.33, axles=(0.19, 0.82), tumble=0.15),
     # High-roof delivery van (Sprinter-like): box body, steep windscreen, short high hood.
-    "minibus": _Spec(
+    "minibus": VehicleSpec(
         6.0, 2.55, 2.0,
         top=((0.0, 0.70), (0.005, 2.40), (0.02, 2.55), (0.76, 2.55), (0.79, 2.40), (0.85, 1.40),
              (0.97, 1.22), (0.995, 1.05), (1.0, 0.82)),
         belt=1.30, clearance=0.20, wheel_radius=0.36, axles=(0.22, 0.80),
         bumper_lift=(0.10, 0.12), tumble=0.05, plan_round=0.06, category="Van"),
     # City bus: a long box with flat ends, large overhangs and big wheels.
-    "bus": _Spec(
+    "bus": VehicleSpec(
         12.0, 3.2, 2.55,
         top=((0.0, 2.85), (0.005, 3.12), (0.012, 3.2), (0.988, 3.2), (0.995, 3.10), (1.0, 2.70)),
         belt=1.20, clearance=0.32, wheel_radius=0.50, axles=(0.27, 0.78),
@@ -131,6 +143,8 @@ _SPECS: dict[str, _Spec] = {
         wheel_width=0.30, category="Van"),
 }
 
+#: The lofting spec of each template (read-only use: the family shapes compare against them).
+TEMPLATE_SPECS: Mapping[str, VehicleSpec] = MappingProxyType(_SPECS)
 #: Typical real dimensions ``(l, h, w)`` in metres of each template.
 TEMPLATE_DIMENSIONS: dict[str, tuple[float, float, float]] = {
     name: (spec.length, spec.height, spec.width) for name, spec in _SPECS.items()
@@ -139,7 +153,7 @@ TEMPLATE_DIMENSIONS: dict[str, tuple[float, float, float]] = {
 TEMPLATE_CATEGORY: dict[str, str] = {name: spec.category for name, spec in _SPECS.items()}
 
 
-def _bottom(spec: _Spec, u: np.ndarray) -> np.ndarray:
+def _bottom(spec: VehicleSpec, u: np.ndarray) -> np.ndarray:
     """Underbody height at ``u``: clearance, bumper lift ramps at the ends, wheel arches."""
     ramp = 0.08
     hb = (spec.clearance + spec.bumper_lift[0] * np.clip(1 - u / ramp, 0, 1) ** 2
@@ -153,13 +167,13 @@ def _bottom(spec: _Spec, u: np.ndarray) -> np.ndarray:
     return hb
 
 
-def _half_width(spec: _Spec, u: np.ndarray) -> np.ndarray:
+def _half_width(spec: VehicleSpec, u: np.ndarray) -> np.ndarray:
     """Lower-body half width at ``u``, narrowed towards the ends (plan-view corner rounding)."""
     d = np.minimum(u, 1 - u)
     return 0.5 * spec.width * (1 - spec.plan_round * np.clip(1 - d / 0.08, 0, 1) ** 2)
 
 
-def _stations(spec: _Spec) -> np.ndarray:
+def _stations(spec: VehicleSpec) -> np.ndarray:
     """Sorted station positions ``u``: roof keypoints, wheel-arch samples, and a coarse fill."""
     r_arch = spec.wheel_radius + 0.05
     # +-1.04: the arch edge is a near-vertical step from the clearance up to the wheel centre.
@@ -173,7 +187,7 @@ def _stations(spec: _Spec) -> np.ndarray:
     return np.unique(np.concatenate([required, fill[gaps > 0.025]]))
 
 
-def _half_rings(spec: _Spec, u: np.ndarray) -> np.ndarray:
+def _half_rings(spec: VehicleSpec, u: np.ndarray) -> np.ndarray:
     """``(S, 8, 2)`` half cross-sections ``(z >= 0, height)`` from the bottom centre to the roof centre."""
     ht = np.interp(u, *np.asarray(spec.top).T)
     hb = _bottom(spec, u)
@@ -256,9 +270,14 @@ def normalize_to_unit_box(vertices: np.ndarray) -> np.ndarray:
     return (vertices - lo) / extent - 0.5
 
 
-@cache
-def _build_arrays(name: str) -> tuple[np.ndarray, np.ndarray]:
-    spec = _SPECS[name]
+def loft_vehicle(spec: VehicleSpec) -> tuple[np.ndarray, np.ndarray]:
+    """Canonical-frame mesh of ``spec``: ``verts (V, 3)`` float64 with bounds exactly ``[-0.5, 0.5]^3``,
+    ``faces (F, 3)`` int64 wound outward (lofted body, then the wheels: rear-left, rear-right,
+    front-left, front-right). Watertight and mirror-symmetric across ``z = 0`` (see the module doc).
+
+    Raises:
+        ValueError: the spec leaves less than 0.2 m between underbody and roof somewhere.
+    """
     u = _stations(spec)
     rings = _full_rings(_half_rings(spec, u))
     x = (u - 0.5) * spec.length
@@ -295,10 +314,28 @@ def _build_arrays(name: str) -> tuple[np.ndarray, np.ndarray]:
     # re-mirror the -z half exactly so that the vertex set is symmetric to the last bit.
     canon[:, 2] = verts[:, 2] * (0.5 / np.abs(verts[:, 2]).max())
     # Flipping the height axis reversed the orientation: make the winding outward.
-    mesh = trimesh.Trimesh(canon, faces, process=False)
-    if mesh.volume < 0:
+    if _signed_volume(canon, faces) < 0:
         faces = faces[:, ::-1]
     return canon.astype(np.float64), np.ascontiguousarray(faces, dtype=np.int64)
+
+
+def _signed_volume(verts: np.ndarray, faces: np.ndarray) -> float:
+    """Volume enclosed by a closed mesh ``verts (V, 3)``, ``faces (F, 3)``: positive when wound outward."""
+    a, b, c = (verts[faces[:, k]] for k in range(3))
+    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
+
+
+@cache
+def _build_arrays(name: str) -> tuple[np.ndarray, np.ndarray]:
+    return loft_vehicle(_SPECS[name])
+
+
+def template_arrays(name: str) -> tuple[np.ndarray, np.ndarray]:
+    """``(verts (V, 3) float64, faces (F, 3) int64)`` of template ``name`` (fresh copies; no trimesh needed)."""
+    if name not in _SPECS:
+        raise ValueError(f"name must be one of {TEMPLATE_NAMES}, got {name!r}")
+    verts, faces = _build_arrays(name)
+    return verts.copy(), faces.copy()
 
 
 def build_template(name: str) -> trimesh.Trimesh:
@@ -307,10 +344,10 @@ def build_template(name: str) -> trimesh.Trimesh:
     Deterministic; the geometry is cached and a fresh :class:`trimesh.Trimesh` (``process=False``,
     so vertex order is stable) is returned on every call, safe to modify.
     """
-    if name not in _SPECS:
-        raise ValueError(f"name must be one of {TEMPLATE_NAMES}, got {name!r}")
-    verts, faces = _build_arrays(name)
-    return trimesh.Trimesh(verts.copy(), faces.copy(), process=False)
+    import trimesh
+
+    verts, faces = template_arrays(name)
+    return trimesh.Trimesh(verts, faces, process=False)
 
 
 def all_templates() -> list[trimesh.Trimesh]:

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 import torch
-from scipy.ndimage import distance_transform_edt
 from torch import Tensor
 
 from sdn3d.labels import IGNORE_INDEX, INSTANCE_DIVISOR
@@ -67,6 +66,8 @@ def fill_background(semantic: Tensor, vacated: Tensor, thing_classes: Tensor) ->
         source = ~vac
     if not source.any():
         return semantic.clone()
+    from scipy.ndimage import distance_transform_edt  # here: importing scipy.ndimage costs every edit call
+
     _, (ii, jj) = distance_transform_edt(~source, return_indices=True)
     out = sem.copy()
     out[vac] = sem[ii[vac], jj[vac]]

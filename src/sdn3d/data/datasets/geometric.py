@@ -47,6 +47,7 @@ from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.math3d.transforms import bottom_to_center
 from sdn3d.meshes.templates import TEMPLATE_NAMES
+from sdn3d.meshes.vehicle_family import approximating_template
 
 __all__ = [
     "ObjectFilter",
@@ -61,8 +62,10 @@ __all__ = [
 
 @dataclass(frozen=True)
 class ObjectFilter:
-    """Thresholds of the paper's object filter (``> min_pixels`` visible pixels at native size,
-    occlusion ``1 - occupr < max_occlusion``, truncation ``truncr < max_truncation``)."""
+    """Thresholds of the paper's object filter (:func:`~sdn3d.data.vkitti1.paper_object_filter`): ``> min_pixels``
+    visible pixels at native size, estimated occlusion ``1 - occupr / 0.8 < max_occlusion`` (``occupr`` is
+    visible / box area; :func:`~sdn3d.data.vkitti1.occlusion_estimate`) and not flagged ``occluded = 2`` where
+    the format has the flag, truncation ``truncr < max_truncation``."""
 
     min_pixels: int = 256
     max_occlusion: float = 0.7
@@ -135,8 +138,11 @@ def closer_object_mask(
 
 
 def template_id(model: str) -> int:
-    """Index of ``model`` in :data:`TEMPLATE_NAMES`, -1 when it is not a template name."""
-    return TEMPLATE_NAMES.index(model) if model in TEMPLATE_NAMES else -1
+    """Index in :data:`TEMPLATE_NAMES` of the template standing for ``model``: the template it names, or the
+    approximating template of a held-out vehicle shape (:func:`sdn3d.meshes.vehicle_family.approximating_template`;
+    on ``vehicles: heldout`` synthetic data mesh accuracy means "picked the approximating template"); -1 otherwise."""
+    template = approximating_template(model)
+    return -1 if template is None else TEMPLATE_NAMES.index(template)
 
 
 class GeometricDataset(Dataset):
@@ -154,7 +160,7 @@ class GeometricDataset(Dataset):
         targets          dict of AttributeEncoding.encode: log_scale (3,), rotation (4,), offset (2,),
                          log_distance (1,), from the working-size box and intrinsics
         dims (3,) l h w; ry (); center (3,) box centre (camera frame)
-        template_id      int64, index of obj.model in TEMPLATE_NAMES or -1
+        template_id      int64, template_id(obj.model): the template it names or approximates, or -1
         track_id         int64; visible_pixels int64 (native resolution)
         key              str, "<frame key>/<track id>"
 

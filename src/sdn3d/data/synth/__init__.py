@@ -1,6 +1,6 @@
 """Synthetic street scenes written in the real Virtual KITTI 1.3.1 format (the embedded default data).
 
-Every frame is a 3D scene (road, scenery, cars from the 8 procedural templates with FFD)
+Every frame is a 3D scene (road, scenery, cars from the held-out vehicle family or the 8 templates, FFD)
 rendered by the project's hard rasterizer, so RGB, classes, instances, depth and the motgt
 annotations agree exactly. Modules: ``layout`` (worlds, cars, camera), ``scenery`` (static
 meshes), ``appearance`` (lighting and textures per variation), ``scene_render`` (one frame),
@@ -13,7 +13,7 @@ from sdn3d.data.synth.generate import (
     MANIFEST_NAME,
     SynthConfig,
     generate_dataset,
-    generate_sequence,
+    generate_sequences,
 )
 from sdn3d.data.synth.layout import VARIATIONS, World, build_world, frame_objects
 from sdn3d.data.synth.scene_render import RenderedFrame, render_frame
@@ -21,7 +21,7 @@ from sdn3d.data.synth.scene_render import RenderedFrame, render_frame
 __all__ = [
     "SynthConfig",
     "generate_dataset",
-    "generate_sequence",
+    "generate_sequences",
     "BENCHMARK_NAME",
     "MANIFEST_NAME",
     "VARIATIONS",

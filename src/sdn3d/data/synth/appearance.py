@@ -14,6 +14,7 @@ from torch import Tensor
 from sdn3d.data.synth.classes import Material
 from sdn3d.data.synth.lighting import LOOKS, Look, Surface, apply_weather, look_for, shade, sky_color, tonemap
 from sdn3d.data.synth.noise import fbm, hash_cells, value_noise
+from sdn3d.meshes.vehicle_family import FAMILY, canonical_belt
 
 __all__ = [
     "Look",
@@ -28,11 +29,15 @@ __all__ = [
     "apply_weather",
     "tonemap",
     "TEMPLATE_BELT",
+    "VEHICLE_BELT",
 ]
 
 #: Approximate belt line (bottom of the side windows) of each template as canonical y (down is
 #: +0.5); the car texture makes the surface above it glass where it is not roof-like.
 TEMPLATE_BELT: tuple[float, ...] = (-0.18, -0.16, -0.14, -0.19, -0.14, -0.07, -0.01, 0.12)
+#: Belt line of every vehicle shape by shape id (``vehicle_family.VEHICLE_SHAPE_NAMES``): the templates',
+#: then each held-out family shape's (its spec's belt height, :func:`~sdn3d.meshes.vehicle_family.canonical_belt`).
+VEHICLE_BELT: tuple[float, ...] = TEMPLATE_BELT + tuple(canonical_belt(shape.spec) for shape in FAMILY)
 
 
 def _smooth_band(dist: Tensor, half_width: float | Tensor, footprint: Tensor) -> Tensor:
@@ -148,7 +153,7 @@ def _light(s: Surface, idx: Tensor) -> tuple[Tensor, Tensor]:
 
 def _car(s: Surface, idx: Tensor) -> tuple[Tensor, Tensor, Tensor]:
     loc, n, base = s.local[idx], s.normal[idx], s.color[idx]
-    belt = torch.tensor(TEMPLATE_BELT, device=loc.device)[s.template[idx].clamp(min=0)]
+    belt = torch.tensor(VEHICLE_BELT, device=loc.device)[s.template[idx].clamp(min=0)]
     up = -n[:, 1]
     glass = (loc[:, 1] < belt) & (up < 0.93) & (loc[:, 1] > -0.49)
     lower = loc[:, 1] > 0.36

@@ -15,7 +15,11 @@ exact target of the edit. The operations are described in the 3D-SDN benchmark f
 The yaw increment is drawn already rounded, so it is exact; ``to`` and ``zoom`` are rounded
 from the exact target (decoding them moves a car by a few millimetres at most).
 Cars are only picked when their projected centre is unambiguous (no other visible car within
-12 px) and they are well visible (occupancy >= 0.5, truncation <= 0.3).
+12 px) and they are well visible (visible share >= 0.5, truncation <= 0.3).
+
+An *occluder removed* pair (:func:`sample_occluder_removal`, the paper's Fig. 4d / 6a) deletes a car in front
+of a partly hidden one; its target shows the hidden car whole, which only a method that completes the hidden
+car (3D-SDN redraws it from its geometry) can match. Such entries carry ``kind = 'occluder_removed'``.
 """
 
 from __future__ import annotations
@@ -29,7 +33,7 @@ from sdn3d.data.synth.layout import FrameObjects, World
 from sdn3d.data.synth.stats import ObjectStats
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
-__all__ = ["sample_edit", "project_full", "footprints_overlap"]
+__all__ = ["sample_edit", "sample_occluder_removal", "project_full", "footprints_overlap"]
 
 _MIN_SEPARATION = 12.0  # full-resolution pixels between projected centres
 _MAX_TRIES = 25
@@ -81,6 +85,51 @@ def _in_frame(uv: np.ndarray, margin: float) -> bool:
     return bool(margin - 0.5 <= uv[0] <= k.width - 0.5 - margin and margin - 0.5 <= uv[1] <= k.height - 0.5 - margin)
 
 
+def _separated(uv: np.ndarray, visible: np.ndarray, i: int) -> bool:
+    """Whether object ``i``'s projected centre is unambiguous: no other visible object within 12 px."""
+    others = visible.copy()
+    others[i] = False
+    return bool(not others.any() or np.linalg.norm(uv[others] - uv[i], axis=1).min() > _MIN_SEPARATION)
+
+
+def sample_occluder_removal(
+    rng: np.random.Generator,
+    objects: FrameObjects,
+    stats: ObjectStats,
+    intrinsics: Intrinsics,
+    max_visible_fraction: float = 0.8,
+) -> tuple[FrameObjects, list[BenchmarkOperation], int, int] | None:
+    """An "occluder removed" edit: delete a car in front of a partly hidden one, so that the target shows it whole.
+
+    A hidden car has at most ``max_visible_fraction`` of its in-frame pixels visible, enough pixels to matter
+    and little truncation; its occluder is a visible car nearer the camera whose 2D box overlaps the hidden one's,
+    with an unambiguous, in-frame projected centre (the ``from`` point that picks it). One such pair is drawn.
+
+    Returns:
+        ``(edited objects, [delete op], revealed car's index in the source objects, in the edited ones)``, or None
+        when the frame has no such pair.
+    """
+    uv = project_full(objects.center)
+    visible = stats.visible > 0
+    min_pixels = max(20, int(0.001 * intrinsics.width * intrinsics.height))
+    hidden = np.flatnonzero(visible & (stats.visible >= min_pixels) & (stats.visible_fraction <= max_visible_fraction)
+                            & (stats.truncr <= 0.3) & (objects.center[:, 2] > 3.0))
+    box, z = stats.box, objects.center[:, 2]
+    pairs = []
+    for j in hidden:
+        overlap = ((box[:, 0] <= box[j, 2]) & (box[j, 0] <= box[:, 2]) & (box[:, 1] <= box[j, 3])
+                   & (box[j, 1] <= box[:, 3]))
+        for i in np.flatnonzero(visible & overlap & (z < z[j])):
+            if i != j and _separated(uv, visible, int(i)) and _in_frame(uv[i], 0.0) and z[i] > 3.0:
+                pairs.append((int(i), int(j)))
+    if not pairs:
+        return None
+    i, j = pairs[int(rng.integers(len(pairs)))]
+    keep = np.arange(len(objects)) != i
+    op = BenchmarkOperation.delete((round(float(uv[i, 0]), 1), round(float(uv[i, 1]), 1)))
+    return objects.subset(keep), [op], j, int(keep[:j].sum())
+
+
 def sample_edit(
     rng: np.random.Generator,
     world: World,
@@ -112,12 +161,10 @@ def sample_edit(
     visible = stats.visible > 0
     eligible = []
     for i in range(len(objects)):
-        others = visible.copy()
-        others[i] = False
-        separated = not others.any() or np.linalg.norm(uv[others] - uv[i], axis=1).min() > _MIN_SEPARATION
+        separated = _separated(uv, visible, i)
         if (
             stats.visible[i] >= min_pixels
-            and stats.occupr[i] >= 0.5
+            and stats.visible_fraction[i] >= 0.5
             and stats.truncr[i] <= 0.3
             and center[i, 2] > 3.0
             and separated

@@ -14,6 +14,11 @@ dataset of this generator (it holds ``synth_manifest.json``); it is then replace
 is complete. The working directory, the home directory, their parents and ``/`` are never replaced.
 While it is written the temporary tree holds an owner record (this process and host): a run that was
 killed (SIGKILL, OOM) leaves it behind, and the next run into the same ``output_dir`` removes it.
+Sequences whose variations share the camera (clone, morning, sunset, overcast, fog, rain) are rendered
+together: each frame's geometry once, its lighting once per variation (:func:`generate_sequences`), with the
+same bytes as one at a time. Inside the staging tree files are written without a per-file fsync and the tree is
+flushed to disk once, before it is renamed (``writer.write_staged``). :func:`generate_dataset` ``progress=``
+reports frames done, frames/s and the ETA on stderr (``sdn3d-synth`` does).
 Rendering processes (``workers > 1``) end with the process that started them (Linux: the kernel
 SIGKILLs them when it dies, ``prctl(PR_SET_PDEATHSIG)``; elsewhere they poll for it), so a killed run
 leaves no process behind.
@@ -30,32 +35,38 @@ from __future__ import annotations
 import ctypes
 import functools
 import math
+import multiprocessing
 import numbers
 import os
 import signal
 import sys
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass
+from multiprocessing.queues import Queue
 from pathlib import Path
+from typing import Any, TextIO
 
 import numpy as np
 import torch
 
 from sdn3d.data.edit_benchmark import BenchmarkEntry, save_edit_benchmark
-from sdn3d.data.synth.edits import sample_edit
+from sdn3d.data.synth.class_stats import write_class_statistics
+from sdn3d.data.synth.edits import sample_edit, sample_occluder_removal
 from sdn3d.data.synth.layout import (
     CAMERA_YAW_DEG,
     VARIATIONS,
+    VEHICLE_SOURCES,
     FrameObjects,
     World,
     build_world,
     frame_objects,
     rng_for,
 )
-from sdn3d.data.synth.scene_render import RenderedFrame, render_frame
+from sdn3d.data.synth.progress import FrameProgress
+from sdn3d.data.synth.scene_render import RenderedFrame, light_frame, render_geometry
 from sdn3d.data.synth.stats import ObjectStats
 from sdn3d.data.synth.writer import SequenceWriter
 from sdn3d.errors import UserInputError
@@ -66,7 +77,8 @@ __all__ = [
     "SynthConfig",
     "SynthConfigError",
     "generate_dataset",
-    "generate_sequence",
+    "generate_sequences",
+    "sequence_groups",
     "SequenceSummary",
     "BENCHMARK_NAME",
     "MANIFEST_NAME",
@@ -129,10 +141,16 @@ class SynthConfig:
         frames_per_sequence: regular frames per sequence.
         cars_per_frame: ``(min, max)`` cars placed along the 100 m ahead of the camera.
         edit_pairs: edit pairs per sequence (each adds one target frame).
+        occluder_pairs: "occluder removed" pairs per sequence (each adds one target frame, after the edit pairs'):
+            a car in front of a partly hidden one deleted (:func:`~sdn3d.data.synth.edits.sample_occluder_removal`).
         max_edit_operations: at most this many operations per pair.
         overwrite: replace a non-empty ``output_dir``.
-        workers: processes rendering sequences in parallel (1: in this process).
+        workers: processes rendering in parallel (1: in this process); the unit of work is a world's
+            variations that share the camera (:func:`sequence_groups`: each frame's geometry is rendered once
+            for them), so ``workers`` beyond the number of such groups do not help.
         threads: torch threads per process.
+        vehicles: ``'heldout'`` (car bodies from the held-out vehicle family, :mod:`sdn3d.meshes.vehicle_family`)
+            or ``'bank'`` (from the geometric branch's 8 templates: the data before the family existed).
     """
 
     output_dir: str
@@ -143,10 +161,12 @@ class SynthConfig:
     frames_per_sequence: int = 10
     cars_per_frame: tuple[int, int] = (4, 12)
     edit_pairs: int = 2
+    occluder_pairs: int = 1
     max_edit_operations: int = 3
     overwrite: bool = False
     workers: int = 1
     threads: int = 1
+    vehicles: str = "heldout"
 
     def __post_init__(self) -> None:
         """Check every field's type and range (:class:`SynthConfigError` naming the field); normalise
@@ -180,14 +200,23 @@ class SynthConfig:
             raise SynthConfigError(f"cars_per_frame must be [min, max] with 0 <= min <= max, got {[lo, hi]}")
         put("cars_per_frame", (lo, hi))
         put("edit_pairs", _integer("edit_pairs", self.edit_pairs, 0))
+        put("occluder_pairs", _integer("occluder_pairs", self.occluder_pairs, 0))
         put("max_edit_operations", _integer("max_edit_operations", self.max_edit_operations, 1))
-        if self.frames_per_sequence + self.edit_pairs > 99999:
-            raise SynthConfigError("frames_per_sequence + edit_pairs must fit 5-digit frame numbers (<= 99999)")
+        if self.frames_per_sequence + self.target_frames > 99999:
+            raise SynthConfigError("frames_per_sequence + edit_pairs + occluder_pairs must fit 5-digit frame numbers "
+                                   "(<= 99999)")
         if not isinstance(self.overwrite, (bool, np.bool_)):
             raise SynthConfigError(f"overwrite must be true or false, got {_got(self.overwrite)}")
         put("overwrite", bool(self.overwrite))
         put("workers", _integer("workers", self.workers, 1))
         put("threads", _integer("threads", self.threads, 1))
+        if not isinstance(self.vehicles, str) or self.vehicles not in VEHICLE_SOURCES:
+            raise SynthConfigError(f"vehicles must be one of {list(VEHICLE_SOURCES)}, got {_got(self.vehicles)}")
+
+    @property
+    def target_frames(self) -> int:
+        """Edit-target frames per sequence: the edit pairs' then the occluder-removed pairs'."""
+        return self.edit_pairs + self.occluder_pairs
 
     @property
     def intrinsics(self) -> Intrinsics:
@@ -212,8 +241,8 @@ class SequenceSummary:
 
 
 @functools.lru_cache(maxsize=4)
-def _world(seed: int, name: str, frames: int, cars: tuple[int, int]) -> World:
-    return build_world(seed, name, frames, cars)
+def _world(seed: int, name: str, frames: int, cars: tuple[int, int], vehicles: str) -> World:
+    return build_world(seed, name, frames, cars, vehicles)
 
 
 def _annotations(world: World, objects: FrameObjects, frame: RenderedFrame) -> dict[str, np.ndarray]:
@@ -228,6 +257,7 @@ def _annotations(world: World, objects: FrameObjects, frame: RenderedFrame) -> d
         "box": frame.stats.box,
         "truncr": frame.stats.truncr,
         "occupr": frame.stats.occupr,
+        "visible_fraction": frame.stats.visible_fraction,
         "visible": frame.stats.visible,
         "moving": objects.moving,
         "model": np.array(cars.model, dtype=object)[objects.track] if len(cars) else np.zeros(0, object),
@@ -240,79 +270,160 @@ def _frame_seed(cfg: SynthConfig, world: str, variation: str, frame: int) -> int
     return int(rng_for(cfg.seed, world, variation, "frame", frame).integers(0, 2**31 - 1))
 
 
-def generate_sequence(root: Path, cfg: SynthConfig, world_name: str, variation: str) -> SequenceSummary:
-    """Render and write one ``<world>/<variation>`` sequence (regular frames, then edit targets)."""
-    world = _world(cfg.seed, world_name, cfg.frames_per_sequence, cfg.cars_per_frame)
-    yaw = CAMERA_YAW_DEG.get(variation, 0.0)
+def _write(writer: SequenceWriter, index: int, frame: RenderedFrame, pose: np.ndarray, world: World,
+           objects: FrameObjects, encoded: dict[tuple[str, int], bytes] | None = None) -> int:
+    """Write one frame's files and rows (``encoded``: see ``SequenceWriter.write_frame``); returns its number
+    of motgt rows (visible objects)."""
+    writer.write_frame(index, frame.rgb, frame.class_map, frame.instance, frame.depth, pose,
+                       _annotations(world, objects, frame), encoded)
+    return int((frame.stats.visible > 0).sum())
+
+
+def generate_sequences(root: Path, cfg: SynthConfig, world_name: str, variations: Sequence[str],
+                       on_frame: Callable[[], None] | None = None) -> list[SequenceSummary]:
+    """Render and write the ``<world>/<variation>`` sequences of ``variations`` (regular frames, then edit
+    targets); ``on_frame()`` is called after each frame is written (progress reports).
+
+    The variations must share the camera (the same ``CAMERA_YAW_DEG``: e.g. clone, morning, sunset, overcast,
+    fog and rain): each frame's geometry (rasterization, surfaces, object statistics) is rendered once and
+    lit once per variation (:func:`~sdn3d.data.synth.scene_render.light_frame`), the same bytes as rendering
+    each sequence alone. Edit targets are drawn per variation, as before.
+    """
+    variations = tuple(variations)
+    yaws = {CAMERA_YAW_DEG.get(v, 0.0) for v in variations}
+    if len(yaws) != 1:
+        raise ValueError(f"generate_sequences: variations {list(variations)} do not share one camera yaw")
+    yaw = yaws.pop()
+    world = _world(cfg.seed, world_name, cfg.frames_per_sequence, cfg.cars_per_frame, cfg.vehicles)
     intrinsics = cfg.intrinsics
-    writer = SequenceWriter(
-        Path(root),
-        world_name,
-        variation,
-        world.cars.tid,
-        world.cars.category,
-        color_seed=int(rng_for(cfg.seed, "colors", world_name).integers(0, 2**31 - 1)),
-    )
+    color_seed = int(rng_for(cfg.seed, "colors", world_name).integers(0, 2**31 - 1))
+    writers = {v: SequenceWriter(Path(root), world_name, v, world.cars.tid, world.cars.category, color_seed=color_seed)
+               for v in variations}
+    rows = dict.fromkeys(variations, 0)
     rendered: list[tuple[FrameObjects, ObjectStats, np.ndarray]] = []
-    rows = 0
     for f in range(cfg.frames_per_sequence):
         objects = frame_objects(world, f, yaw)
         pose = world.camera.pose(f, yaw)
-        frame = render_frame(world, objects, pose, intrinsics, variation, _frame_seed(cfg, world_name, variation, f))
-        writer.write_frame(
-            f,
-            frame.rgb,
-            frame.class_map,
-            frame.instance,
-            frame.depth,
-            pose,
-            _annotations(world, objects, frame),
-        )
-        rows += int((frame.stats.visible > 0).sum())
+        geometry = render_geometry(world, objects, pose, intrinsics)
+        encoded: dict[tuple[str, int], bytes] = {}  # scenegt / depth PNGs: the same for every variation here
+        for v in variations:
+            frame = light_frame(geometry, v, _frame_seed(cfg, world_name, v, f))
+            rows[v] += _write(writers[v], f, frame, pose, world, objects, encoded)
+            if on_frame is not None:
+                on_frame()
         # Keep only what edit sampling needs (objects and statistics), not the images.
-        rendered.append((objects, frame.stats, pose))
+        rendered.append((objects, geometry.stats, pose))
+    summaries = []
+    for v in variations:
+        entries, edit_frames, edit_rows = _edit_targets(writers[v], cfg, world, world_name, v, rendered, on_frame)
+        writers[v].close()
+        summaries.append(SequenceSummary(world_name, v, cfg.frames_per_sequence + cfg.target_frames, edit_frames,
+                                         rows[v] + edit_rows, entries))
+    return summaries
+
+
+def _edit_targets(writer: SequenceWriter, cfg: SynthConfig, world: World, world_name: str, variation: str,
+                  rendered: list[tuple[FrameObjects, ObjectStats, np.ndarray]],
+                  on_frame: Callable[[], None] | None) -> tuple[list[BenchmarkEntry], list[int], int]:
+    """Draw, render and write a sequence's edit targets (frames ``F .. F+E-1``); returns the benchmark entries,
+    the target frame numbers and their motgt row count. A rejected edit is rendered without its lighting."""
+    intrinsics = cfg.intrinsics
     # Edit sources come from the test part of the sequence: the last 20% (sdn3d.data.splits.paper_split, first=True).
     first_test = min(math.floor(0.8 * cfg.frames_per_sequence + 1e-9), cfg.frames_per_sequence - 1)
-    entries, edit_frames = [], []
+    entries, edit_frames, rows = [], [], 0
     for k in range(cfg.edit_pairs):
         rng = rng_for(cfg.seed, world_name, variation, "edit", k)
         source = int(rng.integers(first_test, cfg.frames_per_sequence))
         objects, stats, pose = rendered[source]
-        frame_seed = _frame_seed(cfg, world_name, variation, source)
         for _ in range(_EDIT_ATTEMPTS):
             edited, operations, modified = sample_edit(
                 rng, world, objects, stats, pose, intrinsics, cfg.max_edit_operations
             )
-            frame = render_frame(world, edited, pose, intrinsics, variation, frame_seed)
+            geometry = render_geometry(world, edited, pose, intrinsics)
             # Every modified car must stay visible in the target (motgt lists visible cars only).
-            if (frame.stats.visible[modified] > 0).all():
+            if (geometry.stats.visible[modified] > 0).all():
                 break
         else:  # no such edit found: an entry without operations (the target re-renders the source)
             edited, operations = objects, []
-            frame = render_frame(world, edited, pose, intrinsics, variation, frame_seed)
+            geometry = render_geometry(world, edited, pose, intrinsics)
         target = cfg.frames_per_sequence + k
-        writer.write_frame(
-            target,
-            frame.rgb,
-            frame.class_map,
-            frame.instance,
-            frame.depth,
-            pose,
-            _annotations(world, edited, frame),
-        )
-        rows += int((frame.stats.visible > 0).sum())
+        frame = light_frame(geometry, variation, _frame_seed(cfg, world_name, variation, source))
+        rows += _write(writer, target, frame, pose, world, edited)
+        if on_frame is not None:
+            on_frame()
         edit_frames.append(target)
         entries.append(BenchmarkEntry(world_name, variation, source, target, tuple(operations)))
-    writer.close()
-    return SequenceSummary(world_name, variation, cfg.frames_per_sequence + cfg.edit_pairs, edit_frames, rows, entries)
+    for k in range(cfg.occluder_pairs):
+        target = cfg.frames_per_sequence + cfg.edit_pairs + k
+        source, edited, operations, geometry = _occluder_removal(cfg, world, world_name, variation, rendered, k)
+        frame = light_frame(geometry, variation, _frame_seed(cfg, world_name, variation, source))
+        rows += _write(writer, target, frame, rendered[source][2], world, edited)
+        if on_frame is not None:
+            on_frame()
+        edit_frames.append(target)
+        entries.append(BenchmarkEntry(world_name, variation, source, target, tuple(operations),
+                                      "occluder_removed" if operations else "edit"))
+    return entries, edit_frames, rows
 
 
-def _run_sequence(args: tuple[str, SynthConfig, str, str]) -> SequenceSummary:
-    root, cfg, world, variation = args
+#: A revealed car must gain at least this share of its source pixels for an occluder-removed pair.
+_REVEAL_GAIN = 0.2
+
+
+def _occluder_removal(cfg: SynthConfig, world: World, world_name: str, variation: str,
+                      rendered: list[tuple[FrameObjects, ObjectStats, np.ndarray]], k: int
+                      ) -> tuple[int, FrameObjects, list, Any]:
+    """``(source frame, edited objects, operations, target geometry)`` of occluder-removed pair ``k``: the test-part
+    frames in a random order, the first whose drawn pair reveals at least :data:`_REVEAL_GAIN` more of the hidden
+    car; none: an entry without operations on a random test frame (its target re-renders the source)."""
+    intrinsics = cfg.intrinsics
+    first_test = min(math.floor(0.8 * cfg.frames_per_sequence + 1e-9), cfg.frames_per_sequence - 1)
+    rng = rng_for(cfg.seed, world_name, variation, "occluder", k)
+    sources = rng.permutation(np.arange(first_test, cfg.frames_per_sequence))
+    for source in (int(f) for f in sources):
+        objects, stats, pose = rendered[source]
+        picked = sample_occluder_removal(rng, objects, stats, intrinsics)
+        if picked is None:
+            continue
+        edited, operations, hidden, revealed = picked
+        geometry = render_geometry(world, edited, pose, intrinsics)
+        if geometry.stats.visible[revealed] >= (1 + _REVEAL_GAIN) * stats.visible[hidden]:
+            return source, edited, operations, geometry
+    source = int(sources[0])
+    objects, _, pose = rendered[source]
+    return source, objects, [], render_geometry(world, objects, pose, intrinsics)
+
+
+def sequence_groups(jobs: Sequence[tuple[str, str]]) -> list[tuple[str, tuple[str, ...]]]:
+    """``(world, variations)`` groups of ``(world, variation)`` jobs whose variations share the camera (one
+    :func:`generate_sequences` call each), in the order of their first job."""
+    groups: dict[tuple[str, float], list[str]] = {}
+    for world, variation in jobs:
+        groups.setdefault((world, CAMERA_YAW_DEG.get(variation, 0.0)), []).append(variation)
+    return [(world, tuple(names)) for (world, _), names in groups.items()]
+
+
+#: Where a rendering process reports its finished frames (set by :func:`_init_worker`; None: no reports).
+_frames_done: Queue | None = None
+
+
+def _report_frame() -> None:
+    if _frames_done is not None:
+        _frames_done.put(1)
+
+
+def _run_group(args: tuple[str, SynthConfig, str, tuple[str, ...]]) -> list[SequenceSummary]:
+    """A group of sequences in a rendering process: its frames are reported to the queue :func:`_init_worker` set."""
+    return _run_group_here(args, _report_frame)
+
+
+def _run_group_here(args: tuple[str, SynthConfig, str, tuple[str, ...]],
+                    on_frame: Callable[[], None] | None = None) -> list[SequenceSummary]:
+    root, cfg, world, variations = args
     previous = torch.get_num_threads()
     torch.set_num_threads(cfg.threads)
     try:
-        return generate_sequence(Path(root), cfg, world, variation)
+        return generate_sequences(Path(root), cfg, world, variations, on_frame)
     finally:  # in-process runs must not change the caller's thread count
         torch.set_num_threads(previous)
 
@@ -341,11 +452,14 @@ def _watch_parent(owner: int, parent: int, interval: float = 0.5) -> None:
             os._exit(1)
 
 
-def _init_worker(owner: int) -> None:
-    """Initializer of the rendering processes: they end with ``owner``, the process generating the dataset.
+def _init_worker(owner: int, frames_done: Queue | None = None) -> None:
+    """Initializer of the rendering processes: they end with ``owner``, the process generating the dataset,
+    and put a 1 in ``frames_done`` (if given) after each frame they write.
 
     A killed ``sdn3d-synth`` (SIGKILL, OOM) must not leave workers rendering into a tree nobody will use.
     """
+    global _frames_done
+    _frames_done = frames_done
     if _die_with_parent():
         # The parent may have ended before prctl took effect: then no signal comes (with the default fork
         # start method the parent is ``owner``; with forkserver it is the server, which ends with it).
@@ -356,12 +470,64 @@ def _init_worker(owner: int) -> None:
                      daemon=True).start()
 
 
-def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | None = None) -> Path:
+def _flush_to_disk(tree: Path) -> None:
+    """Flush the file system holding ``tree`` to disk (Linux ``syncfs``; ``os.sync`` elsewhere): one call
+    for every file the sequences wrote, before the staged tree becomes the dataset."""
+    if sys.platform.startswith("linux"):
+        fd = os.open(tree, os.O_RDONLY)
+        try:
+            if ctypes.CDLL(None, use_errno=True).syncfs(fd) == 0:
+                return
+        except (OSError, AttributeError):
+            pass
+        finally:
+            os.close(fd)
+    os.sync()
+
+
+def _in_job_order(jobs: Sequence[tuple[str, str]], groups: list[list[SequenceSummary]]) -> list[SequenceSummary]:
+    by_job = {(s.world, s.variation): s for group in groups for s in group}
+    return [by_job[job] for job in jobs]
+
+
+def _render_all(tmp: Path, cfg: SynthConfig, jobs: list[tuple[str, str]], progress: FrameProgress | None
+                ) -> list[SequenceSummary]:
+    """Every sequence of ``jobs`` written under ``tmp`` (in ``jobs`` order), by groups sharing the camera
+    (:func:`sequence_groups`) in ``cfg.workers`` processes; frames reported to ``progress`` as they are written
+    (from the processes through a queue read by a thread of this one)."""
+    args = [(str(tmp), cfg, w, vs) for w, vs in sequence_groups(jobs)]
+    if cfg.workers <= 1 or len(args) <= 1:
+        return _in_job_order(jobs, [_run_group_here(a, None if progress is None else progress.update) for a in args])
+    context = multiprocessing.get_context()
+    frames_done = context.Queue() if progress is not None else None
+
+    def listen() -> None:
+        while frames_done.get() is not None:
+            progress.update()
+
+    listener = threading.Thread(target=listen, name="sdn3d-synth-progress", daemon=True)
+    if frames_done is not None:
+        listener.start()
+    try:
+        with ProcessPoolExecutor(max_workers=min(cfg.workers, len(args)), mp_context=context,
+                                 initializer=_init_worker, initargs=(os.getpid(), frames_done)) as pool:
+            return _in_job_order(jobs, list(pool.map(_run_group, args)))
+    finally:
+        if frames_done is not None:
+            frames_done.put(None)  # after every worker's reports (the pool has shut down)
+            listener.join(timeout=5.0)
+
+
+def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | None = None,
+                     progress: bool | TextIO = False) -> Path:
     """Generate the dataset described by ``cfg``; returns the output directory.
 
     Args:
         cfg: the configuration.
         sequences: optional ``(world, variation)`` subset (default: every world x variation).
+        progress: report finished frames, frames/s and the ETA (:class:`~sdn3d.data.synth.progress.FrameProgress`)
+            on stderr (True) or on the given stream; one line updated in place on a terminal, a line every
+            30 s elsewhere. Frames are counted as each is written, whichever process renders it.
 
     Raises:
         sdn3d.io.OutputDirError (a UserInputError and FileExistsError): ``output_dir`` may not be written:
@@ -372,13 +538,15 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
     out = Path(cfg.output_dir).expanduser().resolve()
     jobs = list(sequences) if sequences is not None else [(w, v) for w in cfg.worlds for v in cfg.variations]
     with staged_directory(out, MANIFEST_NAME, cfg.overwrite, owned=True) as tmp:
-        args = [(str(tmp), cfg, w, v) for w, v in jobs]
-        if cfg.workers > 1 and len(jobs) > 1:
-            with ProcessPoolExecutor(max_workers=min(cfg.workers, len(jobs)), initializer=_init_worker,
-                                     initargs=(os.getpid(),)) as pool:
-                summaries = list(pool.map(_run_sequence, args))
-        else:
-            summaries = [_run_sequence(a) for a in args]
+        reporter = None
+        if progress is not False:
+            total = len(jobs) * (cfg.frames_per_sequence + cfg.target_frames)
+            reporter = FrameProgress(total, None if progress is True else progress)
+        try:
+            summaries = _render_all(tmp, cfg, jobs, reporter)
+        finally:
+            if reporter is not None:
+                reporter.close()
         entries = [e for s in summaries for e in s.entries]
         save_edit_benchmark(entries, tmp / BENCHMARK_NAME)
         intrinsics = cfg.intrinsics
@@ -405,5 +573,7 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
                 ],
             },
         )
+        write_class_statistics(tmp)  # class_stats.STATISTICS_NAME, read from the written scenegt files
+        _flush_to_disk(tmp)  # the sequences' files were written without fsync (writer.write_staged)
         write_text_atomic(tmp / "_SUCCESS", "")
     return out

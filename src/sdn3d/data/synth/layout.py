@@ -4,8 +4,11 @@ A *world* (named like Virtual KITTI's ``0001`` ... ``0020``) is a straight stree
 ``(seed, world)``: its cross-section (lanes, parking strips, sidewalks), the static scenery
 along it (buildings, trees, bushes, poles, signs, traffic lights, guard rails, misc objects,
 parked trucks), the car tracks (parked along the kerb or driving in lanes at a constant speed)
-and the camera path (driving forward in one lane). Every variation of a world renders this same
-scene; variations only change the camera yaw or the lighting (see ``appearance.py``).
+and the camera path (driving forward in one lane). Car bodies come from the held-out vehicle family
+(``vehicles='heldout'``, :mod:`sdn3d.meshes.vehicle_family`: shapes the 8 bank templates only approximate)
+or, as before, from the 8 templates themselves (``vehicles='bank'``); each with a small random FFD.
+Every variation of a world renders this same scene; variations only change the camera yaw or the
+lighting (see ``appearance.py``).
 
 World frame: x right, y down, z forward along the road, metres; the ground is ``y = 0``. The
 camera has no pitch or roll, so the ground is at camera-frame height ``y = camera_height`` in
@@ -25,11 +28,13 @@ from sdn3d.data.synth.classes import CAR_COLORS
 from sdn3d.data.synth.primitives import StaticMesh
 from sdn3d.data.synth.scenery import WORLD_STYLES, RoadGeometry, WorldStyle, build_static_scene
 from sdn3d.math3d.ffd import expand_half_ffd
-from sdn3d.meshes.templates import TEMPLATE_CATEGORY, TEMPLATE_DIMENSIONS, TEMPLATE_NAMES
+from sdn3d.meshes.templates import TEMPLATE_DIMENSIONS, TEMPLATE_NAMES
+from sdn3d.meshes.vehicle_family import FAMILY, VEHICLE_SHAPE_CATEGORY, VEHICLE_SHAPE_NAMES
 
 __all__ = [
     "VARIATIONS",
     "CAMERA_YAW_DEG",
+    "VEHICLE_SOURCES",
     "WorldStyle",
     "WORLD_STYLES",
     "CarTracks",
@@ -62,6 +67,8 @@ CAMERA_YAW_DEG: dict[str, float] = {
     "30-deg-right": 30.0,
 }
 
+#: Where car bodies come from: the held-out family (default) or the 8 bank templates (the old data).
+VEHICLE_SOURCES: tuple[str, ...] = ("heldout", "bank")
 #: Cars are placed and counted over this stretch of road ahead of the camera (metres).
 VIEW_DEPTH = 100.0
 #: Track ids must stay below this (the readers' instance ids are class * 1000 + tid + 1).
@@ -70,8 +77,12 @@ MAX_TRACKS = 999
 BEHIND_LIMIT = 15.0
 
 
-# Template frequencies (sedan ... bus) and named-colour frequencies.
+# Template frequencies (sedan ... bus; vehicles='bank'), family frequencies (vehicles='heldout': Van-category
+# shapes about 24 % of the traffic, 11 % with the templates) and named-colour frequencies.
 _TEMPLATE_WEIGHTS = np.array([0.22, 0.19, 0.14, 0.15, 0.08, 0.11, 0.07, 0.04])
+_FAMILY_WEIGHTS = np.array([shape.weight for shape in FAMILY])
+_FAMILY_LANE_ONLY = np.array([shape.lane_only for shape in FAMILY])
+_FAMILY_DIMENSIONS = np.array([(s.spec.length, s.spec.height, s.spec.width) for s in FAMILY])
 _COLOR_NAMES = tuple(CAR_COLORS)
 _COLOR_WEIGHTS = np.array([0.16, 0.16, 0.16, 0.12, 0.09, 0.08, 0.04, 0.04, 0.03, 0.03, 0.04, 0.05])
 
@@ -93,7 +104,8 @@ class CarTracks:
 
     Attributes:
         tid: ``(N,)`` track ids ``0..N-1``.
-        template: ``(N,)`` template ids (index into ``TEMPLATE_NAMES``).
+        shape: ``(N,)`` vehicle shape ids (index into ``vehicle_family.VEHICLE_SHAPE_NAMES``: the 8 template
+            ids, then the held-out family shapes).
         dims: ``(N, 3)`` ``(l, h, w)`` metres.
         phi: ``(N, 64, 3)`` float32 mirror-symmetric FFD displacements.
         color_name: N colour names; ``color_rgb`` ``(N, 3)`` linear albedo.
@@ -103,7 +115,7 @@ class CarTracks:
     """
 
     tid: np.ndarray
-    template: np.ndarray
+    shape: np.ndarray
     dims: np.ndarray
     phi: np.ndarray
     color_name: list[str]
@@ -118,11 +130,13 @@ class CarTracks:
 
     @property
     def model(self) -> list[str]:
-        return [TEMPLATE_NAMES[t] for t in self.template]
+        """Vehicle shape name of each track (the motgt ``model`` column)."""
+        return [VEHICLE_SHAPE_NAMES[s] for s in self.shape]
 
     @property
     def category(self) -> list[str]:
-        return [TEMPLATE_CATEGORY[TEMPLATE_NAMES[t]] for t in self.template]
+        """Virtual KITTI category (``Car`` or ``Van``) of each track."""
+        return [VEHICLE_SHAPE_CATEGORY[VEHICLE_SHAPE_NAMES[s]] for s in self.shape]
 
 
 @dataclass(frozen=True)
@@ -190,31 +204,25 @@ def _style_for(world: str, rng: np.random.Generator) -> WorldStyle:
     if world in WORLD_STYLES:
         return WORLD_STYLES[world]
     base = WORLD_STYLES[("0001", "0002", "0006", "0018", "0020")[int(rng.integers(5))]]
-    return WorldStyle(
-        base.fwd_lanes,
-        base.bwd_lanes,
-        float(rng.uniform(3.2, 3.8)),
-        base.parking,
-        base.sidewalk,
-        float(np.clip(base.building_prob + rng.uniform(-0.1, 0.1), 0, 1)),
-        base.building_height,
-        base.tree_spacing,
-        base.forest,
-        base.guard_rail,
-        base.lamps,
-        base.hedge_prob,
-        base.traffic_lights,
-        base.trucks,
-    )
+    return base.varied(rng)
 
 
-def _sample_car(rng: np.random.Generator, allow_bus: bool) -> tuple[int, np.ndarray, np.ndarray, int]:
-    """Template id, jittered dims ``(l, h, w)``, FFD ``(64, 3)`` and colour index of one car."""
-    weights = _TEMPLATE_WEIGHTS.copy()
-    if not allow_bus:
-        weights[TEMPLATE_NAMES.index("bus")] = 0.0
-    template = int(rng.choice(len(TEMPLATE_NAMES), p=weights / weights.sum()))
-    base = np.array(TEMPLATE_DIMENSIONS[TEMPLATE_NAMES[template]])
+def _sample_shape(rng: np.random.Generator, allow_bus: bool, vehicles: str) -> tuple[int, np.ndarray]:
+    """Vehicle shape id and its real dims ``(l, h, w)``; buses only where ``allow_bus`` (driving lanes)."""
+    if vehicles == "bank":
+        weights = _TEMPLATE_WEIGHTS.copy()
+        if not allow_bus:
+            weights[TEMPLATE_NAMES.index("bus")] = 0.0
+        template = int(rng.choice(len(TEMPLATE_NAMES), p=weights / weights.sum()))
+        return template, np.array(TEMPLATE_DIMENSIONS[TEMPLATE_NAMES[template]])
+    weights = np.where(_FAMILY_LANE_ONLY & (not allow_bus), 0.0, _FAMILY_WEIGHTS)
+    member = int(rng.choice(len(FAMILY), p=weights / weights.sum()))
+    return len(TEMPLATE_NAMES) + member, _FAMILY_DIMENSIONS[member].copy()
+
+
+def _sample_car(rng: np.random.Generator, allow_bus: bool, vehicles: str) -> tuple[int, np.ndarray, np.ndarray, int]:
+    """Vehicle shape id, jittered dims ``(l, h, w)``, FFD ``(64, 3)`` and colour index of one car."""
+    shape, base = _sample_shape(rng, allow_bus, vehicles)
     dims = base * (1.0 + rng.uniform(-0.05, 0.05)) * (1.0 + rng.uniform(-0.04, 0.04, size=3))
     # Small symmetric FFD; the bottom lattice layer (j = 3, y = +0.5) keeps its height so the
     # wheels stay exactly on the ground (y3d is the ground height).
@@ -222,24 +230,24 @@ def _sample_car(rng: np.random.Generator, allow_bus: bool) -> tuple[int, np.ndar
     half[:, 3, :, 1] = 0.0
     phi = expand_half_ffd(torch.from_numpy(half.reshape(32, 3))).numpy()
     color = int(rng.choice(len(_COLOR_NAMES), p=_COLOR_WEIGHTS / _COLOR_WEIGHTS.sum()))
-    return template, dims, phi, color
+    return shape, dims, phi, color
 
 
 def _place_row(
-    rng: np.random.Generator, z_lo: float, z_hi: float, spacing: float, allow_bus: bool
+    rng: np.random.Generator, z_lo: float, z_hi: float, spacing: float, allow_bus: bool, vehicles: str
 ) -> list[tuple[float, int, np.ndarray, np.ndarray, int]]:
     """Cars along one row (lane or parking strip) between ``z_lo`` and ``z_hi``, no overlaps.
 
     Gaps are ``0.8 m`` plus an exponential with the mean that makes the mean centre spacing
-    ``spacing``. Returns ``(z_centre, template, dims, phi, colour)`` per car.
+    ``spacing``. Returns ``(z_centre, shape, dims, phi, colour)`` per car.
     """
     out = []
     z = z_lo + rng.uniform(0.0, spacing)
     while True:
-        template, dims, phi, color = _sample_car(rng, allow_bus)
+        shape, dims, phi, color = _sample_car(rng, allow_bus, vehicles)
         if z + dims[0] > z_hi:
             return out
-        out.append((z + dims[0] / 2, template, dims, phi, color))
+        out.append((z + dims[0] / 2, shape, dims, phi, color))
         z += dims[0] + 0.8 + rng.exponential(max(spacing - 5.3, 0.5))
 
 
@@ -250,6 +258,7 @@ def _sample_cars(
     camera: CameraPath,
     num_frames: int,
     cars_per_frame: tuple[int, int],
+    vehicles: str,
 ) -> CarTracks:
     """Car tracks along every lane and parking strip (see :func:`build_world`)."""
     rows = []  # (x, yaw (None: parked), speed in m/frame, same lane as the camera)
@@ -290,7 +299,7 @@ def _sample_cars(
         else:  # every car that is in view at some frame
             z_lo = -BEHIND_LIMIT + min(0.0, rel)
             z_hi = VIEW_DEPTH + max(0.0, rel)
-        for z, template, dims, phi, color in _place_row(rng, z_lo, z_hi, spacing, yaw is not None):
+        for z, shape, dims, phi, color in _place_row(rng, z_lo, z_hi, spacing, yaw is not None, vehicles):
             if yaw is None:  # parked: mostly facing the traffic of its side, slightly askew
                 forward = x > 0
                 if rng.uniform() < 0.15:
@@ -299,12 +308,12 @@ def _sample_cars(
                 car_x = x + rng.normal(0.0, 0.12)
             else:
                 car_yaw, car_x = yaw + rng.normal(0.0, 0.01), x + rng.normal(0.0, 0.1)
-            cars.append((car_x, z, car_yaw, speed, template, dims, phi, color))
+            cars.append((car_x, z, car_yaw, speed, shape, dims, phi, color))
     cars.sort(key=lambda c: (c[1], c[0]))
     n = len(cars)
     return CarTracks(
         tid=np.arange(n, dtype=np.int64),
-        template=np.array([c[4] for c in cars], dtype=np.int64),
+        shape=np.array([c[4] for c in cars], dtype=np.int64),
         dims=np.array([c[5] for c in cars], dtype=np.float64).reshape(n, 3),
         phi=np.array([c[6] for c in cars], dtype=np.float32).reshape(n, 64, 3),
         color_name=[_COLOR_NAMES[c[7]] for c in cars],
@@ -316,7 +325,8 @@ def _sample_cars(
     )
 
 
-def build_world(seed: int, world: str, num_frames: int, cars_per_frame: tuple[int, int] = (4, 12)) -> World:
+def build_world(seed: int, world: str, num_frames: int, cars_per_frame: tuple[int, int] = (4, 12),
+                vehicles: str = "heldout") -> World:
     """Sample world ``world`` of dataset seed ``seed``.
 
     Args:
@@ -328,11 +338,15 @@ def build_world(seed: int, world: str, num_frames: int, cars_per_frame: tuple[in
             ``VIEW_DEPTH`` = 100 m of road ahead of the camera, drawn once per world; the same
             density continues along the sequence. How many are visible in a frame varies with
             occlusion and the frame's field of view.
+        vehicles: ``'heldout'`` (car bodies from the held-out vehicle family) or ``'bank'`` (from the 8
+            templates; the same world as before the family existed, bit for bit).
     """
     if not (len(world) == 4 and world.isdigit()):
         raise ValueError(f"world must be a 4-digit name like '0001', got {world!r}")
     if num_frames < 1:
         raise ValueError(f"num_frames must be >= 1, got {num_frames}")
+    if vehicles not in VEHICLE_SOURCES:
+        raise ValueError(f"vehicles must be one of {list(VEHICLE_SOURCES)}, got {vehicles!r}")
     lo, hi = (int(v) for v in cars_per_frame)
     if lo < 0 or hi < lo:
         raise ValueError(f"cars_per_frame must be [min, max] with 0 <= min <= max, got {cars_per_frame}")
@@ -347,7 +361,7 @@ def build_world(seed: int, world: str, num_frames: int, cars_per_frame: tuple[in
     )
     travel = camera.speed * (num_frames - 1)
     static = build_static_scene(rng_for(seed, "scenery", world), style, road, z_range=(-40.0, travel + 220.0))
-    cars = _sample_cars(rng_for(seed, "cars", world), style, road, camera, num_frames, (lo, hi))
+    cars = _sample_cars(rng_for(seed, "cars", world), style, road, camera, num_frames, (lo, hi), vehicles)
     if len(cars) > MAX_TRACKS:
         raise ValueError(
             f"world {world} has {len(cars)} car tracks but Virtual KITTI readers accept track ids up to "

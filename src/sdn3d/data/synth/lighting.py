@@ -27,7 +27,8 @@ class Surface:
             the camera; view: ``(P, 3)`` unit world direction from the surface to the camera.
         footprint: ``(P,)`` metres covered by one pixel at that depth (for anti-aliasing).
         local: ``(P, 3)`` canonical car coordinates (car pixels only, else 0).
-        template: ``(P,)`` car template id (-1 elsewhere); wheel: ``(P,)`` bool, wheel faces.
+        template: ``(P,)`` vehicle shape id of car pixels (``vehicle_family.VEHICLE_SHAPE_NAMES``), -1 elsewhere;
+            wheel: ``(P,)`` bool, wheel faces.
     """
 
     material: Tensor

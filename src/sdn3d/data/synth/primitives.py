@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["StaticMesh", "MeshBuilder", "box_mesh", "icosphere"]
+__all__ = ["StaticMesh", "MeshBuilder", "box_mesh", "prism_mesh", "regular_polygon", "icosphere"]
 
 # Unit cube corners and outward-wound triangles (right-hand rule gives outward normals).
 _CUBE_VERTS = (
@@ -53,6 +53,51 @@ def box_mesh(center: np.ndarray, size: np.ndarray, yaw: float = 0.0) -> tuple[np
     rot = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
     verts = (_CUBE_VERTS * np.asarray(size, dtype=np.float64)) @ rot.T + np.asarray(center, dtype=np.float64)
     return verts, _CUBE_FACES.copy()
+
+
+def regular_polygon(sides: int, radius: float, rotation: float = 0.0) -> np.ndarray:
+    """``(sides, 2)`` corners of a regular polygon centred at the origin, counter-clockwise.
+
+    ``rotation`` (radians) turns the first corner away from ``+x``; ``pi / 2`` puts it on ``+y``.
+    """
+    if sides < 3:
+        raise ValueError(f"a polygon needs at least 3 sides, got {sides}")
+    angle = rotation + 2.0 * np.pi * np.arange(sides) / sides
+    return radius * np.stack([np.cos(angle), np.sin(angle)], axis=1)
+
+
+def prism_mesh(
+    polygon: np.ndarray, depth: float, center: np.ndarray, yaw: float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """A closed flat prism: a convex polygon in the x-y plane extruded ``depth`` along z (a sign plate).
+
+    Args:
+        polygon: ``(K, 2)`` convex polygon corners (x, y) around the origin, in order.
+        depth: thickness along z.
+        center: ``(3,)`` centre of the prism.
+        yaw: rotation about y (as :func:`box_mesh`).
+
+    Returns:
+        ``(2K, 3)`` vertices and ``(4K - 4, 3)`` outward-wound faces (fan caps and side quads).
+    """
+    poly = np.asarray(polygon, dtype=np.float64)
+    k = len(poly)
+    if poly.ndim != 2 or poly.shape[1] != 2 or k < 3:
+        raise ValueError(f"polygon must be (K >= 3, 2) corners, got shape {poly.shape}")
+    half = depth / 2.0
+    verts = np.concatenate([np.c_[poly, np.full(k, -half)], np.c_[poly, np.full(k, half)]])
+    fan = np.stack([np.zeros(k - 2, np.int64), np.arange(1, k - 1), np.arange(2, k)], axis=1)
+    i, j = np.arange(k), (np.arange(k) + 1) % k
+    sides = np.concatenate([np.stack([i, j, j + k], 1), np.stack([i, j + k, i + k], 1)])
+    faces = np.concatenate([fan, fan + k, sides])
+    # Orient every face away from the centroid (the prism is convex): outward winding whatever the order.
+    tri = verts[faces]
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    inward = (normal * (tri.mean(axis=1) - verts.mean(axis=0))).sum(axis=1) < 0
+    faces[inward] = faces[inward][:, ::-1]
+    c, s = np.cos(yaw), np.sin(yaw)
+    rot = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+    return verts @ rot.T + np.asarray(center, dtype=np.float64), faces
 
 
 def _icosahedron() -> tuple[np.ndarray, np.ndarray]:
@@ -198,6 +243,11 @@ class MeshBuilder:
 
     def add_box(self, center, size, cls: int, material: int, color, param=(0.0,), yaw: float = 0.0) -> None:
         verts, faces = box_mesh(np.asarray(center), np.asarray(size), yaw)
+        self.add(verts, faces, cls, material, color, param)
+
+    def add_prism(self, polygon, depth: float, center, cls: int, material: int, color, param=(0.0,)) -> None:
+        """Add a flat prism (:func:`prism_mesh`) facing along z."""
+        verts, faces = prism_mesh(np.asarray(polygon), depth, np.asarray(center))
         self.add(verts, faces, cls, material, color, param)
 
     def build(self) -> StaticMesh:

@@ -1,6 +1,6 @@
 """Render one frame of a synthetic world: RGB, class map, instance map, depth and object statistics.
 
-The whole scene (static scenery + cars from the template bank with their FFD) is one triangle
+The whole scene (static scenery + cars, held-out family shapes or bank templates, with their FFD) is one triangle
 mesh, clipped at the near plane here (the project's hard rasterizer culls faces crossing it)
 and rasterized once, so semantics, instances, depth and occlusion come from the same z-buffer.
 Per-object statistics for the motgt file come from a second rasterizer call that draws every
@@ -36,18 +36,20 @@ from sdn3d.math3d.ffd import ffd_deform
 from sdn3d.math3d.rotations import roty
 from sdn3d.math3d.transforms import object_to_camera
 from sdn3d.meshes.bank import MeshBank
-from sdn3d.meshes.templates import TEMPLATE_CATEGORY, TEMPLATE_NAMES
+from sdn3d.meshes.templates import TEMPLATE_NAMES
+from sdn3d.meshes.vehicle_family import VEHICLE_SHAPE_CATEGORY, VEHICLE_SHAPE_NAMES
 from sdn3d.render.rasterize import rasterize_meshes
 from sdn3d.render.settings import RasterSettings
 
-__all__ = ["RenderedFrame", "render_frame", "car_meshes", "template_bank", "NEAR_CLIP"]
+__all__ = ["RenderedFrame", "FrameGeometry", "render_frame", "render_geometry", "light_frame", "car_meshes",
+           "template_bank", "vehicle_bank", "NEAR_CLIP"]
 
 #: Triangles are clipped at this camera-frame z (the rasterizer's near plane is below it).
 NEAR_CLIP = 0.15
 _RASTER_NEAR = 0.1
 _FAR = 1000.0
-#: Class id (Car or Van) of each template.
-_TEMPLATE_CLASS = [CLASS_ID[TEMPLATE_CATEGORY[name]] for name in TEMPLATE_NAMES]
+#: Class id (Car or Van) of each vehicle shape, by shape id.
+_SHAPE_CLASS = [CLASS_ID[VEHICLE_SHAPE_CATEGORY[name]] for name in VEHICLE_SHAPE_NAMES]
 
 
 @dataclass
@@ -69,13 +71,11 @@ class RenderedFrame:
     stats: ObjectStats
 
 
-@functools.lru_cache(maxsize=1)
-def template_bank() -> tuple[MeshBank, Tensor]:
-    """The 8-template :class:`MeshBank` and a ``(M, Fmax)`` bool mask of wheel faces.
+def _wheel_faces(bank: MeshBank) -> Tensor:
+    """``(M, Fmax)`` bool mask of wheel faces: the disjoint components of a mesh besides the largest (the body).
 
-    Wheels are the disjoint components of a template besides the largest (the body).
+    Computed once per cached bank (a loop over its meshes, not over rendered objects).
     """
-    bank = MeshBank.templates()
     wheel = torch.zeros(bank.faces.shape[:2], dtype=torch.bool)
     for m in range(len(bank)):
         nf = int(bank.num_faces[m])
@@ -85,41 +85,59 @@ def template_bank() -> tuple[MeshBank, Tensor]:
         labels = trimesh.graph.connected_component_labels(mesh.face_adjacency, node_count=nf)
         body = np.bincount(labels).argmax()
         wheel[m, :nf] = torch.from_numpy(labels != body)
-    return bank, wheel
+    return wheel
+
+
+@functools.lru_cache(maxsize=1)
+def template_bank() -> tuple[MeshBank, Tensor]:
+    """The 8-template :class:`MeshBank` and its ``(M, Fmax)`` bool mask of wheel faces (``vehicles='bank'``)."""
+    bank = MeshBank.templates()
+    return bank, _wheel_faces(bank)
+
+
+@functools.lru_cache(maxsize=1)
+def vehicle_bank() -> tuple[MeshBank, Tensor]:
+    """Every vehicle shape (:meth:`MeshBank.vehicle_shapes`, mesh id = shape id) and its wheel-face mask
+    (``vehicles='heldout'``)."""
+    bank = MeshBank.vehicle_shapes()
+    return bank, _wheel_faces(bank)
 
 
 def car_meshes(world: World, objects: FrameObjects) -> tuple[Tensor, Tensor, Tensor, Tensor]:
     """Camera-frame car geometry of a frame, flattened.
 
+    Worlds of 8-template cars (``vehicles='bank'``) gather from :func:`template_bank`, as before the held-out
+    family existed (same padding, so the same bits); others from :func:`vehicle_bank`.
+
     Returns:
         ``verts (N * Vmax, 3)`` float32, ``faces (Fc, 3)`` (real faces only, indices into verts),
         ``face_object (Fc,)`` object index, ``face_wheel (Fc,)`` bool.
     """
-    bank, wheel = template_bank()
     n = len(objects)
     if n == 0:
         empty = torch.zeros(0, dtype=torch.long)
         return torch.zeros(0, 3), torch.zeros(0, 3, dtype=torch.long), empty, empty.bool()
     track = torch.from_numpy(objects.track)
-    template = torch.from_numpy(world.cars.template)[track]
-    verts, faces = bank.gather(template)
+    shape = torch.from_numpy(world.cars.shape)[track]
+    bank, wheel = template_bank() if int(shape.max()) < len(TEMPLATE_NAMES) else vehicle_bank()
+    verts, faces = bank.gather(shape)
     phi = torch.from_numpy(world.cars.phi)[track]
-    deformed = ffd_deform(verts, phi, bank.ffd_basis[template])
+    deformed = ffd_deform(verts, phi, bank.ffd_basis[shape])
     dims = torch.from_numpy(world.cars.dims).float()[track]
     cam = object_to_camera(
         deformed, dims, torch.from_numpy(objects.ry).float(), torch.from_numpy(objects.center).float()
     )
     vmax = verts.shape[1]
-    mask = bank.face_mask[template]  # (N, Fmax)
+    mask = bank.face_mask[shape]  # (N, Fmax)
     offset = (torch.arange(n) * vmax).view(n, 1, 1)
     flat_faces = (faces + offset)[mask]
     face_object = torch.arange(n).view(n, 1).expand_as(mask)[mask]
-    return cam.reshape(-1, 3), flat_faces, face_object, wheel[template][mask]
+    return cam.reshape(-1, 3), flat_faces, face_object, wheel[shape][mask]
 
 
 def _face_table(world: World, objects: FrameObjects, face_object: Tensor, face_wheel: Tensor) -> Tensor:
     """``(Fs + Fc, 16)`` float attributes of the static faces then the car faces: class, material,
-    colour (3), parameters (8), wheel flag, template (-1 static), object index (-1 static)."""
+    colour (3), parameters (8), wheel flag, vehicle shape id (-1 static), object index (-1 static)."""
     static = world.static
     n = static.num_faces
     s_tab = torch.cat(
@@ -135,15 +153,15 @@ def _face_table(world: World, objects: FrameObjects, face_object: Tensor, face_w
     )
     if face_object.numel() == 0:
         return s_tab
-    template = torch.from_numpy(world.cars.template)[torch.from_numpy(objects.track)][face_object]
+    shape = torch.from_numpy(world.cars.shape)[torch.from_numpy(objects.track)][face_object]
     c_tab = torch.cat(
         [
-            torch.tensor(_TEMPLATE_CLASS, dtype=torch.float32)[template].unsqueeze(1),
+            torch.tensor(_SHAPE_CLASS, dtype=torch.float32)[shape].unsqueeze(1),
             torch.full((face_object.numel(), 1), float(Material.CAR)),
             torch.from_numpy(world.cars.color_rgb).float()[torch.from_numpy(objects.track)][face_object],
             torch.zeros(face_object.numel(), 8),
             face_wheel.float().unsqueeze(1),
-            template.float().unsqueeze(1),
+            shape.float().unsqueeze(1),
             face_object.float().unsqueeze(1),
         ],
         1,
@@ -203,6 +221,44 @@ def _occluder_boxes(verts: Tensor, faces: Tensor, parent: Tensor, static: Static
     return torch.stack([u.amin(1), v.amin(1), u.amax(1), v.amax(1), tri[..., 2].amin(1)], 1)
 
 
+@dataclass
+class FrameGeometry:
+    """What every look of one frame shares: the rasterized scene, its surfaces and object statistics.
+
+    The variations ``clone``, ``morning``, ``sunset``, ``overcast``, ``fog`` and ``rain`` see the same
+    objects from the same camera (only the rotated ones move it), so the generator renders the geometry once
+    per frame (:func:`render_geometry`) and lights it once per variation (:func:`light_frame`); that gives the
+    same bytes as :func:`render_frame` for each of them.
+
+    Attributes:
+        world, objects, intrinsics: what was rendered.
+        rot, trans: ``(3, 3)``, ``(3,)`` world -> camera rotation and translation.
+        depth: ``(H, W)`` float32 z (``inf`` where empty); fg: ``(H, W)`` bool, some surface.
+        surface: per foreground pixel (``P`` of them) attributes; albedo ``(P, 3)``, emissive ``(P, 3)``,
+            gloss ``(P,)`` from :func:`~sdn3d.data.synth.appearance.surface_albedo` (not to be changed in place).
+        p_cam: ``(P, 3)`` camera-frame points; obj: ``(P,)`` object index (-1 none); dims: ``(N, 3)``.
+        class_map, instance: ``(H, W)`` int64; stats: per-object statistics.
+    """
+
+    world: World
+    objects: FrameObjects
+    intrinsics: Intrinsics
+    rot: Tensor
+    trans: Tensor
+    depth: Tensor
+    fg: Tensor
+    surface: Surface
+    albedo: Tensor
+    emissive: Tensor
+    gloss: Tensor
+    p_cam: Tensor
+    obj: Tensor
+    dims: Tensor
+    class_map: Tensor
+    instance: Tensor
+    stats: ObjectStats
+
+
 def render_frame(
     world: World,
     objects: FrameObjects,
@@ -221,7 +277,12 @@ def render_frame(
         variation: selects lighting and weather (``appearance.LOOKS``).
         frame_seed: seed of per-frame effects (rain streaks).
     """
-    look = look_for(variation)
+    return light_frame(render_geometry(world, objects, world_to_cam, intrinsics), variation, frame_seed)
+
+
+def render_geometry(world: World, objects: FrameObjects, world_to_cam: np.ndarray, intrinsics: Intrinsics
+                    ) -> FrameGeometry:
+    """The look-independent part of :func:`render_frame`: rasterization, surfaces, albedo, statistics."""
     h, w = intrinsics.size
     rot = torch.from_numpy(world_to_cam[:3, :3]).float()
     trans = torch.from_numpy(world_to_cam[:3, 3]).float()
@@ -236,49 +297,16 @@ def render_frame(
     # Every mesh is closed and outward-wound (boxes, icospheres, templates) and the ground is
     # seen from above, so back faces can be culled: about half the rasterizer's work.
     settings = RasterSettings(image_size=(h, w), near=_RASTER_NEAR, far=_FAR, cull_backfaces=True)
-    K = intrinsics.matrix()
-    frags = rasterize_meshes(verts.unsqueeze(0), faces.unsqueeze(0), K, settings)
+    frags = rasterize_meshes(verts.unsqueeze(0), faces.unsqueeze(0), intrinsics.matrix(), settings)
     pix_face = frags.pix_to_face[0]
     depth = frags.depth[0]
     fg = pix_face >= 0
-    face = pix_face[fg]
     # One attribute row per (clipped) face, gathered once per pixel: class, material, colour,
     # material parameters, wheel flag, car template, object index, camera-frame normal.
     table = torch.cat([_face_table(world, objects, c_obj, c_wheel)[parent], _face_normals(verts, faces)], 1)
-    attr = table[face]
-    cls, material = attr[:, 0].long(), attr[:, 1].long()
-    color, param = attr[:, 2:5], attr[:, 5:13]
-    wheel, template, obj = attr[:, 13] > 0.5, attr[:, 14].long(), attr[:, 15].long()
-    normal_cam = attr[:, 16:19]
-    is_car = obj >= 0
-    cars = world.cars
-    track = torch.from_numpy(objects.track)
-
-    rows, cols = fg.nonzero(as_tuple=True)
-    z = depth[fg]
-    fx, fy, cx, cy = intrinsics.fx, intrinsics.fy, intrinsics.cx, intrinsics.cy
-    p_cam = torch.stack([(cols - cx) / fx * z, (rows - cy) / fy * z, z], 1)
-    p_world = (p_cam - trans) @ rot
-    view_cam = -torch.nn.functional.normalize(p_cam, dim=1)
-    dims = torch.from_numpy(cars.dims).float()[track] if len(objects) else torch.ones(1, 3)
-    local = torch.zeros_like(p_cam)
-    if bool(is_car.any()):
-        k = obj[is_car]
-        centers = torch.from_numpy(objects.center).float()[k]
-        r = roty(torch.from_numpy(objects.ry).float())[k]
-        local[is_car] = torch.einsum("pk,pkj->pj", p_cam[is_car] - centers, r) / dims[k]
-    surface = Surface(
-        material,
-        color,
-        param,
-        p_world,
-        normal_cam @ rot,
-        view_cam @ rot,
-        z / intrinsics.fx,
-        local,
-        template,
-        wheel,
-    )
+    attr = table[pix_face[fg]]
+    obj = attr[:, 15].long()
+    surface, p_cam, dims = _surface(world, objects, attr, fg, depth, rot, trans, intrinsics)
     road = world.road
     markings = (
         torch.tensor(road.marking_x, dtype=torch.float32),
@@ -287,30 +315,8 @@ def render_frame(
     )
     albedo, emissive, gloss = surface_albedo(surface, world.seed * 7919 + int(world.name), markings)
 
-    ground = (material == Material.ROAD) | (material == Material.SIDEWALK) | (material == Material.TERRAIN)
-    sun_cam = rot @ torch.tensor(look.sun_dir)
-    shadow = torch.ones_like(z)
-    # Shadows of the visible cars on ground pixels closer than 80 m (further they are sub-pixel).
-    ground = ground & (z < 80.0)
-    seen = torch.unique(obj[obj >= 0])
-    if bool(ground.any()) and seen.numel():
-        direct, occlusion = _ground_shadow(p_cam[ground], objects.subset(seen.numpy()), dims[seen], sun_cam)
-        shadow[ground] = direct
-        albedo[ground] = albedo[ground] * occlusion.unsqueeze(1)
-    radiance = shade(surface, albedo, emissive, gloss, look, shadow)
-
-    image = torch.zeros(h, w, 3)
-    image[fg] = radiance
-    sky_rows, sky_cols = (~fg).nonzero(as_tuple=True)
-    if sky_rows.numel():
-        rays = torch.stack([(sky_cols - cx) / fx, (sky_rows - cy) / fy, torch.ones(sky_rows.shape[0])], 1)
-        dirs = torch.nn.functional.normalize(rays, dim=1) @ rot
-        image[~fg] = sky_color(dirs, look, world.seed + int(world.name))
-    image = apply_weather(image, depth, look, frame_seed)
-    rgb = tonemap(image, look.exposure)
-
     class_map = torch.full((h, w), CLASS_ID["Sky"], dtype=torch.long)
-    class_map[fg] = cls
+    class_map[fg] = attr[:, 0].long()
     instance = torch.full((h, w), -1, dtype=torch.long)
     instance[fg] = obj
     stats = object_statistics(
@@ -326,4 +332,66 @@ def render_frame(
         cull_backfaces=True,
         occluders=_occluder_boxes(verts, faces, parent, static, intrinsics),
     )
-    return RenderedFrame(rgb.numpy(), class_map.numpy(), instance.numpy(), depth.numpy().astype(np.float32), stats)
+    return FrameGeometry(world, objects, intrinsics, rot, trans, depth, fg, surface, albedo, emissive, gloss,
+                         p_cam, obj, dims, class_map, instance, stats)
+
+
+def _surface(world: World, objects: FrameObjects, attr: Tensor, fg: Tensor, depth: Tensor, rot: Tensor,
+             trans: Tensor, intrinsics: Intrinsics) -> tuple[Surface, Tensor, Tensor]:
+    """The :class:`Surface` of the ``P`` foreground pixels from their face attributes ``attr (P, 19)``, their
+    camera-frame points ``(P, 3)`` and the objects' dims ``(N, 3)`` (``(1, 3)`` ones when there is none)."""
+    material = attr[:, 1].long()
+    wheel, template, obj = attr[:, 13] > 0.5, attr[:, 14].long(), attr[:, 15].long()
+    is_car = obj >= 0
+    track = torch.from_numpy(objects.track)
+    rows, cols = fg.nonzero(as_tuple=True)
+    z = depth[fg]
+    fx, fy, cx, cy = intrinsics.fx, intrinsics.fy, intrinsics.cx, intrinsics.cy
+    p_cam = torch.stack([(cols - cx) / fx * z, (rows - cy) / fy * z, z], 1)
+    p_world = (p_cam - trans) @ rot
+    view_cam = -torch.nn.functional.normalize(p_cam, dim=1)
+    dims = torch.from_numpy(world.cars.dims).float()[track] if len(objects) else torch.ones(1, 3)
+    local = torch.zeros_like(p_cam)
+    if bool(is_car.any()):
+        k = obj[is_car]
+        centers = torch.from_numpy(objects.center).float()[k]
+        r = roty(torch.from_numpy(objects.ry).float())[k]
+        local[is_car] = torch.einsum("pk,pkj->pj", p_cam[is_car] - centers, r) / dims[k]
+    surface = Surface(material, attr[:, 2:5], attr[:, 5:13], p_world, attr[:, 16:19] @ rot, view_cam @ rot,
+                      z / intrinsics.fx, local, template, wheel)
+    return surface, p_cam, dims
+
+
+def light_frame(geometry: FrameGeometry, variation: str, frame_seed: int) -> RenderedFrame:
+    """Light ``geometry`` with a variation's look (sun, shadows, sky, weather, exposure): the rest of
+    :func:`render_frame`. ``frame_seed``: seed of per-frame effects (rain streaks)."""
+    g = geometry
+    look = look_for(variation)
+    h, w = g.intrinsics.size
+    material, z = g.surface.material, g.depth[g.fg]
+    ground = (material == Material.ROAD) | (material == Material.SIDEWALK) | (material == Material.TERRAIN)
+    sun_cam = g.rot @ torch.tensor(look.sun_dir)
+    shadow = torch.ones_like(z)
+    albedo = g.albedo
+    # Shadows of the visible cars on ground pixels closer than 80 m (further they are sub-pixel).
+    ground = ground & (z < 80.0)
+    seen = torch.unique(g.obj[g.obj >= 0])
+    if bool(ground.any()) and seen.numel():
+        direct, occlusion = _ground_shadow(g.p_cam[ground], g.objects.subset(seen.numpy()), g.dims[seen], sun_cam)
+        shadow[ground] = direct
+        albedo = albedo.clone()  # the geometry's albedo serves every look
+        albedo[ground] = albedo[ground] * occlusion.unsqueeze(1)
+    radiance = shade(g.surface, albedo, g.emissive, g.gloss, look, shadow)
+
+    image = torch.zeros(h, w, 3)
+    image[g.fg] = radiance
+    sky_rows, sky_cols = (~g.fg).nonzero(as_tuple=True)
+    if sky_rows.numel():
+        fx, fy, cx, cy = g.intrinsics.fx, g.intrinsics.fy, g.intrinsics.cx, g.intrinsics.cy
+        rays = torch.stack([(sky_cols - cx) / fx, (sky_rows - cy) / fy, torch.ones(sky_rows.shape[0])], 1)
+        dirs = torch.nn.functional.normalize(rays, dim=1) @ g.rot
+        image[~g.fg] = sky_color(dirs, look, g.world.seed + int(g.world.name))
+    image = apply_weather(image, g.depth, look, frame_seed)
+    rgb = tonemap(image, look.exposure)
+    return RenderedFrame(rgb.numpy(), g.class_map.numpy(), g.instance.numpy(), g.depth.numpy().astype(np.float32),
+                         g.stats)

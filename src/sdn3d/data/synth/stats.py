@@ -5,8 +5,12 @@
   2D boxes bound); ``-1`` for invisible objects.
 - ``unoccluded``: pixels the object covers inside the frame when drawn alone (rendered on a
   crop of the frame around its projection: same pixel grid, so the count is exact).
-- ``occupr = visible / unoccluded`` (fraction of the object's in-frame pixels not occluded,
-  independent of truncation, as Virtual KITTI defines it).
+- ``visible_fraction = visible / unoccluded``: the share of the object's in-frame pixels that are not
+  occluded (independent of truncation). Only the generator knows it; it sets the KITTI-like ``occluded`` flag.
+- ``occupr = visible / ((r - l + 1) (b - t + 1))``: the share of the 2D box (the inclusive box of the visible
+  pixels, the one the motgt row holds) that the visible pixels cover, as real Virtual KITTI 1.3.1 motgt
+  ``occupr`` and Virtual KITTI 2 ``occupancy_ratio`` are defined (unoccluded cars read about 0.75-0.85
+  there: a car's silhouette does not fill its box). It is what a reader of real files can know.
 - ``truncr``: share of the object's unoccluded silhouette outside the frame. Objects whose
   projected vertices all lie in the image have ``truncr = 0`` exactly; for the others the car is
   drawn alone a second time on a 384x192 canvas with the image plane scaled by ``s`` and shifted
@@ -43,13 +47,15 @@ _CANVAS = (192, 384)
 @dataclass
 class ObjectStats:
     """Arrays over a frame's N objects (see the module doc): visible ``(N,)`` int64, box ``(N, 4)``
-    int64, unoccluded ``(N,)`` int64, truncr ``(N,)`` float64, occupr ``(N,)`` float64."""
+    int64, unoccluded ``(N,)`` int64, truncr ``(N,)`` float64, occupr ``(N,)`` float64 (visible / box
+    area), visible_fraction ``(N,)`` float64 (visible / unoccluded); 0 for invisible objects."""
 
     visible: np.ndarray
     box: np.ndarray
     unoccluded: np.ndarray
     truncr: np.ndarray
     occupr: np.ndarray
+    visible_fraction: np.ndarray
 
 
 def _pairwise_hits(boxes: Tensor, zmax: Tensor, others: Tensor) -> Tensor:
@@ -246,9 +252,15 @@ def object_statistics(
                 torch.ones_like(tot, dtype=torch.float64),
             )
             truncr[warped] = ratio.clamp(0.0, 1.0)
-    occupr = torch.where(
-        unoccluded > 0,
-        visible.double() / unoccluded.clamp(min=1).double(),
-        torch.zeros(count, dtype=torch.float64),
-    ).clamp(0.0, 1.0)
-    return ObjectStats(visible.numpy(), box.numpy(), unoccluded.numpy(), truncr.numpy(), occupr.numpy())
+    return _ratios(visible, box, unoccluded, truncr)
+
+
+def _ratios(visible: Tensor, box: Tensor, unoccluded: Tensor, truncr: Tensor) -> ObjectStats:
+    """:class:`ObjectStats` with ``occupr`` (visible / inclusive box area) and ``visible_fraction``
+    (visible / unoccluded) from ``(N,)`` counts and ``(N, 4)`` inclusive boxes (-1 rows for unseen objects)."""
+    zero = torch.zeros(visible.shape[0], dtype=torch.float64)
+    area = (box[:, 2] - box[:, 0] + 1) * (box[:, 3] - box[:, 1] + 1)
+    occupr = torch.where(visible > 0, visible.double() / area.clamp(min=1).double(), zero).clamp(0.0, 1.0)
+    fraction = torch.where(unoccluded > 0, visible.double() / unoccluded.clamp(min=1).double(), zero).clamp(0.0, 1.0)
+    return ObjectStats(visible.numpy(), box.numpy(), unoccluded.numpy(), truncr.numpy(), occupr.numpy(),
+                       fraction.numpy())

@@ -12,11 +12,13 @@ Layout under the dataset root (exactly the official tarballs' trees)::
 motgt conventions (as Virtual KITTI 1.3.1): ``l t r b`` are the inclusive pixel bounds of the
 object's *visible* pixels; ``w3d h3d l3d`` in that order (the library's dims are (l, h, w));
 ``x3d y3d z3d`` the bottom-face centre in the camera frame; ``alpha = wrap(ry - atan2(x3d, z3d))``;
-``truncr`` / ``occupr`` as in ``stats.py``; ``rx = rz = 0``. The KITTI-like flags are derived:
-``truncated`` = 0 if truncr < 0.05, 1 if truncr < 0.5, else 2; ``occluded`` = 0 if occupr >= 0.95,
-1 if occupr >= 0.4, else 2; ``label`` is ``DontCare`` when either flag is 2 or the 2D box is under 25 px
-tall at 375 rows (the real files' rules; ``orig_label`` keeps Car / Van). Objects with no visible pixel
-are not listed. Depth is clipped at 655.35 m; empty (sky) pixels are 65535.
+``truncr`` as in ``stats.py``; ``occupr`` = visible pixels / the 2D box's pixel count ``(r - l + 1) (b - t + 1)``,
+as in the real files (an unoccluded car reads about 0.8: its silhouette does not fill its box); ``rx = rz = 0``.
+The KITTI-like flags are derived: ``truncated`` = 0 if truncr < 0.05, 1 if truncr < 0.5, else 2; ``occluded``
+from the true visible fraction ``f`` = visible / unoccluded pixels (``stats.py``; not written, the generator
+alone knows it): 0 if f >= 0.95, 1 if f >= 0.4, else 2; ``label`` is ``DontCare`` when either flag is 2 or
+the 2D box is under 25 px tall at 375 rows (the real files' rules; ``orig_label`` keeps Car / Van).
+Objects with no visible pixel are not listed. Depth is clipped at 655.35 m; empty (sky) pixels are 65535.
 """
 
 from __future__ import annotations
@@ -30,7 +32,6 @@ import numpy as np
 from PIL import Image
 
 from sdn3d.data.synth.classes import CLASS_COLORS, CLASS_ID, CLASS_NAMES, instance_colors
-from sdn3d.io import write_bytes_atomic, write_text_atomic
 
 __all__ = [
     "MOTGT_HEADER",
@@ -45,6 +46,7 @@ __all__ = [
     "truncation_flag",
     "occlusion_flag",
     "SequenceWriter",
+    "write_staged",
 ]
 
 MOTGT_HEADER = (
@@ -80,6 +82,18 @@ def table_path(root: Path, kind: str, world: str, variation: str) -> Path:
 
 def encoding_path(root: Path, world: str, variation: str) -> Path:
     return Path(root) / _DIRS["scenegt"] / f"{world}_{variation}_scenegt_rgb_encoding.txt"
+
+
+def write_staged(path: Path, data: bytes | str) -> None:
+    """Write ``data`` to ``path`` in the generator's staging tree, plainly: no temporary file, no fsync.
+
+    The tree is :func:`sdn3d.io.staged_directory`'s temporary directory, which becomes the dataset only once
+    it is complete (and is removed if the run fails), so each file need not be atomic on its own; and
+    :func:`~sdn3d.data.synth.generate.generate_dataset` flushes the whole tree to disk once before the swap.
+    A temporary file, rename and fsync per file cost about 30 ms per frame (3 PNGs) on the project machine.
+    """
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_bytes(data.encode("utf-8") if isinstance(data, str) else data)
 
 
 def png_bytes(array: np.ndarray) -> bytes:
@@ -127,8 +141,9 @@ def truncation_flag(truncr: np.ndarray) -> np.ndarray:
     return np.where(truncr < 0.05, 0, np.where(truncr < 0.5, 1, 2))
 
 
-def occlusion_flag(occupr: np.ndarray) -> np.ndarray:
-    return np.where(occupr >= 0.95, 0, np.where(occupr >= 0.4, 1, 2))
+def occlusion_flag(visible_fraction: np.ndarray) -> np.ndarray:
+    """KITTI-like ``occluded`` flag from the share of the object's in-frame pixels that are visible."""
+    return np.where(visible_fraction >= 0.95, 0, np.where(visible_fraction >= 0.4, 1, 2))
 
 
 #: Real motgt rows are DontCare when their 2D box is under 25 px tall at Virtual KITTI's 375 rows.
@@ -149,7 +164,8 @@ class SequenceWriter:
     """Writes one ``<world>/<variation>`` sequence: per-frame PNGs at once, text tables at :meth:`close`.
 
     Attributes:
-        root: dataset root.
+        root: dataset root: the staging tree of :func:`~sdn3d.data.synth.generate.generate_dataset`, whose
+            files are written plainly (:func:`write_staged`).
         world, variation: sequence names.
         tids, categories: every track id of the world and its category (Car / Van), for the
             instance colours (fixed per world by ``color_seed``) and the encoding file.
@@ -177,6 +193,7 @@ class SequenceWriter:
         depth: np.ndarray,
         world_to_cam: np.ndarray,
         annotations: dict[str, np.ndarray],
+        encoded: dict[tuple[str, int], bytes] | None = None,
     ) -> None:
         """Write the three PNGs of ``frame`` and buffer its motgt and extrinsics rows.
 
@@ -185,17 +202,24 @@ class SequenceWriter:
                 objects, whose track ids are ``annotations['tid']``).
             world_to_cam: ``(4, 4)``.
             annotations: per-object arrays ``tid, dims (N, 3) = (l, h, w), bottom (N, 3), ry,
-                box (N, 4), truncr, occupr, visible, moving, model, color, category``.
+                box (N, 4), truncr, occupr (visible / box area), visible_fraction (visible / unoccluded),
+                visible, moving, model, color, category``.
+            encoded: the scenegt and depth PNGs of this frame's maps, shared by the writers of variations
+                that render the same geometry (``generate.generate_sequences``): filled by the first writer,
+                reused by the others (keyed by kind and colour seed). None: encode here.
         """
-        tid = np.asarray(annotations["tid"], dtype=np.int64)
-        row_of_tid = {int(t): i for i, t in enumerate(self.tids.tolist())}
-        colors = self.colors[[row_of_tid[int(t)] for t in tid]] if len(tid) else np.zeros((0, 3), np.uint8)
-        write_bytes_atomic(frame_path(self.root, "rgb", self.world, self.variation, frame), png_bytes(rgb))
-        scenegt = encode_scenegt(class_map, instance, colors)
-        write_bytes_atomic(frame_path(self.root, "scenegt", self.world, self.variation, frame), png_bytes(scenegt))
-        write_bytes_atomic(
-            frame_path(self.root, "depthgt", self.world, self.variation, frame), png_bytes(depth_to_png(depth))
-        )
+        encoded = {} if encoded is None else encoded
+        write_staged(frame_path(self.root, "rgb", self.world, self.variation, frame), png_bytes(rgb))
+        if ("scenegt", self.color_seed) not in encoded:
+            tid = np.asarray(annotations["tid"], dtype=np.int64)
+            row_of_tid = {int(t): i for i, t in enumerate(self.tids.tolist())}
+            colors = self.colors[[row_of_tid[int(t)] for t in tid]] if len(tid) else np.zeros((0, 3), np.uint8)
+            encoded["scenegt", self.color_seed] = png_bytes(encode_scenegt(class_map, instance, colors))
+        if ("depthgt", 0) not in encoded:
+            encoded["depthgt", 0] = png_bytes(depth_to_png(depth))
+        write_staged(frame_path(self.root, "scenegt", self.world, self.variation, frame),
+                     encoded["scenegt", self.color_seed])
+        write_staged(frame_path(self.root, "depthgt", self.world, self.variation, frame), encoded["depthgt", 0])
         values = " ".join(f"{v:.9f}" for v in np.asarray(world_to_cam, dtype=np.float64)[:3].reshape(-1))
         self._extrinsics.append(f"{frame} {values} 0 0 0 1")
         self._motgt += self._motgt_rows(frame, annotations, int(class_map.shape[0]))
@@ -203,7 +227,7 @@ class SequenceWriter:
     def _motgt_rows(self, frame: int, a: dict[str, np.ndarray], image_height: int) -> list[str]:
         rows = []
         truncated = truncation_flag(a["truncr"])
-        occluded = occlusion_flag(a["occupr"])
+        occluded = occlusion_flag(a["visible_fraction"])
         for i in np.argsort(a["tid"], kind="stable"):
             if a["visible"][i] <= 0:
                 continue
@@ -226,11 +250,11 @@ class SequenceWriter:
 
     def close(self) -> None:
         """Write motgt, extrinsics and the scenegt colour encoding (tracks seen in some frame)."""
-        write_text_atomic(
+        write_staged(
             table_path(self.root, "motgt", self.world, self.variation),
             "\n".join([MOTGT_HEADER, *self._motgt]) + "\n",
         )
-        write_text_atomic(
+        write_staged(
             table_path(self.root, "extrinsicsgt", self.world, self.variation),
             "\n".join([EXTRINSICS_HEADER, *self._extrinsics]) + "\n",
         )
@@ -239,4 +263,4 @@ class SequenceWriter:
             if t in self._seen:
                 r, g, b = (int(v) for v in self.colors[i])
                 lines.append(f"{category}:{t} {r} {g} {b}")
-        write_text_atomic(encoding_path(self.root, self.world, self.variation), "\n".join(lines) + "\n")
+        write_staged(encoding_path(self.root, self.world, self.variation), "\n".join(lines) + "\n")

@@ -188,7 +188,7 @@ def test_bench_cli_wrong_or_corrupt_checkpoint_exits_2(tiny_synth, ckpts, tmp_pa
                            ({"textural": ckpts["geometric"]}, ("holds the geometric branch", "not the textural")),
                            ({"geometric": noise}, ("could not read checkpoint",))]:
         paths = {"geometric": ckpts["geometric"], "textural": ckpts["textural"]} | given
-        args = [f"data.root={tiny_synth}", "data.image_size=[160,64]", "geometric.crop_size=32",
+        args = [f"data.root={tiny_synth}", "data.image_size=[160,64]", "geometric.crop_size=32", "proposals=gt",
                 *(f"checkpoints.{k}={v}" for k, v in paths.items()), f"output_dir={tmp_path / 'bench'}"]
         assert bench_main(args) == 2
         err = capsys.readouterr().err

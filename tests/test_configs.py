@@ -100,15 +100,18 @@ BUDGETS = {
               "geometric": {"model.pred_epochs": 8, "model.joint_epochs": 2, "trainer.max_epochs": 10,
                             "trainer.limit_train_batches": 16, "datamodule.crop_size": 64},
               "textural": {"model.lr_constant_epochs": 6, "model.lr_decay_epochs": 6, "trainer.max_epochs": 12,
-                           "model.ngf": 16}},
-    "medium": {"geometric": {"model.pred_epochs": 40, "model.joint_epochs": 20, "trainer.max_epochs": 60},
+                           "model.ngf": 16, "datamodule.maps": "gt"}},
+    "medium": {"semantic": {"trainer.max_epochs": 6, "model.lr": 0.005},
+               "geometric": {"model.pred_epochs": 40, "model.joint_epochs": 20, "trainer.max_epochs": 60},
                "textural": {"trainer.max_epochs": 12, "trainer.limit_train_batches": 1.0,
-                            "trainer.limit_val_batches": 16, "trainer.limit_test_batches": 1.0}},
+                            "trainer.limit_val_batches": 16, "trainer.limit_test_batches": 1.0,
+                            "datamodule.maps": "predicted"}},
     "long": {"semantic": {"data.image_size": [624, 192], "trainer.max_epochs": 40, "model.lr": 0.01,
                           "trainer.limit_train_batches": 1.0, "trainer.check_val_every_n_epoch": 5},
              "geometric": {"model.pred_epochs": 40, "model.joint_epochs": 20, "trainer.max_epochs": 60},
              "textural": {"model.ngf": 32, "model.n_blocks": 6, "datamodule.image_size": [624, 192],
-                          "datamodule.batch_size": 1, "trainer.max_epochs": 12, "trainer.log_every_n_steps": 50}},
+                          "datamodule.batch_size": 1, "trainer.max_epochs": 12, "trainer.log_every_n_steps": 50,
+                          "datamodule.maps": "predicted"}},
 }
 
 
@@ -130,6 +133,20 @@ def test_the_demo_passes_experiments_and_machine_options_only(budget, tmp_path):
             node, field = key.split(".")
             assert cfg[node][field] == value, (budget, branch, key)
     assert sorted(demo.train.branches) == sorted(BUDGETS[budget])
+
+
+def test_the_demo_gives_the_textural_run_the_upstream_checkpoints(tmp_path):
+    """3D-SDN's order: the textural branch trains on the maps the semantic and geometric branches predict."""
+    from sdn3d.cli.demo import _train_command
+
+    demo = _compose(["budget=medium"], "demo")
+    upstream = {"semantic": str(tmp_path / "s.ckpt"), "geometric": str(tmp_path / "g.ckpt")}
+    cmd = _train_command("textural", demo, tmp_path / "data", tmp_path / "runs", upstream)
+    assert f"datamodule.semantic_checkpoint={upstream['semantic']}" in cmd
+    assert f"datamodule.geometric_checkpoint={upstream['geometric']}" in cmd
+    assert f"datamodule.map_cache_dir={tmp_path / 'runs' / 'map_cache'}" in cmd
+    assert not any(o.startswith("datamodule.semantic") for o in _train_command("geometric", demo, tmp_path / "data",
+                                                                              tmp_path / "runs", upstream))
 
 
 def test_renderer_group_maps_field_for_field_onto_the_settings():

@@ -85,6 +85,9 @@ def test_full_demo_tiny_budget(tmp_path):
         assert (out / name).is_file(), name
     report = (out / "report.md").read_text()
     assert "short CPU run" in report and "| 3D-SDN" in report
+    # the benchmark on predictions first (the demo trains a semantic branch), then the oracle row, labelled
+    assert 0 < report.index("| predicted | 2D |") < report.index("| oracle: GT masks + semantics | 2D |")
+    assert summary["bench"]["info"]["sources"] == ["semantic", "gt"]
     assert summary["peak_memory"]["largest_child_mib"] > 0
 
 
@@ -95,7 +98,7 @@ def test_demo_trains_branches_in_parallel_and_composes_the_long_budget(tmp_path)
     long = compose_config(["budget=long"], "demo")
     assert long.budget_name == "long" and long.train.experiment.geometric == "demo_long" and long.gpu_budget
     medium = compose_config(["budget=medium"], "demo")
-    assert medium.train.branches == ["geometric", "textural"] and medium.render_size == [312, 96]
+    assert medium.train.branches == ["semantic", "geometric", "textural"] and medium.render_size == [312, 96]
     assert len(long.synth.worlds) == 5 and long.train.textural == []  # the budget is in experiment=demo_long
     out = tmp_path / "demo"
     status = main([f"output_dir={out}", f"data_dir={tmp_path / 'data'}", "threads=1", "synth.image_size=[160,64]",
@@ -156,6 +159,30 @@ def test_demo_edits_are_composed_into_the_frame(tiny_synth, tmp_path, mode):
     assert (grid[:64, :160] == original).all()  # the source panel is the frame itself
     rows = 1 + len(info["edits"]) // 2  # source + reconstruction, then two edits a row (the last one alone)
     assert grid.shape[0] == rows * (64 + 4)
+
+
+def test_demo_benchmark_and_edits_run_on_predicted_proposals(tiny_synth, tmp_path):
+    """The demo's benchmark reports the predicted row first, then the oracle row (only the oracle, said so, when no
+    semantic branch was trained); its example edits de-render with the semantic branch, and fall back to the
+    frame's masks, labelled as the oracle, when the branch finds no car with geometry."""
+    from helpers.tiny_models import write_checkpoints
+
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli.demo import bench_proposals, run_edits
+
+    cfg = compose_config(["render_size=[80,32]", "edits.angles_deg=[45]", "edits.zoom=0.8"], "demo")
+    ckpts = {k: str(v) for k, v in write_checkpoints(tmp_path / "ckpt").items()}
+    assert list(cfg.bench.proposals) == ["semantic", "gt"] and cfg.edits.proposals == "semantic"
+    assert bench_proposals(cfg, ckpts) == ["semantic", "gt"]
+    assert bench_proposals(cfg, {"geometric": ckpts["geometric"], "textural": ckpts["textural"]}) == ["gt"]
+    (tmp_path / "config.yaml").write_text("datamodule:\n  crop_size: 32\n")  # the geometric run's crop size
+    info = run_edits(cfg, tiny_synth, ckpts, tmp_path / "edits")
+    # random semantic weights propose no car with geometry on tiny_synth: the oracle stands in, labelled
+    assert info["proposals"].startswith("oracle: ground-truth masks and semantics (the semantic branch found no car")
+    oracle = compose_config(["render_size=[80,32]", "edits.angles_deg=[45]", "edits.zoom=0.8", "edits.proposals=gt"],
+                            "demo")
+    info = run_edits(oracle, tiny_synth, ckpts, tmp_path / "e2")
+    assert info["proposals"] == "oracle: ground-truth masks and semantics"
 
 
 def test_demo_bad_override_exits_2_without_output(tmp_path, capsys):

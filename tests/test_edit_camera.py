@@ -83,7 +83,7 @@ def test_given_intrinsics_run_with_the_aspect_kept(ckpts, picture, tmp_path):
     assert transform["input_size"] == [256, 128] and transform["working_size"] == [160, 64]
     assert transform["mode"] == "scale_crop" and transform["scaled_size"] == [160, 80]
     assert transform["scale"] == [0.625, 0.625] and transform["crop_offset"] == [0, 8]
-    assert np.asarray(Image.open(out / "source.png")).shape == (64, 160, 3)
+    assert np.asarray(Image.open(out / "generated.png")).shape == (64, 160, 3)  # the working size
 
 
 def test_cityscapes_camera_json_runs_and_is_recorded(ckpts, picture, tmp_path):
@@ -187,7 +187,7 @@ def test_cli_spec_in_input_pixels(tiny_synth, ckpts, scene, tmp_path):
     out = tmp_path / "out"
     assert main(["data=synth", f"data.root={tiny_synth}", "data.image_size=[80,32]", f"input.frame={FRAME}",
                  f"edits={tmp_path / 'ops.yaml'}", *(f"checkpoints.{k}={v}" for k, v in ckpts.items()),
-                 "geometric.crop_size=32", "geometric.min_pixels=1", f"output_dir={out}"]) == 0
+                 "geometric.crop_size=32", "geometric.min_pixels=1", "proposals=gt", f"output_dir={out}"]) == 0
     summary = json.loads((out / "edit.json").read_text())
     assert summary["ops"] == [{"op": "Delete", "instance_id": int(scene.objects.instance_id[row])}]
     assert summary["input_transform"]["input_size"] == [160, 64] and summary["input_transform"]["mode"] == "resize"
@@ -247,6 +247,6 @@ def test_dataset_ground_truth_proposals_give_no_warning(tiny_synth, ckpts, tmp_p
     out = tmp_path / "out"
     assert main(["data=synth", f"data.root={tiny_synth}", "data.image_size=[80,32]", f"input.frame={FRAME}",
                  f"edits={tmp_path / 'ops.yaml'}", *(f"checkpoints.{k}={v}" for k, v in ckpts.items()),
-                 f"checkpoints.semantic={ckpt}", "geometric.crop_size=32", f"output_dir={out}"]) == 0
+                 f"checkpoints.semantic={ckpt}", "geometric.crop_size=32", "proposals=gt", f"output_dir={out}"]) == 0
     assert "warning" not in capsys.readouterr().err
     assert json.loads((out / "edit.json").read_text())["warnings"] == []

@@ -36,7 +36,7 @@ def ckpts(tmp_path_factory):
 def _args(tiny_synth, ckpts, out, edits, *extra):
     return ["data=synth", f"data.root={tiny_synth}", "data.image_size=[160,64]", f"edits={edits}",
             *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32",
-            "geometric.min_pixels=1", f"output_dir={out}", *extra]
+            "geometric.min_pixels=1", "proposals=gt", f"output_dir={out}", *extra]  # gt: random weights find no car
 
 
 def _write(path, text):
@@ -62,7 +62,8 @@ def done(tiny_synth, ckpts, tmp_path_factory):
 """)
     save_code_bank(CodeBank(BANK, BANK_COLORS), tmp / "bank.json")
     out = tmp / "out"
-    code = main(_args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}", f"code_bank={tmp / 'bank.json'}"))
+    code = main(_args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}", f"code_bank={tmp / 'bank.json'}",
+                      "diagnostics=true"))
     return code, out, ids
 
 
@@ -100,7 +101,7 @@ def test_edit_applies_the_resolved_ops(done):
     assert edited.background_codes[road].tolist() == pytest.approx([0.1, 0.2, 0.3, 0.4, 0.5])
     sampled = CodeBank(BANK).sample(ids[3] // 1000, 1, torch.Generator().manual_seed(3))
     assert edited.objects.code[edited.objects.index_of(ids[3])].tolist() == sampled[0].tolist()
-    copy = edited.objects.index_of(max(edited.objects.instance_id.tolist()))
+    copy = edited.objects.index_of(next(i for i in edited.objects.instance_id.tolist() if i not in ids))
     assert len(edited.objects) == len(ids) and not bool(edited.objects.observed[copy])  # one deleted, one added
     torch.testing.assert_close(edited.objects.code[copy], edited.objects.code[e0])
     glb = trimesh.load(out / "edited_scene.glb")
@@ -143,21 +144,25 @@ def test_edited_png_keeps_every_untouched_pixel_of_the_frame(done, tiny_synth, c
     edited, generated = (np.asarray(Image.open(out / name)) for name in ("edited.png", "generated.png"))
     kept = _kept(out, (160, 64))
     assert kept.any() and (edited[kept] == source[kept]).all()  # bit for bit
+    # Without diagnostics=true only what an edit needs is written: no reconstruction pass, no glTF export.
+    written = {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()}
+    assert written == {"edited.png", "generated.png", "maps/edit_region.png", "scene.json", "scene.npz",
+                       "edited_scene.json", "edited_scene.npz", "edit.json"}
     deleted = scene_from_frame(vkitti1.read_frames(tiny_synth)[4], (160, 64)).objects.mask[2].numpy()
     assert (edited[deleted] != source[deleted]).any() and (generated[kept] != source[kept]).any()
 
 
 @pytest.mark.parametrize("ops, message", [
     ("- {op: rotate, id: 12999, ry_deg: 30}", r"op 0 \(rotate id=12999\): no object with id 12999"),
-    ("- {op: zoom, id: 12001, zoom: .nan}", r"op 0 \(zoom\): field 'zoom' must be finite"),
-    ("- {op: rotate, id: 12001, ry_deg: 5}\n- {op: zoom, id: 12001, zoom: -2}", r"op 1 \(zoom\).*must be > 0"),
-    ("- {op: move, id: 12001, to: [400, 20]}", r"op 0 \(move id=12001\): 'to' point \[400.0, 20.0\] lies outside"),
+    ("- {op: zoom, id: 12002, zoom: .nan}", r"op 0 \(zoom\): field 'zoom' must be finite"),
+    ("- {op: rotate, id: 12002, ry_deg: 5}\n- {op: zoom, id: 12002, zoom: -2}", r"op 1 \(zoom\).*must be > 0"),
+    ("- {op: move, id: 12002, to: [400, 20]}", r"op 0 \(move id=12002\): 'to' point \[400.0, 20.0\] lies outside"),
     ("- {op: delete, at: [2, 2]}", r"op 0 \(delete at=\[2.0, 2.0\]\): no object at"),
-    ("- {op: recolor, id: 12001, sample: true}", r"op 0 \(recolor id=12001\): 'sample: true' needs a code bank"),
-    ("- {op: spin, id: 12001}", r"field 'op' must be one of"),
-    ("- {op: zoom, id: 12001, zoom: 1.0e9}", r"op 0 \(zoom id=12001\): Zoom: object 12001 would end .* closer than"),
-    ("- {op: zoom, id: 12001, zoom: 1e-9}", r"op 0 \(zoom id=12001\): .* farther than 1000 m \(the far plane"),
-    ("- {op: zoom, id: 12001, zoom: huge}", r"op 0 \(zoom\): field 'zoom' must be a number, got 'huge'"),
+    ("- {op: recolor, id: 12002, sample: true}", r"op 0 \(recolor id=12002\): 'sample: true' needs a code bank"),
+    ("- {op: spin, id: 12002}", r"field 'op' must be one of"),
+    ("- {op: zoom, id: 12002, zoom: 1.0e9}", r"op 0 \(zoom id=12002\): Zoom: object 12002 would end .* closer than"),
+    ("- {op: zoom, id: 12002, zoom: 1e-9}", r"op 0 \(zoom id=12002\): .* farther than 1000 m \(the far plane"),
+    ("- {op: zoom, id: 12002, zoom: huge}", r"op 0 \(zoom\): field 'zoom' must be a number, got 'huge'"),
 ])
 def test_bad_edits_exit_2_and_write_nothing(tiny_synth, ckpts, tmp_path, capsys, ops, message):
     edits = _write(tmp_path / "ops.yaml", ops)
@@ -198,7 +203,7 @@ def test_image_file_input_with_given_camera(tiny_synth, ckpts, tmp_path):
     assert main(args) == 0
     summary = json.loads((out / "edit.json").read_text())
     assert summary["intrinsics"]["width"] == 160 and math.isclose(summary["intrinsics"]["fx"], 725 * 160 / 1242)
-    assert np.asarray(Image.open(out / "source.png")).shape == (64, 160, 3)
+    assert np.asarray(Image.open(out / "generated.png")).shape == (64, 160, 3)  # the working size
     assert main(args[:-1] + [f"output_dir={tmp_path / 'o2'}", "checkpoints.textural=null"]) == 2
 
 
@@ -394,3 +399,13 @@ def test_bad_run_dir_exits_2(tiny_synth, ckpts, tmp_path, capsys, case, message)
     err = capsys.readouterr().err
     assert err.startswith("sdn3d-edit: error: run ") and err.count("\n") == 1 and re.search(message, err), err
     assert not out.exists()
+
+
+def test_default_proposals_without_a_semantic_branch_say_what_to_give(tiny_synth, ckpts, tmp_path, capsys):
+    edits = _write(tmp_path / "ops.yaml", "- {op: delete, id: 12002}")
+    out = tmp_path / "out"
+    args = [a for a in _args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}")
+            if not a.startswith(("proposals=", "checkpoints.semantic="))]
+    assert main(args) == 2 and not out.exists()
+    err = capsys.readouterr().err
+    assert "checkpoints.semantic=<file>" in err and "run=" in err and "proposals=gt" in err

@@ -134,6 +134,35 @@ def test_perceptual_loss_and_decoupling_switches(data_root, tmp_path, net):
     assert no_codes.generator.model[1].in_channels == 19 + 1 + 24 + 3
 
 
+def test_generator_without_pose_and_normal_maps_trains_and_renders_without_them(data_root, tmp_path):
+    """model.use_pose=false model.use_normal=false (the 2D baselines' generator, sdn3d-bench
+    checkpoints.textural_2d): G has no such channels in training, the checkpoint says so, and the renderer built
+    from it draws the same picture whatever pose and normal maps it is given."""
+    torch.manual_seed(0)
+    model = TexturalModule(**SMALL, use_pose=False, use_normal=False)
+    trainer = _trainer(max_steps=2, limit_val_batches=0)
+    dm = _datamodule(data_root)
+    trainer.fit(model, datamodule=dm)
+    assert int(model.g_updates) == 1 and model.generator.model[1].in_channels == 14 + 1 + 5
+    ckpt = tmp_path / "textural_2d.ckpt"
+    trainer.save_checkpoint(ckpt)
+    saved = torch.load(ckpt, weights_only=True)["hyper_parameters"]
+    assert saved["use_pose"] is False and saved["use_normal"] is False and saved["use_codes"] is True
+    renderer = TexturalRenderer.from_checkpoint(ckpt)
+    assert not renderer.spec.use_pose and not renderer.spec.use_normal
+    assert renderer.generator.model[1].in_channels == 14 + 1 + 5
+    batch = next(iter(dm.train_dataloader()))
+    assert batch["pose"].abs().sum() > 0 and batch["normal"].abs().sum() > 0  # the data has the maps ...
+    model.eval()
+    with torch.no_grad():
+        trained = model(batch)
+    args = (batch["image"], batch["label"], batch["instance_label_map"], batch["boundary"])
+    drawn = renderer.reconstruct(*args, batch["pose"], batch["normal"])
+    torch.testing.assert_close(drawn, trained, atol=1e-5, rtol=0)
+    # ... and neither G reads them
+    torch.testing.assert_close(renderer.reconstruct(*args, torch.rand_like(batch["pose"]), None), drawn)
+
+
 def test_swap_term_makes_the_code_decide_the_colour_it_is_scored_on(data_root):
     """The swap term compares G's drawing with swapped codes against the donors' real colours, and its gradient
     reaches both G and E."""

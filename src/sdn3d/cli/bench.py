@@ -1,15 +1,29 @@
 """``sdn3d-bench``: the editing benchmark (paper Table 1), see :mod:`sdn3d.evaluation.edit_benchmark`.
 
-Configuration ``conf/bench.yaml`` (Hydra overrides as arguments). Outputs, written all at once:
+Configuration ``conf/bench.yaml`` (Hydra overrides as arguments). One run evaluates every source scene of
+``proposals`` (default ``[semantic, gt]``): first 3D-SDN as a user runs it, on the semantic branch's predicted
+masks and semantics, then the *oracle* row on the frame's ground-truth masks and semantics, each labelled in
+every output. ``scene=oracle`` (ground-truth geometry too) is one pass. Outputs, written all at once:
 
-    results.json     settings, summary (means per compose mode / method / region / metric, latency), every entry
+    results.json     settings, which source scenes (``info.sources`` / ``info.source_labels``) and which generator
+                     drew each method (``info.generators``: checkpoint, whether it takes pose / normal maps); per
+                     source scene: summary (means per compose mode / method / region / metric, latency) and
+                     every entry
     table1.md        the paper's Table 1 layout (LPIPS whole / all / largest) plus L1, SSIM, PSNR, one row per
-                     method and compose mode: ``full`` = the generator's whole picture (the paper's protocol),
-                     ``edited`` = the source outside the method's edit region (what ``sdn3d-edit`` gives a user)
-    index.html       example grids (source | target | 3D-SDN | 2D | 2D+, one row per compose mode) with metrics
+                     source scene, method and compose mode: ``full`` = the generator's whole picture (the paper's
+                     protocol), ``edited`` = the source outside the method's edit region (what ``sdn3d-edit``
+                     gives a user); each row names its generator
+    index.html       example grids (source | target | 3D-SDN | 2D | 2D+, one row per source scene and compose
+                     mode) with metrics
     examples/*.png   the grids
 
-Exit status: 0 done; 2 bad input (missing benchmark / checkpoint, no matching frames; nothing written).
+The 2D and 2D+ rows are drawn by 3D-SDN's generator (whose inputs include pose and normal maps from the
+de-rendered geometry) unless ``checkpoints.textural_2d`` gives a generator trained without them
+(``sdn3d-train branch=textural model.use_pose=false model.use_normal=false``): the paper's baselines without 3D
+knowledge.
+
+Exit status: 0 done; 2 bad input (missing benchmark / checkpoint, no semantic checkpoint for the predicted row,
+no matching frames; nothing written).
 """
 
 from __future__ import annotations
@@ -29,15 +43,18 @@ from rich.console import Console
 from sdn3d.cli._config import CONFIG_DIR, compose_config
 from sdn3d.cli._errors import run_cli
 from sdn3d.errors import InputError
-from sdn3d.evaluation.edit_benchmark import REGIONS
+from sdn3d.evaluation.edit_benchmark import METHODS, PROPOSALS, REGIONS, SOURCE_LABELS
 from sdn3d.io import check_output_dir, staged_directory
 
-__all__ = ["main", "run_bench", "table1_markdown", "examples_html"]
+__all__ = ["main", "run_bench", "table1_markdown", "examples_html", "generator_info", "bench_passes"]
 
 MARKER = "results.json"
 LABELS = {"2d": "2D", "2d+": "2D+", "3d-sdn": "3D-SDN (ours)"}
 ROW_ORDER = ("2d", "2d+", "3d-sdn")  # the paper's row order
 COMPOSE_LABELS = {"full": "full (paper protocol)", "edited": "edited (what a user gets)"}
+#: The table's short name of each source scene (:data:`SOURCE_LABELS` has the long ones).
+SOURCE_SHORT = {"semantic": "predicted", "gt": "oracle: GT masks + semantics",
+                "oracle": "oracle: GT masks, semantics + geometry"}
 console = Console(stderr=True)
 
 
@@ -47,101 +64,230 @@ def _fmt(stat: dict | None, digits: int = 4) -> str:
     return f"{stat['mean']:.{digits}f}"
 
 
-def _rows(summary: dict, info: dict) -> list[tuple[str, str, dict]]:
-    """``(method, compose, {region: {metric: stat}})`` per table row: every compose mode, the paper's row order."""
-    methods = summary["methods"]
-    return [(m, c, methods.get(c, {}).get(m, {})) for c in info["compose"] for m in ROW_ORDER]
+def generator_info(path: str | Path, spec: Any, tag: str) -> dict:
+    """What results.json and table1.md say about a textural generator: ``tag`` (the table's short name), its
+    checkpoint and which of its inputs it takes (``spec``: :class:`~sdn3d.nets.pix2pixhd.TexturalSpec`)."""
+    maps = [name for name, used in (("pose", spec.use_pose), ("normal", spec.use_normal)) if used]
+    takes = " + ".join(maps) + " maps" if maps else "no pose or normal maps"
+    return {"tag": tag, "checkpoint": str(path), "use_pose": bool(spec.use_pose), "use_normal": bool(spec.use_normal),
+            "use_codes": bool(spec.use_codes), "description": f"{tag} ({takes})"}
 
 
-def table1_markdown(summary: dict, info: dict) -> str:
-    """The paper's Table 1 layout (rows 2D, 2D+, 3D-SDN per compose mode) from
-    :func:`sdn3d.evaluation.edit_benchmark.summarize` output."""
-    rows = _rows(summary, info)
-    has_lpips = any("lpips" in stats.get("whole", {}) for _, _, stats in rows)
-    lines = ["# Editing benchmark (3D-SDN Table 1 layout)", "",
-             f"{summary['evaluated']} of {summary['entries']} entries evaluated on `{info['benchmark']}` "
-             f"({info['data']}), working size {info['image_size'][0]}x{info['image_size'][1]}, source scene: "
-             f"{info['scene']}" + (f" (proposals: {info['proposals']})" if info["scene"] == "derender" else "")
-             + ". All methods are drawn by the same textural generator. Lower LPIPS / L1 and higher SSIM / "
-             "PSNR are better; *all* = the union of the edited objects' source and target regions, *largest* "
-             "= the largest edited object's target box (crop).", "",
-             "Compose *full* = the generator's whole picture (the paper's protocol); compose *edited* = the source "
-             "frame with only the method's edit region (its edited objects' footprints and changed pixels, dilated "
-             f"{info['dilate_px']} px, feathered {info['feather_px']} px) redrawn, at the working size: what "
-             "`sdn3d-edit` gives a user.", ""]
-    lines += ["| Method | Compose | LPIPS (whole) | LPIPS (all) | LPIPS (largest) |", "|---|---|---|---|---|"]
-    for m, c, stats in rows:
-        cells = [_fmt(stats.get(r, {}).get("lpips")) for r in REGIONS]
-        lines.append(f"| {LABELS[m]} | {COMPOSE_LABELS[c]} | " + " | ".join(cells) + " |")
+def _rows(summaries: dict, info: dict) -> list[tuple[str, str, str, dict]]:
+    """``(source, method, compose, {region: {metric: stat}})`` per table row: every source scene (predicted
+    first), every compose mode, the paper's row order."""
+    return [(s, m, c, summaries[s]["methods"].get(c, {}).get(m, {}))
+            for s in info["sources"] for c in info["compose"] for m in ROW_ORDER]
+
+
+def _generators_note(info: dict) -> list[str]:
+    gens = info["generators"]
+    lines = [f"- {g['tag']}: `{g['checkpoint']}` (inputs: semantics, boundaries"
+             + (", texture codes" if g["use_codes"] else "") + (", pose map" if g["use_pose"] else "")
+             + (", normal map" if g["use_normal"] else "") + f"): draws {', '.join(LABELS[m] for m in ms)}"
+             for g, ms in _generator_methods(gens)]
+    if gens["2d"]["checkpoint"] == gens["3d-sdn"]["checkpoint"]:
+        lines.append("- The 2D and 2D+ rows use the 3D-informed generator: its pose and normal maps come from "
+                     "3D-SDN's de-rendered geometry (moved with each region), so these baselines are not free of 3D "
+                     "knowledge. `checkpoints.textural_2d=` a generator trained with `model.use_pose=false "
+                     "model.use_normal=false` draws them without (the paper's baselines).")
+    return lines
+
+
+def _generator_methods(gens: dict) -> list[tuple[dict, list[str]]]:
+    """``[(generator, [methods it draws])]`` in first-use order of :data:`ROW_ORDER`."""
+    out: dict[str, tuple[dict, list[str]]] = {}
+    for m in ROW_ORDER:
+        out.setdefault(gens[m]["tag"], (gens[m], []))[1].append(m)
+    return list(out.values())
+
+
+def _header(summaries: dict, info: dict) -> list[str]:
+    first = summaries[info["sources"][0]]
+    sources = "; ".join(f"*{SOURCE_SHORT[s]}* = {SOURCE_LABELS[s]}" for s in info["sources"])
+    oracle_only = [] if any(not info["source_oracle"][s] for s in info["sources"]) else [
+        "", "**Oracle rows only**: no row here runs on the semantic branch's predictions (`proposals=[semantic, gt]` "
+            "with `checkpoints.semantic=` gives the predicted row a user gets)."]
+    return ["# Editing benchmark (3D-SDN Table 1 layout)", "",
+            f"{first['evaluated']} of {first['entries']} entries evaluated on `{info['benchmark']}` "
+            f"({info['data']}), working size {info['image_size'][0]}x{info['image_size'][1]}. "
+            f"Source scenes: {sources}. "
+            "Lower LPIPS / L1 and higher SSIM / PSNR are better; *all* = the union of the edited objects' source and "
+            "target regions, *largest* = the largest edited object's target box (crop).", *oracle_only, "",
+            "Compose *full* = the generator's whole picture (the paper's protocol); compose *edited* = the source "
+            "frame with only the method's edit region (its edited objects' footprints and changed pixels, dilated "
+            f"{info['dilate_px']} px, feathered {info['feather_px']} px) redrawn, at the working size: what "
+            "`sdn3d-edit` gives a user.", "", "Generators:", *_generators_note(info), ""]
+
+
+def table1_markdown(summaries: dict, info: dict) -> str:
+    """The paper's Table 1 layout (rows 2D, 2D+, 3D-SDN per source scene and compose mode) from
+    ``{source: summarize(...)}`` (:func:`sdn3d.evaluation.edit_benchmark.summarize`) and results.json's info."""
+    rows = _rows(summaries, info)
+    gens = info["generators"]
+    has_lpips = any("lpips" in stats.get("whole", {}) for *_, stats in rows)
+    head = "| Scene | Method | Generator | Compose |"
+
+    def lead(s: str, m: str, c: str) -> str:
+        return f"| {SOURCE_SHORT[s]} | {LABELS[m]} | {gens[m]['tag']} | {COMPOSE_LABELS[c]} |"
+
+    lines = _header(summaries, info)
+    lines += [f"{head} LPIPS (whole) | LPIPS (all) | LPIPS (largest) |", "|---" * 7 + "|"]
+    lines += [lead(s, m, c) + " " + " | ".join(_fmt(st.get(r, {}).get("lpips")) for r in REGIONS) + " |"
+              for s, m, c, st in rows]
     if not has_lpips:
         lines += ["", "LPIPS: n/a, no LPIPS weights were given (`lpips_weights=`, see sdn3d.nets.lpips)."]
-    lines += ["", "| Method | Compose | " + " | ".join(f"{k} ({r})" for k in ("L1", "SSIM", "PSNR") for r in REGIONS)
-              + " |", "|---" * 11 + "|"]
-    for m, c, stats in rows:
-        cells = [_fmt(stats.get(r, {}).get(k), 2 if k == "psnr" else 4)
-                 for k in ("l1", "ssim", "psnr") for r in REGIONS]
-        lines.append(f"| {LABELS[m]} | {COMPOSE_LABELS[c]} | " + " | ".join(cells) + " |")
+    lines += ["", f"{head} " + " | ".join(f"{k} ({r})" for k in ("L1", "SSIM", "PSNR") for r in REGIONS) + " |",
+              "|---" * 13 + "|"]
+    lines += [lead(s, m, c) + " " + " | ".join(_fmt(st.get(r, {}).get(k), 2 if k == "psnr" else 4)
+                                             for k in ("l1", "ssim", "psnr") for r in REGIONS) + " |"
+              for s, m, c, st in rows]
     lines += ["", "Layout diagnostic (not in the paper; needs no trained generator): mean IoU between where each "
                   "method draws the edited objects and where the target frame shows them.", "",
-              "| Method | edited-object mask IoU |", "|---|---|"]
-    lines += [f"| {LABELS[m]} | {_fmt(stats.get('layout', {}).get('mask_iou'), 3)} |"
-              for m, c, stats in rows if c == info["compose"][0]]
-    lat = summary["latency_ms"]
-    compose = (f"; compose edited adds {_fmt(lat['compose'], 1)} ms" if "edited" in info["compose"] else "")
-    lines += ["", f"3D-SDN latency per edit (de-render + edit + render, {info['device']}, "
+              "| Scene | Method | edited-object mask IoU |", "|---|---|---|"]
+    lines += [f"| {SOURCE_SHORT[s]} | {LABELS[m]} | {_fmt(st.get('layout', {}).get('mask_iou'), 3)} |"
+              for s, m, c, st in rows if c == info["compose"][0]]
+    lines += _by_kind_lines(summaries, info)
+    lines.append("")
+    for s in info["sources"]:
+        lat, failed = summaries[s]["latency_ms"], summaries[s]["failed"]
+        compose = f"; compose edited adds {_fmt(lat['compose'], 1)} ms" if "edited" in info["compose"] else ""
+        lines += [f"*{SOURCE_SHORT[s]}*: 3D-SDN latency per edit (de-render + edit + render, {info['device']}, "
                   f"{info['threads']} threads): mean {_fmt(lat['total'], 0)} ms (de-render {_fmt(lat['derender'], 0)}, "
-                  f"edit {_fmt(lat['edit'], 0)}, render {_fmt(lat['render'], 0)} ms{compose}).",
-              "", "Entries that failed per method: " + ", ".join(f"{LABELS[m]} {summary['failed'][m]}"
-                                                                  for m in ROW_ORDER) + "."]
-    return "\n".join(lines) + "\n"
+                  f"edit {_fmt(lat['edit'], 0)}, render {_fmt(lat['render'], 0)} ms{compose}). Entries that failed per "
+                  "method: " + ", ".join(f"{LABELS[m]} {failed[m]}" for m in ROW_ORDER) + ".", ""]
+    return "\n".join(lines)
+
+
+_KIND_TITLES = {"occluder_removed": "Occluder removed (not in the paper's benchmark): a car in front of a partly "
+                                      "hidden one is deleted and the target shows the hidden car whole; only a method "
+                                      "that completes the hidden car can match it"}
+
+
+def _by_kind_lines(summaries: dict, info: dict) -> list[str]:
+    """A table per entry kind besides the paper's edits (``summarize``'s ``by_kind``), which the tables above leave
+    out."""
+    lines: list[str] = []
+    kinds = list(dict.fromkeys(k for s in info["sources"] for k in summaries[s].get("by_kind", {})))
+    for kind in kinds:
+        counts = {s: summaries[s]["by_kind"].get(kind, {}).get("evaluated", 0) for s in info["sources"]}
+        lines += ["", f"**{_KIND_TITLES.get(kind, kind)}** ({max(counts.values())} entries, compose "
+                      f"{COMPOSE_LABELS[info['compose'][0]]}):", "",
+                  "| Scene | Method | L1 (all) | SSIM (all) | PSNR (all) | mask IoU |", "|---|---|---|---|---|---|"]
+        for s in info["sources"]:
+            methods = summaries[s].get("by_kind", {}).get(kind, {}).get("methods", {}).get(info["compose"][0], {})
+            for m in ROW_ORDER:
+                st = methods.get(m, {})
+                lines.append(f"| {SOURCE_SHORT[s]} | {LABELS[m]} | {_fmt(st.get('all', {}).get('l1'))} | "
+                             f"{_fmt(st.get('all', {}).get('ssim'))} | {_fmt(st.get('all', {}).get('psnr'), 2)} | "
+                             f"{_fmt(st.get('layout', {}).get('mask_iou'), 3)} |")
+    return lines
+
+
+def _grid_rows(info: dict) -> list[tuple[str, str]]:
+    """``(source, compose)`` of each example grid row, in the table's order."""
+    return [(s, c) for s in info["sources"] for c in info["compose"]]
 
 
 def examples_html(examples: list[dict], info: dict) -> str:
-    """A page of example grids; ``examples``: ``{'file', 'key', 'metrics'}`` per grid (one grid row per compose
-    mode of ``info['compose']``)."""
+    """A page of example grids; ``examples``: ``{'file', 'key', 'metrics': {source: {compose: {method: ...}}}}`` per
+    grid (one grid row per source scene and compose mode, :func:`_grid_rows`)."""
     rows = []
     for ex in examples:
         lines = []
-        for c in info["compose"]:
-            cells = [f"<td>compose {html.escape(c)}</td>"]
+        for s, c in _grid_rows(info):
+            cells = [f"<td>{html.escape(SOURCE_SHORT[s])}, compose {html.escape(c)}</td>"]
             for m in ("3d-sdn", "2d", "2d+"):
-                v = ex["metrics"].get(c, {}).get(m, {}).get("all", {})
+                v = ex["metrics"].get(s, {}).get(c, {}).get(m, {}).get("all", {})
                 text = ", ".join(f"{k} {v[k]:.3f}" for k in ("lpips", "l1", "ssim") if k in v and math.isfinite(v[k]))
                 cells.append(f"<td>{html.escape(LABELS[m])}: {html.escape(text or 'n/a')}</td>")
             lines.append(f"<tr>{''.join(cells)}</tr>")
         rows.append(f"<h3>{html.escape(ex['key'])}</h3>\n<img src=\"{html.escape(ex['file'])}\" alt=\"grid\">\n"
                     f"<table>{''.join(lines)}</table>")
     title = "sdn3d editing benchmark: examples"
-    modes = "; ".join(f"row {i + 1}: compose {html.escape(COMPOSE_LABELS[c])}" for i, c in enumerate(info["compose"]))
+    layout = "; ".join(f"row {i + 1}: {html.escape(SOURCE_LABELS[s])}, compose {html.escape(COMPOSE_LABELS[c])}"
+                       for i, (s, c) in enumerate(_grid_rows(info)))
+    gens = "; ".join(f"{html.escape(', '.join(LABELS[m] for m in ms))} drawn by {html.escape(g['checkpoint'])} "
+                     f"({'with' if g['use_pose'] or g['use_normal'] else 'without'} pose / normal maps)"
+                     for g, ms in _generator_methods(info["generators"]))
     return (f"<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>{title}</title>\n"
             "<style>body{font-family:sans-serif} img{image-rendering:pixelated;max-width:100%} "
             "td{padding:0 1em}</style></head><body>\n"
-            f"<h1>{title}</h1>\n<p>{html.escape(info['benchmark'])}, scene: {html.escape(info['scene'])}. "
-            f"Columns: source | target | 3D-SDN | 2D | 2D+ ({modes}; metrics on all edited regions; "
-            "see <a href=\"table1.md\">table1.md</a>).</p>\n" + "\n".join(rows) + "\n</body></html>\n")
+            f"<h1>{title}</h1>\n<p>{html.escape(info['benchmark'])}. Columns: source | target | 3D-SDN | 2D | 2D+ "
+            f"({layout}; metrics on all edited regions; see <a href=\"table1.md\">table1.md</a>).</p>\n"
+            f"<p>Generators: {gens}.</p>\n" + "\n".join(rows) + "\n</body></html>\n")
 
 
-def _example_grid(images: dict, modes: Sequence[str]) -> np.ndarray:
-    """``(H', W', 3)`` uint8: source | target | 3D-SDN | 2D | 2D+, one row per compose mode (blank: no picture)."""
+def _example_grid(images: dict[str, dict], rows: Sequence[tuple[str, str]]) -> np.ndarray:
+    """``(H', W', 3)`` uint8: source | target | 3D-SDN | 2D | 2D+, one row per ``(source scene, compose)``
+    (blank: no picture); ``images``: ``{source scene: EntryResult.images}``."""
     from sdn3d.visualize import hstack_panels
 
-    blank = np.zeros_like(images["source"])
-    lines = [hstack_panels([images["source"], images["target"]]
-                           + [images.get(f"{c}:{m}", blank) for m in ("3d-sdn", "2d", "2d+")]) for c in modes]
+    first = next(iter(images.values()))
+    blank = np.zeros_like(first["source"])
+    lines = [hstack_panels([first["source"], first["target"]]
+                           + [images.get(s, {}).get(f"{c}:{m}", blank) for m in ("3d-sdn", "2d", "2d+")])
+             for s, c in rows]
     gap = np.full((4, lines[0].shape[1], 3), 255, np.uint8)
     return np.concatenate([x for line in lines for x in (line, gap)][:-1], 0)
 
 
-def run_bench(cfg: Any) -> dict:
-    """Run the benchmark of a composed ``conf/bench.yaml`` config; returns ``results.json``'s content."""
-    from omegaconf import OmegaConf
+def bench_passes(cfg: Any, base: dict) -> list[Any]:
+    """One :class:`~sdn3d.evaluation.edit_benchmark.BenchSettings` per source scene the run evaluates: one per
+    ``proposals`` value for ``scene=derender``, one for ``scene=oracle`` (proposals do not apply there)."""
+    from omegaconf import ListConfig
 
+    from sdn3d.evaluation.edit_benchmark import BenchSettings
+
+    value = cfg.proposals
+    proposals = [str(v) for v in value] if isinstance(value, (list, tuple, ListConfig)) else [str(value)]
+    bad = [p for p in proposals if p not in PROPOSALS]
+    if not proposals or bad or len(set(proposals)) != len(proposals):
+        raise InputError(f"proposals must list distinct values of {list(PROPOSALS)} (semantic: the semantic branch's "
+                         f"predictions; gt: the oracle), got {proposals}")
+    if str(cfg.scene) == "oracle":
+        return [BenchSettings(scene="oracle", **base)]
+    if "semantic" in proposals and cfg.checkpoints.semantic is None:
+        raise InputError(
+            f"proposals={proposals} asks for the predicted row (3D-SDN on the semantic branch's masks and semantics, "
+            "what a user gets) but checkpoints.semantic is null: give checkpoints.semantic=<the semantic branch's "
+            "checkpoint>, or proposals=gt for the oracle row alone (ground-truth masks and semantics)")
+    return [BenchSettings(scene="derender", proposals=p, **base) for p in proposals]
+
+
+def _baseline_generator(cfg: Any, models: Any) -> tuple[Any, dict]:
+    """``(TexturalRenderer or None, {method: generator_info})``: ``checkpoints.textural_2d`` draws 2D and 2D+."""
+    from sdn3d.textural.renderer import TexturalRenderer
+
+    ck = cfg.checkpoints
+    main_gen = generator_info(ck.textural, models.textural.spec, "G")
+    if ck.get("textural_2d") is None:
+        return None, {m: main_gen for m in METHODS}
+    path = Path(str(ck.textural_2d)).expanduser()
+    if not path.is_file():
+        raise InputError(f"checkpoints.textural_2d {str(ck.textural_2d)!r} does not exist")
+    renderer = TexturalRenderer.from_checkpoint(path, map_location=cfg.device).to(cfg.device)
+    if renderer.spec.num_classes != models.textural.spec.num_classes:
+        raise InputError(f"checkpoints.textural_2d {str(path)!r} draws {renderer.spec.num_classes} classes, "
+                         f"checkpoints.textural {models.textural.spec.num_classes}: train both on the same data")
+    info = generator_info(ck.textural_2d, renderer.spec, "G-2D")
+    if renderer.spec.use_pose or renderer.spec.use_normal:
+        console.print(f"sdn3d-bench: warning: checkpoints.textural_2d {str(path)!r} takes pose / normal maps "
+                      "(trained with model.use_pose / use_normal true): its 2D rows are not free of 3D knowledge")
+    return renderer, {"3d-sdn": main_gen, "2d": info, "2d+": info}
+
+
+def _settings_base(cfg: Any, size: tuple[int, int]) -> dict:
+    return dict(image_size=size, frame_size=tuple(cfg.frame_size), strict=bool(cfg.strict),
+                pick_radius=cfg.pick_radius, min_pixels=int(cfg.geometric.min_pixels),
+                include_identity=bool(cfg.include_identity), limit=cfg.limit, examples=int(cfg.examples),
+                compose=_compose_modes(cfg.compose), dilate_px=cfg.compose_dilate_px, feather_px=cfg.compose_feather_px)
+
+
+def _load_inputs(cfg: Any) -> tuple[Path, Path, list, Any, list]:
+    """``(output dir, benchmark path, entries, source config, passes)`` after checking the settings."""
     from sdn3d.data.edit_benchmark import benchmark_path, load_edit_benchmark
-    from sdn3d.data.sources import SourceConfig, read_source
-    from sdn3d.derender import Models
-    from sdn3d.evaluation.edit_benchmark import BenchSettings, index_records, run_benchmark, summarize
-    from sdn3d.io import write_json_atomic, write_png_atomic, write_text_atomic
-    from sdn3d.nets.lpips import load_lpips
+    from sdn3d.data.sources import SourceConfig
 
     if cfg.threads:
         torch.set_num_threads(int(cfg.threads))
@@ -155,44 +301,69 @@ def run_bench(cfg: Any) -> dict:
     if cfg.device != "cpu" and not torch.cuda.is_available():
         raise InputError(f"device={cfg.device!r} but CUDA is not available")
     size = tuple(cfg.image_size) if cfg.image_size else source.image_size
-    settings = BenchSettings(image_size=size, scene=str(cfg.scene), proposals=str(cfg.proposals),
-                             frame_size=tuple(cfg.frame_size), strict=bool(cfg.strict), pick_radius=cfg.pick_radius,
-                             min_pixels=int(cfg.geometric.min_pixels), include_identity=bool(cfg.include_identity),
-                             limit=cfg.limit, examples=int(cfg.examples), compose=_compose_modes(cfg.compose),
-                             dilate_px=cfg.compose_dilate_px, feather_px=cfg.compose_feather_px)
+    return out, path, entries, source, bench_passes(cfg, _settings_base(cfg, size))
+
+
+def _evaluate(cfg: Any, passes: list, entries: list, source: Any) -> tuple[dict, dict, dict]:
+    """``({source scene: [EntryResult]}, {method: generator_info}, {'lpips': bool})``: every pass run."""
+    from sdn3d.data.sources import read_source
+    from sdn3d.derender import Models
+    from sdn3d.evaluation.edit_benchmark import index_records, run_benchmark, source_name
+    from sdn3d.nets.lpips import load_lpips
+
     ck = cfg.checkpoints
-    # The semantic branch only runs for derender proposals other than 'gt': do not load it otherwise.
-    semantic = ck.semantic if settings.scene == "derender" and settings.proposals != "gt" else None
-    geometric = ck.geometric if settings.scene == "derender" else None
+    # The semantic branch only runs for the predicted row: do not load it otherwise.
+    semantic = ck.semantic if any(s.scene == "derender" and s.proposals == "semantic" for s in passes) else None
+    geometric = ck.geometric if passes[0].scene == "derender" else None
     models = Models.from_checkpoints(semantic, geometric, ck.textural, map_location=cfg.device,
                                      crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin)
+    baseline, generators = _baseline_generator(cfg, models)
     if cfg.lpips_weights is not None and not Path(str(cfg.lpips_weights)).expanduser().is_file():
         raise InputError(f"lpips_weights {str(cfg.lpips_weights)!r} not found")
     lpips_net = load_lpips(cfg.lpips_weights)
     records = index_records(read_source(source))
+    results = {}
+    for settings in passes:
+        name = source_name(settings)
 
-    def progress(i: int, n: int, result: Any) -> None:
-        status = "failed: " + "; ".join(result.errors.values()) if not result.metrics else "ok"
-        console.print(f"[{i}/{n}] entry {result.index} {result.key}: {status}")
+        def progress(i: int, n: int, result: Any, name: str = name) -> None:
+            status = "failed: " + "; ".join(result.errors.values()) if not result.metrics else "ok"
+            console.print(f"[{SOURCE_SHORT[name]} {i}/{n}] entry {result.index} {result.key}: {status}", markup=False)
 
+        results[name] = run_benchmark(entries, records, models, settings, lpips_net, progress, baseline)
+    return results, generators, {"lpips": lpips_net is not None}
+
+
+def run_bench(cfg: Any) -> dict:
+    """Run the benchmark of a composed ``conf/bench.yaml`` config; returns ``results.json``'s content."""
+    from omegaconf import OmegaConf
+
+    from sdn3d.evaluation.edit_benchmark import source_name, summarize
+    from sdn3d.io import write_json_atomic, write_png_atomic, write_text_atomic
+
+    out, path, entries, source, passes = _load_inputs(cfg)
     t0 = time.perf_counter()
-    results = run_benchmark(entries, records, models, settings, lpips_net, progress)
-    summary = summarize(results)
-    info = {"benchmark": str(path), "data": f"{source.kind} at {source.root}", "image_size": list(settings.image_size),
-            "scene": settings.scene, "proposals": settings.proposals, "device": str(cfg.device),
-            "threads": torch.get_num_threads(), "lpips": lpips_net is not None, "compose": list(settings.compose),
-            "dilate_px": settings.dilate_px, "feather_px": settings.feather_px, "wall_s": time.perf_counter() - t0}
-    report = {"info": info, "config": OmegaConf.to_container(cfg, resolve=True), "summary": summary,
-              "entries": [r.to_json() for r in results]}
+    results, generators, lpips = _evaluate(cfg, passes, entries, source)
+    summaries = {name: summarize(r) for name, r in results.items()}
+    first = passes[0]
+    sources = [source_name(s) for s in passes]
+    info = {"benchmark": str(path), "data": f"{source.kind} at {source.root}", "image_size": list(first.image_size),
+            "scene": first.scene, "sources": sources, "source_labels": {s: SOURCE_LABELS[s] for s in sources},
+            "source_oracle": {s: s != "semantic" for s in sources}, "generators": generators,
+            "device": str(cfg.device), "threads": torch.get_num_threads(), **lpips, "compose": list(first.compose),
+            "dilate_px": first.dilate_px, "feather_px": first.feather_px, "wall_s": time.perf_counter() - t0}
+    report = {"info": info, "config": OmegaConf.to_container(cfg, resolve=True), "summary": summaries,
+              "entries": {name: [r.to_json() for r in rs] for name, rs in results.items()}}
     with staged_directory(out, MARKER, bool(cfg.overwrite)) as tmp:
         examples = []
-        for r in results:
-            if r.images is None:
+        for i, r in enumerate(results[sources[0]]):  # every pass has the same entries, in the same order
+            images = {s: results[s][i].images for s in sources if results[s][i].images is not None}
+            if not images:
                 continue
             name = f"examples/{r.index:04d}.png"
-            write_png_atomic(tmp / name, _example_grid(r.images, settings.compose))
-            examples.append({"file": name, "key": r.key, "metrics": r.metrics})
-        write_text_atomic(tmp / "table1.md", table1_markdown(summary, info))
+            write_png_atomic(tmp / name, _example_grid(images, _grid_rows(info)))
+            examples.append({"file": name, "key": r.key, "metrics": {s: results[s][i].metrics for s in sources}})
+        write_text_atomic(tmp / "table1.md", table1_markdown(summaries, info))
         write_text_atomic(tmp / "index.html", examples_html(examples, info))
         write_json_atomic(tmp / MARKER, report)
     return report

@@ -62,14 +62,24 @@ def make_data(cfg: Any) -> Path:
     return root
 
 
-def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path) -> list[str]:
+def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path, upstream: dict[str, str] | None = None
+                   ) -> list[str]:
     """The ``sdn3d-train`` child: the branch's experiment (its budget) plus this machine's options; then the
-    user's extra ``train.common`` / ``train.<branch>`` overrides (empty by default)."""
+    user's extra ``train.common`` / ``train.<branch>`` overrides (empty by default).
+
+    ``upstream``: checkpoints of the branches trained before (3D-SDN's order): the textural run gets the semantic
+    and geometric ones, which its recipe uses when it trains on predicted maps (``datamodule.maps=predicted``),
+    with the predicted-map cache under ``runs/map_cache``."""
     experiment = (cfg.train.get("experiment") or {}).get(branch, f"demo_{cfg.budget_name}")
     args = [sys.executable, "-m", "sdn3d.cli.train", f"branch={branch}", f"experiment={experiment}",
             f"data.root={data_root.resolve()}", f"seed={int(cfg.seed)}", f"torch_threads={int(cfg.threads)}",
             f"datamodule.num_workers={int(cfg.workers)}", f"hydra.run.dir={runs / branch}",
             f"summary_file={runs / 'summary.jsonl'}"]
+    upstream = upstream or {}
+    if branch == "textural" and "semantic" in upstream and "geometric" in upstream:
+        args += [f"datamodule.semantic_checkpoint={upstream['semantic']}",
+                 f"datamodule.geometric_checkpoint={upstream['geometric']}",
+                 f"datamodule.map_cache_dir={runs / 'map_cache'}"]
     if cfg.device != "cpu":
         args.append("trainer=gpu")
     if cfg.train.get("parallel"):  # several progress bars on one terminal would garble each other
@@ -93,17 +103,18 @@ def _finish(branch: str, run_dir: Path, returncode: int, started: float) -> dict
     return summary
 
 
-def train_branch(branch: str, cfg: Any, data_root: Path, runs: Path) -> dict:
+def train_branch(branch: str, cfg: Any, data_root: Path, runs: Path, upstream: dict[str, str] | None = None) -> dict:
     """One ``sdn3d-train`` run in a child process (its own progress bar); returns its summary.json."""
     run_dir = runs / branch
     if run_dir.exists():
         shutil.rmtree(run_dir)
     started = time.perf_counter()
-    proc = subprocess.run(_train_command(branch, cfg, data_root, runs), env=_train_env(cfg))
+    proc = subprocess.run(_train_command(branch, cfg, data_root, runs, upstream), env=_train_env(cfg))
     return _finish(branch, run_dir, proc.returncode, started)
 
 
-def train_parallel(branches: Sequence[str], cfg: Any, data_root: Path, runs: Path) -> dict[str, dict]:
+def train_parallel(branches: Sequence[str], cfg: Any, data_root: Path, runs: Path,
+                   upstream: dict[str, str] | None = None) -> dict[str, dict]:
     """All branches at once, one child process each (``train.parallel``: a GPU has room for the three);
     their output goes to ``runs/<branch>.out``. Returns the summaries; the first failure raises once all ended."""
     procs = {}
@@ -113,7 +124,7 @@ def train_parallel(branches: Sequence[str], cfg: Any, data_root: Path, runs: Pat
         if run_dir.exists():
             shutil.rmtree(run_dir)
         log = open(runs / f"{branch}.out", "w")  # noqa: SIM115 - closed below, after the child ends
-        procs[branch] = (subprocess.Popen(_train_command(branch, cfg, data_root, runs), env=_train_env(cfg),
+        procs[branch] = (subprocess.Popen(_train_command(branch, cfg, data_root, runs, upstream), env=_train_env(cfg),
                                           stdout=log, stderr=subprocess.STDOUT), log, time.perf_counter())
     codes = {}
     for branch, (proc, log, started) in procs.items():
@@ -131,6 +142,17 @@ def _checkpoint(summary: dict) -> str:
     return str(path)
 
 
+def bench_proposals(cfg: Any, ckpts: dict[str, str]) -> list[str]:
+    """``bench.proposals`` (predicted row first, then the oracle row), less the predicted row when no semantic
+    branch was trained (``train.branches`` without it): the benchmark's table then says it has oracle rows only."""
+    proposals = [str(p) for p in cfg.bench.proposals]
+    if "semantic" in proposals and not ckpts.get("semantic"):
+        console.print("[yellow]sdn3d-demo: no semantic branch was trained: the benchmark has only the oracle row "
+                      "(ground-truth masks and semantics)[/yellow]")
+        proposals = [p for p in proposals if p != "semantic"] or ["gt"]
+    return proposals
+
+
 def run_bench(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> dict:
     from sdn3d.cli._config import compose_config
     from sdn3d.cli.bench import run_bench as bench_main
@@ -138,8 +160,9 @@ def run_bench(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     overrides = [f"data.root={data_root.resolve()}", f"data.image_size={render_size(cfg)}",
                  f"checkpoints.geometric={ckpts['geometric']}", f"checkpoints.textural={ckpts['textural']}",
                  f"checkpoints.semantic={ckpts.get('semantic')}" if ckpts.get("semantic") else
-                 "checkpoints.semantic=null", f"proposals={cfg.bench.proposals}", f"examples={int(cfg.bench.examples)}",
-                 f"output_dir={out}", f"device={cfg.device}", f"threads={int(cfg.threads)}"]
+                 "checkpoints.semantic=null", f"proposals=[{','.join(bench_proposals(cfg, ckpts))}]",
+                 f"examples={int(cfg.bench.examples)}", f"output_dir={out}", f"device={cfg.device}",
+                 f"threads={int(cfg.threads)}"]
     if cfg.bench.limit is not None:
         overrides.append(f"limit={int(cfg.bench.limit)}")
     return bench_main(compose_config(overrides, "bench"))
@@ -193,10 +216,18 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     records = [r for r in load_split(source, "test") if r.objects]
     record = _pick_frame(records, source.image_size, cfg.edits.frame)
     frame = load_frame(record, source.image_size, semantic=True, instances=True)
-    models = Models.from_checkpoints(None, ckpts["geometric"], ckpts["textural"], map_location=str(cfg.device))
+    predicted = str(cfg.edits.get("proposals", "semantic")) == "semantic" and bool(ckpts.get("semantic"))
+    models = Models.from_checkpoints(ckpts["semantic"] if predicted else None, ckpts["geometric"], ckpts["textural"],
+                                     map_location=str(cfg.device))
     started = time.perf_counter()
     gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
-    scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, proposals="gt", ground_truth=gt)
+    scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, "semantic" if predicted else "gt", gt)
+    proposals = "predicted: the semantic branch's masks and semantics" if predicted else \
+        "oracle: ground-truth masks and semantics"
+    if predicted and not bool(scene.objects.has_geometry.any()):
+        scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, "gt", gt)
+        proposals = ("oracle: ground-truth masks and semantics (the semantic branch found no car with 3D geometry "
+                     "on this frame)")
     derender_s = time.perf_counter() - started
     car, edits, recoloured = _example_edits(cfg, scene, record.key, ckpts["textural"])
     original = np.ascontiguousarray(load_rgb(record), dtype=np.uint8)
@@ -215,7 +246,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     save_scene(scene, out / "scene")
     return {"frame": record.key, "car": car, "edits": names, "derender_s": round(derender_s, 3),
             "edit_render_s": timings, "grid": "edits/edits_grid.png", "grid_layout": ["source"] + names,
-            "compose": compose.mode, "recoloured": recoloured,
+            "compose": compose.mode, "recoloured": recoloured, "proposals": proposals,
             "picture_size": [int(source_rgb.shape[1]), int(source_rgb.shape[0])]}
 
 
@@ -356,7 +387,8 @@ def write_report(out: Path, info: dict) -> str:
 
 ## Example edits (`edits/`)
 
-Frame `{edits.get('frame')}`, car {edits.get('car')} (the nearest one): `edits/edits_grid.png` holds, row by row,
+Frame `{edits.get('frame')}`, car {edits.get('car')} (the nearest one), scene from {edits.get('proposals', 'n/a')}:
+`edits/edits_grid.png` holds, row by row,
 {', '.join(edits.get('grid_layout', []))}. Recoloured: {edits.get('recoloured', 'n/a')}.
 {_compose_note(edits)} De-rendering took {edits.get('derender_s', float('nan')):.2f} s.
 
@@ -394,13 +426,23 @@ def run_demo(cfg: Any) -> dict:
     ckpts: dict[str, str] = {}
     branches = [str(b) for b in cfg.train.branches]
     t0 = time.perf_counter()
+    # 3D-SDN's order: the textural branch learns to render the semantic and geometric branches' outputs, so it
+    # trains after them (in parallel mode too: the other branches at once, then the textural one).
+    upstream_branches = [b for b in branches if b != "textural"]
     if cfg.train.get("parallel"):
-        _stage(f"2/4 training {', '.join(branches)} at once (budget {cfg.budget_name})")
-        info["training"] = train_parallel(branches, cfg, root, out / "runs")
+        _stage(f"2/4 training {', '.join(upstream_branches)} at once (budget {cfg.budget_name})")
+        info["training"] = train_parallel(upstream_branches, cfg, root, out / "runs")
     else:
-        for i, branch in enumerate(branches):
+        for i, branch in enumerate(upstream_branches):
             _stage(f"2/4 training the {branch} branch ({i + 1}/{len(branches)}, budget {cfg.budget_name})")
             info["training"][branch] = train_branch(branch, cfg, root, out / "runs")
+    if "textural" in branches:
+        upstream = {b: _checkpoint(s) for b, s in info["training"].items()}
+        _stage(f"2/4 training the textural branch ({len(branches)}/{len(branches)}, budget {cfg.budget_name})")
+        if cfg.train.get("parallel"):
+            info["training"] |= train_parallel(["textural"], cfg, root, out / "runs", upstream)
+        else:
+            info["training"]["textural"] = train_branch("textural", cfg, root, out / "runs", upstream)
     ckpts = {b: _checkpoint(s) for b, s in info["training"].items()}
     info["stages_s"]["train"] = round(time.perf_counter() - t0, 1)
 

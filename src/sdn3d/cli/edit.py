@@ -7,12 +7,14 @@ frame, 3D edits on objects with geometry). The output directory is then written 
 
     edited.png                                              the result (``compose``, below)
     generated.png                                           the generator's whole edited picture (working size)
-    source.png reconstruction.png overview.png              images (working size)
-    maps/{source,edited}_{label,instance,normal,pose,depth}.png, maps/edit_region.png (compose=edited)
+    maps/edit_region.png                                    the pixels taken from the generator (compose=edited)
     scene.json/.npz edited_scene.json/.npz                  SceneCode (sdn3d.scene.code)
-    scene.glb edited_scene.glb                              3D scenes (sdn3d.export)
     edit.json                                               resolved ops, objects, checkpoints, timings,
                                                             input_transform, warnings
+    with diagnostics=true also (they cost a second generator pass and the glTF exporter's import):
+    source.png reconstruction.png overview.png              images (working size)
+    maps/{source,edited}_{label,instance,normal,pose,depth}.png
+    scene.glb edited_scene.glb                              3D scenes (sdn3d.export)
 
 The camera is never guessed silently: an image file needs ``input.intrinsics`` or ``input.camera`` (a
 Cityscapes ``camera.json``) unless it has Virtual KITTI's aspect ratio. It is scaled to the working size
@@ -211,7 +213,8 @@ def run_edit(cfg: Any) -> dict:
     if spec is None:  # list=true or an empty spec: the objects, nothing edited
         return _write_listing(cfg, out, record, image, scene, checkpoints, times, frame, warnings)
     ops, edited_scene = _edit(cfg, spec, scene, code_bank, times, frame)
-    rendered = _render(scene, edited_scene, models, times)
+    diagnostics = bool(cfg.diagnostics)
+    rendered = _render(scene, edited_scene, models, times, diagnostics)
     rendered |= _compose(cfg, compose, record, frame, scene, edited_scene, rendered, times)
     summary = _summary(cfg, record, intrinsics, spec, ops, scene, edited_scene, times)
     summary["compose"] = rendered["compose"]
@@ -219,7 +222,7 @@ def run_edit(cfg: Any) -> dict:
     summary["input_transform"] = frame.to_dict()
     summary["warnings"] = warnings
     summary["checkpoints"] = checkpoints
-    _write_outputs(out, bool(cfg.overwrite), image, scene, edited_scene, rendered, summary)
+    _write_outputs(out, bool(cfg.overwrite), image, scene, edited_scene, rendered, summary, diagnostics)
     return summary
 
 
@@ -287,6 +290,7 @@ def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
         given = cfg.checkpoints.get(branch)
         result[branch] = None if given is None else {"path": str(given), "from": f"checkpoints.{branch}"}
     if cfg.get("run") is None:
+        _check_needed(cfg, record, result)
         return result
     chosen, missing = find_run_checkpoints(cfg.run)
     lacking = [b for b in _needed_branches(cfg, record) if result[b] is None and b in missing]
@@ -306,6 +310,17 @@ def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
                else f"{info['path']} ({export}{info['which']} checkpoint of the run finished {info['finished']})")
         print(f"sdn3d-edit: {branch} checkpoint: {how}", file=sys.stderr)
     return result
+
+
+def _check_needed(cfg: Any, record: Any, given: dict[str, dict | None]) -> None:
+    """Without ``run=``, proposals from the semantic branch need its checkpoint; the message says how to give it
+    (the generator's is checked when the models load)."""
+    if "semantic" not in _needed_branches(cfg, record) or given["semantic"] is not None:
+        return
+    oracle = (" On a dataset frame, proposals=gt takes the frame's ground-truth masks and semantics instead (an "
+              "oracle, for comparison only).") if record is not None else ""
+    raise InputError("the semantic branch proposes the objects (proposals=semantic): give checkpoints.semantic=<file> "
+                     "(a sdn3d-train checkpoint or inference export), or run=<a training output directory>." + oracle)
 
 
 def trust_warnings(cfg: Any, record: Any, checkpoints: dict[str, dict | None], scene: Any) -> list[str]:
@@ -397,8 +412,10 @@ def _edit(cfg: Any, spec: Any, scene: Any, code_bank: Any, times: dict[str, floa
     return ops, edited_scene
 
 
-def _render(scene: Any, edited_scene: Any, models: Any, times: dict[str, float]) -> dict[str, Any]:
-    """The generator's edited picture (timed), the reconstruction and both scenes' maps."""
+def _render(scene: Any, edited_scene: Any, models: Any, times: dict[str, float],
+            reconstruct: bool = True) -> dict[str, Any]:
+    """The generator's edited picture (timed), both scenes' maps and (``reconstruct``) the unedited scene's
+    picture (None otherwise)."""
     from sdn3d.editing.render import render_maps
     from sdn3d.scene.maps import scene_maps
 
@@ -408,7 +425,7 @@ def _render(scene: Any, edited_scene: Any, models: Any, times: dict[str, float])
     generated = render_maps(edited_maps, models.textural)
     times["render_ms"] = 1000 * (time.perf_counter() - t0)
     source_maps = scene_maps(scene, num_bins=bins)
-    reconstruction = render_maps(source_maps, models.textural)
+    reconstruction = render_maps(source_maps, models.textural) if reconstruct else None
     return {"generated": generated, "reconstruction": reconstruction, "source_maps": source_maps,
             "edited_maps": edited_maps}
 
@@ -508,33 +525,43 @@ def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene:
 
 
 def _write_outputs(out: Path, overwrite: bool, image: torch.Tensor, scene: Any, edited_scene: Any,
-                   rendered: dict[str, Any], summary: dict) -> None:
+                   rendered: dict[str, Any], summary: dict, diagnostics: bool = True) -> None:
     """Write the output directory all at once (see the module doc); adds ``summary['outputs']``."""
-    from sdn3d.export import export_gltf
     from sdn3d.io import write_json_atomic, write_png_atomic
     from sdn3d.scene.io import save_scene
 
-    pictures = {name: _map_pictures(rendered[f"{name}_maps"], scene.class_list) for name in ("source", "edited")}
-    src, rec, gen = (_to_uint8(image), _to_uint8(rendered["reconstruction"]), _to_uint8(rendered["generated"]))
+    gen = _to_uint8(rendered["generated"])
     with staged_directory(out, MARKER, overwrite) as tmp:
-        write_png_atomic(tmp / "source.png", src)
-        write_png_atomic(tmp / "reconstruction.png", rec)
         write_png_atomic(tmp / "generated.png", gen)
         write_png_atomic(tmp / "edited.png", rendered["edited"])
         if rendered["region"] is not None:
             write_png_atomic(tmp / "maps" / "edit_region.png", rendered["region"].numpy().astype(np.uint8) * 255)
-        for which, maps in pictures.items():
-            for kind, picture in maps.items():
-                write_png_atomic(tmp / "maps" / f"{which}_{kind}.png", picture)
-        s, e = pictures["source"], pictures["edited"]
-        write_png_atomic(tmp / "overview.png", _grid([[src, rec, gen], [s["label"], s["instance"], e["instance"]],
-                                                      [s["normal"], e["normal"], e["pose"]]]))
         save_scene(scene, tmp / "scene.json")
         save_scene(edited_scene, tmp / "edited_scene.json")
-        export_gltf(scene, tmp / "scene.glb")
-        export_gltf(edited_scene, tmp / "edited_scene.glb")
+        if diagnostics:
+            _write_diagnostics(tmp, image, scene, edited_scene, rendered, gen)
         summary["outputs"] = sorted(str(p.relative_to(tmp)) for p in tmp.rglob("*") if p.is_file()) + [MARKER]
         write_json_atomic(tmp / MARKER, summary)
+
+
+def _write_diagnostics(tmp: Path, image: torch.Tensor, scene: Any, edited_scene: Any, rendered: dict[str, Any],
+                       gen: np.ndarray) -> None:
+    """``diagnostics=true``: the source and reconstruction pictures, every map, the overview grid, the glTF scenes."""
+    from sdn3d.export import export_gltf
+    from sdn3d.io import write_png_atomic
+
+    pictures = {name: _map_pictures(rendered[f"{name}_maps"], scene.class_list) for name in ("source", "edited")}
+    src, rec = _to_uint8(image), _to_uint8(rendered["reconstruction"])
+    write_png_atomic(tmp / "source.png", src)
+    write_png_atomic(tmp / "reconstruction.png", rec)
+    for which, maps in pictures.items():
+        for kind, picture in maps.items():
+            write_png_atomic(tmp / "maps" / f"{which}_{kind}.png", picture)
+    s, e = pictures["source"], pictures["edited"]
+    write_png_atomic(tmp / "overview.png", _grid([[src, rec, gen], [s["label"], s["instance"], e["instance"]],
+                                                  [s["normal"], e["normal"], e["pose"]]]))
+    export_gltf(scene, tmp / "scene.glb")
+    export_gltf(edited_scene, tmp / "edited_scene.glb")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

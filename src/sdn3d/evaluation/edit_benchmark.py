@@ -4,13 +4,18 @@ Each benchmark entry edits a source frame; its target frame shows the true resul
 Virtual KITTI for the paper's file, exact re-renders for the synthetic ``vkitti_edit_benchmark.json``
 written by ``sdn3d-synth``). Per entry:
 
-1. the source scene: :func:`sdn3d.derender.derender` (``scene='derender'``; with ``proposals='gt'``
-   the masks and semantics come from the frame, geometry and codes from the branches) or, as an
+1. the source scene: :func:`sdn3d.derender.derender` (``scene='derender'``: with ``proposals='semantic'``,
+   3D-SDN as a user runs it, masks and semantics are the semantic branch's predictions; with ``proposals='gt'``
+   they are the frame's, an *oracle*; geometry and codes come from the branches either way) or, as an
    *oracle geometry* option, :func:`~sdn3d.data.scene_gt.scene_from_frame` with codes from the texture encoder
-   (``scene='oracle'``);
+   (``scene='oracle'``). :data:`SOURCE_LABELS` says which, in every report (:func:`source_name`);
 2. the three edits of that same scene: ``3d-sdn`` (:func:`~sdn3d.editing.apply.ops_from_benchmark` +
    :func:`~sdn3d.editing.apply.apply_edits` + :func:`~sdn3d.scene.maps.scene_maps`), ``2d`` and ``2d+``
-   (:func:`~sdn3d.evaluation.baselines.baseline_maps`), all drawn by the same textural generator;
+   (:func:`~sdn3d.evaluation.baselines.baseline_maps`). All three are drawn by 3D-SDN's textural generator,
+   whose inputs include pose and normal maps (the baselines' come from the de-rendered geometry, moved with each
+   region), unless :func:`run_benchmark` gets a ``baseline_textural`` generator: then the 2D and 2D+ edits are
+   drawn by it, with texture codes from its own encoder (pooled over the source scene's regions), as the paper's
+   baselines without 3D knowledge are when that generator was trained with ``use_pose=false use_normal=false``;
 3. each method's picture in every compose mode of ``settings.compose`` (:mod:`sdn3d.editing.compose`):
    ``full``, the generator's whole picture (the paper's protocol, Table 1), and ``edited``, the source frame
    with only the method's own edit region (its maps against the source scene's, the edited objects'
@@ -62,12 +67,16 @@ from sdn3d.scene.maps import ComposedMaps, scene_maps
 
 if TYPE_CHECKING:
     from sdn3d.nets.lpips import LPIPS
+    from sdn3d.textural.renderer import TexturalRenderer
 
 __all__ = [
     "METHODS",
     "REGIONS",
     "COMPOSE_MODES",
     "LAYOUT",
+    "PROPOSALS",
+    "SOURCE_LABELS",
+    "source_name",
     "BenchSettings",
     "EntryResult",
     "index_records",
@@ -84,6 +93,13 @@ REGIONS = ("whole", "all", "largest")
 #: Per-method values besides the image metrics: ``metrics[method]['layout']['mask_iou']`` (:func:`mask_iou`).
 LAYOUT = "layout"
 SCENES = ("derender", "oracle")
+#: ``proposals`` of a de-rendered source scene: the semantic branch's predictions (what a user gets), or the
+#: frame's ground-truth masks and semantics (an oracle).
+PROPOSALS = ("semantic", "gt")
+#: What a benchmark pass's source scene is made of, by :func:`source_name`; every report prints these labels.
+SOURCE_LABELS = {"semantic": "predicted: the semantic branch's masks and semantics",
+                 "gt": "oracle: ground-truth masks and semantics",
+                 "oracle": "oracle: ground-truth masks, semantics and geometry"}
 
 
 @dataclass(frozen=True)
@@ -93,7 +109,8 @@ class BenchSettings:
     Attributes:
         image_size: working size ``(W, H)``.
         scene: ``'derender'`` or ``'oracle'`` (module doc).
-        proposals: :func:`~sdn3d.derender.derender` proposals (``'gt'``: masks from the frame).
+        proposals: :data:`PROPOSALS` of ``scene='derender'``: ``'semantic'`` (the semantic branch's masks and
+            semantics, 3D-SDN as a user runs it) or ``'gt'`` (the frame's: an oracle); unused by ``'oracle'``.
         frame_size: ``(W, H)`` of the benchmark's coordinates (1242x375).
         strict: reject ``to`` points outside the frame (False for the published file).
         pick_radius: max distance (working pixels) of a ``from`` pick; None: nearest object.
@@ -107,7 +124,7 @@ class BenchSettings:
 
     image_size: tuple[int, int] = (624, 192)
     scene: str = "derender"
-    proposals: str = "gt"
+    proposals: str = "semantic"
     frame_size: tuple[int, int] = VKITTI_FRAME_SIZE
     strict: bool = False
     pick_radius: float | None = None
@@ -122,6 +139,8 @@ class BenchSettings:
     def __post_init__(self) -> None:
         if self.scene not in SCENES:
             raise UserInputError(f"BenchSettings.scene must be one of {SCENES}, got {self.scene!r}")
+        if self.proposals not in PROPOSALS:
+            raise UserInputError(f"BenchSettings.proposals must be one of {PROPOSALS}, got {self.proposals!r}")
         compose = tuple(str(c) for c in self.compose)
         if not compose or len(set(compose)) != len(compose):
             raise ComposeSettingsError(f"compose must list distinct modes of {COMPOSE_MODES}, got {list(compose)}")
@@ -137,6 +156,12 @@ class BenchSettings:
         return ComposeSettings(mode, self.dilate_px, self.feather_px)
 
 
+def source_name(settings: BenchSettings) -> str:
+    """The key of :data:`SOURCE_LABELS` for what ``settings`` de-render the source scene from: the proposals of
+    ``scene='derender'``, ``'oracle'`` for ``scene='oracle'``."""
+    return "oracle" if settings.scene == "oracle" else settings.proposals
+
+
 @dataclass
 class EntryResult:
     """One evaluated entry.
@@ -150,6 +175,8 @@ class EntryResult:
         errors: ``{method or 'entry': message}`` for what could not be evaluated.
         images: ``{'source', 'target', '<compose>:<method>': (H, W, 3) uint8}`` for example entries, else None.
         regions: ``(H, W)`` bool union of edited regions (example entries only).
+        kind: the entry's :data:`~sdn3d.data.edit_benchmark.ENTRY_KINDS` (``'edit'``; ``'occluder_removed'``
+            entries are summarised apart).
     """
 
     index: int
@@ -160,9 +187,11 @@ class EntryResult:
     errors: dict[str, str] = field(default_factory=dict)
     images: dict[str, np.ndarray] | None = None
     regions: np.ndarray | None = None
+    kind: str = "edit"
 
     def to_json(self) -> dict:
-        return {"index": self.index, "key": self.key, "operations": self.operations, "metrics": self.metrics,
+        return {"index": self.index, "key": self.key, "kind": self.kind, "operations": self.operations,
+                "metrics": self.metrics,
                 "latency_ms": self.latency_ms, "errors": self.errors}
 
 
@@ -208,18 +237,21 @@ def region_metrics(pred: Tensor, target: Tensor, regions: Tensor, box: Tensor,
     return {region: {k: float(v[0]) for k, v in values.items()} for region, values in out.items()}
 
 
-def mask_iou(instances: Tensor, target: Tensor, ids: Sequence[int], scene_ids: Tensor) -> float:
-    """Mean IoU of the edited objects ``ids`` between a method's instance map and the target's ``(H, W)``.
+def mask_iou(instances: Tensor, target: Tensor, picked: Sequence[int], truth: Sequence[int]) -> float:
+    """Mean IoU over a benchmark entry's operations between where a method draws the object it picked for an
+    operation (``picked``: ids of its own source scene, one per operation) and where the target frame ``(H, W)``
+    shows the object the operation meant (``truth``: ground-truth ids, same order; :func:`edit_regions`).
 
-    A geometry diagnostic (not in the paper): where the edit puts each object, independent of the
-    texture. Objects absent from the scene (other proposals than the ground truth's) and objects
-    absent from both maps (deleted) are skipped; NaN when none is left.
+    A geometry diagnostic (not in the paper): where the edit puts each object, independent of the texture.
+    With predicted proposals the scene's ids are the semantic branch's own, so pairs, not ids, are compared.
+    Pairs absent from both maps (deleted) are skipped; NaN when none is left.
     """
-    ids_t = torch.tensor([i for i in ids if bool((scene_ids == i).any())], dtype=torch.long)
-    if not len(ids_t):
+    if len(picked) != len(truth):
+        raise ValueError(f"picked and truth must pair up, got {len(picked)} and {len(truth)} ids")
+    if not len(picked):
         return float("nan")
-    pred = instances[None] == ids_t[:, None, None]
-    true = target[None] == ids_t[:, None, None]
+    pred = instances[None] == torch.tensor(list(picked), dtype=torch.long)[:, None, None]
+    true = target[None] == torch.tensor(list(truth), dtype=torch.long)[:, None, None]
     union = (pred | true).flatten(1).sum(1)
     inter = (pred & true).flatten(1).sum(1)
     keep = union > 0
@@ -244,17 +276,22 @@ def _to_uint8(image: Tensor) -> np.ndarray:
     return (image.detach().cpu().clamp(0, 1).permute(1, 2, 0).numpy() * 255 + 0.5).astype(np.uint8)
 
 
-def _method_pictures(entry: BenchmarkEntry, scene: SceneCode, models: Models, settings: BenchSettings,
-                     result: EntryResult, derender_ms: float
-                     ) -> tuple[dict[str, Tensor], dict[str, ComposedMaps], Tensor]:
-    """``({method: (3, H, W) picture}, {method: maps}, edited ids (K,))`` of every method that could draw the
-    entry (a method's :class:`ValueError` goes to ``result.errors``); sets the 3D-SDN path's latency."""
+def _method_pictures(entry: BenchmarkEntry, scene: SceneCode, baseline: tuple[SceneCode, TexturalRenderer],
+                     models: Models, settings: BenchSettings, result: EntryResult, derender_ms: float
+                     ) -> tuple[dict[str, Tensor], dict[str, ComposedMaps], Tensor, dict[str, list[int]]]:
+    """``({method: (3, H, W) picture}, {method: maps}, edited ids (K,), {method: picked ids, one per operation})``
+    of every method that could draw the entry (a method's :class:`ValueError` goes to ``result.errors``); sets the
+    3D-SDN path's latency.
+    ``baseline``: the source scene (its codes from that generator's encoder) and the generator of the 2D and
+    2D+ edits."""
     t1 = time.perf_counter()
     images: dict[str, Tensor] = {}
     maps: dict[str, ComposedMaps] = {}
+    picks: dict[str, list[int]] = {}
     ids = torch.zeros(0, dtype=torch.long)
     try:
         ops = ops_from_benchmark(entry, scene, settings.frame_size, settings.strict, settings.pick_radius)
+        picks["3d-sdn"] = [op.instance_id for op in ops]
         edited = apply_edits(scene, ops)
         t2 = time.perf_counter()
         maps["3d-sdn"] = scene_maps(edited, num_bins=models.textural.spec.pose_bins)
@@ -266,41 +303,49 @@ def _method_pictures(entry: BenchmarkEntry, scene: SceneCode, models: Models, se
         ids = edited_object_ids(scene.objects, edited.objects)
     except ValueError as exc:
         result.errors["3d-sdn"] = str(exc)
+    baseline_scene, baseline_textural = baseline
+    points = [scale_operation(op, settings.frame_size, settings.image_size).from_uv for op in entry.operations]
     for mode in ("2d", "2d+"):
         try:
-            maps[mode] = baseline_maps(scene, entry, mode, settings.frame_size, max_distance=settings.pick_radius)
-            images[mode] = render_maps(maps[mode], models.textural)
+            picks[mode] = match_objects(baseline_scene, points, None, settings.pick_radius)  # as baseline_maps
+            maps[mode] = baseline_maps(baseline_scene, entry, mode, settings.frame_size,
+                                       max_distance=settings.pick_radius)
+            images[mode] = render_maps(maps[mode], baseline_textural)
         except ValueError as exc:
             result.errors[mode] = str(exc)
-    return images, maps, ids
+    return images, maps, ids, picks
 
 
 def _composed(images: dict[str, Tensor], maps: dict[str, ComposedMaps], source: Tensor, scene: SceneCode,
-              ids: Tensor, models: Models, settings: BenchSettings, result: EntryResult
+              baseline_scene: SceneCode, ids: Tensor, models: Models, settings: BenchSettings, result: EntryResult
               ) -> dict[str, dict[str, Tensor]]:
     """``{compose: {method: (3, H, W)}}``: every method's picture in every compose mode (working size; the
-    source frame is the original); times the 3D-SDN path's ``compose='edited'`` step."""
+    source frame is the original); times the 3D-SDN path's ``compose='edited'`` step. Each method's edit
+    region is against the source scene it edited (``baseline_scene`` for 2D and 2D+: its own codes)."""
     identity = PixelFrame(settings.image_size, settings.image_size)
-    before = scene_maps(scene, num_bins=models.textural.spec.pose_bins) if "edited" in settings.compose else None
+    before: dict[str, ComposedMaps | None] = dict.fromkeys(METHODS)
+    if "edited" in settings.compose:
+        before["3d-sdn"] = scene_maps(scene, num_bins=models.textural.spec.pose_bins)
+        before["2d"] = before["2d+"] = before["3d-sdn"] if baseline_scene is scene else scene_maps(baseline_scene)
     out: dict[str, dict[str, Tensor]] = {}
     for mode in settings.compose:
         out[mode] = {}
         for method, picture in images.items():
             t0 = time.perf_counter()
-            out[mode][method], _ = compose_edit(settings.compose_settings(mode), picture, source, identity, before,
-                                                maps[method], ids)
+            out[mode][method], _ = compose_edit(settings.compose_settings(mode), picture, source, identity,
+                                                before[method], maps[method], ids)
             if method == "3d-sdn" and mode == "edited" and result.latency_ms:
                 result.latency_ms["compose"] = 1000 * (time.perf_counter() - t0)
     return out
 
 
 def evaluate_entry(index: int, entry: BenchmarkEntry, source: FrameRecord, target: FrameRecord, models: Models,
-                   settings: BenchSettings, lpips_net: LPIPS | None = None, keep_images: bool = False
-                   ) -> EntryResult:
+                   settings: BenchSettings, lpips_net: LPIPS | None = None, keep_images: bool = False,
+                   baseline_textural: TexturalRenderer | None = None) -> EntryResult:
     """Evaluate one entry with every method in every compose mode (a method's :class:`ValueError` is recorded,
-    not raised)."""
+    not raised). ``baseline_textural``: the generator of the 2D and 2D+ edits (module doc); None: 3D-SDN's."""
     result = EntryResult(index, f"{entry.world}/{entry.variation} {entry.source_frame:05d}->{entry.target_frame:05d}",
-                         len(entry.operations))
+                         len(entry.operations), kind=entry.kind)
     size = settings.image_size
     src = load_frame(source, size, semantic=False, instances=False)
     tgt = load_frame(target, size, semantic=False, instances=False).image
@@ -310,10 +355,12 @@ def evaluate_entry(index: int, entry: BenchmarkEntry, source: FrameRecord, targe
     t0 = time.perf_counter()
     scene = _source_scene(src.image, src.intrinsics, source, models, settings)
     _sync(models)
-    images, maps, ids = _method_pictures(entry, scene, models, settings, result, 1000 * (time.perf_counter() - t0))
-    composed = _composed(images, maps, src.image, scene, ids, models, settings, result)
-    layout = {m: {"mask_iou": mask_iou(maps[m].instance.cpu(), target_instances, gt_ids, scene.objects.instance_id)}
-              for m in images}
+    derender_ms = 1000 * (time.perf_counter() - t0)
+    baseline_scene = scene if baseline_textural is None else encode_scene(scene, src.image, baseline_textural)
+    baseline = (baseline_scene, baseline_textural or models.textural)
+    images, maps, ids, picks = _method_pictures(entry, scene, baseline, models, settings, result, derender_ms)
+    composed = _composed(images, maps, src.image, scene, baseline_scene, ids, models, settings, result)
+    layout = {m: {"mask_iou": mask_iou(maps[m].instance.cpu(), target_instances, picks[m], gt_ids)} for m in images}
     for mode, pictures in composed.items():
         result.metrics[mode] = {m: region_metrics(pictures[m], tgt, regions, box, lpips_net) | {LAYOUT: layout[m]}
                                 for m in METHODS if m in pictures}
@@ -327,8 +374,10 @@ def evaluate_entry(index: int, entry: BenchmarkEntry, source: FrameRecord, targe
 
 def run_benchmark(entries: Sequence[BenchmarkEntry], records: Mapping[tuple[str, str, int], FrameRecord],
                   models: Models, settings: BenchSettings, lpips_net: LPIPS | None = None,
-                  progress: Callable[[int, int, EntryResult], None] | None = None) -> list[EntryResult]:
+                  progress: Callable[[int, int, EntryResult], None] | None = None,
+                  baseline_textural: TexturalRenderer | None = None) -> list[EntryResult]:
     """Evaluate ``entries`` (identity ones only with ``include_identity``); frames from ``records``.
+    ``baseline_textural``: the generator of the 2D and 2D+ edits (module doc); None: 3D-SDN's (``models``).
 
     Raises:
         ValueError: no textural model, or not a single entry whose frames exist in ``records``.
@@ -346,17 +395,18 @@ def run_benchmark(entries: Sequence[BenchmarkEntry], records: Mapping[tuple[str,
             which = "source" if pair[0] is None else "target"
             frame = entry.source_frame if pair[0] is None else entry.target_frame
             result = EntryResult(i, f"{entry.world}/{entry.variation} {entry.source_frame:05d}->"
-                                    f"{entry.target_frame:05d}", len(entry.operations),
+                                    f"{entry.target_frame:05d}", len(entry.operations), kind=entry.kind,
                                  errors={"entry": f"{which} frame {entry.world}/{entry.variation}/{frame:05d} "
                                                   "not in the dataset"})
         else:
             found += 1
             try:
                 result = evaluate_entry(i, entry, pair[0], pair[1], models, settings, lpips_net,
-                                        keep_images=found <= settings.examples)
+                                        keep_images=found <= settings.examples, baseline_textural=baseline_textural)
             except ValueError as exc:  # e.g. no object to pick: the entry is reported, the run goes on
                 result = EntryResult(i, f"{entry.world}/{entry.variation} {entry.source_frame:05d}->"
-                                        f"{entry.target_frame:05d}", len(entry.operations), errors={"entry": str(exc)})
+                                        f"{entry.target_frame:05d}", len(entry.operations), kind=entry.kind,
+                                     errors={"entry": str(exc)})
         results.append(result)
         if progress is not None:
             progress(n + 1, len(chosen), result)
@@ -376,9 +426,18 @@ def _stats(values: list[float]) -> dict[str, float | int]:
 
 
 def summarize(results: Sequence[EntryResult]) -> dict:
-    """Means over entries: ``{'methods': {compose: {method: {region: {metric: {mean, median, n}}}}},
-    'latency_ms': {...}, 'entries', 'evaluated', 'failed': {method: count}}`` (non-finite values, e.g. empty
-    regions, are skipped)."""
+    """Means over the ``'edit'`` entries (the paper's Table 1): ``{'methods': {compose: {method: {region: {metric:
+    {mean, median, n}}}}}, 'latency_ms': {...}, 'entries', 'evaluated', 'failed': {method: count}}`` (non-finite
+    values, e.g. empty regions, are skipped), plus ``'by_kind': {kind: the same over that kind's entries}`` for the
+    other entry kinds present (``'occluder_removed'``), reported apart."""
+    edits = [r for r in results if r.kind == "edit"]
+    out = _summary(edits)
+    out["by_kind"] = {kind: _summary([r for r in results if r.kind == kind])
+                      for kind in dict.fromkeys(r.kind for r in results) if kind != "edit"}
+    return out
+
+
+def _summary(results: Sequence[EntryResult]) -> dict:
     modes = list(dict.fromkeys(c for r in results for c in r.metrics))  # in the order evaluated
     methods: dict = {}
     for mode in modes:

@@ -111,7 +111,7 @@ def test_trucks_in_most_worlds() -> None:
 
 def _small_config(out: Path, **kw) -> SynthConfig:
     base = dict(output_dir=str(out), seed=0, image_size=(312, 96), worlds=WORLDS, variations=("clone",),
-                frames_per_sequence=3, cars_per_frame=(6, 14), edit_pairs=1, workers=1, threads=1)
+                frames_per_sequence=3, cars_per_frame=(6, 14), edit_pairs=1, occluder_pairs=0, workers=1, threads=1)
     base.update(kw)
     return SynthConfig(**base)
 

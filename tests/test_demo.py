@@ -183,6 +183,11 @@ def test_demo_benchmark_and_edits_run_on_predicted_proposals(tiny_synth, tmp_pat
                             "demo")
     info = run_edits(oracle, tiny_synth, ckpts, tmp_path / "e2")
     assert info["proposals"] == "oracle: ground-truth masks and semantics"
+    # a semantic run whose recorded validation quality is too low to trust (the short budget's): the oracle, said why
+    (tmp_path / "summary.json").write_text(json.dumps({"metrics": {"val/pq": 0.0, "val/miou": 0.17}}))
+    info = run_edits(cfg, tiny_synth, ckpts, tmp_path / "e3")
+    assert info["proposals"].startswith("oracle: ground-truth masks and semantics (the semantic branch's recorded "
+                                        "val/pq is 0.000")
 
 
 def test_demo_bad_override_exits_2_without_output(tmp_path, capsys):

@@ -217,13 +217,15 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     record = _pick_frame(records, source.image_size, cfg.edits.frame)
     frame = load_frame(record, source.image_size, semantic=True, instances=True)
     predicted = str(cfg.edits.get("proposals", "semantic")) == "semantic" and bool(ckpts.get("semantic"))
+    distrust = _semantic_distrust(ckpts.get("semantic")) if predicted else []
+    predicted = predicted and not distrust
     models = Models.from_checkpoints(ckpts["semantic"] if predicted else None, ckpts["geometric"], ckpts["textural"],
                                      map_location=str(cfg.device))
     started = time.perf_counter()
     gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
     scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, "semantic" if predicted else "gt", gt)
     proposals = "predicted: the semantic branch's masks and semantics" if predicted else \
-        "oracle: ground-truth masks and semantics"
+        "oracle: ground-truth masks and semantics" + (f" ({'; '.join(distrust)})" if distrust else "")
     if predicted and not bool(scene.objects.has_geometry.any()):
         scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, "gt", gt)
         proposals = ("oracle: ground-truth masks and semantics (the semantic branch found no car with 3D geometry "
@@ -248,6 +250,19 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
             "edit_render_s": timings, "grid": "edits/edits_grid.png", "grid_layout": ["source"] + names,
             "compose": compose.mode, "recoloured": recoloured, "proposals": proposals,
             "picture_size": [int(source_rgb.shape[1]), int(source_rgb.shape[0])]}
+
+
+def _semantic_distrust(checkpoint: str | None) -> list[str]:
+    """Why the semantic run of ``checkpoint`` is too weak to propose the example edits' objects (its recorded
+    validation quality: :func:`sdn3d.runs.quality_warnings`); empty: trusted. The short budget's branch is."""
+    import json
+
+    from sdn3d.runs import quality_warnings, semantic_summary
+
+    path = semantic_summary({"path": checkpoint, "from": "demo"}) if checkpoint else None
+    if path is None:
+        return []
+    return quality_warnings(json.loads(path.read_text()).get("metrics"), None, str(path))
 
 
 def _uint8_picture(image: torch.Tensor) -> np.ndarray:

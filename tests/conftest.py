@@ -19,6 +19,16 @@ import torch
 torch.set_num_threads(int(os.environ.get("SDN3D_TEST_THREADS", "1")))
 
 
+@pytest.fixture()
+def one_torch_thread():
+    """One torch thread for the test, whatever SDN3D_TEST_THREADS says (the synthetic generator's tests: two
+    threads contend badly on a shared 2-core machine), restored afterwards."""
+    previous = torch.get_num_threads()
+    torch.set_num_threads(1)
+    yield
+    torch.set_num_threads(previous)
+
+
 @pytest.fixture(autouse=True)
 def _seed_everything() -> None:
     random.seed(0)

@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 import pytest
-import torch
 
 from sdn3d.data.synth import SynthConfig, generate_dataset
 from sdn3d.data.synth.class_stats import (
@@ -32,12 +30,7 @@ WORLDS = ("0001", "0002", "0006", "0018", "0020")
 TOWNS = ("0001", "0006", "0018")
 
 
-@pytest.fixture(autouse=True)
-def _one_thread() -> Iterator[None]:
-    previous = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(previous)
+pytestmark = pytest.mark.usefixtures("one_torch_thread")
 
 
 def test_generator_classes_are_the_reader_classes() -> None:

@@ -86,6 +86,8 @@ def test_edit_applies_the_resolved_ops(done):
     summary = json.loads((out / "edit.json").read_text())
     ops = summary["ops"]
     assert [o["op"] for o in ops] == ["Rotate", "Move", "Delete", "SetBackgroundCode", "SetCode", "Duplicate"]
+    assert summary["proposals"] == {"masks": "gt", "semantics": "gt", "oracle": True,
+                                    "label": "oracle: ground-truth masks and semantics"}
     assert ops[1]["instance_id"] == ids[1]  # `at` picked the object under the pixel
     scene, edited = load_scene(out / "scene.json"), load_scene(out / "edited_scene.json")
     assert scene.objects.instance_id.tolist() == ids

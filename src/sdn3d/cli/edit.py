@@ -466,8 +466,19 @@ def _summary(cfg: Any, record: Any, intrinsics: Any, spec: Any, ops: list, scene
         "objects": {"source": scene.objects.instance_id.tolist(), "edited": edited_scene.objects.instance_id.tolist(),
                     "with_geometry": scene.objects.instance_id[scene.objects.has_geometry].tolist()},
         "timings_ms": times,
+        "proposals": _proposals_record(scene),
         "config": OmegaConf.to_container(cfg, resolve=True),
     }
+
+
+def _proposals_record(scene: Any) -> dict:
+    """Where the scene's objects and semantics came from, with the oracle labelled (edit.json)."""
+    source, semantic = scene.meta.get("proposals"), scene.meta.get("semantic")
+    oracle = source == "gt" or semantic == "gt"
+    label = ("oracle: ground-truth masks and semantics" if source == "gt" and semantic == "gt" else
+             "oracle: ground-truth masks, the semantic branch's semantics" if source == "gt" else
+             "predicted: the semantic branch's masks and semantics")
+    return {"masks": source, "semantics": semantic, "oracle": oracle, "label": label}
 
 
 # -- listing the objects (list=true, or an empty edit spec) ---------------------------------------

@@ -62,16 +62,11 @@ class _Objects:
 
 
 def _meshes_for_objects(objects, bank, device: torch.device):
+    from sdn3d.data.records import mesh_name_for
     from sdn3d.math3d.transforms import bottom_to_center
     from sdn3d.meshes import TEMPLATE_NAMES
 
-    fallback = {"Car": "sedan", "Van": "van"}
-    ids = [
-        TEMPLATE_NAMES.index(o.model)
-        if o.model in TEMPLATE_NAMES
-        else TEMPLATE_NAMES.index(fallback.get(o.orig_label or o.label, "sedan"))
-        for o in objects
-    ]
+    ids = [TEMPLATE_NAMES.index(mesh_name_for(o)) for o in objects]  # held-out shapes: their approximating template
     template_ids = torch.tensor(ids, dtype=torch.long, device=device)
     dims = torch.tensor([o.dims for o in objects], dtype=torch.float32, device=device).reshape(-1, 3)
     ry = torch.tensor([o.ry for o in objects], dtype=torch.float32, device=device)

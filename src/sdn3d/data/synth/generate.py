@@ -214,6 +214,12 @@ class SynthConfig:
             raise SynthConfigError(f"vehicles must be one of {list(VEHICLE_SOURCES)}, got {_got(self.vehicles)}")
 
     @property
+    def first_test_frame(self) -> int:
+        """First regular frame of the sequences' test part, where edit sources come from: the last 20 %
+        (:func:`sdn3d.data.splits.paper_split`, at least the last frame)."""
+        return min(math.floor(0.8 * self.frames_per_sequence + 1e-9), self.frames_per_sequence - 1)
+
+    @property
     def target_frames(self) -> int:
         """Edit-target frames per sequence: the edit pairs' then the occluder-removed pairs'."""
         return self.edit_pairs + self.occluder_pairs
@@ -328,8 +334,7 @@ def _edit_targets(writer: SequenceWriter, cfg: SynthConfig, world: World, world_
     """Draw, render and write a sequence's edit targets (frames ``F .. F+E-1``); returns the benchmark entries,
     the target frame numbers and their motgt row count. A rejected edit is rendered without its lighting."""
     intrinsics = cfg.intrinsics
-    # Edit sources come from the test part of the sequence: the last 20% (sdn3d.data.splits.paper_split, first=True).
-    first_test = min(math.floor(0.8 * cfg.frames_per_sequence + 1e-9), cfg.frames_per_sequence - 1)
+    first_test = cfg.first_test_frame  # edit sources come from the test part of the sequence
     entries, edit_frames, rows = [], [], 0
     for k in range(cfg.edit_pairs):
         rng = rng_for(cfg.seed, world_name, variation, "edit", k)
@@ -377,9 +382,8 @@ def _occluder_removal(cfg: SynthConfig, world: World, world_name: str, variation
     frames in a random order, the first whose drawn pair reveals at least :data:`_REVEAL_GAIN` more of the hidden
     car; none: an entry without operations on a random test frame (its target re-renders the source)."""
     intrinsics = cfg.intrinsics
-    first_test = min(math.floor(0.8 * cfg.frames_per_sequence + 1e-9), cfg.frames_per_sequence - 1)
     rng = rng_for(cfg.seed, world_name, variation, "occluder", k)
-    sources = rng.permutation(np.arange(first_test, cfg.frames_per_sequence))
+    sources = rng.permutation(np.arange(cfg.first_test_frame, cfg.frames_per_sequence))
     for source in (int(f) for f in sources):
         objects, stats, pose = rendered[source]
         picked = sample_occluder_removal(rng, objects, stats, intrinsics)

@@ -58,6 +58,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "PROPOSALS",
+    "PROPOSAL_LABELS",
     "GroundTruth",
     "Models",
     "geometric_crop_settings",
@@ -69,6 +70,9 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 PROPOSALS = ("auto", "gt", "semantic")
+#: What a scene's objects and semantics came from, as every report says it (the oracle labelled).
+PROPOSAL_LABELS = {"semantic": "predicted: the semantic branch's masks and semantics",
+                   "gt": "oracle: ground-truth masks and semantics"}
 #: Paper crop side of the geometric branch (released 3D-SDN code), used when a run does not say.
 DEFAULT_CROP_SIZE = 256
 DEFAULT_MARGIN = 0.1

@@ -201,7 +201,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.data.records import load_rgb
     from sdn3d.data.scene_gt import ground_truth
     from sdn3d.data.sources import SourceConfig, load_split
-    from sdn3d.derender import Models, derender
+    from sdn3d.derender import PROPOSAL_LABELS, Models, derender
     from sdn3d.editing.compose import ComposeSettings
     from sdn3d.editing.spec import PixelFrame
     from sdn3d.io import write_png_atomic
@@ -224,12 +224,11 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     started = time.perf_counter()
     gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
     scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, "semantic" if predicted else "gt", gt)
-    proposals = "predicted: the semantic branch's masks and semantics" if predicted else \
-        "oracle: ground-truth masks and semantics" + (f" ({'; '.join(distrust)})" if distrust else "")
+    proposals = PROPOSAL_LABELS["semantic"] if predicted else \
+        PROPOSAL_LABELS["gt"] + (f" ({'; '.join(distrust)})" if distrust else "")
     if predicted and not bool(scene.objects.has_geometry.any()):
         scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, "gt", gt)
-        proposals = ("oracle: ground-truth masks and semantics (the semantic branch found no car with 3D geometry "
-                     "on this frame)")
+        proposals = PROPOSAL_LABELS["gt"] + " (the semantic branch found no car with 3D geometry on this frame)"
     derender_s = time.perf_counter() - started
     car, edits, recoloured = _example_edits(cfg, scene, record.key, ckpts["textural"])
     original = np.ascontiguousarray(load_rgb(record), dtype=np.uint8)

@@ -473,11 +473,13 @@ def _summary(cfg: Any, record: Any, intrinsics: Any, spec: Any, ops: list, scene
 
 def _proposals_record(scene: Any) -> dict:
     """Where the scene's objects and semantics came from, with the oracle labelled (edit.json)."""
+    from sdn3d.derender import PROPOSAL_LABELS
+
     source, semantic = scene.meta.get("proposals"), scene.meta.get("semantic")
     oracle = source == "gt" or semantic == "gt"
-    label = ("oracle: ground-truth masks and semantics" if source == "gt" and semantic == "gt" else
+    label = (PROPOSAL_LABELS["gt"] if source == "gt" and semantic == "gt" else
              "oracle: ground-truth masks, the semantic branch's semantics" if source == "gt" else
-             "predicted: the semantic branch's masks and semantics")
+             PROPOSAL_LABELS["semantic"])
     return {"masks": source, "semantics": semantic, "oracle": oracle, "label": label}
 
 

@@ -53,7 +53,7 @@ from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, BenchmarkEntry, scale_o
 from sdn3d.data.frames import load_frame
 from sdn3d.data.records import FrameRecord, load_instances
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame
-from sdn3d.derender import Models, derender, encode_scene
+from sdn3d.derender import PROPOSAL_LABELS, Models, derender, encode_scene
 from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
 from sdn3d.editing.compose import COMPOSE_MODES, ComposeSettings, ComposeSettingsError, compose_edit, edited_object_ids
 from sdn3d.editing.render import render_maps
@@ -97,9 +97,7 @@ SCENES = ("derender", "oracle")
 #: frame's ground-truth masks and semantics (an oracle).
 PROPOSALS = ("semantic", "gt")
 #: What a benchmark pass's source scene is made of, by :func:`source_name`; every report prints these labels.
-SOURCE_LABELS = {"semantic": "predicted: the semantic branch's masks and semantics",
-                 "gt": "oracle: ground-truth masks and semantics",
-                 "oracle": "oracle: ground-truth masks, semantics and geometry"}
+SOURCE_LABELS = {**PROPOSAL_LABELS, "oracle": "oracle: ground-truth masks, semantics and geometry"}
 
 
 @dataclass(frozen=True)

@@ -39,9 +39,8 @@ from scipy import ndimage
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
-from sdn3d.data.frames import load_frame  # noqa: E402
 from sdn3d.data.sources import SourceConfig, load_split  # noqa: E402
-from sdn3d.evaluation.proposal_recall import PAPER_MIN_PIXELS, RecallCounts, match_proposals  # noqa: E402
+from sdn3d.evaluation.proposal_recall import PAPER_MIN_PIXELS, predictor_recall  # noqa: E402
 from sdn3d.io import write_json_atomic  # noqa: E402
 from sdn3d.labels import INSTANCE_DIVISOR  # noqa: E402
 from sdn3d.semantic.predict import SemanticPredictor  # noqa: E402
@@ -81,24 +80,17 @@ def main(argv: list[str] | None = None) -> dict:
     names = {c.id: c.name for c in source.class_list}
     records = load_split(source, args.part)
     t0 = time.perf_counter()
-    branch, comp_pred, comp_gt = RecallCounts(), RecallCounts(), RecallCounts()
-    size = None
-    for record in records:
-        frame = load_frame(record, None)
-        size = tuple(frame.image.shape[-2:])
-        with torch.no_grad():
-            seg = predictor(frame.image)
-        gt = frame.instances[None]
-        branch += match_proposals(seg.instance, gt, things, args.min_pixels)
-        comp_pred += match_proposals(components(seg.label[0], things)[None], gt, things, args.min_pixels)
-        comp_gt += match_proposals(components(frame.semantic, things)[None], gt, things, args.min_pixels)
+
+    def references(label: torch.Tensor, gt_semantic: torch.Tensor) -> dict:
+        return {"components_predicted": components(label, things),
+                "components_gt (oracle)": components(gt_semantic, things)}
+
+    branch, refs = predictor_recall(records, predictor, args.min_pixels, references)
     result = {
         "semantic": str(Path(args.semantic).resolve()), "data_root": str(Path(args.data_root).resolve()),
-        "part": args.part, "frames": len(records), "frame_size_hw": list(size) if size else None,
-        "work_size_wh": list(predictor.image_size), "min_pixels": args.min_pixels,
-        "instance_head": branch.summary(names),
-        "components_predicted": comp_pred.summary(names),
-        "components_gt (oracle)": comp_gt.summary(names),
+        "part": args.part, "frames": len(records), "work_size_wh": list(predictor.image_size),
+        "min_pixels": args.min_pixels, "instance_head": branch.summary(names),
+        **{name: counts.summary(names) for name, counts in refs.items()},
         "seconds": round(time.perf_counter() - t0, 1),
         "machine": f"{platform.machine()} cpu, {args.threads} threads, torch {torch.__version__}",
         "how": "annotated Car/Van instances with > min_pixels visible pixels at the frame's size; found = a "

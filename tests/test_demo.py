@@ -88,6 +88,10 @@ def test_full_demo_tiny_budget(tmp_path):
     # the benchmark on predictions first (the demo trains a semantic branch), then the oracle row, labelled
     assert 0 < report.index("| predicted | 2D |") < report.index("| oracle: GT masks + semantics | 2D |")
     assert summary["bench"]["info"]["sources"] == ["semantic", "gt"]
+    # the predicted rows' proposals are measured: recall of the test part's vehicles, said in the report
+    recall = summary["proposal_recall"]
+    assert recall["min_pixels"] == 256 and recall["frames"] > 0 and recall["proposals"] >= 0
+    assert "The semantic branch's proposals (the predicted rows' objects) find" in report
     assert summary["peak_memory"]["largest_child_mib"] > 0
 
 
@@ -168,13 +172,20 @@ def test_demo_benchmark_and_edits_run_on_predicted_proposals(tiny_synth, tmp_pat
     from helpers.tiny_models import write_checkpoints
 
     from sdn3d.cli._config import compose_config
-    from sdn3d.cli.demo import bench_proposals, run_edits
+    from sdn3d.cli.demo import _recall_note, bench_proposals, run_edits, run_proposal_recall
 
     cfg = compose_config(["render_size=[80,32]", "edits.angles_deg=[45]", "edits.zoom=0.8"], "demo")
     ckpts = {k: str(v) for k, v in write_checkpoints(tmp_path / "ckpt").items()}
     assert list(cfg.bench.proposals) == ["semantic", "gt"] and cfg.edits.proposals == "semantic"
     assert bench_proposals(cfg, ckpts) == ["semantic", "gt"]
     assert bench_proposals(cfg, {"geometric": ckpts["geometric"], "textural": ckpts["textural"]}) == ["gt"]
+    # the recall of the semantic branch's proposals on the test part (the report's sentence); none without it
+    recall = run_proposal_recall(cfg, tiny_synth, ckpts)
+    assert recall["frames"] > 0 and recall["objects"] > 0 and 0.0 <= recall["recall"] <= 1.0
+    assert recall["work_size"] == [80, 32]
+    assert f"of the test part's {recall['objects']} vehicles over 256" in _recall_note(recall)
+    assert run_proposal_recall(cfg, tiny_synth, {"geometric": ckpts["geometric"]}) is None
+    assert "oracle" in _recall_note(None)
     (tmp_path / "config.yaml").write_text("datamodule:\n  crop_size: 32\n")  # the geometric run's crop size
     info = run_edits(cfg, tiny_synth, ckpts, tmp_path / "edits")
     # random semantic weights propose no car with geometry on tiny_synth: the oracle stands in, labelled

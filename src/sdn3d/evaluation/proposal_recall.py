@@ -11,7 +11,8 @@ object whatever its class) and *class-aware* (the proposal's class is the object
 of proposals that cover some annotated object (of any size) with IoU >= 0.5.
 
 :func:`match_proposals` counts one frame; add the :class:`RecallCounts` of a part with ``+`` and read them
-with :meth:`RecallCounts.summary`.
+with :meth:`RecallCounts.summary`. :func:`predictor_recall` runs a semantic branch over frame records (the
+demo's report and ``benchmarks/proposal_recall.py``).
 
     >>> import torch
     >>> gt = torch.zeros(1, 8, 8, dtype=torch.long); gt[0, :4, :4] = 13001; gt[0, 4:, 4:] = 13002
@@ -23,15 +24,18 @@ with :meth:`RecallCounts.summary`.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import torch
 from torch import Tensor
 
+from sdn3d.data.frames import load_frame
+from sdn3d.data.records import FrameRecord
 from sdn3d.labels import INSTANCE_DIVISOR
+from sdn3d.semantic.predict import SemanticPredictor
 
-__all__ = ["RecallCounts", "match_proposals", "PAPER_MIN_PIXELS"]
+__all__ = ["RecallCounts", "match_proposals", "predictor_recall", "PAPER_MIN_PIXELS"]
 
 #: The paper's object filter: more than this many visible pixels at 624x192.
 PAPER_MIN_PIXELS = 256
@@ -159,3 +163,28 @@ def _assign(iou: Tensor, threshold: float) -> Tensor:
         used_p.add(p)
         assigned[g] = p
     return assigned
+
+
+@torch.no_grad()
+def predictor_recall(records: Sequence[FrameRecord], predictor: SemanticPredictor,
+                     min_pixels: int = PAPER_MIN_PIXELS, references: Callable[[Tensor, Tensor], dict] | None = None,
+                     ) -> tuple[RecallCounts, dict[str, RecallCounts]]:
+    """The recall of ``predictor``'s instance proposals over ``records``, each read at its own size.
+
+    The predictor runs at its ``image_size`` if it has one (its maps come back to the frame's size, nearest).
+    ``references(label (H, W), gt_semantic (H, W)) -> {name: proposal map (H, W)}``, optional: other proposal
+    maps counted on the same objects (e.g. connected components, for a floor and a ceiling).
+
+    Returns:
+        ``(counts of the instance head, {name: counts of each reference})``.
+    """
+    things = list(predictor.thing_classes)
+    counts, refs = RecallCounts(), {}
+    for record in records:
+        frame = load_frame(record, None)
+        seg = predictor(frame.image)
+        gt = frame.instances[None]
+        counts += match_proposals(seg.instance.cpu(), gt, things, min_pixels)
+        for name, proposal_map in (references(seg.label[0].cpu(), frame.semantic) if references else {}).items():
+            refs[name] = refs.get(name, RecallCounts()) + match_proposals(proposal_map[None], gt, things, min_pixels)
+    return counts, refs

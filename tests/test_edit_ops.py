@@ -148,6 +148,28 @@ def test_occluded_car_comes_back_when_its_occluder_leaves(scene):
         assert float((after.instance[uncovered] == behind).float().mean()) > 0.9, op
         # the car behind keeps its own visible pixels
         assert bool((after.instance[before.instance == behind] == behind).all())
+        # without amodal completion (an editor without 3D: the 2D baselines) the hidden part becomes background
+        flat = scene_maps(apply_edits(scene, [op], amodal=False))
+        assert not bool((flat.instance[uncovered] == behind).any()), op
+        assert torch.equal(flat.instance[before.instance == behind], after.instance[before.instance == behind])
+
+
+def test_baselines_do_not_complete_the_car_behind(scene):
+    """The 2D / 2D+ baselines have no 3D: deleting the car in front leaves road where the car behind was hidden
+    (3D-SDN completes it), so the occluder-removed benchmark entries tell them apart."""
+    from sdn3d.data.edit_benchmark import BenchmarkOperation
+    from sdn3d.editing.apply import projected_centers
+    from sdn3d.evaluation.baselines import baseline_maps
+
+    front, behind, hidden = _occluded_pair(scene)
+    uv, _ = projected_centers(scene)
+    at = tuple(uv[scene.objects.index_of(front)].tolist())
+    three_d = scene_maps(apply_edits(scene, [Delete(front)]))
+    for mode in ("2d", "2d+"):
+        flat = baseline_maps(scene, [BenchmarkOperation.delete(at)], mode=mode, frame_size=None)
+        assert not bool((flat.instance == front).any())
+        assert not bool((flat.instance[hidden] == behind).any()), mode
+    assert float((three_d.instance[hidden] == behind).float().mean()) > 0.9
 
 
 def test_edits_are_pure(scene):

@@ -28,6 +28,8 @@ Amodal completion (the paper's occlusion recovery, its Fig. 4d and 6a): the free
 into background. Every unmoved object with geometry and a mask also covers the freed pixels where its
 rendered silhouette lies, nearest object first (:func:`_reclaim`): the car that stood behind a deleted or
 moved one comes back whole. Only freed pixels no such object covers take background labels.
+``amodal=False`` turns this off (every freed pixel takes a background label): what an editor without 3D
+geometry can do, the 2D and 2D+ baselines (:mod:`sdn3d.evaluation.baselines`).
 """
 
 from __future__ import annotations
@@ -266,7 +268,8 @@ def _duplicate(table: ObjectTable, i: int, op: Duplicate, location: Tensor) -> O
     return table.cat(copy)
 
 
-def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None = None, grow: int = 2) -> SceneCode:
+def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None = None, grow: int = 2,
+                amodal: bool = True) -> SceneCode:
     """Apply ``ops`` in order; returns a new scene (``scene`` is not modified).
 
     Args:
@@ -274,6 +277,8 @@ def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None =
         ops: edit operations (module doc).
         bank: meshes for the footprints of observed objects without masks (default templates).
         grow: pixels a freed footprint grows into unclaimed pixels of the object's class.
+        amodal: the objects behind a moved or deleted one cover the freed pixels their rendered silhouettes
+            lie on (module doc); False: all freed pixels become background (an editor without 3D).
 
     Raises:
         EditError: unknown instance id, target outside the frame or below/above reach, an object moved
@@ -295,11 +300,12 @@ def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None =
         >>> len(apply_edits(scene, [Delete(12001)]).objects)
         0
     """
-    return _apply_edits(scene, ops, bank, grow, _footprints)
+    return _apply_edits(scene, ops, bank, grow, _footprints, amodal)
 
 
 def _apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None, grow: int,
-                 footprints: Callable[[SceneCode, Tensor, MeshBank | None, int], Tensor]) -> SceneCode:
+                 footprints: Callable[[SceneCode, Tensor, MeshBank | None, int], Tensor],
+                 amodal: bool = True) -> SceneCode:
     table, codes = scene.objects, scene.background_codes
     for op in ops:
         table, codes = _apply_one(scene, table, codes, op)
@@ -326,7 +332,8 @@ def _apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None,
     semantic = scene.semantic
     if bool(vacate.any()):
         vacated = footprints(scene, vacate, bank, grow)
-        table = _reclaim(scene.replace(objects=table), vacated, bank)
+        if amodal:
+            table = _reclaim(scene.replace(objects=table), vacated, bank)
         semantic = fill_background(scene.semantic, vacated, scene.thing_classes)
     return scene.replace(semantic=semantic, objects=table, background_codes=codes)
 

@@ -10,11 +10,12 @@ A benchmark ``modify`` (``from``, ``to``, ``zoom``, ``ry``) is realised without 
 ``delete`` removes the object. Both baselines share everything else with the 3D edit so that only
 the realisation of the edit differs: objects are picked as :func:`sdn3d.editing.apply.ops_from_benchmark`
 does, edited and deleted objects are first deleted with :func:`sdn3d.editing.apply.apply_edits` (same
-freed-pixel rule), the rest is composed by :func:`sdn3d.scene.maps.scene_maps`, and the warped
-regions are pasted back. Occlusion uses the 2D ground-plane cue: a region whose lowest pixel is
-lower in the image is nearer (ties go to the edited object). Codes are kept. With
-``geometry='move'`` the normal, pose and depth maps move with the region (depth divided by
-``zoom``); with ``'empty'`` they are zero everywhere (a baseline without any 3D input).
+freed pixels), the rest is composed by :func:`sdn3d.scene.maps.scene_maps`, and the warped
+regions are pasted back. Without 3D there is no amodal completion (``apply_edits(amodal=False)``): every
+freed pixel takes a background label, also where a car behind the edited one was hidden. Occlusion uses
+the 2D ground-plane cue: a region whose lowest pixel is lower in the image is nearer (ties go to the edited
+object). Codes are kept. With ``geometry='move'`` the normal, pose and depth maps move with the region
+(depth divided by ``zoom``); with ``'empty'`` they are zero everywhere (a baseline without any 3D input).
 """
 
 from __future__ import annotations
@@ -87,7 +88,7 @@ def baseline_maps(scene: SceneCode, entry: BenchmarkEntry | Sequence[BenchmarkOp
         ops = [scale_operation(op, tuple(frame_size), scene.image_size) for op in ops]
     ids = match_objects(scene, [op.from_uv for op in ops], None, max_distance)
     source = scene_maps(scene, bank)
-    base_scene = apply_edits(scene, [Delete(i) for i in ids], bank)
+    base_scene = apply_edits(scene, [Delete(i) for i in ids], bank, amodal=False)
     base = scene_maps(base_scene, bank)
     device = base.instance.device
     height, width = scene.intrinsics.size

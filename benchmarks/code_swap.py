@@ -32,11 +32,11 @@ import time
 from pathlib import Path
 
 import torch
-from omegaconf import OmegaConf
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
+from sdn3d.cli._config import synth_data_source  # noqa: E402
 from sdn3d.data.datasets import TexturalDataset  # noqa: E402
 from sdn3d.data.frames import load_frame  # noqa: E402
 from sdn3d.data.scene_gt import scene_from_frame  # noqa: E402
@@ -48,13 +48,6 @@ from sdn3d.io import write_json_atomic  # noqa: E402
 from sdn3d.labels import INSTANCE_DIVISOR  # noqa: E402
 from sdn3d.predicted_maps import build_predicted_maps  # noqa: E402
 from sdn3d.textural.renderer import TexturalRenderer  # noqa: E402
-
-
-def source_for(root: str, size: tuple[int, int]) -> SourceConfig:
-    cfg = OmegaConf.load(REPO / "conf" / "data" / "synth.yaml")
-    cfg.root = root
-    cfg.image_size = list(size)
-    return SourceConfig.from_mapping(cfg)
 
 
 def code_swap(renderer: TexturalRenderer, source: SourceConfig, part: str, frames: int | None,
@@ -115,7 +108,7 @@ def main(argv: list[str] | None = None) -> dict:
         p.error("--semantic and --geometric go together")
     torch.set_num_threads(args.threads)
     renderer = TexturalRenderer.from_checkpoint(args.checkpoint)
-    source = source_for(args.data_root, tuple(args.size))
+    source = synth_data_source(args.data_root, args.size)
     settings = CodeSwapSettings(max_pairs_per_frame=args.max_pairs)
     t0 = time.perf_counter()
     swap = code_swap(renderer, source, args.part, args.frames, settings)

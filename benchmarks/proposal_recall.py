@@ -33,23 +33,17 @@ from pathlib import Path
 
 import numpy as np
 import torch
-from omegaconf import OmegaConf
 from scipy import ndimage
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
-from sdn3d.data.sources import SourceConfig, load_split  # noqa: E402
+from sdn3d.cli._config import synth_data_source  # noqa: E402
+from sdn3d.data.sources import load_split  # noqa: E402
 from sdn3d.evaluation.proposal_recall import PAPER_MIN_PIXELS, predictor_recall  # noqa: E402
 from sdn3d.io import write_json_atomic  # noqa: E402
 from sdn3d.labels import INSTANCE_DIVISOR  # noqa: E402
 from sdn3d.semantic.predict import SemanticPredictor  # noqa: E402
-
-
-def source_for(root: str) -> SourceConfig:
-    cfg = OmegaConf.load(REPO / "conf" / "data" / "synth.yaml")
-    cfg.root = root
-    return SourceConfig.from_mapping(cfg)
 
 
 def components(label: torch.Tensor, things: list[int]) -> torch.Tensor:
@@ -75,7 +69,7 @@ def main(argv: list[str] | None = None) -> dict:
     args = p.parse_args(argv)
     torch.set_num_threads(args.threads)
     predictor = SemanticPredictor.from_checkpoint(args.semantic, image_size=tuple(args.work_size))
-    source = source_for(args.data_root)
+    source = synth_data_source(args.data_root)
     things = [c.id for c in source.class_list if c.has_instances]
     names = {c.id: c.name for c in source.class_list}
     records = load_split(source, args.part)

@@ -96,14 +96,11 @@ def speed(args: argparse.Namespace) -> dict:
 
 def ceiling(args: argparse.Namespace) -> dict:
     import torch.nn.functional as F
-    from omegaconf import OmegaConf
 
+    from sdn3d.cli._config import synth_data_source
     from sdn3d.data.datasets import SemanticDataset
-    from sdn3d.data.sources import SourceConfig
 
-    data = OmegaConf.load(REPO / "conf" / "data" / "synth.yaml")
-    data.root, data.image_size = str(args.root), list(args.size)
-    dataset = SemanticDataset.from_source(SourceConfig.from_mapping(OmegaConf.to_container(data)), args.part)
+    dataset = SemanticDataset.from_source(synth_data_source(args.root, args.size), args.part)
     labels = torch.stack([dataset[i]["label"] for i in range(len(dataset))])  # (N, H, W)
     n = len(dataset.classes)
     valid = labels != 255
@@ -129,15 +126,11 @@ def ceiling(args: argparse.Namespace) -> dict:
 
 
 def evaluate(args: argparse.Namespace) -> dict:
-    from omegaconf import OmegaConf
-
+    from sdn3d.cli._config import synth_data_source
     from sdn3d.data.datasets import SemanticDataset
-    from sdn3d.data.sources import SourceConfig
     from sdn3d.semantic import SemanticPredictor
 
-    data = OmegaConf.load(REPO / "conf" / "data" / "synth.yaml")
-    data.root, data.image_size = str(args.root), list(args.size)
-    dataset = SemanticDataset.from_source(SourceConfig.from_mapping(OmegaConf.to_container(data)), args.part)
+    dataset = SemanticDataset.from_source(synth_data_source(args.root, args.size), args.part)
     predictor = SemanticPredictor.from_checkpoint(args.ckpt, map_location=args.device,
                                                   image_size=tuple(args.work_size) if args.work_size else None,
                                                   flip=args.flip)

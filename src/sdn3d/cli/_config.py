@@ -34,6 +34,20 @@ def config_dir() -> str:
 CONFIG_DIR = config_dir()
 
 
+def synth_data_source(root: str | os.PathLike, image_size: Sequence[int] | None = None) -> Any:
+    """A synthetic (Virtual KITTI 1.3.1-format) dataset at ``root`` as a :class:`~sdn3d.data.sources.SourceConfig`
+    with the settings of ``conf/data/synth.yaml``, at ``image_size [W, H]`` (None: that file's size)."""
+    from omegaconf import OmegaConf
+
+    from sdn3d.data.sources import SourceConfig
+
+    data = OmegaConf.load(Path(CONFIG_DIR, "data", "synth.yaml"))
+    data.root = str(Path(root).resolve())
+    if image_size is not None:
+        data.image_size = [int(v) for v in image_size]
+    return SourceConfig.from_mapping(data)
+
+
 def compose_config(overrides: Sequence[str], name: str) -> Any:
     """Compose ``conf/<name>.yaml`` with Hydra ``overrides`` (no run directory, no logging set-up)."""
     from hydra import compose, initialize_config_dir

@@ -168,29 +168,18 @@ def run_bench(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     return bench_main(compose_config(overrides, "bench"))
 
 
-def synth_source(data_root: Path, image_size: Sequence[int] | None = None) -> Any:
-    """The demo's synthetic dataset as a :class:`~sdn3d.data.sources.SourceConfig` (``conf/data/synth.yaml``),
-    at ``image_size [W, H]`` (None: the data's own)."""
-    from sdn3d.data.sources import SourceConfig
-
-    data_cfg = OmegaConf.load(Path(__file__).resolve().parents[3] / "conf" / "data" / "synth.yaml")
-    data_cfg.root = str(data_root.resolve())
-    if image_size is not None:
-        data_cfg.image_size = list(image_size)
-    return SourceConfig.from_mapping(data_cfg)
-
-
 def run_proposal_recall(cfg: Any, data_root: Path, ckpts: dict[str, str]) -> dict | None:
     """How many of the test part's cars and vans (over 256 visible pixels) the semantic branch's proposals find
     at IoU >= 0.5, de-rendering at :func:`render_size` (:mod:`sdn3d.evaluation.proposal_recall`); None without
     a semantic run."""
     if not ckpts.get("semantic"):
         return None
+    from sdn3d.cli._config import synth_data_source
     from sdn3d.data.sources import load_split
     from sdn3d.evaluation.proposal_recall import PAPER_MIN_PIXELS, predictor_recall
     from sdn3d.semantic.predict import SemanticPredictor
 
-    source = synth_source(data_root)
+    source = synth_data_source(data_root)
     size = render_size(cfg)
     predictor = SemanticPredictor.from_checkpoint(ckpts["semantic"], map_location=str(cfg.device),
                                                   image_size=(int(size[0]), int(size[1])))
@@ -226,6 +215,7 @@ def _pick_frame(records: Sequence[Any], size: tuple[int, int], wanted: str | Non
 def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> dict:
     """De-render one test frame and render a series of 3D edits of its nearest car (``edits.compose``:
     ``edited`` puts each edit into the frame at its own resolution, ``full`` shows the generator's picture)."""
+    from sdn3d.cli._config import synth_data_source
     from sdn3d.data.frames import load_frame
     from sdn3d.data.records import load_rgb
     from sdn3d.data.scene_gt import ground_truth
@@ -238,7 +228,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.visualize import hstack_panels
 
     compose = ComposeSettings(str(cfg.edits.compose))
-    source = synth_source(data_root, render_size(cfg))
+    source = synth_data_source(data_root, render_size(cfg))
     records = [r for r in load_split(source, "test") if r.objects]
     record = _pick_frame(records, source.image_size, cfg.edits.frame)
     frame = load_frame(record, source.image_size, semantic=True, instances=True)

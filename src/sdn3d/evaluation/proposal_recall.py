@@ -88,8 +88,13 @@ def _ratio(a: float, b: float) -> float:
     return a / b if b else float("nan")
 
 
-def _areas(ids: Tensor, flat: Tensor) -> Tensor:
-    return (flat[None] == ids[:, None]).sum(1)
+def _lookup(ids: Tensor, flat: Tensor) -> tuple[Tensor, Tensor, Tensor]:
+    """``(index into ids, pixel is one of ids, area per id)`` for the pixels ``flat`` and sorted ``ids``."""
+    if not len(ids):
+        return torch.zeros_like(flat), torch.zeros_like(flat, dtype=torch.bool), torch.zeros(0, dtype=torch.long)
+    index = torch.searchsorted(ids, flat).clamp(max=len(ids) - 1)
+    member = ids[index] == flat
+    return index, member, torch.bincount(index[member], minlength=len(ids))
 
 
 def match_proposals(pred_instance: Tensor, gt_instance: Tensor, thing_classes: Sequence[int],
@@ -116,12 +121,10 @@ def match_proposals(pred_instance: Tensor, gt_instance: Tensor, thing_classes: S
         p_ids, g_ids = pred_flat.unique(), gt_flat.unique()
         p_ids = p_ids[(p_ids >= INSTANCE_DIVISOR) & torch.isin(p_ids // INSTANCE_DIVISOR, things)]
         g_ids = g_ids[(g_ids >= INSTANCE_DIVISOR) & torch.isin(g_ids // INSTANCE_DIVISOR, things)]
-        p_area, g_area = _areas(p_ids, pred_flat), _areas(g_ids, gt_flat)
+        p_index, p_member, p_area = _lookup(p_ids, pred_flat)
+        g_index, g_member, g_area = _lookup(g_ids, gt_flat)
         # (P, G) intersections from the joint (proposal, object) index of every pixel.
-        p_index = torch.searchsorted(p_ids, pred_flat).clamp(max=max(len(p_ids) - 1, 0))
-        g_index = torch.searchsorted(g_ids, gt_flat).clamp(max=max(len(g_ids) - 1, 0))
-        both = (p_ids[p_index] == pred_flat) & (g_ids[g_index] == gt_flat) if len(p_ids) and len(g_ids) else \
-            torch.zeros_like(pred_flat, dtype=torch.bool)
+        both = p_member & g_member
         inter = torch.zeros(len(p_ids) * len(g_ids), dtype=torch.long)
         inter.index_add_(0, (p_index * len(g_ids) + g_index)[both], torch.ones(int(both.sum()), dtype=torch.long))
         inter = inter.view(len(p_ids), len(g_ids)).double()

@@ -122,6 +122,26 @@ def _given_camera(cfg: Any, width: int, height: int) -> Any:
     return None
 
 
+def _read_input_image(cfg: Any) -> np.ndarray:
+    """``input.image`` as ``(H, W, 3)`` uint8 through the project's one image reader
+    (:func:`sdn3d.data.imageio.read_rgb`: 16-bit and float images scaled from their own range, unknown modes
+    refused; images over ``MAX_IMAGE_PIXELS`` refused before decoding).
+
+    Raises:
+        InputError: naming ``input.image``: missing, unreadable or of a refused kind.
+    """
+    from sdn3d.data.errors import DataFormatError
+    from sdn3d.data.imageio import read_rgb
+
+    path = Path(str(cfg.input.image)).expanduser()
+    if not path.is_file():
+        raise InputError(f"input.image {str(path)!r} not found")
+    try:
+        return read_rgb(path)
+    except DataFormatError as exc:
+        raise InputError(f"input.image {str(path)!r}: {str(exc).removeprefix(f'{path}: ')}") from exc
+
+
 def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any, Any]:
     """``(image (3, H, W), intrinsics, record or None, PixelFrame)`` at the working size.
 
@@ -140,17 +160,7 @@ def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any, Any
         raise InputError(f"the working size (image_size, else data.image_size) must be two positive integers "
                          f"[W, H], got {list(size)}")
     if cfg.input.image is not None:
-        from sdn3d.data.errors import DataFormatError
-        from sdn3d.data.imageio import open_image
-
-        path = Path(str(cfg.input.image)).expanduser()
-        if not path.is_file():
-            raise InputError(f"input.image {str(path)!r} not found")
-        try:  # refuses images over imageio.MAX_IMAGE_PIXELS (decompression bombs) before decoding them
-            with open_image(path) as im:
-                rgb = np.array(im.convert("RGB"))
-        except DataFormatError as exc:
-            raise InputError(f"input.image {str(path)!r}: {str(exc).removeprefix(f'{path}: ')}") from exc
+        rgb = _read_input_image(cfg)
         height, width = rgb.shape[:2]
         intr, _ = camera_for_image(width, height, _given_camera(cfg, width, height))
         image, intr, frame = fit_image(rgb, intr, size)
@@ -492,10 +502,7 @@ def _input_picture(cfg: Any, record: Any) -> np.ndarray:
         from sdn3d.data.records import load_rgb
 
         return np.ascontiguousarray(load_rgb(record), dtype=np.uint8)
-    from sdn3d.data.imageio import open_image
-
-    with open_image(Path(str(cfg.input.image)).expanduser()) as im:  # checked by load_input already
-        return np.array(im.convert("RGB"))
+    return _read_input_image(cfg)  # checked by load_input already
 
 
 def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene: Any,

@@ -203,14 +203,52 @@ def frames_agreed_size(paths: Mapping[int, Path], what: str, bad: dict[int, Data
     return size
 
 
+#: Modes :func:`read_rgb` converts with Pillow's own colour conversion (8 bits a channel; alpha dropped).
+_RGB8_MODES = ("RGB", "RGBA", "RGBX", "RGBa", "P", "PA", "L", "LA", "La", "1", "CMYK", "YCbCr")
+#: 16-bit single-channel modes (grey PNG / TIFF): scaled from [0, 65535].
+_GREY16_MODES = ("I;16", "I;16B", "I;16L", "I;16N")
+
+
 def read_rgb(path: str | os.PathLike) -> np.ndarray:
-    """An 8-bit colour image as ``(H, W, 3)`` uint8 (grey, palette and RGBA are converted)."""
+    """A colour image as ``(H, W, 3)`` uint8, each kind converted from its own range or refused by name.
+
+    - 8-bit RGB, palette (``P``), grey (``L``), bilevel (``1``), CMYK and YCbCr: Pillow's conversion to RGB.
+    - Alpha (``RGBA``, ``LA``, ``PA``): dropped; the colour channels are used as stored, not blended over a
+      background (a transparent pixel shows the colour it holds).
+    - 16-bit grey (``I;16*``): scaled from [0, 65535] to [0, 255] (rounded), repeated in the three channels.
+      (Pillow reads 16-bit colour PNGs as 8-bit ``RGB`` / ``RGBA`` itself, keeping the high byte.)
+    - 32-bit float grey (``F``, e.g. a float TIFF): values must lie in [0, 1] (intensities), scaled to
+      [0, 255]; a non-finite value or one outside [0, 1] (an unnormalised or HDR image) is refused.
+    - Any other mode (32-bit integer ``I``, ``LAB``, ``HSV``, ...) is refused: its range is not known.
+
+    Raises:
+        DataFormatError: naming ``path`` and the mode (or the float range) and what to do.
+    """
     image = open_image(path)
-    if image.mode not in ("RGB", "RGBA", "P", "L", "LA", "PA"):
-        raise DataFormatError(f"{path}: expected an 8-bit colour image, got mode {image.mode!r}")
-    if image.mode != "RGB":
-        image = image.convert("RGB")
-    return np.asarray(image, dtype=np.uint8).copy()
+    mode = image.mode
+    if mode in _RGB8_MODES:
+        if mode != "RGB":
+            image = image.convert("RGB")
+        return np.asarray(image, dtype=np.uint8).copy()
+    if mode in _GREY16_MODES:
+        grey = np.asarray(image).astype(np.uint32)
+        grey = ((grey * 255 + 32767) // 65535).astype(np.uint8)
+    elif mode == "F":
+        values = np.asarray(image, dtype=np.float32)
+        finite = np.isfinite(values)
+        if not finite.all():
+            raise DataFormatError(f"{path}: float image (mode 'F') holds {int((~finite).sum())} non-finite value(s) "
+                                  "(NaN or infinity): refused; save it as an 8- or 16-bit PNG")
+        low, high = (float(values.min()), float(values.max())) if values.size else (0.0, 0.0)
+        if low < 0.0 or high > 1.0:
+            raise DataFormatError(f"{path}: float image (mode 'F') has values in [{low:.6g}, {high:.6g}]; float images "
+                                  "must hold intensities in [0, 1] (an unnormalised or high-dynamic-range image?): "
+                                  "refused; scale it to [0, 1] or save it as an 8- or 16-bit PNG")
+        grey = np.rint(values * 255.0).astype(np.uint8)
+    else:
+        raise DataFormatError(f"{path}: image mode {mode!r} is not supported (its value range is not known); "
+                              "save it as an 8-bit RGB or grey, a 16-bit grey PNG or a [0, 1] float TIFF")
+    return np.repeat(grey[..., None], 3, axis=2)
 
 
 def read_index_png(path: str | os.PathLike) -> np.ndarray:

@@ -184,9 +184,10 @@ def test_output_dir_safety(tiny_synth, ckpts, tmp_path, capsys):
     assert "holds no edit.json" in capsys.readouterr().err and (unrelated / "notes.txt").read_text() == "keep me"
     out = tmp_path / "out"
     assert main(_args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}")) == 0
-    (out / "stale.txt").write_text("old")
     assert main(_args(tiny_synth, ckpts, out, edits, "input.frame=4")) == 0  # an earlier result: replaced
-    assert not (out / "stale.txt").exists() and (out / "edited.png").is_file()
+    (out / "stale.txt").write_text("old")  # a file the earlier run did not write (issue 32): never deleted
+    assert main(_args(tiny_synth, ckpts, out, edits, "input.frame=4")) == 2
+    assert "'stale.txt'" in capsys.readouterr().err and (out / "stale.txt").read_text() == "old"
 
 
 # The Virtual KITTI camera resized to 320x128: what a 320x128 image silently got before the camera had to be

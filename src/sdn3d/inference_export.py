@@ -42,7 +42,7 @@ from sdn3d.io import (
 
 __all__ = ["EXPORT_FORMAT", "EXPORT_VERSION", "EXPORT_NAME", "PREDICTOR_PREFIXES", "BranchWeights",
            "is_inference_export", "load_branch_weights", "module_with_weights", "inference_export",
-           "write_inference_export", "read_export_source", "export_matches"]
+           "check_export_target", "write_inference_export", "read_export_source", "export_matches"]
 
 ModuleT = TypeVar("ModuleT")
 
@@ -229,21 +229,72 @@ def inference_export(ckpt: Mapping[str, Any], source: str | os.PathLike,
             "source": record}
 
 
+#: Keys only a Lightning *training* checkpoint holds (its loop and optimizer state): such a file is never replaced.
+_TRAINING_KEYS = ("pytorch-lightning_version", "optimizer_states", "loops", "lr_schedulers")
+
+
+def _existing_kind(path: Path) -> str:
+    """What the existing file ``path`` holds: ``'export'``, ``'training checkpoint'`` or ``'other'`` (tensors are
+    mapped, not read)."""
+    try:
+        content = load_torch_file(path, "file", mmap=True)
+    except UserInputError:
+        try:  # mmap needs the zip format; an old-format torch file is read whole
+            content = load_torch_file(path, "file")
+        except UserInputError:
+            return "other"
+    if is_inference_export(content):
+        return "export"
+    if isinstance(content, Mapping) and "state_dict" in content and any(k in content for k in _TRAINING_KEYS):
+        return "training checkpoint"
+    return "other"
+
+
+def check_export_target(target: str | os.PathLike, checkpoint: str | os.PathLike, overwrite: bool,
+                        default: bool = False) -> None:
+    """Raise a :class:`UserInputError` naming ``target`` if an export may not be written there.
+
+    Never replaced: the checkpoint itself, a directory, and a Lightning training checkpoint (its run could no
+    longer resume). An existing file otherwise needs ``overwrite``, except that ``default`` (the target is
+    :data:`EXPORT_NAME` beside the checkpoint, this tool's own place) replaces an earlier export without it.
+    """
+    target, checkpoint = Path(target).expanduser(), Path(checkpoint).expanduser()
+    if not os.path.lexists(target):
+        return
+    if target.exists() and target.resolve() == checkpoint.resolve():
+        raise UserInputError(f"the export would replace the checkpoint {str(checkpoint)!r}: give another output file")
+    if target.is_dir():
+        raise UserInputError(f"output {str(target)!r} is a directory: give the export's file name, e.g. "
+                             f"{str(target / EXPORT_NAME)!r}")
+    kind = _existing_kind(target)
+    if kind == "training checkpoint":
+        raise UserInputError(f"output {str(target)!r} is a training checkpoint (it holds Lightning's loop and "
+                             "optimizer state): refusing to overwrite it, its run could no longer resume; give "
+                             "another output file")
+    if not overwrite and not (default and kind == "export"):
+        what = "an inference export" if kind == "export" else "a file"
+        raise UserInputError(f"output {str(target)!r} exists ({what}): refusing to overwrite it; give another "
+                             "output file or pass --overwrite")
+
+
 def write_inference_export(checkpoint: str | os.PathLike, ckpt: Mapping[str, Any],
-                           out: str | os.PathLike | None = None, settings: Mapping[str, Any] | None = None) -> Path:
+                           out: str | os.PathLike | None = None, settings: Mapping[str, Any] | None = None,
+                           overwrite: bool = False) -> Path:
     """Write the export of ``ckpt`` (the loaded content of ``checkpoint``) to ``out`` atomically; returns ``out``.
 
-    ``out`` None: :data:`EXPORT_NAME` beside the checkpoint.
+    ``out`` None: :data:`EXPORT_NAME` beside the checkpoint (an earlier export there is replaced).
+    An existing ``out`` is replaced only with ``overwrite``, and never when it is a training checkpoint
+    (:func:`check_export_target`).
 
     Raises:
-        UserInputError: ``out`` is the checkpoint itself, or the checkpoint holds no branch's weights.
+        UserInputError: ``out`` may not be written (:func:`check_export_target`), or the checkpoint holds no
+            branch's weights.
     """
     import torch
 
     checkpoint = Path(checkpoint).expanduser()
     target = checkpoint.parent / EXPORT_NAME if out is None else Path(out).expanduser()
-    if target.exists() and target.resolve() == checkpoint.resolve():
-        raise UserInputError(f"the export would replace the checkpoint {str(checkpoint)!r}: give another output file")
+    check_export_target(target, checkpoint, overwrite, default=out is None)
     payload = inference_export(ckpt, checkpoint, settings)
     return atomic_write(target, lambda handle: torch.save(payload, handle))
 

@@ -31,7 +31,7 @@ from sdn3d.errors import UserInputError
 
 __all__ = [
     "atomic_write", "write_bytes_atomic", "write_text_atomic", "write_json_atomic", "write_png_atomic",
-    "check_output_dir", "staged_directory", "swap_into_place", "current_umask",
+    "check_output_dir", "check_writable", "staged_directory", "swap_into_place", "current_umask",
     "load_torch_file", "load_lightning_checkpoint", "check_lightning_checkpoint", "describe_load_failure",
     "checkpoint_branch", "CHECKPOINT_BRANCHES", "file_sha256",
     "OutputDirError", "refuse_unsafe_output_dir", "OWNER_FILE", "owner_record", "process_alive",
@@ -304,11 +304,72 @@ def refuse_unsafe_output_dir(out: str | os.PathLike) -> None:
                              "that does not exist yet, e.g. a new subdirectory")
 
 
-def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool) -> Path:
+def _foreign_entries(out: Path, listed: set[str]) -> list[str]:
+    """Entries under ``out`` (relative POSIX paths, sorted) that are not in ``listed`` (files an earlier run wrote)
+    nor a directory on the way to one: what replacing ``out`` would delete that the tool did not write.
+    Symbolic links are entries of their own (never followed)."""
+    needed_dirs = {parent.as_posix() for name in listed for parent in Path(name).parents if parent != Path(".")}
+    foreign = []
+    for root, dirs, files in os.walk(out, followlinks=False):
+        base = Path(root).relative_to(out)
+        for name in sorted(dirs):
+            rel = (base / name).as_posix()
+            if (Path(root) / name).is_symlink():
+                foreign.append(rel)
+            elif rel not in needed_dirs:
+                foreign.append(rel + "/")
+        dirs[:] = [d for d in dirs if (base / d).as_posix() in needed_dirs and not (Path(root) / d).is_symlink()]
+        foreign.extend(rel for rel in ((base / name).as_posix() for name in sorted(files)) if rel not in listed)
+    return sorted(foreign)
+
+
+def _listed_outputs(out: Path, marker: str, listed_in: str) -> set[str]:
+    """The files the earlier run in ``out`` wrote: the list under ``listed_in`` in its ``marker`` JSON file."""
+    try:
+        record = json.loads((out / marker).read_text(encoding="utf-8"))
+        listed = record[listed_in]
+        if not isinstance(listed, list) or not all(isinstance(n, str) for n in listed):
+            raise TypeError(listed_in)
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as exc:
+        raise OutputDirError(f"output_dir {str(out)!r}: its {marker} does not list the files the earlier run wrote "
+                             f"({listed_in!r}: {type(exc).__name__}), so what else the directory holds is not known: "
+                             "refusing to replace it; choose another output_dir or empty it yourself") from None
+    return {Path(n).as_posix() for n in listed} | {marker}
+
+
+def check_writable(out: str | os.PathLike) -> None:
+    """Raise :class:`OutputDirError` unless a directory can be created beside ``out`` (where a staged tree goes):
+    the nearest existing ancestor of ``out``'s parent must be a directory in which this process can create one
+    (tried: a directory is made and removed, so ``/proc``, read-only mounts and missing permissions all show)."""
+    out = Path(out).expanduser().absolute()
+    ancestor = out.parent
+    while not ancestor.exists() and ancestor != ancestor.parent:
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        raise OutputDirError(f"output_dir {str(out)!r} cannot be created: {str(ancestor)!r} is not a directory; "
+                             "choose another output_dir")
+    try:
+        probe = tempfile.mkdtemp(prefix=".sdn3d-write-test-", dir=ancestor)
+        os.rmdir(probe)
+    except OSError as exc:
+        raise OutputDirError(f"output_dir {str(out)!r} cannot be written: creating a directory in {str(ancestor)!r} "
+                             f"failed ({exc.strerror or exc}); choose a writable output_dir") from None
+
+
+def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool, listed_in: str | None = None,
+                     inputs: Mapping[str, str | os.PathLike | None] | None = None) -> Path:
     """Raise :class:`OutputDirError` (a ``FileExistsError``) if ``out`` may not be (re)written; returns it resolved.
 
     An existing directory is refused if it is one :func:`refuse_unsafe_output_dir` protects, or if it is not
     empty and either ``overwrite`` is false or it holds no ``marker`` file (no earlier output of the tool).
+    A directory that cannot be created or written beside (:func:`check_writable`) is refused too.
+
+    Args:
+        listed_in: the key of the ``marker`` JSON file that lists every file the earlier run wrote (relative
+            paths); a directory holding anything else (a user's file, an unlisted directory, a link) is not
+            replaced, since that would delete it. None: the marker alone decides.
+        inputs: ``{setting: path}`` of the files the run reads (None values skipped): a non-empty ``out`` that
+            holds one of them is refused, whatever else (replacing it would delete the run's own input).
     """
     out = Path(out).expanduser().resolve()
     if out.exists() and not out.is_dir():
@@ -316,27 +377,47 @@ def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool) -> Pa
     if out.is_dir():
         refuse_unsafe_output_dir(out)
     if out.is_dir() and any(out.iterdir()):
+        for setting, path in (inputs or {}).items():
+            if path is None or str(path) == "":
+                continue
+            resolved = Path(str(path)).expanduser().resolve()
+            if resolved == out or out in resolved.parents:
+                raise OutputDirError(f"{setting} {str(path)!r} lies inside output_dir {str(out)!r}, which the results "
+                                     "replace as a whole: that would delete it; move it out or choose another "
+                                     "output_dir")
         if not overwrite:
             raise OutputDirError(f"output_dir {str(out)!r} is not empty (set overwrite=true to replace it)")
         if not (out / marker).is_file():
             raise OutputDirError(f"output_dir {str(out)!r} is not empty and holds no {marker} (not an earlier "
                                  "output of this tool): refusing to replace it; choose another output_dir")
+        if listed_in is not None:
+            foreign = _foreign_entries(out, _listed_outputs(out, marker, listed_in))
+            if foreign:
+                shown = ", ".join(repr(f) for f in foreign[:5]) + (f" and {len(foreign) - 5} more"
+                                                                    if len(foreign) > 5 else "")
+                entries = "1 entry" if len(foreign) == 1 else f"{len(foreign)} entries"
+                raise OutputDirError(f"output_dir {str(out)!r} holds {entries} "
+                                     f"the earlier run did not write ({shown}; its {marker} lists what it wrote): "
+                                     "refusing to replace it, that would delete them; move them out or choose "
+                                     "another output_dir")
+    check_writable(out)
     return out
 
 
 @contextmanager
 def staged_directory(out: str | os.PathLike, marker: str, overwrite: bool = True,
-                     owned: bool = False) -> Iterator[Path]:
+                     owned: bool = False, listed_in: str | None = None,
+                     inputs: Mapping[str, str | os.PathLike | None] | None = None) -> Iterator[Path]:
     """Yield a temporary directory; on success it becomes ``out`` (write ``marker`` in it), on error it goes.
 
     ``owned``: first remove what killed runs into ``out`` left behind (:func:`remove_stale_staging`), and
     keep an owner record (:data:`OWNER_FILE`: this process and host) in the temporary directory while it
     is written (it is removed before the swap; callers listing the tree must skip it), so that a later
-    run can remove the tree if this process is killed.
+    run can remove the tree if this process is killed. ``listed_in``, ``inputs``: :func:`check_output_dir`'s.
     """
     if owned:
         remove_stale_staging(out)
-    out = check_output_dir(out, marker, overwrite)
+    out = check_output_dir(out, marker, overwrite, listed_in, inputs)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
     os.chmod(tmp, 0o777 & ~current_umask())  # the finished directory gets a plain mkdir's mode, not 0700

@@ -124,28 +124,33 @@ def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, st
     return chosen, missing
 
 
-def export_checkpoint(checkpoint: str | os.PathLike, out: str | os.PathLike | None = None) -> Path:
+def export_checkpoint(checkpoint: str | os.PathLike, out: str | os.PathLike | None = None,
+                      overwrite: bool = False) -> Path:
     """Write the inference export of a branch's Lightning checkpoint (:mod:`sdn3d.inference_export`); returns it.
 
-    ``out`` None: ``inference.pt`` beside the checkpoint. A geometric checkpoint's export records its run's crop
-    size and margin (:func:`sdn3d.derender.geometric_crop_settings`) when the run's ``config.yaml`` says them.
+    ``out`` None: ``inference.pt`` beside the checkpoint (an earlier export there is replaced). An existing
+    ``out`` is replaced only with ``overwrite``, a training checkpoint never
+    (:func:`sdn3d.inference_export.check_export_target`, checked before the checkpoint is read). A geometric
+    checkpoint's export records its run's crop size and margin (:func:`sdn3d.derender.geometric_crop_settings`)
+    when the run's ``config.yaml`` says them.
 
     Raises:
         UserInputError: naming the file: the checkpoint is missing, unreadable or holds no branch's weights,
-            or its run's config is unreadable.
+            or its run's config is unreadable; ``out`` may not be written.
     """
     from sdn3d.derender import geometric_crop_settings
-    from sdn3d.inference_export import write_inference_export
+    from sdn3d.inference_export import EXPORT_NAME, check_export_target, write_inference_export
     from sdn3d.io import checkpoint_branch, load_lightning_checkpoint
 
     path = Path(checkpoint).expanduser()
+    check_export_target(path.parent / EXPORT_NAME if out is None else out, path, overwrite, default=out is None)
     ckpt = load_lightning_checkpoint(path)
     settings = {}
     if checkpoint_branch(ckpt) == "geometric":
         found = geometric_crop_settings(path)
         if found is not None:
             settings = {"crop_size": found[0], "margin": found[1]}
-    return write_inference_export(path, ckpt, out, settings)
+    return write_inference_export(path, ckpt, out, settings, overwrite)
 
 
 def export_run_checkpoint(summary_file: str | os.PathLike) -> Path | None:

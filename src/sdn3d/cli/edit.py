@@ -3,7 +3,9 @@
 Configuration ``conf/edit.yaml`` (Hydra overrides as arguments, e.g. ``input.image=x.png``).
 Everything is checked before anything is written: the edit spec's syntax and numbers first
 (before loading networks), then against the de-rendered scene (objects exist, targets inside the
-frame, 3D edits on objects with geometry). The output directory is then written all at once:
+frame, 3D edits on objects with geometry). The output directory is then written all at once (staged beside it;
+an existing one is replaced only if it holds nothing but the files an earlier run's ``edit.json`` lists under
+``outputs`` and none of this run's inputs, :func:`_output_rules`):
 
     edited.png                                              the result (``compose``, below)
     generated.png                                           the generator's whole edited picture (working size)
@@ -58,7 +60,7 @@ from sdn3d.cli._config import CONFIG_DIR, compose_config
 from sdn3d.cli._errors import run_cli
 from sdn3d.editing.inputs import camera_for_image, fit_image
 from sdn3d.errors import InputError
-from sdn3d.io import check_output_dir, staged_directory
+from sdn3d.io import OWNER_FILE, check_output_dir, staged_directory
 from sdn3d.runs import BRANCHES, find_run_checkpoints, quality_warnings, semantic_summary
 from sdn3d.scene.listing import list_objects, objects_table
 
@@ -232,8 +234,19 @@ def run_edit(cfg: Any) -> dict:
     summary["input_transform"] = frame.to_dict()
     summary["warnings"] = warnings
     summary["checkpoints"] = checkpoints
-    _write_outputs(out, bool(cfg.overwrite), image, scene, edited_scene, rendered, summary, diagnostics)
+    _write_outputs(out, bool(cfg.overwrite), image, scene, edited_scene, rendered, summary, diagnostics,
+                   _output_rules(cfg))
     return summary
+
+
+def _output_rules(cfg: Any) -> dict[str, Any]:
+    """:func:`sdn3d.io.check_output_dir`'s rules for ``output_dir``: an earlier edit is replaced only if the directory
+    holds nothing but the files its ``edit.json`` lists (``outputs``), and never when it holds one of this run's
+    inputs."""
+    given = {"input.image": cfg.input.get("image"), "input.camera": cfg.input.get("camera"), "edits": cfg.edits,
+             "code_bank": cfg.get("code_bank"), "run": cfg.get("run"),
+             **{f"checkpoints.{b}": (cfg.get("checkpoints") or {}).get(b) for b in BRANCHES}}
+    return {"listed_in": "outputs", "inputs": {k: str(v) for k, v in given.items() if v is not None}}
 
 
 def _compose_settings(cfg: Any) -> Any:
@@ -263,7 +276,7 @@ def _read_inputs(cfg: Any) -> tuple[Path, Any, tuple[torch.Tensor, Any, Any, Any
     :func:`load_input`'s image (nothing loaded before the spec's syntax and numbers are checked)."""
     from sdn3d.editing.spec import load_edit_spec
 
-    out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite))
+    out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite), **_output_rules(cfg))
     if cfg.proposals not in ("auto", "gt", "semantic"):
         raise InputError(f"proposals must be auto, gt or semantic, got {cfg.proposals!r}")
     listing = cfg.get("list")
@@ -536,7 +549,7 @@ def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene:
                            "with_geometry": [r["id"] for r in rows if r["template"] is not None]},
                "checkpoints": checkpoints, "timings_ms": times,
                "config": OmegaConf.to_container(cfg, resolve=True)}
-    with staged_directory(out, MARKER, bool(cfg.overwrite)) as tmp:
+    with staged_directory(out, MARKER, bool(cfg.overwrite), owned=True, **_output_rules(cfg)) as tmp:
         write_json_atomic(tmp / "objects.json", listing)
         write_png_atomic(tmp / "objects.png", drawn)
         summary["outputs"] = ["objects.json", "objects.png", MARKER]
@@ -545,13 +558,15 @@ def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene:
 
 
 def _write_outputs(out: Path, overwrite: bool, image: torch.Tensor, scene: Any, edited_scene: Any,
-                   rendered: dict[str, Any], summary: dict, diagnostics: bool = True) -> None:
-    """Write the output directory all at once (see the module doc); adds ``summary['outputs']``."""
+                   rendered: dict[str, Any], summary: dict, diagnostics: bool = True,
+                   rules: dict[str, Any] | None = None) -> None:
+    """Write the output directory all at once (see the module doc); adds ``summary['outputs']`` (every file
+    written: what a later run may replace). ``rules``: :func:`_output_rules`."""
     from sdn3d.io import write_json_atomic, write_png_atomic
     from sdn3d.scene.io import save_scene
 
     gen = _to_uint8(rendered["generated"])
-    with staged_directory(out, MARKER, overwrite) as tmp:
+    with staged_directory(out, MARKER, overwrite, owned=True, **(rules or {"listed_in": "outputs"})) as tmp:
         write_png_atomic(tmp / "generated.png", gen)
         write_png_atomic(tmp / "edited.png", rendered["edited"])
         if rendered["region"] is not None:
@@ -560,7 +575,8 @@ def _write_outputs(out: Path, overwrite: bool, image: torch.Tensor, scene: Any, 
         save_scene(edited_scene, tmp / "edited_scene.json")
         if diagnostics:
             _write_diagnostics(tmp, image, scene, edited_scene, rendered, gen)
-        summary["outputs"] = sorted(str(p.relative_to(tmp)) for p in tmp.rglob("*") if p.is_file()) + [MARKER]
+        summary["outputs"] = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*")
+                                    if p.is_file() and p.name != OWNER_FILE) + [MARKER]
         write_json_atomic(tmp / MARKER, summary)
 
 

@@ -3,6 +3,9 @@
     sdn3d-export-weights CHECKPOINT [OUT]      # OUT defaults to inference.pt beside the checkpoint
     sdn3d-export-weights --run DIR             # each branch's checkpoint that run=DIR would use
 
+An existing OUT is replaced only with ``--overwrite``, and a training checkpoint never (its run could no longer
+resume); the default OUT replaces an earlier export there.
+
 The export holds the predictor's weights, the module's hyper-parameters, the geometric run's crop size and
 margin, a format version and the checkpoint's SHA-256; no optimizer, loop or callback state. It loads with
 ``torch.load(weights_only=True)`` and without Lightning, wherever a checkpoint is accepted
@@ -10,7 +13,8 @@ margin, a format version and the checkpoint's SHA-256; no optimizer, loop or cal
 ``<run>/checkpoints/inference.pt`` instead of the checkpoint when it was made from that checkpoint.
 ``sdn3d-train`` writes it at the end of every successful run; this tool is for older runs and other files.
 
-Exit status: 0 done; 2 bad input (missing, unreadable or not a branch's checkpoint; the message names it).
+Exit status: 0 done; 2 bad input (missing, unreadable or not a branch's checkpoint, an OUT that may not be
+replaced; the message names it).
 """
 
 from __future__ import annotations
@@ -35,6 +39,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("checkpoint", nargs="?", help="a branch's Lightning checkpoint (sdn3d-train)")
     parser.add_argument("out", nargs="?", help="the export to write (default: inference.pt beside the checkpoint)")
     parser.add_argument("--run", help="a training output directory: export each branch's checkpoint run= would use")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace an existing OUT (never a training checkpoint; the default OUT, inference.pt "
+                             "beside the checkpoint, replaces an earlier export without it)")
     return parser
 
 
@@ -55,7 +62,7 @@ def _main(args: argparse.Namespace) -> int:
     else:
         jobs = [(Path(args.checkpoint).expanduser(), args.out)]
     for checkpoint, out in jobs:
-        written = export_checkpoint(checkpoint, out)
+        written = export_checkpoint(checkpoint, out, args.overwrite)
         print(f"sdn3d-export-weights: {checkpoint} ({_size(checkpoint)}) -> {written} ({_size(written)})")
     return 0
 

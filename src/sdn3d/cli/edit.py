@@ -211,7 +211,8 @@ def run_edit(cfg: Any) -> dict:
         UserInputError (InputError, EditSpecError, EditError, DataFormatError, ...), FileNotFoundError,
         FileExistsError: bad input (nothing written).
     """
-    if cfg.threads:
+    _check_settings(cfg)
+    if cfg.threads is not None:
         torch.set_num_threads(int(cfg.threads))
     compose = _compose_settings(cfg)
     out, spec, (image, intrinsics, record, frame) = _read_inputs(cfg)
@@ -249,6 +250,28 @@ def _output_rules(cfg: Any) -> dict[str, Any]:
     return {"listed_in": "outputs", "inputs": {k: str(v) for k, v in given.items() if v is not None}}
 
 
+def _check_settings(cfg: Any) -> None:
+    """Refuse ``threads`` (null or a positive integer), ``pick_radius`` (null or a positive finite number) and
+    ``max_ops`` (a positive integer) of another kind, naming the setting (before anything is loaded)."""
+    import math
+
+    from sdn3d.editing.spec import MAX_OPS
+
+    threads = cfg.get("threads")
+    if threads is not None and (isinstance(threads, bool) or not isinstance(threads, int) or threads < 1):
+        raise InputError(f"threads must be a positive integer (torch CPU threads) or null for PyTorch's default, "
+                         f"got {threads!r}")
+    radius = cfg.get("pick_radius")
+    if radius is not None and (isinstance(radius, bool) or not isinstance(radius, (int, float))
+                               or not math.isfinite(radius) or radius <= 0):
+        raise InputError(f"pick_radius must be a positive number of pixels (working size) or null for no limit, "
+                         f"got {radius!r}")
+    max_ops = cfg.get("max_ops", MAX_OPS)
+    if isinstance(max_ops, bool) or not isinstance(max_ops, int) or max_ops < 1:
+        raise InputError(f"max_ops must be a positive integer (the most operations an edit spec may hold), "
+                         f"got {max_ops!r}")
+
+
 def _compose_settings(cfg: Any) -> Any:
     """:class:`~sdn3d.editing.compose.ComposeSettings` of ``compose``, ``compose_dilate_px``, ``compose_feather_px``."""
     from sdn3d.editing.compose import ComposeSettings
@@ -258,13 +281,14 @@ def _compose_settings(cfg: Any) -> Any:
 
 def _is_empty_spec(path: Path) -> bool:
     """Whether the edit spec file holds no ops (empty, ``[]``, ``ops: []``); unreadable files are left to
-    :func:`sdn3d.editing.spec.load_edit_spec` to report."""
-    import yaml
+    :func:`sdn3d.editing.spec.load_edit_spec` to report (YAML through its :func:`~sdn3d.editing.spec.read_yaml`,
+    which refuses anchors and aliases before building anything)."""
+    from sdn3d.editing.spec import read_yaml
+    from sdn3d.errors import UserInputError
 
     try:
-        text = path.read_text(encoding="utf-8")
-        data = json.loads(text) if path.suffix.lower() == ".json" else yaml.safe_load(text)
-    except (OSError, UnicodeDecodeError, ValueError, yaml.YAMLError):
+        data = json.loads(path.read_text(encoding="utf-8")) if path.suffix.lower() == ".json" else read_yaml(path)
+    except (OSError, UnicodeDecodeError, ValueError, UserInputError):
         return False
     if isinstance(data, dict) and set(data) <= {"ops", "frame_size"}:
         data = data.get("ops")
@@ -274,7 +298,7 @@ def _is_empty_spec(path: Path) -> bool:
 def _read_inputs(cfg: Any) -> tuple[Path, Any, tuple[torch.Tensor, Any, Any, Any]]:
     """The checked output directory, the parsed edit spec (None: list the objects, edit nothing) and
     :func:`load_input`'s image (nothing loaded before the spec's syntax and numbers are checked)."""
-    from sdn3d.editing.spec import load_edit_spec
+    from sdn3d.editing.spec import MAX_OPS, load_edit_spec
 
     out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite), **_output_rules(cfg))
     if cfg.proposals not in ("auto", "gt", "semantic"):
@@ -289,7 +313,7 @@ def _read_inputs(cfg: Any) -> tuple[Path, Any, tuple[torch.Tensor, Any, Any, Any
                              "the objects of the image first")
     elif not _is_empty_spec(Path(str(cfg.edits)).expanduser()):
         spec = load_edit_spec(str(cfg.edits), int(cfg.entry), tuple(cfg.frame_size) if cfg.frame_size else None,
-                              bool(cfg.strict))
+                              bool(cfg.strict), int(cfg.get("max_ops", MAX_OPS)))
     inputs = load_input(cfg, spec.entry if spec is not None else None)
     return out, None if listing else spec, inputs
 

@@ -34,6 +34,7 @@ geometry can do, the 2D and 2D+ baselines (:mod:`sdn3d.evaluation.baselines`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Sequence
 
@@ -192,7 +193,29 @@ def _set_row(table: ObjectTable, i: int, **values: Tensor) -> ObjectTable:
     return table.replace(**changes)
 
 
-def _apply_one(scene: SceneCode, table: ObjectTable, codes: Tensor, op: EditOp) -> tuple[ObjectTable, Tensor]:
+class _Copies:
+    """The rows :class:`Duplicate` ops made that are not yet in the table: a run of duplicates is appended with
+    one concatenation (:meth:`into`) instead of one per op (which copied the whole table each time: quadratic)."""
+
+    def __init__(self) -> None:
+        self.rows: list[ObjectTable] = []
+        self.ids: set[int] = set()
+        self.top: dict[int, int] = {}  # per class, the largest k of the pending ids
+
+    def into(self, table: ObjectTable) -> ObjectTable:
+        """``table`` with the pending rows appended (in op order); nothing is pending afterwards."""
+        if not self.rows:
+            return table
+        parts = [table, *self.rows]
+        merged = ObjectTable(**{f.name: torch.cat([getattr(t, f.name) for t in parts])
+                                for f in dataclasses.fields(ObjectTable)})
+        self.rows, self.ids, self.top = [], set(), {}
+        return merged
+
+
+def _apply_one(scene: SceneCode, table: ObjectTable, codes: Tensor, op: EditOp,
+               copies: _Copies | None = None) -> tuple[ObjectTable, Tensor]:
+    """``op`` applied to ``table`` / ``codes``; a :class:`Duplicate`'s copy goes to ``copies`` (None: appended now)."""
     intr = scene.intrinsics
     if isinstance(op, SetBackgroundCode):
         if not 0 <= int(op.class_id) < codes.shape[0]:
@@ -247,25 +270,30 @@ def _apply_one(scene: SceneCode, table: ObjectTable, codes: Tensor, op: EditOp) 
     _check_distance(new_center, float(table.dims[i, 0]), f"{name}: object {op.instance_id}", near=changes_distance)
     location = new_center + new_center.new_tensor([0.0, h / 2, 0.0])
     if isinstance(op, Duplicate):
-        return _duplicate(table, i, op, location), codes
+        pending = _Copies() if copies is None else copies
+        pending.rows.append(_duplicate(table, i, op, location, pending))
+        return (pending.into(table) if copies is None else table), codes
     ry = wrap_angle(table.ry[i] + op.delta_ry) if isinstance(op, Modify) else table.ry[i]
     return _set_row(table, i, location=location, ry=ry), codes
 
 
-def _duplicate(table: ObjectTable, i: int, op: Duplicate, location: Tensor) -> ObjectTable:
+def _duplicate(table: ObjectTable, i: int, op: Duplicate, location: Tensor, copies: _Copies) -> ObjectTable:
+    """The one-row copy a :class:`Duplicate` of row ``i`` makes (its id free in ``table`` and among ``copies``,
+    whose ids it is added to); the caller appends it."""
     cls = int(table.class_id[i])
     if op.new_id is None:
         same = table.instance_id[table.class_id == cls] % INSTANCE_DIVISOR
-        new_id = cls * INSTANCE_DIVISOR + int(same.max()) + 1
+        new_id = cls * INSTANCE_DIVISOR + max(int(same.max()), copies.top.get(cls, -1)) + 1
     else:
         new_id = int(op.new_id)
-    if new_id // INSTANCE_DIVISOR != cls or bool((table.instance_id == new_id).any()):
+    if new_id // INSTANCE_DIVISOR != cls or new_id in copies.ids or bool((table.instance_id == new_id).any()):
         raise EditError(f"Duplicate: new id {new_id} must be a free id {cls} * 1000 + k, 0 <= k <= 999")
+    copies.ids.add(new_id)
+    copies.top[cls] = max(copies.top.get(cls, -1), new_id % INSTANCE_DIVISOR)
     copy = table.select(torch.tensor([i]))
-    copy = copy.replace(instance_id=torch.tensor([new_id]), location=location[None],
+    return copy.replace(instance_id=torch.tensor([new_id]), location=location[None],
                         mask=torch.zeros_like(copy.mask), has_mask=torch.zeros(1, dtype=torch.bool),
                         observed=torch.zeros(1, dtype=torch.bool))
-    return table.cat(copy)
 
 
 def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None = None, grow: int = 2,
@@ -307,8 +335,12 @@ def _apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None,
                  footprints: Callable[[SceneCode, Tensor, MeshBank | None, int], Tensor],
                  amodal: bool = True) -> SceneCode:
     table, codes = scene.objects, scene.background_codes
+    copies = _Copies()  # duplicates are appended together, when an op names one of them or at the end: linear
     for op in ops:
-        table, codes = _apply_one(scene, table, codes, op)
+        if copies.ids and int(getattr(op, "instance_id", -1)) in copies.ids:
+            table = copies.into(table)
+        table, codes = _apply_one(scene, table, codes, op, copies)
+    table = copies.into(table)
     before = scene.objects
     # Rows of the input's observed objects in the result (-1: deleted).
     hit = (before.instance_id[:, None] == table.instance_id[None, :]).nonzero()

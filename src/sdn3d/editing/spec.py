@@ -39,6 +39,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import reprlib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -77,7 +78,7 @@ from sdn3d.textural.code_bank import named_color
 from sdn3d.textural.codes import CodeBank
 
 __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
-           "apply_spec", "PixelFrame"]
+           "apply_spec", "PixelFrame", "read_yaml", "MAX_OPS", "EXCERPT_CHARS"]
 
 OP_KINDS = ("move", "rotate", "zoom", "delete", "recolor", "duplicate", "modify")
 _FIELDS = {"move": {"to"}, "rotate": {"ry_deg", "ry_rad"}, "zoom": {"zoom", "on_ground"}, "delete": set(),
@@ -181,6 +182,57 @@ class PixelFrame:
                 "rule": "u_work = (u_in + 0.5) * scale_x - 0.5 - crop_offset_x (same for v)"}
 
 
+#: Longest excerpt of a user's value quoted in an error message (a value may be megabytes long).
+EXCERPT_CHARS = 80
+#: Default cap on the number of operations of one edit spec (``sdn3d-edit``'s ``max_ops``).
+MAX_OPS = 256
+
+_REPR = reprlib.Repr()
+_REPR.maxlevel, _REPR.maxlist, _REPR.maxtuple, _REPR.maxdict, _REPR.maxset = 3, 6, 6, 4, 4
+_REPR.maxstring, _REPR.maxother, _REPR.maxlong = EXCERPT_CHARS, EXCERPT_CHARS, 40
+
+
+def _excerpt(value: Any, limit: int = EXCERPT_CHARS) -> str:
+    """``repr(value)`` cut to at most ``limit`` characters (nested and long values abridged without being
+    expanded whole): what an error message quotes of a user's value."""
+    try:
+        text = _REPR.repr(value)
+    except (ValueError, RecursionError):  # e.g. an integer over Python's 4300-digit str limit
+        text = f"<a {type(value).__name__} too long to show>"
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def read_yaml(path: str | os.PathLike, what: str = "edit spec") -> Any:
+    """The content of the YAML file ``path`` (safe loading), refusing anchors and aliases (``&a`` / ``*a``):
+    a few hundred bytes of nested aliases expand to gigabytes (a "billion laughs" file), and an edit spec
+    has no use for them. The document is checked event by event before anything is built.
+
+    Raises:
+        EditSpecError: naming the file: invalid YAML, an anchor or alias (with its line), not UTF-8.
+    """
+    import yaml
+
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise EditSpecError(f"{path}: {what} is not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # libyaml's parser where PyYAML has it: 10x faster
+    try:
+        for event in yaml.parse(text, Loader=loader):
+            if isinstance(event, yaml.AliasEvent) or getattr(event, "anchor", None) is not None:
+                line = event.start_mark.line + 1 if event.start_mark is not None else "?"
+                raise EditSpecError(f"{path}:{line}: {what}: YAML anchors and aliases (&name, *name) are not "
+                                    "accepted; write each value out")
+        return yaml.load(text, Loader=loader)  # noqa: S506 (a safe loader)
+    except EditSpecError:
+        raise
+    except yaml.YAMLError as exc:
+        raise EditSpecError(f"{path}: invalid YAML ({_excerpt(str(exc), 400)})") from None
+    except (ValueError, RecursionError) as exc:  # a constructor's failure (an integer of 10^5 digits, deep nesting)
+        raise EditSpecError(f"{path}: {what} holds a value that cannot be read ({_excerpt(str(exc))})") from None
+
+
 def _number(value: Any, what: str) -> float:
     """A finite float; a string ``float()`` reads is a number too (PyYAML, following YAML 1.1, reads
     ``1e9`` and ``1.0e9`` as strings: its float pattern needs a dot and a signed exponent)."""
@@ -188,33 +240,33 @@ def _number(value: Any, what: str) -> float:
         try:
             value = float(value)
         except ValueError:
-            raise EditSpecError(f"{what} must be a number, got {value!r}") from None
+            raise EditSpecError(f"{what} must be a number, got {_excerpt(value)}") from None
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise EditSpecError(f"{what} must be a number, got {value!r}")
+        raise EditSpecError(f"{what} must be a number, got {_excerpt(value)}")
     if not math.isfinite(float(value)):
-        raise EditSpecError(f"{what} must be finite, got {value!r}")
+        raise EditSpecError(f"{what} must be finite, got {_excerpt(value)}")
     return float(value)
 
 
 def _point(value: Any, what: str) -> tuple[float, float]:
     if not isinstance(value, (list, tuple)) or len(value) != 2:
-        raise EditSpecError(f"{what} must be a pixel [u, v], got {value!r}")
+        raise EditSpecError(f"{what} must be a pixel [u, v], got {_excerpt(value)}")
     return (_number(value[0], f"{what}[0]"), _number(value[1], f"{what}[1]"))
 
 
 def _int(value: Any, what: str, minimum: int = 0) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
-        raise EditSpecError(f"{what} must be an integer >= {minimum}, got {value!r}")
+        raise EditSpecError(f"{what} must be an integer >= {minimum}, got {_excerpt(value)}")
     return int(value)
 
 
 def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
     if not isinstance(raw, Mapping):
         raise EditSpecError(f"{where}: op {index} must be a mapping like {{op: move, id: 12001, to: [u, v]}}, "
-                            f"got {raw!r}")
+                            f"got {_excerpt(raw)}")
     kind = raw.get("op")
     if not isinstance(kind, str) or kind.lower() not in OP_KINDS:
-        raise EditSpecError(f"{where}: op {index}: field 'op' must be one of {OP_KINDS}, got {kind!r}")
+        raise EditSpecError(f"{where}: op {index}: field 'op' must be one of {OP_KINDS}, got {_excerpt(kind)}")
     kind = kind.lower()
     name = f"{where}: op {index} ({kind})"
     if "ry" in raw and kind in ("rotate", "modify"):
@@ -222,7 +274,7 @@ def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
                             f"e.g. ry_deg: 45) or ry_rad (radians, e.g. ry_rad: 0.785)")
     unknown = set(raw) - {"op", "id", "at"} - _FIELDS[kind]
     if unknown:
-        raise EditSpecError(f"{name}: unknown field(s) {sorted(unknown)}; allowed: "
+        raise EditSpecError(f"{name}: unknown field(s) {_excerpt(sorted(map(str, unknown)))}; allowed: "
                             f"{sorted({'op', 'id', 'at'} | _FIELDS[kind])}")
     selectors = [k for k in ("id", "at", "from", "class") if k in raw]
     if len(selectors) != 1:
@@ -238,7 +290,7 @@ def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
         fields["from_uv"] = _point(raw["from"], f"{name}: field 'from'")
     if "class" in raw:
         if isinstance(raw["class"], bool) or not isinstance(raw["class"], (int, str)):
-            raise EditSpecError(f"{name}: field 'class' must be a class name or id, got {raw['class']!r}")
+            raise EditSpecError(f"{name}: field 'class' must be a class name or id, got {_excerpt(raw['class'])}")
         fields["class_"] = raw["class"]
     if kind in ("move", "duplicate") and "to" not in raw:
         raise EditSpecError(f"{name}: field 'to' (target pixel [u, v]) is required")
@@ -249,23 +301,27 @@ def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
     if kind == "rotate" and "ry_deg" not in raw and "ry_rad" not in raw:
         raise EditSpecError(f"{name}: field 'ry_deg' (degrees added to the yaw) or 'ry_rad' (radians) is required")
     if "ry_deg" in raw:
-        fields["ry"] = math.radians(_number(raw["ry_deg"], f"{name}: field 'ry_deg'"))
+        degrees = _number(raw["ry_deg"], f"{name}: field 'ry_deg'")
+        if abs(degrees) > 360:
+            raise EditSpecError(f"{name}: field 'ry_deg' is {_excerpt(raw['ry_deg'])} degrees, more than a full turn "
+                                "(360): give the angle added to the yaw within [-360, 360]")
+        fields["ry"] = math.radians(degrees)
     if "ry_rad" in raw:
         ry = _number(raw["ry_rad"], f"{name}: field 'ry_rad'")
         if abs(ry) > 2 * math.pi:
-            raise EditSpecError(f"{name}: field 'ry_rad' is {raw['ry_rad']!r} radians, more than a full turn (2 pi): "
-                                f"did you mean ry_deg: {raw['ry_rad']}?")
+            raise EditSpecError(f"{name}: field 'ry_rad' is {_excerpt(raw['ry_rad'])} radians, more than a full turn "
+                                f"(2 pi): did you mean ry_deg: {_excerpt(raw['ry_rad'])}?")
         fields["ry"] = ry
     if kind == "zoom" and "zoom" not in raw:
         raise EditSpecError(f"{name}: field 'zoom' (distance divisor > 0) is required")
     if "zoom" in raw:
         zoom = _number(raw["zoom"], f"{name}: field 'zoom'")
         if zoom <= 0:
-            raise EditSpecError(f"{name}: field 'zoom' must be > 0, got {raw['zoom']!r}")
+            raise EditSpecError(f"{name}: field 'zoom' must be > 0, got {_excerpt(raw['zoom'])}")
         fields["zoom"] = zoom
     if "on_ground" in raw:
         if not isinstance(raw["on_ground"], bool):
-            raise EditSpecError(f"{name}: field 'on_ground' must be true or false, got {raw['on_ground']!r}")
+            raise EditSpecError(f"{name}: field 'on_ground' must be true or false, got {_excerpt(raw['on_ground'])}")
         fields["on_ground"] = raw["on_ground"]
     if kind == "recolor":
         has_code, sample, has_color = "code" in raw, raw.get("sample", False), "color" in raw
@@ -273,7 +329,11 @@ def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
             raise EditSpecError(f"{name}: give exactly one of 'code: [...]', 'sample: true' or 'color: <name>'")
         if has_color:
             if not isinstance(raw["color"], str):
-                raise EditSpecError(f"{name}: field 'color' must be a colour name, e.g. red, got {raw['color']!r}")
+                raise EditSpecError(f"{name}: field 'color' must be a colour name, e.g. red, got "
+                                    f"{_excerpt(raw['color'])}")
+            if len(raw["color"]) > EXCERPT_CHARS:
+                raise EditSpecError(f"{name}: field 'color' is {len(raw['color'])} characters long, not a colour "
+                                    f"name: {_excerpt(raw['color'])}")
             try:
                 named_color(raw["color"], f"{name}: field 'color'")
             except UserInputError as exc:
@@ -282,7 +342,7 @@ def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
         if has_code:
             code = raw["code"]
             if not isinstance(code, (list, tuple)) or not code:
-                raise EditSpecError(f"{name}: field 'code' must be a non-empty list of numbers, got {code!r}")
+                raise EditSpecError(f"{name}: field 'code' must be a non-empty list of numbers, got {_excerpt(code)}")
             fields["code"] = tuple(_number(c, f"{name}: field 'code[{i}]'") for i, c in enumerate(code))
         fields["sample"] = bool(sample)
         if "seed" in raw:
@@ -292,33 +352,41 @@ def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
     return OpSpec(index, kind, **fields)
 
 
-def parse_edit_spec(data: Any, source: str = "<edit spec>") -> EditSpec:
-    """Check a YAML-style spec (a list of ops, or ``{frame_size: [W, H], ops: [...]}``); see the module doc."""
+def parse_edit_spec(data: Any, source: str = "<edit spec>", max_ops: int | None = MAX_OPS) -> EditSpec:
+    """Check a YAML-style spec (a list of ops, or ``{frame_size: [W, H], ops: [...]}``); see the module doc.
+
+    ``max_ops``: the most operations accepted (None: no limit); every op costs a pass over the scene.
+    """
     frame_size = None
     if isinstance(data, Mapping):
         unknown = set(data) - {"ops", "frame_size"}
         if unknown or "ops" not in data:
             raise EditSpecError(f"{source}: a mapping spec needs 'ops' (and optionally 'frame_size'), "
-                                f"got keys {sorted(data)}")
+                                f"got keys {_excerpt(sorted(map(str, data)))}")
         if data.get("frame_size") is not None:
             size = data["frame_size"]
             if not isinstance(size, (list, tuple)) or len(size) != 2:
-                raise EditSpecError(f"{source}: frame_size must be [W, H], got {size!r}")
+                raise EditSpecError(f"{source}: frame_size must be [W, H], got {_excerpt(size)}")
             frame_size = (_int(size[0], f"{source}: frame_size[0]", 1), _int(size[1], f"{source}: frame_size[1]", 1))
         data = data["ops"]
     if not isinstance(data, (list, tuple)) or not data:
-        raise EditSpecError(f"{source}: expected a non-empty list of edit operations, got {data!r}")
+        raise EditSpecError(f"{source}: expected a non-empty list of edit operations, got {_excerpt(data)}")
+    if max_ops is not None and len(data) > max_ops:
+        raise EditSpecError(f"{source}: {len(data)} edit operations, more than max_ops={max_ops} (sdn3d-edit's "
+                            "max_ops setting, conf/edit.yaml): split the edit or raise max_ops")
     return EditSpec(tuple(_parse_op(raw, i, source) for i, raw in enumerate(data)), None, frame_size, source)
 
 
 def load_edit_spec(path: str | os.PathLike, entry: int = 0, frame_size: tuple[int, int] | None = None,
-                   strict: bool = True) -> EditSpec:
+                   strict: bool = True, max_ops: int | None = MAX_OPS) -> EditSpec:
     """Read a YAML ops file, or a benchmark JSON file's ``entry`` (``.json``).
 
     Args:
         frame_size: override the coordinates' frame (default: the YAML's ``frame_size`` or the scene's
             pixels; for a benchmark, 1242x375).
         strict: benchmark ``from`` / ``to`` points must lie inside the frame.
+        max_ops: the most operations a YAML spec may hold (:func:`parse_edit_spec`); YAML anchors and aliases
+            are refused (:func:`read_yaml`).
     """
     path = Path(path).expanduser()
     if not path.is_file():
@@ -349,13 +417,8 @@ def load_edit_spec(path: str | os.PathLike, entry: int = 0, frame_size: tuple[in
             return EditSpec((), chosen, size, f"{path} entry {entry}")
         data = json.loads(text)
     else:
-        import yaml
-
-        try:
-            data = yaml.safe_load(path.read_text(encoding="utf-8"))
-        except yaml.YAMLError as exc:
-            raise EditSpecError(f"{path}: invalid YAML ({exc})") from exc
-    spec = parse_edit_spec(data, str(path))
+        data = read_yaml(path)
+    spec = parse_edit_spec(data, str(path), max_ops)
     if frame_size is not None:
         spec = EditSpec(spec.ops, None, (int(frame_size[0]), int(frame_size[1])), spec.source)
     return spec
@@ -411,7 +474,7 @@ def _class_id(value: int | str, scene: SceneCode, what: str) -> int:
     names = {c.name.lower(): c.id for c in scene.class_list}
     if isinstance(value, str):
         if value.lower() not in names:
-            raise EditError(f"{what}: unknown class {value!r}; classes: {[c.name for c in scene.class_list]}")
+            raise EditError(f"{what}: unknown class {_excerpt(value)}; classes: {[c.name for c in scene.class_list]}")
         return names[value.lower()]
     if not 0 <= int(value) < len(scene.class_list):
         raise EditError(f"{what}: class id {value} is outside [0, {len(scene.class_list)})")

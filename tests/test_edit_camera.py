@@ -83,7 +83,7 @@ def test_given_intrinsics_run_with_the_aspect_kept(ckpts, picture, tmp_path):
     assert transform["input_size"] == [256, 128] and transform["working_size"] == [160, 64]
     assert transform["mode"] == "scale_crop" and transform["scaled_size"] == [160, 80]
     assert transform["scale"] == [0.625, 0.625] and transform["crop_offset"] == [0, 8]
-    assert np.asarray(Image.open(out / "generated.png")).shape == (64, 160, 3)  # the working size
+    assert np.asarray(Image.open(out / "edited.png")).shape == (128, 256, 3)  # the input's size (photo)
 
 
 def test_cityscapes_camera_json_runs_and_is_recorded(ckpts, picture, tmp_path):
@@ -247,6 +247,7 @@ def test_dataset_ground_truth_proposals_give_no_warning(tiny_synth, ckpts, tmp_p
     out = tmp_path / "out"
     assert main(["data=synth", f"data.root={tiny_synth}", "data.image_size=[80,32]", f"input.frame={FRAME}",
                  f"edits={tmp_path / 'ops.yaml'}", *(f"checkpoints.{k}={v}" for k, v in ckpts.items()),
-                 f"checkpoints.semantic={ckpt}", "geometric.crop_size=32", "proposals=gt", f"output_dir={out}"]) == 0
+                 f"checkpoints.semantic={ckpt}", "geometric.crop_size=32", "proposals=gt", "appearance=generator",
+                 f"output_dir={out}"]) == 0
     assert "warning" not in capsys.readouterr().err
     assert json.loads((out / "edit.json").read_text())["warnings"] == []

@@ -36,7 +36,8 @@ def ckpts(tmp_path_factory):
 def _args(tiny_synth, ckpts, out, edits, *extra):
     return ["data=synth", f"data.root={tiny_synth}", "data.image_size=[160,64]", f"edits={edits}",
             *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32",
-            "geometric.min_pixels=1", "proposals=gt", f"output_dir={out}", *extra]  # gt: random weights find no car
+            "geometric.min_pixels=1", "proposals=gt", f"output_dir={out}", "appearance=generator", *extra]
+    # gt: random weights find no car; appearance=generator: these tests are of the generator path (photo: test_photo)
 
 
 def _write(path, text):
@@ -202,7 +203,8 @@ def test_image_file_input_with_given_camera(tiny_synth, ckpts, tmp_path):
     edits = _write(tmp_path / "ops.yaml", "- {op: recolor, class: Sky, code: [0, 0, 0, 0, 1]}")
     out = tmp_path / "out"
     args = [f"input.image={tmp_path / 'street.png'}", "image_size=[160,64]", f"edits={edits}", VKITTI_AT_320x128,
-            *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32", f"output_dir={out}"]
+            *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32", "appearance=generator",
+            f"output_dir={out}"]
     assert main(args) == 0
     summary = json.loads((out / "edit.json").read_text())
     assert summary["intrinsics"]["width"] == 160 and math.isclose(summary["intrinsics"]["fx"], 725 * 160 / 1242)
@@ -237,7 +239,8 @@ def test_edited_png_has_the_input_images_resolution(tiny_synth, ckpts, tmp_path,
     edits = _write(tmp_path / "ops.yaml", f"- {{op: delete, id: {victim}}}")
     camera = f"input.intrinsics={{fx:{size[0]},fy:{size[0]},cx:{size[0] / 2 - 0.5},cy:{size[1] / 2 - 0.5}}}"
     base = [f"input.image={tmp_path / 'street.png'}", "image_size=[160,64]", f"edits={edits}", camera,
-            *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32", "geometric.min_pixels=1"]
+            *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32", "geometric.min_pixels=1",
+            "appearance=generator"]
     out = tmp_path / "out"
     assert main([*base, f"output_dir={out}"]) == 0
     summary = json.loads((out / "edit.json").read_text())

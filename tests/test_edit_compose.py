@@ -119,13 +119,13 @@ def test_pixels_outside_the_crop_are_never_taken_from_the_generator():
 def test_float_original_keeps_its_values_exactly_and_compose_full_is_the_generators_picture(models, record):
     frame = load_frame(record, SIZE, semantic=True, instances=True)
     gt = ground_truth(record, SIZE)
-    full = edit_image(frame.image, frame.intrinsics, [], models, "gt", gt, compose="full", min_pixels=1)
+    full = edit_image(frame.image, frame.intrinsics, [], models, "gt", gt, compose="full", min_pixels=1, appearance="generator")
     torch.testing.assert_close(full.edited, full.generated)
     assert full.region is None and full.edited.shape == (3, SIZE[1], SIZE[0])
-    nothing = edit_image(frame.image, frame.intrinsics, [], models, "gt", gt, min_pixels=1)
+    nothing = edit_image(frame.image, frame.intrinsics, [], models, "gt", gt, min_pixels=1, appearance="generator")
     assert torch.equal(nothing.edited, frame.image) and not bool(nothing.region.any())  # nothing edited: the input
     victim = int(full.scene.objects.instance_id[0])
-    deleted = edit_image(frame.image, frame.intrinsics, [Delete(victim)], models, "gt", gt, min_pixels=1)
+    deleted = edit_image(frame.image, frame.intrinsics, [Delete(victim)], models, "gt", gt, min_pixels=1, appearance="generator")
     torch.testing.assert_close(deleted.generated, render_maps(deleted.maps, models.textural))
     region = deleted.region
     was = frame.instances == victim  # the deleted car's pixels are in the region, and they changed
@@ -153,13 +153,13 @@ def test_edit_image_at_the_inputs_resolution_through_a_crop(models, record):
     ids = ids[counts.argsort(descending=True)].tolist()
     ops = [Rotate(ids[0], 0.8), Delete(ids[1])]
     result = edit_image(image, intr_work, ops, models, "gt", gt, original=original, transform=transform,
-                        min_pixels=1)
+                        min_pixels=1, appearance="generator")
     assert result.edited.shape == original.shape and result.edited.dtype == torch.uint8
     touched = _expected_touched(result.region, transform)
     assert torch.equal(result.edited[:, ~touched], original[:, ~touched])
     assert bool((result.edited != original).any())
     with pytest.raises(ValueError, match="aspect ratio"):
-        edit_image(image, intr_work, ops, models, "gt", gt, original=original, min_pixels=1)
+        edit_image(image, intr_work, ops, models, "gt", gt, original=original, min_pixels=1, appearance="generator")
 
 
 def test_region_covers_source_and_target_footprints_and_vacated_pixels(record):

@@ -97,11 +97,20 @@ class Delete:
 
 @dataclass(frozen=True)
 class SetCode:
+    """Give an object a texture ``code`` (what the generator draws); ``color``: the sRGB paint in [0, 1] a named
+    colour asked for, which the photo appearance repaints the car's body with (:mod:`sdn3d.editing.photo`)."""
+
     instance_id: int
     code: tuple[float, ...]
+    color: tuple[float, float, float] | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "code", tuple(_finite(c, "SetCode.code") for c in np.asarray(self.code).ravel()))
+        if self.color is not None:
+            color = tuple(_finite(c, "SetCode.color") for c in np.asarray(self.color).ravel())
+            if len(color) != 3 or not all(0.0 <= c <= 1.0 for c in color):
+                raise EditError(f"SetCode.color must be 3 sRGB values in [0, 1], got {self.color!r}")
+            object.__setattr__(self, "color", color)
 
 
 @dataclass(frozen=True)

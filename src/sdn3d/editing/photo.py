@@ -38,7 +38,7 @@ mirror, fallback, fill) saying where each pixel came from.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import kornia.color
@@ -47,6 +47,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
+from sdn3d.editing.ops import SetCode
 from sdn3d.editing.spec import PixelFrame
 from sdn3d.errors import UserInputError
 from sdn3d.math3d.camera import Intrinsics
@@ -59,7 +60,7 @@ from sdn3d.scene.code import ObjectTable, SceneCode
 from sdn3d.scene.maps import compose_instances, default_bank, posed_meshes
 
 __all__ = ["APPEARANCES", "FILL_METHODS", "SOURCE_NAMES", "SOURCE_COLORS", "PhotoSettings", "PhotoSettingsError",
-           "PhotoResult", "LightEstimate", "input_intrinsics", "upsample_ids", "fit_light", "inpaint",
+           "PhotoResult", "LightEstimate", "paints", "input_intrinsics", "upsample_ids", "fit_light", "inpaint",
            "recolor_pixels", "render_photo", "source_picture"]
 
 #: ``photo``: the input's own pixels through each object's 3D shape (module doc); ``generator``: the textural
@@ -178,6 +179,12 @@ class PhotoResult:
         return {"source_pixels": {n: int(c) for n, c in zip(SOURCE_NAMES, counts.tolist(), strict=True)},
                 "light": self.light.to_dict() if self.light is not None else None, "objects": self.objects,
                 "warnings": list(self.warnings)}
+
+
+def paints(ops: Sequence[object]) -> dict[int, tuple[float, float, float]]:
+    """``{instance id: sRGB paint}`` of the :class:`~sdn3d.editing.ops.SetCode` ops in ``ops`` that name a colour
+    (the last one wins)."""
+    return {int(op.instance_id): op.color for op in ops if isinstance(op, SetCode) and op.color is not None}
 
 
 # -- frames --------------------------------------------------------------------------------------------
@@ -664,10 +671,10 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     src_row_to_mesh = torch.full((len(before),), -1, dtype=torch.long)
     src_row_to_mesh[src.rows] = torch.arange(len(src.rows))
 
-    # Light (step 4): visible pixels of every source object with geometry.
+    # Light (step 4): visible pixels of every source object with geometry; only when something is drawn.
     light = None
     src_normals = None
-    if settings.relight and len(src.rows):
+    if settings.relight and len(src.rows) and (bool(moved.any()) or grown_rows):
         src_normals = normal_map(src.frags, src.verts, src.faces)[0].permute(1, 2, 0).reshape(-1, 3).double()
         mesh_at = src.frags.pix_to_mesh.view(-1)
         vis = (mesh_at >= 0) & (vis_ids.view(-1) == torch.where(

@@ -1,11 +1,14 @@
-"""Drawing a (possibly edited) :class:`~sdn3d.scene.code.SceneCode` with the textural generator, and
-editing an image end to end (3D-SDN, Fig. 2, right half).
+"""Drawing a (possibly edited) :class:`~sdn3d.scene.code.SceneCode`, and editing an image end to end (3D-SDN,
+Fig. 2, right half).
 
-:func:`render_maps` runs the generator on composed maps, :func:`render` draws a scene
+:func:`render_maps` runs the textural generator on composed maps, :func:`render` draws a scene
 (:func:`sdn3d.scene.maps.scene_maps` + :func:`render_maps`), :func:`edit_image` chains
-:func:`sdn3d.derender.derender`, :func:`sdn3d.editing.apply.apply_edits`, :func:`render_maps` and
-:func:`sdn3d.editing.compose.compose_edit` (by default the input with only the edited region redrawn,
-at the input's resolution; ``compose='full'``: the generator's whole picture, the paper's protocol).
+:func:`sdn3d.derender.derender`, :func:`sdn3d.editing.apply.apply_edits` and one of two appearances
+(:data:`~sdn3d.editing.photo.APPEARANCES`): ``'photo'`` (the default) draws each edited object with the input's own
+pixels through its fitted 3D shape at the input's resolution (:func:`sdn3d.editing.photo.render_photo`; no
+generator needed); ``'generator'`` (the paper's) draws with :func:`render_maps` and
+:func:`sdn3d.editing.compose.compose_edit` (by default the input with only the edited region redrawn, at the input's
+resolution; ``compose='full'``: the generator's whole picture).
 """
 
 from __future__ import annotations
@@ -20,8 +23,10 @@ from sdn3d.derender import GroundTruth, Models, derender
 from sdn3d.editing.apply import EditOp, apply_edits, ops_from_benchmark
 from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
 from sdn3d.editing.inputs import same_aspect
+from sdn3d.editing.photo import APPEARANCES, PhotoResult, PhotoSettings, PhotoSettingsError, paints, render_photo
 from sdn3d.editing.spec import PixelFrame
 from sdn3d.math3d.camera import Intrinsics
+from sdn3d.math3d.rotations import NUM_POSE_BINS
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import ComposedMaps, scene_maps
@@ -36,19 +41,23 @@ class EditResult(NamedTuple):
     """Output of :func:`edit_image`.
 
     Attributes:
-        edited: the result: ``compose='edited'``: ``(3, H_in, W_in)`` the input with the edit region redrawn
-            (``original``'s dtype); ``'full'``: ``generated``.
-        generated: ``(3, H, W)`` in [0, 1], the generator's whole edited picture at the working size.
-        region: ``(H, W)`` bool edit region (working size; None with ``compose='full'``).
+        edited: the result: ``appearance='photo'``: ``(3, H_in, W_in)`` (``original``'s dtype); ``'generator'``
+            with ``compose='edited'``: the input with the edit region redrawn, same shape; ``'full'``: ``generated``.
+        generated: ``(3, H, W)`` in [0, 1], the generator's whole edited picture at the working size (None when
+            the photo appearance needed none).
+        region: ``(H, W)`` bool edit region (working size; None with ``compose='full'`` and with the photo
+            appearance, whose :attr:`photo` ``.source`` says where each pixel came from).
         scene, edited_scene: the scenes before / after; maps: the edited scene's maps.
+        photo: the photo appearance's :class:`~sdn3d.editing.photo.PhotoResult` (None with the generator).
     """
 
     edited: Tensor
-    generated: Tensor
+    generated: Tensor | None
     region: Tensor | None
     scene: SceneCode
     edited_scene: SceneCode
     maps: ComposedMaps
+    photo: PhotoResult | None = None
 
 
 def render_maps(maps: ComposedMaps, textural: TexturalRenderer) -> Tensor:
@@ -78,22 +87,30 @@ def edit_image(image: Tensor, intrinsics: Intrinsics,
                proposals: str = "auto", ground_truth: GroundTruth | None = None,
                frame_size: tuple[int, int] | None = None, strict: bool = True, bank: MeshBank | None = None,
                compose: ComposeSettings | str = "edited", original: Tensor | None = None,
-               transform: PixelFrame | None = None, **derender_kwargs) -> EditResult:
-    """De-render ``image``, apply ``ops``, render the edited scene and compose the result.
+               transform: PixelFrame | None = None, appearance: str = "photo", photo: PhotoSettings | None = None,
+               **derender_kwargs) -> EditResult:
+    """De-render ``image``, apply ``ops`` and draw the edit in ``appearance`` (module doc).
 
     Args:
         image: ``(3, H, W)`` float in [0, 1] at the working size.
         ops: :mod:`sdn3d.editing.apply` operations, or benchmark operations / an entry (objects picked by
             :func:`~sdn3d.editing.apply.ops_from_benchmark`, coordinates in ``frame_size`` pixels; None = image pixels).
         strict: reject benchmark ``to`` points outside the frame.
-        compose: ``'edited'`` / ``'full'`` or :class:`~sdn3d.editing.compose.ComposeSettings` (module doc).
+        compose: ``'edited'`` / ``'full'`` or :class:`~sdn3d.editing.compose.ComposeSettings` (module doc;
+            the generator appearance only).
+        appearance: ``'photo'`` (default) or ``'generator'`` (module doc); photo: its settings.
         original: ``(3, H_in, W_in)`` the input at its own resolution (uint8 or float); None: ``image``.
         transform: how ``original`` became ``image`` (:func:`sdn3d.editing.inputs.fit_image`'s); None: a plain
             resize, which needs the same aspect ratio.
         derender_kwargs: passed to :func:`derender`.
     """
-    if models.textural is None:
-        raise ValueError("edit_image needs the textural branch (models.textural is None)")
+    if appearance not in APPEARANCES:
+        raise PhotoSettingsError(f"appearance must be one of {APPEARANCES}, got {appearance!r}")
+    photo = photo or PhotoSettings()
+    needs_generator = appearance == "generator" or photo.fill == "generator"
+    if needs_generator and models.textural is None:
+        raise ValueError(f"appearance={appearance!r} with fill={photo.fill!r} needs the textural branch "
+                         "(models.textural is None)")
     settings = compose if isinstance(compose, ComposeSettings) else ComposeSettings(mode=compose)
     original, transform = _input_frame(image, original, transform)
     scene = derender(image, intrinsics, models, proposals, ground_truth, **derender_kwargs)
@@ -101,9 +118,12 @@ def edit_image(image: Tensor, intrinsics: Intrinsics,
     if ops and all(isinstance(op, BenchmarkOperation) for op in ops):
         ops = ops_from_benchmark(ops, scene, frame_size, strict)
     edited_scene = apply_edits(scene, ops, bank)
-    bins = models.textural.spec.pose_bins
+    bins = models.textural.spec.pose_bins if models.textural is not None else NUM_POSE_BINS
     maps = scene_maps(edited_scene, bank, num_bins=bins)
-    generated = render_maps(maps, models.textural)
+    generated = render_maps(maps, models.textural) if needs_generator else None
+    if appearance == "photo":
+        result = render_photo(original, transform, scene, edited_scene, bank, photo, paints(ops), generated)
+        return EditResult(result.image, generated, None, scene, edited_scene, maps, result)
     before = scene_maps(scene, bank, num_bins=bins) if settings.mode == "edited" else maps
     edited, region = compose_edit(settings, generated, original, transform, before, maps,
                                   edited_object_ids(scene.objects, edited_scene.objects))

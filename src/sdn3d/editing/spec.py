@@ -9,7 +9,8 @@ to the input image resized to another size)::
     - {op: zoom, id: 12001, zoom: 1.5}             # distance / 1.5 (on_ground: true keeps its height)
     - {op: delete, at: [400, 110]}
     - {op: recolor, id: 12002, sample: true}       # a training code of its class (needs a code bank)
-    - {op: recolor, id: 12002, color: red}         # the training code whose object's colour is nearest red
+    - {op: recolor, id: 12002, color: red}         # photo appearance: the car's body repainted red; generator:
+                                                   # the training code whose object's colour is nearest red
     - {op: recolor, id: 12002, code: [0.1, -0.2, 0.3, 0.0, 0.5]}
     - {op: recolor, class: Road, code: [...]}      # a background class' code
     - {op: duplicate, id: 12001, to: [500, 130]}   # optional new_id
@@ -497,7 +498,8 @@ def _check_inside(op: OpSpec, points: tuple, spec: EditSpec, scene: SceneCode, f
 
 def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = None,
                 pick_radius: float | None = 16.0, bank: MeshBank | None = None, strict: bool = True,
-                generator: torch.Generator | None = None, frame: PixelFrame | None = None) -> list[EditOp]:
+                generator: torch.Generator | None = None, frame: PixelFrame | None = None,
+                appearance: str = "photo") -> list[EditOp]:
     """Turn ``spec`` into :mod:`sdn3d.editing.apply` operations on ``scene`` (every check that needs the scene).
 
     Args:
@@ -507,6 +509,8 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
         generator: randomness of ``sample`` (an op's ``seed`` overrides it).
         frame: the input image -> scene transform; the spec's points are then input-image pixels (or
             ``frame_size`` pixels of the resized input). None: the scene's pixels (or ``frame_size``'s).
+        appearance: how the edit will be drawn (:data:`~sdn3d.editing.photo.APPEARANCES`): with ``'photo'`` a
+            ``recolor`` by ``color`` needs no code bank (the car's own pixels are repainted).
 
     Raises:
         EditError: naming the op: no such object, an object without geometry for a 3D edit, a target
@@ -573,8 +577,18 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
         elif op.kind == "modify":
             ops.append(Modify(iid, to, op.zoom, op.ry))
         else:
-            ops.append(SetCode(iid, _code(op, int(obj.class_id[row]), scene, code_bank, generator, what)))
+            ops.append(_set_code(op, iid, row, scene, code_bank, generator, what, appearance))
     return ops
+
+
+def _set_code(op: OpSpec, iid: int, row: int, scene: SceneCode, code_bank: CodeBank | None,
+              generator: torch.Generator | None, what: str, appearance: str) -> SetCode:
+    """A ``recolor`` of an object: its code (:func:`_code`) and, for ``color``, the paint. The photo appearance
+    repaints the car itself, so there a named colour needs no code bank (the object keeps its code)."""
+    color = named_color(op.color) if op.color is not None else None
+    if color is not None and appearance == "photo" and code_bank is None:
+        return SetCode(iid, tuple(float(c) for c in scene.objects.code[row]), color)
+    return SetCode(iid, _code(op, int(scene.objects.class_id[row]), scene, code_bank, generator, what), color)
 
 
 def _code(op: OpSpec, class_id: int, scene: SceneCode, code_bank: CodeBank | None,

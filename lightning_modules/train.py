@@ -451,6 +451,30 @@ def run_training(cfg: DictConfig, overrides: list[str] | None = None) -> dict[st
         Any other error of the run (a corrupt sample, a full disk, a bug), after recording it.
     """
     cfg = resolve_config(cfg, overrides)
+    run_dir = Path(str(cfg.run_dir))
+    check_writable(run_dir)
+    with _run_lock(run_dir):
+        return _run_locked(cfg, overrides)
+
+
+#: The lock file of a run directory while ``sdn3d-train`` writes it (:func:`sdn3d.io.writer_lock`).
+RUN_LOCK = ".sdn3d-run.lock"
+
+
+def _run_lock(run_dir: Path) -> Any:
+    """One writer per run directory: the lock of :data:`RUN_LOCK`, taken by the launching process only (the
+    processes a multi-device strategy starts for ranks > 0 run inside the launcher's lock)."""
+    from contextlib import nullcontext
+
+    from sdn3d.io import writer_lock
+
+    if any(os.environ.get(name, "0") != "0" for name in ("LOCAL_RANK", "NODE_RANK", "RANK")):
+        return nullcontext()
+    return writer_lock(run_dir / RUN_LOCK, f"run directory {str(run_dir)!r}")
+
+
+def _run_locked(cfg: DictConfig, overrides: list[str] | None) -> dict[str, Any]:
+    """:func:`run_training` once the run directory's lock is held."""
     run_dir = prepare_run_dir(cfg)
     started = time.perf_counter()
     run: RunObjects | None = None

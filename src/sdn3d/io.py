@@ -35,7 +35,7 @@ __all__ = [
     "load_torch_file", "load_lightning_checkpoint", "check_lightning_checkpoint", "describe_load_failure",
     "checkpoint_branch", "CHECKPOINT_BRANCHES", "file_sha256",
     "OutputDirError", "refuse_unsafe_output_dir", "OWNER_FILE", "owner_record", "process_alive",
-    "remove_stale_staging",
+    "remove_stale_staging", "BusyError", "writer_lock",
 ]
 
 
@@ -492,6 +492,11 @@ def _owner_gone(tree: Path) -> bool:
         record = json.loads((tree / OWNER_FILE).read_text())
     except (OSError, ValueError):
         return False
+    return _record_gone(record)
+
+
+def _record_gone(record: Any) -> bool:
+    """True only if ``record`` (:func:`owner_record`'s) names a process of this host that has ended."""
     if not isinstance(record, dict) or record.get("host") != socket.gethostname():
         return False
     pid, start = record.get("pid"), record.get("start")
@@ -547,3 +552,70 @@ def remove_stale_staging(out: str | os.PathLike) -> list[Path]:
             log.info("removed %s, left by a killed run", tree)
             removed.append(tree)
     return removed
+
+
+# -- one writer per output: lock files ----------------------------------------------------------------------
+
+
+class BusyError(OutputDirError):
+    """Another live process is writing the same output (its lock file names it)."""
+
+
+def _describe_holder(record: Any) -> str:
+    if not isinstance(record, dict):
+        return "an unreadable lock record"
+    return f"pid {record.get('pid')} on host {record.get('host')!r}, started {record.get('started', '?')}"
+
+
+@contextmanager
+def writer_lock(lock: str | os.PathLike, what: str) -> Iterator[Path]:
+    """Hold the lock file ``lock`` (JSON: :func:`owner_record` and the start time) while the block runs: one writer
+    per output (``what`` names the output in messages). A lock whose owner has ended on this host (a killed run)
+    is stale: it is replaced, with a warning. The file is created complete and exclusively (a finished temporary
+    file hard-linked onto the name), and removed at the end if it is still this process's.
+
+    Raises:
+        BusyError: the lock is held by a live process, another host's or one whose record can not be read; the
+            message names the holder, the lock file and what to do.
+    """
+    from datetime import datetime
+
+    lock = Path(lock).expanduser().absolute()
+    lock.parent.mkdir(parents=True, exist_ok=True)
+    record = owner_record() | {"started": datetime.now().astimezone().isoformat(timespec="seconds"),
+                               "what": str(what)}
+    fd, tmp = tempfile.mkstemp(prefix=f".{lock.name}.", suffix=".tmp", dir=lock.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            json.dump(record, handle)
+        for _ in range(3):
+            try:
+                os.link(tmp, lock)
+                break
+            except FileExistsError:
+                try:
+                    holder = json.loads(lock.read_text(encoding="utf-8"))
+                except FileNotFoundError:  # released meanwhile: try again
+                    continue
+                except (OSError, ValueError):
+                    holder = None
+                if holder is None or not _record_gone(holder):
+                    raise BusyError(f"{what} is being written by another sdn3d process ({_describe_holder(holder)}; "
+                                    f"lock file {str(lock)!r}): wait for it to finish or choose another output; if "
+                                    "no such process runs any more, delete the lock file") from None
+                logging.getLogger(__name__).warning("removing the stale lock %s of %s (that process has ended)", lock,
+                                                    _describe_holder(holder))
+                lock.unlink(missing_ok=True)
+        else:
+            raise BusyError(f"{what}: could not take the lock file {str(lock)!r} (it keeps changing hands); "
+                            "try again")
+    finally:
+        os.unlink(tmp)
+    try:
+        yield lock
+    finally:
+        try:
+            if json.loads(lock.read_text(encoding="utf-8")) == record:
+                lock.unlink()
+        except (OSError, ValueError):
+            pass

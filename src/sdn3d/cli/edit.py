@@ -40,6 +40,9 @@ output ``<dir>/runs/<branch>/summary.json``, one run directory, or a training ro
 ``<branch>/<time>/summary.json``): per branch the latest run with status ok, its best checkpoint else
 its last. ``checkpoints.<branch>=`` given explicitly wins.
 
+One run writes an ``output_dir`` at a time: a lock file ``.<name>.lock`` beside it names the writer (pid, host,
+start time); a second run meanwhile stops with exit 2, and a lock left by a killed run is replaced.
+
 Exit status: 0 done; 2 bad input (message on stderr names the op or the setting; no output).
 """
 
@@ -638,8 +641,20 @@ def main(argv: Sequence[str] | None = None) -> int:
     return run_cli("edit", _main, argv)
 
 
+def _output_lock(cfg: Any) -> Any:
+    """The lock that makes this run ``output_dir``'s only writer (:func:`sdn3d.io.writer_lock`, a
+    ``.<name>.lock`` file beside it naming this process), taken once the directory is known to be writable."""
+    from sdn3d.io import check_writable, writer_lock
+
+    out = Path(str(cfg.output_dir)).expanduser().resolve()
+    check_writable(out)
+    return writer_lock(out.parent / f".{out.name}.lock", f"output_dir {str(out)!r}")
+
+
 def _main(argv: list[str]) -> int:
-    summary = run_edit(compose_config(argv, "edit"))
+    cfg = compose_config(argv, "edit")
+    with _output_lock(cfg):  # a second sdn3d-edit into the same output_dir meanwhile: a clear error, exit 2
+        summary = run_edit(cfg)
     times = summary["timings_ms"]
     if summary.get("mode") == "list":
         print(f"sdn3d-edit: listed {len(summary['objects']['source'])} object(s); wrote objects.json and "

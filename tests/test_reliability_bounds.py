@@ -67,11 +67,10 @@ def test_a_yaml_alias_bomb_is_refused_at_once_with_a_short_message(tmp_path, cap
 
 
 def test_a_moderate_alias_expansion_is_not_echoed_in_the_message(tmp_path):
-    lines = ['a: &a ["lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol"]']
+    levels = ['&a ["lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol"]']
     for level in "bcde":  # 59049 strings: before, the message echoed them all (about 0.5 MB)
-        previous = chr(ord(level) - 1)
-        lines.append(f"{level}: &{level} [" + ", ".join([f"*{previous}"] * 9) + "]")
-    path = _spec(tmp_path, "\n".join(lines) + "\nops: [{op: *e}]\n")
+        levels.append(f"&{level} [" + ", ".join([f"*{chr(ord(level) - 1)}"] * 9) + "]")
+    path = _spec(tmp_path, "- {op: rotate, id: 12001, ry_deg: [" + ", ".join(levels) + "]}\n")
     with pytest.raises(EditSpecError) as info:
         load_edit_spec(path)
     assert len(str(info.value)) < 300

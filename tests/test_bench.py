@@ -101,14 +101,15 @@ def test_run_benchmark_evaluates_every_method(bench, models, scene):
     results = run_benchmark(entries, records, models, settings)
     assert len(results) == 1 and not results[0].errors
     r = results[0]
-    assert list(r.metrics) == ["full", "edited"] and all(set(v) == {"3d-sdn", "2d", "2d+"} for v in r.metrics.values())
+    assert list(r.metrics) == ["photo", "full", "edited"]
+    assert all(set(v) == {"3d-sdn", "2d", "2d+"} for v in r.metrics.values())
     for per_method in r.metrics.values():
         for method in per_method.values():
-            for region in ("whole", "all", "largest"):
+            for region in ("whole", "all", "largest", "objects"):
                 assert all(math.isfinite(v) for v in method[region].values()) and "lpips" not in method[region]
     assert r.latency_ms["total"] == pytest.approx(sum(r.latency_ms[k] for k in ("derender", "edit", "render")))
-    assert r.latency_ms["compose"] > 0
-    pictures = {f"{c}:{m}" for c in ("full", "edited") for m in ("3d-sdn", "2d", "2d+")}
+    assert r.latency_ms["compose"] > 0 and r.latency_ms["photo"] > 0
+    pictures = {f"{c}:{m}" for c in ("photo", "full", "edited") for m in ("3d-sdn", "2d", "2d+")}
     assert set(r.images) == {"source", "target"} | pictures
     assert r.images["target"].shape == (64, 160, 3) and r.regions.any()
     for m in ("3d-sdn", "2d", "2d+"):  # edited: the source wherever the method's edit left the maps alone
@@ -116,6 +117,9 @@ def test_run_benchmark_evaluates_every_method(bench, models, scene):
         kept = (edited == source).all(-1)
         assert kept.any() and (~kept).any() and not (edited == full).all()
         assert r.metrics["edited"][m]["layout"] == r.metrics["full"][m]["layout"]
+        photo = r.images[f"photo:{m}"].astype(int)  # photo: the source's own pixels away from the edit
+        same = (photo == source).all(-1)
+        assert same.mean() > 0.5 and (~same[r.regions]).any()
     iou = {m: r.metrics["full"][m]["layout"]["mask_iou"] for m in r.metrics["full"]}
     if scene == "oracle":  # true geometry: the 3D edit puts the rotated cars where the target shows them
         # (on tiny_synth's entry 0: 0.978 against 0.833 for 2D)
@@ -134,12 +138,13 @@ def test_identity_entry_gives_the_same_image_for_every_method(bench, models):
     assert full["3d-sdn"]["whole"] == full["2d"]["whole"] == full["2d+"]["whole"]
     assert torch.equal(torch.from_numpy(same.images["full:3d-sdn"]), torch.from_numpy(same.images["full:2d+"]))
     assert math.isnan(full["3d-sdn"]["all"]["l1"])  # nothing edited: no region
-    for m in ("3d-sdn", "2d", "2d+"):  # nothing edited: compose edited gives the source itself
+    for m in ("3d-sdn", "2d", "2d+"):  # nothing edited: compose edited and photo give the source itself
         assert (same.images[f"edited:{m}"] == same.images["source"]).all()
+        assert (same.images[f"photo:{m}"] == same.images["source"]).all()
     assert "not in the dataset" in results[1].errors["entry"]
     summary = summarize(results)
     assert summary["entries"] == 2 and summary["evaluated"] == 1 and summary["failed"]["2d"] == 1
-    assert summary["compose"] == ["full", "edited"]
+    assert summary["compose"] == ["photo", "full", "edited"]
     stats = summary["methods"]["full"]["2d"]
     assert stats["whole"]["l1"]["n"] == 1 and stats["all"]["l1"]["n"] == 0
     with pytest.raises(ValueError, match="none of the 1 benchmark entries"):
@@ -188,19 +193,25 @@ def test_bench_cli_writes_table_page_and_examples(tiny_synth, tmp_path, capsys):
     report = json.loads((out / "results.json").read_text())
     summary = report["summary"]["gt"]
     assert summary["evaluated"] == 1 and report["info"]["lpips"] is True
-    assert report["info"]["compose"] == ["full", "edited"] and report["info"]["sources"] == ["gt"]
+    assert report["info"]["compose"] == ["photo", "full", "edited"] and report["info"]["sources"] == ["gt"]
     assert report["info"]["source_labels"] == {"gt": "oracle: ground-truth masks and semantics"}
-    for compose in ("full", "edited"):
+    for compose in ("photo", "full", "edited"):
         assert math.isfinite(summary["methods"][compose]["3d-sdn"]["largest"]["lpips"]["mean"])
     table = (out / "table1.md").read_text()
-    rows = [line for line in table.splitlines() if line.startswith("| oracle")]
-    assert len(rows) == 15 and "LPIPS (whole) | LPIPS (all) | LPIPS (largest)" in table and "n/a" not in rows[0]
-    assert "| oracle: GT masks + semantics | 3D-SDN (ours) | G | full (paper protocol) |" in table
-    assert "| oracle: GT masks + semantics | 3D-SDN (ours) | G | edited (what a user gets) |" in table
+    assert table.startswith("# Editing benchmark: headline")  # the headline first: photo rows, columns with values
+    headline = table[:table.index("## All rows")]
+    rows = [line for line in headline.splitlines() if line.startswith("| oracle")]
+    assert len(rows) == 3 and "LPIPS (all)" in headline and "PSNR (objects)" in headline and "n/a" not in rows[2]
+    assert "LPIPS (whole) | LPIPS (all) | LPIPS (largest) | LPIPS (objects)" in table
+    assert "| oracle: GT masks + semantics | 3D-SDN (ours) | G | generator, full (paper protocol) |" in table
+    assert "| oracle: GT masks + semantics | 3D-SDN (ours) | G | generator, edited |" in table
+    assert "| oracle: GT masks + semantics | 3D-SDN (ours) | none | photo (own pixels through 3D" in table
     assert "**Oracle rows only**" in table  # no row runs on predictions: said so
     assert "| edited-object mask IoU |" in table and "compose edited adds" in table
+    assert "photo appearance takes" in table
+    assert "## By kind of edit" in table
     grid = np.asarray(Image.open(out / "examples" / "0000.png"))
-    assert grid.shape[0] == 2 * 64 + 4  # one row per compose mode
+    assert 3 * 64 + 2 * 6 < grid.shape[0] < 3 * (64 + 30) + 2 * 6  # one titled row per mode
     page = (out / "index.html").read_text()
     assert 'src="examples/0000.png"' in page and (out / "examples" / "0000.png").is_file()
     assert "oracle: ground-truth masks and semantics" in page
@@ -210,12 +221,14 @@ def test_bench_cli_writes_table_page_and_examples(tiny_synth, tmp_path, capsys):
     assert main(bad + ["checkpoints.textural=null"]) == 2
     assert "checkpoints.textural is required" in capsys.readouterr().err and not (tmp_path / "b2").exists()
     assert main(bad + ["compose=[full,partial]"]) == 2
-    assert "compose must be one of ('edited', 'full'), got 'partial'" in capsys.readouterr().err
+    assert "compose must list distinct modes of ('photo', 'edited', 'full'), got ['full', 'partial']" in \
+        capsys.readouterr().err
     assert main(bad + ["proposals=[gt,auto]"]) == 2
     assert "proposals must list distinct values of ['semantic', 'gt']" in capsys.readouterr().err
     assert main(bad[:-2] + [f"output_dir={tmp_path / 'paper'}", "proposals=gt", "compose=full"]) == 0
     table = (tmp_path / "paper" / "table1.md").read_text()
-    assert "edited (what a user gets)" not in table and "| 3D-SDN (ours) | G | full (paper protocol) |" in table
+    assert "| G | generator, edited |" not in table
+    assert "| 3D-SDN (ours) | G | generator, full (paper protocol) |" in table
 
 
 def test_bench_cli_needs_a_semantic_checkpoint_for_its_default_predicted_row(tiny_synth, tmp_path, capsys):
@@ -241,15 +254,15 @@ def test_bench_cli_reports_the_predicted_row_first_and_the_oracle_row_labelled(t
     assert report["config"]["proposals"] == ["semantic", "gt"]  # the default
     table = (out / "table1.md").read_text()
     rows = [line.split(" | ")[0] for line in table.splitlines() if line.startswith(("| predicted", "| oracle"))]
-    # LPIPS table, L1/SSIM/PSNR table (3 methods each), layout table: predicted rows before oracle rows in each
-    assert rows == (["| predicted"] * 3 + ["| oracle: GT masks + semantics"] * 3) * 3
+    # headline, L1/SSIM/PSNR table (3 methods each), layout table and each kind's: predicted rows before oracle rows
+    assert len(rows) >= 24 and rows == (["| predicted"] * 3 + ["| oracle: GT masks + semantics"] * 3) * (len(rows) // 6)
     assert "*predicted* = predicted: the semantic branch's masks and semantics" in table
     assert "*oracle: GT masks + semantics* = oracle: ground-truth masks and semantics" in table
     assert "**Oracle rows only**" not in table
     page = (out / "index.html").read_text()
     assert page.index("row 1: predicted") < page.index("row 2: oracle: ground-truth masks and semantics")
     grid = np.asarray(Image.open(out / "examples" / "0000.png"))
-    assert grid.shape[0] == 2 * 64 + 4  # one row per source scene (compose=full)
+    assert 2 * 64 + 6 < grid.shape[0] < 2 * (64 + 30) + 6  # one titled row per source scene (compose=full)
 
 
 class _PerfectSemantic(torch.nn.Module):
@@ -340,7 +353,7 @@ def test_bench_cli_says_which_generator_drew_each_row(tiny_synth, tmp_path, caps
     assert gens["2d"] == gens["2d+"] == gens["3d-sdn"]
     assert gens["2d"]["checkpoint"] == str(ckpts["textural"]) and gens["2d"]["use_pose"] and gens["2d"]["use_normal"]
     table = (out / "table1.md").read_text()
-    assert "| oracle: GT masks + semantics | 2D | G | full (paper protocol) |" in table
+    assert "| oracle: GT masks + semantics | 2D | G | generator, full (paper protocol) |" in table
     assert "The 2D and 2D+ rows use the 3D-informed generator" in table
     assert main([*base, f"checkpoints.textural_2d={g2d}"]) == 0
     report = json.loads((out / "results.json").read_text())
@@ -348,8 +361,8 @@ def test_bench_cli_says_which_generator_drew_each_row(tiny_synth, tmp_path, caps
     assert gens["2d"] == gens["2d+"] and gens["2d"]["checkpoint"] == str(g2d) and gens["2d"]["tag"] == "G-2D"
     assert not gens["2d"]["use_pose"] and not gens["2d"]["use_normal"] and gens["3d-sdn"]["use_pose"]
     table = (out / "table1.md").read_text()
-    assert "| oracle: GT masks + semantics | 2D+ | G-2D | full (paper protocol) |" in table
-    assert "| oracle: GT masks + semantics | 3D-SDN (ours) | G | full (paper protocol) |" in table
+    assert "| oracle: GT masks + semantics | 2D+ | G-2D | generator, full (paper protocol) |" in table
+    assert "| oracle: GT masks + semantics | 3D-SDN (ours) | G | generator, full (paper protocol) |" in table
     assert f"- G-2D: `{g2d}` (inputs: semantics, boundaries, texture codes): draws 2D, 2D+" in table
     assert "3D-informed generator" not in table
     assert "without pose / normal maps" in (out / "index.html").read_text()

@@ -190,7 +190,8 @@ def test_bad_inputs_are_rejected(frame, models):
 
 def test_render_and_edit_image(frame, models):
     record, f = frame
-    result = edit_image(f.image, f.intrinsics, [], models, "gt", gt(record), compose="full", min_pixels=1, appearance="generator")
+    result = edit_image(f.image, f.intrinsics, [], models, "gt", gt(record), compose="full", min_pixels=1,
+                        appearance="generator")
     again = render(result.scene, models.textural)
     assert result.edited.shape == (3, *SIZE[::-1]) and 0 <= float(again.min()) and float(again.max()) <= 1
     torch.testing.assert_close(result.edited, again)  # no edit: the reconstruction
@@ -205,7 +206,8 @@ def test_render_and_edit_image(frame, models):
     # Benchmark operations are resolved on the de-rendered scene (picks by projected centre).
     uv, _ = projected_centers(result.scene)
     op = BenchmarkOperation.modify(tuple(uv[0].tolist()), None, 1.0, 0.7)
-    bench = edit_image(f.image, f.intrinsics, [op], models, "gt", gt(record), frame_size=None, min_pixels=1, appearance="generator")
+    bench = edit_image(f.image, f.intrinsics, [op], models, "gt", gt(record), frame_size=None, min_pixels=1,
+                       appearance="generator")
     row = bench.edited_scene.objects.index_of(victim)
     assert float(bench.edited_scene.objects.ry[row] - result.scene.objects.ry[0]) == pytest.approx(0.7, abs=1e-9)
 

@@ -119,13 +119,15 @@ def test_pixels_outside_the_crop_are_never_taken_from_the_generator():
 def test_float_original_keeps_its_values_exactly_and_compose_full_is_the_generators_picture(models, record):
     frame = load_frame(record, SIZE, semantic=True, instances=True)
     gt = ground_truth(record, SIZE)
-    full = edit_image(frame.image, frame.intrinsics, [], models, "gt", gt, compose="full", min_pixels=1, appearance="generator")
+    full = edit_image(frame.image, frame.intrinsics, [], models, "gt", gt, compose="full", min_pixels=1,
+                      appearance="generator")
     torch.testing.assert_close(full.edited, full.generated)
     assert full.region is None and full.edited.shape == (3, SIZE[1], SIZE[0])
     nothing = edit_image(frame.image, frame.intrinsics, [], models, "gt", gt, min_pixels=1, appearance="generator")
     assert torch.equal(nothing.edited, frame.image) and not bool(nothing.region.any())  # nothing edited: the input
     victim = int(full.scene.objects.instance_id[0])
-    deleted = edit_image(frame.image, frame.intrinsics, [Delete(victim)], models, "gt", gt, min_pixels=1, appearance="generator")
+    deleted = edit_image(frame.image, frame.intrinsics, [Delete(victim)], models, "gt", gt, min_pixels=1,
+                         appearance="generator")
     torch.testing.assert_close(deleted.generated, render_maps(deleted.maps, models.textural))
     region = deleted.region
     was = frame.instances == victim  # the deleted car's pixels are in the region, and they changed

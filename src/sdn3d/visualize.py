@@ -129,6 +129,43 @@ def hstack_panels(panels: list[np.ndarray], gap: int = 4) -> np.ndarray:
     return np.concatenate(parts, 1)
 
 
+def titled_panel(image: np.ndarray, title: str, font_size: int | None = None) -> np.ndarray:
+    """``image (H, W, 3)`` uint8 under a white band carrying ``title`` (shrunk to fit the width, down to 9 px,
+    then cut with an ellipsis): ``(H + band, W, 3)``. ``font_size`` None: a twelfth of the smaller side, 11-22 px."""
+    from PIL import Image, ImageDraw
+
+    height, width = image.shape[:2]
+    size = int(font_size) if font_size else int(min(22, max(11, round(min(height, width) / 12))))
+    draw = ImageDraw.Draw(Image.new("RGB", (1, 1)))
+    text = title
+    while True:
+        font = _font(size)
+        left, up, right, down = draw.textbbox((0, 0), text, font=font)
+        if right - left <= width - 6 or (size <= 9 and len(text) <= 2):
+            break
+        if size > 9:
+            size -= 1
+        else:
+            text = text[:-2] + "…"
+    pad = max(2, size // 4)
+    band = (down - up) + 2 * pad
+    canvas = Image.new("RGB", (width, height + band), (255, 255, 255))
+    canvas.paste(Image.fromarray(np.ascontiguousarray(image)), (0, band))
+    ImageDraw.Draw(canvas).text((3 - left, pad - up), text, fill=(0, 0, 0), font=font)
+    return np.asarray(canvas, dtype=np.uint8).copy()
+
+
+def titled_row(panels: Sequence[tuple[str, np.ndarray]], gap: int = 4, font_size: int | None = None) -> np.ndarray:
+    """Panels side by side (:func:`hstack_panels`), each under its title (:func:`titled_panel`, one font size for
+    the row so the bands match)."""
+    height, width = panels[0][1].shape[:2]
+    size = int(font_size) if font_size else int(min(22, max(11, round(min(height, width) / 12))))
+    titled = [titled_panel(image, title, size) for title, image in panels]
+    band = max(t.shape[0] for t in titled)
+    titled = [np.concatenate([np.full((band - t.shape[0], t.shape[1], 3), 255, np.uint8), t], 0) for t in titled]
+    return hstack_panels(titled, gap)
+
+
 def colorize_labels(label: Tensor, classes: Sequence[SemanticClass], ignore_index: int = IGNORE_INDEX) -> Tensor:
     """``(B, H, W)`` class indices -> ``(B, 3, H, W)`` float in [0, 1], in the dataset's colours
     (``ignore_index`` and out-of-range values black)."""

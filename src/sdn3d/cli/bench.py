@@ -42,6 +42,7 @@ from rich.console import Console
 
 from sdn3d.cli._config import CONFIG_DIR, compose_config
 from sdn3d.cli._errors import run_cli
+from sdn3d.editing.photo import PhotoSettings
 from sdn3d.errors import InputError
 from sdn3d.evaluation.edit_benchmark import METHODS, PROPOSALS, REGIONS, SOURCE_LABELS
 from sdn3d.io import check_output_dir, staged_directory
@@ -51,7 +52,14 @@ __all__ = ["main", "run_bench", "table1_markdown", "examples_html", "generator_i
 MARKER = "results.json"
 LABELS = {"2d": "2D", "2d+": "2D+", "3d-sdn": "3D-SDN (ours)"}
 ROW_ORDER = ("2d", "2d+", "3d-sdn")  # the paper's row order
-COMPOSE_LABELS = {"full": "full (paper protocol)", "edited": "edited (what a user gets)"}
+COMPOSE_LABELS = {"photo": "photo (own pixels through 3D; what sdn3d-edit gives)",
+                  "full": "generator, full (paper protocol)", "edited": "generator, edited"}
+#: Short mode names for grid titles.
+MODE_SHORT = {"photo": "photo", "full": "generator full", "edited": "generator edited"}
+KIND_TITLES = {"move": "Move", "rotate": "Move with a turn of 15 degrees or more", "zoom": "Zoom (distance changed)",
+               "delete": "Delete",
+               "occluder_removed": "Occluder removed (not in the paper's benchmark): a car in front of a partly hidden "
+                                   "one is deleted, the target shows it whole"}
 #: The table's short name of each source scene (:data:`SOURCE_LABELS` has the long ones).
 SOURCE_SHORT = {"semantic": "predicted", "gt": "oracle: GT masks + semantics",
                 "oracle": "oracle: GT masks, semantics + geometry"}
@@ -113,11 +121,15 @@ def _header(summaries: dict, info: dict) -> list[str]:
             f"({info['data']}), working size {info['image_size'][0]}x{info['image_size'][1]}. "
             f"Source scenes: {sources}. "
             "Lower LPIPS / L1 and higher SSIM / PSNR are better; *all* = the union of the edited objects' source and "
-            "target regions, *largest* = the largest edited object's target box (crop).", *oracle_only, "",
-            "Compose *full* = the generator's whole picture (the paper's protocol); compose *edited* = the source "
-            "frame with only the method's edit region (its edited objects' footprints and changed pixels, dilated "
-            f"{info['dilate_px']} px, feathered {info['feather_px']} px) redrawn, at the working size: what "
-            "`sdn3d-edit` gives a user.", "", "Generators:", *_generators_note(info), ""]
+            "target regions, *largest* = the largest edited object's target box (crop), *objects* = the target's "
+            "visible pixels of the edited objects (the cars themselves, apart from the road filled behind them).",
+            *oracle_only, "",
+            "Mode *photo* = the photo appearance (each edited car drawn with the source frame's own pixels through "
+            "its 3D shape, vacated road inpainted; 2D / 2D+ paste the car's own pixels moved in 2D over the same "
+            "fill): what `sdn3d-edit` gives a user. *generator, full* = the generator's whole picture (the paper's "
+            "protocol); *generator, edited* = the source frame with only the method's edit region (dilated "
+            f"{info['dilate_px']} px, feathered {info['feather_px']} px) redrawn by the generator.", "",
+            "Generators:", *_generators_note(info), ""]
 
 
 def table1_markdown(summaries: dict, info: dict) -> str:
@@ -129,16 +141,19 @@ def table1_markdown(summaries: dict, info: dict) -> str:
     head = "| Scene | Method | Generator | Compose |"
 
     def lead(s: str, m: str, c: str) -> str:
-        return f"| {SOURCE_SHORT[s]} | {LABELS[m]} | {gens[m]['tag']} | {COMPOSE_LABELS[c]} |"
+        generator = gens[m]["tag"] if c != "photo" else "none"
+        return f"| {SOURCE_SHORT[s]} | {LABELS[m]} | {generator} | {COMPOSE_LABELS[c]} |"
 
-    lines = _header(summaries, info)
-    lines += [f"{head} LPIPS (whole) | LPIPS (all) | LPIPS (largest) |", "|---" * 7 + "|"]
-    lines += [lead(s, m, c) + " " + " | ".join(_fmt(st.get(r, {}).get("lpips")) for r in REGIONS) + " |"
-              for s, m, c, st in rows]
-    if not has_lpips:
-        lines += ["", "LPIPS: n/a, no LPIPS weights were given (`lpips_weights=`, see sdn3d.nets.lpips)."]
-    lines += ["", f"{head} " + " | ".join(f"{k} ({r})" for k in ("L1", "SSIM", "PSNR") for r in REGIONS) + " |",
-              "|---" * 13 + "|"]
+    lines = _headline(summaries, info) + _header(summaries, info) + ["## All rows", ""]
+    if has_lpips:
+        lines += [f"{head} " + " | ".join(f"LPIPS ({r})" for r in REGIONS) + " |", "|---" * (4 + len(REGIONS)) + "|"]
+        lines += [lead(s, m, c) + " " + " | ".join(_fmt(st.get(r, {}).get("lpips")) for r in REGIONS) + " |"
+                  for s, m, c, st in rows]
+        lines.append("")
+    else:
+        lines += ["LPIPS is left out: no LPIPS weights were given (`lpips_weights=`, see sdn3d.nets.lpips).", ""]
+    lines += [f"{head} " + " | ".join(f"{k} ({r})" for k in ("L1", "SSIM", "PSNR") for r in REGIONS) + " |",
+              "|---" * (4 + 3 * len(REGIONS)) + "|"]
     lines += [lead(s, m, c) + " " + " | ".join(_fmt(st.get(r, {}).get(k), 2 if k == "psnr" else 4)
                                              for k in ("l1", "ssim", "psnr") for r in REGIONS) + " |"
               for s, m, c, st in rows]
@@ -152,6 +167,7 @@ def table1_markdown(summaries: dict, info: dict) -> str:
     for s in info["sources"]:
         lat, failed = summaries[s]["latency_ms"], summaries[s]["failed"]
         compose = f"; compose edited adds {_fmt(lat['compose'], 1)} ms" if "edited" in info["compose"] else ""
+        compose += f"; the photo appearance takes {_fmt(lat['photo'], 0)} ms" if "photo" in info["compose"] else ""
         lines += [f"*{SOURCE_SHORT[s]}*: 3D-SDN latency per edit (de-render + edit + render, {info['device']}, "
                   f"{info['threads']} threads): mean {_fmt(lat['total'], 0)} ms (de-render {_fmt(lat['derender'], 0)}, "
                   f"edit {_fmt(lat['edit'], 0)}, render {_fmt(lat['render'], 0)} ms{compose}). Entries that failed per "
@@ -159,28 +175,54 @@ def table1_markdown(summaries: dict, info: dict) -> str:
     return "\n".join(lines)
 
 
-_KIND_TITLES = {"occluder_removed": "Occluder removed (not in the paper's benchmark): a car in front of a partly "
-                                      "hidden one is deleted and the target shows the hidden car whole; only a method "
-                                      "that completes the hidden car can match it"}
+_METRIC_NAMES = {"lpips": "LPIPS", "l1": "L1", "ssim": "SSIM", "psnr": "PSNR"}
+
+
+def _headline(summaries: dict, info: dict) -> list[str]:
+    """The first screen: Table 1's rows in the first mode (photo, what a user gets), every source scene, only the
+    columns that have values."""
+    mode = info["compose"][0]
+    has_lpips = any("lpips" in summaries[s]["methods"].get(mode, {}).get(m, {}).get("all", {})
+                    for s in info["sources"] for m in ROW_ORDER)
+    cols = [(k, r) for k in (["lpips"] if has_lpips else []) + ["l1", "ssim", "psnr"] for r in ("all", "largest",
+                                                                                                 "objects")]
+    first = summaries[info["sources"][0]]
+    lines = ["# Editing benchmark: headline", "",
+             f"{first['evaluated']} entries of `{Path(info['benchmark']).name}`, mode **{COMPOSE_LABELS[mode]}**; "
+             "lower L1 / LPIPS and higher SSIM / PSNR are better; regions below. "
+             "The paper's protocol (generator, full) and every other row follow.", "",
+             "| Scene | Method | " + " | ".join(f"{_METRIC_NAMES[k]} ({r})" for k, r in cols) + " |",
+             "|---|---" + "|---" * len(cols) + "|"]
+    for s in info["sources"]:
+        for m in ROW_ORDER:
+            st = summaries[s]["methods"].get(mode, {}).get(m, {})
+            lines.append(f"| {SOURCE_SHORT[s]} | {LABELS[m]} | " + " | ".join(
+                _fmt(st.get(r, {}).get(k), 2 if k == "psnr" else 4) for k, r in cols) + " |")
+    return lines + [""]
 
 
 def _by_kind_lines(summaries: dict, info: dict) -> list[str]:
-    """A table per entry kind besides the paper's edits (``summarize``'s ``by_kind``), which the tables above leave
-    out."""
+    """One table per kind of edit (``summarize``'s ``by_kind``: move, rotate, zoom, delete, occluder removed), every
+    mode: L1 / PSNR on *all* and PSNR on *objects*."""
     lines: list[str] = []
     kinds = list(dict.fromkeys(k for s in info["sources"] for k in summaries[s].get("by_kind", {})))
+    if kinds:
+        lines += ["", "## By kind of edit", ""]
     for kind in kinds:
         counts = {s: summaries[s]["by_kind"].get(kind, {}).get("evaluated", 0) for s in info["sources"]}
-        lines += ["", f"**{_KIND_TITLES.get(kind, kind)}** ({max(counts.values())} entries, compose "
-                      f"{COMPOSE_LABELS[info['compose'][0]]}):", "",
-                  "| Scene | Method | L1 (all) | SSIM (all) | PSNR (all) | mask IoU |", "|---|---|---|---|---|---|"]
+        lines += ["", f"**{KIND_TITLES.get(kind, kind)}** ({max(counts.values())} entries):", "",
+                  "| Scene | Mode | Method | L1 (all) | SSIM (all) | PSNR (all) | PSNR (objects) | mask IoU |",
+                  "|---|---|---|---|---|---|---|---|"]
         for s in info["sources"]:
-            methods = summaries[s].get("by_kind", {}).get(kind, {}).get("methods", {}).get(info["compose"][0], {})
-            for m in ROW_ORDER:
-                st = methods.get(m, {})
-                lines.append(f"| {SOURCE_SHORT[s]} | {LABELS[m]} | {_fmt(st.get('all', {}).get('l1'))} | "
-                             f"{_fmt(st.get('all', {}).get('ssim'))} | {_fmt(st.get('all', {}).get('psnr'), 2)} | "
-                             f"{_fmt(st.get('layout', {}).get('mask_iou'), 3)} |")
+            for c in info["compose"]:
+                methods = summaries[s].get("by_kind", {}).get(kind, {}).get("methods", {}).get(c, {})
+                for m in ROW_ORDER:
+                    st = methods.get(m, {})
+                    lines.append(f"| {SOURCE_SHORT[s]} | {MODE_SHORT[c]} | {LABELS[m]} | "
+                                 f"{_fmt(st.get('all', {}).get('l1'))} | {_fmt(st.get('all', {}).get('ssim'))} | "
+                                 f"{_fmt(st.get('all', {}).get('psnr'), 2)} | "
+                                 f"{_fmt(st.get('objects', {}).get('psnr'), 2)} | "
+                                 f"{_fmt(st.get('layout', {}).get('mask_iou'), 3)} |")
     return lines
 
 
@@ -196,7 +238,7 @@ def examples_html(examples: list[dict], info: dict) -> str:
     for ex in examples:
         lines = []
         for s, c in _grid_rows(info):
-            cells = [f"<td>{html.escape(SOURCE_SHORT[s])}, compose {html.escape(c)}</td>"]
+            cells = [f"<td>{html.escape(SOURCE_SHORT[s])}, {html.escape(MODE_SHORT[c])}</td>"]
             for m in ("3d-sdn", "2d", "2d+"):
                 v = ex["metrics"].get(s, {}).get(c, {}).get(m, {}).get("all", {})
                 text = ", ".join(f"{k} {v[k]:.3f}" for k in ("lpips", "l1", "ssim") if k in v and math.isfinite(v[k]))
@@ -205,7 +247,7 @@ def examples_html(examples: list[dict], info: dict) -> str:
         rows.append(f"<h3>{html.escape(ex['key'])}</h3>\n<img src=\"{html.escape(ex['file'])}\" alt=\"grid\">\n"
                     f"<table>{''.join(lines)}</table>")
     title = "sdn3d editing benchmark: examples"
-    layout = "; ".join(f"row {i + 1}: {html.escape(SOURCE_LABELS[s])}, compose {html.escape(COMPOSE_LABELS[c])}"
+    layout = "; ".join(f"row {i + 1}: {html.escape(SOURCE_LABELS[s])}, {html.escape(COMPOSE_LABELS[c])}"
                        for i, (s, c) in enumerate(_grid_rows(info)))
     gens = "; ".join(f"{html.escape(', '.join(LABELS[m] for m in ms))} drawn by {html.escape(g['checkpoint'])} "
                      f"({'with' if g['use_pose'] or g['use_normal'] else 'without'} pose / normal maps)"
@@ -219,16 +261,17 @@ def examples_html(examples: list[dict], info: dict) -> str:
 
 
 def _example_grid(images: dict[str, dict], rows: Sequence[tuple[str, str]]) -> np.ndarray:
-    """``(H', W', 3)`` uint8: source | target | 3D-SDN | 2D | 2D+, one row per ``(source scene, compose)``
-    (blank: no picture); ``images``: ``{source scene: EntryResult.images}``."""
-    from sdn3d.visualize import hstack_panels
+    """``(H', W', 3)`` uint8: source | target | 3D-SDN | 2D | 2D+, one row per ``(source scene, mode)``, every
+    panel titled (blank: no picture); ``images``: ``{source scene: EntryResult.images}``."""
+    from sdn3d.visualize import titled_row
 
     first = next(iter(images.values()))
     blank = np.zeros_like(first["source"])
-    lines = [hstack_panels([first["source"], first["target"]]
-                           + [images.get(s, {}).get(f"{c}:{m}", blank) for m in ("3d-sdn", "2d", "2d+")])
+    lines = [titled_row([("source", first["source"]), ("target", first["target"])]
+                        + [(f"{LABELS[m]}, {MODE_SHORT[c]}, {SOURCE_SHORT[s].split(':')[0]}",
+                            images.get(s, {}).get(f"{c}:{m}", blank)) for m in ("3d-sdn", "2d", "2d+")])
              for s, c in rows]
-    gap = np.full((4, lines[0].shape[1], 3), 255, np.uint8)
+    gap = np.full((6, lines[0].shape[1], 3), 255, np.uint8)
     return np.concatenate([x for line in lines for x in (line, gap)][:-1], 0)
 
 
@@ -281,7 +324,8 @@ def _settings_base(cfg: Any, size: tuple[int, int]) -> dict:
     return dict(image_size=size, frame_size=tuple(cfg.frame_size), strict=bool(cfg.strict),
                 pick_radius=cfg.pick_radius, min_pixels=int(cfg.geometric.min_pixels),
                 include_identity=bool(cfg.include_identity), limit=cfg.limit, examples=int(cfg.examples),
-                compose=_compose_modes(cfg.compose), dilate_px=cfg.compose_dilate_px, feather_px=cfg.compose_feather_px)
+                compose=_compose_modes(cfg.compose), dilate_px=cfg.compose_dilate_px, feather_px=cfg.compose_feather_px,
+                photo=PhotoSettings.from_mapping(cfg.get("photo")))
 
 
 def _load_inputs(cfg: Any) -> tuple[Path, Path, list, Any, list]:

@@ -7,8 +7,12 @@ frame, 3D edits on objects with geometry). The output directory is then written 
 an existing one is replaced only if it holds nothing but the files an earlier run's ``edit.json`` lists under
 ``outputs`` and none of this run's inputs, :func:`_output_rules`):
 
-    edited.png                                              the result (``compose``, below)
-    generated.png                                           the generator's whole edited picture (working size)
+    edited.png                                              the result (``appearance``, below)
+    maps/photo_source.png                                   appearance=photo: where each pixel came from (grey
+                                                            input, green photo, blue mirror, red fallback,
+                                                            yellow inpainted)
+    generated.png                                           the generator's whole edited picture (working size;
+                                                            appearance=generator, fill=generator or diagnostics)
     maps/edit_region.png                                    the pixels taken from the generator (compose=edited)
     scene.json/.npz edited_scene.json/.npz                  SceneCode (sdn3d.scene.code)
     edit.json                                               resolved ops, objects, checkpoints, timings,
@@ -24,8 +28,15 @@ keeping its aspect ratio, the excess cropped centrally (``input_transform`` in `
 spec's pixels are the input image's (``frame_size`` overrides). Warnings (stderr and ``edit.json``) say when
 the semantic branch's recorded validation quality is low or its proposals cover most of the frame.
 
-``compose=edited`` (default): ``edited.png`` has the input's resolution; only the edit region (the edited
-objects' source and target footprints and every pixel whose generator inputs changed, dilated by
+``appearance=photo`` (default): ``edited.png`` has the input's resolution; each edited car is drawn with the
+input's own pixels carried through its fitted 3D shape, its hidden side from the mirror image or its body colour,
+re-shaded for its new pose, the road it left inpainted (``photo.*``, :mod:`sdn3d.editing.photo`); ``edit.json``
+``photo`` records the light, per object the share of pixels from the photo, the mirror and the fallback, and
+warnings. ``appearance=generator`` is the paper's: the textural generator draws the edit, composed by ``compose``.
+
+``compose=edited`` (default of the generator appearance): ``edited.png`` has the input's resolution; only the
+edit region (the edited objects' source and target footprints and every pixel whose generator inputs changed,
+dilated by
 ``compose_dilate_px``) comes from the generator, upsampled through the inverse of ``input_transform`` and
 blended with a mask feathered over ``compose_feather_px``; every other pixel is the input's, bit for bit
 (:mod:`sdn3d.editing.compose`). ``compose=full``: ``edited.png`` is the generator's whole picture at the
@@ -218,6 +229,7 @@ def run_edit(cfg: Any) -> dict:
     if cfg.threads is not None:
         torch.set_num_threads(int(cfg.threads))
     compose = _compose_settings(cfg)
+    appearance, photo = appearance_settings(cfg)
     out, spec, (image, intrinsics, record, frame) = _read_inputs(cfg)
     checkpoints = resolve_checkpoints(cfg, record)
     models, code_bank = _load_models(cfg, checkpoints)
@@ -228,12 +240,22 @@ def run_edit(cfg: Any) -> dict:
         print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
     if spec is None:  # list=true or an empty spec: the objects, nothing edited
         return _write_listing(cfg, out, record, image, scene, checkpoints, times, frame, warnings)
-    ops, edited_scene = _edit(cfg, spec, scene, code_bank, times, frame)
+    ops, edited_scene = _edit(cfg, spec, scene, code_bank, times, frame, appearance)
     diagnostics = bool(cfg.diagnostics)
-    rendered = _render(scene, edited_scene, models, times, diagnostics)
-    rendered |= _compose(cfg, compose, record, frame, scene, edited_scene, rendered, times)
+    generate = appearance == "generator" or photo.fill == "generator" or diagnostics
+    rendered = _render(scene, edited_scene, models, times, diagnostics, generate)
+    if appearance == "photo":
+        rendered |= _photo(cfg, photo, record, frame, scene, edited_scene, ops, rendered, times)
+        for line in rendered["photo"]["warnings"]:
+            print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
+        warnings = warnings + rendered["photo"]["warnings"]
+    else:
+        rendered |= _compose(cfg, compose, record, frame, scene, edited_scene, rendered, times)
     summary = _summary(cfg, record, intrinsics, spec, ops, scene, edited_scene, times)
+    summary["appearance"] = appearance
     summary["compose"] = rendered["compose"]
+    if appearance == "photo":
+        summary["photo"] = rendered["photo"]
     summary["refined"] = bool(scene.meta.get("refined", False))  # the Cityscapes test-time fit (refine.enabled)
     summary["input_transform"] = frame.to_dict()
     summary["warnings"] = warnings
@@ -448,32 +470,44 @@ def _derender(cfg: Any, image: torch.Tensor, intrinsics: Any, record: Any, model
     return scene
 
 
+def appearance_settings(cfg: Any) -> tuple[str, Any]:
+    """``(appearance, PhotoSettings)`` of ``appearance`` and ``photo.*`` (checked before anything is loaded)."""
+    from sdn3d.editing.photo import APPEARANCES, PhotoSettings
+
+    appearance = str(cfg.get("appearance", "photo"))
+    if appearance not in APPEARANCES:
+        raise InputError(f"appearance must be one of {list(APPEARANCES)} (photo: each edited car drawn with its own "
+                         f"pixels through its 3D shape; generator: the paper's textural generator), got {appearance!r}")
+    return appearance, PhotoSettings.from_mapping(cfg.get("photo"))
+
+
 def _edit(cfg: Any, spec: Any, scene: Any, code_bank: Any, times: dict[str, float],
-          frame: Any = None) -> tuple[list, Any]:
+          frame: Any = None, appearance: str = "photo") -> tuple[list, Any]:
     """``(resolved ops, edited scene)``: the spec checked against ``scene`` and applied."""
     from sdn3d.editing.spec import apply_spec, resolve_ops
 
     generator = torch.Generator().manual_seed(int(cfg.seed))
     t0 = time.perf_counter()
     ops = resolve_ops(spec, scene, code_bank, cfg.pick_radius, strict=bool(cfg.strict), generator=generator,
-                      frame=frame)
+                      frame=frame, appearance=appearance)
     edited_scene = apply_spec(scene, ops, spec)
     times["edit_ms"] = 1000 * (time.perf_counter() - t0)
     return ops, edited_scene
 
 
 def _render(scene: Any, edited_scene: Any, models: Any, times: dict[str, float],
-            reconstruct: bool = True) -> dict[str, Any]:
-    """The generator's edited picture (timed), both scenes' maps and (``reconstruct``) the unedited scene's
-    picture (None otherwise)."""
+            reconstruct: bool = True, generate: bool = True) -> dict[str, Any]:
+    """The generator's edited picture (timed; None without ``generate``), both scenes' maps and (``reconstruct``)
+    the unedited scene's picture (None otherwise)."""
     from sdn3d.editing.render import render_maps
     from sdn3d.scene.maps import scene_maps
 
     t0 = time.perf_counter()
     bins = models.textural.spec.pose_bins
     edited_maps = scene_maps(edited_scene, num_bins=bins)
-    generated = render_maps(edited_maps, models.textural)
-    times["render_ms"] = 1000 * (time.perf_counter() - t0)
+    generated = render_maps(edited_maps, models.textural) if generate else None
+    if generate:
+        times["render_ms"] = 1000 * (time.perf_counter() - t0)
     source_maps = scene_maps(scene, num_bins=bins)
     reconstruction = render_maps(source_maps, models.textural) if reconstruct else None
     return {"generated": generated, "reconstruction": reconstruction, "source_maps": source_maps,
@@ -500,6 +534,30 @@ def _compose(cfg: Any, settings: Any, record: Any, frame: Any, scene: Any, edite
     if region is not None:
         info |= {"region_pixels": int(region.sum()), "region_fraction": float(region.float().mean())}
     return {"edited": edited, "region": region, "compose": info}
+
+
+def _photo(cfg: Any, settings: Any, record: Any, frame: Any, scene: Any, edited_scene: Any, ops: list,
+           rendered: dict[str, Any], times: dict[str, float]) -> dict[str, Any]:
+    """``{'edited': (H, W, 3) uint8, 'region': None, 'source_map': (H, W) uint8, 'compose', 'photo'}``: the photo
+    appearance (:func:`sdn3d.editing.photo.render_photo`) at the input's resolution, timed as ``photo_ms``."""
+    from sdn3d.editing.photo import paints, render_photo
+
+    original = torch.from_numpy(np.ascontiguousarray(_input_picture(cfg, record))).permute(2, 0, 1)
+    t0 = time.perf_counter()
+    result = render_photo(original, frame, scene, edited_scene, settings=settings, recolor=paints(ops),
+                          generated=rendered["generated"])
+    times["photo_ms"] = 1000 * (time.perf_counter() - t0)
+    from sdn3d.editing.ops import SetBackgroundCode, SetCode
+
+    coded = [op for op in ops if isinstance(op, SetBackgroundCode) or (isinstance(op, SetCode) and op.color is None)]
+    if coded:
+        result.warnings.append(f"{len(coded)} recolor op(s) by code or sample change what the generator draws; "
+                               "appearance=photo draws the photo's pixels and repaints a car only for `color: <name>` "
+                               "(or use appearance=generator)")
+    edited = result.image.permute(1, 2, 0).numpy()
+    info = {"mode": "photo", "output_size": [edited.shape[1], edited.shape[0]]}
+    return {"edited": edited, "region": None, "source_map": result.source, "compose": info,
+            "photo": {"settings": settings.to_dict(), **result.summary()}}
 
 
 def _summary(cfg: Any, record: Any, intrinsics: Any, spec: Any, ops: list, scene: Any, edited_scene: Any,
@@ -589,13 +647,17 @@ def _write_outputs(out: Path, overwrite: bool, image: torch.Tensor, scene: Any, 
                    rules: dict[str, Any] | None = None) -> None:
     """Write the output directory all at once (see the module doc); adds ``summary['outputs']`` (every file
     written: what a later run may replace). ``rules``: :func:`_output_rules`."""
+    from sdn3d.editing.photo import source_picture
     from sdn3d.io import write_json_atomic, write_png_atomic
     from sdn3d.scene.io import save_scene
 
-    gen = _to_uint8(rendered["generated"])
+    gen = _to_uint8(rendered["generated"]) if rendered["generated"] is not None else None
     with staged_directory(out, MARKER, overwrite, owned=True, **(rules or {"listed_in": "outputs"})) as tmp:
-        write_png_atomic(tmp / "generated.png", gen)
+        if gen is not None:
+            write_png_atomic(tmp / "generated.png", gen)
         write_png_atomic(tmp / "edited.png", rendered["edited"])
+        if rendered.get("source_map") is not None:
+            write_png_atomic(tmp / "maps" / "photo_source.png", source_picture(rendered["source_map"]))
         if rendered["region"] is not None:
             write_png_atomic(tmp / "maps" / "edit_region.png", rendered["region"].numpy().astype(np.uint8) * 255)
         save_scene(scene, tmp / "scene.json")
@@ -661,10 +723,13 @@ def _main(argv: list[str]) -> int:
               f"objects.png to {summary['config']['output_dir']} (derender {times['derender_ms']:.0f} ms)")
         return 0
     width, height = summary["compose"]["output_size"]
+    stages = ", ".join(f"{name} {times[key]:.0f} ms" for name, key in (
+        ("derender", "derender_ms"), ("edit", "edit_ms"), ("render", "render_ms"), ("photo", "photo_ms"),
+        ("compose", "compose_ms")) if key in times)
     print(f"sdn3d-edit: {len(summary['ops'])} edit(s) applied; wrote {summary['config']['output_dir']} "
-          f"(edited.png {width}x{height}, compose {summary['compose']['mode']}; derender {times['derender_ms']:.0f} "
-          f"ms, edit {times['edit_ms']:.0f} ms, render {times['render_ms']:.0f} ms, "
-          f"compose {times['compose_ms']:.0f} ms)")
+          f"(edited.png {width}x{height}, appearance {summary['appearance']}"
+          + (f", compose {summary['compose']['mode']}" if summary["appearance"] == "generator" else "")
+          + f"; {stages})")
     return 0
 
 

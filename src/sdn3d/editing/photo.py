@@ -61,7 +61,7 @@ from sdn3d.scene.maps import compose_instances, default_bank, posed_meshes
 
 __all__ = ["APPEARANCES", "FILL_METHODS", "SOURCE_NAMES", "SOURCE_COLORS", "PhotoSettings", "PhotoSettingsError",
            "PhotoResult", "LightEstimate", "paints", "input_intrinsics", "upsample_ids", "fit_light", "inpaint",
-           "recolor_pixels", "render_photo", "source_picture"]
+           "recolor_pixels", "vacated_hole", "fill_hole", "working_to_input", "render_photo", "source_picture"]
 
 #: ``photo``: the input's own pixels through each object's 3D shape (module doc); ``generator``: the textural
 #: generator's pixels (the paper's).
@@ -130,6 +130,17 @@ class PhotoSettings:
 
     def to_dict(self) -> dict:
         return dict(self.__dict__)
+
+    @classmethod
+    def from_mapping(cls, node: Mapping | None) -> PhotoSettings:
+        """Settings from a config mapping (``photo:`` of ``conf/edit.yaml`` / ``conf/bench.yaml``); unknown keys are
+        refused by name."""
+        values = {str(k): v for k, v in dict(node or {}).items()}
+        unknown = sorted(set(values) - set(cls.__dataclass_fields__))
+        if unknown:
+            raise PhotoSettingsError(f"photo: unknown setting(s) {unknown}; the settings are "
+                                     f"{sorted(cls.__dataclass_fields__)}")
+        return cls(**values)
 
 
 @dataclass(frozen=True)
@@ -374,6 +385,37 @@ def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_s
     region = hole[y0:y1, x0:x1]
     out[:, y0:y1, x0:x1] = torch.where(region[None], patch, out[:, y0:y1, x0:x1])
     return out
+
+
+def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSettings) -> Tensor:
+    """``(H, W)`` bool pixels to fill: those of ``ids (H, W)`` (instance map) in ``gone (K,)`` (moved or deleted
+    objects), grown by ``hole_dilate_px`` and by a band below each (its old contact shadow), less ``keep (H, W)``
+    (pixels of objects that stay)."""
+    vacated = torch.isin(ids, gone) & (ids != 0)
+    hole = _dilate(vacated, settings.hole_dilate_px)
+    if settings.shadow_band > 0 and bool(vacated.any()):
+        for k in gone.tolist():
+            one = ids == k
+            rows = one.any(1).nonzero().flatten()
+            if not len(rows):
+                continue
+            band = max(1, round(settings.shadow_band * float(rows.max() - rows.min() + 1)))
+            below = F.max_pool2d(F.pad(one[None, None].float(), (0, 0, band, 0)), (band + 1, 1), stride=1)[0, 0] > 0
+            hole |= _dilate(below, 1)
+    return hole & ~keep
+
+
+def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Tensor | None = None,
+              fill: Tensor | None = None) -> Tensor:
+    """``image (3, H, W)`` with ``hole`` filled by ``settings.fill`` (:data:`FILL_METHODS`; ``fill (3, H, W)``: the
+    generator's picture at this size, for ``'generator'``); ``keep_out``: pixels PatchMatch must not copy."""
+    if not bool(hole.any()):
+        return image.clone()
+    if settings.fill == "generator":
+        if fill is None:
+            raise PhotoSettingsError("photo.fill=generator needs the generator's picture (the textural branch)")
+        return torch.where(hole[None], fill.clamp(0, 1).to(image.dtype), image)
+    return inpaint(image, hole, settings.fill, settings.inpaint_radius, keep_out=keep_out)
 
 
 def working_to_input(picture: Tensor, transform: PixelFrame) -> Tensor:
@@ -689,24 +731,12 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     shade = light.shade if light is not None else None
 
     # Vacated pixels (step 2).
-    vacated = torch.isin(src_ids, gone_ids) & (src_ids != 0)
-    hole = _dilate(vacated, settings.hole_dilate_px)
-    if settings.shadow_band > 0 and bool(vacated.any()):
-        rows_any = vacated.any(1).nonzero().flatten()
-        band = max(1, round(settings.shadow_band * float(rows_any.max() - rows_any.min() + 1)))
-        shifted = F.max_pool2d(F.pad(vacated[None, None].float(), (0, 0, band, 0)), (band + 1, 1), stride=1)[0, 0] > 0
-        hole |= _dilate(shifted, 1)
-    hole &= ~((own != 0) & ~torch.isin(own, torch.tensor([after.instance_id[a] for a in grown_rows],
-                                                         dtype=torch.long)))
-    hole &= ~((src_ids != 0) & torch.isin(src_ids, after.instance_id[stays]))
-    out = image.clone()
-    source = torch.zeros(size, dtype=torch.uint8)
-    if bool(hole.any()):
-        if settings.fill == "generator":
-            out = torch.where(hole[None], working_to_input(generated, transform).clamp(0, 1), out)
-        else:
-            out = inpaint(out, hole, settings.fill, settings.inpaint_radius, keep_out=src_ids != 0)
-        source[hole] = FILL
+    grown_ids = after.instance_id[torch.tensor(grown_rows, dtype=torch.long)]
+    keep = ((own != 0) & ~torch.isin(own, grown_ids)) | ((src_ids != 0) & torch.isin(src_ids, after.instance_id[stays]))
+    hole = vacated_hole(src_ids, gone_ids, keep, settings)
+    fill = working_to_input(generated, transform) if settings.fill == "generator" else None
+    out = fill_hole(image, hole, settings, src_ids != 0, fill)
+    source = torch.where(hole, FILL, INPUT).to(torch.uint8)
 
     # Contact shadows of moved objects, on the road only (drawn objects cover the rest below).
     moved_rows = moved.nonzero().flatten().tolist()

@@ -16,6 +16,11 @@ freed pixel takes a background label, also where a car behind the edited one was
 the 2D ground-plane cue: a region whose lowest pixel is lower in the image is nearer (ties go to the edited
 object). Codes are kept. With ``geometry='move'`` the normal, pose and depth maps move with the region
 (depth divided by ``zoom``); with ``'empty'`` they are zero everywhere (a baseline without any 3D input).
+
+In the photo appearance (:func:`baseline_photo`, what :mod:`sdn3d.editing.photo` is to 3D-SDN) the baselines
+paste each edited object's own pixels, moved and scaled the same way (bilinear), over the same fill of the vacated
+pixels (:func:`~sdn3d.editing.photo.vacated_hole`, :func:`~sdn3d.editing.photo.fill_hole`) as 3D-SDN's, so that a
+comparison isolates what the 3D geometry adds.
 """
 
 from __future__ import annotations
@@ -24,17 +29,19 @@ import math
 from collections.abc import Sequence
 
 import torch
+import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, BenchmarkEntry, BenchmarkOperation, scale_operation
 from sdn3d.editing.apply import Delete, EditError, apply_edits, match_objects
+from sdn3d.editing.photo import PhotoSettings, fill_hole, vacated_hole
 from sdn3d.image_ops import boundary_map, instance_label_map
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.fill import scene_code_map
-from sdn3d.scene.maps import ComposedMaps, default_bank, scene_maps
+from sdn3d.scene.maps import ComposedMaps, compose_instances, default_bank, scene_maps
 
-__all__ = ["BASELINE_MODES", "baseline_maps", "warp_regions"]
+__all__ = ["BASELINE_MODES", "baseline_maps", "baseline_photo", "warp_regions"]
 
 BASELINE_MODES = ("2d", "2d+")
 
@@ -136,3 +143,68 @@ def baseline_maps(scene: SceneCode, entry: BenchmarkEntry | Sequence[BenchmarkOp
                         normal=normal, pose=pose, depth=depth,
                         feature=scene_code_map(lmap, obj.instance_id.to(device), obj.code.to(device),
                                          scene.background_codes.to(device)))
+
+
+def _modify_warps(ops: list, mode: str, device: torch.device) -> tuple[Tensor, Tensor, Tensor]:
+    """``(src (M, 2), dst (M, 2), scale (M, 2))`` float64 of the ``modify`` operations (module doc)."""
+    src = torch.tensor([op.from_uv for op in ops], dtype=torch.float64, device=device)
+    dst = torch.tensor([op.to_uv if op.to_uv is not None else op.from_uv for op in ops], dtype=torch.float64,
+                       device=device)
+    squeeze = [abs(math.cos(op.ry)) if mode == "2d+" else 1.0 for op in ops]
+    scale = torch.tensor([[op.zoom * s, op.zoom] for op, s in zip(ops, squeeze, strict=True)], dtype=torch.float64,
+                         device=device)
+    if not bool((scale > 0).all()):
+        raise EditError(f"{mode}: an edit squeezes an object to zero width (|cos ry| = 0)")
+    return src, dst, scale
+
+
+def baseline_photo(image: Tensor, scene: SceneCode, entry: BenchmarkEntry | Sequence[BenchmarkOperation],
+                   mode: str = "2d", frame_size: tuple[int, int] | None = VKITTI_FRAME_SIZE,
+                   settings: PhotoSettings | None = None, bank: MeshBank | None = None,
+                   max_distance: float | None = None) -> Tensor:
+    """The ``mode`` baseline's edit of ``image (3, H, W)`` (float in [0, 1], the scene's size) in the photo
+    appearance (module doc): ``(3, H, W)``.
+
+    Every edited object is removed and its pixels filled as 3D-SDN's photo appearance fills them; each ``modify``
+    then pastes the object's source pixels at ``q = to + scale * (p - from)`` (bilinear), nearer-looking regions
+    (lower bottom row) in front, kept objects included.
+    """
+    if mode not in BASELINE_MODES:
+        raise ValueError(f"mode must be one of {BASELINE_MODES}, got {mode!r}")
+    settings = settings or PhotoSettings()
+    bank = bank or default_bank()
+    ops = list(entry.operations if isinstance(entry, BenchmarkEntry) else entry)
+    if frame_size is not None and tuple(frame_size) != scene.image_size:
+        ops = [scale_operation(op, tuple(frame_size), scene.image_size) for op in ops]
+    ids = match_objects(scene, [op.from_uv for op in ops], None, max_distance)
+    image = image.float().cpu()
+    instances = compose_instances(scene, bank).cpu()
+    gone = torch.tensor(ids, dtype=torch.long)
+    keep = (instances != 0) & ~torch.isin(instances, gone)
+    out = fill_hole(image, vacated_hole(instances, gone, keep, settings), settings, instances != 0)
+    mods = [(op, i) for op, i in zip(ops, ids, strict=True) if op.kind == "modify"]
+    if not mods:
+        return out
+    height, width = instances.shape
+    src, dst, scale = _modify_warps([op for op, _ in mods], mode, torch.device("cpu"))
+    mod_ids = torch.tensor([i for _, i in mods])
+    hit, _ = warp_regions(instances[None] == mod_ids[:, None, None], torch.zeros(1, height, width), src, dst, scale)
+    v, u = torch.meshgrid(torch.arange(height, dtype=torch.float64), torch.arange(width, dtype=torch.float64),
+                          indexing="ij")
+    p = src[:, None, None] + (torch.stack([u, v], -1)[None] - dst[:, None, None]) / scale[:, None, None]  # (M, H, W, 2)
+    grid = torch.stack([(p[..., 0] + 0.5) / width * 2 - 1, (p[..., 1] + 0.5) / height * 2 - 1], -1).float()
+    colours = F.grid_sample(image[None].expand(len(mods), -1, -1, -1), grid, mode="bilinear", padding_mode="border",
+                            align_corners=False)  # (M, 3, H, W)
+    # 2D depth cue: the lowest row of each region; a kept object in front (lower) hides the pasted one.
+    rows = torch.arange(height)[None, :, None]
+    mod_key = torch.where(hit, rows, -1).flatten(1).amax(1)  # (M,)
+    kept_ids = instances[keep].unique()
+    kept_key = torch.where(instances[None] == kept_ids[:, None, None], rows, -1).flatten(1).amax(1)
+    lookup = torch.full((int(instances.max()) + 1,), -1, dtype=torch.long)
+    lookup[kept_ids] = kept_key
+    front = torch.where(keep, lookup[instances], -1)  # (H, W) key of the kept object at each pixel, -1: none
+    order = mod_key.argsort()  # farther (higher bottom row) first, so nearer pastes land on top
+    for m in order.tolist():
+        paste = hit[m] & (front <= mod_key[m])
+        out = torch.where(paste[None], colours[m], out)
+    return out

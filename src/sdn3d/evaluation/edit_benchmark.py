@@ -16,12 +16,19 @@ written by ``sdn3d-synth``). Per entry:
    region), unless :func:`run_benchmark` gets a ``baseline_textural`` generator: then the 2D and 2D+ edits are
    drawn by it, with texture codes from its own encoder (pooled over the source scene's regions), as the paper's
    baselines without 3D knowledge are when that generator was trained with ``use_pose=false use_normal=false``;
-3. each method's picture in every compose mode of ``settings.compose`` (:mod:`sdn3d.editing.compose`):
-   ``full``, the generator's whole picture (the paper's protocol, Table 1), and ``edited``, the source frame
-   with only the method's own edit region (its maps against the source scene's, the edited objects'
-   footprints) redrawn and blended in, at the working size (what ``sdn3d-edit`` gives a user);
+3. each method's picture in every mode of ``settings.compose`` (:data:`MODES`): ``photo``, the photo appearance
+   (:mod:`sdn3d.editing.photo`: each edited object drawn with the source frame's own pixels through its 3D shape,
+   vacated pixels inpainted; the 2D and 2D+ baselines paste the object's own pixels moved in 2D over the same fill,
+   :func:`~sdn3d.evaluation.baselines.baseline_photo`; what ``sdn3d-edit`` gives a user), and the generator
+   appearance's compose modes (:mod:`sdn3d.editing.compose`): ``full``, the generator's whole picture (the paper's
+   protocol, Table 1), and ``edited``, the source frame with only the method's own edit region (its maps against the
+   source scene's, the edited objects' footprints) redrawn and blended in, at the working size;
 4. metrics against the target (:mod:`sdn3d.evaluation.image_metrics`): LPIPS (with weights), L1, SSIM, PSNR on the
-   ``whole`` image, on ``all`` edited regions and on the ``largest`` one (a crop), per compose mode.
+   ``whole`` image, on ``all`` edited regions, on the ``largest`` one (a crop) and on the ``objects``: the target's
+   visible pixels of the edited objects (the cars themselves, apart from the background fill), per mode.
+
+Entries are also summarised by what they edit (:func:`edit_kind`: ``move``, ``rotate`` (a turn of 15 degrees or
+more), ``zoom``, ``delete``, and the synthetic benchmark's ``occluder_removed``).
 
 Edited regions come from the ground truth only, so they are the same for every method: the
 benchmark's picks are resolved on the frame's ground-truth scene (:func:`~sdn3d.data.scene_gt.scene_from_frame`,
@@ -56,10 +63,11 @@ from sdn3d.data.scene_gt import ground_truth, scene_from_frame
 from sdn3d.derender import PROPOSAL_LABELS, Models, derender, encode_scene
 from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
 from sdn3d.editing.compose import COMPOSE_MODES, ComposeSettings, ComposeSettingsError, compose_edit, edited_object_ids
+from sdn3d.editing.photo import PhotoSettings, render_photo
 from sdn3d.editing.render import render_maps
 from sdn3d.editing.spec import PixelFrame
 from sdn3d.errors import UserInputError
-from sdn3d.evaluation.baselines import baseline_maps
+from sdn3d.evaluation.baselines import baseline_maps, baseline_photo
 from sdn3d.evaluation.image_metrics import crop_metrics, image_metrics
 from sdn3d.image_ops import mask_boxes, resize_map
 from sdn3d.scene.code import SceneCode
@@ -73,6 +81,9 @@ __all__ = [
     "METHODS",
     "REGIONS",
     "COMPOSE_MODES",
+    "MODES",
+    "EDIT_KINDS",
+    "edit_kind",
     "LAYOUT",
     "PROPOSALS",
     "SOURCE_LABELS",
@@ -89,7 +100,13 @@ __all__ = [
 ]
 
 METHODS = ("3d-sdn", "2d", "2d+")
-REGIONS = ("whole", "all", "largest")
+REGIONS = ("whole", "all", "largest", "objects")
+#: How a method's picture is made: ``photo`` (the photo appearance), or a compose mode of the generator's picture.
+MODES = ("photo", *COMPOSE_MODES)
+#: What an entry edits (:func:`edit_kind`), the order of the per-kind tables.
+EDIT_KINDS = ("move", "rotate", "zoom", "delete", "occluder_removed")
+#: A modify that turns the object by at least this much (radians) is a ``rotate`` entry.
+ROTATE_KIND_MIN = math.radians(15.0)
 #: Per-method values besides the image metrics: ``metrics[method]['layout']['mask_iou']`` (:func:`mask_iou`).
 LAYOUT = "layout"
 SCENES = ("derender", "oracle")
@@ -116,7 +133,9 @@ class BenchSettings:
         include_identity: also evaluate the entries without operations.
         limit: evaluate at most this many entries (None: all).
         examples: entries whose pictures are kept for the example grids.
-        compose: the compose modes evaluated, each reported apart (module doc); ``full`` is the paper's.
+        compose: the modes evaluated (:data:`MODES`), each reported apart (module doc); ``full`` is the paper's,
+            ``photo`` what a user gets.
+        photo: the photo appearance's settings.
         dilate_px, feather_px: the edit region's dilation and blend ramp of ``compose='edited'`` (working pixels).
     """
 
@@ -130,9 +149,10 @@ class BenchSettings:
     include_identity: bool = False
     limit: int | None = None
     examples: int = 8
-    compose: tuple[str, ...] = ("full", "edited")
+    compose: tuple[str, ...] = ("photo", "full", "edited")
     dilate_px: int = 4
     feather_px: int = 4
+    photo: PhotoSettings = field(default_factory=PhotoSettings)
 
     def __post_init__(self) -> None:
         if self.scene not in SCENES:
@@ -140,11 +160,12 @@ class BenchSettings:
         if self.proposals not in PROPOSALS:
             raise UserInputError(f"BenchSettings.proposals must be one of {PROPOSALS}, got {self.proposals!r}")
         compose = tuple(str(c) for c in self.compose)
-        if not compose or len(set(compose)) != len(compose):
-            raise ComposeSettingsError(f"compose must list distinct modes of {COMPOSE_MODES}, got {list(compose)}")
+        if not compose or len(set(compose)) != len(compose) or not set(compose) <= set(MODES):
+            raise ComposeSettingsError(f"compose must list distinct modes of {MODES}, got {list(compose)}")
         object.__setattr__(self, "compose", compose)
         for mode in compose:
-            self.compose_settings(mode)  # checks the mode, dilate_px and feather_px
+            if mode != "photo":
+                self.compose_settings(mode)  # checks the mode, dilate_px and feather_px
         object.__setattr__(self, "image_size", (int(self.image_size[0]), int(self.image_size[1])))
         object.__setattr__(self, "frame_size", (int(self.frame_size[0]), int(self.frame_size[1])))
         if self.limit is not None and self.limit < 0 or self.examples < 0:
@@ -152,6 +173,27 @@ class BenchSettings:
 
     def compose_settings(self, mode: str) -> ComposeSettings:
         return ComposeSettings(mode, self.dilate_px, self.feather_px)
+
+    @property
+    def generator_modes(self) -> tuple[str, ...]:
+        """The modes that need the generator's picture."""
+        return tuple(m for m in self.compose if m != "photo")
+
+
+def edit_kind(entry: BenchmarkEntry) -> str:
+    """What ``entry`` edits (:data:`EDIT_KINDS`): its own kind when not ``'edit'``; else ``'delete'`` when it only
+    deletes, ``'rotate'`` when a modify turns an object by :data:`ROTATE_KIND_MIN` or more, ``'zoom'`` when one
+    changes a distance, else ``'move'``."""
+    if entry.kind != "edit":
+        return entry.kind
+    mods = [op for op in entry.operations if op.kind == "modify"]
+    if not mods:
+        return "delete"
+    if any(abs(op.ry) >= ROTATE_KIND_MIN for op in mods):
+        return "rotate"
+    if any(abs(op.zoom - 1.0) > 1e-6 for op in mods):
+        return "zoom"
+    return "move"
 
 
 def source_name(settings: BenchSettings) -> str:
@@ -174,7 +216,7 @@ class EntryResult:
         images: ``{'source', 'target', '<compose>:<method>': (H, W, 3) uint8}`` for example entries, else None.
         regions: ``(H, W)`` bool union of edited regions (example entries only).
         kind: the entry's :data:`~sdn3d.data.edit_benchmark.ENTRY_KINDS` (``'edit'``; ``'occluder_removed'``
-            entries are summarised apart).
+            entries are summarised apart); edit_kind: :func:`edit_kind`.
     """
 
     index: int
@@ -186,9 +228,15 @@ class EntryResult:
     images: dict[str, np.ndarray] | None = None
     regions: np.ndarray | None = None
     kind: str = "edit"
+    edit_kind: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.edit_kind is None:  # :func:`edit_kind` of the entry; unknown: its kind
+            self.edit_kind = self.kind
 
     def to_json(self) -> dict:
-        return {"index": self.index, "key": self.key, "kind": self.kind, "operations": self.operations,
+        return {"index": self.index, "key": self.key, "kind": self.kind, "edit_kind": self.edit_kind,
+                "operations": self.operations,
                 "metrics": self.metrics,
                 "latency_ms": self.latency_ms, "errors": self.errors}
 
@@ -226,12 +274,15 @@ def edit_regions(entry: BenchmarkEntry, source: FrameRecord, target: FrameRecord
 
 
 def region_metrics(pred: Tensor, target: Tensor, regions: Tensor, box: Tensor,
-                   lpips_net: LPIPS | None = None) -> dict[str, dict[str, float]]:
-    """``{region: {metric: value}}`` of ``pred`` vs ``target`` ``(3, H, W)`` (module doc)."""
+                   lpips_net: LPIPS | None = None, objects: Tensor | None = None) -> dict[str, dict[str, float]]:
+    """``{region: {metric: value}}`` of ``pred`` vs ``target`` ``(3, H, W)`` (module doc); ``objects (H, W)``: the
+    target's visible pixels of the edited objects (None: that region is left out)."""
     p, t = pred[None].float().cpu(), target[None].float().cpu()
     net = lpips_net.cpu() if lpips_net is not None else None
     out = {"whole": image_metrics(p, t, lpips_net=net), "all": image_metrics(p, t, regions[None], net),
            "largest": crop_metrics(p, t, box[None].float(), net)}
+    if objects is not None:
+        out["objects"] = image_metrics(p, t, objects[None], net)
     return {region: {k: float(v[0]) for k, v in values.items()} for region, values in out.items()}
 
 
@@ -276,24 +327,28 @@ def _to_uint8(image: Tensor) -> np.ndarray:
 
 def _method_pictures(entry: BenchmarkEntry, scene: SceneCode, baseline: tuple[SceneCode, TexturalRenderer],
                      models: Models, settings: BenchSettings, result: EntryResult, derender_ms: float
-                     ) -> tuple[dict[str, Tensor], dict[str, ComposedMaps], Tensor, dict[str, list[int]]]:
-    """``({method: (3, H, W) picture}, {method: maps}, edited ids (K,), {method: picked ids, one per operation})``
-    of every method that could draw the entry (a method's :class:`ValueError` goes to ``result.errors``); sets the
-    3D-SDN path's latency.
-    ``baseline``: the source scene (its codes from that generator's encoder) and the generator of the 2D and
-    2D+ edits."""
+                     ) -> tuple[dict[str, Tensor], dict[str, ComposedMaps], Tensor, dict[str, list[int]],
+                                SceneCode | None]:
+    """``({method: (3, H, W) generator picture}, {method: maps}, edited ids (K,), {method: picked ids, one per
+    operation}, 3D-SDN's edited scene)`` of every method that could draw the entry (a method's :class:`ValueError`
+    goes to ``result.errors``); the generator pictures only when a generator mode is evaluated. Sets the 3D-SDN
+    path's latency. ``baseline``: the source scene (its codes from that generator's encoder) and the generator of
+    the 2D and 2D+ edits."""
     t1 = time.perf_counter()
+    generate = bool(settings.generator_modes)
     images: dict[str, Tensor] = {}
     maps: dict[str, ComposedMaps] = {}
     picks: dict[str, list[int]] = {}
     ids = torch.zeros(0, dtype=torch.long)
+    edited = None
     try:
         ops = ops_from_benchmark(entry, scene, settings.frame_size, settings.strict, settings.pick_radius)
         picks["3d-sdn"] = [op.instance_id for op in ops]
         edited = apply_edits(scene, ops)
         t2 = time.perf_counter()
         maps["3d-sdn"] = scene_maps(edited, num_bins=models.textural.spec.pose_bins)
-        images["3d-sdn"] = render_maps(maps["3d-sdn"], models.textural)
+        if generate:
+            images["3d-sdn"] = render_maps(maps["3d-sdn"], models.textural)
         _sync(models)
         t3 = time.perf_counter()
         result.latency_ms = {"derender": derender_ms, "edit": 1000 * (t2 - t1), "render": 1000 * (t3 - t2),
@@ -308,18 +363,19 @@ def _method_pictures(entry: BenchmarkEntry, scene: SceneCode, baseline: tuple[Sc
             picks[mode] = match_objects(baseline_scene, points, None, settings.pick_radius)  # as baseline_maps
             maps[mode] = baseline_maps(baseline_scene, entry, mode, settings.frame_size,
                                        max_distance=settings.pick_radius)
-            images[mode] = render_maps(maps[mode], baseline_textural)
+            if generate:
+                images[mode] = render_maps(maps[mode], baseline_textural)
         except ValueError as exc:
             result.errors[mode] = str(exc)
-    return images, maps, ids, picks
+    return images, maps, ids, picks, edited
 
 
 def _composed(images: dict[str, Tensor], maps: dict[str, ComposedMaps], source: Tensor, scene: SceneCode,
-              baseline_scene: SceneCode, ids: Tensor, models: Models, settings: BenchSettings, result: EntryResult
-              ) -> dict[str, dict[str, Tensor]]:
-    """``{compose: {method: (3, H, W)}}``: every method's picture in every compose mode (working size; the
-    source frame is the original); times the 3D-SDN path's ``compose='edited'`` step. Each method's edit
-    region is against the source scene it edited (``baseline_scene`` for 2D and 2D+: its own codes)."""
+              baseline_scene: SceneCode, ids: Tensor, models: Models, settings: BenchSettings, result: EntryResult,
+              entry: BenchmarkEntry, edited: SceneCode | None) -> dict[str, dict[str, Tensor]]:
+    """``{mode: {method: (3, H, W)}}``: every method's picture in every mode (working size; the source frame is
+    the original); times the 3D-SDN path's ``photo`` and ``compose='edited'`` steps. Each method's edit region is
+    against the source scene it edited (``baseline_scene`` for 2D and 2D+: its own codes)."""
     identity = PixelFrame(settings.image_size, settings.image_size)
     before: dict[str, ComposedMaps | None] = dict.fromkeys(METHODS)
     if "edited" in settings.compose:
@@ -328,6 +384,17 @@ def _composed(images: dict[str, Tensor], maps: dict[str, ComposedMaps], source: 
     out: dict[str, dict[str, Tensor]] = {}
     for mode in settings.compose:
         out[mode] = {}
+        if mode == "photo":
+            if edited is not None:
+                t0 = time.perf_counter()
+                out[mode]["3d-sdn"] = render_photo(source, identity, scene, edited, settings=settings.photo).image
+                if result.latency_ms:
+                    result.latency_ms["photo"] = 1000 * (time.perf_counter() - t0)
+            for method in ("2d", "2d+"):
+                if method in maps:  # the baselines paste the same scene's objects the generator path edits
+                    out[mode][method] = baseline_photo(source, scene, entry, method, settings.frame_size,
+                                                       settings.photo, max_distance=settings.pick_radius)
+            continue
         for method, picture in images.items():
             t0 = time.perf_counter()
             out[mode][method], _ = compose_edit(settings.compose_settings(mode), picture, source, identity,
@@ -343,7 +410,7 @@ def evaluate_entry(index: int, entry: BenchmarkEntry, source: FrameRecord, targe
     """Evaluate one entry with every method in every compose mode (a method's :class:`ValueError` is recorded,
     not raised). ``baseline_textural``: the generator of the 2D and 2D+ edits (module doc); None: 3D-SDN's."""
     result = EntryResult(index, f"{entry.world}/{entry.variation} {entry.source_frame:05d}->{entry.target_frame:05d}",
-                         len(entry.operations), kind=entry.kind)
+                         len(entry.operations), kind=entry.kind, edit_kind=edit_kind(entry))
     size = settings.image_size
     src = load_frame(source, size, semantic=False, instances=False)
     tgt = load_frame(target, size, semantic=False, instances=False).image
@@ -356,12 +423,14 @@ def evaluate_entry(index: int, entry: BenchmarkEntry, source: FrameRecord, targe
     derender_ms = 1000 * (time.perf_counter() - t0)
     baseline_scene = scene if baseline_textural is None else encode_scene(scene, src.image, baseline_textural)
     baseline = (baseline_scene, baseline_textural or models.textural)
-    images, maps, ids, picks = _method_pictures(entry, scene, baseline, models, settings, result, derender_ms)
-    composed = _composed(images, maps, src.image, scene, baseline_scene, ids, models, settings, result)
-    layout = {m: {"mask_iou": mask_iou(maps[m].instance.cpu(), target_instances, picks[m], gt_ids)} for m in images}
+    images, maps, ids, picks, edited = _method_pictures(entry, scene, baseline, models, settings, result,
+                                                        derender_ms)
+    composed = _composed(images, maps, src.image, scene, baseline_scene, ids, models, settings, result, entry, edited)
+    layout = {m: {"mask_iou": mask_iou(maps[m].instance.cpu(), target_instances, picks[m], gt_ids)} for m in maps}
+    objects = torch.isin(target_instances, torch.tensor(gt_ids, dtype=torch.long))
     for mode, pictures in composed.items():
-        result.metrics[mode] = {m: region_metrics(pictures[m], tgt, regions, box, lpips_net) | {LAYOUT: layout[m]}
-                                for m in METHODS if m in pictures}
+        result.metrics[mode] = {m: region_metrics(pictures[m], tgt, regions, box, lpips_net, objects)
+                                | {LAYOUT: layout[m]} for m in METHODS if m in pictures}
     if keep_images:
         result.images = {"source": _to_uint8(src.image), "target": _to_uint8(tgt)}
         result.images |= {f"{mode}:{m}": _to_uint8(img) for mode, pictures in composed.items()
@@ -394,6 +463,7 @@ def run_benchmark(entries: Sequence[BenchmarkEntry], records: Mapping[tuple[str,
             frame = entry.source_frame if pair[0] is None else entry.target_frame
             result = EntryResult(i, f"{entry.world}/{entry.variation} {entry.source_frame:05d}->"
                                     f"{entry.target_frame:05d}", len(entry.operations), kind=entry.kind,
+                                 edit_kind=edit_kind(entry),
                                  errors={"entry": f"{which} frame {entry.world}/{entry.variation}/{frame:05d} "
                                                   "not in the dataset"})
         else:
@@ -404,6 +474,7 @@ def run_benchmark(entries: Sequence[BenchmarkEntry], records: Mapping[tuple[str,
             except ValueError as exc:  # e.g. no object to pick: the entry is reported, the run goes on
                 result = EntryResult(i, f"{entry.world}/{entry.variation} {entry.source_frame:05d}->"
                                         f"{entry.target_frame:05d}", len(entry.operations), kind=entry.kind,
+                                 edit_kind=edit_kind(entry),
                                      errors={"entry": str(exc)})
         results.append(result)
         if progress is not None:
@@ -426,12 +497,14 @@ def _stats(values: list[float]) -> dict[str, float | int]:
 def summarize(results: Sequence[EntryResult]) -> dict:
     """Means over the ``'edit'`` entries (the paper's Table 1): ``{'methods': {compose: {method: {region: {metric:
     {mean, median, n}}}}}, 'latency_ms': {...}, 'entries', 'evaluated', 'failed': {method: count}}`` (non-finite
-    values, e.g. empty regions, are skipped), plus ``'by_kind': {kind: the same over that kind's entries}`` for the
-    other entry kinds present (``'occluder_removed'``), reported apart."""
+    values, e.g. empty regions, are skipped), plus ``'by_kind': {kind: the same over that kind's entries}`` for every
+    :data:`EDIT_KINDS` present (:func:`edit_kind`: the paper's edits split into move, rotate, zoom and delete, and
+    the synthetic benchmark's ``'occluder_removed'``, which the overall means leave out)."""
     edits = [r for r in results if r.kind == "edit"]
     out = _summary(edits)
-    out["by_kind"] = {kind: _summary([r for r in results if r.kind == kind])
-                      for kind in dict.fromkeys(r.kind for r in results) if kind != "edit"}
+    present = set(r.edit_kind for r in results)
+    out["by_kind"] = {kind: _summary([r for r in results if r.edit_kind == kind]) for kind in EDIT_KINDS
+                      if kind in present}
     return out
 
 
@@ -446,7 +519,7 @@ def _summary(results: Sequence[EntryResult]) -> dict:
                                               for k in sorted({k for row in rows for k in row.get(region, {})})}
                                      for region in (*REGIONS, LAYOUT)}
     latency = {k: _stats([r.latency_ms[k] for r in results if k in r.latency_ms])
-               for k in ("derender", "edit", "render", "total", "compose")}
+               for k in ("derender", "edit", "render", "total", "compose", "photo")}
     failed = {m: sum(1 for r in results if m in r.errors or "entry" in r.errors) for m in METHODS}
     return {"entries": len(results), "evaluated": sum(1 for r in results if r.metrics), "failed": failed,
             "compose": modes, "methods": methods, "latency_ms": latency}

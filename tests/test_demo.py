@@ -81,7 +81,8 @@ def test_full_demo_tiny_budget(tmp_path):
     assert set(summary["training"]) == {"semantic", "geometric", "textural"}
     assert all(s["status"] == "ok" for s in summary["training"].values())
     for name in ("report.md", "bench/table1.md", "bench/index.html", "edits/edits_grid.png", "edits/deleted.png",
-                 "edits/recoloured.png", "edits/rotated_p45_deg.png", "edits/closer.png"):
+                 "edits/recoloured_red.png", "edits/rotated_p45_deg.png", "edits/closer.png",
+                 "edits/sources/deleted.png"):
         assert (out / name).is_file(), name
     report = (out / "report.md").read_text()
     assert "short CPU run" in report and "| 3D-SDN" in report
@@ -122,9 +123,9 @@ def test_demo_trains_branches_in_parallel_and_composes_the_long_budget(tmp_path)
     from PIL import Image  # benchmark and edits at render_size, not the data's 160x64
 
     assert summary["data"]["render_size"] == [128, 48]
-    # compose=edited (the default): the edits at the frame's own 160x64, the generator's pictures at 128x48
+    # the photo appearance (the default): the edits at the frame's own 160x64, whatever the render size
     assert Image.open(out / "edits" / "deleted.png").size == (160, 64)
-    assert Image.open(out / "edits" / "generated" / "deleted.png").size == (128, 48)
+    assert Image.open(out / "edits" / "sources" / "deleted.png").size == (160, 64)
 
 
 @pytest.mark.parametrize("mode", ["edited", "full"])
@@ -142,14 +143,14 @@ def test_demo_edits_are_composed_into_the_frame(tiny_synth, tmp_path, mode):
     ckpts = {k: str(v) for k, v in write_checkpoints(tmp_path / "ckpt").items()}
     (tmp_path / "config.yaml").write_text("datamodule:\n  crop_size: 32\n")  # the geometric run's crop size
     # Random weights put cars anywhere: move the car away (zoom < 1) so that no edit reaches the near plane.
-    cfg = compose_config(["render_size=[80,32]", "edits.angles_deg=[45]", "edits.zoom=0.8", f"edits.compose={mode}"],
-                         "demo")
+    cfg = compose_config(["render_size=[80,32]", "edits.angles_deg=[45]", "edits.zoom=0.8", f"edits.compose={mode}",
+                          "edits.appearance=generator"], "demo")
     info = run_edits(cfg, tiny_synth, ckpts, tmp_path / "edits")
     assert info["compose"] == mode and info["picture_size"] == ([160, 64] if mode == "edited" else [80, 32])
     frame = [r for r in vkitti1.read_frames(tiny_synth) if r.key == info["frame"]][0]
     original = vkitti1.load_rgb(frame)
     pictures = {n: np.asarray(Image.open(tmp_path / "edits" / f"{n}.png"))
-                for n in ("reconstruction", "deleted", "recoloured", "rotated_p45_deg")}
+                for n in ("reconstruction", "deleted", "recoloured_red", "rotated_p45_deg")}
     generated = np.asarray(Image.open(tmp_path / "edits" / "generated" / "deleted.png"))
     assert generated.shape == (32, 80, 3)
     if mode == "full":
@@ -160,9 +161,42 @@ def test_demo_edits_are_composed_into_the_frame(tiny_synth, tmp_path, mode):
         kept = (picture == original).all(-1).mean()
         assert (kept < 0.05) if name == "reconstruction" else (0.3 < kept < 1), (name, kept)
     grid = np.asarray(Image.open(tmp_path / "edits" / "edits_grid.png"))
-    assert (grid[:64, :160] == original).all()  # the source panel is the frame itself
-    rows = 1 + len(info["edits"]) // 2  # source + reconstruction, then two edits a row (the last one alone)
-    assert grid.shape[0] == rows * (64 + 4)
+    rows = (1 + len(info["edits"]) + 1) // 2  # source + reconstruction, then two edits a row (the last one alone)
+    band = grid.shape[0] // rows - 64 - 6  # every panel under its title band
+    assert 10 <= band <= 30 and (grid[band:band + 64, :160] == original).all()  # the source panel is the frame
+
+
+def test_demo_edits_in_photo_appearance_keep_the_frame_and_title_every_panel(tiny_synth, tmp_path):
+    """The default ``edits.appearance=photo``: every edit is the frame at its own size, changed only around the car;
+    the recolour repaints it; each panel of the grid has a title band; ``sources/`` says where pixels came from."""
+    import numpy as np
+    from helpers.tiny_models import write_checkpoints
+    from PIL import Image
+
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli.demo import run_edits
+    from sdn3d.data import vkitti1
+
+    ckpts = {k: str(v) for k, v in write_checkpoints(tmp_path / "ckpt").items()}
+    (tmp_path / "config.yaml").write_text("datamodule:\n  crop_size: 32\n")
+    cfg = compose_config(["render_size=[80,32]", "edits.angles_deg=[45]", "edits.zoom=0.8", "edits.proposals=gt"],
+                         "demo")
+    info = run_edits(cfg, tiny_synth, ckpts, tmp_path / "edits")
+    assert info["appearance"] == "photo" and info["picture_size"] == [160, 64]
+    assert "reconstruction" not in info["edits"] and info["grid_layout"][0] == "source"
+    frame = [r for r in vkitti1.read_frames(tiny_synth) if r.key == info["frame"]][0]
+    original = vkitti1.load_rgb(frame)
+    for name in ("deleted", "recoloured_red", "rotated_p45_deg", "closer"):
+        picture = np.asarray(Image.open(tmp_path / "edits" / f"{name}.png"))
+        sources = np.asarray(Image.open(tmp_path / "edits" / "sources" / f"{name}.png"))
+        assert picture.shape == original.shape == sources.shape
+        kept = (picture == original).all(-1)
+        assert 0.3 < kept.mean() < 1, name  # the frame, changed around the edited car only
+    grid = np.asarray(Image.open(tmp_path / "edits" / "edits_grid.png"))
+    rows = (1 + len(info["edits"]) + 1) // 2
+    band = grid.shape[0] // rows - 64 - 6
+    assert 10 <= band <= 30 and (grid[:band, :160] > 200).mean() > 0.7  # a white title band with dark text
+    assert (grid[:band, :160] < 100).any() and (grid[band:band + 64, :160] == original).all()
 
 
 def test_demo_benchmark_and_edits_run_on_predicted_proposals(tiny_synth, tmp_path):

@@ -148,10 +148,14 @@ def titled_panel(image: np.ndarray, title: str, font_size: int | None = None) ->
         else:
             text = text[:-2] + "…"
     pad = max(2, size // 4)
-    band = (down - up) + 2 * pad
+    try:  # the font's line height, not this text's: every title of one size gets the same band
+        ascent, descent = font.getmetrics()
+    except AttributeError:  # the fixed bitmap font
+        ascent, descent = down, 0
+    band = ascent + descent + 2 * pad
     canvas = Image.new("RGB", (width, height + band), (255, 255, 255))
     canvas.paste(Image.fromarray(np.ascontiguousarray(image)), (0, band))
-    ImageDraw.Draw(canvas).text((3 - left, pad - up), text, fill=(0, 0, 0), font=font)
+    ImageDraw.Draw(canvas).text((3 - left, pad), text, fill=(0, 0, 0), font=font)
     return np.asarray(canvas, dtype=np.uint8).copy()
 
 

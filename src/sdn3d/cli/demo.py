@@ -213,8 +213,10 @@ def _pick_frame(records: Sequence[Any], size: tuple[int, int], wanted: str | Non
 
 
 def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> dict:
-    """De-render one test frame and render a series of 3D edits of its nearest car (``edits.compose``:
-    ``edited`` puts each edit into the frame at its own resolution, ``full`` shows the generator's picture)."""
+    """De-render one test frame and render a series of 3D edits of its nearest car, in ``edits.appearance``
+    (``photo``: the frame's own pixels through each car's 3D shape at the frame's resolution; ``generator``: the
+    textural generator, composed by ``edits.compose``: ``edited`` puts each edit into the frame at its own
+    resolution, ``full`` shows the generator's picture). The grid's panels are titled."""
     from sdn3d.cli._config import synth_data_source
     from sdn3d.data.frames import load_frame
     from sdn3d.data.records import load_rgb
@@ -222,12 +224,17 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.data.sources import load_split
     from sdn3d.derender import PROPOSAL_LABELS, Models, derender
     from sdn3d.editing.compose import ComposeSettings
+    from sdn3d.editing.photo import APPEARANCES, PhotoSettings
     from sdn3d.editing.spec import PixelFrame
     from sdn3d.io import write_png_atomic
     from sdn3d.scene.io import save_scene
-    from sdn3d.visualize import hstack_panels
+    from sdn3d.visualize import titled_row
 
     compose = ComposeSettings(str(cfg.edits.compose))
+    appearance = str(cfg.edits.get("appearance", "photo"))
+    if appearance not in APPEARANCES:
+        raise InputError(f"edits.appearance must be one of {list(APPEARANCES)}, got {appearance!r}")
+    photo = PhotoSettings.from_mapping(cfg.edits.get("photo"))
     source = synth_data_source(data_root, render_size(cfg))
     records = [r for r in load_split(source, "test") if r.objects]
     record = _pick_frame(records, source.image_size, cfg.edits.frame)
@@ -246,24 +253,26 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
         scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, "gt", gt)
         proposals = PROPOSAL_LABELS["gt"] + " (the semantic branch found no car with 3D geometry on this frame)"
     derender_s = time.perf_counter() - started
-    car, edits, recoloured = _example_edits(cfg, scene, record.key, ckpts["textural"])
+    car, edits, recoloured = _example_edits(cfg, scene, record.key, ckpts["textural"], appearance)
     original = np.ascontiguousarray(load_rgb(record), dtype=np.uint8)
     transform = PixelFrame((original.shape[1], original.shape[0]), tuple(source.image_size))
-    pictures, timings = _edit_pictures(edits, scene, models, compose, original, transform, out)
-    source_rgb = original if compose.mode == "edited" else _uint8_picture(frame.image)
+    pictures, timings = _edit_pictures(edits, scene, models, compose, original, transform, out, appearance, photo)
+    at_input = appearance == "photo" or compose.mode == "edited"
+    source_rgb = original if at_input else _uint8_picture(frame.image)
     write_png_atomic(out / "source.png", source_rgb)
     names = list(pictures)
-    rows = [hstack_panels([source_rgb, pictures[names[0]]])]
-    blank = np.full_like(pictures[names[0]], 255)  # an odd count of edits leaves the last row half empty
-    pairs = [(pictures[a], pictures[b] if b is not None else blank) for a, b in zip_longest(names[1::2], names[2::2])]
-    rows += [hstack_panels(list(pair)) for pair in pairs]
+    how = "photo appearance" if appearance == "photo" else f"generator, compose {compose.mode}"
+    titled = [(f"source: {record.key}, car {car}", source_rgb)] + [(f"{name} ({how})", pictures[name])
+                                                                     for name in names]
+    blank = np.full_like(source_rgb, 255)  # an odd count of panels leaves the last row half empty
+    rows = [titled_row([a, b if b is not None else ("", blank)]) for a, b in zip_longest(titled[0::2], titled[1::2])]
     width = max(r.shape[1] for r in rows)
-    grid = np.concatenate([np.pad(r, ((0, 4), (0, width - r.shape[1]), (0, 0)), constant_values=255) for r in rows])
+    grid = np.concatenate([np.pad(r, ((0, 6), (0, width - r.shape[1]), (0, 0)), constant_values=255) for r in rows])
     write_png_atomic(out / "edits_grid.png", grid)
     save_scene(scene, out / "scene")
     return {"frame": record.key, "car": car, "edits": names, "derender_s": round(derender_s, 3),
             "edit_render_s": timings, "grid": "edits/edits_grid.png", "grid_layout": ["source"] + names,
-            "compose": compose.mode, "recoloured": recoloured, "proposals": proposals,
+            "appearance": appearance, "compose": compose.mode, "recoloured": recoloured, "proposals": proposals,
             "picture_size": [int(source_rgb.shape[1]), int(source_rgb.shape[0])]}
 
 
@@ -285,10 +294,12 @@ def _uint8_picture(image: torch.Tensor) -> np.ndarray:
     return (image.detach().cpu().clamp(0, 1).permute(1, 2, 0).numpy() * 255).round().astype(np.uint8)
 
 
-def _example_edits(cfg: Any, scene: Any, key: str, textural: Path) -> tuple[int, dict[str, list], str]:
+def _example_edits(cfg: Any, scene: Any, key: str, textural: Path,
+                   appearance: str = "photo") -> tuple[int, dict[str, list], str]:
     """``(car, {name: ops}, how it was recoloured)``: the nearest car with geometry moved closer, rotated,
-    recoloured (the code bank's code nearest ``edits.recolor``; a random code when the textural run wrote no
-    bank), deleted."""
+    recoloured (photo appearance: its body repainted ``edits.recolor``; generator: the code bank's code nearest
+    that colour, a random code when the textural run wrote no bank), deleted. The photo appearance has no
+    reconstruction (it would be the frame itself)."""
     from sdn3d.editing.apply import Delete, Rotate, SetCode, Zoom
     from sdn3d.labels import INSTANCE_DIVISOR
     from sdn3d.textural.code_bank import code_bank_path, load_code_bank, named_color
@@ -302,7 +313,11 @@ def _example_edits(cfg: Any, scene: Any, key: str, textural: Path) -> tuple[int,
     others = [int(i) for i, g in zip(table.instance_id.tolist(), has_geo.tolist(), strict=True) if g and i != car]
     bank_file = code_bank_path(textural)
     colour = str(cfg.edits.recolor)
-    if bank_file.is_file():
+    paint = named_color(colour, "edits.recolor")
+    if appearance == "photo":
+        new_code = table.code[int(depth.argmin())]
+        recolour = f"{colour} (the car's body repainted, its shading and details kept)"
+    elif bank_file.is_file():
         rgb = torch.tensor(named_color(colour, "edits.recolor"))
         new_code, _ = load_code_bank(bank_file, "the textural run's code bank").nearest(car // INSTANCE_DIVISOR, rgb)
         recolour = f"{colour} (the code bank's nearest code)"
@@ -310,11 +325,11 @@ def _example_edits(cfg: Any, scene: Any, key: str, textural: Path) -> tuple[int,
         gen = torch.Generator().manual_seed(int(cfg.seed))
         new_code = torch.randn(scene.code_dim, generator=gen) * float(table.code.std().clamp_min(0.5))
         recolour = "a random code (the textural run wrote no code bank)"
-    edits: dict[str, list] = {"reconstruction": [], f"closer (zoom {cfg.edits.zoom})": [Zoom(car, float(cfg.edits.zoom),
-                                                                                               on_ground=True)]}
+    edits: dict[str, list] = {} if appearance == "photo" else {"reconstruction": []}
+    edits[f"closer (zoom {cfg.edits.zoom})"] = [Zoom(car, float(cfg.edits.zoom), on_ground=True)]
     for angle in cfg.edits.angles_deg:
         edits[f"rotated {int(angle):+d} deg"] = [Rotate(car, float(np.deg2rad(angle)))]
-    edits["recoloured"] = [SetCode(car, tuple(new_code.tolist()))]
+    edits[f"recoloured {colour}"] = [SetCode(car, tuple(new_code.tolist()), paint)]
     edits["deleted"] = [Delete(car)]
     if others:
         edits["another car deleted"] = [Delete(others[0])]
@@ -322,12 +337,16 @@ def _example_edits(cfg: Any, scene: Any, key: str, textural: Path) -> tuple[int,
 
 
 def _edit_pictures(edits: dict[str, list], scene: Any, models: Any, compose: Any, original: np.ndarray,
-                   transform: Any, out: Path) -> tuple[dict[str, np.ndarray], dict[str, float]]:
-    """``({name: (H, W, 3) uint8}, {name: seconds})``: each edit applied, drawn and composed (timed), written
-    as ``<name>.png``, the generator's own picture as ``generated/<name>.png``. The reconstruction (no edit)
-    is the generator's picture, upsampled to the frame's size with ``compose='edited'``."""
+                   transform: Any, out: Path, appearance: str = "photo",
+                   photo: Any = None) -> tuple[dict[str, np.ndarray], dict[str, float]]:
+    """``({name: (H, W, 3) uint8}, {name: seconds})``: each edit applied and drawn (timed), written as
+    ``<name>.png``. Photo appearance: :func:`sdn3d.editing.photo.render_photo` at the frame's resolution, where each
+    pixel came from in ``sources/<name>.png``. Generator: composed by ``compose``, the generator's own picture as
+    ``generated/<name>.png``; the reconstruction (no edit) is the generator's picture, upsampled to the frame's size
+    with ``compose='edited'``."""
     from sdn3d.editing.apply import apply_edits
     from sdn3d.editing.compose import compose_edit, edited_object_ids
+    from sdn3d.editing.photo import paints, render_photo, source_picture
     from sdn3d.editing.render import render_maps
     from sdn3d.image_ops import resize_image
     from sdn3d.io import write_png_atomic
@@ -338,8 +357,16 @@ def _edit_pictures(edits: dict[str, list], scene: Any, models: Any, compose: Any
     original_t = torch.from_numpy(original).permute(2, 0, 1)
     pictures, timings = {}, {}
     for name, ops in edits.items():
+        slug = name.split(" (")[0].replace(" ", "_").replace("+", "p").replace("-", "m")
         t0 = time.perf_counter()
         edited = apply_edits(scene, ops)
+        if appearance == "photo":
+            result = render_photo(original_t, transform, scene, edited, settings=photo, recolor=paints(ops))
+            timings[name] = round(time.perf_counter() - t0, 3)
+            pictures[name] = result.image.permute(1, 2, 0).numpy()
+            write_png_atomic(out / f"{slug}.png", pictures[name])
+            write_png_atomic(out / "sources" / f"{slug}.png", source_picture(result.source))
+            continue
         maps = scene_maps(edited, num_bins=bins)
         generated = render_maps(maps, models.textural).detach().cpu()
         picture, _ = compose_edit(compose, generated, original_t, transform, before, maps,
@@ -350,7 +377,6 @@ def _edit_pictures(edits: dict[str, list], scene: Any, models: Any, compose: Any
         else:  # the reconstruction shows the generator (composing nothing would give the frame itself)
             size = tuple(transform.input_size) if compose.mode == "edited" else tuple(transform.working_size)
             pictures[name] = _uint8_picture(resize_image(generated, size))
-        slug = name.split(" (")[0].replace(" ", "_").replace("+", "p").replace("-", "m")
         write_png_atomic(out / f"{slug}.png", pictures[name])
         write_png_atomic(out / "generated" / f"{slug}.png", _uint8_picture(generated))
     return pictures, timings
@@ -369,8 +395,13 @@ def _training_rows(training: dict) -> str:
 
 
 def _compose_note(edits: dict) -> str:
-    """What the example edits' pictures are (``edits.compose``)."""
+    """What the example edits' pictures are (``edits.appearance``, ``edits.compose``)."""
     size = "x".join(str(v) for v in edits.get("picture_size", []))
+    if edits.get("appearance") == "photo":
+        return (f"Photo appearance: each edit at the frame's {size} resolution, the car drawn with the frame's own "
+                "pixels through its 3D shape (hidden sides from its mirror image, then its body colour), the road it "
+                "left inpainted; `edits/sources/` shows where each pixel came from (grey input, green photo, blue "
+                "mirror, red fallback, yellow inpainted).")
     if edits.get("compose") == "edited":
         return (f"Compose *edited*: each edit is put into the frame at its own {size} resolution, only the edited "
                 "region redrawn by the generator, every other pixel the frame's; the reconstruction is the "

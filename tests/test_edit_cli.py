@@ -415,3 +415,33 @@ def test_default_proposals_without_a_semantic_branch_say_what_to_give(tiny_synth
     assert main(args) == 2 and not out.exists()
     err = capsys.readouterr().err
     assert "checkpoints.semantic=<file>" in err and "run=" in err and "proposals=gt" in err
+
+
+def test_photo_appearance_is_the_default_and_keeps_every_untouched_pixel(tiny_synth, ckpts, tmp_path, capsys):
+    """``appearance`` unset: the photo appearance. The edited car is drawn from the frame's own pixels (no generator
+    pass), ``maps/photo_source.png`` says where each pixel came from, ``edit.json`` records it, and every pixel the
+    source map calls input is the frame's, bit for bit."""
+    source = scene_from_frame(vkitti1.read_frames(tiny_synth)[4], (160, 64))
+    ids = source.objects.instance_id[source.objects.has_geometry].tolist()
+    edits = _write(tmp_path / "ops.yaml", f"- {{op: rotate, id: {ids[0]}, ry_deg: 30}}\n"
+                                          f"- {{op: recolor, id: {ids[1]}, color: blue}}\n")
+    out = tmp_path / "out"
+    args = [a for a in _args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}") if a != "appearance=generator"]
+    assert main(args) == 0
+    summary = json.loads((out / "edit.json").read_text())
+    assert summary["appearance"] == "photo" and summary["compose"]["mode"] == "photo"
+    assert "photo_ms" in summary["timings_ms"] and "render_ms" not in summary["timings_ms"]  # no generator pass
+    photo = summary["photo"]
+    assert photo["settings"]["fill"] == "patchmatch" and photo["source_pixels"]["input"] > 0
+    assert photo["objects"][str(ids[1])]["recolor"]["color"] == pytest.approx([0.10, 0.25, 0.70])
+    assert not (out / "generated.png").exists() and (out / "maps" / "photo_source.png").is_file()
+    edited = np.asarray(Image.open(out / "edited.png"))
+    frame = vkitti1.load_rgb(vkitti1.read_frames(tiny_synth)[4])
+    sources = np.asarray(Image.open(out / "maps" / "photo_source.png"))
+    untouched = (sources == (40, 40, 40)).all(-1)
+    assert edited.shape == frame.shape and (edited[untouched] == frame[untouched]).all()
+    assert not untouched.all() and "appearance photo" in capsys.readouterr().out
+    assert main([*args[:-1], f"output_dir={tmp_path / 'bad'}", "appearance=paint"]) == 2
+    assert "appearance must be one of ['photo', 'generator']" in capsys.readouterr().err
+    assert main([*args[:-1], f"output_dir={tmp_path / 'bad'}", "+photo.fil=telea"]) == 2
+    assert "photo: unknown setting(s) ['fil']" in capsys.readouterr().err

@@ -400,8 +400,8 @@ def _compose_note(edits: dict) -> str:
     if edits.get("appearance") == "photo":
         return (f"Photo appearance: each edit at the frame's {size} resolution, the car drawn with the frame's own "
                 "pixels through its 3D shape (hidden sides from its mirror image, then its body colour), the road it "
-                "left inpainted; `edits/sources/` shows where each pixel came from (grey input, green photo, blue "
-                "mirror, red fallback, yellow inpainted).")
+                "left inpainted; `edits/sources/` shows where each pixel came from (dark grey input, green photo, "
+                "blue mirror, red fallback, yellow inpainted, violet repainted, grey new shadow).")
     if edits.get("compose") == "edited":
         return (f"Compose *edited*: each edit is put into the frame at its own {size} resolution, only the edited "
                 "region redrawn by the generator, every other pixel the frame's; the reconstruction is the "

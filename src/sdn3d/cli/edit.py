@@ -8,9 +8,9 @@ an existing one is replaced only if it holds nothing but the files an earlier ru
 ``outputs`` and none of this run's inputs, :func:`_output_rules`):
 
     edited.png                                              the result (``appearance``, below)
-    maps/photo_source.png                                   appearance=photo: where each pixel came from (grey
-                                                            input, green photo, blue mirror, red fallback,
-                                                            yellow inpainted)
+    maps/photo_source.png                                   appearance=photo: where each pixel came from (dark
+                                                            grey input, green photo, blue mirror, red fallback,
+                                                            yellow inpainted, violet repainted, grey shadow)
     generated.png                                           the generator's whole edited picture (working size;
                                                             appearance=generator, fill=generator or diagnostics)
     maps/edit_region.png                                    the pixels taken from the generator (compose=edited)

@@ -32,7 +32,8 @@ input camera, :func:`input_intrinsics`):
 6. A soft darkened footprint under a moved object is its new contact shadow.
 
 :class:`PhotoResult` carries the picture and a per-pixel *source map* (:data:`SOURCE_NAMES`: input, photo,
-mirror, fallback, fill) saying where each pixel came from.
+mirror, fallback, fill, recolored, shadow) saying where each pixel came from; only ``input`` pixels are the
+input's, bit for bit.
 """
 
 from __future__ import annotations
@@ -69,10 +70,11 @@ APPEARANCES = ("photo", "generator")
 #: How vacated pixels are filled: PatchMatch (PyPatchMatch), OpenCV's Telea, or the generator's picture (needs one).
 FILL_METHODS = ("patchmatch", "telea", "generator")
 #: Codes of :attr:`PhotoResult.source`.
-SOURCE_NAMES = ("input", "photo", "mirror", "fallback", "fill")
+SOURCE_NAMES = ("input", "photo", "mirror", "fallback", "fill", "recolored", "shadow")
 #: Colour of each source code in :func:`source_picture` (sRGB uint8).
-SOURCE_COLORS = ((40, 40, 40), (60, 170, 75), (70, 120, 230), (230, 80, 60), (240, 200, 60))
-INPUT, PHOTO, MIRROR, FALLBACK, FILL = range(5)
+SOURCE_COLORS = ((40, 40, 40), (60, 170, 75), (70, 120, 230), (230, 80, 60), (240, 200, 60), (200, 90, 220),
+                 (120, 120, 120))
+INPUT, PHOTO, MIRROR, FALLBACK, FILL, RECOLORED, SHADOW = range(7)
 #: PatchMatch runs on crops at most this many pixels on a side (larger ones are filled at a coarser scale).
 PATCHMATCH_MAX_SIDE = 256
 
@@ -355,7 +357,8 @@ def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_s
     crop = (image[:, y0:y1, x0:x1].permute(1, 2, 0).clamp(0, 1).numpy() * 255 + 0.5).astype(np.uint8)
     mask = hole[y0:y1, x0:x1].numpy().astype(np.uint8)
     crop = cv2.copyMakeBorder(crop, 1, 1, 1, 1, cv2.BORDER_REPLICATE)
-    mask = cv2.copyMakeBorder(mask, 1, 1, 1, 1, cv2.BORDER_CONSTANT, value=0)
+    # The pad continues the hole too: a padded pixel beside a hole pixel is no known value to fill from.
+    mask = cv2.copyMakeBorder(mask, 1, 1, 1, 1, cv2.BORDER_REPLICATE)
     if method == "patchmatch":
         from patchmatch import patch_match
 
@@ -431,16 +434,25 @@ def working_to_input(picture: Tensor, transform: PixelFrame) -> Tensor:
                          align_corners=False)[0]
 
 
+def _paint(lab: Tensor, chroma_tol: float = 15.0, dark_ratio: float = 0.45) -> Tensor:
+    """``(P,)`` bool: the car's paint among its pixels ``lab (P, 3)``: the largest colour cluster
+    (:func:`_kmeans_lab`) sets the paint's chroma and lightness; every pixel within ``chroma_tol`` of that chroma
+    (a, b) and brighter than ``dark_ratio`` of that lightness is paint, in sun or shade. Windows and tyres (much
+    darker) and lights (another chroma) are not."""
+    assign = _kmeans_lab(lab)
+    core = lab[assign == int(torch.bincount(assign).argmax())]
+    chroma, light = core[:, 1:].mean(0), core[:, 0].mean()
+    return ((lab[:, 1:] - chroma).norm(dim=1) < chroma_tol) & (lab[:, 0] > dark_ratio * light)
+
+
 def body_pixels(colors: Tensor, groups: Tensor) -> Tensor:
-    """``(P,)`` bool: the pixels of each group (object) in its largest colour cluster (:func:`_kmeans_lab`), its
-    paint; windows, tyres and lights fall in the others."""
+    """``(P,)`` bool: the paint (:func:`_paint`) among the pixels of each group (object) of ``colors (P, 3)``."""
     body = torch.zeros(len(colors), dtype=torch.bool)
     for g in groups.unique().tolist():
         sel = (groups == g).nonzero().flatten()
         if len(sel) < 8:
             continue
-        assign = _kmeans_lab(_lab(colors[sel]))
-        body[sel[assign == int(torch.bincount(assign).argmax())]] = True
+        body[sel[_paint(_lab(colors[sel]))]] = True
     return body
 
 
@@ -482,10 +494,7 @@ def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float]) -> tu
     if len(colors) < 8:
         return colors, torch.zeros(len(colors), dtype=torch.bool), {"body_share": 0.0, "delta_e": float("nan")}
     lab = _lab(colors)
-    assign = _kmeans_lab(lab)
-    sizes = torch.bincount(assign, minlength=3)
-    body_cluster = int(sizes.argmax())
-    body = assign == body_cluster
+    body = _paint(lab)
     target = _lab(torch.tensor([target_rgb], dtype=colors.dtype))[0]
     shift = target - lab[body].mean(0)
     new_lab = lab + shift
@@ -744,6 +753,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         soft = _contact_shadow(after, moved_rows, K, size)
         soft = torch.where(own != 0, torch.zeros_like(soft), soft)
         out = out * (1 - settings.contact_shadow * soft)[None]
+        source = torch.where((soft > 0.02) & (source == INPUT), SHADOW, source).to(torch.uint8)
 
     # Target rasterization of the drawn objects (moved ones, and the ones that grew) at their poses.
     draw_rows = torch.tensor(sorted(set(moved_rows) | set(grown_rows)), dtype=torch.long)
@@ -773,12 +783,12 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         flat = out.permute(1, 2, 0).clone()
         flat[region] = new
         out = flat.permute(2, 0, 1)
+        repainted = torch.zeros_like(region)
+        repainted[region] = (new != colors).any(1)
+        source = torch.where(repainted & (source == INPUT), RECOLORED, source).to(torch.uint8)
         objects.setdefault(int(iid), {}).update({"recolor": {"color": [round(float(c), 4) for c in rgb], **stats}})
     result = out.clamp(0, 1)
     changed = source != INPUT
-    for iid, info in objects.items():
-        if "recolor" in info:
-            changed |= final_own == iid
     if original.dtype == torch.uint8:
         result = torch.where(changed[None], (result * 255 + 0.5).floor().clamp(0, 255).to(torch.uint8), original)
     else:
@@ -874,7 +884,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
                          "mirror": round(float(ok_mirror[sel].double().mean()), 4),
                          "fallback": round(float((~seen[sel]).double().mean()), 4), "moved": bool(moved[r]),
                          "_pixels": pix[sel]}
-        if b >= 0 and not bool(seen[sel].any()) and bool(moved[r]):
+        if len(visible_px) and n >= 50 and not bool(seen[sel].any()) and bool(moved[r]):
             warnings.append(f"object {name}: none of its surface is visible in the input (behind the camera, off the "
                             "frame or hidden); drawn from its mean colour")
     color = torch.where(seen[:, None], color, fallback).clamp(0, 1)

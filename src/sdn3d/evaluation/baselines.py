@@ -161,13 +161,14 @@ def _modify_warps(ops: list, mode: str, device: torch.device) -> tuple[Tensor, T
 def baseline_photo(image: Tensor, scene: SceneCode, entry: BenchmarkEntry | Sequence[BenchmarkOperation],
                    mode: str = "2d", frame_size: tuple[int, int] | None = VKITTI_FRAME_SIZE,
                    settings: PhotoSettings | None = None, bank: MeshBank | None = None,
-                   max_distance: float | None = None) -> Tensor:
+                   max_distance: float | None = None, fill: Tensor | None = None) -> Tensor:
     """The ``mode`` baseline's edit of ``image (3, H, W)`` (float in [0, 1], the scene's size) in the photo
     appearance (module doc): ``(3, H, W)``.
 
     Every edited object is removed and its pixels filled as 3D-SDN's photo appearance fills them; each ``modify``
     then pastes the object's source pixels at ``q = to + scale * (p - from)`` (bilinear), nearer-looking regions
-    (lower bottom row) in front, kept objects included.
+    (lower bottom row) in front, kept objects included. ``fill (3, H, W)``: the generator's picture of this edit,
+    for ``settings.fill='generator'``.
     """
     if mode not in BASELINE_MODES:
         raise ValueError(f"mode must be one of {BASELINE_MODES}, got {mode!r}")
@@ -181,7 +182,7 @@ def baseline_photo(image: Tensor, scene: SceneCode, entry: BenchmarkEntry | Sequ
     instances = compose_instances(scene, bank).cpu()
     gone = torch.tensor(ids, dtype=torch.long)
     keep = (instances != 0) & ~torch.isin(instances, gone)
-    out = fill_hole(image, vacated_hole(instances, gone, keep, settings), settings, instances != 0)
+    out = fill_hole(image, vacated_hole(instances, gone, keep, settings), settings, instances != 0, fill)
     mods = [(op, i) for op, i in zip(ops, ids, strict=True) if op.kind == "modify"]
     if not mods:
         return out

@@ -335,7 +335,7 @@ def _method_pictures(entry: BenchmarkEntry, scene: SceneCode, baseline: tuple[Sc
     path's latency. ``baseline``: the source scene (its codes from that generator's encoder) and the generator of
     the 2D and 2D+ edits."""
     t1 = time.perf_counter()
-    generate = bool(settings.generator_modes)
+    generate = bool(settings.generator_modes) or settings.photo.fill == "generator"
     images: dict[str, Tensor] = {}
     maps: dict[str, ComposedMaps] = {}
     picks: dict[str, list[int]] = {}
@@ -387,13 +387,15 @@ def _composed(images: dict[str, Tensor], maps: dict[str, ComposedMaps], source: 
         if mode == "photo":
             if edited is not None:
                 t0 = time.perf_counter()
-                out[mode]["3d-sdn"] = render_photo(source, identity, scene, edited, settings=settings.photo).image
+                out[mode]["3d-sdn"] = render_photo(source, identity, scene, edited, settings=settings.photo,
+                                                   generated=images.get("3d-sdn")).image
                 if result.latency_ms:
                     result.latency_ms["photo"] = 1000 * (time.perf_counter() - t0)
             for method in ("2d", "2d+"):
                 if method in maps:  # the baselines paste the same scene's objects the generator path edits
                     out[mode][method] = baseline_photo(source, scene, entry, method, settings.frame_size,
-                                                       settings.photo, max_distance=settings.pick_radius)
+                                                       settings.photo, max_distance=settings.pick_radius,
+                                                       fill=images.get(method))
             continue
         for method, picture in images.items():
             t0 = time.perf_counter()

@@ -1,0 +1,89 @@
+"""Latency of the photo appearance (sdn3d.editing.photo.render_photo) at the input's resolution.
+
+For every entry of a synthetic editing benchmark (default: a small dataset generated here at 1242x375, the Virtual
+KITTI size), the source frame's ground-truth scene at the working size (624x192) is edited with the entry's
+operations and drawn with the photo appearance at 1242x375. The scene is the oracle (ground-truth geometry), so the
+figure is the drawing alone: no network runs. Times each fill method side by side in one process, the same entries
+in the same order, after one warm-up call; prints the median and 90th percentile per fill method and per kind of edit
+(sdn3d.evaluation.edit_benchmark.edit_kind), and the process's peak resident memory.
+
+    python benchmarks/photo_latency.py                       # generate the data in a temporary directory
+    python benchmarks/photo_latency.py --data outputs/data/x  # a sdn3d-synth tree at 1242x375
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--data", type=Path, default=None, help="a sdn3d-synth tree (default: generate one)")
+    parser.add_argument("--fills", nargs="+", default=["telea", "patchmatch"])
+    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--limit", type=int, default=40)
+    args = parser.parse_args()
+    torch.set_num_threads(args.threads)
+
+    from sdn3d.data.edit_benchmark import load_edit_benchmark
+    from sdn3d.data.records import load_rgb
+    from sdn3d.data.scene_gt import scene_from_frame
+    from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
+    from sdn3d.data.vkitti1 import read_frames
+    from sdn3d.editing.apply import apply_edits, ops_from_benchmark
+    from sdn3d.editing.photo import PhotoSettings, render_photo
+    from sdn3d.editing.spec import PixelFrame
+    from sdn3d.evaluation.edit_benchmark import edit_kind
+
+    tmp = None
+    root = args.data
+    if root is None:
+        tmp = tempfile.TemporaryDirectory()
+        root = Path(tmp.name) / "vkitti"
+        generate_dataset(SynthConfig(output_dir=str(root), seed=3, image_size=(1242, 375), worlds=("0001", "0018"),
+                                     variations=("clone",), frames_per_sequence=12, edit_pairs=6, occluder_pairs=2,
+                                     workers=1))
+    records = {(r.world, r.variation, int(r.frame)): r for r in read_frames(root)}
+    entries = [e for e in load_edit_benchmark(root / BENCHMARK_NAME) if e.operations][: args.limit]
+    work = (624, 192)
+    cases = []
+    for entry in entries:
+        record = records[(entry.world, entry.variation, entry.source_frame)]
+        scene = scene_from_frame(record, work)
+        edited = apply_edits(scene, ops_from_benchmark(entry, scene, (1242, 375), strict=False))
+        original = torch.from_numpy(np.ascontiguousarray(load_rgb(record))).permute(2, 0, 1)
+        cases.append((edit_kind(entry), scene, edited, original))
+    size = tuple(int(x) for x in cases[0][3].shape[2:0:-1])
+    frame = PixelFrame(size, work)
+    times: dict[str, dict[str, list[float]]] = {f: {} for f in args.fills}
+    render_photo(cases[0][3], frame, cases[0][1], cases[0][2])  # warm-up (imports, PatchMatch's library)
+    for kind, scene, edited, original in cases:
+        for fill in args.fills:
+            settings = PhotoSettings(fill=fill)
+            t0 = time.perf_counter()
+            render_photo(original, frame, scene, edited, settings=settings)
+            times[fill].setdefault(kind, []).append(1000 * (time.perf_counter() - t0))
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(f"photo appearance latency: {len(cases)} edits of {root} drawn at {size[0]}x{size[1]} from {work[0]}x"
+          f"{work[1]} oracle scenes, {args.threads} threads, CPU; fills timed side by side, same entries and order")
+    print("| fill | kind | edits | median ms | p90 ms |\n|---|---|---|---|---|")
+    for fill, per_kind in times.items():
+        every = [t for ts in per_kind.values() for t in ts]
+        for kind, ts in [("all", every), *sorted(per_kind.items())]:
+            p90 = float(np.percentile(ts, 90))
+            print(f"| {fill} | {kind} | {len(ts)} | {statistics.median(ts):.0f} | {p90:.0f} |")
+    print(f"peak resident memory of this process: {peak:.0f} MiB")
+    if tmp is not None:
+        tmp.cleanup()
+
+
+if __name__ == "__main__":
+    main()

@@ -174,11 +174,26 @@ def test_inpaint_handles_holes_at_the_frame_edge():
     hole = torch.zeros(40, 60, dtype=torch.bool)
     hole[:8, :10] = True  # top-left corner: OpenCV needs the one-pixel pad
     image[:, hole] = 0.0
-    for method in ("telea", "patchmatch"):
+    for method in ("telea", "patchmatch", "auto"):
         out = inpaint(image, hole, method)
         assert float((out[:, hole] - 0.6).abs().max()) < 0.02, method
-    with pytest.raises(PhotoSettingsError, match="telea"):
+    with pytest.raises(PhotoSettingsError, match="'telea', 'patchmatch' or 'auto'"):
         inpaint(image, hole, "blur")
+
+
+def test_auto_fill_uses_telea_for_thin_gaps_and_patchmatch_for_large_holes(monkeypatch):
+    import sdn3d.editing.photo as photo
+
+    used = []
+    real = photo._inpaint_part
+    monkeypatch.setattr(photo, "_inpaint_part", lambda image, part, how, *a: used.append(how) or real(image, part,
+                                                                                                   how, *a))
+    image = torch.rand(3, 80, 120, generator=torch.Generator().manual_seed(0))
+    hole = torch.zeros(80, 120, dtype=torch.bool)
+    hole[10:13, 5:60] = True  # a thin gap: 3 px
+    hole[40:70, 60:110] = True  # a large hole: 30 x 50 px
+    inpaint(image, hole, "auto")
+    assert sorted(used) == ["patchmatch", "telea"]
 
 
 def test_fit_light_finds_the_direction_with_an_albedo_per_object():

@@ -70,7 +70,9 @@ APPEARANCES = ("photo", "generator")
 #: How vacated pixels are filled: OpenCV's Telea (the default: the best weight-free fill by L1 and PSNR on a held-out
 #: synthetic benchmark's delete and occluder entries), PatchMatch (PyPatchMatch: copies texture, plausible to the eye
 #: on large holes, lower PSNR, slower), or the generator's picture (needs the textural branch).
-FILL_METHODS = ("telea", "patchmatch", "generator")
+FILL_METHODS = ("telea", "patchmatch", "auto", "generator")
+#: ``fill='auto'``: a hole part at most this many pixels from its edge everywhere is filled by Telea, else PatchMatch.
+AUTO_THIN_PX = 6.0
 #: Codes of :attr:`PhotoResult.source`.
 SOURCE_NAMES = ("input", "photo", "mirror", "fallback", "fill", "recolored", "shadow")
 #: Colour of each source code in :func:`source_picture` (sRGB uint8).
@@ -325,15 +327,20 @@ def fit_light(colors: Tensor, normals: Tensor, groups: Tensor, directions: int =
 def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5, patch_size: int = 3,
             keep_out: Tensor | None = None) -> Tensor:
     """``image (3, H, W)`` float in [0, 1] with ``hole (H, W)`` filled, each connected part of the hole on its own
-    bounding box plus a margin (:func:`_inpaint_part`)."""
+    bounding box plus a margin (:func:`_inpaint_part`; ``method`` there, or ``'auto'``)."""
     import cv2
 
     if not bool(hole.any()):
         return image
     count, labels = cv2.connectedComponents(hole.numpy().astype(np.uint8), connectivity=8)
+    depth = cv2.distanceTransform(hole.numpy().astype(np.uint8), cv2.DIST_L2, 3) if method == "auto" else None
     labels = torch.from_numpy(labels)
     for k in range(1, count):
-        image = _inpaint_part(image, labels == k, method, radius, patch_size, keep_out)
+        part = labels == k
+        how = method
+        if method == "auto":  # thin gaps smear little under Telea; large holes need copied texture
+            how = "telea" if float(depth[part.numpy()].max()) <= AUTO_THIN_PX else "patchmatch"
+        image = _inpaint_part(image, part, how, radius, patch_size, keep_out)
     return image
 
 
@@ -343,8 +350,9 @@ def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_s
     holes that touch the top or left edge).
 
     Args:
-        method: ``'telea'`` (OpenCV's fast marching; smears large holes) or ``'patchmatch'`` (PyPatchMatch: copies
-            patches of the surroundings; plausible road and kerb texture, slower).
+        method: ``'telea'`` (OpenCV's fast marching; smears large holes), ``'patchmatch'`` (PyPatchMatch: copies
+            patches of the surroundings; plausible road and kerb texture, slower) or ``'auto'`` (per connected part:
+            Telea where it is thin, :data:`AUTO_THIN_PX`, else PatchMatch).
         radius: Telea's neighbourhood; patch_size: PatchMatch's patch radius.
         keep_out: ``(H, W)`` pixels PatchMatch must not copy from (other objects).
     """
@@ -384,7 +392,7 @@ def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_s
     elif method == "telea":
         filled = cv2.inpaint(np.ascontiguousarray(crop[:, :, ::-1]), mask, radius, cv2.INPAINT_TELEA)[1:-1, 1:-1, ::-1]
     else:
-        raise PhotoSettingsError(f"inpaint method must be 'telea' or 'patchmatch', got {method!r}")
+        raise PhotoSettingsError(f"inpaint method must be 'telea', 'patchmatch' or 'auto', got {method!r}")
     out = image.clone()
     patch = torch.from_numpy(np.ascontiguousarray(filled)).permute(2, 0, 1).float() / 255
     region = hole[y0:y1, x0:x1]
@@ -438,13 +446,21 @@ def working_to_input(picture: Tensor, transform: PixelFrame) -> Tensor:
 
 def _paint(lab: Tensor, chroma_tol: float = 15.0, dark_ratio: float = 0.45) -> Tensor:
     """``(P,)`` bool: the car's paint among its pixels ``lab (P, 3)``: the largest colour cluster
-    (:func:`_kmeans_lab`) sets the paint's chroma and lightness; every pixel within ``chroma_tol`` of that chroma
-    (a, b) and brighter than ``dark_ratio`` of that lightness is paint, in sun or shade. Windows and tyres (much
-    darker) and lights (another chroma) are not."""
+    (:func:`_kmeans_lab`) sets the paint's chroma and lightness; paint is brighter than ``dark_ratio`` of that
+    lightness and, for a coloured car, of the same hue (within 30 degrees, chroma at least 0.3 of it: shade lowers
+    chroma, not hue), for a grey one within ``chroma_tol`` of its chroma (a, b). Windows and tyres (much darker)
+    and lights (another hue) are not paint."""
     assign = _kmeans_lab(lab)
     core = lab[assign == int(torch.bincount(assign).argmax())]
     chroma, light = core[:, 1:].mean(0), core[:, 0].mean()
-    return ((lab[:, 1:] - chroma).norm(dim=1) < chroma_tol) & (lab[:, 0] > dark_ratio * light)
+    bright = lab[:, 0] > dark_ratio * light
+    size = float(chroma.norm())
+    if size <= 2 * chroma_tol / 3:  # grey, white, black or silver paint: near that chroma
+        return ((lab[:, 1:] - chroma).norm(dim=1) < chroma_tol) & bright
+    # Coloured paint: the same hue (shade lowers chroma and lightness but keeps the hue), and not greyish.
+    ab = lab[:, 1:]
+    cosine = (ab @ chroma) / (ab.norm(dim=1) * size).clamp(min=1e-6)
+    return (cosine > math.cos(math.radians(30))) & (ab.norm(dim=1) > 0.3 * size) & bright
 
 
 def body_pixels(colors: Tensor, groups: Tensor) -> Tensor:

@@ -37,11 +37,11 @@ _TEMPLATE_SHA = {
 # vehicles='bank' worlds as drawn by the generator before the family existed (seed 0, 3 frames, cars_per_frame
 # (6, 14)): SHA-256 of the car table, and of the instance + depth maps of frame 1 rasterized from car_meshes alone
 # at 160x48 (cars only, so that scenery changes do not move it).
-_BANK_SHA = {
+_BANK_SHA = {  # car parameters (sha256), instance map (sha256), sum of the covered pixels' depths
     "0001": ("2b130feaaf2b354ec18db6aa06d84eb467dbb780d838da0cfde358e6ce6e9a5e",
-             "56b6d41d2c93ba48e4b4ec1026eb1a8a87fc7bbdd9ee6f49e421ef40f8162f5a"),
+             "67f6a96ed927af3ba4d619fbbdcfd491677117c04c78b17dd317d20bbb6ee0d1", 8125.313290596008),
     "0020": ("fcef739bb467cbda51d826082e4d1b2e793d0a6bb5e9c033ec1108f0bfd70256",
-             "00926dc944308ceba49e6784adf54b8a085f7b21fb515b540119817767b9f0e0"),
+             "7bd6cd13561c31404d7b97971f435da1e73b3ef973b550b6751bc55ec910659b", 11452.042992591858),
 }
 
 
@@ -158,12 +158,17 @@ def _bank_hashes(world_name: str) -> tuple[str, str]:
                              RasterSettings(image_size=(48, 160), cull_backfaces=True))
     pix = frags.pix_to_face[0]
     instance = torch.where(pix >= 0, owner[pix.clamp(min=0)], -1)
-    return cars.hexdigest(), hashlib.sha256(instance.numpy().tobytes() + frags.depth[0].numpy().tobytes()).hexdigest()
+    depth = float(frags.depth[0][pix >= 0].double().sum())
+    return cars.hexdigest(), hashlib.sha256(instance.numpy().tobytes()).hexdigest(), depth
 
 
 @pytest.mark.parametrize("world_name", sorted(_BANK_SHA))
 def test_bank_mode_draws_the_same_cars_as_before(world_name: str) -> None:
-    assert _bank_hashes(world_name) == _BANK_SHA[world_name]
+    """The cars' parameters bit for bit, and their rendering: the same instance map and the same depths up to float
+    rounding (the depths' last bits differ between CPUs: a hash of them failed on another machine)."""
+    cars, instances, depth = _bank_hashes(world_name)
+    want_cars, want_instances, want_depth = _BANK_SHA[world_name]
+    assert (cars, instances) == (want_cars, want_instances) and depth == pytest.approx(want_depth, rel=1e-6)
 
 
 def test_heldout_worlds_use_the_family_with_more_vans() -> None:

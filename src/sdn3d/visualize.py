@@ -129,13 +129,18 @@ def hstack_panels(panels: list[np.ndarray], gap: int = 4) -> np.ndarray:
     return np.concatenate(parts, 1)
 
 
+def _title_size(height: int, width: int) -> int:
+    """A title's font size for a panel: a twelfth of its smaller side, 11 to 22 px."""
+    return int(min(22, max(11, round(min(height, width) / 12))))
+
+
 def titled_panel(image: np.ndarray, title: str, font_size: int | None = None) -> np.ndarray:
     """``image (H, W, 3)`` uint8 under a white band carrying ``title`` (shrunk to fit the width, down to 9 px,
     then cut with an ellipsis): ``(H + band, W, 3)``. ``font_size`` None: a twelfth of the smaller side, 11-22 px."""
     from PIL import Image, ImageDraw
 
     height, width = image.shape[:2]
-    size = int(font_size) if font_size else int(min(22, max(11, round(min(height, width) / 12))))
+    size = int(font_size) if font_size else _title_size(height, width)
     draw = ImageDraw.Draw(Image.new("RGB", (1, 1)))
     text = title
     while True:
@@ -162,8 +167,7 @@ def titled_panel(image: np.ndarray, title: str, font_size: int | None = None) ->
 def titled_row(panels: Sequence[tuple[str, np.ndarray]], gap: int = 4, font_size: int | None = None) -> np.ndarray:
     """Panels side by side (:func:`hstack_panels`), each under its title (:func:`titled_panel`, one font size for
     the row so the bands match)."""
-    height, width = panels[0][1].shape[:2]
-    size = int(font_size) if font_size else int(min(22, max(11, round(min(height, width) / 12))))
+    size = int(font_size) if font_size else _title_size(*panels[0][1].shape[:2])
     titled = [titled_panel(image, title, size) for title, image in panels]
     band = max(t.shape[0] for t in titled)
     titled = [np.concatenate([np.full((band - t.shape[0], t.shape[1], 3), 255, np.uint8), t], 0) for t in titled]

@@ -29,7 +29,7 @@ from sdn3d.scene.code import ObjectTable
 from sdn3d.scene.maps import ComposedMaps
 
 __all__ = ["COMPOSE_MODES", "ComposeSettings", "ComposeSettingsError", "edited_object_ids", "changed_pixels",
-           "edit_region_mask", "feather_alpha", "compose_edited", "compose_edit"]
+           "edit_region_mask", "feather_alpha", "sampling_grid", "compose_edited", "compose_edit"]
 
 #: ``edited``: the input with the edit region blended in at its resolution; ``full``: the generator's picture.
 COMPOSE_MODES = ("edited", "full")
@@ -163,7 +163,7 @@ def _input_window(region: Tensor, transform: PixelFrame) -> tuple[int, int, int,
     return max(x0, 0), max(y0, 0), min(x1, win), min(y1, hin)
 
 
-def _sampling_grid(transform: PixelFrame, window: tuple[int, int, int, int], device: torch.device
+def sampling_grid(transform: PixelFrame, window: tuple[int, int, int, int], device: torch.device
                    ) -> tuple[Tensor, Tensor]:
     """``(grid (1, h, w, 2), inside (h, w) bool)`` for the input pixels of ``window``: their working-image
     positions for ``grid_sample`` (``align_corners=False``) and whether they lie in the cropped part."""
@@ -206,7 +206,7 @@ def compose_edited(original: Tensor, generated: Tensor, region: Tensor, transfor
         return out
     x0, y0, x1, y1 = window
     device = original.device
-    grid, inside = _sampling_grid(transform, window, device)
+    grid, inside = sampling_grid(transform, window, device)
     alpha_work = feather_alpha(region.to(device), feather_px, _open_sides(transform))
     alpha = F.grid_sample(alpha_work[None, None], grid, mode="bilinear", padding_mode="border",
                           align_corners=False)[0, 0] * inside

@@ -48,6 +48,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
+from sdn3d.editing.compose import sampling_grid
 from sdn3d.editing.ops import SetCode
 from sdn3d.editing.spec import PixelFrame
 from sdn3d.errors import UserInputError
@@ -435,13 +436,9 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
 def working_to_input(picture: Tensor, transform: PixelFrame) -> Tensor:
     """``(C, H_in, W_in)`` bilinear samples of a working-size ``picture (C, h, w)`` at every input pixel (the
     transform's inverse; border values outside its crop)."""
-    (sx, sy), (left, top) = transform.scale, transform.offset
     w_in, h_in = transform.input_size
-    h, w = picture.shape[-2:]
-    u = (torch.arange(w_in, dtype=torch.float64) + 0.5) * sx - 0.5 - left
-    v = (torch.arange(h_in, dtype=torch.float64) + 0.5) * sy - 0.5 - top
-    grid = torch.stack(torch.meshgrid((u + 0.5) / w * 2 - 1, (v + 0.5) / h * 2 - 1, indexing="xy"), -1)[None]
-    return F.grid_sample(picture[None].float().cpu(), grid.float(), mode="bilinear", padding_mode="border",
+    grid, _ = sampling_grid(transform, (0, 0, w_in, h_in), torch.device("cpu"))
+    return F.grid_sample(picture[None].float().cpu(), grid, mode="bilinear", padding_mode="border",
                          align_corners=False)[0]
 
 
@@ -546,8 +543,7 @@ class _Raster:
     frags: Fragments
 
 
-def _rasterize(objects: ObjectTable, rows: Tensor, verts: Tensor, faces: Tensor, K: Tensor,
-               size: tuple[int, int]) -> _Raster:
+def _rasterize(rows: Tensor, verts: Tensor, faces: Tensor, K: Tensor, size: tuple[int, int]) -> _Raster:
     g = len(rows)
     frags = rasterize_meshes(verts.double(), faces, K, RasterSettings(image_size=size),
                              mesh_to_image=torch.zeros(g, dtype=torch.long), batch_size=1)
@@ -737,7 +733,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
             grown_rows.append(a)
 
     src_rows, src_verts, src_faces = posed_meshes(before, bank)
-    src = _rasterize(before, src_rows.cpu(), src_verts.cpu(), src_faces.cpu(), K, size)
+    src = _rasterize(src_rows.cpu(), src_verts.cpu(), src_faces.cpu(), K, size)
     src_row_to_mesh = torch.full((len(before),), -1, dtype=torch.long)
     src_row_to_mesh[src.rows] = torch.arange(len(src.rows))
 
@@ -750,17 +746,17 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         vis = (mesh_at >= 0) & (vis_ids.view(-1) == torch.where(
             mesh_at >= 0, before.instance_id[src.rows[mesh_at.clamp(min=0)]], -1))
         pix = vis.nonzero().flatten()
-        pix = pix[body_pixels(image.permute(1, 2, 0).reshape(-1, 3)[pix], mesh_at[pix])]
+        pixels = image.permute(1, 2, 0).reshape(-1, 3)
+        pix = pix[body_pixels(pixels[pix], mesh_at[pix])]
         if len(pix) > 6000:  # evenly spread: plenty for four numbers and the albedos
             pix = pix[torch.linspace(0, len(pix) - 1, 6000).long()]
-        light = fit_light(image.permute(1, 2, 0).reshape(-1, 3)[pix], src_normals[pix], mesh_at[pix])
+        light = fit_light(pixels[pix], src_normals[pix], mesh_at[pix])
         if light is not None and light.gain < 0.05:
             light = None  # no better than constant shading: do not re-shade
     shade = light.shade if light is not None else None
 
-    # Vacated pixels (step 2).
-    grown_ids = after.instance_id[torch.tensor(grown_rows, dtype=torch.long)]
-    keep = ((own != 0) & ~torch.isin(own, grown_ids)) | ((src_ids != 0) & torch.isin(src_ids, after.instance_id[stays]))
+    # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
+    keep = (src_ids != 0) & torch.isin(src_ids, after.instance_id[stays])
     hole = vacated_hole(src_ids, gone_ids, keep, settings)
     fill = working_to_input(generated, transform) if settings.fill == "generator" else None
     out = fill_hole(image, hole, settings, src_ids != 0, fill)
@@ -780,7 +776,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     if len(draw_rows):
         tgt_all_rows, tgt_verts, tgt_faces = posed_meshes(after, bank)
         keep = torch.isin(tgt_all_rows.cpu(), draw_rows)
-        tgt = _rasterize(after, tgt_all_rows.cpu()[keep], tgt_verts.cpu()[keep], tgt_faces.cpu()[keep], K, size)
+        tgt = _rasterize(tgt_all_rows.cpu()[keep], tgt_verts.cpu()[keep], tgt_faces.cpu()[keep], K, size)
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings)
         for a in moved_rows:

@@ -104,14 +104,7 @@ def baseline_maps(scene: SceneCode, entry: BenchmarkEntry | Sequence[BenchmarkOp
     instance = base.instance
     normal, pose, depth = base.normal, base.pose, base.depth
     if mods:
-        src = torch.tensor([op.from_uv for op, _ in mods], dtype=torch.float64, device=device)
-        dst = torch.tensor([op.to_uv if op.to_uv is not None else op.from_uv for op, _ in mods],
-                           dtype=torch.float64, device=device)
-        squeeze = [abs(math.cos(op.ry)) if mode == "2d+" else 1.0 for op, _ in mods]
-        scale = torch.tensor([[op.zoom * s, op.zoom] for (op, _), s in zip(mods, squeeze, strict=True)],
-                             dtype=torch.float64, device=device)
-        if not bool((scale > 0).all()):
-            raise EditError(f"{mode}: an edit squeezes an object to zero width (|cos ry| = 0)")
+        src, dst, scale = _modify_warps([op for op, _ in mods], mode, device)
         mod_ids = torch.tensor([i for _, i in mods], device=device)
         regions = source.instance[None] == mod_ids[:, None, None]
         carried = torch.cat([source.normal, source.pose, source.depth])

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -130,11 +131,27 @@ def test_moved_and_turned_car_carries_its_own_surface_colours(turn_deg):
     assert shares["photo"] + shares["mirror"] + shares["fallback"] == pytest.approx(1.0, abs=1e-3)
     if turn_deg == 180.0:  # the side the photo showed now faces away: the mirror supplies the near side
         assert shares["mirror"] > 0.3
-    else:
-        assert shares["photo"] > 0.6
+    else:  # the surfaces the photo saw edge-on (min_view_cos) are not taken from it
+        assert shares["photo"] > 0.55
     # Nothing moved but the car: far from it and from where it was, the input's pixels.
     changed = result.source != INPUT
     assert torch.equal(result.image[:, ~changed], image[:, ~changed])
+
+
+def test_a_side_the_photo_saw_edge_on_is_not_stretched_over_a_turned_car():
+    """A car seen from behind, a little to the left, shows its right side nearly edge-on (a few pixels wide); turned
+    by 90 degrees, that side faces the camera and must come from the body colour, not from those few pixels
+    stretched over it."""
+    behind = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2, location=(-2.0, 1.6, 12.0))
+    scene = _scene([behind])
+    image, _ = _surface_colors(scene, INPUT_SIZE[::-1], _k_input())
+    edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
+    shares = render_photo(image, FRAME, scene, edited, settings=NO_LIGHT).objects[12001]
+    assert shares["photo"] + shares["mirror"] < 0.1 and shares["fallback"] > 0.9
+    stretched = render_photo(image, FRAME, scene, edited, settings=dataclasses.replace(NO_LIGHT, min_view_cos=0.0))
+    assert stretched.objects[12001]["photo"] + stretched.objects[12001]["mirror"] > 0.3  # what the check prevents
+    with pytest.raises(PhotoSettingsError, match="min_view_cos"):
+        PhotoSettings(min_view_cos=1.5)
 
 
 def test_a_moved_car_passes_behind_a_nearer_one():

@@ -7,7 +7,9 @@
    object's class, so the map is the background the objects are drawn on (:mod:`sdn3d.scene.code`).
 2. **Proposals**: instance masks from the frame's ground-truth instance map when a
    :class:`GroundTruth` with one is given (``'auto'``, ``'gt'``: an oracle), else from the semantic
-   branch's instance head (``'semantic'``).
+   branch's instance head (``'semantic'``); and objects a person named by a box (:class:`BoxPrompts`, with any of
+   those or alone as ``'boxes'``): GrabCut masks (:mod:`sdn3d.box_masks`), nearest first, each taking its pixels
+   from any other proposal; a proposal left with less than half its pixels is dropped.
 3. **Geometry**: every object with at least ``min_pixels`` visible pixels becomes a square masked
    crop (the :class:`~sdn3d.data.datasets.GeometricDataset` recipe: its 2D box grown by ``margin``,
    resampled to ``crop_size``), all crops go through the geometric branch in one forward
@@ -15,6 +17,9 @@
    the annotation's when the object comes from a ground-truth frame (what the branch is trained
    on), else the mask's bounding box. Objects without a prediction (no geometric model, too small,
    a box one pixel wide or high, non-finite output or behind the camera) keep only their 2D mask.
+   A box object's prediction (when there is a geometric branch) only starts :func:`~sdn3d.geometric.fit.fit_to_masks`:
+   every template and four yaws fitted to its mask on the road plane, other objects' pixels ignored; the scene's
+   ``meta['boxes']`` records per box where its mask and pose came from and the fit's silhouette IoU.
 4. **Texture**: the textural encoder pools one code per region of the instance label map ``L``
    (objects and background classes): :func:`encode_scene`.
 
@@ -28,7 +33,7 @@ from __future__ import annotations
 import logging
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -44,13 +49,14 @@ from sdn3d.image_ops import (
     pixel_centre_boxes,
     square_crop_window,
 )
-from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR
+from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR, SemanticClass
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
 from sdn3d.scene.maps import scene_maps
 
 if TYPE_CHECKING:
+    from sdn3d.geometric.fit import FitSettings
     from sdn3d.geometric.predict import GeometricPredictor
     from sdn3d.geometric.refine import RefineSettings
     from sdn3d.semantic.predict import SemanticPredictor
@@ -59,6 +65,7 @@ if TYPE_CHECKING:
 __all__ = [
     "PROPOSALS",
     "PROPOSAL_LABELS",
+    "BoxPrompts",
     "GroundTruth",
     "Models",
     "geometric_crop_settings",
@@ -69,10 +76,11 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-PROPOSALS = ("auto", "gt", "semantic")
+PROPOSALS = ("auto", "gt", "semantic", "boxes")
 #: What a scene's objects and semantics came from, as every report says it (the oracle labelled).
 PROPOSAL_LABELS = {"semantic": "predicted: the semantic branch's masks and semantics",
-                   "gt": "oracle: ground-truth masks and semantics"}
+                   "gt": "oracle: ground-truth masks and semantics",
+                   "boxes": "boxes given by the user: GrabCut masks, 3D fitted to them"}
 #: Paper crop side of the geometric branch (released 3D-SDN code), used when a run does not say.
 DEFAULT_CROP_SIZE = 256
 DEFAULT_MARGIN = 0.1
@@ -133,6 +141,58 @@ class GroundTruth:
     semantic: Tensor
     instances: Tensor | None = None
     boxes: Mapping[int, Tensor] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class BoxPrompts:
+    """Objects a person named by a box (step 2 of the module doc; real photos need nothing else).
+
+    Attributes:
+        boxes: ``(N, 4)`` float half-open ``(x0, y0, x1, y1)`` in the working image's pixels.
+        classes: the class of each, a name (case ignored) or an id of an instance class of the scene's class list.
+        fit: the 3D fit (:class:`~sdn3d.geometric.fit.FitSettings`; None: its defaults).
+        prior: seed GrabCut with the semantic branch's vehicle probability (only when that branch is trusted).
+        iterations: GrabCut iterations per box.
+
+    The ``i``-th box becomes instance ``class_id * 1000 + k`` with ``k`` the next free number of its class, in the
+    boxes' order.
+    """
+
+    boxes: Tensor
+    classes: tuple[str | int, ...]
+    fit: FitSettings | None = None
+    prior: bool = False
+    iterations: int = 5
+
+    def __post_init__(self) -> None:
+        boxes, classes = torch.as_tensor(self.boxes, dtype=torch.float32), tuple(self.classes)
+        if boxes.dim() != 2 or boxes.shape[1] != 4 or len(classes) != boxes.shape[0]:
+            raise ValueError(f"BoxPrompts: boxes must be (N, 4) with one class each, got {tuple(boxes.shape)} and "
+                             f"{len(classes)} classes")
+        if not bool(torch.isfinite(boxes).all()) or bool(((boxes[:, 2:] - boxes[:, :2]) < 1).any()):
+            raise ValueError("BoxPrompts: every box needs finite x0 < x1 and y0 < y1")
+        object.__setattr__(self, "boxes", boxes)
+        object.__setattr__(self, "classes", classes)
+
+    def class_ids(self, class_list: Sequence[SemanticClass]) -> list[int]:
+        """The boxes' class ids in ``class_list``.
+
+        Raises:
+            UserInputError: naming the box, for a class that is not an instance class of the list.
+        """
+        things = {c.name.lower(): c.id for c in class_list if c.has_instances}
+        out = []
+        for i, cls in enumerate(self.classes):
+            cid = things.get(cls.lower()) if isinstance(cls, str) else (int(cls) if int(cls) in things.values()
+                                                                        else None)
+            if cid is None:
+                raise UserInputError(f"box object {i}: class {cls!r} is not an object class; give one of "
+                                     f"{sorted(c.name for c in class_list if c.has_instances)}")
+            out.append(cid)
+        return out
+
+    def __len__(self) -> int:
+        return int(self.boxes.shape[0])
 
 
 @dataclass
@@ -273,9 +333,11 @@ def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:
 
 
 def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: GroundTruth | None,
-              models: Models, min_pixels: int, refine: RefineSettings | None) -> tuple[Tensor, ...]:
+              models: Models, min_pixels: int, refine: RefineSettings | None,
+              annotated: Tensor | None = None) -> tuple[Tensor, ...]:
     """``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64, 3)`` of the objects ``masks``
-    (template -1 and placeholders for objects without a usable prediction); ``gt``: annotated boxes."""
+    (template -1 and placeholders for objects without a usable prediction); ``gt``: annotated boxes, looked up
+    for the rows ``annotated (N,)`` bool (None: all)."""
     n = len(ids)
     template = torch.full((n,), -1, dtype=torch.long)
     dims, location = torch.ones(n, 3, dtype=torch.float64), torch.zeros(n, 3, dtype=torch.float64)
@@ -286,8 +348,10 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
         return template, dims, ry, location, phi
     boxes = pixel_centre_boxes(mask_boxes(masks[rows]))  # the branch encodes pixel-centre boxes
     if gt is not None:
-        annotated, found = _annotation_boxes(gt, ids[rows])
-        boxes = torch.where(found[:, None], annotated, boxes)
+        given, found = _annotation_boxes(gt, ids[rows])
+        if annotated is not None:
+            found &= annotated[rows]
+        boxes = torch.where(found[:, None], given, boxes)
     # The branch's box encoding needs r > l and b > t (a one-pixel-wide sliver has r == l).
     wide = (boxes[:, 2] > boxes[:, 0]) & (boxes[:, 3] > boxes[:, 1])
     rows, boxes = rows[wide], boxes[wide]
@@ -322,10 +386,21 @@ def _checked_image(image: Tensor, intrinsics: Intrinsics, proposals: str, gt: Gr
 
 
 def _semantics_and_instances(image: Tensor, models: Models, proposals: str, gt: GroundTruth | None,
-                             name: str) -> tuple[Tensor, Tensor, str, str]:
-    """Steps 1-2 of the module doc: ``(semantic (H, W), instances (H, W), proposal source, semantic source)``
-    with sources ``'gt'`` (the oracle) or ``'semantic'`` / ``'branch'`` (the semantic branch)."""
+                             name: str) -> tuple[Tensor, Tensor, str, str, Tensor | None]:
+    """Steps 1-2 of the module doc: ``(semantic (H, W), instances (H, W), proposal source, semantic source,
+    probability)`` with sources ``'gt'`` (the oracle), ``'semantic'`` / ``'branch'`` (the semantic branch),
+    ``'boxes'`` (no proposal but the boxes) and ``'none'`` (no semantics: every pixel 255, ignore);
+    ``probability``: the branch's ``(C, H, W)`` softmax where it ran, else None."""
     class_list = CLASS_LISTS[name]
+    height, width = image.shape[-2:]
+    if proposals == "boxes":  # the boxes alone; semantics from the branch, else the ground truth, else none
+        if models.semantic is not None:
+            _check_class_count(models, class_list, name)
+            seg = models.semantic(image)
+            return (seg.label[0].cpu(), torch.zeros(height, width, dtype=torch.long), "boxes", "branch",
+                    seg.probability[0].cpu())
+        semantic = gt.semantic if gt is not None else torch.full((height, width), 255, dtype=torch.long)
+        return semantic, torch.zeros(height, width, dtype=torch.long), "boxes", "gt" if gt is not None else "none", None
     use_branch = proposals == "semantic" or (proposals == "auto" and models.semantic is not None)
     use_gt_masks = proposals == "gt" or (proposals == "auto" and gt is not None and gt.instances is not None)
     if (use_branch or not use_gt_masks) and models.semantic is None:
@@ -340,18 +415,95 @@ def _semantics_and_instances(image: Tensor, models: Models, proposals: str, gt: 
             raise UserInputError(f"proposals={proposals!r}: ground truth {gt.key} has no instance map")
     seg = None
     if use_branch or not use_gt_masks:
-        if len(models.semantic.classes) != len(class_list):
-            raise UserInputError(f"the semantic model predicts {len(models.semantic.classes)} classes, the scene's "
-                                 f"class list {name!r} has {len(class_list)}")
+        _check_class_count(models, class_list, name)
         seg = models.semantic(image)
     semantic = seg.label[0].cpu() if use_branch else gt_semantic
     instances, source = (gt_instances, "gt") if use_gt_masks else (seg.instance[0].cpu(), "semantic")
-    return semantic, instances, source, "branch" if use_branch else "gt"
+    probability = seg.probability[0].cpu() if seg is not None else None
+    return semantic, instances, source, "branch" if use_branch else "gt", probability
+
+
+def _check_class_count(models: Models, class_list: tuple, name: str) -> None:
+    if len(models.semantic.classes) != len(class_list):
+        raise UserInputError(f"the semantic model predicts {len(models.semantic.classes)} classes, the scene's "
+                             f"class list {name!r} has {len(class_list)}")
+
+
+def _add_boxes(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts, probability: Tensor | None,
+               things: Tensor, class_list: Sequence[SemanticClass]) -> tuple[Tensor, Tensor, Tensor, str]:
+    """``(masks, ids, box_rows, mask source)``: the proposals with the box objects' GrabCut masks appended (they take
+    their pixels from the other proposals; a proposal left with less than half its pixels is dropped)."""
+    from sdn3d.box_masks import grabcut_masks
+
+    class_ids = boxes.class_ids(class_list)
+    prior = None
+    if boxes.prior and probability is not None:
+        prior = probability[things[things < probability.shape[0]]].sum(0)
+    box_masks = grabcut_masks(image, boxes.boxes, prior=prior, iterations=boxes.iterations)
+    taken = box_masks.any(0)
+    before = masks.flatten(1).sum(1)
+    masks = masks & ~taken
+    kept = masks.flatten(1).sum(1) * 2 >= before.clamp_min(1)
+    masks, ids = masks[kept], ids[kept]
+    new_ids = []
+    for cid in class_ids:  # the next free number of each class, in the boxes' order
+        used = [int(i) for i in ids.tolist() + new_ids if int(i) // INSTANCE_DIVISOR == cid]
+        new_ids.append(cid * INSTANCE_DIVISOR + (max(used) % INSTANCE_DIVISOR if used else 0) + 1)
+    rows = torch.arange(len(ids), len(ids) + len(boxes))
+    source = "grabcut, seeded by the semantic branch" if prior is not None else "grabcut"
+    return (torch.cat([masks, box_masks]), torch.cat([ids, torch.tensor(new_ids, dtype=ids.dtype)]), rows, source)
+
+
+def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...],
+               min_pixels: int) -> tuple[tuple[Tensor, ...], list[dict]]:
+    """The geometry with the box objects' rows fitted to their masks (:func:`~sdn3d.geometric.fit.fit_to_masks`,
+    the geometric branch's prediction as the start) and per box its record for ``meta['boxes']``."""
+    from sdn3d.box_masks import nearest_first
+    from sdn3d.geometric.fit import FitSettings, fit_to_masks
+
+    template, dims, ry, location, phi = (g.clone() for g in geometry)
+    settings = boxes.fit or FitSettings()
+    pixels = masks[rows].flatten(1).sum(1)
+    fitted = pixels >= min_pixels
+    predicted = template[rows] >= 0
+    order = nearest_first(boxes.boxes)
+    rank = torch.empty_like(order)
+    rank[order] = torch.arange(len(order))
+    # What may hide box i: every other proposal, and the boxes nearer than it (the farther ones it hides).
+    others = torch.ones(len(masks), dtype=torch.bool)
+    others[rows] = False
+    rest = masks[others].any(0) if bool(others.any()) else torch.zeros_like(masks[0])
+    nearer = (rank[None, :] < rank[:, None]).float()  # (B, B): row i, column j nearer than i
+    ignore = ((nearer @ masks[rows].flatten(1).float()).view(-1, *masks.shape[-2:]) > 0) | rest
+    result = None
+    sel = fitted.nonzero().flatten()
+    if len(sel):
+        start_ry = torch.where(predicted[sel], ry[rows[sel]].float(), torch.full((len(sel),), float("nan")))
+        start_dims = torch.where(predicted[sel, None], dims[rows[sel]].float(), torch.full((len(sel), 3), float("nan")))
+        result = fit_to_masks(masks[rows[sel]], boxes.boxes[sel], intr, ignore=ignore[sel], start_ry=start_ry,
+                              start_dims=start_dims, settings=settings)
+        target = rows[sel]
+        template[target] = result.template
+        dims[target], ry[target] = result.dims.double(), result.ry.double()
+        location[target], phi[target] = result.location.double(), result.phi.float()
+    records, iou = [], dict(zip(sel.tolist(), result.iou.tolist(), strict=True)) if result is not None else {}
+    for i in range(len(boxes)):
+        fit_iou = iou.get(i)
+        record = {"box": [round(float(v), 2) for v in boxes.boxes[i]], "mask_pixels": int(pixels[i]),
+                  "pose": ("fitted to the mask from the geometric branch's prediction" if bool(predicted[i])
+                           else "fitted to the mask from the box on the road plane") if fit_iou is not None else None,
+                  "fit_iou": None if fit_iou is None else round(fit_iou, 4),
+                  "poor_fit": fit_iou is None or fit_iou < settings.poor_iou}
+        if fit_iou is None:
+            record["why"] = f"its mask has {int(pixels[i])} pixels (< min_pixels {min_pixels}): no 3D fit"
+            template[rows[i]] = -1
+        records.append(record)
+    return (template, dims, ry, location, phi), records
 
 
 def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: str = "auto",
              ground_truth: GroundTruth | None = None, *, classes: str | None = None, min_pixels: int = 64,
-             refine: RefineSettings | None = None) -> SceneCode:
+             refine: RefineSettings | None = None, boxes: BoxPrompts | None = None) -> SceneCode:
     """De-render ``image (3, H, W)`` float in ``[0, 1]`` into a scene (module doc).
 
     Args:
@@ -360,33 +512,51 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
         proposals: ``'auto'``: semantic map from the semantic branch (the ground truth's without one),
             masks from the ground-truth instance map if there is one, else the branch's instance head;
             ``'gt'``: semantic map and masks from ``ground_truth`` (an oracle); ``'semantic'``: both from
-            the semantic branch.
+            the semantic branch; ``'boxes'``: the objects are ``boxes`` alone (semantics from the branch, else
+            the ground truth, else none: 255).
         ground_truth: the frame's ground truth at the working size (oracle maps and annotated boxes),
             optional; :func:`sdn3d.data.scene_gt.ground_truth` builds it from a dataset frame.
         classes: class list name (default: from the ground truth or the models).
         min_pixels: visible pixels (at the working size) an object needs to get 3D geometry.
         refine: optional reprojection refinement of the geometric predictions (Cityscapes setting).
+        boxes: objects named by a box, added to (or, ``'boxes'``, instead of) the proposals.
 
     Raises:
         ValueError: bad image / intrinsics or an unknown ``proposals`` (the caller's mistake).
-        UserInputError (a ValueError): no source for the semantic map or the proposals, or a semantic
-            model of another class list (the user's settings or checkpoints).
+        UserInputError (a ValueError): no source for the semantic map or the proposals, a semantic
+            model of another class list (the user's settings or checkpoints), or ``'boxes'`` without boxes.
     """
     gt = ground_truth
     image = _checked_image(image, intrinsics, proposals, gt)
+    if proposals == "boxes" and (boxes is None or not len(boxes)):
+        raise UserInputError("proposals='boxes' needs objects given by a box (an edit spec's `objects:`)")
     name = _class_list_name(models, gt, classes)
     class_list = CLASS_LISTS[name]
-    semantic, instances, source, semantic_source = _semantics_and_instances(image, models, proposals, gt, name)
+    semantic, instances, source, semantic_source, probability = _semantics_and_instances(image, models, proposals,
+                                                                                        gt, name)
 
     # Proposals: ids of instance classes only (a scene's objects must be things).
     things = torch.tensor([c.id for c in class_list if c.has_instances], dtype=torch.long)
     ids = instances.unique()
     ids = ids[(ids >= INSTANCE_DIVISOR) & torch.isin(ids // INSTANCE_DIVISOR, things)]
     masks = instances[None] == ids[:, None, None]  # (N, H, W)
+    box_rows, box_records, mask_source = torch.zeros(0, dtype=torch.long), [], None
+    if boxes is not None and len(boxes):
+        masks, ids, box_rows, mask_source = _add_boxes(image, masks, ids, boxes, probability, things,
+                                                       class_list)
+        instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)
     semantic = torch.where(masks.any(0), (instances // INSTANCE_DIVISOR), semantic)
     n = len(ids)
-    template, dims, ry, location, phi = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None,
-                                                  models, min_pixels, refine)
+    annotated = torch.ones(n, dtype=torch.bool)
+    annotated[box_rows] = False
+    geometry = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models, min_pixels, refine,
+                         annotated)
+    if len(box_rows):
+        geometry, box_records = _fit_boxes(intrinsics, masks, box_rows, boxes, geometry, min_pixels)
+        for record, iid in zip(box_records, ids[box_rows].tolist(), strict=True):
+            record["id"] = int(iid)
+            record["mask"] = mask_source
+    template, dims, ry, location, phi = geometry
     geo = template >= 0
     code_dim = models.textural.spec.code_dim if models.textural is not None else DEFAULT_CODE_DIM
     table = ObjectTable(instance_id=ids, template_id=template, phi=phi, dims=dims, ry=ry, location=location,
@@ -395,11 +565,20 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
     meta = {"source": gt.key if gt is not None else "image", "proposals": source,
             "semantic": semantic_source,
             "objects": n, "with_geometry": int(geo.sum()), "crop_size": models.crop_size, "min_pixels": min_pixels}
+    if box_records:
+        meta["boxes"] = box_records
+        meta["fit"] = (boxes.fit or _default_fit()).to_dict()
     scene = SceneCode(intrinsics, semantic, name, table, torch.zeros(len(class_list), code_dim), meta)
     if models.textural is None:
         return scene
     L = torch.where(masks.any(0), instances, semantic)  # dropped (non-thing) proposals count as background
     return encode_scene(scene, image, models.textural, L)
+
+
+def _default_fit() -> FitSettings:
+    from sdn3d.geometric.fit import FitSettings
+
+    return FitSettings()
 
 
 def encode_scene(scene: SceneCode, image: Tensor, textural: TexturalRenderer, L: Tensor | None = None,

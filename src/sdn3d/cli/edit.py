@@ -225,20 +225,23 @@ def run_edit(cfg: Any) -> dict:
         UserInputError (InputError, EditSpecError, EditError, DataFormatError, ...), FileNotFoundError,
         FileExistsError: bad input (nothing written).
     """
+    from sdn3d.editing.compose import edited_object_ids
+
     _check_settings(cfg)
     if cfg.threads is not None:
         torch.set_num_threads(int(cfg.threads))
     compose = _compose_settings(cfg)
     appearance, photo = appearance_settings(cfg)
-    out, spec, (image, intrinsics, record, frame) = _read_inputs(cfg)
+    out, spec, listing, (image, intrinsics, record, frame) = _read_inputs(cfg)
     checkpoints = resolve_checkpoints(cfg, record)
     models, code_bank = _load_models(cfg, checkpoints)
     times: dict[str, float] = {}
-    scene = _derender(cfg, image, intrinsics, record, models, times)
-    warnings = trust_warnings(cfg, record, checkpoints, scene)
+    boxes = _box_prompts(cfg, spec, intrinsics, frame, checkpoints)
+    scene = _derender(cfg, image, intrinsics, record, models, times, boxes)
+    warnings = trust_warnings(cfg, record, checkpoints, scene) + fit_warnings(scene, frame)
     for line in warnings:
         print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
-    if spec is None:  # list=true or an empty spec: the objects, nothing edited
+    if listing:  # list=true, an empty spec or objects without ops: the objects, nothing edited
         return _write_listing(cfg, out, record, image, scene, checkpoints, times, frame, warnings)
     ops, edited_scene = _edit(cfg, spec, scene, code_bank, times, frame, appearance)
     diagnostics = bool(cfg.diagnostics)
@@ -257,6 +260,9 @@ def run_edit(cfg: Any) -> dict:
     if appearance == "photo":
         summary["photo"] = rendered["photo"]
     summary["refined"] = bool(scene.meta.get("refined", False))  # the Cityscapes test-time fit (refine.enabled)
+    summary["edited_objects"] = object_origins(scene, edited_object_ids(scene.objects, edited_scene.objects), frame)
+    if "boxes" in scene.meta:
+        summary["boxes"] = _boxes_record(scene, frame)
     summary["input_transform"] = frame.to_dict()
     summary["warnings"] = warnings
     summary["checkpoints"] = checkpoints
@@ -320,14 +326,16 @@ def _is_empty_spec(path: Path) -> bool:
     return data is None or data == []
 
 
-def _read_inputs(cfg: Any) -> tuple[Path, Any, tuple[torch.Tensor, Any, Any, Any]]:
-    """The checked output directory, the parsed edit spec (None: list the objects, edit nothing) and
-    :func:`load_input`'s image (nothing loaded before the spec's syntax and numbers are checked)."""
+def _read_inputs(cfg: Any) -> tuple[Path, Any, bool, tuple[torch.Tensor, Any, Any, Any]]:
+    """The checked output directory, the parsed edit spec (None: none given or empty), whether to list the objects
+    and edit nothing (``list=true``, no spec, or a spec with objects by box and no ops) and :func:`load_input`'s
+    image (nothing loaded before the spec's syntax and numbers are checked)."""
+    from sdn3d.derender import PROPOSALS
     from sdn3d.editing.spec import MAX_OPS, load_edit_spec
 
     out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite), **_output_rules(cfg))
-    if cfg.proposals not in ("auto", "gt", "semantic"):
-        raise InputError(f"proposals must be auto, gt or semantic, got {cfg.proposals!r}")
+    if cfg.proposals not in PROPOSALS:
+        raise InputError(f"proposals must be one of {', '.join(PROPOSALS)}, got {cfg.proposals!r}")
     listing = cfg.get("list")
     if not isinstance(listing, bool):
         raise InputError(f"list must be true or false, got {listing!r}")
@@ -339,13 +347,19 @@ def _read_inputs(cfg: Any) -> tuple[Path, Any, tuple[torch.Tensor, Any, Any, Any
     elif not _is_empty_spec(Path(str(cfg.edits)).expanduser()):
         spec = load_edit_spec(str(cfg.edits), int(cfg.entry), tuple(cfg.frame_size) if cfg.frame_size else None,
                               bool(cfg.strict), int(cfg.get("max_ops", MAX_OPS)))
+    if cfg.proposals == "boxes" and (spec is None or not spec.objects):
+        raise InputError("proposals=boxes takes the objects from the edit spec's `objects:` list "
+                         "({box: [x0, y0, x1, y1], class: Car}, in the input image's pixels); the spec names none")
     inputs = load_input(cfg, spec.entry if spec is not None else None)
-    return out, None if listing else spec, inputs
+    return out, spec, listing or spec is None or len(spec) == 0, inputs
 
 
 def _needed_branches(cfg: Any, record: Any) -> tuple[str, ...]:
-    """The branches an edit cannot do without: the generator, the 3D geometry, and the semantic branch
-    where no dataset ground truth stands in for it (an image file, or ``proposals=semantic``)."""
+    """The branches an edit cannot do without: the generator, the 3D geometry (unless every object is fitted from a
+    box, ``proposals=boxes``), and the semantic branch where no dataset ground truth or box stands in for it (an
+    image file, or ``proposals=semantic``)."""
+    if cfg.proposals == "boxes":
+        return ("textural",)
     semantic = record is None or cfg.proposals == "semantic"
     return ("semantic", "geometric", "textural") if semantic else ("geometric", "textural")
 
@@ -399,16 +413,70 @@ def trust_warnings(cfg: Any, record: Any, checkpoints: dict[str, dict | None], s
     """:func:`quality_warnings` for an edit whose proposals come from the semantic branch (none else)."""
     if "semantic" not in _needed_branches(cfg, record):
         return []
-    path = semantic_summary(checkpoints.get("semantic"))
-    metrics = None
-    if path is not None:
-        try:
-            metrics = json.loads(path.read_text(encoding="utf-8")).get("metrics")
-        except (OSError, UnicodeDecodeError, ValueError, AttributeError):
-            metrics = None
+    path, metrics = _semantic_metrics(checkpoints)
     masks = scene.objects.mask
     coverage = float(masks.any(0).float().mean()) if len(masks) else 0.0
     return quality_warnings(metrics, coverage, str(path) if path is not None else "")
+
+
+def _semantic_metrics(checkpoints: dict[str, dict | None]) -> tuple[Path | None, dict | None]:
+    """The semantic run's summary file and its recorded ``metrics`` (None where unknown or unreadable)."""
+    path = semantic_summary(checkpoints.get("semantic"))
+    if path is None:
+        return None, None
+    try:
+        metrics = json.loads(path.read_text(encoding="utf-8")).get("metrics")
+    except (OSError, UnicodeDecodeError, ValueError, AttributeError):
+        metrics = None
+    return path, metrics if isinstance(metrics, dict) else None
+
+
+def fit_warnings(scene: Any, frame: Any) -> list[str]:
+    """One warning per object named by a box whose 3D fit is poor or missing (before any edit)."""
+    out = []
+    for record in _boxes_record(scene, frame):
+        if record["fit_iou"] is None:
+            out.append(f"box object {record['id']} (box {record['input_box']}): {record['why']}; it can be deleted "
+                       "or recoloured but not moved, turned or zoomed")
+        elif record["poor_fit"]:
+            out.append(f"box object {record['id']} (box {record['input_box']}): its fitted 3D shape matches its mask "
+                       f"poorly (silhouette IoU {record['fit_iou']:.2f} < {scene.meta['fit']['poor_iou']}); a moved "
+                       "or turned copy may look wrong. A tighter box around the whole car may help")
+    return out
+
+
+def _boxes_record(scene: Any, frame: Any) -> list[dict]:
+    """``scene.meta['boxes']`` with each box also in the input image's pixels (``input_box``)."""
+    out = []
+    for record in scene.meta.get("boxes", []):
+        x0, y0, x1, y1 = record["box"]
+        if frame is not None:
+            (x0, y0), (x1, y1) = (frame.to_input((u - 0.5, v - 0.5)) for u, v in ((x0, y0), (x1, y1)))
+            x0, y0, x1, y1 = x0 + 0.5, y0 + 0.5, x1 + 0.5, y1 + 0.5
+        out.append({**record, "input_box": [round(v, 1) for v in (x0, y0, x1, y1)]})
+    return out
+
+
+def object_origins(scene: Any, ids: Any, frame: Any = None) -> list[dict]:
+    """Per object of ``ids``: where its mask and its 3D pose came from and, for an object named by a box, how well
+    its fit matched (edit.json ``edited_objects``)."""
+    boxes = {r["id"]: r for r in _boxes_record(scene, frame)}
+    source, refined = scene.meta.get("proposals"), bool(scene.meta.get("refined", False))
+    table = scene.objects
+    out = []
+    for iid in [int(i) for i in ids]:
+        if iid in boxes:
+            r = boxes[iid]
+            out.append({"id": iid, "mask": f"{r['mask']} in the box {r['input_box']} (input pixels)", "pose": r["pose"],
+                        "fit_iou": r["fit_iou"], "poor_fit": r["poor_fit"]})
+            continue
+        rows = (table.instance_id == iid).nonzero().flatten()
+        geometry = bool(rows.numel()) and bool(table.template_id[rows[0]] >= 0)
+        out.append({"id": iid, "mask": "ground truth (oracle)" if source == "gt" else "the semantic branch",
+                    "pose": None if not geometry else "the geometric branch" + (", refined by L_reproj" if refined
+                                                                                 else ""),
+                    "fit_iou": None, "poor_fit": None})
+    return out
 
 
 def _load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any]:
@@ -455,8 +523,36 @@ def refine_settings(cfg: Any) -> Any:
         raise InputError(f"refine: {exc}") from exc
 
 
+def _box_prompts(cfg: Any, spec: Any, intrinsics: Any, frame: Any, checkpoints: dict[str, dict | None]) -> Any:
+    """The spec's objects named by a box as :class:`~sdn3d.derender.BoxPrompts` (None: none), with ``box_objects.*``:
+    the fit's settings and whether the semantic branch seeds GrabCut (``prior: auto``: when its recorded quality
+    raises no warning)."""
+    from sdn3d.editing.spec import box_prompts
+    from sdn3d.geometric.fit import FitSettings
+
+    if spec is None or not spec.objects:
+        return None
+    node = cfg.get("box_objects") or {}
+    prior = node.get("prior", "auto")
+    if prior not in ("auto", True, False):
+        raise InputError(f"box_objects.prior must be auto, true or false, got {prior!r}")
+    if prior == "auto":
+        path, metrics = _semantic_metrics(checkpoints) if checkpoints.get("semantic") else (None, None)
+        prior = metrics is not None and not quality_warnings(metrics, None, str(path))
+    iterations = node.get("iterations", 5)
+    if isinstance(iterations, bool) or not isinstance(iterations, int) or iterations < 1:
+        raise InputError(f"box_objects.iterations must be a positive integer (GrabCut iterations), got {iterations!r}")
+    try:
+        fit = FitSettings(**dict(node.get("fit") or {}))
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"box_objects.fit: {exc}") from exc
+    prompts = box_prompts(spec, (intrinsics.width, intrinsics.height), frame, fit=fit,
+                          prior=bool(prior) and checkpoints.get("semantic") is not None)
+    return dataclasses.replace(prompts, iterations=iterations)
+
+
 def _derender(cfg: Any, image: torch.Tensor, intrinsics: Any, record: Any, models: Any,
-              times: dict[str, float]) -> Any:
+              times: dict[str, float], boxes: Any = None) -> Any:
     from sdn3d.data.scene_gt import ground_truth
     from sdn3d.derender import derender
 
@@ -464,7 +560,7 @@ def _derender(cfg: Any, image: torch.Tensor, intrinsics: Any, record: Any, model
     t0 = time.perf_counter()
     refine = refine_settings(cfg)
     scene = derender(image, intrinsics, models, str(cfg.proposals), gt, min_pixels=int(cfg.geometric.min_pixels),
-                     refine=refine)
+                     refine=refine, boxes=boxes)
     scene.meta["refined"] = refine is not None
     times["derender_ms"] = 1000 * (time.perf_counter() - t0)
     return scene
@@ -587,8 +683,15 @@ def _proposals_record(scene: Any) -> dict:
     oracle = source == "gt" or semantic == "gt"
     label = (PROPOSAL_LABELS["gt"] if source == "gt" and semantic == "gt" else
              "oracle: ground-truth masks, the semantic branch's semantics" if source == "gt" else
+             PROPOSAL_LABELS["boxes"] + {"branch": "; semantics from the semantic branch",
+                                         "gt": "; ground-truth semantics (oracle)",
+                                         "none": "; no semantics"}.get(semantic, "") if source == "boxes" else
              PROPOSAL_LABELS["semantic"])
-    return {"masks": source, "semantics": semantic, "oracle": oracle, "label": label}
+    boxes = len(scene.meta.get("boxes", []))
+    if boxes and source != "boxes":
+        label += f"; and {boxes} object(s) named by a box (GrabCut masks, 3D fitted)"
+    record = {"masks": source, "semantics": semantic, "oracle": oracle, "label": label}
+    return record | {"box_objects": boxes} if boxes else record
 
 
 # -- listing the objects (list=true, or an empty edit spec) ---------------------------------------
@@ -616,15 +719,28 @@ def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene:
     picture = _input_picture(cfg, record)
     size = (picture.shape[1], picture.shape[0])
     rows = list_objects(scene, size, frame if frame is not None and tuple(frame.input_size) == size else None)
+    boxes = {r["id"]: r for r in _boxes_record(scene, frame)}
+    for row in rows:
+        if row["id"] in boxes:
+            r = boxes[row["id"]]
+            row.update({"given_box": r["input_box"], "mask_from": r["mask"], "pose_from": r["pose"],
+                        "fit_iou": r["fit_iou"], "poor_fit": r["poor_fit"]})
     source = str(cfg.input.image) if record is None else record.key
     frame_text = (f"boxes and centres in input-image pixels ({size[0]}x{size[1]}, pixel centres at integers; "
                   f"working size {scene.image_size[0]}x{scene.image_size[1]})")
     print(f"sdn3d-edit: {len(rows)} object(s) in {source}; {frame_text}")
     print(objects_table(rows))
     print("sdn3d-edit: at/to/from in an edit spec are these pixels (no frame_size needed)")
-    title = f"{source}: {len(rows)} object(s), id + class; + = projected 3D centre; {size[0]}x{size[1]} px"
-    drawn = draw_boxes(picture, [r["box"] for r in rows], [f"{r['id']} {r['class']}" for r in rows], title,
-                       points=[r["centre"] for r in rows])
+    title = f"{Path(source).name}: {len(rows)} object(s), id + class; + = projected 3D centre; {size[0]}x{size[1]} px"
+    masks = None
+    if boxes:  # the masks GrabCut found in the boxes, tinted (at the input's resolution)
+        title = (f"{Path(source).name}: {len(rows)} object(s); tint: mask from the box; fit: 3D silhouette IoU; "
+                 "+: 3D centre")
+        masks = _input_masks(scene, rows, boxes, frame, size)
+    labels = [f"{r['id']} {r['class']}" + (f" fit {r['fit_iou']:.2f}" if r.get("fit_iou") is not None else "")
+              for r in rows]
+    drawn = draw_boxes(picture, [r["box"] for r in rows], labels, title, points=[r["centre"] for r in rows],
+                       masks=masks)
     transform = (frame if frame is not None else PixelFrame(size, tuple(scene.image_size))).to_dict()
     listing = {"input": source, "input_size": list(size), "working_size": list(scene.image_size),
                "pixel_frame": frame_text, "input_transform": transform, "objects": rows}
@@ -640,6 +756,20 @@ def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene:
         summary["outputs"] = ["objects.json", "objects.png", MARKER]
         write_json_atomic(tmp / MARKER, summary)
     return summary
+
+
+def _input_masks(scene: Any, rows: list[dict], boxes: dict, frame: Any, size: tuple[int, int]) -> list:
+    """Per listed row, the object's mask at the input's resolution where it was named by a box (else None)."""
+    from sdn3d.editing.photo import upsample_ids
+    from sdn3d.editing.spec import PixelFrame
+
+    table = scene.objects
+    ids = (table.mask.long() * table.instance_id[:, None, None]).amax(0) if len(table) else None
+    if ids is None:
+        return [None] * len(rows)
+    transform = frame if frame is not None and tuple(frame.input_size) == size else PixelFrame(size, scene.image_size)
+    big = upsample_ids(ids, transform).numpy()
+    return [big == r["id"] if r["id"] in boxes else None for r in rows]
 
 
 def _write_outputs(out: Path, overwrite: bool, image: torch.Tensor, scene: Any, edited_scene: Any,

@@ -97,6 +97,9 @@ class PhotoSettings:
         fill: :data:`FILL_METHODS` for vacated pixels (default ``auto``).
         depth_tolerance: a carried point counts as visible when the source rasterization's depth there is
             within this fraction of its own depth (plus 5 cm).
+        min_view_cos: ... and when the input saw its surface at least this squarely (cosine between the surface
+            normal and the line of sight): a side seen edge-on in the input covers a pixel or two there and would be
+            stretched over the whole side when the car turns.
         mask_erode_px: input pixels the upsampled instance masks are eroded by before they vouch for a pixel
             (None: one working pixel, ``ceil(1 / scale)``).
         hole_dilate_px: input pixels a vacated footprint grows by (its anti-aliased rim, its shadow's edge).
@@ -110,6 +113,7 @@ class PhotoSettings:
 
     fill: str = "auto"
     depth_tolerance: float = 0.03
+    min_view_cos: float = 0.2
     mask_erode_px: int | None = None
     hole_dilate_px: int = 3
     shadow_band: float = 0.12
@@ -122,6 +126,7 @@ class PhotoSettings:
         if self.fill not in FILL_METHODS:
             raise PhotoSettingsError(f"photo.fill must be one of {FILL_METHODS}, got {self.fill!r}")
         checks = (("depth_tolerance", self.depth_tolerance, 0.0, 1.0), ("shadow_band", self.shadow_band, 0.0, 1.0),
+                  ("min_view_cos", self.min_view_cos, 0.0, 1.0),
                   ("contact_shadow", self.contact_shadow, 0.0, 1.0))
         for name, value, lo, hi in checks:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= float(value) <= hi:
@@ -591,6 +596,12 @@ def _visible(points: Tensor, mesh: Tensor, iid: Tensor, src: _Raster, vis_ids: T
     return ok, uv
 
 
+def _view_cos(points: Tensor, normals: Tensor) -> Tensor:
+    """``(P,)`` ``|cos|`` of the angle between each surface normal and the line of sight to its point (camera at the
+    origin): 1 seen squarely, 0 edge-on."""
+    return (F.normalize(points, dim=-1) * normals).sum(-1).abs()
+
+
 def _pyramid(image: Tensor, levels: int) -> list[Tensor]:
     out = [image[None].float()]
     for _ in range(levels):
@@ -851,7 +862,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     normal_s = torch.where(((raw_t * normal_t).sum(-1) < 0)[:, None], -normal_s, normal_s)
     src_iid = before.instance_id[b_row.clamp(min=0)]
     ok_photo, uv_photo = _visible(point_s, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
-    ok_photo &= has_src
+    ok_photo &= has_src & (_view_cos(point_s, normal_s) >= settings.min_view_cos)
     # Mirror across the vehicle's left-right plane (local z = 0).
     rot = roty(before.ry[b_row.clamp(min=0)].double())  # (P, 3, 3)
     centre = before.center[b_row.clamp(min=0)].double()
@@ -860,7 +871,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     point_m = torch.einsum("pij,pj->pi", rot, local) + centre
     normal_m = torch.einsum("pij,pj->pi", rot, torch.einsum("pji,pj->pi", rot, normal_s) * flip)
     ok_mirror, uv_mirror = _visible(point_m, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
-    ok_mirror &= has_src & ~ok_photo
+    ok_mirror &= has_src & ~ok_photo & (_view_cos(point_m, normal_m) >= settings.min_view_cos)
 
     # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.
     z_t = tgt.frags.depth.view(-1)[pix].double()

@@ -16,6 +16,15 @@ to the input image resized to another size)::
     - {op: duplicate, id: 12001, to: [500, 130]}   # optional new_id
     - {op: modify, from: [300, 120], to: [350, 125], zoom: 1.2, ry_deg: 15}   # the benchmark's modify
 
+Objects a person names by a box (real photos: no trained segmenter or 3D labels needed) come in the mapping form::
+
+    objects:                                       # GrabCut mask in the box, 3D shape fitted to it
+      - {box: [466, 203, 666, 333], class: Car}    # [x0, y0, x1, y1], half-open, the spec's pixels; class: Car
+    ops:                                           # may be empty: then the objects are listed (list=true)
+      - {op: rotate, at: [565, 265], ry_deg: 45}
+
+:func:`box_prompts` turns them into the working image's :class:`~sdn3d.derender.BoxPrompts`.
+
 Objects are selected by ``id`` (instance id) or ``at: [u, v]`` (the object visible at that pixel,
 else the one whose projected centre is nearest, within ``pick_radius``); ``modify`` also takes
 ``from`` (nearest projected centre, the benchmark's rule). All selections are resolved on the
@@ -55,6 +64,7 @@ from sdn3d.data.edit_benchmark import (
     scale_point,
     validate_in_frame,
 )
+from sdn3d.derender import BoxPrompts
 from sdn3d.editing.apply import (
     Delete,
     Duplicate,
@@ -79,7 +89,8 @@ from sdn3d.textural.code_bank import named_color
 from sdn3d.textural.codes import CodeBank
 
 __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
-           "apply_spec", "PixelFrame", "read_yaml", "MAX_OPS", "EXCERPT_CHARS"]
+           "apply_spec", "PixelFrame", "read_yaml", "MAX_OPS", "EXCERPT_CHARS", "BoxObjectSpec", "box_prompts",
+           "MAX_BOX_OBJECTS"]
 
 OP_KINDS = ("move", "rotate", "zoom", "delete", "recolor", "duplicate", "modify")
 _FIELDS = {"move": {"to"}, "rotate": {"ry_deg", "ry_rad"}, "zoom": {"zoom", "on_ground"}, "delete": set(),
@@ -126,14 +137,24 @@ class OpSpec:
 
 
 @dataclass(frozen=True)
+class BoxObjectSpec:
+    """One object named by a box: ``box`` half-open ``(x0, y0, x1, y1)`` in the spec's pixels, its ``class_``."""
+
+    index: int
+    box: tuple[float, float, float, float]
+    class_: str | int = "Car"
+
+
+@dataclass(frozen=True)
 class EditSpec:
     """Parsed edits: user ``ops`` or a benchmark ``entry``, with the ``frame_size (W, H)`` their pixel
-    coordinates refer to (None: the scene's own pixels)."""
+    coordinates refer to (None: the scene's own pixels), and ``objects`` named by a box."""
 
     ops: tuple[OpSpec, ...] = ()
     entry: BenchmarkEntry | None = None
     frame_size: tuple[int, int] | None = None
     source: str = "<edit spec>"
+    objects: tuple[BoxObjectSpec, ...] = ()
 
     def __len__(self) -> int:
         return len(self.entry.operations) if self.entry is not None else len(self.ops)
@@ -187,6 +208,8 @@ class PixelFrame:
 EXCERPT_CHARS = 80
 #: Default cap on the number of operations of one edit spec (``sdn3d-edit``'s ``max_ops``).
 MAX_OPS = 256
+#: The most objects an edit spec may name by a box (each costs a GrabCut and a 3D fit, about a second).
+MAX_BOX_OBJECTS = 64
 
 _REPR = reprlib.Repr()
 _REPR.maxlevel, _REPR.maxlist, _REPR.maxtuple, _REPR.maxdict, _REPR.maxset = 3, 6, 6, 4, 4
@@ -353,29 +376,91 @@ def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
     return OpSpec(index, kind, **fields)
 
 
+def _parse_object(raw: Any, index: int, where: str) -> BoxObjectSpec:
+    name = f"{where}: objects[{index}]"
+    if not isinstance(raw, Mapping) or "box" not in raw:
+        raise EditSpecError(f"{name} must be a mapping like {{box: [x0, y0, x1, y1], class: Car}}, got {_excerpt(raw)}")
+    unknown = set(raw) - {"box", "class"}
+    if unknown:
+        raise EditSpecError(f"{name}: unknown field(s) {_excerpt(sorted(map(str, unknown)))}; "
+                            "allowed: ['box', 'class']")
+    box = raw["box"]
+    if not isinstance(box, (list, tuple)) or len(box) != 4:
+        raise EditSpecError(f"{name}: field 'box' must be [x0, y0, x1, y1] in pixels, got {_excerpt(box)}")
+    x0, y0, x1, y1 = (_number(v, f"{name}: field 'box'[{i}]") for i, v in enumerate(box))
+    if not (x1 - x0 >= 2 and y1 - y0 >= 2):
+        raise EditSpecError(f"{name}: field 'box' must have x1 >= x0 + 2 and y1 >= y0 + 2 (half-open pixel edges), "
+                            f"got {_excerpt(box)}")
+    cls = raw.get("class", "Car")
+    if isinstance(cls, bool) or not isinstance(cls, (int, str)):
+        raise EditSpecError(f"{name}: field 'class' must be a class name or id, got {_excerpt(cls)}")
+    return BoxObjectSpec(index, (x0, y0, x1, y1), cls)
+
+
 def parse_edit_spec(data: Any, source: str = "<edit spec>", max_ops: int | None = MAX_OPS) -> EditSpec:
-    """Check a YAML-style spec (a list of ops, or ``{frame_size: [W, H], ops: [...]}``); see the module doc.
+    """Check a YAML-style spec (a list of ops, or ``{frame_size: [W, H], objects: [...], ops: [...]}``); see the
+    module doc. A spec with ``objects`` may have no ops (it lists them).
 
     ``max_ops``: the most operations accepted (None: no limit); every op costs a pass over the scene.
     """
     frame_size = None
+    objects: tuple[BoxObjectSpec, ...] = ()
     if isinstance(data, Mapping):
-        unknown = set(data) - {"ops", "frame_size"}
-        if unknown or "ops" not in data:
-            raise EditSpecError(f"{source}: a mapping spec needs 'ops' (and optionally 'frame_size'), "
-                                f"got keys {_excerpt(sorted(map(str, data)))}")
+        unknown = set(data) - {"ops", "frame_size", "objects"}
+        if unknown or ("ops" not in data and "objects" not in data):
+            raise EditSpecError(f"{source}: a mapping spec needs 'ops' and/or 'objects' (and optionally "
+                                f"'frame_size'), got keys {_excerpt(sorted(map(str, data)))}")
         if data.get("frame_size") is not None:
             size = data["frame_size"]
             if not isinstance(size, (list, tuple)) or len(size) != 2:
                 raise EditSpecError(f"{source}: frame_size must be [W, H], got {_excerpt(size)}")
             frame_size = (_int(size[0], f"{source}: frame_size[0]", 1), _int(size[1], f"{source}: frame_size[1]", 1))
-        data = data["ops"]
+        if data.get("objects") is not None:
+            given = data["objects"]
+            if not isinstance(given, (list, tuple)):
+                raise EditSpecError(f"{source}: objects must be a list of {{box: [x0, y0, x1, y1], class: Car}}, "
+                                    f"got {_excerpt(given)}")
+            if len(given) > MAX_BOX_OBJECTS:
+                raise EditSpecError(f"{source}: {len(given)} objects by box, more than {MAX_BOX_OBJECTS}")
+            objects = tuple(_parse_object(raw, i, source) for i, raw in enumerate(given))
+        data = data.get("ops")
+        if objects and (data is None or (isinstance(data, (list, tuple)) and not data)):
+            return EditSpec((), None, frame_size, source, objects)
     if not isinstance(data, (list, tuple)) or not data:
         raise EditSpecError(f"{source}: expected a non-empty list of edit operations, got {_excerpt(data)}")
     if max_ops is not None and len(data) > max_ops:
         raise EditSpecError(f"{source}: {len(data)} edit operations, more than max_ops={max_ops} (sdn3d-edit's "
                             "max_ops setting, conf/edit.yaml): split the edit or raise max_ops")
-    return EditSpec(tuple(_parse_op(raw, i, source) for i, raw in enumerate(data)), None, frame_size, source)
+    return EditSpec(tuple(_parse_op(raw, i, source) for i, raw in enumerate(data)), None, frame_size, source,
+                    objects)
+
+
+def box_prompts(spec: EditSpec, working_size: tuple[int, int], frame: PixelFrame | None = None, *,
+                fit: Any = None, prior: bool = False) -> BoxPrompts | None:
+    """The spec's ``objects`` as :class:`~sdn3d.derender.BoxPrompts` in the working image's pixels (None: none).
+
+    A box's edges go through the same transform as ``at`` / ``to`` points (``frame``, ``frame_size``); a box is
+    clipped to the working image (a crop of the input may cut it).
+
+    Raises:
+        EditSpecError: naming the object, when its box lies outside the working image or is under 2 px there.
+    """
+    if not spec.objects:
+        return None
+    width, height = working_size
+    boxes = []
+    for obj in spec.objects:
+        x0, y0, x1, y1 = obj.box
+        a = _to_working((x0 - 0.5, y0 - 0.5), spec, working_size, frame)
+        b = _to_working((x1 - 0.5, y1 - 0.5), spec, working_size, frame)
+        box = [min(max(a[0] + 0.5, 0.0), width), min(max(a[1] + 0.5, 0.0), height),
+               min(max(b[0] + 0.5, 0.0), width), min(max(b[1] + 0.5, 0.0), height)]
+        if box[2] - box[0] < 2 or box[3] - box[1] < 2:
+            raise EditSpecError(f"{spec.source}: objects[{obj.index}]: box {_excerpt(list(obj.box))} lies outside the "
+                                f"working image or is under 2 px there ({width}x{height}, working pixels "
+                                f"{[round(v, 1) for v in box]})")
+        boxes.append(box)
+    return BoxPrompts(torch.tensor(boxes), tuple(obj.class_ for obj in spec.objects), fit, prior)
 
 
 def load_edit_spec(path: str | os.PathLike, entry: int = 0, frame_size: tuple[int, int] | None = None,
@@ -421,7 +506,7 @@ def load_edit_spec(path: str | os.PathLike, entry: int = 0, frame_size: tuple[in
         data = read_yaml(path)
     spec = parse_edit_spec(data, str(path), max_ops)
     if frame_size is not None:
-        spec = EditSpec(spec.ops, None, (int(frame_size[0]), int(frame_size[1])), spec.source)
+        spec = EditSpec(spec.ops, None, (int(frame_size[0]), int(frame_size[1])), spec.source, spec.objects)
     return spec
 
 
@@ -432,12 +517,16 @@ def _scaled(uv: tuple[float, float] | None, spec: EditSpec, scene: SceneCode,
             frame: PixelFrame | None = None) -> tuple[float, float] | None:
     """A spec point in the scene's (working) pixels: through ``frame`` (input pixels, or ``frame_size``
     pixels of the resized input), else ``frame_size`` pixels scaled to the scene (None: the scene's own)."""
-    if uv is None:
-        return None
+    return None if uv is None else _to_working(uv, spec, tuple(scene.image_size), frame)
+
+
+def _to_working(uv: tuple[float, float], spec: EditSpec, working_size: tuple[int, int],
+                frame: PixelFrame | None) -> tuple[float, float]:
+    """:func:`_scaled` for a working image of ``working_size (W, H)``."""
     if frame is None or (spec.frame_size is not None and frame.is_plain_resize):
-        if spec.frame_size is None or tuple(spec.frame_size) == scene.image_size:
+        if spec.frame_size is None or tuple(spec.frame_size) == tuple(working_size):
             return uv
-        return scale_point(uv, tuple(spec.frame_size), scene.image_size)
+        return scale_point(uv, tuple(spec.frame_size), tuple(working_size))
     if spec.frame_size is not None and tuple(spec.frame_size) != tuple(frame.input_size):
         uv = scale_point(uv, tuple(spec.frame_size), tuple(frame.input_size))
     return frame.to_working(uv)

@@ -69,6 +69,10 @@ def objects_table(rows: list[dict]) -> str:
 
     head = ["id", "class", "box x0 y0 x1 y1", "centre u v", "distance m", "yaw deg", "template"]
     keys = ["id", "class", "box", "centre", "distance_m", "yaw_deg", "template"]
+    if any("fit_iou" in r for r in rows):  # objects named by a box: how well the 3D fit matched its mask
+        head, keys = head + ["fit IoU", "note"], keys + ["fit_iou", "note"]
+        rows = [{**r, "note": ("poor fit" if r.get("poor_fit") else "from a box") if "fit_iou" in r else None}
+                for r in rows]
     body = [[cell(r[k]) for k in keys] for r in rows]
     widths = [max(len(x) for x in col) for col in zip(head, *body, strict=True)]
     lines = ["  ".join(x.ljust(w) for x, w in zip(line, widths, strict=True)).rstrip() for line in [head, *body]]

@@ -1,0 +1,126 @@
+"""Object masks from boxes without a trained segmenter: OpenCV's GrabCut, one box at a time, nearest first.
+
+A person draws a box around each car; :func:`grabcut_masks` turns the boxes into visible masks:
+
+- Each box is segmented inside a context window (the box grown by ``context`` of its size on each side, at least
+  ``min_context_px``): pixels outside the box are background for sure, pixels inside probably foreground.
+- Boxes are taken nearest first (the lowest bottom edge: on a road, the nearer car stands lower in the picture);
+  the masks already found are background for sure for the boxes behind them, so every pixel has one owner and
+  each farther object knows what hides it.
+- Where a ``prior`` (the semantic branch's vehicle probability, given only when that branch is trusted) is
+  confident, it seeds GrabCut: at least ``prior_high`` probably foreground, at most ``prior_low`` probably
+  background.
+- The result is the connected component with most pixels, its holes filled (windows are part of a car's
+  silhouette), clipped to the box.
+
+OpenCV is imported when a mask is made, not with the module.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+from torch import Tensor
+
+__all__ = ["grabcut_masks", "nearest_first"]
+
+
+def nearest_first(boxes: Tensor) -> Tensor:
+    """``(N,)`` order of ``boxes (N, 4)`` from the lowest bottom edge up (ties: the larger box first).
+
+    >>> nearest_first(torch.tensor([[0, 0, 10, 50], [0, 0, 20, 80], [0, 0, 30, 50]])).tolist()
+    [1, 2, 0]
+    """
+    b = boxes.double()
+    area = (b[:, 2] - b[:, 0]) * (b[:, 3] - b[:, 1])
+    key = b[:, 3] * (1 + area.max().clamp_min(1)) + area  # bottom edge first, area breaks ties
+    return torch.argsort(key, descending=True, stable=True)
+
+
+def _as_uint8(image: Tensor | np.ndarray) -> np.ndarray:
+    """``(H, W, 3)`` contiguous uint8 (BGR order does not matter to GrabCut's colour models)."""
+    if isinstance(image, Tensor):
+        if image.dim() != 3 or image.shape[0] != 3:
+            raise ValueError(f"image must be a (3, H, W) tensor, got {tuple(image.shape)}")
+        array = image.detach().cpu().float().clamp(0, 1).permute(1, 2, 0).numpy() * 255 + 0.5
+        return np.ascontiguousarray(array.astype(np.uint8))
+    if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
+        raise ValueError(f"image must be (H, W, 3) uint8, got {image.dtype} {image.shape}")
+    return np.ascontiguousarray(image)
+
+
+def _largest_filled(mask: np.ndarray) -> np.ndarray:
+    """The largest 8-connected component of ``mask (h, w)`` uint8 {0, 1}, holes filled."""
+    import cv2
+
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8)
+    if count <= 1:
+        return np.zeros_like(mask)
+    biggest = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
+    part = (labels == biggest).astype(np.uint8)
+    contours, _ = cv2.findContours(part, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    filled = np.zeros_like(part)
+    cv2.drawContours(filled, contours, -1, 1, thickness=cv2.FILLED)
+    return filled
+
+
+def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | None = None, iterations: int = 5,
+                  context: float = 0.5, min_context_px: int = 8, prior_high: float = 0.9,
+                  prior_low: float = 0.1) -> Tensor:
+    """``(N, H, W)`` bool visible masks of the objects in ``boxes`` (module doc).
+
+    Args:
+        image: ``(3, H, W)`` float in [0, 1], or ``(H, W, 3)`` uint8.
+        boxes: ``(N, 4)`` half-open ``(x0, y0, x1, y1)`` pixels of ``image`` (clipped to it; an empty box gets an
+            empty mask).
+        prior: ``(H, W)`` foreground probability in [0, 1] that may seed the segmentation, or None.
+        iterations: GrabCut iterations per box.
+        context, min_context_px: the window around each box that GrabCut learns the background from.
+        prior_high, prior_low: the prior's thresholds for probable foreground / background.
+    """
+    import cv2
+
+    pixels = _as_uint8(image)
+    height, width = pixels.shape[:2]
+    if boxes.dim() != 2 or boxes.shape[1] != 4:
+        raise ValueError(f"boxes must be (N, 4), got {tuple(boxes.shape)}")
+    if prior is not None and tuple(prior.shape) != (height, width):
+        raise ValueError(f"prior must be ({height}, {width}), got {tuple(prior.shape)}")
+    prior_np = None if prior is None else prior.detach().cpu().float().numpy()
+    out = np.zeros((len(boxes), height, width), dtype=bool)
+    taken = np.zeros((height, width), dtype=bool)
+    for i in nearest_first(boxes).tolist():  # each box needs the masks of the nearer ones: sequential
+        x0, y0, x1, y1 = (int(round(float(v))) for v in boxes[i])
+        x0, x1 = max(0, min(x0, width)), max(0, min(x1, width))
+        y0, y1 = max(0, min(y0, height)), max(0, min(y1, height))
+        if x1 - x0 < 2 or y1 - y0 < 2:
+            continue
+        gx = max(min_context_px, int(context * (x1 - x0)))
+        gy = max(min_context_px, int(context * (y1 - y0)))
+        wx0, wy0, wx1, wy1 = max(0, x0 - gx), max(0, y0 - gy), min(width, x1 + gx), min(height, y1 + gy)
+        seed = np.full((wy1 - wy0, wx1 - wx0), cv2.GC_BGD, dtype=np.uint8)
+        seed[y0 - wy0:y1 - wy0, x0 - wx0:x1 - wx0] = cv2.GC_PR_FGD
+        if prior_np is not None:
+            window = prior_np[wy0:wy1, wx0:wx1]
+            inside = seed == cv2.GC_PR_FGD
+            seed[inside & (window <= prior_low)] = cv2.GC_PR_BGD
+        seed[taken[wy0:wy1, wx0:wx1]] = cv2.GC_BGD
+        if not (seed == cv2.GC_PR_FGD).any():
+            continue
+        bgd, fgd = np.zeros((1, 65), np.float64), np.zeros((1, 65), np.float64)
+        crop = np.ascontiguousarray(pixels[wy0:wy1, wx0:wx1])
+        try:
+            cv2.grabCut(crop, seed, None, bgd, fgd, iterations, cv2.GC_INIT_WITH_MASK)
+        except cv2.error:  # one colour everywhere (no background model can be learnt): the box itself
+            seed[seed == cv2.GC_PR_BGD] = cv2.GC_PR_FGD
+        fg = ((seed == cv2.GC_FGD) | (seed == cv2.GC_PR_FGD)).astype(np.uint8)
+        if prior_np is not None:  # a confident prior keeps its pixels inside the box
+            confident = (prior_np[wy0:wy1, wx0:wx1] >= prior_high) & (seed != cv2.GC_BGD)
+            fg |= confident.astype(np.uint8)
+        fg = _largest_filled(fg).astype(bool)
+        box = np.zeros_like(fg)
+        box[y0 - wy0:y1 - wy0, x0 - wx0:x1 - wx0] = True
+        fg &= box & ~taken[wy0:wy1, wx0:wx1]
+        out[i, wy0:wy1, wx0:wx1] = fg
+        taken[wy0:wy1, wx0:wx1] |= fg
+    return torch.from_numpy(out)

@@ -1,0 +1,261 @@
+"""Fit a vehicle's 3D shape and pose to its silhouette alone: objects a person named by a box (real photos).
+
+The paper fits its Virtual-KITTI-trained predictions to Cityscapes cars by minimising the reprojection loss for 16
+Adam steps (:mod:`sdn3d.geometric.refine`). A car in a photo the branches never saw needs more than a local polish,
+so :func:`fit_to_masks` searches, batched over all objects and hypotheses at once:
+
+1. **On the road.** The camera has no roll or pitch and the road is the plane ``y = camera_height`` of the
+   camera frame (KITTI: 1.65 m), so the car's bottom-face centre is ``(x, camera_height, z)``: two free numbers,
+   started where the ray through the middle of the box's bottom edge meets the road (pushed back by half a car
+   width, the box's bottom edge is the car's nearest side).
+2. **Many starts, then the best.** Every template of the bank times four starting yaws (the geometric branch's
+   prediction where there is one, else facing away from the camera; its reverse; the two sides) is fitted at a
+   coarse crop (``coarse_size`` px, ``coarse_steps`` Adam steps on x, log z, yaw and log dims). The ``keep`` best
+   hypotheses of each object go on at a finer crop with the free-form deformation (``fine_steps``); the one with
+   the lowest loss wins, so the template is chosen by its fit.
+3. **What counts.** The loss is L_reproj (mean ``|S~ - M|``) over the crop, without the pixels of nearer objects
+   (``ignore``) and outside the image, plus ``dims_reg * |log d - log d0|^2`` (keeps the size near the start
+   where the silhouette cannot tell, e.g. a car seen from behind has no visible length) and
+   ``ffd_reg * mean(phi^2)``.
+
+The fit's quality is the silhouette IoU of the winner with the mask at the fine crop (the soft silhouette
+thresholded at 0.5, ignored pixels left out): :attr:`FitResult.iou`. Shapes in the docstrings: ``N`` objects,
+``T`` templates, ``Y`` starting yaws.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import torch
+from torch import Tensor
+
+from sdn3d.geometric.losses import outside_image_mask, render_silhouettes, reprojection_error
+from sdn3d.geometric.refine import adam_fit
+from sdn3d.image_ops import crop_intrinsics, crop_windows, pixel_centre_boxes, square_crop_window
+from sdn3d.math3d.camera import Intrinsics
+from sdn3d.math3d.ffd import expand_half_ffd
+from sdn3d.meshes.bank import MeshBank
+from sdn3d.render.settings import SoftSilhouetteSettings
+
+__all__ = ["FitSettings", "FitResult", "fit_to_masks", "road_start"]
+
+#: Mean KITTI car ``(l, h, w)`` in metres: the size a fit starts from without a usable prediction.
+CAR_DIMS = (3.88, 1.53, 1.63)
+#: Starting yaws: offsets added to the first start (prediction or facing away): itself, reversed, the two sides.
+YAW_OFFSETS = (0.0, math.pi, math.pi / 2, -math.pi / 2)
+
+
+@dataclass(frozen=True)
+class FitSettings:
+    """How :func:`fit_to_masks` searches (module doc). Defaults measured on the synthetic test part.
+
+    Args:
+        camera_height: the road plane's ``y`` in the camera frame, metres (y down; KITTI's camera is 1.65 m up).
+        coarse_size, coarse_steps: crop side (px) and Adam steps of the search over all starts.
+        fine_size, fine_steps: crop side and Adam steps of the ``keep`` best starts, with the FFD.
+        keep: hypotheses per object that go on to the fine stage.
+        lr: Adam learning rate (x, log z, log dims; the yaw takes ``2 lr``).
+        margin: the crop window grows the box by this share on each side.
+        sigma: soft-silhouette softness, px^2.
+        dims_reg, ffd_reg: weights of the size prior and the FFD's ``mean(phi^2)``.
+        poor_iou: a fit below this silhouette IoU with its mask is flagged as poor.
+    """
+
+    camera_height: float = 1.65
+    coarse_size: int = 40
+    coarse_steps: int = 12
+    fine_size: int = 80
+    fine_steps: int = 16
+    keep: int = 2
+    lr: float = 0.05
+    margin: float = 0.15
+    sigma: float = 0.25
+    dims_reg: float = 0.02
+    ffd_reg: float = 100.0
+    poor_iou: float = 0.7
+
+    def __post_init__(self) -> None:
+        for name in ("coarse_size", "fine_size"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 8:
+                raise ValueError(f"FitSettings.{name} must be an integer >= 8, got {value!r}")
+        for name in ("coarse_steps", "fine_steps", "keep"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < (1 if name == "keep" else 0):
+                raise ValueError(f"FitSettings.{name} must be a non-negative integer (keep >= 1), got {value!r}")
+        for name in ("camera_height", "lr", "sigma"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f"FitSettings.{name} must be a positive number, got {value!r}")
+        for name in ("margin", "dims_reg", "ffd_reg"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+                raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
+        if not (isinstance(self.poor_iou, (int, float)) and 0 <= self.poor_iou <= 1):
+            raise ValueError(f"FitSettings.poor_iou must be in [0, 1], got {self.poor_iou!r}")
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass
+class FitResult:
+    """Output of :func:`fit_to_masks` (one row per object, CPU tensors).
+
+    Attributes:
+        template: ``(N,)`` long, the winning template; dims ``(N, 3)`` ``(l, h, w)``; ry ``(N,)``;
+        location: ``(N, 3)`` bottom-face centre (``y = camera_height``); phi: ``(N, 64, 3)`` FFD.
+        iou: ``(N,)`` silhouette IoU with the mask at the fine crop; loss: ``(N,)`` the winner's final loss.
+        start_ry: ``(N,)`` the first start's yaw (the prediction's, or facing away).
+    """
+
+    template: Tensor
+    dims: Tensor
+    ry: Tensor
+    location: Tensor
+    phi: Tensor
+    iou: Tensor
+    loss: Tensor
+    start_ry: Tensor
+
+
+def road_start(boxes: Tensor, intr: Intrinsics, camera_height: float, width: float = CAR_DIMS[2]) -> Tensor:
+    """``(N, 3)`` bottom-face centres where the ray through each box's bottom-edge middle meets the road.
+
+    ``boxes (N, 4)`` half-open ``(x0, y0, x1, y1)`` in ``intr``'s pixels. The bottom edge is the car's nearest
+    side, so the centre is put ``width / 2`` further; a bottom edge at or above the horizon (``v <= cy``) is taken
+    one pixel below it (a very far car).
+
+    >>> intr = Intrinsics(725.0, 725.0, 620.5, 187.0, 1242, 375)
+    >>> road_start(torch.tensor([[600.0, 200.0, 640.0, 264.0]]), intr, 1.65, width=0.0).round(decimals=2).tolist()
+    [[-0.01, 1.65, 15.64]]
+    """
+    b = boxes.double()
+    u = (b[:, 0] + b[:, 2]) / 2 - 0.5
+    v = (b[:, 3] - 0.5).clamp_min(intr.cy + 1.0)
+    z = camera_height * intr.fy / (v - intr.cy) + width / 2
+    x = (u - intr.cx) * z / intr.fx
+    return torch.stack([x, torch.full_like(x, camera_height), z], 1)
+
+
+def _wrap(angle: Tensor) -> Tensor:
+    return torch.atan2(torch.sin(angle), torch.cos(angle))
+
+
+def _crops(masks: Tensor, ignore: Tensor, windows: Tensor, size: int, intr: Intrinsics,
+           image_size: tuple[int, int]) -> tuple[Tensor, Tensor, Tensor]:
+    """``(mask (N, 1, S, S) float, ignore (N, 1, S, S) float, K (N, 4))`` of each window at side ``size``."""
+    mask = crop_windows(masks[:, None].float(), windows, size, "bilinear")
+    ign = crop_windows(ignore[:, None].float(), windows, size, "bilinear")
+    edges = torch.stack([windows[:, 0] - 0.5, windows[:, 1] - 0.5, windows[:, 0] + windows[:, 2] - 0.5,
+                         windows[:, 1] + windows[:, 2] - 0.5], 1).float()
+    ign = torch.maximum(ign, outside_image_mask(edges, image_size, size))
+    return mask, ign, crop_intrinsics(intr, windows, size)
+
+
+def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Tensor, mask: Tensor, ign: Tensor,
+           K: Tensor, size: int, steps: int, settings: FitSettings, with_ffd: bool) -> tuple[dict[str, Tensor], Tensor]:
+    """Adam on ``M`` hypotheses (rows of every tensor); returns the fitted values and ``(M,)`` final losses."""
+    height = settings.camera_height
+    x = start["x"].clone().requires_grad_(True)
+    log_z = start["z"].log().clone().requires_grad_(True)
+    half_ry = (start["ry"] / 2).clone().requires_grad_(True)  # the yaw moves twice as fast as the rest
+    log_dims = start["dims"].log().clone().requires_grad_(True)
+    phi_half = start["phi_half"].clone().requires_grad_(with_ffd)
+    free = [x, log_z, half_ry, log_dims] + ([phi_half] if with_ffd else [])
+    sil_settings = SoftSilhouetteSettings((size, size), sigma=settings.sigma)
+    log_dims0 = dims0.log()
+
+    def objective() -> Tensor:
+        dims = log_dims.exp()
+        center = torch.stack([x, height - dims[:, 1] / 2, log_z.exp()], 1)
+        phi = expand_half_ffd(phi_half)
+        sil = render_silhouettes(bank, template, dims, 2 * half_ry, center, phi, K, sil_settings)
+        prior = settings.dims_reg * (log_dims - log_dims0).square().sum(1)
+        return reprojection_error(sil, mask, ign) + prior + settings.ffd_reg * phi.square().flatten(1).mean(1)
+
+    adam_fit(free, objective, steps, settings.lr)
+    with torch.no_grad():
+        loss = objective()
+    values = {"x": x.detach(), "z": log_z.detach().exp(), "ry": _wrap(2 * half_ry.detach()),
+              "dims": log_dims.detach().exp(), "phi_half": phi_half.detach()}
+    return values, loss
+
+
+def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tensor | None = None,
+                 start_ry: Tensor | None = None, start_dims: Tensor | None = None, bank: MeshBank | None = None,
+                 settings: FitSettings | None = None) -> FitResult:
+    """Fit template, size, yaw, position on the road and FFD of ``N`` vehicles to their masks (module doc).
+
+    Args:
+        masks: ``(N, H, W)`` bool visible masks in ``intr``'s image.
+        boxes: ``(N, 4)`` half-open boxes around them (crop windows and road starts), ``intr``'s pixels.
+        ignore: ``(N, H, W)`` bool pixels that do not count for each object (nearer objects), or None.
+        start_ry: ``(N,)`` first starting yaw (the geometric branch's prediction); NaN or None: facing away from
+            the camera along the ray (``ry = -pi/2``, the back visible).
+        start_dims: ``(N, 3)`` starting ``(l, h, w)`` (NaN rows or None: :data:`CAR_DIMS`); also the size prior.
+        bank: the templates (default: the 8 procedural ones); every one is tried.
+        settings: the search (default :class:`FitSettings`).
+    """
+    settings = settings or FitSettings()
+    bank = bank or MeshBank.templates()
+    n = masks.shape[0]
+    if masks.dim() != 3 or tuple(masks.shape[-2:]) != intr.size:
+        raise ValueError(f"masks must be (N, H, W) of the image {intr.size}, got {tuple(masks.shape)}")
+    if tuple(boxes.shape) != (n, 4):
+        raise ValueError(f"boxes must be ({n}, 4), got {tuple(boxes.shape)}")
+    ignore = torch.zeros_like(masks, dtype=torch.bool) if ignore is None else ignore.bool()
+    if n == 0:
+        empty = torch.zeros(0)
+        return FitResult(torch.zeros(0, dtype=torch.long), torch.zeros(0, 3), empty, torch.zeros(0, 3),
+                         torch.zeros(0, 64, 3), empty, empty, empty)
+    masks = masks.bool() & ~ignore
+    image_size = (intr.width, intr.height)
+    road = road_start(boxes, intr, settings.camera_height).float()
+    ry0 = torch.full((n,), -math.pi / 2) if start_ry is None else start_ry.float().clone()
+    ry0 = torch.where(torch.isfinite(ry0), ry0, torch.full_like(ry0, -math.pi / 2))
+    dims0 = torch.tensor(CAR_DIMS).expand(n, 3).clone()
+    if start_dims is not None:
+        given = start_dims.float()
+        plausible = torch.isfinite(given).all(1) & ((given / dims0).log().abs() < math.log(1.6)).all(1)
+        dims0 = torch.where(plausible[:, None], given, dims0)
+    windows = torch.tensor([square_crop_window(b, settings.margin) for b in pixel_centre_boxes(boxes.float())],
+                           dtype=torch.float32)
+
+    # Coarse: every object x template x starting yaw, rows ordered (object, template, yaw).
+    t, y = len(bank), len(YAW_OFFSETS)
+    per = t * y
+    obj = torch.arange(n).repeat_interleave(per)
+    template = torch.arange(t).repeat_interleave(y).repeat(n)
+    offsets = torch.tensor(YAW_OFFSETS, dtype=torch.float32).repeat(n * t)
+    start = {"x": road[obj, 0], "z": road[obj, 2], "ry": _wrap(ry0[obj] + offsets), "dims": dims0[obj],
+             "phi_half": torch.zeros(n * per, 32, 3)}
+    mask, ign, K = _crops(masks, ignore, windows, settings.coarse_size, intr, image_size)
+    values, loss = _stage(bank, template, start, dims0[obj], mask[obj], ign[obj], K[obj], settings.coarse_size,
+                          settings.coarse_steps, settings, with_ffd=False)
+
+    # Fine: the `keep` best of each object, with the FFD.
+    keep = min(settings.keep, per)
+    best = loss.view(n, per).topk(keep, dim=1, largest=False).indices + torch.arange(n)[:, None] * per
+    rows = best.flatten()
+    obj = rows // per
+    mask, ign, K = _crops(masks, ignore, windows, settings.fine_size, intr, image_size)
+    values, loss = _stage(bank, template[rows], {k: v[rows] for k, v in values.items()}, dims0[obj], mask[obj],
+                          ign[obj], K[obj], settings.fine_size, settings.fine_steps, settings, with_ffd=True)
+    winner = loss.view(n, keep).argmin(1) + torch.arange(n) * keep
+    chosen = {k: v[winner] for k, v in values.items()}
+    dims, phi = chosen["dims"], expand_half_ffd(chosen["phi_half"])
+    location = torch.stack([chosen["x"], torch.full_like(chosen["x"], settings.camera_height), chosen["z"]], 1)
+    with torch.no_grad():
+        center = torch.stack([chosen["x"], settings.camera_height - dims[:, 1] / 2, chosen["z"]], 1)
+        sil = render_silhouettes(bank, template[rows][winner], dims, chosen["ry"], center, phi, K[obj][winner],
+                                 SoftSilhouetteSettings((settings.fine_size,) * 2, sigma=settings.sigma))
+    keep_px = ign[obj][winner][:, 0] < 0.5
+    drawn, target = (sil > 0.5) & keep_px, (mask[obj][winner][:, 0] > 0.5) & keep_px
+    union = (drawn | target).flatten(1).sum(1)
+    iou = (drawn & target).flatten(1).sum(1) / union.clamp_min(1)
+    return FitResult(template=template[rows][winner].long(), dims=dims, ry=chosen["ry"], location=location, phi=phi,
+                     iou=torch.where(union > 0, iou, torch.zeros_like(iou)).float(), loss=loss[winner],
+                     start_ry=ry0)

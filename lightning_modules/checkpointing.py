@@ -79,7 +79,28 @@ def remove_stale_temp_files(folder: Path, suffixes: tuple[str, ...] = (".ckpt",)
 
 
 class AtomicCheckpointIO(TorchCheckpointIO):
-    """Lightning ``CheckpointIO``: atomic local writes, finite weights only, ``weights_only=True`` loads."""
+    """Lightning ``CheckpointIO``: atomic local writes, finite weights only, ``weights_only=True`` loads.
+
+    Args:
+        relocate: ``{directory a checkpoint callback wrote to: the directory it writes to now}`` for a run resumed
+            from another place (copied or moved): the paths a loaded checkpoint's ``ModelCheckpoint`` states record
+            under an old directory (``dirpath``, ``best_model_path``, ``best_k_models``, ...) are taken from the new
+            one, so the callback keeps its best-checkpoint selection and never names the old place's files.
+    """
+
+    def __init__(self, relocate: Mapping[str, str] | None = None) -> None:
+        super().__init__()
+        self.relocate = {str(k).rstrip("/"): str(v).rstrip("/") for k, v in (relocate or {}).items()}
+
+    def _relocated(self, value: Any) -> Any:
+        """``value`` (a callback state) with every path under a :attr:`relocate` directory moved to its new one."""
+        if isinstance(value, Mapping):
+            return {self._relocated(k): self._relocated(v) for k, v in value.items()}
+        if isinstance(value, str):
+            for old, new in self.relocate.items():
+                if value == old or value.startswith(old + "/"):
+                    return new + value[len(old):]
+        return value
 
     def save_checkpoint(self, checkpoint: dict[str, Any], path: Any, storage_options: Any | None = None) -> None:
         if storage_options is not None:
@@ -134,4 +155,8 @@ class AtomicCheckpointIO(TorchCheckpointIO):
             error = CheckpointLoadError(f"{path}: not a Lightning checkpoint (holds a {type(checkpoint).__name__})")
             error.path = str(path)  # type: ignore[attr-defined]
             raise error
+        callbacks = checkpoint.get("callbacks")
+        if self.relocate and isinstance(callbacks, dict):
+            checkpoint["callbacks"] = {key: self._relocated(state) if isinstance(state, Mapping) and state.get(
+                "dirpath") in self.relocate else state for key, state in callbacks.items()}
         return checkpoint

@@ -21,7 +21,7 @@ import os
 import re
 import time
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
@@ -29,7 +29,8 @@ from typing import Any
 import lightning as L
 import torch
 from hydra.utils import instantiate
-from omegaconf import DictConfig, OmegaConf
+from omegaconf import DictConfig, ListConfig, OmegaConf
+from omegaconf.errors import OmegaConfBaseException
 
 from lightning_modules._base import NonFiniteLossError
 from lightning_modules.checkpointing import AtomicCheckpointIO, NonFiniteCheckpointError, remove_stale_temp_files
@@ -59,23 +60,113 @@ class RunFailedError(TrainingError):
 RESUME_TARGET_PREFIXES = ("sdn3d.", "lightning_modules.", "datamodules.", "lightning.", "torch.")
 
 
-def _apply_command_line(target: DictConfig, overrides: list[str] | None) -> None:
-    """Set the dotted ``key.sub=value`` command-line ``overrides`` on ``target``, in place.
+class _Absent:
+    """The value :func:`_select` gives for a key a config does not have."""
 
-    Only ``resume=`` needs this: a resumed run's config is its saved, resolved ``config.yaml``, which Hydra
-    does not compose, so Hydra can not apply the command line to it. The values are read with Hydra's own
-    override grammar, as Hydra reads them everywhere else: a multirun hands them over escaped
-    (``trainer.max_time=00\\:01\\:00\\:00``), and plain YAML reads some strings differently (``1:30`` is a
-    number to YAML 1.1). Group choices (``branch=...``), ``hydra.*`` keys and deletions are left out.
+
+_ABSENT = _Absent()
+
+
+def _select(cfg: DictConfig, key: str) -> Any:
+    """The node at dotted ``key`` of ``cfg`` (unresolved), or :data:`_ABSENT` when there is none."""
+    node: Any = cfg
+    for part in key.split("."):
+        if isinstance(node, DictConfig) and part in node:
+            node = node._get_node(part)
+        elif isinstance(node, ListConfig) and part.lstrip("-").isdigit() and -len(node) <= int(part) < len(node):
+            node = node._get_node(int(part))
+        else:
+            return _ABSENT
+    return node
+
+
+#: Command-line keys ``resume=`` consumes itself (the rest of the command line is applied to the saved config).
+_RESUME_OWN_KEYS = ("resume",)
+#: Keys that cannot change on resume: a resumed run writes into its own directory and continues from its last.ckpt.
+_RESUME_FIXED_KEYS = ("run_dir", "ckpt_path")
+
+
+def _apply_command_line(target: DictConfig, overrides: list[str] | None, source: Path) -> list[str]:
+    """Apply the command line ``overrides`` of ``resume=`` to ``target``, the run's saved config (``source``), in
+    place; returns the overrides applied. Every override is applied or refused, none is dropped.
+
+    A resumed run's config is its saved, resolved ``config.yaml``, which Hydra does not compose, so Hydra can not
+    apply the command line to it. The values are read with Hydra's own override grammar, as Hydra reads them
+    everywhere else: a multirun hands them over escaped (``trainer.max_time=00\\:01\\:00\\:00``), and plain YAML
+    reads some strings differently (``1:30`` is a number to YAML 1.1). As in Hydra, ``key=value`` changes a setting
+    the config has, ``+key=value`` adds one it lacks, ``++key=value`` sets either way, ``~key`` deletes one.
+    ``hydra.*`` overrides are Hydra's own (it applies them).
+
+    Raises:
+        TrainingError: naming the override: a config group choice (``branch=``, ``experiment=``, ``data=``, ...:
+            the saved config is already composed), ``run_dir=`` or ``ckpt_path=``, a setting the saved config does
+            not have (or, with ``+``, already has).
     """
-    dotted = [o.lstrip("+") for o in (overrides or []) if "=" in o and "." in o.split("=", 1)[0]
-              and not o.lstrip("+").startswith("hydra.") and not o.startswith("~")]
-    if not dotted:
-        return
     from hydra.core.override_parser.overrides_parser import OverridesParser
+    from hydra.errors import HydraException
 
-    for override in OverridesParser.create().parse_overrides(dotted):
-        OmegaConf.update(target, override.key_or_group, override.value(), merge=False, force_add=True)
+    texts = [str(o) for o in overrides or []]
+    try:
+        parsed = OverridesParser.create().parse_overrides(texts)
+    except HydraException as exc:
+        raise TrainingError(f"resume: bad command line override: {' '.join(str(exc).split())}") from exc
+    groups = _group_names()
+    applied = []
+    for text, override in zip(texts, parsed, strict=True):
+        key = override.key_or_group
+        if key in _RESUME_OWN_KEYS or key == "hydra" or key.startswith(("hydra.", "hydra/")):
+            continue
+        where = f"{text!r} with resume= (the run's config is its saved {source})"
+        if key in _RESUME_FIXED_KEYS:
+            raise TrainingError(f"{where}: {key} can not be given: a resumed run writes into its own directory and "
+                                "continues from its checkpoints/last.ckpt; to train from another checkpoint into a new "
+                                f"run directory, start a new run with ckpt_path=<checkpoint> instead of resume=")
+        node = _select(target, key)
+        if override.package is not None or "/" in key or key in groups or isinstance(node, DictConfig) and not (
+                override.is_delete() or override.is_force_add()):
+            raise TrainingError(f"{where}: {key!r} is a config group (or a section of settings): its choice can not "
+                                "change on resume; set single values instead (e.g. trainer.max_epochs=30), or start a "
+                                "new run")
+        if override.is_sweep_override():
+            raise TrainingError(f"{where}: a sweep can not be applied to one resumed run")
+        if override.is_delete():
+            if node is _ABSENT:
+                raise TrainingError(f"{where}: the run's config has no {key!r} to delete")
+            parent, _, leaf = key.rpartition(".")
+            container = _select(target, parent) if parent else target
+            del container[int(leaf) if isinstance(container, ListConfig) else leaf]
+        elif override.is_add() and node is not _ABSENT:
+            raise TrainingError(f"{where}: the run's config already has {key!r}: drop the '+' to change it")
+        elif not (override.is_add() or override.is_force_add()) and node is _ABSENT:
+            group = "" if "." in key else (" (a config group's choice, such as branch= or experiment=, can not "
+                                           "change on resume)")
+            raise TrainingError(f"{where}: the run's config has no setting {key!r}{group}; a typo? To add a setting, "
+                                f"write +{text}")
+        else:
+            OmegaConf.update(target, key, override.value(), merge=False, force_add=True)
+        applied.append(text)
+    return applied
+
+
+def _group_names() -> set[str]:
+    """The config groups of this Hydra run (``branch``, ``data``, ``experiment``, ...), empty outside Hydra's main."""
+    from hydra.core.hydra_config import HydraConfig
+
+    if not HydraConfig.initialized():
+        return set()
+    return {str(k) for k in HydraConfig.get().runtime.choices}
+
+
+def _rebase(node: Any, old: str, new: str) -> Any:
+    """``node`` (a plain config tree) with every string that is the directory ``old`` or a path under it moved to the
+    same place under ``new``."""
+    if isinstance(node, Mapping):
+        return {k: _rebase(v, old, new) for k, v in node.items()}
+    if isinstance(node, list):
+        return [_rebase(v, old, new) for v in node]
+    if isinstance(node, str) and (node == old or node.startswith(old + "/")):
+        return new + node[len(old):]
+    return node
 
 
 # (node, constructor argument, source): conf/train.yaml hands the fault policies to the module and datamodule.
@@ -108,7 +199,10 @@ def check_resume_targets(cfg: DictConfig, source: Path, extra: Sequence[str] = (
     from hydra.utils import get_class
 
     allowed = tuple(RESUME_TARGET_PREFIXES) + tuple(str(e) for e in extra or ())
-    tree = OmegaConf.to_container(cfg, resolve=False)
+    try:  # a target may be a reference (model._target_: ${ablation.module}): check what it names
+        tree = OmegaConf.to_container(cfg, resolve=True)
+    except OmegaConfBaseException as exc:
+        raise TrainingError(f"{source}: not a config that can be read ({' '.join(str(exc).split())[:200]})") from None
     for key, target in _targets(tree):
         if not isinstance(target, str) or not target.startswith(allowed):
             raise TrainingError(
@@ -123,14 +217,17 @@ def check_resume_targets(cfg: DictConfig, source: Path, extra: Sequence[str] = (
 
 
 def resolve_resume(cfg: DictConfig, overrides: list[str] | None = None) -> DictConfig:
-    """``resume=<run dir>``: the run's saved config, its ``last.ckpt``, plus dotted CLI overrides.
+    """``resume=<run dir>``: the run's saved config, its ``last.ckpt``, plus the command line ``overrides``.
 
-    Group choices (``branch=...``) can not change on resume; dotted overrides such as
-    ``trainer.max_epochs=30`` apply (e.g. to train a finished run longer). The saved config may only name
-    trusted classes (:func:`check_resume_targets`; ``cfg.resume_allow_targets``, from the command line, adds
-    prefixes).
+    The run is where ``resume=`` says it is: every path of its saved config that lay in the directory it was trained
+    in (``run_dir`` as saved: checkpoints, TensorBoard, ``trainer.default_root_dir``) is taken from the same place in
+    this directory, so a copied or moved run resumes into itself. ``summary_file`` (the shared one-line-per-run log)
+    is this command's, as for a new run. The command line is applied to the saved config or refused
+    (:func:`_apply_command_line`: ``trainer.max_epochs=30``, ``torch_threads=1``, ``summary_file=...`` apply; group
+    choices such as ``branch=`` can not change). The saved config may only name trusted classes
+    (:func:`check_resume_targets`; ``cfg.resume_allow_targets``, from the command line, adds prefixes).
     """
-    run = Path(str(cfg.resume)).expanduser()
+    run = Path(os.path.abspath(Path(str(cfg.resume)).expanduser()))
     saved = run / SAVED_CONFIG
     if not saved.is_file():
         raise TrainingError(f"resume={str(run)!r}: no {SAVED_CONFIG} there; is it an sdn3d-train run directory?")
@@ -142,12 +239,17 @@ def resolve_resume(cfg: DictConfig, overrides: list[str] | None = None) -> DictC
         raise TrainingError(f"{saved}: not a config (a mapping of settings)")
     extra = cfg.get("resume_allow_targets") or ()
     check_resume_targets(base, saved, [extra] if isinstance(extra, str) else list(extra))
+    trained_in = base.get("run_dir")
+    if isinstance(trained_in, str) and trained_in.rstrip("/") and trained_in.rstrip("/") != str(run):
+        base = OmegaConf.create(_rebase(OmegaConf.to_container(base, resolve=False), trained_in.rstrip("/"),
+                                        str(run)))
     # The saved config is resolved: link the fault policies to fault.* again, so that `fault.nonfinite=skip`
     # on resume reaches the module and datamodule (as conf/train.yaml does for a new run).
     for node, key, source in _FAULT_LINKS:
         if isinstance(base.get(node), DictConfig) and OmegaConf.select(base, source) is not None:
             base[node][key] = "${" + source + "}"
-    _apply_command_line(base, overrides)
+    base.summary_file = cfg.get("summary_file")
+    _apply_command_line(base, overrides, saved)
     base.resume = str(run)
     base.run_dir = str(run)
     base.ckpt_path = str(ckpt)
@@ -220,6 +322,127 @@ def resolve_config(cfg: DictConfig, overrides: list[str] | None = None) -> DictC
     return resolve_resume(cfg, overrides) if cfg.get("resume") else cfg
 
 
+@dataclass
+class StartPoint:
+    """Where fitting starts: the training checkpoint ``ckpt_path`` names (None: from scratch), how far it had got
+    (``epochs`` whose training finished, optimiser ``steps``), and whether that already reaches the config's budget
+    (``finished``: fitting has nothing left to do; ``budget`` says which limit and ``larger`` a larger one, for
+    messages); ``checkpoint_dirs``: where its checkpoint callbacks wrote (``{callback state key: dirpath}``)."""
+
+    checkpoint: Path | None = None
+    epochs: int = 0
+    steps: int = 0
+    finished: bool = False
+    budget: str = ""
+    larger: str = ""
+    checkpoint_dirs: dict[str, str] = field(default_factory=dict)
+
+
+def _budget(cfg: DictConfig) -> tuple[int | None, int | None]:
+    """``(max_epochs, max_steps)`` of the trainer config, None for no limit (Lightning's rules: both unset is 1000
+    epochs; -1 is none)."""
+    trainer = cfg.get("trainer") or {}
+    epochs, steps = trainer.get("max_epochs"), trainer.get("max_steps", -1)
+    steps = None if steps in (None, -1) else int(steps)
+    if epochs is None:
+        return (1000 if steps is None else None), steps
+    return (None if int(epochs) == -1 else int(epochs)), steps
+
+
+def check_start(cfg: DictConfig) -> StartPoint:
+    """Check the checkpoint training continues from (``ckpt_path``; ``resume=`` sets it to the run's ``last.ckpt``)
+    before anything is written: it must be a Lightning *training* checkpoint of this branch, and the config's budget
+    (``trainer.max_epochs`` / ``max_steps``) may not be smaller than what it has trained. Its tensors are mapped, not
+    read.
+
+    Raises:
+        TrainingError: naming the file: missing or unreadable, an inference export or other weights-only file (no
+            optimiser or loop state to continue), another branch's checkpoint, or a budget below its progress.
+    """
+    from sdn3d.inference_export import is_inference_export
+    from sdn3d.io import checkpoint_branch, load_torch_file
+
+    if not cfg.get("ckpt_path"):
+        return StartPoint()
+    path = Path(str(cfg.ckpt_path)).expanduser()
+    what = f"resume={str(cfg.resume)!r}: its checkpoint" if cfg.get("resume") else "ckpt_path"
+    if not path.is_file():
+        raise TrainingError(f"{what} {str(path)!r} does not exist")
+    try:
+        content = load_torch_file(path, "checkpoint", mmap=True)
+    except UserInputError:  # mmap needs torch's zip format: an old-format file is read whole (or refused)
+        try:
+            content = load_torch_file(path, "checkpoint")
+        except UserInputError as exc:
+            raise TrainingError(f"{what}: {exc}") from exc
+    if is_inference_export(content):
+        raise TrainingError(
+            f"{what} {str(path)!r} is an sdn3d inference export (weights only, as sdn3d-export-weights and "
+            "checkpoints/inference.pt hold them): training can only continue from a Lightning training checkpoint, "
+            "which also holds the optimiser and loop state (a run's checkpoints/last.ckpt or best-*.ckpt)")
+    needed = ("state_dict", "pytorch-lightning_version", "optimizer_states", "loops")
+    lacking = [k for k in needed if not isinstance(content, Mapping) or k not in content]
+    if lacking:
+        raise TrainingError(f"{what} {str(path)!r} is not a Lightning training checkpoint (it lacks "
+                            f"{', '.join(map(repr, lacking))}): training can only continue from one (a run's "
+                            "checkpoints/last.ckpt or best-*.ckpt)")
+    branch, held = cfg.get("branch_name"), checkpoint_branch(content)
+    if branch and held and held != str(branch):
+        raise TrainingError(f"{what} {str(path)!r} holds the {held} branch's weights, not the {branch} branch's")
+    try:
+        epochs = int(content["loops"]["fit_loop"]["epoch_progress"]["current"]["processed"])
+    except (KeyError, TypeError, ValueError):
+        epochs = int(content.get("epoch") or 0)
+    steps = int(content.get("global_step") or 0)
+    max_epochs, max_steps = _budget(cfg)
+    done = f"{epochs} epoch(s), {steps} optimiser step(s)"
+    if max_epochs is not None and max_epochs < epochs or max_steps is not None and max_steps < steps:
+        limit = (f"trainer.max_epochs={max_epochs}" if max_epochs is not None and max_epochs < epochs
+                 else f"trainer.max_steps={max_steps}")
+        raise TrainingError(f"{what} {str(path)!r} has trained {done}: {limit} is less than that; give a budget of "
+                            "at least what it has trained (more to train it longer)")
+    reached = []
+    if max_epochs is not None and epochs >= max_epochs:
+        reached.append(f"trainer.max_epochs={max_epochs}")
+    if max_steps is not None and steps >= max_steps:
+        reached.append(f"trainer.max_steps={max_steps}")
+    states = content.get("callbacks")
+    dirs = {str(k): v["dirpath"] for k, v in states.items() if isinstance(v, Mapping) and isinstance(
+        v.get("dirpath"), str)} if isinstance(states, Mapping) else {}
+    if not reached:
+        return StartPoint(path, epochs, steps, checkpoint_dirs=dirs)
+    more = (f"trainer.max_epochs={epochs + 10}" if max_epochs is not None and epochs >= max_epochs
+            else f"trainer.max_steps={steps + 1000}")
+    return StartPoint(path, epochs, steps, True, f"{done}, all of its budget ({' and '.join(reached)})", more, dirs)
+
+
+# A value that only refers to other settings: ${run_dir}/checkpoints, ${data}, ${fault.nonfinite} (no resolver).
+_REFERENCE = re.compile(r"\$\{[A-Za-z_][\w.]*\}")
+
+
+def _keep_references(raw: Any, resolved: Any) -> Any:
+    """``resolved`` (a plain config tree), except where ``raw`` (the same tree unresolved) holds a string made of
+    references to other settings only: that string is kept as it is."""
+    if isinstance(raw, Mapping) and isinstance(resolved, Mapping):
+        return {k: _keep_references(raw.get(k), v) for k, v in resolved.items()}
+    if isinstance(raw, list) and isinstance(resolved, list) and len(raw) == len(resolved):
+        return [_keep_references(r, v) for r, v in zip(raw, resolved, strict=True)]
+    if isinstance(raw, str) and "${" in raw and "${" not in _REFERENCE.sub("", raw) and "\\${" not in raw:
+        return raw
+    return resolved
+
+
+def saved_config_text(cfg: DictConfig) -> str:
+    """A new run's ``config.yaml``: its config resolved, except that a setting which refers to others keeps the
+    reference (``callbacks.model_checkpoint.dirpath: ${run_dir}/checkpoints``, ``datamodule.data: ${data}``). So a
+    resume (:func:`resolve_resume`) that sets ``run_dir`` to where the run is now, or overrides ``data.root`` or
+    ``seed``, changes every setting that follows from it, as it would in a new run. Resolvers (``${hydra:...}``,
+    ``${oc.env:...}``) are resolved: the file does not depend on the environment it was written in."""
+    raw = OmegaConf.to_container(cfg, resolve=False)
+    resolved = OmegaConf.to_container(cfg, resolve=True)
+    return OmegaConf.to_yaml(OmegaConf.create(_keep_references(raw, resolved)))
+
+
 def prepare_run_dir(cfg: DictConfig) -> Path:
     """The run directory and ``summary_file``, checked writable, cleared of temp files a killed write left; a new
     run saves its resolved config there (``config.yaml``)."""
@@ -231,7 +454,7 @@ def prepare_run_dir(cfg: DictConfig) -> Path:
         remove_stale_temp_files(run_dir / "checkpoints")
         remove_stale_temp_files(run_dir, (".json", ".yaml"))
     if not cfg.get("resume"):
-        write_text_atomic(run_dir / SAVED_CONFIG, OmegaConf.to_yaml(cfg, resolve=True))
+        write_text_atomic(run_dir / SAVED_CONFIG, saved_config_text(cfg))
     return run_dir
 
 
@@ -255,8 +478,11 @@ class RunObjects:
     params: dict[str, Any]
 
 
-def build_objects(cfg: DictConfig) -> RunObjects:
-    """Datamodule, module, callbacks, loggers and trainer of the config (the config's hyperparameters logged)."""
+def build_objects(cfg: DictConfig, start: StartPoint | None = None) -> RunObjects:
+    """Datamodule, module, callbacks, loggers and trainer of the config (the config's hyperparameters logged).
+
+    For ``resume=`` of a run trained elsewhere (copied or moved), the checkpoint callbacks' recorded paths are read
+    as paths of this run directory (``start.checkpoint_dirs``, :class:`AtomicCheckpointIO`'s ``relocate``)."""
     datamodule = instantiate(cfg.datamodule)
     model = instantiate(cfg.model)
     callbacks = _instantiate_group(cfg.get("callbacks"))
@@ -265,8 +491,17 @@ def build_objects(cfg: DictConfig) -> RunObjects:
         callbacks = [c for c in callbacks if type(c).__name__ != "LearningRateMonitor"]
     if not cfg.trainer.get("enable_progress_bar", True):  # Lightning refuses a progress bar callback then
         callbacks = [c for c in callbacks if not isinstance(c, L.pytorch.callbacks.ProgressBar)]
+    relocate = {}
+    if cfg.get("resume") and start is not None:
+        for callback in callbacks:
+            old = start.checkpoint_dirs.get(getattr(callback, "state_key", ""))
+            if isinstance(callback, L.pytorch.callbacks.ModelCheckpoint) and old and old != callback.dirpath:
+                relocate[old] = str(callback.dirpath)
+    if relocate:
+        log.info("resuming a run trained elsewhere: its checkpoint paths %s are read as %s", sorted(relocate),
+                 sorted(relocate.values()))
     trainer: L.Trainer = instantiate(cfg.trainer, callbacks=callbacks, logger=loggers or False,
-                                     plugins=[AtomicCheckpointIO()])
+                                     plugins=[AtomicCheckpointIO(relocate)])
     params = _flat(OmegaConf.to_container(cfg, resolve=True))
     for logger in loggers:  # the run's whole config next to the module's own hyperparameters
         logger.log_hyperparams(params)
@@ -299,9 +534,7 @@ def fit_and_test(cfg: DictConfig, run: RunObjects) -> FitResult:
     non-finite (no checkpoint is written then), end the fit with status ``failed``, not an exception.
     """
     trainer, model, datamodule = run.trainer, run.model, run.datamodule
-    ckpt_path = cfg.get("ckpt_path")
-    if ckpt_path and not Path(str(ckpt_path)).is_file():
-        raise TrainingError(f"ckpt_path={str(ckpt_path)!r} does not exist")
+    ckpt_path = cfg.get("ckpt_path")  # checked by check_start before the run started
     started = time.perf_counter()
     status, error, where = "ok", None, None
     try:
@@ -378,9 +611,46 @@ def error_sentence(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {first}" if first else type(exc).__name__
 
 
+#: Every attempt on a run directory (a new run, each resume), ok or failed, appends its summary here.
+SUMMARY_LOG = "summary_log.jsonl"
+
+
+@dataclass
+class _Before:
+    """What a run directory held when an attempt started: its summary (a resume's earlier one; None: none or
+    unreadable) and its checkpoints (name -> size and modification time)."""
+
+    summary: dict[str, Any] | None
+    checkpoints: dict[str, tuple[int, int]]
+
+    @classmethod
+    def of(cls, cfg: DictConfig, run_dir: Path) -> _Before:
+        summary = None
+        if cfg.get("resume"):
+            try:
+                loaded = json.loads((run_dir / "summary.json").read_text(encoding="utf-8"))
+                summary = loaded if isinstance(loaded, dict) else None
+            except (OSError, UnicodeDecodeError, ValueError):
+                summary = None
+        return cls(summary, _checkpoint_files(run_dir))
+
+
+def _checkpoint_files(run_dir: Path) -> dict[str, tuple[int, int]]:
+    folder = run_dir / "checkpoints"
+    if not folder.is_dir():
+        return {}
+    return {p.name: (p.stat().st_size, p.stat().st_mtime_ns) for p in folder.iterdir() if p.suffix == ".ckpt"}
+
+
 def write_summary(cfg: DictConfig, run_dir: Path, run: RunObjects | None, result: FitResult,
-                  overrides: list[str] | None = None) -> dict[str, Any]:
-    """The run's summary: ``<run dir>/summary.json`` and one line of ``summary_file`` (global rank 0).
+                  overrides: list[str] | None = None, before: _Before | None = None) -> dict[str, Any]:
+    """The attempt's summary: ``<run dir>/summary.json``, one line of ``<run dir>/summary_log.jsonl`` and one of
+    ``summary_file`` (global rank 0).
+
+    A resume (``before`` holds the run's earlier summary) that failed without writing a checkpoint leaves
+    ``summary.json`` as it was: its failure goes to the two logs only, and the run's figures stay those of the
+    attempt that made its checkpoints. A resumed run's summary keeps the ``experiment`` and ``overrides`` the run
+    was started with; ``resume_overrides`` is the command line of the resume (None: never resumed).
 
     ``run`` is None when the run failed before its objects were built. ``skipped_batches`` counts batches the
     non-finite policy dropped; ``skipped_samples`` / ``skipped_fraction`` / ``skipped_files`` what the
@@ -392,10 +662,13 @@ def write_summary(cfg: DictConfig, run_dir: Path, run: RunObjects | None, result
     if run is not None and hasattr(run.datamodule, "skip_summary"):
         skipped.update(run.datamodule.skip_summary())
     branch = cfg.get("branch_name")
+    earlier = before.summary if before is not None and before.summary is not None else None
+    resumed = bool(cfg.get("resume"))
+    started_with = earlier.get("overrides") if earlier is not None else None
     summary = {
         "branch": str(branch) if branch is not None else None,
         "ablation": str(cfg.ablation.name) if branch == "geometric" and cfg.get("ablation") else None,
-        "experiment": _experiment_choice(),
+        "experiment": earlier.get("experiment") if earlier is not None else _experiment_choice(),
         "run_dir": str(run_dir.resolve()),
         "best_ckpt": str(Path(result.best).resolve()) if result.best else None,
         "last_ckpt": str(last.resolve()) if last.is_file() else None,
@@ -409,7 +682,8 @@ def write_summary(cfg: DictConfig, run_dir: Path, run: RunObjects | None, result
         "epoch": int(trainer.current_epoch) if trainer is not None else 0,
         "skipped_batches": int(getattr(run.model, "skipped_batches", 0)) if run is not None else 0,
         **skipped,
-        "overrides": list(overrides or []),
+        "overrides": list(started_with if isinstance(started_with, list) else [] if resumed else overrides or []),
+        "resume_overrides": list(overrides or []) if resumed else None,
         "seed": int(cfg.seed),
         "wall_s": round(time.perf_counter() - result.started, 3),
         "finished": datetime.now(timezone.utc).isoformat(timespec="seconds"),
@@ -417,21 +691,28 @@ def write_summary(cfg: DictConfig, run_dir: Path, run: RunObjects | None, result
         "error": result.error,
         "error_file": result.error_file,
     }
+    keep = earlier is not None and result.status != "ok" and _checkpoint_files(run_dir) == before.checkpoints
     if _rank_zero(run):
-        write_json_atomic(run_dir / "summary.json", summary)
+        if keep:
+            log.error("the resumed run failed before it wrote a checkpoint: %s keeps the run's earlier summary "
+                      "(status %s); this attempt is recorded in %s", run_dir / "summary.json", earlier.get("status"),
+                      run_dir / SUMMARY_LOG)
+        else:
+            write_json_atomic(run_dir / "summary.json", summary)
+        _append_summary(run_dir / SUMMARY_LOG, summary)
         if cfg.get("summary_file"):
             _append_summary(Path(str(cfg.summary_file)), summary)
     return summary
 
 
 def _record_failure(cfg: DictConfig, run_dir: Path, run: RunObjects | None, exc: BaseException, started: float,
-                    overrides: list[str] | None) -> None:
+                    overrides: list[str] | None, before: _Before | None = None) -> None:
     """Write the summary of a run stopped by ``exc`` (best effort: a full disk may refuse it too)."""
     metrics = _scalars(run.trainer.callback_metrics) if run is not None else {}
     best = getattr(run.trainer.checkpoint_callback, "best_model_path", "") or None if run is not None else None
     result = FitResult("failed", error_sentence(exc), metrics, best, started, error_file(exc))
     try:
-        write_summary(cfg, run_dir, run, result, overrides)
+        write_summary(cfg, run_dir, run, result, overrides, before)
     except Exception as write_error:  # noqa: BLE001 - the run's own error is the one to raise
         log.error("could not record the failed run's summary in %s: %s", run_dir, write_error)
 
@@ -440,21 +721,28 @@ def run_training(cfg: DictConfig, overrides: list[str] | None = None) -> dict[st
     """Train (and test) one branch as configured; returns the run summary (also written to disk).
 
     ``overrides`` are the command line's (Hydra's task overrides): recorded in the summary, and applied to a
-    resumed run's saved config. Once the run directory and ``summary_file`` are found writable, whatever
-    stops the run is recorded in its summary (status ``failed``, ``error``, ``error_file``) and then raised.
+    resumed run's saved config (:func:`resolve_resume`). Before anything is written, the checkpoint training
+    continues from is checked (:func:`check_start`). Once the run directory and ``summary_file`` are found
+    writable, whatever stops the run is recorded (status ``failed``, ``error``, ``error_file``; a resume that
+    failed before writing a checkpoint leaves ``summary.json`` as it was: :func:`write_summary`) and then raised.
+
+    A resume of a run that has trained its whole budget and whose summary says ok does nothing: it logs so and
+    returns that summary, changing no file.
 
     Raises:
-        TrainingError: bad resume target / checkpoint / unwritable output (before the run starts).
+        TrainingError: bad resume target / override / checkpoint (an export, another branch's, a budget below what
+            it trained) / unwritable output (before the run starts).
         RunFailedError: the run ended with status ``failed``: a non-finite loss under ``fault.nonfinite=stop``
             or too many under ``skip``, or non-finite weights (the last good checkpoint stays in
             ``<run>/checkpoints``).
         Any other error of the run (a corrupt sample, a full disk, a bug), after recording it.
     """
     cfg = resolve_config(cfg, overrides)
+    start = check_start(cfg)
     run_dir = Path(str(cfg.run_dir))
     check_writable(run_dir)
     with _run_lock(run_dir):
-        return _run_locked(cfg, overrides)
+        return _run_locked(cfg, overrides, start)
 
 
 #: The lock file of a run directory while ``sdn3d-train`` writes it (:func:`sdn3d.io.writer_lock`).
@@ -473,19 +761,26 @@ def _run_lock(run_dir: Path) -> Any:
     return writer_lock(run_dir / RUN_LOCK, f"run directory {str(run_dir)!r}")
 
 
-def _run_locked(cfg: DictConfig, overrides: list[str] | None) -> dict[str, Any]:
+def _run_locked(cfg: DictConfig, overrides: list[str] | None, start: StartPoint) -> dict[str, Any]:
     """:func:`run_training` once the run directory's lock is held."""
+    run_dir = Path(str(cfg.run_dir))
+    before = _Before.of(cfg, run_dir)
+    if cfg.get("resume") and start.finished and before.summary is not None and before.summary.get("status") == "ok":
+        log.warning("resume=%s: nothing to do: the run has trained %s; its summary (status ok) and checkpoints are "
+                    "left as they are. To train it longer, give a larger budget, e.g. %s", cfg.resume, start.budget,
+                    start.larger)
+        return before.summary
     run_dir = prepare_run_dir(cfg)
     started = time.perf_counter()
     run: RunObjects | None = None
     try:
         configure_process(cfg)
-        run = build_objects(cfg)
+        run = build_objects(cfg, start)
         result = fit_and_test(cfg, run)
     except Exception as exc:
-        _record_failure(cfg, run_dir, run, exc, started, overrides)
+        _record_failure(cfg, run_dir, run, exc, started, overrides, before)
         raise
-    summary = write_summary(cfg, run_dir, run, result, overrides)
+    summary = write_summary(cfg, run_dir, run, result, overrides, before)
     if result.status != "ok":
         raise RunFailedError(f"{result.error} (run directory: {run_dir})")
     if _rank_zero(run):  # checkpoints/inference.pt: what sdn3d-edit run= loads instead (sdn3d.inference_export)

@@ -96,9 +96,10 @@ def test_resolve_resume_errors_and_overrides(tmp_path):
         resolve_resume(OmegaConf.create({"resume": str(run)}))
     (run / "checkpoints").mkdir()
     (run / "checkpoints" / "last.ckpt").write_bytes(b"x")
-    cfg = resolve_resume(OmegaConf.create({"resume": str(run)}), ["resume=" + str(run), "trainer.max_epochs=5",
-                                                                    "branch=textural"])
+    cfg = resolve_resume(OmegaConf.create({"resume": str(run)}), ["resume=" + str(run), "trainer.max_epochs=5"])
     assert cfg.trainer.max_epochs == 5 and cfg.seed == 3 and cfg.run_dir == str(run)
+    with pytest.raises(TrainingError, match="'branch=textural' with resume=.*group's choice.*can not change"):
+        resolve_resume(OmegaConf.create({"resume": str(run)}), ["resume=" + str(run), "branch=textural"])
     assert cfg.ckpt_path == str(run / "checkpoints" / "last.ckpt")
 
 

@@ -131,11 +131,12 @@ def test_fit_from_a_crafted_checkpoint_is_refused_and_recorded(tiny_synth, tmp_p
     torch.save({"state_dict": {}, "payload": _OpensFileWhenUnpickled(marker)}, crafted)
     monkeypatch.setenv("TORCH_FORCE_NO_WEIGHTS_ONLY_LOAD", "1")
     run_dir = tmp_path / "run"
-    with pytest.raises(CheckpointLoadError):
+    # checked before the run starts (issue 32): refused, its payload never run, nothing written
+    with pytest.raises(TrainingError, match=r"ckpt_path: could not read checkpoint .*crafted\.ckpt.*weights-only "
+                                            r"loading refused it"):
         run_training(_cfg("semantic", tiny_synth, run_dir, f"ckpt_path={crafted}"), [])
     assert not marker.exists()
-    summary, line = _summaries(run_dir)
-    assert summary["status"] == line["status"] == "failed" and summary["error_file"] == str(crafted)
+    assert not run_dir.exists() and not (tmp_path / "summary.jsonl").exists()
 
 
 def test_a_resumed_config_may_only_instantiate_trusted_classes(tmp_path):

@@ -36,14 +36,35 @@ def _finished(summary: dict, path: Path) -> float:
         return path.stat().st_mtime
 
 
+def _in_run_dir(recorded: str, summary: dict, path: Path) -> Path:
+    """A file a run's summary (at ``path``) records, where it lies in the run directory the summary is in now.
+
+    ``sdn3d-train`` records absolute paths, under the ``run_dir`` it trained in; a run copied or moved elsewhere keeps
+    them. A recorded file under the recorded ``run_dir`` is taken from the same place under the summary's own
+    directory (never from the place it was recorded at: that is another copy, or gone); a relative one is relative
+    to the summary's directory; any other is taken as recorded.
+    """
+    file = Path(recorded).expanduser()
+    if not file.is_absolute():
+        return path.parent / file
+    run_dir = summary.get("run_dir")
+    if isinstance(run_dir, str) and run_dir:
+        try:
+            return path.parent / file.relative_to(run_dir)
+        except ValueError:
+            pass
+    return file
+
+
 def _summary_checkpoint(summary: dict, path: Path) -> tuple[str, Path] | None:
-    """``('best' | 'last', file)`` of a run's summary: its best checkpoint, else its last; a recorded path
-    that no longer exists is also looked for in ``<summary dir>/checkpoints/`` (a moved run directory)."""
+    """``('best' | 'last', file)`` of a run's summary: its best checkpoint, else its last, each looked for in the
+    summary's own run directory (:func:`_in_run_dir`: a copied or moved run serves its own files), then in
+    ``<summary dir>/checkpoints/`` by name."""
     for which in ("best", "last"):
         recorded = summary.get(f"{which}_ckpt")
         if not isinstance(recorded, str) or not recorded:
             continue
-        for candidate in (Path(recorded), path.parent / "checkpoints" / Path(recorded).name):
+        for candidate in (_in_run_dir(recorded, summary, path), path.parent / "checkpoints" / Path(recorded).name):
             if candidate.is_file():
                 return which, candidate.resolve()
     return None
@@ -78,8 +99,12 @@ def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, st
     ``path``, the file to load, is its inference export when one made from it lies beside it, ``export``
     True, else the checkpoint itself); per branch without one, why.
 
+    Every path is taken from the run directories under ``run`` (:func:`_in_run_dir`), so a copied or moved tree of
+    runs serves its own files.
+
     Raises:
-        InputError: ``run`` is not a directory or holds no branch summary.
+        InputError: ``run`` is not a directory, holds no branch summary, or holds a ``summary.json`` that can not be
+            read (naming it: it may be a branch's newest run).
     """
     root = Path(str(run)).expanduser()
     if not root.exists():
@@ -93,8 +118,12 @@ def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, st
     for path in files:
         try:
             summary = json.loads(path.read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, ValueError):
-            continue
+        except (OSError, UnicodeDecodeError, ValueError) as exc:
+            # It may be a branch's newest run: choosing an older one instead would be a silent wrong answer.
+            raise InputError(f"run summary {str(path)!r} is unreadable ({type(exc).__name__}: "
+                             f"{str(exc).splitlines()[0][:120] if str(exc) else ''}): it may record a branch's newest "
+                             "run, so no run is chosen; restore or delete that file, or give run= one run "
+                             "directory") from exc
         if isinstance(summary, dict) and summary.get("branch") in runs:
             runs[summary["branch"]].append((path, summary))
     if not any(runs.values()):

@@ -1,4 +1,5 @@
-"""Where the Hydra configs live, and composing one in-process (:func:`compose_config`).
+"""Where the Hydra configs live, composing one in-process (:func:`compose_config`), and the ``@hydra.main`` of the
+tools that run as Hydra apps (:func:`hydra_cli`).
 
 The configs sit in ``conf/`` at the repository root (one config group per axis of
 variation). The package is installed editable, so the entry points find them next to
@@ -7,8 +8,10 @@ variation). The package is installed editable, so the entry points find them nex
 
 from __future__ import annotations
 
+import functools
 import os
-from collections.abc import Sequence
+import sys
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -61,3 +64,81 @@ def compose_config(overrides: Sequence[str], name: str) -> Any:
             return compose(name, overrides=list(overrides))
     except (HydraException, OmegaConfBaseException) as exc:
         raise InputError(f"bad configuration override: {exc}") from exc
+
+
+def _one_line(exc: BaseException) -> str:
+    """Hydra's message of a configuration mistake in one line, naming the override (a syntax error) or with its
+    OmegaConf cause (which names the key); Hydra's config search path is left out."""
+    text = " ".join(str(exc).split("Config search path:")[0].split())
+    override = getattr(exc, "override", None)
+    if override:
+        text = f"bad override {override!r}: {text}"
+    cause = exc.__cause__
+    if cause is not None and str(cause).strip():
+        reason = str(cause).strip().splitlines()[0].strip()
+        if reason not in text:
+            text = f"{text} ({reason})"
+    return text
+
+
+def hydra_cli(tool: str, config_name: str) -> Callable[[Callable[[Any], Any]], Callable[..., Any]]:
+    """``@hydra.main`` on ``conf/<config_name>.yaml`` for the tool ``sdn3d-<tool>``, with the command line's
+    configuration mistakes (an unknown key, bad override syntax, a config group option that does not exist)
+    reported as every sdn3d tool reports a user's mistake: ``sdn3d-<tool>: error: <message naming the key>``, one
+    line, exit status 2 (Hydra itself prints several lines and exits 1).
+
+    Hydra finds such a mistake before the task starts; it raises it instead of printing when ``HYDRA_FULL_ERROR`` is
+    set, so that is set until the task starts, then restored (the task's own errors are reported as Hydra reports
+    them). A user who set ``HYDRA_FULL_ERROR`` gets Hydra's full traceback, as before. Called with a config (as
+    ``@hydra.main`` allows), the decorated function runs the task on it directly.
+    """
+    import hydra
+
+    def decorate(task: Callable[[Any], Any]) -> Callable[..., Any]:
+        state: dict[str, Any] = {}
+
+        @functools.wraps(task)
+        def task_started(cfg: Any) -> Any:
+            if not state.get("started"):
+                state["started"] = True
+                _restore(state.get("user_set"))
+            return task(cfg)
+
+        app = hydra.main(config_path=CONFIG_DIR, config_name=config_name, version_base="1.3")(task_started)
+
+        @functools.wraps(task)
+        def main(cfg_passthrough: Any = None) -> Any:
+            if cfg_passthrough is not None:
+                return app(cfg_passthrough)
+            from hydra.errors import ConfigCompositionException, MissingConfigException, OverrideParseException
+            from omegaconf.errors import OmegaConfBaseException
+
+            from sdn3d.cli._errors import EXIT_USER_ERROR, PATH_ERRORS
+
+            mistakes = (ConfigCompositionException, MissingConfigException, OverrideParseException,
+                        OmegaConfBaseException, *PATH_ERRORS)
+            user_set = os.environ.get("HYDRA_FULL_ERROR")
+            state.update(started=False, user_set=user_set)
+            os.environ["HYDRA_FULL_ERROR"] = "1"
+            try:
+                return app()
+            except mistakes as exc:
+                if state["started"] or user_set is not None:
+                    raise
+                print(f"sdn3d-{tool}: error: {_one_line(exc)}", file=sys.stderr)
+                sys.exit(EXIT_USER_ERROR)
+            finally:
+                if not state["started"]:
+                    _restore(user_set)
+
+        return main
+
+    return decorate
+
+
+def _restore(value: str | None) -> None:
+    """``HYDRA_FULL_ERROR`` back to ``value`` (None: unset)."""
+    if value is None:
+        os.environ.pop("HYDRA_FULL_ERROR", None)
+    else:
+        os.environ["HYDRA_FULL_ERROR"] = value

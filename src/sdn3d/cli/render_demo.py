@@ -10,7 +10,8 @@
    re-render the maps;
 6. write ``outputs/demo/``: pictures, ``summary.json`` and ``report.md``.
 
-Exit status: 0 done; 2 bad input (a bad setting, a frame without vehicles: one line on stderr).
+Exit status: 0 done; 2 bad input (a bad setting, an unknown key or bad override syntax, a frame without
+vehicles: one line on stderr).
 Later stages of the project (training the three branches, the editing benchmark) extend it.
 """
 
@@ -22,14 +23,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import hydra
 import numpy as np
 import torch
 from omegaconf import DictConfig, OmegaConf
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from sdn3d.cli._config import CONFIG_DIR
+from sdn3d.cli._config import hydra_cli
 from sdn3d.cli._errors import exit_on_error, run_cli
 from sdn3d.errors import UserInputError
 
@@ -390,7 +390,7 @@ def run_demo(cfg: DictConfig) -> dict:
     return summary
 
 
-@hydra.main(config_path=CONFIG_DIR, config_name="render_demo", version_base="1.3")
+@hydra_cli("render-demo", "render_demo")
 def main(cfg: DictConfig) -> None:
     exit_on_error(run_cli("render-demo", _main, cfg))
 

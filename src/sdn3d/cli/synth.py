@@ -8,8 +8,8 @@ for every frame and for the test part; :mod:`sdn3d.data.synth.class_stats`), als
 Every setting is checked (type and range, :class:`sdn3d.data.synth.SynthConfig`) before any work.
 ``overwrite=true`` replaces only an earlier dataset of this tool (a directory holding
 ``synth_manifest.json``), never the working directory, the home directory, their parents or ``/``.
-Exit status: 0 done; 2 bad input (a bad setting, an output_dir that may not be written: one line on
-stderr).
+Exit status: 0 done; 2 bad input (a bad setting, an unknown key or bad override syntax, an output_dir that may
+not be written: one line on stderr).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import logging
 import hydra
 from omegaconf import DictConfig, OmegaConf
 
-import sdn3d.cli._config
+from sdn3d.cli._config import hydra_cli
 from sdn3d.cli._errors import exit_on_error, run_cli
 from sdn3d.data.synth import SynthConfig, generate_dataset
 from sdn3d.data.synth.class_stats import PARTS, STATISTICS_NAME, format_table, read_class_statistics
@@ -62,7 +62,7 @@ def config_from_hydra(cfg: DictConfig) -> SynthConfig:
     return SynthConfig(**data)
 
 
-@hydra.main(config_path=sdn3d.cli._config.CONFIG_DIR, config_name="synth", version_base="1.3")
+@hydra_cli("synth", "synth")
 def main(cfg: DictConfig) -> None:
     exit_on_error(run_cli("synth", _generate, cfg))
 

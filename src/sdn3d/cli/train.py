@@ -10,9 +10,19 @@ Hydra composes the whole run: ``experiment=<name>`` picks data (and trainer) and
 ``conf/recipe/<branch>_<name>.yaml``; command-line overrides are applied last, so they win. An experiment
 the branch has no recipe for stops before anything runs, listing the recipes there are.
 
-Exit status: 0 when the run finished with status ok; 2 after a user's mistake (a bad setting, data file,
-resume target: ``sdn3d-train: error: <message>``, one line); 1 when the run failed (a diverged loss: one
-line) or on any other error (with its traceback). Either way a run that started has written its summary.
+``resume=<run dir>`` continues a run from its ``checkpoints/last.ckpt``, wherever the run directory now is (a
+copied or moved run resumes into itself); the rest of the command line is applied to the run's saved config or
+refused (``branch=`` and other group choices, ``run_dir=``, ``ckpt_path=``, a key the saved config lacks). A
+budget smaller than the run has trained, or an inference export where a training checkpoint is needed
+(``ckpt_path=``, a run's ``last.ckpt``), stops before anything is written. A resume of a finished run (status ok,
+its whole ``trainer.max_epochs`` / ``max_steps`` trained) without a larger budget says so and changes nothing.
+A resume that fails before it writes a checkpoint leaves the run's ``summary.json`` as it was; every attempt,
+ok or failed, appends its summary to ``<run dir>/summary_log.jsonl`` (and to ``summary_file``).
+
+Exit status: 0 when the run finished with status ok (or a resume had nothing to do); 2 after a user's mistake (a
+bad setting or override, an unknown config key, a data file, a resume target or checkpoint:
+``sdn3d-train: error: <message>``, one line); 1 when the run failed (a diverged loss: one line) or on any other
+error (with its traceback). Either way a run that started has recorded its summary.
 
 Lightning is imported only here and in ``lightning_modules/``: the library stays usable without it.
 """
@@ -23,11 +33,10 @@ import hashlib
 import logging
 import sys
 
-import hydra
 from hydra.core.hydra_config import HydraConfig
 from omegaconf import DictConfig, OmegaConf
 
-import sdn3d.cli._config
+from sdn3d.cli._config import hydra_cli
 
 log = logging.getLogger("sdn3d.train")
 
@@ -48,11 +57,17 @@ def first_set(value, default):
     return default if value in (None, "", "None", "null") else value
 
 
+def unless_set(value, default):
+    """``default`` when ``value`` is null/empty, else None (e.g. no Hydra output subdirectory for ``resume=``)."""
+    return default if value in (None, "", "None", "null") else None
+
+
 OmegaConf.register_new_resolver("sdn3d_job_name", short_job_name, replace=True)
 OmegaConf.register_new_resolver("sdn3d_first_set", first_set, replace=True)
+OmegaConf.register_new_resolver("sdn3d_unless_set", unless_set, replace=True)
 
 
-@hydra.main(config_path=sdn3d.cli._config.CONFIG_DIR, config_name="train", version_base="1.3")
+@hydra_cli("train", "train")
 def main(cfg: DictConfig) -> float | None:
     from lightning_modules.train import RunFailedError, run_training
     from sdn3d.cli._errors import report_user_error, user_errors

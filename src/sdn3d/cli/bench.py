@@ -23,7 +23,8 @@ de-rendered geometry) unless ``checkpoints.textural_2d`` gives a generator train
 knowledge.
 
 Exit status: 0 done; 2 bad input (missing benchmark / checkpoint, no semantic checkpoint for the predicted row,
-no matching frames; nothing written).
+no matching frames, no entry to evaluate or every entry's points outside ``frame_size`` unless ``allow_empty=true``;
+nothing written).
 """
 
 from __future__ import annotations
@@ -47,7 +48,8 @@ from sdn3d.errors import InputError
 from sdn3d.evaluation.edit_benchmark import METHODS, PROPOSALS, REGIONS, SOURCE_LABELS
 from sdn3d.io import check_output_dir, staged_directory
 
-__all__ = ["main", "run_bench", "table1_markdown", "examples_html", "generator_info", "bench_passes"]
+__all__ = ["main", "run_bench", "table1_markdown", "examples_html", "generator_info", "bench_passes",
+           "check_entries"]
 
 MARKER = "results.json"
 LABELS = {"2d": "2D", "2d+": "2D+", "3d-sdn": "3D-SDN (ours)"}
@@ -345,7 +347,40 @@ def _load_inputs(cfg: Any) -> tuple[Path, Path, list, Any, list]:
     if cfg.device != "cpu" and not torch.cuda.is_available():
         raise InputError(f"device={cfg.device!r} but CUDA is not available")
     size = tuple(cfg.image_size) if cfg.image_size else source.image_size
-    return out, path, entries, source, bench_passes(cfg, _settings_base(cfg, size))
+    passes = bench_passes(cfg, _settings_base(cfg, size))
+    if not cfg.get("allow_empty"):
+        check_entries(entries, passes[0], path)
+    return out, path, entries, source, passes
+
+
+def check_entries(entries: Sequence[Any], settings: Any, path: Path) -> None:
+    """Refuse a benchmark with nothing to evaluate: no entry chosen (an empty list; with ``include_identity`` false,
+    identity entries only; ``limit=0``), or every chosen entry's ``from`` and ``to`` points outside ``frame_size``
+    (coordinates of another frame: each pick would be the object nearest a point off the picture).
+
+    Raises:
+        InputError: naming the benchmark file and what was found (``allow_empty=true`` evaluates it anyway).
+    """
+    chosen = [e for e in entries if settings.include_identity or not e.is_identity]
+    if settings.limit is not None:
+        chosen = chosen[: settings.limit]
+    width, height = settings.frame_size
+
+    def inside(uv: Any) -> bool:
+        return uv is not None and -0.5 <= uv[0] <= width - 0.5 and -0.5 <= uv[1] <= height - 0.5
+
+    usable = [e for e in chosen if e.is_identity or any(inside(op.from_uv) or inside(op.to_uv) for op in e.operations)]
+    if usable:
+        return
+    if not chosen:
+        why = ("it lists no entry" if not entries else
+               f"none of its {len(entries)} entries is chosen (include_identity={settings.include_identity}, "
+               f"limit={settings.limit})")
+    else:
+        why = (f"every point of its {len(chosen)} chosen entries lies outside the {width}x{height} frame "
+               "(frame_size) its coordinates should refer to")
+    raise InputError(f"benchmark {str(path)!r} has nothing to evaluate: {why}; give another benchmark (or the right "
+                     "frame_size), or allow_empty=true to write empty tables anyway")
 
 
 def _evaluate(cfg: Any, passes: list, entries: list, source: Any) -> tuple[dict, dict, dict]:

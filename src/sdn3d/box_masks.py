@@ -11,18 +11,30 @@ A person draws a box around each car; :func:`grabcut_masks` turns the boxes into
   confident, it seeds GrabCut: at least ``prior_high`` probably foreground, at most ``prior_low`` probably
   background.
 - The result is the connected component with most pixels, its holes filled (windows are part of a car's
-  silhouette), clipped to the box.
+  silhouette), clipped to the box. Where that covers less than ``min_share`` of the box's free pixels (a small or
+  low-contrast car: GrabCut's colour models need more pixels than a distant car has), the box's free pixels are
+  the mask instead, and :attr:`BoxMasks.from_box` says so.
 
 OpenCV is imported when a mask is made, not with the module.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import torch
 from torch import Tensor
 
-__all__ = ["grabcut_masks", "nearest_first"]
+__all__ = ["BoxMasks", "grabcut_masks", "nearest_first"]
+
+
+class BoxMasks(NamedTuple):
+    """:func:`grabcut_masks`' result: ``masks (N, H, W)`` bool and ``from_box (N,)`` bool, true where the mask is
+    the box's free pixels because GrabCut found too little in it."""
+
+    masks: Tensor
+    from_box: Tensor
 
 
 def nearest_first(boxes: Tensor) -> Tensor:
@@ -66,8 +78,8 @@ def _largest_filled(mask: np.ndarray) -> np.ndarray:
 
 def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | None = None, iterations: int = 5,
                   context: float = 0.5, min_context_px: int = 8, prior_high: float = 0.9,
-                  prior_low: float = 0.1) -> Tensor:
-    """``(N, H, W)`` bool visible masks of the objects in ``boxes`` (module doc).
+                  prior_low: float = 0.1, min_share: float = 0.3) -> BoxMasks:
+    """The visible masks of the objects in ``boxes`` (module doc).
 
     Args:
         image: ``(3, H, W)`` float in [0, 1], or ``(H, W, 3)`` uint8.
@@ -77,6 +89,7 @@ def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | 
         iterations: GrabCut iterations per box.
         context, min_context_px: the window around each box that GrabCut learns the background from.
         prior_high, prior_low: the prior's thresholds for probable foreground / background.
+        min_share: below this share of the box's free pixels, the mask is the box's free pixels.
     """
     import cv2
 
@@ -88,6 +101,7 @@ def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | 
         raise ValueError(f"prior must be ({height}, {width}), got {tuple(prior.shape)}")
     prior_np = None if prior is None else prior.detach().cpu().float().numpy()
     out = np.zeros((len(boxes), height, width), dtype=bool)
+    from_box = np.zeros(len(boxes), dtype=bool)
     taken = np.zeros((height, width), dtype=bool)
     for i in nearest_first(boxes).tolist():  # each box needs the masks of the nearer ones: sequential
         x0, y0, x1, y1 = (int(round(float(v))) for v in boxes[i])
@@ -120,7 +134,10 @@ def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | 
         fg = _largest_filled(fg).astype(bool)
         box = np.zeros_like(fg)
         box[y0 - wy0:y1 - wy0, x0 - wx0:x1 - wx0] = True
-        fg &= box & ~taken[wy0:wy1, wx0:wx1]
+        free = box & ~taken[wy0:wy1, wx0:wx1]
+        fg &= free
+        if fg.sum() < min_share * free.sum():
+            fg, from_box[i] = free, True
         out[i, wy0:wy1, wx0:wx1] = fg
         taken[wy0:wy1, wx0:wx1] |= fg
-    return torch.from_numpy(out)
+    return BoxMasks(torch.from_numpy(out), torch.from_numpy(from_box))

@@ -153,6 +153,7 @@ class BoxPrompts:
         fit: the 3D fit (:class:`~sdn3d.geometric.fit.FitSettings`; None: its defaults).
         prior: seed GrabCut with the semantic branch's vehicle probability (only when that branch is trusted).
         iterations: GrabCut iterations per box.
+        masks: ``(N, H, W)`` bool visible masks to take instead of GrabCut's (e.g. drawn by a person), or None.
 
     The ``i``-th box becomes instance ``class_id * 1000 + k`` with ``k`` the next free number of its class, in the
     boxes' order.
@@ -163,6 +164,7 @@ class BoxPrompts:
     fit: FitSettings | None = None
     prior: bool = False
     iterations: int = 5
+    masks: Tensor | None = None
 
     def __post_init__(self) -> None:
         boxes, classes = torch.as_tensor(self.boxes, dtype=torch.float32), tuple(self.classes)
@@ -173,6 +175,9 @@ class BoxPrompts:
             raise ValueError("BoxPrompts: every box needs finite x0 < x1 and y0 < y1")
         object.__setattr__(self, "boxes", boxes)
         object.__setattr__(self, "classes", classes)
+        if self.masks is not None and (self.masks.dim() != 3 or self.masks.shape[0] != boxes.shape[0]):
+            raise ValueError(f"BoxPrompts: masks must be (N, H, W) with N = {boxes.shape[0]}, got "
+                             f"{tuple(self.masks.shape)}")
 
     def class_ids(self, class_list: Sequence[SemanticClass]) -> list[int]:
         """The boxes' class ids in ``class_list``.
@@ -430,16 +435,28 @@ def _check_class_count(models: Models, class_list: tuple, name: str) -> None:
 
 
 def _add_boxes(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts, probability: Tensor | None,
-               things: Tensor, class_list: Sequence[SemanticClass]) -> tuple[Tensor, Tensor, Tensor, str]:
-    """``(masks, ids, box_rows, mask source)``: the proposals with the box objects' GrabCut masks appended (they take
-    their pixels from the other proposals; a proposal left with less than half its pixels is dropped)."""
-    from sdn3d.box_masks import grabcut_masks
+               things: Tensor, class_list: Sequence[SemanticClass]) -> tuple[Tensor, Tensor, Tensor, list[str]]:
+    """``(masks, ids, box_rows, each box's mask source)``: the proposals with the box objects' GrabCut masks appended
+    (they take their pixels from the other proposals; a proposal left with less than half its pixels is dropped)."""
+    from sdn3d.box_masks import grabcut_masks, nearest_first
 
     class_ids = boxes.class_ids(class_list)
     prior = None
     if boxes.prior and probability is not None:
         prior = probability[things[things < probability.shape[0]]].sum(0)
-    box_masks = grabcut_masks(image, boxes.boxes, prior=prior, iterations=boxes.iterations)
+    if boxes.masks is not None:
+        if tuple(boxes.masks.shape[-2:]) != tuple(image.shape[-2:]):
+            raise ValueError(f"BoxPrompts.masks are {tuple(boxes.masks.shape[-2:])}, the image is "
+                             f"{tuple(image.shape[-2:])}")
+        order = nearest_first(boxes.boxes)  # one owner per pixel: the nearest, as GrabCut's masks have
+        given = boxes.masks.bool().cpu()[order]
+        box_masks = torch.empty_like(given)
+        box_masks[order] = given & ~(torch.cumsum(given.long(), 0) - given.long()).bool()
+        source = ["given"] * len(boxes)
+    else:
+        box_masks, from_box = grabcut_masks(image, boxes.boxes, prior=prior, iterations=boxes.iterations)
+        grabcut = "grabcut, seeded by the semantic branch" if prior is not None else "grabcut"
+        source = ["the whole box (GrabCut found too little in it)" if f else grabcut for f in from_box.tolist()]
     taken = box_masks.any(0)
     before = masks.flatten(1).sum(1)
     masks = masks & ~taken
@@ -450,7 +467,6 @@ def _add_boxes(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts, pro
         used = [int(i) for i in ids.tolist() + new_ids if int(i) // INSTANCE_DIVISOR == cid]
         new_ids.append(cid * INSTANCE_DIVISOR + (max(used) % INSTANCE_DIVISOR if used else 0) + 1)
     rows = torch.arange(len(ids), len(ids) + len(boxes))
-    source = "grabcut, seeded by the semantic branch" if prior is not None else "grabcut"
     return (torch.cat([masks, box_masks]), torch.cat([ids, torch.tensor(new_ids, dtype=ids.dtype)]), rows, source)
 
 
@@ -553,9 +569,9 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
                          annotated)
     if len(box_rows):
         geometry, box_records = _fit_boxes(intrinsics, masks, box_rows, boxes, geometry, min_pixels)
-        for record, iid in zip(box_records, ids[box_rows].tolist(), strict=True):
+        for record, iid, mask in zip(box_records, ids[box_rows].tolist(), mask_source, strict=True):
             record["id"] = int(iid)
-            record["mask"] = mask_source
+            record["mask"] = mask
     template, dims, ry, location, phi = geometry
     geo = template >= 0
     code_dim = models.textural.spec.code_dim if models.textural is not None else DEFAULT_CODE_DIM

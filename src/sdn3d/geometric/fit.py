@@ -12,7 +12,9 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    prediction where there is one, else facing away from the camera; its reverse; the two sides) is fitted at a
    coarse crop (``coarse_size`` px, ``coarse_steps`` Adam steps on x, log z, yaw and log dims). The ``keep`` best
    hypotheses of each object go on at a finer crop with the free-form deformation (``fine_steps``); the one with
-   the lowest loss wins, so the template is chosen by its fit.
+   the lowest loss wins, so the template is chosen by its fit. A silhouette barely tells a car's front from its
+   back: among the fits within ``tie`` (a share) of the best loss, the one whose yaw is nearest the first start
+   (the prediction's) wins.
 3. **What counts.** The loss is L_reproj (mean ``|S~ - M|``) over the crop, without the pixels of nearer objects
    (``ignore``) and outside the image, plus ``dims_reg * |log d - log d0|^2`` (keeps the size near the start
    where the silhouette cannot tell, e.g. a car seen from behind has no visible length) and
@@ -56,6 +58,8 @@ class FitSettings:
         coarse_size, coarse_steps: crop side (px) and Adam steps of the search over all starts.
         fine_size, fine_steps: crop side and Adam steps of the ``keep`` best starts, with the FFD.
         keep: hypotheses per object that go on to the fine stage.
+        tie: fits whose final loss is within this share of the best one are equally good; the yaw nearest the
+            first start decides among them.
         lr: Adam learning rate (x, log z, log dims; the yaw takes ``2 lr``).
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
@@ -68,7 +72,8 @@ class FitSettings:
     coarse_steps: int = 12
     fine_size: int = 80
     fine_steps: int = 16
-    keep: int = 2
+    keep: int = 4
+    tie: float = 0.1
     lr: float = 0.05
     margin: float = 0.15
     sigma: float = 0.25
@@ -89,7 +94,7 @@ class FitSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"FitSettings.{name} must be a positive number, got {value!r}")
-        for name in ("margin", "dims_reg", "ffd_reg"):
+        for name in ("margin", "dims_reg", "ffd_reg", "tie"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
@@ -244,7 +249,10 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     mask, ign, K = _crops(masks, ignore, windows, settings.fine_size, intr, image_size)
     values, loss = _stage(bank, template[rows], {k: v[rows] for k, v in values.items()}, dims0[obj], mask[obj],
                           ign[obj], K[obj], settings.fine_size, settings.fine_steps, settings, with_ffd=True)
-    winner = loss.view(n, keep).argmin(1) + torch.arange(n) * keep
+    fine = loss.view(n, keep)
+    equal = fine <= fine.amin(1, keepdim=True) * (1 + settings.tie)
+    agreement = torch.cos(values["ry"].view(n, keep) - ry0[:, None])  # 1: the first start's yaw
+    winner = torch.where(equal, agreement, torch.full_like(agreement, -2.0)).argmax(1) + torch.arange(n) * keep
     chosen = {k: v[winner] for k, v in values.items()}
     dims, phi = chosen["dims"], expand_half_ffd(chosen["phi_half"])
     location = torch.stack([chosen["x"], torch.full_like(chosen["x"], settings.camera_height), chosen["z"]], 1)

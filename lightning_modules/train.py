@@ -2,15 +2,21 @@
 
 Kept apart from the Hydra entry point (:mod:`sdn3d.cli.train`) so tests and notebooks can call
 :func:`run_training` with a composed config. Hydra composes everything (branch, experiment, its recipe,
-command-line overrides); :func:`run_training` runs the stages :func:`resolve_config`,
+command-line overrides); :func:`run_training` runs the stages :func:`resolve_config`, :func:`check_start`,
 :func:`prepare_run_dir`, :func:`configure_process`, :func:`build_objects`, :func:`fit_and_test` and
 :func:`write_summary`.
 
-Every run that starts (once its run directory and ``summary_file`` are found writable) writes its summary,
-``<run dir>/summary.json`` and one ``summary_file`` line, whatever stops it: ``status`` ok / failed,
-``error`` (one sentence), ``error_file`` (the file at fault, when known) and what the fault policies
-skipped. A resumed run's saved ``config.yaml`` may only name classes of sdn3d, the training packages,
-Lightning and torch (:data:`RESUME_TARGET_PREFIXES`): it is a file, and instantiating it runs what it names.
+Every attempt that starts (once its run directory and ``summary_file`` are found writable) records its summary
+whatever stops it: ``status`` ok / failed, ``error`` (one sentence), ``error_file`` (the file at fault, when known)
+and what the fault policies skipped, as one line of ``<run dir>/summary_log.jsonl`` and of ``summary_file``, and as
+``<run dir>/summary.json`` unless it is a resume that failed before writing a checkpoint (the run's figures stay
+those of the attempt that made its checkpoints). Mistakes found before the start (:func:`resolve_resume`,
+:func:`check_start`) write nothing.
+
+Runs are relocatable: the saved ``config.yaml`` refers to ``${run_dir}`` (:func:`saved_config_text`), and a
+resume takes the run directory from where it is now (:func:`resolve_resume`). A resumed run's saved
+``config.yaml`` may only name classes of sdn3d, the training packages, Lightning and torch
+(:data:`RESUME_TARGET_PREFIXES`): it is a file, and instantiating it runs what it names.
 """
 
 from __future__ import annotations
@@ -37,9 +43,9 @@ from lightning_modules.checkpointing import AtomicCheckpointIO, NonFiniteCheckpo
 from sdn3d.errors import UserInputError
 from sdn3d.io import write_json_atomic, write_text_atomic
 
-__all__ = ["RESUME_TARGET_PREFIXES", "RunFailedError", "TrainingError", "check_resume_targets",
-           "check_summary_file", "check_writable", "error_file", "error_sentence", "resolve_config",
-           "resolve_resume", "run_training"]
+__all__ = ["RESUME_TARGET_PREFIXES", "SUMMARY_LOG", "RunFailedError", "StartPoint", "TrainingError",
+           "check_resume_targets", "check_start", "check_summary_file", "check_writable", "error_file",
+           "error_sentence", "resolve_config", "resolve_resume", "run_training", "saved_config_text"]
 
 log = logging.getLogger(__name__)
 

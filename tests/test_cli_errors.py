@@ -100,7 +100,7 @@ def test_edit(tmp_path, capsys, monkeypatch):
     (tmp_path / "ops.yaml").write_text("- {op: delete, id: 12001}\n")
     args = [f"edits={tmp_path / 'ops.yaml'}", f"output_dir={tmp_path / 'out'}"]
     assert edit.main([*args, "proposals=everything"]) == 2
-    assert "proposals must be auto, gt or semantic" in _one_error_line(capsys.readouterr().err, "edit")
+    assert "proposals must be one of auto, gt, semantic, boxes" in _one_error_line(capsys.readouterr().err, "edit")
     assert edit.main([*args, "no_such_key=1"]) == 2
     assert "bad configuration override" in _error_report(capsys.readouterr().err, "edit")
     monkeypatch.setattr(edit, "load_input", _raise(ValueError("a bug while loading the image")))

@@ -44,7 +44,7 @@ from sdn3d.errors import UserInputError
 from sdn3d.io import write_json_atomic, write_text_atomic
 
 __all__ = ["RESUME_TARGET_PREFIXES", "SUMMARY_LOG", "RunFailedError", "StartPoint", "TrainingError",
-           "check_resume_targets", "check_start", "check_summary_file", "check_writable", "error_file",
+           "check_resume_targets", "check_start", "check_summary_file", "check_threads", "check_writable", "error_file",
            "error_sentence", "resolve_config", "resolve_resume", "run_training", "saved_config_text"]
 
 log = logging.getLogger(__name__)
@@ -229,7 +229,7 @@ def resolve_resume(cfg: DictConfig, overrides: list[str] | None = None) -> DictC
     in (``run_dir`` as saved: checkpoints, TensorBoard, ``trainer.default_root_dir``) is taken from the same place in
     this directory, so a copied or moved run resumes into itself. ``summary_file`` (the shared one-line-per-run log)
     is this command's, as for a new run. The command line is applied to the saved config or refused
-    (:func:`_apply_command_line`: ``trainer.max_epochs=30``, ``torch_threads=1``, ``summary_file=...`` apply; group
+    (:func:`_apply_command_line`: ``trainer.max_epochs=30``, ``threads=1``, ``summary_file=...`` apply; group
     choices such as ``branch=`` can not change). The saved config may only name trusted classes
     (:func:`check_resume_targets`; ``cfg.resume_allow_targets``, from the command line, adds prefixes).
     """
@@ -464,10 +464,22 @@ def prepare_run_dir(cfg: DictConfig) -> Path:
     return run_dir
 
 
+def check_threads(cfg: DictConfig) -> None:
+    """Refuse ``threads`` unless it is null (PyTorch's default) or a positive integer, as ``sdn3d-edit`` does.
+
+    Raises:
+        TrainingError: naming the setting and the value given.
+    """
+    threads = cfg.get("threads")
+    if threads is not None and (isinstance(threads, bool) or not isinstance(threads, int) or threads < 1):
+        raise TrainingError(f"threads must be a positive integer (torch CPU threads) or null for PyTorch's default, "
+                            f"got {threads!r}")
+
+
 def configure_process(cfg: DictConfig) -> None:
-    """torch threads, float32 matmul precision and the seeds of this process."""
-    if cfg.get("torch_threads"):
-        torch.set_num_threads(int(cfg.torch_threads))
+    """torch threads (``threads``), float32 matmul precision and the seeds of this process."""
+    if cfg.get("threads") is not None:
+        torch.set_num_threads(int(cfg.threads))
     if cfg.get("float32_matmul_precision"):
         torch.set_float32_matmul_precision(str(cfg.float32_matmul_precision))
     L.seed_everything(int(cfg.seed), workers=True)
@@ -737,13 +749,14 @@ def run_training(cfg: DictConfig, overrides: list[str] | None = None) -> dict[st
 
     Raises:
         TrainingError: bad resume target / override / checkpoint (an export, another branch's, a budget below what
-            it trained) / unwritable output (before the run starts).
+            it trained) / ``threads`` not null or a positive integer / unwritable output (before the run starts).
         RunFailedError: the run ended with status ``failed``: a non-finite loss under ``fault.nonfinite=stop``
             or too many under ``skip``, or non-finite weights (the last good checkpoint stays in
             ``<run>/checkpoints``).
         Any other error of the run (a corrupt sample, a full disk, a bug), after recording it.
     """
     cfg = resolve_config(cfg, overrides)
+    check_threads(cfg)
     start = check_start(cfg)
     run_dir = Path(str(cfg.run_dir))
     check_writable(run_dir)

@@ -126,7 +126,7 @@ def test_the_demo_passes_experiments_and_machine_options_only(budget, tmp_path):
     for branch in demo.train.branches:
         cmd = _train_command(branch, demo, tmp_path / "data", tmp_path / "runs")[3:]
         assert cmd[:2] == [f"branch={branch}", f"experiment=demo_{budget}"]
-        assert {o.split("=")[0] for o in cmd[2:]} == {"data.root", "seed", "torch_threads", "datamodule.num_workers",
+        assert {o.split("=")[0] for o in cmd[2:]} == {"data.root", "seed", "threads", "datamodule.num_workers",
                                                       "hydra.run.dir", "summary_file", "trainer"}
         cfg = OmegaConf.to_container(_compose([o for o in cmd if not o.startswith("hydra.")]
                                               + [f"run_dir={tmp_path}"]), resolve=True)

@@ -4,7 +4,7 @@ Before: ``resume=`` with a smaller ``trainer.max_epochs`` than trained, or a run
 export, ended in a traceback (``MisconfigurationException``, ``KeyError: 'pytorch-lightning_version'``) after
 rewriting the finished run's ``summary.json`` as failed with empty metrics (``sdn3d-edit run=`` then refused the
 run); ``ckpt_path=<inference.pt>`` gave the same ``KeyError``; resuming a finished run re-tested it and rewrote its
-summary (experiment null, overrides replaced); overrides without a dot (``torch_threads=1``, ``summary_file=``) and
+summary (experiment null, overrides replaced); overrides without a dot (``threads=1``, ``summary_file=``) and
 group choices were dropped without a word. Now: those mistakes stop before anything is written (a
 ``TrainingError``: exit 2), a finished run resumed without a larger budget is left alone, a failed resume records
 itself in ``<run>/summary_log.jsonl`` and ``summary_file`` only, and every override is applied or refused.
@@ -134,14 +134,14 @@ def test_a_failed_resume_keeps_the_finished_runs_summary_and_logs_the_failure(tr
 def test_a_resume_that_trains_on_records_the_run_it_continues(trained, tmp_path):
     run = _copy(trained, tmp_path)
     earlier = json.loads((run / "summary.json").read_text())
-    summary = _resume(run, "trainer.max_epochs=3", "torch_threads=1")
+    summary = _resume(run, "trainer.max_epochs=3", "threads=1")
     assert summary["status"] == "ok" and summary["epoch"] == 3 and summary["global_step"] == 3
     assert summary["overrides"] == earlier["overrides"] and summary["experiment"] == earlier["experiment"]
     assert summary["resume_overrides"] == [f"resume={run}", f"summary_file={tmp_path / 'summary.jsonl'}",
-                                           "trainer.max_epochs=3", "torch_threads=1"]
+                                           "trainer.max_epochs=3", "threads=1"]
     assert json.loads((run / "summary.json").read_text()) == summary
     assert [json.loads(x)["epoch"] for x in (run / "summary_log.jsonl").read_text().splitlines()] == [2, 3]
-    assert torch.get_num_threads() == 1  # torch_threads=1 (no dot) applied
+    assert torch.get_num_threads() == 1  # threads=1 (no dot) applied
 
 
 def test_every_resume_override_is_applied_or_refused(trained, tmp_path):
@@ -151,10 +151,10 @@ def test_every_resume_override_is_applied_or_refused(trained, tmp_path):
     def resolved(*over: str):
         return resolve_resume(cfg, [f"resume={run}", *over])
 
-    got = resolved("torch_threads=1", f"summary_file={tmp_path / 'side.jsonl'}", "seed=7",
+    got = resolved("threads=1", f"summary_file={tmp_path / 'side.jsonl'}", "seed=7",
                    f"data.root={tmp_path / 'elsewhere'}", "~callbacks.step_checkpoint", "+trainer.min_epochs=1",
                    "++trainer.max_time=null", "fault.nonfinite=skip")
-    assert got.torch_threads == 1 and got.summary_file == str(tmp_path / "side.jsonl") and got.seed == 7
+    assert got.threads == 1 and got.summary_file == str(tmp_path / "side.jsonl") and got.seed == 7
     assert "step_checkpoint" not in got.callbacks and got.trainer.min_epochs == 1
     # settings that follow from others follow the override, as in a new run
     assert got.datamodule.data.root == str(tmp_path / "elsewhere") and got.datamodule.seed == 7

@@ -23,7 +23,7 @@ def _run(ablation, finished, value, status="ok", branch="geometric", run_dir=Non
     return {"branch": branch, "ablation": ablation, "experiment": experiment,
             "run_dir": run_dir or f"/runs/{ablation}/{seed}/{finished}", "best_ckpt": None, "last_ckpt": None,
             "metrics": metrics if status == "ok" else {}, "seed": seed,
-            "overrides": [f"ablation={ablation}", f"seed={seed}", "torch_threads=2", *overrides], "wall_s": 1.0,
+            "overrides": [f"ablation={ablation}", f"seed={seed}", "threads=2", *overrides], "wall_s": 1.0,
             "finished": finished, "status": status, **extra}
 
 

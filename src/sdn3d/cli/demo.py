@@ -72,7 +72,7 @@ def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path, upstream:
     with the predicted-map cache under ``runs/map_cache``."""
     experiment = (cfg.train.get("experiment") or {}).get(branch, f"demo_{cfg.budget_name}")
     args = [sys.executable, "-m", "sdn3d.cli.train", f"branch={branch}", f"experiment={experiment}",
-            f"data.root={data_root.resolve()}", f"seed={int(cfg.seed)}", f"torch_threads={int(cfg.threads)}",
+            f"data.root={data_root.resolve()}", f"seed={int(cfg.seed)}", f"threads={int(cfg.threads)}",
             f"datamodule.num_workers={int(cfg.workers)}", f"hydra.run.dir={runs / branch}",
             f"summary_file={runs / 'summary.jsonl'}"]
     upstream = upstream or {}

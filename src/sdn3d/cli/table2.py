@@ -105,7 +105,7 @@ PAPER: dict[str, dict[str, float]] = {
     }.items()
 }
 #: Override keys that do not change what a run computes: left out when comparing a group's runs.
-_COSMETIC_KEYS = frozenset({"seed", "ablation", "experiment", "torch_threads", "summary_file", "run_dir",
+_COSMETIC_KEYS = frozenset({"seed", "ablation", "experiment", "threads", "summary_file", "run_dir",
                             "trainer.enable_progress_bar", "trainer.enable_model_summary"})
 _NO_EXPERIMENT = "none"  # --experiment value of runs recorded without one
 

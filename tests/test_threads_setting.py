@@ -1,0 +1,98 @@
+"""Issue 28, one vocabulary across the commands: ``sdn3d-train`` takes ``threads=`` as ``sdn3d-edit``,
+``sdn3d-bench`` and ``sdn3d-demo`` do.
+
+Before: ``sdn3d-train threads=1`` failed (``Could not override 'threads'``: the key was ``torch_threads``), and
+``torch_threads=0`` or ``=-3`` was silently ignored. Now: ``threads`` is a positive integer or null (PyTorch's
+default); anything else stops before the run starts (exit 2, one line naming the setting). The demo passes
+``threads=`` to the training runs it starts.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import torch
+from hydra import compose, initialize_config_dir
+from omegaconf import OmegaConf
+
+from lightning_modules.train import TrainingError, check_threads, configure_process, run_training
+
+CONF = Path(__file__).resolve().parents[1] / "conf"
+
+
+def _compose(overrides: list[str], name: str = "train"):
+    with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
+        return compose(name, overrides=overrides)
+
+
+def _train(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
+    environ = {k: v for k, v in os.environ.items() if k != "HYDRA_FULL_ERROR"} | {"OMP_NUM_THREADS": "1"}
+    return subprocess.run([sys.executable, "-m", "sdn3d.cli.train", *args], cwd=cwd, env=environ,
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_train_composes_with_threads_and_applies_it():
+    cfg = _compose(["threads=1", "branch=semantic", "experiment=demo", "run_dir=/tmp/unused"])
+    assert cfg.threads == 1 and "torch_threads" not in cfg
+    assert _compose(["run_dir=/tmp/unused"]).threads is None  # default: PyTorch's own
+    check_threads(cfg)  # accepted
+    before = torch.get_num_threads()
+    try:
+        torch.set_num_threads(2)
+        configure_process(cfg)
+        assert torch.get_num_threads() == 1
+    finally:
+        torch.set_num_threads(before)
+
+
+@pytest.mark.parametrize("value", [0, -3, 1.5, "two", True])
+def test_threads_other_than_a_positive_integer_or_null_is_refused(value):
+    cfg = OmegaConf.create({"threads": value})
+    with pytest.raises(TrainingError, match=r"threads must be a positive integer .* or null .*got "):
+        check_threads(cfg)
+    check_threads(OmegaConf.create({"threads": None}))
+    check_threads(OmegaConf.create({"threads": 4}))
+
+
+def test_run_training_refuses_bad_threads_before_writing_anything(tmp_path):
+    cfg = _compose(["threads=0", f"run_dir={tmp_path / 'run'}", f"summary_file={tmp_path / 'summary.jsonl'}"])
+    with pytest.raises(TrainingError, match="threads must be a positive integer"):
+        run_training(cfg, ["threads=0"])
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_sdn3d_train_threads_0_exits_2_in_one_line(tmp_path):
+    proc = _train(["threads=0", f"hydra.run.dir={tmp_path / 'run'}", f"summary_file={tmp_path / 's.jsonl'}"],
+                  tmp_path)
+    assert proc.returncode == 2, proc.stderr
+    lines = [line for line in proc.stderr.strip().splitlines() if "sdn3d-train: error:" in line]
+    assert lines == ["sdn3d-train: error: threads must be a positive integer (torch CPU threads) or null for "
+                     "PyTorch's default, got 0"], proc.stderr
+    assert "Traceback" not in proc.stderr
+    assert not (tmp_path / "s.jsonl").exists() and not (tmp_path / "run" / "summary.json").exists()
+
+
+def test_sdn3d_train_accepts_threads_1_and_refuses_the_old_key(tmp_path):
+    """``threads=1`` gets past composition and the check (the run then stops on the missing data, exit 2, naming
+    the data, not the setting); the old ``torch_threads=`` is an unknown key."""
+    missing = tmp_path / "no_data"
+    proc = _train(["threads=1", f"data.root={missing}", f"hydra.run.dir={tmp_path / 'run'}",
+                   f"summary_file={tmp_path / 's.jsonl'}", "logger=none"], tmp_path)
+    assert proc.returncode == 2, proc.stderr
+    assert "threads" not in proc.stderr and str(missing) in proc.stderr, proc.stderr
+    old = _train(["torch_threads=1", f"hydra.run.dir={tmp_path / 'old'}"], tmp_path)
+    assert old.returncode == 2 and "Could not override 'torch_threads'" in old.stderr, old.stderr
+
+
+def test_the_demo_passes_threads_to_sdn3d_train(tmp_path):
+    from sdn3d.cli.demo import _train_command
+
+    demo = _compose(["threads=1"], "demo")
+    cmd = _train_command("semantic", demo, tmp_path / "data", tmp_path / "runs")
+    assert "threads=1" in cmd and not any(o.startswith("torch_threads=") for o in cmd)
+    composed = _compose([o for o in cmd[3:] if not o.startswith("hydra.")] + [f"run_dir={tmp_path}"])
+    assert composed.threads == 1

@@ -748,8 +748,10 @@ def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene:
                "input_transform": transform, "warnings": list(warnings or []),
                "objects": {"source": [r["id"] for r in rows],
                            "with_geometry": [r["id"] for r in rows if r["template"] is not None]},
-               "checkpoints": checkpoints, "timings_ms": times,
+               "checkpoints": checkpoints, "timings_ms": times, "proposals": _proposals_record(scene),
                "config": OmegaConf.to_container(cfg, resolve=True)}
+    if boxes:
+        summary["boxes"] = list(boxes.values())
     with staged_directory(out, MARKER, bool(cfg.overwrite), owned=True, **_output_rules(cfg)) as tmp:
         write_json_atomic(tmp / "objects.json", listing)
         write_png_atomic(tmp / "objects.png", drawn)

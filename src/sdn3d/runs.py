@@ -14,13 +14,17 @@ from __future__ import annotations
 import json
 import logging
 import os
+import sys
+from collections.abc import Mapping, Sequence
 from datetime import datetime
 from pathlib import Path
+from typing import Any
 
 from sdn3d.errors import InputError, UserInputError
 
-__all__ = ["BRANCHES", "find_run_checkpoints", "export_checkpoint", "export_run_checkpoint", "semantic_summary",
-           "quality_warnings", "MIN_VEHICLE_PQ", "MIN_MIOU", "MAX_PROPOSAL_COVER"]
+__all__ = ["BRANCHES", "find_run_checkpoints", "given_checkpoints", "checkpoints_from_run", "report_checkpoints",
+           "export_checkpoint", "export_run_checkpoint", "semantic_summary", "quality_warnings", "MIN_VEHICLE_PQ",
+           "MIN_MIOU", "MAX_PROPOSAL_COVER"]
 
 log = logging.getLogger(__name__)
 
@@ -151,6 +155,60 @@ def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, st
             missing[branch] = (f"{len(found)} run(s) (status {', '.join(statuses)}) but none ok with a checkpoint "
                                f"on disk")
     return chosen, missing
+
+
+def given_checkpoints(checkpoints: Mapping[str, Any] | None) -> dict[str, dict | None]:
+    """Per branch of :data:`BRANCHES`, ``{'path', 'from': 'checkpoints.<branch>'}`` of the file a command's
+    ``checkpoints.<branch>=`` names, None where it names none."""
+    checkpoints = checkpoints or {}
+    return {b: None if checkpoints.get(b) is None else {"path": str(checkpoints.get(b)), "from": f"checkpoints.{b}"}
+            for b in BRANCHES}
+
+
+def checkpoints_from_run(run: str | Path, checkpoints: Mapping[str, Any] | None, needed: Sequence[str], tool: str,
+                         purpose: str) -> dict[str, dict | None]:
+    """A command's ``run=<dir>``: per branch the file it loads, printed on stderr (:func:`report_checkpoints`).
+
+    ``checkpoints.<branch>`` given explicitly wins (:func:`given_checkpoints`); every other branch takes the run's
+    choice (:func:`find_run_checkpoints`): ``{'path', 'from' (its summary.json), 'which', 'finished',
+    'checkpoint', 'export'}``; a branch neither gives is None.
+
+    Args:
+        run: the training output directory (a demo's ``outputs/demo``, one run, a training root).
+        checkpoints: the command's ``checkpoints`` settings (``{branch: file or None}``).
+        needed: the branches the command can not do without.
+        tool: the command's name for messages (``sdn3d-edit``, ``sdn3d-bench``).
+        purpose: what needs them, for the error (``the edit``, ``the benchmark``).
+
+    Raises:
+        InputError: a bad ``run`` (:func:`find_run_checkpoints`), or ``run`` lacks a needed branch that
+            ``checkpoints`` does not give (naming what it found and how to give the file).
+    """
+    result = given_checkpoints(checkpoints)
+    chosen, missing = find_run_checkpoints(run)
+    lacking = [b for b in needed if result[b] is None and b in missing]
+    if lacking:
+        found = "; ".join(f"{b}: {Path(c['path']).name} ({c['which']})" for b, c in chosen.items()) or "nothing usable"
+        why = "; ".join(f"{b}: {missing[b]}" for b in lacking)
+        raise InputError(f"run {str(run)!r} lacks the {' and '.join(lacking)} branch {purpose} needs ({why}); "
+                         f"found {found}. Train it, or give checkpoints.{lacking[0]}=<file>")
+    for branch, info in chosen.items():
+        if result[branch] is None:
+            result[branch] = {"path": info["path"], "from": info["summary"], "which": info["which"],
+                              "finished": info["finished"], "checkpoint": info["checkpoint"], "export": info["export"]}
+    report_checkpoints(result, tool)
+    return result
+
+
+def report_checkpoints(checkpoints: Mapping[str, dict | None], tool: str) -> None:
+    """Print on stderr, one line per branch, the file each branch loads (``<tool>: <branch> checkpoint: ...``):
+    given, the run's (which checkpoint, an inference export of it or not, when its run finished), or none."""
+    for branch in BRANCHES:
+        info = checkpoints.get(branch)
+        export = "inference export of the " if info is not None and info.get("export") else ""
+        how = ("none" if info is None else f"{info['path']} (given)" if "which" not in info
+               else f"{info['path']} ({export}{info['which']} checkpoint of the run finished {info['finished']})")
+        print(f"{tool}: {branch} checkpoint: {how}", file=sys.stderr)
 
 
 def export_checkpoint(checkpoint: str | os.PathLike, out: str | os.PathLike | None = None,

@@ -17,12 +17,20 @@ every output. ``scene=oracle`` (ground-truth geometry too) is one pass. Outputs,
                      mode) with metrics
     examples/*.png   the grids
 
+``run=<dir>`` takes the branches' checkpoints from the ``sdn3d-train`` summaries under ``dir`` (a demo output such
+as ``outputs/demo``, one run directory, or a training root), as ``sdn3d-edit run=`` does
+(:func:`sdn3d.runs.checkpoints_from_run`): per branch the latest run with status ok, its best checkpoint else its
+last. ``checkpoints.<branch>=`` given explicitly wins; ``checkpoints.textural_2d`` is only ever given. Each
+branch's file is printed on stderr; ``results.json`` records them all (``info.checkpoints``: the file, and for a
+run's choice its ``summary.json``, which checkpoint and when the run finished).
+
 The 2D and 2D+ rows are drawn by 3D-SDN's generator (whose inputs include pose and normal maps from the
 de-rendered geometry) unless ``checkpoints.textural_2d`` gives a generator trained without them
 (``sdn3d-train branch=textural model.use_pose=false model.use_normal=false``): the paper's baselines without 3D
 knowledge.
 
-Exit status: 0 done; 2 bad input (missing benchmark / checkpoint, no semantic checkpoint for the predicted row,
+Exit status: 0 done; 2 bad input (missing benchmark / checkpoint, a ``run`` that is not a training output directory
+or lacks a branch the benchmark needs, no semantic checkpoint for the predicted row,
 no matching frames, no entry to evaluate or every entry's points outside ``frame_size`` unless ``allow_empty=true``;
 nothing written).
 """
@@ -47,9 +55,10 @@ from sdn3d.editing.photo import PhotoSettings
 from sdn3d.errors import InputError
 from sdn3d.evaluation.edit_benchmark import METHODS, PROPOSALS, REGIONS, SOURCE_LABELS
 from sdn3d.io import check_output_dir, staged_directory
+from sdn3d.runs import checkpoints_from_run, given_checkpoints
 
 __all__ = ["main", "run_bench", "table1_markdown", "examples_html", "generator_info", "bench_passes",
-           "check_entries"]
+           "bench_checkpoints", "check_entries"]
 
 MARKER = "results.json"
 LABELS = {"2d": "2D", "2d+": "2D+", "3d-sdn": "3D-SDN (ours)"}
@@ -330,8 +339,37 @@ def _settings_base(cfg: Any, size: tuple[int, int]) -> dict:
                 photo=PhotoSettings.from_mapping(cfg.get("photo")))
 
 
-def _load_inputs(cfg: Any) -> tuple[Path, Path, list, Any, list]:
-    """``(output dir, benchmark path, entries, source config, passes)`` after checking the settings."""
+def _needed_branches(cfg: Any) -> tuple[str, ...]:
+    """The branches the benchmark can not do without: the generator always, the geometric branch to de-render
+    (``scene=derender``), the semantic branch for the predicted row (``proposals`` with ``semantic``)."""
+    from omegaconf import OmegaConf
+
+    if str(cfg.scene) == "oracle":
+        return ("textural",)
+    value = cfg.proposals
+    proposals = [str(v) for v in value] if isinstance(value, (list, tuple)) or OmegaConf.is_list(value) else [
+        str(value)]
+    return ("semantic", "geometric", "textural") if "semantic" in proposals else ("geometric", "textural")
+
+
+def bench_checkpoints(cfg: Any) -> dict[str, dict | None]:
+    """Per branch the file the benchmark loads (``{'path', 'from', ...}``, None: none): ``checkpoints.<branch>``
+    where given, else with ``run=`` that directory's choice (:func:`sdn3d.runs.checkpoints_from_run`, printed on
+    stderr).
+
+    Raises:
+        InputError: a bad ``run``, or ``run`` lacks a branch the benchmark needs (:func:`_needed_branches`).
+    """
+    if cfg.get("run") is None:
+        return given_checkpoints(cfg.checkpoints)
+    return checkpoints_from_run(cfg.run, cfg.checkpoints, _needed_branches(cfg), "sdn3d-bench", "the benchmark")
+
+
+def _load_inputs(cfg: Any) -> tuple[Any, Path, Path, list, Any, list, dict]:
+    """``(config, output dir, benchmark path, entries, source config, passes, checkpoints)`` after checking the
+    settings; the config's ``checkpoints.<branch>`` are the files the benchmark loads (:func:`bench_checkpoints`)."""
+    from omegaconf import OmegaConf
+
     from sdn3d.data.edit_benchmark import benchmark_path, load_edit_benchmark
     from sdn3d.data.sources import SourceConfig
 
@@ -342,6 +380,9 @@ def _load_inputs(cfg: Any) -> tuple[Path, Path, list, Any, list]:
     # benchmark=paper: the paper's file shipped in sdn3d.resources; otherwise a path.
     path = benchmark_path(str(cfg.benchmark)) if cfg.benchmark else Path(source.root) / "vkitti_edit_benchmark.json"
     entries = load_edit_benchmark(path.expanduser())
+    checkpoints = bench_checkpoints(cfg)
+    cfg = OmegaConf.merge(cfg, {"checkpoints": {b: None if info is None else info["path"]
+                                                for b, info in checkpoints.items()}})
     if cfg.checkpoints.textural is None:
         raise InputError("checkpoints.textural is required: every method is rendered by the textural generator")
     if cfg.device != "cpu" and not torch.cuda.is_available():
@@ -350,7 +391,7 @@ def _load_inputs(cfg: Any) -> tuple[Path, Path, list, Any, list]:
     passes = bench_passes(cfg, _settings_base(cfg, size))
     if not cfg.get("allow_empty"):
         check_entries(entries, passes[0], path)
-    return out, path, entries, source, passes
+    return cfg, out, path, entries, source, passes, checkpoints
 
 
 def check_entries(entries: Sequence[Any], settings: Any, path: Path) -> None:
@@ -420,7 +461,7 @@ def run_bench(cfg: Any) -> dict:
     from sdn3d.evaluation.edit_benchmark import source_name, summarize
     from sdn3d.io import write_json_atomic, write_png_atomic, write_text_atomic
 
-    out, path, entries, source, passes = _load_inputs(cfg)
+    cfg, out, path, entries, source, passes, checkpoints = _load_inputs(cfg)
     t0 = time.perf_counter()
     results, generators, lpips = _evaluate(cfg, passes, entries, source)
     summaries = {name: summarize(r) for name, r in results.items()}
@@ -429,6 +470,7 @@ def run_bench(cfg: Any) -> dict:
     info = {"benchmark": str(path), "data": f"{source.kind} at {source.root}", "image_size": list(first.image_size),
             "scene": first.scene, "sources": sources, "source_labels": {s: SOURCE_LABELS[s] for s in sources},
             "source_oracle": {s: s != "semantic" for s in sources}, "generators": generators,
+            "run": None if cfg.get("run") is None else str(cfg.run), "checkpoints": checkpoints,
             "device": str(cfg.device), "threads": torch.get_num_threads(), **lpips, "compose": list(first.compose),
             "dilate_px": first.dilate_px, "feather_px": first.feather_px, "wall_s": time.perf_counter() - t0}
     report = {"info": info, "config": OmegaConf.to_container(cfg, resolve=True), "summary": summaries,

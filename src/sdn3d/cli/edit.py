@@ -75,7 +75,7 @@ from sdn3d.cli._errors import run_cli
 from sdn3d.editing.inputs import camera_for_image, fit_image
 from sdn3d.errors import InputError
 from sdn3d.io import OWNER_FILE, check_output_dir, staged_directory
-from sdn3d.runs import BRANCHES, find_run_checkpoints, quality_warnings, semantic_summary
+from sdn3d.runs import BRANCHES, checkpoints_from_run, given_checkpoints, quality_warnings, semantic_summary
 from sdn3d.scene.listing import list_objects, objects_table
 
 __all__ = ["main", "run_edit", "load_input", "resolve_checkpoints"]
@@ -371,31 +371,11 @@ def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
     Raises:
         InputError: a bad ``run``, or ``run`` lacks a branch the edit needs (:func:`_needed_branches`).
     """
-    result: dict[str, dict | None] = {}
-    for branch in BRANCHES:
-        given = cfg.checkpoints.get(branch)
-        result[branch] = None if given is None else {"path": str(given), "from": f"checkpoints.{branch}"}
     if cfg.get("run") is None:
+        result = given_checkpoints(cfg.checkpoints)
         _check_needed(cfg, record, result)
         return result
-    chosen, missing = find_run_checkpoints(cfg.run)
-    lacking = [b for b in _needed_branches(cfg, record) if result[b] is None and b in missing]
-    if lacking:
-        found = "; ".join(f"{b}: {Path(c['path']).name} ({c['which']})" for b, c in chosen.items()) or "nothing usable"
-        why = "; ".join(f"{b}: {missing[b]}" for b in lacking)
-        raise InputError(f"run {str(cfg.run)!r} lacks the {' and '.join(lacking)} branch the edit needs ({why}); "
-                         f"found {found}. Train it, or give checkpoints.{lacking[0]}=<file>")
-    for branch, info in chosen.items():
-        if result[branch] is None:
-            result[branch] = {"path": info["path"], "from": info["summary"], "which": info["which"],
-                              "finished": info["finished"], "checkpoint": info["checkpoint"], "export": info["export"]}
-    for branch in BRANCHES:
-        info = result[branch]
-        export = "inference export of the " if info is not None and info.get("export") else ""
-        how = ("none" if info is None else f"{info['path']} (given)" if "which" not in info
-               else f"{info['path']} ({export}{info['which']} checkpoint of the run finished {info['finished']})")
-        print(f"sdn3d-edit: {branch} checkpoint: {how}", file=sys.stderr)
-    return result
+    return checkpoints_from_run(cfg.run, cfg.checkpoints, _needed_branches(cfg, record), "sdn3d-edit", "the edit")
 
 
 def _check_needed(cfg: Any, record: Any, given: dict[str, dict | None]) -> None:

@@ -8,6 +8,7 @@ The picture functions take torch tensors or numpy arrays and return ``(H, W, 3)`
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 import torch
@@ -26,6 +27,8 @@ __all__ = [
     "hstack_panels",
     "BOX_COLORS",
     "draw_boxes",
+    "box_label_layout",
+    "BoxLabelLayout",
 ]
 
 
@@ -208,8 +211,209 @@ def _font(size: int):  # noqa: ANN202 - a PIL font
         return ImageFont.load_default()
 
 
-def _overlaps(a: tuple[float, float, float, float], b: tuple[float, float, float, float]) -> bool:
+Rect = tuple[float, float, float, float]
+
+
+def _overlaps(a: Rect, b: Rect) -> bool:
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+
+@dataclass(frozen=True)
+class BoxLabelLayout:
+    """Where :func:`draw_boxes` puts the labels, in the returned picture's pixels: rectangles ``(x0, y0, x1, y1)``,
+    half-open (the drawn pixels are ``x0 <= x < x1``, ``y0 <= y < y1``).
+
+    ``legend`` False: each box's label on a tag near the box (``tags``). True (the tags would overlap): a numbered
+    marker at each box (``tags``: the markers; a marker away from its box has a ``leaders`` line to it) and the
+    legend (number and label, ``entries``) in a band below the image. ``numbers[i]`` is box i's number.
+    """
+
+    size: tuple[int, int]  # (width, height) of the returned picture
+    top: int  # the title band's height: the image's first row
+    legend: bool
+    font_size: int
+    tags: tuple[tuple[int, Rect], ...]  # (box index, its tag or numbered marker)
+    entries: tuple[tuple[int, Rect, str], ...] = ()  # (box index, legend entry, the label as drawn)
+    swatches: tuple[tuple[int, Rect], ...] = ()  # (box index, the numbered marker inside its legend entry)
+    leaders: tuple[tuple[int, Rect], ...] = ()  # (box index, line (x0, y0, x1, y1) from the box to its marker)
+    numbers: dict[int, str] = field(default_factory=dict)
+    marker_size: int = 0
+    legend_size: int = 0
+
+    def rectangles(self) -> list[Rect]:
+        """Every label rectangle drawn: the tags or markers, then the legend's entries."""
+        return [r for _, r in self.tags] + [r for _, r, _ in self.entries]
+
+
+def _text_box(draw, text: str, font) -> tuple[float, float, float, float]:  # noqa: ANN001 - PIL objects
+    return draw.textbbox((0, 0), text, font=font)
+
+
+def _sizes(height: int, width: int, font_size: int | None) -> tuple[int, int, int]:
+    """``(font size, line width, padding)`` of :func:`draw_boxes`' tags and title."""
+    size = int(font_size) if font_size else max(12, round(min(height, width) / 15))
+    return size, max(2, size // 7), max(2, size // 6)
+
+
+def _place_tags(draw, boxes: Sequence[Sequence[float] | None], labels: Sequence[str], font, width: int,  # noqa: ANN001
+                height: int, band: int, pad: int) -> tuple[list[tuple[int, Rect]], bool]:
+    """Each box's tag: above the box, else inside it or below, away from the tags already placed. Returns the tags
+    and whether every one found a free place."""
+    placed: list[tuple[int, Rect]] = []
+    free = True
+    for i, (box, label) in enumerate(zip(boxes, labels, strict=True)):
+        if box is None:
+            continue
+        x0, y0, _, y1 = (float(b) for b in box)
+        top, bottom = y0 + band, y1 + band
+        left, up, right, down = _text_box(draw, label, font)
+        tw, th = right - left + 2 * pad, down - up + 2 * pad
+        tx = min(max(0.0, x0), max(0.0, width - tw))
+        low = band + height - th
+        candidates = [top - th, top, bottom, bottom - th] + [top + k * th for k in range(1, 8)]
+        spots = [(tx, min(max(band, ty), low)) for ty in candidates]
+        spot = next((p for p in spots if not any(_overlaps((*p, p[0] + tw, p[1] + th), q) for _, q in placed)), None)
+        free = free and spot is not None
+        tx, ty = spot or spots[0]
+        placed.append((i, (tx, ty, tx + tw, ty + th)))
+    return placed, free
+
+
+def _free_spot(size: tuple[float, float], anchors: Sequence[tuple[float, float]], area: Rect,
+               taken: Sequence[Rect], step: float) -> tuple[float, float] | None:
+    """The first of ``anchors`` (top-left corners), else the grid point of ``area`` nearest the first anchor, where a
+    ``size`` rectangle lies inside ``area`` and overlaps none of ``taken`` (a gap of 1 px kept); None: nowhere."""
+    w, h = size
+
+    def fits(x: float, y: float) -> bool:
+        inside = area[0] <= x and x + w <= area[2] and area[1] <= y and y + h <= area[3]
+        return inside and not any(_overlaps((x - 1, y - 1, x + w + 1, y + h + 1), q) for q in taken)
+
+    for x, y in anchors:
+        if fits(x, y):
+            return x, y
+    ax, ay = anchors[0]
+    xs = np.arange(area[0], area[2] - w + 1e-6, step)
+    ys = np.arange(area[1], area[3] - h + 1e-6, step)
+    if not len(xs) or not len(ys):
+        return None
+    gx, gy = np.meshgrid(xs, ys)
+    order = np.argsort(((gx - ax) ** 2 + (gy - ay) ** 2).ravel(), kind="stable")
+    for k in order:
+        x, y = float(gx.ravel()[k]), float(gy.ravel()[k])
+        if fits(x, y):
+            return x, y
+    return None
+
+
+def box_label_layout(image_size: tuple[int, int], boxes: Sequence[Sequence[float] | None], labels: Sequence[str],
+                     title: str | None = None, font_size: int | None = None,
+                     points: Sequence[Sequence[float] | None] | None = None) -> BoxLabelLayout:
+    """Where :func:`draw_boxes` puts the labels of ``boxes`` on an image of ``image_size (W, H)``
+    (:class:`BoxLabelLayout`): a tag per box (the look for a few objects) while every tag finds a place that no
+    other tag covers; otherwise a small numbered marker at each box (near it, on the image: a line leads to one
+    placed away from it; below the image where the image has no room left) and a legend of numbers and labels in
+    columns in a band below the image. No two of its label rectangles overlap, whatever the number of boxes; the
+    markers keep clear of the crosses at ``points`` (image pixels, as :func:`draw_boxes` takes them) too."""
+    from PIL import Image, ImageDraw
+
+    width, height = int(image_size[0]), int(image_size[1])
+    if len(boxes) != len(labels):
+        raise ValueError(f"draw_boxes: {len(boxes)} boxes and {len(labels)} labels")
+    size, line, pad = _sizes(height, width, font_size)
+    band = size + 2 * pad if title else 0
+    draw = ImageDraw.Draw(Image.new("RGB", (1, 1)))
+    tags, free = _place_tags(draw, boxes, labels, _font(size), width, height, band, pad)
+    if free:
+        return BoxLabelLayout((width, height + band), band, False, size, tuple(tags))
+    # Numbered markers at the boxes, a legend below.
+    msize = max(10, round(size * 0.6))
+    lsize = max(11, round(size * 0.75))
+    mfont, lfont = _font(msize), _font(lsize)
+    mpad = max(2, msize // 5)
+    drawn = [i for i, box in enumerate(boxes) if box is not None]
+    numbers = {i: str(i + 1) for i in drawn}
+    _, mup, _, mdown = _text_box(draw, "0123456789", mfont)
+    mh = mdown - mup + 2 * mpad
+    markers: list[tuple[int, Rect]] = []
+    leaders: list[tuple[int, Rect]] = []
+    overflow: list[tuple[int, float]] = []
+    image_area = (0.0, float(band), float(width), float(band + height))
+    reach = max(3, size // 3) + line  # a cross's half size and its outline
+    centres = [(float(p[0]), float(p[1]) + band) for p in (points or ()) if p is not None]
+    crosses = [(u - reach, v - reach, u + reach + 1, v + reach + 1) for u, v in centres]
+    for i in drawn:
+        left, _, right, _ = _text_box(draw, numbers[i], mfont)
+        mw = max(mh, right - left + 2 * mpad)
+        x0, y0, x1, y1 = (float(b) for b in boxes[i])
+        y0, y1 = y0 + band, y1 + band
+        anchors = [(x0, y0 - mh), (x0, y0), (x1 - mw, y0), (x0, y1), (x1 - mw, y0 - mh), (x0, y1 - mh),
+                   (x1, y0), (x0 - mw, y0)]
+        spot = _free_spot((mw, mh), anchors, image_area, [r for _, r in markers] + crosses, max(2.0, mh / 3))
+        if spot is None:
+            overflow.append((i, mw))
+            continue
+        rect = (spot[0], spot[1], spot[0] + mw, spot[1] + mh)
+        markers.append((i, rect))
+        box = (x0 - 1, y0 - 1, x1 + 1, y1 + 1)
+        if not _overlaps(rect, box):  # away from its box: a line from the box's nearest point to the marker
+            cx, cy = (rect[0] + rect[2]) / 2, (rect[1] + rect[3]) / 2
+            leaders.append((i, (min(max(cx, x0), x1 - 1), min(max(cy, y0), y1 - 1), cx, cy)))
+    bottom = band + height
+    if overflow:  # no room left on the image: a row (or more) of markers below it, each with its line
+        gap = max(2, mpad)
+        x, y = float(pad), float(bottom + gap)
+        for i, mw in overflow:
+            if x + mw > width - pad and x > pad:
+                x, y = float(pad), y + mh + gap
+            rect = (x, y, x + mw, y + mh)
+            markers.append((i, rect))
+            x0, y0, x1, y1 = (float(b) for b in boxes[i])
+            cx = (rect[0] + rect[2]) / 2
+            leaders.append((i, (min(max(cx, x0), x1 - 1), y1 - 1 + band, cx, rect[1])))
+            x += mw + gap
+        bottom = int(np.ceil(y + mh))
+    # The legend: entries "marker label" in columns, numbered in reading order down each column.
+    gap = max(3, lsize // 3)
+    _, lup, _, ldown = _text_box(draw, "Ag0", lfont)
+    entry_h = max(mh, ldown - lup) + 2
+    swatch = {i: max(mh, _text_box(draw, numbers[i], mfont)[2] - _text_box(draw, numbers[i], mfont)[0] + 2 * mpad)
+              for i in drawn}
+    room = max(1, width - 2 * pad)
+
+    def fitted(i: int) -> str:
+        text = labels[i]
+        limit = room - swatch[i] - gap
+        while text and _text_box(draw, text, lfont)[2] - _text_box(draw, text, lfont)[0] > limit:
+            text = text[:-2] + "…" if len(text) > 2 else ""
+        return text
+
+    texts = {i: fitted(i) for i in drawn}
+    widths = {i: swatch[i] + gap + (_text_box(draw, texts[i], lfont)[2] - _text_box(draw, texts[i], lfont)[0])
+              for i in drawn}
+    column = max(widths.values(), default=0) + 2 * gap
+    columns = max(1, min(len(drawn), int((room + 2 * gap) // max(1, column)))) if drawn else 1
+    rows = -(-len(drawn) // columns) if drawn else 0
+    top = bottom + pad
+    entries, swatches = [], []
+    for k, i in enumerate(drawn):
+        c, r = divmod(k, rows)
+        x, y = float(pad + c * column), float(top + r * (entry_h + 2))
+        entries.append((i, (x, y, x + widths[i], y + entry_h), texts[i]))
+        swatches.append((i, (x, y + (entry_h - mh) / 2, x + swatch[i], y + (entry_h + mh) / 2)))
+    total = top + rows * (entry_h + 2) + pad
+    return BoxLabelLayout((width, int(total)), band, True, size, tuple(markers), tuple(entries), tuple(swatches),
+                          tuple(leaders), numbers, msize, lsize)
+
+
+def _marker(draw, rect: Rect, number: str, color: tuple[int, int, int], font) -> None:  # noqa: ANN001
+    """A numbered marker: ``rect`` filled in ``color`` with a dark outline, the number centred."""
+    draw.rectangle((rect[0], rect[1], rect[2] - 1, rect[3] - 1), fill=color, outline=(0, 0, 0), width=1)
+    left, up, right, down = _text_box(draw, number, font)
+    dark = 0.299 * color[0] + 0.587 * color[1] + 0.114 * color[2] < 150
+    x = (rect[0] + rect[2] - (right - left)) / 2 - left
+    y = (rect[1] + rect[3] - (down - up)) / 2 - up
+    draw.text((x, y), number, fill=(255, 255, 255) if dark else (0, 0, 0), font=font)
 
 
 def draw_boxes(image: np.ndarray, boxes: Sequence[Sequence[float] | None], labels: Sequence[str],
@@ -221,6 +425,11 @@ def draw_boxes(image: np.ndarray, boxes: Sequence[Sequence[float] | None], label
     the box, else inside it or below, away from the tags already placed); ``points[i]`` ``(u, v)`` (pixel
     centres at integers), if given, is marked with a cross in box i's colour; ``title`` goes on a white band
     above the image. Returns a new ``(H + band, W, 3)`` uint8 array.
+
+    When the tags would overlap (many objects), each box gets a small numbered marker instead (its number is its
+    index + 1; a line leads to a marker placed away from its box) and a legend in a white band below the image
+    lists number and label: ``(H + band + legend, W, 3)``. :func:`box_label_layout` says where every label goes;
+    no two of them overlap.
 
     ``masks[i]`` ``(H, W)`` bool, if given and not None, tints box i's pixels in its colour (45 %).
 
@@ -242,38 +451,43 @@ def draw_boxes(image: np.ndarray, boxes: Sequence[Sequence[float] | None], label
     if not len(boxes) == len(labels) == len(points):
         raise ValueError(f"draw_boxes: {len(boxes)} boxes, {len(labels)} labels and {len(points)} points")
     height, width = image.shape[:2]
-    size = int(font_size) if font_size else max(12, round(min(height, width) / 15))
+    size, line, pad = _sizes(height, width, font_size)
+    layout = box_label_layout((width, height), boxes, labels, title, font_size, points)
+    band = layout.top
     font = _font(size)
-    line = max(2, size // 7)
-    pad = max(2, size // 6)
-    band = size + 2 * pad if title else 0
-    canvas = Image.new("RGB", (width, height + band), (255, 255, 255))
+    canvas = Image.new("RGB", layout.size, (255, 255, 255))
     canvas.paste(Image.fromarray(np.ascontiguousarray(image)), (0, band))
     draw = ImageDraw.Draw(canvas)
     if title:
         draw.text((pad, pad), title, fill=(0, 0, 0), font=font)
-    tags = []
-    for i, (box, label) in enumerate(zip(boxes, labels, strict=True)):
-        color = BOX_COLORS[i % len(BOX_COLORS)]
-        if box is None:
-            continue
-        x0, y0, x1, y1 = (float(b) for b in box)
-        draw.rectangle((x0, y0 + band, max(x0, x1 - 1), max(y0, y1 - 1) + band), outline=color, width=line)
-        tags.append((x0, y0 + band, y1 + band, label, color))
-    placed: list[tuple[float, float, float, float]] = []
-    for x0, top, bottom, label, color in tags:  # tags after all boxes, so no box line crosses a label
-        left, up, right, down = draw.textbbox((0, 0), label, font=font)
-        tw, th = right - left + 2 * pad, down - up + 2 * pad
-        tx = min(max(0.0, x0), max(0.0, width - tw))
-        low = band + height - th
-        candidates = [top - th, top, bottom, bottom - th] + [top + k * th for k in range(1, 8)]
-        spots = [(tx, min(max(band, ty), low)) for ty in candidates]
-        tx, ty = next((p for p in spots if not any(_overlaps((*p, p[0] + tw, p[1] + th), q) for q in placed)),
-                      spots[0])
-        placed.append((tx, ty, tx + tw, ty + th))
-        draw.rectangle((tx, ty, tx + tw, ty + th), fill=color)
-        dark = 0.299 * color[0] + 0.587 * color[1] + 0.114 * color[2] < 150
-        draw.text((tx + pad - left, ty + pad - up), label, fill=(255, 255, 255) if dark else (0, 0, 0), font=font)
+    for i, box in enumerate(boxes):
+        if box is not None:
+            x0, y0, x1, y1 = (float(b) for b in box)
+            draw.rectangle((x0, y0 + band, max(x0, x1 - 1), max(y0, y1 - 1) + band), outline=BOX_COLORS[
+                i % len(BOX_COLORS)], width=line)
+    if not layout.legend:  # tags after all boxes, so no box line crosses a label
+        for i, (tx, ty, tx1, ty1) in layout.tags:
+            color = BOX_COLORS[i % len(BOX_COLORS)]
+            left, up, _, _ = _text_box(draw, labels[i], font)
+            draw.rectangle((tx, ty, tx1, ty1), fill=color)
+            dark = 0.299 * color[0] + 0.587 * color[1] + 0.114 * color[2] < 150
+            draw.text((tx + pad - left, ty + pad - up), labels[i], fill=(255, 255, 255) if dark else (0, 0, 0),
+                      font=font)
+    else:
+        mfont, lfont = _font(layout.marker_size), _font(layout.legend_size)
+        thin = max(1, line // 2)
+        for i, segment in layout.leaders:
+            color = BOX_COLORS[i % len(BOX_COLORS)]
+            draw.line(segment, fill=(0, 0, 0), width=thin + 2)
+            draw.line(segment, fill=color, width=thin)
+        for i, rect in layout.tags:
+            _marker(draw, rect, layout.numbers[i], BOX_COLORS[i % len(BOX_COLORS)], mfont)
+        gap = max(3, layout.legend_size // 3)
+        for (i, (_, ey, _, ey1), text), (_, swatch) in zip(layout.entries, layout.swatches, strict=True):
+            _marker(draw, swatch, layout.numbers[i], BOX_COLORS[i % len(BOX_COLORS)], mfont)
+            tleft, tup, _, tdown = _text_box(draw, text, lfont)
+            draw.text((swatch[2] + gap - tleft, (ey + ey1 - (tdown - tup)) / 2 - tup), text, fill=(0, 0, 0),
+                      font=lfont)
     for i, point in enumerate(points):  # crosses last: always visible
         if point is not None:
             u, v, r = float(point[0]), float(point[1]) + band, max(3, size // 3)

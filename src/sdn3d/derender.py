@@ -496,8 +496,11 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
     if len(sel):
         start_ry = torch.where(predicted[sel], ry[rows[sel]].float(), torch.full((len(sel),), float("nan")))
         start_dims = torch.where(predicted[sel, None], dims[rows[sel]].float(), torch.full((len(sel), 3), float("nan")))
+        start_location = torch.where(predicted[sel, None], location[rows[sel]].float(),
+                                     torch.full((len(sel), 3), float("nan")))
         result = fit_to_masks(masks[rows[sel]], boxes.boxes[sel], intr, ignore=ignore[sel], start_ry=start_ry,
-                              start_dims=start_dims, settings=settings)
+                              start_dims=start_dims, start_template=template[rows[sel]], start_location=start_location,
+                              settings=settings)
         target = rows[sel]
         template[target] = result.template
         dims[target], ry[target] = result.dims.double(), result.ry.double()

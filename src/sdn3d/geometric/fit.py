@@ -11,7 +11,8 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
 2. **Many starts, then the best.** Every template of the bank times four starting yaws (the geometric branch's
    prediction where there is one, else facing away from the camera; its reverse; the two sides) is fitted at a
    coarse crop (``coarse_size`` px, ``coarse_steps`` Adam steps on x, log z, yaw and log dims). The ``keep`` best
-   hypotheses of each object go on at a finer crop with the free-form deformation (``fine_steps``); the one with
+   hypotheses of each object, and the prediction itself (its template, place on the road, yaw and size), go on at
+   a finer crop with the free-form deformation (``fine_steps``); the one with
    the lowest loss wins, so the template is chosen by its fit. A silhouette barely tells a car's front from its
    back: among the fits within ``tie`` (a share) of the best loss, the one whose yaw is nearest the first start
    (the prediction's) wins.
@@ -19,7 +20,10 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    (``ignore``) and outside the image, plus ``dims_reg * |log d - log d0|^2`` (keeps the size near the start
    where the silhouette cannot tell: a car seen from behind has no visible length, and a box-like car turned by 90
    degrees with its length and width swapped casts nearly the same silhouette; with ``dims_reg = 0.1`` such a swap
-   costs about 0.16, more than a whole silhouette's L1 error) and ``ffd_reg * mean(phi^2)``.
+   costs about 0.16, more than a whole silhouette's L1 error), ``yaw_reg * (1 - cos(ry - ry0)) / 2`` (a pull towards
+   the first start's yaw, the prediction's: where the silhouette cannot tell front from back or a turn of 90
+   degrees, the prediction does; a wrong prediction loses to a silhouette that disagrees clearly) and
+   ``ffd_reg * mean(phi^2)``.
 
 The fit's quality is the silhouette IoU of the winner with the mask at the fine crop (the soft silhouette
 thresholded at 0.5, ignored pixels left out): :attr:`FitResult.iou`. Shapes in the docstrings: ``N`` objects,
@@ -64,7 +68,7 @@ class FitSettings:
         lr: Adam learning rate (x, log z, log dims; the yaw takes ``2 lr``).
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
-        dims_reg, ffd_reg: weights of the size prior and the FFD's ``mean(phi^2)``.
+        dims_reg, yaw_reg, ffd_reg: weights of the size prior, the yaw prior and the FFD's ``mean(phi^2)``.
         poor_iou: a fit below this silhouette IoU with its mask is flagged as poor.
     """
 
@@ -79,6 +83,7 @@ class FitSettings:
     margin: float = 0.15
     sigma: float = 0.25
     dims_reg: float = 0.1
+    yaw_reg: float = 0.02
     ffd_reg: float = 100.0
     poor_iou: float = 0.7
 
@@ -95,7 +100,7 @@ class FitSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"FitSettings.{name} must be a positive number, got {value!r}")
-        for name in ("margin", "dims_reg", "ffd_reg", "tie"):
+        for name in ("margin", "dims_reg", "yaw_reg", "ffd_reg", "tie"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
@@ -161,8 +166,9 @@ def _crops(masks: Tensor, ignore: Tensor, windows: Tensor, size: int, intr: Intr
     return mask, ign, crop_intrinsics(intr, windows, size)
 
 
-def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Tensor, mask: Tensor, ign: Tensor,
-           K: Tensor, size: int, steps: int, settings: FitSettings, with_ffd: bool) -> tuple[dict[str, Tensor], Tensor]:
+def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Tensor, ry0: Tensor, mask: Tensor,
+           ign: Tensor, K: Tensor, size: int, steps: int, settings: FitSettings,
+           with_ffd: bool) -> tuple[dict[str, Tensor], Tensor]:
     """Adam on ``M`` hypotheses (rows of every tensor); returns the fitted values and ``(M,)`` final losses."""
     height = settings.camera_height
     x = start["x"].clone().requires_grad_(True)
@@ -180,6 +186,7 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
         phi = expand_half_ffd(phi_half)
         sil = render_silhouettes(bank, template, dims, 2 * half_ry, center, phi, K, sil_settings)
         prior = settings.dims_reg * (log_dims - log_dims0).square().sum(1)
+        prior = prior + settings.yaw_reg * (1 - torch.cos(2 * half_ry - ry0)) / 2
         return reprojection_error(sil, mask, ign) + prior + settings.ffd_reg * phi.square().flatten(1).mean(1)
 
     adam_fit(free, objective, steps, settings.lr)
@@ -191,7 +198,9 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
 
 
 def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tensor | None = None,
-                 start_ry: Tensor | None = None, start_dims: Tensor | None = None, bank: MeshBank | None = None,
+                 start_ry: Tensor | None = None, start_dims: Tensor | None = None,
+                 start_template: Tensor | None = None, start_location: Tensor | None = None,
+                 bank: MeshBank | None = None,
                  settings: FitSettings | None = None) -> FitResult:
     """Fit template, size, yaw, position on the road and FFD of ``N`` vehicles to their masks (module doc).
 
@@ -202,6 +211,9 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
         start_ry: ``(N,)`` first starting yaw (the geometric branch's prediction); NaN or None: facing away from
             the camera along the ray (``ry = -pi/2``, the back visible).
         start_dims: ``(N, 3)`` starting ``(l, h, w)`` (NaN rows or None: :data:`CAR_DIMS`); also the size prior.
+        start_template, start_location: ``(N,)`` template (-1: none) and ``(N, 3)`` bottom-face centre of the
+            prediction: with ``start_ry`` and ``start_dims`` one more hypothesis of the fine stage (its ``x`` and
+            ``z`` on the road plane).
         bank: the templates (default: the 8 procedural ones); every one is tried.
         settings: the search (default :class:`FitSettings`).
     """
@@ -239,17 +251,30 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     start = {"x": road[obj, 0], "z": road[obj, 2], "ry": _wrap(ry0[obj] + offsets), "dims": dims0[obj],
              "phi_half": torch.zeros(n * per, 32, 3)}
     mask, ign, K = _crops(masks, ignore, windows, settings.coarse_size, intr, image_size)
-    values, loss = _stage(bank, template, start, dims0[obj], mask[obj], ign[obj], K[obj], settings.coarse_size,
-                          settings.coarse_steps, settings, with_ffd=False)
+    values, loss = _stage(bank, template, start, dims0[obj], ry0[obj], mask[obj], ign[obj], K[obj],
+                          settings.coarse_size, settings.coarse_steps, settings, with_ffd=False)
 
-    # Fine: the `keep` best of each object, with the FFD.
+    # Fine: the `keep` best of each object, and the prediction itself (its template, place, yaw and size; where
+    # there is none, the best start again), with the FFD.
     keep = min(settings.keep, per)
     best = loss.view(n, per).topk(keep, dim=1, largest=False).indices + torch.arange(n)[:, None] * per
-    rows = best.flatten()
-    obj = rows // per
+    starts = {k: v[best].clone() for k, v in values.items()}  # (n, keep, ...)
+    fine_template = template[best]
+    if start_template is not None and start_location is not None:
+        own = (start_template >= 0) & torch.isfinite(start_location).all(1) & (start_location[:, 2] > 0)
+        predicted = {"x": start_location[:, 0].float(), "z": start_location[:, 2].float().clamp_min(1.0), "ry": ry0,
+                     "dims": dims0, "phi_half": torch.zeros(n, 32, 3)}
+        extra = {k: torch.where(own.view(-1, *[1] * (v.dim() - 1)), predicted[k], starts[k][:, 0])
+                 for k, v in predicted.items()}
+        starts = {k: torch.cat([starts[k], extra[k][:, None]], 1) for k in starts}
+        own_template = torch.where(own, start_template.long(), fine_template[:, 0])
+        fine_template = torch.cat([fine_template, own_template[:, None]], 1)
+        keep += 1
+    obj = torch.arange(n).repeat_interleave(keep)
     mask, ign, K = _crops(masks, ignore, windows, settings.fine_size, intr, image_size)
-    values, loss = _stage(bank, template[rows], {k: v[rows] for k, v in values.items()}, dims0[obj], mask[obj],
-                          ign[obj], K[obj], settings.fine_size, settings.fine_steps, settings, with_ffd=True)
+    values, loss = _stage(bank, fine_template.flatten(), {k: v.flatten(0, 1) for k, v in starts.items()}, dims0[obj],
+                          ry0[obj], mask[obj], ign[obj], K[obj], settings.fine_size, settings.fine_steps, settings,
+                          with_ffd=True)
     fine = loss.view(n, keep)
     equal = fine <= fine.amin(1, keepdim=True) * (1 + settings.tie)
     agreement = torch.cos(values["ry"].view(n, keep) - ry0[:, None])  # 1: the first start's yaw
@@ -257,14 +282,15 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     chosen = {k: v[winner] for k, v in values.items()}
     dims, phi = chosen["dims"], expand_half_ffd(chosen["phi_half"])
     location = torch.stack([chosen["x"], torch.full_like(chosen["x"], settings.camera_height), chosen["z"]], 1)
+    won = fine_template.flatten()[winner]
     with torch.no_grad():
         center = torch.stack([chosen["x"], settings.camera_height - dims[:, 1] / 2, chosen["z"]], 1)
-        sil = render_silhouettes(bank, template[rows][winner], dims, chosen["ry"], center, phi, K[obj][winner],
+        sil = render_silhouettes(bank, won, dims, chosen["ry"], center, phi, K[obj][winner],
                                  SoftSilhouetteSettings((settings.fine_size,) * 2, sigma=settings.sigma))
     keep_px = ign[obj][winner][:, 0] < 0.5
     drawn, target = (sil > 0.5) & keep_px, (mask[obj][winner][:, 0] > 0.5) & keep_px
     union = (drawn | target).flatten(1).sum(1)
     iou = (drawn & target).flatten(1).sum(1) / union.clamp_min(1)
-    return FitResult(template=template[rows][winner].long(), dims=dims, ry=chosen["ry"], location=location, phi=phi,
+    return FitResult(template=won.long(), dims=dims, ry=chosen["ry"], location=location, phi=phi,
                      iou=torch.where(union > 0, iou, torch.zeros_like(iou)).float(), loss=loss[winner],
                      start_ry=ry0)

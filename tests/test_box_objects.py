@@ -3,6 +3,7 @@ the spec's ``objects:``, and ``sdn3d-edit`` on the real Virtual KITTI frame with
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -148,6 +149,12 @@ def test_derender_adds_box_objects_and_records_where_they_came_from(ckpts):
     given = derender(image, WORK, models, "boxes", classes="vkitti",
                      boxes=BoxPrompts(mask_boxes(masks).float(), ("Car", "Car"), masks=both))
     assert given.meta["boxes"][0]["mask"] == "given" and int((given.objects.mask.sum(0) > 1).sum()) == 0
+    # With a semantic branch its object probability may seed GrabCut (the record says so).
+    seeded = derender(image, WORK, Models.from_checkpoints(ckpts["semantic"], ckpts["geometric"], crop_size=32),
+                      "boxes", boxes=dataclasses.replace(boxes, prior=True))
+    assert seeded.meta["semantic"] == "branch"
+    assert all(r["mask"] in ("grabcut, seeded by the semantic branch", "the whole box (GrabCut found too little in it)")
+               for r in seeded.meta["boxes"])
     with pytest.raises(UserInputError, match="not an object class"):
         derender(image, WORK, models, "boxes", classes="vkitti", boxes=BoxPrompts(boxes.boxes, ("Road", "Car")))
     with pytest.raises(UserInputError, match="needs objects given by a box"):

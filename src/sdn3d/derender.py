@@ -59,7 +59,7 @@ if TYPE_CHECKING:
     from sdn3d.geometric.fit import FitSettings
     from sdn3d.geometric.predict import GeometricPredictor
     from sdn3d.geometric.refine import RefineSettings
-    from sdn3d.semantic.predict import SemanticPredictor
+    from sdn3d.semantic.predict import Segmentation, SemanticPredictor
     from sdn3d.textural.renderer import TexturalRenderer
 
 __all__ = [
@@ -391,19 +391,18 @@ def _checked_image(image: Tensor, intrinsics: Intrinsics, proposals: str, gt: Gr
 
 
 def _semantics_and_instances(image: Tensor, models: Models, proposals: str, gt: GroundTruth | None,
-                             name: str) -> tuple[Tensor, Tensor, str, str, Tensor | None]:
+                             name: str) -> tuple[Tensor, Tensor, str, str, Segmentation | None]:
     """Steps 1-2 of the module doc: ``(semantic (H, W), instances (H, W), proposal source, semantic source,
-    probability)`` with sources ``'gt'`` (the oracle), ``'semantic'`` / ``'branch'`` (the semantic branch),
+    segmentation)`` with sources ``'gt'`` (the oracle), ``'semantic'`` / ``'branch'`` (the semantic branch),
     ``'boxes'`` (no proposal but the boxes) and ``'none'`` (no semantics: every pixel 255, ignore);
-    ``probability``: the branch's ``(C, H, W)`` softmax where it ran, else None."""
+    ``segmentation``: the branch's output where it ran, else None."""
     class_list = CLASS_LISTS[name]
     height, width = image.shape[-2:]
     if proposals == "boxes":  # the boxes alone; semantics from the branch, else the ground truth, else none
         if models.semantic is not None:
             _check_class_count(models, class_list, name)
             seg = models.semantic(image)
-            return (seg.label[0].cpu(), torch.zeros(height, width, dtype=torch.long), "boxes", "branch",
-                    seg.probability[0].cpu())
+            return seg.label[0].cpu(), torch.zeros(height, width, dtype=torch.long), "boxes", "branch", seg
         semantic = gt.semantic if gt is not None else torch.full((height, width), 255, dtype=torch.long)
         return semantic, torch.zeros(height, width, dtype=torch.long), "boxes", "gt" if gt is not None else "none", None
     use_branch = proposals == "semantic" or (proposals == "auto" and models.semantic is not None)
@@ -424,8 +423,7 @@ def _semantics_and_instances(image: Tensor, models: Models, proposals: str, gt: 
         seg = models.semantic(image)
     semantic = seg.label[0].cpu() if use_branch else gt_semantic
     instances, source = (gt_instances, "gt") if use_gt_masks else (seg.instance[0].cpu(), "semantic")
-    probability = seg.probability[0].cpu() if seg is not None else None
-    return semantic, instances, source, "branch" if use_branch else "gt", probability
+    return semantic, instances, source, "branch" if use_branch else "gt", seg
 
 
 def _check_class_count(models: Models, class_list: tuple, name: str) -> None:
@@ -434,7 +432,7 @@ def _check_class_count(models: Models, class_list: tuple, name: str) -> None:
                              f"class list {name!r} has {len(class_list)}")
 
 
-def _add_boxes(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts, probability: Tensor | None,
+def _add_boxes(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts, seg: Segmentation | None,
                things: Tensor, class_list: Sequence[SemanticClass]) -> tuple[Tensor, Tensor, Tensor, list[str]]:
     """``(masks, ids, box_rows, each box's mask source)``: the proposals with the box objects' GrabCut masks appended
     (they take their pixels from the other proposals; a proposal left with less than half its pixels is dropped)."""
@@ -442,7 +440,8 @@ def _add_boxes(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts, pro
 
     class_ids = boxes.class_ids(class_list)
     prior = None
-    if boxes.prior and probability is not None:
+    if boxes.prior and seg is not None:  # the branch's probability of any object class
+        probability = seg.probability[0].cpu()
         prior = probability[things[things < probability.shape[0]]].sum(0)
     if boxes.masks is not None:
         if tuple(boxes.masks.shape[-2:]) != tuple(image.shape[-2:]):
@@ -551,8 +550,7 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
         raise UserInputError("proposals='boxes' needs objects given by a box (an edit spec's `objects:`)")
     name = _class_list_name(models, gt, classes)
     class_list = CLASS_LISTS[name]
-    semantic, instances, source, semantic_source, probability = _semantics_and_instances(image, models, proposals,
-                                                                                        gt, name)
+    semantic, instances, source, semantic_source, seg = _semantics_and_instances(image, models, proposals, gt, name)
 
     # Proposals: ids of instance classes only (a scene's objects must be things).
     things = torch.tensor([c.id for c in class_list if c.has_instances], dtype=torch.long)
@@ -561,7 +559,7 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
     masks = instances[None] == ids[:, None, None]  # (N, H, W)
     box_rows, box_records, mask_source = torch.zeros(0, dtype=torch.long), [], None
     if boxes is not None and len(boxes):
-        masks, ids, box_rows, mask_source = _add_boxes(image, masks, ids, boxes, probability, things,
+        masks, ids, box_rows, mask_source = _add_boxes(image, masks, ids, boxes, seg, things,
                                                        class_list)
         instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)
     semantic = torch.where(masks.any(0), (instances // INSTANCE_DIVISOR), semantic)

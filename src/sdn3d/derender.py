@@ -150,7 +150,7 @@ class BoxPrompts:
     Attributes:
         boxes: ``(N, 4)`` float half-open ``(x0, y0, x1, y1)`` in the working image's pixels.
         classes: the class of each, a name (case ignored) or an id of an instance class of the scene's class list.
-        fit: the 3D fit (:class:`~sdn3d.geometric.fit.FitSettings`; None: its defaults).
+        fit: the 3D fit (:class:`~sdn3d.geometric.fit.FitSettings`; None: its defaults, set on creation).
         prior: seed GrabCut with the semantic branch's vehicle probability (only when that branch is trusted).
         iterations: GrabCut iterations per box.
         masks: ``(N, H, W)`` bool visible masks to take instead of GrabCut's (e.g. drawn by a person), or None.
@@ -175,6 +175,10 @@ class BoxPrompts:
             raise ValueError("BoxPrompts: every box needs finite x0 < x1 and y0 < y1")
         object.__setattr__(self, "boxes", boxes)
         object.__setattr__(self, "classes", classes)
+        if self.fit is None:
+            from sdn3d.geometric.fit import FitSettings
+
+            object.__setattr__(self, "fit", FitSettings())
         if self.masks is not None and (self.masks.dim() != 3 or self.masks.shape[0] != boxes.shape[0]):
             raise ValueError(f"BoxPrompts: masks must be (N, H, W) with N = {boxes.shape[0]}, got "
                              f"{tuple(self.masks.shape)}")
@@ -474,10 +478,10 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
     """The geometry with the box objects' rows fitted to their masks (:func:`~sdn3d.geometric.fit.fit_to_masks`,
     the geometric branch's prediction as the start) and per box its record for ``meta['boxes']``."""
     from sdn3d.box_masks import nearest_first
-    from sdn3d.geometric.fit import FitSettings, fit_to_masks
+    from sdn3d.geometric.fit import fit_to_masks
 
     template, dims, ry, location, phi = (g.clone() for g in geometry)
-    settings = boxes.fit or FitSettings()
+    settings = boxes.fit
     pixels = masks[rows].flatten(1).sum(1)
     fitted = pixels >= min_pixels
     predicted = template[rows] >= 0
@@ -488,8 +492,7 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
     others = torch.ones(len(masks), dtype=torch.bool)
     others[rows] = False
     rest = masks[others].any(0) if bool(others.any()) else torch.zeros_like(masks[0])
-    nearer = (rank[None, :] < rank[:, None]).float()  # (B, B): row i, column j nearer than i
-    ignore = ((nearer @ masks[rows].flatten(1).float()).view(-1, *masks.shape[-2:]) > 0) | rest
+    ignore = occluder_masks(masks[rows], rank.float()) | rest
     result = None
     sel = fitted.nonzero().flatten()
     if len(sel):
@@ -584,18 +587,12 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
             "objects": n, "with_geometry": int(geo.sum()), "crop_size": models.crop_size, "min_pixels": min_pixels}
     if box_records:
         meta["boxes"] = box_records
-        meta["fit"] = (boxes.fit or _default_fit()).to_dict()
+        meta["fit"] = boxes.fit.to_dict()
     scene = SceneCode(intrinsics, semantic, name, table, torch.zeros(len(class_list), code_dim), meta)
     if models.textural is None:
         return scene
     L = torch.where(masks.any(0), instances, semantic)  # dropped (non-thing) proposals count as background
     return encode_scene(scene, image, models.textural, L)
-
-
-def _default_fit() -> FitSettings:
-    from sdn3d.geometric.fit import FitSettings
-
-    return FitSettings()
 
 
 def encode_scene(scene: SceneCode, image: Tensor, textural: TexturalRenderer, L: Tensor | None = None,

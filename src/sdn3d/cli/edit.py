@@ -238,11 +238,13 @@ def run_edit(cfg: Any) -> dict:
     times: dict[str, float] = {}
     boxes = _box_prompts(cfg, spec, intrinsics, frame, checkpoints)
     scene = _derender(cfg, image, intrinsics, record, models, times, boxes)
-    warnings = trust_warnings(cfg, record, checkpoints, scene) + fit_warnings(scene, frame)
+    box_records = _boxes_record(scene, frame)
+    warnings = trust_warnings(cfg, record, checkpoints, scene) + fit_warnings(box_records,
+                                                                              scene.meta.get("fit", {}).get("poor_iou"))
     for line in warnings:
         print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
     if listing:  # list=true, an empty spec or objects without ops: the objects, nothing edited
-        return _write_listing(cfg, out, record, image, scene, checkpoints, times, frame, warnings)
+        return _write_listing(cfg, out, record, image, scene, checkpoints, times, frame, warnings, box_records)
     ops, edited_scene = _edit(cfg, spec, scene, code_bank, times, frame, appearance)
     diagnostics = bool(cfg.diagnostics)
     generate = appearance == "generator" or photo.fill == "generator" or diagnostics
@@ -260,9 +262,10 @@ def run_edit(cfg: Any) -> dict:
     if appearance == "photo":
         summary["photo"] = rendered["photo"]
     summary["refined"] = bool(scene.meta.get("refined", False))  # the Cityscapes test-time fit (refine.enabled)
-    summary["edited_objects"] = object_origins(scene, edited_object_ids(scene.objects, edited_scene.objects), frame)
-    if "boxes" in scene.meta:
-        summary["boxes"] = _boxes_record(scene, frame)
+    summary["edited_objects"] = object_origins(scene, edited_object_ids(scene.objects, edited_scene.objects),
+                                               box_records)
+    if box_records:
+        summary["boxes"] = box_records
     summary["input_transform"] = frame.to_dict()
     summary["warnings"] = warnings
     summary["checkpoints"] = checkpoints
@@ -411,16 +414,17 @@ def _semantic_metrics(checkpoints: dict[str, dict | None]) -> tuple[Path | None,
     return path, metrics if isinstance(metrics, dict) else None
 
 
-def fit_warnings(scene: Any, frame: Any) -> list[str]:
-    """One warning per object named by a box whose 3D fit is poor or missing (before any edit)."""
+def fit_warnings(box_records: list[dict], poor_iou: float | None) -> list[str]:
+    """One warning per object named by a box (:func:`_boxes_record`) whose 3D fit is poor (under ``poor_iou``) or
+    missing (before any edit)."""
     out = []
-    for record in _boxes_record(scene, frame):
+    for record in box_records:
         if record["fit_iou"] is None:
             out.append(f"box object {record['id']} (box {record['input_box']}): {record['why']}; it can be deleted "
                        "or recoloured but not moved, turned or zoomed")
         elif record["poor_fit"]:
             out.append(f"box object {record['id']} (box {record['input_box']}): its fitted 3D shape matches its mask "
-                       f"poorly (silhouette IoU {record['fit_iou']:.2f} < {scene.meta['fit']['poor_iou']}); a moved "
+                       f"poorly (silhouette IoU {record['fit_iou']:.2f} < {poor_iou}); a moved "
                        "or turned copy may look wrong. A tighter box around the whole car may help")
     return out
 
@@ -437,10 +441,10 @@ def _boxes_record(scene: Any, frame: Any) -> list[dict]:
     return out
 
 
-def object_origins(scene: Any, ids: Any, frame: Any = None) -> list[dict]:
-    """Per object of ``ids``: where its mask and its 3D pose came from and, for an object named by a box, how well
-    its fit matched (edit.json ``edited_objects``)."""
-    boxes = {r["id"]: r for r in _boxes_record(scene, frame)}
+def object_origins(scene: Any, ids: Any, box_records: list[dict]) -> list[dict]:
+    """Per object of ``ids``: where its mask and its 3D pose came from and, for an object named by a box
+    (:func:`_boxes_record`), how well its fit matched (edit.json ``edited_objects``)."""
+    boxes = {r["id"]: r for r in box_records}
     source, refined = scene.meta.get("proposals"), bool(scene.meta.get("refined", False))
     table = scene.objects
     out = []
@@ -526,9 +530,8 @@ def _box_prompts(cfg: Any, spec: Any, intrinsics: Any, frame: Any, checkpoints: 
         fit = FitSettings(**dict(node.get("fit") or {}))
     except (TypeError, ValueError) as exc:
         raise InputError(f"box_objects.fit: {exc}") from exc
-    prompts = box_prompts(spec, (intrinsics.width, intrinsics.height), frame, fit=fit,
-                          prior=bool(prior) and checkpoints.get("semantic") is not None)
-    return dataclasses.replace(prompts, iterations=iterations)
+    return box_prompts(spec, (intrinsics.width, intrinsics.height), frame, fit=fit,
+                       prior=bool(prior) and checkpoints.get("semantic") is not None, iterations=iterations)
 
 
 def _derender(cfg: Any, image: torch.Tensor, intrinsics: Any, record: Any, models: Any,
@@ -688,7 +691,7 @@ def _input_picture(cfg: Any, record: Any) -> np.ndarray:
 
 def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene: Any,
                    checkpoints: dict, times: dict[str, float], frame: Any = None,
-                   warnings: list[str] | None = None) -> dict:
+                   warnings: list[str] | None = None, box_records: list[dict] | None = None) -> dict:
     """Print the objects table; write ``objects.json``, ``objects.png`` and ``edit.json`` (staged)."""
     from omegaconf import OmegaConf
 
@@ -699,7 +702,7 @@ def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene:
     picture = _input_picture(cfg, record)
     size = (picture.shape[1], picture.shape[0])
     rows = list_objects(scene, size, frame if frame is not None and tuple(frame.input_size) == size else None)
-    boxes = {r["id"]: r for r in _boxes_record(scene, frame)}
+    boxes = {r["id"]: r for r in box_records or []}
     for row in rows:
         if row["id"] in boxes:
             r = boxes[row["id"]]

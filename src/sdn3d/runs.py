@@ -23,8 +23,8 @@ from typing import Any
 from sdn3d.errors import InputError, UserInputError
 
 __all__ = ["BRANCHES", "find_run_checkpoints", "given_checkpoints", "checkpoints_from_run", "report_checkpoints",
-           "export_checkpoint", "export_run_checkpoint", "semantic_summary", "quality_warnings", "MIN_VEHICLE_PQ",
-           "MIN_MIOU", "MAX_PROPOSAL_COVER"]
+           "export_checkpoint", "export_run_checkpoint", "semantic_summary", "quality_warnings", "recorded_pq",
+           "trained_data", "from_trained_data", "MIN_VEHICLE_PQ", "MIN_MIOU", "MAX_PROPOSAL_COVER"]
 
 log = logging.getLogger(__name__)
 
@@ -279,29 +279,108 @@ def semantic_summary(info: dict | None) -> Path | None:
     return path if path.is_file() else None
 
 
-def quality_warnings(metrics: dict | None, coverage: float | None, where: str = "the semantic run") -> list[str]:
+def _number(metrics: Mapping[str, Any], key: str) -> float | None:
+    value = metrics.get(key)
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and value == value
+    return float(value) if ok else None
+
+
+def recorded_pq(metrics: Mapping[str, Any] | None, stage: str = "val") -> tuple[str, float] | None:
+    """The semantic branch's recorded panoptic quality on a part (``stage``: ``val`` or ``test``) as ``(name,
+    value)``: the mean over its vehicle classes (``<stage>/pq_<class>``, the class in any case: ``sdn3d-train``
+    writes ``val/pq_Car``) named ``vehicle PQ``, else ``<stage>/pq``; None: not recorded (or not a number)."""
+    metrics = metrics if isinstance(metrics, Mapping) else {}
+    prefix = f"{stage}/pq_"
+    vehicles = [v for k in metrics if k.lower().startswith(prefix) and k[len(prefix):].lower() in _VEHICLES
+                for v in [_number(metrics, k)] if v is not None]
+    if vehicles:
+        return "vehicle PQ", sum(vehicles) / len(vehicles)
+    pq = _number(metrics, f"{stage}/pq")
+    return None if pq is None else (f"{stage}/pq", pq)
+
+
+def trained_data(summary_file: str | os.PathLike | None) -> dict | None:
+    """The data a run trained on, from the ``config.yaml`` beside its ``summary.json`` (``sdn3d-train`` writes
+    both): ``{"kind": data.kind, "root": data.root}``, a relative root resolved against the working directory
+    (``sdn3d-train`` resolves it against its launch directory); None where not recorded or not readable."""
+    import yaml
+
+    if not summary_file:
+        return None
+    config = Path(summary_file).parent / "config.yaml"
+    try:
+        data = (yaml.safe_load(config.read_text(encoding="utf-8")) or {}).get("data")
+    except (OSError, UnicodeDecodeError, yaml.YAMLError, AttributeError):
+        return None
+    root = data.get("root") if isinstance(data, dict) else None
+    if not isinstance(root, str) or not root or "${" in root:
+        return None
+    return {"kind": str(data.get("kind", "")), "root": str(Path(root).expanduser().resolve())}
+
+
+def from_trained_data(trained: Mapping[str, Any] | None, input_path: str | os.PathLike | None) -> bool | None:
+    """Whether the input (an image file, or the root of the dataset a frame was read from) lies in the data root
+    a run trained on (:func:`trained_data`); None where either is unknown. A frame of another part of that data
+    (validation, test) counts as from it: what matters is that the weights were trained on that data."""
+    if trained is None or not input_path:
+        return None
+    path, root = Path(input_path).expanduser().resolve(), Path(str(trained["root"]))
+    return path == root or root in path.parents
+
+
+def _run_label(where: str) -> str:
+    """``run <dir> (experiment <name>, <n> training steps)`` for a run's ``summary.json`` path; else ``where``."""
+    path = Path(where) if where else None
+    if path is None or not path.is_file():
+        return where or "the semantic run"
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        summary = None
+    facts = []
+    if isinstance(summary, dict):
+        if summary.get("experiment"):
+            facts.append(f"experiment {summary['experiment']}")
+        if isinstance(summary.get("global_step"), int):
+            facts.append(f"{summary['global_step']} training steps")
+    return f"run {path.parent}" + (f" ({', '.join(facts)})" if facts else "")
+
+
+def quality_warnings(metrics: dict | None, coverage: float | None, where: str = "the semantic run",
+                     input_path: str | os.PathLike | None = None) -> list[str]:
     """Warnings on the semantic branch's proposals: its recorded validation quality (vehicle PQ, else
-    ``val/pq``, else ``val/miou``) under :data:`MIN_VEHICLE_PQ` / :data:`MIN_MIOU`, or proposals covering
-    more than :data:`MAX_PROPOSAL_COVER` of the frame (``coverage``, a fraction; None: not known)."""
+    ``val/pq``, else ``val/miou``: :func:`recorded_pq`) under :data:`MIN_VEHICLE_PQ` / :data:`MIN_MIOU`, or proposals
+    covering more than :data:`MAX_PROPOSAL_COVER` of the frame (``coverage``, a fraction; None: not known).
+
+    ``where``: the run's ``summary.json`` (each warning names the run, its experiment and steps, and the figure);
+    ``input_path``: the image file edited, or the root of the dataset its frame came from (None: not known). Only
+    where the input is not from the data the run trained on (:func:`trained_data`, :func:`from_trained_data`) does a
+    warning say that real photos need branches trained on Virtual KITTI or Cityscapes; on a frame of that data a low
+    figure is the branch's own weakness, and the warning says so."""
     out = []
     metrics = metrics if isinstance(metrics, dict) else {}
-
-    def number(key: str) -> float | None:
-        value = metrics.get(key)
-        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and value == value
-        return float(value) if ok else None
-
-    vehicles = [v for v in (number(f"val/pq_{c}") for c in _VEHICLES) if v is not None]
-    pq = sum(vehicles) / len(vehicles) if vehicles else number("val/pq")
-    miou = number("val/miou")
-    advice = ("its objects are likely wrong; real photos need branches trained on Virtual KITTI or Cityscapes "
-              "(README: Editing a picture)")
-    if pq is not None and pq < MIN_VEHICLE_PQ:
-        what = "vehicle PQ" if vehicles else "val/pq"
-        out.append(f"the semantic branch's recorded {what} is {pq:.3f} (< {MIN_VEHICLE_PQ}, {where}): {advice}")
+    pq = recorded_pq(metrics)
+    miou = _number(metrics, "val/miou")
+    trained = trained_data(where) if where else None
+    source = from_trained_data(trained, input_path)
+    boxes = "name the cars by box (`objects: [{box: [x0, y0, x1, y1], class: Car}]` with proposals=boxes)"
+    if source is False:
+        cause = (f"this input is not from the data the run trained on ({trained['kind']} at {trained['root']}): real "
+                 f"photos need branches trained on Virtual KITTI or Cityscapes (docs/TRAINING.md), or {boxes}")
+    elif source is True:
+        cause = (f"this input is from the data the run trained on ({trained['root']}), so the branch itself is too "
+                 f"weak: train it longer, or {boxes}")
+    else:
+        cause = f"train it longer, or {boxes}"
+    low = None
+    if pq is not None and pq[1] < MIN_VEHICLE_PQ:
+        low = f"recorded {pq[0]} is {pq[1]:.3f} (< {MIN_VEHICLE_PQ}, {where})"
     elif pq is None and miou is not None and miou < MIN_MIOU:
-        out.append(f"the semantic branch's recorded val/miou is {miou:.3f} (< {MIN_MIOU}, {where}): {advice}")
+        low = f"recorded val/miou is {miou:.3f} (< {MIN_MIOU}, {where})"
+    if low is not None:
+        out.append(f"the semantic branch's {low}: {_run_label(where)} scored it on its validation part; its "
+                   f"object proposals are likely wrong; {cause}")
     if coverage is not None and coverage > MAX_PROPOSAL_COVER:
         out.append(f"the semantic branch's object proposals cover {100 * coverage:.0f} % of the frame "
-                   f"(> {100 * MAX_PROPOSAL_COVER:.0f} %): not plausible vehicles; {advice}")
+                   f"(> {100 * MAX_PROPOSAL_COVER:.0f} %): not plausible vehicles ({_run_label(where)}); {cause}")
     return out

@@ -240,7 +240,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     record = _pick_frame(records, source.image_size, cfg.edits.frame)
     frame = load_frame(record, source.image_size, semantic=True, instances=True)
     predicted = str(cfg.edits.get("proposals", "semantic")) == "semantic" and bool(ckpts.get("semantic"))
-    distrust = _semantic_distrust(ckpts.get("semantic")) if predicted else []
+    distrust = _semantic_distrust(ckpts.get("semantic"), data_root) if predicted else []
     predicted = predicted and not distrust
     models = Models.from_checkpoints(ckpts["semantic"] if predicted else None, ckpts["geometric"], ckpts["textural"],
                                      map_location=str(cfg.device))
@@ -276,9 +276,10 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
             "picture_size": [int(source_rgb.shape[1]), int(source_rgb.shape[0])]}
 
 
-def _semantic_distrust(checkpoint: str | None) -> list[str]:
+def _semantic_distrust(checkpoint: str | None, data_root: Path | None = None) -> list[str]:
     """Why the semantic run of ``checkpoint`` is too weak to propose the example edits' objects (its recorded
-    validation quality: :func:`sdn3d.runs.quality_warnings`); empty: trusted. The short budget's branch is."""
+    validation quality: :func:`sdn3d.runs.quality_warnings`, the edited frame read from ``data_root``); empty:
+    trusted. The short budget's branch is."""
     import json
 
     from sdn3d.runs import quality_warnings, semantic_summary
@@ -286,7 +287,7 @@ def _semantic_distrust(checkpoint: str | None) -> list[str]:
     path = semantic_summary({"path": checkpoint, "from": "demo"}) if checkpoint else None
     if path is None:
         return []
-    return quality_warnings(json.loads(path.read_text()).get("metrics"), None, str(path))
+    return quality_warnings(json.loads(path.read_text()).get("metrics"), None, str(path), data_root)
 
 
 def _uint8_picture(image: torch.Tensor) -> np.ndarray:

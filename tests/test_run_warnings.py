@@ -1,0 +1,90 @@
+"""Warnings on a weak semantic branch name the run, the figure and its value, and blame "real photos" only where
+the input is not from the data that run trained on (sdn3d.runs.quality_warnings)."""
+
+from __future__ import annotations
+
+import json
+
+from sdn3d.runs import from_trained_data, quality_warnings, recorded_pq, trained_data
+
+
+def _run(tmp_path, metrics, root, name="semantic", step=12):
+    """A sdn3d-train-like run: summary.json (experiment, steps, metrics) + the resolved config.yaml's data."""
+    run = tmp_path / name
+    run.mkdir()
+    (run / "summary.json").write_text(json.dumps({"branch": "semantic", "experiment": "demo_short",
+                                                  "global_step": step, "metrics": metrics}))
+    (run / "config.yaml").write_text(f"data:\n  kind: vkitti1\n  root: {root}\n  image_size: [312, 96]\n")
+    return run / "summary.json"
+
+
+def test_recorded_pq_reads_the_vehicle_classes_in_any_case():
+    # sdn3d-train writes val/pq_Car (the class name's case): the vehicle classes' mean, not the all-things val/pq
+    assert recorded_pq({"val/pq": 0.9, "val/pq_Car": 0.1, "val/pq_Van": 0.2, "val/pq_Pole": 0.0}) == \
+        ("vehicle PQ", recorded_pq({"val/pq_car": 0.1, "val/pq_van": 0.2})[1])
+    assert abs(recorded_pq({"val/pq_Car": 0.1, "val/pq_Van": 0.2})[1] - 0.15) < 1e-9
+    assert recorded_pq({"val/pq": 0.4}) == ("val/pq", 0.4)
+    assert recorded_pq({"test/pq_Car": 0.5, "val/pq_Car": 0.1}, "test") == ("vehicle PQ", 0.5)
+    assert recorded_pq({"val/pq": float("nan")}) is None and recorded_pq(None) is None
+
+
+def test_trained_data_and_whether_an_input_is_from_it(tmp_path):
+    data = tmp_path / "data"
+    (data / "vkitti_1.3.1_rgb" / "0001" / "clone").mkdir(parents=True)
+    summary = _run(tmp_path, {}, data)
+    trained = trained_data(summary)
+    assert trained == {"kind": "vkitti1", "root": str(data.resolve())}
+    assert from_trained_data(trained, data) is True  # a frame read from that dataset root
+    assert from_trained_data(trained, data / "vkitti_1.3.1_rgb" / "0001" / "clone" / "00003.png") is True
+    assert from_trained_data(trained, tmp_path / "street.png") is False
+    assert from_trained_data(trained, tmp_path / "data_other") is False  # a sibling whose name starts alike
+    assert from_trained_data(trained, None) is None and from_trained_data(None, data) is None
+    (summary.parent / "config.yaml").write_text("data:\n  root: ${oc.env:VKITTI_ROOT,data/vkitti}\n")
+    assert trained_data(summary) is None  # unresolved: not known
+    assert trained_data(tmp_path / "nowhere" / "summary.json") is None
+
+
+def test_low_semantic_quality_names_the_run_the_figure_and_the_real_cause(tmp_path):
+    data = tmp_path / "data"
+    data.mkdir()
+    summary = _run(tmp_path, {"val/pq": 0.0, "val/pq_Car": 0.0, "val/pq_Van": 0.0, "val/miou": 0.098}, data)
+    metrics = json.loads(summary.read_text())["metrics"]
+    run = f"run {summary.parent} (experiment demo_short, 12 training steps)"
+
+    # the demo's own frame: the branch is weak on its own data; no word about real photos
+    [own] = quality_warnings(metrics, None, str(summary), data)
+    assert own.startswith(f"the semantic branch's recorded vehicle PQ is 0.000 (< 0.3, {summary}): {run} scored it "
+                          "on its validation part")
+    assert "is from the data the run trained on" in own and "train it longer" in own
+    assert "real photos" not in own and "Virtual KITTI or Cityscapes" not in own
+
+    # a photo from elsewhere: that is when real photos need other weights
+    [photo] = quality_warnings(metrics, None, str(summary), tmp_path / "street.png")
+    assert run in photo and f"not from the data the run trained on (vkitti1 at {data.resolve()})" in photo
+    assert "real photos need branches trained on Virtual KITTI or Cityscapes" in photo
+
+    # the input not known (a caller that does not say): the run and figure, no claim about the input
+    [unknown] = quality_warnings(metrics, None, str(summary))
+    assert run in unknown and "real photos" not in unknown and "proposals=boxes" in unknown
+
+    # mIoU alone recorded; proposals over half the frame: both name the run
+    [miou] = quality_warnings({"val/miou": 0.12}, None, str(summary), data)
+    assert "recorded val/miou is 0.120 (< 0.3" in miou and run in miou and "real photos" not in miou
+    [cover] = quality_warnings({"val/pq_Car": 0.8}, 0.73, str(summary), tmp_path / "street.png")
+    assert f"proposals cover 73 % of the frame (> 50 %): not plausible vehicles ({run})" in cover
+    assert "real photos need" in cover
+    assert quality_warnings({"val/pq_Car": 0.8, "val/miou": 0.1}, 0.2, str(summary), data) == []
+
+
+def test_the_demo_says_its_own_frames_are_from_its_training_data(tmp_path):
+    """sdn3d-demo edits a frame of the data its semantic branch trained on: the reason it falls back to the
+    ground truth names the run and the figure, and does not blame real photos."""
+    from sdn3d.cli.demo import _semantic_distrust
+
+    data = tmp_path / "data"
+    data.mkdir()
+    summary = _run(tmp_path, {"val/pq_Car": 0.0, "val/pq_Van": 0.0}, data)
+    (summary.parent / "checkpoints").mkdir()
+    [why] = _semantic_distrust(str(summary.parent / "checkpoints" / "best.ckpt"), data)
+    assert "vehicle PQ is 0.000" in why and str(summary.parent) in why and "real photos" not in why
+    assert _semantic_distrust(None, data) == []

@@ -94,6 +94,12 @@ def test_full_demo_tiny_budget(tmp_path):
     assert recall["min_pixels"] == 256 and recall["frames"] > 0 and recall["proposals"] >= 0
     assert "The semantic branch's proposals (the predicted rows' objects) find" in report
     assert summary["peak_memory"]["largest_child_mib"] > 0
+    # the first screen: the labelled edits, a line per branch, Table 1's headline; no column is all n/a
+    first = report.split("\n## Details\n")[0]
+    assert "](edits/edits_grid.png)" in first and "Table 1, headline" in first and "| 3D-SDN (ours) |" in first
+    assert [line.split("**")[1] for line in first.split("\n") if line.startswith("- **")] == \
+        ["semantic", "geometric", "textural"]
+    assert _empty_columns(report) == []
 
 
 def test_demo_trains_branches_in_parallel_and_composes_the_long_budget(tmp_path):
@@ -241,3 +247,123 @@ def test_demo_bad_override_exits_2_without_output(tmp_path, capsys):
     assert main([f"output_dir={tmp_path / 'demo'}", "no_such_key=1"]) == 2
     assert "bad configuration override" in capsys.readouterr().err
     assert not (tmp_path / "demo").exists()
+
+
+def _tables(markdown: str) -> list[list[list[str]]]:
+    """Every markdown table of ``markdown`` as rows of cells (header, separator, body)."""
+    tables, current = [], []
+    for line in markdown.split("\n") + [""]:
+        if line.startswith("|"):
+            current.append([c.strip() for c in line.strip().strip("|").split("|")])
+        elif current:
+            tables.append(current)
+            current = []
+    return tables
+
+
+def _empty_columns(markdown: str) -> list[str]:
+    """Headers of table columns whose every body cell is n/a or blank."""
+    return [t[0][k] for t in _tables(markdown) if len(t) > 2 for k in range(len(t[0]))
+            if all(k < len(r) and r[k] in ("n/a", "") for r in t[2:])]
+
+
+def _report_info(root: str) -> dict:
+    """What run_demo gathers (summary.json), with recorded figures of a short run."""
+    return {
+        "seed": 0, "threads": 2, "device": "cpu", "budget": "short", "wall_s": 156.0,
+        "stages_s": {"data": 4.0}, "peak_memory": {"largest_child_mib": 1223.0, "demo_process_mib": 871.0},
+        "data": {"root": root, "frames": 42, "image_size": [624, 192], "render_size": [312, 96]},
+        "training": {
+            "semantic": {"global_step": 12, "demo_wall_s": 28.8, "metrics": {
+                "test/miou": 0.0904, "test/pq": 0.0, "test/pq_Car": 0.0, "test/pq_Van": 0.0, "val/pq": 0.0,
+                "val/pq_Car": 0.0, "val/pq_Van": 0.0, "val/miou": 0.0976}},
+            "geometric": {"global_step": 40, "demo_wall_s": 22.5, "metrics": {
+                "test/mesh_accuracy": 0.1296, "test/mesh_majority_floor": 0.1852, "test/mesh_uniform_floor": 0.125,
+                "test/mesh_identifiability_ceiling": 0.537, "test/orientation_similarity": 0.9012,
+                "test/reprojection_error_image": 0.003059}},
+            "textural": {"global_step": 240, "demo_wall_s": 77.7, "metrics": {
+                "test/psnr": 16.54, "test/l1": 0.1093, "test/obj_psnr": 14.09}}},
+        "proposal_recall": {"frames": 18, "objects": 62, "recall": 0.5, "precision": 0.75, "proposals": 41,
+                            "per_class": {"Car": {"objects": 46, "recall": 0.5}}, "min_pixels": 256, "iou": 0.5},
+        "edits": {"frame": "vkitti1/0002/clone/00014", "car": 12005, "grid": "edits/edits_grid.png",
+                  "grid_layout": ["source", "closer (zoom 1.6)", "deleted"], "edit_render_s": {"deleted": 0.3},
+                  "appearance": "photo", "compose": "edited", "recoloured": "red", "derender_s": 0.05,
+                  "proposals": "predicted: the semantic branch's masks and semantics", "picture_size": [624, 192]},
+    }
+
+
+_TABLE1 = """# Editing benchmark: headline
+
+8 entries, mode **photo**.
+
+| Scene | Method | LPIPS (all) | L1 (all) | PSNR (all) |
+|---|---|---|---|---|
+| predicted | 2D | n/a | 0.1620 | 12.98 |
+| predicted | 3D-SDN (ours) | n/a | 0.1917 | 12.86 |
+
+# Editing benchmark (3D-SDN Table 1 layout)
+
+## All rows
+
+| Scene | Method | LPIPS (whole) | LPIPS (all) | L1 (all) |
+|---|---|---|---|---|
+| predicted | 2D | n/a | n/a | 0.1620 |
+| predicted | 3D-SDN (ours) | n/a | n/a | 0.1917 |
+
+**Delete** (1 entries):
+
+| Scene | Mode | Method | L1 (all) | PSNR (objects) | mask IoU |
+|---|---|---|---|---|---|
+| predicted | photo | 2D | 0.1679 | n/a | n/a |
+| predicted | photo | 3D-SDN (ours) | 0.1679 | n/a | 0.5 |
+"""
+
+
+def test_report_first_screen_shows_the_edits_the_branches_and_table1_without_empty_columns(tmp_path):
+    """The report opens with the labelled before/after figure (linked relative to report.md), one line per branch
+    with its figure beside its floor, and Table 1's headline; no column is all n/a; the caveats follow below."""
+    from sdn3d.cli.demo import drop_empty_columns, write_report
+
+    out = tmp_path / "demo"
+    (out / "bench").mkdir(parents=True)
+    (out / "bench" / "table1.md").write_text(_TABLE1)
+    assert _empty_columns(_TABLE1) == ["LPIPS (all)", "LPIPS (whole)", "LPIPS (all)", "PSNR (objects)"]
+    report = write_report(out, _report_info(str(tmp_path / "data")))
+    assert (out / "report.md").read_text() == report and (out / "summary.json").is_file()
+    first, details = report.split("\n## Details\n")
+    assert report.startswith("# sdn3d demo report\n\n![") and "](edits/edits_grid.png)" in first.split("\n")[2]
+    assert "car 12005 (the nearest): source, closer (zoom 1.6), deleted" in first
+    branches = [line for line in first.split("\n") if line.startswith("- **")]
+    assert [b.split("**")[1] for b in branches] == ["semantic", "geometric", "textural"]
+    semantic, geometric, textural = branches
+    assert "test mIoU 0.090" in semantic and "validation vehicle PQ 0.000 against the 0.3" in semantic
+    assert "find 31 of the test part's 62 vehicles (recall 0.50, precision 0.75)" in semantic
+    assert "mesh accuracy 0.130 (under its majority floor 0.185; uniform 0.125" in geometric
+    assert "orientation similarity 0.901" in geometric and "reprojection error 3.06 x1e-3" in geometric
+    assert "test PSNR 16.54 dB" in textural and "no floor recorded" in textural
+    # Table 1's headline rows on the first screen, the LPIPS column (every cell n/a) left out
+    assert "| predicted | 3D-SDN (ours) | 0.1917 | 12.86 |" in first and "LPIPS" not in first
+    assert len(first.split("\n")) < 30  # one screen, the figure included
+    # the detail follows: caveats, the training table, every benchmark table, less their empty columns
+    assert "short CPU run" in details and "short CPU run" not in first
+    assert "| Scene | Method | L1 (all) |" in details
+    assert "| predicted | photo | 3D-SDN (ours) | 0.1679 | 0.5 |" in details
+    assert "#### All rows" in details  # table1's headings sit under the report's
+    assert _empty_columns(report) == [] and "n/a | n/a" not in report
+    # a table whose columns all have values is left as it is; text is untouched
+    assert drop_empty_columns("a | b\n\n| x | y |\n|---|---|\n| 1 | 2 |") == "a | b\n\n| x | y |\n|---|---|\n| 1 | 2 |"
+
+
+def test_report_first_screen_without_a_semantic_branch_or_benchmark(tmp_path):
+    """Without a semantic branch (train.branches) or benchmark table the first screen still has the figure and a
+    line per trained branch, and says nothing it did not measure."""
+    from sdn3d.cli.demo import write_report
+
+    info = _report_info(str(tmp_path / "data"))
+    del info["training"]["semantic"]
+    info["proposal_recall"] = None
+    report = write_report(tmp_path, info)
+    first = report.split("\n## Details\n")[0]
+    assert "](edits/edits_grid.png)" in first and "Table 1, headline" not in first
+    assert [line.split("**")[1] for line in first.split("\n") if line.startswith("- **")] == ["geometric", "textural"]
+    assert "(not run)" in report

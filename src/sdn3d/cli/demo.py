@@ -17,6 +17,7 @@ CPU; ``budget=long`` (``conf/budget/long.yaml``) is the longer documented run, m
 from __future__ import annotations
 
 import os
+import re
 import resource
 import shutil
 import subprocess
@@ -421,11 +422,151 @@ def _recall_note(recall: dict | None) -> str:
             "A vehicle without a proposal cannot be edited and is drawn as background in the predicted rows.")
 
 
+_EMPTY_CELLS = ("n/a", "")
+
+
+def _cells(line: str) -> list[str]:
+    """The cells of a markdown table row (a ``\\|`` inside a cell is not a separator)."""
+    return [c.strip() for c in re.split(r"(?<!\\)\|", line.strip().strip("|"))]
+
+
+def drop_empty_columns(markdown: str) -> str:
+    """``markdown`` with every table column whose body cells are all ``n/a`` (or blank) left out: a column without
+    values (e.g. LPIPS without its weights, an objects' PSNR of deletions) says nothing. Other lines unchanged."""
+    lines = markdown.split("\n")
+    out: list[str] = []
+    i = 0
+    while i < len(lines):
+        if not lines[i].lstrip().startswith("|"):
+            out.append(lines[i])
+            i += 1
+            continue
+        j = i
+        while j < len(lines) and lines[j].lstrip().startswith("|"):
+            j += 1
+        rows = [_cells(line) for line in lines[i:j]]
+        body = rows[2:] if len(rows) > 2 and all(re.fullmatch(r":?-+:?", c) for c in rows[1]) else []
+        width = len(rows[0])
+        keep = [k for k in range(width) if not body or any(k < len(r) and r[k] not in _EMPTY_CELLS for r in body)]
+        if len(keep) == width:
+            out += lines[i:j]
+        else:
+            kept = [[r[k] if k < len(r) else "" for k in keep] for r in rows]
+            out += ["| " + " | ".join(r) + " |" if n != 1 or not body else "|" + "---|" * len(keep)
+                    for n, r in enumerate(kept)]
+        i = j
+    return "\n".join(out)
+
+
+def _table1_parts(table1: str) -> tuple[str, str]:
+    """``(headline, rest)`` of the benchmark's table1.md: its ``# Editing benchmark: headline`` section (less the
+    heading) and everything after it, headings two levels down (they sit under the report's ``##``)."""
+    head, rest = "", table1
+    match = re.match(r"# Editing benchmark: headline\n(.*?)(?=^# )", table1, re.S | re.M)
+    if match:
+        head, rest = match.group(1).strip(), table1[match.end():]
+    rest = re.sub(r"^(#+) ", lambda m: "#" * (len(m.group(1)) + 2) + " ", rest, flags=re.M)
+    return head, rest.strip()
+
+
+def _floor_phrase(value: float, floor: float, name: str) -> str:
+    relation = "under" if value < floor else "at" if value == floor else "over"
+    return f"{relation} its {name} {floor:.3f}"
+
+
+def branch_lines(training: dict, recall: dict | None) -> list[str]:
+    """One line per trained branch for the report's first screen: its headline test figure beside the floor or bar
+    its run recorded (the geometric branch's mesh accuracy beside the majority / uniform floors and the
+    identifiability ceiling; the semantic branch's PQ beside the validation bar its proposals need,
+    :data:`sdn3d.runs.MIN_VEHICLE_PQ`, and its proposals' recall); the textural branch records none, which is said."""
+    from sdn3d.runs import MIN_VEHICLE_PQ, recorded_pq
+
+    out = []
+    for branch, summary in training.items():
+        m = summary.get("metrics") or {}
+
+        def num(key: str, m: dict = m) -> float | None:
+            v = m.get(key)
+            return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and v == v else None
+
+        lead = f"- **{branch}** ({summary.get('global_step')} steps, {summary.get('demo_wall_s')} s):"
+        if branch == "semantic":
+            parts = [f"test mIoU {num('test/miou'):.3f}"] if num("test/miou") is not None else []
+            test_pq, val_pq = recorded_pq(m, "test"), recorded_pq(m, "val")
+            if test_pq is not None:
+                parts.append(f"test {test_pq[0]} {test_pq[1]:.3f}")
+            if val_pq is not None:
+                trusted = "trusted" if val_pq[1] >= MIN_VEHICLE_PQ else "not trusted"
+                parts.append(f"validation {val_pq[0]} {val_pq[1]:.3f} against the {MIN_VEHICLE_PQ} its proposals "
+                             f"need to be trusted ({trusted})")
+            if recall:
+                found = round(recall["recall"] * recall["objects"])
+                parts.append(f"its proposals find {found} of the test part's {recall['objects']} vehicles (recall "
+                             f"{recall['recall']:.2f}, precision {recall['precision']:.2f})")
+        elif branch == "geometric":
+            parts = []
+            acc, major = num("test/mesh_accuracy"), num("test/mesh_majority_floor")
+            if acc is not None:
+                floors = [_floor_phrase(acc, major, "majority floor")] if major is not None else []
+                floors += [f"uniform {num('test/mesh_uniform_floor'):.3f}"] if num("test/mesh_uniform_floor") \
+                    is not None else []
+                floors += [f"identifiability ceiling {num('test/mesh_identifiability_ceiling'):.3f}"] if \
+                    num("test/mesh_identifiability_ceiling") is not None else []
+                parts.append(f"mesh accuracy {acc:.3f}" + (f" ({'; '.join(floors)})" if floors else ""))
+            if num("test/orientation_similarity") is not None:
+                parts.append(f"orientation similarity {num('test/orientation_similarity'):.3f}")
+            if num("test/reprojection_error_image") is not None:
+                parts.append(f"reprojection error {1e3 * num('test/reprojection_error_image'):.2f} x1e-3 "
+                             "(Table 2's units)")
+        elif branch == "textural":
+            parts = [f"test PSNR {num('test/psnr'):.2f} dB"] if num("test/psnr") is not None else []
+            parts += [f"L1 {num('test/l1'):.4f}"] if num("test/l1") is not None else []
+            parts += [f"the objects' PSNR {num('test/obj_psnr'):.2f} dB"] if num("test/obj_psnr") is not None else []
+            if parts:
+                parts.append("no floor recorded (Table 1 below sets its edits beside the 2D baselines)")
+        else:
+            parts = []
+        out.append(f"{lead} " + ("; ".join(parts) if parts else "no test figures recorded") + ".")
+    return out
+
+
+def _first_screen(info: dict, headline: str) -> str:
+    """The report's first screen: the labelled before/after figure of the example edits, one line per branch,
+    the headline rows of Table 1 (columns without values left out)."""
+    edits = info.get("edits") or {}
+    parts = ["# sdn3d demo report", ""]
+    if edits.get("grid"):
+        picture = Path(str(edits["grid"])).as_posix()  # relative to the output directory, where report.md is
+        proposals = str(edits.get("proposals", ""))
+        label, _, why = proposals.partition(" (")
+        origin = f"objects from the {label}" + (" (why: *Example edits* below)" if why else "")
+        size = "x".join(str(v) for v in edits.get("picture_size", []))
+        parts += [f"![The demo's edits, before and after, each panel titled]({picture})", "",
+                  f"*Frame `{edits.get('frame')}`, car {edits.get('car')} (the nearest): "
+                  f"{', '.join(edits.get('grid_layout', []))}; {edits.get('appearance', 'photo')} appearance at "
+                  f"{size}; {origin}.*", ""]
+    budget = info.get("budget", "short")
+    short = "a short run that shows the system works, not what the method reaches; " if budget == "short" else ""
+    parts += [f"**What each branch reached** on the test part (budget `{budget}` on {info.get('device')}, {short}the "
+              "details follow below):", "", *branch_lines(info.get("training") or {}, info.get("proposal_recall")),
+              ""]
+    if headline:
+        parts += ["**Table 1, headline** (the editing benchmark, `bench/table1.md`):", "", drop_empty_columns(headline),
+                  ""]
+    return "\n".join(parts)
+
+
 def write_report(out: Path, info: dict) -> str:
+    """Write ``report.md`` and ``summary.json`` (``info``) into ``out``; returns the report. Its first screen: the
+    labelled before/after figure of the example edits, one line per branch (its figure beside its floor), Table 1's
+    headline rows; the caveats and every table follow. Columns without values are left out
+    (:func:`drop_empty_columns`). ``info`` is what :func:`run_demo` gathers (``summary.json``: the report can be
+    written again from it)."""
     from sdn3d.io import write_json_atomic, write_text_atomic
 
     t = info["training"]
-    table1 = (out / "bench" / "table1.md").read_text() if (out / "bench" / "table1.md").is_file() else "(not run)"
+    table1_file = out / "bench" / "table1.md"
+    headline, table1 = _table1_parts(table1_file.read_text()) if table1_file.is_file() else ("", "(not run)")
     edits = info.get("edits", {})
     rows = "\n".join(f"| {name} | {sec:.2f} |" for name, sec in edits.get("edit_render_s", {}).items())
     where = f"{info['device']}" + (f" ({info['gpu']})" if info.get("gpu") else f", {info['threads']} threads")
@@ -438,7 +579,10 @@ def write_report(out: Path, info: dict) -> str:
         intro = (f"**These numbers come from the `{info['budget']}` budget** on {where} "
                  f"(`conf/budget/{info['budget']}.yaml`): longer than the README's demo, still far shorter than "
                  "the paper's schedules, on synthetic data.")
-    report = f"""# sdn3d demo report
+    report = f"""{_first_screen(info, headline)}
+---
+
+## Details
 
 {intro} The paper's configurations are `experiment=paper_vkitti|paper_cityscapes`.
 
@@ -458,7 +602,7 @@ def write_report(out: Path, info: dict) -> str:
 
 {_recall_note(info.get('proposal_recall'))}
 
-{table1}
+{drop_empty_columns(table1)}
 
 ## Example edits (`edits/`)
 

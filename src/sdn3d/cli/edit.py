@@ -59,10 +59,8 @@ Exit status: 0 done; 2 bad input (message on stderr names the op or the setting;
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import sys
-import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -73,20 +71,17 @@ import torch
 from sdn3d.cli._config import CONFIG_DIR, compose_config
 from sdn3d.cli._errors import run_cli
 from sdn3d.editing.inputs import camera_for_image, fit_image
+from sdn3d.editing.session import EditInput, EditResult, EditSession, SessionSettings, proposals_record, to_uint8
 from sdn3d.errors import InputError
 from sdn3d.io import OWNER_FILE, check_output_dir, staged_directory
 from sdn3d.runs import BRANCHES, checkpoints_from_run, given_checkpoints, quality_warnings, semantic_summary
 from sdn3d.scene.listing import list_objects, objects_table
 
-__all__ = ["main", "run_edit", "load_input", "resolve_checkpoints"]
+__all__ = ["main", "run_edit", "load_input", "open_input", "resolve_checkpoints", "load_models", "session_settings",
+           "check_settings", "trust_warnings", "config_record"]
 
 MARKER = "edit.json"
 DEFAULT_SIZE = (624, 192)
-
-
-def _to_uint8(image: torch.Tensor) -> np.ndarray:
-    """``(3, H, W)`` float in [0, 1] -> ``(H, W, 3)`` uint8."""
-    return (image.detach().cpu().clamp(0, 1).permute(1, 2, 0).numpy() * 255 + 0.5).astype(np.uint8)
 
 
 def _find_record(records: list, frame: Any, entry: Any) -> Any:
@@ -195,16 +190,27 @@ def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any, Any
     return loaded.image, loaded.intrinsics, record, PixelFrame(stored, size)
 
 
-def _op_json(op: Any) -> dict:
-    return {"op": type(op).__name__, **{k: list(v) if isinstance(v, tuple) else v
-                                        for k, v in dataclasses.asdict(op).items()}}
+def open_input(cfg: Any, entry: Any = None, key: str | None = None) -> tuple[EditInput, Any]:
+    """``(EditInput, record or None)``: :func:`load_input`'s working image with the input at its own resolution
+    (:func:`input_picture`) and, for a dataset frame, its ground truth (for ``proposals`` gt / auto).
+
+    ``key``: the input's name in an :class:`~sdn3d.editing.session.EditSession`'s cache (default: its name).
+    """
+    image, intrinsics, record, frame = load_input(cfg, entry)
+    gt = None
+    if record is not None:
+        from sdn3d.data.scene_gt import ground_truth
+
+        gt = ground_truth(record, (intrinsics.width, intrinsics.height))
+    name = str(cfg.input.image) if record is None else record.key
+    return EditInput(image, intrinsics, frame, _input_picture(cfg, record), name, key or name, gt), record
 
 
 def _map_pictures(maps: Any, classes: Any) -> dict[str, np.ndarray]:
     from sdn3d.visualize import colorize_depth, colorize_ids, colorize_labels, normals_to_rgb, pose_to_rgb
 
     label = colorize_labels(maps.label[None].cpu(), classes)[0]
-    return {"label": _to_uint8(label), "instance": colorize_ids(maps.instance), "normal": normals_to_rgb(maps.normal),
+    return {"label": to_uint8(label), "instance": colorize_ids(maps.instance), "normal": normals_to_rgb(maps.normal),
             "pose": pose_to_rgb(maps.pose), "depth": colorize_depth(maps.depth[0])}
 
 
@@ -219,59 +225,64 @@ def _grid(rows: list[list[np.ndarray]]) -> np.ndarray:
 def run_edit(cfg: Any) -> dict:
     """Run the edit described by a composed ``conf/edit.yaml`` config; returns the ``edit.json`` summary.
 
-    Stages: inputs (settings, edit spec, image), networks, de-render, edit, render, write outputs.
+    Stages: inputs (settings, edit spec, image), networks, de-render, edit, render (one
+    :class:`~sdn3d.editing.session.EditSession`, as ``sdn3d-app`` uses), write outputs.
 
     Raises:
         UserInputError (InputError, EditSpecError, EditError, DataFormatError, ...), FileNotFoundError,
         FileExistsError: bad input (nothing written).
     """
-    from sdn3d.editing.compose import edited_object_ids
-
-    _check_settings(cfg)
+    check_settings(cfg)
     if cfg.threads is not None:
         torch.set_num_threads(int(cfg.threads))
     compose = _compose_settings(cfg)
     appearance, photo = appearance_settings(cfg)
-    out, spec, listing, (image, intrinsics, record, frame) = _read_inputs(cfg)
+    out, spec, listing, (inp, record) = _read_inputs(cfg)
     checkpoints = resolve_checkpoints(cfg, record)
-    models, code_bank = _load_models(cfg, checkpoints)
-    times: dict[str, float] = {}
-    boxes = _box_prompts(cfg, spec, intrinsics, frame, checkpoints)
-    scene = _derender(cfg, image, intrinsics, record, models, times, boxes)
-    box_records = _boxes_record(scene, frame)
-    warnings = trust_warnings(cfg, record, checkpoints, scene) + fit_warnings(box_records,
-                                                                              scene.meta.get("fit", {}).get("poor_iou"))
+    models, code_bank = load_models(cfg, checkpoints)
+    session = EditSession(models, code_bank, session_settings(cfg, checkpoints, compose, appearance, photo))
+    derendered = session.derender(inp, spec)
+    warnings = trust_warnings(cfg, record, checkpoints, derendered.scene) + derendered.warnings
     for line in warnings:
         print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
     if listing:  # list=true, an empty spec or objects without ops: the objects, nothing edited
-        return _write_listing(cfg, out, record, image, scene, checkpoints, times, frame, warnings, box_records)
-    ops, edited_scene = _edit(cfg, spec, scene, code_bank, times, frame, appearance)
-    diagnostics = bool(cfg.diagnostics)
-    generate = appearance == "generator" or photo.fill == "generator" or diagnostics
-    rendered = _render(scene, edited_scene, models, times, diagnostics, generate)
-    if appearance == "photo":
-        rendered |= _photo(cfg, photo, record, frame, scene, edited_scene, ops, rendered, times)
-        for line in rendered["photo"]["warnings"]:
-            print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
-        warnings = warnings + rendered["photo"]["warnings"]
-    else:
-        rendered |= _compose(cfg, compose, record, frame, scene, edited_scene, rendered, times)
-    summary = _summary(cfg, record, intrinsics, spec, ops, scene, edited_scene, times)
-    summary["appearance"] = appearance
-    summary["compose"] = rendered["compose"]
-    if appearance == "photo":
-        summary["photo"] = rendered["photo"]
-    summary["refined"] = bool(scene.meta.get("refined", False))  # the Cityscapes test-time fit (refine.enabled)
-    summary["edited_objects"] = object_origins(scene, edited_object_ids(scene.objects, edited_scene.objects),
-                                               box_records)
-    if box_records:
-        summary["boxes"] = box_records
-    summary["input_transform"] = frame.to_dict()
-    summary["warnings"] = warnings
+        return _write_listing(cfg, out, inp, derendered.scene, checkpoints, {"derender_ms": derendered.derender_ms},
+                              warnings, derendered.boxes)
+    result = session.edit(derendered, spec)
+    for line in result.warnings:
+        print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
+    summary = {"input": inp.name, "edits": spec.source, **result.record(appearance)}
+    summary["warnings"] = warnings + result.warnings
     summary["checkpoints"] = checkpoints
-    _write_outputs(out, bool(cfg.overwrite), image, scene, edited_scene, rendered, summary, diagnostics,
-                   _output_rules(cfg))
+    summary["config"] = config_record(cfg)
+    _write_outputs(out, bool(cfg.overwrite), result, summary, bool(cfg.diagnostics), _output_rules(cfg))
     return summary
+
+
+def config_record(cfg: Any) -> dict:
+    """The config as edit.json records it (every interpolation resolved)."""
+    from omegaconf import OmegaConf
+
+    return OmegaConf.to_container(cfg, resolve=True)
+
+
+def session_settings(cfg: Any, checkpoints: dict[str, dict | None], compose: Any = None, appearance: str | None = None,
+                     photo: Any = None) -> SessionSettings:
+    """The :class:`~sdn3d.editing.session.SessionSettings` of a composed ``conf/edit.yaml`` (or ``conf/app.yaml``,
+    which holds the same keys): proposals, geometric.min_pixels, refine, box_objects.*, pick_radius, strict, seed,
+    appearance, photo.*, compose*, diagnostics. ``compose`` / ``appearance`` / ``photo``: already checked ones.
+
+    Raises:
+        InputError (and the photo / compose settings' errors): naming the setting.
+    """
+    if appearance is None or photo is None:
+        appearance, photo = appearance_settings(cfg)
+    fit, prior, iterations = _box_settings(cfg, checkpoints)
+    return SessionSettings(proposals=str(cfg.proposals), min_pixels=int(cfg.geometric.min_pixels),
+                           refine=refine_settings(cfg), box_fit=fit, box_prior=prior, box_iterations=iterations,
+                           pick_radius=cfg.pick_radius, strict=bool(cfg.strict), seed=int(cfg.seed),
+                           appearance=appearance, photo=photo, compose=compose or _compose_settings(cfg),
+                           diagnostics=bool(cfg.diagnostics))
 
 
 def _output_rules(cfg: Any) -> dict[str, Any]:
@@ -284,7 +295,7 @@ def _output_rules(cfg: Any) -> dict[str, Any]:
     return {"listed_in": "outputs", "inputs": {k: str(v) for k, v in given.items() if v is not None}}
 
 
-def _check_settings(cfg: Any) -> None:
+def check_settings(cfg: Any) -> None:
     """Refuse ``threads`` (null or a positive integer), ``pick_radius`` (null or a positive finite number) and
     ``max_ops`` (a positive integer) of another kind, naming the setting (before anything is loaded)."""
     import math
@@ -329,10 +340,10 @@ def _is_empty_spec(path: Path) -> bool:
     return data is None or data == []
 
 
-def _read_inputs(cfg: Any) -> tuple[Path, Any, bool, tuple[torch.Tensor, Any, Any, Any]]:
+def _read_inputs(cfg: Any) -> tuple[Path, Any, bool, tuple[EditInput, Any]]:
     """The checked output directory, the parsed edit spec (None: none given or empty), whether to list the objects
-    and edit nothing (``list=true``, no spec, or a spec with objects by box and no ops) and :func:`load_input`'s
-    image (nothing loaded before the spec's syntax and numbers are checked)."""
+    and edit nothing (``list=true``, no spec, or a spec with objects by box and no ops) and :func:`open_input`'s
+    image and record (nothing loaded before the spec's syntax and numbers are checked)."""
     from sdn3d.derender import PROPOSALS
     from sdn3d.editing.spec import MAX_OPS, load_edit_spec
 
@@ -353,7 +364,7 @@ def _read_inputs(cfg: Any) -> tuple[Path, Any, bool, tuple[torch.Tensor, Any, An
     if cfg.proposals == "boxes" and (spec is None or not spec.objects):
         raise InputError("proposals=boxes takes the objects from the edit spec's `objects:` list "
                          "({box: [x0, y0, x1, y1], class: Car}, in the input image's pixels); the spec names none")
-    inputs = load_input(cfg, spec.entry if spec is not None else None)
+    inputs = open_input(cfg, spec.entry if spec is not None else None)
     return out, spec, listing or spec is None or len(spec) == 0, inputs
 
 
@@ -414,56 +425,7 @@ def _semantic_metrics(checkpoints: dict[str, dict | None]) -> tuple[Path | None,
     return path, metrics if isinstance(metrics, dict) else None
 
 
-def fit_warnings(box_records: list[dict], poor_iou: float | None) -> list[str]:
-    """One warning per object named by a box (:func:`_boxes_record`) whose 3D fit is poor (under ``poor_iou``) or
-    missing (before any edit)."""
-    out = []
-    for record in box_records:
-        if record["fit_iou"] is None:
-            out.append(f"box object {record['id']} (box {record['input_box']}): {record['why']}; it can be deleted "
-                       "or recoloured but not moved, turned or zoomed")
-        elif record["poor_fit"]:
-            out.append(f"box object {record['id']} (box {record['input_box']}): its fitted 3D shape matches its mask "
-                       f"poorly (silhouette IoU {record['fit_iou']:.2f} < {poor_iou}); a moved "
-                       "or turned copy may look wrong. A tighter box around the whole car may help")
-    return out
-
-
-def _boxes_record(scene: Any, frame: Any) -> list[dict]:
-    """``scene.meta['boxes']`` with each box also in the input image's pixels (``input_box``)."""
-    out = []
-    for record in scene.meta.get("boxes", []):
-        x0, y0, x1, y1 = record["box"]
-        if frame is not None:
-            (x0, y0), (x1, y1) = (frame.to_input((u - 0.5, v - 0.5)) for u, v in ((x0, y0), (x1, y1)))
-            x0, y0, x1, y1 = x0 + 0.5, y0 + 0.5, x1 + 0.5, y1 + 0.5
-        out.append({**record, "input_box": [round(v, 1) for v in (x0, y0, x1, y1)]})
-    return out
-
-
-def object_origins(scene: Any, ids: Any, box_records: list[dict]) -> list[dict]:
-    """Per object of ``ids``: where its mask and its 3D pose came from and, for an object named by a box
-    (:func:`_boxes_record`), how well its fit matched (edit.json ``edited_objects``)."""
-    boxes = {r["id"]: r for r in box_records}
-    source, refined = scene.meta.get("proposals"), bool(scene.meta.get("refined", False))
-    table = scene.objects
-    out = []
-    for iid in [int(i) for i in ids]:
-        if iid in boxes:
-            r = boxes[iid]
-            out.append({"id": iid, "mask": f"{r['mask']} in the box {r['input_box']} (input pixels)", "pose": r["pose"],
-                        "fit_iou": r["fit_iou"], "poor_fit": r["poor_fit"]})
-            continue
-        rows = (table.instance_id == iid).nonzero().flatten()
-        geometry = bool(rows.numel()) and bool(table.template_id[rows[0]] >= 0)
-        out.append({"id": iid, "mask": "ground truth (oracle)" if source == "gt" else "the semantic branch",
-                    "pose": None if not geometry else "the geometric branch" + (", refined by L_reproj" if refined
-                                                                                 else ""),
-                    "fit_iou": None, "poor_fit": None})
-    return out
-
-
-def _load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any]:
+def load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any]:
     """``(Models, CodeBank or None)`` of :func:`resolve_checkpoints`' files and ``code_bank``."""
     from sdn3d.derender import Models
 
@@ -507,15 +469,12 @@ def refine_settings(cfg: Any) -> Any:
         raise InputError(f"refine: {exc}") from exc
 
 
-def _box_prompts(cfg: Any, spec: Any, intrinsics: Any, frame: Any, checkpoints: dict[str, dict | None]) -> Any:
-    """The spec's objects named by a box as :class:`~sdn3d.derender.BoxPrompts` (None: none), with ``box_objects.*``:
-    the fit's settings and whether the semantic branch seeds GrabCut (``prior: auto``: when its recorded quality
-    raises no warning)."""
-    from sdn3d.editing.spec import box_prompts
+def _box_settings(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, bool, int]:
+    """``(FitSettings, prior, iterations)`` of ``box_objects.*`` for objects named by a box: the fit's settings,
+    whether the semantic branch seeds GrabCut (``prior: auto``: when its recorded quality raises no warning) and the
+    GrabCut iterations."""
     from sdn3d.geometric.fit import FitSettings
 
-    if spec is None or not spec.objects:
-        return None
     node = cfg.get("box_objects") or {}
     prior = node.get("prior", "auto")
     if prior not in ("auto", True, False):
@@ -530,23 +489,7 @@ def _box_prompts(cfg: Any, spec: Any, intrinsics: Any, frame: Any, checkpoints: 
         fit = FitSettings(**dict(node.get("fit") or {}))
     except (TypeError, ValueError) as exc:
         raise InputError(f"box_objects.fit: {exc}") from exc
-    return box_prompts(spec, (intrinsics.width, intrinsics.height), frame, fit=fit,
-                       prior=bool(prior) and checkpoints.get("semantic") is not None, iterations=iterations)
-
-
-def _derender(cfg: Any, image: torch.Tensor, intrinsics: Any, record: Any, models: Any,
-              times: dict[str, float], boxes: Any = None) -> Any:
-    from sdn3d.data.scene_gt import ground_truth
-    from sdn3d.derender import derender
-
-    gt = ground_truth(record, (intrinsics.width, intrinsics.height)) if record is not None else None
-    t0 = time.perf_counter()
-    refine = refine_settings(cfg)
-    scene = derender(image, intrinsics, models, str(cfg.proposals), gt, min_pixels=int(cfg.geometric.min_pixels),
-                     refine=refine, boxes=boxes)
-    scene.meta["refined"] = refine is not None
-    times["derender_ms"] = 1000 * (time.perf_counter() - t0)
-    return scene
+    return fit, bool(prior) and checkpoints.get("semantic") is not None, iterations
 
 
 def appearance_settings(cfg: Any) -> tuple[str, Any]:
@@ -558,123 +501,6 @@ def appearance_settings(cfg: Any) -> tuple[str, Any]:
         raise InputError(f"appearance must be one of {list(APPEARANCES)} (photo: each edited car drawn with its own "
                          f"pixels through its 3D shape; generator: the paper's textural generator), got {appearance!r}")
     return appearance, PhotoSettings.from_mapping(cfg.get("photo"))
-
-
-def _edit(cfg: Any, spec: Any, scene: Any, code_bank: Any, times: dict[str, float],
-          frame: Any = None, appearance: str = "photo") -> tuple[list, Any]:
-    """``(resolved ops, edited scene)``: the spec checked against ``scene`` and applied."""
-    from sdn3d.editing.spec import apply_spec, resolve_ops
-
-    generator = torch.Generator().manual_seed(int(cfg.seed))
-    t0 = time.perf_counter()
-    ops = resolve_ops(spec, scene, code_bank, cfg.pick_radius, strict=bool(cfg.strict), generator=generator,
-                      frame=frame, appearance=appearance)
-    edited_scene = apply_spec(scene, ops, spec)
-    times["edit_ms"] = 1000 * (time.perf_counter() - t0)
-    return ops, edited_scene
-
-
-def _render(scene: Any, edited_scene: Any, models: Any, times: dict[str, float],
-            reconstruct: bool = True, generate: bool = True) -> dict[str, Any]:
-    """The generator's edited picture (timed; None without ``generate``), both scenes' maps and (``reconstruct``)
-    the unedited scene's picture (None otherwise)."""
-    from sdn3d.editing.render import render_maps
-    from sdn3d.scene.maps import scene_maps
-
-    t0 = time.perf_counter()
-    bins = models.textural.spec.pose_bins
-    edited_maps = scene_maps(edited_scene, num_bins=bins)
-    generated = render_maps(edited_maps, models.textural) if generate else None
-    if generate:
-        times["render_ms"] = 1000 * (time.perf_counter() - t0)
-    source_maps = scene_maps(scene, num_bins=bins)
-    reconstruction = render_maps(source_maps, models.textural) if reconstruct else None
-    return {"generated": generated, "reconstruction": reconstruction, "source_maps": source_maps,
-            "edited_maps": edited_maps}
-
-
-def _compose(cfg: Any, settings: Any, record: Any, frame: Any, scene: Any, edited_scene: Any,
-             rendered: dict[str, Any], times: dict[str, float]) -> dict[str, Any]:
-    """``{'edited': (H, W, 3) uint8, 'region': (h, w) bool or None, 'compose': edit.json's record}``: the result
-    of :func:`sdn3d.editing.compose.compose_edit` (the input at its resolution read again; timed without it)."""
-    from sdn3d.editing.compose import compose_edit, edited_object_ids
-
-    original = None
-    if settings.mode == "edited":
-        original = torch.from_numpy(np.ascontiguousarray(_input_picture(cfg, record))).permute(2, 0, 1)
-    t0 = time.perf_counter()
-    ids = edited_object_ids(scene.objects, edited_scene.objects)
-    picture, region = compose_edit(settings, rendered["generated"], original, frame, rendered["source_maps"],
-                                   rendered["edited_maps"], ids)
-    times["compose_ms"] = 1000 * (time.perf_counter() - t0)
-    edited = _to_uint8(picture) if region is None else picture.permute(1, 2, 0).numpy()
-    info = {**settings.to_dict(), "output_size": [edited.shape[1], edited.shape[0]],
-            "edited_objects": ids.tolist()}
-    if region is not None:
-        info |= {"region_pixels": int(region.sum()), "region_fraction": float(region.float().mean())}
-    return {"edited": edited, "region": region, "compose": info}
-
-
-def _photo(cfg: Any, settings: Any, record: Any, frame: Any, scene: Any, edited_scene: Any, ops: list,
-           rendered: dict[str, Any], times: dict[str, float]) -> dict[str, Any]:
-    """``{'edited': (H, W, 3) uint8, 'region': None, 'source_map': (H, W) uint8, 'compose', 'photo'}``: the photo
-    appearance (:func:`sdn3d.editing.photo.render_photo`) at the input's resolution, timed as ``photo_ms``."""
-    from sdn3d.editing.photo import paints, render_photo
-
-    original = torch.from_numpy(np.ascontiguousarray(_input_picture(cfg, record))).permute(2, 0, 1)
-    t0 = time.perf_counter()
-    result = render_photo(original, frame, scene, edited_scene, settings=settings, recolor=paints(ops),
-                          generated=rendered["generated"])
-    times["photo_ms"] = 1000 * (time.perf_counter() - t0)
-    from sdn3d.editing.ops import SetBackgroundCode, SetCode
-
-    coded = [op for op in ops if isinstance(op, SetBackgroundCode) or (isinstance(op, SetCode) and op.color is None)]
-    if coded:
-        result.warnings.append(f"{len(coded)} recolor op(s) by code or sample change what the generator draws; "
-                               "appearance=photo draws the photo's pixels and repaints a car only for `color: <name>` "
-                               "(or use appearance=generator)")
-    edited = result.image.permute(1, 2, 0).numpy()
-    info = {"mode": "photo", "output_size": [edited.shape[1], edited.shape[0]]}
-    return {"edited": edited, "region": None, "source_map": result.source, "compose": info,
-            "photo": {"settings": settings.to_dict(), **result.summary()}}
-
-
-def _summary(cfg: Any, record: Any, intrinsics: Any, spec: Any, ops: list, scene: Any, edited_scene: Any,
-             times: dict[str, float]) -> dict:
-    """``edit.json``'s content (``outputs`` is added when they are written)."""
-    from omegaconf import OmegaConf
-
-    return {
-        "input": str(cfg.input.image) if record is None else record.key,
-        "image_size": list(scene.image_size),
-        "intrinsics": intrinsics.to_dict(),
-        "edits": spec.source,
-        "ops": [_op_json(op) for op in ops],
-        "objects": {"source": scene.objects.instance_id.tolist(), "edited": edited_scene.objects.instance_id.tolist(),
-                    "with_geometry": scene.objects.instance_id[scene.objects.has_geometry].tolist()},
-        "timings_ms": times,
-        "proposals": _proposals_record(scene),
-        "config": OmegaConf.to_container(cfg, resolve=True),
-    }
-
-
-def _proposals_record(scene: Any) -> dict:
-    """Where the scene's objects and semantics came from, with the oracle labelled (edit.json)."""
-    from sdn3d.derender import PROPOSAL_LABELS
-
-    source, semantic = scene.meta.get("proposals"), scene.meta.get("semantic")
-    oracle = source == "gt" or semantic == "gt"
-    label = (PROPOSAL_LABELS["gt"] if source == "gt" and semantic == "gt" else
-             "oracle: ground-truth masks, the semantic branch's semantics" if source == "gt" else
-             PROPOSAL_LABELS["boxes"] + {"branch": "; semantics from the semantic branch",
-                                         "gt": "; ground-truth semantics (oracle)",
-                                         "none": "; no semantics"}.get(semantic, "") if source == "boxes" else
-             PROPOSAL_LABELS["semantic"])
-    boxes = len(scene.meta.get("boxes", []))
-    if boxes and source != "boxes":
-        label += f"; and {boxes} object(s) named by a box (GrabCut masks, 3D fitted)"
-    record = {"masks": source, "semantics": semantic, "oracle": oracle, "label": label}
-    return record | {"box_objects": boxes} if boxes else record
 
 
 # -- listing the objects (list=true, or an empty edit spec) ---------------------------------------
@@ -689,17 +515,14 @@ def _input_picture(cfg: Any, record: Any) -> np.ndarray:
     return _read_input_image(cfg)  # checked by load_input already
 
 
-def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene: Any,
-                   checkpoints: dict, times: dict[str, float], frame: Any = None,
+def _write_listing(cfg: Any, out: Path, inp: EditInput, scene: Any, checkpoints: dict, times: dict[str, float],
                    warnings: list[str] | None = None, box_records: list[dict] | None = None) -> dict:
     """Print the objects table; write ``objects.json``, ``objects.png`` and ``edit.json`` (staged)."""
-    from omegaconf import OmegaConf
-
     from sdn3d.editing.spec import PixelFrame
     from sdn3d.io import write_json_atomic, write_png_atomic
     from sdn3d.visualize import draw_boxes
 
-    picture = _input_picture(cfg, record)
+    picture, frame = inp.picture, inp.frame
     size = (picture.shape[1], picture.shape[0])
     rows = list_objects(scene, size, frame if frame is not None and tuple(frame.input_size) == size else None)
     boxes = {r["id"]: r for r in box_records or []}
@@ -708,7 +531,7 @@ def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene:
             r = boxes[row["id"]]
             row.update({"given_box": r["input_box"], "mask_from": r["mask"], "pose_from": r["pose"],
                         "fit_iou": r["fit_iou"], "poor_fit": r["poor_fit"]})
-    source = str(cfg.input.image) if record is None else record.key
+    source = inp.name
     frame_text = (f"boxes and centres in input-image pixels ({size[0]}x{size[1]}, pixel centres at integers; "
                   f"working size {scene.image_size[0]}x{scene.image_size[1]})")
     print(f"sdn3d-edit: {len(rows)} object(s) in {source}; {frame_text}")
@@ -731,8 +554,8 @@ def _write_listing(cfg: Any, out: Path, record: Any, image: torch.Tensor, scene:
                "input_transform": transform, "warnings": list(warnings or []),
                "objects": {"source": [r["id"] for r in rows],
                            "with_geometry": [r["id"] for r in rows if r["template"] is not None]},
-               "checkpoints": checkpoints, "timings_ms": times, "proposals": _proposals_record(scene),
-               "config": OmegaConf.to_container(cfg, resolve=True)}
+               "checkpoints": checkpoints, "timings_ms": times, "proposals": proposals_record(scene),
+               "config": config_record(cfg)}
     if boxes:
         summary["boxes"] = list(boxes.values())
     with staged_directory(out, MARKER, bool(cfg.overwrite), owned=True, **_output_rules(cfg)) as tmp:
@@ -757,8 +580,7 @@ def _input_masks(scene: Any, rows: list[dict], boxes: dict, frame: Any, size: tu
     return [big == r["id"] if r["id"] in boxes else None for r in rows]
 
 
-def _write_outputs(out: Path, overwrite: bool, image: torch.Tensor, scene: Any, edited_scene: Any,
-                   rendered: dict[str, Any], summary: dict, diagnostics: bool = True,
+def _write_outputs(out: Path, overwrite: bool, result: EditResult, summary: dict, diagnostics: bool = True,
                    rules: dict[str, Any] | None = None) -> None:
     """Write the output directory all at once (see the module doc); adds ``summary['outputs']`` (every file
     written: what a later run may replace). ``rules``: :func:`_output_rules`."""
@@ -766,32 +588,33 @@ def _write_outputs(out: Path, overwrite: bool, image: torch.Tensor, scene: Any, 
     from sdn3d.io import write_json_atomic, write_png_atomic
     from sdn3d.scene.io import save_scene
 
-    gen = _to_uint8(rendered["generated"]) if rendered["generated"] is not None else None
+    gen = to_uint8(result.generated) if result.generated is not None else None
     with staged_directory(out, MARKER, overwrite, owned=True, **(rules or {"listed_in": "outputs"})) as tmp:
         if gen is not None:
             write_png_atomic(tmp / "generated.png", gen)
-        write_png_atomic(tmp / "edited.png", rendered["edited"])
-        if rendered.get("source_map") is not None:
-            write_png_atomic(tmp / "maps" / "photo_source.png", source_picture(rendered["source_map"]))
-        if rendered["region"] is not None:
-            write_png_atomic(tmp / "maps" / "edit_region.png", rendered["region"].numpy().astype(np.uint8) * 255)
-        save_scene(scene, tmp / "scene.json")
-        save_scene(edited_scene, tmp / "edited_scene.json")
+        write_png_atomic(tmp / "edited.png", result.edited)
+        if result.source_map is not None:
+            write_png_atomic(tmp / "maps" / "photo_source.png", source_picture(result.source_map))
+        if result.region is not None:
+            write_png_atomic(tmp / "maps" / "edit_region.png", result.region.numpy().astype(np.uint8) * 255)
+        save_scene(result.scene, tmp / "scene.json")
+        save_scene(result.edited_scene, tmp / "edited_scene.json")
         if diagnostics:
-            _write_diagnostics(tmp, image, scene, edited_scene, rendered, gen)
+            _write_diagnostics(tmp, result, gen)
         summary["outputs"] = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*")
                                     if p.is_file() and p.name != OWNER_FILE) + [MARKER]
         write_json_atomic(tmp / MARKER, summary)
 
 
-def _write_diagnostics(tmp: Path, image: torch.Tensor, scene: Any, edited_scene: Any, rendered: dict[str, Any],
-                       gen: np.ndarray) -> None:
+def _write_diagnostics(tmp: Path, result: EditResult, gen: np.ndarray) -> None:
     """``diagnostics=true``: the source and reconstruction pictures, every map, the overview grid, the glTF scenes."""
     from sdn3d.export import export_gltf
     from sdn3d.io import write_png_atomic
 
-    pictures = {name: _map_pictures(rendered[f"{name}_maps"], scene.class_list) for name in ("source", "edited")}
-    src, rec = _to_uint8(image), _to_uint8(rendered["reconstruction"])
+    scene, edited_scene = result.scene, result.edited_scene
+    pictures = {"source": _map_pictures(result.source_maps, scene.class_list),
+                "edited": _map_pictures(result.edited_maps, scene.class_list)}
+    src, rec = to_uint8(result.derendered.input.image), to_uint8(result.reconstruction)
     write_png_atomic(tmp / "source.png", src)
     write_png_atomic(tmp / "reconstruction.png", rec)
     for which, maps in pictures.items():

@@ -45,12 +45,14 @@ from sdn3d.geometric import (
     PRED_KEYS,
     GeometricNet,
     MovingAverageBaseline,
+    expected_reward_loss,
     ffd_regularizer,
     leave_one_out_baseline,
     net_kwargs_from_hparams,
     outside_image_mask,
     prediction_loss,
     prediction_losses,
+    refine_by_reprojection,
     reinforce_loss,
     render_silhouettes,
     reprojection_error,
@@ -64,11 +66,13 @@ from sdn3d.geometric.metrics import (
     template_reprojection_errors,
     window_silhouettes,
 )
+from sdn3d.geometric.refine import RefineSettings
 from sdn3d.math3d.encodings import AttributeEncoding
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.meshes.templates import TEMPLATE_NAMES
 from sdn3d.nets.weights import load_pretrained
 from sdn3d.render.settings import SoftSilhouetteSettings
+from sdn3d.render.silhouette import SILHOUETTES
 
 __all__ = ["GeometricModule", "lr_factor"]
 
@@ -98,7 +102,14 @@ class GeometricModule(BranchModule):
         reproj_weight: weight of L_reproj (paper 0.1).
         reinforce_weight: weight of the REINFORCE surrogate.
         num_samples: templates sampled per object for REINFORCE (each rendered).
-        baseline: ``'moving_average'`` (buffer) or ``'leave_one_out'``; baseline_momentum: its EMA momentum.
+        baseline: ``'moving_average'`` (buffer), ``'leave_one_out'`` or ``'exact'`` (every template rendered for
+            every object, the exact expected-reward gradient; ``num_samples`` unused); baseline_momentum: the
+            moving average's momentum.
+        reproj_silhouette: the silhouette of L_reproj and the REINFORCE rewards: ``'soft'`` (SoftRas; its L1
+            optimum is a shrunken car) or ``'straight_through'`` (the hard silhouette with the soft one's
+            gradient: L_reproj is then the hard mismatch, unbiased; :mod:`sdn3d.render.silhouette`).
+        test_refine: at test, also score the predictions after the paper's per-image fit (Adam 0.03 x 16 on
+            L_reproj, :class:`~sdn3d.geometric.refine.RefineSettings`): ``test/refined/...``.
         ffd_reg: weight of ``mean(phi^2)`` in stage 2 (released code: 10).
         sigma: soft-silhouette softness in pixels^2.
         hidden, scale_prior: MLP width and initial ``(l, h, w)`` of the net.
@@ -131,6 +142,8 @@ class GeometricModule(BranchModule):
         num_samples: int = 4,
         baseline: str = "moving_average",
         baseline_momentum: float = 0.9,
+        reproj_silhouette: str = "soft",
+        test_refine: bool = False,
         ffd_reg: float = 10.0,
         sigma: float = 0.25,
         hidden: int = 256,
@@ -149,6 +162,8 @@ class GeometricModule(BranchModule):
                              f"{joint_epochs}, {lr_pred}, {lr_joint}")
         if baseline not in BASELINES:
             raise ValueError(f"baseline must be one of {BASELINES}, got {baseline!r}")
+        if reproj_silhouette not in SILHOUETTES:
+            raise ValueError(f"reproj_silhouette must be one of {SILHOUETTES}, got {reproj_silhouette!r}")
         if num_samples < 1 or (baseline == "leave_one_out" and num_samples < 2):
             raise ValueError(f"num_samples must be >= 1 (>= 2 for leave_one_out), got {num_samples}")
         if single_cad and single_template not in TEMPLATE_NAMES:
@@ -157,10 +172,11 @@ class GeometricModule(BranchModule):
         self.net = GeometricNet(**net_kwargs_from_hparams(self.hparams))
         load_pretrained(self.net.backbone, pretrained, what="ResNet-18 backbone", ignore_prefixes=("fc.",))
         self.baseline = MovingAverageBaseline(baseline_momentum)
-        self.metrics = torch.nn.ModuleDict({stage: GeometricMetrics() for stage in ("val", "test")})
+        self.metrics = torch.nn.ModuleDict({stage: GeometricMetrics() for stage in ("val", "test", "test_refined")})
         self.image_size = None if image_size is None else tuple(int(v) for v in args["image_size"])
         self._bank = MeshBank.templates()
         self._template_stats: dict[str, list[Tensor]] = {}
+        self._decomposition: dict[str, list[Tensor]] = {}
         # True templates of the training part (the majority floor of the mesh accuracy; on_fit_start), checkpointed.
         self.register_buffer("train_template_counts", torch.zeros(len(TEMPLATE_NAMES), dtype=torch.long))
 
@@ -196,7 +212,8 @@ class GeometricModule(BranchModule):
 
         phi = pick(pred["phi"]) if self.net.use_ffd else None
         return render_silhouettes(self.bank(template_ids.device), template_ids, pick(pred["dims"]), pick(pred["ry"]),
-                                  pick(pred["center"]), phi, pick(crop_intrinsics), self.soft_settings(size))
+                                  pick(pred["center"]), phi, pick(crop_intrinsics), self.soft_settings(size),
+                                  self.hparams.get("reproj_silhouette", "soft"))
 
     def _reprojection_terms(self, raw: dict[str, Tensor], batch: Mapping[str, Any]) -> dict[str, Tensor]:
         """L_reproj (mean over objects and samples), the REINFORCE surrogate and diagnostics."""
@@ -204,8 +221,11 @@ class GeometricModule(BranchModule):
         pred = decode_outputs(raw, batch["box"], batch["intrinsics"], self.encoding, self.net.templates)
         n, size = batch["crop"].shape[0], batch["crop"].shape[-1]
         multi = self.net.num_templates > 1
-        k = int(hp.num_samples) if multi else 1
-        if multi:
+        exact = multi and hp.baseline == "exact"
+        k = self.net.num_templates if exact else int(hp.num_samples) if multi else 1
+        if exact:
+            ids = self.net.templates.expand(n, k)
+        elif multi:
             idx, log_probs = sample_templates(raw["template_logits"], k)
             ids = self.net.templates[idx]
         else:
@@ -218,6 +238,13 @@ class GeometricModule(BranchModule):
         sil = self._render(pred, objects, unique % num_meshes, batch["crop_intrinsics"], size)
         err = reprojection_error(sil, batch["mask"].index_select(0, objects),
                                  self._ignore(batch).index_select(0, objects))[inverse].view(n, k)
+        if exact:  # the pose's L_reproj is the expected one under the (constant) template distribution
+            probs = raw["template_logits"].softmax(1)
+            terms = {"loss_reproj": (probs.detach() * err).sum(1).mean(),
+                     "reinforce": expected_reward_loss(raw["template_logits"], -err.detach())}
+            terms["baseline"] = -(probs.detach() * err.detach()).sum(1).mean()  # the expected reward
+            terms["template_entropy"] = -(probs * probs.clamp_min(1e-12).log()).sum(1).mean()
+            return terms
         terms = {"loss_reproj": err.mean()}
         if multi:
             rewards = -err.detach()
@@ -347,10 +374,72 @@ class GeometricModule(BranchModule):
             at_truth = template_reprojection_errors(bank, batch["dims"], batch["ry"], batch["center"], None,
                                                     batch["crop_intrinsics"], batch["mask"], ignore, settings)
             metrics.update_selection(pred["template_id"], at_prediction, at_truth, batch["template_id"])
+            if self.image_size is not None:
+                self._update_decomposition(batch, pred)
+                if self.hparams.get("test_refine") and isinstance(self.net, GeometricNet):
+                    self._update_refined(batch)
         stats = self._template_stats.setdefault(stage, [])
         stats.append(torch.cat([pred["template_probs"], pred["template_id"].unsqueeze(1).float()], 1).cpu())
         if batch_idx == 0:
             self._log_silhouettes(stage, batch, sil)
+
+    def _image_errors(self, batch: Mapping[str, Any], template_ids: Tensor, dims: Tensor, ry: Tensor, center: Tensor,
+                      phi: Tensor | None) -> Tensor:
+        """The paper's reprojection error ``(N,)`` (hard, per image pixel) of the given meshes and poses."""
+        sil = window_silhouettes(self.bank(dims.device), template_ids, dims, ry, center, phi, batch["intrinsics"],
+                                 batch["crop_box"], self.image_size)
+        return image_reprojection_error(sil, batch["mask"], batch["ignore"], batch["crop_box"], self.image_size)
+
+    #: The decomposition of the test reprojection error (``test/decomposition/<name>``): which pose, which mesh,
+    #: which FFD; objects whose true template is known.
+    DECOMPOSITION = ("predicted", "chosen_no_ffd", "sedan", "true_template", "true_template_no_ffd", "best_of_8",
+                     "truth_pose_true_template")
+
+    @torch.no_grad()
+    def _update_decomposition(self, batch: Mapping[str, Any], pred: Mapping[str, Tensor]) -> None:
+        """Score the predicted pose with other meshes and FFDs, and the true pose (the floor): where the test
+        reprojection error comes from (issue 29). Each entry of :attr:`DECOMPOSITION` gets ``(N,)`` errors."""
+        known = batch["template_id"] >= 0
+        if not bool(known.any()):
+            return
+        batch = {k: v[known] if isinstance(v, Tensor) and v.shape[:1] == known.shape else v for k, v in batch.items()}
+        pred = {k: v[known] if isinstance(v, Tensor) and v.shape[:1] == known.shape else v for k, v in pred.items()}
+        dims, ry, center, phi = pred["dims"], pred["ry"], pred["center"], pred["phi"]
+        zero = None if phi is None else torch.zeros_like(phi)
+        truth = batch["template_id"]
+        sedan = torch.full_like(truth, TEMPLATE_NAMES.index("sedan"))
+        errors = {
+            "predicted": self._image_errors(batch, pred["template_id"], dims, ry, center, phi),
+            "chosen_no_ffd": self._image_errors(batch, pred["template_id"], dims, ry, center, zero),
+            "sedan": self._image_errors(batch, sedan, dims, ry, center, phi),
+            "true_template": self._image_errors(batch, truth, dims, ry, center, phi),
+            "true_template_no_ffd": self._image_errors(batch, truth, dims, ry, center, zero),
+            "best_of_8": torch.stack([self._image_errors(batch, torch.full_like(truth, t), dims, ry, center, phi)
+                                      for t in range(len(TEMPLATE_NAMES))]).amin(0),
+            "truth_pose_true_template": self._image_errors(batch, truth, batch["dims"], batch["ry"], batch["center"],
+                                                           None),
+        }
+        for name, value in errors.items():
+            self._decomposition.setdefault(name, []).append(value.detach().float().cpu())
+
+    def _update_refined(self, batch: Mapping[str, Any]) -> None:
+        """The test figures after the paper's per-image fit (Adam 0.03 x 16 on L_reproj; 3D-SDN on Cityscapes)."""
+        # Lightning tests under inference mode, whose tensors autograd refuses: the fit runs outside it, on copies.
+        with torch.inference_mode(False):
+            inputs = {k: batch[k].clone() for k in ("crop", "box", "intrinsics", "crop_intrinsics", "mask", "ignore",
+                                                     "crop_box")}
+            with torch.no_grad():
+                raw = {k: v.clone() for k, v in self.net(inputs["crop"], inputs["box"], inputs["intrinsics"]).items()}
+            refined = refine_by_reprojection(raw, inputs["box"], inputs["intrinsics"], inputs["crop_intrinsics"],
+                                             inputs["mask"], inputs["ignore"], encoding=self.encoding,
+                                             templates=self.net.templates, bank=self.bank(batch["crop"].device),
+                                             settings=RefineSettings(sigma=float(self.hparams.sigma)),
+                                             crop_box=inputs["crop_box"], image_size=self.image_size)
+        pred = dict(refined.pred)
+        pred["rot"] = predicted_rotation(refined.raw["rotation"], pred["ry"], self.encoding.rotation)
+        image_error = self._image_errors(batch, pred["template_id"], pred["dims"], pred["ry"], pred["center"],
+                                         pred["phi"])
+        self.metrics["test_refined"].update(pred, batch, None, None, image_error)
 
     def _log_silhouettes(self, stage: str, batch: Mapping[str, Any], sil: Tensor) -> None:
         count = min(int(self.hparams.log_images), sil.shape[0])
@@ -366,6 +455,16 @@ class GeometricModule(BranchModule):
         self.metrics[stage].reset()
         for name, value in values.items():  # figures without objects (mesh ones on real data) are left out
             self.log(f"{stage}/{name}", value.to(self.device), sync_dist=True)
+        if stage == "test":
+            refined = self.metrics["test_refined"]
+            if refined["orientation_similarity"].count > 0:
+                for name, value in refined.compute(counts).items():
+                    if name in ("orientation_similarity", "distance_error", "scale_error", "reprojection_error_image"):
+                        self.log(f"test/refined/{name}", value.to(self.device), sync_dist=True)
+            refined.reset()
+            for name, parts in self._decomposition.items():
+                self.log(f"test/decomposition/{name}", torch.cat(parts).mean().to(self.device), sync_dist=True)
+            self._decomposition = {}
         stats = self._template_stats.pop(stage, [])
         if not stats:
             return

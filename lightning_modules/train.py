@@ -687,6 +687,7 @@ def write_summary(cfg: DictConfig, run_dir: Path, run: RunObjects | None, result
         "branch": str(branch) if branch is not None else None,
         "ablation": str(cfg.ablation.name) if branch == "geometric" and cfg.get("ablation") else None,
         "experiment": earlier.get("experiment") if earlier is not None else _experiment_choice(),
+        "variant": str(cfg.variant) if cfg.get("variant") is not None else None,
         "run_dir": str(run_dir.resolve()),
         "best_ckpt": str(Path(result.best).resolve()) if result.best else None,
         "last_ckpt": str(last.resolve()) if last.is_file() else None,

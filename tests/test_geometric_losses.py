@@ -190,3 +190,17 @@ def test_moving_average_baseline_resumes_from_its_state_dict():
     assert math.isclose(float(restored.value), 0.0) and int(restored.count) == 3
     with pytest.raises(ValueError, match="momentum"):
         MovingAverageBaseline(1.0)
+
+
+def test_expected_reward_loss_is_the_exact_policy_gradient():
+    from sdn3d.geometric import expected_reward_loss
+
+    logits = torch.tensor([[0.2, -0.5, 1.0], [0.0, 0.3, -0.1]], requires_grad=True)
+    rewards = torch.tensor([[-1.0, -2.0, -0.5], [-0.3, -0.2, -0.9]])
+    expected_reward_loss(logits, rewards).backward()
+    p = logits.detach().softmax(1)
+    # d/dlogit_m of -mean_n sum_m p_m r_m = -p_m (r_m - sum_k p_k r_k) / N
+    want = -p * (rewards - (p * rewards).sum(1, keepdim=True)) / 2
+    torch.testing.assert_close(logits.grad, want)
+    with pytest.raises(ValueError, match="must match"):
+        expected_reward_loss(logits, rewards[:, :2])

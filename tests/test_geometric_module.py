@@ -204,3 +204,31 @@ def test_metrics_work_from_decode_batch_alone(synth_root):
     assert metrics["test/mesh_accuracy"] == pytest.approx(metrics["test/mesh_identifiability_ceiling"])
     assert "test/mesh_majority_floor" not in metrics  # never trained: no training templates counted
     assert 0.0 <= metrics["test/reprojection_error_image"] < 0.01
+    # The decomposition (issue 29): the oracle's pose is the truth and its FFD zero, so the true template scores
+    # the same with and without FFD and at the true pose; no mesh beats the best of the 8.
+    d = {k.removeprefix("test/decomposition/"): v for k, v in metrics.items() if k.startswith("test/decomposition/")}
+    assert set(d) == set(GeometricModule.DECOMPOSITION)
+    assert d["predicted"] == pytest.approx(metrics["test/reprojection_error_image"], rel=1e-5)
+    assert d["true_template"] == pytest.approx(d["true_template_no_ffd"]) == pytest.approx(
+        d["truth_pose_true_template"])
+    assert d["best_of_8"] <= min(d["predicted"], d["sedan"], d["true_template"]) + 1e-9
+    assert d["chosen_no_ffd"] == pytest.approx(d["predicted"])
+
+
+def test_exact_policy_gradient_straight_through_silhouette_and_test_time_fit(synth_root):
+    model = GeometricModule(pred_epochs=0, joint_epochs=1, image_size=SIZE, log_images=0, baseline="exact",
+                            reproj_silhouette="straight_through", test_refine=True)
+    dm = _datamodule(synth_root)
+    trainer = _trainer(1, _LrRecorder(), train_batches=1, logger=False)
+    trainer.fit(model, datamodule=dm)
+    train = trainer.callback_metrics
+    assert torch.isfinite(train["train/reinforce"]) and float(train["train/template_entropy"]) > 0
+    # The straight-through L_reproj is the hard mismatch: a fraction of whole pixels, and the expected reward its
+    # negative under the template distribution.
+    assert float(train["train/baseline"]) == pytest.approx(-float(train["train/loss_reproj"]), rel=1e-5)
+    metrics = trainer.test(model, datamodule=dm, verbose=False)[0]
+    for name in ("orientation_similarity", "distance_error", "scale_error", "reprojection_error_image"):
+        assert torch.isfinite(torch.tensor(metrics[f"test/refined/{name}"])), name
+    assert metrics["test/refined/reprojection_error_image"] != metrics["test/reprojection_error_image"]
+    with pytest.raises(ValueError, match="reproj_silhouette must be one of"):
+        GeometricModule(reproj_silhouette="hard")

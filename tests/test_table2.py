@@ -248,3 +248,64 @@ def test_sources_say_which_checkpoint_the_test_figures_come_from():
         in markdown
     assert "test figures from the weights at the end of fitting" in markdown
     assert "test figures from tested weights not recorded (a run from before 2026-11-24" in markdown
+
+
+def _with(record, **metrics):
+    record["metrics"].update(metrics)
+    return record
+
+
+def test_paired_differences_with_a_student_t_interval(tmp_path):
+    """Rows are paired with the full model by seed; the interval is mean ± t(0.975, n-1) sd / sqrt(n)."""
+    full = [_run("full", _t(9), v, seed=s) for s, v in enumerate((0.04, 0.05, 0.06))]
+    no_reproj = [_run("no_reproj", _t(9), v, seed=s) for s, v in enumerate((0.05, 0.07, 0.08, 0.5))]  # seed 3 unpaired
+    table = build_table(group_runs(full + no_reproj), "table2")
+    (entry,) = [p for p in table["paired"] if p["key"] == "no_reproj"]
+    reproj = entry["differences"]["test/reprojection_error_image"]  # value / 10: diffs 0.001, 0.002, 0.002
+    assert reproj["seeds"] == [0, 1, 2] and reproj["n"] == 3
+    assert reproj["mean"] == pytest.approx(0.005 / 3)
+    half = 4.302652729911275 * 0.000577350269 / 3 ** 0.5  # t(0.975, 2) sd / sqrt(3)
+    assert reproj["low"] == pytest.approx(0.005 / 3 - half, rel=1e-6)
+    assert reproj["high"] == pytest.approx(0.005 / 3 + half, rel=1e-6)
+    # full is lower by mean(diff) / mean(no_reproj over the paired seeds) = (0.005/3) / (0.02/3) = 25 %
+    assert reproj["full_lower"]["mean"] == pytest.approx(0.25)
+    markdown = render_markdown(table)
+    assert "## Paired with 3D-SDN (full)" in markdown
+    line = next(li for li in markdown.splitlines() if li.startswith("| w/o L_reproj | 0,1,2"))
+    assert "| 25 % [" in line and "+1.667 [" in line
+
+
+def test_variants_get_their_own_rows_and_the_test_time_fit_a_row(tmp_path):
+    refined = {"test/refined/orientation_similarity": 0.99, "test/refined/distance_error": 0.02,
+               "test/refined/scale_error": 0.2, "test/refined/reprojection_error_image": 0.001}
+    records = [_with(_run("full", _t(9), 0.04, seed=s), **refined) for s in (0, 1)]
+    records += [_run("full", _t(9), 0.06, seed=s, variant="soft_silhouette",
+                     overrides=["model.reproj_silhouette=soft"]) for s in (0, 1)]
+    table = build_table(group_runs(records), "table2")
+    keys = [row["key"] for row in table["rows"]]
+    assert keys.index("full") < keys.index("full:soft_silhouette") < keys.index("full+refined")
+    rows = {row["key"]: row for row in table["rows"]}
+    assert rows["full:soft_silhouette"]["label"] == "3D-SDN (full), soft_silhouette"
+    assert "warning" not in rows["full"] and not table["warnings"] and not table["ignored_ablations"]
+    assert rows["full+refined"]["metrics"]["test/reprojection_error_image"]["mean"] == pytest.approx(0.001)
+    paired = {p["key"]: p for p in table["paired"]}
+    assert paired["full:soft_silhouette"]["differences"]["test/distance_error"]["mean"] == pytest.approx(0.02)
+    assert paired["full+refined"]["differences"]["test/scale_error"]["mean"] == pytest.approx(0.2 - 0.34)
+    tables = _tables(render_markdown(table))
+    assert "3D-SDN (full) + test-time fit (Adam 0.03 x 16)" in tables[0]
+
+
+def test_decomposition_shares(tmp_path):
+    parts = {"predicted": 6.0, "chosen_no_ffd": 6.5, "sedan": 7.0, "true_template": 5.0,
+             "true_template_no_ffd": 5.5, "best_of_8": 4.0, "truth_pose_true_template": 1.0}
+    records = [_with(_run("full", _t(9), 0.04, seed=s),
+                     **{f"test/decomposition/{k}": (v + s) * 1e-3 for k, v in parts.items()}) for s in (0, 1)]
+    table = build_table(group_runs(records), "table2")
+    (entry,) = table["decomposition"]
+    assert entry["n"] == 2 and entry["values"]["predicted"]["mean"] == pytest.approx(6.5e-3)
+    shares = entry["shares"]
+    assert shares["floor"] == pytest.approx(1.5e-3) and shares["pose"] == pytest.approx(4.5e-3)
+    assert shares["mesh_choice"] == pytest.approx(1e-3) and shares["ffd"] == pytest.approx(-0.5e-3)
+    assert shares["selection_room"] == pytest.approx(2e-3)
+    markdown = render_markdown(table)
+    assert "## Where the reprojection error comes from" in markdown and "| 3D-SDN (full) | 1.50 (23 %) |" in markdown

@@ -29,6 +29,7 @@ from sdn3d.geometric.refine import RefineResult, RefineSettings, refine_by_repro
 from sdn3d.geometric.reinforce import (
     BASELINES,
     MovingAverageBaseline,
+    expected_reward_loss,
     leave_one_out_baseline,
     reinforce_loss,
     sample_templates,
@@ -52,6 +53,7 @@ __all__ = [
     "BASELINES",
     "sample_templates",
     "reinforce_loss",
+    "expected_reward_loss",
     "leave_one_out_baseline",
     "MovingAverageBaseline",
     "RefineSettings",

@@ -23,7 +23,7 @@ from sdn3d.math3d.encodings import RotationMode, rotation_loss
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.render.objects import pose_meshes
 from sdn3d.render.settings import SoftSilhouetteSettings
-from sdn3d.render.soft import soft_silhouette
+from sdn3d.render.silhouette import silhouette
 
 __all__ = [
     "PRED_KEYS",
@@ -142,8 +142,9 @@ def render_silhouettes(
     phi: Tensor | None,
     crop_intrinsics: Tensor,
     settings: SoftSilhouetteSettings | int | tuple[int, int],
+    kind: str = "soft",
 ) -> Tensor:
-    """Soft silhouettes ``(N, H, W)`` of deformed, posed templates in each object's crop camera.
+    """Silhouettes ``(N, H, W)`` of deformed, posed templates in each object's crop camera.
 
     Differentiable w.r.t. ``dims``, ``ry``, ``center`` and ``phi`` (not the template choice).
 
@@ -155,9 +156,11 @@ def render_silhouettes(
         crop_intrinsics: ``(N, 4)`` ``(fx, fy, cx, cy)`` or ``(N, 3, 3)`` of each crop.
         settings: the soft rasterizer's settings, or just the crop size (a side ``S`` or ``(H, W)``) with
             the default settings.
+        kind: ``"soft"`` (SoftRas) or ``"straight_through"`` (hard values, soft gradient; unbiased under L1:
+            :mod:`sdn3d.render.silhouette`).
     """
     if not isinstance(settings, SoftSilhouetteSettings):
         settings = SoftSilhouetteSettings((settings, settings) if isinstance(settings, int) else tuple(settings))
     verts, faces = pose_meshes(bank, template_ids, dims, ry, center, phi)
     K = as_intrinsics_matrix(crop_intrinsics, dims.shape[0]).to(verts.dtype)
-    return soft_silhouette(verts, faces, K, settings)
+    return silhouette(kind, verts, faces, K, settings)

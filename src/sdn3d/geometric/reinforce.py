@@ -9,7 +9,9 @@ surrogate ``-mean_k (r_k - b) log p(m_k)`` has the policy gradient as its gradie
   buffer of :class:`MovingAverageBaseline` (saved in checkpoints, so a resumed run continues
   with the same baseline);
 - ``"leave_one_out"``: per object, the mean reward of its other ``K - 1`` samples (unbiased,
-  needs ``K >= 2``; adapts to each object's difficulty).
+  needs ``K >= 2``; adapts to each object's difficulty);
+- ``"exact"``: no sampling at all: every template is rendered for every object and the gradient is that of
+  the expected reward ``sum_m p(m) r_m`` (:func:`expected_reward_loss`; ``T`` renders per object, no variance).
 """
 
 from __future__ import annotations
@@ -17,9 +19,10 @@ from __future__ import annotations
 import torch
 from torch import Tensor, nn
 
-__all__ = ["BASELINES", "sample_templates", "reinforce_loss", "leave_one_out_baseline", "MovingAverageBaseline"]
+__all__ = ["BASELINES", "sample_templates", "reinforce_loss", "expected_reward_loss", "leave_one_out_baseline",
+           "MovingAverageBaseline"]
 
-BASELINES = ("moving_average", "leave_one_out")
+BASELINES = ("moving_average", "leave_one_out", "exact")
 
 
 def sample_templates(
@@ -66,6 +69,20 @@ def reinforce_loss(log_probs: Tensor, rewards: Tensor, baseline: Tensor | float 
         raise ValueError(f"log_probs {tuple(log_probs.shape)} and rewards {tuple(rewards.shape)} must match")
     advantage = (rewards - baseline).detach()
     return -(advantage * log_probs).mean()
+
+
+def expected_reward_loss(logits: Tensor, rewards: Tensor) -> Tensor:
+    """``-mean_n sum_m p_n(m) r_nm`` with ``p = softmax(logits)``: the exact policy gradient over all templates.
+
+    Its gradient is the expectation of the REINFORCE estimate (with any baseline), so it has no variance.
+
+    Args:
+        logits: ``(N, T)`` template logits (with grad).
+        rewards: ``(N, T)`` the reward of every template for every object (treated as constants).
+    """
+    if logits.shape != rewards.shape:
+        raise ValueError(f"logits {tuple(logits.shape)} and rewards {tuple(rewards.shape)} must match")
+    return -(logits.softmax(1) * rewards.detach()).sum(1).mean()
 
 
 class MovingAverageBaseline(nn.Module):

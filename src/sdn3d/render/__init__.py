@@ -15,6 +15,7 @@ from sdn3d.render.maps import (
 )
 from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings, SoftSilhouetteSettings, sigma_from_ndc
+from sdn3d.render.silhouette import SILHOUETTES, silhouette, straight_through_silhouette
 from sdn3d.render.soft import soft_silhouette, soft_silhouette_dense
 
 __all__ = [
@@ -25,6 +26,9 @@ __all__ = [
     "rasterize_meshes",
     "soft_silhouette",
     "soft_silhouette_dense",
+    "SILHOUETTES",
+    "silhouette",
+    "straight_through_silhouette",
     "SceneMaps",
     "instance_map",
     "depth_map",

@@ -63,7 +63,8 @@ from sdn3d.scene.maps import compose_instances, default_bank, posed_meshes
 
 __all__ = ["APPEARANCES", "FILL_METHODS", "SOURCE_NAMES", "SOURCE_COLORS", "PhotoSettings", "PhotoSettingsError",
            "PhotoResult", "LightEstimate", "paints", "input_intrinsics", "upsample_ids", "fit_light", "inpaint",
-           "recolor_pixels", "vacated_hole", "fill_hole", "working_to_input", "render_photo", "source_picture"]
+           "recolor_pixels", "vacated_hole", "fill_hole", "working_to_input", "render_photo", "source_picture",
+           "PhotoCache"]
 
 #: ``photo``: the input's own pixels through each object's 3D shape (module doc); ``generator``: the textural
 #: generator's pixels (the paper's).
@@ -203,6 +204,54 @@ class PhotoResult:
         return {"source_pixels": {n: int(c) for n, c in zip(SOURCE_NAMES, counts.tolist(), strict=True)},
                 "light": self.light.to_dict() if self.light is not None else None, "objects": self.objects,
                 "warnings": list(self.warnings)}
+
+
+class PhotoCache:
+    """What :func:`render_photo` computes from the unedited scene alone, kept between edits of that one scene (an
+    interactive editor redraws only what changed; ``sdn3d.editing.session``).
+
+    It holds the source instance maps, the source rasterization, the fitted light and the filled vacated pixels per
+    set of objects that left and stayed (the fill depends on nothing else). Every value is what the uncached call
+    computes, so pictures are bit-identical with and without it; it is bound to the first ``(original, scene,
+    transform, settings)`` it serves and refuses any other (a stale cache would draw another image's pixels).
+
+    Args:
+        max_fills: filled pictures kept (each ``3 x H x W`` float32: ~5.6 MB at 1242x375); the oldest goes first.
+    """
+
+    def __init__(self, max_fills: int = 8) -> None:
+        self.max_fills = int(max_fills)
+        self._bound: tuple | None = None
+        self._values: dict[str, object] = {}
+        self._fills: dict[tuple, Tensor] = {}
+
+    def bind(self, original: Tensor, scene: SceneCode, transform: PixelFrame, settings: PhotoSettings) -> None:
+        """Serve only this input, scene, transform and settings (checked on every call of :func:`render_photo`).
+
+        Raises:
+            ValueError: the cache already serves another scene or settings.
+        """
+        key = (original.data_ptr(), tuple(original.shape), original.dtype, id(scene), transform, settings)
+        if self._bound is None:
+            self._bound, self._refs = key, (original, scene)  # the refs keep the memory and the id in use
+        elif self._bound != key:
+            raise ValueError("PhotoCache serves one (original, scene, transform, settings); make one per scene")
+
+    def get(self, name: str, make):
+        """The value ``make()`` computed the first time ``name`` was asked for."""
+        if name not in self._values:
+            self._values[name] = make()
+        return self._values[name]
+
+    def fill(self, key: tuple, make) -> Tensor:
+        """A copy of the filled picture of ``key`` (the objects that left and stayed), made by ``make()`` once."""
+        if self.max_fills <= 0:
+            return make()
+        if key not in self._fills:
+            while len(self._fills) >= self.max_fills:
+                self._fills.pop(next(iter(self._fills)))
+            self._fills[key] = make()
+        return self._fills[key].clone()  # the caller draws into its picture
 
 
 def paints(ops: Sequence[object]) -> dict[int, tuple[float, float, float]]:
@@ -687,7 +736,7 @@ def source_picture(source: Tensor) -> np.ndarray:
 def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edited: SceneCode,
                  bank: MeshBank | None = None, settings: PhotoSettings | None = None,
                  recolor: Mapping[int, tuple[float, float, float]] | None = None,
-                 generated: Tensor | None = None) -> PhotoResult:
+                 generated: Tensor | None = None, cache: PhotoCache | None = None) -> PhotoResult:
     """Draw the edit of ``scene`` into ``edited`` with the input's own pixels (module doc).
 
     Args:
@@ -697,6 +746,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         bank: the objects' template meshes (default: the 8 templates).
         recolor: ``{instance id: sRGB paint}`` of objects to repaint (``recolor`` ops with a named colour).
         generated: ``(3, h, w)`` the generator's edited picture at the working size, for ``fill='generator'``.
+        cache: what a previous call on the same ``original``, ``scene``, ``transform`` and ``settings`` computed from
+            the unedited scene alone (:class:`PhotoCache`; the result is the same bit for bit); None: nothing kept.
 
     Returns:
         :class:`PhotoResult`; pixels no edit touches are the input's, bit for bit.
@@ -711,7 +762,11 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     if settings.fill == "generator" and generated is None:
         raise PhotoSettingsError("photo.fill=generator needs the generator's picture (the textural branch)")
     size = (h_in, w_in)
-    image = original.float() / 255 if original.dtype == torch.uint8 else original.float().clone()
+    if cache is None:
+        cache = PhotoCache(max_fills=0)
+    cache.bind(original, scene, transform, settings)
+    image = cache.get("image", lambda: original.float() / 255 if original.dtype == torch.uint8
+                      else original.float().clone())
     K = input_intrinsics(scene.intrinsics, transform).matrix(dtype=torch.float64)
     before, after = scene.objects, edited.objects
     warnings: list[str] = []
@@ -730,8 +785,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     if erode is None:
         erode = max(1, math.ceil(1 / min(transform.scale)))
 
-    src_ids = upsample_ids(compose_instances(scene, bank).cpu(), transform)
-    vis_ids = _erode_ids(src_ids, erode)
+    src_ids = cache.get("src_ids", lambda: upsample_ids(compose_instances(scene, bank).cpu(), transform))
+    vis_ids = cache.get("vis_ids", lambda: _erode_ids(src_ids, erode))
     own = torch.where(torch.isin(src_ids, after.instance_id[stays]), src_ids, torch.zeros_like(src_ids))
     # Freed pixels an object that stays now covers (amodal completion in apply_edits).
     grown_rows = []
@@ -743,8 +798,11 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
             own = torch.where(up, after.instance_id[a], own)
             grown_rows.append(a)
 
-    src_rows, src_verts, src_faces = posed_meshes(before, bank)
-    src = _rasterize(src_rows.cpu(), src_verts.cpu(), src_faces.cpu(), K, size)
+    def source_raster() -> _Raster:
+        src_rows, src_verts, src_faces = posed_meshes(before, bank)
+        return _rasterize(src_rows.cpu(), src_verts.cpu(), src_faces.cpu(), K, size)
+
+    src = cache.get("src", source_raster)
     src_row_to_mesh = torch.full((len(before),), -1, dtype=torch.long)
     src_row_to_mesh[src.rows] = torch.arange(len(src.rows))
 
@@ -752,25 +810,18 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     light = None
     src_normals = None
     if settings.relight and len(src.rows) and (bool(moved.any()) or grown_rows):
-        src_normals = normal_map(src.frags, src.verts, src.faces)[0].permute(1, 2, 0).reshape(-1, 3).double()
-        mesh_at = src.frags.pix_to_mesh.view(-1)
-        vis = (mesh_at >= 0) & (vis_ids.view(-1) == torch.where(
-            mesh_at >= 0, before.instance_id[src.rows[mesh_at.clamp(min=0)]], -1))
-        pix = vis.nonzero().flatten()
-        pixels = image.permute(1, 2, 0).reshape(-1, 3)
-        pix = pix[body_pixels(pixels[pix], mesh_at[pix])]
-        if len(pix) > 6000:  # evenly spread: plenty for four numbers and the albedos
-            pix = pix[torch.linspace(0, len(pix) - 1, 6000).long()]
-        light = fit_light(pixels[pix], src_normals[pix], mesh_at[pix])
-        if light is not None and light.gain < 0.05:
-            light = None  # no better than constant shading: do not re-shade
+        src_normals, light = cache.get("light", lambda: _source_light(src, vis_ids, before, image))
     shade = light.shade if light is not None else None
 
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
     keep = (src_ids != 0) & torch.isin(src_ids, after.instance_id[stays])
     hole = vacated_hole(src_ids, gone_ids, keep, settings)
-    fill = working_to_input(generated, transform) if settings.fill == "generator" else None
-    out = fill_hole(image, hole, settings, src_ids != 0, fill)
+    if settings.fill == "generator":  # the generator's picture changes with every edit: nothing to keep
+        out = fill_hole(image, hole, settings, src_ids != 0, working_to_input(generated, transform))
+    else:  # the hole and its fill depend only on which objects left and which stayed
+        stay_ids = after.instance_id[stays]
+        key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
+        out = cache.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0))
     source = torch.where(hole, FILL, INPUT).to(torch.uint8)
 
     # Contact shadows of moved objects, on the road only (drawn objects cover the rest below).
@@ -820,6 +871,25 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     else:
         result = torch.where(changed[None], result.to(original.dtype), original)
     return PhotoResult(result, source, light, objects, warnings)
+
+
+def _source_light(src: _Raster, vis_ids: Tensor, before: ObjectTable,
+                  image: Tensor) -> tuple[Tensor, LightEstimate | None]:
+    """``(normals (H*W, 3) float64 of the source rasterization, the light fitted to the visible car pixels or
+    None)`` (step 4 of the module doc: the unedited scene alone decides both)."""
+    src_normals = normal_map(src.frags, src.verts, src.faces)[0].permute(1, 2, 0).reshape(-1, 3).double()
+    mesh_at = src.frags.pix_to_mesh.view(-1)
+    vis = (mesh_at >= 0) & (vis_ids.view(-1) == torch.where(
+        mesh_at >= 0, before.instance_id[src.rows[mesh_at.clamp(min=0)]], -1))
+    pix = vis.nonzero().flatten()
+    pixels = image.permute(1, 2, 0).reshape(-1, 3)
+    pix = pix[body_pixels(pixels[pix], mesh_at[pix])]
+    if len(pix) > 6000:  # evenly spread: plenty for four numbers and the albedos
+        pix = pix[torch.linspace(0, len(pix) - 1, 6000).long()]
+    light = fit_light(pixels[pix], src_normals[pix], mesh_at[pix])
+    if light is not None and light.gain < 0.05:
+        light = None  # no better than constant shading: do not re-shade
+    return src_normals, light
 
 
 def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster, tgt: _Raster,

@@ -34,7 +34,7 @@ import sdn3d.derender as derendering
 from sdn3d.derender import PROPOSAL_LABELS, PROPOSALS, GroundTruth, Models
 from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
 from sdn3d.editing.ops import EditOp, SetBackgroundCode, SetCode
-from sdn3d.editing.photo import APPEARANCES, PhotoSettings, paints, render_photo
+from sdn3d.editing.photo import APPEARANCES, PhotoCache, PhotoSettings, paints, render_photo
 from sdn3d.editing.spec import EditSpec, PixelFrame, apply_spec, box_prompts, resolve_ops
 from sdn3d.errors import InputError
 from sdn3d.math3d.camera import Intrinsics
@@ -73,6 +73,7 @@ class EditInput:
     ground_truth: GroundTruth | None = None
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "picture", np.ascontiguousarray(self.picture))  # one buffer: PhotoCache binds to it
         h_in, w_in = self.picture.shape[:2]
         if self.picture.dtype != np.uint8 or self.picture.ndim != 3 or (w_in, h_in) != tuple(self.frame.input_size):
             raise ValueError(f"EditInput.picture must be (H, W, 3) uint8 of the frame's input size "
@@ -85,6 +86,11 @@ class EditInput:
     def input_size(self) -> tuple[int, int]:
         """``(W, H)`` of the input image."""
         return int(self.picture.shape[1]), int(self.picture.shape[0])
+
+    @property
+    def original(self) -> Tensor:
+        """``(3, H, W)`` uint8 view of :attr:`picture` (no copy)."""
+        return torch.from_numpy(self.picture).permute(2, 0, 1)
 
 
 @dataclass(frozen=True)
@@ -145,6 +151,8 @@ class Derendered:
         boxes: per object named by a box, ``scene.meta['boxes']``'s record with ``input_box`` (input pixels).
         warnings: poor or missing 3D fits of box objects (:func:`fit_warnings`).
         derender_ms: the de-render's wall time.
+        photo_cache: what the photo appearance computed from this scene alone, kept for its next edit
+            (:class:`~sdn3d.editing.photo.PhotoCache`: the pictures are the same bit for bit).
     """
 
     input: EditInput
@@ -152,6 +160,7 @@ class Derendered:
     boxes: list[dict]
     warnings: list[str]
     derender_ms: float
+    photo_cache: PhotoCache = field(default_factory=PhotoCache, repr=False)
 
 
 @dataclass
@@ -347,7 +356,7 @@ class EditSession:
         settings, scene = self.settings.compose, derendered.scene
         original = None
         if settings.mode == "edited":
-            original = torch.from_numpy(np.ascontiguousarray(derendered.input.picture)).permute(2, 0, 1)
+            original = derendered.input.original
         t0 = time.perf_counter()
         ids = edited_object_ids(scene.objects, edited_scene.objects)
         picture, region = compose_edit(settings, drawn["generated"], original, derendered.input.frame,
@@ -365,10 +374,10 @@ class EditSession:
                times: dict[str, float]) -> dict[str, Any]:
         """appearance=photo: :func:`~sdn3d.editing.photo.render_photo` at the input's resolution (``photo_ms``)."""
         settings = self.settings.photo
-        original = torch.from_numpy(np.ascontiguousarray(derendered.input.picture)).permute(2, 0, 1)
         t0 = time.perf_counter()
-        result = render_photo(original, derendered.input.frame, derendered.scene, edited_scene, settings=settings,
-                              recolor=paints(ops), generated=generated)
+        result = render_photo(derendered.input.original, derendered.input.frame, derendered.scene, edited_scene,
+                              settings=settings, recolor=paints(ops), generated=generated,
+                              cache=derendered.photo_cache)
         times["photo_ms"] = 1000 * (time.perf_counter() - t0)
         coded = [op for op in ops if isinstance(op, SetBackgroundCode) or (isinstance(op, SetCode)
                                                                           and op.color is None)]

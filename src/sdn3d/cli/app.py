@@ -1,0 +1,172 @@
+"""``sdn3d-app``: the browser editor. Open an image, click a car, drag it, turn it, recolour or delete it.
+
+Configuration ``conf/app.yaml``: every setting of ``sdn3d-edit`` (``conf/edit.yaml``: ``run=`` or the three
+``checkpoints.*``, ``data=... data.root=...`` for frames to pick, ``proposals``, ``photo.*``, ``threads``, ...) plus
+the server's own (``host``, default ``127.0.0.1``; ``port``; upload limits; ``output_dir``)::
+
+    sdn3d-app run=outputs/demo                      # prints http://127.0.0.1:8030/ ; Ctrl+C stops it
+    sdn3d-app run=outputs/demo proposals=boxes      # a real photo: draw a box around each car to edit
+    sdn3d-app run=outputs/demo data=synth data.root=outputs/demo/data
+
+The models load once; each image is de-rendered once (per set of drawn boxes); every interaction applies the
+page's whole spec to that scene and draws it (:class:`sdn3d.editing.session.EditSession`, as ``sdn3d-edit``). The
+page shows the YAML spec and the ``sdn3d-edit`` command line that reproduce its picture bit for bit; the command
+repeats this command line's overrides except the app's own keys (:data:`APP_KEYS`), ``output_dir`` and the input.
+docs/EDITOR.md describes the page.
+
+Exit status: 0 stopped (Ctrl+C); 2 bad settings (message on stderr naming the setting; nothing served).
+"""
+
+from __future__ import annotations
+
+import socket
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from sdn3d.cli._config import CONFIG_DIR, compose_config
+from sdn3d.cli._errors import run_cli
+from sdn3d.errors import InputError
+
+__all__ = ["main", "build_app", "bind", "APP_KEYS", "edit_overrides"]
+
+#: Settings of the app alone (``conf/app.yaml``'s own keys): not repeated on the ``sdn3d-edit`` command line.
+APP_KEYS = ("host", "port", "max_upload_bytes", "max_upload_pixels", "max_request_bytes", "max_sessions",
+            "open_browser")
+#: ``sdn3d-edit`` settings the app sets per image or refuses (the page chooses the image and writes the spec).
+PER_IMAGE_KEYS = ("input", "edits", "list", "entry", "frame_size", "output_dir", "overwrite")
+
+
+def edit_overrides(argv: Sequence[str]) -> list[str]:
+    """The overrides of an ``sdn3d-app`` command line that ``sdn3d-edit`` takes as they are (every one but the app's
+    own keys, the input, the spec and the output directory), in order."""
+    out = []
+    for arg in argv:
+        key = arg.split("=", 1)[0].lstrip("+~").split(".", 1)[0]
+        if key not in APP_KEYS and key not in PER_IMAGE_KEYS:
+            out.append(arg)
+    return out
+
+
+def _check_app_settings(cfg: Any, argv: Sequence[str]) -> None:
+    """Refuse the ``sdn3d-edit`` settings the page owns, and a bad host or port, naming the setting."""
+    given = sorted({a.split("=", 1)[0].lstrip("+~") for a in argv
+                    if a.split("=", 1)[0].lstrip("+~").split(".", 1)[0] in PER_IMAGE_KEYS[:5]})
+    if given:
+        raise InputError(f"{', '.join(given)}: sdn3d-app opens images and writes the spec on its page; give only the "
+                         "checkpoints and settings (conf/app.yaml)")
+    if not isinstance(cfg.host, str) or not cfg.host:
+        raise InputError(f"host must be an address to listen on (127.0.0.1: this machine only), got {cfg.host!r}")
+    port = cfg.port
+    if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 65535:
+        raise InputError(f"port must be an integer in [0, 65535] (0: a free one), got {port!r}")
+
+
+def build_app(cfg: Any, argv: Sequence[str]) -> tuple[Any, Any]:
+    """``(Starlette application, Editor)`` of a composed ``conf/app.yaml`` (``argv``: its overrides, which the
+    ``sdn3d-edit`` command lines repeat): the models loaded, the dataset's frames listed.
+
+    Raises:
+        UserInputError: a bad setting, checkpoint or dataset (named).
+    """
+    import torch
+
+    from sdn3d.app.editor import AppLimits, Editor
+    from sdn3d.app.server import allowed_hosts, create_app
+    from sdn3d.cli.edit import (
+        check_settings,
+        config_record,
+        load_models,
+        open_input,
+        resolve_checkpoints,
+        session_settings,
+    )
+    from sdn3d.editing.session import EditSession
+    from sdn3d.io import refuse_unsafe_output_dir
+
+    _check_app_settings(cfg, argv)
+    check_settings(cfg)
+    limits = AppLimits(max_upload_bytes=cfg.max_upload_bytes, max_upload_pixels=cfg.max_upload_pixels,
+                       max_request_bytes=cfg.max_request_bytes, max_sessions=cfg.max_sessions, max_ops=cfg.max_ops)
+    refuse_unsafe_output_dir(cfg.output_dir)
+    if cfg.threads is not None:
+        torch.set_num_threads(int(cfg.threads))
+    records = []
+    if cfg.get("data") is not None:
+        from sdn3d.data.sources import SourceConfig, read_source
+
+        records = read_source(SourceConfig.from_mapping(cfg.data))
+        if not records:
+            raise InputError(f"no frames found under data.root={cfg.data.root!r}")
+    checkpoints = resolve_checkpoints(cfg, records[0] if records else None)
+    models, code_bank = load_models(cfg, checkpoints)
+    settings = session_settings(cfg, checkpoints)
+    session = EditSession(models, code_bank, settings, cache_size=2 * limits.max_sessions)
+    passed = edit_overrides(argv)
+
+    def open_image(args: list[str], key: str) -> Any:
+        # the configuration sdn3d-edit composes from the command line the page shows: the same camera rules,
+        # the same reader, the same errors
+        return open_input(compose_config([*passed, *args], "edit"), None, key=key)[0]
+
+    editor = Editor(session, cfg.output_dir, open_image, [r.key for r in records], passed,
+                    {"checkpoints": checkpoints, "config": config_record(cfg)}, limits)
+    info = {"proposals": settings.proposals, "appearance": settings.appearance,
+            "box_objects": True, "dataset": cfg.data.root if records else None}
+    return create_app(editor, info, allowed_hosts(str(cfg.host))), editor
+
+
+def bind(host: str, port: int) -> socket.socket:
+    """A listening socket on ``host:port`` (port 0: a free one).
+
+    Raises:
+        InputError: the address cannot be used (in use, not this machine's), naming host and port.
+    """
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        sock.bind((host, port))
+        sock.listen(64)
+    except OSError as exc:
+        sock.close()
+        raise InputError(f"cannot listen on host={host} port={port}: {exc.strerror or exc} (give port=<another> or "
+                         "port=0 for a free one)") from None
+    return sock
+
+
+def _main(argv: list[str]) -> int:
+    import uvicorn
+
+    cfg = compose_config(argv, "app")
+    app, editor = build_app(cfg, argv)
+    sock = bind(str(cfg.host), int(cfg.port))
+    host, port = sock.getsockname()[:2]
+    shown = f"[{host}]" if ":" in host else host
+    url = f"http://{shown}:{port}/"
+    print(f"sdn3d-app: serving {url} (sessions in {editor.output_dir}; Ctrl+C stops)", flush=True)
+    if cfg.host not in ("127.0.0.1", "localhost", "::1"):
+        print(f"sdn3d-app: warning: host={cfg.host} makes the editor reachable from other machines; it has no login",
+              file=sys.stderr)
+    if cfg.open_browser:
+        import webbrowser
+
+        webbrowser.open(url)
+    server = uvicorn.Server(uvicorn.Config(app, log_level="warning", access_log=False, lifespan="off"))
+    server.run(sockets=[sock])
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Console entry point: ``sdn3d-app [overrides...]``; returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if any(a in ("-h", "--help") for a in argv):
+        print(__doc__)
+        print(Path(CONFIG_DIR, "app.yaml").read_text())
+        return 0
+    return run_cli("app", _main, argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

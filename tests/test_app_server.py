@@ -1,0 +1,227 @@
+"""sdn3d-app's HTTP interface and its safety (issue 30): it listens on 127.0.0.1 unless told, uploads are limited in
+bytes and pixels (decompression bombs refused as sdn3d-edit refuses them), only PNG and JPEG are taken, no request
+reaches the file system outside its session's directory, sessions never see each other's images, malformed requests
+get a 4xx with a JSON error while the server goes on serving, nothing is written outside the output directory and
+outputs are written atomically. Tiny random-weight checkpoints; the real Virtual KITTI frame (tests/data)."""
+
+from __future__ import annotations
+
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from faults.images import declared_size_png
+from helpers.app_server import REAL_FRAME_ARGS, checkpoint_args, json_request, request, serving
+from helpers.tiny_models import write_checkpoints
+from PIL import Image
+
+from sdn3d.cli._config import compose_config
+from sdn3d.cli.app import bind, edit_overrides, main
+from sdn3d.data.imageio import MAX_IMAGE_PIXELS
+
+BOXES = [{"box": [466, 203, 666, 333], "class": "Car"}, {"box": [704, 194, 917, 305], "class": "Car"}]
+
+
+@pytest.fixture(scope="module")
+def ckpts(tmp_path_factory):
+    return write_checkpoints(tmp_path_factory.mktemp("ckpt"))
+
+
+@pytest.fixture(scope="module")
+def server(ckpts, tmp_path_factory):
+    """``(base URL, Editor, output_dir)`` of a server with small limits (900 kB and 0.5 MP uploads, 4 kB requests)."""
+    out = tmp_path_factory.mktemp("app") / "out"
+    with serving([*checkpoint_args(ckpts), *REAL_FRAME_ARGS, f"output_dir={out}", "max_upload_bytes=900000",
+                  "max_upload_pixels=500000", "max_request_bytes=4096"]) as (base, editor):
+        yield base, editor, out
+
+
+def _png(array: np.ndarray) -> bytes:
+    buffer = io.BytesIO()
+    Image.fromarray(array).save(buffer, format="PNG")
+    return buffer.getvalue()
+
+
+def _small_frame(real_vkitti_frame: Path, size=(248, 75)) -> bytes:
+    """The real frame at a smaller size of the same aspect ratio (the Virtual KITTI camera applies)."""
+    return _png(np.asarray(Image.open(real_vkitti_frame).convert("RGB").resize(size)))
+
+
+def _open(base, data: bytes, query: str = ""):
+    return json_request(base, "POST", "/api/open" + query, data, content_type="image/png")
+
+
+def _error(status, answer, expected_status, *needles):
+    assert status == expected_status, (status, answer)
+    assert set(answer) == {"error"}, answer
+    for needle in needles:
+        assert needle in answer["error"], answer
+
+
+def test_the_server_listens_on_127_0_0_1_unless_told(ckpts, tmp_path):
+    cfg = compose_config([], "app")
+    assert cfg.host == "127.0.0.1"
+    sock = bind(cfg.host, 0)
+    try:
+        assert sock.getsockname()[0] == "127.0.0.1"
+    finally:
+        sock.close()
+    with serving([*checkpoint_args(ckpts), f"output_dir={tmp_path / 'out'}"]) as (base, _):
+        assert request(base, "GET", "/api/info")[0] == 200
+        # a page elsewhere reaching this server through a name of its own (DNS rebinding) is not answered
+        assert request(base, "GET", "/api/info", headers={"Host": "attacker.example"})[0] == 400
+    assert main([*checkpoint_args(ckpts), "host=", f"output_dir={tmp_path / 'b'}"]) == 2
+    assert main([*checkpoint_args(ckpts), "port=70000", f"output_dir={tmp_path / 'b'}"]) == 2
+    assert main([*checkpoint_args(ckpts), "input.image=x.png", f"output_dir={tmp_path / 'b'}"]) == 2
+
+
+def test_the_command_line_repeats_the_edit_settings_only():
+    argv = ["run=outputs/demo", "port=9", "host=0.0.0.0", "photo.fill=telea", "output_dir=/x", "threads=2",
+            "max_sessions=3", "data=synth", "data.root=/d"]
+    assert edit_overrides(argv) == ["run=outputs/demo", "photo.fill=telea", "threads=2", "data=synth", "data.root=/d"]
+
+
+def test_uploads_are_limited_in_bytes_and_pixels(server, real_vkitti_frame, tmp_path):
+    base, _, _ = server
+    _error(*_open(base, b"\x89PNG\r\n\x1a\n" + b"\0" * 1_000_000), 413, "more than the 900000")
+    # a few hundred bytes declaring 30 MP: refused from the header, before decoding (max_upload_pixels)
+    bomb = declared_size_png(tmp_path / "bomb.png", 6000, 5000).read_bytes()
+    assert len(bomb) < 1000
+    _error(*_open(base, bomb), 413, "6000x5000", "max_upload_pixels")
+    # beyond the project's reader limit (100 MP): sdn3d-edit's own refusal
+    huge = declared_size_png(tmp_path / "huge.png", 20000, 20000).read_bytes()
+    assert 20000 * 20000 > MAX_IMAGE_PIXELS
+    _error(*_open(base, huge), 422, "too large", "decompression bomb")
+    status, answer = _open(base, _small_frame(real_vkitti_frame))
+    assert status == 201, answer
+
+
+def test_only_png_and_jpeg_are_accepted(server, real_vkitti_frame):
+    base, _, _ = server
+    for data in (b"GIF89a" + b"\0" * 100, b"<html><script>alert(1)</script></html>", b"%PDF-1.4", b"BM" + b"\0" * 64):
+        _error(*_open(base, data), 415, "only PNG and JPEG")
+    _error(*_open(base, b"\x89PNG\r\n\x1a\n" + b"garbage" * 10), 422)  # PNG's signature, no PNG
+    jpeg = io.BytesIO()
+    Image.open(real_vkitti_frame).convert("RGB").resize((248, 75)).save(jpeg, format="JPEG")
+    assert _open(base, jpeg.getvalue())[0] == 201
+    # the camera rules of sdn3d-edit: another aspect ratio needs intrinsics, and then is accepted
+    odd = _png(np.zeros((100, 100, 3), np.uint8))
+    _error(*_open(base, odd), 422, "camera is unknown", "input.intrinsics")
+    assert _open(base, odd, "?fx=100&fy=100&cx=49.5&cy=49.5")[0] == 201
+
+
+def test_no_request_reaches_the_file_system(server, real_vkitti_frame):
+    base, editor, out = server
+    status, view = _open(base, _small_frame(real_vkitti_frame))
+    sid = view["sid"]
+    for path in ("/static/../../../../etc/passwd", "/static/%2e%2e%2f%2e%2e%2fetc%2fpasswd", "/static/editor.py",
+                 f"/api/s/{sid}/download/..%2finput.png", f"/api/s/{sid}/download/..%2F..%2F..%2Fetc%2Fpasswd",
+                 f"/api/s/{sid}/download/input.png", "/api/s/..%2F..%2Fetc/input.png",
+                 "/api/s/" + "A" * 22 + "/input.png", "/etc/passwd"):
+        status, _, body = request(base, "GET", path)
+        assert status == 404 and b"root:" not in body, path
+        assert "error" in json.loads(body), path
+    # what the browser sends is never a path: a colour name like one is refused by the spec's parser
+    status, answer = json_request(base, "POST", f"/api/s/{sid}/edit",
+                                  {"objects": BOXES[:1], "ops": [{"op": "recolor", "id": 12001,
+                                                                  "color": "../../etc/passwd"}]})
+    _error(status, answer, 422, "unknown colour")
+    assert not any(p.name == "passwd" for p in out.rglob("*"))
+
+
+def test_two_sessions_never_see_each_others_images(server, real_vkitti_frame):
+    base, editor, _ = server
+    first = _small_frame(real_vkitti_frame)
+    second = _png(255 - np.asarray(Image.open(io.BytesIO(first))))
+    a, b = _open(base, first)[1]["sid"], _open(base, second)[1]["sid"]
+    assert a != b and len(a) >= 22
+    pictures = {sid: np.asarray(Image.open(io.BytesIO(request(base, "GET", f"/api/s/{sid}/input.png")[2])))
+                for sid in (a, b)}
+    assert np.array_equal(pictures[a], np.asarray(Image.open(io.BytesIO(first))))
+    assert np.array_equal(pictures[b], np.asarray(Image.open(io.BytesIO(second))))
+    assert editor.get(a).directory != editor.get(b).directory
+    assert request(base, "DELETE", f"/api/s/{a}")[0] == 200
+    assert request(base, "GET", f"/api/s/{a}/input.png")[0] == 404 and not editor.sessions_dir.joinpath(a).exists()
+    assert request(base, "GET", f"/api/s/{b}/input.png")[0] == 200
+
+
+def test_malformed_requests_get_a_json_4xx_and_the_server_goes_on(server, real_vkitti_frame):
+    base, _, _ = server
+    sid = _open(base, real_vkitti_frame.read_bytes())[1]["sid"]
+    edit = f"/api/s/{sid}/edit"
+    bad = [("POST", edit, b"{not json", 400), ("POST", edit, b"\xff\xfe", 400), ("POST", edit, b"[" * 5000, 413),
+           ("POST", edit, b"[" * 2000 + b"]" * 2000, 400),
+           ("POST", edit, [1, 2], 422), ("POST", edit, {"ops": "delete everything"}, 422),
+           ("POST", edit, {"ops": [{"op": "move", "id": 12001, "to": [1e400, 0]}]}, 422),
+           ("POST", edit, {"ops": [{"op": "explode", "id": 12001}]}, 422),
+           ("POST", edit, {"ops": [{"op": "move", "id": 12001, "to": "here"}]}, 422),
+           ("POST", edit, {"ops": [{"op": "rotate", "id": 12001, "ry_deg": 45}]}, 422),  # no box: no object
+           ("POST", edit, {"objects": [{"box": [1, 2], "class": "Car"}], "ops": []}, 422),
+           ("POST", edit, {"ops": [{"op": "delete", "id": 2**70}]}, 422),
+           ("POST", edit, {"extra": 1}, 422), ("POST", "/api/open_frame", {"frame": 0}, 400),
+           ("POST", "/api/open_frame", {"frame": "../x"}, 400), ("POST", "/api/open", b"", 400),
+           ("POST", "/api/open?fx=abc", b"\x89PNG\r\n\x1a\n", 400), ("GET", "/api/nothing", None, 404),
+           ("PUT", "/api/info", b"", 405), ("GET", f"/api/s/{sid}/labels.png", None, 409)]
+    for method, path, body, expected in bad:
+        status, _, data = request(base, method, path, body)
+        assert status == expected, (method, path, body, status, data[:200])
+        assert "error" in json.loads(data)
+    assert request(base, "GET", "/api/info")[0] == 200
+    status, view = json_request(base, "POST", edit, {"objects": BOXES, "ops": [{"op": "delete", "id": 12002}]})
+    assert status == 200 and [o["id"] for o in view["objects"]] == [12001]
+
+
+def test_nothing_is_written_outside_the_output_directory(ckpts, real_vkitti_frame, tmp_path, monkeypatch):
+    work = tmp_path / "work"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    out = tmp_path / "out"
+    before = {p for p in tmp_path.rglob("*")}
+    with serving([*checkpoint_args(ckpts), *REAL_FRAME_ARGS, f"output_dir={out}"]) as (base, _):
+        sid = _open(base, real_vkitti_frame.read_bytes())[1]["sid"]
+        ops = [{"op": "rotate", "id": 12001, "ry_deg": 30}, {"op": "delete", "id": 12002}]
+        assert json_request(base, "POST", f"/api/s/{sid}/edit", {"objects": BOXES, "ops": ops})[0] == 200
+        for name in ("edited.png", "edit.json", "edited_scene.glb", "spec.yaml", "command.txt"):
+            assert request(base, "GET", f"/api/s/{sid}/download/{name}")[0] == 200
+    new = {p for p in tmp_path.rglob("*")} - before
+    assert new and all(p == out or out in p.parents for p in new), sorted(map(str, new - {out}))
+    assert not list(work.iterdir())
+
+
+def test_downloads_are_written_atomically(server, real_vkitti_frame, monkeypatch):
+    """A download whose writing fails leaves the previous file whole and no partial file behind."""
+    import PIL.Image
+
+    base, editor, _ = server
+    sid = _open(base, _small_frame(real_vkitti_frame))[1]["sid"]
+    assert request(base, "GET", f"/api/s/{sid}/download/edited.png")[0] == 200
+    path = editor.get(sid).directory / "edited.png"
+    first = path.read_bytes()
+    small_box = [{"box": [93, 40, 133, 67], "class": "Car"}]  # the near car, in the 248x75 frame's pixels
+    status, view = json_request(base, "POST", f"/api/s/{sid}/edit",
+                                {"objects": small_box, "ops": [{"op": "delete", "id": 12001}]})
+    assert status == 200, view
+
+    def fail(self, handle, *args, **kwargs):
+        handle.write(b"\x89PNG partial")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(PIL.Image.Image, "save", fail)
+    status, _, body = request(base, "GET", f"/api/s/{sid}/download/edited.png")
+    assert status == 500 and "internal error" in json.loads(body)["error"]
+    assert path.read_bytes() == first
+    assert not [p for p in path.parent.iterdir() if p.name.endswith(".tmp")]
+    monkeypatch.undo()
+    assert request(base, "GET", "/api/info")[0] == 200  # still serving
+
+
+def test_sessions_beyond_the_limit_close_the_least_recently_used(ckpts, real_vkitti_frame, tmp_path):
+    with serving([*checkpoint_args(ckpts), *REAL_FRAME_ARGS, f"output_dir={tmp_path / 'out'}",
+                  "max_sessions=2"]) as (base, editor):
+        data = _small_frame(real_vkitti_frame)
+        sids = [_open(base, data)[1]["sid"] for _ in range(3)]
+        assert request(base, "GET", f"/api/s/{sids[0]}/input.png")[0] == 404
+        assert all(request(base, "GET", f"/api/s/{s}/input.png")[0] == 200 for s in sids[1:])
+        assert sorted(p.name for p in editor.sessions_dir.iterdir()) == sorted(sids[1:])

@@ -431,7 +431,7 @@ class Editor:
                 "input": {"name": Path(inp.name).name, "width": inp.input_size[0], "height": inp.input_size[1]},
                 "working_size": [inp.intrinsics.width, inp.intrinsics.height],
                 "camera": {"fx": camera.fx, "fy": camera.fy, "cx": camera.cx, "cy": camera.cy},
-                "objects": scene_objects(found.scene, inp) if found.scene is not None else None,
+                "objects": scene_objects(found.scene, inp) if found.scene is not None else [],
                 "classes": [{"id": c.id, "name": c.name, "color": list(c.color), "thing": c.has_instances}
                             for c in (found.scene.class_list if found.scene is not None else ())],
                 "present_classes": (found.scene.semantic.unique().tolist() if found.scene is not None else []),

@@ -433,14 +433,14 @@ canvas.addEventListener("keydown", (event) => {
   const obj = app.selected === null ? null : objectById(app.selected);
   if (event.key === "Escape") { app.selected = null; panel(); draw(); return; }
   if (!obj) return;
-  const step = event.shiftKey ? 15 : 5;
-  if (event.key === "Delete" || event.key === "Backspace") act({ op: "delete", id: obj.id });
+  const step = event.shiftKey ? 15 : 5, key = event.key.length === 1 ? event.key.toLowerCase() : event.key;
+  if (key === "Delete" || key === "Backspace") act({ op: "delete", id: obj.id });
   else if (!obj.geometry) return;
-  else if (event.key === "q" || event.key === "ArrowLeft") turn(obj.id, step);
-  else if (event.key === "e" || event.key === "ArrowRight") turn(obj.id, -step);
-  else if (event.key === "d") duplicate(obj);
-  else if (event.key === "+" || event.key === "=" || event.key === "ArrowUp") zoomTo(obj, obj.distance_m / 1.1);
-  else if (event.key === "-" || event.key === "ArrowDown") zoomTo(obj, obj.distance_m * 1.1);
+  else if (key === "q" || key === "ArrowLeft") turn(obj.id, step);
+  else if (key === "e" || key === "ArrowRight") turn(obj.id, -step);
+  else if (key === "d") duplicate(obj);
+  else if (key === "+" || key === "=" || key === "ArrowUp") zoomTo(obj, obj.distance_m / 1.1);
+  else if (key === "-" || key === "_" || key === "ArrowDown") zoomTo(obj, obj.distance_m * 1.1);
   else return;
   event.preventDefault();
 });

@@ -9,6 +9,7 @@
 #                moving-average REINFORCE baseline with 4 samples)
 #   seed 0:      deep3dbox, full_quaternion, no_tau, single_cad, and each issue-29 change reverted on its own
 #                (variant=soft_silhouette, variant=moving_average)
+# SET=core runs 10 of them: full and no_reproj at seeds 0 1 2, before, full_quaternion, no_tau, single_cad at seed 0.
 # OUT_DIR gets: runs.jsonl (every run's summary), table2.md / table2.json, logs.txt (the end of each run's log),
 # device.txt, timing.txt. Environment: PYTHON (python3), MAX_TIME (each run's trainer.max_time, 00:00:06:30),
 # SYNTH_FRAMES (frames per sequence, 20), SYNTH_WORKERS (16), TRAINER (gpu), TABLE2_EXTRA (more overrides for
@@ -42,16 +43,28 @@ run() {  # run NAME ABLATION VARIANT SEED [OVERRIDE ...]
       summary_file="$RUNS/summary.jsonl" hydra.run.dir="$RUNS/$name" ${variant:+variant=$variant} "$@" \
       ${TABLE2_EXTRA:-} > "$RUNS/$name.log" 2>&1 &
 }
-for seed in 0 1 2; do
-  run "full_s$seed" full "" "$seed"
-  run "no_reproj_s$seed" no_reproj "" "$seed"
-  run "before_s$seed" full before "$seed" model.reproj_silhouette=soft model.baseline=moving_average
-done
-for ablation in deep3dbox full_quaternion no_tau single_cad; do
-  run "${ablation}_s0" "$ablation" "" 0
-done
-run soft_silhouette_s0 full soft_silhouette 0 model.reproj_silhouette=soft
-run moving_average_s0 full moving_average 0 model.baseline=moving_average
+BEFORE=(model.reproj_silhouette=soft model.baseline=moving_average)
+if [ "${SET:-all}" = core ]; then  # what fits a shorter lease: 10 runs
+  for seed in 0 1 2; do
+    run "full_s$seed" full "" "$seed"
+    run "no_reproj_s$seed" no_reproj "" "$seed"
+  done
+  run before_s0 full before 0 "${BEFORE[@]}"
+  for ablation in full_quaternion no_tau single_cad; do
+    run "${ablation}_s0" "$ablation" "" 0
+  done
+else
+  for seed in 0 1 2; do
+    run "full_s$seed" full "" "$seed"
+    run "no_reproj_s$seed" no_reproj "" "$seed"
+    run "before_s$seed" full before "$seed" "${BEFORE[@]}"
+  done
+  for ablation in deep3dbox full_quaternion no_tau single_cad; do
+    run "${ablation}_s0" "$ablation" "" 0
+  done
+  run soft_silhouette_s0 full soft_silhouette 0 model.reproj_silhouette=soft
+  run moving_average_s0 full moving_average 0 model.baseline=moving_average
+fi
 wait
 echo "runs: $((SECONDS - start)) s" | tee -a "$OUT/timing.txt"
 cp "$RUNS/summary.jsonl" "$OUT/runs.jsonl"

@@ -424,9 +424,10 @@ class GeometricModule(BranchModule):
 
     def _update_refined(self, batch: Mapping[str, Any]) -> None:
         """The test figures after the paper's per-image fit (Adam 0.03 x 16 on L_reproj; 3D-SDN on Cityscapes)."""
-        # Lightning tests under inference mode, whose tensors autograd refuses: the fit runs outside it, on copies.
-        with torch.inference_mode(False):
-            inputs = {k: batch[k].clone() for k in ("crop", "box", "intrinsics", "crop_intrinsics", "mask", "ignore",
+        # Lightning tests under inference mode, whose tensors autograd refuses: the fit runs outside it, on copies,
+        # and in float32 (not under a mixed-precision autocast).
+        with torch.inference_mode(False), torch.autocast(batch["crop"].device.type, enabled=False):
+            inputs = {k: batch[k].clone().float() for k in ("crop", "box", "intrinsics", "crop_intrinsics", "mask", "ignore",
                                                      "crop_box")}
             with torch.no_grad():
                 raw = {k: v.clone() for k, v in self.net(inputs["crop"], inputs["box"], inputs["intrinsics"]).items()}

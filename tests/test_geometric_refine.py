@@ -151,3 +151,13 @@ def test_refinement_with_occluder_masks_fits_the_car_behind():
     uv_true = project_points(center[1:], K[1:])
     err = {k: float((project_points(r.pred["center"], K[1:]) - uv_true).norm()) for k, r in fit.items()}
     assert err["ignore"] < err["plain"], err
+
+
+def test_refinement_of_half_precision_outputs_runs_in_float32(scene):
+    """Mixed-precision inference hands over float16 outputs; Adam on float16 leaves made a zero gradient 0 / 0
+    (its eps underflows) and the fit NaN (Table 2's test-time fit on a GPU, 2026-11-26)."""
+    half = {k: v.half() for k, v in scene["raw"].items()}
+    result = refine_by_reprojection(half, scene["box"], scene["intr"], scene["crop_intr"], scene["mask"],
+                                    bank=scene["bank"], settings=RefineSettings(iterations=4))
+    assert all(v.dtype == torch.float32 and bool(torch.isfinite(v).all()) for v in result.raw.values())
+    assert bool(torch.isfinite(result.losses).all())

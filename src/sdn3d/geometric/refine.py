@@ -94,7 +94,8 @@ def refine_by_reprojection(
     """Refine predicted attributes of ``N`` objects so their silhouettes match their masks.
 
     Args:
-        raw: :class:`~sdn3d.geometric.model.GeometricNet` outputs (not modified).
+        raw: :class:`~sdn3d.geometric.model.GeometricNet` outputs (not modified; any float dtype: the fit runs in
+            float32).
         box: ``(N, 4)`` 2D boxes in image pixels; intrinsics: ``(N, 4)`` image ``(fx, fy, cx, cy)``.
         crop_intrinsics: ``(N, 4)`` intrinsics of each ``S x S`` crop.
         mask: ``(N, 1, S, S)`` visible instance masks in the crops.
@@ -119,7 +120,9 @@ def refine_by_reprojection(
     K = as_intrinsics_matrix(intrinsics, n)
     crop_K = as_intrinsics_matrix(crop_intrinsics, n)
     sil_settings = SoftSilhouetteSettings((size, size), sigma=settings.sigma)
-    fixed = {k: v.detach() for k, v in raw.items()}
+    # Float32 whatever the network ran in: Adam on half-precision leaves turns a zero gradient into 0 / 0 (its eps
+    # underflows), and mixed-precision inference hands over half-precision outputs.
+    fixed = {k: v.detach().float() if v.is_floating_point() else v.detach() for k, v in raw.items()}
     with torch.no_grad():
         template_ids = decode_outputs(fixed, box, K, encoding, templates)["template_id"]
     free = {k: fixed[k].clone().requires_grad_(True) for k in settings.params if k != "phi"}

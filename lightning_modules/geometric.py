@@ -427,8 +427,8 @@ class GeometricModule(BranchModule):
         # Lightning tests under inference mode, whose tensors autograd refuses: the fit runs outside it, on copies,
         # and in float32 (not under a mixed-precision autocast).
         with torch.inference_mode(False), torch.autocast(batch["crop"].device.type, enabled=False):
-            inputs = {k: batch[k].clone().float() for k in ("crop", "box", "intrinsics", "crop_intrinsics", "mask", "ignore",
-                                                     "crop_box")}
+            inputs = {k: batch[k].clone().float()
+                      for k in ("crop", "box", "intrinsics", "crop_intrinsics", "mask", "ignore", "crop_box")}
             with torch.no_grad():
                 raw = {k: v.clone() for k, v in self.net(inputs["crop"], inputs["box"], inputs["intrinsics"]).items()}
             refined = refine_by_reprojection(raw, inputs["box"], inputs["intrinsics"], inputs["crop_intrinsics"],

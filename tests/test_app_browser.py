@@ -12,6 +12,7 @@ import io
 import math
 import os
 import shlex
+import time
 
 import numpy as np
 import pytest
@@ -86,6 +87,15 @@ def test_click_drag_turn_delete_undo_download_and_reproduce(page, real_vkitti_fr
     before = browser.objects()
     assert sorted(before) == [12001, 12002] and all(o["geometry"] for o in before.values()), browser.errors()
     assert len(browser.state()["objects"]) == 2
+
+    browser.click_element("show-labels")  # the semantic map's classes over the picture, with a legend
+    browser.js("const c = document.getElementById('compare'); c.value = 50; c.dispatchEvent(new Event('input'))")
+    deadline = time.monotonic() + 20
+    while not browser.js("return window.sdn3dApp.labels !== null") and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert browser.driver.find_element(browser.by.ID, "legend").text != "" and browser.errors() == []
+    browser.click_element("show-labels")
+    browser.js("const c = document.getElementById('compare'); c.value = 0; c.dispatchEvent(new Event('input'))")
 
     car, other = before[12001], before[12002]
     browser.click(*car["centre"])

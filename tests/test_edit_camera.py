@@ -242,6 +242,25 @@ def test_low_quality_semantic_branch_is_said(ckpts, tiny_synth, tmp_path, capsys
     assert not any("recorded" in w for w in json.loads((out / "edit.json").read_text())["warnings"])
 
 
+def test_low_quality_warning_names_the_real_cause_by_the_input(ckpts, tiny_synth, tmp_path, capsys):
+    """sdn3d-edit tells the warning what the input is: a photo from elsewhere needs other weights; a frame of the
+    data the run trained on means the branch itself is weak."""
+    rgb = vkitti1.load_rgb(vkitti1.read_frames(tiny_synth)[4])
+    Image.fromarray(np.ascontiguousarray(rgb)).resize((414, 125)).save(tmp_path / "vk.png")
+    (tmp_path / "ops.yaml").write_text(SKY)
+    ckpt = _semantic_run(tmp_path, ckpts, {"val/pq": 0.04, "val/pq_car": 0.05})
+    (ckpt.parent.parent / "config.yaml").write_text(f"data:\n  kind: vkitti1\n  root: {tiny_synth}\n")
+    assert main(_args(ckpts, tmp_path / "vk.png", tmp_path / "photo", f"checkpoints.semantic={ckpt}")) == 0
+    err = capsys.readouterr().err
+    assert "this input is not from the data the run trained on" in err and "real photos need" in err
+    assert main(["data=synth", f"data.root={tiny_synth}", "data.image_size=[80,32]", f"input.frame={FRAME}",
+                 f"edits={tmp_path / 'ops.yaml'}", *(f"checkpoints.{k}={v}" for k, v in ckpts.items()),
+                 f"checkpoints.semantic={ckpt}", "geometric.crop_size=32", "proposals=semantic",
+                 "appearance=generator", f"output_dir={tmp_path / 'frame'}"]) == 0
+    err = capsys.readouterr().err
+    assert "this input is from the data the run trained on" in err and "real photos need" not in err
+
+
 def test_dataset_ground_truth_proposals_give_no_warning(tiny_synth, ckpts, tmp_path, capsys):
     ckpt = _semantic_run(tmp_path, ckpts, {"val/pq": 0.01})
     (tmp_path / "ops.yaml").write_text(SKY)

@@ -410,7 +410,9 @@ def trust_warnings(cfg: Any, record: Any, checkpoints: dict[str, dict | None], s
     path, metrics = _semantic_metrics(checkpoints)
     masks = scene.objects.mask
     coverage = float(masks.any(0).float().mean()) if len(masks) else 0.0
-    return quality_warnings(metrics, coverage, str(path) if path is not None else "")
+    # What the image is: a frame of the dataset given (its root), or a file; the warning names the real cause by it.
+    source = cfg.data.root if record is not None else cfg.input.image
+    return quality_warnings(metrics, coverage, str(path) if path is not None else "", input_path=source)
 
 
 def _semantic_metrics(checkpoints: dict[str, dict | None]) -> tuple[Path | None, dict | None]:

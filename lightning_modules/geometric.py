@@ -339,7 +339,8 @@ class GeometricModule(BranchModule):
 
         Returns the :func:`~sdn3d.geometric.decode.decode_outputs` dict (``template_id (N,)``,
         ``template_probs (N, T)``, ``phi (N, 64, 3)``, ``dims (N, 3)``, ``ry (N,)``, ``center (N, 3)``, ...)
-        plus ``rot (N, 4)`` for the orientation metric; logs ``<stage>/loss_pred``.
+        plus ``rot (N, 4)`` for the orientation metric and ``raw``, the net's outputs (the test-time fit starts
+        from them; a baseline's dict without them is not refined); logs ``<stage>/loss_pred``.
         """
         raw = self.net(batch["crop"], batch["box"], batch["intrinsics"])
         terms = prediction_losses(raw, batch["targets"], self.encoding.rotation, self.hparams.regression)
@@ -347,6 +348,7 @@ class GeometricModule(BranchModule):
                  batch_size=batch["crop"].shape[0], sync_dist=True)
         pred = decode_outputs(raw, batch["box"], batch["intrinsics"], self.encoding, self.net.templates)
         pred["rot"] = predicted_rotation(raw["rotation"], pred["ry"], self.encoding.rotation)
+        pred["raw"] = raw
         return pred
 
     @torch.no_grad()
@@ -361,10 +363,8 @@ class GeometricModule(BranchModule):
                                  batch["crop_intrinsics"], self.soft_settings(size))
         image_error = None
         if self.image_size is not None:
-            window_sil = window_silhouettes(bank, pred["template_id"], pred["dims"], pred["ry"], pred["center"],
-                                            pred["phi"], batch["intrinsics"], batch["crop_box"], self.image_size)
-            image_error = image_reprojection_error(window_sil, batch["mask"], batch["ignore"], batch["crop_box"],
-                                                   self.image_size)
+            image_error = self._image_errors(batch, pred["template_id"], pred["dims"], pred["ry"], pred["center"],
+                                             pred["phi"])
         metrics = self.metrics[stage]
         metrics.update(pred, batch, sil, ignore, image_error)
         if stage == "test":
@@ -374,10 +374,10 @@ class GeometricModule(BranchModule):
             at_truth = template_reprojection_errors(bank, batch["dims"], batch["ry"], batch["center"], None,
                                                     batch["crop_intrinsics"], batch["mask"], ignore, settings)
             metrics.update_selection(pred["template_id"], at_prediction, at_truth, batch["template_id"])
-            if self.image_size is not None:
-                self._update_decomposition(batch, pred)
-                if self.hparams.get("test_refine") and isinstance(self.net, GeometricNet):
-                    self._update_refined(batch)
+            if image_error is not None:
+                self._update_decomposition(batch, pred, image_error)
+                if self.hparams.get("test_refine") and "raw" in pred:
+                    self._update_refined(batch, pred["raw"])
         stats = self._template_stats.setdefault(stage, [])
         stats.append(torch.cat([pred["template_probs"], pred["template_id"].unsqueeze(1).float()], 1).cpu())
         if batch_idx == 0:
@@ -396,9 +396,10 @@ class GeometricModule(BranchModule):
                      "truth_pose_true_template")
 
     @torch.no_grad()
-    def _update_decomposition(self, batch: Mapping[str, Any], pred: Mapping[str, Tensor]) -> None:
+    def _update_decomposition(self, batch: Mapping[str, Any], pred: Mapping[str, Tensor], predicted: Tensor) -> None:
         """Score the predicted pose with other meshes and FFDs, and the true pose (the floor): where the test
-        reprojection error comes from (issue 29). Each entry of :attr:`DECOMPOSITION` gets ``(N,)`` errors."""
+        reprojection error comes from (issue 29). Each entry of :attr:`DECOMPOSITION` gets ``(N,)`` errors;
+        ``predicted`` is the prediction's own ``(N,)`` (:meth:`_image_errors`, already computed for the metrics)."""
         known = batch["template_id"] >= 0
         if not bool(known.any()):
             return
@@ -409,7 +410,7 @@ class GeometricModule(BranchModule):
         truth = batch["template_id"]
         sedan = torch.full_like(truth, TEMPLATE_NAMES.index("sedan"))
         errors = {
-            "predicted": self._image_errors(batch, pred["template_id"], dims, ry, center, phi),
+            "predicted": predicted[known],
             "chosen_no_ffd": self._image_errors(batch, pred["template_id"], dims, ry, center, zero),
             "sedan": self._image_errors(batch, sedan, dims, ry, center, phi),
             "true_template": self._image_errors(batch, truth, dims, ry, center, phi),
@@ -422,15 +423,15 @@ class GeometricModule(BranchModule):
         for name, value in errors.items():
             self._decomposition.setdefault(name, []).append(value.detach().float().cpu())
 
-    def _update_refined(self, batch: Mapping[str, Any]) -> None:
-        """The test figures after the paper's per-image fit (Adam 0.03 x 16 on L_reproj; 3D-SDN on Cityscapes)."""
-        # Lightning tests under inference mode, whose tensors autograd refuses: the fit runs outside it, on copies,
-        # and in float32 (not under a mixed-precision autocast).
+    def _update_refined(self, batch: Mapping[str, Any], raw: Mapping[str, Tensor]) -> None:
+        """The test figures after the paper's per-image fit (Adam 0.03 x 16 on L_reproj; 3D-SDN on Cityscapes),
+        started from the net's outputs ``raw`` of :meth:`decode_batch`."""
+        # Lightning tests under inference mode, whose tensors autograd refuses: the fit runs outside it, on copies
+        # (the fit itself runs in float32), and not under a mixed-precision autocast.
         with torch.inference_mode(False), torch.autocast(batch["crop"].device.type, enabled=False):
             inputs = {k: batch[k].clone().float()
-                      for k in ("crop", "box", "intrinsics", "crop_intrinsics", "mask", "ignore", "crop_box")}
-            with torch.no_grad():
-                raw = {k: v.clone() for k, v in self.net(inputs["crop"], inputs["box"], inputs["intrinsics"]).items()}
+                      for k in ("box", "intrinsics", "crop_intrinsics", "mask", "ignore", "crop_box")}
+            raw = {k: v.clone() for k, v in raw.items()}
             refined = refine_by_reprojection(raw, inputs["box"], inputs["intrinsics"], inputs["crop_intrinsics"],
                                              inputs["mask"], inputs["ignore"], encoding=self.encoding,
                                              templates=self.net.templates, bank=self.bank(batch["crop"].device),

@@ -367,10 +367,10 @@ def paired_differences(rows: Sequence[Mapping[str, Any]], runs: Mapping[str, Seq
     for row in rows:
         if row["key"] == "full" or row["status"] != "ok":
             continue
-        mine = runs.get(row["key"]) if row["key"] != REFINED_KEY else [_refined_record(r) for r in full]
+        mine = runs.get(row["key"], [])
         entry: dict[str, Any] = {"key": row["key"], "label": row["label"], "differences": {}}
         for column in ATTRIBUTE_COLUMNS:
-            theirs, ours = _by_seed(mine or [], column.key), _by_seed(full, column.key)
+            theirs, ours = _by_seed(mine, column.key), _by_seed(full, column.key)
             seeds = sorted(set(theirs) & set(ours), key=str)
             if not seeds:
                 continue
@@ -422,7 +422,7 @@ def build_table(groups: Mapping[str | None, Mapping[str, list[Mapping[str, Any]]
         experiment: the experiment whose runs fill the table (:func:`choose_experiment`).
         configs: run directory -> :func:`_run_config` (frame and crop sizes for the headers).
     """
-    runs = groups.get(experiment, {})
+    runs = dict(groups.get(experiment, {}))
     columns = (*ATTRIBUTE_COLUMNS, *MESH_COLUMNS)
     rows = []
     for key, label in ROWS:
@@ -431,7 +431,8 @@ def build_table(groups: Mapping[str | None, Mapping[str, list[Mapping[str, Any]]
             rows.append(_row(variant, f"{label}, {variant.split(':', 1)[1]}", runs[variant], columns))
         if key == "full":
             refined = [_refined_record(r) for r in runs.get("full", []) if r.get("status") == "ok"]
-            if any(r["metrics"] for r in refined):
+            if any(r["metrics"] for r in refined):  # a row of its own, paired with full like any other
+                runs[REFINED_KEY] = refined
                 rows.append(_row(REFINED_KEY, REFINED_LABEL, refined, columns))
     sizes = _sizes(rows, configs or {})
     warnings = [f"{row['label']}: {row['warning']}" for row in rows if "warning" in row]

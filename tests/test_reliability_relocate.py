@@ -19,37 +19,20 @@ from pathlib import Path
 
 import pytest
 import torch
-from hydra import compose, initialize_config_dir
+from helpers.tiny_training import resume, train_tiny
 from omegaconf import OmegaConf
 
-from lightning_modules.train import resolve_resume, run_training
+from lightning_modules.train import resolve_resume
 from sdn3d.errors import UserInputError
 from sdn3d.runs import find_run_checkpoints
-
-REPO = Path(__file__).resolve().parents[1]
-TRAIN = ["branch=semantic", "experiment=demo", "data.image_size=[160,64]", "trainer.limit_train_batches=1",
-         "trainer.limit_val_batches=1", "trainer.limit_test_batches=1", "trainer.enable_progress_bar=false",
-         "~callbacks.progress_bar", "logger=csv", "datamodule.batch_size=2"]
-
-
-def _compose(overrides: list[str]):
-    with initialize_config_dir(config_dir=str(REPO / "conf"), version_base="1.3"):
-        return compose("train", overrides=overrides)
 
 
 @pytest.fixture(scope="module")
 def trained(tiny_synth, tmp_path_factory) -> Path:
     """A finished run (status ok, 2 of 2 epochs, tested) with its inference export and CSV logs."""
     run_dir = tmp_path_factory.mktemp("trained") / "run"
-    overrides = [*TRAIN, f"data.root={tiny_synth}", f"run_dir={run_dir}",
-                 f"summary_file={run_dir.parent / 'summary.jsonl'}", "trainer.max_epochs=2"]
-    assert run_training(_compose(overrides), overrides)["status"] == "ok"
+    assert train_tiny(tiny_synth, run_dir)["status"] == "ok"
     return run_dir
-
-
-def _resume(run: Path, *extra: str) -> dict:
-    overrides = [f"resume={run}", f"summary_file={run.parent / 'summary.jsonl'}", *extra]
-    return run_training(_compose(overrides), overrides)
 
 
 def test_the_saved_config_refers_to_the_run_directory(trained):
@@ -66,7 +49,7 @@ def test_a_copied_run_resumes_into_itself_with_the_original_deleted(trained, tmp
     saved.write_text(saved.read_text().replace(str(trained), str(original)))
     shutil.copytree(original, copy)
     shutil.rmtree(original)
-    summary = _resume(copy, "trainer.max_epochs=3")
+    summary = resume(copy, "trainer.max_epochs=3")
     assert not original.exists()  # nothing written where the run was trained
     assert summary["status"] == "ok" and summary["epoch"] == 3 and summary["run_dir"] == str(copy.resolve())
     for key in ("best_ckpt", "last_ckpt"):
@@ -96,7 +79,7 @@ def test_run_on_a_copy_loads_the_copys_files_not_the_originals(trained, tmp_path
     assert chosen["semantic"]["path"] == str((copy / "checkpoints" / "inference.pt").resolve())
 
 
-def test_a_run_saved_with_absolute_paths_is_rebased_on_resume(trained, tmp_path):
+def test_a_run_saved_with_absolute_paths_is_rebased_onresume(trained, tmp_path):
     """A config.yaml written before runs were relocatable: every path resolved, under the run_dir it trained in."""
     run = tmp_path / "moved"
     shutil.copytree(trained, run)

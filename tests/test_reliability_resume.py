@@ -22,31 +22,21 @@ from pathlib import Path
 
 import pytest
 import torch
-from hydra import compose, initialize_config_dir
+from helpers.tiny_training import TINY_SEMANTIC, compose_train, resume, train_tiny
 from omegaconf import OmegaConf
 
 from lightning_modules.train import TrainingError, resolve_resume, run_training
 from sdn3d.errors import UserInputError
 from sdn3d.runs import find_run_checkpoints
 
-REPO = Path(__file__).resolve().parents[1]
-TRAIN = ["branch=semantic", "experiment=demo", "data.image_size=[160,64]", "trainer.limit_train_batches=1",
-         "trainer.limit_val_batches=1", "trainer.limit_test_batches=1", "trainer.enable_progress_bar=false",
-         "~callbacks.progress_bar", "logger=csv", "datamodule.batch_size=2", "test_after_fit=false"]
-
-
-def _compose(overrides: list[str]):
-    with initialize_config_dir(config_dir=str(REPO / "conf"), version_base="1.3"):
-        return compose("train", overrides=overrides)
+TRAIN = [*TINY_SEMANTIC, "test_after_fit=false"]
 
 
 @pytest.fixture(scope="module")
 def trained(tiny_synth, tmp_path_factory) -> Path:
     """A finished run (status ok, 2 of 2 epochs) with its inference export."""
     run_dir = tmp_path_factory.mktemp("trained") / "run"
-    overrides = [*TRAIN, f"data.root={tiny_synth}", f"run_dir={run_dir}",
-                 f"summary_file={run_dir.parent / 'summary.jsonl'}", "trainer.max_epochs=2"]
-    assert run_training(_compose(overrides), overrides)["status"] == "ok"
+    assert train_tiny(tiny_synth, run_dir, "test_after_fit=false")["status"] == "ok"
     assert (run_dir / "checkpoints" / "inference.pt").is_file()
     return run_dir
 
@@ -55,11 +45,6 @@ def _copy(trained: Path, tmp_path: Path) -> Path:
     run = tmp_path / "run"
     shutil.copytree(trained, run)
     return run
-
-
-def _resume(run: Path, *extra: str) -> dict:
-    overrides = [f"resume={run}", f"summary_file={run.parent / 'summary.jsonl'}", *extra]
-    return run_training(_compose(overrides), overrides)
 
 
 def _files(run: Path) -> dict[str, str]:
@@ -74,7 +59,7 @@ def test_a_smaller_budget_than_trained_is_refused_before_anything_is_written(tra
     before = _files(run)
     with pytest.raises(TrainingError, match=rf"last\.ckpt' has trained 2 epoch\(s\), 2 optimiser step\(s\): "
                                             rf"{budget} is less than that"):
-        _resume(run, budget)
+        resume(run, budget)
     assert _files(run) == before and not (tmp_path / "summary.jsonl").exists()
     assert issubclass(TrainingError, UserInputError)  # sdn3d-train: one line, exit 2
 
@@ -85,14 +70,14 @@ def test_an_inference_export_is_refused_where_a_training_checkpoint_is_needed(tr
     before = _files(run)
     with pytest.raises(TrainingError, match=r"its checkpoint .*last\.ckpt' is an sdn3d inference export .*training "
                                             r"can only continue from a Lightning training checkpoint"):
-        _resume(run, "trainer.max_epochs=3")
+        resume(run, "trainer.max_epochs=3")
     assert _files(run) == before
     # ckpt_path= an export, into a new run: refused before the run directory is made
     new = tmp_path / "new"
     overrides = [*TRAIN, f"data.root={tmp_path}", f"run_dir={new}", f"summary_file={tmp_path / 'summary.jsonl'}",
                  f"ckpt_path={trained / 'checkpoints' / 'inference.pt'}", "trainer.max_epochs=3"]
     with pytest.raises(TrainingError, match=r"ckpt_path '.*inference\.pt' is an sdn3d inference export"):
-        run_training(_compose(overrides), overrides)
+        run_training(compose_train(overrides), overrides)
     assert not new.exists() and not (tmp_path / "summary.jsonl").exists()
     # ...and another branch's training checkpoint
     other = torch.load(trained / "checkpoints" / "last.ckpt", map_location="cpu", weights_only=True)
@@ -100,7 +85,7 @@ def test_an_inference_export_is_refused_where_a_training_checkpoint_is_needed(tr
     torch.save(other, tmp_path / "textural.ckpt")
     overrides[-2] = f"ckpt_path={tmp_path / 'textural.ckpt'}"
     with pytest.raises(TrainingError, match=r"textural\.ckpt' holds the textural branch's weights, not the semantic"):
-        run_training(_compose(overrides), overrides)
+        run_training(compose_train(overrides), overrides)
     assert not new.exists()
 
 
@@ -109,7 +94,7 @@ def test_resuming_a_finished_run_without_a_larger_budget_changes_nothing(trained
     before = _files(run)
     earlier = json.loads((run / "summary.json").read_text())
     with caplog.at_level(logging.WARNING, logger="lightning_modules.train"):
-        summary = _resume(run)
+        summary = resume(run)
     assert summary == earlier and _files(run) == before and not (tmp_path / "summary.jsonl").exists()
     assert "nothing to do: the run has trained 2 epoch(s), 2 optimiser step(s), all of its budget " \
            "(trainer.max_epochs=2)" in caplog.text and "trainer.max_epochs=12" in caplog.text
@@ -119,7 +104,7 @@ def test_a_failed_resume_keeps_the_finished_runs_summary_and_logs_the_failure(tr
     run = _copy(trained, tmp_path)
     summary_before = (run / "summary.json").read_bytes()
     with pytest.raises(UserInputError, match="missing_data"):  # data.root= applies: the run now reads there
-        _resume(run, "trainer.max_epochs=3", f"data.root={tmp_path / 'missing_data'}")
+        resume(run, "trainer.max_epochs=3", f"data.root={tmp_path / 'missing_data'}")
     assert (run / "summary.json").read_bytes() == summary_before
     attempts = [json.loads(line) for line in (run / "summary_log.jsonl").read_text().splitlines()]
     assert [a["status"] for a in attempts] == ["ok", "failed"] and "missing_data" in attempts[-1]["error"]
@@ -134,7 +119,7 @@ def test_a_failed_resume_keeps_the_finished_runs_summary_and_logs_the_failure(tr
 def test_a_resume_that_trains_on_records_the_run_it_continues(trained, tmp_path):
     run = _copy(trained, tmp_path)
     earlier = json.loads((run / "summary.json").read_text())
-    summary = _resume(run, "trainer.max_epochs=3", "threads=1")
+    summary = resume(run, "trainer.max_epochs=3", "threads=1")
     assert summary["status"] == "ok" and summary["epoch"] == 3 and summary["global_step"] == 3
     assert summary["overrides"] == earlier["overrides"] and summary["experiment"] == earlier["experiment"]
     assert summary["resume_overrides"] == [f"resume={run}", f"summary_file={tmp_path / 'summary.jsonl'}",

@@ -37,6 +37,16 @@ def config_dir() -> str:
 CONFIG_DIR = config_dir()
 
 
+def print_help_if_asked(argv: Sequence[str], doc: str | None, config_name: str) -> bool:
+    """For the commands that compose ``conf/<config_name>.yaml`` themselves: on ``-h`` / ``--help`` in ``argv``, print
+    the command's ``doc`` and that config (every setting it takes) and return True."""
+    if not any(a in ("-h", "--help") for a in argv):
+        return False
+    print(doc)
+    print(Path(CONFIG_DIR, f"{config_name}.yaml").read_text())
+    return True
+
+
 def synth_data_source(root: str | os.PathLike, image_size: Sequence[int] | None = None) -> Any:
     """A synthetic (Virtual KITTI 1.3.1-format) dataset at ``root`` as a :class:`~sdn3d.data.sources.SourceConfig`
     with the settings of ``conf/data/synth.yaml``, at ``image_size [W, H]`` (None: that file's size)."""

@@ -22,10 +22,9 @@ from __future__ import annotations
 import socket
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
-from sdn3d.cli._config import CONFIG_DIR, compose_config
+from sdn3d.cli._config import compose_config, print_help_if_asked
 from sdn3d.cli._errors import run_cli
 from sdn3d.errors import InputError
 
@@ -161,9 +160,7 @@ def _main(argv: list[str]) -> int:
 def main(argv: Sequence[str] | None = None) -> int:
     """Console entry point: ``sdn3d-app [overrides...]``; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
-    if any(a in ("-h", "--help") for a in argv):
-        print(__doc__)
-        print(Path(CONFIG_DIR, "app.yaml").read_text())
+    if print_help_if_asked(argv, __doc__, "app"):
         return 0
     return run_cli("app", _main, argv)
 

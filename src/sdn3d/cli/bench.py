@@ -49,7 +49,7 @@ import numpy as np
 import torch
 from rich.console import Console
 
-from sdn3d.cli._config import CONFIG_DIR, compose_config
+from sdn3d.cli._config import compose_config, print_help_if_asked
 from sdn3d.cli._errors import run_cli
 from sdn3d.editing.photo import PhotoSettings
 from sdn3d.errors import InputError
@@ -500,9 +500,7 @@ def _compose_modes(value: Any) -> tuple[str, ...]:
 def main(argv: Sequence[str] | None = None) -> int:
     """Console entry point: ``sdn3d-bench [overrides...]``; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
-    if any(a in ("-h", "--help") for a in argv):
-        print(__doc__)
-        print(Path(CONFIG_DIR, "bench.yaml").read_text())
+    if print_help_if_asked(argv, __doc__, "bench"):
         return 0
     return run_cli("bench", _main, argv)
 

@@ -68,7 +68,7 @@ from typing import Any
 import numpy as np
 import torch
 
-from sdn3d.cli._config import CONFIG_DIR, compose_config
+from sdn3d.cli._config import compose_config, print_help_if_asked
 from sdn3d.cli._errors import run_cli
 from sdn3d.editing.inputs import camera_for_image, fit_image
 from sdn3d.editing.session import EditInput, EditResult, EditSession, SessionSettings, proposals_record, to_uint8
@@ -636,9 +636,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     atexit.register(gc.freeze)  # the exit's collections then skip the ~10^6 objects torch & co. made: ~0.5 s CPU
     argv = list(sys.argv[1:] if argv is None else argv)
-    if any(a in ("-h", "--help") for a in argv):
-        print(__doc__)
-        print(Path(CONFIG_DIR, "edit.yaml").read_text())
+    if print_help_if_asked(argv, __doc__, "edit"):
         return 0
     return run_cli("edit", _main, argv)
 

@@ -408,15 +408,16 @@ class GeometricModule(BranchModule):
         dims, ry, center, phi = pred["dims"], pred["ry"], pred["center"], pred["phi"]
         zero = None if phi is None else torch.zeros_like(phi)
         truth = batch["template_id"]
-        sedan = torch.full_like(truth, TEMPLATE_NAMES.index("sedan"))
+        # Every template at the predicted pose and FFD, (N, 8): the sedan, the true template and the best are read off.
+        each = torch.stack([self._image_errors(batch, torch.full_like(truth, t), dims, ry, center, phi)
+                            for t in range(len(TEMPLATE_NAMES))], 1)
         errors = {
             "predicted": predicted[known],
             "chosen_no_ffd": self._image_errors(batch, pred["template_id"], dims, ry, center, zero),
-            "sedan": self._image_errors(batch, sedan, dims, ry, center, phi),
-            "true_template": self._image_errors(batch, truth, dims, ry, center, phi),
+            "sedan": each[:, TEMPLATE_NAMES.index("sedan")],
+            "true_template": each.gather(1, truth.unsqueeze(1)).squeeze(1),
             "true_template_no_ffd": self._image_errors(batch, truth, dims, ry, center, zero),
-            "best_of_8": torch.stack([self._image_errors(batch, torch.full_like(truth, t), dims, ry, center, phi)
-                                      for t in range(len(TEMPLATE_NAMES))]).amin(0),
+            "best_of_8": each.amin(1),
             "truth_pose_true_template": self._image_errors(batch, truth, batch["dims"], batch["ry"], batch["center"],
                                                            None),
         }

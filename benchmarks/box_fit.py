@@ -121,6 +121,8 @@ def main(argv: list[str] | None = None) -> dict:
     p.add_argument("--fit", nargs="*", default=[], metavar="KEY=VALUE",
                    help="FitSettings fields to change (choose them on --part val, never on test)")
     p.add_argument("--out", default=None)
+    p.add_argument("--details", action="store_true",
+                   help="also record every object's true and per-row size, yaw and template (result['details'])")
     args = p.parse_args(argv)
     torch.set_num_threads(args.threads)
     crop = geometric_crop_settings(args.geometric)
@@ -134,7 +136,7 @@ def main(argv: list[str] | None = None) -> dict:
     bank = MeshBank.templates()
     fit = FitSettings(**{k: type(getattr(FitSettings(), k))(v) for k, v in (a.split("=", 1) for a in args.fit)})
     per_row: dict[str, dict[str, list[float]]] = {r: {m: [] for m in METRICS} for r in ROWS}
-    mask_iou, mask_iou_big, fit_iou = [], [], []
+    mask_iou, mask_iou_big, fit_iou, details = [], [], [], []
     times = {"grabcut_ms": [], "fit_ms": [], "objects": 0}
     t_start = time.perf_counter()
     for record in records:
@@ -203,6 +205,13 @@ def main(argv: list[str] | None = None) -> dict:
             if obj.occluded == 0 and obj.truncr == 0 and int(m_true.sum()) >= BIG_UNOCCLUDED:
                 mask_iou_big.append(inter / max(union, 1))
             fit_iou.append(fitted.meta["boxes"][j]["fit_iou"] or 0.0)
+            if args.details:
+                details.append({"frame": record.key, "id": iid, "pixels": int(m_true.sum()), "mask_iou": mask_iou[-1],
+                                "true": {"dims": true[j]["dims"].tolist(), "ry": float(true[j]["ry"]),
+                                         "template": true[j]["template"], "z": float(true[j]["center"][2])},
+                                **{name: ({"dims": objs[j]["dims"].tolist(), "ry": float(objs[j]["ry"]),
+                                           "template": objs[j]["template"], "z": float(objs[j]["center"][2])}
+                                          if objs[j]["template"] >= 0 else None) for name, objs in sources.items()}})
             for name, objs in sources.items():
                 o, t = objs[j], true[j]
                 if o["template"] < 0:  # no geometry: the worst figures (counted, not dropped)
@@ -233,8 +242,9 @@ def main(argv: list[str] | None = None) -> dict:
         "seconds": round(time.perf_counter() - t_start, 1),
         "machine": f"{platform.machine()} cpu, {args.threads} threads, torch {torch.__version__}",
         "how": __doc__.split("\n\n", 2)[2].strip(),
+        **({"details": details} if args.details else {}),
     }
-    print(json.dumps({k: v for k, v in result.items() if k != "how"}, indent=2))
+    print(json.dumps({k: v for k, v in result.items() if k not in ("how", "details")}, indent=2))
     if args.out:
         write_json_atomic(args.out, result)
     return result

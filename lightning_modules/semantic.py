@@ -9,8 +9,12 @@ Optimiser: SGD (DRN code; or AdamW, ``optimizer=adamw``) with a per-step poly sc
 ``lr * (1 - step / total) ** poly_power`` (DRN code).
 Metrics (val/ and test/): ``miou`` and ``iou_<class>`` from a torchmetrics confusion matrix,
 ``pq`` / ``sq`` / ``rq`` and ``pq_<class>`` of the thing classes (instances grouped from the
-predictions, compared with the ground-truth instance maps). TensorBoard: ``<stage>/segmentation``
-grids (input | prediction | ground truth, in the dataset's colours) and ``<stage>/instances``.
+predictions, compared with the ground-truth instance maps), and ``proposal_recall`` / ``proposal_precision``:
+the share of thing objects over the paper's 256 pixels (at 624x192, scaled by the area to the working size) that
+some proposal covers with IoU >= 0.5, and the share of proposals covering an object
+(:mod:`sdn3d.evaluation.proposal_recall`, the demo's measure: what editing needs, without PQ's tiny far cars).
+TensorBoard: ``<stage>/segmentation`` grids (input | prediction | ground truth, in the dataset's colours) and
+``<stage>/instances``.
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from torchmetrics import Metric
 from torchmetrics.classification import MulticlassConfusionMatrix
 
 from lightning_modules._base import BranchModule, plain_hparams
+from sdn3d.evaluation.proposal_recall import match_proposals, min_pixels_at
 from sdn3d.labels import IGNORE_INDEX, class_list, thing_class_ids
 from sdn3d.nets.drn import DRNSeg
 from sdn3d.nets.weights import load_pretrained
@@ -45,7 +50,7 @@ from sdn3d.semantic import (
 )
 from sdn3d.visualize import colorize_instances, colorize_labels
 
-__all__ = ["SemanticModule", "PanopticQuality", "OPTIMIZERS"]
+__all__ = ["SemanticModule", "PanopticQuality", "ProposalRecall", "OPTIMIZERS"]
 
 #: ``SemanticModule(optimizer=...)``.
 OPTIMIZERS = ("sgd", "adamw")
@@ -69,6 +74,33 @@ class PanopticQuality(Metric):
 
     def compute(self) -> dict[str, Tensor]:
         return pq_from_stats(self.stats)
+
+
+class ProposalRecall(Metric):
+    """Proposal recall and precision summed over a part (:func:`~sdn3d.evaluation.proposal_recall.match_proposals`;
+    objects over :func:`~sdn3d.evaluation.proposal_recall.min_pixels_at` the maps' size); ``compute()`` ->
+    ``{'recall', 'precision'}`` (NaN where nothing was counted)."""
+
+    full_state_update = False
+
+    def __init__(self, thing_classes: Sequence[int]) -> None:
+        super().__init__()
+        self.thing_classes = list(thing_classes)
+        for name in ("objects", "found", "proposals", "true_proposals"):
+            self.add_state(name, default=torch.zeros((), dtype=torch.float64), dist_reduce_fx="sum")
+
+    def update(self, pred_instance: Tensor, gt_instance: Tensor) -> None:
+        counts = match_proposals(pred_instance, gt_instance, self.thing_classes,
+                                 min_pixels_at(gt_instance.shape[-1], gt_instance.shape[-2]))
+        self.objects += sum(counts.objects.values())
+        self.found += sum(counts.found.values())
+        self.proposals += counts.proposals
+        self.true_proposals += counts.true_proposals
+
+    def compute(self) -> dict[str, Tensor]:
+        nan = torch.tensor(float("nan"), dtype=torch.float64, device=self.objects.device)
+        return {"recall": self.found / self.objects if self.objects > 0 else nan,
+                "precision": self.true_proposals / self.proposals if self.proposals > 0 else nan}
 
 
 def _tag(name: str) -> str:
@@ -172,6 +204,7 @@ class SemanticModule(BranchModule):
         })
         if instance_head and self.things:
             self.metrics.update({f"{stage}_pq": PanopticQuality(self.things) for stage in ("val", "test")})
+            self.metrics.update({f"{stage}_proposals": ProposalRecall(self.things) for stage in ("val", "test")})
 
     def on_load_checkpoint(self, checkpoint: dict[str, Any]) -> None:
         super().on_load_checkpoint(checkpoint)
@@ -252,6 +285,7 @@ class SemanticModule(BranchModule):
         self.metrics[f"{stage}_confmat"].update(pred, label)
         if f"{stage}_pq" in self.metrics:
             self.metrics[f"{stage}_pq"].update(pred_instance, instance, label)
+            self.metrics[f"{stage}_proposals"].update(pred_instance, instance)
         n = min(int(self.hparams.log_images), image.shape[0])
         if batch_idx == 0 and n > 0:
             self.log_image_grid(f"{stage}/segmentation", [image[:n], colorize_labels(pred[:n], self.classes),
@@ -278,6 +312,10 @@ class SemanticModule(BranchModule):
                 metrics[f"{stage}/{key}"] = pq[key][defined].mean() if defined.any() else pq[key].new_tensor(0.0)
             metrics.update({f"{stage}/pq_{_tag(self.classes[c].name)}": pq["pq"][i]
                             for i, c in enumerate(self.things) if defined[i]})
+            proposals = self.metrics[f"{stage}_proposals"].compute()
+            self.metrics[f"{stage}_proposals"].reset()
+            metrics.update({f"{stage}/proposal_{key}": value for key, value in proposals.items()
+                            if not torch.isnan(value)})
         self.log_dict({k: v.float() for k, v in metrics.items()}, sync_dist=True)
 
     def validation_step(self, batch: dict[str, Any], batch_idx: int) -> None:

@@ -367,3 +367,20 @@ def test_report_first_screen_without_a_semantic_branch_or_benchmark(tmp_path):
     assert "](edits/edits_grid.png)" in first and "Table 1, headline" not in first
     assert [line.split("**")[1] for line in first.split("\n") if line.startswith("- **")] == ["geometric", "textural"]
     assert "(not run)" in report
+
+
+def test_report_names_the_semantic_runs_recorded_proposal_figures_and_whether_they_are_trusted():
+    """A semantic run that recorded its validation proposal recall and precision is judged by them (what the edits
+    need), not by its vehicle PQ, on the report's first screen."""
+    from sdn3d.cli.demo import branch_lines
+
+    summary = {"global_step": 396, "demo_wall_s": 282.1, "metrics": {
+        "test/miou": 0.476, "val/pq_Car": 0.2, "val/pq_Van": 0.29, "val/proposal_recall": 0.71,
+        "val/proposal_precision": 0.68}}
+    [line] = branch_lines({"semantic": summary}, {"recall": 0.78, "objects": 150, "precision": 0.75})
+    assert "validation proposal recall 0.710 and precision 0.680 against the 0.5 each needs to be trusted (trusted)" \
+        in line and "validation vehicle PQ" not in line
+    assert "find 117 of the test part's 150 vehicles (recall 0.78, precision 0.75)" in line
+    summary["metrics"]["val/proposal_precision"] = 0.4
+    [line] = branch_lines({"semantic": summary}, None)
+    assert "(not trusted)" in line

@@ -209,6 +209,14 @@ def test_quality_warning_rules():
     [cover] = quality_warnings({}, 0.73)
     assert "proposals cover 73 % of the frame (> 50 %)" in cover
     assert len(quality_warnings({"val/pq": 0.01}, 0.9)) == 2
+    # the proposals' own recorded recall and precision (what editing needs) decide where a run has them, not PQ
+    assert quality_warnings({"val/proposal_recall": 0.7, "val/proposal_precision": 0.6, "val/pq_car": 0.1}, 0.2) == []
+    [low] = quality_warnings({"val/proposal_recall": 0.3, "val/proposal_precision": 0.9, "val/pq": 0.9}, None, "s.json")
+    assert "recorded proposal recall is 0.300 and precision 0.900 (each must reach 0.5, s.json)" in low
+    [low] = quality_warnings({"val/proposal_recall": 0.9, "val/proposal_precision": 0.2}, None)
+    assert "precision 0.200" in low
+    # one of the two alone is not a proposal record: PQ decides
+    assert quality_warnings({"val/proposal_recall": 0.1, "val/pq": 0.8}, None) == []
 
 
 def _semantic_run(tmp_path, ckpts, metrics):

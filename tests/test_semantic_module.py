@@ -322,3 +322,25 @@ def test_test_flip_validates_with_flip_averaging_and_travels_to_the_predictor(da
     got = predictor(image).probability
     torch.testing.assert_close(got, expected, atol=1e-5, rtol=1e-4)
     assert not torch.allclose(got, plain, atol=1e-4)
+
+
+def test_proposal_recall_metric_counts_objects_over_the_papers_size_scaled_to_the_maps():
+    """ProposalRecall: the demo's measure inside the module; objects under 256 px at 624x192 (scaled by the area to
+    the maps' size: 64 px at 312x96) are not counted, a proposal finds an object at IoU >= 0.5, precision is the
+    share of proposals covering an object, and parts without objects or proposals give NaN (not logged)."""
+    from lightning_modules.semantic import ProposalRecall
+
+    gt = torch.zeros(1, 96, 312, dtype=torch.long)
+    gt[0, 10:20, 10:20] = 13001    # 100 px: counted
+    gt[0, 40:50, 40:50] = 13002    # 100 px: counted, not found
+    gt[0, 80:87, 200:207] = 13003  # 49 px: under 64, not counted
+    pred = torch.zeros_like(gt)
+    pred[0, 10:20, 10:18] = 13001  # IoU 0.8 with the first
+    pred[0, 60:70, 100:110] = 14001  # a proposal on nothing
+    metric = ProposalRecall([13, 14])
+    metric.update(pred, gt)
+    result = metric.compute()
+    assert float(result["recall"]) == pytest.approx(0.5) and float(result["precision"]) == pytest.approx(0.5)
+    metric.reset()
+    metric.update(torch.zeros_like(gt), torch.zeros_like(gt))
+    assert torch.isnan(metric.compute()["recall"]) and torch.isnan(metric.compute()["precision"])

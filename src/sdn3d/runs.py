@@ -261,7 +261,12 @@ def export_run_checkpoint(summary_file: str | os.PathLike) -> Path | None:
 
 # -- what a run recorded: is the semantic branch good enough to trust? --------------------------------
 
-#: Below these recorded validation scores of the semantic branch its proposals are not to be trusted.
+#: Below these recorded validation figures of the semantic branch its proposals are not to be trusted: the share of
+#: vehicles over the paper's 256 pixels that its proposals find (IoU >= 0.5) and the share of its proposals that are
+#: vehicles (``val/proposal_recall`` and ``val/proposal_precision``, what editing needs); where a run recorded no
+#: such figures, its vehicle PQ, else its mIoU.
+MIN_PROPOSAL_RECALL = 0.5
+MIN_PROPOSAL_PRECISION = 0.5
 MIN_VEHICLE_PQ = 0.3
 MIN_MIOU = 0.3
 #: Proposals covering more of the frame than this are not a street's vehicles.
@@ -297,6 +302,19 @@ def recorded_pq(metrics: Mapping[str, Any] | None, stage: str = "val") -> tuple[
         return "vehicle PQ", sum(vehicles) / len(vehicles)
     pq = _number(metrics, f"{stage}/pq")
     return None if pq is None else (f"{stage}/pq", pq)
+
+
+def recorded_proposals(metrics: Mapping[str, Any] | None, stage: str = "val") -> tuple[float, float] | None:
+    """``(recall, precision)`` of the semantic branch's proposals on a part as its run recorded them
+    (``<stage>/proposal_recall``, ``<stage>/proposal_precision``); None where either is not recorded."""
+    metrics = metrics if isinstance(metrics, Mapping) else {}
+    recall, precision = _number(metrics, f"{stage}/proposal_recall"), _number(metrics, f"{stage}/proposal_precision")
+    return None if recall is None or precision is None else (recall, precision)
+
+
+def proposals_trusted(proposals: tuple[float, float]) -> bool:
+    """Whether recorded ``(recall, precision)`` reach :data:`MIN_PROPOSAL_RECALL` and :data:`MIN_PROPOSAL_PRECISION`."""
+    return proposals[0] >= MIN_PROPOSAL_RECALL and proposals[1] >= MIN_PROPOSAL_PRECISION
 
 
 def trained_data(summary_file: str | os.PathLike | None) -> dict | None:
@@ -348,8 +366,10 @@ def _run_label(where: str) -> str:
 
 def quality_warnings(metrics: dict | None, coverage: float | None, where: str = "the semantic run",
                      input_path: str | os.PathLike | None = None) -> list[str]:
-    """Warnings on the semantic branch's proposals: its recorded validation quality (vehicle PQ, else
-    ``val/pq``, else ``val/miou``: :func:`recorded_pq`) under :data:`MIN_VEHICLE_PQ` / :data:`MIN_MIOU`, or proposals
+    """Warnings on the semantic branch's proposals: its recorded validation quality (proposal recall and precision,
+    :func:`recorded_proposals`, under :data:`MIN_PROPOSAL_RECALL` / :data:`MIN_PROPOSAL_PRECISION`; a run that
+    recorded none: vehicle PQ, else ``val/pq``, else ``val/miou``, :func:`recorded_pq`, under :data:`MIN_VEHICLE_PQ`
+    / :data:`MIN_MIOU`), or proposals
     covering more than :data:`MAX_PROPOSAL_COVER` of the frame (``coverage``, a fraction; None: not known).
 
     ``where``: the run's ``summary.json`` (each warning names the run, its experiment and steps, and the figure);
@@ -359,6 +379,7 @@ def quality_warnings(metrics: dict | None, coverage: float | None, where: str = 
     figure is the branch's own weakness, and the warning says so."""
     out = []
     metrics = metrics if isinstance(metrics, dict) else {}
+    proposals = recorded_proposals(metrics)
     pq = recorded_pq(metrics)
     miou = _number(metrics, "val/miou")
     trained = trained_data(where) if where else None
@@ -373,7 +394,11 @@ def quality_warnings(metrics: dict | None, coverage: float | None, where: str = 
     else:
         cause = f"train it longer, or {boxes}"
     low = None
-    if pq is not None and pq[1] < MIN_VEHICLE_PQ:
+    if proposals is not None:
+        if not proposals_trusted(proposals):
+            low = (f"recorded proposal recall is {proposals[0]:.3f} and precision {proposals[1]:.3f} (each must reach "
+                   f"{MIN_PROPOSAL_RECALL}, {where})")
+    elif pq is not None and pq[1] < MIN_VEHICLE_PQ:
         low = f"recorded {pq[0]} is {pq[1]:.3f} (< {MIN_VEHICLE_PQ}, {where})"
     elif pq is None and miou is not None and miou < MIN_MIOU:
         low = f"recorded val/miou is {miou:.3f} (< {MIN_MIOU}, {where})"

@@ -477,9 +477,11 @@ def _floor_phrase(value: float, floor: float, name: str) -> str:
 def branch_lines(training: dict, recall: dict | None) -> list[str]:
     """One line per trained branch for the report's first screen: its headline test figure beside the floor or bar
     its run recorded (the geometric branch's mesh accuracy beside the majority / uniform floors and the
-    identifiability ceiling; the semantic branch's PQ beside the validation bar its proposals need,
-    :data:`sdn3d.runs.MIN_VEHICLE_PQ`, and its proposals' recall); the textural branch records none, which is said."""
-    from sdn3d.runs import MIN_VEHICLE_PQ, recorded_pq
+    identifiability ceiling; the semantic branch's PQ, its validation proposal recall and precision beside the bar
+    they need to be trusted, :data:`sdn3d.runs.MIN_PROPOSAL_RECALL` (a run without them: its validation PQ beside
+    :data:`sdn3d.runs.MIN_VEHICLE_PQ`), and its proposals' test recall); the textural branch records none, which
+    is said."""
+    from sdn3d.runs import MIN_PROPOSAL_RECALL, MIN_VEHICLE_PQ, proposals_trusted, recorded_pq, recorded_proposals
 
     out = []
     for branch, summary in training.items():
@@ -495,7 +497,12 @@ def branch_lines(training: dict, recall: dict | None) -> list[str]:
             test_pq, val_pq = recorded_pq(m, "test"), recorded_pq(m, "val")
             if test_pq is not None:
                 parts.append(f"test {test_pq[0]} {test_pq[1]:.3f}")
-            if val_pq is not None:
+            val_proposals = recorded_proposals(m)
+            if val_proposals is not None:
+                trusted = "trusted" if proposals_trusted(val_proposals) else "not trusted"
+                parts.append(f"validation proposal recall {val_proposals[0]:.3f} and precision {val_proposals[1]:.3f} "
+                             f"against the {MIN_PROPOSAL_RECALL} each needs to be trusted ({trusted})")
+            elif val_pq is not None:
                 trusted = "trusted" if val_pq[1] >= MIN_VEHICLE_PQ else "not trusted"
                 parts.append(f"validation {val_pq[0]} {val_pq[1]:.3f} against the {MIN_VEHICLE_PQ} its proposals "
                              f"need to be trusted ({trusted})")

@@ -35,10 +35,22 @@ from sdn3d.data.records import FrameRecord
 from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.semantic.predict import SemanticPredictor
 
-__all__ = ["RecallCounts", "match_proposals", "predictor_recall", "PAPER_MIN_PIXELS"]
+__all__ = ["RecallCounts", "match_proposals", "predictor_recall", "PAPER_MIN_PIXELS", "PAPER_SIZE",
+           "min_pixels_at"]
 
-#: The paper's object filter: more than this many visible pixels at 624x192.
+#: The paper's object filter: more than this many visible pixels at 624x192 (:data:`PAPER_SIZE`).
 PAPER_MIN_PIXELS = 256
+#: ``(W, H)`` of Virtual KITTI's working size, where :data:`PAPER_MIN_PIXELS` applies.
+PAPER_SIZE = (624, 192)
+
+
+def min_pixels_at(width: int, height: int) -> float:
+    """The paper's filter at another image size: :data:`PAPER_MIN_PIXELS` scaled by the area.
+
+    >>> min_pixels_at(312, 96)
+    64.0
+    """
+    return PAPER_MIN_PIXELS * width * height / (PAPER_SIZE[0] * PAPER_SIZE[1])
 
 
 @dataclass

@@ -10,6 +10,10 @@ A person draws a box around each car; :func:`grabcut_masks` turns the boxes into
 - Where a ``prior`` (the semantic branch's vehicle probability, given only when that branch is trusted) is
   confident, it seeds GrabCut: at least ``prior_high`` probably foreground, at most ``prior_low`` probably
   background.
+- GrabCut runs on the window enlarged ``upsample`` times (bicubic) and its mask is brought back by area (a pixel
+  is the object's where most of its sub-pixels are): the car's outline is found to a fraction of a pixel, which
+  a small car's mask needs (on cars over 1,000 pixels of a synthetic tuning tree, mean IoU with the true visible
+  mask 0.931 at the image's own scale, 0.944 at twice it; three and four times were no better).
 - The result is the connected component with most pixels, its holes filled (windows are part of a car's
   silhouette), clipped to the box. Where that covers less than ``min_share`` of the box's free pixels (a small or
   low-contrast car: GrabCut's colour models need more pixels than a distant car has), the box's free pixels are
@@ -78,7 +82,7 @@ def _largest_filled(mask: np.ndarray) -> np.ndarray:
 
 def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | None = None, iterations: int = 5,
                   context: float = 0.5, min_context_px: int = 8, prior_high: float = 0.9,
-                  prior_low: float = 0.1, min_share: float = 0.3) -> BoxMasks:
+                  prior_low: float = 0.1, min_share: float = 0.3, upsample: int = 2) -> BoxMasks:
     """The visible masks of the objects in ``boxes`` (module doc).
 
     Args:
@@ -90,9 +94,12 @@ def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | 
         context, min_context_px: the window around each box that GrabCut learns the background from.
         prior_high, prior_low: the prior's thresholds for probable foreground / background.
         min_share: below this share of the box's free pixels, the mask is the box's free pixels.
+        upsample: GrabCut's working scale of the window (1: the image's own pixels).
     """
     import cv2
 
+    if isinstance(upsample, bool) or not isinstance(upsample, int) or upsample < 1:
+        raise ValueError(f"upsample must be an integer >= 1, got {upsample!r}")
     pixels = _as_uint8(image)
     height, width = pixels.shape[:2]
     if boxes.dim() != 2 or boxes.shape[1] != 4:
@@ -123,11 +130,18 @@ def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | 
             continue
         bgd, fgd = np.zeros((1, 65), np.float64), np.zeros((1, 65), np.float64)
         crop = np.ascontiguousarray(pixels[wy0:wy1, wx0:wx1])
+        work = seed
+        if upsample > 1:
+            crop = cv2.resize(crop, None, fx=upsample, fy=upsample, interpolation=cv2.INTER_CUBIC)
+            work = cv2.resize(seed, None, fx=upsample, fy=upsample, interpolation=cv2.INTER_NEAREST)
         try:
-            cv2.grabCut(crop, seed, None, bgd, fgd, iterations, cv2.GC_INIT_WITH_MASK)
+            cv2.grabCut(crop, work, None, bgd, fgd, iterations, cv2.GC_INIT_WITH_MASK)
         except cv2.error:  # one colour everywhere (no background model can be learnt): the box itself
-            seed[seed == cv2.GC_PR_BGD] = cv2.GC_PR_FGD
-        fg = ((seed == cv2.GC_FGD) | (seed == cv2.GC_PR_FGD)).astype(np.uint8)
+            work[work == cv2.GC_PR_BGD] = cv2.GC_PR_FGD
+        fg = ((work == cv2.GC_FGD) | (work == cv2.GC_PR_FGD)).astype(np.float32)
+        if upsample > 1:
+            fg = cv2.resize(fg, (wx1 - wx0, wy1 - wy0), interpolation=cv2.INTER_AREA)
+        fg = (fg > 0.5).astype(np.uint8) & (seed != cv2.GC_BGD)
         if prior_np is not None:  # a confident prior keeps its pixels inside the box
             confident = (prior_np[wy0:wy1, wx0:wx1] >= prior_high) & (seed != cv2.GC_BGD)
             fg |= confident.astype(np.uint8)

@@ -69,6 +69,7 @@ class FitSettings:
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
         dims_reg, yaw_reg, ffd_reg: weights of the size prior, the yaw prior and the FFD's ``mean(phi^2)``.
+        length_reg: the size prior's weight on the length alone (``dims_reg`` weighs height and width).
         poor_iou: a fit below this silhouette IoU with its mask is flagged as poor.
     """
 
@@ -83,6 +84,7 @@ class FitSettings:
     margin: float = 0.15
     sigma: float = 0.25
     dims_reg: float = 0.1
+    length_reg: float = 0.1
     yaw_reg: float = 0.02
     ffd_reg: float = 100.0
     poor_iou: float = 0.7
@@ -100,7 +102,7 @@ class FitSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"FitSettings.{name} must be a positive number, got {value!r}")
-        for name in ("margin", "dims_reg", "yaw_reg", "ffd_reg", "tie"):
+        for name in ("margin", "dims_reg", "length_reg", "yaw_reg", "ffd_reg", "tie"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
@@ -179,13 +181,14 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     free = [x, log_z, half_ry, log_dims] + ([phi_half] if with_ffd else [])
     sil_settings = SoftSilhouetteSettings((size, size), sigma=settings.sigma)
     log_dims0 = dims0.log()
+    dims_weight = torch.tensor([settings.length_reg, settings.dims_reg, settings.dims_reg])  # (l, h, w)
 
     def objective() -> Tensor:
         dims = log_dims.exp()
         center = torch.stack([x, height - dims[:, 1] / 2, log_z.exp()], 1)
         phi = expand_half_ffd(phi_half)
         sil = render_silhouettes(bank, template, dims, 2 * half_ry, center, phi, K, sil_settings)
-        prior = settings.dims_reg * (log_dims - log_dims0).square().sum(1)
+        prior = ((log_dims - log_dims0).square() * dims_weight).sum(1)
         prior = prior + settings.yaw_reg * (1 - torch.cos(2 * half_ry - ry0)) / 2
         return reprojection_error(sil, mask, ign) + prior + settings.ffd_reg * phi.square().flatten(1).mean(1)
 

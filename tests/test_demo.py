@@ -332,7 +332,7 @@ def test_report_first_screen_shows_the_edits_the_branches_and_table1_without_emp
     assert (out / "report.md").read_text() == report and (out / "summary.json").is_file()
     first, details = report.split("\n## Details\n")
     assert report.startswith("# sdn3d demo report\n\n![") and "](edits/edits_grid.png)" in first.split("\n")[2]
-    assert "car 12005 (the nearest): source, closer (zoom 1.6), deleted" in first
+    assert "car 12005 (the nearest wholly in view): source, closer (zoom 1.6), deleted" in first
     branches = [line for line in first.split("\n") if line.startswith("- **")]
     assert [b.split("**")[1] for b in branches] == ["semantic", "geometric", "textural"]
     semantic, geometric, textural = branches

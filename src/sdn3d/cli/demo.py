@@ -206,8 +206,8 @@ def _pick_frame(records: Sequence[Any], size: tuple[int, int], wanted: str | Non
                 return r
         raise InputError(f"edits.frame={wanted!r} is not a test frame; e.g. {records[0].key}")
 
-    def nearest_car(r) -> float:
-        zs = [o.location[2] for o in r.objects if o.label in ("Car", "Van") and o.location[2] > 3]
+    def nearest_car(r) -> float:  # a car wholly in the picture: the edits show it whole
+        zs = [o.location[2] for o in r.objects if o.label in ("Car", "Van") and o.location[2] > 3 and o.truncr == 0]
         return -min(zs) if zs else -1e9
 
     return max(records, key=nearest_car)
@@ -298,10 +298,10 @@ def _uint8_picture(image: torch.Tensor) -> np.ndarray:
 
 def _example_edits(cfg: Any, scene: Any, key: str, textural: Path,
                    appearance: str = "photo") -> tuple[int, dict[str, list], str]:
-    """``(car, {name: ops}, how it was recoloured)``: the nearest car with geometry moved closer, rotated,
-    recoloured (photo appearance: its body repainted ``edits.recolor``; generator: the code bank's code nearest
-    that colour, a random code when the textural run wrote no bank), deleted. The photo appearance has no
-    reconstruction (it would be the frame itself)."""
+    """``(car, {name: ops}, how it was recoloured)``: the nearest car with geometry wholly in the picture (else the
+    nearest) moved closer, rotated, recoloured (photo appearance: its body repainted ``edits.recolor``; generator:
+    the code bank's code nearest that colour, a random code when the textural run wrote no bank), deleted. The
+    photo appearance has no reconstruction (it would be the frame itself)."""
     from sdn3d.editing.apply import Delete, Rotate, SetCode, Zoom
     from sdn3d.labels import INSTANCE_DIVISOR
     from sdn3d.textural.code_bank import code_bank_path, load_code_bank, named_color
@@ -310,7 +310,11 @@ def _example_edits(cfg: Any, scene: Any, key: str, textural: Path,
     has_geo = table.has_geometry
     if not bool(has_geo.any()):
         raise DemoStageError(f"no object of {key} got 3D geometry")
-    depth = torch.where(has_geo, table.location[:, 2], torch.full_like(table.location[:, 2], float("inf")))
+    # The nearest car wholly in the picture (its mask off the left, right and bottom edges), else the nearest.
+    mask = table.mask.bool()
+    whole = has_geo & ~(mask[:, :, 0].any(1) | mask[:, :, -1].any(1) | mask[:, -1, :].any(1))
+    pick = whole if bool(whole.any()) else has_geo
+    depth = torch.where(pick, table.location[:, 2], torch.full_like(table.location[:, 2], float("inf")))
     car = int(table.instance_id[int(depth.argmin())])
     others = [int(i) for i, g in zip(table.instance_id.tolist(), has_geo.tolist(), strict=True) if g and i != car]
     bank_file = code_bank_path(textural)
@@ -549,7 +553,7 @@ def _first_screen(info: dict, headline: str) -> str:
         origin = f"objects from the {label}" + (" (why: *Example edits* below)" if why else "")
         size = "x".join(str(v) for v in edits.get("picture_size", []))
         parts += [f"![The demo's edits, before and after, each panel titled]({picture})", "",
-                  f"*Frame `{edits.get('frame')}`, car {edits.get('car')} (the nearest): "
+                  f"*Frame `{edits.get('frame')}`, car {edits.get('car')} (the nearest wholly in view): "
                   f"{', '.join(edits.get('grid_layout', []))}; {edits.get('appearance', 'photo')} appearance at "
                   f"{size}; {origin}.*", ""]
     budget = info.get("budget", "short")
@@ -613,7 +617,8 @@ def write_report(out: Path, info: dict) -> str:
 
 ## Example edits (`edits/`)
 
-Frame `{edits.get('frame')}`, car {edits.get('car')} (the nearest one), scene from {edits.get('proposals', 'n/a')}:
+Frame `{edits.get('frame')}`, car {edits.get('car')} (the nearest wholly in view), scene from
+{edits.get('proposals', 'n/a')}:
 `edits/edits_grid.png` holds, row by row,
 {', '.join(edits.get('grid_layout', []))}. Recoloured: {edits.get('recoloured', 'n/a')}.
 {_compose_note(edits)} De-rendering took {edits.get('derender_s', float('nan')):.2f} s.

@@ -225,3 +225,24 @@ def test_sessions_beyond_the_limit_close_the_least_recently_used(ckpts, real_vki
         assert request(base, "GET", f"/api/s/{sids[0]}/input.png")[0] == 404
         assert all(request(base, "GET", f"/api/s/{s}/input.png")[0] == 200 for s in sids[1:])
         assert sorted(p.name for p in editor.sessions_dir.iterdir()) == sorted(sids[1:])
+
+
+def test_a_click_on_a_car_implies_its_box_which_the_page_adds(server, real_vkitti_frame):
+    """POST box_at: a click on the red car of the real frame gives its box (as a person would draw it), which then
+    edits like a drawn box; a malformed or outside point gets a JSON 4xx and changes nothing."""
+    base, _, _ = server
+    sid = _open(base, real_vkitti_frame.read_bytes())[1]["sid"]
+    status, answer = json_request(base, "POST", f"/api/s/{sid}/box_at", {"u": 600, "v": 280})
+    assert status == 200 and set(answer) == {"box"}
+    box, drawn = answer["box"], BOXES[0]["box"]
+    inter = (max(0, min(box[2], drawn[2]) - max(box[0], drawn[0]))
+             * max(0, min(box[3], drawn[3]) - max(box[1], drawn[1])))
+    union = (box[2] - box[0]) * (box[3] - box[1]) + (drawn[2] - drawn[0]) * (drawn[3] - drawn[1]) - inter
+    assert inter / union > 0.8, box
+    for body, expected in (({"u": 1}, 400), ({"u": "a", "v": 2}, 400), ({"u": True, "v": 2}, 400),
+                           ({"u": 5000, "v": 10}, 422), ({"u": -1, "v": 10}, 422), ([600, 280], 400)):
+        _error(*json_request(base, "POST", f"/api/s/{sid}/box_at", body), expected)
+    _error(*json_request(base, "POST", "/api/s/nosuchsession/box_at", {"u": 1, "v": 1}), 404)
+    status, view = json_request(base, "POST", f"/api/s/{sid}/edit", {"objects": [{"box": box, "class": "Car"}],
+                                                                       "ops": []})
+    assert status == 200 and [o["id"] for o in view["objects"]] == [12001]

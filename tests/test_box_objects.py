@@ -14,7 +14,7 @@ import torch
 from helpers.tiny_models import write_checkpoints
 from PIL import Image
 
-from sdn3d.box_masks import grabcut_masks, nearest_first
+from sdn3d.box_masks import box_at_point, grabcut_masks, nearest_first
 from sdn3d.cli.edit import main
 from sdn3d.derender import BoxPrompts, Models, derender
 from sdn3d.editing.spec import EditSpecError, PixelFrame, box_prompts, parse_edit_spec
@@ -81,6 +81,24 @@ def test_grabcut_gives_an_overlap_to_the_nearer_box():
     found = grabcut_masks(image, torch.tensor([[40.0, 10.0, 90.0, 40.0], [10.0, 20.0, 60.0, 50.0]])).masks
     assert bool(found[1, 30, 50]) and not bool(found[0, 30, 50])  # the shared corner is the near car's
     assert bool(found[0, 15, 80])
+
+
+def test_a_click_on_a_car_implies_its_box():
+    """box_at_point: a click on each of two cars on the road gives that car's box (no weights: the road plane
+    bounds the search, GrabCut finds the car); a click off the image is refused."""
+    _, masks = _render([0, 3], [(4.0, 1.5, 1.7), (4.2, 1.5, 1.8)], [-1.3, 0.4], [(-2.2, HEIGHT, 10.0),
+                                                                                 (3.0, HEIGHT, 16.0)])
+    image = _picture(masks, [(0.8, 0.1, 0.1), (0.1, 0.2, 0.7)])
+    true_boxes = mask_boxes(masks).float()
+    for mask, true in zip(masks, true_boxes, strict=True):
+        rows, cols = torch.nonzero(mask, as_tuple=True)
+        click = (float(cols.float().median()), float(rows.float().median()))
+        box = box_at_point(image, click, WORK.fx, WORK.fy, WORK.cy, camera_height=HEIGHT)
+        inter = (torch.minimum(box[2:], true[2:]) - torch.maximum(box[:2], true[:2])).clamp_min(0).prod()
+        union = (box[2:] - box[:2]).prod() + (true[2:] - true[:2]).prod() - inter
+        assert float(inter / union) > 0.85, (box.tolist(), true.tolist())
+    with pytest.raises(ValueError, match="outside the 312x96 image"):
+        box_at_point(image, (400.0, 10.0), WORK.fx, WORK.fy, WORK.cy)
 
 
 def test_road_start_puts_the_car_where_its_bottom_edge_meets_the_road():

@@ -30,7 +30,7 @@ import numpy as np
 import torch
 from torch import Tensor
 
-__all__ = ["BoxMasks", "grabcut_masks", "nearest_first"]
+__all__ = ["BoxMasks", "grabcut_masks", "nearest_first", "box_at_point", "CLICK_CAR"]
 
 
 class BoxMasks(NamedTuple):
@@ -78,6 +78,27 @@ def _largest_filled(mask: np.ndarray) -> np.ndarray:
     filled = np.zeros_like(part)
     cv2.drawContours(filled, contours, -1, 1, thickness=cv2.FILLED)
     return filled
+
+
+def _grabcut(crop: np.ndarray, seed: np.ndarray, iterations: int, upsample: int) -> np.ndarray:
+    """GrabCut of ``crop (h, w, 3)`` uint8 from ``seed (h, w)`` (``cv2.GC_*`` labels), run ``upsample`` times
+    larger; ``(h, w)`` uint8 {0, 1} foreground (never where ``seed`` is background for sure)."""
+    import cv2
+
+    height, width = seed.shape
+    crop, work = np.ascontiguousarray(crop), seed.copy()
+    if upsample > 1:
+        crop = cv2.resize(crop, None, fx=upsample, fy=upsample, interpolation=cv2.INTER_CUBIC)
+        work = cv2.resize(work, None, fx=upsample, fy=upsample, interpolation=cv2.INTER_NEAREST)
+    bgd, fgd = np.zeros((1, 65), np.float64), np.zeros((1, 65), np.float64)
+    try:
+        cv2.grabCut(crop, work, None, bgd, fgd, iterations, cv2.GC_INIT_WITH_MASK)
+    except cv2.error:  # one colour everywhere (no background model can be learnt): the seed's probable foreground
+        work[work == cv2.GC_PR_BGD] = cv2.GC_PR_FGD
+    fg = ((work == cv2.GC_FGD) | (work == cv2.GC_PR_FGD)).astype(np.float32)
+    if upsample > 1:
+        fg = cv2.resize(fg, (width, height), interpolation=cv2.INTER_AREA)
+    return (fg > 0.5).astype(np.uint8) & (seed != cv2.GC_BGD)
 
 
 def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | None = None, iterations: int = 5,
@@ -128,20 +149,7 @@ def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | 
         seed[taken[wy0:wy1, wx0:wx1]] = cv2.GC_BGD
         if not (seed == cv2.GC_PR_FGD).any():
             continue
-        bgd, fgd = np.zeros((1, 65), np.float64), np.zeros((1, 65), np.float64)
-        crop = np.ascontiguousarray(pixels[wy0:wy1, wx0:wx1])
-        work = seed
-        if upsample > 1:
-            crop = cv2.resize(crop, None, fx=upsample, fy=upsample, interpolation=cv2.INTER_CUBIC)
-            work = cv2.resize(seed, None, fx=upsample, fy=upsample, interpolation=cv2.INTER_NEAREST)
-        try:
-            cv2.grabCut(crop, work, None, bgd, fgd, iterations, cv2.GC_INIT_WITH_MASK)
-        except cv2.error:  # one colour everywhere (no background model can be learnt): the box itself
-            work[work == cv2.GC_PR_BGD] = cv2.GC_PR_FGD
-        fg = ((work == cv2.GC_FGD) | (work == cv2.GC_PR_FGD)).astype(np.float32)
-        if upsample > 1:
-            fg = cv2.resize(fg, (wx1 - wx0, wy1 - wy0), interpolation=cv2.INTER_AREA)
-        fg = (fg > 0.5).astype(np.uint8) & (seed != cv2.GC_BGD)
+        fg = _grabcut(pixels[wy0:wy1, wx0:wx1], seed, iterations, upsample)
         if prior_np is not None:  # a confident prior keeps its pixels inside the box
             confident = (prior_np[wy0:wy1, wx0:wx1] >= prior_high) & (seed != cv2.GC_BGD)
             fg |= confident.astype(np.uint8)
@@ -155,3 +163,67 @@ def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | 
         out[i, wy0:wy1, wx0:wx1] = fg
         taken[wy0:wy1, wx0:wx1] |= fg
     return BoxMasks(torch.from_numpy(out), torch.from_numpy(from_box))
+
+
+#: The car a click implies before GrabCut looks, metres: its height, its longest extent in the picture (a car seen
+#: obliquely shows its length and width), the width about the click taken as probably the car's (a car seen from
+#: behind), and the height above the road at which a click on its body is taken to be.
+CLICK_CAR = {"height": 1.6, "span": 4.6, "core": 1.8, "click_height": 0.7}
+
+
+def box_at_point(image: Tensor | np.ndarray, point: tuple[float, float], fx: float, fy: float, cy: float, *,
+                 camera_height: float = 1.65, taken: Tensor | None = None, iterations: int = 4) -> Tensor:
+    """The box of the object under a click, ``(4,)`` half-open ``(x0, y0, x1, y1)`` float pixels of ``image``.
+
+    No weights: the road plane says how large a car at the click can be, and GrabCut finds it there.
+
+    1. The click ``(u, v)`` is taken to be on a car's body :data:`CLICK_CAR` ``click_height`` above the road
+       (``y = camera_height`` in the camera frame: no roll or pitch), so the car is ``z = fy (camera_height -
+       click_height) / (v - cy)`` metres away (a click at or above the horizon: 40 m; z kept in [2, 80]). Standing
+       on the road there, it fills the rows from ``cy + fy (camera_height - height) / z`` to ``cy + fy
+       camera_height / z`` and at most ``span fx / z`` columns.
+    2. GrabCut runs in a window of that car's rows (a third more above, a sixth more below) and ``span`` on each
+       side of the click: probably the object's in the middle (``core`` wide), probably not around it, a disc
+       around the click the object's for sure, the window's edge and the pixels of ``taken`` (other objects'
+       masks, ``(H, W)`` bool) background for sure.
+    3. The box is the bounding box of the found component that holds the click (where GrabCut keeps under 20
+       pixels of it: the car-sized middle, the geometry's guess).
+
+    >>> img = torch.full((3, 120, 320), 0.45); img[:, 70:100, 140:200] = torch.tensor([0.8, 0.1, 0.1])[:, None, None]
+    >>> box_at_point(img, (170.0, 85.0), 300.0, 300.0, 50.0).tolist()
+    [140.0, 70.0, 200.0, 100.0]
+    """
+    import cv2
+
+    pixels = _as_uint8(image)
+    height, width = pixels.shape[:2]
+    u, v = float(point[0]), float(point[1])
+    if not (0 <= u < width and 0 <= v < height):
+        raise ValueError(f"the point ({u:.0f}, {v:.0f}) is outside the {width}x{height} image")
+    z = fy * (camera_height - CLICK_CAR["click_height"]) / (v - cy) if v > cy + 1 else 40.0
+    z = min(max(z, 2.0), 80.0)
+    span, car_h = CLICK_CAR["span"] * fx / z, CLICK_CAR["height"] * fy / z
+    bottom, top = cy + fy * camera_height / z, cy + fy * (camera_height - CLICK_CAR["height"]) / z
+    x0, x1 = max(0, int(u - span)), min(width, int(u + span) + 1)
+    y0 = max(0, int(min(top - car_h / 3, v - 2)))
+    y1 = min(height, int(max(bottom + car_h / 6, v + 3)))
+    seed = np.full((y1 - y0, x1 - x0), cv2.GC_PR_BGD, dtype=np.uint8)
+    core = CLICK_CAR["core"] * fx / z / 2
+    mx0, mx1 = max(0, int(u - core) - x0), max(0, int(u + core) - x0)
+    seed[max(0, int(top) - y0):max(0, int(bottom) - y0 + 1), mx0:mx1 + 1] = cv2.GC_PR_FGD
+    border = max(1, int(0.03 * min(x1 - x0, y1 - y0)))
+    seed[:border], seed[-border:], seed[:, :border], seed[:, -border:] = (cv2.GC_BGD,) * 4
+    if taken is not None:
+        seed[taken.cpu().numpy()[y0:y1, x0:x1].astype(bool)] = cv2.GC_BGD
+    cv2.circle(seed, (int(u) - x0, int(v) - y0), max(2, int(0.12 * car_h)), int(cv2.GC_FGD), thickness=-1)
+    fg = _grabcut(pixels[y0:y1, x0:x1], seed, iterations, 1)
+    thin = max(3, int(0.08 * car_h)) | 1  # an opening cuts the thin strips of road or verge that join the car
+    fg = cv2.morphologyEx(fg, cv2.MORPH_OPEN, np.ones((thin, thin), np.uint8)) | (seed == cv2.GC_FGD).astype(np.uint8)
+    _, labels = cv2.connectedComponents(fg, connectivity=8)
+    mine = labels == labels[int(v) - y0, int(u) - x0]
+    if labels[int(v) - y0, int(u) - x0] == 0 or mine.sum() < 20:
+        return torch.tensor([max(0.0, u - 0.3 * span), max(0.0, top), min(float(width), u + 0.3 * span),
+                             min(float(height), bottom)], dtype=torch.float32)
+    rows, cols = np.nonzero(mine)
+    return torch.tensor([x0 + cols.min(), y0 + rows.min(), x0 + cols.max() + 1, y0 + rows.max() + 1],
+                        dtype=torch.float32)

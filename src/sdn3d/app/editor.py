@@ -414,6 +414,36 @@ class Editor:
                     raise AppError(str(exc), 422) from None
             return found
 
+    def box_at(self, sid: str, payload: Any) -> list[int]:
+        """The box a click implies (:func:`sdn3d.box_masks.box_at_point`): ``payload`` ``{"u": x, "v": y}`` in the
+        input's pixels -> ``[x0, y0, x1, y1]`` half-open input pixels, for the page to show and add as an object.
+
+        Raises:
+            AppError (404 no such session; 400 not such a payload; 422 a point outside the input).
+        """
+        import math
+
+        from sdn3d.box_masks import box_at_point
+        from sdn3d.editing.photo import input_intrinsics
+
+        found = self.get(sid)
+        if not isinstance(payload, dict) or set(payload) != {"u", "v"}:
+            raise AppError('send {"u": <x>, "v": <y>} in the input\'s pixels', 400)
+        u, v = payload["u"], payload["v"]
+        if not all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in (u, v)):
+            raise AppError("u and v must be finite numbers", 400)
+        inp = found.input
+        width, height = inp.input_size
+        if not (0 <= u < width and 0 <= v < height):
+            raise AppError(f"the point ({u:.0f}, {v:.0f}) is outside the {width}x{height} input", 422)
+        camera = input_intrinsics(inp.intrinsics, inp.frame)
+        fit = self.session.settings.box_fit
+        road = float(getattr(fit, "camera_height", 1.65) if fit is not None else 1.65)
+        with found.lock:
+            box = box_at_point(inp.picture, (float(u), float(v)), camera.fx, camera.fy, camera.cy,
+                               camera_height=road)
+        return [int(round(float(x))) for x in box]
+
     # -- what the page shows and downloads ----------------------------------------------------------------------
 
     def command(self, found: BrowserSession) -> str:

@@ -10,6 +10,7 @@ session's id, :mod:`sdn3d.app.editor`)::
     POST   /api/open_frame                   {"frame": index} -> a new session of a dataset frame, its view
     GET    /api/s/<sid>                      the session's view (objects, spec, command, warnings)
     POST   /api/s/<sid>/edit                 {"objects": [...], "ops": [...]} -> the new state's view
+    POST   /api/s/<sid>/box_at               {"u": x, "v": y} -> {"box": [x0, y0, x1, y1]}: the box a click implies
     GET    /api/s/<sid>/input.png            the input at its resolution
     GET    /api/s/<sid>/edited.png           the current picture at the input's resolution
     GET    /api/s/<sid>/labels.png           the current scene's semantic map (working size, class colours)
@@ -143,6 +144,12 @@ def create_app(editor: Editor, info: dict[str, Any], hosts: list[str] | None = N
         found = await run_in_threadpool(editor.edit, sid, body)
         return _json(editor.view(found))
 
+    async def box_at(request: Request) -> Response:
+        sid = request.path_params["sid"]
+        editor.get(sid)  # 404 before reading a body
+        body = await _json_body(request, limits.max_request_bytes)
+        return _json({"box": await run_in_threadpool(editor.box_at, sid, body)})
+
     async def input_png(request: Request) -> Response:
         return _png(editor.get(request.path_params["sid"]).input_png)
 
@@ -178,7 +185,8 @@ def create_app(editor: Editor, info: dict[str, Any], hosts: list[str] | None = N
         Route("/", page), Route("/static/{name}", static_file), Route("/api/info", api_info),
         Route("/api/open", open_upload, methods=["POST"]), Route("/api/open_frame", open_frame, methods=["POST"]),
         Route("/api/s/{sid}", session_view), Route("/api/s/{sid}", close, methods=["DELETE"]),
-        Route("/api/s/{sid}/edit", edit, methods=["POST"]), Route("/api/s/{sid}/input.png", input_png),
+        Route("/api/s/{sid}/edit", edit, methods=["POST"]), Route("/api/s/{sid}/box_at", box_at, methods=["POST"]),
+        Route("/api/s/{sid}/input.png", input_png),
         Route("/api/s/{sid}/edited.png", edited_png), Route("/api/s/{sid}/labels.png", labels_png),
         Route("/api/s/{sid}/download/{name}", download),
     ]

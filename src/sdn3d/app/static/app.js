@@ -14,6 +14,7 @@ const app = {
   index: -1,
   selected: null,    // instance id
   drag: null,        // {kind: 'move' | 'turn' | 'box', ...}
+  implied: null,     // [x0, y0, x1, y1]: the box the last click on a car implied (shown dashed)
   edited: null,      // Image: the current picture
   before: null,      // Image: the input
   labels: null,      // Image: the semantic map (working size)
@@ -161,6 +162,7 @@ async function opened(view) {
   app.index = 0;
   app.selected = null;
   app.labels = null;
+  app.implied = null;
   canvas.width = view.input.width;
   canvas.height = view.input.height;
   [app.before, app.edited] = await Promise.all([loadImage(`/api/s/${view.sid}/input.png`),
@@ -254,6 +256,12 @@ function draw() {
     ctx.globalAlpha = 1;
   }
   if ($("show-boxes").checked) for (const obj of objects()) drawObject(obj);
+  if (app.implied) {  // the box the last click implied
+    const [x0, y0, x1, y1] = app.implied;
+    ctx.setLineDash([3, 3]); ctx.strokeStyle = "#0ff"; ctx.lineWidth = 2;
+    ctx.strokeRect(x0, y0, x1 - x0, y1 - y0); ctx.setLineDash([]);
+    label("clicked box", x0, Math.max(16, y0 - 4), "#0088");
+  }
   if (app.drag && app.drag.kind === "box" && app.drag.now) {
     const [a, b] = [app.drag.start, app.drag.now];
     ctx.setLineDash([6, 4]); ctx.strokeStyle = "#ff0"; ctx.lineWidth = 2;
@@ -342,6 +350,24 @@ function duplicate(obj) {
   act({ op: "duplicate", id: obj.id, to });
 }
 
+// A click on a car: the server finds the box it implies (road-plane size, GrabCut); the page shows that box, dashed,
+// and adds it as an object, which the next edit fits like a drawn one.
+async function addByClick(u, v) {
+  $("add-click").classList.remove("active");
+  $("status").textContent = "finding the object under the click...";
+  setBusy(1);
+  let box;
+  try {
+    box = (await api("POST", `/api/s/${app.view.sid}/box_at`, { u: round1(u), v: round1(v) })).box;
+  } catch (e) { showError(e.message); $("status").textContent = ""; return; } finally { setBusy(-1); }
+  app.implied = box;
+  draw();
+  const next = clone(state());
+  next.objects.push({ box, class: "Car" });
+  $("status").textContent = `the click implies the box [${box.join(", ")}]; fitting it (GrabCut mask, 3D fit)...`;
+  await commit(next, performance.now());
+}
+
 function undo() { if (app.index > 0) commit(app.history[app.index - 1], performance.now(), app.index - 1); }
 function redo() {
   if (app.index < app.history.length - 1) commit(app.history[app.index + 1], performance.now(), app.index + 1);
@@ -358,6 +384,11 @@ canvas.addEventListener("mousedown", (event) => {
   const [u, v] = pointer(event);
   if (event.shiftKey || $("add-box").classList.contains("active")) {
     app.drag = { kind: "box", start: [u, v], now: null };
+    return;
+  }
+  if (event.altKey || $("add-click").classList.contains("active")) {
+    event.preventDefault();
+    addByClick(u, v);
     return;
   }
   const sel = app.selected === null ? null : objectById(app.selected);
@@ -451,6 +482,7 @@ $("undo").addEventListener("click", undo);
 $("redo").addEventListener("click", redo);
 $("reset").addEventListener("click", () => { if (app.view) commit({ objects: [], ops: [] }, performance.now()); });
 $("add-box").addEventListener("click", () => $("add-box").classList.toggle("active"));
+$("add-click").addEventListener("click", () => $("add-click").classList.toggle("active"));
 $("compare").addEventListener("input", draw);
 $("show-boxes").addEventListener("change", draw);
 $("show-labels").addEventListener("change", () => { legend(); if ($("show-labels").checked) loadLabels(); draw(); });

@@ -88,3 +88,29 @@ def test_the_demo_says_its_own_frames_are_from_its_training_data(tmp_path):
     [why] = _semantic_distrust(str(summary.parent / "checkpoints" / "best.ckpt"), data)
     assert "vehicle PQ is 0.000" in why and str(summary.parent) in why and "real photos" not in why
     assert _semantic_distrust(None, data) == []
+
+
+def test_grabcut_is_seeded_by_a_trusted_semantic_branch_only_on_the_data_it_trained_on(tmp_path):
+    """box_objects.prior auto: the semantic branch's vehicle probability seeds GrabCut where its recorded proposals
+    are trusted and the input is a frame of its training data; never on a photo (a synthetic-trained branch there is
+    no seed) nor with a weak branch."""
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli.edit import _box_settings
+
+    data = tmp_path / "data"
+    data.mkdir()
+    checkpoints = {}
+    for name, recall in (("good", 0.8), ("weak", 0.2)):
+        summary = _run(tmp_path, {"val/proposal_recall": recall, "val/proposal_precision": 0.7}, data, name)
+        ckpt = summary.parent / "checkpoints" / "best.ckpt"
+        ckpt.parent.mkdir()
+        ckpt.write_bytes(b"")
+        checkpoints[name] = {"semantic": {"path": str(ckpt), "from": "checkpoints.semantic"}}
+    photo = compose_config([f"input.image={tmp_path / 'street.png'}"], "edit")
+    frame = compose_config(["data=synth", f"data.root={data}", "input.frame=0"], "edit")
+    assert _box_settings(frame, checkpoints["good"])[1] is True
+    assert _box_settings(photo, checkpoints["good"])[1] is False
+    assert _box_settings(frame, checkpoints["weak"])[1] is False
+    assert _box_settings(compose_config(["data=synth", f"data.root={data}", "input.frame=0", "box_objects.prior=true"],
+                                        "edit"),
+                         checkpoints["weak"])[1] is True  # asked for: as asked

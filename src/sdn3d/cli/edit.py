@@ -74,7 +74,15 @@ from sdn3d.editing.inputs import camera_for_image, fit_image
 from sdn3d.editing.session import EditInput, EditResult, EditSession, SessionSettings, proposals_record, to_uint8
 from sdn3d.errors import InputError
 from sdn3d.io import OWNER_FILE, check_output_dir, staged_directory
-from sdn3d.runs import BRANCHES, checkpoints_from_run, given_checkpoints, quality_warnings, semantic_summary
+from sdn3d.runs import (
+    BRANCHES,
+    checkpoints_from_run,
+    from_trained_data,
+    given_checkpoints,
+    quality_warnings,
+    semantic_summary,
+    trained_data,
+)
 from sdn3d.scene.listing import list_objects, objects_table
 
 __all__ = ["main", "run_edit", "load_input", "open_input", "resolve_checkpoints", "load_models", "session_settings",
@@ -473,8 +481,9 @@ def refine_settings(cfg: Any) -> Any:
 
 def _box_settings(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, bool, int]:
     """``(FitSettings, prior, iterations)`` of ``box_objects.*`` for objects named by a box: the fit's settings,
-    whether the semantic branch seeds GrabCut (``prior: auto``: when its recorded quality raises no warning) and the
-    GrabCut iterations."""
+    whether the semantic branch seeds GrabCut (``prior: auto``: when its recorded quality raises no warning and the
+    input comes from the data it trained on: a synthetic-trained branch's vehicle probability on a photo is no
+    seed; an input not known, e.g. the editor's uploads, is not from it) and the GrabCut iterations."""
     from sdn3d.geometric.fit import FitSettings
 
     node = cfg.get("box_objects") or {}
@@ -483,7 +492,10 @@ def _box_settings(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, b
         raise InputError(f"box_objects.prior must be auto, true or false, got {prior!r}")
     if prior == "auto":
         path, metrics = _semantic_metrics(checkpoints) if checkpoints.get("semantic") else (None, None)
-        prior = metrics is not None and not quality_warnings(metrics, None, str(path))
+        frame_input = cfg.get("data") is not None and (cfg.get("input") or {}).get("frame") is not None
+        source = cfg.data.root if frame_input else (cfg.get("input") or {}).get("image")
+        prior = (metrics is not None and not quality_warnings(metrics, None, str(path))
+                 and from_trained_data(trained_data(path), source) is True)
     iterations = node.get("iterations", 5)
     if isinstance(iterations, bool) or not isinstance(iterations, int) or iterations < 1:
         raise InputError(f"box_objects.iterations must be a positive integer (GrabCut iterations), got {iterations!r}")

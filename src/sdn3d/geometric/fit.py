@@ -70,6 +70,8 @@ class FitSettings:
         sigma: soft-silhouette softness, px^2.
         dims_reg, yaw_reg, ffd_reg: weights of the size prior, the yaw prior and the FFD's ``mean(phi^2)``.
         length_reg: the size prior's weight on the length alone (``dims_reg`` weighs height and width).
+        silhouette: ``soft`` (SoftRas) or ``straight_through`` (hard values, soft gradient: the L1 optimum is the
+            true outline, not a shrunken one; :mod:`sdn3d.render.silhouette`).
         poor_iou: a fit below this silhouette IoU with its mask is flagged as poor.
     """
 
@@ -85,6 +87,7 @@ class FitSettings:
     sigma: float = 0.25
     dims_reg: float = 0.1
     length_reg: float = 0.1
+    silhouette: str = "soft"
     yaw_reg: float = 0.02
     ffd_reg: float = 100.0
     poor_iou: float = 0.7
@@ -106,6 +109,8 @@ class FitSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
+        if self.silhouette not in ("soft", "straight_through"):
+            raise ValueError(f"FitSettings.silhouette must be 'soft' or 'straight_through', got {self.silhouette!r}")
         if not (isinstance(self.poor_iou, (int, float)) and 0 <= self.poor_iou <= 1):
             raise ValueError(f"FitSettings.poor_iou must be in [0, 1], got {self.poor_iou!r}")
 
@@ -187,7 +192,7 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
         dims = log_dims.exp()
         center = torch.stack([x, height - dims[:, 1] / 2, log_z.exp()], 1)
         phi = expand_half_ffd(phi_half)
-        sil = render_silhouettes(bank, template, dims, 2 * half_ry, center, phi, K, sil_settings)
+        sil = render_silhouettes(bank, template, dims, 2 * half_ry, center, phi, K, sil_settings, settings.silhouette)
         prior = ((log_dims - log_dims0).square() * dims_weight).sum(1)
         prior = prior + settings.yaw_reg * (1 - torch.cos(2 * half_ry - ry0)) / 2
         return reprojection_error(sil, mask, ign) + prior + settings.ffd_reg * phi.square().flatten(1).mean(1)

@@ -46,10 +46,15 @@ from sdn3d.math3d.ffd import expand_half_ffd
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.render.settings import SoftSilhouetteSettings
 
-__all__ = ["FitSettings", "FitResult", "fit_to_masks", "road_start"]
+__all__ = ["FitSettings", "FitResult", "fit_to_masks", "road_start", "CAR_DIMS", "PLAUSIBLE_SIZE_FACTOR"]
 
 #: Mean KITTI car ``(l, h, w)`` in metres: the size a fit starts from without a usable prediction.
 CAR_DIMS = (3.88, 1.53, 1.63)
+#: A predicted size is taken (start and prior) when each of its dimensions is within this factor of
+#: :data:`CAR_DIMS`: vans and small lorries (7.2 x 3.2 x 2.4 m in the synthetic family) included, a broken prediction
+#: (a 30 m car, a 0.5 m one) not. The first factor, 1.6, reset good predictions of large vans to a mean car's size,
+#: which their length then stayed near (scale error 3.3 m on such objects of a tuning tree).
+PLAUSIBLE_SIZE_FACTOR = 2.5
 #: Starting yaws: offsets added to the first start (prediction or facing away): itself, reversed, the two sides.
 YAW_OFFSETS = (0.0, math.pi, math.pi / 2, -math.pi / 2)
 
@@ -69,7 +74,6 @@ class FitSettings:
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
         dims_reg, yaw_reg, ffd_reg: weights of the size prior, the yaw prior and the FFD's ``mean(phi^2)``.
-        length_reg: the size prior's weight on the length alone (``dims_reg`` weighs height and width).
         silhouette: ``soft`` (SoftRas) or ``straight_through`` (hard values, soft gradient: the L1 optimum is the
             true outline, not a shrunken one; :mod:`sdn3d.render.silhouette`).
         poor_iou: a fit below this silhouette IoU with its mask is flagged as poor.
@@ -86,7 +90,6 @@ class FitSettings:
     margin: float = 0.15
     sigma: float = 0.25
     dims_reg: float = 0.1
-    length_reg: float = 0.1
     silhouette: str = "soft"
     yaw_reg: float = 0.02
     ffd_reg: float = 100.0
@@ -105,7 +108,7 @@ class FitSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"FitSettings.{name} must be a positive number, got {value!r}")
-        for name in ("margin", "dims_reg", "length_reg", "yaw_reg", "ffd_reg", "tie"):
+        for name in ("margin", "dims_reg", "yaw_reg", "ffd_reg", "tie"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
@@ -186,14 +189,13 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     free = [x, log_z, half_ry, log_dims] + ([phi_half] if with_ffd else [])
     sil_settings = SoftSilhouetteSettings((size, size), sigma=settings.sigma)
     log_dims0 = dims0.log()
-    dims_weight = torch.tensor([settings.length_reg, settings.dims_reg, settings.dims_reg])  # (l, h, w)
 
     def objective() -> Tensor:
         dims = log_dims.exp()
         center = torch.stack([x, height - dims[:, 1] / 2, log_z.exp()], 1)
         phi = expand_half_ffd(phi_half)
         sil = render_silhouettes(bank, template, dims, 2 * half_ry, center, phi, K, sil_settings, settings.silhouette)
-        prior = ((log_dims - log_dims0).square() * dims_weight).sum(1)
+        prior = settings.dims_reg * (log_dims - log_dims0).square().sum(1)
         prior = prior + settings.yaw_reg * (1 - torch.cos(2 * half_ry - ry0)) / 2
         return reprojection_error(sil, mask, ign) + prior + settings.ffd_reg * phi.square().flatten(1).mean(1)
 
@@ -218,7 +220,8 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
         ignore: ``(N, H, W)`` bool pixels that do not count for each object (nearer objects), or None.
         start_ry: ``(N,)`` first starting yaw (the geometric branch's prediction); NaN or None: facing away from
             the camera along the ray (``ry = -pi/2``, the back visible).
-        start_dims: ``(N, 3)`` starting ``(l, h, w)`` (NaN rows or None: :data:`CAR_DIMS`); also the size prior.
+        start_dims: ``(N, 3)`` starting ``(l, h, w)`` (NaN rows, implausible ones (:data:`PLAUSIBLE_SIZE_FACTOR`) or
+            None: :data:`CAR_DIMS`); also the size prior.
         start_template, start_location: ``(N,)`` template (-1: none) and ``(N, 3)`` bottom-face centre of the
             prediction: with ``start_ry`` and ``start_dims`` one more hypothesis of the fine stage (its ``x`` and
             ``z`` on the road plane).
@@ -245,7 +248,8 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     dims0 = torch.tensor(CAR_DIMS).expand(n, 3).clone()
     if start_dims is not None:
         given = start_dims.float()
-        plausible = torch.isfinite(given).all(1) & ((given / dims0).log().abs() < math.log(1.6)).all(1)
+        ratio = (given / dims0).log().abs()
+        plausible = torch.isfinite(given).all(1) & (ratio < math.log(PLAUSIBLE_SIZE_FACTOR)).all(1)
         dims0 = torch.where(plausible[:, None], given, dims0)
     windows = torch.tensor([square_crop_window(b, settings.margin) for b in pixel_centre_boxes(boxes.float())],
                            dtype=torch.float32)

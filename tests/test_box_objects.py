@@ -256,3 +256,18 @@ def test_box_settings_and_missing_objects_are_refused(ckpts, tmp_path, capsys):
     assert _cli(ckpts, tmp_path / "b", _spec(tmp_path / "l.yaml"), "box_objects.fit.keep=0") == 2
     assert "box_objects.fit" in capsys.readouterr().err
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+
+
+def test_grabcut_masks_do_not_depend_on_what_ran_before_in_the_thread(real_vkitti_frame):
+    """OpenCV's per-thread generator is put back before each GrabCut: the same boxes give the same masks after other
+    random draws of OpenCV in this thread (a long-running editor gives sdn3d-edit's masks). Without the reset the
+    real frame's masks differ from call to call."""
+    import cv2
+
+    image = np.asarray(Image.open(real_vkitti_frame).convert("RGB"))
+    boxes = torch.tensor([[466.0, 203.0, 666.0, 333.0], [704.0, 194.0, 917.0, 305.0]])
+    first = grabcut_masks(image, boxes).masks
+    noise = np.zeros((64, 64))
+    for _ in range(3):
+        cv2.randu(noise, 0, 1)
+        assert torch.equal(grabcut_masks(image, boxes).masks, first)

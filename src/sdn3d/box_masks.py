@@ -90,6 +90,10 @@ def _grabcut(crop: np.ndarray, seed: np.ndarray, iterations: int, upsample: int)
         crop = cv2.resize(crop, None, fx=upsample, fy=upsample, interpolation=cv2.INTER_CUBIC)
         work = cv2.resize(work, None, fx=upsample, fy=upsample, interpolation=cv2.INTER_NEAREST)
     bgd, fgd = np.zeros((1, 65), np.float64), np.zeros((1, 65), np.float64)
+    # GrabCut's colour models start from k-means drawing on OpenCV's per-thread generator: back to its initial state
+    # (RNG(0) is RNG(0xffffffff), a new thread's), so a mask does not depend on what ran before in this thread (a
+    # long-running editor gives sdn3d-edit's masks, box after box).
+    cv2.setRNGSeed(0)
     try:
         cv2.grabCut(crop, work, None, bgd, fgd, iterations, cv2.GC_INIT_WITH_MASK)
     except cv2.error:  # one colour everywhere (no background model can be learnt): the seed's probable foreground

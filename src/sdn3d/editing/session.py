@@ -280,9 +280,8 @@ class EditSession:
                 return hit
             t0 = time.perf_counter()
             # through the module: a test may stand in for the de-render (sdn3d.derender.derender)
-            scene = _in_fresh_thread(lambda: derendering.derender(
-                inp.image, inp.intrinsics, self.models, s.proposals, inp.ground_truth, min_pixels=s.min_pixels,
-                refine=s.refine, boxes=boxes))
+            scene = derendering.derender(inp.image, inp.intrinsics, self.models, s.proposals, inp.ground_truth,
+                                         min_pixels=s.min_pixels, refine=s.refine, boxes=boxes)
             scene.meta["refined"] = s.refine is not None
             elapsed = 1000 * (time.perf_counter() - t0)
             records = boxes_record(scene, inp.frame)
@@ -392,29 +391,6 @@ class EditSession:
                 "photo": {"settings": settings.to_dict(), **result.summary()}, "warnings": list(result.warnings)}
 
 
-def _in_fresh_thread(work: Any) -> Any:
-    """``work()`` run in a new thread (its exception re-raised here).
-
-    Why: OpenCV's GrabCut (the masks of objects named by a box) draws from a per-thread random generator
-    (``cv::theRNG``) that no API returns to its initial state. A new thread starts from that state, as a fresh
-    ``sdn3d-edit`` process does, so a scene de-rendered by a long-running app is the one the command line de-renders,
-    whatever ran before.
-    """
-    out: list[Any] = []
-    failed: list[BaseException] = []
-
-    def run() -> None:
-        try:
-            out.append(work())
-        except BaseException as exc:  # noqa: BLE001 (re-raised in the caller's thread)
-            failed.append(exc)
-
-    thread = threading.Thread(target=run, name="sdn3d-derender")
-    thread.start()
-    thread.join()
-    if failed:
-        raise failed[0]
-    return out[0]
 
 
 # -- records (edit.json, the listing) ---------------------------------------------------------------

@@ -9,7 +9,8 @@
 # tree of another seed (seed 1, 64 frames per sequence): frames no run trained on, and not any tree's test part.
 # The step axis carries over to the CPU; the seconds do not (the CPU's seconds per step are measured there).
 # SET=explore (default): twelve recipes at one seed, 600 steps; SET=demo: the candidates it left (slim DRN, skip
-# decoder, AdamW 4e-3; 128 or 256 frames per sequence) at 300 and 400 steps, 2-3 seeds each.
+# decoder, AdamW 4e-3; 128 or 256 frames per sequence) at 300 and 400 steps, 2-3 seeds each; SET=confirm: the
+# chosen recipe (ENet weights, colour jitter) and the same without them at seeds 2 and 3.
 # OUT_DIR gets sweep.json (every run's recall.json of recall_budget.py, by name), logs.txt (the end of each run's
 # log), device.txt and timing.txt. Environment: PYTHON (python3), STEPS (600), EVERY (50), DEVICE (cuda),
 # MAX_TIME (each run's trainer.max_time, 00:00:04:00: a lease ends), WORK (/tmp/recall_budget).
@@ -36,6 +37,8 @@ synth() {  # synth NAME FRAMES SEED EDIT_PAIRS
 }
 if [ "${SET:-explore}" = explore ]; then
   synth d16 16 0 4 & synth d64 64 0 4 & synth d128 128 0 4 & synth eval 64 1 0 &
+elif [ "${SET}" = confirm ]; then
+  synth d128 128 0 4 & synth eval 64 1 0 &
 else
   synth d128 128 0 4 & synth d256 256 0 4 & synth eval 64 1 0 &
 fi
@@ -66,6 +69,12 @@ if [ "${SET:-explore}" = explore ]; then  # first look: one seed each, 600 steps
   run cpunet_bilinear_d64 d64 "$STEPS" "${CPU_NET[@]}" model.decoder=bilinear model.lr=0.002 &
   run demo_short_d64 d64 "$STEPS" &
   run slim2_d64_sigma2 d64 "$STEPS" "${SLIM2[@]}" model.lr=0.002 model.center_sigma=2.0 &
+elif [ "${SET}" = confirm ]; then  # SET=confirm: the chosen recipe and its plain twin at two more seeds
+  for seed in 2 3; do
+    run "d128_lr4_enet_jitter_s$seed" d128 400 "${SLIM2[@]}" model.lr=0.004 model.class_weighting=enet \
+        model.color_jitter=0.2 seed="$seed" &
+    run "d128_lr4_s$seed" d128 400 "${SLIM2[@]}" model.lr=0.004 seed="$seed" &
+  done
 else  # SET=demo: the candidates the first look left, at the demo's own schedule length, several seeds
   for seed in 0 1 2; do
     run "d128_lr4_s$seed" d128 400 "${SLIM2[@]}" model.lr=0.004 seed="$seed" &

@@ -161,3 +161,27 @@ def test_click_drag_turn_delete_undo_download_and_reproduce(page, real_vkitti_fr
     out = tmp_path / "cli"
     assert edit_main([*args, f"edits={spec}", f"output_dir={out}"]) == 0
     assert np.array_equal(np.asarray(Image.open(out / "edited.png")), shown)
+
+
+def test_a_click_on_a_car_adds_the_box_it_implies(page, real_vkitti_frame, tmp_path):
+    """Add object (click): the page asks for the box a click implies, shows it dashed and adds it as a box object,
+    which is fitted like a drawn one; the box is near the one a person would draw around that car."""
+    browser, _, _ = page
+    if browser.view() is None:
+        browser.upload(real_vkitti_frame)
+    browser.click_element("reset")  # the same file again would not reach the page's file input: start afresh
+    browser.wait_idle()
+    assert browser.state()["objects"] == [] and browser.view()["objects"] == []
+    browser.click_element("add-click")
+    browser.click(600, 280)  # the red car
+    browser.wait_idle()
+    state = browser.state()
+    assert len(state["objects"]) == 1, browser.errors()
+    box, drawn = state["objects"][0]["box"], BOXES[0]
+    assert browser.js("return window.sdn3dApp.implied") == box  # shown as it was added
+    inter = (max(0, min(box[2], drawn[2]) - max(box[0], drawn[0]))
+             * max(0, min(box[3], drawn[3]) - max(box[1], drawn[1])))
+    union = (box[2] - box[0]) * (box[3] - box[1]) + (drawn[2] - drawn[0]) * (drawn[3] - drawn[1]) - inter
+    assert inter / union > 0.8, box
+    assert [o["geometry"] for o in browser.objects().values()] == [True] and browser.errors() == []
+    browser.screenshot(tmp_path / "clicked.png")

@@ -246,3 +246,14 @@ def test_a_click_on_a_car_implies_its_box_which_the_page_adds(server, real_vkitt
     status, view = json_request(base, "POST", f"/api/s/{sid}/edit", {"objects": [{"box": box, "class": "Car"}],
                                                                        "ops": []})
     assert status == 200 and [o["id"] for o in view["objects"]] == [12001]
+
+
+def test_an_empty_state_lists_no_objects_of_the_state_before(server, real_vkitti_frame):
+    """Reset (the empty state) after edits: with proposals=boxes nothing is listed any more, not the last scene."""
+    base, _, _ = server
+    sid = _open(base, real_vkitti_frame.read_bytes())[1]["sid"]
+    status, view = json_request(base, "POST", f"/api/s/{sid}/edit", {"objects": BOXES,
+                                                                       "ops": [{"op": "delete", "id": 12002}]})
+    assert status == 200 and [o["id"] for o in view["objects"]] == [12001]
+    status, view = json_request(base, "POST", f"/api/s/{sid}/edit", {"objects": [], "ops": []})
+    assert status == 200 and view["objects"] == [] and view["state"] == {"objects": [], "ops": []}

@@ -385,14 +385,16 @@ class Editor:
         with found.lock:
             try:
                 spec = self.parse(state)
-                derendered = self.session.derender(found.input, spec) if spec is not None else None
+                # An empty state (Reset, undo to the start) is the input's own scene: none with proposals=boxes
+                boxes_only = self.session.settings.proposals == "boxes"
+                derendered = self.session.derender(found.input, spec) if spec is not None or not boxes_only else None
                 result = self.session.edit(derendered, spec) if spec is not None and len(spec) else None
             except UserInputError as exc:
                 raise AppError(str(exc), 422) from None
             picture = result.edited if result is not None else found.input.picture
             found.state, found.result, found.picture = state, result, picture
             found.scene = (result.edited_scene if result is not None else
-                           derendered.scene if derendered is not None else found.scene)
+                           derendered.scene if derendered is not None else None)
             found.warnings = (derendered.warnings if derendered is not None else []) + (
                 result.warnings if result is not None else [])
             found.spec_yaml = spec_text(state["objects"], state["ops"])

@@ -96,11 +96,13 @@ def test_no_experiment_is_the_branch_defaults(tmp_path):
 
 # What each budget trains (the values conf/demo.yaml and conf/budget/*.yaml passed as override lists before).
 BUDGETS = {
-    "short": {"semantic": {"trainer.max_epochs": 6, "model.lr": 0.005, "trainer.limit_train_batches": 12},
+    "short": {"semantic": {"trainer.max_epochs": 18, "model.lr": 0.004, "trainer.limit_train_batches": None,
+                           "model.decoder": "skip", "model.optimizer": "adamw", "model.class_weighting": "enet",
+                           "model.channels": [16, 16, 32, 64, 64, 128, 128, 128], "data.image_size": [312, 96]},
               "geometric": {"model.pred_epochs": 8, "model.joint_epochs": 2, "trainer.max_epochs": 10,
-                            "trainer.limit_train_batches": 16, "datamodule.crop_size": 64},
+                            "trainer.limit_train_batches": 4, "datamodule.crop_size": 64},
               "textural": {"model.lr_constant_epochs": 6, "model.lr_decay_epochs": 6, "trainer.max_epochs": 12,
-                           "model.ngf": 16, "datamodule.maps": "gt"}},
+                           "trainer.limit_train_batches": 10, "model.ngf": 16, "datamodule.maps": "gt"}},
     "medium": {"semantic": {"trainer.max_epochs": 30, "model.lr": 0.002, "model.decoder": "skip",
                             "model.optimizer": "adamw", "data.image_size": [312, 96],
                             "trainer.check_val_every_n_epoch": 3},

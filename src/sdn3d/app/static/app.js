@@ -260,7 +260,7 @@ function draw() {
     const [x0, y0, x1, y1] = app.implied;
     ctx.setLineDash([3, 3]); ctx.strokeStyle = "#0ff"; ctx.lineWidth = 2;
     ctx.strokeRect(x0, y0, x1 - x0, y1 - y0); ctx.setLineDash([]);
-    label("clicked box", x0, Math.max(16, y0 - 4), "#0088");
+    label("clicked box", x0, Math.min(canvas.height - 4, y1 + 18), "#0088");  // below: the object's own label is above
   }
   if (app.drag && app.drag.kind === "box" && app.drag.now) {
     const [a, b] = [app.drag.start, app.drag.now];

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import math
 import re
 
 import numpy as np
@@ -166,10 +167,54 @@ def test_errors_show_the_users_pixels(scene):
     iid = int(scene.objects.instance_id[scene.objects.has_geometry][0])
     with pytest.raises(EditError, match=re.escape("'to' point [170.0, 20.0] lies outside the 160x64 frame")):
         resolve_ops(parse_edit_spec([{"op": "move", "id": iid, "to": [170, 20]}]), scene, frame=frame)
-    free = torch.nonzero(scene.objects.mask.sum(0) == 0)[0].tolist()  # a pixel under no object
-    with pytest.raises(EditError, match=r"no object at \[\d+\.\d, \d+\.\d\] or within 0.001 px \(working size\)"):
+    free = _free_pixel(scene)
+    with pytest.raises(EditError, match=r"no object at \[\d+\.\d, \d+\.\d\]: no mask or listed box holds it, and "
+                                        r"no centre is within 0.001 px \(working size\); the nearest: \d+ \(\d+ px"):
         resolve_ops(parse_edit_spec([{"op": "delete", "at": [2 * free[1] + 0.5, 2 * free[0] + 0.5]}]), scene,
                     pick_radius=0.001, frame=frame)
+
+
+def _free_pixel(scene) -> list[int]:
+    """``[row, column]`` of a working pixel under no object's mask and outside every object's mask box."""
+    from sdn3d.image_ops import mask_boxes
+
+    free = scene.objects.mask.sum(0) == 0
+    for x0, y0, x1, y1 in mask_boxes(scene.objects.mask).tolist():
+        free[y0:y1, x0:x1] = False
+    return torch.nonzero(free)[0].tolist()
+
+
+def test_a_point_in_an_objects_listed_box_picks_it_the_nearest_in_front_on_overlap(scene):
+    """Issue 28's picking by pixel: a point inside an object's listed box but off its mask picks it; where boxes
+    overlap the nearest object in front wins; a miss names the nearest objects with their distances in the input's
+    pixels (2x the working pixels here)."""
+    from sdn3d.image_ops import mask_boxes
+
+    obj = scene.objects
+    boxes = mask_boxes(obj.mask)
+    frame = PixelFrame((160, 64), (80, 32))
+    covered = obj.mask.any(0)
+    hits = []
+    for row in range(len(obj)):
+        x0, y0, x1, y1 = boxes[row].tolist()
+        holes = [(x, y) for y in range(y0, y1) for x in range(x0, x1) if not bool(covered[y, x])]
+        if holes and bool(obj.has_geometry[row]):
+            x, y = holes[0]
+            holders = [r for r in range(len(obj)) if boxes[r, 0] <= x < boxes[r, 2] and boxes[r, 1] <= y < boxes[r, 3]]
+            front = min(holders, key=lambda r: float(obj.location[r, 2]) if bool(obj.has_geometry[r]) else math.inf)
+            [op] = resolve_ops(parse_edit_spec([{"op": "delete", "at": [2 * x + 1, 2 * y + 1]}]), scene,
+                               pick_radius=0.001, frame=frame)
+            assert op.instance_id == int(obj.instance_id[front])
+            hits.append(len(holders))
+    assert hits, "no listed box with a pixel off every mask in this scene"
+    free = _free_pixel(scene)
+    with pytest.raises(EditError) as err:
+        resolve_ops(parse_edit_spec([{"op": "delete", "at": [2 * free[1] + 1, 2 * free[0] + 1]}]), scene,
+                    pick_radius=0.001, frame=frame)
+    nearest = re.findall(r"(\d+) \((\d+) px, centre \[([\d.-]+), ([\d.-]+)\]\)", str(err.value))
+    assert 1 <= len(nearest) <= 3 and {int(n[0]) for n in nearest} <= set(obj.instance_id.tolist())
+    for _, far, u, v in nearest:  # distances in the input's pixels, from the point as written
+        assert abs(float(far) - math.hypot(float(u) - (2 * free[1] + 1), float(v) - (2 * free[0] + 1))) < 1.0
 
 
 def test_benchmark_route_is_unchanged(scene, tiny_synth):

@@ -82,6 +82,7 @@ from sdn3d.editing.apply import (
     projected_centers,
 )
 from sdn3d.errors import UserInputError
+from sdn3d.image_ops import mask_boxes
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import compose_instances
@@ -539,6 +540,46 @@ def _user_frame(spec: EditSpec, scene: SceneCode, frame: PixelFrame | None) -> t
     return tuple(frame.input_size) if frame is not None else tuple(scene.image_size)
 
 
+def _pick_at(at: tuple[float, float], shown_at: tuple[float, float], scene: SceneCode, instance_map: torch.Tensor,
+             centers: torch.Tensor, valid: torch.Tensor, need_geo: bool, pick_radius: float | None,
+             to_user: Any, what: str) -> int:
+    """The object an op's ``at`` names (working pixels ``at``; ``shown_at``: as the user wrote it).
+
+    In order: the object whose mask is under the point (the front one: the composed instance map); else the nearest
+    in front of the objects whose listed box (their visible mask's box, as the listing prints it) holds the point;
+    else the object whose projected centre is nearest, within ``pick_radius`` working pixels. A miss names the
+    nearest objects, with their distances in the user's pixels (``to_user`` maps working pixels there)."""
+    obj = scene.objects
+    width, height = scene.image_size
+    under = int(instance_map[min(max(round(at[1]), 0), height - 1), min(max(round(at[0]), 0), width - 1)])
+    if under:
+        return under
+    usable = obj.has_geometry | ~torch.tensor(need_geo)
+    if len(obj):
+        boxes = mask_boxes(obj.mask).double()
+        inside = ((boxes[:, 0] <= at[0]) & (at[0] < boxes[:, 2]) & (boxes[:, 1] <= at[1]) & (at[1] < boxes[:, 3])
+                  & usable & (boxes[:, 2] > boxes[:, 0]))
+        if bool(inside.any()):
+            rows = inside.nonzero().flatten()
+            depth = torch.where(obj.has_geometry[rows], obj.location[rows, 2].double(),
+                                torch.full((len(rows),), math.inf, dtype=torch.float64))
+            return int(obj.instance_id[rows[int(depth.argmin())]])
+    dist = (centers - torch.tensor(at, dtype=centers.dtype)).norm(dim=1)
+    dist = torch.where(valid & usable, dist, torch.full_like(dist, math.inf))
+    best = int(dist.argmin()) if len(dist) else -1
+    if best >= 0 and math.isfinite(float(dist[best])) and (pick_radius is None or float(dist[best]) <= pick_radius):
+        return int(obj.instance_id[best])
+    near = []
+    for row in torch.argsort(dist).tolist()[:3]:
+        if math.isfinite(float(dist[row])):
+            u, v = to_user((float(centers[row, 0]), float(centers[row, 1])))
+            far = math.hypot(u - shown_at[0], v - shown_at[1])
+            near.append(f"{int(obj.instance_id[row])} ({far:.0f} px, centre {_shown((u, v))})")
+    nearest = f"; the nearest: {', '.join(near)}" if near else "; the scene has no object to pick"
+    raise EditError(f"{what}: no object at {_shown(shown_at)}: no mask or listed box holds it, and no centre is "
+                    f"within {pick_radius} px (working size){nearest}")
+
+
 def _shown(uv: tuple[float, float]) -> list[float]:
     return [round(float(uv[0]), 1), round(float(uv[1]), 1)]
 
@@ -629,20 +670,8 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
                 raise EditError(f"{what}: no object with id {op.id} (the scene has {obj.instance_id.tolist()})")
             iid = op.id
         elif at is not None:
-            width, height = scene.image_size
-            under = int(instance_map[min(max(round(at[1]), 0), height - 1), min(max(round(at[0]), 0), width - 1)])
-            if under:
-                iid = under
-            else:
-                ok = valid & (obj.has_geometry | ~torch.tensor(need_geo))
-                dist = (centers - torch.tensor(at, dtype=centers.dtype)).norm(dim=1)
-                dist = torch.where(ok, dist, torch.full_like(dist, math.inf))
-                best = int(dist.argmin()) if len(dist) else -1
-                if best < 0 or not math.isfinite(float(dist[best])) or (
-                        pick_radius is not None and float(dist[best]) > pick_radius):
-                    raise EditError(f"{what}: no object at {_shown(op.at)} or within {pick_radius} px (working "
-                                    f"size) of it")
-                iid = int(obj.instance_id[best])
+            iid = _pick_at(at, op.at, scene, instance_map, centers, valid, need_geo, pick_radius,
+                           lambda uv: _unscaled(uv, spec, scene, frame), what)
         else:
             try:
                 iid = match_objects(scene, [frm], [True], pick_radius)[0]

@@ -332,7 +332,7 @@ def test_report_first_screen_shows_the_edits_the_branches_and_table1_without_emp
     assert (out / "report.md").read_text() == report and (out / "summary.json").is_file()
     first, details = report.split("\n## Details\n")
     assert report.startswith("# sdn3d demo report\n\n![") and "](edits/edits_grid.png)" in first.split("\n")[2]
-    assert "car 12005 (the nearest wholly in view): source, closer (zoom 1.6), deleted" in first
+    assert "car 12005 (the largest found wholly in view): source, closer (zoom 1.6), deleted" in first
     branches = [line for line in first.split("\n") if line.startswith("- **")]
     assert [b.split("**")[1] for b in branches] == ["semantic", "geometric", "textural"]
     semantic, geometric, textural = branches
@@ -384,3 +384,38 @@ def test_report_names_the_semantic_runs_recorded_proposal_figures_and_whether_th
     summary["metrics"]["val/proposal_precision"] = 0.4
     [line] = branch_lines({"semantic": summary}, None)
     assert "(not trusted)" in line
+
+
+def test_the_example_car_is_the_largest_found_car_wholly_in_view(tiny_synth, monkeypatch):
+    """_found_example: over the test frames, the largest proposal with geometry wholly in the picture that found
+    (IoU >= 0.5) an annotated car the image does not cut; the branches' scene stands in here as the ground truth's
+    own, so the choice is the largest untruncated car whose mask touches no left, right or bottom edge."""
+    import sdn3d.derender as derendering
+    from sdn3d.cli._config import synth_data_source
+    from sdn3d.cli.demo import _found_example
+    from sdn3d.data.scene_gt import scene_from_frame
+    from sdn3d.data.sources import load_split
+
+    source = synth_data_source(tiny_synth)
+    records = [r for r in load_split(source, "test") if r.objects]
+    by_key = {r.key: r for r in records}
+    scenes = {}
+
+    def stand_in(image, intrinsics, models, proposals, gt, **kwargs):
+        scenes[gt.key] = scene_from_frame(by_key[gt.key], tuple(source.image_size))
+        return scenes[gt.key]
+
+    monkeypatch.setattr(derendering, "derender", stand_in)
+    record, car = _found_example(records, source, None, "cpu")
+    candidates = []
+    for key, scene in scenes.items():
+        t = scene.objects
+        cut = {o.track_id + 1 for o in by_key[key].objects if o.truncr > 0}
+        for row in range(len(t)):
+            m = t.mask[row].bool()
+            edge = bool(m[:, 0].any() or m[:, -1].any() or m[-1, :].any())
+            if bool(t.has_geometry[row]) and not edge and int(t.instance_id[row]) % 1000 not in cut \
+                    and int(t.instance_id[row]) // 1000 in (12, 13):
+                candidates.append((int(m.sum()), key, int(t.instance_id[row])))
+    area, key, iid = max(candidates)
+    assert (record.key, car) == (key, iid)

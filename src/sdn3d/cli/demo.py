@@ -214,10 +214,12 @@ def _pick_frame(records: Sequence[Any], size: tuple[int, int], wanted: str | Non
 
 
 def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> dict:
-    """De-render one test frame and render a series of 3D edits of its nearest car, in ``edits.appearance``
-    (``photo``: the frame's own pixels through each car's 3D shape at the frame's resolution; ``generator``: the
-    textural generator, composed by ``edits.compose``: ``edited`` puts each edit into the frame at its own
-    resolution, ``full`` shows the generator's picture). The grid's panels are titled."""
+    """De-render one test frame and render a series of 3D edits of one car (on the semantic branch's proposals: the
+    largest found car wholly in view over the test frames, :func:`_found_example`; else the frame with the nearest
+    car wholly in view and its largest car), in
+    ``edits.appearance`` (``photo``: the frame's own pixels through each car's 3D shape at the frame's resolution;
+    ``generator``: the textural generator, composed by ``edits.compose``: ``edited`` puts each edit into the frame
+    at its own resolution, ``full`` shows the generator's picture). The grid's panels are titled."""
     from sdn3d.cli._config import synth_data_source
     from sdn3d.data.frames import load_frame
     from sdn3d.data.records import load_rgb
@@ -238,13 +240,14 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     photo = PhotoSettings.from_mapping(cfg.edits.get("photo"))
     source = synth_data_source(data_root, render_size(cfg))
     records = [r for r in load_split(source, "test") if r.objects]
-    record = _pick_frame(records, source.image_size, cfg.edits.frame)
-    frame = load_frame(record, source.image_size, semantic=True, instances=True)
     predicted = str(cfg.edits.get("proposals", "semantic")) == "semantic" and bool(ckpts.get("semantic"))
     distrust = _semantic_distrust(ckpts.get("semantic"), data_root) if predicted else []
     predicted = predicted and not distrust
     models = Models.from_checkpoints(ckpts["semantic"] if predicted else None, ckpts["geometric"], ckpts["textural"],
                                      map_location=str(cfg.device))
+    found = _found_example(records, source, models, str(cfg.device)) if predicted and not cfg.edits.frame else None
+    record = found[0] if found else _pick_frame(records, source.image_size, cfg.edits.frame)
+    frame = load_frame(record, source.image_size, semantic=True, instances=True)
     started = time.perf_counter()
     gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
     scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, "semantic" if predicted else "gt", gt)
@@ -254,7 +257,8 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
         scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, "gt", gt)
         proposals = PROPOSAL_LABELS["gt"] + " (the semantic branch found no car with 3D geometry on this frame)"
     derender_s = time.perf_counter() - started
-    car, edits, recoloured = _example_edits(cfg, scene, record.key, ckpts["textural"], appearance)
+    car, edits, recoloured = _example_edits(cfg, scene, record.key, ckpts["textural"], appearance,
+                                            found[1] if found else None)
     original = np.ascontiguousarray(load_rgb(record), dtype=np.uint8)
     transform = PixelFrame((original.shape[1], original.shape[0]), tuple(source.image_size))
     pictures, timings = _edit_pictures(edits, scene, models, compose, original, transform, out, appearance, photo)
@@ -277,6 +281,40 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
             "picture_size": [int(source_rgb.shape[1]), int(source_rgb.shape[0])]}
 
 
+def _found_example(records: Sequence[Any], source: Any, models: Any, device: str) -> tuple[Any, int] | None:
+    """``(frame record, instance id)`` of the example edits on the semantic branch's proposals: over the test
+    frames, the largest proposal with 3D geometry that is wholly in the picture (its mask off the left, right and
+    bottom edges) and that found a car wholly in view (IoU >= 0.5 with an annotated car or van that the image does
+    not cut: the proposal-recall measure). The annotation only chooses which found car the figure shows; the
+    scene, its masks and its geometry are the branches' own. None where the proposals found no such car."""
+    from sdn3d.data.frames import load_frame
+    from sdn3d.data.scene_gt import ground_truth
+    from sdn3d.derender import derender
+    from sdn3d.labels import INSTANCE_DIVISOR
+
+    best: tuple[int, Any, int] | None = None
+    for record in records:
+        untruncated = {o.track_id + 1 for o in record.objects if o.label in ("Car", "Van") and o.truncr == 0}
+        if not untruncated:
+            continue
+        frame = load_frame(record, source.image_size, semantic=True, instances=True)
+        gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
+        table = derender(frame.image.to(device), frame.intrinsics, models, "semantic", gt).objects
+        mask = table.mask.bool().cpu()
+        whole = table.has_geometry.cpu() & ~(mask[:, :, 0].any(1) | mask[:, :, -1].any(1) | mask[:, -1, :].any(1))
+        for row in whole.nonzero().flatten().tolist():
+            area = int(mask[row].sum())
+            if best is not None and area <= best[0]:
+                continue
+            for k in untruncated:
+                truth = (frame.instances % INSTANCE_DIVISOR == k) & (frame.instances > 0)
+                union = int((truth | mask[row]).sum())
+                if union and int((truth & mask[row]).sum()) >= 0.5 * union:
+                    best = (area, record, int(table.instance_id[row]))
+                    break
+    return (best[1], best[2]) if best is not None else None
+
+
 def _semantic_distrust(checkpoint: str | None, data_root: Path | None = None) -> list[str]:
     """Why the semantic run of ``checkpoint`` is too weak to propose the example edits' objects (its recorded
     validation quality: :func:`sdn3d.runs.quality_warnings`, the edited frame read from ``data_root``); empty:
@@ -296,12 +334,12 @@ def _uint8_picture(image: torch.Tensor) -> np.ndarray:
     return (image.detach().cpu().clamp(0, 1).permute(1, 2, 0).numpy() * 255).round().astype(np.uint8)
 
 
-def _example_edits(cfg: Any, scene: Any, key: str, textural: Path,
-                   appearance: str = "photo") -> tuple[int, dict[str, list], str]:
-    """``(car, {name: ops}, how it was recoloured)``: the nearest car with geometry wholly in the picture (else the
-    nearest) moved closer, rotated, recoloured (photo appearance: its body repainted ``edits.recolor``; generator:
-    the code bank's code nearest that colour, a random code when the textural run wrote no bank), deleted. The
-    photo appearance has no reconstruction (it would be the frame itself)."""
+def _example_edits(cfg: Any, scene: Any, key: str, textural: Path, appearance: str = "photo",
+                   car: int | None = None) -> tuple[int, dict[str, list], str]:
+    """``(car, {name: ops}, how it was recoloured)``: ``car`` (else the largest car with geometry wholly in the
+    picture, else the largest) moved closer, rotated, recoloured (photo appearance: its body repainted
+    ``edits.recolor``; generator: the code bank's code nearest that colour, a random code when the textural run
+    wrote no bank), deleted. The photo appearance has no reconstruction (it would be the frame itself)."""
     from sdn3d.editing.apply import Delete, Rotate, SetCode, Zoom
     from sdn3d.labels import INSTANCE_DIVISOR
     from sdn3d.textural.code_bank import code_bank_path, load_code_bank, named_color
@@ -310,18 +348,22 @@ def _example_edits(cfg: Any, scene: Any, key: str, textural: Path,
     has_geo = table.has_geometry
     if not bool(has_geo.any()):
         raise DemoStageError(f"no object of {key} got 3D geometry")
-    # The nearest car wholly in the picture (its mask off the left, right and bottom edges), else the nearest.
+    # The largest car wholly in the picture (its mask off the left, right and bottom edges), else the largest: the
+    # one the edits show best. By its visible area, not its predicted depth: a short geometric branch can put a
+    # small far car nearest.
     mask = table.mask.bool()
     whole = has_geo & ~(mask[:, :, 0].any(1) | mask[:, :, -1].any(1) | mask[:, -1, :].any(1))
     pick = whole if bool(whole.any()) else has_geo
-    depth = torch.where(pick, table.location[:, 2], torch.full_like(table.location[:, 2], float("inf")))
-    car = int(table.instance_id[int(depth.argmin())])
+    area = mask.flatten(1).sum(1).float()
+    chosen = int(torch.where(pick, area, torch.full_like(area, -1.0)).argmax()) if car is None else \
+        table.index_of(car)
+    car = int(table.instance_id[chosen])
     others = [int(i) for i, g in zip(table.instance_id.tolist(), has_geo.tolist(), strict=True) if g and i != car]
     bank_file = code_bank_path(textural)
     colour = str(cfg.edits.recolor)
     paint = named_color(colour, "edits.recolor")
     if appearance == "photo":
-        new_code = table.code[int(depth.argmin())]
+        new_code = table.code[chosen]
         recolour = f"{colour} (the car's body repainted, its shading and details kept)"
     elif bank_file.is_file():
         rgb = torch.tensor(named_color(colour, "edits.recolor"))
@@ -553,7 +595,7 @@ def _first_screen(info: dict, headline: str) -> str:
         origin = f"objects from the {label}" + (" (why: *Example edits* below)" if why else "")
         size = "x".join(str(v) for v in edits.get("picture_size", []))
         parts += [f"![The demo's edits, before and after, each panel titled]({picture})", "",
-                  f"*Frame `{edits.get('frame')}`, car {edits.get('car')} (the nearest wholly in view): "
+                  f"*Frame `{edits.get('frame')}`, car {edits.get('car')} (the largest found wholly in view): "
                   f"{', '.join(edits.get('grid_layout', []))}; {edits.get('appearance', 'photo')} appearance at "
                   f"{size}; {origin}.*", ""]
     budget = info.get("budget", "short")
@@ -617,7 +659,7 @@ def write_report(out: Path, info: dict) -> str:
 
 ## Example edits (`edits/`)
 
-Frame `{edits.get('frame')}`, car {edits.get('car')} (the nearest wholly in view), scene from
+Frame `{edits.get('frame')}`, car {edits.get('car')} (the largest found wholly in view), scene from
 {edits.get('proposals', 'n/a')}:
 `edits/edits_grid.png` holds, row by row,
 {', '.join(edits.get('grid_layout', []))}. Recoloured: {edits.get('recoloured', 'n/a')}.

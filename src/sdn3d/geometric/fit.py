@@ -74,6 +74,8 @@ class FitSettings:
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
         dims_reg, yaw_reg, ffd_reg: weights of the size prior, the yaw prior and the FFD's ``mean(phi^2)``.
+        shape_reg: weight of the change of the size's proportions (the size moves as one scale of the start's
+            proportions plus a deviation per dimension; 0: each dimension as free as the others).
         silhouette: ``soft`` (SoftRas) or ``straight_through`` (hard values, soft gradient: the L1 optimum is the
             true outline, not a shrunken one; :mod:`sdn3d.render.silhouette`).
         poor_iou: a fit below this silhouette IoU with its mask is flagged as poor.
@@ -90,6 +92,7 @@ class FitSettings:
     margin: float = 0.15
     sigma: float = 0.25
     dims_reg: float = 0.1
+    shape_reg: float = 1.0
     silhouette: str = "soft"
     yaw_reg: float = 0.02
     ffd_reg: float = 100.0
@@ -108,7 +111,7 @@ class FitSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"FitSettings.{name} must be a positive number, got {value!r}")
-        for name in ("margin", "dims_reg", "yaw_reg", "ffd_reg", "tie"):
+        for name in ("margin", "dims_reg", "shape_reg", "yaw_reg", "ffd_reg", "tie"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
@@ -184,18 +187,25 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     x = start["x"].clone().requires_grad_(True)
     log_z = start["z"].log().clone().requires_grad_(True)
     half_ry = (start["ry"] / 2).clone().requires_grad_(True)  # the yaw moves twice as fast as the rest
-    log_dims = start["dims"].log().clone().requires_grad_(True)
+    # The size: a shared log-scale of the start's proportions plus a log deviation per dimension (``shape_reg``
+    # weighs the deviations, ``dims_reg`` the departure from the prior size). With a shared scale, a silhouette that
+    # grows the height and width it shows grows the length it hides with them.
+    log_start = start["dims"].log()
+    log_scale = torch.zeros(log_start.shape[0], 1).requires_grad_(True)
+    log_shape = torch.zeros_like(log_start).requires_grad_(True)
     phi_half = start["phi_half"].clone().requires_grad_(with_ffd)
-    free = [x, log_z, half_ry, log_dims] + ([phi_half] if with_ffd else [])
+    free = [x, log_z, half_ry, log_scale, log_shape] + ([phi_half] if with_ffd else [])
     sil_settings = SoftSilhouetteSettings((size, size), sigma=settings.sigma)
     log_dims0 = dims0.log()
 
     def objective() -> Tensor:
+        log_dims = log_start + log_scale + log_shape
         dims = log_dims.exp()
         center = torch.stack([x, height - dims[:, 1] / 2, log_z.exp()], 1)
         phi = expand_half_ffd(phi_half)
         sil = render_silhouettes(bank, template, dims, 2 * half_ry, center, phi, K, sil_settings, settings.silhouette)
-        prior = settings.dims_reg * (log_dims - log_dims0).square().sum(1)
+        prior = (settings.dims_reg * (log_dims - log_dims0).square().sum(1)
+                 + settings.shape_reg * log_shape.square().sum(1))
         prior = prior + settings.yaw_reg * (1 - torch.cos(2 * half_ry - ry0)) / 2
         return reprojection_error(sil, mask, ign) + prior + settings.ffd_reg * phi.square().flatten(1).mean(1)
 
@@ -203,7 +213,7 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     with torch.no_grad():
         loss = objective()
     values = {"x": x.detach(), "z": log_z.detach().exp(), "ry": _wrap(2 * half_ry.detach()),
-              "dims": log_dims.detach().exp(), "phi_half": phi_half.detach()}
+              "dims": (log_start + log_scale + log_shape).detach().exp(), "phi_half": phi_half.detach()}
     return values, loss
 
 

@@ -281,6 +281,12 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
             "picture_size": [int(source_rgb.shape[1]), int(source_rgb.shape[0])]}
 
 
+def wholly_in_view(masks: torch.Tensor) -> torch.Tensor:
+    """``(N,)`` bool: which of the masks ``(N, H, W)`` stay off the picture's left, right and bottom edges (an object
+    the image does not cut; the top edge is sky)."""
+    return ~(masks[:, :, 0].any(1) | masks[:, :, -1].any(1) | masks[:, -1, :].any(1))
+
+
 def _found_example(records: Sequence[Any], source: Any, models: Any, device: str) -> tuple[Any, int] | None:
     """``(frame record, instance id)`` of the example edits on the semantic branch's proposals: over the test
     frames, the largest proposal with 3D geometry that is wholly in the picture (its mask off the left, right and
@@ -301,13 +307,12 @@ def _found_example(records: Sequence[Any], source: Any, models: Any, device: str
         gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
         table = derender(frame.image.to(device), frame.intrinsics, models, "semantic", gt).objects
         mask = table.mask.bool().cpu()
-        whole = table.has_geometry.cpu() & ~(mask[:, :, 0].any(1) | mask[:, :, -1].any(1) | mask[:, -1, :].any(1))
-        for row in whole.nonzero().flatten().tolist():
+        truths = [(frame.instances % INSTANCE_DIVISOR == k) & (frame.instances > 0) for k in untruncated]
+        for row in (table.has_geometry.cpu() & wholly_in_view(mask)).nonzero().flatten().tolist():
             area = int(mask[row].sum())
             if best is not None and area <= best[0]:
                 continue
-            for k in untruncated:
-                truth = (frame.instances % INSTANCE_DIVISOR == k) & (frame.instances > 0)
+            for truth in truths:
                 union = int((truth | mask[row]).sum())
                 if union and int((truth & mask[row]).sum()) >= 0.5 * union:
                     best = (area, record, int(table.instance_id[row]))
@@ -352,7 +357,7 @@ def _example_edits(cfg: Any, scene: Any, key: str, textural: Path, appearance: s
     # one the edits show best. By its visible area, not its predicted depth: a short geometric branch can put a
     # small far car nearest.
     mask = table.mask.bool()
-    whole = has_geo & ~(mask[:, :, 0].any(1) | mask[:, :, -1].any(1) | mask[:, -1, :].any(1))
+    whole = has_geo & wholly_in_view(mask)
     pick = whole if bool(whole.any()) else has_geo
     area = mask.flatten(1).sum(1).float()
     chosen = int(torch.where(pick, area, torch.full_like(area, -1.0)).argmax()) if car is None else \

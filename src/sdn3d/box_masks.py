@@ -175,7 +175,7 @@ CLICK_CAR = {"height": 1.6, "span": 4.6, "core": 1.8, "click_height": 0.7}
 
 
 def box_at_point(image: Tensor | np.ndarray, point: tuple[float, float], fx: float, fy: float, cy: float, *,
-                 camera_height: float = 1.65, taken: Tensor | None = None, iterations: int = 4) -> Tensor:
+                 camera_height: float = 1.65, iterations: int = 4) -> Tensor:
     """The box of the object under a click, ``(4,)`` half-open ``(x0, y0, x1, y1)`` float pixels of ``image``.
 
     No weights: the road plane says how large a car at the click can be, and GrabCut finds it there.
@@ -187,8 +187,7 @@ def box_at_point(image: Tensor | np.ndarray, point: tuple[float, float], fx: flo
        camera_height / z`` and at most ``span fx / z`` columns.
     2. GrabCut runs in a window of that car's rows (a third more above, a sixth more below) and ``span`` on each
        side of the click: probably the object's in the middle (``core`` wide), probably not around it, a disc
-       around the click the object's for sure, the window's edge and the pixels of ``taken`` (other objects'
-       masks, ``(H, W)`` bool) background for sure.
+       around the click the object's for sure, the window's edge background for sure.
     3. The box is the bounding box of the found component that holds the click (where GrabCut keeps under 20
        pixels of it: the car-sized middle, the geometry's guess).
 
@@ -216,8 +215,6 @@ def box_at_point(image: Tensor | np.ndarray, point: tuple[float, float], fx: flo
     seed[max(0, int(top) - y0):max(0, int(bottom) - y0 + 1), mx0:mx1 + 1] = cv2.GC_PR_FGD
     border = max(1, int(0.03 * min(x1 - x0, y1 - y0)))
     seed[:border], seed[-border:], seed[:, :border], seed[:, -border:] = (cv2.GC_BGD,) * 4
-    if taken is not None:
-        seed[taken.cpu().numpy()[y0:y1, x0:x1].astype(bool)] = cv2.GC_BGD
     cv2.circle(seed, (int(u) - x0, int(v) - y0), max(2, int(0.12 * car_h)), int(cv2.GC_FGD), thickness=-1)
     fg = _grabcut(pixels[y0:y1, x0:x1], seed, iterations, 1)
     thin = max(3, int(0.08 * car_h)) | 1  # an opening cuts the thin strips of road or verge that join the car

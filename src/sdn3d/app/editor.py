@@ -427,6 +427,7 @@ class Editor:
 
         from sdn3d.box_masks import box_at_point
         from sdn3d.editing.photo import input_intrinsics
+        from sdn3d.geometric.fit import FitSettings
 
         found = self.get(sid)
         if not isinstance(payload, dict) or set(payload) != {"u", "v"}:
@@ -439,8 +440,7 @@ class Editor:
         if not (0 <= u < width and 0 <= v < height):
             raise AppError(f"the point ({u:.0f}, {v:.0f}) is outside the {width}x{height} input", 422)
         camera = input_intrinsics(inp.intrinsics, inp.frame)
-        fit = self.session.settings.box_fit
-        road = float(getattr(fit, "camera_height", 1.65) if fit is not None else 1.65)
+        road = (self.session.settings.box_fit or FitSettings()).camera_height  # the road the box fit assumes
         with found.lock:
             box = box_at_point(inp.picture, (float(u), float(v)), camera.fx, camera.fy, camera.cy,
                                camera_height=road)

@@ -25,11 +25,7 @@ WORK=${WORK:-/tmp/recall_budget}
 export PYTHONUNBUFFERED=1 OMP_NUM_THREADS=1
 mkdir -p "$OUT" "$WORK/runs"
 start=$SECONDS
-$PY - <<'PY' > "$OUT/device.txt" 2>&1
-import os, torch
-print("torch", torch.__version__, "cuda", torch.version.cuda,
-      "gpu", torch.cuda.get_device_name() if torch.cuda.is_available() else "none", "cpus", os.cpu_count())
-PY
+$PY "$(dirname "$0")/device_info.py" > "$OUT/device.txt" 2>&1
 synth() {  # synth NAME FRAMES SEED EDIT_PAIRS
   $PY -m sdn3d.cli.synth output_dir="$WORK/$1" frames_per_sequence="$2" seed="$3" edit_pairs="$4" \
       'worlds=["0001","0002"]' 'variations=[clone]' image_size=[624,192] cars_per_frame=[5,10] \

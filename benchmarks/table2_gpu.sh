@@ -25,11 +25,7 @@ RUNS=$WORK/runs
 export PYTHONUNBUFFERED=1 OMP_NUM_THREADS=1
 mkdir -p "$OUT" "$RUNS"
 start=$SECONDS
-$PY - <<'PY' > "$OUT/device.txt" 2>&1
-import os, torch
-print("torch", torch.__version__, "cuda", torch.version.cuda,
-      "gpu", torch.cuda.get_device_name() if torch.cuda.is_available() else "none", "cpus", os.cpu_count())
-PY
+$PY "$(dirname "$0")/device_info.py" > "$OUT/device.txt" 2>&1
 $PY -m sdn3d.cli.synth output_dir="$DATA" frames_per_sequence="${SYNTH_FRAMES:-20}" workers="${SYNTH_WORKERS:-16}" \
     overwrite=true > "$WORK/synth.log" 2>&1 || { echo "synth failed"; tail -20 "$WORK/synth.log"; exit 1; }
 echo "synth: $((SECONDS - start)) s" | tee "$OUT/timing.txt"

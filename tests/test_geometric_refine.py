@@ -161,3 +161,47 @@ def test_refinement_of_half_precision_outputs_runs_in_float32(scene):
                                     bank=scene["bank"], settings=RefineSettings(iterations=4))
     assert all(v.dtype == torch.float32 and bool(torch.isfinite(v).all()) for v in result.raw.values())
     assert bool(torch.isfinite(result.losses).all())
+
+
+def test_adam_fit_takes_torch_optim_adams_steps():
+    """adam_fit writes Adam out (torch.optim's first step imports torch._dynamo, 1.3 s of a fresh process): the same
+    iterates as torch.optim.Adam's defaults, a parameter the loss does not reach left alone."""
+    from sdn3d.geometric.refine import adam_fit
+
+    target = torch.tensor([[1.0, -2.0, 0.5], [3.0, 0.0, -1.0]])
+    start = torch.tensor([[0.3, 0.1, -0.2], [0.0, 0.5, 0.7]])
+
+    def loss(x: torch.Tensor) -> torch.Tensor:  # per-object, with a curvature that differs between coordinates
+        return ((x - target) ** 2 * torch.tensor([1.0, 3.0, 0.2])).sum(1) + x[:, 0].sin()
+
+    ours, unused = start.clone().requires_grad_(True), torch.ones(2, requires_grad=True)
+    history = adam_fit([ours, unused], lambda: loss(ours), 25, 0.05)
+    theirs = start.clone().requires_grad_(True)
+    optimizer = torch.optim.Adam([theirs], lr=0.05)
+    reference = []
+    for _ in range(25):
+        optimizer.zero_grad()
+        value = loss(theirs)
+        reference.append(value.detach())
+        value.sum().backward()
+        optimizer.step()
+    torch.testing.assert_close(ours.detach(), theirs.detach(), rtol=0, atol=1e-6)
+    torch.testing.assert_close(torch.stack(history), torch.stack(reference), rtol=0, atol=1e-5)
+    assert unused.tolist() == [1.0, 1.0]
+    assert float(history[-1].sum()) < float(history[0].sum())
+
+
+def test_fitting_a_box_does_not_import_torch_dynamo():
+    """A fresh sdn3d-edit process paid 1.2-1.4 s for torch._dynamo, imported by torch.optim's first step."""
+    import subprocess
+    import sys
+
+    code = ("import sys, torch\n"
+            "from sdn3d.geometric.fit import FitSettings, fit_to_masks\n"
+            "from sdn3d.math3d.camera import Intrinsics\n"
+            "mask = torch.zeros(1, 48, 96, dtype=torch.bool); mask[0, 20:40, 30:70] = True\n"
+            "fit_to_masks(mask, torch.tensor([[30.0, 20.0, 70.0, 40.0]]), Intrinsics(60.0, 60.0, 48.0, 12.0, 96, 48),\n"
+            "             settings=FitSettings(coarse_steps=2, fine_steps=2, coarse_size=16, fine_size=16))\n"
+            "print('torch._dynamo' in sys.modules)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=True)
+    assert done.stdout.strip() == "False", done.stdout + done.stderr

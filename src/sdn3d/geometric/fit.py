@@ -10,7 +10,8 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    width, the box's bottom edge is the car's nearest side).
 2. **Many starts, then the best.** Every template of the bank times four starting yaws (the geometric branch's
    prediction where there is one, else facing away from the camera; its reverse; the two sides) is fitted at a
-   coarse crop (``coarse_size`` px, ``coarse_steps`` Adam steps on x, log z, yaw and log dims). The ``keep`` best
+   coarse crop (``coarse_size`` px, ``coarse_steps`` Adam steps on x, log z, yaw and log dims), each template cut to
+   ``coarse_faces`` faces (an outline 40 px across needs no more). The ``keep`` best
    hypotheses of each object, and the prediction itself (its template, place on the road, yaw and size), go on at
    a finer crop with the free-form deformation (``fine_steps``); the one with
    the lowest loss wins, so the template is chosen by its fit. A silhouette barely tells a car's front from its
@@ -66,6 +67,8 @@ class FitSettings:
     Args:
         camera_height: the road plane's ``y`` in the camera frame, metres (y down; KITTI's camera is 1.65 m up).
         coarse_size, coarse_steps: crop side (px) and Adam steps of the search over all starts.
+        coarse_faces: the search over all starts draws each template cut to at most this many faces
+            (:meth:`~sdn3d.meshes.bank.MeshBank.simplified`; 0: the full meshes). The fine stage draws the full ones.
         fine_size, fine_steps: crop side and Adam steps of the ``keep`` best starts, with the FFD.
         keep: hypotheses per object that go on to the fine stage.
         tie: fits whose final loss is within this share of the best one are equally good; the yaw nearest the
@@ -84,6 +87,7 @@ class FitSettings:
     camera_height: float = 1.65
     coarse_size: int = 40
     coarse_steps: int = 12
+    coarse_faces: int = 450
     fine_size: int = 80
     fine_steps: int = 16
     keep: int = 4
@@ -103,10 +107,13 @@ class FitSettings:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 8:
                 raise ValueError(f"FitSettings.{name} must be an integer >= 8, got {value!r}")
-        for name in ("coarse_steps", "fine_steps", "keep"):
+        for name in ("coarse_steps", "fine_steps", "keep", "coarse_faces"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < (1 if name == "keep" else 0):
                 raise ValueError(f"FitSettings.{name} must be a non-negative integer (keep >= 1), got {value!r}")
+        if 0 < self.coarse_faces < 4:
+            raise ValueError(f"FitSettings.coarse_faces must be 0 (the full meshes) or at least 4, got "
+                             f"{self.coarse_faces}")
         for name in ("camera_height", "lr", "sigma"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
@@ -273,7 +280,8 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     start = {"x": road[obj, 0], "z": road[obj, 2], "ry": _wrap(ry0[obj] + offsets), "dims": dims0[obj],
              "phi_half": torch.zeros(n * per, 32, 3)}
     mask, ign, K = _crops(masks, ignore, windows, settings.coarse_size, intr, image_size)
-    values, loss = _stage(bank, template, start, dims0[obj], ry0[obj], mask[obj], ign[obj], K[obj],
+    coarse_bank = bank.simplified(settings.coarse_faces) if settings.coarse_faces else bank
+    values, loss = _stage(coarse_bank, template, start, dims0[obj], ry0[obj], mask[obj], ign[obj], K[obj],
                           settings.coarse_size, settings.coarse_steps, settings, with_ffd=False)
 
     # Fine: the `keep` best of each object, and the prediction itself (its template, place, yaw and size; where

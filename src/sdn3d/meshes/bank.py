@@ -11,7 +11,7 @@ import torch
 from torch import Tensor
 
 from sdn3d.math3d.ffd import bernstein_basis
-from sdn3d.meshes.templates import TEMPLATE_NAMES, template_arrays
+from sdn3d.meshes.templates import TEMPLATE_NAMES, normalize_to_unit_box, template_arrays
 from sdn3d.meshes.vehicle_family import FAMILY_NAMES, VEHICLE_SHAPE_NAMES, family_arrays
 
 if TYPE_CHECKING:  # imported where a Trimesh is read or built: the edit path never loads trimesh
@@ -120,6 +120,32 @@ class MeshBank:
         if not loaded:
             raise ValueError(f"no files matching {pattern!r} under {str(path)!r}")
         return cls.from_trimeshes([m for _, m in loaded], [n for n, _ in loaded])
+
+    def simplified(self, max_faces: int) -> MeshBank:
+        """The bank with each mesh cut to at most ``max_faces`` faces by vertex clustering
+        (:func:`~sdn3d.meshes.shapenet.cluster_simplify`), then stretched back to the mesh's own bounds (clustering
+        averages the extreme vertices inwards), same names and ids. For searches where a coarse outline is enough:
+        a silhouette a few dozen pixels across. Built once per ``max_faces`` and kept on the bank.
+
+        >>> bank = MeshBank.templates()
+        >>> coarse = bank.simplified(300)
+        >>> int(coarse.num_faces.max()) <= 300, coarse.names == bank.names, coarse is bank.simplified(300)
+        (True, True, True)
+        """
+        from sdn3d.meshes.shapenet import cluster_simplify
+
+        cache = self.__dict__.setdefault("_simplified", {})
+        if max_faces not in cache:
+            verts, faces = [], []
+            for i in range(len(self)):
+                nv, nf = int(self.num_verts[i]), int(self.num_faces[i])
+                full = self.verts[i, :nv].double().cpu().numpy()
+                v, f = cluster_simplify(full, self.faces[i, :nf].cpu().numpy(), max_faces)
+                lo, hi = full.min(0), full.max(0)
+                verts.append((normalize_to_unit_box(v) + 0.5) * (hi - lo) + lo)
+                faces.append(f)
+            cache[max_faces] = MeshBank.from_arrays(verts, faces, self.names).to(self.device)
+        return cache[max_faces]
 
     # -- access -------------------------------------------------------------------------------
 

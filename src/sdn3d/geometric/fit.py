@@ -90,7 +90,7 @@ class FitSettings:
     coarse_faces: int = 450
     fine_size: int = 80
     fine_steps: int = 16
-    keep: int = 4
+    keep: int = 3
     tie: float = 0.1
     lr: float = 0.05
     margin: float = 0.15

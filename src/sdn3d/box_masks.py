@@ -29,7 +29,7 @@ import numpy as np
 import torch
 from torch import Tensor
 
-__all__ = ["BoxMasks", "grabcut_masks", "nearest_first", "box_at_point", "CLICK_CAR"]
+__all__ = ["BoxMasks", "grabcut_masks", "refine_with_silhouettes", "nearest_first", "box_at_point", "CLICK_CAR"]
 
 
 class BoxMasks(NamedTuple):
@@ -104,6 +104,21 @@ def _grabcut(crop: np.ndarray, seed: np.ndarray, iterations: int, upsample: int)
     return (fg > 0.5).astype(np.uint8) & (seed != cv2.GC_BGD)
 
 
+def _box_window(box: Tensor, width: int, height: int, context: float,
+                min_context_px: int) -> tuple[tuple[int, int, int, int], tuple[int, int, int, int]] | None:
+    """``((x0, y0, x1, y1), (wx0, wy0, wx1, wy1))``: ``box`` rounded and clipped to the image, and the window
+    GrabCut learns its background from (the box grown by ``context`` of its size, at least ``min_context_px``, on
+    each side); None for a box under 2 pixels wide or high."""
+    x0, y0, x1, y1 = (int(round(float(v))) for v in box)
+    x0, x1 = max(0, min(x0, width)), max(0, min(x1, width))
+    y0, y1 = max(0, min(y0, height)), max(0, min(y1, height))
+    if x1 - x0 < 2 or y1 - y0 < 2:
+        return None
+    gx = max(min_context_px, int(context * (x1 - x0)))
+    gy = max(min_context_px, int(context * (y1 - y0)))
+    return (x0, y0, x1, y1), (max(0, x0 - gx), max(0, y0 - gy), min(width, x1 + gx), min(height, y1 + gy))
+
+
 def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | None = None, iterations: int = 5,
                   context: float = 0.5, min_context_px: int = 8, prior_high: float = 0.9,
                   prior_low: float = 0.1, min_share: float = 0.3, upsample: int = 1) -> BoxMasks:
@@ -135,14 +150,10 @@ def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | 
     from_box = np.zeros(len(boxes), dtype=bool)
     taken = np.zeros((height, width), dtype=bool)
     for i in nearest_first(boxes).tolist():  # each box needs the masks of the nearer ones: sequential
-        x0, y0, x1, y1 = (int(round(float(v))) for v in boxes[i])
-        x0, x1 = max(0, min(x0, width)), max(0, min(x1, width))
-        y0, y1 = max(0, min(y0, height)), max(0, min(y1, height))
-        if x1 - x0 < 2 or y1 - y0 < 2:
+        place = _box_window(boxes[i], width, height, context, min_context_px)
+        if place is None:
             continue
-        gx = max(min_context_px, int(context * (x1 - x0)))
-        gy = max(min_context_px, int(context * (y1 - y0)))
-        wx0, wy0, wx1, wy1 = max(0, x0 - gx), max(0, y0 - gy), min(width, x1 + gx), min(height, y1 + gy)
+        (x0, y0, x1, y1), (wx0, wy0, wx1, wy1) = place
         seed = np.full((wy1 - wy0, wx1 - wx0), cv2.GC_BGD, dtype=np.uint8)
         seed[y0 - wy0:y1 - wy0, x0 - wx0:x1 - wx0] = cv2.GC_PR_FGD
         if prior_np is not None:
@@ -227,3 +238,67 @@ def box_at_point(image: Tensor | np.ndarray, point: tuple[float, float], fx: flo
     rows, cols = np.nonzero(mine)
     return torch.tensor([x0 + cols.min(), y0 + rows.min(), x0 + cols.max() + 1, y0 + rows.max() + 1],
                         dtype=torch.float32)
+
+
+def refine_with_silhouettes(image: Tensor | np.ndarray, boxes: Tensor, masks: Tensor, silhouettes: Tensor, *,
+                            refine: Tensor | None = None, others: Tensor | None = None, iterations: int = 5,
+                            context: float = 0.5, min_context_px: int = 8, min_share: float = 0.3) -> Tensor:
+    """``(N, H, W)`` bool: ``masks`` segmented again by GrabCut, seeded by each object's fitted 3D silhouette.
+
+    GrabCut alone misses what looks like the road: dark wheels, the lower body over its shadow. A car's fitted 3D
+    shape says where they are, so the second GrabCut learns their colours as the car's. Inside the box: the
+    silhouette shrunk by one pixel is the object's for sure, the silhouette grown by one pixel and the first mask
+    probably the object's, the rest probably not; outside the box, and on the pixels of nearer objects (boxes
+    nearest first, as :func:`grabcut_masks`) and of ``others``, nothing is. A row not to ``refine``, or whose second
+    mask keeps less than ``min_share`` of its box's free pixels, keeps its first mask.
+
+    Args:
+        image: ``(3, H, W)`` float in [0, 1], or ``(H, W, 3)`` uint8.
+        boxes: ``(N, 4)`` half-open boxes; masks: ``(N, H, W)`` bool, :func:`grabcut_masks`' masks of them.
+        silhouettes: ``(N, H, W)`` bool, each object's fitted 3D shape drawn in ``image``.
+        refine: ``(N,)`` bool, the rows to segment again (default: all), e.g. those whose fit matched its mask.
+        others: ``(H, W)`` bool pixels of other objects, never taken.
+        iterations, context, min_context_px, min_share: as :func:`grabcut_masks`.
+
+    >>> img = torch.full((3, 40, 60), 0.5); img[:, 10:30, 20:40] = 0.9; img[:, 24:30, 20:26] = 0.5  # road-grey wheel
+    >>> box = torch.tensor([[20.0, 10.0, 40.0, 30.0]])
+    >>> first = grabcut_masks(img, box).masks
+    >>> sil = torch.zeros(1, 40, 60, dtype=torch.bool); sil[0, 10:30, 20:40] = True  # the fitted car: the whole box
+    >>> int(first[0, 24:30, 20:26].sum()), int(refine_with_silhouettes(img, box, first, sil)[0, 24:30, 20:26].sum())
+    (0, 25)
+    """
+    import cv2
+
+    pixels = _as_uint8(image)
+    height, width = pixels.shape[:2]
+    n = len(boxes)
+    if tuple(masks.shape) != (n, height, width) or tuple(silhouettes.shape) != (n, height, width):
+        raise ValueError(f"masks and silhouettes must be ({n}, {height}, {width}), got {tuple(masks.shape)} and "
+                         f"{tuple(silhouettes.shape)}")
+    first = masks.bool().cpu().numpy()
+    drawn = silhouettes.bool().cpu().numpy().astype(np.uint8)
+    todo = np.ones(n, bool) if refine is None else refine.bool().cpu().numpy()
+    out = first.copy()
+    taken = np.zeros((height, width), bool) if others is None else others.bool().cpu().numpy().copy()
+    ring = np.ones((3, 3), np.uint8)
+    for i in nearest_first(boxes).tolist():
+        place = _box_window(boxes[i], width, height, context, min_context_px)
+        if todo[i] and place is not None and drawn[i].any():
+            (x0, y0, x1, y1), (wx0, wy0, wx1, wy1) = place
+            window = (slice(wy0, wy1), slice(wx0, wx1))
+            inner = cv2.erode(drawn[i][window], ring).astype(bool)
+            outer = cv2.dilate(drawn[i][window], ring).astype(bool) | first[i][window]
+            box = np.zeros((wy1 - wy0, wx1 - wx0), bool)
+            box[y0 - wy0:y1 - wy0, x0 - wx0:x1 - wx0] = True
+            free = box & ~taken[window]
+            seed = np.full(box.shape, cv2.GC_BGD, dtype=np.uint8)
+            seed[free] = cv2.GC_PR_BGD
+            seed[free & outer] = cv2.GC_PR_FGD
+            seed[free & inner] = cv2.GC_FGD
+            fg = _largest_filled(_grabcut(pixels[window], seed, iterations, 1)).astype(bool) & free
+            if fg.sum() >= min_share * free.sum():
+                out[i] = False
+                out[i][window] = fg
+        out[i] &= ~taken
+        taken |= out[i]
+    return torch.from_numpy(out)

@@ -154,6 +154,8 @@ class BoxPrompts:
         prior: seed GrabCut with the semantic branch's vehicle probability (only when that branch is trusted).
         iterations: GrabCut iterations per box.
         masks: ``(N, H, W)`` bool visible masks to take instead of GrabCut's (e.g. drawn by a person), or None.
+        refine_masks: segment each GrabCut mask again, seeded by the object's fitted 3D shape
+            (:func:`~sdn3d.box_masks.refine_with_silhouettes`), where the fit matched its mask (not a poor fit).
 
     The ``i``-th box becomes instance ``class_id * 1000 + k`` with ``k`` the next free number of its class, in the
     boxes' order.
@@ -165,6 +167,7 @@ class BoxPrompts:
     prior: bool = False
     iterations: int = 5
     masks: Tensor | None = None
+    refine_masks: bool = True
 
     def __post_init__(self) -> None:
         boxes, classes = torch.as_tensor(self.boxes, dtype=torch.float32), tuple(self.classes)
@@ -522,6 +525,36 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
     return (template, dims, ry, location, phi), records
 
 
+def _refine_box_masks(image: Tensor, intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
+                      geometry: tuple[Tensor, ...], records: list[dict]) -> tuple[Tensor, list[bool]]:
+    """``(masks, each box's mask segmented again?)``: the box objects' GrabCut masks segmented again, seeded by
+    their fitted 3D shapes drawn in the image (:func:`~sdn3d.box_masks.refine_with_silhouettes`), for the boxes
+    whose fit matched its mask; ``records[i]['mask_pixels']`` follows."""
+    from sdn3d.box_masks import refine_with_silhouettes
+    from sdn3d.math3d.transforms import bottom_to_center
+    from sdn3d.render import RasterSettings, rasterize_meshes
+    from sdn3d.render.objects import pose_meshes
+
+    good = torch.tensor([r["fit_iou"] is not None and not r["poor_fit"] for r in records], dtype=torch.bool)
+    if not bool(good.any()):
+        return masks, [False] * len(records)
+    template, dims, ry, location, phi = (g[rows[good]] for g in geometry)
+    center = bottom_to_center(location, dims[:, 1])
+    verts, faces = pose_meshes(MeshBank.templates(), template, dims.float(), ry.float(), center.float(), phi.float())
+    drawn = torch.zeros(len(records), *masks.shape[-2:], dtype=torch.bool)
+    drawn[good] = rasterize_meshes(verts, faces, intr.matrix().float(), RasterSettings(tuple(masks.shape[-2:]))).mask
+    others = torch.ones(len(masks), dtype=torch.bool)
+    others[rows] = False
+    again = refine_with_silhouettes(image, boxes.boxes, masks[rows], drawn, refine=good,
+                                    others=masks[others].any(0) if bool(others.any()) else None,
+                                    iterations=boxes.iterations)
+    masks = masks.clone()
+    masks[rows] = again
+    for record, mask in zip(records, again, strict=True):
+        record["mask_pixels"] = int(mask.sum())
+    return masks, good.tolist()
+
+
 def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: str = "auto",
              ground_truth: GroundTruth | None = None, *, classes: str | None = None, min_pixels: int = 64,
              refine: RefineSettings | None = None, boxes: BoxPrompts | None = None) -> SceneCode:
@@ -565,7 +598,6 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
         masks, ids, box_rows, mask_source = _add_boxes(image, masks, ids, boxes, seg, things,
                                                        class_list)
         instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)
-    semantic = torch.where(masks.any(0), (instances // INSTANCE_DIVISOR), semantic)
     n = len(ids)
     annotated = torch.ones(n, dtype=torch.bool)
     annotated[box_rows] = False
@@ -573,9 +605,17 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
                          annotated)
     if len(box_rows):
         geometry, box_records = _fit_boxes(intrinsics, masks, box_rows, boxes, geometry, min_pixels)
+        if boxes.masks is None and boxes.refine_masks:
+            before = masks[box_rows].any(0)
+            masks, again = _refine_box_masks(image, intrinsics, masks, box_rows, boxes, geometry, box_records)
+            instances = torch.where(before & ~masks.any(0), torch.zeros_like(instances), instances)
+            instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)
+            mask_source = [m + ", then again seeded by its fitted 3D shape" if a else m
+                           for m, a in zip(mask_source, again, strict=True)]
         for record, iid, mask in zip(box_records, ids[box_rows].tolist(), mask_source, strict=True):
             record["id"] = int(iid)
             record["mask"] = mask
+    semantic = torch.where(masks.any(0), (instances // INSTANCE_DIVISOR), semantic)
     template, dims, ry, location, phi = geometry
     geo = template >= 0
     code_dim = models.textural.spec.code_dim if models.textural is not None else DEFAULT_CODE_DIM

@@ -450,8 +450,8 @@ def object_origins(scene: SceneCode, ids: Any, box_records: list[dict]) -> list[
     for iid in [int(i) for i in ids]:
         if iid in boxes:
             r = boxes[iid]
-            out.append({"id": iid, "mask": f"{r['mask']} in the box {r['input_box']} (input pixels)", "pose": r["pose"],
-                        "fit_iou": r["fit_iou"], "poor_fit": r["poor_fit"]})
+            out.append({"id": iid, "mask": f"in the box {r['input_box']} (input pixels): {r['mask']}",
+                        "pose": r["pose"], "fit_iou": r["fit_iou"], "poor_fit": r["poor_fit"]})
             continue
         rows = (table.instance_id == iid).nonzero().flatten()
         geometry = bool(rows.numel()) and bool(table.template_id[rows[0]] >= 0)

@@ -11,7 +11,7 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
 2. **Many starts, then the best.** Every template of the bank times four starting yaws (the geometric branch's
    prediction where there is one, else facing away from the camera; its reverse; the two sides) is fitted at a
    coarse crop (``coarse_size`` px, ``coarse_steps`` Adam steps on x, log z, yaw and log dims), each template cut to
-   ``coarse_faces`` faces (an outline 40 px across needs no more). The ``keep`` best
+   ``coarse_faces`` faces (an outline 32 px across needs no more). The ``keep`` best
    hypotheses of each object, and the prediction itself (its template, place on the road, yaw and size), go on at
    a finer crop with the free-form deformation (``fine_steps``); the one with
    the lowest loss wins, so the template is chosen by its fit. A silhouette barely tells a car's front from its
@@ -85,7 +85,7 @@ class FitSettings:
     """
 
     camera_height: float = 1.65
-    coarse_size: int = 40
+    coarse_size: int = 32
     coarse_steps: int = 12
     coarse_faces: int = 450
     fine_size: int = 80

@@ -14,7 +14,7 @@ import torch
 from helpers.tiny_models import write_checkpoints
 from PIL import Image
 
-from sdn3d.box_masks import box_at_point, grabcut_masks, nearest_first
+from sdn3d.box_masks import box_at_point, grabcut_masks, nearest_first, refine_with_silhouettes
 from sdn3d.cli.edit import main
 from sdn3d.derender import BoxPrompts, Models, derender
 from sdn3d.editing.spec import EditSpecError, PixelFrame, box_prompts, parse_edit_spec
@@ -285,3 +285,28 @@ def test_grabcut_masks_do_not_depend_on_what_ran_before_in_the_thread(real_vkitt
     for _ in range(3):
         cv2.randu(noise, 0, 1)
         assert torch.equal(grabcut_masks(image, boxes).masks, first)
+
+
+def test_the_second_grabcut_takes_what_the_fitted_shape_shows_and_nothing_it_may_not():
+    """refine_with_silhouettes: a road-grey lower body that GrabCut left out comes back where the fitted shape covers
+    it; a row not to refine keeps its first mask; another object's pixels are never taken; shapes are checked."""
+    image = torch.full((3, 60, 100), 0.5)
+    image[:, 10:40, 10:40] = torch.tensor([0.9, 0.2, 0.2])[:, None, None]  # a red car, its lower body road-grey
+    image[:, 32:40, 10:40] = 0.5
+    image[:, 12:36, 60:90] = torch.tensor([0.2, 0.3, 0.9])[:, None, None]  # a blue one
+    boxes = torch.tensor([[10.0, 10.0, 40.0, 40.0], [60.0, 12.0, 90.0, 36.0]])
+    first = grabcut_masks(image, boxes).masks
+    assert int(first[0, 33:40].sum()) == 0  # GrabCut alone: the grey part is road
+    drawn = torch.zeros_like(first)
+    drawn[0, 10:40, 10:40] = True
+    drawn[1, 12:36, 60:90] = True
+    again = refine_with_silhouettes(image, boxes, first, drawn)
+    assert int(again[0, 33:39, 11:39].sum()) == 6 * 28 and torch.equal(again[1], first[1])
+    kept = refine_with_silhouettes(image, boxes, first, drawn, refine=torch.tensor([False, True]))
+    assert torch.equal(kept[0], first[0])
+    others = torch.zeros(60, 100, dtype=torch.bool)
+    others[30:40, 10:20] = True  # e.g. a semantic proposal in front
+    guarded = refine_with_silhouettes(image, boxes, first, drawn, others=others)
+    assert not bool((guarded[0] & others).any()) and int(guarded[0, 33:39, 21:39].sum()) == 6 * 18
+    with pytest.raises(ValueError, match="silhouettes must be"):
+        refine_with_silhouettes(image, boxes, first, drawn[:1])

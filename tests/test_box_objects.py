@@ -136,8 +136,9 @@ def test_an_occluder_is_not_charged_to_the_car_behind_it():
                                                                                    (1.5, HEIGHT, 14.0)])
     _, alone = _render([2], [(4.0, 1.5, 1.7)], [-1.5], [(1.5, HEIGHT, 14.0)])
     box = mask_boxes(alone).float()  # the person's box is around the whole car
-    ignored = fit_to_masks(masks[1:], box, WORK, ignore=masks[:1], start_ry=torch.tensor([-1.5]))
-    charged = fit_to_masks(masks[1:], box, WORK, start_ry=torch.tensor([-1.5]))
+    plain = FitSettings(template_size_reg=0.0)  # the silhouette alone decides the size (the template's size pulls)
+    ignored = fit_to_masks(masks[1:], box, WORK, ignore=masks[:1], start_ry=torch.tensor([-1.5]), settings=plain)
+    charged = fit_to_masks(masks[1:], box, WORK, start_ry=torch.tensor([-1.5]), settings=plain)
     assert float(ignored.iou[0]) > 0.8 and float(charged.iou[0]) < float(ignored.iou[0])
     assert float(ignored.location[0, 2]) == pytest.approx(14.0, rel=0.05)
     assert float(ignored.dims[0, 2]) > 1.3 > float(charged.dims[0, 2])
@@ -310,3 +311,23 @@ def test_the_second_grabcut_takes_what_the_fitted_shape_shows_and_nothing_it_may
     assert not bool((guarded[0] & others).any()) and int(guarded[0, 33:39, 21:39].sum()) == 6 * 18
     with pytest.raises(ValueError, match="silhouettes must be"):
         refine_with_silhouettes(image, boxes, first, drawn[:1])
+
+
+def test_the_fit_pulls_the_size_towards_the_drawn_templates_typical_size():
+    """template_size_reg compares the size with TEMPLATE_DIMENSIONS of the template drawn; a bank of other meshes has
+    no typical size, and the fit then runs without the term."""
+    from sdn3d.geometric.fit import _typical_log_dims
+    from sdn3d.meshes.templates import TEMPLATE_DIMENSIONS, TEMPLATE_NAMES
+
+    typical = _typical_log_dims(MeshBank.templates())
+    assert torch.allclose(typical.exp(), torch.tensor([TEMPLATE_DIMENSIONS[n] for n in TEMPLATE_NAMES]))
+    assert _typical_log_dims(MeshBank.vehicle_shapes()) is None
+    with pytest.raises(ValueError, match="template_size_reg"):
+        FitSettings(template_size_reg=-1.0)
+    # A 4 m car seen from behind, fitted with the bus and the sedan only: the bus's 12 m keeps it a sedan.
+    _, masks = _render([0], [(4.6, 1.45, 1.8)], [-math.pi / 2], [(0.5, HEIGHT, 11.0)])
+    bank = MeshBank.templates()
+    two = MeshBank.from_arrays([bank.verts[i, :int(bank.num_verts[i])].numpy() for i in (0, 7)],
+                               [bank.faces[i, :int(bank.num_faces[i])].numpy() for i in (0, 7)], ["sedan", "bus"])
+    fitted = fit_to_masks(masks, mask_boxes(masks).float(), WORK, bank=two, start_ry=torch.tensor([-math.pi / 2]))
+    assert int(fitted.template[0]) == 0 and float(fitted.iou[0]) > 0.8

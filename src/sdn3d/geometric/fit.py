@@ -23,8 +23,9 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    degrees with its length and width swapped casts nearly the same silhouette; with ``dims_reg = 0.1`` such a swap
    costs about 0.16, more than a whole silhouette's L1 error), ``yaw_reg * (1 - cos(ry - ry0)) / 2`` (a pull towards
    the first start's yaw, the prediction's: where the silhouette cannot tell front from back or a turn of 90
-   degrees, the prediction does; a wrong prediction loses to a silhouette that disagrees clearly) and
-   ``ffd_reg * mean(phi^2)``.
+   degrees, the prediction does; a wrong prediction loses to a silhouette that disagrees clearly),
+   ``template_size_reg * |log d - log d_t|^2`` (the size near the typical size ``d_t`` of the template drawn: the
+   template a silhouette cannot tell is told by the size) and ``ffd_reg * mean(phi^2)``.
 
 The fit's quality is the silhouette IoU of the winner with the mask at the fine crop (the soft silhouette
 thresholded at 0.5, ignored pixels left out): :attr:`FitResult.iou`. Shapes in the docstrings: ``N`` objects,
@@ -45,6 +46,7 @@ from sdn3d.image_ops import crop_intrinsics, crop_windows, pixel_centre_boxes, s
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.ffd import expand_half_ffd
 from sdn3d.meshes.bank import MeshBank
+from sdn3d.meshes.templates import TEMPLATE_DIMENSIONS
 from sdn3d.render.settings import SoftSilhouetteSettings
 
 __all__ = ["FitSettings", "FitResult", "fit_to_masks", "road_start", "CAR_DIMS", "PLAUSIBLE_SIZE_FACTOR"]
@@ -77,6 +79,11 @@ class FitSettings:
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
         dims_reg, yaw_reg, ffd_reg: weights of the size prior, the yaw prior and the FFD's ``mean(phi^2)``.
+        template_size_reg: weight of ``|log d - log d_t|^2``, the size's departure from the typical size of the
+            template it is drawn with (:data:`~sdn3d.meshes.templates.TEMPLATE_DIMENSIONS`; only for a bank of the
+            templates). A 4 m car fits a pickup's silhouette from behind, but it is not a pickup: on a seed-7 tuning
+            tree 0.1 chose the right template for 53 % of 38 cars and vans against 18 % without (0.03: 21 %, 0.3:
+            45 %), with no measured change in scale or orientation.
         shape_reg: weight of the change of the size's proportions (the size moves as one scale of the start's
             proportions plus a deviation per dimension; 0: each dimension as free as the others).
         silhouette: ``soft`` (SoftRas) or ``straight_through`` (hard values, soft gradient: the L1 optimum is the
@@ -96,6 +103,7 @@ class FitSettings:
     margin: float = 0.15
     sigma: float = 0.25
     dims_reg: float = 0.1
+    template_size_reg: float = 0.1
     shape_reg: float = 1.0
     silhouette: str = "soft"
     yaw_reg: float = 0.02
@@ -118,7 +126,7 @@ class FitSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"FitSettings.{name} must be a positive number, got {value!r}")
-        for name in ("margin", "dims_reg", "shape_reg", "yaw_reg", "ffd_reg", "tie"):
+        for name in ("margin", "dims_reg", "template_size_reg", "shape_reg", "yaw_reg", "ffd_reg", "tie"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
@@ -171,6 +179,14 @@ def road_start(boxes: Tensor, intr: Intrinsics, camera_height: float, width: flo
     return torch.stack([x, torch.full_like(x, camera_height), z], 1)
 
 
+def _typical_log_dims(bank: MeshBank) -> Tensor | None:
+    """``(M, 3)`` log of each template's typical ``(l, h, w)`` (:data:`TEMPLATE_DIMENSIONS`), None unless every mesh
+    of ``bank`` is a template."""
+    if not all(name in TEMPLATE_DIMENSIONS for name in bank.names):
+        return None
+    return torch.tensor([TEMPLATE_DIMENSIONS[name] for name in bank.names]).log()
+
+
 def _wrap(angle: Tensor) -> Tensor:
     return torch.atan2(torch.sin(angle), torch.cos(angle))
 
@@ -204,6 +220,8 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     free = [x, log_z, half_ry, log_scale, log_shape] + ([phi_half] if with_ffd else [])
     sil_settings = SoftSilhouetteSettings((size, size), sigma=settings.sigma)
     log_dims0 = dims0.log()
+    typical = _typical_log_dims(bank)
+    log_typical = None if typical is None else typical[template]
 
     def objective() -> Tensor:
         log_dims = log_start + log_scale + log_shape
@@ -214,6 +232,8 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
         prior = (settings.dims_reg * (log_dims - log_dims0).square().sum(1)
                  + settings.shape_reg * log_shape.square().sum(1))
         prior = prior + settings.yaw_reg * (1 - torch.cos(2 * half_ry - ry0)) / 2
+        if log_typical is not None and settings.template_size_reg:
+            prior = prior + settings.template_size_reg * (log_dims - log_typical).square().sum(1)
         return reprojection_error(sil, mask, ign) + prior + settings.ffd_reg * phi.square().flatten(1).mean(1)
 
     adam_fit(free, objective, steps, settings.lr)

@@ -231,6 +231,7 @@ def main(argv: list[str] | None = None) -> dict:
             fit_iou.append(fitted.meta["boxes"][j]["fit_iou"] or 0.0)
             if args.details:
                 details.append({"frame": record.key, "id": iid, "pixels": int(m_true.sum()), "mask_iou": mask_iou[-1],
+                                "mask_iou_refined": refined_iou[-1], "fit_iou": fit_iou[-1],
                                 "true": {"dims": true[j]["dims"].tolist(), "ry": float(true[j]["ry"]),
                                          "template": true[j]["template"], "z": float(true[j]["center"][2])},
                                 **{name: ({"dims": objs[j]["dims"].tolist(), "ry": float(objs[j]["ry"]),

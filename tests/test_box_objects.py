@@ -270,7 +270,15 @@ def test_box_settings_and_missing_objects_are_refused(ckpts, tmp_path, capsys):
     assert "proposals=boxes takes the objects" in capsys.readouterr().err
     assert _cli(ckpts, tmp_path / "b", _spec(tmp_path / "l.yaml"), "box_objects.fit.keep=0") == 2
     assert "box_objects.fit" in capsys.readouterr().err
-    assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+    assert _cli(ckpts, tmp_path / "c", _spec(tmp_path / "l.yaml"), "box_objects.refine_masks=maybe") == 2
+    assert "box_objects.refine_masks must be true or false" in capsys.readouterr().err
+    assert not any((tmp_path / d).exists() for d in "abc")
+
+
+def test_the_second_grabcut_can_be_switched_off(ckpts, tmp_path):
+    assert _cli(ckpts, tmp_path / "once", _spec(tmp_path / "l.yaml"), "box_objects.refine_masks=false") == 0
+    listing = json.loads((tmp_path / "once" / "objects.json").read_text())
+    assert [r["mask_from"] for r in listing["objects"]] == ["grabcut", "grabcut"]
 
 
 def test_grabcut_masks_do_not_depend_on_what_ran_before_in_the_thread(real_vkitti_frame):

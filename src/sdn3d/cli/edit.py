@@ -285,9 +285,10 @@ def session_settings(cfg: Any, checkpoints: dict[str, dict | None], compose: Any
     """
     if appearance is None or photo is None:
         appearance, photo = appearance_settings(cfg)
-    fit, prior, iterations = _box_settings(cfg, checkpoints)
+    fit, prior, iterations, refine_masks = _box_settings(cfg, checkpoints)
     return SessionSettings(proposals=str(cfg.proposals), min_pixels=int(cfg.geometric.min_pixels),
                            refine=refine_settings(cfg), box_fit=fit, box_prior=prior, box_iterations=iterations,
+                           box_refine_masks=refine_masks,
                            pick_radius=cfg.pick_radius, strict=bool(cfg.strict), seed=int(cfg.seed),
                            appearance=appearance, photo=photo, compose=compose or _compose_settings(cfg),
                            diagnostics=bool(cfg.diagnostics))
@@ -479,11 +480,13 @@ def refine_settings(cfg: Any) -> Any:
         raise InputError(f"refine: {exc}") from exc
 
 
-def _box_settings(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, bool, int]:
-    """``(FitSettings, prior, iterations)`` of ``box_objects.*`` for objects named by a box: the fit's settings,
+def _box_settings(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, bool, int, bool]:
+    """``(FitSettings, prior, iterations, refine_masks)`` of ``box_objects.*`` for objects named by a box: the fit's
+    settings,
     whether the semantic branch seeds GrabCut (``prior: auto``: when its recorded quality raises no warning and the
     input comes from the data it trained on: a synthetic-trained branch's vehicle probability on a photo is no
-    seed; an input not known, e.g. the editor's uploads, is not from it) and the GrabCut iterations."""
+    seed; an input not known, e.g. the editor's uploads, is not from it), the GrabCut iterations and whether GrabCut
+    runs again seeded by the fitted shapes."""
     from sdn3d.geometric.fit import FitSettings
 
     node = cfg.get("box_objects") or {}
@@ -499,11 +502,14 @@ def _box_settings(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, b
     iterations = node.get("iterations", 5)
     if isinstance(iterations, bool) or not isinstance(iterations, int) or iterations < 1:
         raise InputError(f"box_objects.iterations must be a positive integer (GrabCut iterations), got {iterations!r}")
+    refine_masks = node.get("refine_masks", True)
+    if not isinstance(refine_masks, bool):
+        raise InputError(f"box_objects.refine_masks must be true or false, got {refine_masks!r}")
     try:
         fit = FitSettings(**dict(node.get("fit") or {}))
     except (TypeError, ValueError) as exc:
         raise InputError(f"box_objects.fit: {exc}") from exc
-    return fit, bool(prior) and checkpoints.get("semantic") is not None, iterations
+    return fit, bool(prior) and checkpoints.get("semantic") is not None, iterations, refine_masks
 
 
 def appearance_settings(cfg: Any) -> tuple[str, Any]:

@@ -104,6 +104,7 @@ class SessionSettings:
         box_fit: the 3D fit of objects named by a box (:class:`~sdn3d.geometric.fit.FitSettings`; None: defaults).
         box_prior: seed GrabCut with the semantic branch's vehicle probability.
         box_iterations: GrabCut iterations per box.
+        box_refine_masks: GrabCut once more, seeded by each well-fitted box object's 3D shape.
         pick_radius: pixels (working size) a pick by position may be from an object's projected centre (None: any).
         strict: benchmark points must lie inside the frame.
         seed: randomness of ``recolor: sample``.
@@ -119,6 +120,7 @@ class SessionSettings:
     box_fit: Any = None
     box_prior: bool = False
     box_iterations: int = 5
+    box_refine_masks: bool = True
     pick_radius: float | None = 16.0
     strict: bool = True
     seed: int = 0
@@ -271,7 +273,7 @@ class EditSession:
         boxes = None
         if spec is not None and spec.objects:
             boxes = box_prompts(spec, (inp.intrinsics.width, inp.intrinsics.height), inp.frame, fit=s.box_fit,
-                                prior=s.box_prior, iterations=s.box_iterations)
+                                prior=s.box_prior, iterations=s.box_iterations, refine_masks=s.box_refine_masks)
         key = (inp.key, None if boxes is None else (tuple(boxes.boxes.flatten().tolist()), boxes.classes))
         with self.lock:
             hit = self._scenes.get(key)

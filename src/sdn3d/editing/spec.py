@@ -437,7 +437,8 @@ def parse_edit_spec(data: Any, source: str = "<edit spec>", max_ops: int | None 
 
 
 def box_prompts(spec: EditSpec, working_size: tuple[int, int], frame: PixelFrame | None = None, *,
-                fit: Any = None, prior: bool = False, iterations: int = 5) -> BoxPrompts | None:
+                fit: Any = None, prior: bool = False, iterations: int = 5,
+                refine_masks: bool = True) -> BoxPrompts | None:
     """The spec's ``objects`` as :class:`~sdn3d.derender.BoxPrompts` in the working image's pixels (None: none).
 
     A box's edges go through the same transform as ``at`` / ``to`` points (``frame``, ``frame_size``); a box is
@@ -461,7 +462,8 @@ def box_prompts(spec: EditSpec, working_size: tuple[int, int], frame: PixelFrame
                                 f"working image or is under 2 px there ({width}x{height}, working pixels "
                                 f"{[round(v, 1) for v in box]})")
         boxes.append(box)
-    return BoxPrompts(torch.tensor(boxes), tuple(obj.class_ for obj in spec.objects), fit, prior, iterations)
+    return BoxPrompts(torch.tensor(boxes), tuple(obj.class_ for obj in spec.objects), fit, prior, iterations,
+                      refine_masks=refine_masks)
 
 
 def load_edit_spec(path: str | os.PathLike, entry: int = 0, frame_size: tuple[int, int] | None = None,

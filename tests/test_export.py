@@ -10,8 +10,9 @@ import trimesh
 from sdn3d.export import KITTI_TO_GLTF, export_gltf, scene_to_trimesh
 from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, project_points
+from sdn3d.meshes.bank import default_bank
 from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
-from sdn3d.scene.maps import default_bank, posed_meshes
+from sdn3d.scene.maps import posed_meshes
 
 W, H = 96, 32
 CAR, VAN = VKITTI_CLASS_INDEX["Car"], VKITTI_CLASS_INDEX["Van"]

@@ -29,10 +29,11 @@ from sdn3d.editing.photo import (
 )
 from sdn3d.editing.spec import PixelFrame
 from sdn3d.math3d.camera import Intrinsics
+from sdn3d.meshes.bank import default_bank
 from sdn3d.render.rasterize import rasterize_meshes
 from sdn3d.render.settings import RasterSettings
 from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
-from sdn3d.scene.maps import compose_instances, default_bank, posed_meshes
+from sdn3d.scene.maps import compose_instances, posed_meshes
 
 WORK = (128, 64)  # working size (W, H)
 INPUT_SIZE = (256, 128)  # the input: twice the working size

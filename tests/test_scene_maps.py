@@ -12,12 +12,13 @@ from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 from sdn3d.math3d.rotations import alpha_bins, observation_angle
+from sdn3d.meshes.bank import default_bank
 from sdn3d.reference.scene_maps import scene_maps_dense
 from sdn3d.render.rasterize import rasterize_meshes
 from sdn3d.render.settings import RasterSettings
 from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
 from sdn3d.scene.fill import fill_background, scene_code_map
-from sdn3d.scene.maps import _projected_boxes, compose_instances, default_bank, posed_meshes, scene_maps
+from sdn3d.scene.maps import _projected_boxes, compose_instances, posed_meshes, scene_maps
 
 WORK = (160, 64)
 ROAD, SKY, TREE = (VKITTI_CLASS_INDEX[n] for n in ("Road", "Sky", "Tree"))

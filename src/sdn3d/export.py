@@ -25,9 +25,9 @@ import numpy as np
 import trimesh
 
 from sdn3d.io import write_bytes_atomic
-from sdn3d.meshes.bank import MeshBank
+from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.scene.code import SceneCode
-from sdn3d.scene.maps import default_bank, posed_meshes
+from sdn3d.scene.maps import posed_meshes
 
 __all__ = ["KITTI_TO_GLTF", "DEFAULT_GROUND_HEIGHT", "scene_to_trimesh", "export_gltf"]
 

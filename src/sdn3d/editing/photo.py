@@ -54,12 +54,12 @@ from sdn3d.editing.spec import PixelFrame
 from sdn3d.errors import UserInputError
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.rotations import roty
-from sdn3d.meshes.bank import MeshBank
+from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.render.maps import normal_map
 from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings
 from sdn3d.scene.code import ObjectTable, SceneCode
-from sdn3d.scene.maps import compose_instances, default_bank, posed_meshes
+from sdn3d.scene.maps import compose_instances, posed_meshes
 
 __all__ = ["APPEARANCES", "FILL_METHODS", "SOURCE_NAMES", "SOURCE_COLORS", "PhotoSettings", "PhotoSettingsError",
            "PhotoResult", "LightEstimate", "paints", "input_intrinsics", "upsample_ids", "fit_light", "inpaint",

@@ -36,10 +36,10 @@ from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, BenchmarkEntry, Benchma
 from sdn3d.editing.apply import Delete, EditError, apply_edits, match_objects
 from sdn3d.editing.photo import PhotoSettings, fill_hole, vacated_hole
 from sdn3d.image_ops import boundary_map, instance_label_map
-from sdn3d.meshes.bank import MeshBank
+from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.fill import scene_code_map
-from sdn3d.scene.maps import ComposedMaps, compose_instances, default_bank, scene_maps
+from sdn3d.scene.maps import ComposedMaps, compose_instances, scene_maps
 
 __all__ = ["BASELINE_MODES", "baseline_maps", "baseline_photo", "warp_regions"]
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -17,7 +18,7 @@ from sdn3d.meshes.vehicle_family import FAMILY_NAMES, VEHICLE_SHAPE_NAMES, famil
 if TYPE_CHECKING:  # imported where a Trimesh is read or built: the edit path never loads trimesh
     import trimesh
 
-__all__ = ["MeshBank"]
+__all__ = ["MeshBank", "default_bank"]
 
 
 class MeshBank:
@@ -210,3 +211,9 @@ class MeshBank:
         import trimesh
 
         return trimesh.Trimesh(verts[:nv].astype(np.float64), faces, process=False)
+
+
+@functools.cache
+def default_bank() -> MeshBank:
+    """The 8 procedural templates (built once per process; shared: read it, never move or change it in place)."""
+    return MeshBank.templates()

@@ -11,10 +11,9 @@ from torch import Tensor
 
 from sdn3d.editing.apply import _apply_edits, _grow
 from sdn3d.editing.ops import EditOp
-from sdn3d.meshes.bank import MeshBank
+from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.reference.scene_maps import dense_layers
 from sdn3d.scene.code import SceneCode
-from sdn3d.scene.maps import default_bank
 
 __all__ = ["apply_edits_dense", "footprints_dense"]
 

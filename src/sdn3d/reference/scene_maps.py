@@ -10,7 +10,7 @@ from __future__ import annotations
 import torch
 
 from sdn3d.math3d.rotations import NUM_POSE_BINS
-from sdn3d.meshes.bank import MeshBank
+from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.render.rasterize import rasterize_meshes
 from sdn3d.render.settings import RasterSettings
 from sdn3d.scene.code import SceneCode
@@ -21,7 +21,6 @@ from sdn3d.scene.maps import (
     _maps,
     _no_fragments,
     _settings,
-    default_bank,
     posed_meshes,
 )
 

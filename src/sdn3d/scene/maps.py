@@ -34,7 +34,6 @@ with geometry only), depth of the visible rendered surface (0 elsewhere) and the
 from __future__ import annotations
 
 import dataclasses
-import functools
 from dataclasses import dataclass
 
 import torch
@@ -43,7 +42,7 @@ from torch import Tensor
 from sdn3d.image_ops import boundary_map, instance_label_map
 from sdn3d.math3d.camera import project_points
 from sdn3d.math3d.rotations import NUM_POSE_BINS, alpha_bins, observation_angle
-from sdn3d.meshes.bank import MeshBank
+from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.render.maps import normal_map
 from sdn3d.render.objects import pose_meshes
 from sdn3d.render.rasterize import Fragments, rasterize_meshes
@@ -53,7 +52,6 @@ from sdn3d.scene.fill import scene_code_map
 
 __all__ = [
     "ComposedMaps",
-    "default_bank",
     "posed_meshes",
     "scene_maps",
     "compose_instances",
@@ -86,12 +84,6 @@ class ComposedMaps:
 
     def as_dict(self) -> dict[str, Tensor]:
         return dict(self.__dict__)
-
-
-@functools.cache
-def default_bank() -> MeshBank:
-    """The 8 procedural templates (built once per process)."""
-    return MeshBank.templates()
 
 
 def _renderable(objects: ObjectTable) -> Tensor:

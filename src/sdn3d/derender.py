@@ -51,7 +51,7 @@ from sdn3d.image_ops import (
 )
 from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR, SemanticClass
 from sdn3d.math3d.camera import Intrinsics
-from sdn3d.meshes.bank import MeshBank
+from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
 from sdn3d.scene.maps import scene_maps
 
@@ -540,7 +540,7 @@ def _refine_box_masks(image: Tensor, intr: Intrinsics, masks: Tensor, rows: Tens
         return masks, [False] * len(records)
     template, dims, ry, location, phi = (g[rows[good]] for g in geometry)
     center = bottom_to_center(location, dims[:, 1])
-    verts, faces = pose_meshes(MeshBank.templates(), template, dims.float(), ry.float(), center.float(), phi.float())
+    verts, faces = pose_meshes(default_bank(), template, dims.float(), ry.float(), center.float(), phi.float())
     drawn = torch.zeros(len(records), *masks.shape[-2:], dtype=torch.bool)
     drawn[good] = rasterize_meshes(verts, faces, intr.matrix().float(), RasterSettings(tuple(masks.shape[-2:]))).mask
     others = torch.ones(len(masks), dtype=torch.bool)

@@ -45,7 +45,7 @@ from sdn3d.geometric.refine import adam_fit
 from sdn3d.image_ops import crop_intrinsics, crop_windows, pixel_centre_boxes, square_crop_window
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.ffd import expand_half_ffd
-from sdn3d.meshes.bank import MeshBank
+from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.templates import TEMPLATE_DIMENSIONS
 from sdn3d.render.settings import SoftSilhouetteSettings
 
@@ -266,7 +266,7 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
         settings: the search (default :class:`FitSettings`).
     """
     settings = settings or FitSettings()
-    bank = bank or MeshBank.templates()
+    bank = bank or default_bank()  # shared: its simplified coarse bank is built once per process
     n = masks.shape[0]
     if masks.dim() != 3 or tuple(masks.shape[-2:]) != intr.size:
         raise ValueError(f"masks must be (N, H, W) of the image {intr.size}, got {tuple(masks.shape)}")

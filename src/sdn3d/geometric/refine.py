@@ -156,9 +156,10 @@ def adam_fit(params: Sequence[Tensor], objective: Callable[[], Tensor], iteratio
     """Minimise ``objective()`` over ``params`` with ``iterations`` Adam steps: the one pose-fitting loop.
 
     Used by :func:`refine_by_reprojection`, :func:`sdn3d.geometric.fit.fit_to_masks` and by ``sdn3d-render-demo``'s
-    soft-silhouette fit. The update is :class:`torch.optim.Adam`'s with its defaults (betas 0.9 and 0.999, eps 1e-8;
-    ``tests/test_refine.py`` holds them equal), written out because the first ``torch.optim`` step of a process
-    imports ``torch._dynamo``: 1.2-1.4 s of every fresh ``sdn3d-edit`` call that fits a box, on a 2-core CPU.
+    soft-silhouette fit. The update is :class:`torch.optim.Adam`'s with its defaults (betas 0.9 and 0.999, eps
+    1e-8; ``tests/test_geometric_refine.py`` holds them equal), written out because the first ``torch.optim`` step
+    of a process imports ``torch._dynamo``: 1.2-1.4 s of every fresh ``sdn3d-edit`` call that fits a box, on a
+    2-core CPU.
 
     Args:
         params: leaf tensors with ``requires_grad`` (updated in place).

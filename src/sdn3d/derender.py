@@ -597,7 +597,6 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
     if boxes is not None and len(boxes):
         masks, ids, box_rows, mask_source = _add_boxes(image, masks, ids, boxes, seg, things,
                                                        class_list)
-        instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)
     n = len(ids)
     annotated = torch.ones(n, dtype=torch.bool)
     annotated[box_rows] = False
@@ -606,15 +605,15 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: s
     if len(box_rows):
         geometry, box_records = _fit_boxes(intrinsics, masks, box_rows, boxes, geometry, min_pixels)
         if boxes.masks is None and boxes.refine_masks:
-            before = masks[box_rows].any(0)
+            first = masks[box_rows].any(0)  # what the second masks leave of it is no object's
             masks, again = _refine_box_masks(image, intrinsics, masks, box_rows, boxes, geometry, box_records)
-            instances = torch.where(before & ~masks.any(0), torch.zeros_like(instances), instances)
-            instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)
+            instances = torch.where(first, torch.zeros_like(instances), instances)
             mask_source = [m + ", then again seeded by its fitted 3D shape" if a else m
                            for m, a in zip(mask_source, again, strict=True)]
         for record, iid, mask in zip(box_records, ids[box_rows].tolist(), mask_source, strict=True):
             record["id"] = int(iid)
             record["mask"] = mask
+        instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)
     semantic = torch.where(masks.any(0), (instances // INSTANCE_DIVISOR), semantic)
     template, dims, ry, location, phi = geometry
     geo = template >= 0

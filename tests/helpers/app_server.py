@@ -4,11 +4,11 @@ checkpoints), listens on a free port of 127.0.0.1 and stops it afterwards; :func
 
 from __future__ import annotations
 
+import http.client
 import json
 import threading
 import time
-import urllib.error
-import urllib.request
+import urllib.parse
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any
@@ -53,13 +53,18 @@ def request(base: str, method: str, path: str, body: Any = None, content_type: s
             headers: dict | None = None) -> tuple[int, dict[str, str], bytes]:
     """``(status, headers, body)`` of one request; ``body``: bytes as they are, anything else as JSON."""
     data = body if body is None or isinstance(body, bytes) else json.dumps(body).encode()
-    req = urllib.request.Request(base + path, data=data, method=method,
-                                 headers={"Content-Type": content_type, **(headers or {})})
+    url = urllib.parse.urlsplit(base)
+    connection = http.client.HTTPConnection(url.hostname, url.port, timeout=120)
     try:
-        with urllib.request.urlopen(req, timeout=120) as response:
-            return response.status, dict(response.headers), response.read()
-    except urllib.error.HTTPError as exc:
-        return exc.code, dict(exc.headers), exc.read()
+        try:
+            connection.request(method, url.path + path, body=data,
+                               headers={"Content-Type": content_type, **(headers or {})})
+        except (BrokenPipeError, ConnectionResetError):
+            pass  # the server answered (413) and closed before the whole body was sent: its answer is still to read
+        response = connection.getresponse()
+        return response.status, dict(response.headers), response.read()
+    finally:
+        connection.close()
 
 
 def json_request(base: str, method: str, path: str, body: Any = None, **kwargs: Any) -> tuple[int, Any]:

@@ -109,7 +109,7 @@ def test_templates_are_deterministic() -> None:
     first = build_template("pickup")
     first.vertices[0] = 99.0  # a returned mesh is a copy: mutating it must not touch the cache
     again = build_template("pickup")
-    fresh_v, fresh_f = _build_arrays.__wrapped__("pickup")
+    fresh_v, fresh_f, _ = _build_arrays.__wrapped__("pickup")
     np.testing.assert_array_equal(again.vertices, fresh_v)
     np.testing.assert_array_equal(again.faces, fresh_f)
 

@@ -4,6 +4,11 @@ Contents: one mesh per object with geometry in front of the camera (posed and FF
 the renderer draws it, node and mesh named ``instance_<id>``, coloured by class), a ground quad
 named ``ground`` and a perspective camera at the origin.
 
+Parts: each object mesh's glTF ``extras`` hold ``sdn3d_parts = {"names": [...], "faces": [...]}``: the part
+names by label (:data:`sdn3d.meshes.parts.PART_NAMES`: body, glass, tyre, front_lights, tail_lights, plate) and
+one label per triangle in the primitive's index order (the bank's ``face_parts``; the FFD moves vertices only,
+so the deformed mesh keeps the template's labels). ``trimesh.load`` reads them back into the mesh's ``metadata``.
+
 Axes: the scene lives in the KITTI camera frame (x right, y *down*, z forward); glTF is y *up*
 with cameras looking down their local -z. Every point is mapped by ``(x, y, z) -> (x, -y, -z)``
 (:data:`KITTI_TO_GLTF`, a 180 degree rotation about x: lengths, handedness and face winding are
@@ -26,15 +31,18 @@ import trimesh
 
 from sdn3d.io import write_bytes_atomic
 from sdn3d.meshes.bank import MeshBank, default_bank
+from sdn3d.meshes.parts import PART_NAMES
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import posed_meshes
 
-__all__ = ["KITTI_TO_GLTF", "DEFAULT_GROUND_HEIGHT", "scene_to_trimesh", "export_gltf"]
+__all__ = ["KITTI_TO_GLTF", "DEFAULT_GROUND_HEIGHT", "PARTS_KEY", "scene_to_trimesh", "export_gltf"]
 
 #: Maps KITTI camera-frame points to glTF (y up, camera looking along -z): ``p_gltf = KITTI_TO_GLTF @ p``.
 KITTI_TO_GLTF = np.diag([1.0, -1.0, -1.0])
 #: Ground height (camera-frame y, metres) when the scene has no object to take it from.
 DEFAULT_GROUND_HEIGHT = 1.65
+#: Key of the per-face part labels in each object mesh's glTF ``extras`` (module doc).
+PARTS_KEY = "sdn3d_parts"
 
 
 def scene_to_trimesh(scene: SceneCode, bank: MeshBank | None = None, ground_height: float | None = None,
@@ -55,8 +63,11 @@ def scene_to_trimesh(scene: SceneCode, bank: MeshBank | None = None, ground_heig
     colors = {c.id: c.color for c in scene.class_list}
     out = trimesh.Scene()
     for g, row in enumerate(rows.cpu().tolist()):  # one trimesh per object: export only, not a hot path
-        mesh = bank.to_trimesh(int(obj.template_id[row]), verts[g])
+        tid = int(obj.template_id[row])
+        mesh = bank.to_trimesh(tid, verts[g])
         mesh.visual.face_colors = [*colors[int(obj.class_id[row])], 255]
+        mesh.metadata[PARTS_KEY] = {"names": list(PART_NAMES),
+                                    "faces": bank.face_parts[tid, : int(bank.num_faces[tid])].tolist()}
         name = f"instance_{int(obj.instance_id[row])}"
         out.add_geometry(mesh, node_name=name, geom_name=name)
 

@@ -12,8 +12,9 @@ import torch
 from torch import Tensor
 
 from sdn3d.math3d.ffd import bernstein_basis
-from sdn3d.meshes.templates import TEMPLATE_NAMES, normalize_to_unit_box, template_arrays
-from sdn3d.meshes.vehicle_family import FAMILY_NAMES, VEHICLE_SHAPE_NAMES, family_arrays
+from sdn3d.meshes.parts import Part
+from sdn3d.meshes.templates import TEMPLATE_NAMES, normalize_to_unit_box, template_arrays, template_parts
+from sdn3d.meshes.vehicle_family import FAMILY_NAMES, VEHICLE_SHAPE_NAMES, family_arrays, family_parts
 
 if TYPE_CHECKING:  # imported where a Trimesh is read or built: the edit path never loads trimesh
     import trimesh
@@ -35,10 +36,14 @@ class MeshBank:
             (:func:`sdn3d.math3d.ffd.bernstein_basis`); rows of padding vertices are zero so
             that ``verts + ffd_basis @ phi`` keeps padding at zero.
         names: the M mesh names.
+        face_parts: ``(M, Fmax)`` long :class:`~sdn3d.meshes.parts.Part` of every real face (the templates' and
+            the family's from their loft; :attr:`Part.BODY <sdn3d.meshes.parts.Part.BODY>` on every face of a
+            mesh given without labels, e.g. a ShapeNet one); ``-1`` on padding faces. Index it like ``faces``:
+            the FFD moves vertices only, so a face keeps its part through any deformation.
     """
 
     def __init__(self, verts: Tensor, faces: Tensor, num_verts: Tensor, num_faces: Tensor,
-                 names: Sequence[str]) -> None:
+                 names: Sequence[str], face_parts: Tensor | None = None) -> None:
         m = verts.shape[0]
         if verts.dim() != 3 or verts.shape[-1] != 3:
             raise ValueError(f"verts must have shape (M, Vmax, 3), got {tuple(verts.shape)}")
@@ -55,6 +60,11 @@ class MeshBank:
         self.num_faces = num_faces.long()
         self.names = list(names)
         self.face_mask = torch.arange(self.faces.shape[1], device=faces.device) < self.num_faces[:, None]
+        if face_parts is None:
+            face_parts = torch.full(self.faces.shape[:2], int(Part.BODY), dtype=torch.long, device=faces.device)
+        elif face_parts.shape != self.faces.shape[:2]:
+            raise ValueError(f"face_parts must have shape {tuple(self.faces.shape[:2])}, got {tuple(face_parts.shape)}")
+        self.face_parts = torch.where(self.face_mask, face_parts.long().to(faces.device), -1)
         vert_mask = torch.arange(self.verts.shape[1], device=verts.device) < self.num_verts[:, None]
         self.ffd_basis = bernstein_basis(self.verts) * vert_mask[..., None]
 
@@ -62,13 +72,14 @@ class MeshBank:
 
     @classmethod
     def from_trimeshes(cls, meshes: Sequence[trimesh.Trimesh], names: Sequence[str]) -> MeshBank:
-        """Pad ``meshes`` (taken as given: canonical frame, not re-normalised) into a bank."""
+        """Pad ``meshes`` (taken as given: canonical frame, not re-normalised) into a bank (every face ``BODY``)."""
         return cls.from_arrays([m.vertices for m in meshes], [m.faces for m in meshes], names)
 
     @classmethod
-    def from_arrays(cls, vertices: Sequence[np.ndarray], faces: Sequence[np.ndarray], names: Sequence[str]
-                    ) -> MeshBank:
-        """Pad meshes given as ``vertices[i] (V_i, 3)`` and ``faces[i] (F_i, 3)`` (canonical frame) into a bank."""
+    def from_arrays(cls, vertices: Sequence[np.ndarray], faces: Sequence[np.ndarray], names: Sequence[str],
+                    parts: Sequence[np.ndarray] | None = None) -> MeshBank:
+        """Pad meshes given as ``vertices[i] (V_i, 3)`` and ``faces[i] (F_i, 3)`` (canonical frame) into a bank;
+        ``parts[i] (F_i,)``: each face's :class:`~sdn3d.meshes.parts.Part` (default: every face ``BODY``)."""
         if len(vertices) == 0:
             raise ValueError("meshes must not be empty")
         if len(names) != len(vertices) or len(faces) != len(vertices):
@@ -88,16 +99,26 @@ class MeshBank:
         m, vmax, fmax = len(vs), max(len(v) for v in vs), max(len(f) for f in fs)
         verts = np.zeros((m, vmax, 3), dtype=np.float32)
         faces = np.zeros((m, fmax, 3), dtype=np.int64)
+        labels = np.full((m, fmax), int(Part.BODY), dtype=np.int64)
+        if parts is not None and len(parts) != m:
+            raise ValueError(f"parts must have one entry per mesh ({m}), got {len(parts)}")
         for i, (v, f) in enumerate(zip(vs, fs, strict=True)):
             verts[i, : len(v)] = v
             faces[i, : len(f)] = f
+            if parts is not None:
+                p = np.asarray(parts[i], dtype=np.int64)
+                if p.shape != (len(f),) or (len(p) and not np.isin(p, [int(x) for x in Part]).all()):
+                    raise ValueError(f"parts of mesh {names[i]!r} must be {len(f)} Part labels, got shape {p.shape}")
+                labels[i, : len(f)] = p
         return cls(torch.from_numpy(verts), torch.from_numpy(faces),
-                   torch.tensor([len(v) for v in vs]), torch.tensor([len(f) for f in fs]), names)
+                   torch.tensor([len(v) for v in vs]), torch.tensor([len(f) for f in fs]), names,
+                   torch.from_numpy(labels))
 
     @classmethod
     def templates(cls) -> MeshBank:
         """The 8 procedural templates, mesh id = index in :data:`TEMPLATE_NAMES`."""
-        return cls.from_arrays(*zip(*(template_arrays(n) for n in TEMPLATE_NAMES), strict=True), TEMPLATE_NAMES)
+        return cls.from_arrays(*zip(*(template_arrays(n) for n in TEMPLATE_NAMES), strict=True), TEMPLATE_NAMES,
+                               [template_parts(n) for n in TEMPLATE_NAMES])
 
     @classmethod
     def vehicle_shapes(cls) -> MeshBank:
@@ -105,7 +126,8 @@ class MeshBank:
         (:data:`~sdn3d.meshes.vehicle_family.VEHICLE_SHAPE_NAMES`). The synthetic generator draws its
         held-out cars from it; the geometric branch never chooses from it."""
         arrays = [template_arrays(n) for n in TEMPLATE_NAMES] + [family_arrays(n) for n in FAMILY_NAMES]
-        return cls.from_arrays(*zip(*arrays, strict=True), VEHICLE_SHAPE_NAMES)
+        parts = [template_parts(n) for n in TEMPLATE_NAMES] + [family_parts(n) for n in FAMILY_NAMES]
+        return cls.from_arrays(*zip(*arrays, strict=True), VEHICLE_SHAPE_NAMES, parts)
 
     @classmethod
     def from_directory(cls, path: str | Path, pattern: str = "**/model_normalized.obj",
@@ -125,7 +147,8 @@ class MeshBank:
     def simplified(self, max_faces: int) -> MeshBank:
         """The bank with each mesh cut to at most ``max_faces`` faces by vertex clustering
         (:func:`~sdn3d.meshes.shapenet.cluster_simplify`), then stretched back to the mesh's own bounds (clustering
-        averages the extreme vertices inwards), same names and ids. For searches where a coarse outline is enough:
+        averages the extreme vertices inwards), same names and ids; each kept face keeps its part label (a face that
+        clustering merges with others keeps the first one's). For searches where a coarse outline is enough:
         a silhouette a few dozen pixels across. Built once per ``max_faces`` and kept on the bank.
 
         >>> bank = MeshBank.templates()
@@ -137,15 +160,16 @@ class MeshBank:
 
         cache = self.__dict__.setdefault("_simplified", {})
         if max_faces not in cache:
-            verts, faces = [], []
+            verts, faces, parts = [], [], []
             for i in range(len(self)):
                 nv, nf = int(self.num_verts[i]), int(self.num_faces[i])
                 full = self.verts[i, :nv].double().cpu().numpy()
-                v, f = cluster_simplify(full, self.faces[i, :nf].cpu().numpy(), max_faces)
+                v, f, kept = cluster_simplify(full, self.faces[i, :nf].cpu().numpy(), max_faces, return_index=True)
                 lo, hi = full.min(0), full.max(0)
                 verts.append((normalize_to_unit_box(v) + 0.5) * (hi - lo) + lo)
                 faces.append(f)
-            cache[max_faces] = MeshBank.from_arrays(verts, faces, self.names).to(self.device)
+                parts.append(self.face_parts[i, :nf].cpu().numpy()[kept])
+            cache[max_faces] = MeshBank.from_arrays(verts, faces, self.names, parts).to(self.device)
         return cache[max_faces]
 
     # -- access -------------------------------------------------------------------------------
@@ -165,7 +189,7 @@ class MeshBank:
 
     def to(self, device: torch.device | str) -> MeshBank:
         """Move every tensor to ``device`` in place (like ``nn.Module.to``) and return ``self``."""
-        for attr in ("verts", "faces", "num_verts", "num_faces", "face_mask", "ffd_basis"):
+        for attr in ("verts", "faces", "num_verts", "num_faces", "face_mask", "face_parts", "ffd_basis"):
             setattr(self, attr, getattr(self, attr).to(device))
         return self
 
@@ -176,8 +200,8 @@ class MeshBank:
             mesh_ids: ``(N,)`` integer mesh ids in ``[0, M)`` (any device; moved to the bank's).
 
         Returns:
-            ``verts (N, Vmax, 3)`` and ``faces (N, Fmax, 3)``; index ``ffd_basis``, ``face_mask``
-            the same way for the rest.
+            ``verts (N, Vmax, 3)`` and ``faces (N, Fmax, 3)``; index ``ffd_basis``, ``face_mask``,
+            ``face_parts`` the same way for the rest.
         """
         if mesh_ids.dim() != 1 or mesh_ids.dtype.is_floating_point or mesh_ids.dtype == torch.bool:
             raise ValueError(f"mesh_ids must be a 1-D integer tensor, got {mesh_ids.dtype} "

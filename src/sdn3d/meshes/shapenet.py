@@ -42,8 +42,8 @@ SHAPENET_TO_CANONICAL = np.array([[0.0, 0.0, -1.0], [0.0, -1.0, 0.0], [-1.0, 0.0
 
 
 def cluster_simplify(
-    vertices: np.ndarray, faces: np.ndarray, max_faces: int
-) -> tuple[np.ndarray, np.ndarray]:
+    vertices: np.ndarray, faces: np.ndarray, max_faces: int, return_index: bool = False
+) -> tuple[np.ndarray, np.ndarray] | tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Reduce a mesh to at most ``max_faces`` faces by vertex clustering.
 
     Vertices are snapped to a regular grid over their bounding box, each occupied cell becomes
@@ -54,17 +54,19 @@ def cluster_simplify(
         vertices: ``(V, 3)`` vertex positions.
         faces: ``(F, 3)`` vertex indices.
         max_faces: face budget, at least 4.
+        return_index: also return ``(F',)`` the index of each kept face in ``faces`` (e.g. to carry
+            per-face labels over).
 
     Returns:
         ``(V', 3)`` vertices and ``(F', 3)`` faces with ``F' <= max_faces`` (unchanged if already
-        within the budget).
+        within the budget), then the kept faces' indices if ``return_index``.
     """
     if max_faces < 4:
         raise ValueError(f"max_faces must be at least 4, got {max_faces}")
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
     if len(faces) <= max_faces:
-        return vertices, faces
+        return (vertices, faces, np.arange(len(faces))) if return_index else (vertices, faces)
     lo, hi = vertices.min(axis=0), vertices.max(axis=0)
     extent = np.maximum(hi - lo, 1e-12)
     resolution = 256.0
@@ -79,12 +81,15 @@ def cluster_simplify(
         # A face and its duplicates (any vertex order) collapse to one, keeping the first winding.
         _, first = np.unique(np.sort(new_faces, axis=1), axis=0, return_index=True)
         new_faces = new_faces[np.sort(first)]
+        kept = np.flatnonzero(keep)[np.sort(first)]
         if len(new_faces) <= max_faces:
             sums = np.zeros((len(counts), 3))
             np.add.at(sums, cluster, vertices)
             new_verts = sums / counts[:, None]
             # Drop clusters no face refers to any more, so the mesh has no stray vertices.
             used, remap = np.unique(new_faces, return_inverse=True)
+            if return_index:
+                return new_verts[used], remap.reshape(-1, 3), kept
             return new_verts[used], remap.reshape(-1, 3)
         resolution /= 1.25
     raise ValueError(f"could not reduce the mesh to {max_faces} faces by vertex clustering")

@@ -39,6 +39,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from sdn3d.meshes.parts import MIN_GLASS_SLOPE, MIN_GREENHOUSE, Part
+
 if TYPE_CHECKING:  # trimesh is imported where a Trimesh is built: the edit path never needs it
     import trimesh
 
@@ -49,8 +51,10 @@ __all__ = [
     "TEMPLATE_SPECS",
     "VehicleSpec",
     "loft_vehicle",
+    "loft_vehicle_parts",
     "build_template",
     "template_arrays",
+    "template_parts",
     "all_templates",
     "normalize_to_unit_box",
 ]
@@ -274,6 +278,65 @@ def loft_vehicle(spec: VehicleSpec) -> tuple[np.ndarray, np.ndarray]:
     """Canonical-frame mesh of ``spec``: ``verts (V, 3)`` float64 with bounds exactly ``[-0.5, 0.5]^3``,
     ``faces (F, 3)`` int64 wound outward (lofted body, then the wheels: rear-left, rear-right,
     front-left, front-right). Watertight and mirror-symmetric across ``z = 0`` (see the module doc).
+    :func:`loft_vehicle_parts` gives the same mesh with each face's :class:`~sdn3d.meshes.parts.Part`.
+
+    Raises:
+        ValueError: the spec leaves less than 0.2 m between underbody and roof somewhere.
+    """
+    verts, faces, _ = loft_vehicle_parts(spec)
+    return verts, faces
+
+
+# Segments of the 14-point ring (segment k joins points k and k + 1; see _half_rings for the points).
+_SEG_BOTTOM_CENTRE = [0, 13]  # bottom centre to the bottom corners
+_SEG_BOTTOM_CORNER = [1, 12]  # lower edge rounding
+_SEG_LOWER_SIDE = [2, 11]  # body side from the underbody to the belt line
+_SEG_WINDOW = [3, 10]  # greenhouse side: belt line to the roof edge
+_SEG_TOP = list(range(4, 10))  # roof edge rounding and roof
+
+
+def _face_parts(spec: VehicleSpec, x: np.ndarray, rings: np.ndarray) -> np.ndarray:
+    """``(F_body,)`` :class:`Part` labels of the lofted body of :func:`_loft` (side quads, then both fans) from the
+    rings ``(S, 14, 2)`` (``(z, height)``; ring 0 and ``S - 1`` are the inset end rings) at ``x (S,)``."""
+    s, k = rings.shape[:2]
+    height = rings[..., 1]
+    top = height[:, 7]
+    greenhouse = height[:, 4] - height[:, 3]  # belt (shoulder) to the roof edge
+    side = np.full((s - 1, 2, k), int(Part.BODY), dtype=np.int64)  # (interval, triangle, segment)
+    lo, hi = np.arange(1, s - 2), np.arange(2, s - 1)  # the quads between real stations
+    windows = np.minimum(greenhouse[lo], greenhouse[hi]) >= MIN_GREENHOUSE
+    slope = np.abs(top[hi] - top[lo]) / np.maximum(x[hi] - x[lo], 1e-9)
+    edge = height[:, 4]  # the roof edge: the lowest point of the roof's segments
+    screens = (np.minimum(edge[lo], edge[hi]) >= spec.belt) & (slope >= MIN_GLASS_SLOPE)
+    inner = side[1:-1]  # a view
+    inner[:, :, _SEG_WINDOW] = np.where(windows[:, None, None], int(Part.GLASS), int(Part.BODY))
+    inner[:, :, _SEG_TOP] = np.where(screens[:, None, None], int(Part.GLASS), int(Part.BODY))
+    caps = []
+    seg = np.arange(k)
+    for end, interval, station, light in ((0, 0, 1, Part.TAIL_LIGHTS), (s - 1, s - 2, s - 2, Part.FRONT_LIGHTS)):
+        # A flat end with glass (a bus): its faces above the belt (every corner) are glass.
+        tall = greenhouse[station] >= MIN_GREENHOUSE
+        ring_low = np.minimum(height[end, seg], height[end, (seg + 1) % k])
+        cap_above = tall & (np.minimum(ring_low, height[end].mean()) >= spec.belt)  # the fan's centre, as _loft's
+        bevel_above = tall & (np.minimum(ring_low, np.minimum(height[station, seg], height[station, (seg + 1) % k]))
+                              >= spec.belt)
+        upper = np.zeros(k, dtype=bool)
+        upper[_SEG_WINDOW + _SEG_TOP] = True
+        cap = np.full(k, int(Part.FRONT_LIGHTS if light == Part.FRONT_LIGHTS else Part.BODY), dtype=np.int64)
+        cap[_SEG_BOTTOM_CENTRE] = int(Part.PLATE)
+        cap[_SEG_BOTTOM_CORNER] = int(Part.BODY)
+        cap[_SEG_LOWER_SIDE] = int(light)
+        cap[upper & cap_above] = int(Part.GLASS)
+        caps.append(cap)
+        bevel = side[interval]
+        bevel[:, _SEG_LOWER_SIDE] = int(light)
+        bevel[:, upper & bevel_above] = int(Part.GLASS)
+    return np.concatenate([side.reshape(-1), caps[0], caps[1]])
+
+
+def loft_vehicle_parts(spec: VehicleSpec) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`loft_vehicle`'s ``verts (V, 3)`` and ``faces (F, 3)``, and ``parts (F,)`` int64: each face's
+    :class:`~sdn3d.meshes.parts.Part` (the rules are in :mod:`sdn3d.meshes.parts`).
 
     Raises:
         ValueError: the spec leaves less than 0.2 m between underbody and roof somewhere.
@@ -294,6 +357,7 @@ def loft_vehicle(spec: VehicleSpec) -> tuple[np.ndarray, np.ndarray]:
     x = np.concatenate([[ends[0][0]], x, [ends[1][0]]])
     rings = np.concatenate([ends[0][1][None], rings, ends[1][1][None]])
     verts, faces = _loft(x, rings)
+    parts = [_face_parts(spec, x, rings)]
     # Wheels: the +z (left) ones are built, the -z ones are their exact mirror images.
     parts_v, parts_f = [verts], [faces]
     offset = len(verts)
@@ -305,6 +369,7 @@ def loft_vehicle(spec: VehicleSpec) -> tuple[np.ndarray, np.ndarray]:
         for v, f in ((wv, wf), (wv * [1.0, 1.0, -1.0], wf[:, ::-1])):
             parts_v.append(v)
             parts_f.append(f + offset)
+            parts.append(np.full(len(f), int(Part.TYRE), dtype=np.int64))
             offset += len(v)
     verts = np.concatenate(parts_v)
     faces = np.concatenate(parts_f)
@@ -316,7 +381,7 @@ def loft_vehicle(spec: VehicleSpec) -> tuple[np.ndarray, np.ndarray]:
     # Flipping the height axis reversed the orientation: make the winding outward.
     if _signed_volume(canon, faces) < 0:
         faces = faces[:, ::-1]
-    return canon.astype(np.float64), np.ascontiguousarray(faces, dtype=np.int64)
+    return canon.astype(np.float64), np.ascontiguousarray(faces, dtype=np.int64), np.concatenate(parts)
 
 
 def _signed_volume(verts: np.ndarray, faces: np.ndarray) -> float:
@@ -326,16 +391,23 @@ def _signed_volume(verts: np.ndarray, faces: np.ndarray) -> float:
 
 
 @cache
-def _build_arrays(name: str) -> tuple[np.ndarray, np.ndarray]:
-    return loft_vehicle(_SPECS[name])
+def _build_arrays(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    return loft_vehicle_parts(_SPECS[name])
 
 
 def template_arrays(name: str) -> tuple[np.ndarray, np.ndarray]:
     """``(verts (V, 3) float64, faces (F, 3) int64)`` of template ``name`` (fresh copies; no trimesh needed)."""
     if name not in _SPECS:
         raise ValueError(f"name must be one of {TEMPLATE_NAMES}, got {name!r}")
-    verts, faces = _build_arrays(name)
+    verts, faces, _ = _build_arrays(name)
     return verts.copy(), faces.copy()
+
+
+def template_parts(name: str) -> np.ndarray:
+    """``(F,)`` int64 :class:`~sdn3d.meshes.parts.Part` of each face of :func:`template_arrays` ``(name)`` (a copy)."""
+    if name not in _SPECS:
+        raise ValueError(f"name must be one of {TEMPLATE_NAMES}, got {name!r}")
+    return _build_arrays(name)[2].copy()
 
 
 def build_template(name: str) -> trimesh.Trimesh:

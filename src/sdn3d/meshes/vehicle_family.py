@@ -32,7 +32,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from sdn3d.meshes.templates import TEMPLATE_CATEGORY, TEMPLATE_NAMES, TEMPLATE_SPECS, VehicleSpec, loft_vehicle
+from sdn3d.meshes.templates import (
+    TEMPLATE_CATEGORY,
+    TEMPLATE_NAMES,
+    TEMPLATE_SPECS,
+    VehicleSpec,
+    loft_vehicle_parts,
+)
 
 if TYPE_CHECKING:  # imported where a Trimesh is built
     import trimesh
@@ -49,6 +55,8 @@ __all__ = [
     "DISTINCT_IOU",
     "OCCUPANCY_RESOLUTION",
     "approximating_template",
+    "family_arrays",
+    "family_parts",
     "build_family_shape",
     "all_family_shapes",
     "unit_box_occupancy",
@@ -286,14 +294,20 @@ def _shape(name: str) -> FamilyShape:
 
 
 @cache
-def _family_arrays(name: str) -> tuple[np.ndarray, np.ndarray]:
-    return loft_vehicle(_shape(name).spec)
+def _family_arrays(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    return loft_vehicle_parts(_shape(name).spec)
 
 
 def family_arrays(name: str) -> tuple[np.ndarray, np.ndarray]:
     """``(verts (V, 3) float64, faces (F, 3) int64)`` of family shape ``name`` (fresh copies)."""
-    verts, faces = _family_arrays(name)
+    verts, faces, _ = _family_arrays(name)
     return verts.copy(), faces.copy()
+
+
+def family_parts(name: str) -> np.ndarray:
+    """``(F,)`` int64 :class:`~sdn3d.meshes.parts.Part` of each face of :func:`family_arrays` ``(name)`` (a copy;
+    the templates' loft labels them, :func:`~sdn3d.meshes.templates.loft_vehicle_parts`)."""
+    return _family_arrays(name)[2].copy()
 
 
 def build_family_shape(name: str) -> trimesh.Trimesh:

@@ -42,6 +42,9 @@ _FIELDS = (
     "workers",
     "threads",
     "vehicles",
+    "counterfactual_cars",
+    "counterfactual_turns",
+    "counterfactual_delete",
 )
 
 

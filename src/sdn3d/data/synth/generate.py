@@ -44,7 +44,7 @@ import threading
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from multiprocessing.queues import Queue
 from pathlib import Path
 from typing import Any, TextIO
@@ -54,6 +54,20 @@ import torch
 
 from sdn3d.data.edit_benchmark import BenchmarkEntry, save_edit_benchmark
 from sdn3d.data.synth.class_stats import write_class_statistics
+from sdn3d.data.synth.counterfactual import (
+    PAIRS_DIR,
+    PAIRS_FORMAT,
+    PAIRS_NAME,
+    SHADOW_THRESHOLD,
+    Target,
+    deleted,
+    eligible_targets,
+    full_resolution_centre,
+    mask_png_bytes,
+    pair_masks,
+    turn_overlaps,
+    turned,
+)
 from sdn3d.data.synth.edits import sample_edit, sample_occluder_removal
 from sdn3d.data.synth.layout import (
     CAMERA_YAW_DEG,
@@ -68,9 +82,10 @@ from sdn3d.data.synth.layout import (
 from sdn3d.data.synth.progress import FrameProgress
 from sdn3d.data.synth.scene_render import RenderedFrame, light_frame, render_geometry
 from sdn3d.data.synth.stats import ObjectStats
-from sdn3d.data.synth.writer import SequenceWriter
+from sdn3d.data.synth.writer import SequenceWriter, frame_path, png_bytes, write_staged
 from sdn3d.errors import UserInputError
 from sdn3d.io import process_alive, staged_directory, write_json_atomic, write_text_atomic
+from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
 __all__ = [
@@ -151,6 +166,10 @@ class SynthConfig:
         threads: torch threads per process.
         vehicles: ``'heldout'`` (car bodies from the held-out vehicle family, :mod:`sdn3d.meshes.vehicle_family`)
             or ``'bank'`` (from the geometric branch's 8 templates: the data before the family existed).
+        counterfactual_cars: target cars per sequence of the counterfactual pairs (:mod:`~sdn3d.data.synth.
+            counterfactual`; 0, the default: none, and the dataset is what it was without the option).
+        counterfactual_turns: the turn pairs' angles in degrees (each target gets one turned render per angle).
+        counterfactual_delete: each target also gets a delete pair (the frame rendered without it).
     """
 
     output_dir: str
@@ -167,6 +186,9 @@ class SynthConfig:
     workers: int = 1
     threads: int = 1
     vehicles: str = "heldout"
+    counterfactual_cars: int = 0
+    counterfactual_turns: tuple[float, ...] = (15, 45, 90, 180)
+    counterfactual_delete: bool = True
 
     def __post_init__(self) -> None:
         """Check every field's type and range (:class:`SynthConfigError` naming the field); normalise
@@ -212,6 +234,18 @@ class SynthConfig:
         put("threads", _integer("threads", self.threads, 1))
         if not isinstance(self.vehicles, str) or self.vehicles not in VEHICLE_SOURCES:
             raise SynthConfigError(f"vehicles must be one of {list(VEHICLE_SOURCES)}, got {_got(self.vehicles)}")
+        put("counterfactual_cars", _integer("counterfactual_cars", self.counterfactual_cars, 0))
+        turns = self.counterfactual_turns
+        if (isinstance(turns, (str, bytes)) or not isinstance(turns, (Sequence, np.ndarray))
+                or any(isinstance(a, bool) or not isinstance(a, numbers.Real) or not -360 < float(a) <= 360
+                       for a in turns) or len(set(float(a) for a in turns)) != len(turns)):
+            raise SynthConfigError("counterfactual_turns must be a list of distinct angles in degrees in (-360, 360], "
+                                   f"like [15, 45, 90, 180], got {_got(turns)}")
+        put("counterfactual_turns", tuple(int(a) if float(a).is_integer() else float(a) for a in turns))
+        if not isinstance(self.counterfactual_delete, (bool, np.bool_)):
+            raise SynthConfigError(f"counterfactual_delete must be true or false, "
+                                   f"got {_got(self.counterfactual_delete)}")
+        put("counterfactual_delete", bool(self.counterfactual_delete))
 
     @property
     def first_test_frame(self) -> int:
@@ -244,6 +278,7 @@ class SequenceSummary:
     edit_frames: list[int]
     object_rows: int
     entries: list[BenchmarkEntry]
+    counterfactual: list[dict] = field(default_factory=list)
 
 
 @functools.lru_cache(maxsize=4)
@@ -319,13 +354,95 @@ def generate_sequences(root: Path, cfg: SynthConfig, world_name: str, variations
                 on_frame()
         # Keep only what edit sampling needs (objects and statistics), not the images.
         rendered.append((objects, geometry.stats, pose))
+    pairs = _counterfactual_pairs(Path(root), cfg, world, world_name, variations, rendered)
     summaries = []
     for v in variations:
         entries, edit_frames, edit_rows = _edit_targets(writers[v], cfg, world, world_name, v, rendered, on_frame)
         writers[v].close()
         summaries.append(SequenceSummary(world_name, v, cfg.frames_per_sequence + cfg.target_frames, edit_frames,
-                                         rows[v] + edit_rows, entries))
+                                         rows[v] + edit_rows, entries, pairs[v]))
     return summaries
+
+
+def _angle_name(angle: float) -> str:
+    """An angle in file names: ``15``, ``m45`` (minus), ``22p5`` (point)."""
+    return format(angle, "g").replace("-", "m").replace(".", "p")
+
+
+def _counterfactual_targets(cfg: SynthConfig, world: World, world_name: str, variation: str,
+                            rendered: list[tuple[FrameObjects, ObjectStats, np.ndarray]]) -> list[Target]:
+    """A sequence's counterfactual targets: ``cfg.counterfactual_cars`` distinct (test frame, car) pairs drawn from
+    the eligible ones (:func:`~sdn3d.data.synth.counterfactual.eligible_targets`), first among those free to turn by
+    every angle, then (when too few are) among the others, whose turn pairs list the cars they overlap; in frame and
+    object order."""
+    if cfg.counterfactual_cars == 0:
+        return []
+    rng = rng_for(cfg.seed, world_name, variation, "counterfactual")
+    frames = range(cfg.first_test_frame, cfg.frames_per_sequence)
+    free = [Target(f, i) for f in frames
+            for i in eligible_targets(world, *rendered[f][:2], cfg.intrinsics, cfg.counterfactual_turns)]
+    others = [Target(f, i) for f in frames for i in eligible_targets(world, *rendered[f][:2], cfg.intrinsics,
+                                                                      free=False) if Target(f, i) not in free]
+    picked = []
+    for candidates in (free, others):
+        n = min(cfg.counterfactual_cars - len(picked), len(candidates))
+        if n > 0:
+            picked += [candidates[int(k)] for k in rng.choice(len(candidates), size=n, replace=False)]
+    return sorted(picked, key=lambda t: (t.frame, t.index))
+
+
+def _counterfactual_pairs(root: Path, cfg: SynthConfig, world: World, world_name: str, variations: tuple[str, ...],
+                          rendered: list[tuple[FrameObjects, ObjectStats, np.ndarray]]) -> dict[str, list[dict]]:
+    """Render and write the counterfactual pairs of the ``variations`` (one camera) of a world; returns each
+    variation's index entries (``docs/DATA.md``). Every target's source and counterfactual geometry is rendered
+    once and lit per variation that drew it, with the source frame's own per-frame seed."""
+    picks = {v: _counterfactual_targets(cfg, world, world_name, v, rendered) for v in variations}
+    out: dict[str, list[dict]] = {v: [] for v in variations}
+    intrinsics = cfg.intrinsics
+    cars = world.cars
+    for target in sorted({t for ts in picks.values() for t in ts}, key=lambda t: (t.frame, t.index)):
+        objects, _, pose = rendered[target.frame]
+        i = target.index
+        changed = [("turn", a, turned(objects, i, a)) for a in cfg.counterfactual_turns]
+        if cfg.counterfactual_delete:
+            changed.append(("delete", None, deleted(objects, i)))
+        source_geometry = render_geometry(world, objects, pose, intrinsics)
+        geometries = [render_geometry(world, o, pose, intrinsics) for _, _, o in changed]
+        instance_ids = [VKITTI_CLASS_INDEX[cars.category[t]] * 1000 + int(cars.tid[t]) + 1 for t in objects.track]
+        track = int(objects.track[i])
+        tid = int(cars.tid[track])
+        instance_id = instance_ids[i]
+        for v in (v for v in variations if target in picks[v]):
+            seed = _frame_seed(cfg, world_name, v, target.frame)
+            source = light_frame(source_geometry, v, seed)
+            source_mask = source.instance == i
+            folder = Path(PAIRS_DIR) / world_name / v / f"{target.frame:05d}_{instance_id}"
+            write_staged(root / folder / "source_mask.png", mask_png_bytes(source_mask))
+            for (kind, angle, _), geometry in zip(changed, geometries, strict=True):
+                frame = light_frame(geometry, v, seed)
+                target_mask = frame.instance == i if kind == "turn" else np.zeros_like(source_mask)
+                vacated, shadow = pair_masks(source.rgb, source_mask, frame.rgb, target_mask)
+                stem = "delete" if kind == "delete" else "turn_" + _angle_name(angle)
+                files = {"target": f"{stem}.png", "target_mask": f"{stem}_mask.png",
+                         "vacated": f"{stem}_vacated.png", "shadow": f"{stem}_shadow.png"}
+                write_staged(root / folder / files["target"], png_bytes(frame.rgb))
+                for key, mask in (("target_mask", target_mask), ("vacated", vacated), ("shadow", shadow)):
+                    write_staged(root / folder / files[key], mask_png_bytes(mask))
+                ry = float(objects.ry[i])
+                out[v].append({
+                    "world": world_name, "variation": v, "frame": target.frame, "instance_id": instance_id,
+                    "track_id": tid, "model": str(cars.model[track]), "kind": kind, "angle_deg": angle,
+                    "ry_source": ry, "ry_target": float(turned(objects, i, angle).ry[i]) if kind == "turn" else None,
+                    "overlaps": ([instance_ids[j] for j in turn_overlaps(world, objects, i, angle, 0.0)]
+                                 if kind == "turn" else []),
+                    "from": full_resolution_centre(objects, i),
+                    "source": frame_path(Path("."), "rgb", world_name, v, target.frame).as_posix(),
+                    "source_mask": (folder / "source_mask.png").as_posix(),
+                    **{key: (folder / name).as_posix() for key, name in files.items()},
+                    "pixels": {"source_mask": int(source_mask.sum()), "target_mask": int(target_mask.sum()),
+                               "vacated": int(vacated.sum()), "shadow": int(shadow.sum())},
+                })
+    return out
 
 
 def _edit_targets(writer: SequenceWriter, cfg: SynthConfig, world: World, world_name: str, variation: str,
@@ -554,13 +671,27 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
         entries = [e for s in summaries for e in s.entries]
         save_edit_benchmark(entries, tmp / BENCHMARK_NAME)
         intrinsics = cfg.intrinsics
+        # Without counterfactual pairs the manifest is what it was before the option existed.
+        left_out = ("output_dir", "overwrite", "workers", "threads") + (
+            () if cfg.counterfactual_cars else ("counterfactual_cars", "counterfactual_turns", "counterfactual_delete"))
+        extra = {}
+        if cfg.counterfactual_cars:
+            write_json_atomic(tmp / PAIRS_NAME, {
+                "format": PAIRS_FORMAT,
+                "version": 1,
+                "image_size": list(cfg.image_size),
+                "shadow_threshold": SHADOW_THRESHOLD,
+                "angle": "degrees added to the target's yaw ry (KITTI: about the camera's y axis, which points down)",
+                "from_coordinates": "pixels of the 1242x375 frame",
+                "pairs": [p for s in summaries for p in s.counterfactual],
+            })
+            extra["counterfactual_pairs"] = PAIRS_NAME
         write_json_atomic(
             tmp / MANIFEST_NAME,
             {
                 "format": "Virtual KITTI 1.3.1 (synthetic, sdn3d)",
-                "config": {
-                    k: v for k, v in cfg.to_dict().items() if k not in ("output_dir", "overwrite", "workers", "threads")
-                },
+                "config": {k: v for k, v in cfg.to_dict().items() if k not in left_out},
+                **extra,
                 "intrinsics": intrinsics.to_dict(),
                 "intrinsics_note": ("VKITTI_INTRINSICS (1242x375, fx=fy=725, cx=620.5, cy=187) resized to image_size"),
                 "benchmark": BENCHMARK_NAME,

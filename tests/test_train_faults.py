@@ -23,8 +23,10 @@ from lightning.fabric.plugins.io.torch_io import TorchCheckpointIO
 from omegaconf import OmegaConf
 
 from lightning_modules.checkpointing import AtomicCheckpointIO, CheckpointLoadError, CheckpointWriteError
-from lightning_modules.train import RunFailedError, TrainingError, resolve_resume, run_training
+from lightning_modules.train import run_training
 from sdn3d.data.errors import DataFormatError
+from sdn3d.training.errors import RunFailedError, TrainingError
+from sdn3d.training.resume import resolve_resume
 
 REPO = Path(__file__).resolve().parents[1]
 TINY = {

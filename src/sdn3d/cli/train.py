@@ -69,8 +69,9 @@ OmegaConf.register_new_resolver("sdn3d_unless_set", unless_set, replace=True)
 
 @hydra_cli("train", "train")
 def main(cfg: DictConfig) -> float | None:
-    from lightning_modules.train import RunFailedError, run_training
+    from lightning_modules.train import run_training
     from sdn3d.cli._errors import report_user_error, user_errors
+    from sdn3d.training.errors import RunFailedError
 
     overrides = list(HydraConfig.get().overrides.task)
     try:

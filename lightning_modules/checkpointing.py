@@ -26,12 +26,13 @@ from typing import Any
 
 import torch
 from lightning.fabric.plugins.io.torch_io import TorchCheckpointIO
+from lightning.pytorch.callbacks import ModelCheckpoint
 
 from sdn3d.errors import UserInputError
 from sdn3d.io import atomic_write, describe_load_failure
 
 __all__ = ["AtomicCheckpointIO", "CheckpointLoadError", "CheckpointWriteError", "NonFiniteCheckpointError",
-           "nonfinite_tensors"]
+           "RunCheckpoint", "nonfinite_tensors"]
 
 log = logging.getLogger(__name__)
 
@@ -136,3 +137,36 @@ class AtomicCheckpointIO(TorchCheckpointIO):
             checkpoint["callbacks"] = {key: self._relocated(state) if isinstance(state, Mapping) and state.get(
                 "dirpath") in self.relocate else state for key, state in callbacks.items()}
         return checkpoint
+
+
+class RunCheckpoint(ModelCheckpoint):
+    """``ModelCheckpoint`` whose ``last.ckpt`` (``save_last=True``) is written at every epoch's save point, whether or
+    not the monitored metric improved.
+
+    Lightning writes ``last.ckpt`` only when the same call wrote a top-k checkpoint: with ``monitor`` and
+    ``save_top_k=1`` that is an improvement, so a run killed after it lost every epoch since. Its
+    :attr:`state_key` is ``ModelCheckpoint``'s, so checkpoints of runs that used the plain callback resume with it
+    and the other way round.
+    """
+
+    @property
+    def state_key(self) -> str:
+        key = super().state_key
+        name = type(self).__qualname__
+        return "ModelCheckpoint" + key[len(name):] if key.startswith(name) else key
+
+    def on_train_epoch_end(self, trainer: Any, pl_module: Any) -> None:
+        due = not self._should_skip_saving_checkpoint(trainer) and self._should_save_on_train_epoch_end(trainer)
+        super().on_train_epoch_end(trainer, pl_module)
+        if due:
+            self._save_last_if_missed(trainer)
+
+    def on_validation_end(self, trainer: Any, pl_module: Any) -> None:
+        due = not self._should_skip_saving_checkpoint(trainer) and not self._should_save_on_train_epoch_end(trainer)
+        super().on_validation_end(trainer, pl_module)
+        if due:
+            self._save_last_if_missed(trainer)
+
+    def _save_last_if_missed(self, trainer: Any) -> None:
+        if self.save_last and self._last_global_step_saved != trainer.global_step:
+            self._save_last_checkpoint(trainer, self._monitor_candidates(trainer))

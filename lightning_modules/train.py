@@ -28,8 +28,8 @@ from lightning_modules.checkpointing import AtomicCheckpointIO, NonFiniteCheckpo
 from sdn3d.training.errors import RunFailedError, error_file, error_sentence
 from sdn3d.training.locks import run_lock
 from sdn3d.training.resume import finished_resume, resolve_config
-from sdn3d.training.rundir import check_writable, is_launcher, prepare_run_dir
-from sdn3d.training.start import StartPoint, check_start, check_threads
+from sdn3d.training.rundir import check_new_run_dir, check_writable, is_launcher, prepare_run_dir
+from sdn3d.training.start import StartPoint, check_overrides, check_start, check_threads
 from sdn3d.training.summary import (
     Before,
     FitResult,
@@ -60,16 +60,19 @@ def run_training(cfg: DictConfig, overrides: list[str] | None = None) -> dict[st
     returns that summary, changing no file.
 
     Raises:
-        TrainingError: bad resume target / override / checkpoint (an export, another branch's, a budget below what
-            it trained) / ``threads`` not null or a positive integer / unwritable output (before the run starts).
+        TrainingError: bad resume target / override (``+max_epochs=2``) / checkpoint (an export, another branch's, a
+            budget below what it trained) / ``threads`` not null or a positive integer / a new run into a directory
+            that holds a run (without ``overwrite=true``) / unwritable output (before the run starts).
         RunFailedError: the run ended with status ``failed``: a non-finite loss under ``fault.nonfinite=stop``
             or too many under ``skip``, or non-finite weights (the last good checkpoint stays in
             ``<run>/checkpoints``).
         Any other error of the run (a corrupt sample, a full disk, a bug), after recording it.
     """
     cfg = resolve_config(cfg, overrides)
+    check_overrides(cfg, overrides)
     check_threads(cfg)
     start = check_start(cfg)
+    check_new_run_dir(cfg)
     run_dir = Path(str(cfg.run_dir))
     check_writable(run_dir)
     with run_lock(run_dir):

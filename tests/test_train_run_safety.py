@@ -13,9 +13,13 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import lightning as L
+import pytest
 import torch
 from faults.disk import full_disk
 from hydra import compose, initialize_config_dir
@@ -84,3 +88,90 @@ def test_export_weights_on_a_full_disk_says_so_in_one_line_and_writes_nothing(tm
     assert len(err.splitlines()) == 1 and "the disk is full" in err and str(out / "semantic.pt") in err, err
     assert sorted(p.name for p in out.iterdir()) == ["semantic.pt"] and (out / "semantic.pt").read_bytes() == b"earlier"
     assert sorted(p.name for p in checkpoint.parent.iterdir()) == before
+
+
+def _files(folder: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def test_a_new_run_into_a_directory_holding_a_run_is_refused_and_touches_nothing(tmp_path):
+    from lightning_modules.train import run_training
+    from sdn3d.training.errors import TrainingError
+    from sdn3d.training.rundir import check_new_run_dir
+
+    run = tmp_path / "run"
+    (run / "checkpoints").mkdir(parents=True)
+    for name, text in (("config.yaml", "seed: 0\n"), ("summary.json", '{"status": "ok"}'),
+                       ("checkpoints/last.ckpt", "weights"), ("checkpoints/inference.pt", "export")):
+        (run / name).write_text(text)
+    before = _files(run)
+    overrides = ["branch=semantic", f"run_dir={run}", f"summary_file={tmp_path / 'summary.jsonl'}"]
+    with pytest.raises(TrainingError, match=rf"run directory '{run}' already holds a run \(config.yaml, summary.json, "
+                                            rf"checkpoints\).*resume={run}.*overwrite=true"):
+        run_training(_compose(overrides), overrides)
+    assert _files(run) == before and sorted(p.name for p in run.iterdir()) == ["checkpoints", "config.yaml",
+                                                                              "summary.json"]
+    assert not (tmp_path / "summary.jsonl").exists()
+    check_new_run_dir(_compose([*overrides, "overwrite=true"]))  # the explicit switch lets it through
+    check_new_run_dir(_compose(["branch=semantic", f"run_dir={tmp_path / 'new'}"]))
+
+
+@pytest.mark.parametrize("override", ["+max_epochs=2", "+batch_size=4"])
+def test_a_top_level_setting_nothing_reads_is_refused_naming_the_intended_one(tmp_path, override):
+    from lightning_modules.train import run_training
+    from sdn3d.training.errors import TrainingError
+
+    overrides = ["branch=semantic", f"run_dir={tmp_path / 'run'}", f"summary_file={tmp_path / 's.jsonl'}", override]
+    meant = {"+max_epochs=2": r"did you mean trainer\.max_epochs=2\?",
+             "+batch_size=4": r"did you mean datamodule\.batch_size=4\?"}[override]
+    with pytest.raises(TrainingError, match=rf"'\{override}': sdn3d-train has no top-level setting .*{meant}"):
+        run_training(_compose(overrides), overrides)
+    assert not (tmp_path / "run").exists()
+
+
+def _cli(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
+    path = os.pathsep.join([str(REPO / "src"), str(REPO), str(REPO / "tests")])
+    env = {**os.environ, "PYTHONPATH": path, "OMP_NUM_THREADS": "1"}
+    return subprocess.run([sys.executable, "-m", "sdn3d.cli.train", *args], cwd=cwd, env=env, capture_output=True,
+                          text=True, timeout=300)
+
+
+def test_a_refused_training_leaves_no_run_directory_and_no_other_runs_hydra_record(tmp_path):
+    from sdn3d.io import writer_lock
+    from sdn3d.training.locks import RUN_LOCK
+
+    fresh = tmp_path / "fresh"
+    result = _cli(["branch=semantic", f"hydra.run.dir={fresh}", f"ckpt_path={tmp_path / 'missing.ckpt'}",
+                   f"summary_file={tmp_path / 's.jsonl'}"], tmp_path)
+    assert result.returncode == 2 and "missing.ckpt' does not exist" in result.stderr, result.stderr
+    assert not fresh.exists()  # before: an empty run directory (Hydra's .hydra/ and train.log)
+
+    running = tmp_path / "running"
+    (running / ".hydra").mkdir(parents=True)
+    (running / ".hydra" / "config.yaml").write_text("the running run's record\n")
+    with writer_lock(running / RUN_LOCK, f"run directory {str(running)!r}"):
+        result = _cli(["branch=semantic", f"hydra.run.dir={running}", f"summary_file={tmp_path / 's.jsonl'}"],
+                      tmp_path)
+    assert result.returncode == 2 and "is being written by another sdn3d process" in result.stderr, result.stderr
+    assert (running / ".hydra" / "config.yaml").read_text() == "the running run's record\n"
+    assert sorted(p.name for p in (running / ".hydra").iterdir()) == ["config.yaml"]
+
+
+def test_run_names_a_missing_best_checkpoint_before_using_the_last(tmp_path, caplog):
+    import json
+    import logging
+
+    from sdn3d.runs import find_run_checkpoints
+
+    run = tmp_path / "run"
+    checkpoint = _checkpoint(tmp_path)
+    (run / "checkpoints").mkdir(parents=True)
+    (run / "checkpoints" / "last.ckpt").write_bytes(checkpoint.read_bytes())
+    (run / "summary.json").write_text(json.dumps({
+        "branch": "semantic", "status": "ok", "run_dir": str(run), "finished": "2026-11-28T00:00:00+00:00",
+        "best_ckpt": str(run / "checkpoints" / "best-epoch003.ckpt"), "last_ckpt": str(run / "checkpoints/last.ckpt")}))
+    with caplog.at_level(logging.WARNING, logger="sdn3d.runs"):
+        chosen, _ = find_run_checkpoints(run)
+    assert chosen["semantic"]["which"] == "last"
+    assert f"records the best checkpoint {run / 'checkpoints' / 'best-epoch003.ckpt'}, which is missing: using " \
+           f"its last checkpoint {run / 'checkpoints' / 'last.ckpt'} instead" in caplog.text  # before: nothing said

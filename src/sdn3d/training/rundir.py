@@ -14,8 +14,8 @@ from omegaconf import DictConfig, OmegaConf
 from sdn3d.io import write_text_atomic
 from sdn3d.training.errors import TrainingError
 
-__all__ = ["SAVED_CONFIG", "check_summary_file", "check_writable", "is_launcher", "prepare_run_dir",
-           "remove_stale_temp_files", "saved_config_text"]
+__all__ = ["SAVED_CONFIG", "check_new_run_dir", "check_summary_file", "check_writable", "is_launcher",
+           "prepare_run_dir", "remove_stale_temp_files", "save_hydra_record", "saved_config_text"]
 
 log = logging.getLogger(__name__)
 
@@ -108,5 +108,46 @@ def prepare_run_dir(cfg: DictConfig) -> Path:
         remove_stale_temp_files(run_dir, (".json", ".yaml"))
     if not cfg.get("resume"):
         write_text_atomic(run_dir / SAVED_CONFIG, saved_config_text(cfg))
+        save_hydra_record(cfg, run_dir)
     return run_dir
 
+
+
+#: What marks a directory as holding a run (a new run would replace them).
+_RUN_FILES = (SAVED_CONFIG, "summary.json", "summary_log.jsonl", "checkpoints")
+
+
+def check_new_run_dir(cfg: DictConfig) -> None:
+    """Refuse a new run (no ``resume=``) into a directory that holds a run: its checkpoints, ``inference.pt`` and
+    ``summary.json`` would be replaced. ``overwrite=true`` allows it.
+
+    Raises:
+        TrainingError: naming the directory, what it holds and the three ways on.
+    """
+    if cfg.get("resume") or cfg.get("overwrite"):
+        return
+    run_dir = Path(str(cfg.run_dir))
+    found = [name for name in _RUN_FILES if (run_dir / name).is_file() or (run_dir / name).is_dir() and any(
+        (run_dir / name).iterdir())]
+    if found:
+        raise TrainingError(
+            f"run directory {str(run_dir)!r} already holds a run ({', '.join(found)}): a new run would replace its "
+            f"checkpoints, inference.pt and summary.json. Continue it with resume={run_dir}, train into a new "
+            "directory (leave run_dir= and hydra.run.dir= unset for a new time-stamped one), or replace it with "
+            "overwrite=true")
+
+
+def save_hydra_record(cfg: DictConfig, run_dir: Path) -> None:
+    """A new run's ``.hydra/`` (``config.yaml``, ``hydra.yaml``, ``overrides.yaml``), as Hydra itself writes them,
+    once the run has started: Hydra would write them before the task runs, so a training refused before it starts
+    (the run directory's lock, a run already there) replaced another run's record (``conf/train.yaml`` sets
+    ``hydra.output_subdir`` to null). Nothing outside Hydra's main (a composed config)."""
+    from hydra.core.hydra_config import HydraConfig
+
+    if not HydraConfig.initialized():
+        return
+    hydra_cfg = HydraConfig.instance().cfg
+    task = OmegaConf.create(OmegaConf.to_container(cfg, resolve=False))
+    for name, node in (("config.yaml", task), ("hydra.yaml", hydra_cfg),
+                       ("overrides.yaml", HydraConfig.get().overrides.task)):
+        write_text_atomic(run_dir / ".hydra" / name, OmegaConf.to_yaml(node))

@@ -5,13 +5,14 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
-from omegaconf import DictConfig
+from omegaconf import DictConfig, OmegaConf
 
 from sdn3d.errors import UserInputError
 from sdn3d.training.errors import TrainingError
 
-__all__ = ["StartPoint", "check_start", "check_threads"]
+__all__ = ["StartPoint", "check_overrides", "check_start", "check_threads"]
 
 
 @dataclass
@@ -119,3 +120,46 @@ def check_threads(cfg: DictConfig) -> None:
         raise TrainingError(f"threads must be a positive integer (torch CPU threads) or null for PyTorch's default, "
                             f"got {threads!r}")
 
+
+
+def _leaves(node: Any, name: str, key: str = "") -> list[str]:
+    """The dotted keys of the settings called ``name`` inside the sections of ``node`` (a plain config tree)."""
+    found = []
+    if isinstance(node, Mapping):
+        for child, value in node.items():
+            dotted = f"{key}.{child}" if key else str(child)
+            if key and child == name and not isinstance(value, Mapping):
+                found.append(dotted)
+            found.extend(_leaves(value, name, dotted))
+    return found
+
+
+def check_overrides(cfg: DictConfig, overrides: list[str] | None) -> None:
+    """Refuse a command line ``+key=value`` that added a top-level setting nothing reads (``+max_epochs=2``, which
+    Hydra's own advice for an unknown key suggests), naming the setting of that name in a section
+    (``trainer.max_epochs``). A ``+group=option`` (a config group) and ``+section.key=value`` are not refused.
+
+    Raises:
+        TrainingError: naming the override and the setting it was likely meant for.
+    """
+    from hydra.core.override_parser.overrides_parser import OverridesParser
+    from hydra.errors import HydraException
+
+    texts = [str(o) for o in overrides or []]
+    try:
+        parsed = OverridesParser.create().parse_overrides(texts)
+    except HydraException:
+        return  # Hydra (or resume=) reports a bad override itself
+    tree = OmegaConf.to_container(cfg, resolve=False)
+    for text, override in zip(texts, parsed, strict=True):
+        key = override.key_or_group
+        if not override.is_add() or "." in key or "/" in key or override.package is not None:
+            continue
+        if key not in cfg or isinstance(cfg._get_node(key), DictConfig):
+            continue  # a config group's option (its settings are a section, or global)
+        value = text.split("=", 1)[1] if "=" in text else ""
+        meant = _leaves(tree, key)
+        hint = (f"did you mean {meant[0]}={value}?" if meant else
+                "settings are named with their section, e.g. trainer.max_epochs=2")
+        raise TrainingError(f"{text!r}: sdn3d-train has no top-level setting {key!r}, so nothing would read it; "
+                            f"{hint}")

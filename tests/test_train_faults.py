@@ -177,7 +177,8 @@ def test_resume_trains_exactly_like_a_straight_run(tiny_synth, tmp_path):
     split = tmp_path / "split"
     stop = ["+callbacks.stop._target_=test_train_faults.StopAfterEpoch", "+callbacks.stop.epoch=1"]
     half = run_training(_cfg("geometric", tiny_synth, split, *common, *stop), [])["global_step"]
-    run_training(_cfg("geometric", tiny_synth, split, *common, f"ckpt_path={split / 'checkpoints' / 'last.ckpt'}"), [])
+    run_training(_cfg("geometric", tiny_synth, split, *common, f"ckpt_path={split / 'checkpoints' / 'last.ckpt'}",
+                 "overwrite=true"), [])  # a new run from the checkpoint, into the same directory
     straight = torch.load(tmp_path / "straight" / "checkpoints" / "last.ckpt", weights_only=True)
     resumed = torch.load(split / "checkpoints" / "last.ckpt", weights_only=True)
     assert straight["global_step"] == resumed["global_step"] == 2 * half > 0

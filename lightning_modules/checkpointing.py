@@ -2,7 +2,7 @@
 
 Saving: serialise, write a temp file, fsync, rename. A process killed (SIGKILL, OOM, pre-emption) while
 a checkpoint is being written leaves the previous ``last.ckpt`` intact (and a stale temp file, which
-:func:`remove_stale_temp_files` clears when the run starts or resumes); a full disk raises
+:func:`sdn3d.training.rundir.remove_stale_temp_files` clears when the run starts or resumes); a full disk raises
 :class:`CheckpointWriteError` naming the file. Weights holding NaN or infinity are refused
 (:class:`NonFiniteCheckpointError`, naming the tensors): the previous checkpoint stays.
 
@@ -20,25 +20,21 @@ import errno
 import io
 import logging
 import pickle
-import re
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
 import torch
 from lightning.fabric.plugins.io.torch_io import TorchCheckpointIO
+from lightning.pytorch.callbacks import ModelCheckpoint
 
 from sdn3d.errors import UserInputError
 from sdn3d.io import atomic_write, describe_load_failure
 
 __all__ = ["AtomicCheckpointIO", "CheckpointLoadError", "CheckpointWriteError", "NonFiniteCheckpointError",
-           "nonfinite_tensors", "remove_stale_temp_files"]
+           "RunCheckpoint", "nonfinite_tensors"]
 
 log = logging.getLogger(__name__)
-
-# sdn3d.io.atomic_write's temp files: ".<name>.<random>.tmp" next to <name>.
-_TEMP_NAME = re.compile(r"^\.(?P<name>.+)\.[A-Za-z0-9_]+\.tmp$")
-
 
 class CheckpointWriteError(OSError):
     """A checkpoint could not be written (disk full, permission, missing directory); ``path``: the file."""
@@ -57,25 +53,6 @@ def nonfinite_tensors(state: Mapping[str, Any]) -> list[str]:
     """Names of the floating-point tensors of ``state`` (a state dict) that hold NaN or infinity."""
     return [name for name, value in state.items()
             if isinstance(value, torch.Tensor) and value.is_floating_point() and not bool(torch.isfinite(value).all())]
-
-
-def remove_stale_temp_files(folder: Path, suffixes: tuple[str, ...] = (".ckpt",)) -> list[Path]:
-    """Delete the temp files a killed atomic write left in ``folder`` (``.<name>.<random>.tmp`` whose
-    ``<name>`` ends with one of ``suffixes``); returns them. Call it only where no write is under way."""
-    removed = []
-    if not folder.is_dir():
-        return removed
-    for path in sorted(folder.iterdir()):
-        match = _TEMP_NAME.match(path.name)
-        if match and match["name"].endswith(suffixes) and path.is_file():
-            try:
-                path.unlink()
-            except FileNotFoundError:
-                continue
-            removed.append(path)
-    if removed:
-        log.info("removed %d stale temp file(s) of killed checkpoint writes in %s", len(removed), folder)
-    return removed
 
 
 class AtomicCheckpointIO(TorchCheckpointIO):
@@ -160,3 +137,36 @@ class AtomicCheckpointIO(TorchCheckpointIO):
             checkpoint["callbacks"] = {key: self._relocated(state) if isinstance(state, Mapping) and state.get(
                 "dirpath") in self.relocate else state for key, state in callbacks.items()}
         return checkpoint
+
+
+class RunCheckpoint(ModelCheckpoint):
+    """``ModelCheckpoint`` whose ``last.ckpt`` (``save_last=True``) is written at every epoch's save point, whether or
+    not the monitored metric improved.
+
+    Lightning writes ``last.ckpt`` only when the same call wrote a top-k checkpoint: with ``monitor`` and
+    ``save_top_k=1`` that is an improvement, so a run killed after it lost every epoch since. Its
+    :attr:`state_key` is ``ModelCheckpoint``'s, so checkpoints of runs that used the plain callback resume with it
+    and the other way round.
+    """
+
+    @property
+    def state_key(self) -> str:
+        key = super().state_key
+        name = type(self).__qualname__
+        return "ModelCheckpoint" + key[len(name):] if key.startswith(name) else key
+
+    def on_train_epoch_end(self, trainer: Any, pl_module: Any) -> None:
+        due = not self._should_skip_saving_checkpoint(trainer) and self._should_save_on_train_epoch_end(trainer)
+        super().on_train_epoch_end(trainer, pl_module)
+        if due:
+            self._save_last_if_missed(trainer)
+
+    def on_validation_end(self, trainer: Any, pl_module: Any) -> None:
+        due = not self._should_skip_saving_checkpoint(trainer) and not self._should_save_on_train_epoch_end(trainer)
+        super().on_validation_end(trainer, pl_module)
+        if due:
+            self._save_last_if_missed(trainer)
+
+    def _save_last_if_missed(self, trainer: Any) -> None:
+        if self.save_last and self._last_global_step_saved != trainer.global_step:
+            self._save_last_checkpoint(trainer, self._monitor_candidates(trainer))

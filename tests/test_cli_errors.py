@@ -56,7 +56,7 @@ def test_user_facing_errors_derive_from_user_input_error():
 
 
 def test_training_error_is_a_user_error_and_still_a_runtime_error():
-    from lightning_modules.train import TrainingError
+    from sdn3d.training.errors import TrainingError
 
     assert issubclass(TrainingError, UserInputError) and issubclass(TrainingError, RuntimeError)
 

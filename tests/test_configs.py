@@ -195,7 +195,7 @@ def test_edit_refinement_is_the_papers_and_on_for_cityscapes_only():
 def test_fault_policies_are_constructor_arguments(tmp_path):
     from datamodules import GeometricDataModule, SemanticDataModule, TexturalDataModule
     from lightning_modules.textural import TexturalModule
-    from lightning_modules.train import resolve_resume
+    from sdn3d.training.resume import resolve_resume
 
     for branch, cls in (("semantic", SemanticDataModule), ("geometric", GeometricDataModule),
                         ("textural", TexturalDataModule)):

@@ -86,7 +86,8 @@ def test_sdn3d_edit_replaces_a_killed_runs_lock(tiny_synth, tmp_path):
 
 
 def test_sdn3d_train_refuses_a_run_directory_another_training_writes(tiny_synth, tmp_path):
-    from lightning_modules.train import RUN_LOCK, run_training
+    from lightning_modules.train import run_training
+    from sdn3d.training.locks import RUN_LOCK
 
     run_dir = tmp_path / "run"
     overrides = ["branch=semantic", "experiment=demo", f"data.root={tiny_synth}", "data.image_size=[160,64]",

@@ -22,9 +22,9 @@ import torch
 from helpers.tiny_training import resume, train_tiny
 from omegaconf import OmegaConf
 
-from lightning_modules.train import resolve_resume
 from sdn3d.errors import UserInputError
 from sdn3d.runs import find_run_checkpoints
+from sdn3d.training.resume import resolve_resume
 
 
 @pytest.fixture(scope="module")

@@ -25,9 +25,11 @@ import torch
 from helpers.tiny_training import TINY_SEMANTIC, compose_train, resume, train_tiny
 from omegaconf import OmegaConf
 
-from lightning_modules.train import TrainingError, resolve_resume, run_training
+from lightning_modules.train import run_training
 from sdn3d.errors import UserInputError
 from sdn3d.runs import find_run_checkpoints
+from sdn3d.training.errors import TrainingError
+from sdn3d.training.resume import resolve_resume
 
 TRAIN = [*TINY_SEMANTIC, "test_after_fit=false"]
 
@@ -93,7 +95,7 @@ def test_resuming_a_finished_run_without_a_larger_budget_changes_nothing(trained
     run = _copy(trained, tmp_path)
     before = _files(run)
     earlier = json.loads((run / "summary.json").read_text())
-    with caplog.at_level(logging.WARNING, logger="lightning_modules.train"):
+    with caplog.at_level(logging.WARNING, logger="sdn3d.training.resume"):
         summary = resume(run)
     assert summary == earlier and _files(run) == before and not (tmp_path / "summary.jsonl").exists()
     assert "nothing to do: the run has trained 2 epoch(s), 2 optimiser step(s), all of its budget " \

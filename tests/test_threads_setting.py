@@ -19,7 +19,9 @@ import torch
 from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
-from lightning_modules.train import TrainingError, check_threads, configure_process, run_training
+from lightning_modules.train import configure_process, run_training
+from sdn3d.training.errors import TrainingError
+from sdn3d.training.start import check_threads
 
 CONF = Path(__file__).resolve().parents[1] / "conf"
 

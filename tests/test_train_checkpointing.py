@@ -18,8 +18,10 @@ from torch.utils.data import Dataset
 from datamodules.guard import CorruptSampleError, SampleGuard
 from lightning_modules._base import image_grid
 from lightning_modules.checkpointing import AtomicCheckpointIO, CheckpointWriteError
-from lightning_modules.train import TrainingError, check_writable, resolve_resume
 from sdn3d.data.errors import DataFormatError
+from sdn3d.training.errors import TrainingError
+from sdn3d.training.resume import resolve_resume
+from sdn3d.training.rundir import check_writable
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -122,7 +124,7 @@ def test_image_grid_layout():
 
 
 def test_stale_checkpoint_temp_files_are_removed_at_start_and_resume(tmp_path):
-    from lightning_modules.train import prepare_run_dir
+    from sdn3d.training.rundir import prepare_run_dir
 
     run = tmp_path / "run"
     checkpoints = run / "checkpoints"

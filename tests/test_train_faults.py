@@ -23,8 +23,10 @@ from lightning.fabric.plugins.io.torch_io import TorchCheckpointIO
 from omegaconf import OmegaConf
 
 from lightning_modules.checkpointing import AtomicCheckpointIO, CheckpointLoadError, CheckpointWriteError
-from lightning_modules.train import RunFailedError, TrainingError, resolve_resume, run_training
+from lightning_modules.train import run_training
 from sdn3d.data.errors import DataFormatError
+from sdn3d.training.errors import RunFailedError, TrainingError
+from sdn3d.training.resume import resolve_resume
 
 REPO = Path(__file__).resolve().parents[1]
 TINY = {
@@ -175,7 +177,8 @@ def test_resume_trains_exactly_like_a_straight_run(tiny_synth, tmp_path):
     split = tmp_path / "split"
     stop = ["+callbacks.stop._target_=test_train_faults.StopAfterEpoch", "+callbacks.stop.epoch=1"]
     half = run_training(_cfg("geometric", tiny_synth, split, *common, *stop), [])["global_step"]
-    run_training(_cfg("geometric", tiny_synth, split, *common, f"ckpt_path={split / 'checkpoints' / 'last.ckpt'}"), [])
+    run_training(_cfg("geometric", tiny_synth, split, *common, f"ckpt_path={split / 'checkpoints' / 'last.ckpt'}",
+                 "overwrite=true"), [])  # a new run from the checkpoint, into the same directory
     straight = torch.load(tmp_path / "straight" / "checkpoints" / "last.ckpt", weights_only=True)
     resumed = torch.load(split / "checkpoints" / "last.ckpt", weights_only=True)
     assert straight["global_step"] == resumed["global_step"] == 2 * half > 0

@@ -173,7 +173,8 @@ def test_resume_after_sigkill_reaches_the_same_final_step(tiny_synth, tmp_path):
 
 
 def test_nonfinite_loss_stops_with_message_or_skips(tiny_synth, tmp_path):
-    from lightning_modules.train import TrainingError, run_training
+    from lightning_modules.train import run_training
+    from sdn3d.training.errors import TrainingError
 
     pytest.importorskip("lightning_modules.semantic")
     poison = ["+callbacks.poison._target_=helpers.train_callbacks.PoisonBatchAtStep", "+callbacks.poison.step=1"]

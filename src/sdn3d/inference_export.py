@@ -40,7 +40,7 @@ from sdn3d.io import (
     load_torch_file,
 )
 
-__all__ = ["EXPORT_FORMAT", "EXPORT_VERSION", "EXPORT_NAME", "PREDICTOR_PREFIXES", "BranchWeights",
+__all__ = ["ExportWriteError", "EXPORT_FORMAT", "EXPORT_VERSION", "EXPORT_NAME", "PREDICTOR_PREFIXES", "BranchWeights",
            "is_inference_export", "load_branch_weights", "module_with_weights", "inference_export",
            "check_export_target", "write_inference_export", "read_export_source", "export_matches"]
 
@@ -54,6 +54,11 @@ EXPORT_NAME = "inference.pt"
 PREDICTOR_PREFIXES: dict[str, tuple[str, ...]] = {"semantic": ("net.",), "geometric": ("net.",),
                                                   "textural": ("generator.", "encoder.")}
 _SOURCE_KEYS = ("file", "sha256", "size", "mtime_ns")
+
+
+
+class ExportWriteError(UserInputError):
+    """An inference export could not be written (a full disk, a permission); the message names the file."""
 
 
 @dataclass(frozen=True)
@@ -286,17 +291,32 @@ def write_inference_export(checkpoint: str | os.PathLike, ckpt: Mapping[str, Any
     An existing ``out`` is replaced only with ``overwrite``, and never when it is a training checkpoint
     (:func:`check_export_target`).
 
+    The export is serialised in memory first: a full disk (or any other failed write) is an
+    :class:`ExportWriteError` naming the file, and leaves no temporary file and an earlier ``out`` as it was
+    (``torch.save`` into a file the disk refuses fails with a bare ``RuntimeError``, "unexpected pos").
+
     Raises:
         UserInputError: ``out`` may not be written (:func:`check_export_target`), or the checkpoint holds no
             branch's weights.
+        ExportWriteError: ``out`` could not be written (the disk is full, ...).
     """
+    import errno
+    import io
+
     import torch
 
     checkpoint = Path(checkpoint).expanduser()
     target = checkpoint.parent / EXPORT_NAME if out is None else Path(out).expanduser()
     check_export_target(target, checkpoint, overwrite, default=out is None)
     payload = inference_export(ckpt, checkpoint, settings)
-    return atomic_write(target, lambda handle: torch.save(payload, handle))
+    buffer = io.BytesIO()
+    torch.save(payload, buffer)
+    try:
+        return atomic_write(target, lambda handle: handle.write(buffer.getbuffer()))
+    except OSError as exc:
+        reason = "the disk is full" if exc.errno == errno.ENOSPC else (exc.strerror or str(exc))
+        earlier = "the earlier file there is unchanged" if target.exists() else "nothing was written"
+        raise ExportWriteError(f"could not write inference export {str(target)!r}: {reason}; {earlier}") from exc
 
 
 def read_export_source(path: str | os.PathLike) -> dict[str, Any]:

@@ -63,14 +63,22 @@ def _in_run_dir(recorded: str, summary: dict, path: Path) -> Path:
 def _summary_checkpoint(summary: dict, path: Path) -> tuple[str, Path] | None:
     """``('best' | 'last', file)`` of a run's summary: its best checkpoint, else its last, each looked for in the
     summary's own run directory (:func:`_in_run_dir`: a copied or moved run serves its own files), then in
-    ``<summary dir>/checkpoints/`` by name."""
+    ``<summary dir>/checkpoints/`` by name. A recorded best checkpoint that is missing is warned about, naming it,
+    before the last one is used (other weights than those the run's figures were tested with)."""
+    missing = None
     for which in ("best", "last"):
         recorded = summary.get(f"{which}_ckpt")
         if not isinstance(recorded, str) or not recorded:
             continue
         for candidate in (_in_run_dir(recorded, summary, path), path.parent / "checkpoints" / Path(recorded).name):
             if candidate.is_file():
+                if missing is not None:
+                    log.warning("run summary %s records the best checkpoint %s, which is missing: using its last "
+                                "checkpoint %s instead (the weights at the end of training, not the ones its figures "
+                                "were tested with); restore the file, or name a checkpoint with checkpoints.<branch>=",
+                                path, missing, candidate.resolve())
                 return which, candidate.resolve()
+        missing = _in_run_dir(recorded, summary, path)
     return None
 
 

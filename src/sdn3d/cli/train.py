@@ -67,10 +67,32 @@ OmegaConf.register_new_resolver("sdn3d_first_set", first_set, replace=True)
 OmegaConf.register_new_resolver("sdn3d_unless_set", unless_set, replace=True)
 
 
+def _remove_unstarted_run_dirs(cfg: DictConfig) -> None:
+    """After a training refused before it started (a bad ``ckpt_path=``, an override, ...): remove the run directory
+    Hydra made for it (and ``run_dir`` if another) when it holds nothing but this job's log, so a refusal leaves no
+    empty run behind. A directory holding anything else (a run, another run's lock) is left as it is."""
+    from pathlib import Path
+
+    hydra = HydraConfig.get()
+    log_name = f"{hydra.job.name}.log"
+    for folder in {Path(str(hydra.runtime.output_dir)), Path(str(cfg.get("run_dir") or hydra.runtime.output_dir))}:
+        if cfg.get("resume") or not folder.is_dir():
+            continue
+        entries = list(folder.iterdir())
+        if all(e.name == log_name and e.is_file() for e in entries):
+            for entry in entries:
+                entry.unlink()
+            try:
+                folder.rmdir()
+            except OSError:
+                continue
+
+
 @hydra_cli("train", "train")
 def main(cfg: DictConfig) -> float | None:
-    from lightning_modules.train import RunFailedError, run_training
+    from lightning_modules.train import run_training
     from sdn3d.cli._errors import report_user_error, user_errors
+    from sdn3d.training.errors import RunFailedError
 
     overrides = list(HydraConfig.get().overrides.task)
     try:
@@ -79,6 +101,7 @@ def main(cfg: DictConfig) -> float | None:
         log.error("%s", exc)
         sys.exit(1)
     except user_errors() as exc:
+        _remove_unstarted_run_dirs(cfg)
         sys.exit(report_user_error("train", exc))
     metric = summary["metrics"].get(str(cfg.get("monitor")))
     log.info("run finished: %s (%s = %s)", summary["run_dir"], cfg.get("monitor"), metric)

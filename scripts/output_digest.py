@@ -117,9 +117,8 @@ def make(work: Path) -> dict:
     import yaml
 
     sys.path.insert(0, str(REPO))
-    from tests.helpers.tiny_models import write_checkpoints
-
     from sdn3d.data.synth import SynthConfig, generate_dataset
+    from tests.helpers.tiny_models import write_checkpoints
 
     work.mkdir(parents=True, exist_ok=True)
     ckpts = write_checkpoints(work / "ckpt", seed=0)

@@ -31,10 +31,11 @@ def ckpts(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def server(ckpts, tmp_path_factory):
-    """``(base URL, Editor, output_dir)`` of a server with small limits (900 kB and 0.5 MP uploads, 4 kB requests)."""
+    """``(base URL, Editor, output_dir)`` of a server with small limits (900 kB and 0.5 MP uploads, 4 kB requests;
+    room for every session the tests open)."""
     out = tmp_path_factory.mktemp("app") / "out"
     with serving([*checkpoint_args(ckpts), *REAL_FRAME_ARGS, f"output_dir={out}", "max_upload_bytes=900000",
-                  "max_upload_pixels=500000", "max_request_bytes=4096"]) as (base, editor):
+                  "max_upload_pixels=500000", "max_request_bytes=4096", "max_sessions=64"]) as (base, editor):
         yield base, editor, out
 
 
@@ -217,14 +218,67 @@ def test_downloads_are_written_atomically(server, real_vkitti_frame, monkeypatch
     assert request(base, "GET", "/api/info")[0] == 200  # still serving
 
 
-def test_sessions_beyond_the_limit_close_the_least_recently_used(ckpts, real_vkitti_frame, tmp_path):
+def test_sessions_beyond_the_limit_close_only_an_idle_one(ckpts, real_vkitti_frame, tmp_path, monkeypatch):
+    """Issue 42 (1): opening more images than max_sessions never closes a session in use: the new one is refused
+    (503, before any de-render) until the least recently used has been idle for session_idle_s."""
+    import sdn3d.app.editor as editor_module
+
     with serving([*checkpoint_args(ckpts), *REAL_FRAME_ARGS, f"output_dir={tmp_path / 'out'}",
-                  "max_sessions=2"]) as (base, editor):
+                  "max_sessions=2", "session_idle_s=60"]) as (base, editor):
         data = _small_frame(real_vkitti_frame)
-        sids = [_open(base, data)[1]["sid"] for _ in range(3)]
+        sids = [_open(base, data)[1]["sid"] for _ in range(2)]
+        calls = []
+        monkeypatch.setattr(editor.session, "derender", lambda *a, **k: calls.append(a) or 1 / 0)
+        for _ in range(8):
+            _error(*_open(base, data), 503, "max_sessions", "session_idle_s=60")
+        assert not calls  # no de-render spent on a refused open
+        assert all(request(base, "GET", f"/api/s/{s}/input.png")[0] == 200 for s in sids)
+        assert sorted(p.name for p in editor.sessions_dir.iterdir()) == sorted(sids)
+        monkeypatch.undo()
+        # 61 s later the least recently used (sids[0]: sids[1] was asked for last) is idle: it makes room
+        now = editor_module.time.monotonic()
+        monkeypatch.setattr(editor_module.time, "monotonic", lambda: now + 61)
+        status, answer = _open(base, data)
+        assert status == 201, answer
         assert request(base, "GET", f"/api/s/{sids[0]}/input.png")[0] == 404
-        assert all(request(base, "GET", f"/api/s/{s}/input.png")[0] == 200 for s in sids[1:])
-        assert sorted(p.name for p in editor.sessions_dir.iterdir()) == sorted(sids[1:])
+        assert sorted(p.name for p in editor.sessions_dir.iterdir()) == sorted([sids[1], answer["sid"]])
+
+
+def test_another_website_cannot_open_edit_or_close_a_session(server, real_vkitti_frame):
+    """Issue 42 (1): a write from another origin (Origin, Sec-Fetch-Site) is refused with 403, and a body a browser
+    sends across sites without a preflight (text/plain, a form) with 415, before it is read: no session is opened,
+    edited or closed. The page's own requests (same Origin, JSON, an image type) go through."""
+    base, editor, _ = server
+    data = _small_frame(real_vkitti_frame)
+    status, view = _open(base, data)
+    assert status == 201, view
+    sid = view["sid"]
+    before = sorted(editor._sessions)
+    evil = {"Origin": "http://evil.example"}
+    _error(*json_request(base, "POST", "/api/open", data, content_type="text/plain"), 415, "text/plain")
+    _error(*json_request(base, "POST", "/api/open", data, content_type="image/png", headers=evil), 403,
+           "another origin")
+    _error(*json_request(base, "POST", "/api/open", data, content_type="image/png",
+                         headers={"Sec-Fetch-Site": "cross-site"}), 403, "another site")
+    _error(*json_request(base, "POST", "/api/open", data, content_type="image/png", headers={"Origin": "null"}),
+           403, "another origin")
+    for form in ("application/x-www-form-urlencoded", "multipart/form-data; boundary=x"):
+        _error(*json_request(base, "POST", "/api/open_frame", b'{"frame": 0}', content_type=form), 415)
+    _error(*json_request(base, "POST", f"/api/s/{sid}/edit", b'{"ops": []}', content_type="text/plain"), 415)
+    _error(*json_request(base, "POST", f"/api/s/{sid}/edit", {"ops": []}, headers=evil), 403)
+    _error(*json_request(base, "DELETE", f"/api/s/{sid}", headers=evil), 403)
+    _error(*json_request(base, "DELETE", f"/api/s/{sid}", headers={"Sec-Fetch-Site": "same-site"}), 403)
+    # a JSON endpoint takes application/json only
+    _error(*json_request(base, "POST", f"/api/s/{sid}/edit", b'{"ops": []}', content_type="image/png"), 415,
+           "application/json")
+    assert sorted(editor._sessions) == before
+    # the page's own requests: its Origin, Sec-Fetch-Site same-origin
+    page = {"Origin": base, "Sec-Fetch-Site": "same-origin"}
+    status, answer = json_request(base, "POST", f"/api/s/{sid}/edit", {"ops": []}, headers=page)
+    assert status == 200, answer
+    status, answer = json_request(base, "POST", "/api/open", data, content_type="image/png", headers=page)
+    assert status == 201, answer
+    assert json_request(base, "DELETE", f"/api/s/{answer['sid']}", headers=page)[0] == 200
 
 
 def test_a_click_on_a_car_implies_its_box_which_the_page_adds(server, real_vkitti_frame):

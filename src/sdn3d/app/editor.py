@@ -72,8 +72,10 @@ class AppLimits:
         max_upload_pixels: the most pixels an uploaded image may declare (read from its header before decoding;
             the project's image reader refuses more than 100 MP in any case).
         max_request_bytes: the largest JSON request.
-        max_sessions: browser sessions kept; opening one more closes the least recently used.
+        max_sessions: browser sessions kept; opening one more closes the least recently used if it was idle for
+            ``session_idle_s`` seconds, else the new one is refused (503): requests never close a session in use.
         max_ops: the most operations a spec may hold (``sdn3d-edit``'s ``max_ops``).
+        session_idle_s: seconds without a request after which a session may be closed to make room.
     """
 
     max_upload_bytes: int = 20_000_000
@@ -81,9 +83,11 @@ class AppLimits:
     max_request_bytes: int = 65_536
     max_sessions: int = 8
     max_ops: int = 256
+    session_idle_s: int = 1800
 
     def __post_init__(self) -> None:
-        for name in ("max_upload_bytes", "max_upload_pixels", "max_request_bytes", "max_sessions", "max_ops"):
+        for name in ("max_upload_bytes", "max_upload_pixels", "max_request_bytes", "max_sessions", "max_ops",
+                     "session_idle_s"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise UserInputError(f"{name} must be a positive integer, got {value!r}")
@@ -108,6 +112,7 @@ class BrowserSession:
     version: int = 0
     warnings: list[str] = field(default_factory=list)
     written: dict[str, int] = field(default_factory=dict)  # download name -> the version it was written for
+    used: float = field(default_factory=time.monotonic)  # the last request's time (time.monotonic)
 
 
 def image_type(data: bytes) -> str:
@@ -271,9 +276,28 @@ class Editor:
             if found is None:
                 raise AppError("no such session (closed, or the server was restarted): open the image again", 404)
             self._sessions.move_to_end(sid)
+            found.used = time.monotonic()
             return found
 
+    def _make_room(self) -> None:
+        """Close the least recently used sessions idle for ``session_idle_s`` until one more fits (caller holds
+        ``_lock``).
+
+        Raises:
+            AppError (503): every session was used recently: none is closed for a new one.
+        """
+        while len(self._sessions) >= self.limits.max_sessions:
+            oldest = next(iter(self._sessions.values()))
+            idle = time.monotonic() - oldest.used
+            if idle < self.limits.session_idle_s:
+                raise AppError(f"the server holds {len(self._sessions)} open images (max_sessions), the least recently "
+                               f"used {idle:.0f} s ago, less than session_idle_s={self.limits.session_idle_s}: "
+                               "close one (or restart sdn3d-app with a larger max_sessions)", 503)
+            self._close(self._sessions.popitem(last=False)[1])
+
     def _new(self, make_input: Callable[[Path], tuple[EditInput, list[str]]]) -> BrowserSession:
+        with self._lock:
+            self._make_room()  # before any work: a refused open costs no de-render
         sid = secrets.token_urlsafe(16)
         directory = self.sessions_dir / sid
         directory.mkdir()
@@ -287,9 +311,12 @@ class Editor:
                                input_png=png)
         write_text_atomic(directory / "spec.yaml", found.spec_yaml)
         with self._lock:
+            try:
+                self._make_room()
+            except AppError:
+                self._close(found)
+                raise
             self._sessions[sid] = found
-            while len(self._sessions) > self.limits.max_sessions:
-                self._close(self._sessions.popitem(last=False)[1])
         return found
 
     def _close(self, found: BrowserSession) -> None:

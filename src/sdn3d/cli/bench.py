@@ -17,6 +17,10 @@ every output. ``scene=oracle`` (ground-truth geometry too) is one pass. Outputs,
                      mode) with metrics
     examples/*.png   the grids
 
+An earlier output directory is replaced (``overwrite=true``) only when it holds nothing but the files its
+``results.json`` lists (``outputs``) and none of this run's inputs (the benchmark file, the dataset, a checkpoint):
+else the run stops with exit 2 naming the file, and nothing is deleted (:func:`output_rules`, as ``sdn3d-edit``).
+
 ``run=<dir>`` takes the branches' checkpoints from the ``sdn3d-train`` summaries under ``dir`` (a demo output such
 as ``outputs/demo``, one run directory, or a training root), as ``sdn3d-edit run=`` does
 (:func:`sdn3d.runs.checkpoints_from_run`): per branch the latest run with status ok, its best checkpoint else its
@@ -375,10 +379,10 @@ def _load_inputs(cfg: Any) -> tuple[Any, Path, Path, list, Any, list, dict]:
 
     if cfg.threads:
         torch.set_num_threads(int(cfg.threads))
-    out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite))
     source = SourceConfig.from_mapping(cfg.data)
     # benchmark=paper: the paper's file shipped in sdn3d.resources; otherwise a path.
     path = benchmark_path(str(cfg.benchmark)) if cfg.benchmark else Path(source.root) / "vkitti_edit_benchmark.json"
+    out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite), **output_rules(cfg, path))
     entries = load_edit_benchmark(path.expanduser())
     checkpoints = bench_checkpoints(cfg)
     cfg = OmegaConf.merge(cfg, {"checkpoints": {b: None if info is None else info["path"]
@@ -392,6 +396,16 @@ def _load_inputs(cfg: Any) -> tuple[Any, Path, Path, list, Any, list, dict]:
     if not cfg.get("allow_empty"):
         check_entries(entries, passes[0], path)
     return cfg, out, path, entries, source, passes, checkpoints
+
+
+def output_rules(cfg: Any, benchmark: Path) -> dict[str, Any]:
+    """:func:`sdn3d.io.check_output_dir`'s rules for ``output_dir`` (as ``sdn3d-edit``'s): an earlier result is
+    replaced only if the directory holds nothing but the files its ``results.json`` lists (``outputs``), and never
+    when it holds one of this run's inputs (the benchmark file, the dataset, a checkpoint, the run, LPIPS weights)."""
+    given = {"benchmark": str(benchmark), "data.root": (cfg.get("data") or {}).get("root"), "run": cfg.get("run"),
+             "lpips_weights": cfg.get("lpips_weights"),
+             **{f"checkpoints.{b}": v for b, v in (cfg.get("checkpoints") or {}).items()}}
+    return {"listed_in": "outputs", "inputs": {k: str(v) for k, v in given.items() if v is not None}}
 
 
 def check_entries(entries: Sequence[Any], settings: Any, path: Path) -> None:
@@ -475,7 +489,7 @@ def run_bench(cfg: Any) -> dict:
             "dilate_px": first.dilate_px, "feather_px": first.feather_px, "wall_s": time.perf_counter() - t0}
     report = {"info": info, "config": OmegaConf.to_container(cfg, resolve=True), "summary": summaries,
               "entries": {name: [r.to_json() for r in rs] for name, rs in results.items()}}
-    with staged_directory(out, MARKER, bool(cfg.overwrite)) as tmp:
+    with staged_directory(out, MARKER, bool(cfg.overwrite), owned=True, **output_rules(cfg, path)) as tmp:
         examples = []
         for i, r in enumerate(results[sources[0]]):  # every pass has the same entries, in the same order
             images = {s: results[s][i].images for s in sources if results[s][i].images is not None}
@@ -486,6 +500,8 @@ def run_bench(cfg: Any) -> dict:
             examples.append({"file": name, "key": r.key, "metrics": {s: results[s][i].metrics for s in sources}})
         write_text_atomic(tmp / "table1.md", table1_markdown(summaries, info))
         write_text_atomic(tmp / "index.html", examples_html(examples, info))
+        # every file written: what a later run may replace (the rest of a directory is the user's)
+        report["outputs"] = sorted([*(e["file"] for e in examples), "table1.md", "index.html", MARKER])
         write_json_atomic(tmp / MARKER, report)
     return report
 

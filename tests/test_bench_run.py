@@ -151,3 +151,22 @@ def test_a_second_run_replaces_only_its_own_outputs(tiny_synth, ckpts, tmp_path,
     assert f"benchmark {str(bench_file)!r} lies inside output_dir" in err, err
     assert bench_file.is_file() and (out / "results.json").read_bytes() == before
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".bench.")]  # no staging left behind
+
+
+def test_a_run_where_every_entry_failed_exits_1(tiny_synth, ckpts, tmp_path, capsys, monkeypatch):
+    """Issue 42 (9): before, sdn3d-bench exited 0 when every entry failed; now 1, naming the first error (the
+    results, which list every entry's error, are written)."""
+    import sdn3d.evaluation.edit_benchmark as evaluation
+
+    def failing(entries, records, models, settings, *args, **kwargs):
+        return [evaluation.EntryResult(index=i, key=f"k{i}", operations=1, errors={"3d-sdn": "no object at the point"})
+                for i in range(2)]
+
+    monkeypatch.setattr(evaluation, "run_benchmark", failing)
+    out = tmp_path / "bench"
+    assert main(_args(tiny_synth, out, "proposals=gt", f"checkpoints.geometric={ckpts['geometric']}",
+                      f"checkpoints.textural={ckpts['textural']}")) == 1
+    err = capsys.readouterr().err
+    assert "sdn3d-bench: error: every one of the 2 evaluations failed (first: entry 0 k0: no object at the point)" \
+        in err, err
+    assert (out / "results.json").is_file()

@@ -36,7 +36,7 @@ knowledge.
 Exit status: 0 done; 2 bad input (missing benchmark / checkpoint, a ``run`` that is not a training output directory
 or lacks a branch the benchmark needs, no semantic checkpoint for the predicted row,
 no matching frames, no entry to evaluate or every entry's points outside ``frame_size`` unless ``allow_empty=true``;
-nothing written).
+nothing written).; 1 every entry failed (the results are written; each entry's error is in results.json).
 """
 
 from __future__ import annotations
@@ -61,7 +61,7 @@ from sdn3d.evaluation.edit_benchmark import METHODS, PROPOSALS, REGIONS, SOURCE_
 from sdn3d.io import check_output_dir, staged_directory
 from sdn3d.runs import checkpoints_from_run, given_checkpoints
 
-__all__ = ["main", "run_bench", "table1_markdown", "examples_html", "generator_info", "bench_passes",
+__all__ = ["main", "run_bench", "all_failed", "table1_markdown", "examples_html", "generator_info", "bench_passes",
            "bench_checkpoints", "check_entries"]
 
 MARKER = "results.json"
@@ -521,9 +521,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     return run_cli("bench", _main, argv)
 
 
+def all_failed(report: dict) -> str | None:
+    """A one-line reason when no entry of any source scene was evaluated (each failed), else None."""
+    rows = [r for rs in report["entries"].values() for r in rs]
+    if not rows or any(r["metrics"] for r in rows):
+        return None
+    first = next((f"entry {r['index']} {r['key']}: " + "; ".join(map(str, r["errors"].values()))
+                  for r in rows if r["errors"]), "no error recorded")
+    return f"every one of the {len(rows)} evaluations failed (first: {first[:300]})"
+
+
 def _main(argv: list[str]) -> int:
     report = run_bench(compose_config(argv, "bench"))
     print(table1_markdown(report["summary"], report["info"]))
+    failed = all_failed(report)
+    if failed is not None:
+        print(f"sdn3d-bench: error: {failed}; results.json lists each entry's error", file=sys.stderr)
+        return 1
     return 0
 
 

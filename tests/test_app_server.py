@@ -311,3 +311,15 @@ def test_an_empty_state_lists_no_objects_of_the_state_before(server, real_vkitti
     assert status == 200 and [o["id"] for o in view["objects"]] == [12001]
     status, view = json_request(base, "POST", f"/api/s/{sid}/edit", {"objects": [], "ops": []})
     assert status == 200 and view["objects"] == [] and view["state"] == {"objects": [], "ops": []}
+
+
+def test_a_deeply_nested_request_gets_a_4xx_not_a_500(server, real_vkitti_frame):
+    """Issue 42 (9): a list nested 900 deep in /edit ran into RecursionError (500); now 422 naming the field, and the
+    server goes on."""
+    base, _, _ = server
+    status, view = _open(base, _small_frame(real_vkitti_frame))
+    assert status == 201, view
+    body = ('{"ops": [{"op": "move", "to": ' + "[" * 900 + "1" + "]" * 900 + "}]}").encode()
+    _error(*json_request(base, "POST", f"/api/s/{view['sid']}/edit", body), 422, "ops[0].to[0][0]")
+    assert request(base, "GET", "/api/info")[0] == 200
+

@@ -167,9 +167,9 @@ def spec_text(objects: Sequence[Mapping[str, Any]], ops: Sequence[Mapping[str, A
     return "\n".join(lines) + "\n"
 
 
-def _clean_value(value: Any, what: str) -> Any:
+def _clean_value(value: Any, what: str, depth: int = 0) -> Any:
     """A value of an op as the browser may send it: a finite number, a bool, a short string, or a list of at most
-    eight numbers (anything else is refused naming the field)."""
+    eight numbers (anything else, a list nested deeper than two levels included, is refused naming the field)."""
     if isinstance(value, bool) or (isinstance(value, int) and abs(value) < 2**53):
         return value
     if isinstance(value, float):
@@ -180,8 +180,8 @@ def _clean_value(value: Any, what: str) -> Any:
         if len(value) > _MAX_TEXT:
             raise AppError(f"{what} is {len(value)} characters long, more than {_MAX_TEXT}")
         return value
-    if isinstance(value, list) and len(value) <= 8:
-        return [_clean_value(v, f"{what}[{i}]") for i, v in enumerate(value)]
+    if isinstance(value, list) and len(value) <= 8 and depth < 2:
+        return [_clean_value(v, f"{what}[{i}]", depth + 1) for i, v in enumerate(value)]
     raise AppError(f"{what} must be a number, true/false, a short text or a short list, got {type(value).__name__}")
 
 

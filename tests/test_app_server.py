@@ -323,3 +323,41 @@ def test_a_deeply_nested_request_gets_a_4xx_not_a_500(server, real_vkitti_frame)
     _error(*json_request(base, "POST", f"/api/s/{view['sid']}/edit", body), 422, "ops[0].to[0][0]")
     assert request(base, "GET", "/api/info")[0] == 200
 
+
+@pytest.mark.parametrize("stop", ["SIGINT", "SIGTERM"])
+def test_ctrl_c_stops_cleanly_and_says_what_is_kept(ckpts, real_vkitti_frame, tmp_path, stop):
+    """Issue 42 (editor 3): Ctrl+C (or SIGTERM) printed a 30-line KeyboardInterrupt traceback and exited 130; now exit
+    0 and one line saying where the sessions' files are kept and until when. The next start removes the session
+    directories the app wrote and keeps one holding a file it did not write (named)."""
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    out = tmp_path / "out"
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    args = [sys.executable, "-m", "sdn3d.cli.app", *checkpoint_args(ckpts), *REAL_FRAME_ARGS, f"output_dir={out}",
+            "port=0"]
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        line = proc.stdout.readline()
+        assert "serving http://127.0.0.1:" in line, (line, proc.stderr.read() if proc.poll() is not None else "")
+        base = line.split("serving ", 1)[1].split("/ ", 1)[0]
+        status, view = _open(base, _small_frame(real_vkitti_frame))
+        assert status == 201, view
+        proc.send_signal(getattr(signal, stop))
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 0, err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    assert (f"sdn3d-app: stopped; the files of 1 session(s) (uploads, spec.yaml, downloads: what the page's command "
+            f"lines read) are kept in {out / 'sessions'} until the next sdn3d-app with output_dir={out} starts, which "
+            "removes them") in err, err
+    from sdn3d.cli.app import remove_earlier_sessions
+
+    mine = out / "sessions" / ("m" * 22)
+    (mine / "sdn3d-edit").mkdir(parents=True)
+    assert remove_earlier_sessions(out / "sessions") == (1, [mine])
+    assert [p.name for p in (out / "sessions").iterdir()] == [mine.name]

@@ -95,6 +95,10 @@ def test_uploads_are_limited_in_bytes_and_pixels(server, real_vkitti_frame, tmp_
     huge = declared_size_png(tmp_path / "huge.png", 20000, 20000).read_bytes()
     assert 20000 * 20000 > MAX_IMAGE_PIXELS
     _error(*_open(base, huge), 422, "too large", "decompression bomb")
+    # issue 42 (5): an aspect ratio far from the working size's is refused from its header too (it was scaled to
+    # cover the working size before the crop: a 10x20000 PNG took 18.5 GB)
+    tall = declared_size_png(tmp_path / "tall.png", 10, 20000).read_bytes()
+    _error(*_open(base, tall, "?fx=725&fy=725&cx=5&cy=10000"), 422, "10x20000", "too far from the working size")
     status, answer = _open(base, _small_frame(real_vkitti_frame))
     assert status == 201, answer
 

@@ -6,6 +6,7 @@ outputs are written atomically. Tiny random-weight checkpoints; the real Virtual
 
 from __future__ import annotations
 
+import errno
 import io
 import json
 from pathlib import Path
@@ -216,6 +217,19 @@ def test_downloads_are_written_atomically(server, real_vkitti_frame, monkeypatch
     monkeypatch.setattr(PIL.Image.Image, "save", fail)
     status, _, body = request(base, "GET", f"/api/s/{sid}/download/edited.png")
     assert status == 500 and "internal error" in json.loads(body)["error"]
+    assert path.read_bytes() == first
+    assert not [p for p in path.parent.iterdir() if p.name.endswith(".tmp")]
+    # issue 42 (8): a full disk is said so (507, naming the file), not "internal error" (500)
+
+    def full(self, handle, *args, **kwargs):
+        handle.write(b"\x89PNG partial")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(PIL.Image.Image, "save", full)
+    status, _, body = request(base, "GET", f"/api/s/{sid}/download/edited.png")
+    assert status == 507, body
+    assert json.loads(body)["error"].startswith(f"the disk is full: could not write {str(path)!r} (No space left on "
+                                                "device); nothing half-written is left"), body
     assert path.read_bytes() == first
     assert not [p for p in path.parent.iterdir() if p.name.endswith(".tmp")]
     monkeypatch.undo()

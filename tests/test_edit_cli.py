@@ -296,6 +296,33 @@ def test_an_image_far_from_the_working_aspect_ratio_is_refused_before_decoding(c
     assert err.count("\n") == 1 and not out.exists()
 
 
+def test_a_full_disk_is_one_line_exit_1_and_the_earlier_output_stays(tiny_synth, ckpts, tmp_path, capsys,
+                                                                      monkeypatch):
+    """Issue 42 (8): a full disk raised OSError [Errno 28] with a traceback; now one line saying the disk is full,
+    naming the output directory, exit 1 (as training's), the earlier output untouched and nothing half-written."""
+    import errno
+
+    import sdn3d.io
+
+    out = tmp_path / "out"
+    edits = _write(tmp_path / "ops.yaml", "- {op: recolor, class: Sky, code: [0, 0, 0, 0, 1]}")
+    args = _args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}", "overwrite=true")
+    assert main(args) == 0
+    before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    capsys.readouterr()
+
+    def full(fd):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(sdn3d.io.os, "fsync", full)
+    assert main(args) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(f"sdn3d-edit: error: the disk is full: could not write output_dir {str(out)!r} (") and \
+        err.count("\n") == 1 and "Traceback" not in err, err
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".out.")) == []
+
+
 def test_benchmark_entry_picks_its_source_frame(tiny_synth, ckpts, tmp_path):
     out = tmp_path / "out"
     assert main(_args(tiny_synth, ckpts, out, tiny_synth / "vkitti_edit_benchmark.json", "entry=0")) == 0

@@ -13,6 +13,7 @@ of their parents or ``/`` (:func:`refuse_unsafe_output_dir`). A staged tree may 
 
 from __future__ import annotations
 
+import errno
 import io
 import json
 import logging
@@ -35,8 +36,34 @@ __all__ = [
     "load_torch_file", "load_lightning_checkpoint", "check_lightning_checkpoint", "describe_load_failure",
     "checkpoint_branch", "CHECKPOINT_BRANCHES", "file_sha256",
     "OutputDirError", "refuse_unsafe_output_dir", "OWNER_FILE", "owner_record", "process_alive",
-    "remove_stale_staging", "BusyError", "writer_lock",
+    "remove_stale_staging", "BusyError", "writer_lock", "DiskFullError", "DISK_FULL_ERRNOS", "is_disk_full",
 ]
+
+#: ``errno`` values of a full disk (or a full quota).
+DISK_FULL_ERRNOS = (errno.ENOSPC, errno.EDQUOT)
+
+
+class DiskFullError(OSError):
+    """A file could not be written because the disk (or the quota) is full; the message names it and says that
+    nothing half-written is left. ``errno`` is the original one; ``filename`` the file."""
+
+    def __init__(self, code: int, message: str, filename: str | None = None) -> None:
+        super().__init__(code, message)
+        self.message, self.filename = message, filename
+
+    def __str__(self) -> str:
+        return self.message
+
+
+def is_disk_full(exc: BaseException) -> bool:
+    """Whether ``exc`` is an :class:`OSError` of a full disk or quota."""
+    return isinstance(exc, OSError) and exc.errno in DISK_FULL_ERRNOS
+
+
+def _disk_full(exc: OSError, path: str | os.PathLike, what: str = "") -> DiskFullError:
+    return DiskFullError(exc.errno, f"the disk is full: could not write {what}{str(path)!r} "
+                                    f"({exc.strerror or os.strerror(exc.errno)}); nothing half-written is left; "
+                                    "free some space and try again", str(path))
 
 
 def current_umask() -> int:
@@ -68,11 +95,13 @@ def atomic_write(path: str | os.PathLike, writer: Callable[[io.BufferedWriter], 
             handle.flush()
             os.fsync(handle.fileno())
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except FileNotFoundError:
             pass
+        if is_disk_full(exc) and not isinstance(exc, DiskFullError):
+            raise _disk_full(exc, path) from exc
         raise
     return path
 
@@ -428,7 +457,7 @@ def staged_directory(out: str | os.PathLike, marker: str, overwrite: bool = True
         if not (tmp / marker).is_file():
             raise RuntimeError(f"staged output misses its marker file {marker}")
         swap_into_place(tmp, out, owned=owned)
-    except BaseException:
+    except BaseException as exc:
         if owned:
             try:
                 _remove_owned_tree(tmp)
@@ -436,6 +465,13 @@ def staged_directory(out: str | os.PathLike, marker: str, overwrite: bool = True
                 shutil.rmtree(tmp, ignore_errors=True)
         else:
             shutil.rmtree(tmp, ignore_errors=True)
+        if is_disk_full(exc):  # name the output, not the staged file; the earlier output is untouched
+            where = Path(getattr(exc, "filename", None) or out)
+            name = where.relative_to(tmp).as_posix() if tmp in where.parents else None
+            raise DiskFullError(exc.errno, f"the disk is full: could not write output_dir {str(out)!r}"
+                                           + (f" ({name})" if name else "")
+                                           + "; nothing half-written is left and an earlier output there is "
+                                             "unchanged; free some space and try again", str(out)) from exc
         raise
 
 

@@ -45,6 +45,7 @@ from starlette.routing import Route
 
 from sdn3d.app.editor import DOWNLOADS, AppError, Editor, palette
 from sdn3d.errors import UserInputError
+from sdn3d.io import is_disk_full
 
 __all__ = ["create_app", "STATIC_FILES", "allowed_hosts", "SameOriginWrites", "SIMPLE_TYPES"]
 
@@ -226,6 +227,9 @@ def create_app(editor: Editor, info: dict[str, Any], hosts: list[str] | None = N
         return _json({"error": str(exc.detail)}, exc.status_code)
 
     async def server_error(request: Request, exc: Exception) -> Response:
+        if is_disk_full(exc):  # 507 Insufficient Storage, the message naming the file; the server goes on
+            log.warning("sdn3d-app: %s %s: %s", request.method, request.url.path, exc)
+            return _json({"error": str(exc) if "disk is full" in str(exc) else f"the disk is full: {exc}"}, 507)
         log.error("sdn3d-app: %s %s failed", request.method, request.url.path, exc_info=exc)
         return _json({"error": f"internal error ({type(exc).__name__}); the server's log has the details"}, 500)
 

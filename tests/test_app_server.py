@@ -379,3 +379,28 @@ def test_ctrl_c_stops_cleanly_and_says_what_is_kept(ckpts, real_vkitti_frame, tm
     (mine / "sdn3d-edit").mkdir(parents=True)
     assert remove_earlier_sessions(out / "sessions") == (1, [mine])
     assert [p.name for p in (out / "sessions").iterdir()] == [mine.name]
+
+
+def test_a_large_upload_is_scaled_down_for_editing(server, real_vkitti_frame, monkeypatch):
+    """Issue 42 (6): the editor accepted a 25 MP upload, and one click then took 80 s (a box plus a turn grew past
+    6.6 GB): the work grows with the input's pixels. Now an upload over max_edit_pixels is scaled down to it when
+    opened (its camera following), that copy is the session's input, and the page says so."""
+    import dataclasses
+
+    base, editor, _ = server
+    monkeypatch.setattr(editor, "limits", dataclasses.replace(editor.limits, max_edit_pixels=20000))
+    status, view = _open(base, _small_frame(real_vkitti_frame, (496, 150)))
+    assert status == 201, view
+    assert (view["input"]["width"], view["input"]["height"]) == (257, 77), view["input"]
+    assert view["warnings"][0].startswith("the 496x150 upload was scaled to 257x77 for editing (max_edit_pixels=20000")
+    directory = editor.get(view["sid"]).directory
+    assert sorted(p.name for p in directory.iterdir()) == ["input.png", "spec.yaml"]
+    assert f"input.image={directory / 'input.png'}" in view["command"]
+    # a camera given in the upload's pixels follows the resize (Intrinsics.resized)
+    photo = _png(np.full((300, 400, 3), 90, np.uint8))
+    status, view = _open(base, photo, "?fx=400&fy=400&cx=199.5&cy=149.5")
+    assert status == 201, view
+    assert (view["input"]["width"], view["input"]["height"]) == (163, 122)
+    camera = view["camera"]
+    assert camera["fx"] == pytest.approx(400 * 163 / 400) and camera["fy"] == pytest.approx(400 * 122 / 300)
+    assert camera["cx"] == pytest.approx(200 * 163 / 400 - 0.5) and camera["cy"] == pytest.approx(150 * 122 / 300 - 0.5)

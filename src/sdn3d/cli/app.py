@@ -41,8 +41,8 @@ from sdn3d.errors import InputError
 __all__ = ["main", "build_app", "bind", "APP_KEYS", "edit_overrides"]
 
 #: Settings of the app alone (``conf/app.yaml``'s own keys): not repeated on the ``sdn3d-edit`` command line.
-APP_KEYS = ("host", "port", "max_upload_bytes", "max_upload_pixels", "max_request_bytes", "max_sessions",
-            "session_idle_s", "open_browser")
+APP_KEYS = ("host", "port", "max_upload_bytes", "max_upload_pixels", "max_edit_pixels", "max_request_bytes",
+            "max_sessions", "session_idle_s", "open_browser")
 #: ``sdn3d-edit`` settings the app sets per image or refuses (the page chooses the image and writes the spec).
 PER_IMAGE_KEYS = ("input", "edits", "list", "entry", "frame_size", "output_dir", "overwrite")
 
@@ -97,6 +97,7 @@ def build_app(cfg: Any, argv: Sequence[str]) -> tuple[Any, Any]:
     _check_app_settings(cfg, argv)
     check_settings(cfg)
     limits = AppLimits(max_upload_bytes=cfg.max_upload_bytes, max_upload_pixels=cfg.max_upload_pixels,
+                       max_edit_pixels=cfg.max_edit_pixels,
                        max_request_bytes=cfg.max_request_bytes, max_sessions=cfg.max_sessions, max_ops=cfg.max_ops,
                        session_idle_s=cfg.session_idle_s)
     refuse_unsafe_output_dir(cfg.output_dir)

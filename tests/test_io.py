@@ -137,3 +137,48 @@ def test_a_full_disk_is_named_and_leaves_nothing_half_written(tmp_path):
             atomic_write(tmp / "maps" / "a.json", _full)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["result"]
     assert sorted(p.name for p in out.iterdir()) == ["done.json"]
+
+
+_CHILD = """
+import os, signal, sys, time
+from pathlib import Path
+import sdn3d.io as sio
+from sdn3d.io import staged_directory, write_json_atomic
+
+out, when = Path(sys.argv[1]), sys.argv[2]
+if when == "swap":  # SIGTERM right after the earlier output was moved aside, before the new one is renamed in
+    real = os.rename
+    def rename(src, dst):
+        real(src, dst)
+        if Path(dst).name == "tree":
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.5)
+    sio.os.rename = rename
+with staged_directory(out, "done.json", overwrite=True, owned=True) as tmp:
+    write_json_atomic(tmp / "done.json", {"run": 2})
+    if when == "writing":
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(5)
+"""
+
+
+@pytest.mark.parametrize("when", ["writing", "swap"])
+def test_a_sigterm_while_an_output_is_written_or_swapped_leaves_a_whole_output(tmp_path, when):
+    """Issue 42 (9): a SIGTERM while a staged output was written left its .partial-* directory, and one between the
+    two renames of the swap left no output at all. Now the first removes the staged tree (exit 143, the earlier
+    output unchanged) and the second is held until the swap is done (the new output in place)."""
+    import json
+    import subprocess
+    import sys
+
+    out = tmp_path / "out"
+    with staged_directory(out, "done.json") as tmp:
+        write_json_atomic(tmp / "done.json", {"run": 1})
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    proc = subprocess.run([sys.executable, "-c", _CHILD, str(out), when], env=env, capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode in (143, -15), proc.stderr
+    assert json.loads((out / "done.json").read_text()) == {"run": 1 if when == "writing" else 2}
+    assert sorted(p.name for p in out.iterdir()) == ["done.json"]
+    leftovers = sorted(p.name for p in tmp_path.iterdir() if p.name != "out")
+    assert leftovers == [] if when == "writing" else all(".out.old-" in n for n in leftovers), leftovers

@@ -19,8 +19,10 @@ import json
 import logging
 import os
 import shutil
+import signal
 import socket
 import tempfile
+import threading
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
@@ -270,6 +272,48 @@ def _check_branch(path: Path, ckpt: dict, branch: str) -> None:
                              f"{what}")
 
 
+def _in_main_thread() -> bool:
+    return threading.current_thread() is threading.main_thread()
+
+
+@contextmanager
+def _terminate_as_exit() -> Iterator[None]:
+    """While the block runs, SIGTERM (when it has its default action: a tool's own handler is left alone) raises
+    ``SystemExit(143)``, so the cleanup of the block's ``except`` / ``finally`` runs instead of the process just
+    ending (a staged tree left behind). Only in the main thread (where Python runs signal handlers)."""
+    if not _in_main_thread() or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL:
+        yield
+        return
+
+    def stop(signum: int, frame: Any) -> None:
+        raise SystemExit(128 + signum)
+
+    signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+@contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """SIGINT and SIGTERM arriving while the block runs are held and raised again once it has ended: steps that must
+    happen together (the renames of an output swap) are not cut between. Only in the main thread."""
+    if not _in_main_thread():
+        yield
+        return
+    held: list[int] = []
+    wanted = [s for s in (signal.SIGINT, signal.SIGTERM) if signal.getsignal(s) is not None]  # None: set outside
+    previous = {s: signal.signal(s, lambda signum, frame: held.append(signum)) for s in wanted}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        for sig in dict.fromkeys(held):
+            signal.raise_signal(sig)
+
+
 def swap_into_place(tmp: Path, out: Path, owned: bool = False) -> None:
     """Rename the finished tree ``tmp`` onto ``out``; an old ``out`` is moved aside first, then deleted.
 
@@ -279,14 +323,15 @@ def swap_into_place(tmp: Path, out: Path, owned: bool = False) -> None:
     :func:`remove_stale_staging` recognises as its own.
     """
     old = None
-    if out.exists():
-        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
+    with _signals_deferred():  # a Ctrl+C or SIGTERM between the renames would leave no output at all
+        if out.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
+            if owned:
+                write_json_atomic(old / OWNER_FILE, owner_record())
+            os.rename(out, old / "tree")
         if owned:
-            write_json_atomic(old / OWNER_FILE, owner_record())
-        os.rename(out, old / "tree")
-    if owned:
-        (tmp / OWNER_FILE).unlink(missing_ok=True)
-    os.rename(tmp, out)
+            (tmp / OWNER_FILE).unlink(missing_ok=True)
+        os.rename(tmp, out)
     if old is not None:
         if owned:
             _remove_owned_tree(old)
@@ -448,6 +493,12 @@ def staged_directory(out: str | os.PathLike, marker: str, overwrite: bool = True
         remove_stale_staging(out)
     out = check_output_dir(out, marker, overwrite, listed_in, inputs)
     out.parent.mkdir(parents=True, exist_ok=True)
+    with _terminate_as_exit():  # SIGTERM while it is written: the staged tree is removed (exit status 143)
+        yield from _staged(out, marker, owned)
+
+
+def _staged(out: Path, marker: str, owned: bool) -> Iterator[Path]:
+    """:func:`staged_directory`'s work once ``out`` is checked."""
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
     os.chmod(tmp, 0o777 & ~current_umask())  # the finished directory gets a plain mkdir's mode, not 0700
     try:

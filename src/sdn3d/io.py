@@ -18,6 +18,7 @@ import io
 import json
 import logging
 import os
+import re
 import shutil
 import signal
 import socket
@@ -397,10 +398,15 @@ def _foreign_entries(out: Path, listed: set[str]) -> list[str]:
     return sorted(foreign)
 
 
-def _listed_outputs(out: Path, marker: str, listed_in: str) -> set[str]:
-    """The files the earlier run in ``out`` wrote: the list under ``listed_in`` in its ``marker`` JSON file."""
+def _listed_outputs(out: Path, marker: str, listed_in: str, legacy: re.Pattern | None = None) -> set[str]:
+    """The files the earlier run in ``out`` wrote: the list under ``listed_in`` in its ``marker`` JSON file (a marker
+    of a version that listed none: the files whose relative path ``legacy`` matches, when given)."""
     try:
         record = json.loads((out / marker).read_text(encoding="utf-8"))
+        if legacy is not None and isinstance(record, dict) and listed_in not in record:
+            return {p.relative_to(out).as_posix() for p in out.rglob("*")
+                    if p.is_file() and not p.is_symlink() and legacy.fullmatch(p.relative_to(out).as_posix())
+                    } | {marker}
         listed = record[listed_in]
         if not isinstance(listed, list) or not all(isinstance(n, str) for n in listed):
             raise TypeError(listed_in)
@@ -431,7 +437,8 @@ def check_writable(out: str | os.PathLike) -> None:
 
 
 def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool, listed_in: str | None = None,
-                     inputs: Mapping[str, str | os.PathLike | None] | None = None) -> Path:
+                     inputs: Mapping[str, str | os.PathLike | None] | None = None,
+                     legacy: re.Pattern | None = None) -> Path:
     """Raise :class:`OutputDirError` (a ``FileExistsError``) if ``out`` may not be (re)written; returns it resolved.
 
     An existing directory is refused if it is one :func:`refuse_unsafe_output_dir` protects, or if it is not
@@ -444,6 +451,8 @@ def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool, liste
             replaced, since that would delete it. None: the marker alone decides.
         inputs: ``{setting: path}`` of the files the run reads (None values skipped): a non-empty ``out`` that
             holds one of them is refused, whatever else (replacing it would delete the run's own input).
+        legacy: the relative paths (a pattern) an earlier version of the tool wrote, whose ``marker`` lists no
+            files: those count as listed.
     """
     out = Path(out).expanduser().resolve()
     if out.exists() and not out.is_dir():
@@ -465,7 +474,7 @@ def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool, liste
             raise OutputDirError(f"output_dir {str(out)!r} is not empty and holds no {marker} (not an earlier "
                                  "output of this tool): refusing to replace it; choose another output_dir")
         if listed_in is not None:
-            foreign = _foreign_entries(out, _listed_outputs(out, marker, listed_in))
+            foreign = _foreign_entries(out, _listed_outputs(out, marker, listed_in, legacy))
             if foreign:
                 shown = ", ".join(repr(f) for f in foreign[:5]) + (f" and {len(foreign) - 5} more"
                                                                     if len(foreign) > 5 else "")
@@ -481,17 +490,19 @@ def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool, liste
 @contextmanager
 def staged_directory(out: str | os.PathLike, marker: str, overwrite: bool = True,
                      owned: bool = False, listed_in: str | None = None,
-                     inputs: Mapping[str, str | os.PathLike | None] | None = None) -> Iterator[Path]:
+                     inputs: Mapping[str, str | os.PathLike | None] | None = None,
+                     legacy: re.Pattern | None = None) -> Iterator[Path]:
     """Yield a temporary directory; on success it becomes ``out`` (write ``marker`` in it), on error it goes.
 
     ``owned``: first remove what killed runs into ``out`` left behind (:func:`remove_stale_staging`), and
     keep an owner record (:data:`OWNER_FILE`: this process and host) in the temporary directory while it
     is written (it is removed before the swap; callers listing the tree must skip it), so that a later
-    run can remove the tree if this process is killed. ``listed_in``, ``inputs``: :func:`check_output_dir`'s.
+    run can remove the tree if this process is killed. ``listed_in``, ``inputs``, ``legacy``:
+    :func:`check_output_dir`'s.
     """
     if owned:
         remove_stale_staging(out)
-    out = check_output_dir(out, marker, overwrite, listed_in, inputs)
+    out = check_output_dir(out, marker, overwrite, listed_in, inputs, legacy)
     out.parent.mkdir(parents=True, exist_ok=True)
     with _terminate_as_exit():  # SIGTERM while it is written: the staged tree is removed (exit status 143)
         yield from _staged(out, marker, owned)

@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import html
 import math
+import re
 import sys
 import time
 from collections.abc import Sequence
@@ -65,6 +66,9 @@ __all__ = ["main", "run_bench", "all_failed", "table1_markdown", "examples_html"
            "bench_checkpoints", "check_entries"]
 
 MARKER = "results.json"
+#: What sdn3d-bench wrote before its results.json listed its ``outputs``: an earlier result of it holding these only
+#: is replaced.
+LEGACY_OUTPUTS = re.compile(r"results\.json|table1\.md|index\.html|examples/\d{4}\.png")
 LABELS = {"2d": "2D", "2d+": "2D+", "3d-sdn": "3D-SDN (ours)"}
 ROW_ORDER = ("2d", "2d+", "3d-sdn")  # the paper's row order
 COMPOSE_LABELS = {"photo": "photo (own pixels through 3D; what sdn3d-edit gives)",
@@ -405,7 +409,8 @@ def output_rules(cfg: Any, benchmark: Path) -> dict[str, Any]:
     given = {"benchmark": str(benchmark), "data.root": (cfg.get("data") or {}).get("root"), "run": cfg.get("run"),
              "lpips_weights": cfg.get("lpips_weights"),
              **{f"checkpoints.{b}": v for b, v in (cfg.get("checkpoints") or {}).items()}}
-    return {"listed_in": "outputs", "inputs": {k: str(v) for k, v in given.items() if v is not None}}
+    return {"listed_in": "outputs", "inputs": {k: str(v) for k, v in given.items() if v is not None},
+            "legacy": LEGACY_OUTPUTS}
 
 
 def check_entries(entries: Sequence[Any], settings: Any, path: Path) -> None:

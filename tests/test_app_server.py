@@ -371,11 +371,20 @@ def test_ctrl_c_stops_cleanly_and_says_what_is_kept(ckpts, real_vkitti_frame, tm
     assert (f"sdn3d-app: stopped; the files of 1 session(s) (uploads, spec.yaml, downloads: what the page's command "
             f"lines read) are kept in {out / 'sessions'} until the next sdn3d-app with output_dir={out} starts, which "
             "removes them") in err, err
-    from sdn3d.cli.app import remove_earlier_sessions
-
     mine = out / "sessions" / ("m" * 22)
-    (mine / "sdn3d-edit").mkdir(parents=True)
-    assert remove_earlier_sessions(out / "sessions") == (1, [mine])
+    (mine / "sdn3d-edit").mkdir(parents=True)  # the output of a session's sdn3d-edit command line: not the app's
+    if stop == "SIGTERM":
+        return
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        assert "serving http://127.0.0.1:" in proc.stdout.readline()
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert f"sdn3d-app: removed 1 session directory of an earlier run from {out / 'sessions'}" in err, err
+    assert f"sdn3d-app: kept 1 entry of an earlier run holding files it did not write: {mine}" in err, err
     assert [p.name for p in (out / "sessions").iterdir()] == [mine.name]
 
 

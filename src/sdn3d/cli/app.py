@@ -187,14 +187,14 @@ def _main(argv: list[str]) -> int:
     import uvicorn
 
     cfg = compose_config(argv, "app")
-    removed, kept = remove_earlier_sessions(Path(str(cfg.output_dir)).expanduser().resolve() / "sessions")
+    app, editor = build_app(cfg, argv)  # the settings checked (output_dir included) before anything is removed
+    removed, kept = remove_earlier_sessions(editor.sessions_dir)
     if removed:
         print(f"sdn3d-app: removed {removed} session director{'y' if removed == 1 else 'ies'} of an earlier run from "
-              f"{Path(str(cfg.output_dir)).expanduser().resolve() / 'sessions'}", file=sys.stderr)
+              f"{editor.sessions_dir}", file=sys.stderr)
     if kept:
         print(f"sdn3d-app: kept {len(kept)} entr{'y' if len(kept) == 1 else 'ies'} of an earlier run holding files "
               f"it did not write: {', '.join(str(k) for k in kept[:5])}", file=sys.stderr)
-    app, editor = build_app(cfg, argv)
     sock = bind(str(cfg.host), int(cfg.port))
     host, port = sock.getsockname()[:2]
     shown = f"[{host}]" if ":" in host else host

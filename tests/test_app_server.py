@@ -6,6 +6,7 @@ outputs are written atomically. Tiny random-weight checkpoints; the real Virtual
 
 from __future__ import annotations
 
+import errno
 import io
 import json
 from pathlib import Path
@@ -31,10 +32,11 @@ def ckpts(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def server(ckpts, tmp_path_factory):
-    """``(base URL, Editor, output_dir)`` of a server with small limits (900 kB and 0.5 MP uploads, 4 kB requests)."""
+    """``(base URL, Editor, output_dir)`` of a server with small limits (900 kB and 0.5 MP uploads, 4 kB requests;
+    room for every session the tests open)."""
     out = tmp_path_factory.mktemp("app") / "out"
     with serving([*checkpoint_args(ckpts), *REAL_FRAME_ARGS, f"output_dir={out}", "max_upload_bytes=900000",
-                  "max_upload_pixels=500000", "max_request_bytes=4096"]) as (base, editor):
+                  "max_upload_pixels=500000", "max_request_bytes=4096", "max_sessions=64"]) as (base, editor):
         yield base, editor, out
 
 
@@ -94,6 +96,10 @@ def test_uploads_are_limited_in_bytes_and_pixels(server, real_vkitti_frame, tmp_
     huge = declared_size_png(tmp_path / "huge.png", 20000, 20000).read_bytes()
     assert 20000 * 20000 > MAX_IMAGE_PIXELS
     _error(*_open(base, huge), 422, "too large", "decompression bomb")
+    # issue 42 (5): an aspect ratio far from the working size's is refused from its header too (it was scaled to
+    # cover the working size before the crop: a 10x20000 PNG took 18.5 GB)
+    tall = declared_size_png(tmp_path / "tall.png", 10, 20000).read_bytes()
+    _error(*_open(base, tall, "?fx=725&fy=725&cx=5&cy=10000"), 422, "10x20000", "too far from the working size")
     status, answer = _open(base, _small_frame(real_vkitti_frame))
     assert status == 201, answer
 
@@ -213,18 +219,82 @@ def test_downloads_are_written_atomically(server, real_vkitti_frame, monkeypatch
     assert status == 500 and "internal error" in json.loads(body)["error"]
     assert path.read_bytes() == first
     assert not [p for p in path.parent.iterdir() if p.name.endswith(".tmp")]
+    # issue 42 (8): a full disk is said so (507, naming the file), not "internal error" (500)
+
+    def full(self, handle, *args, **kwargs):
+        handle.write(b"\x89PNG partial")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(PIL.Image.Image, "save", full)
+    status, _, body = request(base, "GET", f"/api/s/{sid}/download/edited.png")
+    assert status == 507, body
+    assert json.loads(body)["error"].startswith(f"the disk is full: could not write {str(path)!r} (No space left on "
+                                                "device); nothing half-written is left"), body
+    assert path.read_bytes() == first
+    assert not [p for p in path.parent.iterdir() if p.name.endswith(".tmp")]
     monkeypatch.undo()
     assert request(base, "GET", "/api/info")[0] == 200  # still serving
 
 
-def test_sessions_beyond_the_limit_close_the_least_recently_used(ckpts, real_vkitti_frame, tmp_path):
+def test_sessions_beyond_the_limit_close_only_an_idle_one(ckpts, real_vkitti_frame, tmp_path, monkeypatch):
+    """Issue 42 (1): opening more images than max_sessions never closes a session in use: the new one is refused
+    (503, before any de-render) until the least recently used has been idle for session_idle_s."""
     with serving([*checkpoint_args(ckpts), *REAL_FRAME_ARGS, f"output_dir={tmp_path / 'out'}",
-                  "max_sessions=2"]) as (base, editor):
+                  "max_sessions=2", "session_idle_s=60"]) as (base, editor):
         data = _small_frame(real_vkitti_frame)
-        sids = [_open(base, data)[1]["sid"] for _ in range(3)]
+        sids = [_open(base, data)[1]["sid"] for _ in range(2)]
+        calls = []
+        monkeypatch.setattr(editor.session, "derender", lambda *a, **k: calls.append(a) or 1 / 0)
+        for _ in range(8):
+            _error(*_open(base, data), 503, "max_sessions", "session_idle_s=60")
+        assert not calls  # no de-render spent on a refused open
+        assert all(request(base, "GET", f"/api/s/{s}/input.png")[0] == 200 for s in sids)
+        assert sorted(p.name for p in editor.sessions_dir.iterdir()) == sorted(sids)
+        monkeypatch.undo()
+        # 61 s later the least recently used (sids[0]: sids[1] was asked for last) is idle: it makes room
+        for found in editor._sessions.values():
+            found.used -= 61
+        status, answer = _open(base, data)
+        assert status == 201, answer
         assert request(base, "GET", f"/api/s/{sids[0]}/input.png")[0] == 404
-        assert all(request(base, "GET", f"/api/s/{s}/input.png")[0] == 200 for s in sids[1:])
-        assert sorted(p.name for p in editor.sessions_dir.iterdir()) == sorted(sids[1:])
+        assert sorted(p.name for p in editor.sessions_dir.iterdir()) == sorted([sids[1], answer["sid"]])
+
+
+def test_another_website_cannot_open_edit_or_close_a_session(server, real_vkitti_frame):
+    """Issue 42 (1): a write from another origin (Origin, Sec-Fetch-Site) is refused with 403, and a body a browser
+    sends across sites without a preflight (text/plain, a form) with 415, before it is read: no session is opened,
+    edited or closed. The page's own requests (same Origin, JSON, an image type) go through."""
+    base, editor, _ = server
+    data = _small_frame(real_vkitti_frame)
+    status, view = _open(base, data)
+    assert status == 201, view
+    sid = view["sid"]
+    before = sorted(editor._sessions)
+    evil = {"Origin": "http://evil.example"}
+    _error(*json_request(base, "POST", "/api/open", data, content_type="text/plain"), 415, "text/plain")
+    _error(*json_request(base, "POST", "/api/open", data, content_type="image/png", headers=evil), 403,
+           "another origin")
+    _error(*json_request(base, "POST", "/api/open", data, content_type="image/png",
+                         headers={"Sec-Fetch-Site": "cross-site"}), 403, "another site")
+    _error(*json_request(base, "POST", "/api/open", data, content_type="image/png", headers={"Origin": "null"}),
+           403, "another origin")
+    for form in ("application/x-www-form-urlencoded", "multipart/form-data; boundary=x"):
+        _error(*json_request(base, "POST", "/api/open_frame", b'{"frame": 0}', content_type=form), 415)
+    _error(*json_request(base, "POST", f"/api/s/{sid}/edit", b'{"ops": []}', content_type="text/plain"), 415)
+    _error(*json_request(base, "POST", f"/api/s/{sid}/edit", {"ops": []}, headers=evil), 403)
+    _error(*json_request(base, "DELETE", f"/api/s/{sid}", headers=evil), 403)
+    _error(*json_request(base, "DELETE", f"/api/s/{sid}", headers={"Sec-Fetch-Site": "same-site"}), 403)
+    # a JSON endpoint takes application/json only
+    _error(*json_request(base, "POST", f"/api/s/{sid}/edit", b'{"ops": []}', content_type="image/png"), 415,
+           "application/json")
+    assert sorted(editor._sessions) == before
+    # the page's own requests: its Origin, Sec-Fetch-Site same-origin
+    page = {"Origin": base, "Sec-Fetch-Site": "same-origin"}
+    status, answer = json_request(base, "POST", f"/api/s/{sid}/edit", {"ops": []}, headers=page)
+    assert status == 200, answer
+    status, answer = json_request(base, "POST", "/api/open", data, content_type="image/png", headers=page)
+    assert status == 201, answer
+    assert json_request(base, "DELETE", f"/api/s/{answer['sid']}", headers=page)[0] == 200
 
 
 def test_a_click_on_a_car_implies_its_box_which_the_page_adds(server, real_vkitti_frame):
@@ -257,3 +327,87 @@ def test_an_empty_state_lists_no_objects_of_the_state_before(server, real_vkitti
     assert status == 200 and [o["id"] for o in view["objects"]] == [12001]
     status, view = json_request(base, "POST", f"/api/s/{sid}/edit", {"objects": [], "ops": []})
     assert status == 200 and view["objects"] == [] and view["state"] == {"objects": [], "ops": []}
+
+
+def test_a_deeply_nested_request_gets_a_4xx_not_a_500(server, real_vkitti_frame):
+    """Issue 42 (9): a list nested 900 deep in /edit ran into RecursionError (500); now 422 naming the field, and the
+    server goes on."""
+    base, _, _ = server
+    status, view = _open(base, _small_frame(real_vkitti_frame))
+    assert status == 201, view
+    body = ('{"ops": [{"op": "move", "to": ' + "[" * 900 + "1" + "]" * 900 + "}]}").encode()
+    _error(*json_request(base, "POST", f"/api/s/{view['sid']}/edit", body), 422, "ops[0].to[0][0]")
+    assert request(base, "GET", "/api/info")[0] == 200
+
+
+@pytest.mark.parametrize("stop", ["SIGINT", "SIGTERM"])
+def test_ctrl_c_stops_cleanly_and_says_what_is_kept(ckpts, real_vkitti_frame, tmp_path, stop):
+    """Issue 42 (editor 3): Ctrl+C (or SIGTERM) printed a 30-line KeyboardInterrupt traceback and exited 130; now exit
+    0 and one line saying where the sessions' files are kept and until when. The next start removes the session
+    directories the app wrote and keeps one holding a file it did not write (named)."""
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    out = tmp_path / "out"
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    args = [sys.executable, "-m", "sdn3d.cli.app", *checkpoint_args(ckpts), *REAL_FRAME_ARGS, f"output_dir={out}",
+            "port=0"]
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        line = proc.stdout.readline()
+        assert "serving http://127.0.0.1:" in line, (line, proc.stderr.read() if proc.poll() is not None else "")
+        base = line.split("serving ", 1)[1].split("/ ", 1)[0]
+        status, view = _open(base, _small_frame(real_vkitti_frame))
+        assert status == 201, view
+        proc.send_signal(getattr(signal, stop))
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 0, err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    assert (f"sdn3d-app: stopped; the files of 1 session(s) (uploads, spec.yaml, downloads: what the page's command "
+            f"lines read) are kept in {out / 'sessions'} until the next sdn3d-app with output_dir={out} starts, which "
+            "removes them") in err, err
+    mine = out / "sessions" / ("m" * 22)
+    (mine / "sdn3d-edit").mkdir(parents=True)  # the output of a session's sdn3d-edit command line: not the app's
+    if stop == "SIGTERM":
+        return
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        assert "serving http://127.0.0.1:" in proc.stdout.readline()
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert f"sdn3d-app: removed 1 session directory of an earlier run from {out / 'sessions'}" in err, err
+    assert f"sdn3d-app: kept 1 entry of an earlier run holding files it did not write: {mine}" in err, err
+    assert [p.name for p in (out / "sessions").iterdir()] == [mine.name]
+
+
+def test_a_large_upload_is_scaled_down_for_editing(server, real_vkitti_frame, monkeypatch):
+    """Issue 42 (6): the editor accepted a 25 MP upload, and one click then took 80 s (a box plus a turn grew past
+    6.6 GB): the work grows with the input's pixels. Now an upload over max_edit_pixels is scaled down to it when
+    opened (its camera following), that copy is the session's input, and the page says so."""
+    import dataclasses
+
+    base, editor, _ = server
+    monkeypatch.setattr(editor, "limits", dataclasses.replace(editor.limits, max_edit_pixels=20000))
+    status, view = _open(base, _small_frame(real_vkitti_frame, (496, 150)))
+    assert status == 201, view
+    assert (view["input"]["width"], view["input"]["height"]) == (257, 77), view["input"]
+    assert view["warnings"][0].startswith("the 496x150 upload was scaled to 257x77 for editing (max_edit_pixels=20000")
+    directory = editor.get(view["sid"]).directory
+    assert sorted(p.name for p in directory.iterdir()) == ["input.png", "spec.yaml"]
+    assert f"input.image={directory / 'input.png'}" in view["command"]
+    # a camera given in the upload's pixels follows the resize (Intrinsics.resized)
+    photo = _png(np.full((300, 400, 3), 90, np.uint8))
+    status, view = _open(base, photo, "?fx=400&fy=400&cx=199.5&cy=149.5")
+    assert status == 201, view
+    assert (view["input"]["width"], view["input"]["height"]) == (163, 122)
+    camera = view["camera"]
+    assert camera["fx"] == pytest.approx(400 * 163 / 400) and camera["fy"] == pytest.approx(400 * 122 / 300)
+    assert camera["cx"] == pytest.approx(200 * 163 / 400 - 0.5) and camera["cy"] == pytest.approx(150 * 122 / 300 - 0.5)

@@ -122,3 +122,57 @@ def test_the_oracle_row_alone_needs_no_semantic_branch_in_the_run(tiny_synth, ck
     assert main(_args(tiny_synth, out, f"run={run}", "proposals=gt")) == 0
     assert "sdn3d-bench: semantic checkpoint: none" in capsys.readouterr().err
     assert json.loads((out / "results.json").read_text())["info"]["checkpoints"]["semantic"] is None
+
+
+def test_a_second_run_replaces_only_its_own_outputs(tiny_synth, ckpts, tmp_path, capsys):
+    """Issue 42 (2): sdn3d-bench replaces an earlier result only when the directory holds nothing but the files its
+    results.json lists (``outputs``), and never when it holds one of its inputs (the benchmark file): a user's file
+    there is named and kept, exit 2, the earlier result untouched. Before: both were deleted with the old result."""
+    out = tmp_path / "bench"
+    args = _args(tiny_synth, out, "proposals=gt", f"checkpoints.geometric={ckpts['geometric']}",
+                 f"checkpoints.textural={ckpts['textural']}", "overwrite=true")
+    assert main(args) == 0
+    report = json.loads((out / "results.json").read_text())
+    assert set(report["outputs"]) == {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
+    assert main(args) == 0  # its own outputs only: replaced
+    (out / "notes.txt").write_text("mine")
+    before = (out / "results.json").read_bytes()
+    capsys.readouterr()
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "'notes.txt'" in err and "refusing to replace it" in err and "Traceback" not in err, err
+    assert (out / "notes.txt").read_text() == "mine" and (out / "results.json").read_bytes() == before
+    # its own benchmark file inside the output directory: refused, kept
+    (out / "notes.txt").unlink()
+    bench_file = out / "mine.json"
+    shutil.copy(tiny_synth / "vkitti_edit_benchmark.json", bench_file)
+    assert main([*args, f"benchmark={bench_file}"]) == 2
+    err = capsys.readouterr().err
+    assert f"benchmark {str(bench_file)!r} lies inside output_dir" in err, err
+    assert bench_file.is_file() and (out / "results.json").read_bytes() == before
+    bench_file.unlink()
+    # a result of the version before (its results.json lists no outputs) is replaced if it holds its files only
+    report = json.loads(before)
+    del report["outputs"]
+    (out / "results.json").write_text(json.dumps(report))
+    assert main(args) == 0 and "outputs" in json.loads((out / "results.json").read_text())
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".bench.")]  # no staging left behind
+
+
+def test_a_run_where_every_entry_failed_exits_1(tiny_synth, ckpts, tmp_path, capsys, monkeypatch):
+    """Issue 42 (9): before, sdn3d-bench exited 0 when every entry failed; now 1, naming the first error (the
+    results, which list every entry's error, are written)."""
+    import sdn3d.evaluation.edit_benchmark as evaluation
+
+    def failing(entries, records, models, settings, *args, **kwargs):
+        return [evaluation.EntryResult(index=i, key=f"k{i}", operations=1, errors={"3d-sdn": "no object at the point"})
+                for i in range(2)]
+
+    monkeypatch.setattr(evaluation, "run_benchmark", failing)
+    out = tmp_path / "bench"
+    assert main(_args(tiny_synth, out, "proposals=gt", f"checkpoints.geometric={ckpts['geometric']}",
+                      f"checkpoints.textural={ckpts['textural']}")) == 1
+    err = capsys.readouterr().err
+    assert "sdn3d-bench: error: every one of the 2 evaluations failed (first: entry 0 k0: no object at the point)" \
+        in err, err
+    assert (out / "results.json").is_file()

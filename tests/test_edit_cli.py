@@ -277,6 +277,52 @@ def test_decompression_bomb_image_is_refused_naming_the_file(ckpts, tmp_path, ca
     assert "100 MP limit" in err and not out.exists()
 
 
+def test_an_image_far_from_the_working_aspect_ratio_is_refused_before_decoding(ckpts, tmp_path, capsys):
+    """Issue 42 (5): a 10x20000 PNG (200 kP, far under the 100 MP limit) was scaled to cover the working size before
+    the crop: 18.5 GB at 1242x375. Now it is refused from its header, naming the file and both sizes."""
+    from faults.images import declared_size_png
+
+    image = declared_size_png(tmp_path / "tall.png", 10, 20000)
+    edits = _write(tmp_path / "ops.yaml", "- {op: recolor, class: Sky, code: [0, 0, 0, 0, 1]}")
+    out = tmp_path / "out"
+    args = [f"input.image={image}", "image_size=[1242,375]", f"edits={edits}",
+            "input.intrinsics={fx:725,fy:725,cx:5,cy:10000}",
+            *(f"checkpoints.{k}={v}" for k, v in ckpts.items()), "geometric.crop_size=32", f"output_dir={out}"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"sdn3d-edit: error: input.image {str(image)!r}: a 10x20000 image (aspect ratio 0.0005) is "
+                          "too far from the working size 1242x375 (3.31): scaled to cover it, it would be "
+                          "1242x2484000 pixels, more than 16 times the working size; crop it closer to 1242:375"), err
+    assert err.count("\n") == 1 and not out.exists()
+
+
+def test_a_full_disk_is_one_line_exit_1_and_the_earlier_output_stays(tiny_synth, ckpts, tmp_path, capsys,
+                                                                      monkeypatch):
+    """Issue 42 (8): a full disk raised OSError [Errno 28] with a traceback; now one line saying the disk is full,
+    naming the output directory, exit 1 (as training's), the earlier output untouched and nothing half-written."""
+    import errno
+
+    import sdn3d.io
+
+    out = tmp_path / "out"
+    edits = _write(tmp_path / "ops.yaml", "- {op: recolor, class: Sky, code: [0, 0, 0, 0, 1]}")
+    args = _args(tiny_synth, ckpts, out, edits, f"input.frame={FRAME}", "overwrite=true")
+    assert main(args) == 0
+    before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    capsys.readouterr()
+
+    def full(fd):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(sdn3d.io.os, "fsync", full)
+    assert main(args) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(f"sdn3d-edit: error: the disk is full: could not write output_dir {str(out)!r} (") and \
+        err.count("\n") == 1 and "Traceback" not in err, err
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".out.")) == []
+
+
 def test_benchmark_entry_picks_its_source_frame(tiny_synth, ckpts, tmp_path):
     out = tmp_path / "out"
     assert main(_args(tiny_synth, ckpts, out, tiny_synth / "vkitti_edit_benchmark.json", "entry=0")) == 0

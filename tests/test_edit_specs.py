@@ -191,6 +191,10 @@ def _entry(**op):
         ([_entry(zoom="0")], r"field 'zoom': expected a number > 0"),
         ([_entry(zoom="nan")], r"field 'zoom': expected a finite number"),
         ([_entry(ry="inf")], r"field 'ry': expected a finite number"),
+        # issue 42 (9): a finite but absurd yaw or zoom is refused too (ry 1e308 ran, every entry failing)
+        ([_entry(ry="1e308")], r"field 'ry': expected a yaw increment in radians within \[-2 pi, 2 pi\], got '1e308'"),
+        ([_entry(ry=-7)], r"field 'ry': expected a yaw increment"),
+        ([_entry(zoom="1e308")], r"field 'zoom': expected a number <= 100"),
         ([_entry(zoom=None)], r"field 'zoom': expected a number or numeric string, got None"),
         ([_entry(type="move")], r"field 'type': expected one of"),
         ([_entry(**{"from": {"u": "1"}})], r"field 'from.v': missing"),

@@ -13,13 +13,17 @@ of their parents or ``/`` (:func:`refuse_unsafe_output_dir`). A staged tree may 
 
 from __future__ import annotations
 
+import errno
 import io
 import json
 import logging
 import os
+import re
 import shutil
+import signal
 import socket
 import tempfile
+import threading
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
@@ -35,8 +39,34 @@ __all__ = [
     "load_torch_file", "load_lightning_checkpoint", "check_lightning_checkpoint", "describe_load_failure",
     "checkpoint_branch", "CHECKPOINT_BRANCHES", "file_sha256",
     "OutputDirError", "refuse_unsafe_output_dir", "OWNER_FILE", "owner_record", "process_alive",
-    "remove_stale_staging", "BusyError", "writer_lock",
+    "remove_stale_staging", "BusyError", "writer_lock", "DiskFullError", "DISK_FULL_ERRNOS", "is_disk_full",
 ]
+
+#: ``errno`` values of a full disk (or a full quota).
+DISK_FULL_ERRNOS = (errno.ENOSPC, errno.EDQUOT)
+
+
+class DiskFullError(OSError):
+    """A file could not be written because the disk (or the quota) is full; the message names it and says that
+    nothing half-written is left. ``errno`` is the original one; ``filename`` the file."""
+
+    def __init__(self, code: int, message: str, filename: str | None = None) -> None:
+        super().__init__(code, message)
+        self.message, self.filename = message, filename
+
+    def __str__(self) -> str:
+        return self.message
+
+
+def is_disk_full(exc: BaseException) -> bool:
+    """Whether ``exc`` is an :class:`OSError` of a full disk or quota."""
+    return isinstance(exc, OSError) and exc.errno in DISK_FULL_ERRNOS
+
+
+def _disk_full(exc: OSError, path: str | os.PathLike, what: str = "") -> DiskFullError:
+    return DiskFullError(exc.errno, f"the disk is full: could not write {what}{str(path)!r} "
+                                    f"({exc.strerror or os.strerror(exc.errno)}); nothing half-written is left; "
+                                    "free some space and try again", str(path))
 
 
 def current_umask() -> int:
@@ -68,11 +98,13 @@ def atomic_write(path: str | os.PathLike, writer: Callable[[io.BufferedWriter], 
             handle.flush()
             os.fsync(handle.fileno())
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except FileNotFoundError:
             pass
+        if is_disk_full(exc) and not isinstance(exc, DiskFullError):
+            raise _disk_full(exc, path) from exc
         raise
     return path
 
@@ -241,6 +273,48 @@ def _check_branch(path: Path, ckpt: dict, branch: str) -> None:
                              f"{what}")
 
 
+def _in_main_thread() -> bool:
+    return threading.current_thread() is threading.main_thread()
+
+
+@contextmanager
+def _terminate_as_exit() -> Iterator[None]:
+    """While the block runs, SIGTERM (when it has its default action: a tool's own handler is left alone) raises
+    ``SystemExit(143)``, so the cleanup of the block's ``except`` / ``finally`` runs instead of the process just
+    ending (a staged tree left behind). Only in the main thread (where Python runs signal handlers)."""
+    if not _in_main_thread() or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL:
+        yield
+        return
+
+    def stop(signum: int, frame: Any) -> None:
+        raise SystemExit(128 + signum)
+
+    signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+@contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """SIGINT and SIGTERM arriving while the block runs are held and raised again once it has ended: steps that must
+    happen together (the renames of an output swap) are not cut between. Only in the main thread."""
+    if not _in_main_thread():
+        yield
+        return
+    held: list[int] = []
+    wanted = [s for s in (signal.SIGINT, signal.SIGTERM) if signal.getsignal(s) is not None]  # None: set outside
+    previous = {s: signal.signal(s, lambda signum, frame: held.append(signum)) for s in wanted}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        for sig in dict.fromkeys(held):
+            signal.raise_signal(sig)
+
+
 def swap_into_place(tmp: Path, out: Path, owned: bool = False) -> None:
     """Rename the finished tree ``tmp`` onto ``out``; an old ``out`` is moved aside first, then deleted.
 
@@ -250,14 +324,15 @@ def swap_into_place(tmp: Path, out: Path, owned: bool = False) -> None:
     :func:`remove_stale_staging` recognises as its own.
     """
     old = None
-    if out.exists():
-        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
+    with _signals_deferred():  # a Ctrl+C or SIGTERM between the renames would leave no output at all
+        if out.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
+            if owned:
+                write_json_atomic(old / OWNER_FILE, owner_record())
+            os.rename(out, old / "tree")
         if owned:
-            write_json_atomic(old / OWNER_FILE, owner_record())
-        os.rename(out, old / "tree")
-    if owned:
-        (tmp / OWNER_FILE).unlink(missing_ok=True)
-    os.rename(tmp, out)
+            (tmp / OWNER_FILE).unlink(missing_ok=True)
+        os.rename(tmp, out)
     if old is not None:
         if owned:
             _remove_owned_tree(old)
@@ -323,10 +398,15 @@ def _foreign_entries(out: Path, listed: set[str]) -> list[str]:
     return sorted(foreign)
 
 
-def _listed_outputs(out: Path, marker: str, listed_in: str) -> set[str]:
-    """The files the earlier run in ``out`` wrote: the list under ``listed_in`` in its ``marker`` JSON file."""
+def _listed_outputs(out: Path, marker: str, listed_in: str, legacy: re.Pattern | None = None) -> set[str]:
+    """The files the earlier run in ``out`` wrote: the list under ``listed_in`` in its ``marker`` JSON file (a marker
+    of a version that listed none: the files whose relative path ``legacy`` matches, when given)."""
     try:
         record = json.loads((out / marker).read_text(encoding="utf-8"))
+        if legacy is not None and isinstance(record, dict) and listed_in not in record:
+            return {p.relative_to(out).as_posix() for p in out.rglob("*")
+                    if p.is_file() and not p.is_symlink() and legacy.fullmatch(p.relative_to(out).as_posix())
+                    } | {marker}
         listed = record[listed_in]
         if not isinstance(listed, list) or not all(isinstance(n, str) for n in listed):
             raise TypeError(listed_in)
@@ -357,7 +437,8 @@ def check_writable(out: str | os.PathLike) -> None:
 
 
 def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool, listed_in: str | None = None,
-                     inputs: Mapping[str, str | os.PathLike | None] | None = None) -> Path:
+                     inputs: Mapping[str, str | os.PathLike | None] | None = None,
+                     legacy: re.Pattern | None = None) -> Path:
     """Raise :class:`OutputDirError` (a ``FileExistsError``) if ``out`` may not be (re)written; returns it resolved.
 
     An existing directory is refused if it is one :func:`refuse_unsafe_output_dir` protects, or if it is not
@@ -370,6 +451,8 @@ def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool, liste
             replaced, since that would delete it. None: the marker alone decides.
         inputs: ``{setting: path}`` of the files the run reads (None values skipped): a non-empty ``out`` that
             holds one of them is refused, whatever else (replacing it would delete the run's own input).
+        legacy: the relative paths (a pattern) an earlier version of the tool wrote, whose ``marker`` lists no
+            files: those count as listed.
     """
     out = Path(out).expanduser().resolve()
     if out.exists() and not out.is_dir():
@@ -391,7 +474,7 @@ def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool, liste
             raise OutputDirError(f"output_dir {str(out)!r} is not empty and holds no {marker} (not an earlier "
                                  "output of this tool): refusing to replace it; choose another output_dir")
         if listed_in is not None:
-            foreign = _foreign_entries(out, _listed_outputs(out, marker, listed_in))
+            foreign = _foreign_entries(out, _listed_outputs(out, marker, listed_in, legacy))
             if foreign:
                 shown = ", ".join(repr(f) for f in foreign[:5]) + (f" and {len(foreign) - 5} more"
                                                                     if len(foreign) > 5 else "")
@@ -407,18 +490,26 @@ def check_output_dir(out: str | os.PathLike, marker: str, overwrite: bool, liste
 @contextmanager
 def staged_directory(out: str | os.PathLike, marker: str, overwrite: bool = True,
                      owned: bool = False, listed_in: str | None = None,
-                     inputs: Mapping[str, str | os.PathLike | None] | None = None) -> Iterator[Path]:
+                     inputs: Mapping[str, str | os.PathLike | None] | None = None,
+                     legacy: re.Pattern | None = None) -> Iterator[Path]:
     """Yield a temporary directory; on success it becomes ``out`` (write ``marker`` in it), on error it goes.
 
     ``owned``: first remove what killed runs into ``out`` left behind (:func:`remove_stale_staging`), and
     keep an owner record (:data:`OWNER_FILE`: this process and host) in the temporary directory while it
     is written (it is removed before the swap; callers listing the tree must skip it), so that a later
-    run can remove the tree if this process is killed. ``listed_in``, ``inputs``: :func:`check_output_dir`'s.
+    run can remove the tree if this process is killed. ``listed_in``, ``inputs``, ``legacy``:
+    :func:`check_output_dir`'s.
     """
     if owned:
         remove_stale_staging(out)
-    out = check_output_dir(out, marker, overwrite, listed_in, inputs)
+    out = check_output_dir(out, marker, overwrite, listed_in, inputs, legacy)
     out.parent.mkdir(parents=True, exist_ok=True)
+    with _terminate_as_exit():  # SIGTERM while it is written: the staged tree is removed (exit status 143)
+        yield from _staged(out, marker, owned)
+
+
+def _staged(out: Path, marker: str, owned: bool) -> Iterator[Path]:
+    """:func:`staged_directory`'s work once ``out`` is checked."""
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
     os.chmod(tmp, 0o777 & ~current_umask())  # the finished directory gets a plain mkdir's mode, not 0700
     try:
@@ -428,7 +519,7 @@ def staged_directory(out: str | os.PathLike, marker: str, overwrite: bool = True
         if not (tmp / marker).is_file():
             raise RuntimeError(f"staged output misses its marker file {marker}")
         swap_into_place(tmp, out, owned=owned)
-    except BaseException:
+    except BaseException as exc:
         if owned:
             try:
                 _remove_owned_tree(tmp)
@@ -436,6 +527,13 @@ def staged_directory(out: str | os.PathLike, marker: str, overwrite: bool = True
                 shutil.rmtree(tmp, ignore_errors=True)
         else:
             shutil.rmtree(tmp, ignore_errors=True)
+        if is_disk_full(exc):  # name the output, not the staged file; the earlier output is untouched
+            where = Path(getattr(exc, "filename", None) or out)
+            name = where.relative_to(tmp).as_posix() if tmp in where.parents else None
+            raise DiskFullError(exc.errno, f"the disk is full: could not write output_dir {str(out)!r}"
+                                           + (f" ({name})" if name else "")
+                                           + "; nothing half-written is left and an earlier output there is "
+                                             "unchanged; free some space and try again", str(out)) from exc
         raise
 
 

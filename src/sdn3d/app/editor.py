@@ -71,19 +71,28 @@ class AppLimits:
         max_upload_bytes: the largest uploaded image file.
         max_upload_pixels: the most pixels an uploaded image may declare (read from its header before decoding;
             the project's image reader refuses more than 100 MP in any case).
+        max_edit_pixels: an upload with more pixels is scaled down to this many (its aspect ratio kept) when it is
+            opened, and that copy is the session's input (its spec and command line refer to it): every
+            interaction's work grows with the input's pixels (a click's box: 1 s at 0.47 MP, 6 s at 1 MP, 41 s at
+            4 MP on 2 shared CPU cores).
         max_request_bytes: the largest JSON request.
-        max_sessions: browser sessions kept; opening one more closes the least recently used.
+        max_sessions: browser sessions kept; opening one more closes the least recently used if it was idle for
+            ``session_idle_s`` seconds, else the new one is refused (503): requests never close a session in use.
         max_ops: the most operations a spec may hold (``sdn3d-edit``'s ``max_ops``).
+        session_idle_s: seconds without a request after which a session may be closed to make room.
     """
 
     max_upload_bytes: int = 20_000_000
     max_upload_pixels: int = 25_000_000
+    max_edit_pixels: int = 1_000_000
     max_request_bytes: int = 65_536
     max_sessions: int = 8
     max_ops: int = 256
+    session_idle_s: int = 1800
 
     def __post_init__(self) -> None:
-        for name in ("max_upload_bytes", "max_upload_pixels", "max_request_bytes", "max_sessions", "max_ops"):
+        for name in ("max_upload_bytes", "max_upload_pixels", "max_edit_pixels", "max_request_bytes", "max_sessions",
+                     "max_ops", "session_idle_s"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise UserInputError(f"{name} must be a positive integer, got {value!r}")
@@ -108,6 +117,8 @@ class BrowserSession:
     version: int = 0
     warnings: list[str] = field(default_factory=list)
     written: dict[str, int] = field(default_factory=dict)  # download name -> the version it was written for
+    used: float = field(default_factory=time.monotonic)  # the last request's time (time.monotonic)
+    input_note: str = ""  # how the upload was changed to become the input (scaled down: max_edit_pixels)
 
 
 def image_type(data: bytes) -> str:
@@ -162,9 +173,9 @@ def spec_text(objects: Sequence[Mapping[str, Any]], ops: Sequence[Mapping[str, A
     return "\n".join(lines) + "\n"
 
 
-def _clean_value(value: Any, what: str) -> Any:
+def _clean_value(value: Any, what: str, depth: int = 0) -> Any:
     """A value of an op as the browser may send it: a finite number, a bool, a short string, or a list of at most
-    eight numbers (anything else is refused naming the field)."""
+    eight numbers (anything else, a list nested deeper than two levels included, is refused naming the field)."""
     if isinstance(value, bool) or (isinstance(value, int) and abs(value) < 2**53):
         return value
     if isinstance(value, float):
@@ -175,8 +186,8 @@ def _clean_value(value: Any, what: str) -> Any:
         if len(value) > _MAX_TEXT:
             raise AppError(f"{what} is {len(value)} characters long, more than {_MAX_TEXT}")
         return value
-    if isinstance(value, list) and len(value) <= 8:
-        return [_clean_value(v, f"{what}[{i}]") for i, v in enumerate(value)]
+    if isinstance(value, list) and len(value) <= 8 and depth < 2:
+        return [_clean_value(v, f"{what}[{i}]", depth + 1) for i, v in enumerate(value)]
     raise AppError(f"{what} must be a number, true/false, a short text or a short list, got {type(value).__name__}")
 
 
@@ -271,9 +282,28 @@ class Editor:
             if found is None:
                 raise AppError("no such session (closed, or the server was restarted): open the image again", 404)
             self._sessions.move_to_end(sid)
+            found.used = time.monotonic()
             return found
 
+    def _make_room(self) -> None:
+        """Close the least recently used sessions idle for ``session_idle_s`` until one more fits (caller holds
+        ``_lock``).
+
+        Raises:
+            AppError (503): every session was used recently: none is closed for a new one.
+        """
+        while len(self._sessions) >= self.limits.max_sessions:
+            oldest = next(iter(self._sessions.values()))
+            idle = time.monotonic() - oldest.used
+            if idle < self.limits.session_idle_s:
+                raise AppError(f"the server holds {len(self._sessions)} open images (max_sessions), the least recently "
+                               f"used {idle:.0f} s ago, less than session_idle_s={self.limits.session_idle_s}: "
+                               "close one (or restart sdn3d-app with a larger max_sessions)", 503)
+            self._close(self._sessions.popitem(last=False)[1])
+
     def _new(self, make_input: Callable[[Path], tuple[EditInput, list[str]]]) -> BrowserSession:
+        with self._lock:
+            self._make_room()  # before any work: a refused open costs no de-render
         sid = secrets.token_urlsafe(16)
         directory = self.sessions_dir / sid
         directory.mkdir()
@@ -287,9 +317,12 @@ class Editor:
                                input_png=png)
         write_text_atomic(directory / "spec.yaml", found.spec_yaml)
         with self._lock:
+            try:
+                self._make_room()
+            except AppError:
+                self._close(found)
+                raise
             self._sessions[sid] = found
-            while len(self._sessions) > self.limits.max_sessions:
-                self._close(self._sessions.popitem(last=False)[1])
         return found
 
     def _close(self, found: BrowserSession) -> None:
@@ -319,14 +352,14 @@ class Editor:
             raise AppError(f"the image is {len(data)} bytes, more than the {self.limits.max_upload_bytes} accepted "
                            "(max_upload_bytes)", 413)
         suffix = image_type(data)
-        camera = []
+        values = {}
         if intrinsics:
             values = {k: _clean_value(intrinsics[k], f"intrinsics.{k}") for k in ("fx", "fy", "cx", "cy")
                       if k in intrinsics}
             if len(values) != 4 or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
                                            for v in values.values()):
                 raise AppError("intrinsics: give all of fx, fy, cx, cy as numbers (pixels of the image)")
-            camera = ["input.intrinsics={" + ",".join(f"{k}:{float(v)!r}" for k, v in values.items()) + "}"]
+        notes = []
 
         def make(directory: Path) -> tuple[EditInput, list[str]]:
             path = write_bytes_atomic(directory / f"input{suffix}", data)
@@ -337,10 +370,45 @@ class Editor:
             if width * height > self.limits.max_upload_pixels:
                 raise AppError(f"the image is {width}x{height} = {width * height / 1e6:.1f} MP, more than the "
                                f"{self.limits.max_upload_pixels / 1e6:g} MP accepted (max_upload_pixels)", 413)
-            args = [f"input.image={path}", *camera]
+            camera = dict(values)
+            if width * height > self.limits.max_edit_pixels:
+                path, camera, note = self._scaled_input(path, width, height, camera)
+                notes.append(note)
+            args = [f"input.image={path}"]
+            if camera:
+                args.append("input.intrinsics={" + ",".join(f"{k}:{float(v)!r}" for k, v in camera.items()) + "}")
             return self._input(args, directory.name), args
 
-        return self._new(make)
+        found = self._new(make)
+        found.input_note = " ".join(notes)
+        return found
+
+    def _scaled_input(self, path: Path, width: int, height: int, camera: dict) -> tuple[Path, dict, str]:
+        """An upload over ``max_edit_pixels`` scaled down to at most that many pixels (aspect ratio kept, area
+        resampling) as ``input.png`` beside it (the upload removed), with ``camera`` (fx, fy, cx, cy of the upload)
+        following the resize; and the note the page shows."""
+        import cv2
+
+        from sdn3d.data.errors import DataFormatError
+        from sdn3d.data.imageio import read_rgb
+
+        scale = math.sqrt(self.limits.max_edit_pixels / (width * height))
+        size = (max(1, int(width * scale)), max(1, int(height * scale)))
+        try:
+            rgb = read_rgb(path)
+        except DataFormatError as exc:
+            raise AppError(f"the image cannot be read: {str(exc).removeprefix(f'{path}: ')}", 422) from None
+        scaled = write_png_atomic(path.with_name("input.png"), cv2.resize(rgb, size, interpolation=cv2.INTER_AREA))
+        if scaled != path:
+            path.unlink()
+        sx, sy = size[0] / width, size[1] / height
+        if camera:  # Intrinsics.resized: pixel centres at integer coordinates
+            camera = {"fx": camera["fx"] * sx, "fy": camera["fy"] * sy, "cx": (camera["cx"] + 0.5) * sx - 0.5,
+                      "cy": (camera["cy"] + 0.5) * sy - 0.5}
+        note = (f"the {width}x{height} upload was scaled to {size[0]}x{size[1]} for editing (max_edit_pixels="
+                f"{self.limits.max_edit_pixels}: each interaction's work grows with the pixels); the spec, the "
+                "command line and the downloads refer to the scaled copy")
+        return scaled, camera, note
 
     def open_frame(self, index: Any) -> BrowserSession:
         """A session for the dataset frame ``frames[index]``.
@@ -469,7 +537,8 @@ class Editor:
                 "present_classes": (found.scene.semantic.unique().tolist() if found.scene is not None else []),
                 "frame": inp.frame.to_dict(),
                 "state": found.state, "spec": found.spec_yaml, "command": self.command(found),
-                "warnings": found.warnings, "timings_ms": {k: round(v, 1) for k, v in times.items()}}
+                "warnings": [found.input_note] * bool(found.input_note) + found.warnings,
+                "timings_ms": {k: round(v, 1) for k, v in times.items()}}
 
     def labels_png(self, sid: str) -> bytes:
         """The current scene's semantic map (working size) in the class colours, as PNG."""

@@ -20,6 +20,11 @@ session's id, :mod:`sdn3d.app.editor`)::
 Request bodies are read up to a limit (``max_upload_bytes`` for images, ``max_request_bytes`` for JSON) and
 refused with 413 beyond it, before they are kept whole. Only ``Host`` names of the address the server listens on
 are answered (a web page elsewhere cannot reach a local server through a name of its own: DNS rebinding).
+
+Writes (POST, DELETE) come from the page only (:class:`SameOriginWrites`): one whose ``Origin`` is not the server's
+own or whose ``Sec-Fetch-Site`` says another site sent it is refused (403), and a body of a type a browser sends
+across sites without asking first (``text/plain``, a form) is refused (415): JSON requests are
+``application/json``, uploads an image type. Another website cannot open, edit or close a session.
 """
 
 from __future__ import annotations
@@ -40,14 +45,18 @@ from starlette.routing import Route
 
 from sdn3d.app.editor import DOWNLOADS, AppError, Editor, palette
 from sdn3d.errors import UserInputError
+from sdn3d.io import is_disk_full
 
-__all__ = ["create_app", "STATIC_FILES", "allowed_hosts"]
+__all__ = ["create_app", "STATIC_FILES", "allowed_hosts", "SameOriginWrites", "SIMPLE_TYPES"]
 
 #: The page's files, served by name from the package (no path from a request reaches the file system).
 STATIC_FILES = {"index.html": "text/html; charset=utf-8", "app.js": "text/javascript; charset=utf-8",
                 "app.css": "text/css; charset=utf-8"}
 _NO_STORE = {"Cache-Control": "no-store", "X-Content-Type-Options": "nosniff"}
 log = logging.getLogger("sdn3d.app")
+#: Body types a browser sends to another site without a preflight (CORS "simple" requests): never accepted.
+SIMPLE_TYPES = ("text/plain", "application/x-www-form-urlencoded", "multipart/form-data")
+_READS = ("GET", "HEAD", "OPTIONS")
 
 
 def allowed_hosts(host: str) -> list[str]:
@@ -57,6 +66,43 @@ def allowed_hosts(host: str) -> list[str]:
         return ["*"]
     loopback = ["127.0.0.1", "localhost", "[::1]", "::1"]
     return loopback if host in loopback else [host]
+
+
+def _write_refusal(scope: dict) -> tuple[str, int] | None:
+    """Why a request that writes (any method but GET, HEAD, OPTIONS) is refused, with its status, or None: it must
+    come from the page itself (no ``Origin`` but the server's own, no ``Sec-Fetch-Site`` but ``same-origin`` or
+    ``none``) and carry no body type a browser sends across sites without a preflight (:data:`SIMPLE_TYPES`)."""
+    headers = {k.decode("latin-1").lower(): v.decode("latin-1") for k, v in scope.get("headers", ())}
+    site = headers.get("sec-fetch-site")
+    if site is not None and site.strip().lower() not in ("same-origin", "none"):
+        return f"a write from another site (Sec-Fetch-Site: {site[:20]}) is refused: use the editor's own page", 403
+    origin = headers.get("origin")
+    if origin is not None:
+        host = headers.get("host", "").strip().lower()
+        parts = origin.strip().lower().split("://", 1)
+        if len(parts) != 2 or parts[0] not in ("http", "https") or not host or parts[1].rstrip("/") != host:
+            return f"a write from another origin ({origin[:60]}) is refused: use the editor's own page", 403
+    media = headers.get("content-type", "").split(";", 1)[0].strip().lower()
+    if media in SIMPLE_TYPES:
+        return (f"a {media} body is refused (a browser sends it from any site without asking): send JSON as "
+                "application/json, an image as image/png or image/jpeg"), 415
+    return None
+
+
+class SameOriginWrites:
+    """ASGI middleware: a request that writes is answered 403 / 415 unless it comes from the page
+    (:func:`_write_refusal`), before its body is read or a session is touched."""
+
+    def __init__(self, app: Any) -> None:
+        self.app = app
+
+    async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
+        if scope["type"] == "http" and scope["method"] not in _READS:
+            refused = _write_refusal(scope)
+            if refused is not None:
+                await _json({"error": refused[0]}, refused[1])(scope, receive, send)
+                return
+        await self.app(scope, receive, send)
 
 
 def _json(payload: Any, status: int = 200) -> JSONResponse:
@@ -82,6 +128,9 @@ async def _body(request: Request, limit: int, what: str) -> bytes:
 
 
 async def _json_body(request: Request, limit: int) -> Any:
+    media = request.headers.get("content-type", "").split(";", 1)[0].strip().lower()
+    if media != "application/json":
+        raise AppError(f"send the request as application/json, not {media[:40] or 'no content type'}", 415)
     data = await _body(request, limit, "request")
     try:
         return json.loads(data.decode("utf-8"))
@@ -178,6 +227,9 @@ def create_app(editor: Editor, info: dict[str, Any], hosts: list[str] | None = N
         return _json({"error": str(exc.detail)}, exc.status_code)
 
     async def server_error(request: Request, exc: Exception) -> Response:
+        if is_disk_full(exc):  # 507 Insufficient Storage, the message naming the file; the server goes on
+            log.warning("sdn3d-app: %s %s: %s", request.method, request.url.path, exc)
+            return _json({"error": str(exc) if "disk is full" in str(exc) else f"the disk is full: {exc}"}, 507)
         log.error("sdn3d-app: %s %s failed", request.method, request.url.path, exc_info=exc)
         return _json({"error": f"internal error ({type(exc).__name__}); the server's log has the details"}, 500)
 
@@ -190,6 +242,7 @@ def create_app(editor: Editor, info: dict[str, Any], hosts: list[str] | None = N
         Route("/api/s/{sid}/edited.png", edited_png), Route("/api/s/{sid}/labels.png", labels_png),
         Route("/api/s/{sid}/download/{name}", download),
     ]
-    middleware = [Middleware(TrustedHostMiddleware, allowed_hosts=hosts or allowed_hosts("127.0.0.1"))]
+    middleware = [Middleware(TrustedHostMiddleware, allowed_hosts=hosts or allowed_hosts("127.0.0.1")),
+                  Middleware(SameOriginWrites)]
     return Starlette(routes=routes, middleware=middleware,
                      exception_handlers={UserInputError: app_error, HTTPException: http_error, Exception: server_error})

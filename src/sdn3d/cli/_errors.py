@@ -52,10 +52,19 @@ def run_cli(tool: str, fn: Callable[..., int | None], *args: Any, **kwargs: Any)
         tool: the name after ``sdn3d-`` in the message (``edit``, ``bench``, ...).
         fn: the tool's work; other exceptions propagate unchanged.
     """
+    from sdn3d.io import is_disk_full
+
     try:
         code = fn(*args, **kwargs)
     except user_errors() as exc:
         return report_user_error(tool, exc)
+    except OSError as exc:  # a full disk is no bug: one line naming what could not be written, exit 1
+        if not is_disk_full(exc):
+            raise
+        print(f"sdn3d-{tool}: error: {exc}" if "disk is full" in str(exc) else
+              f"sdn3d-{tool}: error: the disk is full: {exc.strerror} ({exc.filename or 'a file'}); free some space "
+              "and try again", file=sys.stderr)
+        return 1
     return 0 if code is None else int(code)
 
 

@@ -14,14 +14,24 @@ page shows the YAML spec and the ``sdn3d-edit`` command line that reproduce its 
 repeats this command line's overrides except the app's own keys (:data:`APP_KEYS`), ``output_dir`` and the input.
 docs/EDITOR.md describes the page.
 
-Exit status: 0 stopped (Ctrl+C); 2 bad settings (message on stderr naming the setting; nothing served).
+Stopping (Ctrl+C, or SIGTERM): the server finishes the requests under way and says where the sessions' files
+(uploads, ``spec.yaml``, downloads: what the page's command lines read) are kept: in ``<output_dir>/sessions/``
+until the next ``sdn3d-app`` with the same ``output_dir`` starts, which removes them (a session directory holding a
+file the app did not write, such as the output of its ``sdn3d-edit`` command line, is kept and named).
+
+Exit status: 0 stopped (Ctrl+C); 2 bad settings (message on stderr naming the setting; nothing served); 130
+interrupted before serving.
 """
 
 from __future__ import annotations
 
+import re
+import shutil
+import signal
 import socket
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 from sdn3d.cli._config import compose_config, print_help_if_asked
@@ -31,8 +41,8 @@ from sdn3d.errors import InputError
 __all__ = ["main", "build_app", "bind", "APP_KEYS", "edit_overrides"]
 
 #: Settings of the app alone (``conf/app.yaml``'s own keys): not repeated on the ``sdn3d-edit`` command line.
-APP_KEYS = ("host", "port", "max_upload_bytes", "max_upload_pixels", "max_request_bytes", "max_sessions",
-            "open_browser")
+APP_KEYS = ("host", "port", "max_upload_bytes", "max_upload_pixels", "max_edit_pixels", "max_request_bytes",
+            "max_sessions", "session_idle_s", "open_browser")
 #: ``sdn3d-edit`` settings the app sets per image or refuses (the page chooses the image and writes the spec).
 PER_IMAGE_KEYS = ("input", "edits", "list", "entry", "frame_size", "output_dir", "overwrite")
 
@@ -87,7 +97,9 @@ def build_app(cfg: Any, argv: Sequence[str]) -> tuple[Any, Any]:
     _check_app_settings(cfg, argv)
     check_settings(cfg)
     limits = AppLimits(max_upload_bytes=cfg.max_upload_bytes, max_upload_pixels=cfg.max_upload_pixels,
-                       max_request_bytes=cfg.max_request_bytes, max_sessions=cfg.max_sessions, max_ops=cfg.max_ops)
+                       max_edit_pixels=cfg.max_edit_pixels,
+                       max_request_bytes=cfg.max_request_bytes, max_sessions=cfg.max_sessions, max_ops=cfg.max_ops,
+                       session_idle_s=cfg.session_idle_s)
     refuse_unsafe_output_dir(cfg.output_dir)
     if cfg.threads is not None:
         torch.set_num_threads(int(cfg.threads))
@@ -135,11 +147,54 @@ def bind(host: str, port: int) -> socket.socket:
     return sock
 
 
+#: What the app writes in a session's directory (:mod:`sdn3d.app.editor`); anything else there is the user's.
+_SESSION_FILES = re.compile(r"input\.(png|jpg)|spec\.yaml|edited\.png|edit\.json|edited_scene\.glb|command\.txt"
+                            r"|\..+\.tmp")
+_SID = re.compile(r"[A-Za-z0-9_-]{16,64}")
+
+
+def remove_earlier_sessions(sessions_dir: Path) -> tuple[int, list[Path]]:
+    """Remove the session directories an earlier ``sdn3d-app`` left in ``sessions_dir`` (unreachable now: a
+    session lives in the server's memory). Returns ``(how many were removed, those kept)``: a directory holding
+    anything the app does not write (the output of its ``sdn3d-edit`` command line, a user's file, a link) is kept."""
+    removed, kept = 0, []
+    if not sessions_dir.is_dir():
+        return 0, []
+    for entry in sorted(sessions_dir.iterdir()):
+        if entry.is_symlink() or not entry.is_dir() or not _SID.fullmatch(entry.name):
+            kept.append(entry)
+            continue
+        inside = list(entry.iterdir())
+        if any(f.is_symlink() or not f.is_file() or not _SESSION_FILES.fullmatch(f.name) for f in inside):
+            kept.append(entry)
+            continue
+        shutil.rmtree(entry)
+        removed += 1
+    return removed, kept
+
+
+def _stopped_note(editor: Any) -> str:
+    """What stopping keeps, and where (the module doc)."""
+    sessions = sorted(p for p in editor.sessions_dir.iterdir() if p.is_dir()) if editor.sessions_dir.is_dir() else []
+    if not sessions:
+        return "sdn3d-app: stopped; no session files are left"
+    return (f"sdn3d-app: stopped; the files of {len(sessions)} session(s) (uploads, spec.yaml, downloads: what the "
+            f"page's command lines read) are kept in {editor.sessions_dir} until the next sdn3d-app with "
+            f"output_dir={editor.output_dir} starts, which removes them")
+
+
 def _main(argv: list[str]) -> int:
     import uvicorn
 
     cfg = compose_config(argv, "app")
-    app, editor = build_app(cfg, argv)
+    app, editor = build_app(cfg, argv)  # the settings checked (output_dir included) before anything is removed
+    removed, kept = remove_earlier_sessions(editor.sessions_dir)
+    if removed:
+        print(f"sdn3d-app: removed {removed} session director{'y' if removed == 1 else 'ies'} of an earlier run from "
+              f"{editor.sessions_dir}", file=sys.stderr)
+    if kept:
+        print(f"sdn3d-app: kept {len(kept)} entr{'y' if len(kept) == 1 else 'ies'} of an earlier run holding files "
+              f"it did not write: {', '.join(str(k) for k in kept[:5])}", file=sys.stderr)
     sock = bind(str(cfg.host), int(cfg.port))
     host, port = sock.getsockname()[:2]
     shown = f"[{host}]" if ":" in host else host
@@ -153,7 +208,16 @@ def _main(argv: list[str]) -> int:
 
         webbrowser.open(url)
     server = uvicorn.Server(uvicorn.Config(app, log_level="warning", access_log=False, lifespan="off"))
-    server.run(sockets=[sock])
+    def stop(signum: int, frame: Any) -> None:  # SIGTERM as Ctrl+C: the same clean stop (uvicorn raises it again)
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, stop)
+    try:
+        server.run(sockets=[sock])  # uvicorn stops on SIGINT / SIGTERM, then raises the signal again
+    except KeyboardInterrupt:
+        pass
+    finally:
+        print(_stopped_note(editor), file=sys.stderr, flush=True)
     return 0
 
 
@@ -162,7 +226,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if print_help_if_asked(argv, __doc__, "app"):
         return 0
-    return run_cli("app", _main, argv)
+    try:
+        return run_cli("app", _main, argv)
+    except KeyboardInterrupt:  # before serving (loading the models): nothing was served
+        print("sdn3d-app: interrupted before serving", file=sys.stderr)
+        return 128 + signal.SIGINT
 
 
 if __name__ == "__main__":

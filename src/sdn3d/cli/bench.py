@@ -17,6 +17,10 @@ every output. ``scene=oracle`` (ground-truth geometry too) is one pass. Outputs,
                      mode) with metrics
     examples/*.png   the grids
 
+An earlier output directory is replaced (``overwrite=true``) only when it holds nothing but the files its
+``results.json`` lists (``outputs``) and none of this run's inputs (the benchmark file, the dataset, a checkpoint):
+else the run stops with exit 2 naming the file, and nothing is deleted (:func:`output_rules`, as ``sdn3d-edit``).
+
 ``run=<dir>`` takes the branches' checkpoints from the ``sdn3d-train`` summaries under ``dir`` (a demo output such
 as ``outputs/demo``, one run directory, or a training root), as ``sdn3d-edit run=`` does
 (:func:`sdn3d.runs.checkpoints_from_run`): per branch the latest run with status ok, its best checkpoint else its
@@ -32,13 +36,14 @@ knowledge.
 Exit status: 0 done; 2 bad input (missing benchmark / checkpoint, a ``run`` that is not a training output directory
 or lacks a branch the benchmark needs, no semantic checkpoint for the predicted row,
 no matching frames, no entry to evaluate or every entry's points outside ``frame_size`` unless ``allow_empty=true``;
-nothing written).
+nothing written).; 1 every entry failed (the results are written; each entry's error is in results.json).
 """
 
 from __future__ import annotations
 
 import html
 import math
+import re
 import sys
 import time
 from collections.abc import Sequence
@@ -57,10 +62,13 @@ from sdn3d.evaluation.edit_benchmark import METHODS, PROPOSALS, REGIONS, SOURCE_
 from sdn3d.io import check_output_dir, staged_directory
 from sdn3d.runs import checkpoints_from_run, given_checkpoints
 
-__all__ = ["main", "run_bench", "table1_markdown", "examples_html", "generator_info", "bench_passes",
+__all__ = ["main", "run_bench", "all_failed", "table1_markdown", "examples_html", "generator_info", "bench_passes",
            "bench_checkpoints", "check_entries"]
 
 MARKER = "results.json"
+#: What sdn3d-bench wrote before its results.json listed its ``outputs``: an earlier result of it holding these only
+#: is replaced.
+LEGACY_OUTPUTS = re.compile(r"results\.json|table1\.md|index\.html|examples/\d{4}\.png")
 LABELS = {"2d": "2D", "2d+": "2D+", "3d-sdn": "3D-SDN (ours)"}
 ROW_ORDER = ("2d", "2d+", "3d-sdn")  # the paper's row order
 COMPOSE_LABELS = {"photo": "photo (own pixels through 3D; what sdn3d-edit gives)",
@@ -375,10 +383,10 @@ def _load_inputs(cfg: Any) -> tuple[Any, Path, Path, list, Any, list, dict]:
 
     if cfg.threads:
         torch.set_num_threads(int(cfg.threads))
-    out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite))
     source = SourceConfig.from_mapping(cfg.data)
     # benchmark=paper: the paper's file shipped in sdn3d.resources; otherwise a path.
     path = benchmark_path(str(cfg.benchmark)) if cfg.benchmark else Path(source.root) / "vkitti_edit_benchmark.json"
+    out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite), **output_rules(cfg, path))
     entries = load_edit_benchmark(path.expanduser())
     checkpoints = bench_checkpoints(cfg)
     cfg = OmegaConf.merge(cfg, {"checkpoints": {b: None if info is None else info["path"]
@@ -392,6 +400,17 @@ def _load_inputs(cfg: Any) -> tuple[Any, Path, Path, list, Any, list, dict]:
     if not cfg.get("allow_empty"):
         check_entries(entries, passes[0], path)
     return cfg, out, path, entries, source, passes, checkpoints
+
+
+def output_rules(cfg: Any, benchmark: Path) -> dict[str, Any]:
+    """:func:`sdn3d.io.check_output_dir`'s rules for ``output_dir`` (as ``sdn3d-edit``'s): an earlier result is
+    replaced only if the directory holds nothing but the files its ``results.json`` lists (``outputs``), and never
+    when it holds one of this run's inputs (the benchmark file, the dataset, a checkpoint, the run, LPIPS weights)."""
+    given = {"benchmark": str(benchmark), "data.root": (cfg.get("data") or {}).get("root"), "run": cfg.get("run"),
+             "lpips_weights": cfg.get("lpips_weights"),
+             **{f"checkpoints.{b}": v for b, v in (cfg.get("checkpoints") or {}).items()}}
+    return {"listed_in": "outputs", "inputs": {k: str(v) for k, v in given.items() if v is not None},
+            "legacy": LEGACY_OUTPUTS}
 
 
 def check_entries(entries: Sequence[Any], settings: Any, path: Path) -> None:
@@ -475,7 +494,7 @@ def run_bench(cfg: Any) -> dict:
             "dilate_px": first.dilate_px, "feather_px": first.feather_px, "wall_s": time.perf_counter() - t0}
     report = {"info": info, "config": OmegaConf.to_container(cfg, resolve=True), "summary": summaries,
               "entries": {name: [r.to_json() for r in rs] for name, rs in results.items()}}
-    with staged_directory(out, MARKER, bool(cfg.overwrite)) as tmp:
+    with staged_directory(out, MARKER, bool(cfg.overwrite), owned=True, **output_rules(cfg, path)) as tmp:
         examples = []
         for i, r in enumerate(results[sources[0]]):  # every pass has the same entries, in the same order
             images = {s: results[s][i].images for s in sources if results[s][i].images is not None}
@@ -486,6 +505,8 @@ def run_bench(cfg: Any) -> dict:
             examples.append({"file": name, "key": r.key, "metrics": {s: results[s][i].metrics for s in sources}})
         write_text_atomic(tmp / "table1.md", table1_markdown(summaries, info))
         write_text_atomic(tmp / "index.html", examples_html(examples, info))
+        # every file written: what a later run may replace (the rest of a directory is the user's)
+        report["outputs"] = sorted([*(e["file"] for e in examples), "table1.md", "index.html", MARKER])
         write_json_atomic(tmp / MARKER, report)
     return report
 
@@ -505,9 +526,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     return run_cli("bench", _main, argv)
 
 
+def all_failed(report: dict) -> str | None:
+    """A one-line reason when no entry of any source scene was evaluated (each failed), else None."""
+    rows = [r for rs in report["entries"].values() for r in rs]
+    if not rows or any(r["metrics"] for r in rows):
+        return None
+    first = next((f"entry {r['index']} {r['key']}: " + "; ".join(map(str, r["errors"].values()))
+                  for r in rows if r["errors"]), "no error recorded")
+    return f"every one of the {len(rows)} evaluations failed (first: {first[:300]})"
+
+
 def _main(argv: list[str]) -> int:
     report = run_bench(compose_config(argv, "bench"))
     print(table1_markdown(report["summary"], report["info"]))
+    failed = all_failed(report)
+    if failed is not None:
+        print(f"sdn3d-bench: error: {failed}; results.json lists each entry's error", file=sys.stderr)
+        return 1
     return 0
 
 

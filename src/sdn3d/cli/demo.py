@@ -54,12 +54,57 @@ def _stage(name: str) -> None:
     console.rule(f"[bold]sdn3d-demo: {name}")
 
 
+#: The files the synthetic generator writes (relative POSIX paths): anything else in ``data_dir`` is the user's.
+_GENERATED = re.compile(r"(_SUCCESS|class_statistics\.json|synth_manifest\.json|vkitti_edit_benchmark\.json"
+                        r"|vkitti_1\.3\.1_(rgb|depthgt|scenegt)/\d{4}/[\w+-]+/\d{5}\.png"
+                        r"|vkitti_1\.3\.1_(extrinsicsgt|motgt)/\d{4}_[\w+-]+\.txt"
+                        r"|vkitti_1\.3\.1_scenegt/\d{4}_[\w+-]+_scenegt_rgb_encoding\.txt)")
+
+
+def _not_generated(root: Path) -> list[str]:
+    """Entries under ``root`` the synthetic generator does not write (links included: never followed)."""
+    found = []
+    for path in sorted(root.rglob("*")):
+        rel = path.relative_to(root).as_posix()
+        if path.is_symlink() or (path.is_file() and not _GENERATED.fullmatch(rel)) or not (
+                path.is_file() or path.is_dir()):
+            found.append(rel)
+    return found
+
+
 def make_data(cfg: Any) -> Path:
+    """The synthetic dataset in ``data_dir``: reused when an earlier run generated it with the same settings (the
+    generator is deterministic), else generated. A ``data_dir`` holding a file the generator did not write is
+    refused, naming it (replacing the dataset would delete it).
+
+    Raises:
+        InputError: ``data_dir`` holds files of the user's.
+    """
+    import json
+
     from sdn3d.data.synth import SynthConfig, generate_dataset
 
     root = Path(str(cfg.data_dir))
     synth = OmegaConf.to_container(cfg.synth, resolve=True)
-    generate_dataset(SynthConfig(output_dir=str(root), seed=int(cfg.seed), overwrite=True, threads=1, **synth))
+    config = SynthConfig(output_dir=str(root), seed=int(cfg.seed), overwrite=True, threads=1, **synth)
+    if root.is_dir() and any(root.iterdir()):
+        wanted = {k: v for k, v in config.to_dict().items()
+                  if k not in ("output_dir", "overwrite", "workers", "threads")}
+        try:
+            recorded = json.loads((root / "synth_manifest.json").read_text(encoding="utf-8")).get("config")
+        except (OSError, ValueError, AttributeError):
+            recorded = None
+        if (root / "_SUCCESS").is_file() and recorded == json.loads(json.dumps(wanted)):
+            console.print(f"sdn3d-demo: reusing the synthetic data in {root} (generated with the same settings)")
+            return root
+        foreign = _not_generated(root)
+        if foreign:
+            shown = ", ".join(repr(f) for f in foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5
+                                                               else "")
+            raise InputError(f"data_dir {str(root)!r} holds {len(foreign)} entries the synthetic generator did not "
+                             f"write ({shown}): regenerating the data would delete them; move them out or choose "
+                             "another data_dir")
+    generate_dataset(config)
     return root
 
 
@@ -94,24 +139,76 @@ def _train_env(cfg: Any) -> dict[str, str]:
     return {"OMP_WAIT_POLICY": "PASSIVE", **os.environ, "OMP_NUM_THREADS": str(int(cfg.threads))}
 
 
-def _finish(branch: str, run_dir: Path, returncode: int, started: float) -> dict:
+def _finish(branch: str, run_dir: Path, returncode: int, started: float, new_run: Path | None = None) -> dict:
+    """The new run's summary.json; ``new_run``: where :func:`_keep_or_restore` left it (``runs/<branch>.failed``
+    when an earlier run was put back in ``run_dir``)."""
     import json
 
-    if returncode != 0:
-        raise DemoStageError(f"training the {branch} branch failed (exit {returncode}); see {run_dir}/train.log")
+    new_run = new_run or run_dir
+    if returncode != 0 or new_run != run_dir:
+        kept = f"; the earlier run is kept in {run_dir}" if new_run != run_dir else ""
+        raise DemoStageError(f"training the {branch} branch failed (exit {returncode}); see {new_run}/train.log{kept}")
     summary = json.loads((run_dir / "summary.json").read_text())
     summary["demo_wall_s"] = round(time.perf_counter() - started, 1)
     return summary
 
 
-def train_branch(branch: str, cfg: Any, data_root: Path, runs: Path, upstream: dict[str, str] | None = None) -> dict:
-    """One ``sdn3d-train`` run in a child process (its own progress bar); returns its summary.json."""
-    run_dir = runs / branch
+def _finished_ok(run_dir: Path) -> bool:
+    import json
+
+    try:
+        return json.loads((run_dir / "summary.json").read_text(encoding="utf-8")).get("status") == "ok"
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
+def _previous(run_dir: Path) -> Path:
+    """Where an earlier run of the branch waits while it is trained again: ``runs/.<branch>.previous``."""
+    return run_dir.parent / f".{run_dir.name}.previous"
+
+
+def _set_aside(run_dir: Path) -> None:
+    """Before a branch is trained again: its earlier run is moved to :func:`_previous` (not deleted), after putting
+    back one that an interrupted demo left there (:func:`_keep_or_restore`)."""
+    _keep_or_restore(run_dir, interrupted=True)
     if run_dir.exists():
-        shutil.rmtree(run_dir)
+        os.rename(run_dir, _previous(run_dir))
+
+
+def _keep_or_restore(run_dir: Path, interrupted: bool = False) -> Path:
+    """After training ``run_dir`` again (or, ``interrupted``, before, for a demo that was killed meanwhile): a new
+    run that finished ok replaces the earlier one (removed); otherwise the new run is kept as
+    ``runs/<branch>.failed`` and the earlier one goes back to ``run_dir``: its weights are never lost. Returns where
+    the new run is."""
+    previous = _previous(run_dir)
+    if not previous.exists():
+        return run_dir
+    if run_dir.exists() and _finished_ok(run_dir):
+        shutil.rmtree(previous)
+        return run_dir
+    failed = run_dir.parent / f"{run_dir.name}.failed"
+    if run_dir.exists():
+        if failed.exists():
+            shutil.rmtree(failed)
+        os.rename(run_dir, failed)
+    os.rename(previous, run_dir)
+    console.print(f"sdn3d-demo: the earlier {run_dir.name} run is kept in {run_dir}"
+                  + (" (the demo that trained it again was interrupted)" if interrupted else ""))
+    return failed
+
+
+def train_branch(branch: str, cfg: Any, data_root: Path, runs: Path, upstream: dict[str, str] | None = None) -> dict:
+    """One ``sdn3d-train`` run in a child process (its own progress bar); returns its summary.json. An earlier run
+    of the branch is replaced only once the new one finished ok (:func:`_keep_or_restore`)."""
+    run_dir = runs / branch
+    _set_aside(run_dir)
     started = time.perf_counter()
-    proc = subprocess.run(_train_command(branch, cfg, data_root, runs, upstream), env=_train_env(cfg))
-    return _finish(branch, run_dir, proc.returncode, started)
+    proc = None
+    try:
+        proc = subprocess.run(_train_command(branch, cfg, data_root, runs, upstream), env=_train_env(cfg))
+    finally:
+        new_run = _keep_or_restore(run_dir)
+    return _finish(branch, run_dir, proc.returncode, started, new_run)
 
 
 def train_parallel(branches: Sequence[str], cfg: Any, data_root: Path, runs: Path,
@@ -121,19 +218,20 @@ def train_parallel(branches: Sequence[str], cfg: Any, data_root: Path, runs: Pat
     procs = {}
     runs.mkdir(parents=True, exist_ok=True)
     for branch in branches:
-        run_dir = runs / branch
-        if run_dir.exists():
-            shutil.rmtree(run_dir)
+        _set_aside(runs / branch)
         log = open(runs / f"{branch}.out", "w")  # noqa: SIM115 - closed below, after the child ends
         procs[branch] = (subprocess.Popen(_train_command(branch, cfg, data_root, runs, upstream), env=_train_env(cfg),
                                           stdout=log, stderr=subprocess.STDOUT), log, time.perf_counter())
     codes = {}
-    for branch, (proc, log, started) in procs.items():
-        codes[branch] = proc.wait()
-        log.close()
-        console.print(f"sdn3d-demo: {branch} branch finished (exit {codes[branch]}, "
-                      f"{time.perf_counter() - started:.0f} s; output in {runs / f'{branch}.out'})")
-    return {b: _finish(b, runs / b, codes[b], procs[b][2]) for b in branches}
+    try:
+        for branch, (proc, log, started) in procs.items():
+            codes[branch] = proc.wait()
+            log.close()
+            console.print(f"sdn3d-demo: {branch} branch finished (exit {codes[branch]}, "
+                          f"{time.perf_counter() - started:.0f} s; output in {runs / f'{branch}.out'})")
+    finally:
+        new_runs = {b: _keep_or_restore(runs / b) for b in branches}
+    return {b: _finish(b, runs / b, codes[b], procs[b][2], new_runs[b]) for b in branches}
 
 
 def _checkpoint(summary: dict) -> str:

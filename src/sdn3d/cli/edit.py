@@ -141,21 +141,24 @@ def _given_camera(cfg: Any, width: int, height: int) -> Any:
     return None
 
 
-def _read_input_image(cfg: Any) -> np.ndarray:
+def _read_input_image(cfg: Any, size: tuple[int, int] | None = None) -> np.ndarray:
     """``input.image`` as ``(H, W, 3)`` uint8 through the project's one image reader
     (:func:`sdn3d.data.imageio.read_rgb`: 16-bit and float images scaled from their own range, unknown modes
-    refused; images over ``MAX_IMAGE_PIXELS`` refused before decoding).
+    refused; images over ``MAX_IMAGE_PIXELS`` refused before decoding; with the working ``size``, an image whose
+    fit to it would be too large, :func:`sdn3d.data.imageio.check_fit`, refused before decoding too).
 
     Raises:
         InputError: naming ``input.image``: missing, unreadable or of a refused kind.
     """
     from sdn3d.data.errors import DataFormatError
-    from sdn3d.data.imageio import read_rgb
+    from sdn3d.data.imageio import check_fit, read_rgb
 
     path = Path(str(cfg.input.image)).expanduser()
     if not path.is_file():
         raise InputError(f"input.image {str(path)!r} not found")
     try:
+        if size is not None:
+            check_fit(path, size)
         return read_rgb(path)
     except DataFormatError as exc:
         raise InputError(f"input.image {str(path)!r}: {str(exc).removeprefix(f'{path}: ')}") from exc
@@ -179,7 +182,7 @@ def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any, Any
         raise InputError(f"the working size (image_size, else data.image_size) must be two positive integers "
                          f"[W, H], got {list(size)}")
     if cfg.input.image is not None:
-        rgb = _read_input_image(cfg)
+        rgb = _read_input_image(cfg, size)
         height, width = rgb.shape[:2]
         intr, _ = camera_for_image(width, height, _given_camera(cfg, width, height))
         image, intr, frame = fit_image(rgb, intr, size)

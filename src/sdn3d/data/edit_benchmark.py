@@ -64,6 +64,8 @@ __all__ = [
 ]
 
 EDIT_KINDS = ("modify", "delete")
+#: The largest ``zoom`` an operation may ask (the paper's file: at most about 2); a larger one is a broken file.
+MAX_ZOOM = 100.0
 #: What a benchmark entry tests (module doc).
 ENTRY_KINDS = ("edit", "occluder_removed")
 #: (width, height) of the frames the benchmark coordinates refer to.
@@ -219,8 +221,12 @@ def _parse_operation(raw: Any, where: _Where) -> BenchmarkOperation:
         zoom = where.number(raw, "zoom", "zoom")
         if zoom <= 0:
             raise where.error("zoom", f"expected a number > 0, got {raw['zoom']!r}")
+        if zoom > MAX_ZOOM:
+            raise where.error("zoom", f"expected a number <= {MAX_ZOOM:g} (a change of distance), got {raw['zoom']!r}")
     if kind == "modify" or raw.get("ry") is not None:
         ry = where.number(raw, "ry", "ry")
+        if abs(ry) > 2 * math.pi:
+            raise where.error("ry", f"expected a yaw increment in radians within [-2 pi, 2 pi], got {raw['ry']!r}")
     return BenchmarkOperation(kind, from_uv, to_uv, zoom, ry, roi)
 
 

@@ -39,6 +39,9 @@ from sdn3d.labels import INSTANCE_DIVISOR
 
 __all__ = [
     "MAX_IMAGE_PIXELS",
+    "MAX_FIT_FACTOR",
+    "cover_size",
+    "check_fit",
     "open_image",
     "image_size",
     "agreed_size",
@@ -141,6 +144,35 @@ def image_size(path: str | os.PathLike) -> tuple[int, int]:
         return size
     with _open_header(Path(path)) as image:
         return int(image.width), int(image.height)
+
+
+#: The most pixels an image scaled to cover a working size may have, as a multiple of the working size's: an
+#: image of an aspect ratio far from it (10x20000 for 1242x375: 1242x2484000, 18.5 GB) is refused, not scaled.
+MAX_FIT_FACTOR = 16
+
+
+def cover_size(width: int, height: int, size: tuple[int, int]) -> tuple[int, int]:
+    """The size a ``width x height`` image has when scaled, keeping its aspect ratio, to cover ``size = (W, H)``
+    (then cropped to it): what fitting it to a working size allocates first."""
+    scale = max(size[0] / width, size[1] / height)
+    return max(size[0], round(width * scale)), max(size[1], round(height * scale))
+
+
+def check_fit(path: str | os.PathLike, size: tuple[int, int]) -> tuple[int, int]:
+    """``(width, height)`` of the image at ``path`` (its header only), refused when scaling it to cover the working
+    ``size`` would take more than :data:`MAX_FIT_FACTOR` times the working size's pixels (before decoding it).
+
+    Raises:
+        DataFormatError: naming the file, its size and the working size.
+    """
+    width, height = image_size(path)
+    covered = cover_size(width, height, size)
+    if covered[0] * covered[1] > MAX_FIT_FACTOR * size[0] * size[1]:
+        raise DataFormatError(f"{path}: a {width}x{height} image (aspect ratio {width / height:.3g}) is too far from "
+                              f"the working size {size[0]}x{size[1]} ({size[0] / size[1]:.3g}): scaled to cover it, it "
+                              f"would be {covered[0]}x{covered[1]} pixels, more than {MAX_FIT_FACTOR} times the "
+                              f"working size; crop it closer to {size[0]}:{size[1]}")
+    return width, height
 
 
 @functools.lru_cache(maxsize=1 << 16)

@@ -157,6 +157,8 @@ function applyView(view) {
 }
 
 async function opened(view) {
+  // the page shows one image: the one it showed before is closed, so its session does not hold a place on the server
+  if (app.view && app.view.sid !== view.sid) api("DELETE", `/api/s/${app.view.sid}`).catch(() => {});
   app.view = null;
   app.history = [clone(view.state)];
   app.index = 0;
@@ -520,3 +522,9 @@ $("delete").addEventListener("click", () => app.selected !== null && act({ op: "
   const frame = new URLSearchParams(location.search).get("frame");
   if (frame !== null && app.info.frames.length) openFrame(Number(frame));
 })();
+
+// a closed or reloaded tab cannot come back to its session: close it, so it does not hold a place on the server
+window.addEventListener("pagehide", () => {
+  if (app.view) fetch(`/api/s/${app.view.sid}`, { method: "DELETE", keepalive: true }).catch(() => {});
+});
+window.addEventListener("pageshow", (event) => { if (event.persisted && app.view) location.reload(); });

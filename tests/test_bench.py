@@ -200,7 +200,8 @@ def test_bench_cli_writes_table_page_and_examples(tiny_synth, tmp_path, capsys):
     table = (out / "table1.md").read_text()
     assert table.startswith("# Editing benchmark: headline")  # the headline first: photo rows, columns with values
     headline = table[:table.index("## All rows")]
-    rows = [line for line in headline.splitlines() if line.startswith("| oracle")]
+    rows = [line for line in headline[:headline.index("**Who won.**")].splitlines() if line.startswith("| oracle")]
+    assert "(1 entries): **too few entries to call" in headline  # who won, said with the evidence there is
     assert len(rows) == 3 and "LPIPS (all)" in headline and "PSNR (objects)" in headline and "n/a" not in rows[2]
     assert "LPIPS (whole) | LPIPS (all) | LPIPS (largest) | LPIPS (objects)" in table
     assert "| oracle: GT masks + semantics | 3D-SDN (ours) | G | generator, full (paper protocol) |" in table
@@ -253,7 +254,8 @@ def test_bench_cli_reports_the_predicted_row_first_and_the_oracle_row_labelled(t
     assert set(report["summary"]) == set(report["entries"]) == {"semantic", "gt"}
     assert report["config"]["proposals"] == ["semantic", "gt"]  # the default
     table = (out / "table1.md").read_text()
-    rows = [line.split(" | ")[0] for line in table.splitlines() if line.startswith(("| predicted", "| oracle"))]
+    rows = [line.split(" | ")[0] for line in table.splitlines()
+            if line.startswith(("| predicted", "| oracle")) and "] | " not in line]  # not the who-won intervals
     # headline, L1/SSIM/PSNR table (3 methods each), layout table and each kind's: predicted rows before oracle rows
     assert len(rows) >= 24 and rows == (["| predicted"] * 3 + ["| oracle: GT masks + semantics"] * 3) * (len(rows) // 6)
     assert "*predicted* = predicted: the semantic branch's masks and semantics" in table

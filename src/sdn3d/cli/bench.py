@@ -151,9 +151,10 @@ def _header(summaries: dict, info: dict) -> list[str]:
             "Generators:", *_generators_note(info), ""]
 
 
-def table1_markdown(summaries: dict, info: dict) -> str:
+def table1_markdown(summaries: dict, info: dict, comparisons: dict | None = None) -> str:
     """The paper's Table 1 layout (rows 2D, 2D+, 3D-SDN per source scene and compose mode) from
-    ``{source: summarize(...)}`` (:func:`sdn3d.evaluation.edit_benchmark.summarize`) and results.json's info."""
+    ``{source: summarize(...)}`` (:func:`sdn3d.evaluation.edit_benchmark.summarize`) and results.json's info;
+    ``comparisons`` (:func:`paired_comparisons`) adds who won to the headline."""
     rows = _rows(summaries, info)
     gens = info["generators"]
     has_lpips = any("lpips" in stats.get("whole", {}) for *_, stats in rows)
@@ -163,7 +164,7 @@ def table1_markdown(summaries: dict, info: dict) -> str:
         generator = gens[m]["tag"] if c != "photo" else "none"
         return f"| {SOURCE_SHORT[s]} | {LABELS[m]} | {generator} | {COMPOSE_LABELS[c]} |"
 
-    lines = _headline(summaries, info) + _header(summaries, info) + ["## All rows", ""]
+    lines = _headline(summaries, info, comparisons) + _header(summaries, info) + ["## All rows", ""]
     if has_lpips:
         lines += [f"{head} " + " | ".join(f"LPIPS ({r})" for r in REGIONS) + " |", "|---" * (4 + len(REGIONS)) + "|"]
         lines += [lead(s, m, c) + " " + " | ".join(_fmt(st.get(r, {}).get("lpips")) for r in REGIONS) + " |"
@@ -197,27 +198,123 @@ def table1_markdown(summaries: dict, info: dict) -> str:
 _METRIC_NAMES = {"lpips": "LPIPS", "l1": "L1", "ssim": "SSIM", "psnr": "PSNR"}
 
 
-def _headline(summaries: dict, info: dict) -> list[str]:
-    """The first screen: Table 1's rows in the first mode (photo, what a user gets), every source scene, only the
-    columns that have values."""
+def headline_columns(summaries: dict, info: dict) -> list[tuple[str, str]]:
+    """``[(metric, region)]`` of the headline: LPIPS where it was measured, then L1, SSIM and PSNR, each on *all*,
+    *largest* and *objects*."""
     mode = info["compose"][0]
     has_lpips = any("lpips" in summaries[s]["methods"].get(mode, {}).get(m, {}).get("all", {})
                     for s in info["sources"] for m in ROW_ORDER)
-    cols = [(k, r) for k in (["lpips"] if has_lpips else []) + ["l1", "ssim", "psnr"] for r in ("all", "largest",
-                                                                                                 "objects")]
+    return [(k, r) for k in (["lpips"] if has_lpips else []) + ["l1", "ssim", "psnr"]
+            for r in ("all", "largest", "objects")]
+
+
+def paired_comparisons(entries: dict, summaries: dict, info: dict, ours: str = "3d-sdn", theirs: str = "2d") -> dict:
+    """``{source: {"metric/region": PairedDifference.to_dict()}}``: 3D-SDN minus 2D on each headline column, paired
+    over the entries both evaluated (``results.json``'s per-entry records), in the headline's mode."""
+    from sdn3d.evaluation.paired import compare_entries
+
+    mode, cols = info["compose"][0], headline_columns(summaries, info)
+    return {s: {f"{k}/{r}": d.to_dict() for (k, r), d in compare_entries(entries.get(s, []), mode, ours, theirs,
+                                                                         cols).items()}
+            for s in info["sources"]}
+
+
+def _best(summaries: dict, source: str, mode: str, metric: str, region: str) -> str | None:
+    """The method with the best mean on one column (L1 / LPIPS lowest, SSIM / PSNR highest), None without values."""
+    from sdn3d.evaluation.paired import LOWER_IS_BETTER
+
+    values = {m: summaries[source]["methods"].get(mode, {}).get(m, {}).get(region, {}).get(metric) for m in ROW_ORDER}
+    values = {m: v["mean"] for m, v in values.items() if v and v.get("n", 0) and math.isfinite(v["mean"])}
+    if not values:
+        return None
+    pick = min if metric in LOWER_IS_BETTER else max
+    return pick(values, key=values.get)
+
+
+def _signed(value: float, digits: int) -> str:
+    return f"{value:+.{digits}f}"
+
+
+def who_won_lines(comparisons: dict, summaries: dict, info: dict) -> list[str]:
+    """Per source scene, one sentence saying who won (3D-SDN against 2D, the interval of the paired difference
+    deciding), then the paired table: the mean difference with its 95 % bootstrap interval and the entries each
+    side won."""
+    from sdn3d.evaluation.paired import MIN_ENTRIES
+
+    cols = headline_columns(summaries, info)
+    lines = ["**Who won.** 3D-SDN against 2D (the stronger of the paper's two baselines in its Table 1), paired over "
+             "the same entries: the mean of 3D-SDN minus 2D, its 95 % paired-bootstrap interval, and on how many "
+             "entries 3D-SDN was better / worse. A column counts as won or lost only where the interval excludes 0, "
+             f"and only with at least {MIN_ENTRIES} entries.", ""]
+    table = ["| Scene | Column | 3D-SDN - 2D [95 % interval] | 3D-SDN better / worse (entries) | verdict |",
+             "|---|---|---|---|---|"]
+    for s in info["sources"]:
+        comp = comparisons.get(s) or {}
+        verdicts = [comp.get(f"{k}/{r}", {}).get("verdict", "no entries") for k, r in cols]
+        n = max((comp.get(f"{k}/{r}", {}).get("n", 0) for k, r in cols), default=0)
+        if n == 0:
+            lines.append(f"- *{SOURCE_SHORT[s]}*: no entry was evaluated by both methods: no comparison.")
+            continue
+        won, lost = verdicts.count("better"), verdicts.count("worse")
+        unclear = len(cols) - won - lost
+        def cols_(k: int) -> str:
+            return f"{k} column" + ("" if k == 1 else "s")
+
+        if n < MIN_ENTRIES:
+            ahead = sum(comp.get(f"{k}/{r}", {}).get("mean", 0) * (1 if k not in ("l1", "lpips") else -1) > 0
+                        for k, r in cols)
+            say = (f"too few entries to call: 3D-SDN's mean is ahead of 2D's in {ahead} of {cols_(len(cols))}, "
+                   f"which decides nothing under {MIN_ENTRIES} entries")
+        elif won == len(cols):
+            say = f"3D-SDN beats 2D in every column ({len(cols)})"
+        elif lost == len(cols):
+            say = f"3D-SDN loses to 2D in every column ({len(cols)})"
+        elif won > lost:
+            say = f"3D-SDN is ahead: better in {cols_(won)}, worse in {lost}, no clear difference in {unclear}"
+        elif lost > won:
+            say = f"2D is ahead: 3D-SDN is worse in {cols_(lost)}, better in {won}, no clear difference in {unclear}"
+        else:
+            say = f"no winner: 3D-SDN is better in {cols_(won)}, worse in {lost}, no clear difference in {unclear}"
+        small = (f" With {n} entries, only a difference whose interval excludes 0 is evidence; a gap in the means "
+                 "alone is an anecdote." if n < 30 else "")
+        lines.append(f"- *{SOURCE_SHORT[s]}* ({n} entries): **{say}**.{small}")
+        for k, r in cols:
+            d = comp.get(f"{k}/{r}")
+            if not d or not d.get("n"):
+                continue
+            digits = 2 if k == "psnr" else 4
+            table.append(f"| {SOURCE_SHORT[s]} | {_METRIC_NAMES[k]} ({r}) | {_signed(d['mean'], digits)} "
+                         f"[{_signed(d['low'], digits)}, {_signed(d['high'], digits)}] | {d['wins']} / {d['losses']}"
+                         f" of {d['n']} | {d['verdict']} |")
+    return lines + ["", *table, ""] if len(table) > 2 else lines + [""]
+
+
+def _headline(summaries: dict, info: dict, comparisons: dict | None = None) -> list[str]:
+    """The first screen: Table 1's rows in the first mode (photo, what a user gets), every source scene, only the
+    columns that have values, the best value of each column per scene in bold; then who won, with paired
+    intervals and win counts (:func:`who_won_lines`) where the per-entry results were given."""
+    mode = info["compose"][0]
+    cols = headline_columns(summaries, info)
     first = summaries[info["sources"][0]]
     lines = ["# Editing benchmark: headline", "",
              f"{first['evaluated']} entries of `{Path(info['benchmark']).name}`, mode **{COMPOSE_LABELS[mode]}**; "
-             "lower L1 / LPIPS and higher SSIM / PSNR are better; regions below. "
-             "The paper's protocol (generator, full) and every other row follow.", "",
+             "lower L1 / LPIPS and higher SSIM / PSNR are better; regions below; the best value of each column per "
+             "scene is in bold. The paper's protocol (generator, full) and every other row follow.", "",
              "| Scene | Method | " + " | ".join(f"{_METRIC_NAMES[k]} ({r})" for k, r in cols) + " |",
              "|---|---" + "|---" * len(cols) + "|"]
     for s in info["sources"]:
+        best = {(k, r): _best(summaries, s, mode, k, r) for k, r in cols}
         for m in ROW_ORDER:
             st = summaries[s]["methods"].get(mode, {}).get(m, {})
-            lines.append(f"| {SOURCE_SHORT[s]} | {LABELS[m]} | " + " | ".join(
-                _fmt(st.get(r, {}).get(k), 2 if k == "psnr" else 4) for k, r in cols) + " |")
-    return lines + [""]
+            cells = []
+            for k, r in cols:
+                text = _fmt(st.get(r, {}).get(k), 2 if k == "psnr" else 4)
+                cells.append(f"**{text}**" if best[(k, r)] == m and text != "n/a" else text)
+            lines.append(f"| {SOURCE_SHORT[s]} | {LABELS[m]} | " + " | ".join(cells) + " |")
+    lines.append("")
+    if comparisons is not None:
+        lines += who_won_lines(comparisons, summaries, info)
+    return lines
 
 
 def _by_kind_lines(summaries: dict, info: dict) -> list[str]:
@@ -492,8 +589,10 @@ def run_bench(cfg: Any) -> dict:
             "run": None if cfg.get("run") is None else str(cfg.run), "checkpoints": checkpoints,
             "device": str(cfg.device), "threads": torch.get_num_threads(), **lpips, "compose": list(first.compose),
             "dilate_px": first.dilate_px, "feather_px": first.feather_px, "wall_s": time.perf_counter() - t0}
+    entries_json = {name: [r.to_json() for r in rs] for name, rs in results.items()}
+    comparisons = paired_comparisons(entries_json, summaries, info)
     report = {"info": info, "config": OmegaConf.to_container(cfg, resolve=True), "summary": summaries,
-              "entries": {name: [r.to_json() for r in rs] for name, rs in results.items()}}
+              "comparisons": comparisons, "entries": entries_json}
     with staged_directory(out, MARKER, bool(cfg.overwrite), owned=True, **output_rules(cfg, path)) as tmp:
         examples = []
         for i, r in enumerate(results[sources[0]]):  # every pass has the same entries, in the same order
@@ -503,7 +602,7 @@ def run_bench(cfg: Any) -> dict:
             name = f"examples/{r.index:04d}.png"
             write_png_atomic(tmp / name, _example_grid(images, _grid_rows(info)))
             examples.append({"file": name, "key": r.key, "metrics": {s: results[s][i].metrics for s in sources}})
-        write_text_atomic(tmp / "table1.md", table1_markdown(summaries, info))
+        write_text_atomic(tmp / "table1.md", table1_markdown(summaries, info, comparisons))
         write_text_atomic(tmp / "index.html", examples_html(examples, info))
         # every file written: what a later run may replace (the rest of a directory is the user's)
         report["outputs"] = sorted([*(e["file"] for e in examples), "table1.md", "index.html", MARKER])
@@ -538,7 +637,7 @@ def all_failed(report: dict) -> str | None:
 
 def _main(argv: list[str]) -> int:
     report = run_bench(compose_config(argv, "bench"))
-    print(table1_markdown(report["summary"], report["info"]))
+    print(table1_markdown(report["summary"], report["info"], report.get("comparisons")))
     failed = all_failed(report)
     if failed is not None:
         print(f"sdn3d-bench: error: {failed}; results.json lists each entry's error", file=sys.stderr)

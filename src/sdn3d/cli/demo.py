@@ -17,6 +17,7 @@ CPU; ``budget=long`` (``conf/budget/long.yaml``) is the longer documented run, m
 from __future__ import annotations
 
 import os
+import platform
 import re
 import resource
 import shutil
@@ -48,6 +49,52 @@ def _peak_rss_mib() -> dict[str, float]:
     own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     child = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
     return {"demo_process_mib": round(own, 1), "largest_child_mib": round(child, 1)}
+
+
+def _load_average() -> list[float] | None:
+    try:
+        return [round(v, 2) for v in os.getloadavg()]
+    except (OSError, AttributeError):  # not on every platform
+        return None
+
+
+def machine_record() -> dict:
+    """What the report's times were measured on: the processor, its logical cores and the load average when the
+    demo started (a loaded machine takes twice as long or more: the report says which it was)."""
+    model = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return {"processor": model, "logical_cpus": os.cpu_count(), "load_average_start": _load_average()}
+
+
+def stage_rows(info: dict) -> str:
+    """The report's stage-time table: data, each branch's training, the benchmark, the edits and the whole run."""
+    stages = info.get("stages_s") or {}
+    rows = [("synthetic data", stages.get("data"))]
+    rows += [(f"training: {b}", (s or {}).get("demo_wall_s")) for b, s in (info.get("training") or {}).items()]
+    rows += [("training, all branches", stages.get("train")), ("editing benchmark (with proposal recall)",
+                                                                 stages.get("bench")),
+             ("example edits", stages.get("edits")), ("whole demo", info.get("wall_s"))]
+    return "\n".join(f"| {name} | {sec:.0f} |" if isinstance(sec, (int, float)) else f"| {name} | n/a |"
+                     for name, sec in rows)
+
+
+def machine_sentence(info: dict) -> str:
+    """One sentence naming the machine the times were measured on, and how loaded it was."""
+    m = info.get("machine") or {}
+    loads = [v for v in (m.get("load_average_start"), m.get("load_average_end")) if v]
+    load = (f"; 1-minute load average {loads[0][0]:.1f} at the start" +
+            (f" and {loads[-1][0]:.1f} at the end" if len(loads) > 1 else "") if loads else "")
+    busy = ""
+    if loads and m.get("logical_cpus") and max(v[0] for v in loads) > 1.5 * m["logical_cpus"]:
+        busy = " (a busy machine: other work competed for the cores, so these times are longer than a quiet run's)"
+    return (f"Measured on {m.get('processor', 'an unknown processor')}, {m.get('logical_cpus', '?')} logical cores, "
+            f"{info.get('threads')} torch threads{load}{busy}.")
 
 
 def _stage(name: str) -> None:
@@ -571,6 +618,30 @@ def _recall_note(recall: dict | None) -> str:
             "A vehicle without a proposal cannot be edited and is drawn as background in the predicted rows.")
 
 
+def precision_note(info: dict) -> str:
+    """Why the report gives the semantic branch's proposal precision more than once, with different values: three
+    parts and two object filters, named."""
+    sem = (info.get("training") or {}).get("semantic") or {}
+    m = sem.get("metrics") or {}
+    recall = info.get("proposal_recall") or {}
+    figures = []
+    if isinstance(m.get("val/proposal_precision"), (int, float)):
+        figures.append(f"{m['val/proposal_precision']:.3f} on the **validation** part at the training size, objects "
+                       "over the paper's 256 pixels scaled to that size (what decides whether `sdn3d-edit` trusts "
+                       "the branch)")
+    if isinstance(m.get("test/proposal_precision"), (int, float)):
+        figures.append(f"{m['test/proposal_precision']:.3f} on the **test** part with the same measure (the training "
+                       "table)")
+    if recall.get("precision") is not None:
+        size = "x".join(str(v) for v in recall.get("work_size", []))
+        figures.append(f"{recall['precision']:.3f} on the **test** part at the edits' {size}, objects over "
+                       f"{recall.get('min_pixels')} pixels at that size (what the edits meet; the sentence above)")
+    if len(figures) < 2:
+        return ""
+    return ("Proposal precision appears more than once because it is measured on different parts and filters: "
+            + "; ".join(figures) + ".")
+
+
 _EMPTY_CELLS = ("n/a", "")
 
 
@@ -748,6 +819,14 @@ def write_report(out: Path, info: dict) -> str:
 - Wall time {info['wall_s'] / 60:.1f} min; peak memory {info['peak_memory']['largest_child_mib']:.0f} MiB (largest
   training process), {info['peak_memory']['demo_process_mib']:.0f} MiB (this process: benchmark and edits).
 
+## Time per stage
+
+{machine_sentence(info)}
+
+| stage | seconds |
+|---|---|
+{stage_rows(info)}
+
 ## Training (`{out / 'runs'}`, TensorBoard: `tensorboard --logdir {out / 'runs'}`)
 
 | branch | wall s | steps | test metrics |
@@ -757,6 +836,8 @@ def write_report(out: Path, info: dict) -> str:
 ## Editing benchmark (`bench/`: table1.md, index.html with example grids)
 
 {_recall_note(info.get('proposal_recall'))}
+
+{precision_note(info)}
 
 {drop_empty_columns(table1)}
 
@@ -787,6 +868,7 @@ def run_demo(cfg: Any) -> dict:
                             "budget": str(cfg.budget_name), "stages_s": {}, "training": {}}
     if str(cfg.device).startswith("cuda"):
         info["gpu"] = torch.cuda.get_device_name(torch.device(str(cfg.device)))
+    info["machine"] = machine_record()
 
     if cfg.get("gpu_budget") and str(cfg.device) == "cpu":
         console.print(f"[yellow]sdn3d-demo: budget={cfg.budget_name} on the CPU takes many hours (see "
@@ -835,6 +917,7 @@ def run_demo(cfg: Any) -> dict:
     info["stages_s"]["edits"] = round(time.perf_counter() - t0, 1)
 
     info["wall_s"] = round(time.perf_counter() - started, 1)
+    info["machine"]["load_average_end"] = _load_average()
     info["peak_memory"] = _peak_rss_mib()
     report = write_report(out, info)
     console.print(report)

@@ -22,9 +22,9 @@ from sdn3d.editing.compose import (
     edited_object_ids,
     feather_alpha,
 )
+from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.inputs import fit_image
 from sdn3d.editing.render import edit_image, render_maps
-from sdn3d.editing.spec import PixelFrame
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.image_ops import to_image_tensor
 from sdn3d.math3d.camera import VKITTI_INTRINSICS

@@ -11,6 +11,7 @@ import pytest
 import torch
 
 from sdn3d.editing.apply import Delete, Move, Rotate, SetCode, apply_edits
+from sdn3d.editing.frame import PixelFrame, input_intrinsics, upsample_ids
 from sdn3d.editing.photo import (
     FALLBACK,
     FILL,
@@ -21,13 +22,10 @@ from sdn3d.editing.photo import (
     PhotoSettingsError,
     fit_light,
     inpaint,
-    input_intrinsics,
     paints,
     recolor_pixels,
     render_photo,
-    upsample_ids,
 )
-from sdn3d.editing.spec import PixelFrame
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import default_bank
 from sdn3d.render.rasterize import rasterize_meshes

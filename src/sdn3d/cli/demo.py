@@ -227,8 +227,8 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.data.sources import load_split
     from sdn3d.derender import PROPOSAL_LABELS, Models, derender
     from sdn3d.editing.compose import ComposeSettings
+    from sdn3d.editing.frame import PixelFrame
     from sdn3d.editing.photo import APPEARANCES, PhotoSettings
-    from sdn3d.editing.spec import PixelFrame
     from sdn3d.io import write_png_atomic
     from sdn3d.scene.io import save_scene
     from sdn3d.visualize import titled_row

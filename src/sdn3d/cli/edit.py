@@ -166,11 +166,11 @@ def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any, Any
 
     An image file needs a known camera (:func:`sdn3d.editing.inputs.camera_for_image`) and keeps its aspect
     ratio (:func:`~sdn3d.editing.inputs.fit_image`); a
-    dataset frame is resized to the working size as in training. The :class:`~sdn3d.editing.spec.PixelFrame`
+    dataset frame is resized to the working size as in training. The :class:`~sdn3d.editing.frame.PixelFrame`
     maps the input's pixels (the file, or the frame at its stored size) to the working image's.
     """
     from sdn3d.data.frames import load_frame
-    from sdn3d.editing.spec import PixelFrame
+    from sdn3d.editing.frame import PixelFrame
 
     data = cfg.get("data")
     size = cfg.image_size or (data.image_size if data is not None and cfg.input.image is None else DEFAULT_SIZE)
@@ -538,7 +538,7 @@ def _input_picture(cfg: Any, record: Any) -> np.ndarray:
 def _write_listing(cfg: Any, out: Path, inp: EditInput, scene: Any, checkpoints: dict, times: dict[str, float],
                    warnings: list[str] | None = None, box_records: list[dict] | None = None) -> dict:
     """Print the objects table; write ``objects.json``, ``objects.png`` and ``edit.json`` (staged)."""
-    from sdn3d.editing.spec import PixelFrame
+    from sdn3d.editing.frame import PixelFrame
     from sdn3d.io import write_json_atomic, write_png_atomic
     from sdn3d.visualize import draw_boxes
 
@@ -588,8 +588,7 @@ def _write_listing(cfg: Any, out: Path, inp: EditInput, scene: Any, checkpoints:
 
 def _input_masks(scene: Any, rows: list[dict], boxes: dict, frame: Any, size: tuple[int, int]) -> list:
     """Per listed row, the object's mask at the input's resolution where it was named by a box (else None)."""
-    from sdn3d.editing.photo import upsample_ids
-    from sdn3d.editing.spec import PixelFrame
+    from sdn3d.editing.frame import PixelFrame, upsample_ids
 
     table = scene.objects
     ids = (table.mask.long() * table.instance_id[:, None, None]).amax(0) if len(table) else None

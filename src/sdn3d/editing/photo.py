@@ -2,7 +2,7 @@
 
 The textural generator re-synthesises an edited car from a five-number code; at CPU budgets it draws a blob.
 ``appearance='photo'`` (the default of ``sdn3d-edit``, :func:`sdn3d.editing.render.edit_image` and the demo's
-grids) draws nothing from a code. At the **input's resolution** (:class:`~sdn3d.editing.spec.PixelFrame` gives the
+grids) draws nothing from a code. At the **input's resolution** (:class:`~sdn3d.editing.frame.PixelFrame` gives the
 input camera, :func:`input_intrinsics`):
 
 1. *Who owns each pixel.* Objects that stay where they were keep their input pixels (their working-size
@@ -48,11 +48,9 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.editing.compose import sampling_grid
+from sdn3d.editing.frame import PixelFrame, input_intrinsics, upsample_ids, working_to_input
 from sdn3d.editing.ops import SetCode
-from sdn3d.editing.spec import PixelFrame
 from sdn3d.errors import UserInputError
-from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.rotations import roty
 from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.render.maps import normal_map
@@ -62,8 +60,8 @@ from sdn3d.scene.code import ObjectTable, SceneCode
 from sdn3d.scene.maps import compose_instances, posed_meshes
 
 __all__ = ["APPEARANCES", "FILL_METHODS", "SOURCE_NAMES", "SOURCE_COLORS", "PhotoSettings", "PhotoSettingsError",
-           "PhotoResult", "LightEstimate", "paints", "input_intrinsics", "upsample_ids", "fit_light", "inpaint",
-           "recolor_pixels", "vacated_hole", "fill_hole", "working_to_input", "render_photo", "source_picture",
+           "PhotoResult", "LightEstimate", "paints", "fit_light", "inpaint",
+           "recolor_pixels", "vacated_hole", "fill_hole", "render_photo", "source_picture",
            "PhotoCache"]
 
 #: ``photo``: the input's own pixels through each object's 3D shape (module doc); ``generator``: the textural
@@ -263,36 +261,6 @@ def paints(ops: Sequence[object]) -> dict[int, tuple[float, float, float]]:
 # -- frames --------------------------------------------------------------------------------------------
 
 
-def input_intrinsics(intrinsics: Intrinsics, transform: PixelFrame) -> Intrinsics:
-    """The camera of the input image, from the working image's and the transform that made it (its inverse:
-    ``u_in = (u_work + 0.5 + left) / sx - 0.5``).
-
-    Example:
-        >>> from sdn3d.math3d.camera import Intrinsics
-        >>> work = Intrinsics(362.5, 362.5, 310.0, 93.25, width=624, height=192)
-        >>> big = input_intrinsics(work, PixelFrame((1242, 375), (624, 192)))
-        >>> round(big.fx, 2), round(big.cx, 2), big.width, big.height
-        (721.35, 617.17, 1242, 375)
-    """
-    (sx, sy), (left, top) = transform.scale, transform.offset
-    w, h = transform.input_size
-    return Intrinsics(intrinsics.fx / sx, intrinsics.fy / sy, (intrinsics.cx + 0.5 + left) / sx - 0.5,
-                      (intrinsics.cy + 0.5 + top) / sy - 0.5, width=int(w), height=int(h))
-
-
-def upsample_ids(values: Tensor, transform: PixelFrame) -> Tensor:
-    """``(H_in, W_in)`` nearest working pixel's value of ``values (h, w)`` (integer) for every input pixel; 0 where
-    the input pixel lies outside the working image's crop."""
-    (sx, sy), (left, top) = transform.scale, transform.offset
-    w_in, h_in = transform.input_size
-    h, w = values.shape
-    j = torch.floor((torch.arange(w_in, dtype=torch.float64) + 0.5) * sx - left).long()
-    i = torch.floor((torch.arange(h_in, dtype=torch.float64) + 0.5) * sy - top).long()
-    ok = ((i >= 0) & (i < h))[:, None] & ((j >= 0) & (j < w))[None, :]
-    out = values.cpu()[i.clamp(0, h - 1)][:, j.clamp(0, w - 1)]
-    return torch.where(ok, out, torch.zeros_like(out))
-
-
 def _erode_ids(ids: Tensor, radius: int) -> Tensor:
     """``ids (H, W)`` with every pixel whose ``(2r+1)^2`` neighbourhood holds another id set to 0."""
     if radius <= 0:
@@ -485,15 +453,6 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
             raise PhotoSettingsError("photo.fill=generator needs the generator's picture (the textural branch)")
         return torch.where(hole[None], fill.clamp(0, 1).to(image.dtype), image)
     return inpaint(image, hole, settings.fill, settings.inpaint_radius, keep_out=keep_out)
-
-
-def working_to_input(picture: Tensor, transform: PixelFrame) -> Tensor:
-    """``(C, H_in, W_in)`` bilinear samples of a working-size ``picture (C, h, w)`` at every input pixel (the
-    transform's inverse; border values outside its crop)."""
-    w_in, h_in = transform.input_size
-    grid, _ = sampling_grid(transform, (0, 0, w_in, h_in), torch.device("cpu"))
-    return F.grid_sample(picture[None].float().cpu(), grid, mode="bilinear", padding_mode="border",
-                         align_corners=False)[0]
 
 
 def _paint(lab: Tensor, chroma_tol: float = 15.0, dark_ratio: float = 0.45) -> Tensor:

@@ -33,9 +33,10 @@ from torch import Tensor
 import sdn3d.derender as derendering
 from sdn3d.derender import PROPOSAL_LABELS, PROPOSALS, GroundTruth, Models
 from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
+from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.ops import EditOp, SetBackgroundCode, SetCode
 from sdn3d.editing.photo import APPEARANCES, PhotoCache, PhotoSettings, paints, render_photo
-from sdn3d.editing.spec import EditSpec, PixelFrame, apply_spec, box_prompts, resolve_ops
+from sdn3d.editing.spec import EditSpec, apply_spec, box_prompts, resolve_ops
 from sdn3d.errors import InputError
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.scene.code import SceneCode

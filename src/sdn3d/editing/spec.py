@@ -81,6 +81,7 @@ from sdn3d.editing.apply import (
     ops_from_benchmark,
     projected_centers,
 )
+from sdn3d.editing.frame import PixelFrame
 from sdn3d.errors import UserInputError
 from sdn3d.image_ops import mask_boxes
 from sdn3d.meshes.bank import MeshBank
@@ -90,7 +91,7 @@ from sdn3d.textural.code_bank import named_color
 from sdn3d.textural.codes import CodeBank
 
 __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
-           "apply_spec", "PixelFrame", "read_yaml", "MAX_OPS", "EXCERPT_CHARS", "BoxObjectSpec", "box_prompts",
+           "apply_spec", "read_yaml", "MAX_OPS", "EXCERPT_CHARS", "BoxObjectSpec", "box_prompts",
            "MAX_BOX_OBJECTS"]
 
 OP_KINDS = ("move", "rotate", "zoom", "delete", "recolor", "duplicate", "modify")
@@ -159,50 +160,6 @@ class EditSpec:
 
     def __len__(self) -> int:
         return len(self.entry.operations) if self.entry is not None else len(self.ops)
-
-
-@dataclass(frozen=True)
-class PixelFrame:
-    """How the input image became the working image: resized to ``scaled_size`` (per-axis scale
-    ``scaled / input``), then the working size cropped at ``offset (left, top)`` of it.
-
-    Pixel centres at integers: ``u_work = (u_in + 0.5) * sx - 0.5 - left`` (as
-    :meth:`~sdn3d.math3d.camera.Intrinsics.resized` then ``.cropped`` map the principal point).
-    """
-
-    input_size: tuple[int, int]
-    working_size: tuple[int, int]
-    scaled_size: tuple[int, int] | None = None  # None: the working size (a plain resize)
-    offset: tuple[int, int] = (0, 0)
-
-    @property
-    def scale(self) -> tuple[float, float]:
-        sw, sh = self.scaled_size or self.working_size
-        return sw / self.input_size[0], sh / self.input_size[1]
-
-    @property
-    def is_plain_resize(self) -> bool:
-        return tuple(self.offset) == (0, 0) and tuple(self.scaled_size or self.working_size) == tuple(self.working_size)
-
-    def to_working(self, uv: tuple[float, float]) -> tuple[float, float]:
-        """An input-image pixel -> the working image's pixel."""
-        if self.is_plain_resize:
-            return scale_point(uv, self.input_size, self.working_size)
-        sx, sy = self.scale
-        return ((uv[0] + 0.5) * sx - 0.5 - self.offset[0], (uv[1] + 0.5) * sy - 0.5 - self.offset[1])
-
-    def to_input(self, uv: tuple[float, float]) -> tuple[float, float]:
-        """A working-image pixel -> the input image's pixel."""
-        sx, sy = self.scale
-        return ((uv[0] + self.offset[0] + 0.5) / sx - 0.5, (uv[1] + self.offset[1] + 0.5) / sy - 0.5)
-
-    def to_dict(self) -> dict:
-        sx, sy = self.scale
-        return {"input_size": list(self.input_size), "working_size": list(self.working_size),
-                "mode": "resize" if self.is_plain_resize else "scale_crop",
-                "scaled_size": list(self.scaled_size or self.working_size), "scale": [sx, sy],
-                "crop_offset": list(self.offset),
-                "rule": "u_work = (u_in + 0.5) * scale_x - 0.5 - crop_offset_x (same for v)"}
 
 
 #: Longest excerpt of a user's value quoted in an error message (a value may be megabytes long).

@@ -40,7 +40,8 @@ def main() -> None:
     from sdn3d.data.vkitti1 import read_frames
     from sdn3d.editing.apply import apply_edits, ops_from_benchmark
     from sdn3d.editing.frame import PixelFrame
-    from sdn3d.editing.photo import PhotoSettings, render_photo
+    from sdn3d.editing.photo.settings import PhotoSettings
+    from sdn3d.editing.photo.transfer import render_photo
     from sdn3d.evaluation.edit_benchmark import edit_kind
 
     tmp = None

@@ -16,7 +16,8 @@ import sdn3d.derender
 from sdn3d.cli._config import compose_config
 from sdn3d.cli.edit import load_models, main, open_input, resolve_checkpoints, session_settings
 from sdn3d.data import vkitti1
-from sdn3d.editing.photo import PhotoCache, PhotoSettings, render_photo
+from sdn3d.editing.photo.settings import PhotoSettings
+from sdn3d.editing.photo.transfer import PhotoCache, render_photo
 from sdn3d.editing.session import EditSession
 from sdn3d.editing.spec import EditError, parse_edit_spec
 

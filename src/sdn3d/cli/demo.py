@@ -228,7 +228,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.derender import PROPOSAL_LABELS, Models, derender
     from sdn3d.editing.compose import ComposeSettings
     from sdn3d.editing.frame import PixelFrame
-    from sdn3d.editing.photo import APPEARANCES, PhotoSettings
+    from sdn3d.editing.photo.settings import APPEARANCES, PhotoSettings
     from sdn3d.io import write_png_atomic
     from sdn3d.scene.io import save_scene
     from sdn3d.visualize import titled_row
@@ -399,7 +399,9 @@ def _edit_pictures(edits: dict[str, list], scene: Any, models: Any, compose: Any
     with ``compose='edited'``."""
     from sdn3d.editing.apply import apply_edits
     from sdn3d.editing.compose import compose_edit, edited_object_ids
-    from sdn3d.editing.photo import paints, render_photo, source_picture
+    from sdn3d.editing.photo.recolor import paints
+    from sdn3d.editing.photo.settings import source_picture
+    from sdn3d.editing.photo.transfer import render_photo
     from sdn3d.editing.render import render_maps
     from sdn3d.image_ops import resize_image
     from sdn3d.io import write_png_atomic

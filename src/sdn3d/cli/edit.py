@@ -514,7 +514,7 @@ def _box_settings(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, b
 
 def appearance_settings(cfg: Any) -> tuple[str, Any]:
     """``(appearance, PhotoSettings)`` of ``appearance`` and ``photo.*`` (checked before anything is loaded)."""
-    from sdn3d.editing.photo import APPEARANCES, PhotoSettings
+    from sdn3d.editing.photo.settings import APPEARANCES, PhotoSettings
 
     appearance = str(cfg.get("appearance", "photo"))
     if appearance not in APPEARANCES:
@@ -603,7 +603,7 @@ def _write_outputs(out: Path, overwrite: bool, result: EditResult, summary: dict
                    rules: dict[str, Any] | None = None) -> None:
     """Write the output directory all at once (see the module doc); adds ``summary['outputs']`` (every file
     written: what a later run may replace). ``rules``: :func:`_output_rules`."""
-    from sdn3d.editing.photo import source_picture
+    from sdn3d.editing.photo.settings import source_picture
     from sdn3d.io import write_json_atomic, write_png_atomic
     from sdn3d.scene.io import save_scene
 

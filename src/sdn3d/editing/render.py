@@ -24,7 +24,9 @@ from sdn3d.editing.apply import EditOp, apply_edits, ops_from_benchmark
 from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.inputs import same_aspect
-from sdn3d.editing.photo import APPEARANCES, PhotoResult, PhotoSettings, PhotoSettingsError, paints, render_photo
+from sdn3d.editing.photo.recolor import paints
+from sdn3d.editing.photo.settings import APPEARANCES, PhotoSettings, PhotoSettingsError
+from sdn3d.editing.photo.transfer import PhotoResult, render_photo
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.rotations import NUM_POSE_BINS
 from sdn3d.meshes.bank import MeshBank

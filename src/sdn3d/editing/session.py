@@ -35,7 +35,9 @@ from sdn3d.derender import PROPOSAL_LABELS, PROPOSALS, GroundTruth, Models
 from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.ops import EditOp, SetBackgroundCode, SetCode
-from sdn3d.editing.photo import APPEARANCES, PhotoCache, PhotoSettings, paints, render_photo
+from sdn3d.editing.photo.recolor import paints
+from sdn3d.editing.photo.settings import APPEARANCES, PhotoSettings
+from sdn3d.editing.photo.transfer import PhotoCache, render_photo
 from sdn3d.editing.spec import EditSpec, apply_spec, box_prompts, resolve_ops
 from sdn3d.errors import InputError
 from sdn3d.math3d.camera import Intrinsics

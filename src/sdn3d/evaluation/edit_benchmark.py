@@ -64,7 +64,8 @@ from sdn3d.derender import PROPOSAL_LABELS, Models, derender, encode_scene
 from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
 from sdn3d.editing.compose import COMPOSE_MODES, ComposeSettings, ComposeSettingsError, compose_edit, edited_object_ids
 from sdn3d.editing.frame import PixelFrame
-from sdn3d.editing.photo import PhotoSettings, render_photo
+from sdn3d.editing.photo.settings import PhotoSettings
+from sdn3d.editing.photo.transfer import render_photo
 from sdn3d.editing.render import render_maps
 from sdn3d.errors import UserInputError
 from sdn3d.evaluation.baselines import baseline_maps, baseline_photo

@@ -1,56 +1,34 @@
-"""Photo appearance: every edited object drawn with the input photo's own pixels, carried through its fitted 3D shape.
-
-The textural generator re-synthesises an edited car from a five-number code; at CPU budgets it draws a blob.
-``appearance='photo'`` (the default of ``sdn3d-edit``, :func:`sdn3d.editing.render.edit_image` and the demo's
-grids) draws nothing from a code. At the **input's resolution** (:class:`~sdn3d.editing.frame.PixelFrame` gives the
-input camera, :func:`input_intrinsics`):
-
-1. *Who owns each pixel.* Objects that stay where they were keep their input pixels (their working-size
-   masks, upsampled). Moved, turned, zoomed and duplicated objects are rasterized at their new pose
-   (:func:`sdn3d.render.rasterize_meshes`, one call) and cover a pixel where they are nearer than the
-   object that stays there (its rendered depth in the source rasterization, else its centre's): the edited
-   scene's z-buffer decides who is in front.
-2. *Vacated pixels* (the source footprint of every moved or deleted object, a few pixels around it, and a
-   band of road below it for its old contact shadow) are filled by an inpainter (:data:`FILL_METHODS`:
-   OpenCV's Telea, or the generator's background), before anything is drawn over them.
-3. *Transfer.* For each pixel an edited object covers, the surface point (face and barycentrics) is carried
-   to the object's source pose (same face, same barycentrics: edits are rigid), projected into the input and
-   sampled there (bilinear; from a pre-filtered pyramid level when the car got smaller, so it does not
-   alias), but only if that point was visible in the input: the source rasterization shows the same object
-   there within :attr:`PhotoSettings.depth_tolerance`, and the pixel is inside the object's instance mask,
-   eroded (no other object covers it). Else its **mirror image** across the vehicle's left-right plane
-   (``z = 0`` of the canonical frame; templates and FFD are symmetric) is tried the same way. What is still
-   unseen gets the **fallback**: the car's own body colour (its visible pixels, de-shaded) shaded for the new
-   normal. An object amodally completed behind a deleted one (:func:`sdn3d.editing.apply.apply_edits`) has its
-   freed pixels drawn the same way at its own pose.
-4. *Shading follows the pose* (:func:`fit_light`): one directional light and an ambient term are fitted to
-   the visible car pixels of the input (per-object albedo, least squares on log luminance, a grid over
-   directions), and each transferred colour is multiplied by ``shade(new normal) / shade(source normal)``.
-5. *Recolour* (:func:`recolor_pixels`): the body's pixels (the largest colour cluster of the car, in CIE
-   Lab) move to the named colour's chroma and lightness, their variation (shading, reflections) kept;
-   windows, tyres and lights (other clusters) are untouched.
-6. A soft darkened footprint under a moved object is its new contact shadow.
-
-:class:`PhotoResult` carries the picture and a per-pixel *source map* (:data:`SOURCE_NAMES`: input, photo,
-mirror, fallback, fill, recolored, shadow) saying where each pixel came from; only ``input`` pixels are the
-input's, bit for bit.
+"""The photo appearance's surface transfer and its pipeline (:func:`render_photo`; steps 1, 3 and 6 of
+:mod:`sdn3d.editing.photo`): who owns each pixel, each edited object's pixels carried from its source pose.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-import kornia.color
 import numpy as np
 import torch
 import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.editing.frame import PixelFrame, input_intrinsics, upsample_ids, working_to_input
-from sdn3d.editing.ops import SetCode
-from sdn3d.errors import UserInputError
+from sdn3d.editing.photo.fill import fill_hole, vacated_hole
+from sdn3d.editing.photo.light import LightEstimate, fit_light
+from sdn3d.editing.photo.recolor import body_pixels, recolor_pixels
+from sdn3d.editing.photo.settings import (
+    FALLBACK,
+    FILL,
+    INPUT,
+    MIRROR,
+    PHOTO,
+    RECOLORED,
+    SHADOW,
+    SOURCE_NAMES,
+    PhotoSettings,
+    PhotoSettingsError,
+)
 from sdn3d.math3d.rotations import roty
 from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.render.maps import normal_map
@@ -59,124 +37,7 @@ from sdn3d.render.settings import RasterSettings
 from sdn3d.scene.code import ObjectTable, SceneCode
 from sdn3d.scene.maps import compose_instances, posed_meshes
 
-__all__ = ["APPEARANCES", "FILL_METHODS", "SOURCE_NAMES", "SOURCE_COLORS", "PhotoSettings", "PhotoSettingsError",
-           "PhotoResult", "LightEstimate", "paints", "fit_light", "inpaint",
-           "recolor_pixels", "vacated_hole", "fill_hole", "render_photo", "source_picture",
-           "PhotoCache"]
-
-#: ``photo``: the input's own pixels through each object's 3D shape (module doc); ``generator``: the textural
-#: generator's pixels (the paper's).
-APPEARANCES = ("photo", "generator")
-#: How vacated pixels are filled: OpenCV's Telea (fast; the best weight-free fill by L1 and PSNR on a held-out
-#: synthetic benchmark's delete and occluder entries, by 0.3-0.5 dB, but it smears bushes and facades across a large
-#: hole), PatchMatch (PyPatchMatch: copies texture, plausible road on large holes, slower), ``auto`` (the default: Telea
-#: for thin gaps, PatchMatch for large holes) or the generator's picture (needs the textural branch).
-FILL_METHODS = ("telea", "patchmatch", "auto", "generator")
-#: ``fill='auto'``: a hole part at most this many pixels from its edge everywhere is filled by Telea, else PatchMatch.
-AUTO_THIN_PX = 6.0
-#: Codes of :attr:`PhotoResult.source`.
-SOURCE_NAMES = ("input", "photo", "mirror", "fallback", "fill", "recolored", "shadow")
-#: Colour of each source code in :func:`source_picture` (sRGB uint8).
-SOURCE_COLORS = ((40, 40, 40), (60, 170, 75), (70, 120, 230), (230, 80, 60), (240, 200, 60), (200, 90, 220),
-                 (120, 120, 120))
-INPUT, PHOTO, MIRROR, FALLBACK, FILL, RECOLORED, SHADOW = range(7)
-#: PatchMatch runs on crops at most this many pixels on a side (larger ones are filled at a coarser scale).
-PATCHMATCH_MAX_SIDE = 256
-
-
-class PhotoSettingsError(UserInputError):
-    """A bad photo-appearance setting (``photo.*`` of ``sdn3d-edit``)."""
-
-
-@dataclass(frozen=True)
-class PhotoSettings:
-    """How :func:`render_photo` draws an edit.
-
-    Attributes:
-        fill: :data:`FILL_METHODS` for vacated pixels (default ``auto``).
-        depth_tolerance: a carried point counts as visible when the source rasterization's depth there is
-            within this fraction of its own depth (plus 5 cm).
-        min_view_cos: ... and when the input saw its surface at least this squarely (cosine between the surface
-            normal and the line of sight): a side seen edge-on in the input covers a pixel or two there and would be
-            stretched over the whole side when the car turns.
-        mask_erode_px: input pixels the upsampled instance masks are eroded by before they vouch for a pixel
-            (None: one working pixel, ``ceil(1 / scale)``).
-        hole_dilate_px: input pixels a vacated footprint grows by (its anti-aliased rim, its shadow's edge).
-        shadow_band: height of the road band below a vacated footprint (its old contact shadow) as a fraction
-            of the footprint's height.
-        contact_shadow: darkening of the road under a moved object at its new place (0: none).
-        relight: re-shade transferred pixels for their new normals (:func:`fit_light`).
-        inpaint_radius: Telea's neighbourhood (input pixels).
-        max_level: deepest pyramid level sampled when an object shrinks (2**level smaller).
-    """
-
-    fill: str = "auto"
-    depth_tolerance: float = 0.03
-    min_view_cos: float = 0.2
-    mask_erode_px: int | None = None
-    hole_dilate_px: int = 3
-    shadow_band: float = 0.12
-    contact_shadow: float = 0.3
-    relight: bool = True
-    inpaint_radius: int = 5
-    max_level: int = 3
-
-    def __post_init__(self) -> None:
-        if self.fill not in FILL_METHODS:
-            raise PhotoSettingsError(f"photo.fill must be one of {FILL_METHODS}, got {self.fill!r}")
-        checks = (("depth_tolerance", self.depth_tolerance, 0.0, 1.0), ("shadow_band", self.shadow_band, 0.0, 1.0),
-                  ("min_view_cos", self.min_view_cos, 0.0, 1.0),
-                  ("contact_shadow", self.contact_shadow, 0.0, 1.0))
-        for name, value, lo, hi in checks:
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= float(value) <= hi:
-                raise PhotoSettingsError(f"photo.{name} must be a number in [{lo}, {hi}], got {value!r}")
-        ints = (("hole_dilate_px", self.hole_dilate_px, 0, 64), ("inpaint_radius", self.inpaint_radius, 1, 32),
-                ("max_level", self.max_level, 0, 6), ("mask_erode_px", self.mask_erode_px, 0, 16))
-        for name, value, lo, hi in ints:
-            if name == "mask_erode_px" and value is None:
-                continue
-            if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
-                raise PhotoSettingsError(f"photo.{name} must be an integer in [{lo}, {hi}], got {value!r}")
-        if not isinstance(self.relight, bool):
-            raise PhotoSettingsError(f"photo.relight must be true or false, got {self.relight!r}")
-
-    def to_dict(self) -> dict:
-        return dict(self.__dict__)
-
-    @classmethod
-    def from_mapping(cls, node: Mapping | None) -> PhotoSettings:
-        """Settings from a config mapping (``photo:`` of ``conf/edit.yaml`` / ``conf/bench.yaml``); unknown keys are
-        refused by name."""
-        values = {str(k): v for k, v in dict(node or {}).items()}
-        unknown = sorted(set(values) - set(cls.__dataclass_fields__))
-        if unknown:
-            raise PhotoSettingsError(f"photo: unknown setting(s) {unknown}; the settings are "
-                                     f"{sorted(cls.__dataclass_fields__)}")
-        return cls(**values)
-
-
-@dataclass(frozen=True)
-class LightEstimate:
-    """One directional light: ``shade(n) = ambient + (1 - ambient) max(0, n . direction)``.
-
-    Attributes:
-        direction: ``(3,)`` unit vector towards the light (camera frame); ambient: in (0, 1];
-        gain: the fit's residual cut against constant shading (0: no better, 1: perfect); pixels: used.
-    """
-
-    direction: Tensor
-    ambient: float
-    gain: float
-    pixels: int
-
-    def shade(self, normals: Tensor) -> Tensor:
-        """``(...,)`` shading of unit ``normals (..., 3)``."""
-        lam = (normals * self.direction.to(normals)).sum(-1).clamp(min=0)
-        return self.ambient + (1 - self.ambient) * lam
-
-    def to_dict(self) -> dict:
-        return {"direction": [round(float(x), 4) for x in self.direction], "ambient": round(self.ambient, 4),
-                "gain": round(self.gain, 4), "pixels": self.pixels}
+__all__ = ["PhotoResult", "PhotoCache", "render_photo"]
 
 
 @dataclass
@@ -252,15 +113,6 @@ class PhotoCache:
         return self._fills[key].clone()  # the caller draws into its picture
 
 
-def paints(ops: Sequence[object]) -> dict[int, tuple[float, float, float]]:
-    """``{instance id: sRGB paint}`` of the :class:`~sdn3d.editing.ops.SetCode` ops in ``ops`` that name a colour
-    (the last one wins)."""
-    return {int(op.instance_id): op.color for op in ops if isinstance(op, SetCode) and op.color is not None}
-
-
-# -- frames --------------------------------------------------------------------------------------------
-
-
 def _erode_ids(ids: Tensor, radius: int) -> Tensor:
     """``ids (H, W)`` with every pixel whose ``(2r+1)^2`` neighbourhood holds another id set to 0."""
     if radius <= 0:
@@ -270,279 +122,6 @@ def _erode_ids(ids: Tensor, radius: int) -> Tensor:
     hi = F.max_pool2d(F.pad(x, (radius,) * 4, mode="replicate"), k, stride=1)
     lo = -F.max_pool2d(F.pad(-x, (radius,) * 4, mode="replicate"), k, stride=1)
     return torch.where((hi == lo)[0, 0], ids, torch.zeros_like(ids))
-
-
-def _dilate(mask: Tensor, radius: int) -> Tensor:
-    if radius <= 0 or not bool(mask.any()):
-        return mask
-    return F.max_pool2d(mask[None, None].float(), 2 * radius + 1, stride=1, padding=radius)[0, 0] > 0
-
-
-# -- light ---------------------------------------------------------------------------------------------
-
-
-def _sphere(n: int) -> Tensor:
-    """``(n, 3)`` float64 unit vectors spread evenly (Fibonacci sphere)."""
-    k = torch.arange(n, dtype=torch.float64) + 0.5
-    y = 1 - 2 * k / n
-    r = (1 - y * y).sqrt()
-    phi = math.pi * (3 - math.sqrt(5)) * k
-    return torch.stack([r * phi.cos(), y, r * phi.sin()], 1)
-
-
-def luminance(rgb: Tensor) -> Tensor:
-    """``(...,)`` Rec. 709 luminance of ``rgb (..., 3)`` in [0, 1]."""
-    return rgb @ rgb.new_tensor([0.2126, 0.7152, 0.0722])
-
-
-def fit_light(colors: Tensor, normals: Tensor, groups: Tensor, directions: int = 256,
-              ambients: tuple[float, ...] = (0.15, 0.25, 0.35, 0.45, 0.55, 0.65, 0.75, 0.85)) -> LightEstimate | None:
-    """Fit one directional light and an ambient term to object pixels (module doc, step 4).
-
-    Each pixel's luminance is modelled as ``albedo[group] * shade(normal)``; per light the albedos are solved in
-    closed form on log luminance, and the light with the least squared residual wins. Very dark and saturated
-    pixels are left out, and so are lights below the horizon. Give body pixels only (:func:`body_pixels`): dark
-    windows on top of a car would otherwise read as light from below.
-
-    Args:
-        colors: ``(P, 3)`` sRGB in [0, 1]; normals: ``(P, 3)`` unit camera-frame normals; groups: ``(P,)`` object
-            index of each pixel (one albedo each).
-
-    Returns:
-        The best light, or None with fewer than 50 usable pixels.
-
-    Example:
-        >>> import torch
-        >>> n = torch.nn.functional.normalize(torch.randn(2000, 3, generator=torch.Generator().manual_seed(0)), dim=1)
-        >>> light = torch.tensor([0.0, -0.8, -0.6])
-        >>> y = 0.6 * (0.3 + 0.7 * (n @ light).clamp(min=0))
-        >>> fit = fit_light(y[:, None].expand(-1, 3), n, torch.zeros(2000, dtype=torch.long))
-        >>> bool((fit.direction @ light.double()) > 0.98), round(fit.ambient, 2)
-        (True, 0.35)
-    """
-    y = luminance(colors.double())
-    keep = (y > 0.04) & (y < 0.97) & torch.isfinite(normals).all(1)
-    if int(keep.sum()) < 50:
-        return None
-    y, n, g = y[keep], normals[keep].double(), groups[keep]
-    _, g = torch.unique(g, return_inverse=True)
-    groups_n = int(g.max()) + 1
-    count = torch.bincount(g, minlength=groups_n).double()
-    log_y = y.log()
-    dirs = _sphere(directions)
-    dirs = dirs[dirs[:, 1] <= 0.1]  # street scenes: the light comes from above the horizon (camera y points down)
-    amb = torch.tensor(ambients, dtype=torch.float64)
-    lam = (n @ dirs.T).clamp(min=0)  # (P, D)
-    log_s = (amb[None, None, :] + (1 - amb[None, None, :]) * lam[..., None]).log().flatten(1)  # (P, D*A)
-    resid = log_y[:, None] - log_s
-    mean = torch.zeros(groups_n, resid.shape[1], dtype=torch.float64).index_add_(0, g, resid) / count[:, None]
-    err = ((resid - mean[g]) ** 2).sum(0)
-    flat = log_y - (torch.zeros(groups_n, dtype=torch.float64).index_add_(0, g, log_y) / count)[g]
-    base = float((flat**2).sum())
-    best = int(err.argmin())
-    d, a = divmod(best, len(ambients))
-    gain = 1 - float(err[best]) / base if base > 0 else 0.0
-    return LightEstimate(dirs[d].float(), float(amb[a]), gain, int(keep.sum()))
-
-
-# -- fills ---------------------------------------------------------------------------------------------
-
-
-def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5, patch_size: int = 3,
-            keep_out: Tensor | None = None) -> Tensor:
-    """``image (3, H, W)`` float in [0, 1] with ``hole (H, W)`` filled, each connected part of the hole on its own
-    bounding box plus a margin (:func:`_inpaint_part`; ``method`` there, or ``'auto'``)."""
-    import cv2
-
-    if not bool(hole.any()):
-        return image
-    count, labels = cv2.connectedComponents(hole.numpy().astype(np.uint8), connectivity=8)
-    depth = cv2.distanceTransform(hole.numpy().astype(np.uint8), cv2.DIST_L2, 3) if method == "auto" else None
-    labels = torch.from_numpy(labels)
-    for k in range(1, count):
-        part = labels == k
-        how = method
-        if method == "auto":  # thin gaps smear little under Telea; large holes need copied texture
-            how = "telea" if float(depth[part.numpy()].max()) <= AUTO_THIN_PX else "patchmatch"
-        image = _inpaint_part(image, part, how, radius, patch_size, keep_out)
-    return image
-
-
-def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_size: int,
-                  keep_out: Tensor | None) -> Tensor:
-    """:func:`inpaint` of one connected ``hole`` on its box plus a margin (padded by one pixel: OpenCV mishandles
-    holes that touch the top or left edge).
-
-    Args:
-        method: ``'telea'`` (OpenCV's fast marching; smears large holes), ``'patchmatch'`` (PyPatchMatch: copies
-            patches of the surroundings; plausible road and kerb texture, slower) or ``'auto'`` (per connected part:
-            Telea where it is thin, :data:`AUTO_THIN_PX`, else PatchMatch).
-        radius: Telea's neighbourhood; patch_size: PatchMatch's patch radius.
-        keep_out: ``(H, W)`` pixels PatchMatch must not copy from (other objects).
-    """
-    import cv2
-
-    height, width = hole.shape
-    ys, xs = hole.nonzero(as_tuple=True)
-    margin = max(4 * radius + 8, (int(ys.max()) - int(ys.min()) + int(xs.max()) - int(xs.min())) // 2 + 8) \
-        if method == "patchmatch" else 4 * radius + 8
-    x0, x1 = max(int(xs.min()) - margin, 0), min(int(xs.max()) + margin + 1, width)
-    y0, y1 = max(int(ys.min()) - margin, 0), min(int(ys.max()) + margin + 1, height)
-    crop = (image[:, y0:y1, x0:x1].permute(1, 2, 0).clamp(0, 1).numpy() * 255 + 0.5).astype(np.uint8)
-    mask = hole[y0:y1, x0:x1].numpy().astype(np.uint8)
-    crop = cv2.copyMakeBorder(crop, 1, 1, 1, 1, cv2.BORDER_REPLICATE)
-    # The pad continues the hole too: a padded pixel beside a hole pixel is no known value to fill from.
-    mask = cv2.copyMakeBorder(mask, 1, 1, 1, 1, cv2.BORDER_REPLICATE)
-    if method == "patchmatch":
-        from patchmatch import patch_match
-
-        avoid = None
-        if keep_out is not None and bool(keep_out[y0:y1, x0:x1].any()):
-            avoid = cv2.copyMakeBorder((keep_out[y0:y1, x0:x1] & ~hole[y0:y1, x0:x1]).numpy().astype(np.uint8),
-                                       1, 1, 1, 1, cv2.BORDER_CONSTANT, value=0)
-        full = crop.shape[1], crop.shape[0]
-        shrink = min(1.0, PATCHMATCH_MAX_SIDE / max(full))
-        if shrink < 1.0:  # a large hole: fill at a coarser scale (its time grows with the crop's area)
-            small = max(round(full[0] * shrink), 8), max(round(full[1] * shrink), 8)
-            crop_s = cv2.resize(crop, small, interpolation=cv2.INTER_AREA)
-            mask_s = cv2.resize(mask, small, interpolation=cv2.INTER_NEAREST) | (cv2.resize(
-                mask.astype(np.float32), small, interpolation=cv2.INTER_AREA) > 0).astype(np.uint8)
-            avoid_s = None if avoid is None else cv2.resize(avoid, small, interpolation=cv2.INTER_NEAREST) & ~mask_s
-            filled = cv2.resize(patch_match.inpaint(crop_s, mask_s, global_mask=avoid_s, patch_size=patch_size),
-                                full, interpolation=cv2.INTER_LINEAR)
-        else:
-            filled = patch_match.inpaint(np.ascontiguousarray(crop), mask, global_mask=avoid, patch_size=patch_size)
-        filled = filled[1:-1, 1:-1]
-    elif method == "telea":
-        filled = cv2.inpaint(np.ascontiguousarray(crop[:, :, ::-1]), mask, radius, cv2.INPAINT_TELEA)[1:-1, 1:-1, ::-1]
-    else:
-        raise PhotoSettingsError(f"inpaint method must be 'telea', 'patchmatch' or 'auto', got {method!r}")
-    out = image.clone()
-    patch = torch.from_numpy(np.ascontiguousarray(filled)).permute(2, 0, 1).float() / 255
-    region = hole[y0:y1, x0:x1]
-    out[:, y0:y1, x0:x1] = torch.where(region[None], patch, out[:, y0:y1, x0:x1])
-    return out
-
-
-def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSettings) -> Tensor:
-    """``(H, W)`` bool pixels to fill: those of ``ids (H, W)`` (instance map) in ``gone (K,)`` (moved or deleted
-    objects), grown by ``hole_dilate_px`` and by a band below each (its old contact shadow), less ``keep (H, W)``
-    (pixels of objects that stay)."""
-    vacated = torch.isin(ids, gone) & (ids != 0)
-    hole = _dilate(vacated, settings.hole_dilate_px)
-    if settings.shadow_band > 0 and bool(vacated.any()):
-        for k in gone.tolist():
-            one = ids == k
-            rows = one.any(1).nonzero().flatten()
-            if not len(rows):
-                continue
-            band = max(1, round(settings.shadow_band * float(rows.max() - rows.min() + 1)))
-            below = F.max_pool2d(F.pad(one[None, None].float(), (0, 0, band, 0)), (band + 1, 1), stride=1)[0, 0] > 0
-            hole |= _dilate(below, 1)
-    return hole & ~keep
-
-
-def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Tensor | None = None,
-              fill: Tensor | None = None) -> Tensor:
-    """``image (3, H, W)`` with ``hole`` filled by ``settings.fill`` (:data:`FILL_METHODS`; ``fill (3, H, W)``: the
-    generator's picture at this size, for ``'generator'``); ``keep_out``: pixels PatchMatch must not copy."""
-    if not bool(hole.any()):
-        return image.clone()
-    if settings.fill == "generator":
-        if fill is None:
-            raise PhotoSettingsError("photo.fill=generator needs the generator's picture (the textural branch)")
-        return torch.where(hole[None], fill.clamp(0, 1).to(image.dtype), image)
-    return inpaint(image, hole, settings.fill, settings.inpaint_radius, keep_out=keep_out)
-
-
-def _paint(lab: Tensor, chroma_tol: float = 15.0, dark_ratio: float = 0.45) -> Tensor:
-    """``(P,)`` bool: the car's paint among its pixels ``lab (P, 3)``: the largest colour cluster
-    (:func:`_kmeans_lab`) sets the paint's chroma and lightness; paint is brighter than ``dark_ratio`` of that
-    lightness and, for a coloured car, of the same hue (within 30 degrees, chroma at least 0.3 of it: shade lowers
-    chroma, not hue), for a grey one within ``chroma_tol`` of its chroma (a, b). Windows and tyres (much darker)
-    and lights (another hue) are not paint."""
-    assign = _kmeans_lab(lab)
-    core = lab[assign == int(torch.bincount(assign).argmax())]
-    chroma, light = core[:, 1:].mean(0), core[:, 0].mean()
-    bright = lab[:, 0] > dark_ratio * light
-    size = float(chroma.norm())
-    if size <= 2 * chroma_tol / 3:  # grey, white, black or silver paint: near that chroma
-        return ((lab[:, 1:] - chroma).norm(dim=1) < chroma_tol) & bright
-    # Coloured paint: the same hue (shade lowers chroma and lightness but keeps the hue), and not greyish.
-    ab = lab[:, 1:]
-    cosine = (ab @ chroma) / (ab.norm(dim=1) * size).clamp(min=1e-6)
-    return (cosine > math.cos(math.radians(30))) & (ab.norm(dim=1) > 0.3 * size) & bright
-
-
-def body_pixels(colors: Tensor, groups: Tensor) -> Tensor:
-    """``(P,)`` bool: the paint (:func:`_paint`) among the pixels of each group (object) of ``colors (P, 3)``."""
-    body = torch.zeros(len(colors), dtype=torch.bool)
-    for g in groups.unique().tolist():
-        sel = (groups == g).nonzero().flatten()
-        if len(sel) < 8:
-            continue
-        body[sel[_paint(_lab(colors[sel]))]] = True
-    return body
-
-
-# -- recolour ------------------------------------------------------------------------------------------
-
-
-def _kmeans_lab(lab: Tensor, k: int = 3, iters: int = 10) -> Tensor:
-    """``(P,)`` cluster of each ``lab (P, 3)`` row; deterministic (centres start at lightness quantiles)."""
-    q = torch.quantile(lab[:, 0], torch.linspace(0.15, 0.85, k, dtype=lab.dtype))
-    centres = torch.stack([lab[(lab[:, 0] - qi).abs().argmin()] for qi in q])
-    assign = torch.zeros(len(lab), dtype=torch.long)
-    for _ in range(iters):
-        assign = torch.cdist(lab, centres).argmin(1)
-        for c in range(k):
-            sel = assign == c
-            if bool(sel.any()):
-                centres[c] = lab[sel].mean(0)
-    return assign
-
-
-def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float]) -> tuple[Tensor, Tensor, dict]:
-    """Repaint a car's body (module doc, step 5).
-
-    Args:
-        colors: ``(P, 3)`` sRGB in [0, 1], the car's pixels; target_rgb: the paint, sRGB in [0, 1].
-
-    Returns:
-        ``(new colours (P, 3), body (P,) bool, stats)``; ``stats``: ``body_share``, ``delta_e`` (CIE76 distance of
-        the repainted body's mean Lab to the target's).
-
-    Example:
-        >>> import torch
-        >>> car = torch.tensor([[0.8, 0.8, 0.82]]).repeat(300, 1) * torch.linspace(0.7, 1.0, 300)[:, None]
-        >>> car[:60] = 0.05  # windows and tyres
-        >>> new, body, stats = recolor_pixels(car, (0.7, 0.08, 0.08))
-        >>> bool(body[:60].any()), bool(body[60:].all()), stats["delta_e"] < 3, bool((new[:60] == car[:60]).all())
-        (False, True, True, True)
-    """
-    if len(colors) < 8:
-        return colors, torch.zeros(len(colors), dtype=torch.bool), {"body_share": 0.0, "delta_e": float("nan")}
-    lab = _lab(colors)
-    body = _paint(lab)
-    target = _lab(torch.tensor([target_rgb], dtype=colors.dtype))[0]
-    shift = target - lab[body].mean(0)
-    new_lab = lab + shift
-    new = _rgb(new_lab).clamp(0, 1)
-    out = torch.where(body[:, None], new, colors)
-    delta = float((_lab(out[body]).mean(0) - target).norm())
-    return out, body, {"body_share": float(body.double().mean()), "delta_e": delta}
-
-
-def _lab(rgb: Tensor) -> Tensor:
-    """``(P, 3)`` CIE Lab of sRGB rows in [0, 1] (kornia's conversion)."""
-    return kornia.color.rgb_to_lab(rgb.float().clamp(0, 1).T[:, :, None])[:, :, 0].T
-
-
-def _rgb(lab: Tensor) -> Tensor:
-    return kornia.color.lab_to_rgb(lab.float().T[:, :, None], clip=True)[:, :, 0].T
-
-
-# -- transfer ------------------------------------------------------------------------------------------
 
 
 @dataclass
@@ -684,12 +263,6 @@ def _contact_shadow(objects: ObjectTable, rows: list[int], K: Tensor, size: tupl
         sigma = max(0.6, 0.25 * span)
         canvas = np.maximum(canvas, cv2.GaussianBlur(layer, (0, 0), sigma))
     return torch.from_numpy(canvas)
-
-
-def source_picture(source: Tensor) -> np.ndarray:
-    """``(H, W, 3)`` uint8 picture of a :attr:`PhotoResult.source` map (colours :data:`SOURCE_COLORS`)."""
-    lut = np.asarray(SOURCE_COLORS, np.uint8)
-    return lut[source.cpu().numpy().astype(np.int64)]
 
 
 def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edited: SceneCode,
@@ -949,4 +522,3 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     source = source.clone()
     source.view(-1)[pix] = codes
     return flat.view(height, width, 3).permute(2, 0, 1), source, objects
-

@@ -71,10 +71,10 @@ from sdn3d.data.scene_gt import ground_truth
 from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
 from sdn3d.data.vkitti1 import read_frames
 from sdn3d.derender import Models, derender
+from sdn3d.editing.appearance import render_maps
 from sdn3d.editing.apply import apply_edits, ops_from_benchmark
 from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
 from sdn3d.editing.inputs import fit_transform
-from sdn3d.editing.render import render_maps
 from sdn3d.evaluation.edit_benchmark import index_records
 from sdn3d.geometric.model import GeometricNet
 from sdn3d.geometric.predict import GeometricPredictor, net_kwargs_from_hparams

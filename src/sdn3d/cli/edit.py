@@ -514,7 +514,8 @@ def _box_settings(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, b
 
 def appearance_settings(cfg: Any) -> tuple[str, Any]:
     """``(appearance, PhotoSettings)`` of ``appearance`` and ``photo.*`` (checked before anything is loaded)."""
-    from sdn3d.editing.photo.settings import APPEARANCES, PhotoSettings
+    from sdn3d.editing.appearance import APPEARANCES
+    from sdn3d.editing.photo.settings import PhotoSettings
 
     appearance = str(cfg.get("appearance", "photo"))
     if appearance not in APPEARANCES:

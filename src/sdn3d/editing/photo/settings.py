@@ -1,5 +1,4 @@
-"""The photo appearance's settings (:class:`PhotoSettings`), its fill methods and its source-map codes.
-"""
+"""The photo appearance's settings (:class:`PhotoSettings`), its fill methods and its source-map codes."""
 
 from __future__ import annotations
 
@@ -11,14 +10,11 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 
-__all__ = ["APPEARANCES", "FILL_METHODS", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE",
+__all__ = ["FILL_METHODS", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE",
            "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PhotoSettings", "PhotoSettingsError",
            "source_picture"]
 
 
-#: ``photo``: the input's own pixels through each object's 3D shape (module doc); ``generator``: the textural
-#: generator's pixels (the paper's).
-APPEARANCES = ("photo", "generator")
 #: How vacated pixels are filled: OpenCV's Telea (fast; the best weight-free fill by L1 and PSNR on a held-out
 #: synthetic benchmark's delete and occluder entries, by 0.3-0.5 dB, but it smears bushes and facades across a large
 #: hole), PatchMatch (PyPatchMatch: copies texture, plausible road on large holes, slower), ``auto`` (the default: Telea

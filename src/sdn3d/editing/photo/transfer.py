@@ -37,7 +37,7 @@ from sdn3d.render.settings import RasterSettings
 from sdn3d.scene.code import ObjectTable, SceneCode
 from sdn3d.scene.maps import compose_instances, posed_meshes
 
-__all__ = ["PhotoResult", "PhotoCache", "render_photo"]
+__all__ = ["PhotoResult", "PhotoSource", "render_photo"]
 
 
 @dataclass
@@ -65,42 +65,57 @@ class PhotoResult:
                 "warnings": list(self.warnings)}
 
 
-class PhotoCache:
+class PhotoSource:
     """What :func:`render_photo` computes from the unedited scene alone, kept between edits of that one scene (an
-    interactive editor redraws only what changed; ``sdn3d.editing.session``).
+    interactive editor redraws only what changed; :mod:`sdn3d.editing.appearance`'s ``SourceState`` holds it).
 
-    It holds the source instance maps, the source rasterization, the fitted light and the filled vacated pixels per
-    set of objects that left and stayed (the fill depends on nothing else). Every value is what the uncached call
-    computes, so pictures are bit-identical with and without it; it is bound to the first ``(original, scene,
-    transform, settings)`` it serves and refuses any other (a stale cache would draw another image's pixels).
+    Every value is what a call without it computes, so pictures are bit-identical with and without it. It serves one
+    ``(original, scene, frame, settings)`` (:meth:`check`: a stale one would draw another image's pixels).
 
-    Args:
+    Attributes:
+        original: ``(3, H_in, W_in)`` the input (uint8 or float); frame: how it became the scene's working image;
+        scene: the unedited scene; bank: its meshes; settings: the photo settings it was made for.
+        image: ``(3, H_in, W_in)`` float32 in [0, 1], the input.
+        K: ``(3, 3)`` float64, the input image's camera (:func:`~sdn3d.editing.frame.input_intrinsics`).
+        erode: input pixels the instance masks are eroded by (:attr:`PhotoSettings.mask_erode_px`, resolved).
+        src_ids: ``(H_in, W_in)`` int64 source instance map at the input's resolution; vis_ids: eroded.
+        raster: the source objects rasterized at the input's resolution.
         max_fills: filled pictures kept (each ``3 x H x W`` float32: ~5.6 MB at 1242x375); the oldest goes first.
     """
 
-    def __init__(self, max_fills: int = 8) -> None:
+    def __init__(self, original: Tensor, frame: PixelFrame, scene: SceneCode, bank: MeshBank | None = None,
+                 settings: PhotoSettings | None = None, max_fills: int = 8) -> None:
+        self.original, self.frame, self.scene = original, frame, scene
+        self.bank = bank or default_bank()
+        self.settings = settings or PhotoSettings()
         self.max_fills = int(max_fills)
-        self._bound: tuple | None = None
-        self._values: dict[str, object] = {}
+        self._key = self._bind_key(original, scene, frame, self.settings)
+        self.image = original.float() / 255 if original.dtype == torch.uint8 else original.float().clone()
+        self.K = input_intrinsics(scene.intrinsics, frame).matrix(dtype=torch.float64)
+        erode = self.settings.mask_erode_px
+        self.erode = max(1, math.ceil(1 / min(frame.scale))) if erode is None else erode
+        w_in, h_in = frame.input_size
+        self.src_ids = upsample_ids(compose_instances(scene, self.bank).cpu(), frame)
+        self.vis_ids = _erode_ids(self.src_ids, self.erode)
+        rows, verts, faces = posed_meshes(scene.objects, self.bank)
+        self.raster = _rasterize(rows.cpu(), verts.cpu(), faces.cpu(), self.K, (h_in, w_in))
+        self._light: tuple[Tensor, LightEstimate | None] | None = None
         self._fills: dict[tuple, Tensor] = {}
 
-    def bind(self, original: Tensor, scene: SceneCode, transform: PixelFrame, settings: PhotoSettings) -> None:
-        """Serve only this input, scene, transform and settings (checked on every call of :func:`render_photo`).
+    @staticmethod
+    def _bind_key(original: Tensor, scene: SceneCode, frame: PixelFrame, settings: PhotoSettings) -> tuple:
+        return original.data_ptr(), tuple(original.shape), original.dtype, id(scene), frame, settings
 
-        Raises:
-            ValueError: the cache already serves another scene or settings.
-        """
-        key = (original.data_ptr(), tuple(original.shape), original.dtype, id(scene), transform, settings)
-        if self._bound is None:
-            self._bound, self._refs = key, (original, scene)  # the refs keep the memory and the id in use
-        elif self._bound != key:
-            raise ValueError("PhotoCache serves one (original, scene, transform, settings); make one per scene")
+    def check(self, original: Tensor, scene: SceneCode, frame: PixelFrame, settings: PhotoSettings) -> None:
+        """Raises ValueError unless this serves ``(original, scene, frame, settings)``."""
+        if self._bind_key(original, scene, frame, settings) != self._key:
+            raise ValueError("PhotoSource serves one (original, scene, transform, settings); make one per scene")
 
-    def get(self, name: str, make):
-        """The value ``make()`` computed the first time ``name`` was asked for."""
-        if name not in self._values:
-            self._values[name] = make()
-        return self._values[name]
+    def light(self) -> tuple[Tensor, LightEstimate | None]:
+        """``(normals (H*W, 3), light or None)`` of the source (:func:`_source_light`), fitted on first use."""
+        if self._light is None:
+            self._light = _source_light(self.raster, self.vis_ids, self.scene.objects, self.image)
+        return self._light
 
     def fill(self, key: tuple, make) -> Tensor:
         """A copy of the filled picture of ``key`` (the objects that left and stayed), made by ``make()`` once."""
@@ -268,7 +283,7 @@ def _contact_shadow(objects: ObjectTable, rows: list[int], K: Tensor, size: tupl
 def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edited: SceneCode,
                  bank: MeshBank | None = None, settings: PhotoSettings | None = None,
                  recolor: Mapping[int, tuple[float, float, float]] | None = None,
-                 generated: Tensor | None = None, cache: PhotoCache | None = None) -> PhotoResult:
+                 generated: Tensor | None = None, source: PhotoSource | None = None) -> PhotoResult:
     """Draw the edit of ``scene`` into ``edited`` with the input's own pixels (module doc).
 
     Args:
@@ -278,8 +293,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         bank: the objects' template meshes (default: the 8 templates).
         recolor: ``{instance id: sRGB paint}`` of objects to repaint (``recolor`` ops with a named colour).
         generated: ``(3, h, w)`` the generator's edited picture at the working size, for ``fill='generator'``.
-        cache: what a previous call on the same ``original``, ``scene``, ``transform`` and ``settings`` computed from
-            the unedited scene alone (:class:`PhotoCache`; the result is the same bit for bit); None: nothing kept.
+        source: what a previous call on the same ``original``, ``scene``, ``transform`` and ``settings`` computed from
+            the unedited scene alone (:class:`PhotoSource`; the result is the same bit for bit); None: made here.
 
     Returns:
         :class:`PhotoResult`; pixels no edit touches are the input's, bit for bit.
@@ -294,12 +309,10 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     if settings.fill == "generator" and generated is None:
         raise PhotoSettingsError("photo.fill=generator needs the generator's picture (the textural branch)")
     size = (h_in, w_in)
-    if cache is None:
-        cache = PhotoCache(max_fills=0)
-    cache.bind(original, scene, transform, settings)
-    image = cache.get("image", lambda: original.float() / 255 if original.dtype == torch.uint8
-                      else original.float().clone())
-    K = input_intrinsics(scene.intrinsics, transform).matrix(dtype=torch.float64)
+    if source is None:
+        source = PhotoSource(original, transform, scene, bank, settings, max_fills=0)
+    source.check(original, scene, transform, settings)
+    image, K = source.image, source.K
     before, after = scene.objects, edited.objects
     warnings: list[str] = []
 
@@ -313,12 +326,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         stays[ra] = _same_pose(before, after, origin[ra], ra)
     moved = ~stays & has & after.has_geometry
     gone_ids = before.instance_id[~torch.isin(before.instance_id, after.instance_id[stays])]
-    erode = settings.mask_erode_px
-    if erode is None:
-        erode = max(1, math.ceil(1 / min(transform.scale)))
-
-    src_ids = cache.get("src_ids", lambda: upsample_ids(compose_instances(scene, bank).cpu(), transform))
-    vis_ids = cache.get("vis_ids", lambda: _erode_ids(src_ids, erode))
+    src_ids, vis_ids = source.src_ids, source.vis_ids
     own = torch.where(torch.isin(src_ids, after.instance_id[stays]), src_ids, torch.zeros_like(src_ids))
     # Freed pixels an object that stays now covers (amodal completion in apply_edits).
     grown_rows = []
@@ -330,11 +338,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
             own = torch.where(up, after.instance_id[a], own)
             grown_rows.append(a)
 
-    def source_raster() -> _Raster:
-        src_rows, src_verts, src_faces = posed_meshes(before, bank)
-        return _rasterize(src_rows.cpu(), src_verts.cpu(), src_faces.cpu(), K, size)
-
-    src = cache.get("src", source_raster)
+    src = source.raster
     src_row_to_mesh = torch.full((len(before),), -1, dtype=torch.long)
     src_row_to_mesh[src.rows] = torch.arange(len(src.rows))
 
@@ -342,7 +346,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     light = None
     src_normals = None
     if settings.relight and len(src.rows) and (bool(moved.any()) or grown_rows):
-        src_normals, light = cache.get("light", lambda: _source_light(src, vis_ids, before, image))
+        src_normals, light = source.light()
     shade = light.shade if light is not None else None
 
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
@@ -353,7 +357,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     else:  # the hole and its fill depend only on which objects left and which stayed
         stay_ids = after.instance_id[stays]
         key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
-        out = cache.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0))
+        out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0))
     source = torch.where(hole, FILL, INPUT).to(torch.uint8)
 
     # Contact shadows of moved objects, on the road only (drawn objects cover the rest below).

@@ -117,9 +117,8 @@ def make(work: Path) -> dict:
     import yaml
 
     sys.path.insert(0, str(REPO))
-    from tests.helpers.tiny_models import write_checkpoints
-
     from sdn3d.data.synth import SynthConfig, generate_dataset
+    from tests.helpers.tiny_models import write_checkpoints
 
     work.mkdir(parents=True, exist_ok=True)
     ckpts = write_checkpoints(work / "ckpt", seed=0)
@@ -138,13 +137,15 @@ def make(work: Path) -> dict:
         rc = _run([py, "-m", "sdn3d.cli.edit", f"input.image={FRAME}", "proposals=boxes", f"edits={spec}",
                    f"output_dir={out}", "diagnostics=true", *common, *extra], work / f"{name}.log")
         results[f"edit/{name}"] = {"rc": rc, **(digest_tree(out) if out.exists() else {})}
-    frame_spec = work / "specs" / "frame_move.yaml"
-    frame_spec.write_text(yaml.safe_dump([{"op": "move", "at": [150, 70], "to": [170, 72]},
-                                          {"op": "rotate", "at": [200, 70], "ry_deg": 60}]))
-    for proposals in ("gt", "semantic"):
+    frame_specs = {"gt": [{"op": "move", "id": 13001, "to": [170, 52]}, {"op": "rotate", "id": 13003, "ry_deg": 60},
+                          {"op": "delete", "id": 12006}],
+                   "semantic": []}  # tiny random branches: list what they propose
+    for proposals, ops in frame_specs.items():
+        frame_spec = work / "specs" / f"frame_{proposals}.yaml"
+        frame_spec.write_text(yaml.safe_dump(ops))
         out = work / "edit" / f"frame_{proposals}"
         rc = _run([py, "-m", "sdn3d.cli.edit", "data=synth", f"data.root={synth}", "input.frame=6",
-                   f"proposals={proposals}", f"edits={frame_spec}", "strict=false", f"output_dir={out}", *common],
+                   f"proposals={proposals}", f"edits={frame_spec}", f"output_dir={out}", *common],
                   work / f"frame_{proposals}.log")
         results[f"edit/frame_{proposals}"] = {"rc": rc, **(digest_tree(out) if out.exists() else {})}
     out = work / "bench"

@@ -103,15 +103,29 @@ def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSetting
     vacated = torch.isin(ids, gone) & (ids != 0)
     hole = _dilate(vacated, settings.hole_dilate_px)
     if settings.shadow_band > 0 and bool(vacated.any()):
-        for k in gone.tolist():
-            one = ids == k
-            rows = one.any(1).nonzero().flatten()
-            if not len(rows):
-                continue
-            band = max(1, round(settings.shadow_band * float(rows.max() - rows.min() + 1)))
-            below = F.max_pool2d(F.pad(one[None, None].float(), (0, 0, band, 0)), (band + 1, 1), stride=1)[0, 0] > 0
-            hole |= _dilate(below, 1)
+        hole |= _dilate(_shadow_bands(ids, gone, settings.shadow_band), 1)
     return hole & ~keep
+
+
+def _shadow_bands(ids: Tensor, gone: Tensor, share: float) -> Tensor:
+    """``(H, W)`` bool: the pixels at most ``band`` rows below a pixel of an object of ``gone`` in ``ids``, ``band``
+    being ``share`` of that object's height (at least 1), all objects in one pass: a running count of each
+    object's pixels down every column, differenced ``band + 1`` rows apart."""
+    height = ids.shape[0]
+    gone = gone[torch.isin(gone, ids)] if len(gone) else gone
+    if not len(gone):
+        return torch.zeros_like(ids, dtype=torch.bool)
+    one = ids[None] == gone[:, None, None]  # (K, H, W)
+    rows = one.any(2)  # (K, H)
+    at = torch.arange(height)
+    top = torch.where(rows, at, height).amin(1)
+    bottom = torch.where(rows, at, -1).amax(1)
+    bands = torch.tensor([max(1, round(share * float(b - t + 1))) for t, b in zip(top.tolist(), bottom.tolist(),
+                                                                                 strict=True)])
+    count = F.pad(one.to(torch.int32).cumsum(1), (0, 0, 1, 0))  # (K, H + 1, W): pixels in rows < i
+    start = (at[None] - bands[:, None]).clamp(min=0)  # (K, H): the first row of each pixel's window
+    index = start[:, :, None].expand(-1, -1, ids.shape[1])
+    return ((count[:, 1:] - count.gather(1, index)) > 0).any(0)
 
 
 def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Tensor | None = None,

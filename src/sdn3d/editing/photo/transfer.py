@@ -272,12 +272,87 @@ def _contact_shadow(objects: ObjectTable, rows: list[int], K: Tensor, size: tupl
         if np.abs(poly).max() > 1e5:
             continue
         hull = cv2.convexHull(np.round(poly * 4).astype(np.int32))
-        layer = np.zeros_like(canvas)
-        cv2.fillConvexPoly(layer, hull, 1.0, lineType=cv2.LINE_AA, shift=2)
         span = max(float(poly[:, 1].max() - poly[:, 1].min()), 2.0)
         sigma = max(0.6, 0.25 * span)
-        canvas = np.maximum(canvas, cv2.GaussianBlur(layer, (0, 0), sigma))
+        window = _blur_window(hull, sigma, (height, width))
+        if window is None:  # the footprint lies outside the picture: its blur is 0 everywhere
+            continue
+        y0, y1, x0, x1 = window
+        layer = np.zeros((y1 - y0, x1 - x0), np.float32)
+        cv2.fillConvexPoly(layer, hull - np.array([4 * x0, 4 * y0], np.int32), 1.0, lineType=cv2.LINE_AA, shift=2)
+        crop = canvas[y0:y1, x0:x1]
+        np.maximum(crop, cv2.GaussianBlur(layer, (0, 0), sigma), out=crop)
     return torch.from_numpy(canvas)
+
+
+def _blur_window(hull: np.ndarray, sigma: float, size: tuple[int, int]) -> tuple[int, int, int, int] | None:
+    """``(y0, y1, x0, x1)`` of the canvas a Gaussian blur (``sigma``) of the polygon ``hull`` (2 fractional bits)
+    changes, padded so that the blur of that crop equals the whole canvas's blur there bit for bit: by twice the
+    kernel's radius (what the crop's mirrored border brings in is zero), left edges on multiples of 64 columns and
+    64 spare columns on the right (OpenCV's vector lanes fall on the same pixels); the canvas's edge where it is
+    near (mirrored the same way). None: the polygon misses the canvas."""
+    height, width = size
+    radius = (int(round(sigma * 8 + 1)) | 1) // 2 + 2  # OpenCV's float kernel size, 2 pixels more
+    lo = hull.reshape(-1, 2).min(0) // 4 - 2
+    hi = hull.reshape(-1, 2).max(0) // 4 + 3
+    if lo[0] >= width or lo[1] >= height or hi[0] <= 0 or hi[1] <= 0:
+        return None
+    x0 = max(int(lo[0]) - 2 * radius, 0) // 64 * 64
+    y0 = max(int(lo[1]) - 2 * radius, 0)
+    x1 = min(int(hi[0]) + 2 * radius + 64, width)
+    y1 = min(int(hi[1]) + 2 * radius + 64, height)
+    return y0, y1, x0, x1
+
+
+
+def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, stays: Tensor,
+          transform: PixelFrame) -> tuple[Tensor, list[int]]:
+    """``(own, grown rows)``: ``own (H_in, W_in)`` with the freed pixels each object that stays now covers (its mask
+    gained them: amodal completion) given to it, the first such object in table order where several do."""
+    rows = stays.nonzero().flatten()
+    if not len(rows):
+        return own, []
+    gained = after.mask[rows] & ~before.mask[origin[rows]]  # (S, h, w)
+    grew = gained.flatten(1).any(1)
+    if not bool(grew.any()):
+        return own, []
+    rows, gained = rows[grew], gained[grew]
+    first = gained.to(torch.uint8).argmax(0)  # the first object (in table order) that gained each pixel
+    labels = torch.where(gained.any(0), after.instance_id[rows][first], torch.zeros_like(first))
+    up = upsample_ids(labels.to(after.instance_id.dtype), transform)
+    own = torch.where((up != 0) & (own == 0), up.to(own.dtype), own)
+    return own, rows.tolist()
+
+
+def _pixels_of(ids: Tensor, wanted: Tensor):
+    """``lookup(i) -> (P,)`` ascending flat indices of the pixels of ``ids (H, W)`` equal to ``i`` (one of
+    ``wanted``): one scan of the picture for all of them."""
+    flat = ids.view(-1)
+    pix = torch.isin(flat, wanted).nonzero().flatten()
+    at = flat[pix]
+    return lambda i: pix[at == i]
+
+
+def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, tuple[float, float, float]],
+             objects: dict[int, dict], warnings: list[str]) -> tuple[Tensor, Tensor]:
+    """Step 5: each object of ``recolor`` repainted in ``out (3, H, W)`` where ``owner (H, W)`` holds its id;
+    ``source`` says :data:`RECOLORED` where a pixel of the input changed."""
+    pixels_of = _pixels_of(owner, torch.tensor([int(i) for i in recolor], dtype=owner.dtype))
+    flat = out.permute(1, 2, 0).reshape(-1, 3).clone()
+    codes = source.view(-1).clone()
+    for iid, rgb in recolor.items():
+        pix = pixels_of(int(iid))
+        if not len(pix):
+            warnings.append(f"recolor: object {iid} has no pixels in the picture")
+            continue
+        colors = flat[pix]
+        new, body, stats = recolor_pixels(colors, tuple(rgb))
+        flat[pix] = new
+        repainted = pix[(new != colors).any(1)]
+        codes[repainted] = torch.where(codes[repainted] == INPUT, RECOLORED, codes[repainted]).to(torch.uint8)
+        objects.setdefault(int(iid), {}).update({"recolor": {"color": [round(float(c), 4) for c in rgb], **stats}})
+    height, width = owner.shape
+    return flat.view(height, width, 3).permute(2, 0, 1), codes.view(height, width)
 
 
 def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edited: SceneCode,
@@ -329,14 +404,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     src_ids, vis_ids = source.src_ids, source.vis_ids
     own = torch.where(torch.isin(src_ids, after.instance_id[stays]), src_ids, torch.zeros_like(src_ids))
     # Freed pixels an object that stays now covers (amodal completion in apply_edits).
-    grown_rows = []
-    for a in stays.nonzero().flatten().tolist():
-        b = int(origin[a])
-        gained = after.mask[a] & ~before.mask[b]
-        if bool(gained.any()):
-            up = upsample_ids(gained.long(), transform).bool() & (own == 0)
-            own = torch.where(up, after.instance_id[a], own)
-            grown_rows.append(a)
+    own, grown_rows = _grow(own, before, after, origin, stays, transform)
 
     src = source.raster
     src_row_to_mesh = torch.full((len(before),), -1, dtype=torch.long)
@@ -386,20 +454,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     final_own = own.clone()
     for iid, info in objects.items():
         final_own.view(-1)[info.pop("_pixels")] = iid
-    for iid, rgb in recolor.items():
-        region = final_own == int(iid)
-        if not bool(region.any()):
-            warnings.append(f"recolor: object {iid} has no pixels in the picture")
-            continue
-        colors = out.permute(1, 2, 0)[region]
-        new, body, stats = recolor_pixels(colors, tuple(rgb))
-        flat = out.permute(1, 2, 0).clone()
-        flat[region] = new
-        out = flat.permute(2, 0, 1)
-        repainted = torch.zeros_like(region)
-        repainted[region] = (new != colors).any(1)
-        source = torch.where(repainted & (source == INPUT), RECOLORED, source).to(torch.uint8)
-        objects.setdefault(int(iid), {}).update({"recolor": {"color": [round(float(c), 4) for c in rgb], **stats}})
+    if recolor:
+        out, source = _recolor(out, source, final_own, recolor, objects, warnings)
     result = out.clamp(0, 1)
     changed = source != INPUT
     if original.dtype == torch.uint8:
@@ -495,11 +551,13 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     objects: dict[int, dict] = {}
     fallback = torch.zeros_like(color)
     img_flat = image.permute(1, 2, 0).reshape(-1, 3).double()
-    for r in row.unique().tolist():
+    drawn_rows = row.unique()
+    visible_of = _pixels_of(vis_ids, before.instance_id[origin[drawn_rows][origin[drawn_rows] >= 0]])
+    for r in drawn_rows.tolist():
         sel = row == r
         b = int(origin[r])
         name = int(after.instance_id[r])
-        visible_px = (vis_ids.view(-1) == int(before.instance_id[b])).nonzero().flatten() if b >= 0 else pix[:0]
+        visible_px = visible_of(int(before.instance_id[b])) if b >= 0 else pix[:0]
         if len(visible_px):
             colors = img_flat[visible_px]
             if shade is not None and src_normals is not None:

@@ -41,12 +41,14 @@ from sdn3d.editing.ops import EditOp
 from sdn3d.editing.photo.recolor import paints
 from sdn3d.editing.photo.settings import PhotoSettings, PhotoSettingsError
 from sdn3d.editing.photo.transfer import PhotoResult, PhotoSource, render_photo
+from sdn3d.editing.spec import EditSpec, code_bank_needed
 from sdn3d.math3d.rotations import NUM_POSE_BINS
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import ComposedMaps, scene_maps
 
 if TYPE_CHECKING:
+    from sdn3d.textural.codes import CodeBank
     from sdn3d.textural.renderer import TexturalRenderer
 
 __all__ = ["Appearance", "APPEARANCES", "SourceState", "Drawn", "AppearanceRenderer", "PhotoRenderer",
@@ -149,6 +151,11 @@ class AppearanceRenderer(Protocol):
     def needs_generator(self) -> bool:
         """Whether :meth:`draw` runs the textural generator."""
 
+    def check(self, spec: EditSpec, code_bank: CodeBank | None) -> None:
+        """Raises :class:`~sdn3d.editing.ops.EditError` (naming the op) where ``spec``, resolved with ``code_bank``
+        (:func:`~sdn3d.editing.spec.resolve_ops`), asks for what this appearance cannot draw; called right after
+        resolving, before anything is drawn."""
+
     def prepare(self, original: Tensor, frame: PixelFrame, scene: SceneCode,
                 bank: MeshBank | None = None) -> SourceState:
         """The state of the unedited ``scene`` (``original (3, H_in, W_in)`` the input, ``frame`` its transform,
@@ -178,6 +185,9 @@ class PhotoRenderer:
     @property
     def needs_generator(self) -> bool:
         return self.settings.fill == "generator"
+
+    def check(self, spec: EditSpec, code_bank: CodeBank | None) -> None:
+        """Everything resolved is drawable: a named colour repaints the car's own pixels (no code bank needed)."""
 
     def prepare(self, original: Tensor, frame: PixelFrame, scene: SceneCode,
                 bank: MeshBank | None = None) -> SourceState:
@@ -211,6 +221,10 @@ class GeneratorRenderer:
     @property
     def needs_generator(self) -> bool:
         return True
+
+    def check(self, spec: EditSpec, code_bank: CodeBank | None) -> None:
+        """A named colour is drawn through a bank code of that colour: without a code bank, an error."""
+        code_bank_needed(spec, code_bank)
 
     def prepare(self, original: Tensor, frame: PixelFrame, scene: SceneCode,
                 bank: MeshBank | None = None) -> SourceState:

@@ -316,7 +316,8 @@ class EditSession:
         s = self.settings
         generator = torch.Generator().manual_seed(int(s.seed))
         ops = resolve_ops(spec, derendered.scene, self.code_bank, s.pick_radius, strict=s.strict, generator=generator,
-                          frame=derendered.input.frame, appearance=s.appearance)
+                          frame=derendered.input.frame)
+        self.renderer.check(spec, self.code_bank)
         return ops, apply_spec(derendered.scene, ops, spec)
 
     def edit(self, derendered: Derendered, spec: EditSpec) -> EditResult:

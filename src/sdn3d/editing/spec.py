@@ -92,7 +92,7 @@ from sdn3d.textural.codes import CodeBank
 
 __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
            "apply_spec", "read_yaml", "MAX_OPS", "EXCERPT_CHARS", "BoxObjectSpec", "box_prompts",
-           "MAX_BOX_OBJECTS"]
+           "MAX_BOX_OBJECTS", "code_bank_needed"]
 
 OP_KINDS = ("move", "rotate", "zoom", "delete", "recolor", "duplicate", "modify")
 _FIELDS = {"move": {"to"}, "rotate": {"ry_deg", "ry_rad"}, "zoom": {"zoom", "on_ground"}, "delete": set(),
@@ -587,8 +587,7 @@ def _check_inside(op: OpSpec, points: tuple, spec: EditSpec, scene: SceneCode, f
 
 def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = None,
                 pick_radius: float | None = 16.0, bank: MeshBank | None = None, strict: bool = True,
-                generator: torch.Generator | None = None, frame: PixelFrame | None = None,
-                appearance: str = "photo") -> list[EditOp]:
+                generator: torch.Generator | None = None, frame: PixelFrame | None = None) -> list[EditOp]:
     """Turn ``spec`` into :mod:`sdn3d.editing.apply` operations on ``scene`` (every check that needs the scene).
 
     Args:
@@ -598,8 +597,6 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
         generator: randomness of ``sample`` (an op's ``seed`` overrides it).
         frame: the input image -> scene transform; the spec's points are then input-image pixels (or
             ``frame_size`` pixels of the resized input). None: the scene's pixels (or ``frame_size``'s).
-        appearance: how the edit will be drawn (:data:`~sdn3d.editing.photo.APPEARANCES`): with ``'photo'`` a
-            ``recolor`` by ``color`` needs no code bank (the car's own pixels are repainted).
 
     Raises:
         EditError: naming the op: no such object, an object without geometry for a 3D edit, a target
@@ -654,18 +651,35 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
         elif op.kind == "modify":
             ops.append(Modify(iid, to, op.zoom, op.ry))
         else:
-            ops.append(_set_code(op, iid, row, scene, code_bank, generator, what, appearance))
+            ops.append(_set_code(op, iid, row, scene, code_bank, generator, what))
     return ops
 
 
 def _set_code(op: OpSpec, iid: int, row: int, scene: SceneCode, code_bank: CodeBank | None,
-              generator: torch.Generator | None, what: str, appearance: str) -> SetCode:
-    """A ``recolor`` of an object: its code (:func:`_code`) and, for ``color``, the paint. The photo appearance
-    repaints the car itself, so there a named colour needs no code bank (the object keeps its code)."""
+              generator: torch.Generator | None, what: str) -> SetCode:
+    """A ``recolor`` of an object: its code (:func:`_code`) and, for ``color``, the paint. Without a code bank a
+    named colour keeps the object's code (an appearance that draws codes refuses it:
+    :func:`code_bank_needed`)."""
     color = named_color(op.color) if op.color is not None else None
-    if color is not None and appearance == "photo" and code_bank is None:
+    if color is not None and code_bank is None:
         return SetCode(iid, tuple(float(c) for c in scene.objects.code[row]), color)
     return SetCode(iid, _code(op, int(scene.objects.class_id[row]), scene, code_bank, generator, what), color)
+
+
+def _no_code_bank(what: str, field: str) -> EditError:
+    return EditError(f"{what}: {field} needs a code bank of training codes (code_bank=<file>; sdn3d-train writes "
+                     "<checkpoint>.code_bank.json next to the textural checkpoint)")
+
+
+def code_bank_needed(spec: EditSpec, code_bank: CodeBank | None) -> None:
+    """For an appearance that draws texture codes (the generator): raises the :class:`EditError` naming the first
+    ``recolor`` of an object by ``color`` when there is no code bank to pick its code from (:func:`resolve_ops`
+    then keeps the object's code, which only the photo appearance repaints)."""
+    if code_bank is not None:
+        return
+    for op in spec.ops:
+        if op.kind == "recolor" and op.class_ is None and op.color is not None:
+            raise _no_code_bank(op.describe(), f"'color: {op.color}'")
 
 
 def _code(op: OpSpec, class_id: int, scene: SceneCode, code_bank: CodeBank | None,
@@ -677,8 +691,7 @@ def _code(op: OpSpec, class_id: int, scene: SceneCode, code_bank: CodeBank | Non
         return op.code
     field = f"'color: {op.color}'" if op.color is not None else "'sample: true'"
     if code_bank is None:
-        raise EditError(f"{what}: {field} needs a code bank of training codes (code_bank=<file>; sdn3d-train writes "
-                        "<checkpoint>.code_bank.json next to the textural checkpoint)")
+        raise _no_code_bank(what, field)
     if op.seed is not None:
         generator = torch.Generator().manual_seed(op.seed)
     try:

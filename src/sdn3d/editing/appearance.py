@@ -35,7 +35,13 @@ from typing import TYPE_CHECKING, Protocol
 
 from torch import Tensor
 
-from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
+from sdn3d.editing.compose import (
+    COMPOSE_MODES,
+    ComposeSettings,
+    ComposeSettingsError,
+    compose_edit,
+    edited_object_ids,
+)
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.ops import EditOp
 from sdn3d.editing.photo.recolor import paints
@@ -52,7 +58,8 @@ if TYPE_CHECKING:
     from sdn3d.textural.renderer import TexturalRenderer
 
 __all__ = ["Appearance", "APPEARANCES", "SourceState", "Drawn", "AppearanceRenderer", "PhotoRenderer",
-           "GeneratorRenderer", "RENDERERS", "appearance_renderer", "render_maps", "generate"]
+           "GeneratorRenderer", "RENDERERS", "appearance_renderer", "PICTURE_MODES", "picture_mode", "render_maps",
+           "generate"]
 
 
 class Appearance(Enum):
@@ -273,3 +280,23 @@ def appearance_renderer(appearance: Appearance | str, *, photo: PhotoSettings | 
     except ValueError:
         raise PhotoSettingsError(f"appearance must be one of {APPEARANCES}, got {appearance!r}") from None
     return RENDERERS[mode](photo, compose, textural)
+
+
+#: The editing benchmark's picture modes (:mod:`sdn3d.evaluation.edit_benchmark`): ``photo``, the photo appearance,
+#: or a compose mode of :mod:`sdn3d.editing.compose` (``edited``, ``full``), the generator appearance composed so.
+PICTURE_MODES = (Appearance.PHOTO.value, *COMPOSE_MODES)
+
+
+def picture_mode(mode: str, compose: ComposeSettings | None = None) -> tuple[Appearance, ComposeSettings | None]:
+    """``(appearance, its compose settings or None)`` of a picture mode (:data:`PICTURE_MODES`), for
+    :func:`appearance_renderer`; ``compose``: the dilation and feathering of the generator's modes (None: defaults).
+
+    Raises:
+        ComposeSettingsError: not a picture mode (or bad compose settings).
+    """
+    if mode == Appearance.PHOTO.value:
+        return Appearance.PHOTO, None
+    if mode not in COMPOSE_MODES:
+        raise ComposeSettingsError(f"a picture mode must be one of {PICTURE_MODES}, got {mode!r}")
+    base = compose or ComposeSettings()
+    return Appearance.GENERATOR, ComposeSettings(mode, base.dilate_px, base.feather_px)

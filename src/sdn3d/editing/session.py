@@ -142,7 +142,8 @@ class SessionSettings:
     @property
     def generates(self) -> bool:
         """Whether an edit runs the generator (its appearance, the generator fill, or the diagnostics)."""
-        return self.appearance == "generator" or self.photo.fill == "generator" or self.diagnostics
+        return appearance_renderer(self.appearance, photo=self.photo, compose=self.compose).needs_generator \
+            or self.diagnostics
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,8 @@ The edit moves the first car 40 px to the right, turns the second by 30 degrees,
 the fourth red (``fill='telea'``, relighting and contact shadows on: every per-object step of the photo
 appearance runs). Each tree (this one, ``--tree``) times it in a fresh interpreter (``PYTHONPATH=TREE/src:TREE``)
 that draws it once untimed, then ``--calls`` times, each with a fresh source state (what one ``sdn3d-edit`` call
-draws); the trees alternate ``--repeats`` times (A, B, A, B, ...), so the load of a shared machine falls on both.
+draws; wall and process CPU time, which a loaded machine inflates less); the trees alternate ``--repeats`` times
+(A, B, A, B, ...), so the load of a shared machine falls on both.
 Every child draws through :func:`sdn3d.editing.appearance.appearance_renderer` where the tree has it, else through
 ``render_photo`` (an older tree); both print the picture's digest, which must agree.
 """
@@ -67,12 +68,13 @@ except ImportError:  # a tree before editing.appearance
         return render_photo(original, frame, scene, edited, None, settings, paints(ops)).image
     how = "render_photo"
 image = draw()
-times = []
+times, cpu = [], []
 for _ in range(int(sys.argv[3])):
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     draw()
     times.append(1000 * (time.perf_counter() - t0))
-print(json.dumps({"ms": times, "cars": len(cars), "how": how, "size": list(image.shape),
+    cpu.append(1000 * (time.process_time() - c0))
+print(json.dumps({"ms": times, "cpu_ms": cpu, "cars": len(cars), "how": how, "size": list(image.shape),
                   "digest": hashlib.sha256(image.contiguous().numpy().tobytes()).hexdigest()[:16]}))
 '''
 
@@ -110,10 +112,12 @@ def main() -> None:
             scene = scene_from_frame(record, (624, 192))
             if int(scene.objects.has_geometry.sum()) == 5:
                 data = root
+                print(f"synthetic frame: seed {seed}, 1242x375, 5 cars with geometry", flush=True)
                 break
         if data is None:
             raise SystemExit("no synthetic frame with 5 cars with geometry")
         runs: dict[str, list[float]] = {k: [] for k in trees}
+        cpu: dict[str, list[float]] = {k: [] for k in trees}
         seen: dict[str, dict] = {}
         load = os.getloadavg()
         for rep in range(args.repeats):
@@ -121,8 +125,10 @@ def main() -> None:
                 t0 = time.perf_counter()
                 got = _run(tree, data, args.threads, args.calls)
                 runs[name] += got["ms"]
+                cpu[name] += got["cpu_ms"]
                 seen[name] = got
-                print(f"repeat {rep} {name} ({tree}): {[round(t) for t in got['ms']]} ms per edit "
+                print(f"repeat {rep} {name} ({tree}): {[round(t) for t in got['ms']]} ms per edit, CPU "
+                      f"{[round(t) for t in got['cpu_ms']]} ms "
                       f"[{got['how']}, {got['cars']} cars, picture {got['digest']}; "
                       f"process {time.perf_counter() - t0:.1f} s]", flush=True)
         med = {k: statistics.median(v) for k, v in runs.items()}
@@ -132,6 +138,9 @@ def main() -> None:
                           "median_ms": {k: round(v, 1) for k, v in med.items()},
                           "min_ms": {k: round(min(v), 1) for k, v in runs.items()},
                           "ratio_tree_over_this": round(med["tree"] / med["this"], 3),
+                          "cpu_median_ms": {k: round(statistics.median(v), 1) for k, v in cpu.items()},
+                          "cpu_ratio_tree_over_this": round(statistics.median(cpu["tree"])
+                                                            / statistics.median(cpu["this"]), 3),
                           "same_picture": seen["this"]["digest"] == seen["tree"]["digest"],
                           "load_before_after": [load[0], os.getloadavg()[0]], "cpus": os.cpu_count()}, indent=1))
 

@@ -58,8 +58,8 @@ REPO = Path(__file__).resolve().parents[1]
 BRANCHES = ("semantic", "geometric", "textural")
 MODES = ("checkpoints", "exports", "run")
 #: Functions of sdn3d.cli.edit timed by --stages, where the module has them (the order of a call).
-STAGE_FUNCTIONS = ("compose_config", "_read_inputs", "resolve_checkpoints", "_load_models", "_derender",
-                   "trust_warnings", "_edit", "_render", "_compose", "_summary", "_write_outputs", "_write_listing")
+STAGE_FUNCTIONS = ("compose_config", "_read_inputs", "resolve_checkpoints", "load_models", "EditSession.derender",
+                   "trust_warnings", "EditSession.edit", "_write_outputs", "_write_listing")
 #: Packages whose presence after a call --stages reports.
 HEAVY_PACKAGES = ("lightning", "lightning_fabric", "pytorch_lightning", "torchmetrics", "tensorboard", "matplotlib",
                   "trimesh", "networkx", "scipy", "kornia", "hydra", "omegaconf", "torchvision")
@@ -155,7 +155,11 @@ def _stages_child(argv: list[str]) -> None:
     cpu: dict[str, float] = {}
 
     def wrap(name: str) -> None:
-        function = getattr(edit, name)
+        *path, attr = name.split(".")
+        owner = edit
+        for part in path:  # a method of a class sdn3d.cli.edit uses (EditSession: de-render; edit and draw)
+            owner = getattr(owner, part)
+        function = getattr(owner, attr)
 
         def timed(*args: Any, **kwargs: Any) -> Any:
             t0, c0 = time.perf_counter(), time.process_time()
@@ -165,11 +169,10 @@ def _stages_child(argv: list[str]) -> None:
                 wall[name] = wall.get(name, 0.0) + time.perf_counter() - t0
                 cpu[name] = cpu.get(name, 0.0) + time.process_time() - c0
 
-        setattr(edit, name, timed)
+        setattr(owner, attr, timed)
 
     for name in STAGE_FUNCTIONS:
-        if callable(getattr(edit, name, None)):
-            wrap(name)
+        wrap(name)  # a stale name fails here
     t0, c0 = time.perf_counter(), time.process_time()
     code = edit.main(argv)
     call, call_cpu = time.perf_counter() - t0, time.process_time() - c0

@@ -22,9 +22,10 @@ benchmark file (``vkitti_edit_benchmark.json``: deletes and modifies of several 
   (``--input-size``, default Virtual KITTI's 1242x375: the source frame's RGB upscaled bilinearly to it, mapped
   to the working size by :func:`sdn3d.editing.inputs.fit_transform`): ``compose.source_maps`` (the unedited
   scene's maps, which the edit region compares against; ``sdn3d-edit`` computes them anyway for its
-  reconstruction) and ``compose.blend`` (:func:`sdn3d.editing.compose.compose_edit`: edited objects, edit
-  region, feathered alpha, upsampling and blend); ``compose`` is their sum and ``total_edited`` = ``total`` +
-  ``compose``.
+  reconstruction) and ``compose.blend`` (the generator appearance's ``draw``,
+  :func:`sdn3d.editing.appearance.appearance_renderer`, i.e. :func:`sdn3d.editing.compose.compose_edit`: edited
+  objects, edit region, feathered alpha, upsampling and blend); ``compose`` is their sum and ``total_edited`` =
+  ``total`` + ``compose``.
 
 Networks, with random weights unless checkpoints are given: ``demo`` and ``paper`` take the model
 (and crop size) settings of ``conf/recipe/{geometric,textural}_{demo,paper}.yaml`` over ``conf/branch``;
@@ -71,10 +72,10 @@ from sdn3d.data.scene_gt import ground_truth
 from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
 from sdn3d.data.vkitti1 import read_frames
 from sdn3d.derender import Models, derender
+from sdn3d.editing.appearance import Appearance, appearance_renderer, render_maps
 from sdn3d.editing.apply import apply_edits, ops_from_benchmark
-from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
+from sdn3d.editing.compose import ComposeSettings
 from sdn3d.editing.inputs import fit_transform
-from sdn3d.editing.render import render_maps
 from sdn3d.evaluation.edit_benchmark import index_records
 from sdn3d.geometric.model import GeometricNet
 from sdn3d.geometric.predict import GeometricPredictor, net_kwargs_from_hparams
@@ -197,14 +198,6 @@ def _derender_gt(frame: Any, record: Any, models: Models) -> Any:
     return derender(frame.image, frame.intrinsics, models, "gt", gt, min_pixels=64)
 
 
-def _compose_edited(settings: ComposeSettings, generated: torch.Tensor, original: torch.Tensor, transform: Any,
-                    before: Any, after: Any, scene: Any, edited: Any) -> torch.Tensor:
-    """What ``sdn3d-edit`` does after the generator with ``compose='edited'`` (the edit region and the blend)."""
-    picture, _ = compose_edit(settings, generated, original, transform, before, after,
-                              edited_object_ids(scene.objects, edited.objects))
-    return picture
-
-
 def run_preset(models: Models, cases: list, repeats: int, reference: bool, device: torch.device | None = None) -> dict:
     """Time every stage over ``repeats`` passes of ``cases`` (after one warm-up pass)."""
     device = device or torch.device("cpu")
@@ -215,7 +208,7 @@ def run_preset(models: Models, cases: list, repeats: int, reference: bool, devic
     bins = models.textural.spec.pose_bins
     identical = True
     objects: list[dict[str, int]] = []
-    settings = ComposeSettings("edited")
+    renderer = appearance_renderer(Appearance.GENERATOR, compose=ComposeSettings("edited"), textural=models.textural)
     for rep in range(repeats + 1):
         clock.on = rep > 0
         for entry, record, frame, original, transform in cases:
@@ -226,9 +219,10 @@ def run_preset(models: Models, cases: list, repeats: int, reference: bool, devic
             edited = clock.time("apply_edits", apply_edits, scene, ops)
             maps = clock.time("scene_maps", scene_maps, edited, bank, num_bins=bins)
             generated = clock.time("generator", render_maps, maps, models.textural)
-            before = clock.time("compose.source_maps", scene_maps, scene, bank, num_bins=bins)
-            clock.time("compose.blend", _compose_edited, settings, generated, original, transform, before, maps, scene,
-                       edited)
+            state = renderer.prepare(original, transform, scene, bank)
+            clock.time("compose.source_maps", state.source_maps, bins)
+            # The source maps made above: draw is the edit region and the blend (its Drawn.times['compose_ms']).
+            clock.time("compose.blend", renderer.draw, state, edited, ops, (maps, generated))
             if reference:
                 old_edit = clock.time("reference.apply_edits", apply_edits_dense, scene, ops)
                 old_maps = clock.time("reference.scene_maps", scene_maps_dense, edited, num_bins=bins)

@@ -1,11 +1,13 @@
-"""Latency of the photo appearance (sdn3d.editing.photo.render_photo) at the input's resolution.
+"""Latency of the photo appearance (sdn3d.editing.appearance.appearance_renderer('photo'): prepare, then draw) at
+the input's resolution.
 
 For every entry of a synthetic editing benchmark (default: a small dataset generated here at 1242x375, the Virtual
 KITTI size), the source frame's ground-truth scene at the working size (624x192) is edited with the entry's
 operations and drawn with the photo appearance at 1242x375. The scene is the oracle (ground-truth geometry), so the
-figure is the drawing alone: no network runs. Times each fill method side by side in one process, the same entries
-in the same order, after one warm-up call; prints the median and 90th percentile per fill method and per kind of edit
-(sdn3d.evaluation.edit_benchmark.edit_kind), and the process's peak resident memory.
+figure is the drawing alone (Drawn.times['photo_ms'], a fresh source state per edit): no network runs. Times each
+fill method side by side in one process, the same entries in the same order, after one warm-up call; prints the
+median and 90th percentile per fill method and per kind of edit (sdn3d.evaluation.edit_benchmark.edit_kind), and
+the process's peak resident memory.
 
     python benchmarks/photo_latency.py                       # generate the data in a temporary directory
     python benchmarks/photo_latency.py --data outputs/data/x  # a sdn3d-synth tree at 1242x375
@@ -17,7 +19,6 @@ import argparse
 import resource
 import statistics
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -38,9 +39,10 @@ def main() -> None:
     from sdn3d.data.scene_gt import scene_from_frame
     from sdn3d.data.synth import BENCHMARK_NAME, SynthConfig, generate_dataset
     from sdn3d.data.vkitti1 import read_frames
+    from sdn3d.editing.appearance import appearance_renderer
     from sdn3d.editing.apply import apply_edits, ops_from_benchmark
-    from sdn3d.editing.photo import PhotoSettings, render_photo
-    from sdn3d.editing.spec import PixelFrame
+    from sdn3d.editing.frame import PixelFrame
+    from sdn3d.editing.photo.settings import PhotoSettings
     from sdn3d.evaluation.edit_benchmark import edit_kind
 
     tmp = None
@@ -64,13 +66,13 @@ def main() -> None:
     size = tuple(int(x) for x in cases[0][3].shape[2:0:-1])
     frame = PixelFrame(size, work)
     times: dict[str, dict[str, list[float]]] = {f: {} for f in args.fills}
-    render_photo(cases[0][3], frame, cases[0][1], cases[0][2])  # warm-up (imports, PatchMatch's library)
+    renderers = {fill: appearance_renderer("photo", photo=PhotoSettings(fill=fill)) for fill in args.fills}
+    warm = appearance_renderer("photo")  # warm-up (imports, PatchMatch's library)
+    warm.draw(warm.prepare(cases[0][3], frame, cases[0][1]), cases[0][2])
     for kind, scene, edited, original in cases:
-        for fill in args.fills:
-            settings = PhotoSettings(fill=fill)
-            t0 = time.perf_counter()
-            render_photo(original, frame, scene, edited, settings=settings)
-            times[fill].setdefault(kind, []).append(1000 * (time.perf_counter() - t0))
+        for fill, renderer in renderers.items():
+            drawn = renderer.draw(renderer.prepare(original, frame, scene), edited)
+            times[fill].setdefault(kind, []).append(drawn.times["photo_ms"])
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"photo appearance latency: {len(cases)} edits of {root} drawn at {size[0]}x{size[1]} from {work[0]}x"
           f"{work[1]} oracle scenes, {args.threads} threads, CPU; fills timed side by side, same entries and order")

@@ -19,6 +19,7 @@ import hashlib
 import io
 import json
 import os
+import re
 import subprocess
 import sys
 import time
@@ -56,14 +57,25 @@ EDITS = [
 ]
 
 
+# an absolute path inside a string (e.g. "vkitti1 at /tmp/work/synth"): the run's working directory
+ABSOLUTE_PATH = re.compile(r"(?<![\w.])/[\w.+-]+(?:/[\w.+-]*)*")
+
+
+def _volatile(key: str) -> bool:
+    """Timing fields (``derender_ms``, ``latency_ms``, ...) and :data:`VOLATILE` ones."""
+    k = key.lower()
+    return k.endswith("_ms") or "latency" in k or any(part in k for part in VOLATILE)
+
+
 def _canonical_json(value, key: str = ""):
     if isinstance(value, dict):
-        return {k: _canonical_json(v, k) for k, v in sorted(value.items())
-                if not any(part in k.lower() for part in VOLATILE)}
+        return {k: _canonical_json(v, k) for k, v in sorted(value.items()) if not _volatile(k)}
     if isinstance(value, list):
         return [_canonical_json(v, key) for v in value]
     if isinstance(value, str) and ("/" in value and (value.startswith("/") or "outputs" in value)):
         return "<path>"
+    if isinstance(value, str) and "/" in value:
+        return ABSOLUTE_PATH.sub("<path>", value)
     return value
 
 
@@ -173,9 +185,18 @@ def main() -> int:
     parser.add_argument("--work", type=Path, help="working directory for the runs")
     parser.add_argument("--out", type=Path, help="digest JSON to write")
     parser.add_argument("--compare", nargs=2, type=Path, metavar=("A", "B"), help="compare two digests")
+    parser.add_argument("--redigest", nargs=2, type=Path, metavar=("WORK", "DIGEST"),
+                        help="digest WORK's existing outputs again (exit codes from DIGEST; after a change to the "
+                             "canonical form) into --out, without running anything")
     args = parser.parse_args()
     if args.compare:
         return compare(*(json.loads(p.read_text()) for p in args.compare))
+    if args.redigest and args.out:
+        work, old = args.redigest[0], json.loads(args.redigest[1].read_text())
+        results = {group: {"rc": entry.get("rc"), **(digest_tree(work / group) if (work / group).exists() else {})}
+                   for group, entry in old.items()}
+        args.out.write_text(json.dumps(results, indent=1, sort_keys=True))
+        return 0
     if not (args.work and args.out):
         parser.error("give --work and --out, or --compare A B")
     os.environ.setdefault("OMP_NUM_THREADS", "1")

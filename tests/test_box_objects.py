@@ -17,7 +17,8 @@ from PIL import Image
 from sdn3d.box_masks import box_at_point, grabcut_masks, nearest_first, refine_with_silhouettes
 from sdn3d.cli.edit import main
 from sdn3d.derender import BoxPrompts, Models, derender
-from sdn3d.editing.spec import EditSpecError, PixelFrame, box_prompts, parse_edit_spec
+from sdn3d.editing.frame import PixelFrame
+from sdn3d.editing.spec import EditSpecError, box_prompts, parse_edit_spec
 from sdn3d.errors import UserInputError
 from sdn3d.geometric.fit import FitSettings, fit_to_masks, road_start
 from sdn3d.image_ops import mask_boxes

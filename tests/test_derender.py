@@ -12,8 +12,9 @@ from sdn3d.data.edit_benchmark import BenchmarkOperation
 from sdn3d.data.frames import load_frame
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame
 from sdn3d.derender import Models, derender, encode_scene, geometric_crop_settings
+from sdn3d.editing.appearance import render_maps
 from sdn3d.editing.apply import Delete, projected_centers
-from sdn3d.editing.render import edit_image, render, render_maps
+from sdn3d.editing.render import edit_image, render
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.image_ops import crop_intrinsics, crop_windows, instance_label_map, mask_boxes, pixel_centre_boxes
 from sdn3d.labels import INSTANCE_DIVISOR

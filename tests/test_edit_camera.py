@@ -17,7 +17,8 @@ from sdn3d.cli.edit import main
 from sdn3d.data import vkitti1
 from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.editing.apply import EditError
-from sdn3d.editing.spec import EditSpec, PixelFrame, load_edit_spec, parse_edit_spec, resolve_ops
+from sdn3d.editing.frame import PixelFrame
+from sdn3d.editing.spec import EditSpec, load_edit_spec, parse_edit_spec, resolve_ops
 from sdn3d.math3d.camera import Intrinsics
 
 FRAME = "0001/clone/00004"

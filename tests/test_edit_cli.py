@@ -114,7 +114,7 @@ def test_edit_applies_the_resolved_ops(done):
 def _kept(out, input_size):
     """``(H_in, W_in)`` bool: input pixels whose nearest working pixel is more than one pixel from the edit
     region (maps/edit_region.png), i.e. pixels compose=edited must leave exactly as they were."""
-    from sdn3d.editing.spec import PixelFrame
+    from sdn3d.editing.frame import PixelFrame
 
     summary = json.loads((out / "edit.json").read_text())
     t = summary["input_transform"]

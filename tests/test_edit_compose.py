@@ -13,6 +13,7 @@ from sdn3d.data import vkitti1
 from sdn3d.data.frames import load_frame
 from sdn3d.data.scene_gt import ground_truth
 from sdn3d.derender import Models
+from sdn3d.editing.appearance import render_maps
 from sdn3d.editing.apply import Delete, Rotate, SetCode, apply_edits
 from sdn3d.editing.compose import (
     ComposeSettings,
@@ -22,9 +23,9 @@ from sdn3d.editing.compose import (
     edited_object_ids,
     feather_alpha,
 )
+from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.inputs import fit_image
-from sdn3d.editing.render import edit_image, render_maps
-from sdn3d.editing.spec import PixelFrame
+from sdn3d.editing.render import edit_image
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.image_ops import to_image_tensor
 from sdn3d.math3d.camera import VKITTI_INTRINSICS

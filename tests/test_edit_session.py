@@ -1,6 +1,6 @@
 """EditSession (sdn3d.editing.session): the one code path of sdn3d-edit and sdn3d-app. An image is de-rendered once
 per set of boxes, any spec is applied to that scene, and what the photo appearance keeps between edits
-(PhotoCache) leaves every picture bit-identical to a fresh call."""
+(its appearance's SourceState) leaves every picture bit-identical to a fresh call."""
 
 from __future__ import annotations
 
@@ -16,7 +16,8 @@ import sdn3d.derender
 from sdn3d.cli._config import compose_config
 from sdn3d.cli.edit import load_models, main, open_input, resolve_checkpoints, session_settings
 from sdn3d.data import vkitti1
-from sdn3d.editing.photo import PhotoCache, PhotoSettings, render_photo
+from sdn3d.editing.photo.settings import PhotoSettings
+from sdn3d.editing.photo.transfer import PhotoSource, render_photo
 from sdn3d.editing.session import EditSession
 from sdn3d.editing.spec import EditError, parse_edit_spec
 
@@ -65,7 +66,7 @@ def test_an_image_is_derendered_once_per_set_of_boxes(opened, monkeypatch):
 
 
 def test_edits_of_one_scene_are_bit_identical_to_fresh_sessions(opened):
-    """The app edits one cached scene again and again (PhotoCache kept between edits); each picture is the one a
+    """The app edits one cached scene again and again (its SourceState kept between edits); each picture is the one a
     fresh session (sdn3d-edit's single call) draws."""
     _, inp, make = opened
     kept = make()
@@ -104,13 +105,13 @@ def test_the_photo_cache_serves_one_scene_only(opened):
     table = a.scene.objects
     iid = int(table.instance_id[table.has_geometry][0])
     edited = session.resolve(a, parse_edit_spec([{"op": "rotate", "id": iid, "ry_deg": 30}]))[1]
-    cache = PhotoCache()
-    render_photo(inp.original, inp.frame, a.scene, edited, settings=PhotoSettings(), cache=cache)
+    cache = PhotoSource(inp.original, inp.frame, a.scene, settings=PhotoSettings())
+    render_photo(inp.original, inp.frame, a.scene, edited, settings=PhotoSettings(), source=cache)
     other = a.scene.replace(objects=a.scene.objects)
     with pytest.raises(ValueError, match="one \\(original, scene, transform, settings\\)"):
-        render_photo(inp.original, inp.frame, other, edited, settings=PhotoSettings(), cache=cache)
+        render_photo(inp.original, inp.frame, other, edited, settings=PhotoSettings(), source=cache)
     with pytest.raises(ValueError):
-        render_photo(inp.original, inp.frame, a.scene, edited, settings=PhotoSettings(fill="telea"), cache=cache)
+        render_photo(inp.original, inp.frame, a.scene, edited, settings=PhotoSettings(fill="telea"), source=cache)
 
 
 def test_sdn3d_edit_and_the_session_draw_the_same_picture(opened, tiny_synth, ckpts, tmp_path):

@@ -344,17 +344,21 @@ def test_recolor_color_takes_the_bank_code_of_the_nearest_colour_of_the_objects_
     bank = CodeBank(codes, colors)
     spec = parse_edit_spec([{"op": "recolor", "id": car, "color": "red"}, {"op": "recolor", "id": car, "color": "blue"},
                             {"op": "recolor", "class": 3, "color": "black"}])
+    from sdn3d.editing.appearance import appearance_renderer
     from sdn3d.textural.code_bank import named_color
 
     ops = resolve_ops(spec, scene, bank)
     assert ops[0] == SetCode(car, tuple(codes[cls][1].tolist()), named_color("red"))  # red, and its paint
     assert ops[1] == SetCode(car, tuple(codes[cls][2].tolist()), named_color("blue"))
     assert ops[2] == SetBackgroundCode(3, tuple(codes[3][1].tolist()))
+    generator = appearance_renderer("generator")
     with pytest.raises(EditError, match=r"op 0 \(recolor id=\d+\): 'color: red' needs a code bank .*code_bank="):
-        resolve_ops(spec, scene, None, appearance="generator")
+        generator.check(spec, None)
+    generator.check(spec, bank)
+    appearance_renderer("photo").check(spec, None)
     with pytest.raises(EditError, match=r"needs a code bank with its objects' colours"):
-        resolve_ops(spec, scene, CodeBank(codes), appearance="generator")
-    # The photo appearance repaints the car itself: no code bank needed, the object keeps its code.
+        resolve_ops(spec, scene, CodeBank(codes))
+    # Without a code bank a named colour keeps the object's code (the photo appearance repaints the car itself).
     photo = resolve_ops(parse_edit_spec([{"op": "recolor", "id": car, "color": "red"}]), scene, None)
     assert photo == [SetCode(car, tuple(scene.objects.code[0].tolist()), named_color("red"))]
     with pytest.raises(EditError, match=r"no training codes for class"):

@@ -11,23 +11,12 @@ import pytest
 import torch
 
 from sdn3d.editing.apply import Delete, Move, Rotate, SetCode, apply_edits
-from sdn3d.editing.photo import (
-    FALLBACK,
-    FILL,
-    INPUT,
-    MIRROR,
-    PHOTO,
-    PhotoSettings,
-    PhotoSettingsError,
-    fit_light,
-    inpaint,
-    input_intrinsics,
-    paints,
-    recolor_pixels,
-    render_photo,
-    upsample_ids,
-)
-from sdn3d.editing.spec import PixelFrame
+from sdn3d.editing.frame import PixelFrame, input_intrinsics, upsample_ids
+from sdn3d.editing.photo.fill import inpaint
+from sdn3d.editing.photo.light import fit_light
+from sdn3d.editing.photo.recolor import paints, recolor_pixels
+from sdn3d.editing.photo.settings import FALLBACK, FILL, INPUT, MIRROR, PHOTO, PhotoSettings, PhotoSettingsError
+from sdn3d.editing.photo.transfer import render_photo
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import default_bank
 from sdn3d.render.rasterize import rasterize_meshes
@@ -200,7 +189,7 @@ def test_inpaint_handles_holes_at_the_frame_edge():
 
 
 def test_auto_fill_uses_telea_for_thin_gaps_and_patchmatch_for_large_holes(monkeypatch):
-    import sdn3d.editing.photo as photo
+    import sdn3d.editing.photo.fill as photo
 
     used = []
     real = photo._inpaint_part

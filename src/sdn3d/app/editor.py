@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from sdn3d.editing.photo import input_intrinsics
+from sdn3d.editing.frame import input_intrinsics
 from sdn3d.editing.session import EditInput, EditResult, EditSession, to_uint8
 from sdn3d.editing.spec import MAX_BOX_OBJECTS, EditSpec, parse_edit_spec
 from sdn3d.errors import UserInputError
@@ -494,7 +494,7 @@ class Editor:
         import math
 
         from sdn3d.box_masks import box_at_point
-        from sdn3d.editing.photo import input_intrinsics
+        from sdn3d.editing.frame import input_intrinsics
         from sdn3d.geometric.fit import FitSettings
 
         found = self.get(sid)

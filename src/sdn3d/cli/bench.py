@@ -56,7 +56,7 @@ from rich.console import Console
 
 from sdn3d.cli._config import compose_config, print_help_if_asked
 from sdn3d.cli._errors import run_cli
-from sdn3d.editing.photo import PhotoSettings
+from sdn3d.editing.photo.settings import PhotoSettings
 from sdn3d.errors import InputError
 from sdn3d.evaluation.edit_benchmark import METHODS, PROPOSALS, REGIONS, SOURCE_LABELS
 from sdn3d.io import check_output_dir, staged_directory

@@ -371,9 +371,10 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.data.scene_gt import ground_truth
     from sdn3d.data.sources import load_split
     from sdn3d.derender import PROPOSAL_LABELS, Models, derender
+    from sdn3d.editing.appearance import APPEARANCES
     from sdn3d.editing.compose import ComposeSettings
-    from sdn3d.editing.photo import APPEARANCES, PhotoSettings
-    from sdn3d.editing.spec import PixelFrame
+    from sdn3d.editing.frame import PixelFrame
+    from sdn3d.editing.photo.settings import PhotoSettings
     from sdn3d.io import write_png_atomic
     from sdn3d.scene.io import save_scene
     from sdn3d.visualize import titled_row
@@ -537,46 +538,40 @@ def _example_edits(cfg: Any, scene: Any, key: str, textural: Path, appearance: s
 def _edit_pictures(edits: dict[str, list], scene: Any, models: Any, compose: Any, original: np.ndarray,
                    transform: Any, out: Path, appearance: str = "photo",
                    photo: Any = None) -> tuple[dict[str, np.ndarray], dict[str, float]]:
-    """``({name: (H, W, 3) uint8}, {name: seconds})``: each edit applied and drawn (timed), written as
-    ``<name>.png``. Photo appearance: :func:`sdn3d.editing.photo.render_photo` at the frame's resolution, where each
-    pixel came from in ``sources/<name>.png``. Generator: composed by ``compose``, the generator's own picture as
-    ``generated/<name>.png``; the reconstruction (no edit) is the generator's picture, upsampled to the frame's size
-    with ``compose='edited'``."""
+    """``({name: (H, W, 3) uint8}, {name: seconds})``: each edit applied and drawn (timed) by the appearance
+    (:func:`sdn3d.editing.appearance.appearance_renderer`, one source state for all), written as ``<name>.png``.
+    Photo: at the frame's resolution, where each pixel came from in ``sources/<name>.png``. Generator: composed by
+    ``compose``, the generator's own picture as ``generated/<name>.png``; the reconstruction (no edit) is the
+    generator's picture, upsampled to the frame's size with ``compose='edited'``."""
+    from sdn3d.editing.appearance import appearance_renderer
     from sdn3d.editing.apply import apply_edits
-    from sdn3d.editing.compose import compose_edit, edited_object_ids
-    from sdn3d.editing.photo import paints, render_photo, source_picture
-    from sdn3d.editing.render import render_maps
+    from sdn3d.editing.photo.settings import source_picture
     from sdn3d.image_ops import resize_image
     from sdn3d.io import write_png_atomic
-    from sdn3d.scene.maps import scene_maps
 
-    bins = models.textural.spec.pose_bins
-    before = scene_maps(scene, num_bins=bins)
     original_t = torch.from_numpy(original).permute(2, 0, 1)
+    renderer = appearance_renderer(appearance, photo=photo, compose=compose, textural=models.textural)
+    state = renderer.prepare(original_t, transform, scene)
     pictures, timings = {}, {}
     for name, ops in edits.items():
         slug = name.split(" (")[0].replace(" ", "_").replace("+", "p").replace("-", "m")
         t0 = time.perf_counter()
-        edited = apply_edits(scene, ops)
-        if appearance == "photo":
-            result = render_photo(original_t, transform, scene, edited, settings=photo, recolor=paints(ops))
-            timings[name] = round(time.perf_counter() - t0, 3)
-            pictures[name] = result.image.permute(1, 2, 0).numpy()
-            write_png_atomic(out / f"{slug}.png", pictures[name])
-            write_png_atomic(out / "sources" / f"{slug}.png", source_picture(result.source))
-            continue
-        maps = scene_maps(edited, num_bins=bins)
-        generated = render_maps(maps, models.textural).detach().cpu()
-        picture, _ = compose_edit(compose, generated, original_t, transform, before, maps,
-                                  edited_object_ids(scene.objects, edited.objects))
+        drawn = renderer.draw(state, apply_edits(scene, ops), ops)
         timings[name] = round(time.perf_counter() - t0, 3)
+        if drawn.photo is not None:  # where each pixel came from
+            pictures[name] = drawn.image.permute(1, 2, 0).numpy()
+            write_png_atomic(out / f"{slug}.png", pictures[name])
+            write_png_atomic(out / "sources" / f"{slug}.png", source_picture(drawn.photo.source))
+            continue
+        generated = drawn.generated.detach().cpu()
         if ops and compose.mode == "edited":
-            pictures[name] = picture.permute(1, 2, 0).numpy()
+            pictures[name] = drawn.image.permute(1, 2, 0).numpy()
         else:  # the reconstruction shows the generator (composing nothing would give the frame itself)
             size = tuple(transform.input_size) if compose.mode == "edited" else tuple(transform.working_size)
             pictures[name] = _uint8_picture(resize_image(generated, size))
         write_png_atomic(out / f"{slug}.png", pictures[name])
-        write_png_atomic(out / "generated" / f"{slug}.png", _uint8_picture(generated))
+        if drawn.generated is not None:
+            write_png_atomic(out / "generated" / f"{slug}.png", _uint8_picture(generated))
     return pictures, timings
 
 

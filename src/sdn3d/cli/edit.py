@@ -169,11 +169,11 @@ def load_input(cfg: Any, entry: Any = None) -> tuple[torch.Tensor, Any, Any, Any
 
     An image file needs a known camera (:func:`sdn3d.editing.inputs.camera_for_image`) and keeps its aspect
     ratio (:func:`~sdn3d.editing.inputs.fit_image`); a
-    dataset frame is resized to the working size as in training. The :class:`~sdn3d.editing.spec.PixelFrame`
+    dataset frame is resized to the working size as in training. The :class:`~sdn3d.editing.frame.PixelFrame`
     maps the input's pixels (the file, or the frame at its stored size) to the working image's.
     """
     from sdn3d.data.frames import load_frame
-    from sdn3d.editing.spec import PixelFrame
+    from sdn3d.editing.frame import PixelFrame
 
     data = cfg.get("data")
     size = cfg.image_size or (data.image_size if data is not None and cfg.input.image is None else DEFAULT_SIZE)
@@ -517,7 +517,8 @@ def _box_settings(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, b
 
 def appearance_settings(cfg: Any) -> tuple[str, Any]:
     """``(appearance, PhotoSettings)`` of ``appearance`` and ``photo.*`` (checked before anything is loaded)."""
-    from sdn3d.editing.photo import APPEARANCES, PhotoSettings
+    from sdn3d.editing.appearance import APPEARANCES
+    from sdn3d.editing.photo.settings import PhotoSettings
 
     appearance = str(cfg.get("appearance", "photo"))
     if appearance not in APPEARANCES:
@@ -541,7 +542,7 @@ def _input_picture(cfg: Any, record: Any) -> np.ndarray:
 def _write_listing(cfg: Any, out: Path, inp: EditInput, scene: Any, checkpoints: dict, times: dict[str, float],
                    warnings: list[str] | None = None, box_records: list[dict] | None = None) -> dict:
     """Print the objects table; write ``objects.json``, ``objects.png`` and ``edit.json`` (staged)."""
-    from sdn3d.editing.spec import PixelFrame
+    from sdn3d.editing.frame import PixelFrame
     from sdn3d.io import write_json_atomic, write_png_atomic
     from sdn3d.visualize import draw_boxes
 
@@ -591,8 +592,7 @@ def _write_listing(cfg: Any, out: Path, inp: EditInput, scene: Any, checkpoints:
 
 def _input_masks(scene: Any, rows: list[dict], boxes: dict, frame: Any, size: tuple[int, int]) -> list:
     """Per listed row, the object's mask at the input's resolution where it was named by a box (else None)."""
-    from sdn3d.editing.photo import upsample_ids
-    from sdn3d.editing.spec import PixelFrame
+    from sdn3d.editing.frame import PixelFrame, upsample_ids
 
     table = scene.objects
     ids = (table.mask.long() * table.instance_id[:, None, None]).amax(0) if len(table) else None
@@ -607,7 +607,7 @@ def _write_outputs(out: Path, overwrite: bool, result: EditResult, summary: dict
                    rules: dict[str, Any] | None = None) -> None:
     """Write the output directory all at once (see the module doc); adds ``summary['outputs']`` (every file
     written: what a later run may replace). ``rules``: :func:`_output_rules`."""
-    from sdn3d.editing.photo import source_picture
+    from sdn3d.editing.photo.settings import source_picture
     from sdn3d.io import write_json_atomic, write_png_atomic
     from sdn3d.scene.io import save_scene
 

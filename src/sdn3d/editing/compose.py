@@ -9,7 +9,7 @@ shape, size, pose or code) and every pixel whose generator inputs changed (label
 normal, depth, boundary: vacated pixels, the freed pixels an occluded object now covers, recoloured
 background), dilated by ``dilate_px``. :func:`compose_edited`
 upsamples the generator's picture and a feathered alpha (:func:`feather_alpha`) back through the input
-transform (:class:`~sdn3d.editing.spec.PixelFrame`: aspect-preserving scale, then a central crop) and
+transform (:class:`~sdn3d.editing.frame.PixelFrame`: aspect-preserving scale, then a central crop) and
 blends; every pixel outside the feathered region or outside the crop is the input's, bit for bit.
 ``compose='full'`` is the paper's protocol: the generator's whole picture at the working size.
 """
@@ -23,13 +23,13 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.editing.spec import PixelFrame
+from sdn3d.editing.frame import PixelFrame, sampling_grid
 from sdn3d.errors import UserInputError
 from sdn3d.scene.code import ObjectTable
 from sdn3d.scene.maps import ComposedMaps
 
 __all__ = ["COMPOSE_MODES", "ComposeSettings", "ComposeSettingsError", "edited_object_ids", "changed_pixels",
-           "edit_region_mask", "feather_alpha", "sampling_grid", "compose_edited", "compose_edit"]
+           "edit_region_mask", "feather_alpha", "compose_edited", "compose_edit"]
 
 #: ``edited``: the input with the edit region blended in at its resolution; ``full``: the generator's picture.
 COMPOSE_MODES = ("edited", "full")
@@ -161,21 +161,6 @@ def _input_window(region: Tensor, transform: PixelFrame) -> tuple[int, int, int,
     y0 = math.floor((int(ys.min()) - 1 + 0.5 + top) / sy - 0.5)
     y1 = math.ceil((int(ys.max()) + 1 + 0.5 + top) / sy - 0.5) + 1
     return max(x0, 0), max(y0, 0), min(x1, win), min(y1, hin)
-
-
-def sampling_grid(transform: PixelFrame, window: tuple[int, int, int, int], device: torch.device
-                   ) -> tuple[Tensor, Tensor]:
-    """``(grid (1, h, w, 2), inside (h, w) bool)`` for the input pixels of ``window``: their working-image
-    positions for ``grid_sample`` (``align_corners=False``) and whether they lie in the cropped part."""
-    x0, y0, x1, y1 = window
-    (sx, sy), (left, top) = transform.scale, transform.offset
-    w, h = transform.working_size
-    u = (torch.arange(x0, x1, dtype=torch.float64, device=device) + 0.5) * sx - 0.5 - left
-    v = (torch.arange(y0, y1, dtype=torch.float64, device=device) + 0.5) * sy - 0.5 - top
-    gu, gv = (u + 0.5) / w * 2 - 1, (v + 0.5) / h * 2 - 1
-    grid = torch.stack(torch.meshgrid(gu, gv, indexing="xy"), -1)[None].float()
-    inside = ((v >= -0.5) & (v <= h - 0.5))[:, None] & ((u >= -0.5) & (u <= w - 0.5))[None, :]
-    return grid, inside
 
 
 def compose_edited(original: Tensor, generated: Tensor, region: Tensor, transform: PixelFrame,

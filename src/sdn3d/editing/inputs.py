@@ -4,7 +4,7 @@
 camera resized, any other needs its intrinsics. :func:`fit_transform` resizes when the aspect ratios
 agree and otherwise scales to cover the working size and crops centrally (no invented pixels);
 :func:`fit_image` applies it to the image and its intrinsics. The transform
-(:class:`~sdn3d.editing.spec.PixelFrame`) also maps the user's pixel coordinates.
+(:class:`~sdn3d.editing.frame.PixelFrame`) also maps the user's pixel coordinates.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from torch import Tensor
 
-from sdn3d.editing.spec import PixelFrame
+from sdn3d.editing.frame import PixelFrame
 from sdn3d.errors import InputError
 from sdn3d.image_ops import resize_image, to_image_tensor
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
@@ -52,7 +52,7 @@ def camera_for_image(width: int, height: int, given: Intrinsics | None = None) -
 
 
 def fit_transform(size: tuple[int, int], image_size: tuple[int, int]) -> PixelFrame:
-    """The input -> working transform (:class:`~sdn3d.editing.spec.PixelFrame`): a plain resize when the
+    """The input -> working transform (:class:`~sdn3d.editing.frame.PixelFrame`): a plain resize when the
     aspect ratios agree (within :data:`ASPECT_TOLERANCE`), else scale to cover the working size keeping the
     aspect ratio and crop the excess centrally (no invented pixels)."""
     if same_aspect(image_size, size):

@@ -1,14 +1,13 @@
 """Drawing a (possibly edited) :class:`~sdn3d.scene.code.SceneCode`, and editing an image end to end (3D-SDN,
-Fig. 2, right half).
+Fig. 2, right half): the library's Python entry.
 
-:func:`render_maps` runs the textural generator on composed maps, :func:`render` draws a scene
-(:func:`sdn3d.scene.maps.scene_maps` + :func:`render_maps`), :func:`edit_image` chains
-:func:`sdn3d.derender.derender`, :func:`sdn3d.editing.apply.apply_edits` and one of two appearances
-(:data:`~sdn3d.editing.photo.APPEARANCES`): ``'photo'`` (the default) draws each edited object with the input's own
-pixels through its fitted 3D shape at the input's resolution (:func:`sdn3d.editing.photo.render_photo`; no
-generator needed); ``'generator'`` (the paper's) draws with :func:`render_maps` and
-:func:`sdn3d.editing.compose.compose_edit` (by default the input with only the edited region redrawn, at the input's
-resolution; ``compose='full'``: the generator's whole picture).
+:func:`render` draws a scene with the textural generator (:func:`sdn3d.scene.maps.scene_maps` +
+:func:`sdn3d.editing.appearance.render_maps`); :func:`edit_image` chains :func:`sdn3d.derender.derender`,
+:func:`sdn3d.editing.apply.apply_edits` and an appearance (:func:`sdn3d.editing.appearance.appearance_renderer`):
+``'photo'`` (the default) draws each edited object with the input's own pixels through its fitted 3D shape at the
+input's resolution (no generator needed); ``'generator'`` (the paper's) draws with the textural generator, composed
+into the input (by default only the edited region redrawn, at the input's resolution; ``compose='full'``: the
+generator's whole picture).
 """
 
 from __future__ import annotations
@@ -20,11 +19,13 @@ from torch import Tensor
 
 from sdn3d.data.edit_benchmark import BenchmarkEntry, BenchmarkOperation
 from sdn3d.derender import GroundTruth, Models, derender
+from sdn3d.editing.appearance import Appearance, appearance_renderer, generate, render_maps
 from sdn3d.editing.apply import EditOp, apply_edits, ops_from_benchmark
-from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
+from sdn3d.editing.compose import ComposeSettings
+from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.inputs import same_aspect
-from sdn3d.editing.photo import APPEARANCES, PhotoResult, PhotoSettings, PhotoSettingsError, paints, render_photo
-from sdn3d.editing.spec import PixelFrame
+from sdn3d.editing.photo.settings import PhotoSettings
+from sdn3d.editing.photo.transfer import PhotoResult
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.math3d.rotations import NUM_POSE_BINS
 from sdn3d.meshes.bank import MeshBank
@@ -34,7 +35,7 @@ from sdn3d.scene.maps import ComposedMaps, scene_maps
 if TYPE_CHECKING:
     from sdn3d.textural.renderer import TexturalRenderer
 
-__all__ = ["EditResult", "render_maps", "render", "edit_image"]
+__all__ = ["EditResult", "render", "edit_image"]
 
 
 class EditResult(NamedTuple):
@@ -60,21 +61,6 @@ class EditResult(NamedTuple):
     photo: PhotoResult | None = None
 
 
-def render_maps(maps: ComposedMaps, textural: TexturalRenderer) -> Tensor:
-    """``(3, H, W)`` image in ``[0, 1]`` the generator draws from composed maps (their code map included)."""
-    if textural is None:
-        raise ValueError("rendering needs the textural branch (models.textural is None)")
-    spec = textural.spec
-    if spec.use_codes and maps.feature.shape[0] != spec.code_dim:
-        raise ValueError(f"the scene's texture codes have {maps.feature.shape[0]} values, the generator "
-                         f"expects {spec.code_dim}")
-    dev = textural.device
-    out = textural.render(maps.label[None].to(dev), maps.instance_label_map[None].to(dev),
-                          maps.boundary[None].to(dev), code_map=maps.feature[None].to(dev),
-                          pose=maps.pose[None].to(dev), normal=maps.normal[None].to(dev))
-    return out[0].clamp(0, 1)
-
-
 def render(scene: SceneCode, textural: TexturalRenderer, bank: MeshBank | None = None) -> Tensor:
     """Draw ``scene``: ``(3, H, W)`` in ``[0, 1]`` (:func:`scene_maps` + the textural generator)."""
     if textural is None:
@@ -87,7 +73,8 @@ def edit_image(image: Tensor, intrinsics: Intrinsics,
                proposals: str = "auto", ground_truth: GroundTruth | None = None,
                frame_size: tuple[int, int] | None = None, strict: bool = True, bank: MeshBank | None = None,
                compose: ComposeSettings | str = "edited", original: Tensor | None = None,
-               transform: PixelFrame | None = None, appearance: str = "photo", photo: PhotoSettings | None = None,
+               transform: PixelFrame | None = None, appearance: Appearance | str = "photo",
+               photo: PhotoSettings | None = None,
                **derender_kwargs) -> EditResult:
     """De-render ``image``, apply ``ops`` and draw the edit in ``appearance`` (module doc).
 
@@ -104,30 +91,25 @@ def edit_image(image: Tensor, intrinsics: Intrinsics,
             resize, which needs the same aspect ratio.
         derender_kwargs: passed to :func:`derender`.
     """
-    if appearance not in APPEARANCES:
-        raise PhotoSettingsError(f"appearance must be one of {APPEARANCES}, got {appearance!r}")
     photo = photo or PhotoSettings()
-    needs_generator = appearance == "generator" or photo.fill == "generator"
-    if needs_generator and models.textural is None:
-        raise ValueError(f"appearance={appearance!r} with fill={photo.fill!r} needs the textural branch "
-                         "(models.textural is None)")
     settings = compose if isinstance(compose, ComposeSettings) else ComposeSettings(mode=compose)
+    renderer = appearance_renderer(appearance, photo=photo, compose=settings, textural=models.textural)
+    if renderer.needs_generator and models.textural is None:
+        raise ValueError(f"appearance={renderer.appearance.value!r} with fill={photo.fill!r} needs the textural "
+                         "branch (models.textural is None)")
     original, transform = _input_frame(image, original, transform)
     scene = derender(image, intrinsics, models, proposals, ground_truth, **derender_kwargs)
     ops = list(ops.operations) if isinstance(ops, BenchmarkEntry) else list(ops)
     if ops and all(isinstance(op, BenchmarkOperation) for op in ops):
         ops = ops_from_benchmark(ops, scene, frame_size, strict)
     edited_scene = apply_edits(scene, ops, bank)
-    bins = models.textural.spec.pose_bins if models.textural is not None else NUM_POSE_BINS
-    maps = scene_maps(edited_scene, bank, num_bins=bins)
-    generated = render_maps(maps, models.textural) if needs_generator else None
-    if appearance == "photo":
-        result = render_photo(original, transform, scene, edited_scene, bank, photo, paints(ops), generated)
-        return EditResult(result.image, generated, None, scene, edited_scene, maps, result)
-    before = scene_maps(scene, bank, num_bins=bins) if settings.mode == "edited" else maps
-    edited, region = compose_edit(settings, generated, original, transform, before, maps,
-                                  edited_object_ids(scene.objects, edited_scene.objects))
-    return EditResult(edited, generated, region, scene, edited_scene, maps)
+    generated = generate(edited_scene, models.textural, bank) if renderer.needs_generator else None
+    drawn = renderer.draw(renderer.prepare(original, transform, scene, bank), edited_scene, ops, generated)
+    maps = drawn.maps
+    if maps is None:
+        bins = models.textural.spec.pose_bins if models.textural is not None else NUM_POSE_BINS
+        maps = scene_maps(edited_scene, bank, num_bins=bins)
+    return EditResult(drawn.image, drawn.generated, drawn.region, scene, edited_scene, maps, drawn.photo)
 
 
 def _input_frame(image: Tensor, original: Tensor | None, transform: PixelFrame | None) -> tuple[Tensor, PixelFrame]:

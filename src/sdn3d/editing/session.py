@@ -3,8 +3,8 @@
 ``sdn3d-edit`` (one call: one de-render, one edit) and ``sdn3d-app`` (one de-render per image and set of boxes, an
 edit per interaction) both go through :class:`EditSession`, so a spec the app shows reproduces its picture through
 ``sdn3d-edit`` bit for bit: the same de-render, the same :func:`~sdn3d.editing.spec.resolve_ops` /
-:func:`~sdn3d.editing.spec.apply_spec`, the same drawing (:func:`~sdn3d.editing.photo.render_photo`, or the
-generator and :func:`~sdn3d.editing.compose.compose_edit`).
+:func:`~sdn3d.editing.spec.apply_spec`, the same drawing (the appearance of the settings,
+:func:`~sdn3d.editing.appearance.appearance_renderer`, its source state kept with the de-rendered scene).
 
 The stages::
 
@@ -32,10 +32,12 @@ from torch import Tensor
 
 import sdn3d.derender as derendering
 from sdn3d.derender import PROPOSAL_LABELS, PROPOSALS, GroundTruth, Models
-from sdn3d.editing.compose import ComposeSettings, compose_edit, edited_object_ids
+from sdn3d.editing.appearance import APPEARANCES, AppearanceRenderer, Drawn, SourceState, appearance_renderer, generate
+from sdn3d.editing.compose import ComposeSettings, edited_object_ids
+from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.ops import EditOp, SetBackgroundCode, SetCode
-from sdn3d.editing.photo import APPEARANCES, PhotoCache, PhotoSettings, paints, render_photo
-from sdn3d.editing.spec import EditSpec, PixelFrame, apply_spec, box_prompts, resolve_ops
+from sdn3d.editing.photo.settings import PhotoSettings
+from sdn3d.editing.spec import EditSpec, apply_spec, box_prompts, resolve_ops
 from sdn3d.errors import InputError
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.scene.code import SceneCode
@@ -73,7 +75,7 @@ class EditInput:
     ground_truth: GroundTruth | None = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "picture", np.ascontiguousarray(self.picture))  # one buffer: PhotoCache binds to it
+        object.__setattr__(self, "picture", np.ascontiguousarray(self.picture))  # one buffer: the photo state binds
         h_in, w_in = self.picture.shape[:2]
         if self.picture.dtype != np.uint8 or self.picture.ndim != 3 or (w_in, h_in) != tuple(self.frame.input_size):
             raise ValueError(f"EditInput.picture must be (H, W, 3) uint8 of the frame's input size "
@@ -140,7 +142,8 @@ class SessionSettings:
     @property
     def generates(self) -> bool:
         """Whether an edit runs the generator (its appearance, the generator fill, or the diagnostics)."""
-        return self.appearance == "generator" or self.photo.fill == "generator" or self.diagnostics
+        return appearance_renderer(self.appearance, photo=self.photo, compose=self.compose).needs_generator \
+            or self.diagnostics
 
 
 @dataclass(frozen=True)
@@ -153,8 +156,8 @@ class Derendered:
         boxes: per object named by a box, ``scene.meta['boxes']``'s record with ``input_box`` (input pixels).
         warnings: poor or missing 3D fits of box objects (:func:`fit_warnings`).
         derender_ms: the de-render's wall time.
-        photo_cache: what the photo appearance computed from this scene alone, kept for its next edit
-            (:class:`~sdn3d.editing.photo.PhotoCache`: the pictures are the same bit for bit).
+        source: what the appearance computed from this scene alone, kept for its next edit
+            (:class:`~sdn3d.editing.appearance.SourceState`: the pictures are the same bit for bit).
     """
 
     input: EditInput
@@ -162,7 +165,7 @@ class Derendered:
     boxes: list[dict]
     warnings: list[str]
     derender_ms: float
-    photo_cache: PhotoCache = field(default_factory=PhotoCache, repr=False)
+    source: SourceState | None = field(default=None, repr=False)
 
 
 @dataclass
@@ -259,6 +262,9 @@ class EditSession:
         self.settings = settings or SessionSettings()
         self.cache_size = int(cache_size)
         self.lock = threading.RLock()
+        s = self.settings
+        self.renderer: AppearanceRenderer = appearance_renderer(s.appearance, photo=s.photo, compose=s.compose,
+                                                                textural=models.textural)
         self._scenes: OrderedDict[tuple, Derendered] = OrderedDict()
 
     def derender(self, inp: EditInput, spec: EditSpec | None = None) -> Derendered:
@@ -288,7 +294,8 @@ class EditSession:
             elapsed = 1000 * (time.perf_counter() - t0)
             records = boxes_record(scene, inp.frame)
             poor = scene.meta.get("fit", {}).get("poor_iou")
-            done = Derendered(inp, scene, records, fit_warnings(records, poor), elapsed)
+            done = Derendered(inp, scene, records, fit_warnings(records, poor), elapsed,
+                              self.renderer.prepare(inp.original, inp.frame, scene))
             self._scenes[key] = done
             while len(self._scenes) > self.cache_size:
                 self._scenes.popitem(last=False)
@@ -310,7 +317,8 @@ class EditSession:
         s = self.settings
         generator = torch.Generator().manual_seed(int(s.seed))
         ops = resolve_ops(spec, derendered.scene, self.code_bank, s.pick_radius, strict=s.strict, generator=generator,
-                          frame=derendered.input.frame, appearance=s.appearance)
+                          frame=derendered.input.frame)
+        self.renderer.check(spec, self.code_bank)
         return ops, apply_spec(derendered.scene, ops, spec)
 
     def edit(self, derendered: Derendered, spec: EditSpec) -> EditResult:
@@ -319,68 +327,55 @@ class EditSession:
         Raises:
             EditError / EditSpecError: naming the op; PhotoSettingsError: a photo setting the scene cannot honour.
         """
-        s = self.settings
         times = {"derender_ms": derendered.derender_ms}
         with self.lock:
             t0 = time.perf_counter()
             ops, edited_scene = self.resolve(derendered, spec)
             times["edit_ms"] = 1000 * (time.perf_counter() - t0)
-            drawn = self._render(derendered.scene, edited_scene, times)
-            if s.appearance == "photo":
-                drawn |= self._photo(derendered, edited_scene, ops, drawn["generated"], times)
-            else:
-                drawn |= self._compose(derendered, edited_scene, drawn, times)
+            drawn = self._draw(derendered, edited_scene, ops, times)
         return EditResult(derendered, ops, edited_scene, times=times, **drawn)
 
-    def _render(self, scene: SceneCode, edited_scene: SceneCode, times: dict[str, float]) -> dict[str, Any]:
-        """The generator's edited picture (timed as ``render_ms``; None unless :attr:`SessionSettings.generates`),
-        both scenes' maps where the generator or the diagnostics need them, and (diagnostics) the unedited
-        scene's picture."""
-        from sdn3d.editing.render import render_maps
-        from sdn3d.scene.maps import scene_maps
-
+    def _draw(self, derendered: Derendered, edited_scene: SceneCode, ops: list[EditOp],
+              times: dict[str, float]) -> dict[str, Any]:
+        """The appearance's picture of ``edited_scene`` (timed: ``render_ms`` the generator, ``photo_ms`` /
+        ``compose_ms``) and what :class:`EditResult` shows besides: both scenes' maps where the generator ran and
+        (diagnostics) the unedited scene's picture."""
         s = self.settings
-        if not s.generates:  # the photo appearance alone draws from the scenes themselves
-            return {"generated": None, "reconstruction": None, "source_maps": None, "edited_maps": None}
-        t0 = time.perf_counter()
-        bins = self.models.textural.spec.pose_bins
-        edited_maps = scene_maps(edited_scene, num_bins=bins)
-        generated = render_maps(edited_maps, self.models.textural)
-        times["render_ms"] = 1000 * (time.perf_counter() - t0)
-        source_maps = scene_maps(scene, num_bins=bins)
-        reconstruction = render_maps(source_maps, self.models.textural) if s.diagnostics else None
-        return {"generated": generated, "reconstruction": reconstruction, "source_maps": source_maps,
-                "edited_maps": edited_maps}
+        state = derendered.source
+        if state is None or state.scene is not derendered.scene:
+            raise ValueError("EditSession.edit: the de-rendered scene has no source state of its own (derender it)")
+        generated = None
+        if s.diagnostics:  # the generator's picture besides the appearance's (the photo appearance draws none)
+            t0 = time.perf_counter()
+            generated = generate(edited_scene, self.models.textural)
+            times["render_ms"] = 1000 * (time.perf_counter() - t0)
+        drawn = self.renderer.draw(state, edited_scene, ops, generated)
+        times |= drawn.times
+        out = {"generated": drawn.generated, "reconstruction": None, "source_maps": None, "edited_maps": drawn.maps}
+        if s.generates:
+            bins = self.models.textural.spec.pose_bins
+            out["source_maps"] = state.source_maps(bins)
+            if s.diagnostics:
+                from sdn3d.editing.appearance import render_maps
 
-    def _compose(self, derendered: Derendered, edited_scene: SceneCode, drawn: dict[str, Any],
-                 times: dict[str, float]) -> dict[str, Any]:
-        """appearance=generator: :func:`~sdn3d.editing.compose.compose_edit` (timed as ``compose_ms``)."""
-        settings, scene = self.settings.compose, derendered.scene
-        original = None
-        if settings.mode == "edited":
-            original = derendered.input.original
-        t0 = time.perf_counter()
-        ids = edited_object_ids(scene.objects, edited_scene.objects)
-        picture, region = compose_edit(settings, drawn["generated"], original, derendered.input.frame,
-                                       drawn["source_maps"], drawn["edited_maps"], ids)
-        times["compose_ms"] = 1000 * (time.perf_counter() - t0)
-        edited = to_uint8(picture) if region is None else picture.permute(1, 2, 0).numpy()
+                out["reconstruction"] = render_maps(out["source_maps"], self.models.textural)
+        record = self._photo_record(drawn, ops) if drawn.photo is not None else self._compose_record(drawn)
+        return out | record
+
+    def _compose_record(self, drawn: Drawn) -> dict[str, Any]:
+        """appearance=generator: the picture as uint8 and edit.json's ``compose`` record."""
+        settings, region = self.settings.compose, drawn.region
+        edited = to_uint8(drawn.image) if region is None else drawn.image.permute(1, 2, 0).numpy()
         info = {**settings.to_dict(), "output_size": [edited.shape[1], edited.shape[0]],
-                "edited_objects": ids.tolist()}
+                "edited_objects": drawn.edited_ids.tolist()}
         if region is not None:
             info |= {"region_pixels": int(region.sum()), "region_fraction": float(region.float().mean())}
         return {"edited": edited, "region": region, "source_map": None, "compose": info, "photo": None,
                 "warnings": []}
 
-    def _photo(self, derendered: Derendered, edited_scene: SceneCode, ops: list[EditOp], generated: Tensor | None,
-               times: dict[str, float]) -> dict[str, Any]:
-        """appearance=photo: :func:`~sdn3d.editing.photo.render_photo` at the input's resolution (``photo_ms``)."""
-        settings = self.settings.photo
-        t0 = time.perf_counter()
-        result = render_photo(derendered.input.original, derendered.input.frame, derendered.scene, edited_scene,
-                              settings=settings, recolor=paints(ops), generated=generated,
-                              cache=derendered.photo_cache)
-        times["photo_ms"] = 1000 * (time.perf_counter() - t0)
+    def _photo_record(self, drawn: Drawn, ops: list[EditOp]) -> dict[str, Any]:
+        """appearance=photo: the picture, where each pixel came from and edit.json's ``photo`` record."""
+        result = drawn.photo
         coded = [op for op in ops if isinstance(op, SetBackgroundCode) or (isinstance(op, SetCode)
                                                                           and op.color is None)]
         if coded:
@@ -390,9 +385,8 @@ class EditSession:
         edited = result.image.permute(1, 2, 0).numpy()
         info = {"mode": "photo", "output_size": [edited.shape[1], edited.shape[0]]}
         return {"edited": edited, "region": None, "source_map": result.source, "compose": info,
-                "photo": {"settings": settings.to_dict(), **result.summary()}, "warnings": list(result.warnings)}
-
-
+                "photo": {"settings": self.settings.photo.to_dict(), **result.summary()},
+                "warnings": list(result.warnings)}
 
 
 # -- records (edit.json, the listing) ---------------------------------------------------------------

@@ -81,6 +81,7 @@ from sdn3d.editing.apply import (
     ops_from_benchmark,
     projected_centers,
 )
+from sdn3d.editing.frame import PixelFrame
 from sdn3d.errors import UserInputError
 from sdn3d.image_ops import mask_boxes
 from sdn3d.meshes.bank import MeshBank
@@ -90,8 +91,8 @@ from sdn3d.textural.code_bank import named_color
 from sdn3d.textural.codes import CodeBank
 
 __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
-           "apply_spec", "PixelFrame", "read_yaml", "MAX_OPS", "EXCERPT_CHARS", "BoxObjectSpec", "box_prompts",
-           "MAX_BOX_OBJECTS"]
+           "apply_spec", "read_yaml", "MAX_OPS", "EXCERPT_CHARS", "BoxObjectSpec", "box_prompts",
+           "MAX_BOX_OBJECTS", "code_bank_needed"]
 
 OP_KINDS = ("move", "rotate", "zoom", "delete", "recolor", "duplicate", "modify")
 _FIELDS = {"move": {"to"}, "rotate": {"ry_deg", "ry_rad"}, "zoom": {"zoom", "on_ground"}, "delete": set(),
@@ -159,50 +160,6 @@ class EditSpec:
 
     def __len__(self) -> int:
         return len(self.entry.operations) if self.entry is not None else len(self.ops)
-
-
-@dataclass(frozen=True)
-class PixelFrame:
-    """How the input image became the working image: resized to ``scaled_size`` (per-axis scale
-    ``scaled / input``), then the working size cropped at ``offset (left, top)`` of it.
-
-    Pixel centres at integers: ``u_work = (u_in + 0.5) * sx - 0.5 - left`` (as
-    :meth:`~sdn3d.math3d.camera.Intrinsics.resized` then ``.cropped`` map the principal point).
-    """
-
-    input_size: tuple[int, int]
-    working_size: tuple[int, int]
-    scaled_size: tuple[int, int] | None = None  # None: the working size (a plain resize)
-    offset: tuple[int, int] = (0, 0)
-
-    @property
-    def scale(self) -> tuple[float, float]:
-        sw, sh = self.scaled_size or self.working_size
-        return sw / self.input_size[0], sh / self.input_size[1]
-
-    @property
-    def is_plain_resize(self) -> bool:
-        return tuple(self.offset) == (0, 0) and tuple(self.scaled_size or self.working_size) == tuple(self.working_size)
-
-    def to_working(self, uv: tuple[float, float]) -> tuple[float, float]:
-        """An input-image pixel -> the working image's pixel."""
-        if self.is_plain_resize:
-            return scale_point(uv, self.input_size, self.working_size)
-        sx, sy = self.scale
-        return ((uv[0] + 0.5) * sx - 0.5 - self.offset[0], (uv[1] + 0.5) * sy - 0.5 - self.offset[1])
-
-    def to_input(self, uv: tuple[float, float]) -> tuple[float, float]:
-        """A working-image pixel -> the input image's pixel."""
-        sx, sy = self.scale
-        return ((uv[0] + self.offset[0] + 0.5) / sx - 0.5, (uv[1] + self.offset[1] + 0.5) / sy - 0.5)
-
-    def to_dict(self) -> dict:
-        sx, sy = self.scale
-        return {"input_size": list(self.input_size), "working_size": list(self.working_size),
-                "mode": "resize" if self.is_plain_resize else "scale_crop",
-                "scaled_size": list(self.scaled_size or self.working_size), "scale": [sx, sy],
-                "crop_offset": list(self.offset),
-                "rule": "u_work = (u_in + 0.5) * scale_x - 0.5 - crop_offset_x (same for v)"}
 
 
 #: Longest excerpt of a user's value quoted in an error message (a value may be megabytes long).
@@ -630,8 +587,7 @@ def _check_inside(op: OpSpec, points: tuple, spec: EditSpec, scene: SceneCode, f
 
 def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = None,
                 pick_radius: float | None = 16.0, bank: MeshBank | None = None, strict: bool = True,
-                generator: torch.Generator | None = None, frame: PixelFrame | None = None,
-                appearance: str = "photo") -> list[EditOp]:
+                generator: torch.Generator | None = None, frame: PixelFrame | None = None) -> list[EditOp]:
     """Turn ``spec`` into :mod:`sdn3d.editing.apply` operations on ``scene`` (every check that needs the scene).
 
     Args:
@@ -641,8 +597,6 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
         generator: randomness of ``sample`` (an op's ``seed`` overrides it).
         frame: the input image -> scene transform; the spec's points are then input-image pixels (or
             ``frame_size`` pixels of the resized input). None: the scene's pixels (or ``frame_size``'s).
-        appearance: how the edit will be drawn (:data:`~sdn3d.editing.photo.APPEARANCES`): with ``'photo'`` a
-            ``recolor`` by ``color`` needs no code bank (the car's own pixels are repainted).
 
     Raises:
         EditError: naming the op: no such object, an object without geometry for a 3D edit, a target
@@ -697,18 +651,35 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
         elif op.kind == "modify":
             ops.append(Modify(iid, to, op.zoom, op.ry))
         else:
-            ops.append(_set_code(op, iid, row, scene, code_bank, generator, what, appearance))
+            ops.append(_set_code(op, iid, row, scene, code_bank, generator, what))
     return ops
 
 
 def _set_code(op: OpSpec, iid: int, row: int, scene: SceneCode, code_bank: CodeBank | None,
-              generator: torch.Generator | None, what: str, appearance: str) -> SetCode:
-    """A ``recolor`` of an object: its code (:func:`_code`) and, for ``color``, the paint. The photo appearance
-    repaints the car itself, so there a named colour needs no code bank (the object keeps its code)."""
+              generator: torch.Generator | None, what: str) -> SetCode:
+    """A ``recolor`` of an object: its code (:func:`_code`) and, for ``color``, the paint. Without a code bank a
+    named colour keeps the object's code (an appearance that draws codes refuses it:
+    :func:`code_bank_needed`)."""
     color = named_color(op.color) if op.color is not None else None
-    if color is not None and appearance == "photo" and code_bank is None:
+    if color is not None and code_bank is None:
         return SetCode(iid, tuple(float(c) for c in scene.objects.code[row]), color)
     return SetCode(iid, _code(op, int(scene.objects.class_id[row]), scene, code_bank, generator, what), color)
+
+
+def _no_code_bank(what: str, field: str) -> EditError:
+    return EditError(f"{what}: {field} needs a code bank of training codes (code_bank=<file>; sdn3d-train writes "
+                     "<checkpoint>.code_bank.json next to the textural checkpoint)")
+
+
+def code_bank_needed(spec: EditSpec, code_bank: CodeBank | None) -> None:
+    """For an appearance that draws texture codes (the generator): raises the :class:`EditError` naming the first
+    ``recolor`` of an object by ``color`` when there is no code bank to pick its code from (:func:`resolve_ops`
+    then keeps the object's code, which only the photo appearance repaints)."""
+    if code_bank is not None:
+        return
+    for op in spec.ops:
+        if op.kind == "recolor" and op.class_ is None and op.color is not None:
+            raise _no_code_bank(op.describe(), f"'color: {op.color}'")
 
 
 def _code(op: OpSpec, class_id: int, scene: SceneCode, code_bank: CodeBank | None,
@@ -720,8 +691,7 @@ def _code(op: OpSpec, class_id: int, scene: SceneCode, code_bank: CodeBank | Non
         return op.code
     field = f"'color: {op.color}'" if op.color is not None else "'sample: true'"
     if code_bank is None:
-        raise EditError(f"{what}: {field} needs a code bank of training codes (code_bank=<file>; sdn3d-train writes "
-                        "<checkpoint>.code_bank.json next to the textural checkpoint)")
+        raise _no_code_bank(what, field)
     if op.seed is not None:
         generator = torch.Generator().manual_seed(op.seed)
     try:

@@ -34,7 +34,8 @@ from torch import Tensor
 
 from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, BenchmarkEntry, BenchmarkOperation, scale_operation
 from sdn3d.editing.apply import Delete, EditError, apply_edits, match_objects
-from sdn3d.editing.photo import PhotoSettings, fill_hole, vacated_hole
+from sdn3d.editing.photo.fill import fill_hole, vacated_hole
+from sdn3d.editing.photo.settings import PhotoSettings
 from sdn3d.image_ops import boundary_map, instance_label_map
 from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.scene.code import SceneCode

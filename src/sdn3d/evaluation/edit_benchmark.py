@@ -61,11 +61,18 @@ from sdn3d.data.frames import load_frame
 from sdn3d.data.records import FrameRecord, load_instances
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame
 from sdn3d.derender import PROPOSAL_LABELS, Models, derender, encode_scene
+from sdn3d.editing.appearance import (
+    PICTURE_MODES,
+    Appearance,
+    AppearanceRenderer,
+    appearance_renderer,
+    picture_mode,
+    render_maps,
+)
 from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
 from sdn3d.editing.compose import COMPOSE_MODES, ComposeSettings, ComposeSettingsError, compose_edit, edited_object_ids
-from sdn3d.editing.photo import PhotoSettings, render_photo
-from sdn3d.editing.render import render_maps
-from sdn3d.editing.spec import PixelFrame
+from sdn3d.editing.frame import PixelFrame
+from sdn3d.editing.photo.settings import PhotoSettings
 from sdn3d.errors import UserInputError
 from sdn3d.evaluation.baselines import baseline_maps, baseline_photo
 from sdn3d.evaluation.image_metrics import crop_metrics, image_metrics
@@ -102,7 +109,7 @@ __all__ = [
 METHODS = ("3d-sdn", "2d", "2d+")
 REGIONS = ("whole", "all", "largest", "objects")
 #: How a method's picture is made: ``photo`` (the photo appearance), or a compose mode of the generator's picture.
-MODES = ("photo", *COMPOSE_MODES)
+MODES = PICTURE_MODES
 #: What an entry edits (:func:`edit_kind`), the order of the per-kind tables.
 EDIT_KINDS = ("move", "rotate", "zoom", "delete", "occluder_removed")
 #: A modify that turns the object by at least this much (radians) is a ``rotate`` entry.
@@ -164,8 +171,7 @@ class BenchSettings:
             raise ComposeSettingsError(f"compose must list distinct modes of {MODES}, got {list(compose)}")
         object.__setattr__(self, "compose", compose)
         for mode in compose:
-            if mode != "photo":
-                self.compose_settings(mode)  # checks the mode, dilate_px and feather_px
+            self.renderer(mode)  # checks the mode, dilate_px and feather_px
         object.__setattr__(self, "image_size", (int(self.image_size[0]), int(self.image_size[1])))
         object.__setattr__(self, "frame_size", (int(self.frame_size[0]), int(self.frame_size[1])))
         if self.limit is not None and self.limit < 0 or self.examples < 0:
@@ -174,10 +180,20 @@ class BenchSettings:
     def compose_settings(self, mode: str) -> ComposeSettings:
         return ComposeSettings(mode, self.dilate_px, self.feather_px)
 
+    def renderer(self, mode: str, textural: TexturalRenderer | None = None) -> AppearanceRenderer:
+        """The appearance that draws 3D-SDN's picture in ``mode`` (:func:`~sdn3d.editing.appearance.picture_mode`)."""
+        appearance, compose = picture_mode(mode, ComposeSettings("edited", self.dilate_px, self.feather_px))
+        return appearance_renderer(appearance, photo=self.photo, compose=compose, textural=textural)
+
     @property
     def generator_modes(self) -> tuple[str, ...]:
-        """The modes that need the generator's picture."""
-        return tuple(m for m in self.compose if m != "photo")
+        """The modes of the generator appearance."""
+        return tuple(m for m in self.compose if self.renderer(m).appearance is Appearance.GENERATOR)
+
+    @property
+    def generates(self) -> bool:
+        """Whether a mode draws with the generator's picture (the generator appearance, the generator fill)."""
+        return any(self.renderer(m).needs_generator for m in self.compose)
 
 
 def edit_kind(entry: BenchmarkEntry) -> str:
@@ -335,7 +351,7 @@ def _method_pictures(entry: BenchmarkEntry, scene: SceneCode, baseline: tuple[Sc
     path's latency. ``baseline``: the source scene (its codes from that generator's encoder) and the generator of
     the 2D and 2D+ edits."""
     t1 = time.perf_counter()
-    generate = bool(settings.generator_modes) or settings.photo.fill == "generator"
+    generate = settings.generates
     images: dict[str, Tensor] = {}
     maps: dict[str, ComposedMaps] = {}
     picks: dict[str, list[int]] = {}
@@ -377,32 +393,39 @@ def _composed(images: dict[str, Tensor], maps: dict[str, ComposedMaps], source: 
     the original); times the 3D-SDN path's ``photo`` and ``compose='edited'`` steps. Each method's edit region is
     against the source scene it edited (``baseline_scene`` for 2D and 2D+: its own codes)."""
     identity = PixelFrame(settings.image_size, settings.image_size)
+    bins = models.textural.spec.pose_bins
+    state = None  # 3D-SDN's source state, shared by its appearances (its source maps made once)
     before: dict[str, ComposedMaps | None] = dict.fromkeys(METHODS)
     if "edited" in settings.compose:
-        before["3d-sdn"] = scene_maps(scene, num_bins=models.textural.spec.pose_bins)
+        state = appearance_renderer(Appearance.GENERATOR).prepare(source, identity, scene)
+        before["3d-sdn"] = state.source_maps(bins)
         before["2d"] = before["2d+"] = before["3d-sdn"] if baseline_scene is scene else scene_maps(baseline_scene)
     out: dict[str, dict[str, Tensor]] = {}
     for mode in settings.compose:
         out[mode] = {}
-        if mode == "photo":
-            if edited is not None:
-                t0 = time.perf_counter()
-                out[mode]["3d-sdn"] = render_photo(source, identity, scene, edited, settings=settings.photo,
-                                                   generated=images.get("3d-sdn")).image
-                if result.latency_ms:
-                    result.latency_ms["photo"] = 1000 * (time.perf_counter() - t0)
+        renderer = settings.renderer(mode, models.textural)
+        photo = renderer.appearance is Appearance.PHOTO
+        if state is None:
+            state = renderer.prepare(source, identity, scene)
+        if edited is not None and (photo or "3d-sdn" in images):
+            generated = (maps["3d-sdn"], images["3d-sdn"]) if "3d-sdn" in images else None
+            t0 = time.perf_counter()
+            # (benchmark ops name no colour: nothing to repaint)
+            out[mode]["3d-sdn"] = renderer.draw(state, edited, (), generated).image
+            key = "photo" if photo else "compose" if mode == "edited" else None
+            if key and result.latency_ms:
+                result.latency_ms[key] = 1000 * (time.perf_counter() - t0)
+        if photo:
             for method in ("2d", "2d+"):
                 if method in maps:  # the baselines paste the same scene's objects the generator path edits
                     out[mode][method] = baseline_photo(source, scene, entry, method, settings.frame_size,
                                                        settings.photo, max_distance=settings.pick_radius,
                                                        fill=images.get(method))
             continue
-        for method, picture in images.items():
-            t0 = time.perf_counter()
-            out[mode][method], _ = compose_edit(settings.compose_settings(mode), picture, source, identity,
-                                                before[method], maps[method], ids)
-            if method == "3d-sdn" and mode == "edited" and result.latency_ms:
-                result.latency_ms["compose"] = 1000 * (time.perf_counter() - t0)
+        for method, picture in images.items():  # the 2D baselines: label maps, no scene to hand an appearance
+            if method != "3d-sdn":
+                out[mode][method], _ = compose_edit(settings.compose_settings(mode), picture, source, identity,
+                                                    before[method], maps[method], ids)
     return out
 
 

@@ -17,7 +17,7 @@ __all__ = ["list_objects", "objects_table"]
 def list_objects(scene: SceneCode, input_size: tuple[int, int], frame: Any = None) -> list[dict]:
     """The scene's objects as JSON-ready rows, positions in the pixels of an image of ``input_size (W, H)``.
 
-    ``frame`` (a :class:`sdn3d.editing.spec.PixelFrame`, input -> working transform: scale then crop offset)
+    ``frame`` (a :class:`sdn3d.editing.frame.PixelFrame`, input -> working transform: scale then crop offset)
     maps the working pixels back to the input's; None: the scene is ``input_size`` resized.
 
     Each row: ``id``, ``class``, ``box`` ``[x0, y0, x1, y1]`` (half-open, the visible mask's box scaled out

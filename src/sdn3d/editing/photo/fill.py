@@ -1,0 +1,141 @@
+"""Filling the pixels an edit vacated (the photo appearance's step 2: :mod:`sdn3d.editing.photo`): the hole, and
+Telea / PatchMatch / the generator's picture in it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+from torch import Tensor
+
+from sdn3d.editing.photo.settings import AUTO_THIN_PX, PATCHMATCH_MAX_SIDE, PhotoSettings, PhotoSettingsError
+
+__all__ = ["inpaint", "vacated_hole", "fill_hole"]
+
+
+def _dilate(mask: Tensor, radius: int) -> Tensor:
+    if radius <= 0 or not bool(mask.any()):
+        return mask
+    return F.max_pool2d(mask[None, None].float(), 2 * radius + 1, stride=1, padding=radius)[0, 0] > 0
+
+
+def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5, patch_size: int = 3,
+            keep_out: Tensor | None = None) -> Tensor:
+    """``image (3, H, W)`` float in [0, 1] with ``hole (H, W)`` filled, each connected part of the hole on its own
+    bounding box plus a margin (:func:`_inpaint_part`; ``method`` there, or ``'auto'``)."""
+    import cv2
+
+    if not bool(hole.any()):
+        return image
+    count, labels = cv2.connectedComponents(hole.numpy().astype(np.uint8), connectivity=8)
+    depth = cv2.distanceTransform(hole.numpy().astype(np.uint8), cv2.DIST_L2, 3) if method == "auto" else None
+    labels = torch.from_numpy(labels)
+    for k in range(1, count):
+        part = labels == k
+        how = method
+        if method == "auto":  # thin gaps smear little under Telea; large holes need copied texture
+            how = "telea" if float(depth[part.numpy()].max()) <= AUTO_THIN_PX else "patchmatch"
+        image = _inpaint_part(image, part, how, radius, patch_size, keep_out)
+    return image
+
+
+def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_size: int,
+                  keep_out: Tensor | None) -> Tensor:
+    """:func:`inpaint` of one connected ``hole`` on its box plus a margin (padded by one pixel: OpenCV mishandles
+    holes that touch the top or left edge).
+
+    Args:
+        method: ``'telea'`` (OpenCV's fast marching; smears large holes), ``'patchmatch'`` (PyPatchMatch: copies
+            patches of the surroundings; plausible road and kerb texture, slower) or ``'auto'`` (per connected part:
+            Telea where it is thin, :data:`AUTO_THIN_PX`, else PatchMatch).
+        radius: Telea's neighbourhood; patch_size: PatchMatch's patch radius.
+        keep_out: ``(H, W)`` pixels PatchMatch must not copy from (other objects).
+    """
+    import cv2
+
+    height, width = hole.shape
+    ys, xs = hole.nonzero(as_tuple=True)
+    margin = max(4 * radius + 8, (int(ys.max()) - int(ys.min()) + int(xs.max()) - int(xs.min())) // 2 + 8) \
+        if method == "patchmatch" else 4 * radius + 8
+    x0, x1 = max(int(xs.min()) - margin, 0), min(int(xs.max()) + margin + 1, width)
+    y0, y1 = max(int(ys.min()) - margin, 0), min(int(ys.max()) + margin + 1, height)
+    crop = (image[:, y0:y1, x0:x1].permute(1, 2, 0).clamp(0, 1).numpy() * 255 + 0.5).astype(np.uint8)
+    mask = hole[y0:y1, x0:x1].numpy().astype(np.uint8)
+    crop = cv2.copyMakeBorder(crop, 1, 1, 1, 1, cv2.BORDER_REPLICATE)
+    # The pad continues the hole too: a padded pixel beside a hole pixel is no known value to fill from.
+    mask = cv2.copyMakeBorder(mask, 1, 1, 1, 1, cv2.BORDER_REPLICATE)
+    if method == "patchmatch":
+        from patchmatch import patch_match
+
+        avoid = None
+        if keep_out is not None and bool(keep_out[y0:y1, x0:x1].any()):
+            avoid = cv2.copyMakeBorder((keep_out[y0:y1, x0:x1] & ~hole[y0:y1, x0:x1]).numpy().astype(np.uint8),
+                                       1, 1, 1, 1, cv2.BORDER_CONSTANT, value=0)
+        full = crop.shape[1], crop.shape[0]
+        shrink = min(1.0, PATCHMATCH_MAX_SIDE / max(full))
+        if shrink < 1.0:  # a large hole: fill at a coarser scale (its time grows with the crop's area)
+            small = max(round(full[0] * shrink), 8), max(round(full[1] * shrink), 8)
+            crop_s = cv2.resize(crop, small, interpolation=cv2.INTER_AREA)
+            mask_s = cv2.resize(mask, small, interpolation=cv2.INTER_NEAREST) | (cv2.resize(
+                mask.astype(np.float32), small, interpolation=cv2.INTER_AREA) > 0).astype(np.uint8)
+            avoid_s = None if avoid is None else cv2.resize(avoid, small, interpolation=cv2.INTER_NEAREST) & ~mask_s
+            filled = cv2.resize(patch_match.inpaint(crop_s, mask_s, global_mask=avoid_s, patch_size=patch_size),
+                                full, interpolation=cv2.INTER_LINEAR)
+        else:
+            filled = patch_match.inpaint(np.ascontiguousarray(crop), mask, global_mask=avoid, patch_size=patch_size)
+        filled = filled[1:-1, 1:-1]
+    elif method == "telea":
+        filled = cv2.inpaint(np.ascontiguousarray(crop[:, :, ::-1]), mask, radius, cv2.INPAINT_TELEA)[1:-1, 1:-1, ::-1]
+    else:
+        raise PhotoSettingsError(f"inpaint method must be 'telea', 'patchmatch' or 'auto', got {method!r}")
+    out = image.clone()
+    patch = torch.from_numpy(np.ascontiguousarray(filled)).permute(2, 0, 1).float() / 255
+    region = hole[y0:y1, x0:x1]
+    out[:, y0:y1, x0:x1] = torch.where(region[None], patch, out[:, y0:y1, x0:x1])
+    return out
+
+
+def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSettings) -> Tensor:
+    """``(H, W)`` bool pixels to fill: those of ``ids (H, W)`` (instance map) in ``gone (K,)`` (moved or deleted
+    objects), grown by ``hole_dilate_px`` and by a band below each (its old contact shadow), less ``keep (H, W)``
+    (pixels of objects that stay)."""
+    vacated = torch.isin(ids, gone) & (ids != 0)
+    hole = _dilate(vacated, settings.hole_dilate_px)
+    if settings.shadow_band > 0 and bool(vacated.any()):
+        hole |= _dilate(_shadow_bands(ids, gone, settings.shadow_band), 1)
+    return hole & ~keep
+
+
+def _shadow_bands(ids: Tensor, gone: Tensor, share: float) -> Tensor:
+    """``(H, W)`` bool: the pixels at most ``band`` rows below a pixel of an object of ``gone`` in ``ids``, ``band``
+    being ``share`` of that object's height (at least 1), all objects in one pass: a running count of each
+    object's pixels down every column, differenced ``band + 1`` rows apart."""
+    height = ids.shape[0]
+    gone = gone[torch.isin(gone, ids)] if len(gone) else gone
+    if not len(gone):
+        return torch.zeros_like(ids, dtype=torch.bool)
+    one = ids[None] == gone[:, None, None]  # (K, H, W)
+    rows = one.any(2)  # (K, H)
+    at = torch.arange(height)
+    top = torch.where(rows, at, height).amin(1)
+    bottom = torch.where(rows, at, -1).amax(1)
+    bands = torch.tensor([max(1, round(share * float(b - t + 1))) for t, b in zip(top.tolist(), bottom.tolist(),
+                                                                                 strict=True)])
+    count = F.pad(one.to(torch.int32).cumsum(1), (0, 0, 1, 0))  # (K, H + 1, W): pixels in rows < i
+    start = (at[None] - bands[:, None]).clamp(min=0)  # (K, H): the first row of each pixel's window
+    index = start[:, :, None].expand(-1, -1, ids.shape[1])
+    return ((count[:, 1:] - count.gather(1, index)) > 0).any(0)
+
+
+def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Tensor | None = None,
+              fill: Tensor | None = None) -> Tensor:
+    """``image (3, H, W)`` with ``hole`` filled by ``settings.fill`` (:data:`FILL_METHODS`; ``fill (3, H, W)``: the
+    generator's picture at this size, for ``'generator'``); ``keep_out``: pixels PatchMatch must not copy."""
+    if not bool(hole.any()):
+        return image.clone()
+    if settings.fill == "generator":
+        if fill is None:
+            raise PhotoSettingsError("photo.fill=generator needs the generator's picture (the textural branch)")
+        return torch.where(hole[None], fill.clamp(0, 1).to(image.dtype), image)
+    return inpaint(image, hole, settings.fill, settings.inpaint_radius, keep_out=keep_out)

@@ -1,0 +1,104 @@
+"""One directional light and an ambient term fitted to the input's car pixels (the photo appearance's step 4:
+:mod:`sdn3d.editing.photo`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import torch
+from torch import Tensor
+
+__all__ = ["LightEstimate", "luminance", "fit_light"]
+
+
+@dataclass(frozen=True)
+class LightEstimate:
+    """One directional light: ``shade(n) = ambient + (1 - ambient) max(0, n . direction)``.
+
+    Attributes:
+        direction: ``(3,)`` unit vector towards the light (camera frame); ambient: in (0, 1];
+        gain: the fit's residual cut against constant shading (0: no better, 1: perfect); pixels: used.
+    """
+
+    direction: Tensor
+    ambient: float
+    gain: float
+    pixels: int
+
+    def shade(self, normals: Tensor) -> Tensor:
+        """``(...,)`` shading of unit ``normals (..., 3)``."""
+        lam = (normals * self.direction.to(normals)).sum(-1).clamp(min=0)
+        return self.ambient + (1 - self.ambient) * lam
+
+    def to_dict(self) -> dict:
+        return {"direction": [round(float(x), 4) for x in self.direction], "ambient": round(self.ambient, 4),
+                "gain": round(self.gain, 4), "pixels": self.pixels}
+
+
+# -- fit ---------------------------------------------------------------------------------------------
+
+
+def _sphere(n: int) -> Tensor:
+    """``(n, 3)`` float64 unit vectors spread evenly (Fibonacci sphere)."""
+    k = torch.arange(n, dtype=torch.float64) + 0.5
+    y = 1 - 2 * k / n
+    r = (1 - y * y).sqrt()
+    phi = math.pi * (3 - math.sqrt(5)) * k
+    return torch.stack([r * phi.cos(), y, r * phi.sin()], 1)
+
+
+def luminance(rgb: Tensor) -> Tensor:
+    """``(...,)`` Rec. 709 luminance of ``rgb (..., 3)`` in [0, 1]."""
+    return rgb @ rgb.new_tensor([0.2126, 0.7152, 0.0722])
+
+
+def fit_light(colors: Tensor, normals: Tensor, groups: Tensor, directions: int = 256,
+              ambients: tuple[float, ...] = (0.15, 0.25, 0.35, 0.45, 0.55, 0.65, 0.75, 0.85)) -> LightEstimate | None:
+    """Fit one directional light and an ambient term to object pixels (module doc, step 4).
+
+    Each pixel's luminance is modelled as ``albedo[group] * shade(normal)``; per light the albedos are solved in
+    closed form on log luminance, and the light with the least squared residual wins. Very dark and saturated
+    pixels are left out, and so are lights below the horizon. Give body pixels only (:func:`body_pixels`): dark
+    windows on top of a car would otherwise read as light from below.
+
+    Args:
+        colors: ``(P, 3)`` sRGB in [0, 1]; normals: ``(P, 3)`` unit camera-frame normals; groups: ``(P,)`` object
+            index of each pixel (one albedo each).
+
+    Returns:
+        The best light, or None with fewer than 50 usable pixels.
+
+    Example:
+        >>> import torch
+        >>> n = torch.nn.functional.normalize(torch.randn(2000, 3, generator=torch.Generator().manual_seed(0)), dim=1)
+        >>> light = torch.tensor([0.0, -0.8, -0.6])
+        >>> y = 0.6 * (0.3 + 0.7 * (n @ light).clamp(min=0))
+        >>> fit = fit_light(y[:, None].expand(-1, 3), n, torch.zeros(2000, dtype=torch.long))
+        >>> bool((fit.direction @ light.double()) > 0.98), round(fit.ambient, 2)
+        (True, 0.35)
+    """
+    y = luminance(colors.double())
+    keep = (y > 0.04) & (y < 0.97) & torch.isfinite(normals).all(1)
+    if int(keep.sum()) < 50:
+        return None
+    y, n, g = y[keep], normals[keep].double(), groups[keep]
+    _, g = torch.unique(g, return_inverse=True)
+    groups_n = int(g.max()) + 1
+    count = torch.bincount(g, minlength=groups_n).double()
+    log_y = y.log()
+    dirs = _sphere(directions)
+    dirs = dirs[dirs[:, 1] <= 0.1]  # street scenes: the light comes from above the horizon (camera y points down)
+    amb = torch.tensor(ambients, dtype=torch.float64)
+    lam = (n @ dirs.T).clamp(min=0)  # (P, D)
+    log_s = (amb[None, None, :] + (1 - amb[None, None, :]) * lam[..., None]).log().flatten(1)  # (P, D*A)
+    resid = log_y[:, None] - log_s
+    mean = torch.zeros(groups_n, resid.shape[1], dtype=torch.float64).index_add_(0, g, resid) / count[:, None]
+    err = ((resid - mean[g]) ** 2).sum(0)
+    flat = log_y - (torch.zeros(groups_n, dtype=torch.float64).index_add_(0, g, log_y) / count)[g]
+    base = float((flat**2).sum())
+    best = int(err.argmin())
+    d, a = divmod(best, len(ambients))
+    gain = 1 - float(err[best]) / base if base > 0 else 0.0
+    return LightEstimate(dirs[d].float(), float(amb[a]), gain, int(keep.sum()))

@@ -1,0 +1,106 @@
+"""Repainting a car's body in CIE Lab (the photo appearance's step 5: :mod:`sdn3d.editing.photo`), and finding its
+paint among its pixels (also the light fit's pixels).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import kornia.color
+import torch
+from torch import Tensor
+
+from sdn3d.editing.ops import SetCode
+
+__all__ = ["paints", "body_pixels", "recolor_pixels"]
+
+
+def paints(ops: Sequence[object]) -> dict[int, tuple[float, float, float]]:
+    """``{instance id: sRGB paint}`` of the :class:`~sdn3d.editing.ops.SetCode` ops in ``ops`` that name a colour
+    (the last one wins)."""
+    return {int(op.instance_id): op.color for op in ops if isinstance(op, SetCode) and op.color is not None}
+
+
+def _paint(lab: Tensor, chroma_tol: float = 15.0, dark_ratio: float = 0.45) -> Tensor:
+    """``(P,)`` bool: the car's paint among its pixels ``lab (P, 3)``: the largest colour cluster
+    (:func:`_kmeans_lab`) sets the paint's chroma and lightness; paint is brighter than ``dark_ratio`` of that
+    lightness and, for a coloured car, of the same hue (within 30 degrees, chroma at least 0.3 of it: shade lowers
+    chroma, not hue), for a grey one within ``chroma_tol`` of its chroma (a, b). Windows and tyres (much darker)
+    and lights (another hue) are not paint."""
+    assign = _kmeans_lab(lab)
+    core = lab[assign == int(torch.bincount(assign).argmax())]
+    chroma, light = core[:, 1:].mean(0), core[:, 0].mean()
+    bright = lab[:, 0] > dark_ratio * light
+    size = float(chroma.norm())
+    if size <= 2 * chroma_tol / 3:  # grey, white, black or silver paint: near that chroma
+        return ((lab[:, 1:] - chroma).norm(dim=1) < chroma_tol) & bright
+    # Coloured paint: the same hue (shade lowers chroma and lightness but keeps the hue), and not greyish.
+    ab = lab[:, 1:]
+    cosine = (ab @ chroma) / (ab.norm(dim=1) * size).clamp(min=1e-6)
+    return (cosine > math.cos(math.radians(30))) & (ab.norm(dim=1) > 0.3 * size) & bright
+
+
+def body_pixels(colors: Tensor, groups: Tensor) -> Tensor:
+    """``(P,)`` bool: the paint (:func:`_paint`) among the pixels of each group (object) of ``colors (P, 3)``."""
+    body = torch.zeros(len(colors), dtype=torch.bool)
+    for g in groups.unique().tolist():
+        sel = (groups == g).nonzero().flatten()
+        if len(sel) < 8:
+            continue
+        body[sel[_paint(_lab(colors[sel]))]] = True
+    return body
+
+
+def _kmeans_lab(lab: Tensor, k: int = 3, iters: int = 10) -> Tensor:
+    """``(P,)`` cluster of each ``lab (P, 3)`` row; deterministic (centres start at lightness quantiles)."""
+    q = torch.quantile(lab[:, 0], torch.linspace(0.15, 0.85, k, dtype=lab.dtype))
+    centres = torch.stack([lab[(lab[:, 0] - qi).abs().argmin()] for qi in q])
+    assign = torch.zeros(len(lab), dtype=torch.long)
+    for _ in range(iters):
+        assign = torch.cdist(lab, centres).argmin(1)
+        for c in range(k):
+            sel = assign == c
+            if bool(sel.any()):
+                centres[c] = lab[sel].mean(0)
+    return assign
+
+
+def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float]) -> tuple[Tensor, Tensor, dict]:
+    """Repaint a car's body (module doc, step 5).
+
+    Args:
+        colors: ``(P, 3)`` sRGB in [0, 1], the car's pixels; target_rgb: the paint, sRGB in [0, 1].
+
+    Returns:
+        ``(new colours (P, 3), body (P,) bool, stats)``; ``stats``: ``body_share``, ``delta_e`` (CIE76 distance of
+        the repainted body's mean Lab to the target's).
+
+    Example:
+        >>> import torch
+        >>> car = torch.tensor([[0.8, 0.8, 0.82]]).repeat(300, 1) * torch.linspace(0.7, 1.0, 300)[:, None]
+        >>> car[:60] = 0.05  # windows and tyres
+        >>> new, body, stats = recolor_pixels(car, (0.7, 0.08, 0.08))
+        >>> bool(body[:60].any()), bool(body[60:].all()), stats["delta_e"] < 3, bool((new[:60] == car[:60]).all())
+        (False, True, True, True)
+    """
+    if len(colors) < 8:
+        return colors, torch.zeros(len(colors), dtype=torch.bool), {"body_share": 0.0, "delta_e": float("nan")}
+    lab = _lab(colors)
+    body = _paint(lab)
+    target = _lab(torch.tensor([target_rgb], dtype=colors.dtype))[0]
+    shift = target - lab[body].mean(0)
+    new_lab = lab + shift
+    new = _rgb(new_lab).clamp(0, 1)
+    out = torch.where(body[:, None], new, colors)
+    delta = float((_lab(out[body]).mean(0) - target).norm())
+    return out, body, {"body_share": float(body.double().mean()), "delta_e": delta}
+
+
+def _lab(rgb: Tensor) -> Tensor:
+    """``(P, 3)`` CIE Lab of sRGB rows in [0, 1] (kornia's conversion)."""
+    return kornia.color.rgb_to_lab(rgb.float().clamp(0, 1).T[:, :, None])[:, :, 0].T
+
+
+def _rgb(lab: Tensor) -> Tensor:
+    return kornia.color.lab_to_rgb(lab.float().T[:, :, None], clip=True)[:, :, 0].T

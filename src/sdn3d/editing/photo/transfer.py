@@ -1,0 +1,586 @@
+"""The photo appearance's surface transfer and its pipeline (:func:`render_photo`; steps 1, 3 and 6 of
+:mod:`sdn3d.editing.photo`): who owns each pixel, each edited object's pixels carried from its source pose.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+from torch import Tensor
+
+from sdn3d.editing.frame import PixelFrame, input_intrinsics, upsample_ids, working_to_input
+from sdn3d.editing.photo.fill import fill_hole, vacated_hole
+from sdn3d.editing.photo.light import LightEstimate, fit_light
+from sdn3d.editing.photo.recolor import body_pixels, recolor_pixels
+from sdn3d.editing.photo.settings import (
+    FALLBACK,
+    FILL,
+    INPUT,
+    MIRROR,
+    PHOTO,
+    RECOLORED,
+    SHADOW,
+    SOURCE_NAMES,
+    PhotoSettings,
+    PhotoSettingsError,
+)
+from sdn3d.math3d.rotations import roty
+from sdn3d.meshes.bank import MeshBank, default_bank
+from sdn3d.render.maps import normal_map
+from sdn3d.render.rasterize import Fragments, rasterize_meshes
+from sdn3d.render.settings import RasterSettings
+from sdn3d.scene.code import ObjectTable, SceneCode
+from sdn3d.scene.maps import compose_instances, posed_meshes
+
+__all__ = ["PhotoResult", "PhotoSource", "render_photo"]
+
+
+@dataclass
+class PhotoResult:
+    """Output of :func:`render_photo`.
+
+    Attributes:
+        image: ``(3, H_in, W_in)`` the edited picture (the original's dtype).
+        source: ``(H_in, W_in)`` uint8 :data:`SOURCE_NAMES` code of each pixel.
+        light: the fitted light (None: relighting off or not fitted).
+        objects: ``{instance id: {pixels, photo, mirror, fallback (shares), ...}}`` per drawn object.
+        warnings: what the user should know (an object none of whose surface the input shows, ...).
+    """
+
+    image: Tensor
+    source: Tensor
+    light: LightEstimate | None
+    objects: dict[int, dict] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+
+    def summary(self) -> dict:
+        counts = torch.bincount(self.source.flatten().long(), minlength=len(SOURCE_NAMES))
+        return {"source_pixels": {n: int(c) for n, c in zip(SOURCE_NAMES, counts.tolist(), strict=True)},
+                "light": self.light.to_dict() if self.light is not None else None, "objects": self.objects,
+                "warnings": list(self.warnings)}
+
+
+class PhotoSource:
+    """What :func:`render_photo` computes from the unedited scene alone, kept between edits of that one scene (an
+    interactive editor redraws only what changed; :mod:`sdn3d.editing.appearance`'s ``SourceState`` holds it).
+
+    Every value is what a call without it computes, so pictures are bit-identical with and without it. It serves one
+    ``(original, scene, frame, settings)`` (:meth:`check`: a stale one would draw another image's pixels).
+
+    Attributes:
+        original: ``(3, H_in, W_in)`` the input (uint8 or float); frame: how it became the scene's working image;
+        scene: the unedited scene; bank: its meshes; settings: the photo settings it was made for.
+        image: ``(3, H_in, W_in)`` float32 in [0, 1], the input.
+        K: ``(3, 3)`` float64, the input image's camera (:func:`~sdn3d.editing.frame.input_intrinsics`).
+        erode: input pixels the instance masks are eroded by (:attr:`PhotoSettings.mask_erode_px`, resolved).
+        src_ids: ``(H_in, W_in)`` int64 source instance map at the input's resolution; vis_ids: eroded.
+        raster: the source objects rasterized at the input's resolution.
+        max_fills: filled pictures kept (each ``3 x H x W`` float32: ~5.6 MB at 1242x375); the oldest goes first.
+    """
+
+    def __init__(self, original: Tensor, frame: PixelFrame, scene: SceneCode, bank: MeshBank | None = None,
+                 settings: PhotoSettings | None = None, max_fills: int = 8) -> None:
+        self.original, self.frame, self.scene = original, frame, scene
+        self.bank = bank or default_bank()
+        self.settings = settings or PhotoSettings()
+        self.max_fills = int(max_fills)
+        self._key = self._bind_key(original, scene, frame, self.settings)
+        self.image = original.float() / 255 if original.dtype == torch.uint8 else original.float().clone()
+        self.K = input_intrinsics(scene.intrinsics, frame).matrix(dtype=torch.float64)
+        erode = self.settings.mask_erode_px
+        self.erode = max(1, math.ceil(1 / min(frame.scale))) if erode is None else erode
+        w_in, h_in = frame.input_size
+        self.src_ids = upsample_ids(compose_instances(scene, self.bank).cpu(), frame)
+        self.vis_ids = _erode_ids(self.src_ids, self.erode)
+        rows, verts, faces = posed_meshes(scene.objects, self.bank)
+        self.raster = _rasterize(rows.cpu(), verts.cpu(), faces.cpu(), self.K, (h_in, w_in))
+        self._light: tuple[Tensor, LightEstimate | None] | None = None
+        self._fills: dict[tuple, Tensor] = {}
+
+    @staticmethod
+    def _bind_key(original: Tensor, scene: SceneCode, frame: PixelFrame, settings: PhotoSettings) -> tuple:
+        return original.data_ptr(), tuple(original.shape), original.dtype, id(scene), frame, settings
+
+    def check(self, original: Tensor, scene: SceneCode, frame: PixelFrame, settings: PhotoSettings) -> None:
+        """Raises ValueError unless this serves ``(original, scene, frame, settings)``."""
+        if self._bind_key(original, scene, frame, settings) != self._key:
+            raise ValueError("PhotoSource serves one (original, scene, transform, settings); make one per scene")
+
+    def light(self) -> tuple[Tensor, LightEstimate | None]:
+        """``(normals (H*W, 3), light or None)`` of the source (:func:`_source_light`), fitted on first use."""
+        if self._light is None:
+            self._light = _source_light(self.raster, self.vis_ids, self.scene.objects, self.image)
+        return self._light
+
+    def fill(self, key: tuple, make) -> Tensor:
+        """A copy of the filled picture of ``key`` (the objects that left and stayed), made by ``make()`` once."""
+        if self.max_fills <= 0:
+            return make()
+        if key not in self._fills:
+            while len(self._fills) >= self.max_fills:
+                self._fills.pop(next(iter(self._fills)))
+            self._fills[key] = make()
+        return self._fills[key].clone()  # the caller draws into its picture
+
+
+def _erode_ids(ids: Tensor, radius: int) -> Tensor:
+    """``ids (H, W)`` with every pixel whose ``(2r+1)^2`` neighbourhood holds another id set to 0."""
+    if radius <= 0:
+        return ids
+    x = ids[None, None].double()
+    k = 2 * radius + 1
+    hi = F.max_pool2d(F.pad(x, (radius,) * 4, mode="replicate"), k, stride=1)
+    lo = -F.max_pool2d(F.pad(-x, (radius,) * 4, mode="replicate"), k, stride=1)
+    return torch.where((hi == lo)[0, 0], ids, torch.zeros_like(ids))
+
+
+@dataclass
+class _Raster:
+    """A rasterization at the input's resolution: ``rows (G,)`` of the table, ``verts (G, V, 3)``, ``faces``,
+    fragments ``(1, H, W)``."""
+
+    rows: Tensor
+    verts: Tensor
+    faces: Tensor
+    frags: Fragments
+
+
+def _rasterize(rows: Tensor, verts: Tensor, faces: Tensor, K: Tensor, size: tuple[int, int]) -> _Raster:
+    g = len(rows)
+    frags = rasterize_meshes(verts.double(), faces, K, RasterSettings(image_size=size),
+                             mesh_to_image=torch.zeros(g, dtype=torch.long), batch_size=1)
+    return _Raster(rows, verts.double(), faces, frags)
+
+
+def _surface(r: _Raster, pix: Tensor) -> tuple[Tensor, Tensor, Tensor, Tensor]:
+    """``(mesh (P,), vertex ids (P, 3), barycentrics (P, 3), camera-facing unit normal (P, 3))`` at flat pixel
+    indices ``pix (P,)`` of ``r`` (all covered)."""
+    f_all = r.frags.pix_to_face.view(-1)[pix]
+    mesh = r.frags.pix_to_mesh.view(-1)[pix]
+    nf = r.faces.shape[1]
+    vid = r.faces[mesh, f_all - mesh * nf]  # (P, 3)
+    bary = r.frags.bary.view(-1, 3)[pix].double()
+    tri = r.verts[mesh[:, None], vid]  # (P, 3, 3)
+    point = (bary[..., None] * tri).sum(1)
+    normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
+    normal = torch.where(((normal * point).sum(-1) > 0)[:, None], -normal, normal)
+    return mesh, vid, bary, normal
+
+
+def _project(points: Tensor, K: Tensor) -> tuple[Tensor, Tensor]:
+    """``(uv (P, 2), in front (P,))`` pixel coordinates of camera-frame ``points (P, 3)``."""
+    z = points[:, 2]
+    front = z > RasterSettings.near
+    zs = torch.where(front, z, torch.ones_like(z))
+    uv = torch.stack([K[0, 0] * points[:, 0] / zs + K[0, 2], K[1, 1] * points[:, 1] / zs + K[1, 2]], 1)
+    return uv, front
+
+
+def _visible(points: Tensor, mesh: Tensor, iid: Tensor, src: _Raster, vis_ids: Tensor, K: Tensor,
+             tolerance: float) -> tuple[Tensor, Tensor]:
+    """``(visible (P,), uv (P, 2))``: is each source-pose point ``points (P, 3)`` of source mesh ``mesh (P,)``
+    (instance ``iid (P,)``) seen in the input (module doc, step 3)?"""
+    height, width = vis_ids.shape
+    uv, front = _project(points, K)
+    j, i = torch.floor(uv[:, 0] + 0.5).long(), torch.floor(uv[:, 1] + 0.5).long()
+    inside = front & (j >= 0) & (j < width) & (i >= 0) & (i < height) & torch.isfinite(uv).all(1)
+    flat = (i.clamp(0, height - 1) * width + j.clamp(0, width - 1))
+    same = src.frags.pix_to_mesh.view(-1)[flat] == mesh
+    depth = src.frags.depth.view(-1)[flat].double()
+    z = points[:, 2]
+    near = (depth - z).abs() <= tolerance * z.abs() + 0.05
+    ok = inside & same & near & (vis_ids.view(-1)[flat] == iid)
+    return ok, uv
+
+
+def _view_cos(points: Tensor, normals: Tensor) -> Tensor:
+    """``(P,)`` ``|cos|`` of the angle between each surface normal and the line of sight to its point (camera at the
+    origin): 1 seen squarely, 0 edge-on."""
+    return (F.normalize(points, dim=-1) * normals).sum(-1).abs()
+
+
+def _pyramid(image: Tensor, levels: int) -> list[Tensor]:
+    out = [image[None].float()]
+    for _ in range(levels):
+        prev = out[-1]
+        if min(prev.shape[-2:]) < 4:
+            break
+        out.append(F.interpolate(prev, scale_factor=0.5, mode="bilinear", antialias=True, align_corners=False,
+                                 recompute_scale_factor=False))
+    return out
+
+
+def _sample(pyramid: list[Tensor], uv: Tensor, level: Tensor) -> Tensor:
+    """``(P, 3)`` bilinear samples at input pixels ``uv (P, 2)``, blended between pyramid levels ``level (P,)``."""
+    height, width = pyramid[0].shape[-2:]
+    grid = torch.stack([(uv[:, 0] + 0.5) / width * 2 - 1, (uv[:, 1] + 0.5) / height * 2 - 1], 1)
+    grid = grid.float()[None, None]  # (1, 1, P, 2): normalised coordinates are the same at every level
+    samples = torch.stack([F.grid_sample(p, grid, mode="bilinear", padding_mode="border",
+                                         align_corners=False)[0, :, 0].T for p in pyramid])  # (L, P, 3)
+    level = level.clamp(0, len(pyramid) - 1).float()
+    lo = level.floor().long()
+    hi = (lo + 1).clamp(max=len(pyramid) - 1)
+    t = (level - lo.float())[:, None]
+    idx = torch.arange(len(uv))
+    return samples[lo, idx] * (1 - t) + samples[hi, idx] * t
+
+
+def _same_pose(before: ObjectTable, after: ObjectTable, rb: Tensor, ra: Tensor) -> Tensor:
+    return ((before.location[rb] - after.location[ra]).abs().amax(1) < 1e-9) & (
+        (before.ry[rb] - after.ry[ra]).abs() < 1e-9)
+
+
+def _origins(before: ObjectTable, after: ObjectTable) -> Tensor:
+    """``(N_after,)`` row in ``before`` of each object of ``after`` (same id; for a duplicate, the object with the
+    same template, size and shape), -1 where none."""
+    origin = torch.full((len(after),), -1, dtype=torch.long)
+    pairs = (after.instance_id[:, None] == before.instance_id[None, :]).nonzero()
+    origin[pairs[:, 0]] = pairs[:, 1]
+    for a in (origin < 0).nonzero().flatten().tolist():
+        same = ((before.template_id == after.template_id[a]) & (before.dims == after.dims[a]).all(1)
+                & (before.phi == after.phi[a]).flatten(1).all(1))
+        if bool(same.any()):
+            origin[a] = int(same.nonzero()[0])
+    return origin
+
+
+def _box_floor(objects: ObjectTable, row: int, grow: float = 1.1) -> Tensor:
+    """``(4, 3)`` camera-frame corners of an object's bottom face, grown by ``grow``."""
+    l, _, w = objects.dims[row].tolist()
+    c = objects.location[row].double()
+    corners = torch.tensor([[1, 1], [1, -1], [-1, -1], [-1, 1]], dtype=torch.float64) * 0.5 * grow
+    local = torch.stack([corners[:, 0] * l, torch.zeros(4, dtype=torch.float64), corners[:, 1] * w], 1)
+    return local @ roty(objects.ry[row].double()).T + c
+
+
+def _contact_shadow(objects: ObjectTable, rows: list[int], K: Tensor, size: tuple[int, int]) -> Tensor:
+    """``(H, W)`` float soft footprint in [0, 1] of the objects' bottom faces (their new contact shadows)."""
+    import cv2
+
+    height, width = size
+    canvas = np.zeros((height, width), np.float32)
+    for row in rows:
+        uv, front = _project(_box_floor(objects, row), K)
+        if not bool(front.all()) or not bool(torch.isfinite(uv).all()):
+            continue
+        poly = uv.numpy()
+        if np.abs(poly).max() > 1e5:
+            continue
+        hull = cv2.convexHull(np.round(poly * 4).astype(np.int32))
+        span = max(float(poly[:, 1].max() - poly[:, 1].min()), 2.0)
+        sigma = max(0.6, 0.25 * span)
+        window = _blur_window(hull, sigma, (height, width))
+        if window is None:  # the footprint lies outside the picture: its blur is 0 everywhere
+            continue
+        y0, y1, x0, x1 = window
+        layer = np.zeros((y1 - y0, x1 - x0), np.float32)
+        cv2.fillConvexPoly(layer, hull - np.array([4 * x0, 4 * y0], np.int32), 1.0, lineType=cv2.LINE_AA, shift=2)
+        crop = canvas[y0:y1, x0:x1]
+        np.maximum(crop, cv2.GaussianBlur(layer, (0, 0), sigma), out=crop)
+    return torch.from_numpy(canvas)
+
+
+def _blur_window(hull: np.ndarray, sigma: float, size: tuple[int, int]) -> tuple[int, int, int, int] | None:
+    """``(y0, y1, x0, x1)`` of the canvas a Gaussian blur (``sigma``) of the polygon ``hull`` (2 fractional bits)
+    changes, padded so that the blur of that crop equals the whole canvas's blur there bit for bit: by twice the
+    kernel's radius (what the crop's mirrored border brings in is zero), left edges on multiples of 64 columns and
+    64 spare columns on the right (OpenCV's vector lanes fall on the same pixels); the canvas's edge where it is
+    near (mirrored the same way). None: the polygon misses the canvas."""
+    height, width = size
+    radius = (int(round(sigma * 8 + 1)) | 1) // 2 + 2  # OpenCV's float kernel size, 2 pixels more
+    lo = hull.reshape(-1, 2).min(0) // 4 - 2
+    hi = hull.reshape(-1, 2).max(0) // 4 + 3
+    if lo[0] >= width or lo[1] >= height or hi[0] <= 0 or hi[1] <= 0:
+        return None
+    x0 = max(int(lo[0]) - 2 * radius, 0) // 64 * 64
+    y0 = max(int(lo[1]) - 2 * radius, 0)
+    x1 = min(int(hi[0]) + 2 * radius + 64, width)
+    y1 = min(int(hi[1]) + 2 * radius + 64, height)
+    return y0, y1, x0, x1
+
+
+
+def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, stays: Tensor,
+          transform: PixelFrame) -> tuple[Tensor, list[int]]:
+    """``(own, grown rows)``: ``own (H_in, W_in)`` with the freed pixels each object that stays now covers (its mask
+    gained them: amodal completion) given to it, the first such object in table order where several do."""
+    rows = stays.nonzero().flatten()
+    if not len(rows):
+        return own, []
+    gained = after.mask[rows] & ~before.mask[origin[rows]]  # (S, h, w)
+    grew = gained.flatten(1).any(1)
+    if not bool(grew.any()):
+        return own, []
+    rows, gained = rows[grew], gained[grew]
+    first = gained.to(torch.uint8).argmax(0)  # the first object (in table order) that gained each pixel
+    labels = torch.where(gained.any(0), after.instance_id[rows][first], torch.zeros_like(first))
+    up = upsample_ids(labels.to(after.instance_id.dtype), transform)
+    own = torch.where((up != 0) & (own == 0), up.to(own.dtype), own)
+    return own, rows.tolist()
+
+
+def _pixels_of(ids: Tensor, wanted: Tensor):
+    """``lookup(i) -> (P,)`` ascending flat indices of the pixels of ``ids (H, W)`` equal to ``i`` (one of
+    ``wanted``): one scan of the picture for all of them."""
+    flat = ids.view(-1)
+    pix = torch.isin(flat, wanted).nonzero().flatten()
+    at = flat[pix]
+    return lambda i: pix[at == i]
+
+
+def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, tuple[float, float, float]],
+             objects: dict[int, dict], warnings: list[str]) -> tuple[Tensor, Tensor]:
+    """Step 5: each object of ``recolor`` repainted in ``out (3, H, W)`` where ``owner (H, W)`` holds its id;
+    ``source`` says :data:`RECOLORED` where a pixel of the input changed."""
+    pixels_of = _pixels_of(owner, torch.tensor([int(i) for i in recolor], dtype=owner.dtype))
+    flat = out.permute(1, 2, 0).reshape(-1, 3).clone()
+    codes = source.view(-1).clone()
+    for iid, rgb in recolor.items():
+        pix = pixels_of(int(iid))
+        if not len(pix):
+            warnings.append(f"recolor: object {iid} has no pixels in the picture")
+            continue
+        colors = flat[pix]
+        new, body, stats = recolor_pixels(colors, tuple(rgb))
+        flat[pix] = new
+        repainted = pix[(new != colors).any(1)]
+        codes[repainted] = torch.where(codes[repainted] == INPUT, RECOLORED, codes[repainted]).to(torch.uint8)
+        objects.setdefault(int(iid), {}).update({"recolor": {"color": [round(float(c), 4) for c in rgb], **stats}})
+    height, width = owner.shape
+    return flat.view(height, width, 3).permute(2, 0, 1), codes.view(height, width)
+
+
+def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edited: SceneCode,
+                 bank: MeshBank | None = None, settings: PhotoSettings | None = None,
+                 recolor: Mapping[int, tuple[float, float, float]] | None = None,
+                 generated: Tensor | None = None, source: PhotoSource | None = None) -> PhotoResult:
+    """Draw the edit of ``scene`` into ``edited`` with the input's own pixels (module doc).
+
+    Args:
+        original: ``(3, H_in, W_in)`` the input at its resolution, uint8 or float in [0, 1].
+        transform: how the input became the scenes' working image.
+        scene, edited: the de-rendered scene and its edit (:func:`~sdn3d.editing.apply.apply_edits`).
+        bank: the objects' template meshes (default: the 8 templates).
+        recolor: ``{instance id: sRGB paint}`` of objects to repaint (``recolor`` ops with a named colour).
+        generated: ``(3, h, w)`` the generator's edited picture at the working size, for ``fill='generator'``.
+        source: what a previous call on the same ``original``, ``scene``, ``transform`` and ``settings`` computed from
+            the unedited scene alone (:class:`PhotoSource`; the result is the same bit for bit); None: made here.
+
+    Returns:
+        :class:`PhotoResult`; pixels no edit touches are the input's, bit for bit.
+    """
+    settings = settings or PhotoSettings()
+    bank = bank or default_bank()
+    recolor = dict(recolor or {})
+    w_in, h_in = transform.input_size
+    if tuple(original.shape) != (3, h_in, w_in):
+        raise ValueError(f"original {tuple(original.shape)} is not (3, H, W) of the transform's input size "
+                         f"{tuple(transform.input_size)}")
+    if settings.fill == "generator" and generated is None:
+        raise PhotoSettingsError("photo.fill=generator needs the generator's picture (the textural branch)")
+    size = (h_in, w_in)
+    if source is None:
+        source = PhotoSource(original, transform, scene, bank, settings, max_fills=0)
+    source.check(original, scene, transform, settings)
+    image, K = source.image, source.K
+    before, after = scene.objects, edited.objects
+    warnings: list[str] = []
+
+    # Which objects stay, move, go, grow (step 1).
+    origin = _origins(before, after)
+    stays = torch.zeros(len(after), dtype=torch.bool)
+    has = origin >= 0
+    same_id = has & (after.instance_id == before.instance_id[origin.clamp(min=0)])
+    if bool(same_id.any()):
+        ra = same_id.nonzero().flatten()
+        stays[ra] = _same_pose(before, after, origin[ra], ra)
+    moved = ~stays & has & after.has_geometry
+    gone_ids = before.instance_id[~torch.isin(before.instance_id, after.instance_id[stays])]
+    src_ids, vis_ids = source.src_ids, source.vis_ids
+    own = torch.where(torch.isin(src_ids, after.instance_id[stays]), src_ids, torch.zeros_like(src_ids))
+    # Freed pixels an object that stays now covers (amodal completion in apply_edits).
+    own, grown_rows = _grow(own, before, after, origin, stays, transform)
+
+    src = source.raster
+    src_row_to_mesh = torch.full((len(before),), -1, dtype=torch.long)
+    src_row_to_mesh[src.rows] = torch.arange(len(src.rows))
+
+    # Light (step 4): visible pixels of every source object with geometry; only when something is drawn.
+    light = None
+    src_normals = None
+    if settings.relight and len(src.rows) and (bool(moved.any()) or grown_rows):
+        src_normals, light = source.light()
+    shade = light.shade if light is not None else None
+
+    # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
+    keep = (src_ids != 0) & torch.isin(src_ids, after.instance_id[stays])
+    hole = vacated_hole(src_ids, gone_ids, keep, settings)
+    if settings.fill == "generator":  # the generator's picture changes with every edit: nothing to keep
+        out = fill_hole(image, hole, settings, src_ids != 0, working_to_input(generated, transform))
+    else:  # the hole and its fill depend only on which objects left and which stayed
+        stay_ids = after.instance_id[stays]
+        key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
+        out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0))
+    source = torch.where(hole, FILL, INPUT).to(torch.uint8)
+
+    # Contact shadows of moved objects, on the road only (drawn objects cover the rest below).
+    moved_rows = moved.nonzero().flatten().tolist()
+    if settings.contact_shadow > 0 and moved_rows:
+        soft = _contact_shadow(after, moved_rows, K, size)
+        soft = torch.where(own != 0, torch.zeros_like(soft), soft)
+        out = out * (1 - settings.contact_shadow * soft)[None]
+        source = torch.where((soft > 0.02) & (source == INPUT), SHADOW, source).to(torch.uint8)
+
+    # Target rasterization of the drawn objects (moved ones, and the ones that grew) at their poses.
+    draw_rows = torch.tensor(sorted(set(moved_rows) | set(grown_rows)), dtype=torch.long)
+    objects: dict[int, dict] = {}
+    if len(draw_rows):
+        tgt_all_rows, tgt_verts, tgt_faces = posed_meshes(after, bank)
+        keep = torch.isin(tgt_all_rows.cpu(), draw_rows)
+        tgt = _rasterize(tgt_all_rows.cpu()[keep], tgt_verts.cpu()[keep], tgt_faces.cpu()[keep], K, size)
+        out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
+                                     src_ids, vis_ids, K, settings, shade, src_normals, warnings)
+        for a in moved_rows:
+            if int(after.instance_id[a]) not in objects:
+                warnings.append(f"object {int(after.instance_id[a])}: after the edit it lies outside the picture "
+                                "(nothing drawn)")
+
+    # Recolour (step 5): the object's pixels in the result.
+    final_own = own.clone()
+    for iid, info in objects.items():
+        final_own.view(-1)[info.pop("_pixels")] = iid
+    if recolor:
+        out, source = _recolor(out, source, final_own, recolor, objects, warnings)
+    result = out.clamp(0, 1)
+    changed = source != INPUT
+    if original.dtype == torch.uint8:
+        result = torch.where(changed[None], (result * 255 + 0.5).floor().clamp(0, 255).to(torch.uint8), original)
+    else:
+        result = torch.where(changed[None], result.to(original.dtype), original)
+    return PhotoResult(result, source, light, objects, warnings)
+
+
+def _source_light(src: _Raster, vis_ids: Tensor, before: ObjectTable,
+                  image: Tensor) -> tuple[Tensor, LightEstimate | None]:
+    """``(normals (H*W, 3) float64 of the source rasterization, the light fitted to the visible car pixels or
+    None)`` (step 4 of the module doc: the unedited scene alone decides both)."""
+    src_normals = normal_map(src.frags, src.verts, src.faces)[0].permute(1, 2, 0).reshape(-1, 3).double()
+    mesh_at = src.frags.pix_to_mesh.view(-1)
+    vis = (mesh_at >= 0) & (vis_ids.view(-1) == torch.where(
+        mesh_at >= 0, before.instance_id[src.rows[mesh_at.clamp(min=0)]], -1))
+    pix = vis.nonzero().flatten()
+    pixels = image.permute(1, 2, 0).reshape(-1, 3)
+    pix = pix[body_pixels(pixels[pix], mesh_at[pix])]
+    if len(pix) > 6000:  # evenly spread: plenty for four numbers and the albedos
+        pix = pix[torch.linspace(0, len(pix) - 1, 6000).long()]
+    light = fit_light(pixels[pix], src_normals[pix], mesh_at[pix])
+    if light is not None and light.gain < 0.05:
+        light = None  # no better than constant shading: do not re-shade
+    return src_normals, light
+
+
+def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster, tgt: _Raster,
+          before: ObjectTable, after: ObjectTable, origin: Tensor, moved: Tensor, src_row_to_mesh: Tensor,
+          src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
+          warnings: list[str]) -> tuple[Tensor, Tensor, dict[int, dict]]:
+    """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer."""
+    height, width = own.shape
+    t_mesh = tgt.frags.pix_to_mesh.view(-1)
+    covered = (t_mesh >= 0).nonzero().flatten()
+    row = tgt.rows[t_mesh[covered]]  # row in `after`
+    iid = after.instance_id[row]
+    own_flat = own.view(-1)[covered]
+    is_moved = moved[row]
+    # Depth of what stays at each pixel: its rendered source depth where the source shows it, else its centre's.
+    stay_row = torch.searchsorted(before.instance_id.sort().values, own_flat.clamp(min=0))
+    order = before.instance_id.argsort()
+    stay_b = order[stay_row.clamp(max=max(len(order) - 1, 0))] if len(order) else stay_row
+    src_mesh_here = src.frags.pix_to_mesh.view(-1)[covered]
+    stay_depth = torch.where(src_mesh_here == src_row_to_mesh[stay_b], src.frags.depth.view(-1)[covered].double(),
+                             before.center[stay_b, 2].double())
+    t_depth = tgt.frags.depth.view(-1)[covered].double()
+    # A moved object wins where nothing stays or it is nearer; one that grew draws only the pixels it gained.
+    gained = (own_flat == iid) & (src_ids.view(-1)[covered] != iid)
+    wins = torch.where(is_moved, (own_flat == 0) | (t_depth < stay_depth), gained)
+    pix, row, iid, is_moved = covered[wins], row[wins], iid[wins], is_moved[wins]
+    if not len(pix):
+        return out, source, {}
+    mesh, vid, bary, normal_t = _surface(tgt, pix)
+    b_row = origin[row]
+    s_mesh = src_row_to_mesh[b_row]
+    has_src = s_mesh >= 0
+    s_mesh_c = s_mesh.clamp(min=0)
+    tri_s = src.verts[s_mesh_c[:, None], vid] if len(src.rows) else torch.zeros(len(pix), 3, 3, dtype=torch.float64)
+    point_s = (bary[..., None] * tri_s).sum(1)
+    normal_s = F.normalize(torch.linalg.cross(tri_s[:, 1] - tri_s[:, 0], tri_s[:, 2] - tri_s[:, 0], dim=-1), dim=-1)
+    # Same face, same winding: orient the source normal as the target one was (edits are rigid).
+    tri_t = tgt.verts[mesh[:, None], vid]
+    raw_t = F.normalize(torch.linalg.cross(tri_t[:, 1] - tri_t[:, 0], tri_t[:, 2] - tri_t[:, 0], dim=-1), dim=-1)
+    normal_s = torch.where(((raw_t * normal_t).sum(-1) < 0)[:, None], -normal_s, normal_s)
+    src_iid = before.instance_id[b_row.clamp(min=0)]
+    ok_photo, uv_photo = _visible(point_s, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
+    ok_photo &= has_src & (_view_cos(point_s, normal_s) >= settings.min_view_cos)
+    # Mirror across the vehicle's left-right plane (local z = 0).
+    rot = roty(before.ry[b_row.clamp(min=0)].double())  # (P, 3, 3)
+    centre = before.center[b_row.clamp(min=0)].double()
+    flip = torch.tensor([1.0, 1.0, -1.0], dtype=torch.float64)
+    local = torch.einsum("pji,pj->pi", rot, point_s - centre) * flip
+    point_m = torch.einsum("pij,pj->pi", rot, local) + centre
+    normal_m = torch.einsum("pij,pj->pi", rot, torch.einsum("pji,pj->pi", rot, normal_s) * flip)
+    ok_mirror, uv_mirror = _visible(point_m, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
+    ok_mirror &= has_src & ~ok_photo & (_view_cos(point_m, normal_m) >= settings.min_view_cos)
+
+    # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.
+    z_t = tgt.frags.depth.view(-1)[pix].double()
+    level = (z_t / point_s[:, 2].clamp(min=1e-3)).clamp(min=1.0).log2()
+    pyramid = _pyramid(image, settings.max_level)
+    uv = torch.where(ok_photo[:, None], uv_photo, uv_mirror)
+    color = _sample(pyramid, uv, level).double()
+    n_src = torch.where(ok_photo[:, None], normal_s, normal_m)
+    if shade is not None:
+        ratio = (shade(normal_t) / shade(n_src).clamp(min=1e-3)).clamp(0.5, 2.0)
+        color = color * ratio[:, None]
+    seen = ok_photo | ok_mirror
+
+    # Fallback: the object's own body colour, de-shaded, shaded for the new normal.
+    objects: dict[int, dict] = {}
+    fallback = torch.zeros_like(color)
+    img_flat = image.permute(1, 2, 0).reshape(-1, 3).double()
+    drawn_rows = row.unique()
+    visible_of = _pixels_of(vis_ids, before.instance_id[origin[drawn_rows][origin[drawn_rows] >= 0]])
+    for r in drawn_rows.tolist():
+        sel = row == r
+        b = int(origin[r])
+        name = int(after.instance_id[r])
+        visible_px = visible_of(int(before.instance_id[b])) if b >= 0 else pix[:0]
+        if len(visible_px):
+            colors = img_flat[visible_px]
+            if shade is not None and src_normals is not None:
+                s = shade(src_normals[visible_px]).clamp(min=0.2)
+                colors = colors / s[:, None]
+            albedo = colors.median(0).values
+        else:
+            albedo = torch.full((3,), 0.5, dtype=torch.float64)
+            warnings.append(f"object {name}: none of its surface is visible in the input; drawn in grey from its shape")
+        s_new = shade(normal_t[sel]) if shade is not None else (0.55 + 0.45 * (-normal_t[sel, 1]).clamp(min=0))
+        fallback[sel] = albedo[None] * s_new[:, None]
+        n = int(sel.sum())
+        objects[name] = {"pixels": n, "photo": round(float(ok_photo[sel].double().mean()), 4),
+                         "mirror": round(float(ok_mirror[sel].double().mean()), 4),
+                         "fallback": round(float((~seen[sel]).double().mean()), 4), "moved": bool(moved[r]),
+                         "_pixels": pix[sel]}
+        if len(visible_px) and n >= 50 and not bool(seen[sel].any()) and bool(moved[r]):
+            warnings.append(f"object {name}: none of its surface is visible in the input (behind the camera, off the "
+                            "frame or hidden); drawn from its mean colour")
+    color = torch.where(seen[:, None], color, fallback).clamp(0, 1)
+    flat = out.permute(1, 2, 0).reshape(-1, 3).clone()
+    flat[pix] = color.float()
+    codes = torch.where(ok_photo, PHOTO, torch.where(ok_mirror, MIRROR, FALLBACK)).to(torch.uint8)
+    source = source.clone()
+    source.view(-1)[pix] = codes
+    return flat.view(height, width, 3).permute(2, 0, 1), source, objects

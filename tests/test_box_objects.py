@@ -109,7 +109,7 @@ def test_road_start_puts_the_car_where_its_bottom_edge_meets_the_road():
     assert float(start[1]) == pytest.approx(1.65) and float(v) == pytest.approx(263.5, abs=1e-3)
 
 
-def test_the_fit_recovers_a_car_on_the_road_from_its_silhouette(torch_threads):
+def test_the_fit_recovers_a_car_on_the_road_from_its_silhouette():
     truth = {"templates": [3], "dims": [(4.2, 1.45, 1.75)], "ry": [0.6], "location": [(2.0, HEIGHT, 12.0)]}
     _, masks = _render(**truth)
     boxes = mask_boxes(masks).float()
@@ -132,8 +132,9 @@ def test_the_fit_recovers_a_car_on_the_road_from_its_silhouette(torch_threads):
 
 @pytest.fixture(params=[1, 2], ids=["threads=1", "threads=2"])
 def torch_threads(request):
-    """The fitted-value tests run under one and two torch threads (a fit's sums, and so its result, may differ with
-    the thread count and the machine: each test's margins hold under both), restored afterwards."""
+    """A fitted-value test runs under one and two torch threads (a fit's sums, and so its result, may differ with
+    the thread count and the machine: its margins hold under both), restored afterwards. Only the occluder test
+    takes it: two threads cost ten times one on a loaded 2-core machine, and the other fits' margins are wide."""
     previous = torch.get_num_threads()
     torch.set_num_threads(request.param)
     yield request.param
@@ -181,7 +182,7 @@ def ckpts(tmp_path_factory):
     return write_checkpoints(tmp_path_factory.mktemp("ckpt"))
 
 
-def test_derender_adds_box_objects_and_records_where_they_came_from(ckpts, torch_threads):
+def test_derender_adds_box_objects_and_records_where_they_came_from(ckpts):
     _, masks = _render([0, 3], [(4.0, 1.5, 1.7), (4.2, 1.5, 1.8)], [-1.3, 0.4], [(-1.2, HEIGHT, 10.0),
                                                                                  (1.5, HEIGHT, 13.0)])
     image = _picture(masks, [(0.8, 0.1, 0.1), (0.1, 0.2, 0.7)])
@@ -353,7 +354,7 @@ def test_the_second_grabcut_takes_what_the_fitted_shape_shows_and_nothing_it_may
         refine_with_silhouettes(image, boxes, first, drawn[:1])
 
 
-def test_the_fit_pulls_the_size_towards_the_drawn_templates_typical_size(torch_threads):
+def test_the_fit_pulls_the_size_towards_the_drawn_templates_typical_size():
     """template_size_reg compares the size with TEMPLATE_DIMENSIONS of the template drawn; a bank of other meshes has
     no typical size, and the fit then runs without the term."""
     from sdn3d.geometric.fit import _typical_log_dims

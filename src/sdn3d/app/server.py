@@ -38,7 +38,6 @@ from starlette.applications import Starlette
 from starlette.concurrency import run_in_threadpool
 from starlette.exceptions import HTTPException
 from starlette.middleware import Middleware
-from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.requests import Request
 from starlette.responses import FileResponse, JSONResponse, Response
 from starlette.routing import Route
@@ -87,6 +86,37 @@ def _write_refusal(scope: dict) -> tuple[str, int] | None:
         return (f"a {media} body is refused (a browser sends it from any site without asking): send JSON as "
                 "application/json, an image as image/png or image/jpeg"), 415
     return None
+
+
+def host_name(host_header: str) -> str:
+    """The name in a ``Host`` header, its port left out (``[::1]:8030`` -> ``[::1]``, ``localhost:8030`` ->
+    ``localhost``)."""
+    host = host_header.strip()
+    if host.startswith("["):
+        end = host.find("]")
+        return host[:end + 1] if end > 0 else host
+    return host.split(":", 1)[0]
+
+
+class KnownHosts:
+    """ASGI middleware: a request whose ``Host`` is not a name of the listening address (:func:`allowed_hosts`; a
+    DNS-rebinding page's) is answered 400 with a JSON error naming the host, as every other refusal is."""
+
+    def __init__(self, app: Any, hosts: list[str]) -> None:
+        self.app = app
+        self.hosts = {h.lower() for h in hosts}
+
+    async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
+        if scope["type"] == "http" and "*" not in self.hosts:
+            headers = {k.decode("latin-1").lower(): v.decode("latin-1") for k, v in scope.get("headers", ())}
+            name = host_name(headers.get("host", "")).lower()
+            if name not in self.hosts:
+                shown = name[:80] or "(none)"
+                await _json({"error": f"the Host {shown!r} is not a name of this server "
+                                      f"({', '.join(sorted(self.hosts))}): open the editor at its own address"},
+                            400)(scope, receive, send)
+                return
+        await self.app(scope, receive, send)
 
 
 class SameOriginWrites:
@@ -242,7 +272,7 @@ def create_app(editor: Editor, info: dict[str, Any], hosts: list[str] | None = N
         Route("/api/s/{sid}/edited.png", edited_png), Route("/api/s/{sid}/labels.png", labels_png),
         Route("/api/s/{sid}/download/{name}", download),
     ]
-    middleware = [Middleware(TrustedHostMiddleware, allowed_hosts=hosts or allowed_hosts("127.0.0.1")),
+    middleware = [Middleware(KnownHosts, hosts=hosts or allowed_hosts("127.0.0.1")),
                   Middleware(SameOriginWrites)]
     return Starlette(routes=routes, middleware=middleware,
                      exception_handlers={UserInputError: app_error, HTTPException: http_error, Exception: server_error})

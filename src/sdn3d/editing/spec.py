@@ -225,9 +225,13 @@ def _number(value: Any, what: str) -> float:
             raise EditSpecError(f"{what} must be a number, got {_excerpt(value)}") from None
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise EditSpecError(f"{what} must be a number, got {_excerpt(value)}")
-    if not math.isfinite(float(value)):
+    try:
+        number = float(value)
+    except OverflowError:  # an integer too large for a float (10**400)
+        raise EditSpecError(f"{what} must be finite, got an integer of {len(str(abs(value)))} digits") from None
+    if not math.isfinite(number):
         raise EditSpecError(f"{what} must be finite, got {_excerpt(value)}")
-    return float(value)
+    return number
 
 
 def _point(value: Any, what: str) -> tuple[float, float]:
@@ -274,7 +278,7 @@ def _parse_op(raw: Any, index: int, where: str) -> OpSpec:
         if isinstance(raw["class"], bool) or not isinstance(raw["class"], (int, str)):
             raise EditSpecError(f"{name}: field 'class' must be a class name or id, got {_excerpt(raw['class'])}")
         fields["class_"] = raw["class"]
-    if kind in ("move", "duplicate") and "to" not in raw:
+    if kind in ("move", "duplicate") and raw.get("to") is None:
         raise EditSpecError(f"{name}: field 'to' (target pixel [u, v]) is required")
     if raw.get("to") is not None:
         fields["to"] = _point(raw["to"], f"{name}: field 'to'")

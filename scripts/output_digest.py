@@ -167,6 +167,26 @@ def make(work: Path) -> dict:
     return results
 
 
+def demo_stages(demo: Path, work: Path) -> dict:
+    """The demo's benchmark and example edits run again (this tree's code) with ``demo``'s trained checkpoints and
+    data, and the digests of both runs' ``bench/`` and ``edits/``: ``{'demo/bench': ..., 'given/bench': ...}``."""
+    import torch
+
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli.demo import _checkpoint, run_bench, run_edits
+
+    info = json.loads((demo / "summary.json").read_text())
+    ckpts = {b: _checkpoint(s) for b, s in info["training"].items()}
+    out = work / "demo"
+    cfg = compose_config([f"output_dir={out}", f"data_dir={demo / 'data'}"], "demo")
+    torch.manual_seed(int(cfg.seed))
+    torch.set_num_threads(int(cfg.threads))
+    run_bench(cfg, demo / "data", ckpts, out / "bench")
+    run_edits(cfg, demo / "data", ckpts, out / "edits")
+    return {f"{side}/{part}": digest_tree(root / part) for side, root in (("demo", out), ("given", demo))
+            for part in ("bench", "edits")}
+
+
 def compare(a: dict, b: dict) -> int:
     files = differ = 0
     for group in sorted(set(a) | set(b)):
@@ -185,10 +205,23 @@ def main() -> int:
     parser.add_argument("--work", type=Path, help="working directory for the runs")
     parser.add_argument("--out", type=Path, help="digest JSON to write")
     parser.add_argument("--compare", nargs=2, type=Path, metavar=("A", "B"), help="compare two digests")
+    parser.add_argument("--demo", type=Path, metavar="DEMO_DIR",
+                        help="instead of the matrix: run the demo's benchmark and example edits again with "
+                             "DEMO_DIR's trained weights and data (an sdn3d-demo output) into --work/demo, write both "
+                             "digests to --out (keys 'demo/<part>', 'given/<part>') and compare them")
+    parser.add_argument("--drop", action="append", default=[], metavar="KEY",
+                        help="a JSON key to leave out of the canonical form as well (a field added on purpose)")
     parser.add_argument("--redigest", nargs=2, type=Path, metavar=("WORK", "DIGEST"),
                         help="digest WORK's existing outputs again (exit codes from DIGEST; after a change to the "
                              "canonical form) into --out, without running anything")
     args = parser.parse_args()
+    global VOLATILE_KEYS
+    VOLATILE_KEYS = frozenset(args.drop)
+    if args.demo and args.work and args.out:
+        results = demo_stages(args.demo, args.work)
+        args.out.write_text(json.dumps(results, indent=1, sort_keys=True))
+        return compare({k[6:]: v for k, v in results.items() if k.startswith("given/")},
+                       {k[5:]: v for k, v in results.items() if k.startswith("demo/")})
     if args.compare:
         return compare(*(json.loads(p.read_text()) for p in args.compare))
     if args.redigest and args.out:

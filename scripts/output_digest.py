@@ -67,9 +67,13 @@ def _volatile(key: str) -> bool:
     return k.endswith("_ms") or "latency" in k or any(part in k for part in VOLATILE)
 
 
+VOLATILE_KEYS: frozenset[str] = frozenset()  # --drop: whole keys added on purpose
+
+
 def _canonical_json(value, key: str = ""):
     if isinstance(value, dict):
-        return {k: _canonical_json(v, k) for k, v in sorted(value.items()) if not _volatile(k)}
+        return {k: _canonical_json(v, k) for k, v in sorted(value.items())
+                if not _volatile(k) and k not in VOLATILE_KEYS}
     if isinstance(value, list):
         return [_canonical_json(v, key) for v in value]
     if isinstance(value, str) and ("/" in value and (value.startswith("/") or "outputs" in value)):

@@ -53,7 +53,7 @@ from sdn3d.cli._config import synth_data_source  # noqa: E402
 from sdn3d.data.frames import load_frame  # noqa: E402
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame  # noqa: E402
 from sdn3d.data.sources import load_split  # noqa: E402
-from sdn3d.derender import BoxPrompts, GroundTruth, Models, derender, geometric_crop_settings  # noqa: E402
+from sdn3d.derender import BoxPrompts, GroundTruth, derender  # noqa: E402
 from sdn3d.geometric.fit import FitSettings  # noqa: E402
 from sdn3d.geometric.metrics import distance_error, orientation_similarity, scale_error  # noqa: E402
 from sdn3d.image_ops import mask_boxes, pixel_centre_boxes, square_crop_window  # noqa: E402
@@ -61,6 +61,7 @@ from sdn3d.io import write_json_atomic  # noqa: E402
 from sdn3d.labels import INSTANCE_DIVISOR  # noqa: E402
 from sdn3d.math3d.rotations import roty  # noqa: E402
 from sdn3d.meshes.bank import MeshBank  # noqa: E402
+from sdn3d.models import Models, geometric_crop_settings  # noqa: E402
 from sdn3d.render import RasterSettings, rasterize_meshes  # noqa: E402
 from sdn3d.render.objects import pose_meshes  # noqa: E402
 

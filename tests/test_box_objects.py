@@ -16,13 +16,14 @@ from PIL import Image
 
 from sdn3d.box_masks import box_at_point, grabcut_masks, nearest_first, refine_with_silhouettes
 from sdn3d.cli.edit import main
-from sdn3d.derender import BoxPrompts, Models, derender
+from sdn3d.derender import BoxPrompts, derender
 from sdn3d.editing.spec import EditSpecError, PixelFrame, box_prompts, parse_edit_spec
 from sdn3d.errors import UserInputError
 from sdn3d.geometric.fit import FitSettings, fit_to_masks, road_start
 from sdn3d.image_ops import mask_boxes
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
+from sdn3d.models import Models
 from sdn3d.render import RasterSettings, rasterize_meshes
 from sdn3d.render.objects import pose_meshes
 

@@ -438,7 +438,7 @@ def _semantic_metrics(checkpoints: dict[str, dict | None]) -> tuple[Path | None,
 
 def load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any]:
     """``(Models, CodeBank or None)`` of :func:`resolve_checkpoints`' files and ``code_bank``."""
-    from sdn3d.derender import Models
+    from sdn3d.models import Models
 
     ckpt = {b: None if info is None else info["path"] for b, info in checkpoints.items()}
     if ckpt["textural"] is None:

@@ -53,7 +53,7 @@ from sdn3d.cli._config import synth_data_source  # noqa: E402
 from sdn3d.data.frames import load_frame  # noqa: E402
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame  # noqa: E402
 from sdn3d.data.sources import load_split  # noqa: E402
-from sdn3d.derender import BoxPrompts, GroundTruth, Models, derender, geometric_crop_settings  # noqa: E402
+from sdn3d.derender import BoxPrompts, GroundTruth, derender  # noqa: E402
 from sdn3d.geometric.fit import FitSettings  # noqa: E402
 from sdn3d.geometric.metrics import distance_error, orientation_similarity, scale_error  # noqa: E402
 from sdn3d.image_ops import mask_boxes, pixel_centre_boxes, square_crop_window  # noqa: E402
@@ -61,6 +61,7 @@ from sdn3d.io import write_json_atomic  # noqa: E402
 from sdn3d.labels import INSTANCE_DIVISOR  # noqa: E402
 from sdn3d.math3d.rotations import roty  # noqa: E402
 from sdn3d.meshes.bank import MeshBank  # noqa: E402
+from sdn3d.models import Models, geometric_crop_settings  # noqa: E402
 from sdn3d.render import RasterSettings, rasterize_meshes  # noqa: E402
 from sdn3d.render.objects import pose_meshes  # noqa: E402
 
@@ -184,7 +185,7 @@ def main(argv: list[str] | None = None) -> dict:
         times["grabcut_ms"].append(1000 * t_grab / len(ids))
         times["fit_ms"].append(1000 * t_fit / len(ids))
         times["objects"] += len(ids)
-        box_ids = [r["id"] for r in fitted.meta["boxes"]]
+        box_ids = [r.instance_id for r in fitted.meta["boxes"]]
         height = float(np.median([annotated[i % INSTANCE_DIVISOR].location[1] for i in ids]))
         oracle_h = derender(image, intr, models, "boxes", gt,
                             boxes=BoxPrompts(box_t, tuple(names), FitSettings(camera_height=height)))
@@ -205,8 +206,8 @@ def main(argv: list[str] | None = None) -> dict:
             ROWS[0]: objects_of(fitted, box_ids),
             ROWS[1]: objects_of(pred_box, ids),
             ROWS[2]: objects_of(pred_gt, ids),
-            ROWS[3]: objects_of(fit_gt, [r["id"] for r in fit_gt.meta["boxes"]]),
-            ROWS[4]: objects_of(oracle_h, [r["id"] for r in oracle_h.meta["boxes"]]),
+            ROWS[3]: objects_of(fit_gt, [r.instance_id for r in fit_gt.meta["boxes"]]),
+            ROWS[4]: objects_of(oracle_h, [r.instance_id for r in oracle_h.meta["boxes"]]),
         }
         for j, iid in enumerate(ids):
             m_true = gt_masks[j]
@@ -228,7 +229,7 @@ def main(argv: list[str] | None = None) -> dict:
                     kept = ~band
                     band_iou_big[name].append(float((m & m_true & kept).sum()) / max(float(((m | m_true) & kept).sum()),
                                                                                        1))
-            fit_iou.append(fitted.meta["boxes"][j]["fit_iou"] or 0.0)
+            fit_iou.append(fitted.meta["boxes"][j].to_json()["fit_iou"] or 0.0)
             if args.details:
                 details.append({"frame": record.key, "id": iid, "pixels": int(m_true.sum()), "mask_iou": mask_iou[-1],
                                 "mask_iou_refined": refined_iou[-1], "fit_iou": fit_iou[-1],

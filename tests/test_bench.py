@@ -16,7 +16,6 @@ from sdn3d.data import vkitti1
 from sdn3d.data.edit_benchmark import BenchmarkEntry, load_edit_benchmark, scale_operation
 from sdn3d.data.records import load_instances
 from sdn3d.data.scene_gt import scene_from_frame
-from sdn3d.derender import Models
 from sdn3d.editing.apply import projected_centers
 from sdn3d.errors import UserInputError
 from sdn3d.evaluation.edit_benchmark import (
@@ -32,6 +31,7 @@ from sdn3d.evaluation.edit_benchmark import (
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.image_ops import mask_boxes, resize_map
 from sdn3d.labels import class_list
+from sdn3d.models import Models
 from sdn3d.nets.lpips import LPIPS
 from sdn3d.nets.pix2pixhd import TexturalSpec
 from sdn3d.textural.renderer import TexturalRenderer

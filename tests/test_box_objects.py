@@ -15,8 +15,9 @@ from helpers.tiny_models import write_checkpoints
 from PIL import Image
 
 from sdn3d.box_masks import box_at_point, grabcut_masks, nearest_first, refine_with_silhouettes
+from sdn3d.box_objects import BoxFit, MaskSource
 from sdn3d.cli.edit import main
-from sdn3d.derender import BoxPrompts, Models, derender
+from sdn3d.derender import BoxPrompts, derender
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.spec import EditSpecError, box_prompts, parse_edit_spec
 from sdn3d.errors import UserInputError
@@ -24,6 +25,7 @@ from sdn3d.geometric.fit import FitSettings, fit_to_masks, road_start
 from sdn3d.image_ops import mask_boxes
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
+from sdn3d.models import Models
 from sdn3d.render import RasterSettings, rasterize_meshes
 from sdn3d.render.objects import pose_meshes
 
@@ -191,16 +193,22 @@ def test_derender_adds_box_objects_and_records_where_they_came_from(ckpts):
     scene = derender(image, WORK, models, "boxes", boxes=boxes, classes="vkitti")
     assert scene.objects.instance_id.tolist() == [12001, 13001]  # the next free number of each class
     assert bool(scene.objects.has_geometry.all()) and scene.meta["proposals"] == "boxes"
-    for record, row in zip(scene.meta["boxes"], (0, 1), strict=True):
-        assert record["mask"] == "grabcut, then again seeded by its fitted 3D shape"
-        assert record["fit_iou"] > 0.8 and not record["poor_fit"]
-        assert record["pose"].startswith("fitted to the mask")
-        assert record["mask_pixels"] == int(scene.objects.mask[row].sum())
+    for record, row in zip(scene.meta["boxes"], (0, 1), strict=True):  # typed records (BoxFit)
+        assert record.mask_source is MaskSource.GRABCUT and record.mask_refined
+        assert record.iou > 0.8 and not record.poor and record.pose_source is not None
+        assert record.mask_pixels == int(scene.objects.mask[row].sum())
+        assert record.instance_id == int(scene.objects.instance_id[row])
+        shown = record.to_json()  # as scene.json and edit.json say it
+        assert shown["mask"] == "grabcut, then again seeded by its fitted 3D shape"
+        assert shown["pose"].startswith("fitted to the mask") and shown["fit_iou"] == round(record.iou, 4)
+        # read back from a scene file: the rounded figures (the pixels at the fit are only kept where there was none)
+        assert BoxFit.from_json(shown, scene.meta["min_pixels"]) == dataclasses.replace(
+            record, box=tuple(round(v, 2) for v in record.box), iou=shown["fit_iou"], fit_pixels=record.mask_pixels)
     # The second GrabCut, seeded by the fitted shape, keeps the true masks (GrabCut alone finds these flat-coloured
     # cars exactly; where it misses a road-grey wheel, the seed brings it back: refine_with_silhouettes' example).
     once = derender(image, WORK, models, "boxes", boxes=dataclasses.replace(boxes, refine_masks=False),
                     classes="vkitti")
-    assert [r["mask"] for r in once.meta["boxes"]] == ["grabcut", "grabcut"]
+    assert [r.to_json()["mask"] for r in once.meta["boxes"]] == ["grabcut", "grabcut"]
 
     def iou(a: torch.Tensor, b: torch.Tensor) -> float:
         return float((a & b).sum() / (a | b).sum())
@@ -213,13 +221,12 @@ def test_derender_adds_box_objects_and_records_where_they_came_from(ckpts):
     both[1] |= masks[0]
     given = derender(image, WORK, models, "boxes", classes="vkitti",
                      boxes=BoxPrompts(mask_boxes(masks).float(), ("Car", "Car"), masks=both))
-    assert given.meta["boxes"][0]["mask"] == "given" and int((given.objects.mask.sum(0) > 1).sum()) == 0
+    assert given.meta["boxes"][0].mask_source is MaskSource.GIVEN and int((given.objects.mask.sum(0) > 1).sum()) == 0
     # With a semantic branch its object probability may seed GrabCut (the record says so).
     seeded = derender(image, WORK, Models.from_checkpoints(ckpts["semantic"], ckpts["geometric"], crop_size=32),
                       "boxes", boxes=dataclasses.replace(boxes, prior=True))
     assert seeded.meta["semantic"] == "branch"
-    assert all(r["mask"].startswith(("grabcut, seeded by the semantic branch",
-                                     "the whole box (GrabCut found too little")) for r in seeded.meta["boxes"])
+    assert all(r.mask_source in (MaskSource.GRABCUT_PRIOR, MaskSource.WHOLE_BOX) for r in seeded.meta["boxes"])
     with pytest.raises(UserInputError, match="not an object class"):
         derender(image, WORK, models, "boxes", classes="vkitti", boxes=BoxPrompts(boxes.boxes, ("Road", "Car")))
     with pytest.raises(UserInputError, match="needs objects given by a box"):

@@ -20,10 +20,10 @@ from PIL import Image
 
 from sdn3d import io as sdn3d_io
 from sdn3d.cli.edit import main
-from sdn3d.derender import Models, geometric_crop_settings
 from sdn3d.errors import UserInputError
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.io import load_lightning_checkpoint
+from sdn3d.models import Models, geometric_crop_settings
 from sdn3d.semantic.predict import SemanticPredictor
 from sdn3d.textural.renderer import TexturalRenderer
 

@@ -16,11 +16,12 @@ from hydra import compose, initialize_config_dir
 from sdn3d.data import vkitti1
 from sdn3d.data.frames import load_frame
 from sdn3d.data.scene_gt import ground_truth
-from sdn3d.derender import Models, derender
+from sdn3d.derender import derender
 from sdn3d.editing.apply import Rotate, Zoom, apply_edits
 from sdn3d.editing.render import render
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.meshes import MeshBank
+from sdn3d.models import Models
 from sdn3d.render import RasterSettings, SoftSilhouetteSettings, rasterize_meshes, soft_silhouette
 from sdn3d.scene.maps import scene_maps
 from sdn3d.textural.renderer import TexturalRenderer

@@ -11,7 +11,7 @@ from sdn3d.data.datasets import GeometricDataset, ObjectFilter
 from sdn3d.data.edit_benchmark import BenchmarkOperation
 from sdn3d.data.frames import load_frame
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame
-from sdn3d.derender import Models, derender, encode_scene, geometric_crop_settings
+from sdn3d.derender import derender, encode_scene
 from sdn3d.editing.appearance import render_maps
 from sdn3d.editing.apply import Delete, projected_centers
 from sdn3d.editing.render import edit_image, render
@@ -19,6 +19,7 @@ from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.image_ops import crop_intrinsics, crop_windows, instance_label_map, mask_boxes, pixel_centre_boxes
 from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
+from sdn3d.models import Models, geometric_crop_settings
 from sdn3d.scene.maps import scene_maps
 from sdn3d.semantic.predict import Segmentation, SemanticPredictor
 from sdn3d.textural.renderer import TexturalRenderer

@@ -12,7 +12,6 @@ from helpers.tiny_models import geometric_net, textural_spec
 from sdn3d.data import vkitti1
 from sdn3d.data.frames import load_frame
 from sdn3d.data.scene_gt import ground_truth
-from sdn3d.derender import Models
 from sdn3d.editing.appearance import render_maps
 from sdn3d.editing.apply import Delete, Rotate, SetCode, apply_edits
 from sdn3d.editing.compose import (
@@ -29,6 +28,7 @@ from sdn3d.editing.render import edit_image
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.image_ops import to_image_tensor
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
+from sdn3d.models import Models
 from sdn3d.scene.maps import scene_maps
 from sdn3d.textural.renderer import TexturalRenderer
 

@@ -21,7 +21,6 @@ from PIL import Image
 
 from sdn3d import inference_export
 from sdn3d.cli.export_weights import main as export_main
-from sdn3d.derender import Models
 from sdn3d.errors import UserInputError
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.inference_export import (
@@ -31,6 +30,7 @@ from sdn3d.inference_export import (
     load_branch_weights,
     module_with_weights,
 )
+from sdn3d.models import Models
 from sdn3d.runs import export_checkpoint, export_run_checkpoint, find_run_checkpoints
 from sdn3d.semantic.predict import SemanticPredictor
 from sdn3d.textural.renderer import TexturalRenderer

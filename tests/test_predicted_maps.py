@@ -14,9 +14,10 @@ from datamodules import TexturalDataModule
 from sdn3d.data.frames import load_frame
 from sdn3d.data.map_cache import MapCache, MapCacheError
 from sdn3d.data.sources import SourceConfig, load_split
-from sdn3d.derender import Models, derender
+from sdn3d.derender import derender
 from sdn3d.errors import UserInputError
 from sdn3d.image_ops import instance_label_map
+from sdn3d.models import Models
 from sdn3d.predicted_maps import build_predicted_maps, map_cache_inputs, predict_frame_maps
 from sdn3d.scene.maps import scene_maps
 

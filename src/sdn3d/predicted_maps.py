@@ -29,9 +29,10 @@ import torch
 from sdn3d.data.frames import load_frame
 from sdn3d.data.map_cache import MANIFEST, MAP_CACHE_FORMAT, FrameMaps, MapCache, MapCacheWriter, cache_key
 from sdn3d.data.records import FrameRecord
-from sdn3d.derender import Models, derender
+from sdn3d.derender import derender
 from sdn3d.geometric.refine import RefineSettings
 from sdn3d.io import file_sha256
+from sdn3d.models import Models
 from sdn3d.scene.maps import scene_maps
 
 __all__ = ["map_cache_inputs", "predict_frame_maps", "build_predicted_maps"]

@@ -226,16 +226,16 @@ def export_checkpoint(checkpoint: str | os.PathLike, out: str | os.PathLike | No
     ``out`` None: ``inference.pt`` beside the checkpoint (an earlier export there is replaced). An existing
     ``out`` is replaced only with ``overwrite``, a training checkpoint never
     (:func:`sdn3d.inference_export.check_export_target`, checked before the checkpoint is read). A geometric
-    checkpoint's export records its run's crop size and margin (:func:`sdn3d.derender.geometric_crop_settings`)
+    checkpoint's export records its run's crop size and margin (:func:`sdn3d.models.geometric_crop_settings`)
     when the run's ``config.yaml`` says them.
 
     Raises:
         UserInputError: naming the file: the checkpoint is missing, unreadable or holds no branch's weights,
             or its run's config is unreadable; ``out`` may not be written.
     """
-    from sdn3d.derender import geometric_crop_settings
     from sdn3d.inference_export import EXPORT_NAME, check_export_target, write_inference_export
     from sdn3d.io import checkpoint_branch, load_lightning_checkpoint
+    from sdn3d.models import geometric_crop_settings
 
     path = Path(checkpoint).expanduser()
     check_export_target(path.parent / EXPORT_NAME if out is None else out, path, overwrite, default=out is None)

@@ -38,6 +38,7 @@ from sdn3d.editing.spec import MAX_BOX_OBJECTS, EditSpec, parse_edit_spec
 from sdn3d.errors import UserInputError
 from sdn3d.io import write_bytes_atomic, write_json_atomic, write_png_atomic, write_text_atomic
 from sdn3d.labels import INSTANCE_DIVISOR
+from sdn3d.proposals import Proposals
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.listing import list_objects
 from sdn3d.textural.code_bank import NAMED_COLORS
@@ -454,7 +455,7 @@ class Editor:
             try:
                 spec = self.parse(state)
                 # An empty state (Reset, undo to the start) is the input's own scene: none with proposals=boxes
-                boxes_only = self.session.settings.proposals == "boxes"
+                boxes_only = self.session.settings.proposals is Proposals.BOXES
                 derendered = self.session.derender(found.input, spec) if spec is not None or not boxes_only else None
                 result = self.session.edit(derendered, spec) if spec is not None and len(spec) else None
             except UserInputError as exc:
@@ -476,7 +477,8 @@ class Editor:
         found = self.get(sid)
         with found.lock:
             # proposals=boxes: no object until a box is drawn (de-rendering without one is refused)
-            if found.scene is None and (found.state["objects"] or self.session.settings.proposals != "boxes"):
+            boxes_only = self.session.settings.proposals is Proposals.BOXES
+            if found.scene is None and (found.state["objects"] or not boxes_only):
                 try:
                     spec = self.parse(found.state)
                     found.scene = self.session.derender(found.input, spec).scene

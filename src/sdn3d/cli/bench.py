@@ -543,8 +543,8 @@ def check_entries(entries: Sequence[Any], settings: Any, path: Path) -> None:
 def _evaluate(cfg: Any, passes: list, entries: list, source: Any) -> tuple[dict, dict, dict]:
     """``({source scene: [EntryResult]}, {method: generator_info}, {'lpips': bool})``: every pass run."""
     from sdn3d.data.sources import read_source
-    from sdn3d.derender import Models
     from sdn3d.evaluation.edit_benchmark import index_records, run_benchmark, source_name
+    from sdn3d.models import Models
     from sdn3d.nets.lpips import load_lpips
 
     ck = cfg.checkpoints

@@ -74,6 +74,7 @@ from sdn3d.editing.inputs import camera_for_image, fit_image
 from sdn3d.editing.session import EditInput, EditResult, EditSession, SessionSettings, proposals_record, to_uint8
 from sdn3d.errors import InputError
 from sdn3d.io import OWNER_FILE, check_output_dir, staged_directory
+from sdn3d.proposals import Proposals
 from sdn3d.runs import (
     BRANCHES,
     checkpoints_from_run,
@@ -356,12 +357,10 @@ def _read_inputs(cfg: Any) -> tuple[Path, Any, bool, tuple[EditInput, Any]]:
     """The checked output directory, the parsed edit spec (None: none given or empty), whether to list the objects
     and edit nothing (``list=true``, no spec, or a spec with objects by box and no ops) and :func:`open_input`'s
     image and record (nothing loaded before the spec's syntax and numbers are checked)."""
-    from sdn3d.derender import PROPOSALS
     from sdn3d.editing.spec import MAX_OPS, load_edit_spec
 
     out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite), **_output_rules(cfg))
-    if cfg.proposals not in PROPOSALS:
-        raise InputError(f"proposals must be one of {', '.join(PROPOSALS)}, got {cfg.proposals!r}")
+    proposals = _proposals(cfg)
     listing = cfg.get("list")
     if not isinstance(listing, bool):
         raise InputError(f"list must be true or false, got {listing!r}")
@@ -373,7 +372,7 @@ def _read_inputs(cfg: Any) -> tuple[Path, Any, bool, tuple[EditInput, Any]]:
     elif not _is_empty_spec(Path(str(cfg.edits)).expanduser()):
         spec = load_edit_spec(str(cfg.edits), int(cfg.entry), tuple(cfg.frame_size) if cfg.frame_size else None,
                               bool(cfg.strict), int(cfg.get("max_ops", MAX_OPS)))
-    if cfg.proposals == "boxes" and (spec is None or not spec.objects):
+    if proposals is Proposals.BOXES and (spec is None or not spec.objects):
         raise InputError("proposals=boxes takes the objects from the edit spec's `objects:` list "
                          "({box: [x0, y0, x1, y1], class: Car}, in the input image's pixels); the spec names none")
     inputs = open_input(cfg, spec.entry if spec is not None else None)
@@ -384,10 +383,16 @@ def _needed_branches(cfg: Any, record: Any) -> tuple[str, ...]:
     """The branches an edit cannot do without: the generator, the 3D geometry (unless every object is fitted from a
     box, ``proposals=boxes``), and the semantic branch where no dataset ground truth or box stands in for it (an
     image file, or ``proposals=semantic``)."""
-    if cfg.proposals == "boxes":
+    proposals = _proposals(cfg)
+    if proposals is Proposals.BOXES:
         return ("textural",)
-    semantic = record is None or cfg.proposals == "semantic"
+    semantic = proposals.needs_semantic_branch(ground_truth=record is not None)
     return ("semantic", "geometric", "textural") if semantic else ("geometric", "textural")
+
+
+def _proposals(cfg: Any) -> Proposals:
+    """``proposals=`` as a :class:`~sdn3d.proposals.Proposals` (InputError naming the values, for another)."""
+    return Proposals.parse(cfg.proposals, InputError)
 
 
 def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
@@ -441,7 +446,7 @@ def _semantic_metrics(checkpoints: dict[str, dict | None]) -> tuple[Path | None,
 
 def load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any]:
     """``(Models, CodeBank or None)`` of :func:`resolve_checkpoints`' files and ``code_bank``."""
-    from sdn3d.derender import Models
+    from sdn3d.models import Models
 
     ckpt = {b: None if info is None else info["path"] for b, info in checkpoints.items()}
     if ckpt["textural"] is None:

@@ -31,7 +31,7 @@ import torch
 from torch import Tensor
 
 import sdn3d.derender as derendering
-from sdn3d.derender import PROPOSAL_LABELS, PROPOSALS, GroundTruth, Models
+from sdn3d.derender import PROPOSAL_LABELS, GroundTruth, Models, Proposals
 from sdn3d.editing.appearance import APPEARANCES, AppearanceRenderer, Drawn, SourceState, appearance_renderer, generate
 from sdn3d.editing.compose import ComposeSettings, edited_object_ids
 from sdn3d.editing.frame import PixelFrame
@@ -100,7 +100,7 @@ class SessionSettings:
     """Everything that decides what an edit looks like (``conf/edit.yaml``'s keys of the same names).
 
     Attributes:
-        proposals: where the objects come from (:data:`sdn3d.derender.PROPOSALS`).
+        proposals: where the objects come from (:class:`sdn3d.proposals.Proposals`; a name is parsed).
         min_pixels: visible pixels (working size) an object needs for 3D geometry (``geometric.min_pixels``).
         refine: the Cityscapes test-time fit of the geometry, or None (off).
         box_fit: the 3D fit of objects named by a box (:class:`~sdn3d.geometric.fit.FitSettings`; None: defaults).
@@ -132,8 +132,7 @@ class SessionSettings:
     diagnostics: bool = False
 
     def __post_init__(self) -> None:
-        if self.proposals not in PROPOSALS:
-            raise InputError(f"proposals must be one of {', '.join(PROPOSALS)}, got {self.proposals!r}")
+        object.__setattr__(self, "proposals", Proposals.parse(self.proposals, InputError))
         if self.appearance not in APPEARANCES:
             raise InputError(f"appearance must be one of {list(APPEARANCES)} (photo: each edited car drawn with its "
                              f"own pixels through its 3D shape; generator: the paper's textural generator), got "
@@ -410,9 +409,12 @@ def proposals_record(scene: SceneCode) -> dict:
 
 
 def boxes_record(scene: SceneCode, frame: PixelFrame | None) -> list[dict]:
-    """``scene.meta['boxes']`` with each box also in the input image's pixels (``input_box``)."""
+    """``scene.meta['boxes']`` (:class:`~sdn3d.box_objects.BoxFit`) as edit.json and the listing show them, each box
+    also in the input image's pixels (``input_box``)."""
+    from sdn3d.box_objects import box_fits
+
     out = []
-    for record in scene.meta.get("boxes", []):
+    for record in (fit.to_json() for fit in box_fits(scene.meta)):
         x0, y0, x1, y1 = record["box"]
         if frame is not None:
             (x0, y0), (x1, y1) = (frame.to_input((u - 0.5, v - 0.5)) for u, v in ((x0, y0), (x1, y1)))

@@ -228,6 +228,21 @@ class ObjectTable:
     __hash__ = None  # type: ignore[assignment]
 
 
+def meta_json(meta: Mapping[str, Any]) -> dict:
+    """``meta`` as plain JSON values, as scene files store it: a typed record in it (e.g. a box object's fit,
+    :class:`sdn3d.box_objects.BoxFit`) is written by its ``to_json()``.
+
+    Raises:
+        TypeError: a value that is neither JSON nor has ``to_json()``.
+    """
+    def plain(value: Any) -> Any:
+        if hasattr(value, "to_json"):
+            return value.to_json()
+        raise TypeError(f"SceneCode.meta: {type(value).__name__} is not JSON and has no to_json()")
+
+    return json.loads(json.dumps(meta, default=plain))
+
+
 @dataclass(frozen=True, eq=False)
 class SceneCode:
     """One de-rendered image; see the module doc. Equality (``==``) is exact.
@@ -289,7 +304,7 @@ class SceneCode:
             raise ValueError(f"SceneCode: instance ids {self.objects.instance_id[~torch.isin(cls, things)].tolist()} "
                              f"belong to classes without instances in {self.classes!r} (instance classes: "
                              f"{things.tolist()})")
-        json.dumps(self.meta)  # meta is stored as JSON: fail early, not at save time
+        meta_json(self.meta)  # meta is stored as JSON: fail early, not at save time
 
     @staticmethod
     def _codes_from_mapping(codes: Mapping[int, Any], num: int, dim: int) -> Tensor:

@@ -22,7 +22,7 @@ import torch
 from sdn3d.io import write_bytes_atomic, write_json_atomic
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.templates import TEMPLATE_NAMES
-from sdn3d.scene.code import SCENE_FORMAT, SCENE_VERSION, ObjectTable, SceneCode, SceneFormatError
+from sdn3d.scene.code import SCENE_FORMAT, SCENE_VERSION, ObjectTable, SceneCode, SceneFormatError, meta_json
 
 __all__ = ["load_scene", "save_scene"]
 
@@ -53,7 +53,7 @@ def save_scene(scene: SceneCode, path: str | os.PathLike) -> Path:
     header = {"format": SCENE_FORMAT, "version": SCENE_VERSION, "image_size": list(scene.image_size),
               "intrinsics": scene.intrinsics.to_dict(), "classes": scene.classes, "code_dim": scene.code_dim,
               "arrays": {"file": npz_path.name, "sha256": hashlib.sha256(data).hexdigest()},
-              "meta": scene.meta, "objects": rows}
+              "meta": meta_json(scene.meta), "objects": rows}
     write_bytes_atomic(npz_path, data)
     write_json_atomic(json_path, header)
     return json_path

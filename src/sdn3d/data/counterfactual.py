@@ -111,11 +111,11 @@ def load_pair_mask(root: str | os.PathLike, pair: CounterfactualPair, which: str
     """``(H, W)`` bool mask ``which`` (:data:`PAIR_MASKS`) of ``pair`` (255 in the PNG = True)."""
     if which not in PAIR_MASKS:
         raise ValueError(f"which must be one of {PAIR_MASKS}, got {which!r}")
-    return np.asarray(Image.open(Path(root) / pair.paths[which])) > 127
+    return np.array(Image.open(Path(root) / pair.paths[which])) > 127
 
 
 def load_pair_rgb(root: str | os.PathLike, pair: CounterfactualPair, which: str = "target") -> np.ndarray:
     """``(H, W, 3)`` uint8 ``'target'`` (the counterfactual render) or ``'source'`` image of ``pair``."""
     if which not in ("source", "target"):
         raise ValueError(f"which must be 'source' or 'target', got {which!r}")
-    return np.asarray(Image.open(Path(root) / pair.paths[which]).convert("RGB"))
+    return np.array(Image.open(Path(root) / pair.paths[which]).convert("RGB"))

@@ -17,6 +17,7 @@ from sdn3d.data.errors import MissingDataError
 from sdn3d.data.synth import SynthConfig, generate_dataset
 from sdn3d.data.synth import counterfactual as writer
 from sdn3d.data.vkitti1 import read_frames
+from sdn3d.errors import UserInputError
 from sdn3d.evaluation import counterfactual as cf
 from sdn3d.evaluation.edit_benchmark import index_records
 
@@ -60,6 +61,8 @@ def test_zero_turn_with_ground_truth_geometry_is_exact(pairs_tree: Path) -> None
     delete = next(r for r in results if r.kind == "delete")
     assert set(delete.metrics["photo:auto"]["hole"]) == {"psnr", "l1", "darkening", "darkening_error"}
     assert delete.reference["source"] > delete.reference["target"]  # the input still has the car's shadow
+    with pytest.raises(UserInputError, match="checkpoints.geometric"):
+        cf.run_counterfactual(index, {}, None, cf.CounterfactualSettings(sources=("oracle", "gt")))
 
 
 def test_darkening_is_one_minus_the_band_over_the_ring() -> None:

@@ -216,9 +216,6 @@ def _source_scene(source: str, record: FrameRecord, image: Tensor, intrinsics, m
     if source == "oracle":
         scene = scene_from_frame(record, size, textural.spec.code_dim if textural is not None else DEFAULT_CODE_DIM)
         return encode_scene(scene, image, textural) if textural is not None else scene
-    if models is None or models.geometric is None or (source == "semantic" and models.semantic is None):
-        need = "the geometric branch" + (" and the semantic branch" if source == "semantic" else "")
-        raise UserInputError(f"source scene {source!r} ({SOURCE_LABELS[source]}) needs {need}")
     proposals = "semantic" if source == "semantic" else "gt"
     return derender(image, intrinsics, models, proposals, ground_truth(record, size), min_pixels=settings.min_pixels)
 
@@ -358,7 +355,17 @@ def run_counterfactual(index: CounterfactualIndex, records: dict[tuple[str, str,
                        models: Models | None, settings: CounterfactualSettings,
                        progress: Callable[[int, int, list[PairResult]], None] | None = None) -> list[PairResult]:
     """Evaluate every pair of ``index`` (``settings.limit`` target cars at most); frames from ``records``
-    (``{(world, variation, frame): record}``). A target whose frame is missing is reported, not raised."""
+    (``{(world, variation, frame): record}``). A target whose frame is missing is reported, not raised.
+
+    Raises:
+        UserInputError: a source scene needs a branch ``models`` lacks (``gt``: the geometric branch; ``semantic``:
+            the semantic one too), or the frames are not stored at the pairs' size.
+    """
+    for source in settings.sources:
+        if source != "oracle" and (models is None or models.geometric is None
+                                   or (source == "semantic" and models.semantic is None)):
+            need = "checkpoints.geometric" + (" and checkpoints.semantic" if source == "semantic" else "")
+            raise UserInputError(f"source scene {source!r} ({SOURCE_LABELS[source]}) needs {need}")
     groups: dict[tuple, list[CounterfactualPair]] = {}
     for p in index.pairs:
         if p.kind in settings.kinds:

@@ -3,6 +3,7 @@ exact pairs scored per angle bin, per source scene and method, with paired inter
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import math
 from pathlib import Path
@@ -101,3 +102,11 @@ def test_cli_writes_per_bin_tables_with_labelled_sources_and_paired_intervals(pa
     assert {"mean", "low", "high", "wins", "losses", "ties", "verdict"} <= set(d) and d["n"] == 1
     assert report["outputs"] == ["counterfactual.json", "counterfactual.md"]
     assert "| turn 90 | photo:auto |" in capsys.readouterr().out
+    # benchmarks/counterfactual_compare.py: two runs on the same pairs, paired per pair key (here a run with itself)
+    spec = importlib.util.spec_from_file_location("cf_compare", Path(__file__).parents[1] / "benchmarks" /
+                                                  "counterfactual_compare.py")
+    compare = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(compare)
+    rows = compare.compare(report, report, ["photo:auto"])
+    assert rows and all(r["ties"] == r["n"] and r["mean"] == 0 for r in rows)
+    assert {r["column"] for r in rows} >= {"car.psnr", "car.flat", "hole.psnr", "hole.darkening_error"}

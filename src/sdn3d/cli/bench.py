@@ -63,7 +63,7 @@ from sdn3d.io import check_output_dir, staged_directory
 from sdn3d.runs import checkpoints_from_run, given_checkpoints
 
 __all__ = ["main", "run_bench", "all_failed", "table1_markdown", "examples_html", "generator_info", "bench_passes",
-           "bench_checkpoints", "check_entries"]
+           "bench_checkpoints", "check_entries", "run_counterfactual_bench"]
 
 MARKER = "results.json"
 #: What sdn3d-bench wrote before its results.json listed its ``outputs``: an earlier result of it holding these only
@@ -635,8 +635,58 @@ def all_failed(report: dict) -> str | None:
     return f"every one of the {len(rows)} evaluations failed (first: {first[:300]})"
 
 
+def run_counterfactual_bench(cfg: Any) -> dict:
+    """``counterfactual=true``: the counterfactual benchmark (:mod:`sdn3d.evaluation.counterfactual`) on
+    ``data.root``'s pairs; writes ``counterfactual.json`` and ``counterfactual.md`` into ``output_dir``."""
+    from omegaconf import OmegaConf
+
+    from sdn3d.data.counterfactual import load_pairs
+    from sdn3d.data.vkitti1 import read_frames
+    from sdn3d.derender import Models
+    from sdn3d.evaluation import counterfactual as cf
+    from sdn3d.evaluation.edit_benchmark import index_records
+    from sdn3d.io import write_json_atomic, write_text_atomic
+
+    root, marker = Path(str(cfg.data.root)).expanduser(), "counterfactual.json"
+    rules = {"listed_in": "outputs", "inputs": {"data.root": str(root)}}
+    out = check_output_dir(cfg.output_dir, marker, bool(cfg.overwrite), **rules)
+    index = load_pairs(root)
+    ck = (given_checkpoints(cfg.checkpoints) if cfg.get("run") is None else
+          checkpoints_from_run(cfg.run, cfg.checkpoints, (), "sdn3d-bench", "the counterfactual benchmark"))
+    paths = {b: None if info is None else info["path"] for b, info in ck.items()}
+    models = (Models.from_checkpoints(paths.get("semantic"), paths.get("geometric"), paths.get("textural"),
+                                      map_location=cfg.device) if any(paths.values()) else None)
+    sources = cfg.get("counterfactual_sources") or ["oracle", *(["gt"] if paths.get("geometric") else []),
+                                                    *(["semantic"] if paths.get("geometric") and paths.get("semantic")
+                                                      else [])]
+    settings = cf.CounterfactualSettings(sources=tuple(sources), fills=tuple(cfg.counterfactual_fills),
+                                         photo=PhotoSettings.from_mapping({k: v for k, v in (cfg.get("photo") or {})
+                                                                           .items() if k != "fill"}),
+                                         min_pixels=int(cfg.geometric.min_pixels), limit=cfg.limit)
+    t0 = time.perf_counter()
+    results = cf.run_counterfactual(index, index_records(read_frames(root)), models, settings, lambda i, n, rows:
+                                    console.print(f"[counterfactual {i}/{n}] {rows[0].key.split()[0]}", markup=False))
+    names = cf.methods(settings, models is not None and models.textural is not None)
+    summary, comps = cf.summarize(results, names), cf.comparisons(results, names)
+    info = {"data": f"pairs at {root}", "image_size": list(index.image_size), "sources": list(settings.sources),
+            "source_labels": {s: cf.SOURCE_LABELS[s] for s in settings.sources}, "methods": list(names),
+            "reference": cf.REFERENCE, "checkpoints": ck, "wall_s": time.perf_counter() - t0}
+    report = {"info": info, "config": OmegaConf.to_container(cfg, resolve=True), "summary": summary,
+              "comparisons": comps, "pairs": [r.to_json() for r in results],
+              "outputs": sorted(["counterfactual.md", marker])}
+    with staged_directory(out, marker, bool(cfg.overwrite), owned=True, **rules) as tmp:
+        write_text_atomic(tmp / "counterfactual.md", cf.counterfactual_markdown(summary, comps, info))
+        write_json_atomic(tmp / marker, report)
+    return report
+
+
 def _main(argv: list[str]) -> int:
-    report = run_bench(compose_config(argv, "bench"))
+    cfg = compose_config(argv, "bench")
+    if cfg.get("counterfactual"):
+        report = run_counterfactual_bench(cfg)
+        print((Path(str(cfg.output_dir)) / "counterfactual.md").read_text())
+        return 0 if any(p["metrics"] for p in report["pairs"]) else 1
+    report = run_bench(cfg)
     print(table1_markdown(report["summary"], report["info"], report.get("comparisons")))
     failed = all_failed(report)
     if failed is not None:

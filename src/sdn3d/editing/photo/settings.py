@@ -11,8 +11,9 @@ from torch import Tensor
 from sdn3d.errors import UserInputError
 
 __all__ = ["FILL_METHODS", "UNSEEN_MODES", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE",
-           "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT", "FLAT_CODES",
-           "PART_DEFAULTS", "PART_COLORS", "PhotoSettings", "PhotoSettingsError", "source_picture", "part_picture"]
+           "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT",
+           "FLAT_CODES", "PART_DEFAULTS", "PART_COLORS", "PhotoSettings", "PhotoSettingsError", "source_picture",
+           "part_picture"]
 
 
 #: How vacated pixels are filled: OpenCV's Telea (fast; the best weight-free fill by L1 and PSNR on a held-out
@@ -71,6 +72,11 @@ class PhotoSettings:
         inpaint_radius: Telea's neighbourhood (input pixels).
         max_level: deepest pyramid level sampled when an object shrinks (2**level smaller).
         unseen: :data:`UNSEEN_MODES` for what neither the photo nor the mirror saw (default ``parts``).
+        delete_effects: a removed (deleted or moved) object takes its effects with it: its fitted silhouette joins
+            the hole, the road part of the hole (below its footprint's far edge) is filled from road-like pixels only,
+            and with ``delete_shadow`` its cast shadow (found from its box, the fitted light and the road plane) is
+            relit rather than repainted (False: the hole is its mask and a band below, filled from everything).
+        delete_shadow: relight a removed object's shadow (with ``delete_effects``).
         recolor_parts: ``recolor`` repaints the body part of the fitted mesh only (False: every pixel of the car
             whose colour is the paint's, the appearance before vehicle parts existed).
     """
@@ -86,6 +92,8 @@ class PhotoSettings:
     inpaint_radius: int = 5
     max_level: int = 3
     unseen: str = "parts"
+    delete_effects: bool = False
+    delete_shadow: bool = True
     recolor_parts: bool = True
 
     def __post_init__(self) -> None:
@@ -106,7 +114,7 @@ class PhotoSettings:
                 continue
             if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
                 raise PhotoSettingsError(f"photo.{name} must be an integer in [{lo}, {hi}], got {value!r}")
-        for name in ("relight", "recolor_parts"):
+        for name in ("relight", "recolor_parts", "delete_effects", "delete_shadow"):
             if not isinstance(getattr(self, name), bool):
                 raise PhotoSettingsError(f"photo.{name} must be true or false, got {getattr(self, name)!r}")
 

@@ -14,7 +14,7 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.editing.frame import PixelFrame, input_intrinsics, upsample_ids, working_to_input
-from sdn3d.editing.photo.fill import fill_hole, vacated_hole
+from sdn3d.editing.photo.fill import _dilate, fill_hole, inpaint, relight_shadow, road_colours, road_like, vacated_hole
 from sdn3d.editing.photo.light import LightEstimate, fit_light
 from sdn3d.editing.photo.recolor import body_pixels, recolor_pixels
 from sdn3d.editing.photo.settings import (
@@ -27,6 +27,7 @@ from sdn3d.editing.photo.settings import (
     PART_DEFAULTS,
     PHOTO,
     RECOLORED,
+    RELIT,
     SHADOW,
     SOURCE_NAMES,
     PhotoSettings,
@@ -165,6 +166,14 @@ def _rasterize(rows: Tensor, verts: Tensor, faces: Tensor, K: Tensor, size: tupl
     frags = rasterize_meshes(verts.double(), faces, K, RasterSettings(image_size=size),
                              mesh_to_image=torch.zeros(g, dtype=torch.long), batch_size=1)
     return _Raster(rows, verts.double(), faces, frags)
+
+
+def _raster_ids(r: _Raster, objects: ObjectTable) -> Tensor:
+    """``(H, W)`` instance id of the object rasterized at each pixel of ``r`` (0: none): the fitted silhouettes."""
+    mesh = r.frags.pix_to_mesh[0]
+    if not len(r.rows):
+        return torch.zeros_like(mesh)
+    return torch.where(mesh >= 0, objects.instance_id[r.rows[mesh.clamp(min=0)]], torch.zeros_like(mesh))
 
 
 def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank) -> Tensor:
@@ -329,6 +338,81 @@ def _blur_window(hull: np.ndarray, sigma: float, size: tuple[int, int]) -> tuple
 
 
 
+def _polygon_mask(points: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """``(H, W)`` uint8 filled convex hull of image points ``points (N, 2)``."""
+    import cv2
+
+    canvas = np.zeros(size, np.uint8)
+    points = np.clip(points, -4 * max(size), 4 * max(size))
+    cv2.fillConvexPoly(canvas, cv2.convexHull(np.round(points).astype(np.int32)), 1)
+    return canvas
+
+
+def _effects_regions(objects: ObjectTable, rows: list[int], K: Tensor, size: tuple[int, int],
+                     light: LightEstimate | None, max_reach: float = 2.0) -> tuple[Tensor, Tensor]:
+    """``(search (H, W), road part (H, W))`` bool of removed objects ``rows``: where each one's shadow can lie (its
+    box's footprint, grown, and the box's top corners cast along ``light``'s direction onto its ground plane, at
+    most ``max_reach`` of its length away; without a light, the footprint grown by half) and the part of the picture
+    that is road below its footprint's far edge (the footprint's hull carried down to the bottom edge)."""
+    height, width = size
+    search = np.zeros(size, np.uint8)
+    road = np.zeros(size, np.uint8)
+    for row in rows:
+        floor = _box_floor(objects, row, 1.15)
+        if light is not None and float(light.direction[1]) < -0.1:
+            d = light.direction.double()
+            top = floor.clone()
+            top[:, 1] -= float(objects.dims[row, 1])
+            reach = (float(objects.dims[row, 1]) / -float(d[1])) * d
+            reach_len = float(reach[[0, 2]].norm())
+            cap = max_reach * float(objects.dims[row].max())
+            if reach_len > cap:
+                reach = reach * (cap / reach_len)
+            cast = top - reach
+            cast[:, 1] = floor[0, 1]
+            ground = torch.cat([floor, cast])
+        else:
+            ground = _box_floor(objects, row, 1.5)
+        uv, front = _project(ground, K)
+        if not bool(front.all()) or not bool(torch.isfinite(uv).all()):
+            continue
+        search |= _polygon_mask(uv.numpy(), size)
+        fuv, ffront = _project(floor, K)
+        if bool(ffront.all()):
+            f = fuv.numpy()
+            down = np.stack([f[:, 0], np.full(4, height + 4.0)], 1)
+            road |= _polygon_mask(np.concatenate([f, down]), size)
+    return torch.from_numpy(search > 0), torch.from_numpy(road > 0)
+
+
+def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before: ObjectTable, gone_rows: list[int],
+                         K: Tensor, light: LightEstimate | None, settings: PhotoSettings) -> tuple[Tensor, Tensor]:
+    """``(filled image, relit (H, W) matte)``: step 2 with ``delete_effects`` (module doc): the removed objects'
+    shadows relit (:func:`~sdn3d.editing.photo.fill.relight_shadow`), then the road part of ``hole`` filled by
+    PatchMatch from road-like pixels only, then the rest of it by ``settings.fill`` from everything but
+    ``objects_px``."""
+    size = tuple(hole.shape)
+    search, road_part = _effects_regions(before, gone_rows, K, size, light)
+    around = _dilate(search | hole, 6)
+    ring = _dilate(search | hole, 30) & ~around & ~objects_px
+    road = road_colours(image, ring)
+    matte = torch.zeros(size, dtype=torch.float32)
+    if road is None:
+        return fill_hole(image, hole, settings, objects_px), matte
+    if settings.delete_shadow:
+        image, matte = relight_shadow(image, _dilate(search, 3) & ~hole & ~objects_px, ring, road)
+    road_hole = hole & road_part
+    out = image
+    if bool(road_hole.any()):
+        avoid = objects_px | ~road_like(image, road, min_light=0.8)  # lit road and its markings only
+        out = inpaint(out, road_hole, "patchmatch" if settings.fill != "telea" else "telea",
+                      settings.inpaint_radius, keep_out=avoid)
+    rest = hole & ~road_hole
+    if bool(rest.any()):
+        out = fill_hole(out, rest, settings, objects_px)
+    return out, matte
+
+
 def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, stays: Tensor,
           transform: PixelFrame) -> tuple[Tensor, list[int]]:
     """``(own, grown rows)``: ``own (H_in, W_in)`` with the freed pixels each object that stays now covers (its mask
@@ -368,13 +452,14 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
     codes = source.view(-1).clone()
     for iid, rgb in recolor.items():
         pix = pixels_of(int(iid))
-        if parts is not None and len(pix) and bool((parts.view(-1)[pix] >= 0).any()):
+        body_part = parts is not None and len(pix) > 0 and bool((parts.view(-1)[pix] >= 0).any())
+        if body_part:
             pix = pix[parts.view(-1)[pix] == int(Part.BODY)]
         if not len(pix):
             warnings.append(f"recolor: object {iid} has no pixels in the picture")
             continue
         colors = flat[pix]
-        new, body, stats = recolor_pixels(colors, tuple(rgb))
+        new, body, stats = recolor_pixels(colors, tuple(rgb), body_part=body_part)
         flat[pix] = new
         repainted = pix[(new != colors).any(1)]
         codes[repainted] = torch.where(codes[repainted] == INPUT, RECOLORED, codes[repainted]).to(torch.uint8)
@@ -442,9 +527,12 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     # Light (step 4): visible pixels of every source object with geometry; only when something is drawn.
     light = None
     src_normals = None
-    if settings.relight and len(src.rows) and (bool(moved.any()) or grown_rows):
+    gone_rows = [int(b) for b in torch.isin(before.instance_id, gone_ids).nonzero().flatten().tolist()
+                 if bool(before.has_geometry[b])]
+    effects = settings.delete_effects and bool(gone_rows) and settings.fill != "generator"
+    if (settings.relight or effects) and len(src.rows) and (bool(moved.any()) or grown_rows or effects):
         src_normals, light = source.light()
-    shade = light.shade if light is not None else None
+    shade = light.shade if light is not None and settings.relight else None
 
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
     keep = (src_ids != 0) & torch.isin(src_ids, after.instance_id[stays])
@@ -454,8 +542,22 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     else:  # the hole and its fill depend only on which objects left and which stayed
         stay_ids = after.instance_id[stays]
         key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
-        out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0))
+        if effects:  # the removed objects' silhouettes join the hole; their shadows are relit
+            silhouette = _dilate(torch.isin(_raster_ids(src, before), gone_ids), settings.hole_dilate_px)
+            hole = hole | (silhouette & ~keep)
+
+            def make() -> Tensor:  # the picture and the relit matte, kept together
+                filled, relit = _remove_with_effects(image, hole, (src_ids != 0) & ~hole, before, gone_rows, K,
+                                                     light, settings)
+                return torch.cat([filled, relit[None]])
+
+            both = source.fill(key, make)
+            out, matte = both[:3], both[3]
+        else:
+            out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0))
     source = torch.where(hole, FILL, INPUT).to(torch.uint8)
+    if effects and settings.fill != "generator":
+        source = torch.where((matte > 0.02) & ~hole, RELIT, source).to(torch.uint8)
 
     # Contact shadows of moved objects, on the road only (drawn objects cover the rest below).
     moved_rows = moved.nonzero().flatten().tolist()

@@ -29,7 +29,7 @@ INPUT_SIZE = (256, 128)  # the input: twice the working size
 FRAME = PixelFrame(INPUT_SIZE, WORK)
 K_WORK = Intrinsics(100.0, 100.0, 63.5, 31.5, width=WORK[0], height=WORK[1])
 BACKGROUND = 0.45
-NO_LIGHT = PhotoSettings(relight=False, contact_shadow=0.0, fill="telea")
+NO_LIGHT = PhotoSettings(relight=False, contact_shadow=0.0, fill="telea", unseen="body")
 
 
 def _scene(objects: list[SceneObject]) -> SceneCode:
@@ -118,7 +118,7 @@ def test_moved_and_turned_car_carries_its_own_surface_colours(turn_deg):
     err = (result.image - expected).abs().amax(0)[check]
     assert float(err.mean()) < 0.02 and float(torch.quantile(err, 0.95)) < 0.06
     shares = result.objects[12001]
-    assert shares["photo"] + shares["mirror"] + shares["fallback"] == pytest.approx(1.0, abs=1e-3)
+    assert shares["photo"] + shares["mirror"] + shares["part"] + shares["fallback"] == pytest.approx(1.0, abs=1e-3)
     if turn_deg == 180.0:  # the side the photo showed now faces away: the mirror supplies the near side
         assert shares["mirror"] > 0.3
     else:  # the surfaces the photo saw edge-on (min_view_cos) are not taken from it

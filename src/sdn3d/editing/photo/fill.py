@@ -139,3 +139,71 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
             raise PhotoSettingsError("photo.fill=generator needs the generator's picture (the textural branch)")
         return torch.where(hole[None], fill.clamp(0, 1).to(image.dtype), image)
     return inpaint(image, hole, settings.fill, settings.inpaint_radius, keep_out=keep_out)
+
+
+# -- removal with its effects (shadow relit, road filled from road) ------------------------------------------------
+
+
+def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor | None:
+    """``(3,)`` Lab of the road around a removed object: the median of the ``ring (H, W)`` pixels (around it, on
+    no object) that are near grey or near the ring's own median chroma; None with fewer than 30 such pixels."""
+    from sdn3d.editing.photo.recolor import _lab
+
+    pix = image.permute(1, 2, 0).reshape(-1, 3)[ring.view(-1)]
+    if len(pix) < 30:
+        return None
+    lab = _lab(pix)
+    ab = lab[:, 1:]
+    ref = ab[ab.norm(dim=1) < 2 * tolerance]
+    if len(ref) < 30:
+        return None
+    mid = ref.median(0).values
+    near = (ab - mid).norm(dim=1) < tolerance
+    return lab[near].median(0).values if int(near.sum()) >= 30 else None
+
+
+def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: float = 0.0) -> Tensor:
+    """``(H, W)`` bool: pixels whose chroma (Lab a, b) is within ``tolerance`` of the road's ``road (3,)`` and whose
+    lightness is at least ``min_light`` of its: asphalt and its grey or white lane markings (with ``min_light`` 0,
+    its shadows too); not grass, foliage or paint."""
+    from sdn3d.editing.photo.recolor import _lab
+
+    lab = _lab(image.permute(1, 2, 0).reshape(-1, 3))
+    ok = ((lab[:, 1:] - road[1:]).norm(dim=1) < tolerance) & (lab[:, 0] >= min_light * road[0])
+    return ok.view(image.shape[1:])
+
+
+def relight_shadow(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, strength: float = 1.0,
+                   tolerance: float = 12.0) -> tuple[Tensor, Tensor]:
+    """``(image, matte (H, W))``: the shadow inside ``search (H, W)`` relit (Le & Samaras 2019: a per-channel gain
+    and a matte, so the road's texture stays): lit road is the median of ``lit (H, W)`` pixels that look like road
+    (:func:`road_like` of ``road``, Lab); shadow pixels are road-like pixels of ``search`` darker than 0.85 of it;
+    the gain per channel is lit over the shadow's core (its darkest quarter's median), the matte each pixel's share
+    of that darkening (0 lit, 1 core), blurred; ``image * (1 + matte * (gain - 1))``."""
+    import cv2
+
+    from sdn3d.editing.photo.light import luminance
+
+    zero = torch.zeros_like(search, dtype=torch.float32)
+    like = road_like(image, road, tolerance)
+    flat = image.permute(1, 2, 0).reshape(-1, 3).double()
+    y = luminance(flat).view(search.shape)
+    lit_pix = (lit & like).view(-1)
+    if int(lit_pix.sum()) < 30:
+        return image, zero
+    y_lit = float(y.view(-1)[lit_pix].median())
+    cand = search & like & (y < 0.85 * y_lit)
+    if int(cand.sum()) < 20:
+        return image, zero
+    yc = y[cand]
+    core_cut = float(torch.quantile(yc, 0.25))
+    core = cand & (y <= core_cut)
+    lit_rgb = flat[lit_pix].median(0).values
+    sh_rgb = flat[core.view(-1)].median(0).values.clamp(min=0.01)
+    gain = (lit_rgb / sh_rgb).clamp(1.0, 8.0)
+    y_core = float(luminance(sh_rgb))
+    matte = ((y_lit - y) / max(y_lit - y_core, 1e-3)).clamp(0, 1) * cand
+    matte = torch.from_numpy(cv2.GaussianBlur(matte.float().numpy(), (0, 0), 1.0)) * search
+    matte = matte * strength
+    out = image * (1 + matte[None] * (gain.float()[:, None, None] - 1))
+    return out.clamp(0, 1), matte

@@ -66,11 +66,37 @@ def _kmeans_lab(lab: Tensor, k: int = 3, iters: int = 10) -> Tensor:
     return assign
 
 
-def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float]) -> tuple[Tensor, Tensor, dict]:
+def _body_paint(lab: Tensor, min_chroma: float = 10.0, hue_deg: float = 40.0) -> tuple[Tensor, bool]:
+    """``(paint (P,) bool, coloured)`` among pixels ``lab (P, 3)`` of a car's *body part* (the fitted mesh says
+    which pixels are paint, so no cluster has to): the chroma-weighted mean hue is the paint's; a coloured paint
+    (a body whose median chroma is at least ``min_chroma``) keeps the pixels within ``hue_deg`` of it and at least
+    0.25 of its median chroma (windows, tyres and grey trim seen
+    through a loosely fitted mesh are not paint); a grey, black, white or silver paint keeps every pixel within
+    ``min_chroma`` of grey."""
+    ab = lab[:, 1:]
+    chroma = ab.norm(dim=1)
+    mean = (ab * chroma[:, None]).sum(0) / chroma.sum().clamp(min=1e-6)
+    ref = float(chroma.median())
+    if float(mean.norm()) < min_chroma or ref < min_chroma:  # most of the body is grey: a few coloured pixels
+        # (a tail lamp, a reflection) do not make a black car red
+        return chroma < 1.5 * min_chroma, False
+    cosine = (ab @ mean) / (chroma * mean.norm()).clamp(min=1e-6)
+    return (cosine > math.cos(math.radians(hue_deg))) & (chroma > 0.25 * ref), True
+
+
+def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],
+                   body_part: bool = False) -> tuple[Tensor, Tensor, dict]:
     """Repaint a car's body (module doc, step 5).
+
+    With ``body_part`` the pixels are the fitted mesh's body part (:func:`_body_paint` picks the paint among them)
+    and the paint takes the target's hue outright, each pixel keeping its chroma relative to the paint's and its
+    lightness offset: a pixel's hue never mixes the old and the new paint (an additive Lab shift of a red car to
+    blue turned its orange highlights and dark shades magenta).
 
     Args:
         colors: ``(P, 3)`` sRGB in [0, 1], the car's pixels; target_rgb: the paint, sRGB in [0, 1].
+        body_part: ``colors`` are the body part's pixels only (see above); False: all the car's pixels, the paint
+            found as the largest colour cluster (:func:`_paint`) and moved by one Lab shift.
 
     Returns:
         ``(new colours (P, 3), body (P,) bool, stats)``; ``stats``: ``body_share``, ``delta_e`` (CIE76 distance of
@@ -87,10 +113,22 @@ def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float]) -> tu
     if len(colors) < 8:
         return colors, torch.zeros(len(colors), dtype=torch.bool), {"body_share": 0.0, "delta_e": float("nan")}
     lab = _lab(colors)
-    body = _paint(lab)
     target = _lab(torch.tensor([target_rgb], dtype=colors.dtype))[0]
-    shift = target - lab[body].mean(0)
-    new_lab = lab + shift
+    if body_part:
+        body, coloured = _body_paint(lab)
+        if not bool(body.any()):
+            return colors, body, {"body_share": 0.0, "delta_e": float("nan")}
+        paint = lab[body]
+        new_lab = lab.clone()
+        new_lab[:, 0] = lab[:, 0] + (target[0] - paint[:, 0].median())
+        if coloured:  # chroma relative to the paint's, the target's hue
+            rel = (lab[:, 1:].norm(dim=1) / paint[:, 1:].norm(dim=1).median().clamp(min=1e-6)).clamp(0.3, 1.6)
+            new_lab[:, 1:] = target[1:][None] * rel[:, None]
+        else:  # grey paint: the target's chroma plus each pixel's small tint
+            new_lab[:, 1:] = target[1:][None] + (lab[:, 1:] - paint[:, 1:].mean(0))
+    else:
+        body = _paint(lab)
+        new_lab = lab + (target - lab[body].mean(0))
     new = _rgb(new_lab).clamp(0, 1)
     out = torch.where(body[:, None], new, colors)
     delta = float((_lab(out[body]).mean(0) - target).norm())

@@ -10,9 +10,10 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 
-__all__ = ["FILL_METHODS", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE",
-           "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PhotoSettings", "PhotoSettingsError",
-           "source_picture"]
+__all__ = ["FILL_METHODS", "UNSEEN_MODES", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE",
+           "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT",
+           "FLAT_CODES", "PART_DEFAULTS", "PART_COLORS", "PhotoSettings", "PhotoSettingsError", "source_picture",
+           "part_picture"]
 
 
 #: How vacated pixels are filled: OpenCV's Telea (fast; the best weight-free fill by L1 and PSNR on a held-out
@@ -22,12 +23,26 @@ __all__ = ["FILL_METHODS", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PAT
 FILL_METHODS = ("telea", "patchmatch", "auto", "generator")
 #: ``fill='auto'``: a hole part at most this many pixels from its edge everywhere is filled by Telea, else PatchMatch.
 AUTO_THIN_PX = 6.0
-#: Codes of :attr:`PhotoResult.source`.
-SOURCE_NAMES = ("input", "photo", "mirror", "fallback", "fill", "recolored", "shadow")
+#: How a point of an edited car that neither the photo nor its mirror image saw is drawn
+#: (:attr:`PhotoSettings.unseen`): ``parts`` (the default: the same part seen elsewhere on the same car, shaded for
+#: its new normal; a part never seen gets its :data:`PART_DEFAULTS` colour) or ``body`` (the car's body colour
+#: everywhere: the appearance before vehicle parts existed).
+UNSEEN_MODES = ("parts", "body")
+#: Codes of :attr:`PhotoResult.source`: ``part``: the same part seen elsewhere on the car; ``default``: a part the
+#: photo never showed, in its :data:`PART_DEFAULTS` colour; ``relit``: road under a removed car's shadow, relit.
+SOURCE_NAMES = ("input", "photo", "mirror", "fallback", "fill", "recolored", "shadow", "part", "default", "relit")
 #: Colour of each source code in :func:`source_picture` (sRGB uint8).
 SOURCE_COLORS = ((40, 40, 40), (60, 170, 75), (70, 120, 230), (230, 80, 60), (240, 200, 60), (200, 90, 220),
-                 (120, 120, 120))
-INPUT, PHOTO, MIRROR, FALLBACK, FILL, RECOLORED, SHADOW = range(7)
+                 (120, 120, 120), (150, 220, 230), (250, 140, 20), (170, 150, 110))
+INPUT, PHOTO, MIRROR, FALLBACK, FILL, RECOLORED, SHADOW, PART, DEFAULT, RELIT = range(10)
+#: Source codes that are flat paint rather than the photo's texture.
+FLAT_CODES = (FALLBACK, DEFAULT)
+#: sRGB albedo of a vehicle part the photo never showed (indexed by :class:`~sdn3d.meshes.parts.Part`), shaded by
+#: the fitted light for its normal. Plain defaults, not learnt: body mid grey (only when no paint is seen at all),
+#: glass dark blue-grey, tyres near black, front end (head lights and grille) light grey, tail lights red, plates
+#: near white.
+PART_DEFAULTS = ((0.5, 0.5, 0.5), (0.10, 0.12, 0.15), (0.05, 0.05, 0.05), (0.55, 0.55, 0.52), (0.55, 0.07, 0.05),
+                 (0.85, 0.85, 0.80))
 #: PatchMatch runs on crops at most this many pixels on a side (larger ones are filled at a coarser scale).
 PATCHMATCH_MAX_SIDE = 256
 
@@ -56,6 +71,14 @@ class PhotoSettings:
         relight: re-shade transferred pixels for their new normals (:func:`fit_light`).
         inpaint_radius: Telea's neighbourhood (input pixels).
         max_level: deepest pyramid level sampled when an object shrinks (2**level smaller).
+        unseen: :data:`UNSEEN_MODES` for what neither the photo nor the mirror saw (default ``parts``).
+        delete_effects: a removed (deleted or moved) object takes its effects with it: its fitted silhouette joins
+            the hole, the road part of the hole (below its footprint's far edge) is filled from road-like pixels only,
+            and with ``delete_shadow`` its cast shadow (found from its box, the fitted light and the road plane) is
+            relit rather than repainted (False: the hole is its mask and a band below, filled from everything).
+        delete_shadow: relight a removed object's shadow (with ``delete_effects``).
+        recolor_parts: ``recolor`` repaints the body part of the fitted mesh only (False: every pixel of the car
+            whose colour is the paint's, the appearance before vehicle parts existed).
     """
 
     fill: str = "auto"
@@ -68,10 +91,16 @@ class PhotoSettings:
     relight: bool = True
     inpaint_radius: int = 5
     max_level: int = 3
+    unseen: str = "parts"
+    delete_effects: bool = False
+    delete_shadow: bool = True
+    recolor_parts: bool = True
 
     def __post_init__(self) -> None:
         if self.fill not in FILL_METHODS:
             raise PhotoSettingsError(f"photo.fill must be one of {FILL_METHODS}, got {self.fill!r}")
+        if self.unseen not in UNSEEN_MODES:
+            raise PhotoSettingsError(f"photo.unseen must be one of {UNSEEN_MODES}, got {self.unseen!r}")
         checks = (("depth_tolerance", self.depth_tolerance, 0.0, 1.0), ("shadow_band", self.shadow_band, 0.0, 1.0),
                   ("min_view_cos", self.min_view_cos, 0.0, 1.0),
                   ("contact_shadow", self.contact_shadow, 0.0, 1.0))
@@ -85,8 +114,9 @@ class PhotoSettings:
                 continue
             if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
                 raise PhotoSettingsError(f"photo.{name} must be an integer in [{lo}, {hi}], got {value!r}")
-        if not isinstance(self.relight, bool):
-            raise PhotoSettingsError(f"photo.relight must be true or false, got {self.relight!r}")
+        for name in ("relight", "recolor_parts", "delete_effects", "delete_shadow"):
+            if not isinstance(getattr(self, name), bool):
+                raise PhotoSettingsError(f"photo.{name} must be true or false, got {getattr(self, name)!r}")
 
     def to_dict(self) -> dict:
         return dict(self.__dict__)
@@ -107,3 +137,13 @@ def source_picture(source: Tensor) -> np.ndarray:
     """``(H, W, 3)`` uint8 picture of a :attr:`PhotoResult.source` map (colours :data:`SOURCE_COLORS`)."""
     lut = np.asarray(SOURCE_COLORS, np.uint8)
     return lut[source.cpu().numpy().astype(np.int64)]
+
+
+#: Colour of each part in :func:`part_picture` (sRGB uint8, by :class:`~sdn3d.meshes.parts.Part`; no part: black).
+PART_COLORS = ((200, 60, 60), (80, 160, 230), (60, 60, 60), (250, 230, 120), (230, 40, 160), (240, 240, 240))
+
+
+def part_picture(parts: Tensor) -> np.ndarray:
+    """``(H, W, 3)`` uint8 picture of a :attr:`PhotoResult.parts` map (-1: black)."""
+    lut = np.asarray(((0, 0, 0),) + PART_COLORS, np.uint8)
+    return lut[parts.cpu().numpy().astype(np.int64) + 1]

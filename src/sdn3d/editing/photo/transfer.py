@@ -14,16 +14,20 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.editing.frame import PixelFrame, input_intrinsics, upsample_ids, working_to_input
-from sdn3d.editing.photo.fill import fill_hole, vacated_hole
+from sdn3d.editing.photo.fill import _dilate, fill_hole, inpaint, relight_shadow, road_colours, road_like, vacated_hole
 from sdn3d.editing.photo.light import LightEstimate, fit_light
 from sdn3d.editing.photo.recolor import body_pixels, recolor_pixels
 from sdn3d.editing.photo.settings import (
+    DEFAULT,
     FALLBACK,
     FILL,
     INPUT,
     MIRROR,
+    PART,
+    PART_DEFAULTS,
     PHOTO,
     RECOLORED,
+    RELIT,
     SHADOW,
     SOURCE_NAMES,
     PhotoSettings,
@@ -31,6 +35,7 @@ from sdn3d.editing.photo.settings import (
 )
 from sdn3d.math3d.rotations import roty
 from sdn3d.meshes.bank import MeshBank, default_bank
+from sdn3d.meshes.parts import Part
 from sdn3d.render.maps import normal_map
 from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings
@@ -47,6 +52,9 @@ class PhotoResult:
     Attributes:
         image: ``(3, H_in, W_in)`` the edited picture (the original's dtype).
         source: ``(H_in, W_in)`` uint8 :data:`SOURCE_NAMES` code of each pixel.
+        parts: ``(H_in, W_in)`` int8 :class:`~sdn3d.meshes.parts.Part` of each drawn pixel (-1: not drawn, or an
+            object without geometry): with ``source`` it says which part of the car a pixel shows and where it came
+            from.
         light: the fitted light (None: relighting off or not fitted).
         objects: ``{instance id: {pixels, photo, mirror, fallback (shares), ...}}`` per drawn object.
         warnings: what the user should know (an object none of whose surface the input shows, ...).
@@ -57,6 +65,7 @@ class PhotoResult:
     light: LightEstimate | None
     objects: dict[int, dict] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
+    parts: Tensor | None = None
 
     def summary(self) -> dict:
         counts = torch.bincount(self.source.flatten().long(), minlength=len(SOURCE_NAMES))
@@ -79,7 +88,8 @@ class PhotoSource:
         K: ``(3, 3)`` float64, the input image's camera (:func:`~sdn3d.editing.frame.input_intrinsics`).
         erode: input pixels the instance masks are eroded by (:attr:`PhotoSettings.mask_erode_px`, resolved).
         src_ids: ``(H_in, W_in)`` int64 source instance map at the input's resolution; vis_ids: eroded.
-        raster: the source objects rasterized at the input's resolution.
+        raster: the source objects rasterized at the input's resolution; parts: ``(H_in * W_in,)`` long
+            :class:`~sdn3d.meshes.parts.Part` of the rasterized face at each pixel (-1: none).
         max_fills: filled pictures kept (each ``3 x H x W`` float32: ~5.6 MB at 1242x375); the oldest goes first.
     """
 
@@ -99,6 +109,7 @@ class PhotoSource:
         self.vis_ids = _erode_ids(self.src_ids, self.erode)
         rows, verts, faces = posed_meshes(scene.objects, self.bank)
         self.raster = _rasterize(rows.cpu(), verts.cpu(), faces.cpu(), self.K, (h_in, w_in))
+        self.parts = _part_map(self.raster, scene.objects, self.bank)
         self._light: tuple[Tensor, LightEstimate | None] | None = None
         self._fills: dict[tuple, Tensor] = {}
 
@@ -155,6 +166,28 @@ def _rasterize(rows: Tensor, verts: Tensor, faces: Tensor, K: Tensor, size: tupl
     frags = rasterize_meshes(verts.double(), faces, K, RasterSettings(image_size=size),
                              mesh_to_image=torch.zeros(g, dtype=torch.long), batch_size=1)
     return _Raster(rows, verts.double(), faces, frags)
+
+
+def _raster_ids(r: _Raster, objects: ObjectTable) -> Tensor:
+    """``(H, W)`` instance id of the object rasterized at each pixel of ``r`` (0: none): the fitted silhouettes."""
+    mesh = r.frags.pix_to_mesh[0]
+    if not len(r.rows):
+        return torch.zeros_like(mesh)
+    return torch.where(mesh >= 0, objects.instance_id[r.rows[mesh.clamp(min=0)]], torch.zeros_like(mesh))
+
+
+def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank) -> Tensor:
+    """``(H * W,)`` long :class:`~sdn3d.meshes.parts.Part` of the face rasterized at each pixel of ``r`` (-1: none)."""
+    face = r.frags.pix_to_face.view(-1)
+    out = torch.full_like(face, -1, dtype=torch.long)
+    pix = (face >= 0).nonzero().flatten()
+    if not len(pix):
+        return out
+    mesh = r.frags.pix_to_mesh.view(-1)[pix]
+    local = face[pix] - mesh * r.faces.shape[1]
+    parts = bank.face_parts.cpu()
+    out[pix] = parts[objects.template_id[r.rows[mesh]], local.clamp(max=parts.shape[1] - 1)]
+    return out
 
 
 def _surface(r: _Raster, pix: Tensor) -> tuple[Tensor, Tensor, Tensor, Tensor]:
@@ -305,6 +338,81 @@ def _blur_window(hull: np.ndarray, sigma: float, size: tuple[int, int]) -> tuple
 
 
 
+def _polygon_mask(points: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """``(H, W)`` uint8 filled convex hull of image points ``points (N, 2)``."""
+    import cv2
+
+    canvas = np.zeros(size, np.uint8)
+    points = np.clip(points, -4 * max(size), 4 * max(size))
+    cv2.fillConvexPoly(canvas, cv2.convexHull(np.round(points).astype(np.int32)), 1)
+    return canvas
+
+
+def _effects_regions(objects: ObjectTable, rows: list[int], K: Tensor, size: tuple[int, int],
+                     light: LightEstimate | None, max_reach: float = 2.0) -> tuple[Tensor, Tensor]:
+    """``(search (H, W), road part (H, W))`` bool of removed objects ``rows``: where each one's shadow can lie (its
+    box's footprint, grown, and the box's top corners cast along ``light``'s direction onto its ground plane, at
+    most ``max_reach`` of its length away; without a light, the footprint grown by half) and the part of the picture
+    that is road below its footprint's far edge (the footprint's hull carried down to the bottom edge)."""
+    height, width = size
+    search = np.zeros(size, np.uint8)
+    road = np.zeros(size, np.uint8)
+    for row in rows:
+        floor = _box_floor(objects, row, 1.15)
+        if light is not None and float(light.direction[1]) < -0.1:
+            d = light.direction.double()
+            top = floor.clone()
+            top[:, 1] -= float(objects.dims[row, 1])
+            reach = (float(objects.dims[row, 1]) / -float(d[1])) * d
+            reach_len = float(reach[[0, 2]].norm())
+            cap = max_reach * float(objects.dims[row].max())
+            if reach_len > cap:
+                reach = reach * (cap / reach_len)
+            cast = top - reach
+            cast[:, 1] = floor[0, 1]
+            ground = torch.cat([floor, cast])
+        else:
+            ground = _box_floor(objects, row, 1.5)
+        uv, front = _project(ground, K)
+        if not bool(front.all()) or not bool(torch.isfinite(uv).all()):
+            continue
+        search |= _polygon_mask(uv.numpy(), size)
+        fuv, ffront = _project(floor, K)
+        if bool(ffront.all()):
+            f = fuv.numpy()
+            down = np.stack([f[:, 0], np.full(4, height + 4.0)], 1)
+            road |= _polygon_mask(np.concatenate([f, down]), size)
+    return torch.from_numpy(search > 0), torch.from_numpy(road > 0)
+
+
+def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before: ObjectTable, gone_rows: list[int],
+                         K: Tensor, light: LightEstimate | None, settings: PhotoSettings) -> tuple[Tensor, Tensor]:
+    """``(filled image, relit (H, W) matte)``: step 2 with ``delete_effects`` (module doc): the removed objects'
+    shadows relit (:func:`~sdn3d.editing.photo.fill.relight_shadow`), then the road part of ``hole`` filled by
+    PatchMatch from road-like pixels only, then the rest of it by ``settings.fill`` from everything but
+    ``objects_px``."""
+    size = tuple(hole.shape)
+    search, road_part = _effects_regions(before, gone_rows, K, size, light)
+    around = _dilate(search | hole, 6)
+    ring = _dilate(search | hole, 30) & ~around & ~objects_px
+    road = road_colours(image, ring)
+    matte = torch.zeros(size, dtype=torch.float32)
+    if road is None:
+        return fill_hole(image, hole, settings, objects_px), matte
+    if settings.delete_shadow:
+        image, matte = relight_shadow(image, _dilate(search, 3) & ~hole & ~objects_px, ring, road)
+    road_hole = hole & road_part
+    out = image
+    if bool(road_hole.any()):
+        avoid = objects_px | ~road_like(image, road, min_light=0.8)  # lit road and its markings only
+        out = inpaint(out, road_hole, "patchmatch" if settings.fill != "telea" else "telea",
+                      settings.inpaint_radius, keep_out=avoid)
+    rest = hole & ~road_hole
+    if bool(rest.any()):
+        out = fill_hole(out, rest, settings, objects_px)
+    return out, matte
+
+
 def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, stays: Tensor,
           transform: PixelFrame) -> tuple[Tensor, list[int]]:
     """``(own, grown rows)``: ``own (H_in, W_in)`` with the freed pixels each object that stays now covers (its mask
@@ -334,19 +442,24 @@ def _pixels_of(ids: Tensor, wanted: Tensor):
 
 
 def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, tuple[float, float, float]],
-             objects: dict[int, dict], warnings: list[str]) -> tuple[Tensor, Tensor]:
-    """Step 5: each object of ``recolor`` repainted in ``out (3, H, W)`` where ``owner (H, W)`` holds its id;
-    ``source`` says :data:`RECOLORED` where a pixel of the input changed."""
+             objects: dict[int, dict], warnings: list[str], parts: Tensor | None = None) -> tuple[Tensor, Tensor]:
+    """Step 5: each object of ``recolor`` repainted in ``out (3, H, W)`` where ``owner (H, W)`` holds its id (and,
+    given ``parts (H, W)``, the fitted mesh's body part shows: an object with geometry keeps its windows, tyres,
+    lights and plates, and the road its mask took in); ``source`` says :data:`RECOLORED` where a pixel of the input
+    changed."""
     pixels_of = _pixels_of(owner, torch.tensor([int(i) for i in recolor], dtype=owner.dtype))
     flat = out.permute(1, 2, 0).reshape(-1, 3).clone()
     codes = source.view(-1).clone()
     for iid, rgb in recolor.items():
         pix = pixels_of(int(iid))
+        body_part = parts is not None and len(pix) > 0 and bool((parts.view(-1)[pix] >= 0).any())
+        if body_part:
+            pix = pix[parts.view(-1)[pix] == int(Part.BODY)]
         if not len(pix):
             warnings.append(f"recolor: object {iid} has no pixels in the picture")
             continue
         colors = flat[pix]
-        new, body, stats = recolor_pixels(colors, tuple(rgb))
+        new, body, stats = recolor_pixels(colors, tuple(rgb), body_part=body_part)
         flat[pix] = new
         repainted = pix[(new != colors).any(1)]
         codes[repainted] = torch.where(codes[repainted] == INPUT, RECOLORED, codes[repainted]).to(torch.uint8)
@@ -387,6 +500,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     if source is None:
         source = PhotoSource(original, transform, scene, bank, settings, max_fills=0)
     source.check(original, scene, transform, settings)
+    photo_source = source
     image, K = source.image, source.K
     before, after = scene.objects, edited.objects
     warnings: list[str] = []
@@ -413,9 +527,12 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     # Light (step 4): visible pixels of every source object with geometry; only when something is drawn.
     light = None
     src_normals = None
-    if settings.relight and len(src.rows) and (bool(moved.any()) or grown_rows):
+    gone_rows = [int(b) for b in torch.isin(before.instance_id, gone_ids).nonzero().flatten().tolist()
+                 if bool(before.has_geometry[b])]
+    effects = settings.delete_effects and bool(gone_rows) and settings.fill != "generator"
+    if (settings.relight or effects) and len(src.rows) and (bool(moved.any()) or grown_rows or effects):
         src_normals, light = source.light()
-    shade = light.shade if light is not None else None
+    shade = light.shade if light is not None and settings.relight else None
 
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
     keep = (src_ids != 0) & torch.isin(src_ids, after.instance_id[stays])
@@ -425,8 +542,22 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     else:  # the hole and its fill depend only on which objects left and which stayed
         stay_ids = after.instance_id[stays]
         key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
-        out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0))
+        if effects:  # the removed objects' silhouettes join the hole; their shadows are relit
+            silhouette = _dilate(torch.isin(_raster_ids(src, before), gone_ids), settings.hole_dilate_px)
+            hole = hole | (silhouette & ~keep)
+
+            def make() -> Tensor:  # the picture and the relit matte, kept together
+                filled, relit = _remove_with_effects(image, hole, (src_ids != 0) & ~hole, before, gone_rows, K,
+                                                     light, settings)
+                return torch.cat([filled, relit[None]])
+
+            both = source.fill(key, make)
+            out, matte = both[:3], both[3]
+        else:
+            out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0))
     source = torch.where(hole, FILL, INPUT).to(torch.uint8)
+    if effects and settings.fill != "generator":
+        source = torch.where((matte > 0.02) & ~hole, RELIT, source).to(torch.uint8)
 
     # Contact shadows of moved objects, on the road only (drawn objects cover the rest below).
     moved_rows = moved.nonzero().flatten().tolist()
@@ -436,6 +567,12 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         out = out * (1 - settings.contact_shadow * soft)[None]
         source = torch.where((soft > 0.02) & (source == INPUT), SHADOW, source).to(torch.uint8)
 
+    # Part of each pixel: the source's where an object stays at its place and shows there (drawn objects: _draw).
+    src_mesh_at = src.frags.pix_to_mesh.view(-1)
+    shows = (src_mesh_at >= 0) & (own.view(-1) != 0) & (own.view(-1) == torch.where(
+        src_mesh_at >= 0, before.instance_id[src.rows[src_mesh_at.clamp(min=0)]] if len(src.rows) else -1, -1))
+    parts_out = torch.where(shows, photo_source.parts, -1).to(torch.int8).view(size)
+
     # Target rasterization of the drawn objects (moved ones, and the ones that grew) at their poses.
     draw_rows = torch.tensor(sorted(set(moved_rows) | set(grown_rows)), dtype=torch.long)
     objects: dict[int, dict] = {}
@@ -444,7 +581,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         keep = torch.isin(tgt_all_rows.cpu(), draw_rows)
         tgt = _rasterize(tgt_all_rows.cpu()[keep], tgt_verts.cpu()[keep], tgt_faces.cpu()[keep], K, size)
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
-                                     src_ids, vis_ids, K, settings, shade, src_normals, warnings)
+                                     src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
+                                     photo_source.parts, parts_out)
         for a in moved_rows:
             if int(after.instance_id[a]) not in objects:
                 warnings.append(f"object {int(after.instance_id[a])}: after the edit it lies outside the picture "
@@ -455,14 +593,15 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     for iid, info in objects.items():
         final_own.view(-1)[info.pop("_pixels")] = iid
     if recolor:
-        out, source = _recolor(out, source, final_own, recolor, objects, warnings)
+        out, source = _recolor(out, source, final_own, recolor, objects, warnings,
+                               parts_out if settings.recolor_parts else None)
     result = out.clamp(0, 1)
     changed = source != INPUT
     if original.dtype == torch.uint8:
         result = torch.where(changed[None], (result * 255 + 0.5).floor().clamp(0, 255).to(torch.uint8), original)
     else:
         result = torch.where(changed[None], result.to(original.dtype), original)
-    return PhotoResult(result, source, light, objects, warnings)
+    return PhotoResult(result, source, light, objects, warnings, parts_out)
 
 
 def _source_light(src: _Raster, vis_ids: Tensor, before: ObjectTable,
@@ -487,7 +626,8 @@ def _source_light(src: _Raster, vis_ids: Tensor, before: ObjectTable,
 def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster, tgt: _Raster,
           before: ObjectTable, after: ObjectTable, origin: Tensor, moved: Tensor, src_row_to_mesh: Tensor,
           src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
-          warnings: list[str]) -> tuple[Tensor, Tensor, dict[int, dict]]:
+          warnings: list[str], bank: MeshBank, parts_src: Tensor,
+          parts_out: Tensor) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer."""
     height, width = own.shape
     t_mesh = tgt.frags.pix_to_mesh.view(-1)
@@ -547,10 +687,14 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         color = color * ratio[:, None]
     seen = ok_photo | ok_mirror
 
-    # Fallback: the object's own body colour, de-shaded, shaded for the new normal.
+    # Fallback: the object's own body colour, de-shaded, shaded for the new normal; with unseen='parts' the same part
+    # seen elsewhere on the car (_part_colors), a part never seen in its default colour.
     objects: dict[int, dict] = {}
     fallback = torch.zeros_like(color)
+    codes = torch.where(ok_photo, PHOTO, torch.where(ok_mirror, MIRROR, FALLBACK)).to(torch.uint8)
     img_flat = image.permute(1, 2, 0).reshape(-1, 3).double()
+    t_part = _part_map(tgt, after, bank)[pix]
+    by_parts = settings.unseen == "parts"
     drawn_rows = row.unique()
     visible_of = _pixels_of(vis_ids, before.instance_id[origin[drawn_rows][origin[drawn_rows] >= 0]])
     for r in drawn_rows.tolist():
@@ -569,10 +713,22 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             warnings.append(f"object {name}: none of its surface is visible in the input; drawn in grey from its shape")
         s_new = shade(normal_t[sel]) if shade is not None else (0.55 + 0.45 * (-normal_t[sel, 1]).clamp(min=0))
         fallback[sel] = albedo[None] * s_new[:, None]
+        if by_parts and b >= 0:
+            unseen = sel & ~seen
+            if bool(unseen.any()):
+                alb, code = _part_colors(b, int(s_mesh[sel][0]), visible_px, point_s[unseen], t_part[unseen],
+                                         before, src, parts_src, img_flat, shade, settings,
+                                         albedo if len(visible_px) else None)
+                s_un = shade(normal_t[unseen]) if shade is not None else (
+                    0.55 + 0.45 * (-normal_t[unseen, 1]).clamp(min=0))
+                fallback[unseen] = alb * s_un[:, None]
+                codes[unseen] = code
         n = int(sel.sum())
+        flat = torch.isin(codes[sel], torch.tensor([FALLBACK, DEFAULT], dtype=torch.uint8))
         objects[name] = {"pixels": n, "photo": round(float(ok_photo[sel].double().mean()), 4),
                          "mirror": round(float(ok_mirror[sel].double().mean()), 4),
-                         "fallback": round(float((~seen[sel]).double().mean()), 4), "moved": bool(moved[r]),
+                         "part": round(float((codes[sel] == PART).double().mean()), 4),
+                         "fallback": round(float(flat.double().mean()), 4), "moved": bool(moved[r]),
                          "_pixels": pix[sel]}
         if len(visible_px) and n >= 50 and not bool(seen[sel].any()) and bool(moved[r]):
             warnings.append(f"object {name}: none of its surface is visible in the input (behind the camera, off the "
@@ -580,7 +736,57 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     color = torch.where(seen[:, None], color, fallback).clamp(0, 1)
     flat = out.permute(1, 2, 0).reshape(-1, 3).clone()
     flat[pix] = color.float()
-    codes = torch.where(ok_photo, PHOTO, torch.where(ok_mirror, MIRROR, FALLBACK)).to(torch.uint8)
     source = source.clone()
     source.view(-1)[pix] = codes
+    parts_out.view(-1)[pix] = t_part.to(parts_out.dtype)
     return flat.view(height, width, 3).permute(2, 0, 1), source, objects
+
+
+def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, parts: Tensor, before: ObjectTable,
+                 src: _Raster, parts_src: Tensor, img_flat: Tensor, shade, settings: PhotoSettings,
+                 body: Tensor | None, max_examples: int = 1500, k: int = 4) -> tuple[Tensor, Tensor]:
+    """``(albedo (P, 3), source code (P,))`` of unseen surface points ``points (P, 3)`` (camera frame, at the
+    source pose of ``before`` row ``b``, rasterized as source mesh ``s_mesh``) whose parts are ``parts (P,)``: the
+    de-shaded colours of the ``k`` nearest input pixels of the same part of the same car (in the car's own frame,
+    normalised by its size: height, distance from the middle plane and, weakly, along the car), code :data:`PART`;
+    a part the input never showed: the body's colour ``body`` for the body (:data:`FALLBACK`), else
+    :data:`PART_DEFAULTS` (:data:`DEFAULT`)."""
+    rot = roty(before.ry[b].double())
+    centre = before.center[b].double()
+    size = before.dims[b].double()  # (l, h, w)
+
+    def features(p: Tensor) -> Tensor:
+        local = (p - centre) @ rot  # rot^T (p - c) per row
+        return torch.stack([0.25 * local[:, 0] / size[0], local[:, 1] / size[1], local[:, 2].abs() / size[2]], 1)
+
+    albedo = torch.tensor(PART_DEFAULTS, dtype=torch.float64)[parts.clamp(min=0)]
+    codes = torch.full((len(points),), DEFAULT, dtype=torch.uint8)
+    if body is not None:
+        is_body = parts <= int(Part.BODY)
+        albedo[is_body] = body
+        codes[is_body] = FALLBACK
+    ex = visible_px[(src.frags.pix_to_mesh.view(-1)[visible_px] == s_mesh) & (parts_src[visible_px] >= 0)]
+    if not len(ex):
+        return albedo, codes
+    _, vid, bary, normal = _surface(src, ex)
+    tri = src.verts[torch.full((len(ex),), s_mesh, dtype=torch.long)[:, None], vid]
+    point = (bary[..., None] * tri).sum(1)
+    good = _view_cos(point, normal) >= settings.min_view_cos
+    ex, point, normal = ex[good], point[good], normal[good]
+    colors = img_flat[ex]
+    if shade is not None:
+        colors = colors / shade(normal).clamp(min=0.2)[:, None]
+    ex_part = parts_src[ex]
+    ex_feat, q_feat = features(point), features(points)
+    for part in parts.unique().tolist():
+        q = (parts == part).nonzero().flatten()
+        have = (ex_part == part).nonzero().flatten()
+        if len(have) < 2 * k:
+            continue
+        if len(have) > max_examples:
+            have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
+        for chunk in q.split(8192):
+            near = torch.cdist(q_feat[chunk], ex_feat[have]).topk(min(k, len(have)), largest=False).indices
+            albedo[chunk] = colors[have][near].mean(1)
+        codes[q] = PART
+    return albedo, codes

@@ -1,0 +1,85 @@
+"""The photo appearance's vehicle parts (issue 41 item 2): unseen surfaces drawn part by part from the car's own
+pixels, a per-pixel part map, recolour of the body part only; and the removal-with-effects option (item 3)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+import torch
+
+from sdn3d.editing.apply import apply_edits
+from sdn3d.editing.ops import Delete, Rotate
+from sdn3d.editing.photo.recolor import recolor_pixels
+from sdn3d.editing.photo.settings import (
+    DEFAULT,
+    FALLBACK,
+    FLAT_CODES,
+    PART,
+    PART_DEFAULTS,
+    SOURCE_NAMES,
+    PhotoSettings,
+    PhotoSettingsError,
+    part_picture,
+)
+from sdn3d.editing.photo.transfer import render_photo
+from sdn3d.meshes.parts import Part
+from sdn3d.scene.code import SceneObject
+from tests.test_photo import FRAME, INPUT_SIZE, _k_input, _scene, _surface_colors
+
+pytestmark = pytest.mark.usefixtures("one_torch_thread")
+BEHIND = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2, location=(-2.0, 1.6, 12.0))
+PARTS = PhotoSettings(relight=False, contact_shadow=0.0, fill="telea")
+
+
+def test_settings_name_the_new_modes():
+    assert PhotoSettings().unseen == "parts" and PhotoSettings().recolor_parts
+    assert not PhotoSettings().delete_effects  # measured worse on the tuning seed: off until it is better
+    with pytest.raises(PhotoSettingsError, match="unseen"):
+        PhotoSettings(unseen="mirror")
+    with pytest.raises(PhotoSettingsError, match="delete_shadow"):
+        PhotoSettings(delete_shadow=1)
+    assert len(PART_DEFAULTS) == len(Part) and set(FLAT_CODES) == {FALLBACK, DEFAULT}
+    assert SOURCE_NAMES[PART] == "part" and SOURCE_NAMES[DEFAULT] == "default"
+
+
+def test_a_turned_car_shows_its_parts_not_one_flat_colour():
+    """Seen from behind and turned by 90 degrees, the side the photo barely saw is drawn from the same parts seen
+    elsewhere on the car (code ``part``), and the part map names glass, tyres and body on it."""
+    scene = _scene([BEHIND])
+    image, _ = _surface_colors(scene, INPUT_SIZE[::-1], _k_input())
+    edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    shares = result.objects[12001]
+    assert shares["photo"] + shares["mirror"] + shares["part"] + shares["fallback"] == pytest.approx(1.0, abs=1e-3)
+    assert shares["part"] > 0.5 and shares["fallback"] < 0.3
+    old = render_photo(image, FRAME, scene, edited, settings=PhotoSettings(relight=False, contact_shadow=0.0,
+                                                                          fill="telea", unseen="body"))
+    assert old.objects[12001]["fallback"] > 0.9 and old.objects[12001]["part"] == 0.0
+    drawn = torch.isin(result.source, torch.tensor([1, 2, FALLBACK, PART, DEFAULT], dtype=torch.uint8))
+    labels = set(result.parts[drawn].tolist())
+    assert {int(Part.BODY), int(Part.GLASS)} <= labels and -1 not in labels
+    assert part_picture(result.parts).shape == (*result.parts.shape, 3)
+
+
+def test_recolour_of_body_part_keeps_hue_pure():
+    """A red body repainted blue with body_part: every repainted pixel has the target's hue (no magenta from an
+    additive Lab shift of orange highlights and dark red shades)."""
+    shade = torch.linspace(0.25, 1.0, 200)[:, None]
+    red = torch.tensor([[0.75, 0.08, 0.05]]) * shade
+    orange = torch.tensor([[0.95, 0.45, 0.2]]).repeat(40, 1)  # highlights
+    grey = torch.full((30, 3), 0.08)  # a window seen through a loose fit
+    colors = torch.cat([red, orange, grey])
+    new, body, _ = recolor_pixels(colors, (0.1, 0.25, 0.8), body_part=True)
+    assert bool(body[:200].all()) and not bool(body[240:].any())
+    painted = new[body]
+    assert bool((painted[:, 2] >= painted[:, 0]).all())  # blue dominates red everywhere: no magenta
+    assert torch.equal(new[240:], colors[240:])
+
+
+def test_delete_with_effects_runs_and_marks_what_it_relit():
+    scene = _scene([BEHIND])
+    image, _ = _surface_colors(scene, INPUT_SIZE[::-1], _k_input())
+    edited = apply_edits(scene, [Delete(12001)])
+    result = render_photo(image, FRAME, scene, edited, settings=PhotoSettings(delete_effects=True, fill="telea"))
+    assert result.image.shape == image.shape and result.objects == {}

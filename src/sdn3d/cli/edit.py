@@ -70,10 +70,10 @@ import torch
 
 from sdn3d.cli._config import compose_config, print_help_if_asked
 from sdn3d.cli._errors import run_cli
-from sdn3d.editing.inputs import camera_for_image, fit_image
 from sdn3d.editing.appearance import Appearance
+from sdn3d.editing.inputs import camera_for_image, fit_image
 from sdn3d.editing.session import EditInput, EditResult, EditSession, proposals_record, to_uint8
-from sdn3d.editing.settings import appearance_settings, refine_settings, session_settings
+from sdn3d.editing.settings import appearance_settings, refine_settings, session_settings  # noqa: F401 (tests)
 from sdn3d.editing.settings import box_settings as _box_settings  # noqa: F401 (tests)
 from sdn3d.editing.settings import compose_settings as _compose_settings
 from sdn3d.editing.settings import semantic_metrics as _semantic_metrics

@@ -20,6 +20,9 @@ EXPERIMENTS = sorted(p.stem for p in (CONF / "experiment").glob("*.yaml"))
 
 
 def _compose(overrides: list[str], name: str = "train"):
+    from sdn3d.cli._schemas import register
+
+    register()  # the inference configs' structured schemas (conf/edit.yaml etc. name them first)
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
         return compose(name, overrides=overrides)
 

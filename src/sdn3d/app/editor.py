@@ -241,9 +241,9 @@ class Editor:
     Args:
         session: the models and the de-render cache.
         output_dir: where the sessions' directories go (``<output_dir>/sessions/<id>``); nothing is written elsewhere.
-        open_input: input overrides (``['input.image=<file>', ...]`` or ``['input.frame=<key>']``) -> the
-            :class:`~sdn3d.editing.session.EditInput` ``sdn3d-edit`` would make of them (same camera rules, same
-            errors; :func:`sdn3d.cli.edit.open_input`).
+        open_input: the ``input.*`` values (``{'image': <file>[, 'intrinsics': {fx, fy, cx, cy}]}`` or
+            ``{'frame': <key>}``) -> the :class:`~sdn3d.editing.session.EditInput` ``sdn3d-edit`` would make of them
+            (same camera rules, same errors; :func:`sdn3d.cli.edit.open_input`).
         frames: the keys of the frames a browser may pick (a dataset given at start), by index.
         command: the ``sdn3d-edit`` arguments every reproduction takes (checkpoints, settings), in order.
         record: extra fields of edit.json (the checkpoints, the config).
@@ -252,7 +252,7 @@ class Editor:
     """
 
     def __init__(self, session: EditSession, output_dir: str | os.PathLike,
-                 open_input: Callable[[list[str], str], EditInput], frames: Sequence[str] = (),
+                 open_input: Callable[[dict[str, Any], str], EditInput], frames: Sequence[str] = (),
                  command: Sequence[str] = (), record: Mapping[str, Any] | None = None,
                  limits: AppLimits | None = None, workdir: str | os.PathLike | None = None) -> None:
         self.session = session
@@ -375,10 +375,12 @@ class Editor:
             if width * height > self.limits.max_edit_pixels:
                 path, camera, note = self._scaled_input(path, width, height, camera)
                 notes.append(note)
-            args = [f"input.image={path}"]
+            given: dict[str, Any] = {"image": str(path)}
+            args = [f"input.image={path}"]  # the command line's input (the page shows it)
             if camera:
+                given["intrinsics"] = {k: float(v) for k, v in camera.items()}
                 args.append("input.intrinsics={" + ",".join(f"{k}:{float(v)!r}" for k, v in camera.items()) + "}")
-            return self._input(args, directory.name), args
+            return self._input(given, directory.name), args
 
         found = self._new(make)
         found.input_note = " ".join(notes)
@@ -421,11 +423,11 @@ class Editor:
             raise AppError(f"frame must be an index in [0, {len(self.frames)}) of the frames the server lists, got "
                            f"{str(index)[:20]!r}", 404 if self.frames else 400)
         args = [f"input.frame={self.frames[index]}"]
-        return self._new(lambda directory: (self._input(args, directory.name), args))
+        return self._new(lambda directory: (self._input({"frame": self.frames[index]}, directory.name), args))
 
-    def _input(self, args: list[str], sid: str) -> EditInput:
+    def _input(self, given: dict[str, Any], sid: str) -> EditInput:
         try:
-            return self.open_input(args, sid)
+            return self.open_input(given, sid)
         except AppError:
             raise
         except UserInputError as exc:  # the camera rules, an unreadable image: sdn3d-edit's own message

@@ -68,12 +68,32 @@ def compose_config(overrides: Sequence[str], name: str) -> Any:
     from hydra.errors import HydraException
     from omegaconf.errors import OmegaConfBaseException
 
+    from sdn3d.cli._schemas import register
+
+    register()  # the structured schemas the inference configs name first (conf/edit.yaml, app.yaml, bench.yaml)
     GlobalHydra.instance().clear()  # an earlier in-process Hydra app (e.g. a test) may have left it set
     try:
         with initialize_config_dir(config_dir=CONFIG_DIR, version_base="1.3"):
             return compose(name, overrides=list(overrides))
     except (HydraException, OmegaConfBaseException) as exc:
-        raise InputError(f"bad configuration override: {exc}") from exc
+        wrong = _wrong_type(exc)
+        raise InputError(wrong or f"bad configuration override: {exc}") from exc
+
+
+def _wrong_type(exc: BaseException) -> str | None:
+    """A schema's refusal of a value (an OmegaConf ValidationError, the cause of Hydra's exception) as
+    ``<key> must be <kind>[ or null], got <value>``; None for any other mistake."""
+    from omegaconf import nodes
+    from omegaconf.errors import ValidationError
+
+    cause = exc if isinstance(exc, ValidationError) else exc.__cause__
+    node = getattr(cause, "child_node", None)
+    kinds = {nodes.BooleanNode: "true or false", nodes.IntegerNode: "an integer", nodes.FloatNode: "a number",
+             nodes.StringNode: "a string"}
+    if not isinstance(cause, ValidationError) or not getattr(cause, "full_key", None) or type(node) not in kinds:
+        return None
+    null = " or null" if node._is_optional() else ""
+    return f"{cause.full_key} must be {kinds[type(node)]}{null}, got {cause.value!r}"
 
 
 def _one_line(exc: BaseException) -> str:

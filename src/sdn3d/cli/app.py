@@ -65,11 +65,10 @@ def _check_app_settings(cfg: Any, argv: Sequence[str]) -> None:
     if given:
         raise InputError(f"{', '.join(given)}: sdn3d-app opens images and writes the spec on its page; give only the "
                          "checkpoints and settings (conf/app.yaml)")
-    if not isinstance(cfg.host, str) or not cfg.host:
+    if not cfg.host:  # host a string, port an integer: the schema (sdn3d.cli._schemas)
         raise InputError(f"host must be an address to listen on (127.0.0.1: this machine only), got {cfg.host!r}")
-    port = cfg.port
-    if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 65535:
-        raise InputError(f"port must be an integer in [0, 65535] (0: a free one), got {port!r}")
+    if not 0 <= cfg.port <= 65535:
+        raise InputError(f"port must be an integer in [0, 65535] (0: a free one), got {cfg.port!r}")
 
 
 def build_app(cfg: Any, argv: Sequence[str]) -> tuple[Any, Any]:
@@ -116,10 +115,13 @@ def build_app(cfg: Any, argv: Sequence[str]) -> tuple[Any, Any]:
     session = EditSession(models, code_bank, settings, cache_size=2 * limits.max_sessions)
     passed = edit_overrides(argv)
 
-    def open_image(args: list[str], key: str) -> Any:
-        # the configuration sdn3d-edit composes from the command line the page shows: the same camera rules,
-        # the same reader, the same errors
-        return open_input(compose_config([*passed, *args], "edit"), None, key=key)[0]
+    def open_image(given: dict[str, Any], key: str) -> Any:
+        # sdn3d-edit's opening of its input (the same camera rules, the same reader, the same errors) on this
+        # server's own settings with the page's input.* values: what the command line the page shows composes
+        chosen = cfg.copy()
+        for name, value in given.items():
+            chosen.input[name] = value
+        return open_input(chosen, None, key=key)[0]
 
     editor = Editor(session, cfg.output_dir, open_image, [r.key for r in records], passed,
                     {"checkpoints": checkpoints, "config": config_record(cfg)}, limits)

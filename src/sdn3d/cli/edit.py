@@ -70,20 +70,17 @@ import torch
 
 from sdn3d.cli._config import compose_config, print_help_if_asked
 from sdn3d.cli._errors import run_cli
+from sdn3d.editing.appearance import Appearance
 from sdn3d.editing.inputs import camera_for_image, fit_image
-from sdn3d.editing.session import EditInput, EditResult, EditSession, SessionSettings, proposals_record, to_uint8
+from sdn3d.editing.session import EditInput, EditResult, EditSession, proposals_record, to_uint8
+from sdn3d.editing.settings import appearance_settings, refine_settings, session_settings  # noqa: F401 (tests)
+from sdn3d.editing.settings import box_settings as _box_settings  # noqa: F401 (tests)
+from sdn3d.editing.settings import compose_settings as _compose_settings
+from sdn3d.editing.settings import semantic_metrics as _semantic_metrics
 from sdn3d.errors import InputError
 from sdn3d.io import OWNER_FILE, check_output_dir, staged_directory
 from sdn3d.proposals import Proposals
-from sdn3d.runs import (
-    BRANCHES,
-    checkpoints_from_run,
-    from_trained_data,
-    given_checkpoints,
-    quality_warnings,
-    semantic_summary,
-    trained_data,
-)
+from sdn3d.runs import BRANCHES, checkpoints_from_run, given_checkpoints, quality_warnings
 from sdn3d.scene.listing import list_objects, objects_table
 
 __all__ = ["main", "run_edit", "load_input", "open_input", "resolve_checkpoints", "load_models", "session_settings",
@@ -272,30 +269,14 @@ def run_edit(cfg: Any) -> dict:
 
 
 def config_record(cfg: Any) -> dict:
-    """The config as edit.json records it (every interpolation resolved)."""
+    """The config as edit.json records it (every interpolation resolved; no ``data`` key without a dataset, as
+    before the schema gave it one)."""
     from omegaconf import OmegaConf
 
-    return OmegaConf.to_container(cfg, resolve=True)
-
-
-def session_settings(cfg: Any, checkpoints: dict[str, dict | None], compose: Any = None, appearance: str | None = None,
-                     photo: Any = None) -> SessionSettings:
-    """The :class:`~sdn3d.editing.session.SessionSettings` of a composed ``conf/edit.yaml`` (or ``conf/app.yaml``,
-    which holds the same keys): proposals, geometric.min_pixels, refine, box_objects.*, pick_radius, strict, seed,
-    appearance, photo.*, compose*, diagnostics. ``compose`` / ``appearance`` / ``photo``: already checked ones.
-
-    Raises:
-        InputError (and the photo / compose settings' errors): naming the setting.
-    """
-    if appearance is None or photo is None:
-        appearance, photo = appearance_settings(cfg)
-    fit, prior, iterations, refine_masks = _box_settings(cfg, checkpoints)
-    return SessionSettings(proposals=str(cfg.proposals), min_pixels=int(cfg.geometric.min_pixels),
-                           refine=refine_settings(cfg), box_fit=fit, box_prior=prior, box_iterations=iterations,
-                           box_refine_masks=refine_masks,
-                           pick_radius=cfg.pick_radius, strict=bool(cfg.strict), seed=int(cfg.seed),
-                           appearance=appearance, photo=photo, compose=compose or _compose_settings(cfg),
-                           diagnostics=bool(cfg.diagnostics))
+    record = OmegaConf.to_container(cfg, resolve=True)
+    if "data" in record and record["data"] is None:
+        del record["data"]
+    return record
 
 
 def _output_rules(cfg: Any) -> dict[str, Any]:
@@ -309,32 +290,21 @@ def _output_rules(cfg: Any) -> dict[str, Any]:
 
 
 def check_settings(cfg: Any) -> None:
-    """Refuse ``threads`` (null or a positive integer), ``pick_radius`` (null or a positive finite number) and
-    ``max_ops`` (a positive integer) of another kind, naming the setting (before anything is loaded)."""
+    """Refuse ``threads`` below 1, ``pick_radius`` not a positive finite number and ``max_ops`` below 1, naming the
+    setting (before anything is loaded; their types are the schema's, sdn3d.cli._schemas)."""
     import math
 
-    from sdn3d.editing.spec import MAX_OPS
-
     threads = cfg.get("threads")
-    if threads is not None and (isinstance(threads, bool) or not isinstance(threads, int) or threads < 1):
+    if threads is not None and threads < 1:
         raise InputError(f"threads must be a positive integer (torch CPU threads) or null for PyTorch's default, "
                          f"got {threads!r}")
     radius = cfg.get("pick_radius")
-    if radius is not None and (isinstance(radius, bool) or not isinstance(radius, (int, float))
-                               or not math.isfinite(radius) or radius <= 0):
+    if radius is not None and (not math.isfinite(radius) or radius <= 0):
         raise InputError(f"pick_radius must be a positive number of pixels (working size) or null for no limit, "
                          f"got {radius!r}")
-    max_ops = cfg.get("max_ops", MAX_OPS)
-    if isinstance(max_ops, bool) or not isinstance(max_ops, int) or max_ops < 1:
+    if cfg.max_ops < 1:
         raise InputError(f"max_ops must be a positive integer (the most operations an edit spec may hold), "
-                         f"got {max_ops!r}")
-
-
-def _compose_settings(cfg: Any) -> Any:
-    """:class:`~sdn3d.editing.compose.ComposeSettings` of ``compose``, ``compose_dilate_px``, ``compose_feather_px``."""
-    from sdn3d.editing.compose import ComposeSettings
-
-    return ComposeSettings(str(cfg.compose), cfg.compose_dilate_px, cfg.compose_feather_px)
+                         f"got {cfg.max_ops!r}")
 
 
 def _is_empty_spec(path: Path) -> bool:
@@ -357,13 +327,11 @@ def _read_inputs(cfg: Any) -> tuple[Path, Any, bool, tuple[EditInput, Any]]:
     """The checked output directory, the parsed edit spec (None: none given or empty), whether to list the objects
     and edit nothing (``list=true``, no spec, or a spec with objects by box and no ops) and :func:`open_input`'s
     image and record (nothing loaded before the spec's syntax and numbers are checked)."""
-    from sdn3d.editing.spec import MAX_OPS, load_edit_spec
+    from sdn3d.editing.spec import load_edit_spec
 
     out = check_output_dir(cfg.output_dir, MARKER, bool(cfg.overwrite), **_output_rules(cfg))
     proposals = _proposals(cfg)
-    listing = cfg.get("list")
-    if not isinstance(listing, bool):
-        raise InputError(f"list must be true or false, got {listing!r}")
+    listing = cfg.list  # true or false (the schema)
     spec = None
     if cfg.edits is None:
         if not listing:
@@ -371,7 +339,7 @@ def _read_inputs(cfg: Any) -> tuple[Path, Any, bool, tuple[EditInput, Any]]:
                              "the objects of the image first")
     elif not _is_empty_spec(Path(str(cfg.edits)).expanduser()):
         spec = load_edit_spec(str(cfg.edits), int(cfg.entry), tuple(cfg.frame_size) if cfg.frame_size else None,
-                              bool(cfg.strict), int(cfg.get("max_ops", MAX_OPS)))
+                              cfg.strict, cfg.max_ops)
     if proposals is Proposals.BOXES and (spec is None or not spec.objects):
         raise InputError("proposals=boxes takes the objects from the edit spec's `objects:` list "
                          "({box: [x0, y0, x1, y1], class: Car}, in the input image's pixels); the spec names none")
@@ -432,18 +400,6 @@ def trust_warnings(cfg: Any, record: Any, checkpoints: dict[str, dict | None], s
     return quality_warnings(metrics, coverage, str(path) if path is not None else "", input_path=source)
 
 
-def _semantic_metrics(checkpoints: dict[str, dict | None]) -> tuple[Path | None, dict | None]:
-    """The semantic run's summary file and its recorded ``metrics`` (None where unknown or unreadable)."""
-    path = semantic_summary(checkpoints.get("semantic"))
-    if path is None:
-        return None, None
-    try:
-        metrics = json.loads(path.read_text(encoding="utf-8")).get("metrics")
-    except (OSError, UnicodeDecodeError, ValueError, AttributeError):
-        metrics = None
-    return path, metrics if isinstance(metrics, dict) else None
-
-
 def load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any]:
     """``(Models, CodeBank or None)`` of :func:`resolve_checkpoints`' files and ``code_bank``."""
     from sdn3d.models import Models
@@ -463,73 +419,6 @@ def load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any
     if cfg.code_bank is None:
         return models, load_code_bank(beside, "the textural checkpoint's code bank") if beside.is_file() else None
     return models, load_code_bank(str(cfg.code_bank))  # a bad file: UserInputError naming code_bank and it
-
-
-def refine_settings(cfg: Any) -> Any:
-    """The :class:`~sdn3d.geometric.refine.RefineSettings` of ``cfg.refine`` (``conf/refine/paper.yaml``), or
-    None when it is off: ``enabled: auto`` turns it on for Cityscapes (``data=cityscapes``, or an image file
-    with ``input.camera``), as the paper does, and off for Virtual KITTI."""
-    from sdn3d.geometric.refine import RefineSettings
-
-    node = cfg.get("refine")
-    enabled = None if node is None else node.get("enabled")
-    if enabled == "auto":
-        data = cfg.get("data")
-        enabled = (data is not None and data.get("kind") == "cityscapes") or (
-            data is None and cfg.input.get("camera") is not None)
-    if not isinstance(enabled, bool):
-        raise InputError(f"refine.enabled must be auto, true or false, got {enabled!r}")
-    if not enabled:
-        return None
-    try:
-        return RefineSettings(iterations=int(node.iterations), lr=float(node.lr), params=tuple(node.params),
-                              ffd_reg=float(node.ffd_reg), sigma=float(node.sigma))
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"refine: {exc}") from exc
-
-
-def _box_settings(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, bool, int, bool]:
-    """``(FitSettings, prior, iterations, refine_masks)`` of ``box_objects.*`` for objects named by a box: the fit's
-    settings,
-    whether the semantic branch seeds GrabCut (``prior: auto``: when its recorded quality raises no warning and the
-    input comes from the data it trained on: a synthetic-trained branch's vehicle probability on a photo is no
-    seed; an input not known, e.g. the editor's uploads, is not from it), the GrabCut iterations and whether GrabCut
-    runs again seeded by the fitted shapes."""
-    from sdn3d.geometric.fit import FitSettings
-
-    node = cfg.get("box_objects") or {}
-    prior = node.get("prior", "auto")
-    if prior not in ("auto", True, False):
-        raise InputError(f"box_objects.prior must be auto, true or false, got {prior!r}")
-    if prior == "auto":
-        path, metrics = _semantic_metrics(checkpoints) if checkpoints.get("semantic") else (None, None)
-        frame_input = cfg.get("data") is not None and (cfg.get("input") or {}).get("frame") is not None
-        source = cfg.data.root if frame_input else (cfg.get("input") or {}).get("image")
-        prior = (metrics is not None and not quality_warnings(metrics, None, str(path))
-                 and from_trained_data(trained_data(path), source) is True)
-    iterations = node.get("iterations", 5)
-    if isinstance(iterations, bool) or not isinstance(iterations, int) or iterations < 1:
-        raise InputError(f"box_objects.iterations must be a positive integer (GrabCut iterations), got {iterations!r}")
-    refine_masks = node.get("refine_masks", True)
-    if not isinstance(refine_masks, bool):
-        raise InputError(f"box_objects.refine_masks must be true or false, got {refine_masks!r}")
-    try:
-        fit = FitSettings(**dict(node.get("fit") or {}))
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"box_objects.fit: {exc}") from exc
-    return fit, bool(prior) and checkpoints.get("semantic") is not None, iterations, refine_masks
-
-
-def appearance_settings(cfg: Any) -> tuple[str, Any]:
-    """``(appearance, PhotoSettings)`` of ``appearance`` and ``photo.*`` (checked before anything is loaded)."""
-    from sdn3d.editing.appearance import APPEARANCES
-    from sdn3d.editing.photo.settings import PhotoSettings
-
-    appearance = str(cfg.get("appearance", "photo"))
-    if appearance not in APPEARANCES:
-        raise InputError(f"appearance must be one of {list(APPEARANCES)} (photo: each edited car drawn with its own "
-                         f"pixels through its 3D shape; generator: the paper's textural generator), got {appearance!r}")
-    return appearance, PhotoSettings.from_mapping(cfg.get("photo"))
 
 
 # -- listing the objects (list=true, or an empty edit spec) ---------------------------------------
@@ -692,7 +581,7 @@ def _main(argv: list[str]) -> int:
         ("compose", "compose_ms")) if key in times)
     print(f"sdn3d-edit: {len(summary['ops'])} edit(s) applied; wrote {summary['config']['output_dir']} "
           f"(edited.png {width}x{height}, appearance {summary['appearance']}"
-          + (f", compose {summary['compose']['mode']}" if summary["appearance"] == "generator" else "")
+          + (f", compose {summary['compose']['mode']}" if summary["appearance"] is Appearance.GENERATOR else "")
           + f"; {stages})")
     return 0
 

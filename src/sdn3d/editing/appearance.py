@@ -30,7 +30,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from enum import Enum
+from enum import StrEnum
 from typing import TYPE_CHECKING, Protocol
 
 from torch import Tensor
@@ -62,8 +62,9 @@ __all__ = ["Appearance", "APPEARANCES", "SourceState", "Drawn", "AppearanceRende
            "generate"]
 
 
-class Appearance(Enum):
-    """How edited objects are drawn (module doc)."""
+class Appearance(StrEnum):
+    """How edited objects are drawn (module doc). A ``str`` equal to its value (as :class:`sdn3d.proposals.Proposals`),
+    so records and messages that wrote the name write the same."""
 
     PHOTO = "photo"
     GENERATOR = "generator"

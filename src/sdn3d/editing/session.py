@@ -32,7 +32,15 @@ from torch import Tensor
 
 import sdn3d.derender as derendering
 from sdn3d.derender import PROPOSAL_LABELS, GroundTruth, Models, Proposals
-from sdn3d.editing.appearance import APPEARANCES, AppearanceRenderer, Drawn, SourceState, appearance_renderer, generate
+from sdn3d.editing.appearance import (
+    APPEARANCES,
+    Appearance,
+    AppearanceRenderer,
+    Drawn,
+    SourceState,
+    appearance_renderer,
+    generate,
+)
 from sdn3d.editing.compose import ComposeSettings, edited_object_ids
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.ops import EditOp, SetBackgroundCode, SetCode
@@ -110,7 +118,7 @@ class SessionSettings:
         pick_radius: pixels (working size) a pick by position may be from an object's projected centre (None: any).
         strict: benchmark points must lie inside the frame.
         seed: randomness of ``recolor: sample``.
-        appearance: ``photo`` or ``generator`` (:data:`~sdn3d.editing.photo.APPEARANCES`).
+        appearance: :class:`~sdn3d.editing.appearance.Appearance` (a name is parsed).
         photo: the photo appearance's settings.
         compose: how the generator's picture is composed into the input (appearance=generator).
         diagnostics: also the unedited scene's picture and both scenes' maps (a second generator pass).
@@ -126,7 +134,7 @@ class SessionSettings:
     pick_radius: float | None = 16.0
     strict: bool = True
     seed: int = 0
-    appearance: str = "photo"
+    appearance: Appearance = Appearance.PHOTO
     photo: PhotoSettings = field(default_factory=PhotoSettings)
     compose: ComposeSettings = field(default_factory=ComposeSettings)
     diagnostics: bool = False
@@ -137,6 +145,7 @@ class SessionSettings:
             raise InputError(f"appearance must be one of {list(APPEARANCES)} (photo: each edited car drawn with its "
                              f"own pixels through its 3D shape; generator: the paper's textural generator), got "
                              f"{self.appearance!r}")
+        object.__setattr__(self, "appearance", Appearance(self.appearance))
 
     @property
     def generates(self) -> bool:

@@ -178,7 +178,7 @@ def test_renderer_group_maps_field_for_field_onto_the_settings():
 
 
 def test_edit_refinement_is_the_papers_and_on_for_cityscapes_only():
-    from sdn3d.cli.edit import refine_settings
+    from sdn3d.editing.settings import refine_settings
     from sdn3d.errors import UserInputError
     from sdn3d.geometric.refine import RefineSettings
 

@@ -14,11 +14,12 @@ from PIL import Image
 
 import sdn3d.derender
 from sdn3d.cli._config import compose_config
-from sdn3d.cli.edit import load_models, main, open_input, resolve_checkpoints, session_settings
+from sdn3d.cli.edit import load_models, main, open_input, resolve_checkpoints
 from sdn3d.data import vkitti1
 from sdn3d.editing.photo.settings import PhotoSettings
 from sdn3d.editing.photo.transfer import PhotoSource, render_photo
 from sdn3d.editing.session import EditSession
+from sdn3d.editing.settings import session_settings
 from sdn3d.editing.spec import EditError, parse_edit_spec
 
 FRAME = "0001/clone/00004"

@@ -95,7 +95,7 @@ def test_grabcut_is_seeded_by_a_trusted_semantic_branch_only_on_the_data_it_trai
     are trusted and the input is a frame of its training data; never on a photo (a synthetic-trained branch there is
     no seed) nor with a weak branch."""
     from sdn3d.cli._config import compose_config
-    from sdn3d.cli.edit import _box_settings
+    from sdn3d.editing.settings import box_settings
 
     data = tmp_path / "data"
     data.mkdir()
@@ -108,9 +108,9 @@ def test_grabcut_is_seeded_by_a_trusted_semantic_branch_only_on_the_data_it_trai
         checkpoints[name] = {"semantic": {"path": str(ckpt), "from": "checkpoints.semantic"}}
     photo = compose_config([f"input.image={tmp_path / 'street.png'}"], "edit")
     frame = compose_config(["data=synth", f"data.root={data}", "input.frame=0"], "edit")
-    assert _box_settings(frame, checkpoints["good"])[1] is True
-    assert _box_settings(photo, checkpoints["good"])[1] is False
-    assert _box_settings(frame, checkpoints["weak"])[1] is False
-    assert _box_settings(compose_config(["data=synth", f"data.root={data}", "input.frame=0", "box_objects.prior=true"],
+    assert box_settings(frame, checkpoints["good"])[1] is True
+    assert box_settings(photo, checkpoints["good"])[1] is False
+    assert box_settings(frame, checkpoints["weak"])[1] is False
+    assert box_settings(compose_config(["data=synth", f"data.root={data}", "input.frame=0", "box_objects.prior=true"],
                                         "edit"),
                          checkpoints["weak"])[1] is True  # asked for: as asked

@@ -88,9 +88,9 @@ def build_app(cfg: Any, argv: Sequence[str]) -> tuple[Any, Any]:
         load_models,
         open_input,
         resolve_checkpoints,
-        session_settings,
     )
     from sdn3d.editing.session import EditSession
+    from sdn3d.editing.settings import session_settings
     from sdn3d.io import refuse_unsafe_output_dir
 
     _check_app_settings(cfg, argv)

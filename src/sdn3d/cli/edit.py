@@ -73,17 +73,14 @@ from sdn3d.cli._errors import run_cli
 from sdn3d.editing.appearance import Appearance
 from sdn3d.editing.inputs import camera_for_image, fit_image
 from sdn3d.editing.session import EditInput, EditResult, EditSession, proposals_record, to_uint8
-from sdn3d.editing.settings import appearance_settings, refine_settings, session_settings  # noqa: F401 (tests)
-from sdn3d.editing.settings import box_settings as _box_settings  # noqa: F401 (tests)
-from sdn3d.editing.settings import compose_settings as _compose_settings
-from sdn3d.editing.settings import semantic_metrics as _semantic_metrics
+from sdn3d.editing.settings import appearance_settings, compose_settings, semantic_metrics, session_settings
 from sdn3d.errors import InputError
 from sdn3d.io import OWNER_FILE, check_output_dir, staged_directory
 from sdn3d.proposals import Proposals
 from sdn3d.runs import BRANCHES, checkpoints_from_run, given_checkpoints, quality_warnings
 from sdn3d.scene.listing import list_objects, objects_table
 
-__all__ = ["main", "run_edit", "load_input", "open_input", "resolve_checkpoints", "load_models", "session_settings",
+__all__ = ["main", "run_edit", "load_input", "open_input", "resolve_checkpoints", "load_models",
            "check_settings", "trust_warnings", "config_record"]
 
 MARKER = "edit.json"
@@ -244,7 +241,7 @@ def run_edit(cfg: Any) -> dict:
     check_settings(cfg)
     if cfg.threads is not None:
         torch.set_num_threads(int(cfg.threads))
-    compose = _compose_settings(cfg)
+    compose = compose_settings(cfg)
     appearance, photo = appearance_settings(cfg)
     out, spec, listing, (inp, record) = _read_inputs(cfg)
     checkpoints = resolve_checkpoints(cfg, record)
@@ -392,7 +389,7 @@ def trust_warnings(cfg: Any, record: Any, checkpoints: dict[str, dict | None], s
     """:func:`quality_warnings` for an edit whose proposals come from the semantic branch (none else)."""
     if "semantic" not in _needed_branches(cfg, record):
         return []
-    path, metrics = _semantic_metrics(checkpoints)
+    path, metrics = semantic_metrics(checkpoints)
     masks = scene.objects.mask
     coverage = float(masks.any(0).float().mean()) if len(masks) else 0.0
     # What the image is: a frame of the dataset given (its root), or a file; the warning names the real cause by it.

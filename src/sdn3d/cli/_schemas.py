@@ -169,6 +169,9 @@ class BenchSchema:
     photo: BenchPhotoSchema = field(default_factory=BenchPhotoSchema)
     compose_dilate_px: int = MISSING
     compose_feather_px: int = MISSING
+    counterfactual: bool = MISSING
+    counterfactual_sources: Optional[List[str]] = MISSING
+    counterfactual_fills: List[str] = MISSING
     output_dir: str = MISSING
     overwrite: bool = MISSING
     device: str = MISSING

@@ -56,14 +56,16 @@ from rich.console import Console
 
 from sdn3d.cli._config import compose_config, print_help_if_asked
 from sdn3d.cli._errors import run_cli
+from sdn3d.editing.appearance import PictureMode
 from sdn3d.editing.photo.settings import PhotoSettings
 from sdn3d.errors import InputError
-from sdn3d.evaluation.edit_benchmark import METHODS, PROPOSALS, REGIONS, SOURCE_LABELS
+from sdn3d.evaluation.edit_benchmark import METHODS, PROPOSALS, REGIONS, SCENES, SOURCE_LABELS, Scene
 from sdn3d.io import check_output_dir, staged_directory
+from sdn3d.proposals import Proposals
 from sdn3d.runs import checkpoints_from_run, given_checkpoints
 
-__all__ = ["main", "run_bench", "all_failed", "table1_markdown", "examples_html", "generator_info", "bench_passes",
-           "bench_checkpoints", "check_entries", "run_counterfactual_bench"]
+__all__ = ["main", "run_bench", "all_failed", "table1_markdown", "examples_html", "generator_info", "bench_modes",
+           "bench_passes", "bench_checkpoints", "check_entries", "run_counterfactual_bench"]
 
 MARKER = "results.json"
 #: What sdn3d-bench wrote before its results.json listed its ``outputs``: an earlier result of it holding these only
@@ -161,7 +163,7 @@ def table1_markdown(summaries: dict, info: dict, comparisons: dict | None = None
     head = "| Scene | Method | Generator | Compose |"
 
     def lead(s: str, m: str, c: str) -> str:
-        generator = gens[m]["tag"] if c != "photo" else "none"
+        generator = gens[m]["tag"] if c != PictureMode.PHOTO else "none"
         return f"| {SOURCE_SHORT[s]} | {LABELS[m]} | {generator} | {COMPOSE_LABELS[c]} |"
 
     lines = _headline(summaries, info, comparisons) + _header(summaries, info) + ["## All rows", ""]
@@ -186,8 +188,9 @@ def table1_markdown(summaries: dict, info: dict, comparisons: dict | None = None
     lines.append("")
     for s in info["sources"]:
         lat, failed = summaries[s]["latency_ms"], summaries[s]["failed"]
-        compose = f"; compose edited adds {_fmt(lat['compose'], 1)} ms" if "edited" in info["compose"] else ""
-        compose += f"; the photo appearance takes {_fmt(lat['photo'], 0)} ms" if "photo" in info["compose"] else ""
+        modes = info["compose"]
+        compose = f"; compose edited adds {_fmt(lat['compose'], 1)} ms" if PictureMode.EDITED in modes else ""
+        compose += f"; the photo appearance takes {_fmt(lat['photo'], 0)} ms" if PictureMode.PHOTO in modes else ""
         lines += [f"*{SOURCE_SHORT[s]}*: 3D-SDN latency per edit (de-render + edit + render, {info['device']}, "
                   f"{info['threads']} threads): mean {_fmt(lat['total'], 0)} ms (de-render {_fmt(lat['derender'], 0)}, "
                   f"edit {_fmt(lat['edit'], 0)}, render {_fmt(lat['render'], 0)} ms{compose}). Entries that failed per "
@@ -391,12 +394,15 @@ def _example_grid(images: dict[str, dict], rows: Sequence[tuple[str, str]]) -> n
     return np.concatenate([x for line in lines for x in (line, gap)][:-1], 0)
 
 
-def bench_passes(cfg: Any, base: dict) -> list[Any]:
-    """One :class:`~sdn3d.evaluation.edit_benchmark.BenchSettings` per source scene the run evaluates: one per
-    ``proposals`` value for ``scene=derender``, one for ``scene=oracle`` (proposals do not apply there)."""
-    from omegaconf import ListConfig
+def bench_modes(cfg: Any) -> tuple[Scene, list[Proposals]]:
+    """``(scene, proposals)`` of the config as enums: ``scene`` (:class:`~sdn3d.evaluation.edit_benchmark.Scene`) and
+    ``proposals`` (one value or a list of distinct ones of :data:`~sdn3d.evaluation.edit_benchmark.PROPOSALS`), the
+    one place the benchmark reads them as strings.
 
-    from sdn3d.evaluation.edit_benchmark import BenchSettings
+    Raises:
+        InputError: naming the setting and its values.
+    """
+    from omegaconf import ListConfig
 
     value = cfg.proposals
     proposals = [str(v) for v in value] if isinstance(value, (list, tuple, ListConfig)) else [str(value)]
@@ -404,14 +410,28 @@ def bench_passes(cfg: Any, base: dict) -> list[Any]:
     if not proposals or bad or len(set(proposals)) != len(proposals):
         raise InputError(f"proposals must list distinct values of {list(PROPOSALS)} (semantic: the semantic branch's "
                          f"predictions; gt: the oracle), got {proposals}")
-    if str(cfg.scene) == "oracle":
-        return [BenchSettings(scene="oracle", **base)]
-    if "semantic" in proposals and cfg.checkpoints.semantic is None:
+    scene = str(cfg.scene)
+    if scene not in SCENES:
+        raise InputError(f"scene must be one of {list(SCENES)} (derender: the source frame de-rendered; oracle: its "
+                         f"ground-truth masks, semantics and geometry), got {scene!r}")
+    return Scene(scene), [Proposals(p) for p in proposals]
+
+
+def bench_passes(cfg: Any, base: dict) -> list[Any]:
+    """One :class:`~sdn3d.evaluation.edit_benchmark.BenchSettings` per source scene the run evaluates: one per
+    ``proposals`` value for ``scene=derender``, one for ``scene=oracle`` (proposals do not apply there)."""
+    from sdn3d.evaluation.edit_benchmark import BenchSettings
+
+    scene, proposals = bench_modes(cfg)
+    if scene is Scene.ORACLE:
+        return [BenchSettings(scene=scene, **base)]
+    if Proposals.SEMANTIC in proposals and cfg.checkpoints.semantic is None:
         raise InputError(
-            f"proposals={proposals} asks for the predicted row (3D-SDN on the semantic branch's masks and semantics, "
+            f"proposals={[p.value for p in proposals]} asks for the predicted row (3D-SDN on the semantic branch's "
+            "masks and semantics, "
             "what a user gets) but checkpoints.semantic is null: give checkpoints.semantic=<the semantic branch's "
             "checkpoint>, or proposals=gt for the oracle row alone (ground-truth masks and semantics)")
-    return [BenchSettings(scene="derender", proposals=p, **base) for p in proposals]
+    return [BenchSettings(scene=scene, proposals=p, **base) for p in proposals]
 
 
 def _baseline_generator(cfg: Any, models: Any) -> tuple[Any, dict]:
@@ -447,14 +467,10 @@ def _settings_base(cfg: Any, size: tuple[int, int]) -> dict:
 def _needed_branches(cfg: Any) -> tuple[str, ...]:
     """The branches the benchmark can not do without: the generator always, the geometric branch to de-render
     (``scene=derender``), the semantic branch for the predicted row (``proposals`` with ``semantic``)."""
-    from omegaconf import OmegaConf
-
-    if str(cfg.scene) == "oracle":
+    scene, proposals = bench_modes(cfg)
+    if scene is Scene.ORACLE:
         return ("textural",)
-    value = cfg.proposals
-    proposals = [str(v) for v in value] if isinstance(value, (list, tuple)) or OmegaConf.is_list(value) else [
-        str(value)]
-    return ("semantic", "geometric", "textural") if "semantic" in proposals else ("geometric", "textural")
+    return ("semantic", "geometric", "textural") if Proposals.SEMANTIC in proposals else ("geometric", "textural")
 
 
 def bench_checkpoints(cfg: Any) -> dict[str, dict | None]:
@@ -549,8 +565,9 @@ def _evaluate(cfg: Any, passes: list, entries: list, source: Any) -> tuple[dict,
 
     ck = cfg.checkpoints
     # The semantic branch only runs for the predicted row: do not load it otherwise.
-    semantic = ck.semantic if any(s.scene == "derender" and s.proposals == "semantic" for s in passes) else None
-    geometric = ck.geometric if passes[0].scene == "derender" else None
+    predicted = any(s.scene is Scene.DERENDER and s.proposals is Proposals.SEMANTIC for s in passes)
+    semantic = ck.semantic if predicted else None
+    geometric = ck.geometric if passes[0].scene is Scene.DERENDER else None
     models = Models.from_checkpoints(semantic, geometric, ck.textural, map_location=cfg.device,
                                      crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin)
     baseline, generators = _baseline_generator(cfg, models)
@@ -585,7 +602,7 @@ def run_bench(cfg: Any) -> dict:
     sources = [source_name(s) for s in passes]
     info = {"benchmark": str(path), "data": f"{source.kind} at {source.root}", "image_size": list(first.image_size),
             "scene": first.scene, "sources": sources, "source_labels": {s: SOURCE_LABELS[s] for s in sources},
-            "source_oracle": {s: s != "semantic" for s in sources}, "generators": generators,
+            "source_oracle": {s: s != Proposals.SEMANTIC for s in sources}, "generators": generators,
             "run": None if cfg.get("run") is None else str(cfg.run), "checkpoints": checkpoints,
             "device": str(cfg.device), "threads": torch.get_num_threads(), **lpips, "compose": list(first.compose),
             "dilate_px": first.dilate_px, "feather_px": first.feather_px, "wall_s": time.perf_counter() - t0}
@@ -611,7 +628,8 @@ def run_bench(cfg: Any) -> dict:
 
 
 def _compose_modes(value: Any) -> tuple[str, ...]:
-    """``compose``: one mode or a list of them (``full``, ``edited``)."""
+    """``compose``: one mode or a list of them (``photo``, ``full``, ``edited``), as given: BenchSettings parses
+    them into :class:`~sdn3d.editing.appearance.PictureMode` (its error names every mode)."""
     from omegaconf import ListConfig
 
     return tuple(str(v) for v in value) if isinstance(value, (list, tuple, ListConfig)) else (str(value),)

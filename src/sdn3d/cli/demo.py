@@ -27,14 +27,17 @@ import time
 from collections.abc import Sequence
 from itertools import zip_longest
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import torch
 from omegaconf import OmegaConf
 from rich.console import Console
 
+from sdn3d.editing.appearance import APPEARANCES, Appearance
+from sdn3d.editing.compose import Compose, ComposeSettings
 from sdn3d.errors import InputError
+from sdn3d.proposals import Proposals
 
 console = Console(stderr=True)
 
@@ -288,14 +291,49 @@ def _checkpoint(summary: dict) -> str:
     return str(path)
 
 
-def bench_proposals(cfg: Any, ckpts: dict[str, str]) -> list[str]:
+#: The proposals the demo's benchmark and example edits take: the semantic branch's (predicted) or the oracle's.
+DEMO_PROPOSALS = (Proposals.SEMANTIC.value, Proposals.GT.value)
+
+
+def _proposals(value: Any, key: str) -> Proposals:
+    if not isinstance(value, str) or value not in DEMO_PROPOSALS:
+        raise InputError(f"{key} must be one of {list(DEMO_PROPOSALS)}, got {value!r}")
+    return Proposals(value)
+
+
+class EditModes(NamedTuple):
+    """The example edits' modes (``edits.*``) as their types: the one place they are read as strings."""
+
+    appearance: Appearance
+    compose: ComposeSettings
+    proposals: Proposals
+    photo: Any  # PhotoSettings
+
+
+def edit_modes(cfg: Any) -> EditModes:
+    """``edits.appearance``, ``edits.compose``, ``edits.proposals`` and ``edits.photo`` parsed.
+
+    Raises:
+        InputError (and the compose / photo settings' errors): naming the setting.
+    """
+    from sdn3d.editing.photo.settings import PhotoSettings
+
+    appearance = str(cfg.edits.appearance)
+    if appearance not in APPEARANCES:
+        raise InputError(f"edits.appearance must be one of {list(APPEARANCES)}, got {appearance!r}")
+    return EditModes(Appearance(appearance), ComposeSettings(str(cfg.edits.compose)),
+                     _proposals(str(cfg.edits.proposals), "edits.proposals"),
+                     PhotoSettings.from_mapping(cfg.edits.get("photo")))
+
+
+def bench_proposals(cfg: Any, ckpts: dict[str, str]) -> list[Proposals]:
     """``bench.proposals`` (predicted row first, then the oracle row), less the predicted row when no semantic
     branch was trained (``train.branches`` without it): the benchmark's table then says it has oracle rows only."""
-    proposals = [str(p) for p in cfg.bench.proposals]
-    if "semantic" in proposals and not ckpts.get("semantic"):
+    proposals = [_proposals(str(p), "bench.proposals") for p in cfg.bench.proposals]
+    if Proposals.SEMANTIC in proposals and not ckpts.get("semantic"):
         console.print("[yellow]sdn3d-demo: no semantic branch was trained: the benchmark has only the oracle row "
                       "(ground-truth masks and semantics)[/yellow]")
-        proposals = [p for p in proposals if p != "semantic"] or ["gt"]
+        proposals = [p for p in proposals if p is not Proposals.SEMANTIC] or [Proposals.GT]
     return proposals
 
 
@@ -371,22 +409,15 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.data.scene_gt import ground_truth
     from sdn3d.data.sources import load_split
     from sdn3d.derender import PROPOSAL_LABELS, Models, derender
-    from sdn3d.editing.appearance import APPEARANCES
-    from sdn3d.editing.compose import ComposeSettings
     from sdn3d.editing.frame import PixelFrame
-    from sdn3d.editing.photo.settings import PhotoSettings
     from sdn3d.io import write_png_atomic
     from sdn3d.scene.io import save_scene
     from sdn3d.visualize import titled_row
 
-    compose = ComposeSettings(str(cfg.edits.compose))
-    appearance = str(cfg.edits.get("appearance", "photo"))
-    if appearance not in APPEARANCES:
-        raise InputError(f"edits.appearance must be one of {list(APPEARANCES)}, got {appearance!r}")
-    photo = PhotoSettings.from_mapping(cfg.edits.get("photo"))
+    appearance, compose, wanted, photo = edit_modes(cfg)
     source = synth_data_source(data_root, render_size(cfg))
     records = [r for r in load_split(source, "test") if r.objects]
-    predicted = str(cfg.edits.get("proposals", "semantic")) == "semantic" and bool(ckpts.get("semantic"))
+    predicted = wanted is Proposals.SEMANTIC and bool(ckpts.get("semantic"))
     distrust = _semantic_distrust(ckpts.get("semantic"), data_root) if predicted else []
     predicted = predicted and not distrust
     models = Models.from_checkpoints(ckpts["semantic"] if predicted else None, ckpts["geometric"], ckpts["textural"],
@@ -396,23 +427,24 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     frame = load_frame(record, source.image_size, semantic=True, instances=True)
     started = time.perf_counter()
     gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
-    scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, "semantic" if predicted else "gt", gt)
-    proposals = PROPOSAL_LABELS["semantic"] if predicted else \
-        PROPOSAL_LABELS["gt"] + (f" ({'; '.join(distrust)})" if distrust else "")
+    scene = derender(frame.image.to(cfg.device), frame.intrinsics, models,
+                    Proposals.SEMANTIC if predicted else Proposals.GT, gt)
+    proposals = PROPOSAL_LABELS[Proposals.SEMANTIC] if predicted else \
+        PROPOSAL_LABELS[Proposals.GT] + (f" ({'; '.join(distrust)})" if distrust else "")
     if predicted and not bool(scene.objects.has_geometry.any()):
-        scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, "gt", gt)
-        proposals = PROPOSAL_LABELS["gt"] + " (the semantic branch found no car with 3D geometry on this frame)"
+        scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, Proposals.GT, gt)
+        proposals = PROPOSAL_LABELS[Proposals.GT] + " (the semantic branch found no car with 3D geometry on this frame)"
     derender_s = time.perf_counter() - started
     car, edits, recoloured = _example_edits(cfg, scene, record.key, ckpts["textural"], appearance,
                                             found[1] if found else None)
     original = np.ascontiguousarray(load_rgb(record), dtype=np.uint8)
     transform = PixelFrame((original.shape[1], original.shape[0]), tuple(source.image_size))
     pictures, timings = _edit_pictures(edits, scene, models, compose, original, transform, out, appearance, photo)
-    at_input = appearance == "photo" or compose.mode == "edited"
+    at_input = appearance is Appearance.PHOTO or compose.mode is Compose.EDITED
     source_rgb = original if at_input else _uint8_picture(frame.image)
     write_png_atomic(out / "source.png", source_rgb)
     names = list(pictures)
-    how = "photo appearance" if appearance == "photo" else f"generator, compose {compose.mode}"
+    how = "photo appearance" if appearance is Appearance.PHOTO else f"generator, compose {compose.mode}"
     titled = [(f"source: {record.key}, car {car}", source_rgb)] + [(f"{name} ({how})", pictures[name])
                                                                      for name in names]
     blank = np.full_like(source_rgb, 255)  # an odd count of panels leaves the last row half empty
@@ -485,7 +517,7 @@ def _uint8_picture(image: torch.Tensor) -> np.ndarray:
     return (image.detach().cpu().clamp(0, 1).permute(1, 2, 0).numpy() * 255).round().astype(np.uint8)
 
 
-def _example_edits(cfg: Any, scene: Any, key: str, textural: Path, appearance: str = "photo",
+def _example_edits(cfg: Any, scene: Any, key: str, textural: Path, appearance: Appearance = Appearance.PHOTO,
                    car: int | None = None) -> tuple[int, dict[str, list], str]:
     """``(car, {name: ops}, how it was recoloured)``: ``car`` (else the largest car with geometry wholly in the
     picture, else the largest) moved closer, rotated, recoloured (photo appearance: its body repainted
@@ -513,7 +545,7 @@ def _example_edits(cfg: Any, scene: Any, key: str, textural: Path, appearance: s
     bank_file = code_bank_path(textural)
     colour = str(cfg.edits.recolor)
     paint = named_color(colour, "edits.recolor")
-    if appearance == "photo":
+    if appearance is Appearance.PHOTO:
         new_code = table.code[chosen]
         recolour = f"{colour} (the car's body repainted, its shading and details kept)"
     elif bank_file.is_file():
@@ -524,7 +556,7 @@ def _example_edits(cfg: Any, scene: Any, key: str, textural: Path, appearance: s
         gen = torch.Generator().manual_seed(int(cfg.seed))
         new_code = torch.randn(scene.code_dim, generator=gen) * float(table.code.std().clamp_min(0.5))
         recolour = "a random code (the textural run wrote no code bank)"
-    edits: dict[str, list] = {} if appearance == "photo" else {"reconstruction": []}
+    edits: dict[str, list] = {} if appearance is Appearance.PHOTO else {"reconstruction": []}
     edits[f"closer (zoom {cfg.edits.zoom})"] = [Zoom(car, float(cfg.edits.zoom), on_ground=True)]
     for angle in cfg.edits.angles_deg:
         edits[f"rotated {int(angle):+d} deg"] = [Rotate(car, float(np.deg2rad(angle)))]
@@ -536,7 +568,7 @@ def _example_edits(cfg: Any, scene: Any, key: str, textural: Path, appearance: s
 
 
 def _edit_pictures(edits: dict[str, list], scene: Any, models: Any, compose: Any, original: np.ndarray,
-                   transform: Any, out: Path, appearance: str = "photo",
+                   transform: Any, out: Path, appearance: Appearance = Appearance.PHOTO,
                    photo: Any = None) -> tuple[dict[str, np.ndarray], dict[str, float]]:
     """``({name: (H, W, 3) uint8}, {name: seconds})``: each edit applied and drawn (timed) by the appearance
     (:func:`sdn3d.editing.appearance.appearance_renderer`, one source state for all), written as ``<name>.png``.
@@ -564,10 +596,10 @@ def _edit_pictures(edits: dict[str, list], scene: Any, models: Any, compose: Any
             write_png_atomic(out / "sources" / f"{slug}.png", source_picture(drawn.photo.source))
             continue
         generated = drawn.generated.detach().cpu()
-        if ops and compose.mode == "edited":
+        if ops and compose.mode is Compose.EDITED:
             pictures[name] = drawn.image.permute(1, 2, 0).numpy()
         else:  # the reconstruction shows the generator (composing nothing would give the frame itself)
-            size = tuple(transform.input_size) if compose.mode == "edited" else tuple(transform.working_size)
+            size = tuple(transform.input_size) if compose.mode is Compose.EDITED else tuple(transform.working_size)
             pictures[name] = _uint8_picture(resize_image(generated, size))
         write_png_atomic(out / f"{slug}.png", pictures[name])
         if drawn.generated is not None:
@@ -590,12 +622,12 @@ def _training_rows(training: dict) -> str:
 def _compose_note(edits: dict) -> str:
     """What the example edits' pictures are (``edits.appearance``, ``edits.compose``)."""
     size = "x".join(str(v) for v in edits.get("picture_size", []))
-    if edits.get("appearance") == "photo":
+    if edits.get("appearance") == Appearance.PHOTO:
         return (f"Photo appearance: each edit at the frame's {size} resolution, the car drawn with the frame's own "
                 "pixels through its 3D shape (hidden sides from its mirror image, then its body colour), the road it "
                 "left inpainted; `edits/sources/` shows where each pixel came from (dark grey input, green photo, "
                 "blue mirror, red fallback, yellow inpainted, violet repainted, grey new shadow).")
-    if edits.get("compose") == "edited":
+    if edits.get("compose") == Compose.EDITED:
         return (f"Compose *edited*: each edit is put into the frame at its own {size} resolution, only the edited "
                 "region redrawn by the generator, every other pixel the frame's; the reconstruction is the "
                 "generator's whole picture, upsampled; `edits/generated/` holds the generator's pictures.")

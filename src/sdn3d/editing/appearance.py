@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Protocol
 from torch import Tensor
 
 from sdn3d.editing.compose import (
-    COMPOSE_MODES,
+    Compose,
     ComposeSettings,
     ComposeSettingsError,
     compose_edit,
@@ -58,7 +58,8 @@ if TYPE_CHECKING:
     from sdn3d.textural.renderer import TexturalRenderer
 
 __all__ = ["Appearance", "APPEARANCES", "SourceState", "Drawn", "AppearanceRenderer", "PhotoRenderer",
-           "GeneratorRenderer", "RENDERERS", "appearance_renderer", "PICTURE_MODES", "picture_mode", "render_maps",
+           "GeneratorRenderer", "RENDERERS", "appearance_renderer", "PictureMode", "PICTURE_MODES",
+           "picture_mode", "render_maps",
            "generate"]
 
 
@@ -283,21 +284,41 @@ def appearance_renderer(appearance: Appearance | str, *, photo: PhotoSettings | 
     return RENDERERS[mode](photo, compose, textural)
 
 
-#: The editing benchmark's picture modes (:mod:`sdn3d.evaluation.edit_benchmark`): ``photo``, the photo appearance,
-#: or a compose mode of :mod:`sdn3d.editing.compose` (``edited``, ``full``), the generator appearance composed so.
-PICTURE_MODES = (Appearance.PHOTO.value, *COMPOSE_MODES)
+class PictureMode(StrEnum):
+    """The editing benchmark's picture modes (:mod:`sdn3d.evaluation.edit_benchmark`): ``photo``, the photo
+    appearance, or a compose mode of :mod:`sdn3d.editing.compose` (``edited``, ``full``), the generator appearance
+    composed so. A ``str`` equal to its value."""
+
+    PHOTO = Appearance.PHOTO.value
+    EDITED = Compose.EDITED.value
+    FULL = Compose.FULL.value
+
+    @classmethod
+    def parse(cls, value: object) -> PictureMode:
+        """``value`` (a name, or a :class:`PictureMode`) as a :class:`PictureMode`.
+
+        Raises:
+            ComposeSettingsError: not a picture mode.
+        """
+        if not isinstance(value, str) or value not in PICTURE_MODES:
+            raise ComposeSettingsError(f"a picture mode must be one of {PICTURE_MODES}, got {value!r}")
+        return cls(value)
 
 
-def picture_mode(mode: str, compose: ComposeSettings | None = None) -> tuple[Appearance, ComposeSettings | None]:
-    """``(appearance, its compose settings or None)`` of a picture mode (:data:`PICTURE_MODES`), for
+#: The picture modes' names, in the order messages list them.
+PICTURE_MODES = tuple(m.value for m in PictureMode)
+
+
+def picture_mode(mode: PictureMode | str, compose: ComposeSettings | None = None
+                 ) -> tuple[Appearance, ComposeSettings | None]:
+    """``(appearance, its compose settings or None)`` of a picture mode (:class:`PictureMode` or its name), for
     :func:`appearance_renderer`; ``compose``: the dilation and feathering of the generator's modes (None: defaults).
 
     Raises:
         ComposeSettingsError: not a picture mode (or bad compose settings).
     """
-    if mode == Appearance.PHOTO.value:
+    mode = PictureMode.parse(mode)
+    if mode is PictureMode.PHOTO:
         return Appearance.PHOTO, None
-    if mode not in COMPOSE_MODES:
-        raise ComposeSettingsError(f"a picture mode must be one of {PICTURE_MODES}, got {mode!r}")
     base = compose or ComposeSettings()
-    return Appearance.GENERATOR, ComposeSettings(mode, base.dilate_px, base.feather_px)
+    return Appearance.GENERATOR, ComposeSettings(Compose(mode), base.dilate_px, base.feather_px)

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from enum import StrEnum
 
 import torch
 import torch.nn.functional as F
@@ -28,11 +29,21 @@ from sdn3d.errors import UserInputError
 from sdn3d.scene.code import ObjectTable
 from sdn3d.scene.maps import ComposedMaps
 
-__all__ = ["COMPOSE_MODES", "ComposeSettings", "ComposeSettingsError", "edited_object_ids", "changed_pixels",
+__all__ = ["Compose", "COMPOSE_MODES", "ComposeSettings", "ComposeSettingsError", "edited_object_ids", "changed_pixels",
            "edit_region_mask", "feather_alpha", "compose_edited", "compose_edit"]
 
-#: ``edited``: the input with the edit region blended in at its resolution; ``full``: the generator's picture.
-COMPOSE_MODES = ("edited", "full")
+
+class Compose(StrEnum):
+    """How the generator's picture becomes the edited one (module doc): ``edited``, the input with the edit region
+    blended in at its resolution; ``full``, the generator's picture. A ``str`` equal to its value, so records and
+    messages that wrote the name write the same."""
+
+    EDITED = "edited"
+    FULL = "full"
+
+
+#: The compose modes' names, in the order messages list them.
+COMPOSE_MODES = tuple(c.value for c in Compose)
 
 #: Maps whose float values differ by more than this count as changed (the rasterizer is deterministic:
 #: an untouched pixel's values are identical; the tolerance only absorbs float reordering).
@@ -48,25 +59,26 @@ class ComposeSettings:
     """How an edit becomes a picture.
 
     Attributes:
-        mode: ``'edited'`` or ``'full'`` (module doc).
+        mode: :class:`Compose` (its name is accepted and parsed).
         dilate_px: working-size pixels the edit region grows by (seams of the generator's receptive field).
         feather_px: working-size pixels over which the alpha ramps from 0 (region edge) to 1, inside the region.
     """
 
-    mode: str = "edited"
+    mode: Compose = Compose.EDITED
     dilate_px: int = 4
     feather_px: int = 4
 
     def __post_init__(self) -> None:
-        if self.mode not in COMPOSE_MODES:
+        if not isinstance(self.mode, str) or self.mode not in COMPOSE_MODES:
             raise ComposeSettingsError(f"compose must be one of {COMPOSE_MODES}, got {self.mode!r}")
+        object.__setattr__(self, "mode", Compose(self.mode))
         for name in ("dilate_px", "feather_px"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 64:
                 raise ComposeSettingsError(f"compose_{name} must be an integer in [0, 64], got {value!r}")
 
     def to_dict(self) -> dict:
-        return {"mode": self.mode, "dilate_px": self.dilate_px, "feather_px": self.feather_px}
+        return {"mode": self.mode.value, "dilate_px": self.dilate_px, "feather_px": self.feather_px}
 
 
 def edited_object_ids(before: ObjectTable, after: ObjectTable) -> Tensor:

@@ -50,6 +50,7 @@ import math
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from enum import StrEnum
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -65,18 +66,27 @@ from sdn3d.editing.appearance import (
     PICTURE_MODES,
     Appearance,
     AppearanceRenderer,
+    PictureMode,
     appearance_renderer,
     picture_mode,
     render_maps,
 )
 from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
-from sdn3d.editing.compose import COMPOSE_MODES, ComposeSettings, ComposeSettingsError, compose_edit, edited_object_ids
+from sdn3d.editing.compose import (
+    COMPOSE_MODES,
+    Compose,
+    ComposeSettings,
+    ComposeSettingsError,
+    compose_edit,
+    edited_object_ids,
+)
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.photo.settings import PhotoSettings
 from sdn3d.errors import UserInputError
 from sdn3d.evaluation.baselines import baseline_maps, baseline_photo
 from sdn3d.evaluation.image_metrics import crop_metrics, image_metrics
 from sdn3d.image_ops import mask_boxes, resize_map
+from sdn3d.proposals import Proposals
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import ComposedMaps, scene_maps
 
@@ -92,6 +102,8 @@ __all__ = [
     "EDIT_KINDS",
     "edit_kind",
     "LAYOUT",
+    "Scene",
+    "SCENES",
     "PROPOSALS",
     "SOURCE_LABELS",
     "source_name",
@@ -116,10 +128,21 @@ EDIT_KINDS = ("move", "rotate", "zoom", "delete", "occluder_removed")
 ROTATE_KIND_MIN = math.radians(15.0)
 #: Per-method values besides the image metrics: ``metrics[method]['layout']['mask_iou']`` (:func:`mask_iou`).
 LAYOUT = "layout"
-SCENES = ("derender", "oracle")
+
+
+class Scene(StrEnum):
+    """What a pass's source scene is (module doc): ``derender``, de-rendered from the source frame (its
+    ``proposals``); ``oracle``, the frame's ground-truth masks, semantics and geometry. A ``str`` equal to its value."""
+
+    DERENDER = "derender"
+    ORACLE = "oracle"
+
+
+#: The scenes' names, in the order messages list them.
+SCENES = tuple(s.value for s in Scene)
 #: ``proposals`` of a de-rendered source scene: the semantic branch's predictions (what a user gets), or the
 #: frame's ground-truth masks and semantics (an oracle).
-PROPOSALS = ("semantic", "gt")
+PROPOSALS = (Proposals.SEMANTIC.value, Proposals.GT.value)
 #: What a benchmark pass's source scene is made of, by :func:`source_name`; every report prints these labels.
 SOURCE_LABELS = {**PROPOSAL_LABELS, "oracle": "oracle: ground-truth masks, semantics and geometry"}
 
@@ -130,9 +153,10 @@ class BenchSettings:
 
     Attributes:
         image_size: working size ``(W, H)``.
-        scene: ``'derender'`` or ``'oracle'`` (module doc).
-        proposals: :data:`PROPOSALS` of ``scene='derender'``: ``'semantic'`` (the semantic branch's masks and
-            semantics, 3D-SDN as a user runs it) or ``'gt'`` (the frame's: an oracle); unused by ``'oracle'``.
+        scene: :class:`Scene` (its name is accepted and parsed).
+        proposals: :data:`PROPOSALS` of ``scene='derender'``, parsed into :class:`~sdn3d.proposals.Proposals`:
+            ``semantic`` (the semantic branch's masks and semantics, 3D-SDN as a user runs it) or ``gt`` (the
+            frame's: an oracle); unused by ``oracle``.
         frame_size: ``(W, H)`` of the benchmark's coordinates (1242x375).
         strict: reject ``to`` points outside the frame (False for the published file).
         pick_radius: max distance (working pixels) of a ``from`` pick; None: nearest object.
@@ -140,15 +164,16 @@ class BenchSettings:
         include_identity: also evaluate the entries without operations.
         limit: evaluate at most this many entries (None: all).
         examples: entries whose pictures are kept for the example grids.
-        compose: the modes evaluated (:data:`MODES`), each reported apart (module doc); ``full`` is the paper's,
+        compose: the modes evaluated (:class:`~sdn3d.editing.appearance.PictureMode`, names parsed), each reported
+            apart (module doc); ``full`` is the paper's,
             ``photo`` what a user gets.
         photo: the photo appearance's settings.
         dilate_px, feather_px: the edit region's dilation and blend ramp of ``compose='edited'`` (working pixels).
     """
 
     image_size: tuple[int, int] = (624, 192)
-    scene: str = "derender"
-    proposals: str = "semantic"
+    scene: Scene = Scene.DERENDER
+    proposals: Proposals = Proposals.SEMANTIC
     frame_size: tuple[int, int] = VKITTI_FRAME_SIZE
     strict: bool = False
     pick_radius: float | None = None
@@ -156,20 +181,22 @@ class BenchSettings:
     include_identity: bool = False
     limit: int | None = None
     examples: int = 8
-    compose: tuple[str, ...] = ("photo", "full", "edited")
+    compose: tuple[PictureMode, ...] = (PictureMode.PHOTO, PictureMode.FULL, PictureMode.EDITED)
     dilate_px: int = 4
     feather_px: int = 4
     photo: PhotoSettings = field(default_factory=PhotoSettings)
 
     def __post_init__(self) -> None:
-        if self.scene not in SCENES:
+        if not isinstance(self.scene, str) or self.scene not in SCENES:
             raise UserInputError(f"BenchSettings.scene must be one of {SCENES}, got {self.scene!r}")
-        if self.proposals not in PROPOSALS:
+        if not isinstance(self.proposals, str) or self.proposals not in PROPOSALS:
             raise UserInputError(f"BenchSettings.proposals must be one of {PROPOSALS}, got {self.proposals!r}")
         compose = tuple(str(c) for c in self.compose)
         if not compose or len(set(compose)) != len(compose) or not set(compose) <= set(MODES):
             raise ComposeSettingsError(f"compose must list distinct modes of {MODES}, got {list(compose)}")
-        object.__setattr__(self, "compose", compose)
+        object.__setattr__(self, "scene", Scene(self.scene))
+        object.__setattr__(self, "proposals", Proposals(self.proposals))
+        object.__setattr__(self, "compose", tuple(PictureMode(c) for c in compose))
         for mode in compose:
             self.renderer(mode)  # checks the mode, dilate_px and feather_px
         object.__setattr__(self, "image_size", (int(self.image_size[0]), int(self.image_size[1])))
@@ -177,12 +204,12 @@ class BenchSettings:
         if self.limit is not None and self.limit < 0 or self.examples < 0:
             raise UserInputError(f"BenchSettings.limit and examples must be >= 0, got {self.limit}, {self.examples}")
 
-    def compose_settings(self, mode: str) -> ComposeSettings:
+    def compose_settings(self, mode: PictureMode) -> ComposeSettings:
         return ComposeSettings(mode, self.dilate_px, self.feather_px)
 
-    def renderer(self, mode: str, textural: TexturalRenderer | None = None) -> AppearanceRenderer:
+    def renderer(self, mode: PictureMode, textural: TexturalRenderer | None = None) -> AppearanceRenderer:
         """The appearance that draws 3D-SDN's picture in ``mode`` (:func:`~sdn3d.editing.appearance.picture_mode`)."""
-        appearance, compose = picture_mode(mode, ComposeSettings("edited", self.dilate_px, self.feather_px))
+        appearance, compose = picture_mode(mode, ComposeSettings(Compose.EDITED, self.dilate_px, self.feather_px))
         return appearance_renderer(appearance, photo=self.photo, compose=compose, textural=textural)
 
     @property
@@ -215,7 +242,7 @@ def edit_kind(entry: BenchmarkEntry) -> str:
 def source_name(settings: BenchSettings) -> str:
     """The key of :data:`SOURCE_LABELS` for what ``settings`` de-render the source scene from: the proposals of
     ``scene='derender'``, ``'oracle'`` for ``scene='oracle'``."""
-    return "oracle" if settings.scene == "oracle" else settings.proposals
+    return Scene.ORACLE.value if settings.scene is Scene.ORACLE else settings.proposals.value
 
 
 @dataclass
@@ -330,7 +357,7 @@ def _sync(models: Models) -> None:
 
 def _source_scene(image: Tensor, intrinsics, record: FrameRecord, models: Models,
                   settings: BenchSettings) -> SceneCode:
-    if settings.scene == "oracle":
+    if settings.scene is Scene.ORACLE:
         scene = scene_from_frame(record, settings.image_size, models.textural.spec.code_dim)
         return encode_scene(scene, image, models.textural)
     gt = ground_truth(record, (intrinsics.width, intrinsics.height))
@@ -396,7 +423,7 @@ def _composed(images: dict[str, Tensor], maps: dict[str, ComposedMaps], source: 
     bins = models.textural.spec.pose_bins
     state = None  # 3D-SDN's source state, shared by its appearances (its source maps made once)
     before: dict[str, ComposedMaps | None] = dict.fromkeys(METHODS)
-    if "edited" in settings.compose:
+    if PictureMode.EDITED in settings.compose:
         state = appearance_renderer(Appearance.GENERATOR).prepare(source, identity, scene)
         before["3d-sdn"] = state.source_maps(bins)
         before["2d"] = before["2d+"] = before["3d-sdn"] if baseline_scene is scene else scene_maps(baseline_scene)
@@ -412,7 +439,7 @@ def _composed(images: dict[str, Tensor], maps: dict[str, ComposedMaps], source: 
             t0 = time.perf_counter()
             # (benchmark ops name no colour: nothing to repaint)
             out[mode]["3d-sdn"] = renderer.draw(state, edited, (), generated).image
-            key = "photo" if photo else "compose" if mode == "edited" else None
+            key = "photo" if photo else "compose" if mode is PictureMode.EDITED else None
             if key and result.latency_ms:
                 result.latency_ms[key] = 1000 * (time.perf_counter() - t0)
         if photo:

@@ -249,3 +249,31 @@ def test_every_ablation_composes_and_names_its_module(ablation, experiment, tmp_
 def test_the_table2_sweep_holds_the_deep3dbox_row():
     assert {"full", "no_reproj", "full_quaternion", "no_tau", "single_cad", "deep3dbox"} <= set(ABLATIONS)
 
+
+
+def test_demo_config_is_typed_by_its_schema_and_its_modes_parse_into_enums():
+    """conf/demo.yaml names DemoSchema (sdn3d.cli._schemas): every budget composes, a wrong type is refused naming
+    the key, and the example edits' and benchmark's modes are read once, into enums (sdn3d.cli.demo.edit_modes)."""
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli.demo import bench_proposals, edit_modes
+    from sdn3d.editing.appearance import Appearance
+    from sdn3d.editing.compose import Compose
+    from sdn3d.errors import UserInputError
+    from sdn3d.proposals import Proposals
+
+    for budget in ("short", "medium", "long"):
+        cfg = compose_config([f"budget={budget}"], "demo")
+        assert cfg.gpu_budget is (budget == "long") and cfg.budget_name == budget
+    modes = edit_modes(compose_config([], "demo"))
+    assert (modes.appearance, modes.compose.mode, modes.proposals) == (Appearance.PHOTO, Compose.EDITED,
+                                                                       Proposals.SEMANTIC)
+    generator = edit_modes(compose_config(["edits.appearance=generator", "edits.compose=full",
+                                           "edits.proposals=gt"], "demo"))
+    assert generator.appearance is Appearance.GENERATOR and generator.compose.mode is Compose.FULL
+    assert bench_proposals(compose_config([], "demo"), {"semantic": "s.ckpt"}) == [Proposals.SEMANTIC, Proposals.GT]
+    with pytest.raises(UserInputError, match="seed must be an integer, got 'abc'"):
+        compose_config(["seed=abc"], "demo")
+    with pytest.raises(UserInputError, match="edits.proposals must be one of"):
+        edit_modes(compose_config(["edits.proposals=boxes"], "demo"))
+    with pytest.raises(UserInputError, match="edits.appearance must be one of"):
+        edit_modes(compose_config(["edits.appearance=paint"], "demo"))

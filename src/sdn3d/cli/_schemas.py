@@ -1,5 +1,6 @@
 # ruff: noqa: UP006, UP007, UP045 (OmegaConf reads the annotations at run time: typing.List / Optional)
-"""The structured schemas of the inference configs (``conf/edit.yaml``, ``conf/app.yaml``, ``conf/bench.yaml``):
+"""The structured schemas of the inference configs (``conf/edit.yaml``, ``conf/app.yaml``, ``conf/bench.yaml``,
+``conf/demo.yaml``):
 dataclasses registered with Hydra's ConfigStore (:func:`register`) and named first in each config's defaults list,
 so that Hydra itself refuses a value of the wrong type, naming the key (:func:`sdn3d.cli._config.compose_config`
 words it as ``<key> must be <kind>, got <value>``).
@@ -15,7 +16,7 @@ from typing import Any, List, Optional  # noqa: UP035
 
 from omegaconf import MISSING
 
-__all__ = ["EditSchema", "AppSchema", "BenchSchema", "register"]
+__all__ = ["EditSchema", "AppSchema", "BenchSchema", "DemoSchema", "register"]
 
 
 @dataclass
@@ -178,11 +179,62 @@ class BenchSchema:
     threads: Optional[int] = MISSING
 
 
-SCHEMAS = {"edit_schema": EditSchema, "app_schema": AppSchema, "bench_schema": BenchSchema}
+@dataclass
+class DemoTrainSchema:
+    branches: List[str] = MISSING
+    parallel: bool = MISSING
+    experiment: Any = MISSING  # {branch: sdn3d-train experiment}: free-form, read per branch
+    common: List[str] = MISSING
+    semantic: List[str] = MISSING
+    geometric: List[str] = MISSING
+    textural: List[str] = MISSING
+
+
+@dataclass
+class DemoBenchSchema:
+    limit: Optional[int] = MISSING
+    examples: int = MISSING
+    proposals: List[str] = MISSING
+
+
+@dataclass
+class DemoEditsSchema:
+    frame: Optional[str] = MISSING
+    proposals: str = MISSING
+    zoom: float = MISSING
+    angles_deg: List[float] = MISSING
+    recolor: str = MISSING
+    appearance: str = MISSING
+    photo: Any = MISSING  # photo.*: checked by sdn3d.editing.photo.settings.PhotoSettings.from_mapping
+    compose: str = MISSING
+
+
+@dataclass
+class DemoSchema:
+    """``conf/demo.yaml`` and its ``budget`` group (``conf/budget/*.yaml``, merged at the top level)."""
+
+    output_dir: str = MISSING
+    data_dir: str = MISSING
+    seed: int = MISSING
+    threads: int = MISSING
+    device: str = MISSING
+    workers: int = MISSING
+    render_size: Optional[List[int]] = MISSING
+    synth: Any = MISSING  # conf/synth.yaml's fields: checked by sdn3d.data.synth.SynthConfig
+    train: DemoTrainSchema = field(default_factory=DemoTrainSchema)
+    bench: DemoBenchSchema = field(default_factory=DemoBenchSchema)
+    edits: DemoEditsSchema = field(default_factory=DemoEditsSchema)
+    budget_name: str = MISSING
+    gpu_budget: bool = MISSING
+
+
+SCHEMAS = {"edit_schema": EditSchema, "app_schema": AppSchema, "bench_schema": BenchSchema,
+           "demo_schema": DemoSchema}
 
 
 def register() -> None:
-    """Store the schemas in Hydra's ConfigStore (``edit_schema``, ``app_schema``, ``bench_schema``); idempotent."""
+    """Store the schemas in Hydra's ConfigStore (``edit_schema``, ``app_schema``, ``bench_schema``, ``demo_schema``);
+    idempotent."""
     from hydra.core.config_store import ConfigStore
 
     store = ConfigStore.instance()

@@ -318,18 +318,17 @@ def edit_modes(cfg: Any) -> EditModes:
     """
     from sdn3d.editing.photo.settings import PhotoSettings
 
-    appearance = str(cfg.edits.appearance)
-    if appearance not in APPEARANCES:
-        raise InputError(f"edits.appearance must be one of {list(APPEARANCES)}, got {appearance!r}")
-    return EditModes(Appearance(appearance), ComposeSettings(str(cfg.edits.compose)),
-                     _proposals(str(cfg.edits.proposals), "edits.proposals"),
-                     PhotoSettings.from_mapping(cfg.edits.get("photo")))
+    edits = cfg.edits  # typed by the schema (sdn3d.cli._schemas.DemoSchema): strings, checked here as values
+    if edits.appearance not in APPEARANCES:
+        raise InputError(f"edits.appearance must be one of {list(APPEARANCES)}, got {edits.appearance!r}")
+    return EditModes(Appearance(edits.appearance), ComposeSettings(edits.compose),
+                     _proposals(edits.proposals, "edits.proposals"), PhotoSettings.from_mapping(edits.photo))
 
 
 def bench_proposals(cfg: Any, ckpts: dict[str, str]) -> list[Proposals]:
     """``bench.proposals`` (predicted row first, then the oracle row), less the predicted row when no semantic
     branch was trained (``train.branches`` without it): the benchmark's table then says it has oracle rows only."""
-    proposals = [_proposals(str(p), "bench.proposals") for p in cfg.bench.proposals]
+    proposals = [_proposals(p, "bench.proposals") for p in cfg.bench.proposals]
     if Proposals.SEMANTIC in proposals and not ckpts.get("semantic"):
         console.print("[yellow]sdn3d-demo: no semantic branch was trained: the benchmark has only the oracle row "
                       "(ground-truth masks and semantics)[/yellow]")
@@ -897,7 +896,7 @@ def run_demo(cfg: Any) -> dict:
         info["gpu"] = torch.cuda.get_device_name(torch.device(str(cfg.device)))
     info["machine"] = machine_record()
 
-    if cfg.get("gpu_budget") and str(cfg.device) == "cpu":
+    if cfg.gpu_budget and cfg.device == "cpu":
         console.print(f"[yellow]sdn3d-demo: budget={cfg.budget_name} on the CPU takes many hours (see "
                       f"conf/budget/{cfg.budget_name}.yaml); it is meant for device=cuda.[/yellow]")
     _stage("1/4 synthetic data")

@@ -742,6 +742,35 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     return flat.view(height, width, 3).permute(2, 0, 1), source, objects
 
 
+#: The luminance range a car's visible pixels span in clear air (tyres and glass to lit paint), the range
+#: :data:`PART_DEFAULTS` are written for.
+CLEAR_RANGE = (0.05, 0.85)
+
+
+def seen_through_the_air(defaults: Tensor, colors: Tensor, min_pixels: int = 50) -> Tensor:
+    """``(P, 3)`` default part colours as the same car's visible pixels ``colors (Q, 3)`` show the air between it and
+    the camera: fog or haze lifts the darks and compresses the range (``observed = t albedo + (1 - t) A``), so ``t``
+    is the car's observed 5-95 % luminance range over :data:`CLEAR_RANGE`'s (at most 1) and the air's share is read
+    off its darkest pixels. In clear air (a range as wide as the clear one, darks near black) the defaults stay as
+    they are; under fog a never-seen window is drawn grey, as the fogged car's own windows look, not black.
+
+    >>> clear = torch.tensor([[0.05, 0.05, 0.05]] * 60 + [[0.85, 0.85, 0.85]] * 60, dtype=torch.float64)
+    >>> glass = torch.tensor([[0.10, 0.12, 0.15]], dtype=torch.float64)
+    >>> seen_through_the_air(glass, clear).tolist()
+    [[0.1, 0.12, 0.15]]
+    >>> fog = 0.25 * clear + 0.75 * 0.6
+    >>> [round(v, 3) for v in seen_through_the_air(glass, fog)[0].tolist()]
+    [0.475, 0.48, 0.487]
+    """
+    if len(colors) < min_pixels:
+        return defaults
+    luma = colors @ torch.tensor([0.2126, 0.7152, 0.0722], dtype=colors.dtype)
+    lo, hi = torch.quantile(luma, torch.tensor([0.05, 0.95], dtype=colors.dtype))
+    t = float(((hi - lo) / (CLEAR_RANGE[1] - CLEAR_RANGE[0])).clamp(0.05, 1.0))
+    dark = torch.quantile(colors, 0.05, dim=0)  # per channel: the air's colour shows in the darks
+    return (t * defaults + (dark - t * CLEAR_RANGE[0])[None]).clamp(0, 1)
+
+
 def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, parts: Tensor, before: ObjectTable,
                  src: _Raster, parts_src: Tensor, img_flat: Tensor, shade, settings: PhotoSettings,
                  body: Tensor | None, max_examples: int = 1500, k: int = 4) -> tuple[Tensor, Tensor]:
@@ -776,6 +805,9 @@ def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, parts:
     colors = img_flat[ex]
     if shade is not None:
         colors = colors / shade(normal).clamp(min=0.2)[:, None]
+    default = (codes == DEFAULT) & (parts >= 0)
+    if bool(default.any()):
+        albedo[default] = seen_through_the_air(albedo[default], colors)
     ex_part = parts_src[ex]
     ex_feat, q_feat = features(point), features(points)
     for part in parts.unique().tolist():

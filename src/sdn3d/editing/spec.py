@@ -20,6 +20,7 @@ Objects a person names by a box (real photos: no trained segmenter or 3D labels 
 
     objects:                                       # GrabCut mask in the box, 3D shape fitted to it
       - {box: [466, 203, 666, 333], class: Car}    # [x0, y0, x1, y1], half-open, the spec's pixels; class: Car
+      - {box: [10, 5, 17, 11], force: true}        # added even where nothing says a vehicle is there (else refused)
     ops:                                           # may be empty: then the objects are listed (list=true)
       - {op: rotate, at: [565, 265], ry_deg: 45}
 
@@ -146,11 +147,14 @@ class OpSpec:
 
 @dataclass(frozen=True)
 class BoxObjectSpec:
-    """One object named by a box: ``box`` half-open ``(x0, y0, x1, y1)`` in the spec's pixels, its ``class_``."""
+    """One object named by a box: ``box`` half-open ``(x0, y0, x1, y1)`` in the spec's pixels, its ``class_``;
+    ``force``: added even where GrabCut, the road plane and the fit say no vehicle is there
+    (:func:`sdn3d.box_masks.no_vehicle`; otherwise such a box is refused)."""
 
     index: int
     box: tuple[float, float, float, float]
     class_: str | int = "Car"
+    force: bool = False
 
 
 @dataclass(frozen=True)
@@ -344,10 +348,13 @@ def _parse_object(raw: Any, index: int, where: str) -> BoxObjectSpec:
     name = f"{where}: objects[{index}]"
     if not isinstance(raw, Mapping) or "box" not in raw:
         raise EditSpecError(f"{name} must be a mapping like {{box: [x0, y0, x1, y1], class: Car}}, got {_excerpt(raw)}")
-    unknown = set(raw) - {"box", "class"}
+    unknown = set(raw) - {"box", "class", "force"}
     if unknown:
         raise EditSpecError(f"{name}: unknown field(s) {_excerpt(sorted(map(str, unknown)))}; "
-                            "allowed: ['box', 'class']")
+                            "allowed: ['box', 'class', 'force']")
+    force = raw.get("force", False)
+    if not isinstance(force, bool):
+        raise EditSpecError(f"{name}: field 'force' must be true or false, got {_excerpt(force)}")
     box = raw["box"]
     if not isinstance(box, (list, tuple)) or len(box) != 4:
         raise EditSpecError(f"{name}: field 'box' must be [x0, y0, x1, y1] in pixels, got {_excerpt(box)}")
@@ -358,7 +365,7 @@ def _parse_object(raw: Any, index: int, where: str) -> BoxObjectSpec:
     cls = raw.get("class", "Car")
     if isinstance(cls, bool) or not isinstance(cls, (int, str)):
         raise EditSpecError(f"{name}: field 'class' must be a class name or id, got {_excerpt(cls)}")
-    return BoxObjectSpec(index, (x0, y0, x1, y1), cls)
+    return BoxObjectSpec(index, (x0, y0, x1, y1), cls, force)
 
 
 def parse_edit_spec(data: Any, source: str = "<edit spec>", max_ops: int | None = MAX_OPS) -> EditSpec:

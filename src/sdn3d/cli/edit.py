@@ -401,7 +401,8 @@ def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
         result = given_checkpoints(cfg.checkpoints)
         _check_needed(cfg, record, result)
         return result
-    return checkpoints_from_run(cfg.run, cfg.checkpoints, _needed_branches(cfg, record), "sdn3d-edit", "the edit")
+    prog = "sdn3d-app" if "port" in cfg else "sdn3d-edit"  # conf/app.yaml composes this config, with a port
+    return checkpoints_from_run(cfg.run, cfg.checkpoints, _needed_branches(cfg, record), prog, "the edit")
 
 
 def _check_needed(cfg: Any, record: Any, given: dict[str, dict | None]) -> None:

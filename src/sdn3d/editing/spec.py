@@ -99,7 +99,8 @@ from sdn3d.textural.codes import CodeBank
 
 __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
            "apply_spec", "read_yaml", "MAX_OPS", "EXCERPT_CHARS", "BoxObjectSpec", "box_prompts",
-           "MAX_BOX_OBJECTS", "code_bank_needed"]
+           "MAX_BOX_OBJECTS", "code_bank_needed",
+           "check_points", "box_object_ids", "check_ids"]
 
 OP_KINDS = ("move", "rotate", "zoom", "delete", "recolor", "duplicate", "modify")
 _FIELDS = {"move": {"to"}, "rotate": {"ry_deg", "ry_rad"}, "zoom": {"zoom", "on_ground"}, "delete": set(),
@@ -596,6 +597,67 @@ def _check_inside(op: OpSpec, points: tuple, spec: EditSpec, scene: SceneCode, f
                                       ((-0.5, -0.5), (scene.image_size[0] - 0.5, scene.image_size[1] - 0.5)))
                 where = f"the part of the {fw}x{fh} frame the working image keeps (x {x0}..{x1}, y {y0}..{y1})"
             raise EditError(f"{op.describe()}: '{name}' point {_shown(given)} lies outside {where}")
+
+
+def check_points(spec: EditSpec, working_size: tuple[int, int], frame: PixelFrame | None = None) -> None:
+    """:func:`resolve_ops`' check of the ops' points (``at``, ``from``, ``to`` inside the working image), before any
+    scene: ``sdn3d-edit`` calls it before loading a model.
+
+    Raises:
+        EditError: naming the op and the point, as :func:`resolve_ops` would after the de-render.
+    """
+    if spec.entry is not None:
+        return
+    size = _Size(tuple(working_size))
+    for op in spec.ops:
+        points = tuple(None if uv is None else _to_working(uv, spec, size.image_size, frame)
+                       for uv in (op.at, op.from_uv, op.to))
+        _check_inside(op, points, spec, size, frame)
+
+
+@dataclass(frozen=True)
+class _Size:
+    """What :func:`_check_inside` reads of a scene: its working size."""
+
+    image_size: tuple[int, int]
+
+
+def box_object_ids(class_ids: Sequence[int], taken: Sequence[int] = ()) -> list[int]:
+    """The instance ids the objects named by a box get (:func:`sdn3d.derender.derender`): in the boxes' order, the
+    next free number of each box's class (``class_ids``) after the ids ``taken`` by other proposals."""
+    out: list[int] = []
+    for cid in class_ids:
+        used = [int(i) for i in [*taken, *out] if int(i) // 1000 == int(cid)]
+        out.append(int(cid) * 1000 + (max(used) % 1000 if used else 0) + 1)
+    return out
+
+
+def check_ids(spec: EditSpec, ids: Sequence[int], what: str = "") -> None:
+    """Check the ops' ``id`` fields against the objects ``ids`` the scene will have, before it exists (with
+    ``proposals=boxes`` they are the boxes' :func:`box_object_ids`): ids the earlier ops create (a duplicate's copy)
+    count; ids they delete do not. Stops at the first op whose result is unknown without the scene (a duplicate of
+    an object picked by position, whose copy's id depends on its class).
+
+    Raises:
+        EditError: naming the op, the id and the ids there are (``what``: where they come from).
+    """
+    if spec.entry is not None:
+        return
+    live = {int(i): int(i) // 1000 for i in ids}
+    for op in spec.ops:
+        if op.id is not None and op.id not in live:
+            raise EditError(f"{op.describe()}: no object with id {op.id} (the scene will have {sorted(live)}"
+                            f"{what})")
+        if op.kind == "delete" and op.id is not None:
+            del live[op.id]
+        elif op.kind == "duplicate":
+            if op.id is None and op.new_id is None:
+                return
+            cls = live[op.id] if op.id is not None else op.new_id // 1000
+            new = op.new_id if op.new_id is not None else cls * 1000 + max(i % 1000 for i in live if live[i] == cls) + 1
+            live[new] = cls
+        elif op.kind == "delete":  # by position: which object is gone is known only with the scene
+            return
 
 
 def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = None,

@@ -75,3 +75,27 @@ def test_check_ids_follows_the_ops():
         check_ids(spec, [12001, 12002])
     # after a delete by position, which object is gone is unknown: nothing more is checked
     check_ids(parse_edit_spec([{"op": "delete", "at": [5, 5]}, {"op": "rotate", "id": 99001, "ry_deg": 5}]), [12001])
+
+
+def test_the_apps_start_up_lines_say_sdn3d_app(ckpts, tmp_path, capsys):
+    """run= picks each branch's checkpoint and says so on stderr: under sdn3d-app, as sdn3d-app (issue 42)."""
+    import json
+    import shutil
+
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli.edit import resolve_checkpoints
+
+    for branch in ("semantic", "geometric", "textural"):
+        run = tmp_path / "runs" / branch
+        (run / "checkpoints").mkdir(parents=True)
+        last = shutil.copy(ckpts[branch], run / "checkpoints" / "last.ckpt")
+        (run / "summary.json").write_text(json.dumps({"branch": branch, "run_dir": str(run), "best_ckpt": None,
+                                                      "last_ckpt": str(last), "status": "ok",
+                                                      "finished": "2026-01-01T10:00:00+00:00"}))
+    (tmp_path / "runs" / "summary.jsonl").write_text("")
+    resolve_checkpoints(compose_config([f"run={tmp_path}"], "app"))
+    app_err = capsys.readouterr().err
+    resolve_checkpoints(compose_config([f"run={tmp_path}"], "edit"))
+    edit_err = capsys.readouterr().err
+    assert app_err.startswith("sdn3d-app: ") and "sdn3d-edit" not in app_err, app_err
+    assert edit_err.startswith("sdn3d-edit: ") and edit_err.replace("sdn3d-edit", "sdn3d-app") == app_err

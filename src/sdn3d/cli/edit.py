@@ -59,8 +59,10 @@ Exit status: 0 done; 2 bad input (message on stderr names the op or the setting;
 
 from __future__ import annotations
 
+import contextlib
 import json
 import sys
+import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -242,30 +244,91 @@ def run_edit(cfg: Any) -> dict:
         FileExistsError: bad input (nothing written).
     """
     check_settings(cfg)
-    if cfg.threads is not None:
-        torch.set_num_threads(int(cfg.threads))
+    _PROGRESS["on"] = _progress_setting(cfg)
+    torch.set_num_threads(int(cfg.threads) if cfg.threads is not None else DEFAULT_THREADS)
     compose = _compose_settings(cfg)
     appearance, photo = appearance_settings(cfg)
     out, spec, listing, (inp, record) = _read_inputs(cfg)
+    if spec is not None:  # every check that needs no scene, before a model is loaded
+        from sdn3d.editing.spec import check_points
+
+        check_points(spec, (inp.intrinsics.width, inp.intrinsics.height), inp.frame)
     checkpoints = resolve_checkpoints(cfg, record)
-    models, code_bank = load_models(cfg, checkpoints)
+    with _stage("loading the models"):
+        models, code_bank = load_models(cfg, checkpoints)
     session = EditSession(models, code_bank, session_settings(cfg, checkpoints, compose, appearance, photo))
-    derendered = session.derender(inp, spec)
+    if spec is not None and spec.objects and cfg.proposals == "boxes":  # the ids are the boxes': known now
+        _check_box_ids(spec, models, inp)
+    boxes = f" ({len(spec.objects)} box{'es' if len(spec.objects) != 1 else ''})" if spec and spec.objects else ""
+    with _stage(f"de-rendering{boxes}"):
+        derendered = session.derender(inp, spec)
     warnings = trust_warnings(cfg, record, checkpoints, derendered.scene) + derendered.warnings
     for line in warnings:
         print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
     if listing:  # list=true, an empty spec or objects without ops: the objects, nothing edited
         return _write_listing(cfg, out, inp, derendered.scene, checkpoints, {"derender_ms": derendered.derender_ms},
                               warnings, derendered.boxes)
-    result = session.edit(derendered, spec)
+    with _stage(f"editing and drawing ({len(spec)} op{'s' if len(spec) != 1 else ''})"):
+        result = session.edit(derendered, spec)
     for line in result.warnings:
         print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
     summary = {"input": inp.name, "edits": spec.source, **result.record(appearance)}
     summary["warnings"] = warnings + result.warnings
     summary["checkpoints"] = checkpoints
     summary["config"] = config_record(cfg)
-    _write_outputs(out, bool(cfg.overwrite), result, summary, bool(cfg.diagnostics), _output_rules(cfg))
+    with _stage("writing the outputs"):
+        _write_outputs(out, bool(cfg.overwrite), result, summary, bool(cfg.diagnostics), _output_rules(cfg))
     return summary
+
+
+#: torch CPU threads when ``threads`` is not given. 1: on a shared 2-core machine one edit with 3 boxes took
+#: 7-30 s with 1 thread and 13-206 s with PyTorch's default (2), pictures identical (docs/EDITING.md, "Threads").
+DEFAULT_THREADS = 1
+
+
+_PROGRESS = {"on": False}
+
+
+def _progress_setting(cfg: Any) -> bool:
+    """``progress``: true, false or auto (the default: when stderr is a terminal; a script reading stderr gets the
+    errors alone, one line each)."""
+    value = cfg.get("progress", "auto")
+    if value == "auto":
+        return bool(getattr(sys.stderr, "isatty", lambda: False)())
+    if not isinstance(value, bool):
+        raise InputError(f"progress must be true, false or auto, got {value!r}")
+    return value
+
+
+@contextlib.contextmanager
+def _stage(what: str) -> Any:
+    """One progress line on stderr, when ``progress`` is on: ``sdn3d-edit: <what>... 3.1 s`` (the time when the stage
+    ends; `failed` if it raises)."""
+    if not _PROGRESS["on"]:
+        yield
+        return
+    print(f"sdn3d-edit: {what}...", end="", file=sys.stderr, flush=True)
+    start = time.perf_counter()
+    try:
+        yield
+    except BaseException:
+        print(" failed", file=sys.stderr, flush=True)
+        raise
+    print(f" {time.perf_counter() - start:.1f} s", file=sys.stderr, flush=True)
+
+
+def _check_box_ids(spec: Any, models: Any, inp: Any) -> None:
+    """With ``proposals=boxes`` the objects are the spec's boxes, their ids known from their classes: the ops' ids
+    are checked before the de-render (:func:`~sdn3d.editing.spec.check_ids`)."""
+    from sdn3d.derender import _class_list_name
+    from sdn3d.editing.spec import box_object_ids, box_prompts, check_ids
+    from sdn3d.labels import CLASS_LISTS
+
+    classes = CLASS_LISTS[_class_list_name(models, None, None)]
+    prompts = box_prompts(spec, (inp.intrinsics.width, inp.intrinsics.height), inp.frame)
+    ids = box_object_ids(prompts.class_ids(classes))
+    check_ids(spec, ids, ": with proposals=boxes the objects are the spec's boxes, in their order; checked before "
+                         "the de-render")
 
 
 def config_record(cfg: Any) -> dict:
@@ -374,7 +437,8 @@ def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
         result = given_checkpoints(cfg.checkpoints)
         _check_needed(cfg, record, result)
         return result
-    return checkpoints_from_run(cfg.run, cfg.checkpoints, _needed_branches(cfg, record), "sdn3d-edit", "the edit")
+    prog = "sdn3d-app" if "port" in cfg else "sdn3d-edit"  # conf/app.yaml composes this config, with a port
+    return checkpoints_from_run(cfg.run, cfg.checkpoints, _needed_branches(cfg, record), prog, "the edit")
 
 
 def _check_needed(cfg: Any, record: Any, given: dict[str, dict | None]) -> None:

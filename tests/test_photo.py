@@ -286,6 +286,16 @@ def test_an_object_moved_out_of_the_picture_warns_and_does_not_crash():
     assert bool((result.source == FILL).any())  # its old place is still filled
 
 
+def test_an_object_moved_wholly_behind_another_is_said_to_be_hidden_not_outside():
+    scene = _scene([CAR, FAR_CAR])
+    image, _ = _surface_colors(scene, INPUT_SIZE[::-1], _k_input())
+    moved = scene.replace(objects=scene.objects.replace(location=scene.objects.location.clone()))
+    moved.objects.location[0] = torch.tensor([6.75, 1.6, 45.0])  # straight behind the other car, in the picture
+    result = render_photo(image, FRAME, scene, moved, settings=NO_LIGHT)
+    said = [w for w in result.warnings if "12001" in w and "nothing drawn" in w]
+    assert said and "hidden behind nearer objects" in said[0] and "outside" not in said[0]
+
+
 def test_a_hidden_object_is_drawn_from_its_body_colour_with_a_warning():
     scene = _scene([CAR])
     hidden = scene.replace(objects=scene.objects.replace(mask=torch.zeros_like(scene.objects.mask)))

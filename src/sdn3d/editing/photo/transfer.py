@@ -585,8 +585,11 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                                      photo_source.parts, parts_out)
         for a in moved_rows:
             if int(after.instance_id[a]) not in objects:
-                warnings.append(f"object {int(after.instance_id[a])}: after the edit it lies outside the picture "
-                                "(nothing drawn)")
+                uv, front = _project(_box_floor(after, a, 1.0), K)
+                inside = bool((front & (uv[:, 0] >= 0) & (uv[:, 0] < w_in) & (uv[:, 1] >= 0)
+                               & (uv[:, 1] < h_in)).any())
+                why = "is hidden behind nearer objects" if inside else "lies outside the picture"
+                warnings.append(f"object {int(after.instance_id[a])}: after the edit it {why} (nothing drawn)")
 
     # Recolour (step 5): the object's pixels in the result.
     final_own = own.clone()

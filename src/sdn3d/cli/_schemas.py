@@ -73,17 +73,6 @@ class GeometricSchema:
 
 
 @dataclass
-class PhotoSchema:
-    fill: str = MISSING
-    relight: bool = MISSING
-    contact_shadow: float = MISSING
-    depth_tolerance: float = MISSING
-    min_view_cos: float = MISSING
-    hole_dilate_px: int = MISSING
-    shadow_band: float = MISSING
-
-
-@dataclass
 class EditSchema:
     """``conf/edit.yaml``."""
 
@@ -106,7 +95,7 @@ class EditSchema:
     code_bank: Optional[str] = MISSING
     geometric: GeometricSchema = field(default_factory=GeometricSchema)
     appearance: str = MISSING
-    photo: PhotoSchema = field(default_factory=PhotoSchema)
+    photo: Any = MISSING  # checked by sdn3d.editing.photo.settings.PhotoSettings.from_mapping (one home)
     compose: str = MISSING
     compose_dilate_px: int = MISSING
     compose_feather_px: int = MISSING
@@ -115,6 +104,7 @@ class EditSchema:
     overwrite: bool = MISSING
     device: str = MISSING
     threads: Optional[int] = MISSING
+    progress: Any = MISSING  # true | false | auto
     seed: int = MISSING
 
 
@@ -141,11 +131,6 @@ class BenchCheckpointsSchema(CheckpointsSchema):
 
 
 @dataclass
-class BenchPhotoSchema:
-    fill: str = MISSING
-
-
-@dataclass
 class BenchSchema:
     """``conf/bench.yaml``."""
 
@@ -166,9 +151,12 @@ class BenchSchema:
     allow_empty: bool = MISSING
     examples: int = MISSING
     compose: Any = MISSING  # one mode or a list of them
-    photo: BenchPhotoSchema = field(default_factory=BenchPhotoSchema)
+    photo: Any = MISSING  # as sdn3d-edit's photo.* (PhotoSettings.from_mapping checks it)
     compose_dilate_px: int = MISSING
     compose_feather_px: int = MISSING
+    counterfactual: bool = MISSING
+    counterfactual_sources: Any = MISSING  # one source or a list of them, or null
+    counterfactual_fills: List[str] = MISSING
     output_dir: str = MISSING
     overwrite: bool = MISSING
     device: str = MISSING

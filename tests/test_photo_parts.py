@@ -83,3 +83,49 @@ def test_delete_with_effects_runs_and_marks_what_it_relit():
     edited = apply_edits(scene, [Delete(12001)])
     result = render_photo(image, FRAME, scene, edited, settings=PhotoSettings(delete_effects=True, fill="telea"))
     assert result.image.shape == image.shape and result.objects == {}
+
+
+def _lit_with_shadow(monkeypatch, scene):
+    """The scene's surface colours over grey road, the car's shadow (cast along a fixed light from above and to the
+    left, :func:`_cast_shadows`) halved, and that light handed to the photo appearance."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.light import LightEstimate
+    from sdn3d.scene.maps import posed_meshes
+
+    d = torch.tensor([-0.6, -0.7, 0.2], dtype=torch.float64)
+    light = LightEstimate(d / d.norm(), 0.4, 0.5, 1000)
+    monkeypatch.setattr(transfer.PhotoSource, "light", lambda self: (None, light))
+    image, covered = _surface_colors(scene, INPUT_SIZE[::-1], _k_input())
+    rows, verts, _ = posed_meshes(scene.objects, transfer.default_bank())
+    cast = transfer._cast_shadows(scene.objects, [0], {int(rows[0]): verts[0]}, _k_input(), INPUT_SIZE[::-1], light)
+    shadow = (cast > 0.5) & ~covered
+    assert int(shadow.sum()) > 100
+    return torch.where(shadow[None], image * 0.5, image), light
+
+
+def test_a_moved_car_casts_its_shadow_at_its_new_place(monkeypatch):
+    """cast_shadow: the road where the moved car's shadow now falls is darkened by the gain measured on its old
+    shadow (about half here) and marked ``shadow``; its old shadow is relit. Without it neither happens."""
+    from sdn3d.editing.ops import Move
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.settings import SHADOW
+    from sdn3d.scene.maps import posed_meshes
+
+    scene = _scene([BEHIND])
+    image, light = _lit_with_shadow(monkeypatch, scene)
+    old_shadow = (image[0] < 0.3) & (image[0] - image[2]).abs().lt(1e-6)  # the halved grey road
+    edited = apply_edits(scene, [Move(12001, (90.0, 40.0))])
+    rows, verts, _ = posed_meshes(edited.objects, transfer.default_bank())
+    new_cast = transfer._cast_shadows(edited.objects, [0], {int(rows[0]): verts[0]}, _k_input(), INPUT_SIZE[::-1],
+                                      light) > 0.9
+    on = PhotoSettings(relight=False, contact_shadow=0.0, fill="telea", cast_shadow=True)
+    off = PhotoSettings(relight=False, contact_shadow=0.0, fill="telea")
+    with_cast = render_photo(image, FRAME, scene, edited, settings=on)
+    without = render_photo(image, FRAME, scene, edited, settings=off)
+    road_now = new_cast & (with_cast.parts < 0) & ~old_shadow & (without.image[0] > 0.4)
+    assert int(road_now.sum()) > 50
+    assert float(with_cast.image[:, road_now].mean()) < 0.6 * float(without.image[:, road_now].mean())
+    assert bool((with_cast.source[road_now] == SHADOW).all())
+    left = old_shadow & (with_cast.source == 9) & ~new_cast  # relit, outside the hole and the new shadow
+    assert int(left.sum()) > 30
+    assert float(with_cast.image[:, left].mean()) > 0.4 and float(without.image[:, left].mean()) < 0.25

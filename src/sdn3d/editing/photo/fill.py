@@ -173,6 +173,37 @@ def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: f
     return ok.view(image.shape[1:])
 
 
+def _shadow_fit(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, tolerance: float = 12.0):
+    """``(gain (3,) float64, y (H, W), y_lit, y_core, shadow pixels (H, W))`` of the shadow inside ``search`` (module
+    doc of :func:`relight_shadow`), or None where too few lit road or shadow pixels are found."""
+    from sdn3d.editing.photo.light import luminance
+
+    like = road_like(image, road, tolerance)
+    flat = image.permute(1, 2, 0).reshape(-1, 3).double()
+    y = luminance(flat).view(search.shape)
+    lit_pix = (lit & like).view(-1)
+    if int(lit_pix.sum()) < 30:
+        return None
+    y_lit = float(y.view(-1)[lit_pix].median())
+    cand = search & like & (y < 0.85 * y_lit)
+    if int(cand.sum()) < 20:
+        return None
+    yc = y[cand]
+    core_cut = float(torch.quantile(yc, 0.25))
+    core = cand & (y <= core_cut)
+    lit_rgb = flat[lit_pix].median(0).values
+    sh_rgb = flat[core.view(-1)].median(0).values.clamp(min=0.01)
+    gain = (lit_rgb / sh_rgb).clamp(1.0, 8.0)
+    return gain, y, y_lit, float(luminance(sh_rgb)), cand
+
+
+def shadow_gain(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, tolerance: float = 12.0) -> Tensor | None:
+    """``(3,)`` float64 per-channel gain lit road / shadow core of the shadow inside ``search`` (as
+    :func:`relight_shadow` measures it), None where no shadow is found."""
+    fit = _shadow_fit(image, search, lit, road, tolerance)
+    return None if fit is None else fit[0]
+
+
 def relight_shadow(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, strength: float = 1.0,
                    tolerance: float = 12.0) -> tuple[Tensor, Tensor]:
     """``(image, matte (H, W))``: the shadow inside ``search (H, W)`` relit (Le & Samaras 2019: a per-channel gain
@@ -182,26 +213,11 @@ def relight_shadow(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, str
     of that darkening (0 lit, 1 core), blurred; ``image * (1 + matte * (gain - 1))``."""
     import cv2
 
-    from sdn3d.editing.photo.light import luminance
-
     zero = torch.zeros_like(search, dtype=torch.float32)
-    like = road_like(image, road, tolerance)
-    flat = image.permute(1, 2, 0).reshape(-1, 3).double()
-    y = luminance(flat).view(search.shape)
-    lit_pix = (lit & like).view(-1)
-    if int(lit_pix.sum()) < 30:
+    fit = _shadow_fit(image, search, lit, road, tolerance)
+    if fit is None:
         return image, zero
-    y_lit = float(y.view(-1)[lit_pix].median())
-    cand = search & like & (y < 0.85 * y_lit)
-    if int(cand.sum()) < 20:
-        return image, zero
-    yc = y[cand]
-    core_cut = float(torch.quantile(yc, 0.25))
-    core = cand & (y <= core_cut)
-    lit_rgb = flat[lit_pix].median(0).values
-    sh_rgb = flat[core.view(-1)].median(0).values.clamp(min=0.01)
-    gain = (lit_rgb / sh_rgb).clamp(1.0, 8.0)
-    y_core = float(luminance(sh_rgb))
+    gain, y, y_lit, y_core, cand = fit
     matte = ((y_lit - y) / max(y_lit - y_core, 1e-3)).clamp(0, 1) * cand
     matte = torch.from_numpy(cv2.GaussianBlur(matte.float().numpy(), (0, 0), 1.0)) * search
     matte = matte * strength

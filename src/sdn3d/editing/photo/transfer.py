@@ -431,7 +431,10 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
     road_hole = hole & road_part
     out = image
     if bool(road_hole.any()):
-        avoid = objects_px | ~road_like(image, road, min_light=0.8)  # lit road and its markings only
+        ys, xs = road_hole.nonzero(as_tuple=True)
+        reach = (int(ys.max() - ys.min()) + int(xs.max() - xs.min())) // 2 + 4 * settings.inpaint_radius + 16
+        near = _dilate(road_hole, reach)  # covers the fill's crop (fill._inpaint_part's margin)
+        avoid = objects_px | ~road_like(image, road, min_light=0.8, within=near)  # lit road and markings only
         out = inpaint(out, road_hole, "patchmatch" if settings.fill != "telea" else "telea",
                       settings.inpaint_radius, keep_out=avoid)
     rest = hole & ~road_hole

@@ -26,9 +26,10 @@ def _dilate(mask: Tensor, radius: int) -> Tensor:
 
 
 def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5, patch_size: int = 3,
-            keep_out: Tensor | None = None) -> Tensor:
+            keep_out: Tensor | None = None, max_side: int = PATCHMATCH_MAX_SIDE) -> Tensor:
     """``image (3, H, W)`` float in [0, 1] with ``hole (H, W)`` filled, each connected part of the hole on its own
-    bounding box plus a margin (:func:`_inpaint_part`; ``method`` there, or ``'auto'``)."""
+    bounding box plus a margin (:func:`_inpaint_part`; ``method`` there, or ``'auto'``); PatchMatch works on crops
+    at most ``max_side`` pixels on a side (its time grows with their area)."""
     import cv2
 
     if not bool(hole.any()):
@@ -41,12 +42,12 @@ def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5,
         how = method
         if method == "auto":  # thin gaps smear little under Telea; large holes need copied texture
             how = "telea" if float(depth[part.numpy()].max()) <= AUTO_THIN_PX else "patchmatch"
-        image = _inpaint_part(image, part, how, radius, patch_size, keep_out)
+        image = _inpaint_part(image, part, how, radius, patch_size, keep_out, max_side)
     return image
 
 
 def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_size: int,
-                  keep_out: Tensor | None) -> Tensor:
+                  keep_out: Tensor | None, max_side: int = PATCHMATCH_MAX_SIDE) -> Tensor:
     """:func:`inpaint` of one connected ``hole`` on its box plus a margin (padded by one pixel: OpenCV mishandles
     holes that touch the top or left edge).
 
@@ -78,7 +79,7 @@ def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_s
             avoid = cv2.copyMakeBorder((keep_out[y0:y1, x0:x1] & ~hole[y0:y1, x0:x1]).numpy().astype(np.uint8),
                                        1, 1, 1, 1, cv2.BORDER_CONSTANT, value=0)
         full = crop.shape[1], crop.shape[0]
-        shrink = min(1.0, PATCHMATCH_MAX_SIDE / max(full))
+        shrink = min(1.0, max_side / max(full))
         if shrink < 1.0:  # a large hole: fill at a coarser scale (its time grows with the crop's area)
             small = max(round(full[0] * shrink), 8), max(round(full[1] * shrink), 8)
             crop_s = cv2.resize(crop, small, interpolation=cv2.INTER_AREA)

@@ -96,7 +96,7 @@ class PhotoSettings:
     inpaint_radius: int = 5
     max_level: int = 3
     unseen: str = "parts"
-    delete_effects: bool = False
+    delete_effects: bool = True
     delete_shadow: bool = True
     recolor_parts: bool = True
     cast_shadow: bool = False

@@ -249,3 +249,16 @@ def test_every_ablation_composes_and_names_its_module(ablation, experiment, tmp_
 def test_the_table2_sweep_holds_the_deep3dbox_row():
     assert {"full", "no_reproj", "full_quaternion", "no_tau", "single_cad", "deep3dbox"} <= set(ABLATIONS)
 
+
+
+@pytest.mark.parametrize("name", ["edit", "bench", "app"])
+def test_the_photo_settings_of_a_config_are_the_librarys_defaults(name):
+    """conf's ``photo:`` sections list every photo setting with the library's default (a user reads the YAML to learn
+    what the library does; a setting added to PhotoSettings but not to the YAML cannot be given on the command line)."""
+    from sdn3d.editing.photo.settings import PhotoSettings
+
+    photo = OmegaConf.to_container(_compose([], name).photo)
+    assert PhotoSettings.from_mapping(photo) == PhotoSettings()
+    if name != "bench":  # the benchmark's own fill aside, every field is listed
+        assert set(photo) >= {f.name for f in dataclasses.fields(PhotoSettings)} - {"mask_erode_px", "inpaint_radius",
+                                                                                   "max_level"}

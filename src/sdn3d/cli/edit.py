@@ -60,6 +60,7 @@ Exit status: 0 done; 2 bad input (message on stderr names the op or the setting;
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import json
 import sys
 import time
@@ -114,31 +115,109 @@ def _find_record(records: list, frame: Any, entry: Any) -> Any:
 
 
 def _given_camera(cfg: Any, width: int, height: int) -> Any:
-    """The camera the user gave for an image file: ``input.intrinsics`` (fx, fy, cx, cy in its pixels) or
-    ``input.camera`` (a Cityscapes ``camera.json``), else None."""
+    """The camera the user gave for an image file: ``input.intrinsics`` (fx, fy, cx, cy in its pixels; optional
+    ``camera_height`` and ``pitch``) or ``input.camera`` (a Cityscapes ``camera.json``), else None.
+
+    A pitched camera is returned as its level virtual camera (:meth:`~sdn3d.math3d.camera.CameraPose.
+    level_intrinsics`: the pitch folded into ``cy``), the frame the box fit's road plane ``y = camera_height``
+    lives in; :func:`_given_pose` is the pose."""
     from sdn3d.math3d.camera import Intrinsics
 
     given, camera = cfg.input.get("intrinsics"), cfg.input.get("camera")
     if given is not None and camera is not None:
         raise InputError("give input.intrinsics or input.camera, not both")
+    pose = _given_pose(cfg)
     if given is not None:
         try:
-            values = dict(given)
+            values = {k: v for k, v in dict(given).items() if k not in _POSE_KEYS}
             values.setdefault("width", width)
             values.setdefault("height", height)
-            return Intrinsics(**values)
+            intr = Intrinsics(**values)
         except (TypeError, ValueError) as exc:
             raise InputError(f"input.intrinsics: {exc} (give fx, fy, cx, cy in the image's pixels)") from exc
+        return pose["pose"].level_intrinsics(intr) if pose else intr
     if camera is not None:
         from sdn3d.data.cityscapes import read_camera
         from sdn3d.errors import UserInputError
 
         try:
             intrinsic, _ = read_camera(Path(str(camera)).expanduser())
-            return Intrinsics(intrinsic["fx"], intrinsic["fy"], intrinsic["u0"], intrinsic["v0"], width, height)
+            intr = Intrinsics(intrinsic["fx"], intrinsic["fy"], intrinsic["u0"], intrinsic["v0"], width, height)
         except (UserInputError, ValueError) as exc:
             raise InputError(f"input.camera: {exc}") from exc
+        return pose["pose"].level_intrinsics(intr)
     return None
+
+
+#: Keys of ``input.intrinsics`` that describe the camera's pose, not its calibration (:func:`_given_pose`).
+_POSE_KEYS = ("camera_height", "pitch")
+
+
+def _given_pose(cfg: Any) -> dict | None:
+    """How the camera of an image file sits over the road, where the user said: ``{"pose": CameraPose, "height":
+    metres or None (not given: box_objects.fit.camera_height stays), "source": setting}`` from ``input.camera``
+    (its extrinsic ``z``, ``pitch``, ``roll``) or ``input.intrinsics``' optional ``camera_height`` and ``pitch``;
+    None for a dataset frame or when neither says.
+
+    Raises:
+        InputError: naming the setting (an unreadable camera file, a height or angle out of range).
+    """
+    from sdn3d.math3d.camera import DEFAULT_CAMERA_HEIGHT, CameraPose
+
+    node = cfg.get("input") or {}
+    if node.get("image") is None:
+        return None
+    given, camera = node.get("intrinsics"), node.get("camera")
+    if camera is not None and given is None:
+        from sdn3d.data.cityscapes import camera_pose, read_camera
+        from sdn3d.errors import UserInputError
+
+        try:
+            _, extrinsic = read_camera(Path(str(camera)).expanduser())
+            pose = camera_pose(extrinsic)
+        except (UserInputError, ValueError) as exc:
+            raise InputError(f"input.camera: {exc}") from exc
+        return {"pose": pose, "height": pose.height, "source": "input.camera"}
+    if given is None or not any(k in dict(given) for k in _POSE_KEYS):
+        return None
+    values = dict(given)
+    height = values.get("camera_height")
+    try:
+        pose = CameraPose(height=DEFAULT_CAMERA_HEIGHT if height is None else height, pitch=values.get("pitch", 0.0))
+    except ValueError as exc:
+        raise InputError(f"input.intrinsics: {str(exc).replace('CameraPose.height', 'camera_height')} "
+                         "(camera_height: metres above the road; pitch: radians, positive looking down)") from exc
+    return {"pose": pose, "height": None if height is None else pose.height, "source": "input.intrinsics"}
+
+
+def box_fit_for_input(cfg: Any, checkpoints: dict[str, dict | None]) -> Any:
+    """The box fit's :class:`~sdn3d.geometric.fit.FitSettings` for this input: ``box_objects.fit.*``, with the road
+    plane the given camera says (an image file's ``input.camera`` height, or ``input.intrinsics``' ``camera_height``)
+    winning over ``box_objects.fit.camera_height``."""
+    from sdn3d.editing.settings import box_settings
+
+    fit = box_settings(cfg, checkpoints)[0]
+    pose = _given_pose(cfg)
+    return fit if pose is None or pose["height"] is None else dataclasses.replace(fit, camera_height=pose["height"])
+
+
+def camera_record(cfg: Any) -> dict:
+    """``edit.json`` ``camera``: the road plane the box fit used (``camera_height``, metres) and the given camera's
+    ``pitch`` (folded into the principal point) and ``roll`` (radians; not corrected, ``roll_ignored`` above
+    :data:`~sdn3d.math3d.camera.ROLL_TOLERANCE`), and where they came from."""
+    pose = _given_pose(cfg)
+    fit = dict((cfg.get("box_objects") or {}).get("fit") or {})
+    height_from = "box_objects.fit.camera_height" if "camera_height" in fit else "FitSettings default"
+    from sdn3d.math3d.camera import DEFAULT_CAMERA_HEIGHT
+
+    height = float(fit.get("camera_height", DEFAULT_CAMERA_HEIGHT))
+    if pose is None:
+        return {"camera_height": height, "camera_height_from": height_from, "pitch": 0.0, "roll": 0.0,
+                "pose_from": None}
+    if pose["height"] is not None:
+        height, height_from = pose["height"], pose["source"]
+    return {"camera_height": height, "camera_height_from": height_from, "pitch": pose["pose"].pitch,
+            "roll": pose["pose"].roll, "roll_ignored": pose["pose"].roll_ignored, "pose_from": pose["source"]}
 
 
 def _read_input_image(cfg: Any, size: tuple[int, int] | None = None) -> np.ndarray:
@@ -256,7 +335,9 @@ def run_edit(cfg: Any) -> dict:
     checkpoints = resolve_checkpoints(cfg, record)
     with _stage("loading the models"):
         models, code_bank = load_models(cfg, checkpoints)
-    session = EditSession(models, code_bank, session_settings(cfg, checkpoints, compose, appearance, photo))
+    settings = dataclasses.replace(session_settings(cfg, checkpoints, compose, appearance, photo),
+                                   box_fit=box_fit_for_input(cfg, checkpoints))
+    session = EditSession(models, code_bank, settings)
     if spec is not None and spec.objects and cfg.proposals == "boxes":  # the ids are the boxes': known now
         _check_box_ids(spec, models, inp)
     boxes = f" ({len(spec.objects)} box{'es' if len(spec.objects) != 1 else ''})" if spec and spec.objects else ""
@@ -276,6 +357,7 @@ def run_edit(cfg: Any) -> dict:
     summary["warnings"] = warnings + result.warnings
     summary["checkpoints"] = checkpoints
     summary["config"] = config_record(cfg)
+    summary["camera"] = camera_record(cfg)
     with _stage("writing the outputs"):
         _write_outputs(out, bool(cfg.overwrite), result, summary, bool(cfg.diagnostics), _output_rules(cfg))
     return summary
@@ -537,7 +619,7 @@ def _write_listing(cfg: Any, out: Path, inp: EditInput, scene: Any, checkpoints:
                "objects": {"source": [r["id"] for r in rows],
                            "with_geometry": [r["id"] for r in rows if r["template"] is not None]},
                "checkpoints": checkpoints, "timings_ms": times, "proposals": proposals_record(scene),
-               "config": config_record(cfg)}
+               "config": config_record(cfg), "camera": camera_record(cfg)}
     if boxes:
         summary["boxes"] = list(boxes.values())
     with staged_directory(out, MARKER, bool(cfg.overwrite), owned=True, **_output_rules(cfg)) as tmp:

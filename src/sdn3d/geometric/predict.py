@@ -30,7 +30,7 @@ __all__ = [
 
 
 # Constructor arguments of GeometricNet read from the module's hyper-parameters.
-_NET_ARGS = ("rotation", "hidden", "scale_prior")
+_NET_ARGS = ("rotation", "hidden", "scale_prior", "yaw_bins", "yaw_overlap")
 
 
 def net_kwargs_from_hparams(hparams: Mapping[str, Any]) -> dict[str, Any]:

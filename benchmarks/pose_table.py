@@ -133,7 +133,8 @@ def main(argv: list[str] | None = None) -> dict:
                                                                                    refine_masks=False))
             seconds[ROWS[1]] += time.perf_counter() - t0
             scenes[ROWS[1]] = (fitted, [b["id"] for b in fitted.meta["boxes"]])
-        world = record.key.split("/")[0] if "/" in record.key else record.key.split("_")[0]
+        parts = record.key.split("/")  # "<dataset>/<world>/<variation>/<frame>"
+        world = parts[1] if len(parts) > 2 else parts[0]
         for j, iid in enumerate(ids):
             t = truth.objects
             tr = row_of(truth, iid)

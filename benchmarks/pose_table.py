@@ -150,6 +150,8 @@ def main(argv: list[str] | None = None) -> dict:
                     dist = abs(math.log(float(o.center[r].norm()) / float(t.center[tr].norm())))
                     scale = float((o.dims[r] - t.dims[tr]).norm())
                 per_object[name].append({"world": world, "frame": record.key, "id": iid, "yaw_deg": yaw,
+                                         "pixels": int(t.mask[tr].sum()), "true_ry": round(float(t.ry[tr]), 4),
+                                         "true_xz": [round(float(t.center[tr][0]), 2), round(float(t.center[tr][2]), 2)],
                                          "template_ok": ok, "true_template": int(t.template_id[tr]), "dist": dist,
                                          "scale": scale})
         print(f"{record.key}: {len(ids)} objects, {time.perf_counter() - t_start:.0f} s", file=sys.stderr)

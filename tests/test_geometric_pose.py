@@ -78,9 +78,10 @@ def test_the_yaw_belief_of_a_yaw_and_its_flip_sum_to_one():
     yaws = torch.tensor([[0.3, 0.3 + math.pi], [1.0, 1.0 - math.pi], [-2.0, -2.0 + math.pi]])
     belief = yaw_distribution(raw, yaws)
     assert torch.allclose(belief.sum(1), torch.ones(3), atol=1e-5)
-    ry = decode_outputs(raw, BOX, INTR.expand(3, 4), AttributeEncoding("multibin"))["ry"]
-    # The net's own yaw is believed more than its flip.
-    own = yaw_distribution(raw, torch.stack([ry, ry + math.pi], 1))
+    decoded = decode_outputs(raw, BOX, INTR.expand(3, 4), AttributeEncoding("multibin"))
+    ry = decoded["ry"]
+    # The net's own yaw is believed more than its flip (the decoded outputs carry the bins for the fit).
+    own = yaw_distribution(decoded, torch.stack([ry, ry + math.pi], 1))
     assert bool((own[:, 0] > own[:, 1]).all())
 
 

@@ -81,6 +81,8 @@ def main(argv: list[str] | None = None) -> dict:
     p.add_argument("--threads", type=int, default=1)
     p.add_argument("--no-fit", action="store_true", help="the branch's row only")
     p.add_argument("--fit", nargs="*", default=[], metavar="KEY=VALUE", help="FitSettings fields to change")
+    p.add_argument("--no-lamps", action="store_true",
+                   help="the branch's yaw as the net gives it (GeometricPredictor.lamp_cue=None: no red-lamp cue)")
     p.add_argument("--out", default=None)
     args = p.parse_args(argv)
     torch.manual_seed(0)
@@ -88,6 +90,8 @@ def main(argv: list[str] | None = None) -> dict:
     crop = geometric_crop_settings(args.geometric)
     models = Models.from_checkpoints(geometric=args.geometric, **({"crop_size": crop[0], "margin": crop[1]}
                                                                    if crop else {}))
+    if args.no_lamps:
+        models.geometric.lamp_cue = None
     source = synth_data_source(args.data_root)
     records = ([r for part in ("train", "val", "test") for r in load_split(source, part)] if args.part == "all"
                else load_split(source, args.part))
@@ -151,7 +155,7 @@ def main(argv: list[str] | None = None) -> dict:
                     scale = float((o.dims[r] - t.dims[tr]).norm())
                 per_object[name].append({"world": world, "frame": record.key, "id": iid, "yaw_deg": yaw,
                                          "pixels": int(t.mask[tr].sum()), "true_ry": round(float(t.ry[tr]), 4),
-                                         "true_xz": [round(float(t.center[tr][0]), 2), round(float(t.center[tr][2]), 2)],
+                                         "true_xz": [round(float(t.center[tr][k]), 2) for k in (0, 2)],
                                          "template_ok": ok, "true_template": int(t.template_id[tr]), "dist": dist,
                                          "scale": scale})
         print(f"{record.key}: {len(ids)} objects, {time.perf_counter() - t_start:.0f} s", file=sys.stderr)
@@ -162,7 +166,7 @@ def main(argv: list[str] | None = None) -> dict:
         worlds = sorted({r["world"] for r in rows})
         table[name] = {"all": figures(rows), **{w: figures([r for r in rows if r["world"] == w]) for w in worlds}}
     result = {"geometric": str(Path(args.geometric).resolve()), "data_root": str(Path(args.data_root).resolve()),
-              "part": args.part, "frames": len(records), "min_pixels": args.min_pixels,
+              "part": args.part, "frames": len(records), "lamp_cue": not args.no_lamps, "min_pixels": args.min_pixels,
               "fit_settings": fit.to_dict(), "table": table,
               "seconds": {k: round(v, 1) for k, v in seconds.items()},
               "machine": f"{platform.machine()} cpu, {args.threads} threads, torch {torch.__version__}",

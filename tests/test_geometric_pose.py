@@ -135,3 +135,25 @@ def test_the_appearance_decides_between_a_fit_and_its_flip():
 
         result = fit_to_masks(masks, boxes, intr, start_ry=torch.tensor([0.3]), settings=settings, yaw_belief=belief)
         assert math.cos(float(result.ry[0]) - facing) > 0.5
+
+
+def test_red_tail_lights_turn_a_yaw_that_shows_the_front_end_for_end():
+    from sdn3d.geometric.lamps import LampCue, face_by_lamps, lamp_evidence
+
+    crop = torch.full((3, 3, 32, 32), 0.0)
+    mask = torch.zeros(3, 1, 32, 32)
+    mask[:, :, 8:24, 4:28] = 1.0
+    crop[:, :, 8:24, 4:28] = 0.6  # a grey body
+    crop[0, :, 16:18, 6:9] = torch.tensor([0.7, 0.2, 0.2])[:, None, None]  # tail lights at both sides: a back view
+    crop[0, :, 16:18, 23:26] = torch.tensor([0.7, 0.2, 0.2])[:, None, None]
+    crop[1, :, 16:18, 5:8] = torch.tensor([0.7, 0.2, 0.2])[:, None, None]  # on the left only: the back is left
+    crop[2, :, 8:24, 4:28] = torch.tensor([0.7, 0.2, 0.2])[:, None, None]  # a red car: no cue
+    ray = torch.zeros(3)
+    back, front = -math.pi / 2, math.pi / 2
+    evidence = lamp_evidence(crop, mask, torch.tensor([[back, front], [0.0, math.pi], [back, front]]))
+    assert evidence[0, 0] > 0.9 and evidence[0, 1] < -0.9  # seen from behind, not from the front
+    assert evidence[1, 0] > 0.5 > -0.5 > evidence[1, 1]  # alpha 0 points the front right: the back is left
+    assert evidence[2].abs().max() == 0
+    turned = face_by_lamps(torch.tensor([front, math.pi, front]), ray, crop, mask, LampCue())
+    assert math.cos(float(turned[0]) - back) > 0.99 and math.cos(float(turned[1])) > 0.99
+    assert float(turned[2]) == pytest.approx(front)  # no cue: as predicted

@@ -101,9 +101,9 @@ def main(argv: list[str] | None = None) -> dict:
     size = tuple(source.image_size)
 
     def converted(v: str, default):
-        if default is None:
-            return None if v.lower() in ("none", "null") else float(v)
-        return type(default)(v)
+        if v.lower() in ("none", "null"):
+            return None
+        return float(v) if default is None else type(default)(v)
 
     fit = FitSettings(**{k: converted(v, getattr(FitSettings(), k)) for k, v in (a.split("=", 1) for a in args.fit)})
     per_object: dict[str, list[dict]] = {r: [] for r in ROWS}

@@ -157,3 +157,12 @@ def test_red_tail_lights_turn_a_yaw_that_shows_the_front_end_for_end():
     turned = face_by_lamps(torch.tensor([front, math.pi, front]), ray, crop, mask, LampCue())
     assert math.cos(float(turned[0]) - back) > 0.99 and math.cos(float(turned[1])) > 0.99
     assert float(turned[2]) == pytest.approx(front)  # no cue: as predicted
+
+
+def test_red_noise_is_no_lamp_cue():
+    from sdn3d.geometric.lamps import LampCue, red_lamps
+
+    gen = torch.Generator().manual_seed(0)
+    crop, mask = torch.rand(50, 3, 32, 32, generator=gen), (torch.rand(50, 1, 32, 32, generator=gen) > 0.3).float()
+    present, usable, _ = red_lamps(crop, mask, LampCue(min_mask=0))
+    assert bool(present.all()) and not bool(usable.any())  # red pixels everywhere, in no band: no cue

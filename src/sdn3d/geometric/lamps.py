@@ -6,7 +6,9 @@ red lamp pixels of the masked object crop say which end the camera sees:
 
 - ``red`` pixels: ``r > red_min``, ``r > ratio * g`` and ``r > ratio * b`` (saturated red), inside the mask;
 - usable when there are at least ``min_pixels`` of them and at most ``max_share`` of the mask (a red car's body
-  is red all over: no cue), and the object's crop is at least ``min_mask`` mask pixels (small cars: no lamps seen);
+  is red all over: no cue), they lie in one band (the standard deviation of their rows at most ``max_row_spread``
+  of the mask's height: lamps sit at one height, a red texture or noise does not), and the object's crop has at
+  least ``min_mask`` mask pixels (small cars: no lamps seen);
 - for a local orientation (observation angle) ``alpha = ry - ray`` the back end faces the camera where
   ``sin(alpha) < 0`` (``alpha = -pi/2``: seen from behind) and lies towards ``-cos(alpha)`` across the image
   (``alpha = 0``: the front points right, the back is left). The evidence for ``alpha`` is
@@ -37,6 +39,7 @@ class LampCue:
     ratio: float = 2.0
     min_pixels: int = 3
     max_share: float = 0.12
+    max_row_spread: float = 0.12
     min_mask: int = 150
     absent_weight: float = 0.3
     flip_below: float = -0.3
@@ -59,9 +62,16 @@ def red_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple[T
     mean_col = (m * cols).flatten(1).sum(1) / n_mask.clamp_min(1)
     red_col = (red * cols).flatten(1).sum(1) / n_red.clamp_min(1)
     offset = torch.where(n_red > 0, (red_col - mean_col) / width, torch.zeros_like(width))
+    rows = torch.arange(crop.shape[-2], dtype=crop.dtype, device=crop.device)[:, None]
+    red_row = (red * rows).flatten(1).sum(1) / n_red.clamp_min(1)
+    spread = ((red * (rows - red_row[:, None, None]) ** 2).flatten(1).sum(1) / n_red.clamp_min(1)).sqrt()
+    mask_rows = m.any(2)  # (N, S)
+    top = torch.where(mask_rows, rows[:, 0], torch.full_like(rows[:, 0], math.inf)).amin(1)
+    bottom = torch.where(mask_rows, rows[:, 0], torch.full_like(rows[:, 0], -math.inf)).amax(1)
+    height = (bottom - top + 1).clamp_min(1)
     big = n_mask >= cue.min_mask
     present = n_red >= cue.min_pixels
-    usable = big & (n_red <= cue.max_share * n_mask)
+    usable = big & (n_red <= cue.max_share * n_mask) & (spread <= cue.max_row_spread * height)
     return present, usable, offset
 
 

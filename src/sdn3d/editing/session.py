@@ -483,6 +483,8 @@ def fit_warnings(box_records: list[dict], poor_iou: float | None) -> list[str]:
         if record["fit_iou"] is None:
             out.append(f"box object {record['id']} (box {record['input_box']}): {record['why']}; it can be deleted "
                        "or recoloured but not moved, turned or zoomed")
+        elif record.get("fit_note"):  # the mask was too small or thin to fit: the branch's prediction was kept
+            out.append(f"box object {record['id']} (box {record['input_box']}): {record['fit_note']}")
         elif record["poor_fit"]:
             out.append(f"box object {record['id']} (box {record['input_box']}): its fitted 3D shape matches its mask "
                        f"poorly (silhouette IoU {record['fit_iou']:.2f} < {poor_iou}); a moved "

@@ -25,6 +25,8 @@ class GeometricDataModule(BranchDataModule):
         min_pixels, max_occlusion, max_truncation: the paper's filter thresholds.
         rotation, distance: target parameterisation (:class:`AttributeEncoding`; ablations).
         cache_items: keep decoded items in memory (:class:`GeometricDataset`).
+        mirror: the training part also serves every object mirrored left to right (:class:`GeometricDataset`; twice
+            the objects, issue 40); validation and test never.
     """
 
     sample_name = "objects passing the object filter (datamodule.min_pixels, max_occlusion, max_truncation)"
@@ -45,6 +47,7 @@ class GeometricDataModule(BranchDataModule):
         rotation: str = "yaw_quaternion",
         distance: str = "log_tau",
         cache_items: bool = False,
+        mirror: bool = False,
         corrupt_sample: str = "fail",
         max_skipped_fraction: float = 0.1,
     ) -> None:
@@ -55,8 +58,9 @@ class GeometricDataModule(BranchDataModule):
         self.object_filter = ObjectFilter(int(min_pixels), float(max_occlusion), float(max_truncation))
         self.encoding = AttributeEncoding(rotation, distance)
         self.cache_items = bool(cache_items)
+        self.mirror = bool(mirror)
 
     def make_dataset(self, part: str, skip: SkipLog | None = None) -> GeometricDataset:
         return GeometricDataset.from_source(self.source, part, skip, crop_size=self.crop_size, margin=self.margin,
                                             object_filter=self.object_filter, encoding=self.encoding,
-                                            cache_items=self.cache_items)
+                                            cache_items=self.cache_items, mirror=self.mirror and part == "train")

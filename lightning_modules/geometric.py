@@ -92,7 +92,10 @@ class GeometricModule(BranchModule):
 
     Args:
         pretrained: optional local ImageNet ResNet-18 weights (torchvision names); None: random init.
-        rotation, distance: target parameterisation (``${ablation.rotation}``, ``${ablation.distance}``).
+        rotation, distance: target parameterisation (``${ablation.rotation}``, ``${ablation.distance}``); rotation
+            ``'multibin'``: MultiBin over the local orientation (issue 40), the paper's ``'yaw_quaternion'`` the
+            Table-2 rows.
+        yaw_bins, yaw_overlap: the MultiBin head's bins and overlap (``rotation='multibin'`` only).
         single_cad: one template (``single_template``) and no FFD (ablation).
         reproj: use L_reproj + REINFORCE in stage 2 (ablation ``no_reproj``: False).
         pred_epochs, joint_epochs: stage lengths (paper: 256 + 64; released code and defaults: 256 + 256).
@@ -148,6 +151,8 @@ class GeometricModule(BranchModule):
         sigma: float = 0.25,
         hidden: int = 256,
         scale_prior: Sequence[float] = (4.0, 1.6, 1.8),
+        yaw_bins: int = 4,
+        yaw_overlap: float = 0.1,
         image_size: Sequence[int] | None = None,
         log_images: int = 8,
         nonfinite: str = "stop",
@@ -268,7 +273,7 @@ class GeometricModule(BranchModule):
             # decode_outputs rejects non-finite values: the guard applies the NaN policy (stop / skip).
             self.guard_loss(raw["log_scale"].sum() * float("nan"))
             return None
-        terms = prediction_losses(raw, batch["targets"], self.encoding.rotation, hp.regression)
+        terms = prediction_losses(raw, batch["targets"], self.encoding.rotation, hp.regression, self.net.yaw_overlap)
         loss_pred = prediction_loss(terms)
         loss = loss_pred
         joint = self.stage() == "joint"
@@ -343,7 +348,8 @@ class GeometricModule(BranchModule):
         from them; a baseline's dict without them is not refined); logs ``<stage>/loss_pred``.
         """
         raw = self.net(batch["crop"], batch["box"], batch["intrinsics"])
-        terms = prediction_losses(raw, batch["targets"], self.encoding.rotation, self.hparams.regression)
+        terms = prediction_losses(raw, batch["targets"], self.encoding.rotation, self.hparams.regression,
+                                  self.net.yaw_overlap)
         self.log(f"{stage}/loss_pred", prediction_loss(terms), on_step=False, on_epoch=True,
                  batch_size=batch["crop"].shape[0], sync_dist=True)
         pred = decode_outputs(raw, batch["box"], batch["intrinsics"], self.encoding, self.net.templates)

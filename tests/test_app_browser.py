@@ -185,3 +185,64 @@ def test_a_click_on_a_car_adds_the_box_it_implies(page, real_vkitti_frame, tmp_p
     assert inter / union > 0.8, box
     assert [o["geometry"] for o in browser.objects().values()] == [True] and browser.errors() == []
     browser.screenshot(tmp_path / "clicked.png")
+
+
+def test_the_page_edits_a_copy_refuses_empty_road_and_speaks_its_own_words(page, real_vkitti_frame, tmp_path):
+    """Issue 42: before an image is open undo and redo are disabled; the upload is named by its own name; a copy made
+    by Duplicate is turned like any car (and stands clear of its original); the dashed clicked box goes with the next
+    change; Alt+click on empty road is refused with the reason, adds nothing, and 'Add anyway' adds it; opening the
+    camera fields does not wrap the toolbar."""
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.common.keys import Keys
+
+    browser, base, _ = page
+    browser.driver.get(base + "/")  # a fresh page: nothing open
+    browser.canvas = browser.driver.find_element(browser.by.ID, "view")
+    assert browser.js("return ['undo', 'redo', 'reset'].map(i => document.getElementById(i).disabled)") == [True] * 3
+    header = browser.js("return document.querySelector('header').getBoundingClientRect().height")
+    browser.driver.find_element(browser.by.CSS_SELECTOR, "#camera-box summary").click()
+    assert browser.js("return document.querySelector('header').getBoundingClientRect().height") == header
+    browser.driver.find_element(browser.by.CSS_SELECTOR, "#camera-box summary").click()
+    browser.upload(real_vkitti_frame)
+    assert browser.view()["input"]["name"] == real_vkitti_frame.name
+
+    def alt_click(u, v):
+        x, y = browser._offset(u, v)
+        ActionChains(browser.driver, duration=50).key_down(Keys.ALT).move_to_element_with_offset(browser.canvas, x, y) \
+            .click().key_up(Keys.ALT).perform()
+        time.sleep(0.2)
+        browser.wait_idle()
+
+    alt_click(565, 280)  # the red car
+    assert list(browser.objects()) == [12001] and browser.js("return window.sdn3dApp.implied") is not None
+    browser.click(565, 280)
+    browser.click_element("duplicate")
+    browser.wait_idle()
+    objects = browser.objects()
+    assert list(objects) == [12001, 12002] and browser.errors() == []
+    assert browser.js("return window.sdn3dApp.implied") is None  # the dashed box went with the change
+    a, b = objects[12001], objects[12002]
+    assert math.dist((a["center"][0], a["center"][2]), (b["center"][0], b["center"][2])) > a["dims"][0]  # clear
+    browser.click(*b["centre"])
+    browser.driver.find_element(browser.by.CSS_SELECTOR, "[data-turn='15']").click()
+    browser.wait_idle()
+    assert browser.objects()[12002]["yaw_deg"] == pytest.approx(b["yaw_deg"] + 15, abs=0.2), browser.errors()
+    assert browser.state()["ops"][-1] == {"op": "rotate", "id": 12002, "ry_deg": 15}
+    before = browser.state()
+    alt_click(300, 340)  # empty road
+    error = browser.js("return document.getElementById('error-text').textContent")
+    assert error.startswith("no vehicle at (") and "GrabCut found no object under the click" in error
+    assert browser.state() == before and browser.js("return !document.getElementById('anyway').hidden")
+    browser.screenshot(tmp_path / "refused.png")
+    # (that road box, forced, would take the red car's pixels: GrabCut gives each pixel to the nearest box.) A box
+    # drawn in the sky: the edit is refused (nothing added), then added when the user says so.
+    browser.drag((560, 30), (680, 90), shift=True)
+    time.sleep(0.2)
+    browser.wait_idle()
+    error = browser.js("return document.getElementById('error-text').textContent")
+    assert error.startswith("objects[1] (box [") and "Car): no vehicle there: its bottom edge (row " in error
+    assert "is above the horizon (row 187)" in error and "give it force: true" in error and browser.state() == before
+    browser.click_element("anyway")
+    time.sleep(0.2)
+    browser.wait_idle()
+    assert browser.state()["objects"][-1].get("force") is True and len(browser.objects()) == 3, browser.errors()

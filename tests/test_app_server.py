@@ -114,7 +114,10 @@ def test_only_png_and_jpeg_are_accepted(server, real_vkitti_frame):
     assert _open(base, jpeg.getvalue())[0] == 201
     # the camera rules of sdn3d-edit: another aspect ratio needs intrinsics, and then is accepted
     odd = _png(np.zeros((100, 100, 3), np.uint8))
-    _error(*_open(base, odd), 422, "camera is unknown", "input.intrinsics")
+    # in the page's own words (issue 42): its camera fields, not sdn3d-edit's input.intrinsics=...
+    status, answer = _open(base, odd)
+    _error(status, answer, 422, "camera is unknown", "open 'camera' in the toolbar", "pixels of this 100x100 image")
+    assert "input.intrinsics" not in answer["error"] and "input.camera" not in answer["error"]
     assert _open(base, odd, "?fx=100&fy=100&cx=49.5&cy=49.5")[0] == 201
 
 
@@ -303,7 +306,7 @@ def test_a_click_on_a_car_implies_its_box_which_the_page_adds(server, real_vkitt
     base, _, _ = server
     sid = _open(base, real_vkitti_frame.read_bytes())[1]["sid"]
     status, answer = json_request(base, "POST", f"/api/s/{sid}/box_at", {"u": 600, "v": 280})
-    assert status == 200 and set(answer) == {"box"}
+    assert status == 200 and set(answer) == {"box", "refused"} and answer["refused"] is None
     box, drawn = answer["box"], BOXES[0]["box"]
     inter = (max(0, min(box[2], drawn[2]) - max(box[0], drawn[0]))
              * max(0, min(box[3], drawn[3]) - max(box[1], drawn[1])))
@@ -316,6 +319,39 @@ def test_a_click_on_a_car_implies_its_box_which_the_page_adds(server, real_vkitt
     status, view = json_request(base, "POST", f"/api/s/{sid}/edit", {"objects": [{"box": box, "class": "Car"}],
                                                                        "ops": []})
     assert status == 200 and [o["id"] for o in view["objects"]] == [12001]
+
+
+def test_a_click_or_box_where_no_vehicle_is_is_refused_unless_forced(server, real_vkitti_frame):
+    """Issue 42: Alt+click on empty road (it implied an 888x175 'Car') or on the sky (a 7x6 px one), and a box whose
+    fit finds no car, are refused with the reason; nothing is added; force: true adds it all the same."""
+    base, _, _ = server
+    sid = _open(base, real_vkitti_frame.read_bytes())[1]["sid"]
+    for u, v, why in ((300, 340, "GrabCut found no object under the click"),
+                      (600, 50, "its bottom edge (row 54) is above the horizon (row 187)")):
+        status, answer = json_request(base, "POST", f"/api/s/{sid}/box_at", {"u": u, "v": v})
+        assert status == 200 and answer["refused"].startswith(f"no vehicle at ({u}, {v}): ") and why in \
+            answer["refused"], answer
+    sky = [590, 40, 640, 60]  # a box in the sky: its bottom is above the horizon
+    status, answer = json_request(base, "POST", f"/api/s/{sid}/edit", {"objects": [{"box": sky, "class": "Car"}],
+                                                                         "ops": []})
+    assert status == 422 and answer["refused_objects"] == [0], answer
+    assert "objects[0] (box [590.0, 40.0, 640.0, 60.0], Car): no vehicle there: its bottom edge (row 60) is above " \
+           "the horizon" in answer["error"] and "give it force: true" in answer["error"]
+    status, view = json_request(base, "GET", f"/api/s/{sid}")
+    assert view["objects"] == [] and view["state"] == {"objects": [], "ops": []}  # nothing added
+    status, view = json_request(base, "POST", f"/api/s/{sid}/edit",
+                                {"objects": [{"box": sky, "class": "Car", "force": True}], "ops": []})
+    assert status == 200 and [o["id"] for o in view["objects"]] == [12001] and "force: true" in view["spec"]
+
+
+def test_the_page_names_an_upload_by_its_own_name_and_says_where_the_labels_come_from(server, real_vkitti_frame):
+    """Issue 42: the uploaded file's own name (shown only: the upload is stored as input.png); a labels overlay from
+    a semantic branch of unknown quality (these tests' random weights: no summary.json) says so."""
+    base, _, _ = server
+    status, view = _open(base, real_vkitti_frame.read_bytes(), "?name=" + "..%2Fmy%20street%0A.png")
+    assert status == 201 and view["input"]["name"] == "my street.png" and view["input"]["file"] == "input.png"
+    assert view["labels_note"].startswith("labels: from a semantic branch whose validation quality is not recorded")
+    assert _open(base, real_vkitti_frame.read_bytes())[1]["input"]["name"] == "input.png"  # no name given
 
 
 def test_an_empty_state_lists_no_objects_of_the_state_before(server, real_vkitti_frame):

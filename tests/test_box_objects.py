@@ -201,6 +201,8 @@ def test_derender_adds_box_objects_and_records_where_they_came_from(ckpts):
         shown = record.to_json()  # as scene.json and edit.json say it
         assert shown["mask"] == "grabcut, then again seeded by its fitted 3D shape"
         assert shown["pose"].startswith("fitted to the mask") and shown["fit_iou"] == round(record.iou, 4)
+        # the hypothesis that won is on the record (issue 40): the prediction, its flip or a search start
+        assert record.hypothesis is not None and shown["hypothesis"] == record.hypothesis and record.fit_note is None
         # read back from a scene file: the rounded figures (the pixels at the fit are only kept where there was none)
         assert BoxFit.from_json(shown, scene.meta["min_pixels"]) == dataclasses.replace(
             record, box=tuple(round(v, 2) for v in record.box), iou=shown["fit_iou"], fit_pixels=record.mask_pixels)
@@ -379,3 +381,17 @@ def test_the_fit_pulls_the_size_towards_the_drawn_templates_typical_size():
                                [bank.faces[i, :int(bank.num_faces[i])].numpy() for i in (0, 7)], ["sedan", "bus"])
     fitted = fit_to_masks(masks, mask_boxes(masks).float(), WORK, bank=two, start_ry=torch.tensor([-math.pi / 2]))
     assert int(fitted.template[0]) == 0 and float(fitted.iou[0]) > 0.8
+
+
+def test_a_box_whose_mask_was_too_thin_to_fit_says_so_by_its_id():
+    """issue 40: a mask too small or thin keeps the branch's prediction; the warning names the object, not an index."""
+    from sdn3d.editing.session import fit_warnings
+
+    fit = BoxFit(12003, (1.0, 2.0, 30.0, 4.0), MaskSource.GRABCUT, False, 70, None, 0.0, True, 70, 64,
+                 "not fitted (prediction kept)", "its mask is 2 px thin (< 3): not fitted, the geometric branch's "
+                 "prediction kept")
+    record = {**fit.to_json(), "input_box": [2.0, 4.0, 60.0, 8.0]}
+    assert record["hypothesis"] == "not fitted (prediction kept)"
+    assert BoxFit.from_json(record, 64) == fit
+    (line,) = fit_warnings([record], 0.7)
+    assert line.startswith("box object 12003 (box [2.0, 4.0, 60.0, 8.0]): its mask is 2 px thin")

@@ -277,3 +277,16 @@ def test_demo_config_is_typed_by_its_schema_and_its_modes_parse_into_enums():
         edit_modes(compose_config(["edits.proposals=boxes"], "demo"))
     with pytest.raises(UserInputError, match="edits.appearance must be one of"):
         edit_modes(compose_config(["edits.appearance=paint"], "demo"))
+
+
+@pytest.mark.parametrize("name", ["edit", "bench", "app"])
+def test_the_photo_settings_of_a_config_are_the_librarys_defaults(name):
+    """conf's ``photo:`` sections list every photo setting with the library's default (a user reads the YAML to learn
+    what the library does; a setting added to PhotoSettings but not to the YAML cannot be given on the command line)."""
+    from sdn3d.editing.photo.settings import PhotoSettings
+
+    photo = OmegaConf.to_container(_compose([], name).photo)
+    assert PhotoSettings.from_mapping(photo) == PhotoSettings()
+    if name != "bench":  # the benchmark's own fill aside, every field is listed
+        assert set(photo) >= {f.name for f in dataclasses.fields(PhotoSettings)} - {"mask_erode_px", "inpaint_radius",
+                                                                                   "max_level"}

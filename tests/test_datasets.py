@@ -277,3 +277,35 @@ def test_vkitti2_and_cityscapes(tmp_path):
     assert not bool(tex["has_geometry"]) and tex["pose"].abs().sum() == 0
     assert tex["label"].max() <= IGNORE_INDEX and math.isfinite(float(tex["depth"].sum()))
     assert len(VKITTI_CLASSES) == 14
+
+
+def test_geometric_mirror_serves_each_object_reflected_with_consistent_targets(geo):
+    """Issue 40: ``mirror=True`` doubles the objects; item ``n + i`` is item ``i`` reflected about the principal point's
+    column: the crop and masks flipped, ``x -> -x``, ``ry -> pi - ry``, the box mirrored, and targets that decode to
+    the reflected pose."""
+    ds, _ = geo
+    mirrored = GeometricDataset(ds.records, WORK, mirror=True)
+    n = len(ds)
+    assert len(mirrored) == 2 * n
+    for i in range(n):
+        a, b = mirrored[i], mirrored[n + i]
+        assert b["key"] == a["key"] + "/mirrored"
+        torch.testing.assert_close(b["crop"], a["crop"].flip(-1))
+        torch.testing.assert_close(b["mask"], a["mask"].flip(-1))
+        cx = float(a["intrinsics"][2])
+        torch.testing.assert_close(b["box"], torch.stack([2 * cx - a["box"][2], a["box"][1], 2 * cx - a["box"][0],
+                                                          a["box"][3]]))
+        torch.testing.assert_close(b["center"], a["center"] * torch.tensor([-1.0, 1.0, 1.0]))
+        assert math.cos(float(b["ry"]) - (math.pi - float(a["ry"]))) == pytest.approx(1.0, abs=1e-6)
+        dims, ry, center = AttributeEncoding().decode({k: v[None] for k, v in b["targets"].items()}, b["box"][None],
+                                                      _k(b["intrinsics"])[None])
+        torch.testing.assert_close(center[0], b["center"], rtol=1e-4, atol=1e-4)
+        torch.testing.assert_close(ry[0], wrap_angle(b["ry"]), rtol=0, atol=1e-5)
+        # The crop camera is reflected too: the centre projects to the mirrored crop column.
+        fx, fy, ccx, ccy = b["crop_intrinsics"].tolist()
+        u_b = fx * float(b["center"][0]) / float(b["center"][2]) + ccx
+        fx, fy, ccx, ccy = a["crop_intrinsics"].tolist()
+        u_a = fx * float(a["center"][0]) / float(a["center"][2]) + ccx
+        assert u_b == pytest.approx(a["crop"].shape[-1] - 1 - u_a, abs=1e-3)
+    with pytest.raises(IndexError):
+        mirrored[2 * n]

@@ -93,8 +93,11 @@ def test_cityscapes_camera_json_runs_and_is_recorded(ckpts, picture, tmp_path):
     camera = _camera_json(tmp_path / "aachen_000000_000019_camera.json", CAMERA)
     assert main(_args(ckpts, picture, out, f"input.camera={camera}")) == 0
     summary = json.loads((out / "edit.json").read_text())
-    want = _expected(Intrinsics(CAMERA["fx"], CAMERA["fy"], CAMERA["u0"], CAMERA["v0"], 256, 128))
-    assert summary["intrinsics"] == pytest.approx(want.to_dict())
+    # The camera looks 0.04 rad down: its level virtual camera has the pitch folded into cy (issue 40).
+    level = Intrinsics(CAMERA["fx"], CAMERA["fy"], CAMERA["u0"], CAMERA["v0"] - CAMERA["fy"] * math.tan(0.04), 256, 128)
+    assert summary["intrinsics"] == pytest.approx(_expected(level).to_dict())
+    assert summary["camera"] == {"camera_height": 1.2, "camera_height_from": "input.camera", "pitch": 0.04,
+                                 "roll": 0.0, "roll_ignored": False, "pose_from": "input.camera"}
 
 
 def test_a_virtual_kitti_shaped_image_needs_no_camera(ckpts, tiny_synth, tmp_path):
@@ -325,3 +328,52 @@ def test_dataset_ground_truth_proposals_give_no_warning(tiny_synth, ckpts, tmp_p
                  f"output_dir={out}"]) == 0
     assert "warning" not in capsys.readouterr().err
     assert json.loads((out / "edit.json").read_text())["warnings"] == []
+
+
+def _cfg(tmp_path, **input_node):
+    from omegaconf import OmegaConf
+
+    node = {"image": str(tmp_path / "street.png"), "intrinsics": None, "camera": None, "frame": None, **input_node}
+    return OmegaConf.create({"input": node, "box_objects": {"prior": False, "fit": {"camera_height": 1.65}}})
+
+
+def test_the_given_camera_sets_the_road_plane_of_the_box_fit(tmp_path):
+    """issue 40: a camera.json's height and pitch (and input.intrinsics' optional camera_height and pitch) reach
+    the box fit: the height as FitSettings.camera_height, the pitch folded into cy (the level virtual camera)."""
+    from sdn3d.cli.edit import _given_camera, box_fit_for_input, camera_record
+
+    camera = _camera_json(tmp_path / "c.json", CAMERA)
+    cfg = _cfg(tmp_path, camera=str(camera))
+    intr = _given_camera(cfg, 256, 128)
+    assert intr.cy == pytest.approx(60.0 - 310.0 * math.tan(0.04)) and intr.fx == 300.0 and intr.cx == 130.0
+    assert box_fit_for_input(cfg, {}).camera_height == pytest.approx(1.2)
+    # input.intrinsics with a pose: the same; without: as before (1.65 m, cy as given).
+    cfg = _cfg(tmp_path, intrinsics={"fx": 300, "fy": 310, "cx": 130, "cy": 60, "camera_height": 1.3, "pitch": -0.02})
+    assert _given_camera(cfg, 256, 128).cy == pytest.approx(60.0 + 310.0 * math.tan(0.02))
+    assert box_fit_for_input(cfg, {}).camera_height == pytest.approx(1.3)
+    record = camera_record(cfg)
+    assert record["camera_height"] == 1.3 and record["pitch"] == -0.02 and record["pose_from"] == "input.intrinsics"
+    cfg = _cfg(tmp_path, intrinsics={"fx": 300, "fy": 310, "cx": 130, "cy": 60, "pitch": 0.03})
+    assert box_fit_for_input(cfg, {}).camera_height == 1.65  # no height given: box_objects.fit.camera_height
+    assert camera_record(cfg)["camera_height_from"] == "box_objects.fit.camera_height"
+    cfg = _cfg(tmp_path, intrinsics={"fx": 300, "fy": 310, "cx": 130, "cy": 60})
+    assert _given_camera(cfg, 256, 128) == Intrinsics(300, 310, 130, 60, 256, 128)
+    assert box_fit_for_input(cfg, {}).camera_height == 1.65
+    assert camera_record(cfg) == {"camera_height": 1.65, "camera_height_from": "box_objects.fit.camera_height",
+                                  "pitch": 0.0, "roll": 0.0, "pose_from": None}
+    # A dataset frame: input.camera is not its camera.
+    cfg = _cfg(tmp_path, image=None, camera=str(camera), frame="0001/clone/00000")
+    assert box_fit_for_input(cfg, {}).camera_height == 1.65
+
+
+@pytest.mark.parametrize("given, words", [
+    ({"camera_height": 0}, "camera_height must be positive"),
+    ({"camera_height": "high"}, "camera_height must be a finite number"),
+    ({"pitch": 1.0}, "pitch must be within"),
+])
+def test_a_bad_camera_pose_is_refused_naming_the_setting(tmp_path, given, words):
+    from sdn3d.cli.edit import InputError, _given_camera
+
+    cfg = _cfg(tmp_path, intrinsics={"fx": 300, "fy": 310, "cx": 130, "cy": 60, **given})
+    with pytest.raises(InputError, match=f"input.intrinsics: .*{words}"):
+        _given_camera(cfg, 256, 128)

@@ -168,3 +168,44 @@ def test_alpha_bins_cover_uniformly() -> None:
     alpha = torch.linspace(-math.pi, math.pi, 24 * 100 + 1, dtype=torch.float64)[:-1] + 1e-6
     counts = torch.bincount(alpha_bins(alpha), minlength=NUM_POSE_BINS)
     assert counts.tolist() == [100] * NUM_POSE_BINS
+
+
+def test_camera_pose_tilt_matches_cityscapes_convention() -> None:
+    """issue 40: CameraPose.tilt is the level -> camera rotation of a camera.json's pitch and roll (Cityscapes'
+    ``Rz(yaw) Ry(pitch) Rx(roll)`` of ISO 8855 axes), whatever the yaw; a positive pitch looks down."""
+    import numpy as np
+
+    from sdn3d.data.cityscapes import camera_pose, camera_to_vehicle
+    from sdn3d.math3d.camera import CameraPose
+
+    for pitch, roll, yaw in ((0.05, 0.02, 0.3), (0.04, 0.0, 0.0), (0.0, -0.03, -0.1)):
+        ext = {"yaw": yaw, "pitch": pitch, "roll": roll, "x": 1.7, "y": 0.1, "z": 1.2, "baseline": 0.2}
+        level = camera_to_vehicle({**ext, "pitch": 0.0, "roll": 0.0})[:3, :3]
+        cam_to_level = level.T @ camera_to_vehicle(ext)[:3, :3]
+        pose = camera_pose(ext)
+        assert (pose.height, pose.pitch, pose.roll) == (1.2, pitch, roll)
+        assert np.allclose(pose.tilt(), cam_to_level.T, atol=1e-12)
+    # Looking down: a far point straight ahead on the level horizon is above the principal point, at the level
+    # virtual camera's cy.
+    pose = CameraPose(1.2, 0.045)
+    intr = Intrinsics(700.0, 710.0, 320.0, 180.0, 640, 360)
+    point = torch.tensor(pose.tilt() @ [0.0, 0.0, 500.0], dtype=torch.float64)
+    v = float(project_points(point[None], intr.matrix(torch.float64))[0, 1])
+    assert v < intr.cy and v == pytest.approx(pose.level_intrinsics(intr).cy, abs=1e-6)
+    # A road point ahead: the level virtual camera puts it where the pitched camera sees it, within 1.5 %
+    # of its distance to the horizon.
+    road = torch.tensor(pose.tilt() @ [0.0, 1.2, 6.0], dtype=torch.float64)
+    v_true = float(project_points(road[None], intr.matrix(torch.float64))[0, 1])
+    level = pose.level_intrinsics(intr)
+    v_level = level.cy + level.fy * 1.2 / 6.0
+    assert abs(v_level - v_true) < 0.015 * (v_true - level.cy)
+    assert CameraPose().level and CameraPose().level_intrinsics(intr) is intr and CameraPose().height == 1.65
+
+
+def test_camera_pose_rejects_bad_values() -> None:
+    from sdn3d.math3d.camera import CameraPose
+
+    for kwargs in ({"height": 0.0}, {"height": float("nan")}, {"pitch": 1.0}, {"roll": -0.8}, {"height": True}):
+        with pytest.raises(ValueError, match="CameraPose"):
+            CameraPose(**kwargs)
+    assert CameraPose(roll=0.02).roll_ignored and not CameraPose(roll=0.005).roll_ignored

@@ -166,7 +166,7 @@ def test_delete_fills_the_footprint_and_its_shadow_band_from_the_road():
     image = torch.where(covered[None], image, road)
     for fill in ("telea", "patchmatch"):
         result = render_photo(image, FRAME, scene, apply_edits(scene, [Delete(12001)]),
-                              settings=PhotoSettings(fill=fill))
+                              settings=PhotoSettings(fill=fill, delete_effects=False))  # the plain fill
         hole = result.source == FILL
         assert bool(hole[covered].all())  # the whole car is refilled
         below = hole & ~covered
@@ -284,6 +284,16 @@ def test_an_object_moved_out_of_the_picture_warns_and_does_not_crash():
     result = render_photo(image, FRAME, scene, gone, settings=NO_LIGHT)
     assert any("12001" in w and "outside the picture" in w for w in result.warnings)
     assert bool((result.source == FILL).any())  # its old place is still filled
+
+
+def test_an_object_moved_wholly_behind_another_is_said_to_be_hidden_not_outside():
+    scene = _scene([CAR, FAR_CAR])
+    image, _ = _surface_colors(scene, INPUT_SIZE[::-1], _k_input())
+    moved = scene.replace(objects=scene.objects.replace(location=scene.objects.location.clone()))
+    moved.objects.location[0] = torch.tensor([6.75, 1.6, 45.0])  # straight behind the other car, in the picture
+    result = render_photo(image, FRAME, scene, moved, settings=NO_LIGHT)
+    said = [w for w in result.warnings if "12001" in w and "nothing drawn" in w]
+    assert said and "hidden behind nearer objects" in said[0] and "outside" not in said[0]
 
 
 def test_a_hidden_object_is_drawn_from_its_body_colour_with_a_warning():

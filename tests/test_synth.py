@@ -370,6 +370,9 @@ def test_never_replaces_the_root() -> None:
         ({"variations": "clone"}, "variations must be a list"),
         ({"output_dir": None}, "output_dir must be a non-empty path"),
         ({"output_dir": ""}, "output_dir must be a non-empty path"),
+        ({"camera_height": -1.0}, "camera_height must be null or metres"),
+        ({"camera_pitch": 0.5}, r"camera_pitch must be radians in \[-0.3, 0.3\]"),
+        ({"camera_pitch": "down"}, "camera_pitch must be radians"),
     ],
 )
 def test_config_validation(tmp_path: Path, bad: dict, message: str) -> None:
@@ -653,3 +656,48 @@ def test_cli_reports_progress_on_stderr(tmp_path: Path) -> None:
     )
     assert proc.returncode == 0, proc.stderr
     assert "sdn3d-synth: 2/2 frames (100.0%)" in proc.stderr and "done in" in proc.stderr
+
+
+def test_a_pitched_camera_renders_the_road_where_its_camera_json_says(tmp_path: Path) -> None:
+    """issue 40: camera_height / camera_pitch render a camera looking down at that height; its camera.json (beside
+    the frames, as sdn3d-edit input.camera= reads it), extrinsicsgt, depth and motgt agree: the road seen through
+    the depth map lies ``height`` below the camera in its level frame, the cars' bottoms too."""
+    import json
+
+    from sdn3d.data import vkitti1
+    from sdn3d.data.cityscapes import camera_pose, camera_to_vehicle, read_camera
+    from sdn3d.data.records import load_depth
+    from sdn3d.labels import VKITTI_CLASSES
+
+    root = tmp_path / "pitched"
+    generate_dataset(_config(root, frames_per_sequence=2, edit_pairs=0, occluder_pairs=0, camera_height=1.2,
+                             camera_pitch=0.05, variations=("clone", "15-deg-left")))
+    manifest = json.loads((root / MANIFEST_NAME).read_text())
+    assert manifest["config"]["camera_height"] == 1.2 and manifest["config"]["camera_pitch"] == 0.05
+    records = vkitti1.read_frames(root)
+    for rec in records:
+        intrinsic, extrinsic = read_camera(root / "vkitti_1.3.1_rgb" / rec.world / rec.variation / "camera.json")
+        pose = camera_pose(extrinsic)
+        assert (pose.height, pose.pitch) == (1.2, 0.05)
+        intr = rec.intrinsics
+        assert (intrinsic["fx"], intrinsic["v0"]) == pytest.approx((intr.fx, intr.cy))
+        # The yaw variations turn the camera about the vertical: Cityscapes' yaw, positive turning left.
+        assert extrinsic["yaw"] == pytest.approx(math.radians(15) if rec.variation == "15-deg-left" else 0.0)
+        # extrinsicsgt: the world's vertical (y down) seen in the camera is the camera.json's vertical.
+        world_to_cam = np.asarray(rec.extrinsics, dtype=np.float64).reshape(4, 4)
+        down_cam = world_to_cam[:3, :3] @ [0.0, 1.0, 0.0]
+        down_json = camera_to_vehicle(extrinsic)[:3, :3].T @ [0.0, 0.0, -1.0]
+        assert down_cam == pytest.approx(down_json, abs=1e-6)
+        # The road in the depth map, in the level frame, is 1.2 m below the camera.
+        depth = load_depth(rec)
+        road = vkitti1.load_semantic(rec) == [c.name for c in VKITTI_CLASSES].index("Road")
+        tilt = pose.tilt()
+        rows, cols = np.nonzero(road & np.isfinite(depth) & (depth < 30))
+        assert len(rows) > 100
+        z = depth[rows, cols]
+        p_cam = np.stack([(cols - intr.cx) / intr.fx * z, (rows - intr.cy) / intr.fy * z, z], 1)
+        heights = (p_cam @ tilt)[:, 1]  # level-frame y
+        assert np.median(heights) == pytest.approx(1.2, abs=0.03)
+        # motgt: the bottom-face centres (pitched camera frame) are on the road in the level frame.
+        for obj in rec.objects:
+            assert float((tilt.T @ np.asarray(obj.location))[1]) == pytest.approx(1.2, abs=1e-4)

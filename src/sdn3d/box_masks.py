@@ -29,7 +29,8 @@ import numpy as np
 import torch
 from torch import Tensor
 
-__all__ = ["BoxMasks", "grabcut_masks", "refine_with_silhouettes", "nearest_first", "box_at_point", "CLICK_CAR"]
+__all__ = ["BoxMasks", "grabcut_masks", "refine_with_silhouettes", "nearest_first", "box_at_point", "CLICK_CAR",
+           "click_box", "no_vehicle", "CAR_SIZE", "MIN_FIT_IOU"]
 
 
 class BoxMasks(NamedTuple):
@@ -206,6 +207,14 @@ def box_at_point(image: Tensor | np.ndarray, point: tuple[float, float], fx: flo
     >>> box_at_point(img, (170.0, 85.0), 300.0, 300.0, 50.0).tolist()
     [140.0, 70.0, 200.0, 100.0]
     """
+    return click_box(image, point, fx, fy, cy, camera_height=camera_height, iterations=iterations)[0]
+
+
+def click_box(image: Tensor | np.ndarray, point: tuple[float, float], fx: float, fy: float, cy: float, *,
+              camera_height: float = 1.65, iterations: int = 4) -> tuple[Tensor, bool]:
+    """:func:`box_at_point`'s ``(box, found)``: ``found`` false where GrabCut kept under 20 pixels of the component
+    under the click (the box is then the road plane's guess of a car there, not something seen), or where that
+    component runs from one side of the search window to the other (the road or scenery: nothing stands out)."""
     import cv2
 
     pixels = _as_uint8(image)
@@ -234,10 +243,72 @@ def box_at_point(image: Tensor | np.ndarray, point: tuple[float, float], fx: flo
     mine = labels == labels[int(v) - y0, int(u) - x0]
     if labels[int(v) - y0, int(u) - x0] == 0 or mine.sum() < 20:
         return torch.tensor([max(0.0, u - 0.3 * span), max(0.0, top), min(float(width), u + 0.3 * span),
-                             min(float(height), bottom)], dtype=torch.float32)
+                             min(float(height), bottom)], dtype=torch.float32), False
     rows, cols = np.nonzero(mine)
+    # A component from one side of the window to the other (its sure-background border aside) is the road or the
+    # scenery around the click, not an object standing out of it.
+    spans = cols.min() <= border + 1 and cols.max() >= (x1 - x0) - border - 2
     return torch.tensor([x0 + cols.min(), y0 + rows.min(), x0 + cols.max() + 1, y0 + rows.max() + 1],
-                        dtype=torch.float32)
+                        dtype=torch.float32), not spans
+
+
+#: Metres a car's (or van's) picture spans, standing on the road: ``height`` its rows, ``width`` its columns (seen
+#: from behind: its width; from the side: its length; a truck's trailer is not a car). Generous on purpose: a box
+#: outside these is refused (:func:`no_vehicle`), not warned about.
+CAR_SIZE = {"height": (0.9, 3.5), "width": (1.0, 8.0)}
+#: The silhouette IoU of a box object's 3D fit under which no car-shaped object matches its mask (:func:`no_vehicle`).
+#: Real cars named by a box fit at 0.75-0.95 (``docs/EDITING.md``); a box on trees at 0.00.
+MIN_FIT_IOU = 0.25
+
+
+def no_vehicle(box: Tensor | tuple[float, float, float, float], fx: float, fy: float, cy: float,
+               image_size: tuple[int, int], *, camera_height: float = 1.65, found: bool = True,
+               fit_iou: float | None = None, fit_missing: str | None = None) -> str | None:
+    """Why no vehicle stands in ``box`` (half-open ``(x0, y0, x1, y1)`` pixels of an image of ``image_size (W, H)``
+    and the camera ``fx``, ``fy``, ``cy``), or None where nothing says so. Each witness is enough:
+
+    - GrabCut: ``found`` false (it kept nothing under a click), or ``fit_missing`` (its mask was too small to fit:
+      the reason, e.g. from the de-render's box record);
+    - the road plane: a car stands on the road (``camera_height`` below the camera: no roll or pitch), so the box's
+      bottom edge lies below the horizon (row ``cy``), and that row says how far away it stands, ``z = fy
+      camera_height / (y1 - cy)``, and so how many metres its columns and rows span; a car spans :data:`CAR_SIZE`
+      (a box whose bottom or sides touch the image's edge is cut off there: its size is not checked that way);
+    - the fit: ``fit_iou``, the silhouette IoU of the 3D car fitted to the mask, under :data:`MIN_FIT_IOU`.
+
+    >>> no_vehicle((10.0, 5.0, 17.0, 11.0), 725.0, 725.0, 187.0, (1242, 375))  # a 7x6 px box in the sky
+    'its bottom edge (row 11) is above the horizon (row 187): nothing standing on the road ends there'
+    >>> no_vehicle((170.0, 180.0, 1058.0, 355.0), 725.0, 725.0, 187.0, (1242, 375))  # 888x175 px on the road
+    'a car whose bottom is at row 355 stands 7.1 m away, where this box is 8.7 m wide (a car: 1-8 m)'
+    >>> no_vehicle((466.0, 203.0, 666.0, 333.0), 725.0, 725.0, 187.0, (1242, 375), fit_iou=0.85) is None
+    True
+    """
+    x0, y0, x1, y1 = (float(c) for c in box)
+    width, height = image_size
+    why = []
+    if not found:
+        why.append("GrabCut found no object under the click (nothing there stands out from its surroundings)")
+    if fit_missing:
+        why.append(f"GrabCut found too little in it ({fit_missing})")
+    if y1 <= cy + 0.5:
+        why.append(f"its bottom edge (row {y1:.0f}) is above the horizon (row {cy:.0f}): nothing standing on the road "
+                   "ends there")
+    elif y1 < height - 1:
+        z = fy * camera_height / (y1 - cy)
+        wide, tall = (x1 - x0) * z / fx, (y1 - y0) * z / fy
+        (lo_h, hi_h), (lo_w, hi_w) = CAR_SIZE["height"], CAR_SIZE["width"]
+        cut = x0 <= 0 or x1 >= width or y0 <= 0  # a side or the top cut off by the image's edge: only too big counts
+        sizes = []
+        if wide > hi_w or (wide < lo_w and not cut):
+            sizes.append(f"{wide:.1f} m wide (a car: {lo_w:g}-{hi_w:g} m)")
+        if tall > hi_h or (tall < lo_h and not cut):
+            sizes.append(f"{tall:.1f} m tall (a car: {lo_h:g}-{hi_h:g} m)")
+        if sizes:
+            why.append(f"a car whose bottom is at row {y1:.0f} stands {z:.1f} m away, where this box is "
+                       + " and ".join(sizes))
+    if fit_iou is not None and fit_iou < MIN_FIT_IOU:
+        why.append(f"no car shape fits what GrabCut found in it (3D fit's silhouette IoU {fit_iou:.2f} < "
+                   f"{MIN_FIT_IOU})")
+    return "; ".join(why) or None
 
 
 def refine_with_silhouettes(image: Tensor | np.ndarray, boxes: Tensor, masks: Tensor, silhouettes: Tensor, *,

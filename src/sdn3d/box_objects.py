@@ -72,6 +72,9 @@ class BoxFit:
         poor: no fit, or ``iou`` under the fit settings' ``poor_iou``.
         fit_pixels, min_pixels: its mask's pixels before the fit, and the pixels a fit needs (what a record without
             a fit says; read back from a scene file, ``fit_pixels`` of a fitted one is ``mask_pixels``).
+        hypothesis: which of the fit's hypotheses won, in words (:meth:`~sdn3d.geometric.fit.FitResult.hypothesis_name`:
+            the prediction, its end-for-end flip, a search start; None: no fit).
+        fit_note: what the fit could not do normally (a mask too small or thin: the prediction kept), or None.
     """
 
     instance_id: int
@@ -84,6 +87,8 @@ class BoxFit:
     poor: bool
     fit_pixels: int
     min_pixels: int
+    hypothesis: str | None = None
+    fit_note: str | None = None
 
     def to_json(self) -> dict[str, Any]:
         """The record as scene files and reports write it (``box``, ``mask_pixels``, ``pose``, ``fit_iou``,
@@ -95,6 +100,10 @@ class BoxFit:
             out["why"] = f"its mask has {self.fit_pixels} pixels (< min_pixels {self.min_pixels}): no 3D fit"
         out["id"] = self.instance_id
         out["mask"] = _MASK_TEXT[self.mask_source] + (_REFINED_TEXT if self.mask_refined else "")
+        if self.hypothesis is not None:
+            out["hypothesis"] = self.hypothesis
+        if self.fit_note is not None:
+            out["fit_note"] = self.fit_note
         return out
 
     @classmethod
@@ -114,7 +123,7 @@ class BoxFit:
                    {v: k for k, v in _MASK_TEXT.items()}[mask], refined, int(record["mask_pixels"]),
                    None if record.get("pose") is None else poses[record["pose"]],
                    None if iou is None else float(iou), bool(record["poor_fit"]), fit_pixels,
-                   int(min_pixels) if min_pixels is not None else 0)
+                   int(min_pixels) if min_pixels is not None else 0, record.get("hypothesis"), record.get("fit_note"))
 
 
 def box_fits(meta: Mapping[str, Any]) -> list[BoxFit]:
@@ -237,22 +246,23 @@ def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor,
     again, vacated = [False] * len(boxes), None
     if boxes.masks is None and boxes.refine_masks:
         vacated = masks[rows].any(0)
-        good = [iou is not None and not poor for _, iou, poor in fitted]
+        good = [iou is not None and not poor for _, iou, poor, *_ in fitted]
         masks, again, refined = _refine_box_masks(image, intr, masks, rows, boxes, geometry, good)
         if refined is not None:
             final = [int(m.sum()) for m in refined]
     fits = [BoxFit(int(iid), tuple(float(v) for v in boxes.boxes[i]), source, a, final[i], pose, iou, poor,
-                   int(pixels[i]), min_pixels)
-            for i, (iid, source, a, (pose, iou, poor)) in enumerate(zip(ids[rows].tolist(), mask_source, again,
-                                                                       fitted, strict=True))]
+                   int(pixels[i]), min_pixels, hypothesis, note)
+            for i, (iid, source, a, (pose, iou, poor, hypothesis, note)) in enumerate(
+                zip(ids[rows].tolist(), mask_source, again, fitted, strict=True))]
     return masks, geometry, fits, vacated
 
 
 def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...],
-               min_pixels: int) -> tuple[tuple[Tensor, ...], list[tuple[PoseSource | None, float | None, bool]]]:
+               min_pixels: int) -> tuple[tuple[Tensor, ...], list[tuple[PoseSource | None, float | None, bool,
+                                                                           str | None, str | None]]]:
     """The geometry with the box objects' rows fitted to their masks (:func:`~sdn3d.geometric.fit.fit_to_masks`,
-    the geometric branch's prediction as the start) and per box ``(pose source, silhouette IoU, poor)`` (None, None,
-    True: too few pixels, no fit)."""
+    the geometric branch's prediction as the start) and per box ``(pose source, silhouette IoU, poor, winning
+    hypothesis, the fit's note)`` (None, None, True, None, None: too few pixels, no fit)."""
     from sdn3d.box_masks import nearest_first
     from sdn3d.geometric.fit import fit_to_masks
 
@@ -284,14 +294,20 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
         dims[target], ry[target] = result.dims.double(), result.ry.double()
         location[target], phi[target] = result.location.double(), result.phi.float()
     out, iou = [], dict(zip(sel.tolist(), result.iou.tolist(), strict=True)) if result is not None else {}
+    at = {i: k for k, i in enumerate(sel.tolist())}  # box -> its row in the fit
+    notes = {}
+    for line in result.warnings if result is not None else []:  # "object <k>: why..." -> the box's own note
+        k, _, why = line.partition(": ")
+        notes[int(k.split()[1])] = why
     for i in range(len(boxes)):
         fit_iou = iou.get(i)
         if fit_iou is None:
             template[rows[i]] = -1
-            out.append((None, None, True))
+            out.append((None, None, True, None, None))
         else:
             pose = PoseSource.PREDICTION if bool(predicted[i]) else PoseSource.ROAD_PLANE
-            out.append((pose, fit_iou, fit_iou < settings.poor_iou))
+            out.append((pose, fit_iou, fit_iou < settings.poor_iou, result.hypothesis_name(at[i]),
+                        notes.get(at[i])))
     return (template, dims, ry, location, phi), out
 
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import secrets
 import shlex
 import shutil
@@ -33,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from sdn3d.editing.frame import input_intrinsics
-from sdn3d.editing.session import EditInput, EditResult, EditSession, to_uint8
+from sdn3d.editing.session import BoxRefusedError, EditInput, EditResult, EditSession, to_uint8
 from sdn3d.editing.spec import MAX_BOX_OBJECTS, EditSpec, parse_edit_spec
 from sdn3d.errors import UserInputError
 from sdn3d.io import write_bytes_atomic, write_json_atomic, write_png_atomic, write_text_atomic
@@ -59,9 +60,10 @@ _MAX_TEXT = 40
 class AppError(UserInputError):
     """A request the editor refuses; ``status`` is its HTTP status (4xx) and the message says why."""
 
-    def __init__(self, message: str, status: int = 422) -> None:
+    def __init__(self, message: str, status: int = 422, extra: dict | None = None) -> None:
         super().__init__(message)
         self.status = int(status)
+        self.extra = dict(extra or {})  # more fields of the JSON answer (e.g. which boxes were refused)
 
 
 @dataclass(frozen=True)
@@ -120,6 +122,7 @@ class BrowserSession:
     written: dict[str, int] = field(default_factory=dict)  # download name -> the version it was written for
     used: float = field(default_factory=time.monotonic)  # the last request's time (time.monotonic)
     input_note: str = ""  # how the upload was changed to become the input (scaled down: max_edit_pixels)
+    display_name: str = ""  # the uploaded file's own name, as the browser gave it (shown only; never a path)
 
 
 def image_type(data: bytes) -> str:
@@ -338,9 +341,11 @@ class Editor:
             self._sessions.pop(sid, None)
         self._close(found)
 
-    def open_upload(self, data: bytes, intrinsics: Mapping[str, float] | None = None) -> BrowserSession:
+    def open_upload(self, data: bytes, intrinsics: Mapping[str, float] | None = None,
+                    name: str | None = None) -> BrowserSession:
         """A session for an uploaded image file's bytes (``intrinsics``: fx, fy, cx, cy in its pixels, for an image
-        without Virtual KITTI's aspect ratio).
+        without Virtual KITTI's aspect ratio; ``name``: the file's own name, shown by the page, never used as a
+        path: the upload is stored as ``input.png`` / ``input.jpg`` in the session's directory).
 
         Raises:
             AppError: 413 too many bytes or pixels, 415 not PNG / JPEG, 422 the image or its camera refused (the
@@ -384,6 +389,7 @@ class Editor:
 
         found = self._new(make)
         found.input_note = " ".join(notes)
+        found.display_name = display_name(name)
         return found
 
     def _scaled_input(self, path: Path, width: int, height: int, camera: dict) -> tuple[Path, dict, str]:
@@ -431,7 +437,7 @@ class Editor:
         except AppError:
             raise
         except UserInputError as exc:  # the camera rules, an unreadable image: sdn3d-edit's own message
-            raise AppError(str(exc), 422) from None
+            raise AppError(page_words(str(exc)), 422) from None
 
     # -- edits ------------------------------------------------------------------------------------------------
 
@@ -460,6 +466,8 @@ class Editor:
                 boxes_only = self.session.settings.proposals is Proposals.BOXES
                 derendered = self.session.derender(found.input, spec) if spec is not None or not boxes_only else None
                 result = self.session.edit(derendered, spec) if spec is not None and len(spec) else None
+            except BoxRefusedError as exc:  # the page offers to add them anyway (force: true)
+                raise AppError(str(exc), 422, {"refused_objects": exc.objects}) from None
             except UserInputError as exc:
                 raise AppError(str(exc), 422) from None
             picture = result.edited if result is not None else found.input.picture
@@ -488,16 +496,18 @@ class Editor:
                     raise AppError(str(exc), 422) from None
             return found
 
-    def box_at(self, sid: str, payload: Any) -> list[int]:
+    def box_at(self, sid: str, payload: Any) -> dict:
         """The box a click implies (:func:`sdn3d.box_masks.box_at_point`): ``payload`` ``{"u": x, "v": y}`` in the
-        input's pixels -> ``[x0, y0, x1, y1]`` half-open input pixels, for the page to show and add as an object.
+        input's pixels -> ``{"box": [x0, y0, x1, y1] half-open input pixels, "refused": why no vehicle is there
+        (:func:`sdn3d.box_masks.no_vehicle`: GrabCut found nothing, or the road plane says no car that size stands
+        there) or None}``, for the page to show and add as an object (a refused one only when the user says so).
 
         Raises:
             AppError (404 no such session; 400 not such a payload; 422 a point outside the input).
         """
         import math
 
-        from sdn3d.box_masks import box_at_point
+        from sdn3d.box_masks import click_box, no_vehicle
         from sdn3d.editing.frame import input_intrinsics
         from sdn3d.geometric.fit import FitSettings
 
@@ -514,9 +524,11 @@ class Editor:
         camera = input_intrinsics(inp.intrinsics, inp.frame)
         road = (self.session.settings.box_fit or FitSettings()).camera_height  # the road the box fit assumes
         with found.lock:
-            box = box_at_point(inp.picture, (float(u), float(v)), camera.fx, camera.fy, camera.cy,
-                               camera_height=road)
-        return [int(round(float(x))) for x in box]
+            box, found = click_box(inp.picture, (float(u), float(v)), camera.fx, camera.fy, camera.cy,
+                                   camera_height=road)
+        box = [int(round(float(x))) for x in box]
+        why = no_vehicle(box, camera.fx, camera.fy, camera.cy, (width, height), camera_height=road, found=found)
+        return {"box": box, "refused": None if why is None else f"no vehicle at ({u:.0f}, {v:.0f}): {why}"}
 
     # -- what the page shows and downloads ----------------------------------------------------------------------
 
@@ -532,7 +544,8 @@ class Editor:
         camera = input_intrinsics(inp.intrinsics, inp.frame)
         times = found.result.times if found.result is not None else {}
         return {"sid": found.sid, "version": found.version,
-                "input": {"name": Path(inp.name).name, "width": inp.input_size[0], "height": inp.input_size[1]},
+                "input": {"name": found.display_name or Path(inp.name).name, "file": Path(inp.name).name,
+                          "width": inp.input_size[0], "height": inp.input_size[1]},
                 "working_size": [inp.intrinsics.width, inp.intrinsics.height],
                 "camera": {"fx": camera.fx, "fy": camera.fy, "cx": camera.cx, "cy": camera.cy},
                 "objects": scene_objects(found.scene, inp) if found.scene is not None else [],
@@ -542,7 +555,34 @@ class Editor:
                 "frame": inp.frame.to_dict(),
                 "state": found.state, "spec": found.spec_yaml, "command": self.command(found),
                 "warnings": [found.input_note] * bool(found.input_note) + found.warnings,
+                "labels_note": self.labels_note(),
                 "timings_ms": {k: round(v, 1) for k, v in times.items()}}
+
+    def labels_note(self) -> str:
+        """Where the labels overlay (the semantic map) comes from, when it cannot be trusted: no semantic branch
+        (then it holds the box objects alone), one whose recorded validation quality is low
+        (:func:`sdn3d.runs.quality_warnings`) or not recorded; "" otherwise."""
+        if not hasattr(self, "_labels_note"):
+            import json
+
+            from sdn3d.runs import quality_warnings, semantic_summary
+
+            info = (self.record.get("checkpoints") or {}).get("semantic")
+            if info is None:
+                note = ("labels: no semantic branch is loaded; the map holds the objects named by a box on the "
+                        "background class only")
+            else:
+                path, metrics = semantic_summary(info), None
+                try:
+                    metrics = json.loads(path.read_text(encoding="utf-8")).get("metrics") if path else None
+                except (OSError, UnicodeDecodeError, ValueError, AttributeError):
+                    metrics = None
+                weak = quality_warnings(metrics, None, str(path) if path else "") if metrics else []
+                note = (f"labels: from a weak semantic branch ({weak[0]})" if weak else
+                        "" if metrics else "labels: from a semantic branch whose validation quality is not recorded "
+                        f"(no summary.json beside {info.get('path')}): they may be wrong")
+            self._labels_note = note
+        return self._labels_note
 
     def labels_png(self, sid: str) -> bytes:
         """The current scene's semantic map (working size) in the class colours, as PNG."""
@@ -593,6 +633,30 @@ class Editor:
             return head | {"ops": [], "warnings": found.warnings, **self.record}
         body = found.result.record(self.session.settings.appearance)
         return head | body | self.record
+
+
+def display_name(name: str | None) -> str:
+    """An uploaded file's own name as the page may show it: its last path part, printable characters only, at most
+    80 ("" when none is left)."""
+    if not name:
+        return ""
+    base = str(name).replace("\\", "/").rsplit("/", 1)[-1]
+    return "".join(c for c in base if c.isprintable())[:80].strip()
+
+
+_UNKNOWN_CAMERA = re.compile(r"input\.image is (\d+)x(\d+), not Virtual KITTI's (\d+)x(\d+)")
+
+
+def page_words(message: str) -> str:
+    """``sdn3d-edit``'s message about an input, in the page's own words where the page has its own control (the
+    camera of an image without Virtual KITTI's aspect ratio: the page's **camera** fields, not ``input.*``)."""
+    found = _UNKNOWN_CAMERA.search(message)
+    if found is None:
+        return message
+    w, h, vw, vh = found.groups()
+    return (f"this image is {w}x{h}, not Virtual KITTI's {vw}x{vh} (or that aspect ratio), so its camera is unknown: "
+            f"open 'camera' in the toolbar, give fx, fy, cx, cy (pixels of this {w}x{h} image) and open the image "
+            "again")
 
 
 def palette() -> list[dict]:

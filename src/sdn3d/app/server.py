@@ -200,7 +200,7 @@ def create_app(editor: Editor, info: dict[str, Any], hosts: list[str] | None = N
                 intrinsics = {k: float(query[k]) for k in ("fx", "fy", "cx", "cy") if k in query}
             except ValueError:
                 raise AppError("intrinsics fx, fy, cx, cy must be numbers", 400) from None
-        found = await run_in_threadpool(editor.open_upload, data, intrinsics)
+        found = await run_in_threadpool(editor.open_upload, data, intrinsics, query.get("name"))
         await run_in_threadpool(editor.scene, found.sid)
         return _json(editor.view(found), 201)
 
@@ -227,7 +227,7 @@ def create_app(editor: Editor, info: dict[str, Any], hosts: list[str] | None = N
         sid = request.path_params["sid"]
         editor.get(sid)  # 404 before reading a body
         body = await _json_body(request, limits.max_request_bytes)
-        return _json({"box": await run_in_threadpool(editor.box_at, sid, body)})
+        return _json(await run_in_threadpool(editor.box_at, sid, body))
 
     async def input_png(request: Request) -> Response:
         return _png(editor.get(request.path_params["sid"]).input_png)
@@ -250,7 +250,8 @@ def create_app(editor: Editor, info: dict[str, Any], hosts: list[str] | None = N
 
     async def app_error(request: Request, exc: Exception) -> Response:
         assert isinstance(exc, UserInputError)
-        return _json({"error": str(exc)}, exc.status if isinstance(exc, AppError) else 422)
+        extra = exc.extra if isinstance(exc, AppError) else {}
+        return _json({"error": str(exc), **extra}, exc.status if isinstance(exc, AppError) else 422)
 
     async def http_error(request: Request, exc: Exception) -> Response:
         assert isinstance(exc, HTTPException)

@@ -74,17 +74,6 @@ class GeometricSchema:
 
 
 @dataclass
-class PhotoSchema:
-    fill: str = MISSING
-    relight: bool = MISSING
-    contact_shadow: float = MISSING
-    depth_tolerance: float = MISSING
-    min_view_cos: float = MISSING
-    hole_dilate_px: int = MISSING
-    shadow_band: float = MISSING
-
-
-@dataclass
 class EditSchema:
     """``conf/edit.yaml``."""
 
@@ -107,7 +96,7 @@ class EditSchema:
     code_bank: Optional[str] = MISSING
     geometric: GeometricSchema = field(default_factory=GeometricSchema)
     appearance: str = MISSING
-    photo: PhotoSchema = field(default_factory=PhotoSchema)
+    photo: Any = MISSING  # checked by sdn3d.editing.photo.settings.PhotoSettings.from_mapping (one home)
     compose: str = MISSING
     compose_dilate_px: int = MISSING
     compose_feather_px: int = MISSING
@@ -116,6 +105,7 @@ class EditSchema:
     overwrite: bool = MISSING
     device: str = MISSING
     threads: Optional[int] = MISSING
+    progress: Any = MISSING  # true | false | auto
     seed: int = MISSING
 
 
@@ -142,11 +132,6 @@ class BenchCheckpointsSchema(CheckpointsSchema):
 
 
 @dataclass
-class BenchPhotoSchema:
-    fill: str = MISSING
-
-
-@dataclass
 class BenchSchema:
     """``conf/bench.yaml``."""
 
@@ -167,11 +152,11 @@ class BenchSchema:
     allow_empty: bool = MISSING
     examples: int = MISSING
     compose: Any = MISSING  # one mode or a list of them
-    photo: BenchPhotoSchema = field(default_factory=BenchPhotoSchema)
+    photo: Any = MISSING  # as sdn3d-edit's photo.* (PhotoSettings.from_mapping checks it)
     compose_dilate_px: int = MISSING
     compose_feather_px: int = MISSING
     counterfactual: bool = MISSING
-    counterfactual_sources: Optional[List[str]] = MISSING
+    counterfactual_sources: Any = MISSING  # one source or a list of them, or null
     counterfactual_fills: List[str] = MISSING
     output_dir: str = MISSING
     overwrite: bool = MISSING

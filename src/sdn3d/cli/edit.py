@@ -59,8 +59,11 @@ Exit status: 0 done; 2 bad input (message on stderr names the op or the setting;
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
 import json
 import sys
+import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -109,31 +112,109 @@ def _find_record(records: list, frame: Any, entry: Any) -> Any:
 
 
 def _given_camera(cfg: Any, width: int, height: int) -> Any:
-    """The camera the user gave for an image file: ``input.intrinsics`` (fx, fy, cx, cy in its pixels) or
-    ``input.camera`` (a Cityscapes ``camera.json``), else None."""
+    """The camera the user gave for an image file: ``input.intrinsics`` (fx, fy, cx, cy in its pixels; optional
+    ``camera_height`` and ``pitch``) or ``input.camera`` (a Cityscapes ``camera.json``), else None.
+
+    A pitched camera is returned as its level virtual camera (:meth:`~sdn3d.math3d.camera.CameraPose.
+    level_intrinsics`: the pitch folded into ``cy``), the frame the box fit's road plane ``y = camera_height``
+    lives in; :func:`_given_pose` is the pose."""
     from sdn3d.math3d.camera import Intrinsics
 
     given, camera = cfg.input.get("intrinsics"), cfg.input.get("camera")
     if given is not None and camera is not None:
         raise InputError("give input.intrinsics or input.camera, not both")
+    pose = _given_pose(cfg)
     if given is not None:
         try:
-            values = dict(given)
+            values = {k: v for k, v in dict(given).items() if k not in _POSE_KEYS}
             values.setdefault("width", width)
             values.setdefault("height", height)
-            return Intrinsics(**values)
+            intr = Intrinsics(**values)
         except (TypeError, ValueError) as exc:
             raise InputError(f"input.intrinsics: {exc} (give fx, fy, cx, cy in the image's pixels)") from exc
+        return pose["pose"].level_intrinsics(intr) if pose else intr
     if camera is not None:
         from sdn3d.data.cityscapes import read_camera
         from sdn3d.errors import UserInputError
 
         try:
             intrinsic, _ = read_camera(Path(str(camera)).expanduser())
-            return Intrinsics(intrinsic["fx"], intrinsic["fy"], intrinsic["u0"], intrinsic["v0"], width, height)
+            intr = Intrinsics(intrinsic["fx"], intrinsic["fy"], intrinsic["u0"], intrinsic["v0"], width, height)
         except (UserInputError, ValueError) as exc:
             raise InputError(f"input.camera: {exc}") from exc
+        return pose["pose"].level_intrinsics(intr)
     return None
+
+
+#: Keys of ``input.intrinsics`` that describe the camera's pose, not its calibration (:func:`_given_pose`).
+_POSE_KEYS = ("camera_height", "pitch")
+
+
+def _given_pose(cfg: Any) -> dict | None:
+    """How the camera of an image file sits over the road, where the user said: ``{"pose": CameraPose, "height":
+    metres or None (not given: box_objects.fit.camera_height stays), "source": setting}`` from ``input.camera``
+    (its extrinsic ``z``, ``pitch``, ``roll``) or ``input.intrinsics``' optional ``camera_height`` and ``pitch``;
+    None for a dataset frame or when neither says.
+
+    Raises:
+        InputError: naming the setting (an unreadable camera file, a height or angle out of range).
+    """
+    from sdn3d.math3d.camera import DEFAULT_CAMERA_HEIGHT, CameraPose
+
+    node = cfg.get("input") or {}
+    if node.get("image") is None:
+        return None
+    given, camera = node.get("intrinsics"), node.get("camera")
+    if camera is not None and given is None:
+        from sdn3d.data.cityscapes import camera_pose, read_camera
+        from sdn3d.errors import UserInputError
+
+        try:
+            _, extrinsic = read_camera(Path(str(camera)).expanduser())
+            pose = camera_pose(extrinsic)
+        except (UserInputError, ValueError) as exc:
+            raise InputError(f"input.camera: {exc}") from exc
+        return {"pose": pose, "height": pose.height, "source": "input.camera"}
+    if given is None or not any(k in dict(given) for k in _POSE_KEYS):
+        return None
+    values = dict(given)
+    height = values.get("camera_height")
+    try:
+        pose = CameraPose(height=DEFAULT_CAMERA_HEIGHT if height is None else height, pitch=values.get("pitch", 0.0))
+    except ValueError as exc:
+        raise InputError(f"input.intrinsics: {str(exc).replace('CameraPose.height', 'camera_height')} "
+                         "(camera_height: metres above the road; pitch: radians, positive looking down)") from exc
+    return {"pose": pose, "height": None if height is None else pose.height, "source": "input.intrinsics"}
+
+
+def box_fit_for_input(cfg: Any, checkpoints: dict[str, dict | None]) -> Any:
+    """The box fit's :class:`~sdn3d.geometric.fit.FitSettings` for this input: ``box_objects.fit.*``, with the road
+    plane the given camera says (an image file's ``input.camera`` height, or ``input.intrinsics``' ``camera_height``)
+    winning over ``box_objects.fit.camera_height``."""
+    from sdn3d.editing.settings import box_settings
+
+    fit = box_settings(cfg, checkpoints)[0]
+    pose = _given_pose(cfg)
+    return fit if pose is None or pose["height"] is None else dataclasses.replace(fit, camera_height=pose["height"])
+
+
+def camera_record(cfg: Any) -> dict:
+    """``edit.json`` ``camera``: the road plane the box fit used (``camera_height``, metres) and the given camera's
+    ``pitch`` (folded into the principal point) and ``roll`` (radians; not corrected, ``roll_ignored`` above
+    :data:`~sdn3d.math3d.camera.ROLL_TOLERANCE`), and where they came from."""
+    pose = _given_pose(cfg)
+    fit = dict((cfg.get("box_objects") or {}).get("fit") or {})
+    height_from = "box_objects.fit.camera_height" if "camera_height" in fit else "FitSettings default"
+    from sdn3d.math3d.camera import DEFAULT_CAMERA_HEIGHT
+
+    height = float(fit.get("camera_height", DEFAULT_CAMERA_HEIGHT))
+    if pose is None:
+        return {"camera_height": height, "camera_height_from": height_from, "pitch": 0.0, "roll": 0.0,
+                "pose_from": None}
+    if pose["height"] is not None:
+        height, height_from = pose["height"], pose["source"]
+    return {"camera_height": height, "camera_height_from": height_from, "pitch": pose["pose"].pitch,
+            "roll": pose["pose"].roll, "roll_ignored": pose["pose"].roll_ignored, "pose_from": pose["source"]}
 
 
 def _read_input_image(cfg: Any, size: tuple[int, int] | None = None) -> np.ndarray:
@@ -239,30 +320,94 @@ def run_edit(cfg: Any) -> dict:
         FileExistsError: bad input (nothing written).
     """
     check_settings(cfg)
-    if cfg.threads is not None:
-        torch.set_num_threads(int(cfg.threads))
+    _PROGRESS["on"] = _progress_setting(cfg)
+    torch.set_num_threads(int(cfg.threads) if cfg.threads is not None else DEFAULT_THREADS)
     compose = compose_settings(cfg)
     appearance, photo = appearance_settings(cfg)
     out, spec, listing, (inp, record) = _read_inputs(cfg)
+    if spec is not None:  # every check that needs no scene, before a model is loaded
+        from sdn3d.editing.spec import check_points
+
+        check_points(spec, (inp.intrinsics.width, inp.intrinsics.height), inp.frame)
     checkpoints = resolve_checkpoints(cfg, record)
-    models, code_bank = load_models(cfg, checkpoints)
-    session = EditSession(models, code_bank, session_settings(cfg, checkpoints, compose, appearance, photo))
-    derendered = session.derender(inp, spec)
+    with _stage("loading the models"):
+        models, code_bank = load_models(cfg, checkpoints)
+    settings = dataclasses.replace(session_settings(cfg, checkpoints, compose, appearance, photo),
+                                   box_fit=box_fit_for_input(cfg, checkpoints))
+    session = EditSession(models, code_bank, settings)
+    if spec is not None and spec.objects and cfg.proposals == "boxes":  # the ids are the boxes': known now
+        _check_box_ids(spec, models, inp)
+    boxes = f" ({len(spec.objects)} box{'es' if len(spec.objects) != 1 else ''})" if spec and spec.objects else ""
+    with _stage(f"de-rendering{boxes}"):
+        derendered = session.derender(inp, spec)
     warnings = trust_warnings(cfg, record, checkpoints, derendered.scene) + derendered.warnings
     for line in warnings:
         print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
     if listing:  # list=true, an empty spec or objects without ops: the objects, nothing edited
         return _write_listing(cfg, out, inp, derendered.scene, checkpoints, {"derender_ms": derendered.derender_ms},
                               warnings, derendered.boxes)
-    result = session.edit(derendered, spec)
+    with _stage(f"editing and drawing ({len(spec)} op{'s' if len(spec) != 1 else ''})"):
+        result = session.edit(derendered, spec)
     for line in result.warnings:
         print(f"sdn3d-edit: warning: {line}", file=sys.stderr)
     summary = {"input": inp.name, "edits": spec.source, **result.record(appearance)}
     summary["warnings"] = warnings + result.warnings
     summary["checkpoints"] = checkpoints
     summary["config"] = config_record(cfg)
-    _write_outputs(out, bool(cfg.overwrite), result, summary, bool(cfg.diagnostics), _output_rules(cfg))
+    summary["camera"] = camera_record(cfg)
+    with _stage("writing the outputs"):
+        _write_outputs(out, bool(cfg.overwrite), result, summary, bool(cfg.diagnostics), _output_rules(cfg))
     return summary
+
+
+#: torch CPU threads when ``threads`` is not given. 1: on a shared 2-core machine one edit with 3 boxes took
+#: 7-30 s with 1 thread and 13-206 s with PyTorch's default (2), pictures identical (docs/EDITING.md, "Threads").
+DEFAULT_THREADS = 1
+
+
+_PROGRESS = {"on": False}
+
+
+def _progress_setting(cfg: Any) -> bool:
+    """``progress``: true, false or auto (the default: when stderr is a terminal; a script reading stderr gets the
+    errors alone, one line each)."""
+    value = cfg.get("progress", "auto")
+    if value == "auto":
+        return bool(getattr(sys.stderr, "isatty", lambda: False)())
+    if not isinstance(value, bool):
+        raise InputError(f"progress must be true, false or auto, got {value!r}")
+    return value
+
+
+@contextlib.contextmanager
+def _stage(what: str) -> Any:
+    """One progress line on stderr, when ``progress`` is on: ``sdn3d-edit: <what>... 3.1 s`` (the time when the stage
+    ends; `failed` if it raises)."""
+    if not _PROGRESS["on"]:
+        yield
+        return
+    print(f"sdn3d-edit: {what}...", end="", file=sys.stderr, flush=True)
+    start = time.perf_counter()
+    try:
+        yield
+    except BaseException:
+        print(" failed", file=sys.stderr, flush=True)
+        raise
+    print(f" {time.perf_counter() - start:.1f} s", file=sys.stderr, flush=True)
+
+
+def _check_box_ids(spec: Any, models: Any, inp: Any) -> None:
+    """With ``proposals=boxes`` the objects are the spec's boxes, their ids known from their classes: the ops' ids
+    are checked before the de-render (:func:`~sdn3d.editing.spec.check_ids`)."""
+    from sdn3d.derender import _class_list_name
+    from sdn3d.editing.spec import box_object_ids, box_prompts, check_ids
+    from sdn3d.labels import CLASS_LISTS
+
+    classes = CLASS_LISTS[_class_list_name(models, None, None)]
+    prompts = box_prompts(spec, (inp.intrinsics.width, inp.intrinsics.height), inp.frame)
+    ids = box_object_ids(prompts.class_ids(classes))
+    check_ids(spec, ids, ": with proposals=boxes the objects are the spec's boxes, in their order; checked before "
+                         "the de-render")
 
 
 def config_record(cfg: Any) -> dict:
@@ -371,7 +516,8 @@ def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
         result = given_checkpoints(cfg.checkpoints)
         _check_needed(cfg, record, result)
         return result
-    return checkpoints_from_run(cfg.run, cfg.checkpoints, _needed_branches(cfg, record), "sdn3d-edit", "the edit")
+    prog = "sdn3d-app" if "port" in cfg else "sdn3d-edit"  # conf/app.yaml composes this config, with a port
+    return checkpoints_from_run(cfg.run, cfg.checkpoints, _needed_branches(cfg, record), prog, "the edit")
 
 
 def _check_needed(cfg: Any, record: Any, given: dict[str, dict | None]) -> None:
@@ -470,7 +616,7 @@ def _write_listing(cfg: Any, out: Path, inp: EditInput, scene: Any, checkpoints:
                "objects": {"source": [r["id"] for r in rows],
                            "with_geometry": [r["id"] for r in rows if r["template"] is not None]},
                "checkpoints": checkpoints, "timings_ms": times, "proposals": proposals_record(scene),
-               "config": config_record(cfg)}
+               "config": config_record(cfg), "camera": camera_record(cfg)}
     if boxes:
         summary["boxes"] = list(boxes.values())
     with staged_directory(out, MARKER, bool(cfg.overwrite), owned=True, **_output_rules(cfg)) as tmp:

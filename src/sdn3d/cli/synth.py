@@ -45,6 +45,8 @@ _FIELDS = (
     "counterfactual_cars",
     "counterfactual_turns",
     "counterfactual_delete",
+    "camera_height",
+    "camera_pitch",
 )
 
 

@@ -44,9 +44,10 @@ from sdn3d.data.errors import DataFormatError, SkipLog, missing
 from sdn3d.data.imageio import image_size, read_index_png, read_rgb, read_uint16_png
 from sdn3d.data.records import FrameRecord, check_size
 from sdn3d.labels import CITYSCAPES_LABELS, IGNORE_INDEX, INSTANCE_DIVISOR, LABEL_TO_TRAIN
-from sdn3d.math3d.camera import Intrinsics
+from sdn3d.math3d.camera import CameraPose, Intrinsics
 
 __all__ = [
+    "camera_pose",
     "camera_to_vehicle",
     "read_camera",
     "read_frames",
@@ -88,8 +89,22 @@ def camera_to_vehicle(extrinsic: dict) -> np.ndarray:
     return transform
 
 
+def camera_pose(extrinsic: dict) -> CameraPose:
+    """The road plane of a ``camera.json`` ``extrinsic``: the camera's height above the ground (``z``: the
+    vehicle frame's origin is on the ground below the rear axle) and its ``pitch`` and ``roll`` (radians, the
+    conventions of :func:`camera_to_vehicle`; ``yaw`` turns about the vertical and leaves the road as it is).
+
+    Raises:
+        ValueError: a height that is not positive or an angle beyond +-pi/4 (:class:`CameraPose`).
+    """
+    return CameraPose(height=extrinsic["z"], pitch=extrinsic["pitch"], roll=extrinsic["roll"])
+
+
 def read_camera(path: str | os.PathLike) -> tuple[dict[str, float], dict[str, float]]:
-    """``(intrinsic, extrinsic)`` dicts of a ``*_camera.json`` file, all values finite floats."""
+    """``(intrinsic, extrinsic)`` dicts of a ``*_camera.json`` file, all values finite floats: ``intrinsic``
+    ``fx fy u0 v0`` (pixels of the full frame), ``extrinsic`` ``baseline pitch roll x y yaw z`` (metres and
+    radians, the camera in the vehicle frame: :func:`camera_to_vehicle`; ``z`` is its height above the
+    ground, :func:`camera_pose`)."""
     path = Path(path)
     if not path.is_file():
         raise missing(path, "camera file")

@@ -81,6 +81,10 @@ __all__ = [
     "projected_centers",
     "MIN_CLEARANCE",
     "MAX_DISTANCE",
+    "edited_table",
+    "copy_id",
+    "clear_place",
+    "DUPLICATE_GAP",
 ]
 
 
@@ -294,6 +298,85 @@ def _duplicate(table: ObjectTable, i: int, op: Duplicate, location: Tensor, copi
     return copy.replace(instance_id=torch.tensor([new_id]), location=location[None],
                         mask=torch.zeros_like(copy.mask), has_mask=torch.zeros(1, dtype=torch.bool),
                         observed=torch.zeros(1, dtype=torch.bool))
+
+
+def edited_table(scene: SceneCode, table: ObjectTable, codes: Tensor, op: EditOp) -> tuple[ObjectTable, Tensor]:
+    """``op`` applied to ``table`` (the objects) and ``codes`` (the background codes) alone: ids, poses and codes
+    after it, without the freed footprints and masks :func:`apply_edits` works out (no rendering; a duplicate's copy
+    is appended at once). What an edit spec's later ops see (:func:`sdn3d.editing.spec.resolve_ops`)."""
+    return _apply_one(scene, table, codes, op, None)
+
+
+def copy_id(table: ObjectTable, row: int) -> int:
+    """The id a :class:`Duplicate` of ``table``'s row ``row`` without ``new_id`` gets: the next ``k`` of its class."""
+    cls = int(table.class_id[row])
+    same = table.instance_id[table.class_id == cls] % INSTANCE_DIVISOR
+    return cls * INSTANCE_DIVISOR + int(same.max()) + 1
+
+
+#: Metres of road kept between a copy placed by an edit spec's ``duplicate`` and every other car (:func:`clear_place`).
+DUPLICATE_GAP = 0.5
+
+
+def _floor(location: Tensor, dims: Tensor, ry: Tensor, gap: float) -> Tensor:
+    """``(4, 2)`` float64 ``(x, z)`` corners of an object's footprint on the ground, grown by ``gap / 2`` metres."""
+    half_l, half_w = float(dims[0]) / 2 + gap / 2, float(dims[2]) / 2 + gap / 2
+    c, s = math.cos(float(ry)), math.sin(float(ry))
+    forward, side = torch.tensor([c, -s], dtype=torch.float64), torch.tensor([s, c], dtype=torch.float64)
+    centre = location.double()[[0, 2]]
+    return torch.stack([centre + a * half_l * forward + b * half_w * side
+                        for a, b in ((1, 1), (1, -1), (-1, -1), (-1, 1))])
+
+
+def _overlap(a: Tensor, b: Tensor) -> bool:
+    """Whether the convex quadrilaterals ``a`` and ``b`` ``(4, 2)`` overlap (separating axis test)."""
+    for poly in (a, b):
+        edges = poly.roll(-1, 0) - poly
+        for edge in edges:
+            axis = torch.stack([-edge[1], edge[0]])
+            pa, pb = a @ axis, b @ axis
+            if float(pa.max()) <= float(pb.min()) or float(pb.max()) <= float(pa.min()):
+                return False
+    return True
+
+
+def clear_place(scene: SceneCode, table: ObjectTable, row: int, uv: tuple[float, float], gap: float = DUPLICATE_GAP,
+                step: float = 0.25) -> tuple[tuple[float, float], float, int | None]:
+    """Where a copy of ``table``'s row ``row`` placed at pixel ``uv`` (as :class:`Duplicate`) stands clear of every
+    object with geometry in ``table`` (``gap`` metres of road between their footprints): ``(uv, 0.0, None)`` when it
+    already does; else the copy is pushed along its own length (the road's direction), away from the car it hits, by
+    ``step`` metres at a time, up to three car lengths each way, and ``(the pixel its centre then projects to, the
+    metres pushed (signed: + forward), None)``. ``(uv, nan, id of the car it overlaps)`` when no place inside the
+    picture clears."""
+    intr = scene.intrinsics
+    center, dims, ry = table.center[row], table.dims[row], table.ry[row]
+    start = _on_ground(center, uv, intr, "Duplicate")
+    others = [(int(table.instance_id[k]), _floor(table.location[k], table.dims[k], table.ry[k], gap))
+              for k in range(len(table)) if bool(table.has_geometry[k])]
+
+    def hit(c: Tensor) -> int | None:
+        mine = _floor(c, dims, ry, gap)
+        return next((iid for iid, poly in others if _overlap(mine, poly)), None)
+
+    first = hit(start)
+    if first is None:
+        return uv, 0.0, None
+    forward = torch.tensor([math.cos(float(ry)), 0.0, -math.sin(float(ry))], dtype=torch.float64)
+    blocker = table.center[table.index_of(first)].double()
+    sign = 1.0 if float((start - blocker) @ forward) >= 0 else -1.0
+    K = intr.matrix(torch.float64)
+    reach = 3 * float(dims[0]) + gap
+    for direction in (sign, -sign):
+        for k in range(1, int(reach / step) + 1):
+            c = start + direction * k * step * forward
+            if not (float(c[2]) > MIN_CLEARANCE + float(dims[0]) / 2 and float(c.norm()) <= MAX_DISTANCE):
+                break
+            u, v = project_points(c[None], K)[0].tolist()
+            if not (-0.5 <= u <= intr.width - 0.5 and -0.5 <= v <= intr.height - 0.5):
+                break
+            if hit(c) is None:
+                return (u, v), direction * k * step, None
+    return uv, math.nan, first
 
 
 def apply_edits(scene: SceneCode, ops: Sequence[EditOp], bank: MeshBank | None = None, grow: int = 2,

@@ -45,14 +45,15 @@ from sdn3d.editing.compose import ComposeSettings, edited_object_ids
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.ops import EditOp, SetBackgroundCode, SetCode
 from sdn3d.editing.photo.settings import PhotoSettings
-from sdn3d.editing.spec import EditSpec, apply_spec, box_prompts, resolve_ops
+from sdn3d.editing.spec import EditSpec, EditSpecError, apply_spec, box_prompts, resolve_ops
 from sdn3d.errors import InputError
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.scene.code import SceneCode
 from sdn3d.textural.codes import CodeBank
 
 __all__ = ["EditInput", "SessionSettings", "Derendered", "EditResult", "EditSession", "boxes_record",
-           "fit_warnings", "object_origins", "proposals_record", "op_record", "to_uint8"]
+           "fit_warnings", "refuse_boxes", "BoxRefusedError", "object_origins", "proposals_record", "op_record",
+           "to_uint8"]
 
 
 def to_uint8(image: Tensor) -> np.ndarray:
@@ -293,6 +294,7 @@ class EditSession:
             hit = self._scenes.get(key)
             if hit is not None and hit.input is inp:
                 self._scenes.move_to_end(key)
+                refuse_boxes(spec, hit, s.box_fit)
                 return hit
             t0 = time.perf_counter()
             # through the module: a test may stand in for the de-render (sdn3d.derender.derender)
@@ -307,6 +309,7 @@ class EditSession:
             self._scenes[key] = done
             while len(self._scenes) > self.cache_size:
                 self._scenes.popitem(last=False)
+            refuse_boxes(spec, done, s.box_fit)  # after caching: the same boxes with force: true cost nothing more
             return done
 
     def forget(self, key_prefix: str) -> None:
@@ -432,6 +435,46 @@ def boxes_record(scene: SceneCode, frame: PixelFrame | None) -> list[dict]:
     return out
 
 
+class BoxRefusedError(EditSpecError):
+    """Boxes of an edit spec's ``objects`` where no vehicle is (:func:`refuse_boxes`); ``objects``: their indices,
+    ``reasons``: why, per index."""
+
+    def __init__(self, message: str, objects: list[int], reasons: dict[int, str]) -> None:
+        super().__init__(message)
+        self.objects, self.reasons = objects, reasons
+
+
+def refuse_boxes(spec: EditSpec | None, derendered: Derendered, fit: Any = None) -> None:
+    """Raise :class:`BoxRefusedError` naming each of ``spec``'s ``objects`` (without ``force: true``) where GrabCut,
+    the road plane or the 3D fit says no vehicle is (:func:`sdn3d.box_masks.no_vehicle`; ``fit``: the box fit's
+    settings, for the camera's height over the road). Nothing is added then: the edit is refused as a whole."""
+    from sdn3d.box_masks import no_vehicle
+    from sdn3d.geometric.fit import FitSettings
+
+    if spec is None or not spec.objects:
+        return
+    from sdn3d.editing.frame import input_intrinsics
+
+    inp = derendered.input
+    intr = input_intrinsics(inp.intrinsics, inp.frame)  # the input's own pixels, as the spec's boxes are given
+    height = (fit or FitSettings()).camera_height
+    reasons = {}
+    for obj, record in zip(spec.objects, derendered.boxes, strict=False):
+        if obj.force:
+            continue
+        missing = record.get("why") if record["fit_iou"] is None else None
+        why = no_vehicle(record["input_box"], intr.fx, intr.fy, intr.cy, tuple(inp.input_size), camera_height=height,
+                         fit_iou=record["fit_iou"], fit_missing=missing)
+        if why:
+            reasons[obj.index] = why
+    if reasons:
+        lines = [f"objects[{i}] (box {[round(v, 1) for v in spec.objects[i].box]}, {spec.objects[i].class_}): no "
+                 f"vehicle there: {why}" for i, why in reasons.items()]
+        raise BoxRefusedError("\n".join(lines) + "\nNothing was added. To add "
+                              + ("it" if len(reasons) == 1 else "them") + " anyway, give "
+                              + ("it" if len(reasons) == 1 else "each") + " force: true", sorted(reasons), reasons)
+
+
 def fit_warnings(box_records: list[dict], poor_iou: float | None) -> list[str]:
     """One warning per object named by a box (:func:`boxes_record`) whose 3D fit is poor (under ``poor_iou``) or
     missing (before any edit)."""
@@ -440,6 +483,8 @@ def fit_warnings(box_records: list[dict], poor_iou: float | None) -> list[str]:
         if record["fit_iou"] is None:
             out.append(f"box object {record['id']} (box {record['input_box']}): {record['why']}; it can be deleted "
                        "or recoloured but not moved, turned or zoomed")
+        elif record.get("fit_note"):  # the mask was too small or thin to fit: the branch's prediction was kept
+            out.append(f"box object {record['id']} (box {record['input_box']}): {record['fit_note']}")
         elif record["poor_fit"]:
             out.append(f"box object {record['id']} (box {record['input_box']}): its fitted 3D shape matches its mask "
                        f"poorly (silhouette IoU {record['fit_iou']:.2f} < {poor_iou}); a moved "

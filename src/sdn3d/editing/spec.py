@@ -20,6 +20,7 @@ Objects a person names by a box (real photos: no trained segmenter or 3D labels 
 
     objects:                                       # GrabCut mask in the box, 3D shape fitted to it
       - {box: [466, 203, 666, 333], class: Car}    # [x0, y0, x1, y1], half-open, the spec's pixels; class: Car
+      - {box: [10, 5, 17, 11], force: true}        # added even where nothing says a vehicle is there (else refused)
     ops:                                           # may be empty: then the objects are listed (list=true)
       - {op: rotate, at: [565, 265], ry_deg: 45}
 
@@ -27,8 +28,11 @@ Objects a person names by a box (real photos: no trained segmenter or 3D labels 
 
 Objects are selected by ``id`` (instance id) or ``at: [u, v]`` (the object visible at that pixel,
 else the one whose projected centre is nearest, within ``pick_radius``); ``modify`` also takes
-``from`` (nearest projected centre, the benchmark's rule). All selections are resolved on the
-unedited scene.
+``from`` (nearest projected centre, the benchmark's rule). Picks by position are resolved on the unedited
+scene; an ``id`` names an object of the scene as the earlier ops left it: a ``duplicate``'s copy (its id the next
+of its class, or ``new_id``) can be moved, turned, recoloured, duplicated or deleted by the later ops. A copy
+stands clear of the other cars in 3D (pushed along the road from ``to`` until it does, else refused) and keeps the
+original's current look (a recolor before the duplicate included).
 
 Pixel frame: ``sdn3d-edit`` passes a :class:`PixelFrame` (the input image -> working size transform), so
 ``at`` / ``to`` / ``from`` are pixels of the input image (the image file, or the dataset frame at its stored
@@ -77,6 +81,9 @@ from sdn3d.editing.apply import (
     SetCode,
     Zoom,
     apply_edits,
+    clear_place,
+    copy_id,
+    edited_table,
     match_objects,
     ops_from_benchmark,
     projected_centers,
@@ -85,14 +92,15 @@ from sdn3d.editing.frame import PixelFrame
 from sdn3d.errors import UserInputError
 from sdn3d.image_ops import mask_boxes
 from sdn3d.meshes.bank import MeshBank
-from sdn3d.scene.code import SceneCode
+from sdn3d.scene.code import ObjectTable, SceneCode
 from sdn3d.scene.maps import compose_instances
 from sdn3d.textural.code_bank import named_color
 from sdn3d.textural.codes import CodeBank
 
 __all__ = ["OP_KINDS", "EditSpecError", "OpSpec", "EditSpec", "parse_edit_spec", "load_edit_spec", "resolve_ops",
            "apply_spec", "read_yaml", "MAX_OPS", "EXCERPT_CHARS", "BoxObjectSpec", "box_prompts",
-           "MAX_BOX_OBJECTS", "code_bank_needed"]
+           "MAX_BOX_OBJECTS", "code_bank_needed",
+           "check_points", "box_object_ids", "check_ids"]
 
 OP_KINDS = ("move", "rotate", "zoom", "delete", "recolor", "duplicate", "modify")
 _FIELDS = {"move": {"to"}, "rotate": {"ry_deg", "ry_rad"}, "zoom": {"zoom", "on_ground"}, "delete": set(),
@@ -140,11 +148,14 @@ class OpSpec:
 
 @dataclass(frozen=True)
 class BoxObjectSpec:
-    """One object named by a box: ``box`` half-open ``(x0, y0, x1, y1)`` in the spec's pixels, its ``class_``."""
+    """One object named by a box: ``box`` half-open ``(x0, y0, x1, y1)`` in the spec's pixels, its ``class_``;
+    ``force``: added even where GrabCut, the road plane and the fit say no vehicle is there
+    (:func:`sdn3d.box_masks.no_vehicle`; otherwise such a box is refused)."""
 
     index: int
     box: tuple[float, float, float, float]
     class_: str | int = "Car"
+    force: bool = False
 
 
 @dataclass(frozen=True)
@@ -342,10 +353,13 @@ def _parse_object(raw: Any, index: int, where: str) -> BoxObjectSpec:
     name = f"{where}: objects[{index}]"
     if not isinstance(raw, Mapping) or "box" not in raw:
         raise EditSpecError(f"{name} must be a mapping like {{box: [x0, y0, x1, y1], class: Car}}, got {_excerpt(raw)}")
-    unknown = set(raw) - {"box", "class"}
+    unknown = set(raw) - {"box", "class", "force"}
     if unknown:
         raise EditSpecError(f"{name}: unknown field(s) {_excerpt(sorted(map(str, unknown)))}; "
-                            "allowed: ['box', 'class']")
+                            "allowed: ['box', 'class', 'force']")
+    force = raw.get("force", False)
+    if not isinstance(force, bool):
+        raise EditSpecError(f"{name}: field 'force' must be true or false, got {_excerpt(force)}")
     box = raw["box"]
     if not isinstance(box, (list, tuple)) or len(box) != 4:
         raise EditSpecError(f"{name}: field 'box' must be [x0, y0, x1, y1] in pixels, got {_excerpt(box)}")
@@ -356,7 +370,7 @@ def _parse_object(raw: Any, index: int, where: str) -> BoxObjectSpec:
     cls = raw.get("class", "Car")
     if isinstance(cls, bool) or not isinstance(cls, (int, str)):
         raise EditSpecError(f"{name}: field 'class' must be a class name or id, got {_excerpt(cls)}")
-    return BoxObjectSpec(index, (x0, y0, x1, y1), cls)
+    return BoxObjectSpec(index, (x0, y0, x1, y1), cls, force)
 
 
 def parse_edit_spec(data: Any, source: str = "<edit spec>", max_ops: int | None = MAX_OPS) -> EditSpec:
@@ -589,6 +603,67 @@ def _check_inside(op: OpSpec, points: tuple, spec: EditSpec, scene: SceneCode, f
             raise EditError(f"{op.describe()}: '{name}' point {_shown(given)} lies outside {where}")
 
 
+def check_points(spec: EditSpec, working_size: tuple[int, int], frame: PixelFrame | None = None) -> None:
+    """:func:`resolve_ops`' check of the ops' points (``at``, ``from``, ``to`` inside the working image), before any
+    scene: ``sdn3d-edit`` calls it before loading a model.
+
+    Raises:
+        EditError: naming the op and the point, as :func:`resolve_ops` would after the de-render.
+    """
+    if spec.entry is not None:
+        return
+    size = _Size(tuple(working_size))
+    for op in spec.ops:
+        points = tuple(None if uv is None else _to_working(uv, spec, size.image_size, frame)
+                       for uv in (op.at, op.from_uv, op.to))
+        _check_inside(op, points, spec, size, frame)
+
+
+@dataclass(frozen=True)
+class _Size:
+    """What :func:`_check_inside` reads of a scene: its working size."""
+
+    image_size: tuple[int, int]
+
+
+def box_object_ids(class_ids: Sequence[int], taken: Sequence[int] = ()) -> list[int]:
+    """The instance ids the objects named by a box get (:func:`sdn3d.derender.derender`): in the boxes' order, the
+    next free number of each box's class (``class_ids``) after the ids ``taken`` by other proposals."""
+    out: list[int] = []
+    for cid in class_ids:
+        used = [int(i) for i in [*taken, *out] if int(i) // 1000 == int(cid)]
+        out.append(int(cid) * 1000 + (max(used) % 1000 if used else 0) + 1)
+    return out
+
+
+def check_ids(spec: EditSpec, ids: Sequence[int], what: str = "") -> None:
+    """Check the ops' ``id`` fields against the objects ``ids`` the scene will have, before it exists (with
+    ``proposals=boxes`` they are the boxes' :func:`box_object_ids`): ids the earlier ops create (a duplicate's copy)
+    count; ids they delete do not. Stops at the first op whose result is unknown without the scene (a duplicate of
+    an object picked by position, whose copy's id depends on its class).
+
+    Raises:
+        EditError: naming the op, the id and the ids there are (``what``: where they come from).
+    """
+    if spec.entry is not None:
+        return
+    live = {int(i): int(i) // 1000 for i in ids}
+    for op in spec.ops:
+        if op.id is not None and op.id not in live:
+            raise EditError(f"{op.describe()}: no object with id {op.id} (the scene will have {sorted(live)}"
+                            f"{what})")
+        if op.kind == "delete" and op.id is not None:
+            del live[op.id]
+        elif op.kind == "duplicate":
+            if op.id is None and op.new_id is None:
+                return
+            cls = live[op.id] if op.id is not None else op.new_id // 1000
+            new = op.new_id if op.new_id is not None else cls * 1000 + max(i % 1000 for i in live if live[i] == cls) + 1
+            live[new] = cls
+        elif op.kind == "delete":  # by position: which object is gone is known only with the scene
+            return
+
+
 def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = None,
                 pick_radius: float | None = 16.0, bank: MeshBank | None = None, strict: bool = True,
                 generator: torch.Generator | None = None, frame: PixelFrame | None = None) -> list[EditOp]:
@@ -615,59 +690,107 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
     instance_map = compose_instances(scene, bank).cpu() if any(op.at is not None for op in spec.ops) else None
     centers, valid = projected_centers(scene)
     ops: list[EditOp] = []
+    # The objects as the ops so far left them (ids, poses, codes; no rendering): an id an earlier op created (a
+    # duplicate's copy) is valid for the later ops, one it deleted is not. Picks by position use the unedited scene.
+    table, codes = obj, scene.background_codes
+    made: dict[int, str] = {}  # id -> the op that created or deleted it, for messages
+    paint: dict[int, tuple[float, float, float]] = {}  # id -> the colour a recolor gave it (carried by its copies)
     for op in spec.ops:
         what = op.describe()
         at, frm, to = (_scaled(op.at, spec, scene, frame), _scaled(op.from_uv, spec, scene, frame),
                        _scaled(op.to, spec, scene, frame))
         _check_inside(op, (at, frm, to), spec, scene, frame)
+        added: list[EditOp] = []
         if op.kind == "recolor" and op.class_ is not None:
             cls = _class_id(op.class_, scene, what)
-            ops.append(SetBackgroundCode(cls, _code(op, cls, scene, code_bank, generator, what)))
-            continue
-        need_geo = op.kind in _GEOMETRIC
-        if op.id is not None:
-            if not bool((obj.instance_id == op.id).any()):
-                raise EditError(f"{what}: no object with id {op.id} (the scene has {obj.instance_id.tolist()})")
-            iid = op.id
-        elif at is not None:
-            iid = _pick_at(at, op.at, scene, instance_map, centers, valid, need_geo, pick_radius,
-                           lambda uv: _unscaled(uv, spec, scene, frame), what)
+            added.append(SetBackgroundCode(cls, _code(op, cls, scene, code_bank, generator, what)))
         else:
+            need_geo = op.kind in _GEOMETRIC
+            if op.id is not None:
+                if not bool((table.instance_id == op.id).any()):
+                    gone = f"; {made[op.id]}" if op.id in made else ""
+                    raise EditError(f"{what}: no object with id {op.id}{gone} (the scene has "
+                                    f"{table.instance_id.tolist()})")
+                iid = op.id
+            elif at is not None:
+                iid = _pick_at(at, op.at, scene, instance_map, centers, valid, need_geo, pick_radius,
+                               lambda uv: _unscaled(uv, spec, scene, frame), what)
+            else:
+                try:
+                    iid = match_objects(scene, [frm], [True], pick_radius)[0]
+                except EditError as exc:
+                    message = str(exc).replace(str(frm), str(_shown(op.from_uv)))
+                    raise EditError(f"{what}: {message}") from None
+            if not bool((table.instance_id == iid).any()):
+                raise EditError(f"{what}: object {iid} is no longer in the scene: {made.get(iid, 'an earlier op')}")
+            row = table.index_of(iid)
+            if need_geo and not bool(table.has_geometry[row]):
+                raise EditError(f"{what}: object {iid} has no 3D geometry (mask only); it can only be deleted or "
+                                "recoloured")
+            if op.kind == "move":
+                added.append(Move(iid, to))
+            elif op.kind == "rotate":
+                added.append(Rotate(iid, op.ry))
+            elif op.kind == "zoom":
+                added.append(Zoom(iid, op.zoom, op.on_ground))
+            elif op.kind == "delete":
+                added.append(Delete(iid))
+                made[iid] = f"{what} deleted it"
+            elif op.kind == "duplicate":
+                added.extend(_duplicate_ops(op, iid, row, to, table, scene, paint, spec, frame, what))
+                made[added[0].new_id] = f"{what} made it"
+            elif op.kind == "modify":
+                added.append(Modify(iid, to, op.zoom, op.ry))
+            else:
+                code = _set_code(op, iid, None, scene, code_bank, generator, what, table.code[row],
+                                 int(table.class_id[row]))
+                if code.color is not None:
+                    paint[iid] = code.color
+                added.append(code)
+        for new in added:
             try:
-                iid = match_objects(scene, [frm], [True], pick_radius)[0]
+                table, codes = edited_table(scene, table, codes, new)
             except EditError as exc:
-                message = str(exc).replace(str(frm), str(_shown(op.from_uv)))
-                raise EditError(f"{what}: {message}") from None
-        row = obj.index_of(iid)
-        if need_geo and not bool(obj.has_geometry[row]):
-            raise EditError(f"{what}: object {iid} has no 3D geometry (mask only); it can only be deleted or "
-                            "recoloured")
-        if op.kind == "move":
-            ops.append(Move(iid, to))
-        elif op.kind == "rotate":
-            ops.append(Rotate(iid, op.ry))
-        elif op.kind == "zoom":
-            ops.append(Zoom(iid, op.zoom, op.on_ground))
-        elif op.kind == "delete":
-            ops.append(Delete(iid))
-        elif op.kind == "duplicate":
-            ops.append(Duplicate(iid, to, op.new_id))
-        elif op.kind == "modify":
-            ops.append(Modify(iid, to, op.zoom, op.ry))
-        else:
-            ops.append(_set_code(op, iid, row, scene, code_bank, generator, what))
+                raise EditError(f"{what}: {exc}") from None
+        ops.extend(added)
     return ops
 
 
-def _set_code(op: OpSpec, iid: int, row: int, scene: SceneCode, code_bank: CodeBank | None,
-              generator: torch.Generator | None, what: str) -> SetCode:
+def _set_code(op: OpSpec, iid: int, row: int | None, scene: SceneCode, code_bank: CodeBank | None,
+              generator: torch.Generator | None, what: str, current: torch.Tensor | None = None,
+              class_id: int | None = None) -> SetCode:
     """A ``recolor`` of an object: its code (:func:`_code`) and, for ``color``, the paint. Without a code bank a
-    named colour keeps the object's code (an appearance that draws codes refuses it:
-    :func:`code_bank_needed`)."""
+    named colour keeps the object's code (``current``: its code now; default its row's in ``scene``; an appearance
+    that draws codes refuses it: :func:`code_bank_needed`). ``row`` None: an object an earlier op created."""
     color = named_color(op.color) if op.color is not None else None
+    if current is None:
+        current = scene.objects.code[row]
+    if class_id is None:
+        class_id = int(scene.objects.class_id[row]) if row is not None else None
     if color is not None and code_bank is None:
-        return SetCode(iid, tuple(float(c) for c in scene.objects.code[row]), color)
-    return SetCode(iid, _code(op, int(scene.objects.class_id[row]), scene, code_bank, generator, what), color)
+        return SetCode(iid, tuple(float(c) for c in current), color)
+    return SetCode(iid, _code(op, class_id, scene, code_bank, generator, what), color)
+
+
+def _duplicate_ops(op: OpSpec, iid: int, row: int, to: tuple[float, float], table: ObjectTable, scene: SceneCode,
+                   paint: dict[int, tuple[float, float, float]], spec: EditSpec, frame: PixelFrame | None,
+                   what: str) -> list[EditOp]:
+    """A ``duplicate`` of the object at ``table``'s row ``row`` (the objects as the earlier ops left them): the copy
+    gets its id here (``new_id``, else the next of its class, so later ops can name it), stands clear of every other
+    car in 3D (:func:`~sdn3d.editing.apply.clear_place`: pushed along the road from ``to`` until its footprint
+    clears; refused when nothing in the picture does) and carries the original's current appearance (its code, and
+    the colour a recolor gave it)."""
+    new_id = op.new_id if op.new_id is not None else copy_id(table, row)
+    place, pushed, blocker = clear_place(scene, table, row, to)
+    if blocker is not None:
+        raise EditError(f"{what}: the copy at {_shown(op.to)} would overlap object {blocker} in 3D, and no place along "
+                        "the road within three car lengths (inside the picture) is clear of the other cars; give "
+                        "another 'to'")
+    out: list[EditOp] = [Duplicate(iid, place, new_id)]
+    if iid in paint:
+        out.append(SetCode(new_id, tuple(float(c) for c in table.code[row]), paint[iid]))
+        paint[new_id] = paint[iid]
+    return out
 
 
 def _no_code_bank(what: str, field: str) -> EditError:

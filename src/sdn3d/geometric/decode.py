@@ -46,7 +46,9 @@ def decode_outputs(
     Returns:
         ``dims (N, 3)`` as ``(l, h, w)``; ``ry (N,)``; ``center (N, 3)`` box centre and ``location
         (N, 3)`` bottom-face centre (camera frame); ``template_id (N,)`` (argmax mesh id);
-        ``template_probs (N, M)`` with ``M = max(8, max id + 1)``; ``phi (N, 64, 3)``.
+        ``template_probs (N, M)`` with ``M = max(8, max id + 1)``; ``phi (N, 64, 3)``; for a ``"multibin"`` net
+        also its ``yaw_bins``, ``yaw_residual`` and ``yaw_ray`` as they are (the appearance's belief in any yaw,
+        :func:`sdn3d.geometric.model.yaw_distribution`, the test-time fit's front/back cue).
     """
     encoding = encoding or AttributeEncoding()
     n = box.shape[0]
@@ -55,7 +57,9 @@ def decode_outputs(
     if templates is None:
         templates = torch.arange(logits.shape[1], device=logits.device)
     probs = template_distribution(logits, templates, max(len(TEMPLATE_NAMES), int(templates.max()) + 1))
+    extra = {k: raw[k] for k in ("yaw_bins", "yaw_residual", "yaw_ray") if k in raw}
     return {
+        **extra,
         "dims": dims,
         "ry": ry,
         "center": center,

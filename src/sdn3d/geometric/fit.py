@@ -5,9 +5,13 @@ Adam steps (:mod:`sdn3d.geometric.refine`). A car in a photo the branches never 
 so :func:`fit_to_masks` searches, batched over all objects and hypotheses at once:
 
 1. **On the road.** The camera has no roll or pitch and the road is the plane ``y = camera_height`` of the
-   camera frame (KITTI: 1.65 m), so the car's bottom-face centre is ``(x, camera_height, z)``: two free numbers,
+   camera frame, so the car's bottom-face centre is ``(x, camera_height, z)``: two free numbers,
    started where the ray through the middle of the box's bottom edge meets the road (pushed back by half a car
-   width, the box's bottom edge is the car's nearest side).
+   width, the box's bottom edge is the car's nearest side). The camera's height over the road is measured in the
+   image (``camera_height=None``, the default, issue 40): the median height of the predicted cars' bottom faces
+   (the geometric branch's ``start_location``, from each car's box, distance and projected centre), within
+   ``camera_height_range``; without a prediction it is ``default_camera_height`` (KITTI's 1.65 m). The synthetic
+   cameras sit 1.50-1.65 m up: a fixed 1.65 m put cars about 8 % too far.
 2. **Many starts, then the best.** Every template of the bank times four starting yaws (the geometric branch's
    prediction where there is one, else facing away from the camera; its reverse; the two sides) is fitted at a
    coarse crop (``coarse_size`` px, ``coarse_steps`` Adam steps on x, log z, yaw and log dims), each template cut to
@@ -15,8 +19,11 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    hypotheses of each object, and the prediction itself (its template, place on the road, yaw and size), go on at
    a finer crop with the free-form deformation (``fine_steps``); the one with
    the lowest loss wins, so the template is chosen by its fit. A silhouette barely tells a car's front from its
-   back: among the fits within ``tie`` (a share) of the best loss, the one whose yaw is nearest the first start
-   (the prediction's) wins.
+   back: the prediction's end-for-end flip is always one more fine hypothesis, and among the fits within ``tie``
+   (a share) of the best loss the appearance decides: the one whose yaw the branch believes most (``yaw_belief``,
+   e.g. a MultiBin branch's bin confidences, :func:`sdn3d.geometric.model.yaw_distribution`), else the one whose
+   yaw is nearest the first start (the prediction's: a MultiBin branch's front/back). :attr:`FitResult.hypothesis`
+   records the winner (0: the prediction, 1: its flip, 2..: the search's best starts).
 3. **What counts.** The loss is L_reproj (mean ``|S~ - M|``) over the crop, without the pixels of nearer objects
    (``ignore``) and outside the image, plus ``dims_reg * |log d - log d0|^2`` (keeps the size near the start
    where the silhouette cannot tell: a car seen from behind has no visible length, and a box-like car turned by 90
@@ -28,14 +35,17 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    template a silhouette cannot tell is told by the size) and ``ffd_reg * mean(phi^2)``.
 
 The fit's quality is the silhouette IoU of the winner with the mask at the fine crop (the soft silhouette
-thresholded at 0.5, ignored pixels left out): :attr:`FitResult.iou`. Shapes in the docstrings: ``N`` objects,
-``T`` templates, ``Y`` starting yaws.
+thresholded at 0.5, ignored pixels left out): :attr:`FitResult.iou`. A mask too small or too thin to fit
+(``min_mask_pixels``, ``min_mask_side``) keeps the branch's prediction where there is one (``FitResult.fitted``
+False, a warning naming the object in ``FitResult.warnings``), never a silent flip. Shapes in the docstrings:
+``N`` objects, ``T`` templates, ``Y`` starting yaws.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
 
 import torch
 from torch import Tensor
@@ -49,7 +59,8 @@ from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.templates import TEMPLATE_DIMENSIONS
 from sdn3d.render.settings import SoftSilhouetteSettings
 
-__all__ = ["FitSettings", "FitResult", "fit_to_masks", "road_start", "CAR_DIMS", "PLAUSIBLE_SIZE_FACTOR"]
+__all__ = ["FitSettings", "FitResult", "fit_to_masks", "road_start", "estimate_camera_height", "CAR_DIMS",
+           "PLAUSIBLE_SIZE_FACTOR", "HYPOTHESES"]
 
 #: Mean KITTI car ``(l, h, w)`` in metres: the size a fit starts from without a usable prediction.
 CAR_DIMS = (3.88, 1.53, 1.63)
@@ -60,6 +71,9 @@ CAR_DIMS = (3.88, 1.53, 1.63)
 PLAUSIBLE_SIZE_FACTOR = 2.5
 #: Starting yaws: offsets added to the first start (prediction or facing away): itself, reversed, the two sides.
 YAW_OFFSETS = (0.0, math.pi, math.pi / 2, -math.pi / 2)
+#: Names of the fine stage's hypotheses (:attr:`FitResult.hypothesis` indexes them; the search's ``k``-th best start
+#: is ``2 + k``).
+HYPOTHESES = ("prediction", "prediction flipped end for end")
 
 
 @dataclass(frozen=True)
@@ -67,7 +81,10 @@ class FitSettings:
     """How :func:`fit_to_masks` searches (module doc). Defaults measured on the synthetic test part.
 
     Args:
-        camera_height: the road plane's ``y`` in the camera frame, metres (y down; KITTI's camera is 1.65 m up).
+        camera_height: the road plane's ``y`` in the camera frame, metres (y down; KITTI's camera is 1.65 m up);
+            None: measured in the image from the predicted cars (:func:`estimate_camera_height`).
+        default_camera_height: the height without a prediction to measure it from.
+        camera_height_range: the measured height is clamped to this ``(low, high)``.
         coarse_size, coarse_steps: crop side (px) and Adam steps of the search over all starts.
         coarse_faces: the search over all starts draws each template cut to at most this many faces
             (:meth:`~sdn3d.meshes.bank.MeshBank.simplified`; 0: the full meshes). The fine stage draws the full ones.
@@ -89,9 +106,13 @@ class FitSettings:
         silhouette: ``soft`` (SoftRas) or ``straight_through`` (hard values, soft gradient: the L1 optimum is the
             true outline, not a shrunken one; :mod:`sdn3d.render.silhouette`).
         poor_iou: a fit below this silhouette IoU with its mask is flagged as poor.
+        min_mask_pixels, min_mask_side: a mask with fewer pixels, or a bounding box thinner (px), is not fitted: the
+            object keeps the branch's prediction (where there is one) and a warning.
     """
 
-    camera_height: float = 1.65
+    camera_height: float | None = 1.65
+    default_camera_height: float = 1.65
+    camera_height_range: tuple[float, float] = (1.2, 2.2)
     coarse_size: int = 32
     coarse_steps: int = 12
     coarse_faces: int = 450
@@ -109,21 +130,25 @@ class FitSettings:
     yaw_reg: float = 0.02
     ffd_reg: float = 100.0
     poor_iou: float = 0.7
+    min_mask_pixels: int = 24
+    min_mask_side: int = 3
 
     def __post_init__(self) -> None:
         for name in ("coarse_size", "fine_size"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 8:
                 raise ValueError(f"FitSettings.{name} must be an integer >= 8, got {value!r}")
-        for name in ("coarse_steps", "fine_steps", "keep", "coarse_faces"):
+        for name in ("coarse_steps", "fine_steps", "keep", "coarse_faces", "min_mask_pixels", "min_mask_side"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < (1 if name == "keep" else 0):
                 raise ValueError(f"FitSettings.{name} must be a non-negative integer (keep >= 1), got {value!r}")
         if 0 < self.coarse_faces < 4:
             raise ValueError(f"FitSettings.coarse_faces must be 0 (the full meshes) or at least 4, got "
                              f"{self.coarse_faces}")
-        for name in ("camera_height", "lr", "sigma"):
+        for name in ("camera_height", "default_camera_height", "lr", "sigma"):
             value = getattr(self, name)
+            if name == "camera_height" and value is None:
+                continue
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"FitSettings.{name} must be a positive number, got {value!r}")
         for name in ("margin", "dims_reg", "template_size_reg", "shape_reg", "yaw_reg", "ffd_reg", "tie"):
@@ -132,6 +157,13 @@ class FitSettings:
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
         if self.silhouette not in ("soft", "straight_through"):
             raise ValueError(f"FitSettings.silhouette must be 'soft' or 'straight_through', got {self.silhouette!r}")
+        low_high = self.camera_height_range
+        if (not isinstance(low_high, (tuple, list)) or len(low_high) != 2
+                or not all(isinstance(v, (int, float)) and math.isfinite(v) and v > 0 for v in low_high)
+                or low_high[0] > low_high[1]):
+            raise ValueError(f"FitSettings.camera_height_range must be (low, high) with 0 < low <= high, got "
+                             f"{low_high!r}")
+        object.__setattr__(self, "camera_height_range", (float(low_high[0]), float(low_high[1])))
         if not (isinstance(self.poor_iou, (int, float)) and 0 <= self.poor_iou <= 1):
             raise ValueError(f"FitSettings.poor_iou must be in [0, 1], got {self.poor_iou!r}")
 
@@ -148,6 +180,11 @@ class FitResult:
         location: ``(N, 3)`` bottom-face centre (``y = camera_height``); phi: ``(N, 64, 3)`` FFD.
         iou: ``(N,)`` silhouette IoU with the mask at the fine crop; loss: ``(N,)`` the winner's final loss.
         start_ry: ``(N,)`` the first start's yaw (the prediction's, or facing away).
+        hypothesis: ``(N,)`` long, the winning fine hypothesis (:data:`HYPOTHESES`: 0 the prediction, 1 its
+            end-for-end flip, ``2 + k`` the search's ``k``-th best start; -1: not fitted, the prediction kept).
+        fitted: ``(N,)`` bool, False where the mask was too small or thin and the prediction was kept.
+        camera_height: the road plane's ``y`` the fit used (metres) and how it was found (``camera_height_source``).
+        warnings: one line per object the fit could not treat normally, naming it by its index.
     """
 
     template: Tensor
@@ -158,6 +195,17 @@ class FitResult:
     iou: Tensor
     loss: Tensor
     start_ry: Tensor
+    hypothesis: Tensor = field(default_factory=lambda: torch.zeros(0, dtype=torch.long))
+    fitted: Tensor = field(default_factory=lambda: torch.zeros(0, dtype=torch.bool))
+    camera_height: float = 1.65
+    camera_height_source: str = "default"
+    warnings: list[str] = field(default_factory=list)
+
+    def hypothesis_name(self, i: int) -> str:
+        """The ``i``-th object's winning hypothesis in words."""
+        h = int(self.hypothesis[i])
+        return "not fitted (prediction kept)" if h < 0 else HYPOTHESES[h] if h < len(HYPOTHESES) else \
+            f"search start {h - len(HYPOTHESES) + 1}"
 
 
 def road_start(boxes: Tensor, intr: Intrinsics, camera_height: float, width: float = CAR_DIMS[2]) -> Tensor:
@@ -177,6 +225,26 @@ def road_start(boxes: Tensor, intr: Intrinsics, camera_height: float, width: flo
     z = camera_height * intr.fy / (v - intr.cy) + width / 2
     x = (u - intr.cx) * z / intr.fx
     return torch.stack([x, torch.full_like(x, camera_height), z], 1)
+
+
+def estimate_camera_height(start_location: Tensor | None, settings: FitSettings) -> tuple[float, str]:
+    """``(height, source)``: ``settings.camera_height`` when set, else the median ``y`` of the finite predicted
+    bottom-face centres ``start_location (N, 3)`` clamped to ``settings.camera_height_range``, else
+    ``settings.default_camera_height``.
+
+    >>> estimate_camera_height(torch.tensor([[1.0, 1.52, 10.0], [0.0, 1.58, 20.0], [2.0, 1.5, 30.0]]), FitSettings())
+    (1.52, 'measured: median of 3 predicted cars')
+    """
+    if settings.camera_height is not None:
+        return float(settings.camera_height), "given"
+    if start_location is not None and start_location.numel():
+        y = start_location[:, 1].double()
+        ok = torch.isfinite(start_location).all(1) & (start_location[:, 2] > 0)
+        if bool(ok.any()):
+            low, high = settings.camera_height_range
+            height = min(max(float(y[ok].median()), low), high)
+            return round(height, 4), f"measured: median of {int(ok.sum())} predicted cars"
+    return float(settings.default_camera_height), "default"
 
 
 def _typical_log_dims(bank: MeshBank) -> Tensor | None:
@@ -204,9 +272,8 @@ def _crops(masks: Tensor, ignore: Tensor, windows: Tensor, size: int, intr: Intr
 
 def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Tensor, ry0: Tensor, mask: Tensor,
            ign: Tensor, K: Tensor, size: int, steps: int, settings: FitSettings,
-           with_ffd: bool) -> tuple[dict[str, Tensor], Tensor]:
+           with_ffd: bool, height: float) -> tuple[dict[str, Tensor], Tensor]:
     """Adam on ``M`` hypotheses (rows of every tensor); returns the fitted values and ``(M,)`` final losses."""
-    height = settings.camera_height
     x = start["x"].clone().requires_grad_(True)
     log_z = start["z"].log().clone().requires_grad_(True)
     half_ry = (start["ry"] / 2).clone().requires_grad_(True)  # the yaw moves twice as fast as the rest
@@ -248,7 +315,8 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
                  start_ry: Tensor | None = None, start_dims: Tensor | None = None,
                  start_template: Tensor | None = None, start_location: Tensor | None = None,
                  bank: MeshBank | None = None,
-                 settings: FitSettings | None = None) -> FitResult:
+                 settings: FitSettings | None = None,
+                 yaw_belief: Callable[[Tensor], Tensor] | None = None) -> FitResult:
     """Fit template, size, yaw, position on the road and FFD of ``N`` vehicles to their masks (module doc).
 
     Args:
@@ -261,9 +329,13 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
             None: :data:`CAR_DIMS`); also the size prior.
         start_template, start_location: ``(N,)`` template (-1: none) and ``(N, 3)`` bottom-face centre of the
             prediction: with ``start_ry`` and ``start_dims`` one more hypothesis of the fine stage (its ``x`` and
-            ``z`` on the road plane).
+            ``z`` on the road plane), and its end-for-end flip another; the locations also measure the camera's
+            height (``settings.camera_height=None``).
         bank: the templates (default: the 8 procedural ones); every one is tried.
         settings: the search (default :class:`FitSettings`).
+        yaw_belief: maps ``(N, K)`` yaws to ``(N, K)`` scores of how much the appearance believes each (higher: more;
+            e.g. :func:`sdn3d.geometric.model.yaw_distribution` of a MultiBin branch's outputs); it decides among
+            the fits within ``tie`` of the best. None: the yaw nearest ``start_ry`` does.
     """
     settings = settings or FitSettings()
     bank = bank or default_bank()  # shared: its simplified coarse bank is built once per process
@@ -273,13 +345,17 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     if tuple(boxes.shape) != (n, 4):
         raise ValueError(f"boxes must be ({n}, 4), got {tuple(boxes.shape)}")
     ignore = torch.zeros_like(masks, dtype=torch.bool) if ignore is None else ignore.bool()
+    height, height_source = estimate_camera_height(
+        None if start_location is None or start_template is None
+        else torch.where((start_template >= 0)[:, None], start_location.float(), float("nan")), settings)
     if n == 0:
         empty = torch.zeros(0)
         return FitResult(torch.zeros(0, dtype=torch.long), torch.zeros(0, 3), empty, torch.zeros(0, 3),
-                         torch.zeros(0, 64, 3), empty, empty, empty)
+                         torch.zeros(0, 64, 3), empty, empty, empty, camera_height=height,
+                         camera_height_source=height_source)
     masks = masks.bool() & ~ignore
     image_size = (intr.width, intr.height)
-    road = road_start(boxes, intr, settings.camera_height).float()
+    road = road_start(boxes, intr, height).float()
     ry0 = torch.full((n,), -math.pi / 2) if start_ry is None else start_ry.float().clone()
     ry0 = torch.where(torch.isfinite(ry0), ry0, torch.full_like(ry0, -math.pi / 2))
     dims0 = torch.tensor(CAR_DIMS).expand(n, 3).clone()
@@ -302,45 +378,84 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     mask, ign, K = _crops(masks, ignore, windows, settings.coarse_size, intr, image_size)
     coarse_bank = bank.simplified(settings.coarse_faces) if settings.coarse_faces else bank
     values, loss = _stage(coarse_bank, template, start, dims0[obj], ry0[obj], mask[obj], ign[obj], K[obj],
-                          settings.coarse_size, settings.coarse_steps, settings, with_ffd=False)
+                          settings.coarse_size, settings.coarse_steps, settings, with_ffd=False, height=height)
 
-    # Fine: the `keep` best of each object, and the prediction itself (its template, place, yaw and size; where
-    # there is none, the best start again), with the FFD.
+    # Fine: the prediction itself (its template, place, yaw and size; where there is none, the best start), its
+    # end-for-end flip, and the `keep` best starts of each object, with the FFD.
     keep = min(settings.keep, per)
     best = loss.view(n, per).topk(keep, dim=1, largest=False).indices + torch.arange(n)[:, None] * per
-    starts = {k: v[best].clone() for k, v in values.items()}  # (n, keep, ...)
-    fine_template = template[best]
+    searched = {k: v[best].clone() for k, v in values.items()}  # (n, keep, ...)
+    search_template = template[best]
+    predicted = {"x": searched["x"][:, 0], "z": searched["z"][:, 0], "ry": ry0, "dims": dims0,
+                 "phi_half": torch.zeros(n, 32, 3)}
+    own_template = search_template[:, 0]
     if start_template is not None and start_location is not None:
         own = (start_template >= 0) & torch.isfinite(start_location).all(1) & (start_location[:, 2] > 0)
-        predicted = {"x": start_location[:, 0].float(), "z": start_location[:, 2].float().clamp_min(1.0), "ry": ry0,
-                     "dims": dims0, "phi_half": torch.zeros(n, 32, 3)}
-        extra = {k: torch.where(own.view(-1, *[1] * (v.dim() - 1)), predicted[k], starts[k][:, 0])
-                 for k, v in predicted.items()}
-        starts = {k: torch.cat([starts[k], extra[k][:, None]], 1) for k in starts}
-        own_template = torch.where(own, start_template.long(), fine_template[:, 0])
-        fine_template = torch.cat([fine_template, own_template[:, None]], 1)
-        keep += 1
-    obj = torch.arange(n).repeat_interleave(keep)
+        predicted["x"] = torch.where(own, start_location[:, 0].float(), predicted["x"])
+        predicted["z"] = torch.where(own, start_location[:, 2].float().clamp_min(1.0), predicted["z"])
+        own_template = torch.where(own, start_template.long(), own_template)
+    flipped = {**predicted, "ry": _wrap(ry0 + math.pi)}
+    starts = {k: torch.cat([predicted[k][:, None], flipped[k][:, None], searched[k]], 1) for k in searched}
+    fine_template = torch.cat([own_template[:, None], own_template[:, None], search_template], 1)
+    hyps = keep + len(HYPOTHESES)
+    obj = torch.arange(n).repeat_interleave(hyps)
     mask, ign, K = _crops(masks, ignore, windows, settings.fine_size, intr, image_size)
     values, loss = _stage(bank, fine_template.flatten(), {k: v.flatten(0, 1) for k, v in starts.items()}, dims0[obj],
                           ry0[obj], mask[obj], ign[obj], K[obj], settings.fine_size, settings.fine_steps, settings,
-                          with_ffd=True)
-    fine = loss.view(n, keep)
+                          with_ffd=True, height=height)
+    fine = loss.view(n, hyps)
     equal = fine <= fine.amin(1, keepdim=True) * (1 + settings.tie)
-    agreement = torch.cos(values["ry"].view(n, keep) - ry0[:, None])  # 1: the first start's yaw
-    winner = torch.where(equal, agreement, torch.full_like(agreement, -2.0)).argmax(1) + torch.arange(n) * keep
+    fitted_ry = values["ry"].view(n, hyps)
+    if yaw_belief is not None:
+        with torch.no_grad():
+            belief = yaw_belief(fitted_ry).float()
+    else:
+        belief = torch.cos(fitted_ry - ry0[:, None])  # 1: the first start's yaw
+    index = torch.where(equal, belief, torch.full_like(belief, -math.inf)).argmax(1)
+    winner = index + torch.arange(n) * hyps
     chosen = {k: v[winner] for k, v in values.items()}
     dims, phi = chosen["dims"], expand_half_ffd(chosen["phi_half"])
-    location = torch.stack([chosen["x"], torch.full_like(chosen["x"], settings.camera_height), chosen["z"]], 1)
+    location = torch.stack([chosen["x"], torch.full_like(chosen["x"], height), chosen["z"]], 1)
     won = fine_template.flatten()[winner]
     with torch.no_grad():
-        center = torch.stack([chosen["x"], settings.camera_height - dims[:, 1] / 2, chosen["z"]], 1)
+        center = torch.stack([chosen["x"], height - dims[:, 1] / 2, chosen["z"]], 1)
         sil = render_silhouettes(bank, won, dims, chosen["ry"], center, phi, K[obj][winner],
                                  SoftSilhouetteSettings((settings.fine_size,) * 2, sigma=settings.sigma))
     keep_px = ign[obj][winner][:, 0] < 0.5
     drawn, target = (sil > 0.5) & keep_px, (mask[obj][winner][:, 0] > 0.5) & keep_px
     union = (drawn | target).flatten(1).sum(1)
     iou = (drawn & target).flatten(1).sum(1) / union.clamp_min(1)
-    return FitResult(template=won.long(), dims=dims, ry=chosen["ry"], location=location, phi=phi,
-                     iou=torch.where(union > 0, iou, torch.zeros_like(iou)).float(), loss=loss[winner],
-                     start_ry=ry0)
+    result = FitResult(template=won.long(), dims=dims, ry=chosen["ry"], location=location, phi=phi,
+                       iou=torch.where(union > 0, iou, torch.zeros_like(iou)).float(), loss=loss[winner],
+                       start_ry=ry0, hypothesis=index.long(), fitted=torch.ones(n, dtype=torch.bool),
+                       camera_height=height, camera_height_source=height_source)
+    _keep_predictions_of_bad_masks(result, masks, start_template, start_location, dims0, ry0, settings)
+    return result
+
+
+def _keep_predictions_of_bad_masks(result: FitResult, masks: Tensor, start_template: Tensor | None,
+                                   start_location: Tensor | None, dims0: Tensor, ry0: Tensor,
+                                   settings: FitSettings) -> None:
+    """A mask too small or too thin to fit (``min_mask_pixels``, ``min_mask_side``): the object keeps the branch's
+    prediction where there is one (``fitted`` False, ``hypothesis`` -1) and gets a warning naming it."""
+    pixels = masks.flatten(1).sum(1)
+    rows, cols = masks.any(2), masks.any(1)
+    side = torch.minimum(rows.sum(1), cols.sum(1))  # rows and columns the mask touches
+    for i in range(masks.shape[0]):
+        small, thin = int(pixels[i]) < settings.min_mask_pixels, int(side[i]) < settings.min_mask_side
+        if not (small or thin):
+            continue
+        why = (f"its mask has {int(pixels[i])} pixels (< {settings.min_mask_pixels})" if small
+               else f"its mask is {int(side[i])} px thin (< {settings.min_mask_side})")
+        has_prediction = (start_template is not None and start_location is not None and int(start_template[i]) >= 0
+                          and bool(torch.isfinite(start_location[i]).all()))
+        if not has_prediction:
+            result.warnings.append(f"object {i}: {why}; no prediction to keep, fitted anyway (unreliable)")
+            continue
+        result.template[i] = int(start_template[i])
+        result.dims[i], result.ry[i] = dims0[i], _wrap(ry0[i])
+        result.location[i] = start_location[i].float()
+        result.phi[i] = 0.0
+        result.iou[i] = 0.0
+        result.hypothesis[i], result.fitted[i] = -1, False
+        result.warnings.append(f"object {i}: {why}: not fitted, the geometric branch's prediction kept")

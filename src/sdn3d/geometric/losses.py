@@ -2,7 +2,9 @@
 
 ``L_pred`` (paper) sums one term per attribute, each averaged over objects:
 ``||log s~ - log s||^2 + (1 - (q~ . q)^2) + ||e~ - e||^2 + (log tau~ - log tau)^2``
-(squared L2; ``regression="smooth_l1"`` swaps the three regressions for smooth L1).
+(squared L2; ``regression="smooth_l1"`` swaps the three regressions for smooth L1). With the ``"multibin"``
+rotation (issue 40) the rotation term is the MultiBin loss of the local orientation instead, confidence
+cross-entropy plus residual ``1 - cos`` (:func:`sdn3d.geometric.multibin.multibin_losses`).
 
 ``L_reproj = |S~ - S|``: the mean absolute difference between the soft silhouette ``S~`` of the
 deformed, posed mesh rendered in the crop's camera and the object's visible mask ``S``, over the
@@ -18,8 +20,9 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
+from sdn3d.geometric.multibin import multibin_losses
 from sdn3d.math3d.camera import as_intrinsics_matrix
-from sdn3d.math3d.encodings import RotationMode, rotation_loss
+from sdn3d.math3d.encodings import RotationMode, decode_yaw_quaternion, rotation_loss
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.render.objects import pose_meshes
 from sdn3d.render.settings import SoftSilhouetteSettings
@@ -54,6 +57,7 @@ def prediction_losses(
     targets: Mapping[str, Tensor],
     rotation: RotationMode = "yaw_quaternion",
     regression: str = "l2",
+    yaw_overlap: float = 0.1,
 ) -> dict[str, Tensor]:
     """Per-object terms of L_pred, each ``(N,)``: ``scale``, ``rotation``, ``offset``, ``distance``.
 
@@ -63,15 +67,27 @@ def prediction_losses(
         targets: the dataset's ``targets`` of the same keys (:class:`AttributeEncoding` ``encode``).
         rotation: the encoding's rotation mode (the quaternion loss depends on it).
         regression: ``"l2"`` (paper: squared error) or ``"smooth_l1"``.
+        yaw_overlap: the MultiBin bins' overlap (``"multibin"``: ``raw`` then also holds ``yaw_bins``,
+            ``yaw_residual`` and ``yaw_ray``, and the rotation term is MultiBin's ``conf + loc`` on the true local
+            orientation ``ry - yaw_ray``).
     """
     if regression not in _REGRESSIONS:
         raise ValueError(f"regression must be one of {_REGRESSIONS}, got {regression!r}")
     missing = [k for k in ("log_scale", "rotation", "offset", "log_distance") if k not in raw or k not in targets]
     if missing:
         raise ValueError(f"raw and targets must both hold {missing}")
+    if rotation == "multibin":
+        if any(k not in raw for k in ("yaw_bins", "yaw_residual", "yaw_ray")):
+            raise ValueError("the multibin rotation needs raw yaw_bins, yaw_residual and yaw_ray (GeometricNet with "
+                             "rotation='multibin')")
+        alpha = decode_yaw_quaternion(targets["rotation"]) - raw["yaw_ray"]
+        bins = multibin_losses(raw["yaw_bins"], raw["yaw_residual"], alpha, yaw_overlap)
+        rot = bins["conf"] + bins["loc"]
+    else:
+        rot = rotation_loss(raw["rotation"], targets["rotation"], rotation)
     return {
         "scale": _regression(raw["log_scale"], targets["log_scale"], regression),
-        "rotation": rotation_loss(raw["rotation"], targets["rotation"], rotation),
+        "rotation": rot,
         "offset": _regression(raw["offset"], targets["offset"], regression),
         "distance": _regression(raw["log_distance"], targets["log_distance"], regression),
     }

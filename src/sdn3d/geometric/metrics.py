@@ -126,7 +126,7 @@ def predicted_rotation(rotation: Tensor, ry: Tensor, mode: RotationMode = "yaw_q
 
     The full-quaternion ablation is scored on its whole rotation (tilt included), as predicted.
     """
-    if mode == "yaw_quaternion":
+    if mode != "full_quaternion":
         return roty(ry)
     return quaternion_to_rotation_matrix(F.normalize(rotation, dim=-1, eps=1e-8))
 

@@ -15,8 +15,9 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 from sdn3d.geometric.decode import decode_outputs
+from sdn3d.geometric.lamps import LampCue, face_by_lamps
 from sdn3d.geometric.losses import render_silhouettes
-from sdn3d.geometric.model import GeometricNet
+from sdn3d.geometric.model import GeometricNet, ray_angle
 from sdn3d.geometric.refine import RefineSettings, refine_by_reprojection
 from sdn3d.inference_export import BranchWeights, load_branch_weights, module_with_weights
 from sdn3d.math3d.encodings import AttributeEncoding
@@ -30,7 +31,7 @@ __all__ = [
 
 
 # Constructor arguments of GeometricNet read from the module's hyper-parameters.
-_NET_ARGS = ("rotation", "hidden", "scale_prior")
+_NET_ARGS = ("rotation", "hidden", "scale_prior", "yaw_bins", "yaw_overlap")
 
 
 def net_kwargs_from_hparams(hparams: Mapping[str, Any]) -> dict[str, Any]:
@@ -50,10 +51,15 @@ class GeometricPredictor:
     Args:
         net: the network (moved to eval mode).
         encoding: the parameterisation it was trained with.
+        lamp_cue: where :meth:`predict` is given the masks, each predicted yaw is turned end for end where the red
+            tail lights in the crop clearly say the other end is seen (:mod:`sdn3d.geometric.lamps`, issue 40);
+            None: the net's yaw as it is.
     """
 
-    def __init__(self, net: GeometricNet, encoding: AttributeEncoding | None = None) -> None:
+    def __init__(self, net: GeometricNet, encoding: AttributeEncoding | None = None,
+                 lamp_cue: LampCue | None = LampCue()) -> None:
         self.net = net.eval()
+        self.lamp_cue = lamp_cue
         self.bank: MeshBank | None = None  # built on first use
         self.encoding = encoding or AttributeEncoding(rotation=net.rotation)
         if self.encoding.rotation != net.rotation:
@@ -112,6 +118,8 @@ class GeometricPredictor:
             ignore: ``(N, 1, S, S)`` crop pixels the refinement does not count (closer objects).
             refine: when given (needs ``mask`` and ``crop_intrinsics``), the predictions are refined
                 by :func:`~sdn3d.geometric.refine.refine_by_reprojection` against ``mask`` (Cityscapes).
+
+        With ``mask`` and :attr:`lamp_cue`, the yaw is then turned end for end where the lamps disagree with it.
         """
 
         device = self.device
@@ -131,6 +139,8 @@ class GeometricPredictor:
                 templates=self.net.templates, bank=bank, settings=refine,
             ).raw
         out = decode_outputs(raw, box, intrinsics, self.encoding, self.net.templates)
+        if self.lamp_cue is not None and mask is not None:
+            out["ry"] = face_by_lamps(out["ry"], ray_angle(box, intrinsics), crop, mask.to(device), self.lamp_cue)
         if crop_intrinsics is not None:
             out["silhouette"] = render_silhouettes(
                 bank, out["template_id"], out["dims"], out["ry"], out["center"],

@@ -9,8 +9,10 @@ working size (624x192 from 1242x375) is anisotropic.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
+import numpy as np
 import torch
 from kornia.geometry.camera import project_points as _kornia_project
 from kornia.geometry.camera import unproject_points as _kornia_unproject
@@ -18,6 +20,9 @@ from torch import Tensor
 
 __all__ = [
     "as_intrinsics_matrix",
+    "CameraPose",
+    "DEFAULT_CAMERA_HEIGHT",
+    "ROLL_TOLERANCE",
     "Intrinsics",
     "VKITTI_INTRINSICS",
     "project_points",
@@ -98,6 +103,81 @@ class Intrinsics:
 
 #: Virtual KITTI 1.3.1 (and 2) camera at its native 1242x375 resolution.
 VKITTI_INTRINSICS = Intrinsics(fx=725.0, fy=725.0, cx=620.5, cy=187.0, width=1242, height=375)
+
+
+#: The road's depth below the camera when the camera does not say (KITTI / Virtual KITTI: 1.65 m).
+DEFAULT_CAMERA_HEIGHT = 1.65
+
+#: Largest roll (radians) a level virtual camera ignores (:meth:`CameraPose.level_intrinsics`): 0.01 rad moves a
+#: point at the image edge of a 2048-px-wide Cityscapes frame by about 10 px (3 px at the 624-px working size).
+ROLL_TOLERANCE = 0.01
+
+
+@dataclass(frozen=True)
+class CameraPose:
+    """How the camera sits over the road: the road is a plane ``height`` metres below the camera centre,
+    seen by a camera pitched by ``pitch`` and rolled by ``roll`` (radians).
+
+    Conventions are Cityscapes' (``camera.json`` ``extrinsic``, vehicle frame ISO 8855 x forward, y left, z up,
+    camera orientation ``Rz(yaw) Ry(pitch) Rx(roll)``, :func:`sdn3d.data.cityscapes.camera_to_vehicle`): a
+    positive ``pitch`` looks down (the horizon above the principal point: Cityscapes' cameras have about
+    0.04 rad), a positive ``roll`` turns the camera about its optical axis from left to up. Yaw about the vertical
+    does not change the road plane and is not kept.
+
+    The *level* camera frame is the camera frame of the same camera with no pitch or roll (KITTI axes: x right,
+    y down, z forward); in it the road is the plane ``y = height``, the frame the box fit works in
+    (:class:`sdn3d.geometric.fit.FitSettings` ``camera_height``).
+    """
+
+    height: float = DEFAULT_CAMERA_HEIGHT
+    pitch: float = 0.0
+    roll: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("height", "pitch", "roll"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ValueError(f"CameraPose.{name} must be a finite number, got {value!r}")
+            object.__setattr__(self, name, float(value))
+        if self.height <= 0:
+            raise ValueError(f"CameraPose.height must be positive (metres above the road), got {self.height}")
+        for name in ("pitch", "roll"):
+            if abs(getattr(self, name)) >= math.pi / 4:
+                raise ValueError(f"CameraPose.{name} must be within +-pi/4 rad (a street camera), got "
+                                 f"{getattr(self, name)}")
+
+    @property
+    def level(self) -> bool:
+        """No pitch and no roll."""
+        return self.pitch == 0.0 and self.roll == 0.0
+
+    def tilt(self) -> np.ndarray:
+        """``(3, 3)`` float64 rotation from the level camera frame to the camera frame (KITTI axes):
+        ``p_cam = tilt @ p_level``. The identity for a level camera."""
+        cp, sp, cr, sr = math.cos(self.pitch), math.sin(self.pitch), math.cos(self.roll), math.sin(self.roll)
+        ry = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])  # ISO 8855 axes (x forward, y left, z up)
+        rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
+        iso_to_kitti = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
+        return (iso_to_kitti @ ry @ rx @ iso_to_kitti.T).T  # camera -> level is the inner product
+
+    def level_intrinsics(self, intr: Intrinsics) -> Intrinsics:
+        """The level virtual camera of this camera's image: the pitch folded into the principal point,
+        ``cy' = cy - fy tan(pitch)`` (exact on the horizon and at the principal point's column; a point
+        ``a`` rad below the horizon moves by a factor ``1 / (1 + tan(a) tan(pitch))`` of its distance to it:
+        under 1.5 % for a 0.045 rad pitch at the bottom of a Cityscapes frame). The roll is ignored (up to
+        :data:`ROLL_TOLERANCE`, :meth:`roll_ignored`)."""
+        if self.pitch == 0.0:
+            return intr
+        return Intrinsics(intr.fx, intr.fy, intr.cx, intr.cy - intr.fy * math.tan(self.pitch), intr.width,
+                          intr.height)
+
+    @property
+    def roll_ignored(self) -> bool:
+        """The roll is over :data:`ROLL_TOLERANCE` and the level virtual camera leaves it out."""
+        return abs(self.roll) > ROLL_TOLERANCE
+
+    def to_dict(self) -> dict[str, float]:
+        return {"height": self.height, "pitch": self.pitch, "roll": self.roll}
 
 
 def intrinsics_matrix(fx: Tensor, fy: Tensor, cx: Tensor, cy: Tensor) -> Tensor:

@@ -7,7 +7,12 @@ frame) and 2D box ``(l, t, r, b)`` in pixels with centre ``(x2D, y2D)`` and size
 - scale: ``log s`` with ``s = (l, h, w)``;
 - rotation ``"yaw_quaternion"`` (paper): ``q = (cos(ry/2), 0, sin(ry/2), 0)`` (w, x, y, z as
   kornia); ``"full_quaternion"`` (ablation): kornia's ``rotation_matrix_to_quaternion(R_y(ry))``,
-  whose sign is not canonicalised. Loss ``1 - (q~ . q)^2`` is sign-invariant;
+  whose sign is not canonicalised. Loss ``1 - (q~ . q)^2`` is sign-invariant; ``"multibin"`` (issue 40):
+  the target is the yaw quaternion as for ``"yaw_quaternion"``, but the net predicts the local orientation
+  (observation angle) as Deep3DBox's MultiBin (bin confidences + residuals, :mod:`sdn3d.geometric.multibin`)
+  and its own ``rotation`` output is the yaw quaternion of that angle; its loss is the MultiBin loss
+  (:func:`sdn3d.geometric.losses.prediction_losses`), which tells the front from the back, while the
+  quaternion loss of an axis (``1 - (q~ . q)^2`` is 0.5 for a flipped car) does so only weakly;
 - offset ``e = ((x3D - x2D) / w2D, (y3D - y2D) / h2D)`` with ``(x3D, y3D)`` the projection of ``c``;
 - distance ``"log_tau"`` (paper): ``log tau``, ``tau = |c| sqrt((w2D / fx) (h2D / fy))``, which
   does not change when the image (and box) is resized; ``"log_distance"`` (ablation): ``log |c|``.
@@ -50,9 +55,9 @@ __all__ = [
     "decode_attributes",
 ]
 
-RotationMode = Literal["yaw_quaternion", "full_quaternion"]
+RotationMode = Literal["yaw_quaternion", "full_quaternion", "multibin"]
 DistanceMode = Literal["log_tau", "log_distance"]
-_ROTATION_MODES = ("yaw_quaternion", "full_quaternion")
+_ROTATION_MODES = ("yaw_quaternion", "full_quaternion", "multibin")
 _DISTANCE_MODES = ("log_tau", "log_distance")
 _TARGET_KEYS = ("log_scale", "rotation", "offset", "log_distance")
 
@@ -155,14 +160,15 @@ def rotation_loss(pred: Tensor, target: Tensor, rotation: RotationMode = "yaw_qu
     ``q~`` is the normalised prediction. With ``"yaw_quaternion"`` the prediction is first
     projected onto rotations about y by keeping only its ``(w, y)`` components (the decoder
     reads only those), so the loss is over that 2-D part; with ``"full_quaternion"`` it is over
-    all 4 components. The target is assumed unit norm (as the encoders give it).
+    all 4 components. The target is assumed unit norm (as the encoders give it). ``"multibin"`` scores its
+    quaternion output as ``"yaw_quaternion"`` does (its training loss is MultiBin's, on the net's bin outputs).
     """
     if rotation not in _ROTATION_MODES:
         raise ValueError(f"rotation must be one of {_ROTATION_MODES}, got {rotation!r}")
     if pred.shape != target.shape or pred.shape[-1] != 4:
         raise ValueError(f"pred and target must both have shape (B, 4), got {tuple(pred.shape)} "
                          f"and {tuple(target.shape)}")
-    if rotation == "yaw_quaternion":
+    if rotation in ("yaw_quaternion", "multibin"):
         pred = pred[..., [0, 2]]
         target = target[..., [0, 2]]
     # eps keeps the gradient finite at a zero prediction.
@@ -258,7 +264,7 @@ def encode_attributes(
     batch = box2d.shape[0]
     _check_shape("ry", ry, (batch,))
     _check_finite("ry", ry)
-    encode_rot = encode_yaw_quaternion if rotation == "yaw_quaternion" else encode_full_quaternion
+    encode_rot = encode_full_quaternion if rotation == "full_quaternion" else encode_yaw_quaternion
     return {
         "log_scale": encode_log_scale(dims),
         "rotation": encode_rot(wrap_angle(ry)),
@@ -285,7 +291,7 @@ def decode_attributes(
     for key, size in zip(_TARGET_KEYS, (3, 4, 2, 1), strict=True):
         _check_shape(f"targets[{key!r}]", targets[key], (batch, size))
         _check_finite(f"targets[{key!r}]", targets[key])
-    decode_rot = decode_yaw_quaternion if rotation == "yaw_quaternion" else decode_full_quaternion
+    decode_rot = decode_full_quaternion if rotation == "full_quaternion" else decode_yaw_quaternion
     t = decode_distance(targets["log_distance"], box2d, K, distance)
     return (
         decode_log_scale(targets["log_scale"]),
@@ -299,7 +305,8 @@ class AttributeEncoding:
     """The target parameterisation of the geometric branch, with its ablation variants.
 
     Args:
-        rotation: ``"yaw_quaternion"`` (paper) or ``"full_quaternion"`` (ablation).
+        rotation: ``"yaw_quaternion"`` (paper), ``"full_quaternion"`` (ablation) or ``"multibin"`` (targets as
+            ``"yaw_quaternion"``; the net's MultiBin head and loss, issue 40).
         distance: ``"log_tau"`` (paper, resize-invariant) or ``"log_distance"`` (ablation, ``log |c|``).
 
     Example:

@@ -88,7 +88,11 @@ async function api(method, url, body, type) {
   const text = await response.text();
   let data = null;
   try { data = JSON.parse(text); } catch (e) { data = { error: text || response.statusText }; }
-  if (!response.ok) throw new Error(data.error || response.statusText);
+  if (!response.ok) {
+    const error = new Error(data.error || response.statusText);
+    error.data = data;  // e.g. refused_objects: the boxes where no vehicle is (the page offers to add them anyway)
+    throw error;
+  }
   return data;
 }
 
@@ -106,16 +110,21 @@ function setBusy(delta) {
   $("busy").hidden = app.inFlight === 0;
 }
 
-function showError(message) {
+// An error line; `anyway`: a function that does it all the same, offered as a button (an object refused as no
+// vehicle is added only when the user says so).
+function showError(message, anyway) {
   $("error").hidden = !message;
-  $("error").textContent = message || "";
+  $("error-text").textContent = message || "";
+  app.anyway = message && anyway ? anyway : null;
+  $("anyway").hidden = !app.anyway;
 }
 
 // Send a state; on success it becomes history[index + 1] (redo is dropped), on failure nothing changes.
 // `started`: when the user let go (performance.now()), for the latency shown.
-async function commit(next, started, historyIndex) {
+// `keepImplied`: this state adds the box a click implied (it stays shown); any other state removes it.
+async function commit(next, started, historyIndex, keepImplied) {
   if (!app.view) return;
-  if (app.inFlight) { app.pending = { next, started, historyIndex }; return; }
+  if (app.inFlight) { app.pending = { next, started, historyIndex, keepImplied }; return; }
   setBusy(1);
   try {
     const view = await api("POST", `/api/s/${app.view.sid}/edit`, next);
@@ -123,6 +132,7 @@ async function commit(next, started, historyIndex) {
     app.edited = img;
     if (historyIndex !== undefined) app.index = historyIndex;
     else { app.history = app.history.slice(0, app.index + 1); app.history.push(clone(next)); app.index++; }
+    if (!keepImplied) app.implied = null;
     applyView(view);
     app.lastLatencyMs = performance.now() - started;
     const t = view.timings_ms || {};
@@ -132,11 +142,22 @@ async function commit(next, started, historyIndex) {
     showError(null);
     if (app.labels && $("show-labels").checked) loadLabels();
   } catch (e) {
-    showError(e.message);
+    const refused = (e.data && e.data.refused_objects) || [];
+    if (refused.length) {  // boxes where GrabCut, the road plane or the fit see no vehicle: nothing was added
+      if (keepImplied) app.implied = null;
+      $("status").textContent = "";
+      showError(e.message, () => {
+        const forced = clone(next);
+        for (const i of refused) forced.objects[i].force = true;
+        commit(forced, performance.now(), historyIndex, keepImplied);
+      });
+    } else showError(e.message);
   } finally {
     setBusy(-1);
     draw();
-    if (app.pending) { const p = app.pending; app.pending = null; commit(p.next, p.started, p.historyIndex); }
+    if (app.pending) {
+      const p = app.pending; app.pending = null; commit(p.next, p.started, p.historyIndex, p.keepImplied);
+    }
   }
 }
 
@@ -145,12 +166,17 @@ function applyView(view) {
   if (app.selected !== null && !objectById(app.selected)) app.selected = null;
   $("spec").textContent = view.spec;
   $("command").textContent = view.command;
-  $("warnings").textContent = (view.warnings || []).join("\n");
+  $("warnings").replaceChildren(...(view.warnings || []).map((w) => {
+    const line = document.createElement("div");
+    line.textContent = w;
+    return line;
+  }));
   for (const [id, name] of [["dl-spec", "spec.yaml"], ["dl-command", "command.txt"], ["dl-png", "edited.png"],
                             ["dl-json", "edit.json"], ["dl-glb", "edited_scene.glb"]]) {
     $(id).href = `/api/s/${view.sid}/download/${name}?v=${view.version}`;
   }
   $("undo").disabled = app.index <= 0;
+  $("reset").disabled = false;
   $("redo").disabled = app.index >= app.history.length - 1;
   legend();
   panel();
@@ -181,10 +207,11 @@ async function opened(view) {
 async function openUpload(file) {
   const params = new URLSearchParams();
   for (const k of ["fx", "fy", "cx", "cy"]) if ($(k).value !== "") params.set(k, $(k).value);
+  params.set("name", file.name);  // shown as the image's name (the server stores the upload as input.png)
   setBusy(1);
   $("status").textContent = "de-rendering " + file.name + "...";
   try {
-    await opened(await api("POST", "/api/open" + (params.toString() ? "?" + params : ""), await file.arrayBuffer(),
+    await opened(await api("POST", "/api/open?" + params, await file.arrayBuffer(),
                            file.type || "application/octet-stream"));
   } catch (e) { showError(e.message); $("status").textContent = ""; } finally { setBusy(-1); }
 }
@@ -314,6 +341,12 @@ function legend() {
   const box = $("legend");
   box.innerHTML = "";
   if (!$("show-labels").checked || !app.view) return;
+  if (app.view.labels_note) {
+    const note = document.createElement("div");
+    note.className = "note";
+    note.textContent = app.view.labels_note;
+    box.append(note);
+  }
   for (const c of app.view.classes.filter((c) => (app.view.present_classes || []).includes(c.id))) {
     const span = document.createElement("span");
     span.innerHTML = `<i style="background: rgb(${c.color.join(",")})"></i>`;
@@ -358,16 +391,26 @@ async function addByClick(u, v) {
   $("add-click").classList.remove("active");
   $("status").textContent = "finding the object under the click...";
   setBusy(1);
-  let box;
+  let found;
   try {
-    box = (await api("POST", `/api/s/${app.view.sid}/box_at`, { u: round1(u), v: round1(v) })).box;
+    found = await api("POST", `/api/s/${app.view.sid}/box_at`, { u: round1(u), v: round1(v) });
   } catch (e) { showError(e.message); $("status").textContent = ""; return; } finally { setBusy(-1); }
-  app.implied = box;
-  draw();
-  const next = clone(state());
-  next.objects.push({ box, class: "Car" });
-  $("status").textContent = `the click implies the box [${box.join(", ")}]; fitting it (GrabCut mask, 3D fit)...`;
-  await commit(next, performance.now());
+  const box = found.box;
+  const add = (force) => {
+    app.implied = box;
+    draw();
+    const next = clone(state());
+    next.objects.push(force ? { box, class: "Car", force: true } : { box, class: "Car" });
+    $("status").textContent = `the click implies the box [${box.join(", ")}]; fitting it (GrabCut mask, 3D fit)...`;
+    showError(null);
+    return commit(next, performance.now(), undefined, true);
+  };
+  if (found.refused) {  // nothing is added unless the user says so
+    $("status").textContent = "";
+    showError(`${found.refused}. Nothing was added.`, () => add(true));
+    return;
+  }
+  await add(false);
 }
 
 function undo() { if (app.index > 0) commit(app.history[app.index - 1], performance.now(), app.index - 1); }
@@ -480,6 +523,7 @@ canvas.addEventListener("keydown", (event) => {
 
 $("file").addEventListener("change", () => { if ($("file").files.length) openUpload($("file").files[0]); });
 $("frames").addEventListener("change", () => { if ($("frames").value !== "") openFrame(Number($("frames").value)); });
+$("anyway").addEventListener("click", () => { const f = app.anyway; showError(null); if (f) f(); });
 $("undo").addEventListener("click", undo);
 $("redo").addEventListener("click", redo);
 $("reset").addEventListener("click", () => { if (app.view) commit({ objects: [], ops: [] }, performance.now()); });

@@ -26,6 +26,7 @@ rendered straight into the crop with ``crop_intrinsics``. Windows may leave the 
 from __future__ import annotations
 
 import functools
+import math
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -176,6 +177,10 @@ class GeometricDataset(Dataset):
             thousand objects fit easily (256-px crops: ~1.4 MB each). Each loader worker keeps its own.
         skip: None: an instance map unreadable while indexing raises; a :class:`SkipLog`: that frame's
             objects are left out and the file recorded (the skip policy).
+        mirror: also serve every object mirrored left to right (items ``len(objects) ..`` of twice the length; issue
+            40): the scene reflected about the camera's vertical plane through the principal point (``x -> -x``,
+            ``u -> 2 cx - u``, ``ry -> pi - ry``), with its crop, masks, boxes, crop camera and targets; the
+            templates are mirror-symmetric. No randomness: an epoch's shuffled order decides which are seen.
     """
 
     def __init__(
@@ -188,6 +193,7 @@ class GeometricDataset(Dataset):
         encoding: AttributeEncoding | None = None,
         cache_items: bool = False,
         skip: SkipLog | None = None,
+        mirror: bool = False,
     ) -> None:
         if crop_size <= 0:
             raise ValueError(f"crop_size must be positive, got {crop_size}")
@@ -202,6 +208,7 @@ class GeometricDataset(Dataset):
         self.objects: list[ObjectRef] = self._build_index(skip)
         self._last: tuple[int, Frame] | None = None  # items of one frame are adjacent when not shuffled
         self._items: dict[int, dict] | None = {} if cache_items else None
+        self.mirror = bool(mirror)
 
     @classmethod
     def from_source(cls, source: SourceConfig, part: str, skip: SkipLog | None = None,
@@ -229,7 +236,7 @@ class GeometricDataset(Dataset):
         return refs
 
     def __len__(self) -> int:
-        return len(self.objects)
+        return len(self.objects) * (2 if self.mirror else 1)
 
     def _frame(self, index: int) -> Frame:
         if self._last is None or self._last[0] != index:
@@ -239,12 +246,36 @@ class GeometricDataset(Dataset):
         return self._last[1]
 
     def __getitem__(self, index: int) -> dict:
+        if not 0 <= index < len(self):
+            raise IndexError(f"object index {index} out of range for {len(self)} items")
+        base = index % len(self.objects)
         if self._items is not None:
-            item = self._items.get(index)
+            item = self._items.get(base)
             if item is None:
-                item = self._items[index] = self._read(index)
-            return item
-        return self._read(index)
+                item = self._items[base] = self._read(base)
+        else:
+            item = self._read(base)
+        return self._mirrored(item) if index >= len(self.objects) else item
+
+    def _mirrored(self, item: dict) -> dict:
+        """``item`` reflected left to right about the principal point's column (class doc, ``mirror``)."""
+        fx, fy, cx, cy = item["intrinsics"].tolist()
+        s = self.crop_size
+
+        def flip_box(box: Tensor) -> Tensor:
+            return torch.stack([2 * cx - box[2], box[1], 2 * cx - box[0], box[3]])
+
+        box = flip_box(item["box"])
+        center = item["center"] * torch.tensor([-1.0, 1.0, 1.0])
+        ry = torch.atan2(torch.sin(math.pi - item["ry"]), torch.cos(math.pi - item["ry"]))
+        crop_intr = item["crop_intrinsics"].clone()
+        crop_intr[2] = s - 1 - crop_intr[2]
+        K = torch.tensor([[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]])
+        targets = self.encoding.encode(item["dims"][None], ry[None], center[None], box[None], K)
+        return {**item, "crop": item["crop"].flip(-1), "mask": item["mask"].flip(-1), "ignore": item["ignore"].flip(-1),
+                "box": box, "crop_box": flip_box(item["crop_box"]), "crop_intrinsics": crop_intr,
+                "targets": {k: v[0] for k, v in targets.items()}, "ry": ry, "center": center,
+                "key": f"{item['key']}/mirrored"}
 
     def _read(self, index: int) -> dict:
         ref = self.objects[index]

@@ -170,6 +170,12 @@ class SynthConfig:
             counterfactual`; 0, the default: none, and the dataset is what it was without the option).
         counterfactual_turns: the turn pairs' angles in degrees (each target gets one turned render per angle).
         counterfactual_delete: each target also gets a delete pair (the frame rendered without it).
+        camera_height: the camera's height above the road in metres (None, the default: drawn per world in
+            [1.50, 1.65] as before).
+        camera_pitch: the camera's pitch in radians, positive looking down (Cityscapes' convention; 0, the default:
+            level, as before). With either set, each sequence also gets a Cityscapes-style ``camera.json`` beside
+            its frames (:func:`camera_json`); the extrinsicsgt rows are the pitched camera's, motgt's ``x3d y3d
+            z3d`` the bottom-face centre in its frame and ``ry`` the yaw about the road's normal.
     """
 
     output_dir: str
@@ -189,6 +195,8 @@ class SynthConfig:
     counterfactual_cars: int = 0
     counterfactual_turns: tuple[float, ...] = (15, 45, 90, 180)
     counterfactual_delete: bool = True
+    camera_height: float | None = None
+    camera_pitch: float = 0.0
 
     def __post_init__(self) -> None:
         """Check every field's type and range (:class:`SynthConfigError` naming the field); normalise
@@ -246,6 +254,15 @@ class SynthConfig:
             raise SynthConfigError(f"counterfactual_delete must be true or false, "
                                    f"got {_got(self.counterfactual_delete)}")
         put("counterfactual_delete", bool(self.counterfactual_delete))
+        height, pitch = self.camera_height, self.camera_pitch
+        if height is not None and (isinstance(height, bool) or not isinstance(height, numbers.Real)
+                                   or not 0.2 <= float(height) <= 10.0):
+            raise SynthConfigError(f"camera_height must be null or metres in [0.2, 10], got {_got(height)}")
+        put("camera_height", None if height is None else float(height))
+        if isinstance(pitch, bool) or not isinstance(pitch, numbers.Real) or not abs(float(pitch)) <= 0.3:
+            raise SynthConfigError(f"camera_pitch must be radians in [-0.3, 0.3] (positive looking down), "
+                                   f"got {_got(pitch)}")
+        put("camera_pitch", float(pitch))
 
     @property
     def first_test_frame(self) -> int:
@@ -262,6 +279,11 @@ class SynthConfig:
     def intrinsics(self) -> Intrinsics:
         width, height = self.image_size
         return VKITTI_INTRINSICS.resized(width, height)
+
+    @property
+    def camera_options(self) -> bool:
+        """``camera_height`` or ``camera_pitch`` is set (not the defaults)."""
+        return self.camera_height is not None or self.camera_pitch != 0.0
 
     def to_dict(self) -> dict:
         out = asdict(self)
@@ -282,14 +304,28 @@ class SequenceSummary:
 
 
 @functools.lru_cache(maxsize=4)
-def _world(seed: int, name: str, frames: int, cars: tuple[int, int], vehicles: str) -> World:
-    return build_world(seed, name, frames, cars, vehicles)
+def _world(seed: int, name: str, frames: int, cars: tuple[int, int], vehicles: str,
+           camera_height: float | None = None, camera_pitch: float = 0.0) -> World:
+    return build_world(seed, name, frames, cars, vehicles, camera_height, camera_pitch)
+
+
+def camera_json(world: World, intrinsics: Intrinsics, yaw_deg: float) -> dict:
+    """A Cityscapes-style ``camera.json`` of a sequence's camera (what ``sdn3d-edit input.camera=`` reads):
+    ``intrinsic`` ``fx fy u0 v0`` at the generated size, ``extrinsic`` the camera in a vehicle frame (ISO 8855) on
+    the road below it: ``z`` its height, ``pitch`` (positive looking down), ``roll`` 0, ``yaw`` the variation's turn
+    (Cityscapes' yaw turns left, the variations' negative angles do), ``x y`` 0 and ``baseline`` 0 (no stereo)."""
+    return {"extrinsic": {"baseline": 0.0, "pitch": world.camera.pitch, "roll": 0.0, "x": 0.0, "y": 0.0,
+                          "yaw": -math.radians(yaw_deg), "z": world.camera.height},
+            "intrinsic": {"fx": intrinsics.fx, "fy": intrinsics.fy, "u0": intrinsics.cx, "v0": intrinsics.cy}}
 
 
 def _annotations(world: World, objects: FrameObjects, frame: RenderedFrame) -> dict[str, np.ndarray]:
     cars = world.cars
     dims = cars.dims[objects.track]
     bottom = objects.center + np.stack([np.zeros(len(objects)), dims[:, 1] / 2, np.zeros(len(objects))], 1)
+    tilt = world.camera.tilt()  # a pitched camera: motgt's location is in its frame, the objects in the level one
+    if tilt is not None:
+        bottom = bottom @ tilt.T
     return {
         "tid": cars.tid[objects.track],
         "dims": dims,
@@ -335,8 +371,13 @@ def generate_sequences(root: Path, cfg: SynthConfig, world_name: str, variations
     if len(yaws) != 1:
         raise ValueError(f"generate_sequences: variations {list(variations)} do not share one camera yaw")
     yaw = yaws.pop()
-    world = _world(cfg.seed, world_name, cfg.frames_per_sequence, cfg.cars_per_frame, cfg.vehicles)
+    world = _world(cfg.seed, world_name, cfg.frames_per_sequence, cfg.cars_per_frame, cfg.vehicles,
+                   cfg.camera_height, cfg.camera_pitch)
     intrinsics = cfg.intrinsics
+    if cfg.camera_options:
+        for v in variations:
+            write_json_atomic(Path(root) / "vkitti_1.3.1_rgb" / world_name / v / "camera.json",
+                              camera_json(world, intrinsics, yaw))
     color_seed = int(rng_for(cfg.seed, "colors", world_name).integers(0, 2**31 - 1))
     writers = {v: SequenceWriter(Path(root), world_name, v, world.cars.tid, world.cars.category, color_seed=color_seed)
                for v in variations}
@@ -674,6 +715,7 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
         # Without counterfactual pairs the manifest is what it was before the option existed.
         left_out = ("output_dir", "overwrite", "workers", "threads") + (
             () if cfg.counterfactual_cars else ("counterfactual_cars", "counterfactual_turns", "counterfactual_delete"))
+        left_out += () if cfg.camera_options else ("camera_height", "camera_pitch")  # nor without the camera's
         extra = {}
         if cfg.counterfactual_cars:
             write_json_atomic(tmp / PAIRS_NAME, {

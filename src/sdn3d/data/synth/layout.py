@@ -10,9 +10,12 @@ or, as before, from the 8 templates themselves (``vehicles='bank'``); each with 
 Every variation of a world renders this same scene; variations only change the camera yaw or the
 lighting (see ``appearance.py``).
 
-World frame: x right, y down, z forward along the road, metres; the ground is ``y = 0``. The
+World frame: x right, y down, z forward along the road, metres; the ground is ``y = 0``. By default the
 camera has no pitch or roll, so the ground is at camera-frame height ``y = camera_height`` in
-every frame and every variation: that is each car's ``y3d``.
+every frame and every variation: that is each car's ``y3d``. A pitched camera (``build_world(camera_pitch=)``,
+issue 40) looks down by that angle: the cars (:class:`FrameObjects`) stay in its *level* camera frame (the same
+camera without the pitch, where the road is ``y = camera_height``) and only the rendering and the written
+extrinsics and motgt locations see the pitch (:meth:`CameraPath.tilt`).
 """
 
 from __future__ import annotations
@@ -141,17 +144,30 @@ class CarTracks:
 
 @dataclass(frozen=True)
 class CameraPath:
-    """The camera drives along +z at ``x`` with constant ``speed`` (m/frame), no pitch or roll."""
+    """The camera drives along +z at ``x``, ``height`` metres above the road, with constant ``speed``
+    (m/frame); no roll, and no pitch unless ``pitch`` (radians, positive looking down: Cityscapes' convention,
+    :class:`sdn3d.math3d.camera.CameraPose`)."""
 
     x: float
     height: float
     speed: float
+    pitch: float = 0.0
 
-    def pose(self, frame: int, yaw_deg: float) -> np.ndarray:
+    def tilt(self) -> np.ndarray | None:
+        """``(3, 3)`` level camera frame -> camera frame rotation (``p_cam = tilt @ p_level``), None without
+        pitch."""
+        if self.pitch == 0.0:
+            return None
+        from sdn3d.math3d.camera import CameraPose
+
+        return CameraPose(self.height, self.pitch).tilt()
+
+    def pose(self, frame: int, yaw_deg: float, level: bool = False) -> np.ndarray:
         """World->camera ``(4, 4)`` float64 matrix of ``frame`` with the camera turned by ``yaw_deg``.
 
         The camera-to-world rotation is ``roty(psi)``, ``psi = radians(yaw_deg)``: its optical
-        axis points along ``(sin psi, 0, cos psi)``, so a negative yaw looks left.
+        axis points along ``(sin psi, 0, cos psi)``, so a negative yaw looks left; then, for a pitched camera,
+        the pitch (:meth:`tilt`) unless ``level``.
         """
         psi = math.radians(yaw_deg)
         c, s = math.cos(psi), math.sin(psi)
@@ -160,6 +176,9 @@ class CameraPath:
         out = np.eye(4)
         out[:3, :3] = rot_cw.T
         out[:3, 3] = -rot_cw.T @ center
+        tilt = None if level else self.tilt()
+        if tilt is not None:
+            out[:3] = tilt @ out[:3]
         return out
 
 
@@ -179,7 +198,7 @@ class World:
 
 @dataclass
 class FrameObjects:
-    """The cars of one rendered frame in the camera frame (what motgt describes).
+    """The cars of one rendered frame in the (level, :class:`CameraPath`) camera frame (what motgt describes).
 
     Attributes:
         track: ``(N,)`` row in the world's :class:`CarTracks`.
@@ -326,7 +345,7 @@ def _sample_cars(
 
 
 def build_world(seed: int, world: str, num_frames: int, cars_per_frame: tuple[int, int] = (4, 12),
-                vehicles: str = "heldout") -> World:
+                vehicles: str = "heldout", camera_height: float | None = None, camera_pitch: float = 0.0) -> World:
     """Sample world ``world`` of dataset seed ``seed``.
 
     Args:
@@ -340,6 +359,9 @@ def build_world(seed: int, world: str, num_frames: int, cars_per_frame: tuple[in
             occlusion and the frame's field of view.
         vehicles: ``'heldout'`` (car bodies from the held-out vehicle family) or ``'bank'`` (from the 8
             templates; the same world as before the family existed, bit for bit).
+        camera_height: the camera's height above the road (metres); None: drawn per world in [1.50, 1.65]
+            (the same draw either way, so the rest of the world does not change).
+        camera_pitch: the camera's pitch (radians, positive looking down; 0: level, as before).
     """
     if not (len(world) == 4 and world.isdigit()):
         raise ValueError(f"world must be a 4-digit name like '0001', got {world!r}")
@@ -359,6 +381,9 @@ def build_world(seed: int, world: str, num_frames: int, cars_per_frame: tuple[in
         height=float(rng.uniform(1.5, 1.65)),
         speed=float(rng.uniform(0.7, 1.3)),
     )
+    if camera_height is not None or camera_pitch != 0.0:
+        camera = CameraPath(camera.x, camera.height if camera_height is None else float(camera_height), camera.speed,
+                            float(camera_pitch))
     travel = camera.speed * (num_frames - 1)
     static = build_static_scene(rng_for(seed, "scenery", world), style, road, z_range=(-40.0, travel + 220.0))
     cars = _sample_cars(rng_for(seed, "cars", world), style, road, camera, num_frames, (lo, hi), vehicles)
@@ -372,12 +397,12 @@ def build_world(seed: int, world: str, num_frames: int, cars_per_frame: tuple[in
 
 
 def frame_objects(world: World, frame: int, yaw_deg: float) -> FrameObjects:
-    """Cars of ``frame`` in the camera frame (variation yaw ``yaw_deg``), far-behind ones dropped.
+    """Cars of ``frame`` in the level camera frame (variation yaw ``yaw_deg``), far-behind ones dropped.
 
     Moving cars advance ``speed`` metres per frame; ``moving`` is their motgt flag.
     """
     cars = world.cars
-    world_to_cam = world.camera.pose(frame, yaw_deg)
+    world_to_cam = world.camera.pose(frame, yaw_deg, level=True)
     h = cars.dims[:, 1]
     bottom = np.stack([cars.x, np.zeros(len(cars)), cars.z0 + cars.speed * frame], axis=1)
     center_w = bottom - np.stack([np.zeros(len(cars)), h / 2, np.zeros(len(cars))], axis=1)

@@ -238,6 +238,8 @@ class FrameGeometry:
             gloss ``(P,)`` from :func:`~sdn3d.data.synth.appearance.surface_albedo` (not to be changed in place).
         p_cam: ``(P, 3)`` camera-frame points; obj: ``(P,)`` object index (-1 none); dims: ``(N, 3)``.
         class_map, instance: ``(H, W)`` int64; stats: per-object statistics.
+        tilt: ``(3, 3)`` level -> camera rotation of a pitched camera (``objects`` are in the level frame), else
+            None.
     """
 
     world: World
@@ -257,6 +259,7 @@ class FrameGeometry:
     class_map: Tensor
     instance: Tensor
     stats: ObjectStats
+    tilt: Tensor | None = None
 
 
 def render_frame(
@@ -289,6 +292,10 @@ def render_geometry(world: World, objects: FrameObjects, world_to_cam: np.ndarra
     static = world.static
     s_verts = torch.from_numpy(static.verts) @ rot.T + trans
     c_verts, c_faces, c_obj, c_wheel = car_meshes(world, objects)
+    tilt = world.camera.tilt()  # a pitched camera: the cars are in its level frame (layout module doc)
+    tilt = None if tilt is None else torch.from_numpy(tilt).float()
+    if tilt is not None:
+        c_verts = c_verts @ tilt.T
     n_static_v = s_verts.shape[0]
     verts = torch.cat([s_verts, c_verts])
     faces = torch.cat([torch.from_numpy(static.faces), c_faces + n_static_v])
@@ -306,7 +313,7 @@ def render_geometry(world: World, objects: FrameObjects, world_to_cam: np.ndarra
     table = torch.cat([_face_table(world, objects, c_obj, c_wheel)[parent], _face_normals(verts, faces)], 1)
     attr = table[pix_face[fg]]
     obj = attr[:, 15].long()
-    surface, p_cam, dims = _surface(world, objects, attr, fg, depth, rot, trans, intrinsics)
+    surface, p_cam, dims = _surface(world, objects, attr, fg, depth, rot, trans, intrinsics, tilt)
     road = world.road
     markings = (
         torch.tensor(road.marking_x, dtype=torch.float32),
@@ -333,11 +340,11 @@ def render_geometry(world: World, objects: FrameObjects, world_to_cam: np.ndarra
         occluders=_occluder_boxes(verts, faces, parent, static, intrinsics),
     )
     return FrameGeometry(world, objects, intrinsics, rot, trans, depth, fg, surface, albedo, emissive, gloss,
-                         p_cam, obj, dims, class_map, instance, stats)
+                         p_cam, obj, dims, class_map, instance, stats, tilt)
 
 
 def _surface(world: World, objects: FrameObjects, attr: Tensor, fg: Tensor, depth: Tensor, rot: Tensor,
-             trans: Tensor, intrinsics: Intrinsics) -> tuple[Surface, Tensor, Tensor]:
+             trans: Tensor, intrinsics: Intrinsics, tilt: Tensor | None = None) -> tuple[Surface, Tensor, Tensor]:
     """The :class:`Surface` of the ``P`` foreground pixels from their face attributes ``attr (P, 19)``, their
     camera-frame points ``(P, 3)`` and the objects' dims ``(N, 3)`` (``(1, 3)`` ones when there is none)."""
     material = attr[:, 1].long()
@@ -356,7 +363,8 @@ def _surface(world: World, objects: FrameObjects, attr: Tensor, fg: Tensor, dept
         k = obj[is_car]
         centers = torch.from_numpy(objects.center).float()[k]
         r = roty(torch.from_numpy(objects.ry).float())[k]
-        local[is_car] = torch.einsum("pk,pkj->pj", p_cam[is_car] - centers, r) / dims[k]
+        p_obj = p_cam[is_car] if tilt is None else p_cam[is_car] @ tilt  # the cars' (level) frame
+        local[is_car] = torch.einsum("pk,pkj->pj", p_obj - centers, r) / dims[k]
     surface = Surface(material, attr[:, 2:5], attr[:, 5:13], p_world, attr[:, 16:19] @ rot, view_cam @ rot,
                       z / intrinsics.fx, local, template, wheel)
     return surface, p_cam, dims
@@ -377,7 +385,8 @@ def light_frame(geometry: FrameGeometry, variation: str, frame_seed: int) -> Ren
     ground = ground & (z < 80.0)
     seen = torch.unique(g.obj[g.obj >= 0])
     if bool(ground.any()) and seen.numel():
-        direct, occlusion = _ground_shadow(g.p_cam[ground], g.objects.subset(seen.numpy()), g.dims[seen], sun_cam)
+        points, sun = (g.p_cam[ground], sun_cam) if g.tilt is None else (g.p_cam[ground] @ g.tilt, g.tilt.T @ sun_cam)
+        direct, occlusion = _ground_shadow(points, g.objects.subset(seen.numpy()), g.dims[seen], sun)
         shadow[ground] = direct
         albedo = albedo.clone()  # the geometry's albedo serves every look
         albedo[ground] = albedo[ground] * occlusion.unsqueeze(1)

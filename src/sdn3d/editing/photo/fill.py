@@ -15,15 +15,21 @@ __all__ = ["inpaint", "vacated_hole", "fill_hole"]
 
 
 def _dilate(mask: Tensor, radius: int) -> Tensor:
+    """``mask (H, W)`` bool grown by a ``(2 radius + 1)`` square (OpenCV's separable dilation: a max pool's result
+    at a fraction of its time for large radii)."""
+    import cv2
+
     if radius <= 0 or not bool(mask.any()):
         return mask
-    return F.max_pool2d(mask[None, None].float(), 2 * radius + 1, stride=1, padding=radius)[0, 0] > 0
+    kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
+    return torch.from_numpy(cv2.dilate(mask.numpy().astype(np.uint8), kernel) > 0)
 
 
 def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5, patch_size: int = 3,
-            keep_out: Tensor | None = None) -> Tensor:
+            keep_out: Tensor | None = None, max_side: int = PATCHMATCH_MAX_SIDE) -> Tensor:
     """``image (3, H, W)`` float in [0, 1] with ``hole (H, W)`` filled, each connected part of the hole on its own
-    bounding box plus a margin (:func:`_inpaint_part`; ``method`` there, or ``'auto'``)."""
+    bounding box plus a margin (:func:`_inpaint_part`; ``method`` there, or ``'auto'``); PatchMatch works on crops
+    at most ``max_side`` pixels on a side (its time grows with their area)."""
     import cv2
 
     if not bool(hole.any()):
@@ -36,12 +42,12 @@ def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5,
         how = method
         if method == "auto":  # thin gaps smear little under Telea; large holes need copied texture
             how = "telea" if float(depth[part.numpy()].max()) <= AUTO_THIN_PX else "patchmatch"
-        image = _inpaint_part(image, part, how, radius, patch_size, keep_out)
+        image = _inpaint_part(image, part, how, radius, patch_size, keep_out, max_side)
     return image
 
 
 def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_size: int,
-                  keep_out: Tensor | None) -> Tensor:
+                  keep_out: Tensor | None, max_side: int = PATCHMATCH_MAX_SIDE) -> Tensor:
     """:func:`inpaint` of one connected ``hole`` on its box plus a margin (padded by one pixel: OpenCV mishandles
     holes that touch the top or left edge).
 
@@ -73,7 +79,7 @@ def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_s
             avoid = cv2.copyMakeBorder((keep_out[y0:y1, x0:x1] & ~hole[y0:y1, x0:x1]).numpy().astype(np.uint8),
                                        1, 1, 1, 1, cv2.BORDER_CONSTANT, value=0)
         full = crop.shape[1], crop.shape[0]
-        shrink = min(1.0, PATCHMATCH_MAX_SIDE / max(full))
+        shrink = min(1.0, max_side / max(full))
         if shrink < 1.0:  # a large hole: fill at a coarser scale (its time grows with the crop's area)
             small = max(round(full[0] * shrink), 8), max(round(full[1] * shrink), 8)
             crop_s = cv2.resize(crop, small, interpolation=cv2.INTER_AREA)
@@ -162,15 +168,57 @@ def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor
     return lab[near].median(0).values if int(near.sum()) >= 30 else None
 
 
-def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: float = 0.0) -> Tensor:
+def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: float = 0.0,
+              within: Tensor | None = None) -> Tensor:
     """``(H, W)`` bool: pixels whose chroma (Lab a, b) is within ``tolerance`` of the road's ``road (3,)`` and whose
     lightness is at least ``min_light`` of its: asphalt and its grey or white lane markings (with ``min_light`` 0,
-    its shadows too); not grass, foliage or paint."""
+    its shadows too); not grass, foliage or paint. ``within (H, W)``: only the box around those pixels is looked at
+    (False outside it)."""
     from sdn3d.editing.photo.recolor import _lab
 
-    lab = _lab(image.permute(1, 2, 0).reshape(-1, 3))
+    out = torch.zeros(image.shape[1:], dtype=torch.bool)
+    y0, y1, x0, x1 = 0, image.shape[1], 0, image.shape[2]
+    if within is not None:
+        if not bool(within.any()):
+            return out
+        ys, xs = within.any(1).nonzero().flatten(), within.any(0).nonzero().flatten()
+        y0, y1, x0, x1 = int(ys[0]), int(ys[-1]) + 1, int(xs[0]), int(xs[-1]) + 1
+    crop = image[:, y0:y1, x0:x1]
+    lab = _lab(crop.permute(1, 2, 0).reshape(-1, 3))
     ok = ((lab[:, 1:] - road[1:]).norm(dim=1) < tolerance) & (lab[:, 0] >= min_light * road[0])
-    return ok.view(image.shape[1:])
+    out[y0:y1, x0:x1] = ok.view(crop.shape[1:])
+    return out
+
+
+def _shadow_fit(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, tolerance: float = 12.0):
+    """``(gain (3,) float64, y (H, W), y_lit, y_core, shadow pixels (H, W))`` of the shadow inside ``search`` (module
+    doc of :func:`relight_shadow`), or None where too few lit road or shadow pixels are found."""
+    from sdn3d.editing.photo.light import luminance
+
+    like = road_like(image, road, tolerance, within=search | lit)
+    flat = image.permute(1, 2, 0).reshape(-1, 3).double()
+    y = luminance(flat).view(search.shape)
+    lit_pix = (lit & like).view(-1)
+    if int(lit_pix.sum()) < 30:
+        return None
+    y_lit = float(y.view(-1)[lit_pix].median())
+    cand = search & like & (y < 0.85 * y_lit)
+    if int(cand.sum()) < 20:
+        return None
+    yc = y[cand]
+    core_cut = float(torch.quantile(yc, 0.25))
+    core = cand & (y <= core_cut)
+    lit_rgb = flat[lit_pix].median(0).values
+    sh_rgb = flat[core.view(-1)].median(0).values.clamp(min=0.01)
+    gain = (lit_rgb / sh_rgb).clamp(1.0, 8.0)
+    return gain, y, y_lit, float(luminance(sh_rgb)), cand
+
+
+def shadow_gain(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, tolerance: float = 12.0) -> Tensor | None:
+    """``(3,)`` float64 per-channel gain lit road / shadow core of the shadow inside ``search`` (as
+    :func:`relight_shadow` measures it), None where no shadow is found."""
+    fit = _shadow_fit(image, search, lit, road, tolerance)
+    return None if fit is None else fit[0]
 
 
 def relight_shadow(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, strength: float = 1.0,
@@ -182,26 +230,11 @@ def relight_shadow(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, str
     of that darkening (0 lit, 1 core), blurred; ``image * (1 + matte * (gain - 1))``."""
     import cv2
 
-    from sdn3d.editing.photo.light import luminance
-
     zero = torch.zeros_like(search, dtype=torch.float32)
-    like = road_like(image, road, tolerance)
-    flat = image.permute(1, 2, 0).reshape(-1, 3).double()
-    y = luminance(flat).view(search.shape)
-    lit_pix = (lit & like).view(-1)
-    if int(lit_pix.sum()) < 30:
+    fit = _shadow_fit(image, search, lit, road, tolerance)
+    if fit is None:
         return image, zero
-    y_lit = float(y.view(-1)[lit_pix].median())
-    cand = search & like & (y < 0.85 * y_lit)
-    if int(cand.sum()) < 20:
-        return image, zero
-    yc = y[cand]
-    core_cut = float(torch.quantile(yc, 0.25))
-    core = cand & (y <= core_cut)
-    lit_rgb = flat[lit_pix].median(0).values
-    sh_rgb = flat[core.view(-1)].median(0).values.clamp(min=0.01)
-    gain = (lit_rgb / sh_rgb).clamp(1.0, 8.0)
-    y_core = float(luminance(sh_rgb))
+    gain, y, y_lit, y_core, cand = fit
     matte = ((y_lit - y) / max(y_lit - y_core, 1e-3)).clamp(0, 1) * cand
     matte = torch.from_numpy(cv2.GaussianBlur(matte.float().numpy(), (0, 0), 1.0)) * search
     matte = matte * strength

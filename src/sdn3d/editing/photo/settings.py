@@ -77,6 +77,10 @@ class PhotoSettings:
             and with ``delete_shadow`` its cast shadow (found from its box, the fitted light and the road plane) is
             relit rather than repainted (False: the hole is its mask and a band below, filled from everything).
         delete_shadow: relight a removed object's shadow (with ``delete_effects``).
+        cast_shadow: a moved object casts its shadow at its new place (its posed mesh cast along the fitted light
+            onto its ground plane, darkened by the per-channel gain of its shadow in the input) and its old shadow
+            is relit (as ``delete_effects`` does for a deleted one); False: only the contact shadow.
+        cast_blur: the cast shadow's penumbra (Gaussian sigma, input pixels).
         recolor_parts: ``recolor`` repaints the body part of the fitted mesh only (False: every pixel of the car
             whose colour is the paint's, the appearance before vehicle parts existed).
     """
@@ -92,9 +96,11 @@ class PhotoSettings:
     inpaint_radius: int = 5
     max_level: int = 3
     unseen: str = "parts"
-    delete_effects: bool = False
+    delete_effects: bool = True
     delete_shadow: bool = True
     recolor_parts: bool = True
+    cast_shadow: bool = False
+    cast_blur: float = 1.0
 
     def __post_init__(self) -> None:
         if self.fill not in FILL_METHODS:
@@ -103,7 +109,7 @@ class PhotoSettings:
             raise PhotoSettingsError(f"photo.unseen must be one of {UNSEEN_MODES}, got {self.unseen!r}")
         checks = (("depth_tolerance", self.depth_tolerance, 0.0, 1.0), ("shadow_band", self.shadow_band, 0.0, 1.0),
                   ("min_view_cos", self.min_view_cos, 0.0, 1.0),
-                  ("contact_shadow", self.contact_shadow, 0.0, 1.0))
+                  ("contact_shadow", self.contact_shadow, 0.0, 1.0), ("cast_blur", self.cast_blur, 0.3, 16.0))
         for name, value, lo, hi in checks:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= float(value) <= hi:
                 raise PhotoSettingsError(f"photo.{name} must be a number in [{lo}, {hi}], got {value!r}")
@@ -114,7 +120,7 @@ class PhotoSettings:
                 continue
             if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
                 raise PhotoSettingsError(f"photo.{name} must be an integer in [{lo}, {hi}], got {value!r}")
-        for name in ("relight", "recolor_parts", "delete_effects", "delete_shadow"):
+        for name in ("relight", "recolor_parts", "delete_effects", "delete_shadow", "cast_shadow"):
             if not isinstance(getattr(self, name), bool):
                 raise PhotoSettingsError(f"photo.{name} must be true or false, got {getattr(self, name)!r}")
 

@@ -1,0 +1,181 @@
+"""Pose table (issue 40): the geometric branch alone and after the test-time fit, on ground-truth masks and boxes.
+
+    python benchmarks/pose_table.py --geometric RUN/checkpoints/last.ckpt --data-root DATA [--part test|all]
+                                    [--max-frames 40] [--threads 1] [--fit KEY=VALUE ...] [--out result.json]
+
+On evenly spaced frames of ``--part`` (``all``: every frame of the tree, for a held-out tree no run trained on) the
+evaluated objects are the annotated Car and Van instances with at least ``--min-pixels`` visible pixels at the
+frame's working size and a template. Rows, on the same objects (paired):
+
+- ``branch, GT masks (oracle)``: the geometric branch on the ground-truth visible masks and their boxes
+  (:func:`sdn3d.derender.derender`, ``proposals='gt'``);
+- ``fit, GT masks + boxes (oracle)``: what ``proposals=boxes`` does given the true boxes and the true masks
+  (``BoxPrompts(masks=...)``): the branch's prediction starts :func:`sdn3d.geometric.fit.fit_to_masks`.
+
+Figures per row and per source scene (world) and over all: yaw error ``|wrap(ry~ - ry)|`` in degrees (median, 90th
+percentile), flips (share of objects whose yaw is more than 90 degrees off: end for end), template accuracy (the
+template the object's mesh is or approximates) beside its majority floor (the share of the evaluated objects' most
+common true template), distance error ``|log |c~| - log |c||`` (median, x1e-2) and scale error ``||s~ - s||_2``
+(median, m). Nothing here selects or tunes anything.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import platform
+import sys
+import time
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import torch
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))
+
+from sdn3d.cli._config import synth_data_source  # noqa: E402
+from sdn3d.data.frames import load_frame  # noqa: E402
+from sdn3d.data.scene_gt import ground_truth, scene_from_frame  # noqa: E402
+from sdn3d.data.sources import load_split  # noqa: E402
+from sdn3d.derender import BoxPrompts, Models, derender, geometric_crop_settings  # noqa: E402
+from sdn3d.geometric.fit import FitSettings  # noqa: E402
+from sdn3d.io import write_json_atomic  # noqa: E402
+from sdn3d.labels import INSTANCE_DIVISOR  # noqa: E402
+
+ROWS = ("branch, GT masks (oracle)", "fit, GT masks + boxes (oracle)")
+
+
+def row_of(scene, iid: int) -> int:
+    hit = (scene.objects.instance_id == iid).nonzero().flatten()
+    return int(hit[0]) if len(hit) else -1
+
+
+def figures(rows: list[dict]) -> dict:
+    """The table's figures of per-object rows (``yaw_deg``, ``template_ok``, ``true_template``, ``dist``, ``scale``)."""
+    if not rows:
+        return {"n": 0}
+    yaw = np.array([r["yaw_deg"] for r in rows])
+    true_t = Counter(r["true_template"] for r in rows)
+    return {
+        "n": len(rows),
+        "yaw_median_deg": round(float(np.median(yaw)), 2),
+        "yaw_p90_deg": round(float(np.percentile(yaw, 90)), 2),
+        "flips_over_90_pct": round(100 * float((yaw > 90).mean()), 1),
+        "template_acc_pct": round(100 * float(np.mean([r["template_ok"] for r in rows])), 1),
+        "template_majority_floor_pct": round(100 * max(true_t.values()) / len(rows), 1),
+        "distance_median_x1e2": round(100 * float(np.median([r["dist"] for r in rows])), 2),
+        "scale_median_m": round(float(np.median([r["scale"] for r in rows])), 3),
+    }
+
+
+def main(argv: list[str] | None = None) -> dict:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--geometric", required=True, help="geometric checkpoint or inference export")
+    p.add_argument("--data-root", required=True)
+    p.add_argument("--part", default="test", choices=("train", "val", "test", "all"))
+    p.add_argument("--max-frames", type=int, default=40, help="evenly spaced frames of the part (0: all)")
+    p.add_argument("--min-pixels", type=int, default=256)
+    p.add_argument("--threads", type=int, default=1)
+    p.add_argument("--no-fit", action="store_true", help="the branch's row only")
+    p.add_argument("--fit", nargs="*", default=[], metavar="KEY=VALUE", help="FitSettings fields to change")
+    p.add_argument("--no-lamps", action="store_true",
+                   help="the branch's yaw as the net gives it (GeometricPredictor.lamp_cue=None: no red-lamp cue)")
+    p.add_argument("--out", default=None)
+    args = p.parse_args(argv)
+    torch.manual_seed(0)
+    torch.set_num_threads(args.threads)
+    crop = geometric_crop_settings(args.geometric)
+    models = Models.from_checkpoints(geometric=args.geometric, **({"crop_size": crop[0], "margin": crop[1]}
+                                                                   if crop else {}))
+    if args.no_lamps:
+        models.geometric.lamp_cue = None
+    source = synth_data_source(args.data_root)
+    records = ([r for part in ("train", "val", "test") for r in load_split(source, part)] if args.part == "all"
+               else load_split(source, args.part))
+    records = sorted(records, key=lambda r: r.key)
+    if args.max_frames and len(records) > args.max_frames:
+        records = [records[i] for i in np.linspace(0, len(records) - 1, args.max_frames).round().astype(int)]
+    size = tuple(source.image_size)
+
+    def converted(v: str, default):
+        if v.lower() in ("none", "null"):
+            return None
+        return float(v) if default is None else type(default)(v)
+
+    fit = FitSettings(**{k: converted(v, getattr(FitSettings(), k)) for k, v in (a.split("=", 1) for a in args.fit)})
+    per_object: dict[str, list[dict]] = {r: [] for r in ROWS}
+    t_start, seconds = time.perf_counter(), {r: 0.0 for r in ROWS}
+    for record in records:
+        frame = load_frame(record, size, semantic=False, instances=False)
+        image, intr = frame.image, frame.intrinsics
+        gt = ground_truth(record, size)
+        truth = scene_from_frame(record, size)
+        ids, boxes = [], []
+        for iid in truth.objects.instance_id.tolist():
+            k, cls = iid % INSTANCE_DIVISOR, iid // INSTANCE_DIVISOR
+            r = row_of(truth, iid)
+            if (cls not in (12, 13) or k not in gt.boxes or int(truth.objects.mask[r].sum()) < args.min_pixels
+                    or truth.objects.template_id[r] < 0):
+                continue
+            ids.append(iid)
+            left, top, right, bottom = gt.boxes[k].tolist()
+            boxes.append([left, top, right + 1, bottom + 1])  # inclusive pixel centres -> half-open edges
+        if not ids:
+            continue
+        names = tuple("Car" if i // INSTANCE_DIVISOR == 12 else "Van" for i in ids)
+        t0 = time.perf_counter()
+        scenes = {ROWS[0]: (derender(image, intr, models, "gt", gt), ids)}
+        seconds[ROWS[0]] += time.perf_counter() - t0
+        if not args.no_fit:
+            gt_masks = torch.stack([truth.objects.mask[row_of(truth, i)] for i in ids])
+            t0 = time.perf_counter()
+            fitted = derender(image, intr, models, "boxes", gt, boxes=BoxPrompts(torch.tensor(boxes), names, fit,
+                                                                                   masks=gt_masks,
+                                                                                   refine_masks=False))
+            seconds[ROWS[1]] += time.perf_counter() - t0
+            scenes[ROWS[1]] = (fitted, [b["id"] for b in fitted.meta["boxes"]])
+        parts = record.key.split("/")  # "<dataset>/<world>/<variation>/<frame>"
+        world = parts[1] if len(parts) > 2 else parts[0]
+        for j, iid in enumerate(ids):
+            t = truth.objects
+            tr = row_of(truth, iid)
+            for name, (scene, row_ids) in scenes.items():
+                o = scene.objects
+                r = row_of(scene, row_ids[j])
+                if r < 0 or int(o.template_id[r]) < 0:  # no geometry: counted as the worst
+                    yaw, ok, dist, scale = 180.0, False, 1.0, float(t.dims[tr].norm())
+                else:
+                    d = float(o.ry[r] - t.ry[tr])
+                    yaw = abs(math.degrees(math.atan2(math.sin(d), math.cos(d))))
+                    ok = int(o.template_id[r]) == int(t.template_id[tr])
+                    dist = abs(math.log(float(o.center[r].norm()) / float(t.center[tr].norm())))
+                    scale = float((o.dims[r] - t.dims[tr]).norm())
+                per_object[name].append({"world": world, "frame": record.key, "id": iid, "yaw_deg": yaw,
+                                         "pixels": int(t.mask[tr].sum()), "true_ry": round(float(t.ry[tr]), 4),
+                                         "true_xz": [round(float(t.center[tr][k]), 2) for k in (0, 2)],
+                                         "template_ok": ok, "true_template": int(t.template_id[tr]), "dist": dist,
+                                         "scale": scale})
+        print(f"{record.key}: {len(ids)} objects, {time.perf_counter() - t_start:.0f} s", file=sys.stderr)
+    table = {}
+    for name, rows in per_object.items():
+        if not rows:
+            continue
+        worlds = sorted({r["world"] for r in rows})
+        table[name] = {"all": figures(rows), **{w: figures([r for r in rows if r["world"] == w]) for w in worlds}}
+    result = {"geometric": str(Path(args.geometric).resolve()), "data_root": str(Path(args.data_root).resolve()),
+              "part": args.part, "frames": len(records), "lamp_cue": not args.no_lamps, "min_pixels": args.min_pixels,
+              "fit_settings": fit.to_dict(), "table": table,
+              "seconds": {k: round(v, 1) for k, v in seconds.items()},
+              "machine": f"{platform.machine()} cpu, {args.threads} threads, torch {torch.__version__}",
+              "objects": per_object}
+    print(json.dumps({k: v for k, v in result.items() if k != "objects"}, indent=1))
+    if args.out:
+        write_json_atomic(args.out, result)
+    return result
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,96 @@
+"""Front from back by the lamps (issue 40): red tail lights mark a vehicle's back.
+
+A silhouette hardly tells a car's front from its back, and a geometric branch trained for a few CPU minutes has
+not yet learnt to (it guesses the facing from context). The tail lights are red and the headlights are not, so the
+red lamp pixels of the masked object crop say which end the camera sees:
+
+- ``red`` pixels: ``r > red_min``, ``r > ratio * g`` and ``r > ratio * b`` (saturated red), inside the mask;
+- usable when there are at least ``min_pixels`` of them and at most ``max_share`` of the mask (a red car's body
+  is red all over: no cue), they lie in one band (the standard deviation of their rows at most ``max_row_spread``
+  of the mask's height: lamps sit at one height, a red texture or noise does not), and the object's crop has at
+  least ``min_mask`` mask pixels (small cars: no lamps seen);
+- for a local orientation (observation angle) ``alpha = ry - ray`` the back end faces the camera where
+  ``sin(alpha) < 0`` (``alpha = -pi/2``: seen from behind) and lies towards ``-cos(alpha)`` across the image
+  (``alpha = 0``: the front points right, the back is left). The evidence for ``alpha`` is
+  ``-(sin(alpha) + 2 d cos(alpha))`` with ``d`` the red pixels' mean column offset from the mask's, over the box
+  width: +1 for a back view with red lamps, -1 for the reversed hypothesis. Without red lamps on a large enough
+  object the front is more likely seen: ``absent_weight * sin(alpha)``.
+
+:func:`lamp_evidence` scores hypotheses; :func:`face_by_lamps` turns each predicted yaw end for end where the
+lamps clearly disagree with it (the geometric predictor's ``lamp_cue``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import torch
+from torch import Tensor
+
+__all__ = ["LampCue", "red_lamps", "lamp_evidence", "face_by_lamps"]
+
+
+@dataclass(frozen=True)
+class LampCue:
+    """Thresholds of the red-lamp cue (module doc)."""
+
+    red_min: float = 0.25
+    ratio: float = 2.0
+    min_pixels: int = 3
+    max_share: float = 0.12
+    max_row_spread: float = 0.12
+    min_mask: int = 150
+    absent_weight: float = 0.3
+    flip_below: float = -0.3
+
+
+def red_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple[Tensor, Tensor, Tensor]:
+    """``(present (N,) bool, usable (N,) bool, offset (N,))`` of ``(N, 3, S, S)`` crops in ``[0, 1]`` and their
+    ``(N, 1, S, S)`` (or ``(N, S, S)``) masks: red lamps found, whether the cue can be used (module doc), and the
+    red pixels' mean column offset from the mask's, over the mask's width (0 where none)."""
+    cue = cue or LampCue()
+    m = (mask[:, 0] if mask.dim() == 4 else mask) > 0.5
+    r, g, b = crop[:, 0], crop[:, 1], crop[:, 2]
+    red = m & (r > cue.red_min) & (r > cue.ratio * g) & (r > cue.ratio * b)
+    n_red, n_mask = red.flatten(1).sum(1), m.flatten(1).sum(1)
+    cols = torch.arange(crop.shape[-1], dtype=crop.dtype, device=crop.device)
+    mask_cols = m.any(1)  # (N, S)
+    left = torch.where(mask_cols, cols, torch.full_like(cols, math.inf)).amin(1)
+    right = torch.where(mask_cols, cols, torch.full_like(cols, -math.inf)).amax(1)
+    width = (right - left + 1).clamp_min(1)
+    mean_col = (m * cols).flatten(1).sum(1) / n_mask.clamp_min(1)
+    red_col = (red * cols).flatten(1).sum(1) / n_red.clamp_min(1)
+    offset = torch.where(n_red > 0, (red_col - mean_col) / width, torch.zeros_like(width))
+    rows = torch.arange(crop.shape[-2], dtype=crop.dtype, device=crop.device)[:, None]
+    red_row = (red * rows).flatten(1).sum(1) / n_red.clamp_min(1)
+    spread = ((red * (rows - red_row[:, None, None]) ** 2).flatten(1).sum(1) / n_red.clamp_min(1)).sqrt()
+    mask_rows = m.any(2)  # (N, S)
+    top = torch.where(mask_rows, rows[:, 0], torch.full_like(rows[:, 0], math.inf)).amin(1)
+    bottom = torch.where(mask_rows, rows[:, 0], torch.full_like(rows[:, 0], -math.inf)).amax(1)
+    height = (bottom - top + 1).clamp_min(1)
+    big = n_mask >= cue.min_mask
+    present = n_red >= cue.min_pixels
+    usable = big & (n_red <= cue.max_share * n_mask) & (spread <= cue.max_row_spread * height)
+    return present, usable, offset
+
+
+def lamp_evidence(crop: Tensor, mask: Tensor, alpha: Tensor, cue: LampCue | None = None) -> Tensor:
+    """``(N, K)`` evidence of the red lamps for local orientations ``alpha (N, K)`` (module doc; 0: no cue)."""
+    cue = cue or LampCue()
+    present, usable, offset = red_lamps(crop, mask, cue)
+    seen = -(torch.sin(alpha) + 2 * offset[:, None] * torch.cos(alpha))
+    absent = cue.absent_weight * torch.sin(alpha)
+    evidence = torch.where(present[:, None], seen, absent)
+    return torch.where(usable[:, None], evidence, torch.zeros_like(evidence))
+
+
+def face_by_lamps(ry: Tensor, ray: Tensor, crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> Tensor:
+    """``(N,)`` yaws: each ``ry`` turned end for end where the lamps' evidence for it is below ``cue.flip_below``
+    and its reverse is believed more (``ray (N,)``: the angle of the ray through each box, ``alpha = ry - ray``)."""
+    cue = cue or LampCue()
+    alpha = torch.stack([ry - ray, ry - ray + math.pi], 1)
+    evidence = lamp_evidence(crop, mask, alpha, cue)
+    flip = (evidence[:, 0] < cue.flip_below) & (evidence[:, 1] > evidence[:, 0])
+    turned = torch.where(flip, ry + math.pi, ry)
+    return torch.atan2(torch.sin(turned), torch.cos(turned))

@@ -34,7 +34,9 @@ PARTS = PhotoSettings(relight=False, contact_shadow=0.0, fill="telea")
 
 def test_settings_name_the_new_modes():
     assert PhotoSettings().unseen == "parts" and PhotoSettings().recolor_parts
-    assert PhotoSettings().delete_effects  # beats the auto fill on the tuning seed's deletes (PSNR, darkening)
+    # off: on the seed-33 tuning tree (clone + fog, 16 deletes) it lost 1.2 dB to the auto fill on vacated region +
+    # shadow band, although it won on the seed-31 tree's 9 deletes (docs/results/2026-11-28_cpu/issue41/)
+    assert not PhotoSettings().delete_effects
     with pytest.raises(PhotoSettingsError, match="unseen"):
         PhotoSettings(unseen="mirror")
     with pytest.raises(PhotoSettingsError, match="delete_shadow"):
@@ -151,6 +153,6 @@ def test_removal_fills_on_bounded_crops(monkeypatch):
     image, _ = _surface_colors(scene, INPUT_SIZE[::-1], _k_input())
     image = image * (0.9 + 0.2 * torch.rand(image.shape[1:], generator=torch.Generator().manual_seed(0)))
     result = render_photo(image.clamp(0, 1), FRAME, scene, apply_edits(scene, [Delete(12001)]),
-                          settings=PhotoSettings(fill="patchmatch"))
+                          settings=PhotoSettings(fill="patchmatch", delete_effects=True))
     assert result.image.shape == image.shape
     assert sides and max(sides) <= 48

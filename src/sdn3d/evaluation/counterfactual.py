@@ -55,7 +55,7 @@ from sdn3d.editing.apply import apply_edits, projected_centers
 from sdn3d.editing.compose import ComposeSettings
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.ops import Delete, Rotate
-from sdn3d.editing.photo.settings import FILL_METHODS, SOURCE_NAMES, PhotoSettings
+from sdn3d.editing.photo.settings import FILL_METHODS, FLAT_CODES, SOURCE_NAMES, PhotoSettings
 from sdn3d.errors import UserInputError
 from sdn3d.evaluation.baselines import baseline_photo
 from sdn3d.evaluation.paired import paired_difference
@@ -73,9 +73,9 @@ SOURCE_LABELS = {"oracle": "oracle: ground-truth geometry", "gt": "oracle: groun
                  "semantic": PROPOSAL_LABELS["semantic"]}
 #: Today's photo default: the reference of every paired comparison.
 REFERENCE = "photo:auto"
-#: Codes of the photo appearance's source map (:data:`~sdn3d.editing.photo.settings.SOURCE_NAMES`) that are flat
-#: colour (no pixel of the input behind them).
-FLAT_SOURCES = ("fallback",)
+#: Names of the photo appearance's source codes that are flat colour, no pixel of the input behind them
+#: (:data:`~sdn3d.editing.photo.settings.FLAT_CODES`: the body-colour fallback and a never-seen part's default).
+FLAT_SOURCES = tuple(SOURCE_NAMES[c] for c in FLAT_CODES)
 #: Masked MSE floor of PSNR (60 dB at most).
 PSNR_MSE_FLOOR = 1e-6
 #: Rec. 709 luma weights of the darkening measure.

@@ -138,8 +138,7 @@ def make_data(cfg: Any) -> Path:
     synth = OmegaConf.to_container(cfg.synth, resolve=True)
     config = SynthConfig(output_dir=str(root), seed=int(cfg.seed), overwrite=True, threads=1, **synth)
     if root.is_dir() and any(root.iterdir()):
-        wanted = {k: v for k, v in config.to_dict().items()
-                  if k not in ("output_dir", "overwrite", "workers", "threads")}
+        wanted = config.recorded()
         try:
             recorded = json.loads((root / "synth_manifest.json").read_text(encoding="utf-8")).get("config")
         except (OSError, ValueError, AttributeError):

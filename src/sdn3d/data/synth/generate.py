@@ -289,6 +289,17 @@ class SynthConfig:
         out = asdict(self)
         return {k: list(v) if isinstance(v, tuple) else v for k, v in out.items()}
 
+    def recorded(self) -> dict:
+        """The settings ``synth_manifest.json`` records as ``config``: what decides the data (not where it goes or
+        how many processes write it); an option left off is left out, so a tree made before it existed reads the
+        same. Whoever asks whether a tree was made with these settings compares this."""
+        left_out = {"output_dir", "overwrite", "workers", "threads"}
+        if not self.counterfactual_cars:
+            left_out |= {"counterfactual_cars", "counterfactual_turns", "counterfactual_delete"}
+        if not self.camera_options:
+            left_out |= {"camera_height", "camera_pitch"}
+        return {k: v for k, v in self.to_dict().items() if k not in left_out}
+
 
 @dataclass
 class SequenceSummary:
@@ -712,10 +723,6 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
         entries = [e for s in summaries for e in s.entries]
         save_edit_benchmark(entries, tmp / BENCHMARK_NAME)
         intrinsics = cfg.intrinsics
-        # Without counterfactual pairs the manifest is what it was before the option existed.
-        left_out = ("output_dir", "overwrite", "workers", "threads") + (
-            () if cfg.counterfactual_cars else ("counterfactual_cars", "counterfactual_turns", "counterfactual_delete"))
-        left_out += () if cfg.camera_options else ("camera_height", "camera_pitch")  # nor without the camera's
         extra = {}
         if cfg.counterfactual_cars:
             write_json_atomic(tmp / PAIRS_NAME, {
@@ -732,7 +739,7 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
             tmp / MANIFEST_NAME,
             {
                 "format": "Virtual KITTI 1.3.1 (synthetic, sdn3d)",
-                "config": {k: v for k, v in cfg.to_dict().items() if k not in left_out},
+                "config": cfg.recorded(),
                 **extra,
                 "intrinsics": intrinsics.to_dict(),
                 "intrinsics_note": ("VKITTI_INTRINSICS (1242x375, fx=fy=725, cx=620.5, cy=187) resized to image_size"),

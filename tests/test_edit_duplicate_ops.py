@@ -86,3 +86,10 @@ def test_a_copy_with_no_clear_place_in_the_picture_is_refused():
     with pytest.raises(EditError, match=r"op 0 \(duplicate id=12003\): the copy at \[.*\] would overlap object "
                                         r"120\d\d in 3D, and no place along the road .* give another 'to'"):
         resolve_ops(spec, scene)
+
+
+def test_a_copy_sent_above_the_horizon_is_refused_naming_the_op():
+    """Found by the property test: the copy's landing point is checked like a move's, and the error names the op."""
+    spec = parse_edit_spec([{"op": "duplicate", "id": 12001, "to": [0.0, 0.0]}])
+    with pytest.raises(EditError, match=r"^op 0 \(duplicate id=12001\): .*never meets the object's ground plane"):
+        resolve_ops(spec, _scene())

@@ -737,7 +737,12 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
                 added.append(Delete(iid))
                 made[iid] = f"{what} deleted it"
             elif op.kind == "duplicate":
-                added.extend(_duplicate_ops(op, iid, row, to, table, scene, paint, spec, frame, what))
+                try:
+                    added.extend(_duplicate_ops(op, iid, row, to, table, scene, paint, spec, frame, what))
+                except EditError as exc:  # where the copy lands (a target above the horizon): name the op
+                    if str(exc).startswith(what):
+                        raise
+                    raise EditError(f"{what}: {exc}") from None
                 made[added[0].new_id] = f"{what} made it"
             elif op.kind == "modify":
                 added.append(Modify(iid, to, op.zoom, op.ry))

@@ -48,7 +48,6 @@ def main() -> int:
             if op is None:
                 records[iid] = json.loads((target / "objects.json").read_text())
             image = Image.open(picture).convert("RGB").crop(crop)
-            image = image.resize((image.width * 2 // 2, image.height * 2 // 2))
             panels.append((f"car {iid}: {title}", np.asarray(image)))
         rows.append(titled_row(panels))
     width = max(r.shape[1] for r in rows)

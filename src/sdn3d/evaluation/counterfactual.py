@@ -479,7 +479,7 @@ def counterfactual_markdown(summary: dict, comps: dict, info: dict) -> str:
              f"Reference of every paired difference: `{REFERENCE}` (today's photo default). Means with 95 % "
              "bootstrap intervals; a paired difference is `method - reference` [95 % interval] wins/losses/ties "
              "(by the metric's direction). PSNR in dB (at most 60), L1 on [0, 1], flat = share of the car's target "
-             "pixels the photo appearance drew as flat colour (source map `fallback`), in %.", ""]
+             "pixels the photo appearance drew as flat colour (source map `fallback` or `default`), in %.", ""]
     if info.get("generator_note"):
         lines += [info["generator_note"], ""]
     for source, bins in summary.items():

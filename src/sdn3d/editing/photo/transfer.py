@@ -307,10 +307,7 @@ def _box_floor(objects: ObjectTable, row: int, grow: float = 1.1) -> Tensor:
 
 def _contact_shadow(objects: ObjectTable, rows: list[int], K: Tensor, size: tuple[int, int]) -> Tensor:
     """``(H, W)`` float soft footprint in [0, 1] of the objects' bottom faces (their new contact shadows)."""
-    import cv2
-
-    height, width = size
-    canvas = np.zeros((height, width), np.float32)
+    canvas = np.zeros(size, np.float32)
     for row in rows:
         uv, front = _project(_box_floor(objects, row), K)
         if not bool(front.all()) or not bool(torch.isfinite(uv).all()):
@@ -318,18 +315,26 @@ def _contact_shadow(objects: ObjectTable, rows: list[int], K: Tensor, size: tupl
         poly = uv.numpy()
         if np.abs(poly).max() > 1e5:
             continue
-        hull = cv2.convexHull(np.round(poly * 4).astype(np.int32))
         span = max(float(poly[:, 1].max() - poly[:, 1].min()), 2.0)
-        sigma = max(0.6, 0.25 * span)
-        window = _blur_window(hull, sigma, (height, width))
-        if window is None:  # the footprint lies outside the picture: its blur is 0 everywhere
-            continue
-        y0, y1, x0, x1 = window
-        layer = np.zeros((y1 - y0, x1 - x0), np.float32)
-        cv2.fillConvexPoly(layer, hull - np.array([4 * x0, 4 * y0], np.int32), 1.0, lineType=cv2.LINE_AA, shift=2)
-        crop = canvas[y0:y1, x0:x1]
-        np.maximum(crop, cv2.GaussianBlur(layer, (0, 0), sigma), out=crop)
+        _splat_blurred_hull(canvas, poly, max(0.6, 0.25 * span))
     return torch.from_numpy(canvas)
+
+
+def _splat_blurred_hull(canvas: np.ndarray, points: np.ndarray, sigma: float) -> None:
+    """Raise ``canvas (H, W)`` float32 in place to the convex hull of ``points (P, 2)`` (pixels), anti-aliased at a
+    quarter pixel and blurred by ``sigma``, on a window around it (:func:`_blur_window`; nothing where the hull lies
+    outside the picture, whose blur is 0 everywhere)."""
+    import cv2
+
+    hull = cv2.convexHull(np.round(points * 4).astype(np.int32))
+    window = _blur_window(hull, sigma, canvas.shape)
+    if window is None:
+        return
+    y0, y1, x0, x1 = window
+    layer = np.zeros((y1 - y0, x1 - x0), np.float32)
+    cv2.fillConvexPoly(layer, hull - np.array([4 * x0, 4 * y0], np.int32), 1.0, lineType=cv2.LINE_AA, shift=2)
+    crop = canvas[y0:y1, x0:x1]
+    np.maximum(crop, cv2.GaussianBlur(layer, (0, 0), sigma), out=crop)
 
 
 def _blur_window(hull: np.ndarray, sigma: float, size: tuple[int, int]) -> tuple[int, int, int, int] | None:
@@ -455,9 +460,6 @@ def _cast_shadows(objects: ObjectTable, rows: list[int], verts: dict[int, Tensor
     mesh's vertices ``verts[row] (V, 3)`` carried along ``light``'s direction down to the object's floor (at most
     ``max_reach`` of its largest dimension away), their convex hull projected, anti-aliased and blurred by ``blur``
     pixels (the penumbra). Zero without a light from above."""
-    import cv2
-
-    height, width = size
     canvas = np.zeros(size, np.float32)
     d = light.direction.double()
     if float(d[1]) >= -0.1:
@@ -472,15 +474,7 @@ def _cast_shadows(objects: ObjectTable, rows: list[int], verts: dict[int, Tensor
         uv, front = _project(ground, K)
         if not bool(front.all()) or not bool(torch.isfinite(uv).all()) or float(uv.abs().max()) > 1e5:
             continue
-        hull = cv2.convexHull(np.round(uv.numpy() * 4).astype(np.int32))
-        window = _blur_window(hull, blur, size)
-        if window is None:
-            continue
-        y0, y1, x0, x1 = window
-        layer = np.zeros((y1 - y0, x1 - x0), np.float32)
-        cv2.fillConvexPoly(layer, hull - np.array([4 * x0, 4 * y0], np.int32), 1.0, lineType=cv2.LINE_AA, shift=2)
-        crop = canvas[y0:y1, x0:x1]
-        np.maximum(crop, cv2.GaussianBlur(layer, (0, 0), blur), out=crop)
+        _splat_blurred_hull(canvas, uv.numpy(), blur)
     return torch.from_numpy(canvas)
 
 

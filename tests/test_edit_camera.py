@@ -341,29 +341,31 @@ def test_the_given_camera_sets_the_road_plane_of_the_box_fit(tmp_path):
     """issue 40: a camera.json's height and pitch (and input.intrinsics' optional camera_height and pitch) reach
     the box fit: the height as FitSettings.camera_height, the pitch folded into cy (the level virtual camera)."""
     from sdn3d.cli.edit import _given_camera, box_fit_for_input, camera_record
+    from sdn3d.editing.settings import box_settings
 
     camera = _camera_json(tmp_path / "c.json", CAMERA)
     cfg = _cfg(tmp_path, camera=str(camera))
     intr = _given_camera(cfg, 256, 128)
     assert intr.cy == pytest.approx(60.0 - 310.0 * math.tan(0.04)) and intr.fx == 300.0 and intr.cx == 130.0
-    assert box_fit_for_input(cfg, {}).camera_height == pytest.approx(1.2)
+    assert box_fit_for_input(cfg, box_settings(cfg, {})[0]).camera_height == pytest.approx(1.2)
     # input.intrinsics with a pose: the same; without: as before (1.65 m, cy as given).
     cfg = _cfg(tmp_path, intrinsics={"fx": 300, "fy": 310, "cx": 130, "cy": 60, "camera_height": 1.3, "pitch": -0.02})
     assert _given_camera(cfg, 256, 128).cy == pytest.approx(60.0 + 310.0 * math.tan(0.02))
-    assert box_fit_for_input(cfg, {}).camera_height == pytest.approx(1.3)
+    assert box_fit_for_input(cfg, box_settings(cfg, {})[0]).camera_height == pytest.approx(1.3)
     record = camera_record(cfg)
     assert record["camera_height"] == 1.3 and record["pitch"] == -0.02 and record["pose_from"] == "input.intrinsics"
     cfg = _cfg(tmp_path, intrinsics={"fx": 300, "fy": 310, "cx": 130, "cy": 60, "pitch": 0.03})
-    assert box_fit_for_input(cfg, {}).camera_height == 1.65  # no height given: box_objects.fit.camera_height
+    # no height given: box_objects.fit.camera_height
+    assert box_fit_for_input(cfg, box_settings(cfg, {})[0]).camera_height == 1.65
     assert camera_record(cfg)["camera_height_from"] == "box_objects.fit.camera_height"
     cfg = _cfg(tmp_path, intrinsics={"fx": 300, "fy": 310, "cx": 130, "cy": 60})
     assert _given_camera(cfg, 256, 128) == Intrinsics(300, 310, 130, 60, 256, 128)
-    assert box_fit_for_input(cfg, {}).camera_height == 1.65
+    assert box_fit_for_input(cfg, box_settings(cfg, {})[0]).camera_height == 1.65
     assert camera_record(cfg) == {"camera_height": 1.65, "camera_height_from": "box_objects.fit.camera_height",
                                   "pitch": 0.0, "roll": 0.0, "pose_from": None}
     # A dataset frame: input.camera is not its camera.
     cfg = _cfg(tmp_path, image=None, camera=str(camera), frame="0001/clone/00000")
-    assert box_fit_for_input(cfg, {}).camera_height == 1.65
+    assert box_fit_for_input(cfg, box_settings(cfg, {})[0]).camera_height == 1.65
 
 
 @pytest.mark.parametrize("given, words", [

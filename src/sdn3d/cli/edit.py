@@ -187,13 +187,10 @@ def _given_pose(cfg: Any) -> dict | None:
     return {"pose": pose, "height": None if height is None else pose.height, "source": "input.intrinsics"}
 
 
-def box_fit_for_input(cfg: Any, checkpoints: dict[str, dict | None]) -> Any:
-    """The box fit's :class:`~sdn3d.geometric.fit.FitSettings` for this input: ``box_objects.fit.*``, with the road
-    plane the given camera says (an image file's ``input.camera`` height, or ``input.intrinsics``' ``camera_height``)
-    winning over ``box_objects.fit.camera_height``."""
-    from sdn3d.editing.settings import box_settings
-
-    fit = box_settings(cfg, checkpoints)[0]
+def box_fit_for_input(cfg: Any, fit: Any) -> Any:
+    """``fit`` (the box fit's :class:`~sdn3d.geometric.fit.FitSettings` of ``box_objects.fit.*``) with the road plane
+    the given camera says (an image file's ``input.camera`` height, or ``input.intrinsics``' ``camera_height``),
+    which wins over ``box_objects.fit.camera_height``."""
     pose = _given_pose(cfg)
     return fit if pose is None or pose["height"] is None else dataclasses.replace(fit, camera_height=pose["height"])
 
@@ -332,10 +329,10 @@ def run_edit(cfg: Any) -> dict:
     checkpoints = resolve_checkpoints(cfg, record)
     with _stage("loading the models"):
         models, code_bank = load_models(cfg, checkpoints)
-    settings = dataclasses.replace(session_settings(cfg, checkpoints, compose, appearance, photo),
-                                   box_fit=box_fit_for_input(cfg, checkpoints))
+    settings = session_settings(cfg, checkpoints, compose, appearance, photo)
+    settings = dataclasses.replace(settings, box_fit=box_fit_for_input(cfg, settings.box_fit))
     session = EditSession(models, code_bank, settings)
-    if spec is not None and spec.objects and cfg.proposals == "boxes":  # the ids are the boxes': known now
+    if spec is not None and spec.objects and settings.proposals is Proposals.BOXES:  # the ids are the boxes': known now
         _check_box_ids(spec, models, inp)
     boxes = f" ({len(spec.objects)} box{'es' if len(spec.objects) != 1 else ''})" if spec and spec.objects else ""
     with _stage(f"de-rendering{boxes}"):

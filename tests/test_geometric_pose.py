@@ -115,6 +115,7 @@ def test_the_fit_records_its_hypothesis_and_keeps_the_prediction_of_a_thin_mask(
     assert int(result.template[1]) == 3 and float(result.ry[1]) == pytest.approx(1.0)
     assert torch.allclose(result.location[1], location[1])
     assert len(result.warnings) == 1 and result.warnings[0].startswith("object 1:") and "thin" in result.warnings[0]
+    assert set(result.notes) == {1} and result.warnings[0] == f"object 1: {result.notes[1]}"  # by index, for readers
     assert 0 <= int(result.hypothesis[0]) < len(HYPOTHESES) + SMALL.keep
     assert result.hypothesis_name(1) == "not fitted (prediction kept)"
     assert result.camera_height == pytest.approx(1.65) and result.camera_height_source == "given"

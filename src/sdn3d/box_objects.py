@@ -295,10 +295,7 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
         location[target], phi[target] = result.location.double(), result.phi.float()
     out, iou = [], dict(zip(sel.tolist(), result.iou.tolist(), strict=True)) if result is not None else {}
     at = {i: k for k, i in enumerate(sel.tolist())}  # box -> its row in the fit
-    notes = {}
-    for line in result.warnings if result is not None else []:  # "object <k>: why..." -> the box's own note
-        k, _, why = line.partition(": ")
-        notes[int(k.split()[1])] = why
+    notes = result.notes if result is not None else {}
     for i in range(len(boxes)):
         fit_iou = iou.get(i)
         if fit_iou is None:

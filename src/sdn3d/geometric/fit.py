@@ -184,7 +184,8 @@ class FitResult:
             end-for-end flip, ``2 + k`` the search's ``k``-th best start; -1: not fitted, the prediction kept).
         fitted: ``(N,)`` bool, False where the mask was too small or thin and the prediction was kept.
         camera_height: the road plane's ``y`` the fit used (metres) and how it was found (``camera_height_source``).
-        warnings: one line per object the fit could not treat normally, naming it by its index.
+        notes: what the fit could not do normally, per object index (the sentence without the object's name).
+        warnings: one line per such object, naming it by its index (``notes`` for a reader).
     """
 
     template: Tensor
@@ -199,6 +200,7 @@ class FitResult:
     fitted: Tensor = field(default_factory=lambda: torch.zeros(0, dtype=torch.bool))
     camera_height: float = 1.65
     camera_height_source: str = "default"
+    notes: dict[int, str] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
 
     def hypothesis_name(self, i: int) -> str:
@@ -450,7 +452,8 @@ def _keep_predictions_of_bad_masks(result: FitResult, masks: Tensor, start_templ
         has_prediction = (start_template is not None and start_location is not None and int(start_template[i]) >= 0
                           and bool(torch.isfinite(start_location[i]).all()))
         if not has_prediction:
-            result.warnings.append(f"object {i}: {why}; no prediction to keep, fitted anyway (unreliable)")
+            result.notes[i] = f"{why}; no prediction to keep, fitted anyway (unreliable)"
+            result.warnings.append(f"object {i}: {result.notes[i]}")
             continue
         result.template[i] = int(start_template[i])
         result.dims[i], result.ry[i] = dims0[i], _wrap(ry0[i])
@@ -458,4 +461,5 @@ def _keep_predictions_of_bad_masks(result: FitResult, masks: Tensor, start_templ
         result.phi[i] = 0.0
         result.iou[i] = 0.0
         result.hypothesis[i], result.fitted[i] = -1, False
-        result.warnings.append(f"object {i}: {why}: not fitted, the geometric branch's prediction kept")
+        result.notes[i] = f"{why}: not fitted, the geometric branch's prediction kept"
+        result.warnings.append(f"object {i}: {result.notes[i]}")

@@ -200,3 +200,26 @@ def test_objects_are_rasterized_in_crops_holding_every_pixel_they_cover(monkeypa
     monkeypatch.setattr(module, "rasterize_meshes", spy)
     scene_maps(_scene([NEAR, FAR]))
     assert len(sizes) == 1 and sizes[0][0] * sizes[0][1] < H * W / 4
+
+
+def test_fill_background_takes_a_nearest_source_on_random_maps():
+    """Each vacated pixel takes the label of a source pixel at most 1 px (and 2 %) farther than the exact nearest."""
+    from scipy.ndimage import distance_transform_edt
+
+    gen = torch.Generator().manual_seed(0)
+    for _ in range(5):
+        sem = torch.randint(0, 4, (40, 56), generator=gen) * 3  # labels 0, 3, 6, 9; 9 is a thing class
+        vacated = torch.zeros(40, 56, dtype=torch.bool)
+        for _ in range(4):
+            y, x = torch.randint(0, 32, (1,), generator=gen).item(), torch.randint(0, 48, (1,), generator=gen).item()
+            vacated[y : y + 8, x : x + 8] = True
+        out = fill_background(sem, vacated, torch.tensor([9]))
+        assert torch.equal(out[~vacated], sem[~vacated])
+        source = (~vacated & (sem != 9)).numpy()
+        exact = distance_transform_edt(~source)
+        for label in out[vacated].unique().tolist():
+            assert label != 9
+            taken = (out == label) & vacated
+            # distance from each pixel that took `label` to the nearest source pixel of that label
+            d_label = distance_transform_edt(~(source & (sem == label).numpy()))
+            assert bool((d_label[taken.numpy()] <= exact[taken.numpy()] * 1.02 + 1.0).all())

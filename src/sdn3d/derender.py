@@ -52,11 +52,13 @@ from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.models import Models
+from sdn3d.proposal_fit import fit_proposals, vehicle_rows
 from sdn3d.proposals import PROPOSALS, Proposals, choose_sources
 from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
 from sdn3d.scene.maps import scene_maps
 
 if TYPE_CHECKING:
+    from sdn3d.geometric.fit import FitSettings
     from sdn3d.geometric.refine import RefineSettings
     from sdn3d.semantic.predict import Segmentation
     from sdn3d.textural.renderer import TexturalRenderer
@@ -231,7 +233,8 @@ def _check_class_count(models: Models, class_list: tuple, name: str) -> None:
 
 def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: Proposals | str = Proposals.AUTO,
              ground_truth: GroundTruth | None = None, *, classes: str | None = None, min_pixels: int = 64,
-             refine: RefineSettings | None = None, boxes: BoxPrompts | None = None) -> SceneCode:
+             refine: RefineSettings | None = None, boxes: BoxPrompts | None = None,
+             fit: FitSettings | None = None) -> SceneCode:
     """De-render ``image (3, H, W)`` float in ``[0, 1]`` into a scene (module doc).
 
     Args:
@@ -248,6 +251,9 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
         min_pixels: visible pixels (at the working size) an object needs to get 3D geometry.
         refine: optional reprojection refinement of the geometric predictions (Cityscapes setting).
         boxes: objects named by a box, added to (or, ``'boxes'``, instead of) the proposals.
+        fit: the test-time fit of the proposals' vehicles (:func:`sdn3d.proposal_fit.fit_proposals`, each started
+            from its prediction; ``meta['fits']`` holds each one's :class:`~sdn3d.proposal_fit.ProposalFit`); None:
+            the branch's predictions as they are (the paper's protocol). Box objects are always fitted.
 
     Raises:
         ValueError: bad image / intrinsics or an unknown ``proposals`` (the caller's mistake).
@@ -276,6 +282,11 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     annotated[box_rows] = False
     geometry = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models, min_pixels, refine,
                          annotated)
+    proposal_fits = []
+    if fit is not None:
+        rows = vehicle_rows(ids, geometry[0], {c.id: c.name for c in class_list})
+        geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows[~torch.isin(rows, box_rows)], geometry,
+                                                fit)
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
                                                              min_pixels, mask_source)
@@ -292,6 +303,9 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     meta = {"source": gt.key if gt is not None else "image", "proposals": source,
             "semantic": semantic_source,
             "objects": n, "with_geometry": int(geo.sum()), "crop_size": models.crop_size, "min_pixels": min_pixels}
+    if fit is not None:
+        meta["proposal_fit"] = fit.to_dict()
+        meta["fits"] = [r.to_json() for r in proposal_fits]
     if box_fits:
         meta["boxes"] = box_fits
         meta["fit"] = boxes.fit.to_dict()

@@ -29,6 +29,7 @@ from torch import Tensor
 __all__ = [
     "IGNORE_INDEX",
     "INSTANCE_DIVISOR",
+    "VEHICLE_CLASS_NAMES",
     "SemanticClass",
     "VKITTI_CLASSES",
     "VKITTI_CLASS_INDEX",
@@ -49,6 +50,8 @@ __all__ = [
 IGNORE_INDEX = 255
 #: Instance ids are ``class_id * INSTANCE_DIVISOR + k``.
 INSTANCE_DIVISOR = 1000
+#: Lower-case names of the classes, in every class list, whose objects are vehicles (the meshes' kind of object).
+VEHICLE_CLASS_NAMES = ("car", "van", "truck", "bus", "train", "caravan", "trailer")
 
 @dataclass(frozen=True)
 class SemanticClass:

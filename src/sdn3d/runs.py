@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from sdn3d.errors import InputError, UserInputError
+from sdn3d.labels import VEHICLE_CLASS_NAMES
 
 __all__ = ["BRANCHES", "find_run_checkpoints", "given_checkpoints", "checkpoints_from_run", "report_checkpoints",
            "export_checkpoint", "export_run_checkpoint", "semantic_summary", "quality_warnings", "recorded_pq",
@@ -279,7 +280,6 @@ MIN_VEHICLE_PQ = 0.3
 MIN_MIOU = 0.3
 #: Proposals covering more of the frame than this are not a street's vehicles.
 MAX_PROPOSAL_COVER = 0.5
-_VEHICLES = ("car", "van", "truck", "bus", "train", "caravan", "trailer")
 
 
 def semantic_summary(info: dict | None) -> Path | None:
@@ -304,7 +304,7 @@ def recorded_pq(metrics: Mapping[str, Any] | None, stage: str = "val") -> tuple[
     writes ``val/pq_Car``) named ``vehicle PQ``, else ``<stage>/pq``; None: not recorded (or not a number)."""
     metrics = metrics if isinstance(metrics, Mapping) else {}
     prefix = f"{stage}/pq_"
-    vehicles = [v for k in metrics if k.lower().startswith(prefix) and k[len(prefix):].lower() in _VEHICLES
+    vehicles = [v for k in metrics if k.lower().startswith(prefix) and k[len(prefix):].lower() in VEHICLE_CLASS_NAMES
                 for v in [_number(metrics, k)] if v is not None]
     if vehicles:
         return "vehicle PQ", sum(vehicles) / len(vehicles)

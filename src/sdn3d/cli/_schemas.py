@@ -90,6 +90,7 @@ class EditSchema:
     pick_radius: Optional[float] = MISSING
     max_ops: int = MISSING
     proposals: str = MISSING
+    fit_proposals: bool = MISSING
     box_objects: BoxObjectsSchema = field(default_factory=BoxObjectsSchema)
     run: Optional[str] = MISSING
     checkpoints: CheckpointsSchema = field(default_factory=CheckpointsSchema)
@@ -140,6 +141,7 @@ class BenchSchema:
     image_size: Optional[List[int]] = MISSING
     scene: str = MISSING
     proposals: Any = MISSING  # one source or a list of them
+    fit_proposals: bool = MISSING
     run: Optional[str] = MISSING
     checkpoints: BenchCheckpointsSchema = field(default_factory=BenchCheckpointsSchema)
     geometric: GeometricSchema = field(default_factory=GeometricSchema)

@@ -60,6 +60,7 @@ from sdn3d.editing.appearance import PictureMode
 from sdn3d.editing.photo.settings import PhotoSettings
 from sdn3d.errors import InputError
 from sdn3d.evaluation.edit_benchmark import METHODS, PROPOSALS, REGIONS, SCENES, SOURCE_LABELS, Scene
+from sdn3d.geometric.fit import FitSettings
 from sdn3d.io import check_output_dir, staged_directory
 from sdn3d.proposals import Proposals
 from sdn3d.runs import checkpoints_from_run, given_checkpoints
@@ -140,7 +141,9 @@ def _header(summaries: dict, info: dict) -> list[str]:
     return ["# Editing benchmark (3D-SDN Table 1 layout)", "",
             f"{first['evaluated']} of {first['entries']} entries evaluated on `{info['benchmark']}` "
             f"({info['data']}), working size {info['image_size'][0]}x{info['image_size'][1]}. "
-            f"Source scenes: {sources}. "
+            f"Source scenes: {sources}. " + ("The proposals' vehicles are fitted to their masks at test time "
+                                             "(`fit_proposals=true`, as `sdn3d-edit` does). "
+                                             if info.get("fit_proposals") else "") +
             "Lower LPIPS / L1 and higher SSIM / PSNR are better; *all* = the union of the edited objects' source and "
             "target regions, *largest* = the largest edited object's target box (crop), *objects* = the target's "
             "visible pixels of the edited objects (the cars themselves, apart from the road filled behind them).",
@@ -459,7 +462,8 @@ def _baseline_generator(cfg: Any, models: Any) -> tuple[Any, dict]:
 def _settings_base(cfg: Any, size: tuple[int, int]) -> dict:
     return dict(image_size=size, frame_size=tuple(cfg.frame_size), strict=bool(cfg.strict),
                 pick_radius=cfg.pick_radius, min_pixels=int(cfg.geometric.min_pixels),
-                include_identity=bool(cfg.include_identity), limit=cfg.limit, examples=int(cfg.examples),
+                fit=FitSettings() if cfg.fit_proposals else None, include_identity=bool(cfg.include_identity),
+                limit=cfg.limit, examples=int(cfg.examples),
                 compose=_compose_modes(cfg.compose), dilate_px=cfg.compose_dilate_px, feather_px=cfg.compose_feather_px,
                 photo=PhotoSettings.from_mapping(cfg.get("photo")))
 
@@ -605,7 +609,9 @@ def run_bench(cfg: Any) -> dict:
             "source_oracle": {s: s != Proposals.SEMANTIC for s in sources}, "generators": generators,
             "run": None if cfg.get("run") is None else str(cfg.run), "checkpoints": checkpoints,
             "device": str(cfg.device), "threads": torch.get_num_threads(), **lpips, "compose": list(first.compose),
-            "dilate_px": first.dilate_px, "feather_px": first.feather_px, "wall_s": time.perf_counter() - t0}
+            "dilate_px": first.dilate_px, "feather_px": first.feather_px,
+            "fit_proposals": first.fit is not None and first.scene is Scene.DERENDER,
+            "wall_s": time.perf_counter() - t0}
     entries_json = {name: [r.to_json() for r in rs] for name, rs in results.items()}
     comparisons = paired_comparisons(entries_json, summaries, info)
     report = {"info": info, "config": OmegaConf.to_container(cfg, resolve=True), "summary": summaries,
@@ -680,7 +686,8 @@ def run_counterfactual_bench(cfg: Any) -> dict:
     settings = cf.CounterfactualSettings(sources=tuple(sources), fills=tuple(cfg.counterfactual_fills),
                                          photo=PhotoSettings.from_mapping({k: v for k, v in (cfg.get("photo") or {})
                                                                            .items() if k != "fill"}),
-                                         min_pixels=int(cfg.geometric.min_pixels), limit=cfg.limit)
+                                         min_pixels=int(cfg.geometric.min_pixels), limit=cfg.limit,
+                                         fit=FitSettings() if cfg.fit_proposals else None)
     t0 = time.perf_counter()
     results = cf.run_counterfactual(index, index_records(read_frames(root)), models, settings, lambda i, n, rows:
                                     console.print(f"[counterfactual {i}/{n}] {rows[0].key.split()[0]}", markup=False))

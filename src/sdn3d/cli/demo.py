@@ -408,6 +408,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.data.sources import load_split
     from sdn3d.derender import PROPOSAL_LABELS, Models, derender
     from sdn3d.editing.frame import PixelFrame
+    from sdn3d.geometric.fit import FitSettings
     from sdn3d.io import write_png_atomic
     from sdn3d.scene.io import save_scene
     from sdn3d.visualize import titled_row
@@ -425,12 +426,13 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     frame = load_frame(record, source.image_size, semantic=True, instances=True)
     started = time.perf_counter()
     gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
+    fit = FitSettings()  # the proposals' test-time fit, as sdn3d-edit's fit_proposals=true gives a user
     scene = derender(frame.image.to(cfg.device), frame.intrinsics, models,
-                    Proposals.SEMANTIC if predicted else Proposals.GT, gt)
+                     Proposals.SEMANTIC if predicted else Proposals.GT, gt, fit=fit)
     proposals = PROPOSAL_LABELS[Proposals.SEMANTIC] if predicted else \
         PROPOSAL_LABELS[Proposals.GT] + (f" ({'; '.join(distrust)})" if distrust else "")
     if predicted and not bool(scene.objects.has_geometry.any()):
-        scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, Proposals.GT, gt)
+        scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, Proposals.GT, gt, fit=fit)
         proposals = PROPOSAL_LABELS[Proposals.GT] + " (the semantic branch found no car with 3D geometry on this frame)"
     derender_s = time.perf_counter() - started
     car, edits, recoloured = _example_edits(cfg, scene, record.key, ckpts["textural"], appearance,

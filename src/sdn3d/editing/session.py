@@ -112,6 +112,8 @@ class SessionSettings:
         proposals: where the objects come from (:class:`sdn3d.proposals.Proposals`; a name is parsed).
         min_pixels: visible pixels (working size) an object needs for 3D geometry (``geometric.min_pixels``).
         refine: the Cityscapes test-time fit of the geometry, or None (off).
+        fit_proposals: the proposals' vehicles get the box objects' test-time fit (``box_fit``;
+            :mod:`sdn3d.proposal_fit`); False: the geometric branch's poses as they are.
         box_fit: the 3D fit of objects named by a box (:class:`~sdn3d.geometric.fit.FitSettings`; None: defaults).
         box_prior: seed GrabCut with the semantic branch's vehicle probability.
         box_iterations: GrabCut iterations per box.
@@ -128,6 +130,7 @@ class SessionSettings:
     proposals: str = "semantic"
     min_pixels: int = 64
     refine: Any = None
+    fit_proposals: bool = True
     box_fit: Any = None
     box_prior: bool = False
     box_iterations: int = 5
@@ -299,7 +302,8 @@ class EditSession:
             t0 = time.perf_counter()
             # through the module: a test may stand in for the de-render (sdn3d.derender.derender)
             scene = derendering.derender(inp.image, inp.intrinsics, self.models, s.proposals, inp.ground_truth,
-                                         min_pixels=s.min_pixels, refine=s.refine, boxes=boxes)
+                                         min_pixels=s.min_pixels, refine=s.refine, boxes=boxes,
+                                         fit=self.proposal_fit)
             scene.meta["refined"] = s.refine is not None
             elapsed = 1000 * (time.perf_counter() - t0)
             records = boxes_record(scene, inp.frame)
@@ -311,6 +315,14 @@ class EditSession:
                 self._scenes.popitem(last=False)
             refuse_boxes(spec, done, s.box_fit)  # after caching: the same boxes with force: true cost nothing more
             return done
+
+    @property
+    def proposal_fit(self) -> Any:
+        """The :class:`~sdn3d.geometric.fit.FitSettings` of the proposals' test-time fit, or None (off)."""
+        from sdn3d.geometric.fit import FitSettings
+
+        s = self.settings
+        return (s.box_fit or FitSettings()) if s.fit_proposals else None
 
     def forget(self, key_prefix: str) -> None:
         """Drop the cached scenes of every input whose key starts with ``key_prefix`` (a closed app session)."""

@@ -27,8 +27,9 @@ __all__ = ["session_settings", "appearance_settings", "compose_settings", "refin
 def session_settings(cfg: Any, checkpoints: dict[str, dict | None], compose: Any = None,
                      appearance: Appearance | None = None, photo: Any = None) -> Any:
     """The :class:`~sdn3d.editing.session.SessionSettings` of an edit configuration: proposals, geometric.min_pixels,
-    refine, box_objects.*, pick_radius, strict, seed, appearance, photo.*, compose*, diagnostics. ``checkpoints``:
-    per branch ``{'path', ...}`` or None (``box_objects.prior: auto`` reads the semantic run's recorded quality).
+    refine, fit_proposals, box_objects.*, pick_radius, strict, seed, appearance, photo.*, compose*, diagnostics.
+    ``checkpoints``: per branch ``{'path', ...}`` or None (``box_objects.prior: auto`` reads the semantic run's
+    recorded quality).
     ``compose`` / ``appearance`` / ``photo``: already checked ones.
 
     Raises:
@@ -42,7 +43,8 @@ def session_settings(cfg: Any, checkpoints: dict[str, dict | None], compose: Any
     fit, prior, iterations, refine_masks = box_settings(cfg, checkpoints)
     return SessionSettings(proposals=Proposals.parse(cfg.proposals, InputError),
                            min_pixels=int(cfg.geometric.min_pixels),
-                           refine=refine_settings(cfg), box_fit=fit, box_prior=prior, box_iterations=iterations,
+                           refine=refine_settings(cfg), fit_proposals=bool(cfg.get("fit_proposals", True)),
+                           box_fit=fit, box_prior=prior, box_iterations=iterations,
                            box_refine_masks=refine_masks,
                            pick_radius=cfg.pick_radius, strict=bool(cfg.strict), seed=int(cfg.seed),
                            appearance=appearance, photo=photo, compose=compose or compose_settings(cfg),

@@ -38,6 +38,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import torch
@@ -61,6 +62,9 @@ from sdn3d.evaluation.baselines import baseline_photo
 from sdn3d.evaluation.paired import paired_difference
 from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.scene.code import DEFAULT_CODE_DIM, SceneCode
+
+if TYPE_CHECKING:
+    from sdn3d.geometric.fit import FitSettings
 
 __all__ = ["SOURCES", "SOURCE_LABELS", "REFERENCE", "FLAT_SOURCES", "PSNR_MSE_FLOOR", "LUMA",
            "CounterfactualSettings", "PairResult", "methods", "pair_bin", "luminance", "darkening", "road_ring",
@@ -99,6 +103,7 @@ class CounterfactualSettings:
         photo: the photo appearance's other settings (each method sets its own ``fill``).
         compose: the generator appearance's compose settings.
         min_pixels: visible pixels an object needs for 3D geometry in :func:`~sdn3d.derender.derender`.
+        fit: the test-time fit of the de-rendered sources' vehicles (:mod:`sdn3d.proposal_fit`), or None.
         match_iou: a predicted object is the target car when its mask's IoU with the source mask is at least this.
         ring_px: width of the road ring around a delete's shadow band (None: ``max(3, round(W / 50))``).
         limit: at most this many target cars (each with all its pairs; None: all).
@@ -112,6 +117,7 @@ class CounterfactualSettings:
     photo: PhotoSettings = field(default_factory=PhotoSettings)
     compose: ComposeSettings = field(default_factory=ComposeSettings)
     min_pixels: int = 64
+    fit: FitSettings | None = None
     match_iou: float = 0.5
     ring_px: int | None = None
     limit: int | None = None
@@ -217,7 +223,8 @@ def _source_scene(source: str, record: FrameRecord, image: Tensor, intrinsics, m
         scene = scene_from_frame(record, size, textural.spec.code_dim if textural is not None else DEFAULT_CODE_DIM)
         return encode_scene(scene, image, textural) if textural is not None else scene
     proposals = "semantic" if source == "semantic" else "gt"
-    return derender(image, intrinsics, models, proposals, ground_truth(record, size), min_pixels=settings.min_pixels)
+    return derender(image, intrinsics, models, proposals, ground_truth(record, size), min_pixels=settings.min_pixels,
+                    fit=settings.fit)
 
 
 def _match(scene: SceneCode, instance_id: int, source_mask: Tensor) -> tuple[int | None, float]:

@@ -91,6 +91,7 @@ from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import ComposedMaps, scene_maps
 
 if TYPE_CHECKING:
+    from sdn3d.geometric.fit import FitSettings
     from sdn3d.nets.lpips import LPIPS
     from sdn3d.textural.renderer import TexturalRenderer
 
@@ -161,6 +162,9 @@ class BenchSettings:
         strict: reject ``to`` points outside the frame (False for the published file).
         pick_radius: max distance (working pixels) of a ``from`` pick; None: nearest object.
         min_pixels: visible pixels an object needs for 3D geometry in :func:`derender`.
+        fit: ``scene='derender'``: the test-time fit of the proposals' vehicles (:mod:`sdn3d.proposal_fit`, a
+            :class:`~sdn3d.geometric.fit.FitSettings`), what ``sdn3d-edit`` gives a user; None: the branch's poses
+            as they are (the paper's protocol).
         include_identity: also evaluate the entries without operations.
         limit: evaluate at most this many entries (None: all).
         examples: entries whose pictures are kept for the example grids.
@@ -178,6 +182,7 @@ class BenchSettings:
     strict: bool = False
     pick_radius: float | None = None
     min_pixels: int = 64
+    fit: FitSettings | None = None
     include_identity: bool = False
     limit: int | None = None
     examples: int = 8
@@ -361,7 +366,8 @@ def _source_scene(image: Tensor, intrinsics, record: FrameRecord, models: Models
         scene = scene_from_frame(record, settings.image_size, models.textural.spec.code_dim)
         return encode_scene(scene, image, models.textural)
     gt = ground_truth(record, (intrinsics.width, intrinsics.height))
-    return derender(image, intrinsics, models, settings.proposals, gt, min_pixels=settings.min_pixels)
+    return derender(image, intrinsics, models, settings.proposals, gt, min_pixels=settings.min_pixels,
+                    fit=settings.fit)
 
 
 def _to_uint8(image: Tensor) -> np.ndarray:

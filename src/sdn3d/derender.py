@@ -20,7 +20,9 @@
    A box object's prediction (when there is a geometric branch) only starts :func:`~sdn3d.geometric.fit.fit_to_masks`:
    every template and four yaws fitted to its mask on the road plane, other objects' pixels ignored (the box
    sub-pipeline is :mod:`sdn3d.box_objects`); the scene's ``meta['boxes']`` holds per box its
-   :class:`~sdn3d.box_objects.BoxFit`: where its mask and pose came from and the fit's silhouette IoU.
+   :class:`~sdn3d.box_objects.BoxFit`: where its mask and pose came from and the fit's silhouette IoU. With
+   ``fit`` the proposals' vehicles get the same fit (:mod:`sdn3d.proposal_fit`; ``meta['fits']``): the edit
+   path's default, while ``fit=None`` keeps the branch's predictions (the paper's protocol).
 4. **Texture**: the textural encoder pools one code per region of the instance label map ``L``
    (objects and background classes): :func:`encode_scene`.
 

@@ -102,15 +102,20 @@ def test_full_demo_tiny_budget(tmp_path):
     assert _empty_columns(report) == []
 
 
-def test_demo_trains_branches_in_parallel_and_composes_the_long_budget(tmp_path):
+def test_demo_composes_the_medium_and_long_budgets():
     from sdn3d.cli._config import compose_config
-    from sdn3d.cli.demo import main
 
     long = compose_config(["budget=long"], "demo")
     assert long.budget_name == "long" and long.train.experiment.geometric == "demo_long" and long.gpu_budget
     medium = compose_config(["budget=medium"], "demo")
     assert medium.train.branches == ["semantic", "geometric", "textural"] and medium.render_size == [312, 96]
     assert len(long.synth.worlds) == 5 and long.train.textural == []  # the budget is in experiment=demo_long
+
+
+@pytest.mark.slow  # 20 s: two training processes at once; test_full_demo_tiny_budget runs the same stages in turn
+def test_demo_trains_branches_in_parallel(tmp_path):
+    from sdn3d.cli.demo import main
+
     out = tmp_path / "demo"
     status = main([f"output_dir={out}", f"data_dir={tmp_path / 'data'}", "threads=1", "synth.image_size=[160,64]",
                    "synth.worlds=[0001]", "synth.frames_per_sequence=5", "synth.edit_pairs=1", "synth.workers=1",

@@ -134,6 +134,8 @@ def test_each_branch_trains_tests_and_logs_to_tensorboard(branch, tiny_synth, tm
     assert "_hparams_/session_start_info" in tags["tensors"], tags
 
 
+@pytest.mark.slow  # 20 s; test_train_faults' resume test checks the same resume after a clean stop, and
+# test_train_checkpointing a SIGKILL while a checkpoint is written
 def test_resume_after_sigkill_reaches_the_same_final_step(tiny_synth, tmp_path):
     from lightning_modules.train import run_training
 

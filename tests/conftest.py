@@ -30,6 +30,24 @@ def one_torch_thread():
 
 
 @pytest.fixture(autouse=True)
+def _proposal_fit_only_where_tested(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The proposals' test-time fit costs about a second per car of the random-weight branches' scenes, and
+    ``fit_proposals`` is on by default in every tool: a test that does not test it (marker ``fits``) gets each
+    proposal's prediction back as the fit, recorded as not fitted. In-process calls only: a tool started as a
+    subprocess fits for real."""
+    if request.node.get_closest_marker("fits") is not None:
+        return
+    import sdn3d.derender as derendering
+    from sdn3d.proposal_fit import ProposalFit
+
+    def predictions_kept(intr, masks, ids, rows, geometry, settings):
+        return tuple(g.clone() for g in geometry), [ProposalFit(int(i), None, True, None, "not fitted (test stub)")
+                                                     for i in ids[rows].tolist()]
+
+    monkeypatch.setattr(derendering, "fit_proposals", predictions_kept)
+
+
+@pytest.fixture(autouse=True)
 def _seed_everything() -> None:
     random.seed(0)
     np.random.seed(0)

@@ -55,6 +55,7 @@ def _iou(a: torch.Tensor, b: torch.Tensor) -> float:
     return float((a & b).sum() / (a | b).sum().clamp(min=1))
 
 
+@pytest.mark.fits
 def test_the_proposals_are_fitted_to_their_masks_and_recorded(frame, models):
     image, masks, gt = frame
     as_predicted = derender(image, WORK, models, "gt", gt)
@@ -78,6 +79,7 @@ def test_the_proposals_are_fitted_to_their_masks_and_recorded(frame, models):
     assert torch.equal(fitted.objects.mask, as_predicted.objects.mask)
 
 
+@pytest.mark.fits
 def test_a_mask_too_small_to_fit_keeps_its_prediction_and_says_so(frame, models):
     image, masks, gt = frame
     tiny = FitSettings(min_mask_pixels=10**6)  # every mask is "too small"
@@ -87,3 +89,22 @@ def test_a_mask_too_small_to_fit_keeps_its_prediction_and_says_so(frame, models)
     assert torch.equal(kept.objects.location, as_predicted.objects.location)
     for record in kept.meta["fits"]:
         assert record["fit_iou"] is None and record["poor_fit"] and record["note"]
+
+
+@pytest.mark.fits
+def test_the_edit_settings_turn_the_proposals_fit_on_by_default_and_off_by_name():
+    from sdn3d.cli._config import compose_config
+    from sdn3d.editing.session import EditSession, SessionSettings
+    from sdn3d.editing.settings import session_settings
+
+    on = session_settings(compose_config([], "edit"), {})
+    off = session_settings(compose_config(["fit_proposals=false"], "edit"), {})
+    assert on.fit_proposals and not off.fit_proposals
+    assert compose_config([], "bench").fit_proposals  # the benchmark measures what sdn3d-edit gives
+
+    def proposal_fit(settings: SessionSettings):
+        session = EditSession.__new__(EditSession)  # no models needed to ask what it would fit with
+        session.settings = settings
+        return session.proposal_fit
+
+    assert proposal_fit(on) == on.box_fit and proposal_fit(off) is None

@@ -249,3 +249,21 @@ def test_unseen_surface_takes_the_shading_of_pixels_that_faced_the_same_way(monk
         assert int(part.sum()) > 100
         errors.append(float((result.image[:, part] - target[:, part]).abs().mean()))
     assert errors[0] < 0.6 * errors[1], errors
+
+
+def test_a_lamp_never_seen_takes_the_other_ends_lamps():
+    """A grey car seen from behind with red tail lamps, turned by 180 degrees: its front lamps, never seen, are drawn
+    from the other end's lamps and paint (code ``part``: red where the tail lamps face the same way, grey paint
+    around them), not in the flat default colour."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.6, 0.6, 0.6))
+    tail = covered & (parts == int(Part.TAIL_LIGHTS))
+    assert int(tail.sum()) > 20
+    image[:, tail] = torch.tensor([0.8, 0.1, 0.1])[:, None]
+    edited = apply_edits(scene, [Rotate(12001, math.pi)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    front = result.parts == int(Part.FRONT_LIGHTS)
+    assert int(front.sum()) > 50
+    assert bool((result.source[front] == PART).all())
+    redness = result.image[0, front] - result.image[1, front]
+    assert float(redness.max()) > 0.3 and float(redness.min()) < 0.05

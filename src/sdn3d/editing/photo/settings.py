@@ -25,10 +25,12 @@ FILL_METHODS = ("telea", "patchmatch", "auto", "generator")
 AUTO_THIN_PX = 6.0
 #: How a point of an edited car that neither the photo nor its mirror image saw is drawn
 #: (:attr:`PhotoSettings.unseen`): ``parts`` (the default: the same part seen elsewhere on the same car where it
-#: faced the camera as the new surface does; a part never seen gets its :data:`PART_DEFAULTS` colour) or ``body`` (the car's body colour
-#: everywhere: the appearance before vehicle parts existed).
+#: faced the camera as the new surface does, a lamp never seen from the other end's lamps; any other part never seen
+#: gets its :data:`PART_DEFAULTS` colour) or ``body`` (the car's body colour everywhere: the appearance before vehicle
+#: parts existed).
 UNSEEN_MODES = ("parts", "body")
-#: Codes of :attr:`PhotoResult.source`: ``part``: the same part seen elsewhere on the car; ``default``: a part the
+#: Codes of :attr:`PhotoResult.source`: ``part``: the same part seen elsewhere on the car (for a lamp the photo never
+#: showed, the other end's lamps and paint); ``default``: a part the
 #: photo never showed, in its :data:`PART_DEFAULTS` colour; ``relit``: road under a removed car's shadow, relit.
 SOURCE_NAMES = ("input", "photo", "mirror", "fallback", "fill", "recolored", "shadow", "part", "default", "relit")
 #: Colour of each source code in :func:`source_picture` (sRGB uint8).

@@ -156,3 +156,114 @@ def test_removal_fills_on_bounded_crops(monkeypatch):
                           settings=PhotoSettings(fill="patchmatch", delete_effects=True))
     assert result.image.shape == image.shape
     assert sides and max(sides) <= 48
+
+
+def _painted(scene, paint, size=None, K=None, lamp=None):
+    """``(image, covered, parts)``: every object in one ``paint`` (sRGB) over the grey background; with ``lamp =
+    (colour, rows)`` the body-part pixels in those input rows of the car take that colour (a tail lamp that the
+    fitted mesh calls body)."""
+    from sdn3d.editing.photo.transfer import _part_map, _rasterize
+    from sdn3d.meshes.bank import default_bank
+    from sdn3d.scene.maps import posed_meshes
+
+    size = size or INPUT_SIZE[::-1]
+    K = _k_input() if K is None else K
+    rows, verts, faces = posed_meshes(scene.objects, default_bank())
+    raster = _rasterize(rows, verts, faces, K, size)
+    parts = _part_map(raster, scene.objects, default_bank()).view(size)
+    covered = raster.frags.pix_to_face[0] >= 0
+    image = torch.full((3, *size), 0.45)
+    image[:, covered] = torch.tensor(paint)[:, None]
+    if lamp is not None:
+        colour, (r0, r1) = lamp
+        band = covered & (parts == int(Part.BODY))
+        band[:r0] = False
+        band[r1:] = False
+        image[:, band] = torch.tensor(colour)[:, None]
+    return image, covered, parts
+
+
+def test_unseen_body_is_drawn_from_paint_not_from_a_lamp_the_mesh_calls_body():
+    """A grey car seen from behind whose rear shows a red band on body-labelled pixels (tail lamps a loosely fitted
+    mesh calls body), turned by 90 degrees: its new side, drawn part by part, is grey paint, not a red stripe."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.6, 0.6, 0.6))
+    rows = covered.any(1).nonzero().flatten()
+    mid = int(rows.float().mean())
+    image, _, _ = _painted(scene, (0.6, 0.6, 0.6), lamp=((0.8, 0.1, 0.1), (mid - 3, mid + 3)))
+    edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    side = (result.source == PART) & (result.parts == int(Part.BODY))
+    assert int(side.sum()) > 200
+    redness = result.image[0, side] - result.image[1, side]
+    assert float(redness.max()) < 0.05
+
+
+def test_unseen_surfaces_without_a_fitted_light_are_not_darkened():
+    """A car in one flat paint, turned by 90 degrees with relight off (the default): the side drawn from the car's
+    own pixels (part) or its body colour (fallback) keeps the paint; a guessed light from above made it ~40 % darker.
+    """
+    assert not PhotoSettings().relight
+    scene = _scene([BEHIND])
+    image, _, _ = _painted(scene, (0.6, 0.5, 0.4))
+    edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
+    for unseen in ("parts", "body"):
+        result = render_photo(image, FRAME, scene, edited,
+                              settings=PhotoSettings(contact_shadow=0.0, fill="telea", unseen=unseen))
+        drawn = torch.isin(result.source, torch.tensor([PART, FALLBACK], dtype=torch.uint8))
+        drawn &= result.parts == int(Part.BODY)
+        assert int(drawn.sum()) > 200
+        err = (result.image[:, drawn] - torch.tensor([0.6, 0.5, 0.4])[:, None]).abs()
+        assert float(err.max()) < 0.02, unseen
+
+
+def test_unseen_surface_takes_the_shading_of_pixels_that_faced_the_same_way(monkeypatch):
+    """A car shaded by the direction each surface faces (bright towards the camera, dark edge-on), seen from the
+    rear three-quarter and turned: its unseen pixels drawn part by part come closer to the shading their new
+    direction has in the input with the normal term than without it (position alone)."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.transfer import _rasterize, _surface
+    from sdn3d.meshes.bank import default_bank
+    from sdn3d.scene.maps import posed_meshes
+
+    def shaded(scn):
+        size = INPUT_SIZE[::-1]
+        rows, verts, faces = posed_meshes(scn.objects, default_bank())
+        raster = _rasterize(rows, verts, faces, _k_input(), size)
+        pix = (raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+        _, _, _, normal = _surface(raster, pix)
+        facing = normal[:, 2].abs()  # camera-facing normals have |n_z| near 1 (the camera looks along +z)
+        image = torch.full((size[0] * size[1], 3), 0.45)
+        image[pix] = (0.15 + 0.7 * facing)[:, None].float() * torch.tensor([1.0, 0.9, 0.8])
+        return image.view(*size, 3).permute(2, 0, 1)
+
+    car = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2 + 0.5, location=(-1.0, 1.6, 12.0))
+    scene = _scene([car])
+    edited = apply_edits(scene, [Rotate(12001, 1.3)])
+    image, target = shaded(scene), shaded(edited)
+    errors = []
+    for weight in (transfer.PART_NORMAL_WEIGHT, 0.0):
+        monkeypatch.setattr(transfer, "PART_NORMAL_WEIGHT", weight)
+        result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+        part = (result.source == PART) & (result.parts == int(Part.BODY))
+        assert int(part.sum()) > 100
+        errors.append(float((result.image[:, part] - target[:, part]).abs().mean()))
+    assert errors[0] < 0.6 * errors[1], errors
+
+
+def test_a_lamp_never_seen_takes_the_other_ends_lamps():
+    """A grey car seen from behind with red tail lamps, turned by 180 degrees: its front lamps, never seen, are drawn
+    from the other end's lamps and paint (code ``part``: red where the tail lamps face the same way, grey paint
+    around them), not in the flat default colour."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.6, 0.6, 0.6))
+    tail = covered & (parts == int(Part.TAIL_LIGHTS))
+    assert int(tail.sum()) > 20
+    image[:, tail] = torch.tensor([0.8, 0.1, 0.1])[:, None]
+    edited = apply_edits(scene, [Rotate(12001, math.pi)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    front = result.parts == int(Part.FRONT_LIGHTS)
+    assert int(front.sum()) > 50
+    assert bool((result.source[front] == PART).all())
+    redness = result.image[0, front] - result.image[1, front]
+    assert float(redness.max()) > 0.3 and float(redness.min()) < 0.05

@@ -21,12 +21,14 @@ input camera, :func:`input_intrinsics`):
    there within :attr:`PhotoSettings.depth_tolerance`, and the pixel is inside the object's instance mask,
    eroded (no other object covers it). Else its **mirror image** across the vehicle's left-right plane
    (``z = 0`` of the canonical frame; templates and FFD are symmetric) is tried the same way. What is still
-   unseen gets the **fallback**: the car's own body colour (its visible pixels, de-shaded) shaded for the new
-   normal. An object amodally completed behind a deleted one (:func:`sdn3d.editing.apply.apply_edits`) has its
+   unseen is drawn part by part (``unseen='parts'``, the default): the same part seen elsewhere on the car, from
+   its input pixels nearest in the car's frame and in the direction they faced (their shading comes with them);
+   a part never seen takes its default colour, the body the car's own body colour. An object amodally completed behind a deleted one (:func:`sdn3d.editing.apply.apply_edits`) has its
    freed pixels drawn the same way at its own pose.
-4. *Shading follows the pose* (:func:`fit_light`): one directional light and an ambient term are fitted to
-   the visible car pixels of the input (per-object albedo, least squares on log luminance, a grid over
-   directions), and each transferred colour is multiplied by ``shade(new normal) / shade(source normal)``.
+4. *Shading follows the pose* (:func:`fit_light`, with :attr:`PhotoSettings.relight`, off by default: on exact
+   turn pairs it cost 1-2 dB): one directional light and an ambient term are fitted to the visible car pixels of
+   the input (per-object albedo, least squares on log luminance, a grid over directions), and each transferred
+   colour is multiplied by ``shade(new normal) / shade(source normal)``.
 5. *Recolour* (:func:`recolor_pixels`): the body's pixels (the largest colour cluster of the car, in CIE
    Lab) move to the named colour's chroma and lightness, their variation (shading, reflections) kept;
    windows, tyres and lights (other clusters) are untouched.

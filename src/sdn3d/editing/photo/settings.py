@@ -24,11 +24,13 @@ FILL_METHODS = ("telea", "patchmatch", "auto", "generator")
 #: ``fill='auto'``: a hole part at most this many pixels from its edge everywhere is filled by Telea, else PatchMatch.
 AUTO_THIN_PX = 6.0
 #: How a point of an edited car that neither the photo nor its mirror image saw is drawn
-#: (:attr:`PhotoSettings.unseen`): ``parts`` (the default: the same part seen elsewhere on the same car, shaded for
-#: its new normal; a part never seen gets its :data:`PART_DEFAULTS` colour) or ``body`` (the car's body colour
-#: everywhere: the appearance before vehicle parts existed).
+#: (:attr:`PhotoSettings.unseen`): ``parts`` (the default: the same part seen elsewhere on the same car where it
+#: faced the camera as the new surface does, a lamp never seen from the other end's lamps; any other part never seen
+#: gets its :data:`PART_DEFAULTS` colour) or ``body`` (the car's body colour everywhere: the appearance before vehicle
+#: parts existed).
 UNSEEN_MODES = ("parts", "body")
-#: Codes of :attr:`PhotoResult.source`: ``part``: the same part seen elsewhere on the car; ``default``: a part the
+#: Codes of :attr:`PhotoResult.source`: ``part``: the same part seen elsewhere on the car (for a lamp the photo never
+#: showed, the other end's lamps and paint); ``default``: a part the
 #: photo never showed, in its :data:`PART_DEFAULTS` colour; ``relit``: road under a removed car's shadow, relit.
 SOURCE_NAMES = ("input", "photo", "mirror", "fallback", "fill", "recolored", "shadow", "part", "default", "relit")
 #: Colour of each source code in :func:`source_picture` (sRGB uint8).
@@ -68,7 +70,9 @@ class PhotoSettings:
         shadow_band: height of the road band below a vacated footprint (its old contact shadow) as a fraction
             of the footprint's height.
         contact_shadow: darkening of the road under a moved object at its new place (0: none).
-        relight: re-shade transferred pixels for their new normals (:func:`fit_light`).
+        relight: re-shade transferred pixels for their new normals (:func:`fit_light`; False, the default: on the
+            tuning seed's exact turn pairs the fitted light cost every bin 1-2 dB, the unseen surfaces carry the
+            shading of the car's own pixels that faced the same way instead, docs/results/2026-11-28_cpu/session3/).
         inpaint_radius: Telea's neighbourhood (input pixels).
         max_level: deepest pyramid level sampled when an object shrinks (2**level smaller).
         unseen: :data:`UNSEEN_MODES` for what neither the photo nor the mirror saw (default ``parts``).
@@ -93,7 +97,7 @@ class PhotoSettings:
     hole_dilate_px: int = 3
     shadow_band: float = 0.12
     contact_shadow: float = 0.3
-    relight: bool = True
+    relight: bool = False
     inpaint_radius: int = 5
     max_level: int = 3
     unseen: str = "parts"

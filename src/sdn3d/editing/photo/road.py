@@ -133,12 +133,14 @@ def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tenso
 
 
 def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Tensor | None = None,
-             sigma: float = 1.0, texture: float = 1.0, along: int = 1, max_steps: int = 400) -> tuple[Tensor, Tensor]:
+             sigma: float = 1.0, texture: float = 1.0, along: int = 1, max_steps: int = 400,
+             beyond: int = 64) -> tuple[Tensor, Tensor]:
     """``(image (3, H, W), reached (H, W) bool)``: ``image`` with the ``hole (H, W)`` pixels a ray reaches filled
     along the rays from the vanishing point ``vp = (u, v)`` (module doc); ``keep_out (H, W)``: pixels no ray samples
     (other objects), ``sigma``: the sources' normalised blur, ``texture``: weight of the mirrored high-pass,
     ``along``: source pixels averaged along the ray from its first one outward (a lane line runs along the ray, so
-    this smooths noise without blurring it), ``max_steps``: how far (pixels) a ray looks on each side."""
+    this smooths noise without blurring it), ``max_steps``: how far (pixels) a ray looks on each side at most,
+    ``beyond``: and at most this far past the hole's box diagonal (through other objects and shadows)."""
     height, width = hole.shape
     out = image.clone()
     reached = torch.zeros_like(hole)
@@ -156,8 +158,13 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     away = pix - centre
     reach = away.norm(dim=1)  # distance to the vanishing point
     unit = torch.where(reach[:, None] > 1.0, away / reach.clamp(min=1e-6)[:, None], torch.tensor([1.0, 0.0]))
-    steps = torch.arange(1, max_steps + 1, dtype=torch.float32)
-    never = torch.full_like(reach, float(max_steps))
+    # No ray needs to look farther than across the hole's box and ``beyond`` past it (the cost: samples per ray).
+    across = math.hypot(float(ys.max() - ys.min()), float(xs.max() - xs.min()))
+    # Every pixel near a pixel's own place, every other one farther on (half the samples; a source is a few
+    # pixels wide).
+    far = min(max_steps, int(across) + beyond)
+    steps = torch.cat([torch.arange(1, 17), torch.arange(17, far + 1, 2)]).float()
+    never = torch.full_like(reach, float(far))
     values = torch.zeros(3, len(ys))
     got = torch.zeros(len(ys), dtype=torch.bool)
     for s in range(0, len(ys), RAY_CHUNK):

@@ -434,7 +434,10 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
     PatchMatch from road-like pixels only, then the rest of it by ``settings.fill`` from everything but
     ``objects_px`` (``fill='rays'``: all of it along the rays from ``vanishing``, after the relight)."""
     size = tuple(hole.shape)
-    search, road_part, ring, road = _shadow_context(image, hole, objects_px, before, gone_rows, K, light)
+    # rays: the shadow is looked for on the footprint grown by half, whatever the light (the same PSNR on the tuning
+    # tree's deletes as with the fitted light's cast region, without the light's fit: docs/results/.../deletes/)
+    search, road_part, ring, road = _shadow_context(image, hole, objects_px, before, gone_rows, K,
+                                                    None if settings.fill == "rays" else light)
     matte = torch.zeros(size, dtype=torch.float32)
     if road is None:
         return fill_hole(image, hole, settings, objects_px, vanishing=vanishing), matte
@@ -626,7 +629,9 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     effects = (settings.delete_effects or settings.fill == "rays") and bool(gone_rows) and settings.fill != "generator"
     moved_rows = moved.nonzero().flatten().tolist()
     casts = settings.cast_shadow and bool(moved_rows)
-    if (settings.relight or effects or casts) and len(src.rows) and (bool(moved.any()) or grown_rows or effects):
+    lit_effects = effects and settings.fill != "rays"  # rays find the shadow by its darkness: no light needed
+    if (settings.relight or lit_effects or casts) and len(src.rows) and (bool(moved.any()) or grown_rows
+                                                                          or lit_effects):
         src_normals, light = source.light()
     shade = light.shade if light is not None and settings.relight else None
 

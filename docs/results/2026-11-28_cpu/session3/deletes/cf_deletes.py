@@ -24,6 +24,11 @@ from sdn3d.evaluation.counterfactual import darkening, road_ring
 from sdn3d.labels import VKITTI_CLASS_INDEX
 
 torch.set_num_threads(1)
+import os
+if os.environ.get("NOLIGHT"):
+    sys.path.insert(0, "/tmp/s3del"); import nolight_patch  # noqa: experiment only
+if os.environ.get("HZ_PATCH"):
+    sys.path.insert(0, "/tmp/s3del"); import hz_patch  # noqa: experiment only
 args = sys.argv[1:]
 png_dir = None
 limit = None

@@ -1,7 +1,8 @@
 """Delete-only tuning/diagnosis harness on counterfactual pairs (ground-truth geometry: oracle).
 
-usage: cf_deletes.py ROOT OUT.json VARIANT [VARIANT ...] [--png DIR] [--limit N]
-VARIANT: name or name:key=val,key=val (PhotoSettings keys; 'base' = defaults).
+usage: cf_deletes.py ROOT OUT.json VARIANT [VARIANT ...] [--png DIR] [--limit N] [--only i,j,...]
+VARIANT: name or name:key=val,key=val (PhotoSettings keys; 'base' = defaults), or name:avg=a+b (two variants'
+mean picture). Runs with whichever sdn3d is on PYTHONPATH (main's code: its worktree's src).
 Per pair: PSNR on hole (vacated | shadow), split into road / non-road (GT semantic of the source frame) and the
 shadow band; the benchmark's darkening (sdn3d.evaluation.counterfactual.darkening on band & road vs road ring);
 the photo path's draw time.
@@ -25,15 +26,34 @@ from sdn3d.labels import VKITTI_CLASS_INDEX
 
 torch.set_num_threads(1)
 import os
+# Experiments of the records (environment switches, harness only):
+# CENTRE=1: the picture's centre as the rays' vanishing point; NOLIGHT=1: no fitted light at all;
+# HZ_PATCH=1: rays below the horizon row only (Telea above); AMODAL=0: apply_edits without amodal completion.
+if os.environ.get("CENTRE"):
+    import sdn3d.editing.photo.transfer as _t
+    _t.removal_vanishing_point = lambda image, K, removed, objects_px, ry=None: (
+        (removed.shape[1] - 1) / 2, (removed.shape[0] - 1) / 2)
 if os.environ.get("NOLIGHT"):
-    sys.path.insert(0, "/tmp/s3del"); import nolight_patch  # noqa: experiment only
+    import sdn3d.editing.photo.transfer as _t
+    _t.PhotoSource.light = lambda self: (None, None)
 if os.environ.get("HZ_PATCH"):
-    sys.path.insert(0, "/tmp/s3del"); import hz_patch  # noqa: experiment only
+    import sdn3d.editing.photo.road as _road
+    _ray_fill = _road.ray_fill
+
+    def _below_horizon(image, hole, vp, keep_out=None, *a, **k):
+        out, reached = _ray_fill(image, hole, vp, keep_out, *a, **k)
+        reached[:max(int(vp[1]), 0)] = False
+        return out, reached
+
+    _road.ray_fill = _below_horizon
 args = sys.argv[1:]
 png_dir = None
 limit = None
 if "--png" in args:
     i = args.index("--png"); png_dir = Path(args[i + 1]); del args[i:i + 2]; png_dir.mkdir(parents=True, exist_ok=True)
+only = None
+if "--only" in args:  # comma-separated indices of the delete pairs
+    i = args.index("--only"); only = [int(x) for x in args[i + 1].split(",")]; del args[i:i + 2]
 if "--limit" in args:
     i = args.index("--limit"); limit = int(args[i + 1]); del args[i:i + 2]
 root, out_path, variants = Path(args[0]), Path(args[1]), args[2:]
@@ -69,6 +89,8 @@ def psnr(a, b, m):
 
 rows = []
 pairs = [p for p in index.pairs if p.kind == "delete"][:limit]
+if only is not None:
+    pairs = [pairs[i] for i in only]
 for n, p in enumerate(pairs):
     rec = recs[(p.world, p.variation, p.frame)]
     fr = load_frame(rec, size, semantic=False, instances=False)
@@ -86,7 +108,7 @@ for n, p in enumerate(pairs):
     row = {"key": p.key, "hole_px": int(hole.sum()), "vac_px": int(vac.sum()), "sh_px": int(sh.sum()),
            "target_dark": darkening(target, band, ring), "input_dark": darkening(image, band, ring),
            "input_psnr": psnr(image, target, hole), "m": {}}
-    ed = apply_edits(scene, [Delete(p.instance_id)])
+    ed = apply_edits(scene, [Delete(p.instance_id)], amodal=os.environ.get("AMODAL", "1") != "0")
     iid = p.instance_id
     pics = {}
     for name in list(parsed) + list(mixes):

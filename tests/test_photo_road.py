@@ -144,23 +144,3 @@ def test_delete_with_rays_removes_the_cars_shadow(monkeypatch):
 
 def _grow(mask: torch.Tensor, r: int) -> torch.Tensor:
     return torch.nn.functional.max_pool2d(mask.float()[None, None], 2 * r + 1, 1, r)[0, 0] > 0
-
-
-def test_a_moved_car_keeps_its_old_shadow_with_rays(monkeypatch):
-    """Only a deleted car takes its shadow with ``rays``: a moved one still stands by its old shadow, so the road
-    there outside the vacated footprint stays the input's."""
-    from sdn3d.editing.ops import Move
-    from tests.test_photo import FRAME, _scene
-    from tests.test_photo_parts import BEHIND, _lit_with_shadow
-
-    scene = _scene([BEHIND])
-    image, _ = _lit_with_shadow(monkeypatch, scene)
-    shadow = (image[0] < 0.3) & (image[0] - image[2]).abs().lt(1e-6)
-    settings = PhotoSettings(fill="rays", relight=False, contact_shadow=0.0)
-    moved = render_photo(image, FRAME, scene, apply_edits(scene, [Move(12001, (90.0, 40.0))]), settings=settings)
-    deleted = render_photo(image, FRAME, scene, apply_edits(scene, [Delete(12001)]), settings=settings)
-    # the shadow's pixels outside the vacated footprint and band (a moved car's footprint is refilled too)
-    outside = shadow & (moved.source != FILL) & ~torch.isin(moved.source, torch.tensor([1, 2, 3, 7, 8]))
-    assert int(outside.sum()) > 50
-    assert torch.equal(moved.image[:, outside], image[:, outside])  # kept: the input's
-    assert float((deleted.source[outside] == FILL).float().mean()) > 0.5  # most of it taken with a deleted car

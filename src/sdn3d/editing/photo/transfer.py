@@ -625,13 +625,9 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     src_normals = None
     gone_rows = [int(b) for b in torch.isin(before.instance_id, gone_ids).nonzero().flatten().tolist()
                  if bool(before.has_geometry[b])]
+    # fill='rays' always takes a removed car's effects (its fitted silhouette and shadow): it was tuned with them.
+    effects = (settings.delete_effects or settings.fill == "rays") and bool(gone_rows) and settings.fill != "generator"
     moved_rows = moved.nonzero().flatten().tolist()
-    moved_from = {int(origin[a]) for a in moved_rows}
-    # fill='rays' takes a deleted car's effects (its fitted silhouette and shadow: it was tuned with them); a moved car
-    # keeps its old shadow there, as it still stands by it (taking it cost up to 0.1 dB on seed 33's turns).
-    effect_rows = gone_rows if settings.delete_effects else [b for b in gone_rows if b not in moved_from]
-    effects = ((settings.delete_effects or settings.fill == "rays") and bool(effect_rows)
-               and settings.fill != "generator")
     casts = settings.cast_shadow and bool(moved_rows)
     lit_effects = effects and settings.fill != "rays"  # rays find the shadow by its darkness: no light needed
     if (settings.relight or lit_effects or casts) and len(src.rows) and (bool(moved.any()) or grown_rows
@@ -649,6 +645,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         vp = removal_vanishing_point(image, K, removed, src_ids != 0,
                                      float(before.ry[gone_rows[0]]) if gone_rows else None)
     # With cast_shadow, a moved object's old shadow is relit (as a deleted one's with delete_effects).
+    moved_from = {int(origin[a]) for a in moved_rows}
     relight_rows = [b for b in gone_rows if b in moved_from] if casts and light is not None and not effects else []
     matte = None
     if settings.fill == "generator":  # the generator's picture changes with every edit: nothing to keep
@@ -657,12 +654,11 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         stay_ids = after.instance_id[stays]
         key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
         if effects:  # the removed objects' silhouettes join the hole; their shadows are relit
-            silhouette = _dilate(torch.isin(_raster_ids(src, before), before.instance_id[effect_rows]),
-                                 settings.hole_dilate_px)
+            silhouette = _dilate(torch.isin(_raster_ids(src, before), gone_ids), settings.hole_dilate_px)
             hole = hole | (silhouette & ~keep)
 
             def make() -> Tensor:  # the picture and the relit matte, kept together
-                filled, relit = _remove_with_effects(image, hole, (src_ids != 0) & ~hole, before, effect_rows, K,
+                filled, relit = _remove_with_effects(image, hole, (src_ids != 0) & ~hole, before, gone_rows, K,
                                                      light, settings, vp)
                 return torch.cat([filled, relit[None]])
 

@@ -62,8 +62,9 @@ class PhotoSettings:
     """How :func:`render_photo` draws an edit.
 
     Attributes:
-        fill: :data:`FILL_METHODS` for vacated pixels (default ``rays``: on the seed-33 tuning tree's 16 deletes, ground-
-            truth geometry, +1.8 dB over PatchMatch, the best earlier fill, on vacated region + shadow band;
+        fill: :data:`FILL_METHODS` for vacated pixels (default ``rays``: on vacated region + shadow band of exact
+            delete pairs, ground-truth geometry, +1.7 dB over ``auto``/PatchMatch on the seed-33 tuning tree, +0.03 and
+            +1.7 dB on held-out seeds 2029 and 2043, with lower L1 and residual shadow on all three;
             docs/results/2026-11-28_cpu/session3/deletes/). With ``rays`` a removed car always takes its effects
             (``delete_effects``' silhouette and shadow).
         depth_tolerance: a carried point counts as visible when the source rasterization's depth there is

@@ -11,6 +11,7 @@ the process's peak resident memory.
 
     python benchmarks/photo_latency.py                       # generate the data in a temporary directory
     python benchmarks/photo_latency.py --data outputs/data/x  # a sdn3d-synth tree at 1242x375
+    python benchmarks/photo_latency.py --fills auto --variant rays:fill=rays,delete_effects=true  # other settings
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 import torch
+import yaml
 
 
 def main() -> None:
@@ -31,6 +33,8 @@ def main() -> None:
     parser.add_argument("--fills", nargs="+", default=["telea", "patchmatch"])
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--limit", type=int, default=40)
+    parser.add_argument("--variant", action="append", default=[],
+                        help="NAME:key=value,... photo settings timed as one more column (repeatable)")
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
 
@@ -65,8 +69,13 @@ def main() -> None:
         cases.append((edit_kind(entry), scene, edited, original))
     size = tuple(int(x) for x in cases[0][3].shape[2:0:-1])
     frame = PixelFrame(size, work)
-    times: dict[str, dict[str, list[float]]] = {f: {} for f in args.fills}
-    renderers = {fill: appearance_renderer("photo", photo=PhotoSettings(fill=fill)) for fill in args.fills}
+    settings = {fill: PhotoSettings(fill=fill) for fill in args.fills}
+    for spec in args.variant:
+        name, _, pairs = spec.partition(":")
+        settings[name] = PhotoSettings.from_mapping({k: yaml.safe_load(v) for k, v in
+                                                     (kv.split("=", 1) for kv in pairs.split(",") if kv)})
+    times: dict[str, dict[str, list[float]]] = {f: {} for f in settings}
+    renderers = {name: appearance_renderer("photo", photo=s) for name, s in settings.items()}
     warm = appearance_renderer("photo")  # warm-up (imports, PatchMatch's library)
     warm.draw(warm.prepare(cases[0][3], frame, cases[0][1]), cases[0][2])
     for kind, scene, edited, original in cases:

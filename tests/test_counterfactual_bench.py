@@ -110,3 +110,13 @@ def test_cli_writes_per_bin_tables_with_labelled_sources_and_paired_intervals(pa
     rows = compare.compare(report, report, ["photo:auto"])
     assert rows and all(r["ties"] == r["n"] and r["mean"] == 0 for r in rows)
     assert {r["column"] for r in rows} >= {"car.psnr", "car.flat", "hole.psnr", "hole.darkening_error"}
+
+
+def test_cli_counterfactual_kinds_scores_the_deletes_alone(pairs_tree: Path, tmp_path: Path) -> None:
+    out = tmp_path / "cfd"
+    args = ["counterfactual=true", f"data.root={pairs_tree}", f"output_dir={out}", "counterfactual_fills=[auto,rays]",
+            "counterfactual_kinds=[delete]", "counterfactual_sources=[oracle]"]
+    assert main(args) == 0
+    report = json.loads((out / "counterfactual.json").read_text())
+    assert list(report["summary"]["oracle"]) == ["delete"] and {p["kind"] for p in report["pairs"]} == {"delete"}
+    assert report["info"]["methods"][:2] == ["photo:auto", "photo:rays"]

@@ -479,7 +479,7 @@ def test_photo_appearance_is_the_default_and_keeps_every_untouched_pixel(tiny_sy
     assert summary["appearance"] == "photo" and summary["compose"]["mode"] == "photo"
     assert "photo_ms" in summary["timings_ms"] and "render_ms" not in summary["timings_ms"]  # no generator pass
     photo = summary["photo"]
-    assert photo["settings"]["fill"] == "auto" and photo["source_pixels"]["input"] > 0
+    assert photo["settings"]["fill"] == "rays" and photo["source_pixels"]["input"] > 0
     assert photo["objects"][str(ids[1])]["recolor"]["color"] == pytest.approx([0.10, 0.25, 0.70])
     assert not (out / "generated.png").exists() and (out / "maps" / "photo_source.png").is_file()
     edited = np.asarray(Image.open(out / "edited.png"))

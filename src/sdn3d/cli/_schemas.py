@@ -160,6 +160,7 @@ class BenchSchema:
     counterfactual: bool = MISSING
     counterfactual_sources: Any = MISSING  # one source or a list of them, or null
     counterfactual_fills: List[str] = MISSING
+    counterfactual_kinds: List[str] = MISSING
     output_dir: str = MISSING
     overwrite: bool = MISSING
     device: str = MISSING

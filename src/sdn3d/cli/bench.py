@@ -687,7 +687,8 @@ def run_counterfactual_bench(cfg: Any) -> dict:
                                          photo=PhotoSettings.from_mapping({k: v for k, v in (cfg.get("photo") or {})
                                                                            .items() if k != "fill"}),
                                          min_pixels=int(cfg.geometric.min_pixels), limit=cfg.limit,
-                                         fit=FitSettings() if cfg.fit_proposals else None)
+                                         fit=FitSettings() if cfg.fit_proposals else None,
+                                         kinds=tuple(cfg.get("counterfactual_kinds") or ("turn", "delete")))
     t0 = time.perf_counter()
     results = cf.run_counterfactual(index, index_records(read_frames(root)), models, settings, lambda i, n, rows:
                                     console.print(f"[counterfactual {i}/{n}] {rows[0].key.split()[0]}", markup=False))

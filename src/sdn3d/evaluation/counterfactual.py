@@ -11,7 +11,7 @@ every method through :func:`~sdn3d.editing.appearance.appearance_renderer`, then
   A predicted scene's target car is the object whose mask overlaps the pair's source mask best (IoU at least
   :attr:`CounterfactualSettings.match_iou`, else the pair is *missed* for that scene, counted apart);
 - **methods** (:func:`methods`): ``photo:<fill>`` = the photo appearance with each fill of
-  :attr:`CounterfactualSettings.fills` (``photo:auto`` is today's default and the reference of every paired
+  :attr:`CounterfactualSettings.fills` (``photo:auto``, the default before ``rays``, is the reference of every paired
   comparison, :data:`REFERENCE`; ``photo:generator`` needs the generator), ``generator`` = the generator appearance
   composed into the frame (``compose='edited'``; with a generator only), ``2d`` / ``2d+`` = the 2D baselines of the
   photo appearance (:func:`~sdn3d.evaluation.baselines.baseline_photo`: the car's own pixels pasted in place, for
@@ -75,7 +75,8 @@ __all__ = ["SOURCES", "SOURCE_LABELS", "REFERENCE", "FLAT_SOURCES", "PSNR_MSE_FL
 SOURCES = ("oracle", "gt", "semantic")
 SOURCE_LABELS = {"oracle": "oracle: ground-truth geometry", "gt": "oracle: ground-truth masks",
                  "semantic": PROPOSAL_LABELS["semantic"]}
-#: Today's photo default: the reference of every paired comparison.
+#: The photo default before ``fill='rays'`` (the fill every earlier record compared against): the reference of every
+#: paired comparison.
 REFERENCE = "photo:auto"
 #: Names of the photo appearance's source codes that are flat colour, no pixel of the input behind them
 #: (:data:`~sdn3d.editing.photo.settings.FLAT_CODES`: the body-colour fallback and a never-seen part's default).
@@ -111,7 +112,7 @@ class CounterfactualSettings:
     """
 
     sources: tuple[str, ...] = ("oracle",)
-    fills: tuple[str, ...] = ("auto", "telea", "patchmatch")
+    fills: tuple[str, ...] = ("auto", "telea", "patchmatch", "rays")
     generator: bool = True
     baselines: tuple[str, ...] = ("2d", "2d+")
     photo: PhotoSettings = field(default_factory=PhotoSettings)
@@ -483,7 +484,7 @@ def counterfactual_markdown(summary: dict, comps: dict, info: dict) -> str:
     """``counterfactual.md``: per source scene a turns table (per angle bin and method) and a deletes table."""
     lines = ["# Counterfactual benchmark: turns and deletes on exact pairs", "",
              f"Data: {info.get('data')}, pairs drawn at {info.get('image_size')} (the frames' stored size). "
-             f"Reference of every paired difference: `{REFERENCE}` (today's photo default). Means with 95 % "
+             f"Reference of every paired difference: `{REFERENCE}` (the photo default before `rays`). Means with 95 % "
              "bootstrap intervals; a paired difference is `method - reference` [95 % interval] wins/losses/ties "
              "(by the metric's direction). PSNR in dB (at most 60), L1 on [0, 1], flat = share of the car's target "
              "pixels the photo appearance drew as flat colour (source map `fallback` or `default`), in %.", ""]

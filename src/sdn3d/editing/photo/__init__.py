@@ -12,8 +12,10 @@ input camera, :func:`input_intrinsics`):
    object that stays there (its rendered depth in the source rasterization, else its centre's): the edited
    scene's z-buffer decides who is in front.
 2. *Vacated pixels* (the source footprint of every moved or deleted object, a few pixels around it, and a
-   band of road below it for its old contact shadow) are filled by an inpainter (:data:`FILL_METHODS`:
-   OpenCV's Telea, or the generator's background), before anything is drawn over them.
+   band of road below it for its old contact shadow) are filled (:data:`FILL_METHODS`; the default ``rays``,
+   :mod:`~sdn3d.editing.photo.road`: along the lines through the road's vanishing point, so lane markings and
+   verges run on through the hole, the removed car's shadow filled with it; or OpenCV's Telea, PatchMatch, the
+   generator's background), before anything is drawn over them.
 3. *Transfer.* For each pixel an edited object covers, the surface point (face and barycentrics) is carried
    to the object's source pose (same face, same barycentrics: edits are rigid), projected into the input and
    sampled there (bilinear; from a pre-filtered pyramid level when the car got smaller, so it does not
@@ -23,8 +25,9 @@ input camera, :func:`input_intrinsics`):
    (``z = 0`` of the canonical frame; templates and FFD are symmetric) is tried the same way. What is still
    unseen is drawn part by part (``unseen='parts'``, the default): the same part seen elsewhere on the car, from
    its input pixels nearest in the car's frame and in the direction they faced (their shading comes with them);
-   a part never seen takes its default colour, the body the car's own body colour. An object amodally completed behind a deleted one (:func:`sdn3d.editing.apply.apply_edits`) has its
-   freed pixels drawn the same way at its own pose.
+   a part never seen takes its default colour, the body the car's own body colour. An object amodally completed
+   behind a deleted one (:func:`sdn3d.editing.apply.apply_edits`) has its freed pixels drawn the same way at its own
+   pose.
 4. *Shading follows the pose* (:func:`fit_light`, with :attr:`PhotoSettings.relight`, off by default: on exact
    turn pairs it cost 1-2 dB): one directional light and an ambient term are fitted to the visible car pixels of
    the input (per-object albedo, least squares on log luminance, a grid over directions), and each transferred
@@ -40,7 +43,8 @@ input's, bit for bit.
 
 The package, by concept: :mod:`~sdn3d.editing.photo.settings` (:class:`~sdn3d.editing.photo.settings.PhotoSettings`,
 the fill methods, the source-map codes), :mod:`~sdn3d.editing.photo.light` (step 4),
-:mod:`~sdn3d.editing.photo.fill` (step 2), :mod:`~sdn3d.editing.photo.recolor` (step 5) and
+:mod:`~sdn3d.editing.photo.fill` and :mod:`~sdn3d.editing.photo.road` (step 2), :mod:`~sdn3d.editing.photo.recolor`
+(step 5) and
 :mod:`~sdn3d.editing.photo.transfer` (steps 1, 3 and 6, and the pipeline:
 :func:`~sdn3d.editing.photo.transfer.render_photo`). Pixel-frame geometry is :mod:`sdn3d.editing.frame`'s.
 """

@@ -135,15 +135,25 @@ def _shadow_bands(ids: Tensor, gone: Tensor, share: float) -> Tensor:
 
 
 def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Tensor | None = None,
-              fill: Tensor | None = None) -> Tensor:
+              fill: Tensor | None = None, vanishing: tuple[float, float] | None = None) -> Tensor:
     """``image (3, H, W)`` with ``hole`` filled by ``settings.fill`` (:data:`FILL_METHODS`; ``fill (3, H, W)``: the
-    generator's picture at this size, for ``'generator'``); ``keep_out``: pixels PatchMatch must not copy."""
+    generator's picture at this size, for ``'generator'``); ``keep_out``: pixels PatchMatch and the rays must not
+    copy; ``vanishing``: the road's vanishing point ``(u, v)`` for ``'rays'`` (:func:`~sdn3d.editing.photo.road.
+    ray_fill`; None: the picture's centre row and column, a level camera looking down the road)."""
     if not bool(hole.any()):
         return image.clone()
     if settings.fill == "generator":
         if fill is None:
             raise PhotoSettingsError("photo.fill=generator needs the generator's picture (the textural branch)")
         return torch.where(hole[None], fill.clamp(0, 1).to(image.dtype), image)
+    if settings.fill == "rays":
+        from sdn3d.editing.photo.road import ray_fill
+
+        height, width = hole.shape
+        vp = vanishing if vanishing is not None else ((width - 1) / 2, (height - 1) / 2)
+        out, reached = ray_fill(image, hole, vp, keep_out, settings.ray_blur, settings.ray_texture, settings.ray_span)
+        rest = hole & ~reached  # no ray reaches these: Telea from what is known around them
+        return inpaint(out, rest, "telea", settings.inpaint_radius) if bool(rest.any()) else out
     return inpaint(image, hole, settings.fill, settings.inpaint_radius, keep_out=keep_out)
 
 

@@ -26,6 +26,7 @@ from sdn3d.editing.photo.fill import (
 )
 from sdn3d.editing.photo.light import LightEstimate, fit_light
 from sdn3d.editing.photo.recolor import _body_paint, _lab, body_pixels, recolor_pixels
+from sdn3d.editing.photo.road import removal_vanishing_point
 from sdn3d.editing.photo.settings import (
     DEFAULT,
     FALLBACK,
@@ -426,16 +427,22 @@ def _relight_removed(image: Tensor, hole: Tensor, objects_px: Tensor, before: Ob
 
 
 def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before: ObjectTable, gone_rows: list[int],
-                         K: Tensor, light: LightEstimate | None, settings: PhotoSettings) -> tuple[Tensor, Tensor]:
+                         K: Tensor, light: LightEstimate | None, settings: PhotoSettings,
+                         vanishing: tuple[float, float] | None = None) -> tuple[Tensor, Tensor]:
     """``(filled image, relit (H, W) matte)``: step 2 with ``delete_effects`` (module doc): the removed objects'
     shadows relit (:func:`~sdn3d.editing.photo.fill.relight_shadow`), then the road part of ``hole`` filled by
     PatchMatch from road-like pixels only, then the rest of it by ``settings.fill`` from everything but
-    ``objects_px``."""
+    ``objects_px`` (``fill='rays'``: all of it along the rays from ``vanishing``, after the relight)."""
     size = tuple(hole.shape)
-    search, road_part, ring, road = _shadow_context(image, hole, objects_px, before, gone_rows, K, light)
+    # rays: the shadow is looked for on the footprint grown by half, whatever the light (the same PSNR on the tuning
+    # tree's deletes as with the fitted light's cast region, without the light's fit: docs/results/.../deletes/)
+    search, road_part, ring, road = _shadow_context(image, hole, objects_px, before, gone_rows, K,
+                                                    None if settings.fill == "rays" else light)
     matte = torch.zeros(size, dtype=torch.float32)
     if road is None:
-        return fill_hole(image, hole, settings, objects_px), matte
+        return fill_hole(image, hole, settings, objects_px, vanishing=vanishing), matte
+    if settings.fill == "rays":
+        return _rays_with_effects(image, hole, objects_px, search, ring, road, settings, vanishing)
     if settings.delete_shadow:
         image, matte = relight_shadow(image, _dilate(search, 3) & ~hole & ~objects_px, ring, road)
     road_hole = hole & road_part
@@ -452,6 +459,30 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
         out = inpaint(out, rest, settings.fill, settings.inpaint_radius, keep_out=objects_px,
                       max_side=ROAD_FILL_MAX_SIDE)
     return out, matte
+
+
+def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: Tensor, ring: Tensor, road: Tensor,
+                       settings: PhotoSettings, vanishing: tuple[float, float] | None) -> tuple[Tensor, Tensor]:
+    """``(filled image, relit (H, W) matte)`` of :func:`_remove_with_effects` with ``fill='rays'``: shadowed road
+    (:func:`~sdn3d.editing.photo.road.shadowed_road`) is no source of the rays; with ``delete_shadow`` the removed
+    objects' shadow there (inside ``search``) joins the hole (``shadow_mode='fill'``; the matte is -1 there) or is
+    relit first (``'relight'``)."""
+    from sdn3d.editing.photo.road import shadowed_road
+
+    ys, xs = (search | hole).nonzero(as_tuple=True)
+    reach = max(int(ys.max() - ys.min()), int(xs.max() - xs.min())) + 8
+    near = _dilate(search | hole, reach)
+    lit = near & ~_dilate(search | hole, 3) & ~objects_px
+    dark = shadowed_road(image, road, near, lit, settings.shadow_light) & ~objects_px
+    matte = torch.zeros(tuple(hole.shape), dtype=torch.float32)
+    if settings.delete_shadow and settings.shadow_mode == "relight":
+        image, matte = relight_shadow(image, _dilate(search, 3) & ~hole & ~objects_px, ring, road)
+        dark = shadowed_road(image, road, near, lit, settings.shadow_light) & ~objects_px
+    elif settings.delete_shadow:
+        own = dark & _dilate(search, 3) & ~hole
+        hole = hole | own
+        matte = -own.float()  # filled, not relit: render_photo marks these pixels fill
+    return fill_hole(image, hole, settings, objects_px | dark, vanishing=vanishing), matte
 
 
 def _cast_shadows(objects: ObjectTable, rows: list[int], verts: dict[int, Tensor], K: Tensor, size: tuple[int, int],
@@ -594,16 +625,25 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     src_normals = None
     gone_rows = [int(b) for b in torch.isin(before.instance_id, gone_ids).nonzero().flatten().tolist()
                  if bool(before.has_geometry[b])]
-    effects = settings.delete_effects and bool(gone_rows) and settings.fill != "generator"
+    # fill='rays' always takes a removed car's effects (its fitted silhouette and shadow): it was tuned with them.
+    effects = (settings.delete_effects or settings.fill == "rays") and bool(gone_rows) and settings.fill != "generator"
     moved_rows = moved.nonzero().flatten().tolist()
     casts = settings.cast_shadow and bool(moved_rows)
-    if (settings.relight or effects or casts) and len(src.rows) and (bool(moved.any()) or grown_rows or effects):
+    lit_effects = effects and settings.fill != "rays"  # rays find the shadow by its darkness: no light needed
+    if (settings.relight or lit_effects or casts) and len(src.rows) and (bool(moved.any()) or grown_rows
+                                                                          or lit_effects):
         src_normals, light = source.light()
     shade = light.shade if light is not None and settings.relight else None
 
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
     keep = (src_ids != 0) & torch.isin(src_ids, after.instance_id[stays])
     hole = vacated_hole(src_ids, gone_ids, keep, settings)
+    # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
+    vp = None
+    if settings.fill == "rays" and bool(gone_ids.numel()):
+        removed = torch.isin(src_ids, gone_ids) & (src_ids != 0)
+        vp = removal_vanishing_point(image, K, removed, src_ids != 0,
+                                     float(before.ry[gone_rows[0]]) if gone_rows else None)
     # With cast_shadow, a moved object's old shadow is relit (as a deleted one's with delete_effects).
     moved_from = {int(origin[a]) for a in moved_rows}
     relight_rows = [b for b in gone_rows if b in moved_from] if casts and light is not None and not effects else []
@@ -619,7 +659,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
 
             def make() -> Tensor:  # the picture and the relit matte, kept together
                 filled, relit = _remove_with_effects(image, hole, (src_ids != 0) & ~hole, before, gone_rows, K,
-                                                     light, settings)
+                                                     light, settings, vp)
                 return torch.cat([filled, relit[None]])
 
             both = source.fill(key, make)
@@ -628,15 +668,16 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
             def make() -> Tensor:  # the picture and the relit matte, kept together
                 relit_image, relit = _relight_removed(image, hole, (src_ids != 0) & ~hole, before, relight_rows, K,
                                                       light)
-                return torch.cat([fill_hole(relit_image, hole, settings, src_ids != 0), relit[None]])
+                return torch.cat([fill_hole(relit_image, hole, settings, src_ids != 0, vanishing=vp), relit[None]])
 
             both = source.fill(key, make)
             out, matte = both[:3], both[3]
         else:
-            out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0))
+            out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0, vanishing=vp))
     source = torch.where(hole, FILL, INPUT).to(torch.uint8)
     if matte is not None:
         source = torch.where((matte > 0.02) & ~hole, RELIT, source).to(torch.uint8)
+        source = torch.where(matte < 0, FILL, source).to(torch.uint8)  # a shadow filled with the hole
 
     # Cast shadows of moved objects at their new places: the fitted light's shadow of each posed mesh on its ground
     # plane, darkened by the gain measured on its shadow in the input (none found: no cast shadow).

@@ -75,6 +75,7 @@ def main() -> int:
     out.mkdir(parents=True, exist_ok=True)
     pairs_kv = [s.split("=", 1) for s in args.settings]
     import sdn3d.editing.photo.transfer as transfer  # T.NAME=value: a module constant, for experiments
+
     for k, v in pairs_kv:
         if k.startswith("T."):
             setattr(transfer, k[2:], _value(v))
@@ -111,26 +112,45 @@ def main() -> int:
             total = float(se[car].sum())
             npx = int(car.sum())
             mse = total / (3 * npx)
-            row = {"key": pair.key, "bin": f"turn {pair.angle_deg:g}", "pixels": npx, "se": total,
-                   "psnr": 10 * math.log10(1 / max(mse, 1e-6)), "classes": {}}
+            row = {
+                "key": pair.key,
+                "bin": f"turn {pair.angle_deg:g}",
+                "pixels": npx,
+                "se": total,
+                "psnr": 10 * math.log10(1 / max(mse, 1e-6)),
+                "classes": {},
+            }
             for name, m in classes(src, parts, car).items():
                 se_c = float(se[m].sum())
                 rest = max(total - se_c, 1e-6 * 3 * npx)
-                row["classes"][name] = {"pixels": int(m.sum()), "se": se_c,
-                                        "gain_db": 10 * math.log10(total / rest) if total > 0 else 0.0,
-                                        "signed": (pic[m] - target[m]).mean(0).round(4).tolist() if m.any() else None}
+                row["classes"][name] = {
+                    "pixels": int(m.sum()),
+                    "se": se_c,
+                    "gain_db": 10 * math.log10(total / rest) if total > 0 else 0.0,
+                    "signed": (pic[m] - target[m]).mean(0).round(4).tolist() if m.any() else None,
+                }
             rows.append(row)
             if n < args.png:
                 err = np.abs(pic - target).mean(-1, keepdims=True).repeat(3, -1) * 3
-                panels.append(np.concatenate([image.permute(1, 2, 0).numpy(), target, pic, err.clip(0, 1),
-                                              source_picture(drawn.photo.source) / 255,
-                                              part_picture(drawn.photo.parts) / 255], 1))
+                panels.append(
+                    np.concatenate(
+                        [
+                            image.permute(1, 2, 0).numpy(),
+                            target,
+                            pic,
+                            err.clip(0, 1),
+                            source_picture(drawn.photo.source) / 255,
+                            part_picture(drawn.photo.parts) / 255,
+                        ],
+                        1,
+                    )
+                )
         if panels:
             ys, xs = np.nonzero(source_mask.numpy() | car)
             y0, y1 = max(0, ys.min() - 20), min(size[1], ys.max() + 20)
             x0, x1 = max(0, xs.min() - 40), min(size[0], xs.max() + 40)
             w = size[0]
-            crops = [np.concatenate([p[y0:y1, k * w + x0:k * w + x1] for k in range(6)], 1) for p in panels]
+            crops = [np.concatenate([p[y0:y1, k * w + x0 : k * w + x1] for k in range(6)], 1) for p in panels]
             grid = (np.concatenate(crops, 0) * 255).round().astype(np.uint8)
             Image.fromarray(grid).save(out / f"pair_{n:02d}_{world}_{variation}_{frame_no}.png")
         print(f"[{n + 1}/{len(chosen)}] {pairs[0].key.split()[0]}", flush=True)
@@ -140,19 +160,27 @@ def main() -> int:
         mine = [r for r in rows if r["bin"] == b]
         tot_px = sum(r["pixels"] for r in mine)
         tot_se = sum(r["se"] for r in mine)
-        lines += [f"## {b} (n={len(mine)}, mean PSNR {np.mean([r['psnr'] for r in mine]):.2f} dB)", "",
-                  "| class | pixel share % | SE share % | RMSE | mean gain if perfect (dB) | mean signed err (RGB) |",
-                  "|---|---|---|---|---|---|"]
+        lines += [
+            f"## {b} (n={len(mine)}, mean PSNR {np.mean([r['psnr'] for r in mine]):.2f} dB)",
+            "",
+            "| class | pixel share % | SE share % | RMSE | mean gain if perfect (dB) | mean signed err (RGB) |",
+            "|---|---|---|---|---|---|",
+        ]
         names = sorted({c for r in mine for c in r["classes"]}, key=lambda c: (c.split(":")[0], c))
         for c in names:
             px = sum(r["classes"].get(c, {}).get("pixels", 0) for r in mine)
             se = sum(r["classes"].get(c, {}).get("se", 0.0) for r in mine)
             gain = np.mean([r["classes"].get(c, {}).get("gain_db", 0.0) for r in mine])
-            signed = [np.array(r["classes"][c]["signed"]) * r["classes"][c]["pixels"] for r in mine
-                      if c in r["classes"] and r["classes"][c]["signed"] is not None]
+            signed = [
+                np.array(r["classes"][c]["signed"]) * r["classes"][c]["pixels"]
+                for r in mine
+                if c in r["classes"] and r["classes"][c]["signed"] is not None
+            ]
             sg = (np.sum(signed, 0) / max(px, 1)).round(3).tolist() if signed else None
-            lines.append(f"| {c} | {100 * px / tot_px:.1f} | {100 * se / max(tot_se, 1e-12):.1f} | "
-                         f"{math.sqrt(se / max(3 * px, 1)):.3f} | {gain:.2f} | {sg} |")
+            lines.append(
+                f"| {c} | {100 * px / tot_px:.1f} | {100 * se / max(tot_se, 1e-12):.1f} | "
+                f"{math.sqrt(se / max(3 * px, 1)):.3f} | {gain:.2f} | {sg} |"
+            )
         lines.append("")
     (out / "diagnose.md").write_text("\n".join(lines))
     print("\n".join(lines))

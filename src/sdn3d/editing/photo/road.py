@@ -1,0 +1,269 @@
+"""Filling a vacated region along the road's perspective lines (the photo appearance's ``fill='rays'``; step 2 of
+:mod:`sdn3d.editing.photo`).
+
+In a driving scene most of what a removed car hid runs along the road: lane markings, kerbs, verges, guard rails,
+the feet of facades. In a pinhole picture such lines all meet at the road's vanishing point, so each of them is a
+ray from that point. :func:`ray_fill` fills each hole pixel from the nearest pixels outside the hole on its own ray,
+one towards the vanishing point (farther along the road) and one away from it (nearer), interpolated by distance: a
+lane line that enters the hole leaves it where it should, and the road stays road (the rectified bird's-eye fill of
+issue 41 in one step: a column of the bird's-eye view is a ray in the picture). :func:`vanishing_point` is that point
+for a direction on the road plane (a car's long axis), or the camera's forward one.
+
+Sources are the pixels that are neither in the hole nor in ``keep_out`` (other objects); the values sampled are a
+normalised blur of the sources (no single noisy pixel sets a whole ray), and the road's fine texture is put back by
+adding the high-pass of the sources mirrored across the hole's edge along the same ray (``texture``: its weight), so
+that the fill is not smoother than the road around it. A pixel no ray reaches (the vanishing point's own
+neighbourhood, a hole at the picture's edge with nothing beyond) is left to Telea.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+from torch import Tensor
+
+__all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
+           "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD"]
+
+#: Gaussian sigma (pixels) below which a source's detail is the road's grain (:func:`ray_fill`'s ``texture``).
+GRAIN_SIGMA = 1.0
+#: Depth (pixels) into the hole beyond which the mirrored grain folds back towards the hole's edge.
+GRAIN_FOLD = 24.0
+#: Hole pixels traced at once (memory: ``RAY_CHUNK x steps`` samples per side).
+RAY_CHUNK = 8192
+
+
+def vanishing_point(K: Tensor, ry: float | None = None, min_forward: float = 0.5) -> tuple[float, float]:
+    """``(u, v)`` pixel where lines of the road plane along a car of yaw ``ry`` (KITTI convention: its long axis is
+    ``(cos ry, 0, -sin ry)`` in the camera frame) meet; the camera's forward direction ``(0, 0, 1)`` when ``ry`` is
+    None or the car is turned across the road (its axis' forward component under ``min_forward``), since a car
+    crossing the picture says nothing about where the road runs."""
+    d = torch.tensor([0.0, 0.0, 1.0], dtype=torch.float64)
+    if ry is not None:
+        axis = torch.tensor([math.cos(ry), 0.0, -math.sin(ry)], dtype=torch.float64)
+        axis = axis if float(axis[2]) >= 0 else -axis
+        if float(axis[2]) >= min_forward:
+            d = axis
+    p = K.double() @ d
+    return float(p[0] / p[2]), float(p[1] / p[2])
+
+
+def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: int = 50, max_edges: int = 4000,
+                          sharpness: float = 8.0) -> tuple[float, float] | None:
+    """``(u, v)`` the point on the horizon row ``v = K[1, 2]`` (a level camera's: where every direction of the road
+    plane vanishes) that the picture's edges inside ``region (H, W)`` point at best: each pixel with a strong
+    luma gradient votes for the candidates its edge line passes near (``|cos|`` of the angle between its edge and the
+    direction to the candidate, to the power ``sharpness``, weighted by the gradient's magnitude); candidates every
+    half degree of heading within 70 degrees of the camera's forward; the ``max_edges`` strongest edges vote. None
+    with fewer than ``min_edges`` edge pixels. Lane markings, kerbs and verges below the horizon are such edges: the
+    road's own direction, whatever the fitted pose of the removed car says."""
+    import cv2
+
+    from sdn3d.editing.photo.light import luminance
+
+    fx, cx, cy = float(K[0, 0]), float(K[0, 2]), float(K[1, 2])
+    y = luminance(image.permute(1, 2, 0).reshape(-1, 3)).view(image.shape[1:]).float().numpy()
+    gx = torch.from_numpy(cv2.Sobel(y, cv2.CV_32F, 1, 0, ksize=3))
+    gy = torch.from_numpy(cv2.Sobel(y, cv2.CV_32F, 0, 1, ksize=3))
+    mag = (gx**2 + gy**2).sqrt()
+    rows = torch.arange(image.shape[1])[:, None] > cy + 2  # below the horizon: the road's side
+    use = region & rows & (mag > 0.15)
+    if int(use.sum()) < min_edges:
+        return None
+    ys, xs = use.nonzero(as_tuple=True)
+    m = mag[ys, xs]
+    if len(m) > max_edges:  # the strongest ones: the vote's cost stays bounded
+        keep = m.topk(max_edges).indices
+        ys, xs, m = ys[keep], xs[keep], m[keep]
+    t = torch.stack([-gy[ys, xs], gx[ys, xs]], 1) / m[:, None]  # along the edge
+    heading = torch.deg2rad(torch.arange(-70.0, 70.25, 0.5))
+    us = cx + fx * torch.tan(heading)  # (C,)
+    to = torch.stack([us[None] - xs[:, None].float(), torch.full((len(xs), len(us)), cy) - ys[:, None].float()], 2)
+    to = to / to.norm(dim=2, keepdim=True).clamp(min=1e-6)
+    score = ((to * t[:, None]).sum(2).abs() ** sharpness * m[:, None]).sum(0)
+    return float(us[int(score.argmax())]), cy
+
+
+def removal_vanishing_point(image: Tensor, K: Tensor, removed: Tensor, objects_px: Tensor,
+                            ry: float | None = None) -> tuple[float, float]:
+    """``(u, v)`` the road's vanishing point for filling ``removed (H, W)`` (the pixels of the objects that left):
+    :func:`image_vanishing_point` of the edges around them (within twice their extent, on no object of
+    ``objects_px (H, W)``), else :func:`vanishing_point` of the first removed car's yaw ``ry`` (a fitted pose can
+    be mirrored; the road's own lines cannot), else the camera's forward one."""
+    from sdn3d.editing.photo.fill import _dilate
+
+    if bool(removed.any()):
+        ys, xs = removed.nonzero(as_tuple=True)
+        extent = max(int(ys.max() - ys.min()), int(xs.max() - xs.min()))
+        region = _dilate(removed, max(2 * extent, 20)) & ~_dilate(objects_px | removed, 2)
+        found = image_vanishing_point(image, region, K)
+        if found is not None:
+            return found
+    return vanishing_point(K, ry)
+
+
+def _normalised_blur(image: Tensor, valid: Tensor, sigma: float) -> Tensor:
+    """``(3, H, W)``: the Gaussian blur of ``image`` over ``valid`` pixels only, divided by the blurred weight (each
+    valid pixel's local mean of valid pixels; invalid ones are never read)."""
+    import cv2
+
+    if sigma <= 0:
+        return image
+    w = valid.float().numpy()
+    num = np.stack([cv2.GaussianBlur(c * w, (0, 0), sigma) for c in image.float().numpy()])
+    den = cv2.GaussianBlur(w, (0, 0), sigma)
+    return torch.from_numpy(num / np.maximum(den, 1e-6)[None]).to(image.dtype)
+
+
+def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tensor) -> tuple[Tensor, Tensor]:
+    """``(distance (N,), found (N,))``: the first step of ``steps (S,)`` (pixels, increasing) at which the point
+    ``pix + step * unit`` is a ``valid (H, W)`` pixel, for each ``pix (N, 2)`` (x, y) and ``unit (N, 2)``; a step
+    beyond ``limit (N,)`` or outside the picture does not count."""
+    height, width = valid.shape
+    pos = pix[:, None, :] + steps[None, :, None] * unit[:, None, :]  # (N, S, 2)
+    x, y = pos[..., 0].round().long(), pos[..., 1].round().long()
+    inside = (x >= 0) & (x < width) & (y >= 0) & (y < height) & (steps[None] <= limit[:, None])
+    ok = inside & valid[y.clamp(0, height - 1), x.clamp(0, width - 1)]
+    found = ok.any(1)
+    first = ok.float().argmax(1)  # the first True (0 where none: masked by found)
+    return steps[first], found
+
+
+def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Tensor | None = None,
+             sigma: float = 1.0, texture: float = 1.0, along: int = 1, max_steps: int = 400,
+             beyond: int = 64) -> tuple[Tensor, Tensor]:
+    """``(image (3, H, W), reached (H, W) bool)``: ``image`` with the ``hole (H, W)`` pixels a ray reaches filled
+    along the rays from the vanishing point ``vp = (u, v)`` (module doc); ``keep_out (H, W)``: pixels no ray samples
+    (other objects), ``sigma``: the sources' normalised blur, ``texture``: weight of the mirrored high-pass,
+    ``along``: source pixels averaged along the ray from its first one outward (a lane line runs along the ray, so
+    this smooths noise without blurring it), ``max_steps``: how far (pixels) a ray looks on each side at most,
+    ``beyond``: and at most this far past the hole's box diagonal (through other objects and shadows)."""
+    height, width = hole.shape
+    out = image.clone()
+    reached = torch.zeros_like(hole)
+    if not bool(hole.any()):
+        return out, reached
+    valid = ~hole if keep_out is None else ~hole & ~keep_out
+    if not bool(valid.any()):
+        return out, reached
+    smooth = _normalised_blur(image, valid, sigma)
+    # The sources' grain: their high-pass at one pixel's scale (0 elsewhere: never a car's edge).
+    detail = (image - _normalised_blur(image, valid, GRAIN_SIGMA)) * valid if texture > 0 else None
+    ys, xs = hole.nonzero(as_tuple=True)
+    pix = torch.stack([xs, ys], 1).float()
+    centre = torch.tensor(vp, dtype=torch.float32)
+    away = pix - centre
+    reach = away.norm(dim=1)  # distance to the vanishing point
+    unit = torch.where(reach[:, None] > 1.0, away / reach.clamp(min=1e-6)[:, None], torch.tensor([1.0, 0.0]))
+    # No ray needs to look farther than across the hole's box and ``beyond`` past it (the cost: samples per ray).
+    across = math.hypot(float(ys.max() - ys.min()), float(xs.max() - xs.min()))
+    # Every pixel near a pixel's own place, every other one farther on (half the samples; a source is a few
+    # pixels wide).
+    far = min(max_steps, int(across) + beyond)
+    steps = torch.cat([torch.arange(1, 17), torch.arange(17, far + 1, 2)]).float()
+    never = torch.full_like(reach, float(far))
+    values = torch.zeros(3, len(ys))
+    got = torch.zeros(len(ys), dtype=torch.bool)
+    for s in range(0, len(ys), RAY_CHUNK):
+        p, u, sp = pix[s:s + RAY_CHUNK], unit[s:s + RAY_CHUNK], reach[s:s + RAY_CHUNK]
+        # Away from the vanishing point (nearer road) and towards it, stopping there: past it lies another line.
+        d_out, f_out = _trace(p, u, valid, steps, never[s:s + RAY_CHUNK])
+        d_in, f_in = _trace(p, -u, valid, steps, (sp - 1.0).clamp(min=0))
+        q_out, q_in = p + d_out[:, None] * u, p - d_in[:, None] * u
+        c_out = _along(smooth, valid, q_out, u, along)
+        c_in = _along(smooth, valid, q_in, -u, along)
+        w_out = torch.where(f_out, torch.where(f_in, d_in / (d_in + d_out), torch.ones_like(d_in)),
+                            torch.zeros_like(d_in))
+        w_in = torch.where(f_in, 1 - w_out, torch.zeros_like(d_in))
+        val = c_out * w_out + c_in * w_in
+        if texture > 0:  # a side's high-pass, mirrored across the hole's edge along the ray (the nearer side first)
+            near_out = f_out & (~f_in | (d_out <= d_in))
+            grain, ok = _mirrored(detail, valid, torch.where(near_out[:, None], q_out, q_in),
+                                  torch.where(near_out[:, None], u, -u), torch.where(near_out, d_out, d_in))
+            other, ok2 = _mirrored(detail, valid, torch.where(near_out[:, None], q_in, q_out),
+                                   torch.where(near_out[:, None], -u, u), torch.where(near_out, d_in, d_out))
+            ok2 = ok2 & ~ok & torch.where(near_out, f_in, f_out)
+            val = val + texture * (ok * grain + ok2 * other)
+        values[:, s:s + RAY_CHUNK] = val
+        got[s:s + RAY_CHUNK] = f_out | f_in
+    out[:, ys[got], xs[got]] = values[:, got].clamp(0, 1).to(out.dtype)
+    reached[ys[got], xs[got]] = True
+    return out, reached
+
+
+def _mirrored(detail: Tensor, valid: Tensor, edge: Tensor, back: Tensor, depth: Tensor) -> tuple[Tensor, Tensor]:
+    """``(grain (3, N), ok (N,))``: ``detail`` at ``edge + back * folded depth`` (nearest pixel: interpolation would
+    average the grain away), the ``depth (N,)`` into the hole folded into ``[0, GRAIN_FOLD]`` (a triangle wave, so a
+    deep pixel reads near the edge, where the road is, not far beyond it); ``ok``: that pixel is ``valid``."""
+    height, width = valid.shape
+    folded = GRAIN_FOLD - (depth.remainder(2 * GRAIN_FOLD) - GRAIN_FOLD).abs()
+    mirror = edge + back * folded[:, None]
+    mx, my = mirror[:, 0].round().long(), mirror[:, 1].round().long()
+    inside = (mx >= 0) & (mx < width) & (my >= 0) & (my < height)
+    mx, my = mx.clamp(0, width - 1), my.clamp(0, height - 1)
+    return detail[:, my, mx], inside & valid[my, mx]
+
+
+def _along(image: Tensor, valid: Tensor, start: Tensor, unit: Tensor, span: int) -> Tensor:
+    """``(3, N)`` mean of ``image`` at the ``valid`` ones of the ``span`` points ``start + k unit`` (k = 0, 1, ...;
+    the first is valid by construction, so the mean always has a term)."""
+    if span <= 1:
+        return _gather(image, start)
+    height, width = valid.shape
+    total = torch.zeros(3, len(start))
+    count = torch.zeros(len(start))
+    for k in range(span):
+        q = start + k * unit
+        x, y = q[:, 0].round().long(), q[:, 1].round().long()
+        ok = (x >= 0) & (x < width) & (y >= 0) & (y < height) & valid[y.clamp(0, height - 1), x.clamp(0, width - 1)]
+        if k == 0:
+            ok = torch.ones_like(ok)
+        total += _gather(image, q) * ok
+        count += ok
+    return total / count.clamp(min=1)
+
+
+def _gather(image: Tensor, points: Tensor) -> Tensor:
+    """``(3, N)`` bilinear samples of ``image (3, H, W)`` at ``points (N, 2)`` (x, y pixels; border-clamped)."""
+    height, width = image.shape[1:]
+    gx = points[:, 0] / max(width - 1, 1) * 2 - 1
+    gy = points[:, 1] / max(height - 1, 1) * 2 - 1
+    grid = torch.stack([gx, gy], 1).view(1, 1, -1, 2).to(image.dtype)
+    return F.grid_sample(image[None], grid, mode="bilinear", padding_mode="border", align_corners=True)[0, :, 0]
+
+
+def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, light_share: float = 0.8,
+                  tolerance: float = 12.0) -> Tensor:
+    """``(H, W)`` bool pixels inside ``within`` whose chroma is the road's (``road (3,)`` Lab,
+    :func:`~sdn3d.editing.photo.fill.road_like`; scaled by the pixel's lightness over the road's, as a shadow's
+    chroma shrinks with its light) and whose lightness is under ``light_share`` of the road's on the
+    same row: road in shadow (a car's, a tree's), which a ray must not carry into a hole. The road's lightness per
+    row is the median of the road-like ``lit (H, W)`` pixels there (rows without any: the nearest row with some),
+    since haze and fog lighten the road with distance, that is with the row."""
+    from sdn3d.editing.photo.recolor import _lab
+
+    out = torch.zeros_like(within)
+    ys, xs = (within | lit).nonzero(as_tuple=True)
+    if not len(ys):
+        return out
+    y0, y1, x0, x1 = int(ys.min()), int(ys.max()) + 1, int(xs.min()), int(xs.max()) + 1
+    lab = _lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)).view(y1 - y0, x1 - x0, 3)
+    light = lab[..., 0]
+    # A shadow's chroma shrinks with its lightness (the road's colour times less light): compared at that scale.
+    scale = (light / max(abs(float(road[0])), 1e-3)).clamp(0, 1)[..., None]
+    like = torch.zeros_like(within)
+    like[y0:y1, x0:x1] = (lab[..., 1:] - road[1:].to(lab) * scale).norm(dim=-1) < tolerance
+    ref_px = (like & lit)[y0:y1, x0:x1]
+    rows = ref_px.any(1)
+    if not bool(rows.any()):
+        return out
+    per_row = torch.where(ref_px, light, torch.full_like(light, float("nan"))).nanmedian(1).values
+    have = rows.nonzero().flatten()
+    nearest = have[(torch.arange(y1 - y0)[:, None] - have[None]).abs().argmin(1)]
+    ref = per_row[nearest]
+    dark = light < light_share * ref[:, None]
+    out[y0:y1, x0:x1] = dark & like[y0:y1, x0:x1] & within[y0:y1, x0:x1]
+    return out

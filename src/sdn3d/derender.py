@@ -152,12 +152,18 @@ def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:
     return boxes, found
 
 
+#: The geometric branch's outputs that say how much its appearance believes each yaw (a MultiBin head's, and where
+#: the lamp cue turned its prediction): :func:`sdn3d.geometric.model.facing_belief`'s inputs.
+APPEARANCE_KEYS = ("yaw_bins", "yaw_residual", "yaw_ray", "lamp_flipped")
+
+
 def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: GroundTruth | None,
               models: Models, min_pixels: int, refine: RefineSettings | None,
-              annotated: Tensor | None = None) -> tuple[Tensor, ...]:
-    """``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64, 3)`` of the objects ``masks``
-    (template -1 and placeholders for objects without a usable prediction); ``gt``: annotated boxes, looked up
-    for the rows ``annotated (N,)`` bool (None: all)."""
+              annotated: Tensor | None = None) -> tuple[tuple[Tensor, ...], dict[str, Tensor] | None]:
+    """``(geometry, appearance)``: geometry ``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64, 3)``
+    of the objects ``masks`` (template -1 and placeholders for objects without a usable prediction); ``gt``:
+    annotated boxes, looked up for the rows ``annotated (N,)`` bool (None: all). ``appearance``: a MultiBin branch's
+    :data:`APPEARANCE_KEYS` per object (rows without a prediction: zeros; the box fit's yaw belief), else None."""
     n = len(ids)
     template = torch.full((n,), -1, dtype=torch.long)
     dims, location = torch.ones(n, 3, dtype=torch.float64), torch.zeros(n, 3, dtype=torch.float64)
@@ -165,7 +171,7 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
     ry, phi = torch.zeros(n, dtype=torch.float64), torch.zeros(n, 64, 3)
     rows = (masks.flatten(1).sum(1) >= min_pixels).nonzero().flatten()
     if models.geometric is None or not len(rows):
-        return template, dims, ry, location, phi
+        return (template, dims, ry, location, phi), None
     boxes = pixel_centre_boxes(mask_boxes(masks[rows]))  # the branch encodes pixel-centre boxes
     if gt is not None:
         given, found = _annotation_boxes(gt, ids[rows])
@@ -176,7 +182,7 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
     wide = (boxes[:, 2] > boxes[:, 0]) & (boxes[:, 3] > boxes[:, 1])
     rows, boxes = rows[wide], boxes[wide]
     if not len(rows):
-        return template, dims, ry, location, phi
+        return (template, dims, ry, location, phi), None
     pred = {k: v.detach().cpu() for k, v in _predict_geometry(image, intr, masks[rows], boxes, models, refine).items()}
     ok = (torch.isfinite(pred["dims"]).all(1) & torch.isfinite(pred["location"]).all(1) & torch.isfinite(pred["ry"])
           & torch.isfinite(pred["phi"]).flatten(1).all(1) & (pred["dims"] > 0).all(1) & (pred["center"][:, 2] > 0))
@@ -186,7 +192,15 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
     template[keep] = pred["template_id"][ok].long()
     dims[keep], location[keep] = pred["dims"][ok].double(), pred["location"][ok].double()
     ry[keep], phi[keep] = pred["ry"][ok].double(), pred["phi"][ok].float()
-    return template, dims, ry, location, phi
+    appearance = None
+    if all(k in pred for k in APPEARANCE_KEYS[:3]):
+        pred.setdefault("lamp_flipped", torch.zeros(len(rows), dtype=torch.bool))
+        appearance = {}
+        for k in APPEARANCE_KEYS:
+            value = torch.zeros((n, *pred[k].shape[1:]), dtype=pred[k].dtype)
+            value[keep] = pred[k][ok]
+            appearance[k] = value
+    return (template, dims, ry, location, phi), appearance
 
 
 def _checked_image(image: Tensor, intrinsics: Intrinsics, gt: GroundTruth | None) -> Tensor:
@@ -274,11 +288,11 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     n = len(ids)
     annotated = torch.ones(n, dtype=torch.bool)
     annotated[box_rows] = False
-    geometry = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models, min_pixels, refine,
-                         annotated)
+    geometry, appearance = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models,
+                                     min_pixels, refine, annotated)
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
-                                                             min_pixels, mask_source)
+                                                             min_pixels, mask_source, appearance)
         if vacated is not None:
             instances = torch.where(vacated, torch.zeros_like(instances), instances)
         instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)

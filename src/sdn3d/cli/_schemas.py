@@ -32,6 +32,7 @@ class FitSchema:
     fine_steps: int = MISSING
     keep: int = MISSING
     tie: float = MISSING
+    facing_tie: float = MISSING
     lr: float = MISSING
     margin: float = MISSING
     sigma: float = MISSING

@@ -22,8 +22,11 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    back: the prediction's end-for-end flip is always one more fine hypothesis, and among the fits within ``tie``
    (a share) of the best loss the appearance decides: the one whose yaw the branch believes most (``yaw_belief``,
    e.g. a MultiBin branch's bin confidences, :func:`sdn3d.geometric.model.yaw_distribution`), else the one whose
-   yaw is nearest the first start (the prediction's: a MultiBin branch's front/back). :attr:`FitResult.hypothesis`
-   records the winner (0: the prediction, 1: its flip, 2..: the search's best starts).
+   yaw is nearest the first start (the prediction's: a MultiBin branch's front/back). Before that, the appearance
+   decides the end (``facing_tie``): where a fit facing the way the appearance believes (believed at least as much
+   as its end-for-end reverse) is within ``facing_tie`` of the best loss, only such fits compete; a silhouette that
+   disagrees more clearly than that wins. :attr:`FitResult.hypothesis` records the winner (0: the prediction, 1: its
+   flip, 2..: the search's best starts).
 3. **What counts.** The loss is L_reproj (mean ``|S~ - M|``) over the crop, without the pixels of nearer objects
    (``ignore``) and outside the image, plus ``dims_reg * |log d - log d0|^2`` (keeps the size near the start
    where the silhouette cannot tell: a car seen from behind has no visible length, and a box-like car turned by 90
@@ -92,6 +95,11 @@ class FitSettings:
         keep: hypotheses per object that go on to the fine stage.
         tie: fits whose final loss is within this share of the best one are equally good; the yaw nearest the
             first start decides among them.
+        facing_tie: a fit facing the way the appearance believes (module doc, step 2) beats a better one facing the
+            other way unless that one's loss is lower by more than this share of the fit's (0: only ``tie``). The
+            silhouette hardly tells front from back, and lower losses of the reverse end come from a template or a
+            size that fits better, not from the end: on a seed-13 tuning tree (ground-truth masks, 442 cars and
+            vans) ... (see docs/results/2026-11-28_cpu/session3/flips).
         lr: Adam learning rate (x, log z, log dims; the yaw takes ``2 lr``).
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
@@ -120,6 +128,7 @@ class FitSettings:
     fine_steps: int = 16
     keep: int = 3
     tie: float = 0.1
+    facing_tie: float = 0.5
     lr: float = 0.05
     margin: float = 0.15
     sigma: float = 0.25
@@ -151,7 +160,8 @@ class FitSettings:
                 continue
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"FitSettings.{name} must be a positive number, got {value!r}")
-        for name in ("margin", "dims_reg", "template_size_reg", "shape_reg", "yaw_reg", "ffd_reg", "tie"):
+        for name in ("margin", "dims_reg", "template_size_reg", "shape_reg", "yaw_reg", "ffd_reg", "tie",
+                     "facing_tie"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
@@ -219,7 +229,7 @@ def road_start(boxes: Tensor, intr: Intrinsics, camera_height: float, width: flo
 
     >>> intr = Intrinsics(725.0, 725.0, 620.5, 187.0, 1242, 375)
     >>> road_start(torch.tensor([[600.0, 200.0, 640.0, 264.0]]), intr, 1.65, width=0.0).round(decimals=2).tolist()
-    [[-0.01, 1.65, 15.64]]
+    [[-0.02, 1.65, 15.64]]
     """
     b = boxes.double()
     u = (b[:, 0] + b[:, 2]) / 2 - 0.5
@@ -234,7 +244,8 @@ def estimate_camera_height(start_location: Tensor | None, settings: FitSettings)
     bottom-face centres ``start_location (N, 3)`` clamped to ``settings.camera_height_range``, else
     ``settings.default_camera_height``.
 
-    >>> estimate_camera_height(torch.tensor([[1.0, 1.52, 10.0], [0.0, 1.58, 20.0], [2.0, 1.5, 30.0]]), FitSettings())
+    >>> estimate_camera_height(torch.tensor([[1.0, 1.52, 10.0], [0.0, 1.58, 20.0], [2.0, 1.5, 30.0]]),
+    ...                        FitSettings(camera_height=None))
     (1.52, 'measured: median of 3 predicted cars')
     """
     if settings.camera_height is not None:
@@ -406,14 +417,15 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
                           ry0[obj], mask[obj], ign[obj], K[obj], settings.fine_size, settings.fine_steps, settings,
                           with_ffd=True, height=height)
     fine = loss.view(n, hyps)
-    equal = fine <= fine.amin(1, keepdim=True) * (1 + settings.tie)
     fitted_ry = values["ry"].view(n, hyps)
     if yaw_belief is not None:
         with torch.no_grad():
             belief = yaw_belief(fitted_ry).float()
+            reverse = yaw_belief(_wrap(fitted_ry + math.pi)).float()
     else:
         belief = torch.cos(fitted_ry - ry0[:, None])  # 1: the first start's yaw
-    index = torch.where(equal, belief, torch.full_like(belief, -math.inf)).argmax(1)
+        reverse = -belief
+    index = _choose(fine, belief, reverse, settings)
     winner = index + torch.arange(n) * hyps
     chosen = {k: v[winner] for k, v in values.items()}
     dims, phi = chosen["dims"], expand_half_ffd(chosen["phi_half"])
@@ -433,6 +445,29 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
                        camera_height=height, camera_height_source=height_source)
     _keep_predictions_of_bad_masks(result, masks, start_template, start_location, dims0, ry0, settings)
     return result
+
+
+def _choose(loss: Tensor, belief: Tensor, reverse: Tensor, settings: FitSettings) -> Tensor:
+    """``(N,)`` the winning hypothesis of each object (module doc, step 2) from the fine stage's ``(N, H)`` losses,
+    the appearance's belief in each fit's yaw and in its reverse: among the fits facing the believed way
+    (``belief >= reverse``) when one of them is within ``facing_tie`` of the best loss, the most believed of those
+    within ``tie`` of their best; else the most believed within ``tie`` of the best of all.
+
+    >>> loss = torch.tensor([[1.0, 0.8, 0.9]])  # the best fit (1) faces the way the appearance does not believe
+    >>> belief, reverse = torch.tensor([[0.9, 0.2, 0.7]]), torch.tensor([[0.1, 0.8, 0.3]])
+    >>> _choose(loss, belief, reverse, FitSettings(facing_tie=0.5)).tolist(), _choose(
+    ...     loss, belief, reverse, FitSettings(facing_tie=0.0)).tolist()
+    ([2], [1])
+    """
+    inf = torch.full_like(loss, math.inf)
+    best = loss.amin(1, keepdim=True)
+    agree = belief >= reverse
+    best_agree = torch.where(agree, loss, inf).amin(1, keepdim=True)
+    by_facing = best_agree <= best * (1 + settings.facing_tie)  # (N, 1)
+    pool = torch.where(by_facing, agree, torch.ones_like(agree))
+    reference = torch.where(by_facing, best_agree, best)
+    equal = pool & (loss <= reference * (1 + settings.tie))
+    return torch.where(equal, belief, torch.full_like(belief, -math.inf)).argmax(1)
 
 
 def _keep_predictions_of_bad_masks(result: FitResult, masks: Tensor, start_template: Tensor | None,

@@ -119,7 +119,8 @@ class GeometricPredictor:
             refine: when given (needs ``mask`` and ``crop_intrinsics``), the predictions are refined
                 by :func:`~sdn3d.geometric.refine.refine_by_reprojection` against ``mask`` (Cityscapes).
 
-        With ``mask`` and :attr:`lamp_cue`, the yaw is then turned end for end where the lamps disagree with it.
+        With ``mask`` and :attr:`lamp_cue`, the yaw is then turned end for end where the lamps disagree with it, and
+        ``lamp_flipped (N,)`` bool says where (the appearance's front/back: :func:`~sdn3d.geometric.model.facing_belief`).
         """
 
         device = self.device
@@ -140,7 +141,9 @@ class GeometricPredictor:
             ).raw
         out = decode_outputs(raw, box, intrinsics, self.encoding, self.net.templates)
         if self.lamp_cue is not None and mask is not None:
-            out["ry"] = face_by_lamps(out["ry"], ray_angle(box, intrinsics), crop, mask.to(device), self.lamp_cue)
+            turned = face_by_lamps(out["ry"], ray_angle(box, intrinsics), crop, mask.to(device), self.lamp_cue)
+            out["lamp_flipped"] = torch.cos(turned - out["ry"]) < 0
+            out["ry"] = turned
         if crop_intrinsics is not None:
             out["silhouette"] = render_silhouettes(
                 bank, out["template_id"], out["dims"], out["ry"], out["center"],

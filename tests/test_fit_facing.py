@@ -1,0 +1,127 @@
+"""Front from back in the box fit (issue 40): the red-lamp cue's absence, the appearance's belief wired from the
+geometric branch into the fit, and the fit keeping the believed end unless the silhouette clearly disagrees."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+import torch
+
+from sdn3d.box_objects import BoxPrompts, _fit_boxes
+from sdn3d.geometric.fit import FitSettings, _choose, fit_to_masks
+from sdn3d.geometric.lamps import LampCue, face_by_lamps
+from sdn3d.geometric.model import GeometricNet, facing_belief, ray_angle, yaw_distribution
+from sdn3d.geometric.predict import GeometricPredictor
+from sdn3d.math3d.camera import Intrinsics
+
+SMALL = FitSettings(coarse_steps=2, fine_steps=2, coarse_size=16, fine_size=16, coarse_faces=0)
+INTR = Intrinsics(60.0, 60.0, 48.0, 12.0, 96, 48)
+BACK, FRONT = -math.pi / 2, math.pi / 2
+
+
+def _grey_car(n: int = 1) -> tuple[torch.Tensor, torch.Tensor]:
+    """``(crop (n, 3, 32, 32), mask (n, 1, 32, 32))``: a grey body with white head lights and no red anywhere."""
+    crop, mask = torch.zeros(n, 3, 32, 32), torch.zeros(n, 1, 32, 32)
+    mask[:, :, 8:24, 4:28] = 1.0
+    crop[:, :, 8:24, 4:28] = 0.5
+    crop[:, :, 16:18, 6:9] = 0.95
+    crop[:, :, 16:18, 23:26] = 0.95
+    return crop, mask
+
+
+def test_a_large_car_without_red_lamps_is_turned_to_show_its_front():
+    """An absence of tail lights is evidence enough to turn a back view (0.3, the old weight, never turned one)."""
+    crop, mask = _grey_car()
+    ray = torch.zeros(1)
+    turned = face_by_lamps(torch.tensor([BACK]), ray, crop, mask)
+    assert math.cos(float(turned[0]) - FRONT) > 0.99
+    kept = face_by_lamps(torch.tensor([BACK]), ray, crop, mask, LampCue(absent_weight=0.3))
+    assert math.cos(float(kept[0]) - BACK) > 0.99
+    small = face_by_lamps(torch.tensor([BACK]), ray, crop, mask, LampCue(min_mask=10_000))  # too small: no cue
+    assert math.cos(float(small[0]) - BACK) > 0.99
+
+
+def test_the_predictor_says_where_the_lamps_turned_its_yaw():
+    torch.manual_seed(0)
+    predictor = GeometricPredictor(GeometricNet(rotation="multibin", hidden=16))
+    crop, mask = _grey_car(4)
+    box = torch.tensor([[10.0, 10.0, 40.0, 30.0], [50.0, 12.0, 80.0, 30.0], [20.0, 5.0, 60.0, 40.0],
+                        [5.0, 5.0, 90.0, 45.0]])
+    intr = torch.tensor([[60.0, 60.0, 48.0, 12.0]]).expand(4, 4)
+    with_lamps = predictor.predict(crop, mask, box, intr)
+    predictor.lamp_cue = None
+    net_only = predictor.predict(crop, mask, box, intr)
+    assert "lamp_flipped" not in net_only
+    turned = torch.cos(with_lamps["ry"] - net_only["ry"]) < 0
+    assert with_lamps["lamp_flipped"].tolist() == turned.tolist()
+    # a lamp-less car is seen from the front: every yaw the lamps kept already showed the front
+    alpha = with_lamps["ry"] - ray_angle(box, intr)
+    assert bool((torch.sin(alpha) > 0).all())
+
+
+def test_the_facing_belief_is_the_bins_belief_turned_where_the_lamps_turned_the_yaw():
+    torch.manual_seed(1)
+    raw = {"yaw_bins": torch.randn(3, 4), "yaw_residual": torch.nn.functional.normalize(torch.randn(3, 4, 2), dim=-1),
+           "yaw_ray": torch.randn(3)}
+    ry = torch.randn(3, 5)
+    flipped = torch.tensor([False, True, False])
+    belief = facing_belief(raw, flipped)(ry)
+    plain = yaw_distribution(raw, ry)
+    assert torch.allclose(belief[~flipped], plain[~flipped])
+    assert torch.allclose(belief[flipped], yaw_distribution(raw, ry + math.pi)[flipped], atol=1e-6)
+    assert torch.allclose(belief + facing_belief(raw, flipped)(ry + math.pi), torch.ones(3, 5), atol=1e-6)
+
+
+def test_the_believed_end_wins_unless_the_silhouette_clearly_disagrees():
+    loss = torch.tensor([[1.00, 0.80, 0.95], [1.00, 0.40, 0.95], [0.50, 0.90, 0.52]])
+    belief = torch.tensor([[0.9, 0.1, 0.7], [0.9, 0.1, 0.7], [0.6, 0.2, 0.9]])
+    reverse = 1 - belief
+    chosen = _choose(loss, belief, reverse, FitSettings(facing_tie=0.5, tie=0.1))
+    # row 0: the reverse end is 20 % better, within 50 %: the believed end's best ties (0.95 and 1.0), most believed
+    # row 1: the reverse end is more than 50 % better: the silhouette wins
+    # row 2: the best fit already faces the believed way; the most believed of those within `tie` wins
+    assert chosen.tolist() == [0, 1, 2]
+    assert _choose(loss, belief, reverse, FitSettings(facing_tie=0.0, tie=0.1)).tolist() == [1, 1, 2]  # the old rule
+    with pytest.raises(ValueError, match="facing_tie"):
+        FitSettings(facing_tie=-0.1)
+
+
+def _appearance(alpha: float, ray: float, flipped: bool) -> dict[str, torch.Tensor]:
+    """One object's MultiBin outputs, sure of the local orientation ``alpha`` (its bin 0, residual alpha)."""
+    return {"yaw_bins": torch.tensor([[12.0, 0.0, 0.0, 0.0]]),
+            "yaw_residual": torch.tensor([[[math.cos(alpha), math.sin(alpha)]] + [[1.0, 0.0]] * 3]),
+            "yaw_ray": torch.tensor([ray]), "lamp_flipped": torch.tensor([flipped])}
+
+
+def test_the_box_fit_takes_the_branchs_belief():
+    """The belief reaches the fit through the box objects: turned by the lamps, it turns the chosen fit (every fit
+    ties and the end is the appearance's, so only the belief decides)."""
+    masks = torch.zeros(1, INTR.height, INTR.width, dtype=torch.bool)
+    masks[0, 20:40, 30:70] = True
+    boxes = BoxPrompts(torch.tensor([[30.0, 20.0, 70.0, 40.0]]), ("Car",),
+                       FitSettings(**{**SMALL.to_dict(), "tie": 10.0, "facing_tie": 0.0, "yaw_reg": 0.0}),
+                       masks=masks)
+    start = 0.3
+    ray = float(ray_angle(torch.tensor([[30.0, 20.0, 69.0, 39.0]]), torch.tensor([[60.0, 60.0, 48.0, 12.0]])))
+    geometry = (torch.tensor([2]), torch.tensor([[4.0, 1.5, 1.7]], dtype=torch.float64),
+                torch.tensor([start], dtype=torch.float64), torch.tensor([[0.0, 1.65, 8.0]], dtype=torch.float64),
+                torch.zeros(1, 64, 3))
+    rows = torch.tensor([0])
+    yaws = {}
+    for name, appearance in (("none", None), ("bins", _appearance(start - ray, ray, False)),
+                             ("turned", _appearance(start - ray, ray, True))):
+        (_, _, ry, _, _), _ = _fit_boxes(INTR, masks, rows, boxes, geometry, 64, appearance)
+        yaws[name] = float(ry[0])
+    assert math.cos(yaws["none"] - start) > 0.5 and math.cos(yaws["bins"] - start) > 0.5
+    assert math.cos(yaws["turned"] - start) < -0.5
+
+
+def test_a_fit_without_a_belief_keeps_the_start_end_within_facing_tie():
+    """No appearance: the start's end is believed (cos to the start), and the result faces it."""
+    masks = torch.zeros(1, INTR.height, INTR.width, dtype=torch.bool)
+    masks[0, 20:40, 30:70] = True
+    for start in (0.3, 0.3 + math.pi):
+        result = fit_to_masks(masks, torch.tensor([[30.0, 20.0, 70.0, 40.0]]), INTR, start_ry=torch.tensor([start]),
+                              settings=FitSettings(**{**SMALL.to_dict(), "facing_tie": 100.0}))
+        assert math.cos(float(result.ry[0]) - start) > 0

@@ -104,6 +104,8 @@ def main(argv: list[str] | None = None) -> dict:
     def converted(v: str, default):
         if v.lower() in ("none", "null"):
             return None
+        if isinstance(default, bool):
+            return v.lower() in ("true", "1", "yes")
         return float(v) if default is None else type(default)(v)
 
     fit = FitSettings(**{k: converted(v, getattr(FitSettings(), k)) for k, v in (a.split("=", 1) for a in args.fit)})

@@ -9,9 +9,10 @@ import pytest
 import torch
 
 from sdn3d.box_objects import BoxPrompts, _fit_boxes
+from sdn3d.geometric.facing import Appearance, facing_belief
 from sdn3d.geometric.fit import FitSettings, _choose, fit_to_masks
-from sdn3d.geometric.lamps import LampCue, face_by_lamps
-from sdn3d.geometric.model import GeometricNet, facing_belief, ray_angle, yaw_distribution
+from sdn3d.geometric.lamps import LampCue, evidence_of, face_by_lamps
+from sdn3d.geometric.model import GeometricNet, ray_angle, yaw_distribution
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.math3d.camera import Intrinsics
 
@@ -42,7 +43,7 @@ def test_a_large_car_without_red_lamps_is_turned_to_show_its_front():
     assert math.cos(float(small[0]) - BACK) > 0.99
 
 
-def test_the_predictor_says_where_the_lamps_turned_its_yaw():
+def test_the_predictor_says_what_it_saw_before_and_after_the_lamps():
     torch.manual_seed(0)
     predictor = GeometricPredictor(GeometricNet(rotation="multibin", hidden=16))
     crop, mask = _grey_car(4)
@@ -52,25 +53,56 @@ def test_the_predictor_says_where_the_lamps_turned_its_yaw():
     with_lamps = predictor.predict(crop, mask, box, intr)
     predictor.lamp_cue = None
     net_only = predictor.predict(crop, mask, box, intr)
-    assert "lamp_flipped" not in net_only
-    turned = torch.cos(with_lamps["ry"] - net_only["ry"]) < 0
-    assert with_lamps["lamp_flipped"].tolist() == turned.tolist()
-    # a lamp-less car is seen from the front: every yaw the lamps kept already showed the front
-    alpha = with_lamps["ry"] - ray_angle(box, intr)
-    assert bool((torch.sin(alpha) > 0).all())
+    assert "net_ry" not in net_only and "lamp_usable" not in net_only
+    assert torch.allclose(with_lamps["net_ry"], net_only["ry"])
+    assert torch.allclose(with_lamps["ray"], ray_angle(box, intr))
+    assert with_lamps["lamp_usable"].all() and not with_lamps["lamp_present"].any()
+    # a lamp-less car is seen from the front: every yaw after the lamps shows the front
+    assert bool((torch.sin(with_lamps["ry"] - with_lamps["ray"]) > 0).all())
 
 
-def test_the_facing_belief_is_the_bins_belief_turned_where_the_lamps_turned_the_yaw():
-    torch.manual_seed(1)
-    raw = {"yaw_bins": torch.randn(3, 4), "yaw_residual": torch.nn.functional.normalize(torch.randn(3, 4, 2), dim=-1),
-           "yaw_ray": torch.randn(3)}
-    ry = torch.randn(3, 5)
-    flipped = torch.tensor([False, True, False])
-    belief = facing_belief(raw, flipped)(ry)
-    plain = yaw_distribution(raw, ry)
-    assert torch.allclose(belief[~flipped], plain[~flipped])
-    assert torch.allclose(belief[flipped], yaw_distribution(raw, ry + math.pi)[flipped], atol=1e-6)
-    assert torch.allclose(belief + facing_belief(raw, flipped)(ry + math.pi), torch.ones(3, 5), atol=1e-6)
+def _reading(n: int = 1, present: bool = False) -> dict[str, torch.Tensor]:
+    return {"lamp_present": torch.full((n,), present), "lamp_usable": torch.ones(n, dtype=torch.bool),
+            "lamp_offset": torch.zeros(n)}
+
+
+def test_an_absence_of_lamps_says_nothing_of_a_back_end_cut_off_by_the_border():
+    """alpha = -pi/2 - 0.5 (seen from behind, the front to the left): the back end lies right. Cut at the right
+    border, the missing lamps may be outside the image: no evidence; cut at the left, the back is in view."""
+    r = _reading(3)
+    alpha = torch.full((3, 1), -math.pi / 2 - 0.5)
+    cut_left, cut_right = torch.tensor([False, False, True]), torch.tensor([False, True, False])
+    evidence = evidence_of(r["lamp_present"], r["lamp_usable"], r["lamp_offset"], alpha, LampCue(), cut_left,
+                           cut_right)[:, 0]
+    assert evidence[0] < -0.3 and evidence[1] == 0 and evidence[2] < -0.3
+    present = _reading(1, present=True)  # lamps seen count whatever the border
+    seen = evidence_of(present["lamp_present"], present["lamp_usable"], present["lamp_offset"], alpha[:1], LampCue(),
+                       torch.tensor([False]), torch.tensor([True]))
+    assert float(seen[0, 0]) > 0.5
+
+
+def _appearance(net_ry: float, ray: float, bins: torch.Tensor | None = None,
+                reading: dict[str, torch.Tensor] | None = None) -> Appearance:
+    values = {"net_ry": torch.tensor([net_ry]), "ray": torch.tensor([ray]), **(reading or {
+        "lamp_present": torch.tensor([False]), "lamp_usable": torch.tensor([False]), "lamp_offset": torch.zeros(1)}),
+        "cut_left": torch.tensor([False]), "cut_right": torch.tensor([False])}
+    if bins is not None:
+        values.update(yaw_bins=bins, yaw_residual=torch.tensor([[[1.0, 0.0]] * 4]), yaw_ray=torch.tensor([ray]))
+    return Appearance(values, torch.tensor([True]))
+
+
+def test_the_facing_belief_takes_the_lamps_over_the_net_and_the_bins_for_the_net():
+    ry = torch.tensor([[-1.4, math.pi - 1.4]])  # ray 0: a back view and its reverse, a front view
+    unread = _appearance(1.4, 0.0)  # no lamps to read: the net's yaw decides
+    assert unread.belief(bins=False)(ry)[0].argmax() == 1
+    no_lamps = _appearance(-1.4, 0.0, reading=_reading())  # the net says back, no red lamps on a readable crop
+    score = no_lamps.belief(bins=False)(ry)[0]
+    assert score.argmax() == 1 and torch.allclose(score[0], -score[1])
+    back_bin = torch.tensor([[0.0, 0.0, 0.0, 9.0]])  # bin 3: alpha = -pi/2
+    with_bins = _appearance(1.4, 0.0, back_bin)
+    assert with_bins.belief(bins=True)(ry)[0].argmax() == 0 and with_bins.belief(bins=False)(ry)[0].argmax() == 1
+    raw = {k: with_bins.values[k] for k in ("yaw_bins", "yaw_residual", "yaw_ray")}
+    assert torch.allclose(facing_belief(with_bins.values)(ry), 0.3 * (2 * yaw_distribution(raw, ry) - 1))
 
 
 def test_the_believed_end_wins_unless_the_silhouette_clearly_disagrees():
@@ -87,16 +119,9 @@ def test_the_believed_end_wins_unless_the_silhouette_clearly_disagrees():
         FitSettings(facing_tie=-0.1)
 
 
-def _appearance(alpha: float, ray: float, flipped: bool) -> dict[str, torch.Tensor]:
-    """One object's MultiBin outputs, sure of the local orientation ``alpha`` (its bin 0, residual alpha)."""
-    return {"yaw_bins": torch.tensor([[12.0, 0.0, 0.0, 0.0]]),
-            "yaw_residual": torch.tensor([[[math.cos(alpha), math.sin(alpha)]] + [[1.0, 0.0]] * 3]),
-            "yaw_ray": torch.tensor([ray]), "lamp_flipped": torch.tensor([flipped])}
-
-
 def test_the_box_fit_takes_the_branchs_belief():
-    """The belief reaches the fit through the box objects: turned by the lamps, it turns the chosen fit (every fit
-    ties and the end is the appearance's, so only the belief decides)."""
+    """The belief reaches the fit through the box objects: a net that saw the other end turns the chosen fit, though
+    the fit starts from the same yaw (every fit ties, so only the belief decides)."""
     masks = torch.zeros(1, INTR.height, INTR.width, dtype=torch.bool)
     masks[0, 20:40, 30:70] = True
     boxes = BoxPrompts(torch.tensor([[30.0, 20.0, 70.0, 40.0]]), ("Car",),
@@ -109,12 +134,12 @@ def test_the_box_fit_takes_the_branchs_belief():
                 torch.zeros(1, 64, 3))
     rows = torch.tensor([0])
     yaws = {}
-    for name, appearance in (("none", None), ("bins", _appearance(start - ray, ray, False)),
-                             ("turned", _appearance(start - ray, ray, True))):
+    for name, appearance in (("none", None), ("net", _appearance(start, ray)),
+                             ("net turned", _appearance(start + math.pi, ray))):
         (_, _, ry, _, _), _ = _fit_boxes(INTR, masks, rows, boxes, geometry, 64, appearance)
         yaws[name] = float(ry[0])
-    assert math.cos(yaws["none"] - start) > 0.5 and math.cos(yaws["bins"] - start) > 0.5
-    assert math.cos(yaws["turned"] - start) < -0.5
+    assert math.cos(yaws["none"] - start) > 0.5 and math.cos(yaws["net"] - start) > 0.5
+    assert math.cos(yaws["net turned"] - start) < -0.5
 
 
 def test_a_fit_without_a_belief_keeps_the_start_end_within_facing_tie():

@@ -27,6 +27,7 @@ from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import default_bank
 
 if TYPE_CHECKING:
+    from sdn3d.geometric.facing import Appearance
     from sdn3d.geometric.fit import FitSettings
     from sdn3d.semantic.predict import Segmentation
 
@@ -236,14 +237,14 @@ def add_box_objects(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts
 
 def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, boxes: BoxPrompts,
                     geometry: tuple[Tensor, ...], min_pixels: int, mask_source: Sequence[MaskSource],
-                    appearance: Mapping[str, Tensor] | None = None
+                    appearance: Appearance | None = None
                     ) -> tuple[Tensor, tuple[Tensor, ...], list[BoxFit], Tensor | None]:
     """``(masks, geometry, each box's BoxFit, vacated)``: the box objects' rows ``rows`` fitted to their masks
     (:func:`~sdn3d.geometric.fit.fit_to_masks`, the geometric branch's prediction as the start) and, unless the masks
     were given or ``boxes.refine_masks`` is off, their masks segmented again seeded by the fits that matched;
     ``vacated``: the pixels of the first masks (what the second ones leave of them is no object's), else None.
-    ``appearance``: the geometric branch's MultiBin outputs and lamp verdicts per row of ``masks``
-    (:data:`sdn3d.derender.APPEARANCE_KEYS`): the fit's yaw belief (:func:`~sdn3d.geometric.model.facing_belief`);
+    ``appearance``: what the geometric branch saw of each row of ``masks`` (lamps, its yaw before them, the borders
+    that cut it): the fit's yaw belief at each hypothesis' axis (:func:`~sdn3d.geometric.facing.facing_belief`);
     None: the yaw nearest the prediction's is believed."""
     geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels, appearance)
     pixels = masks[rows].flatten(1).sum(1)
@@ -262,27 +263,26 @@ def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor,
     return masks, geometry, fits, vacated
 
 
-def _yaw_belief(appearance: Mapping[str, Tensor] | None, rows: Tensor, predicted: Tensor
-                ) -> Callable[[Tensor], Tensor] | None:
-    """The fit's yaw belief of the objects ``rows`` (``predicted (R,)`` bool: has a prediction): the appearance's
-    (:func:`~sdn3d.geometric.model.facing_belief`) where predicted, else facing away from the camera (the fit's first
-    start without a prediction, ``ry = -pi/2``); None without an appearance (the fit's own default)."""
-    if appearance is None or not bool(predicted.any()):
+def _yaw_belief(appearance: Appearance | None, rows: Tensor, bins: bool) -> Callable[[Tensor], Tensor] | None:
+    """The fit's yaw belief of the objects ``rows``: the appearance's (:func:`~sdn3d.geometric.facing.facing_belief`)
+    where the branch predicted them, else facing away from the camera (the fit's first start without a prediction,
+    ``ry = -pi/2``); None without an appearance (the fit's own default: the yaw nearest its start)."""
+    if appearance is None:
         return None
-    from sdn3d.geometric.model import facing_belief
-
-    raw = {k: appearance[k][rows] for k in ("yaw_bins", "yaw_residual", "yaw_ray")}
-    belief = facing_belief(raw, appearance["lamp_flipped"][rows])
+    seen = appearance.rows(rows)
+    if not bool(seen.has.any()):
+        return None
+    belief = seen.belief(bins)
 
     def yaw_belief(ry: Tensor) -> Tensor:
-        away = (1 + torch.cos(ry + math.pi / 2)) / 2
-        return torch.where(predicted[:, None], belief(ry).to(away.dtype), away)
+        away = torch.cos(ry + math.pi / 2)
+        return torch.where(seen.has[:, None], belief(ry).to(away.dtype), away)
 
     return yaw_belief
 
 
 def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...],
-               min_pixels: int, appearance: Mapping[str, Tensor] | None = None
+               min_pixels: int, appearance: Appearance | None = None
                ) -> tuple[tuple[Tensor, ...], list[tuple[PoseSource | None, float | None, bool, str | None,
                                                           str | None]]]:
     """The geometry with the box objects' rows fitted to their masks (:func:`~sdn3d.geometric.fit.fit_to_masks`,
@@ -313,7 +313,7 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
                                      torch.full((len(sel), 3), float("nan")))
         result = fit_to_masks(masks[rows[sel]], boxes.boxes[sel], intr, ignore=ignore[sel], start_ry=start_ry,
                               start_dims=start_dims, start_template=template[rows[sel]], start_location=start_location,
-                              settings=settings, yaw_belief=_yaw_belief(appearance, rows[sel], predicted[sel]))
+                              settings=settings, yaw_belief=_yaw_belief(appearance, rows[sel], settings.belief_bins))
         target = rows[sel]
         template[target] = result.template
         dims[target], ry[target] = result.dims.double(), result.ry.double()

@@ -57,6 +57,7 @@ from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
 from sdn3d.scene.maps import scene_maps
 
 if TYPE_CHECKING:
+    from sdn3d.geometric.facing import Appearance
     from sdn3d.geometric.refine import RefineSettings
     from sdn3d.semantic.predict import Segmentation
     from sdn3d.textural.renderer import TexturalRenderer
@@ -152,18 +153,14 @@ def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:
     return boxes, found
 
 
-#: The geometric branch's outputs that say how much its appearance believes each yaw (a MultiBin head's, and where
-#: the lamp cue turned its prediction): :func:`sdn3d.geometric.model.facing_belief`'s inputs.
-APPEARANCE_KEYS = ("yaw_bins", "yaw_residual", "yaw_ray", "lamp_flipped")
-
-
 def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: GroundTruth | None,
               models: Models, min_pixels: int, refine: RefineSettings | None,
-              annotated: Tensor | None = None) -> tuple[tuple[Tensor, ...], dict[str, Tensor] | None]:
+              annotated: Tensor | None = None) -> tuple[tuple[Tensor, ...], Appearance | None]:
     """``(geometry, appearance)``: geometry ``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64, 3)``
     of the objects ``masks`` (template -1 and placeholders for objects without a usable prediction); ``gt``:
-    annotated boxes, looked up for the rows ``annotated (N,)`` bool (None: all). ``appearance``: a MultiBin branch's
-    :data:`APPEARANCE_KEYS` per object (rows without a prediction: zeros; the box fit's yaw belief), else None."""
+    annotated boxes, looked up for the rows ``annotated (N,)`` bool (None: all). ``appearance``: what the branch saw
+    of each object (:class:`~sdn3d.geometric.facing.Appearance`: its yaw before the lamp cue, the lamps' reading,
+    the image borders its box touches, a MultiBin net's bins; the box fit's yaw belief), None without a lamp cue."""
     n = len(ids)
     template = torch.full((n,), -1, dtype=torch.long)
     dims, location = torch.ones(n, 3, dtype=torch.float64), torch.zeros(n, 3, dtype=torch.float64)
@@ -192,15 +189,26 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
     template[keep] = pred["template_id"][ok].long()
     dims[keep], location[keep] = pred["dims"][ok].double(), pred["location"][ok].double()
     ry[keep], phi[keep] = pred["ry"][ok].double(), pred["phi"][ok].float()
-    appearance = None
-    if all(k in pred for k in APPEARANCE_KEYS[:3]):
-        pred.setdefault("lamp_flipped", torch.zeros(len(rows), dtype=torch.bool))
-        appearance = {}
-        for k in APPEARANCE_KEYS:
-            value = torch.zeros((n, *pred[k].shape[1:]), dtype=pred[k].dtype)
-            value[keep] = pred[k][ok]
-            appearance[k] = value
-    return (template, dims, ry, location, phi), appearance
+    return (template, dims, ry, location, phi), _appearance(pred, boxes, intr, rows, ok, n, models)
+
+
+def _appearance(pred: dict[str, Tensor], boxes: Tensor, intr: Intrinsics, rows: Tensor, ok: Tensor, n: int,
+                models: Models) -> Appearance | None:
+    """The :class:`~sdn3d.geometric.facing.Appearance` of the ``n`` objects from the predictions ``pred`` of the
+    rows ``rows`` (usable where ``ok``) with pixel-centre ``boxes``; None where the predictor read no lamps."""
+    from sdn3d.geometric.facing import APPEARANCE_KEYS, BIN_KEYS, Appearance
+
+    if models.geometric.lamp_cue is None or any(k not in pred for k in APPEARANCE_KEYS[:5]):
+        return None
+    pred = {**pred, "cut_left": boxes[:, 0] <= 0, "cut_right": boxes[:, 2] >= intr.width - 1}
+    values = {}
+    for k in APPEARANCE_KEYS + tuple(k for k in BIN_KEYS if k in pred):
+        value = torch.zeros((n, *pred[k].shape[1:]), dtype=pred[k].dtype)
+        value[rows[ok]] = pred[k][ok]
+        values[k] = value
+    has = torch.zeros(n, dtype=torch.bool)
+    has[rows[ok]] = True
+    return Appearance(values, has, models.geometric.lamp_cue)
 
 
 def _checked_image(image: Tensor, intrinsics: Intrinsics, gt: GroundTruth | None) -> Tensor:

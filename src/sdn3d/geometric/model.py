@@ -22,7 +22,7 @@ weights see what they were trained on and callers never normalise).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 import torch
@@ -34,8 +34,8 @@ from sdn3d.math3d.ffd import FFD_NUM_HALF, expand_half_ffd
 from sdn3d.meshes.templates import TEMPLATE_NAMES
 from sdn3d.nets.resnet import resnet18
 
-__all__ = ["GeometricNet", "box_features", "ray_angle", "yaw_distribution", "facing_belief", "OUTPUT_KEYS",
-           "NUM_BOX_FEATURES", "ROTATIONS"]
+__all__ = ["GeometricNet", "box_features", "ray_angle", "yaw_distribution", "OUTPUT_KEYS", "NUM_BOX_FEATURES",
+           "ROTATIONS"]
 
 #: Keys of :meth:`GeometricNet.forward`'s output.
 OUTPUT_KEYS = ("log_scale", "rotation", "offset", "log_distance", "phi", "template_logits")
@@ -95,29 +95,6 @@ def yaw_distribution(raw: dict[str, Tensor], ry: Tensor) -> Tensor:
     alpha = ry - raw["yaw_ray"][:, None]  # (N, K)
     agree = (1 + torch.cos(alpha[:, :, None] - angle[:, None, :])) / 2  # (N, K, B)
     return (agree * probs[:, None, :]).sum(-1)
-
-
-def facing_belief(raw: dict[str, Tensor], lamp_flipped: Tensor | None = None) -> Callable[[Tensor], Tensor]:
-    """The appearance's belief in any yaw of ``N`` objects, for the test-time fit (``fit_to_masks(yaw_belief=)``):
-    the MultiBin head's :func:`yaw_distribution`, turned end for end where the red-lamp cue turned the prediction
-    (``lamp_flipped (N,)`` bool, :meth:`~sdn3d.geometric.predict.GeometricPredictor.predict`): a yaw's belief is
-    then its flip's, ``1 - p``. The lamps decide front from back, the bins how sure the net is of the rest.
-
-    >>> raw = {"yaw_bins": torch.tensor([[9.0, 0, 0, 0]]), "yaw_residual": torch.tensor([[[1.0, 0]] * 4]),
-    ...        "yaw_ray": torch.zeros(1)}
-    >>> ry = torch.tensor([[0.0, 3.1416]])  # the bins' front and its reverse
-    >>> facing_belief(raw)(ry).round(decimals=2).tolist(), facing_belief(raw, torch.tensor([True]))(ry).round(
-    ...     decimals=2).tolist()
-    ([[1.0, 0.0]], [[0.0, 1.0]])
-    """
-    flipped = (torch.zeros(raw["yaw_bins"].shape[0], dtype=torch.bool, device=raw["yaw_bins"].device)
-               if lamp_flipped is None else lamp_flipped.bool())
-
-    def belief(ry: Tensor) -> Tensor:
-        p = yaw_distribution(raw, ry.to(raw["yaw_ray"].dtype))
-        return torch.where(flipped[:, None], 1 - p, p)
-
-    return belief
 
 
 class GeometricNet(nn.Module):

@@ -90,6 +90,15 @@ def main() -> None:
         return orig_choose(loss, belief, reverse, settings)
 
     fitmod._choose = choose
+    import sdn3d.box_objects as boxmod
+
+    orig_belief, seen = boxmod._yaw_belief, {}
+
+    def yaw_belief(appearance, rows, bins):
+        seen["appearance"] = None if appearance is None else appearance.rows(rows)
+        return orig_belief(appearance, rows, bins)
+
+    boxmod._yaw_belief = yaw_belief
     out_rows = []
     for key in frames:
         record = records[key]
@@ -105,6 +114,7 @@ def main() -> None:
         names = tuple("Car" if i // 1000 == 12 else "Van" for i in ids)
         stages.clear()
         chosen.clear()
+        seen.clear()
         fit = BoxPrompts(boxes, names, fitmod.FitSettings(**table["fit_settings"]), masks=masks, refine_masks=False)
         derender(frame.image, frame.intrinsics, models, "boxes", gt, boxes=fit)
         pr = captured["predict"]
@@ -120,7 +130,7 @@ def main() -> None:
         for j, r in enumerate(objs):
             best = float(floss[j].min())
             tie = float(table["fit_settings"]["tie"])
-            hyp = [{"ry_err": round(wrapd(float(fry[j, h]) - float(true_ry[j])), 1),
+            hyp = [{"ry_err": round(wrapd(float(fry[j, h]) - float(true_ry[j])), 1), "ry": round(float(fry[j, h]), 5),
                     "loss": round(float(floss[j, h]), 5), "equal": bool(floss[j, h] <= best * (1 + tie)),
                     "belief": round(float(cbelief[j, h]), 4), "reverse": round(float(creverse[j, h]), 4),
                     "cos": round(math.cos(float(fry[j, h] - ry0[j])), 4),
@@ -135,7 +145,9 @@ def main() -> None:
                    "alpha_true_deg": round(math.degrees(math.atan2(math.sin(float(true_ry[j] - pr["ray"][j])),
                                                                    math.cos(float(true_ry[j] - pr["ray"][j])))), 1),
                    "belief_true": round(float(belief_true[j]), 3), "fine": hyp,
-                   "start_err": round(wrapd(float(ry0[j]) - float(true_ry[j])), 1)}
+                   "start_err": round(wrapd(float(ry0[j]) - float(true_ry[j])), 1), "true_ry": float(true_ry[j]),
+                   "appearance": None if seen.get("appearance") is None else {
+                       k: v[j].tolist() for k, v in seen["appearance"].values.items()}}
             out_rows.append(rec)
             if args.crops and (r["yaw_deg"] > 90):
                 from PIL import Image

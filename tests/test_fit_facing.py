@@ -1,8 +1,10 @@
 """Front from back in the box fit (issue 40): the red-lamp cue's absence, the appearance's belief wired from the
-geometric branch into the fit, and the fit keeping the believed end unless the silhouette clearly disagrees."""
+geometric branch into the fit (opt-in), and the fit keeping the believed end unless the silhouette clearly
+disagrees."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
@@ -11,7 +13,7 @@ import torch
 from sdn3d.box_objects import BoxPrompts, _fit_boxes
 from sdn3d.geometric.facing import Appearance, facing_belief
 from sdn3d.geometric.fit import FitSettings, _choose, fit_to_masks
-from sdn3d.geometric.lamps import LampCue, evidence_of, face_by_lamps
+from sdn3d.geometric.lamps import LampCue, face_by_lamps
 from sdn3d.geometric.model import GeometricNet, ray_angle, yaw_distribution
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.math3d.camera import Intrinsics
@@ -66,26 +68,10 @@ def _reading(n: int = 1, present: bool = False) -> dict[str, torch.Tensor]:
             "lamp_offset": torch.zeros(n)}
 
 
-def test_an_absence_of_lamps_says_nothing_of_a_back_end_cut_off_by_the_border():
-    """alpha = -pi/2 - 0.5 (seen from behind, the front to the left): the back end lies right. Cut at the right
-    border, the missing lamps may be outside the image: no evidence; cut at the left, the back is in view."""
-    r = _reading(3)
-    alpha = torch.full((3, 1), -math.pi / 2 - 0.5)
-    cut_left, cut_right = torch.tensor([False, False, True]), torch.tensor([False, True, False])
-    evidence = evidence_of(r["lamp_present"], r["lamp_usable"], r["lamp_offset"], alpha, LampCue(), cut_left,
-                           cut_right)[:, 0]
-    assert evidence[0] < -0.3 and evidence[1] == 0 and evidence[2] < -0.3
-    present = _reading(1, present=True)  # lamps seen count whatever the border
-    seen = evidence_of(present["lamp_present"], present["lamp_usable"], present["lamp_offset"], alpha[:1], LampCue(),
-                       torch.tensor([False]), torch.tensor([True]))
-    assert float(seen[0, 0]) > 0.5
-
-
 def _appearance(net_ry: float, ray: float, bins: torch.Tensor | None = None,
                 reading: dict[str, torch.Tensor] | None = None) -> Appearance:
     values = {"net_ry": torch.tensor([net_ry]), "ray": torch.tensor([ray]), **(reading or {
-        "lamp_present": torch.tensor([False]), "lamp_usable": torch.tensor([False]), "lamp_offset": torch.zeros(1)}),
-        "cut_left": torch.tensor([False]), "cut_right": torch.tensor([False])}
+        "lamp_present": torch.tensor([False]), "lamp_usable": torch.tensor([False]), "lamp_offset": torch.zeros(1)})}
     if bins is not None:
         values.update(yaw_bins=bins, yaw_residual=torch.tensor([[[1.0, 0.0]] * 4]), yaw_ray=torch.tensor([ray]))
     return Appearance(values, torch.tensor([True]))
@@ -124,9 +110,8 @@ def test_the_box_fit_takes_the_branchs_belief():
     the fit starts from the same yaw (every fit ties, so only the belief decides)."""
     masks = torch.zeros(1, INTR.height, INTR.width, dtype=torch.bool)
     masks[0, 20:40, 30:70] = True
-    boxes = BoxPrompts(torch.tensor([[30.0, 20.0, 70.0, 40.0]]), ("Car",),
-                       FitSettings(**{**SMALL.to_dict(), "tie": 10.0, "facing_tie": 0.0, "yaw_reg": 0.0}),
-                       masks=masks)
+    settings = FitSettings(**{**SMALL.to_dict(), "tie": 10.0, "facing_tie": 0.0, "yaw_reg": 0.0, "appearance": True})
+    boxes = BoxPrompts(torch.tensor([[30.0, 20.0, 70.0, 40.0]]), ("Car",), settings, masks=masks)
     start = 0.3
     ray = float(ray_angle(torch.tensor([[30.0, 20.0, 69.0, 39.0]]), torch.tensor([[60.0, 60.0, 48.0, 12.0]])))
     geometry = (torch.tensor([2]), torch.tensor([[4.0, 1.5, 1.7]], dtype=torch.float64),
@@ -140,6 +125,9 @@ def test_the_box_fit_takes_the_branchs_belief():
         yaws[name] = float(ry[0])
     assert math.cos(yaws["none"] - start) > 0.5 and math.cos(yaws["net"] - start) > 0.5
     assert math.cos(yaws["net turned"] - start) < -0.5
+    off = dataclasses.replace(boxes, fit=dataclasses.replace(settings, appearance=False))  # the default: not believed
+    (_, _, ry, _, _), _ = _fit_boxes(INTR, masks, rows, off, geometry, 64, _appearance(start + math.pi, ray))
+    assert math.cos(float(ry[0]) - start) > 0.5
 
 
 def test_a_fit_without_a_belief_keeps_the_start_end_within_facing_tie():

@@ -243,9 +243,9 @@ def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor,
     (:func:`~sdn3d.geometric.fit.fit_to_masks`, the geometric branch's prediction as the start) and, unless the masks
     were given or ``boxes.refine_masks`` is off, their masks segmented again seeded by the fits that matched;
     ``vacated``: the pixels of the first masks (what the second ones leave of them is no object's), else None.
-    ``appearance``: what the geometric branch saw of each row of ``masks`` (lamps, its yaw before them, the borders
-    that cut it): the fit's yaw belief at each hypothesis' axis (:func:`~sdn3d.geometric.facing.facing_belief`);
-    None: the yaw nearest the prediction's is believed."""
+    ``appearance``: what the geometric branch saw of each row of ``masks`` (lamps, its yaw before them, its bins):
+    with ``boxes.fit.appearance`` the fit's yaw belief at each hypothesis' axis
+    (:func:`~sdn3d.geometric.facing.facing_belief`); else the yaw nearest the prediction's is believed."""
     geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels, appearance)
     pixels = masks[rows].flatten(1).sum(1)
     final = [int(p) for p in pixels]
@@ -263,7 +263,7 @@ def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor,
     return masks, geometry, fits, vacated
 
 
-def _yaw_belief(appearance: Appearance | None, rows: Tensor, bins: bool) -> Callable[[Tensor], Tensor] | None:
+def _yaw_belief(appearance: Appearance | None, rows: Tensor) -> Callable[[Tensor], Tensor] | None:
     """The fit's yaw belief of the objects ``rows``: the appearance's (:func:`~sdn3d.geometric.facing.facing_belief`)
     where the branch predicted them, else facing away from the camera (the fit's first start without a prediction,
     ``ry = -pi/2``); None without an appearance (the fit's own default: the yaw nearest its start)."""
@@ -272,7 +272,7 @@ def _yaw_belief(appearance: Appearance | None, rows: Tensor, bins: bool) -> Call
     seen = appearance.rows(rows)
     if not bool(seen.has.any()):
         return None
-    belief = seen.belief(bins)
+    belief = seen.belief()
 
     def yaw_belief(ry: Tensor) -> Tensor:
         away = torch.cos(ry + math.pi / 2)
@@ -313,7 +313,7 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
                                      torch.full((len(sel), 3), float("nan")))
         result = fit_to_masks(masks[rows[sel]], boxes.boxes[sel], intr, ignore=ignore[sel], start_ry=start_ry,
                               start_dims=start_dims, start_template=template[rows[sel]], start_location=start_location,
-                              settings=settings, yaw_belief=_yaw_belief(appearance, rows[sel], settings.belief_bins))
+                              settings=settings, yaw_belief=_yaw_belief(appearance if settings.appearance else None, rows[sel]))
         target = rows[sel]
         template[target] = result.template
         dims[target], ry[target] = result.dims.double(), result.ry.double()

@@ -160,7 +160,7 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
     of the objects ``masks`` (template -1 and placeholders for objects without a usable prediction); ``gt``:
     annotated boxes, looked up for the rows ``annotated (N,)`` bool (None: all). ``appearance``: what the branch saw
     of each object (:class:`~sdn3d.geometric.facing.Appearance`: its yaw before the lamp cue, the lamps' reading,
-    the image borders its box touches, a MultiBin net's bins; the box fit's yaw belief), None without a lamp cue."""
+    a MultiBin net's bins; the box fit's yaw belief), None without a lamp cue."""
     n = len(ids)
     template = torch.full((n,), -1, dtype=torch.long)
     dims, location = torch.ones(n, 3, dtype=torch.float64), torch.zeros(n, 3, dtype=torch.float64)
@@ -189,18 +189,16 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
     template[keep] = pred["template_id"][ok].long()
     dims[keep], location[keep] = pred["dims"][ok].double(), pred["location"][ok].double()
     ry[keep], phi[keep] = pred["ry"][ok].double(), pred["phi"][ok].float()
-    return (template, dims, ry, location, phi), _appearance(pred, boxes, intr, rows, ok, n, models)
+    return (template, dims, ry, location, phi), _appearance(pred, rows, ok, n, models)
 
 
-def _appearance(pred: dict[str, Tensor], boxes: Tensor, intr: Intrinsics, rows: Tensor, ok: Tensor, n: int,
-                models: Models) -> Appearance | None:
+def _appearance(pred: dict[str, Tensor], rows: Tensor, ok: Tensor, n: int, models: Models) -> Appearance | None:
     """The :class:`~sdn3d.geometric.facing.Appearance` of the ``n`` objects from the predictions ``pred`` of the
-    rows ``rows`` (usable where ``ok``) with pixel-centre ``boxes``; None where the predictor read no lamps."""
+    rows ``rows`` (usable where ``ok``); None where the predictor read no lamps."""
     from sdn3d.geometric.facing import APPEARANCE_KEYS, BIN_KEYS, Appearance
 
-    if models.geometric.lamp_cue is None or any(k not in pred for k in APPEARANCE_KEYS[:5]):
+    if models.geometric.lamp_cue is None or any(k not in pred for k in APPEARANCE_KEYS):
         return None
-    pred = {**pred, "cut_left": boxes[:, 0] <= 0, "cut_right": boxes[:, 2] >= intr.width - 1}
     values = {}
     for k in APPEARANCE_KEYS + tuple(k for k in BIN_KEYS if k in pred):
         value = torch.zeros((n, *pred[k].shape[1:]), dtype=pred[k].dtype)

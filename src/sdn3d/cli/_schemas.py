@@ -33,7 +33,7 @@ class FitSchema:
     keep: int = MISSING
     tie: float = MISSING
     facing_tie: float = MISSING
-    belief_bins: bool = MISSING
+    appearance: bool = MISSING
     lr: float = MISSING
     margin: float = MISSING
     sigma: float = MISSING

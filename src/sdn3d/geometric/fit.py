@@ -100,9 +100,9 @@ class FitSettings:
             silhouette hardly tells front from back, and lower losses of the reverse end come from a template or a
             size that fits better, not from the end: on a seed-13 tuning tree (ground-truth masks, 442 cars and
             vans) ... (see docs/results/2026-11-28_cpu/session3/flips).
-        belief_bins: where the box objects' fit believes the geometric branch's appearance
-            (:func:`~sdn3d.geometric.facing.facing_belief`), the net's say is its MultiBin bins' (``2 p - 1``) rather
-            than the nearness to its yaw (``cos``); a net without bins always gives the latter.
+        appearance: the box objects' fit believes the geometric branch's appearance at each hypothesis' axis
+            (:func:`~sdn3d.geometric.facing.facing_belief`: the lamps' evidence and the MultiBin bins) rather than
+            the nearness to its start; as many flips either way on the seed-13 tuning tree (16 of 442), so off.
         lr: Adam learning rate (x, log z, log dims; the yaw takes ``2 lr``).
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
@@ -132,7 +132,7 @@ class FitSettings:
     keep: int = 3
     tie: float = 0.1
     facing_tie: float = 0.5
-    belief_bins: bool = True
+    appearance: bool = False
     lr: float = 0.05
     margin: float = 0.15
     sigma: float = 0.25
@@ -169,8 +169,8 @@ class FitSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
-        if not isinstance(self.belief_bins, bool):
-            raise ValueError(f"FitSettings.belief_bins must be true or false, got {self.belief_bins!r}")
+        if not isinstance(self.appearance, bool):
+            raise ValueError(f"FitSettings.appearance must be true or false, got {self.appearance!r}")
         if self.silhouette not in ("soft", "straight_through"):
             raise ValueError(f"FitSettings.silhouette must be 'soft' or 'straight_through', got {self.silhouette!r}")
         low_high = self.camera_height_range

@@ -98,8 +98,9 @@ class FitSettings:
         facing_tie: a fit facing the way the appearance believes (module doc, step 2) beats a better one facing the
             other way unless that one's loss is lower by more than this share of the fit's (0: only ``tie``). The
             silhouette hardly tells front from back, and lower losses of the reverse end come from a template or a
-            size that fits better, not from the end: on a seed-13 tuning tree (ground-truth masks, 442 cars and
-            vans) ... (see docs/results/2026-11-28_cpu/session3/flips).
+            size that fits better, not from the end: on a seed-13 tuning tree (ground-truth masks and boxes, 442
+            cars and vans, the demo-budget MultiBin branch with the lamp cue) the fit turned 23 cars end for end
+            with 0, 17 with 0.25, 16 with 0.5, 17 with 1 or more (docs/results/2026-11-28_cpu/session3/flips).
         appearance: the box objects' fit believes the geometric branch's appearance at each hypothesis' axis
             (:func:`~sdn3d.geometric.facing.facing_belief`: the lamps' evidence and the MultiBin bins) rather than
             the nearness to its start; as many flips either way on the seed-13 tuning tree (16 of 442), so off.

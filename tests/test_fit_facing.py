@@ -92,15 +92,16 @@ def test_the_facing_belief_takes_the_lamps_over_the_net_and_the_bins_for_the_net
 
 
 def test_the_believed_end_wins_unless_the_silhouette_clearly_disagrees():
-    loss = torch.tensor([[1.00, 0.80, 0.95], [1.00, 0.40, 0.95], [0.50, 0.90, 0.52]])
-    belief = torch.tensor([[0.9, 0.1, 0.7], [0.9, 0.1, 0.7], [0.6, 0.2, 0.9]])
-    reverse = 1 - belief
-    chosen = _choose(loss, belief, reverse, FitSettings(facing_tie=0.5, tie=0.1))
-    # row 0: the reverse end is 20 % better, within 50 %: the believed end's best ties (0.95 and 1.0), most believed
-    # row 1: the reverse end is more than 50 % better: the silhouette wins
-    # row 2: the best fit already faces the believed way; the most believed of those within `tie` wins
-    assert chosen.tolist() == [0, 1, 2]
-    assert _choose(loss, belief, reverse, FitSettings(facing_tie=0.0, tie=0.1)).tolist() == [1, 1, 2]  # the old rule
+    loss = torch.tensor([[1.00, 0.80, 0.95], [1.00, 0.40, 0.95], [1.00, 0.80, 0.60], [1.0, 0.8, 0.9]])
+    ry = torch.tensor([[0.0, math.pi, 0.1], [0.0, math.pi, 0.1], [0.0, math.pi, 1.6], [0.0, math.pi, 1.6]])
+    belief = torch.tensor([[0.9, -0.9, 0.8], [0.9, -0.9, 0.8], [0.9, -0.9, 0.1], [0.2, -0.2, 0.0]])
+    chosen = _choose(loss, belief, ry, FitSettings(facing_tie=0.5, tie=0.1))
+    # 0: the reverse end is 20 % better, within 50 %: the believed end's two fits tie, the most believed wins
+    # 1: the reverse end is more than 50 % better: the silhouette keeps it
+    # 2: a fit across the axis (1.6) has no end-for-end counterpart: the best loss wins, the axis is the silhouette's
+    # 3: a start nearly across the axis says little of the end (0.4 < FACING_MARGIN): the best loss wins
+    assert chosen.tolist() == [0, 1, 2, 1]
+    assert _choose(loss, belief, ry, FitSettings(facing_tie=0.0, tie=0.1)).tolist() == [1, 1, 2, 1]  # the old rule
     with pytest.raises(ValueError, match="facing_tie"):
         FitSettings(facing_tie=-0.1)
 

@@ -23,10 +23,11 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    (a share) of the best loss the appearance decides: the one whose yaw the branch believes most (``yaw_belief``,
    e.g. a MultiBin branch's bin confidences, :func:`sdn3d.geometric.model.yaw_distribution`), else the one whose
    yaw is nearest the first start (the prediction's: a MultiBin branch's front/back). Before that, the appearance
-   decides the end (``facing_tie``): where a fit facing the way the appearance believes (believed at least as much
-   as its end-for-end reverse) is within ``facing_tie`` of the best loss, only such fits compete; a silhouette that
-   disagrees more clearly than that wins. :attr:`FitResult.hypothesis` records the winner (0: the prediction, 1: its
-   flip, 2..: the search's best starts).
+   decides the end (``facing_tie``): a fit drops out where another one on its axis facing the other end
+   (:data:`FACING_AXIS`) is believed clearly more (by :data:`FACING_MARGIN`) and its loss is within ``facing_tie``
+   of the fit's; a silhouette that prefers an end more clearly than that keeps it, and the axis stays the
+   silhouette's. :attr:`FitResult.hypothesis` records the winner (0: the prediction, 1: its flip, 2..: the
+   search's best starts).
 3. **What counts.** The loss is L_reproj (mean ``|S~ - M|``) over the crop, without the pixels of nearer objects
    (``ignore``) and outside the image, plus ``dims_reg * |log d - log d0|^2`` (keeps the size near the start
    where the silhouette cannot tell: a car seen from behind has no visible length, and a box-like car turned by 90
@@ -74,6 +75,13 @@ CAR_DIMS = (3.88, 1.53, 1.63)
 PLAUSIBLE_SIZE_FACTOR = 2.5
 #: Starting yaws: offsets added to the first start (prediction or facing away): itself, reversed, the two sides.
 YAW_OFFSETS = (0.0, math.pi, math.pi / 2, -math.pi / 2)
+#: Two fits are end for end of each other when their yaws differ by 180 degrees give or take this (radians).
+FACING_AXIS = math.radians(30)
+#: A fit's end-for-end counterpart is believed clearly more when its belief is higher by this: with the default
+#: belief (``cos`` of the yaw's difference to the first start) where the start lies within 75 degrees of it; a
+#: start nearly across the axis has no say on the end. On the seed-13 tuning tree any margin from 0 to 1 chose the
+#: same fits.
+FACING_MARGIN = 0.5
 #: Names of the fine stage's hypotheses (:attr:`FitResult.hypothesis` indexes them; the search's ``k``-th best start
 #: is ``2 + k``).
 HYPOTHESES = ("prediction", "prediction flipped end for end")
@@ -95,8 +103,8 @@ class FitSettings:
         keep: hypotheses per object that go on to the fine stage.
         tie: fits whose final loss is within this share of the best one are equally good; the yaw nearest the
             first start decides among them.
-        facing_tie: a fit facing the way the appearance believes (module doc, step 2) beats a better one facing the
-            other way unless that one's loss is lower by more than this share of the fit's (0: only ``tie``). The
+        facing_tie: a fit facing the end the appearance believes (module doc, step 2) beats a better one on its axis
+            facing the other end unless that one's loss is lower by more than this share (0: only ``tie``). The
             silhouette hardly tells front from back, and lower losses of the reverse end come from a template or a
             size that fits better, not from the end: on a seed-13 tuning tree (ground-truth masks and boxes, 442
             cars and vans, the demo-budget MultiBin branch with the lamp cue) the fit turned 23 cars end for end
@@ -428,11 +436,9 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     if yaw_belief is not None:
         with torch.no_grad():
             belief = yaw_belief(fitted_ry).float()
-            reverse = yaw_belief(_wrap(fitted_ry + math.pi)).float()
     else:
         belief = torch.cos(fitted_ry - ry0[:, None])  # 1: the first start's yaw
-        reverse = -belief
-    index = _choose(fine, belief, reverse, settings)
+    index = _choose(fine, belief, fitted_ry, settings)
     winner = index + torch.arange(n) * hyps
     chosen = {k: v[winner] for k, v in values.items()}
     dims, phi = chosen["dims"], expand_half_ffd(chosen["phi_half"])
@@ -454,25 +460,23 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     return result
 
 
-def _choose(loss: Tensor, belief: Tensor, reverse: Tensor, settings: FitSettings) -> Tensor:
+def _choose(loss: Tensor, belief: Tensor, ry: Tensor, settings: FitSettings) -> Tensor:
     """``(N,)`` the winning hypothesis of each object (module doc, step 2) from the fine stage's ``(N, H)`` losses,
-    the appearance's belief in each fit's yaw and in its reverse: among the fits facing the believed way
-    (``belief >= reverse``) when one of them is within ``facing_tie`` of the best loss, the most believed of those
-    within ``tie`` of their best; else the most believed within ``tie`` of the best of all.
+    the appearance's belief in each fit's yaw and the yaws ``ry (N, H)``: the fits that an end-for-end counterpart
+    does not beat (believed more by :data:`FACING_MARGIN`, loss within ``facing_tie`` of theirs) compete; the most
+    believed of those within ``tie`` of their best loss wins.
 
-    >>> loss = torch.tensor([[1.0, 0.8, 0.9]])  # the best fit (1) faces the way the appearance does not believe
-    >>> belief, reverse = torch.tensor([[0.9, 0.2, 0.7]]), torch.tensor([[0.1, 0.8, 0.3]])
-    >>> _choose(loss, belief, reverse, FitSettings(facing_tie=0.5)).tolist(), _choose(
-    ...     loss, belief, reverse, FitSettings(facing_tie=0.0)).tolist()
-    ([2], [1])
+    >>> loss = torch.tensor([[1.0, 0.8, 1.2]])  # the best fit (1) is the reverse of fit 0, which is believed more
+    >>> belief, ry = torch.tensor([[0.9, -0.9, 0.2]]), torch.tensor([[0.0, 3.1, 1.6]])
+    >>> _choose(loss, belief, ry, FitSettings(facing_tie=0.5)).tolist(), _choose(
+    ...     loss, belief, ry, FitSettings(facing_tie=0.0)).tolist()
+    ([0], [1])
     """
-    inf = torch.full_like(loss, math.inf)
-    best = loss.amin(1, keepdim=True)
-    agree = belief >= reverse
-    best_agree = torch.where(agree, loss, inf).amin(1, keepdim=True)
-    by_facing = best_agree <= best * (1 + settings.facing_tie)  # (N, 1)
-    pool = torch.where(by_facing, agree, torch.ones_like(agree))
-    reference = torch.where(by_facing, best_agree, best)
+    opposite = torch.cos(ry[:, :, None] - ry[:, None, :]) < -math.cos(FACING_AXIS)  # (N, H, H): row h, column h'
+    believed_more = belief[:, None, :] - belief[:, :, None] >= FACING_MARGIN
+    no_worse = loss[:, None, :] <= loss[:, :, None] * (1 + settings.facing_tie)
+    pool = ~(opposite & believed_more & no_worse).any(2)  # the most believed fit is never beaten: never empty
+    reference = torch.where(pool, loss, torch.full_like(loss, math.inf)).amin(1, keepdim=True)
     equal = pool & (loss <= reference * (1 + settings.tie))
     return torch.where(equal, belief, torch.full_like(belief, -math.inf)).argmax(1)
 

@@ -40,10 +40,11 @@ from sdn3d.cli._config import synth_data_source  # noqa: E402
 from sdn3d.data.frames import load_frame  # noqa: E402
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame  # noqa: E402
 from sdn3d.data.sources import load_split  # noqa: E402
-from sdn3d.derender import BoxPrompts, Models, derender, geometric_crop_settings  # noqa: E402
+from sdn3d.derender import BoxPrompts, derender  # noqa: E402
 from sdn3d.geometric.fit import FitSettings  # noqa: E402
 from sdn3d.io import write_json_atomic  # noqa: E402
 from sdn3d.labels import INSTANCE_DIVISOR  # noqa: E402
+from sdn3d.models import Models, geometric_crop_settings  # noqa: E402
 
 ROWS = ("branch, GT masks (oracle)", "fit, GT masks + boxes (oracle)")
 
@@ -103,6 +104,8 @@ def main(argv: list[str] | None = None) -> dict:
     def converted(v: str, default):
         if v.lower() in ("none", "null"):
             return None
+        if isinstance(default, bool):
+            return v.lower() in ("true", "1", "yes")
         return float(v) if default is None else type(default)(v)
 
     fit = FitSettings(**{k: converted(v, getattr(FitSettings(), k)) for k, v in (a.split("=", 1) for a in args.fit)})
@@ -136,12 +139,14 @@ def main(argv: list[str] | None = None) -> dict:
                                                                                    masks=gt_masks,
                                                                                    refine_masks=False))
             seconds[ROWS[1]] += time.perf_counter() - t0
-            scenes[ROWS[1]] = (fitted, [b["id"] for b in fitted.meta["boxes"]])
+            scenes[ROWS[1]] = (fitted, [b.instance_id for b in fitted.meta["boxes"]])
         parts = record.key.split("/")  # "<dataset>/<world>/<variation>/<frame>"
         world = parts[1] if len(parts) > 2 else parts[0]
         for j, iid in enumerate(ids):
             t = truth.objects
             tr = row_of(truth, iid)
+            box = boxes[j]
+            cut = box[0] <= 0 or box[1] <= 0 or box[2] >= size[0] or box[3] >= size[1]  # touches the border
             for name, (scene, row_ids) in scenes.items():
                 o = scene.objects
                 r = row_of(scene, row_ids[j])
@@ -157,7 +162,11 @@ def main(argv: list[str] | None = None) -> dict:
                                          "pixels": int(t.mask[tr].sum()), "true_ry": round(float(t.ry[tr]), 4),
                                          "true_xz": [round(float(t.center[tr][k]), 2) for k in (0, 2)],
                                          "template_ok": ok, "true_template": int(t.template_id[tr]), "dist": dist,
-                                         "scale": scale})
+                                         "scale": scale, "box": [round(float(v), 1) for v in box],
+                                         "truncated": bool(cut),
+                                         "ry": None if r < 0 else round(float(o.ry[r]), 4),
+                                         "hypothesis": (scene.meta["boxes"][j].hypothesis
+                                                        if "boxes" in scene.meta else None)})
         print(f"{record.key}: {len(ids)} objects, {time.perf_counter() - t_start:.0f} s", file=sys.stderr)
     table = {}
     for name, rows in per_object.items():

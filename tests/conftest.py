@@ -40,7 +40,7 @@ def _proposal_fit_only_where_tested(request: pytest.FixtureRequest, monkeypatch:
     import sdn3d.derender as derendering
     from sdn3d.proposal_fit import ProposalFit
 
-    def predictions_kept(intr, masks, ids, rows, geometry, settings):
+    def predictions_kept(intr, masks, ids, rows, geometry, settings, appearance=None):
         return tuple(g.clone() for g in geometry), [ProposalFit(int(i), None, True, None, "not fitted (test stub)")
                                                      for i in ids[rows].tolist()]
 

@@ -12,7 +12,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import math
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from enum import Enum
 from typing import TYPE_CHECKING, Any
@@ -26,6 +27,7 @@ from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import default_bank
 
 if TYPE_CHECKING:
+    from sdn3d.geometric.facing import Appearance
     from sdn3d.geometric.fit import FitSettings
     from sdn3d.semantic.predict import Segmentation
 
@@ -234,13 +236,17 @@ def add_box_objects(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts
 
 
 def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, boxes: BoxPrompts,
-                    geometry: tuple[Tensor, ...], min_pixels: int, mask_source: Sequence[MaskSource]
+                    geometry: tuple[Tensor, ...], min_pixels: int, mask_source: Sequence[MaskSource],
+                    appearance: Appearance | None = None
                     ) -> tuple[Tensor, tuple[Tensor, ...], list[BoxFit], Tensor | None]:
     """``(masks, geometry, each box's BoxFit, vacated)``: the box objects' rows ``rows`` fitted to their masks
     (:func:`~sdn3d.geometric.fit.fit_to_masks`, the geometric branch's prediction as the start) and, unless the masks
     were given or ``boxes.refine_masks`` is off, their masks segmented again seeded by the fits that matched;
-    ``vacated``: the pixels of the first masks (what the second ones leave of them is no object's), else None."""
-    geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels)
+    ``vacated``: the pixels of the first masks (what the second ones leave of them is no object's), else None.
+    ``appearance``: what the geometric branch saw of each row of ``masks`` (lamps, its yaw before them, its bins):
+    with ``boxes.fit.appearance`` the fit's yaw belief at each hypothesis' axis
+    (:func:`~sdn3d.geometric.facing.facing_belief`); else the yaw nearest the prediction's is believed."""
+    geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels, appearance)
     pixels = masks[rows].flatten(1).sum(1)
     final = [int(p) for p in pixels]
     again, vacated = [False] * len(boxes), None
@@ -257,9 +263,28 @@ def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor,
     return masks, geometry, fits, vacated
 
 
+def yaw_belief(appearance: Appearance | None, rows: Tensor) -> Callable[[Tensor], Tensor] | None:
+    """The fit's yaw belief of the objects ``rows``: the appearance's (:func:`~sdn3d.geometric.facing.facing_belief`)
+    where the branch predicted them, else facing away from the camera (the fit's first start without a prediction,
+    ``ry = -pi/2``); None without an appearance (the fit's own default: the yaw nearest its start)."""
+    if appearance is None:
+        return None
+    seen = appearance.rows(rows)
+    if not bool(seen.has.any()):
+        return None
+    belief = seen.belief()
+
+    def believed(ry: Tensor) -> Tensor:
+        away = torch.cos(ry + math.pi / 2)
+        return torch.where(seen.has[:, None], belief(ry).to(away.dtype), away)
+
+    return believed
+
+
 def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...],
-               min_pixels: int) -> tuple[tuple[Tensor, ...], list[tuple[PoseSource | None, float | None, bool,
-                                                                           str | None, str | None]]]:
+               min_pixels: int, appearance: Appearance | None = None
+               ) -> tuple[tuple[Tensor, ...], list[tuple[PoseSource | None, float | None, bool, str | None,
+                                                          str | None]]]:
     """The geometry with the box objects' rows fitted to their masks (:func:`~sdn3d.geometric.fit.fit_to_masks`,
     the geometric branch's prediction as the start) and per box ``(pose source, silhouette IoU, poor, winning
     hypothesis, the fit's note)`` (None, None, True, None, None: too few pixels, no fit)."""
@@ -288,7 +313,8 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
                                      torch.full((len(sel), 3), float("nan")))
         result = fit_to_masks(masks[rows[sel]], boxes.boxes[sel], intr, ignore=ignore[sel], start_ry=start_ry,
                               start_dims=start_dims, start_template=template[rows[sel]], start_location=start_location,
-                              settings=settings)
+                              settings=settings,
+                              yaw_belief=yaw_belief(appearance if settings.appearance else None, rows[sel]))
         target = rows[sel]
         template[target] = result.template
         dims[target], ry[target] = result.dims.double(), result.ry.double()

@@ -60,6 +60,7 @@ from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
 from sdn3d.scene.maps import scene_maps
 
 if TYPE_CHECKING:
+    from sdn3d.geometric.facing import Appearance
     from sdn3d.geometric.fit import FitSettings
     from sdn3d.geometric.refine import RefineSettings
     from sdn3d.semantic.predict import Segmentation
@@ -158,10 +159,12 @@ def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:
 
 def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: GroundTruth | None,
               models: Models, min_pixels: int, refine: RefineSettings | None,
-              annotated: Tensor | None = None) -> tuple[Tensor, ...]:
-    """``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64, 3)`` of the objects ``masks``
-    (template -1 and placeholders for objects without a usable prediction); ``gt``: annotated boxes, looked up
-    for the rows ``annotated (N,)`` bool (None: all)."""
+              annotated: Tensor | None = None) -> tuple[tuple[Tensor, ...], Appearance | None]:
+    """``(geometry, appearance)``: geometry ``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64, 3)``
+    of the objects ``masks`` (template -1 and placeholders for objects without a usable prediction); ``gt``:
+    annotated boxes, looked up for the rows ``annotated (N,)`` bool (None: all). ``appearance``: what the branch saw
+    of each object (:class:`~sdn3d.geometric.facing.Appearance`: its yaw before the lamp cue, the lamps' reading,
+    a MultiBin net's bins; the box fit's yaw belief), None without a lamp cue."""
     n = len(ids)
     template = torch.full((n,), -1, dtype=torch.long)
     dims, location = torch.ones(n, 3, dtype=torch.float64), torch.zeros(n, 3, dtype=torch.float64)
@@ -169,7 +172,7 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
     ry, phi = torch.zeros(n, dtype=torch.float64), torch.zeros(n, 64, 3)
     rows = (masks.flatten(1).sum(1) >= min_pixels).nonzero().flatten()
     if models.geometric is None or not len(rows):
-        return template, dims, ry, location, phi
+        return (template, dims, ry, location, phi), None
     boxes = pixel_centre_boxes(mask_boxes(masks[rows]))  # the branch encodes pixel-centre boxes
     if gt is not None:
         given, found = _annotation_boxes(gt, ids[rows])
@@ -180,7 +183,7 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
     wide = (boxes[:, 2] > boxes[:, 0]) & (boxes[:, 3] > boxes[:, 1])
     rows, boxes = rows[wide], boxes[wide]
     if not len(rows):
-        return template, dims, ry, location, phi
+        return (template, dims, ry, location, phi), None
     pred = {k: v.detach().cpu() for k, v in _predict_geometry(image, intr, masks[rows], boxes, models, refine).items()}
     ok = (torch.isfinite(pred["dims"]).all(1) & torch.isfinite(pred["location"]).all(1) & torch.isfinite(pred["ry"])
           & torch.isfinite(pred["phi"]).flatten(1).all(1) & (pred["dims"] > 0).all(1) & (pred["center"][:, 2] > 0))
@@ -190,7 +193,24 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
     template[keep] = pred["template_id"][ok].long()
     dims[keep], location[keep] = pred["dims"][ok].double(), pred["location"][ok].double()
     ry[keep], phi[keep] = pred["ry"][ok].double(), pred["phi"][ok].float()
-    return template, dims, ry, location, phi
+    return (template, dims, ry, location, phi), _appearance(pred, rows, ok, n, models)
+
+
+def _appearance(pred: dict[str, Tensor], rows: Tensor, ok: Tensor, n: int, models: Models) -> Appearance | None:
+    """The :class:`~sdn3d.geometric.facing.Appearance` of the ``n`` objects from the predictions ``pred`` of the
+    rows ``rows`` (usable where ``ok``); None where the predictor read no lamps."""
+    from sdn3d.geometric.facing import APPEARANCE_KEYS, BIN_KEYS, Appearance
+
+    if models.geometric.lamp_cue is None or any(k not in pred for k in APPEARANCE_KEYS):
+        return None
+    values = {}
+    for k in APPEARANCE_KEYS + tuple(k for k in BIN_KEYS if k in pred):
+        value = torch.zeros((n, *pred[k].shape[1:]), dtype=pred[k].dtype)
+        value[rows[ok]] = pred[k][ok]
+        values[k] = value
+    has = torch.zeros(n, dtype=torch.bool)
+    has[rows[ok]] = True
+    return Appearance(values, has, models.geometric.lamp_cue)
 
 
 def _checked_image(image: Tensor, intrinsics: Intrinsics, gt: GroundTruth | None) -> Tensor:
@@ -282,16 +302,16 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     n = len(ids)
     annotated = torch.ones(n, dtype=torch.bool)
     annotated[box_rows] = False
-    geometry = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models, min_pixels, refine,
-                         annotated)
+    geometry, appearance = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models,
+                                     min_pixels, refine, annotated)
     proposal_fits = []
     if fit is not None:
         rows = vehicle_rows(ids, geometry[0], {c.id: c.name for c in class_list})
         geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows[~torch.isin(rows, box_rows)], geometry,
-                                                fit)
+                                                fit, appearance)
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
-                                                             min_pixels, mask_source)
+                                                             min_pixels, mask_source, appearance)
         if vacated is not None:
             instances = torch.where(vacated, torch.zeros_like(instances), instances)
         instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)

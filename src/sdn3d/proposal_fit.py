@@ -21,12 +21,13 @@ from typing import TYPE_CHECKING
 import torch
 from torch import Tensor
 
-from sdn3d.box_objects import occluder_masks
+from sdn3d.box_objects import occluder_masks, yaw_belief
 from sdn3d.image_ops import mask_boxes
 from sdn3d.labels import INSTANCE_DIVISOR, VEHICLE_CLASS_NAMES
 from sdn3d.math3d.camera import Intrinsics
 
 if TYPE_CHECKING:
+    from sdn3d.geometric.facing import Appearance
     from sdn3d.geometric.fit import FitSettings
 
 __all__ = ["ProposalFit", "fit_proposals", "vehicle_rows"]
@@ -56,12 +57,15 @@ def vehicle_rows(ids: Tensor, template: Tensor, class_names: dict[int, str]) -> 
 
 
 def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],
-                  settings: FitSettings) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
+                  settings: FitSettings, appearance: Appearance | None = None
+                  ) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
     """``(geometry, records)``: the rows ``rows (K,)`` of ``geometry`` (``template (N,), dims (N, 3), ry (N,),
     location (N, 3), phi (N, 64, 3)``, the branch's predictions) fitted to their ``masks (N, H, W)`` (module doc).
 
     Rows whose mask is too small or thin to fit keep their prediction (a record with ``iou`` None and the fit's
     note). Objects outside ``rows`` are untouched; they still hide the fitted ones where they are nearer.
+    ``appearance``: what the geometric branch saw of each object, the fit's yaw belief with ``settings.appearance``
+    (as for the box objects: :func:`~sdn3d.box_objects.yaw_belief`).
     """
     from sdn3d.geometric.fit import fit_to_masks
 
@@ -73,7 +77,8 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
     ignore = occluder_masks(masks, depth)[rows]
     result = fit_to_masks(masks[rows], mask_boxes(masks[rows]).float(), intr, ignore=ignore,
                           start_ry=ry[rows].float(), start_dims=dims[rows].float(), start_template=template[rows],
-                          start_location=location[rows].float(), settings=settings)
+                          start_location=location[rows].float(), settings=settings,
+                          yaw_belief=yaw_belief(appearance if settings.appearance else None, rows))
     fitted = result.fitted if len(result.fitted) else torch.ones(len(rows), dtype=torch.bool)
     take = rows[fitted]
     template[take] = result.template[fitted]

@@ -32,6 +32,8 @@ class FitSchema:
     fine_steps: int = MISSING
     keep: int = MISSING
     tie: float = MISSING
+    facing_tie: float = MISSING
+    appearance: bool = MISSING
     lr: float = MISSING
     margin: float = MISSING
     sigma: float = MISSING

@@ -22,8 +22,12 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    back: the prediction's end-for-end flip is always one more fine hypothesis, and among the fits within ``tie``
    (a share) of the best loss the appearance decides: the one whose yaw the branch believes most (``yaw_belief``,
    e.g. a MultiBin branch's bin confidences, :func:`sdn3d.geometric.model.yaw_distribution`), else the one whose
-   yaw is nearest the first start (the prediction's: a MultiBin branch's front/back). :attr:`FitResult.hypothesis`
-   records the winner (0: the prediction, 1: its flip, 2..: the search's best starts).
+   yaw is nearest the first start (the prediction's: a MultiBin branch's front/back). Before that, the appearance
+   decides the end (``facing_tie``): a fit drops out where another one on its axis facing the other end
+   (:data:`FACING_AXIS`) is believed clearly more (by :data:`FACING_MARGIN`) and its loss is within ``facing_tie``
+   of the fit's; a silhouette that prefers an end more clearly than that keeps it, and the axis stays the
+   silhouette's. :attr:`FitResult.hypothesis` records the winner (0: the prediction, 1: its flip, 2..: the
+   search's best starts).
 3. **What counts.** The loss is L_reproj (mean ``|S~ - M|``) over the crop, without the pixels of nearer objects
    (``ignore``) and outside the image, plus ``dims_reg * |log d - log d0|^2`` (keeps the size near the start
    where the silhouette cannot tell: a car seen from behind has no visible length, and a box-like car turned by 90
@@ -71,6 +75,13 @@ CAR_DIMS = (3.88, 1.53, 1.63)
 PLAUSIBLE_SIZE_FACTOR = 2.5
 #: Starting yaws: offsets added to the first start (prediction or facing away): itself, reversed, the two sides.
 YAW_OFFSETS = (0.0, math.pi, math.pi / 2, -math.pi / 2)
+#: Two fits are end for end of each other when their yaws differ by 180 degrees give or take this (radians).
+FACING_AXIS = math.radians(30)
+#: A fit's end-for-end counterpart is believed clearly more when its belief is higher by this: with the default
+#: belief (``cos`` of the yaw's difference to the first start) where the start lies within 75 degrees of it; a
+#: start nearly across the axis has no say on the end. On the seed-13 tuning tree any margin from 0 to 1 chose the
+#: same fits.
+FACING_MARGIN = 0.5
 #: Names of the fine stage's hypotheses (:attr:`FitResult.hypothesis` indexes them; the search's ``k``-th best start
 #: is ``2 + k``).
 HYPOTHESES = ("prediction", "prediction flipped end for end")
@@ -92,6 +103,15 @@ class FitSettings:
         keep: hypotheses per object that go on to the fine stage.
         tie: fits whose final loss is within this share of the best one are equally good; the yaw nearest the
             first start decides among them.
+        facing_tie: a fit facing the end the appearance believes (module doc, step 2) beats a better one on its axis
+            facing the other end unless that one's loss is lower by more than this share (0: only ``tie``). The
+            silhouette hardly tells front from back, and lower losses of the reverse end come from a template or a
+            size that fits better, not from the end: on a seed-13 tuning tree (ground-truth masks and boxes, 442
+            cars and vans, the demo-budget MultiBin branch with the lamp cue) the fit turned 23 cars end for end
+            with 0, 17 with 0.25, 16 with 0.5, 17 with 1 or more (docs/results/2026-11-28_cpu/session3/flips).
+        appearance: the box objects' fit believes the geometric branch's appearance at each hypothesis' axis
+            (:func:`~sdn3d.geometric.facing.facing_belief`: the lamps' evidence and the MultiBin bins) rather than
+            the nearness to its start; as many flips either way on the seed-13 tuning tree (16 of 442), so off.
         lr: Adam learning rate (x, log z, log dims; the yaw takes ``2 lr``).
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
@@ -120,6 +140,8 @@ class FitSettings:
     fine_steps: int = 16
     keep: int = 3
     tie: float = 0.1
+    facing_tie: float = 0.5
+    appearance: bool = False
     lr: float = 0.05
     margin: float = 0.15
     sigma: float = 0.25
@@ -151,10 +173,13 @@ class FitSettings:
                 continue
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"FitSettings.{name} must be a positive number, got {value!r}")
-        for name in ("margin", "dims_reg", "template_size_reg", "shape_reg", "yaw_reg", "ffd_reg", "tie"):
+        for name in ("margin", "dims_reg", "template_size_reg", "shape_reg", "yaw_reg", "ffd_reg", "tie",
+                     "facing_tie"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
+        if not isinstance(self.appearance, bool):
+            raise ValueError(f"FitSettings.appearance must be true or false, got {self.appearance!r}")
         if self.silhouette not in ("soft", "straight_through"):
             raise ValueError(f"FitSettings.silhouette must be 'soft' or 'straight_through', got {self.silhouette!r}")
         low_high = self.camera_height_range
@@ -219,7 +244,7 @@ def road_start(boxes: Tensor, intr: Intrinsics, camera_height: float, width: flo
 
     >>> intr = Intrinsics(725.0, 725.0, 620.5, 187.0, 1242, 375)
     >>> road_start(torch.tensor([[600.0, 200.0, 640.0, 264.0]]), intr, 1.65, width=0.0).round(decimals=2).tolist()
-    [[-0.01, 1.65, 15.64]]
+    [[-0.02, 1.65, 15.64]]
     """
     b = boxes.double()
     u = (b[:, 0] + b[:, 2]) / 2 - 0.5
@@ -234,7 +259,8 @@ def estimate_camera_height(start_location: Tensor | None, settings: FitSettings)
     bottom-face centres ``start_location (N, 3)`` clamped to ``settings.camera_height_range``, else
     ``settings.default_camera_height``.
 
-    >>> estimate_camera_height(torch.tensor([[1.0, 1.52, 10.0], [0.0, 1.58, 20.0], [2.0, 1.5, 30.0]]), FitSettings())
+    >>> estimate_camera_height(torch.tensor([[1.0, 1.52, 10.0], [0.0, 1.58, 20.0], [2.0, 1.5, 30.0]]),
+    ...                        FitSettings(camera_height=None))
     (1.52, 'measured: median of 3 predicted cars')
     """
     if settings.camera_height is not None:
@@ -406,14 +432,13 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
                           ry0[obj], mask[obj], ign[obj], K[obj], settings.fine_size, settings.fine_steps, settings,
                           with_ffd=True, height=height)
     fine = loss.view(n, hyps)
-    equal = fine <= fine.amin(1, keepdim=True) * (1 + settings.tie)
     fitted_ry = values["ry"].view(n, hyps)
     if yaw_belief is not None:
         with torch.no_grad():
             belief = yaw_belief(fitted_ry).float()
     else:
         belief = torch.cos(fitted_ry - ry0[:, None])  # 1: the first start's yaw
-    index = torch.where(equal, belief, torch.full_like(belief, -math.inf)).argmax(1)
+    index = _choose(fine, belief, fitted_ry, settings)
     winner = index + torch.arange(n) * hyps
     chosen = {k: v[winner] for k, v in values.items()}
     dims, phi = chosen["dims"], expand_half_ffd(chosen["phi_half"])
@@ -433,6 +458,27 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
                        camera_height=height, camera_height_source=height_source)
     _keep_predictions_of_bad_masks(result, masks, start_template, start_location, dims0, ry0, settings)
     return result
+
+
+def _choose(loss: Tensor, belief: Tensor, ry: Tensor, settings: FitSettings) -> Tensor:
+    """``(N,)`` the winning hypothesis of each object (module doc, step 2) from the fine stage's ``(N, H)`` losses,
+    the appearance's belief in each fit's yaw and the yaws ``ry (N, H)``: the fits that an end-for-end counterpart
+    does not beat (believed more by :data:`FACING_MARGIN`, loss within ``facing_tie`` of theirs) compete; the most
+    believed of those within ``tie`` of their best loss wins.
+
+    >>> loss = torch.tensor([[1.0, 0.8, 1.2]])  # the best fit (1) is the reverse of fit 0, which is believed more
+    >>> belief, ry = torch.tensor([[0.9, -0.9, 0.2]]), torch.tensor([[0.0, 3.1, 1.6]])
+    >>> _choose(loss, belief, ry, FitSettings(facing_tie=0.5)).tolist(), _choose(
+    ...     loss, belief, ry, FitSettings(facing_tie=0.0)).tolist()
+    ([0], [1])
+    """
+    opposite = torch.cos(ry[:, :, None] - ry[:, None, :]) < -math.cos(FACING_AXIS)  # (N, H, H): row h, column h'
+    believed_more = belief[:, None, :] - belief[:, :, None] >= FACING_MARGIN
+    no_worse = loss[:, None, :] <= loss[:, :, None] * (1 + settings.facing_tie)
+    pool = ~(opposite & believed_more & no_worse).any(2)  # the most believed fit is never beaten: never empty
+    reference = torch.where(pool, loss, torch.full_like(loss, math.inf)).amin(1, keepdim=True)
+    equal = pool & (loss <= reference * (1 + settings.tie))
+    return torch.where(equal, belief, torch.full_like(belief, -math.inf)).argmax(1)
 
 
 def _keep_predictions_of_bad_masks(result: FitResult, masks: Tensor, start_template: Tensor | None,

@@ -14,7 +14,12 @@ red lamp pixels of the masked object crop say which end the camera sees:
   (``alpha = 0``: the front points right, the back is left). The evidence for ``alpha`` is
   ``-(sin(alpha) + 2 d cos(alpha))`` with ``d`` the red pixels' mean column offset from the mask's, over the box
   width: +1 for a back view with red lamps, -1 for the reversed hypothesis. Without red lamps on a large enough
-  object the front is more likely seen: ``absent_weight * sin(alpha)``.
+  object the front is more likely seen: ``absent_weight * sin(alpha)``. On a seed-13 tuning tree (442 cars and
+  vans on ground-truth masks, issue 40) every usable crop with red lamps showed its back (160 of 160) and 220 of the
+  233 usable crops without showed their front (10 of the 13 others cut by the image border, their lamps outside
+  it): an absence is nearly as sure as a presence. With ``absent_weight = 0.3`` it never reached ``flip_below``
+  and the branch's front/back stood (42 flips); from 0.5 to 1.0 an absence turns a back view end for end
+  (17 flips); 0.5 is the default.
 
 :func:`lamp_evidence` scores hypotheses; :func:`face_by_lamps` turns each predicted yaw end for end where the
 lamps clearly disagree with it (the geometric predictor's ``lamp_cue``).
@@ -28,7 +33,7 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
-__all__ = ["LampCue", "red_lamps", "lamp_evidence", "face_by_lamps"]
+__all__ = ["LampCue", "red_lamps", "lamp_evidence", "evidence_of", "face_by_lamps"]
 
 
 @dataclass(frozen=True)
@@ -41,7 +46,7 @@ class LampCue:
     max_share: float = 0.12
     max_row_spread: float = 0.12
     min_mask: int = 150
-    absent_weight: float = 0.3
+    absent_weight: float = 0.5
     flip_below: float = -0.3
 
 
@@ -78,7 +83,15 @@ def red_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple[T
 def lamp_evidence(crop: Tensor, mask: Tensor, alpha: Tensor, cue: LampCue | None = None) -> Tensor:
     """``(N, K)`` evidence of the red lamps for local orientations ``alpha (N, K)`` (module doc; 0: no cue)."""
     cue = cue or LampCue()
-    present, usable, offset = red_lamps(crop, mask, cue)
+    return evidence_of(*red_lamps(crop, mask, cue), alpha, cue)
+
+
+def evidence_of(present: Tensor, usable: Tensor, offset: Tensor, alpha: Tensor, cue: LampCue | None = None) -> Tensor:
+    """``(N, K)`` evidence for local orientations ``alpha (N, K)`` of a :func:`red_lamps` reading ``(present,
+    usable, offset)`` (each ``(N,)``; module doc). An absence counts on cars cut by the image border too: their
+    lamps may lie outside the image, but on the seed-13 tuning tree ignoring the absence where the back view's back
+    end was cut off (at the fitted axis) made 16 of the 61 cut cars face the wrong way against 9."""
+    cue = cue or LampCue()
     seen = -(torch.sin(alpha) + 2 * offset[:, None] * torch.cos(alpha))
     absent = cue.absent_weight * torch.sin(alpha)
     evidence = torch.where(present[:, None], seen, absent)

@@ -15,7 +15,7 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 from sdn3d.geometric.decode import decode_outputs
-from sdn3d.geometric.lamps import LampCue, face_by_lamps
+from sdn3d.geometric.lamps import LampCue, face_by_lamps, red_lamps
 from sdn3d.geometric.losses import render_silhouettes
 from sdn3d.geometric.model import GeometricNet, ray_angle
 from sdn3d.geometric.refine import RefineSettings, refine_by_reprojection
@@ -119,7 +119,11 @@ class GeometricPredictor:
             refine: when given (needs ``mask`` and ``crop_intrinsics``), the predictions are refined
                 by :func:`~sdn3d.geometric.refine.refine_by_reprojection` against ``mask`` (Cityscapes).
 
-        With ``mask`` and :attr:`lamp_cue`, the yaw is then turned end for end where the lamps disagree with it.
+        With ``mask`` and :attr:`lamp_cue`, the yaw is then turned end for end where the lamps disagree with it; the
+        output then also holds what the appearance says of any yaw (:func:`~sdn3d.geometric.facing.facing_belief`):
+        ``net_ry (N,)`` the net's yaw before the lamps, ``ray (N,)`` the ray angle of each box, and the lamps'
+        reading ``lamp_present``, ``lamp_usable`` (``(N,)`` bool) and ``lamp_offset (N,)``
+        (:func:`~sdn3d.geometric.lamps.red_lamps`).
         """
 
         device = self.device
@@ -140,7 +144,10 @@ class GeometricPredictor:
             ).raw
         out = decode_outputs(raw, box, intrinsics, self.encoding, self.net.templates)
         if self.lamp_cue is not None and mask is not None:
-            out["ry"] = face_by_lamps(out["ry"], ray_angle(box, intrinsics), crop, mask.to(device), self.lamp_cue)
+            ray = ray_angle(box, intrinsics)
+            present, usable, offset = red_lamps(crop, mask.to(device), self.lamp_cue)
+            out.update(net_ry=out["ry"], ray=ray, lamp_present=present, lamp_usable=usable, lamp_offset=offset)
+            out["ry"] = face_by_lamps(out["ry"], ray, crop, mask.to(device), self.lamp_cue)
         if crop_intrinsics is not None:
             out["silhouette"] = render_silhouettes(
                 bank, out["template_id"], out["dims"], out["ry"], out["center"],

@@ -14,6 +14,7 @@ from sdn3d.editing.frame import PixelFrame, upsample_ids
 from sdn3d.editing.photo import fill, transfer
 from sdn3d.editing.photo.recolor import recolor_pixels
 from sdn3d.editing.photo.settings import INPUT, RECOLORED
+from sdn3d.image_ops import dilate_square
 
 
 def _bands_loop(ids, gone, share):
@@ -25,7 +26,7 @@ def _bands_loop(ids, gone, share):
             continue
         band = max(1, round(share * float(rows.max() - rows.min() + 1)))
         below = F.max_pool2d(F.pad(one[None, None].float(), (0, 0, band, 0)), (band + 1, 1), stride=1)[0, 0] > 0
-        hole |= fill._dilate(below, 1)
+        hole |= dilate_square(below, 1)
     return hole
 
 
@@ -45,7 +46,7 @@ def test_shadow_bands_equal_one_max_pool_per_object(seed):
     ids = _blobs(gen, 57, 83, 6)
     gone = torch.tensor([2, 4, 5, 9])  # 9: no pixels
     for share in (0.05, 0.3, 1.5):
-        assert torch.equal(fill._dilate(fill._shadow_bands(ids, gone, share), 1), _bands_loop(ids, gone, share))
+        assert torch.equal(dilate_square(fill._shadow_bands(ids, gone, share), 1), _bands_loop(ids, gone, share))
 
 
 class _Table:

@@ -37,6 +37,7 @@ from sdn3d.math3d.camera import Intrinsics
 
 __all__ = [
     "check_size",
+    "dilate_square",
     "to_image_tensor",
     "resize_image",
     "resize_map",
@@ -215,3 +216,14 @@ def crop_intrinsics(intr: Intrinsics, windows: Tensor, size: int) -> Tensor:
     scale = size / w[:, 2]
     return torch.stack([intr.fx * scale, intr.fy * scale, (intr.cx - w[:, 0] + 0.5) * scale - 0.5,
                         (intr.cy - w[:, 1] + 0.5) * scale - 0.5], 1).float()
+
+
+def dilate_square(mask: Tensor, radius: int) -> Tensor:
+    """``mask (H, W)`` bool grown by a ``(2 radius + 1)`` square (OpenCV's separable dilation: a max pool's result
+    at a fraction of its time for large radii)."""
+    import cv2
+
+    if radius <= 0 or not bool(mask.any()):
+        return mask
+    kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
+    return torch.from_numpy(cv2.dilate(mask.numpy().astype(np.uint8), kernel) > 0)

@@ -10,19 +10,9 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.editing.photo.settings import AUTO_THIN_PX, PATCHMATCH_MAX_SIDE, PhotoSettings, PhotoSettingsError
+from sdn3d.image_ops import dilate_square
 
 __all__ = ["inpaint", "vacated_hole", "fill_hole"]
-
-
-def _dilate(mask: Tensor, radius: int) -> Tensor:
-    """``mask (H, W)`` bool grown by a ``(2 radius + 1)`` square (OpenCV's separable dilation: a max pool's result
-    at a fraction of its time for large radii)."""
-    import cv2
-
-    if radius <= 0 or not bool(mask.any()):
-        return mask
-    kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
-    return torch.from_numpy(cv2.dilate(mask.numpy().astype(np.uint8), kernel) > 0)
 
 
 def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5, patch_size: int = 3,
@@ -107,9 +97,9 @@ def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSetting
     objects), grown by ``hole_dilate_px`` and by a band below each (its old contact shadow), less ``keep (H, W)``
     (pixels of objects that stay)."""
     vacated = torch.isin(ids, gone) & (ids != 0)
-    hole = _dilate(vacated, settings.hole_dilate_px)
+    hole = dilate_square(vacated, settings.hole_dilate_px)
     if settings.shadow_band > 0 and bool(vacated.any()):
-        hole |= _dilate(_shadow_bands(ids, gone, settings.shadow_band), 1)
+        hole |= dilate_square(_shadow_bands(ids, gone, settings.shadow_band), 1)
     return hole & ~keep
 
 

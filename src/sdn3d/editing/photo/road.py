@@ -25,6 +25,8 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
+from sdn3d.image_ops import dilate_square
+
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
            "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD"]
 
@@ -93,12 +95,11 @@ def removal_vanishing_point(image: Tensor, K: Tensor, removed: Tensor, objects_p
     :func:`image_vanishing_point` of the edges around them (within twice their extent, on no object of
     ``objects_px (H, W)``), else :func:`vanishing_point` of the first removed car's yaw ``ry`` (a fitted pose can
     be mirrored; the road's own lines cannot), else the camera's forward one."""
-    from sdn3d.editing.photo.fill import _dilate
 
     if bool(removed.any()):
         ys, xs = removed.nonzero(as_tuple=True)
         extent = max(int(ys.max() - ys.min()), int(xs.max() - xs.min()))
-        region = _dilate(removed, max(2 * extent, 20)) & ~_dilate(objects_px | removed, 2)
+        region = dilate_square(removed, max(2 * extent, 20)) & ~dilate_square(objects_px | removed, 2)
         found = image_vanishing_point(image, region, K)
         if found is not None:
             return found

@@ -15,7 +15,6 @@ from torch import Tensor
 
 from sdn3d.editing.frame import PixelFrame, input_intrinsics, upsample_ids, working_to_input
 from sdn3d.editing.photo.fill import (
-    _dilate,
     fill_hole,
     inpaint,
     relight_shadow,
@@ -43,6 +42,7 @@ from sdn3d.editing.photo.settings import (
     PhotoSettings,
     PhotoSettingsError,
 )
+from sdn3d.image_ops import dilate_square
 from sdn3d.math3d.rotations import roty
 from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.parts import Part
@@ -411,8 +411,8 @@ def _shadow_context(image: Tensor, hole: Tensor, objects_px: Tensor, before: Obj
     the ring: pixels 6 to 30 pixels around the search region and ``hole``, on no object; the road: its colour,
     :func:`~sdn3d.editing.photo.fill.road_colours`)."""
     search, road_part = _effects_regions(before, rows, K, tuple(hole.shape), light)
-    around = _dilate(search | hole, 6)
-    ring = _dilate(search | hole, 30) & ~around & ~objects_px
+    around = dilate_square(search | hole, 6)
+    ring = dilate_square(search | hole, 30) & ~around & ~objects_px
     return search, road_part, ring, road_colours(image, ring)
 
 
@@ -423,7 +423,7 @@ def _relight_removed(image: Tensor, hole: Tensor, objects_px: Tensor, before: Ob
     search, _, ring, road = _shadow_context(image, hole, objects_px, before, rows, K, light)
     if road is None:
         return image, torch.zeros(tuple(hole.shape), dtype=torch.float32)
-    return relight_shadow(image, _dilate(search, 3) & ~hole & ~objects_px, ring, road)
+    return relight_shadow(image, dilate_square(search, 3) & ~hole & ~objects_px, ring, road)
 
 
 def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before: ObjectTable, gone_rows: list[int],
@@ -444,13 +444,13 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
     if settings.fill == "rays":
         return _rays_with_effects(image, hole, objects_px, search, ring, road, settings, vanishing)
     if settings.delete_shadow:
-        image, matte = relight_shadow(image, _dilate(search, 3) & ~hole & ~objects_px, ring, road)
+        image, matte = relight_shadow(image, dilate_square(search, 3) & ~hole & ~objects_px, ring, road)
     road_hole = hole & road_part
     out = image
     if bool(road_hole.any()):
         ys, xs = road_hole.nonzero(as_tuple=True)
         reach = (int(ys.max() - ys.min()) + int(xs.max() - xs.min())) // 2 + 4 * settings.inpaint_radius + 16
-        near = _dilate(road_hole, reach)  # covers the fill's crop (fill._inpaint_part's margin)
+        near = dilate_square(road_hole, reach)  # covers the fill's crop (fill._inpaint_part's margin)
         avoid = objects_px | ~road_like(image, road, min_light=0.8, within=near)  # lit road and markings only
         out = inpaint(out, road_hole, "patchmatch" if settings.fill != "telea" else "telea",
                       settings.inpaint_radius, keep_out=avoid, max_side=ROAD_FILL_MAX_SIDE)
@@ -471,15 +471,15 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
 
     ys, xs = (search | hole).nonzero(as_tuple=True)
     reach = max(int(ys.max() - ys.min()), int(xs.max() - xs.min())) + 8
-    near = _dilate(search | hole, reach)
-    lit = near & ~_dilate(search | hole, 3) & ~objects_px
+    near = dilate_square(search | hole, reach)
+    lit = near & ~dilate_square(search | hole, 3) & ~objects_px
     dark = shadowed_road(image, road, near, lit, settings.shadow_light) & ~objects_px
     matte = torch.zeros(tuple(hole.shape), dtype=torch.float32)
     if settings.delete_shadow and settings.shadow_mode == "relight":
-        image, matte = relight_shadow(image, _dilate(search, 3) & ~hole & ~objects_px, ring, road)
+        image, matte = relight_shadow(image, dilate_square(search, 3) & ~hole & ~objects_px, ring, road)
         dark = shadowed_road(image, road, near, lit, settings.shadow_light) & ~objects_px
     elif settings.delete_shadow:
-        own = dark & _dilate(search, 3) & ~hole
+        own = dark & dilate_square(search, 3) & ~hole
         hole = hole | own
         matte = -own.float()  # filled, not relit: render_photo marks these pixels fill
     return fill_hole(image, hole, settings, objects_px | dark, vanishing=vanishing), matte
@@ -654,7 +654,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         stay_ids = after.instance_id[stays]
         key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
         if effects:  # the removed objects' silhouettes join the hole; their shadows are relit
-            silhouette = _dilate(torch.isin(_raster_ids(src, before), gone_ids), settings.hole_dilate_px)
+            silhouette = dilate_square(torch.isin(_raster_ids(src, before), gone_ids), settings.hole_dilate_px)
             hole = hole | (silhouette & ~keep)
 
             def make() -> Tensor:  # the picture and the relit matte, kept together
@@ -692,7 +692,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
             if a not in verts or not bool(before.has_geometry[b]):
                 continue
             search, _, ring, road = _shadow_context(image, hole, objects_px, before, [b], K, light)
-            gain = None if road is None else shadow_gain(image, _dilate(search, 3) & ~hole & ~objects_px, ring,
+            gain = None if road is None else shadow_gain(image, dilate_square(search, 3) & ~hole & ~objects_px, ring,
                                                          road)
             if gain is None:
                 continue

@@ -11,13 +11,14 @@ import numpy as np
 import torch
 from PIL import Image
 
-from sdn3d.editing.photo.fill import _dilate, road_colours, road_like
+from sdn3d.editing.photo.fill import road_colours, road_like
+from sdn3d.image_ops import dilate_square
 
 src = np.asarray(Image.open(sys.argv[1]).convert("RGB")).astype(np.float32) / 255
 for path in sys.argv[2:]:
     out = np.asarray(Image.open(path).convert("RGB")).astype(np.float32) / 255
     changed = torch.from_numpy(np.abs(out - src).max(2) > 0)
-    ring = _dilate(changed, 40) & ~_dilate(changed, 8)
+    ring = dilate_square(changed, 40) & ~dilate_square(changed, 8)
     img = torch.from_numpy(out).permute(2, 0, 1)
     road = road_colours(img, ring)
     like = road_like(img, road, min_light=0.0) if road is not None else torch.ones_like(changed)

@@ -98,9 +98,9 @@ def test_shadowed_road_is_darker_than_the_road_on_its_own_row_despite_fog():
     rows = torch.linspace(0.8, 0.4, h)[:, None].expand(h, w)  # fog: far rows (top) lighter
     image = torch.stack([rows, rows, rows * 1.02])
     image[:, 25:32, 20:40] *= 0.55  # a shadow on the near road
-    from sdn3d.editing.photo.recolor import _lab
+    from sdn3d.editing.photo.recolor import srgb_to_lab
 
-    road = _lab(torch.tensor([[0.6, 0.6, 0.612]]))[0]
+    road = srgb_to_lab(torch.tensor([[0.6, 0.6, 0.612]]))[0]
     everywhere = torch.ones(h, w, dtype=torch.bool)
     lit = everywhere.clone()
     lit[25:32, 20:40] = False

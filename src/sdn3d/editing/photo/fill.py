@@ -153,12 +153,12 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
 def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor | None:
     """``(3,)`` Lab of the road around a removed object: the median of the ``ring (H, W)`` pixels (around it, on
     no object) that are near grey or near the ring's own median chroma; None with fewer than 30 such pixels."""
-    from sdn3d.editing.photo.recolor import _lab
+    from sdn3d.editing.photo.recolor import srgb_to_lab
 
     pix = image.permute(1, 2, 0).reshape(-1, 3)[ring.view(-1)]
     if len(pix) < 30:
         return None
-    lab = _lab(pix)
+    lab = srgb_to_lab(pix)
     ab = lab[:, 1:]
     ref = ab[ab.norm(dim=1) < 2 * tolerance]
     if len(ref) < 30:
@@ -174,7 +174,7 @@ def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: f
     lightness is at least ``min_light`` of its: asphalt and its grey or white lane markings (with ``min_light`` 0,
     its shadows too); not grass, foliage or paint. ``within (H, W)``: only the box around those pixels is looked at
     (False outside it)."""
-    from sdn3d.editing.photo.recolor import _lab
+    from sdn3d.editing.photo.recolor import srgb_to_lab
 
     out = torch.zeros(image.shape[1:], dtype=torch.bool)
     y0, y1, x0, x1 = 0, image.shape[1], 0, image.shape[2]
@@ -184,7 +184,7 @@ def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: f
         ys, xs = within.any(1).nonzero().flatten(), within.any(0).nonzero().flatten()
         y0, y1, x0, x1 = int(ys[0]), int(ys[-1]) + 1, int(xs[0]), int(xs[-1]) + 1
     crop = image[:, y0:y1, x0:x1]
-    lab = _lab(crop.permute(1, 2, 0).reshape(-1, 3))
+    lab = srgb_to_lab(crop.permute(1, 2, 0).reshape(-1, 3))
     ok = ((lab[:, 1:] - road[1:]).norm(dim=1) < tolerance) & (lab[:, 0] >= min_light * road[0])
     out[y0:y1, x0:x1] = ok.view(crop.shape[1:])
     return out

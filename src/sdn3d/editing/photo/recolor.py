@@ -13,7 +13,7 @@ from torch import Tensor
 
 from sdn3d.editing.ops import SetCode
 
-__all__ = ["paints", "body_pixels", "recolor_pixels"]
+__all__ = ["paints", "body_pixels", "body_paint", "recolor_pixels", "srgb_to_lab"]
 
 
 def paints(ops: Sequence[object]) -> dict[int, tuple[float, float, float]]:
@@ -48,7 +48,7 @@ def body_pixels(colors: Tensor, groups: Tensor) -> Tensor:
         sel = (groups == g).nonzero().flatten()
         if len(sel) < 8:
             continue
-        body[sel[_paint(_lab(colors[sel]))]] = True
+        body[sel[_paint(srgb_to_lab(colors[sel]))]] = True
     return body
 
 
@@ -66,7 +66,7 @@ def _kmeans_lab(lab: Tensor, k: int = 3, iters: int = 10) -> Tensor:
     return assign
 
 
-def _body_paint(lab: Tensor, min_chroma: float = 10.0, hue_deg: float = 40.0) -> tuple[Tensor, bool]:
+def body_paint(lab: Tensor, min_chroma: float = 10.0, hue_deg: float = 40.0) -> tuple[Tensor, bool]:
     """``(paint (P,) bool, coloured)`` among pixels ``lab (P, 3)`` of a car's *body part* (the fitted mesh says
     which pixels are paint, so no cluster has to): the chroma-weighted mean hue is the paint's; a coloured paint
     (a body whose median chroma is at least ``min_chroma``) keeps the pixels within ``hue_deg`` of it and at least
@@ -88,7 +88,7 @@ def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],
                    body_part: bool = False) -> tuple[Tensor, Tensor, dict]:
     """Repaint a car's body (module doc, step 5).
 
-    With ``body_part`` the pixels are the fitted mesh's body part (:func:`_body_paint` picks the paint among them)
+    With ``body_part`` the pixels are the fitted mesh's body part (:func:`body_paint` picks the paint among them)
     and the paint takes the target's hue outright, each pixel keeping its chroma relative to the paint's and its
     lightness offset: a pixel's hue never mixes the old and the new paint (an additive Lab shift of a red car to
     blue turned its orange highlights and dark shades magenta).
@@ -112,10 +112,10 @@ def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],
     """
     if len(colors) < 8:
         return colors, torch.zeros(len(colors), dtype=torch.bool), {"body_share": 0.0, "delta_e": float("nan")}
-    lab = _lab(colors)
-    target = _lab(torch.tensor([target_rgb], dtype=colors.dtype))[0]
+    lab = srgb_to_lab(colors)
+    target = srgb_to_lab(torch.tensor([target_rgb], dtype=colors.dtype))[0]
     if body_part:
-        body, coloured = _body_paint(lab)
+        body, coloured = body_paint(lab)
         if not bool(body.any()):
             return colors, body, {"body_share": 0.0, "delta_e": float("nan")}
         paint = lab[body]
@@ -131,11 +131,11 @@ def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],
         new_lab = lab + (target - lab[body].mean(0))
     new = _rgb(new_lab).clamp(0, 1)
     out = torch.where(body[:, None], new, colors)
-    delta = float((_lab(out[body]).mean(0) - target).norm())
+    delta = float((srgb_to_lab(out[body]).mean(0) - target).norm())
     return out, body, {"body_share": float(body.double().mean()), "delta_e": delta}
 
 
-def _lab(rgb: Tensor) -> Tensor:
+def srgb_to_lab(rgb: Tensor) -> Tensor:
     """``(P, 3)`` CIE Lab of sRGB rows in [0, 1] (kornia's conversion)."""
     return kornia.color.rgb_to_lab(rgb.float().clamp(0, 1).T[:, :, None])[:, :, 0].T
 

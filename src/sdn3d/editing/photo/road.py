@@ -244,14 +244,14 @@ def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, ligh
     same row: road in shadow (a car's, a tree's), which a ray must not carry into a hole. The road's lightness per
     row is the median of the road-like ``lit (H, W)`` pixels there (rows without any: the nearest row with some),
     since haze and fog lighten the road with distance, that is with the row."""
-    from sdn3d.editing.photo.recolor import _lab
+    from sdn3d.editing.photo.recolor import srgb_to_lab
 
     out = torch.zeros_like(within)
     ys, xs = (within | lit).nonzero(as_tuple=True)
     if not len(ys):
         return out
     y0, y1, x0, x1 = int(ys.min()), int(ys.max()) + 1, int(xs.min()), int(xs.max()) + 1
-    lab = _lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)).view(y1 - y0, x1 - x0, 3)
+    lab = srgb_to_lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)).view(y1 - y0, x1 - x0, 3)
     light = lab[..., 0]
     # A shadow's chroma shrinks with its lightness (the road's colour times less light): compared at that scale.
     scale = (light / max(abs(float(road[0])), 1e-3)).clamp(0, 1)[..., None]

@@ -24,7 +24,7 @@ from sdn3d.editing.photo.fill import (
     vacated_hole,
 )
 from sdn3d.editing.photo.light import LightEstimate, fit_light
-from sdn3d.editing.photo.recolor import _body_paint, _lab, body_pixels, recolor_pixels
+from sdn3d.editing.photo.recolor import body_paint, body_pixels, recolor_pixels, srgb_to_lab
 from sdn3d.editing.photo.road import removal_vanishing_point
 from sdn3d.editing.photo.settings import (
     DEFAULT,
@@ -947,7 +947,7 @@ def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, normal
     plane and, weakly, along the car) and, weighted by :data:`PART_NORMAL_WEIGHT`, by camera-frame normal: an
     example that faced the camera as the new surface does carries its shading (no light model: a side of the car
     turned towards the camera takes the colour of the surfaces that faced it). Body examples must be paint
-    (:func:`~sdn3d.editing.photo.recolor._body_paint`): a tail lamp or a window that a loosely fitted mesh calls
+    (:func:`~sdn3d.editing.photo.recolor.body_paint`): a tail lamp or a window that a loosely fitted mesh calls
     body painted a red or black stripe along the whole new side.
 
     A lamp part it never showed (the front of a car seen from behind) takes the other end's lamps and paint the
@@ -984,7 +984,7 @@ def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, normal
     keep = torch.ones(len(ex), dtype=torch.bool)
     body_ex = (ex_part == int(Part.BODY)).nonzero().flatten()
     if len(body_ex) >= 8:  # body examples that are not paint go (docstring)
-        paint, _ = _body_paint(_lab(colors[body_ex].float()))
+        paint, _ = body_paint(srgb_to_lab(colors[body_ex].float()))
         keep[body_ex[~paint]] = False
     ex_part, colors, point, normal = ex_part[keep], colors[keep], point[keep], normal[keep]
     ex_feat = torch.cat([features(point), PART_NORMAL_WEIGHT * normal], 1)

@@ -104,7 +104,7 @@ BUDGETS = {
                            "model.channels": [16, 16, 32, 64, 64, 128, 128, 128], "data.image_size": [312, 96]},
               "geometric": {"model.pred_epochs": 8, "model.joint_epochs": 2, "trainer.max_epochs": 10,
                             "trainer.limit_train_batches": 4, "datamodule.crop_size": 64},
-              "textural": {"model.lr_constant_epochs": 6, "model.lr_decay_epochs": 6, "trainer.max_epochs": 12,
+              "textural": {"model.lr_constant_epochs": 4, "model.lr_decay_epochs": 4, "trainer.max_epochs": 8,
                            "trainer.limit_train_batches": 10, "model.ngf": 16, "datamodule.maps": "gt"}},
     "medium": {"semantic": {"trainer.max_epochs": 30, "model.lr": 0.002, "model.decoder": "skip",
                             "model.optimizer": "adamw", "data.image_size": [312, 96],

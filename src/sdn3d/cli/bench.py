@@ -459,10 +459,15 @@ def _baseline_generator(cfg: Any, models: Any) -> tuple[Any, dict]:
     return renderer, {"3d-sdn": main_gen, "2d": info, "2d+": info}
 
 
+def _proposal_fit(cfg: Any) -> FitSettings | None:
+    """The proposals' test-time fit of ``fit_proposals`` (the default FitSettings), or None (the paper's protocol)."""
+    return FitSettings() if cfg.fit_proposals else None
+
+
 def _settings_base(cfg: Any, size: tuple[int, int]) -> dict:
     return dict(image_size=size, frame_size=tuple(cfg.frame_size), strict=bool(cfg.strict),
                 pick_radius=cfg.pick_radius, min_pixels=int(cfg.geometric.min_pixels),
-                fit=FitSettings() if cfg.fit_proposals else None, include_identity=bool(cfg.include_identity),
+                fit=_proposal_fit(cfg), include_identity=bool(cfg.include_identity),
                 limit=cfg.limit, examples=int(cfg.examples),
                 compose=_compose_modes(cfg.compose), dilate_px=cfg.compose_dilate_px, feather_px=cfg.compose_feather_px,
                 photo=PhotoSettings.from_mapping(cfg.get("photo")))
@@ -687,7 +692,7 @@ def run_counterfactual_bench(cfg: Any) -> dict:
                                          photo=PhotoSettings.from_mapping({k: v for k, v in (cfg.get("photo") or {})
                                                                            .items() if k != "fill"}),
                                          min_pixels=int(cfg.geometric.min_pixels), limit=cfg.limit,
-                                         fit=FitSettings() if cfg.fit_proposals else None,
+                                         fit=_proposal_fit(cfg),
                                          kinds=tuple(cfg.get("counterfactual_kinds") or ("turn", "delete")))
     t0 = time.perf_counter()
     results = cf.run_counterfactual(index, index_records(read_frames(root)), models, settings, lambda i, n, rows:

@@ -416,6 +416,13 @@ def _shadow_context(image: Tensor, hole: Tensor, objects_px: Tensor, before: Obj
     return search, road_part, ring, road_colours(image, ring)
 
 
+def _relight_around(image: Tensor, search: Tensor, hole: Tensor, objects_px: Tensor, ring: Tensor,
+                    road: Tensor) -> tuple[Tensor, Tensor]:
+    """``(image, relit (H, W) matte)``: the shadow found in ``search`` (grown by 3 px) relit outside ``hole`` and the
+    objects' pixels ``objects_px`` (:func:`~sdn3d.editing.photo.fill.relight_shadow`, lit road from ``ring``)."""
+    return relight_shadow(image, dilate_square(search, 3) & ~hole & ~objects_px, ring, road)
+
+
 def _relight_removed(image: Tensor, hole: Tensor, objects_px: Tensor, before: ObjectTable, rows: list[int], K: Tensor,
                      light: LightEstimate | None) -> tuple[Tensor, Tensor]:
     """``(image, relit (H, W) matte)``: the shadows of objects ``rows`` that left their place relit outside
@@ -423,7 +430,7 @@ def _relight_removed(image: Tensor, hole: Tensor, objects_px: Tensor, before: Ob
     search, _, ring, road = _shadow_context(image, hole, objects_px, before, rows, K, light)
     if road is None:
         return image, torch.zeros(tuple(hole.shape), dtype=torch.float32)
-    return relight_shadow(image, dilate_square(search, 3) & ~hole & ~objects_px, ring, road)
+    return _relight_around(image, search, hole, objects_px, ring, road)
 
 
 def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before: ObjectTable, gone_rows: list[int],
@@ -444,7 +451,7 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
     if settings.fill == "rays":
         return _rays_with_effects(image, hole, objects_px, search, ring, road, settings, vanishing)
     if settings.delete_shadow:
-        image, matte = relight_shadow(image, dilate_square(search, 3) & ~hole & ~objects_px, ring, road)
+        image, matte = _relight_around(image, search, hole, objects_px, ring, road)
     road_hole = hole & road_part
     out = image
     if bool(road_hole.any()):
@@ -476,7 +483,7 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
     dark = shadowed_road(image, road, near, lit, settings.shadow_light) & ~objects_px
     matte = torch.zeros(tuple(hole.shape), dtype=torch.float32)
     if settings.delete_shadow and settings.shadow_mode == "relight":
-        image, matte = relight_shadow(image, dilate_square(search, 3) & ~hole & ~objects_px, ring, road)
+        image, matte = _relight_around(image, search, hole, objects_px, ring, road)
         dark = shadowed_road(image, road, near, lit, settings.shadow_light) & ~objects_px
     elif settings.delete_shadow:
         own = dark & dilate_square(search, 3) & ~hole

@@ -353,3 +353,83 @@ def test_2d_baseline_pastes_the_objects_own_pixels_shifted():
                               frame_size=None, settings=NO_LIGHT)
     width = lambda picture: int(((picture - BACKGROUND).abs().amax(0) > 0.02).any(0).sum())  # noqa: E731
     assert width(squeezed) < 0.7 * width(image)  # 2D+ squeezes the car about its vertical axis by |cos ry|
+
+
+def test_carved_silhouette_keeps_a_too_long_template_inside_the_car():
+    """A template longer than the car it was fitted to overhangs the car's mask in the input; ``silhouette='carved'``
+    draws none of the points the mask (or the mirrored mask) rules out, so the moved car keeps its own outline."""
+    true = SceneObject(12001, template_id=0, dims=(3.2, 1.5, 1.8), ry=0.4, location=(-1.0, 1.6, 12.0))
+    truth = _scene([true])
+    K = _k_input()
+    image, _ = _surface_colors(truth, INPUT_SIZE[::-1], K)
+    fitted = truth.objects.replace(dims=torch.tensor([[4.4, 1.5, 1.8]], dtype=truth.objects.dims.dtype))
+    scene = truth.replace(objects=fitted)  # the masks stay the true car's
+    ops = [Move(12001, (50.0, 40.0))]
+    _, car_after = _surface_colors(apply_edits(truth, ops), INPUT_SIZE[::-1], K)
+    near_car = torch.nn.functional.max_pool2d(car_after[None, None].float(), 5, 1, 2)[0, 0] > 0
+    outside = {}
+    for mode in ("template", "carved"):
+        settings = dataclasses.replace(NO_LIGHT, silhouette=mode)
+        result = render_photo(image, FRAME, scene, apply_edits(scene, ops), settings=settings)
+        drawn = torch.isin(result.source, torch.tensor([PHOTO, MIRROR, FALLBACK], dtype=result.source.dtype))
+        outside[mode] = int((drawn & ~near_car).sum())
+        assert int((drawn & car_after).sum()) > 0.8 * int(car_after.sum())  # the car itself is still drawn
+    assert outside["template"] > 150 and outside["carved"] < 0.1 * outside["template"]
+    with pytest.raises(PhotoSettingsError, match="silhouette"):
+        PhotoSettings(silhouette="mask")
+
+
+def test_the_moved_mask_adds_what_a_too_short_template_misses_when_the_view_hardly_changes():
+    """A template shorter than its car misses part of it; with ``mask_view_deg`` a car moved nearer along its line of
+    sight (its view unchanged) also covers its mask moved by the box's 2D map, sampled from the input's pixels."""
+    true = SceneObject(12001, template_id=0, dims=(4.4, 1.5, 1.8), ry=0.4, location=(-1.0, 1.6, 14.0))
+    truth = _scene([true])
+    K = _k_input()
+    image, _ = _surface_colors(truth, INPUT_SIZE[::-1], K)
+    fitted = truth.objects.replace(dims=torch.tensor([[3.2, 1.5, 1.8]], dtype=truth.objects.dims.dtype))
+    scene = truth.replace(objects=fitted)
+    nearer = truth.objects.location[0] * (10.0 / 14.0)  # the same line of sight, the same yaw: the same view
+    def moved(s: SceneCode) -> SceneCode:
+        return s.replace(objects=s.objects.replace(location=nearer[None].to(s.objects.location.dtype)))
+    expected, car_after = _surface_colors(moved(truth), INPUT_SIZE[::-1], K)
+    covered = {}
+    for view_deg in (0.0, 10.0):
+        settings = dataclasses.replace(NO_LIGHT, silhouette="carved", mask_view_deg=view_deg)
+        result = render_photo(image, FRAME, scene, moved(scene), settings=settings)
+        drawn = torch.isin(result.source, torch.tensor([PHOTO, MIRROR, FALLBACK], dtype=result.source.dtype))
+        covered[view_deg] = float((drawn & car_after).sum() / car_after.sum())
+        if view_deg:
+            assert result.objects[12001]["mask"] > 0.1
+            inner = torch.nn.functional.max_pool2d((~car_after)[None, None].float(), 5, 1, 2)[0, 0] == 0
+            added = inner & drawn
+            assert float((result.image - expected).abs().amax(0)[added].mean()) < 0.05
+    assert covered[0.0] < 0.85 and covered[10.0] > 0.95
+
+
+def test_a_side_seen_edge_on_stays_the_photos_when_the_edit_keeps_the_view():
+    """``view_stretch``: a side the input saw nearly edge-on is taken from the input where the edit shows it no more
+    squarely (a small move), and still not where a turn makes it face the camera."""
+    behind = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2 + 0.12,
+                         location=(-2.0, 1.6, 12.0))
+    scene = _scene([behind])
+    image, _ = _surface_colors(scene, INPUT_SIZE[::-1], _k_input())
+    nudged = scene.replace(objects=scene.objects.replace(
+        location=scene.objects.location + torch.tensor([[0.0, 0.0, 0.3]], dtype=scene.objects.location.dtype)))
+    strict = dataclasses.replace(NO_LIGHT, view_stretch=0.0)
+    loose = dataclasses.replace(NO_LIGHT, view_stretch=1.5)
+    results = {name: render_photo(image, FRAME, scene, nudged, settings=s) for name, s in (("strict", strict),
+                                                                                         ("loose", loose))}
+    kept = {name: r.objects[12001] for name, r in results.items()}
+    assert kept["loose"]["photo"] > kept["strict"]["photo"] + 0.02
+    # The pixels it now takes from the input are the right ones: the surface point's own colour.
+    expected, covered = _surface_colors(nudged, INPUT_SIZE[::-1], _k_input())
+    inner = torch.nn.functional.max_pool2d((~covered)[None, None].float(), 5, 1, 2)[0, 0] == 0
+    gained = (results["loose"].source == PHOTO) & (results["strict"].source != PHOTO) & inner
+    assert int(gained.sum()) > 10
+    assert float((results["loose"].image - expected).abs().amax(0)[gained].mean()) < 0.05
+    turned = apply_edits(scene, [Rotate(12001, math.pi / 2)])
+    turned_px = {name: render_photo(image, FRAME, scene, turned, settings=s).source for name, s in
+                 (("strict", strict), ("loose", loose))}
+    # The edge-on side now faces the camera: it is not stretched over the turned car, with or without the setting.
+    photo = {name: int(((src == PHOTO) | (src == MIRROR)).sum()) for name, src in turned_px.items()}
+    assert abs(photo["loose"] - photo["strict"]) <= 0.02 * int((turned_px["strict"] != INPUT).sum())

@@ -10,10 +10,10 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 
-__all__ = ["FILL_METHODS", "UNSEEN_MODES", "SHADOW_MODES", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS",
-           "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART",
-           "DEFAULT", "RELIT", "FLAT_CODES", "PART_DEFAULTS", "PART_COLORS", "PhotoSettings", "PhotoSettingsError",
-           "source_picture", "part_picture"]
+__all__ = ["FILL_METHODS", "UNSEEN_MODES", "SILHOUETTE_MODES", "SHADOW_MODES", "AUTO_THIN_PX", "SOURCE_NAMES",
+           "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL", "RECOLORED",
+           "SHADOW", "PART", "DEFAULT", "RELIT", "FLAT_CODES", "PART_DEFAULTS", "PART_COLORS", "PhotoSettings",
+           "PhotoSettingsError", "source_picture", "part_picture"]
 
 
 #: How vacated pixels are filled: OpenCV's Telea (fast; the best weight-free fill by L1 and PSNR on a held-out
@@ -35,6 +35,11 @@ AUTO_THIN_PX = 6.0
 #: gets its :data:`PART_DEFAULTS` colour) or ``body`` (the car's body colour everywhere: the appearance before vehicle
 #: parts existed).
 UNSEEN_MODES = ("parts", "body")
+#: Which pixels an edited car covers (:attr:`PhotoSettings.silhouette`): ``template`` (its fitted template's, posed)
+#: or ``carved`` (the template's, less every point the input's masks rule out: a point whose projection in the
+#: input, or its mirror image's across the car's left-right plane, lands on open background is not on the car; the
+#: silhouette of one view and the car's symmetry carve the template as a visual hull would).
+SILHOUETTE_MODES = ("template", "carved")
 #: Codes of :attr:`PhotoResult.source`: ``part``: the same part seen elsewhere on the car (for a lamp the photo never
 #: showed, the other end's lamps and paint); ``default``: a part the
 #: photo never showed, in its :data:`PART_DEFAULTS` colour; ``relit``: road under a removed car's shadow, relit.
@@ -74,6 +79,8 @@ class PhotoSettings:
         min_view_cos: ... and when the input saw its surface at least this squarely (cosine between the surface
             normal and the line of sight): a side seen edge-on in the input covers a pixel or two there and would be
             stretched over the whole side when the car turns.
+        view_stretch: ... unless the edit shows that surface at most this many times as squarely as the input did (a
+            move that keeps the view: nothing is stretched); a huge value: ``min_view_cos`` alone decides.
         mask_erode_px: input pixels the upsampled instance masks are eroded by before they vouch for a pixel
             (None: one working pixel, ``ceil(1 / scale)``).
         hole_dilate_px: input pixels a vacated footprint grows by (its anti-aliased rim, its shadow's edge).
@@ -86,6 +93,10 @@ class PhotoSettings:
         inpaint_radius: Telea's neighbourhood (input pixels).
         max_level: deepest pyramid level sampled when an object shrinks (2**level smaller).
         unseen: :data:`UNSEEN_MODES` for what neither the photo nor the mirror saw (default ``parts``).
+        silhouette: :data:`SILHOUETTE_MODES`, which pixels an edited car covers.
+        mask_view_deg: with ``silhouette='carved'``, a moved car whose view turned by at most this many degrees (its
+            yaw against the line of sight) also covers what the input's mask, moved by the 2D map its box makes,
+            adds to its template (0: nothing added).
         delete_effects: a removed (deleted or moved) object takes its effects with it: its fitted silhouette joins
             the hole, the road part of the hole (below its footprint's far edge) is filled from road-like pixels only,
             and with ``delete_shadow`` its cast shadow (found from its box, the fitted light and the road plane) is
@@ -111,6 +122,7 @@ class PhotoSettings:
     fill: str = "rays"
     depth_tolerance: float = 0.03
     min_view_cos: float = 0.2
+    view_stretch: float = 0.0
     mask_erode_px: int | None = None
     hole_dilate_px: int = 3
     shadow_band: float = 0.12
@@ -119,6 +131,8 @@ class PhotoSettings:
     inpaint_radius: int = 5
     max_level: int = 3
     unseen: str = "parts"
+    silhouette: str = "template"
+    mask_view_deg: float = 0.0
     delete_effects: bool = False
     delete_shadow: bool = True
     recolor_parts: bool = True
@@ -135,13 +149,16 @@ class PhotoSettings:
             raise PhotoSettingsError(f"photo.fill must be one of {FILL_METHODS}, got {self.fill!r}")
         if self.shadow_mode not in SHADOW_MODES:
             raise PhotoSettingsError(f"photo.shadow_mode must be one of {SHADOW_MODES}, got {self.shadow_mode!r}")
+        if self.silhouette not in SILHOUETTE_MODES:
+            raise PhotoSettingsError(f"photo.silhouette must be one of {SILHOUETTE_MODES}, got {self.silhouette!r}")
         if self.unseen not in UNSEEN_MODES:
             raise PhotoSettingsError(f"photo.unseen must be one of {UNSEEN_MODES}, got {self.unseen!r}")
         checks = (("depth_tolerance", self.depth_tolerance, 0.0, 1.0), ("shadow_band", self.shadow_band, 0.0, 1.0),
                   ("min_view_cos", self.min_view_cos, 0.0, 1.0),
                   ("contact_shadow", self.contact_shadow, 0.0, 1.0), ("cast_blur", self.cast_blur, 0.3, 16.0),
                   ("ray_blur", self.ray_blur, 0.0, 8.0), ("ray_texture", self.ray_texture, 0.0, 2.0),
-                  ("shadow_light", self.shadow_light, 0.3, 1.0))
+                  ("shadow_light", self.shadow_light, 0.3, 1.0), ("mask_view_deg", self.mask_view_deg, 0.0, 90.0),
+                  ("view_stretch", self.view_stretch, 0.0, 10.0))
         for name, value, lo, hi in checks:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= float(value) <= hi:
                 raise PhotoSettingsError(f"photo.{name} must be a number in [{lo}, {hi}], got {value!r}")

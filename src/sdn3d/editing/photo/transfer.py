@@ -43,7 +43,8 @@ from sdn3d.editing.photo.settings import (
     PhotoSettingsError,
 )
 from sdn3d.image_ops import dilate_square
-from sdn3d.math3d.rotations import roty
+from sdn3d.math3d.rotations import roty, wrap_angle
+from sdn3d.math3d.transforms import box_corners
 from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.parts import Part
 from sdn3d.render.maps import normal_map
@@ -244,6 +245,18 @@ def _visible(points: Tensor, mesh: Tensor, iid: Tensor, src: _Raster, vis_ids: T
     near = (depth - z).abs() <= tolerance * z.abs() + 0.05
     ok = inside & same & near & (vis_ids.view(-1)[flat] == iid)
     return ok, uv
+
+
+def _in_silhouette(points: Tensor, background: Tensor, K: Tensor) -> Tensor:
+    """``(P,)``: does each source-pose point ``points (P, 3)`` project onto a pixel the input's masks do not rule out
+    (``background (H, W)`` bool is False there, or it falls off the picture or behind the camera)? A point of the
+    object itself projects into its mask or onto whatever hides it, never onto open background."""
+    height, width = background.shape
+    uv, front = _project(points, K)
+    j, i = torch.floor(uv[:, 0] + 0.5).long(), torch.floor(uv[:, 1] + 0.5).long()
+    inside = front & (j >= 0) & (j < width) & (i >= 0) & (i < height) & torch.isfinite(uv).all(1)
+    flat = i.clamp(0, height - 1) * width + j.clamp(0, width - 1)
+    return ~inside | ~background.view(-1)[flat]
 
 
 def _view_cos(points: Tensor, normals: Tensor) -> Tensor:
@@ -642,6 +655,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         src_normals, light = source.light()
     shade = light.shade if light is not None and settings.relight else None
 
+    # Input pixels no object's mask reaches (with the masks' erosion as a margin): no template point is there.
+    background = ~dilate_square(src_ids != 0, photo_source.erode)
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
     keep = (src_ids != 0) & torch.isin(src_ids, after.instance_id[stays])
     hole = vacated_hole(src_ids, gone_ids, keep, settings)
@@ -661,7 +676,10 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         stay_ids = after.instance_id[stays]
         key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
         if effects:  # the removed objects' silhouettes join the hole; their shadows are relit
-            silhouette = dilate_square(torch.isin(_raster_ids(src, before), gone_ids), settings.hole_dilate_px)
+            fitted = torch.isin(_raster_ids(src, before), gone_ids)
+            if settings.silhouette == "carved":  # the template where the input's masks rule it out is not the car
+                fitted &= ~background
+            silhouette = dilate_square(fitted, settings.hole_dilate_px)
             hole = hole | (silhouette & ~keep)
 
             def make() -> Tensor:  # the picture and the relit matte, kept together
@@ -731,7 +749,10 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         tgt = _rasterize(tgt_all_rows.cpu()[keep], tgt_verts.cpu()[keep], tgt_faces.cpu()[keep], K, size)
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
-                                     photo_source.parts, parts_out)
+                                     photo_source.parts, parts_out, background)
+        if settings.silhouette == "carved" and settings.mask_view_deg > 0:
+            out, source = _paste_near_views(out, source, image, own, before, after, origin, moved_rows, src_ids, K,
+                                          settings, objects)
         for a in moved_rows:
             if int(after.instance_id[a]) not in objects:
                 uv, front = _project(_box_floor(after, a, 1.0), K)
@@ -756,6 +777,98 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     return PhotoResult(result, source, light, objects, warnings, parts_out)
 
 
+def _view_change(before: ObjectTable, after: ObjectTable, b: int, a: int) -> float:
+    """Radians the camera's view of an object turned between its rows ``b`` of ``before`` and ``a`` of ``after`` (its
+    yaw against the line of sight, the KITTI observation angle): 0 for a pure move along the line of sight."""
+    def alpha(t: ObjectTable, r: int) -> Tensor:
+        c = t.center[r].double()
+        return t.ry[r].double() - torch.atan2(c[0], c[2])
+    return abs(float(wrap_angle(alpha(after, a) - alpha(before, b))))
+
+
+def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, before: ObjectTable,
+                    after: ObjectTable, origin: Tensor, moved_rows: list[int], src_ids: Tensor, K: Tensor,
+                    settings: PhotoSettings, objects: dict[int, dict]) -> tuple[Tensor, Tensor]:
+    """Each moved object whose view hardly changed (at most ``settings.mask_view_deg``) takes its input mask's pixels
+    moved by the 2D affine map its 3D box makes between its poses, each sampled where that map takes it (code
+    ``photo``), over its drawn template's pixels and onto pixels no object covers: when the view stays, the input's
+    own outline and pixels are nearer the truth than a template's (the parts the mask never showed stay the
+    template's). ``objects`` gains the added pixels (``_pixels``, ``pixels``, shares, ``mask``: the pasted share)."""
+    height, width = own.shape
+    drawn = torch.zeros(height * width, dtype=torch.bool)
+    for info in objects.values():
+        drawn[info["_pixels"]] = True
+    free = ~drawn & (own.view(-1) == 0)
+    pyramid = None
+    flat_out = out.permute(1, 2, 0).reshape(-1, 3).clone()
+    source = source.clone()
+    for a in moved_rows:
+        b = int(origin[a])
+        name = int(after.instance_id[a])
+        if b < 0 or name not in objects or _view_change(before, after, b, a) > math.radians(settings.mask_view_deg):
+            continue
+        ends = []
+        for table, r in ((after, a), (before, b)):
+            corners = box_corners(table.dims[r:r + 1].double(), table.ry[r:r + 1].double(),
+                                  table.center[r:r + 1].double())[0]
+            uv, front = _project(torch.cat([corners, table.center[r:r + 1].double()]), K)
+            ends.append((uv, bool(front.all())))
+        (uv_a, ok_a), (uv_b, ok_b) = ends
+        if not (ok_a and ok_b):
+            continue
+        # Target pixel -> input pixel: least squares over the box's corners and centre (exact for a pure 2D move).
+        design = torch.cat([uv_a, torch.ones(len(uv_a), 1, dtype=torch.float64)], 1)
+        affine = torch.linalg.lstsq(design, uv_b).solution  # (3, 2)
+        mine = src_ids == before.instance_id[b]
+        ys, xs = mine.nonzero(as_tuple=True)
+        if not len(ys):
+            continue
+        # The window: the input mask's box carried to the target (the inverse map).
+        box = torch.tensor([[xs.min(), ys.min()], [xs.max(), ys.min()], [xs.min(), ys.max()], [xs.max(), ys.max()]],
+                           dtype=torch.float64)
+        ends_q = torch.linalg.solve(affine[:2].T, (box - affine[2]).T).T
+        lo = ends_q.amin(0).floor().clamp(min=0)
+        hi = ends_q.amax(0).ceil() + 2
+        x0, y0 = int(lo[0]), int(lo[1])
+        x1, y1 = min(int(hi[0]), width), min(int(hi[1]), height)
+        if x1 <= x0 or y1 <= y0:
+            continue
+        v, u = torch.meshgrid(torch.arange(y0, y1, dtype=torch.float64), torch.arange(x0, x1, dtype=torch.float64),
+                              indexing="ij")
+        q = torch.stack([u.flatten(), v.flatten(), torch.ones(u.numel(), dtype=torch.float64)], 1)
+        p = q @ affine
+        j, i = torch.floor(p[:, 0] + 0.5).long(), torch.floor(p[:, 1] + 0.5).long()
+        inside = (j >= 0) & (j < width) & (i >= 0) & (i < height)
+        flat_q = (v.flatten().long() * width + u.flatten().long())
+        info = objects[name]
+        this = torch.zeros(height * width, dtype=torch.bool)
+        this[info["_pixels"]] = True
+        hit = inside & mine.view(-1)[i.clamp(0, height - 1) * width + j.clamp(0, width - 1)] & (free | this)[flat_q]
+        if not bool(hit.any()):
+            continue
+        if pyramid is None:
+            pyramid = _pyramid(image, settings.max_level)
+        shrink = float(torch.linalg.det(affine[:2]).abs().sqrt())  # input pixels per target pixel
+        level = torch.full((int(hit.sum()),), max(math.log2(max(shrink, 1e-6)), 0.0), dtype=torch.float64)
+        pasted = flat_q[hit]
+        flat_out[pasted] = _sample(pyramid, p[hit, :2], level).float()
+        codes = source.view(-1)
+        codes[pasted] = PHOTO
+        free[pasted] = False
+        added = pasted[~this[pasted]]
+        info["_pixels"] = torch.cat([info["_pixels"], added])
+        total = info["pixels"] + len(added)
+        now = codes[info["_pixels"]]
+        info["mask"] = round(len(pasted) / total, 4)
+        info["photo"] = round(float((now == PHOTO).double().mean()), 4)
+        info["mirror"] = round(float((now == MIRROR).double().mean()), 4)
+        info["part"] = round(float((now == PART).double().mean()), 4)
+        info["fallback"] = round(float(torch.isin(now, torch.tensor([FALLBACK, DEFAULT], dtype=now.dtype))
+                                       .double().mean()), 4)
+        info["pixels"] = total
+    return flat_out.view(height, width, 3).permute(2, 0, 1), source
+
+
 def _source_light(src: _Raster, vis_ids: Tensor, before: ObjectTable,
                   image: Tensor) -> tuple[Tensor, LightEstimate | None]:
     """``(normals (H*W, 3) float64 of the source rasterization, the light fitted to the visible car pixels or
@@ -778,9 +891,11 @@ def _source_light(src: _Raster, vis_ids: Tensor, before: ObjectTable,
 def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster, tgt: _Raster,
           before: ObjectTable, after: ObjectTable, origin: Tensor, moved: Tensor, src_row_to_mesh: Tensor,
           src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
-          warnings: list[str], bank: MeshBank, parts_src: Tensor,
-          parts_out: Tensor) -> tuple[Tensor, Tensor, dict[int, dict]]:
-    """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer."""
+          warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
+          background: Tensor) -> tuple[Tensor, Tensor, dict[int, dict]]:
+    """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
+    ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
+    there is not the object's (``silhouette='carved'``)."""
     height, width = own.shape
     t_mesh = tgt.frags.pix_to_mesh.view(-1)
     covered = (t_mesh >= 0).nonzero().flatten()
@@ -809,6 +924,24 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     s_mesh_c = s_mesh.clamp(min=0)
     tri_s = src.verts[s_mesh_c[:, None], vid] if len(src.rows) else torch.zeros(len(pix), 3, 3, dtype=torch.float64)
     point_s = (bary[..., None] * tri_s).sum(1)
+    # Mirror across the vehicle's left-right plane (local z = 0).
+    rot = roty(before.ry[b_row.clamp(min=0)].double())  # (P, 3, 3)
+    centre = before.center[b_row.clamp(min=0)].double()
+    flip = torch.tensor([1.0, 1.0, -1.0], dtype=torch.float64)
+    local = torch.einsum("pji,pj->pi", rot, point_s - centre) * flip
+    point_m = torch.einsum("pij,pj->pi", rot, local) + centre
+    if settings.silhouette == "carved" and bool(has_src.any()):
+        # A template point the input's mask rules out (module doc, step 3) is not drawn: what shows there is the
+        # picture behind the object, as in the 2D paste.
+        inside = ~has_src | (_in_silhouette(point_s, background, K) & _in_silhouette(point_m, background, K))
+        if not bool(inside.all()):
+            k = inside.nonzero().flatten()
+            pix, row, iid, is_moved, mesh, vid, bary, normal_t = (pix[k], row[k], iid[k], is_moved[k], mesh[k],
+                                                                  vid[k], bary[k], normal_t[k])
+            b_row, s_mesh, has_src, s_mesh_c, tri_s, point_s, rot, centre, point_m = (
+                b_row[k], s_mesh[k], has_src[k], s_mesh_c[k], tri_s[k], point_s[k], rot[k], centre[k], point_m[k])
+            if not len(pix):
+                return out, source, {}
     normal_s = F.normalize(torch.linalg.cross(tri_s[:, 1] - tri_s[:, 0], tri_s[:, 2] - tri_s[:, 0], dim=-1), dim=-1)
     # Same face, same winding: orient the source normal as the target one was (edits are rigid).
     tri_t = tgt.verts[mesh[:, None], vid]
@@ -816,16 +949,15 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     normal_s = torch.where(((raw_t * normal_t).sum(-1) < 0)[:, None], -normal_s, normal_s)
     src_iid = before.instance_id[b_row.clamp(min=0)]
     ok_photo, uv_photo = _visible(point_s, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
-    ok_photo &= has_src & (_view_cos(point_s, normal_s) >= settings.min_view_cos)
-    # Mirror across the vehicle's left-right plane (local z = 0).
-    rot = roty(before.ry[b_row.clamp(min=0)].double())  # (P, 3, 3)
-    centre = before.center[b_row.clamp(min=0)].double()
-    flip = torch.tensor([1.0, 1.0, -1.0], dtype=torch.float64)
-    local = torch.einsum("pji,pj->pi", rot, point_s - centre) * flip
-    point_m = torch.einsum("pij,pj->pi", rot, local) + centre
+    # A surface seen edge-on is not stretched over a side the edit turns to face the camera; where the edit shows it
+    # hardly more squarely than the input did (a move that keeps the view), it is the input's all the same.
+    cos_t = _view_cos((bary[..., None] * tri_t).sum(1), normal_t)
+    squarely = (torch.clamp(cos_t / settings.view_stretch, max=settings.min_view_cos) if settings.view_stretch > 0
+                else torch.full_like(cos_t, settings.min_view_cos))
+    ok_photo &= has_src & (_view_cos(point_s, normal_s) >= squarely)
     normal_m = torch.einsum("pij,pj->pi", rot, torch.einsum("pji,pj->pi", rot, normal_s) * flip)
     ok_mirror, uv_mirror = _visible(point_m, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
-    ok_mirror &= has_src & ~ok_photo & (_view_cos(point_m, normal_m) >= settings.min_view_cos)
+    ok_mirror &= has_src & ~ok_photo & (_view_cos(point_m, normal_m) >= squarely)
 
     # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.
     z_t = tgt.frags.depth.view(-1)[pix].double()

@@ -18,6 +18,7 @@ from sdn3d.editing.apply import (
     Duplicate,
     EditError,
     Modify,
+    ModifyAnchor,
     Move,
     Rotate,
     SetBackgroundCode,
@@ -351,3 +352,25 @@ def test_vacated_region_growth_matches_scipy_binary_dilation(iterations):
     mask = torch.rand(37, 53, generator=torch.Generator().manual_seed(iterations)) > 0.97
     mask[0, :3] = mask[-1, -1] = True  # borders: nothing grows in from outside the image
     assert np.array_equal(_dilate_cross(mask, iterations).numpy(), binary_dilation(mask.numpy(), iterations=iterations))
+
+
+def test_a_modify_moves_the_point_it_picked_unless_anchored_at_the_centre(scene):
+    """``ModifyAnchor.pick``: a de-rendered centre a few pixels off ``from`` keeps that offset (scaled by ``zoom``), so
+    the object's pixels move as the 2D baselines paste them; ``centre``: the centre itself goes to ``to``."""
+    uv, _ = projected_centers(scene)
+    iid = _big(scene)
+    i = scene.objects.index_of(iid)
+    offset = torch.tensor([3.0, -2.0], dtype=torch.float64)
+    pick = tuple((uv[i] + offset).tolist())  # the user's point, a little off the de-rendered centre
+    to = (float(uv[i, 0]) + 20.0, float(uv[i, 1]) + 4.0)
+    zoom = 1.25
+    op = BenchmarkOperation.modify(pick, to, zoom, 0.0)
+    for anchor, expected in ((ModifyAnchor.PICK, torch.tensor(to, dtype=torch.float64) - zoom * offset),
+                             (ModifyAnchor.CENTRE, torch.tensor(to, dtype=torch.float64))):
+        ops = ops_from_benchmark([op], scene, frame_size=None, anchor=anchor)
+        assert ops[0].instance_id == iid
+        edited = apply_edits(scene, ops)
+        moved, _ = projected_centers(edited)
+        assert moved[edited.objects.index_of(iid)] == pytest.approx(expected, abs=1e-6)
+    with pytest.raises(ValueError):
+        ops_from_benchmark([op], scene, frame_size=None, anchor="middle")

@@ -433,3 +433,26 @@ def test_a_side_seen_edge_on_stays_the_photos_when_the_edit_keeps_the_view():
     # The edge-on side now faces the camera: it is not stretched over the turned car, with or without the setting.
     photo = {name: int(((src == PHOTO) | (src == MIRROR)).sum()) for name, src in turned_px.items()}
     assert abs(photo["loose"] - photo["strict"]) <= 0.02 * int((turned_px["strict"] != INPUT).sum())
+
+
+def test_amodal_seen_leaves_the_flat_part_of_a_freed_car_to_the_fill():
+    """Deleting a near car frees part of the car behind it; ``amodal='all'`` draws every freed point, those the photo
+    never showed in flat colour; ``'seen'`` draws only what the photo or its mirror image showed and leaves the rest to
+    the fill (code ``fill``)."""
+    near = SceneObject(12003, template_id=2, dims=(4.0, 1.5, 1.8), ry=0.0, location=(-0.5, 1.6, 8.0))
+    far = SceneObject(12004, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.3, location=(-1.5, 1.6, 16.0))
+    scene = _scene([near, far])
+    image, _ = _surface_colors(scene, INPUT_SIZE[::-1], _k_input())
+    edited = apply_edits(scene, [Delete(12003)])
+    codes = {}
+    for mode in ("all", "seen"):
+        result = render_photo(image, FRAME, scene, edited, settings=dataclasses.replace(NO_LIGHT, amodal=mode))
+        codes[mode] = result.source
+    flat_all = codes["all"] == FALLBACK
+    assert int(flat_all.sum()) > 20  # the freed part of the far car the photo never showed
+    assert not bool((codes["seen"] == FALLBACK).any())
+    assert bool((codes["seen"][flat_all] == FILL).all())
+    seen_all = (codes["all"] == PHOTO) | (codes["all"] == MIRROR)
+    assert torch.equal(codes["seen"][seen_all], codes["all"][seen_all])  # what the photo showed is drawn either way
+    with pytest.raises(PhotoSettingsError, match="amodal"):
+        PhotoSettings(amodal="none")

@@ -151,6 +151,7 @@ class BenchSchema:
     frame_size: List[int] = MISSING
     strict: bool = MISSING
     pick_radius: Optional[float] = MISSING
+    modify_anchor: str = MISSING
     include_identity: bool = MISSING
     limit: Optional[int] = MISSING
     allow_empty: bool = MISSING

@@ -144,6 +144,10 @@ def _header(summaries: dict, info: dict) -> list[str]:
             f"Source scenes: {sources}. " + ("The proposals' vehicles are fitted to their masks at test time "
                                              "(`fit_proposals=true`, as `sdn3d-edit` does). "
                                              if info.get("fit_proposals") else "") +
+            ("A modify moves its object so that the point `from` lands on `to` (`modify_anchor=pick`, as the 2D "
+             "baselines paste it). " if info.get("modify_anchor") == "pick" else
+             "A modify puts the de-rendered box centre at `to` (`modify_anchor=centre`). "
+             if info.get("modify_anchor") else "") +
             "Lower LPIPS / L1 and higher SSIM / PSNR are better; *all* = the union of the edited objects' source and "
             "target regions, *largest* = the largest edited object's target box (crop), *objects* = the target's "
             "visible pixels of the edited objects (the cars themselves, apart from the road filled behind them).",
@@ -466,7 +470,8 @@ def _proposal_fit(cfg: Any) -> FitSettings | None:
 
 def _settings_base(cfg: Any, size: tuple[int, int]) -> dict:
     return dict(image_size=size, frame_size=tuple(cfg.frame_size), strict=bool(cfg.strict),
-                pick_radius=cfg.pick_radius, min_pixels=int(cfg.geometric.min_pixels),
+                pick_radius=cfg.pick_radius, modify_anchor=cfg.modify_anchor,
+                min_pixels=int(cfg.geometric.min_pixels),
                 fit=_proposal_fit(cfg), include_identity=bool(cfg.include_identity),
                 limit=cfg.limit, examples=int(cfg.examples),
                 compose=_compose_modes(cfg.compose), dilate_px=cfg.compose_dilate_px, feather_px=cfg.compose_feather_px,
@@ -616,6 +621,7 @@ def run_bench(cfg: Any) -> dict:
             "device": str(cfg.device), "threads": torch.get_num_threads(), **lpips, "compose": list(first.compose),
             "dilate_px": first.dilate_px, "feather_px": first.feather_px,
             "fit_proposals": first.fit is not None and first.scene is Scene.DERENDER,
+            "modify_anchor": str(first.modify_anchor),
             "wall_s": time.perf_counter() - t0}
     entries_json = {name: [r.to_json() for r in rs] for name, rs in results.items()}
     comparisons = paired_comparisons(entries_json, summaries, info)

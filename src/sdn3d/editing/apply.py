@@ -37,6 +37,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable, Sequence
+from enum import StrEnum
 
 import torch
 from torch import Tensor
@@ -77,6 +78,7 @@ __all__ = [
     "EditOp",
     "apply_edits",
     "ops_from_benchmark",
+    "ModifyAnchor",
     "match_objects",
     "projected_centers",
     "MIN_CLEARANCE",
@@ -509,9 +511,23 @@ def _dilate_cross(mask: Tensor, iterations: int) -> Tensor:
     return x[0, 0] > 0
 
 
+class ModifyAnchor(StrEnum):
+    """Where a benchmark ``modify`` puts the picked object (:func:`ops_from_benchmark`).
+
+    ``pick``: the object moves so that the point ``from`` lands on ``to``, its offset from there scaled by
+    ``zoom``, as the 2D baselines paste it (:mod:`sdn3d.evaluation.baselines`) and as a drag moves a car in the
+    editor; a de-rendered centre a few pixels off ``from`` keeps that offset. ``centre``: the object's de-rendered box
+    centre goes to ``to`` (the offset of the de-rendered centre from ``from`` is added to every pixel's move).
+    Both are the same for a centre that projects onto ``from``.
+    """
+
+    PICK = "pick"
+    CENTRE = "centre"
+
+
 def ops_from_benchmark(entry: BenchmarkEntry | Sequence[BenchmarkOperation], scene: SceneCode,
                        frame_size: tuple[int, int] | None = VKITTI_FRAME_SIZE, strict: bool = True,
-                       max_distance: float | None = None) -> list[EditOp]:
+                       max_distance: float | None = None, anchor: ModifyAnchor = ModifyAnchor.PICK) -> list[EditOp]:
     """Convert benchmark operations (:mod:`sdn3d.data.edit_benchmark`) to :class:`Modify` / :class:`Delete`.
 
     Args:
@@ -522,10 +538,23 @@ def ops_from_benchmark(entry: BenchmarkEntry | Sequence[BenchmarkOperation], sce
             to the scene's size. None: already in the scene's pixels.
         strict: reject ``to`` points outside the frame (the published file needs ``strict=False``).
         max_distance: reject picks farther than this many pixels (scene size) from any object.
+        anchor: :class:`ModifyAnchor`, where a ``modify`` puts the object.
     """
+    anchor = ModifyAnchor(anchor)
     ops = list(entry.operations if isinstance(entry, BenchmarkEntry) else entry)
     if frame_size is not None and tuple(frame_size) != scene.image_size:
         ops = [scale_operation(op, tuple(frame_size), scene.image_size) for op in ops]
     ids = match_objects(scene, [op.from_uv for op in ops], [op.kind == "modify" for op in ops], max_distance)
-    return [Delete(i) if op.kind == "delete" else Modify(i, op.to_uv, op.zoom, op.ry, check_frame=strict)
-            for op, i in zip(ops, ids, strict=True)]
+    centers, _ = projected_centers(scene)
+    row = {int(v): k for k, v in enumerate(scene.objects.instance_id.tolist())}
+    out: list[EditOp] = []
+    for op, i in zip(ops, ids, strict=True):
+        if op.kind == "delete":
+            out.append(Delete(i))
+            continue
+        to = op.to_uv
+        if anchor is ModifyAnchor.PICK and to is not None:
+            c = centers[row[i]].tolist()
+            to = (to[0] + op.zoom * (c[0] - op.from_uv[0]), to[1] + op.zoom * (c[1] - op.from_uv[1]))
+        out.append(Modify(i, to, op.zoom, op.ry, check_frame=strict))
+    return out

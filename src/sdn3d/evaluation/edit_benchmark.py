@@ -71,7 +71,7 @@ from sdn3d.editing.appearance import (
     picture_mode,
     render_maps,
 )
-from sdn3d.editing.apply import apply_edits, match_objects, ops_from_benchmark
+from sdn3d.editing.apply import ModifyAnchor, apply_edits, match_objects, ops_from_benchmark
 from sdn3d.editing.compose import (
     COMPOSE_MODES,
     Compose,
@@ -161,6 +161,8 @@ class BenchSettings:
         frame_size: ``(W, H)`` of the benchmark's coordinates (1242x375).
         strict: reject ``to`` points outside the frame (False for the published file).
         pick_radius: max distance (working pixels) of a ``from`` pick; None: nearest object.
+        modify_anchor: where a ``modify`` puts its object (:class:`~sdn3d.editing.apply.ModifyAnchor`; ``pick``: the
+            point ``from`` lands on ``to``, as the 2D baselines paste it).
         min_pixels: visible pixels an object needs for 3D geometry in :func:`derender`.
         fit: ``scene='derender'``: the test-time fit of the proposals' vehicles (:mod:`sdn3d.proposal_fit`, a
             :class:`~sdn3d.geometric.fit.FitSettings`), what ``sdn3d-edit`` gives a user; None: the branch's poses
@@ -181,6 +183,7 @@ class BenchSettings:
     frame_size: tuple[int, int] = VKITTI_FRAME_SIZE
     strict: bool = False
     pick_radius: float | None = None
+    modify_anchor: ModifyAnchor = ModifyAnchor.PICK
     min_pixels: int = 64
     fit: FitSettings | None = None
     include_identity: bool = False
@@ -199,8 +202,12 @@ class BenchSettings:
         compose = tuple(str(c) for c in self.compose)
         if not compose or len(set(compose)) != len(compose) or not set(compose) <= set(MODES):
             raise ComposeSettingsError(f"compose must list distinct modes of {MODES}, got {list(compose)}")
+        anchors = tuple(a.value for a in ModifyAnchor)
+        if not isinstance(self.modify_anchor, str) or self.modify_anchor not in anchors:
+            raise UserInputError(f"BenchSettings.modify_anchor must be one of {anchors}, got {self.modify_anchor!r}")
         object.__setattr__(self, "scene", Scene(self.scene))
         object.__setattr__(self, "proposals", Proposals(self.proposals))
+        object.__setattr__(self, "modify_anchor", ModifyAnchor(self.modify_anchor))
         object.__setattr__(self, "compose", tuple(PictureMode(c) for c in compose))
         for mode in compose:
             self.renderer(mode)  # checks the mode, dilate_px and feather_px
@@ -391,7 +398,8 @@ def _method_pictures(entry: BenchmarkEntry, scene: SceneCode, baseline: tuple[Sc
     ids = torch.zeros(0, dtype=torch.long)
     edited = None
     try:
-        ops = ops_from_benchmark(entry, scene, settings.frame_size, settings.strict, settings.pick_radius)
+        ops = ops_from_benchmark(entry, scene, settings.frame_size, settings.strict, settings.pick_radius,
+                                 settings.modify_anchor)
         picks["3d-sdn"] = [op.instance_id for op in ops]
         edited = apply_edits(scene, ops)
         t2 = time.perf_counter()

@@ -10,10 +10,10 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 
-__all__ = ["FILL_METHODS", "UNSEEN_MODES", "SILHOUETTE_MODES", "SHADOW_MODES", "AUTO_THIN_PX", "SOURCE_NAMES",
-           "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL", "RECOLORED",
-           "SHADOW", "PART", "DEFAULT", "RELIT", "FLAT_CODES", "PART_DEFAULTS", "PART_COLORS", "PhotoSettings",
-           "PhotoSettingsError", "source_picture", "part_picture"]
+__all__ = ["FILL_METHODS", "UNSEEN_MODES", "SILHOUETTE_MODES", "AMODAL_MODES", "SHADOW_MODES", "AUTO_THIN_PX",
+           "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL",
+           "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT", "FLAT_CODES", "PART_DEFAULTS", "PART_COLORS",
+           "PhotoSettings", "PhotoSettingsError", "source_picture", "part_picture"]
 
 
 #: How vacated pixels are filled: OpenCV's Telea (fast; the best weight-free fill by L1 and PSNR on a held-out
@@ -40,6 +40,10 @@ UNSEEN_MODES = ("parts", "body")
 #: input, or its mirror image's across the car's left-right plane, lands on open background is not on the car; the
 #: silhouette of one view and the car's symmetry carve the template as a visual hull would).
 SILHOUETTE_MODES = ("template", "carved")
+#: What an object that stays draws where a removed object freed its hidden part (:attr:`PhotoSettings.amodal`): ``all``
+#: (every point, the ones the photo never showed in flat colour) or ``seen`` (the points the photo, its mirror image or
+#: the same part elsewhere on the car supply; the flat ones are left to the fill, which carries the surroundings in).
+AMODAL_MODES = ("all", "seen")
 #: Codes of :attr:`PhotoResult.source`: ``part``: the same part seen elsewhere on the car (for a lamp the photo never
 #: showed, the other end's lamps and paint); ``default``: a part the
 #: photo never showed, in its :data:`PART_DEFAULTS` colour; ``relit``: road under a removed car's shadow, relit.
@@ -94,6 +98,7 @@ class PhotoSettings:
         max_level: deepest pyramid level sampled when an object shrinks (2**level smaller).
         unseen: :data:`UNSEEN_MODES` for what neither the photo nor the mirror saw (default ``parts``).
         silhouette: :data:`SILHOUETTE_MODES`, which pixels an edited car covers.
+        amodal: :data:`AMODAL_MODES`, what a staying object draws where a removed one freed its hidden part.
         mask_view_deg: with ``silhouette='carved'``, a moved car whose view turned by at most this many degrees (its
             yaw against the line of sight) also covers what the input's mask, moved by the 2D map its box makes,
             adds to its template (0: nothing added).
@@ -132,6 +137,7 @@ class PhotoSettings:
     max_level: int = 3
     unseen: str = "parts"
     silhouette: str = "template"
+    amodal: str = "all"
     mask_view_deg: float = 0.0
     delete_effects: bool = False
     delete_shadow: bool = True
@@ -149,6 +155,8 @@ class PhotoSettings:
             raise PhotoSettingsError(f"photo.fill must be one of {FILL_METHODS}, got {self.fill!r}")
         if self.shadow_mode not in SHADOW_MODES:
             raise PhotoSettingsError(f"photo.shadow_mode must be one of {SHADOW_MODES}, got {self.shadow_mode!r}")
+        if self.amodal not in AMODAL_MODES:
+            raise PhotoSettingsError(f"photo.amodal must be one of {AMODAL_MODES}, got {self.amodal!r}")
         if self.silhouette not in SILHOUETTE_MODES:
             raise PhotoSettingsError(f"photo.silhouette must be one of {SILHOUETTE_MODES}, got {self.silhouette!r}")
         if self.unseen not in UNSEEN_MODES:

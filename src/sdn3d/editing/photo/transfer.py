@@ -30,6 +30,7 @@ from sdn3d.editing.photo.settings import (
     DEFAULT,
     FALLBACK,
     FILL,
+    FLAT_CODES,
     INPUT,
     MIRROR,
     PART,
@@ -983,6 +984,8 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     t_part = _part_map(tgt, after, bank)[pix]
     by_parts = settings.unseen == "parts"
     drawn_rows = row.unique()
+    drawn = torch.ones(len(pix), dtype=torch.bool)  # False: left to the fill (amodal='seen')
+    flat_codes = torch.tensor(FLAT_CODES, dtype=torch.uint8)
     visible_of = _pixels_of(vis_ids, before.instance_id[origin[drawn_rows][origin[drawn_rows] >= 0]])
     for r in drawn_rows.tolist():
         sel = row == r
@@ -1009,8 +1012,14 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
                 s_un = torch.where(code == PART, 1.0, surface_shade(normal_t[unseen]))  # a part's pixels are shaded
                 fallback[unseen] = alb * s_un[:, None]
                 codes[unseen] = code
+        if settings.amodal == "seen" and not bool(moved[r]):  # a staying object's freed pixels: flat ones not drawn
+            drop = sel & torch.isin(codes, flat_codes)
+            drawn &= ~drop
+            sel &= ~drop
+            if not bool(sel.any()):
+                continue
         n = int(sel.sum())
-        flat = torch.isin(codes[sel], torch.tensor([FALLBACK, DEFAULT], dtype=torch.uint8))
+        flat = torch.isin(codes[sel], flat_codes)
         objects[name] = {"pixels": n, "photo": round(float(ok_photo[sel].double().mean()), 4),
                          "mirror": round(float(ok_mirror[sel].double().mean()), 4),
                          "part": round(float((codes[sel] == PART).double().mean()), 4),
@@ -1020,6 +1029,9 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             warnings.append(f"object {name}: none of its surface is visible in the input (behind the camera, off the "
                             "frame or hidden); drawn from its mean colour")
     color = torch.where(seen[:, None], color, fallback).clamp(0, 1)
+    if not bool(drawn.all()):
+        k = drawn.nonzero().flatten()
+        pix, color, codes, t_part = pix[k], color[k], codes[k], t_part[k]
     flat = out.permute(1, 2, 0).reshape(-1, 3).clone()
     flat[pix] = color.float()
     source = source.clone()

@@ -28,10 +28,14 @@ from torch import Tensor
 from sdn3d.image_ops import dilate_square
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
-           "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD"]
+           "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
+           "GRAIN_WEIGHTS"]
 
 #: Gaussian sigma (pixels) below which a source's detail is the road's grain (:func:`ray_fill`'s ``texture``).
 GRAIN_SIGMA = 1.0
+#: A source pixel's high-pass beyond this many robust standard deviations of the picture's (its luma's median absolute
+#: value, scaled) is an edge, not grain (:func:`ray_fill`).
+GRAIN_EDGE = 4.0
 #: Depth (pixels) into the hole beyond which the mirrored grain folds back towards the hole's edge.
 GRAIN_FOLD = 24.0
 #: Hole pixels traced at once (memory: ``RAY_CHUNK x steps`` samples per side).
@@ -135,13 +139,16 @@ def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tenso
 
 def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Tensor | None = None,
              sigma: float = 1.0, texture: float = 1.0, along: int = 1, max_steps: int = 400,
-             beyond: int = 64) -> tuple[Tensor, Tensor]:
+             beyond: int = 64, match_grain: bool = False) -> tuple[Tensor, Tensor]:
     """``(image (3, H, W), reached (H, W) bool)``: ``image`` with the ``hole (H, W)`` pixels a ray reaches filled
     along the rays from the vanishing point ``vp = (u, v)`` (module doc); ``keep_out (H, W)``: pixels no ray samples
     (other objects), ``sigma``: the sources' normalised blur, ``texture``: weight of the mirrored high-pass,
     ``along``: source pixels averaged along the ray from its first one outward (a lane line runs along the ray, so
     this smooths noise without blurring it), ``max_steps``: how far (pixels) a ray looks on each side at most,
-    ``beyond``: and at most this far past the hole's box diagonal (through other objects and shadows)."""
+    ``beyond``: and at most this far past the hole's box diagonal (through other objects and shadows);
+    ``match_grain``: instead of ``texture``, the weight of :data:`GRAIN_WEIGHTS` whose fill's road is as
+    fine-textured as the road around the hole (:func:`_matched_weight`): a photo's asphalt has more grain
+    than a render's."""
     height, width = hole.shape
     out = image.clone()
     reached = torch.zeros_like(hole)
@@ -152,7 +159,13 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         return out, reached
     smooth = _normalised_blur(image, valid, sigma)
     # The sources' grain: their high-pass at one pixel's scale (0 elsewhere: never a car's edge).
-    detail = (image - _normalised_blur(image, valid, GRAIN_SIGMA)) * valid if texture > 0 else None
+    detail = None
+    if texture > 0 or match_grain:
+        detail = (image - _normalised_blur(image, valid, GRAIN_SIGMA)) * valid
+        # A marking's or a kerb's outline is no grain: mirrored into the hole it draws a ghost outline there.
+        level = detail.mean(0).abs()
+        scale = 1.4826 * float(level[valid].median()) if bool(valid.any()) else 0.0
+        detail = detail * (level <= GRAIN_EDGE * scale)
     ys, xs = hole.nonzero(as_tuple=True)
     pix = torch.stack([xs, ys], 1).float()
     centre = torch.tensor(vp, dtype=torch.float32)
@@ -167,6 +180,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     steps = torch.cat([torch.arange(1, 17), torch.arange(17, far + 1, 2)]).float()
     never = torch.full_like(reach, float(far))
     values = torch.zeros(3, len(ys))
+    grains = torch.zeros(3, len(ys)) if detail is not None else None
     got = torch.zeros(len(ys), dtype=torch.bool)
     for s in range(0, len(ys), RAY_CHUNK):
         p, u, sp = pix[s:s + RAY_CHUNK], unit[s:s + RAY_CHUNK], reach[s:s + RAY_CHUNK]
@@ -180,19 +194,72 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
                             torch.zeros_like(d_in))
         w_in = torch.where(f_in, 1 - w_out, torch.zeros_like(d_in))
         val = c_out * w_out + c_in * w_in
-        if texture > 0:  # a side's high-pass, mirrored across the hole's edge along the ray (the nearer side first)
+        if detail is not None:  # a side's high-pass, mirrored across the hole's edge along the ray (the nearer side first)
             near_out = f_out & (~f_in | (d_out <= d_in))
             grain, ok = _mirrored(detail, valid, torch.where(near_out[:, None], q_out, q_in),
                                   torch.where(near_out[:, None], u, -u), torch.where(near_out, d_out, d_in))
             other, ok2 = _mirrored(detail, valid, torch.where(near_out[:, None], q_in, q_out),
                                    torch.where(near_out[:, None], -u, u), torch.where(near_out, d_in, d_out))
             ok2 = ok2 & ~ok & torch.where(near_out, f_in, f_out)
-            val = val + texture * (ok * grain + ok2 * other)
+            grains[:, s:s + RAY_CHUNK] = ok * grain + ok2 * other
         values[:, s:s + RAY_CHUNK] = val
         got[s:s + RAY_CHUNK] = f_out | f_in
+    if grains is not None:
+        weight = (_matched_weight(image, valid, values[:, got], grains[:, got], ys[got], xs[got], texture)
+                  if match_grain and bool(got.any()) else texture)
+        values = values + weight * grains
     out[:, ys[got], xs[got]] = values[:, got].clamp(0, 1).to(out.dtype)
     reached[ys[got], xs[got]] = True
     return out, reached
+
+
+#: Grain weights :func:`ray_fill` chooses from with ``match_grain``.
+GRAIN_WEIGHTS = (0.0, 0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0)
+
+
+def _luma_laplacian(image: Tensor) -> Tensor:
+    """``(H, W)`` absolute 3x3 Laplacian of the luma of ``image (3, H, W)`` (the texture measure of the records: its
+    mean over a region)."""
+    import cv2
+
+    y = (image.permute(1, 2, 0).float().numpy() @ np.array([0.2126, 0.7152, 0.0722], np.float32)).astype(np.float32)
+    return torch.from_numpy(np.abs(cv2.Laplacian(np.ascontiguousarray(y), cv2.CV_32F, ksize=1)))
+
+
+def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor, ys: Tensor, xs: Tensor,
+                    default: float) -> float:
+    """The weight of :data:`GRAIN_WEIGHTS` at which the road-like pixels of the fill
+    ``values + weight * grains`` (both ``(3, N)`` at hole pixels ``ys, xs``; those with no picture pixel in their
+    3x3 neighbourhood: the seam is not grain) have the mean absolute luma Laplacian of the road-like ``valid``
+    pixels 8 to 40 pixels around the hole (:func:`~sdn3d.editing.photo.fill.road_like`: asphalt and its markings,
+    not grass or foliage). ``default`` where too few such pixels are found."""
+    from sdn3d.editing.photo.fill import road_colours, road_like
+
+    height, width = valid.shape
+    hole = torch.zeros_like(valid)
+    hole[ys, xs] = True
+    ring = dilate_square(hole, 40) & ~dilate_square(hole, 8) & valid
+    road = road_colours(image, ring)
+    if road is None:
+        return default
+    around = ring & road_like(image, road, within=ring)
+    if int(around.sum()) < 50:
+        return default
+    y0, y1 = max(int(ys.min()) - 41, 0), min(int(ys.max()) + 42, height)
+    x0, x1 = max(int(xs.min()) - 41, 0), min(int(xs.max()) + 42, width)
+    crop = image[:, y0:y1, x0:x1].float().clone()
+    target = float(_luma_laplacian(crop)[around[y0:y1, x0:x1]].mean())
+    inside = ~dilate_square(~hole, 1)[y0:y1, x0:x1]
+    best, gap = default, math.inf
+    for w in GRAIN_WEIGHTS:
+        crop[:, ys - y0, xs - x0] = (values + w * grains).clamp(0, 1)
+        like = inside & road_like(crop, road)
+        if int(like.sum()) < 50:
+            continue
+        level = float(_luma_laplacian(crop)[like].mean())
+        if abs(level - target) < gap:
+            best, gap = w, abs(level - target)
+    return best
 
 
 def _mirrored(detail: Tensor, valid: Tensor, edge: Tensor, back: Tensor, depth: Tensor) -> tuple[Tensor, Tensor]:

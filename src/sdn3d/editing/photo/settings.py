@@ -10,7 +10,7 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 
-__all__ = ["FILL_METHODS", "UNSEEN_MODES", "SHADOW_MODES", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS",
+__all__ = ["FILL_METHODS", "UNSEEN_MODES", "SHADOW_MODES", "GRAIN_MODES", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS",
            "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART",
            "DEFAULT", "RELIT", "FLAT_CODES", "PART_DEFAULTS", "PART_COLORS", "PhotoSettings", "PhotoSettingsError",
            "source_picture", "part_picture"]
@@ -27,6 +27,9 @@ FILL_METHODS = ("telea", "patchmatch", "auto", "generator", "rays")
 #: ``fill`` (the shadowed road near it joins the hole and is filled along the rays from lit road) or ``relight``
 #: (relit by a per-channel gain and a matte first, :func:`~sdn3d.editing.photo.fill.relight_shadow`).
 SHADOW_MODES = ("fill", "relight")
+#: How ``fill='rays'`` puts the road's grain back (:attr:`PhotoSettings.ray_grain`): at the fixed weight
+#: ``ray_texture`` (``fixed``) or at the weight up to it that matches the sources' fine texture (``match``).
+GRAIN_MODES = ("fixed", "match")
 #: ``fill='auto'``: a hole part at most this many pixels from its edge everywhere is filled by Telea, else PatchMatch.
 AUTO_THIN_PX = 6.0
 #: How a point of an edited car that neither the photo nor its mirror image saw is drawn
@@ -100,6 +103,9 @@ class PhotoSettings:
         ray_texture: ``fill='rays'``: weight of the road's fine texture (the sources' high-pass mirrored across the
             hole's edge) added to the fill (0: smooth along the rays).
         ray_span: ``fill='rays'``: source pixels averaged along each ray from the hole's edge outward.
+        ray_grain: :data:`GRAIN_MODES` (``fill='rays'``): ``fixed`` puts the grain back at ``ray_texture``; ``match``
+            at the weight (0 to 3, ray_texture unused) that gives the fill's road the fine texture (mean absolute luma Laplacian) of the
+            road 8-40 pixels around the hole (:func:`~sdn3d.editing.photo.road.ray_fill`).
         shadow_mode: :data:`SHADOW_MODES`, with ``delete_effects``, ``delete_shadow`` and ``fill='rays'``.
         shadow_light: road darker than this share of the road's lightness on its row is shadow (``fill='rays'``
             with ``delete_effects``: never a ray's source; with ``shadow_mode='fill'``, the removed car's own joins
@@ -132,6 +138,7 @@ class PhotoSettings:
     ray_blur: float = 0.0
     ray_texture: float = 0.25
     ray_span: int = 12
+    ray_grain: str = "match"
     shadow_mode: str = "fill"
     shadow_light: float = 0.8
     grow_min_seen: int = 1
@@ -141,6 +148,8 @@ class PhotoSettings:
             raise PhotoSettingsError(f"photo.fill must be one of {FILL_METHODS}, got {self.fill!r}")
         if self.shadow_mode not in SHADOW_MODES:
             raise PhotoSettingsError(f"photo.shadow_mode must be one of {SHADOW_MODES}, got {self.shadow_mode!r}")
+        if self.ray_grain not in GRAIN_MODES:
+            raise PhotoSettingsError(f"photo.ray_grain must be one of {GRAIN_MODES}, got {self.ray_grain!r}")
         if self.unseen not in UNSEEN_MODES:
             raise PhotoSettingsError(f"photo.unseen must be one of {UNSEEN_MODES}, got {self.unseen!r}")
         checks = (("depth_tolerance", self.depth_tolerance, 0.0, 1.0), ("shadow_band", self.shadow_band, 0.0, 1.0),

@@ -194,7 +194,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
                             torch.zeros_like(d_in))
         w_in = torch.where(f_in, 1 - w_out, torch.zeros_like(d_in))
         val = c_out * w_out + c_in * w_in
-        if detail is not None:  # a side's high-pass, mirrored across the hole's edge along the ray (the nearer side first)
+        if detail is not None:  # a side's high-pass, mirrored across the hole's edge along the ray (nearer side first)
             near_out = f_out & (~f_in | (d_out <= d_in))
             grain, ok = _mirrored(detail, valid, torch.where(near_out[:, None], q_out, q_in),
                                   torch.where(near_out[:, None], u, -u), torch.where(near_out, d_out, d_in))

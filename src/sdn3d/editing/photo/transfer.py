@@ -546,7 +546,7 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
     first = gained.to(torch.uint8).argmax(0)  # the first object (in table order) that gained each pixel
     labels = torch.where(gained.any(0), after.instance_id[rows][first], torch.zeros_like(first))
     up = upsample_ids(labels.to(after.instance_id.dtype), transform)
-    if raster_ids is not None and min_seen > 0:  # its own fitted silhouette in front of what the input showed there: an overshoot
+    if raster_ids is not None and min_seen > 0:  # its own fitted shape in front of what the input showed there
         up = torch.where(raster_ids == up, torch.zeros_like(up), up)
     new = (up != 0) & (own == 0)
     own = torch.where(new, up.to(own.dtype), own)

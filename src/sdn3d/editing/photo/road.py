@@ -249,14 +249,16 @@ def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor
     x0, x1 = max(int(xs.min()) - 41, 0), min(int(xs.max()) + 42, width)
     crop = image[:, y0:y1, x0:x1].float().clone()
     target = float(_luma_laplacian(crop)[around[y0:y1, x0:x1]].mean())
-    inside = ~dilate_square(~hole, 1)[y0:y1, x0:x1]
+    inside = (~dilate_square(~hole, 1))[ys, xs]  # (N,)
     best, gap = default, math.inf
     for w in GRAIN_WEIGHTS:
-        crop[:, ys - y0, xs - x0] = (values + w * grains).clamp(0, 1)
-        like = inside & road_like(crop, road)
+        filled = (values + w * grains).clamp(0, 1)
+        crop[:, ys - y0, xs - x0] = filled
+        # road_like is per pixel: looked at on the hole's pixels alone (the cost: a Lab conversion per weight)
+        like = inside & road_like(filled[:, :, None], road)[:, 0]
         if int(like.sum()) < 50:
             continue
-        level = float(_luma_laplacian(crop)[like].mean())
+        level = float(_luma_laplacian(crop)[ys[like] - y0, xs[like] - x0].mean())
         if abs(level - target) < gap:
             best, gap = w, abs(level - target)
     return best

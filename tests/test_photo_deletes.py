@@ -130,3 +130,22 @@ def test_new_delete_settings_are_checked():
         PhotoSettings(ray_grain="strong")
     with pytest.raises(PhotoSettingsError, match="grow_min_seen"):
         PhotoSettings(grow_min_seen=-1)
+
+
+def test_the_voted_vanishing_point_snaps_to_the_cameras_forward_heading_only_on_a_near_tie():
+    import math
+
+    from sdn3d.editing.photo.road import FORWARD_SHARE, image_vanishing_point
+    from tests.test_photo_road import K, _lanes
+
+    region = torch.ones(64, 128, dtype=torch.bool)
+    slight = 63.5 + 100 * math.tan(math.radians(0.5))  # lanes meeting half a degree off the forward heading
+    image, _ = _lanes(vp=(slight, 20.0))
+    u_best, _ = image_vanishing_point(image, region, K)
+    assert u_best > 63.5 + 0.5  # the vote alone follows the lanes
+    u_snap, v = image_vanishing_point(image, region, K, forward_share=FORWARD_SHARE)
+    assert u_snap == pytest.approx(63.5) and v == pytest.approx(20.0)  # a near tie: the camera's forward
+    turned = 63.5 + 100 * math.tan(math.radians(30.0))  # a road 30 degrees off (the real frame's camera)
+    image, _ = _lanes(vp=(turned, 20.0))
+    u_turn, _ = image_vanishing_point(image, region, K, forward_share=FORWARD_SHARE)
+    assert u_turn == pytest.approx(turned, abs=2.0)

@@ -439,9 +439,9 @@ def test_amodal_seen_leaves_the_flat_part_of_a_freed_car_to_the_fill():
     """Deleting a near car frees part of the car behind it; ``amodal='all'`` draws every freed point, those the photo
     never showed in flat colour; ``'seen'`` draws only what the photo or its mirror image showed and leaves the rest to
     the fill (code ``fill``)."""
-    near = SceneObject(12003, template_id=2, dims=(4.0, 1.5, 1.8), ry=0.0, location=(-0.5, 1.6, 8.0))
-    far = SceneObject(12004, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.3, location=(-1.5, 1.6, 16.0))
-    scene = _scene([near, far])
+    near = SceneObject(12003, template_id=2, dims=(4.0, 1.5, 1.8), ry=0.0, location=(-1.0, 1.6, 8.0))
+    far = SceneObject(12004, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.3, location=(-5.0, 1.6, 16.0))
+    scene = _scene([near, far])  # the far car shows beside the near one (a car never shown is not completed)
     image, _ = _surface_colors(scene, INPUT_SIZE[::-1], _k_input())
     edited = apply_edits(scene, [Delete(12003)])
     codes = {}

@@ -28,12 +28,21 @@ from torch import Tensor
 from sdn3d.image_ops import dilate_square
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
-           "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD"]
+           "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
+           "GRAIN_WEIGHTS", "FORWARD_SHARE"]
 
 #: Gaussian sigma (pixels) below which a source's detail is the road's grain (:func:`ray_fill`'s ``texture``).
 GRAIN_SIGMA = 1.0
+#: A source pixel's high-pass beyond this many robust standard deviations of the picture's (its luma's median absolute
+#: value, scaled) is an edge, not grain (:func:`ray_fill`).
+GRAIN_EDGE = 4.0
 #: Depth (pixels) into the hole beyond which the mirrored grain folds back towards the hole's edge.
 GRAIN_FOLD = 24.0
+#: :func:`removal_vanishing_point`: the camera's forward heading is the road's unless another heading's edge vote beats
+#: it by more than 1 %. On the seed-33 tuning deletes the vote's maximum lay 0.5-1 degree off the forward heading on 4
+#: pairs (votes within 0.2 % of each other) and cost them 0.3-0.95 dB; the real frame's road, 30 degrees off, wins
+#: clearly (docs/results/2026-11-28_cpu/session4/deletes/).
+FORWARD_SHARE = 0.99
 #: Hole pixels traced at once (memory: ``RAY_CHUNK x steps`` samples per side).
 RAY_CHUNK = 8192
 
@@ -54,14 +63,15 @@ def vanishing_point(K: Tensor, ry: float | None = None, min_forward: float = 0.5
 
 
 def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: int = 50, max_edges: int = 4000,
-                          sharpness: float = 8.0) -> tuple[float, float] | None:
+                          sharpness: float = 8.0, forward_share: float = 1.0) -> tuple[float, float] | None:
     """``(u, v)`` the point on the horizon row ``v = K[1, 2]`` (a level camera's: where every direction of the road
     plane vanishes) that the picture's edges inside ``region (H, W)`` point at best: each pixel with a strong
     luma gradient votes for the candidates its edge line passes near (``|cos|`` of the angle between its edge and the
     direction to the candidate, to the power ``sharpness``, weighted by the gradient's magnitude); candidates every
     half degree of heading within 70 degrees of the camera's forward; the ``max_edges`` strongest edges vote. None
     with fewer than ``min_edges`` edge pixels. Lane markings, kerbs and verges below the horizon are such edges: the
-    road's own direction, whatever the fitted pose of the removed car says."""
+    road's own direction, whatever the fitted pose of the removed car says. The camera's forward heading wins when
+    its vote is at least ``forward_share`` of the best one (a flat maximum a degree off it is a tie, not a turn)."""
     import cv2
 
     from sdn3d.editing.photo.light import luminance
@@ -86,6 +96,9 @@ def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: i
     to = torch.stack([us[None] - xs[:, None].float(), torch.full((len(xs), len(us)), cy) - ys[:, None].float()], 2)
     to = to / to.norm(dim=2, keepdim=True).clamp(min=1e-6)
     score = ((to * t[:, None]).sum(2).abs() ** sharpness * m[:, None]).sum(0)
+    forward = int(heading.abs().argmin())
+    if float(score[forward]) >= forward_share * float(score.max()):  # a near tie: the camera looks down the road
+        return float(us[forward]), cy
     return float(us[int(score.argmax())]), cy
 
 
@@ -100,7 +113,7 @@ def removal_vanishing_point(image: Tensor, K: Tensor, removed: Tensor, objects_p
         ys, xs = removed.nonzero(as_tuple=True)
         extent = max(int(ys.max() - ys.min()), int(xs.max() - xs.min()))
         region = dilate_square(removed, max(2 * extent, 20)) & ~dilate_square(objects_px | removed, 2)
-        found = image_vanishing_point(image, region, K)
+        found = image_vanishing_point(image, region, K, forward_share=FORWARD_SHARE)
         if found is not None:
             return found
     return vanishing_point(K, ry)
@@ -135,13 +148,16 @@ def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tenso
 
 def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Tensor | None = None,
              sigma: float = 1.0, texture: float = 1.0, along: int = 1, max_steps: int = 400,
-             beyond: int = 64) -> tuple[Tensor, Tensor]:
+             beyond: int = 64, match_grain: bool = False) -> tuple[Tensor, Tensor]:
     """``(image (3, H, W), reached (H, W) bool)``: ``image`` with the ``hole (H, W)`` pixels a ray reaches filled
     along the rays from the vanishing point ``vp = (u, v)`` (module doc); ``keep_out (H, W)``: pixels no ray samples
     (other objects), ``sigma``: the sources' normalised blur, ``texture``: weight of the mirrored high-pass,
     ``along``: source pixels averaged along the ray from its first one outward (a lane line runs along the ray, so
     this smooths noise without blurring it), ``max_steps``: how far (pixels) a ray looks on each side at most,
-    ``beyond``: and at most this far past the hole's box diagonal (through other objects and shadows)."""
+    ``beyond``: and at most this far past the hole's box diagonal (through other objects and shadows);
+    ``match_grain``: instead of ``texture``, the weight of :data:`GRAIN_WEIGHTS` whose fill's road is as
+    fine-textured as the road around the hole (:func:`_matched_weight`): a photo's asphalt has more grain
+    than a render's."""
     height, width = hole.shape
     out = image.clone()
     reached = torch.zeros_like(hole)
@@ -152,7 +168,13 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         return out, reached
     smooth = _normalised_blur(image, valid, sigma)
     # The sources' grain: their high-pass at one pixel's scale (0 elsewhere: never a car's edge).
-    detail = (image - _normalised_blur(image, valid, GRAIN_SIGMA)) * valid if texture > 0 else None
+    detail = None
+    if texture > 0 or match_grain:
+        detail = (image - _normalised_blur(image, valid, GRAIN_SIGMA)) * valid
+        # A marking's or a kerb's outline is no grain: mirrored into the hole it draws a ghost outline there.
+        level = detail.mean(0).abs()
+        scale = 1.4826 * float(level[valid].median()) if bool(valid.any()) else 0.0
+        detail = detail * (level <= GRAIN_EDGE * scale)
     ys, xs = hole.nonzero(as_tuple=True)
     pix = torch.stack([xs, ys], 1).float()
     centre = torch.tensor(vp, dtype=torch.float32)
@@ -167,6 +189,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     steps = torch.cat([torch.arange(1, 17), torch.arange(17, far + 1, 2)]).float()
     never = torch.full_like(reach, float(far))
     values = torch.zeros(3, len(ys))
+    grains = torch.zeros(3, len(ys)) if detail is not None else None
     got = torch.zeros(len(ys), dtype=torch.bool)
     for s in range(0, len(ys), RAY_CHUNK):
         p, u, sp = pix[s:s + RAY_CHUNK], unit[s:s + RAY_CHUNK], reach[s:s + RAY_CHUNK]
@@ -180,19 +203,74 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
                             torch.zeros_like(d_in))
         w_in = torch.where(f_in, 1 - w_out, torch.zeros_like(d_in))
         val = c_out * w_out + c_in * w_in
-        if texture > 0:  # a side's high-pass, mirrored across the hole's edge along the ray (the nearer side first)
+        if detail is not None:  # a side's high-pass, mirrored across the hole's edge along the ray (nearer side first)
             near_out = f_out & (~f_in | (d_out <= d_in))
             grain, ok = _mirrored(detail, valid, torch.where(near_out[:, None], q_out, q_in),
                                   torch.where(near_out[:, None], u, -u), torch.where(near_out, d_out, d_in))
             other, ok2 = _mirrored(detail, valid, torch.where(near_out[:, None], q_in, q_out),
                                    torch.where(near_out[:, None], -u, u), torch.where(near_out, d_in, d_out))
             ok2 = ok2 & ~ok & torch.where(near_out, f_in, f_out)
-            val = val + texture * (ok * grain + ok2 * other)
+            grains[:, s:s + RAY_CHUNK] = ok * grain + ok2 * other
         values[:, s:s + RAY_CHUNK] = val
         got[s:s + RAY_CHUNK] = f_out | f_in
+    if grains is not None:
+        weight = (_matched_weight(image, valid, values[:, got], grains[:, got], ys[got], xs[got], texture)
+                  if match_grain and bool(got.any()) else texture)
+        values = values + weight * grains
     out[:, ys[got], xs[got]] = values[:, got].clamp(0, 1).to(out.dtype)
     reached[ys[got], xs[got]] = True
     return out, reached
+
+
+#: Grain weights :func:`ray_fill` chooses from with ``match_grain``.
+GRAIN_WEIGHTS = (0.0, 0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0)
+
+
+def _luma_laplacian(image: Tensor) -> Tensor:
+    """``(H, W)`` absolute 3x3 Laplacian of the luma of ``image (3, H, W)`` (the texture measure of the records: its
+    mean over a region)."""
+    import cv2
+
+    y = (image.permute(1, 2, 0).float().numpy() @ np.array([0.2126, 0.7152, 0.0722], np.float32)).astype(np.float32)
+    return torch.from_numpy(np.abs(cv2.Laplacian(np.ascontiguousarray(y), cv2.CV_32F, ksize=1)))
+
+
+def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor, ys: Tensor, xs: Tensor,
+                    default: float) -> float:
+    """The weight of :data:`GRAIN_WEIGHTS` at which the road-like pixels of the fill
+    ``values + weight * grains`` (both ``(3, N)`` at hole pixels ``ys, xs``; those with no picture pixel in their
+    3x3 neighbourhood: the seam is not grain) have the mean absolute luma Laplacian of the road-like ``valid``
+    pixels 8 to 40 pixels around the hole (:func:`~sdn3d.editing.photo.fill.road_like`: asphalt and its markings,
+    not grass or foliage). ``default`` where too few such pixels are found."""
+    from sdn3d.editing.photo.fill import road_colours, road_like
+
+    height, width = valid.shape
+    hole = torch.zeros_like(valid)
+    hole[ys, xs] = True
+    ring = dilate_square(hole, 40) & ~dilate_square(hole, 8) & valid
+    road = road_colours(image, ring)
+    if road is None:
+        return default
+    around = ring & road_like(image, road, within=ring)
+    if int(around.sum()) < 50:
+        return default
+    y0, y1 = max(int(ys.min()) - 41, 0), min(int(ys.max()) + 42, height)
+    x0, x1 = max(int(xs.min()) - 41, 0), min(int(xs.max()) + 42, width)
+    crop = image[:, y0:y1, x0:x1].float().clone()
+    target = float(_luma_laplacian(crop)[around[y0:y1, x0:x1]].mean())
+    inside = (~dilate_square(~hole, 1))[ys, xs]  # (N,)
+    best, gap = default, math.inf
+    for w in GRAIN_WEIGHTS:
+        filled = (values + w * grains).clamp(0, 1)
+        crop[:, ys - y0, xs - x0] = filled
+        # road_like is per pixel: looked at on the hole's pixels alone (the cost: a Lab conversion per weight)
+        like = inside & road_like(filled[:, :, None], road)[:, 0]
+        if int(like.sum()) < 50:
+            continue
+        level = float(_luma_laplacian(crop)[ys[like] - y0, xs[like] - x0].mean())
+        if abs(level - target) < gap:
+            best, gap = w, abs(level - target)
+    return best
 
 
 def _mirrored(detail: Tensor, valid: Tensor, edge: Tensor, back: Tensor, depth: Tensor) -> tuple[Tensor, Tensor]:

@@ -10,10 +10,10 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 
-__all__ = ["FILL_METHODS", "UNSEEN_MODES", "SILHOUETTE_MODES", "AMODAL_MODES", "SHADOW_MODES", "AUTO_THIN_PX",
-           "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL",
-           "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT", "FLAT_CODES", "PART_DEFAULTS", "PART_COLORS",
-           "PhotoSettings", "PhotoSettingsError", "source_picture", "part_picture"]
+__all__ = ["FILL_METHODS", "UNSEEN_MODES", "SILHOUETTE_MODES", "AMODAL_MODES", "SHADOW_MODES", "GRAIN_MODES",
+           "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO", "MIRROR",
+           "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT", "FLAT_CODES", "PART_DEFAULTS",
+           "PART_COLORS", "PhotoSettings", "PhotoSettingsError", "source_picture", "part_picture"]
 
 
 #: How vacated pixels are filled: OpenCV's Telea (fast; the best weight-free fill by L1 and PSNR on a held-out
@@ -27,6 +27,9 @@ FILL_METHODS = ("telea", "patchmatch", "auto", "generator", "rays")
 #: ``fill`` (the shadowed road near it joins the hole and is filled along the rays from lit road) or ``relight``
 #: (relit by a per-channel gain and a matte first, :func:`~sdn3d.editing.photo.fill.relight_shadow`).
 SHADOW_MODES = ("fill", "relight")
+#: How ``fill='rays'`` puts the road's grain back (:attr:`PhotoSettings.ray_grain`): at the fixed weight
+#: ``ray_texture`` (``fixed``) or at the weight that matches the fine texture of the road around the hole (``match``).
+GRAIN_MODES = ("fixed", "match")
 #: ``fill='auto'``: a hole part at most this many pixels from its edge everywhere is filled by Telea, else PatchMatch.
 AUTO_THIN_PX = 6.0
 #: How a point of an edited car that neither the photo nor its mirror image saw is drawn
@@ -116,10 +119,22 @@ class PhotoSettings:
         ray_texture: ``fill='rays'``: weight of the road's fine texture (the sources' high-pass mirrored across the
             hole's edge) added to the fill (0: smooth along the rays).
         ray_span: ``fill='rays'``: source pixels averaged along each ray from the hole's edge outward.
+        ray_grain: :data:`GRAIN_MODES` (``fill='rays'``): ``fixed`` puts the grain back at ``ray_texture``; ``match``
+            (the default) at the weight (0 to 3; ``ray_texture`` unused) that gives the fill's road the fine texture
+            (mean absolute luma Laplacian) of the road 8-40 pixels around the hole
+            (:func:`~sdn3d.editing.photo.road.ray_fill`): on the real frame of ``tests/data`` the red car's delete
+            had 0.44 of its road's texture at the fixed 0.25, 1.02 matched; on the seed-33 tuning deletes it costs
+            0.1 dB (docs/results/2026-11-28_cpu/session4/deletes/).
         shadow_mode: :data:`SHADOW_MODES`, with ``delete_effects``, ``delete_shadow`` and ``fill='rays'``.
         shadow_light: road darker than this share of the road's lightness on its row is shadow (``fill='rays'``
             with ``delete_effects``: never a ray's source; with ``shadow_mode='fill'``, the removed car's own joins
             the hole).
+        grow_min_seen: an object behind a removed one is completed into the freed pixels (amodal completion) only if
+            at least this many of its pixels show in the input (eroded mask); one the input never showed is left to
+            the fill, as are freed pixels its own fitted silhouette claims in front of the removed object (its fit
+            overshoots there). 1 (default): on the seed-33 tuning deletes a never-seen car drawn in its parts'
+            default colours had twice the fill's error there (0: every object grows wherever its silhouette lies,
+            the behaviour before).
         recolor_parts: ``recolor`` repaints the body part of the fitted mesh only (False: every pixel of the car
             whose colour is the paint's, the appearance before vehicle parts existed).
     """
@@ -147,8 +162,10 @@ class PhotoSettings:
     ray_blur: float = 0.0
     ray_texture: float = 0.25
     ray_span: int = 12
+    ray_grain: str = "match"
     shadow_mode: str = "fill"
     shadow_light: float = 0.8
+    grow_min_seen: int = 1
 
     def __post_init__(self) -> None:
         if self.fill not in FILL_METHODS:
@@ -159,6 +176,8 @@ class PhotoSettings:
             raise PhotoSettingsError(f"photo.amodal must be one of {AMODAL_MODES}, got {self.amodal!r}")
         if self.silhouette not in SILHOUETTE_MODES:
             raise PhotoSettingsError(f"photo.silhouette must be one of {SILHOUETTE_MODES}, got {self.silhouette!r}")
+        if self.ray_grain not in GRAIN_MODES:
+            raise PhotoSettingsError(f"photo.ray_grain must be one of {GRAIN_MODES}, got {self.ray_grain!r}")
         if self.unseen not in UNSEEN_MODES:
             raise PhotoSettingsError(f"photo.unseen must be one of {UNSEEN_MODES}, got {self.unseen!r}")
         checks = (("depth_tolerance", self.depth_tolerance, 0.0, 1.0), ("shadow_band", self.shadow_band, 0.0, 1.0),
@@ -172,7 +191,7 @@ class PhotoSettings:
                 raise PhotoSettingsError(f"photo.{name} must be a number in [{lo}, {hi}], got {value!r}")
         ints = (("hole_dilate_px", self.hole_dilate_px, 0, 64), ("inpaint_radius", self.inpaint_radius, 1, 32),
                 ("max_level", self.max_level, 0, 6), ("mask_erode_px", self.mask_erode_px, 0, 16),
-                ("ray_span", self.ray_span, 1, 32))
+                ("ray_span", self.ray_span, 1, 32), ("grow_min_seen", self.grow_min_seen, 0, 100000))
         for name, value, lo, hi in ints:
             if name == "mask_erode_px" and value is None:
                 continue

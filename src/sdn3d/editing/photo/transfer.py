@@ -531,22 +531,41 @@ def _cast_shadows(objects: ObjectTable, rows: list[int], verts: dict[int, Tensor
 
 
 def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, stays: Tensor,
-          transform: PixelFrame) -> tuple[Tensor, list[int]]:
+          transform: PixelFrame, raster_ids: Tensor | None = None, vis_ids: Tensor | None = None,
+          min_seen: int = 0) -> tuple[Tensor, list[int]]:
     """``(own, grown rows)``: ``own (H_in, W_in)`` with the freed pixels each object that stays now covers (its mask
-    gained them: amodal completion) given to it, the first such object in table order where several do."""
+    gained them: amodal completion) given to it, the first such object in table order where several do.
+
+    Two kinds of gained pixel are left to the fill instead (the photo cannot draw them; on the seed-33 tuning deletes
+    they doubled the error of the fill there, docs/results/2026-11-28_cpu/session4/deletes/):
+
+    - where ``raster_ids (H_in, W_in)`` (the source's fitted silhouettes) shows the object itself: the input saw the
+      removed object there, so nothing of this one was in front of it; its fitted shape overshoots its true outline
+      (a nearer car's template reaching into the deleted car behind it);
+    - all of an object with fewer than ``min_seen`` pixels in ``vis_ids (H_in, W_in)``: the input never showed it,
+      so its colour, and in fog its haze, would be a guess (a default-coloured car, dark and unhazed).
+
+    ``min_seen`` 0 keeps every gained pixel (the behaviour before both rules)."""
     rows = stays.nonzero().flatten()
     if not len(rows):
         return own, []
     gained = after.mask[rows] & ~before.mask[origin[rows]]  # (S, h, w)
     grew = gained.flatten(1).any(1)
+    if vis_ids is not None and min_seen > 0 and bool(grew.any()):
+        seen = torch.stack([(vis_ids == i).sum() for i in after.instance_id[rows].tolist()])
+        grew &= seen >= min_seen
     if not bool(grew.any()):
         return own, []
     rows, gained = rows[grew], gained[grew]
     first = gained.to(torch.uint8).argmax(0)  # the first object (in table order) that gained each pixel
     labels = torch.where(gained.any(0), after.instance_id[rows][first], torch.zeros_like(first))
     up = upsample_ids(labels.to(after.instance_id.dtype), transform)
-    own = torch.where((up != 0) & (own == 0), up.to(own.dtype), own)
-    return own, rows.tolist()
+    if raster_ids is not None and min_seen > 0:  # its own fitted shape in front of what the input showed there
+        up = torch.where(raster_ids == up, torch.zeros_like(up), up)
+    new = (up != 0) & (own == 0)
+    own = torch.where(new, up.to(own.dtype), own)
+    drawn = torch.isin(after.instance_id[rows], up[new].unique())
+    return own, rows[drawn].tolist()
 
 
 def _pixels_of(ids: Tensor, wanted: Tensor):
@@ -635,7 +654,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     src_ids, vis_ids = source.src_ids, source.vis_ids
     own = torch.where(torch.isin(src_ids, after.instance_id[stays]), src_ids, torch.zeros_like(src_ids))
     # Freed pixels an object that stays now covers (amodal completion in apply_edits).
-    own, grown_rows = _grow(own, before, after, origin, stays, transform)
+    own, grown_rows = _grow(own, before, after, origin, stays, transform, _raster_ids(source.raster, before),
+                            source.vis_ids, settings.grow_min_seen)
 
     src = source.raster
     src_row_to_mesh = torch.full((len(before),), -1, dtype=torch.long)

@@ -1,0 +1,151 @@
+"""What a delete leaves to the fill (session 4, issue 41 item 3): amodal completion only of cars the input showed,
+never where a car's own fitted outline claims to be in front of the removed car; and the rays' grain matched to the
+road around the hole (``ray_grain='match'``), without the ghost outlines of markings."""
+
+from __future__ import annotations
+
+import pytest
+import torch
+
+from sdn3d.editing.apply import Delete, apply_edits
+from sdn3d.editing.frame import upsample_ids
+from sdn3d.editing.photo.road import ray_fill
+from sdn3d.editing.photo.settings import FILL, INPUT, PhotoSettings, PhotoSettingsError
+from sdn3d.editing.photo.transfer import render_photo
+from sdn3d.scene.code import SceneObject
+
+pytestmark = pytest.mark.usefixtures("one_torch_thread")
+
+NEAR = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.0, location=(0.0, 1.6, 8.0))
+HIDDEN = SceneObject(12002, template_id=0, dims=(4.0, 1.2, 1.6), ry=0.0, location=(0.0, 1.6, 20.0))
+SIDE = SceneObject(12002, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.0, location=(2.5, 1.6, 16.0))
+SETTINGS = PhotoSettings(relight=False, contact_shadow=0.0, fill="telea")
+
+
+def _drawn(result) -> torch.Tensor:
+    """Pixels an object was drawn on (neither the input's nor the fill's)."""
+    return (result.source != INPUT) & (result.source != FILL)
+
+
+def test_a_car_the_input_never_showed_is_left_to_the_fill():
+    from tests.test_photo import FRAME, _k_input, _scene, _surface_colors
+
+    scene = _scene([NEAR, HIDDEN])
+    assert int(scene.objects.mask[1].sum()) <= 2  # behind the near car: a pixel of its roof, none after erosion
+    image, _ = _surface_colors(scene, FRAME.input_size[::-1], _k_input())
+    edited = apply_edits(scene, [Delete(12001)])
+    assert int(edited.objects.mask[0].sum()) > 0  # amodal completion gave it the freed pixels
+    before = render_photo(image, FRAME, scene, edited, settings=PhotoSettings(**{**SETTINGS.to_dict(),
+                                                                                 "grow_min_seen": 0}))
+    assert int(_drawn(before).sum()) > 100  # drawn in guessed colours, the behaviour before
+    now = render_photo(image, FRAME, scene, edited, settings=SETTINGS)
+    assert int(_drawn(now).sum()) == 0 and 12002 not in now.objects
+
+
+def test_a_nearer_cars_outline_does_not_grow_into_the_removed_car_behind_it():
+    """The near car's mask is its silhouette less a 2-pixel rim on the side of the far car (its true outline smaller
+    than its fitted shape), and that rim showed the far car; deleting the far car must not hand the rim to the near
+    car, whose fitted shape claims to be in front there."""
+    from tests.test_photo import FRAME, _k_input, _scene, _surface_colors
+
+    scene = _scene([NEAR, SIDE])
+    masks = scene.objects.mask.clone()
+    near = masks[0]
+    grown_far = torch.nn.functional.max_pool2d(masks[1][None, None].float(), 5, 1, 2)[0, 0] > 0
+    rim = near & grown_far
+    assert int(rim.sum()) > 5
+    masks[0] = near & ~rim
+    masks[1] = masks[1] | rim
+    scene = scene.replace(objects=scene.objects.replace(mask=masks))
+    image, _ = _surface_colors(scene, FRAME.input_size[::-1], _k_input())
+    edited = apply_edits(scene, [Delete(12002)])
+    assert bool((edited.objects.mask[0] & rim).any())  # apply_edits' amodal completion hands the rim back
+    rim_in = upsample_ids(rim.long(), FRAME).bool()
+    old = render_photo(image, FRAME, scene, edited, settings=PhotoSettings(**{**SETTINGS.to_dict(),
+                                                                              "grow_min_seen": 0}))
+    assert int(_drawn(old)[rim_in].sum()) > 10
+    now = render_photo(image, FRAME, scene, edited, settings=SETTINGS)
+    assert int(_drawn(now)[rim_in].sum()) == 0 and bool((now.source[rim_in] == FILL).all())
+
+
+def _road(grain: float, seed: int = 0) -> tuple[torch.Tensor, torch.Tensor]:
+    """``(image, hole)``: grey road below row 22 with a converging white line, grain of std ``grain``, sky above;
+    a hole on the road."""
+    from tests.test_photo_road import _lanes
+
+    gen = torch.Generator().manual_seed(seed)
+    image, _ = _lanes()
+    image = (image + grain * torch.randn(image.shape, generator=gen)).clamp(0, 1)
+    hole = torch.zeros(image.shape[1:], dtype=torch.bool)
+    hole[38:58, 20:60] = True
+    return image, hole
+
+
+def _texture(image: torch.Tensor, mask: torch.Tensor) -> float:
+    """Mean absolute 3x3 Laplacian of the mean channel over ``mask``, away from the picture's edge."""
+    g = image.mean(0)
+    lap = (4 * g[1:-1, 1:-1] - g[:-2, 1:-1] - g[2:, 1:-1] - g[1:-1, :-2] - g[1:-1, 2:]).abs()
+    return float(lap[mask[1:-1, 1:-1]].mean())
+
+
+def test_matched_grain_follows_the_roads_own_grain():
+    inner = torch.zeros(64, 128, dtype=torch.bool)
+    inner[40:56, 22:58] = True
+    ring = torch.zeros_like(inner)
+    ring[30:64, 5:90] = True
+    ring[28:66, 12:68] = False
+    levels = []
+    for grain in (0.01, 0.06):
+        image, hole = _road(grain)
+        filled, _ = ray_fill(image, hole, (63.5, 20.0), texture=0.25, match_grain=True)
+        fixed, _ = ray_fill(image, hole, (63.5, 20.0), texture=0.25)
+        levels.append((_texture(filled, inner), _texture(fixed, inner), _texture(image, ring)))
+    (fine_m, fine_f, fine_r), (coarse_m, coarse_f, coarse_r) = levels
+    # a fixed weight leaves a grainy road smoother than around it; matched, the fill is as grainy as the road
+    assert coarse_f < 0.8 * coarse_r
+    assert 0.8 * coarse_r < coarse_m < 1.25 * coarse_r
+    assert coarse_m > 2 * fine_m  # and a smooth road's fill stays smooth
+
+
+def test_a_markings_outline_is_not_mirrored_into_the_hole_as_grain(monkeypatch):
+    """Rays along the rows (the vanishing point far to the right); a white dash 7 pixels left of the hole. The grain
+    mirrored across the hole's left edge reads the dash's outline: without the edge cut it draws ghost columns."""
+    import sdn3d.editing.photo.road as road
+
+    gen = torch.Generator().manual_seed(0)
+    image = (0.4 + 0.01 * torch.randn(3, 64, 128, generator=gen)).clamp(0, 1)
+    image[:, 40:56, 30:33] = 0.95
+    hole = torch.zeros(64, 128, dtype=torch.bool)
+    hole[40:56, 40:80] = True
+    filled, _ = ray_fill(image, hole, (1000.0, 48.0), texture=1.0)
+    assert float((filled[:, hole] - 0.4).abs().max()) < 0.06  # grain only
+    monkeypatch.setattr(road, "GRAIN_EDGE", float("inf"))
+    ghost, _ = ray_fill(image, hole, (1000.0, 48.0), texture=1.0)
+    assert float((ghost[:, hole] - 0.4).abs().max()) > 0.15  # the dash's outline, mirrored
+
+
+def test_new_delete_settings_are_checked():
+    assert PhotoSettings().ray_grain == "match" and PhotoSettings().grow_min_seen == 1
+    with pytest.raises(PhotoSettingsError, match="ray_grain"):
+        PhotoSettings(ray_grain="strong")
+    with pytest.raises(PhotoSettingsError, match="grow_min_seen"):
+        PhotoSettings(grow_min_seen=-1)
+
+
+def test_the_voted_vanishing_point_snaps_to_the_cameras_forward_heading_only_on_a_near_tie():
+    import math
+
+    from sdn3d.editing.photo.road import FORWARD_SHARE, image_vanishing_point
+    from tests.test_photo_road import K, _lanes
+
+    region = torch.ones(64, 128, dtype=torch.bool)
+    slight = 63.5 + 100 * math.tan(math.radians(0.5))  # lanes meeting half a degree off the forward heading
+    image, _ = _lanes(vp=(slight, 20.0))
+    u_best, _ = image_vanishing_point(image, region, K)
+    assert u_best > 63.5 + 0.5  # the vote alone follows the lanes
+    u_snap, v = image_vanishing_point(image, region, K, forward_share=FORWARD_SHARE)
+    assert u_snap == pytest.approx(63.5) and v == pytest.approx(20.0)  # a near tie: the camera's forward
+    turned = 63.5 + 100 * math.tan(math.radians(30.0))  # a road 30 degrees off (the real frame's camera)
+    image, _ = _lanes(vp=(turned, 20.0))
+    u_turn, _ = image_vanishing_point(image, region, K, forward_share=FORWARD_SHARE)
+    assert u_turn == pytest.approx(turned, abs=2.0)

@@ -29,7 +29,8 @@ INPUT_SIZE = (256, 128)  # the input: twice the working size
 FRAME = PixelFrame(INPUT_SIZE, WORK)
 K_WORK = Intrinsics(100.0, 100.0, 63.5, 31.5, width=WORK[0], height=WORK[1])
 BACKGROUND = 0.45
-NO_LIGHT = PhotoSettings(relight=False, contact_shadow=0.0, fill="telea", unseen="body")
+#: The 3D transfer alone: no light, no contact shadow, no paste of the input's mask for a view that hardly turns.
+NO_LIGHT = PhotoSettings(relight=False, contact_shadow=0.0, fill="telea", unseen="body", mask_view_deg=0.0)
 
 
 def _scene(objects: list[SceneObject]) -> SceneCode:

@@ -142,7 +142,7 @@ class PhotoSettings:
     fill: str = "rays"
     depth_tolerance: float = 0.03
     min_view_cos: float = 0.2
-    view_stretch: float = 0.0
+    view_stretch: float = 1.5
     mask_erode_px: int | None = None
     hole_dilate_px: int = 3
     shadow_band: float = 0.12
@@ -151,9 +151,9 @@ class PhotoSettings:
     inpaint_radius: int = 5
     max_level: int = 3
     unseen: str = "parts"
-    silhouette: str = "template"
-    amodal: str = "all"
-    mask_view_deg: float = 0.0
+    silhouette: str = "carved"
+    amodal: str = "seen"
+    mask_view_deg: float = 30.0
     delete_effects: bool = False
     delete_shadow: bool = True
     recolor_parts: bool = True

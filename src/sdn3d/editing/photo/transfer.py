@@ -954,7 +954,9 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     if settings.silhouette == "carved" and bool(has_src.any()):
         # A template point the input's mask rules out (module doc, step 3) is not drawn: what shows there is the
         # picture behind the object, as in the 2D paste.
-        inside = ~has_src | (_in_silhouette(point_s, background, K) & _in_silhouette(point_m, background, K))
+        # (an object the input does not show at all has no outline to carve by)
+        shown = torch.isin(before.instance_id[b_row.clamp(min=0)], src_ids.unique())
+        inside = ~has_src | ~shown | (_in_silhouette(point_s, background, K) & _in_silhouette(point_m, background, K))
         if not bool(inside.all()):
             k = inside.nonzero().flatten()
             pix, row, iid, is_moved, mesh, vid, bary, normal_t = (pix[k], row[k], iid[k], is_moved[k], mesh[k],

@@ -120,7 +120,9 @@ class FitSettings:
             that starts at the prediction stays on its side of the ray.
         appearance: the box objects' fit believes the geometric branch's appearance at each hypothesis' axis
             (:func:`~sdn3d.geometric.facing.facing_belief`: the lamps' evidence and the MultiBin bins) rather than
-            the nearness to its start; as many flips either way on the seed-13 tuning tree (16 of 442), so off.
+            the nearness to its start. Without the mirror it made as many flips either way on the seed-13 tuning tree
+            (16 of 442); with it, it is what tells the mirror apart (the lamps' side: which end lies left), so on
+            (docs/results/2026-11-28_cpu/session4/poses).
         lr: Adam learning rate (x, log z, log dims; the yaw takes ``2 lr``).
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
@@ -151,7 +153,7 @@ class FitSettings:
     tie: float = 0.1
     facing_tie: float = 0.5
     mirror: bool = True
-    appearance: bool = False
+    appearance: bool = True
     lr: float = 0.05
     margin: float = 0.15
     sigma: float = 0.25

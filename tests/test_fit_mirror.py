@@ -33,7 +33,8 @@ def _one_car(x: float = 1.5):
 
 def test_the_fine_stage_starts_the_prediction_mirrored_about_its_line_of_sight(monkeypatch):
     """Hypotheses 2 and 3 start at ``alpha -> pi - alpha`` and its flip, ``alpha = ry - ray`` with the ray through
-    the prediction's place; without ``mirror`` they are not tried and the search's starts keep their names."""
+    the prediction's place; without ``mirror`` or without an appearance belief they are not tried, and the search's
+    starts keep their names."""
     masks, boxes, location = _one_car()
     starts = []
     real = fitmod._stage
@@ -46,7 +47,7 @@ def test_the_fine_stage_starts_the_prediction_mirrored_about_its_line_of_sight(m
     ry0 = -1.2
     kw = dict(start_ry=torch.tensor([ry0]), start_dims=torch.tensor([[4.0, 1.5, 1.7]]),
               start_template=torch.tensor([2]), start_location=location)
-    result = fit_to_masks(masks, boxes, INTR, settings=SMALL, **kw)
+    result = fit_to_masks(masks, boxes, INTR, settings=SMALL, yaw_belief=lambda ry: torch.cos(ry - ry0), **kw)
     ray = math.atan2(float(location[0, 0]), float(location[0, 2]))
     fine = starts[-1]
     assert fine.numel() == len(HYPOTHESES) + SMALL.keep
@@ -58,7 +59,10 @@ def test_the_fine_stage_starts_the_prediction_mirrored_about_its_line_of_sight(m
     assert math.cos(alpha_m) == pytest.approx(-math.cos(alpha), abs=1e-4)
     assert 0 <= int(result.hypothesis[0]) < len(HYPOTHESES) + SMALL.keep
     starts.clear()
-    plain = fit_to_masks(masks, boxes, INTR, settings=FitSettings(**{**SMALL.to_dict(), "mirror": False}), **kw)
+    plain = fit_to_masks(masks, boxes, INTR, settings=FitSettings(**{**SMALL.to_dict(), "mirror": False}),
+                         yaw_belief=lambda ry: torch.cos(ry - ry0), **kw)
+    assert starts[-1].numel() == 2 + SMALL.keep
+    fit_to_masks(masks, boxes, INTR, settings=SMALL, **kw)  # no appearance: nothing tells a mirror, none is tried
     assert starts[-1].numel() == 2 + SMALL.keep
     h = int(plain.hypothesis[0])
     assert h in (0, 1) or h >= len(HYPOTHESES)  # the search's starts are named as with the mirror

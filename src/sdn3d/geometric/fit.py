@@ -83,7 +83,7 @@ FACING_AXIS = math.radians(30)
 #: same fits.
 FACING_MARGIN = 0.5
 #: Names of the fine stage's hypotheses (:attr:`FitResult.hypothesis` indexes them; the search's ``k``-th best start
-#: is ``4 + k``). The mirrored two are tried where ``FitSettings.mirror`` asks.
+#: is ``4 + k``). The mirrored two are tried where ``FitSettings.mirror`` asks and an appearance belief is given.
 HYPOTHESES = ("prediction", "prediction flipped end for end", "prediction mirrored about the line of sight",
               "prediction mirrored and flipped")
 #: How many of :data:`HYPOTHESES` a fit without the mirror (``FitSettings.mirror`` false) tries: the search's
@@ -117,7 +117,9 @@ class FitSettings:
             ``alpha = ry - ray`` with ``ray`` the angle of the ray through the prediction's place: the same end seen,
             its front pointing to the other side) and that mirror's end-for-end flip. A car seen nearly end on casts
             nearly the same outline either way and the branch's bins sit near ``alpha = +-90`` degrees, so a search
-            that starts at the prediction stays on its side of the ray.
+            that starts at the prediction stays on its side of the ray. Tried only with a ``yaw_belief`` (the
+            appearance's, e.g. the lamps' side): the nearness to the start cannot tell a mirror (a start 90 degrees
+            off is nearer the truth's mirror than the truth).
         appearance: the box objects' fit believes the geometric branch's appearance at each hypothesis' axis
             (:func:`~sdn3d.geometric.facing.facing_belief`: the lamps' evidence and the MultiBin bins) rather than
             the nearness to its start. Without the mirror it made as many flips either way on the seed-13 tuning tree
@@ -437,7 +439,8 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
         predicted["z"] = torch.where(own, start_location[:, 2].float().clamp_min(1.0), predicted["z"])
         own_template = torch.where(own, start_template.long(), own_template)
     mine = [predicted, {**predicted, "ry": _wrap(ry0 + math.pi)}]
-    if settings.mirror:  # about the ray through the prediction's place: alpha -> pi - alpha, and its flip
+    mirror = settings.mirror and yaw_belief is not None
+    if mirror:  # about the ray through the prediction's place: alpha -> pi - alpha, and its flip
         mirrored = _wrap(2 * torch.atan2(predicted["x"], predicted["z"]) + math.pi - ry0)
         mine += [{**predicted, "ry": mirrored}, {**predicted, "ry": _wrap(mirrored + math.pi)}]
     starts = {k: torch.cat([h[k][:, None] for h in mine] + [searched[k]], 1) for k in searched}
@@ -470,7 +473,7 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     union = (drawn | target).flatten(1).sum(1)
     iou = (drawn & target).flatten(1).sum(1) / union.clamp_min(1)
     # The record's index: HYPOTHESES without the mirror's two, then the search's starts.
-    hypothesis = index if settings.mirror else torch.where(index < UNMIRRORED, index, index + len(HYPOTHESES) - UNMIRRORED)
+    hypothesis = index if mirror else torch.where(index < UNMIRRORED, index, index + len(HYPOTHESES) - UNMIRRORED)
     result = FitResult(template=won.long(), dims=dims, ry=chosen["ry"], location=location, phi=phi,
                        iou=torch.where(union > 0, iou, torch.zeros_like(iou)).float(), loss=loss[winner],
                        start_ry=ry0, hypothesis=hypothesis.long(), fitted=torch.ones(n, dtype=torch.bool),

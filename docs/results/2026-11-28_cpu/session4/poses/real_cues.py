@@ -101,7 +101,8 @@ def main() -> None:
         ]
     )
     listing = json.loads((out / "listing" / "objects.json").read_text())
-    report["listed"] = [{k: o.get(k) for k in ("id", "yaw_deg", "template", "fit_iou", "hypothesis")} for o in listing["objects"]]
+    keys = ("id", "yaw_deg", "template", "fit_iou", "hypothesis")
+    report["listed"] = [{k: o.get(k) for k in keys} for o in listing["objects"]]
     (out / "real_cues.json").write_text(json.dumps(report, indent=1))
     print(json.dumps(report, indent=1))
 

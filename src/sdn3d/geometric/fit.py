@@ -26,8 +26,10 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    decides the end (``facing_tie``): a fit drops out where another one on its axis facing the other end
    (:data:`FACING_AXIS`) is believed clearly more (by :data:`FACING_MARGIN`) and its loss is within ``facing_tie``
    of the fit's; a silhouette that prefers an end more clearly than that keeps it, and the axis stays the
-   silhouette's. :attr:`FitResult.hypothesis` records the winner (0: the prediction, 1: its flip, 2..: the
-   search's best starts).
+   silhouette's. With an appearance belief, the prediction mirrored about the line of sight (``mirror``:
+   ``alpha -> pi - alpha``, the same end seen, its front to the other side) and that mirror's flip are two more
+   fine hypotheses. :attr:`FitResult.hypothesis` records the winner (0: the prediction, 1: its flip, 2: its
+   mirror, 3: the mirror's flip, 4..: the search's best starts; without the mirror, the search's are 4.. too).
 3. **What counts.** The loss is L_reproj (mean ``|S~ - M|``) over the crop, without the pixels of nearer objects
    (``ignore``) and outside the image, plus ``dims_reg * |log d - log d0|^2`` (keeps the size near the start
    where the silhouette cannot tell: a car seen from behind has no visible length, and a box-like car turned by 90

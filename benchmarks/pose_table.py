@@ -1,16 +1,26 @@
-"""Pose table (issue 40): the geometric branch alone and after the test-time fit, on ground-truth masks and boxes.
+"""Pose table (issue 40): the geometric branch alone and after the test-time fit, per source scene.
 
     python benchmarks/pose_table.py --geometric RUN/checkpoints/last.ckpt --data-root DATA [--part test|all]
                                     [--max-frames 40] [--threads 1] [--fit KEY=VALUE ...] [--out result.json]
+                                    [--rows gt_branch gt_fit boxes_branch boxes_fit pred_branch pred_fit]
+                                    [--semantic SEMANTIC.ckpt]
 
 On evenly spaced frames of ``--part`` (``all``: every frame of the tree, for a held-out tree no run trained on) the
 evaluated objects are the annotated Car and Van instances with at least ``--min-pixels`` visible pixels at the
 frame's working size and a template. Rows, on the same objects (paired):
 
-- ``branch, GT masks (oracle)``: the geometric branch on the ground-truth visible masks and their boxes
+- ``branch, oracle: ground-truth masks``: the geometric branch on the ground-truth visible masks and their boxes
   (:func:`sdn3d.derender.derender`, ``proposals='gt'``);
-- ``fit, GT masks + boxes (oracle)``: what ``proposals=boxes`` does given the true boxes and the true masks
-  (``BoxPrompts(masks=...)``): the branch's prediction starts :func:`sdn3d.geometric.fit.fit_to_masks`.
+- ``fit, oracle: ground-truth masks + boxes``: what ``proposals=boxes`` does given the true boxes and the true masks
+  (``BoxPrompts(masks=...)``): the branch's prediction starts :func:`sdn3d.geometric.fit.fit_to_masks`;
+- ``branch, oracle: ground-truth boxes`` and ``fit, oracle: ground-truth boxes``: ``proposals=boxes`` given the true
+  boxes alone (GrabCut's masks, as for a photo): the branch's prediction kept (the fit's ``min_mask_pixels`` set out
+  of reach, so no object is fitted), and fitted;
+- ``branch, predicted proposals`` and ``fit, predicted proposals``: the semantic branch's proposals
+  (``proposals='semantic'``, ``--semantic``), as predicted and after the proposals' fit (``derender(fit=...)``).
+  Each evaluated object is matched to the proposal whose mask overlaps its visible mask most (IoU at least
+  ``--match-iou``); an object without a match (or whose match has no geometry) counts as the worst (180 degrees,
+  wrong template): the figures are over every evaluated object, ``matched_pct`` says how many were found.
 
 Figures per row and per source scene (world) and over all: yaw error ``|wrap(ry~ - ry)|`` in degrees (median, 90th
 percentile), flips (share of objects whose yaw is more than 90 degrees off: end for end), template accuracy (the
@@ -46,7 +56,9 @@ from sdn3d.io import write_json_atomic  # noqa: E402
 from sdn3d.labels import INSTANCE_DIVISOR  # noqa: E402
 from sdn3d.models import Models, geometric_crop_settings  # noqa: E402
 
-ROWS = ("branch, GT masks (oracle)", "fit, GT masks + boxes (oracle)")
+ROWS = {"gt_branch": "branch, oracle: ground-truth masks", "gt_fit": "fit, oracle: ground-truth masks + boxes",
+        "boxes_branch": "branch, oracle: ground-truth boxes", "boxes_fit": "fit, oracle: ground-truth boxes",
+        "pred_branch": "branch, predicted proposals", "pred_fit": "fit, predicted proposals"}
 
 
 def row_of(scene, iid: int) -> int:
@@ -69,7 +81,20 @@ def figures(rows: list[dict]) -> dict:
         "template_majority_floor_pct": round(100 * max(true_t.values()) / len(rows), 1),
         "distance_median_x1e2": round(100 * float(np.median([r["dist"] for r in rows])), 2),
         "scale_median_m": round(float(np.median([r["scale"] for r in rows])), 3),
+        "matched_pct": round(100 * float(np.mean([r.get("matched", True) for r in rows])), 1),
     }
+
+
+def matched_rows(scene, masks: torch.Tensor, min_iou: float) -> list[int]:
+    """Per evaluated object (``masks (K, H, W)`` its visible mask) the row of ``scene``'s object whose mask overlaps
+    it most, -1 where none reaches ``min_iou``."""
+    theirs = scene.objects.mask.bool()
+    if not len(theirs):
+        return [-1] * len(masks)
+    inter = (masks[:, None] & theirs[None]).flatten(2).sum(2).float()
+    union = (masks[:, None] | theirs[None]).flatten(2).sum(2).float().clamp_min(1)
+    iou, best = (inter / union).max(1)
+    return [int(b) if float(i) >= min_iou else -1 for i, b in zip(iou, best, strict=True)]
 
 
 def main(argv: list[str] | None = None) -> dict:
@@ -84,13 +109,23 @@ def main(argv: list[str] | None = None) -> dict:
     p.add_argument("--fit", nargs="*", default=[], metavar="KEY=VALUE", help="FitSettings fields to change")
     p.add_argument("--no-lamps", action="store_true",
                    help="the branch's yaw as the net gives it (GeometricPredictor.lamp_cue=None: no red-lamp cue)")
+    p.add_argument("--rows", nargs="*", default=["gt_branch", "gt_fit"], choices=tuple(ROWS),
+                   help="the rows to measure (module doc)")
+    p.add_argument("--semantic", default=None, help="semantic checkpoint (the predicted proposals' rows)")
+    p.add_argument("--match-iou", type=float, default=0.5)
+    p.add_argument("--image-size", type=int, nargs=2, default=None, metavar=("W", "H"),
+                   help="working size (default: the tree's; the demo's branches work at 312 96)")
     p.add_argument("--out", default=None)
     args = p.parse_args(argv)
+    if args.no_fit:
+        args.rows = [r for r in args.rows if not r.endswith("_fit")]
+    if any(r.startswith("pred_") for r in args.rows) and not args.semantic:
+        p.error("the predicted proposals' rows need --semantic")
     torch.manual_seed(0)
     torch.set_num_threads(args.threads)
     crop = geometric_crop_settings(args.geometric)
-    models = Models.from_checkpoints(geometric=args.geometric, **({"crop_size": crop[0], "margin": crop[1]}
-                                                                   if crop else {}))
+    models = Models.from_checkpoints(geometric=args.geometric, semantic=args.semantic,
+                                     **({"crop_size": crop[0], "margin": crop[1]} if crop else {}))
     if args.no_lamps:
         models.geometric.lamp_cue = None
     source = synth_data_source(args.data_root)
@@ -99,7 +134,7 @@ def main(argv: list[str] | None = None) -> dict:
     records = sorted(records, key=lambda r: r.key)
     if args.max_frames and len(records) > args.max_frames:
         records = [records[i] for i in np.linspace(0, len(records) - 1, args.max_frames).round().astype(int)]
-    size = tuple(source.image_size)
+    size = tuple(args.image_size or source.image_size)
 
     def converted(v: str, default):
         if v.lower() in ("none", "null"):
@@ -109,8 +144,11 @@ def main(argv: list[str] | None = None) -> dict:
         return float(v) if default is None else type(default)(v)
 
     fit = FitSettings(**{k: converted(v, getattr(FitSettings(), k)) for k, v in (a.split("=", 1) for a in args.fit)})
-    per_object: dict[str, list[dict]] = {r: [] for r in ROWS}
-    t_start, seconds = time.perf_counter(), {r: 0.0 for r in ROWS}
+    rows_asked = [ROWS[r] for r in args.rows]
+    kept = FitSettings(**{**fit.to_dict(), "min_mask_pixels": 2**62, "coarse_steps": 0, "fine_steps": 0, "keep": 1,
+                          "mirror": False})  # no object is fitted: the branch's predictions on the box masks
+    per_object: dict[str, list[dict]] = {r: [] for r in rows_asked}
+    t_start, seconds = time.perf_counter(), {r: 0.0 for r in rows_asked}
     for record in records:
         frame = load_frame(record, size, semantic=False, instances=False)
         image, intr = frame.image, frame.intrinsics
@@ -129,17 +167,24 @@ def main(argv: list[str] | None = None) -> dict:
         if not ids:
             continue
         names = tuple("Car" if i // INSTANCE_DIVISOR == 12 else "Van" for i in ids)
-        t0 = time.perf_counter()
-        scenes = {ROWS[0]: (derender(image, intr, models, "gt", gt), ids)}
-        seconds[ROWS[0]] += time.perf_counter() - t0
-        if not args.no_fit:
-            gt_masks = torch.stack([truth.objects.mask[row_of(truth, i)] for i in ids])
+        gt_masks = torch.stack([truth.objects.mask[row_of(truth, i)] for i in ids]).bool()
+        scenes = {}
+        for key in args.rows:
+            name = ROWS[key]
             t0 = time.perf_counter()
-            fitted = derender(image, intr, models, "boxes", gt, boxes=BoxPrompts(torch.tensor(boxes), names, fit,
-                                                                                   masks=gt_masks,
-                                                                                   refine_masks=False))
-            seconds[ROWS[1]] += time.perf_counter() - t0
-            scenes[ROWS[1]] = (fitted, [b.instance_id for b in fitted.meta["boxes"]])
+            if key == "gt_branch":
+                scene = derender(image, intr, models, "gt", gt)
+                found = [row_of(scene, i) for i in ids]
+            elif key in ("gt_fit", "boxes_branch", "boxes_fit"):
+                prompts = BoxPrompts(torch.tensor(boxes), names, kept if key == "boxes_branch" else fit,
+                                     **({"masks": gt_masks, "refine_masks": False} if key == "gt_fit" else {}))
+                scene = derender(image, intr, models, "boxes", gt, boxes=prompts)
+                found = [row_of(scene, b.instance_id) for b in scene.meta["boxes"]]
+            else:
+                scene = derender(image, intr, models, "semantic", gt, fit=fit if key == "pred_fit" else None)
+                found = matched_rows(scene, gt_masks, args.match_iou)
+            seconds[name] += time.perf_counter() - t0
+            scenes[name] = (scene, found)
         parts = record.key.split("/")  # "<dataset>/<world>/<variation>/<frame>"
         world = parts[1] if len(parts) > 2 else parts[0]
         for j, iid in enumerate(ids):
@@ -147,9 +192,9 @@ def main(argv: list[str] | None = None) -> dict:
             tr = row_of(truth, iid)
             box = boxes[j]
             cut = box[0] <= 0 or box[1] <= 0 or box[2] >= size[0] or box[3] >= size[1]  # touches the border
-            for name, (scene, row_ids) in scenes.items():
+            for name, (scene, found) in scenes.items():
                 o = scene.objects
-                r = row_of(scene, row_ids[j])
+                r = found[j]
                 if r < 0 or int(o.template_id[r]) < 0:  # no geometry: counted as the worst
                     yaw, ok, dist, scale = 180.0, False, 1.0, float(t.dims[tr].norm())
                 else:
@@ -165,8 +210,9 @@ def main(argv: list[str] | None = None) -> dict:
                                          "scale": scale, "box": [round(float(v), 1) for v in box],
                                          "truncated": bool(cut),
                                          "ry": None if r < 0 else round(float(o.ry[r]), 4),
+                                         "matched": r >= 0,
                                          "hypothesis": (scene.meta["boxes"][j].hypothesis
-                                                        if "boxes" in scene.meta else None)})
+                                                        if scene.meta.get("boxes") else None)})
         print(f"{record.key}: {len(ids)} objects, {time.perf_counter() - t_start:.0f} s", file=sys.stderr)
     table = {}
     for name, rows in per_object.items():
@@ -174,6 +220,8 @@ def main(argv: list[str] | None = None) -> dict:
             continue
         worlds = sorted({r["world"] for r in rows})
         table[name] = {"all": figures(rows), **{w: figures([r for r in rows if r["world"] == w]) for w in worlds}}
+        if not all(r["matched"] for r in rows):  # the poses of the objects found, apart from the finding
+            table[name]["matched objects only"] = figures([r for r in rows if r["matched"]])
     result = {"geometric": str(Path(args.geometric).resolve()), "data_root": str(Path(args.data_root).resolve()),
               "part": args.part, "frames": len(records), "lamp_cue": not args.no_lamps, "min_pixels": args.min_pixels,
               "fit_settings": fit.to_dict(), "table": table,

@@ -75,7 +75,8 @@ class BoxFit:
         fit_pixels, min_pixels: its mask's pixels before the fit, and the pixels a fit needs (what a record without
             a fit says; read back from a scene file, ``fit_pixels`` of a fitted one is ``mask_pixels``).
         hypothesis: which of the fit's hypotheses won, in words (:meth:`~sdn3d.geometric.fit.FitResult.hypothesis_name`:
-            the prediction, its end-for-end flip, a search start; None: no fit).
+            the prediction, its end-for-end flip, its mirror about the line of sight, the mirror's flip, a search
+            start; None: no fit).
         fit_note: what the fit could not do normally (a mask too small or thin: the prediction kept), or None.
     """
 

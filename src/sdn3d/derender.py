@@ -199,12 +199,12 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
 def _appearance(pred: dict[str, Tensor], rows: Tensor, ok: Tensor, n: int, models: Models) -> Appearance | None:
     """The :class:`~sdn3d.geometric.facing.Appearance` of the ``n`` objects from the predictions ``pred`` of the
     rows ``rows`` (usable where ``ok``); None where the predictor read no lamps."""
-    from sdn3d.geometric.facing import APPEARANCE_KEYS, BIN_KEYS, Appearance
+    from sdn3d.geometric.facing import APPEARANCE_KEYS, BIN_KEYS, FRONT_KEYS, Appearance
 
     if models.geometric.lamp_cue is None or any(k not in pred for k in APPEARANCE_KEYS):
         return None
     values = {}
-    for k in APPEARANCE_KEYS + tuple(k for k in BIN_KEYS if k in pred):
+    for k in APPEARANCE_KEYS + tuple(k for k in BIN_KEYS + FRONT_KEYS if k in pred):
         value = torch.zeros((n, *pred[k].shape[1:]), dtype=pred[k].dtype)
         value[rows[ok]] = pred[k][ok]
         values[k] = value

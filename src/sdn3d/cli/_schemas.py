@@ -33,6 +33,7 @@ class FitSchema:
     keep: int = MISSING
     tie: float = MISSING
     facing_tie: float = MISSING
+    mirror: bool = MISSING
     appearance: bool = MISSING
     lr: float = MISSING
     margin: float = MISSING

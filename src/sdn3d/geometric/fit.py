@@ -26,8 +26,10 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    decides the end (``facing_tie``): a fit drops out where another one on its axis facing the other end
    (:data:`FACING_AXIS`) is believed clearly more (by :data:`FACING_MARGIN`) and its loss is within ``facing_tie``
    of the fit's; a silhouette that prefers an end more clearly than that keeps it, and the axis stays the
-   silhouette's. :attr:`FitResult.hypothesis` records the winner (0: the prediction, 1: its flip, 2..: the
-   search's best starts).
+   silhouette's. With an appearance belief, the prediction mirrored about the line of sight (``mirror``:
+   ``alpha -> pi - alpha``, the same end seen, its front to the other side) and that mirror's flip are two more
+   fine hypotheses. :attr:`FitResult.hypothesis` records the winner (0: the prediction, 1: its flip, 2: its
+   mirror, 3: the mirror's flip, 4..: the search's best starts; without the mirror, the search's are 4.. too).
 3. **What counts.** The loss is L_reproj (mean ``|S~ - M|``) over the crop, without the pixels of nearer objects
    (``ignore``) and outside the image, plus ``dims_reg * |log d - log d0|^2`` (keeps the size near the start
    where the silhouette cannot tell: a car seen from behind has no visible length, and a box-like car turned by 90
@@ -83,8 +85,12 @@ FACING_AXIS = math.radians(30)
 #: same fits.
 FACING_MARGIN = 0.5
 #: Names of the fine stage's hypotheses (:attr:`FitResult.hypothesis` indexes them; the search's ``k``-th best start
-#: is ``2 + k``).
-HYPOTHESES = ("prediction", "prediction flipped end for end")
+#: is ``4 + k``). The mirrored two are tried where ``FitSettings.mirror`` asks and an appearance belief is given.
+HYPOTHESES = ("prediction", "prediction flipped end for end", "prediction mirrored about the line of sight",
+              "prediction mirrored and flipped")
+#: How many of :data:`HYPOTHESES` a fit without the mirror (``FitSettings.mirror`` false) tries: the search's
+#: ``k``-th best start is then ``2 + k``.
+UNMIRRORED = 2
 
 
 @dataclass(frozen=True)
@@ -109,9 +115,18 @@ class FitSettings:
             size that fits better, not from the end: on a seed-13 tuning tree (ground-truth masks and boxes, 442
             cars and vans, the demo-budget MultiBin branch with the lamp cue) the fit turned 23 cars end for end
             with 0, 17 with 0.25, 16 with 0.5, 17 with 1 or more (docs/results/2026-11-28_cpu/session3/flips).
+        mirror: two more fine hypotheses: the prediction mirrored about the line of sight (``alpha -> pi - alpha``,
+            ``alpha = ry - ray`` with ``ray`` the angle of the ray through the prediction's place: the same end seen,
+            its front pointing to the other side) and that mirror's end-for-end flip. A car seen nearly end on casts
+            nearly the same outline either way and the branch's bins sit near ``alpha = +-90`` degrees, so a search
+            that starts at the prediction stays on its side of the ray. Tried only with a ``yaw_belief`` (the
+            appearance's, e.g. the lamps' side): the nearness to the start cannot tell a mirror (a start 90 degrees
+            off is nearer the truth's mirror than the truth).
         appearance: the box objects' fit believes the geometric branch's appearance at each hypothesis' axis
             (:func:`~sdn3d.geometric.facing.facing_belief`: the lamps' evidence and the MultiBin bins) rather than
-            the nearness to its start; as many flips either way on the seed-13 tuning tree (16 of 442), so off.
+            the nearness to its start. Without the mirror it made as many flips either way on the seed-13 tuning tree
+            (16 of 442); with it, it is what tells the mirror apart (the lamps' side: which end lies left), so on
+            (docs/results/2026-11-28_cpu/session4/poses).
         lr: Adam learning rate (x, log z, log dims; the yaw takes ``2 lr``).
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
@@ -141,7 +156,8 @@ class FitSettings:
     keep: int = 3
     tie: float = 0.1
     facing_tie: float = 0.5
-    appearance: bool = False
+    mirror: bool = True
+    appearance: bool = True
     lr: float = 0.05
     margin: float = 0.15
     sigma: float = 0.25
@@ -178,8 +194,9 @@ class FitSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
-        if not isinstance(self.appearance, bool):
-            raise ValueError(f"FitSettings.appearance must be true or false, got {self.appearance!r}")
+        for name in ("appearance", "mirror"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"FitSettings.{name} must be true or false, got {getattr(self, name)!r}")
         if self.silhouette not in ("soft", "straight_through"):
             raise ValueError(f"FitSettings.silhouette must be 'soft' or 'straight_through', got {self.silhouette!r}")
         low_high = self.camera_height_range
@@ -206,7 +223,8 @@ class FitResult:
         iou: ``(N,)`` silhouette IoU with the mask at the fine crop; loss: ``(N,)`` the winner's final loss.
         start_ry: ``(N,)`` the first start's yaw (the prediction's, or facing away).
         hypothesis: ``(N,)`` long, the winning fine hypothesis (:data:`HYPOTHESES`: 0 the prediction, 1 its
-            end-for-end flip, ``2 + k`` the search's ``k``-th best start; -1: not fitted, the prediction kept).
+            end-for-end flip, 2 its mirror about the line of sight, 3 the mirror's flip, ``4 + k`` the search's
+            ``k``-th best start; -1: not fitted, the prediction kept).
         fitted: ``(N,)`` bool, False where the mask was too small or thin and the prediction was kept.
         camera_height: the road plane's ``y`` the fit used (metres) and how it was found (``camera_height_source``).
         notes: what the fit could not do normally, per object index (the sentence without the object's name).
@@ -422,10 +440,14 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
         predicted["x"] = torch.where(own, start_location[:, 0].float(), predicted["x"])
         predicted["z"] = torch.where(own, start_location[:, 2].float().clamp_min(1.0), predicted["z"])
         own_template = torch.where(own, start_template.long(), own_template)
-    flipped = {**predicted, "ry": _wrap(ry0 + math.pi)}
-    starts = {k: torch.cat([predicted[k][:, None], flipped[k][:, None], searched[k]], 1) for k in searched}
-    fine_template = torch.cat([own_template[:, None], own_template[:, None], search_template], 1)
-    hyps = keep + len(HYPOTHESES)
+    mine = [predicted, {**predicted, "ry": _wrap(ry0 + math.pi)}]
+    mirror = settings.mirror and yaw_belief is not None
+    if mirror:  # about the ray through the prediction's place: alpha -> pi - alpha, and its flip
+        mirrored = _wrap(2 * torch.atan2(predicted["x"], predicted["z"]) + math.pi - ry0)
+        mine += [{**predicted, "ry": mirrored}, {**predicted, "ry": _wrap(mirrored + math.pi)}]
+    starts = {k: torch.cat([h[k][:, None] for h in mine] + [searched[k]], 1) for k in searched}
+    fine_template = torch.cat([own_template[:, None].expand(n, len(mine)), search_template], 1)
+    hyps = keep + len(mine)
     obj = torch.arange(n).repeat_interleave(hyps)
     mask, ign, K = _crops(masks, ignore, windows, settings.fine_size, intr, image_size)
     values, loss = _stage(bank, fine_template.flatten(), {k: v.flatten(0, 1) for k, v in starts.items()}, dims0[obj],
@@ -452,9 +474,11 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     drawn, target = (sil > 0.5) & keep_px, (mask[obj][winner][:, 0] > 0.5) & keep_px
     union = (drawn | target).flatten(1).sum(1)
     iou = (drawn & target).flatten(1).sum(1) / union.clamp_min(1)
+    # The record's index: HYPOTHESES without the mirror's two, then the search's starts.
+    hypothesis = index if mirror else torch.where(index < UNMIRRORED, index, index + len(HYPOTHESES) - UNMIRRORED)
     result = FitResult(template=won.long(), dims=dims, ry=chosen["ry"], location=location, phi=phi,
                        iou=torch.where(union > 0, iou, torch.zeros_like(iou)).float(), loss=loss[winner],
-                       start_ry=ry0, hypothesis=index.long(), fitted=torch.ones(n, dtype=torch.bool),
+                       start_ry=ry0, hypothesis=hypothesis.long(), fitted=torch.ones(n, dtype=torch.bool),
                        camera_height=height, camera_height_source=height_source)
     _keep_predictions_of_bad_masks(result, masks, start_template, start_location, dims0, ry0, settings)
     return result

@@ -15,7 +15,7 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 from sdn3d.geometric.decode import decode_outputs
-from sdn3d.geometric.lamps import LampCue, face_by_lamps, red_lamps
+from sdn3d.geometric.lamps import LampCue, face_by_lamps, red_lamps, white_lamps
 from sdn3d.geometric.losses import render_silhouettes
 from sdn3d.geometric.model import GeometricNet, ray_angle
 from sdn3d.geometric.refine import RefineSettings, refine_by_reprojection
@@ -123,7 +123,8 @@ class GeometricPredictor:
         output then also holds what the appearance says of any yaw (:func:`~sdn3d.geometric.facing.facing_belief`):
         ``net_ry (N,)`` the net's yaw before the lamps, ``ray (N,)`` the ray angle of each box, and the lamps'
         reading ``lamp_present``, ``lamp_usable`` (``(N,)`` bool) and ``lamp_offset (N,)``
-        (:func:`~sdn3d.geometric.lamps.red_lamps`).
+        (:func:`~sdn3d.geometric.lamps.red_lamps`), and of a red body's headlights ``front_present``,
+        ``front_usable``, ``front_offset`` (:func:`~sdn3d.geometric.lamps.white_lamps`).
         """
 
         device = self.device
@@ -147,6 +148,8 @@ class GeometricPredictor:
             ray = ray_angle(box, intrinsics)
             present, usable, offset = red_lamps(crop, mask.to(device), self.lamp_cue)
             out.update(net_ry=out["ry"], ray=ray, lamp_present=present, lamp_usable=usable, lamp_offset=offset)
+            present, usable, offset = white_lamps(crop, mask.to(device), self.lamp_cue)
+            out.update(front_present=present, front_usable=usable, front_offset=offset)
             out["ry"] = face_by_lamps(out["ry"], ray, crop, mask.to(device), self.lamp_cue)
         if crop_intrinsics is not None:
             out["silhouette"] = render_silhouettes(

@@ -13,7 +13,7 @@ import sdn3d.geometric.fit as fit_module
 from sdn3d.geometric.fit import FitRequest, FitSettings, fit_many, fit_to_masks
 from sdn3d.image_ops import mask_boxes
 
-SMALL = FitSettings(coarse_steps=3, fine_steps=2, coarse_size=16, fine_size=24)
+SMALL = FitSettings(coarse_steps=3, fine_steps=2, coarse_size=16, fine_size=24, coarse_survivors=0)
 
 
 @pytest.fixture(scope="module")

@@ -43,6 +43,15 @@ thresholded at 0.5, ignored pixels left out): :attr:`FitResult.iou`. A mask too 
 (``min_mask_pixels``, ``min_mask_side``) keeps the branch's prediction where there is one (``FitResult.fitted``
 False, a warning naming the object in ``FitResult.warnings``), never a silent flip. Shapes in the docstrings:
 ``N`` objects, ``T`` templates, ``Y`` starting yaws.
+
+**Cost** (issue 40: 10 objects at 624x192 within 3 s). Nearly all of it is the soft silhouettes' (face, pixel)
+pairs, Adam step after Adam step. The search stops the starts that lag: after a third of its steps only the
+``coarse_survivors`` best of each object go on; it draws templates cut to ``coarse_faces`` faces, and the fine stage
+fits them cut to ``fine_faces`` at ``fine_size`` px (the winner's IoU is measured with its full mesh). The step
+counts stay: fewer steps cost template accuracy and silhouette IoU on the seed-13 tuning tree (10 fine and 8 search
+steps: template -8 pp, 95 % interval [-15.7, -0.4]). :func:`fit_many` fits several callers' objects in one call
+(:func:`sdn3d.derender.derender`'s proposals and box objects): each stage's fixed cost once.
+docs/results/2026-11-28_cpu/session4/cost/README.md has the measurements.
 """
 
 from __future__ import annotations
@@ -100,7 +109,7 @@ class FitSettings:
         camera_height_range: the measured height is clamped to this ``(low, high)``.
         coarse_size, coarse_steps: crop side (px) and Adam steps of the search over all starts.
         coarse_faces: the search over all starts draws each template cut to at most this many faces
-            (:meth:`~sdn3d.meshes.bank.MeshBank.simplified`; 0: the full meshes). The fine stage draws the full ones.
+            (:meth:`~sdn3d.meshes.bank.MeshBank.simplified`; 0: the full meshes).
         fine_size, fine_steps: crop side and Adam steps of the ``keep`` best starts, with the FFD.
         coarse_survivors: after the first third of ``coarse_steps``, only this many best starts of each object go
             on searching (the others keep their loss so far and drop out; 0: every start searches to the end).
@@ -141,11 +150,11 @@ class FitSettings:
     camera_height_range: tuple[float, float] = (1.2, 2.2)
     coarse_size: int = 32
     coarse_steps: int = 12
-    coarse_faces: int = 450
-    fine_size: int = 80
+    coarse_faces: int = 250
+    fine_size: int = 64
     fine_steps: int = 16
-    fine_faces: int = 0
-    coarse_survivors: int = 0
+    fine_faces: int = 600
+    coarse_survivors: int = 8
     keep: int = 3
     tie: float = 0.1
     facing_tie: float = 0.5

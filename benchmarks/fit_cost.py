@@ -1,13 +1,14 @@
 """Cost of the test-time fit (issue 40's target: 10 objects at 624x192 fitted within 3 s); prints JSON.
 
     python benchmarks/fit_cost.py --geometric RUN/checkpoints/inference.pt [--objects 10] [--repeats 3]
-                                  [--data DIR] [--threads 1] [--fit KEY=VALUE ...] [--out FILE]
+                                  [--data DIR] [--seed 2047] [--threads 1] [--fit KEY=VALUE ...] [--out FILE]
 
 What is timed: :func:`sdn3d.derender.derender` with ``proposals='boxes'`` on one synthetic 624x192 frame, given the
 ground-truth boxes of its ``--objects`` largest cars (GrabCut masks, the geometric branch's forward, the fit of every
 box, the second GrabCut seeded by the fits): what ``sdn3d-edit`` does with that many boxes after loading its models.
 The frame is the one with the most cars of at least 100 visible pixels in ``--data`` (default: a dense synthetic
-tree generated here, seed 2047, 16-22 cars per frame). Per repeat: wall and CPU seconds (``time.process_time``,
+tree generated with ``--seed`` (2047), 16-22 cars per frame, into ``--data`` where that folder holds no tree
+yet, else into a temporary folder). Per repeat: wall and CPU seconds (``time.process_time``,
 all threads: on a shared machine the wall time also counts waiting for a core), and the CPU seconds of the fit's
 two stages (the search over all starts, then the fine fits). The first call is a warm-up and not counted.
 """
@@ -30,7 +31,7 @@ sys.path.insert(0, str(REPO / "src"))
 TARGET_S = 3.0
 
 
-def _dense_frame(root: Path | None) -> tuple[Path, list[list[int]]]:
+def _dense_frame(root: Path | None, seed: int = 2047) -> tuple[Path, list[list[int]]]:
     """``(rgb path, boxes)`` of the frame with the most cars of >= 100 visible pixels, largest first."""
     from sdn3d.cli._config import synth_data_source
     from sdn3d.data.frames import load_frame
@@ -38,9 +39,9 @@ def _dense_frame(root: Path | None) -> tuple[Path, list[list[int]]]:
     from sdn3d.data.synth import SynthConfig, generate_dataset
     from sdn3d.labels import INSTANCE_DIVISOR
 
-    if root is None:
-        root = Path(tempfile.mkdtemp(prefix="fit_cost_")) / "dense"
-        generate_dataset(SynthConfig(output_dir=str(root), seed=2047, image_size=(624, 192),
+    if root is None or not (root / "_SUCCESS").exists():
+        root = root or Path(tempfile.mkdtemp(prefix="fit_cost_")) / "dense"
+        generate_dataset(SynthConfig(output_dir=str(root), seed=seed, image_size=(624, 192),
                                      worlds=("0001", "0002", "0006"), variations=("clone",), frames_per_sequence=6,
                                      cars_per_frame=(16, 22), edit_pairs=0, occluder_pairs=0, workers=1, threads=1))
     source = synth_data_source(root, (624, 192))
@@ -65,7 +66,9 @@ def main() -> int:
     parser.add_argument("--geometric", required=True, help="geometric checkpoint or inference export")
     parser.add_argument("--objects", type=int, default=10)
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--data", type=Path, default=None, help="a sdn3d-synth tree at 624x192 (default: generate)")
+    parser.add_argument("--data", type=Path, default=None,
+                        help="a sdn3d-synth tree at 624x192 (generated there with --seed if it holds none)")
+    parser.add_argument("--seed", type=int, default=2047, help="the generated tree's seed")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--fit", action="append", default=[], metavar="KEY=VALUE", help="a FitSettings field")
     parser.add_argument("--out", default=None)
@@ -81,7 +84,7 @@ def main() -> int:
     from sdn3d.math3d.camera import VKITTI_INTRINSICS
     from sdn3d.models import Models
 
-    path, boxes = _dense_frame(args.data)
+    path, boxes = _dense_frame(args.data, args.seed)
     boxes = boxes[: args.objects]
     image = torch.from_numpy(np.array(Image.open(path).convert("RGB"))).permute(2, 0, 1).float() / 255
     intr = VKITTI_INTRINSICS.resized(624, 192)

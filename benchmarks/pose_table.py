@@ -66,6 +66,25 @@ def row_of(scene, iid: int) -> int:
     return int(hit[0]) if len(hit) else -1
 
 
+def full_iou(scene, r: int, truth_mask: torch.Tensor, others: torch.Tensor) -> float | None:
+    """Silhouette IoU of the object's fitted mesh, drawn in the whole image, with its true visible mask, the other
+    objects' true pixels left out (they may hide it): the same yardstick whatever the fit's crop size."""
+    from sdn3d.meshes.bank import default_bank
+    from sdn3d.render import RasterSettings, rasterize_meshes
+    from sdn3d.render.objects import pose_meshes
+
+    o = scene.objects
+    if r < 0 or int(o.template_id[r]) < 0:
+        return None
+    verts, faces = pose_meshes(default_bank(), o.template_id[r:r + 1], o.dims[r:r + 1].float(), o.ry[r:r + 1].float(),
+                               o.center[r:r + 1].float(), o.phi[r:r + 1].float())
+    drawn = rasterize_meshes(verts, faces, scene.intrinsics.matrix().float(),
+                             RasterSettings(tuple(truth_mask.shape))).mask[0] & ~others
+    target = truth_mask & ~others
+    union = int((drawn | target).sum())
+    return round(int((drawn & target).sum()) / union, 4) if union else None
+
+
 def figures(rows: list[dict]) -> dict:
     """The table's figures of per-object rows (``yaw_deg``, ``template_ok``, ``true_template``, ``dist``, ``scale``)."""
     if not rows:
@@ -82,6 +101,8 @@ def figures(rows: list[dict]) -> dict:
         "distance_median_x1e2": round(100 * float(np.median([r["dist"] for r in rows])), 2),
         "scale_median_m": round(float(np.median([r["scale"] for r in rows])), 3),
         "matched_pct": round(100 * float(np.mean([r.get("matched", True) for r in rows])), 1),
+        "sil_iou_mean": (round(float(np.mean([r["sil_iou"] or 0.0 for r in rows])), 4)
+                         if all("sil_iou" in r for r in rows) else None),
     }
 
 
@@ -212,7 +233,10 @@ def main(argv: list[str] | None = None) -> dict:
                                          "ry": None if r < 0 else round(float(o.ry[r]), 4),
                                          "matched": r >= 0,
                                          "hypothesis": (scene.meta["boxes"][j].hypothesis
-                                                        if scene.meta.get("boxes") else None)})
+                                                        if scene.meta.get("boxes") else None),
+                                         "fit_iou": (scene.meta["boxes"][j].iou if scene.meta.get("boxes")
+                                                     else None),
+                                         "sil_iou": full_iou(scene, r, t.mask[tr], t.mask.any(0) & ~t.mask[tr])})
         print(f"{record.key}: {len(ids)} objects, {time.perf_counter() - t_start:.0f} s", file=sys.stderr)
     table = {}
     for name, rows in per_object.items():

@@ -44,7 +44,14 @@ def _proposal_fit_only_where_tested(request: pytest.FixtureRequest, monkeypatch:
         return tuple(g.clone() for g in geometry), [ProposalFit(int(i), None, True, None, "not fitted (test stub)")
                                                      for i in ids[rows].tolist()]
 
+    def boxes_fitted(intr, masks, ids, rows, geometry, settings, appearance, boxes):  # the box objects fit for real
+        from sdn3d.geometric.fit import fit_many
+
+        return (*predictions_kept(intr, masks, ids, rows, geometry, settings),
+                fit_many([boxes], intr, settings=settings)[0])
+
     monkeypatch.setattr(derendering, "fit_proposals", predictions_kept)
+    monkeypatch.setattr(derendering, "fit_proposals_and_boxes", boxes_fitted)
 
 
 @pytest.fixture(autouse=True)

@@ -172,8 +172,10 @@ def test_an_occluder_is_not_charged_to_the_car_behind_it(torch_threads):
     charged = fit_to_masks(masks[1:], box, WORK, start_ry=torch.tensor([-1.5]), settings=plain)
     whole = fit_to_masks(alone, box, WORK, start_ry=torch.tensor([-1.5]), settings=plain)  # nothing hides it
     assert float(ignored.iou[0]) > 0.8 and float(charged.iou[0]) < float(ignored.iou[0]) - 0.2  # 0.91, 0.49
-    # The shapes: ignoring the occluder covers the whole car, charging it does not (margins > 0.1 and 0.25)
-    assert _iou(_silhouette(ignored), alone[0]) > 0.75 > 0.45 > _iou(_silhouette(charged), alone[0])
+    # The shapes: ignoring the occluder covers the whole car, charging it does not (observed 0.86 and 0.20 with the
+    # session-3 search, 0.48 for the charged fit with the pruned search of issue 40's cost: margins > 0.1 and 0.25)
+    whole_ignored, whole_charged = _iou(_silhouette(ignored), alone[0]), _iou(_silhouette(charged), alone[0])
+    assert whole_ignored > 0.75 and whole_charged < whole_ignored - 0.25, (whole_ignored, whole_charged)
     # The size: what the occluder hides costs the car nothing (fitted alone: 3.70 x 1.48 x 1.55 m, ignored: within
     # 6 %); charged for it, the car is made smaller (volume 5.9 against 8.1 m^3)
     assert torch.allclose(ignored.dims[0], whole.dims[0], rtol=0.15), (ignored.dims, whole.dims)

@@ -28,11 +28,11 @@ from sdn3d.meshes.bank import default_bank
 
 if TYPE_CHECKING:
     from sdn3d.geometric.facing import Appearance
-    from sdn3d.geometric.fit import FitSettings
+    from sdn3d.geometric.fit import FitRequest, FitResult, FitSettings
     from sdn3d.semantic.predict import Segmentation
 
-__all__ = ["BoxFit", "BoxPrompts", "MaskSource", "PoseSource", "add_box_objects", "box_fits", "fit_box_objects",
-           "occluder_masks"]
+__all__ = ["BoxFit", "BoxPrompts", "MaskSource", "PoseSource", "add_box_objects", "box_fits", "box_request",
+           "fit_box_objects", "occluder_masks"]
 
 
 class MaskSource(Enum):
@@ -238,7 +238,7 @@ def add_box_objects(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts
 
 def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, boxes: BoxPrompts,
                     geometry: tuple[Tensor, ...], min_pixels: int, mask_source: Sequence[MaskSource],
-                    appearance: Appearance | None = None
+                    appearance: Appearance | None = None, fit_result: FitResult | None = None
                     ) -> tuple[Tensor, tuple[Tensor, ...], list[BoxFit], Tensor | None]:
     """``(masks, geometry, each box's BoxFit, vacated)``: the box objects' rows ``rows`` fitted to their masks
     (:func:`~sdn3d.geometric.fit.fit_to_masks`, the geometric branch's prediction as the start) and, unless the masks
@@ -246,8 +246,10 @@ def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor,
     ``vacated``: the pixels of the first masks (what the second ones leave of them is no object's), else None.
     ``appearance``: what the geometric branch saw of each row of ``masks`` (lamps, its yaw before them, its bins):
     with ``boxes.fit.appearance`` the fit's yaw belief at each hypothesis' axis
-    (:func:`~sdn3d.geometric.facing.facing_belief`); else the yaw nearest the prediction's is believed."""
-    geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels, appearance)
+    (:func:`~sdn3d.geometric.facing.facing_belief`); else the yaw nearest the prediction's is believed.
+    ``fit_result``: the fit of :func:`box_request`'s objects, done by the caller together with others
+    (:func:`~sdn3d.geometric.fit.fit_many`); None: fitted here."""
+    geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels, appearance, fit_result)
     pixels = masks[rows].flatten(1).sum(1)
     final = [int(p) for p in pixels]
     again, vacated = [False] * len(boxes), None
@@ -282,44 +284,61 @@ def yaw_belief(appearance: Appearance | None, rows: Tensor) -> Callable[[Tensor]
     return believed
 
 
-def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...],
-               min_pixels: int, appearance: Appearance | None = None
-               ) -> tuple[tuple[Tensor, ...], list[tuple[PoseSource | None, float | None, bool, str | None,
-                                                          str | None]]]:
-    """The geometry with the box objects' rows fitted to their masks (:func:`~sdn3d.geometric.fit.fit_to_masks`,
-    the geometric branch's prediction as the start) and per box ``(pose source, silhouette IoU, poor, winning
-    hypothesis, the fit's note)`` (None, None, True, None, None: too few pixels, no fit)."""
+def box_request(masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...], min_pixels: int,
+                appearance: Appearance | None = None) -> FitRequest | None:
+    """What :func:`fit_box_objects` asks the fit for (:class:`~sdn3d.geometric.fit.FitRequest`): the box objects'
+    rows ``rows`` with at least ``min_pixels`` mask pixels (in the boxes' order; None: no box has them), each with
+    the pixels that may hide it (every other proposal, and the boxes nearer than it: the farther ones it hides) and
+    the branch's prediction, where there is one, as its start."""
     from sdn3d.box_masks import nearest_first
-    from sdn3d.geometric.fit import fit_to_masks
+    from sdn3d.geometric.fit import FitRequest
 
-    template, dims, ry, location, phi = (g.clone() for g in geometry)
-    settings = boxes.fit
-    pixels = masks[rows].flatten(1).sum(1)
-    fitted = pixels >= min_pixels
+    template, dims, ry, location, _ = geometry
+    sel = (masks[rows].flatten(1).sum(1) >= min_pixels).nonzero().flatten()
+    if not len(sel):
+        return None
     predicted = template[rows] >= 0
     order = nearest_first(boxes.boxes)
     rank = torch.empty_like(order)
     rank[order] = torch.arange(len(order))
-    # What may hide box i: every other proposal, and the boxes nearer than it (the farther ones it hides).
     others = torch.ones(len(masks), dtype=torch.bool)
     others[rows] = False
     rest = masks[others].any(0) if bool(others.any()) else torch.zeros_like(masks[0])
     ignore = occluder_masks(masks[rows], rank.float()) | rest
-    result = None
+    nan = torch.tensor(float("nan"))
+    return FitRequest(masks[rows[sel]], boxes.boxes[sel], ignore=ignore[sel],
+                      start_ry=torch.where(predicted[sel], ry[rows[sel]].float(), nan),
+                      start_dims=torch.where(predicted[sel, None], dims[rows[sel]].float(), nan),
+                      start_template=template[rows[sel]],
+                      start_location=torch.where(predicted[sel, None], location[rows[sel]].float(), nan),
+                      yaw_belief=yaw_belief(appearance if boxes.fit.appearance else None, rows[sel]))
+
+
+def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...],
+               min_pixels: int, appearance: Appearance | None = None, result: FitResult | None = None
+               ) -> tuple[tuple[Tensor, ...], list[tuple[PoseSource | None, float | None, bool, str | None,
+                                                          str | None]]]:
+    """The geometry with the box objects' rows fitted to their masks (:func:`~sdn3d.geometric.fit.fit_to_masks`,
+    the geometric branch's prediction as the start) and per box ``(pose source, silhouette IoU, poor, winning
+    hypothesis, the fit's note)`` (None, None, True, None, None: too few pixels, no fit). ``result``: the fit of
+    :func:`box_request` done by the caller (with other objects'), else None: fitted here."""
+    from sdn3d.geometric.fit import fit_many
+
+    template, dims, ry, location, phi = (g.clone() for g in geometry)
+    settings = boxes.fit
+    fitted = masks[rows].flatten(1).sum(1) >= min_pixels
+    predicted = template[rows] >= 0
     sel = fitted.nonzero().flatten()
+    if result is None and len(sel):
+        result = fit_many([box_request(masks, rows, boxes, geometry, min_pixels, appearance)], intr,
+                          settings=settings)[0]
     if len(sel):
-        start_ry = torch.where(predicted[sel], ry[rows[sel]].float(), torch.full((len(sel),), float("nan")))
-        start_dims = torch.where(predicted[sel, None], dims[rows[sel]].float(), torch.full((len(sel), 3), float("nan")))
-        start_location = torch.where(predicted[sel, None], location[rows[sel]].float(),
-                                     torch.full((len(sel), 3), float("nan")))
-        result = fit_to_masks(masks[rows[sel]], boxes.boxes[sel], intr, ignore=ignore[sel], start_ry=start_ry,
-                              start_dims=start_dims, start_template=template[rows[sel]], start_location=start_location,
-                              settings=settings,
-                              yaw_belief=yaw_belief(appearance if settings.appearance else None, rows[sel]))
         target = rows[sel]
         template[target] = result.template
         dims[target], ry[target] = result.dims.double(), result.ry.double()
         location[target], phi[target] = result.location.double(), result.phi.float()
+    else:
+        result = None
     out, iou = [], dict(zip(sel.tolist(), result.iou.tolist(), strict=True)) if result is not None else {}
     at = {i: k for k, i in enumerate(sel.tolist())}  # box -> its row in the fit
     notes = result.notes if result is not None else {}

@@ -41,7 +41,7 @@ from typing import TYPE_CHECKING
 import torch
 from torch import Tensor
 
-from sdn3d.box_objects import BoxPrompts, add_box_objects, fit_box_objects, occluder_masks
+from sdn3d.box_objects import BoxPrompts, add_box_objects, box_request, fit_box_objects, occluder_masks
 from sdn3d.errors import UserInputError
 from sdn3d.image_ops import (
     crop_intrinsics,
@@ -54,7 +54,7 @@ from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.models import Models
-from sdn3d.proposal_fit import fit_proposals, vehicle_rows
+from sdn3d.proposal_fit import fit_proposals, fit_proposals_and_boxes, vehicle_rows
 from sdn3d.proposals import PROPOSALS, Proposals, choose_sources
 from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
 from sdn3d.scene.maps import scene_maps
@@ -304,14 +304,20 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     annotated[box_rows] = False
     geometry, appearance = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models,
                                      min_pixels, refine, annotated)
-    proposal_fits = []
+    proposal_fits, box_result = [], None
     if fit is not None:
         rows = vehicle_rows(ids, geometry[0], {c.id: c.name for c in class_list})
-        geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows[~torch.isin(rows, box_rows)], geometry,
-                                                fit, appearance)
+        rows = rows[~torch.isin(rows, box_rows)]
+        box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance)
+                   if len(rows) and len(box_rows) and boxes.fit == fit else None)
+        if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
+            geometry, proposal_fits, box_result = fit_proposals_and_boxes(intrinsics, masks, ids, rows, geometry, fit,
+                                                                          appearance, box_req)
+        else:
+            geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance)
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
-                                                             min_pixels, mask_source, appearance)
+                                                             min_pixels, mask_source, appearance, box_result)
         if vacated is not None:
             instances = torch.where(vacated, torch.zeros_like(instances), instances)
         instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)

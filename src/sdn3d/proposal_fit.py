@@ -28,9 +28,10 @@ from sdn3d.math3d.camera import Intrinsics
 
 if TYPE_CHECKING:
     from sdn3d.geometric.facing import Appearance
-    from sdn3d.geometric.fit import FitSettings
+    from sdn3d.geometric.fit import FitRequest, FitResult, FitSettings
 
-__all__ = ["ProposalFit", "fit_proposals", "vehicle_rows"]
+__all__ = ["ProposalFit", "fit_proposals", "fit_proposals_and_boxes", "proposal_request", "apply_proposal_fit",
+           "vehicle_rows"]
 
 
 @dataclass(frozen=True)
@@ -65,20 +66,54 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
     Rows whose mask is too small or thin to fit keep their prediction (a record with ``iou`` None and the fit's
     note). Objects outside ``rows`` are untouched; they still hide the fitted ones where they are nearer.
     ``appearance``: what the geometric branch saw of each object, the fit's yaw belief with ``settings.appearance``
-    (as for the box objects: :func:`~sdn3d.box_objects.yaw_belief`).
+    (as for the box objects: :func:`~sdn3d.box_objects.yaw_belief`). :func:`proposal_request` and
+    :func:`apply_proposal_fit` are its two halves, for a caller that fits these objects with others
+    (:func:`~sdn3d.geometric.fit.fit_many`).
     """
-    from sdn3d.geometric.fit import fit_to_masks
+    from sdn3d.geometric.fit import fit_many
 
-    template, dims, ry, location, phi = (g.clone() for g in geometry)
     if not len(rows):
-        return (template, dims, ry, location, phi), []
+        return tuple(g.clone() for g in geometry), []
+    request = proposal_request(masks, rows, geometry, settings, appearance)
+    return apply_proposal_fit(fit_many([request], intr, settings=settings)[0], ids, rows, geometry, settings)
+
+
+def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor,
+                            geometry: tuple[Tensor, ...], settings: FitSettings, appearance: Appearance | None,
+                            boxes: FitRequest) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult]:
+    """:func:`fit_proposals` and the fit of the box objects' request ``boxes``
+    (:func:`~sdn3d.box_objects.box_request`, the same ``settings``) in one :func:`~sdn3d.geometric.fit.fit_many`
+    call: each stage's fixed cost once. Neither reads the other's fit, so the fits are those of two calls (up to the
+    order of float sums). Returns ``(geometry, records, the boxes' FitResult)``."""
+    from sdn3d.geometric.fit import fit_many
+
+    if not len(rows):
+        return (*fit_proposals(intr, masks, ids, rows, geometry, settings, appearance),
+                fit_many([boxes], intr, settings=settings)[0])
+    fits = fit_many([proposal_request(masks, rows, geometry, settings, appearance), boxes], intr, settings=settings)
+    return (*apply_proposal_fit(fits[0], ids, rows, geometry, settings), fits[1])
+
+
+def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], settings: FitSettings,
+                     appearance: Appearance | None = None) -> FitRequest:
+    """What :func:`fit_proposals` asks the fit for the rows ``rows (K,)`` (non-empty): their masks, boxes, the pixels
+    of nearer objects, the predictions as starts and the yaw belief."""
+    from sdn3d.geometric.fit import FitRequest
+
+    template, dims, ry, location, _ = geometry
     # Depth of each object: the prediction's distance; no geometry: in front of everything (its pixels may hide).
-    depth = torch.where(template >= 0, location.norm(dim=1).float(), torch.zeros(len(ids)))
+    depth = torch.where(template >= 0, location.norm(dim=1).float(), torch.zeros(len(template)))
     ignore = occluder_masks(masks, depth)[rows]
-    result = fit_to_masks(masks[rows], mask_boxes(masks[rows]).float(), intr, ignore=ignore,
-                          start_ry=ry[rows].float(), start_dims=dims[rows].float(), start_template=template[rows],
-                          start_location=location[rows].float(), settings=settings,
-                          yaw_belief=yaw_belief(appearance if settings.appearance else None, rows))
+    return FitRequest(masks[rows], mask_boxes(masks[rows]).float(), ignore=ignore, start_ry=ry[rows].float(),
+                      start_dims=dims[rows].float(), start_template=template[rows],
+                      start_location=location[rows].float(),
+                      yaw_belief=yaw_belief(appearance if settings.appearance else None, rows))
+
+
+def apply_proposal_fit(result: FitResult, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],
+                       settings: FitSettings) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
+    """:func:`fit_proposals`' output from the fit ``result`` of :func:`proposal_request`'s rows ``rows``."""
+    template, dims, ry, location, phi = (g.clone() for g in geometry)
     fitted = result.fitted if len(result.fitted) else torch.ones(len(rows), dtype=torch.bool)
     take = rows[fitted]
     template[take] = result.template[fitted]

@@ -28,8 +28,10 @@ class FitSchema:
     coarse_size: int = MISSING
     coarse_steps: int = MISSING
     coarse_faces: int = MISSING
+    coarse_survivors: int = MISSING
     fine_size: int = MISSING
     fine_steps: int = MISSING
+    fine_faces: int = MISSING
     keep: int = MISSING
     tie: float = MISSING
     facing_tie: float = MISSING

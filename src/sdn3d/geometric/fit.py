@@ -45,6 +45,15 @@ thresholded at 0.5, ignored pixels left out): :attr:`FitResult.iou`. A mask too 
 (``min_mask_pixels``, ``min_mask_side``) keeps the branch's prediction where there is one (``FitResult.fitted``
 False, a warning naming the object in ``FitResult.warnings``), never a silent flip. Shapes in the docstrings:
 ``N`` objects, ``T`` templates, ``Y`` starting yaws.
+
+**Cost** (issue 40: 10 objects at 624x192 within 3 s). Nearly all of it is the soft silhouettes' (face, pixel)
+pairs, Adam step after Adam step. The search stops the starts that lag: after a third of its steps only the
+``coarse_survivors`` best of each object go on; it draws templates cut to ``coarse_faces`` faces, and the fine stage
+fits them cut to ``fine_faces`` at ``fine_size`` px (the winner's IoU is measured with its full mesh). The step
+counts stay: fewer steps cost template accuracy and silhouette IoU on the seed-13 tuning tree (10 fine and 8 search
+steps: template -8 pp, 95 % interval [-15.7, -0.4]). :func:`fit_many` fits several callers' objects in one call
+(:func:`sdn3d.derender.derender`'s proposals and box objects): each stage's fixed cost once.
+docs/results/2026-11-28_cpu/session4/cost/README.md has the measurements.
 """
 
 from __future__ import annotations
@@ -59,14 +68,16 @@ from torch import Tensor
 from sdn3d.geometric.losses import outside_image_mask, render_silhouettes, reprojection_error
 from sdn3d.geometric.refine import adam_fit
 from sdn3d.image_ops import crop_intrinsics, crop_windows, pixel_centre_boxes, square_crop_window
-from sdn3d.math3d.camera import Intrinsics
-from sdn3d.math3d.ffd import expand_half_ffd
+from sdn3d.math3d.camera import Intrinsics, as_intrinsics_matrix
+from sdn3d.math3d.ffd import expand_half_ffd, ffd_deform
+from sdn3d.math3d.transforms import object_to_camera
 from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.templates import TEMPLATE_DIMENSIONS
 from sdn3d.render.settings import SoftSilhouetteSettings
+from sdn3d.render.silhouette import silhouette
 
-__all__ = ["FitSettings", "FitResult", "fit_to_masks", "road_start", "estimate_camera_height", "CAR_DIMS",
-           "PLAUSIBLE_SIZE_FACTOR", "HYPOTHESES"]
+__all__ = ["FitSettings", "FitResult", "FitRequest", "fit_to_masks", "fit_many", "road_start", "estimate_camera_height",
+           "CAR_DIMS", "PLAUSIBLE_SIZE_FACTOR", "HYPOTHESES"]
 
 #: Mean KITTI car ``(l, h, w)`` in metres: the size a fit starts from without a usable prediction.
 CAR_DIMS = (3.88, 1.53, 1.63)
@@ -104,8 +115,12 @@ class FitSettings:
         camera_height_range: the measured height is clamped to this ``(low, high)``.
         coarse_size, coarse_steps: crop side (px) and Adam steps of the search over all starts.
         coarse_faces: the search over all starts draws each template cut to at most this many faces
-            (:meth:`~sdn3d.meshes.bank.MeshBank.simplified`; 0: the full meshes). The fine stage draws the full ones.
+            (:meth:`~sdn3d.meshes.bank.MeshBank.simplified`; 0: the full meshes).
         fine_size, fine_steps: crop side and Adam steps of the ``keep`` best starts, with the FFD.
+        coarse_survivors: after the first third of ``coarse_steps``, only this many best starts of each object go
+            on searching (the others keep their loss so far and drop out; 0: every start searches to the end).
+        fine_faces: the fine stage fits each template cut to at most this many faces (0: the full meshes); the
+            winner's IoU is measured with its full mesh, the FFD and size it was fitted with.
         keep: hypotheses per object that go on to the fine stage.
         tie: fits whose final loss is within this share of the best one are equally good; the yaw nearest the
             first start decides among them.
@@ -150,9 +165,11 @@ class FitSettings:
     camera_height_range: tuple[float, float] = (1.2, 2.2)
     coarse_size: int = 32
     coarse_steps: int = 12
-    coarse_faces: int = 450
-    fine_size: int = 80
+    coarse_faces: int = 250
+    fine_size: int = 64
     fine_steps: int = 16
+    fine_faces: int = 600
+    coarse_survivors: int = 8
     keep: int = 3
     tie: float = 0.1
     facing_tie: float = 0.5
@@ -176,13 +193,15 @@ class FitSettings:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 8:
                 raise ValueError(f"FitSettings.{name} must be an integer >= 8, got {value!r}")
-        for name in ("coarse_steps", "fine_steps", "keep", "coarse_faces", "min_mask_pixels", "min_mask_side"):
+        for name in ("coarse_steps", "fine_steps", "keep", "coarse_faces", "fine_faces", "coarse_survivors",
+                     "min_mask_pixels", "min_mask_side"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < (1 if name == "keep" else 0):
                 raise ValueError(f"FitSettings.{name} must be a non-negative integer (keep >= 1), got {value!r}")
-        if 0 < self.coarse_faces < 4:
-            raise ValueError(f"FitSettings.coarse_faces must be 0 (the full meshes) or at least 4, got "
-                             f"{self.coarse_faces}")
+        for name in ("coarse_faces", "fine_faces"):
+            if 0 < getattr(self, name) < 4:
+                raise ValueError(f"FitSettings.{name} must be 0 (the full meshes) or at least 4, got "
+                                 f"{getattr(self, name)}")
         for name in ("camera_height", "default_camera_height", "lr", "sigma"):
             value = getattr(self, name)
             if name == "camera_height" and value is None:
@@ -316,10 +335,36 @@ def _crops(masks: Tensor, ignore: Tensor, windows: Tensor, size: int, intr: Intr
     return mask, ign, crop_intrinsics(intr, windows, size)
 
 
+class _Meshes:
+    """The meshes of ``M`` hypotheses gathered once for a whole stage: each Adam step only deforms (FFD), places and
+    draws them (:func:`~sdn3d.render.objects.pose_meshes` gathers the bank's rows and, with a ``phi``, its FFD basis
+    at every call: a tenth of a step's cost in the search). The same vertices as ``pose_meshes`` to the last bit.
+
+    Args:
+        bank: the templates; template: ``(M,)`` mesh ids; K: ``(M, 4)`` crop intrinsics; with_ffd: gather the FFD
+            basis (without it :meth:`silhouettes` draws the undeformed meshes: ``phi = 0`` deforms nothing).
+    """
+
+    def __init__(self, bank: MeshBank, template: Tensor, K: Tensor, with_ffd: bool) -> None:
+        self.verts, self.faces = bank.gather(template)  # (M, V, 3), (M, F, 3)
+        self.basis = bank.ffd_basis[template] if with_ffd else None  # (M, V, 64)
+        # padding vertices stay at the object's centre so padded faces stay degenerate (as pose_meshes does)
+        self.real = (torch.arange(self.verts.shape[1]) < bank.num_verts[template][:, None])[..., None]  # (M, V, 1)
+        self.K = as_intrinsics_matrix(K, len(template)).float()
+
+    def silhouettes(self, dims: Tensor, ry: Tensor, center: Tensor, phi: Tensor | None,
+                    settings: SoftSilhouetteSettings, kind: str) -> Tensor:
+        """``(M, S, S)`` silhouettes; ``phi (M, 64, 3)`` is ignored without the basis."""
+        verts = self.verts if self.basis is None or phi is None else ffd_deform(self.verts, phi, self.basis)
+        cam = torch.where(self.real, object_to_camera(verts, dims, ry, center), center[:, None])
+        return silhouette(kind, cam, self.faces, self.K, settings)
+
+
 def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Tensor, ry0: Tensor, mask: Tensor,
            ign: Tensor, K: Tensor, size: int, steps: int, settings: FitSettings,
            with_ffd: bool, height: float) -> tuple[dict[str, Tensor], Tensor]:
-    """Adam on ``M`` hypotheses (rows of every tensor); returns the fitted values and ``(M,)`` final losses."""
+    """Adam on ``M`` hypotheses (rows of every tensor); returns the fitted values and ``(M,)`` final losses.
+    Without the FFD (``with_ffd`` False) the meshes are drawn undeformed (``start['phi_half']`` is not read)."""
     x = start["x"].clone().requires_grad_(True)
     log_z = start["z"].log().clone().requires_grad_(True)
     half_ry = (start["ry"] / 2).clone().requires_grad_(True)  # the yaw moves twice as fast as the rest
@@ -335,25 +380,51 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     log_dims0 = dims0.log()
     typical = _typical_log_dims(bank)
     log_typical = None if typical is None else typical[template]
+    meshes = _Meshes(bank, template, K, with_ffd)
 
     def objective() -> Tensor:
         log_dims = log_start + log_scale + log_shape
         dims = log_dims.exp()
         center = torch.stack([x, height - dims[:, 1] / 2, log_z.exp()], 1)
-        phi = expand_half_ffd(phi_half)
-        sil = render_silhouettes(bank, template, dims, 2 * half_ry, center, phi, K, sil_settings, settings.silhouette)
+        phi = expand_half_ffd(phi_half) if with_ffd else None
+        sil = meshes.silhouettes(dims, 2 * half_ry, center, phi, sil_settings, settings.silhouette)
         prior = (settings.dims_reg * (log_dims - log_dims0).square().sum(1)
                  + settings.shape_reg * log_shape.square().sum(1))
         prior = prior + settings.yaw_reg * (1 - torch.cos(2 * half_ry - ry0)) / 2
         if log_typical is not None and settings.template_size_reg:
             prior = prior + settings.template_size_reg * (log_dims - log_typical).square().sum(1)
-        return reprojection_error(sil, mask, ign) + prior + settings.ffd_reg * phi.square().flatten(1).mean(1)
+        if phi is not None:
+            prior = prior + settings.ffd_reg * phi.square().flatten(1).mean(1)
+        return reprojection_error(sil, mask, ign) + prior
 
     adam_fit(free, objective, steps, settings.lr)
     with torch.no_grad():
         loss = objective()
     values = {"x": x.detach(), "z": log_z.detach().exp(), "ry": _wrap(2 * half_ry.detach()),
               "dims": (log_start + log_scale + log_shape).detach().exp(), "phi_half": phi_half.detach()}
+    return values, loss
+
+
+def _search(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Tensor, ry0: Tensor, mask: Tensor,
+            ign: Tensor, K: Tensor, per: int, settings: FitSettings, height: float) -> tuple[dict[str, Tensor], Tensor]:
+    """The coarse stage on ``M = N * per`` starts (rows grouped by object): every start for a third of
+    ``coarse_steps``, then only the ``coarse_survivors`` best of each object for the rest (a fresh Adam from where
+    they are). Returns every start's values and ``(M,)`` final loss; a start that dropped out keeps its values and
+    loss at the cut (its loss is then ``inf``: never among the best)."""
+    steps, survivors = settings.coarse_steps, settings.coarse_survivors
+    first = steps // 3 if 0 < survivors < per and steps >= 3 else steps
+    values, loss = _stage(bank, template, start, dims0, ry0, mask, ign, K, settings.coarse_size, first, settings,
+                          with_ffd=False, height=height)
+    if first == steps:
+        return values, loss
+    n = loss.shape[0] // per
+    rows = (loss.view(n, per).topk(survivors, dim=1, largest=False).indices + torch.arange(n)[:, None] * per).flatten()
+    rest, rest_loss = _stage(bank, template[rows], {k: v[rows] for k, v in values.items()}, dims0[rows], ry0[rows],
+                             mask[rows], ign[rows], K[rows], settings.coarse_size, steps - first, settings,
+                             with_ffd=False, height=height)
+    for k, v in rest.items():
+        values[k][rows] = v
+    loss = torch.full_like(loss, math.inf).index_copy(0, rows, rest_loss)
     return values, loss
 
 
@@ -423,8 +494,8 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
              "phi_half": torch.zeros(n * per, 32, 3)}
     mask, ign, K = _crops(masks, ignore, windows, settings.coarse_size, intr, image_size)
     coarse_bank = bank.simplified(settings.coarse_faces) if settings.coarse_faces else bank
-    values, loss = _stage(coarse_bank, template, start, dims0[obj], ry0[obj], mask[obj], ign[obj], K[obj],
-                          settings.coarse_size, settings.coarse_steps, settings, with_ffd=False, height=height)
+    values, loss = _search(coarse_bank, template, start, dims0[obj], ry0[obj], mask[obj], ign[obj], K[obj], per,
+                           settings, height)
 
     # Fine: the prediction itself (its template, place, yaw and size; where there is none, the best start), its
     # end-for-end flip, and the `keep` best starts of each object, with the FFD.
@@ -450,9 +521,10 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     hyps = keep + len(mine)
     obj = torch.arange(n).repeat_interleave(hyps)
     mask, ign, K = _crops(masks, ignore, windows, settings.fine_size, intr, image_size)
-    values, loss = _stage(bank, fine_template.flatten(), {k: v.flatten(0, 1) for k, v in starts.items()}, dims0[obj],
-                          ry0[obj], mask[obj], ign[obj], K[obj], settings.fine_size, settings.fine_steps, settings,
-                          with_ffd=True, height=height)
+    fine_bank = bank.simplified(settings.fine_faces) if settings.fine_faces else bank
+    values, loss = _stage(fine_bank, fine_template.flatten(), {k: v.flatten(0, 1) for k, v in starts.items()},
+                          dims0[obj], ry0[obj], mask[obj], ign[obj], K[obj], settings.fine_size, settings.fine_steps,
+                          settings, with_ffd=True, height=height)
     fine = loss.view(n, hyps)
     fitted_ry = values["ry"].view(n, hyps)
     if yaw_belief is not None:
@@ -533,3 +605,74 @@ def _keep_predictions_of_bad_masks(result: FitResult, masks: Tensor, start_templ
         result.hypothesis[i], result.fitted[i] = -1, False
         result.notes[i] = f"{why}: not fitted, the geometric branch's prediction kept"
         result.warnings.append(f"object {i}: {result.notes[i]}")
+
+
+@dataclass
+class FitRequest:
+    """One caller's objects for :func:`fit_many`: :func:`fit_to_masks`' per-object arguments (same meaning; ``masks``
+    ``(N, H, W)`` and ``boxes (N, 4)`` required, the rest optional)."""
+
+    masks: Tensor
+    boxes: Tensor
+    ignore: Tensor | None = None
+    start_ry: Tensor | None = None
+    start_dims: Tensor | None = None
+    start_template: Tensor | None = None
+    start_location: Tensor | None = None
+    yaw_belief: Callable[[Tensor], Tensor] | None = None
+
+    def __len__(self) -> int:
+        return int(self.masks.shape[0])
+
+
+def fit_many(requests: list[FitRequest], intr: Intrinsics, *, bank: MeshBank | None = None,
+             settings: FitSettings | None = None) -> list[FitResult]:
+    """:func:`fit_to_masks` of several callers' objects in one call, one :class:`FitResult` per request (its rows, its
+    object indices in ``notes`` and ``warnings``). Each stage then draws every object's hypotheses at once: the
+    stages' fixed cost (a chunked raster call and its Python per Adam step) is paid once, not once per caller
+    (e.g. :func:`sdn3d.derender.derender`'s proposals and box objects). Objects are fitted independently of each
+    other; only the camera height, where it is measured (``settings.camera_height=None``), is measured from all
+    requests' predictions together. A missing argument of one request takes the value that means "none" for its
+    rows (no ignored pixels, NaN starts, template -1); its yaw belief, where others have one, is the default's
+    (the yaw nearest its first start)."""
+    sizes = [len(r) for r in requests]
+    if len(requests) == 1:
+        r = requests[0]
+        return [fit_to_masks(r.masks, r.boxes, intr, ignore=r.ignore, start_ry=r.start_ry, start_dims=r.start_dims,
+                             start_template=r.start_template, start_location=r.start_location, bank=bank,
+                             settings=settings, yaw_belief=r.yaw_belief)]
+
+    def joined(name: str, shape: tuple[int, ...], fill: float | int | bool, dtype: torch.dtype) -> Tensor:
+        parts = [getattr(r, name) for r in requests]
+        return torch.cat([torch.full((len(r), *shape), fill, dtype=dtype) if v is None else v.to(dtype)
+                          for r, v in zip(requests, parts, strict=True)])
+
+    masks = torch.cat([r.masks.bool() for r in requests])
+    image = tuple(masks.shape[1:])
+    start_ry = joined("start_ry", (), math.nan, torch.float32)
+    beliefs = [r.yaw_belief for r in requests]
+    belief = None
+    if any(b is not None for b in beliefs):
+        first = torch.where(torch.isfinite(start_ry), start_ry, torch.full_like(start_ry, -math.pi / 2))
+        bounds = [sum(sizes[:i]) for i in range(len(sizes) + 1)]
+
+        def belief(ry: Tensor) -> Tensor:  # each request's rows by its own belief, else the default's
+            return torch.cat([torch.cos(ry[lo:hi] - first[lo:hi, None]) if b is None else b(ry[lo:hi]).float()
+                              for b, lo, hi in zip(beliefs, bounds[:-1], bounds[1:], strict=True)])
+
+    result = fit_to_masks(masks, torch.cat([r.boxes.float() for r in requests]), intr,
+                          ignore=joined("ignore", image, False, torch.bool), start_ry=start_ry,
+                          start_dims=joined("start_dims", (3,), math.nan, torch.float32),
+                          start_template=joined("start_template", (), -1, torch.long),
+                          start_location=joined("start_location", (3,), math.nan, torch.float32),
+                          bank=bank, settings=settings, yaw_belief=belief)
+    out, lo = [], 0
+    for size in sizes:
+        rows = slice(lo, lo + size)
+        notes = {i - lo: note for i, note in result.notes.items() if lo <= i < lo + size}
+        out.append(FitResult(result.template[rows], result.dims[rows], result.ry[rows], result.location[rows],
+                             result.phi[rows], result.iou[rows], result.loss[rows], result.start_ry[rows],
+                             result.hypothesis[rows], result.fitted[rows], result.camera_height,
+                             result.camera_height_source, notes, [f"object {i}: {note}" for i, note in notes.items()]))
+        lo += size
+    return out

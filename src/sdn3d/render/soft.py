@@ -135,7 +135,8 @@ def _nearest_edge(
 def _face_boxes(screen: Tensor, valid: Tensor, radius: float, height: int, width: int) -> tuple[Tensor, ...]:
     """Pixel boxes grown by ``radius``: first column / row and box width / height (0 if culled),
     and a column / row farther than ``radius`` from the face (for window padding)."""
-    lo, hi = screen.amin(1), screen.amax(1)
+    a, b, c = screen.unbind(1)  # elementwise over the three vertices: a quarter of amin / amax's time on CPU
+    lo, hi = torch.minimum(torch.minimum(a, b), c), torch.maximum(torch.maximum(a, b), c)
     away = lo - (3.0 * radius + 1.0)  # D there is below cull_eps ** 9: negligible
     size = screen.new_tensor([width, height])
     # Clamp before the integer cast: faces near the ``near`` plane project very far away.

@@ -151,50 +151,11 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
 # -- removal with its effects (shadow relit, road filled from road) ------------------------------------------------
 
 
-def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor | None:
-    """``(3,)`` Lab of the road around a removed object: the median of the ``ring (H, W)`` pixels (around it, on
-    no object) that are near grey or near the ring's own median chroma; None with fewer than 30 such pixels."""
-    from sdn3d.editing.photo.recolor import srgb_to_lab
-
-    pix = image.permute(1, 2, 0).reshape(-1, 3)[ring.view(-1)]
-    if len(pix) < 30:
-        return None
-    lab = srgb_to_lab(pix)
-    ab = lab[:, 1:]
-    ref = ab[ab.norm(dim=1) < 2 * tolerance]
-    if len(ref) < 30:
-        return None
-    mid = ref.median(0).values
-    near = (ab - mid).norm(dim=1) < tolerance
-    return lab[near].median(0).values if int(near.sum()) >= 30 else None
-
-
-def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: float = 0.0,
-              within: Tensor | None = None) -> Tensor:
-    """``(H, W)`` bool: pixels whose chroma (Lab a, b) is within ``tolerance`` of the road's ``road (3,)`` and whose
-    lightness is at least ``min_light`` of its: asphalt and its grey or white lane markings (with ``min_light`` 0,
-    its shadows too); not grass, foliage or paint. ``within (H, W)``: only the box around those pixels is looked at
-    (False outside it)."""
-    from sdn3d.editing.photo.recolor import srgb_to_lab
-
-    out = torch.zeros(image.shape[1:], dtype=torch.bool)
-    y0, y1, x0, x1 = 0, image.shape[1], 0, image.shape[2]
-    if within is not None:
-        if not bool(within.any()):
-            return out
-        ys, xs = within.any(1).nonzero().flatten(), within.any(0).nonzero().flatten()
-        y0, y1, x0, x1 = int(ys[0]), int(ys[-1]) + 1, int(xs[0]), int(xs[-1]) + 1
-    crop = image[:, y0:y1, x0:x1]
-    lab = srgb_to_lab(crop.permute(1, 2, 0).reshape(-1, 3))
-    ok = ((lab[:, 1:] - road[1:]).norm(dim=1) < tolerance) & (lab[:, 0] >= min_light * road[0])
-    out[y0:y1, x0:x1] = ok.view(crop.shape[1:])
-    return out
-
-
 def _shadow_fit(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, tolerance: float = 12.0):
     """``(gain (3,) float64, y (H, W), y_lit, y_core, shadow pixels (H, W))`` of the shadow inside ``search`` (module
     doc of :func:`relight_shadow`), or None where too few lit road or shadow pixels are found."""
     from sdn3d.editing.photo.light import luminance
+    from sdn3d.editing.photo.road import road_like
 
     like = road_like(image, road, tolerance, within=search | lit)
     flat = image.permute(1, 2, 0).reshape(-1, 3).double()
@@ -226,9 +187,9 @@ def relight_shadow(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, str
                    tolerance: float = 12.0) -> tuple[Tensor, Tensor]:
     """``(image, matte (H, W))``: the shadow inside ``search (H, W)`` relit (Le & Samaras 2019: a per-channel gain
     and a matte, so the road's texture stays): lit road is the median of ``lit (H, W)`` pixels that look like road
-    (:func:`road_like` of ``road``, Lab); shadow pixels are road-like pixels of ``search`` darker than 0.85 of it;
-    the gain per channel is lit over the shadow's core (its darkest quarter's median), the matte each pixel's share
-    of that darkening (0 lit, 1 core), blurred; ``image * (1 + matte * (gain - 1))``."""
+    (:func:`~sdn3d.editing.photo.road.road_like` of ``road``, Lab); shadow pixels are road-like pixels of ``search``
+    darker than 0.85 of it; the gain per channel is lit over the shadow's core (its darkest quarter's median), the
+    matte each pixel's share of that darkening (0 lit, 1 core), blurred; ``image * (1 + matte * (gain - 1))``."""
     import cv2
 
     zero = torch.zeros_like(search, dtype=torch.float32)

@@ -29,7 +29,7 @@ from sdn3d.image_ops import dilate_square
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
            "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
-           "GRAIN_WEIGHTS", "FORWARD_SHARE"]
+           "GRAIN_WEIGHTS", "FORWARD_SHARE", "road_colours", "road_like"]
 
 #: Gaussian sigma (pixels) below which a source's detail is the road's grain (:func:`ray_fill`'s ``texture``).
 GRAIN_SIGMA = 1.0
@@ -240,10 +240,8 @@ def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor
     """The weight of :data:`GRAIN_WEIGHTS` at which the road-like pixels of the fill
     ``values + weight * grains`` (both ``(3, N)`` at hole pixels ``ys, xs``; those with no picture pixel in their
     3x3 neighbourhood: the seam is not grain) have the mean absolute luma Laplacian of the road-like ``valid``
-    pixels 8 to 40 pixels around the hole (:func:`~sdn3d.editing.photo.fill.road_like`: asphalt and its markings,
+    pixels 8 to 40 pixels around the hole (:func:`road_like`: asphalt and its markings,
     not grass or foliage). ``default`` where too few such pixels are found."""
-    from sdn3d.editing.photo.fill import road_colours, road_like
-
     height, width = valid.shape
     hole = torch.zeros_like(valid)
     hole[ys, xs] = True
@@ -317,7 +315,7 @@ def _gather(image: Tensor, points: Tensor) -> Tensor:
 def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, light_share: float = 0.8,
                   tolerance: float = 12.0) -> Tensor:
     """``(H, W)`` bool pixels inside ``within`` whose chroma is the road's (``road (3,)`` Lab,
-    :func:`~sdn3d.editing.photo.fill.road_like`; scaled by the pixel's lightness over the road's, as a shadow's
+    :func:`road_like`; scaled by the pixel's lightness over the road's, as a shadow's
     chroma shrinks with its light) and whose lightness is under ``light_share`` of the road's on the
     same row: road in shadow (a car's, a tree's), which a ray must not carry into a hole. The road's lightness per
     row is the median of the road-like ``lit (H, W)`` pixels there (rows without any: the nearest row with some),
@@ -345,4 +343,44 @@ def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, ligh
     ref = per_row[nearest]
     dark = light < light_share * ref[:, None]
     out[y0:y1, x0:x1] = dark & like[y0:y1, x0:x1] & within[y0:y1, x0:x1]
+    return out
+
+
+def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor | None:
+    """``(3,)`` Lab of the road around a removed object: the median of the ``ring (H, W)`` pixels (around it, on
+    no object) that are near grey or near the ring's own median chroma; None with fewer than 30 such pixels."""
+    from sdn3d.editing.photo.recolor import srgb_to_lab
+
+    pix = image.permute(1, 2, 0).reshape(-1, 3)[ring.view(-1)]
+    if len(pix) < 30:
+        return None
+    lab = srgb_to_lab(pix)
+    ab = lab[:, 1:]
+    ref = ab[ab.norm(dim=1) < 2 * tolerance]
+    if len(ref) < 30:
+        return None
+    mid = ref.median(0).values
+    near = (ab - mid).norm(dim=1) < tolerance
+    return lab[near].median(0).values if int(near.sum()) >= 30 else None
+
+
+def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: float = 0.0,
+              within: Tensor | None = None) -> Tensor:
+    """``(H, W)`` bool: pixels whose chroma (Lab a, b) is within ``tolerance`` of the road's ``road (3,)`` and whose
+    lightness is at least ``min_light`` of its: asphalt and its grey or white lane markings (with ``min_light`` 0,
+    its shadows too); not grass, foliage or paint. ``within (H, W)``: only the box around those pixels is looked at
+    (False outside it)."""
+    from sdn3d.editing.photo.recolor import srgb_to_lab
+
+    out = torch.zeros(image.shape[1:], dtype=torch.bool)
+    y0, y1, x0, x1 = 0, image.shape[1], 0, image.shape[2]
+    if within is not None:
+        if not bool(within.any()):
+            return out
+        ys, xs = within.any(1).nonzero().flatten(), within.any(0).nonzero().flatten()
+        y0, y1, x0, x1 = int(ys[0]), int(ys[-1]) + 1, int(xs[0]), int(xs[-1]) + 1
+    crop = image[:, y0:y1, x0:x1]
+    lab = srgb_to_lab(crop.permute(1, 2, 0).reshape(-1, 3))
+    ok = ((lab[:, 1:] - road[1:]).norm(dim=1) < tolerance) & (lab[:, 0] >= min_light * road[0])
+    out[y0:y1, x0:x1] = ok.view(crop.shape[1:])
     return out

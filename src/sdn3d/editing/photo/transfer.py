@@ -18,14 +18,12 @@ from sdn3d.editing.photo.fill import (
     fill_hole,
     inpaint,
     relight_shadow,
-    road_colours,
-    road_like,
     shadow_gain,
     vacated_hole,
 )
 from sdn3d.editing.photo.light import LightEstimate, fit_light
 from sdn3d.editing.photo.recolor import body_paint, body_pixels, recolor_pixels, srgb_to_lab
-from sdn3d.editing.photo.road import removal_vanishing_point
+from sdn3d.editing.photo.road import removal_vanishing_point, road_colours, road_like
 from sdn3d.editing.photo.settings import (
     DEFAULT,
     FALLBACK,
@@ -423,7 +421,7 @@ def _shadow_context(image: Tensor, hole: Tensor, objects_px: Tensor, before: Obj
                     light: LightEstimate | None) -> tuple[Tensor, Tensor, Tensor, Tensor | None]:
     """``(search, road part, ring, road Lab or None)`` of objects ``rows`` of ``before`` (:func:`_effects_regions`;
     the ring: pixels 6 to 30 pixels around the search region and ``hole``, on no object; the road: its colour,
-    :func:`~sdn3d.editing.photo.fill.road_colours`)."""
+    :func:`~sdn3d.editing.photo.road.road_colours`)."""
     search, road_part = _effects_regions(before, rows, K, tuple(hole.shape), light)
     around = dilate_square(search | hole, 6)
     ring = dilate_square(search | hole, 30) & ~around & ~objects_px

@@ -11,7 +11,7 @@ import numpy as np
 import torch
 from PIL import Image
 
-from sdn3d.editing.photo.fill import road_colours, road_like
+from sdn3d.editing.photo.road import road_colours, road_like
 from sdn3d.image_ops import dilate_square
 
 src = np.asarray(Image.open(sys.argv[1]).convert("RGB")).astype(np.float32) / 255

@@ -1,0 +1,102 @@
+"""The test-time fit's cost (issue 40: 10 objects at 624x192 within 3 s): the search's survivors, the fine stage's
+simplified meshes, and one fit for several callers' objects (:func:`sdn3d.geometric.fit.fit_many`)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+import torch
+from test_box_objects import HEIGHT, WORK, _render
+
+import sdn3d.geometric.fit as fit_module
+from sdn3d.geometric.fit import FitRequest, FitSettings, fit_many, fit_to_masks
+from sdn3d.image_ops import mask_boxes
+
+SMALL = FitSettings(coarse_steps=3, fine_steps=2, coarse_size=16, fine_size=24, coarse_survivors=0)
+
+
+@pytest.fixture(scope="module")
+def two_cars():
+    """Two cars apart on the road, each rendered alone: ``(masks (2, H, W), boxes (2, 4))``."""
+    _, masks = _render([0, 3], [(4.0, 1.5, 1.7), (4.2, 1.45, 1.75)], [-1.3, 0.6],
+                       [(-2.5, HEIGHT, 10.0), (2.5, HEIGHT, 12.0)])
+    return masks, mask_boxes(masks).float()
+
+
+def _rows_per_stage(monkeypatch) -> list[tuple[int, int]]:
+    """``(hypotheses, steps)`` of every stage the fit runs, recorded as it runs."""
+    calls: list[tuple[int, int]] = []
+    stage = fit_module._stage
+
+    def recorded(bank, template, *args, **kwargs):
+        calls.append((len(template), args[7]))  # args: start, dims0, ry0, mask, ign, K, size, steps, ...
+        return stage(bank, template, *args, **kwargs)
+
+    monkeypatch.setattr(fit_module, "_stage", recorded)
+    return calls
+
+
+def test_the_search_goes_on_with_its_survivors_only_and_still_finds_the_car(two_cars, monkeypatch):
+    masks, boxes = two_cars
+    calls = _rows_per_stage(monkeypatch)
+    settings = FitSettings(coarse_survivors=6)
+    result = fit_to_masks(masks[1:], boxes[1:], WORK, start_ry=torch.tensor([0.8]), settings=settings)
+    starts = len(fit_module.default_bank()) * len(fit_module.YAW_OFFSETS)
+    # every start for a third of the steps, the 6 best for the rest, then the fine stage
+    third = settings.coarse_steps // 3
+    assert calls[:2] == [(starts, third), (6, settings.coarse_steps - third)] and len(calls) == 3
+    assert float(result.iou[0]) > 0.85
+    assert abs(math.remainder(float(result.ry[0]) - 0.6, 2 * math.pi)) < math.radians(20)
+    calls.clear()
+    fit_to_masks(masks[1:], boxes[1:], WORK, start_ry=torch.tensor([0.8]), settings=FitSettings(coarse_survivors=0))
+    assert calls[0] == (starts, FitSettings().coarse_steps) and len(calls) == 2  # 0: every start to the end
+
+
+def test_the_fine_stage_can_fit_simplified_meshes_and_measures_the_full_one(two_cars, monkeypatch):
+    masks, boxes = two_cars
+    banks = []
+    stage = fit_module._stage
+
+    def recorded(bank, *args, **kwargs):
+        banks.append(int(bank.num_faces.max()))
+        return stage(bank, *args, **kwargs)
+
+    monkeypatch.setattr(fit_module, "_stage", recorded)
+    result = fit_to_masks(masks[1:], boxes[1:], WORK, start_ry=torch.tensor([0.8]),
+                          settings=FitSettings(fine_faces=500))
+    full = int(fit_module.default_bank().num_faces.max())
+    assert banks[-1] <= 500 < full
+    assert float(result.iou[0]) > 0.85
+    assert abs(math.remainder(float(result.ry[0]) - 0.6, 2 * math.pi)) < math.radians(20)
+    with pytest.raises(ValueError, match="fine_faces"):
+        FitSettings(fine_faces=2)
+    with pytest.raises(ValueError, match="coarse_survivors"):
+        FitSettings(coarse_survivors=-1)
+
+
+def test_one_fit_for_two_callers_gives_each_its_own_rows_as_two_fits_would(two_cars, monkeypatch):
+    """A request with predictions and a yaw belief, one with neither: fitted together, each gets what it would get
+    alone (the same templates, yaws and places up to float sums), its notes and warnings by its own indices, and the
+    fit runs its two stages once."""
+    masks, boxes = two_cars
+    thin = torch.zeros_like(masks[:1])
+    thin[0, 30, 10:40] = True  # too thin to fit: the prediction is kept, with a note
+    first = FitRequest(torch.cat([masks[:1], thin]), torch.cat([boxes[:1], torch.tensor([[10.0, 30.0, 40.0, 31.0]])]),
+                       start_ry=torch.tensor([-1.2, 0.3]), start_dims=torch.tensor([[4.0, 1.5, 1.7], [4.0, 1.5, 1.7]]),
+                       start_template=torch.tensor([0, 2]),
+                       start_location=torch.tensor([[-2.4, HEIGHT, 10.2], [0.0, HEIGHT, 20.0]]),
+                       yaw_belief=lambda ry: torch.cos(ry + 1.3))
+    second = FitRequest(masks[1:], boxes[1:], ignore=masks[:1])
+    alone = [fit_many([r], WORK, settings=SMALL)[0] for r in (first, second)]
+    calls = _rows_per_stage(monkeypatch)
+    together = fit_many([first, second], WORK, settings=SMALL)
+    assert len(calls) == 2 and calls[0][0] == 3 * len(fit_module.default_bank()) * len(fit_module.YAW_OFFSETS)
+    for one, both, n in zip(alone, together, (2, 1), strict=True):
+        assert len(both.template) == n and torch.equal(one.template, both.template)
+        assert torch.equal(one.fitted, both.fitted) and torch.equal(one.hypothesis, both.hypothesis)
+        assert torch.allclose(one.ry, both.ry, atol=1e-3) and torch.allclose(one.location, both.location, atol=1e-2)
+        assert torch.allclose(one.iou, both.iou, atol=0.02)
+        assert one.notes == both.notes and one.warnings == both.warnings
+    assert set(together[0].notes) == {1} and together[0].warnings[0].startswith("object 1:")
+    assert not together[1].notes and float(together[1].iou[0]) > 0.7

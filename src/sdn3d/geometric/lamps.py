@@ -72,14 +72,7 @@ def red_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple[T
     r, g, b = crop[:, 0], crop[:, 1], crop[:, 2]
     red = m & (r > cue.red_min) & (r > cue.ratio * g) & (r > cue.ratio * b)
     n_red, n_mask = red.flatten(1).sum(1), m.flatten(1).sum(1)
-    cols = torch.arange(crop.shape[-1], dtype=crop.dtype, device=crop.device)
-    mask_cols = m.any(1)  # (N, S)
-    left = torch.where(mask_cols, cols, torch.full_like(cols, math.inf)).amin(1)
-    right = torch.where(mask_cols, cols, torch.full_like(cols, -math.inf)).amax(1)
-    width = (right - left + 1).clamp_min(1)
-    mean_col = (m * cols).flatten(1).sum(1) / n_mask.clamp_min(1)
-    red_col = (red * cols).flatten(1).sum(1) / n_red.clamp_min(1)
-    offset = torch.where(n_red > 0, (red_col - mean_col) / width, torch.zeros_like(width))
+    offset = _column_offset(m, red, crop.dtype)
     rows = torch.arange(crop.shape[-2], dtype=crop.dtype, device=crop.device)[:, None]
     red_row = (red * rows).flatten(1).sum(1) / n_red.clamp_min(1)
     spread = ((red * (rows - red_row[:, None, None]) ** 2).flatten(1).sum(1) / n_red.clamp_min(1)).sqrt()
@@ -91,6 +84,20 @@ def red_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple[T
     present = n_red >= cue.min_pixels
     usable = big & (n_red <= cue.max_share * n_mask) & (spread <= cue.max_row_spread * height)
     return present, usable, offset
+
+
+def _column_offset(mask: Tensor, lamps: Tensor, dtype: torch.dtype) -> Tensor:
+    """``(N,)``: the mean column of the ``lamps (N, S, S)`` pixels from the ``mask (N, S, S)``'s mean column, over the
+    mask's width (0 where no lamp pixel): which side of the vehicle its lamps are on."""
+    cols = torch.arange(mask.shape[-1], dtype=dtype, device=mask.device)
+    mask_cols = mask.any(1)  # (N, S)
+    left = torch.where(mask_cols, cols, torch.full_like(cols, math.inf)).amin(1)
+    right = torch.where(mask_cols, cols, torch.full_like(cols, -math.inf)).amax(1)
+    width = (right - left + 1).clamp_min(1)
+    n_mask, n_lamps = mask.flatten(1).sum(1), lamps.flatten(1).sum(1)
+    mean_col = (mask * cols).flatten(1).sum(1) / n_mask.clamp_min(1)
+    lamp_col = (lamps * cols).flatten(1).sum(1) / n_lamps.clamp_min(1)
+    return torch.where(n_lamps > 0, (lamp_col - mean_col) / width, torch.zeros_like(width))
 
 
 def white_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple[Tensor, Tensor, Tensor]:
@@ -117,14 +124,7 @@ def white_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple
     high, low = crop.amax(1), crop.amin(1)
     white = m & lower & (low > cue.white_min) & (high - low < cue.white_spread)
     n_white = white.flatten(1).sum(1)
-    cols = torch.arange(crop.shape[-1], dtype=crop.dtype, device=crop.device)
-    mask_cols = m.any(1)
-    left = torch.where(mask_cols, cols, torch.full_like(cols, math.inf)).amin(1)
-    right = torch.where(mask_cols, cols, torch.full_like(cols, -math.inf)).amax(1)
-    width = (right - left + 1).clamp_min(1)
-    mean_col = (m * cols).flatten(1).sum(1) / n_mask.clamp_min(1)
-    white_col = (white * cols).flatten(1).sum(1) / n_white.clamp_min(1)
-    offset = torch.where(n_white > 0, (white_col - mean_col) / width, torch.zeros_like(width))
+    offset = _column_offset(m, white, crop.dtype)
     usable = (n_mask >= cue.min_mask) & (n_red > cue.max_share * n_mask) & cue.red_body
     present = (n_white > 0) & (n_white >= cue.white_min_share * n_mask)
     return present, usable, offset

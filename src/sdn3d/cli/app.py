@@ -201,23 +201,27 @@ def _main(argv: list[str]) -> int:
     host, port = sock.getsockname()[:2]
     shown = f"[{host}]" if ":" in host else host
     url = f"http://{shown}:{port}/"
-    print(f"sdn3d-app: serving {url} (sessions in {editor.output_dir}; Ctrl+C stops)", flush=True)
-    if cfg.host not in ("127.0.0.1", "localhost", "::1"):
-        print(f"sdn3d-app: warning: host={cfg.host} makes the editor reachable from other machines; it has no login",
-              file=sys.stderr)
-    if cfg.open_browser:
-        import webbrowser
-
-        webbrowser.open(url)
     server = uvicorn.Server(uvicorn.Config(app, log_level="warning", access_log=False, lifespan="off"))
-    def stop(signum: int, frame: Any) -> None:  # SIGTERM as Ctrl+C: the same clean stop (uvicorn raises it again)
-        raise KeyboardInterrupt
 
+    def stop(signum: int, frame: Any) -> None:  # SIGINT and SIGTERM: the same clean stop
+        server.should_exit = True
+
+    # Ours before the line that says it serves: a Ctrl+C right after it, before uvicorn's own handlers are in, stops
+    # the server as cleanly as a later one (raising KeyboardInterrupt there could land inside logging's locks, and
+    # asyncio's own handler would only cancel the starting server and leave it serving). uvicorn puts these back
+    # and raises the signal again when it stops: the flag again, nothing raised.
+    signal.signal(signal.SIGINT, stop)
     signal.signal(signal.SIGTERM, stop)
     try:
-        server.run(sockets=[sock])  # uvicorn stops on SIGINT / SIGTERM, then raises the signal again
-    except KeyboardInterrupt:
-        pass
+        print(f"sdn3d-app: serving {url} (sessions in {editor.output_dir}; Ctrl+C stops)", flush=True)
+        if cfg.host not in ("127.0.0.1", "localhost", "::1"):
+            print(f"sdn3d-app: warning: host={cfg.host} makes the editor reachable from other machines; it has no "
+                  "login", file=sys.stderr)
+        if cfg.open_browser:
+            import webbrowser
+
+            webbrowser.open(url)
+        server.run(sockets=[sock])  # uvicorn stops on SIGINT / SIGTERM (its handlers while it runs, ours before)
     finally:
         print(_stopped_note(editor), file=sys.stderr, flush=True)
     return 0

@@ -42,7 +42,7 @@ from sdn3d.editing.photo.settings import (
     PhotoSettingsError,
 )
 from sdn3d.image_ops import dilate_square
-from sdn3d.math3d.rotations import roty, wrap_angle
+from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
 from sdn3d.math3d.transforms import box_corners
 from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.parts import Part
@@ -229,15 +229,21 @@ def _project(points: Tensor, K: Tensor) -> tuple[Tensor, Tensor]:
     return uv, front
 
 
+def _nearest_pixel(uv: Tensor, valid: Tensor, size: tuple[int, int]) -> tuple[Tensor, Tensor]:
+    """``(inside (P,), flat index (P,))`` of the pixel nearest each ``uv (P, 2)`` in an ``(H, W)`` picture: inside where
+    ``valid (P,)``, finite and within the picture (the index is clamped to it either way)."""
+    height, width = size
+    j, i = torch.floor(uv[:, 0] + 0.5).long(), torch.floor(uv[:, 1] + 0.5).long()
+    inside = valid & (j >= 0) & (j < width) & (i >= 0) & (i < height) & torch.isfinite(uv).all(1)
+    return inside, i.clamp(0, height - 1) * width + j.clamp(0, width - 1)
+
+
 def _visible(points: Tensor, mesh: Tensor, iid: Tensor, src: _Raster, vis_ids: Tensor, K: Tensor,
              tolerance: float) -> tuple[Tensor, Tensor]:
     """``(visible (P,), uv (P, 2))``: is each source-pose point ``points (P, 3)`` of source mesh ``mesh (P,)``
     (instance ``iid (P,)``) seen in the input (module doc, step 3)?"""
-    height, width = vis_ids.shape
     uv, front = _project(points, K)
-    j, i = torch.floor(uv[:, 0] + 0.5).long(), torch.floor(uv[:, 1] + 0.5).long()
-    inside = front & (j >= 0) & (j < width) & (i >= 0) & (i < height) & torch.isfinite(uv).all(1)
-    flat = (i.clamp(0, height - 1) * width + j.clamp(0, width - 1))
+    inside, flat = _nearest_pixel(uv, front, tuple(vis_ids.shape))
     same = src.frags.pix_to_mesh.view(-1)[flat] == mesh
     depth = src.frags.depth.view(-1)[flat].double()
     z = points[:, 2]
@@ -250,11 +256,8 @@ def _in_silhouette(points: Tensor, background: Tensor, K: Tensor) -> Tensor:
     """``(P,)``: does each source-pose point ``points (P, 3)`` project onto a pixel the input's masks do not rule out
     (``background (H, W)`` bool is False there, or it falls off the picture or behind the camera)? A point of the
     object itself projects into its mask or onto whatever hides it, never onto open background."""
-    height, width = background.shape
     uv, front = _project(points, K)
-    j, i = torch.floor(uv[:, 0] + 0.5).long(), torch.floor(uv[:, 1] + 0.5).long()
-    inside = front & (j >= 0) & (j < width) & (i >= 0) & (i < height) & torch.isfinite(uv).all(1)
-    flat = i.clamp(0, height - 1) * width + j.clamp(0, width - 1)
+    inside, flat = _nearest_pixel(uv, front, tuple(background.shape))
     return ~inside | ~background.view(-1)[flat]
 
 
@@ -796,12 +799,21 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     return PhotoResult(result, source, light, objects, warnings, parts_out)
 
 
+def _shares(codes: Tensor) -> dict[str, float]:
+    """Shares of an object's drawn pixels by their :data:`SOURCE_NAMES` ``codes (P,)``: ``photo``, ``mirror``,
+    ``part`` and flat paint (``fallback``: :data:`FLAT_CODES`), rounded to 4 places."""
+    flat = torch.isin(codes, torch.tensor(FLAT_CODES, dtype=codes.dtype))
+    return {"photo": round(float((codes == PHOTO).double().mean()), 4),
+            "mirror": round(float((codes == MIRROR).double().mean()), 4),
+            "part": round(float((codes == PART).double().mean()), 4), "fallback": round(float(flat.double().mean()), 4)}
+
+
 def _view_change(before: ObjectTable, after: ObjectTable, b: int, a: int) -> float:
     """Radians the camera's view of an object turned between its rows ``b`` of ``before`` and ``a`` of ``after`` (its
     yaw against the line of sight, the KITTI observation angle): 0 for a pure move along the line of sight."""
     def alpha(t: ObjectTable, r: int) -> Tensor:
         c = t.center[r].double()
-        return t.ry[r].double() - torch.atan2(c[0], c[2])
+        return observation_angle(t.ry[r].double(), c[0], c[2])
     return abs(float(wrap_angle(alpha(after, a) - alpha(before, b))))
 
 
@@ -856,13 +868,12 @@ def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, b
                               indexing="ij")
         q = torch.stack([u.flatten(), v.flatten(), torch.ones(u.numel(), dtype=torch.float64)], 1)
         p = q @ affine
-        j, i = torch.floor(p[:, 0] + 0.5).long(), torch.floor(p[:, 1] + 0.5).long()
-        inside = (j >= 0) & (j < width) & (i >= 0) & (i < height)
+        inside, flat_p = _nearest_pixel(p[:, :2], torch.ones(len(p), dtype=torch.bool), (height, width))
         flat_q = (v.flatten().long() * width + u.flatten().long())
         info = objects[name]
         this = torch.zeros(height * width, dtype=torch.bool)
         this[info["_pixels"]] = True
-        hit = inside & mine.view(-1)[i.clamp(0, height - 1) * width + j.clamp(0, width - 1)] & (free | this)[flat_q]
+        hit = inside & mine.view(-1)[flat_p] & (free | this)[flat_q]
         if not bool(hit.any()):
             continue
         if pyramid is None:
@@ -877,14 +888,7 @@ def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, b
         added = pasted[~this[pasted]]
         info["_pixels"] = torch.cat([info["_pixels"], added])
         total = info["pixels"] + len(added)
-        now = codes[info["_pixels"]]
-        info["mask"] = round(len(pasted) / total, 4)
-        info["photo"] = round(float((now == PHOTO).double().mean()), 4)
-        info["mirror"] = round(float((now == MIRROR).double().mean()), 4)
-        info["part"] = round(float((now == PART).double().mean()), 4)
-        info["fallback"] = round(float(torch.isin(now, torch.tensor([FALLBACK, DEFAULT], dtype=now.dtype))
-                                       .double().mean()), 4)
-        info["pixels"] = total
+        info.update(_shares(codes[info["_pixels"]]), pixels=total, mask=round(len(pasted) / total, 4))
     return flat_out.view(height, width, 3).permute(2, 0, 1), source
 
 
@@ -1039,12 +1043,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             if not bool(sel.any()):
                 continue
         n = int(sel.sum())
-        flat = torch.isin(codes[sel], flat_codes)
-        objects[name] = {"pixels": n, "photo": round(float(ok_photo[sel].double().mean()), 4),
-                         "mirror": round(float(ok_mirror[sel].double().mean()), 4),
-                         "part": round(float((codes[sel] == PART).double().mean()), 4),
-                         "fallback": round(float(flat.double().mean()), 4), "moved": bool(moved[r]),
-                         "_pixels": pix[sel]}
+        objects[name] = {"pixels": n, **_shares(codes[sel]), "moved": bool(moved[r]), "_pixels": pix[sel]}
         if len(visible_px) and n >= 50 and not bool(seen[sel].any()) and bool(moved[r]):
             warnings.append(f"object {name}: none of its surface is visible in the input (behind the camera, off the "
                             "frame or hidden); drawn from its mean colour")

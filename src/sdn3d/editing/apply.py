@@ -545,8 +545,9 @@ def ops_from_benchmark(entry: BenchmarkEntry | Sequence[BenchmarkOperation], sce
     if frame_size is not None and tuple(frame_size) != scene.image_size:
         ops = [scale_operation(op, tuple(frame_size), scene.image_size) for op in ops]
     ids = match_objects(scene, [op.from_uv for op in ops], [op.kind == "modify" for op in ops], max_distance)
-    centers, _ = projected_centers(scene)
-    row = {int(v): k for k, v in enumerate(scene.objects.instance_id.tolist())}
+    if anchor is ModifyAnchor.PICK and any(op.kind == "modify" and op.to_uv is not None for op in ops):
+        centers, _ = projected_centers(scene)
+        row = {int(v): k for k, v in enumerate(scene.objects.instance_id.tolist())}
     out: list[EditOp] = []
     for op, i in zip(ops, ids, strict=True):
         if op.kind == "delete":

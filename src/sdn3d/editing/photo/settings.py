@@ -105,6 +105,9 @@ class PhotoSettings:
         mask_view_deg: with ``silhouette='carved'``, a moved car whose view turned by at most this many degrees (its
             yaw against the line of sight) also covers what the input's mask, moved by the 2D map its box makes,
             adds to its template (0: nothing added).
+        paste_max_iou: ... and only where its fitted template's outline in the input overlaps its mask at an IoU of at
+            most this (1: whatever the fit): a template that matches its mask is the car's own outline, and its 3D
+            transfer draws the new view's perspective, which the 2D map only approximates.
         delete_effects: a removed (deleted or moved) object takes its effects with it: its fitted silhouette joins
             the hole, the road part of the hole (below its footprint's far edge) is filled from road-like pixels only,
             and with ``delete_shadow`` its cast shadow (found from its box, the fitted light and the road plane) is
@@ -154,6 +157,7 @@ class PhotoSettings:
     silhouette: str = "carved"
     amodal: str = "seen"
     mask_view_deg: float = 30.0
+    paste_max_iou: float = 1.0
     delete_effects: bool = False
     delete_shadow: bool = True
     recolor_parts: bool = True
@@ -185,6 +189,7 @@ class PhotoSettings:
                   ("contact_shadow", self.contact_shadow, 0.0, 1.0), ("cast_blur", self.cast_blur, 0.3, 16.0),
                   ("ray_blur", self.ray_blur, 0.0, 8.0), ("ray_texture", self.ray_texture, 0.0, 2.0),
                   ("shadow_light", self.shadow_light, 0.3, 1.0), ("mask_view_deg", self.mask_view_deg, 0.0, 90.0),
+                  ("paste_max_iou", self.paste_max_iou, 0.0, 1.0),
                   ("view_stretch", self.view_stretch, 0.0, 10.0))
         for name, value, lo, hi in checks:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= float(value) <= hi:

@@ -102,7 +102,8 @@ class PhotoSource:
         image: ``(3, H_in, W_in)`` float32 in [0, 1], the input.
         K: ``(3, 3)`` float64, the input image's camera (:func:`~sdn3d.editing.frame.input_intrinsics`).
         erode: input pixels the instance masks are eroded by (:attr:`PhotoSettings.mask_erode_px`, resolved).
-        src_ids: ``(H_in, W_in)`` int64 source instance map at the input's resolution; vis_ids: eroded.
+        work_ids: ``(h, w)`` int64 source instance map at the working size; src_ids: ``(H_in, W_in)`` the same at the
+            input's resolution (nearest); vis_ids: eroded.
         raster: the source objects rasterized at the input's resolution; parts: ``(H_in * W_in,)`` long
             :class:`~sdn3d.meshes.parts.Part` of the rasterized face at each pixel (-1: none).
         max_fills: filled pictures kept (each ``3 x H x W`` float32: ~5.6 MB at 1242x375); the oldest goes first.
@@ -120,7 +121,8 @@ class PhotoSource:
         erode = self.settings.mask_erode_px
         self.erode = max(1, math.ceil(1 / min(frame.scale))) if erode is None else erode
         w_in, h_in = frame.input_size
-        self.src_ids = upsample_ids(compose_instances(scene, self.bank).cpu(), frame)
+        self.work_ids = compose_instances(scene, self.bank).cpu()
+        self.src_ids = upsample_ids(self.work_ids, frame)
         self.vis_ids = _erode_ids(self.src_ids, self.erode)
         rows, verts, faces = posed_meshes(scene.objects, self.bank)
         self.raster = _rasterize(rows.cpu(), verts.cpu(), faces.cpu(), self.K, (h_in, w_in))
@@ -773,8 +775,9 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
                                      photo_source.parts, parts_out, background)
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
-            out, source = _paste_near_views(out, source, image, own, before, after, origin, moved_rows, src_ids, K,
-                                          settings, objects)
+            out, source = _paste_near_views(out, source, image, own, before, after, origin, moved_rows, src_ids,
+                                            photo_source.work_ids, transform, _raster_ids(src, before), K, settings,
+                                            objects)
         for a in moved_rows:
             if int(after.instance_id[a]) not in objects:
                 uv, front = _project(_box_floor(after, a, 1.0), K)
@@ -818,13 +821,17 @@ def _view_change(before: ObjectTable, after: ObjectTable, b: int, a: int) -> flo
 
 
 def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, before: ObjectTable,
-                    after: ObjectTable, origin: Tensor, moved_rows: list[int], src_ids: Tensor, K: Tensor,
-                    settings: PhotoSettings, objects: dict[int, dict]) -> tuple[Tensor, Tensor]:
-    """Each moved object whose view hardly changed (at most ``settings.mask_view_deg``) takes its input mask's pixels
+                      after: ObjectTable, origin: Tensor, moved_rows: list[int], src_ids: Tensor, work_ids: Tensor,
+                      transform: PixelFrame, template_ids: Tensor, K: Tensor, settings: PhotoSettings,
+                      objects: dict[int, dict]) -> tuple[Tensor, Tensor]:
+    """Each moved object whose view hardly changed (at most ``settings.mask_view_deg``) and whose fitted outline
+    ``template_ids (H, W)`` (:func:`_raster_ids` of the input) overlaps its mask in ``src_ids`` at an IoU of at most
+    ``settings.paste_max_iou`` takes its input mask's pixels
     moved by the 2D affine map its 3D box makes between its poses, each sampled where that map takes it (code
     ``photo``), over its drawn template's pixels and onto pixels no object covers: when the view stays, the input's
-    own outline and pixels are nearer the truth than a template's (the parts the mask never showed stay the
-    template's). ``objects`` gains the added pixels (``_pixels``, ``pixels``, shares, ``mask``: the pasted share)."""
+    own outline and pixels are nearer the truth than a template's that does not match them (the parts the mask never
+    showed stay the template's). ``objects`` gains ``outline_iou`` for each object under the view limit and, where
+    pasted, the added pixels (``_pixels``, ``pixels``, shares, ``mask``: the pasted share)."""
     height, width = own.shape
     drawn = torch.zeros(height * width, dtype=torch.bool)
     for info in objects.values():
@@ -838,6 +845,12 @@ def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, b
         name = int(after.instance_id[a])
         if b < 0 or name not in objects or _view_change(before, after, b, a) > math.radians(settings.mask_view_deg):
             continue
+        mine = src_ids == before.instance_id[b]
+        outline = template_ids == before.instance_id[b]
+        iou = float((mine & outline).sum()) / max(float((mine | outline).sum()), 1.0)
+        objects[name]["outline_iou"] = round(iou, 4)
+        if iou > settings.paste_max_iou:
+            continue
         ends = []
         for table, r in ((after, a), (before, b)):
             corners = box_corners(table.dims[r:r + 1].double(), table.ry[r:r + 1].double(),
@@ -850,7 +863,6 @@ def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, b
         # Target pixel -> input pixel: least squares over the box's corners and centre (exact for a pure 2D move).
         design = torch.cat([uv_a, torch.ones(len(uv_a), 1, dtype=torch.float64)], 1)
         affine = torch.linalg.lstsq(design, uv_b).solution  # (3, 2)
-        mine = src_ids == before.instance_id[b]
         ys, xs = mine.nonzero(as_tuple=True)
         if not len(ys):
             continue
@@ -868,12 +880,18 @@ def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, b
                               indexing="ij")
         q = torch.stack([u.flatten(), v.flatten(), torch.ones(u.numel(), dtype=torch.float64)], 1)
         p = q @ affine
-        inside, flat_p = _nearest_pixel(p[:, :2], torch.ones(len(p), dtype=torch.bool), (height, width))
+        inside, _ = _nearest_pixel(p[:, :2], torch.ones(len(p), dtype=torch.bool), (height, width))
         flat_q = (v.flatten().long() * width + u.flatten().long())
         info = objects[name]
         this = torch.zeros(height * width, dtype=torch.bool)
         this[info["_pixels"]] = True
-        hit = inside & mine.view(-1)[flat_p] & (free | this)[flat_q]
+        # The mask's coverage sampled bilinearly at the working size, where the mask was made: a mask enlarged (by the
+        # input's size, and by a zoom) keeps a smooth outline where it covers half, not a staircase of working pixels.
+        uv_work = (p[:, :2] + 0.5) * torch.tensor(transform.scale, dtype=torch.float64) - 0.5 - torch.tensor(
+            transform.offset, dtype=torch.float64)
+        coverage = (work_ids == before.instance_id[b]).float()[None, None]
+        cover = _sample([coverage], uv_work, torch.zeros(len(p), dtype=torch.float64))[:, 0].double()
+        hit = inside & (cover >= 0.5) & (free | this)[flat_q]
         if not bool(hit.any()):
             continue
         if pyramid is None:

@@ -12,8 +12,8 @@ from sdn3d.errors import UserInputError
 
 __all__ = ["FILL_METHODS", "UNSEEN_MODES", "SILHOUETTE_MODES", "AMODAL_MODES", "SHADOW_MODES", "GRAIN_MODES",
            "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO", "MIRROR",
-           "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT", "FLAT_CODES", "PART_DEFAULTS",
-           "PART_COLORS", "PhotoSettings", "PhotoSettingsError", "source_picture", "part_picture"]
+           "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT", "IN_FRONT", "FLAT_CODES",
+           "PART_DEFAULTS", "PART_COLORS", "PhotoSettings", "PhotoSettingsError", "source_picture", "part_picture"]
 
 
 #: How vacated pixels are filled: OpenCV's Telea (fast; the best weight-free fill by L1 and PSNR on a held-out
@@ -49,12 +49,14 @@ SILHOUETTE_MODES = ("template", "carved")
 AMODAL_MODES = ("all", "seen")
 #: Codes of :attr:`PhotoResult.source`: ``part``: the same part seen elsewhere on the car (for a lamp the photo never
 #: showed, the other end's lamps and paint); ``default``: a part the
-#: photo never showed, in its :data:`PART_DEFAULTS` colour; ``relit``: road under a removed car's shadow, relit.
-SOURCE_NAMES = ("input", "photo", "mirror", "fallback", "fill", "recolored", "shadow", "part", "default", "relit")
+#: photo never showed, in its :data:`PART_DEFAULTS` colour; ``relit``: road under a removed car's shadow, relit;
+#: ``in front``: the input's pixels of a thin thing in front of a car (a pole), kept in front of what an edit drew.
+SOURCE_NAMES = ("input", "photo", "mirror", "fallback", "fill", "recolored", "shadow", "part", "default", "relit",
+                "in front")
 #: Colour of each source code in :func:`source_picture` (sRGB uint8).
 SOURCE_COLORS = ((40, 40, 40), (60, 170, 75), (70, 120, 230), (230, 80, 60), (240, 200, 60), (200, 90, 220),
-                 (120, 120, 120), (150, 220, 230), (250, 140, 20), (170, 150, 110))
-INPUT, PHOTO, MIRROR, FALLBACK, FILL, RECOLORED, SHADOW, PART, DEFAULT, RELIT = range(10)
+                 (120, 120, 120), (150, 220, 230), (250, 140, 20), (170, 150, 110), (255, 255, 255))
+INPUT, PHOTO, MIRROR, FALLBACK, FILL, RECOLORED, SHADOW, PART, DEFAULT, RELIT, IN_FRONT = range(11)
 #: Source codes that are flat paint rather than the photo's texture.
 FLAT_CODES = (FALLBACK, DEFAULT)
 #: sRGB albedo of a vehicle part the photo never showed (indexed by :class:`~sdn3d.meshes.parts.Part`), shaded by
@@ -138,6 +140,9 @@ class PhotoSettings:
             overshoots there). 1 (default): on the seed-33 tuning deletes a never-seen car drawn in its parts'
             default colours had twice the fill's error there (0: every object grows wherever its silhouette lies,
             the behaviour before).
+        keep_in_front: thin things in front of a car that its mask leaves out (a pole, a sign post:
+            :func:`~sdn3d.editing.photo.occluders.thin_occluders`) stay in front in every edit (False: they are the
+            car's, and a delete fills them).
         recolor_parts: ``recolor`` repaints the body part of the fitted mesh only (False: every pixel of the car
             whose colour is the paint's, the appearance before vehicle parts existed).
     """
@@ -161,6 +166,7 @@ class PhotoSettings:
     delete_effects: bool = False
     delete_shadow: bool = True
     recolor_parts: bool = True
+    keep_in_front: bool = True
     cast_shadow: bool = False
     cast_blur: float = 1.0
     ray_blur: float = 0.0
@@ -202,7 +208,7 @@ class PhotoSettings:
                 continue
             if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
                 raise PhotoSettingsError(f"photo.{name} must be an integer in [{lo}, {hi}], got {value!r}")
-        for name in ("relight", "recolor_parts", "delete_effects", "delete_shadow", "cast_shadow"):
+        for name in ("relight", "recolor_parts", "delete_effects", "delete_shadow", "cast_shadow", "keep_in_front"):
             if not isinstance(getattr(self, name), bool):
                 raise PhotoSettingsError(f"photo.{name} must be true or false, got {getattr(self, name)!r}")
 

@@ -22,6 +22,7 @@ from sdn3d.editing.photo.fill import (
     vacated_hole,
 )
 from sdn3d.editing.photo.light import LightEstimate, fit_light
+from sdn3d.editing.photo.occluders import thin_occluders
 from sdn3d.editing.photo.recolor import body_paint, body_pixels, recolor_pixels, srgb_to_lab
 from sdn3d.editing.photo.road import removal_vanishing_point, road_colours, road_like
 from sdn3d.editing.photo.settings import (
@@ -29,6 +30,7 @@ from sdn3d.editing.photo.settings import (
     FALLBACK,
     FILL,
     FLAT_CODES,
+    IN_FRONT,
     INPUT,
     MIRROR,
     PART,
@@ -106,6 +108,8 @@ class PhotoSource:
             input's resolution (nearest); vis_ids: eroded.
         raster: the source objects rasterized at the input's resolution; parts: ``(H_in * W_in,)`` long
             :class:`~sdn3d.meshes.parts.Part` of the rasterized face at each pixel (-1: none).
+        in_front: ``(H_in, W_in)`` bool, thin things in front of a car that its mask leaves out (a pole, a sign post:
+            :func:`~sdn3d.editing.photo.occluders.thin_occluders`); every edit keeps them in front.
         max_fills: filled pictures kept (each ``3 x H x W`` float32: ~5.6 MB at 1242x375); the oldest goes first.
     """
 
@@ -127,6 +131,8 @@ class PhotoSource:
         rows, verts, faces = posed_meshes(scene.objects, self.bank)
         self.raster = _rasterize(rows.cpu(), verts.cpu(), faces.cpu(), self.K, (h_in, w_in))
         self.parts = _part_map(self.raster, scene.objects, self.bank)
+        self.in_front = (thin_occluders(self.image, self.src_ids, _raster_ids(self.raster, scene.objects))
+                         if self.settings.keep_in_front else torch.zeros_like(self.src_ids, dtype=torch.bool))
         self._light: tuple[Tensor, LightEstimate | None] | None = None
         self._fills: dict[tuple, Tensor] = {}
 
@@ -767,10 +773,12 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     # Target rasterization of the drawn objects (moved ones, and the ones that grew) at their poses.
     draw_rows = torch.tensor(sorted(set(moved_rows) | set(grown_rows)), dtype=torch.long)
     objects: dict[int, dict] = {}
+    drawn_depth = torch.full(size, math.inf, dtype=torch.float64)
     if len(draw_rows):
         tgt_all_rows, tgt_verts, tgt_faces = posed if posed is not None else posed_meshes(after, bank)
         keep = torch.isin(tgt_all_rows.cpu(), draw_rows)
         tgt = _rasterize(tgt_all_rows.cpu()[keep], tgt_verts.cpu()[keep], tgt_faces.cpu()[keep], K, size)
+        drawn_depth = tgt.frags.depth[0].double()
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
                                      photo_source.parts, parts_out, background)
@@ -793,6 +801,11 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     if recolor:
         out, source = _recolor(out, source, final_own, recolor, objects, warnings,
                                parts_out if settings.recolor_parts else None)
+    # Thin things in front of a car stay in front of what the edit drew there, unless a car now stands nearer than
+    # the one they hid (their depth is at most that car's).
+    front = photo_source.in_front & (source != INPUT) & ~(drawn_depth < src.frags.depth[0].double() - 0.5)
+    out = torch.where(front[None], image, out)
+    source = torch.where(front, IN_FRONT, source).to(torch.uint8)
     result = out.clamp(0, 1)
     changed = source != INPUT
     if original.dtype == torch.uint8:

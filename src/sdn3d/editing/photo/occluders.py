@@ -28,20 +28,19 @@ __all__ = ["thin_occluders"]
 
 
 def _flanked(mask_ids: Tensor, outline_ids: Tensor, candidate: Tensor, reach: Tensor) -> tuple[Tensor, Tensor]:
-    """``(left (H, W), right (H, W))`` bool: within ``reach (H, W)`` pixels to the left (right) of each candidate pixel
-    in its row lies a mask pixel of the car whose outline covers it."""
-    height, width = mask_ids.shape
-    left = torch.zeros_like(candidate)
-    right = torch.zeros_like(candidate)
-    for d in range(1, int(reach.max()) + 1 if candidate.any() else 1):
-        near = candidate & (reach >= d)
-        shifted = torch.zeros_like(mask_ids)
-        shifted[:, d:] = mask_ids[:, :-d]  # the mask d pixels to the left
-        left |= near & (shifted == outline_ids)
-        shifted = torch.zeros_like(mask_ids)
-        shifted[:, :-d] = mask_ids[:, d:]
-        right |= near & (shifted == outline_ids)
-    return left, right
+    """``(left (H, W), right (H, W))`` bool: the nearest mask pixel to the left (right) of each candidate pixel in its
+    row belongs to the car whose outline covers it and lies within ``reach (H, W)`` pixels."""
+    width = mask_ids.shape[1]
+    cols = torch.arange(width).expand_as(mask_ids)
+    def nearest_before(ids: Tensor) -> Tensor:  # column of the last mask pixel at or before each column (-1: none)
+        return torch.cummax(torch.where(ids != 0, cols, torch.full_like(cols, -1)), dim=1).values
+    before = nearest_before(mask_ids)
+    after = width - 1 - nearest_before(mask_ids.flip(1)).flip(1)  # width: none
+    def side(at: Tensor) -> Tensor:
+        ok = (at >= 0) & (at < width)
+        owner = mask_ids.gather(1, at.clamp(0, width - 1))
+        return candidate & ok & (owner == outline_ids) & ((at - cols).abs() <= reach)
+    return side(before), side(after)
 
 
 def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_width: float = 0.3,
@@ -69,81 +68,71 @@ def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_wid
         True
     """
     candidate = (outline_ids != 0) & (mask_ids == 0)
-    out = torch.zeros_like(candidate)
     if not bool(candidate.any()):
-        return out
-    # Each car's outline height, at each of its pixels.
-    ids, inverse = torch.unique(outline_ids, return_inverse=True)
-    rows = torch.arange(outline_ids.shape[0])[:, None].expand_as(outline_ids)
-    top = torch.full((len(ids),), outline_ids.shape[0]).scatter_reduce(0, inverse.flatten(), rows.flatten(), "amin")
-    bottom = torch.zeros(len(ids), dtype=torch.long).scatter_reduce(0, inverse.flatten(), rows.flatten(), "amax")
-    car_height = (bottom - top + 1).float()[inverse]
+        return candidate
+    height, width = outline_ids.shape
+    # Each car's outline height at each of its pixels (only cars with a candidate pixel: few ids to look up).
+    cars = torch.unique(outline_ids[candidate])
+    slot = torch.searchsorted(cars, outline_ids).clamp(max=len(cars) - 1)
+    slot = torch.where(cars[slot] == outline_ids, slot, torch.full_like(slot, len(cars)))  # len(cars): another car
+    rows = torch.arange(height)[:, None].expand_as(outline_ids)
+    top = torch.full((len(cars) + 1,), height).scatter_reduce(0, slot.flatten(), rows.flatten(), "amin")
+    bottom = torch.full((len(cars) + 1,), -1).scatter_reduce(0, slot.flatten(), rows.flatten(), "amax")
+    car_height = (bottom - top + 1).clamp(min=1).float()[slot]
     reach = torch.where(candidate, (max_width * car_height).ceil().long(), torch.zeros_like(outline_ids))
     left, right = _flanked(mask_ids, outline_ids, candidate, reach)
     labels, count = ndimage.label(candidate.numpy())
-    if not count:
-        return out
     labels_t = torch.from_numpy(labels.astype(np.int64))
-    flat = labels_t.flatten()
-    size = torch.bincount(flat, minlength=count + 1).float()
-    flanked = torch.bincount(flat, weights=(left & right).flatten().float(), minlength=count + 1)
-    height = car_height.flatten()
-    comp_car_height = torch.zeros(count + 1).scatter_reduce(0, flat, height, "amax")
-    # The car pixels beside the strip: the mask pixels of its car one pixel left or right of it.
-    beside = torch.zeros_like(candidate)
-    beside[:, 1:] |= candidate[:, :-1]
-    beside[:, :-1] |= candidate[:, 1:]
-    beside &= mask_ids != 0
-    beside_label = torch.zeros_like(flat)
-    shifted = torch.zeros_like(labels_t)
-    shifted[:, 1:] = labels_t[:, :-1]
-    beside_label = torch.where(beside.flatten(), shifted.flatten(), beside_label)
-    shifted = torch.zeros_like(labels_t)
-    shifted[:, :-1] = labels_t[:, 1:]
-    beside_label = torch.where(beside.flatten() & (beside_label == 0), shifted.flatten(), beside_label)
-    pixels = image.reshape(3, -1).T.double()  # (H*W, 3)
-    def mean_colour(lab: Tensor, weight: Tensor) -> Tensor:
-        total = torch.zeros(count + 1, 3, dtype=torch.float64).index_add_(0, lab, pixels * weight[:, None])
-        n = torch.zeros(count + 1, dtype=torch.float64).index_add_(0, lab, weight)
-        return total / n.clamp(min=1)[:, None]
-    strip = mean_colour(flat, candidate.flatten().double())
-    side = mean_colour(beside_label, (beside_label > 0).double())
-    contrast = (strip - side).abs().mean(1)
-    cols = torch.arange(outline_ids.shape[1])[None, :].expand_as(outline_ids).flatten()
+    pix = candidate.flatten().nonzero().flatten()  # the candidate pixels: every statistic below is over them
+    lab = labels_t.flatten()[pix]
+    size = torch.bincount(lab, minlength=count + 1).float()
+    flanked = torch.bincount(lab, weights=(left & right).flatten()[pix].float(), minlength=count + 1)
+    comp_car_height = torch.zeros(count + 1).scatter_reduce(0, lab, car_height.flatten()[pix], "amax")
     def extent(coord: Tensor) -> Tensor:
-        lo = torch.full((count + 1,), 1 << 30).scatter_reduce(0, flat, coord, "amin")
-        hi = torch.full((count + 1,), -1).scatter_reduce(0, flat, coord, "amax")
+        lo = torch.full((count + 1,), 1 << 30).scatter_reduce(0, lab, coord, "amin")
+        hi = torch.full((count + 1,), -1).scatter_reduce(0, lab, coord, "amax")
         return (hi - lo + 1).float()
-    strip_height, strip_width = extent(rows.flatten()), extent(cols)
+    strip_height, strip_width = extent(pix // width), extent(pix % width)
     keep = ((flanked >= min_flanked * size) & (strip_height >= min_height * comp_car_height)
-            & (strip_width <= (max_width * comp_car_height).ceil()) & (contrast >= min_contrast))
+            & (strip_width <= (max_width * comp_car_height).ceil()))
     keep[0] = False
+    if not bool(keep.any()):
+        return torch.zeros_like(candidate)
+    # Colour: the strip against the car's mask pixels just left and right of it.
+    pixels = image.reshape(3, -1).T  # (H*W, 3)
+    strip = (torch.zeros(count + 1, 3, dtype=torch.float64).index_add_(0, lab, pixels[pix].double())
+             / size.clamp(min=1)[:, None])
+    side_sum = torch.zeros(count + 1, 3, dtype=torch.float64)
+    side_n = torch.zeros(count + 1, dtype=torch.float64)
+    for step in (-1, 1):
+        beside = pix + step
+        ok = (beside % width == (pix % width) + step) & (mask_ids.flatten()[beside.clamp(0, height * width - 1)] != 0)
+        side_sum.index_add_(0, lab[ok], pixels[beside[ok]].double())
+        side_n.index_add_(0, lab[ok], torch.ones(int(ok.sum()), dtype=torch.float64))
+    contrast = (strip - side_sum / side_n.clamp(min=1)[:, None]).abs().mean(1)
+    keep &= contrast >= min_contrast
     found = keep[labels_t] & candidate
-    return _extend_upright(found, image, mask_ids, int(comp_car_height[keep].max()) if bool(keep.any()) else 0,
-                           min_contrast)
+    return _extend_upright(found, image, mask_ids, min_contrast)
 
 
-def _extend_upright(found: Tensor, image: Tensor, mask_ids: Tensor, limit: int, step: float) -> Tensor:
-    """``found (H, W)`` grown up and down, at most ``limit`` rows, through pixels no mask claims whose colour is within
-    ``step`` (mean absolute difference) of the pixel above (below) them: a pole runs on past the car's outline, where
-    a delete's hole and its shadow band would otherwise paint it over."""
-    if limit <= 0 or not bool(found.any()):
+def _extend_upright(found: Tensor, image: Tensor, mask_ids: Tensor, step: float) -> Tensor:
+    """``found (H, W)`` grown up and down its columns through pixels no mask claims whose colour is within ``step``
+    (mean absolute difference) of the pixel above (below) them: a pole runs on past the car's outline, where a
+    delete's hole and its shadow band would otherwise paint it over."""
+    if not bool(found.any()):
         return found
-    free = mask_ids == 0
-    ys, xs = found.nonzero(as_tuple=True)
-    y0, y1 = max(int(ys.min()) - limit, 0), min(int(ys.max()) + limit + 1, found.shape[0])
+    xs = found.any(0).nonzero().flatten()
     x0, x1 = int(xs.min()), int(xs.max()) + 1
-    window = found[y0:y1, x0:x1].clone()
-    colours = image[:, y0:y1, x0:x1]
-    open_ = free[y0:y1, x0:x1]
-    close_down = (colours[:, 1:] - colours[:, :-1]).abs().mean(0) < step  # (h-1, w): row r+1 like row r
-    for _ in range(limit):
-        grown = window.clone()
-        grown[1:] |= window[:-1] & close_down & open_[1:]
-        grown[:-1] |= window[1:] & close_down & open_[:-1]
-        if torch.equal(grown, window):
-            break
-        window = grown
+    colours = image[:, :, x0:x1]
+    free = mask_ids[:, x0:x1] == 0
+    # Vertical runs of free pixels, each row like the one above: a run breaks where that fails.
+    joined = ((colours[:, 1:] - colours[:, :-1]).abs().mean(0) < step) & free[1:] & free[:-1]  # (H-1, w)
+    run = torch.cat([torch.zeros(1, x1 - x0, dtype=torch.long), (~joined).long().cumsum(0)])  # (H, w) per column
+    run = run + torch.arange(x1 - x0)[None, :] * (found.shape[0] + 1)  # unique across columns
+    window = found[:, x0:x1]
+    hit = torch.zeros(int(run.max()) + 1, dtype=torch.bool)
+    hit[run[window]] = True
+    grown = hit[run] & (free | window)
     out = found.clone()
-    out[y0:y1, x0:x1] = window
+    out[:, x0:x1] |= grown
     return out

@@ -9,10 +9,10 @@ import torch
 
 from sdn3d.editing.apply import Delete, Move, apply_edits
 from sdn3d.editing.photo.occluders import thin_occluders
-from sdn3d.editing.photo.settings import IN_FRONT, SOURCE_NAMES
+from sdn3d.editing.photo.settings import IN_FRONT, INPUT, SOURCE_NAMES
 from sdn3d.editing.photo.transfer import render_photo
 from sdn3d.scene.code import SceneObject
-from tests.test_photo import CAR, FRAME, INPUT_SIZE, NO_LIGHT, _k_input, _scene, _surface_colors
+from tests.test_photo import BACKGROUND, CAR, FRAME, INPUT_SIZE, NO_LIGHT, _k_input, _scene, _surface_colors
 
 POLE = (0.1, 0.1, 0.12)
 
@@ -77,6 +77,13 @@ def test_a_pole_in_front_of_a_car_stays_when_the_car_is_deleted_or_moved_away():
         off = render_photo(image, FRAME, scene, apply_edits(scene, ops),
                            settings=dataclasses.replace(NO_LIGHT, keep_in_front=False))
         assert not torch.equal(off.image[:, pole], image[:, pole])  # without it, the delete's fill paints it over
+        # ... and smears the pole into the road beside it; kept, the pole is no source of the fill.
+        beside = torch.zeros_like(pole)
+        beside[:, 2 * (middle - 1) - 6:2 * (middle - 1) - 1] = True
+        beside[:, 2 * (middle + 1) + 1:2 * (middle + 1) + 6] = True
+        beside &= result.source != INPUT
+        assert float((result.image[:, beside] - BACKGROUND).abs().mean()) < 0.02
+        assert float((off.image[:, beside] - BACKGROUND).abs().mean()) > 0.04
 
 
 def test_a_car_moved_nearer_than_the_pole_hides_it():

@@ -690,6 +690,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
     keep = (src_ids != 0) & torch.isin(src_ids, after.instance_id[stays])
     hole = vacated_hole(src_ids, gone_ids, keep, settings)
+    if bool(hole.any()):  # thin things in front are put back over the fill: they are no source of it
+        hole = hole | photo_source.in_front
     # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
     vp = None
     if settings.fill == "rays" and bool(gone_ids.numel()):

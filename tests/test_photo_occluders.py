@@ -37,6 +37,16 @@ def test_a_pole_across_a_car_is_found_and_an_overshooting_outline_is_not():
     assert int(found.sum()) == 40 * 3  # the pole runs on above and below the car, in its own colour
 
 
+def test_a_pole_is_found_where_the_template_overshoots_its_car_all_round():
+    """The overshoot ring joins the pole at its ends; the pole is still a strip of its own."""
+    image, mask, outline = _car_block()
+    outline[6:34, 6:54] = 7
+    mask[10:30, 28:31] = 0
+    image[:, :, 28:31] = torch.tensor(POLE)[:, None, None]
+    found = thin_occluders(image, mask, outline)
+    assert bool(found[:, 28:31].all()) and int(found.sum()) == 40 * 3
+
+
 def test_a_gap_in_the_mask_that_looks_like_the_car_is_the_car():
     image, mask, outline = _car_block()
     mask[10:30, 28:31] = 0  # the mask missed a strip of the car; the pixels are the car's paint

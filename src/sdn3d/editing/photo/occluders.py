@@ -8,8 +8,8 @@ behind them (source code ``in front``).
 
 What counts: pixels inside a car's fitted outline that no mask claims, in an upright strip
 
-- with the car's own mask on both sides in most of its rows (a template that overshoots its car leaves bands along
-  the outline's edge, with the car on one side only: those stay the car's, and a delete removes them);
+- with the car's own mask on both sides in its rows (a template that overshoots its car leaves bands along the
+  outline's edge, with the car on one side only: those stay the car's, and a delete removes them);
 - at most ``max_width`` of the car's outline height wide and at least ``min_height`` of it tall;
 - whose colour differs from the car pixels beside it (a strip the mask missed but that looks like the car is the car).
 
@@ -44,7 +44,7 @@ def _flanked(mask_ids: Tensor, outline_ids: Tensor, candidate: Tensor, reach: Te
 
 
 def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_width: float = 0.3,
-                   min_height: float = 0.4, min_flanked: float = 0.6, min_contrast: float = 0.08) -> Tensor:
+                   min_height: float = 0.4, min_contrast: float = 0.08) -> Tensor:
     """``(H, W)`` bool: pixels of thin upright things in front of a car (module doc).
 
     Args:
@@ -53,7 +53,6 @@ def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_wid
         outline_ids: ``(H, W)`` int64 instance id of the fitted template drawn at each pixel (0: none).
         max_width, min_height: the strip's width at most, and height at least, these shares of its car's outline
             height.
-        min_flanked: share of the strip's pixels with the car's mask on both sides in their row.
         min_contrast: the strip's mean colour differs from the car pixels just beside it by at least this (mean
             absolute difference over the channels).
 
@@ -81,20 +80,23 @@ def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_wid
     car_height = (bottom - top + 1).clamp(min=1).float()[slot]
     reach = torch.where(candidate, (max_width * car_height).ceil().long(), torch.zeros_like(outline_ids))
     left, right = _flanked(mask_ids, outline_ids, candidate, reach)
-    labels, count = ndimage.label(candidate.numpy())
+    # Strips are cut from the flanked pixels: the bands where a template overshoots its car (which join a strip at
+    # its ends) have the car's mask on one side at most.
+    flanked = candidate & left & right
+    if not bool(flanked.any()):
+        return torch.zeros_like(candidate)
+    labels, count = ndimage.label(flanked.numpy())
     labels_t = torch.from_numpy(labels.astype(np.int64))
-    pix = candidate.flatten().nonzero().flatten()  # the candidate pixels: every statistic below is over them
+    pix = flanked.flatten().nonzero().flatten()  # every statistic below is over these pixels
     lab = labels_t.flatten()[pix]
     size = torch.bincount(lab, minlength=count + 1).float()
-    flanked = torch.bincount(lab, weights=(left & right).flatten()[pix].float(), minlength=count + 1)
     comp_car_height = torch.zeros(count + 1).scatter_reduce(0, lab, car_height.flatten()[pix], "amax")
     def extent(coord: Tensor) -> Tensor:
         lo = torch.full((count + 1,), 1 << 30).scatter_reduce(0, lab, coord, "amin")
         hi = torch.full((count + 1,), -1).scatter_reduce(0, lab, coord, "amax")
         return (hi - lo + 1).float()
     strip_height, strip_width = extent(pix // width), extent(pix % width)
-    keep = ((flanked >= min_flanked * size) & (strip_height >= min_height * comp_car_height)
-            & (strip_width <= (max_width * comp_car_height).ceil()))
+    keep = (strip_height >= min_height * comp_car_height) & (strip_width <= (max_width * comp_car_height).ceil())
     keep[0] = False
     if not bool(keep.any()):
         return torch.zeros_like(candidate)
@@ -111,7 +113,7 @@ def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_wid
         side_n.index_add_(0, lab[ok], torch.ones(int(ok.sum()), dtype=torch.float64))
     contrast = (strip - side_sum / side_n.clamp(min=1)[:, None]).abs().mean(1)
     keep &= contrast >= min_contrast
-    found = keep[labels_t] & candidate
+    found = keep[labels_t] & flanked
     return _extend_upright(found, image, mask_ids, min_contrast)
 
 

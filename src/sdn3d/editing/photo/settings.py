@@ -170,7 +170,7 @@ class PhotoSettings:
     shadow_mode: str = "fill"
     shadow_light: float = 0.8
     grow_min_seen: int = 1
-    ray_marks: float = 0.0
+    ray_marks: float = 0.2
 
     def __post_init__(self) -> None:
         if self.fill not in FILL_METHODS:

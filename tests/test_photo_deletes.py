@@ -199,3 +199,9 @@ def test_shadowed_road_above_the_ground_rows_is_a_source_of_the_rays(monkeypatch
     monkeypatch.setattr(transfer, "_ground_rows", lambda mask, hole, share: mask)
     before, _ = transfer._rays_with_effects(image, hole, objects, search, ring, road, settings, (64.0, -2000.0))
     assert float(before[top].mean()) > 0.45
+
+
+def test_ray_marks_setting_is_checked():
+    assert PhotoSettings().ray_marks == 0.2
+    with pytest.raises(PhotoSettingsError, match="ray_marks"):
+        PhotoSettings(ray_marks=-0.1)

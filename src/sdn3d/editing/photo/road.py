@@ -318,15 +318,24 @@ def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor
         return default
     y0, y1 = max(int(ys.min()) - 41, 0), min(int(ys.max()) + 42, height)
     x0, x1 = max(int(xs.min()) - 41, 0), min(int(xs.max()) + 42, width)
-    crop = image[:, y0:y1, x0:x1].float().clone()
-    target = float(_luma_laplacian(crop)[around[y0:y1, x0:x1]].mean())
+    target = float(_luma_laplacian(image[:, y0:y1, x0:x1].float())[around[y0:y1, x0:x1]].mean())
     inside = (~dilate_square(~hole, 1))[ys, xs]  # (N,)
+    if int(inside.sum()) < 50:
+        return default
+    # The pixels looked at have only hole pixels in their 3x3 neighbourhood: the box of those grown by one holds it.
+    iy, ix = ys[inside], xs[inside]
+    y0, y1 = max(int(iy.min()) - 1, 0), min(int(iy.max()) + 2, height)
+    x0, x1 = max(int(ix.min()) - 1, 0), min(int(ix.max()) + 2, width)
+    box = (ys >= y0) & (ys < y1) & (xs >= x0) & (xs < x1)
+    values, grains, ys, xs, inside = values[:, box], grains[:, box], ys[box], xs[box], inside[box]
+    crop = image[:, y0:y1, x0:x1].float().clone()
     best, gap = default, math.inf
     for w in GRAIN_WEIGHTS:
         filled = (values + w * grains).clamp(0, 1)
         crop[:, ys - y0, xs - x0] = filled
         # road_like is per pixel: looked at on the hole's pixels alone (the cost: a Lab conversion per weight)
-        like = inside & road_like(filled[:, :, None], road)[:, 0]
+        like = inside.clone()
+        like[inside] = road_like(filled[:, inside, None], road)[:, 0]
         if int(like.sum()) < 50:
             continue
         level = float(_luma_laplacian(crop)[ys[like] - y0, xs[like] - x0].mean())

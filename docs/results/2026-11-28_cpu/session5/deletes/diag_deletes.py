@@ -6,7 +6,8 @@ switches: 2d (baseline_photo '2d'), centre (the picture's centre as vanishing po
 amodal=False), nosil (the hole without the removed car's fitted silhouette), nodark (no shadowed road at all: none
 joins the hole, none is kept out), srcall (the removed car's shadow joins the hole, every other shadowed pixel is a
 source), srcbelowK (shadowed road kept out only from K/10 of the hole's height down: K=5 is what the code now does),
-srcconn[K] (kept out only where connected to the hole), srcnearK (kept out only within K px of the hole).
+srcconn[K] (kept out only where connected to the hole), srcnearK (kept out only within K px of the hole);
+with rejected_blind_vp.diff applied: blind0 (no blind-vanishing-point fallback), resttelea (Telea as the fallback).
 (delete_shadow=false as a setting: the shadow not joined.) Per pair: PSNR on vacated | shadow, split into the
 shadow-only pixels (sh), the vacated lower half (low) and upper half (up); the benchmark's darkening; CPU s.
 """
@@ -49,6 +50,10 @@ def patch(sw):
         return orig["rwe"](image, hole, objects_px, before, gone_rows, K, light, settings, vanishing)
     T._remove_with_effects = rwe
     R.shadowed_road = (lambda *a, **k: torch.zeros_like(a[2])) if "nodark" in sw else orig["sr"]
+    if hasattr(R, "BLIND_VP"):  # only with rejected_blind_vp.diff applied (runs blind33 / blind31)
+        R.BLIND_VP = "blind0" not in sw
+        import sdn3d.editing.photo.fill as _fill
+        _fill.RAY_REST = "telea" if "resttelea" in sw else "auto"
     mode = next((x for x in sw if x.startswith("src")), None)
     T._rays_with_effects = orig["rays"] if mode is None else (lambda *a, **k: rays_variant(mode, *a, **k))
 from sdn3d.image_ops import dilate_square

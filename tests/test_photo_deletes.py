@@ -150,3 +150,58 @@ def test_the_voted_vanishing_point_snaps_to_the_cameras_forward_heading_only_on_
     image, _ = _lanes(vp=(turned, 20.0))
     u_turn, _ = image_vanishing_point(image, region, K, forward_share=FORWARD_SHARE)
     assert u_turn == pytest.approx(turned, abs=2.0)
+
+
+# -- session 5: one-sided markings, shadowed road above the ground ---------------------------------------------------
+
+
+def test_a_dash_seen_on_one_side_of_the_hole_is_not_drawn_out_into_a_stripe():
+    """The middle lane line is a dash below the hole only; without ``marks`` the rays interpolate it towards the
+    plain road above into a fading stripe, with ``marks`` they take the road; a solid line still crosses."""
+    from tests.test_photo_road import _lanes
+
+    image, line = _lanes()
+    middle = line & (torch.arange(128)[None, :] - 63.5).abs().lt(6)
+    dash = image.clone()
+    dash[:, middle & (torch.arange(64)[:, None] < 52)] = dash[:, 60, 20][:, None]  # the line only below row 52
+    hole = torch.zeros_like(line)
+    hole[34:52, 40:90] = True
+    on = hole & middle
+    stripe, _ = ray_fill(dash, hole, (63.5, 20.0), texture=0.0)
+    assert float(stripe[:, on].mean()) > 0.55  # the dash drawn out into the hole (the behaviour before)
+    road, _ = ray_fill(dash, hole, (63.5, 20.0), texture=0.0, marks=0.15)
+    assert float(road[:, on].mean()) < 0.45
+    solid, _ = ray_fill(image, hole, (63.5, 20.0), texture=0.0, marks=0.15)
+    assert float(solid[:, hole & line].mean()) > 0.8
+
+
+def test_shadowed_road_above_the_ground_rows_is_a_source_of_the_rays(monkeypatch):
+    """Road-coloured pixels darker than the lit road above the hole (a shaded far road) are what the hole's upper
+    part shows; only the ground rows (``SHADOW_GROUND`` of the hole's height down) keep shadowed road out."""
+    import sdn3d.editing.photo.transfer as transfer
+    from sdn3d.editing.photo.road import road_colours
+
+    height, width = 64, 128
+    image = torch.full((3, height, width), 0.5)
+    image[:, :20, 52:76] = 0.3  # shaded road above the hole (lit road on its rows either side)
+    hole = torch.zeros(height, width, dtype=torch.bool)
+    hole[20:40, 40:88] = True
+    search = torch.zeros_like(hole)
+    search[34:40, 40:88] = True  # the removed car's footprint: its shadow's place
+    ring = ~hole & ~torch.nn.functional.max_pool2d(hole.float()[None, None], 13, 1, 6)[0, 0].bool()
+    road = road_colours(image, ring)
+    settings = PhotoSettings(fill="rays", ray_grain="fixed", ray_texture=0.0)
+    objects = torch.zeros_like(hole)
+    filled, _ = transfer._rays_with_effects(image, hole, objects, search, ring, road, settings, (64.0, -2000.0))
+    top = (slice(None), slice(20, 24), slice(56, 72))
+    assert float(filled[top].mean()) < 0.4  # continues the shaded road above it
+    # every shadowed pixel kept out (the behaviour before)
+    monkeypatch.setattr(transfer, "_ground_rows", lambda mask, hole, share: mask)
+    before, _ = transfer._rays_with_effects(image, hole, objects, search, ring, road, settings, (64.0, -2000.0))
+    assert float(before[top].mean()) > 0.45
+
+
+def test_ray_marks_setting_is_checked():
+    assert PhotoSettings().ray_marks == 0.2
+    with pytest.raises(PhotoSettingsError, match="ray_marks"):
+        PhotoSettings(ray_marks=-0.1)

@@ -93,9 +93,11 @@ def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: i
     t = torch.stack([-gy[ys, xs], gx[ys, xs]], 1) / m[:, None]  # along the edge
     heading = torch.deg2rad(torch.arange(-70.0, 70.25, 0.5))
     us = cx + fx * torch.tan(heading)  # (C,)
-    to = torch.stack([us[None] - xs[:, None].float(), torch.full((len(xs), len(us)), cy) - ys[:, None].float()], 2)
-    to = to / to.norm(dim=2, keepdim=True).clamp(min=1e-6)
-    score = ((to * t[:, None]).sum(2).abs() ** sharpness * m[:, None]).sum(0)
+    du = us[None] - xs[:, None].float()  # (N, C): towards each candidate
+    dv = (cy - ys.float())[:, None]
+    # |cos|^sharpness as (cos^2)^(sharpness / 2): no (N, C, 2) tensor, no square root
+    cos2 = (t[:, :1] * du + t[:, 1:] * dv).square() / (du.square() + dv.square()).clamp(min=1e-12)
+    score = (cos2 ** (sharpness / 2) * m[:, None]).sum(0)
     forward = int(heading.abs().argmin())
     if float(score[forward]) >= forward_share * float(score.max()):  # a near tie: the camera looks down the road
         return float(us[forward]), cy
@@ -132,6 +134,31 @@ def _normalised_blur(image: Tensor, valid: Tensor, sigma: float) -> Tensor:
     return torch.from_numpy(num / np.maximum(den, 1e-6)[None]).to(image.dtype)
 
 
+#: :func:`_coarse_blur`'s downsampling factor.
+COARSE = 4
+
+
+def _coarse_blur(image: Tensor, valid: Tensor, sigma: float) -> Tensor:
+    """``(3, H / COARSE, W / COARSE)``: :func:`_normalised_blur` of ``image`` over ``valid`` at sigma ``sigma``
+    (input pixels), computed on the picture shrunk :data:`COARSE` times (a wide blur at full size costs tens of ms
+    at 1242x375); read it with :func:`_gather_coarse`."""
+    import cv2
+
+    height, width = valid.shape
+    size = (max(width // COARSE, 1), max(height // COARSE, 1))
+    w = valid.float().numpy()
+    small_w = cv2.resize(w, size, interpolation=cv2.INTER_AREA)
+    small = [cv2.resize(c * w, size, interpolation=cv2.INTER_AREA) for c in image.float().numpy()]
+    den = cv2.GaussianBlur(small_w, (0, 0), sigma / COARSE)
+    num = np.stack([cv2.GaussianBlur(c, (0, 0), sigma / COARSE) for c in small])
+    return torch.from_numpy(num / np.maximum(den, 1e-6)[None]).to(image.dtype)
+
+
+def _gather_coarse(small: Tensor, points: Tensor) -> Tensor:
+    """``(3, N)`` :func:`_gather` of a :func:`_coarse_blur` picture at full-size ``points (N, 2)`` (x, y)."""
+    return _gather(small, (points + 0.5) / COARSE - 0.5)
+
+
 def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tensor) -> tuple[Tensor, Tensor]:
     """``(distance (N,), found (N,))``: the first step of ``steps (S,)`` (pixels, increasing) at which the point
     ``pix + step * unit`` is a ``valid (H, W)`` pixel, for each ``pix (N, 2)`` (x, y) and ``unit (N, 2)``; a step
@@ -148,7 +175,7 @@ def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tenso
 
 def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Tensor | None = None,
              sigma: float = 1.0, texture: float = 1.0, along: int = 1, max_steps: int = 400,
-             beyond: int = 64, match_grain: bool = False) -> tuple[Tensor, Tensor]:
+             beyond: int = 64, match_grain: bool = False, marks: float = 0.0) -> tuple[Tensor, Tensor]:
     """``(image (3, H, W), reached (H, W) bool)``: ``image`` with the ``hole (H, W)`` pixels a ray reaches filled
     along the rays from the vanishing point ``vp = (u, v)`` (module doc); ``keep_out (H, W)``: pixels no ray samples
     (other objects), ``sigma``: the sources' normalised blur, ``texture``: weight of the mirrored high-pass,
@@ -157,7 +184,9 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     ``beyond``: and at most this far past the hole's box diagonal (through other objects and shadows);
     ``match_grain``: instead of ``texture``, the weight of :data:`GRAIN_WEIGHTS` whose fill's road is as
     fine-textured as the road around the hole (:func:`_matched_weight`): a photo's asphalt has more grain
-    than a render's."""
+    than a render's; ``marks``: where one side of a ray is a marking (near grey and more than ``marks`` lighter in
+    luma than its neighbourhood) and the other is not, the ray takes the other side's colour alone
+    (:func:`_one_sided_marks`; 0: both sides interpolated everywhere)."""
     height, width = hole.shape
     out = image.clone()
     reached = torch.zeros_like(hole)
@@ -167,6 +196,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     if not bool(valid.any()):
         return out, reached
     smooth = _normalised_blur(image, valid, sigma)
+    broad = _coarse_blur(image, valid, MARK_SIGMA) if marks > 0 else None
     # The sources' grain: their high-pass at one pixel's scale (0 elsewhere: never a car's edge).
     detail = None
     if texture > 0 or match_grain:
@@ -202,6 +232,9 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         w_out = torch.where(f_out, torch.where(f_in, d_in / (d_in + d_out), torch.ones_like(d_in)),
                             torch.zeros_like(d_in))
         w_in = torch.where(f_in, 1 - w_out, torch.zeros_like(d_in))
+        if marks > 0:
+            w_out, w_in = _one_sided_marks(c_out, c_in, _gather_coarse(broad, q_out), _gather_coarse(broad, q_in),
+                                           w_out, w_in, f_out & f_in, marks)
         val = c_out * w_out + c_in * w_in
         if detail is not None:  # a side's high-pass, mirrored across the hole's edge along the ray (nearer side first)
             near_out = f_out & (~f_in | (d_out <= d_in))
@@ -220,6 +253,37 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     out[:, ys[got], xs[got]] = values[:, got].clamp(0, 1).to(out.dtype)
     reached[ys[got], xs[got]] = True
     return out, reached
+
+
+#: Largest channel spread (max - min of sRGB) of a marking's colour: white or yellowish-grey paint, not a verge.
+MARK_CHROMA = 0.12
+#: Gaussian sigma (pixels) of the neighbourhood a marking is lighter than (a dash is a few pixels wide; a fog or
+#: lighting gradient is as light as its neighbourhood at this scale).
+MARK_SIGMA = 16.0
+
+
+def _one_sided_marks(c_out: Tensor, c_in: Tensor, b_out: Tensor, b_in: Tensor, w_out: Tensor, w_in: Tensor,
+                     both: Tensor, step: float) -> tuple[Tensor, Tensor]:
+    """``(w_out, w_in)`` with the rays whose two sides disagree about a marking given to the unmarked side alone:
+    where ``both (N,)`` sides were found and one side's colour ``(3, N)`` is near grey (:data:`MARK_CHROMA`) and
+    more than ``step`` lighter in luma than its own neighbourhood (``b_out``, ``b_in``: the sources blurred at
+    :data:`MARK_SIGMA`) while the other side is not. A dash seen on one side of the hole, interpolated towards plain
+    road on the other, draws a long fading stripe along its line (the real frame's red car); a solid line seen on
+    both sides still crosses the hole, and a fog gradient (as light as its neighbourhood) is no marking."""
+    from sdn3d.editing.photo.light import luminance
+
+    def sure(c: Tensor, b: Tensor) -> Tensor:  # 0 at half the step, 1 at the step: a ray grazing a dash's end is
+        # partly marked (a hard cut draws the dash's end as a staircase)
+        grey = (c.amax(0) - c.amin(0)) <= MARK_CHROMA
+        return grey * ((luminance(c.T) - luminance(b.T)) / step * 2 - 1).clamp(0, 1)
+
+    s_out, s_in = sure(c_out, b_out), sure(c_in, b_in)
+    sure_out, sure_in = both * (s_out - s_in).clamp(min=0), both * (s_in - s_out).clamp(min=0)
+    new_out, new_in = w_out * (1 - sure_out), w_in * (1 - sure_in)
+    total = new_out + new_in
+    keep = total <= 1e-6  # nothing left (a side at distance 0): as it was
+    return (torch.where(keep, w_out, new_out / total.clamp(min=1e-6)),
+            torch.where(keep, w_in, new_in / total.clamp(min=1e-6)))
 
 
 #: Grain weights :func:`ray_fill` chooses from with ``match_grain``.
@@ -254,15 +318,24 @@ def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor
         return default
     y0, y1 = max(int(ys.min()) - 41, 0), min(int(ys.max()) + 42, height)
     x0, x1 = max(int(xs.min()) - 41, 0), min(int(xs.max()) + 42, width)
-    crop = image[:, y0:y1, x0:x1].float().clone()
-    target = float(_luma_laplacian(crop)[around[y0:y1, x0:x1]].mean())
+    target = float(_luma_laplacian(image[:, y0:y1, x0:x1].float())[around[y0:y1, x0:x1]].mean())
     inside = (~dilate_square(~hole, 1))[ys, xs]  # (N,)
+    if int(inside.sum()) < 50:
+        return default
+    # The pixels looked at have only hole pixels in their 3x3 neighbourhood: the box of those grown by one holds it.
+    iy, ix = ys[inside], xs[inside]
+    y0, y1 = max(int(iy.min()) - 1, 0), min(int(iy.max()) + 2, height)
+    x0, x1 = max(int(ix.min()) - 1, 0), min(int(ix.max()) + 2, width)
+    box = (ys >= y0) & (ys < y1) & (xs >= x0) & (xs < x1)
+    values, grains, ys, xs, inside = values[:, box], grains[:, box], ys[box], xs[box], inside[box]
+    crop = image[:, y0:y1, x0:x1].float().clone()
     best, gap = default, math.inf
     for w in GRAIN_WEIGHTS:
         filled = (values + w * grains).clamp(0, 1)
         crop[:, ys - y0, xs - x0] = filled
         # road_like is per pixel: looked at on the hole's pixels alone (the cost: a Lab conversion per weight)
-        like = inside & road_like(filled[:, :, None], road)[:, 0]
+        like = inside.clone()
+        like[inside] = road_like(filled[:, inside, None], road)[:, 0]
         if int(like.sum()) < 50:
             continue
         level = float(_luma_laplacian(crop)[ys[like] - y0, xs[like] - x0].mean())

@@ -143,6 +143,10 @@ class PhotoSettings:
         keep_in_front: thin things in front of a car that its mask leaves out (a pole, a sign post:
             :func:`~sdn3d.editing.photo.occluders.thin_occluders`) stay in front in every edit (False: they are the
             car's, and a delete fills them).
+        ray_marks: ``fill='rays'``: a ray whose one side is a marking (near grey, more than this much lighter in luma
+            than its own neighbourhood) and whose other side is not takes that side alone
+            (:func:`~sdn3d.editing.photo.road.ray_fill`'s ``marks``), so a dash seen on one side of the hole is not
+            drawn out into a long stripe along its line (0: the two sides interpolated everywhere).
         recolor_parts: ``recolor`` repaints the body part of the fitted mesh only (False: every pixel of the car
             whose colour is the paint's, the appearance before vehicle parts existed).
     """
@@ -176,6 +180,7 @@ class PhotoSettings:
     shadow_mode: str = "fill"
     shadow_light: float = 0.8
     grow_min_seen: int = 1
+    ray_marks: float = 0.2
 
     def __post_init__(self) -> None:
         if self.fill not in FILL_METHODS:
@@ -194,6 +199,7 @@ class PhotoSettings:
                   ("min_view_cos", self.min_view_cos, 0.0, 1.0),
                   ("contact_shadow", self.contact_shadow, 0.0, 1.0), ("cast_blur", self.cast_blur, 0.3, 16.0),
                   ("ray_blur", self.ray_blur, 0.0, 8.0), ("ray_texture", self.ray_texture, 0.0, 2.0),
+                  ("ray_marks", self.ray_marks, 0.0, 1.0),
                   ("shadow_light", self.shadow_light, 0.3, 1.0), ("mask_view_deg", self.mask_view_deg, 0.0, 90.0),
                   ("paste_max_iou", self.paste_max_iou, 0.0, 1.0),
                   ("view_stretch", self.view_stretch, 0.0, 10.0))

@@ -512,7 +512,24 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
         own = dark & dilate_square(search, 3) & ~hole
         hole = hole | own
         matte = -own.float()  # filled, not relit: render_photo marks these pixels fill
-    return fill_hole(image, hole, settings, objects_px | dark, vanishing=vanishing), matte
+    keep_out = objects_px | _ground_rows(dark, hole, SHADOW_GROUND)
+    return fill_hole(image, hole, settings, keep_out, vanishing=vanishing), matte
+
+
+#: :func:`_rays_with_effects`: shadowed road is no ray's source only from this share of the hole's height down (the
+#: ground a removed car's shadow lies on). Higher up, dark road-coloured pixels are what the hole's upper part truly
+#: shows (far road in a building's shade, shaded walls): kept out, they cost the seed-33 tuning deletes 0.2 dB
+#: (docs/results/2026-11-28_cpu/session5/deletes/).
+SHADOW_GROUND = 0.5
+
+
+def _ground_rows(mask: Tensor, hole: Tensor, share: float) -> Tensor:
+    """``mask (H, W)`` in the rows from ``share`` of ``hole``'s height (from its top row) down, False above."""
+    rows = hole.any(1).nonzero().flatten()
+    if not len(rows):
+        return mask
+    cut = int(rows[0]) + int(share * float(rows[-1] - rows[0]))
+    return mask & (torch.arange(mask.shape[0]) >= cut)[:, None]
 
 
 def _cast_shadows(objects: ObjectTable, rows: list[int], verts: dict[int, Tensor], K: Tensor, size: tuple[int, int],

@@ -1,0 +1,31 @@
+"""The real frame's two deletes (tests/data, boxes, demo weights) before and after, labelled: the input, main's
+edited.png (774bffb) and this branch's, cropped around each car (session 5).
+
+usage: real_before_after.py MAIN_DIR NEW_DIR OUT.png   (each DIR from session4's real_deletes.py:
+DIR/car{0,1}_deleted/edited.png)
+"""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from sdn3d.visualize import titled_row
+
+REPO = Path(__file__).resolve().parents[5]
+FRAME = REPO / "tests" / "data" / "0006_30-deg-right_00043.png"
+BOXES = [(12001, "red car", [466, 203, 666, 333]), (12002, "black car", [704, 194, 917, 305])]
+start, new, out = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
+rows = []
+for car, (iid, name, (x0, y0, x1, y1)) in enumerate(BOXES):
+    crop = (max(0, x0 - 60), max(0, y0 - 60), min(1242, x1 + 60), min(375, y1 + 60))
+    pictures = [FRAME, start / f"car{car}_deleted" / "edited.png", new / f"car{car}_deleted" / "edited.png"]
+    titles = [f"input: {name} ({iid})", "deleted, main (774bffb)", "deleted, this branch (session 5)"]
+    rows.append(titled_row([(t, np.asarray(Image.open(p).convert("RGB").crop(crop)))
+                            for t, p in zip(titles, pictures, strict=True)]))
+width = max(r.shape[1] for r in rows)
+grid = np.concatenate([np.pad(r, ((0, 6), (0, width - r.shape[1]), (0, 0)), constant_values=255) for r in rows])
+# a 256-colour palette keeps the PNG of the records small (under 300 KB)
+Image.fromarray(grid).quantize(256, dither=Image.Dither.NONE).save(out, optimize=True)
+print(out)

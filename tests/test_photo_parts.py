@@ -3,6 +3,7 @@ pixels, a per-pixel part map, recolour of the body part only; and the removal-wi
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
@@ -23,6 +24,7 @@ from sdn3d.editing.photo.settings import (
     part_picture,
 )
 from sdn3d.editing.photo.transfer import render_photo
+from sdn3d.image_ops import dilate_square
 from sdn3d.meshes.parts import Part
 from sdn3d.scene.code import SceneObject
 from tests.test_photo import FRAME, INPUT_SIZE, _k_input, _scene, _surface_colors
@@ -251,10 +253,13 @@ def test_unseen_surface_takes_the_shading_of_pixels_that_faced_the_same_way(monk
     assert errors[0] < 0.6 * errors[1], errors
 
 
-def test_a_lamp_never_seen_takes_the_other_ends_lamps():
+def test_a_lamp_never_seen_takes_the_other_ends_lamps_in_its_own_colour(monkeypatch):
     """A grey car seen from behind with red tail lamps, turned by 180 degrees: its front lamps, never seen, are drawn
-    from the other end's lamps and paint (code ``part``: red where the tail lamps face the same way, grey paint
-    around them), not in the flat default colour."""
+    from the other end's lamps and paint (code ``part``: lamps where the tail lamps face the same way, grey paint
+    around them), not in the flat default colour; the lamps are head lamps, white as bright as the tail lamps' red
+    (before ``LAMP_HUES`` they were red: a car with red head lamps)."""
+    from sdn3d.editing.photo import transfer
+
     scene = _scene([BEHIND])
     image, covered, parts = _painted(scene, (0.6, 0.6, 0.6))
     tail = covered & (parts == int(Part.TAIL_LIGHTS))
@@ -266,4 +271,51 @@ def test_a_lamp_never_seen_takes_the_other_ends_lamps():
     assert int(front.sum()) > 50
     assert bool((result.source[front] == PART).all())
     redness = result.image[0, front] - result.image[1, front]
-    assert float(redness.max()) > 0.3 and float(redness.min()) < 0.05
+    assert float(redness.max()) < 0.05
+    assert float(result.image[1, front].max()) > 0.7 and float(result.image[1, front].min()) < 0.65  # lamps, paint
+    monkeypatch.setattr(transfer, "LAMP_HUES", False)
+    red = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    assert float((red.image[0, front] - red.image[1, front]).max()) > 0.3
+
+
+def test_a_red_cars_tail_lamps_stay_as_they_are_on_its_never_seen_front():
+    """The same car in red paint: red pixels at the other end cannot be told from its paint, so none turns white."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.7, 0.1, 0.1))
+    image[:, covered & (parts == int(Part.TAIL_LIGHTS))] = torch.tensor([0.9, 0.1, 0.1])[:, None]
+    result = render_photo(image, FRAME, scene, apply_edits(scene, [Rotate(12001, math.pi)]), settings=PARTS)
+    front = result.parts == int(Part.FRONT_LIGHTS)
+    assert int(front.sum()) > 50 and float(result.image[1, front].max()) < 0.2
+
+
+def test_a_turned_cars_outline_grows_into_free_pixels_of_its_box():
+    """outline_grow: the free pixels within that share of its box's projected height of a turned car's drawn pixels,
+    inside its box's projection, take the colour of the nearest drawn pixel (a template is not the car's outline:
+    its true outline reaches past it; 0.1 by default); 0 (the behaviour before) draws the template's pixels alone. Pixels outside the
+    box or farther away are the same either way."""
+    from sdn3d.editing.photo.transfer import _polygon_mask, _project
+    from sdn3d.math3d.transforms import box_corners
+
+    scene = _scene([BEHIND])
+    image, _, _ = _painted(scene, (0.6, 0.5, 0.4))
+    edited = apply_edits(scene, [Rotate(12001, math.pi / 4)])
+    assert PhotoSettings().outline_grow == 0.1
+    base = render_photo(image, FRAME, scene, edited, settings=dataclasses.replace(PARTS, outline_grow=0.0))
+    grown = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    o = edited.objects
+    corners = box_corners(o.dims[:1].double(), o.ry[:1].double(), o.center[:1].double())[0]
+    uv, _ = _project(corners, _k_input())
+    hull = torch.from_numpy(_polygon_mask(uv.numpy(), INPUT_SIZE[::-1]) > 0)
+    reach = 0.1 * float(uv[:, 1].max() - uv[:, 1].min())
+    codes = torch.tensor([1, 2, FALLBACK, PART, DEFAULT], dtype=torch.uint8)  # the car's own pixels
+    drawn = torch.isin(base.source, codes)
+    new = torch.isin(grown.source, codes) & ~drawn
+    assert int(new.sum()) > 20 and bool(hull[new].all())
+    assert grown.objects[12001]["pixels"] == base.objects[12001]["pixels"] + int(new.sum())
+    far = ~dilate_square(drawn, math.ceil(reach) + 1)
+    assert torch.equal(grown.image[:, far], base.image[:, far])
+    assert torch.equal(grown.image[:, drawn], base.image[:, drawn])
+    # each new pixel has the colour of a drawn pixel of the car (the nearest one)
+    colours = base.image[:, drawn].T.unique(dim=0)
+    gained = grown.image[:, new].T
+    assert bool((torch.cdist(gained, colours).amin(1) < 1e-6).all())

@@ -135,6 +135,13 @@ class PhotoSettings:
             overshoots there). 1 (default): on the seed-33 tuning deletes a never-seen car drawn in its parts'
             default colours had twice the fill's error there (0: every object grows wherever its silhouette lies,
             the behaviour before).
+        outline_grow: a moved car also covers the free pixels (no object drawn or staying there) inside its box's
+            projection within this share of the box's projected height of its drawn pixels, each in the colour of
+            the nearest drawn one: a template is not the car's outline (with the true pose and size a held-out car
+            still reached past it on 4-5 % of its pixels, drawn as the road behind; 0: the template's pixels alone).
+            On the seed-33 tuning turns (ground-truth geometry) 0.03 / 0.06 / 0.1 / 0.15 gave +0.20 / +0.40 / +0.40
+            / +0.40 dB at 45 degrees and +0.23 / +0.66 / +0.74 / +0.75 at 90 (docs/results/2026-11-28_cpu/session5/
+            turns/).
         recolor_parts: ``recolor`` repaints the body part of the fitted mesh only (False: every pixel of the car
             whose colour is the paint's, the appearance before vehicle parts existed).
     """
@@ -166,6 +173,7 @@ class PhotoSettings:
     shadow_mode: str = "fill"
     shadow_light: float = 0.8
     grow_min_seen: int = 1
+    outline_grow: float = 0.1
 
     def __post_init__(self) -> None:
         if self.fill not in FILL_METHODS:
@@ -185,7 +193,7 @@ class PhotoSettings:
                   ("contact_shadow", self.contact_shadow, 0.0, 1.0), ("cast_blur", self.cast_blur, 0.3, 16.0),
                   ("ray_blur", self.ray_blur, 0.0, 8.0), ("ray_texture", self.ray_texture, 0.0, 2.0),
                   ("shadow_light", self.shadow_light, 0.3, 1.0), ("mask_view_deg", self.mask_view_deg, 0.0, 90.0),
-                  ("view_stretch", self.view_stretch, 0.0, 10.0))
+                  ("view_stretch", self.view_stretch, 0.0, 10.0), ("outline_grow", self.outline_grow, 0.0, 0.5))
         for name, value, lo, hi in checks:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= float(value) <= hi:
                 raise PhotoSettingsError(f"photo.{name} must be a number in [{lo}, {hi}], got {value!r}")

@@ -288,16 +288,19 @@ def test_a_red_cars_tail_lamps_stay_as_they_are_on_its_never_seen_front():
     assert int(front.sum()) > 50 and float(result.image[1, front].max()) < 0.2
 
 
-def test_a_turned_cars_outline_grows_into_free_pixels_of_its_box():
-    """outline_grow: the free pixels within that share of its box's projected height of a turned car's drawn pixels,
-    inside its box's projection, take the colour of the nearest drawn pixel (a template is not the car's outline:
-    its true outline reaches past it; 0.1 by default); 0 (the behaviour before) draws the template's pixels alone. Pixels outside the
-    box or farther away are the same either way."""
+def test_a_turned_cars_outline_grows_inside_its_box():
+    """outline_grow: a template smaller than its car misses part of it; a car turned by more than ``mask_view_deg``
+    has its drawn pixels grown by ``outline_grow`` of its box's projected height into free pixels inside the box's
+    projection, each in the colour of the nearest drawn pixel (0: the template's pixels alone). Pixels beyond that
+    reach are the same either way, and a car whose view hardly turns (its input outline is the better guide) does
+    not grow."""
     from sdn3d.editing.photo.transfer import _polygon_mask, _project
     from sdn3d.math3d.transforms import box_corners
 
-    scene = _scene([BEHIND])
-    image, _, _ = _painted(scene, (0.6, 0.5, 0.4))
+    truth = _scene([BEHIND])
+    image, _, _ = _painted(truth, (0.6, 0.5, 0.4))
+    fitted = truth.objects.replace(dims=torch.tensor([[3.6, 1.3, 1.7]], dtype=truth.objects.dims.dtype))
+    scene = truth.replace(objects=fitted)  # the masks stay the true car's
     edited = apply_edits(scene, [Rotate(12001, math.pi / 4)])
     assert PhotoSettings().outline_grow == 0.1
     base = render_photo(image, FRAME, scene, edited, settings=dataclasses.replace(PARTS, outline_grow=0.0))
@@ -306,16 +309,17 @@ def test_a_turned_cars_outline_grows_into_free_pixels_of_its_box():
     corners = box_corners(o.dims[:1].double(), o.ry[:1].double(), o.center[:1].double())[0]
     uv, _ = _project(corners, _k_input())
     hull = torch.from_numpy(_polygon_mask(uv.numpy(), INPUT_SIZE[::-1]) > 0)
-    reach = 0.1 * float(uv[:, 1].max() - uv[:, 1].min())
     codes = torch.tensor([1, 2, FALLBACK, PART, DEFAULT], dtype=torch.uint8)  # the car's own pixels
     drawn = torch.isin(base.source, codes)
     new = torch.isin(grown.source, codes) & ~drawn
     assert int(new.sum()) > 20 and bool(hull[new].all())
     assert grown.objects[12001]["pixels"] == base.objects[12001]["pixels"] + int(new.sum())
-    far = ~dilate_square(drawn, math.ceil(reach) + 1)
-    assert torch.equal(grown.image[:, far], base.image[:, far])
+    far = ~dilate_square(drawn, math.ceil(0.1 * float(uv[:, 1].max() - uv[:, 1].min())) + 1)
+    assert not bool(new[far].any()) and torch.equal(grown.image[:, far], base.image[:, far])
     assert torch.equal(grown.image[:, drawn], base.image[:, drawn])
-    # each new pixel has the colour of a drawn pixel of the car (the nearest one)
-    colours = base.image[:, drawn].T.unique(dim=0)
-    gained = grown.image[:, new].T
-    assert bool((torch.cdist(gained, colours).amin(1) < 1e-6).all())
+    colours = base.image[:, drawn].T.unique(dim=0)  # each new pixel has a drawn pixel's colour (its nearest)
+    assert bool((torch.cdist(grown.image[:, new].T, colours).amin(1) < 1e-6).all())
+    near_view = apply_edits(scene, [Rotate(12001, math.radians(15))])  # within mask_view_deg (30): no growth
+    same = render_photo(image, FRAME, scene, near_view, settings=PARTS)
+    plain = render_photo(image, FRAME, scene, near_view, settings=dataclasses.replace(PARTS, outline_grow=0.0))
+    assert torch.equal(same.image, plain.image)

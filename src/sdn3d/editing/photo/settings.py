@@ -135,13 +135,12 @@ class PhotoSettings:
             overshoots there). 1 (default): on the seed-33 tuning deletes a never-seen car drawn in its parts'
             default colours had twice the fill's error there (0: every object grows wherever its silhouette lies,
             the behaviour before).
-        outline_grow: a moved car also covers the free pixels (no object drawn or staying there) inside its box's
+        outline_grow: a moved car whose view turned by more than ``mask_view_deg`` (with ``silhouette='carved'``;
+            else any moved car) also covers the free pixels (no object drawn or staying there) inside its box's
             projection within this share of the box's projected height of its drawn pixels, each in the colour of
             the nearest drawn one: a template is not the car's outline (with the true pose and size a held-out car
-            still reached past it on 4-5 % of its pixels, drawn as the road behind; 0: the template's pixels alone).
-            On the seed-33 tuning turns (ground-truth geometry) 0.03 / 0.06 / 0.1 / 0.15 gave +0.20 / +0.40 / +0.40
-            / +0.40 dB at 45 degrees and +0.23 / +0.66 / +0.74 / +0.75 at 90 (docs/results/2026-11-28_cpu/session5/
-            turns/).
+            still reached past it on 4-5 % of its pixels, drawn as the road behind). 0: the template's pixels
+            alone. Tuning: docs/results/2026-11-28_cpu/session5/turns/.
         recolor_parts: ``recolor`` repaints the body part of the fitted mesh only (False: every pixel of the car
             whose colour is the paint's, the appearance before vehicle parts existed).
     """

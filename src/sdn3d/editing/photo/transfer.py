@@ -1052,7 +1052,8 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         k = drawn.nonzero().flatten()
         pix, color, codes, t_part, row = pix[k], color[k], codes[k], t_part[k], row[k]
     if settings.outline_grow > 0:
-        near = _outline_growth(pix, row, moved, after, own, K, settings.outline_grow)
+        near = _outline_growth(pix, row, moved, before, after, origin, own, K, settings.outline_grow,
+                               settings.mask_view_deg if settings.silhouette == "carved" else 0.0)
         if len(near):
             gained, nearest = near[:, 0], near[:, 1]
             for r in row[nearest].unique().tolist():
@@ -1074,17 +1075,19 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     return flat.view(height, width, 3).permute(2, 0, 1), source, objects
 
 
-def _outline_growth(pix: Tensor, row: Tensor, moved: Tensor, after: ObjectTable, own: Tensor, K: Tensor,
-                    grow: float) -> Tensor:
-    """``(G, 2)`` long ``(gained flat pixel, index into pix)``: the free pixels (no object drawn or staying there)
-    within ``grow`` of its box's projected height of a moved object's drawn pixels ``pix (P,)`` (rows ``row (P,)`` of
-    ``after``) and inside that box's projection, each with the object's nearest drawn pixel (whose colour it takes).
+def _outline_growth(pix: Tensor, row: Tensor, moved: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor,
+                    own: Tensor, K: Tensor, grow: float, min_view_deg: float) -> Tensor:
+    """``(G, 2)`` long ``(gained flat pixel, index into pix)``: free pixels (no object drawn or staying there) next to a
+    moved object's drawn pixels ``pix (P,)`` (rows ``row (P,)`` of ``after``) that it also covers, each with its
+    nearest drawn pixel (whose colour it takes).
 
-    A template is not the car's shape (with its true pose and size a held-out car's outline still reaches past the
-    template's by a few pixels: 4-5 % of a turned car's pixels on the tuning pairs, a sixth to a third of their
-    error, drawn as the road behind). The car lies inside its box; its outline's reach past the template is
-    unknown, so the template's usual error bounds it. (The drawn pixels are not grown by the car's outline: the
-    edit's outline is what is unknown.)"""
+    A template is not the car's shape: with its true pose and size a car's outline still reaches past the
+    template's (4-5 % of a turned car's pixels on the tuning pairs, a sixth to a third of their error, drawn as the
+    road behind). Where it reaches in the edit is unknown (the edit's outline is what is unknown), so the drawn
+    pixels grow by a share ``grow`` of the car's box's projected height, inside the box's projection (the car lies
+    in its box). Only a car whose view turned by more than ``min_view_deg`` grows: for a view the input nearly
+    shows, its own outline says where the car is (carving trims a template that is too large, the mask paste adds
+    what one too small misses), and growing would undo it."""
     from scipy.ndimage import distance_transform_edt  # here: only a moved car with outline_grow needs it
 
     height, width = own.shape
@@ -1092,7 +1095,10 @@ def _outline_growth(pix: Tensor, row: Tensor, moved: Tensor, after: ObjectTable,
     taken[pix] = True
     out = []
     for r in row.unique().tolist():
-        if not bool(moved[r]):
+        b = int(origin[r])
+        if not bool(moved[r]) or b < 0:
+            continue
+        if _view_change(before, after, b, r) <= math.radians(min_view_deg):
             continue
         corners = box_corners(after.dims[r:r + 1].double(), after.ry[r:r + 1].double(),
                               after.center[r:r + 1].double())[0]
@@ -1100,23 +1106,23 @@ def _outline_growth(pix: Tensor, row: Tensor, moved: Tensor, after: ObjectTable,
         if not bool(front.all()) or not bool(torch.isfinite(uv).all()):
             continue
         reach = grow * float(uv[:, 1].max() - uv[:, 1].min())
-        if reach < 1.0:
+        if reach < 0.5:
             continue
         x0, y0 = (max(int(math.floor(float(v))) - 1, 0) for v in uv.amin(0))
-        x1, y1 = min(int(math.ceil(float(uv[:, 0].max()))) + 2, width), min(int(math.ceil(float(uv[:, 1].max()))) + 2,
-                                                                         height)
+        x1 = min(int(math.ceil(float(uv[:, 0].max()))) + 2, width)
+        y1 = min(int(math.ceil(float(uv[:, 1].max()))) + 2, height)
         if x1 <= x0 or y1 <= y0:
             continue
         mine = (row == r).nonzero().flatten()
-        ys, xs = pix[mine] // width, pix[mine] % width
+        py, px = pix[mine] // width, pix[mine] % width
         at = torch.full((y1 - y0, x1 - x0), -1, dtype=torch.long)
-        inside = (ys >= y0) & (ys < y1) & (xs >= x0) & (xs < x1)
-        at[ys[inside] - y0, xs[inside] - x0] = mine[inside]
+        inside = (py >= y0) & (py < y1) & (px >= x0) & (px < x1)
         if not bool(inside.any()):
             continue
+        at[py[inside] - y0, px[inside] - x0] = mine[inside]
         dist, (iy, ix) = distance_transform_edt((at < 0).numpy(), return_indices=True)
-        hull = torch.from_numpy(_polygon_mask((uv.numpy() - np.array([x0, y0])), (y1 - y0, x1 - x0)) > 0)
-        flat = (torch.arange(y0, y1)[:, None] * width + torch.arange(x0, x1)[None, :])
+        hull = torch.from_numpy(_polygon_mask(uv.numpy() - np.array([x0, y0]), (y1 - y0, x1 - x0)) > 0)
+        flat = torch.arange(y0, y1)[:, None] * width + torch.arange(x0, x1)[None, :]
         grow_here = hull & (torch.from_numpy(dist) <= reach) & ~taken[flat]
         if not bool(grow_here.any()):
             continue

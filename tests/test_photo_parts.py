@@ -323,3 +323,38 @@ def test_a_turned_cars_outline_grows_inside_its_box():
     same = render_photo(image, FRAME, scene, near_view, settings=PARTS)
     plain = render_photo(image, FRAME, scene, near_view, settings=dataclasses.replace(PARTS, outline_grow=0.0))
     assert torch.equal(same.image, plain.image)
+
+
+def test_unseen_tyres_are_not_drawn_from_road_the_template_calls_tyre(monkeypatch):
+    """A car seen from the rear three-quarter whose template's tyres cover its dark tyres above and road below (a
+    mask that took in the road under the car, or wheels that are not where the template's are): tyre points the
+    photo did not show, drawn part by part (:func:`_part_colors`), are dark, not road grey (``TYRE_QUANTILE``; without
+    it, ``TYRE_QUANTILE = 1``, they were a blend of the two)."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.transfer import PhotoSource, _part_colors, _surface
+
+    car = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2 + 0.7, location=(-1.0, 1.6, 9.0))
+    scene = _scene([car])
+    image, covered, parts = _painted(scene, (0.5, 0.45, 0.4))
+    tyre = covered & (parts == int(Part.TYRE))
+    rows = tyre.any(1).nonzero().flatten()
+    assert int(tyre.sum()) > 60
+    mid = int(rows.float().median())
+    road = tyre.clone()
+    road[:mid] = False
+    image[:, tyre & ~road] = 0.05
+    image[:, road] = torch.tensor([0.8, 0.78, 0.72])[:, None]
+    src = PhotoSource(image, FRAME, scene, settings=PARTS)
+    visible = (src.vis_ids.view(-1) == 12001).nonzero().flatten()
+    query = tyre.view(-1).nonzero().flatten()
+    _, vid, bary, normal = _surface(src.raster, query)
+    points = (bary[..., None] * src.raster.verts[0, vid]).sum(1)
+    img_flat = image.permute(1, 2, 0).reshape(-1, 3).double()
+    lumas = []
+    for quantile in (transfer.TYRE_QUANTILE, 1.0):
+        monkeypatch.setattr(transfer, "TYRE_QUANTILE", quantile)
+        colour, code = _part_colors(0, 0, visible, points, normal, torch.full((len(query),), int(Part.TYRE)),
+                                    scene.objects, src.raster, src.parts, img_flat, PARTS, None)
+        assert bool((code == PART).all())
+        lumas.append(float(colour.mean()))
+    assert lumas[0] < 0.12 and lumas[1] > 0.2, lumas

@@ -1192,12 +1192,12 @@ def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, normal
     example that faced the camera as the new surface does carries its shading (no light model: a side of the car
     turned towards the camera takes the colour of the surfaces that faced it). Body examples must be paint
     (:func:`~sdn3d.editing.photo.recolor.body_paint`): a tail lamp or a window that a loosely fitted mesh calls
-    body painted a red or black stripe along the whole new side.
+    body painted a red or black stripe along the whole new side. Tyre examples must be dark (:data:`TYRE_QUANTILE`).
 
     A lamp part it never showed (the front of a car seen from behind) takes the other end's lamps and paint the
-    same way (:data:`OTHER_END`), code :data:`PART`. Any other part it never showed: the body's albedo ``body`` for
-    the body (:data:`FALLBACK`), else :data:`PART_DEFAULTS` seen through the car's air (:func:`seen_through_the_air`,
-    :data:`DEFAULT`); the caller shades these."""
+    same way (:data:`OTHER_END`), its lamps in this end's colour (:data:`LAMP_HUES`), code :data:`PART`. Any other
+    part it never showed: the body's albedo ``body`` for the body (:data:`FALLBACK`), else :data:`PART_DEFAULTS` seen
+    through the car's air (:func:`seen_through_the_air`, :data:`DEFAULT`); the caller shades these."""
     rot = roty(before.ry[b].double())
     centre = before.center[b].double()
     size = before.dims[b].double()  # (l, h, w)
@@ -1230,6 +1230,10 @@ def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, normal
     if len(body_ex) >= 8:  # body examples that are not paint go (docstring)
         paint, _ = body_paint(srgb_to_lab(colors[body_ex].float()))
         keep[body_ex[~paint]] = False
+    tyre_ex = (ex_part == int(Part.TYRE)).nonzero().flatten()
+    if TYRE_QUANTILE < 1 and len(tyre_ex):  # tyre examples lighter than most of the car are road or paint
+        luma = colors @ torch.tensor([0.2126, 0.7152, 0.0722], dtype=colors.dtype)
+        keep[tyre_ex[luma[tyre_ex] > torch.quantile(luma, TYRE_QUANTILE)]] = False
     ex_part, colors, point, normal = ex_part[keep], colors[keep], point[keep], normal[keep]
     ex_feat = torch.cat([features(point), PART_NORMAL_WEIGHT * normal], 1)
     q_feat = torch.cat([features(points), PART_NORMAL_WEIGHT * normals.double()], 1)
@@ -1253,6 +1257,10 @@ def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, normal
     return albedo, codes
 
 
+#: :func:`_part_colors`: a tyre example lighter than this quantile of the car's visible pixels' luma is not a tyre
+#: (a template's wheel where the car has paint, or a mask that took in the road below the car, drew grey or red
+#: wheels); 1: every tyre example is kept.
+TYRE_QUANTILE = 0.75
 #: A lamp drawn from the other end's (:data:`OTHER_END`) takes its own end's colour: head lamps are white, tail
 #: lamps red (:func:`_lamps_of_this_end`). False: the other end's colours as they are (red head lamps).
 LAMP_HUES = True

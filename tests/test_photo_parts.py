@@ -291,9 +291,9 @@ def test_a_red_cars_tail_lamps_stay_as_they_are_on_its_never_seen_front():
 def test_a_turned_cars_outline_grows_inside_its_box():
     """outline_grow: a template smaller than its car misses part of it; a car turned by more than ``mask_view_deg``
     has its drawn pixels grown by ``outline_grow`` of its box's projected height into free pixels inside the box's
-    projection, each in the colour of the nearest drawn pixel (0: the template's pixels alone). Pixels beyond that
-    reach are the same either way, and a car whose view hardly turns (its input outline is the better guide) does
-    not grow."""
+    projection, each in the colour of the nearest drawn pixel (0, the default: the template's pixels alone). Pixels
+    beyond that reach are the same either way, and a car whose view hardly turns (its input outline is the better
+    guide) does not grow."""
     from sdn3d.editing.photo.transfer import _polygon_mask, _project
     from sdn3d.math3d.transforms import box_corners
 
@@ -302,9 +302,10 @@ def test_a_turned_cars_outline_grows_inside_its_box():
     fitted = truth.objects.replace(dims=torch.tensor([[3.6, 1.3, 1.7]], dtype=truth.objects.dims.dtype))
     scene = truth.replace(objects=fitted)  # the masks stay the true car's
     edited = apply_edits(scene, [Rotate(12001, math.pi / 4)])
-    assert PhotoSettings().outline_grow == 0.1
-    base = render_photo(image, FRAME, scene, edited, settings=dataclasses.replace(PARTS, outline_grow=0.0))
-    grown = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    assert PhotoSettings().outline_grow == 0.0  # off by default (it paints a halo where a fitted box is too large)
+    base = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    grow = dataclasses.replace(PARTS, outline_grow=0.1)
+    grown = render_photo(image, FRAME, scene, edited, settings=grow)
     o = edited.objects
     corners = box_corners(o.dims[:1].double(), o.ry[:1].double(), o.center[:1].double())[0]
     uv, _ = _project(corners, _k_input())
@@ -320,8 +321,8 @@ def test_a_turned_cars_outline_grows_inside_its_box():
     colours = base.image[:, drawn].T.unique(dim=0)  # each new pixel has a drawn pixel's colour (its nearest)
     assert bool((torch.cdist(grown.image[:, new].T, colours).amin(1) < 1e-6).all())
     near_view = apply_edits(scene, [Rotate(12001, math.radians(15))])  # within mask_view_deg (30): no growth
-    same = render_photo(image, FRAME, scene, near_view, settings=PARTS)
-    plain = render_photo(image, FRAME, scene, near_view, settings=dataclasses.replace(PARTS, outline_grow=0.0))
+    same = render_photo(image, FRAME, scene, near_view, settings=grow)
+    plain = render_photo(image, FRAME, scene, near_view, settings=PARTS)
     assert torch.equal(same.image, plain.image)
 
 
@@ -358,3 +359,30 @@ def test_unseen_tyres_are_not_drawn_from_road_the_template_calls_tyre(monkeypatc
         assert bool((code == PART).all())
         lumas.append(float(colour.mean()))
     assert lumas[0] < 0.12 and lumas[1] > 0.2, lumas
+
+
+def test_grown_outline_is_carved_by_the_inputs_mask():
+    """A fitted template (and box) longer than its car, turned by 90 degrees with ``outline_grow``: the pixels the
+    outline grows into are carved as template points are (taken at their nearest drawn pixel's depth, back at the
+    source pose they must not land on open background in the input), so far fewer of them lie off the true car than
+    with ``silhouette='template'`` (no carving)."""
+    from tests.test_photo import _surface_colors
+
+    true = SceneObject(12001, template_id=0, dims=(3.2, 1.5, 1.8), ry=0.4, location=(-1.0, 1.6, 12.0))
+    truth = _scene([true])
+    image, _ = _surface_colors(truth, INPUT_SIZE[::-1], _k_input())
+    fitted = truth.objects.replace(dims=torch.tensor([[4.4, 1.9, 2.1]], dtype=truth.objects.dims.dtype))
+    scene = truth.replace(objects=fitted)  # the masks stay the true car's
+    ops = [Rotate(12001, math.pi / 2)]
+    _, car_after = _surface_colors(apply_edits(truth, ops), INPUT_SIZE[::-1], _k_input())
+    off_car = ~dilate_square(car_after, 2)
+    codes = torch.tensor([1, 2, FALLBACK, PART, DEFAULT], dtype=torch.uint8)
+    outside = {}
+    for mode in ("template", "carved"):
+        settings = dataclasses.replace(PARTS, silhouette=mode, outline_grow=0.0)
+        base = render_photo(image, FRAME, scene, apply_edits(scene, ops), settings=settings)
+        grown = render_photo(image, FRAME, scene, apply_edits(scene, ops),
+                             settings=dataclasses.replace(settings, outline_grow=0.1))
+        new = torch.isin(grown.source, codes) & ~torch.isin(base.source, codes)
+        outside[mode] = int((new & off_car).sum())
+    assert outside["template"] > 40 and outside["carved"] < 0.25 * outside["template"], outside

@@ -1052,8 +1052,10 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         k = drawn.nonzero().flatten()
         pix, color, codes, t_part, row = pix[k], color[k], codes[k], t_part[k], row[k]
     if settings.outline_grow > 0:
+        carved = settings.silhouette == "carved"
         near = _outline_growth(pix, row, moved, before, after, origin, own, K, settings.outline_grow,
-                               settings.mask_view_deg if settings.silhouette == "carved" else 0.0)
+                               settings.mask_view_deg if carved else 0.0, tgt.frags.depth.view(-1)[pix].double(),
+                               background if carved else None, src_ids)
         if len(near):
             gained, nearest = near[:, 0], near[:, 1]
             for r in row[nearest].unique().tolist():
@@ -1076,7 +1078,8 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
 
 
 def _outline_growth(pix: Tensor, row: Tensor, moved: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor,
-                    own: Tensor, K: Tensor, grow: float, min_view_deg: float) -> Tensor:
+                    own: Tensor, K: Tensor, grow: float, min_view_deg: float, depth: Tensor | None = None,
+                    background: Tensor | None = None, src_ids: Tensor | None = None) -> Tensor:
     """``(G, 2)`` long ``(gained flat pixel, index into pix)``: free pixels (no object drawn or staying there) next to a
     moved object's drawn pixels ``pix (P,)`` (rows ``row (P,)`` of ``after``) that it also covers, each with its
     nearest drawn pixel (whose colour it takes).
@@ -1087,7 +1090,11 @@ def _outline_growth(pix: Tensor, row: Tensor, moved: Tensor, before: ObjectTable
     pixels grow by a share ``grow`` of the car's box's projected height, inside the box's projection (the car lies
     in its box). Only a car whose view turned by more than ``min_view_deg`` grows: for a view the input nearly
     shows, its own outline says where the car is (carving trims a template that is too large, the mask paste adds
-    what one too small misses), and growing would undo it."""
+    what one too small misses), and growing would undo it. With ``background (H, W)`` (``silhouette='carved'``) a
+    gained pixel is carved as a template point is: taken at its nearest drawn pixel's depth ``depth (P,)``, carried
+    back to the car's source pose, it (or its mirror image) must not land on open background in the input (the
+    input's outline, seen from another side, still bounds the car: without it a fitted box larger than the car grew
+    a halo of paint above a turned car's roof on the real frame)."""
     from scipy.ndimage import distance_transform_edt  # here: only a moved car with outline_grow needs it
 
     height, width = own.shape
@@ -1128,6 +1135,18 @@ def _outline_growth(pix: Tensor, row: Tensor, moved: Tensor, before: ObjectTable
             continue
         nearest = at[torch.from_numpy(iy)[grow_here], torch.from_numpy(ix)[grow_here]]
         gained = flat[grow_here]
+        if background is not None and depth is not None and bool((src_ids == before.instance_id[b]).any()):
+            z = depth[nearest]
+            ray = torch.stack([(gained % width).double() - K[0, 2], (gained // width).double() - K[1, 2]], 1)
+            point = torch.stack([ray[:, 0] / K[0, 0] * z, ray[:, 1] / K[1, 1] * z, z], 1)  # camera frame, edit
+            local = (point - after.center[r].double()) @ roty(after.ry[r].double())  # rot^T (p - c) per row
+            back = roty(before.ry[b].double())
+            flip = torch.tensor([1.0, 1.0, -1.0], dtype=torch.float64)
+            keep = (_in_silhouette(local @ back.T + before.center[b].double(), background, K)
+                    & _in_silhouette((local * flip) @ back.T + before.center[b].double(), background, K))
+            gained, nearest = gained[keep], nearest[keep]
+            if not len(gained):
+                continue
         taken[gained] = True
         out.append(torch.stack([gained, nearest], 1))
     return torch.cat(out) if out else torch.zeros((0, 2), dtype=torch.long)

@@ -1,5 +1,7 @@
 #!/bin/bash
-# the held-out seed 2065, measured once: issue-time (6c4cf46), main (774bffb), final (code_v3 = a65e169)
+# the held-out seed 2065, measured once: issue-time (6c4cf46) and main (774bffb); the final code (c2f693c, default and
+# photo.outline_grow=0.1) ran as: bench.sh CODE_FINAL cf2065 OUT [photo.outline_grow=0.1], and with
+# run=/work/final_demo/runs 'counterfactual_sources=[gt]' limit=9 for the predicted-geometry rows
 T=/tmp/s5data/turns; H=$T/cf2065
 while [ ! -f $H/_SUCCESS ]; do sleep 10; done
 echo "tree ready $(date +%T)"

@@ -29,8 +29,10 @@ INPUT_SIZE = (256, 128)  # the input: twice the working size
 FRAME = PixelFrame(INPUT_SIZE, WORK)
 K_WORK = Intrinsics(100.0, 100.0, 63.5, 31.5, width=WORK[0], height=WORK[1])
 BACKGROUND = 0.45
-#: The 3D transfer alone: no light, no contact shadow, no paste of the input's mask for a view that hardly turns.
-NO_LIGHT = PhotoSettings(relight=False, contact_shadow=0.0, fill="telea", unseen="body", mask_view_deg=0.0)
+#: The 3D transfer alone: no light, no contact shadow, no paste of the input's mask for a view that hardly turns, no
+#: outline grown past the template's.
+NO_LIGHT = PhotoSettings(relight=False, contact_shadow=0.0, fill="telea", unseen="body", mask_view_deg=0.0,
+                         outline_grow=0.0)
 
 
 def _scene(objects: list[SceneObject]) -> SceneCode:
@@ -234,7 +236,8 @@ def test_relight_darkens_a_side_turned_away_from_the_light():
                                                                                                    dtype=torch.float64))
     image = image.float()
     turned = apply_edits(scene, [Rotate(12001, math.pi)])
-    lit = render_photo(image, FRAME, scene, turned, settings=PhotoSettings(relight=True, contact_shadow=0.0))
+    lit = render_photo(image, FRAME, scene, turned, settings=PhotoSettings(relight=True, contact_shadow=0.0,
+                                                                           outline_grow=0.0))
     flat = render_photo(image, FRAME, scene, turned, settings=NO_LIGHT)
     assert lit.light is not None and float(lit.light.direction @ light.float()) > 0.9
     drawn = (lit.source == PHOTO) | (lit.source == MIRROR)

@@ -3,6 +3,7 @@ pixels, a per-pixel part map, recolour of the body part only; and the removal-wi
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
@@ -23,6 +24,7 @@ from sdn3d.editing.photo.settings import (
     part_picture,
 )
 from sdn3d.editing.photo.transfer import render_photo
+from sdn3d.image_ops import dilate_square
 from sdn3d.meshes.parts import Part
 from sdn3d.scene.code import SceneObject
 from tests.test_photo import FRAME, INPUT_SIZE, _k_input, _scene, _surface_colors
@@ -251,10 +253,13 @@ def test_unseen_surface_takes_the_shading_of_pixels_that_faced_the_same_way(monk
     assert errors[0] < 0.6 * errors[1], errors
 
 
-def test_a_lamp_never_seen_takes_the_other_ends_lamps():
+def test_a_lamp_never_seen_takes_the_other_ends_lamps_in_its_own_colour(monkeypatch):
     """A grey car seen from behind with red tail lamps, turned by 180 degrees: its front lamps, never seen, are drawn
-    from the other end's lamps and paint (code ``part``: red where the tail lamps face the same way, grey paint
-    around them), not in the flat default colour."""
+    from the other end's lamps and paint (code ``part``: lamps where the tail lamps face the same way, grey paint
+    around them), not in the flat default colour; the lamps are head lamps, white as bright as the tail lamps' red
+    (before ``LAMP_HUES`` they were red: a car with red head lamps)."""
+    from sdn3d.editing.photo import transfer
+
     scene = _scene([BEHIND])
     image, covered, parts = _painted(scene, (0.6, 0.6, 0.6))
     tail = covered & (parts == int(Part.TAIL_LIGHTS))
@@ -266,4 +271,118 @@ def test_a_lamp_never_seen_takes_the_other_ends_lamps():
     assert int(front.sum()) > 50
     assert bool((result.source[front] == PART).all())
     redness = result.image[0, front] - result.image[1, front]
-    assert float(redness.max()) > 0.3 and float(redness.min()) < 0.05
+    assert float(redness.max()) < 0.05
+    assert float(result.image[1, front].max()) > 0.7 and float(result.image[1, front].min()) < 0.65  # lamps, paint
+    monkeypatch.setattr(transfer, "LAMP_HUES", False)
+    red = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    assert float((red.image[0, front] - red.image[1, front]).max()) > 0.3
+
+
+def test_a_red_cars_tail_lamps_stay_as_they_are_on_its_never_seen_front():
+    """The same car in red paint: red pixels at the other end cannot be told from its paint, so none turns white."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.7, 0.1, 0.1))
+    image[:, covered & (parts == int(Part.TAIL_LIGHTS))] = torch.tensor([0.9, 0.1, 0.1])[:, None]
+    result = render_photo(image, FRAME, scene, apply_edits(scene, [Rotate(12001, math.pi)]), settings=PARTS)
+    front = result.parts == int(Part.FRONT_LIGHTS)
+    assert int(front.sum()) > 50 and float(result.image[1, front].max()) < 0.2
+
+
+def test_a_turned_cars_outline_grows_inside_its_box():
+    """outline_grow: a template smaller than its car misses part of it; a car turned by more than ``mask_view_deg``
+    has its drawn pixels grown by ``outline_grow`` of its box's projected height into free pixels inside the box's
+    projection, each in the colour of the nearest drawn pixel (0, the default: the template's pixels alone). Pixels
+    beyond that reach are the same either way, and a car whose view hardly turns (its input outline is the better
+    guide) does not grow."""
+    from sdn3d.editing.photo.transfer import _polygon_mask, _project
+    from sdn3d.math3d.transforms import box_corners
+
+    truth = _scene([BEHIND])
+    image, _, _ = _painted(truth, (0.6, 0.5, 0.4))
+    fitted = truth.objects.replace(dims=torch.tensor([[3.6, 1.3, 1.7]], dtype=truth.objects.dims.dtype))
+    scene = truth.replace(objects=fitted)  # the masks stay the true car's
+    edited = apply_edits(scene, [Rotate(12001, math.pi / 4)])
+    assert PhotoSettings().outline_grow == 0.0  # off by default (it paints a halo where a fitted box is too large)
+    base = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    grow = dataclasses.replace(PARTS, outline_grow=0.1)
+    grown = render_photo(image, FRAME, scene, edited, settings=grow)
+    o = edited.objects
+    corners = box_corners(o.dims[:1].double(), o.ry[:1].double(), o.center[:1].double())[0]
+    uv, _ = _project(corners, _k_input())
+    hull = torch.from_numpy(_polygon_mask(uv.numpy(), INPUT_SIZE[::-1]) > 0)
+    codes = torch.tensor([1, 2, FALLBACK, PART, DEFAULT], dtype=torch.uint8)  # the car's own pixels
+    drawn = torch.isin(base.source, codes)
+    new = torch.isin(grown.source, codes) & ~drawn
+    assert int(new.sum()) > 20 and bool(hull[new].all())
+    assert grown.objects[12001]["pixels"] == base.objects[12001]["pixels"] + int(new.sum())
+    far = ~dilate_square(drawn, math.ceil(0.1 * float(uv[:, 1].max() - uv[:, 1].min())) + 1)
+    assert not bool(new[far].any()) and torch.equal(grown.image[:, far], base.image[:, far])
+    assert torch.equal(grown.image[:, drawn], base.image[:, drawn])
+    colours = base.image[:, drawn].T.unique(dim=0)  # each new pixel has a drawn pixel's colour (its nearest)
+    assert bool((torch.cdist(grown.image[:, new].T, colours).amin(1) < 1e-6).all())
+    near_view = apply_edits(scene, [Rotate(12001, math.radians(15))])  # within mask_view_deg (30): no growth
+    same = render_photo(image, FRAME, scene, near_view, settings=grow)
+    plain = render_photo(image, FRAME, scene, near_view, settings=PARTS)
+    assert torch.equal(same.image, plain.image)
+
+
+def test_unseen_tyres_are_not_drawn_from_road_the_template_calls_tyre(monkeypatch):
+    """A car seen from the rear three-quarter whose template's tyres cover its dark tyres above and road below (a
+    mask that took in the road under the car, or wheels that are not where the template's are): tyre points the
+    photo did not show, drawn part by part (:func:`_part_colors`), are dark, not road grey (``TYRE_QUANTILE``; without
+    it, ``TYRE_QUANTILE = 1``, they were a blend of the two)."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.transfer import PhotoSource, _part_colors, _surface
+
+    car = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2 + 0.7, location=(-1.0, 1.6, 9.0))
+    scene = _scene([car])
+    image, covered, parts = _painted(scene, (0.5, 0.45, 0.4))
+    tyre = covered & (parts == int(Part.TYRE))
+    rows = tyre.any(1).nonzero().flatten()
+    assert int(tyre.sum()) > 60
+    mid = int(rows.float().median())
+    road = tyre.clone()
+    road[:mid] = False
+    image[:, tyre & ~road] = 0.05
+    image[:, road] = torch.tensor([0.8, 0.78, 0.72])[:, None]
+    src = PhotoSource(image, FRAME, scene, settings=PARTS)
+    visible = (src.vis_ids.view(-1) == 12001).nonzero().flatten()
+    query = tyre.view(-1).nonzero().flatten()
+    _, vid, bary, normal = _surface(src.raster, query)
+    points = (bary[..., None] * src.raster.verts[0, vid]).sum(1)
+    img_flat = image.permute(1, 2, 0).reshape(-1, 3).double()
+    lumas = []
+    for quantile in (transfer.TYRE_QUANTILE, 1.0):
+        monkeypatch.setattr(transfer, "TYRE_QUANTILE", quantile)
+        colour, code = _part_colors(0, 0, visible, points, normal, torch.full((len(query),), int(Part.TYRE)),
+                                    scene.objects, src.raster, src.parts, img_flat, PARTS, None)
+        assert bool((code == PART).all())
+        lumas.append(float(colour.mean()))
+    assert lumas[0] < 0.12 and lumas[1] > 0.2, lumas
+
+
+def test_grown_outline_is_carved_by_the_inputs_mask():
+    """A fitted template (and box) longer than its car, turned by 90 degrees with ``outline_grow``: the pixels the
+    outline grows into are carved as template points are (taken at their nearest drawn pixel's depth, back at the
+    source pose they must not land on open background in the input), so far fewer of them lie off the true car than
+    with ``silhouette='template'`` (no carving)."""
+    from tests.test_photo import _surface_colors
+
+    true = SceneObject(12001, template_id=0, dims=(3.2, 1.5, 1.8), ry=0.4, location=(-1.0, 1.6, 12.0))
+    truth = _scene([true])
+    image, _ = _surface_colors(truth, INPUT_SIZE[::-1], _k_input())
+    fitted = truth.objects.replace(dims=torch.tensor([[4.4, 1.9, 2.1]], dtype=truth.objects.dims.dtype))
+    scene = truth.replace(objects=fitted)  # the masks stay the true car's
+    ops = [Rotate(12001, math.pi / 2)]
+    _, car_after = _surface_colors(apply_edits(truth, ops), INPUT_SIZE[::-1], _k_input())
+    off_car = ~dilate_square(car_after, 2)
+    codes = torch.tensor([1, 2, FALLBACK, PART, DEFAULT], dtype=torch.uint8)
+    outside = {}
+    for mode in ("template", "carved"):
+        settings = dataclasses.replace(PARTS, silhouette=mode, outline_grow=0.0)
+        base = render_photo(image, FRAME, scene, apply_edits(scene, ops), settings=settings)
+        grown = render_photo(image, FRAME, scene, apply_edits(scene, ops),
+                             settings=dataclasses.replace(settings, outline_grow=0.1))
+        new = torch.isin(grown.source, codes) & ~torch.isin(base.source, codes)
+        outside[mode] = int((new & off_car).sum())
+    assert outside["template"] > 40 and outside["carved"] < 0.25 * outside["template"], outside

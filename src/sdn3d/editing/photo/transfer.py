@@ -1100,13 +1100,106 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     color = torch.where(seen[:, None], color, fallback).clamp(0, 1)
     if not bool(drawn.all()):
         k = drawn.nonzero().flatten()
-        pix, color, codes, t_part = pix[k], color[k], codes[k], t_part[k]
+        pix, color, codes, t_part, row = pix[k], color[k], codes[k], t_part[k], row[k]
+    if settings.outline_grow > 0:
+        carved = settings.silhouette == "carved"
+        near = _outline_growth(pix, row, moved, before, after, origin, own, K, settings.outline_grow,
+                               settings.mask_view_deg if carved else 0.0, tgt.frags.depth.view(-1)[pix].double(),
+                               background if carved else None, src_ids)
+        if len(near):
+            gained, nearest = near[:, 0], near[:, 1]
+            for r in row[nearest].unique().tolist():
+                info = objects[int(after.instance_id[r])]
+                mine = row[nearest] == r
+                info["_pixels"] = torch.cat([info["_pixels"], gained[mine]])
+                info["pixels"] += int(mine.sum())
+            pix, color, codes, t_part, row = (torch.cat([pix, gained]), torch.cat([color, color[nearest]]),
+                                              torch.cat([codes, codes[nearest]]), torch.cat([t_part, t_part[nearest]]),
+                                              torch.cat([row, row[nearest]]))
+            for r in row[nearest].unique().tolist():
+                info = objects[int(after.instance_id[r])]
+                info.update(_shares(codes[row == r]))
     flat = out.permute(1, 2, 0).reshape(-1, 3).clone()
     flat[pix] = color.float()
     source = source.clone()
     source.view(-1)[pix] = codes
     parts_out.view(-1)[pix] = t_part.to(parts_out.dtype)
     return flat.view(height, width, 3).permute(2, 0, 1), source, objects
+
+
+def _outline_growth(pix: Tensor, row: Tensor, moved: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor,
+                    own: Tensor, K: Tensor, grow: float, min_view_deg: float, depth: Tensor | None = None,
+                    background: Tensor | None = None, src_ids: Tensor | None = None) -> Tensor:
+    """``(G, 2)`` long ``(gained flat pixel, index into pix)``: free pixels (no object drawn or staying there) next to a
+    moved object's drawn pixels ``pix (P,)`` (rows ``row (P,)`` of ``after``) that it also covers, each with its
+    nearest drawn pixel (whose colour it takes).
+
+    A template is not the car's shape: with its true pose and size a car's outline still reaches past the
+    template's (4-5 % of a turned car's pixels on the tuning pairs, a sixth to a third of their error, drawn as the
+    road behind). Where it reaches in the edit is unknown (the edit's outline is what is unknown), so the drawn
+    pixels grow by a share ``grow`` of the car's box's projected height, inside the box's projection (the car lies
+    in its box). Only a car whose view turned by more than ``min_view_deg`` grows: for a view the input nearly
+    shows, its own outline says where the car is (carving trims a template that is too large, the mask paste adds
+    what one too small misses), and growing would undo it. With ``background (H, W)`` (``silhouette='carved'``) a
+    gained pixel is carved as a template point is: taken at its nearest drawn pixel's depth ``depth (P,)``, carried
+    back to the car's source pose, it (or its mirror image) must not land on open background in the input (the
+    input's outline, seen from another side, still bounds the car: without it a fitted box larger than the car grew
+    a halo of paint above a turned car's roof on the real frame)."""
+    from scipy.ndimage import distance_transform_edt  # here: only a moved car with outline_grow needs it
+
+    height, width = own.shape
+    taken = own.view(-1) != 0
+    taken[pix] = True
+    out = []
+    for r in row.unique().tolist():
+        b = int(origin[r])
+        if not bool(moved[r]) or b < 0:
+            continue
+        if _view_change(before, after, b, r) <= math.radians(min_view_deg):
+            continue
+        corners = box_corners(after.dims[r:r + 1].double(), after.ry[r:r + 1].double(),
+                              after.center[r:r + 1].double())[0]
+        uv, front = _project(corners, K)
+        if not bool(front.all()) or not bool(torch.isfinite(uv).all()):
+            continue
+        reach = grow * float(uv[:, 1].max() - uv[:, 1].min())
+        if reach < 0.5:
+            continue
+        x0, y0 = (max(int(math.floor(float(v))) - 1, 0) for v in uv.amin(0))
+        x1 = min(int(math.ceil(float(uv[:, 0].max()))) + 2, width)
+        y1 = min(int(math.ceil(float(uv[:, 1].max()))) + 2, height)
+        if x1 <= x0 or y1 <= y0:
+            continue
+        mine = (row == r).nonzero().flatten()
+        py, px = pix[mine] // width, pix[mine] % width
+        at = torch.full((y1 - y0, x1 - x0), -1, dtype=torch.long)
+        inside = (py >= y0) & (py < y1) & (px >= x0) & (px < x1)
+        if not bool(inside.any()):
+            continue
+        at[py[inside] - y0, px[inside] - x0] = mine[inside]
+        dist, (iy, ix) = distance_transform_edt((at < 0).numpy(), return_indices=True)
+        hull = torch.from_numpy(_polygon_mask(uv.numpy() - np.array([x0, y0]), (y1 - y0, x1 - x0)) > 0)
+        flat = torch.arange(y0, y1)[:, None] * width + torch.arange(x0, x1)[None, :]
+        grow_here = hull & (torch.from_numpy(dist) <= reach) & ~taken[flat]
+        if not bool(grow_here.any()):
+            continue
+        nearest = at[torch.from_numpy(iy)[grow_here], torch.from_numpy(ix)[grow_here]]
+        gained = flat[grow_here]
+        if background is not None and depth is not None and bool((src_ids == before.instance_id[b]).any()):
+            z = depth[nearest]
+            ray = torch.stack([(gained % width).double() - K[0, 2], (gained // width).double() - K[1, 2]], 1)
+            point = torch.stack([ray[:, 0] / K[0, 0] * z, ray[:, 1] / K[1, 1] * z, z], 1)  # camera frame, edit
+            local = (point - after.center[r].double()) @ roty(after.ry[r].double())  # rot^T (p - c) per row
+            back = roty(before.ry[b].double())
+            flip = torch.tensor([1.0, 1.0, -1.0], dtype=torch.float64)
+            keep = (_in_silhouette(local @ back.T + before.center[b].double(), background, K)
+                    & _in_silhouette((local * flip) @ back.T + before.center[b].double(), background, K))
+            gained, nearest = gained[keep], nearest[keep]
+            if not len(gained):
+                continue
+        taken[gained] = True
+        out.append(torch.stack([gained, nearest], 1))
+    return torch.cat(out) if out else torch.zeros((0, 2), dtype=torch.long)
 
 
 #: Weight of the camera-frame normal against the car-frame position in :func:`_part_colors`' nearest examples (a unit
@@ -1168,12 +1261,12 @@ def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, normal
     example that faced the camera as the new surface does carries its shading (no light model: a side of the car
     turned towards the camera takes the colour of the surfaces that faced it). Body examples must be paint
     (:func:`~sdn3d.editing.photo.recolor.body_paint`): a tail lamp or a window that a loosely fitted mesh calls
-    body painted a red or black stripe along the whole new side.
+    body painted a red or black stripe along the whole new side. Tyre examples must be dark (:data:`TYRE_QUANTILE`).
 
     A lamp part it never showed (the front of a car seen from behind) takes the other end's lamps and paint the
-    same way (:data:`OTHER_END`), code :data:`PART`. Any other part it never showed: the body's albedo ``body`` for
-    the body (:data:`FALLBACK`), else :data:`PART_DEFAULTS` seen through the car's air (:func:`seen_through_the_air`,
-    :data:`DEFAULT`); the caller shades these."""
+    same way (:data:`OTHER_END`), its lamps in this end's colour (:data:`LAMP_HUES`), code :data:`PART`. Any other
+    part it never showed: the body's albedo ``body`` for the body (:data:`FALLBACK`), else :data:`PART_DEFAULTS` seen
+    through the car's air (:func:`seen_through_the_air`, :data:`DEFAULT`); the caller shades these."""
     rot = roty(before.ry[b].double())
     centre = before.center[b].double()
     size = before.dims[b].double()  # (l, h, w)
@@ -1206,20 +1299,63 @@ def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, normal
     if len(body_ex) >= 8:  # body examples that are not paint go (docstring)
         paint, _ = body_paint(srgb_to_lab(colors[body_ex].float()))
         keep[body_ex[~paint]] = False
+    tyre_ex = (ex_part == int(Part.TYRE)).nonzero().flatten()
+    if TYRE_QUANTILE < 1 and len(tyre_ex):  # tyre examples lighter than most of the car are road or paint
+        luma = colors @ torch.tensor([0.2126, 0.7152, 0.0722], dtype=colors.dtype)
+        keep[tyre_ex[luma[tyre_ex] > torch.quantile(luma, TYRE_QUANTILE)]] = False
     ex_part, colors, point, normal = ex_part[keep], colors[keep], point[keep], normal[keep]
     ex_feat = torch.cat([features(point), PART_NORMAL_WEIGHT * normal], 1)
     q_feat = torch.cat([features(points), PART_NORMAL_WEIGHT * normals.double()], 1)
+    paint = colors[ex_part == int(Part.BODY)]
     for part in parts.unique().tolist():
         q = (parts == part).nonzero().flatten()
         have = (ex_part == part).nonzero().flatten()
+        source = colors
         if len(have) < 2 * k and part in OTHER_END:  # a lamp never seen: the other end's lamps and paint
             have = torch.isin(ex_part, torch.tensor([OTHER_END[part], int(Part.BODY)])).nonzero().flatten()
+            if LAMP_HUES:
+                source = _lamps_of_this_end(colors, part, paint)
         if len(have) < 2 * k:
             continue
         if len(have) > max_examples:
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
         for chunk in q.split(8192):
             near = torch.cdist(q_feat[chunk], ex_feat[have]).topk(min(k, len(have)), largest=False).indices
-            albedo[chunk] = colors[have][near].mean(1)
+            albedo[chunk] = source[have][near].mean(1)
         codes[q] = PART
     return albedo, codes
+
+
+#: :func:`_part_colors`: a tyre example lighter than this quantile of the car's visible pixels' luma is not a tyre
+#: (a template's wheel where the car has paint, or a mask that took in the road below the car, drew grey or red
+#: wheels); 1: every tyre example is kept.
+TYRE_QUANTILE = 0.75
+#: A lamp drawn from the other end's (:data:`OTHER_END`) takes its own end's colour: head lamps are white, tail
+#: lamps red (:func:`_lamps_of_this_end`). False: the other end's colours as they are (red head lamps).
+LAMP_HUES = True
+
+
+def _lamp_coloured(colors: Tensor, part: int) -> Tensor:
+    """``(E,)`` bool: which ``colors (E, 3)`` sRGB look like lamp ``part``'s light: saturated red for tail lamps
+    (as :func:`~sdn3d.geometric.lamps.red_lamps` reads them), near-white for head lamps."""
+    r, g, b = colors.unbind(-1)
+    if part == int(Part.TAIL_LIGHTS):
+        return (r > 0.25) & (r > 2 * g) & (r > 2 * b)
+    return (colors.amin(-1) > 0.55) & (colors.amax(-1) - colors.amin(-1) < 0.15)
+
+
+def _lamps_of_this_end(colors: Tensor, part: int, paint: Tensor) -> Tensor:
+    """``(E, 3)`` ``colors`` of the other end's examples for drawing lamp ``part``: the pixels in the other end's
+    lamp colour (:func:`_lamp_coloured`) take ``part``'s own hue (its :data:`PART_DEFAULTS` colour scaled to their
+    brightest channel: a red tail lamp becomes a white head lamp as bright); unchanged where the car's ``paint
+    (Q, 3)`` (its median) is itself of that colour (a red car's tail lamps are not told from its paint)."""
+    other = OTHER_END[part]
+    if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other)[0]):
+        return colors
+    lamp = _lamp_coloured(colors, other)
+    if not bool(lamp.any()):
+        return colors
+    hue = torch.tensor(PART_DEFAULTS[part], dtype=colors.dtype)
+    out = colors.clone()
+    out[lamp] = (colors[lamp].amax(-1, keepdim=True) * hue / hue.max()).clamp(0, 1)
+    return out

@@ -135,15 +135,13 @@ def test_the_demo_passes_experiments_and_machine_options_only(budget, tmp_path):
                                                       "hydra.run.dir", "summary_file", "trainer"}
         cfg = OmegaConf.to_container(_compose([o for o in cmd if not o.startswith("hydra.")]
                                               + [f"run_dir={tmp_path}"]), resolve=True)
-        # the short budget's geometric branch trains on its own synthetic set (geometric_synth), the rest on the data
-        own = branch == "geometric" and budget == "short"
-        data = Path(str(demo.geometric_data_dir)) if own else tmp_path / "data"
-        assert cfg["trainer"]["accelerator"] == "gpu" and cfg["data"]["root"] == str(data.resolve())
+        assert cfg["trainer"]["accelerator"] == "gpu" and cfg["data"]["root"] == str((tmp_path / "data").resolve())
         for key, value in BUDGETS[budget][branch].items():
             node, field = key.split(".")
             assert cfg[node][field] == value, (budget, branch, key)
     assert sorted(demo.train.branches) == sorted(BUDGETS[budget])
-    assert (demo.geometric_synth is not None) == (budget == "short")
+    # every budget's data has a weather variation beside clear weather (issue 40: proposals must hold on rain or fog)
+    assert "clone" in demo.synth.variations and {"rain", "fog"} & set(demo.synth.variations)
 
 
 def test_the_demo_gives_the_textural_run_the_upstream_checkpoints(tmp_path):

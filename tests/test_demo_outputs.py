@@ -105,31 +105,12 @@ def test_the_data_are_reused_and_a_users_file_there_is_never_deleted(tmp_path, m
     assert len(calls) == 1
 
 
-def test_the_geometric_branch_trains_on_its_own_set_and_the_report_says_so(tmp_path):
-    """Issue 40: ``geometric_synth`` gives the geometric branch its own synthetic set (synth's fields with its own in
-    their place) in ``geometric_data_dir``; only that branch trains there, the report's data line and its branch
-    line say so; null: none is made and every branch trains on the demo's data."""
-    own = {"worlds": ["0101", "0102"], "variations": ["clone", "rain"], "frames_per_sequence": 2, "edit_pairs": 0,
-           "occluder_pairs": 0}
-    cfg = OmegaConf.merge(_cfg(tmp_path), {"geometric_data_dir": str(tmp_path / "geo"), "geometric_synth": own})
-    assert demo.geometric_synth(cfg)["image_size"] == [160, 64]  # synth's, where the set gives none
-    root = demo.make_geometric_data(cfg)
-    assert root == tmp_path / "geo"
-    manifest = json.loads((root / "synth_manifest.json").read_text())["config"]
-    assert manifest["worlds"] == ["0101", "0102"] and manifest["variations"] == ["clone", "rain"]
-    assert sorted(p.name for p in (root / "vkitti_1.3.1_rgb").iterdir()) == ["0101", "0102"]
-    assert demo.branch_data_root("geometric", cfg, tmp_path / "data") == root
-    assert all(demo.branch_data_root(b, cfg, tmp_path / "data") == tmp_path / "data" for b in ("semantic", "textural"))
-    assert f"data.root={root.resolve()}" in demo._train_command("geometric", cfg, tmp_path / "data", tmp_path / "runs")
-    record = {**demo.data_record(root), "generate_s": 1.0}
-    assert record["frames"] == 8
-    info = {"seed": 0, "training": {"geometric": {"global_step": 40, "demo_wall_s": 9.0, "metrics": {}}},
-            "data": {"geometric": record}}
-    [line] = demo.branch_lines(info["training"], None, info["data"])
-    assert "on its own synthetic set, 2 worlds x 2 frames, its test part" in line
-    assert demo._geometric_data_line(info).startswith(
-        "- The geometric branch trained and was tested on its own synthetic set: 8 synthetic frames at 160x64 "
-        "(2 worlds x [clone, rain] x 2 frames, vehicles heldout, seed 0)")
-    none = OmegaConf.merge(cfg, {"geometric_synth": None})
-    assert demo.make_geometric_data(none) is None and demo._geometric_data_line({"data": {}}) == ""
-    assert demo.branch_data_root("geometric", none, tmp_path / "data") == tmp_path / "data"
+def test_the_report_names_what_the_data_hold(tmp_path):
+    """The report's data line says what every branch trained on: worlds x variations x frames as the data's manifest
+    records them (a weather variation included, issue 40), the vehicles and the seed."""
+    cfg = OmegaConf.merge(_cfg(tmp_path), {"synth": {"variations": ["clone", "rain"], "edit_pairs": 0,
+                                                       "occluder_pairs": 0}})
+    record = {**demo.data_record(demo.make_data(cfg)), "image_size": [160, 64]}
+    assert record["frames"] == 4 and record["variations"] == ["clone", "rain"]
+    assert demo.data_sentence(record, 0) == ("4 synthetic frames at 160x64 (1 worlds x [clone, rain] x 2 frames, "
+                                             "vehicles heldout, seed 0)")

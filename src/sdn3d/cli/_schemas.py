@@ -215,8 +215,6 @@ class DemoSchema:
     workers: int = MISSING
     render_size: Optional[List[int]] = MISSING
     synth: Any = MISSING  # conf/synth.yaml's fields: checked by sdn3d.data.synth.SynthConfig
-    geometric_data_dir: str = MISSING
-    geometric_synth: Any = MISSING  # null or conf/synth.yaml's fields replacing synth's (the geometric branch's set)
     train: DemoTrainSchema = field(default_factory=DemoTrainSchema)
     bench: DemoBenchSchema = field(default_factory=DemoBenchSchema)
     edits: DemoEditsSchema = field(default_factory=DemoEditsSchema)

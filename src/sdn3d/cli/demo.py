@@ -123,55 +123,20 @@ def _not_generated(root: Path) -> list[str]:
 
 
 def make_data(cfg: Any) -> Path:
-    """The synthetic dataset in ``data_dir`` (``synth``): reused when an earlier run generated it with the same
-    settings (the generator is deterministic), else generated. A ``data_dir`` holding a file the generator did not
-    write is refused, naming it (replacing the dataset would delete it).
+    """The synthetic dataset in ``data_dir``: reused when an earlier run generated it with the same settings (the
+    generator is deterministic), else generated. A ``data_dir`` holding a file the generator did not write is
+    refused, naming it (replacing the dataset would delete it).
 
     Raises:
         InputError: ``data_dir`` holds files of the user's.
     """
-    return _synthetic(Path(str(cfg.data_dir)), OmegaConf.to_container(cfg.synth, resolve=True), int(cfg.seed),
-                      "data_dir")
-
-
-def geometric_synth(cfg: Any) -> dict | None:
-    """The generator settings of the geometric branch's own synthetic set: ``synth``'s, with ``geometric_synth``'s
-    fields in their place; None where ``geometric_synth`` is null (the branch trains on the demo's data)."""
-    own = cfg.get("geometric_synth")
-    if own is None:
-        return None
-    return {**OmegaConf.to_container(cfg.synth, resolve=True), **OmegaConf.to_container(own, resolve=True)}
-
-
-def make_geometric_data(cfg: Any) -> Path | None:
-    """The geometric branch's own synthetic set in ``geometric_data_dir`` (:func:`geometric_synth`), reused or
-    generated as :func:`make_data` does; None where there is none.
-
-    Raises:
-        InputError: ``geometric_data_dir`` holds files of the user's.
-    """
-    synth = geometric_synth(cfg)
-    if synth is None:
-        return None
-    return _synthetic(Path(str(cfg.geometric_data_dir)), synth, int(cfg.seed), "geometric_data_dir")
-
-
-def branch_data_root(branch: str, cfg: Any, data_root: Path) -> Path:
-    """The data ``branch`` trains on: the geometric branch's own set (``geometric_data_dir``) where
-    ``geometric_synth`` is given, else the demo's data ``data_root``."""
-    if branch == "geometric" and cfg.get("geometric_synth") is not None:
-        return Path(str(cfg.geometric_data_dir))
-    return data_root
-
-
-def _synthetic(root: Path, synth: dict, seed: int, key: str) -> Path:
-    """:func:`make_data`'s work for one dataset: ``synth`` (conf/synth.yaml's fields) generated into ``root`` (the
-    setting ``key``), or reused."""
     import json
 
     from sdn3d.data.synth import SynthConfig, generate_dataset
 
-    config = SynthConfig(output_dir=str(root), seed=seed, overwrite=True, threads=1, **synth)
+    root = Path(str(cfg.data_dir))
+    synth = OmegaConf.to_container(cfg.synth, resolve=True)
+    config = SynthConfig(output_dir=str(root), seed=int(cfg.seed), overwrite=True, threads=1, **synth)
     if root.is_dir() and any(root.iterdir()):
         wanted = config.recorded()
         try:
@@ -185,25 +150,24 @@ def _synthetic(root: Path, synth: dict, seed: int, key: str) -> Path:
         if foreign:
             shown = ", ".join(repr(f) for f in foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5
                                                                else "")
-            raise InputError(f"{key} {str(root)!r} holds {len(foreign)} entries the synthetic generator did not "
+            raise InputError(f"data_dir {str(root)!r} holds {len(foreign)} entries the synthetic generator did not "
                              f"write ({shown}): regenerating the data would delete them; move them out or choose "
-                             f"another {key}")
+                             "another data_dir")
     generate_dataset(config)
     return root
 
 
 def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path, upstream: dict[str, str] | None = None
                    ) -> list[str]:
-    """The ``sdn3d-train`` child: the branch's experiment (its budget) on its data (:func:`branch_data_root`) plus
-    this machine's options; then the user's extra ``train.common`` / ``train.<branch>`` overrides (empty by default).
+    """The ``sdn3d-train`` child: the branch's experiment (its budget) plus this machine's options; then the
+    user's extra ``train.common`` / ``train.<branch>`` overrides (empty by default).
 
     ``upstream``: checkpoints of the branches trained before (3D-SDN's order): the textural run gets the semantic
     and geometric ones, which its recipe uses when it trains on predicted maps (``datamodule.maps=predicted``),
     with the predicted-map cache under ``runs/map_cache``."""
     experiment = (cfg.train.get("experiment") or {}).get(branch, f"demo_{cfg.budget_name}")
     args = [sys.executable, "-m", "sdn3d.cli.train", f"branch={branch}", f"experiment={experiment}",
-            f"data.root={branch_data_root(branch, cfg, data_root).resolve()}", f"seed={int(cfg.seed)}",
-            f"threads={int(cfg.threads)}",
+            f"data.root={data_root.resolve()}", f"seed={int(cfg.seed)}", f"threads={int(cfg.threads)}",
             f"datamodule.num_workers={int(cfg.workers)}", f"hydra.run.dir={runs / branch}",
             f"summary_file={runs / 'summary.jsonl'}"]
     upstream = upstream or {}
@@ -757,14 +721,13 @@ def _floor_phrase(value: float, floor: float, name: str) -> str:
     return f"{relation} its {name} {floor:.3f}"
 
 
-def branch_lines(training: dict, recall: dict | None, data: dict | None = None) -> list[str]:
+def branch_lines(training: dict, recall: dict | None) -> list[str]:
     """One line per trained branch for the report's first screen: its headline test figure beside the floor or bar
     its run recorded (the geometric branch's mesh accuracy beside the majority / uniform floors and the
     identifiability ceiling; the semantic branch's PQ, its validation proposal recall and precision beside the bar
     they need to be trusted, :data:`sdn3d.runs.MIN_PROPOSAL_RECALL` (a run without them: its validation PQ beside
     :data:`sdn3d.runs.MIN_VEHICLE_PQ`), and its proposals' test recall); the textural branch records none, which
-    is said. ``data``: the report's data record (:func:`data_record`); a branch with its own set there (the
-    geometric branch's ``geometric_synth``) says so on its line."""
+    is said."""
     from sdn3d.runs import MIN_PROPOSAL_RECALL, MIN_VEHICLE_PQ, proposals_trusted, recorded_pq, recorded_proposals
 
     out = []
@@ -775,10 +738,7 @@ def branch_lines(training: dict, recall: dict | None, data: dict | None = None) 
             v = m.get(key)
             return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and v == v else None
 
-        own = (data or {}).get(branch)
-        where = (f"; on its own synthetic set, {len(own.get('worlds', []))} worlds x {own.get('frames_per_sequence')} "
-                 f"frames, its test part" if own else "")
-        lead = f"- **{branch}** ({summary.get('global_step')} steps, {summary.get('demo_wall_s')} s{where}):"
+        lead = f"- **{branch}** ({summary.get('global_step')} steps, {summary.get('demo_wall_s')} s):"
         if branch == "semantic":
             parts = [f"test mIoU {num('test/miou'):.3f}"] if num("test/miou") is not None else []
             test_pq, val_pq = recorded_pq(m, "test"), recorded_pq(m, "val")
@@ -842,22 +802,12 @@ def _first_screen(info: dict, headline: str) -> str:
     budget = info.get("budget", "short")
     short = "a short run that shows the system works, not what the method reaches; " if budget == "short" else ""
     parts += [f"**What each branch reached** on the test part (budget `{budget}` on {info.get('device')}, {short}the "
-              "details follow below):", "",
-              *branch_lines(info.get("training") or {}, info.get("proposal_recall"), info.get("data")), ""]
+              "details follow below):", "", *branch_lines(info.get("training") or {}, info.get("proposal_recall")),
+              ""]
     if headline:
         parts += ["**Table 1, headline** (the editing benchmark, `bench/table1.md`):", "", drop_empty_columns(headline),
                   ""]
     return "\n".join(parts)
-
-
-def _geometric_data_line(info: dict) -> str:
-    """The report's line on the geometric branch's own synthetic set (``geometric_synth``); empty without one."""
-    own = (info.get("data") or {}).get("geometric")
-    if not own:
-        return ""
-    return (f"- The geometric branch trained and was tested on its own synthetic set: "
-            f"{data_sentence(own, info.get('seed'))} (`{own['root']}`), generated in "
-            f"{own.get('generate_s', float('nan')):.0f} s; the other branches on the data above.\n")
 
 
 def write_report(out: Path, info: dict) -> str:
@@ -890,12 +840,11 @@ def write_report(out: Path, info: dict) -> str:
 
 {intro} The paper's configurations are `experiment=paper_vkitti|paper_cityscapes`.
 
-- Data: {data_sentence(info['data'], info.get('seed'))};
+- Data: {data_sentence(info['data'], info.get('seed'))}, every branch's training, validation and test parts;
   benchmark and edits at {info['data']['render_size'][0]}x{info['data']['render_size'][1]}
-  (`{info['data']['root']}`), generated in {info['data'].get('generate_s', info['stages_s']['data']):.0f} s.
-{_geometric_data_line(info)}- Wall time {info['wall_s'] / 60:.1f} min; peak memory
-  {info['peak_memory']['largest_child_mib']:.0f} MiB (largest training process),
-  {info['peak_memory']['demo_process_mib']:.0f} MiB (this process: benchmark and edits).
+  (`{info['data']['root']}`), generated in {info['stages_s']['data']:.0f} s.
+- Wall time {info['wall_s'] / 60:.1f} min; peak memory {info['peak_memory']['largest_child_mib']:.0f} MiB (largest
+  training process), {info['peak_memory']['demo_process_mib']:.0f} MiB (this process: benchmark and edits).
 
 ## Time per stage
 
@@ -937,19 +886,19 @@ Frame `{edits.get('frame')}`, car {edits.get('car')} (the largest found wholly i
 
 
 def data_record(root: Path) -> dict:
-    """What a synthetic dataset of the demo holds, for the report: its root, frame count (edit targets included) and,
-    as its manifest records them, size, worlds, variations, frames per sequence and vehicles."""
+    """What the demo's synthetic dataset holds, for the report: its root, frame count (edit targets included) and, as
+    its manifest records them, worlds, variations, frames per sequence and vehicles."""
     import json
 
     frames = sorted((root / "vkitti_1.3.1_rgb").rglob("*.png"))
     recorded = json.loads((root / "synth_manifest.json").read_text(encoding="utf-8")).get("config") or {}
     return {"root": str(root), "frames": len(frames),
-            **{k: recorded[k] for k in ("image_size", "worlds", "variations", "frames_per_sequence", "vehicles")
-               if k in recorded}}
+            **{k: recorded[k] for k in ("worlds", "variations", "frames_per_sequence", "vehicles") if k in recorded}}
 
 
 def data_sentence(data: dict, seed: Any) -> str:
-    """``N synthetic frames at WxH (K worlds x [variations] x F frames, vehicles, seed S)`` of :func:`data_record`."""
+    """``N synthetic frames at WxH (K worlds x [variations] x F frames, vehicles V, seed S)`` of a
+    :func:`data_record` (with its ``image_size``); what every branch trained and was tested on."""
     size = "x".join(str(v) for v in data["image_size"])
     parts = []
     if data.get("worlds") and data.get("variations") and data.get("frames_per_sequence"):
@@ -979,13 +928,7 @@ def run_demo(cfg: Any) -> dict:
     _stage("1/4 synthetic data")
     t0 = time.perf_counter()
     root = make_data(cfg)
-    info["data"] = {**data_record(root), "image_size": list(cfg.synth.image_size), "render_size": render_size(cfg),
-                    "generate_s": round(time.perf_counter() - t0, 1)}
-    t1 = time.perf_counter()
-    geometric_root = make_geometric_data(cfg)
-    if geometric_root is not None:
-        info["data"]["geometric"] = {**data_record(geometric_root),
-                                     "generate_s": round(time.perf_counter() - t1, 1)}
+    info["data"] = {**data_record(root), "image_size": list(cfg.synth.image_size), "render_size": render_size(cfg)}
     info["stages_s"]["data"] = round(time.perf_counter() - t0, 1)
 
     ckpts: dict[str, str] = {}

@@ -140,6 +140,8 @@ def test_the_demo_passes_experiments_and_machine_options_only(budget, tmp_path):
             node, field = key.split(".")
             assert cfg[node][field] == value, (budget, branch, key)
     assert sorted(demo.train.branches) == sorted(BUDGETS[budget])
+    # every budget's data has a weather variation beside clear weather (issue 40: proposals must hold on rain or fog)
+    assert "clone" in demo.synth.variations and {"rain", "fog"} & set(demo.synth.variations)
 
 
 def test_the_demo_gives_the_textural_run_the_upstream_checkpoints(tmp_path):

@@ -103,3 +103,14 @@ def test_the_data_are_reused_and_a_users_file_there_is_never_deleted(tmp_path, m
     (root / "vkitti_1.3.1_rgb" / "0001" / "clone" / "mine.png").unlink()
     demo.make_data(other)  # only the generator's files: regenerated with the new settings
     assert len(calls) == 1
+
+
+def test_the_report_names_what_the_data_hold(tmp_path):
+    """The report's data line says what every branch trained on: worlds x variations x frames as the data's manifest
+    records them (a weather variation included, issue 40), the vehicles and the seed."""
+    cfg = OmegaConf.merge(_cfg(tmp_path), {"synth": {"variations": ["clone", "rain"], "edit_pairs": 0,
+                                                       "occluder_pairs": 0}})
+    record = {**demo.data_record(demo.make_data(cfg)), "image_size": [160, 64]}
+    assert record["frames"] == 4 and record["variations"] == ["clone", "rain"]
+    assert demo.data_sentence(record, 0) == ("4 synthetic frames at 160x64 (1 worlds x [clone, rain] x 2 frames, "
+                                             "vehicles heldout, seed 0)")

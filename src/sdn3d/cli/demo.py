@@ -840,7 +840,7 @@ def write_report(out: Path, info: dict) -> str:
 
 {intro} The paper's configurations are `experiment=paper_vkitti|paper_cityscapes`.
 
-- Data: {info['data']['frames']} synthetic frames at {info['data']['image_size'][0]}x{info['data']['image_size'][1]};
+- Data: {data_sentence(info['data'], info.get('seed'))}, every branch's training, validation and test parts;
   benchmark and edits at {info['data']['render_size'][0]}x{info['data']['render_size'][1]}
   (`{info['data']['root']}`), generated in {info['stages_s']['data']:.0f} s.
 - Wall time {info['wall_s'] / 60:.1f} min; peak memory {info['peak_memory']['largest_child_mib']:.0f} MiB (largest
@@ -885,6 +885,31 @@ Frame `{edits.get('frame')}`, car {edits.get('car')} (the largest found wholly i
     return report
 
 
+def data_record(root: Path) -> dict:
+    """What the demo's synthetic dataset holds, for the report: its root, frame count (edit targets included) and, as
+    its manifest records them, worlds, variations, frames per sequence and vehicles."""
+    import json
+
+    frames = sorted((root / "vkitti_1.3.1_rgb").rglob("*.png"))
+    recorded = json.loads((root / "synth_manifest.json").read_text(encoding="utf-8")).get("config") or {}
+    return {"root": str(root), "frames": len(frames),
+            **{k: recorded[k] for k in ("worlds", "variations", "frames_per_sequence", "vehicles") if k in recorded}}
+
+
+def data_sentence(data: dict, seed: Any) -> str:
+    """``N synthetic frames at WxH (K worlds x [variations] x F frames, vehicles V, seed S)`` of a
+    :func:`data_record` (with its ``image_size``); what every branch trained and was tested on."""
+    size = "x".join(str(v) for v in data["image_size"])
+    parts = []
+    if data.get("worlds") and data.get("variations") and data.get("frames_per_sequence"):
+        parts.append(f"{len(data['worlds'])} worlds x [{', '.join(data['variations'])}] x "
+                     f"{data['frames_per_sequence']} frames")
+    if data.get("vehicles"):
+        parts.append(f"vehicles {data['vehicles']}")
+    parts.append(f"seed {seed}")
+    return f"{data['frames']} synthetic frames at {size} ({', '.join(parts)})"
+
+
 def run_demo(cfg: Any) -> dict:
     torch.manual_seed(int(cfg.seed))
     torch.set_num_threads(int(cfg.threads))
@@ -903,9 +928,7 @@ def run_demo(cfg: Any) -> dict:
     _stage("1/4 synthetic data")
     t0 = time.perf_counter()
     root = make_data(cfg)
-    frames = sorted((root / "vkitti_1.3.1_rgb").rglob("*.png"))
-    info["data"] = {"root": str(root), "frames": len(frames), "image_size": list(cfg.synth.image_size),
-                    "render_size": render_size(cfg)}
+    info["data"] = {**data_record(root), "image_size": list(cfg.synth.image_size), "render_size": render_size(cfg)}
     info["stages_s"]["data"] = round(time.perf_counter() - t0, 1)
 
     ckpts: dict[str, str] = {}

@@ -177,9 +177,10 @@ def test_an_occluder_is_not_charged_to_the_car_behind_it(torch_threads):
     whole_ignored, whole_charged = _iou(_silhouette(ignored), alone[0]), _iou(_silhouette(charged), alone[0])
     assert whole_ignored > 0.75 and whole_charged < whole_ignored - 0.25, (whole_ignored, whole_charged)
     # The size: what the occluder hides costs the car nothing (fitted alone: 3.70 x 1.48 x 1.55 m, ignored: within
-    # 6 %); charged for it, the car is made smaller (volume 5.9 against 8.1 m^3)
+    # 6 %); charged for it, the car is made smaller (volume 5.9 against 8.1 m^3; 7.0 against 8.1 with
+    # FitSettings.ffd_step 0.1, whose FFD moves less: the bound is 0.9)
     assert torch.allclose(ignored.dims[0], whole.dims[0], rtol=0.15), (ignored.dims, whole.dims)
-    assert float(charged.dims[0].prod()) < 0.85 * float(ignored.dims[0].prod())
+    assert float(charged.dims[0].prod()) < 0.9 * float(ignored.dims[0].prod())
     assert float(ignored.location[0, 2]) == pytest.approx(14.0, rel=0.1)  # 14.46 m
 
 

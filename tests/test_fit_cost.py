@@ -100,3 +100,44 @@ def test_one_fit_for_two_callers_gives_each_its_own_rows_as_two_fits_would(two_c
         assert one.notes == both.notes and one.warnings == both.warnings
     assert set(together[0].notes) == {1} and together[0].warnings[0].startswith("object 1:")
     assert not together[1].notes and float(together[1].iou[0]) > 0.7
+
+
+def test_the_fit_runs_on_one_torch_thread_whatever_the_callers_count(two_cars, monkeypatch):
+    """A stage's small tensor operations run on one torch thread (more threads only wait for each other): the fit at
+    two threads is the fit at one, to the last bit, and the caller gets its thread count back."""
+    masks, boxes = two_cars
+    inside: list[int] = []
+    adam = fit_module.adam_fit
+
+    def recorded(*args, **kwargs):
+        inside.append(torch.get_num_threads())
+        return adam(*args, **kwargs)
+
+    monkeypatch.setattr(fit_module, "adam_fit", recorded)
+    before = torch.get_num_threads()
+    try:
+        results = []
+        for threads in (1, 2):
+            torch.set_num_threads(threads)
+            results.append(fit_to_masks(masks[1:], boxes[1:], WORK, start_ry=torch.tensor([0.8]), settings=SMALL))
+            assert torch.get_num_threads() == threads
+    finally:
+        torch.set_num_threads(before)
+    assert inside and set(inside) == {1}
+    one, two = results
+    for name in ("template", "dims", "ry", "location", "phi", "iou", "loss"):
+        assert torch.equal(getattr(one, name), getattr(two, name)), name
+
+
+@pytest.mark.parametrize("ffd_step", [1.0, 0.1])
+def test_the_ffd_moves_by_its_share_of_the_adam_step(two_cars, ffd_step):
+    """Adam's first step moves every free value by about ``lr``; the FFD's control values by ``ffd_step`` of that
+    (a full step on each of them swung the fine stage's loss)."""
+    masks, boxes = two_cars
+    settings = FitSettings(coarse_steps=1, fine_steps=1, coarse_size=16, fine_size=24, coarse_survivors=0,
+                           ffd_step=ffd_step)
+    result = fit_to_masks(masks[1:], boxes[1:], WORK, start_ry=torch.tensor([0.8]), settings=settings)
+    moved = float(result.phi.abs().max())
+    assert 0.5 * settings.lr * ffd_step < moved <= settings.lr * ffd_step * 1.001
+    with pytest.raises(ValueError, match="ffd_step"):
+        FitSettings(ffd_step=0.0)

@@ -69,7 +69,9 @@ def test_the_proposals_are_fitted_to_their_masks_and_recorded(frame, models):
     near = rows[CAR * 1000 + 1]
     assert _iou(after[near], masks[0]) > 0.8 > _iou(before[near], masks[0])
     far = rows[CAR * 1000 + 2]
-    assert _iou(after[far] & ~masks[0], masks[1]) > 0.8
+    # 0.75: the far car is half hidden and the fit is chaotic in its details (0.84 with the FFD's full Adam step,
+    # 0.80 with FitSettings.ffd_step 0.1, which raised the silhouette IoU of 223 tuning cars by 0.007 on average)
+    assert _iou(after[far] & ~masks[0], masks[1]) > 0.75
     assert fitted.objects.location[:, 1].tolist() == pytest.approx([HEIGHT, HEIGHT])
     records = {r["id"]: r for r in fitted.meta["fits"]}
     assert set(records) == set(rows)

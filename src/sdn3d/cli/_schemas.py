@@ -45,6 +45,7 @@ class FitSchema:
     shape_reg: float = MISSING
     template_size_reg: float = MISSING
     ffd_reg: float = MISSING
+    ffd_step: float = MISSING
     poor_iou: float = MISSING
 
 

@@ -59,6 +59,13 @@ Exit status: 0 done; 2 bad input (message on stderr names the op or the setting;
 
 from __future__ import annotations
 
+import os
+
+# Before torch loads OpenMP (which reads it once): idle OpenMP threads sleep instead of spinning. With threads=2 on
+# a busy 2-core machine, spinning threads took one edit with 10 boxes from 8 to 11-56 CPU seconds
+# (docs/results/2026-11-28_cpu/session5/cost); a caller's own setting wins.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
 import contextlib
 import dataclasses
 import json

@@ -52,14 +52,21 @@ pairs, Adam step after Adam step. The search stops the starts that lag: after a 
 fits them cut to ``fine_faces`` at ``fine_size`` px (the winner's IoU is measured with its full mesh). The step
 counts stay: fewer steps cost template accuracy and silhouette IoU on the seed-13 tuning tree (10 fine and 8 search
 steps: template -8 pp, 95 % interval [-15.7, -0.4]). :func:`fit_many` fits several callers' objects in one call
-(:func:`sdn3d.derender.derender`'s proposals and box objects): each stage's fixed cost once.
-docs/results/2026-11-28_cpu/session4/cost/README.md has the measurements.
+(:func:`sdn3d.derender.derender`'s proposals and box objects): each stage's fixed cost once. The stages run on one
+torch thread whatever the caller's count (more threads cost CPU time and win nothing on such small operations), so
+the fit is the same at any thread count. The FFD moves by ``ffd_step`` (0.1) of the Adam step: with the full step
+the fine stage's mean loss jumped from 0.14 to 0.42 at its first step and swung for the rest of it (a 10-car
+frame); with 0.1 it falls nearly monotonically (0.095 at the end against 0.129), and on the seed-13 tuning tree the
+silhouette IoU rose by 0.007 (95 % interval [0.002, 0.013]) with template accuracy unchanged. Fewer fine steps
+with it still cost template accuracy (10 steps: -7.6 pp, [-13.9, -1.8]). The measurements:
+docs/results/2026-11-28_cpu/session4/cost/README.md and session5/cost/README.md.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 
 import torch
@@ -146,6 +153,8 @@ class FitSettings:
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
         dims_reg, yaw_reg, ffd_reg: weights of the size prior, the yaw prior and the FFD's ``mean(phi^2)``.
+        ffd_step: the FFD's Adam step as a share of ``lr`` (its control values are its own scale: with the full
+            step the fine stage's loss jumped up at its first step and swung for the rest of it).
         template_size_reg: weight of ``|log d - log d_t|^2``, the size's departure from the typical size of the
             template it is drawn with (:data:`~sdn3d.meshes.templates.TEMPLATE_DIMENSIONS`; only for a bank of the
             templates). A 4 m car fits a pickup's silhouette from behind, but it is not a pickup: on a seed-7 tuning
@@ -184,6 +193,7 @@ class FitSettings:
     silhouette: str = "soft"
     yaw_reg: float = 0.02
     ffd_reg: float = 100.0
+    ffd_step: float = 0.1
     poor_iou: float = 0.7
     min_mask_pixels: int = 24
     min_mask_side: int = 3
@@ -202,7 +212,7 @@ class FitSettings:
             if 0 < getattr(self, name) < 4:
                 raise ValueError(f"FitSettings.{name} must be 0 (the full meshes) or at least 4, got "
                                  f"{getattr(self, name)}")
-        for name in ("camera_height", "default_camera_height", "lr", "sigma"):
+        for name in ("camera_height", "default_camera_height", "lr", "sigma", "ffd_step"):
             value = getattr(self, name)
             if name == "camera_height" and value is None:
                 continue
@@ -360,6 +370,22 @@ class _Meshes:
         return silhouette(kind, cam, self.faces, self.K, settings)
 
 
+@contextmanager
+def _one_torch_thread() -> Iterator[None]:
+    """Run the block on one torch thread, then give back the caller's count. A stage is thousands of small tensor
+    operations: torch's threads wait for each other at each one (and spin while waiting, on a busy machine), so more
+    threads cost CPU time and win nothing there (docs/results/2026-11-28_cpu/session5/cost). The fit is then the
+    same whatever the caller's thread count."""
+    threads = torch.get_num_threads()
+    if threads > 1:
+        torch.set_num_threads(1)
+    try:
+        yield
+    finally:
+        if threads > 1:
+            torch.set_num_threads(threads)
+
+
 def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Tensor, ry0: Tensor, mask: Tensor,
            ign: Tensor, K: Tensor, size: int, steps: int, settings: FitSettings,
            with_ffd: bool, height: float) -> tuple[dict[str, Tensor], Tensor]:
@@ -374,8 +400,11 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     log_start = start["dims"].log()
     log_scale = torch.zeros(log_start.shape[0], 1).requires_grad_(True)
     log_shape = torch.zeros_like(log_start).requires_grad_(True)
-    phi_half = start["phi_half"].clone().requires_grad_(with_ffd)
-    free = [x, log_z, half_ry, log_scale, log_shape] + ([phi_half] if with_ffd else [])
+    # The FFD moves by a share of the others' Adam step (``settings.ffd_step``): Adam's steps are about ``lr`` in
+    # every coordinate at first, and a full one on each of the 96 control values undoes the fit (module doc, Cost).
+    ffd_step = settings.ffd_step
+    phi_free = (start["phi_half"] / ffd_step).clone().requires_grad_(with_ffd)
+    free = [x, log_z, half_ry, log_scale, log_shape] + ([phi_free] if with_ffd else [])
     sil_settings = SoftSilhouetteSettings((size, size), sigma=settings.sigma)
     log_dims0 = dims0.log()
     typical = _typical_log_dims(bank)
@@ -383,6 +412,7 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     meshes = _Meshes(bank, template, K, with_ffd)
 
     def objective() -> Tensor:
+        phi_half = phi_free * ffd_step
         log_dims = log_start + log_scale + log_shape
         dims = log_dims.exp()
         center = torch.stack([x, height - dims[:, 1] / 2, log_z.exp()], 1)
@@ -397,11 +427,12 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
             prior = prior + settings.ffd_reg * phi.square().flatten(1).mean(1)
         return reprojection_error(sil, mask, ign) + prior
 
-    adam_fit(free, objective, steps, settings.lr)
-    with torch.no_grad():
-        loss = objective()
+    with _one_torch_thread():
+        adam_fit(free, objective, steps, settings.lr)
+        with torch.no_grad():
+            loss = objective()
     values = {"x": x.detach(), "z": log_z.detach().exp(), "ry": _wrap(2 * half_ry.detach()),
-              "dims": (log_start + log_scale + log_shape).detach().exp(), "phi_half": phi_half.detach()}
+              "dims": (log_start + log_scale + log_shape).detach().exp(), "phi_half": (phi_free * ffd_step).detach()}
     return values, loss
 
 

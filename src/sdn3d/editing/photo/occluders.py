@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import numpy as np
 import torch
-from scipy import ndimage
 from torch import Tensor
 
 __all__ = ["thin_occluders"]
@@ -85,6 +84,8 @@ def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_wid
     flanked = candidate & left & right
     if not bool(flanked.any()):
         return torch.zeros_like(candidate)
+    from scipy import ndimage  # here, not with the module: `sdn3d-edit` starts without scipy (test_architecture)
+
     labels, count = ndimage.label(flanked.numpy())
     labels_t = torch.from_numpy(labels.astype(np.int64))
     pix = flanked.flatten().nonzero().flatten()  # every statistic below is over these pixels

@@ -141,3 +141,17 @@ def test_the_ffd_moves_by_its_share_of_the_adam_step(two_cars, ffd_step):
     assert 0.5 * settings.lr * ffd_step < moved <= settings.lr * ffd_step * 1.001
     with pytest.raises(ValueError, match="ffd_step"):
         FitSettings(ffd_step=0.0)
+
+
+def test_sdn3d_edit_lets_idle_openmp_threads_sleep_unless_told_otherwise():
+    """``sdn3d-edit`` sets ``OMP_WAIT_POLICY=PASSIVE`` before torch loads OpenMP (spinning threads cost one 10-box
+    edit 52-111 CPU seconds against 9 on a busy 2-core machine); a caller's own value wins."""
+    import os
+    import subprocess
+    import sys
+
+    code = "import os, sdn3d.cli.edit; print(os.environ['OMP_WAIT_POLICY'])"
+    env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+    policies = [subprocess.run([sys.executable, "-c", code], env={**env, **extra}, capture_output=True, text=True,
+                               check=True).stdout.strip() for extra in ({}, {"OMP_WAIT_POLICY": "ACTIVE"})]
+    assert policies == ["PASSIVE", "ACTIVE"]

@@ -62,7 +62,7 @@ from __future__ import annotations
 import os
 
 # Before torch loads OpenMP (which reads it once): idle OpenMP threads sleep instead of spinning. With threads=2 on
-# a busy 2-core machine, spinning threads took one edit with 10 boxes from 8 to 11-56 CPU seconds
+# the shared 2-core machine one edit with 10 boxes spent 52-111 CPU seconds spinning, against 9 without
 # (docs/results/2026-11-28_cpu/session5/cost); a caller's own setting wins.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 

@@ -107,3 +107,15 @@ def test_no_edits_and_no_list_is_a_user_error(tiny_synth, ckpts, tmp_path, capsy
     assert err.startswith("sdn3d-edit: error: give an edit spec") and "list=true" in err and not out.exists()
     assert main(_args(tiny_synth, ckpts, out, "list=maybe")) == 2
     assert "list must be true or false" in capsys.readouterr().err
+
+
+def test_the_table_lists_a_proposal_beside_box_objects():
+    """A semantic proposal has no fit record of a box; listed beside box objects, its fit cells are empty (it raised
+    KeyError: 'fit_iou')."""
+    from sdn3d.scene.listing import objects_table
+
+    common = {"class": "Car", "box": [1, 2, 30, 20], "centre": [15.0, 11.0], "distance_m": 12.5, "yaw_deg": -90.0,
+              "template": "sedan"}
+    table = objects_table([{"id": 12001, **common, "fit_iou": 0.91}, {"id": 12002, **common}])
+    box_row, proposal_row = table.splitlines()[1:]
+    assert box_row.split()[-4:] == ["0.91", "from", "a", "box"] and proposal_row.split()[-2:] == ["-", "-"]

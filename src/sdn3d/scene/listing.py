@@ -73,7 +73,7 @@ def objects_table(rows: list[dict]) -> str:
         head, keys = head + ["fit IoU", "note"], keys + ["fit_iou", "note"]
         rows = [{**r, "note": ("poor fit" if r.get("poor_fit") else "from a box") if "fit_iou" in r else None}
                 for r in rows]
-    body = [[cell(r[k]) for k in keys] for r in rows]
+    body = [[cell(r.get(k)) for k in keys] for r in rows]  # a proposal listed beside box objects has no fit_iou
     widths = [max(len(x) for x in col) for col in zip(head, *body, strict=True)]
     lines = ["  ".join(x.ljust(w) for x, w in zip(line, widths, strict=True)).rstrip() for line in [head, *body]]
     return "\n".join(lines if rows else ["(no objects found)"])

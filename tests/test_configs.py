@@ -99,7 +99,7 @@ def test_no_experiment_is_the_branch_defaults(tmp_path):
 
 # What each budget trains (the values conf/demo.yaml and conf/budget/*.yaml passed as override lists before).
 BUDGETS = {
-    "short": {"semantic": {"trainer.max_epochs": 16, "model.lr": 0.004, "trainer.limit_train_batches": None,
+    "short": {"semantic": {"trainer.max_epochs": 14, "model.lr": 0.004, "trainer.limit_train_batches": None,
                            "model.decoder": "skip", "model.optimizer": "adamw", "model.class_weighting": "enet",
                            "model.channels": [16, 16, 32, 64, 64, 128, 128, 128], "data.image_size": [312, 96]},
               "geometric": {"model.pred_epochs": 8, "model.joint_epochs": 2, "trainer.max_epochs": 10,

@@ -26,9 +26,9 @@ from torch import Tensor
 __all__ = ["thin_occluders"]
 
 
-def _flanked(mask_ids: Tensor, outline_ids: Tensor, candidate: Tensor, reach: Tensor) -> tuple[Tensor, Tensor]:
-    """``(left (H, W), right (H, W))`` bool: the nearest mask pixel to the left (right) of each candidate pixel in its
-    row belongs to the car whose outline covers it and lies within ``reach (H, W)`` pixels."""
+def _flanked(mask_ids: Tensor, outline_ids: Tensor, candidate: Tensor, reach: Tensor) -> Tensor:
+    """``(H, W)`` bool: the nearest mask pixel to the left and the one to the right of each candidate pixel in its row
+    both belong to the car whose outline covers it and lie within ``reach (H, W)`` pixels."""
     width = mask_ids.shape[1]
     cols = torch.arange(width).expand_as(mask_ids)
     def nearest_before(ids: Tensor) -> Tensor:  # column of the last mask pixel at or before each column (-1: none)
@@ -39,7 +39,7 @@ def _flanked(mask_ids: Tensor, outline_ids: Tensor, candidate: Tensor, reach: Te
         ok = (at >= 0) & (at < width)
         owner = mask_ids.gather(1, at.clamp(0, width - 1))
         return candidate & ok & (owner == outline_ids) & ((at - cols).abs() <= reach)
-    return side(before), side(after)
+    return side(before) & side(after)
 
 
 def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_width: float = 0.3,
@@ -78,10 +78,9 @@ def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_wid
     bottom = torch.full((len(cars) + 1,), -1).scatter_reduce(0, slot.flatten(), rows.flatten(), "amax")
     car_height = (bottom - top + 1).clamp(min=1).float()[slot]
     reach = torch.where(candidate, (max_width * car_height).ceil().long(), torch.zeros_like(outline_ids))
-    left, right = _flanked(mask_ids, outline_ids, candidate, reach)
     # Strips are cut from the flanked pixels: the bands where a template overshoots its car (which join a strip at
     # its ends) have the car's mask on one side at most.
-    flanked = candidate & left & right
+    flanked = _flanked(mask_ids, outline_ids, candidate, reach)
     if not bool(flanked.any()):
         return torch.zeros_like(candidate)
     from scipy import ndimage  # here, not with the module: `sdn3d-edit` starts without scipy (test_architecture)

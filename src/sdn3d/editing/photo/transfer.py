@@ -106,8 +106,9 @@ class PhotoSource:
         erode: input pixels the instance masks are eroded by (:attr:`PhotoSettings.mask_erode_px`, resolved).
         work_ids: ``(h, w)`` int64 source instance map at the working size; src_ids: ``(H_in, W_in)`` the same at the
             input's resolution (nearest); vis_ids: eroded.
-        raster: the source objects rasterized at the input's resolution; parts: ``(H_in * W_in,)`` long
-            :class:`~sdn3d.meshes.parts.Part` of the rasterized face at each pixel (-1: none).
+        raster: the source objects rasterized at the input's resolution; outline_ids: ``(H_in, W_in)`` the instance id
+            of the object rasterized at each pixel (:func:`_raster_ids`: the fitted outlines); parts: ``(H_in * W_in,)``
+            long :class:`~sdn3d.meshes.parts.Part` of the rasterized face at each pixel (-1: none).
         in_front: ``(H_in, W_in)`` bool, thin things in front of a car that its mask leaves out (a pole, a sign post:
             :func:`~sdn3d.editing.photo.occluders.thin_occluders`); every edit keeps them in front.
         max_fills: filled pictures kept (each ``3 x H x W`` float32: ~5.6 MB at 1242x375); the oldest goes first.
@@ -131,7 +132,8 @@ class PhotoSource:
         rows, verts, faces = posed_meshes(scene.objects, self.bank)
         self.raster = _rasterize(rows.cpu(), verts.cpu(), faces.cpu(), self.K, (h_in, w_in))
         self.parts = _part_map(self.raster, scene.objects, self.bank)
-        self.in_front = (thin_occluders(self.image, self.src_ids, _raster_ids(self.raster, scene.objects))
+        self.outline_ids = _raster_ids(self.raster, scene.objects)
+        self.in_front = (thin_occluders(self.image, self.src_ids, self.outline_ids)
                          if self.settings.keep_in_front else torch.zeros_like(self.src_ids, dtype=torch.bool))
         self._light: tuple[Tensor, LightEstimate | None] | None = None
         self._fills: dict[tuple, Tensor] = {}
@@ -680,7 +682,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     src_ids, vis_ids = source.src_ids, source.vis_ids
     own = torch.where(torch.isin(src_ids, after.instance_id[stays]), src_ids, torch.zeros_like(src_ids))
     # Freed pixels an object that stays now covers (amodal completion in apply_edits).
-    own, grown_rows = _grow(own, before, after, origin, stays, transform, _raster_ids(source.raster, before),
+    own, grown_rows = _grow(own, before, after, origin, stays, transform, source.outline_ids,
                             source.vis_ids, settings.grow_min_seen)
 
     src = source.raster
@@ -725,7 +727,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         stay_ids = after.instance_id[stays]
         key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
         if effects:  # the removed objects' silhouettes join the hole; their shadows are relit
-            fitted = torch.isin(_raster_ids(src, before), gone_ids)
+            fitted = torch.isin(photo_source.outline_ids, gone_ids)
             if settings.silhouette == "carved":  # the template where the input's masks rule it out is not the car
                 fitted &= ~background
             silhouette = dilate_square(fitted, settings.hole_dilate_px)
@@ -803,7 +805,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                                      photo_source.parts, parts_out, background)
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, image, own, before, after, origin, moved_rows, src_ids,
-                                            photo_source.work_ids, transform, _raster_ids(src, before), K, settings,
+                                            photo_source.work_ids, transform, photo_source.outline_ids, K, settings,
                                             objects)
         for a in moved_rows:
             if int(after.instance_id[a]) not in objects:

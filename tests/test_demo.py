@@ -424,3 +424,41 @@ def test_the_example_car_is_the_largest_found_car_wholly_in_view(tiny_synth, mon
                 candidates.append((int(m.sum()), key, int(t.instance_id[row])))
     area, key, iid = max(candidates)
     assert (record.key, car) == (key, iid)
+
+
+def test_the_example_car_is_not_a_proposal_that_merged_two_cars(tiny_synth, monkeypatch):
+    """_found_example passes over a proposal that took in a piece of another annotated car (more than
+    EXAMPLE_MAX_FOREIGN of its pixels): every edit of the figure would drag that piece along."""
+    import sdn3d.derender as derendering
+    from sdn3d.cli._config import synth_data_source
+    from sdn3d.cli.demo import _found_example
+    from sdn3d.data.scene_gt import scene_from_frame
+    from sdn3d.data.sources import load_split
+
+    source = synth_data_source(tiny_synth)
+    records = [r for r in load_split(source, "test") if r.objects]
+    by_key = {r.key: r for r in records}
+
+    def plain(image, intrinsics, models, proposals, gt, **kwargs):
+        return scene_from_frame(by_key[gt.key], tuple(source.image_size))
+
+    monkeypatch.setattr(derendering, "derender", plain)
+    record, car = _found_example(records, source, None, "cpu")
+    merged_key = record.key
+
+    def merging(image, intrinsics, models, proposals, gt, **kwargs):
+        scene = plain(image, intrinsics, models, proposals, gt)
+        if gt.key == merged_key:  # the chosen car's proposal also takes in its neighbour's upper half
+            t = scene.objects
+            row = int((t.instance_id == car).nonzero()[0])
+            others = [r for r in range(len(t)) if r != row and int(t.mask[r].sum()) > 0.2 * int(t.mask[row].sum())]
+            assert others, "the tiny synthetic frame needs a second car"
+            other = t.mask[others[0]].bool()
+            ys = other.any(1).nonzero().flatten()
+            piece = other & (torch.arange(other.shape[0])[:, None] < int(ys.float().mean()))
+            t.mask[row] = (t.mask[row].bool() | piece).to(t.mask.dtype)
+        return scene
+
+    monkeypatch.setattr(derendering, "derender", merging)
+    chosen = _found_example(records, source, None, "cpu")
+    assert chosen is None or (chosen[0].key, chosen[1]) != (merged_key, car)

@@ -465,12 +465,20 @@ def wholly_in_view(masks: torch.Tensor) -> torch.Tensor:
     return ~(masks[:, :, 0].any(1) | masks[:, :, -1].any(1) | masks[:, -1, :].any(1))
 
 
+#: :func:`_found_example`: the most of a proposal's pixels that may belong to other annotated objects. A proposal
+#: that merged its car with a piece of the next one drags that piece along in every edit of the figure (session 5's
+#: demo: a tan car's fragment smeared across the road by every edit of the blue example car).
+EXAMPLE_MAX_FOREIGN = 0.05
+
+
 def _found_example(records: Sequence[Any], source: Any, models: Any, device: str) -> tuple[Any, int] | None:
     """``(frame record, instance id)`` of the example edits on the semantic branch's proposals: over the test
     frames, the largest proposal with 3D geometry that is wholly in the picture (its mask off the left, right and
-    bottom edges) and that found a car wholly in view (IoU >= 0.5 with an annotated car or van that the image does
-    not cut: the proposal-recall measure). The annotation only chooses which found car the figure shows; the
-    scene, its masks and its geometry are the branches' own. None where the proposals found no such car."""
+    bottom edges), that found a car wholly in view (IoU >= 0.5 with an annotated car or van that the image does
+    not cut: the proposal-recall measure) and that took in no more than :data:`EXAMPLE_MAX_FOREIGN` of its pixels
+    from other annotated objects (no merged neighbour). The annotation only chooses which found car the figure
+    shows; the scene, its masks and its geometry are the branches' own. None where the proposals found no such
+    car."""
     from sdn3d.data.frames import load_frame
     from sdn3d.data.scene_gt import ground_truth
     from sdn3d.derender import derender
@@ -485,14 +493,16 @@ def _found_example(records: Sequence[Any], source: Any, models: Any, device: str
         gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
         table = derender(frame.image.to(device), frame.intrinsics, models, "semantic", gt).objects
         mask = table.mask.bool().cpu()
-        truths = [(frame.instances % INSTANCE_DIVISOR == k) & (frame.instances > 0) for k in untruncated]
+        annotated = (frame.instances % INSTANCE_DIVISOR) * (frame.instances >= INSTANCE_DIVISOR)  # 0: none
         for row in (table.has_geometry.cpu() & wholly_in_view(mask)).nonzero().flatten().tolist():
             area = int(mask[row].sum())
             if best is not None and area <= best[0]:
                 continue
-            for truth in truths:
+            for k in untruncated:
+                truth = annotated == k
                 union = int((truth | mask[row]).sum())
-                if union and int((truth & mask[row]).sum()) >= 0.5 * union:
+                foreign = int((mask[row] & ~truth & (annotated > 0)).sum())
+                if union and int((truth & mask[row]).sum()) >= 0.5 * union and foreign <= EXAMPLE_MAX_FOREIGN * area:
                     best = (area, record, int(table.instance_id[row]))
                     break
     return (best[1], best[2]) if best is not None else None

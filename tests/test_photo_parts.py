@@ -13,6 +13,7 @@ from sdn3d.editing.apply import apply_edits
 from sdn3d.editing.ops import Delete, Rotate
 from sdn3d.editing.photo.recolor import recolor_pixels
 from sdn3d.editing.photo.settings import (
+    ANOTHER_CAR,
     DEFAULT,
     FALLBACK,
     FLAT_CODES,
@@ -386,3 +387,32 @@ def test_grown_outline_is_carved_by_the_inputs_mask():
         new = torch.isin(grown.source, codes) & ~torch.isin(base.source, codes)
         outside[mode] = int((new & off_car).sum())
     assert outside["template"] > 40 and outside["carved"] < 0.25 * outside["template"], outside
+
+
+def test_tyres_a_car_never_showed_come_from_another_cars_tyres(monkeypatch):
+    """A car seen from behind shows (almost) no tyre; turned by 90 degrees, its new side's tyres are drawn from the
+    tyres of another car of the photo that shows its side (code ``another car``, in that car's tyre colour), not in
+    the flat default colour; in fog, or without sharing (``SHARED_PARTS`` empty), they are the default."""
+    from sdn3d.editing.photo import transfer
+
+    side = SceneObject(12002, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.0, location=(3.0, 1.6, 14.0))
+    scene = _scene([BEHIND, side])
+    image, covered, parts = _painted(scene, (0.6, 0.6, 0.6))
+    ids = transfer.PhotoSource(image, FRAME, scene, settings=PARTS).vis_ids
+    seen_tyres = covered & (parts == int(Part.TYRE))
+    # from behind, a few tyre pixels at most: too few examples (fewer than 2 k = 8) to draw a side's tyres from
+    assert int((seen_tyres & (ids == 12001)).sum()) < 8 and int((seen_tyres & (ids == 12002)).sum()) > 40
+    image[:, seen_tyres & (ids == 12002)] = torch.tensor([0.05, 0.08, 0.2])[:, None]  # the side car's tyres: blue
+    image[:, covered & (parts == int(Part.GLASS))] = 0.05  # dark windows: both cars seen through clear air
+    edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    tyres = (result.parts == int(Part.TYRE)) & (result.source == ANOTHER_CAR)  # only the turned car draws anew
+    assert int(tyres.sum()) > 20 and SOURCE_NAMES[ANOTHER_CAR] == "another car"
+    assert float(result.image[2, tyres].mean()) > float(result.image[0, tyres].mean()) + 0.08  # blue, as shown
+    assert int(((result.parts == int(Part.TYRE)) & (result.source == DEFAULT)).sum()) == 0
+    fog = render_photo(0.3 * image + 0.7 * 0.75, FRAME, scene, edited, settings=PARTS)  # each car its own air
+    assert int((fog.source == ANOTHER_CAR).sum()) == 0 and int((fog.source == DEFAULT).sum()) > 20
+    monkeypatch.setattr(transfer, "SHARED_PARTS", ())
+    alone = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    assert int(((alone.parts == int(Part.TYRE)) & (alone.source == DEFAULT)).sum()) > 20
+    assert int((alone.source == ANOTHER_CAR).sum()) == 0

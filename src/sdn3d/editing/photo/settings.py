@@ -12,7 +12,8 @@ from sdn3d.errors import UserInputError
 
 __all__ = ["FILL_METHODS", "UNSEEN_MODES", "SILHOUETTE_MODES", "AMODAL_MODES", "SHADOW_MODES", "GRAIN_MODES",
            "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO", "MIRROR",
-           "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT", "IN_FRONT", "FLAT_CODES",
+           "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT", "IN_FRONT", "ANOTHER_CAR",
+           "FLAT_CODES",
            "PART_DEFAULTS", "PART_COLORS", "PhotoSettings", "PhotoSettingsError", "source_picture", "part_picture"]
 
 
@@ -50,13 +51,15 @@ AMODAL_MODES = ("all", "seen")
 #: Codes of :attr:`PhotoResult.source`: ``part``: the same part seen elsewhere on the car (for a lamp the photo never
 #: showed, the other end's lamps and paint); ``default``: a part the
 #: photo never showed, in its :data:`PART_DEFAULTS` colour; ``relit``: road under a removed car's shadow, relit;
-#: ``in front``: the input's pixels of a thin thing in front of a car (a pole), kept in front of what an edit drew.
+#: ``in front``: the input's pixels of a thin thing in front of a car (a pole), kept in front of what an edit drew;
+#: ``another car``: a part this car never showed, drawn from the same part of another car in the photo (the tyres
+#: of a car seen from behind, from a car seen from the side).
 SOURCE_NAMES = ("input", "photo", "mirror", "fallback", "fill", "recolored", "shadow", "part", "default", "relit",
-                "in front")
+                "in front", "another car")
 #: Colour of each source code in :func:`source_picture` (sRGB uint8).
 SOURCE_COLORS = ((40, 40, 40), (60, 170, 75), (70, 120, 230), (230, 80, 60), (240, 200, 60), (200, 90, 220),
-                 (120, 120, 120), (150, 220, 230), (250, 140, 20), (170, 150, 110), (255, 255, 255))
-INPUT, PHOTO, MIRROR, FALLBACK, FILL, RECOLORED, SHADOW, PART, DEFAULT, RELIT, IN_FRONT = range(11)
+                 (120, 120, 120), (150, 220, 230), (250, 140, 20), (170, 150, 110), (255, 255, 255), (40, 140, 130))
+INPUT, PHOTO, MIRROR, FALLBACK, FILL, RECOLORED, SHADOW, PART, DEFAULT, RELIT, IN_FRONT, ANOTHER_CAR = range(12)
 #: Source codes that are flat paint rather than the photo's texture.
 FLAT_CODES = (FALLBACK, DEFAULT)
 #: sRGB albedo of a vehicle part the photo never showed (indexed by :class:`~sdn3d.meshes.parts.Part`), shaded by

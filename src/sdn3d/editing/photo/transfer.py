@@ -5,8 +5,9 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 import torch
@@ -26,6 +27,7 @@ from sdn3d.editing.photo.occluders import thin_occluders
 from sdn3d.editing.photo.recolor import body_paint, body_pixels, recolor_pixels, srgb_to_lab
 from sdn3d.editing.photo.road import removal_vanishing_point, road_colours, road_like
 from sdn3d.editing.photo.settings import (
+    ANOTHER_CAR,
     DEFAULT,
     FALLBACK,
     FILL,
@@ -1063,6 +1065,34 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     drawn = torch.ones(len(pix), dtype=torch.bool)  # False: left to the fill (amodal='seen')
     flat_codes = torch.tensor(FLAT_CODES, dtype=torch.uint8)
     visible_of = _pixels_of(vis_ids, before.instance_id[origin[drawn_rows][origin[drawn_rows] >= 0]])
+    # every shown car's part examples and whether it is seen through clear air (its darks near black)
+    examples: dict[int, tuple[_PartExamples, bool]] = {}
+
+    def others_of(b: int) -> Callable[[int], _PartExamples]:
+        """:func:`_part_colors`' ``others``: the examples of a part on the car nearest in depth to row ``b``'s that
+        shows at least 8 of them, both cars seen through clear air (:func:`_clear_air`); none otherwise (in fog each
+        car has its own air: a near car's tyres are dark where a far one's are grey)."""
+        def pool(part: int) -> _PartExamples:
+            if not examples:
+                cars = (src_row_to_mesh >= 0).nonzero().flatten()
+                visible = _pixels_of(vis_ids, before.instance_id[cars])
+                for bb in cars.tolist():
+                    found, seen_colors = _part_examples(bb, int(src_row_to_mesh[bb]),
+                                                        visible(int(before.instance_id[bb])), before, src, parts_src,
+                                                        img_flat, settings)
+                    examples[bb] = found, _clear_air(seen_colors)
+            if b not in examples or not examples[b][1]:
+                return _examples_of_part([], part)
+            depth = before.center[:, 2].double().clamp(min=0.1)
+            by_depth = sorted((bb for bb in examples if bb != b and examples[bb][1]),
+                              key=lambda bb: abs(math.log(depth[bb] / depth[b])))
+            for bb in by_depth:
+                found = _examples_of_part([examples[bb][0]], part)
+                if len(found.part) >= 8:
+                    return found
+            return _examples_of_part([], part)
+        return pool
+
     for r in drawn_rows.tolist():
         sel = row == r
         b = int(origin[r])
@@ -1084,8 +1114,9 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             if bool(unseen.any()):
                 alb, code = _part_colors(b, int(s_mesh[sel][0]), visible_px, point_s[unseen], normal_t[unseen],
                                          t_part[unseen], before, src, parts_src, img_flat, settings,
-                                         albedo if len(visible_px) else None)
-                s_un = torch.where(code == PART, 1.0, surface_shade(normal_t[unseen]))  # a part's pixels are shaded
+                                         albedo if len(visible_px) else None, others_of(b))
+                # a part's examples carry their shading
+                s_un = torch.where((code == PART) | (code == ANOTHER_CAR), 1.0, surface_shade(normal_t[unseen]))
                 fallback[unseen] = alb * s_un[:, None]
                 codes[unseen] = code
         if settings.amodal == "seen" and not bool(moved[r]):  # a staying object's freed pixels: flat ones not drawn
@@ -1226,6 +1257,20 @@ def _unshaded(normals: Tensor) -> Tensor:
 CLEAR_RANGE = (0.05, 0.85)
 
 
+#: :func:`_clear_air`: the most luma of a car's darkest pixels (5 % quantile) seen through clear air (tyres and
+#: glass are near black there; fog lifts them towards the air's colour).
+CLEAR_DARKS = 0.15
+
+
+def _clear_air(colors: Tensor, min_pixels: int = 50) -> bool:
+    """Whether a car whose visible pixels are ``colors (Q, 3)`` is seen through clear air: its darkest pixels are
+    near black (:data:`CLEAR_DARKS`); False with fewer than ``min_pixels`` pixels."""
+    if len(colors) < min_pixels:
+        return False
+    luma = colors @ torch.tensor([0.2126, 0.7152, 0.0722], dtype=colors.dtype)
+    return float(torch.quantile(luma, 0.05)) <= CLEAR_DARKS
+
+
 def seen_through_the_air(defaults: Tensor, colors: Tensor, min_pixels: int = 50) -> Tensor:
     """``(P, 3)`` default part colours as the same car's visible pixels ``colors (Q, 3)`` show the air between it and
     the camera: fog or haze lifts the darks and compresses the range (``observed = t albedo + (1 - t) A``), so ``t``
@@ -1250,81 +1295,125 @@ def seen_through_the_air(defaults: Tensor, colors: Tensor, min_pixels: int = 50)
     return (t * defaults + (dark - t * CLEAR_RANGE[0])[None]).clamp(0, 1)
 
 
-def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
-                 before: ObjectTable, src: _Raster, parts_src: Tensor, img_flat: Tensor, settings: PhotoSettings,
-                 body: Tensor | None, max_examples: int = 1500, k: int = 4) -> tuple[Tensor, Tensor]:
-    """``(colour (P, 3), source code (P,))`` of unseen surface points ``points (P, 3)`` (camera frame, at the source
-    pose of ``before`` row ``b``, rasterized as source mesh ``s_mesh``) with camera-frame unit normals at their new
-    pose ``normals (P, 3)`` and parts ``parts (P,)``.
+class _PartExamples(NamedTuple):
+    """A car's visible pixels usable as examples of its parts (:func:`_part_examples`): ``part (E,)``,
+    ``color (E, 3)`` sRGB and ``feature (E, 6)`` (:func:`_part_features`)."""
 
-    Where the input showed the part: the mean colour of the ``k`` nearest input pixels of the same part of the same
-    car, code :data:`PART`. Nearest in the car's own frame (normalised by its size: height, distance from the middle
-    plane and, weakly, along the car) and, weighted by :data:`PART_NORMAL_WEIGHT`, by camera-frame normal: an
-    example that faced the camera as the new surface does carries its shading (no light model: a side of the car
-    turned towards the camera takes the colour of the surfaces that faced it). Body examples must be paint
-    (:func:`~sdn3d.editing.photo.recolor.body_paint`): a tail lamp or a window that a loosely fitted mesh calls
-    body painted a red or black stripe along the whole new side. Tyre examples must be dark (:data:`TYRE_QUANTILE`).
+    part: Tensor
+    color: Tensor
+    feature: Tensor
 
-    A lamp part it never showed (the front of a car seen from behind) takes the other end's lamps and paint the
-    same way (:data:`OTHER_END`), its lamps in this end's colour (:data:`LAMP_HUES`), code :data:`PART`. Any other
-    part it never showed: the body's albedo ``body`` for the body (:data:`FALLBACK`), else :data:`PART_DEFAULTS` seen
-    through the car's air (:func:`seen_through_the_air`, :data:`DEFAULT`); the caller shades these."""
+
+def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor) -> Tensor:
+    """``(P, 6)`` where ``points (P, 3)`` lie on the car of ``before`` row ``b`` and which way ``normals (P, 3)``
+    face: its own frame normalised by its size (height, distance from the middle plane and, weakly, along the car),
+    then the camera-frame normal weighted by :data:`PART_NORMAL_WEIGHT`. Comparable between cars."""
     rot = roty(before.ry[b].double())
     centre = before.center[b].double()
     size = before.dims[b].double()  # (l, h, w)
+    local = (points.double() - centre) @ rot  # rot^T (p - c) per row
+    where = torch.stack([0.25 * local[:, 0] / size[0], local[:, 1] / size[1], local[:, 2].abs() / size[2]], 1)
+    return torch.cat([where, PART_NORMAL_WEIGHT * normals.double()], 1)
 
-    def features(p: Tensor) -> Tensor:
-        local = (p - centre) @ rot  # rot^T (p - c) per row
-        return torch.stack([0.25 * local[:, 0] / size[0], local[:, 1] / size[1], local[:, 2].abs() / size[2]], 1)
 
-    albedo = torch.tensor(PART_DEFAULTS, dtype=torch.float64)[parts.clamp(min=0)]
-    codes = torch.full((len(points),), DEFAULT, dtype=torch.uint8)
-    if body is not None:
-        is_body = parts <= int(Part.BODY)
-        albedo[is_body] = body
-        codes[is_body] = FALLBACK
+def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable, src: _Raster, parts_src: Tensor,
+                   img_flat: Tensor, settings: PhotoSettings) -> tuple[_PartExamples, Tensor]:
+    """The examples of the car of ``before`` row ``b`` (source mesh ``s_mesh``) among its ``visible_px``, and all
+    their colours before the filters (for :func:`seen_through_the_air`). Kept: pixels seen squarely enough
+    (``min_view_cos``); body examples that are paint (:func:`~sdn3d.editing.photo.recolor.body_paint`: a tail lamp
+    or a window that a loosely fitted mesh calls body painted a red or black stripe along a whole new side); tyre
+    examples darker than most of the car (:data:`TYRE_QUANTILE`)."""
     ex = visible_px[(src.frags.pix_to_mesh.view(-1)[visible_px] == s_mesh) & (parts_src[visible_px] >= 0)]
+    none = _PartExamples(torch.zeros(0, dtype=torch.long), torch.zeros(0, 3, dtype=torch.float64),
+                         torch.zeros(0, 6, dtype=torch.float64))
     if not len(ex):
-        return albedo, codes
+        return none, none.color
     _, vid, bary, normal = _surface(src, ex)
     tri = src.verts[torch.full((len(ex),), s_mesh, dtype=torch.long)[:, None], vid]
     point = (bary[..., None] * tri).sum(1)
     good = _view_cos(point, normal) >= settings.min_view_cos
     ex, point, normal = ex[good], point[good], normal[good]
     colors = img_flat[ex]
-    default = (codes == DEFAULT) & (parts >= 0)
-    if bool(default.any()):
-        albedo[default] = seen_through_the_air(albedo[default], colors)
     ex_part = parts_src[ex]
     keep = torch.ones(len(ex), dtype=torch.bool)
     body_ex = (ex_part == int(Part.BODY)).nonzero().flatten()
-    if len(body_ex) >= 8:  # body examples that are not paint go (docstring)
+    if len(body_ex) >= 8:
         paint, _ = body_paint(srgb_to_lab(colors[body_ex].float()))
         keep[body_ex[~paint]] = False
     tyre_ex = (ex_part == int(Part.TYRE)).nonzero().flatten()
     if TYRE_QUANTILE < 1 and len(tyre_ex):  # tyre examples lighter than most of the car are road or paint
         luma = colors @ torch.tensor([0.2126, 0.7152, 0.0722], dtype=colors.dtype)
         keep[tyre_ex[luma[tyre_ex] > torch.quantile(luma, TYRE_QUANTILE)]] = False
-    ex_part, colors, point, normal = ex_part[keep], colors[keep], point[keep], normal[keep]
-    ex_feat = torch.cat([features(point), PART_NORMAL_WEIGHT * normal], 1)
-    q_feat = torch.cat([features(points), PART_NORMAL_WEIGHT * normals.double()], 1)
-    paint = colors[ex_part == int(Part.BODY)]
+    kept = _PartExamples(ex_part[keep], colors[keep], _part_features(before, b, point[keep], normal[keep]))
+    return kept, colors
+
+
+def _examples_of_part(pools: list[_PartExamples], part: int) -> _PartExamples:
+    """The examples of ``part`` in ``pools``, one after the other."""
+    keep = [e.part == part for e in pools]
+    return _PartExamples(
+        torch.cat([torch.zeros(0, dtype=torch.long)] + [e.part[m] for e, m in zip(pools, keep, strict=True)]),
+        torch.cat([torch.zeros(0, 3, dtype=torch.float64)] + [e.color[m] for e, m in zip(pools, keep, strict=True)]),
+        torch.cat([torch.zeros(0, 6, dtype=torch.float64)] + [e.feature[m] for e, m in zip(pools, keep, strict=True)]))
+
+
+#: Parts a car that never showed them takes from another car of the photo (:func:`_part_colors`): tyres and rims
+#: look alike from car to car, and a car seen from behind shows none. The body, glass, lamps and plate are the
+#: car's own (paint and tint differ; a lamp comes from the car's other end).
+SHARED_PARTS = (int(Part.TYRE),)
+
+
+def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
+                 before: ObjectTable, src: _Raster, parts_src: Tensor, img_flat: Tensor, settings: PhotoSettings,
+                 body: Tensor | None, others: Callable[[int], _PartExamples] | None = None,
+                 max_examples: int = 1500, k: int = 4) -> tuple[Tensor, Tensor]:
+    """``(colour (P, 3), source code (P,))`` of unseen surface points ``points (P, 3)`` (camera frame, at the source
+    pose of ``before`` row ``b``, rasterized as source mesh ``s_mesh``) with camera-frame unit normals at their new
+    pose ``normals (P, 3)`` and parts ``parts (P,)``.
+
+    Where the input showed the part: the mean colour of the ``k`` nearest input pixels of the same part of the same
+    car (:func:`_part_examples`), code :data:`PART`. Nearest in the car's own frame and by camera-frame normal
+    (:func:`_part_features`): an example that faced the camera as the new surface does carries its shading (no
+    light model: a side of the car turned towards the camera takes the colour of the surfaces that faced it).
+
+    A lamp part it never showed (the front of a car seen from behind) takes the other end's lamps and paint the
+    same way (:data:`OTHER_END`), its lamps in this end's colour (:data:`LAMP_HUES`), code :data:`PART`. A
+    :data:`SHARED_PARTS` part it never showed takes the same part of the other cars of the photo, ``others(part)``,
+    the same way, code :data:`ANOTHER_CAR`. Any other part it never showed: the body's albedo ``body`` for the body
+    (:data:`FALLBACK`), else :data:`PART_DEFAULTS` seen through the car's air (:func:`seen_through_the_air`,
+    :data:`DEFAULT`); the caller shades these."""
+    albedo = torch.tensor(PART_DEFAULTS, dtype=torch.float64)[parts.clamp(min=0)]
+    codes = torch.full((len(points),), DEFAULT, dtype=torch.uint8)
+    if body is not None:
+        is_body = parts <= int(Part.BODY)
+        albedo[is_body] = body
+        codes[is_body] = FALLBACK
+    own, seen_colors = _part_examples(b, s_mesh, visible_px, before, src, parts_src, img_flat, settings)
+    default = (codes == DEFAULT) & (parts >= 0)
+    if bool(default.any()) and len(seen_colors):
+        albedo[default] = seen_through_the_air(albedo[default], seen_colors)
+    q_feat = _part_features(before, b, points, normals)
+    paint = own.color[own.part == int(Part.BODY)]
     for part in parts.unique().tolist():
         q = (parts == part).nonzero().flatten()
-        have = (ex_part == part).nonzero().flatten()
-        source = colors
+        have = (own.part == part).nonzero().flatten()
+        source, feature, code = own.color, own.feature, PART
         if len(have) < 2 * k and part in OTHER_END:  # a lamp never seen: the other end's lamps and paint
-            have = torch.isin(ex_part, torch.tensor([OTHER_END[part], int(Part.BODY)])).nonzero().flatten()
+            have = torch.isin(own.part, torch.tensor([OTHER_END[part], int(Part.BODY)])).nonzero().flatten()
             if LAMP_HUES:
-                source = _lamps_of_this_end(colors, part, paint)
+                source = _lamps_of_this_end(own.color, part, paint)
+        if len(have) < 2 * k and part in SHARED_PARTS and others is not None:  # never seen: another car's
+            pool = others(part)
+            have = torch.arange(len(pool.part))
+            source, feature, code = pool.color, pool.feature, ANOTHER_CAR
         if len(have) < 2 * k:
             continue
         if len(have) > max_examples:
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
         for chunk in q.split(8192):
-            near = torch.cdist(q_feat[chunk], ex_feat[have]).topk(min(k, len(have)), largest=False).indices
+            near = torch.cdist(q_feat[chunk], feature[have]).topk(min(k, len(have)), largest=False).indices
             albedo[chunk] = source[have][near].mean(1)
-        codes[q] = PART
+        codes[q] = code
     return albedo, codes
 
 

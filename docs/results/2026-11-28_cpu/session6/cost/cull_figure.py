@@ -2,13 +2,17 @@
 """Figure: a template's soft silhouette at the fine crop (64 px) drawn with every face, with the faces facing the
 camera only, and their difference; the faces each one draws in the title."""
 import sys
+
 import matplotlib
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import torch
+
 from sdn3d.math3d.transforms import object_to_camera
 from sdn3d.meshes.bank import default_bank
 from sdn3d.render import SoftSilhouetteSettings, soft_silhouette
+
 bank = default_bank().simplified(600)
 verts, faces = bank.gather(torch.tensor([0]))
 F = int(bank.num_faces[0]); faces = faces[:, :F]

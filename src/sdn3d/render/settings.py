@@ -114,7 +114,9 @@ class SoftSilhouetteSettings:
             the camera (as :class:`RasterSettings`). For a closed, consistently wound mesh the front faces
             alone cover its silhouette, so this halves the (face, pixel) pairs; each outline edge then has
             one soft side instead of two (its front face's), so the silhouette is a little sharper outside
-            the outline. Off by default: meshes need not be closed or consistently wound.
+            the outline, and pixels on an edge two front faces share reach only about 0.75 inside it (the
+            back faces behind filled them to 1). Off by default: meshes need not be closed or consistently
+            wound.
     """
 
     image_size: tuple[int, int]

@@ -155,3 +155,25 @@ def test_sdn3d_edit_lets_idle_openmp_threads_sleep_unless_told_otherwise():
     policies = [subprocess.run([sys.executable, "-c", code], env={**env, **extra}, capture_output=True, text=True,
                                check=True).stdout.strip() for extra in ({}, {"OMP_WAIT_POLICY": "ACTIVE"})]
     assert policies == ["PASSIVE", "ACTIVE"]
+
+
+
+@pytest.mark.parametrize("cull", [True, False])
+def test_adam_steps_draw_the_front_faces_and_the_ranking_every_face(two_cars, monkeypatch, cull):
+    """``cull_backfaces``: every Adam step of both stages draws only the faces facing the camera; the losses that
+    rank the hypotheses (each stage's last, no gradient) draw every face; off, every call draws every face."""
+    masks, boxes = two_cars
+    drawn: list[tuple[bool, bool]] = []  # (culled, with gradient)
+    silhouette = fit_module.silhouette
+
+    def recorded(kind, verts, faces, K, settings):
+        drawn.append((settings.cull_backfaces, torch.is_grad_enabled()))
+        return silhouette(kind, verts, faces, K, settings)
+
+    monkeypatch.setattr(fit_module, "silhouette", recorded)
+    settings = FitSettings(coarse_steps=3, fine_steps=2, coarse_size=16, fine_size=24, coarse_survivors=0,
+                           cull_backfaces=cull)
+    result = fit_to_masks(masks[:1], boxes[:1], WORK, start_ry=torch.tensor([-1.2]), settings=settings)
+    assert len(drawn) == (3 + 1) + (2 + 1)  # two stages: their steps, then their ranking loss
+    assert drawn == [(cull, True)] * 3 + [(False, False)] + [(cull, True)] * 2 + [(False, False)]
+    assert float(result.iou[0]) > 0.5

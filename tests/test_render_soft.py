@@ -235,3 +235,38 @@ def test_empty_inputs_and_settings() -> None:
         soft_silhouette(
             torch.ones(2, 4, 3), torch.zeros(1, 3, dtype=torch.long), torch.eye(3).expand(3, 3, 3), settings
         )
+
+
+def test_culling_back_faces_keeps_a_closed_meshs_outline_and_halves_its_faces(monkeypatch) -> None:
+    """A closed, outward-wound mesh: its front faces alone cover its silhouette (the same pixels above 0.5), while
+    the raster draws about half the faces; a lone triangle facing away is not drawn at all."""
+    import sdn3d.render.soft as soft
+
+    mesh = trimesh.creation.icosphere(subdivisions=2).apply_scale([2.0, 0.8, 1.0])
+    verts, faces = mesh_tensors(mesh)
+    verts = (verts @ roty(torch.tensor([0.6]))[0].T + torch.tensor([0.3, 0.2, 6.0]))[None]
+    K = crop_K(40.0, 32)
+    drawn: list[int] = []
+    chunks = soft._window_chunks
+
+    def counted(box_w, box_h, budget):
+        drawn.append(len(box_w))
+        return chunks(box_w, box_h, budget)
+
+    monkeypatch.setattr(soft, "_window_chunks", counted)
+    both = soft_silhouette(verts, faces, K, SoftSilhouetteSettings((32, 32)))
+    front = soft_silhouette(verts, faces, K, SoftSilhouetteSettings((32, 32), cull_backfaces=True))
+    # the same hard outline: above 0.5 the same pixels but a few on the outline (one soft edge there, not two)
+    inside = int((both > 0.5).sum())
+    assert inside > 100 and not bool(((front > 0.5) & (both <= 0.5)).any())
+    assert int(((both > 0.5) & (front <= 0.5)).sum()) <= 0.05 * inside
+    assert 0.4 * len(faces) < drawn[1] < 0.6 * len(faces) and drawn[0] == len(faces)
+    # one soft side per outline edge instead of two: a little less outside the outline, never more
+    assert float((front - both).max()) < 1e-6 and float((both - front).sum()) > 1.0
+    corners = torch.tensor([[[0.0, -1.0, 5.0], [-1.0, 1.0, 5.0], [1.0, 1.0, 5.0]]])
+    towards, away = torch.tensor([[0, 1, 2]]), torch.tensor([[0, 2, 1]])  # normal (v1-v0)x(v2-v0): -z, +z
+    cull = SoftSilhouetteSettings((32, 32), cull_backfaces=True)
+    assert float(soft_silhouette(corners, away, K, SoftSilhouetteSettings((32, 32))).sum()) > 10
+    assert float(soft_silhouette(corners, away, K, cull).sum()) == 0
+    assert torch.equal(soft_silhouette(corners, towards, K, cull),
+                       soft_silhouette(corners, away, K, SoftSilhouetteSettings((32, 32))))

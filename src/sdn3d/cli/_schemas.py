@@ -46,6 +46,7 @@ class FitSchema:
     template_size_reg: float = MISSING
     ffd_reg: float = MISSING
     ffd_step: float = MISSING
+    cull_backfaces: bool = MISSING
     poor_iou: float = MISSING
 
 

@@ -54,12 +54,13 @@ counts stay: fewer steps cost template accuracy and silhouette IoU on the seed-1
 steps: template -8 pp, 95 % interval [-15.7, -0.4]). :func:`fit_many` fits several callers' objects in one call
 (:func:`sdn3d.derender.derender`'s proposals and box objects): each stage's fixed cost once. The stages run on one
 torch thread whatever the caller's count (more threads cost CPU time and win nothing on such small operations), so
-the fit is the same at any thread count. The FFD moves by ``ffd_step`` (0.1) of the Adam step: with the full step
-the fine stage's mean loss jumped from 0.14 to 0.42 at its first step and swung for the rest of it (a 10-car
-frame); with 0.1 it falls nearly monotonically (0.095 at the end against 0.129), and on the seed-13 tuning tree the
-silhouette IoU rose by 0.007 (95 % interval [0.002, 0.013]) with template accuracy unchanged. Fewer fine steps
-with it still cost template accuracy (10 steps: -7.6 pp, [-13.9, -1.8]). The measurements:
-docs/results/2026-11-28_cpu/session4/cost/README.md and session5/cost/README.md.
+the fit is the same at any thread count. The Adam steps draw only the faces facing the camera (``cull_backfaces``: a
+third less time), the losses that rank hypotheses every face. The FFD moves by ``ffd_step`` (0.1) of the Adam step:
+with the full step the fine stage's mean loss jumped from 0.14 to 0.42 at its first step and swung for the rest of
+it (a 10-car frame); with 0.1 it falls nearly monotonically (0.095 at the end against 0.129), and on the seed-13
+tuning tree the silhouette IoU rose by 0.007 (95 % interval [0.002, 0.013]) with template accuracy unchanged. Fewer
+fine steps with it still cost template accuracy (10 steps: -7.6 pp, [-13.9, -1.8]). The measurements:
+docs/results/2026-11-28_cpu/session4/cost/README.md, session5/cost/README.md and session6/cost/README.md.
 """
 
 from __future__ import annotations
@@ -155,6 +156,11 @@ class FitSettings:
         dims_reg, yaw_reg, ffd_reg: weights of the size prior, the yaw prior and the FFD's ``mean(phi^2)``.
         ffd_step: the FFD's Adam step as a share of ``lr`` (its control values are its own scale: with the full
             step the fine stage's loss jumped up at its first step and swung for the rest of it).
+        cull_backfaces: the Adam steps of both stages draw only the faces facing the camera (the templates are
+            closed, so those cover the outline; about half the soft raster's (face, pixel) pairs), while the final
+            losses that rank the hypotheses (the search's survivors, its ``keep`` best, the winner) draw every face.
+            Ranked with the culled silhouettes too, template accuracy fell by 7 points on the seed-13 tuning tree;
+            ranked with every face it held (docs/results/2026-11-28_cpu/session6/cost).
         template_size_reg: weight of ``|log d - log d_t|^2``, the size's departure from the typical size of the
             template it is drawn with (:data:`~sdn3d.meshes.templates.TEMPLATE_DIMENSIONS`; only for a bank of the
             templates). A 4 m car fits a pickup's silhouette from behind, but it is not a pickup: on a seed-7 tuning
@@ -194,6 +200,7 @@ class FitSettings:
     yaw_reg: float = 0.02
     ffd_reg: float = 100.0
     ffd_step: float = 0.1
+    cull_backfaces: bool = True
     poor_iou: float = 0.7
     min_mask_pixels: int = 24
     min_mask_side: int = 3
@@ -223,7 +230,7 @@ class FitSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
-        for name in ("appearance", "mirror"):
+        for name in ("appearance", "mirror", "cull_backfaces"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"FitSettings.{name} must be true or false, got {getattr(self, name)!r}")
         if self.silhouette not in ("soft", "straight_through"):
@@ -390,7 +397,9 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
            ign: Tensor, K: Tensor, size: int, steps: int, settings: FitSettings,
            with_ffd: bool, height: float) -> tuple[dict[str, Tensor], Tensor]:
     """Adam on ``M`` hypotheses (rows of every tensor); returns the fitted values and ``(M,)`` final losses.
-    Without the FFD (``with_ffd`` False) the meshes are drawn undeformed (``start['phi_half']`` is not read)."""
+    Without the FFD (``with_ffd`` False) the meshes are drawn undeformed (``start['phi_half']`` is not read).
+    With ``settings.cull_backfaces`` the Adam steps draw the faces facing the camera only, and the final losses (what
+    ranks the hypotheses) every face."""
     x = start["x"].clone().requires_grad_(True)
     log_z = start["z"].log().clone().requires_grad_(True)
     half_ry = (start["ry"] / 2).clone().requires_grad_(True)  # the yaw moves twice as fast as the rest
@@ -405,13 +414,14 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     ffd_step = settings.ffd_step
     phi_free = (start["phi_half"] / ffd_step).clone().requires_grad_(with_ffd)
     free = [x, log_z, half_ry, log_scale, log_shape] + ([phi_free] if with_ffd else [])
-    sil_settings = SoftSilhouetteSettings((size, size), sigma=settings.sigma)
+    every_face = SoftSilhouetteSettings((size, size), sigma=settings.sigma)
+    steps_draw = SoftSilhouetteSettings((size, size), sigma=settings.sigma, cull_backfaces=settings.cull_backfaces)
     log_dims0 = dims0.log()
     typical = _typical_log_dims(bank)
     log_typical = None if typical is None else typical[template]
     meshes = _Meshes(bank, template, K, with_ffd)
 
-    def objective() -> Tensor:
+    def objective(sil_settings: SoftSilhouetteSettings = steps_draw) -> Tensor:
         phi_half = phi_free * ffd_step
         log_dims = log_start + log_scale + log_shape
         dims = log_dims.exp()
@@ -430,7 +440,7 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     with _one_torch_thread():
         adam_fit(free, objective, steps, settings.lr)
         with torch.no_grad():
-            loss = objective()
+            loss = objective(every_face)
     values = {"x": x.detach(), "z": log_z.detach().exp(), "ry": _wrap(2 * half_ry.detach()),
               "dims": (log_start + log_scale + log_shape).detach().exp(), "phi_half": (phi_free * ffd_step).detach()}
     return values, loss

@@ -5,7 +5,8 @@ the soft silhouette's ``sigma`` is in **pixels squared** (see :class:`SoftSilhou
 
 Hydra config group ``conf/renderer`` (``default.yaml``, in ``sdn3d-train``'s and ``sdn3d-render-demo``'s
 configs) holds one ``_target_`` node per dataclass, field for field: ``renderer.soft`` is
-:class:`SoftSilhouetteSettings` (``sigma``, ``cull_eps``, ``near``, ``max_pairs_per_chunk``) and
+:class:`SoftSilhouetteSettings` (``sigma``, ``cull_eps``, ``near``, ``max_pairs_per_chunk``,
+``cull_backfaces``) and
 ``renderer.hard`` is :class:`RasterSettings` (``near``, ``far``, ``cull_backfaces``,
 ``max_pairs_per_chunk``). ``image_size`` is left out: it is the crop or frame at hand, given when
 building one, ``hydra.utils.instantiate(cfg.renderer.soft, image_size=(64, 64))``. Configs that
@@ -109,6 +110,13 @@ class SoftSilhouetteSettings:
         max_pairs_per_chunk: (face, pixel) pairs processed at once. Each chunk costs ~50 tensor
             ops of overhead; ~1e5 pairs balances that against cache use on CPU (GPUs like more).
             Temporaries are ~100 bytes per pair; the backward keeps 32 bytes per pair.
+        cull_backfaces: drop faces whose right-hand-rule normal ``(v1 - v0) x (v2 - v0)`` points away from
+            the camera (as :class:`RasterSettings`). For a closed, consistently wound mesh the front faces
+            alone cover its silhouette, so this halves the (face, pixel) pairs; each outline edge then has
+            one soft side instead of two (its front face's), so the silhouette is a little sharper outside
+            the outline, and pixels on an edge two front faces share reach only about 0.75 inside it (the
+            back faces behind filled them to 1). Off by default: meshes need not be closed or consistently
+            wound.
     """
 
     image_size: tuple[int, int]
@@ -116,6 +124,7 @@ class SoftSilhouetteSettings:
     cull_eps: float = 1e-4
     near: float = 0.1
     max_pairs_per_chunk: int = 131_072
+    cull_backfaces: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "image_size", _check_image_size(self.image_size, "SoftSilhouetteSettings"))

@@ -54,8 +54,9 @@ counts stay: fewer steps cost template accuracy and silhouette IoU on the seed-1
 steps: template -8 pp, 95 % interval [-15.7, -0.4]). :func:`fit_many` fits several callers' objects in one call
 (:func:`sdn3d.derender.derender`'s proposals and box objects): each stage's fixed cost once. The stages run on one
 torch thread whatever the caller's count (more threads cost CPU time and win nothing on such small operations), so
-the fit is the same at any thread count. The Adam steps draw only the faces facing the camera (``cull_backfaces``: a
-third less time), the losses that rank hypotheses every face. The FFD moves by ``ffd_step`` (0.1) of the Adam step:
+the fit is the same at any thread count. With ``cull_backfaces`` (off by default) the Adam steps draw only the faces
+facing the camera (a third less time), the losses that rank hypotheses every face. The FFD moves by ``ffd_step``
+(0.1) of the Adam step:
 with the full step the fine stage's mean loss jumped from 0.14 to 0.42 at its first step and swung for the rest of
 it (a 10-car frame); with 0.1 it falls nearly monotonically (0.095 at the end against 0.129), and on the seed-13
 tuning tree the silhouette IoU rose by 0.007 (95 % interval [0.002, 0.013]) with template accuracy unchanged. Fewer
@@ -160,7 +161,10 @@ class FitSettings:
             closed, so those cover the outline; about half the soft raster's (face, pixel) pairs), while the final
             losses that rank the hypotheses (the search's survivors, its ``keep`` best, the winner) draw every face.
             Ranked with the culled silhouettes too, template accuracy fell by 7 points on the seed-13 tuning tree;
-            ranked with every face it held (docs/results/2026-11-28_cpu/session6/cost).
+            ranked with every face it held (docs/results/2026-11-28_cpu/session6/cost). Off by default: it cut the
+            fit's CPU time by a third, but on the real frame of ``tests/data`` it turned the black car to its mirror
+            about the line of sight (-92 -> -56 degrees), and on the seed-13 tuning tree it broke 2 flips and fixed
+            none.
         template_size_reg: weight of ``|log d - log d_t|^2``, the size's departure from the typical size of the
             template it is drawn with (:data:`~sdn3d.meshes.templates.TEMPLATE_DIMENSIONS`; only for a bank of the
             templates). A 4 m car fits a pickup's silhouette from behind, but it is not a pickup: on a seed-7 tuning
@@ -200,7 +204,7 @@ class FitSettings:
     yaw_reg: float = 0.02
     ffd_reg: float = 100.0
     ffd_step: float = 0.1
-    cull_backfaces: bool = True
+    cull_backfaces: bool = False
     poor_iou: float = 0.7
     min_mask_pixels: int = 24
     min_mask_side: int = 3

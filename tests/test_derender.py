@@ -323,3 +323,25 @@ def test_refinement_ignores_the_objects_in_front(frame, models):
     assert not bool(ignore[front].any())  # nothing is in front of the nearest object
     others = ignore.sum((1, 2)) > 0
     assert bool(others.any()) and not bool(others[front])
+
+
+@pytest.mark.parametrize("caller", ["edit_benchmark", "counterfactual"])
+def test_the_benchmarks_read_the_geometric_crops_from_the_stored_frame(caller, frame, models, monkeypatch):
+    """The editing benchmark's and the counterfactual benchmark's de-rendered sources get the frame as stored."""
+    import sdn3d.evaluation.counterfactual as counterfactual
+    import sdn3d.evaluation.edit_benchmark as edit_benchmark
+    from sdn3d.data.records import load_rgb
+
+    record, f = frame
+    module = edit_benchmark if caller == "edit_benchmark" else counterfactual
+    given = []
+    monkeypatch.setattr(module, "derender", lambda *a, **k: given.append(k["photo"]) or "scene")
+    if caller == "edit_benchmark":
+        settings = edit_benchmark.BenchSettings(image_size=SIZE, proposals="gt")
+        assert edit_benchmark._source_scene(f.image, f.intrinsics, record, models, settings) == "scene"
+    else:
+        settings = counterfactual.CounterfactualSettings(sources=("gt",))
+        assert counterfactual._source_scene("gt", record, f.image, f.intrinsics, models, settings, SIZE) == "scene"
+    stored = torch.from_numpy(load_rgb(record)).permute(2, 0, 1).float() / 255
+    torch.testing.assert_close(given[0].image, stored)
+    assert given[0].scale == (SIZE[0] / stored.shape[-1], SIZE[1] / stored.shape[-2])

@@ -427,13 +427,13 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     started = time.perf_counter()
     gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
     fit = FitSettings()  # the proposals' test-time fit, as sdn3d-edit's fit_proposals=true gives a user
-    photo = frame_photo(record, source.image_size)  # the crops of the geometric branch read from the stored frame
+    stored = frame_photo(record, source.image_size)  # the geometric branch's crops read from the frame as stored
     scene = derender(frame.image.to(cfg.device), frame.intrinsics, models,
-                     Proposals.SEMANTIC if predicted else Proposals.GT, gt, fit=fit, photo=photo)
+                     Proposals.SEMANTIC if predicted else Proposals.GT, gt, fit=fit, photo=stored)
     proposals = PROPOSAL_LABELS[Proposals.SEMANTIC] if predicted else \
         PROPOSAL_LABELS[Proposals.GT] + (f" ({'; '.join(distrust)})" if distrust else "")
     if predicted and not bool(scene.objects.has_geometry.any()):
-        scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, Proposals.GT, gt, fit=fit, photo=photo)
+        scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, Proposals.GT, gt, fit=fit, photo=stored)
         proposals = PROPOSAL_LABELS[Proposals.GT] + " (the semantic branch found no car with 3D geometry on this frame)"
     derender_s = time.perf_counter() - started
     car, edits, recoloured = _example_edits(cfg, scene, record.key, ckpts["textural"], appearance,

@@ -1,4 +1,4 @@
-# ruff: noqa: E402, E501, E701, E702
+# ruff: noqa: E402, E501, E701, E702, I001
 """Diagnosis (tuning tree val13): the red-lamp reading of each evaluated car under crop variants, to see why the
 photo's crops alone do not fix the flips. Variants: working-size crop + working mask (today's), photo crop +
 working mask (nearest), photo crop + the frame's own-resolution ground-truth mask (oracle), 624x192 working size.

@@ -3,7 +3,7 @@
     python benchmarks/pose_table.py --geometric RUN/checkpoints/last.ckpt --data-root DATA [--part test|all]
                                     [--max-frames 40] [--threads 1] [--fit KEY=VALUE ...] [--out result.json]
                                     [--rows gt_branch gt_fit boxes_branch boxes_fit pred_branch pred_fit]
-                                    [--semantic SEMANTIC.ckpt]
+                                    [--semantic SEMANTIC.ckpt] [--crops photo|image]
 
 On evenly spaced frames of ``--part`` (``all``: every frame of the tree, for a held-out tree no run trained on) the
 evaluated objects are the annotated Car and Van instances with at least ``--min-pixels`` visible pixels at the
@@ -27,6 +27,10 @@ percentile), flips (share of objects whose yaw is more than 90 degrees off: end 
 template the object's mesh is or approximates) beside its majority floor (the share of the evaluated objects' most
 common true template), distance error ``|log |c~| - log |c||`` (median, x1e-2) and scale error ``||s~ - s||_2``
 (median, m). Nothing here selects or tunes anything.
+
+``--crops photo`` (the default, as the edit path does for a user's image): the geometric branch's crops are read from
+the frame as stored on disk (its own resolution, e.g. 624x192 for a working size of 312x96; ``derender(photo=...)``);
+``--crops image``: from the working-size image (the measurement before session 6).
 """
 
 from __future__ import annotations
@@ -48,7 +52,7 @@ sys.path.insert(0, str(REPO))
 
 from sdn3d.cli._config import synth_data_source  # noqa: E402
 from sdn3d.data.frames import load_frame  # noqa: E402
-from sdn3d.data.scene_gt import ground_truth, scene_from_frame  # noqa: E402
+from sdn3d.data.scene_gt import frame_photo, ground_truth, scene_from_frame  # noqa: E402
 from sdn3d.data.sources import load_split  # noqa: E402
 from sdn3d.derender import BoxPrompts, derender  # noqa: E402
 from sdn3d.geometric.fit import FitSettings  # noqa: E402
@@ -136,6 +140,9 @@ def main(argv: list[str] | None = None) -> dict:
     p.add_argument("--match-iou", type=float, default=0.5)
     p.add_argument("--image-size", type=int, nargs=2, default=None, metavar=("W", "H"),
                    help="working size (default: the tree's; the demo's branches work at 312 96)")
+    p.add_argument("--crops", default="photo", choices=("image", "photo"),
+                   help="the geometric branch's crops from the frame at its own resolution (the edit path's default) "
+                        "or from the working-size image (before session 6)")
     p.add_argument("--out", default=None)
     args = p.parse_args(argv)
     if args.no_fit:
@@ -173,6 +180,7 @@ def main(argv: list[str] | None = None) -> dict:
     for record in records:
         frame = load_frame(record, size, semantic=False, instances=False)
         image, intr = frame.image, frame.intrinsics
+        photo = frame_photo(record, size) if args.crops == "photo" else None
         gt = ground_truth(record, size)
         truth = scene_from_frame(record, size)
         ids, boxes = [], []
@@ -194,15 +202,16 @@ def main(argv: list[str] | None = None) -> dict:
             name = ROWS[key]
             t0 = time.perf_counter()
             if key == "gt_branch":
-                scene = derender(image, intr, models, "gt", gt)
+                scene = derender(image, intr, models, "gt", gt, photo=photo)
                 found = [row_of(scene, i) for i in ids]
             elif key in ("gt_fit", "boxes_branch", "boxes_fit"):
                 prompts = BoxPrompts(torch.tensor(boxes), names, kept if key == "boxes_branch" else fit,
                                      **({"masks": gt_masks, "refine_masks": False} if key == "gt_fit" else {}))
-                scene = derender(image, intr, models, "boxes", gt, boxes=prompts)
+                scene = derender(image, intr, models, "boxes", gt, boxes=prompts, photo=photo)
                 found = [row_of(scene, b.instance_id) for b in scene.meta["boxes"]]
             else:
-                scene = derender(image, intr, models, "semantic", gt, fit=fit if key == "pred_fit" else None)
+                scene = derender(image, intr, models, "semantic", gt, fit=fit if key == "pred_fit" else None,
+                                 photo=photo)
                 found = matched_rows(scene, gt_masks, args.match_iou)
             seconds[name] += time.perf_counter() - t0
             scenes[name] = (scene, found)
@@ -248,6 +257,7 @@ def main(argv: list[str] | None = None) -> dict:
             table[name]["matched objects only"] = figures([r for r in rows if r["matched"]])
     result = {"geometric": str(Path(args.geometric).resolve()), "data_root": str(Path(args.data_root).resolve()),
               "part": args.part, "frames": len(records), "lamp_cue": not args.no_lamps, "min_pixels": args.min_pixels,
+              "crops": args.crops, "image_size": list(size),
               "fit_settings": fit.to_dict(), "table": table,
               "seconds": {k: round(v, 1) for k, v in seconds.items()},
               "machine": f"{platform.machine()} cpu, {args.threads} threads, torch {torch.__version__}",

@@ -398,6 +398,7 @@ def test_the_example_car_is_the_largest_found_car_wholly_in_view(tiny_synth, mon
     import sdn3d.derender as derendering
     from sdn3d.cli._config import synth_data_source
     from sdn3d.cli.demo import _found_example
+    from sdn3d.data.records import load_rgb
     from sdn3d.data.scene_gt import scene_from_frame
     from sdn3d.data.sources import load_split
 
@@ -407,6 +408,8 @@ def test_the_example_car_is_the_largest_found_car_wholly_in_view(tiny_synth, mon
     scenes = {}
 
     def stand_in(image, intrinsics, models, proposals, gt, **kwargs):
+        stored = torch.from_numpy(load_rgb(by_key[gt.key])).permute(2, 0, 1).float() / 255
+        assert torch.equal(kwargs["photo"].image, stored)  # the geometric crops read from the frame as stored
         scenes[gt.key] = scene_from_frame(by_key[gt.key], tuple(source.image_size))
         return scenes[gt.key]
 

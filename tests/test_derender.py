@@ -16,7 +16,16 @@ from sdn3d.editing.appearance import render_maps
 from sdn3d.editing.apply import Delete, projected_centers
 from sdn3d.editing.render import edit_image, render
 from sdn3d.geometric.predict import GeometricPredictor
-from sdn3d.image_ops import crop_intrinsics, crop_windows, instance_label_map, mask_boxes, pixel_centre_boxes
+from sdn3d.image_ops import (
+    InputPhoto,
+    crop_intrinsics,
+    crop_windows,
+    instance_label_map,
+    mask_boxes,
+    pixel_centre_boxes,
+    resize_image,
+    square_crop_window,
+)
 from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import VKITTI_INTRINSICS
 from sdn3d.models import Models, geometric_crop_settings
@@ -52,10 +61,10 @@ class Spy(GeometricPredictor):
         super().__init__(net)
         self.calls: list[dict] = []
 
-    def predict(self, crop, mask, box, intrinsics, crop_intrinsics=None, ignore=None, refine=None):
+    def predict(self, crop, mask, box, intrinsics, crop_intrinsics=None, ignore=None, refine=None, lamp_mask=None):
         self.calls.append({"crop": crop, "mask": mask, "box": box, "intrinsics": intrinsics, "ignore": ignore,
-                           "refine": refine})
-        return super().predict(crop, mask, box, intrinsics, crop_intrinsics, ignore, refine)
+                           "refine": refine, "lamp_mask": lamp_mask})
+        return super().predict(crop, mask, box, intrinsics, crop_intrinsics, ignore, refine, lamp_mask)
 
 
 def _one_window(maps, left, top, side, out_size, mode):
@@ -80,6 +89,71 @@ def test_crop_windows_follow_the_sampling_rule_window_by_window():
     per_window = torch.rand(3, 1, 20, 30)
     one = crop_windows(per_window, windows, 8, "nearest")
     torch.testing.assert_close(one[1], _one_window(per_window[1], -5, 12, 14, 8, "nearest"))
+
+
+def test_antialiased_crops_are_box_filtered_and_small_windows_unchanged():
+    maps = torch.rand(3, 40, 60)
+    # A window of 32 pixels read into 8: each crop pixel is the mean of its 4 x 4 block (samples at pixel centres).
+    got = crop_windows(maps, torch.tensor([[5.0, 3.0, 32.0]]), 8, "bilinear", antialias=True)
+    torch.testing.assert_close(got[0], torch.nn.functional.avg_pool2d(maps[:, 3:35, 5:37][None], 4)[0])
+    # Windows at most the crop's size are sampled as without the filter, also beside a large one.
+    windows = torch.tensor([[3.0, 4.0, 7.0], [2.0, 1.0, 30.0], [-2.0, 5.0, 8.0]])
+    both = crop_windows(maps, windows, 8, "bilinear", antialias=True)
+    plain = crop_windows(maps, windows, 8, "bilinear")
+    assert torch.equal(both[[0, 2]], plain[[0, 2]]) and not torch.allclose(both[1], plain[1])
+    # (left, top, width, height) windows: the same rule per axis.
+    wide = crop_windows(maps, torch.tensor([[3.0, 4.0, 7.0, 7.0]]), 8, "bilinear")
+    assert torch.equal(wide, plain[:1])
+
+
+def test_input_photo_crops_cover_the_working_windows_region():
+    photo = torch.rand(3, 48, 128)  # a working image of 64 x 24 is this photo halved
+    inp = InputPhoto(photo, (0.5, 0.5))
+    windows = torch.tensor([[10.0, 2.0, 16.0], [40.0, 5.0, 4.0]])
+    assert inp.windows(windows).tolist() == [[20.0, 4.0, 32.0, 32.0], [80.0, 10.0, 8.0, 8.0]]
+    crops = inp.crops(windows, 8)
+    # The 32-pixel window of the photo read into 8: the mean of each 4 x 4 block of the photo's own pixels.
+    torch.testing.assert_close(crops[0], torch.nn.functional.avg_pool2d(photo[:, 4:36, 20:52][None], 4)[0])
+    torch.testing.assert_close(crops[1], photo[:, 10:18, 80:88])
+    # A scaled and cropped working image: the window's edges map as u_in = (u_work + left) / sx.
+    shifted = InputPhoto(photo, (0.25, 0.5), (3, 1))
+    assert shifted.windows(windows[:1]).tolist() == [[52.0, 6.0, 64.0, 32.0]]
+    with pytest.raises(ValueError, match="scale"):
+        InputPhoto(photo, (0.0, 1.0))
+
+
+def test_derender_reads_the_geometric_crops_from_the_photo(frame, models):
+    """The branch's crops come from the photo at its own resolution (the windows the working image's would be), the
+    masks from the working size, and the lamp cue reads only the crop pixels surely inside the mask."""
+    record, f = frame
+    photo = torch.rand(3, SIZE[1] * 2, SIZE[0] * 2)
+    image = resize_image(photo, SIZE)  # the working image is the photo halved (area)
+    spy = Spy(models.geometric.net)
+    spied = Models(None, spy, models.textural, crop_size=32, margin=0.1)
+    plain = derender(image, f.intrinsics, spied, "gt", gt(record), min_pixels=1)
+    scene = derender(image, f.intrinsics, spied, "gt", gt(record), min_pixels=1, photo=InputPhoto(photo, (0.5, 0.5)))
+    before, call = spy.calls
+    assert scene.meta["crops_from"] == "photo" and plain.meta["crops_from"] == "image"
+    assert before["lamp_mask"] is None
+    torch.testing.assert_close(call["mask"], before["mask"])  # the masks: the working size's, same windows
+    boxes = call["box"]
+    windows = torch.tensor([square_crop_window(b, 0.1) for b in boxes], dtype=torch.float32)
+    read = crop_windows(photo, windows * 2, 32, "bilinear", antialias=True)
+    torch.testing.assert_close(call["crop"], read * call["mask"])
+    assert not torch.allclose(call["crop"], before["crop"])
+    # The lamps' pixels: inside the mask, and at least half a working pixel in from its edge (every working pixel
+    # within half a pixel of a lamp pixel is the object's).
+    sure, whole = call["lamp_mask"] > 0.5, call["mask"] > 0.5
+    assert bool((sure <= whole).all()) and 0 < int(sure.sum()) < int(whole.sum())
+    masks = scene.objects.mask[scene.objects.has_geometry]
+    for i, (left, top, side) in enumerate(windows.tolist()):
+        centres = (torch.arange(32) + 0.5) * (side / 32) - 0.5
+        v, u = torch.meshgrid(top + centres, left + centres, indexing="ij")
+        rows, cols = sure[i, 0].nonzero().unbind(1)
+        for dv in (-0.499, 0.499):
+            for du in (-0.499, 0.499):
+                y, x = (v[rows, cols] + dv).round().long(), (u[rows, cols] + du).round().long()
+                assert bool(masks[i][y, x].all())
 
 
 def test_crop_intrinsics_follow_crop_and_resize():
@@ -249,3 +323,25 @@ def test_refinement_ignores_the_objects_in_front(frame, models):
     assert not bool(ignore[front].any())  # nothing is in front of the nearest object
     others = ignore.sum((1, 2)) > 0
     assert bool(others.any()) and not bool(others[front])
+
+
+@pytest.mark.parametrize("caller", ["edit_benchmark", "counterfactual"])
+def test_the_benchmarks_read_the_geometric_crops_from_the_stored_frame(caller, frame, models, monkeypatch):
+    """The editing benchmark's and the counterfactual benchmark's de-rendered sources get the frame as stored."""
+    import sdn3d.evaluation.counterfactual as counterfactual
+    import sdn3d.evaluation.edit_benchmark as edit_benchmark
+    from sdn3d.data.records import load_rgb
+
+    record, f = frame
+    module = edit_benchmark if caller == "edit_benchmark" else counterfactual
+    given = []
+    monkeypatch.setattr(module, "derender", lambda *a, **k: given.append(k["photo"]) or "scene")
+    if caller == "edit_benchmark":
+        settings = edit_benchmark.BenchSettings(image_size=SIZE, proposals="gt")
+        assert edit_benchmark._source_scene(f.image, f.intrinsics, record, models, settings) == "scene"
+    else:
+        settings = counterfactual.CounterfactualSettings(sources=("gt",))
+        assert counterfactual._source_scene("gt", record, f.image, f.intrinsics, models, settings, SIZE) == "scene"
+    stored = torch.from_numpy(load_rgb(record)).permute(2, 0, 1).float() / 255
+    torch.testing.assert_close(given[0].image, stored)
+    assert given[0].scale == (SIZE[0] / stored.shape[-1], SIZE[1] / stored.shape[-2])

@@ -130,3 +130,17 @@ def test_sdn3d_edit_and_the_session_draw_the_same_picture(opened, tiny_synth, ck
     assert np.array_equal(written, session.edit(scene, parse_edit_spec(ops)).edited)
     record = json.loads((tmp_path / "out" / "edit.json").read_text())
     assert record["input"] == vkitti1.read_frames(tiny_synth)[4].key and record["ops"][0]["op"] == "Rotate"
+
+
+def test_the_session_reads_the_geometric_crops_from_the_input_photo(opened, monkeypatch):
+    """sdn3d-edit and the browser editor (one EditSession) give derender the input at its own resolution."""
+    _, inp, make = opened
+    given = []
+    real = sdn3d.derender.derender
+    monkeypatch.setattr(sdn3d.derender, "derender", lambda *a, **k: given.append(k.get("photo")) or real(*a, **k))
+    scene = make().derender(inp).scene
+    photo = given[0]
+    assert scene.meta["crops_from"] == "photo"
+    assert tuple(photo.image.shape) == (3, inp.picture.shape[0], inp.picture.shape[1])
+    torch.testing.assert_close(photo.image, torch.from_numpy(inp.picture).permute(2, 0, 1).float() / 255)
+    assert photo.scale == inp.frame.scale and tuple(photo.offset) == tuple(inp.frame.offset)

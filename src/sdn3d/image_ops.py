@@ -14,7 +14,8 @@ also the form the geometric branch's box encoding and crop windows are defined o
 - label maps: :func:`instance_label_map`, :func:`boundary_map`;
 - square object crops of the geometric branch: :func:`square_crop_window`, :func:`crop_windows`,
   :func:`crop_intrinsics` (the datasets and :func:`sdn3d.derender.derender` use the same code, so the
-  branch sees identical crops in training and at inference).
+  branch sees identical crops in training and at inference); :class:`InputPhoto`: the photo a working image was
+  made from, at its own resolution, and its windows (:meth:`InputPhoto.crops`: the same crops read from it).
 
 Example:
     >>> mask = torch.zeros(1, 4, 6, dtype=torch.bool)
@@ -26,6 +27,7 @@ Example:
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import torch
@@ -49,6 +51,7 @@ __all__ = [
     "square_crop_window",
     "crop_windows",
     "crop_intrinsics",
+    "InputPhoto",
 ]
 
 
@@ -183,31 +186,91 @@ def square_crop_window(box: Tensor, margin: float) -> tuple[int, int, int]:
 
 
 
-def crop_windows(maps: Tensor, windows: Tensor, size: int, mode: str) -> Tensor:
-    """Resample ``N`` square windows of ``maps`` to ``(N, C, size, size)`` in one ``grid_sample``.
+def crop_windows(maps: Tensor, windows: Tensor, size: int, mode: str, antialias: bool = False) -> Tensor:
+    """Resample ``N`` windows of ``maps`` to ``(N, C, size, size)`` with ``grid_sample``.
 
-    Output pixel ``j`` of window
-    ``(left, top, side)`` samples ``u = left + (j + 0.5) side / size - 0.5`` (zeros outside).
+    Output pixel ``j`` of window ``(left, top, side)`` samples ``u = left + (j + 0.5) side / size - 0.5`` (zeros
+    outside); a window ``(left, top, width, height)`` (floats allowed) uses ``width`` across and ``height`` down.
 
     Args:
         maps: ``(C, H, W)`` shared by all windows, or ``(N, C, H, W)`` one per window.
-        windows: ``(N, 3)`` ``(left, top, side)`` in pixels.
+        windows: ``(N, 3)`` ``(left, top, side)`` or ``(N, 4)`` ``(left, top, width, height)`` in pixels.
         mode: ``'bilinear'`` or ``'nearest'``.
+        antialias: each output pixel is the mean of ``k x k`` samples spread over its footprint, ``k`` the
+            window's ``ceil(side / size)`` (a box filter where the window is larger than the crop; a window at most
+            ``size`` across is sampled as without it). Windows of one ``k`` share one ``grid_sample``.
     """
-    if windows.dim() != 2 or windows.shape[1] != 3:
-        raise ValueError(f"windows must be (N, 3) (left, top, side), got {tuple(windows.shape)}")
+    if windows.dim() != 2 or windows.shape[1] not in (3, 4):
+        raise ValueError(f"windows must be (N, 3) (left, top, side) or (N, 4) (left, top, width, height), got "
+                         f"{tuple(windows.shape)}")
     n = windows.shape[0]
     if maps.dim() == 3:
         maps = maps[None].expand(n, *maps.shape)
     if maps.dim() != 4 or maps.shape[0] != n:
         raise ValueError(f"maps must be (C, H, W) or (N={n}, C, H, W), got {tuple(maps.shape)}")
-    height, width = maps.shape[-2:]
     w = windows.to(device=maps.device, dtype=torch.float32)
-    centres = (torch.arange(size, dtype=torch.float32, device=maps.device) + 0.5)[None] * (w[:, 2:3] / size) - 0.5
-    gx = (w[:, :1] + centres) * (2.0 / width) + (1.0 / width - 1.0)  # (N, S)
-    gy = (w[:, 1:2] + centres) * (2.0 / height) + (1.0 / height - 1.0)
+    if w.shape[1] == 3:
+        w = torch.cat([w, w[:, 2:3]], 1)
+    if not antialias:
+        return _sample_windows(maps, w, size, mode)
+    factor = torch.ceil(w[:, 2:].amax(1) / size - 1e-6).clamp_min(1).long()
+    out = maps.new_zeros(n, maps.shape[1], size, size, dtype=torch.float32)
+    for k in factor.unique().tolist():  # one grid_sample per supersampling factor (a few at most)
+        rows = (factor == k).nonzero().flatten()
+        fine = _sample_windows(maps[rows], w[rows], size * k, mode)
+        out[rows] = fine if k == 1 else F.avg_pool2d(fine, k)
+    return out
+
+
+def _sample_windows(maps: Tensor, w: Tensor, size: int, mode: str) -> Tensor:
+    """``crop_windows`` of ``maps (N, C, H, W)`` and windows ``w (N, 4)`` ``(left, top, width, height)``."""
+    n = w.shape[0]
+    height, width = maps.shape[-2:]
+    steps = (torch.arange(size, dtype=torch.float32, device=maps.device) + 0.5)[None]
+    gx = (w[:, :1] + (steps * (w[:, 2:3] / size) - 0.5)) * (2.0 / width) + (1.0 / width - 1.0)  # (N, S)
+    gy = (w[:, 1:2] + (steps * (w[:, 3:4] / size) - 0.5)) * (2.0 / height) + (1.0 / height - 1.0)
     grid = torch.stack([gx[:, None, :].expand(n, size, size), gy[:, :, None].expand(n, size, size)], -1)
     return F.grid_sample(maps.float(), grid, mode=mode, padding_mode="zeros", align_corners=False)
+
+
+@dataclass(frozen=True)
+class InputPhoto:
+    """The photo a working image was made from, at its own resolution: the working image is the photo resized by
+    ``scale = (sx, sy)`` (working / input per axis) and cropped at ``offset (left, top)`` of the resized image
+    (:class:`sdn3d.editing.frame.PixelFrame`'s map; :meth:`~sdn3d.editing.frame.PixelFrame.photo` makes one).
+
+    :func:`sdn3d.derender.derender` reads the geometric branch's object crops from it (:meth:`crops`), so that a
+    small object's crop (and the lamp cue that reads it) holds the photo's detail rather than the working image's.
+
+    Attributes:
+        image: ``(3, H_in, W_in)`` float in ``[0, 1]``.
+        scale: ``(sx, sy)``: working pixels per input pixel.
+        offset: ``(left, top)``: the working image's crop in the resized photo, in working pixels.
+    """
+
+    image: Tensor
+    scale: tuple[float, float]
+    offset: tuple[int, int] = (0, 0)
+
+    def __post_init__(self) -> None:
+        if self.image.dim() != 3 or self.image.shape[0] != 3 or not self.image.is_floating_point():
+            raise ValueError(f"InputPhoto.image must be a float (3, H, W) tensor, got {self.image.dtype} "
+                             f"{tuple(self.image.shape)}")
+        if len(self.scale) != 2 or not all(math.isfinite(v) and v > 0 for v in self.scale):
+            raise ValueError(f"InputPhoto.scale must be two positive numbers, got {self.scale!r}")
+
+    def windows(self, windows: Tensor) -> Tensor:
+        """``(N, 4)`` ``(left, top, width, height)`` in the photo's pixels of working-image windows ``(N, 3)``
+        ``(left, top, side)``: the same region (window edges map as ``x_in = (x_work + left) / sx``)."""
+        w = windows.double()
+        (sx, sy), (ox, oy) = self.scale, self.offset
+        return torch.stack([(w[:, 0] + ox) / sx, (w[:, 1] + oy) / sy, w[:, 2] / sx, w[:, 2] / sy], 1).float()
+
+    def crops(self, windows: Tensor, size: int) -> Tensor:
+        """``(N, 3, size, size)`` crops of the working-image windows ``(N, 3)`` read from the photo, antialiased
+        (:func:`crop_windows`): where a window spans more photo pixels than the crop has, a box filter, as an area
+        resize of the photo to the working size would average them."""
+        return crop_windows(self.image.float(), self.windows(windows), size, "bilinear", antialias=True)
 
 
 def crop_intrinsics(intr: Intrinsics, windows: Tensor, size: int) -> Tensor:

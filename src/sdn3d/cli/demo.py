@@ -404,7 +404,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     from sdn3d.cli._config import synth_data_source
     from sdn3d.data.frames import load_frame
     from sdn3d.data.records import load_rgb
-    from sdn3d.data.scene_gt import ground_truth
+    from sdn3d.data.scene_gt import frame_photo, ground_truth
     from sdn3d.data.sources import load_split
     from sdn3d.derender import PROPOSAL_LABELS, Models, derender
     from sdn3d.editing.frame import PixelFrame
@@ -427,12 +427,13 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     started = time.perf_counter()
     gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
     fit = FitSettings()  # the proposals' test-time fit, as sdn3d-edit's fit_proposals=true gives a user
+    stored = frame_photo(record, source.image_size)  # the geometric branch's crops read from the frame as stored
     scene = derender(frame.image.to(cfg.device), frame.intrinsics, models,
-                     Proposals.SEMANTIC if predicted else Proposals.GT, gt, fit=fit)
+                     Proposals.SEMANTIC if predicted else Proposals.GT, gt, fit=fit, photo=stored)
     proposals = PROPOSAL_LABELS[Proposals.SEMANTIC] if predicted else \
         PROPOSAL_LABELS[Proposals.GT] + (f" ({'; '.join(distrust)})" if distrust else "")
     if predicted and not bool(scene.objects.has_geometry.any()):
-        scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, Proposals.GT, gt, fit=fit)
+        scene = derender(frame.image.to(cfg.device), frame.intrinsics, models, Proposals.GT, gt, fit=fit, photo=stored)
         proposals = PROPOSAL_LABELS[Proposals.GT] + " (the semantic branch found no car with 3D geometry on this frame)"
     derender_s = time.perf_counter() - started
     car, edits, recoloured = _example_edits(cfg, scene, record.key, ckpts["textural"], appearance,
@@ -480,7 +481,7 @@ def _found_example(records: Sequence[Any], source: Any, models: Any, device: str
     shows; the scene, its masks and its geometry are the branches' own. None where the proposals found no such
     car."""
     from sdn3d.data.frames import load_frame
-    from sdn3d.data.scene_gt import ground_truth
+    from sdn3d.data.scene_gt import frame_photo, ground_truth
     from sdn3d.derender import derender
     from sdn3d.labels import INSTANCE_DIVISOR
 
@@ -491,7 +492,8 @@ def _found_example(records: Sequence[Any], source: Any, models: Any, device: str
             continue
         frame = load_frame(record, source.image_size, semantic=True, instances=True)
         gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
-        table = derender(frame.image.to(device), frame.intrinsics, models, "semantic", gt).objects
+        table = derender(frame.image.to(device), frame.intrinsics, models, "semantic", gt,
+                         photo=frame_photo(record, source.image_size)).objects
         mask = table.mask.bool().cpu()
         annotated = (frame.instances % INSTANCE_DIVISOR) * (frame.instances >= INSTANCE_DIVISOR)  # 0: none
         for row in (table.has_geometry.cpu() & wholly_in_view(mask)).nonzero().flatten().tolist():

@@ -7,20 +7,22 @@ datasets; this data-side adapter turns a :class:`~sdn3d.data.records.FrameRecord
   (the editing benchmark's "oracle" de-rendering);
 - :func:`ground_truth`: a :class:`~sdn3d.derender.GroundTruth` (maps and annotated boxes at the
   working size) for ``derender(..., proposals='gt')``;
+- :func:`frame_photo`: the frame as stored (its own resolution), for ``derender(..., photo=...)``: the geometric
+  branch's crops read from it.
 """
 
 from __future__ import annotations
 
 import torch
 
-from sdn3d.data.records import FrameRecord, load_instances, load_semantic, mesh_name_for
+from sdn3d.data.records import FrameRecord, load_instances, load_rgb, load_semantic, mesh_name_for
 from sdn3d.derender import GroundTruth
-from sdn3d.image_ops import resize_map, scale_boxes
+from sdn3d.image_ops import InputPhoto, resize_map, scale_boxes, to_image_tensor
 from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR, VKITTI_CLASS_INDEX
 from sdn3d.meshes.templates import TEMPLATE_NAMES
 from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode, SceneObject
 
-__all__ = ["scene_from_frame", "ground_truth"]
+__all__ = ["scene_from_frame", "ground_truth", "frame_photo"]
 
 
 def _class_list_name(record: FrameRecord) -> str:
@@ -81,3 +83,11 @@ def ground_truth(record: FrameRecord, size: tuple[int, int]) -> GroundTruth:
             box = torch.tensor(obj.box2d, dtype=torch.float32)
             boxes[obj.track_id + 1] = scale_boxes(box, record.intrinsics, size)
     return GroundTruth(record.key, _class_list_name(record), semantic, instances, boxes)
+
+
+def frame_photo(record: FrameRecord, size: tuple[int, int]) -> InputPhoto:
+    """The frame's image as stored, with the plain resize to the working ``size = (W, H)`` that
+    :func:`~sdn3d.data.frames.load_frame` applies (:class:`~sdn3d.image_ops.InputPhoto`, for ``derender``'s
+    ``photo``)."""
+    image = to_image_tensor(load_rgb(record))
+    return InputPhoto(image, (size[0] / image.shape[-1], size[1] / image.shape[-2]))

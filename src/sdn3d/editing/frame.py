@@ -16,6 +16,7 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.data.edit_benchmark import scale_point
+from sdn3d.image_ops import InputPhoto
 from sdn3d.math3d.camera import Intrinsics
 
 __all__ = ["PixelFrame", "input_intrinsics", "upsample_ids", "sampling_grid", "working_to_input"]
@@ -55,6 +56,15 @@ class PixelFrame:
         """A working-image pixel -> the input image's pixel."""
         sx, sy = self.scale
         return ((uv[0] + self.offset[0] + 0.5) / sx - 0.5, (uv[1] + self.offset[1] + 0.5) / sy - 0.5)
+
+    def photo(self, image: Tensor) -> InputPhoto:
+        """The input image ``(3, H_in, W_in)`` float in [0, 1] (or ``(H_in, W_in, 3)`` uint8) with this map, for
+        :func:`sdn3d.derender.derender`'s ``photo`` (the geometric branch's crops read at the input's resolution)."""
+        if image.dtype == torch.uint8 and image.dim() == 3 and image.shape[-1] == 3:
+            image = image.permute(2, 0, 1).float().div(255.0)
+        if tuple(image.shape[-2:]) != (self.input_size[1], self.input_size[0]):
+            raise ValueError(f"the photo is {tuple(image.shape)}, the frame's input is {self.input_size} (W, H)")
+        return InputPhoto(image.float(), self.scale, tuple(self.offset))
 
     def to_dict(self) -> dict:
         sx, sy = self.scale

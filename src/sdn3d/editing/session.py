@@ -47,6 +47,7 @@ from sdn3d.editing.ops import EditOp, SetBackgroundCode, SetCode
 from sdn3d.editing.photo.settings import PhotoSettings
 from sdn3d.editing.spec import EditSpec, EditSpecError, apply_spec, box_prompts, resolve_ops
 from sdn3d.errors import InputError
+from sdn3d.image_ops import InputPhoto
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.scene.code import SceneCode
 from sdn3d.textural.codes import CodeBank
@@ -102,6 +103,12 @@ class EditInput:
     def original(self) -> Tensor:
         """``(3, H, W)`` uint8 view of :attr:`picture` (no copy)."""
         return torch.from_numpy(self.picture).permute(2, 0, 1)
+
+    @property
+    def photo(self) -> InputPhoto:
+        """The input at its own resolution with :attr:`frame`'s map: the geometric branch's crops are read from it
+        (:func:`sdn3d.derender.derender`'s ``photo``)."""
+        return self.frame.photo(self.original.float().div(255.0))
 
 
 @dataclass(frozen=True)
@@ -303,7 +310,7 @@ class EditSession:
             # through the module: a test may stand in for the de-render (sdn3d.derender.derender)
             scene = derendering.derender(inp.image, inp.intrinsics, self.models, s.proposals, inp.ground_truth,
                                          min_pixels=s.min_pixels, refine=s.refine, boxes=boxes,
-                                         fit=self.proposal_fit)
+                                         fit=self.proposal_fit, photo=inp.photo)
             scene.meta["refined"] = s.refine is not None
             elapsed = 1000 * (time.perf_counter() - t0)
             records = boxes_record(scene, inp.frame)

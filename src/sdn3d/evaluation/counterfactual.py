@@ -49,7 +49,7 @@ from sdn3d.data.counterfactual import CounterfactualIndex, CounterfactualPair, l
 from sdn3d.data.edit_benchmark import BenchmarkOperation
 from sdn3d.data.frames import load_frame
 from sdn3d.data.records import FrameRecord, load_instances, load_semantic
-from sdn3d.data.scene_gt import ground_truth, scene_from_frame
+from sdn3d.data.scene_gt import frame_photo, ground_truth, scene_from_frame
 from sdn3d.derender import PROPOSAL_LABELS, Models, derender, encode_scene
 from sdn3d.editing.appearance import Appearance, appearance_renderer
 from sdn3d.editing.apply import apply_edits, projected_centers
@@ -225,7 +225,7 @@ def _source_scene(source: str, record: FrameRecord, image: Tensor, intrinsics, m
         return encode_scene(scene, image, textural) if textural is not None else scene
     proposals = "semantic" if source == "semantic" else "gt"
     return derender(image, intrinsics, models, proposals, ground_truth(record, size), min_pixels=settings.min_pixels,
-                    fit=settings.fit)
+                    fit=settings.fit, photo=frame_photo(record, size))
 
 
 def _match(scene: SceneCode, instance_id: int, source_mask: Tensor) -> tuple[int | None, float]:

@@ -60,7 +60,7 @@ from torch import Tensor
 from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, BenchmarkEntry, scale_operation
 from sdn3d.data.frames import load_frame
 from sdn3d.data.records import FrameRecord, load_instances
-from sdn3d.data.scene_gt import ground_truth, scene_from_frame
+from sdn3d.data.scene_gt import frame_photo, ground_truth, scene_from_frame
 from sdn3d.derender import PROPOSAL_LABELS, Models, derender, encode_scene
 from sdn3d.editing.appearance import (
     PICTURE_MODES,
@@ -374,7 +374,7 @@ def _source_scene(image: Tensor, intrinsics, record: FrameRecord, models: Models
         return encode_scene(scene, image, models.textural)
     gt = ground_truth(record, (intrinsics.width, intrinsics.height))
     return derender(image, intrinsics, models, settings.proposals, gt, min_pixels=settings.min_pixels,
-                    fit=settings.fit)
+                    fit=settings.fit, photo=frame_photo(record, (intrinsics.width, intrinsics.height)))
 
 
 def _to_uint8(image: Tensor) -> np.ndarray:

@@ -104,6 +104,7 @@ class GeometricPredictor:
         crop_intrinsics: Tensor | None = None,
         ignore: Tensor | None = None,
         refine: RefineSettings | None = None,
+        lamp_mask: Tensor | None = None,
     ) -> dict[str, Tensor]:
         """3D attributes of ``N`` objects (see :func:`decode_outputs` for the keys).
 
@@ -118,6 +119,9 @@ class GeometricPredictor:
             ignore: ``(N, 1, S, S)`` crop pixels the refinement does not count (closer objects).
             refine: when given (needs ``mask`` and ``crop_intrinsics``), the predictions are refined
                 by :func:`~sdn3d.geometric.refine.refine_by_reprojection` against ``mask`` (Cityscapes).
+            lamp_mask: ``(N, 1, S, S)`` the crop pixels the lamp cue reads (default: ``mask``); e.g. only those
+                surely on the object where the mask is coarser than the crop's pixels
+                (:func:`sdn3d.derender.derender` with a photo).
 
         With ``mask`` and :attr:`lamp_cue`, the yaw is then turned end for end where the lamps disagree with it; the
         output then also holds what the appearance says of any yaw (:func:`~sdn3d.geometric.facing.facing_belief`):
@@ -146,11 +150,13 @@ class GeometricPredictor:
         out = decode_outputs(raw, box, intrinsics, self.encoding, self.net.templates)
         if self.lamp_cue is not None and mask is not None:
             ray = ray_angle(box, intrinsics)
-            present, usable, offset = red_lamps(crop, mask.to(device), self.lamp_cue)
+            lamps = mask.to(device) if lamp_mask is None else lamp_mask.to(device)
+            seen = crop * lamps
+            present, usable, offset = red_lamps(seen, lamps, self.lamp_cue)
             out.update(net_ry=out["ry"], ray=ray, lamp_present=present, lamp_usable=usable, lamp_offset=offset)
-            present, usable, offset = white_lamps(crop, mask.to(device), self.lamp_cue)
+            present, usable, offset = white_lamps(seen, lamps, self.lamp_cue)
             out.update(front_present=present, front_usable=usable, front_offset=offset)
-            out["ry"] = face_by_lamps(out["ry"], ray, crop, mask.to(device), self.lamp_cue)
+            out["ry"] = face_by_lamps(out["ry"], ray, seen, lamps, self.lamp_cue)
         if crop_intrinsics is not None:
             out["silhouette"] = render_silhouettes(
                 bank, out["template_id"], out["dims"], out["ry"], out["center"],

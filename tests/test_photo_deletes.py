@@ -207,47 +207,7 @@ def test_ray_marks_setting_is_checked():
         PhotoSettings(ray_marks=-0.1)
 
 
-# -- session 6: light cars at the vanishing point are no markings; fog along the rays -------------------------------
-
-
-def test_a_light_car_at_the_vanishing_point_is_no_marking(monkeypatch):
-    """On the horizon's rows a hole reaches a white car at the vanishing point on one side and a dark car on the
-    other: neither is paint, and ``marks`` leaves the rays' interpolation there as it is (it took the dark side, the
-    t1_31 occluder-removed entries that lost 4 dB); a dash well below the horizon is still one-sided."""
-    height, width = 96, 160
-    vp = (140.0, 40.0)
-    image = torch.full((3, height, width), 0.45)
-    image[:, :40] = torch.tensor([0.55, 0.6, 0.65])[:, None, None]  # above the horizon
-    image[:, 26:48, 106:150] = 0.2  # a dark lorry behind
-    image[:, 37:44, 100:106] = 0.9  # a white car beside the vanishing point, right of the hole
-    image[:, 37:44, 60:70] = 0.2  # a dark car left of it
-    hole = torch.zeros(height, width, dtype=torch.bool)
-    hole[37:44, 70:100] = True  # rays within 5 degrees of the horizontal
-    plain, _ = ray_fill(image, hole, vp, texture=0.0)
-    marked, _ = ray_fill(image, hole, vp, texture=0.0, marks=0.2)
-    assert float((marked - plain)[:, hole].abs().max()) < 0.03
-    import sdn3d.editing.photo.road as road
-
-    monkeypatch.setattr(road, "MARK_SLOPE", (-2.0, -1.0))  # a marking on every ray (the rule before)
-    before, _ = ray_fill(image, hole, vp, texture=0.0, marks=0.2)
-    assert float((before - plain)[:, hole].abs().max()) > 0.2  # the dark side alone
-
-
-def test_two_equally_light_sides_are_no_one_sided_marking():
-    """Both sides of a ray equally light (a light car behind the removed one, seen on both sides) but lighter than
-    their neighbourhoods by different amounts: the weights stay (before, the side lighter than its neighbourhood
-    lost its weight)."""
-    from sdn3d.editing.photo.road import _one_sided_marks
-
-    light = torch.full((3, 4), 0.7)
-    b_out, b_in = torch.full((3, 4), 0.45), torch.full((3, 4), 0.58)
-    w_out, w_in = torch.full((4,), 0.5), torch.full((4,), 0.5)
-    both = torch.ones(4, dtype=torch.bool)
-    n_out, n_in = _one_sided_marks(light, light, b_out, b_in, w_out, w_in, both, 0.2)
-    assert torch.allclose(n_out, w_out) and torch.allclose(n_in, w_in)
-    road = torch.full((3, 4), 0.45)  # the other side plain road: the marking still gives way
-    n_out, _ = _one_sided_marks(light, road, b_out, b_in, w_out, w_in, both, 0.2)
-    assert float(n_out.max()) < 0.01
+# -- session 6: fog along the rays ------------------------------------------------------------------------------------
 
 
 def _foggy_road(fog: float, height: int = 96, width: int = 160, horizon: float = 30.0) -> torch.Tensor:
@@ -276,6 +236,12 @@ def test_fog_along_the_rays_lightens_near_road_carried_towards_the_horizon():
     truth = float(foggy[far].mean())
     assert abs(float(dark[far].mean()) - truth) > 0.1
     assert abs(float(fogged[far].mean()) - truth) < 0.03
+    from sdn3d.editing.photo.fill import fill_hole  # photo.ray_haze reaches the rays
+
+    fixed = {"fill": "rays", "ray_grain": "fixed", "ray_texture": 0.0}
+    on = fill_hole(foggy, hole, PhotoSettings(**fixed), vanishing=vp)
+    off = fill_hole(foggy, hole, PhotoSettings(**fixed, ray_haze=0.0), vanishing=vp)
+    assert abs(float(on[far].mean()) - truth) < 0.03 < abs(float(off[far].mean()) - truth)
     clear = _foggy_road(0.4)
     assert road_haze(clear, ~hole, hole, vp[1]) is None or torch.allclose(
         ray_fill(clear, hole, vp, texture=0.0, haze=1.0)[0], ray_fill(clear, hole, vp, texture=0.0)[0], atol=1e-3)

@@ -238,7 +238,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         w_in = torch.where(f_in, 1 - w_out, torch.zeros_like(d_in))
         if marks > 0:
             w_out, w_in = _one_sided_marks(c_out, c_in, _gather_coarse(broad, q_out), _gather_coarse(broad, q_in),
-                                           w_out, w_in, f_out & f_in, marks, u[:, 1].abs())
+                                           w_out, w_in, f_out & f_in, marks)
         val = c_out * w_out + c_in * w_in
         if per_row is not None:  # the road's colour at this pixel's row less its colour at the sources' rows
             def at(rows: Tensor) -> Tensor:
@@ -319,41 +319,24 @@ MARK_CHROMA = 0.12
 #: Gaussian sigma (pixels) of the neighbourhood a marking is lighter than (a dash is a few pixels wide; a fog or
 #: lighting gradient is as light as its neighbourhood at this scale).
 MARK_SIGMA = 16.0
-#: Least steepness (sine of the angle below or above the horizontal) of a ray on which a one-sided marking is
-#: looked for, and where it counts fully. A line of the road at ``X`` metres to the side of a camera ``h`` metres
-#: up runs at ``atan(h / X)`` from the horizontal in the picture: the lanes' lines within 8 m of a camera 1.6 m up
-#: are steeper than 11 degrees. A flatter ray runs along the horizon, where a source lighter than its neighbourhood
-#: is a light car or a facade at the vanishing point, not paint (on the t1_31 tuning tree such rays took the dark
-#: side beside the vanishing point and cost two occluder-removed entries 3-4 dB).
-MARK_SLOPE = (math.sin(math.radians(5.0)), math.sin(math.radians(10.0)))
 
 
 def _one_sided_marks(c_out: Tensor, c_in: Tensor, b_out: Tensor, b_in: Tensor, w_out: Tensor, w_in: Tensor,
-                     both: Tensor, step: float, steep: Tensor | None = None) -> tuple[Tensor, Tensor]:
+                     both: Tensor, step: float) -> tuple[Tensor, Tensor]:
     """``(w_out, w_in)`` with the rays whose two sides disagree about a marking given to the unmarked side alone:
-    where ``both (N,)`` sides were found and one side's colour ``(3, N)`` is near grey (:data:`MARK_CHROMA`), more
-    than ``step`` lighter in luma than its own neighbourhood (``b_out``, ``b_in``: the sources blurred at
-    :data:`MARK_SIGMA`) and more than ``step`` lighter than the other side, on a ray steep enough to be a line of the
-    road (``steep (N,)``: the sine of each ray's angle from the horizontal, :data:`MARK_SLOPE`; None: every ray).
-    A dash seen on one side of the hole, interpolated towards plain road on the other, draws a long fading stripe
-    along its line (the real frame's red car); a solid line seen on both sides still crosses the hole, a fog
-    gradient (as light as its neighbourhood) is no marking, and neither are two equally light sides (a light car
-    behind the removed one) nor a light car or facade beside the vanishing point on a ray along the horizon."""
+    where ``both (N,)`` sides were found and one side's colour ``(3, N)`` is near grey (:data:`MARK_CHROMA`) and
+    more than ``step`` lighter in luma than its own neighbourhood (``b_out``, ``b_in``: the sources blurred at
+    :data:`MARK_SIGMA`) while the other side is not. A dash seen on one side of the hole, interpolated towards plain
+    road on the other, draws a long fading stripe along its line (the real frame's red car); a solid line seen on
+    both sides still crosses the hole, and a fog gradient (as light as its neighbourhood) is no marking."""
     from sdn3d.editing.photo.light import luminance
 
-    def ramp(x: Tensor) -> Tensor:  # 0 at half the step, 1 at the step: a ray grazing a dash's end is partly marked
-        # (a hard cut draws the dash's end as a staircase)
-        return (x / step * 2 - 1).clamp(0, 1)
-
-    l_out, l_in = luminance(c_out.T), luminance(c_in.T)
-
-    line = 1.0 if steep is None else ((steep - MARK_SLOPE[0]) / (MARK_SLOPE[1] - MARK_SLOPE[0])).clamp(0, 1)
-
-    def sure(c: Tensor, luma: Tensor, b: Tensor, other: Tensor) -> Tensor:
+    def sure(c: Tensor, b: Tensor) -> Tensor:  # 0 at half the step, 1 at the step: a ray grazing a dash's end is
+        # partly marked (a hard cut draws the dash's end as a staircase)
         grey = (c.amax(0) - c.amin(0)) <= MARK_CHROMA
-        return grey * ramp(luma - luminance(b.T)) * ramp(luma - other) * line
+        return grey * ((luminance(c.T) - luminance(b.T)) / step * 2 - 1).clamp(0, 1)
 
-    s_out, s_in = sure(c_out, l_out, b_out, l_in), sure(c_in, l_in, b_in, l_out)
+    s_out, s_in = sure(c_out, b_out), sure(c_in, b_in)
     sure_out, sure_in = both * (s_out - s_in).clamp(min=0), both * (s_in - s_out).clamp(min=0)
     new_out, new_in = w_out * (1 - sure_out), w_in * (1 - sure_in)
     total = new_out + new_in

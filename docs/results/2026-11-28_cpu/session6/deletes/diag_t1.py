@@ -1,4 +1,4 @@
-# ruff: noqa: E402, E501, E701, E702
+# ruff: noqa: E401, I001, B023, E402, E501, E701, E702
 """Table 1 entries of chosen indices with pictures: cached_bench (cache dir) + only those indices evaluated,
 their images saved as npz under OUTDIR.   python diag_t1.py CACHE OUTDIR IDX,IDX,... BENCH_ARGS..."""
 import os, sys, hashlib

@@ -1,4 +1,4 @@
-# ruff: noqa: E402, E501, E701, E702
+# ruff: noqa: E401, I001, B023, E402, E501, E701, E702
 """diag_t1.py with every ray_fill call's arguments saved (OUTDIR/rays_IDX_K.pt)."""
 import os, sys, torch
 import sdn3d.editing.photo.road as R

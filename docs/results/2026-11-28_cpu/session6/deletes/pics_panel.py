@@ -1,4 +1,4 @@
-# ruff: noqa: E402, E501, E701, E702
+# ruff: noqa: E401, I001, B023, E402, E501, E701, E702
 """Labelled rows (input | target | variants...) cropped around the hole, from a diag_pics.py .pics.pt file.
 python pics_panel.py PICS.pt OUT.png NAME=LABEL,NAME=LABEL,..."""
 import sys, numpy as np, torch

@@ -205,3 +205,49 @@ def test_ray_marks_setting_is_checked():
     assert PhotoSettings().ray_marks == 0.2
     with pytest.raises(PhotoSettingsError, match="ray_marks"):
         PhotoSettings(ray_marks=-0.1)
+
+
+# -- session 6: fog along the rays ------------------------------------------------------------------------------------
+
+
+def _foggy_road(fog: float, height: int = 96, width: int = 160, horizon: float = 30.0) -> torch.Tensor:
+    """Grey road below ``horizon`` whose colour goes from 0.4 near the camera to ``fog`` at the horizon as fog
+    makes it (``fog + (0.4 - fog) * exp(-20 / rows below the horizon)``), sky of the fog's colour above."""
+    rows = torch.arange(height, dtype=torch.float32)
+    x = torch.exp(-20.0 / (rows - horizon).clamp(min=0.5))
+    road = fog + (0.4 - fog) * x
+    road[rows <= horizon] = fog
+    return road[None, :, None].expand(3, height, width).clone()
+
+
+def test_fog_along_the_rays_lightens_near_road_carried_towards_the_horizon():
+    """A hole over the vanishing point in fog: its rays find near road below only, and without ``haze`` carry its
+    darker colour up to the horizon; with it the fill follows the road's fitted fog profile. A clear road (no
+    profile) is filled the same either way."""
+    from sdn3d.editing.photo.road import road_haze
+
+    vp = (80.0, 30.0)
+    hole = torch.zeros(96, 160, dtype=torch.bool)
+    hole[26:60, 65:95] = True
+    foggy = _foggy_road(0.8)
+    dark, _ = ray_fill(foggy, hole, vp, texture=0.0)
+    fogged, _ = ray_fill(foggy, hole, vp, texture=0.0, haze=1.0)
+    far = (slice(None), slice(36, 48), slice(74, 86))
+    truth = float(foggy[far].mean())
+    assert abs(float(dark[far].mean()) - truth) > 0.1
+    assert abs(float(fogged[far].mean()) - truth) < 0.03
+    from sdn3d.editing.photo.fill import fill_hole  # photo.ray_haze reaches the rays
+
+    fixed = {"fill": "rays", "ray_grain": "fixed", "ray_texture": 0.0}
+    on = fill_hole(foggy, hole, PhotoSettings(**fixed), vanishing=vp)
+    off = fill_hole(foggy, hole, PhotoSettings(**fixed, ray_haze=0.0), vanishing=vp)
+    assert abs(float(on[far].mean()) - truth) < 0.03 < abs(float(off[far].mean()) - truth)
+    clear = _foggy_road(0.4)
+    assert road_haze(clear, ~hole, hole, vp[1]) is None or torch.allclose(
+        ray_fill(clear, hole, vp, texture=0.0, haze=1.0)[0], ray_fill(clear, hole, vp, texture=0.0)[0], atol=1e-3)
+
+
+def test_ray_haze_setting_is_checked():
+    assert PhotoSettings().ray_haze == 1.0
+    with pytest.raises(PhotoSettingsError, match="ray_haze"):
+        PhotoSettings(ray_haze=1.5)

@@ -150,6 +150,10 @@ class PhotoSettings:
             than its own neighbourhood) and whose other side is not takes that side alone
             (:func:`~sdn3d.editing.photo.road.ray_fill`'s ``marks``), so a dash seen on one side of the hole is not
             drawn out into a long stripe along its line (0: the two sides interpolated everywhere).
+        ray_haze: ``fill='rays'``: weight of the road's change of colour with its row (fog and haze lighten it towards
+            the horizon; :func:`~sdn3d.editing.photo.road.road_haze`, fitted on the road around the hole) added to each
+            filled pixel from its sources' rows to its own, so near road carried up towards the vanishing point takes
+            the far road's fog (0: the sources' colours as they are).
         outline_grow: a moved car whose view turned by more than ``mask_view_deg`` (with ``silhouette='carved'``;
             else any moved car) also covers the free pixels (no object drawn or staying there) inside its box's
             projection within this share of the box's projected height of its drawn pixels, each in the colour of
@@ -193,6 +197,7 @@ class PhotoSettings:
     shadow_light: float = 0.8
     grow_min_seen: int = 1
     ray_marks: float = 0.2
+    ray_haze: float = 1.0
     outline_grow: float = 0.0
 
     def __post_init__(self) -> None:
@@ -212,7 +217,7 @@ class PhotoSettings:
                   ("min_view_cos", self.min_view_cos, 0.0, 1.0),
                   ("contact_shadow", self.contact_shadow, 0.0, 1.0), ("cast_blur", self.cast_blur, 0.3, 16.0),
                   ("ray_blur", self.ray_blur, 0.0, 8.0), ("ray_texture", self.ray_texture, 0.0, 2.0),
-                  ("ray_marks", self.ray_marks, 0.0, 1.0),
+                  ("ray_marks", self.ray_marks, 0.0, 1.0), ("ray_haze", self.ray_haze, 0.0, 1.0),
                   ("shadow_light", self.shadow_light, 0.3, 1.0), ("mask_view_deg", self.mask_view_deg, 0.0, 90.0),
                   ("paste_max_iou", self.paste_max_iou, 0.0, 1.0),
                   ("view_stretch", self.view_stretch, 0.0, 10.0), ("outline_grow", self.outline_grow, 0.0, 0.5))

@@ -1,6 +1,9 @@
 """Counterfactual trees for session 3: python gen_cf.py OUT SEED WORLDS(comma) CARS"""
-import sys, time
+import sys
+import time
+
 from sdn3d.data.synth import SynthConfig, generate_dataset
+
 t = time.time()
 out, seed, worlds, cars = sys.argv[1], int(sys.argv[2]), tuple(sys.argv[3].split(",")), int(sys.argv[4])
 generate_dataset(SynthConfig(output_dir=out, seed=seed, image_size=(624, 192), worlds=worlds,

@@ -26,7 +26,7 @@ BOXES = ([466, 203, 666, 333], [704, 194, 917, 305])
 
 def main() -> int:
     with tempfile.TemporaryDirectory(prefix="sdn3d-app-shots-") as tmp:
-        overrides = [f"run=/tmp/s5data/lead/demo", "proposals=boxes", "threads=2", f"output_dir={tmp}/out"]
+        overrides = ["run=/tmp/s5data/lead/demo", "proposals=boxes", "threads=2", f"output_dir={tmp}/out"]
         with serving(overrides) as (base, _):
             driver = start_chromium(Path(tmp), width=1560, height=760)
             try:

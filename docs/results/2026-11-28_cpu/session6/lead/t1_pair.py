@@ -1,7 +1,11 @@
 # ruff: noqa: E402, E501, E701, E702
 """t1_pair.py BASE FINAL: 3D-SDN's own PSNR all (and objects), final - base, overall and per kind (and variation), 10k paired bootstrap."""
-import json, sys
+import json
+import sys
+
 import numpy as np
+
+
 def load(p):
     r = json.load(open(p)); out = {}
     for src, es in r["entries"].items():

@@ -22,7 +22,7 @@ from sdn3d.editing.photo.fill import (
     shadow_gain,
     vacated_hole,
 )
-from sdn3d.editing.photo.light import LightEstimate, fit_light
+from sdn3d.editing.photo.light import LightEstimate, fit_light, luminance
 from sdn3d.editing.photo.occluders import thin_occluders
 from sdn3d.editing.photo.recolor import body_paint, body_pixels, recolor_pixels, srgb_to_lab
 from sdn3d.editing.photo.road import removal_vanishing_point, road_colours, road_like
@@ -1082,15 +1082,15 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
                                                         img_flat, settings)
                     examples[bb] = found, _clear_air(seen_colors)
             if b not in examples or not examples[b][1]:
-                return _examples_of_part([], part)
+                return _no_examples()
             depth = before.center[:, 2].double().clamp(min=0.1)
             by_depth = sorted((bb for bb in examples if bb != b and examples[bb][1]),
                               key=lambda bb: abs(math.log(depth[bb] / depth[b])))
             for bb in by_depth:
-                found = _examples_of_part([examples[bb][0]], part)
+                found = _examples_of_part(examples[bb][0], part)
                 if len(found.part) >= 8:
                     return found
-            return _examples_of_part([], part)
+            return _no_examples()
         return pool
 
     for r in drawn_rows.tolist():
@@ -1267,7 +1267,7 @@ def _clear_air(colors: Tensor, min_pixels: int = 50) -> bool:
     near black (:data:`CLEAR_DARKS`); False with fewer than ``min_pixels`` pixels."""
     if len(colors) < min_pixels:
         return False
-    luma = colors @ torch.tensor([0.2126, 0.7152, 0.0722], dtype=colors.dtype)
+    luma = luminance(colors)
     return float(torch.quantile(luma, 0.05)) <= CLEAR_DARKS
 
 
@@ -1288,7 +1288,7 @@ def seen_through_the_air(defaults: Tensor, colors: Tensor, min_pixels: int = 50)
     """
     if len(colors) < min_pixels:
         return defaults
-    luma = colors @ torch.tensor([0.2126, 0.7152, 0.0722], dtype=colors.dtype)
+    luma = luminance(colors)
     lo, hi = torch.quantile(luma, torch.tensor([0.05, 0.95], dtype=colors.dtype))
     t = float(((hi - lo) / (CLEAR_RANGE[1] - CLEAR_RANGE[0])).clamp(0.05, 1.0))
     dark = torch.quantile(colors, 0.05, dim=0)  # per channel: the air's colour shows in the darks
@@ -1324,9 +1324,8 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     or a window that a loosely fitted mesh calls body painted a red or black stripe along a whole new side); tyre
     examples darker than most of the car (:data:`TYRE_QUANTILE`)."""
     ex = visible_px[(src.frags.pix_to_mesh.view(-1)[visible_px] == s_mesh) & (parts_src[visible_px] >= 0)]
-    none = _PartExamples(torch.zeros(0, dtype=torch.long), torch.zeros(0, 3, dtype=torch.float64),
-                         torch.zeros(0, 6, dtype=torch.float64))
     if not len(ex):
+        none = _no_examples()
         return none, none.color
     _, vid, bary, normal = _surface(src, ex)
     tri = src.verts[torch.full((len(ex),), s_mesh, dtype=torch.long)[:, None], vid]
@@ -1342,19 +1341,22 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
         keep[body_ex[~paint]] = False
     tyre_ex = (ex_part == int(Part.TYRE)).nonzero().flatten()
     if TYRE_QUANTILE < 1 and len(tyre_ex):  # tyre examples lighter than most of the car are road or paint
-        luma = colors @ torch.tensor([0.2126, 0.7152, 0.0722], dtype=colors.dtype)
+        luma = luminance(colors)
         keep[tyre_ex[luma[tyre_ex] > torch.quantile(luma, TYRE_QUANTILE)]] = False
     kept = _PartExamples(ex_part[keep], colors[keep], _part_features(before, b, point[keep], normal[keep]))
     return kept, colors
 
 
-def _examples_of_part(pools: list[_PartExamples], part: int) -> _PartExamples:
-    """The examples of ``part`` in ``pools``, one after the other."""
-    keep = [e.part == part for e in pools]
-    return _PartExamples(
-        torch.cat([torch.zeros(0, dtype=torch.long)] + [e.part[m] for e, m in zip(pools, keep, strict=True)]),
-        torch.cat([torch.zeros(0, 3, dtype=torch.float64)] + [e.color[m] for e, m in zip(pools, keep, strict=True)]),
-        torch.cat([torch.zeros(0, 6, dtype=torch.float64)] + [e.feature[m] for e, m in zip(pools, keep, strict=True)]))
+def _no_examples() -> _PartExamples:
+    """No examples at all (a car none of whose surface is seen)."""
+    return _PartExamples(torch.zeros(0, dtype=torch.long), torch.zeros(0, 3, dtype=torch.float64),
+                         torch.zeros(0, 6, dtype=torch.float64))
+
+
+def _examples_of_part(examples: _PartExamples, part: int) -> _PartExamples:
+    """The examples of ``part`` among ``examples``."""
+    keep = examples.part == part
+    return _PartExamples(examples.part[keep], examples.color[keep], examples.feature[keep])
 
 
 #: Parts a car that never showed them takes from another car of the photo (:func:`_part_colors`): tyres and rims

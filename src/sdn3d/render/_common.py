@@ -20,6 +20,7 @@ __all__ = [
     "face_vertices",
     "project_vertices",
     "twice_area",
+    "faces_the_camera",
 ]
 
 #: Faces whose projected area (in pixels^2, times two) is below this are degenerate.
@@ -99,3 +100,11 @@ def twice_area(screen: Tensor) -> Tensor:
     d1 = screen[..., 1, :] - screen[..., 0, :]
     d2 = screen[..., 2, :] - screen[..., 0, :]
     return d1[..., 0] * d2[..., 1] - d2[..., 0] * d1[..., 1]
+
+
+def faces_the_camera(corners: Tensor) -> Tensor:
+    """``(...,)`` bool: which camera-frame triangles ``corners (..., 3, 3)`` face the camera: their right-hand-rule
+    normal ``(v1 - v0) x (v2 - v0)`` points back towards it (the 3D test, whatever the signs in ``K``; the back-face
+    culling of ``RasterSettings`` and ``SoftSilhouetteSettings``)."""
+    v0, v1, v2 = corners.unbind(-2)
+    return (torch.linalg.cross(v1 - v0, v2 - v0, dim=-1) * v0).sum(-1) < 0

@@ -33,6 +33,7 @@ from sdn3d.render._common import (
     check_intrinsics,
     check_verts,
     face_vertices,
+    faces_the_camera,
     project_vertices,
     twice_area,
 )
@@ -195,8 +196,7 @@ def rasterize_meshes(
         valid &= area2.abs() > AREA_EPS
         valid &= (depth_v <= settings.far).any(1)
         if settings.cull_backfaces:
-            normal = torch.linalg.cross(fverts[:, 1] - fverts[:, 0], fverts[:, 2] - fverts[:, 0], dim=-1)
-            valid &= (normal * fverts[:, 0]).sum(-1) < 0
+            valid &= faces_the_camera(fverts)
         umin, umax = screen[..., 0].amin(1), screen[..., 0].amax(1)
         first_row = torch.ceil(screen[..., 1].amin(1).clamp(-1.0, height)).clamp(min=0).long()
         last_row = torch.floor(screen[..., 1].amax(1).clamp(-1.0, height)).clamp(max=height - 1).long()

@@ -48,6 +48,7 @@ from sdn3d.render._common import (
     check_intrinsics,
     check_verts,
     face_vertices,
+    faces_the_camera,
     project_vertices,
     twice_area,
 )
@@ -76,10 +77,8 @@ def _screen_triangles(
     valid = face_vertices(ok.unsqueeze(-1), faces).reshape(-1, 3).all(-1)
     area2 = twice_area(screen)
     valid = valid & (area2.abs() > AREA_EPS)
-    if cull_backfaces:  # the 3D test of RasterSettings.cull_backfaces, whatever the signs in K
-        corners = face_vertices(verts.detach(), faces).reshape(-1, 3, 3)
-        normal = torch.linalg.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0], dim=-1)
-        valid = valid & ((normal * corners[:, 0]).sum(-1) < 0)
+    if cull_backfaces:
+        valid = valid & faces_the_camera(face_vertices(verts.detach(), faces).reshape(-1, 3, 3))
     # Orient every face counter-clockwise so "inside" is "all edge cross products >= 0".
     swapped = screen.index_select(1, torch.tensor([0, 2, 1], device=screen.device))
     screen = torch.where((area2 < 0).view(-1, 1, 1), swapped, screen)

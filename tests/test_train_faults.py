@@ -30,7 +30,8 @@ from sdn3d.training.resume import resolve_resume
 
 REPO = Path(__file__).resolve().parents[1]
 TINY = {
-    "semantic": ["datamodule.batch_size=2", "model.lr=0.001"],
+    "semantic": ["datamodule.batch_size=2", "model.lr=0.001", "model.channels=[4,4,8,8,16,16,16,16]",
+                 "model.head_channels=8"],
     "geometric": ["datamodule.batch_size=4", "datamodule.crop_size=32", "datamodule.min_pixels=0"],
 }
 

@@ -24,7 +24,8 @@ BRANCHES = ("semantic", "geometric", "textural")
 
 # Per-branch overrides that make a run tiny (on top of experiment=demo).
 TINY = {
-    "semantic": ["datamodule.batch_size=2", "model.lr=0.001"],
+    "semantic": ["datamodule.batch_size=2", "model.lr=0.001", "model.channels=[4,4,8,8,16,16,16,16]",
+                 "model.head_channels=8"],
     "geometric": ["datamodule.batch_size=4", "datamodule.crop_size=32", "datamodule.min_pixels=0"],
     "textural": ["datamodule.batch_size=1"],
 }

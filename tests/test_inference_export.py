@@ -291,7 +291,8 @@ def test_training_writes_the_export_of_its_selected_checkpoint(tiny_synth, tmp_p
 
     run_dir = tmp_path / "run"
     overrides = ["branch=geometric", "experiment=demo", f"data.root={tiny_synth}", "data.image_size=[160,64]",
-                 f"run_dir={run_dir}", "trainer.max_epochs=1", "trainer.limit_train_batches=1",
+                 f"run_dir={run_dir}", f"summary_file={tmp_path / 'summary.jsonl'}",  # not outputs/ in the repo
+                 "trainer.max_epochs=1", "trainer.limit_train_batches=1",
                  "trainer.limit_val_batches=1", "trainer.enable_progress_bar=false", "~callbacks.progress_bar",
                  "logger=none", "test_after_fit=false", "datamodule.batch_size=4", "datamodule.crop_size=32",
                  "datamodule.min_pixels=0"]

@@ -266,7 +266,8 @@ def test_ddp_two_cpu_processes_agree_on_weights(branch, tiny_synth, tmp_path):
             if not a.startswith(("run_dir=", "~callbacks"))]
     args += [f"hydra.run.dir={tmp_path / 'run'}", "+callbacks.save._target_=helpers.train_callbacks.SaveRankWeights",
              f"+callbacks.save.dirpath={out}"]
-    proc = _cli(args, cwd=tmp_path, timeout=600)
+    # TMPDIR: Lightning's ddp_spawn leaves an empty tempfile.mkdtemp() directory behind (rank 0's weights went there)
+    proc = _cli(args, cwd=tmp_path, timeout=600, env={"TMPDIR": str(tmp_path)})
     assert proc.returncode == 0, proc.stderr[-3000:]
     r0 = torch.load(out / "rank0.pt", weights_only=True)
     r1 = torch.load(out / "rank1.pt", weights_only=True)

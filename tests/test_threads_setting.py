@@ -67,6 +67,11 @@ def test_run_training_refuses_bad_threads_before_writing_anything(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow  # ~8 s of CPU (the sdn3d-train process loads Lightning before the check): in the default run
+# test_run_training_refuses_bad_threads_before_writing_anything refuses threads=0 with this message before anything
+# is written, and test_train_ops::test_unwritable_output_dir_is_a_clear_error and
+# test_train_faults::test_cli_user_error_is_one_line_exit_2_and_recorded check that sdn3d-train turns such a refusal
+# into exit 2 and one line, without a traceback
 def test_sdn3d_train_threads_0_exits_2_in_one_line(tmp_path):
     proc = _train(["threads=0", f"hydra.run.dir={tmp_path / 'run'}", f"summary_file={tmp_path / 's.jsonl'}"],
                   tmp_path)
@@ -78,14 +83,21 @@ def test_sdn3d_train_threads_0_exits_2_in_one_line(tmp_path):
     assert not (tmp_path / "s.jsonl").exists() and not (tmp_path / "run" / "summary.json").exists()
 
 
-def test_sdn3d_train_accepts_threads_1_and_refuses_the_old_key(tmp_path):
+@pytest.mark.slow  # ~8 s of CPU (Lightning loads before the data is looked for): in the default run
+# test_full_demo_tiny_budget's three sdn3d-train processes get threads=1 (test_the_demo_passes_threads_to_sdn3d_train)
+# and train, and test_train_composes_with_threads_and_applies_it composes and applies threads=1
+def test_sdn3d_train_accepts_threads_1(tmp_path):
     """``threads=1`` gets past composition and the check (the run then stops on the missing data, exit 2, naming
-    the data, not the setting); the old ``torch_threads=`` is an unknown key."""
+    the data, not the setting)."""
     missing = tmp_path / "no_data"
     proc = _train(["threads=1", f"data.root={missing}", f"hydra.run.dir={tmp_path / 'run'}",
                    f"summary_file={tmp_path / 's.jsonl'}", "logger=none"], tmp_path)
     assert proc.returncode == 2, proc.stderr
     assert "threads" not in proc.stderr and str(missing) in proc.stderr, proc.stderr
+
+
+def test_sdn3d_train_refuses_the_old_threads_key(tmp_path):
+    """The old ``torch_threads=`` is an unknown key (refused while composing, before Lightning loads)."""
     old = _train(["torch_threads=1", f"hydra.run.dir={tmp_path / 'old'}"], tmp_path)
     assert old.returncode == 2 and "Could not override 'torch_threads'" in old.stderr, old.stderr
 

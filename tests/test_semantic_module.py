@@ -35,7 +35,9 @@ def data_cfg(tmp_path_factory: pytest.TempPathFactory):
 
 
 def _small_module(**kw) -> SemanticModule:
-    args = dict(classes="vkitti", head_channels=32, crop_size=[64, 32], log_images=2, min_area=1)
+    # a narrow DRN (tests/helpers/tiny_models.py's widths; the published ones took ~5x the time and 130 MB checkpoints)
+    args = dict(classes="vkitti", head_channels=32, crop_size=[64, 32], log_images=2, min_area=1,
+                channels=[4, 4, 8, 8, 16, 16, 16, 16])
     args.update(kw)
     return SemanticModule(**args)
 

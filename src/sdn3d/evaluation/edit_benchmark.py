@@ -84,7 +84,7 @@ from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.photo.settings import PhotoSettings
 from sdn3d.errors import UserInputError
 from sdn3d.evaluation.baselines import baseline_maps, baseline_photo
-from sdn3d.evaluation.image_metrics import crop_metrics, image_metrics
+from sdn3d.evaluation.image_metrics import crop_metrics, region_image_metrics
 from sdn3d.image_ops import mask_boxes, resize_map
 from sdn3d.proposals import Proposals
 from sdn3d.scene.code import SceneCode
@@ -334,10 +334,10 @@ def region_metrics(pred: Tensor, target: Tensor, regions: Tensor, box: Tensor,
     target's visible pixels of the edited objects (None: that region is left out)."""
     p, t = pred[None].float().cpu(), target[None].float().cpu()
     net = lpips_net.cpu() if lpips_net is not None else None
-    out = {"whole": image_metrics(p, t, lpips_net=net), "all": image_metrics(p, t, regions[None], net),
-           "largest": crop_metrics(p, t, box[None].float(), net)}
-    if objects is not None:
-        out["objects"] = image_metrics(p, t, objects[None], net)
+    masks = {"whole": None, "all": regions[None]} | ({"objects": objects[None]} if objects is not None else {})
+    out = region_image_metrics(p, t, masks, net)  # one SSIM map for the three regions
+    out = {"whole": out["whole"], "all": out["all"], "largest": crop_metrics(p, t, box[None].float(), net)} | (
+        {"objects": out["objects"]} if objects is not None else {})
     return {region: {k: float(v[0]) for k, v in values.items()} for region, values in out.items()}
 
 

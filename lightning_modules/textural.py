@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import logging
 import warnings
+from collections.abc import Mapping
 from pathlib import Path
 
 import torch
@@ -57,7 +58,7 @@ from sdn3d.nets.perceptual import DRNPerceptualLoss
 from sdn3d.nets.pix2pixhd import TexturalSpec, feature_matching_loss, instance_mean, lsgan_loss, region_index
 from sdn3d.nets.vgg import VGGPerceptualLoss
 from sdn3d.semantic.predict import SemanticPredictor
-from sdn3d.textural.code_bank import build_code_bank, code_bank_path, save_code_bank
+from sdn3d.textural.code_bank import CodeBank, build_code_bank, code_bank_path, save_code_bank
 from sdn3d.textural.codes import code_donors
 from sdn3d.textural.renderer import TexturalRenderer
 
@@ -99,6 +100,11 @@ def silence_step_checkpoint_warning() -> None:
     """
     warnings.filterwarnings("ignore", message=r"Using ModelCheckpoint with manual optimization and "
                             r"every_n_train_steps", category=UserWarning)
+
+
+def _same_weights(a: Mapping[str, Tensor], b: Mapping[str, Tensor]) -> bool:
+    """Whether two state dicts hold the same tensors (names, shapes, dtypes and values, bit for bit)."""
+    return a.keys() == b.keys() and all(a[k].dtype == b[k].dtype and torch.equal(a[k], b[k]) for k in a)
 
 
 class LinearDecay:
@@ -288,7 +294,8 @@ class TexturalModule(BranchModule):
         return None
 
     def on_fit_end(self) -> None:
-        """Write the code bank of the best and of the last checkpoint next to each (``write_code_bank``)."""
+        """Write the code bank of the best and of the last checkpoint next to each (``write_code_bank``); a bank
+        depends only on E's weights, so one is encoded once when both checkpoints hold the same E."""
         trainer = self.trainer
         if not self.hparams.write_code_bank or not self.spec.use_codes or trainer.fast_dev_run or \
                 not trainer.is_global_zero or trainer.interrupted:
@@ -299,9 +306,14 @@ class TexturalModule(BranchModule):
         if not paths or not hasattr(trainer.datamodule, "code_bank_loader"):
             return
         loader = trainer.datamodule.code_bank_loader()
+        built: list[tuple[dict[str, Tensor], CodeBank]] = []  # (E's weights, bank): the best is often the last
         for path in paths:
             encoder = TexturalRenderer.from_checkpoint(path, map_location=self.device).encoder
-            bank = build_code_bank(encoder, loader)
+            weights = encoder.state_dict()
+            bank = next((b for w, b in built if _same_weights(w, weights)), None)
+            if bank is None:
+                bank = build_code_bank(encoder, loader)
+                built.append((weights, bank))
             written = save_code_bank(bank, code_bank_path(path), checkpoint=Path(path).name)
             log.info("code bank of %s: %d regions of %d classes -> %s", Path(path).name, len(bank),
                      len(bank.classes), written)

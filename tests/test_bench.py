@@ -390,3 +390,32 @@ def test_occluder_removed_entries_are_summarised_apart():
     removed = summary["by_kind"]["occluder_removed"]
     assert removed["entries"] == 1 and removed["methods"]["full"]["2d"]["all"]["l1"]["mean"] == pytest.approx(0.9)
     assert result(2, "occluder_removed", 0.9).to_json()["kind"] == "occluder_removed"
+
+
+def test_baseline_photos_share_one_removal_and_equal_each_baseline_photo(bench, monkeypatch):
+    """The 2D and 2D+ photo baselines remove (and fill) the same objects: baseline_photos fills the hole once and
+    gives each mode's picture exactly as baseline_photo does."""
+    import sdn3d.evaluation.baselines as baselines
+    from sdn3d.data.frames import load_frame
+    from sdn3d.editing.photo.settings import PhotoSettings
+
+    entries, records = bench
+    modifies = [e for e in entries if any(op.kind == "modify" for op in e.operations)]
+    assert modifies
+    entry = modifies[0]
+    source = records[(entry.world, entry.variation, entry.source_frame)]
+    scene = scene_from_frame(source, SIZE)
+    image = load_frame(source, SIZE, semantic=False, instances=False).image
+    fills = []
+    real_fill = baselines.fill_hole
+    for fill in ("rays", "telea"):
+        settings = PhotoSettings(fill=fill)
+        expected = {m: baselines.baseline_photo(image, scene, entry, m, settings=settings) for m in ("2d", "2d+")}
+        fills.clear()
+        monkeypatch.setattr(baselines, "fill_hole", lambda *a, **k: fills.append(1) or real_fill(*a, **k))
+        got = baselines.baseline_photos(image, scene, entry, ("2d", "2d+"), settings=settings)
+        monkeypatch.setattr(baselines, "fill_hole", real_fill)
+        assert len(fills) == 1 and list(got) == ["2d", "2d+"]
+        for m in got:
+            assert torch.equal(got[m], expected[m]), (fill, m)
+        assert got["2d"].data_ptr() != got["2d+"].data_ptr()  # each mode its own tensor

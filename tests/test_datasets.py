@@ -309,3 +309,21 @@ def test_geometric_mirror_serves_each_object_reflected_with_consistent_targets(g
         assert u_b == pytest.approx(a["crop"].shape[-1] - 1 - u_a, abs=1e-3)
     with pytest.raises(IndexError):
         mirrored[2 * n]
+
+
+
+def test_semantic_item_cache_serves_identical_items_without_decoding(vk1, monkeypatch):
+    source, _ = vk1
+    plain = SemanticDataset.from_source(source, "train")
+    expected = [plain[i] for i in range(len(plain))]
+    cached = SemanticDataset.from_source(source, "train", cache_items=True)
+    first = [cached[i] for i in range(len(cached))]
+    first[0]["image"].zero_()  # a caller changing its item in place leaves the kept frame alone
+    first[0]["label"].fill_(7)
+    monkeypatch.setattr("sdn3d.data.datasets.semantic.load_frame",
+                        lambda *a, **k: pytest.fail("a kept frame was decoded again"))
+    again = [cached[i] for i in range(len(cached))]
+    for b, c in zip(again, expected, strict=True):
+        assert b["key"] == c["key"]
+        for k in ("image", "label", "instance", "intrinsics"):
+            assert b[k].dtype == c[k].dtype and torch.equal(b[k], c[k]), k

@@ -12,6 +12,7 @@ from sdn3d.cli._config import CONFIG_DIR
 from sdn3d.math3d.ffd import expand_half_ffd
 from sdn3d.math3d.transforms import object_to_camera
 from sdn3d.meshes import MeshBank
+from sdn3d.models import Models
 from sdn3d.render.objects import pose_meshes
 
 
@@ -408,13 +409,14 @@ def test_the_example_car_is_the_largest_found_car_wholly_in_view(tiny_synth, mon
     scenes = {}
 
     def stand_in(image, intrinsics, models, proposals, gt, **kwargs):
+        assert models.textural is None  # the search reads masks and geometry: no texture codes pooled
         stored = torch.from_numpy(load_rgb(by_key[gt.key])).permute(2, 0, 1).float() / 255
         assert torch.equal(kwargs["photo"].image, stored)  # the geometric crops read from the frame as stored
         scenes[gt.key] = scene_from_frame(by_key[gt.key], tuple(source.image_size))
         return scenes[gt.key]
 
     monkeypatch.setattr(derendering, "derender", stand_in)
-    record, car = _found_example(records, source, None, "cpu")
+    record, car = _found_example(records, source, Models(textural="textural branch"), "cpu")
     candidates = []
     for key, scene in scenes.items():
         t = scene.objects
@@ -446,7 +448,7 @@ def test_the_example_car_is_not_a_proposal_that_merged_two_cars(tiny_synth, monk
         return scene_from_frame(by_key[gt.key], tuple(source.image_size))
 
     monkeypatch.setattr(derendering, "derender", plain)
-    record, car = _found_example(records, source, None, "cpu")
+    record, car = _found_example(records, source, Models(textural="textural branch"), "cpu")
     merged_key = record.key
 
     def merging(image, intrinsics, models, proposals, gt, **kwargs):
@@ -463,5 +465,5 @@ def test_the_example_car_is_not_a_proposal_that_merged_two_cars(tiny_synth, monk
         return scene
 
     monkeypatch.setattr(derendering, "derender", merging)
-    chosen = _found_example(records, source, None, "cpu")
+    chosen = _found_example(records, source, Models(textural="textural branch"), "cpu")
     assert chosen is None or (chosen[0].key, chosen[1]) != (merged_key, car)

@@ -141,3 +141,21 @@ def test_lpips_small_whole_images_upsample_like_crops():
     assert torch.allclose(d, net(*up), atol=1e-6)
     crop = metrics.crop_metrics(p, t, torch.tensor([[0, 0, 20, 12], [0, 0, 20, 12]]), lpips_net=net)["lpips"]
     assert torch.allclose(crop, d, atol=1e-6)
+
+
+def test_region_image_metrics_equal_image_metrics_per_mask_with_one_ssim_map(monkeypatch):
+    import sdn3d.evaluation.image_metrics as im
+
+    g = torch.Generator().manual_seed(3)
+    pred, target = torch.rand(1, 3, 24, 40, generator=g), torch.rand(1, 3, 24, 40, generator=g)
+    masks = {"whole": None, "all": torch.rand(1, 24, 40, generator=g) > 0.5, "none": torch.zeros(1, 24, 40, dtype=bool)}
+    expected = {name: im.image_metrics(pred, target, mask) for name, mask in masks.items()}
+    calls = []
+    ssim_fn = im.structural_similarity_index_measure
+    monkeypatch.setattr(im, "structural_similarity_index_measure", lambda *a, **k: calls.append(1) or ssim_fn(*a, **k))
+    got = im.region_image_metrics(pred, target, masks)
+    assert len(calls) == 1 and list(got) == list(masks)
+    for name in masks:
+        assert list(got[name]) == list(expected[name])
+        for k, v in expected[name].items():
+            assert torch.equal(got[name][k], v) or (v.isnan().all() and got[name][k].isnan().all()), (name, k)

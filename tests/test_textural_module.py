@@ -194,15 +194,21 @@ def test_swap_term_makes_the_code_decide_the_colour_it_is_scored_on(data_root):
     torch.testing.assert_close(term.detach(), expected)
 
 
-def test_fit_writes_a_code_bank_next_to_each_kept_checkpoint(data_root, tmp_path):
+def test_fit_writes_a_code_bank_next_to_each_kept_checkpoint(data_root, tmp_path, monkeypatch):
+    import lightning_modules.textural as textural_module
+
     torch.manual_seed(0)
     model = TexturalModule(**SMALL, lambda_swap=10.0)
     checkpoint = L.pytorch.callbacks.ModelCheckpoint(dirpath=tmp_path / "checkpoints", monitor="val/psnr",
                                                      mode="max", save_last=True, filename="best")
     trainer = _trainer(max_epochs=1, enable_checkpointing=True, callbacks=[checkpoint])
     dm = _datamodule(data_root)
+    encoded = []
+    build = textural_module.build_code_bank
+    monkeypatch.setattr(textural_module, "build_code_bank", lambda *a: encoded.append(1) or build(*a))
     trainer.fit(model, datamodule=dm)
     assert "train/g_swap" in trainer.callback_metrics
+    assert len(encoded) == 1  # one epoch: the best checkpoint is the last, its bank encoded once for both files
     for name in ("best.ckpt", "last.ckpt"):
         bank = load_code_bank(code_bank_path(tmp_path / "checkpoints" / name))
         renderer = TexturalRenderer.from_checkpoint(tmp_path / "checkpoints" / name)
@@ -249,3 +255,13 @@ def test_only_lightnings_manual_optimisation_checkpoint_warning_is_silenced():
                       "pre-optimization state was saved.", UserWarning, stacklevel=1)
         warnings.warn("an unrelated warning", UserWarning, stacklevel=1)
     assert [str(w.message) for w in caught] == ["an unrelated warning"]
+
+
+def test_same_weights_tells_equal_state_dicts_from_different_ones():
+    from lightning_modules.textural import _same_weights
+
+    a = {"w": torch.tensor([1.0, 2.0]), "b": torch.tensor([0.5])}
+    assert _same_weights(a, {k: v.clone() for k, v in a.items()})
+    assert not _same_weights(a, {"w": torch.tensor([1.0, 2.0 + 1e-6]), "b": torch.tensor([0.5])})
+    assert not _same_weights(a, {"w": a["w"]})
+    assert not _same_weights(a, {"w": a["w"].double(), "b": a["b"]})

@@ -480,11 +480,15 @@ def _found_example(records: Sequence[Any], source: Any, models: Any, device: str
     from other annotated objects (no merged neighbour). The annotation only chooses which found car the figure
     shows; the scene, its masks and its geometry are the branches' own. None where the proposals found no such
     car."""
+    import dataclasses
+
     from sdn3d.data.frames import load_frame
     from sdn3d.data.scene_gt import frame_photo, ground_truth
     from sdn3d.derender import derender
     from sdn3d.labels import INSTANCE_DIVISOR
 
+    # The search reads masks and geometry only: without the textural branch derender skips pooling texture codes.
+    search = dataclasses.replace(models, textural=None)
     best: tuple[int, Any, int] | None = None
     for record in records:
         untruncated = {o.track_id + 1 for o in record.objects if o.label in ("Car", "Van") and o.truncr == 0}
@@ -492,7 +496,7 @@ def _found_example(records: Sequence[Any], source: Any, models: Any, device: str
             continue
         frame = load_frame(record, source.image_size, semantic=True, instances=True)
         gt = ground_truth(record, (frame.intrinsics.width, frame.intrinsics.height))
-        table = derender(frame.image.to(device), frame.intrinsics, models, "semantic", gt,
+        table = derender(frame.image.to(device), frame.intrinsics, search, "semantic", gt,
                          photo=frame_photo(record, source.image_size)).objects
         mask = table.mask.bool().cpu()
         annotated = (frame.instances % INSTANCE_DIVISOR) * (frame.instances >= INSTANCE_DIVISOR)  # 0: none

@@ -42,7 +42,7 @@ from sdn3d.scene.code import SceneCode
 from sdn3d.scene.fill import scene_code_map
 from sdn3d.scene.maps import ComposedMaps, compose_instances, scene_maps
 
-__all__ = ["BASELINE_MODES", "baseline_maps", "baseline_photo", "warp_regions"]
+__all__ = ["BASELINE_MODES", "baseline_maps", "baseline_photo", "baseline_photos", "warp_regions"]
 
 BASELINE_MODES = ("2d", "2d+")
 
@@ -164,10 +164,23 @@ def baseline_photo(image: Tensor, scene: SceneCode, entry: BenchmarkEntry | Sequ
     (lower bottom row) in front, kept objects included. ``fill (3, H, W)``: the generator's picture of this edit,
     for ``settings.fill='generator'``.
     """
-    if mode not in BASELINE_MODES:
-        raise ValueError(f"mode must be one of {BASELINE_MODES}, got {mode!r}")
+    return baseline_photos(image, scene, entry, (mode,), frame_size, settings, bank, max_distance, {mode: fill})[mode]
+
+
+def baseline_photos(image: Tensor, scene: SceneCode, entry: BenchmarkEntry | Sequence[BenchmarkOperation],
+                    modes: Sequence[str] = BASELINE_MODES, frame_size: tuple[int, int] | None = VKITTI_FRAME_SIZE,
+                    settings: PhotoSettings | None = None, bank: MeshBank | None = None,
+                    max_distance: float | None = None, fills: dict[str, Tensor | None] | None = None
+                    ) -> dict[str, Tensor]:
+    """``{mode: baseline_photo(...)}`` for each of ``modes`` (``fills``: each mode's generator picture), the same
+    pictures; the removal and its fill, which the modes share (they differ in the pastes), is made once unless
+    ``settings.fill='generator'`` fills each with its own picture."""
+    bad = [m for m in modes if m not in BASELINE_MODES]
+    if bad:
+        raise ValueError(f"mode must be one of {BASELINE_MODES}, got {bad[0]!r}")
     settings = settings or PhotoSettings()
     bank = bank or default_bank()
+    fills = fills or {}
     ops = list(entry.operations if isinstance(entry, BenchmarkEntry) else entry)
     if frame_size is not None and tuple(frame_size) != scene.image_size:
         ops = [scale_operation(op, tuple(frame_size), scene.image_size) for op in ops]
@@ -176,7 +189,17 @@ def baseline_photo(image: Tensor, scene: SceneCode, entry: BenchmarkEntry | Sequ
     instances = compose_instances(scene, bank).cpu()
     gone = torch.tensor(ids, dtype=torch.long)
     keep = (instances != 0) & ~torch.isin(instances, gone)
-    out = fill_hole(image, vacated_hole(instances, gone, keep, settings), settings, instances != 0, fill)
+    hole = vacated_hole(instances, gone, keep, settings)
+    shared = None if settings.fill == "generator" else fill_hole(image, hole, settings, instances != 0)
+    return {mode: _pasted(shared.clone() if shared is not None else
+                          fill_hole(image, hole, settings, instances != 0, fills.get(mode)),
+                          image, instances, keep, ops, ids, mode) for mode in modes}
+
+
+def _pasted(out: Tensor, image: Tensor, instances: Tensor, keep: Tensor, ops: Sequence[BenchmarkOperation],
+            ids: Sequence[int], mode: str) -> Tensor:
+    """``out (3, H, W)`` (the picture with the edited objects removed) with each ``modify`` of ``ops`` (``ids``: the
+    objects they picked) pasted from ``image`` as the ``mode`` baseline moves it (:func:`baseline_photo`)."""
     mods = [(op, i) for op, i in zip(ops, ids, strict=True) if op.kind == "modify"]
     if not mods:
         return out

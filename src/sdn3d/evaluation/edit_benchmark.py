@@ -83,8 +83,8 @@ from sdn3d.editing.compose import (
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.photo.settings import PhotoSettings
 from sdn3d.errors import UserInputError
-from sdn3d.evaluation.baselines import baseline_maps, baseline_photo
-from sdn3d.evaluation.image_metrics import crop_metrics, image_metrics
+from sdn3d.evaluation.baselines import baseline_maps, baseline_photos
+from sdn3d.evaluation.image_metrics import crop_metrics, region_image_metrics
 from sdn3d.image_ops import mask_boxes, resize_map
 from sdn3d.proposals import Proposals
 from sdn3d.scene.code import SceneCode
@@ -334,10 +334,10 @@ def region_metrics(pred: Tensor, target: Tensor, regions: Tensor, box: Tensor,
     target's visible pixels of the edited objects (None: that region is left out)."""
     p, t = pred[None].float().cpu(), target[None].float().cpu()
     net = lpips_net.cpu() if lpips_net is not None else None
-    out = {"whole": image_metrics(p, t, lpips_net=net), "all": image_metrics(p, t, regions[None], net),
-           "largest": crop_metrics(p, t, box[None].float(), net)}
-    if objects is not None:
-        out["objects"] = image_metrics(p, t, objects[None], net)
+    masks = {"whole": None, "all": regions[None]} | ({"objects": objects[None]} if objects is not None else {})
+    out = region_image_metrics(p, t, masks, net)  # one SSIM map for the three regions
+    out = {"whole": out["whole"], "all": out["all"], "largest": crop_metrics(p, t, box[None].float(), net)} | (
+        {"objects": out["objects"]} if objects is not None else {})
     return {region: {k: float(v[0]) for k, v in values.items()} for region, values in out.items()}
 
 
@@ -456,12 +456,10 @@ def _composed(images: dict[str, Tensor], maps: dict[str, ComposedMaps], source: 
             key = "photo" if photo else "compose" if mode is PictureMode.EDITED else None
             if key and result.latency_ms:
                 result.latency_ms[key] = 1000 * (time.perf_counter() - t0)
-        if photo:
-            for method in ("2d", "2d+"):
-                if method in maps:  # the baselines paste the same scene's objects the generator path edits
-                    out[mode][method] = baseline_photo(source, scene, entry, method, settings.frame_size,
-                                                       settings.photo, max_distance=settings.pick_radius,
-                                                       fill=images.get(method))
+        if photo:  # the baselines paste the same scene's objects the generator path edits (one removal for both)
+            modes = [method for method in ("2d", "2d+") if method in maps]
+            out[mode] |= baseline_photos(source, scene, entry, modes, settings.frame_size, settings.photo,
+                                         max_distance=settings.pick_radius, fills={m: images.get(m) for m in modes})
             continue
         for method, picture in images.items():  # the 2D baselines: label maps, no scene to hand an appearance
             if method != "3d-sdn":

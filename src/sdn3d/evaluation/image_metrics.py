@@ -18,6 +18,7 @@ under 32 px (bilinear, both images; :data:`sdn3d.nets.lpips.MIN_SIDE`) because A
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 import torch
@@ -34,6 +35,7 @@ __all__ = [
     "lpips",
     "mse",
     "psnr",
+    "region_image_metrics",
     "ssim",
 ]
 
@@ -111,6 +113,25 @@ def image_metrics(pred: Tensor, target: Tensor, mask: Tensor | None = None,
     out = {"l1": l1(pred, target, mask), "psnr": psnr(pred, target, mask), "ssim": ssim(pred, target, mask)}
     if lpips_net is not None:
         out["lpips"] = lpips(pred, target, lpips_net, mask)
+    return out
+
+
+def region_image_metrics(pred: Tensor, target: Tensor, masks: Mapping[str, Tensor | None],
+                         lpips_net: LPIPS | None = None) -> dict[str, dict[str, Tensor]]:
+    """``{name: image_metrics(pred, target, mask)}`` for each of ``masks`` (None: the whole images), the same
+    values, with the SSIM map of ``pred`` vs ``target`` computed once for all of them (it does not depend on
+    the mask)."""
+    _check(pred, target, None)
+    whole, full = structural_similarity_index_measure(pred, target, data_range=1.0, sigma=1.5, reduction="none",
+                                                      return_full_image=True)
+    out = {}
+    for name, mask in masks.items():
+        mask = _check(pred, target, mask)
+        values = {"l1": l1(pred, target, mask), "psnr": psnr(pred, target, mask),
+                  "ssim": whole if mask is None else _masked_mean(full, mask)}
+        if lpips_net is not None:
+            values["lpips"] = lpips(pred, target, lpips_net, mask)
+        out[name] = values
     return out
 
 

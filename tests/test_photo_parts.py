@@ -17,8 +17,10 @@ from sdn3d.editing.photo.settings import (
     DEFAULT,
     FALLBACK,
     FLAT_CODES,
+    MIRROR,
     PART,
     PART_DEFAULTS,
+    PHOTO,
     SOURCE_NAMES,
     PhotoSettings,
     PhotoSettingsError,
@@ -333,7 +335,7 @@ def test_unseen_tyres_are_not_drawn_from_road_the_template_calls_tyre(monkeypatc
     photo did not show, drawn part by part (:func:`_part_colors`), are dark, not road grey (``TYRE_QUANTILE``; without
     it, ``TYRE_QUANTILE = 1``, they were a blend of the two)."""
     from sdn3d.editing.photo import transfer
-    from sdn3d.editing.photo.transfer import PhotoSource, _part_colors, _surface
+    from sdn3d.editing.photo.transfer import PhotoSource, _part_colors, _part_examples, _surface
 
     car = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2 + 0.7, location=(-1.0, 1.6, 9.0))
     scene = _scene([car])
@@ -355,8 +357,9 @@ def test_unseen_tyres_are_not_drawn_from_road_the_template_calls_tyre(monkeypatc
     lumas = []
     for quantile in (transfer.TYRE_QUANTILE, 1.0):
         monkeypatch.setattr(transfer, "TYRE_QUANTILE", quantile)
-        colour, code = _part_colors(0, 0, visible, points, normal, torch.full((len(query),), int(Part.TYRE)),
-                                    scene.objects, src.raster, src.parts, img_flat, PARTS, None)
+        own, seen_colors = _part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat, PARTS)
+        colour, code = _part_colors(0, own, seen_colors, points, normal, torch.full((len(query),), int(Part.TYRE)),
+                                    scene.objects, None)
         assert bool((code == PART).all())
         lumas.append(float(colour.mean()))
     assert lumas[0] < 0.12 and lumas[1] > 0.2, lumas
@@ -416,3 +419,43 @@ def test_tyres_a_car_never_showed_come_from_another_cars_tyres(monkeypatch):
     alone = render_photo(image, FRAME, scene, edited, settings=PARTS)
     assert int(((alone.parts == int(Part.TYRE)) & (alone.source == DEFAULT)).sum()) > 20
     assert int((alone.source == ANOTHER_CAR).sum()) == 0
+
+
+def test_glass_seen_from_a_new_angle_takes_the_change_of_its_reflection():
+    """A car seen from the rear three-quarter whose windows mirror more sky the more edge-on they are seen (their
+    colour is ``0.05 + 1.2 grazing(cos)``, :func:`~sdn3d.editing.photo.light.grazing`), turned by 45 degrees: the
+    window pixels drawn from the photo take the reflection of their new view angle (``photo.view_reflection``), so
+    they are nearer the truth than the input's colours carried as they are (``view_reflection=0``)."""
+    from sdn3d.editing.photo.light import grazing
+    from sdn3d.editing.photo.transfer import _part_map, _rasterize, _surface, _view_cos
+    from sdn3d.meshes.bank import default_bank
+    from sdn3d.scene.maps import posed_meshes
+
+    def windows_by_view(scene):
+        size, K = INPUT_SIZE[::-1], _k_input()
+        rows, verts, faces = posed_meshes(scene.objects, default_bank())
+        raster = _rasterize(rows, verts, faces, K, size)
+        parts = _part_map(raster, scene.objects, default_bank()).view(size)
+        covered = raster.frags.pix_to_face[0] >= 0
+        image = torch.full((3, *size), 0.45)
+        image[:, covered] = 0.6
+        glass = covered & (parts == int(Part.GLASS))
+        pix = glass.view(-1).nonzero().flatten()
+        _, vid, bary, normal = _surface(raster, pix)
+        point = (bary[..., None] * raster.verts[0, vid]).sum(1)
+        image.view(3, -1)[:, pix] = (0.05 + 1.2 * grazing(_view_cos(point, normal))).float()[None].clamp(0, 1)
+        return image, glass
+
+    car = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2 + 0.7, location=(-1.0, 1.6, 9.0))
+    scene = _scene([car])
+    image, _ = windows_by_view(scene)
+    edited = apply_edits(scene, [Rotate(12001, math.radians(45))])
+    truth, glass_after = windows_by_view(edited)
+    errors = []
+    for weight in (1.0, 0.0):
+        result = render_photo(image, FRAME, scene, edited, settings=dataclasses.replace(PARTS, view_reflection=weight))
+        drawn = glass_after & (result.parts == int(Part.GLASS)) & (
+            (result.source == PHOTO) | (result.source == MIRROR) | (result.source == PART))
+        assert int(drawn.sum()) > 100
+        errors.append(float((result.image - truth).abs().mean(0)[drawn].mean()))
+    assert errors[0] < 0.6 * errors[1], errors

@@ -1,5 +1,5 @@
 """One directional light and an ambient term fitted to the input's car pixels (the photo appearance's step 4:
-:mod:`sdn3d.editing.photo`).
+:mod:`sdn3d.editing.photo`), and the view-dependent reflection of a car's glass and paint (:func:`fit_reflection`).
 """
 
 from __future__ import annotations
@@ -10,7 +10,8 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
-__all__ = ["LightEstimate", "luminance", "fit_light"]
+__all__ = ["LightEstimate", "luminance", "fit_light", "grazing", "fit_reflection", "REFLECTION_POWER",
+           "REFLECTION_MIN_EXPLAINED"]
 
 
 @dataclass(frozen=True)
@@ -110,3 +111,49 @@ def fit_light(colors: Tensor, normals: Tensor, groups: Tensor, directions: int =
     d, a = divmod(best, len(ambients))
     gain = 1 - float(err[best]) / base if base > 0 else 0.0
     return LightEstimate(dirs[d].float(), float(amb[a]), gain, len(y))
+
+
+# -- view-dependent reflection -------------------------------------------------------------------------------------
+
+#: Exponent of :func:`grazing`: Schlick's approximation of the Fresnel factor of glass and clear-coated paint,
+#: ``F0 + (1 - F0) (1 - cos)^5``.
+REFLECTION_POWER = 5.0
+#: :func:`fit_reflection`'s least share of a part's colour variance the reflection must explain.
+REFLECTION_MIN_EXPLAINED = 0.2
+
+
+def grazing(cos: Tensor) -> Tensor:
+    """``(...,)`` the view-dependent part of a glossy surface's reflection (Schlick: ``(1 - cos)^5``) seen at
+    ``|cos|`` ``(...,)`` between its normal and the line of sight: 0 seen squarely, 1 edge-on. A window seen at a
+    grazing angle mirrors the sky; turned to face the camera it shows its dark inside."""
+    return (1 - cos).clamp(0, 1) ** REFLECTION_POWER
+
+
+def fit_reflection(colors: Tensor, cos: Tensor, min_pixels: int = 30, min_spread: float = 0.02,
+                   min_explained: float = REFLECTION_MIN_EXPLAINED) -> Tensor | None:
+    """``(3,)`` per-channel strength ``r >= 0`` of the reflection in one part of one car: ``colors (Q, 3)`` (sRGB)
+    seen at view cosines ``cos (Q,)`` fitted as ``a + r * grazing(cos)`` by least squares. The colour a point of
+    that part shows at a new view is then its old colour plus ``r`` times the change of :func:`grazing`. None with
+    fewer than ``min_pixels`` pixels, a standard deviation of :func:`grazing` under ``min_spread`` (the part was
+    seen from one angle only: the strength is not observable), or a fit that explains less than ``min_explained``
+    of the colours' variance (the colours change over the part for another reason: paint, shading, dirt).
+
+    Example:
+        >>> cos = torch.linspace(0.2, 1.0, 100, dtype=torch.float64)
+        >>> colors = 0.05 + torch.tensor([0.6, 0.7, 0.8], dtype=torch.float64) * grazing(cos)[:, None]
+        >>> [round(v, 3) for v in fit_reflection(colors, cos).tolist()]
+        [0.6, 0.7, 0.8]
+        >>> fit_reflection(colors, torch.full((100,), 0.9, dtype=torch.float64)) is None
+        True
+    """
+    if len(colors) < min_pixels:
+        return None
+    g = grazing(cos.double())
+    centred = g - g.mean()
+    var = float((centred * centred).mean())
+    if var < min_spread**2:
+        return None
+    c = colors.double() - colors.double().mean(0)
+    strength = ((centred[:, None] * c).mean(0) / var).clamp(min=0)
+    explained = float((strength * strength).sum()) * var / max(float((c * c).mean(0).sum()), 1e-12)
+    return strength if explained >= min_explained else None

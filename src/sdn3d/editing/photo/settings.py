@@ -163,6 +163,10 @@ class PhotoSettings:
             +0.72 / +0.46 dB at 45 / 90 / 180 degrees on the seed-33 tuning turns, but on the real frame a fitted box
             larger than its car grew a blocky halo of paint around the turned car (docs/results/2026-11-28_cpu/
             session5/turns/).
+        view_reflection: glass and paint drawn from the input at a new view angle take this share of the change of
+            their reflection (:func:`~sdn3d.editing.photo.light.fit_reflection`, fitted per car and part on the
+            input's pixels of that part seen at different angles: a window seen edge-on mirrors the sky, turned to
+            face the camera it is dark); 0: the input's colours as they are.
         recolor_parts: ``recolor`` repaints the body part of the fitted mesh only (False: every pixel of the car
             whose colour is the paint's, the appearance before vehicle parts existed).
     """
@@ -199,6 +203,7 @@ class PhotoSettings:
     ray_marks: float = 0.2
     ray_haze: float = 1.0
     outline_grow: float = 0.0
+    view_reflection: float = 1.0
 
     def __post_init__(self) -> None:
         if self.fill not in FILL_METHODS:
@@ -220,7 +225,8 @@ class PhotoSettings:
                   ("ray_marks", self.ray_marks, 0.0, 1.0), ("ray_haze", self.ray_haze, 0.0, 1.0),
                   ("shadow_light", self.shadow_light, 0.3, 1.0), ("mask_view_deg", self.mask_view_deg, 0.0, 90.0),
                   ("paste_max_iou", self.paste_max_iou, 0.0, 1.0),
-                  ("view_stretch", self.view_stretch, 0.0, 10.0), ("outline_grow", self.outline_grow, 0.0, 0.5))
+                  ("view_stretch", self.view_stretch, 0.0, 10.0), ("outline_grow", self.outline_grow, 0.0, 0.5),
+                  ("view_reflection", self.view_reflection, 0.0, 1.0))
         for name, value, lo, hi in checks:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= float(value) <= hi:
                 raise PhotoSettingsError(f"photo.{name} must be a number in [{lo}, {hi}], got {value!r}")

@@ -22,7 +22,7 @@ from sdn3d.editing.photo.fill import (
     shadow_gain,
     vacated_hole,
 )
-from sdn3d.editing.photo.light import LightEstimate, fit_light, luminance
+from sdn3d.editing.photo.light import LightEstimate, fit_light, fit_reflection, grazing, luminance
 from sdn3d.editing.photo.occluders import thin_occluders
 from sdn3d.editing.photo.recolor import body_paint, body_pixels, recolor_pixels, srgb_to_lab
 from sdn3d.editing.photo.road import removal_vanishing_point, road_colours, road_like
@@ -1049,6 +1049,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         ratio = (shade(normal_t) / shade(n_src).clamp(min=1e-3)).clamp(0.5, 2.0)
         color = color * ratio[:, None]
     seen = ok_photo | ok_mirror
+    cos_src = torch.where(ok_photo, _view_cos(point_s, normal_s), _view_cos(point_m, normal_m))
 
     # Fallback: the object's own body colour, de-shaded, shaded for the new normal; with unseen='parts' the same part
     # seen elsewhere on the car, where it faced the same way (_part_colors: its shading comes with it), a part never
@@ -1064,30 +1065,31 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     drawn_rows = row.unique()
     drawn = torch.ones(len(pix), dtype=torch.bool)  # False: left to the fill (amodal='seen')
     flat_codes = torch.tensor(FLAT_CODES, dtype=torch.uint8)
-    visible_of = _pixels_of(vis_ids, before.instance_id[origin[drawn_rows][origin[drawn_rows] >= 0]])
-    # every shown car's part examples and whether it is seen through clear air (its darks near black)
-    examples: dict[int, tuple[_PartExamples, bool]] = {}
+    visible_of = _pixels_of(vis_ids, before.instance_id)
+    shown_cars = (src_row_to_mesh >= 0).nonzero().flatten().tolist()
+    cache: dict[int, tuple[_PartExamples, Tensor, bool]] = {}
+
+    def examples_of(bb: int) -> tuple[_PartExamples, Tensor, bool]:
+        """``before`` row ``bb``'s part examples, all its visible colours (:func:`_part_examples`) and whether it is
+        seen through clear air (:func:`_clear_air`: its darks near black); computed once per car."""
+        if bb not in cache:
+            found, seen_colors = _part_examples(bb, int(src_row_to_mesh[bb]), visible_of(int(before.instance_id[bb])),
+                                                before, src, parts_src, img_flat, settings)
+            cache[bb] = found, seen_colors, _clear_air(seen_colors)
+        return cache[bb]
 
     def others_of(b: int) -> Callable[[int], _PartExamples]:
         """:func:`_part_colors`' ``others``: the examples of a part on the car nearest in depth to row ``b``'s that
         shows at least 8 of them, both cars seen through clear air (:func:`_clear_air`); none otherwise (in fog each
         car has its own air: a near car's tyres are dark where a far one's are grey)."""
         def pool(part: int) -> _PartExamples:
-            if not examples:
-                cars = (src_row_to_mesh >= 0).nonzero().flatten()
-                visible = _pixels_of(vis_ids, before.instance_id[cars])
-                for bb in cars.tolist():
-                    found, seen_colors = _part_examples(bb, int(src_row_to_mesh[bb]),
-                                                        visible(int(before.instance_id[bb])), before, src, parts_src,
-                                                        img_flat, settings)
-                    examples[bb] = found, _clear_air(seen_colors)
-            if b not in examples or not examples[b][1]:
+            if b not in shown_cars or not examples_of(b)[2]:
                 return _no_examples()
             depth = before.center[:, 2].double().clamp(min=0.1)
-            by_depth = sorted((bb for bb in examples if bb != b and examples[bb][1]),
+            by_depth = sorted((bb for bb in shown_cars if bb != b and examples_of(bb)[2]),
                               key=lambda bb: abs(math.log(depth[bb] / depth[b])))
             for bb in by_depth:
-                found = _examples_of_part(examples[bb][0], part)
+                found = _examples_of_part(examples_of(bb)[0], part)
                 if len(found.part) >= 8:
                     return found
             return _no_examples()
@@ -1109,12 +1111,19 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             warnings.append(f"object {name}: none of its surface is visible in the input; drawn in grey from its shape")
         s_new = surface_shade(normal_t[sel])
         fallback[sel] = albedo[None] * s_new[:, None]
+        if settings.view_reflection > 0 and b >= 0:  # glass and paint seen from a new angle mirror more or less sky
+            for part in REFLECTIVE_PARTS:
+                here = sel & seen & (t_part == part)
+                strength = _reflection_strength(examples_of(b)[0], part) if bool(here.any()) else None
+                if strength is not None:
+                    change = grazing(cos_t[here]) - grazing(cos_src[here])
+                    color[here] += settings.view_reflection * strength[None] * change[:, None]
         if by_parts and b >= 0:
             unseen = sel & ~seen
             if bool(unseen.any()):
-                alb, code = _part_colors(b, int(s_mesh[sel][0]), visible_px, point_s[unseen], normal_t[unseen],
-                                         t_part[unseen], before, src, parts_src, img_flat, settings,
-                                         albedo if len(visible_px) else None, others_of(b))
+                car_examples, seen_colors, _ = examples_of(b)
+                alb, code = _part_colors(b, car_examples, seen_colors, point_s[unseen], normal_t[unseen],
+                                         t_part[unseen], before, albedo if len(visible_px) else None, others_of(b))
                 # a part's examples carry their shading
                 s_un = torch.where((code == PART) | (code == ANOTHER_CAR), 1.0, surface_shade(normal_t[unseen]))
                 fallback[unseen] = alb * s_un[:, None]
@@ -1297,11 +1306,13 @@ def seen_through_the_air(defaults: Tensor, colors: Tensor, min_pixels: int = 50)
 
 class _PartExamples(NamedTuple):
     """A car's visible pixels usable as examples of its parts (:func:`_part_examples`): ``part (E,)``,
-    ``color (E, 3)`` sRGB and ``feature (E, 6)`` (:func:`_part_features`)."""
+    ``color (E, 3)`` sRGB, ``feature (E, 6)`` (:func:`_part_features`) and ``cos (E,)`` the view cosine each was
+    seen at (:func:`_view_cos`)."""
 
     part: Tensor
     color: Tensor
     feature: Tensor
+    cos: Tensor
 
 
 def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor) -> Tensor:
@@ -1330,8 +1341,9 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     _, vid, bary, normal = _surface(src, ex)
     tri = src.verts[torch.full((len(ex),), s_mesh, dtype=torch.long)[:, None], vid]
     point = (bary[..., None] * tri).sum(1)
-    good = _view_cos(point, normal) >= settings.min_view_cos
-    ex, point, normal = ex[good], point[good], normal[good]
+    cos = _view_cos(point, normal)
+    good = cos >= settings.min_view_cos
+    ex, point, normal, cos = ex[good], point[good], normal[good], cos[good]
     colors = img_flat[ex]
     ex_part = parts_src[ex]
     keep = torch.ones(len(ex), dtype=torch.bool)
@@ -1343,20 +1355,35 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     if TYRE_QUANTILE < 1 and len(tyre_ex):  # tyre examples lighter than most of the car are road or paint
         luma = luminance(colors)
         keep[tyre_ex[luma[tyre_ex] > torch.quantile(luma, TYRE_QUANTILE)]] = False
-    kept = _PartExamples(ex_part[keep], colors[keep], _part_features(before, b, point[keep], normal[keep]))
+    kept = _PartExamples(ex_part[keep], colors[keep], _part_features(before, b, point[keep], normal[keep]), cos[keep])
     return kept, colors
 
 
 def _no_examples() -> _PartExamples:
     """No examples at all (a car none of whose surface is seen)."""
     return _PartExamples(torch.zeros(0, dtype=torch.long), torch.zeros(0, 3, dtype=torch.float64),
-                         torch.zeros(0, 6, dtype=torch.float64))
+                         torch.zeros(0, 6, dtype=torch.float64), torch.zeros(0, dtype=torch.float64))
 
 
 def _examples_of_part(examples: _PartExamples, part: int) -> _PartExamples:
     """The examples of ``part`` among ``examples``."""
     keep = examples.part == part
-    return _PartExamples(examples.part[keep], examples.color[keep], examples.feature[keep])
+    return _PartExamples(*(field[keep] for field in examples))
+
+
+#: Parts whose colour drawn from the photo or its mirror image changes with the view (``photo.view_reflection``):
+#: glass and clear-coated paint mirror the sky more the more edge-on they are seen
+#: (:func:`~sdn3d.editing.photo.light.grazing`). A part drawn from the car's examples elsewhere is not changed: its
+#: examples are chosen by the direction they faced, which brings their reflection along (the change there lost
+#: 0.3 dB on the seed-33 tuning tree's 180-degree turns, docs/results/2026-11-28_cpu/session7/lead/).
+REFLECTIVE_PARTS = (int(Part.GLASS), int(Part.BODY))
+
+
+def _reflection_strength(examples: _PartExamples, part: int) -> Tensor | None:
+    """``(3,)`` the reflection strength of ``part`` of one car fitted on its examples
+    (:func:`~sdn3d.editing.photo.light.fit_reflection`); None where it cannot be told."""
+    mine = examples.part == part
+    return fit_reflection(examples.color[mine], examples.cos[mine])
 
 
 #: Parts a car that never showed them takes from another car of the photo (:func:`_part_colors`): tyres and rims
@@ -1365,18 +1392,17 @@ def _examples_of_part(examples: _PartExamples, part: int) -> _PartExamples:
 SHARED_PARTS = (int(Part.TYRE),)
 
 
-def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
-                 before: ObjectTable, src: _Raster, parts_src: Tensor, img_flat: Tensor, settings: PhotoSettings,
-                 body: Tensor | None, others: Callable[[int], _PartExamples] | None = None,
+def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
+                 before: ObjectTable, body: Tensor | None, others: Callable[[int], _PartExamples] | None = None,
                  max_examples: int = 1500, k: int = 4) -> tuple[Tensor, Tensor]:
     """``(colour (P, 3), source code (P,))`` of unseen surface points ``points (P, 3)`` (camera frame, at the source
-    pose of ``before`` row ``b``, rasterized as source mesh ``s_mesh``) with camera-frame unit normals at their new
-    pose ``normals (P, 3)`` and parts ``parts (P,)``.
+    pose of ``before`` row ``b``) with camera-frame unit normals at their new pose ``normals (P, 3)`` and parts
+    ``parts (P,)``; ``own``: the car's examples and ``seen_colors`` all its visible colours (:func:`_part_examples`).
 
     Where the input showed the part: the mean colour of the ``k`` nearest input pixels of the same part of the same
-    car (:func:`_part_examples`), code :data:`PART`. Nearest in the car's own frame and by camera-frame normal
-    (:func:`_part_features`): an example that faced the camera as the new surface does carries its shading (no
-    light model: a side of the car turned towards the camera takes the colour of the surfaces that faced it).
+    car, code :data:`PART`. Nearest in the car's own frame and by camera-frame normal (:func:`_part_features`): an
+    example that faced the camera as the new surface does carries its shading (no light model: a side of the car
+    turned towards the camera takes the colour of the surfaces that faced it, its reflection included).
 
     A lamp part it never showed (the front of a car seen from behind) takes the other end's lamps and paint the
     same way (:data:`OTHER_END`), its lamps in this end's colour (:data:`LAMP_HUES`), code :data:`PART`. A
@@ -1390,7 +1416,6 @@ def _part_colors(b: int, s_mesh: int, visible_px: Tensor, points: Tensor, normal
         is_body = parts <= int(Part.BODY)
         albedo[is_body] = body
         codes[is_body] = FALLBACK
-    own, seen_colors = _part_examples(b, s_mesh, visible_px, before, src, parts_src, img_flat, settings)
     default = (codes == DEFAULT) & (parts >= 0)
     if bool(default.any()) and len(seen_colors):
         albedo[default] = seen_through_the_air(albedo[default], seen_colors)

@@ -31,4 +31,8 @@ if ! .venv/bin/python -c "import selenium" 2>/dev/null; then
 fi
 
 .venv/bin/ruff check .
+# The tests start many CLI processes (sdn3d-train, -edit, -bench); with bytecode written once (__pycache__, ignored by
+# git) each start skips compiling the project's sources again, about 1 CPU s a process where the environment sets
+# PYTHONDONTWRITEBYTECODE (docs/results/2026-11-28_cpu/session7/tests/).
+unset PYTHONDONTWRITEBYTECODE
 .venv/bin/python -m pytest "$@"

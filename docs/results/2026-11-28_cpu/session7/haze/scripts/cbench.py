@@ -27,20 +27,27 @@ def cached(image, intrinsics, record, models, settings):
     key = f"{record.world}_{record.variation}_{record.frame}_{settings.scene}_{settings.proposals}_{settings.fit}"
     path = os.path.join(cache, hashlib.md5(key.encode()).hexdigest() + ".pt")
     if os.path.exists(path):
-        return torch.load(path, weights_only=False)
+        try:
+            return torch.load(path, weights_only=False)
+        except (RuntimeError, EOFError, OSError):  # another process still writing it: de-render here
+            pass
     scene = original(image, intrinsics, record, models, settings)
-    torch.save(scene, path)
+    tmp = f"{path}.{os.getpid()}.tmp"
+    torch.save(scene, tmp)
+    os.replace(tmp, path)  # whole files only
     return scene
 
 
 orig_eval, orig_base = eb.evaluate_entry, eb.baseline_photo
 
 
-SHARD = os.environ.get("SHARD_WORLD")  # only this world's entries are evaluated (the others are reported as skipped)
+# only these worlds' (or world/variation sequences') entries are evaluated, comma-separated; the others are skipped
+SHARD = [x for x in os.environ.get("SHARD_WORLD", "").split(",") if x]
 
 
 def evaluate_entry(index, entry, *a, **k):
-    if SHARD and entry.world != SHARD: raise ValueError("skipped: another shard")
+    if SHARD and entry.world not in SHARD and f"{entry.world}/{entry.variation}" not in SHARD:
+        raise ValueError("skipped: another shard")
     STATE["entry"] = index; STATE["phase"] = "3d-sdn"
     LOG.clear()
     r = orig_eval(index, entry, *a, **k)

@@ -251,3 +251,70 @@ def test_ray_haze_setting_is_checked():
     assert PhotoSettings().ray_haze == 1.0
     with pytest.raises(PhotoSettingsError, match="ray_haze"):
         PhotoSettings(ray_haze=1.5)
+
+
+# -- session 7: the haze correction only where the far picture shows the fog -------------------------------------------
+
+
+def _far_lighter_road(fog: float, far: float, height: int = 96, width: int = 160,
+                      horizon: float = 30.0) -> torch.Tensor:
+    """:func:`_foggy_road`'s road (0.4 near the camera, ``fog`` at the horizon) under a far picture (the rows above
+    the horizon: sky, trees, facades) of grey ``far``: ``far == fog`` is fog, which greys everything far alike; a
+    darker ``far`` is a road lighter towards the horizon for another reason (a wet road's sheen, a lit patch) under
+    a far picture that shows no fog."""
+    image = _foggy_road(fog, height, width, horizon)
+    image[:, : int(horizon) + 1] = far
+    return image
+
+
+def test_ray_haze_applies_in_fog_not_where_the_far_picture_shows_no_fog():
+    """The same far-lighter road twice: under a fog-coloured far picture (fog-like) the fill follows the fitted fog
+    and ends near the truth; under a dark far picture (rain-like: a wet sheen, not fog) the fit's fog is not the
+    far picture's colour, no correction is added, and the fill is the uncorrected one (with the check off it
+    would be corrected)."""
+    from sdn3d.editing.photo.fill import fill_hole
+    from sdn3d.editing.photo.road import road_haze
+
+    vp = (80.0, 30.0)
+    hole = torch.zeros(96, 160, dtype=torch.bool)
+    hole[26:60, 65:95] = True
+    far = (slice(None), slice(36, 48), slice(74, 86))
+    fixed = {"fill": "rays", "ray_grain": "fixed", "ray_texture": 0.0}
+    settings, off = PhotoSettings(**fixed), PhotoSettings(**fixed, ray_haze=0.0)
+    assert settings.ray_haze_airlight == 0.25
+
+    foggy = _far_lighter_road(0.8, far=0.8)
+    assert road_haze(foggy, ~hole, hole, vp[1]) is not None
+    truth = float(foggy[far].mean())
+    on_fog = fill_hole(foggy, hole, settings, vanishing=vp)
+    assert abs(float(on_fog[far].mean()) - truth) < 0.03 < abs(float(fill_hole(foggy, hole, off, vanishing=vp)[far]
+                                                                    .mean()) - truth)
+
+    sheen = _far_lighter_road(0.8, far=0.3)
+    assert road_haze(sheen, ~hole, hole, vp[1]) is None
+    assert road_haze(sheen, ~hole, hole, vp[1], airlight=1.0) is not None  # the check, not the fit, says no
+    assert torch.equal(fill_hole(sheen, hole, settings, vanishing=vp), fill_hole(sheen, hole, off, vanishing=vp))
+    unchecked = fill_hole(sheen, hole, PhotoSettings(**fixed, ray_haze_airlight=1.0), vanishing=vp)
+    assert float((unchecked[far] - fill_hole(sheen, hole, off, vanishing=vp)[far]).abs().mean()) > 0.1
+
+
+def test_road_haze_refuses_a_fit_whose_road_colour_is_off_the_scale():
+    """A road that darkens a little towards the camera over rows where ``exp(-256 / r)`` is nearly 0 is fitted
+    best by a tiny fog share with a huge amplitude: its road colour without fog (-1.5) is no colour, so no fit."""
+    from sdn3d.editing.photo.road import road_haze
+
+    rows = torch.arange(96, dtype=torch.float32)
+    depth = (rows - 30.0).clamp(min=1.0)
+    road = (0.5 - 2.0 * torch.exp(-256.0 / depth))[None, :, None].expand(3, 96, 160).clone()
+    road[:, :31] = 0.5
+    hole = torch.zeros(96, 160, dtype=torch.bool)
+    hole[40:70, 65:95] = True
+    assert road_haze(road, ~hole, hole, 30.0, airlight=1.0) is None
+    gentle = (0.5 - 0.1 * torch.exp(-16.0 / depth))[None, :, None].expand(3, 96, 160).clone()  # a plausible one
+    gentle[:, :31] = 0.5
+    assert road_haze(gentle, ~hole, hole, 30.0, airlight=1.0) is not None
+
+
+def test_ray_haze_airlight_setting_is_checked():
+    with pytest.raises(PhotoSettingsError, match="ray_haze_airlight"):
+        PhotoSettings(ray_haze_airlight=-0.1)

@@ -143,7 +143,7 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
         vp = vanishing if vanishing is not None else ((width - 1) / 2, (height - 1) / 2)
         out, reached = ray_fill(image, hole, vp, keep_out, settings.ray_blur, settings.ray_texture, settings.ray_span,
                                  match_grain=settings.ray_grain == "match", marks=settings.ray_marks,
-                                 haze=settings.ray_haze)
+                                 haze=settings.ray_haze, airlight=settings.ray_haze_airlight)
         rest = hole & ~reached  # no ray reaches these: Telea from what is known around them
         return inpaint(out, rest, "telea", settings.inpaint_radius) if bool(rest.any()) else out
     return inpaint(image, hole, settings.fill, settings.inpaint_radius, keep_out=keep_out)

@@ -176,7 +176,7 @@ def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tenso
 def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Tensor | None = None,
              sigma: float = 1.0, texture: float = 1.0, along: int = 1, max_steps: int = 400,
              beyond: int = 64, match_grain: bool = False, marks: float = 0.0,
-             haze: float = 0.0) -> tuple[Tensor, Tensor]:
+             haze: float = 0.0, airlight: float = 0.25) -> tuple[Tensor, Tensor]:
     """``(image (3, H, W), reached (H, W) bool)``: ``image`` with the ``hole (H, W)`` pixels a ray reaches filled
     along the rays from the vanishing point ``vp = (u, v)`` (module doc); ``keep_out (H, W)``: pixels no ray samples
     (other objects), ``sigma``: the sources' normalised blur, ``texture``: weight of the mirrored high-pass,
@@ -189,7 +189,8 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     luma than its neighbourhood) and the other is not, the ray takes the other side's colour alone
     (:func:`_one_sided_marks`; 0: both sides interpolated everywhere); ``haze``: weight of the change of the road's
     colour with its row (:func:`road_haze`: fog and haze lighten the road towards the horizon) added to each hole
-    pixel, from its sources' rows to its own (0: the sources' colours as they are)."""
+    pixel, from its sources' rows to its own (0: the sources' colours as they are); ``airlight``: only where the
+    fitted fog's colour is within this of the far picture's (:func:`road_haze`'s fog check; 1: no check)."""
     height, width = hole.shape
     out = image.clone()
     reached = torch.zeros_like(hole)
@@ -221,7 +222,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     far = min(max_steps, int(across) + beyond)
     steps = torch.cat([torch.arange(1, 17), torch.arange(17, far + 1, 2)]).float()
     never = torch.full_like(reach, float(far))
-    per_row = road_haze(image, valid, hole, float(vp[1])) if haze > 0 else None
+    per_row = road_haze(image, valid, hole, float(vp[1]), airlight) if haze > 0 else None
     values = torch.zeros(3, len(ys))
     grains = torch.zeros(3, len(ys)) if detail is not None else None
     got = torch.zeros(len(ys), dtype=torch.bool)
@@ -272,16 +273,27 @@ HAZE_MIN_PIXELS, HAZE_MIN_ROWS = 5, 6
 #: :func:`road_haze` reads every ``width // HAZE_COLUMNS``-th column (every one below 800 columns): the profile is
 #: per row, and at 1242x375 the road's colour on all columns cost 50 ms.
 HAZE_COLUMNS = 400
+#: :func:`road_haze`'s fog check: the far picture is the rows within ``height // HAZE_FAR_ROWS`` (at least 2) of the
+#: horizon, and needs at least :data:`HAZE_FAR_PIXELS` pixels there.
+HAZE_FAR_ROWS, HAZE_FAR_PIXELS = 24, 20
+#: :func:`road_haze`: a fit whose road colour without fog (``fog + (road - fog)``) lies more than this outside [0, 1]
+#: is no fog curve (a nearly flat profile bent by a huge, unseen amplitude) and is refused.
+HAZE_RANGE_SLACK = 0.05
 
 
-def road_haze(image: Tensor, valid: Tensor, hole: Tensor, horizon: float) -> Tensor | None:
+def road_haze(image: Tensor, valid: Tensor, hole: Tensor, horizon: float, airlight: float = 0.25) -> Tensor | None:
     """``(3, H)`` the road's colour per picture row around ``hole`` as fog or haze make it (None: no fit): the
     median colour of each row's road-like ``valid`` pixels (:func:`road_colours`, :func:`road_like`; columns
     thinned to about :data:`HAZE_COLUMNS`) below the ``horizon`` row within the hole's extent around it, fitted by
     ``fog + (road - fog) * exp(-k / r)`` (``r``: rows below the horizon, ``k`` from :data:`HAZE_DEPTHS`, ``fog``
     and ``road`` per channel by least squares); rows at or above the horizon take its value just below it. A clear
     road fits with ``fog`` near ``road`` (a flat profile); a fit whose far road is darker than its near road
-    (shade, not haze) is None."""
+    (shade, not haze) is None, and so is one whose road colour without fog lies outside [0, 1] (by more than
+    :data:`HAZE_RANGE_SLACK`). Fog check: fog takes everything far to its own colour, so the far picture (the
+    median colour of the ``valid`` pixels within ``height // HAZE_FAR_ROWS`` rows of the horizon, whatever they
+    show) is the fog's colour; a fitted ``fog`` more than ``airlight`` from it in any channel is a far road lighter
+    for another reason (a wet or glossy sheen, a lit patch, the end of a shade) and the fit is None, as it is when
+    fewer than :data:`HAZE_FAR_PIXELS` such pixels are seen (1: no check)."""
     height, width = hole.shape
     ys, xs = hole.nonzero(as_tuple=True)
     if not len(ys):
@@ -316,6 +328,17 @@ def road_haze(image: Tensor, valid: Tensor, hole: Tensor, horizon: float) -> Ten
     k, sol = fit
     if float(sol[1].mean()) > 0:  # the far road darker than the near one: shade, not haze
         return None
+    own = sol[0] + sol[1]  # the road's colour without fog
+    if float(own.min()) < -HAZE_RANGE_SLACK or float(own.max()) > 1 + HAZE_RANGE_SLACK:
+        return None
+    if airlight < 1:
+        band = max(2, height // HAZE_FAR_ROWS)
+        far = (valid & ((rows - horizon).abs() <= band)[:, None])[:, ::step]
+        if int(far.sum()) < HAZE_FAR_PIXELS:
+            return None
+        seen = image[:, far].double().median(1).values  # (3,)
+        if float((sol[0] - seen).abs().max()) > airlight:
+            return None
     below = (rows.double() - horizon).clamp(min=1.0)
     return (sol[0][:, None] + sol[1][:, None] * torch.exp(-k / below)[None]).float()
 

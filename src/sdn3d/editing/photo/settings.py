@@ -154,6 +154,12 @@ class PhotoSettings:
             the horizon; :func:`~sdn3d.editing.photo.road.road_haze`, fitted on the road around the hole) added to each
             filled pixel from its sources' rows to its own, so near road carried up towards the vanishing point takes
             the far road's fog (0: the sources' colours as they are).
+        ray_haze_airlight: ``ray_haze``'s fog check: the correction applies only where the fitted fog's colour is
+            within this (sRGB, any channel) of the far picture's, the median colour of the rows around the horizon
+            (fog takes everything far to its own colour; a far road lighter for another reason, a wet sheen, a lit
+            patch or the end of a shade, fits a "fog" the far picture does not show). 1: no check. On the tuning
+            trees 0.25 kept every fog and rain gain on the counterfactual deletes and dropped the clear-weather fits
+            and a rain delete whose fit had run to the horizon (docs/results/2026-11-28_cpu/session7/haze/).
         outline_grow: a moved car whose view turned by more than ``mask_view_deg`` (with ``silhouette='carved'``;
             else any moved car) also covers the free pixels (no object drawn or staying there) inside its box's
             projection within this share of the box's projected height of its drawn pixels, each in the colour of
@@ -202,6 +208,7 @@ class PhotoSettings:
     grow_min_seen: int = 1
     ray_marks: float = 0.2
     ray_haze: float = 1.0
+    ray_haze_airlight: float = 0.25
     outline_grow: float = 0.0
     view_reflection: float = 1.0
 
@@ -223,6 +230,7 @@ class PhotoSettings:
                   ("contact_shadow", self.contact_shadow, 0.0, 1.0), ("cast_blur", self.cast_blur, 0.3, 16.0),
                   ("ray_blur", self.ray_blur, 0.0, 8.0), ("ray_texture", self.ray_texture, 0.0, 2.0),
                   ("ray_marks", self.ray_marks, 0.0, 1.0), ("ray_haze", self.ray_haze, 0.0, 1.0),
+                  ("ray_haze_airlight", self.ray_haze_airlight, 0.0, 1.0),
                   ("shadow_light", self.shadow_light, 0.3, 1.0), ("mask_view_deg", self.mask_view_deg, 0.0, 90.0),
                   ("paste_max_iou", self.paste_max_iou, 0.0, 1.0),
                   ("view_stretch", self.view_stretch, 0.0, 10.0), ("outline_grow", self.outline_grow, 0.0, 0.5),

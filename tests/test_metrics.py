@@ -143,13 +143,14 @@ def test_lpips_small_whole_images_upsample_like_crops():
     assert torch.allclose(crop, d, atol=1e-6)
 
 
-def test_region_image_metrics_equal_image_metrics_per_mask_with_one_ssim_map(monkeypatch):
+def test_region_image_metrics_equal_the_single_metrics_per_mask_with_one_ssim_map(monkeypatch):
     import sdn3d.evaluation.image_metrics as im
 
     g = torch.Generator().manual_seed(3)
     pred, target = torch.rand(1, 3, 24, 40, generator=g), torch.rand(1, 3, 24, 40, generator=g)
     masks = {"whole": None, "all": torch.rand(1, 24, 40, generator=g) > 0.5, "none": torch.zeros(1, 24, 40, dtype=bool)}
-    expected = {name: im.image_metrics(pred, target, mask) for name, mask in masks.items()}
+    expected = {name: {"l1": im.l1(pred, target, mask), "psnr": im.psnr(pred, target, mask),
+                       "ssim": im.ssim(pred, target, mask)} for name, mask in masks.items()}
     calls = []
     ssim_fn = im.structural_similarity_index_measure
     monkeypatch.setattr(im, "structural_similarity_index_measure", lambda *a, **k: calls.append(1) or ssim_fn(*a, **k))

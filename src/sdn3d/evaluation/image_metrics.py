@@ -110,10 +110,7 @@ def lpips(pred: Tensor, target: Tensor, net: LPIPS, mask: Tensor | None = None) 
 def image_metrics(pred: Tensor, target: Tensor, mask: Tensor | None = None,
                   lpips_net: LPIPS | None = None) -> dict[str, Tensor]:
     """``{'l1', 'psnr', 'ssim'[, 'lpips']}`` per image ``(B,)``, on the whole images or over ``mask``."""
-    out = {"l1": l1(pred, target, mask), "psnr": psnr(pred, target, mask), "ssim": ssim(pred, target, mask)}
-    if lpips_net is not None:
-        out["lpips"] = lpips(pred, target, lpips_net, mask)
-    return out
+    return region_image_metrics(pred, target, {"region": mask}, lpips_net)["region"]
 
 
 def region_image_metrics(pred: Tensor, target: Tensor, masks: Mapping[str, Tensor | None],

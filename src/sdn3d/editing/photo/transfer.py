@@ -1033,10 +1033,12 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     cos_t = _view_cos((bary[..., None] * tri_t).sum(1), normal_t)
     squarely = (torch.clamp(cos_t / settings.view_stretch, max=settings.min_view_cos) if settings.view_stretch > 0
                 else torch.full_like(cos_t, settings.min_view_cos))
-    ok_photo &= has_src & (_view_cos(point_s, normal_s) >= squarely)
+    cos_photo = _view_cos(point_s, normal_s)
+    ok_photo &= has_src & (cos_photo >= squarely)
     normal_m = torch.einsum("pij,pj->pi", rot, torch.einsum("pji,pj->pi", rot, normal_s) * flip)
     ok_mirror, uv_mirror = _visible(point_m, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
-    ok_mirror &= has_src & ~ok_photo & (_view_cos(point_m, normal_m) >= squarely)
+    cos_mirror = _view_cos(point_m, normal_m)
+    ok_mirror &= has_src & ~ok_photo & (cos_mirror >= squarely)
 
     # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.
     z_t = tgt.frags.depth.view(-1)[pix].double()
@@ -1049,7 +1051,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         ratio = (shade(normal_t) / shade(n_src).clamp(min=1e-3)).clamp(0.5, 2.0)
         color = color * ratio[:, None]
     seen = ok_photo | ok_mirror
-    cos_src = torch.where(ok_photo, _view_cos(point_s, normal_s), _view_cos(point_m, normal_m))
+    cos_src = torch.where(ok_photo, cos_photo, cos_mirror)  # the view each drawn colour was seen at
 
     # Fallback: the object's own body colour, de-shaded, shaded for the new normal; with unseen='parts' the same part
     # seen elsewhere on the car, where it faced the same way (_part_colors: its shading comes with it), a part never

@@ -93,9 +93,13 @@ def ssim(pred: Tensor, target: Tensor, mask: Tensor | None = None, data_range: f
     if mask is None:
         return structural_similarity_index_measure(pred, target, data_range=data_range, sigma=sigma,
                                                    reduction="none")
-    _, full = structural_similarity_index_measure(pred, target, data_range=data_range, sigma=sigma,
-                                                  reduction="none", return_full_image=True)
-    return _masked_mean(full, mask)
+    return _masked_mean(_ssim_maps(pred, target, data_range, sigma)[1], mask)
+
+
+def _ssim_maps(pred: Tensor, target: Tensor, data_range: float = 1.0, sigma: float = 1.5) -> tuple[Tensor, Tensor]:
+    """``(SSIM per image (B,), SSIM map (B, C, H', W'))`` of :func:`ssim`'s settings, one torchmetrics call."""
+    return structural_similarity_index_measure(pred, target, data_range=data_range, sigma=sigma, reduction="none",
+                                               return_full_image=True)
 
 
 def lpips(pred: Tensor, target: Tensor, net: LPIPS, mask: Tensor | None = None) -> Tensor:
@@ -119,8 +123,7 @@ def region_image_metrics(pred: Tensor, target: Tensor, masks: Mapping[str, Tenso
     values, with the SSIM map of ``pred`` vs ``target`` computed once for all of them (it does not depend on
     the mask)."""
     _check(pred, target, None)
-    whole, full = structural_similarity_index_measure(pred, target, data_range=1.0, sigma=1.5, reduction="none",
-                                                      return_full_image=True)
+    whole, full = _ssim_maps(pred, target)
     out = {}
     for name, mask in masks.items():
         mask = _check(pred, target, mask)

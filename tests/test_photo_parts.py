@@ -253,7 +253,7 @@ def test_unseen_surface_takes_the_shading_of_pixels_that_faced_the_same_way(monk
         part = (result.source == PART) & (result.parts == int(Part.BODY))
         assert int(part.sum()) > 100
         errors.append(float((result.image[:, part] - target[:, part]).abs().mean()))
-    assert errors[0] < 0.6 * errors[1], errors
+    assert errors[0] < 0.2 * errors[1], errors
 
 
 def test_a_lamp_never_seen_takes_the_other_ends_lamps_in_its_own_colour(monkeypatch):
@@ -424,8 +424,10 @@ def test_tyres_a_car_never_showed_come_from_another_cars_tyres(monkeypatch):
 def test_glass_seen_from_a_new_angle_takes_the_change_of_its_reflection():
     """A car seen from the rear three-quarter whose windows mirror more sky the more edge-on they are seen (their
     colour is ``0.05 + 1.2 grazing(cos)``, :func:`~sdn3d.editing.photo.light.grazing`), turned by 45 degrees: the
-    window pixels drawn from the photo take the reflection of their new view angle (``photo.view_reflection``), so
-    they are nearer the truth than the input's colours carried as they are (``view_reflection=0``)."""
+    window pixels drawn from the photo or its mirror image take the reflection of their new view angle
+    (``photo.view_reflection``), so inside the windows they are far nearer the truth than the input's colours carried
+    as they are (``view_reflection=0``; part-sourced pixels are not changed, and the windows' edges mix in the body
+    alike in both runs)."""
     from sdn3d.editing.photo.light import grazing
     from sdn3d.editing.photo.transfer import _part_map, _rasterize, _surface, _view_cos
     from sdn3d.meshes.bank import default_bank
@@ -451,11 +453,12 @@ def test_glass_seen_from_a_new_angle_takes_the_change_of_its_reflection():
     image, _ = windows_by_view(scene)
     edited = apply_edits(scene, [Rotate(12001, math.radians(45))])
     truth, glass_after = windows_by_view(edited)
+    inner_glass = glass_after & ~dilate_square(~glass_after, 1)  # off the edges, which both runs blur into the body
     errors = []
     for weight in (1.0, 0.0):
         result = render_photo(image, FRAME, scene, edited, settings=dataclasses.replace(PARTS, view_reflection=weight))
-        drawn = glass_after & (result.parts == int(Part.GLASS)) & (
-            (result.source == PHOTO) | (result.source == MIRROR) | (result.source == PART))
+        drawn = inner_glass & (result.parts == int(Part.GLASS)) & (
+            (result.source == PHOTO) | (result.source == MIRROR))
         assert int(drawn.sum()) > 100
         errors.append(float((result.image - truth).abs().mean(0)[drawn].mean()))
-    assert errors[0] < 0.6 * errors[1], errors
+    assert errors[0] < 0.2 * errors[1], errors

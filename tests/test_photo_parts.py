@@ -253,7 +253,7 @@ def test_unseen_surface_takes_the_shading_of_pixels_that_faced_the_same_way(monk
         part = (result.source == PART) & (result.parts == int(Part.BODY))
         assert int(part.sum()) > 100
         errors.append(float((result.image[:, part] - target[:, part]).abs().mean()))
-    assert errors[0] < 0.2 * errors[1], errors
+    assert errors[0] < 0.6 * errors[1], errors
 
 
 def test_a_lamp_never_seen_takes_the_other_ends_lamps_in_its_own_colour(monkeypatch):

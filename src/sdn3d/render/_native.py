@@ -2,10 +2,10 @@
 
 The kernel has a plain C ABI and no torch headers, so ``g++ -O3 -shared`` builds it in about a second on a fresh
 machine (``build-essential``); no ninja or torch extension toolchain is needed. The shared library is cached under
-``$SDN3D_NATIVE_CACHE`` (default ``~/.cache/sdn3d/native``), keyed by a hash of the source and the compiler
-command, and written atomically, so parallel processes may build it at once. Without a compiler, or if the build
-fails, :func:`soft_kernel` returns ``None`` (once, with a warning) and :mod:`sdn3d.render.soft` uses its pure-PyTorch
-path, which computes the same silhouettes and gradients up to float summation order.
+``$SDN3D_NATIVE_CACHE`` (default ``~/.cache/sdn3d/native``), keyed by a hash of the source, the compiler command and
+the processor, and written atomically, so parallel processes may build it at once. Without a compiler, or if the
+build fails, :func:`soft_kernel` returns ``None`` (once, with a warning) and :mod:`sdn3d.render.soft` uses its
+pure-PyTorch path, which computes the same silhouettes and gradients up to float rounding.
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ import ctypes
 import functools
 import hashlib
 import os
+import platform
 import shutil
 import subprocess
 import tempfile
@@ -35,8 +36,18 @@ def _cache_dir() -> Path:
     return Path(root) if root else Path.home() / ".cache" / "sdn3d" / "native"
 
 
+def _cpu() -> str:
+    """The processor's model and instruction-set flags (``-march=native`` builds for them; a cache directory shared
+    between machines gets one library per kind of processor)."""
+    try:
+        info = Path("/proc/cpuinfo").read_text().splitlines()
+    except OSError:
+        return platform.machine()
+    return platform.machine() + "".join(sorted({line for line in info if line.startswith(("flags", "model name"))}))
+
+
 def _build(compiler: str, source: bytes) -> Path:
-    key = hashlib.sha256(source + " ".join((compiler, *_FLAGS)).encode()).hexdigest()[:16]
+    key = hashlib.sha256(source + " ".join((compiler, *_FLAGS, _cpu())).encode()).hexdigest()[:16]
     target = _cache_dir() / f"soft_kernel_{key}.so"
     if target.exists():
         return target

@@ -139,3 +139,22 @@ def test_the_kernel_is_built_once_into_the_cache(monkeypatch, tmp_path) -> None:
         assert native.soft_kernel() is not None and built[0].stat().st_mtime_ns == stamp  # reused, not rebuilt
     finally:
         native.soft_kernel.cache_clear()
+
+
+@needs_compiler
+def test_the_kernels_threads_split_meshes_and_change_nothing() -> None:
+    verts, faces, K = fit_like_scene(torch.float32)
+    weight = torch.rand(5, 48, 48, generator=torch.Generator().manual_seed(3))
+    threads = torch.get_num_threads()
+    results = []
+    try:
+        for count in (1, 3):
+            torch.set_num_threads(count)
+            v = verts.clone().requires_grad_(True)
+            sil = soft_silhouette(v, faces, K, SoftSilhouetteSettings((48, 48)))
+            (sil * weight).sum().backward()
+            results.append((sil.detach(), v.grad))
+    finally:
+        torch.set_num_threads(threads)
+    assert torch.equal(results[0][0], results[1][0]) and torch.equal(results[0][1], results[1][1])
+    assert float(results[0][1].abs().max()) > 0

@@ -207,11 +207,12 @@ def _kernel_for(screen: Tensor, settings: SoftSilhouetteSettings) -> ctypes.CDLL
 def _call(kernel: ctypes.CDLL, direction: str, screen: Tensor, box: Tensor, faces_per_mesh: int,
           settings: SoftSilhouetteSettings, *out: Tensor) -> None:
     """Run the kernel's ``forward`` (accumulates ``-softplus(x)`` into ``out[0]``, the flat ``log_keep``) or
-    ``backward`` (``out``: the per-pixel gradient factor and the ``(M, 3, 2)`` screen gradient it writes)."""
+    ``backward`` (``out``: the per-pixel gradient factor and the ``(M, 3, 2)`` screen gradient it writes), on
+    torch's intra-op thread count (split by meshes; the result does not depend on it)."""
     height, width = settings.image_size
     fn = getattr(kernel, f"sdn3d_soft_{direction}_{_KERNEL_DTYPES[screen.dtype]}")
     fn(screen.data_ptr(), box.data_ptr(), screen.shape[0], faces_per_mesh, height, width,
-       1.0 / settings.sigma, AREA_EPS, *(t.data_ptr() for t in out))
+       1.0 / settings.sigma, AREA_EPS, *(t.data_ptr() for t in out), torch.get_num_threads())
 
 
 class _SoftSilhouetteFunction(torch.autograd.Function):

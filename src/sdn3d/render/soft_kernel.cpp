@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -162,14 +163,14 @@ struct Group {
     }
 };
 
-// Faces with a non-empty box, sorted by (box height, box width), in groups of kLanes (the last one padded with
-// empty boxes).
+// Faces [face_lo, face_hi) with a non-empty box, sorted by (box height, box width), in groups of kLanes (the last
+// one padded with empty boxes).
 template <typename T>
-std::vector<Group<T>> face_groups(const T* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh,
-                                  int64_t image_pixels, T area_eps) {
+std::vector<Group<T>> face_groups(const T* screen, const int64_t* box, int64_t face_lo, int64_t face_hi,
+                                  int64_t faces_per_mesh, int64_t image_pixels, T area_eps) {
     constexpr int kLanes = Vec<T>::kLanes;
     std::vector<int64_t> order;
-    for (int64_t f = 0; f < num_faces; ++f)
+    for (int64_t f = face_lo; f < face_hi; ++f)
         if (box[4 * f + 2] > 0 && box[4 * f + 3] > 0) order.push_back(f);
     std::stable_sort(order.begin(), order.end(), [box](int64_t a, int64_t b) {
         return box[4 * a + 3] != box[4 * b + 3] ? box[4 * a + 3] < box[4 * b + 3] : box[4 * a + 2] < box[4 * b + 2];
@@ -237,19 +238,35 @@ struct Pairs {
     }
 };
 
+// Runs body(face_lo, face_hi) on num_threads threads, each over whole meshes: a mesh's pixels receive only its own
+// faces' terms, so each thread writes its own pixels, and a pixel adds its faces' terms in the same order (their
+// sorted order within the mesh) whatever the thread count: the result does not depend on it.
+template <typename Body>
+void over_meshes(int64_t num_faces, int64_t faces_per_mesh, int num_threads, Body body) {
+    const int64_t meshes = num_faces / faces_per_mesh;
+    const int64_t parts = std::max<int64_t>(1, std::min<int64_t>(num_threads, meshes));
+    if (parts == 1) return body(int64_t(0), num_faces);
+    std::vector<std::thread> threads;
+    for (int64_t p = 0; p < parts; ++p)
+        threads.emplace_back(body, meshes * p / parts * faces_per_mesh, meshes * (p + 1) / parts * faces_per_mesh);
+    for (std::thread& t : threads) t.join();
+}
+
 template <typename T>
 void forward(const T* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh, int64_t height,
-             int64_t width, T inv_sigma, T area_eps, T* log_keep) {
-    for (const Group<T>& g : face_groups(screen, box, num_faces, faces_per_mesh, height * width, area_eps)) {
-        for (int64_t dr = 0; dr < g.win_h; ++dr) {
-            for (int64_t dc = 0; dc < g.win_w; ++dc) {
-                const typename Vec<T>::V term = softplus_v(Pairs<T>(g, dc, dr, inv_sigma).x);
-                for (int j = 0; j < Group<T>::kLanes; ++j)
-                    if (dc < g.box_w[j] && dr < g.box_h[j])
-                        log_keep[g.base[j] + (g.row0[j] + dr) * width + g.col0[j] + dc] -= term[j];
+             int64_t width, T inv_sigma, T area_eps, T* log_keep, int num_threads) {
+    over_meshes(num_faces, faces_per_mesh, num_threads, [=](int64_t lo, int64_t hi) {
+        for (const Group<T>& g : face_groups(screen, box, lo, hi, faces_per_mesh, height * width, area_eps)) {
+            for (int64_t dr = 0; dr < g.win_h; ++dr) {
+                for (int64_t dc = 0; dc < g.win_w; ++dc) {
+                    const typename Vec<T>::V term = softplus_v(Pairs<T>(g, dc, dr, inv_sigma).x);
+                    for (int j = 0; j < Group<T>::kLanes; ++j)
+                        if (dc < g.box_w[j] && dr < g.box_h[j])
+                            log_keep[g.base[j] + (g.row0[j] + dr) * width + g.col0[j] + dc] -= term[j];
+                }
             }
         }
-    }
+    });
 }
 
 // pixel_grad = dL/dA * (1 - A) * (-2 / sigma) per pixel; grad_screen (M, 3, 2) is overwritten. As soft.py's
@@ -257,64 +274,67 @@ void forward(const T* screen, const int64_t* box, int64_t num_faces, int64_t fac
 // d(d^2)/da = -2 (1 - t) r, d(d^2)/db = -2 t r (the envelope theorem).
 template <typename T>
 void backward(const T* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh, int64_t height,
-              int64_t width, T inv_sigma, T area_eps, const T* pixel_grad, T* grad_screen) {
+              int64_t width, T inv_sigma, T area_eps, const T* pixel_grad, T* grad_screen, int num_threads) {
     typedef typename Vec<T>::V V;
     std::fill(grad_screen, grad_screen + 6 * num_faces, T(0));
-    for (const Group<T>& g : face_groups(screen, box, num_faces, faces_per_mesh, height * width, area_eps)) {
-        V grad[3][2];
-        for (int v = 0; v < 3; ++v) grad[v][0] = grad[v][1] = splat<V>(T(0));
-        for (int64_t dr = 0; dr < g.win_h; ++dr) {
-            for (int64_t dc = 0; dc < g.win_w; ++dc) {
-                const Pairs<T> p(g, dc, dr, inv_sigma);
-                V pg = splat<V>(T(0));  // 0 beyond a lane's box: no gradient
-                for (int j = 0; j < Group<T>::kLanes; ++j)
-                    if (dc < g.box_w[j] && dr < g.box_h[j])
-                        pg[j] = pixel_grad[g.base[j] + (g.row0[j] + dr) * width + g.col0[j] + dc];
-                const V coef = pg * copysign_v<T>(sigmoid_v(p.x), p.x);
-                const V end = coef * p.t, start = coef - end;
-                for (int v = 0; v < 3; ++v) {  // vertex v starts edge v and ends edge v - 1
-                    const V weight = p.on[v] * start + p.on[(v + 2) % 3] * end;
-                    grad[v][0] += weight * p.rx;
-                    grad[v][1] += weight * p.ry;
+    over_meshes(num_faces, faces_per_mesh, num_threads, [=](int64_t lo, int64_t hi) {
+        for (const Group<T>& g : face_groups(screen, box, lo, hi, faces_per_mesh, height * width, area_eps)) {
+            V grad[3][2];
+            for (int v = 0; v < 3; ++v) grad[v][0] = grad[v][1] = splat<V>(T(0));
+            for (int64_t dr = 0; dr < g.win_h; ++dr) {
+                for (int64_t dc = 0; dc < g.win_w; ++dc) {
+                    const Pairs<T> p(g, dc, dr, inv_sigma);
+                    V pg = splat<V>(T(0));  // 0 beyond a lane's box: no gradient
+                    for (int j = 0; j < Group<T>::kLanes; ++j)
+                        if (dc < g.box_w[j] && dr < g.box_h[j])
+                            pg[j] = pixel_grad[g.base[j] + (g.row0[j] + dr) * width + g.col0[j] + dc];
+                    const V coef = pg * copysign_v<T>(sigmoid_v(p.x), p.x);
+                    const V end = coef * p.t, start = coef - end;
+                    for (int v = 0; v < 3; ++v) {  // vertex v starts edge v and ends edge v - 1
+                        const V weight = p.on[v] * start + p.on[(v + 2) % 3] * end;
+                        grad[v][0] += weight * p.rx;
+                        grad[v][1] += weight * p.ry;
+                    }
                 }
             }
+            for (int j = 0; j < Group<T>::kLanes; ++j)
+                if (g.box_w[j] > 0)
+                    for (int v = 0; v < 3; ++v)
+                        for (int i = 0; i < 2; ++i) grad_screen[6 * g.face[j] + 2 * v + i] = grad[v][i][j];
         }
-        for (int j = 0; j < Group<T>::kLanes; ++j)
-            if (g.box_w[j] > 0)
-                for (int v = 0; v < 3; ++v)
-                    for (int i = 0; i < 2; ++i) grad_screen[6 * g.face[j] + 2 * v + i] = grad[v][i][j];
-    }
+    });
 }
 
 }  // namespace
 
 extern "C" {
 
-int sdn3d_soft_abi_version() { return 2; }
+int sdn3d_soft_abi_version() { return 3; }
 
 void sdn3d_soft_forward_f32(const float* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh,
-                            int64_t height, int64_t width, double inv_sigma, double area_eps, float* log_keep) {
+                            int64_t height, int64_t width, double inv_sigma, double area_eps, float* log_keep, int num_threads) {
     forward<float>(screen, box, num_faces, faces_per_mesh, height, width, float(inv_sigma), float(area_eps),
-                   log_keep);
+                   log_keep, num_threads);
 }
 
 void sdn3d_soft_forward_f64(const double* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh,
-                            int64_t height, int64_t width, double inv_sigma, double area_eps, double* log_keep) {
-    forward<double>(screen, box, num_faces, faces_per_mesh, height, width, inv_sigma, area_eps, log_keep);
+                            int64_t height, int64_t width, double inv_sigma, double area_eps, double* log_keep, int num_threads) {
+    forward<double>(screen, box, num_faces, faces_per_mesh, height, width, inv_sigma, area_eps, log_keep,
+                    num_threads);
 }
 
 void sdn3d_soft_backward_f32(const float* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh,
                              int64_t height, int64_t width, double inv_sigma, double area_eps,
-                             const float* pixel_grad, float* grad_screen) {
+                             const float* pixel_grad, float* grad_screen, int num_threads) {
     backward<float>(screen, box, num_faces, faces_per_mesh, height, width, float(inv_sigma), float(area_eps),
-                    pixel_grad, grad_screen);
+                    pixel_grad, grad_screen, num_threads);
 }
 
 void sdn3d_soft_backward_f64(const double* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh,
                              int64_t height, int64_t width, double inv_sigma, double area_eps,
-                             const double* pixel_grad, double* grad_screen) {
+                             const double* pixel_grad, double* grad_screen, int num_threads) {
     backward<double>(screen, box, num_faces, faces_per_mesh, height, width, inv_sigma, area_eps, pixel_grad,
-                     grad_screen);
+                     grad_screen, num_threads);
 }
 
 }  // extern "C"

@@ -6,14 +6,14 @@
 // saving it. Plain C ABI (loaded with ctypes) and no torch headers, so g++ builds it in about a second.
 //
 // A face's box is only a few pixels a side at the fit's crop sizes, too small to vectorise over its pixels, so
-// the SIMD lanes are faces: faces with a non-empty box are sorted by box height, then width, and each group of
-// Lanes faces walks the group's largest box together. A lane beyond its own box evaluates a throw-away pair (at
-// its box's corner, so finite) that is neither added nor given a gradient. GCC's vector extensions keep the
-// arithmetic in vectors on any x86-64 (or other) target; float32's exp and log1p are Cephes' polynomials (within
-// about 2 ulp of libm, as PyTorch's own vectorised ones are), float64 calls libm lane by lane (tests only).
+// the SIMD lanes are faces: each mesh's faces with a non-empty box are sorted by box height, then width, and each
+// group of Lanes faces walks the group's largest box together. A lane beyond its own box evaluates a throw-away
+// pair (at its box's corner, so finite) that is neither added nor given a gradient. GCC's vector extensions keep
+// the arithmetic in vectors on any target; float32's exp and log1p are Cephes' polynomials (within about 1 ulp,
+// as PyTorch's own vectorised ones), float64 calls libm lane by lane (tests only).
 //
 // Every face accumulates its pairs in a fixed order and faces are visited in a fixed order, so results are
-// deterministic. Inputs per face f (M faces, F per mesh): screen[f] = 3 counter-clockwise vertices (x, y) in
+// deterministic, whatever the thread count (over_meshes). Inputs per face f (M faces, F per mesh): screen[f] = 3 counter-clockwise vertices (x, y) in
 // pixels; box[f] = (first column, first row, width, height), width * height == 0 for culled faces.
 
 #include <algorithm>
@@ -238,25 +238,31 @@ struct Pairs {
     }
 };
 
-// Runs body(face_lo, face_hi) on num_threads threads, each over whole meshes: a mesh's pixels receive only its own
-// faces' terms, so each thread writes its own pixels, and a pixel adds its faces' terms in the same order (their
-// sorted order within the mesh) whatever the thread count: the result does not depend on it.
-template <typename Body>
-void over_meshes(int64_t num_faces, int64_t faces_per_mesh, int num_threads, Body body) {
+// Runs body(groups) for each mesh's face groups, on num_threads threads each taking whole meshes. A mesh's pixels
+// receive only its own faces' terms, so each thread writes its own pixels; and as the groups are formed per mesh, a
+// pixel adds its terms in the same order whatever the thread count: the result does not depend on it.
+template <typename T, typename Body>
+void over_meshes(const T* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh, int64_t pixels,
+                 T area_eps, int num_threads, Body body) {
     const int64_t meshes = num_faces / faces_per_mesh;
     const int64_t parts = std::max<int64_t>(1, std::min<int64_t>(num_threads, meshes));
-    if (parts == 1) return body(int64_t(0), num_faces);
+    auto run = [=](int64_t first, int64_t last) {
+        for (int64_t m = first; m < last; ++m)
+            body(face_groups(screen, box, m * faces_per_mesh, (m + 1) * faces_per_mesh, faces_per_mesh, pixels,
+                             area_eps));
+    };
+    if (parts == 1) return run(int64_t(0), meshes);
     std::vector<std::thread> threads;
-    for (int64_t p = 0; p < parts; ++p)
-        threads.emplace_back(body, meshes * p / parts * faces_per_mesh, meshes * (p + 1) / parts * faces_per_mesh);
+    for (int64_t p = 0; p < parts; ++p) threads.emplace_back(run, meshes * p / parts, meshes * (p + 1) / parts);
     for (std::thread& t : threads) t.join();
 }
 
 template <typename T>
 void forward(const T* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh, int64_t height,
              int64_t width, T inv_sigma, T area_eps, T* log_keep, int num_threads) {
-    over_meshes(num_faces, faces_per_mesh, num_threads, [=](int64_t lo, int64_t hi) {
-        for (const Group<T>& g : face_groups(screen, box, lo, hi, faces_per_mesh, height * width, area_eps)) {
+    over_meshes(screen, box, num_faces, faces_per_mesh, height * width, area_eps, num_threads,
+                [=](const std::vector<Group<T>>& groups) {
+        for (const Group<T>& g : groups) {
             for (int64_t dr = 0; dr < g.win_h; ++dr) {
                 for (int64_t dc = 0; dc < g.win_w; ++dc) {
                     const typename Vec<T>::V term = softplus_v(Pairs<T>(g, dc, dr, inv_sigma).x);
@@ -277,8 +283,9 @@ void backward(const T* screen, const int64_t* box, int64_t num_faces, int64_t fa
               int64_t width, T inv_sigma, T area_eps, const T* pixel_grad, T* grad_screen, int num_threads) {
     typedef typename Vec<T>::V V;
     std::fill(grad_screen, grad_screen + 6 * num_faces, T(0));
-    over_meshes(num_faces, faces_per_mesh, num_threads, [=](int64_t lo, int64_t hi) {
-        for (const Group<T>& g : face_groups(screen, box, lo, hi, faces_per_mesh, height * width, area_eps)) {
+    over_meshes(screen, box, num_faces, faces_per_mesh, height * width, area_eps, num_threads,
+                [=](const std::vector<Group<T>>& groups) {
+        for (const Group<T>& g : groups) {
             V grad[3][2];
             for (int v = 0; v < 3; ++v) grad[v][0] = grad[v][1] = splat<V>(T(0));
             for (int64_t dr = 0; dr < g.win_h; ++dr) {
@@ -312,13 +319,15 @@ extern "C" {
 int sdn3d_soft_abi_version() { return 3; }
 
 void sdn3d_soft_forward_f32(const float* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh,
-                            int64_t height, int64_t width, double inv_sigma, double area_eps, float* log_keep, int num_threads) {
+                            int64_t height, int64_t width, double inv_sigma, double area_eps, float* log_keep,
+                            int num_threads) {
     forward<float>(screen, box, num_faces, faces_per_mesh, height, width, float(inv_sigma), float(area_eps),
                    log_keep, num_threads);
 }
 
 void sdn3d_soft_forward_f64(const double* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh,
-                            int64_t height, int64_t width, double inv_sigma, double area_eps, double* log_keep, int num_threads) {
+                            int64_t height, int64_t width, double inv_sigma, double area_eps, double* log_keep,
+                            int num_threads) {
     forward<double>(screen, box, num_faces, faces_per_mesh, height, width, inv_sigma, area_eps, log_keep,
                     num_threads);
 }

@@ -14,7 +14,8 @@
 //
 // Every face accumulates its pairs in a fixed order and faces are visited in a fixed order, so results are
 // deterministic, whatever the thread count (over_meshes). Inputs per face f (M faces, F per mesh): screen[f] = 3
-// counter-clockwise vertices (x, y) in pixels; box[f] = (first column, first row, width, height), width * height == 0 for culled faces.
+// counter-clockwise vertices (x, y) in pixels; box[f] = (first column, first row, width, height), width * height
+// == 0 for culled faces.
 
 #include <algorithm>
 #include <cmath>

@@ -25,6 +25,24 @@ if ! command -v chromium >/dev/null 2>&1 || ! command -v chromedriver >/dev/null
              "the browser tests are skipped (apt-get install chromium chromium-driver)" >&2
     fi
 fi
+# The soft silhouette's C++ kernel (src/sdn3d/render/soft_kernel.cpp) is compiled with g++ on first use; without a
+# compiler the PyTorch path draws instead and the kernel's tests are skipped (build-essential provides g++).
+if ! command -v g++ >/dev/null 2>&1; then
+    if [ "$(id -u)" = 0 ]; then
+        as_root=()
+    elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+        as_root=(sudo -n)
+    else
+        as_root=(none)
+    fi
+    if [ "${as_root[0]:-}" != none ] && command -v apt-get >/dev/null 2>&1; then
+        echo "[test] installing build-essential (apt-get) for the soft silhouette's C++ kernel"
+        "${as_root[@]}" apt-get update -qq
+        "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq build-essential >/dev/null
+    else
+        echo "[test] g++ is missing and cannot be installed here: the C++ kernel's tests are skipped" >&2
+    fi
+fi
 if ! .venv/bin/python -c "import selenium" 2>/dev/null; then
     echo "[test] installing the browser extra (selenium)"
     .venv/bin/python -m pip install --quiet --disable-pip-version-check -e ".[browser]" 2>&1 | grep -v "^WARNING: Location" || true

@@ -47,16 +47,17 @@ def small_scene(dtype: torch.dtype = torch.float32) -> tuple[torch.Tensor, torch
 
 
 @pytest.mark.parametrize("sigma", [SoftSilhouetteSettings((1, 1)).sigma, 1.0])
-def test_sparse_matches_dense_reference(sigma: float) -> None:
+@pytest.mark.parametrize("native", [True, False], ids=["kernel", "pytorch"])
+def test_sparse_matches_dense_reference(sigma: float, native: bool) -> None:
     verts, faces, K = small_scene()
-    settings = SoftSilhouetteSettings(image_size=(32, 32), sigma=sigma)  # documented default cull_eps
+    settings = SoftSilhouetteSettings(image_size=(32, 32), sigma=sigma, native_kernel=native)  # default cull_eps
     sparse = soft_silhouette(verts, faces, K, settings)
     dense = soft_silhouette_dense(verts, faces, K, settings)
     assert sparse.shape == (3, 32, 32)
     assert (sparse - dense).abs().max() < 1e-3
     assert dense.max() > 0.99 and dense.min() < 1e-3  # the objects fill part of each crop
     # Chunking and one-mesh-at-a-time give the same result.
-    tiny_chunks = SoftSilhouetteSettings(image_size=(32, 32), sigma=sigma, max_pairs_per_chunk=50)
+    tiny_chunks = SoftSilhouetteSettings(image_size=(32, 32), sigma=sigma, max_pairs_per_chunk=50, native_kernel=native)
     assert torch.allclose(soft_silhouette(verts, faces, K, tiny_chunks), sparse, atol=1e-6)
     assert torch.allclose(soft_silhouette(verts[1:2], faces[1:2], K[1], settings)[0], sparse[1], atol=1e-6)
 
@@ -102,10 +103,11 @@ def test_culling_error_follows_cull_eps() -> None:
         assert cull_eps / 10 < error.max() < tolerance
 
 
-def test_sparse_gradient_matches_dense_autograd() -> None:
+@pytest.mark.parametrize("native", [True, False], ids=["kernel", "pytorch"])
+def test_sparse_gradient_matches_dense_autograd(native: bool) -> None:
     verts, faces, K = small_scene(torch.float64)
     # With a negligible culling threshold the culled sum equals the dense one (to ~1e-12).
-    settings = SoftSilhouetteSettings(image_size=(32, 32), sigma=1.0, cull_eps=1e-13)
+    settings = SoftSilhouetteSettings(image_size=(32, 32), sigma=1.0, cull_eps=1e-13, native_kernel=native)
     weight = torch.rand(3, 32, 32, dtype=torch.float64)
     grads = []
     for render in (soft_silhouette, soft_silhouette_dense):
@@ -116,14 +118,15 @@ def test_sparse_gradient_matches_dense_autograd() -> None:
     assert torch.allclose(grads[0], grads[1], rtol=1e-6, atol=1e-9)
 
 
-def test_gradcheck_tetrahedron() -> None:
+@pytest.mark.parametrize("native", [True, False], ids=["kernel", "pytorch"])
+def test_gradcheck_tetrahedron(native: bool) -> None:
     verts = torch.tensor(
         [[-1.0, 0.6, 6.0], [1.2, 0.5, 6.5], [0.1, -1.1, 6.2], [0.0, 0.3, 5.0]], dtype=torch.float64
     ).unsqueeze(0)
     verts = verts + 0.01 * torch.randn_like(verts)  # keep pixel centres off the edges
     faces = torch.tensor([[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0]])
     K = crop_K(40.0, 16, torch.float64)
-    settings = SoftSilhouetteSettings(image_size=(16, 16), sigma=2.0)
+    settings = SoftSilhouetteSettings(image_size=(16, 16), sigma=2.0, native_kernel=native)
     weight = torch.rand(1, 16, 16, dtype=torch.float64)
 
     def fn(v: torch.Tensor) -> torch.Tensor:
@@ -181,7 +184,8 @@ def test_pose_is_recovered_by_optimisation() -> None:
     assert abs(float(yaw_error.detach())) < 0.05
 
 
-def test_no_nan_gradients_with_degenerate_and_clipped_faces() -> None:
+@pytest.mark.parametrize("native", [True, False], ids=["kernel", "pytorch"])
+def test_no_nan_gradients_with_degenerate_and_clipped_faces(native: bool) -> None:
     verts, faces, K = small_scene()
     extra = torch.tensor(
         [[0.1, 0.1, 8.0], [0.2, 0.2, 8.0], [0.3, 0.3, 8.0], [0.0, 0.0, -3.0], [1.0, 0.0, 0.0]]
@@ -191,7 +195,7 @@ def test_no_nan_gradients_with_degenerate_and_clipped_faces() -> None:
     new_faces = torch.tensor([[0, 0, 1], [0, 1, 2], [3, 0, 1], [4, 0, 1], [3, 4, 2]]) + base
     verts2 = torch.cat([verts, extra.expand(3, -1, -1)], 1).requires_grad_(True)
     faces2 = torch.cat([faces, new_faces.expand(3, -1, -1)], 1)
-    settings = SoftSilhouetteSettings(image_size=(32, 32))
+    settings = SoftSilhouetteSettings(image_size=(32, 32), native_kernel=native)
     sil = soft_silhouette(verts2, faces2, K, settings)
     assert torch.allclose(sil, soft_silhouette(verts, faces, K, settings), atol=1e-6)
     sil.sum().backward()
@@ -199,13 +203,14 @@ def test_no_nan_gradients_with_degenerate_and_clipped_faces() -> None:
     assert (verts2.grad[:, base:] == 0).all()  # culled faces pass no gradient
 
 
-def test_nan_mesh_renders_empty_with_zero_gradient() -> None:
+@pytest.mark.parametrize("native", [True, False], ids=["kernel", "pytorch"])
+def test_nan_mesh_renders_empty_with_zero_gradient(native: bool) -> None:
     verts, faces, K = small_scene()
     verts = verts.clone()
     verts[1, 0, 0] = math.nan  # one NaN vertex in mesh 1
     verts[2] = math.nan  # mesh 2 entirely NaN
     v = verts.requires_grad_(True)
-    settings = SoftSilhouetteSettings(image_size=(32, 32))
+    settings = SoftSilhouetteSettings(image_size=(32, 32), native_kernel=native)
     sil = soft_silhouette(v, faces, K, settings)
     assert torch.isfinite(sil).all() and (sil[2] == 0).all() and sil[1].max() > 0.9
     sil.sum().backward()
@@ -253,9 +258,9 @@ def test_culling_back_faces_keeps_a_closed_meshs_outline_and_halves_its_faces(mo
         drawn.append(len(box_w))
         return chunks(box_w, box_h, budget)
 
-    monkeypatch.setattr(soft, "_window_chunks", counted)
-    both = soft_silhouette(verts, faces, K, SoftSilhouetteSettings((32, 32)))
-    front = soft_silhouette(verts, faces, K, SoftSilhouetteSettings((32, 32), cull_backfaces=True))
+    monkeypatch.setattr(soft, "_window_chunks", counted)  # the PyTorch path's chunking counts the faces drawn
+    both = soft_silhouette(verts, faces, K, SoftSilhouetteSettings((32, 32), native_kernel=False))
+    front = soft_silhouette(verts, faces, K, SoftSilhouetteSettings((32, 32), cull_backfaces=True, native_kernel=False))
     # the same hard outline: above 0.5 the same pixels but a few on the outline (one soft edge there, not two)
     inside = int((both > 0.5).sum())
     assert inside > 100 and not bool(((front > 0.5) & (both <= 0.5)).any())

@@ -29,7 +29,6 @@ from typing import Literal
 
 import torch
 import torch.nn.functional as F
-from kornia.geometry.conversions import quaternion_to_rotation_matrix, rotation_matrix_to_quaternion
 from torch import Tensor
 
 from sdn3d.math3d.camera import project_points, unproject_pixels
@@ -140,6 +139,8 @@ def decode_yaw_quaternion(q: Tensor) -> Tensor:
 
 def encode_full_quaternion(ry: Tensor) -> Tensor:
     """Full ``(B, 4)`` quaternion (w, x, y, z) of ``R_y(ry)`` as kornia computes it (sign not fixed)."""
+    from kornia.geometry.conversions import rotation_matrix_to_quaternion  # the ablation only: not at start-up
+
     return rotation_matrix_to_quaternion(roty(ry))
 
 
@@ -150,6 +151,8 @@ def decode_full_quaternion(q: Tensor) -> Tensor:
     rotated vehicle front ``R e_x`` in the ground (x-z) plane. ``R_y(ry) e_x = (cos ry, 0, -sin ry)``,
     so ``ry = atan2(-R[2, 0], R[0, 0])``, exact for pure y rotations.
     """
+    from kornia.geometry.conversions import quaternion_to_rotation_matrix  # the ablation only: not at start-up
+
     rot = quaternion_to_rotation_matrix(F.normalize(q, dim=-1))
     return wrap_angle(torch.atan2(-rot[..., 2, 0], rot[..., 0, 0]))
 

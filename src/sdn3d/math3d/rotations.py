@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 
 import torch
-from kornia.geometry.conversions import axis_angle_to_rotation_matrix
 from torch import Tensor
 
 __all__ = ["roty", "wrap_angle", "observation_angle", "alpha_bins", "NUM_POSE_BINS"]
@@ -30,7 +29,45 @@ def roty(ry: Tensor) -> Tensor:
     flat = ry.reshape(-1)
     zeros = torch.zeros_like(flat)
     axis_angle = torch.stack([zeros, flat, zeros], -1)
-    return axis_angle_to_rotation_matrix(axis_angle).reshape(*shape, 3, 3)
+    return _axis_angle_to_rotation_matrix(axis_angle).reshape(*shape, 3, 3)
+
+
+def _axis_angle_to_rotation_matrix(axis_angle: Tensor) -> Tensor:
+    """kornia's ``axis_angle_to_rotation_matrix`` (0.9), op for op, so values and gradients are bit-identical,
+    without importing kornia at start-up (any kornia module loads all of kornia: about 0.4 s of every command's
+    start): Rodrigues' formula, and its Taylor series where ``theta^2 <= 1e-6``. ``(N, 3)`` -> ``(N, 3, 3)``."""
+    theta2 = (axis_angle * axis_angle).sum(dim=-1)
+    mask = theta2 > 1e-6
+    safe_theta2 = torch.where(mask, theta2, torch.ones_like(theta2))  # the Taylor rows never see sqrt(0)
+
+    theta = torch.sqrt(safe_theta2)
+    wx, wy, wz = (axis_angle / theta.unsqueeze(-1)).unbind(dim=-1)
+    cos_theta, sin_theta = torch.cos(theta), torch.sin(theta)
+    one_minus_cos = 1.0 - cos_theta
+    wxwy, wxwz, wywz = wx * wy, wx * wz, wy * wz
+    rows = (
+        (cos_theta + wx * wx * one_minus_cos, wxwy * one_minus_cos - wz * sin_theta,
+         wy * sin_theta + wxwz * one_minus_cos),
+        (wz * sin_theta + wxwy * one_minus_cos, cos_theta + wy * wy * one_minus_cos,
+         -wx * sin_theta + wywz * one_minus_cos),
+        (-wy * sin_theta + wxwz * one_minus_cos, wx * sin_theta + wywz * one_minus_cos,
+         cos_theta + wz * wz * one_minus_cos),
+    )
+    normal = torch.stack([torch.stack(row, dim=-1) for row in rows], dim=-2)
+
+    rx, ry, rz = axis_angle.unbind(-1)
+    k_one = torch.ones_like(rx)
+    a = k_one - theta2 / 6.0
+    b = 0.5 * k_one - theta2 / 24.0
+    rx2, ry2, rz2 = rx * rx, ry * ry, rz * rz
+    rxry, rxrz, ryrz = rx * ry, rx * rz, ry * rz
+    taylor = torch.stack(
+        [k_one - b * (ry2 + rz2), -a * rz + b * rxry, a * ry + b * rxrz,
+         a * rz + b * rxry, k_one - b * (rx2 + rz2), -a * rx + b * ryrz,
+         -a * ry + b * rxrz, a * rx + b * ryrz, k_one - b * (rx2 + ry2)],
+        dim=-1,
+    ).reshape(list(axis_angle.shape[:-1]) + [3, 3])
+    return torch.where(mask[..., None, None], normal, taylor)
 
 
 def wrap_angle(angle: Tensor) -> Tensor:

@@ -35,6 +35,7 @@ nothing, so a mesh whose vertices are all NaN renders an all-zero silhouette and
 
 from __future__ import annotations
 
+import ctypes
 import math
 
 import torch
@@ -52,6 +53,7 @@ from sdn3d.render._common import (
     project_vertices,
     twice_area,
 )
+from sdn3d.render._native import soft_kernel
 from sdn3d.render.settings import SoftSilhouetteSettings
 
 __all__ = ["soft_silhouette", "soft_silhouette_dense"]
@@ -59,6 +61,8 @@ __all__ = ["soft_silhouette", "soft_silhouette_dense"]
 #: Per-chunk overhead (about 50 tensor ops) expressed in (face, pixel) pairs, for chunking. 4096 drew a fit
 #: (docs/results/2026-11-28_cpu/session6/cost) about 9 % faster than 8192 (less window padding, more chunks).
 _CHUNK_COST = 4096
+#: dtypes the fused kernel is built for (its function-name suffix).
+_KERNEL_DTYPES = {torch.float32: "f32", torch.float64: "f64"}
 
 
 def _screen_triangles(
@@ -193,6 +197,24 @@ def _window_chunks(
     return order, chunks
 
 
+def _kernel_for(screen: Tensor, settings: SoftSilhouetteSettings) -> ctypes.CDLL | None:
+    """The fused kernel when the settings ask for it and it can draw ``screen`` (CPU, float32 / float64)."""
+    if not settings.native_kernel or screen.device.type != "cpu" or screen.dtype not in _KERNEL_DTYPES:
+        return None
+    return soft_kernel()
+
+
+def _call(kernel: ctypes.CDLL, direction: str, screen: Tensor, box: Tensor, faces_per_mesh: int,
+          settings: SoftSilhouetteSettings, *out: Tensor) -> None:
+    """Run the kernel's ``forward`` (accumulates ``-softplus(x)`` into ``out[0]``, the flat ``log_keep``) or
+    ``backward`` (``out``: the per-pixel gradient factor and the ``(M, 3, 2)`` screen gradient it writes), on
+    torch's intra-op thread count (split by meshes; the result does not depend on it)."""
+    height, width = settings.image_size
+    fn = getattr(kernel, f"sdn3d_soft_{direction}_{_KERNEL_DTYPES[screen.dtype]}")
+    fn(screen.data_ptr(), box.data_ptr(), screen.shape[0], faces_per_mesh, height, width,
+       1.0 / settings.sigma, AREA_EPS, *(t.data_ptr() for t in out), torch.get_num_threads())
+
+
 class _SoftSilhouetteFunction(torch.autograd.Function):
     """Screen triangles ``(M, 3, 2)`` -> flat silhouettes ``(N * H * W,)`` with an analytic backward."""
 
@@ -203,6 +225,15 @@ class _SoftSilhouetteFunction(torch.autograd.Function):
         col0, row0, box_w, box_h, away_u, away_v = _face_boxes(
             screen, valid, settings.cull_radius, height, width
         )
+        kernel = _kernel_for(screen, settings)
+        if kernel is not None:  # the same pairs, fused: see soft_kernel.cpp
+            screen = screen.detach().contiguous()
+            box = torch.stack([col0, row0, box_w, box_h], 1).contiguous()
+            _call(kernel, "forward", screen, box, faces_per_mesh, settings, log_keep)
+            ctx.settings, ctx.kernel, ctx.faces_per_mesh = settings, kernel, faces_per_mesh
+            ctx.save_for_backward(log_keep, screen, box)
+            return -torch.expm1(log_keep)
+        ctx.kernel = None
         face_ids = (box_w * box_h).nonzero().squeeze(1)
         chunks: list[tuple[int, int, int, int]] = []
         saved: list[Tensor] = []
@@ -232,6 +263,12 @@ class _SoftSilhouetteFunction(torch.autograd.Function):
     @staticmethod
     @once_differentiable
     def backward(ctx, grad_silhouette: Tensor):
+        if ctx.kernel is not None:
+            log_keep, screen, box = ctx.saved_tensors
+            pixel_grad = (grad_silhouette * torch.exp(log_keep) * (-2.0 / ctx.settings.sigma)).contiguous()
+            grad_screen = torch.empty_like(screen)
+            _call(ctx.kernel, "backward", screen, box, ctx.faces_per_mesh, ctx.settings, pixel_grad, grad_screen)
+            return grad_screen, None, None, None
         log_keep, face_ids, *saved = ctx.saved_tensors
         grad_screen = log_keep.new_zeros(ctx.num_faces, 3, 2)
         if not ctx.chunks:

@@ -7,7 +7,6 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-import kornia.color
 import torch
 from torch import Tensor
 
@@ -137,8 +136,12 @@ def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],
 
 def srgb_to_lab(rgb: Tensor) -> Tensor:
     """``(P, 3)`` CIE Lab of sRGB rows in [0, 1] (kornia's conversion)."""
+    import kornia.color  # here, not at module level: importing kornia costs every command's start-up ~0.4 s
+
     return kornia.color.rgb_to_lab(rgb.float().clamp(0, 1).T[:, :, None])[:, :, 0].T
 
 
 def _rgb(lab: Tensor) -> Tensor:
+    import kornia.color
+
     return kornia.color.lab_to_rgb(lab.float().T[:, :, None], clip=True)[:, :, 0].T

@@ -162,15 +162,50 @@ def _gather_coarse(small: Tensor, points: Tensor) -> Tensor:
 def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tensor) -> tuple[Tensor, Tensor]:
     """``(distance (N,), found (N,))``: the first step of ``steps (S,)`` (pixels, increasing) at which the point
     ``pix + step * unit`` is a ``valid (H, W)`` pixel, for each ``pix (N, 2)`` (x, y) and ``unit (N, 2)``; a step
-    beyond ``limit (N,)`` or outside the picture does not count."""
+    beyond ``limit (N,)`` or outside the picture does not count (distance ``steps[0]`` where none does).
+
+    The steps are looked at in blocks (:data:`TRACE_BLOCKS`), each for the rays not found yet and not past their
+    limit: most rays leave the hole within a few steps, so the work follows the hole's depth, not ``S``; the points
+    are computed as one ``(N, S)`` pass would, so the result is the same."""
     height, width = valid.shape
-    pos = pix[:, None, :] + steps[None, :, None] * unit[:, None, :]  # (N, S, 2)
-    x, y = pos[..., 0].round().long(), pos[..., 1].round().long()
-    inside = (x >= 0) & (x < width) & (y >= 0) & (y < height) & (steps[None] <= limit[:, None])
-    ok = inside & valid[y.clamp(0, height - 1), x.clamp(0, width - 1)]
-    found = ok.any(1)
-    first = ok.float().argmax(1)  # the first True (0 where none: masked by found)
-    return steps[first], found
+    flat_valid = valid.reshape(-1)
+    distance = steps[:1].expand(len(pix)).clone()
+    found = torch.zeros(len(pix), dtype=torch.bool)
+    active = torch.arange(len(pix))
+    start = 0
+    for block in _trace_blocks(len(steps)):
+        st = steps[start:start + block]
+        start += block
+        active = active[limit[active] >= st[0]]  # steps increase: a ray past its limit finds nothing more
+        if not len(active):
+            break
+        p, u = pix[active], unit[active]
+        pos = p[:, None, :] + st[None, :, None] * u[:, None, :]  # (A, B, 2)
+        x, y = pos[..., 0].round().long(), pos[..., 1].round().long()
+        ok = (x >= 0) & (x < width) & (y >= 0) & (y < height) & (st[None] <= limit[active, None])
+        ok &= flat_valid[y.clamp(0, height - 1) * width + x.clamp(0, width - 1)]
+        hit = ok.any(1)
+        if bool(hit.any()):
+            first = ok[hit].to(torch.uint8).argmax(1)  # the first True
+            distance[active[hit]] = st[first]
+            found[active[hit]] = True
+            active = active[~hit]
+    return distance, found
+
+
+#: :func:`_trace`'s block sizes: small first (most rays leave the hole within a few pixels), then doubling.
+TRACE_BLOCKS = (8, 8, 16, 32, 64)
+
+
+def _trace_blocks(total: int) -> list[int]:
+    """Block sizes covering ``total`` steps: :data:`TRACE_BLOCKS`, then blocks as large as the last."""
+    out, done = [], 0
+    for b in (*TRACE_BLOCKS, *([TRACE_BLOCKS[-1]] * (total // TRACE_BLOCKS[-1] + 1))):
+        if done >= total:
+            break
+        out.append(min(b, total - done))
+        done += out[-1]
+    return out
 
 
 def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Tensor | None = None,
@@ -447,20 +482,24 @@ def _mirrored(detail: Tensor, valid: Tensor, edge: Tensor, back: Tensor, depth: 
 
 def _along(image: Tensor, valid: Tensor, start: Tensor, unit: Tensor, span: int) -> Tensor:
     """``(3, N)`` mean of ``image`` at the ``valid`` ones of the ``span`` points ``start + k unit`` (k = 0, 1, ...;
-    the first is valid by construction, so the mean always has a term)."""
+    the first is valid by construction, so the mean always has a term). All points are sampled in one call; the
+    sum runs over ``k`` in order, as a loop over the points would."""
     if span <= 1:
         return _gather(image, start)
     height, width = valid.shape
-    total = torch.zeros(3, len(start))
-    count = torch.zeros(len(start))
+    n = len(start)
+    q = torch.cat([start + k * unit for k in range(span)])  # (span * N, 2)
+    x, y = q[:, 0].round().long(), q[:, 1].round().long()
+    ok = (x >= 0) & (x < width) & (y >= 0) & (y < height) & valid.reshape(-1)[
+        y.clamp(0, height - 1) * width + x.clamp(0, width - 1)]
+    ok[:n] = True
+    samples = _gather(image, q)  # (3, span * N)
+    total = torch.zeros(3, n)
+    count = torch.zeros(n)
     for k in range(span):
-        q = start + k * unit
-        x, y = q[:, 0].round().long(), q[:, 1].round().long()
-        ok = (x >= 0) & (x < width) & (y >= 0) & (y < height) & valid[y.clamp(0, height - 1), x.clamp(0, width - 1)]
-        if k == 0:
-            ok = torch.ones_like(ok)
-        total += _gather(image, q) * ok
-        count += ok
+        at = slice(k * n, (k + 1) * n)
+        total += samples[:, at] * ok[at]
+        count += ok[at]
     return total / count.clamp(min=1)
 
 

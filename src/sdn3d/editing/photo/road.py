@@ -159,16 +159,21 @@ def _gather_coarse(small: Tensor, points: Tensor) -> Tensor:
     return _gather(small, (points + 0.5) / COARSE - 0.5)
 
 
-def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tensor) -> tuple[Tensor, Tensor]:
+def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tensor | None) -> tuple[Tensor, Tensor]:
     """``(distance (N,), found (N,))``: the first step of ``steps (S,)`` (pixels, increasing) at which the point
-    ``pix + step * unit`` is a ``valid (H, W)`` pixel, for each ``pix (N, 2)`` (x, y) and ``unit (N, 2)``; a step
-    beyond ``limit (N,)`` or outside the picture does not count (distance ``steps[0]`` where none does).
+    ``pix + step * unit`` is a ``valid (H, W)`` pixel, for each ``pix (N, 2)`` (x, y) inside the picture and unit
+    vector ``unit (N, 2)``; a step beyond ``limit (N,)`` (None: no limit) or outside the picture does not count
+    (distance ``steps[0]`` where none does).
 
     The steps are looked at in blocks (:data:`TRACE_BLOCKS`), each for the rays not found yet and not past their
-    limit: most rays leave the hole within a few steps, so the work follows the hole's depth, not ``S``; the points
-    are computed as one ``(N, S)`` pass would, so the result is the same."""
+    limit: most rays leave the hole within a few steps, so the work follows the hole's depth, not ``S``. Points are
+    rounded to pixels as one ``(N, S)`` pass would, and looked up in ``valid`` padded by ``steps[-1] + 1`` pixels of
+    False (the outside counts as not valid), so the result is the same."""
     height, width = valid.shape
-    flat_valid = valid.reshape(-1)
+    margin = int(math.ceil(float(steps[-1]))) + 1 if len(steps) else 1
+    padded = F.pad(valid, (margin, margin, margin, margin)).reshape(-1)
+    row = float(width + 2 * margin)
+    exact = padded.numel() < 2**24
     distance = steps[:1].expand(len(pix)).clone()
     found = torch.zeros(len(pix), dtype=torch.bool)
     active = torch.arange(len(pix))
@@ -176,14 +181,19 @@ def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tenso
     for block in _trace_blocks(len(steps)):
         st = steps[start:start + block]
         start += block
-        active = active[limit[active] >= st[0]]  # steps increase: a ray past its limit finds nothing more
+        if limit is not None:
+            active = active[limit[active] >= st[0]]  # steps increase: a ray past its limit finds nothing more
         if not len(active):
             break
         p, u = pix[active], unit[active]
-        pos = p[:, None, :] + st[None, :, None] * u[:, None, :]  # (A, B, 2)
-        x, y = pos[..., 0].round().long(), pos[..., 1].round().long()
-        ok = (x >= 0) & (x < width) & (y >= 0) & (y < height) & (st[None] <= limit[active, None])
-        ok &= flat_valid[y.clamp(0, height - 1) * width + x.clamp(0, width - 1)]
+        x = (p[:, :1] + st[None] * u[:, :1]).round()  # (A, B): as (p + st * u).round() per coordinate
+        y = (p[:, 1:] + st[None] * u[:, 1:]).round()
+        if exact:  # integers below 2^24: the index is exact in float
+            ok = padded[((y + margin) * row + (x + margin)).long()]
+        else:
+            ok = padded[(y.long() + margin) * int(row) + (x.long() + margin)]
+        if limit is not None:
+            ok &= st[None] <= limit[active, None]
         hit = ok.any(1)
         if bool(hit.any()):
             first = ok[hit].to(torch.uint8).argmax(1)  # the first True
@@ -256,7 +266,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     # pixels wide).
     far = min(max_steps, int(across) + beyond)
     steps = torch.cat([torch.arange(1, 17), torch.arange(17, far + 1, 2)]).float()
-    never = torch.full_like(reach, float(far))
+    never = None if float(steps[-1]) <= far else torch.full_like(reach, float(far))  # None: every step is within
     per_row = road_haze(image, valid, hole, float(vp[1]), airlight) if haze > 0 else None
     values = torch.zeros(3, len(ys))
     grains = torch.zeros(3, len(ys)) if detail is not None else None
@@ -264,7 +274,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     for s in range(0, len(ys), RAY_CHUNK):
         p, u, sp = pix[s:s + RAY_CHUNK], unit[s:s + RAY_CHUNK], reach[s:s + RAY_CHUNK]
         # Away from the vanishing point (nearer road) and towards it, stopping there: past it lies another line.
-        d_out, f_out = _trace(p, u, valid, steps, never[s:s + RAY_CHUNK])
+        d_out, f_out = _trace(p, u, valid, steps, None if never is None else never[s:s + RAY_CHUNK])
         d_in, f_in = _trace(p, -u, valid, steps, (sp - 1.0).clamp(min=0))
         q_out, q_in = p + d_out[:, None] * u, p - d_in[:, None] * u
         c_out = _along(smooth, valid, q_out, u, along)

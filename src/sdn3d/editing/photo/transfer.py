@@ -167,14 +167,24 @@ class PhotoSource:
 
 
 def _erode_ids(ids: Tensor, radius: int) -> Tensor:
-    """``ids (H, W)`` with every pixel whose ``(2r+1)^2`` neighbourhood holds another id set to 0."""
+    """``ids (H, W)`` with every pixel whose ``(2r+1)^2`` neighbourhood (the picture's edge replicated) holds another
+    id set to 0: the neighbourhood's largest and smallest ids differ (OpenCV's dilation and erosion, on float32,
+    exact for ids below 2^24; a max pool's result at a fraction of its time)."""
     if radius <= 0:
         return ids
-    x = ids[None, None].double()
-    k = 2 * radius + 1
-    hi = F.max_pool2d(F.pad(x, (radius,) * 4, mode="replicate"), k, stride=1)
-    lo = -F.max_pool2d(F.pad(-x, (radius,) * 4, mode="replicate"), k, stride=1)
-    return torch.where((hi == lo)[0, 0], ids, torch.zeros_like(ids))
+    import cv2
+
+    if not len(ids.view(-1)) or int(ids.abs().max()) >= 2**24:  # float32 holds these ids exactly
+        x = ids[None, None].double()
+        k = 2 * radius + 1
+        hi = F.max_pool2d(F.pad(x, (radius,) * 4, mode="replicate"), k, stride=1)
+        lo = -F.max_pool2d(F.pad(-x, (radius,) * 4, mode="replicate"), k, stride=1)
+        return torch.where((hi == lo)[0, 0], ids, torch.zeros_like(ids))
+    x = ids.numpy().astype(np.float32)
+    kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
+    hi = cv2.dilate(x, kernel, borderType=cv2.BORDER_REPLICATE)
+    lo = cv2.erode(x, kernel, borderType=cv2.BORDER_REPLICATE)
+    return torch.where(torch.from_numpy(hi == lo), ids, torch.zeros_like(ids))
 
 
 @dataclass

@@ -1098,9 +1098,11 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             if b not in shown_cars or not examples_of(b)[2]:
                 return _no_examples()
             depth = before.center[:, 2].double().clamp(min=0.1)
-            by_depth = sorted((bb for bb in shown_cars if bb != b and examples_of(bb)[2]),
-                              key=lambda bb: abs(math.log(depth[bb] / depth[b])))
+            # nearest first (a stable sort: ties keep table order), each car's examples made only when reached
+            by_depth = sorted((bb for bb in shown_cars if bb != b), key=lambda bb: abs(math.log(depth[bb] / depth[b])))
             for bb in by_depth:
+                if not examples_of(bb)[2]:
+                    continue
                 found = _examples_of_part(examples_of(bb)[0], part)
                 if len(found.part) >= 8:
                     return found

@@ -10,7 +10,7 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.editing.photo.settings import AUTO_THIN_PX, PATCHMATCH_MAX_SIDE, PhotoSettings, PhotoSettingsError
-from sdn3d.image_ops import dilate_square
+from sdn3d.image_ops import dilate_square, ids_present, isin_ids
 
 __all__ = ["inpaint", "vacated_hole", "fill_hole"]
 
@@ -96,7 +96,7 @@ def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSetting
     """``(H, W)`` bool pixels to fill: those of ``ids (H, W)`` (instance map) in ``gone (K,)`` (moved or deleted
     objects), grown by ``hole_dilate_px`` and by a band below each (its old contact shadow), less ``keep (H, W)``
     (pixels of objects that stay)."""
-    vacated = torch.isin(ids, gone) & (ids != 0)
+    vacated = isin_ids(ids, gone) & (ids != 0)
     hole = dilate_square(vacated, settings.hole_dilate_px)
     if settings.shadow_band > 0 and bool(vacated.any()):
         hole |= dilate_square(_shadow_bands(ids, gone, settings.shadow_band), 1)
@@ -108,7 +108,7 @@ def _shadow_bands(ids: Tensor, gone: Tensor, share: float) -> Tensor:
     being ``share`` of that object's height (at least 1), all objects in one pass: a running count of each
     object's pixels down every column, differenced ``band + 1`` rows apart."""
     height = ids.shape[0]
-    gone = gone[torch.isin(gone, ids)] if len(gone) else gone
+    gone = gone[ids_present(ids, gone)] if len(gone) else gone
     if not len(gone):
         return torch.zeros_like(ids, dtype=torch.bool)
     one = ids[None] == gone[:, None, None]  # (K, H, W)

@@ -45,7 +45,7 @@ from sdn3d.editing.photo.settings import (
     PhotoSettings,
     PhotoSettingsError,
 )
-from sdn3d.image_ops import dilate_square
+from sdn3d.image_ops import dilate_square, ids_present, isin_ids
 from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
 from sdn3d.math3d.transforms import box_corners
 from sdn3d.meshes.bank import MeshBank, default_bank
@@ -612,7 +612,7 @@ def _pixels_of(ids: Tensor, wanted: Tensor):
     """``lookup(i) -> (P,)`` ascending flat indices of the pixels of ``ids (H, W)`` equal to ``i`` (one of
     ``wanted``): one scan of the picture for all of them."""
     flat = ids.view(-1)
-    pix = torch.isin(flat, wanted).nonzero().flatten()
+    pix = isin_ids(flat, wanted).nonzero().flatten()
     at = flat[pix]
     return lambda i: pix[at == i]
 
@@ -692,7 +692,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     moved = ~stays & has & after.has_geometry
     gone_ids = before.instance_id[~torch.isin(before.instance_id, after.instance_id[stays])]
     src_ids, vis_ids = source.src_ids, source.vis_ids
-    own = torch.where(torch.isin(src_ids, after.instance_id[stays]), src_ids, torch.zeros_like(src_ids))
+    own = torch.where(isin_ids(src_ids, after.instance_id[stays]), src_ids, torch.zeros_like(src_ids))
     # Freed pixels an object that stays now covers (amodal completion in apply_edits).
     own, grown_rows = _grow(own, before, after, origin, stays, transform, source.outline_ids,
                             source.vis_ids, settings.grow_min_seen)
@@ -719,14 +719,14 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     # Input pixels no object's mask reaches (with the masks' erosion as a margin): no template point is there.
     background = ~dilate_square(src_ids != 0, photo_source.erode)
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
-    keep = (src_ids != 0) & torch.isin(src_ids, after.instance_id[stays])
+    keep = (src_ids != 0) & isin_ids(src_ids, after.instance_id[stays])
     hole = vacated_hole(src_ids, gone_ids, keep, settings)
     if bool(hole.any()):  # thin things in front are put back over the fill: they are no source of it
         hole = hole | photo_source.in_front
     # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
     vp = None
     if settings.fill == "rays" and bool(gone_ids.numel()):
-        removed = torch.isin(src_ids, gone_ids) & (src_ids != 0)
+        removed = isin_ids(src_ids, gone_ids) & (src_ids != 0)
         vp = removal_vanishing_point(image, K, removed, src_ids != 0,
                                      float(before.ry[gone_rows[0]]) if gone_rows else None)
     # With cast_shadow, a moved object's old shadow is relit (as a deleted one's with delete_effects).
@@ -739,7 +739,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         stay_ids = after.instance_id[stays]
         key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
         if effects:  # the removed objects' silhouettes join the hole; their shadows are relit
-            fitted = torch.isin(photo_source.outline_ids, gone_ids)
+            fitted = isin_ids(photo_source.outline_ids, gone_ids)
             if settings.silhouette == "carved":  # the template where the input's masks rule it out is not the car
                 fitted &= ~background
             silhouette = dilate_square(fitted, settings.hole_dilate_px)
@@ -1021,7 +1021,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         # A template point the input's mask rules out (module doc, step 3) is not drawn: what shows there is the
         # picture behind the object, as in the 2D paste.
         # (an object the input does not show at all has no outline to carve by)
-        shown = torch.isin(before.instance_id[b_row.clamp(min=0)], src_ids.unique())
+        shown = ids_present(src_ids, before.instance_id)[b_row.clamp(min=0)]
         inside = ~has_src | ~shown | (_in_silhouette(point_s, background, K) & _in_silhouette(point_m, background, K))
         if not bool(inside.all()):
             k = inside.nonzero().flatten()

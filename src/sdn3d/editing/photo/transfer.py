@@ -597,7 +597,9 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
     if not bool(grew.any()):
         return own, []
     rows, gained = rows[grew], gained[grew]
-    first = gained.to(torch.uint8).argmax(0)  # the first object (in table order) that gained each pixel
+    first = torch.zeros(gained.shape[1:], dtype=torch.long)  # the first object (in table order) that gained each
+    for k in range(len(gained) - 1, 0, -1):  # pixel (0 where none did): later ones written over by earlier ones
+        first[gained[k]] = k
     labels = torch.where(gained.any(0), after.instance_id[rows][first], torch.zeros_like(first))
     up = upsample_ids(labels.to(after.instance_id.dtype), transform)
     if raster_ids is not None and min_seen > 0:  # its own fitted shape in front of what the input showed there

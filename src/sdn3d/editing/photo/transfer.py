@@ -139,6 +139,7 @@ class PhotoSource:
                          if self.settings.keep_in_front else torch.zeros_like(self.src_ids, dtype=torch.bool))
         self._light: tuple[Tensor, LightEstimate | None] | None = None
         self._fills: dict[tuple, Tensor] = {}
+        self._pyramids: dict[int, list[Tensor]] = {}
 
     @staticmethod
     def _bind_key(original: Tensor, scene: SceneCode, frame: PixelFrame, settings: PhotoSettings) -> tuple:
@@ -154,6 +155,13 @@ class PhotoSource:
         if self._light is None:
             self._light = _source_light(self.raster, self.vis_ids, self.scene.objects, self.image)
         return self._light
+
+    def pyramid(self, levels: int) -> list[Tensor]:
+        """The input's pyramid (:func:`_pyramid`) with at most ``levels`` halvings, made on first use (the transfer and
+        the mask paste sample it)."""
+        if levels not in self._pyramids:
+            self._pyramids[levels] = _pyramid(self.image, levels)
+        return self._pyramids[levels]
 
     def fill(self, key: tuple, make) -> Tensor:
         """A copy of the filled picture of ``key`` (the objects that left and stayed), made by ``make()`` once."""
@@ -816,11 +824,11 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         drawn_depth = tgt.frags.depth[0].double()
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
-                                     photo_source.parts, parts_out, background)
+                                     photo_source.parts, parts_out, background, photo_source.pyramid)
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, image, own, before, after, origin, moved_rows, src_ids,
                                             photo_source.work_ids, transform, photo_source.outline_ids, K, settings,
-                                            objects)
+                                            objects, photo_source.pyramid)
         for a in moved_rows:
             if int(after.instance_id[a]) not in objects:
                 uv, front = _project(_box_floor(after, a, 1.0), K)
@@ -871,7 +879,8 @@ def _view_change(before: ObjectTable, after: ObjectTable, b: int, a: int) -> flo
 def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, before: ObjectTable,
                       after: ObjectTable, origin: Tensor, moved_rows: list[int], src_ids: Tensor, work_ids: Tensor,
                       transform: PixelFrame, template_ids: Tensor, K: Tensor, settings: PhotoSettings,
-                      objects: dict[int, dict]) -> tuple[Tensor, Tensor]:
+                      objects: dict[int, dict], pyramid_of: Callable[[int], list[Tensor]] | None = None
+                      ) -> tuple[Tensor, Tensor]:
     """Each moved object whose view hardly changed (at most ``settings.mask_view_deg``) and whose fitted outline
     ``template_ids (H, W)`` (:func:`_raster_ids` of the input) overlaps its mask in ``src_ids`` at an IoU of at most
     ``settings.paste_max_iou`` takes its input mask's pixels
@@ -943,7 +952,7 @@ def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, b
         if not bool(hit.any()):
             continue
         if pyramid is None:
-            pyramid = _pyramid(image, settings.max_level)
+            pyramid = (pyramid_of or (lambda levels: _pyramid(image, levels)))(settings.max_level)
         shrink = float(torch.linalg.det(affine[:2]).abs().sqrt())  # input pixels per target pixel
         level = torch.full((int(hit.sum()),), max(math.log2(max(shrink, 1e-6)), 0.0), dtype=torch.float64)
         pasted = flat_q[hit]
@@ -981,7 +990,8 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
           before: ObjectTable, after: ObjectTable, origin: Tensor, moved: Tensor, src_row_to_mesh: Tensor,
           src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
-          background: Tensor) -> tuple[Tensor, Tensor, dict[int, dict]]:
+          background: Tensor, pyramid_of: Callable[[int], list[Tensor]] | None = None
+          ) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
     ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
     there is not the object's (``silhouette='carved'``)."""
@@ -1014,7 +1024,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     tri_s = src.verts[s_mesh_c[:, None], vid] if len(src.rows) else torch.zeros(len(pix), 3, 3, dtype=torch.float64)
     point_s = (bary[..., None] * tri_s).sum(1)
     # Mirror across the vehicle's left-right plane (local z = 0).
-    rot = roty(before.ry[b_row.clamp(min=0)].double())  # (P, 3, 3)
+    rot = roty(before.ry.double())[b_row.clamp(min=0)]  # (P, 3, 3): each row's, looked up (the same values)
     centre = before.center[b_row.clamp(min=0)].double()
     flip = torch.tensor([1.0, 1.0, -1.0], dtype=torch.float64)
     local = torch.einsum("pji,pj->pi", rot, point_s - centre) * flip
@@ -1055,7 +1065,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.
     z_t = tgt.frags.depth.view(-1)[pix].double()
     level = (z_t / point_s[:, 2].clamp(min=1e-3)).clamp(min=1.0).log2()
-    pyramid = _pyramid(image, settings.max_level)
+    pyramid = (pyramid_of or (lambda levels: _pyramid(image, levels)))(settings.max_level)
     uv = torch.where(ok_photo[:, None], uv_photo, uv_mirror)
     color = _sample(pyramid, uv, level).double()
     n_src = torch.where(ok_photo[:, None], normal_s, normal_m)

@@ -605,9 +605,7 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
     if not bool(grew.any()):
         return own, []
     rows, gained = rows[grew], gained[grew]
-    first = torch.zeros(gained.shape[1:], dtype=torch.long)  # the first object (in table order) that gained each
-    for k in range(len(gained) - 1, 0, -1):  # pixel (0 where none did): later ones written over by earlier ones
-        first[gained[k]] = k
+    first = _first_true(gained)  # the first object (in table order) that gained each pixel
     labels = torch.where(gained.any(0), after.instance_id[rows][first], torch.zeros_like(first))
     up = upsample_ids(labels.to(after.instance_id.dtype), transform)
     if raster_ids is not None and min_seen > 0:  # its own fitted shape in front of what the input showed there
@@ -616,6 +614,16 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
     own = torch.where(new, up.to(own.dtype), own)
     drawn = torch.isin(after.instance_id[rows], up[new].unique())
     return own, rows[drawn].tolist()
+
+
+def _first_true(masks: Tensor) -> Tensor:
+    """``(...)`` long index of the first True along the first dimension of ``masks (S, ...)`` bool, 0 where none is
+    (``masks.to(torch.uint8).argmax(0)``, which reduces a strided dimension slowly): the masks written in reverse
+    order, each over the later ones."""
+    first = torch.zeros(masks.shape[1:], dtype=torch.long)
+    for k in range(len(masks) - 1, -1, -1):
+        first[masks[k]] = k
+    return first
 
 
 def _pixels_of(ids: Tensor, wanted: Tensor):

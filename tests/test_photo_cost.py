@@ -155,3 +155,58 @@ def test_photo_source_keeps_one_pyramid_and_pictures_stay_the_same():
         fresh = render_photo(original, FRAME, scene, edited)
         assert torch.equal(kept.image, fresh.image) and torch.equal(kept.source, fresh.source)
         assert bool((kept.source != 0).any())
+
+
+def _vanishing_point_whole(image, region, K, min_edges=50, max_edges=4000, sharpness=8.0, forward_share=1.0):
+    """image_vanishing_point as it was: gradients of the whole picture."""
+    import cv2
+
+    from sdn3d.editing.photo.light import luminance
+
+    fx, cx, cy = float(K[0, 0]), float(K[0, 2]), float(K[1, 2])
+    y = luminance(image.permute(1, 2, 0).reshape(-1, 3)).view(image.shape[1:]).float().numpy()
+    gx = torch.from_numpy(cv2.Sobel(y, cv2.CV_32F, 1, 0, ksize=3))
+    gy = torch.from_numpy(cv2.Sobel(y, cv2.CV_32F, 0, 1, ksize=3))
+    mag = (gx**2 + gy**2).sqrt()
+    use = region & (torch.arange(image.shape[1])[:, None] > cy + 2) & (mag > 0.15)
+    if int(use.sum()) < min_edges:
+        return None
+    ys, xs = use.nonzero(as_tuple=True)
+    m = mag[ys, xs]
+    if len(m) > max_edges:
+        keep = m.topk(max_edges).indices
+        ys, xs, m = ys[keep], xs[keep], m[keep]
+    t = torch.stack([-gy[ys, xs], gx[ys, xs]], 1) / m[:, None]
+    heading = torch.deg2rad(torch.arange(-70.0, 70.25, 0.5))
+    us = cx + fx * torch.tan(heading)
+    du = us[None] - xs[:, None].float()
+    dv = (cy - ys.float())[:, None]
+    cos2 = (t[:, :1] * du + t[:, 1:] * dv).square() / (du.square() + dv.square()).clamp(min=1e-12)
+    score = (cos2 ** (sharpness / 2) * m[:, None]).sum(0)
+    forward = int(heading.abs().argmin())
+    if float(score[forward]) >= forward_share * float(score.max()):
+        return float(us[forward]), cy
+    return float(us[int(score.argmax())]), cy
+
+
+def test_vanishing_point_from_the_regions_window_equals_the_whole_picture():
+    from sdn3d.editing.photo.road import image_vanishing_point
+
+    g = torch.Generator().manual_seed(9)
+    K = torch.tensor([[721.5, 0.0, 609.6], [0.0, 721.5, 172.9], [0.0, 0.0, 1.0]], dtype=torch.float64)
+    image = torch.rand(3, 375, 1242, generator=g)
+    image[:, 200:, :] = torch.linspace(0, 1, 1242)[None, None, :] * 0.5  # lines to vote
+    image[:, 200:, :] += (torch.arange(375 - 200)[:, None] % 7 == 0) * 0.4
+    found = 0
+    for y0, y1, x0, x1 in [(180, 300, 100, 400), (300, 375, 0, 120), (190, 375, 1100, 1242), (250, 260, 613, 700),
+                           (0, 375, 0, 1242), (200, 220, 5, 9)]:
+        region = torch.zeros(375, 1242, dtype=torch.bool)
+        region[y0:y1, x0:x1] = True
+        for max_edges in (4000, 300):
+            want = _vanishing_point_whole(image, region, K, max_edges=max_edges, forward_share=0.99)
+            assert image_vanishing_point(image, region, K, max_edges=max_edges, forward_share=0.99) == want
+            found += want is not None
+    assert found >= 8
+    empty = torch.zeros(375, 1242, dtype=torch.bool)
+    assert image_vanishing_point(image, empty, K) is None
+    assert image_vanishing_point(image, empty, K, min_edges=0) == _vanishing_point_whole(image, empty, K, min_edges=0)

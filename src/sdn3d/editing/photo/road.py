@@ -77,20 +77,23 @@ def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: i
     from sdn3d.editing.photo.light import luminance
 
     fx, cx, cy = float(K[0, 0]), float(K[0, 2]), float(K[1, 2])
-    y = luminance(image.permute(1, 2, 0).reshape(-1, 3)).view(image.shape[1:]).float().numpy()
+    y0, y1, x0, x1 = _sobel_window(region) if bool(region.any()) else (0, region.shape[0], 0, region.shape[1])
+    crop = image[:, y0:y1, x0:x1]
+    y = np.ascontiguousarray(luminance(crop.permute(1, 2, 0).reshape(-1, 3)).view(crop.shape[1:]).float().numpy())
     gx = torch.from_numpy(cv2.Sobel(y, cv2.CV_32F, 1, 0, ksize=3))
     gy = torch.from_numpy(cv2.Sobel(y, cv2.CV_32F, 0, 1, ksize=3))
     mag = (gx**2 + gy**2).sqrt()
-    rows = torch.arange(image.shape[1])[:, None] > cy + 2  # below the horizon: the road's side
-    use = region & rows & (mag > 0.15)
+    rows = torch.arange(y0, y1)[:, None] > cy + 2  # below the horizon: the road's side
+    use = region[y0:y1, x0:x1] & rows & (mag > 0.15)
     if int(use.sum()) < min_edges:
         return None
-    ys, xs = use.nonzero(as_tuple=True)
+    ys, xs = use.nonzero(as_tuple=True)  # in the window; the vote below reads the picture's coordinates
     m = mag[ys, xs]
     if len(m) > max_edges:  # the strongest ones: the vote's cost stays bounded
         keep = m.topk(max_edges).indices
         ys, xs, m = ys[keep], xs[keep], m[keep]
     t = torch.stack([-gy[ys, xs], gx[ys, xs]], 1) / m[:, None]  # along the edge
+    ys, xs = ys + y0, xs + x0
     heading = torch.deg2rad(torch.arange(-70.0, 70.25, 0.5))
     us = cx + fx * torch.tan(heading)  # (C,)
     du = us[None] - xs[:, None].float()  # (N, C): towards each candidate
@@ -102,6 +105,19 @@ def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: i
     if float(score[forward]) >= forward_share * float(score.max()):  # a near tie: the camera looks down the road
         return float(us[forward]), cy
     return float(us[int(score.argmax())]), cy
+
+
+def _sobel_window(region: Tensor) -> tuple[int, int, int, int]:
+    """``(y0, y1, x0, x1)`` of the picture whose Sobel gradients at the ``region (H, W)`` pixels equal the whole
+    picture's bit for bit: the region's box grown by a pixel (the 3x3 kernel), its left edge on a multiple of 64
+    columns and 64 spare columns on the right (OpenCV's vector lanes fall on the same pixels, as in
+    :func:`~sdn3d.editing.photo.transfer._blur_window`); the picture's edge where it is near."""
+    height, width = region.shape
+    rows, cols = region.any(1).nonzero().flatten(), region.any(0).nonzero().flatten()
+    y0, y1 = max(int(rows[0]) - 1, 0), min(int(rows[-1]) + 2, height)
+    x0 = max(int(cols[0]) - 1, 0) // 64 * 64
+    x1 = min(int(cols[-1]) + 2 + 64, width)
+    return y0, y1, x0, x1
 
 
 def removal_vanishing_point(image: Tensor, K: Tensor, removed: Tensor, objects_px: Tensor,

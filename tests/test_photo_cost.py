@@ -210,3 +210,19 @@ def test_vanishing_point_from_the_regions_window_equals_the_whole_picture():
     empty = torch.zeros(375, 1242, dtype=torch.bool)
     assert image_vanishing_point(image, empty, K) is None
     assert image_vanishing_point(image, empty, K, min_edges=0) == _vanishing_point_whole(image, empty, K, min_edges=0)
+
+
+def test_shadow_bands_on_the_objects_window_equal_the_whole_picture():
+    from sdn3d.editing.photo.fill import _bands_in, _shadow_bands  # _bands_in on the whole picture: as it was
+
+    ids = torch.zeros(50, 70, dtype=torch.long)
+    ids[10:20, 5:25] = 3
+    ids[15:40, 30:60] = 4
+    ids[42:50, 0:10] = 5  # reaches the bottom edge
+    ids[0:8, 62:70] = 6  # the top and right edges
+    for gone in ([3], [4, 5], [3, 4, 5, 6], [6, 9], [4, 3]):
+        g = torch.tensor(gone)
+        present = g[torch.isin(g, ids)]
+        for share in (0.3, 1.0):
+            assert torch.equal(_shadow_bands(ids, g, share), _bands_in(ids, present, share))
+    assert not bool(_shadow_bands(ids, torch.tensor([9]), 0.3).any())

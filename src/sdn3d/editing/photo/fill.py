@@ -107,10 +107,21 @@ def _shadow_bands(ids: Tensor, gone: Tensor, share: float) -> Tensor:
     """``(H, W)`` bool: the pixels at most ``band`` rows below a pixel of an object of ``gone`` in ``ids``, ``band``
     being ``share`` of that object's height (at least 1), all objects in one pass: a running count of each
     object's pixels down every column, differenced ``band + 1`` rows apart."""
-    height = ids.shape[0]
     gone = gone[ids_present(ids, gone)] if len(gone) else gone
     if not len(gone):
         return torch.zeros_like(ids, dtype=torch.bool)
+    # The bands lie in the objects' columns, from their top row down: worked out there (no pixel of theirs above).
+    theirs = isin_ids(ids, gone)
+    cols = theirs.any(0).nonzero().flatten()
+    y0, x0, x1 = int(theirs.any(1).nonzero()[0]), int(cols[0]), int(cols[-1]) + 1
+    out = torch.zeros_like(ids, dtype=torch.bool)
+    out[y0:, x0:x1] = _bands_in(ids[y0:, x0:x1], gone, share)
+    return out
+
+
+def _bands_in(ids: Tensor, gone: Tensor, share: float) -> Tensor:
+    """:func:`_shadow_bands` on a window holding all the pixels of ``gone`` (each present)."""
+    height = ids.shape[0]
     one = ids[None] == gone[:, None, None]  # (K, H, W)
     rows = one.any(2)  # (K, H)
     at = torch.arange(height)

@@ -226,3 +226,20 @@ def test_shadow_bands_on_the_objects_window_equal_the_whole_picture():
         for share in (0.3, 1.0):
             assert torch.equal(_shadow_bands(ids, g, share), _bands_in(ids, present, share))
     assert not bool(_shadow_bands(ids, torch.tensor([9]), 0.3).any())
+
+
+def test_into_original_converts_only_the_changed_box_as_the_whole_picture_did():
+    from sdn3d.editing.photo.transfer import _into_original
+
+    g = torch.Generator().manual_seed(12)
+    out = torch.rand(3, 30, 40, generator=g) * 1.4 - 0.2  # outside [0, 1] too: clamped
+    changed = torch.zeros(30, 40, dtype=torch.bool)
+    changed[5:9, 10:31] = torch.rand(4, 21, generator=g) > 0.5
+    for original in (torch.randint(0, 256, (3, 30, 40), dtype=torch.uint8, generator=g),
+                     torch.rand(3, 30, 40, generator=g).double()):
+        result = out.clamp(0, 1)  # render_photo's conversion as it was
+        want = (torch.where(changed[None], (result * 255 + 0.5).floor().clamp(0, 255).to(torch.uint8), original)
+                if original.dtype == torch.uint8 else torch.where(changed[None], result.to(original.dtype), original))
+        got = _into_original(out, changed, original)
+        assert got.dtype == original.dtype and torch.equal(got, want)
+        assert torch.equal(_into_original(out, torch.zeros_like(changed), original), original)

@@ -854,16 +854,28 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                                parts_out if settings.recolor_parts else None)
     # Thin things in front of a car stay in front of what the edit drew there, unless a car now stands nearer than
     # the one they hid (their depth is at most that car's).
-    front = photo_source.in_front & (source != INPUT) & ~(drawn_depth < src.frags.depth[0].double() - 0.5)
-    out = torch.where(front[None], image, out)
-    source = torch.where(front, IN_FRONT, source).to(torch.uint8)
-    result = out.clamp(0, 1)
-    changed = source != INPUT
+    if bool(photo_source.in_front.any()):  # (none found: nothing to put back)
+        front = photo_source.in_front & (source != INPUT) & ~(drawn_depth < src.frags.depth[0].double() - 0.5)
+        out = torch.where(front[None], image, out)
+        source = torch.where(front, IN_FRONT, source).to(torch.uint8)
+    return PhotoResult(_into_original(out, source != INPUT, original), source, light, objects, warnings, parts_out)
+
+
+def _into_original(out: Tensor, changed: Tensor, original: Tensor) -> Tensor:
+    """``(3, H, W)`` ``original`` with its ``changed (H, W)`` pixels taken from ``out (3, H, W)`` float, clamped to
+    [0, 1] (and rounded to uint8 for a uint8 original); only the box of the changed pixels is converted."""
+    result = original.clone()
+    rows, cols = changed.any(1).nonzero().flatten(), changed.any(0).nonzero().flatten()
+    if not len(rows):
+        return result
+    y0, y1, x0, x1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+    box = out[:, y0:y1, x0:x1].clamp(0, 1)
     if original.dtype == torch.uint8:
-        result = torch.where(changed[None], (result * 255 + 0.5).floor().clamp(0, 255).to(torch.uint8), original)
+        box = (box * 255 + 0.5).floor().clamp(0, 255).to(torch.uint8)
     else:
-        result = torch.where(changed[None], result.to(original.dtype), original)
-    return PhotoResult(result, source, light, objects, warnings, parts_out)
+        box = box.to(original.dtype)
+    result[:, y0:y1, x0:x1] = torch.where(changed[y0:y1, x0:x1][None], box, original[:, y0:y1, x0:x1])
+    return result
 
 
 def _shares(codes: Tensor) -> dict[str, float]:

@@ -4,11 +4,16 @@ the input's resolution.
 For every entry of a synthetic editing benchmark (default: a small dataset generated here at 1242x375, the Virtual
 KITTI size), the source frame's ground-truth scene at the working size (624x192) is edited with the entry's
 operations and drawn with the photo appearance at 1242x375. The scene is the oracle (ground-truth geometry), so the
-figure is the drawing alone (a fresh source state per edit): no network runs. Times each fill method side by side in
+figure is the drawing alone (a fresh source state per edit, unless --reuse-source): no network runs.
+Times each fill method side by side in
 one process, the same entries in the same order, after one warm-up call; prints, per fill method and per kind of
 edit (sdn3d.evaluation.edit_benchmark.edit_kind), the median and 90th percentile of the wall time
 (Drawn.times['photo_ms']) and the median CPU time of the process (prepare and draw; on a shared machine the wall
 time grows with the load, the CPU time much less), and the process's peak resident memory.
+
+``--reuse-source`` keeps one source state per source frame (its scene, input and
+:class:`~sdn3d.editing.photo.transfer.PhotoSource`, with its fills) for all the edits of that frame, as an interactive
+editor does: the first edit of a frame pays for it, the later ones reuse it (the default: a fresh state per edit).
 
 ``--against NAME=SRC`` times another checkout's code (its ``src`` directory) in the same run: each code runs in its
 own worker process (this script with ``--serve``, the other code first on its path), and the workers take turns
@@ -18,6 +23,7 @@ edit by edit, so both see the same load.
     python benchmarks/photo_latency.py --data outputs/data/x  # a sdn3d-synth tree at 1242x375
     python benchmarks/photo_latency.py --fills auto --variant rays:fill=rays,delete_effects=true  # other settings
     python benchmarks/photo_latency.py --fills rays --against main=/path/to/main/src  # this code and main's
+    python benchmarks/photo_latency.py --fills rays --reuse-source  # one source state per source frame
 """
 
 from __future__ import annotations
@@ -48,6 +54,8 @@ def main() -> None:
                         help="NAME:key=value,... photo settings timed as one more column (repeatable)")
     parser.add_argument("--against", action="append", default=[],
                         help="NAME=SRC: another checkout's src directory, timed in the same run (repeatable)")
+    parser.add_argument("--reuse-source", action="store_true",
+                        help="one source state per source frame for all its edits (default: a fresh one per edit)")
     parser.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)  # a worker of --against
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
@@ -80,12 +88,16 @@ def main() -> None:
     entries = [e for e in load_edit_benchmark(root / BENCHMARK_NAME) if e.operations][: args.limit]
     work = (624, 192)
     cases = []
+    sources: dict[tuple, tuple] = {}  # --reuse-source: one scene and input per source frame
     for entry in entries:
-        record = records[(entry.world, entry.variation, entry.source_frame)]
-        scene = scene_from_frame(record, work)
+        key = (entry.world, entry.variation, entry.source_frame)
+        record = records[key]
+        if key not in sources or not args.reuse_source:
+            sources[key] = (scene_from_frame(record, work),
+                            torch.from_numpy(np.ascontiguousarray(load_rgb(record))).permute(2, 0, 1))
+        scene, original = sources[key]
         edited = apply_edits(scene, ops_from_benchmark(entry, scene, (1242, 375), strict=False))
-        original = torch.from_numpy(np.ascontiguousarray(load_rgb(record))).permute(2, 0, 1)
-        cases.append((edit_kind(entry), scene, edited, original))
+        cases.append((edit_kind(entry), scene, edited, original, key))
     size = tuple(int(x) for x in cases[0][3].shape[2:0:-1])
     frame = PixelFrame(size, work)
     settings = {fill: PhotoSettings(fill=fill) for fill in args.fills}
@@ -98,13 +110,19 @@ def main() -> None:
     renderers = {name: appearance_renderer("photo", photo=s) for name, s in settings.items()}
     warm = appearance_renderer("photo")  # warm-up (imports, PatchMatch's library)
     warm.draw(warm.prepare(cases[0][3], frame, cases[0][1]), cases[0][2])
+    states: dict[tuple, object] = {}  # --reuse-source: (fill, source frame) -> its source state
 
     def one(i: int) -> dict[str, tuple[str, float, float]]:
-        kind, scene, edited, original = cases[i]
+        kind, scene, edited, original, key = cases[i]
         out = {}
         for fill, renderer in renderers.items():
             c0 = time.process_time()
-            drawn = renderer.draw(renderer.prepare(original, frame, scene), edited)
+            state = states.get((fill, key)) if args.reuse_source else None
+            if state is None:
+                state = renderer.prepare(original, frame, scene)
+                if args.reuse_source:
+                    states[(fill, key)] = state
+            drawn = renderer.draw(state, edited)
             out[fill] = (kind, drawn.times["photo_ms"], 1000 * (time.process_time() - c0))
         return out
 
@@ -118,8 +136,10 @@ def main() -> None:
             times[fill].setdefault(kind, []).append(wall)
             cpu[fill].setdefault(kind, []).append(used)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    state = "one source state per source frame" if args.reuse_source else "a fresh source state per edit"
     print(f"photo appearance latency: {len(cases)} edits of {root} drawn at {size[0]}x{size[1]} from {work[0]}x"
-          f"{work[1]} oracle scenes, {args.threads} threads, CPU; fills timed side by side, same entries and order")
+          f"{work[1]} oracle scenes, {args.threads} threads, CPU, {state}; fills timed side by side, same entries and "
+          "order")
     _table(times, cpu)
     print(f"peak resident memory of this process: {peak:.0f} MiB")
     if tmp is not None:
@@ -142,7 +162,8 @@ def _compare(args: argparse.Namespace, root: Path) -> None:
     """This code and each ``--against`` code in worker processes taking turns edit by edit (module doc)."""
     here = str(Path(__file__).resolve().parents[1] / "src")
     codes = [("this", here)] + [tuple(a.split("=", 1)) for a in args.against]
-    forward = [*sum((["--variant", v] for v in args.variant), []), "--fills", *args.fills]
+    forward = [*sum((["--variant", v] for v in args.variant), []), *(["--reuse-source"] if args.reuse_source else []),
+               "--fills", *args.fills]
     workers = {}
     for name, src in codes:
         env = {**os.environ, "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
@@ -162,8 +183,10 @@ def _compare(args: argparse.Namespace, root: Path) -> None:
     for w in workers.values():
         w.stdin.close()
         w.wait()
+    state = "one source state per source frame" if args.reuse_source else "a fresh source state per edit"
     print(f"photo appearance latency: {min(edits.values())} edits of {root} at the input's size, {args.threads} "
-          f"threads, CPU; codes {', '.join(f'{n}={s}' for n, s in codes)} in worker processes taking turns per edit")
+          f"threads, CPU, {state}; codes {', '.join(f'{n}={s}' for n, s in codes)} in worker processes taking turns "
+          "per edit")
     _table(times, cpu)
 
 

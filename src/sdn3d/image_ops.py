@@ -40,6 +40,8 @@ from sdn3d.math3d.camera import Intrinsics
 __all__ = [
     "check_size",
     "dilate_square",
+    "isin_ids",
+    "ids_present",
     "to_image_tensor",
     "resize_image",
     "resize_map",
@@ -290,3 +292,46 @@ def dilate_square(mask: Tensor, radius: int) -> Tensor:
         return mask
     kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
     return torch.from_numpy(cv2.dilate(mask.numpy().astype(np.uint8), kernel) > 0)
+
+
+#: :func:`isin_ids` and :func:`ids_present` index a table by id up to this bound (else torch.isin).
+ID_TABLE_MAX = 1 << 20
+
+
+def _id_range(ids: Tensor) -> int | None:
+    """The largest of ``ids`` where all are non-negative integers below :data:`ID_TABLE_MAX`, else None."""
+    if ids.dtype.is_floating_point or ids.dtype == torch.bool or not ids.numel():
+        return None
+    lo, hi = torch.aminmax(ids)
+    return int(hi) if int(lo) >= 0 and int(hi) < ID_TABLE_MAX else None
+
+
+def isin_ids(ids: Tensor, wanted: Tensor) -> Tensor:
+    """``torch.isin(ids, wanted)`` for an id map ``ids`` (instance ids, any shape): a table indexed by id where the
+    ids are non-negative and below :data:`ID_TABLE_MAX` (one gather; torch.isin compares every pixel with every
+    wanted id), else torch.isin.
+
+    >>> isin_ids(torch.tensor([[0, 3], [7, 3]]), torch.tensor([3, 9])).tolist()
+    [[False, True], [False, True]]
+    """
+    hi = _id_range(ids)
+    if hi is None or wanted.dtype.is_floating_point:
+        return torch.isin(ids, wanted)
+    table = torch.zeros(hi + 1, dtype=torch.bool)
+    table[wanted[(wanted >= 0) & (wanted <= hi)].long()] = True
+    return table[ids.long()]
+
+
+def ids_present(ids: Tensor, wanted: Tensor) -> Tensor:
+    """``torch.isin(wanted, ids)``: which of ``wanted`` occur in the id map ``ids`` (a count per id where the ids
+    are non-negative and below :data:`ID_TABLE_MAX`, else torch.isin).
+
+    >>> ids_present(torch.tensor([[0, 3], [7, 3]]), torch.tensor([3, 9, -1, 0])).tolist()
+    [True, False, False, True]
+    """
+    hi = _id_range(ids)
+    if hi is None or wanted.dtype.is_floating_point:
+        return torch.isin(wanted, ids)
+    seen = torch.bincount(ids.reshape(-1).long(), minlength=hi + 1) > 0
+    inside = (wanted >= 0) & (wanted <= hi)
+    return seen[wanted.long().clamp(0, hi)] & inside

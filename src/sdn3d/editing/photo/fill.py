@@ -10,7 +10,7 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.editing.photo.settings import AUTO_THIN_PX, PATCHMATCH_MAX_SIDE, PhotoSettings, PhotoSettingsError
-from sdn3d.image_ops import dilate_square
+from sdn3d.image_ops import dilate_square, ids_present, isin_ids
 
 __all__ = ["inpaint", "vacated_hole", "fill_hole"]
 
@@ -96,7 +96,7 @@ def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSetting
     """``(H, W)`` bool pixels to fill: those of ``ids (H, W)`` (instance map) in ``gone (K,)`` (moved or deleted
     objects), grown by ``hole_dilate_px`` and by a band below each (its old contact shadow), less ``keep (H, W)``
     (pixels of objects that stay)."""
-    vacated = torch.isin(ids, gone) & (ids != 0)
+    vacated = isin_ids(ids, gone) & (ids != 0)
     hole = dilate_square(vacated, settings.hole_dilate_px)
     if settings.shadow_band > 0 and bool(vacated.any()):
         hole |= dilate_square(_shadow_bands(ids, gone, settings.shadow_band), 1)
@@ -107,10 +107,21 @@ def _shadow_bands(ids: Tensor, gone: Tensor, share: float) -> Tensor:
     """``(H, W)`` bool: the pixels at most ``band`` rows below a pixel of an object of ``gone`` in ``ids``, ``band``
     being ``share`` of that object's height (at least 1), all objects in one pass: a running count of each
     object's pixels down every column, differenced ``band + 1`` rows apart."""
-    height = ids.shape[0]
-    gone = gone[torch.isin(gone, ids)] if len(gone) else gone
+    gone = gone[ids_present(ids, gone)] if len(gone) else gone
     if not len(gone):
         return torch.zeros_like(ids, dtype=torch.bool)
+    # The bands lie in the objects' columns, from their top row down: worked out there (no pixel of theirs above).
+    theirs = isin_ids(ids, gone)
+    cols = theirs.any(0).nonzero().flatten()
+    y0, x0, x1 = int(theirs.any(1).nonzero()[0]), int(cols[0]), int(cols[-1]) + 1
+    out = torch.zeros_like(ids, dtype=torch.bool)
+    out[y0:, x0:x1] = _bands_in(ids[y0:, x0:x1], gone, share)
+    return out
+
+
+def _bands_in(ids: Tensor, gone: Tensor, share: float) -> Tensor:
+    """:func:`_shadow_bands` on a window holding all the pixels of ``gone`` (each present)."""
+    height = ids.shape[0]
     one = ids[None] == gone[:, None, None]  # (K, H, W)
     rows = one.any(2)  # (K, H)
     at = torch.arange(height)

@@ -68,6 +68,23 @@ def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_wid
     candidate = (outline_ids != 0) & (mask_ids == 0)
     if not bool(candidate.any()):
         return candidate
+    # Everything up to the upright growth lies on the rows the outlines cover (each car's height is its outline's):
+    # worked out on that band of rows, then put back in the picture.
+    rows_used = (outline_ids != 0).any(1).nonzero().flatten()
+    y0, y1 = int(rows_used[0]), int(rows_used[-1]) + 1
+    if y0 > 0 or y1 < outline_ids.shape[0]:
+        band = _strips(image[:, y0:y1], mask_ids[y0:y1], outline_ids[y0:y1], candidate[y0:y1], max_width, min_height,
+                       min_contrast)
+        found = torch.zeros_like(candidate)
+        found[y0:y1] = band
+    else:
+        found = _strips(image, mask_ids, outline_ids, candidate, max_width, min_height, min_contrast)
+    return _extend_upright(found, image, mask_ids, min_contrast)
+
+
+def _strips(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, candidate: Tensor, max_width: float,
+            min_height: float, min_contrast: float) -> Tensor:
+    """:func:`thin_occluders` before the upright growth: the strips found among the ``candidate`` pixels."""
     height, width = outline_ids.shape
     # Each car's outline height at each of its pixels (only cars with a candidate pixel: few ids to look up).
     cars = torch.unique(outline_ids[candidate])
@@ -113,8 +130,7 @@ def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_wid
         side_n.index_add_(0, lab[ok], torch.ones(int(ok.sum()), dtype=torch.float64))
     contrast = (strip - side_sum / side_n.clamp(min=1)[:, None]).abs().mean(1)
     keep &= contrast >= min_contrast
-    found = keep[labels_t] & flanked
-    return _extend_upright(found, image, mask_ids, min_contrast)
+    return keep[labels_t] & flanked
 
 
 def _extend_upright(found: Tensor, image: Tensor, mask_ids: Tensor, step: float) -> Tensor:

@@ -29,7 +29,7 @@ from sdn3d.image_ops import dilate_square
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
            "road_haze", "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
-           "GRAIN_WEIGHTS", "FORWARD_SHARE", "road_colours", "road_like"]
+           "GRAIN_WEIGHTS", "FORWARD_SHARE", "road_colours", "road_like", "ab_length"]
 
 #: Gaussian sigma (pixels) below which a source's detail is the road's grain (:func:`ray_fill`'s ``texture``).
 GRAIN_SIGMA = 1.0
@@ -77,20 +77,23 @@ def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: i
     from sdn3d.editing.photo.light import luminance
 
     fx, cx, cy = float(K[0, 0]), float(K[0, 2]), float(K[1, 2])
-    y = luminance(image.permute(1, 2, 0).reshape(-1, 3)).view(image.shape[1:]).float().numpy()
+    y0, y1, x0, x1 = _sobel_window(region) if bool(region.any()) else (0, region.shape[0], 0, region.shape[1])
+    crop = image[:, y0:y1, x0:x1]
+    y = np.ascontiguousarray(luminance(crop.permute(1, 2, 0).reshape(-1, 3)).view(crop.shape[1:]).float().numpy())
     gx = torch.from_numpy(cv2.Sobel(y, cv2.CV_32F, 1, 0, ksize=3))
     gy = torch.from_numpy(cv2.Sobel(y, cv2.CV_32F, 0, 1, ksize=3))
     mag = (gx**2 + gy**2).sqrt()
-    rows = torch.arange(image.shape[1])[:, None] > cy + 2  # below the horizon: the road's side
-    use = region & rows & (mag > 0.15)
+    rows = torch.arange(y0, y1)[:, None] > cy + 2  # below the horizon: the road's side
+    use = region[y0:y1, x0:x1] & rows & (mag > 0.15)
     if int(use.sum()) < min_edges:
         return None
-    ys, xs = use.nonzero(as_tuple=True)
+    ys, xs = use.nonzero(as_tuple=True)  # in the window; the vote below reads the picture's coordinates
     m = mag[ys, xs]
     if len(m) > max_edges:  # the strongest ones: the vote's cost stays bounded
         keep = m.topk(max_edges).indices
         ys, xs, m = ys[keep], xs[keep], m[keep]
     t = torch.stack([-gy[ys, xs], gx[ys, xs]], 1) / m[:, None]  # along the edge
+    ys, xs = ys + y0, xs + x0
     heading = torch.deg2rad(torch.arange(-70.0, 70.25, 0.5))
     us = cx + fx * torch.tan(heading)  # (C,)
     du = us[None] - xs[:, None].float()  # (N, C): towards each candidate
@@ -102,6 +105,19 @@ def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: i
     if float(score[forward]) >= forward_share * float(score.max()):  # a near tie: the camera looks down the road
         return float(us[forward]), cy
     return float(us[int(score.argmax())]), cy
+
+
+def _sobel_window(region: Tensor) -> tuple[int, int, int, int]:
+    """``(y0, y1, x0, x1)`` of the picture whose Sobel gradients at the ``region (H, W)`` pixels equal the whole
+    picture's bit for bit: the region's box grown by a pixel (the 3x3 kernel), its left edge on a multiple of 64
+    columns and 64 spare columns on the right (OpenCV's vector lanes fall on the same pixels, as in
+    :func:`~sdn3d.editing.photo.transfer._blur_window`); the picture's edge where it is near."""
+    height, width = region.shape
+    rows, cols = region.any(1).nonzero().flatten(), region.any(0).nonzero().flatten()
+    y0, y1 = max(int(rows[0]) - 1, 0), min(int(rows[-1]) + 2, height)
+    x0 = max(int(cols[0]) - 1, 0) // 64 * 64
+    x1 = min(int(cols[-1]) + 2 + 64, width)
+    return y0, y1, x0, x1
 
 
 def removal_vanishing_point(image: Tensor, K: Tensor, removed: Tensor, objects_px: Tensor,
@@ -159,18 +175,63 @@ def _gather_coarse(small: Tensor, points: Tensor) -> Tensor:
     return _gather(small, (points + 0.5) / COARSE - 0.5)
 
 
-def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tensor) -> tuple[Tensor, Tensor]:
+def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tensor | None) -> tuple[Tensor, Tensor]:
     """``(distance (N,), found (N,))``: the first step of ``steps (S,)`` (pixels, increasing) at which the point
-    ``pix + step * unit`` is a ``valid (H, W)`` pixel, for each ``pix (N, 2)`` (x, y) and ``unit (N, 2)``; a step
-    beyond ``limit (N,)`` or outside the picture does not count."""
+    ``pix + step * unit`` is a ``valid (H, W)`` pixel, for each ``pix (N, 2)`` (x, y) inside the picture and unit
+    vector ``unit (N, 2)``; a step beyond ``limit (N,)`` (None: no limit) or outside the picture does not count
+    (distance ``steps[0]`` where none does).
+
+    The steps are looked at in blocks (:data:`TRACE_BLOCKS`), each for the rays not found yet and not past their
+    limit: most rays leave the hole within a few steps, so the work follows the hole's depth, not ``S``. Points are
+    rounded to pixels as one ``(N, S)`` pass would, and looked up in ``valid`` padded by ``steps[-1] + 1`` pixels of
+    False (the outside counts as not valid), so the result is the same."""
     height, width = valid.shape
-    pos = pix[:, None, :] + steps[None, :, None] * unit[:, None, :]  # (N, S, 2)
-    x, y = pos[..., 0].round().long(), pos[..., 1].round().long()
-    inside = (x >= 0) & (x < width) & (y >= 0) & (y < height) & (steps[None] <= limit[:, None])
-    ok = inside & valid[y.clamp(0, height - 1), x.clamp(0, width - 1)]
-    found = ok.any(1)
-    first = ok.float().argmax(1)  # the first True (0 where none: masked by found)
-    return steps[first], found
+    margin = int(math.ceil(float(steps[-1]))) + 1 if len(steps) else 1
+    padded = F.pad(valid, (margin, margin, margin, margin)).reshape(-1)
+    row = float(width + 2 * margin)
+    exact = padded.numel() < 2**24
+    distance = steps[:1].expand(len(pix)).clone()
+    found = torch.zeros(len(pix), dtype=torch.bool)
+    active = torch.arange(len(pix))
+    start = 0
+    for block in _trace_blocks(len(steps)):
+        st = steps[start:start + block]
+        start += block
+        if limit is not None:
+            active = active[limit[active] >= st[0]]  # steps increase: a ray past its limit finds nothing more
+        if not len(active):
+            break
+        p, u = pix[active], unit[active]
+        x = (p[:, :1] + st[None] * u[:, :1]).round()  # (A, B): as (p + st * u).round() per coordinate
+        y = (p[:, 1:] + st[None] * u[:, 1:]).round()
+        if exact:  # integers below 2^24: the index is exact in float
+            ok = padded[((y + margin) * row + (x + margin)).long()]
+        else:
+            ok = padded[(y.long() + margin) * int(row) + (x.long() + margin)]
+        if limit is not None:
+            ok &= st[None] <= limit[active, None]
+        hit = ok.any(1)
+        if bool(hit.any()):
+            first = ok[hit].to(torch.uint8).argmax(1)  # the first True
+            distance[active[hit]] = st[first]
+            found[active[hit]] = True
+            active = active[~hit]
+    return distance, found
+
+
+#: :func:`_trace`'s block sizes: small first (most rays leave the hole within a few pixels), then doubling.
+TRACE_BLOCKS = (8, 8, 16, 32, 64)
+
+
+def _trace_blocks(total: int) -> list[int]:
+    """Block sizes covering ``total`` steps: :data:`TRACE_BLOCKS`, then blocks as large as the last."""
+    out, done = [], 0
+    for b in (*TRACE_BLOCKS, *([TRACE_BLOCKS[-1]] * (total // TRACE_BLOCKS[-1] + 1))):
+        if done >= total:
+            break
+        out.append(min(b, total - done))
+        done += out[-1]
+    return out
 
 
 def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Tensor | None = None,
@@ -221,7 +282,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     # pixels wide).
     far = min(max_steps, int(across) + beyond)
     steps = torch.cat([torch.arange(1, 17), torch.arange(17, far + 1, 2)]).float()
-    never = torch.full_like(reach, float(far))
+    never = None if float(steps[-1]) <= far else torch.full_like(reach, float(far))  # None: every step is within
     per_row = road_haze(image, valid, hole, float(vp[1]), airlight) if haze > 0 else None
     values = torch.zeros(3, len(ys))
     grains = torch.zeros(3, len(ys)) if detail is not None else None
@@ -229,7 +290,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     for s in range(0, len(ys), RAY_CHUNK):
         p, u, sp = pix[s:s + RAY_CHUNK], unit[s:s + RAY_CHUNK], reach[s:s + RAY_CHUNK]
         # Away from the vanishing point (nearer road) and towards it, stopping there: past it lies another line.
-        d_out, f_out = _trace(p, u, valid, steps, never[s:s + RAY_CHUNK])
+        d_out, f_out = _trace(p, u, valid, steps, None if never is None else never[s:s + RAY_CHUNK])
         d_in, f_in = _trace(p, -u, valid, steps, (sp - 1.0).clamp(min=0))
         q_out, q_in = p + d_out[:, None] * u, p - d_in[:, None] * u
         c_out = _along(smooth, valid, q_out, u, along)
@@ -447,20 +508,24 @@ def _mirrored(detail: Tensor, valid: Tensor, edge: Tensor, back: Tensor, depth: 
 
 def _along(image: Tensor, valid: Tensor, start: Tensor, unit: Tensor, span: int) -> Tensor:
     """``(3, N)`` mean of ``image`` at the ``valid`` ones of the ``span`` points ``start + k unit`` (k = 0, 1, ...;
-    the first is valid by construction, so the mean always has a term)."""
+    the first is valid by construction, so the mean always has a term). All points are sampled in one call; the
+    sum runs over ``k`` in order, as a loop over the points would."""
     if span <= 1:
         return _gather(image, start)
     height, width = valid.shape
-    total = torch.zeros(3, len(start))
-    count = torch.zeros(len(start))
+    n = len(start)
+    q = torch.cat([start + k * unit for k in range(span)])  # (span * N, 2)
+    x, y = q[:, 0].round().long(), q[:, 1].round().long()
+    ok = (x >= 0) & (x < width) & (y >= 0) & (y < height) & valid.reshape(-1)[
+        y.clamp(0, height - 1) * width + x.clamp(0, width - 1)]
+    ok[:n] = True
+    samples = _gather(image, q)  # (3, span * N)
+    total = torch.zeros(3, n)
+    count = torch.zeros(n)
     for k in range(span):
-        q = start + k * unit
-        x, y = q[:, 0].round().long(), q[:, 1].round().long()
-        ok = (x >= 0) & (x < width) & (y >= 0) & (y < height) & valid[y.clamp(0, height - 1), x.clamp(0, width - 1)]
-        if k == 0:
-            ok = torch.ones_like(ok)
-        total += _gather(image, q) * ok
-        count += ok
+        at = slice(k * n, (k + 1) * n)
+        total += samples[:, at] * ok[at]
+        count += ok[at]
     return total / count.clamp(min=1)
 
 
@@ -493,7 +558,7 @@ def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, ligh
     # A shadow's chroma shrinks with its lightness (the road's colour times less light): compared at that scale.
     scale = (light / max(abs(float(road[0])), 1e-3)).clamp(0, 1)[..., None]
     like = torch.zeros_like(within)
-    like[y0:y1, x0:x1] = (lab[..., 1:] - road[1:].to(lab) * scale).norm(dim=-1) < tolerance
+    like[y0:y1, x0:x1] = ab_length(lab[..., 1:] - road[1:].to(lab) * scale) < tolerance
     ref_px = (like & lit)[y0:y1, x0:x1]
     rows = ref_px.any(1)
     if not bool(rows.any()):
@@ -507,6 +572,18 @@ def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, ligh
     return out
 
 
+def ab_length(ab: Tensor) -> Tensor:
+    """``(...)`` the Euclidean length of ``ab (..., 2)`` (a Lab chroma difference), equal bit for bit to
+    ``ab.norm(dim=-1)``. Lab rows from :func:`~sdn3d.editing.photo.recolor.srgb_to_lab` are channel-major, and torch
+    reduces such a non-contiguous last dimension with a scalar loop (``sqrt(a * a + b * b)``, each step rounded in
+    the tensor's precision) that took a fifth of a second per edit at 1242x375; NumPy does the same arithmetic,
+    vectorised. A contiguous last dimension takes torch's own norm (its vectorised reduction rounds differently)."""
+    if ab.stride(-1) == 1 or ab.requires_grad or ab.device.type != "cpu":
+        return ab.norm(dim=-1)
+    a, b = ab[..., 0].numpy(), ab[..., 1].numpy()
+    return torch.from_numpy(np.sqrt(a * a + b * b))
+
+
 def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor | None:
     """``(3,)`` Lab of the road around a removed object: the median of the ``ring (H, W)`` pixels (around it, on
     no object) that are near grey or near the ring's own median chroma; None with fewer than 30 such pixels."""
@@ -517,11 +594,11 @@ def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor
         return None
     lab = srgb_to_lab(pix)
     ab = lab[:, 1:]
-    ref = ab[ab.norm(dim=1) < 2 * tolerance]
+    ref = ab[ab_length(ab) < 2 * tolerance]
     if len(ref) < 30:
         return None
     mid = ref.median(0).values
-    near = (ab - mid).norm(dim=1) < tolerance
+    near = ab_length(ab - mid) < tolerance
     return lab[near].median(0).values if int(near.sum()) >= 30 else None
 
 
@@ -542,6 +619,6 @@ def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: f
         y0, y1, x0, x1 = int(ys[0]), int(ys[-1]) + 1, int(xs[0]), int(xs[-1]) + 1
     crop = image[:, y0:y1, x0:x1]
     lab = srgb_to_lab(crop.permute(1, 2, 0).reshape(-1, 3))
-    ok = ((lab[:, 1:] - road[1:]).norm(dim=1) < tolerance) & (lab[:, 0] >= min_light * road[0])
+    ok = (ab_length(lab[:, 1:] - road[1:]) < tolerance) & (lab[:, 0] >= min_light * road[0])
     out[y0:y1, x0:x1] = ok.view(crop.shape[1:])
     return out

@@ -45,7 +45,7 @@ from sdn3d.editing.photo.settings import (
     PhotoSettings,
     PhotoSettingsError,
 )
-from sdn3d.image_ops import dilate_square
+from sdn3d.image_ops import dilate_square, ids_present, isin_ids
 from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
 from sdn3d.math3d.transforms import box_corners
 from sdn3d.meshes.bank import MeshBank, default_bank
@@ -139,6 +139,7 @@ class PhotoSource:
                          if self.settings.keep_in_front else torch.zeros_like(self.src_ids, dtype=torch.bool))
         self._light: tuple[Tensor, LightEstimate | None] | None = None
         self._fills: dict[tuple, Tensor] = {}
+        self._pyramids: dict[int, list[Tensor]] = {}
 
     @staticmethod
     def _bind_key(original: Tensor, scene: SceneCode, frame: PixelFrame, settings: PhotoSettings) -> tuple:
@@ -155,6 +156,13 @@ class PhotoSource:
             self._light = _source_light(self.raster, self.vis_ids, self.scene.objects, self.image)
         return self._light
 
+    def pyramid(self, levels: int) -> list[Tensor]:
+        """The input's pyramid (:func:`_pyramid`) with at most ``levels`` halvings, made on first use (the transfer and
+        the mask paste sample it)."""
+        if levels not in self._pyramids:
+            self._pyramids[levels] = _pyramid(self.image, levels)
+        return self._pyramids[levels]
+
     def fill(self, key: tuple, make) -> Tensor:
         """A copy of the filled picture of ``key`` (the objects that left and stayed), made by ``make()`` once."""
         if self.max_fills <= 0:
@@ -167,14 +175,24 @@ class PhotoSource:
 
 
 def _erode_ids(ids: Tensor, radius: int) -> Tensor:
-    """``ids (H, W)`` with every pixel whose ``(2r+1)^2`` neighbourhood holds another id set to 0."""
+    """``ids (H, W)`` with every pixel whose ``(2r+1)^2`` neighbourhood (the picture's edge replicated) holds another
+    id set to 0: the neighbourhood's largest and smallest ids differ (OpenCV's dilation and erosion, on float32,
+    exact for ids below 2^24; a max pool's result at a fraction of its time)."""
     if radius <= 0:
         return ids
-    x = ids[None, None].double()
-    k = 2 * radius + 1
-    hi = F.max_pool2d(F.pad(x, (radius,) * 4, mode="replicate"), k, stride=1)
-    lo = -F.max_pool2d(F.pad(-x, (radius,) * 4, mode="replicate"), k, stride=1)
-    return torch.where((hi == lo)[0, 0], ids, torch.zeros_like(ids))
+    import cv2
+
+    if not len(ids.view(-1)) or int(ids.abs().max()) >= 2**24:  # float32 holds these ids exactly
+        x = ids[None, None].double()
+        k = 2 * radius + 1
+        hi = F.max_pool2d(F.pad(x, (radius,) * 4, mode="replicate"), k, stride=1)
+        lo = -F.max_pool2d(F.pad(-x, (radius,) * 4, mode="replicate"), k, stride=1)
+        return torch.where((hi == lo)[0, 0], ids, torch.zeros_like(ids))
+    x = ids.numpy().astype(np.float32)
+    kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
+    hi = cv2.dilate(x, kernel, borderType=cv2.BORDER_REPLICATE)
+    lo = cv2.erode(x, kernel, borderType=cv2.BORDER_REPLICATE)
+    return torch.where(torch.from_numpy(hi == lo), ids, torch.zeros_like(ids))
 
 
 @dataclass
@@ -587,7 +605,7 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
     if not bool(grew.any()):
         return own, []
     rows, gained = rows[grew], gained[grew]
-    first = gained.to(torch.uint8).argmax(0)  # the first object (in table order) that gained each pixel
+    first = _first_true(gained)  # the first object (in table order) that gained each pixel
     labels = torch.where(gained.any(0), after.instance_id[rows][first], torch.zeros_like(first))
     up = upsample_ids(labels.to(after.instance_id.dtype), transform)
     if raster_ids is not None and min_seen > 0:  # its own fitted shape in front of what the input showed there
@@ -598,11 +616,21 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
     return own, rows[drawn].tolist()
 
 
+def _first_true(masks: Tensor) -> Tensor:
+    """``(...)`` long index of the first True along the first dimension of ``masks (S, ...)`` bool, 0 where none is
+    (``masks.to(torch.uint8).argmax(0)``, which reduces a strided dimension slowly): the masks written in reverse
+    order, each over the later ones."""
+    first = torch.zeros(masks.shape[1:], dtype=torch.long)
+    for k in range(len(masks) - 1, -1, -1):
+        first[masks[k]] = k
+    return first
+
+
 def _pixels_of(ids: Tensor, wanted: Tensor):
     """``lookup(i) -> (P,)`` ascending flat indices of the pixels of ``ids (H, W)`` equal to ``i`` (one of
     ``wanted``): one scan of the picture for all of them."""
     flat = ids.view(-1)
-    pix = torch.isin(flat, wanted).nonzero().flatten()
+    pix = isin_ids(flat, wanted).nonzero().flatten()
     at = flat[pix]
     return lambda i: pix[at == i]
 
@@ -682,7 +710,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     moved = ~stays & has & after.has_geometry
     gone_ids = before.instance_id[~torch.isin(before.instance_id, after.instance_id[stays])]
     src_ids, vis_ids = source.src_ids, source.vis_ids
-    own = torch.where(torch.isin(src_ids, after.instance_id[stays]), src_ids, torch.zeros_like(src_ids))
+    own = torch.where(isin_ids(src_ids, after.instance_id[stays]), src_ids, torch.zeros_like(src_ids))
     # Freed pixels an object that stays now covers (amodal completion in apply_edits).
     own, grown_rows = _grow(own, before, after, origin, stays, transform, source.outline_ids,
                             source.vis_ids, settings.grow_min_seen)
@@ -709,14 +737,14 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     # Input pixels no object's mask reaches (with the masks' erosion as a margin): no template point is there.
     background = ~dilate_square(src_ids != 0, photo_source.erode)
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
-    keep = (src_ids != 0) & torch.isin(src_ids, after.instance_id[stays])
+    keep = (src_ids != 0) & isin_ids(src_ids, after.instance_id[stays])
     hole = vacated_hole(src_ids, gone_ids, keep, settings)
     if bool(hole.any()):  # thin things in front are put back over the fill: they are no source of it
         hole = hole | photo_source.in_front
     # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
     vp = None
     if settings.fill == "rays" and bool(gone_ids.numel()):
-        removed = torch.isin(src_ids, gone_ids) & (src_ids != 0)
+        removed = isin_ids(src_ids, gone_ids) & (src_ids != 0)
         vp = removal_vanishing_point(image, K, removed, src_ids != 0,
                                      float(before.ry[gone_rows[0]]) if gone_rows else None)
     # With cast_shadow, a moved object's old shadow is relit (as a deleted one's with delete_effects).
@@ -729,7 +757,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         stay_ids = after.instance_id[stays]
         key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
         if effects:  # the removed objects' silhouettes join the hole; their shadows are relit
-            fitted = torch.isin(photo_source.outline_ids, gone_ids)
+            fitted = isin_ids(photo_source.outline_ids, gone_ids)
             if settings.silhouette == "carved":  # the template where the input's masks rule it out is not the car
                 fitted &= ~background
             silhouette = dilate_square(fitted, settings.hole_dilate_px)
@@ -804,11 +832,11 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         drawn_depth = tgt.frags.depth[0].double()
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
-                                     photo_source.parts, parts_out, background)
+                                     photo_source.parts, parts_out, background, photo_source.pyramid)
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, image, own, before, after, origin, moved_rows, src_ids,
                                             photo_source.work_ids, transform, photo_source.outline_ids, K, settings,
-                                            objects)
+                                            objects, photo_source.pyramid)
         for a in moved_rows:
             if int(after.instance_id[a]) not in objects:
                 uv, front = _project(_box_floor(after, a, 1.0), K)
@@ -826,16 +854,28 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                                parts_out if settings.recolor_parts else None)
     # Thin things in front of a car stay in front of what the edit drew there, unless a car now stands nearer than
     # the one they hid (their depth is at most that car's).
-    front = photo_source.in_front & (source != INPUT) & ~(drawn_depth < src.frags.depth[0].double() - 0.5)
-    out = torch.where(front[None], image, out)
-    source = torch.where(front, IN_FRONT, source).to(torch.uint8)
-    result = out.clamp(0, 1)
-    changed = source != INPUT
+    if bool(photo_source.in_front.any()):  # (none found: nothing to put back)
+        front = photo_source.in_front & (source != INPUT) & ~(drawn_depth < src.frags.depth[0].double() - 0.5)
+        out = torch.where(front[None], image, out)
+        source = torch.where(front, IN_FRONT, source).to(torch.uint8)
+    return PhotoResult(_into_original(out, source != INPUT, original), source, light, objects, warnings, parts_out)
+
+
+def _into_original(out: Tensor, changed: Tensor, original: Tensor) -> Tensor:
+    """``(3, H, W)`` ``original`` with its ``changed (H, W)`` pixels taken from ``out (3, H, W)`` float, clamped to
+    [0, 1] (and rounded to uint8 for a uint8 original); only the box of the changed pixels is converted."""
+    result = original.clone()
+    rows, cols = changed.any(1).nonzero().flatten(), changed.any(0).nonzero().flatten()
+    if not len(rows):
+        return result
+    y0, y1, x0, x1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+    box = out[:, y0:y1, x0:x1].clamp(0, 1)
     if original.dtype == torch.uint8:
-        result = torch.where(changed[None], (result * 255 + 0.5).floor().clamp(0, 255).to(torch.uint8), original)
+        box = (box * 255 + 0.5).floor().clamp(0, 255).to(torch.uint8)
     else:
-        result = torch.where(changed[None], result.to(original.dtype), original)
-    return PhotoResult(result, source, light, objects, warnings, parts_out)
+        box = box.to(original.dtype)
+    result[:, y0:y1, x0:x1] = torch.where(changed[y0:y1, x0:x1][None], box, original[:, y0:y1, x0:x1])
+    return result
 
 
 def _shares(codes: Tensor) -> dict[str, float]:
@@ -859,7 +899,8 @@ def _view_change(before: ObjectTable, after: ObjectTable, b: int, a: int) -> flo
 def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, before: ObjectTable,
                       after: ObjectTable, origin: Tensor, moved_rows: list[int], src_ids: Tensor, work_ids: Tensor,
                       transform: PixelFrame, template_ids: Tensor, K: Tensor, settings: PhotoSettings,
-                      objects: dict[int, dict]) -> tuple[Tensor, Tensor]:
+                      objects: dict[int, dict], pyramid_of: Callable[[int], list[Tensor]] | None = None
+                      ) -> tuple[Tensor, Tensor]:
     """Each moved object whose view hardly changed (at most ``settings.mask_view_deg``) and whose fitted outline
     ``template_ids (H, W)`` (:func:`_raster_ids` of the input) overlaps its mask in ``src_ids`` at an IoU of at most
     ``settings.paste_max_iou`` takes its input mask's pixels
@@ -931,7 +972,7 @@ def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, b
         if not bool(hit.any()):
             continue
         if pyramid is None:
-            pyramid = _pyramid(image, settings.max_level)
+            pyramid = (pyramid_of or (lambda levels: _pyramid(image, levels)))(settings.max_level)
         shrink = float(torch.linalg.det(affine[:2]).abs().sqrt())  # input pixels per target pixel
         level = torch.full((int(hit.sum()),), max(math.log2(max(shrink, 1e-6)), 0.0), dtype=torch.float64)
         pasted = flat_q[hit]
@@ -969,7 +1010,8 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
           before: ObjectTable, after: ObjectTable, origin: Tensor, moved: Tensor, src_row_to_mesh: Tensor,
           src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
-          background: Tensor) -> tuple[Tensor, Tensor, dict[int, dict]]:
+          background: Tensor, pyramid_of: Callable[[int], list[Tensor]] | None = None
+          ) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
     ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
     there is not the object's (``silhouette='carved'``)."""
@@ -1002,7 +1044,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     tri_s = src.verts[s_mesh_c[:, None], vid] if len(src.rows) else torch.zeros(len(pix), 3, 3, dtype=torch.float64)
     point_s = (bary[..., None] * tri_s).sum(1)
     # Mirror across the vehicle's left-right plane (local z = 0).
-    rot = roty(before.ry[b_row.clamp(min=0)].double())  # (P, 3, 3)
+    rot = roty(before.ry.double())[b_row.clamp(min=0)]  # (P, 3, 3): each row's, looked up (the same values)
     centre = before.center[b_row.clamp(min=0)].double()
     flip = torch.tensor([1.0, 1.0, -1.0], dtype=torch.float64)
     local = torch.einsum("pji,pj->pi", rot, point_s - centre) * flip
@@ -1011,7 +1053,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         # A template point the input's mask rules out (module doc, step 3) is not drawn: what shows there is the
         # picture behind the object, as in the 2D paste.
         # (an object the input does not show at all has no outline to carve by)
-        shown = torch.isin(before.instance_id[b_row.clamp(min=0)], src_ids.unique())
+        shown = ids_present(src_ids, before.instance_id)[b_row.clamp(min=0)]
         inside = ~has_src | ~shown | (_in_silhouette(point_s, background, K) & _in_silhouette(point_m, background, K))
         if not bool(inside.all()):
             k = inside.nonzero().flatten()
@@ -1043,7 +1085,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.
     z_t = tgt.frags.depth.view(-1)[pix].double()
     level = (z_t / point_s[:, 2].clamp(min=1e-3)).clamp(min=1.0).log2()
-    pyramid = _pyramid(image, settings.max_level)
+    pyramid = (pyramid_of or (lambda levels: _pyramid(image, levels)))(settings.max_level)
     uv = torch.where(ok_photo[:, None], uv_photo, uv_mirror)
     color = _sample(pyramid, uv, level).double()
     n_src = torch.where(ok_photo[:, None], normal_s, normal_m)
@@ -1088,9 +1130,11 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             if b not in shown_cars or not examples_of(b)[2]:
                 return _no_examples()
             depth = before.center[:, 2].double().clamp(min=0.1)
-            by_depth = sorted((bb for bb in shown_cars if bb != b and examples_of(bb)[2]),
-                              key=lambda bb: abs(math.log(depth[bb] / depth[b])))
+            # nearest first (a stable sort: ties keep table order), each car's examples made only when reached
+            by_depth = sorted((bb for bb in shown_cars if bb != b), key=lambda bb: abs(math.log(depth[bb] / depth[b])))
             for bb in by_depth:
+                if not examples_of(bb)[2]:
+                    continue
                 found = _examples_of_part(examples_of(bb)[0], part)
                 if len(found.part) >= 8:
                     return found

@@ -1,0 +1,245 @@
+"""The photo appearance's cost cuts (docs/results/2026-11-29_cpu/session8/photocost/): each faster helper gives what
+the code it replaced gave, bit for bit (the replaced code is written out here as the reference)."""
+
+from __future__ import annotations
+
+import math
+
+import torch
+import torch.nn.functional as F
+
+from sdn3d.editing.apply import Move, Rotate, apply_edits
+from sdn3d.editing.photo.occluders import _extend_upright, _strips, thin_occluders
+from sdn3d.editing.photo.recolor import srgb_to_lab
+from sdn3d.editing.photo.road import _along, _gather, _trace, ab_length, road_colours, road_like
+from sdn3d.editing.photo.transfer import PhotoSource, _erode_ids, _first_true, _pyramid, render_photo
+from sdn3d.image_ops import ids_present, isin_ids
+from tests.test_photo import CAR, FAR_CAR, FRAME, INPUT_SIZE, _scene
+
+
+def _trace_one_pass(pix, unit, valid, steps, limit):
+    """_trace as it was: every step of every ray at once."""
+    height, width = valid.shape
+    pos = pix[:, None, :] + steps[None, :, None] * unit[:, None, :]
+    x, y = pos[..., 0].round().long(), pos[..., 1].round().long()
+    inside = (x >= 0) & (x < width) & (y >= 0) & (y < height) & (steps[None] <= limit[:, None])
+    ok = inside & valid[y.clamp(0, height - 1), x.clamp(0, width - 1)]
+    return steps[ok.float().argmax(1)], ok.any(1)
+
+
+def _rays(seed: int, n: int, height: int, width: int) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    g = torch.Generator().manual_seed(seed)
+    valid = torch.rand(height, width, generator=g) > 0.3
+    valid[height // 4: 3 * height // 4, width // 5: 4 * width // 5] = False  # a hole the rays must cross
+    pix = torch.stack([torch.rand(n, generator=g) * width, torch.rand(n, generator=g) * height], 1).floor()
+    angle = torch.rand(n, generator=g) * 6.2832
+    return valid, pix, torch.stack([angle.cos(), angle.sin()], 1)
+
+
+def test_trace_in_blocks_finds_the_first_valid_step_of_one_pass():
+    for seed, (height, width) in enumerate([(60, 200), (97, 131), (375, 1242)]):
+        valid, pix, unit = _rays(seed, 3000, height, width)
+        steps = torch.cat([torch.arange(1, 17), torch.arange(17, 150 + 50 * seed, 2)]).float()
+        limit = torch.rand(len(pix), generator=torch.Generator().manual_seed(seed)) * 200
+        for lim in (limit, torch.full((len(pix),), float(steps[-1]))):
+            want = _trace_one_pass(pix, unit, valid, steps, lim)
+            got = _trace(pix, unit, valid, steps, lim)
+            assert torch.equal(got[0], want[0]) and torch.equal(got[1], want[1])
+        got = _trace(pix, unit, valid, steps, None)  # no limit: the same as a limit at the last step
+        assert torch.equal(got[0], want[0]) and torch.equal(got[1], want[1])
+        assert bool(want[1].any()) and not bool(want[1].all())  # found and not found both tested
+
+
+def test_along_in_one_call_equals_the_loop_over_its_points():
+    g = torch.Generator().manual_seed(3)
+    image = torch.rand(3, 50, 90, generator=g)
+    valid = torch.rand(50, 90, generator=g) > 0.3
+    start = torch.stack([torch.rand(400, generator=g) * 100 - 5, torch.rand(400, generator=g) * 60 - 5], 1)
+    angle = torch.rand(400, generator=g) * 6.2832
+    unit = torch.stack([angle.cos(), angle.sin()], 1)
+    for span in (1, 2, 12):
+        total, count = torch.zeros(3, len(start)), torch.zeros(len(start))
+        for k in range(span):  # _along as it was
+            q = start + k * unit
+            x, y = q[:, 0].round().long(), q[:, 1].round().long()
+            ok = (x >= 0) & (x < 90) & (y >= 0) & (y < 50) & valid[y.clamp(0, 49), x.clamp(0, 89)]
+            ok = torch.ones_like(ok) if k == 0 else ok
+            total += _gather(image, q) * ok
+            count += ok
+        assert torch.equal(_along(image, valid, start, unit, span), total / count.clamp(min=1))
+
+
+def test_ab_length_is_torch_norm_bit_for_bit():
+    g = torch.Generator().manual_seed(5)
+    lab = srgb_to_lab(torch.rand(20000, 3, generator=g))  # channel-major rows, as road_like reads them
+    road = lab.median(0).values
+    for ab in (lab[:, 1:], lab[:, 1:] - road[1:], (lab[:, 1:] - road[1:]).view(100, 200, 2),
+               lab[:, 1:].double() * 3.7, lab[:, 1:].contiguous()):
+        assert torch.equal(ab_length(ab), ab.norm(dim=-1))
+    assert ab_length(lab[:, 1:] - road[1:]).dtype == torch.float32
+
+
+def test_road_helpers_keep_their_answers():
+    g = torch.Generator().manual_seed(8)
+    image = torch.rand(3, 40, 70, generator=g) * 0.2 + 0.4
+    ring = torch.zeros(40, 70, dtype=torch.bool)
+    ring[5:35, 5:65] = True
+    road = road_colours(image, ring)
+    flat = image.permute(1, 2, 0).reshape(-1, 3)
+    lab = srgb_to_lab(flat[ring.view(-1)])
+    ab = lab[:, 1:]
+    ref = ab[ab.norm(dim=1) < 24.0]
+    near = (ab - ref.median(0).values).norm(dim=1) < 12.0
+    assert torch.equal(road, lab[near].median(0).values)  # road_colours as it was, with torch's norm
+    full = srgb_to_lab(flat)
+    want = ((full[:, 1:] - road[1:]).norm(dim=1) < 12.0).view(40, 70)
+    assert torch.equal(road_like(image, road), want)
+
+
+def test_id_membership_by_table_is_torch_isin():
+    g = torch.Generator().manual_seed(2)
+    ids = torch.randint(0, 4, (30, 40), generator=g) * torch.randint(12000, 12010, (30, 40), generator=g)
+    wanted = torch.tensor([12003, 0, 5, -2, 12009, 1 << 40])
+    assert torch.equal(isin_ids(ids, wanted), torch.isin(ids, wanted))
+    assert torch.equal(ids_present(ids, wanted), torch.isin(wanted, ids))
+    for odd in (ids - 12005, ids + (1 << 30), ids[:0]):  # negative, huge and no ids: torch.isin itself
+        assert torch.equal(isin_ids(odd, wanted), torch.isin(odd, wanted))
+        assert torch.equal(ids_present(odd, wanted), torch.isin(wanted, odd))
+
+
+def test_erode_ids_is_the_max_pool_it_replaced():
+    g = torch.Generator().manual_seed(4)
+    for ids in (torch.randint(0, 3, (37, 53), generator=g) * 7, torch.zeros(9, 11, dtype=torch.long),
+                torch.randint(0, 2, (1, 30), generator=g) * 12004):
+        for radius in (0, 1, 2, 3):
+            x = ids[None, None].double()
+            k = 2 * radius + 1
+            hi = F.max_pool2d(F.pad(x, (radius,) * 4, mode="replicate"), k, stride=1)
+            lo = -F.max_pool2d(F.pad(-x, (radius,) * 4, mode="replicate"), k, stride=1)
+            want = ids if radius == 0 else torch.where((hi == lo)[0, 0], ids, torch.zeros_like(ids))
+            assert torch.equal(_erode_ids(ids, radius), want)
+
+
+def test_first_true_is_argmax_of_the_masks():
+    g = torch.Generator().manual_seed(6)
+    for s in (1, 2, 5):
+        masks = torch.rand(s, 20, 30, generator=g) > 0.7
+        assert torch.equal(_first_true(masks), masks.to(torch.uint8).argmax(0))
+
+
+def test_thin_occluders_on_the_outlines_rows_equal_the_whole_picture():
+    ids = torch.zeros(60, 80, dtype=torch.long)
+    ids[20:40, 10:70] = 7
+    outline = ids.clone()
+    image = torch.full((3, 60, 80), 0.6)
+    image[:, 20:40, 10:70] = torch.tensor([0.7, 0.2, 0.2])[:, None, None]
+    ids[20:40, 38:41] = 0  # a pole across the car, running on above and below it
+    image[:, :, 38:41] = 0.1
+    found = thin_occluders(image, ids, outline)
+    whole = _extend_upright(_strips(image, ids, outline, (outline != 0) & (ids == 0), 0.3, 0.4, 0.08), image, ids,
+                            0.08)
+    assert torch.equal(found, whole)
+    assert int(found.sum()) == 60 * 3
+
+
+def test_photo_source_keeps_one_pyramid_and_pictures_stay_the_same():
+    scene = _scene([CAR, FAR_CAR])
+    original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(1))
+    source = PhotoSource(original, FRAME, scene)
+    pyramid = source.pyramid(3)
+    assert source.pyramid(3) is pyramid
+    assert all(torch.equal(a, b) for a, b in zip(pyramid, _pyramid(source.image, 3), strict=True))
+    for ops in ([Move(12001, (50.0, 40.0)), Rotate(12001, math.radians(60))], [Move(12002, (90.0, 35.0))]):
+        edited = apply_edits(scene, ops)  # the same picture with the kept source (and its pyramid) as without
+        kept = render_photo(original, FRAME, scene, edited, source=source)
+        fresh = render_photo(original, FRAME, scene, edited)
+        assert torch.equal(kept.image, fresh.image) and torch.equal(kept.source, fresh.source)
+        assert bool((kept.source != 0).any())
+
+
+def _vanishing_point_whole(image, region, K, min_edges=50, max_edges=4000, sharpness=8.0, forward_share=1.0):
+    """image_vanishing_point as it was: gradients of the whole picture."""
+    import cv2
+
+    from sdn3d.editing.photo.light import luminance
+
+    fx, cx, cy = float(K[0, 0]), float(K[0, 2]), float(K[1, 2])
+    y = luminance(image.permute(1, 2, 0).reshape(-1, 3)).view(image.shape[1:]).float().numpy()
+    gx = torch.from_numpy(cv2.Sobel(y, cv2.CV_32F, 1, 0, ksize=3))
+    gy = torch.from_numpy(cv2.Sobel(y, cv2.CV_32F, 0, 1, ksize=3))
+    mag = (gx**2 + gy**2).sqrt()
+    use = region & (torch.arange(image.shape[1])[:, None] > cy + 2) & (mag > 0.15)
+    if int(use.sum()) < min_edges:
+        return None
+    ys, xs = use.nonzero(as_tuple=True)
+    m = mag[ys, xs]
+    if len(m) > max_edges:
+        keep = m.topk(max_edges).indices
+        ys, xs, m = ys[keep], xs[keep], m[keep]
+    t = torch.stack([-gy[ys, xs], gx[ys, xs]], 1) / m[:, None]
+    heading = torch.deg2rad(torch.arange(-70.0, 70.25, 0.5))
+    us = cx + fx * torch.tan(heading)
+    du = us[None] - xs[:, None].float()
+    dv = (cy - ys.float())[:, None]
+    cos2 = (t[:, :1] * du + t[:, 1:] * dv).square() / (du.square() + dv.square()).clamp(min=1e-12)
+    score = (cos2 ** (sharpness / 2) * m[:, None]).sum(0)
+    forward = int(heading.abs().argmin())
+    if float(score[forward]) >= forward_share * float(score.max()):
+        return float(us[forward]), cy
+    return float(us[int(score.argmax())]), cy
+
+
+def test_vanishing_point_from_the_regions_window_equals_the_whole_picture():
+    from sdn3d.editing.photo.road import image_vanishing_point
+
+    g = torch.Generator().manual_seed(9)
+    K = torch.tensor([[721.5, 0.0, 609.6], [0.0, 721.5, 172.9], [0.0, 0.0, 1.0]], dtype=torch.float64)
+    image = torch.rand(3, 375, 1242, generator=g)
+    image[:, 200:, :] = torch.linspace(0, 1, 1242)[None, None, :] * 0.5  # lines to vote
+    image[:, 200:, :] += (torch.arange(375 - 200)[:, None] % 7 == 0) * 0.4
+    found = 0
+    for y0, y1, x0, x1 in [(180, 300, 100, 400), (300, 375, 0, 120), (190, 375, 1100, 1242), (250, 260, 613, 700),
+                           (0, 375, 0, 1242), (200, 220, 5, 9)]:
+        region = torch.zeros(375, 1242, dtype=torch.bool)
+        region[y0:y1, x0:x1] = True
+        for max_edges in (4000, 300):
+            want = _vanishing_point_whole(image, region, K, max_edges=max_edges, forward_share=0.99)
+            assert image_vanishing_point(image, region, K, max_edges=max_edges, forward_share=0.99) == want
+            found += want is not None
+    assert found >= 8
+    empty = torch.zeros(375, 1242, dtype=torch.bool)
+    assert image_vanishing_point(image, empty, K) is None
+    assert image_vanishing_point(image, empty, K, min_edges=0) == _vanishing_point_whole(image, empty, K, min_edges=0)
+
+
+def test_shadow_bands_on_the_objects_window_equal_the_whole_picture():
+    from sdn3d.editing.photo.fill import _bands_in, _shadow_bands  # _bands_in on the whole picture: as it was
+
+    ids = torch.zeros(50, 70, dtype=torch.long)
+    ids[10:20, 5:25] = 3
+    ids[15:40, 30:60] = 4
+    ids[42:50, 0:10] = 5  # reaches the bottom edge
+    ids[0:8, 62:70] = 6  # the top and right edges
+    for gone in ([3], [4, 5], [3, 4, 5, 6], [6, 9], [4, 3]):
+        g = torch.tensor(gone)
+        present = g[torch.isin(g, ids)]
+        for share in (0.3, 1.0):
+            assert torch.equal(_shadow_bands(ids, g, share), _bands_in(ids, present, share))
+    assert not bool(_shadow_bands(ids, torch.tensor([9]), 0.3).any())
+
+
+def test_into_original_converts_only_the_changed_box_as_the_whole_picture_did():
+    from sdn3d.editing.photo.transfer import _into_original
+
+    g = torch.Generator().manual_seed(12)
+    out = torch.rand(3, 30, 40, generator=g) * 1.4 - 0.2  # outside [0, 1] too: clamped
+    changed = torch.zeros(30, 40, dtype=torch.bool)
+    changed[5:9, 10:31] = torch.rand(4, 21, generator=g) > 0.5
+    for original in (torch.randint(0, 256, (3, 30, 40), dtype=torch.uint8, generator=g),
+                     torch.rand(3, 30, 40, generator=g).double()):
+        result = out.clamp(0, 1)  # render_photo's conversion as it was
+        want = (torch.where(changed[None], (result * 255 + 0.5).floor().clamp(0, 255).to(torch.uint8), original)
+                if original.dtype == torch.uint8 else torch.where(changed[None], result.to(original.dtype), original))
+        got = _into_original(out, changed, original)
+        assert got.dtype == original.dtype and torch.equal(got, want)
+        assert torch.equal(_into_original(out, torch.zeros_like(changed), original), original)

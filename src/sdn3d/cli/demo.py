@@ -175,14 +175,15 @@ def make_data(cfg: Any) -> Path:
     return root
 
 
-def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path, upstream: dict[str, str] | None = None
-                   ) -> list[str]:
+def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path, upstream: dict[str, str] | None = None,
+                   to_file: bool = False) -> list[str]:
     """The ``sdn3d-train`` child: the branch's experiment (its budget) plus this machine's options; then the
     user's extra ``train.common`` / ``train.<branch>`` overrides (empty by default).
 
     ``upstream``: checkpoints of the branches trained before (3D-SDN's order): the textural run gets the semantic
     and geometric ones, which its recipe uses when it trains on predicted maps (``datamodule.maps=predicted``),
-    with the predicted-map cache under ``runs/map_cache``."""
+    with the predicted-map cache under ``runs/map_cache``. ``to_file``: its output goes to a file (the lanes), so
+    without a progress bar, as with ``train.parallel``."""
     experiment = (cfg.train.get("experiment") or {}).get(branch, f"demo_{cfg.budget_name}")
     args = [sys.executable, "-m", "sdn3d.cli.train", f"branch={branch}", f"experiment={experiment}",
             f"data.root={data_root.resolve()}", f"seed={int(cfg.seed)}", f"threads={int(cfg.threads)}",
@@ -195,8 +196,8 @@ def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path, upstream:
                  f"datamodule.map_cache_dir={runs / 'map_cache'}"]
     if cfg.device != "cpu":
         args.append("trainer=gpu")
-    if cfg.train.get("parallel") or int(cfg.get("lanes") or 1) > 1:  # several progress bars on one terminal
-        args += ["trainer.enable_progress_bar=false", "~callbacks.progress_bar"]   # would garble each other
+    if cfg.train.get("parallel") or to_file:  # several progress bars on one terminal would garble each other
+        args += ["trainer.enable_progress_bar=false", "~callbacks.progress_bar"]
     return args + [str(o) for o in cfg.train.common] + [str(o) for o in cfg.train.get(branch, [])]
 
 
@@ -383,8 +384,8 @@ def lane_tasks(plan: list[list[tuple[str, tuple[str, ...]]]], cfg: Any, data_roo
             upstream = checkpoints(done) if branch == "textural" else None
             started["t"] = time.perf_counter()
             with open(log, "w") as stream:
-                return subprocess.Popen(_train_command(branch, cfg, data_root, runs, upstream), env=env,
-                                        stdout=stream, stderr=subprocess.STDOUT)
+                return subprocess.Popen(_train_command(branch, cfg, data_root, runs, upstream, to_file=True),
+                                        env=env, stdout=stream, stderr=subprocess.STDOUT)
 
         def finish(code: int, done: dict) -> dict:
             return _finish(branch, run_dir, code, started["t"], _keep_or_restore(run_dir))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 import time
@@ -132,3 +133,41 @@ def test_the_demo_exits_1_naming_the_training_that_failed_in_a_lane(tmp_path, mo
     assert "runs/semantic.out" in err and "CUDA out of memory (stand-in)" in err
     assert "stopped meanwhile: training: geometric" in err
     assert (earlier / "weights").read_text() == "earlier"  # the failed run did not replace it
+
+
+def test_the_benchmark_written_from_two_separately_evaluated_passes_equals_one_run(tiny_synth, tmp_path):
+    """The lanes evaluate the predicted and the oracle pass in two processes; :func:`sdn3d.cli.bench.run_bench`
+    then writes them: every entry's metrics, the summaries and the example grids as one run's."""
+    from helpers.tiny_models import write_checkpoints
+
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli.bench import evaluate_bench, run_bench
+
+    ckpts = write_checkpoints(tmp_path / "ckpts")
+
+    def cfg(out: Path, proposals: str):
+        return compose_config([f"data.root={tiny_synth}", "data.image_size=[160,64]", "compose=photo",
+                               "geometric.crop_size=32", "geometric.min_pixels=1", "limit=2", "examples=1",
+                               f"output_dir={out}", f"proposals={proposals}", "threads=1",
+                               *(f"checkpoints.{b}={p}" for b, p in ckpts.items())], "bench")
+
+    one = run_bench(cfg(tmp_path / "one", "[semantic,gt]"))
+    parts = [evaluate_bench(cfg(tmp_path / "two", p)) for p in ("[gt]", "[semantic]")]  # in either order
+    two = run_bench(cfg(tmp_path / "two", "[semantic,gt]"), parts)
+    assert list(two["entries"]) == ["semantic", "gt"] == two["info"]["sources"]
+
+    def same(a: object, b: object) -> bool:  # as JSON text: NaN (an empty region) equals NaN
+        return json.dumps(a, sort_keys=True) == json.dumps(b, sort_keys=True)
+
+    def metrics(report: dict) -> dict:
+        return {s: [(r["metrics"], r["errors"]) for r in rows] for s, rows in report["entries"].items()}
+
+    assert same(metrics(two), metrics(one)) and metrics(one)["gt"][0][0]  # (the tiny nets' predicted row may fail)
+    assert same({s: v["methods"] for s, v in two["summary"].items()},
+                {s: v["methods"] for s, v in one["summary"].items()})
+    assert same(two["comparisons"], one["comparisons"])
+    for name in one["outputs"]:
+        if name.endswith(".png"):
+            assert (tmp_path / "two" / name).read_bytes() == (tmp_path / "one" / name).read_bytes(), name
+    with pytest.raises(ValueError, match="more than once"):
+        run_bench(cfg(tmp_path / "three", "[semantic,gt]"), [parts[0], parts[0]])

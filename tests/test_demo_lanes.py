@@ -95,6 +95,35 @@ def test_a_failed_task_names_itself_and_its_log_and_stops_the_other_lane(tmp_pat
     assert ("later", "start") not in events
 
 
+def test_a_killed_runner_stops_its_children(tmp_path):
+    """``kill`` (SIGTERM) of the process running the lanes: it stops the running children before it exits."""
+    import os
+    import signal
+
+    pid_file = tmp_path / "child.pid"
+    runner = f"""
+import subprocess, sys
+from pathlib import Path
+from sdn3d.cli._lanes import LaneTask, run_lanes
+log = Path({str(tmp_path / 'child.out')!r})
+def start(done):
+    proc = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    Path({str(pid_file)!r}).write_text(str(proc.pid))
+    return proc
+run_lanes([[LaneTask("sleeper", (), start, lambda code, done: None, log)]], say=lambda line: None)
+"""
+    proc = subprocess.Popen([sys.executable, "-c", runner])
+    for _ in range(200):
+        if pid_file.is_file() and pid_file.read_text():
+            break
+        time.sleep(0.1)
+    child = int(pid_file.read_text())
+    proc.send_signal(signal.SIGTERM)
+    assert proc.wait(timeout=40) == 128 + signal.SIGTERM
+    with pytest.raises(ProcessLookupError):  # stopped and reaped, not left running
+        os.kill(child, 0)
+
+
 def test_an_unsound_plan_is_refused_before_anything_starts(tmp_path):
     a = _task(tmp_path, "a", "pass", needs=("b",))
     b = _task(tmp_path, "b", "pass", needs=("a",))

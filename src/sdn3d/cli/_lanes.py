@@ -5,11 +5,14 @@ Each lane runs its tasks one after another, in the order it was given them; a ta
 task is its own process with its own fixed thread count, so a task's result does not depend on what the other lane
 does meanwhile (only the wall times do). The first task that fails stops the run: the other lanes' running children
 are terminated and :class:`LaneError` names the failed task, its exit status, its log and the log's last line.
+A SIGTERM to the runner (``kill``) or Ctrl-C stops the running children the same way before it exits.
 """
 
 from __future__ import annotations
 
+import signal
 import subprocess
+import threading
 import time
 from collections.abc import Callable, Sequence
 from contextlib import suppress
@@ -75,6 +78,10 @@ def _last_line(log: Path) -> str:
     return lines[-1][:300] if lines else ""
 
 
+def _exit_on_signal(signum: int, frame: Any) -> None:
+    raise SystemExit(128 + signum)
+
+
 def _ended(proc: subprocess.Popen) -> tuple[int | None, float | None]:
     """``(exit status, CPU seconds: user + system)`` of a child that ended, ``(None, None)`` while it runs. The CPU
     time (what the task costs on an idle machine with one thread, whatever the load) where the platform reports
@@ -99,6 +106,9 @@ def run_lanes(lanes: Sequence[Sequence[LaneTask]], clock_start: float | None = N
         LaneError: the first task that failed (the running ones stopped); ValueError: an unsound plan.
     """
     check_plan(lanes)
+    # a `kill` of this process (SIGTERM) ends it through the clean-up below, not leaving the children running
+    handler = signal.signal(signal.SIGTERM, _exit_on_signal) \
+        if threading.current_thread() is threading.main_thread() else None
     origin = time.perf_counter() if clock_start is None else clock_start
     queues = [list(lane) for lane in lanes]
     running: dict[int, tuple[LaneTask, subprocess.Popen, float]] = {}
@@ -131,6 +141,8 @@ def run_lanes(lanes: Sequence[Sequence[LaneTask]], clock_start: float | None = N
                                  "cpu_s": cpu_s})
                 say(f"lane {i + 1}: {task.name} finished ({ended - started:.0f} s)")
     finally:
+        if handler is not None:
+            signal.signal(signal.SIGTERM, handler)
         for task, proc, _ in running.values():  # a failure elsewhere, or an interrupt: stop, then clean up
             proc.terminate()
             with suppress(subprocess.TimeoutExpired):

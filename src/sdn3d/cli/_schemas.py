@@ -213,6 +213,7 @@ class DemoSchema:
     data_dir: str = MISSING
     seed: int = MISSING
     threads: int = MISSING
+    lanes: int = MISSING
     device: str = MISSING
     workers: int = MISSING
     render_size: Optional[List[int]] = MISSING

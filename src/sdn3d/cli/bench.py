@@ -601,8 +601,39 @@ def _evaluate(cfg: Any, passes: list, entries: list, source: Any) -> tuple[dict,
     return results, generators, {"lpips": lpips_net is not None}
 
 
-def run_bench(cfg: Any) -> dict:
-    """Run the benchmark of a composed ``conf/bench.yaml`` config; returns ``results.json``'s content."""
+def evaluate_bench(cfg: Any) -> dict:
+    """The evaluation half of :func:`run_bench`, writing nothing: ``{'results': {source scene: [EntryResult]},
+    'generators', 'lpips', 'threads', 'wall_s'}`` for the config's passes (``proposals``). ``sdn3d-demo`` runs
+    the predicted and the oracle pass in two processes at once and hands both to :func:`run_bench`."""
+    cfg, _, _, entries, source, passes, _ = _load_inputs(cfg)
+    t0 = time.perf_counter()
+    results, generators, lpips = _evaluate(cfg, passes, entries, source)
+    return {"results": results, "generators": generators, "lpips": lpips, "threads": torch.get_num_threads(),
+            "wall_s": time.perf_counter() - t0}
+
+
+def _merged(parts: Sequence[dict], passes: list) -> tuple[dict, dict, dict, float, int]:
+    """``(results, generators, lpips, wall_s, threads)`` of :func:`evaluate_bench` parts, in the order of
+    ``passes``; each pass must come from exactly one part."""
+    from sdn3d.evaluation.edit_benchmark import source_name
+
+    results: dict = {}
+    for part in parts:
+        twice = set(results) & set(part["results"])
+        if twice:
+            raise ValueError(f"benchmark parts evaluate {sorted(twice)} more than once")
+        results |= part["results"]
+    wanted = [source_name(s) for s in passes]
+    if sorted(results) != sorted(wanted):
+        raise ValueError(f"benchmark parts evaluate {sorted(results)}, the config asks for {wanted}")
+    return ({name: results[name] for name in wanted}, parts[0]["generators"], parts[0]["lpips"],
+            sum(p["wall_s"] for p in parts), max(p["threads"] for p in parts))
+
+
+def run_bench(cfg: Any, parts: Sequence[dict] = ()) -> dict:
+    """Run the benchmark of a composed ``conf/bench.yaml`` config; returns ``results.json``'s content. ``parts``:
+    the passes already evaluated (:func:`evaluate_bench` of configs that split ``proposals``; ``sdn3d-demo``'s
+    lanes): only written here, the same tables and example grids as one run's (``wall_s``: the parts' sum)."""
     from omegaconf import OmegaConf
 
     from sdn3d.evaluation.edit_benchmark import source_name, summarize
@@ -610,7 +641,12 @@ def run_bench(cfg: Any) -> dict:
 
     cfg, out, path, entries, source, passes, checkpoints = _load_inputs(cfg)
     t0 = time.perf_counter()
-    results, generators, lpips = _evaluate(cfg, passes, entries, source)
+    threads = torch.get_num_threads()
+    if parts:
+        results, generators, lpips, wall_s, threads = _merged(parts, passes)
+        t0 -= wall_s
+    else:
+        results, generators, lpips = _evaluate(cfg, passes, entries, source)
     summaries = {name: summarize(r) for name, r in results.items()}
     first = passes[0]
     sources = [source_name(s) for s in passes]
@@ -618,7 +654,7 @@ def run_bench(cfg: Any) -> dict:
             "scene": first.scene, "sources": sources, "source_labels": {s: SOURCE_LABELS[s] for s in sources},
             "source_oracle": {s: s != Proposals.SEMANTIC for s in sources}, "generators": generators,
             "run": None if cfg.get("run") is None else str(cfg.run), "checkpoints": checkpoints,
-            "device": str(cfg.device), "threads": torch.get_num_threads(), **lpips, "compose": list(first.compose),
+            "device": str(cfg.device), "threads": threads, **lpips, "compose": list(first.compose),
             "dilate_px": first.dilate_px, "feather_px": first.feather_px,
             "fit_proposals": first.fit is not None and first.scene is Scene.DERENDER,
             "modify_anchor": str(first.modify_anchor),

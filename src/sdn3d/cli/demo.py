@@ -79,6 +79,15 @@ def stage_rows(info: dict) -> str:
     """The report's stage-time table: data, each branch's training, the benchmark, the edits and the whole run."""
     stages = info.get("stages_s") or {}
     rows = [("synthetic data", stages.get("data"))]
+    if info.get("lanes"):  # the stages overlap: each lane's tasks with their start and end
+        rows += [(f"lane {r['lane']}: {r['task']} (from {r['start_s']:.0f} s to {r['end_s']:.0f} s"
+                  + (f"; CPU {r['cpu_s']:.0f} s" if r.get("cpu_s") is not None else "") + ")", r["wall_s"])
+                 for r in sorted(info["lanes"]["timeline"], key=lambda r: (r["lane"], r["start_s"]))]
+        rows += [("training, all branches (lanes overlapping)", stages.get("train")),
+                 ("after the last training (the rest of the lanes, the benchmark written)",
+                  stages.get("after_training")), ("whole demo", info.get("wall_s"))]
+        return "\n".join(f"| {name} | {sec:.0f} |" if isinstance(sec, (int, float)) else f"| {name} | n/a |"
+                         for name, sec in rows)
     rows += [(f"training: {b}", (s or {}).get("demo_wall_s")) for b, s in (info.get("training") or {}).items()]
     rows += [("training, all branches", stages.get("train")), ("editing benchmark (with proposal recall)",
                                                                  stages.get("bench")),
@@ -97,7 +106,16 @@ def machine_sentence(info: dict) -> str:
     if loads and m.get("logical_cpus") and max(v[0] for v in loads) > 1.5 * m["logical_cpus"]:
         busy = " (a busy machine: other work competed for the cores, so these times are longer than a quiet run's)"
     return (f"Measured on {m.get('processor', 'an unknown processor')}, {m.get('logical_cpus', '?')} logical cores, "
-            f"{info.get('threads')} torch threads{load}{busy}.")
+            f"{threads_phrase(info)}{load}{busy}.")
+
+
+def threads_phrase(info: dict) -> str:
+    """``2 torch threads``, or with lanes ``2 lanes of 1 torch thread each``."""
+    lanes = info.get("lanes")
+    if lanes:
+        each = lanes["threads_per_lane"]
+        return f"{lanes['lanes']} lanes of {each} torch thread{'s' if each != 1 else ''} each"
+    return f"{info.get('threads')} torch threads"
 
 
 def _stage(name: str) -> None:
@@ -157,14 +175,15 @@ def make_data(cfg: Any) -> Path:
     return root
 
 
-def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path, upstream: dict[str, str] | None = None
-                   ) -> list[str]:
+def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path, upstream: dict[str, str] | None = None,
+                   to_file: bool = False) -> list[str]:
     """The ``sdn3d-train`` child: the branch's experiment (its budget) plus this machine's options; then the
     user's extra ``train.common`` / ``train.<branch>`` overrides (empty by default).
 
     ``upstream``: checkpoints of the branches trained before (3D-SDN's order): the textural run gets the semantic
     and geometric ones, which its recipe uses when it trains on predicted maps (``datamodule.maps=predicted``),
-    with the predicted-map cache under ``runs/map_cache``."""
+    with the predicted-map cache under ``runs/map_cache``. ``to_file``: its output goes to a file (the lanes), so
+    without a progress bar, as with ``train.parallel``."""
     experiment = (cfg.train.get("experiment") or {}).get(branch, f"demo_{cfg.budget_name}")
     args = [sys.executable, "-m", "sdn3d.cli.train", f"branch={branch}", f"experiment={experiment}",
             f"data.root={data_root.resolve()}", f"seed={int(cfg.seed)}", f"threads={int(cfg.threads)}",
@@ -177,7 +196,7 @@ def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path, upstream:
                  f"datamodule.map_cache_dir={runs / 'map_cache'}"]
     if cfg.device != "cpu":
         args.append("trainer=gpu")
-    if cfg.train.get("parallel"):  # several progress bars on one terminal would garble each other
+    if cfg.train.get("parallel") or to_file:  # several progress bars on one terminal would garble each other
         args += ["trainer.enable_progress_bar=false", "~callbacks.progress_bar"]
     return args + [str(o) for o in cfg.train.common] + [str(o) for o in cfg.train.get(branch, [])]
 
@@ -283,6 +302,171 @@ def train_parallel(branches: Sequence[str], cfg: Any, data_root: Path, runs: Pat
     return {b: _finish(b, runs / b, codes[b], procs[b][2], new_runs[b]) for b in branches}
 
 
+def _textural_needs_upstream(cfg: Any) -> bool:
+    """Whether the textural run trains on the semantic and geometric branches' predicted maps
+    (``datamodule.maps=predicted``: the medium and long budgets) and so must wait for them; the short budget's
+    trains on the frames' ground-truth maps and can train beside them (``lanes``)."""
+    from sdn3d.cli._config import compose_config
+
+    experiment = (cfg.train.get("experiment") or {}).get("textural", f"demo_{cfg.budget_name}")
+    overrides = ["branch=textural", f"experiment={experiment}", *(str(o) for o in cfg.train.common),
+                 *(str(o) for o in cfg.train.get("textural", []))]
+    return str(compose_config(overrides, "train").datamodule.maps) == "predicted"
+
+
+def _train_name(branch: str) -> str:
+    return f"training: {branch}"
+
+
+#: The lanes' names of the benchmark's passes and of the example edits.
+BENCH_TASKS = {Proposals.SEMANTIC: "benchmark: predicted row (with proposal recall)",
+               Proposals.GT: "benchmark: oracle row"}
+EDITS_TASK = "example edits"
+
+
+def lane_plan(branches: Sequence[str], textural_needs_upstream: bool, bench: Sequence[Proposals]
+              ) -> list[list[tuple[str, tuple[str, ...]]]]:
+    """The demo's two lanes: per lane, its tasks' ``(name, needs)`` in the order it runs them
+    (:mod:`sdn3d.cli._lanes`). Lane 1 trains the semantic branch (the longest), then runs the benchmark's predicted
+    row; lane 2 trains the geometric and textural branches (which do not need the semantic one unless
+    ``textural_needs_upstream``), runs the oracle row (it needs no semantic branch: usually while lane 1 still
+    trains), then the example edits. Without a semantic branch lane 1 trains the geometric one."""
+    train = {b: _train_name(b) for b in branches}
+    needs = {b: () for b in branches}
+    if "textural" in branches and textural_needs_upstream:
+        needs["textural"] = tuple(train[b] for b in ("semantic", "geometric") if b in branches)
+    first = ["semantic"] if "semantic" in branches else [b for b in branches if b == "geometric"]
+    lanes: list[list[tuple[str, tuple[str, ...]]]] = [[(train[b], needs[b]) for b in first],
+                                                      [(train[b], needs[b]) for b in branches if b not in first]]
+    everything = tuple(train.values())
+    without_semantic = tuple(train[b] for b in branches if b != "semantic")
+    for proposals in bench:
+        if proposals is Proposals.SEMANTIC:
+            lanes[0].append((BENCH_TASKS[proposals], everything))
+        else:
+            lanes[1 if "semantic" in branches else 0].append((BENCH_TASKS[proposals], without_semantic))
+    lanes[1].append((EDITS_TASK, everything))
+    return lanes
+
+
+def _lane_task_command(spec: dict, work: Path, name: str) -> list[str]:
+    import json
+
+    path = work / f"{name}.json"
+    path.write_text(json.dumps(spec), encoding="utf-8")
+    return [sys.executable, "-m", "sdn3d.cli._demo_task", str(path)]
+
+
+def lane_tasks(plan: list[list[tuple[str, tuple[str, ...]]]], cfg: Any, data_root: Path, out: Path) -> list[list]:
+    """:func:`lane_plan`'s tasks as :class:`sdn3d.cli._lanes.LaneTask` children of ``cfg`` (each with
+    ``threads // lanes`` torch threads, at least 1): ``sdn3d-train`` runs (output in ``runs/<branch>.out``), the
+    benchmark's passes and the edits (``python -m sdn3d.cli._demo_task``, output in ``logs/bench_predicted.out``,
+    ``logs/bench_oracle.out`` and ``logs/edits.out``; the
+    benchmark is written from both passes by :func:`run_bench` once they ended)."""
+    import pickle
+
+    from sdn3d.cli._lanes import LaneTask
+
+    runs, logs = out / "runs", out / "logs"
+    runs.mkdir(parents=True, exist_ok=True)
+    logs.mkdir(parents=True, exist_ok=True)
+    env = _train_env(cfg)
+    container = OmegaConf.to_container(cfg, resolve=True)
+
+    def checkpoints(done: dict) -> dict[str, str]:
+        return {b: _checkpoint(done[_train_name(b)]) for b in cfg.train.branches if _train_name(b) in done}
+
+    def training(branch: str) -> LaneTask:
+        run_dir, log, started = runs / branch, runs / f"{branch}.out", {}
+
+        def start(done: dict) -> subprocess.Popen:
+            _set_aside(run_dir)
+            upstream = checkpoints(done) if branch == "textural" else None
+            started["t"] = time.perf_counter()
+            with open(log, "w") as stream:
+                return subprocess.Popen(_train_command(branch, cfg, data_root, runs, upstream, to_file=True),
+                                        env=env, stdout=stream, stderr=subprocess.STDOUT)
+
+        def finish(code: int, done: dict) -> dict:
+            return _finish(branch, run_dir, code, started["t"], _keep_or_restore(run_dir))
+
+        return LaneTask(_train_name(branch), (), start, finish, log)
+
+    def child(name: str, slug: str, steps: list[str], proposals: str | None) -> LaneTask:
+        log, result = logs / f"{slug}.out", logs / f"{slug}.result.pkl"
+
+        def start(done: dict) -> subprocess.Popen:
+            result.unlink(missing_ok=True)
+            spec = {"steps": steps, "config": container, "data_root": str(data_root), "checkpoints": checkpoints(done),
+                    "output_dir": str(out), "proposals": proposals, "result": str(result)}
+            with open(log, "w") as stream:
+                return subprocess.Popen(_lane_task_command(spec, logs, slug), env=env, stdout=stream,
+                                        stderr=subprocess.STDOUT)
+
+        def finish(code: int, done: dict) -> dict:
+            (logs / f"{slug}.json").unlink(missing_ok=True)
+            if code != 0:
+                raise DemoStageError(f"its process ended with exit status {code}")
+            with open(result, "rb") as stream:
+                value = pickle.load(stream)
+            result.unlink()
+            return value
+
+        return LaneTask(name, (), start, finish, log)
+
+    made = {_train_name(b): training(b) for b in cfg.train.branches}
+    made |= {BENCH_TASKS[Proposals.SEMANTIC]: child(BENCH_TASKS[Proposals.SEMANTIC], "bench_predicted",
+                                                    ["recall", "bench"], "semantic"),
+             BENCH_TASKS[Proposals.GT]: child(BENCH_TASKS[Proposals.GT], "bench_oracle", ["bench"], "gt"),
+             EDITS_TASK: child(EDITS_TASK, "edits", ["edits"], None)}
+    return [[made[name]._replace(needs=needs) for name, needs in lane] for lane in plan]
+
+
+def lane_threads(cfg: Any) -> int:
+    """Torch threads of each lane's processes: ``threads`` shared out over ``lanes``, at least 1."""
+    return max(1, int(cfg.threads) // max(1, int(cfg.lanes)))
+
+
+def run_in_lanes(cfg: Any, root: Path, out: Path, info: dict, started: float) -> dict[str, str]:
+    """Training, benchmark and edits in ``lanes`` concurrent processes (:func:`lane_plan`); fills ``info``
+    (``training``, ``proposal_recall``, ``bench``, ``edits``, ``lanes``, ``stages_s``) and returns the
+    checkpoints.
+
+    Raises:
+        DemoStageError: naming the stage that failed and its log (the other lane's running stage stopped).
+    """
+    from sdn3d.cli._lanes import LaneError, run_lanes
+
+    lane_cfg = OmegaConf.merge(cfg, {"threads": lane_threads(cfg)})
+    branches = [str(b) for b in cfg.train.branches]
+    # the benchmark's passes as bench_proposals gives them, had every branch trained
+    sources = bench_proposals(cfg, {b: "planned" for b in branches})
+    plan = lane_plan(branches, "textural" in branches and _textural_needs_upstream(cfg), sources)
+    _stage(f"2-4/4 training, benchmark and edits in {len(plan)} lanes of {lane_threads(cfg)} thread(s) "
+           f"(budget {cfg.budget_name})")
+    t0 = time.perf_counter()
+    try:
+        done, timeline = run_lanes(lane_tasks(plan, lane_cfg, root, out), started,
+                                   lambda line: console.print(f"sdn3d-demo: {line}", markup=False))
+    except LaneError as exc:
+        raise DemoStageError(str(exc)) from exc
+    info["training"] = {b: done[_train_name(b)] for b in branches}
+    ckpts = {b: _checkpoint(s) for b, s in info["training"].items()}
+    parts = [done[BENCH_TASKS[p]]["bench"] for p in sources]
+    info["proposal_recall"] = done.get(BENCH_TASKS[Proposals.SEMANTIC], {}).get("recall")
+    t1 = time.perf_counter()
+    bench = run_bench(cfg, root, ckpts, out / "bench", parts)  # both passes written as one benchmark
+    info["bench"] = {"summary": bench["summary"], "info": bench["info"]}
+    info["edits"] = done[EDITS_TASK]["edits"]
+    ends = {row["task"]: row["end_s"] for row in timeline}
+    trained = max((ends[_train_name(b)] for b in branches), default=t0 - started)
+    info["stages_s"] |= {"train": round(trained - (t0 - started), 1),
+                         "after_training": round(time.perf_counter() - started - trained, 1),
+                         "bench_write": round(time.perf_counter() - t1, 1)}
+    info["lanes"] = {"lanes": len(plan), "threads_per_lane": lane_threads(cfg), "timeline": timeline}
+    return ckpts
+
+
 def _checkpoint(summary: dict) -> str:
     path = summary.get("best_ckpt") or summary.get("last_ckpt")
     if not path:
@@ -335,19 +519,29 @@ def bench_proposals(cfg: Any, ckpts: dict[str, str]) -> list[Proposals]:
     return proposals
 
 
-def run_bench(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> dict:
+def bench_config(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path,
+                 proposals: Sequence[Proposals] | None = None) -> Any:
+    """The ``sdn3d-bench`` config of the demo's benchmark (``proposals``: its passes; None: :func:`bench_proposals`)."""
     from sdn3d.cli._config import compose_config
-    from sdn3d.cli.bench import run_bench as bench_main
 
+    proposals = bench_proposals(cfg, ckpts) if proposals is None else proposals
     overrides = [f"data.root={data_root.resolve()}", f"data.image_size={render_size(cfg)}",
                  f"checkpoints.geometric={ckpts['geometric']}", f"checkpoints.textural={ckpts['textural']}",
                  f"checkpoints.semantic={ckpts.get('semantic')}" if ckpts.get("semantic") else
-                 "checkpoints.semantic=null", f"proposals=[{','.join(bench_proposals(cfg, ckpts))}]",
+                 "checkpoints.semantic=null", f"proposals=[{','.join(proposals)}]",
                  f"examples={int(cfg.bench.examples)}", f"output_dir={out}", f"device={cfg.device}",
                  f"threads={int(cfg.threads)}"]
     if cfg.bench.limit is not None:
         overrides.append(f"limit={int(cfg.bench.limit)}")
-    return bench_main(compose_config(overrides, "bench"))
+    return compose_config(overrides, "bench")
+
+
+def run_bench(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path, parts: Sequence[dict] = ()) -> dict:
+    """The editing benchmark into ``out`` (``parts``: its passes already evaluated by the lanes'
+    processes, :func:`sdn3d.cli.bench.evaluate_bench`; only written here)."""
+    from sdn3d.cli.bench import run_bench as bench_main
+
+    return bench_main(bench_config(cfg, data_root, ckpts, out), parts)
 
 
 def run_proposal_recall(cfg: Any, data_root: Path, ckpts: dict[str, str]) -> dict | None:
@@ -839,7 +1033,9 @@ def write_report(out: Path, info: dict) -> str:
     headline, table1 = _table1_parts(table1_file.read_text()) if table1_file.is_file() else ("", "(not run)")
     edits = info.get("edits", {})
     rows = "\n".join(f"| {name} | {sec:.2f} |" for name, sec in edits.get("edit_render_s", {}).items())
-    where = f"{info['device']}" + (f" ({info['gpu']})" if info.get("gpu") else f", {info['threads']} threads")
+    where = f"{info['device']}" + (f" ({info['gpu']})" if info.get("gpu") else f", {threads_phrase(info)}")
+    memory = ("(largest child process: a training run, a benchmark pass or the edits), {:.0f} MiB (this process)"
+              if info.get("lanes") else "(largest\n  training process), {:.0f} MiB (this process: benchmark and edits)")
     if info.get("budget", "short") == "short":
         kind = "CPU" if info["device"] == "cpu" else "GPU"
         intro = (f"**These numbers come from a short {kind} run** ({where}) on a small synthetic dataset with the "
@@ -859,8 +1055,8 @@ def write_report(out: Path, info: dict) -> str:
 - Data: {data_sentence(info['data'], info.get('seed'))}, every branch's training, validation and test parts;
   benchmark and edits at {info['data']['render_size'][0]}x{info['data']['render_size'][1]}
   (`{info['data']['root']}`), generated in {info['stages_s']['data']:.0f} s.
-- Wall time {info['wall_s'] / 60:.1f} min; peak memory {info['peak_memory']['largest_child_mib']:.0f} MiB (largest
-  training process), {info['peak_memory']['demo_process_mib']:.0f} MiB (this process: benchmark and edits).
+- Wall time {info['wall_s'] / 60:.1f} min; peak memory {info['peak_memory']['largest_child_mib']:.0f} MiB \
+{memory.format(info['peak_memory']['demo_process_mib'])}.
 
 ## Time per stage
 
@@ -947,6 +1143,9 @@ def run_demo(cfg: Any) -> dict:
     info["data"] = {**data_record(root), "image_size": list(cfg.synth.image_size), "render_size": render_size(cfg)}
     info["stages_s"]["data"] = round(time.perf_counter() - t0, 1)
 
+    if int(cfg.lanes) > 1 and not cfg.train.get("parallel"):
+        run_in_lanes(cfg, root, out, info, started)
+        return _finish_demo(out, info, started)
     ckpts: dict[str, str] = {}
     branches = [str(b) for b in cfg.train.branches]
     t0 = time.perf_counter()
@@ -981,7 +1180,10 @@ def run_demo(cfg: Any) -> dict:
     t0 = time.perf_counter()
     info["edits"] = run_edits(cfg, root, ckpts, out / "edits")
     info["stages_s"]["edits"] = round(time.perf_counter() - t0, 1)
+    return _finish_demo(out, info, started)
 
+
+def _finish_demo(out: Path, info: dict, started: float) -> dict:
     info["wall_s"] = round(time.perf_counter() - started, 1)
     info["machine"]["load_average_end"] = _load_average()
     info["peak_memory"] = _peak_rss_mib()

@@ -1,0 +1,202 @@
+"""``sdn3d-demo``'s lanes: the fixed plan of which process runs which stage, the runner's order and its failures."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from sdn3d.cli._lanes import LaneError, LaneTask, check_plan, run_lanes
+from sdn3d.proposals import Proposals
+
+BOTH = [Proposals.SEMANTIC, Proposals.GT]
+
+
+def test_the_short_budget_trains_the_semantic_branch_beside_the_other_two_then_shares_out_the_rest():
+    from sdn3d.cli.demo import BENCH_TASKS, EDITS_TASK, lane_plan
+
+    plan = lane_plan(["semantic", "geometric", "textural"], False, BOTH)
+    trained = ("training: semantic", "training: geometric", "training: textural")
+    assert plan == [
+        [("training: semantic", ()), (BENCH_TASKS[Proposals.SEMANTIC], trained)],
+        [("training: geometric", ()), ("training: textural", ()),
+         (BENCH_TASKS[Proposals.GT], ("training: geometric", "training: textural")), (EDITS_TASK, trained)]]
+    # the same arguments, the same plan: which lane runs what never depends on timing
+    assert lane_plan(["semantic", "geometric", "textural"], False, BOTH) == plan
+
+
+def test_a_textural_branch_on_predicted_maps_waits_for_both_upstream_branches():
+    from sdn3d.cli.demo import lane_plan
+
+    plan = lane_plan(["semantic", "geometric", "textural"], True, BOTH)
+    assert plan[1][1] == ("training: textural", ("training: semantic", "training: geometric"))
+    # without a semantic branch: lane 1 trains the geometric one and runs the oracle row, lane 2 the rest
+    alone = lane_plan(["geometric", "textural"], False, [Proposals.GT])
+    assert [name for name, _ in alone[0]] == ["training: geometric", "benchmark: oracle row"]
+    assert [name for name, _ in alone[1]] == ["training: textural", "example edits"]
+
+
+def test_the_medium_budget_is_recognised_as_training_on_predicted_maps():
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli.demo import _textural_needs_upstream
+
+    assert not _textural_needs_upstream(compose_config([], "demo"))
+    assert _textural_needs_upstream(compose_config(["budget=medium"], "demo"))
+
+
+def _task(tmp_path: Path, name: str, code: str, needs: tuple[str, ...] = (), record: list | None = None) -> LaneTask:
+    """A child running python ``code``; its result: the log's text; ``record`` collects (name, event) pairs."""
+    log = tmp_path / f"{name}.out"
+
+    def start(done: dict) -> subprocess.Popen:
+        if record is not None:
+            record.append((name, "start"))
+        with open(log, "w") as stream:
+            return subprocess.Popen([sys.executable, "-c", code], stdout=stream, stderr=subprocess.STDOUT)
+
+    def finish(code_: int, done: dict) -> str:
+        if record is not None:
+            record.append((name, f"exit {code_}"))
+        if code_ != 0:
+            raise RuntimeError("child failed")
+        return log.read_text().strip()
+
+    return LaneTask(name, needs, start, finish, log)
+
+
+def test_lanes_start_a_task_only_after_the_tasks_it_needs(tmp_path):
+    events: list = []
+    a = _task(tmp_path, "a", "import time; time.sleep(0.6); print('A')", record=events)
+    b = _task(tmp_path, "b", "print('B')", needs=("a",), record=events)
+    c = _task(tmp_path, "c", "print('C')", record=events)
+    done, timeline = run_lanes([[a], [c, b]], say=lambda line: None)
+    assert done == {"a": "A", "b": "B", "c": "C"}
+    assert events.index(("b", "start")) > events.index(("a", "exit 0"))  # b waited for a, in the other lane
+    assert {(r["lane"], r["task"]) for r in timeline} == {(1, "a"), (2, "c"), (2, "b")}
+
+
+def test_a_failed_task_names_itself_and_its_log_and_stops_the_other_lane(tmp_path):
+    events: list = []
+    slow = _task(tmp_path, "slow", "import time; time.sleep(60)", record=events)
+    bad = _task(tmp_path, "bad", "import sys; print('the reason'); sys.exit(3)", record=events)
+    later = _task(tmp_path, "later", "print('never')", needs=("bad",), record=events)
+    t0 = time.perf_counter()
+    with pytest.raises(LaneError) as err:
+        run_lanes([[slow], [bad, later]], say=lambda line: None)
+    assert time.perf_counter() - t0 < 30  # the 60 s child was stopped, not waited for
+    message = str(err.value)
+    assert "bad failed (exit 3)" in message and str(tmp_path / "bad.out") in message and "the reason" in message
+    assert "stopped meanwhile: slow" in message
+    assert ("slow", "start") in events and any(n == "slow" and e.startswith("exit") for n, e in events)  # cleaned up
+    assert ("later", "start") not in events
+
+
+def test_a_killed_runner_stops_its_children(tmp_path):
+    """``kill`` (SIGTERM) of the process running the lanes: it stops the running children before it exits."""
+    import os
+    import signal
+
+    pid_file = tmp_path / "child.pid"
+    runner = f"""
+import subprocess, sys
+from pathlib import Path
+from sdn3d.cli._lanes import LaneTask, run_lanes
+log = Path({str(tmp_path / 'child.out')!r})
+def start(done):
+    proc = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    Path({str(pid_file)!r}).write_text(str(proc.pid))
+    return proc
+run_lanes([[LaneTask("sleeper", (), start, lambda code, done: None, log)]], say=lambda line: None)
+"""
+    proc = subprocess.Popen([sys.executable, "-c", runner])
+    for _ in range(200):
+        if pid_file.is_file() and pid_file.read_text():
+            break
+        time.sleep(0.1)
+    child = int(pid_file.read_text())
+    proc.send_signal(signal.SIGTERM)
+    assert proc.wait(timeout=40) == 128 + signal.SIGTERM
+    with pytest.raises(ProcessLookupError):  # stopped and reaped, not left running
+        os.kill(child, 0)
+
+
+def test_an_unsound_plan_is_refused_before_anything_starts(tmp_path):
+    a = _task(tmp_path, "a", "pass", needs=("b",))
+    b = _task(tmp_path, "b", "pass", needs=("a",))
+    with pytest.raises(ValueError, match="can never start"):
+        check_plan([[a], [b]])
+    with pytest.raises(ValueError, match="no lane runs"):
+        check_plan([[_task(tmp_path, "c", "pass", needs=("x",))]])
+    with pytest.raises(ValueError, match="can never start"):  # needs one placed after it in its own lane
+        check_plan([[_task(tmp_path, "d", "pass", needs=("e",)), _task(tmp_path, "e", "pass")]])
+
+
+def test_the_demo_exits_1_naming_the_training_that_failed_in_a_lane(tmp_path, monkeypatch, capsys):
+    """A failing ``sdn3d-train`` child in one lane: ``sdn3d-demo`` stops the other lane and exits 1, naming the
+    stage and its output file; the earlier run of the branch is kept."""
+    from sdn3d.cli import demo
+
+    root = tmp_path / "data"
+    root.mkdir()
+    monkeypatch.setattr(demo, "make_data", lambda cfg: root)
+    monkeypatch.setattr(demo, "data_record", lambda r: {"root": str(r), "frames": 0})
+
+    def command(branch, cfg, data_root, runs, upstream=None, to_file=False):
+        if branch == "semantic":
+            return [sys.executable, "-c", "import sys; print('CUDA out of memory (stand-in)'); sys.exit(1)"]
+        return [sys.executable, "-c", "import time; time.sleep(60)"]
+
+    monkeypatch.setattr(demo, "_train_command", command)
+    earlier = tmp_path / "out" / "runs" / "semantic"
+    earlier.mkdir(parents=True)
+    (earlier / "weights").write_text("earlier")
+    t0 = time.perf_counter()
+    status = demo.main([f"output_dir={tmp_path / 'out'}", f"data_dir={root}", "lanes=2"])
+    assert status == 1 and time.perf_counter() - t0 < 40
+    err = capsys.readouterr().err
+    assert "sdn3d-demo: error: training: semantic failed (exit 1)" in err
+    assert "runs/semantic.out" in err and "CUDA out of memory (stand-in)" in err
+    assert "stopped meanwhile: training: geometric" in err
+    assert (earlier / "weights").read_text() == "earlier"  # the failed run did not replace it
+
+
+def test_the_benchmark_written_from_two_separately_evaluated_passes_equals_one_run(tiny_synth, tmp_path):
+    """The lanes evaluate the predicted and the oracle pass in two processes; :func:`sdn3d.cli.bench.run_bench`
+    then writes them: every entry's metrics, the summaries and the example grids as one run's."""
+    from helpers.tiny_models import write_checkpoints
+
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli.bench import evaluate_bench, run_bench
+
+    ckpts = write_checkpoints(tmp_path / "ckpts")
+
+    def cfg(out: Path, proposals: str):
+        return compose_config([f"data.root={tiny_synth}", "data.image_size=[160,64]", "compose=photo",
+                               "geometric.crop_size=32", "geometric.min_pixels=1", "limit=2", "examples=1",
+                               f"output_dir={out}", f"proposals={proposals}", "threads=1",
+                               *(f"checkpoints.{b}={p}" for b, p in ckpts.items())], "bench")
+
+    one = run_bench(cfg(tmp_path / "one", "[semantic,gt]"))
+    parts = [evaluate_bench(cfg(tmp_path / "two", p)) for p in ("[gt]", "[semantic]")]  # in either order
+    two = run_bench(cfg(tmp_path / "two", "[semantic,gt]"), parts)
+    assert list(two["entries"]) == ["semantic", "gt"] == two["info"]["sources"]
+
+    def same(a: object, b: object) -> bool:  # as JSON text: NaN (an empty region) equals NaN
+        return json.dumps(a, sort_keys=True) == json.dumps(b, sort_keys=True)
+
+    def metrics(report: dict) -> dict:
+        return {s: [(r["metrics"], r["errors"]) for r in rows] for s, rows in report["entries"].items()}
+
+    assert same(metrics(two), metrics(one)) and metrics(one)["gt"][0][0]  # (the tiny nets' predicted row may fail)
+    assert same({s: v["methods"] for s, v in two["summary"].items()},
+                {s: v["methods"] for s, v in one["summary"].items()})
+    assert same(two["comparisons"], one["comparisons"])
+    for name in one["outputs"]:
+        if name.endswith(".png"):
+            assert (tmp_path / "two" / name).read_bytes() == (tmp_path / "one" / name).read_bytes(), name
+    with pytest.raises(ValueError, match="more than once"):
+        run_bench(cfg(tmp_path / "three", "[semantic,gt]"), [parts[0], parts[0]])

@@ -200,3 +200,11 @@ def test_the_benchmark_written_from_two_separately_evaluated_passes_equals_one_r
             assert (tmp_path / "two" / name).read_bytes() == (tmp_path / "one" / name).read_bytes(), name
     with pytest.raises(ValueError, match="more than once"):
         run_bench(cfg(tmp_path / "three", "[semantic,gt]"), [parts[0], parts[0]])
+
+
+def test_a_lane_count_other_than_1_or_2_exits_2_naming_it_without_output(tmp_path, capsys):
+    from sdn3d.cli.demo import main
+
+    assert main([f"output_dir={tmp_path / 'demo'}", "lanes=3"]) == 2
+    assert "lanes must be 1" in capsys.readouterr().err
+    assert not (tmp_path / "demo").exists()

@@ -1123,6 +1123,8 @@ def data_sentence(data: dict, seed: Any) -> str:
 
 
 def run_demo(cfg: Any) -> dict:
+    if int(cfg.lanes) not in (1, 2):  # lane_plan makes two lanes; a third would only thin the threads
+        raise InputError(f"lanes must be 1 (one stage after another) or 2 (two concurrent lanes), got {cfg.lanes}")
     torch.manual_seed(int(cfg.seed))
     torch.set_num_threads(int(cfg.threads))
     out = Path(str(cfg.output_dir))

@@ -1,5 +1,5 @@
-"""roty, project_points and unproject_pixels compute kornia's results op for op (bit-identical values and gradients)
-without importing kornia, and the edit command starts without kornia."""
+"""roty, project_points and unproject_pixels, and the photo appearance's Lab conversions, compute kornia's results
+op for op (bit-identical values and gradients) without importing kornia, and the edit command starts without kornia."""
 
 from __future__ import annotations
 
@@ -66,3 +66,18 @@ def test_the_edit_command_starts_without_kornia() -> None:
     code = "import sys, sdn3d.cli.edit; print(any(m.split('.')[0] == 'kornia' for m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
     assert out == ["False"]
+
+
+def test_the_photo_lab_conversions_are_kornias_bit_for_bit() -> None:
+    import kornia.color
+
+    from sdn3d.editing.photo.recolor import _rgb, srgb_to_lab
+
+    g = torch.Generator().manual_seed(0)
+    rgb = torch.cat([torch.rand(5000, 3, generator=g), torch.rand(200, 3, generator=g) * 0.05,  # the linear toe
+                     torch.tensor([[0.0, 0.0, 0.0], [1.0, 1.0, 1.0], [0.04045, 0.5, 1.0]])])
+    theirs = kornia.color.rgb_to_lab(rgb.T[:, :, None])[:, :, 0].T
+    assert torch.equal(srgb_to_lab(rgb), theirs)
+    lab = torch.cat([theirs, torch.rand(500, 3, generator=g) * torch.tensor([100.0, 256.0, 256.0])
+                     - torch.tensor([0.0, 128.0, 128.0])])  # out-of-gamut Lab too: the clip
+    assert torch.equal(_rgb(lab), kornia.color.lab_to_rgb(lab.T[:, :, None], clip=True)[:, :, 0].T)

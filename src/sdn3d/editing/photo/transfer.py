@@ -834,7 +834,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
                                      photo_source.parts, parts_out, background, photo_source.pyramid)
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
-            out, source = _paste_near_views(out, source, image, own, before, after, origin, moved_rows, src_ids,
+            out, source = _paste_near_views(out, source, own, before, after, origin, moved_rows, src_ids,
                                             photo_source.work_ids, transform, photo_source.outline_ids, K, settings,
                                             objects, photo_source.pyramid)
         for a in moved_rows:
@@ -896,19 +896,19 @@ def _view_change(before: ObjectTable, after: ObjectTable, b: int, a: int) -> flo
     return abs(float(wrap_angle(alpha(after, a) - alpha(before, b))))
 
 
-def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, before: ObjectTable,
+def _paste_near_views(out: Tensor, source: Tensor, own: Tensor, before: ObjectTable,
                       after: ObjectTable, origin: Tensor, moved_rows: list[int], src_ids: Tensor, work_ids: Tensor,
                       transform: PixelFrame, template_ids: Tensor, K: Tensor, settings: PhotoSettings,
-                      objects: dict[int, dict], pyramid_of: Callable[[int], list[Tensor]] | None = None
-                      ) -> tuple[Tensor, Tensor]:
+                      objects: dict[int, dict], pyramid_of: Callable[[int], list[Tensor]]) -> tuple[Tensor, Tensor]:
     """Each moved object whose view hardly changed (at most ``settings.mask_view_deg``) and whose fitted outline
     ``template_ids (H, W)`` (:func:`_raster_ids` of the input) overlaps its mask in ``src_ids`` at an IoU of at most
     ``settings.paste_max_iou`` takes its input mask's pixels
     moved by the 2D affine map its 3D box makes between its poses, each sampled where that map takes it (code
     ``photo``), over its drawn template's pixels and onto pixels no object covers: when the view stays, the input's
     own outline and pixels are nearer the truth than a template's that does not match them (the parts the mask never
-    showed stay the template's). ``objects`` gains ``outline_iou`` for each object under the view limit and, where
-    pasted, the added pixels (``_pixels``, ``pixels``, shares, ``mask``: the pasted share)."""
+    showed stay the template's), sampled from the input's pyramid ``pyramid_of(levels)`` (:meth:`PhotoSource.pyramid`).
+    ``objects`` gains ``outline_iou`` for each object under the view limit and, where pasted, the added pixels
+    (``_pixels``, ``pixels``, shares, ``mask``: the pasted share)."""
     height, width = own.shape
     drawn = torch.zeros(height * width, dtype=torch.bool)
     for info in objects.values():
@@ -972,7 +972,7 @@ def _paste_near_views(out: Tensor, source: Tensor, image: Tensor, own: Tensor, b
         if not bool(hit.any()):
             continue
         if pyramid is None:
-            pyramid = (pyramid_of or (lambda levels: _pyramid(image, levels)))(settings.max_level)
+            pyramid = pyramid_of(settings.max_level)
         shrink = float(torch.linalg.det(affine[:2]).abs().sqrt())  # input pixels per target pixel
         level = torch.full((int(hit.sum()),), max(math.log2(max(shrink, 1e-6)), 0.0), dtype=torch.float64)
         pasted = flat_q[hit]
@@ -1010,11 +1010,11 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
           before: ObjectTable, after: ObjectTable, origin: Tensor, moved: Tensor, src_row_to_mesh: Tensor,
           src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
-          background: Tensor, pyramid_of: Callable[[int], list[Tensor]] | None = None
-          ) -> tuple[Tensor, Tensor, dict[int, dict]]:
+          background: Tensor, pyramid_of: Callable[[int], list[Tensor]]) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
     ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
-    there is not the object's (``silhouette='carved'``)."""
+    there is not the object's (``silhouette='carved'``); ``pyramid_of(levels)``: the input's pyramid
+    (:meth:`PhotoSource.pyramid`)."""
     height, width = own.shape
     t_mesh = tgt.frags.pix_to_mesh.view(-1)
     covered = (t_mesh >= 0).nonzero().flatten()
@@ -1085,7 +1085,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.
     z_t = tgt.frags.depth.view(-1)[pix].double()
     level = (z_t / point_s[:, 2].clamp(min=1e-3)).clamp(min=1.0).log2()
-    pyramid = (pyramid_of or (lambda levels: _pyramid(image, levels)))(settings.max_level)
+    pyramid = pyramid_of(settings.max_level)
     uv = torch.where(ok_photo[:, None], uv_photo, uv_mirror)
     color = _sample(pyramid, uv, level).double()
     n_src = torch.where(ok_photo[:, None], normal_s, normal_m)

@@ -72,13 +72,9 @@ def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_wid
     # worked out on that band of rows, then put back in the picture.
     rows_used = (outline_ids != 0).any(1).nonzero().flatten()
     y0, y1 = int(rows_used[0]), int(rows_used[-1]) + 1
-    if y0 > 0 or y1 < outline_ids.shape[0]:
-        band = _strips(image[:, y0:y1], mask_ids[y0:y1], outline_ids[y0:y1], candidate[y0:y1], max_width, min_height,
-                       min_contrast)
-        found = torch.zeros_like(candidate)
-        found[y0:y1] = band
-    else:
-        found = _strips(image, mask_ids, outline_ids, candidate, max_width, min_height, min_contrast)
+    found = torch.zeros_like(candidate)
+    found[y0:y1] = _strips(image[:, y0:y1], mask_ids[y0:y1], outline_ids[y0:y1], candidate[y0:y1], max_width,
+                           min_height, min_contrast)
     return _extend_upright(found, image, mask_ids, min_contrast)
 
 

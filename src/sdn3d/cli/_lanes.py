@@ -10,6 +10,7 @@ A SIGTERM to the runner (``kill``) or Ctrl-C stops the running children the same
 
 from __future__ import annotations
 
+import os
 import signal
 import subprocess
 import threading
@@ -86,8 +87,6 @@ def _ended(proc: subprocess.Popen) -> tuple[int | None, float | None]:
     """``(exit status, CPU seconds: user + system)`` of a child that ended, ``(None, None)`` while it runs. The CPU
     time (what the task costs on an idle machine with one thread, whatever the load) where the platform reports
     it (``os.wait4``), else None."""
-    import os
-
     if not hasattr(os, "wait4") or proc.returncode is not None:
         return proc.poll(), None
     pid, status, usage = os.wait4(proc.pid, os.WNOHANG)

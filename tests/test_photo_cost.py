@@ -157,9 +157,13 @@ def test_photo_source_keeps_one_pyramid_and_pictures_stay_the_same():
         assert bool((kept.source != 0).any())
 
 
-def _vanishing_point_whole(image, region, K, min_edges=50, max_edges=4000, sharpness=8.0, forward_share=1.0):
-    """image_vanishing_point as it was: gradients of the whole picture."""
+def _vanishing_point_whole(image, region, K, min_edges=50, max_edges=4000, coherence=0.9, window=7, spread_deg=1.0,
+                           forward_snap_deg=0.0):
+    """image_vanishing_point on the whole picture: gradients and their coherence everywhere."""
+    import math
+
     import cv2
+    import torch.nn.functional as F
 
     from sdn3d.editing.photo.light import luminance
 
@@ -171,22 +175,28 @@ def _vanishing_point_whole(image, region, K, min_edges=50, max_edges=4000, sharp
     use = region & (torch.arange(image.shape[1])[:, None] > cy + 2) & (mag > 0.15)
     if int(use.sum()) < min_edges:
         return None
+    g = torch.stack([gx * gx, gy * gy, gx * gy])[None]
+    jxx, jyy, jxy = F.avg_pool2d(g, window, stride=1, padding=window // 2, count_include_pad=True)[0]
+    use &= ((jxx - jyy).square() + 4 * jxy.square()) / (jxx + jyy).square().clamp(min=1e-12) >= coherence
+    if int(use.sum()) < min_edges:
+        return None
     ys, xs = use.nonzero(as_tuple=True)
     m = mag[ys, xs]
     if len(m) > max_edges:
         keep = m.topk(max_edges).indices
         ys, xs, m = ys[keep], xs[keep], m[keep]
-    t = torch.stack([-gy[ys, xs], gx[ys, xs]], 1) / m[:, None]
+    tx, ty = -gy[ys, xs] / m, gx[ys, xs] / m
     heading = torch.deg2rad(torch.arange(-70.0, 70.25, 0.5))
     us = cx + fx * torch.tan(heading)
-    du = us[None] - xs[:, None].float()
-    dv = (cy - ys.float())[:, None]
-    cos2 = (t[:, :1] * du + t[:, 1:] * dv).square() / (du.square() + dv.square()).clamp(min=1e-12)
-    score = (cos2 ** (sharpness / 2) * m[:, None]).sum(0)
-    forward = int(heading.abs().argmin())
-    if float(score[forward]) >= forward_share * float(score.max()):
-        return float(us[forward]), cy
-    return float(us[int(score.argmax())]), cy
+    slanted = ty.abs() > 1e-3
+    meets = xs.float() + (cy - ys.float()) * tx / torch.where(slanted, ty, torch.ones_like(ty))
+    aim = torch.atan((meets - cx) / fx)
+    score = (torch.exp(-0.5 * ((heading[None] - aim[:, None]) / math.radians(spread_deg)).square())
+             * (m * slanted)[:, None]).sum(0)
+    best = int(score.argmax())
+    if abs(float(heading[best])) <= math.radians(forward_snap_deg) + 1e-9:
+        best = int(heading.abs().argmin())
+    return float(us[best]), cy
 
 
 def test_vanishing_point_from_the_regions_window_equals_the_whole_picture():
@@ -203,8 +213,8 @@ def test_vanishing_point_from_the_regions_window_equals_the_whole_picture():
         region = torch.zeros(375, 1242, dtype=torch.bool)
         region[y0:y1, x0:x1] = True
         for max_edges in (4000, 300):
-            want = _vanishing_point_whole(image, region, K, max_edges=max_edges, forward_share=0.99)
-            assert image_vanishing_point(image, region, K, max_edges=max_edges, forward_share=0.99) == want
+            want = _vanishing_point_whole(image, region, K, max_edges=max_edges, forward_snap_deg=1.0)
+            assert image_vanishing_point(image, region, K, max_edges=max_edges, forward_snap_deg=1.0) == want
             found += want is not None
     assert found >= 8
     empty = torch.zeros(375, 1242, dtype=torch.bool)

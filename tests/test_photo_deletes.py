@@ -133,23 +133,74 @@ def test_new_delete_settings_are_checked():
         PhotoSettings(grow_min_seen=-1)
 
 
-def test_the_voted_vanishing_point_snaps_to_the_cameras_forward_heading_only_on_a_near_tie():
+#: A 624x192 camera (the synthetic benchmark's size) for the vanishing point's votes.
+ROAD_K = torch.tensor([[364.0, 0.0, 311.5], [0.0, 364.0, 95.5], [0.0, 0.0, 1.0]])
+
+
+def _perspective_road(heading_deg: float, grass: float = 0.0) -> torch.Tensor:
+    """``(3, 192, 624)``: a level camera 1.6 m above a grey road whose three lane lines (0.15 m wide, 1.8 m apart)
+    run ``heading_deg`` degrees right of its forward direction, antialiased (3x3 samples a pixel), sky above the
+    horizon; with ``grass`` > 0, right of the road (beyond 2.2 m) a verge of fine, high-contrast grass (smoothed noise
+    of that standard deviation)."""
     import math
 
-    from sdn3d.editing.photo.road import FORWARD_SHARE, image_vanishing_point
-    from tests.test_photo_road import K, _lanes
+    import torch.nn.functional as F
 
-    region = torch.ones(64, 128, dtype=torch.bool)
-    slight = 63.5 + 100 * math.tan(math.radians(0.5))  # lanes meeting half a degree off the forward heading
-    image, _ = _lanes(vp=(slight, 20.0))
-    u_best, _ = image_vanishing_point(image, region, K)
-    assert u_best > 63.5 + 0.5  # the vote alone follows the lanes
-    u_snap, v = image_vanishing_point(image, region, K, forward_share=FORWARD_SHARE)
-    assert u_snap == pytest.approx(63.5) and v == pytest.approx(20.0)  # a near tie: the camera's forward
-    turned = 63.5 + 100 * math.tan(math.radians(30.0))  # a road 30 degrees off (the real frame's camera)
-    image, _ = _lanes(vp=(turned, 20.0))
-    u_turn, _ = image_vanishing_point(image, region, K, forward_share=FORWARD_SHARE)
-    assert u_turn == pytest.approx(turned, abs=2.0)
+    fx, cx, cy, ss = float(ROAD_K[0, 0]), float(ROAD_K[0, 2]), float(ROAD_K[1, 2]), 3
+    ys, xs = torch.meshgrid((torch.arange(192 * ss) + 0.5) / ss - 0.5, (torch.arange(624 * ss) + 0.5) / ss - 0.5,
+                            indexing="ij")
+    below = ys > cy + 0.5
+    z = fx * 1.6 / (ys - cy).clamp(min=1e-3)  # the road point's depth
+    across = (xs - cx) * z / fx * math.cos(math.radians(heading_deg)) - z * math.sin(math.radians(heading_deg))
+    lines = below & torch.stack([(across - o).abs() < 0.075 for o in (-1.8, 0.0, 1.8)]).any(0)
+    road = torch.where(lines, 0.92, 0.42)
+    image = torch.stack([road, road, road * 1.03])
+    image[:, ~below] = torch.tensor([0.6, 0.75, 0.9])[:, None]
+    image = F.avg_pool2d(image[None], ss)[0]
+    if grass > 0:
+        noise = torch.rand(1, 1, 192, 624, generator=torch.Generator().manual_seed(0))
+        k = torch.exp(-0.5 * (torch.arange(-4, 5.0) / 1.2) ** 2)
+        k = k / k.sum()
+        noise = F.conv2d(noise, k.view(1, 1, 1, -1), padding=(0, 4))
+        noise = F.conv2d(noise, k.view(1, 1, -1, 1), padding=(4, 0))[0, 0]
+        noise = (noise - noise.mean()) / noise.std()
+        verge = F.avg_pool2d((below & (across > 2.2)).float()[None, None], ss)[0, 0] > 0.5
+        for c, base, amp in ((0, 0.55, grass), (1, 0.65, grass), (2, 0.25, grass / 2)):
+            image[c][verge] = base + amp * noise[verge]
+    return image.clamp(0, 1)
+
+
+def _heading(u: float) -> float:
+    import math
+
+    return math.degrees(math.atan((u - float(ROAD_K[0, 2])) / float(ROAD_K[0, 0])))
+
+
+def test_the_voted_vanishing_point_snaps_to_the_cameras_forward_heading_only_within_a_degree():
+    from sdn3d.editing.photo.road import FORWARD_SNAP_DEG, image_vanishing_point
+
+    region = torch.ones(192, 624, dtype=torch.bool)
+    slight = _perspective_road(0.5)  # lanes half a degree off the forward heading
+    assert _heading(image_vanishing_point(slight, region, ROAD_K)[0]) == pytest.approx(0.5, abs=0.01)  # the vote
+    u_snap, v = image_vanishing_point(slight, region, ROAD_K, forward_snap_deg=FORWARD_SNAP_DEG)
+    assert u_snap == pytest.approx(311.5) and v == pytest.approx(95.5)  # within a degree: the camera's forward
+    for heading in (2.0, -30.0, 30.0):  # a road turned more: the real frame's camera is 30 degrees off
+        u, _ = image_vanishing_point(_perspective_road(heading), region, ROAD_K, forward_snap_deg=FORWARD_SNAP_DEG)
+        assert _heading(u) == pytest.approx(heading, abs=0.01)
+
+
+def test_a_grassy_verges_texture_does_not_outvote_the_lane_lines():
+    """The real frame's failure: the road runs 30 degrees left of the camera's forward heading and a verge of fine,
+    high-contrast grass fills the picture's right part below the horizon. Its strong gradients point every way;
+    counted as edges (coherence 0) they take the vote far off the road; only the lines' coherence keeps it."""
+    from sdn3d.editing.photo.road import FORWARD_SNAP_DEG, image_vanishing_point
+
+    image = _perspective_road(-30.0, grass=0.3)
+    region = torch.ones(192, 624, dtype=torch.bool)
+    u, _ = image_vanishing_point(image, region, ROAD_K, forward_snap_deg=FORWARD_SNAP_DEG)
+    assert _heading(u) == pytest.approx(-30.0, abs=0.01)
+    fooled, _ = image_vanishing_point(image, region, ROAD_K, coherence=0.0, forward_snap_deg=FORWARD_SNAP_DEG)
+    assert abs(_heading(fooled) + 30.0) > 10.0
 
 
 # -- session 5: one-sided markings, shadowed road above the ground ---------------------------------------------------

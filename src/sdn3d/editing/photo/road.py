@@ -29,7 +29,8 @@ from sdn3d.image_ops import dilate_square
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
            "road_haze", "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
-           "GRAIN_WEIGHTS", "FORWARD_SHARE", "road_colours", "road_like", "ab_length"]
+           "GRAIN_WEIGHTS", "FORWARD_SNAP_DEG", "VOTE_COHERENCE", "VOTE_WINDOW", "VOTE_SPREAD_DEG",
+           "road_colours", "road_like", "ab_length"]
 
 #: Gaussian sigma (pixels) below which a source's detail is the road's grain (:func:`ray_fill`'s ``texture``).
 GRAIN_SIGMA = 1.0
@@ -38,11 +39,20 @@ GRAIN_SIGMA = 1.0
 GRAIN_EDGE = 4.0
 #: Depth (pixels) into the hole beyond which the mirrored grain folds back towards the hole's edge.
 GRAIN_FOLD = 24.0
-#: :func:`removal_vanishing_point`: the camera's forward heading is the road's unless another heading's edge vote beats
-#: it by more than 1 %. On the seed-33 tuning deletes the vote's maximum lay 0.5-1 degree off the forward heading on 4
-#: pairs (votes within 0.2 % of each other) and cost them 0.3-0.95 dB; the real frame's road, 30 degrees off, wins
-#: clearly (docs/results/2026-11-28_cpu/session4/deletes/).
-FORWARD_SHARE = 0.99
+#: :func:`removal_vanishing_point`: a voted heading within this many degrees of the camera's forward one is the
+#: forward one (a level camera looking down the road; a degree's difference is noise in the edges' directions, and
+#: a vanishing point a degree off bends every filled lane line).
+FORWARD_SNAP_DEG = 1.0
+#: :func:`image_vanishing_point`: an edge pixel votes only where the luma gradients in the ``VOTE_WINDOW`` pixels
+#: square around it share one direction to this degree (the structure tensor's coherence, 0-1): lane lines, kerbs,
+#: a verge's edge; not the grain of grass, foliage or gravel, whose strong gradients point every way. On the real
+#: frame's black-car delete the verge's grass gave most of the strongest edges, and their vote put the road 66
+#: degrees off, where its camera's 30 degrees are (docs/results/2026-11-29_cpu/session9/lead/).
+VOTE_COHERENCE = 0.9
+VOTE_WINDOW = 7
+#: :func:`image_vanishing_point`: each edge's line votes for the heading where it meets the horizon, spread by a
+#: Gaussian of this many degrees (the direction of a 3x3 Sobel gradient is good to about a degree on a clean edge).
+VOTE_SPREAD_DEG = 1.0
 #: Hole pixels traced at once (memory: ``RAY_CHUNK x steps`` samples per side).
 RAY_CHUNK = 8192
 
@@ -63,21 +73,39 @@ def vanishing_point(K: Tensor, ry: float | None = None, min_forward: float = 0.5
 
 
 def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: int = 50, max_edges: int = 4000,
-                          sharpness: float = 8.0, forward_share: float = 1.0) -> tuple[float, float] | None:
+                          coherence: float = VOTE_COHERENCE, window: int = VOTE_WINDOW,
+                          spread_deg: float = VOTE_SPREAD_DEG,
+                          forward_snap_deg: float = 0.0) -> tuple[float, float] | None:
     """``(u, v)`` the point on the horizon row ``v = K[1, 2]`` (a level camera's: where every direction of the road
-    plane vanishes) that the picture's edges inside ``region (H, W)`` point at best: each pixel with a strong
-    luma gradient votes for the candidates its edge line passes near (``|cos|`` of the angle between its edge and the
-    direction to the candidate, to the power ``sharpness``, weighted by the gradient's magnitude); candidates every
-    half degree of heading within 70 degrees of the camera's forward; the ``max_edges`` strongest edges vote. None
-    with fewer than ``min_edges`` edge pixels. Lane markings, kerbs and verges below the horizon are such edges: the
-    road's own direction, whatever the fitted pose of the removed car says. The camera's forward heading wins when
-    its vote is at least ``forward_share`` of the best one (a flat maximum a degree off it is a tie, not a turn)."""
+    plane vanishes) that the picture's edges inside ``region (H, W)`` point at: each pixel with a strong luma
+    gradient whose neighbourhood's gradients share its direction (structure tensor coherence at least
+    ``coherence`` over a ``window``-pixel square: a line, not texture) votes for the heading where its edge's line
+    meets the horizon row, spread by a Gaussian of ``spread_deg`` degrees and weighted by the gradient's magnitude
+    (a horizontal edge meets it nowhere and does not vote); candidates every half degree of heading within 70
+    degrees of the camera's forward; the ``max_edges`` strongest edges vote. None with fewer than ``min_edges`` such
+    edge pixels. Lane markings, kerbs and verges below the horizon are such edges: the road's own direction,
+    whatever the fitted pose of the removed car says. A winning heading within ``forward_snap_deg`` degrees of the
+    camera's forward one is the forward one.
+
+    Example (three lane lines meeting 30 degrees to the right of a 64x128 picture's forward heading):
+
+    >>> import math
+    >>> K = torch.tensor([[100.0, 0.0, 63.5], [0.0, 100.0, 20.0], [0.0, 0.0, 1.0]])
+    >>> ys, xs = torch.meshgrid(torch.arange(64.0), torch.arange(128.0), indexing="ij")
+    >>> u = 63.5 + 100 * math.tan(math.radians(30))
+    >>> lines = (ys > 22) & torch.stack([(xs - u - k * (ys - 20)).abs() <= 1.5 for k in (-1.6, 0.0, 1.6)]).any(0)
+    >>> image = torch.where(lines, 0.95, 0.4).expand(3, 64, 128)
+    >>> found = image_vanishing_point(image, torch.ones(64, 128, dtype=torch.bool), K)
+    >>> round(math.degrees(math.atan((found[0] - 63.5) / 100)))
+    30
+    """
     import cv2
 
     from sdn3d.editing.photo.light import luminance
 
     fx, cx, cy = float(K[0, 0]), float(K[0, 2]), float(K[1, 2])
-    y0, y1, x0, x1 = _sobel_window(region) if bool(region.any()) else (0, region.shape[0], 0, region.shape[1])
+    y0, y1, x0, x1 = (_sobel_window(region, 1 + window // 2) if bool(region.any())
+                      else (0, region.shape[0], 0, region.shape[1]))
     crop = image[:, y0:y1, x0:x1]
     y = np.ascontiguousarray(luminance(crop.permute(1, 2, 0).reshape(-1, 3)).view(crop.shape[1:]).float().numpy())
     gx = torch.from_numpy(cv2.Sobel(y, cv2.CV_32F, 1, 0, ksize=3))
@@ -87,36 +115,49 @@ def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: i
     use = region[y0:y1, x0:x1] & rows & (mag > 0.15)
     if int(use.sum()) < min_edges:
         return None
+    use &= _coherence(gx, gy, window) >= coherence
+    if int(use.sum()) < min_edges:
+        return None
     ys, xs = use.nonzero(as_tuple=True)  # in the window; the vote below reads the picture's coordinates
     m = mag[ys, xs]
     if len(m) > max_edges:  # the strongest ones: the vote's cost stays bounded
         keep = m.topk(max_edges).indices
         ys, xs, m = ys[keep], xs[keep], m[keep]
-    t = torch.stack([-gy[ys, xs], gx[ys, xs]], 1) / m[:, None]  # along the edge
+    tx, ty = -gy[ys, xs] / m, gx[ys, xs] / m  # along the edge
     ys, xs = ys + y0, xs + x0
     heading = torch.deg2rad(torch.arange(-70.0, 70.25, 0.5))
     us = cx + fx * torch.tan(heading)  # (C,)
-    du = us[None] - xs[:, None].float()  # (N, C): towards each candidate
-    dv = (cy - ys.float())[:, None]
-    # |cos|^sharpness as (cos^2)^(sharpness / 2): no (N, C, 2) tensor, no square root
-    cos2 = (t[:, :1] * du + t[:, 1:] * dv).square() / (du.square() + dv.square()).clamp(min=1e-12)
-    score = (cos2 ** (sharpness / 2) * m[:, None]).sum(0)
-    forward = int(heading.abs().argmin())
-    if float(score[forward]) >= forward_share * float(score.max()):  # a near tie: the camera looks down the road
-        return float(us[forward]), cy
-    return float(us[int(score.argmax())]), cy
+    slanted = ty.abs() > 1e-3  # a horizontal edge's line never meets the horizon
+    meets = xs.float() + (cy - ys.float()) * tx / torch.where(slanted, ty, torch.ones_like(ty))  # its column there
+    aim = torch.atan((meets - cx) / fx)  # (N,) the heading it votes for
+    spread = math.radians(spread_deg)
+    score = (torch.exp(-0.5 * ((heading[None] - aim[:, None]) / spread).square()) * (m * slanted)[:, None]).sum(0)
+    best = int(score.argmax())
+    if abs(float(heading[best])) <= math.radians(forward_snap_deg) + 1e-9:  # the camera looks down the road
+        best = int(heading.abs().argmin())
+    return float(us[best]), cy
 
 
-def _sobel_window(region: Tensor) -> tuple[int, int, int, int]:
-    """``(y0, y1, x0, x1)`` of the picture whose Sobel gradients at the ``region (H, W)`` pixels equal the whole
-    picture's bit for bit: the region's box grown by a pixel (the 3x3 kernel), its left edge on a multiple of 64
-    columns and 64 spare columns on the right (OpenCV's vector lanes fall on the same pixels, as in
-    :func:`~sdn3d.editing.photo.transfer._blur_window`); the picture's edge where it is near."""
+def _coherence(gx: Tensor, gy: Tensor, window: int) -> Tensor:
+    """``(H, W)`` the coherence ``((Jxx - Jyy)^2 + 4 Jxy^2) / (Jxx + Jyy)^2`` (0: gradients every way, 1: one
+    direction) of the structure tensor of gradients ``gx, gy (H, W)`` summed over a ``window``-pixel square (zero
+    padded; each pixel's sum in the same order wherever the picture is cropped)."""
+    g = torch.stack([gx * gx, gy * gy, gx * gy])[None]
+    jxx, jyy, jxy = F.avg_pool2d(g, window, stride=1, padding=window // 2, count_include_pad=True)[0]
+    return ((jxx - jyy).square() + 4 * jxy.square()) / (jxx + jyy).square().clamp(min=1e-12)
+
+
+def _sobel_window(region: Tensor, margin: int = 1) -> tuple[int, int, int, int]:
+    """``(y0, y1, x0, x1)`` of the picture whose Sobel gradients at the ``region (H, W)`` pixels, and within
+    ``margin - 1`` pixels of them, equal the whole picture's bit for bit: the region's box grown by ``margin`` pixels
+    (a pixel for the 3x3 kernel), its left edge on a multiple of 64 columns and 64 spare columns on the right
+    (OpenCV's vector lanes fall on the same pixels, as in :func:`~sdn3d.editing.photo.transfer._blur_window`); the
+    picture's edge where it is near."""
     height, width = region.shape
     rows, cols = region.any(1).nonzero().flatten(), region.any(0).nonzero().flatten()
-    y0, y1 = max(int(rows[0]) - 1, 0), min(int(rows[-1]) + 2, height)
-    x0 = max(int(cols[0]) - 1, 0) // 64 * 64
-    x1 = min(int(cols[-1]) + 2 + 64, width)
+    y0, y1 = max(int(rows[0]) - margin, 0), min(int(rows[-1]) + 1 + margin, height)
+    x0 = max(int(cols[0]) - margin, 0) // 64 * 64
+    x1 = min(int(cols[-1]) + 1 + margin + 64, width)
     return y0, y1, x0, x1
 
 
@@ -131,7 +172,7 @@ def removal_vanishing_point(image: Tensor, K: Tensor, removed: Tensor, objects_p
         ys, xs = removed.nonzero(as_tuple=True)
         extent = max(int(ys.max() - ys.min()), int(xs.max() - xs.min()))
         region = dilate_square(removed, max(2 * extent, 20)) & ~dilate_square(objects_px | removed, 2)
-        found = image_vanishing_point(image, region, K, forward_share=FORWARD_SHARE)
+        found = image_vanishing_point(image, region, K, forward_snap_deg=FORWARD_SNAP_DEG)
         if found is not None:
             return found
     return vanishing_point(K, ry)

@@ -24,7 +24,7 @@ from sdn3d.editing.photo.fill import (
 )
 from sdn3d.editing.photo.light import LightEstimate, fit_light, fit_reflection, grazing, luminance
 from sdn3d.editing.photo.occluders import thin_occluders
-from sdn3d.editing.photo.recolor import body_paint, body_pixels, recolor_pixels, srgb_to_lab
+from sdn3d.editing.photo.recolor import body_paint, body_pixels, ground_in_mask, recolor_pixels, srgb_to_lab
 from sdn3d.editing.photo.road import removal_vanishing_point, road_colours, road_like
 from sdn3d.editing.photo.settings import (
     ANOTHER_CAR,
@@ -639,8 +639,9 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
              objects: dict[int, dict], warnings: list[str], parts: Tensor | None = None) -> tuple[Tensor, Tensor]:
     """Step 5: each object of ``recolor`` repainted in ``out (3, H, W)`` where ``owner (H, W)`` holds its id (and,
     given ``parts (H, W)``, the fitted mesh's body part shows: an object with geometry keeps its windows, tyres,
-    lights and plates, and the road its mask took in); ``source`` says :data:`RECOLORED` where a pixel of the input
-    changed."""
+    lights and plates, and the road its mask took in, lit or in the car's shadow: :func:`ground_in_mask` on the
+    input's own pixels, which a fitted mesh looser than the car calls body); ``source`` says :data:`RECOLORED` where a
+    pixel of the input changed."""
     pixels_of = _pixels_of(owner, torch.tensor([int(i) for i in recolor], dtype=owner.dtype))
     flat = out.permute(1, 2, 0).reshape(-1, 3).clone()
     codes = source.view(-1).clone()
@@ -649,6 +650,10 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
         body_part = parts is not None and len(pix) > 0 and bool((parts.view(-1)[pix] >= 0).any())
         if body_part:
             pix = pix[parts.view(-1)[pix] == int(Part.BODY)]
+            if bool((codes[pix] == INPUT).any()):
+                picture = flat.view(*owner.shape, 3).permute(2, 0, 1)
+                road = ground_in_mask(picture, (owner == int(iid)) & (source == INPUT)).view(-1)
+                pix = pix[~road[pix]]
         if not len(pix):
             warnings.append(f"recolor: object {iid} has no pixels in the picture")
             continue

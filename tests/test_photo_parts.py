@@ -281,22 +281,14 @@ def test_a_lamp_never_seen_takes_the_other_ends_lamps_in_its_own_colour(monkeypa
     assert float((red.image[0, front] - red.image[1, front]).max()) > 0.3
 
 
-def test_a_red_cars_never_seen_front_has_head_lamps_at_its_corners():
-    """The same car in red paint: red pixels at the other end cannot be told from its paint, so none is carried over
-    as a head lamp; the front's corners are head lamps in their default colour (code ``default``, near white, not
-    red) and its middle takes the paint (code ``part``). Before, the whole front was the rear's red: no head lamps."""
+def test_a_red_cars_tail_lamps_stay_as_they_are_on_its_never_seen_front():
+    """The same car in red paint: red pixels at the other end cannot be told from its paint, so none turns white."""
     scene = _scene([BEHIND])
     image, covered, parts = _painted(scene, (0.7, 0.1, 0.1))
     image[:, covered & (parts == int(Part.TAIL_LIGHTS))] = torch.tensor([0.9, 0.1, 0.1])[:, None]
-    image[:, covered & ((parts == int(Part.GLASS)) | (parts == int(Part.TYRE)))] = 0.03  # clear air: near-black darks
     result = render_photo(image, FRAME, scene, apply_edits(scene, [Rotate(12001, math.pi)]), settings=PARTS)
     front = result.parts == int(Part.FRONT_LIGHTS)
-    lamps, middle = front & (result.source == DEFAULT), front & (result.source == PART)
-    assert int(lamps.sum()) > 10 and int(middle.sum()) > 10
-    lamp, paint = result.image[:, lamps], result.image[:, middle]
-    assert float((lamp[0] - lamp[1]).abs().max()) < 0.05  # grey to white (a dark car's air dims them), not red
-    assert float(lamp[1].min()) > float(paint[1].max())
-    assert float(paint[1].max()) < 0.2  # the middle keeps the red paint: nothing white carried over
+    assert int(front.sum()) > 50 and float(result.image[1, front].max()) < 0.2
 
 
 def test_a_turned_cars_outline_grows_inside_its_box():

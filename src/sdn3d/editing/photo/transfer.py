@@ -1456,11 +1456,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     turned towards the camera takes the colour of the surfaces that faced it, its reflection included).
 
     A lamp part it never showed (the front of a car seen from behind) takes the other end's lamps and paint the
-    same way (:data:`OTHER_END`), its lamps in this end's colour (:data:`LAMP_HUES`), code :data:`PART`; where the
-    other end shows no lamp that can take this end's colour (:func:`_lamps_of_this_end`: a red car, or tail lamps
-    the fitted mesh's lamp faces miss), its corners (:data:`LAMP_CORNER`) are this end's lamps in
-    :data:`LAMP_DEFAULTS` seen through the car's air (:data:`DEFAULT`) and only its middle takes the other end's
-    pixels. A
+    same way (:data:`OTHER_END`), its lamps in this end's colour (:data:`LAMP_HUES`), code :data:`PART`. A
     :data:`SHARED_PARTS` part it never showed takes the same part of the other cars of the photo, ``others(part)``,
     the same way, code :data:`ANOTHER_CAR`. Any other part it never showed: the body's albedo ``body`` for the body
     (:data:`FALLBACK`), else :data:`PART_DEFAULTS` seen through the car's air (:func:`seen_through_the_air`,
@@ -1483,14 +1479,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
         if len(have) < 2 * k and part in OTHER_END:  # a lamp never seen: the other end's lamps and paint
             have = torch.isin(own.part, torch.tensor([OTHER_END[part], int(Part.BODY)])).nonzero().flatten()
             if LAMP_HUES:
-                converted = _lamps_of_this_end(own.color, part, paint)
-                if converted is None:  # no lamp to carry over: this end's lamps at its corners in their default
-                    corner = q_feat[q, 2] > LAMP_CORNER
-                    lamp = torch.tensor(LAMP_DEFAULTS[part], dtype=albedo.dtype).expand(int(corner.sum()), 3)
-                    albedo[q[corner]] = seen_through_the_air(lamp, seen_colors) if len(seen_colors) else lamp
-                    q = q[~corner]
-                else:
-                    source = converted
+                source = _lamps_of_this_end(own.color, part, paint)
         if len(have) < 2 * k and part in SHARED_PARTS and others is not None:  # never seen: another car's
             pool = others(part)
             have = torch.arange(len(pool.part))
@@ -1513,15 +1502,6 @@ TYRE_QUANTILE = 0.75
 #: A lamp drawn from the other end's (:data:`OTHER_END`) takes its own end's colour: head lamps are white, tail
 #: lamps red (:func:`_lamps_of_this_end`). False: the other end's colours as they are (red head lamps).
 LAMP_HUES = True
-#: :func:`_part_colors`: a never-seen lamp part whose other end has no lamp to carry over is this end's lamp (its
-#: :data:`PART_DEFAULTS` colour) where it lies further from the car's middle plane than this share of the car's
-#: width (|z| / w; 0.28 is where the generator's lamps start, ``data.synth.appearance._car``); nearer the middle it
-#: takes the other end's pixels (paint, plate surround).
-LAMP_CORNER = 0.28
-#: sRGB colour of those lamps (:data:`LAMP_CORNER`): head lamps near white (clear glass over a reflector, lighter than
-#: :data:`PART_DEFAULTS`' grey for head lights and grille together), tail lamps :data:`PART_DEFAULTS`' red.
-LAMP_DEFAULTS = {int(Part.FRONT_LIGHTS): (0.85, 0.85, 0.80),
-                 int(Part.TAIL_LIGHTS): PART_DEFAULTS[int(Part.TAIL_LIGHTS)]}
 
 
 def _lamp_coloured(colors: Tensor, part: int) -> Tensor:
@@ -1533,18 +1513,17 @@ def _lamp_coloured(colors: Tensor, part: int) -> Tensor:
     return (colors.amin(-1) > 0.55) & (colors.amax(-1) - colors.amin(-1) < 0.15)
 
 
-def _lamps_of_this_end(colors: Tensor, part: int, paint: Tensor) -> Tensor | None:
+def _lamps_of_this_end(colors: Tensor, part: int, paint: Tensor) -> Tensor:
     """``(E, 3)`` ``colors`` of the other end's examples for drawing lamp ``part``: the pixels in the other end's
     lamp colour (:func:`_lamp_coloured`) take ``part``'s own hue (its :data:`PART_DEFAULTS` colour scaled to their
-    brightest channel: a red tail lamp becomes a white head lamp as bright). None where there is none to take, or
-    the car's ``paint (Q, 3)`` (its median) is itself of that colour (a red car's tail lamps are not told from its
-    paint): carried over as they are, the other end's pixels drew a red car's front without head lamps."""
+    brightest channel: a red tail lamp becomes a white head lamp as bright); unchanged where the car's ``paint
+    (Q, 3)`` (its median) is itself of that colour (a red car's tail lamps are not told from its paint)."""
     other = OTHER_END[part]
     if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other)[0]):
-        return None
+        return colors
     lamp = _lamp_coloured(colors, other)
     if not bool(lamp.any()):
-        return None
+        return colors
     hue = torch.tensor(PART_DEFAULTS[part], dtype=colors.dtype)
     out = colors.clone()
     out[lamp] = (colors[lamp].amax(-1, keepdim=True) * hue / hue.max()).clamp(0, 1)

@@ -84,3 +84,35 @@ def test_dark_paint_keeps_its_rims_and_grey_trim():
     highlight = torch.tensor([[0.98, 0.55, 0.5]]).repeat(20, 1)
     _, body, _ = recolor_pixels(torch.cat([red, highlight]), (0.1, 0.25, 0.7), body_part=True)
     assert bool(body[200:].all())
+
+
+def test_a_turned_red_cars_never_seen_front_gets_head_lamps_where_cars_have_them(monkeypatch):
+    """A red car seen from behind (its red tail lamps cannot be told from its paint) turned by 180 degrees: its front
+    shows head lamps, near-white, not red (code ``default``), at both corners just below the belt line, where the
+    generator puts them; without the lamp band (``LAMP_BAND = None``) those pixels are the rear's red."""
+    import math
+
+    from sdn3d.editing.apply import apply_edits
+    from sdn3d.editing.ops import Rotate
+    from sdn3d.editing.photo.settings import DEFAULT
+    from sdn3d.editing.photo.transfer import render_photo
+    from tests.test_photo import FRAME, _scene
+    from tests.test_photo_parts import BEHIND, PARTS, _painted
+
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.7, 0.1, 0.1))
+    image[:, covered & ((parts == int(Part.GLASS)) | (parts == int(Part.TYRE)))] = 0.03  # clear air: black darks
+    edited = apply_edits(scene, [Rotate(12001, math.pi)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    lamps = (result.source == DEFAULT) & (result.parts == int(Part.BODY))
+    assert int(lamps.sum()) > 10
+    colour = result.image[:, lamps]
+    assert float((colour[0] - colour[1]).abs().max()) < 0.05 and float(colour[1].min()) > 0.2  # grey-white, not red
+    cols = lamps.nonzero()[:, 1].float()
+    car_cols = (result.parts >= 0).nonzero()[:, 1].float()
+    middle = 0.5 * (car_cols.min() + car_cols.max())
+    assert bool((cols < middle).any()) and bool((cols > middle).any())  # a lamp at each corner
+    monkeypatch.setattr(transfer, "LAMP_BAND", None)
+    plain = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    red = plain.image[:, lamps]
+    assert float((red[0] - red[1]).min()) > 0.3  # the rear's red there: no head lamps

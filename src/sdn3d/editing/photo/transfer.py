@@ -1542,10 +1542,11 @@ LAMP_HUES = True
 LAMP_BAND: tuple[float, float] | None = (0.04, 0.20)
 LAMP_END = 0.47
 LAMP_CORNER = 0.28
-#: sRGB colour of an end's lamps the photo never showed (:func:`_lamp_band`; shaded by the caller): head lamps near
-#: white (clear glass over a reflector), tail lamps :data:`PART_DEFAULTS`' red.
-LAMP_DEFAULTS = {int(Part.FRONT_LIGHTS): (0.85, 0.85, 0.80),
-                 int(Part.TAIL_LIGHTS): PART_DEFAULTS[int(Part.TAIL_LIGHTS)]}
+#: sRGB colour of an end's lamps the photo never showed (:func:`_lamp_band`; shaded by the caller): head lamps white,
+#: tail lamps bright red (lit lamps are the brightest thing on a car's end; on the tuning trees' 180-degree turns
+#: white beat a light grey, and this red :data:`PART_DEFAULTS`' darker one:
+#: docs/results/2026-11-29_cpu/session9/realparts/).
+LAMP_DEFAULTS = {int(Part.FRONT_LIGHTS): (1.0, 1.0, 0.95), int(Part.TAIL_LIGHTS): (0.9, 0.1, 0.08)}
 #: Parts that never carry a lamp (:func:`_lamp_band`): windows, wheels and plates keep their own colours.
 LAMPLESS_PARTS = (int(Part.GLASS), int(Part.TYRE), int(Part.PLATE))
 

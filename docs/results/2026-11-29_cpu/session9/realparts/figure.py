@@ -1,14 +1,14 @@
 # ruff: noqa: E402, E501, E701, E702
 """Before/after crops (2x, nearest) of the real frame's two defects, labelled panels.
 
-usage: figure.py DATA OUT.png   (DATA holds one.sh output dirs: rec_base, rec_new (12002 recoloured blue),
+usage: figure.py DATA OUT.png KEYS  (KEYS: comma-separated rows among rec,rot,rec1,rot2; DATA holds one.sh output dirs: rec_base, rec_new (12002 recoloured blue),
 rot_base, rot_new (12001 turned 180), rec1_base, rec1_new (12001 recoloured blue), rot2_base, rot2_new (12002 turned 180))
 """
 import sys
 
 from PIL import Image, ImageDraw
 
-data, out = sys.argv[1], sys.argv[2]
+data, out, keys = sys.argv[1], sys.argv[2], sys.argv[3].split(",")
 rows = [
     ("12002 (black) recoloured blue", (690, 180, 930, 315), "rec"),
     ("12001 (red) turned 180 deg", (450, 180, 690, 350), "rot"),
@@ -16,7 +16,7 @@ rows = [
     ("12002 (black) turned 180 deg", (680, 170, 950, 320), "rot2"),
 ]
 panels = []
-for title, box, key in rows:
+for title, box, key in [r for r in rows if r[2] in keys]:
     row = []
     for label, path in ((f"{title}: before (main a03af56)", f"{data}/{key}_base/out/edited.png"),
                         (f"{title}: after (s9-realparts)", f"{data}/{key}_new/out/edited.png"),
@@ -38,6 +38,6 @@ for r in panels:
         sheet.paste(p, (x, y))
         x += p.width + 4
     y += max(p.height for p in r) + 4
-scale = min(1.0, 1400 / sheet.width)
+scale = min(1.0, 1200 / sheet.width)
 sheet = sheet.resize((int(sheet.width * scale), int(sheet.height * scale)), Image.LANCZOS)
-sheet.save(out, optimize=True)
+sheet.quantize(colors=256, method=Image.Quantize.MEDIANCUT).save(out, optimize=True)  # records stay under 300 KB

@@ -7,12 +7,13 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+import numpy as np
 import torch
 from torch import Tensor
 
 from sdn3d.editing.ops import SetCode
 
-__all__ = ["paints", "body_pixels", "body_paint", "recolor_pixels", "srgb_to_lab"]
+__all__ = ["paints", "body_pixels", "body_paint", "ground_in_mask", "recolor_pixels", "srgb_to_lab", "DARK_PAINT_LIFT"]
 
 
 def paints(ops: Sequence[object]) -> dict[int, tuple[float, float, float]]:
@@ -83,6 +84,71 @@ def body_paint(lab: Tensor, min_chroma: float = 10.0, hue_deg: float = 40.0) -> 
     return (cosine > math.cos(math.radians(hue_deg))) & (chroma > 0.25 * ref), True
 
 
+#: :func:`recolor_pixels` with ``body_part``: a pixel of a grey or black body more than this much lighter (CIE L*)
+#: than the paint's median is not paint when the paint is dark (median L* below :data:`DARK_PAINT_L`): a rim, grey
+#: trim, lit road or a reflection of the sky on black paint (a reflection keeps its colour on any paint). On the real
+#: frame in ``tests/data`` the black car's rims and grey diffuser turned light blue.
+DARK_PAINT_LIFT = 25.0
+#: Median CIE L* below which a grey paint is dark (:data:`DARK_PAINT_LIFT`).
+DARK_PAINT_L = 30.0
+
+
+def ground_in_mask(image: Tensor, mask: Tensor, reach: int = 6, band: float = 0.35, tol: float = 2.5) -> Tensor:
+    """``(H, W)`` bool: the road a car's ``mask (H, W)`` took in along its lower edge in ``image (3, H, W)`` sRGB in
+    [0, 1]: the lit road and the car's shadow under its sills and bumpers, which a box's mask holds as dark as black
+    paint (recolour must leave them: the black car of the real frame in ``tests/data`` got a blue wedge there).
+
+    The road is read off the picture just below the mask (``reach`` pixels under its lower edge): its darker and
+    lighter halves (shadow and lit road) each give a colour, and a mask pixel is road when its Lab is within
+    ``max(tol, 2.5 x`` that half's median spread ``)`` of one of them, it lies in the mask's lowest ``band`` of its
+    height (counted up from the mask's lowest pixel in its column), and it is connected (4-neighbours) through such
+    pixels to a pixel at the mask's edge. A black car's body and sills are darker than its shadow on the road (their
+    own shade, no sky) and its tyres are rubber and grey rims: a shadow grown by colour stops at them."""
+    height, width = mask.shape
+    out = torch.zeros_like(mask)
+    rows, cols = mask.any(1).nonzero().flatten(), mask.any(0).nonzero().flatten()
+    if not len(rows):
+        return out
+    pad = reach + 1
+    y0, y1 = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + 1 + pad, height)
+    x0, x1 = max(int(cols[0]) - pad, 0), min(int(cols[-1]) + 1 + pad, width)
+    m = mask[y0:y1, x0:x1]
+    lab = srgb_to_lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)).view(y1 - y0, x1 - x0, 3)
+    below = torch.zeros_like(m)  # up to `reach` pixels under a mask pixel, outside the mask
+    for k in range(1, reach + 1):
+        below[k:] |= m[:-k]
+    below &= ~m
+    ref = lab[below]
+    if len(ref) < 20:
+        return out
+    light = ref[:, 0]
+    cut = 0.5 * (torch.quantile(light, 0.1) + torch.quantile(light, 0.9))
+    centres, tols = [], []
+    for half in (light < cut, light >= cut):
+        if int(half.sum()) >= 10:
+            centre = ref[half].median(0).values
+            centres.append(centre)
+            tols.append(max(tol, 2.5 * float((ref[half] - centre).norm(dim=1).median())))
+    r = torch.arange(m.shape[0])[:, None].expand_as(m)
+    lowest = torch.where(m, r, -1).amax(0)
+    low = m & (r > lowest[None] - band * (int(rows[-1]) - int(rows[0]) + 1))
+    near = (torch.cdist(lab[low], torch.stack(centres)) < torch.tensor(tols)[None]).any(1)
+    road = torch.zeros_like(m)
+    road[low] = near
+    edge = torch.zeros_like(m)  # a pixel with a 4-neighbour outside the mask
+    edge[1:] |= ~m[:-1]
+    edge[:-1] |= ~m[1:]
+    edge[:, 1:] |= ~m[:, :-1]
+    edge[:, :-1] |= ~m[:, 1:]
+    import cv2
+
+    _, label = cv2.connectedComponents(road.numpy().astype(np.uint8), connectivity=4)
+    label = torch.from_numpy(label)
+    touching = label[road & edge].unique()
+    out[y0:y1, x0:x1] = road & torch.isin(label, touching[touching > 0])
+    return out
+
+
 def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],
                    body_part: bool = False) -> tuple[Tensor, Tensor, dict]:
     """Repaint a car's body (module doc, step 5).
@@ -90,7 +156,8 @@ def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],
     With ``body_part`` the pixels are the fitted mesh's body part (:func:`body_paint` picks the paint among them)
     and the paint takes the target's hue outright, each pixel keeping its chroma relative to the paint's and its
     lightness offset: a pixel's hue never mixes the old and the new paint (an additive Lab shift of a red car to
-    blue turned its orange highlights and dark shades magenta).
+    blue turned its orange highlights and dark shades magenta). A dark grey or black paint keeps the pixels at most
+    :data:`DARK_PAINT_LIFT` lighter than its median (rims, trim, road and reflections are not repainted).
 
     Args:
         colors: ``(P, 3)`` sRGB in [0, 1], the car's pixels; target_rgb: the paint, sRGB in [0, 1].
@@ -115,6 +182,10 @@ def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],
     target = srgb_to_lab(torch.tensor([target_rgb], dtype=colors.dtype))[0]
     if body_part:
         body, coloured = body_paint(lab)
+        if not coloured and bool(body.any()):  # a dark paint: much lighter grey pixels are not it
+            paint_light = lab[body, 0].median()
+            if float(paint_light) < DARK_PAINT_L:
+                body &= lab[:, 0] < paint_light + DARK_PAINT_LIFT
         if not bool(body.any()):
             return colors, body, {"body_share": 0.0, "delta_e": float("nan")}
         paint = lab[body]

@@ -24,7 +24,7 @@ from sdn3d.editing.photo.fill import (
 )
 from sdn3d.editing.photo.light import LightEstimate, fit_light, fit_reflection, grazing, luminance
 from sdn3d.editing.photo.occluders import thin_occluders
-from sdn3d.editing.photo.recolor import body_paint, body_pixels, recolor_pixels, srgb_to_lab
+from sdn3d.editing.photo.recolor import body_paint, body_pixels, ground_in_mask, recolor_pixels, srgb_to_lab
 from sdn3d.editing.photo.road import removal_vanishing_point, road_colours, road_like
 from sdn3d.editing.photo.settings import (
     ANOTHER_CAR,
@@ -50,6 +50,8 @@ from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
 from sdn3d.math3d.transforms import box_corners
 from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.parts import Part
+from sdn3d.meshes.templates import TEMPLATE_NAMES, TEMPLATE_SPECS
+from sdn3d.meshes.vehicle_family import canonical_belt
 from sdn3d.render.maps import normal_map
 from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings
@@ -639,8 +641,9 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
              objects: dict[int, dict], warnings: list[str], parts: Tensor | None = None) -> tuple[Tensor, Tensor]:
     """Step 5: each object of ``recolor`` repainted in ``out (3, H, W)`` where ``owner (H, W)`` holds its id (and,
     given ``parts (H, W)``, the fitted mesh's body part shows: an object with geometry keeps its windows, tyres,
-    lights and plates, and the road its mask took in); ``source`` says :data:`RECOLORED` where a pixel of the input
-    changed."""
+    lights and plates, and the road its mask took in, lit or in the car's shadow: :func:`ground_in_mask` on the
+    input's own pixels, which a fitted mesh looser than the car calls body); ``source`` says :data:`RECOLORED` where a
+    pixel of the input changed."""
     pixels_of = _pixels_of(owner, torch.tensor([int(i) for i in recolor], dtype=owner.dtype))
     flat = out.permute(1, 2, 0).reshape(-1, 3).clone()
     codes = source.view(-1).clone()
@@ -649,6 +652,10 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
         body_part = parts is not None and len(pix) > 0 and bool((parts.view(-1)[pix] >= 0).any())
         if body_part:
             pix = pix[parts.view(-1)[pix] == int(Part.BODY)]
+            if bool((codes[pix] == INPUT).any()):
+                picture = flat.view(*owner.shape, 3).permute(2, 0, 1)
+                road = ground_in_mask(picture, (owner == int(iid)) & (source == INPUT)).view(-1)
+                pix = pix[~road[pix]]
         if not len(pix):
             warnings.append(f"recolor: object {iid} has no pixels in the picture")
             continue
@@ -1455,7 +1462,9 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     :data:`SHARED_PARTS` part it never showed takes the same part of the other cars of the photo, ``others(part)``,
     the same way, code :data:`ANOTHER_CAR`. Any other part it never showed: the body's albedo ``body`` for the body
     (:data:`FALLBACK`), else :data:`PART_DEFAULTS` seen through the car's air (:func:`seen_through_the_air`,
-    :data:`DEFAULT`); the caller shades these."""
+    :data:`DEFAULT`); the caller shades these. Where an end's lamps were never seen, the points where cars have them
+    (:func:`_lamp_band`; not glass, tyres or plates) are lamps in :data:`LAMP_DEFAULTS` seen through the car's air,
+    code :data:`DEFAULT`."""
     albedo = torch.tensor(PART_DEFAULTS, dtype=torch.float64)[parts.clamp(min=0)]
     codes = torch.full((len(points),), DEFAULT, dtype=torch.uint8)
     if body is not None:
@@ -1487,7 +1496,37 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             near = torch.cdist(q_feat[chunk], feature[have]).topk(min(k, len(have)), largest=False).indices
             albedo[chunk] = source[have][near].mean(1)
         codes[q] = code
+    # The lamps of an end the photo never showed, where cars have them (:func:`_lamp_band`): the template's lamp faces
+    # lie lower, on the end cap, and took the other end's paint there.
+    band = _lamp_band(before, b, q_feat) if LAMP_BAND is not None else None
+    if band is not None:
+        for lamp_part in OTHER_END:
+            here = (band == lamp_part) & ~torch.isin(parts, torch.tensor(LAMPLESS_PARTS))
+            if int((own.part == lamp_part).sum()) >= 2 * k or not bool(here.any()):
+                continue  # that end was seen: its lamps are the photo's
+            lamp = torch.tensor(LAMP_DEFAULTS[lamp_part], dtype=albedo.dtype).expand(int(here.sum()), 3)
+            albedo[here] = seen_through_the_air(lamp, seen_colors) if len(seen_colors) else lamp
+            codes[here] = DEFAULT
     return albedo, codes
+
+
+def _lamp_band(before: ObjectTable, b: int, features: Tensor) -> Tensor | None:
+    """``(P,)`` the lamp part (:data:`~sdn3d.meshes.parts.Part` ``FRONT_LIGHTS`` or ``TAIL_LIGHTS``, -1: neither)
+    whose lamp each point of the car of ``before`` row ``b`` lies on, from its :func:`_part_features` ``features (P,
+    6)``: at either end (beyond :data:`LAMP_END` of the length from the middle), in the band :data:`LAMP_BAND` below
+    the template's belt line and outside :data:`LAMP_CORNER` of the width from the middle plane (the layout the
+    generator draws, ``data.synth.appearance._car``, and where a car's lamps are). None for a template without a
+    belt line."""
+    template = int(before.template_id[b])
+    if not 0 <= template < len(TEMPLATE_NAMES):
+        return None
+    belt = canonical_belt(TEMPLATE_SPECS[TEMPLATE_NAMES[template]])
+    x, y, z = 4 * features[:, 0], features[:, 1], features[:, 2]
+    inside = (y > belt + LAMP_BAND[0]) & (y < belt + LAMP_BAND[1]) & (z > LAMP_CORNER)
+    out = torch.full((len(features),), -1, dtype=torch.long)
+    out[inside & (x > LAMP_END)] = int(Part.FRONT_LIGHTS)
+    out[inside & (x < -LAMP_END)] = int(Part.TAIL_LIGHTS)
+    return out
 
 
 #: :func:`_part_colors`: a tyre example lighter than this quantile of the car's visible pixels' luma is not a tyre
@@ -1497,6 +1536,19 @@ TYRE_QUANTILE = 0.75
 #: A lamp drawn from the other end's (:data:`OTHER_END`) takes its own end's colour: head lamps are white, tail
 #: lamps red (:func:`_lamps_of_this_end`). False: the other end's colours as they are (red head lamps).
 LAMP_HUES = True
+#: :func:`_lamp_band`: canonical heights (``y`` down, the box from -0.5 to 0.5) of the lamps below the belt line, and
+#: the shares of the length and width beyond which they lie (``|x| > LAMP_END``, ``|z| > LAMP_CORNER``): the
+#: generator's layout (``data.synth.appearance._car``). None: no lamps drawn there (the template's lamp faces alone).
+LAMP_BAND: tuple[float, float] | None = (0.04, 0.20)
+LAMP_END = 0.47
+LAMP_CORNER = 0.28
+#: sRGB colour of an end's lamps the photo never showed (:func:`_lamp_band`; shaded by the caller): head lamps white,
+#: tail lamps bright red (lit lamps are the brightest thing on a car's end; on the tuning trees' 180-degree turns
+#: white beat a light grey, and this red :data:`PART_DEFAULTS`' darker one:
+#: docs/results/2026-11-29_cpu/session9/realparts/).
+LAMP_DEFAULTS = {int(Part.FRONT_LIGHTS): (1.0, 1.0, 0.95), int(Part.TAIL_LIGHTS): (0.9, 0.1, 0.08)}
+#: Parts that never carry a lamp (:func:`_lamp_band`): windows, wheels and plates keep their own colours.
+LAMPLESS_PARTS = (int(Part.GLASS), int(Part.TYRE), int(Part.PLATE))
 
 
 def _lamp_coloured(colors: Tensor, part: int) -> Tensor:

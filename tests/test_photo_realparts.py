@@ -1,0 +1,118 @@
+"""Recolour on a car whose box mask took in road and shadow, and the never-seen lamps of a turned car (issue 41:
+"recolour repaints the body part only"; a turned car's front shows head lamps)."""
+
+from __future__ import annotations
+
+import pytest
+import torch
+
+from sdn3d.editing.photo import transfer
+from sdn3d.editing.photo.recolor import ground_in_mask, recolor_pixels, srgb_to_lab
+from sdn3d.editing.photo.settings import INPUT, RECOLORED
+from sdn3d.meshes.parts import Part
+
+pytestmark = pytest.mark.usefixtures("one_torch_thread")
+
+ROAD = (0.60, 0.58, 0.47)  # lit asphalt, yellowish (L* about 62 as on the real frame)
+
+
+def _black_car_on_road() -> tuple[torch.Tensor, torch.Tensor, dict[str, torch.Tensor]]:
+    """``(image (3, 60, 80), mask (60, 80), regions)``: a black car (paint L* 3-6, a near-black sill line) whose mask
+    also holds the car's shadow on the road under its sills (L* about 9, as light as black paint) and a corner of lit
+    road; the shadow goes on outside the mask below it, as a box's mask cuts it."""
+    gen = torch.Generator().manual_seed(0)
+    height, width = 60, 80
+    image = torch.tensor(ROAD)[:, None, None] * (1 + 0.03 * torch.randn(1, height, width, generator=gen))
+    rows = torch.arange(height)[:, None].expand(height, width)
+    cols = torch.arange(width)[None, :].expand(height, width)
+    body = (rows >= 10) & (rows < 34) & (cols >= 15) & (cols < 65)
+    paint = 0.035 + 0.015 * (rows.float() - 10) / 24
+    image = torch.where(body[None], paint[None].expand(3, -1, -1), image)
+    sill = (rows >= 34) & (rows < 36) & (cols >= 15) & (cols < 65)
+    image = torch.where(sill[None], torch.full_like(image, 0.02), image)
+    shadow = (rows >= 36) & (rows < 46) & (cols >= 12) & (cols < 68)
+    dark = torch.tensor([0.11, 0.11, 0.10])[:, None, None] * (1 + 0.02 * torch.randn(1, height, width, generator=gen))
+    image = torch.where(shadow[None], dark, image)
+    mask = (rows >= 10) & (rows < 42) & (cols >= 15) & (cols < 65)
+    lit = mask & (rows >= 36) & (cols < 21)  # lit road the mask took in at its corner
+    image = torch.where(lit[None], torch.tensor(ROAD)[:, None, None].expand(3, height, width), image)
+    image = image.clamp(0, 1)
+    return image, mask, {"body": body, "sill": sill, "road": mask & (rows >= 36)}
+
+
+def test_ground_in_mask_finds_the_shadow_and_lit_road_under_a_black_car():
+    image, mask, regions = _black_car_on_road()
+    ground = ground_in_mask(image, mask)
+    assert bool(ground[regions["road"]].float().mean() > 0.95)
+    assert not bool(ground[regions["body"] | regions["sill"]].any())
+    assert not bool(ground[~mask].any())
+
+
+def test_recolour_of_a_black_car_keeps_the_road_its_mask_took_in():
+    """Every pixel is the fitted mesh's body part (a loose fit): the road and shadow under the car keep their colour,
+    the paint turns blue."""
+    image, mask, regions = _black_car_on_road()
+    owner = torch.where(mask, 7, 0)
+    source = torch.full(mask.shape, INPUT, dtype=torch.uint8)
+    parts = torch.where(mask, int(Part.BODY), -1).to(torch.int8)
+    objects, warnings = {}, []
+    out, codes = transfer._recolor(image, source, owner, {7: (0.1, 0.25, 0.7)}, objects, warnings, parts)
+    road = regions["road"]
+    assert torch.equal(out[:, road], image[:, road]) and not bool((codes[road] == RECOLORED).any())
+    body = regions["body"]
+    lab = srgb_to_lab(out[:, body].T)
+    assert bool((codes[body] == RECOLORED).all()) and float(lab[:, 2].median()) < -30  # blue
+    # Without the rule the road under the car turns blue (what the real frame showed).
+    monkey = pytest.MonkeyPatch()
+    monkey.setattr(transfer, "ground_in_mask", lambda image, mask: torch.zeros_like(mask))
+    try:
+        leaked, _ = transfer._recolor(image, source, owner, {7: (0.1, 0.25, 0.7)}, {}, [], parts)
+    finally:
+        monkey.undo()
+    assert not torch.equal(leaked[:, road], image[:, road])
+
+
+def test_dark_paint_keeps_its_rims_and_grey_trim():
+    """A black body's pixels much lighter than its paint (a rim, a grey diffuser) are not repainted; a coloured
+    body's highlights still are."""
+    black = torch.full((200, 3), 0.04) * torch.linspace(0.8, 1.2, 200)[:, None]
+    rim = torch.full((40, 3), 0.45)  # L* about 47: grey metal
+    new, body, _ = recolor_pixels(torch.cat([black, rim]), (0.1, 0.25, 0.7), body_part=True)
+    assert bool(body[:200].all()) and not bool(body[200:].any())
+    assert torch.equal(new[200:], rim)
+    red = torch.tensor([[0.7, 0.08, 0.06]]) * torch.linspace(0.3, 1.0, 200)[:, None]
+    highlight = torch.tensor([[0.98, 0.55, 0.5]]).repeat(20, 1)
+    _, body, _ = recolor_pixels(torch.cat([red, highlight]), (0.1, 0.25, 0.7), body_part=True)
+    assert bool(body[200:].all())
+
+
+def test_a_turned_red_cars_never_seen_front_gets_head_lamps_where_cars_have_them(monkeypatch):
+    """A red car seen from behind (its red tail lamps cannot be told from its paint) turned by 180 degrees: its front
+    shows head lamps, near-white, not red (code ``default``), at both corners just below the belt line, where the
+    generator puts them; without the lamp band (``LAMP_BAND = None``) those pixels are the rear's red."""
+    import math
+
+    from sdn3d.editing.apply import apply_edits
+    from sdn3d.editing.ops import Rotate
+    from sdn3d.editing.photo.settings import DEFAULT
+    from sdn3d.editing.photo.transfer import render_photo
+    from tests.test_photo import FRAME, _scene
+    from tests.test_photo_parts import BEHIND, PARTS, _painted
+
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.7, 0.1, 0.1))
+    image[:, covered & ((parts == int(Part.GLASS)) | (parts == int(Part.TYRE)))] = 0.03  # clear air: black darks
+    edited = apply_edits(scene, [Rotate(12001, math.pi)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    lamps = (result.source == DEFAULT) & (result.parts == int(Part.BODY))
+    assert int(lamps.sum()) > 10
+    colour = result.image[:, lamps]
+    assert float((colour[0] - colour[1]).abs().max()) < 0.05 and float(colour[1].min()) > 0.2  # grey-white, not red
+    cols = lamps.nonzero()[:, 1].float()
+    car_cols = (result.parts >= 0).nonzero()[:, 1].float()
+    middle = 0.5 * (car_cols.min() + car_cols.max())
+    assert bool((cols < middle).any()) and bool((cols > middle).any())  # a lamp at each corner
+    monkeypatch.setattr(transfer, "LAMP_BAND", None)
+    plain = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    red = plain.image[:, lamps]
+    assert float((red[0] - red[1]).min()) > 0.3  # the rear's red there: no head lamps

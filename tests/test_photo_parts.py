@@ -462,3 +462,33 @@ def test_glass_seen_from_a_new_angle_takes_the_change_of_its_reflection():
         assert int(drawn.sum()) > 100
         errors.append(float((result.image - truth).abs().mean(0)[drawn].mean()))
     assert errors[0] < 0.2 * errors[1], errors
+
+
+def test_a_small_far_car_in_fog_gets_hazed_defaults_not_black(monkeypatch):
+    """A far car seen from behind through fog (48 visible pixels, fewer than the 50 the air was read off before)
+    turned by 90 degrees: its never-seen windows and tyres (code ``default``) are drawn through its air, light grey
+    as the fogged car looks, not near black (issue 40, Table 1's rotate kind: such cars lost up to 10 dB to the 2D
+    paste on the tuning trees' rain frames). The air is read off all the car's visible pixels, not only the part
+    examples seen squarely."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.transfer import PhotoSource, _part_examples
+
+    far = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2, location=(-1.0, 1.6, 30.0))
+    scene = _scene([far])
+    image, covered, parts = _painted(scene, (0.6, 0.3, 0.2))
+    image[:, covered & (parts == int(Part.GLASS))] = 0.05
+    image[:, covered & (parts == int(Part.TYRE))] = 0.04
+    fog = 0.3 * image + 0.7 * 0.75  # the darkest pixel of the car is 0.54 here
+    src = PhotoSource(fog, FRAME, scene, settings=PARTS)
+    visible = (src.vis_ids.view(-1) == 12001).nonzero().flatten()
+    assert transfer.AIR_MIN_PIXELS <= len(visible) < 50
+    img_flat = fog.permute(1, 2, 0).reshape(-1, 3).double()
+    _, seen_colors = _part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat, PARTS)
+    assert len(seen_colors) == len(visible)
+    edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
+    result = render_photo(fog, FRAME, scene, edited, settings=PARTS)
+    default = result.source == DEFAULT
+    assert int(default.sum()) > 20 and float(result.image[:, default].mean()) > 0.45
+    monkeypatch.setattr(transfer, "AIR_MIN_PIXELS", 50)  # the air not read off: the defaults as they are, near black
+    black = render_photo(fog, FRAME, scene, edited, settings=PARTS)
+    assert float(black.image[:, black.source == DEFAULT].mean()) < 0.15

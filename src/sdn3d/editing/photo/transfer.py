@@ -1324,21 +1324,29 @@ CLEAR_RANGE = (0.05, 0.85)
 CLEAR_DARKS = 0.15
 
 
-def _clear_air(colors: Tensor, min_pixels: int = 50) -> bool:
+#: :func:`_clear_air` and :func:`seen_through_the_air` read a car's air off at least this many of its visible pixels
+#: (fewer: the defaults stay as they are, no other car's part is taken). At 50 a far car in rain, 30-50 visible
+#: pixels, kept near-black windows and tyres on the side a turn showed (tuning trees 31 and 35, Table 1's rotate
+#: kind on ground-truth masks; 16 and 30 drew the same pictures there: docs/results/2026-11-29_cpu/session9/t1rotate/).
+AIR_MIN_PIXELS = 16
+
+
+def _clear_air(colors: Tensor, min_pixels: int | None = None) -> bool:
     """Whether a car whose visible pixels are ``colors (Q, 3)`` is seen through clear air: its darkest pixels are
-    near black (:data:`CLEAR_DARKS`); False with fewer than ``min_pixels`` pixels."""
-    if len(colors) < min_pixels:
+    near black (:data:`CLEAR_DARKS`); False with fewer than ``min_pixels`` (None: :data:`AIR_MIN_PIXELS`) pixels."""
+    if len(colors) < (AIR_MIN_PIXELS if min_pixels is None else min_pixels):
         return False
     luma = luminance(colors)
     return float(torch.quantile(luma, 0.05)) <= CLEAR_DARKS
 
 
-def seen_through_the_air(defaults: Tensor, colors: Tensor, min_pixels: int = 50) -> Tensor:
+def seen_through_the_air(defaults: Tensor, colors: Tensor, min_pixels: int | None = None) -> Tensor:
     """``(P, 3)`` default part colours as the same car's visible pixels ``colors (Q, 3)`` show the air between it and
     the camera: fog or haze lifts the darks and compresses the range (``observed = t albedo + (1 - t) A``), so ``t``
     is the car's observed 5-95 % luminance range over :data:`CLEAR_RANGE`'s (at most 1) and the air's share is read
     off its darkest pixels. In clear air (a range as wide as the clear one, darks near black) the defaults stay as
-    they are; under fog a never-seen window is drawn grey, as the fogged car's own windows look, not black.
+    they are; under fog a never-seen window is drawn grey, as the fogged car's own windows look, not black. With
+    fewer than ``min_pixels`` colours (None: :data:`AIR_MIN_PIXELS`) the defaults stay as they are.
 
     >>> clear = torch.tensor([[0.05, 0.05, 0.05]] * 60 + [[0.85, 0.85, 0.85]] * 60, dtype=torch.float64)
     >>> glass = torch.tensor([[0.10, 0.12, 0.15]], dtype=torch.float64)
@@ -1348,7 +1356,7 @@ def seen_through_the_air(defaults: Tensor, colors: Tensor, min_pixels: int = 50)
     >>> [round(v, 3) for v in seen_through_the_air(glass, fog)[0].tolist()]
     [0.475, 0.48, 0.487]
     """
-    if len(colors) < min_pixels:
+    if len(colors) < (AIR_MIN_PIXELS if min_pixels is None else min_pixels):
         return defaults
     luma = luminance(colors)
     lo, hi = torch.quantile(luma, torch.tensor([0.05, 0.95], dtype=colors.dtype))
@@ -1382,15 +1390,18 @@ def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor)
 
 def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable, src: _Raster, parts_src: Tensor,
                    img_flat: Tensor, settings: PhotoSettings) -> tuple[_PartExamples, Tensor]:
-    """The examples of the car of ``before`` row ``b`` (source mesh ``s_mesh``) among its ``visible_px``, and all
-    their colours before the filters (for :func:`seen_through_the_air`). Kept: pixels seen squarely enough
-    (``min_view_cos``); body examples that are paint (:func:`~sdn3d.editing.photo.recolor.body_paint`: a tail lamp
-    or a window that a loosely fitted mesh calls body painted a red or black stripe along a whole new side); tyre
-    examples darker than most of the car (:data:`TYRE_QUANTILE`)."""
+    """The examples of the car of ``before`` row ``b`` (source mesh ``s_mesh``) among its ``visible_px``, and the
+    colours of all its ``visible_px`` (the air it is seen through, :func:`seen_through_the_air` and
+    :func:`_clear_air`: fog lifts every pixel of the car, whichever way it faces and whatever the template covers;
+    the examples alone left a small far car, 30-50 of them, under those functions' 50 and its unseen windows and
+    tyres near black in rain). Kept as examples: pixels seen squarely enough (``min_view_cos``); body examples that
+    are paint (:func:`~sdn3d.editing.photo.recolor.body_paint`: a tail lamp or a window that a loosely fitted mesh
+    calls body painted a red or black stripe along a whole new side); tyre examples darker than most of the car
+    (:data:`TYRE_QUANTILE`)."""
+    seen_colors = img_flat[visible_px]
     ex = visible_px[(src.frags.pix_to_mesh.view(-1)[visible_px] == s_mesh) & (parts_src[visible_px] >= 0)]
     if not len(ex):
-        none = _no_examples()
-        return none, none.color
+        return _no_examples(), seen_colors
     _, vid, bary, normal = _surface(src, ex)
     tri = src.verts[torch.full((len(ex),), s_mesh, dtype=torch.long)[:, None], vid]
     point = (bary[..., None] * tri).sum(1)
@@ -1409,7 +1420,7 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
         luma = luminance(colors)
         keep[tyre_ex[luma[tyre_ex] > torch.quantile(luma, TYRE_QUANTILE)]] = False
     kept = _PartExamples(ex_part[keep], colors[keep], _part_features(before, b, point[keep], normal[keep]), cos[keep])
-    return kept, colors
+    return kept, seen_colors
 
 
 def _no_examples() -> _PartExamples:

@@ -13,7 +13,7 @@ from sdn3d.editing.photo.occluders import _extend_upright, _strips, thin_occlude
 from sdn3d.editing.photo.recolor import srgb_to_lab
 from sdn3d.editing.photo.road import _along, _gather, _trace, ab_length, road_colours, road_like
 from sdn3d.editing.photo.transfer import PhotoSource, _erode_ids, _first_true, _pyramid, render_photo
-from sdn3d.image_ops import ids_present, isin_ids
+from sdn3d.image_ops import dilate_square, ids_present, isin_ids
 from tests.test_photo import CAR, FAR_CAR, FRAME, INPUT_SIZE, _scene
 
 
@@ -243,3 +243,39 @@ def test_into_original_converts_only_the_changed_box_as_the_whole_picture_did():
         got = _into_original(out, changed, original)
         assert got.dtype == original.dtype and torch.equal(got, want)
         assert torch.equal(_into_original(out, torch.zeros_like(changed), original), original)
+
+
+# Session 9 (docs/results/2026-11-29_cpu/session9/rotcost/): the rotate edit's cost.
+
+
+def _dilate_by_opencv(mask, radius):
+    """dilate_square as it was: OpenCV's dilation by the whole square at every radius."""
+    import cv2
+    import numpy as np
+
+    if radius <= 0 or not bool(mask.any()):
+        return mask
+    kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
+    return torch.from_numpy(cv2.dilate(mask.numpy().astype(np.uint8), kernel) > 0)
+
+
+def test_dilate_square_by_running_counts_is_opencvs_dilation(monkeypatch):
+    import sdn3d.image_ops as image_ops
+
+    g = torch.Generator().manual_seed(9)
+    masks = [torch.rand(h, w, generator=g) < p for h, w, p in ((40, 90, 0.002), (37, 53, 0.05), (1, 30, 0.2),
+                                                              (25, 1, 0.3), (60, 70, 0.6))]
+    masks.append(torch.zeros(20, 30, dtype=torch.bool))
+    corner = torch.zeros(50, 80, dtype=torch.bool)
+    corner[0, 79] = corner[49, 0] = corner[20, 40] = True  # on the picture's edges and inside
+    masks.append(corner)
+    for threshold in (image_ops.DILATE_COUNTS_MIN, 0):  # 0: the counts at every radius
+        monkeypatch.setattr(image_ops, "DILATE_COUNTS_MIN", threshold)
+        for mask in masks:
+            for radius in (0, 1, 2, 5, 17, 49, 64, 79, 200):
+                assert torch.equal(dilate_square(mask, radius), _dilate_by_opencv(mask, radius)), (mask.shape, radius)
+    monkeypatch.setattr(image_ops, "DILATE_COUNTS_MIN", 48)
+    big = torch.zeros(375, 1242, dtype=torch.bool)
+    big[150:300, 500:700] = torch.rand(150, 200, generator=g) < 0.9
+    for radius in (49, 300, 1016):  # a car's hole grown by the radii the rays' fill uses at 1242x375
+        assert torch.equal(dilate_square(big, radius), _dilate_by_opencv(big, radius))

@@ -463,3 +463,28 @@ def test_road_haze_with_its_band_sliced_first_is_the_fit_it_was():
             assert (got is None) == (want is None) and (got is None or torch.equal(got, want))
             fits += want is not None
     assert fits >= 2
+
+
+def _lab_as_it_was(rgb):
+    from sdn3d.editing.photo.recolor import _RGB_TO_XYZ, _WHITE
+
+    image = rgb.float().clamp(0, 1).T[:, :, None]
+    lin = torch.where(image > 0.04045, torch.pow(((image + 0.055).clamp(min=0.0) / 1.055), 2.4), image / 12.92)
+    xyz = torch.einsum("oi, ...ihw -> ...ohw", torch.tensor(_RGB_TO_XYZ, dtype=lin.dtype), lin)
+    xyz = torch.div(xyz, torch.tensor(_WHITE, dtype=xyz.dtype)[..., :, None, None])
+    f = torch.where(xyz > 0.008856, torch.pow(xyz.clamp(min=0.008856), 1 / 3.0), 7.787 * xyz + 4.0 / 29.0)
+    x, y, z = f[..., 0, :, :], f[..., 1, :, :], f[..., 2, :, :]
+    return torch.stack([(116.0 * y) - 16.0, 500.0 * (x - y), 200.0 * (y - z)], dim=-3)[:, :, 0].T
+
+
+def test_lab_with_operations_in_place_is_the_lab_it_was_in_every_layout():
+    g = torch.Generator().manual_seed(10)
+    picture = torch.rand(3, 70, 130, generator=g) * 1.2 - 0.1  # out of range too: clamped
+    layouts = [torch.rand(n, 3, generator=g) for n in (1, 5, 17, 33, 1001)]
+    layouts += [picture.permute(1, 2, 0).reshape(-1, 3),  # road_like's box, a view of channel-major rows
+                picture[:, 3:61, 7:120].permute(1, 2, 0).reshape(-1, 3),
+                picture.reshape(3, -1)[:, :977, None].permute(1, 2, 0).reshape(-1, 3),  # _matched_weight's pixels
+                picture[:, picture[0] > 0.5].T.contiguous(), picture.double().reshape(3, -1).T[:500]]
+    for rgb in layouts:
+        got, want = srgb_to_lab(rgb), _lab_as_it_was(rgb)
+        assert torch.equal(got, want) and got.stride() == want.stride()

@@ -193,6 +193,7 @@ def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tenso
     distance = steps[:1].expand(len(pix)).clone()
     found = torch.zeros(len(pix), dtype=torch.bool)
     active = torch.arange(len(pix))
+    px, py, ux, uy = pix[:, :1], pix[:, 1:], unit[:, :1], unit[:, 1:]
     start = 0
     for block in _trace_blocks(len(steps)):
         st = steps[start:start + block]
@@ -201,11 +202,11 @@ def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tenso
             active = active[limit[active] >= st[0]]  # steps increase: a ray past its limit finds nothing more
         if not len(active):
             break
-        p, u = pix[active], unit[active]
-        x = (p[:, :1] + st[None] * u[:, :1]).round()  # (A, B): as (p + st * u).round() per coordinate
-        y = (p[:, 1:] + st[None] * u[:, 1:]).round()
-        if exact:  # integers below 2^24: the index is exact in float
-            ok = padded[((y + margin) * row + (x + margin)).long()]
+        # (A, B): as (p + st * u).round() per coordinate (a product, then a sum: no fused multiply-add), in place
+        x = (st * ux[active]).add_(px[active]).round_()
+        y = (st * uy[active]).add_(py[active]).round_()
+        if exact:  # integers below 2^24: the index is exact in float, whatever the order of its sums
+            ok = padded[y.mul_(row).add_(x).add_(margin * row + margin).long()]
         else:
             ok = padded[(y.long() + margin) * int(row) + (x.long() + margin)]
         if limit is not None:

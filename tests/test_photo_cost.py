@@ -488,3 +488,17 @@ def test_lab_with_operations_in_place_is_the_lab_it_was_in_every_layout():
     for rgb in layouts:
         got, want = srgb_to_lab(rgb), _lab_as_it_was(rgb)
         assert torch.equal(got, want) and got.stride() == want.stride()
+
+
+def test_part_map_at_covered_pixels_is_the_whole_maps_there():
+    from sdn3d.editing.photo.transfer import _part_map
+
+    scene = _scene([CAR, FAR_CAR])
+    original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(2))
+    source = PhotoSource(original, FRAME, scene)
+    covered = (source.raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+    assert len(covered) > 100
+    for at in (covered, covered[::7].flip(0), covered[:0]):
+        got = _part_map(source.raster, scene.objects, source.bank, at)
+        assert got.dtype == torch.long and torch.equal(got, source.parts[at])
+    assert len(set(source.parts[covered].tolist())) >= 3  # several parts looked up

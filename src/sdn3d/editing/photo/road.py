@@ -523,13 +523,11 @@ def _along(image: Tensor, valid: Tensor, start: Tensor, unit: Tensor, span: int)
     ok = (x >= 0) & (x < width) & (y >= 0) & (y < height) & valid.reshape(-1)[
         y.clamp(0, height - 1) * width + x.clamp(0, width - 1)]
     ok[:n] = True
-    samples = _gather(image, q)  # (3, span * N)
+    samples = _gather(image, q).mul_(ok)  # (3, span * N), each point's term (0 where not valid)
     total = torch.zeros(3, n)
-    count = torch.zeros(n)
     for k in range(span):
-        at = slice(k * n, (k + 1) * n)
-        total += samples[:, at] * ok[at]
-        count += ok[at]
+        total += samples[:, k * n:(k + 1) * n]
+    count = ok.view(span, n).sum(0)  # whole numbers: exact in any order
     return total / count.clamp(min=1)
 
 

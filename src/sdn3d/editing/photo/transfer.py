@@ -221,17 +221,24 @@ def _raster_ids(r: _Raster, objects: ObjectTable) -> Tensor:
     return torch.where(mesh >= 0, objects.instance_id[r.rows[mesh.clamp(min=0)]], torch.zeros_like(mesh))
 
 
-def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank) -> Tensor:
-    """``(H * W,)`` long :class:`~sdn3d.meshes.parts.Part` of the face rasterized at each pixel of ``r`` (-1: none)."""
+def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank, at: Tensor | None = None) -> Tensor:
+    """``(H * W,)`` long :class:`~sdn3d.meshes.parts.Part` of the face rasterized at each pixel of ``r`` (-1: none);
+    with ``at (P,)`` flat indices of covered pixels, ``(P,)`` the same at those pixels alone."""
     face = r.frags.pix_to_face.view(-1)
-    out = torch.full_like(face, -1, dtype=torch.long)
-    pix = (face >= 0).nonzero().flatten()
-    if not len(pix):
-        return out
+    if at is None:
+        out = torch.full_like(face, -1, dtype=torch.long)
+        pix = (face >= 0).nonzero().flatten()
+        if not len(pix):
+            return out
+    else:
+        pix = at
     mesh = r.frags.pix_to_mesh.view(-1)[pix]
     local = face[pix] - mesh * r.faces.shape[1]
     parts = bank.face_parts.cpu()
-    out[pix] = parts[objects.template_id[r.rows[mesh]], local.clamp(max=parts.shape[1] - 1)]
+    found = parts[objects.template_id[r.rows[mesh]], local.clamp(max=parts.shape[1] - 1)]
+    if at is not None:
+        return found.long()  # as the long map's entries
+    out[pix] = found
     return out
 
 
@@ -1104,7 +1111,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     fallback = torch.zeros_like(color)
     codes = torch.where(ok_photo, PHOTO, torch.where(ok_mirror, MIRROR, FALLBACK)).to(torch.uint8)
     img_flat = image.permute(1, 2, 0).reshape(-1, 3).double()
-    t_part = _part_map(tgt, after, bank)[pix]
+    t_part = _part_map(tgt, after, bank, pix)
     by_parts = settings.unseen == "parts"
     drawn_rows = row.unique()
     drawn = torch.ones(len(pix), dtype=torch.bool)  # False: left to the fill (amodal='seen')

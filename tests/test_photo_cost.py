@@ -521,3 +521,20 @@ def test_part_examples_read_from_the_float32_view_are_those_of_the_float64_copy(
         assert len(want[0].part) > 50 and want[1].dtype == torch.float64
         for x, y in zip((*got[0], got[1]), (*want[0], want[1]), strict=True):
             assert x.dtype == y.dtype and torch.equal(x, y)
+
+
+def test_surface_points_selected_are_those_computed_on_the_selected_pixels():
+    from sdn3d.editing.photo.transfer import _surface, _surface_points
+
+    scene = _scene([CAR, FAR_CAR])
+    original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(4))
+    raster = PhotoSource(original, FRAME, scene).raster
+    pix = (raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+    mesh, vid, bary, normal, tri, point = _surface_points(raster, pix)
+    assert all(torch.equal(a, b) for a, b in zip(_surface(raster, pix), (mesh, vid, bary, normal), strict=True))
+    g = torch.Generator().manual_seed(5)
+    for k in (torch.arange(len(pix)), (torch.rand(len(pix), generator=g) < 0.37).nonzero().flatten(),
+              torch.arange(len(pix) - 5, len(pix))):
+        want_tri = raster.verts[mesh[k][:, None], vid[k]]  # as _draw and _part_examples computed them after selecting
+        assert torch.equal(tri[k], want_tri)
+        assert torch.equal(point[k], (bary[k][..., None] * want_tri).sum(1))

@@ -538,3 +538,15 @@ def test_surface_points_selected_are_those_computed_on_the_selected_pixels():
         want_tri = raster.verts[mesh[k][:, None], vid[k]]  # as _draw and _part_examples computed them after selecting
         assert torch.equal(tri[k], want_tri)
         assert torch.equal(point[k], (bary[k][..., None] * want_tri).sum(1))
+
+
+def test_column_median_is_torch_median():
+    from sdn3d.editing.photo import road as rd
+
+    g = torch.Generator().manual_seed(11)
+    for n in (1, 2, 7, 8192, 8193, 12000):
+        for x in (torch.rand(n, 3, generator=g), torch.randint(0, 5, (n, 2), generator=g).float(),  # many ties
+                  srgb_to_lab(torch.rand(n, 3, generator=g))[:, 1:], torch.randn(n, 3, generator=g).double()):
+            got = rd._column_median(x)
+            assert got.dtype == x.dtype and torch.equal(got, x.median(0).values), (n, x.dtype)
+    assert rd.MEDIAN_NUMPY_MIN <= 8193  # the NumPy path was tested

@@ -610,9 +610,22 @@ def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor
     ref = ab[ab_length(ab) < 2 * tolerance]
     if len(ref) < 30:
         return None
-    mid = ref.median(0).values
+    mid = _column_median(ref)
     near = ab_length(ab - mid) < tolerance
-    return lab[near].median(0).values if int(near.sum()) >= 30 else None
+    return _column_median(lab[near]) if int(near.sum()) >= 30 else None
+
+
+#: :func:`_column_median` selects with NumPy from this many rows on (torch's median is faster below, slower above).
+MEDIAN_NUMPY_MIN = 8192
+
+
+def _column_median(x: Tensor) -> Tensor:
+    """``(C,)`` ``x.median(0).values`` of a NaN-free ``x (N, C)``, ``N >= 1``: the lower middle element of each column,
+    selected by NumPy's partition from :data:`MEDIAN_NUMPY_MIN` rows on (twice as fast there)."""
+    if len(x) < MEDIAN_NUMPY_MIN or x.requires_grad or x.device.type != "cpu":
+        return x.median(0).values
+    k = (len(x) - 1) // 2
+    return torch.from_numpy(np.partition(x.numpy(), k, axis=0)[k].copy())
 
 
 def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: float = 0.0,

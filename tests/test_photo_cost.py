@@ -550,3 +550,43 @@ def test_column_median_is_torch_median():
             got = rd._column_median(x)
             assert got.dtype == x.dtype and torch.equal(got, x.median(0).values), (n, x.dtype)
     assert rd.MEDIAN_NUMPY_MIN <= 8193  # the NumPy path was tested
+
+
+def test_row_spans_combined_column_by_column_are_the_reductions_they_replaced():
+    from sdn3d.render.rasterize import _INSIDE_EPS, _row_spans
+
+    g = torch.Generator().manual_seed(12)
+    n = 5000
+    a, b, c = (torch.randn(n, 3, generator=g, dtype=torch.float64) for _ in range(3))
+    a[torch.rand(n, 3, generator=g) < 0.2] = 0.0  # edges parallel to the rows
+    a[:50] = 0.0
+    b[:50] = 0.0
+    c[:25] = -1.0  # no edge bounds u: feasible
+    c[25:50] = 1.0  # infeasible on every row
+    rows = torch.randint(-5, 40, (n,), generator=g).double()
+    c *= 30.0
+    for width in (1, 37, 1242):
+        rhs = -_INSIDE_EPS - b * rows.unsqueeze(1) - c  # _row_spans as it was
+        bound = rhs / torch.where(a == 0, torch.ones_like(a), a)
+        inf = torch.full_like(bound, float("inf"))
+        lower = torch.where(a > 0, bound, -inf).amax(1).clamp(-1.0, width)
+        upper = torch.where(a < 0, bound, inf).amin(1).clamp(-1.0, width)
+        feasible = torch.where(a == 0, rhs <= 0, torch.ones_like(a, dtype=torch.bool)).all(1)
+        first = torch.ceil(lower).clamp(min=0).long()
+        count = (torch.floor(upper).clamp(max=width - 1).long() - first + 1).clamp(min=0) * feasible
+        got = _row_spans(a, b, c, rows, width)
+        assert torch.equal(got[0], first) and torch.equal(got[1], count)
+        assert bool((count > 0).any()) and bool((count == 0).any()) and int(feasible.sum()) < n
+
+
+def test_raster_ids_from_a_table_are_the_where_they_replaced():
+    from sdn3d.editing.photo.transfer import _raster_ids
+
+    scene = _scene([CAR, FAR_CAR])
+    original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(6))
+    raster = PhotoSource(original, FRAME, scene).raster
+    mesh = raster.frags.pix_to_mesh[0]
+    want = torch.where(mesh >= 0, scene.objects.instance_id[raster.rows[mesh.clamp(min=0)]], torch.zeros_like(mesh))
+    got = _raster_ids(raster, scene.objects)
+    assert got.dtype == want.dtype and torch.equal(got, want)
+    assert len(got.unique()) == 3  # both cars and no car

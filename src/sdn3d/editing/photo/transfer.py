@@ -218,7 +218,9 @@ def _raster_ids(r: _Raster, objects: ObjectTable) -> Tensor:
     mesh = r.frags.pix_to_mesh[0]
     if not len(r.rows):
         return torch.zeros_like(mesh)
-    return torch.where(mesh >= 0, objects.instance_id[r.rows[mesh.clamp(min=0)]], torch.zeros_like(mesh))
+    # a table of the meshes' ids after a 0 for "none" (mesh -1), looked up once per pixel
+    ids = objects.instance_id[r.rows].to(torch.promote_types(objects.instance_id.dtype, mesh.dtype))
+    return torch.cat([ids.new_zeros(1), ids])[mesh + 1]
 
 
 def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank, at: Tensor | None = None) -> Tensor:

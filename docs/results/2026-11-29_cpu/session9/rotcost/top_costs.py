@@ -1,5 +1,6 @@
 # ruff: noqa: E402, E501, E701, E702
-"""top_costs.py DATA OUT.md [LABEL]: where the photo path's time goes (cProfile, cumulative seconds per edit, 1 thread,
+"""top_costs.py DATA OUT.md [LABEL]: where the photo path's time goes (cProfile timed by the process's CPU time, not the
+wall clock: on a loaded machine the wall time of each step grows with the load; cumulative ms per edit, 1 thread,
 fresh source state per edit) for each edit kind of the latency tree DATA, with the code on PYTHONPATH; a markdown
 table of the main steps (a step's time includes the steps it calls; cProfile adds its own overhead)."""
 import cProfile
@@ -36,7 +37,7 @@ if __name__ == "__main__":
     kinds = sorted({c[0] for c in cs})
     table = {}; n = {}; cpu = {}
     for kind in kinds:
-        pr = cProfile.Profile(); c0 = time.process_time()
+        pr = cProfile.Profile(time.process_time); c0 = time.process_time()
         for k, scene, edited, original in cs:
             if k != kind: continue
             n[kind] = n.get(kind, 0) + 1
@@ -47,7 +48,7 @@ if __name__ == "__main__":
             for f, fn, name in STEPS:
                 if file.endswith(f) and func == fn and ("sdn3d" in file):
                     table.setdefault(name, {})[kind] = table.get(name, {}).get(kind, 0.0) + ct / n[kind]
-    lines = [f"cumulative ms per edit under cProfile ({label}; lat3, fresh source state, 1 thread)", "",
+    lines = [f"cumulative CPU ms per edit under cProfile ({label}; lat3, fresh source state, 1 thread)", "",
              "| step | " + " | ".join(f"{k} ({n[k]})" for k in kinds) + " |", "|---|" + "---|" * len(kinds)]
     for _, _, name in STEPS:
         lines.append(f"| {name} | " + " | ".join(f"{1000 * table.get(name, {}).get(k, 0.0):.0f}" for k in kinds) + " |")

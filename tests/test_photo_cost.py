@@ -504,25 +504,6 @@ def test_part_map_at_covered_pixels_is_the_whole_maps_there():
     assert len(set(source.parts[covered].tolist())) >= 3  # several parts looked up
 
 
-def test_part_examples_read_from_the_float32_view_are_those_of_the_float64_copy():
-    from sdn3d.editing.photo.settings import PhotoSettings
-    from sdn3d.editing.photo.transfer import _part_examples
-
-    scene = _scene([CAR, FAR_CAR])
-    original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(3))
-    source = PhotoSource(original, FRAME, scene)
-    settings = PhotoSettings()
-    for b, iid in enumerate(scene.objects.instance_id.tolist()):
-        visible = (source.vis_ids.view(-1) == iid).nonzero().flatten()
-        args = (b, b, visible, scene.objects, source.raster, source.parts)
-        view = source.image.permute(1, 2, 0).reshape(-1, 3)  # what _draw passes now
-        got = _part_examples(*args, view, settings)
-        want = _part_examples(*args, view.double(), settings)  # the float64 copy it passed before
-        assert len(want[0].part) > 50 and want[1].dtype == torch.float64
-        for x, y in zip((*got[0], got[1]), (*want[0], want[1]), strict=True):
-            assert x.dtype == y.dtype and torch.equal(x, y)
-
-
 def test_surface_points_selected_are_those_computed_on_the_selected_pixels():
     from sdn3d.editing.photo.transfer import _surface, _surface_points
 

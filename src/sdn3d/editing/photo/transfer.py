@@ -1117,7 +1117,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     surface_shade = shade if shade is not None else _unshaded
     fallback = torch.zeros_like(color)
     codes = torch.where(ok_photo, PHOTO, torch.where(ok_mirror, MIRROR, FALLBACK)).to(torch.uint8)
-    img_flat = image.permute(1, 2, 0).reshape(-1, 3)  # (H*W, 3), a view: the pixels read are made float64
+    img_flat = image.permute(1, 2, 0).reshape(-1, 3).double()
     t_part = _part_map(tgt, after, bank, pix)
     by_parts = settings.unseen == "parts"
     drawn_rows = row.unique()
@@ -1161,7 +1161,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         name = int(after.instance_id[r])
         visible_px = visible_of(int(before.instance_id[b])) if b >= 0 else pix[:0]
         if len(visible_px):
-            colors = img_flat[visible_px].double()
+            colors = img_flat[visible_px]
             if src_normals is not None:
                 s = surface_shade(src_normals[visible_px]).clamp(min=0.2)
                 colors = colors / s[:, None]
@@ -1390,8 +1390,7 @@ def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor)
 def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable, src: _Raster, parts_src: Tensor,
                    img_flat: Tensor, settings: PhotoSettings) -> tuple[_PartExamples, Tensor]:
     """The examples of the car of ``before`` row ``b`` (source mesh ``s_mesh``) among its ``visible_px``, and all
-    their colours (``img_flat (H*W, 3)``: the input's pixels, read as float64) before the filters (for
-    :func:`seen_through_the_air`). Kept: pixels seen squarely enough
+    their colours before the filters (for :func:`seen_through_the_air`). Kept: pixels seen squarely enough
     (``min_view_cos``); body examples that are paint (:func:`~sdn3d.editing.photo.recolor.body_paint`: a tail lamp
     or a window that a loosely fitted mesh calls body painted a red or black stripe along a whole new side); tyre
     examples darker than most of the car (:data:`TYRE_QUANTILE`)."""
@@ -1399,11 +1398,13 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     if not len(ex):
         none = _no_examples()
         return none, none.color
-    _, _, _, normal, _, point = _surface_points(src, ex)  # every ex is on mesh s_mesh
+    _, vid, bary, normal = _surface(src, ex)
+    tri = src.verts[torch.full((len(ex),), s_mesh, dtype=torch.long)[:, None], vid]
+    point = (bary[..., None] * tri).sum(1)
     cos = _view_cos(point, normal)
     good = cos >= settings.min_view_cos
     ex, point, normal, cos = ex[good], point[good], normal[good], cos[good]
-    colors = img_flat[ex].double()
+    colors = img_flat[ex]
     ex_part = parts_src[ex]
     keep = torch.ones(len(ex), dtype=torch.bool)
     body_ex = (ex_part == int(Part.BODY)).nonzero().flatten()

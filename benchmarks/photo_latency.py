@@ -56,6 +56,8 @@ def main() -> None:
                         help="NAME=SRC: another checkout's src directory, timed in the same run (repeatable)")
     parser.add_argument("--reuse-source", action="store_true",
                         help="one source state per source frame for all its edits (default: a fresh one per edit)")
+    parser.add_argument("--json", type=Path, default=None,
+                        help="also write every edit's kind, wall and CPU ms per fill (or code) to this JSON file")
     parser.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)  # a worker of --against
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
@@ -131,23 +133,26 @@ def main() -> None:
         for line in sys.stdin:
             print(json.dumps(one(int(line))), flush=True)
         return
+    edits: dict[str, list[tuple[str, float, float]]] = {f: [] for f in settings}
     for i in range(len(cases)):
         for fill, (kind, wall, used) in one(i).items():
             times[fill].setdefault(kind, []).append(wall)
             cpu[fill].setdefault(kind, []).append(used)
+            edits[fill].append((kind, wall, used))
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     state = "one source state per source frame" if args.reuse_source else "a fresh source state per edit"
     print(f"photo appearance latency: {len(cases)} edits of {root} drawn at {size[0]}x{size[1]} from {work[0]}x"
           f"{work[1]} oracle scenes, {args.threads} threads, CPU, {state}; fills timed side by side, same entries and "
           "order")
-    _table(times, cpu)
+    _table(times, cpu, args.json, edits)
     print(f"peak resident memory of this process: {peak:.0f} MiB")
     if tmp is not None:
         tmp.cleanup()
 
 
-def _table(times: dict[str, dict[str, list[float]]], cpu: dict[str, dict[str, list[float]]]) -> None:
-    print("| fill | kind | edits | median ms | p90 ms | median CPU ms |\n|---|---|---|---|---|---|")
+def _table(times: dict[str, dict[str, list[float]]], cpu: dict[str, dict[str, list[float]]],
+           out: Path | None = None, edits: dict[str, list[tuple[str, float, float]]] | None = None) -> None:
+    print("| fill | kind | edits | median ms | p90 ms | median CPU ms | p90 CPU ms |\n|---|---|---|---|---|---|---|")
     for fill, per_kind in times.items():
         every = [t for ts in per_kind.values() for t in ts]
         every_cpu = [t for ts in cpu[fill].values() for t in ts]
@@ -155,7 +160,9 @@ def _table(times: dict[str, dict[str, list[float]]], cpu: dict[str, dict[str, li
             used = every_cpu if kind == "all" else cpu[fill][kind]
             p90 = float(np.percentile(ts, 90))
             print(f"| {fill} | {kind} | {len(ts)} | {statistics.median(ts):.0f} | {p90:.0f} | "
-                  f"{statistics.median(used):.0f} |")
+                  f"{statistics.median(used):.0f} | {float(np.percentile(used, 90)):.0f} |")
+    if out is not None:  # every edit in order, for paired comparisons: {fill or code: [[kind, wall ms, CPU ms], ...]}
+        out.write_text(json.dumps(edits or {}, indent=1))
 
 
 def _compare(args: argparse.Namespace, root: Path) -> None:
@@ -173,6 +180,7 @@ def _compare(args: argparse.Namespace, root: Path) -> None:
     edits = {name: json.loads(w.stdout.readline())["edits"] for name, w in workers.items()}
     times: dict[str, dict[str, list[float]]] = {}
     cpu: dict[str, dict[str, list[float]]] = {}
+    each: dict[str, list[tuple[str, float, float]]] = {}
     for i in range(min(edits.values())):
         for name, w in workers.items():  # the codes take turns: the same load on both
             w.stdin.write(f"{i}\n")
@@ -180,6 +188,7 @@ def _compare(args: argparse.Namespace, root: Path) -> None:
             for fill, (kind, wall, used) in json.loads(w.stdout.readline()).items():
                 times.setdefault(f"{name}:{fill}", {}).setdefault(kind, []).append(wall)
                 cpu.setdefault(f"{name}:{fill}", {}).setdefault(kind, []).append(used)
+                each.setdefault(f"{name}:{fill}", []).append((kind, wall, used))
     for w in workers.values():
         w.stdin.close()
         w.wait()
@@ -187,7 +196,7 @@ def _compare(args: argparse.Namespace, root: Path) -> None:
     print(f"photo appearance latency: {min(edits.values())} edits of {root} at the input's size, {args.threads} "
           f"threads, CPU, {state}; codes {', '.join(f'{n}={s}' for n, s in codes)} in worker processes taking turns "
           "per edit")
-    _table(times, cpu)
+    _table(times, cpu, args.json, each)
 
 
 if __name__ == "__main__":

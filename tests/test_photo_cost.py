@@ -13,7 +13,7 @@ from sdn3d.editing.photo.occluders import _extend_upright, _strips, thin_occlude
 from sdn3d.editing.photo.recolor import srgb_to_lab
 from sdn3d.editing.photo.road import _along, _gather, _trace, ab_length, road_colours, road_like
 from sdn3d.editing.photo.transfer import PhotoSource, _erode_ids, _first_true, _pyramid, render_photo
-from sdn3d.image_ops import ids_present, isin_ids
+from sdn3d.image_ops import dilate_square, ids_present, isin_ids
 from tests.test_photo import CAR, FAR_CAR, FRAME, INPUT_SIZE, _scene
 
 
@@ -253,3 +253,331 @@ def test_into_original_converts_only_the_changed_box_as_the_whole_picture_did():
         got = _into_original(out, changed, original)
         assert got.dtype == original.dtype and torch.equal(got, want)
         assert torch.equal(_into_original(out, torch.zeros_like(changed), original), original)
+
+
+# Session 9 (docs/results/2026-11-29_cpu/session9/rotcost/): the rotate edit's cost.
+
+
+def _dilate_by_opencv(mask, radius):
+    """dilate_square as it was: OpenCV's dilation by the whole square at every radius."""
+    import cv2
+    import numpy as np
+
+    if radius <= 0 or not bool(mask.any()):
+        return mask
+    kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
+    return torch.from_numpy(cv2.dilate(mask.numpy().astype(np.uint8), kernel) > 0)
+
+
+def test_dilate_square_by_running_counts_is_opencvs_dilation(monkeypatch):
+    import sdn3d.image_ops as image_ops
+
+    g = torch.Generator().manual_seed(9)
+    masks = [torch.rand(h, w, generator=g) < p for h, w, p in ((40, 90, 0.002), (37, 53, 0.05), (1, 30, 0.2),
+                                                              (25, 1, 0.3), (60, 70, 0.6))]
+    masks.append(torch.zeros(20, 30, dtype=torch.bool))
+    corner = torch.zeros(50, 80, dtype=torch.bool)
+    corner[0, 79] = corner[49, 0] = corner[20, 40] = True  # on the picture's edges and inside
+    masks.append(corner)
+    for threshold in (image_ops.DILATE_COUNTS_MIN, 0):  # 0: the counts at every radius
+        monkeypatch.setattr(image_ops, "DILATE_COUNTS_MIN", threshold)
+        for mask in masks:
+            for radius in (0, 1, 2, 5, 17, 49, 64, 79, 200):
+                assert torch.equal(dilate_square(mask, radius), _dilate_by_opencv(mask, radius)), (mask.shape, radius)
+    monkeypatch.setattr(image_ops, "DILATE_COUNTS_MIN", 48)
+    big = torch.zeros(375, 1242, dtype=torch.bool)
+    big[150:300, 500:700] = torch.rand(150, 200, generator=g) < 0.9
+    for radius in (49, 300, 1016):  # a car's hole grown by the radii the rays' fill uses at 1242x375
+        assert torch.equal(dilate_square(big, radius), _dilate_by_opencv(big, radius))
+
+
+def _road_picture(height: int, width: int, seed: int) -> torch.Tensor:
+    """A grey road with grain, a green verge on the left, white dashes and a darker shade: road-like and not."""
+    g = torch.Generator().manual_seed(seed)
+    image = 0.45 + 0.04 * torch.randn(3, height, width, generator=g)
+    image[:, :, : width // 6] = torch.tensor([0.2, 0.5, 0.15])[:, None, None]
+    image[:, height // 2:, width // 2: width // 2 + 3] = 0.9
+    image[:, : height // 3, width // 3: width // 2] *= 0.5
+    return image.clamp(0, 1)
+
+
+def _road_like_as_it_was(image, road, tolerance=12.0, min_light=0.0, within=None):
+    out = torch.zeros(image.shape[1:], dtype=torch.bool)
+    y0, y1, x0, x1 = 0, image.shape[1], 0, image.shape[2]
+    if within is not None:
+        if not bool(within.any()):
+            return out
+        ys, xs = within.any(1).nonzero().flatten(), within.any(0).nonzero().flatten()
+        y0, y1, x0, x1 = int(ys[0]), int(ys[-1]) + 1, int(xs[0]), int(xs[-1]) + 1
+    crop = image[:, y0:y1, x0:x1]
+    lab = srgb_to_lab(crop.permute(1, 2, 0).reshape(-1, 3))
+    ok = (ab_length(lab[:, 1:] - road[1:]) < tolerance) & (lab[:, 0] >= min_light * road[0])
+    out[y0:y1, x0:x1] = ok.view(crop.shape[1:])
+    return out
+
+
+def test_road_colours_and_road_like_read_the_same_pixels_from_a_boxed_or_strided_picture():
+    from sdn3d.editing.photo.road import _box
+
+    image = _road_picture(60, 240, 3)
+    g = torch.Generator().manual_seed(4)
+    for step in (1, 3):  # road_haze reads every third column of a wide picture
+        img = image[:, :, ::step]
+        for p in (0.0, 0.001, 0.3, 1.0):
+            within = torch.rand(60, 240, generator=g)[:, ::step] < p
+            rows, cols = within.nonzero(as_tuple=True)
+            want = None if not len(rows) else (int(rows.min()), int(rows.max()) + 1, int(cols.min()),
+                                                int(cols.max()) + 1)
+            assert _box(within) == want
+            pix = img.permute(1, 2, 0).reshape(-1, 3)[within.reshape(-1)]  # road_colours' pixels as they were
+            lab = srgb_to_lab(pix) if len(pix) else None
+            road = road_colours(img, within)
+            if road is not None:
+                ref = lab[:, 1:][ab_length(lab[:, 1:]) < 24.0]
+                near = ab_length(lab[:, 1:] - ref.median(0).values) < 12.0
+                assert torch.equal(road, lab[near].median(0).values)
+            road = srgb_to_lab(torch.tensor([[0.45, 0.45, 0.45]]))[0] if road is None else road
+            for min_light in (0.0, 0.8):
+                assert torch.equal(road_like(img, road, min_light=min_light, within=within),
+                                   _road_like_as_it_was(img, road, min_light=min_light, within=within))
+    odd = image[:, :, :-1][:, :, ::3]  # 239 columns: the old row view of a strided ring failed here
+    ring = torch.ones(60, 239, dtype=torch.bool)[:, ::3]
+    assert road_colours(odd, ring) is not None
+
+
+def _matched_weight_as_it_was(image, valid, values, grains, ys, xs, default):
+    from sdn3d.editing.photo.road import GRAIN_WEIGHTS, _luma_laplacian
+
+    height, width = valid.shape
+    hole = torch.zeros_like(valid)
+    hole[ys, xs] = True
+    ring = dilate_square(hole, 40) & ~dilate_square(hole, 8) & valid
+    road = road_colours(image, ring)
+    if road is None:
+        return default
+    around = ring & road_like(image, road, within=ring)
+    if int(around.sum()) < 50:
+        return default
+    y0, y1 = max(int(ys.min()) - 41, 0), min(int(ys.max()) + 42, height)
+    x0, x1 = max(int(xs.min()) - 41, 0), min(int(xs.max()) + 42, width)
+    target = float(_luma_laplacian(image[:, y0:y1, x0:x1].float())[around[y0:y1, x0:x1]].mean())
+    inside = (~dilate_square(~hole, 1))[ys, xs]
+    if int(inside.sum()) < 50:
+        return default
+    iy, ix = ys[inside], xs[inside]
+    y0, y1 = max(int(iy.min()) - 1, 0), min(int(iy.max()) + 2, height)
+    x0, x1 = max(int(ix.min()) - 1, 0), min(int(ix.max()) + 2, width)
+    box = (ys >= y0) & (ys < y1) & (xs >= x0) & (xs < x1)
+    values, grains, ys, xs, inside = values[:, box], grains[:, box], ys[box], xs[box], inside[box]
+    crop = image[:, y0:y1, x0:x1].float().clone()
+    best, gap = default, math.inf
+    for w in GRAIN_WEIGHTS:
+        filled = (values + w * grains).clamp(0, 1)
+        crop[:, ys - y0, xs - x0] = filled
+        like = inside.clone()
+        like[inside] = road_like(filled[:, inside, None], road)[:, 0]
+        if int(like.sum()) < 50:
+            continue
+        level = float(_luma_laplacian(crop)[ys[like] - y0, xs[like] - x0].mean())
+        if abs(level - target) < gap:
+            best, gap = w, abs(level - target)
+    return best
+
+
+def test_matched_weight_from_the_holes_box_is_the_whole_pictures():
+    from sdn3d.editing.photo.road import _matched_weight
+
+    image = _road_picture(90, 200, 5)
+    g = torch.Generator().manual_seed(6)
+    picked = set()
+    for box in ((20, 60, 60, 130), (0, 30, 150, 200), (50, 90, 0, 70), (40, 48, 90, 98)):  # inside, on the edges
+        hole = torch.zeros(90, 200, dtype=torch.bool)
+        hole[box[0]:box[1], box[2]:box[3]] = torch.rand(box[1] - box[0], box[3] - box[2], generator=g) < 0.97
+        valid = ~hole
+        ys, xs = hole.nonzero(as_tuple=True)
+        values = image[:, ys, xs].flip(1) * 0.9 + 0.05  # a plausible smooth fill and its grain
+        for scale in (0.0, 0.01, 0.05, 0.2):
+            grains = scale * torch.randn(3, len(ys), generator=g)
+            want = _matched_weight_as_it_was(image, valid, values, grains, ys, xs, 1.0)
+            assert _matched_weight(image, valid, values, grains, ys, xs, 1.0) == want
+            picked.add(want)
+    assert len(picked) >= 3  # several weights chosen, the default among the others
+
+
+def _road_haze_as_it_was(image, valid, hole, horizon, airlight=0.25):
+    from sdn3d.editing.photo import road as rd
+
+    height, width = hole.shape
+    ys, xs = hole.nonzero(as_tuple=True)
+    extent = max(int(ys.max() - ys.min()), int(xs.max() - xs.min()), 20)
+    rows = torch.arange(height, dtype=torch.float32)
+    step = max(1, width // rd.HAZE_COLUMNS)
+    region = (dilate_square(hole, extent) & valid & (rows > horizon + 1)[:, None])[:, ::step]
+    image = image[:, :, ::step]
+    road = road_colours(image, region)
+    if road is None:
+        return None
+    like = region & road_like(image, road, within=region)
+    count = like.sum(1)
+    use = (count >= rd.HAZE_MIN_PIXELS).nonzero().flatten()
+    if len(use) < rd.HAZE_MIN_ROWS:
+        return None
+    cols = like.any(0).nonzero().flatten()
+    band = image[:, use][:, :, int(cols[0]):int(cols[-1]) + 1].float()
+    keep = like[use][:, int(cols[0]):int(cols[-1]) + 1]
+    med = torch.where(keep[None], band, torch.full_like(band, float("nan"))).nanmedian(2).values.double()
+    weight = count[use].double().sqrt()
+    depth = (rows[use].double() - horizon).clamp(min=1.0)
+    best, fit = math.inf, None
+    for k in rd.HAZE_DEPTHS:
+        x = torch.exp(-k / depth)
+        design = torch.stack([torch.ones_like(x), x], 1) * weight[:, None]
+        sol = torch.linalg.lstsq(design, (med * weight).T).solution
+        err = float(((design @ sol - (med * weight).T) ** 2).sum())
+        if err < best:
+            best, fit = err, (k, sol)
+    k, sol = fit
+    if float(sol[1].mean()) > 0:
+        return None
+    own = sol[0] + sol[1]
+    if float(own.min()) < -rd.HAZE_RANGE_SLACK or float(own.max()) > 1 + rd.HAZE_RANGE_SLACK:
+        return None
+    if airlight < 1:
+        band = max(2, height // rd.HAZE_FAR_ROWS)
+        far = (valid & ((rows - horizon).abs() <= band)[:, None])[:, ::step]
+        if int(far.sum()) < rd.HAZE_FAR_PIXELS:
+            return None
+        seen = image[:, far].double().median(1).values
+        if float((sol[0] - seen).abs().max()) > airlight:
+            return None
+    below = (rows.double() - horizon).clamp(min=1.0)
+    return (sol[0][:, None] + sol[1][:, None] * torch.exp(-k / below)[None]).float()
+
+
+def test_road_haze_with_its_band_sliced_first_is_the_fit_it_was():
+    from sdn3d.editing.photo.road import road_haze
+
+    g = torch.Generator().manual_seed(7)
+    fits = 0
+    for width in (160, 1200):  # 1200: every third column read
+        rows = torch.arange(96, dtype=torch.float32)[:, None]
+        road = 0.8 + (0.4 - 0.8) * torch.exp(-8.0 / (rows - 30.0).clamp(min=1.0))  # fog towards the horizon
+        image = (road.expand(96, width)[None].repeat(3, 1, 1) + 0.01 * torch.randn(3, 96, width, generator=g))
+        image[:, :31] = 0.8
+        image = image.clamp(0, 1)
+        hole = torch.zeros(96, width, dtype=torch.bool)
+        hole[26:60, width // 2 - 15: width // 2 + 15] = True
+        for airlight in (0.25, 1.0):
+            want = _road_haze_as_it_was(image, ~hole, hole, 30.0, airlight)
+            got = road_haze(image, ~hole, hole, 30.0, airlight)
+            assert (got is None) == (want is None) and (got is None or torch.equal(got, want))
+            fits += want is not None
+    assert fits >= 2
+
+
+def _lab_as_it_was(rgb):
+    from sdn3d.editing.photo.recolor import _RGB_TO_XYZ, _WHITE
+
+    image = rgb.float().clamp(0, 1).T[:, :, None]
+    lin = torch.where(image > 0.04045, torch.pow(((image + 0.055).clamp(min=0.0) / 1.055), 2.4), image / 12.92)
+    xyz = torch.einsum("oi, ...ihw -> ...ohw", torch.tensor(_RGB_TO_XYZ, dtype=lin.dtype), lin)
+    xyz = torch.div(xyz, torch.tensor(_WHITE, dtype=xyz.dtype)[..., :, None, None])
+    f = torch.where(xyz > 0.008856, torch.pow(xyz.clamp(min=0.008856), 1 / 3.0), 7.787 * xyz + 4.0 / 29.0)
+    x, y, z = f[..., 0, :, :], f[..., 1, :, :], f[..., 2, :, :]
+    return torch.stack([(116.0 * y) - 16.0, 500.0 * (x - y), 200.0 * (y - z)], dim=-3)[:, :, 0].T
+
+
+def test_lab_with_operations_in_place_is_the_lab_it_was_in_every_layout():
+    g = torch.Generator().manual_seed(10)
+    picture = torch.rand(3, 70, 130, generator=g) * 1.2 - 0.1  # out of range too: clamped
+    layouts = [torch.rand(n, 3, generator=g) for n in (1, 5, 17, 33, 1001)]
+    layouts += [picture.permute(1, 2, 0).reshape(-1, 3),  # road_like's box, a view of channel-major rows
+                picture[:, 3:61, 7:120].permute(1, 2, 0).reshape(-1, 3),
+                picture.reshape(3, -1)[:, :977, None].permute(1, 2, 0).reshape(-1, 3),  # _matched_weight's pixels
+                picture[:, picture[0] > 0.5].T.contiguous(), picture.double().reshape(3, -1).T[:500]]
+    for rgb in layouts:
+        got, want = srgb_to_lab(rgb), _lab_as_it_was(rgb)
+        assert torch.equal(got, want) and got.stride() == want.stride()
+
+
+def test_part_map_at_covered_pixels_is_the_whole_maps_there():
+    from sdn3d.editing.photo.transfer import _part_map
+
+    scene = _scene([CAR, FAR_CAR])
+    original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(2))
+    source = PhotoSource(original, FRAME, scene)
+    covered = (source.raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+    assert len(covered) > 100
+    for at in (covered, covered[::7].flip(0), covered[:0]):
+        got = _part_map(source.raster, scene.objects, source.bank, at)
+        assert got.dtype == torch.long and torch.equal(got, source.parts[at])
+    assert len(set(source.parts[covered].tolist())) >= 3  # several parts looked up
+
+
+def test_surface_points_selected_are_those_computed_on_the_selected_pixels():
+    from sdn3d.editing.photo.transfer import _surface, _surface_points
+
+    scene = _scene([CAR, FAR_CAR])
+    original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(4))
+    raster = PhotoSource(original, FRAME, scene).raster
+    pix = (raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+    mesh, vid, bary, normal, tri, point = _surface_points(raster, pix)
+    assert all(torch.equal(a, b) for a, b in zip(_surface(raster, pix), (mesh, vid, bary, normal), strict=True))
+    g = torch.Generator().manual_seed(5)
+    for k in (torch.arange(len(pix)), (torch.rand(len(pix), generator=g) < 0.37).nonzero().flatten(),
+              torch.arange(len(pix) - 5, len(pix))):
+        want_tri = raster.verts[mesh[k][:, None], vid[k]]  # as _draw and _part_examples computed them after selecting
+        assert torch.equal(tri[k], want_tri)
+        assert torch.equal(point[k], (bary[k][..., None] * want_tri).sum(1))
+
+
+def test_column_median_is_torch_median():
+    from sdn3d.editing.photo import road as rd
+
+    g = torch.Generator().manual_seed(11)
+    for n in (1, 2, 7, 8192, 8193, 12000):
+        for x in (torch.rand(n, 3, generator=g), torch.randint(0, 5, (n, 2), generator=g).float(),  # many ties
+                  srgb_to_lab(torch.rand(n, 3, generator=g))[:, 1:], torch.randn(n, 3, generator=g).double()):
+            got = rd._column_median(x)
+            assert got.dtype == x.dtype and torch.equal(got, x.median(0).values), (n, x.dtype)
+    assert rd.MEDIAN_NUMPY_MIN <= 8193  # the NumPy path was tested
+
+
+def test_row_spans_combined_column_by_column_are_the_reductions_they_replaced():
+    from sdn3d.render.rasterize import _INSIDE_EPS, _row_spans
+
+    g = torch.Generator().manual_seed(12)
+    n = 5000
+    a, b, c = (torch.randn(n, 3, generator=g, dtype=torch.float64) for _ in range(3))
+    a[torch.rand(n, 3, generator=g) < 0.2] = 0.0  # edges parallel to the rows
+    a[:50] = 0.0
+    b[:50] = 0.0
+    c[:25] = -1.0  # no edge bounds u: feasible
+    c[25:50] = 1.0  # infeasible on every row
+    rows = torch.randint(-5, 40, (n,), generator=g).double()
+    c *= 30.0
+    for width in (1, 37, 1242):
+        rhs = -_INSIDE_EPS - b * rows.unsqueeze(1) - c  # _row_spans as it was
+        bound = rhs / torch.where(a == 0, torch.ones_like(a), a)
+        inf = torch.full_like(bound, float("inf"))
+        lower = torch.where(a > 0, bound, -inf).amax(1).clamp(-1.0, width)
+        upper = torch.where(a < 0, bound, inf).amin(1).clamp(-1.0, width)
+        feasible = torch.where(a == 0, rhs <= 0, torch.ones_like(a, dtype=torch.bool)).all(1)
+        first = torch.ceil(lower).clamp(min=0).long()
+        count = (torch.floor(upper).clamp(max=width - 1).long() - first + 1).clamp(min=0) * feasible
+        got = _row_spans(a, b, c, rows, width)
+        assert torch.equal(got[0], first) and torch.equal(got[1], count)
+        assert bool((count > 0).any()) and bool((count == 0).any()) and int(feasible.sum()) < n
+
+
+def test_raster_ids_from_a_table_are_the_where_they_replaced():
+    from sdn3d.editing.photo.transfer import _raster_ids
+
+    scene = _scene([CAR, FAR_CAR])
+    original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(6))
+    raster = PhotoSource(original, FRAME, scene).raster
+    mesh = raster.frags.pix_to_mesh[0]
+    want = torch.where(mesh >= 0, scene.objects.instance_id[raster.rows[mesh.clamp(min=0)]], torch.zeros_like(mesh))
+    got = _raster_ids(raster, scene.objects)
+    assert got.dtype == want.dtype and torch.equal(got, want)
+    assert len(got.unique()) == 3  # both cars and no car

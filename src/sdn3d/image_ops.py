@@ -283,15 +283,47 @@ def crop_intrinsics(intr: Intrinsics, windows: Tensor, size: int) -> Tensor:
                         (intr.cy - w[:, 1] + 0.5) * scale - 0.5], 1).float()
 
 
+#: :func:`dilate_square` grows a bool mask by a radius above this with running counts (:func:`_grow_along`), whose
+#: time does not grow with the radius; OpenCV's dilation, faster for small radii, took 17 ms at a radius of 1000
+#: on 1242x375.
+DILATE_COUNTS_MIN = 48
+
+
 def dilate_square(mask: Tensor, radius: int) -> Tensor:
     """``mask (H, W)`` bool grown by a ``(2 radius + 1)`` square (OpenCV's separable dilation: a max pool's result
-    at a fraction of its time for large radii)."""
+    at a fraction of its time; radii above :data:`DILATE_COUNTS_MIN`: the same pixels from running counts of the
+    mask's box, one axis after the other)."""
     import cv2
 
-    if radius <= 0 or not bool(mask.any()):
+    if radius <= 0:
         return mask
-    kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
-    return torch.from_numpy(cv2.dilate(mask.numpy().astype(np.uint8), kernel) > 0)
+    m = mask.numpy()
+    if not m.any():
+        return mask
+    if radius <= DILATE_COUNTS_MIN or m.dtype != np.bool_:
+        kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
+        return torch.from_numpy(cv2.dilate(m.astype(np.uint8), kernel) > 0)
+    height, width = m.shape
+    rows, cols = np.flatnonzero(m.any(1)), np.flatnonzero(m.any(0))
+    y0, y1, x0, x1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+    top, bottom = max(y0 - radius, 0), min(y1 + radius, height)
+    left, right = max(x0 - radius, 0), min(x1 + radius, width)
+    grown = _grow_along(m[y0:y1, x0:x1], radius, 0, y0 - top, bottom - top)
+    out = np.zeros_like(m)
+    out[top:bottom, left:right] = _grow_along(grown, radius, 1, x0 - left, right - left)
+    return torch.from_numpy(out)
+
+
+def _grow_along(m: np.ndarray, radius: int, axis: int, offset: int, size: int) -> np.ndarray:
+    """``m`` (bool, 2-D) grown by ``radius`` along ``axis`` into ``size`` places of which ``m`` fills those from
+    ``offset`` on: a place is set where a set pixel of ``m`` lies within ``radius`` of it (running counts of ``m``,
+    differenced over each place's window)."""
+    n = m.shape[axis]
+    counts = np.zeros((n + 1, m.shape[1]) if axis == 0 else (m.shape[0], n + 1), np.int32)
+    np.cumsum(m, axis=axis, dtype=np.int32, out=counts[1:] if axis == 0 else counts[:, 1:])
+    place = np.arange(size) - offset  # each place in m's indices
+    hi, lo = np.clip(place + radius + 1, 0, n), np.clip(place - radius, 0, n)
+    return np.take(counts, hi, axis=axis) > np.take(counts, lo, axis=axis)
 
 
 #: :func:`isin_ids` and :func:`ids_present` index a table by id up to this bound (else torch.isin).

@@ -221,13 +221,15 @@ def srgb_to_lab(rgb: Tensor) -> Tensor:
     [53.24, 80.09, 67.2]
     """
     image = rgb.float().clamp(0, 1).T[:, :, None]  # (3, P, 1), kornia's layout
-    lin = torch.where(image > 0.04045, torch.pow(((image + 0.055).clamp(min=0.0) / 1.055), 2.4), image / 12.92)
+    # kornia's operations, each on a temporary of its own where kornia made a new one (the same layout, so the same
+    # elements take torch's vectorised and its scalar paths as in kornia: the values depend on it)
+    lin = torch.where(image > 0.04045, (image + 0.055).clamp_(min=0.0).div_(1.055).pow_(2.4), image / 12.92)
     xyz = torch.einsum("oi, ...ihw -> ...ohw", torch.tensor(_RGB_TO_XYZ, dtype=lin.dtype), lin)
-    xyz = torch.div(xyz, torch.tensor(_WHITE, dtype=xyz.dtype)[..., :, None, None])
+    xyz = xyz.div_(torch.tensor(_WHITE, dtype=xyz.dtype)[..., :, None, None])
     threshold = 0.008856
-    f = torch.where(xyz > threshold, torch.pow(xyz.clamp(min=threshold), 1 / 3.0), 7.787 * xyz + 4.0 / 29.0)
+    f = torch.where(xyz > threshold, xyz.clamp(min=threshold).pow_(1 / 3.0), (7.787 * xyz).add_(4.0 / 29.0))
     x, y, z = f[..., 0, :, :], f[..., 1, :, :], f[..., 2, :, :]
-    lab = torch.stack([(116.0 * y) - 16.0, 500.0 * (x - y), 200.0 * (y - z)], dim=-3)
+    lab = torch.stack([(116.0 * y).sub_(16.0), (x - y).mul_(500.0), (y - z).mul_(200.0)], dim=-3)
     return lab[:, :, 0].T
 
 

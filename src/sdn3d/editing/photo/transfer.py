@@ -220,26 +220,41 @@ def _raster_ids(r: _Raster, objects: ObjectTable) -> Tensor:
     mesh = r.frags.pix_to_mesh[0]
     if not len(r.rows):
         return torch.zeros_like(mesh)
-    return torch.where(mesh >= 0, objects.instance_id[r.rows[mesh.clamp(min=0)]], torch.zeros_like(mesh))
+    # a table of the meshes' ids after a 0 for "none" (mesh -1), looked up once per pixel
+    ids = objects.instance_id[r.rows].to(torch.promote_types(objects.instance_id.dtype, mesh.dtype))
+    return torch.cat([ids.new_zeros(1), ids])[mesh + 1]
 
 
-def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank) -> Tensor:
-    """``(H * W,)`` long :class:`~sdn3d.meshes.parts.Part` of the face rasterized at each pixel of ``r`` (-1: none)."""
+def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank, at: Tensor | None = None) -> Tensor:
+    """``(H * W,)`` long :class:`~sdn3d.meshes.parts.Part` of the face rasterized at each pixel of ``r`` (-1: none);
+    with ``at (P,)`` flat indices of covered pixels, ``(P,)`` the same at those pixels alone."""
     face = r.frags.pix_to_face.view(-1)
-    out = torch.full_like(face, -1, dtype=torch.long)
-    pix = (face >= 0).nonzero().flatten()
-    if not len(pix):
-        return out
+    if at is None:
+        out = torch.full_like(face, -1, dtype=torch.long)
+        pix = (face >= 0).nonzero().flatten()
+        if not len(pix):
+            return out
+    else:
+        pix = at
     mesh = r.frags.pix_to_mesh.view(-1)[pix]
     local = face[pix] - mesh * r.faces.shape[1]
     parts = bank.face_parts.cpu()
-    out[pix] = parts[objects.template_id[r.rows[mesh]], local.clamp(max=parts.shape[1] - 1)]
+    found = parts[objects.template_id[r.rows[mesh]], local.clamp(max=parts.shape[1] - 1)]
+    if at is not None:
+        return found.long()  # as the long map's entries
+    out[pix] = found
     return out
 
 
 def _surface(r: _Raster, pix: Tensor) -> tuple[Tensor, Tensor, Tensor, Tensor]:
     """``(mesh (P,), vertex ids (P, 3), barycentrics (P, 3), camera-facing unit normal (P, 3))`` at flat pixel
     indices ``pix (P,)`` of ``r`` (all covered)."""
+    return _surface_points(r, pix)[:4]
+
+
+def _surface_points(r: _Raster, pix: Tensor) -> tuple[Tensor, Tensor, Tensor, Tensor, Tensor, Tensor]:
+    """:func:`_surface` and the ``(P, 3, 3)`` triangles and ``(P, 3)`` surface points it found them from (row by row:
+    rows selected from them are those of the selected pixels)."""
     f_all = r.frags.pix_to_face.view(-1)[pix]
     mesh = r.frags.pix_to_mesh.view(-1)[pix]
     nf = r.faces.shape[1]
@@ -249,7 +264,7 @@ def _surface(r: _Raster, pix: Tensor) -> tuple[Tensor, Tensor, Tensor, Tensor]:
     point = (bary[..., None] * tri).sum(1)
     normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
     normal = torch.where(((normal * point).sum(-1) > 0)[:, None], -normal, normal)
-    return mesh, vid, bary, normal
+    return mesh, vid, bary, normal, tri, point
 
 
 def _project(points: Tensor, K: Tensor) -> tuple[Tensor, Tensor]:
@@ -1043,7 +1058,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     pix, row, iid, is_moved = covered[wins], row[wins], iid[wins], is_moved[wins]
     if not len(pix):
         return out, source, {}
-    mesh, vid, bary, normal_t = _surface(tgt, pix)
+    mesh, vid, bary, normal_t, tri_t, point_t = _surface_points(tgt, pix)
     b_row = origin[row]
     s_mesh = src_row_to_mesh[b_row]
     has_src = s_mesh >= 0
@@ -1064,22 +1079,21 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         inside = ~has_src | ~shown | (_in_silhouette(point_s, background, K) & _in_silhouette(point_m, background, K))
         if not bool(inside.all()):
             k = inside.nonzero().flatten()
-            pix, row, iid, is_moved, mesh, vid, bary, normal_t = (pix[k], row[k], iid[k], is_moved[k], mesh[k],
-                                                                  vid[k], bary[k], normal_t[k])
+            pix, row, iid, is_moved, mesh, vid, bary, normal_t, tri_t, point_t = (
+                pix[k], row[k], iid[k], is_moved[k], mesh[k], vid[k], bary[k], normal_t[k], tri_t[k], point_t[k])
             b_row, s_mesh, has_src, s_mesh_c, tri_s, point_s, rot, centre, point_m = (
                 b_row[k], s_mesh[k], has_src[k], s_mesh_c[k], tri_s[k], point_s[k], rot[k], centre[k], point_m[k])
             if not len(pix):
                 return out, source, {}
     normal_s = F.normalize(torch.linalg.cross(tri_s[:, 1] - tri_s[:, 0], tri_s[:, 2] - tri_s[:, 0], dim=-1), dim=-1)
     # Same face, same winding: orient the source normal as the target one was (edits are rigid).
-    tri_t = tgt.verts[mesh[:, None], vid]
     raw_t = F.normalize(torch.linalg.cross(tri_t[:, 1] - tri_t[:, 0], tri_t[:, 2] - tri_t[:, 0], dim=-1), dim=-1)
     normal_s = torch.where(((raw_t * normal_t).sum(-1) < 0)[:, None], -normal_s, normal_s)
     src_iid = before.instance_id[b_row.clamp(min=0)]
     ok_photo, uv_photo = _visible(point_s, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
     # A surface seen edge-on is not stretched over a side the edit turns to face the camera; where the edit shows it
     # hardly more squarely than the input did (a move that keeps the view), it is the input's all the same.
-    cos_t = _view_cos((bary[..., None] * tri_t).sum(1), normal_t)
+    cos_t = _view_cos(point_t, normal_t)
     squarely = (torch.clamp(cos_t / settings.view_stretch, max=settings.min_view_cos) if settings.view_stretch > 0
                 else torch.full_like(cos_t, settings.min_view_cos))
     cos_photo = _view_cos(point_s, normal_s)
@@ -1111,7 +1125,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     fallback = torch.zeros_like(color)
     codes = torch.where(ok_photo, PHOTO, torch.where(ok_mirror, MIRROR, FALLBACK)).to(torch.uint8)
     img_flat = image.permute(1, 2, 0).reshape(-1, 3).double()
-    t_part = _part_map(tgt, after, bank)[pix]
+    t_part = _part_map(tgt, after, bank, pix)
     by_parts = settings.unseen == "parts"
     drawn_rows = row.unique()
     drawn = torch.ones(len(pix), dtype=torch.bool)  # False: left to the fill (amodal='seen')

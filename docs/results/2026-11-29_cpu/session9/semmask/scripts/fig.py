@@ -2,9 +2,13 @@
 """fig.py TREE WORLD VAR FRAME ID BASE_CACHE NEW_CACHE OUT.png: one semantic proposal (instance ID) before and after:
 photo, ground-truth mask (oracle), the semantic mask with the band the fit ignores, the fitted car's silhouette on main
 and on this branch (each titled with its distance against the truth), enlarged 5x."""
-import os, sys
-import numpy as np, torch
+import os
+import sys
+
+import numpy as np
+import torch
 from PIL import Image, ImageDraw
+
 from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.data.vkitti1 import read_frames
 from sdn3d.editing.photo.transfer import _rasterize
@@ -12,6 +16,7 @@ from sdn3d.evaluation.edit_benchmark import index_records
 from sdn3d.meshes.bank import default_bank
 from sdn3d.proposal_fit import unsure_below
 from sdn3d.scene.maps import posed_meshes
+
 tree, world, var, frame, iid, bc, nc, out = sys.argv[1:9]; iid = int(iid)
 rec = index_records(read_frames(tree))[(world, var, int(frame))]
 def load(cache):

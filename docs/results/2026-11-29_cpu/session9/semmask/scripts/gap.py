@@ -1,11 +1,15 @@
 # ruff: noqa: E402, E501, E701, E702
 """gap.py TREE CACHE: for semantic proposals missing the car's bottom, what the gap pixels (ground-truth mask minus proposal) are in the scene: semantic label, other instance."""
-import os, sys, collections
+import collections
+import os
+import sys
+
 import torch
+
 from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.data.vkitti1 import read_frames
 from sdn3d.evaluation.edit_benchmark import index_records
-from sdn3d.labels import INSTANCE_DIVISOR
+
 tree, cache = sys.argv[1:3]
 records = index_records(read_frames(tree))
 tot = collections.Counter()
@@ -26,7 +30,7 @@ for line in open(os.path.join(cache, "keys.txt")):
         gap = gm[g] & ~m
         owner = (scene.objects.mask[:, gap].long() * torch.arange(1, len(scene.objects.mask) + 1)[:, None]).sum(0)
         sem = scene.semantic[gap]
-        c = collections.Counter(("other inst" if o > 0 else f"sem {int(s)}") for o, s in zip(owner.tolist(), sem.tolist()))
+        c = collections.Counter(("other inst" if o > 0 else f"sem {int(s)}") for o, s in zip(owner.tolist(), sem.tolist(), strict=True))
         tot.update(c)
         print(k[:20], iid, "rows", int(ys.min()), int(ys.max()), "gt", int(gys.min()), int(gys.max()), "gap px", int(gap.sum()), dict(c), "fitiou", fits[iid]["fit_iou"])
 print("gap pixels in all:", dict(tot))

@@ -1,12 +1,16 @@
 # ruff: noqa: E402, E501, E701, E702
 """probe.py TREE COUNT.json: the semantic branch's vehicle probability (Car+Van+Truck) in the rows below each
 fitted semantic proposal's bottom (within its columns), for proposals missing the car's bottom and for the others."""
-import json, sys
-import numpy as np, torch
+import json
+import sys
+
+import torch
+
 from sdn3d.data.frames import load_frame
 from sdn3d.data.vkitti1 import read_frames
 from sdn3d.evaluation.edit_benchmark import index_records
 from sdn3d.models import Models
+
 torch.set_num_threads(1)
 tree, cnt = sys.argv[1:3]
 S = "/tmp/s5data/lead/demo/runs/semantic/checkpoints/inference.pt"

@@ -3,8 +3,11 @@
 relative distance error |z_fit - z_true| / z_true (truth: the matched ground-truth object, an oracle used to measure),
 capped at 1; paired new minus base: mean with a 10k bootstrap 95 % interval, wins/losses (0.02 dead band); for all
 proposals and for those whose mask misses the car's bottom (>= max(2 px, 15 % of the truth's height))."""
-import json, sys
+import json
+import sys
+
 import numpy as np
+
 b, n = sys.argv[1:3]; seeds = sys.argv[3:]
 A, B, M = [], [], []
 for s in seeds:

@@ -110,3 +110,65 @@ def test_the_edit_settings_turn_the_proposals_fit_on_by_default_and_off_by_name(
         return session.proposal_fit
 
     assert proposal_fit(on) == on.box_fit and proposal_fit(off) is None
+
+
+def test_the_unsure_band_lies_under_each_mask_and_off_every_mask():
+    from sdn3d.proposal_fit import unsure_below
+
+    masks = torch.zeros(2, 20, 12, dtype=torch.bool)
+    masks[0, 4:12, 2:8] = True  # 8 rows high: a band of ceil(0.25 * 8) = 2 rows, rows 12-13, columns 2-7
+    masks[1, 12:20, 6:10] = True  # a nearer object under it takes its own pixels out of the band
+    band = unsure_below(masks, 0.25)
+    assert band[0].nonzero()[:, 0].unique().tolist() == [12, 13]
+    assert band[0, 12:14, 2:6].all() and not band[0, :, 6:].any() and not band[0, :, :2].any()
+    assert not (band & masks.any(0)).any()
+    assert band[1].sum() == 0  # its band would run off the picture's last row
+    assert not unsure_below(masks, 0.0).any()
+
+
+@pytest.mark.fits
+def test_a_mask_missing_the_cars_bottom_is_not_fitted_far_with_the_unsure_band():
+    """A car 12 m ahead whose mask lost its bottom quarter (tyres and shadow labelled road, as the semantic branch
+    does): the fit reads the distance off the mask's bottom edge and puts it too far (14.6 m); with the band under
+    the mask ignored, the car's width and top place it (12.9 m)."""
+    from sdn3d.proposal_fit import fit_proposals, unsure_below
+
+    z = 12.0
+    _, masks = _render([0], [(4.0, 1.5, 1.7)], [-1.5], [(0.5, HEIGHT, z)])
+    rows_seen = masks[0].any(1).nonzero().flatten()
+    cut = masks.clone()
+    cut[0, int(rows_seen.max()) - len(rows_seen) // 4 + 1:] = False
+    geometry = (torch.tensor([0]), torch.tensor([[4.0, 1.5, 1.7]], dtype=torch.float64),
+                torch.tensor([-1.5], dtype=torch.float64), torch.tensor([[0.5, HEIGHT, 1.6 * z]], dtype=torch.float64),
+                torch.zeros(1, 64, 3))
+    ids, rows = torch.tensor([CAR * 1000 + 1]), torch.tensor([0])
+    settings = FitSettings(camera_height=HEIGHT)
+    plain, _ = fit_proposals(WORK, cut, ids, rows, geometry, settings)
+    banded, _ = fit_proposals(WORK, cut, ids, rows, geometry, settings, unsure=unsure_below(cut))
+    far, near = float(plain[3][0, 2]), float(banded[3][0, 2])
+    assert far > 1.15 * z  # the cut mask's bottom edge puts the car too far
+    assert abs(near - z) < 0.5 * (far - z)
+
+
+def test_only_the_semantic_branchs_proposals_get_the_unsure_band(frame, models, monkeypatch):
+    """The ground truth's masks (an oracle) are fitted as they are; the same masks from the semantic branch get the
+    band under them ignored (:func:`sdn3d.proposal_fit.unsure_below`)."""
+    import sdn3d.derender as D
+    from sdn3d.proposal_fit import unsure_below
+
+    image, masks, gt = frame
+    seen = {}
+
+    def spy(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None):
+        seen["unsure"] = unsure
+        return tuple(g.clone() for g in geometry), []
+
+    monkeypatch.setattr(D, "fit_proposals", spy)
+    derender(image, WORK, models, "gt", gt, fit=FitSettings())
+    assert seen.pop("unsure") is None
+    real = D._semantics_and_instances
+    monkeypatch.setattr(D, "_semantics_and_instances",  # the same maps, as if the semantic branch had drawn them
+                        lambda *a: (*real(*a)[:2], "semantic", "branch", None))
+    derender(image, WORK, models, "gt", gt, fit=FitSettings())
+    assert seen["unsure"] is not None and seen["unsure"].any()
+    assert torch.equal(seen["unsure"], unsure_below(masks))

@@ -60,7 +60,7 @@ from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.models import Models
-from sdn3d.proposal_fit import fit_proposals, fit_proposals_and_boxes, vehicle_rows
+from sdn3d.proposal_fit import fit_proposals, fit_proposals_and_boxes, unsure_below, vehicle_rows
 from sdn3d.proposals import PROPOSALS, Proposals, choose_sources
 from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
 from sdn3d.scene.maps import scene_maps
@@ -331,13 +331,16 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     if fit is not None:
         rows = vehicle_rows(ids, geometry[0], {c.id: c.name for c in class_list})
         rows = rows[~torch.isin(rows, box_rows)]
+        # The semantic branch's masks may stop short of the car's bottom (proposal_fit's module doc); the ground
+        # truth's (an oracle) and the boxes' GrabCut masks are taken as they are.
+        unsure = unsure_below(masks) if source == "semantic" and len(rows) else None
         box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance)
                    if len(rows) and len(box_rows) and boxes.fit == fit else None)
         if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
             geometry, proposal_fits, box_result = fit_proposals_and_boxes(intrinsics, masks, ids, rows, geometry, fit,
-                                                                          appearance, box_req)
+                                                                          appearance, box_req, unsure)
         else:
-            geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance)
+            geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance, unsure)
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
                                                              min_pixels, mask_source, appearance, box_result)

@@ -9,6 +9,13 @@ halved the distance error. :func:`fit_proposals` runs the same fit for the propo
 predictions, each with the pixels of the objects in front of it ignored (nearer by the prediction's depth; objects
 without geometry count as in front, their depth unknown). :class:`ProposalFit` is each object's record.
 
+A semantic branch's mask often stops short of the car's bottom: the dark rows of tyres and shadow are labelled
+road (issue 40; on tuning seeds 31 and 35, 27 of 208 fitted proposals ended 2-9 px above the car's, and the fit,
+whose road plane reads the distance off the bottom edge, put those cars a median 56-82 % too far). For such
+proposals (``unsure`` of :func:`fit_proposals`: the caller's choice, :func:`unsure_below` for the semantic branch's
+masks) a band under each mask, as deep as :data:`UNSURE_BELOW` of the mask's height, counts as neither car nor
+background, like an occluder's pixels: the car's width and top then place it, and its bottom may reach the road.
+
 The paper fits nothing at test time on Virtual KITTI (its Table 1 and 2 protocol): ``fit=None`` in
 :func:`~sdn3d.derender.derender` keeps that.
 """
@@ -31,7 +38,11 @@ if TYPE_CHECKING:
     from sdn3d.geometric.fit import FitRequest, FitResult, FitSettings
 
 __all__ = ["ProposalFit", "fit_proposals", "fit_proposals_and_boxes", "proposal_request", "apply_proposal_fit",
-           "vehicle_rows"]
+           "vehicle_rows", "unsure_below", "UNSURE_BELOW"]
+
+#: Depth of the band under a predicted mask that the fit ignores (:func:`unsure_below`), as a fraction of the mask's
+#: height: the semantic branch's masks miss up to a quarter of a far car's rows (module doc).
+UNSURE_BELOW = 0.3
 
 
 @dataclass(frozen=True)
@@ -57,8 +68,32 @@ def vehicle_rows(ids: Tensor, template: Tensor, class_names: dict[int, str]) -> 
     return (vehicle & (template >= 0)).nonzero().flatten()
 
 
+def unsure_below(masks: Tensor, fraction: float | None = None) -> Tensor:
+    """``(N, H, W)`` bool: under each of the ``masks (N, H, W)``, in each of its columns, the pixels from its lowest
+    one down to ``ceil(fraction * height)`` rows below the mask's bottom edge (``height``: its box's rows; None:
+    :data:`UNSURE_BELOW`), where no mask is: where a mask that may have missed the car's bottom rows (module doc)
+    could still be the car.
+
+    >>> m = torch.zeros(1, 8, 3, dtype=torch.bool); m[0, 1:4, :2] = True; m[0, 1:5, 2] = True
+    >>> unsure_below(m, 0.5)[0].int().tolist()  # rows 1-4: down to row 6, each column from its own lowest pixel
+    [[0, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0], [1, 1, 0], [1, 1, 1], [1, 1, 1], [0, 0, 0]]
+    """
+    fraction = UNSURE_BELOW if fraction is None else fraction
+    n, h, _ = masks.shape
+    if n == 0 or fraction <= 0:
+        return torch.zeros_like(masks, dtype=torch.bool)
+    y = torch.arange(h)
+    rows = masks.any(2)  # (N, H)
+    top = torch.where(rows, y, h).amin(1)
+    bottom = torch.where(rows, y, -1).amax(1)
+    last = bottom + torch.ceil(fraction * (bottom - top + 1).clamp_min(0)).long()  # (N,) the band's lowest row
+    under = masks.long().cumsum(1) > 0  # at or below a mask pixel of the same column
+    band = under & ~masks & (y[None, :, None] <= last[:, None, None])
+    return band & ~masks.any(0)
+
+
 def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],
-                  settings: FitSettings, appearance: Appearance | None = None
+                  settings: FitSettings, appearance: Appearance | None = None, unsure: Tensor | None = None
                   ) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
     """``(geometry, records)``: the rows ``rows (K,)`` of ``geometry`` (``template (N,), dims (N, 3), ry (N,),
     location (N, 3), phi (N, 64, 3)``, the branch's predictions) fitted to their ``masks (N, H, W)`` (module doc).
@@ -66,7 +101,8 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
     Rows whose mask is too small or thin to fit keep their prediction (a record with ``iou`` None and the fit's
     note). Objects outside ``rows`` are untouched; they still hide the fitted ones where they are nearer.
     ``appearance``: what the geometric branch saw of each object, the fit's yaw belief with ``settings.appearance``
-    (as for the box objects: :func:`~sdn3d.box_objects.yaw_belief`). :func:`proposal_request` and
+    (as for the box objects: :func:`~sdn3d.box_objects.yaw_belief`). ``unsure``: ``(N, H, W)`` bool pixels that
+    count for no object (:func:`unsure_below`; None: none). :func:`proposal_request` and
     :func:`apply_proposal_fit` are its two halves, for a caller that fits these objects with others
     (:func:`~sdn3d.geometric.fit.fit_many`).
     """
@@ -74,13 +110,14 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
 
     if not len(rows):
         return tuple(g.clone() for g in geometry), []
-    request = proposal_request(masks, rows, geometry, settings, appearance)
+    request = proposal_request(masks, rows, geometry, settings, appearance, unsure)
     return apply_proposal_fit(fit_many([request], intr, settings=settings)[0], ids, rows, geometry, settings)
 
 
 def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor,
                             geometry: tuple[Tensor, ...], settings: FitSettings, appearance: Appearance | None,
-                            boxes: FitRequest) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult]:
+                            boxes: FitRequest, unsure: Tensor | None = None
+                            ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult]:
     """:func:`fit_proposals` and the fit of the box objects' request ``boxes``
     (:func:`~sdn3d.box_objects.box_request`, the same ``settings``) in one :func:`~sdn3d.geometric.fit.fit_many`
     call: each stage's fixed cost once. Neither reads the other's fit, so the fits are those of two calls (up to the
@@ -88,22 +125,26 @@ def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: 
     from sdn3d.geometric.fit import fit_many
 
     if not len(rows):
-        return (*fit_proposals(intr, masks, ids, rows, geometry, settings, appearance),
+        return (*fit_proposals(intr, masks, ids, rows, geometry, settings, appearance, unsure),
                 fit_many([boxes], intr, settings=settings)[0])
-    fits = fit_many([proposal_request(masks, rows, geometry, settings, appearance), boxes], intr, settings=settings)
+    fits = fit_many([proposal_request(masks, rows, geometry, settings, appearance, unsure), boxes], intr,
+                    settings=settings)
     return (*apply_proposal_fit(fits[0], ids, rows, geometry, settings), fits[1])
 
 
 def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], settings: FitSettings,
-                     appearance: Appearance | None = None) -> FitRequest:
+                     appearance: Appearance | None = None, unsure: Tensor | None = None) -> FitRequest:
     """What :func:`fit_proposals` asks the fit for the rows ``rows (K,)`` (non-empty): their masks, boxes, the pixels
-    of nearer objects, the predictions as starts and the yaw belief."""
+    of nearer objects and the ``unsure`` ones (``(N, H, W)`` or None), the predictions as starts and the yaw
+    belief."""
     from sdn3d.geometric.fit import FitRequest
 
     template, dims, ry, location, _ = geometry
     # Depth of each object: the prediction's distance; no geometry: in front of everything (its pixels may hide).
     depth = torch.where(template >= 0, location.norm(dim=1).float(), torch.zeros(len(template)))
     ignore = occluder_masks(masks, depth)[rows]
+    if unsure is not None:
+        ignore = ignore | unsure[rows]
     return FitRequest(masks[rows], mask_boxes(masks[rows]).float(), ignore=ignore, start_ry=ry[rows].float(),
                       start_dims=dims[rows].float(), start_template=template[rows],
                       start_location=location[rows].float(),

@@ -42,7 +42,8 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
-__all__ = ["LampCue", "air_offset", "red_lamps", "white_lamps", "lamp_evidence", "evidence_of", "face_by_lamps"]
+__all__ = ["LampCue", "air_offset", "through_the_air", "red_lamps", "white_lamps", "lamp_evidence", "evidence_of",
+           "face_by_lamps"]
 
 
 @dataclass(frozen=True)
@@ -65,18 +66,22 @@ class LampCue:
 
 
 def air_offset(crop: Tensor, mask: Tensor, clear_dark: float | None) -> tuple[Tensor, Tensor]:
-    """``(air (N, 3), t (N,))``: the colour haze adds to every pixel of each ``(N, 3, S, S)`` crop's ``(N, S, S)``
-    bool mask and the share of the car's own light that reaches the camera (module doc): ``air`` is its darkest
-    pixels' (5 % quantile per channel) excess over ``clear_dark`` (at least 0), ``t`` is ``1 - air / bright`` with
-    ``bright`` its brightest pixels' (95 % quantile, mean over channels: the air's own colour in thick haze), in
-    ``[0.05, 1]``. Clear air (darks at most ``clear_dark``), ``clear_dark`` None or an empty mask: zeros and ones."""
+    """``(air (N, 3), t (N,))``: the light haze adds to every pixel of each ``(N, 3, S, S)`` crop's ``(N, S, S)``
+    bool mask, and the share ``t`` of the car's own light that reaches the camera (``observed = t albedo + air``,
+    module doc). The air is grey (fog and rain are; a car's coloured darks are its paint): the darks (5 % quantile
+    per channel, the least of the three) are ``t clear_dark + air`` and ``t = 1 - air / bright``, ``bright`` the
+    brightest pixels (95 % quantile, mean of the channels: nearly the air's own light in thick haze), solved for
+    ``air`` (at least 0); ``t`` in ``[0.05, 1]``. Clear air (darks at most ``clear_dark``), ``clear_dark`` None or
+    an empty mask: zeros and ones."""
     if clear_dark is None:
         return crop.new_zeros(crop.shape[0], 3), crop.new_ones(crop.shape[0])
     masked = torch.where(mask[:, None], crop, torch.full_like(crop, math.nan)).flatten(2)
     q = torch.nanquantile(masked, torch.tensor([0.05, 0.95], dtype=crop.dtype, device=crop.device), dim=2)
-    air = (q[0].nan_to_num(clear_dark) - clear_dark).clamp_min(0)
-    bright = q[1].nan_to_num(1.0).mean(1).clamp_min(1e-6)
-    return air, (1 - air.mean(1) / bright).clamp(0.05, 1.0)
+    bright = q[1].nan_to_num(1.0).mean(1, keepdim=True).clamp_min(2 * clear_dark)
+    # darks = t clear_dark + air and t = 1 - air / bright: solved for the air
+    dark = q[0].nan_to_num(clear_dark).amin(1, keepdim=True)
+    air = ((dark - clear_dark) / (1 - clear_dark / bright)).clamp_min(0).expand(-1, 3)
+    return air, (1 - air.mean(1) / bright[:, 0]).clamp(0.05, 1.0)
 
 
 def through_the_air(crop: Tensor, mask: Tensor, clear_dark: float | None) -> Tensor:

@@ -64,6 +64,7 @@ def test_clear_air_is_read_as_before_and_the_air_estimate():
     assert 0.3 < float(t[0]) < 0.7
     empty = air_offset(crop, torch.zeros(1, 32, 32, dtype=torch.bool), 0.10)
     assert empty[0].abs().max() == 0 and empty[1].tolist() == [1.0]
+    assert [v.shape for v in red_lamps(crop[:0], mask[:0])] == [(0,)] * 3  # no objects
     gen = torch.Generator().manual_seed(0)
     crops = torch.rand(20, 3, 32, 32, generator=gen) * 0.9 + 0.05
     crops[:, :, :4] = 0.02  # every crop has clear-air darks

@@ -30,6 +30,14 @@ sin(alpha)``. On the seed-13 tuning tree's 48 red-bodied cars and vans (16 vehic
 crops) such pixels were on 15 of the 18 front views and on none of the 30 back views (``white_min`` 0.6 or
 ``white_min_share`` 0.002: 12 to 14 fronts; 0.5: 4 to 13 backs too); ``red_body``: false turns the cue off.
 
+Fog and rain add the air's light to every pixel (``observed = t albedo + air``): a tail lamp's red over green
+falls from about 2.3 to 1.5 in rain, below ``ratio``, and a back view without "red lamps" was read as a front (Table 1's
+rain frames turned a third to a half of the turned cars end for end). Both tests therefore read the colours
+through the air (:func:`air_offset`, :func:`through_the_air`): a car's darkest pixels in clear air are about
+``clear_dark`` (tyres and glass: 0.10 on the clone frames' crops), so darks above it are the air's; the air is
+taken off and the rest divided by ``t``. In clear air (darks at most ``clear_dark``) nothing changes; ``None``
+reads the colours as they are. Tuning and the choice of 0.10: ``docs/results/2026-11-29_cpu/session9/fogflip``.
+
 :func:`lamp_evidence` scores hypotheses; :func:`face_by_lamps` turns each predicted yaw end for end where the
 lamps clearly disagree with it (the geometric predictor's ``lamp_cue``).
 """
@@ -73,7 +81,7 @@ def air_offset(crop: Tensor, mask: Tensor, clear_dark: float | None) -> tuple[Te
     brightest pixels (95 % quantile, mean of the channels: nearly the air's own light in thick haze), solved for
     ``air`` (at least 0); ``t`` in ``[0.05, 1]``. Clear air (darks at most ``clear_dark``), ``clear_dark`` None or
     an empty mask: zeros and ones."""
-    if clear_dark is None:
+    if clear_dark is None or crop.shape[0] == 0:
         return crop.new_zeros(crop.shape[0], 3), crop.new_ones(crop.shape[0])
     masked = torch.where(mask[:, None], crop, torch.full_like(crop, math.nan)).flatten(2)
     q = torch.nanquantile(masked, torch.tensor([0.05, 0.95], dtype=crop.dtype, device=crop.device), dim=2)

@@ -31,7 +31,9 @@ for src, es in res["entries"].items():
     if src_name and src != src_name: continue
     for e in es:
         if e["edit_kind"] != "rotate": continue
-        m = e["metrics"]["photo"]; d = m["3d-sdn"]["all"]["psnr"] - m["2d"]["all"]["psnr"]
+        m = e["metrics"]["photo"]
+        if "3d-sdn" not in m: continue
+        d = m["3d-sdn"]["all"]["psnr"] - m["2d"]["all"]["psnr"]
         ent = entries[e["index"]]
         rec = records[(ent.world, ent.variation, ent.source_frame)]
         key = [k for k in keys if k.startswith(f"{ent.world}_{ent.variation}_{ent.source_frame}_") and f"_{src}" in k.replace("Proposals.GT", "gt").replace("Proposals.SEMANTIC", "semantic").lower()]

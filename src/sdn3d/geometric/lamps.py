@@ -30,6 +30,14 @@ sin(alpha)``. On the seed-13 tuning tree's 48 red-bodied cars and vans (16 vehic
 crops) such pixels were on 15 of the 18 front views and on none of the 30 back views (``white_min`` 0.6 or
 ``white_min_share`` 0.002: 12 to 14 fronts; 0.5: 4 to 13 backs too); ``red_body``: false turns the cue off.
 
+Fog and rain add the air's light to every pixel (``observed = t albedo + air``): a tail lamp's red over green
+falls from about 2.3 to 1.5 in rain, below ``ratio``, and a back view without "red lamps" was read as a front (Table 1's
+rain frames turned a third to a half of the turned cars end for end). Both tests therefore read the colours
+through the air (:func:`air_offset`, :func:`through_the_air`): a car's darkest pixels in clear air are about
+``clear_dark`` (tyres and glass: 0.10 on the clone frames' crops), so darks above it are the air's; the air is
+taken off and the rest divided by ``t``. In clear air (darks at most ``clear_dark``) nothing changes; ``None``
+reads the colours as they are. Tuning and the choice of 0.10: ``docs/results/2026-11-29_cpu/session9/fogflip``.
+
 :func:`lamp_evidence` scores hypotheses; :func:`face_by_lamps` turns each predicted yaw end for end where the
 lamps clearly disagree with it (the geometric predictor's ``lamp_cue``).
 """
@@ -42,7 +50,8 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
-__all__ = ["LampCue", "red_lamps", "white_lamps", "lamp_evidence", "evidence_of", "face_by_lamps"]
+__all__ = ["LampCue", "air_offset", "through_the_air", "red_lamps", "white_lamps", "lamp_evidence", "evidence_of",
+           "face_by_lamps"]
 
 
 @dataclass(frozen=True)
@@ -61,6 +70,41 @@ class LampCue:
     white_min: float = 0.55
     white_spread: float = 0.25
     white_min_share: float = 0.001
+    clear_dark: float | None = 0.10
+
+
+def air_offset(crop: Tensor, mask: Tensor, clear_dark: float | None) -> tuple[Tensor, Tensor]:
+    """``(air (N, 3), t (N,))``: the light haze adds to every pixel of each ``(N, 3, S, S)`` crop's ``(N, S, S)``
+    bool mask, and the share ``t`` of the car's own light that reaches the camera (``observed = t albedo + air``,
+    module doc). The air is grey (fog and rain are; a car's coloured darks are its paint): the darks (5 % quantile
+    per channel, the least of the three) are ``t clear_dark + air`` and ``t = 1 - air / bright``, ``bright`` the
+    brightest pixels (95 % quantile, mean of the channels: nearly the air's own light in thick haze), solved for
+    ``air`` (at least 0); ``t`` in ``[0.05, 1]``. Clear air (darks at most ``clear_dark``), ``clear_dark`` None or
+    an empty mask: zeros and ones."""
+    if clear_dark is None or crop.shape[0] == 0:
+        return crop.new_zeros(crop.shape[0], 3), crop.new_ones(crop.shape[0])
+    masked = torch.where(mask[:, None], crop, torch.full_like(crop, math.nan)).flatten(2)
+    q = torch.nanquantile(masked, torch.tensor([0.05, 0.95], dtype=crop.dtype, device=crop.device), dim=2)
+    bright = q[1].nan_to_num(1.0).mean(1, keepdim=True).clamp_min(2 * clear_dark)
+    # darks = t clear_dark + air and t = 1 - air / bright: solved for the air
+    dark = q[0].nan_to_num(clear_dark).amin(1, keepdim=True)
+    air = ((dark - clear_dark) / (1 - clear_dark / bright)).clamp_min(0).expand(-1, 3)
+    return air, (1 - air.mean(1) / bright[:, 0]).clamp(0.05, 1.0)
+
+
+def through_the_air(crop: Tensor, mask: Tensor, clear_dark: float | None) -> Tensor:
+    """``(N, 3, S, S)``: the colours of ``crop`` as the car shows them in clear air, ``(observed - air) / t``
+    (:func:`air_offset` of its ``(N, S, S)`` bool ``mask``)."""
+    air, t = air_offset(crop, mask, clear_dark)
+    return (crop - air[:, :, None, None]) / t[:, None, None, None]
+
+
+def _red(crop: Tensor, mask: Tensor, cue: LampCue) -> Tensor:
+    """``(N, S, S)`` bool: the saturated red pixels of the ``(N, S, S)`` bool ``mask``, their colours read through
+    the air (:func:`through_the_air`)."""
+    seen = through_the_air(crop, mask, cue.clear_dark)
+    r, g, b = seen[:, 0], seen[:, 1], seen[:, 2]
+    return mask & (r > cue.red_min) & (r > cue.ratio * g) & (r > cue.ratio * b)
 
 
 def red_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple[Tensor, Tensor, Tensor]:
@@ -69,8 +113,7 @@ def red_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple[T
     red pixels' mean column offset from the mask's, over the mask's width (0 where none)."""
     cue = cue or LampCue()
     m = (mask[:, 0] if mask.dim() == 4 else mask) > 0.5
-    r, g, b = crop[:, 0], crop[:, 1], crop[:, 2]
-    red = m & (r > cue.red_min) & (r > cue.ratio * g) & (r > cue.ratio * b)
+    red = _red(crop, m, cue)
     n_red, n_mask = red.flatten(1).sum(1), m.flatten(1).sum(1)
     offset = _column_offset(m, red, crop.dtype)
     rows = torch.arange(crop.shape[-2], dtype=crop.dtype, device=crop.device)[:, None]
@@ -114,14 +157,14 @@ def white_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple
     """
     cue = cue or LampCue()
     m = (mask[:, 0] if mask.dim() == 4 else mask) > 0.5
-    r, g, b = crop[:, 0], crop[:, 1], crop[:, 2]
-    red = m & (r > cue.red_min) & (r > cue.ratio * g) & (r > cue.ratio * b)
+    red = _red(crop, m, cue)
     n_red, n_mask = red.flatten(1).sum(1), m.flatten(1).sum(1)
     rows = torch.arange(crop.shape[-2], device=crop.device)[:, None].expand(crop.shape[-2:])
     top = torch.where(m, rows, torch.full_like(rows, crop.shape[-2])).flatten(1).amin(1)
     bottom = torch.where(m, rows, torch.full_like(rows, -1)).flatten(1).amax(1)
     lower = rows[None] * 2 > (top + bottom)[:, None, None]  # below the mask's middle row
-    high, low = crop.amax(1), crop.amin(1)
+    seen = through_the_air(crop, m, cue.clear_dark)
+    high, low = seen.amax(1), seen.amin(1)
     white = m & lower & (low > cue.white_min) & (high - low < cue.white_spread)
     n_white = white.flatten(1).sum(1)
     offset = _column_offset(m, white, crop.dtype)

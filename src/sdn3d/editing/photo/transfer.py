@@ -1502,6 +1502,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     if bool(default.any()) and len(seen_colors):
         albedo[default] = seen_through_the_air(albedo[default], seen_colors)
     q_feat = _part_features(before, b, points, normals)
+    q_feat32 = q_feat.float()
     paint = own.color[own.part == int(Part.BODY)]
     for part in parts.unique().tolist():
         q = (parts == part).nonzero().flatten()
@@ -1519,8 +1520,11 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             continue
         if len(have) > max_examples:
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
+        # Distances in float32: the (chunk, examples) matrix is the costliest step of an unseen side, and float64
+        # only reorders near ties among the nearest examples (docs/results/2026-11-29_cpu/session9/rot05/).
+        have_feat = feature[have].float()
         for chunk in q.split(8192):
-            near = torch.cdist(q_feat[chunk], feature[have]).topk(min(k, len(have)), largest=False).indices
+            near = torch.cdist(q_feat32[chunk], have_feat).topk(min(k, len(have)), largest=False).indices
             albedo[chunk] = source[have][near].mean(1)
         codes[q] = code
     # The lamps of an end the photo never showed, where cars have them (:func:`_lamp_band`): the template's lamp faces

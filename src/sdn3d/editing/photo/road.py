@@ -19,6 +19,7 @@ neighbourhood, a hole at the picture's edge with nothing beyond) is left to Tele
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import torch
@@ -524,17 +525,55 @@ def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor
     crop = image[:, y0:y1, x0:x1].float().clone()
     at = (ys - y0) * (x1 - x0) + (xs - x0)  # the hole pixels in the crop, flat
     at_inside = at[inside]
-    best, gap = default, math.inf
-    for w in GRAIN_WEIGHTS:
-        filled = (values + w * grains).clamp(0, 1)
-        crop.view(3, -1)[:, at] = filled
-        # road_like is per pixel: looked at on the hole's pixels alone (the cost: a Lab conversion per weight)
-        like = road_like(filled[:, inside, None], road)[:, 0]
-        if int(like.sum()) < 50:
-            continue
-        level = float(_luma_laplacian(crop).view(-1)[at_inside[like]].mean())
-        if abs(level - target) < gap:
-            best, gap = w, abs(level - target)
+    levels: dict[int, float | None] = {}
+
+    def excess(i: int) -> float | None:
+        """The fill's texture at weight ``GRAIN_WEIGHTS[i]`` less the target (None: too few road-like pixels)."""
+        if i not in levels:
+            filled = (values + GRAIN_WEIGHTS[i] * grains).clamp(0, 1)
+            crop.view(3, -1)[:, at] = filled
+            # road_like is per pixel: looked at on the hole's pixels alone (the cost: a Lab conversion per weight)
+            like = road_like(filled[:, inside, None], road)[:, 0]
+            levels[i] = (float(_luma_laplacian(crop).view(-1)[at_inside[like]].mean()) - target
+                         if int(like.sum()) >= 50 else None)
+        return levels[i]
+
+    chosen = _nearest_zero(excess, len(GRAIN_WEIGHTS))
+    return default if chosen is None else GRAIN_WEIGHTS[chosen]
+
+
+def _nearest_zero(excess: Callable[[int], float | None], count: int) -> int | None:
+    """The index ``i < count`` whose ``excess(i)`` is nearest 0 (the first on ties; None: every one is None), the
+    excesses taken to grow with ``i`` (more grain, more texture): the ends first, then a bisection for the sign
+    change, so at most ``2 + ceil(log2(count - 1))`` of them are computed (6 of 10). Where one of those is None (the
+    monotone reading cannot be trusted), they do not grow, or the last two are equal (the first of equal ones is
+    wanted), every index is looked at, in order."""
+    lo, hi = 0, count - 1
+    first, last = excess(lo), excess(hi)
+    monotone = first is not None and last is not None and first <= last
+    if monotone and (first >= 0 or first == last):  # first == last: all equal (no grain where it is measured)
+        return lo
+    if monotone and last <= 0:
+        before = excess(hi - 1)
+        if before is not None and before < last:
+            return hi
+        monotone = False  # a tie or no growth at the end
+    while monotone and hi - lo > 1:  # excess(lo) < 0 < excess(hi)
+        mid = (lo + hi) // 2
+        e = excess(mid)
+        if e is None or not first <= e <= last:
+            monotone = False
+        elif e < 0:
+            lo, first = mid, e
+        else:
+            hi, last = mid, e
+    if monotone:
+        return lo if -first <= last else hi
+    best, gap = None, math.inf
+    for i in range(count):
+        e = excess(i)
+        if e is not None and abs(e) < gap:
+            best, gap = i, abs(e)
     return best
 
 

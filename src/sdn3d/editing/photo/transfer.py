@@ -1502,7 +1502,6 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     if bool(default.any()) and len(seen_colors):
         albedo[default] = seen_through_the_air(albedo[default], seen_colors)
     q_feat = _part_features(before, b, points, normals)
-    q_feat32 = q_feat.float()
     paint = own.color[own.part == int(Part.BODY)]
     for part in parts.unique().tolist():
         q = (parts == part).nonzero().flatten()
@@ -1520,12 +1519,8 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             continue
         if len(have) > max_examples:
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
-        # Distances in float32: the (chunk, examples) matrix is the costliest step of an unseen side, and float64
-        # only reorders near ties among the nearest examples (docs/results/2026-11-29_cpu/session9/rot05/).
-        have_feat = feature[have].float()
-        for chunk in q.split(8192):
-            near = torch.cdist(q_feat32[chunk], have_feat).topk(min(k, len(have)), largest=False).indices
-            albedo[chunk] = source[have][near].mean(1)
+        near = _nearest_examples(q_feat[q], feature[have], k)
+        albedo[q] = source[have][near].mean(1)
         codes[q] = code
     # The lamps of an end the photo never showed, where cars have them (:func:`_lamp_band`): the template's lamp faces
     # lie lower, on the end cap, and took the other end's paint there.
@@ -1539,6 +1534,16 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             albedo[here] = seen_through_the_air(lamp, seen_colors) if len(seen_colors) else lamp
             codes[here] = DEFAULT
     return albedo, codes
+
+
+def _nearest_examples(query: Tensor, examples: Tensor, k: int) -> Tensor:
+    """``(Q, min(k, E))`` the indices of the ``k`` examples ``examples (E, F)`` nearest (Euclidean) each row of ``query
+    (Q, F)``, looked at 8192 rows at a time. In float32: the ``(Q, E)`` distances are the costliest step of an unseen
+    side, and float64 only reorders near ties among the nearest examples (the pictures' changes are in
+    docs/results/2026-11-29_cpu/session9/rot05/)."""
+    k = min(k, len(examples))
+    query, examples = query.float(), examples.float()
+    return torch.cat([torch.cdist(chunk, examples).topk(k, largest=False).indices for chunk in query.split(8192)])
 
 
 def _lamp_band(before: ObjectTable, b: int, features: Tensor) -> Tensor | None:

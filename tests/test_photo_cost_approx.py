@@ -1,0 +1,73 @@
+"""The photo appearance's cost cuts that are not bit-identical (docs/results/2026-11-29_cpu/session9/rot05/): each
+gives what the computation it replaced gave wherever that is well defined (no near ties), with the replaced
+computation written out here as the reference."""
+
+from __future__ import annotations
+
+import math
+
+import torch
+
+from sdn3d.editing.photo.road import GRAIN_WEIGHTS, _nearest_zero
+from sdn3d.editing.photo.transfer import _nearest_examples
+
+
+def _scan(values: list[float | None]) -> int | None:
+    """_matched_weight's choice as it was: every weight looked at, in order, the first nearest 0 kept."""
+    best, gap = None, math.inf
+    for i, e in enumerate(values):
+        if e is not None and abs(e) < gap:
+            best, gap = i, abs(e)
+    return best
+
+
+def _counted(values: list[float | None]):
+    seen: list[int] = []
+
+    def excess(i: int) -> float | None:
+        seen.append(i)
+        return values[i]
+    return excess, seen
+
+
+def test_nearest_zero_is_the_scans_choice_with_few_looks_when_the_excess_grows():
+    g = torch.Generator().manual_seed(0)
+    n = len(GRAIN_WEIGHTS)
+    for _ in range(300):
+        shift = float(torch.randn(1, generator=g)) * 0.01
+        grows = (torch.rand(n, generator=g) * 0.003).cumsum(0) + shift  # increasing, crossing 0 or not
+        values = grows.tolist()
+        excess, seen = _counted(values)
+        assert _nearest_zero(excess, n) == _scan(values)
+        assert len(set(seen)) <= 2 + math.ceil(math.log2(n - 1)), seen  # the ends, then one more or a bisection
+
+
+def test_nearest_zero_falls_back_to_the_scan_on_gaps_ties_and_bends():
+    n = len(GRAIN_WEIGHTS)
+    cases = [
+        [0.0] * n,  # no grain: the first weight
+        [-0.01] * n,  # the same, below the target
+        [-0.02, -0.01] + [-0.005] * (n - 2),  # a plateau at the end: its first index
+        [None] + [0.001 * i - 0.004 for i in range(1, n)],  # too few road-like pixels at one weight
+        [None] * n,  # nowhere enough: None (the caller's default)
+        [-0.004, 0.003, -0.001, 0.002, 0.004, 0.005, 0.006, 0.007, 0.008, 0.009],  # not monotone
+        [0.009, 0.008, 0.007, 0.006, 0.005, 0.004, 0.003, 0.002, 0.001, -0.003],  # falling
+        [-0.009, -0.007, -0.005, -0.003, -0.001, 0.001, 0.003, 0.005, 0.007, 0.009],  # an exact tie: the first
+    ]
+    for values in cases:
+        excess, _ = _counted(values)
+        assert _nearest_zero(excess, n) == _scan(values), values
+
+
+def test_nearest_examples_in_float32_are_float64s_without_near_ties():
+    g = torch.Generator().manual_seed(1)
+    for q, e, k in ((500, 1500, 4), (9000, 40, 4), (30, 3, 4)):  # several chunks; fewer examples than k
+        examples = torch.rand(e, 6, generator=g, dtype=torch.float64)
+        query = torch.rand(q, 6, generator=g, dtype=torch.float64)
+        want = torch.cdist(query, examples).topk(min(k, e), largest=False)
+        got = _nearest_examples(query, examples, k)
+        assert got.shape == (q, min(k, e))
+        dist = torch.cdist(query, examples).sort(1).values
+        clear = (dist[:, min(k, e)] - dist[:, min(k, e) - 1] > 1e-5) if e > k else torch.ones(q, dtype=torch.bool)
+        assert float(clear.float().mean()) > 0.9
+        assert torch.equal(got[clear].sort(1).values, want.indices[clear].sort(1).values)

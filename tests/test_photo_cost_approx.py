@@ -10,6 +10,7 @@ import torch
 
 from sdn3d.editing.photo.road import GRAIN_WEIGHTS, _nearest_zero
 from sdn3d.editing.photo.transfer import _nearest_examples
+from sdn3d.image_ops import dilate_square
 
 
 def _scan(values: list[float | None]) -> int | None:
@@ -71,3 +72,23 @@ def test_nearest_examples_in_float32_are_float64s_without_near_ties():
         clear = (dist[:, min(k, e)] - dist[:, min(k, e) - 1] > 1e-5) if e > k else torch.ones(q, dtype=torch.bool)
         assert float(clear.float().mean()) > 0.9
         assert torch.equal(got[clear].sort(1).values, want.indices[clear].sort(1).values)
+
+
+def test_road_around_is_road_colours_and_road_like_from_one_conversion():
+    from sdn3d.editing.photo.road import _road_around, road_colours, road_like
+    from tests.test_photo_cost import _road_picture
+
+    image = _road_picture(90, 200, 3)
+    hole = torch.zeros(90, 200, dtype=torch.bool)
+    hole[30:60, 50:120] = True
+    for ring in (dilate_square(hole, 25) & ~dilate_square(hole, 5), torch.ones(90, 200, dtype=torch.bool)[:, ::3]):
+        img = image if ring.shape[1] == 200 else image[:, :, ::3]
+        road, like = _road_around(img, ring)
+        want = road_colours(img, ring)
+        assert road is not None and torch.equal(road, want)
+        expected = ring & road_like(img, want, within=ring)
+        assert 0 < int(like.sum()) < int(ring.sum())  # a real test: some ring pixels are road, some not
+        assert int((like != expected).sum()) <= max(1, int(ring.sum()) // 1000)  # last-bit flips at the threshold
+    empty = torch.zeros(90, 200, dtype=torch.bool)
+    road, like = _road_around(image, empty)
+    assert road is None and not bool(like.any())

@@ -407,10 +407,9 @@ def road_haze(image: Tensor, valid: Tensor, hole: Tensor, horizon: float, airlig
     step = max(1, width // HAZE_COLUMNS)
     region = (dilate_square(hole, extent) & valid & (rows > horizon + 1)[:, None])[:, ::step]
     image = image[:, :, ::step]
-    road = road_colours(image, region)
+    road, like = _road_around(image, region)
     if road is None:
         return None
-    like = region & road_like(image, road, within=region)
     count = like.sum(1)
     use = (count >= HAZE_MIN_PIXELS).nonzero().flatten()
     if len(use) < HAZE_MIN_ROWS:
@@ -502,10 +501,9 @@ def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor
     hole = torch.zeros_like(valid)
     hole[ys, xs] = True
     ring = dilate_square(hole, 40) & ~dilate_square(hole, 8) & valid
-    road = road_colours(image, ring)
+    road, around = _road_around(image, ring)
     if road is None:
         return default
-    around = ring & road_like(image, road, within=ring)
     if int(around.sum()) < 50:
         return default
     y0, y1 = max(int(ys.min()) - 41, 0), min(int(ys.max()) + 42, height)
@@ -685,7 +683,11 @@ def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor
     pix = image[:, ring].T.contiguous()  # (N, 3) in the picture's order, laid out as srgb_to_lab always had them
     if len(pix) < 30:
         return None
-    lab = srgb_to_lab(pix)
+    return _road_of(srgb_to_lab(pix), tolerance)
+
+
+def _road_of(lab: Tensor, tolerance: float) -> Tensor | None:
+    """:func:`road_colours` of the ring pixels' Lab rows ``lab (N, 3)``."""
     ab = lab[:, 1:]
     ref = ab[ab_length(ab) < 2 * tolerance]
     if len(ref) < 30:
@@ -693,6 +695,23 @@ def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor
     mid = _column_median(ref)
     near = ab_length(ab - mid) < tolerance
     return _column_median(lab[near]) if int(near.sum()) >= 30 else None
+
+
+def _road_around(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> tuple[Tensor | None, Tensor]:
+    """``(road, like (H, W))``: :func:`road_colours` of ``ring`` and its pixels :func:`road_like` of that road (the
+    ``ring`` pixels within ``tolerance`` of its chroma, lightness at least 0; all False when ``road`` is None), both
+    from one Lab conversion of the ring's pixels (``road_like`` converted the ring's whole box again)."""
+    from sdn3d.editing.photo.recolor import srgb_to_lab
+
+    like = torch.zeros(ring.shape, dtype=torch.bool)
+    pix = image[:, ring].T.contiguous()  # as road_colours reads them
+    if len(pix) < 30:
+        return None, like
+    lab = srgb_to_lab(pix)
+    road = _road_of(lab, tolerance)
+    if road is not None:
+        like[ring] = (ab_length(lab[:, 1:] - road[1:]) < tolerance) & (lab[:, 0] >= 0.0 * road[0])
+    return road, like
 
 
 #: :func:`_column_median` selects with NumPy from this many rows on (torch's median is faster below, slower above).

@@ -92,3 +92,17 @@ def test_road_around_is_road_colours_and_road_like_from_one_conversion():
     empty = torch.zeros(90, 200, dtype=torch.bool)
     road, like = _road_around(image, empty)
     assert road is None and not bool(like.any())
+
+
+def test_road_lab_is_srgb_to_lab_within_its_tolerance():
+    from sdn3d.editing.photo.recolor import srgb_to_lab
+    from sdn3d.editing.photo.road import road_lab
+
+    g = torch.Generator().manual_seed(7)
+    rgb = torch.cat([torch.rand(50000, 3, generator=g), torch.eye(3), torch.zeros(1, 3), torch.ones(1, 3),
+                     torch.tensor([[0.04045, 0.0404, 0.0405], [-0.1, 1.2, 0.5]])])  # the branches' edges, clamping
+    got, want = road_lab(rgb), srgb_to_lab(rgb)
+    assert got.shape == want.shape and got.dtype == torch.float32 and got.stride() == want.stride()
+    assert float((got - want).abs().max()) < 2e-3  # whole Lab units are the road tests' scale
+    assert float((got - want).abs().mean()) < 1e-4
+    assert torch.equal(road_lab(rgb.double()), got)  # computed in float32 whatever comes in

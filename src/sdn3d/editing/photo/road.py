@@ -626,14 +626,12 @@ def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, ligh
     same row: road in shadow (a car's, a tree's), which a ray must not carry into a hole. The road's lightness per
     row is the median of the road-like ``lit (H, W)`` pixels there (rows without any: the nearest row with some),
     since haze and fog lighten the road with distance, that is with the row."""
-    from sdn3d.editing.photo.recolor import srgb_to_lab
-
     out = torch.zeros_like(within)
     box = _box(within | lit)
     if box is None:
         return out
     y0, y1, x0, x1 = box
-    lab = srgb_to_lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)).view(y1 - y0, x1 - x0, 3)
+    lab = road_lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)).view(y1 - y0, x1 - x0, 3)
     light = lab[..., 0]
     # A shadow's chroma shrinks with its lightness (the road's colour times less light): compared at that scale.
     scale = (light / max(abs(float(road[0])), 1e-3)).clamp(0, 1)[..., None]
@@ -650,6 +648,28 @@ def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, ligh
     dark = light < light_share * ref[:, None]
     out[y0:y1, x0:x1] = dark & like[y0:y1, x0:x1] & within[y0:y1, x0:x1]
     return out
+
+
+def road_lab(rgb: Tensor) -> Tensor:
+    """``(P, 3)`` float32 CIE Lab (D65) of sRGB rows ``rgb (P, 3)`` in [0, 1], channel-major as
+    :func:`~sdn3d.editing.photo.recolor.srgb_to_lab` returns them: its formula and constants (kornia's), computed by
+    NumPy with a true cube root (``np.cbrt`` for ``pow(x, 1 / 3)``). Within about 2e-4 of ``srgb_to_lab``, not bit for
+    bit, at under half its cost: torch's ``pow`` took most of the fill's road tests (:func:`road_colours`,
+    :func:`road_like`, :func:`shadowed_road`: hundreds of thousands of pixels per edit at 1242x375), whose
+    thresholds are whole Lab units.
+
+    >>> [round(v, 2) for v in road_lab(torch.tensor([[1.0, 0.0, 0.0]]))[0].tolist()]
+    [53.24, 80.09, 67.2]
+    """
+    from sdn3d.editing.photo.recolor import _RGB_TO_XYZ, _WHITE
+
+    x = np.clip(rgb.float().T.numpy(), 0.0, 1.0)  # (3, P)
+    f32 = np.float32
+    lin = np.where(x > f32(0.04045), np.power((x + f32(0.055)) / f32(1.055), f32(2.4)), x / f32(12.92))
+    xyz = (np.asarray(_RGB_TO_XYZ, np.float32) / np.asarray(_WHITE, np.float32)[:, None]) @ lin
+    f = np.where(xyz > f32(0.008856), np.cbrt(xyz), f32(7.787) * xyz + f32(4.0 / 29.0))
+    lab = np.stack([f32(116.0) * f[1] - f32(16.0), f32(500.0) * (f[0] - f[1]), f32(200.0) * (f[1] - f[2])])
+    return torch.from_numpy(lab).T
 
 
 def ab_length(ab: Tensor) -> Tensor:
@@ -678,12 +698,10 @@ def _box(mask: Tensor) -> tuple[int, int, int, int] | None:
 def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor | None:
     """``(3,)`` Lab of the road around a removed object: the median of the ``ring (H, W)`` pixels (around it, on
     no object) that are near grey or near the ring's own median chroma; None with fewer than 30 such pixels."""
-    from sdn3d.editing.photo.recolor import srgb_to_lab
-
-    pix = image[:, ring].T.contiguous()  # (N, 3) in the picture's order, laid out as srgb_to_lab always had them
+    pix = image[:, ring].T.contiguous()  # (N, 3) in the picture's order
     if len(pix) < 30:
         return None
-    return _road_of(srgb_to_lab(pix), tolerance)
+    return _road_of(road_lab(pix), tolerance)
 
 
 def _road_of(lab: Tensor, tolerance: float) -> Tensor | None:
@@ -701,13 +719,11 @@ def _road_around(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> tuple[
     """``(road, like (H, W))``: :func:`road_colours` of ``ring`` and its pixels :func:`road_like` of that road (the
     ``ring`` pixels within ``tolerance`` of its chroma, lightness at least 0; all False when ``road`` is None), both
     from one Lab conversion of the ring's pixels (``road_like`` converted the ring's whole box again)."""
-    from sdn3d.editing.photo.recolor import srgb_to_lab
-
     like = torch.zeros(ring.shape, dtype=torch.bool)
     pix = image[:, ring].T.contiguous()  # as road_colours reads them
     if len(pix) < 30:
         return None, like
-    lab = srgb_to_lab(pix)
+    lab = road_lab(pix)
     road = _road_of(lab, tolerance)
     if road is not None:
         like[ring] = (ab_length(lab[:, 1:] - road[1:]) < tolerance) & (lab[:, 0] >= 0.0 * road[0])
@@ -733,8 +749,6 @@ def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: f
     lightness is at least ``min_light`` of its: asphalt and its grey or white lane markings (with ``min_light`` 0,
     its shadows too); not grass, foliage or paint. ``within (H, W)``: only the box around those pixels is looked at
     (False outside it)."""
-    from sdn3d.editing.photo.recolor import srgb_to_lab
-
     out = torch.zeros(image.shape[1:], dtype=torch.bool)
     y0, y1, x0, x1 = 0, image.shape[1], 0, image.shape[2]
     if within is not None:
@@ -743,7 +757,7 @@ def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: f
             return out
         y0, y1, x0, x1 = box
     crop = image[:, y0:y1, x0:x1]
-    lab = srgb_to_lab(crop.permute(1, 2, 0).reshape(-1, 3))
+    lab = road_lab(crop.permute(1, 2, 0).reshape(-1, 3))
     ok = (ab_length(lab[:, 1:] - road[1:]) < tolerance) & (lab[:, 0] >= min_light * road[0])
     out[y0:y1, x0:x1] = ok.view(crop.shape[1:])
     return out

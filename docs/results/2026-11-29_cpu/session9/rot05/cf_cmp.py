@@ -28,4 +28,4 @@ for bn in bins + ["all turns"]:
     ks = [k for k in keys if (a[k][0] == bn or (bn == "all turns" and a[k][0] != "delete"))]
     d = np.array([b[k][1] - a[k][1] for k in ks])
     boots = d[rng.integers(0, len(d), (10000, len(d)))].mean(1)
-    print(f"| {bn} | {len(ks)} | {np.mean([a[k][1] for k in ks]):.3f} | {np.mean([b[k][1] for k in ks]):.3f} | {d.mean():+.4f} [{np.percentile(boots, 2.5):+.4f}, {np.percentile(boots, 97.5):+.4f}] | {int((d > 1e-9).sum())} / {int((d < -1e-9).sum())} |")
+    print(f"| {bn} | {len(ks)} | {np.mean([a[k][1] for k in ks]):.3f} | {np.mean([b[k][1] for k in ks]):.3f} | {d.mean():+.5f} [{np.percentile(boots, 2.5):+.5f}, {np.percentile(boots, 97.5):+.5f}] | {int((d > 1e-9).sum())} / {int((d < -1e-9).sum())} |")

@@ -27,4 +27,4 @@ for scene, region in sorted({k[:2] for k in a}):
     ks = sorted(k for k in a if k[:2] == (scene, region) and k in b)
     d = np.array([b[k] - a[k] for k in ks])
     boots = d[rng.integers(0, len(d), (10000, len(d)))].mean(1)
-    print(f"| {scene} | {region} | {len(ks)} | {np.mean([a[k] for k in ks]):.3f} | {np.mean([b[k] for k in ks]):.3f} | {d.mean():+.4f} [{np.percentile(boots, 2.5):+.4f}, {np.percentile(boots, 97.5):+.4f}] | {int((d > 1e-9).sum())} / {int((d < -1e-9).sum())} |")
+    print(f"| {scene} | {region} | {len(ks)} | {np.mean([a[k] for k in ks]):.3f} | {np.mean([b[k] for k in ks]):.3f} | {d.mean():+.5f} [{np.percentile(boots, 2.5):+.5f}, {np.percentile(boots, 97.5):+.5f}] | {int((d > 1e-9).sum())} / {int((d < -1e-9).sum())} |")

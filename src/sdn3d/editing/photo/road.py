@@ -477,7 +477,7 @@ def _one_sided_marks(c_out: Tensor, c_in: Tensor, b_out: Tensor, b_in: Tensor, w
             torch.where(keep, w_in, new_in / total.clamp(min=1e-6)))
 
 
-#: Grain weights :func:`ray_fill` chooses from with ``match_grain``.
+#: Grain weights :func:`ray_fill` chooses from with ``match_grain``, increasing (:func:`_nearest_zero` bisects them).
 GRAIN_WEIGHTS = (0.0, 0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0)
 
 

@@ -11,7 +11,7 @@ import torch.nn.functional as F
 from sdn3d.editing.apply import Move, Rotate, apply_edits
 from sdn3d.editing.photo.occluders import _extend_upright, _strips, thin_occluders
 from sdn3d.editing.photo.recolor import srgb_to_lab
-from sdn3d.editing.photo.road import _along, _gather, _trace, ab_length, road_colours, road_like
+from sdn3d.editing.photo.road import _along, _gather, _trace, ab_length, road_colours, road_lab, road_like
 from sdn3d.editing.photo.transfer import PhotoSource, _erode_ids, _first_true, _pyramid, render_photo
 from sdn3d.image_ops import dilate_square, ids_present, isin_ids
 from tests.test_photo import CAR, FAR_CAR, FRAME, INPUT_SIZE, _scene
@@ -80,18 +80,19 @@ def test_ab_length_is_torch_norm_bit_for_bit():
 
 
 def test_road_helpers_keep_their_answers():
+    """road_colours and road_like as they were, with the Lab road.py computes (road_lab, session 9 rot05)."""
     g = torch.Generator().manual_seed(8)
     image = torch.rand(3, 40, 70, generator=g) * 0.2 + 0.4
     ring = torch.zeros(40, 70, dtype=torch.bool)
     ring[5:35, 5:65] = True
     road = road_colours(image, ring)
     flat = image.permute(1, 2, 0).reshape(-1, 3)
-    lab = srgb_to_lab(flat[ring.view(-1)])
+    lab = road_lab(flat[ring.view(-1)])
     ab = lab[:, 1:]
     ref = ab[ab.norm(dim=1) < 24.0]
     near = (ab - ref.median(0).values).norm(dim=1) < 12.0
     assert torch.equal(road, lab[near].median(0).values)  # road_colours as it was, with torch's norm
-    full = srgb_to_lab(flat)
+    full = road_lab(flat)
     want = ((full[:, 1:] - road[1:]).norm(dim=1) < 12.0).view(40, 70)
     assert torch.equal(road_like(image, road), want)
 
@@ -310,7 +311,7 @@ def _road_like_as_it_was(image, road, tolerance=12.0, min_light=0.0, within=None
         ys, xs = within.any(1).nonzero().flatten(), within.any(0).nonzero().flatten()
         y0, y1, x0, x1 = int(ys[0]), int(ys[-1]) + 1, int(xs[0]), int(xs[-1]) + 1
     crop = image[:, y0:y1, x0:x1]
-    lab = srgb_to_lab(crop.permute(1, 2, 0).reshape(-1, 3))
+    lab = road_lab(crop.permute(1, 2, 0).reshape(-1, 3))
     ok = (ab_length(lab[:, 1:] - road[1:]) < tolerance) & (lab[:, 0] >= min_light * road[0])
     out[y0:y1, x0:x1] = ok.view(crop.shape[1:])
     return out
@@ -330,7 +331,7 @@ def test_road_colours_and_road_like_read_the_same_pixels_from_a_boxed_or_strided
                                                 int(cols.max()) + 1)
             assert _box(within) == want
             pix = img.permute(1, 2, 0).reshape(-1, 3)[within.reshape(-1)]  # road_colours' pixels as they were
-            lab = srgb_to_lab(pix) if len(pix) else None
+            lab = road_lab(pix) if len(pix) else None
             road = road_colours(img, within)
             if road is not None:
                 ref = lab[:, 1:][ab_length(lab[:, 1:]) < 24.0]

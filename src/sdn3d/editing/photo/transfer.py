@@ -1124,7 +1124,8 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     surface_shade = shade if shade is not None else _unshaded
     fallback = torch.zeros_like(color)
     codes = torch.where(ok_photo, PHOTO, torch.where(ok_mirror, MIRROR, FALLBACK)).to(torch.uint8)
-    img_flat = image.permute(1, 2, 0).reshape(-1, 3).double()
+    # (H * W, 3) in the picture's dtype: the rows read are made float64 where gathered (the same values, exactly)
+    img_flat = image.permute(1, 2, 0).reshape(-1, 3)
     t_part = _part_map(tgt, after, bank, pix)
     by_parts = settings.unseen == "parts"
     drawn_rows = row.unique()
@@ -1168,7 +1169,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         name = int(after.instance_id[r])
         visible_px = visible_of(int(before.instance_id[b])) if b >= 0 else pix[:0]
         if len(visible_px):
-            colors = img_flat[visible_px]
+            colors = img_flat[visible_px].double()
             if src_normals is not None:
                 s = surface_shade(src_normals[visible_px]).clamp(min=0.2)
                 colors = colors / s[:, None]
@@ -1411,8 +1412,9 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     tyres near black in rain). Kept as examples: pixels seen squarely enough (``min_view_cos``); body examples that
     are paint (:func:`~sdn3d.editing.photo.recolor.body_paint`: a tail lamp or a window that a loosely fitted mesh
     calls body painted a red or black stripe along a whole new side); tyre examples darker than most of the car
-    (:data:`TYRE_QUANTILE`)."""
-    seen_colors = img_flat[visible_px]
+    (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype (the colours are float64
+    from the rows read on)."""
+    seen_colors = img_flat[visible_px].double()
     ex = visible_px[(src.frags.pix_to_mesh.view(-1)[visible_px] == s_mesh) & (parts_src[visible_px] >= 0)]
     if not len(ex):
         return _no_examples(), seen_colors
@@ -1422,7 +1424,7 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     cos = _view_cos(point, normal)
     good = cos >= settings.min_view_cos
     ex, point, normal, cos = ex[good], point[good], normal[good], cos[good]
-    colors = img_flat[ex]
+    colors = img_flat[ex].double()
     ex_part = parts_src[ex]
     keep = torch.ones(len(ex), dtype=torch.bool)
     body_ex = (ex_part == int(Part.BODY)).nonzero().flatten()
@@ -1517,9 +1519,8 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             continue
         if len(have) > max_examples:
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
-        for chunk in q.split(8192):
-            near = torch.cdist(q_feat[chunk], feature[have]).topk(min(k, len(have)), largest=False).indices
-            albedo[chunk] = source[have][near].mean(1)
+        near = _nearest_examples(q_feat[q], feature[have], k)
+        albedo[q] = source[have][near].mean(1)
         codes[q] = code
     # The lamps of an end the photo never showed, where cars have them (:func:`_lamp_band`): the template's lamp faces
     # lie lower, on the end cap, and took the other end's paint there.
@@ -1533,6 +1534,16 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             albedo[here] = seen_through_the_air(lamp, seen_colors) if len(seen_colors) else lamp
             codes[here] = DEFAULT
     return albedo, codes
+
+
+def _nearest_examples(query: Tensor, examples: Tensor, k: int) -> Tensor:
+    """``(Q, min(k, E))`` the indices of the ``k`` examples ``examples (E, F)`` nearest (Euclidean) each row of ``query
+    (Q, F)``, looked at 8192 rows at a time. In float32: the ``(Q, E)`` distances are the costliest step of an unseen
+    side, and float64 only reorders near ties among the nearest examples (the pictures' changes are in
+    docs/results/2026-11-29_cpu/session9/rot05/)."""
+    k = min(k, len(examples))
+    query, examples = query.float(), examples.float()
+    return torch.cat([torch.cdist(chunk, examples).topk(k, largest=False).indices for chunk in query.split(8192)])
 
 
 def _lamp_band(before: ObjectTable, b: int, features: Tensor) -> Tensor | None:

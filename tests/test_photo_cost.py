@@ -164,7 +164,6 @@ def _vanishing_point_whole(image, region, K, min_edges=50, max_edges=4000, coher
     import math
 
     import cv2
-    import torch.nn.functional as F
 
     from sdn3d.editing.photo.light import luminance
 
@@ -176,8 +175,9 @@ def _vanishing_point_whole(image, region, K, min_edges=50, max_edges=4000, coher
     use = region & (torch.arange(image.shape[1])[:, None] > cy + 2) & (mag > 0.15)
     if int(use.sum()) < min_edges:
         return None
-    g = torch.stack([gx * gx, gy * gy, gx * gy])[None]
-    jxx, jyy, jxy = F.avg_pool2d(g, window, stride=1, padding=window // 2, count_include_pad=True)[0]
+    jxx, jyy, jxy = (torch.from_numpy(cv2.boxFilter(c.numpy(), -1, (window, window), normalize=False,
+                                                    borderType=cv2.BORDER_CONSTANT))
+                     for c in (gx * gx, gy * gy, gx * gy))
     use &= ((jxx - jyy).square() + 4 * jxy.square()) / (jxx + jyy).square().clamp(min=1e-12) >= coherence
     if int(use.sum()) < min_edges:
         return None

@@ -671,7 +671,9 @@ def road_lab(rgb: Tensor) -> Tensor:
     x = np.clip(rgb.float().T.numpy(), 0.0, 1.0)  # (3, P)
     f32 = np.float32
     lin = np.where(x > f32(0.04045), np.power((x + f32(0.055)) / f32(1.055), f32(2.4)), x / f32(12.92))
-    xyz = (np.asarray(_RGB_TO_XYZ, np.float32) / np.asarray(_WHITE, np.float32)[:, None]) @ lin
+    m = np.asarray(_RGB_TO_XYZ, np.float32) / np.asarray(_WHITE, np.float32)[:, None]
+    # the 3x3 product as sums of products: NumPy's matrix product runs on OpenBLAS' own threads, whatever torch's count
+    xyz = np.stack([m[i, 0] * lin[0] + m[i, 1] * lin[1] + m[i, 2] * lin[2] for i in range(3)])
     f = np.where(xyz > f32(0.008856), np.cbrt(xyz), f32(7.787) * xyz + f32(4.0 / 29.0))
     lab = np.stack([f32(116.0) * f[1] - f32(16.0), f32(500.0) * (f[0] - f[1]), f32(200.0) * (f[1] - f[2])])
     return torch.from_numpy(lab).T

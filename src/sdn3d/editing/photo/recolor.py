@@ -104,6 +104,8 @@ def ground_in_mask(image: Tensor, mask: Tensor, reach: int = 6, band: float = 0.
     height (counted up from the mask's lowest pixel in its column), and it is connected (4-neighbours) through such
     pixels to a pixel at the mask's edge. A black car's body and sills are darker than its shadow on the road (their
     own shade, no sky) and its tyres are rubber and grey rims: a shadow grown by colour stops at them."""
+    import cv2
+
     height, width = mask.shape
     out = torch.zeros_like(mask)
     rows, cols = mask.any(1).nonzero().flatten(), mask.any(0).nonzero().flatten()
@@ -140,8 +142,6 @@ def ground_in_mask(image: Tensor, mask: Tensor, reach: int = 6, band: float = 0.
     edge[:-1] |= ~m[1:]
     edge[:, 1:] |= ~m[:, :-1]
     edge[:, :-1] |= ~m[:, 1:]
-    import cv2
-
     _, label = cv2.connectedComponents(road.numpy().astype(np.uint8), connectivity=4)
     label = torch.from_numpy(label)
     touching = label[road & edge].unique()

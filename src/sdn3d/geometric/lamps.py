@@ -99,10 +99,9 @@ def through_the_air(crop: Tensor, mask: Tensor, clear_dark: float | None) -> Ten
     return (crop - air[:, :, None, None]) / t[:, None, None, None]
 
 
-def _red(crop: Tensor, mask: Tensor, cue: LampCue) -> Tensor:
-    """``(N, S, S)`` bool: the saturated red pixels of the ``(N, S, S)`` bool ``mask``, their colours read through
-    the air (:func:`through_the_air`)."""
-    seen = through_the_air(crop, mask, cue.clear_dark)
+def _red(seen: Tensor, mask: Tensor, cue: LampCue) -> Tensor:
+    """``(N, S, S)`` bool: the saturated red pixels of the ``(N, S, S)`` bool ``mask`` in ``seen (N, 3, S, S)``, the
+    crops' colours read through the air (:func:`through_the_air`)."""
     r, g, b = seen[:, 0], seen[:, 1], seen[:, 2]
     return mask & (r > cue.red_min) & (r > cue.ratio * g) & (r > cue.ratio * b)
 
@@ -113,7 +112,7 @@ def red_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple[T
     red pixels' mean column offset from the mask's, over the mask's width (0 where none)."""
     cue = cue or LampCue()
     m = (mask[:, 0] if mask.dim() == 4 else mask) > 0.5
-    red = _red(crop, m, cue)
+    red = _red(through_the_air(crop, m, cue.clear_dark), m, cue)
     n_red, n_mask = red.flatten(1).sum(1), m.flatten(1).sum(1)
     offset = _column_offset(m, red, crop.dtype)
     rows = torch.arange(crop.shape[-2], dtype=crop.dtype, device=crop.device)[:, None]
@@ -157,13 +156,13 @@ def white_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple
     """
     cue = cue or LampCue()
     m = (mask[:, 0] if mask.dim() == 4 else mask) > 0.5
-    red = _red(crop, m, cue)
+    seen = through_the_air(crop, m, cue.clear_dark)  # read once: the red test and the white one
+    red = _red(seen, m, cue)
     n_red, n_mask = red.flatten(1).sum(1), m.flatten(1).sum(1)
     rows = torch.arange(crop.shape[-2], device=crop.device)[:, None].expand(crop.shape[-2:])
     top = torch.where(m, rows, torch.full_like(rows, crop.shape[-2])).flatten(1).amin(1)
     bottom = torch.where(m, rows, torch.full_like(rows, -1)).flatten(1).amax(1)
     lower = rows[None] * 2 > (top + bottom)[:, None, None]  # below the mask's middle row
-    seen = through_the_air(crop, m, cue.clear_dark)
     high, low = seen.amax(1), seen.amin(1)
     white = m & lower & (low > cue.white_min) & (high - low < cue.white_spread)
     n_white = white.flatten(1).sum(1)

@@ -1317,6 +1317,9 @@ def _outline_growth(pix: Tensor, row: Tensor, moved: Tensor, before: ObjectTable
 #: 0 gave 22.61 / 20.51 / 19.89 / 17.98 dB at 15 / 45 / 90 / 180 degrees, 1: 24.41 / 21.70 / 20.64 / 19.63,
 #: 3: 24.31 / 21.60 / 22.31 / 19.74, 5: 24.31 / 21.59 / 22.38 / 19.76.
 PART_NORMAL_WEIGHT = 3.0
+#: :func:`_part_features`: weight of a point's place along the car (its share of the length), against its height and
+#: its distance from the middle plane (shares of theirs): parts repeat along a car, so the length matters weakly.
+PART_LENGTH_WEIGHT = 0.25
 #: A lamp part the input never showed is drawn from the other end's lamps and paint (:func:`_part_colors`): the two
 #: ends of a car mirror each other (lamps at the corners, at the same height). On the tuning seed's 180-degree turns:
 #: 20.10 dB against 19.74 with :data:`PART_DEFAULTS` lamps, and 18.69 with the other end's lamps in the default's hue
@@ -1399,7 +1402,8 @@ def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor)
     centre = before.center[b].double()
     size = before.dims[b].double()  # (l, h, w)
     local = (points.double() - centre) @ rot  # rot^T (p - c) per row
-    where = torch.stack([0.25 * local[:, 0] / size[0], local[:, 1] / size[1], local[:, 2].abs() / size[2]], 1)
+    where = torch.stack([PART_LENGTH_WEIGHT * local[:, 0] / size[0], local[:, 1] / size[1],
+                         local[:, 2].abs() / size[2]], 1)
     return torch.cat([where, PART_NORMAL_WEIGHT * normals.double()], 1)
 
 
@@ -1531,7 +1535,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             if int((own.part == lamp_part).sum()) >= 2 * k or not bool(here.any()):
                 continue  # that end was seen: its lamps are the photo's
             lamp = torch.tensor(LAMP_DEFAULTS[lamp_part], dtype=albedo.dtype).expand(int(here.sum()), 3)
-            albedo[here] = seen_through_the_air(lamp, seen_colors) if len(seen_colors) else lamp
+            albedo[here] = seen_through_the_air(lamp, seen_colors)  # too few colours: the lamp as it is
             codes[here] = DEFAULT
     return albedo, codes
 
@@ -1557,7 +1561,7 @@ def _lamp_band(before: ObjectTable, b: int, features: Tensor) -> Tensor | None:
     if not 0 <= template < len(TEMPLATE_NAMES):
         return None
     belt = canonical_belt(TEMPLATE_SPECS[TEMPLATE_NAMES[template]])
-    x, y, z = 4 * features[:, 0], features[:, 1], features[:, 2]
+    x, y, z = features[:, 0] / PART_LENGTH_WEIGHT, features[:, 1], features[:, 2]
     inside = (y > belt + LAMP_BAND[0]) & (y < belt + LAMP_BAND[1]) & (z > LAMP_CORNER)
     out = torch.full((len(features),), -1, dtype=torch.long)
     out[inside & (x > LAMP_END)] = int(Part.FRONT_LIGHTS)

@@ -733,7 +733,7 @@ def _road_around(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> tuple[
     lab = road_lab(pix)
     road = _road_of(lab, tolerance)
     if road is not None:
-        like[ring] = (ab_length(lab[:, 1:] - road[1:]) < tolerance) & (lab[:, 0] >= 0.0 * road[0])
+        like[ring] = _near_road(lab, road, tolerance, 0.0)
     return road, like
 
 
@@ -765,6 +765,11 @@ def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: f
         y0, y1, x0, x1 = box
     crop = image[:, y0:y1, x0:x1]
     lab = road_lab(crop.permute(1, 2, 0).reshape(-1, 3))
-    ok = (ab_length(lab[:, 1:] - road[1:]) < tolerance) & (lab[:, 0] >= min_light * road[0])
-    out[y0:y1, x0:x1] = ok.view(crop.shape[1:])
+    out[y0:y1, x0:x1] = _near_road(lab, road, tolerance, min_light).view(crop.shape[1:])
     return out
+
+
+def _near_road(lab: Tensor, road: Tensor, tolerance: float, min_light: float) -> Tensor:
+    """``(N,)`` bool: which Lab rows ``lab (N, 3)`` are road-like for the road ``road (3,)`` (:func:`road_like`'s
+    test: chroma within ``tolerance``, lightness at least ``min_light`` of the road's)."""
+    return (ab_length(lab[:, 1:] - road[1:]) < tolerance) & (lab[:, 0] >= min_light * road[0])

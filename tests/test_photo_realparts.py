@@ -72,6 +72,60 @@ def test_recolour_of_a_black_car_keeps_the_road_its_mask_took_in():
     assert not torch.equal(leaked[:, road], image[:, road])
 
 
+def _blue_car_with_lamp_faces() -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, dict[str, torch.Tensor]]:
+    """``(image (3, 60, 80), mask, parts, regions)``: a blue car's front in the rain, its lower half in shade (L*
+    about 35, as grey-blue as the wet road) over a road whose strip just below the mask holds a white lane mark and
+    light streaks (a wide spread of road colours); the fitted template's front-end part (head lamps and grille)
+    covers the whole lower front and two white lamps, its plate part a patch of paint, its body part the top."""
+    gen = torch.Generator().manual_seed(1)
+    height, width = 60, 80
+    rows = torch.arange(height)[:, None].expand(height, width)
+    cols = torch.arange(width)[None, :].expand(height, width)
+    wet = 0.2 + 0.5 * torch.rand(1, height, width, generator=gen)  # puddles, streaks and a lane mark: a wide spread
+    image = torch.tensor([0.95, 0.97, 1.0])[:, None, None] * wet
+    mask = (rows >= 10) & (rows < 40) & (cols >= 15) & (cols < 65)
+    lit_blue = torch.tensor([0.30, 0.40, 0.75])[:, None, None]
+    shade = torch.where(rows >= 22, 0.6, 1.0).float()[None]
+    image = torch.where(mask[None], lit_blue * shade * (1 + 0.02 * torch.randn(1, height, width, generator=gen)),
+                        image)
+    lamps = mask & (rows >= 16) & (rows < 21) & (((cols >= 18) & (cols < 26)) | ((cols >= 54) & (cols < 62)))
+    image = torch.where(lamps[None], torch.full_like(image, 0.88), image)
+    parts = torch.full(mask.shape, int(Part.BODY), dtype=torch.int8)
+    parts[mask & (rows >= 16)] = int(Part.FRONT_LIGHTS)
+    plate = mask & (rows >= 32) & (cols >= 34) & (cols < 46)
+    parts[plate] = int(Part.PLATE)
+    parts[~mask] = -1
+    return image.clamp(0, 1), mask, parts, {"lamps": lamps, "paint": mask & ~lamps, "shaded": mask & (rows >= 22)}
+
+
+def test_recolour_of_a_coloured_car_repaints_its_paint_whatever_part_the_template_puts_there():
+    """The demo's blue car recoloured red kept its front blue: the template's front-end and plate faces covered its
+    lower front, and the road test took the shaded paint for road (the strip under the car holds a lane mark and
+    streaks, so the lighter road colour's tolerance took in blue). A coloured paint is told by its hue on every pixel:
+    the paint turns red, the white lamps stay."""
+    image, mask, parts, regions = _blue_car_with_lamp_faces()
+    owner = torch.where(mask, 3, 0)
+    source = torch.full(mask.shape, INPUT, dtype=torch.uint8)
+    objects, warnings = {}, []
+    out, codes = transfer._recolor(image, source, owner, {3: (0.8, 0.1, 0.1)}, objects, warnings, parts)
+    paint = regions["paint"]
+    assert float((codes[paint] == RECOLORED).float().mean()) > 0.98
+    lab = srgb_to_lab(out[:, paint].T)
+    assert float(lab[:, 1].median()) > 30 and float(lab[:, 2].median()) > 10  # red
+    assert float((codes[regions["shaded"] & paint] == RECOLORED).float().mean()) > 0.98
+    assert torch.equal(out[:, regions["lamps"]], image[:, regions["lamps"]])
+    assert torch.equal(out[:, ~mask], image[:, ~mask])
+    # A coloured car's recolour does not consult the road test (which on the demo's frame called 1727 of the body
+    # part's 3751 pixels road): with a test that calls the whole mask road, the same pixels are repainted.
+    monkey = pytest.MonkeyPatch()
+    monkey.setattr(transfer, "ground_in_mask", lambda image, mask: mask.clone())
+    try:
+        again, _ = transfer._recolor(image, source, owner, {3: (0.8, 0.1, 0.1)}, {}, [], parts)
+    finally:
+        monkey.undo()
+    assert torch.equal(again, out)
+
+
 def test_dark_paint_keeps_its_rims_and_grey_trim():
     """A black body's pixels much lighter than its paint (a rim, a grey diffuser) are not repainted; a coloured
     body's highlights still are."""

@@ -66,17 +66,21 @@ def _kmeans_lab(lab: Tensor, k: int = 3, iters: int = 10) -> Tensor:
     return assign
 
 
-def body_paint(lab: Tensor, min_chroma: float = 10.0, hue_deg: float = 40.0) -> tuple[Tensor, bool]:
+def body_paint(lab: Tensor, min_chroma: float = 10.0, hue_deg: float = 40.0,
+               reference: Tensor | None = None) -> tuple[Tensor, bool]:
     """``(paint (P,) bool, coloured)`` among pixels ``lab (P, 3)`` of a car's *body part* (the fitted mesh says
     which pixels are paint, so no cluster has to): the chroma-weighted mean hue is the paint's; a coloured paint
     (a body whose median chroma is at least ``min_chroma``) keeps the pixels within ``hue_deg`` of it and at least
     0.25 of its median chroma (windows, tyres and grey trim seen
     through a loosely fitted mesh are not paint); a grey, black, white or silver paint keeps every pixel within
-    ``min_chroma`` of grey."""
+    ``min_chroma`` of grey. ``reference (R, 3)``: the body pixels that set the paint's hue and chroma, when ``lab``
+    holds other pixels too (default: ``lab`` itself)."""
     ab = lab[:, 1:]
     chroma = ab.norm(dim=1)
-    mean = (ab * chroma[:, None]).sum(0) / chroma.sum().clamp(min=1e-6)
-    ref = float(chroma.median())
+    ref_ab = ab if reference is None else reference[:, 1:]
+    ref_chroma = ref_ab.norm(dim=1)
+    mean = (ref_ab * ref_chroma[:, None]).sum(0) / ref_chroma.sum().clamp(min=1e-6)
+    ref = float(ref_chroma.median())
     if float(mean.norm()) < min_chroma or ref < min_chroma:  # most of the body is grey: a few coloured pixels
         # (a tail lamp, a reflection) do not make a black car red
         return chroma < 1.5 * min_chroma, False
@@ -150,7 +154,7 @@ def ground_in_mask(image: Tensor, mask: Tensor, reach: int = 6, band: float = 0.
 
 
 def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],
-                   body_part: bool = False) -> tuple[Tensor, Tensor, dict]:
+                   body_part: bool = False, reference: Tensor | None = None) -> tuple[Tensor, Tensor, dict]:
     """Repaint a car's body (module doc, step 5).
 
     With ``body_part`` the pixels are the fitted mesh's body part (:func:`body_paint` picks the paint among them)
@@ -163,6 +167,8 @@ def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],
         colors: ``(P, 3)`` sRGB in [0, 1], the car's pixels; target_rgb: the paint, sRGB in [0, 1].
         body_part: ``colors`` are the body part's pixels only (see above); False: all the car's pixels, the paint
             found as the largest colour cluster (:func:`_paint`) and moved by one Lab shift.
+        reference: ``(R, 3)`` sRGB, with ``body_part``: the body part's pixels, when ``colors`` are more of the car's
+            (:func:`body_paint`'s ``reference``: they set the paint).
 
     Returns:
         ``(new colours (P, 3), body (P,) bool, stats)``; ``stats``: ``body_share``, ``delta_e`` (CIE76 distance of
@@ -181,7 +187,7 @@ def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],
     lab = srgb_to_lab(colors)
     target = srgb_to_lab(torch.tensor([target_rgb], dtype=colors.dtype))[0]
     if body_part:
-        body, coloured = body_paint(lab)
+        body, coloured = body_paint(lab, reference=None if reference is None else srgb_to_lab(reference))
         if not coloured and bool(body.any()):  # a dark paint: much lighter grey pixels are not it
             paint_light = lab[body, 0].median()
             if float(paint_light) < DARK_PAINT_L:

@@ -654,28 +654,41 @@ def _pixels_of(ids: Tensor, wanted: Tensor):
 
 def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, tuple[float, float, float]],
              objects: dict[int, dict], warnings: list[str], parts: Tensor | None = None) -> tuple[Tensor, Tensor]:
-    """Step 5: each object of ``recolor`` repainted in ``out (3, H, W)`` where ``owner (H, W)`` holds its id (and,
-    given ``parts (H, W)``, the fitted mesh's body part shows: an object with geometry keeps its windows, tyres,
-    lights and plates, and the road its mask took in, lit or in the car's shadow: :func:`ground_in_mask` on the
-    input's own pixels, which a fitted mesh looser than the car calls body); ``source`` says :data:`RECOLORED` where a
-    pixel of the input changed."""
+    """Step 5: each object of ``recolor`` repainted in ``out (3, H, W)`` where ``owner (H, W)`` holds its id.
+    Given ``parts (H, W)`` (an object with geometry), the fitted mesh's body part sets the paint
+    (:func:`~sdn3d.editing.photo.recolor.body_paint`): a coloured paint is repainted on every pixel of the object
+    whose hue and chroma are the paint's, whatever part the template puts there (windows, tyres, lamps, plates and
+    road are not of its hue); a grey paint (whose test grey road and glass pass too) only on the body part, less the
+    road its mask took in, lit or in the car's shadow (:func:`ground_in_mask` on the input's own pixels, which a
+    fitted mesh looser than the car calls body). ``source`` says :data:`RECOLORED` where a pixel of the input
+    changed."""
     pixels_of = _pixels_of(owner, torch.tensor([int(i) for i in recolor], dtype=owner.dtype))
     flat = out.permute(1, 2, 0).reshape(-1, 3).clone()
     codes = source.view(-1).clone()
     for iid, rgb in recolor.items():
         pix = pixels_of(int(iid))
         body_part = parts is not None and len(pix) > 0 and bool((parts.view(-1)[pix] >= 0).any())
+        reference = None
         if body_part:
-            pix = pix[parts.view(-1)[pix] == int(Part.BODY)]
-            if bool((codes[pix] == INPUT).any()):
-                picture = flat.view(*owner.shape, 3).permute(2, 0, 1)
-                road = ground_in_mask(picture, (owner == int(iid)) & (source == INPUT)).view(-1)
-                pix = pix[~road[pix]]
+            body_pix = pix[parts.view(-1)[pix] == int(Part.BODY)]
+            coloured = len(body_pix) >= 8 and body_paint(srgb_to_lab(flat[body_pix].double()))[1]
+            if coloured:
+                # A coloured paint's hue tells paint from the rest on every pixel of the car: a template's lamp, plate
+                # or glass faces that lie over paint (its front end covering a car's whole front) are repainted, and
+                # the grey road and shadow the mask took in are left without being told apart (that test took a
+                # coloured car's shaded lower body for road).
+                reference = flat[body_pix]
+            else:  # a grey paint: the body part only, less the road the mask took in (grey too)
+                pix = body_pix
+                if bool((codes[pix] == INPUT).any()):
+                    picture = flat.view(*owner.shape, 3).permute(2, 0, 1)
+                    road = ground_in_mask(picture, (owner == int(iid)) & (source == INPUT)).view(-1)
+                    pix = pix[~road[pix]]
         if not len(pix):
             warnings.append(f"recolor: object {iid} has no pixels in the picture")
             continue
         colors = flat[pix]
-        new, body, stats = recolor_pixels(colors, tuple(rgb), body_part=body_part)
+        new, body, stats = recolor_pixels(colors, tuple(rgb), body_part=body_part, reference=reference)
         flat[pix] = new
         repainted = pix[(new != colors).any(1)]
         codes[repainted] = torch.where(codes[repainted] == INPUT, RECOLORED, codes[repainted]).to(torch.uint8)

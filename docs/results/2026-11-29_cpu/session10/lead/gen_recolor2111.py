@@ -1,3 +1,4 @@
+# ruff: noqa: E401, E501, F401, I001
 import sys, time
 from sdn3d.data.synth import SynthConfig, generate_dataset
 t = time.time()

@@ -2,12 +2,15 @@
 # ruff: noqa: E402
 """shots.py REPO OUT: sdn3d-app in chromium on the real frame with two boxes, the demo weights of session 5: the red
 car recoloured blue and the black car turned (palette button; Shift+E six times = -90 degrees); screenshots."""
-import sys, tempfile, time
+import sys
+import tempfile
 from pathlib import Path
+
 REPO, OUT = Path(sys.argv[1]), Path(sys.argv[2])
 sys.path.insert(0, str(REPO / "tests"))
 from helpers.app_server import serving
 from helpers.browser import Page, start_chromium
+
 FRAME = REPO / "tests" / "data" / "0006_30-deg-right_00043.png"
 BOXES = ([466, 203, 666, 333], [704, 194, 917, 305])
 OUT.mkdir(parents=True, exist_ok=True)

@@ -84,6 +84,7 @@ from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.templates import TEMPLATE_DIMENSIONS
 from sdn3d.render.settings import SoftSilhouetteSettings
 from sdn3d.render.silhouette import silhouette
+from sdn3d.render.soft import kernel_threads
 
 __all__ = ["FitSettings", "FitResult", "FitRequest", "fit_to_masks", "fit_many", "road_start", "estimate_camera_height",
            "CAR_DIMS", "PLAUSIBLE_SIZE_FACTOR", "HYPOTHESES"]
@@ -385,13 +386,15 @@ class _Meshes:
 def _one_torch_thread() -> Iterator[None]:
     """Run the block on one torch thread, then give back the caller's count. A stage is thousands of small tensor
     operations: torch's threads wait for each other at each one (and spin while waiting, on a busy machine), so more
-    threads cost CPU time and win nothing there (docs/results/2026-11-28_cpu/session5/cost). The fit is then the
-    same whatever the caller's thread count."""
+    threads cost CPU time and win nothing there (docs/results/2026-11-28_cpu/session5/cost). The soft raster's fused
+    kernel, about half a stage and split by whole meshes, keeps the caller's count (:func:`kernel_threads`). The fit
+    is then the same whatever the caller's thread count: the kernel's sums do not depend on it."""
     threads = torch.get_num_threads()
     if threads > 1:
         torch.set_num_threads(1)
     try:
-        yield
+        with kernel_threads(threads):
+            yield
     finally:
         if threads > 1:
             torch.set_num_threads(threads)

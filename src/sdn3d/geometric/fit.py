@@ -68,6 +68,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 
@@ -206,6 +207,7 @@ class FitSettings:
     ffd_reg: float = 100.0
     ffd_step: float = 0.1
     cull_backfaces: bool = False
+    parts: int = 2
     poor_iou: float = 0.7
     min_mask_pixels: int = 24
     min_mask_side: int = 3
@@ -216,10 +218,10 @@ class FitSettings:
             if isinstance(value, bool) or not isinstance(value, int) or value < 8:
                 raise ValueError(f"FitSettings.{name} must be an integer >= 8, got {value!r}")
         for name in ("coarse_steps", "fine_steps", "keep", "coarse_faces", "fine_faces", "coarse_survivors",
-                     "min_mask_pixels", "min_mask_side"):
+                     "min_mask_pixels", "min_mask_side", "parts"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < (1 if name == "keep" else 0):
-                raise ValueError(f"FitSettings.{name} must be a non-negative integer (keep >= 1), got {value!r}")
+            if isinstance(value, bool) or not isinstance(value, int) or value < (1 if name in ("keep", "parts") else 0):
+                raise ValueError(f"FitSettings.{name} must be a non-negative integer (keep, parts >= 1), got {value!r}")
         for name in ("coarse_faces", "fine_faces"):
             if 0 < getattr(self, name) < 4:
                 raise ValueError(f"FitSettings.{name} must be 0 (the full meshes) or at least 4, got "
@@ -542,8 +544,8 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
              "phi_half": torch.zeros(n * per, 32, 3)}
     mask, ign, K = _crops(masks, ignore, windows, settings.coarse_size, intr, image_size)
     coarse_bank = bank.simplified(settings.coarse_faces) if settings.coarse_faces else bank
-    values, loss = _search(coarse_bank, template, start, dims0[obj], ry0[obj], mask[obj], ign[obj], K[obj], per,
-                           settings, height)
+    values, loss = _in_parts(_search, n, per, settings.parts, coarse_bank, template, start, dims0[obj], ry0[obj],
+                             mask[obj], ign[obj], K[obj], per, settings, height)
 
     # Fine: the prediction itself (its template, place, yaw and size; where there is none, the best start), its
     # end-for-end flip, and the `keep` best starts of each object, with the FFD.
@@ -570,9 +572,9 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     obj = torch.arange(n).repeat_interleave(hyps)
     mask, ign, K = _crops(masks, ignore, windows, settings.fine_size, intr, image_size)
     fine_bank = bank.simplified(settings.fine_faces) if settings.fine_faces else bank
-    values, loss = _stage(fine_bank, fine_template.flatten(), {k: v.flatten(0, 1) for k, v in starts.items()},
-                          dims0[obj], ry0[obj], mask[obj], ign[obj], K[obj], settings.fine_size, settings.fine_steps,
-                          settings, with_ffd=True, height=height)
+    values, loss = _in_parts(_stage, n, hyps, settings.parts, fine_bank, fine_template.flatten(),
+                             {k: v.flatten(0, 1) for k, v in starts.items()}, dims0[obj], ry0[obj], mask[obj], ign[obj],
+                             K[obj], settings.fine_size, settings.fine_steps, settings, with_ffd=True, height=height)
     fine = loss.view(n, hyps)
     fitted_ry = values["ry"].view(n, hyps)
     if yaw_belief is not None:
@@ -602,6 +604,41 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
                        camera_height=height, camera_height_source=height_source)
     _keep_predictions_of_bad_masks(result, masks, start_template, start_location, dims0, ry0, settings)
     return result
+
+
+#: The row-wise arguments of :func:`_stage` and :func:`_search` (after the bank): template, start, dims0, ry0, mask,
+#: ign, K.
+_ROW_ARGS = 7
+
+
+def _in_parts(stage: Callable[..., tuple[dict[str, Tensor], Tensor]], n: int, per: int, parts: int, bank: MeshBank,
+              *args: object, **kwargs: object) -> tuple[dict[str, Tensor], Tensor]:
+    """``stage(bank, *args, **kwargs)`` (:func:`_stage` or :func:`_search`, ``per`` rows per object of ``n``) run on
+    ``parts`` groups of whole objects (their first :data:`_ROW_ARGS` arguments cut into rows), the groups' outputs
+    joined in order. Objects are fitted independently, so a group's fit is the same alone; the groups run on as many
+    Python threads as the caller has torch threads (each on one torch thread: the tensor operations release the GIL,
+    so two groups use two cores), else one after the other. The grouping alone fixes the float operations, so the fit
+    is the same at any thread count."""
+    bounds = [n * k // parts for k in range(parts + 1)]
+    groups = [(lo * per, hi * per) for lo, hi in zip(bounds[:-1], bounds[1:], strict=True) if hi > lo]
+    if len(groups) == 1:
+        return stage(bank, *args, **kwargs)
+    rows, rest = args[:_ROW_ARGS], args[_ROW_ARGS:]
+
+    def group(lo: int, hi: int) -> tuple[dict[str, Tensor], Tensor]:
+        cut = [{k: v[lo:hi] for k, v in a.items()} if isinstance(a, dict) else a[lo:hi] for a in rows]
+        return stage(bank, *cut, *rest, **kwargs)
+
+    threads = torch.get_num_threads()
+    with _one_torch_thread():  # every group on one torch thread, and the kernel too (the groups share the cores)
+        if threads > 1:
+            with ThreadPoolExecutor(min(threads, len(groups)) - 1) as pool:
+                later = [pool.submit(group, *g) for g in groups[1:]]
+                done = [group(*groups[0])] + [f.result() for f in later]
+        else:
+            done = [group(*g) for g in groups]
+    values = {k: torch.cat([d[0][k] for d in done]) for k in done[0][0]}
+    return values, torch.cat([d[1] for d in done])
 
 
 def _choose(loss: Tensor, belief: Tensor, ry: Tensor, settings: FitSettings) -> Tensor:

@@ -185,9 +185,9 @@ def _same(a, b) -> bool:
                for k in ("template", "dims", "ry", "location", "phi", "iou", "loss", "hypothesis"))
 
 
-def test_the_fit_in_parts_is_each_part_fitted_alone_at_any_thread_count(two_cars, monkeypatch):
-    """``parts`` groups of whole objects: each group's fit is its objects' fit alone (one group), and the groups run on
-    the caller's threads (two here: one on a second Python thread) without changing a bit."""
+def test_the_fit_in_parts_is_each_part_fitted_alone_one_group_per_thread(two_cars, monkeypatch):
+    """Up to ``parts`` groups of whole objects, one per torch thread the caller has, each on its own thread: each
+    group's fit is its objects' fit alone (one group each), the same at 2 and 3 threads; on one thread one group."""
     import threading
 
     masks, boxes = two_cars
@@ -196,25 +196,29 @@ def test_the_fit_in_parts_is_each_part_fitted_alone_at_any_thread_count(two_cars
     threads, seen = torch.get_num_threads(), []
     stage = fit_module._stage
 
-    def recorded(*args, **kwargs):
-        seen.append(threading.get_ident())
-        return stage(*args, **kwargs)
+    def recorded(bank, template, *args, **kwargs):
+        seen.append((threading.get_ident(), len(template)))
+        return stage(bank, template, *args, **kwargs)
 
     monkeypatch.setattr(fit_module, "_stage", recorded)
+    results = {}
     try:
-        torch.set_num_threads(1)
-        one = fit_to_masks(masks, boxes, WORK, start_ry=ry, settings=settings)
-        assert len(set(seen)) == 1
-        torch.set_num_threads(2)
-        seen.clear()
-        two = fit_to_masks(masks, boxes, WORK, start_ry=ry, settings=settings)
-        assert len(set(seen)) == 2 and torch.get_num_threads() == 2  # the caller's count given back
+        for count in (1, 2, 3):
+            torch.set_num_threads(count)
+            seen.clear()
+            results[count] = fit_to_masks(masks, boxes, WORK, start_ry=ry, settings=settings)
+            assert torch.get_num_threads() == count  # the caller's count given back
+            others = {t for t, _ in seen} - {threading.get_ident()}
+            assert len(seen) == 2 * min(count, 2) and bool(others) == (count > 1)  # each group on its own thread
+            per = len(fit_module.default_bank()) * len(fit_module.YAW_OFFSETS)
+            assert seen[0][1] == (2 if count == 1 else 1) * per  # the search's rows: both objects, or one
     finally:
         torch.set_num_threads(threads)
-    assert _same(one, two)
+    assert _same(results[2], results[3])
     alone = [fit_to_masks(masks[i:i + 1], boxes[i:i + 1], WORK, start_ry=ry[i:i + 1], settings=SMALL) for i in (0, 1)]
     for key in ("template", "dims", "ry", "location", "phi", "iou", "loss", "hypothesis"):
-        assert torch.equal(getattr(one, key), torch.cat([getattr(a, key) for a in alone])), key
+        assert torch.equal(getattr(results[2], key), torch.cat([getattr(a, key) for a in alone])), key
+    assert _same(results[1], fit_to_masks(masks, boxes, WORK, start_ry=ry, settings=SMALL))  # one thread: one group
     with pytest.raises(ValueError, match="parts"):
         FitSettings(parts=0)
 

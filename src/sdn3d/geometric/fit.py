@@ -54,16 +54,17 @@ counts stay: fewer steps cost template accuracy and silhouette IoU on the seed-1
 steps: template -8 pp, 95 % interval [-15.7, -0.4]). :func:`fit_many` fits several callers' objects in one call
 (:func:`sdn3d.derender.derender`'s proposals and box objects): each stage's fixed cost once. The stages run on one
 torch thread whatever the caller's count (more threads cost CPU time and win nothing on such small operations); the
-objects are fitted in ``parts`` groups instead, on as many Python threads as the caller has torch threads (the
-operations release the GIL), and the soft raster's kernel splits its meshes over them where one group runs alone. So
-the fit is the same at any thread count. With ``cull_backfaces`` (off by default) the Adam steps draw only the faces
-facing the camera (a third less time), the losses that rank hypotheses every face. The FFD moves by ``ffd_step``
-(0.1) of the Adam step:
-with the full step the fine stage's mean loss jumped from 0.14 to 0.42 at its first step and swung for the rest of
-it (a 10-car frame); with 0.1 it falls nearly monotonically (0.095 at the end against 0.129), and on the seed-13
-tuning tree the silhouette IoU rose by 0.007 (95 % interval [0.002, 0.013]) with template accuracy unchanged. Fewer
-fine steps with it still cost template accuracy (10 steps: -7.6 pp, [-13.9, -1.8]). The measurements:
-docs/results/2026-11-28_cpu/session4/cost/README.md, session5/cost/README.md and session6/cost/README.md.
+objects are fitted in up to ``parts`` groups instead, one per torch thread the caller has, each on its own Python
+thread (the operations release the GIL), and the soft raster's kernel splits its meshes over the caller's threads
+where one group runs alone. So the fit is the same at any thread count of at least ``parts``, and on one thread it is
+the fit of one group (the two differ by the order of float operations only). With ``cull_backfaces`` (off by default)
+the Adam steps draw only the faces facing the camera (a third less time), the losses that rank hypotheses every face.
+The FFD moves by ``ffd_step`` (0.1) of the Adam step: with the full step the fine stage's mean loss jumped from 0.14 to
+0.42 at its first step and swung for the rest of it (a 10-car frame); with 0.1 it falls nearly monotonically (0.095 at
+the end against 0.129), and on the seed-13 tuning tree the silhouette IoU rose by 0.007 (95 % interval [0.002, 0.013])
+with template accuracy unchanged. Fewer fine steps with it still cost template accuracy (10 steps: -7.6 pp, [-13.9,
+-1.8]). The measurements: docs/results/2026-11-28_cpu/session4/cost/README.md, session5/cost/README.md and
+session6/cost/README.md.
 """
 
 from __future__ import annotations
@@ -161,10 +162,11 @@ class FitSettings:
         dims_reg, yaw_reg, ffd_reg: weights of the size prior, the yaw prior and the FFD's ``mean(phi^2)``.
         ffd_step: the FFD's Adam step as a share of ``lr`` (its control values are its own scale: with the full
             step the fine stage's loss jumped up at its first step and swung for the rest of it).
-        parts: the objects are fitted in this many groups of whole objects (:func:`_in_parts`), on as many threads as
-            the caller has torch threads (the fit is the same at any thread count; one group where there is one
-            object). Each group's fit is its objects' fit alone: a group changes float operations only (on the
-            seed-13 tuning tree 145 of 146 fits were bit-identical with 1 and 2 groups, the last 3e-6 degrees off).
+        parts: the objects are fitted in up to this many groups of whole objects (:func:`_in_parts`), one per torch
+            thread the caller has, each on its own thread; one thread: one group. Each group's fit is its objects' fit
+            alone: groups change the order of float operations only (seed-13 tuning tree, 146 cars and vans in
+            frames of 1-9: 145 fits bit-identical with 1 and 2 groups, the last 3e-6 degrees off). Two groups on one
+            thread would cost 10-20 % more CPU time in the fit (each pays a stage's per-step Python once).
         cull_backfaces: the Adam steps of both stages draw only the faces facing the camera (the templates are
             closed, so those cover the outline; about half the soft raster's (face, pixel) pairs), while the final
             losses that rank the hypotheses (the search's survivors, its ``keep`` best, the winner) draw every face.
@@ -620,11 +622,12 @@ _ROW_ARGS = 7
 def _in_parts(stage: Callable[..., tuple[dict[str, Tensor], Tensor]], n: int, per: int, parts: int, bank: MeshBank,
               *args: object, **kwargs: object) -> tuple[dict[str, Tensor], Tensor]:
     """``stage(bank, *args, **kwargs)`` (:func:`_stage` or :func:`_search`, ``per`` rows per object of ``n``) run on
-    ``parts`` groups of whole objects (their first :data:`_ROW_ARGS` arguments cut into rows), the groups' outputs
-    joined in order. Objects are fitted independently, so a group's fit is the same alone; the groups run on as many
-    Python threads as the caller has torch threads (each on one torch thread: the tensor operations release the GIL,
-    so two groups use two cores), else one after the other. The grouping alone fixes the float operations, so the fit
-    is the same at any thread count."""
+    up to ``parts`` groups of whole objects, one per torch thread the caller has (their first :data:`_ROW_ARGS`
+    arguments cut into rows), the groups' outputs joined in order. Objects are fitted independently, so a group's fit
+    is the same alone; each group runs on its own Python thread and one torch thread (the tensor operations release
+    the GIL, so two groups use two cores). The grouping alone fixes the float operations: the fit is the same at any
+    thread count of at least ``parts``."""
+    parts = min(parts, torch.get_num_threads())
     bounds = [n * k // parts for k in range(parts + 1)]
     groups = [(lo * per, hi * per) for lo, hi in zip(bounds[:-1], bounds[1:], strict=True) if hi > lo]
     if len(groups) == 1:
@@ -635,14 +638,9 @@ def _in_parts(stage: Callable[..., tuple[dict[str, Tensor], Tensor]], n: int, pe
         cut = [{k: v[lo:hi] for k, v in a.items()} if isinstance(a, dict) else a[lo:hi] for a in rows]
         return stage(bank, *cut, *rest, **kwargs)
 
-    threads = torch.get_num_threads()
-    with _one_torch_thread():  # every group on one torch thread, and the kernel too (the groups share the cores)
-        if threads > 1:
-            with ThreadPoolExecutor(min(threads, len(groups)) - 1) as pool:
-                later = [pool.submit(group, *g) for g in groups[1:]]
-                done = [group(*groups[0])] + [f.result() for f in later]
-        else:
-            done = [group(*g) for g in groups]
+    with _one_torch_thread(), ThreadPoolExecutor(len(groups) - 1) as pool:  # each group (and its kernel) on one thread
+        later = [pool.submit(group, *g) for g in groups[1:]]
+        done = [group(*groups[0])] + [f.result() for f in later]
     values = {k: torch.cat([d[0][k] for d in done]) for k in done[0][0]}
     return values, torch.cat([d[1] for d in done])
 

@@ -1,8 +1,11 @@
 # ruff: noqa: E402, E501, E701, E702
 """Run sdn3d-edit once and save fit_to_masks' inputs (the yaw belief evaluated lazily is kept as a callable: pickled by torch.save? no: saved as None-free dict of tensors plus the belief's table)."""
 import sys
+
 import torch
+
 import sdn3d.geometric.fit as fit
+
 inner = fit.fit_to_masks
 def grab(masks, boxes, intr, **kw):
     r = inner(masks, boxes, intr, **kw)
@@ -12,4 +15,5 @@ def grab(masks, boxes, intr, **kw):
     return r
 fit.fit_to_masks = grab
 import sdn3d.cli.edit as edit
+
 edit.main(sys.argv[2:])

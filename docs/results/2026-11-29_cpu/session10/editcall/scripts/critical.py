@@ -5,12 +5,18 @@ time on two idle cores on a busy machine (where wall seconds say nothing): the m
 included) plus, at each join, what the other thread's work took beyond the main thread's share (its wait).
 Threads torch or the kernel start themselves (OpenMP, the kernel's std::threads) are not on the main thread: their
 work counts as overlapped. Works on both trees (the base has no second thread: waits 0)."""
-import sys, time, json, threading, functools
+import functools
+import json
+import sys
+import threading
+import time
+
 T0 = time.perf_counter()
 out, args = sys.argv[1], sys.argv[3:]
 import sdn3d.cli.edit as edit
 import sdn3d.derender as der
 import sdn3d.geometric.fit as fit
+
 log = []  # (what, thread, thread cpu s)
 def timed(owner, name, what):
     inner = getattr(owner, name)
@@ -31,7 +37,7 @@ if hasattr(fit, "_in_parts"):
         start = len(log)
         r = inner(*a, **k)
         per = {}
-        for what, tid, cpu in log[start:]: per[tid] = per.get(tid, 0.0) + cpu
+        for _what, tid, cpu in log[start:]: per[tid] = per.get(tid, 0.0) + cpu
         mine = per.pop(main_id, 0.0)
         waits.append(("fit stage in parts", round(mine, 3), [round(v, 3) for v in per.values()], round(max([0.0] + [v - mine for v in per.values()]), 3)))
         return r

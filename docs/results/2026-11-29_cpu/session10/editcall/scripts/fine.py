@@ -1,10 +1,16 @@
 # ruff: noqa: E402, E501, E701, E702
 """fine.py OUT.json -- overrides: benchmarks/edit_cost.py's phases plus the steps of run_edit around them (CPU, wall)."""
-import sys, time, json, functools, importlib
+import functools
+import importlib
+import json
+import sys
+import time
+
 T0 = time.perf_counter()
 sys.argv = [sys.argv[0]] + sys.argv[1:]
 out = sys.argv[1]; args = sys.argv[3:]
 import sdn3d.cli.edit as edit
+
 startup = time.process_time()
 times = {}
 def wrap(module, attribute):

@@ -1,6 +1,10 @@
 # ruff: noqa: E402, E501, E701, E702
 """Run sdn3d-edit with an __import__ hook: CPU seconds of each top-level import made after start-up, with its caller."""
-import builtins, sys, time, traceback
+import builtins
+import sys
+import time
+import traceback
+
 _orig = builtins.__import__
 _depth = [0]
 _log = []
@@ -18,6 +22,7 @@ def hook(name, globals=None, locals=None, fromlist=(), level=0):
             fr = [f for f in traceback.extract_stack()[:-1] if 'sdn3d' in f.filename]
             _log.append((dt, name, f"{fr[-1].filename.split('src/')[-1]}:{fr[-1].lineno}" if fr else '?'))
 import sdn3d.cli.edit as edit
+
 t0 = time.process_time()
 print('startup cpu', t0, file=sys.stderr)
 builtins.__import__ = hook

@@ -11,6 +11,11 @@ geometric branch, the fit (``geometric.fit.fit_to_masks``; its coarse search ``_
 encoder, the edit and its render (``EditSession.edit``) and writing the outputs. ``startup`` is the CPU time from the
 interpreter's start until the CLI module is imported (torch, kornia, OpenCV, sdn3d). No profiler runs: the numbers
 are the call's own. On a shared machine compare CPU seconds; wall seconds also count waiting for a core.
+
+``cpu_s`` is the whole process's CPU time while the phase ran: where phases run on two threads at once (the fit's
+groups; GrabCut beside the semantic branch) each counts the other's too. ``thread_cpu_s`` is the CPU time of the thread
+that ran it (the threads torch or the soft-raster kernel start themselves not counted), and ``main_thread_cpu_s``
+the main thread's for the whole process: on idle cores the wall time is about that plus its waits at the joins.
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ import importlib  # noqa: E402
 import json  # noqa: E402
 import os  # noqa: E402
 import sys  # noqa: E402
+import threading  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
@@ -44,6 +50,9 @@ PHASES = (("sdn3d.cli.edit", "run_edit", "run_edit (everything after the imports
           ("sdn3d.cli.edit", "_write_outputs", "write the outputs"))
 
 
+_LOCK = threading.Lock()  # phases may run on two threads at once (the fit's groups)
+
+
 def _wrap(times: dict, module: str, attribute: str, label: str) -> None:
     owner = importlib.import_module(module)
     *path, name = attribute.split(".")
@@ -53,14 +62,16 @@ def _wrap(times: dict, module: str, attribute: str, label: str) -> None:
 
     @functools.wraps(inner)
     def timed(*args, **kwargs):
-        cpu, wall = time.process_time(), time.perf_counter()
+        cpu, wall, own = time.process_time(), time.perf_counter(), time.thread_time()
         try:
             return inner(*args, **kwargs)
         finally:
-            entry = times.setdefault(label, {"cpu_s": 0.0, "wall_s": 0.0, "calls": 0})
-            entry["cpu_s"] += time.process_time() - cpu
-            entry["wall_s"] += time.perf_counter() - wall
-            entry["calls"] += 1
+            with _LOCK:
+                entry = times.setdefault(label, {"cpu_s": 0.0, "thread_cpu_s": 0.0, "wall_s": 0.0, "calls": 0})
+                entry["cpu_s"] += time.process_time() - cpu
+                entry["thread_cpu_s"] += time.thread_time() - own
+                entry["wall_s"] += time.perf_counter() - wall
+                entry["calls"] += 1
 
     setattr(owner, name, timed)
 
@@ -81,6 +92,7 @@ def main() -> None:
               "arguments": args.overrides, "exit": code, "threads_env": os.environ.get("OMP_NUM_THREADS"),
               "omp_wait_policy": os.environ.get("OMP_WAIT_POLICY"), "load_average": os.getloadavg(),
               "startup_cpu_s": round(startup, 3), "process_cpu_s": round(time.process_time(), 3),
+              "main_thread_cpu_s": round(time.thread_time(), 3),
               "process_wall_s": round(time.perf_counter() - _T0, 3),
               "phases": {k: {m: round(v, 3) if isinstance(v, float) else v for m, v in e.items()}
                          for k, e in times.items()}}

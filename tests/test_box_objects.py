@@ -15,7 +15,7 @@ from helpers.tiny_models import write_checkpoints
 from PIL import Image
 
 from sdn3d.box_masks import box_at_point, grabcut_masks, nearest_first, refine_with_silhouettes
-from sdn3d.box_objects import BoxFit, MaskSource
+from sdn3d.box_objects import BoxFit, MaskSource, box_grabcut
 from sdn3d.cli.edit import main
 from sdn3d.derender import BoxPrompts, derender
 from sdn3d.editing.frame import PixelFrame
@@ -402,3 +402,37 @@ def test_a_box_whose_mask_was_too_thin_to_fit_says_so_by_its_id():
     assert BoxFit.from_json(record, 64) == fit
     (line,) = fit_warnings([record], 0.7)
     assert line.startswith("box object 12003 (box [2.0, 4.0, 60.0, 8.0]): its mask is 2 px thin")
+
+
+def test_grabcut_without_a_prior_runs_beside_the_semantic_branch(ckpts, monkeypatch):
+    """Without a prior GrabCut needs no semantics: derender runs it on a second thread while the semantic branch runs
+    (issue 40: the call's second core), and the scene is the one GrabCut run after the branch gives."""
+    import threading
+
+    import sdn3d.derender as derender_module
+
+    _, masks = _render([0, 3], [(4.0, 1.5, 1.7), (4.2, 1.5, 1.8)], [-1.3, 0.4], [(-1.2, HEIGHT, 10.0),
+                                                                                 (1.5, HEIGHT, 13.0)])
+    image = _picture(masks, [(0.8, 0.1, 0.1), (0.1, 0.2, 0.7)])
+    models = Models.from_checkpoints(ckpts["semantic"], ckpts["geometric"], crop_size=32)
+    boxes = BoxPrompts(mask_boxes(masks).float(), ("Car", "van"), refine_masks=False)
+    where: dict[str, int] = {}
+    grabcut, semantics = derender_module.box_grabcut, derender_module._semantics_and_instances
+
+    def grabcut_here(*args):
+        where["grabcut"] = threading.get_ident()
+        return grabcut(*args)
+
+    def semantics_here(*args):
+        where["semantic"] = threading.get_ident()
+        return semantics(*args)
+
+    monkeypatch.setattr(derender_module, "box_grabcut", grabcut_here)
+    monkeypatch.setattr(derender_module, "_semantics_and_instances", semantics_here)
+    beside = derender(image, WORK, models, "boxes", boxes=boxes)
+    assert where["semantic"] == threading.get_ident() != where["grabcut"]
+    assert [r.mask_source for r in beside.meta["boxes"]] == [MaskSource.GRABCUT] * 2
+    monkeypatch.setattr(derender_module, "box_grabcut", lambda *args: None)  # add_box_objects runs GrabCut itself
+    after = derender(image, WORK, models, "boxes", boxes=boxes)
+    assert torch.equal(beside.objects.mask, after.objects.mask) and beside.meta["boxes"] == after.meta["boxes"]
+    assert box_grabcut(image, dataclasses.replace(boxes, prior=True)) is None  # the prior needs the branch first

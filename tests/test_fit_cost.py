@@ -3,6 +3,7 @@ simplified meshes, and one fit for several callers' objects (:func:`sdn3d.geomet
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
@@ -13,7 +14,7 @@ import sdn3d.geometric.fit as fit_module
 from sdn3d.geometric.fit import FitRequest, FitSettings, fit_many, fit_to_masks
 from sdn3d.image_ops import mask_boxes
 
-SMALL = FitSettings(coarse_steps=3, fine_steps=2, coarse_size=16, fine_size=24, coarse_survivors=0)
+SMALL = FitSettings(coarse_steps=3, fine_steps=2, coarse_size=16, fine_size=24, coarse_survivors=0, parts=1)
 
 
 @pytest.fixture(scope="module")
@@ -177,3 +178,79 @@ def test_adam_steps_draw_the_front_faces_and_the_ranking_every_face(two_cars, mo
     assert len(drawn) == (3 + 1) + (2 + 1)  # two stages: their steps, then their ranking loss
     assert drawn == [(cull, True)] * 3 + [(False, False)] + [(cull, True)] * 2 + [(False, False)]
     assert float(result.iou[0]) > 0.5
+
+
+def _same(a, b) -> bool:
+    return all(torch.equal(getattr(a, k), getattr(b, k))
+               for k in ("template", "dims", "ry", "location", "phi", "iou", "loss", "hypothesis"))
+
+
+def test_the_fit_in_parts_is_each_part_fitted_alone_one_group_per_thread(two_cars, monkeypatch):
+    """Up to ``parts`` groups of whole objects, one per torch thread the caller has, each on its own thread: each
+    group's fit is its objects' fit alone (one group each), the same at 2 and 3 threads; on one thread one group."""
+    import threading
+
+    masks, boxes = two_cars
+    ry = torch.tensor([-1.0, 0.8])
+    settings = dataclasses.replace(SMALL, parts=2)
+    threads, seen = torch.get_num_threads(), []
+    stage = fit_module._stage
+
+    def recorded(bank, template, *args, **kwargs):
+        seen.append((threading.get_ident(), len(template)))
+        return stage(bank, template, *args, **kwargs)
+
+    monkeypatch.setattr(fit_module, "_stage", recorded)
+    results = {}
+    try:
+        for count in (1, 2, 3):
+            torch.set_num_threads(count)
+            seen.clear()
+            results[count] = fit_to_masks(masks, boxes, WORK, start_ry=ry, settings=settings)
+            assert torch.get_num_threads() == count  # the caller's count given back
+            others = {t for t, _ in seen} - {threading.get_ident()}
+            assert len(seen) == 2 * min(count, 2) and bool(others) == (count > 1)  # each group on its own thread
+            per = len(fit_module.default_bank()) * len(fit_module.YAW_OFFSETS)
+            assert seen[0][1] == (2 if count == 1 else 1) * per  # the search's rows: both objects, or one
+    finally:
+        torch.set_num_threads(threads)
+    assert _same(results[2], results[3])
+    alone = [fit_to_masks(masks[i:i + 1], boxes[i:i + 1], WORK, start_ry=ry[i:i + 1], settings=SMALL) for i in (0, 1)]
+    for key in ("template", "dims", "ry", "location", "phi", "iou", "loss", "hypothesis"):
+        assert torch.equal(getattr(results[2], key), torch.cat([getattr(a, key) for a in alone])), key
+    assert _same(results[1], fit_to_masks(masks, boxes, WORK, start_ry=ry, settings=SMALL))  # one thread: one group
+    with pytest.raises(ValueError, match="parts"):
+        FitSettings(parts=0)
+
+
+def test_the_kernel_takes_the_callers_threads_inside_the_fits_one_torch_thread(two_cars, monkeypatch):
+    """The fit's stages run torch on one thread, its fused soft-raster kernel on the caller's count (its sums do not
+    depend on it: the fit is the same)."""
+    import sdn3d.render.soft as soft
+
+    if soft.soft_kernel() is None:
+        pytest.skip("no C++ compiler: the PyTorch path draws")
+    masks, boxes = two_cars
+    counts: list[int] = []
+    call = soft._call
+
+    def recorded(kernel, direction, *args):
+        counts.append(soft._KERNEL_THREADS.get() or torch.get_num_threads())
+        return call(kernel, direction, *args)
+
+    monkeypatch.setattr(soft, "_call", recorded)
+    threads = torch.get_num_threads()
+    settings = dataclasses.replace(SMALL, parts=1)
+    try:
+        torch.set_num_threads(1)
+        one = fit_to_masks(masks, boxes, WORK, settings=settings)
+        assert set(counts) == {1}
+        counts.clear()
+        torch.set_num_threads(2)
+        two = fit_to_masks(masks, boxes, WORK, settings=settings)
+        assert counts and set(counts) == {2}
+    finally:
+        torch.set_num_threads(threads)
+    assert _same(one, two)
+    with pytest.raises(ValueError, match="positive"), soft.kernel_threads(0):
+        pass

@@ -111,3 +111,21 @@ def test_a_car_moved_nearer_than_the_pole_hides_it():
                                                                               dtype=scene.objects.location.dtype)))
     result = render_photo(image, FRAME, scene, behind, settings=NO_LIGHT)
     assert int((result.source == IN_FRONT).sum()) > 0  # pushed 2 m farther back, it stays behind the pole
+
+
+def test_components_are_scipy_labels_4_connected():
+    """The strips' components (OpenCV, issue 40: no scipy import on the edit path) are scipy.ndimage.label's default
+    4-connected ones, up to their numbering, on random masks where pixels touch diagonally."""
+    from scipy import ndimage
+
+    from sdn3d.editing.photo.occluders import _components
+
+    gen = torch.Generator().manual_seed(0)
+    for density in (0.3, 0.5, 0.7):
+        mask = torch.rand(40, 57, generator=gen) < density
+        labels, count = _components(mask[3:])  # a slice, as _strips gets the outlines' rows
+        expected, expected_count = ndimage.label(mask[3:].numpy())
+        assert count == expected_count and labels.dtype == torch.int64
+        assert (labels > 0).equal(mask[3:])
+        pairs = torch.stack([labels[mask[3:]], torch.from_numpy(expected).long()[mask[3:]]], 1).unique(dim=0)
+        assert len(pairs) == count  # one scipy component per OpenCV one, and back

@@ -27,12 +27,13 @@ from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import default_bank
 
 if TYPE_CHECKING:
+    from sdn3d.box_masks import BoxMasks
     from sdn3d.geometric.facing import Appearance
     from sdn3d.geometric.fit import FitRequest, FitResult, FitSettings
     from sdn3d.semantic.predict import Segmentation
 
-__all__ = ["BoxFit", "BoxPrompts", "MaskSource", "PoseSource", "add_box_objects", "box_fits", "box_request",
-           "fit_box_objects", "occluder_masks"]
+__all__ = ["BoxFit", "BoxPrompts", "MaskSource", "PoseSource", "add_box_objects", "box_grabcut", "box_fits",
+           "box_request", "fit_box_objects", "occluder_masks"]
 
 
 class MaskSource(Enum):
@@ -200,9 +201,12 @@ class BoxPrompts:
 
 
 def add_box_objects(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts, seg: Segmentation | None,
-               things: Tensor, class_list: Sequence[SemanticClass]) -> tuple[Tensor, Tensor, Tensor, list[MaskSource]]:
+                    things: Tensor, class_list: Sequence[SemanticClass], found: BoxMasks | None = None
+                    ) -> tuple[Tensor, Tensor, Tensor, list[MaskSource]]:
     """``(masks, ids, box_rows, each box's mask source)``: the proposals with the box objects' GrabCut masks appended
-    (they take their pixels from the other proposals; a proposal left with less than half its pixels is dropped)."""
+    (they take their pixels from the other proposals; a proposal left with less than half its pixels is dropped).
+    ``found``: :func:`box_grabcut`'s masks, found already (while the semantic branch ran); used where GrabCut takes no
+    prior (``boxes.prior`` off, or no ``seg``), else GrabCut runs here."""
     from sdn3d.box_masks import grabcut_masks, nearest_first
 
     class_ids = boxes.class_ids(class_list)
@@ -220,7 +224,8 @@ def add_box_objects(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts
         box_masks[order] = given & ~(torch.cumsum(given.long(), 0) - given.long()).bool()
         source = [MaskSource.GIVEN] * len(boxes)
     else:
-        box_masks, from_box = grabcut_masks(image, boxes.boxes, prior=prior, iterations=boxes.iterations)
+        box_masks, from_box = (found if found is not None and prior is None
+                               else grabcut_masks(image, boxes.boxes, prior=prior, iterations=boxes.iterations))
         grabcut = MaskSource.GRABCUT_PRIOR if prior is not None else MaskSource.GRABCUT
         source = [MaskSource.WHOLE_BOX if f else grabcut for f in from_box.tolist()]
     taken = box_masks.any(0)
@@ -234,6 +239,16 @@ def add_box_objects(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts
         new_ids.append(cid * INSTANCE_DIVISOR + (max(used) % INSTANCE_DIVISOR if used else 0) + 1)
     rows = torch.arange(len(ids), len(ids) + len(boxes))
     return (torch.cat([masks, box_masks]), torch.cat([ids, torch.tensor(new_ids, dtype=ids.dtype)]), rows, source)
+
+
+def box_grabcut(image: Tensor, boxes: BoxPrompts | None) -> BoxMasks | None:
+    """The box objects' GrabCut masks where they need no semantics (no given masks, ``boxes.prior`` off): what
+    :func:`add_box_objects` would find, for a caller that runs it beside the semantic branch; else None."""
+    from sdn3d.box_masks import grabcut_masks
+
+    if boxes is None or not len(boxes) or boxes.masks is not None or boxes.prior:
+        return None
+    return grabcut_masks(image, boxes.boxes, iterations=boxes.iterations)
 
 
 def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, boxes: BoxPrompts,

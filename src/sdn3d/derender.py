@@ -40,13 +40,21 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Mapping
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import torch
 from torch import Tensor
 
-from sdn3d.box_objects import BoxPrompts, add_box_objects, box_request, fit_box_objects, occluder_masks
+from sdn3d.box_objects import (
+    BoxPrompts,
+    add_box_objects,
+    box_grabcut,
+    box_request,
+    fit_box_objects,
+    occluder_masks,
+)
 from sdn3d.errors import UserInputError
 from sdn3d.image_ops import (
     InputPhoto,
@@ -312,7 +320,11 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
         raise UserInputError("proposals='boxes' needs objects given by a box (an edit spec's `objects:`)")
     name = _class_list_name(models, gt, classes)
     class_list = CLASS_LISTS[name]
-    semantic, instances, source, semantic_source, seg = _semantics_and_instances(image, models, proposals, gt, name)
+    with ThreadPoolExecutor(1) as pool:  # GrabCut without a prior needs no semantics: it runs beside the branch
+        early = pool.submit(box_grabcut, image, boxes)  # (OpenCV and torch's operations release the GIL)
+        semantic, instances, source, semantic_source, seg = _semantics_and_instances(image, models, proposals, gt,
+                                                                                     name)
+        found = early.result()
 
     # Proposals: ids of instance classes only (a scene's objects must be things).
     things = torch.tensor([c.id for c in class_list if c.has_instances], dtype=torch.long)
@@ -321,7 +333,7 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     masks = instances[None] == ids[:, None, None]  # (N, H, W)
     box_rows, box_fits, mask_source = torch.zeros(0, dtype=torch.long), [], None
     if boxes is not None and len(boxes):
-        masks, ids, box_rows, mask_source = add_box_objects(image, masks, ids, boxes, seg, things, class_list)
+        masks, ids, box_rows, mask_source = add_box_objects(image, masks, ids, boxes, seg, things, class_list, found)
     n = len(ids)
     annotated = torch.ones(n, dtype=torch.bool)
     annotated[box_rows] = False

@@ -47,6 +47,7 @@ class FitSchema:
     ffd_reg: float = MISSING
     ffd_step: float = MISSING
     cull_backfaces: bool = MISSING
+    parts: int = MISSING
     poor_iou: float = MISSING
 
 

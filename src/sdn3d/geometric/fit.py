@@ -53,21 +53,25 @@ fits them cut to ``fine_faces`` at ``fine_size`` px (the winner's IoU is measure
 counts stay: fewer steps cost template accuracy and silhouette IoU on the seed-13 tuning tree (10 fine and 8 search
 steps: template -8 pp, 95 % interval [-15.7, -0.4]). :func:`fit_many` fits several callers' objects in one call
 (:func:`sdn3d.derender.derender`'s proposals and box objects): each stage's fixed cost once. The stages run on one
-torch thread whatever the caller's count (more threads cost CPU time and win nothing on such small operations), so
-the fit is the same at any thread count. With ``cull_backfaces`` (off by default) the Adam steps draw only the faces
-facing the camera (a third less time), the losses that rank hypotheses every face. The FFD moves by ``ffd_step``
-(0.1) of the Adam step:
-with the full step the fine stage's mean loss jumped from 0.14 to 0.42 at its first step and swung for the rest of
-it (a 10-car frame); with 0.1 it falls nearly monotonically (0.095 at the end against 0.129), and on the seed-13
-tuning tree the silhouette IoU rose by 0.007 (95 % interval [0.002, 0.013]) with template accuracy unchanged. Fewer
-fine steps with it still cost template accuracy (10 steps: -7.6 pp, [-13.9, -1.8]). The measurements:
-docs/results/2026-11-28_cpu/session4/cost/README.md, session5/cost/README.md and session6/cost/README.md.
+torch thread whatever the caller's count (more threads cost CPU time and win nothing on such small operations); the
+objects are fitted in up to ``parts`` groups instead, one per torch thread the caller has, each on its own Python
+thread (the operations release the GIL), and the soft raster's kernel splits its meshes over the caller's threads
+where one group runs alone. So the fit is the same at any thread count of at least ``parts``, and on one thread it is
+the fit of one group (the two differ by the order of float operations only). With ``cull_backfaces`` (off by default)
+the Adam steps draw only the faces facing the camera (a third less time), the losses that rank hypotheses every face.
+The FFD moves by ``ffd_step`` (0.1) of the Adam step: with the full step the fine stage's mean loss jumped from 0.14 to
+0.42 at its first step and swung for the rest of it (a 10-car frame); with 0.1 it falls nearly monotonically (0.095 at
+the end against 0.129), and on the seed-13 tuning tree the silhouette IoU rose by 0.007 (95 % interval [0.002, 0.013])
+with template accuracy unchanged. Fewer fine steps with it still cost template accuracy (10 steps: -7.6 pp, [-13.9,
+-1.8]). The measurements: docs/results/2026-11-28_cpu/session4/cost/README.md, session5/cost/README.md and
+session6/cost/README.md.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 
@@ -84,6 +88,7 @@ from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.templates import TEMPLATE_DIMENSIONS
 from sdn3d.render.settings import SoftSilhouetteSettings
 from sdn3d.render.silhouette import silhouette
+from sdn3d.render.soft import kernel_threads
 
 __all__ = ["FitSettings", "FitResult", "FitRequest", "fit_to_masks", "fit_many", "road_start", "estimate_camera_height",
            "CAR_DIMS", "PLAUSIBLE_SIZE_FACTOR", "HYPOTHESES"]
@@ -157,6 +162,11 @@ class FitSettings:
         dims_reg, yaw_reg, ffd_reg: weights of the size prior, the yaw prior and the FFD's ``mean(phi^2)``.
         ffd_step: the FFD's Adam step as a share of ``lr`` (its control values are its own scale: with the full
             step the fine stage's loss jumped up at its first step and swung for the rest of it).
+        parts: the objects are fitted in up to this many groups of whole objects (:func:`_in_parts`), one per torch
+            thread the caller has, each on its own thread; one thread: one group. Each group's fit is its objects' fit
+            alone: groups change the order of float operations only (seed-13 tuning tree, 146 cars and vans in
+            frames of 1-9: 145 fits bit-identical with 1 and 2 groups, the last 3e-6 degrees off). Two groups on one
+            thread would cost 10-20 % more CPU time in the fit (each pays a stage's per-step Python once).
         cull_backfaces: the Adam steps of both stages draw only the faces facing the camera (the templates are
             closed, so those cover the outline; about half the soft raster's (face, pixel) pairs), while the final
             losses that rank the hypotheses (the search's survivors, its ``keep`` best, the winner) draw every face.
@@ -205,6 +215,7 @@ class FitSettings:
     ffd_reg: float = 100.0
     ffd_step: float = 0.1
     cull_backfaces: bool = False
+    parts: int = 2
     poor_iou: float = 0.7
     min_mask_pixels: int = 24
     min_mask_side: int = 3
@@ -215,10 +226,10 @@ class FitSettings:
             if isinstance(value, bool) or not isinstance(value, int) or value < 8:
                 raise ValueError(f"FitSettings.{name} must be an integer >= 8, got {value!r}")
         for name in ("coarse_steps", "fine_steps", "keep", "coarse_faces", "fine_faces", "coarse_survivors",
-                     "min_mask_pixels", "min_mask_side"):
+                     "min_mask_pixels", "min_mask_side", "parts"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < (1 if name == "keep" else 0):
-                raise ValueError(f"FitSettings.{name} must be a non-negative integer (keep >= 1), got {value!r}")
+            if isinstance(value, bool) or not isinstance(value, int) or value < (1 if name in ("keep", "parts") else 0):
+                raise ValueError(f"FitSettings.{name} must be a non-negative integer (keep, parts >= 1), got {value!r}")
         for name in ("coarse_faces", "fine_faces"):
             if 0 < getattr(self, name) < 4:
                 raise ValueError(f"FitSettings.{name} must be 0 (the full meshes) or at least 4, got "
@@ -385,13 +396,15 @@ class _Meshes:
 def _one_torch_thread() -> Iterator[None]:
     """Run the block on one torch thread, then give back the caller's count. A stage is thousands of small tensor
     operations: torch's threads wait for each other at each one (and spin while waiting, on a busy machine), so more
-    threads cost CPU time and win nothing there (docs/results/2026-11-28_cpu/session5/cost). The fit is then the
-    same whatever the caller's thread count."""
+    threads cost CPU time and win nothing there (docs/results/2026-11-28_cpu/session5/cost). The soft raster's fused
+    kernel, about half a stage and split by whole meshes, keeps the caller's count (:func:`kernel_threads`). The fit
+    is then the same whatever the caller's thread count: the kernel's sums do not depend on it."""
     threads = torch.get_num_threads()
     if threads > 1:
         torch.set_num_threads(1)
     try:
-        yield
+        with kernel_threads(threads):
+            yield
     finally:
         if threads > 1:
             torch.set_num_threads(threads)
@@ -539,8 +552,8 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
              "phi_half": torch.zeros(n * per, 32, 3)}
     mask, ign, K = _crops(masks, ignore, windows, settings.coarse_size, intr, image_size)
     coarse_bank = bank.simplified(settings.coarse_faces) if settings.coarse_faces else bank
-    values, loss = _search(coarse_bank, template, start, dims0[obj], ry0[obj], mask[obj], ign[obj], K[obj], per,
-                           settings, height)
+    values, loss = _in_parts(_search, n, per, settings.parts, coarse_bank, template, start, dims0[obj], ry0[obj],
+                             mask[obj], ign[obj], K[obj], per, settings, height)
 
     # Fine: the prediction itself (its template, place, yaw and size; where there is none, the best start), its
     # end-for-end flip, and the `keep` best starts of each object, with the FFD.
@@ -567,9 +580,9 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     obj = torch.arange(n).repeat_interleave(hyps)
     mask, ign, K = _crops(masks, ignore, windows, settings.fine_size, intr, image_size)
     fine_bank = bank.simplified(settings.fine_faces) if settings.fine_faces else bank
-    values, loss = _stage(fine_bank, fine_template.flatten(), {k: v.flatten(0, 1) for k, v in starts.items()},
-                          dims0[obj], ry0[obj], mask[obj], ign[obj], K[obj], settings.fine_size, settings.fine_steps,
-                          settings, with_ffd=True, height=height)
+    values, loss = _in_parts(_stage, n, hyps, settings.parts, fine_bank, fine_template.flatten(),
+                             {k: v.flatten(0, 1) for k, v in starts.items()}, dims0[obj], ry0[obj], mask[obj], ign[obj],
+                             K[obj], settings.fine_size, settings.fine_steps, settings, with_ffd=True, height=height)
     fine = loss.view(n, hyps)
     fitted_ry = values["ry"].view(n, hyps)
     if yaw_belief is not None:
@@ -599,6 +612,37 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
                        camera_height=height, camera_height_source=height_source)
     _keep_predictions_of_bad_masks(result, masks, start_template, start_location, dims0, ry0, settings)
     return result
+
+
+#: The row-wise arguments of :func:`_stage` and :func:`_search` (after the bank): template, start, dims0, ry0, mask,
+#: ign, K.
+_ROW_ARGS = 7
+
+
+def _in_parts(stage: Callable[..., tuple[dict[str, Tensor], Tensor]], n: int, per: int, parts: int, bank: MeshBank,
+              *args: object, **kwargs: object) -> tuple[dict[str, Tensor], Tensor]:
+    """``stage(bank, *args, **kwargs)`` (:func:`_stage` or :func:`_search`, ``per`` rows per object of ``n``) run on
+    up to ``parts`` groups of whole objects, one per torch thread the caller has (their first :data:`_ROW_ARGS`
+    arguments cut into rows), the groups' outputs joined in order. Objects are fitted independently, so a group's fit
+    is the same alone; each group runs on its own Python thread and one torch thread (the tensor operations release
+    the GIL, so two groups use two cores). The grouping alone fixes the float operations: the fit is the same at any
+    thread count of at least ``parts``."""
+    parts = min(parts, torch.get_num_threads())
+    bounds = [n * k // parts for k in range(parts + 1)]
+    groups = [(lo * per, hi * per) for lo, hi in zip(bounds[:-1], bounds[1:], strict=True) if hi > lo]
+    if len(groups) == 1:
+        return stage(bank, *args, **kwargs)
+    rows, rest = args[:_ROW_ARGS], args[_ROW_ARGS:]
+
+    def group(lo: int, hi: int) -> tuple[dict[str, Tensor], Tensor]:
+        cut = [{k: v[lo:hi] for k, v in a.items()} if isinstance(a, dict) else a[lo:hi] for a in rows]
+        return stage(bank, *cut, *rest, **kwargs)
+
+    with _one_torch_thread(), ThreadPoolExecutor(len(groups) - 1) as pool:  # each group (and its kernel) on one thread
+        later = [pool.submit(group, *g) for g in groups[1:]]
+        done = [group(*groups[0])] + [f.result() for f in later]
+    values = {k: torch.cat([d[0][k] for d in done]) for k in done[0][0]}
+    return values, torch.cat([d[1] for d in done])
 
 
 def _choose(loss: Tensor, belief: Tensor, ry: Tensor, settings: FitSettings) -> Tensor:

@@ -37,6 +37,9 @@ from __future__ import annotations
 
 import ctypes
 import math
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 
 import torch
 import torch.nn.functional as tnf
@@ -56,7 +59,24 @@ from sdn3d.render._common import (
 from sdn3d.render._native import soft_kernel
 from sdn3d.render.settings import SoftSilhouetteSettings
 
-__all__ = ["soft_silhouette", "soft_silhouette_dense"]
+__all__ = ["soft_silhouette", "soft_silhouette_dense", "kernel_threads"]
+
+#: Threads of the fused kernel where :func:`kernel_threads` set them (None: torch's intra-op count).
+_KERNEL_THREADS: ContextVar[int | None] = ContextVar("sdn3d_soft_kernel_threads", default=None)
+
+
+@contextmanager
+def kernel_threads(threads: int) -> Iterator[None]:
+    """Run the fused kernel on ``threads`` threads inside the block, whatever torch's intra-op count: a caller that
+    keeps torch's small operations on one thread (:func:`sdn3d.geometric.fit.fit_to_masks`) still splits the kernel's
+    meshes over its cores. The kernel's result does not depend on its thread count (``soft_kernel.cpp``)."""
+    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
+        raise ValueError(f"kernel threads must be a positive integer, got {threads!r}")
+    token = _KERNEL_THREADS.set(threads)
+    try:
+        yield
+    finally:
+        _KERNEL_THREADS.reset(token)
 
 #: Per-chunk overhead (about 50 tensor ops) expressed in (face, pixel) pairs, for chunking. 4096 drew a fit
 #: (docs/results/2026-11-28_cpu/session6/cost) about 9 % faster than 8192 (less window padding, more chunks).
@@ -208,11 +228,12 @@ def _call(kernel: ctypes.CDLL, direction: str, screen: Tensor, box: Tensor, face
           settings: SoftSilhouetteSettings, *out: Tensor) -> None:
     """Run the kernel's ``forward`` (accumulates ``-softplus(x)`` into ``out[0]``, the flat ``log_keep``) or
     ``backward`` (``out``: the per-pixel gradient factor and the ``(M, 3, 2)`` screen gradient it writes), on
-    torch's intra-op thread count (split by meshes; the result does not depend on it)."""
+    torch's intra-op thread count or :func:`kernel_threads`' (split by meshes; the result does not depend on it)."""
     height, width = settings.image_size
     fn = getattr(kernel, f"sdn3d_soft_{direction}_{_KERNEL_DTYPES[screen.dtype]}")
+    threads = _KERNEL_THREADS.get()
     fn(screen.data_ptr(), box.data_ptr(), screen.shape[0], faces_per_mesh, height, width,
-       1.0 / settings.sigma, AREA_EPS, *(t.data_ptr() for t in out), torch.get_num_threads())
+       1.0 / settings.sigma, AREA_EPS, *(t.data_ptr() for t in out), threads or torch.get_num_threads())
 
 
 class _SoftSilhouetteFunction(torch.autograd.Function):

@@ -90,7 +90,8 @@ def load(paths: list[Path]) -> list[dict]:
     """Every pair of the extracted files: ``{key, filled, target (3, H, W) float, hole, keep_out, scored (H, W)}``."""
     out = []
     for path in paths:
-        data = np.load(path)
+        with np.load(path) as npz:  # each field decompressed once (indexing the file itself decompresses it again)
+            data = {k: npz[k] for k in ("keys", "filled", "target", "hole", "keep_out", "scored")}
         f = lambda a: torch.from_numpy(a).permute(2, 0, 1).float() / 255  # noqa: E731
         for i, key in enumerate(data["keys"]):
             out.append({"key": f"{path.stem}:{key}", "filled": f(data["filled"][i]), "target": f(data["target"][i]),
@@ -162,11 +163,15 @@ def main(argv: list[str] | None = None) -> int:
         from sdn3d.evaluation.paired import paired_difference
 
         rows = score(args.weights, args.data)
-        d = paired_difference([r["learnt"]["psnr"] for r in rows], [r["rays"]["psnr"] for r in rows])
         mean = lambda xs: sum(xs) / len(xs)  # noqa: E731
-        print(f"n={len(rows)} rays {mean([r['rays']['psnr'] for r in rows]):.3f} dB, learnt "
-              f"{mean([r['learnt']['psnr'] for r in rows]):.3f} dB; learnt - rays {d.mean:+.3f} [{d.low:+.3f}, "
-              f"{d.high:+.3f}] {d.wins}/{d.losses}/{d.ties}; net {mean([r['ms'] for r in rows]):.1f} ms CPU/pair")
+        for path in [*args.data, None]:
+            mine = [r for r in rows if path is None or r["key"].split(":")[0] == path.stem]
+            d = paired_difference([r["learnt"]["psnr"] for r in mine], [r["rays"]["psnr"] for r in mine],
+                                  higher_is_better=True)
+            rays, learnt = mean([r["rays"]["psnr"] for r in mine]), mean([r["learnt"]["psnr"] for r in mine])
+            print(f"{'all' if path is None else path.stem}: n={len(mine)} rays {rays:.3f} dB, learnt {learnt:.3f}"
+                  f" dB; learnt - rays {d.mean:+.3f} [{d.low:+.3f}, {d.high:+.3f}] {d.wins}/{d.losses}/{d.ties}; "
+                  f"net {mean([r['ms'] for r in mine]):.1f} ms CPU/pair")
         if args.json:
             args.json.write_text(json.dumps(rows, indent=1))
     return 0

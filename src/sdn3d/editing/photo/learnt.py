@@ -220,12 +220,19 @@ def _mirror(inputs: Tensor, filled: Tensor, target: Tensor, hole: Tensor, flip: 
         torch.where(flip[:, None, None], hole.flip(2), hole)
 
 
+#: :func:`train_fill_net`'s loss is the mean over crops of ``log(MSE + LOG_FLOOR)``: PSNR, the benchmark's score, is
+#: a log of each pair's error, so a pair the rays already fill well counts as much as a poor one (plain MSE let the
+#: poor ones rule and the net spoil the good ones); the floor stands for the grain no smooth correction removes.
+LOG_FLOOR = 1e-4
+
+
 def _loss(net: FillNet, inputs: Tensor, filled: Tensor, target: Tensor, hole: Tensor) -> Tensor:
-    """Mean squared error inside the holes of the corrected fill (the correction upsampled as :func:`learnt_fill`
-    does) against the target, each crop's hole weighing the same."""
+    """The mean over crops of ``log(MSE + LOG_FLOOR)`` inside each crop's hole of the corrected fill (the correction
+    upsampled as :func:`learnt_fill` does) against the target."""
     up = F.interpolate(net(inputs), size=filled.shape[-2:], mode="bilinear", align_corners=False)
     err = ((filled + up).clamp(0, 1) - target).square().sum(1) * hole
-    return (err.sum((1, 2)) / hole.sum((1, 2)).clamp(min=1)).mean() / 3
+    mse = err.sum((1, 2)) / (3 * hole.sum((1, 2)).clamp(min=1))
+    return (mse + LOG_FLOOR).log().mean()
 
 
 def train_fill_net(samples: FillSamples, settings: TrainSettings = TrainSettings(),

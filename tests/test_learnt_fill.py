@@ -125,3 +125,14 @@ def test_fill_learnt_is_the_rays_fill_corrected_inside_the_hole(tmp_path):
     with pytest.raises(PhotoSettingsError, match="learnt_weights must be a file path or null"):
         PhotoSettings(fill="learnt", learnt_weights="")
 
+
+
+def test_the_correction_fades_in_from_the_holes_edge():
+    from sdn3d.editing.photo.learnt import feather
+
+    image, hole = _picture()
+    change = (learnt_fill(image, hole, _busy_net()) - image).abs().mean(0)
+    edge, middle = change[20, 30:55].mean(), change[28:32, 40:45].mean()  # the part's first row, its centre
+    assert float(edge) < 0.4 * float(middle)
+    ramp = feather(hole[15:45, 25:60])
+    assert float(ramp[5, 5:30].max()) < 0.5 and float(ramp[15, 17]) == 1.0 and float(ramp[0, 0]) == 0.0

@@ -15,8 +15,8 @@ added inside that part only:
   pixels (``keep_out``) of the crop, and each crop pixel's place in the picture (row and column over the picture's
   height and width, in [-1, 1]: how near the horizon it lies);
 - **output**: an RGB correction at :data:`WORK_SIDE`, upsampled (bilinear) to the crop and added to the rays' fill
-  in the hole: the rays' grain and markings stay, their colour and brightness move (the last layer starts at zero,
-  so an untrained net is the rays' fill).
+  in the hole, faded in from the hole's edge (:func:`feather`): the rays' grain and markings stay, their colour and
+  brightness move (the last layer starts at zero, so an untrained net is the rays' fill).
 
 Weights are saved by :func:`save_fill_net` and read by :func:`load_fill_net` (``torch.load(weights_only=True)``: a
 dict of tensors and plain values, checked by name); :func:`train_fill_net` trains on :class:`FillSamples`
@@ -37,14 +37,17 @@ from torch import Tensor, nn
 
 from sdn3d.editing.photo.settings import PhotoSettingsError
 
-__all__ = ["FillNet", "FillSamples", "TrainSettings", "WORK_SIDE", "CROP_GROW", "MIN_PART_PX", "IN_CHANNELS",
-           "WEIGHTS_FORMAT", "DEFAULT_WEIGHTS", "crop_boxes", "net_inputs", "learnt_fill", "crop_samples",
-           "train_fill_net", "save_fill_net", "load_fill_net", "default_weights_path"]
+__all__ = ["FillNet", "FillSamples", "TrainSettings", "WORK_SIDE", "CROP_GROW", "FEATHER_SHARE", "MIN_PART_PX",
+           "IN_CHANNELS", "WEIGHTS_FORMAT", "DEFAULT_WEIGHTS", "crop_boxes", "feather", "net_inputs", "learnt_fill",
+           "crop_samples", "train_fill_net", "save_fill_net", "load_fill_net", "default_weights_path"]
 
 #: Side (pixels) of the square crop the net sees: a hole part's box grown by :data:`CROP_GROW`, resampled.
 WORK_SIDE = 32
 #: A hole part's crop is its bounding box grown by this share of its larger side on every side (the context).
 CROP_GROW = 0.5
+#: The correction fades in from the hole's edge over this share of the part's box side (at least 2 px): the rays' fill
+#: is right at the edge, where it starts from the known pixels, and a correction there draws the crop's box as a seam.
+FEATHER_SHARE = 0.15
 #: Hole parts of fewer pixels keep the rays' fill (a sliver: no colour to correct at the working scale).
 MIN_PART_PX = 16
 #: The net's input channels: rays-filled RGB, hole, keep_out, row and column in the picture.
@@ -140,6 +143,20 @@ def net_inputs(filled: Tensor, hole: Tensor, keep_out: Tensor | None, boxes: lis
     return torch.stack(out) if out else torch.zeros(0, IN_CHANNELS, side, side)
 
 
+def feather(part: Tensor, share: float = FEATHER_SHARE) -> Tensor:
+    """``(h, w)`` float in [0, 1]: each pixel of ``part (h, w)`` bool's distance to its edge over ``share`` of the
+    part's box's larger side (at least 2 px), capped at 1; 0 outside ``part``."""
+    import cv2
+
+    ys, xs = part.nonzero(as_tuple=True)
+    if not len(ys):
+        return torch.zeros(part.shape)
+    side = max(int(ys.max() - ys.min()), int(xs.max() - xs.min())) + 1
+    padded = np.pad(part.numpy().astype(np.uint8), 1)
+    depth = torch.from_numpy(cv2.distanceTransform(padded, cv2.DIST_L2, 3)[1:-1, 1:-1])
+    return (depth / max(share * side, 2.0)).clamp(0, 1) * part
+
+
 @torch.no_grad()
 def learnt_fill(filled: Tensor, hole: Tensor, net: FillNet, keep_out: Tensor | None = None) -> Tensor:
     """``filled (3, H, W)`` (the rays' fill of ``hole (H, W)``) with :class:`FillNet`'s correction added inside each
@@ -155,7 +172,8 @@ def learnt_fill(filled: Tensor, hole: Tensor, net: FillNet, keep_out: Tensor | N
         up = F.interpolate(correction[k : k + 1], size=(y1 - y0, x1 - x0), mode="bilinear", align_corners=False)[0]
         part = labels[y0:y1, x0:x1] == k + 1
         window = out[:, y0:y1, x0:x1]
-        out[:, y0:y1, x0:x1] = torch.where(part[None], (window + up.to(window.dtype)).clamp(0, 1), window)
+        ramp = feather(part).to(window.dtype)
+        out[:, y0:y1, x0:x1] = torch.where(part[None], (window + ramp * up.to(window.dtype)).clamp(0, 1), window)
     return out
 
 
@@ -166,22 +184,20 @@ def learnt_fill(filled: Tensor, hole: Tensor, net: FillNet, keep_out: Tensor | N
 class FillSamples:
     """Training crops (:func:`crop_samples`): ``inputs (N, IN_CHANNELS, S, S)`` as :func:`net_inputs`; ``filled`` and
     ``target (N, 3, L, L)`` the rays' fill and the exact render at the loss's side ``L`` (a multiple of ``S``);
-    ``hole (N, L, L)`` bool the part scored; ``group (N,)`` int64 the pair each crop came from."""
+    ``hole (N, L, L)`` bool the part scored; ``ramp (N, L, L)`` its :func:`feather` (drawn at the picture's size);
+    ``group (N,)`` int64 the pair each crop came from."""
 
     inputs: Tensor
     filled: Tensor
     target: Tensor
     hole: Tensor
+    ramp: Tensor
     group: Tensor
-
-    def to_dict(self) -> dict:
-        return {"inputs": self.inputs, "filled": self.filled, "target": self.target, "hole": self.hole,
-                "group": self.group}
 
     @classmethod
     def cat(cls, parts: list[FillSamples]) -> FillSamples:
         return cls(*(torch.cat([getattr(p, f) for p in parts]) for f in ("inputs", "filled", "target", "hole",
-                                                                          "group")))
+                                                                          "ramp", "group")))
 
 
 def crop_samples(filled: Tensor, hole: Tensor, keep_out: Tensor | None, target: Tensor, group: int,
@@ -192,11 +208,12 @@ def crop_samples(filled: Tensor, hole: Tensor, keep_out: Tensor | None, target: 
     inputs = net_inputs(filled, hole, keep_out, boxes)
     big = []
     for k, (y0, y1, x0, x1) in enumerate(boxes):
-        planes = torch.cat([filled[:, y0:y1, x0:x1].float(), target[:, y0:y1, x0:x1].float(),
-                            (labels[y0:y1, x0:x1] == k + 1)[None].float()])
+        part = labels[y0:y1, x0:x1] == k + 1
+        planes = torch.cat([filled[:, y0:y1, x0:x1].float(), target[:, y0:y1, x0:x1].float(), part[None].float(),
+                            feather(part)[None].float()])
         big.append(F.interpolate(planes[None], size=(loss_side, loss_side), mode="area")[0])
-    big = torch.stack(big) if big else torch.zeros(0, 7, loss_side, loss_side)
-    return FillSamples(inputs, big[:, :3], big[:, 3:6], big[:, 6] > 0.5, torch.full((len(boxes),), group))
+    big = torch.stack(big) if big else torch.zeros(0, 8, loss_side, loss_side)
+    return FillSamples(inputs, big[:, :3], big[:, 3:6], big[:, 6] > 0.5, big[:, 7], torch.full((len(boxes),), group))
 
 
 @dataclass(frozen=True)
@@ -211,13 +228,13 @@ class TrainSettings:
     seed: int = 0
 
 
-def _mirror(inputs: Tensor, filled: Tensor, target: Tensor, hole: Tensor, flip: Tensor):
+def _mirror(inputs: Tensor, filled: Tensor, target: Tensor, hole: Tensor, ramp: Tensor, flip: Tensor):
     """The crops of ``flip (B,)`` mirrored left-right (the column plane changes sign)."""
-    f = flip[:, None, None, None]
+    f, g = flip[:, None, None, None], flip[:, None, None]
     inputs = torch.where(f, inputs.flip(3), inputs)
-    inputs[:, 6] = torch.where(flip[:, None, None], -inputs[:, 6], inputs[:, 6])
+    inputs[:, 6] = torch.where(g, -inputs[:, 6], inputs[:, 6])
     return inputs, torch.where(f, filled.flip(3), filled), torch.where(f, target.flip(3), target), \
-        torch.where(flip[:, None, None], hole.flip(2), hole)
+        torch.where(g, hole.flip(2), hole), torch.where(g, ramp.flip(2), ramp)
 
 
 #: :func:`train_fill_net`'s loss is the mean over crops of ``log(MSE + LOG_FLOOR)``: PSNR, the benchmark's score, is
@@ -226,11 +243,11 @@ def _mirror(inputs: Tensor, filled: Tensor, target: Tensor, hole: Tensor, flip: 
 LOG_FLOOR = 1e-4
 
 
-def _loss(net: FillNet, inputs: Tensor, filled: Tensor, target: Tensor, hole: Tensor) -> Tensor:
+def _loss(net: FillNet, inputs: Tensor, filled: Tensor, target: Tensor, hole: Tensor, ramp: Tensor) -> Tensor:
     """The mean over crops of ``log(MSE + LOG_FLOOR)`` inside each crop's hole of the corrected fill (the correction
-    upsampled as :func:`learnt_fill` does) against the target."""
+    upsampled and faded in as :func:`learnt_fill` does) against the target."""
     up = F.interpolate(net(inputs), size=filled.shape[-2:], mode="bilinear", align_corners=False)
-    err = ((filled + up).clamp(0, 1) - target).square().sum(1) * hole
+    err = ((filled + ramp[:, None] * up).clamp(0, 1) - target).square().sum(1) * hole
     mse = err.sum((1, 2)) / (3 * hole.sum((1, 2)).clamp(min=1))
     return (mse + LOG_FLOOR).log().mean()
 
@@ -253,7 +270,7 @@ def train_fill_net(samples: FillSamples, settings: TrainSettings = TrainSettings
         idx = torch.randint(n, (min(settings.batch, n),), generator=gen)
         flip = torch.rand(len(idx), generator=gen) < 0.5
         batch = _mirror(samples.inputs[idx].clone(), samples.filled[idx], samples.target[idx], samples.hole[idx],
-                        flip)
+                        samples.ramp[idx], flip)
         loss = _loss(net, *batch)
         opt.zero_grad()
         loss.backward()

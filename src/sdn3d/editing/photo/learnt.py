@@ -286,9 +286,11 @@ def train_fill_net(samples: FillSamples, settings: TrainSettings = TrainSettings
 
 
 def save_fill_net(net: FillNet, path: str | Path, meta: dict | None = None) -> None:
-    """Write ``net`` to ``path`` (:data:`WEIGHTS_FORMAT`: its width, state dict and ``meta``, plain values only)."""
-    torch.save({"format": WEIGHTS_FORMAT, "width": net.width, "state_dict": net.state_dict(),
-                "meta": dict(meta or {})}, str(path))
+    """Write ``net`` to ``path`` (:data:`WEIGHTS_FORMAT`: its width, state dict in float16, half the file, and
+    ``meta``, plain values only)."""
+    state = {k: v.half() for k, v in net.state_dict().items()}
+    torch.save({"format": WEIGHTS_FORMAT, "width": net.width, "state_dict": state, "meta": dict(meta or {})},
+               str(path))
 
 
 _CACHE: dict[tuple, FillNet] = {}
@@ -317,7 +319,7 @@ def load_fill_net(path: str | Path | None = None) -> FillNet:
         raise PhotoSettingsError(f"photo.fill=learnt: {str(path)!r} holds no {WEIGHTS_FORMAT} weights")
     try:
         net = FillNet(int(blob["width"]))
-        net.load_state_dict(blob["state_dict"])
+        net.load_state_dict({k: v.float() for k, v in blob["state_dict"].items()})
     except (KeyError, TypeError, ValueError, RuntimeError) as exc:
         raise PhotoSettingsError(f"photo.fill=learnt: {str(path)!r}: weights do not fit the net ({exc})") from exc
     _CACHE[key] = net.eval()

@@ -23,7 +23,7 @@ def real(out, root):
     for iid, crop, name in ((12001, (420, 150, 720, 360), "red car 12001"), (12002, (660, 150, 960, 360), "black car 12002")):
         pics = [("input (" + name + ")", Image.open(root / f"{iid}_rays/out/input.png") if (root / f"{iid}_rays/out/input.png").exists() else Image.open(Path(__file__).resolve().parents[5] / "tests/data/0006_30-deg-right_00043.png"))]
         pics += [(f"deleted, photo.fill={f}", Image.open(root / f"{iid}_{f}/out/edited.png")) for f in ("rays", "learnt")]
-        rows.append(titled_row([(t, np.asarray(p.convert("RGB").crop(crop).resize((450, 315), Image.LANCZOS))) for t, p in pics]))
+        rows.append(titled_row([(t, np.asarray(p.convert("RGB").crop(crop).resize((420, 294), Image.LANCZOS))) for t, p in pics]))
     Image.fromarray(np.concatenate(rows, 0)).quantize(256).save(out, optimize=True)
 
 

@@ -1,5 +1,5 @@
 # ruff: noqa: E501
-"""paired.py A/counterfactual.json [B/counterfactual.json ...]: over the deletes of all the files together, photo:learnt
+"""paired.py A/counterfactual.json[+A2/counterfactual.json] [B/...]: over the deletes of all the files together, photo:learnt
 against every other fill (sdn3d.evaluation.paired: mean, 95 % bootstrap interval, wins/losses/ties) on the vacated
 region + shadow band (PSNR, L1, darkening error), per file and pooled; the residual darkening of each fill."""
 import json
@@ -10,14 +10,21 @@ from sdn3d.evaluation.paired import paired_difference
 FILLS = ("photo:telea", "photo:patchmatch", "photo:rays", "photo:learnt")
 
 
-def deletes(path):
-    return [p for p in json.load(open(path))["pairs"] if p["kind"] == "delete" and all(m in p["metrics"] for m in FILLS)]
+def deletes(paths):
+    """The deletes of one tree: its runs' files joined by '+' (each fill's metrics merged by pair key)."""
+    merged = {}
+    for path in paths.split("+"):
+        for p in json.load(open(path))["pairs"]:
+            if p["kind"] == "delete":
+                merged.setdefault(p["key"], p)["metrics"].update(p["metrics"])
+                merged[p["key"]]["draw_ms"].update(p["draw_ms"])
+    return [p for p in merged.values() if all(m in p["metrics"] for m in FILLS)]
 
 
 def table(name, rows):
     mean = lambda xs: sum(xs) / len(xs)  # noqa: E731
     print(f"\n### {name}: n = {len(rows)} deletes\n")
-    print("| fill | PSNR dB | L1 | darkening (target's {:.3f}) | CPU ms/delete (whole draw) |".format(mean([r["reference"]["target"] for r in rows if r["reference"]["target"] == r["reference"]["target"]])))
+    print("| fill | PSNR dB | L1 | darkening (target's {:.3f}) | wall ms/delete (whole draw; base and learnt runs at different machine loads) |".format(mean([r["reference"]["target"] for r in rows if r["reference"]["target"] == r["reference"]["target"]])))
     print("|---|---|---|---|---|")
     for m in FILLS:
         dk = [r["metrics"][m]["hole"]["darkening"] for r in rows if r["metrics"][m]["hole"]["darkening"] == r["metrics"][m]["hole"]["darkening"]]
@@ -36,7 +43,7 @@ def table(name, rows):
 allrows = []
 for path in sys.argv[1:]:
     rows = deletes(path)
-    table(path.split("/")[-2], rows)
+    table(path.split("+")[0].split("/")[-2], rows)
     allrows += rows
 if len(sys.argv) > 2:
     table("pooled", allrows)

@@ -143,3 +143,10 @@ def test_the_packaged_weights_load():
     assert default_weights_path().is_file()
     net = load_fill_net(None)
     assert isinstance(net, FillNet)
+
+
+def test_the_counterfactual_bench_lists_the_learnt_fill():
+    from sdn3d.evaluation.counterfactual import CounterfactualSettings, methods
+
+    settings = CounterfactualSettings(fills=("rays", "learnt"))
+    assert "photo:learnt" in methods(settings, has_generator=False)

@@ -9,7 +9,13 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.editing.photo.settings import AUTO_THIN_PX, PATCHMATCH_MAX_SIDE, PhotoSettings, PhotoSettingsError
+from sdn3d.editing.photo.settings import (
+    AUTO_THIN_PX,
+    PATCHMATCH_MAX_SIDE,
+    RAY_FILLS,
+    PhotoSettings,
+    PhotoSettingsError,
+)
 from sdn3d.image_ops import dilate_square, ids_present, isin_ids
 
 __all__ = ["inpaint", "vacated_hole", "fill_hole"]
@@ -140,14 +146,15 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
     """``image (3, H, W)`` with ``hole`` filled by ``settings.fill`` (:data:`FILL_METHODS`; ``fill (3, H, W)``: the
     generator's picture at this size, for ``'generator'``); ``keep_out``: pixels PatchMatch and the rays must not
     copy; ``vanishing``: the road's vanishing point ``(u, v)`` for ``'rays'`` (:func:`~sdn3d.editing.photo.road.
-    ray_fill`; None: the picture's centre row and column, a level camera looking down the road)."""
+    ray_fill`; None: the picture's centre row and column, a level camera looking down the road); ``'learnt'``: the
+    rays' fill with the net's correction inside the hole (:func:`~sdn3d.editing.photo.learnt.learnt_fill`)."""
     if not bool(hole.any()):
         return image.clone()
     if settings.fill == "generator":
         if fill is None:
             raise PhotoSettingsError("photo.fill=generator needs the generator's picture (the textural branch)")
         return torch.where(hole[None], fill.clamp(0, 1).to(image.dtype), image)
-    if settings.fill == "rays":
+    if settings.fill in RAY_FILLS:
         from sdn3d.editing.photo.road import ray_fill
 
         height, width = hole.shape
@@ -156,7 +163,12 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
                                  match_grain=settings.ray_grain == "match", marks=settings.ray_marks,
                                  haze=settings.ray_haze, airlight=settings.ray_haze_airlight)
         rest = hole & ~reached  # no ray reaches these: Telea from what is known around them
-        return inpaint(out, rest, "telea", settings.inpaint_radius) if bool(rest.any()) else out
+        out = inpaint(out, rest, "telea", settings.inpaint_radius) if bool(rest.any()) else out
+        if settings.fill == "learnt":
+            from sdn3d.editing.photo.learnt import learnt_fill, load_fill_net
+
+            out = learnt_fill(out, hole, load_fill_net(settings.learnt_weights), keep_out)
+        return out
     return inpaint(image, hole, settings.fill, settings.inpaint_radius, keep_out=keep_out)
 
 

@@ -10,9 +10,9 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 
-__all__ = ["FILL_METHODS", "UNSEEN_MODES", "SILHOUETTE_MODES", "AMODAL_MODES", "SHADOW_MODES", "GRAIN_MODES",
-           "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO", "MIRROR",
-           "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT", "IN_FRONT", "ANOTHER_CAR",
+__all__ = ["FILL_METHODS", "RAY_FILLS", "UNSEEN_MODES", "SILHOUETTE_MODES", "AMODAL_MODES", "SHADOW_MODES",
+           "GRAIN_MODES", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO",
+           "MIRROR", "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT", "IN_FRONT", "ANOTHER_CAR",
            "FLAT_CODES",
            "PART_DEFAULTS", "PART_COLORS", "PhotoSettings", "PhotoSettingsError", "source_picture", "part_picture"]
 
@@ -22,8 +22,12 @@ __all__ = ["FILL_METHODS", "UNSEEN_MODES", "SILHOUETTE_MODES", "AMODAL_MODES", "
 #: hole), PatchMatch (PyPatchMatch: copies texture, plausible road on large holes, slower), ``auto`` (the default: Telea
 #: for thin gaps, PatchMatch for large holes), the generator's picture (needs the textural branch) or ``rays``
 #: (:mod:`sdn3d.editing.photo.road`: each pixel from the nearest known pixels on its line through the road's vanishing
-#: point, so lane markings, kerbs and verges run on through the hole; Telea where no line reaches).
-FILL_METHODS = ("telea", "patchmatch", "auto", "generator", "rays")
+#: point, so lane markings, kerbs and verges run on through the hole; Telea where no line reaches) or ``learnt`` (the
+#: rays' fill with a small net's colour correction inside the hole, :mod:`sdn3d.editing.photo.learnt`, trained on the
+#: generator's exact delete pairs).
+FILL_METHODS = ("telea", "patchmatch", "auto", "generator", "rays", "learnt")
+#: The fills drawn along the road's rays (their removal takes the removed car's effects and vanishing point).
+RAY_FILLS = ("rays", "learnt")
 #: What a removed car's shadow becomes with ``delete_effects`` and ``fill='rays'`` (:attr:`PhotoSettings.shadow_mode`):
 #: ``fill`` (the shadowed road near it joins the hole and is filled along the rays from lit road) or ``relight``
 #: (relit by a per-channel gain and a matte first, :func:`~sdn3d.editing.photo.fill.relight_shadow`).
@@ -175,6 +179,8 @@ class PhotoSettings:
             face the camera it is dark); 0: the input's colours as they are.
         recolor_parts: ``recolor`` repaints the body part of the fitted mesh only (False: every pixel of the car
             whose colour is the paint's, the appearance before vehicle parts existed).
+        learnt_weights: ``fill='learnt'``: the net's weights file (:func:`~sdn3d.editing.photo.learnt.load_fill_net`;
+            null: the packaged ``sdn3d/resources/learnt_fill.pt``).
     """
 
     fill: str = "rays"
@@ -211,6 +217,7 @@ class PhotoSettings:
     ray_haze_airlight: float = 0.25
     outline_grow: float = 0.0
     view_reflection: float = 1.0
+    learnt_weights: str | None = None
 
     def __post_init__(self) -> None:
         if self.fill not in FILL_METHODS:
@@ -246,6 +253,8 @@ class PhotoSettings:
                 continue
             if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
                 raise PhotoSettingsError(f"photo.{name} must be an integer in [{lo}, {hi}], got {value!r}")
+        if self.learnt_weights is not None and (not isinstance(self.learnt_weights, str) or not self.learnt_weights):
+            raise PhotoSettingsError(f"photo.learnt_weights must be a file path or null, got {self.learnt_weights!r}")
         for name in ("relight", "recolor_parts", "delete_effects", "delete_shadow", "cast_shadow", "keep_in_front"):
             if not isinstance(getattr(self, name), bool):
                 raise PhotoSettingsError(f"photo.{name} must be true or false, got {getattr(self, name)!r}")

@@ -38,6 +38,7 @@ from sdn3d.editing.photo.settings import (
     PART,
     PART_DEFAULTS,
     PHOTO,
+    RAY_FILLS,
     RECOLORED,
     RELIT,
     SHADOW,
@@ -506,11 +507,11 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
     # rays: the shadow is looked for on the footprint grown by half, whatever the light (the same PSNR on the tuning
     # tree's deletes as with the fitted light's cast region, without the light's fit: docs/results/.../deletes/)
     search, road_part, ring, road = _shadow_context(image, hole, objects_px, before, gone_rows, K,
-                                                    None if settings.fill == "rays" else light)
+                                                    None if settings.fill in RAY_FILLS else light)
     matte = torch.zeros(size, dtype=torch.float32)
     if road is None:
         return fill_hole(image, hole, settings, objects_px, vanishing=vanishing), matte
-    if settings.fill == "rays":
+    if settings.fill in RAY_FILLS:
         return _rays_with_effects(image, hole, objects_px, search, ring, road, settings, vanishing)
     if settings.delete_shadow:
         image, matte = _relight_around(image, search, hole, objects_px, ring, road)
@@ -760,10 +761,11 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     gone_rows = [int(b) for b in torch.isin(before.instance_id, gone_ids).nonzero().flatten().tolist()
                  if bool(before.has_geometry[b])]
     # fill='rays' always takes a removed car's effects (its fitted silhouette and shadow): it was tuned with them.
-    effects = (settings.delete_effects or settings.fill == "rays") and bool(gone_rows) and settings.fill != "generator"
+    effects = ((settings.delete_effects or settings.fill in RAY_FILLS) and bool(gone_rows)
+               and settings.fill != "generator")
     moved_rows = moved.nonzero().flatten().tolist()
     casts = settings.cast_shadow and bool(moved_rows)
-    lit_effects = effects and settings.fill != "rays"  # rays find the shadow by its darkness: no light needed
+    lit_effects = effects and settings.fill not in RAY_FILLS  # rays find the shadow by its darkness: no light needed
     if (settings.relight or lit_effects or casts) and len(src.rows) and (bool(moved.any()) or grown_rows
                                                                           or lit_effects):
         src_normals, light = source.light()
@@ -778,7 +780,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         hole = hole | photo_source.in_front
     # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
     vp = None
-    if settings.fill == "rays" and bool(gone_ids.numel()):
+    if settings.fill in RAY_FILLS and bool(gone_ids.numel()):
         removed = isin_ids(src_ids, gone_ids) & (src_ids != 0)
         vp = removal_vanishing_point(image, K, removed, src_ids != 0,
                                      float(before.ry[gone_rows[0]]) if gone_rows else None)

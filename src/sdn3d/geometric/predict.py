@@ -15,7 +15,7 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 from sdn3d.geometric.decode import decode_outputs
-from sdn3d.geometric.lamps import LampCue, face_by_lamps, red_lamps, white_lamps
+from sdn3d.geometric.lamps import LampCue, face_by_reading, red_lamps, white_lamps
 from sdn3d.geometric.losses import render_silhouettes
 from sdn3d.geometric.model import GeometricNet, ray_angle
 from sdn3d.geometric.refine import RefineSettings, refine_by_reprojection
@@ -105,6 +105,7 @@ class GeometricPredictor:
         ignore: Tensor | None = None,
         refine: RefineSettings | None = None,
         lamp_mask: Tensor | None = None,
+        tail_mask: Tensor | None = None,
     ) -> dict[str, Tensor]:
         """3D attributes of ``N`` objects (see :func:`decode_outputs` for the keys).
 
@@ -122,6 +123,10 @@ class GeometricPredictor:
             lamp_mask: ``(N, 1, S, S)`` the crop pixels the lamp cue reads (default: ``mask``); e.g. only those
                 surely on the object where the mask is coarser than the crop's pixels
                 (:func:`sdn3d.derender.derender` with a photo).
+            tail_mask: ``(N, 1, S, S)`` the crop pixels the red tail-lamp test reads (default: ``lamp_mask``), read
+                from ``crop`` as given (not masked with ``mask``): e.g. with the band under a semantic mask that
+                stopped above the car's lamps (:func:`sdn3d.derender.derender`). The headlights' test of red bodies
+                keeps ``lamp_mask`` (a band's road reads near-white through rain).
 
         With ``mask`` and :attr:`lamp_cue`, the yaw is then turned end for end where the lamps disagree with it; the
         output then also holds what the appearance says of any yaw (:func:`~sdn3d.geometric.facing.facing_belief`):
@@ -133,6 +138,7 @@ class GeometricPredictor:
 
         device = self.device
         crop, box, intrinsics = crop.to(device), box.to(device), intrinsics.to(device)
+        given = crop  # the tail-lamp test may read past the mask
         if mask is not None:
             crop = crop * mask.to(device)
         raw = self.net(crop, box, intrinsics)
@@ -152,11 +158,12 @@ class GeometricPredictor:
             ray = ray_angle(box, intrinsics)
             lamps = mask.to(device) if lamp_mask is None else lamp_mask.to(device)
             seen = crop * lamps
-            present, usable, offset = red_lamps(seen, lamps, self.lamp_cue)
-            out.update(net_ry=out["ry"], ray=ray, lamp_present=present, lamp_usable=usable, lamp_offset=offset)
-            present, usable, offset = white_lamps(seen, lamps, self.lamp_cue)
-            out.update(front_present=present, front_usable=usable, front_offset=offset)
-            out["ry"] = face_by_lamps(out["ry"], ray, seen, lamps, self.lamp_cue)
+            tail = lamps if tail_mask is None else tail_mask.to(device)
+            red = red_lamps(seen if tail_mask is None else given * tail, tail, self.lamp_cue)
+            white = white_lamps(seen, lamps, self.lamp_cue)
+            out.update(net_ry=out["ry"], ray=ray, lamp_present=red[0], lamp_usable=red[1], lamp_offset=red[2],
+                       front_present=white[0], front_usable=white[1], front_offset=white[2])
+            out["ry"] = face_by_reading(out["ry"], ray, red, white, self.lamp_cue)
         if crop_intrinsics is not None:
             out["silhouette"] = render_silhouettes(
                 bank, out["template_id"], out["dims"], out["ry"], out["center"],

@@ -1,8 +1,9 @@
 """The red tail-lamp test reads the band under a semantic proposal's mask (issue 40, session 10's semflip).
 
 The semantic branch's masks often stop above a car's tail lamps; the lamp cue then read "no red lamps: a front" and
-the fit turned the car end for end. For semantic proposals the red test also reads the band under each mask
-(:func:`sdn3d.proposal_fit.unsure_below`), the headlights' test does not, and nothing changes for ground-truth masks.
+the fit turned the car end for end. For semantic proposals whose mask shows no red lamps the red test reads the mask
+and the band under it (:func:`sdn3d.proposal_fit.unsure_below`), the headlights' test does not, and nothing changes
+for ground-truth masks.
 """
 
 from __future__ import annotations
@@ -68,6 +69,14 @@ def test_the_tail_mask_reads_red_lamps_under_the_mask_and_the_net_sees_the_same_
     assert read["lamp_offset"].abs().max() < 0.05  # both corners: centred
     for key in ("net_ry", "dims", "location", "front_present", "front_usable", "front_offset"):
         torch.testing.assert_close(read[key], plain[key])  # the net's input and the headlights' reading as before
+    # A mask that shows red lamps (here a neighbour's, high on the right) is read as before: the band is not added.
+    crop[:, :, 5:7, 23:26] = torch.tensor([0.8, 0.1, 0.1])[:, None, None]
+    shown = predictor.predict(crop * mask, mask, box, intr)
+    both = predictor.predict(crop, mask, box, intr, tail_mask=tail)
+    assert shown["lamp_present"].all() and shown["lamp_offset"].min() > 0.2
+    for key in ("lamp_present", "lamp_usable", "lamp_offset"):
+        torch.testing.assert_close(both[key], shown[key])
+    crop[:, :, 5:7, 23:26] = 0.45
     # A back view (alpha = -90 degrees) the net took for a front is turned end for end by the lamps under the mask.
     front = torch.full((2,), math.pi / 2)
     red = (read["lamp_present"], read["lamp_usable"], read["lamp_offset"])

@@ -76,7 +76,16 @@ def test_the_tail_mask_reads_red_lamps_under_the_mask_and_the_net_sees_the_same_
     assert shown["lamp_present"].all() and shown["lamp_offset"].min() > 0.2
     for key in ("lamp_present", "lamp_usable", "lamp_offset"):
         torch.testing.assert_close(both[key], shown[key])
+    # Red the mask shows but cannot use (two rows of red: the neighbour's and a low one): the band's reading instead.
+    crop[:, :, 17:19, 6:9] = torch.tensor([0.8, 0.1, 0.1])[:, None, None]
+    spread = predictor.predict(crop * mask, mask, box, intr)
+    wider = predictor.predict(crop, mask, box, intr, tail_mask=tail)
+    assert spread["lamp_present"].all() and not spread["lamp_usable"].any()
+    band = red_lamps(crop * tail, tail, LampCue(min_mask=50))
+    for key, value in zip(("lamp_present", "lamp_usable", "lamp_offset"), band, strict=True):
+        torch.testing.assert_close(wider[key], value)
     crop[:, :, 5:7, 23:26] = 0.45
+    crop[:, :, 17:19, 6:9] = 0.45
     # A back view (alpha = -90 degrees) the net took for a front is turned end for end by the lamps under the mask.
     front = torch.full((2,), math.pi / 2)
     red = (read["lamp_present"], read["lamp_usable"], read["lamp_offset"])

@@ -21,10 +21,10 @@
    background at its edge, where a neighbour's tail light or a red wall would count). The semantic branch's masks
    often stop above a car's bottom, and so above its tail lamps at the back's corners (on tuning seed 31's clone
    frames the lamps lay just under the mask of 10 of 41 turned cars, read as "no red lamps: a front", and the fit
-   turned them end for end): for its proposals, where the mask shows no red lamps, the red tail-lamp test reads
-   the mask and the band under it that the fit counts as unsure (:func:`~sdn3d.proposal_fit.unsure_below`); a mask
-   that shows red lamps is read as before, and a red body's headlight test never reads the band (its road reads
-   near-white through rain; ``docs/results/2026-11-29_cpu/session10/semflip``). The 2D box is
+   turned them end for end): for its proposals, where the mask shows no usable red lamps, the red tail-lamp test
+   reads the mask and the band under it that the fit counts as unsure (:func:`~sdn3d.proposal_fit.unsure_below`);
+   a mask that shows usable red lamps is read as before, and a red body's headlight test never reads the band (its
+   road reads near-white through rain; ``docs/results/2026-11-29_cpu/session10/semflip``). The 2D box is
    the annotation's when the object comes from a ground-truth frame (what the branch is trained
    on), else the mask's bounding box. Objects without a prediction (no geometric model, too small,
    a box one pixel wide or high, non-finite output or behind the camera) keep only their 2D mask.
@@ -339,8 +339,8 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     annotated = torch.ones(n, dtype=torch.bool)
     annotated[box_rows] = False
     # The semantic branch's masks may stop short of the car's bottom (proposal_fit's module doc), and with it above
-    # its tail lamps: where a mask shows none, the red-lamp test reads the band under it (module doc, step 3); the
-    # ground truth's masks (an oracle) and the boxes' GrabCut masks are taken as they are.
+    # its tail lamps: where a mask shows none usable, the red-lamp test reads the band under it (module doc, step 3);
+    # the ground truth's masks (an oracle) and the boxes' GrabCut masks are taken as they are.
     unsure = unsure_below(masks) if source == "semantic" else None
     if unsure is not None:
         unsure[box_rows] = False

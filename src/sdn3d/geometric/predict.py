@@ -123,12 +123,12 @@ class GeometricPredictor:
             lamp_mask: ``(N, 1, S, S)`` the crop pixels the lamp cue reads (default: ``mask``); e.g. only those
                 surely on the object where the mask is coarser than the crop's pixels
                 (:func:`sdn3d.derender.derender` with a photo).
-            tail_mask: ``(N, 1, S, S)`` where ``lamp_mask`` shows no red lamps, the crop pixels the red tail-lamp
-                test reads instead, from ``crop`` as given (not masked with ``mask``): e.g. a semantic mask and the
-                band under it, where the lamps lie when the mask stopped above them (:func:`sdn3d.derender.derender`).
-                A mask that shows red lamps is read as before (a wider reading adds rows of other red: its lamps
-                then fail the one-band test). The headlights' test of red bodies keeps ``lamp_mask`` (a band's
-                road reads near-white through rain).
+            tail_mask: ``(N, 1, S, S)`` where ``lamp_mask`` shows no usable red lamps (none, or too spread or too
+                many to read), the crop pixels the red tail-lamp test reads instead, from ``crop`` as given (not
+                masked with ``mask``): e.g. a semantic mask and the band under it, where the lamps lie when the mask
+                stopped above them (:func:`sdn3d.derender.derender`). A mask that shows usable red lamps is read as
+                before (a wider reading adds rows of other red: its lamps then fail the one-band test). The
+                headlights' test of red bodies keeps ``lamp_mask`` (a band's road reads near-white through rain).
 
         With ``mask`` and :attr:`lamp_cue`, the yaw is then turned end for end where the lamps disagree with it; the
         output then also holds what the appearance says of any yaw (:func:`~sdn3d.geometric.facing.facing_belief`):
@@ -161,10 +161,11 @@ class GeometricPredictor:
             lamps = mask.to(device) if lamp_mask is None else lamp_mask.to(device)
             seen = crop * lamps
             red = red_lamps(seen, lamps, self.lamp_cue)
-            if tail_mask is not None:  # only where the mask itself shows no red lamps
+            if tail_mask is not None:  # only where the mask itself shows no usable red lamps
                 tail = tail_mask.to(device)
                 past = red_lamps(given * tail, tail, self.lamp_cue)
-                red = tuple(torch.where(red[0], a, b) for a, b in zip(red, past, strict=True))
+                shown = red[0] & red[1]
+                red = tuple(torch.where(shown, a, b) for a, b in zip(red, past, strict=True))
             white = white_lamps(seen, lamps, self.lamp_cue)
             out.update(net_ry=out["ry"], ray=ray, lamp_present=red[0], lamp_usable=red[1], lamp_offset=red[2],
                        front_present=white[0], front_usable=white[1], front_offset=white[2])

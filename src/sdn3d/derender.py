@@ -18,7 +18,13 @@
    resolution (antialiased; the masks from the working size over the same windows), so a small object's crop, and
    the red-lamp cue that reads it, keeps the photo's detail (issue 40); the lamp cue then reads only the crop
    pixels surely on the object (:data:`SURE_MASK`: a working mask pixel covers several photo pixels, part
-   background at its edge, where a neighbour's tail light or a red wall would count). The 2D box is
+   background at its edge, where a neighbour's tail light or a red wall would count). The semantic branch's masks
+   often stop above a car's bottom, and so above its tail lamps at the back's corners (on tuning seed 31's clone
+   frames the lamps lay just under the mask of 10 of 41 turned cars, read as "no red lamps: a front", and the fit
+   turned them end for end): for its proposals, where the mask shows no usable red lamps, the red tail-lamp test
+   reads the mask and the band under it that the fit counts as unsure (:func:`~sdn3d.proposal_fit.unsure_below`);
+   a mask that shows usable red lamps is read as before, and a red body's headlight test never reads the band (its
+   road reads near-white through rain; ``docs/results/2026-11-29_cpu/session10/semflip``). The 2D box is
    the annotation's when the object comes from a ground-truth frame (what the branch is trained
    on), else the mask's bounding box. Objects without a prediction (no geometric model, too small,
    a box one pixel wide or high, non-finite output or behind the camera) keep only their 2D mask.
@@ -144,9 +150,11 @@ def _class_list_name(models: Models, gt: GroundTruth | None, classes: str | None
 
 
 def _predict_geometry(image: Tensor, intr: Intrinsics, masks: Tensor, boxes: Tensor, models: Models,
-                      refine: RefineSettings | None, photo: InputPhoto | None = None) -> dict[str, Tensor]:
+                      refine: RefineSettings | None, photo: InputPhoto | None = None,
+                      tail: Tensor | None = None) -> dict[str, Tensor]:
     """Batched geometric branch on the objects ``masks (N, H, W)`` with 2D ``boxes (N, 4)``; the crops of the
-    working ``image`` or, given, of the ``photo`` it was made from (the same windows).
+    working ``image`` or, given, of the ``photo`` it was made from (the same windows). ``tail``: ``(N, H, W)`` bool
+    pixels past each mask that the red tail-lamp test reads too (the predictor's ``tail_mask``; None: none).
 
     With ``refine`` (the paper's Cityscapes test-time fit on L_reproj) the objects are predicted once, ordered
     by predicted depth, and refined with each object's crop ignoring the masks of the objects in front of it
@@ -158,16 +166,21 @@ def _predict_geometry(image: Tensor, intr: Intrinsics, masks: Tensor, boxes: Ten
     crop_masks = crop_windows(masks[:, None].float(), windows, size, "nearest")
     sure = (None if photo is None else
             (crop_windows(masks[:, None].float(), windows, size, "bilinear") >= SURE_MASK).float())
+    # The crops go in masked, as the net sees them; with a tail band unmasked (the predictor masks the net's input
+    # itself), so that the tail-lamp test can read past the mask.
+    given, lamps = crops * crop_masks, {"lamp_mask": sure}
+    if tail is not None:  # the same rule as the mask's: nearest without a photo, the sure pixels with one
+        grown = (masks | tail)[:, None].float()
+        given, lamps["tail_mask"] = crops, (crop_windows(grown, windows, size, "nearest") if photo is None else
+                                            (crop_windows(grown, windows, size, "bilinear") >= SURE_MASK).float())
     n = len(boxes)
     intr_vec = torch.tensor([intr.fx, intr.fy, intr.cx, intr.cy], dtype=torch.float32).expand(n, 4)
     if refine is None:
-        return models.geometric.predict(crops * crop_masks, crop_masks, boxes, intr_vec, lamp_mask=sure)
+        return models.geometric.predict(given, crop_masks, boxes, intr_vec, **lamps)
     crop_intr = crop_intrinsics(intr, windows, size)
-    depth = models.geometric.predict(crops * crop_masks, crop_masks, boxes, intr_vec,
-                                     lamp_mask=sure)["center"][:, 2].cpu()
+    depth = models.geometric.predict(given, crop_masks, boxes, intr_vec, **lamps)["center"][:, 2].cpu()
     ignore = crop_windows(occluder_masks(masks, depth)[:, None].float(), windows, size, "nearest")
-    return models.geometric.predict(crops * crop_masks, crop_masks, boxes, intr_vec, crop_intr, ignore, refine,
-                                    lamp_mask=sure)
+    return models.geometric.predict(given, crop_masks, boxes, intr_vec, crop_intr, ignore, refine, **lamps)
 
 
 def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:
@@ -184,7 +197,7 @@ def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:
 
 def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: GroundTruth | None,
               models: Models, min_pixels: int, refine: RefineSettings | None,
-              annotated: Tensor | None = None, photo: InputPhoto | None = None
+              annotated: Tensor | None = None, photo: InputPhoto | None = None, tail: Tensor | None = None
               ) -> tuple[tuple[Tensor, ...], Appearance | None]:
     """``(geometry, appearance)``: geometry ``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64, 3)``
     of the objects ``masks`` (template -1 and placeholders for objects without a usable prediction); ``gt``:
@@ -211,8 +224,8 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
     rows, boxes = rows[wide], boxes[wide]
     if not len(rows):
         return (template, dims, ry, location, phi), None
-    pred = {k: v.detach().cpu() for k, v in _predict_geometry(image, intr, masks[rows], boxes, models, refine,
-                                                                      photo).items()}
+    pred = {k: v.detach().cpu() for k, v in _predict_geometry(image, intr, masks[rows], boxes, models, refine, photo,
+                                                                      None if tail is None else tail[rows]).items()}
     ok = (torch.isfinite(pred["dims"]).all(1) & torch.isfinite(pred["location"]).all(1) & torch.isfinite(pred["ry"])
           & torch.isfinite(pred["phi"]).flatten(1).all(1) & (pred["dims"] > 0).all(1) & (pred["center"][:, 2] > 0))
     if not bool(ok.all()):
@@ -337,15 +350,19 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     n = len(ids)
     annotated = torch.ones(n, dtype=torch.bool)
     annotated[box_rows] = False
+    # The semantic branch's masks may stop short of the car's bottom (proposal_fit's module doc), and with it above
+    # its tail lamps: where a mask shows none usable, the red-lamp test reads the band under it (module doc, step 3);
+    # the ground truth's masks (an oracle) and the boxes' GrabCut masks are taken as they are.
+    unsure = unsure_below(masks) if source == "semantic" else None
+    if unsure is not None:
+        unsure[box_rows] = False
     geometry, appearance = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models,
-                                     min_pixels, refine, annotated, photo)
+                                     min_pixels, refine, annotated, photo, unsure)
     proposal_fits, box_result = [], None
     if fit is not None:
         rows = vehicle_rows(ids, geometry[0], {c.id: c.name for c in class_list})
         rows = rows[~torch.isin(rows, box_rows)]
-        # The semantic branch's masks may stop short of the car's bottom (proposal_fit's module doc); the ground
-        # truth's (an oracle) and the boxes' GrabCut masks are taken as they are.
-        unsure = unsure_below(masks) if source == "semantic" and len(rows) else None
+        unsure = unsure if len(rows) else None  # the fit ignores the same band
         box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance)
                    if len(rows) and len(box_rows) and boxes.fit == fit else None)
         if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once

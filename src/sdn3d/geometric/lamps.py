@@ -51,7 +51,7 @@ import torch
 from torch import Tensor
 
 __all__ = ["LampCue", "air_offset", "through_the_air", "red_lamps", "white_lamps", "lamp_evidence", "evidence_of",
-           "face_by_lamps"]
+           "face_by_lamps", "face_by_reading"]
 
 
 @dataclass(frozen=True)
@@ -203,8 +203,23 @@ def face_by_lamps(ry: Tensor, ray: Tensor, crop: Tensor, mask: Tensor, cue: Lamp
     """``(N,)`` yaws: each ``ry`` turned end for end where the lamps' evidence for it is below ``cue.flip_below``
     and its reverse is believed more (``ray (N,)``: the angle of the ray through each box, ``alpha = ry - ray``)."""
     cue = cue or LampCue()
+    return face_by_reading(ry, ray, red_lamps(crop, mask, cue), white_lamps(crop, mask, cue), cue)
+
+
+def face_by_reading(ry: Tensor, ray: Tensor, red: tuple[Tensor, Tensor, Tensor],
+                    white: tuple[Tensor, Tensor, Tensor] | None, cue: LampCue | None = None) -> Tensor:
+    """:func:`face_by_lamps` from the readings themselves: ``red`` of :func:`red_lamps` and ``white`` of
+    :func:`white_lamps` (None: no headlight reading), each ``(present, usable, offset)`` of ``(N,)``; e.g. the red
+    test read over more pixels than the headlights' (:meth:`~sdn3d.geometric.predict.GeometricPredictor.predict`'s
+    ``tail_mask``).
+
+    >>> back = (torch.tensor([True]), torch.tensor([True]), torch.zeros(1))  # red lamps, centred
+    >>> round(face_by_reading(torch.tensor([math.pi / 2]), torch.zeros(1), back, None).item(), 4)  # front: turned
+    -1.5708
+    """
+    cue = cue or LampCue()
     alpha = torch.stack([ry - ray, ry - ray + math.pi], 1)
-    evidence = lamp_evidence(crop, mask, alpha, cue)
+    evidence = evidence_of(*red, alpha, cue, front=white)
     flip = (evidence[:, 0] < cue.flip_below) & (evidence[:, 1] > evidence[:, 0])
     turned = torch.where(flip, ry + math.pi, ry)
     return torch.atan2(torch.sin(turned), torch.cos(turned))

@@ -15,7 +15,7 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 from sdn3d.geometric.decode import decode_outputs
-from sdn3d.geometric.lamps import LampCue, face_by_lamps, red_lamps, white_lamps
+from sdn3d.geometric.lamps import LampCue, face_by_reading, red_lamps, white_lamps
 from sdn3d.geometric.losses import render_silhouettes
 from sdn3d.geometric.model import GeometricNet, ray_angle
 from sdn3d.geometric.refine import RefineSettings, refine_by_reprojection
@@ -105,6 +105,7 @@ class GeometricPredictor:
         ignore: Tensor | None = None,
         refine: RefineSettings | None = None,
         lamp_mask: Tensor | None = None,
+        tail_mask: Tensor | None = None,
     ) -> dict[str, Tensor]:
         """3D attributes of ``N`` objects (see :func:`decode_outputs` for the keys).
 
@@ -122,6 +123,12 @@ class GeometricPredictor:
             lamp_mask: ``(N, 1, S, S)`` the crop pixels the lamp cue reads (default: ``mask``); e.g. only those
                 surely on the object where the mask is coarser than the crop's pixels
                 (:func:`sdn3d.derender.derender` with a photo).
+            tail_mask: ``(N, 1, S, S)`` where ``lamp_mask`` shows no usable red lamps (none, or too spread or too
+                many to read), the crop pixels the red tail-lamp test reads instead, from ``crop`` as given (not
+                masked with ``mask``): e.g. a semantic mask and the band under it, where the lamps lie when the mask
+                stopped above them (:func:`sdn3d.derender.derender`). A mask that shows usable red lamps is read as
+                before (a wider reading adds rows of other red: its lamps then fail the one-band test). The
+                headlights' test of red bodies keeps ``lamp_mask`` (a band's road reads near-white through rain).
 
         With ``mask`` and :attr:`lamp_cue`, the yaw is then turned end for end where the lamps disagree with it; the
         output then also holds what the appearance says of any yaw (:func:`~sdn3d.geometric.facing.facing_belief`):
@@ -133,6 +140,7 @@ class GeometricPredictor:
 
         device = self.device
         crop, box, intrinsics = crop.to(device), box.to(device), intrinsics.to(device)
+        given = crop  # the tail-lamp test may read past the mask
         if mask is not None:
             crop = crop * mask.to(device)
         raw = self.net(crop, box, intrinsics)
@@ -152,11 +160,16 @@ class GeometricPredictor:
             ray = ray_angle(box, intrinsics)
             lamps = mask.to(device) if lamp_mask is None else lamp_mask.to(device)
             seen = crop * lamps
-            present, usable, offset = red_lamps(seen, lamps, self.lamp_cue)
-            out.update(net_ry=out["ry"], ray=ray, lamp_present=present, lamp_usable=usable, lamp_offset=offset)
-            present, usable, offset = white_lamps(seen, lamps, self.lamp_cue)
-            out.update(front_present=present, front_usable=usable, front_offset=offset)
-            out["ry"] = face_by_lamps(out["ry"], ray, seen, lamps, self.lamp_cue)
+            red = red_lamps(seen, lamps, self.lamp_cue)
+            if tail_mask is not None:  # only where the mask itself shows no usable red lamps
+                tail = tail_mask.to(device)
+                past = red_lamps(given * tail, tail, self.lamp_cue)
+                shown = red[0] & red[1]
+                red = tuple(torch.where(shown, a, b) for a, b in zip(red, past, strict=True))
+            white = white_lamps(seen, lamps, self.lamp_cue)
+            out.update(net_ry=out["ry"], ray=ray, lamp_present=red[0], lamp_usable=red[1], lamp_offset=red[2],
+                       front_present=white[0], front_usable=white[1], front_offset=white[2])
+            out["ry"] = face_by_reading(out["ry"], ray, red, white, self.lamp_cue)
         if crop_intrinsics is not None:
             out["silhouette"] = render_silhouettes(
                 bank, out["template_id"], out["dims"], out["ry"], out["center"],

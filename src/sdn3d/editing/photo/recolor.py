@@ -13,7 +13,8 @@ from torch import Tensor
 
 from sdn3d.editing.ops import SetCode
 
-__all__ = ["paints", "body_pixels", "body_paint", "ground_in_mask", "recolor_pixels", "srgb_to_lab", "DARK_PAINT_LIFT"]
+__all__ = ["paints", "body_pixels", "body_paint", "ground_in_mask", "recolor_pixels", "srgb_to_lab", "DARK_PAINT_LIFT",
+           "DARK_PAINT_L"]
 
 
 def paints(ops: Sequence[object]) -> dict[int, tuple[float, float, float]]:

@@ -24,7 +24,14 @@ from sdn3d.editing.photo.fill import (
 )
 from sdn3d.editing.photo.light import LightEstimate, fit_light, fit_reflection, grazing, luminance
 from sdn3d.editing.photo.occluders import thin_occluders
-from sdn3d.editing.photo.recolor import body_paint, body_pixels, ground_in_mask, recolor_pixels, srgb_to_lab
+from sdn3d.editing.photo.recolor import (
+    DARK_PAINT_L,
+    body_paint,
+    body_pixels,
+    ground_in_mask,
+    recolor_pixels,
+    srgb_to_lab,
+)
 from sdn3d.editing.photo.road import removal_vanishing_point, road_colours, road_like
 from sdn3d.editing.photo.settings import (
     ANOTHER_CAR,
@@ -659,10 +666,11 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
     Given ``parts (H, W)`` (an object with geometry), the fitted mesh's body part sets the paint
     (:func:`~sdn3d.editing.photo.recolor.body_paint`): a coloured paint is repainted on every pixel of the object
     whose hue and chroma are the paint's, whatever part the template puts there (windows, tyres, lamps, plates and
-    road are not of its hue); a grey paint (whose test grey road and glass pass too) only on the body part, less the
-    road its mask took in, lit or in the car's shadow (:func:`ground_in_mask` on the input's own pixels, which a
-    fitted mesh looser than the car calls body). ``source`` says :data:`RECOLORED` where a pixel of the input
-    changed."""
+    road are not of its hue); a grey paint (whose test grey road and glass pass too) on the body part, less the road
+    its mask took in, lit or in the car's shadow (:func:`ground_in_mask` on the input's own pixels, which a fitted
+    mesh looser than the car calls body), and, for a light one, on the pixels of its lamp and plate faces
+    (:data:`END_FACE_PARTS`) that are its paint in shade (:func:`_grey_paint_like`). ``source`` says
+    :data:`RECOLORED` where a pixel of the input changed."""
     pixels_of = _pixels_of(owner, torch.tensor([int(i) for i in recolor], dtype=owner.dtype))
     flat = out.permute(1, 2, 0).reshape(-1, 3).clone()
     codes = source.view(-1).clone()
@@ -679,12 +687,14 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
                 # the grey road and shadow the mask took in are left without being told apart (that test took a
                 # coloured car's shaded lower body for road).
                 reference = flat[body_pix]
-            else:  # a grey paint: the body part only, less the road the mask took in (grey too)
+            else:  # a grey paint: the body part, less the road the mask took in (grey too), and the end faces' paint
+                ends = pix[torch.isin(parts.view(-1)[pix].long(), torch.tensor(END_FACE_PARTS))]
                 pix = body_pix
                 if bool((codes[pix] == INPUT).any()):
                     picture = flat.view(*owner.shape, 3).permute(2, 0, 1)
                     road = ground_in_mask(picture, (owner == int(iid)) & (source == INPUT)).view(-1)
-                    pix = pix[~road[pix]]
+                    pix, ends = pix[~road[pix]], ends[~road[ends]]
+                pix = torch.cat([pix, ends[_grey_paint_like(flat[ends], flat[pix])]])
         if not len(pix):
             warnings.append(f"recolor: object {iid} has no pixels in the picture")
             continue
@@ -696,6 +706,32 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
         objects.setdefault(int(iid), {}).update({"recolor": {"color": [round(float(c), 4) for c in rgb], **stats}})
     height, width = owner.shape
     return flat.view(height, width, 3).permute(2, 0, 1), codes.view(height, width)
+
+
+#: Parts whose template faces often lie over a car's paint (a template's lamp band and plate cover much of a real
+#: car's front or back): :func:`_recolor` repaints their pixels of a light grey paint's colour.
+END_FACE_PARTS = (int(Part.FRONT_LIGHTS), int(Part.TAIL_LIGHTS), int(Part.PLATE))
+#: :func:`_grey_paint_like`: an end face's pixel is a light grey paint's when its CIE L* is at least this share of the
+#: paint's median and its chroma under :data:`GREY_PAINT_CHROMA` (a dark grille or a red lamp is not; a white car's
+#: front in its own shade is 0.7 of its lit top, L* 62 against 88, on the seed-35 tuning tree).
+GREY_END_LIGHTNESS = 0.6
+#: :func:`_grey_paint_like`'s chroma bound (CIE76 a*b*), as :func:`~sdn3d.editing.photo.recolor.body_paint`'s grey
+#: test (1.5 x its ``min_chroma``).
+GREY_PAINT_CHROMA = 15.0
+
+
+def _grey_paint_like(colors: Tensor, body: Tensor) -> Tensor:
+    """``(P,)`` bool: which of an end face's ``colors (P, 3)`` sRGB are the car's light grey paint, read off its body
+    part's pixels ``body (Q, 3)``: not much darker than the body's median lightness (:data:`GREY_END_LIGHTNESS`), and
+    grey. A dark paint (median L* under :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`) takes none: its colour is
+    the grille's, the tyres' and the glass'."""
+    if not len(colors) or len(body) < 8:
+        return torch.zeros(len(colors), dtype=torch.bool)
+    light = srgb_to_lab(body.double())[:, 0].median()
+    if float(light) < DARK_PAINT_L:
+        return torch.zeros(len(colors), dtype=torch.bool)
+    lab = srgb_to_lab(colors.double())
+    return (lab[:, 0] >= GREY_END_LIGHTNESS * light) & (lab[:, 1:].norm(dim=1) < GREY_PAINT_CHROMA)
 
 
 def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edited: SceneCode,

@@ -128,26 +128,29 @@ def test_recolour_of_a_coloured_car_repaints_its_paint_whatever_part_the_templat
 
 def test_recolour_of_a_white_car_repaints_its_front_under_the_templates_lamp_faces():
     """A white car whose template's front-end part covers its whole front, in the car's own shade (L* about 62 against
-    88 on top, as on the seed-35 tuning tree), with a dark grille and two white lamps in it: the shaded white front
-    is repainted with the body, the dark grille is not; a black car's front-end faces are left as they are (its paint
-    is the grille's colour)."""
+    88 on top, as on the seed-35 tuning tree), with a dark grille in it, and a dark window its body part covers (a
+    template whose body lies over a van's rear glass): the shaded white front is repainted with the body, the grille
+    and the window are not; a black car's front-end faces are left as they are (its paint is the grille's colour)."""
     height, width = 40, 60
     rows = torch.arange(height)[:, None].expand(height, width)
     cols = torch.arange(width)[None, :].expand(height, width)
     mask = (rows >= 5) & (rows < 35) & (cols >= 5) & (cols < 55)
     front = mask & (rows >= 18)
     grille = front & (rows >= 24) & (rows < 28) & (cols >= 20) & (cols < 40)
+    window = mask & (rows < 10) & (cols >= 15) & (cols < 45)
     for top, shade, changed in ((0.92, 0.62, True), (0.06, 0.05, False)):
         image = torch.full((3, height, width), 0.35)
         image = torch.where(mask[None], torch.tensor(top), image)
         image = torch.where(front[None], torch.tensor(shade), image)
-        image = torch.where(grille[None], torch.tensor(0.04), image)
+        image = torch.where((grille | window)[None], torch.tensor(0.04), image)
         parts = torch.where(front, int(Part.FRONT_LIGHTS), int(Part.BODY)).to(torch.int8)
         parts[~mask] = -1
         owner = torch.where(mask, 9, 0)
         source = torch.full(mask.shape, INPUT, dtype=torch.uint8)
         out, codes = transfer._recolor(image, source, owner, {9: (0.8, 0.1, 0.1)}, {}, [], parts)
-        assert bool((codes[mask & ~front] == RECOLORED).all())  # the body part, either paint
+        assert bool((codes[mask & ~front & ~window] == RECOLORED).all())  # the body part, either paint
+        if changed:  # a light paint's body part: its dark window is no paint
+            assert torch.equal(out[:, window], image[:, window])
         shaded = front & ~grille
         recoloured = codes[shaded] == RECOLORED
         assert bool(recoloured.all()) if changed else not bool(recoloured.any())

@@ -668,7 +668,8 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
     whose hue and chroma are the paint's, whatever part the template puts there (windows, tyres, lamps, plates and
     road are not of its hue); a grey paint (whose test grey road and glass pass too) on the body part, less the road
     its mask took in, lit or in the car's shadow (:func:`ground_in_mask` on the input's own pixels, which a fitted
-    mesh looser than the car calls body), and, for a light one, on the pixels of its lamp and plate faces
+    mesh looser than the car calls body); a light one there only where it is not much darker than its paint (a
+    template's body over a van's rear glass), and also on the pixels of its lamp and plate faces
     (:data:`END_FACE_PARTS`) that are its paint in shade (:func:`_grey_paint_like`). ``source`` says
     :data:`RECOLORED` where a pixel of the input changed."""
     pixels_of = _pixels_of(owner, torch.tensor([int(i) for i in recolor], dtype=owner.dtype))
@@ -694,7 +695,9 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
                     picture = flat.view(*owner.shape, 3).permute(2, 0, 1)
                     road = ground_in_mask(picture, (owner == int(iid)) & (source == INPUT)).view(-1)
                     pix, ends = pix[~road[pix]], ends[~road[ends]]
-                pix = torch.cat([pix, ends[_grey_paint_like(flat[ends], flat[pix])]])
+                body = flat[pix]
+                pix = torch.cat([pix[_grey_paint_like(body, body, dark=True)],
+                                 ends[_grey_paint_like(flat[ends], body)]])
         if not len(pix):
             warnings.append(f"recolor: object {iid} has no pixels in the picture")
             continue
@@ -720,16 +723,17 @@ GREY_END_LIGHTNESS = 0.6
 GREY_PAINT_CHROMA = 15.0
 
 
-def _grey_paint_like(colors: Tensor, body: Tensor) -> Tensor:
-    """``(P,)`` bool: which of an end face's ``colors (P, 3)`` sRGB are the car's light grey paint, read off its body
-    part's pixels ``body (Q, 3)``: not much darker than the body's median lightness (:data:`GREY_END_LIGHTNESS`), and
-    grey. A dark paint (median L* under :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`) takes none: its colour is
-    the grille's, the tyres' and the glass'."""
+def _grey_paint_like(colors: Tensor, body: Tensor, dark: bool = False) -> Tensor:
+    """``(P,)`` bool: which of ``colors (P, 3)`` sRGB (an end face's, or the body part's own) are the car's light grey
+    paint, read off its body part's pixels ``body (Q, 3)``: not much darker than the body's median lightness
+    (:data:`GREY_END_LIGHTNESS`), and grey. A dark paint (median L* under
+    :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`), whose colour is the grille's, the tyres' and the glass', gives
+    ``dark`` for every pixel (False for end faces: none taken; True for the body part: all of it, as before)."""
     if not len(colors) or len(body) < 8:
-        return torch.zeros(len(colors), dtype=torch.bool)
+        return torch.full((len(colors),), dark, dtype=torch.bool)
     light = srgb_to_lab(body.double())[:, 0].median()
     if float(light) < DARK_PAINT_L:
-        return torch.zeros(len(colors), dtype=torch.bool)
+        return torch.full((len(colors),), dark, dtype=torch.bool)
     lab = srgb_to_lab(colors.double())
     return (lab[:, 0] >= GREY_END_LIGHTNESS * light) & (lab[:, 1:].norm(dim=1) < GREY_PAINT_CHROMA)
 

@@ -166,7 +166,8 @@ def learnt_fill(filled: Tensor, hole: Tensor, net: FillNet, keep_out: Tensor | N
     if not boxes:
         return filled.clone()
     net.eval()
-    correction = net(net_inputs(filled, hole, keep_out, boxes))  # (B, 3, S, S)
+    with torch.no_grad():  # drawing, not training: no autograd graph
+        correction = net(net_inputs(filled, hole, keep_out, boxes))  # (B, 3, S, S)
     out = filled.clone()
     for k, (y0, y1, x0, x1) in enumerate(boxes):
         up = F.interpolate(correction[k : k + 1], size=(y1 - y0, x1 - x0), mode="bilinear", align_corners=False)[0]
@@ -286,11 +287,17 @@ def train_fill_net(samples: FillSamples, settings: TrainSettings = TrainSettings
 
 
 def save_fill_net(net: FillNet, path: str | Path, meta: dict | None = None) -> None:
-    """Write ``net`` to ``path`` (:data:`WEIGHTS_FORMAT`: its width, state dict in float16, half the file, and
-    ``meta``, plain values only)."""
+    """Write ``net`` to ``path`` atomically, with the user's umask (:func:`sdn3d.io.atomic_write`; an earlier file
+    there stays whole until the new one is complete): :data:`WEIGHTS_FORMAT`, its width, state dict in float16, half
+    the file, and ``meta``, plain values only."""
+    import io
+
+    from sdn3d.io import atomic_write
+
     state = {k: v.half() for k, v in net.state_dict().items()}
-    torch.save({"format": WEIGHTS_FORMAT, "width": net.width, "state_dict": state, "meta": dict(meta or {})},
-               str(path))
+    buffer = io.BytesIO()
+    torch.save({"format": WEIGHTS_FORMAT, "width": net.width, "state_dict": state, "meta": dict(meta or {})}, buffer)
+    atomic_write(path, lambda handle: handle.write(buffer.getbuffer()))
 
 
 _CACHE: dict[tuple, FillNet] = {}

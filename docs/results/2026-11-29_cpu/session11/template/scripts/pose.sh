@@ -8,7 +8,9 @@ RUNS=${RUNS:-/tmp/s11data/demo/out/runs}; PY=/work/main/.venv/bin/python
 BENCH=${BENCH:-/work/wt/template/benchmarks/pose_table.py}
 T=$1; DATA=$2; OUT=$3; shift 3
 ROWS=(); while [ $# -gt 0 ] && [ "$1" != "--" ]; do ROWS+=("$1"); shift; done; [ "$1" = "--" ] && shift
-CK=$(ls $RUNS/geometric/checkpoints/best-*.ckpt | head -1); SEM=$(ls $RUNS/semantic/checkpoints/best-*.ckpt 2>/dev/null | head -1)
+CK=$(ls $RUNS/geometric/checkpoints/best-*.ckpt | head -1)
+SEM=""  # the semantic branch only for the predicted proposals' rows (its finished run's best checkpoint)
+case " ${ROWS[*]}" in *" pred_"*) SEM=$(ls $RUNS/semantic/checkpoints/best-*.ckpt | head -1);; esac
 cd "$T" && PYTHONPATH=$T/src:$T OMP_NUM_THREADS=1 nice -n 5 $PY "$BENCH" --geometric "$CK" \
   ${SEM:+--semantic "$SEM"} --data-root "$DATA" --part all --max-frames 40 --threads 1 --image-size 312 96 \
   --min-pixels 64 --rows "${ROWS[@]}" --crops photo --out "$OUT" "$@"

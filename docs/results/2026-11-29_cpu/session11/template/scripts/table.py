@@ -1,6 +1,7 @@
 # ruff: noqa: E501
 """Markdown pose table of main (before) and this branch (after) from pairs of pose-table JSONs, every row each pair
-shares, with paired.py's changes (95 % bootstrap interval, objects won / lost) beside the after figures.
+shares, with paired.py's changes (95 % bootstrap interval, objects won / lost) beside the after figures; a row of
+BEFORE alone (the geometric branch without the fit, which this branch does not change) with main's figures only.
 
     python table.py BEFORE.json AFTER.json [BEFORE.json AFTER.json ...]
 """
@@ -22,6 +23,10 @@ def main() -> None:
     print("|---|---|---|" + "---|" * len(FIELDS))
     for before_path, after_path in zip(args[::2], args[1::2], strict=True):
         before, after = rows(before_path), rows(after_path)
+        for name in (r for r in before if r not in after):  # the branch alone: this branch's change cannot move it
+            c = compare(before[name], before[name])
+            cells_b = [f"{c[f]['before']}" if f in c else "-" for f, _ in FIELDS]
+            print(f"| {name}: main (same code here) | {c['n']} | {c['template_majority_floor_pct']} | " + " | ".join(cells_b) + " |")
         for name in (r for r in after if r in before):
             c = compare(before[name], after[name])
             cells_b = [f"{c[f]['before']}" if f in c else "-" for f, _ in FIELDS]

@@ -25,8 +25,10 @@ frame's working size and a template. Rows, on the same objects (paired):
 Figures per row and per source scene (world) and over all: yaw error ``|wrap(ry~ - ry)|`` in degrees (median, 90th
 percentile), flips (share of objects whose yaw is more than 90 degrees off: end for end), template accuracy (the
 template the object's mesh is or approximates) beside its majority floor (the share of the evaluated objects' most
-common true template), distance error ``|log |c~| - log |c||`` (median, x1e-2) and scale error ``||s~ - s||_2``
-(median, m). Nothing here selects or tunes anything.
+common true template), distance error ``|log |c~| - log |c||`` (median, x1e-2), scale error ``||s~ - s||_2``
+(median, m) and length error ``|l~ - l|`` (median and 90th percentile, m; an object without geometry: its length).
+Each object's record also names the template chosen (``template``, -1: none). Nothing here selects or tunes
+anything.
 
 ``--crops photo`` (the default, as the edit path does for a user's image): the geometric branch's crops are read from
 the frame as stored on disk (its own resolution, e.g. 624x192 for a working size of 312x96; ``derender(photo=...)``);
@@ -90,7 +92,8 @@ def full_iou(scene, r: int, truth_mask: torch.Tensor, others: torch.Tensor) -> f
 
 
 def figures(rows: list[dict]) -> dict:
-    """The table's figures of per-object rows (``yaw_deg``, ``template_ok``, ``true_template``, ``dist``, ``scale``)."""
+    """The table's figures of per-object rows (``yaw_deg``, ``template_ok``, ``true_template``, ``dist``, ``scale``,
+    ``length``)."""
     if not rows:
         return {"n": 0}
     yaw = np.array([r["yaw_deg"] for r in rows])
@@ -104,6 +107,8 @@ def figures(rows: list[dict]) -> dict:
         "template_majority_floor_pct": round(100 * max(true_t.values()) / len(rows), 1),
         "distance_median_x1e2": round(100 * float(np.median([r["dist"] for r in rows])), 2),
         "scale_median_m": round(float(np.median([r["scale"] for r in rows])), 3),
+        "length_median_m": round(float(np.median([r["length"] for r in rows])), 3),
+        "length_p90_m": round(float(np.percentile([r["length"] for r in rows], 90)), 3),
         "matched_pct": round(100 * float(np.mean([r.get("matched", True) for r in rows])), 1),
         "sil_iou_mean": (round(float(np.mean([r["sil_iou"] or 0.0 for r in rows])), 4)
                          if all("sil_iou" in r for r in rows) else None),
@@ -227,17 +232,21 @@ def main(argv: list[str] | None = None) -> dict:
                 r = found[j]
                 if r < 0 or int(o.template_id[r]) < 0:  # no geometry: counted as the worst
                     yaw, ok, dist, scale = 180.0, False, 1.0, float(t.dims[tr].norm())
+                    length = float(t.dims[tr][0])
                 else:
                     d = float(o.ry[r] - t.ry[tr])
                     yaw = abs(math.degrees(math.atan2(math.sin(d), math.cos(d))))
                     ok = int(o.template_id[r]) == int(t.template_id[tr])
                     dist = abs(math.log(float(o.center[r].norm()) / float(t.center[tr].norm())))
                     scale = float((o.dims[r] - t.dims[tr]).norm())
+                    length = abs(float(o.dims[r][0] - t.dims[tr][0]))
                 per_object[name].append({"world": world, "frame": record.key, "id": iid, "yaw_deg": yaw,
                                          "pixels": int(t.mask[tr].sum()), "true_ry": round(float(t.ry[tr]), 4),
                                          "true_xz": [round(float(t.center[tr][k]), 2) for k in (0, 2)],
                                          "template_ok": ok, "true_template": int(t.template_id[tr]), "dist": dist,
-                                         "scale": scale, "box": [round(float(v), 1) for v in box],
+                                         "scale": scale, "length": length,
+                                         "template": -1 if r < 0 else int(o.template_id[r]),
+                                         "box": [round(float(v), 1) for v in box],
                                          "truncated": bool(cut),
                                          "ry": None if r < 0 else round(float(o.ry[r]), 4),
                                          "matched": r >= 0,

@@ -40,11 +40,12 @@ def _proposal_fit_only_where_tested(request: pytest.FixtureRequest, monkeypatch:
     import sdn3d.derender as derendering
     from sdn3d.proposal_fit import ProposalFit
 
-    def predictions_kept(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None):
+    def predictions_kept(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None, classes=None):
         return tuple(g.clone() for g in geometry), [ProposalFit(int(i), None, True, None, "not fitted (test stub)")
                                                      for i in ids[rows].tolist()]
 
-    def boxes_fitted(intr, masks, ids, rows, geometry, settings, appearance, boxes, unsure=None):  # boxes fit for real
+    def boxes_fitted(intr, masks, ids, rows, geometry, settings, appearance, boxes, unsure=None,
+                     classes=None):  # the boxes fitted for real
         from sdn3d.geometric.fit import fit_many
 
         return (*predictions_kept(intr, masks, ids, rows, geometry, settings),

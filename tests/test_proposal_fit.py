@@ -159,7 +159,7 @@ def test_only_the_semantic_branchs_proposals_get_the_unsure_band(frame, models, 
     image, masks, gt = frame
     seen = {}
 
-    def spy(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None):
+    def spy(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None, classes=None):
         seen["unsure"] = unsure
         return tuple(g.clone() for g in geometry), []
 
@@ -172,3 +172,18 @@ def test_only_the_semantic_branchs_proposals_get_the_unsure_band(frame, models, 
     derender(image, WORK, models, "gt", gt, fit=FitSettings())
     assert seen["unsure"] is not None and seen["unsure"].any()
     assert torch.equal(seen["unsure"], unsure_below(masks))
+
+
+@pytest.mark.fits
+def test_each_proposal_is_drawn_with_a_template_its_class_allows(frame, models):
+    """A proposal of the class Van is fitted with a box-shaped template (van, minibus, bus), its neighbour of the
+    class Car with a car's (CLASS_TEMPLATES): derender gives the fit each object's class."""
+    image, masks, gt = frame
+    van = VKITTI_CLASS_INDEX["Van"]
+    instances = gt.instances.clone()
+    instances[masks[1] & (instances == CAR * 1000 + 2)] = van * 1000 + 1
+    semantic = torch.where(instances == van * 1000 + 1, torch.full_like(gt.semantic, van), gt.semantic)
+    small = FitSettings(coarse_steps=3, fine_steps=2, coarse_size=16, fine_size=24, coarse_survivors=0, parts=1)
+    fitted = derender(image, WORK, models, "gt", GroundTruth("synthetic", "vkitti", semantic, instances), fit=small)
+    template = dict(zip(fitted.objects.instance_id.tolist(), fitted.objects.template_id.tolist(), strict=True))
+    assert template[van * 1000 + 1] in (5, 6, 7) and template[CAR * 1000 + 1] not in (6, 7)

@@ -253,7 +253,8 @@ def box_grabcut(image: Tensor, boxes: BoxPrompts | None) -> BoxMasks | None:
 
 def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, boxes: BoxPrompts,
                     geometry: tuple[Tensor, ...], min_pixels: int, mask_source: Sequence[MaskSource],
-                    appearance: Appearance | None = None, fit_result: FitResult | None = None
+                    appearance: Appearance | None = None, fit_result: FitResult | None = None,
+                    classes: Sequence[str | None] | None = None
                     ) -> tuple[Tensor, tuple[Tensor, ...], list[BoxFit], Tensor | None]:
     """``(masks, geometry, each box's BoxFit, vacated)``: the box objects' rows ``rows`` fitted to their masks
     (:func:`~sdn3d.geometric.fit.fit_to_masks`, the geometric branch's prediction as the start) and, unless the masks
@@ -263,8 +264,9 @@ def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor,
     with ``boxes.fit.appearance`` the fit's yaw belief at each hypothesis' axis
     (:func:`~sdn3d.geometric.facing.facing_belief`); else the yaw nearest the prediction's is believed.
     ``fit_result``: the fit of :func:`box_request`'s objects, done by the caller together with others
-    (:func:`~sdn3d.geometric.fit.fit_many`); None: fitted here."""
-    geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels, appearance, fit_result)
+    (:func:`~sdn3d.geometric.fit.fit_many`); None: fitted here. ``classes``: the class name of every row of
+    ``masks`` (the templates each box object may be drawn with, :func:`~sdn3d.geometric.fit.allowed_templates`)."""
+    geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels, appearance, fit_result, classes)
     pixels = masks[rows].flatten(1).sum(1)
     final = [int(p) for p in pixels]
     again, vacated = [False] * len(boxes), None
@@ -300,11 +302,13 @@ def yaw_belief(appearance: Appearance | None, rows: Tensor) -> Callable[[Tensor]
 
 
 def box_request(masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...], min_pixels: int,
-                appearance: Appearance | None = None) -> FitRequest | None:
+                appearance: Appearance | None = None, classes: Sequence[str | None] | None = None
+                ) -> FitRequest | None:
     """What :func:`fit_box_objects` asks the fit for (:class:`~sdn3d.geometric.fit.FitRequest`): the box objects'
     rows ``rows`` with at least ``min_pixels`` mask pixels (in the boxes' order; None: no box has them), each with
-    the pixels that may hide it (every other proposal, and the boxes nearer than it: the farther ones it hides) and
-    the branch's prediction, where there is one, as its start."""
+    the pixels that may hide it (every other proposal, and the boxes nearer than it: the farther ones it hides),
+    the branch's prediction, where there is one, as its start, and its class (``classes``: the class name of every
+    row of ``masks``; None: unknown), which bounds its templates."""
     from sdn3d.box_masks import nearest_first
     from sdn3d.geometric.fit import FitRequest
 
@@ -326,11 +330,13 @@ def box_request(masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[
                       start_dims=torch.where(predicted[sel, None], dims[rows[sel]].float(), nan),
                       start_template=template[rows[sel]],
                       start_location=torch.where(predicted[sel, None], location[rows[sel]].float(), nan),
-                      yaw_belief=yaw_belief(appearance if boxes.fit.appearance else None, rows[sel]))
+                      yaw_belief=yaw_belief(appearance if boxes.fit.appearance else None, rows[sel]),
+                      classes=None if classes is None else [classes[int(r)] for r in rows[sel]])
 
 
 def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...],
-               min_pixels: int, appearance: Appearance | None = None, result: FitResult | None = None
+               min_pixels: int, appearance: Appearance | None = None, result: FitResult | None = None,
+               classes: Sequence[str | None] | None = None
                ) -> tuple[tuple[Tensor, ...], list[tuple[PoseSource | None, float | None, bool, str | None,
                                                           str | None]]]:
     """The geometry with the box objects' rows fitted to their masks (:func:`~sdn3d.geometric.fit.fit_to_masks`,
@@ -345,7 +351,7 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
     predicted = template[rows] >= 0
     sel = fitted.nonzero().flatten()
     if result is None and len(sel):
-        result = fit_many([box_request(masks, rows, boxes, geometry, min_pixels, appearance)], intr,
+        result = fit_many([box_request(masks, rows, boxes, geometry, min_pixels, appearance, classes)], intr,
                           settings=settings)[0]
     if len(sel):
         target = rows[sel]

@@ -359,20 +359,23 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     geometry, appearance = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models,
                                      min_pixels, refine, annotated, photo, unsure)
     proposal_fits, box_result = [], None
+    class_names = {c.id: c.name for c in class_list}
+    classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
     if fit is not None:
-        rows = vehicle_rows(ids, geometry[0], {c.id: c.name for c in class_list})
+        rows = vehicle_rows(ids, geometry[0], class_names)
         rows = rows[~torch.isin(rows, box_rows)]
         unsure = unsure if len(rows) else None  # the fit ignores the same band
-        box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance)
+        box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes)
                    if len(rows) and len(box_rows) and boxes.fit == fit else None)
         if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
             geometry, proposal_fits, box_result = fit_proposals_and_boxes(intrinsics, masks, ids, rows, geometry, fit,
-                                                                          appearance, box_req, unsure)
+                                                                          appearance, box_req, unsure, classes)
         else:
-            geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance, unsure)
+            geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance, unsure,
+                                                    classes)
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
-                                                             min_pixels, mask_source, appearance, box_result)
+                                                             min_pixels, mask_source, appearance, box_result, classes)
         if vacated is not None:
             instances = torch.where(vacated, torch.zeros_like(instances), instances)
         instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)

@@ -22,6 +22,7 @@ The paper fits nothing at test time on Virtual KITTI (its Table 1 and 2 protocol
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -93,8 +94,8 @@ def unsure_below(masks: Tensor, fraction: float | None = None) -> Tensor:
 
 
 def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],
-                  settings: FitSettings, appearance: Appearance | None = None, unsure: Tensor | None = None
-                  ) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
+                  settings: FitSettings, appearance: Appearance | None = None, unsure: Tensor | None = None,
+                  classes: Sequence[str | None] | None = None) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
     """``(geometry, records)``: the rows ``rows (K,)`` of ``geometry`` (``template (N,), dims (N, 3), ry (N,),
     location (N, 3), phi (N, 64, 3)``, the branch's predictions) fitted to their ``masks (N, H, W)`` (module doc).
 
@@ -102,7 +103,9 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
     note). Objects outside ``rows`` are untouched; they still hide the fitted ones where they are nearer.
     ``appearance``: what the geometric branch saw of each object, the fit's yaw belief with ``settings.appearance``
     (as for the box objects: :func:`~sdn3d.box_objects.yaw_belief`). ``unsure``: ``(N, H, W)`` bool pixels that
-    count for no object (:func:`unsure_below`; None: none). :func:`proposal_request` and
+    count for no object (:func:`unsure_below`; None: none). ``classes``: the class name of every object (the
+    templates each may be drawn with, :func:`~sdn3d.geometric.fit.allowed_templates`; None: any).
+    :func:`proposal_request` and
     :func:`apply_proposal_fit` are its two halves, for a caller that fits these objects with others
     (:func:`~sdn3d.geometric.fit.fit_many`).
     """
@@ -110,13 +113,14 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
 
     if not len(rows):
         return tuple(g.clone() for g in geometry), []
-    request = proposal_request(masks, rows, geometry, settings, appearance, unsure)
+    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes)
     return apply_proposal_fit(fit_many([request], intr, settings=settings)[0], ids, rows, geometry, settings)
 
 
 def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor,
                             geometry: tuple[Tensor, ...], settings: FitSettings, appearance: Appearance | None,
-                            boxes: FitRequest, unsure: Tensor | None = None
+                            boxes: FitRequest, unsure: Tensor | None = None,
+                            classes: Sequence[str | None] | None = None
                             ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult]:
     """:func:`fit_proposals` and the fit of the box objects' request ``boxes``
     (:func:`~sdn3d.box_objects.box_request`, the same ``settings``) in one :func:`~sdn3d.geometric.fit.fit_many`
@@ -125,18 +129,19 @@ def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: 
     from sdn3d.geometric.fit import fit_many
 
     if not len(rows):
-        return (*fit_proposals(intr, masks, ids, rows, geometry, settings, appearance, unsure),
+        return (*fit_proposals(intr, masks, ids, rows, geometry, settings, appearance, unsure, classes),
                 fit_many([boxes], intr, settings=settings)[0])
-    fits = fit_many([proposal_request(masks, rows, geometry, settings, appearance, unsure), boxes], intr,
+    fits = fit_many([proposal_request(masks, rows, geometry, settings, appearance, unsure, classes), boxes], intr,
                     settings=settings)
     return (*apply_proposal_fit(fits[0], ids, rows, geometry, settings), fits[1])
 
 
 def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], settings: FitSettings,
-                     appearance: Appearance | None = None, unsure: Tensor | None = None) -> FitRequest:
+                     appearance: Appearance | None = None, unsure: Tensor | None = None,
+                     classes: Sequence[str | None] | None = None) -> FitRequest:
     """What :func:`fit_proposals` asks the fit for the rows ``rows (K,)`` (non-empty): their masks, boxes, the pixels
     of nearer objects and the ``unsure`` ones (``(N, H, W)`` or None), the predictions as starts and the yaw
-    belief."""
+    belief (``classes``: the class name of every object, None: unknown)."""
     from sdn3d.geometric.fit import FitRequest
 
     template, dims, ry, location, _ = geometry
@@ -148,7 +153,8 @@ def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], 
     return FitRequest(masks[rows], mask_boxes(masks[rows]).float(), ignore=ignore, start_ry=ry[rows].float(),
                       start_dims=dims[rows].float(), start_template=template[rows],
                       start_location=location[rows].float(),
-                      yaw_belief=yaw_belief(appearance if settings.appearance else None, rows))
+                      yaw_belief=yaw_belief(appearance if settings.appearance else None, rows),
+                      classes=None if classes is None else [classes[int(r)] for r in rows])
 
 
 def apply_proposal_fit(result: FitResult, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],

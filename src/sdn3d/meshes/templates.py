@@ -47,6 +47,7 @@ if TYPE_CHECKING:  # trimesh is imported where a Trimesh is built: the edit path
 __all__ = [
     "TEMPLATE_NAMES",
     "TEMPLATE_DIMENSIONS",
+    "CLASS_TEMPLATES",
     "TEMPLATE_CATEGORY",
     "TEMPLATE_SPECS",
     "VehicleSpec",
@@ -155,6 +156,14 @@ TEMPLATE_DIMENSIONS: dict[str, tuple[float, float, float]] = {
 }
 #: Virtual KITTI category of each template (``Car`` or ``Van``, see the module doc).
 TEMPLATE_CATEGORY: dict[str, str] = {name: spec.category for name, spec in _SPECS.items()}
+#: The templates an object of a semantic class (its lower-case name) may be drawn with; a class not listed: every
+#: template. A car is none of the ``Van`` category's (a minibus, a bus); a van (Virtual KITTI's ``Van``: panel and
+#: high-roof vans, minibuses, box trucks) is box-shaped: the one-box van, the minibus or the bus, no sedan, hatchback,
+#: wagon, SUV or pickup.
+CLASS_TEMPLATES: dict[str, tuple[str, ...]] = {
+    "car": tuple(name for name, category in TEMPLATE_CATEGORY.items() if category == "Car"),
+    "van": ("van",) + tuple(name for name, category in TEMPLATE_CATEGORY.items() if category == "Van"),
+}
 
 
 def _bottom(spec: VehicleSpec, u: np.ndarray) -> np.ndarray:

@@ -6,7 +6,7 @@ synthetic generator's exact delete pairs, and score it against the rays' fill.
    drawn by the photo appearance with ``fill=rays``; what its fill step saw and gave (the picture before the fill,
    the hole, the other objects' pixels, the filled picture), the exact render without the car and the pair's scored
    region (vacated + shadow band) are kept, uint8 / bool, compressed.
-2. ``train WEIGHTS.pt A.npz [B.npz ...] [--steps N --width W --seed S]``: crops of the extracted pairs
+2. ``train WEIGHTS.pt A.npz [B.npz ...] [--steps N --width W --seed S --side P]``: crops of the extracted pairs
    (:func:`~sdn3d.editing.photo.learnt.crop_samples`), :func:`~sdn3d.editing.photo.learnt.train_fill_net`, saved
    with :func:`~sdn3d.editing.photo.learnt.save_fill_net` (one thread; deterministic given the seed).
 3. ``score WEIGHTS.pt A.npz [...]``: PSNR and L1 on each pair's scored region of the rays' fill and of the learnt
@@ -100,12 +100,12 @@ def load(paths: list[Path]) -> list[dict]:
     return out
 
 
-def train(weights: Path, paths: list[Path], steps: int, width: int, seed: int) -> None:
+def train(weights: Path, paths: list[Path], steps: int, width: int, seed: int, side: int) -> None:
     from sdn3d.editing.photo.learnt import FillSamples, TrainSettings, crop_samples, save_fill_net, train_fill_net
 
     torch.set_num_threads(1)
     pairs = load(paths)
-    samples = FillSamples.cat([crop_samples(p["filled"], p["hole"], p["keep_out"], p["target"], i)
+    samples = FillSamples.cat([crop_samples(p["filled"], p["hole"], p["keep_out"], p["target"], i, side)
                                for i, p in enumerate(pairs)])
     print(f"{len(pairs)} pairs, {len(samples.inputs)} crops", flush=True)
     settings = TrainSettings(width=width, steps=steps, seed=seed)
@@ -138,6 +138,8 @@ def score(weights: Path, paths: list[Path]) -> list[dict]:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from sdn3d.editing.photo.learnt import WORK_SIDE
+
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("extract")
@@ -150,6 +152,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--steps", type=int, default=3000)
     p.add_argument("--width", type=int, default=16)
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--side", type=int, default=WORK_SIDE, help="the net's working side (crops resampled to it)")
     p = sub.add_parser("score")
     p.add_argument("weights", type=Path)
     p.add_argument("data", type=Path, nargs="+")
@@ -158,7 +161,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "extract":
         print(f"kept {extract(args.tree, args.out, args.limit)} pairs")
     elif args.command == "train":
-        train(args.weights, args.data, args.steps, args.width, args.seed)
+        train(args.weights, args.data, args.steps, args.width, args.seed, args.side)
     else:
         from sdn3d.evaluation.paired import paired_difference
 

@@ -9,8 +9,8 @@ each car) to predict, from the rays-filled picture around each connected part of
 added inside that part only:
 
 - **crop** (:func:`crop_boxes`): the part's bounding box grown by :data:`CROP_GROW` of its larger side on every side
-  (the context the colours come from), made square and kept inside the picture, resampled to
-  :data:`WORK_SIDE` pixels a side;
+  (the context the colours come from), made square and kept inside the picture, resampled to the net's working
+  side (``FillNet.side``, saved with its weights; :data:`WORK_SIDE` by default);
 - **inputs** (:data:`IN_CHANNELS`, :func:`net_inputs`): the rays-filled crop (RGB), the hole and the other objects'
   pixels (``keep_out``) of the crop, and each crop pixel's place in the picture (row and column over the picture's
   height and width, in [-1, 1]: how near the horizon it lies);
@@ -41,7 +41,8 @@ __all__ = ["FillNet", "FillSamples", "TrainSettings", "WORK_SIDE", "CROP_GROW", 
            "IN_CHANNELS", "WEIGHTS_FORMAT", "DEFAULT_WEIGHTS", "crop_boxes", "feather", "net_inputs", "learnt_fill",
            "crop_samples", "train_fill_net", "save_fill_net", "load_fill_net", "default_weights_path"]
 
-#: Side (pixels) of the square crop the net sees: a hole part's box grown by :data:`CROP_GROW`, resampled.
+#: Default side (pixels) of the square crop the net sees (``FillNet.side``): a hole part's box grown by
+#: :data:`CROP_GROW`, resampled.
 WORK_SIDE = 32
 #: A hole part's crop is its bounding box grown by this share of its larger side on every side (the context).
 CROP_GROW = 0.5
@@ -67,12 +68,16 @@ def default_weights_path() -> Path:
 
 class FillNet(nn.Module):
     """A three-level U-Net (``width``, 2 ``width``, 4 ``width`` channels) with a global-average context vector at
-    its bottom: ``(B, IN_CHANNELS, S, S) -> (B, 3, S, S)`` correction (``S`` divisible by 4)."""
+    its bottom: ``(B, IN_CHANNELS, S, S) -> (B, 3, S, S)`` correction, ``S`` its working ``side`` (the crops'
+    side, divisible by 4; the net's weights do not depend on it, its training does)."""
 
-    def __init__(self, width: int = 16) -> None:
+    def __init__(self, width: int = 16, side: int = WORK_SIDE) -> None:
         super().__init__()
+        if side < 8 or side % 4:
+            raise ValueError(f"FillNet: side must be a multiple of 4 from 8, got {side}")
         w = width
         self.width = width
+        self.side = side
 
         def block(cin: int, cout: int) -> nn.Sequential:
             return nn.Sequential(nn.Conv2d(cin, cout, 3, padding=1), nn.LeakyReLU(0.1),
@@ -167,7 +172,7 @@ def learnt_fill(filled: Tensor, hole: Tensor, net: FillNet, keep_out: Tensor | N
         return filled.clone()
     net.eval()
     with torch.no_grad():  # drawing, not training: no autograd graph
-        correction = net(net_inputs(filled, hole, keep_out, boxes))  # (B, 3, S, S)
+        correction = net(net_inputs(filled, hole, keep_out, boxes, net.side))  # (B, 3, S, S)
     out = filled.clone()
     for k, (y0, y1, x0, x1) in enumerate(boxes):
         up = F.interpolate(correction[k : k + 1], size=(y1 - y0, x1 - x0), mode="bilinear", align_corners=False)[0]
@@ -202,11 +207,13 @@ class FillSamples:
 
 
 def crop_samples(filled: Tensor, hole: Tensor, keep_out: Tensor | None, target: Tensor, group: int,
-                 loss_side: int = 2 * WORK_SIDE) -> FillSamples:
+                 side: int = WORK_SIDE) -> FillSamples:
     """:class:`FillSamples` of one drawn delete: ``filled (3, H, W)`` the rays' fill of ``hole (H, W)`` with
-    ``keep_out``, ``target (3, H, W)`` the exact render without the car; one crop per part (:func:`crop_boxes`)."""
+    ``keep_out``, ``target (3, H, W)`` the exact render without the car; one crop per part (:func:`crop_boxes`),
+    the net's inputs at ``side``, the loss's planes at twice that."""
+    loss_side = 2 * side
     boxes, labels = crop_boxes(hole)
-    inputs = net_inputs(filled, hole, keep_out, boxes)
+    inputs = net_inputs(filled, hole, keep_out, boxes, side)
     big = []
     for k, (y0, y1, x0, x1) in enumerate(boxes):
         part = labels[y0:y1, x0:x1] == k + 1
@@ -259,7 +266,7 @@ def train_fill_net(samples: FillSamples, settings: TrainSettings = TrainSettings
     ``log(step, loss)`` every 100 steps."""
     gen = torch.Generator().manual_seed(settings.seed)
     torch.manual_seed(settings.seed)
-    net = FillNet(settings.width)
+    net = FillNet(settings.width, samples.inputs.shape[-1])
     opt = torch.optim.Adam(net.parameters(), lr=settings.lr)
     n = len(samples.inputs)
     if n == 0:
@@ -288,15 +295,16 @@ def train_fill_net(samples: FillSamples, settings: TrainSettings = TrainSettings
 
 def save_fill_net(net: FillNet, path: str | Path, meta: dict | None = None) -> None:
     """Write ``net`` to ``path`` atomically, with the user's umask (:func:`sdn3d.io.atomic_write`; an earlier file
-    there stays whole until the new one is complete): :data:`WEIGHTS_FORMAT`, its width, state dict in float16, half
-    the file, and ``meta``, plain values only."""
+    there stays whole until the new one is complete): :data:`WEIGHTS_FORMAT`, its width and working side, state
+    dict in float16, half the file, and ``meta``, plain values only."""
     import io
 
     from sdn3d.io import atomic_write
 
     state = {k: v.half() for k, v in net.state_dict().items()}
     buffer = io.BytesIO()
-    torch.save({"format": WEIGHTS_FORMAT, "width": net.width, "state_dict": state, "meta": dict(meta or {})}, buffer)
+    torch.save({"format": WEIGHTS_FORMAT, "width": net.width, "side": net.side, "state_dict": state,
+                "meta": dict(meta or {})}, buffer)
     atomic_write(path, lambda handle: handle.write(buffer.getbuffer()))
 
 
@@ -325,7 +333,7 @@ def load_fill_net(path: str | Path | None = None) -> FillNet:
     if not isinstance(blob, dict) or blob.get("format") != WEIGHTS_FORMAT:
         raise PhotoSettingsError(f"photo.fill=learnt: {str(path)!r} holds no {WEIGHTS_FORMAT} weights")
     try:
-        net = FillNet(int(blob["width"]))
+        net = FillNet(int(blob["width"]), int(blob["side"]))
         net.load_state_dict({k: v.float() for k, v in blob["state_dict"].items()})
     except (KeyError, TypeError, ValueError, RuntimeError) as exc:
         raise PhotoSettingsError(f"photo.fill=learnt: {str(path)!r}: weights do not fit the net ({exc})") from exc

@@ -9,7 +9,9 @@ synthetic generator's exact delete pairs, and score it against the rays' fill.
 2. ``train WEIGHTS.pt A.npz [B.npz ...] [--steps N --width W --seed S --side P]``: crops of the extracted pairs
    (:func:`~sdn3d.editing.photo.learnt.crop_samples`), :func:`~sdn3d.editing.photo.learnt.train_fill_net`, saved
    with :func:`~sdn3d.editing.photo.learnt.save_fill_net` (one thread; deterministic given the seed).
-3. ``score WEIGHTS.pt A.npz [...]``: PSNR and L1 on each pair's scored region of the rays' fill and of the learnt
+3. ``ensemble WEIGHTS.pt A.pt B.pt [...]``: the nets of the trained files (one working side) in one weights file,
+   their corrections averaged (:class:`~sdn3d.editing.photo.learnt.FillEnsemble`); the members' meta kept.
+4. ``score WEIGHTS.pt A.npz [...]``: PSNR and L1 on each pair's scored region of the rays' fill and of the learnt
    correction on it (the fill step alone: what the photo appearance draws over the fill afterwards is not redrawn;
    ``sdn3d-bench counterfactual=true counterfactual_fills=[rays,learnt]`` scores the whole picture).
 
@@ -118,6 +120,15 @@ def train(weights: Path, paths: list[Path], steps: int, width: int, seed: int, s
     print(json.dumps(meta), flush=True)
 
 
+def ensemble(weights: Path, members: list[Path]) -> None:
+    from sdn3d.editing.photo.learnt import FillEnsemble, load_fill_net, read_fill_meta, save_fill_net
+
+    nets = [net for path in members for net in load_fill_net(path).nets]
+    meta = {"members": [{"file": str(path), **read_fill_meta(path)} for path in members]}
+    save_fill_net(FillEnsemble(nets), weights, meta)
+    print(f"{len(nets)} nets -> {weights}", flush=True)
+
+
 def score(weights: Path, paths: list[Path]) -> list[dict]:
     from sdn3d.editing.photo.learnt import learnt_fill, load_fill_net
 
@@ -153,6 +164,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--width", type=int, default=16)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--side", type=int, default=WORK_SIDE, help="the net's working side (crops resampled to it)")
+    p = sub.add_parser("ensemble")
+    p.add_argument("weights", type=Path)
+    p.add_argument("members", type=Path, nargs="+")
     p = sub.add_parser("score")
     p.add_argument("weights", type=Path)
     p.add_argument("data", type=Path, nargs="+")
@@ -162,6 +176,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"kept {extract(args.tree, args.out, args.limit)} pairs")
     elif args.command == "train":
         train(args.weights, args.data, args.steps, args.width, args.seed, args.side)
+    elif args.command == "ensemble":
+        ensemble(args.weights, args.members)
     else:
         from sdn3d.evaluation.paired import paired_difference
 

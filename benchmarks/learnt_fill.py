@@ -6,10 +6,12 @@ synthetic generator's exact delete pairs, and score it against the rays' fill.
    drawn by the photo appearance with ``fill=rays``; what its fill step saw and gave (the picture before the fill,
    the hole, the other objects' pixels, the filled picture), the exact render without the car and the pair's scored
    region (vacated + shadow band) are kept, uint8 / bool, compressed.
-2. ``train WEIGHTS.pt A.npz [B.npz ...] [--steps N --width W --seed S]``: crops of the extracted pairs
+2. ``train WEIGHTS.pt A.npz [B.npz ...] [--steps N --width W --seed S --side P]``: crops of the extracted pairs
    (:func:`~sdn3d.editing.photo.learnt.crop_samples`), :func:`~sdn3d.editing.photo.learnt.train_fill_net`, saved
    with :func:`~sdn3d.editing.photo.learnt.save_fill_net` (one thread; deterministic given the seed).
-3. ``score WEIGHTS.pt A.npz [...]``: PSNR and L1 on each pair's scored region of the rays' fill and of the learnt
+3. ``ensemble WEIGHTS.pt A.pt B.pt [...]``: the nets of the trained files (one working side) in one weights file,
+   their corrections averaged (:class:`~sdn3d.editing.photo.learnt.FillEnsemble`); the members' meta kept.
+4. ``score WEIGHTS.pt A.npz [...]``: PSNR and L1 on each pair's scored region of the rays' fill and of the learnt
    correction on it (the fill step alone: what the photo appearance draws over the fill afterwards is not redrawn;
    ``sdn3d-bench counterfactual=true counterfactual_fills=[rays,learnt]`` scores the whole picture).
 
@@ -100,12 +102,12 @@ def load(paths: list[Path]) -> list[dict]:
     return out
 
 
-def train(weights: Path, paths: list[Path], steps: int, width: int, seed: int) -> None:
+def train(weights: Path, paths: list[Path], steps: int, width: int, seed: int, side: int) -> None:
     from sdn3d.editing.photo.learnt import FillSamples, TrainSettings, crop_samples, save_fill_net, train_fill_net
 
     torch.set_num_threads(1)
     pairs = load(paths)
-    samples = FillSamples.cat([crop_samples(p["filled"], p["hole"], p["keep_out"], p["target"], i)
+    samples = FillSamples.cat([crop_samples(p["filled"], p["hole"], p["keep_out"], p["target"], i, side)
                                for i, p in enumerate(pairs)])
     print(f"{len(pairs)} pairs, {len(samples.inputs)} crops", flush=True)
     settings = TrainSettings(width=width, steps=steps, seed=seed)
@@ -116,6 +118,15 @@ def train(weights: Path, paths: list[Path], steps: int, width: int, seed: int) -
             "settings": dict(settings.__dict__), "cpu_s": time.process_time() - c0}
     save_fill_net(net, weights, meta)
     print(json.dumps(meta), flush=True)
+
+
+def ensemble(weights: Path, members: list[Path]) -> None:
+    from sdn3d.editing.photo.learnt import FillEnsemble, load_fill_net, read_fill_meta, save_fill_net
+
+    nets = [net for path in members for net in load_fill_net(path).nets]
+    meta = {"members": [{"file": str(path), **read_fill_meta(path)} for path in members]}
+    save_fill_net(FillEnsemble(nets), weights, meta)
+    print(f"{len(nets)} nets -> {weights}", flush=True)
 
 
 def score(weights: Path, paths: list[Path]) -> list[dict]:
@@ -138,6 +149,8 @@ def score(weights: Path, paths: list[Path]) -> list[dict]:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from sdn3d.editing.photo.learnt import WORK_SIDE
+
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("extract")
@@ -150,6 +163,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--steps", type=int, default=3000)
     p.add_argument("--width", type=int, default=16)
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--side", type=int, default=WORK_SIDE, help="the net's working side (crops resampled to it)")
+    p = sub.add_parser("ensemble")
+    p.add_argument("weights", type=Path)
+    p.add_argument("members", type=Path, nargs="+")
     p = sub.add_parser("score")
     p.add_argument("weights", type=Path)
     p.add_argument("data", type=Path, nargs="+")
@@ -158,7 +175,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "extract":
         print(f"kept {extract(args.tree, args.out, args.limit)} pairs")
     elif args.command == "train":
-        train(args.weights, args.data, args.steps, args.width, args.seed)
+        train(args.weights, args.data, args.steps, args.width, args.seed, args.side)
+    elif args.command == "ensemble":
+        ensemble(args.weights, args.members)
     else:
         from sdn3d.evaluation.paired import paired_difference
 

@@ -9,6 +9,7 @@ import torch
 from sdn3d.editing.photo.fill import fill_hole
 from sdn3d.editing.photo.learnt import (
     WORK_SIDE,
+    FillEnsemble,
     FillNet,
     TrainSettings,
     crop_boxes,
@@ -107,10 +108,46 @@ def test_weights_round_trip_and_errors_name_the_file(tmp_path):
     with pytest.raises(PhotoSettingsError, match="other.pt.*holds no sdn3d-learnt-fill"):
         load_fill_net(tmp_path / "other.pt")
     blob = torch.load(path, weights_only=True)
-    blob["width"] = 8
+    blob["members"][0]["width"] = 8
     torch.save(blob, tmp_path / "wrong.pt")
     with pytest.raises(PhotoSettingsError, match="wrong.pt.*do not fit the net"):
         load_fill_net(tmp_path / "wrong.pt")
+    del blob["side"]
+    torch.save(blob, tmp_path / "sideless.pt")
+    with pytest.raises(PhotoSettingsError, match="sideless.pt.*do not fit the net"):
+        load_fill_net(tmp_path / "sideless.pt")
+
+
+def test_a_finer_net_keeps_its_working_side_from_training_to_file_to_drawing(tmp_path):
+    image, hole = _picture()
+    target = torch.where(hole[None], (image + 0.2).clamp(0, 1), image)
+    samples = crop_samples(image, hole, None, target, 0, side=48)
+    assert samples.inputs.shape == (1, 7, 48, 48) and samples.target.shape == (1, 3, 96, 96)
+    net = train_fill_net(samples, TrainSettings(width=4, steps=2, batch=1, seed=1))
+    assert net.side == 48
+    torch.nn.init.constant_(net.out.bias, 0.1)
+    save_fill_net(net, tmp_path / "fine.pt")
+    back = load_fill_net(tmp_path / "fine.pt")
+    assert back.side == 48
+    assert torch.allclose(learnt_fill(image, hole, back), learnt_fill(image, hole, net), atol=2e-3)
+    with pytest.raises(ValueError, match="side must be a multiple of 4"):
+        FillNet(4, side=30)
+
+
+def test_an_ensemble_draws_the_mean_of_its_nets_corrections_and_round_trips(tmp_path):
+    image, hole = _picture()
+    a, b = _busy_net(1), _busy_net(2)
+    both = FillEnsemble([a, b])
+    change = learnt_fill(image, hole, both) - image
+    mean = ((learnt_fill(image, hole, a) - image) + (learnt_fill(image, hole, b) - image)) / 2
+    inside = (image + 0.3 < 1).all(0) & (image - 0.3 > 0).all(0)  # no clamping: the mean of the two corrections
+    assert torch.allclose(change[:, inside], mean[:, inside], atol=1e-5)
+    save_fill_net(both, tmp_path / "two.pt")
+    back = load_fill_net(tmp_path / "two.pt")
+    assert len(back.nets) == 2
+    assert torch.allclose(learnt_fill(image, hole, back), learnt_fill(image, hole, both), atol=2e-3)
+    with pytest.raises(ValueError, match="one working side"):
+        FillEnsemble([FillNet(4), FillNet(4, side=48)])
 
 
 def test_fill_learnt_is_the_rays_fill_corrected_inside_the_hole(tmp_path):
@@ -142,7 +179,7 @@ def test_the_correction_fades_in_from_the_holes_edge():
 def test_the_packaged_weights_load():
     assert default_weights_path().is_file()
     net = load_fill_net(None)
-    assert isinstance(net, FillNet)
+    assert isinstance(net, FillEnsemble) and all(isinstance(n, FillNet) for n in net.nets) and net.side % 4 == 0
 
 
 def test_the_counterfactual_bench_lists_the_learnt_fill():

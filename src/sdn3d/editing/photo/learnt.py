@@ -9,8 +9,8 @@ each car) to predict, from the rays-filled picture around each connected part of
 added inside that part only:
 
 - **crop** (:func:`crop_boxes`): the part's bounding box grown by :data:`CROP_GROW` of its larger side on every side
-  (the context the colours come from), made square and kept inside the picture, resampled to
-  :data:`WORK_SIDE` pixels a side;
+  (the context the colours come from), made square and kept inside the picture, resampled to the net's working
+  side (``FillNet.side``, saved with its weights; :data:`WORK_SIDE` by default);
 - **inputs** (:data:`IN_CHANNELS`, :func:`net_inputs`): the rays-filled crop (RGB), the hole and the other objects'
   pixels (``keep_out``) of the crop, and each crop pixel's place in the picture (row and column over the picture's
   height and width, in [-1, 1]: how near the horizon it lies);
@@ -18,8 +18,10 @@ added inside that part only:
   in the hole, faded in from the hole's edge (:func:`feather`): the rays' grain and markings stay, their colour and
   brightness move (the last layer starts at zero, so an untrained net is the rays' fill).
 
-Weights are saved by :func:`save_fill_net` and read by :func:`load_fill_net` (``torch.load(weights_only=True)``: a
-dict of tensors and plain values, checked by name); :func:`train_fill_net` trains on :class:`FillSamples`
+A weights file holds one net or several (:class:`FillEnsemble`: nets trained alike from different seeds, whose
+corrections are averaged; one net's correction moves by about 0.2 dB with its training seed). Weights are saved by
+:func:`save_fill_net` and read by :func:`load_fill_net` (``torch.load(weights_only=True)``: a dict of tensors and
+plain values, checked by name); :func:`train_fill_net` trains on :class:`FillSamples`
 deterministically given its seed (1 thread). The training data comes from ``benchmarks/learnt_fill.py``, which
 draws each delete pair of counterfactual trees with ``fill='rays'`` and keeps what :func:`crop_samples` takes.
 """
@@ -37,11 +39,13 @@ from torch import Tensor, nn
 
 from sdn3d.editing.photo.settings import PhotoSettingsError
 
-__all__ = ["FillNet", "FillSamples", "TrainSettings", "WORK_SIDE", "CROP_GROW", "FEATHER_SHARE", "MIN_PART_PX",
-           "IN_CHANNELS", "WEIGHTS_FORMAT", "DEFAULT_WEIGHTS", "crop_boxes", "feather", "net_inputs", "learnt_fill",
-           "crop_samples", "train_fill_net", "save_fill_net", "load_fill_net", "default_weights_path"]
+__all__ = ["FillNet", "FillEnsemble", "FillSamples", "TrainSettings", "WORK_SIDE", "CROP_GROW", "FEATHER_SHARE",
+           "MIN_PART_PX", "IN_CHANNELS", "WEIGHTS_FORMAT", "DEFAULT_WEIGHTS", "crop_boxes", "feather", "net_inputs",
+           "learnt_fill", "crop_samples", "train_fill_net", "save_fill_net", "load_fill_net", "read_fill_meta",
+           "default_weights_path"]
 
-#: Side (pixels) of the square crop the net sees: a hole part's box grown by :data:`CROP_GROW`, resampled.
+#: Default side (pixels) of the square crop the net sees (``FillNet.side``): a hole part's box grown by
+#: :data:`CROP_GROW`, resampled.
 WORK_SIDE = 32
 #: A hole part's crop is its bounding box grown by this share of its larger side on every side (the context).
 CROP_GROW = 0.5
@@ -53,7 +57,7 @@ MIN_PART_PX = 16
 #: The net's input channels: rays-filled RGB, hole, keep_out, row and column in the picture.
 IN_CHANNELS = 7
 #: ``format`` of a weights file (:func:`save_fill_net`).
-WEIGHTS_FORMAT = "sdn3d-learnt-fill-v1"
+WEIGHTS_FORMAT = "sdn3d-learnt-fill-v2"
 #: The packaged weights' file name in :mod:`sdn3d.resources` (``photo.learnt_weights`` null).
 DEFAULT_WEIGHTS = "learnt_fill.pt"
 
@@ -67,12 +71,16 @@ def default_weights_path() -> Path:
 
 class FillNet(nn.Module):
     """A three-level U-Net (``width``, 2 ``width``, 4 ``width`` channels) with a global-average context vector at
-    its bottom: ``(B, IN_CHANNELS, S, S) -> (B, 3, S, S)`` correction (``S`` divisible by 4)."""
+    its bottom: ``(B, IN_CHANNELS, S, S) -> (B, 3, S, S)`` correction, ``S`` its working ``side`` (the crops'
+    side, divisible by 4; the net's weights do not depend on it, its training does)."""
 
-    def __init__(self, width: int = 16) -> None:
+    def __init__(self, width: int = 16, side: int = WORK_SIDE) -> None:
         super().__init__()
+        if side < 8 or side % 4:
+            raise ValueError(f"FillNet: side must be a multiple of 4 from 8, got {side}")
         w = width
         self.width = width
+        self.side = side
 
         def block(cin: int, cout: int) -> nn.Sequential:
             return nn.Sequential(nn.Conv2d(cin, cout, 3, padding=1), nn.LeakyReLU(0.1),
@@ -97,6 +105,21 @@ class FillNet(nn.Module):
         d2 = self.dec2(torch.cat([F.interpolate(e3, scale_factor=2.0, mode="bilinear", align_corners=False), e2], 1))
         d1 = self.dec1(torch.cat([F.interpolate(d2, scale_factor=2.0, mode="bilinear", align_corners=False), e1], 1))
         return self.out(d1)
+
+
+class FillEnsemble(nn.Module):
+    """Several :class:`FillNet` of one working ``side``: ``(B, IN_CHANNELS, S, S) -> (B, 3, S, S)``, the mean of
+    their corrections."""
+
+    def __init__(self, nets: list[FillNet]) -> None:
+        super().__init__()
+        if not nets or len({net.side for net in nets}) != 1:
+            raise ValueError(f"FillEnsemble: one net or more, of one working side, got sides {[n.side for n in nets]}")
+        self.nets = nn.ModuleList(nets)
+        self.side = nets[0].side
+
+    def forward(self, x: Tensor) -> Tensor:
+        return torch.stack([net(x) for net in self.nets]).mean(0)
 
 
 def crop_boxes(hole: Tensor, grow: float = CROP_GROW, min_pixels: int = MIN_PART_PX) -> tuple[list, Tensor]:
@@ -158,8 +181,8 @@ def feather(part: Tensor, share: float = FEATHER_SHARE) -> Tensor:
 
 
 @torch.no_grad()
-def learnt_fill(filled: Tensor, hole: Tensor, net: FillNet, keep_out: Tensor | None = None) -> Tensor:
-    """``filled (3, H, W)`` (the rays' fill of ``hole (H, W)``) with :class:`FillNet`'s correction added inside each
+def learnt_fill(filled: Tensor, hole: Tensor, net: FillNet | FillEnsemble, keep_out: Tensor | None = None) -> Tensor:
+    """``filled (3, H, W)`` (the rays' fill of ``hole (H, W)``) with ``net``'s correction added inside each
     part of ``hole`` (:func:`crop_boxes`; pixels outside ``hole`` and parts under :data:`MIN_PART_PX` unchanged),
     clamped to [0, 1]."""
     boxes, labels = crop_boxes(hole)
@@ -167,7 +190,7 @@ def learnt_fill(filled: Tensor, hole: Tensor, net: FillNet, keep_out: Tensor | N
         return filled.clone()
     net.eval()
     with torch.no_grad():  # drawing, not training: no autograd graph
-        correction = net(net_inputs(filled, hole, keep_out, boxes))  # (B, 3, S, S)
+        correction = net(net_inputs(filled, hole, keep_out, boxes, net.side))  # (B, 3, S, S)
     out = filled.clone()
     for k, (y0, y1, x0, x1) in enumerate(boxes):
         up = F.interpolate(correction[k : k + 1], size=(y1 - y0, x1 - x0), mode="bilinear", align_corners=False)[0]
@@ -202,11 +225,13 @@ class FillSamples:
 
 
 def crop_samples(filled: Tensor, hole: Tensor, keep_out: Tensor | None, target: Tensor, group: int,
-                 loss_side: int = 2 * WORK_SIDE) -> FillSamples:
+                 side: int = WORK_SIDE) -> FillSamples:
     """:class:`FillSamples` of one drawn delete: ``filled (3, H, W)`` the rays' fill of ``hole (H, W)`` with
-    ``keep_out``, ``target (3, H, W)`` the exact render without the car; one crop per part (:func:`crop_boxes`)."""
+    ``keep_out``, ``target (3, H, W)`` the exact render without the car; one crop per part (:func:`crop_boxes`),
+    the net's inputs at ``side``, the loss's planes at twice that."""
+    loss_side = 2 * side
     boxes, labels = crop_boxes(hole)
-    inputs = net_inputs(filled, hole, keep_out, boxes)
+    inputs = net_inputs(filled, hole, keep_out, boxes, side)
     big = []
     for k, (y0, y1, x0, x1) in enumerate(boxes):
         part = labels[y0:y1, x0:x1] == k + 1
@@ -259,7 +284,7 @@ def train_fill_net(samples: FillSamples, settings: TrainSettings = TrainSettings
     ``log(step, loss)`` every 100 steps."""
     gen = torch.Generator().manual_seed(settings.seed)
     torch.manual_seed(settings.seed)
-    net = FillNet(settings.width)
+    net = FillNet(settings.width, samples.inputs.shape[-1])
     opt = torch.optim.Adam(net.parameters(), lr=settings.lr)
     n = len(samples.inputs)
     if n == 0:
@@ -286,37 +311,30 @@ def train_fill_net(samples: FillSamples, settings: TrainSettings = TrainSettings
 # -- weights ----------------------------------------------------------------------------------------------------------
 
 
-def save_fill_net(net: FillNet, path: str | Path, meta: dict | None = None) -> None:
-    """Write ``net`` to ``path`` atomically, with the user's umask (:func:`sdn3d.io.atomic_write`; an earlier file
-    there stays whole until the new one is complete): :data:`WEIGHTS_FORMAT`, its width, state dict in float16, half
-    the file, and ``meta``, plain values only."""
+def save_fill_net(net: FillNet | FillEnsemble, path: str | Path, meta: dict | None = None) -> None:
+    """Write ``net`` (one net or several) to ``path`` atomically, with the user's umask (:func:`sdn3d.io.atomic_write`;
+    an earlier file there stays whole until the new one is complete): :data:`WEIGHTS_FORMAT`, the working side, each
+    net's width and state dict in float16 (half the file), and ``meta``, plain values only."""
     import io
 
     from sdn3d.io import atomic_write
 
-    state = {k: v.half() for k, v in net.state_dict().items()}
+    nets = list(net.nets) if isinstance(net, FillEnsemble) else [net]
+    members = [{"width": n.width, "state_dict": {k: v.half() for k, v in n.state_dict().items()}} for n in nets]
     buffer = io.BytesIO()
-    torch.save({"format": WEIGHTS_FORMAT, "width": net.width, "state_dict": state, "meta": dict(meta or {})}, buffer)
+    torch.save({"format": WEIGHTS_FORMAT, "side": net.side, "members": members, "meta": dict(meta or {})}, buffer)
     atomic_write(path, lambda handle: handle.write(buffer.getbuffer()))
 
 
-_CACHE: dict[tuple, FillNet] = {}
+def read_fill_meta(path: str | Path) -> dict:
+    """The ``meta`` saved with the weights at ``path`` (:func:`save_fill_net`; errors as :func:`load_fill_net`)."""
+    return _read_blob(Path(path))["meta"]
 
 
-def load_fill_net(path: str | Path | None = None) -> FillNet:
-    """The :class:`FillNet` saved at ``path`` (None: :func:`default_weights_path`), read once per file and change.
-
-    Raises:
-        PhotoSettingsError: naming the file, when it is missing, not a torch file, or not :data:`WEIGHTS_FORMAT`
-            weights of this net.
-    """
-    path = Path(path) if path is not None else default_weights_path()
+def _read_blob(path: Path) -> dict:
     if not path.is_file():
         raise PhotoSettingsError(f"photo.fill=learnt: no weights file {str(path)!r} (photo.learnt_weights; train one "
                                  "with benchmarks/learnt_fill.py train)")
-    key = (str(path.resolve()), path.stat().st_mtime_ns, path.stat().st_size)
-    if key in _CACHE:
-        return _CACHE[key]
     try:
         blob = torch.load(str(path), map_location="cpu", weights_only=True)
     except Exception as exc:  # noqa: BLE001 - any unreadable file is the same user error
@@ -324,10 +342,33 @@ def load_fill_net(path: str | Path | None = None) -> FillNet:
                                  f"({type(exc).__name__})") from exc
     if not isinstance(blob, dict) or blob.get("format") != WEIGHTS_FORMAT:
         raise PhotoSettingsError(f"photo.fill=learnt: {str(path)!r} holds no {WEIGHTS_FORMAT} weights")
+    return blob
+
+
+_CACHE: dict[tuple, FillEnsemble] = {}
+
+
+def load_fill_net(path: str | Path | None = None) -> FillEnsemble:
+    """The nets saved at ``path`` (None: :func:`default_weights_path`) as a :class:`FillEnsemble` (of one net, where
+    one was saved), read once per file and change.
+
+    Raises:
+        PhotoSettingsError: naming the file, when it is missing, not a torch file, or not :data:`WEIGHTS_FORMAT`
+            weights of this net.
+    """
+    path = Path(path) if path is not None else default_weights_path()
+    key = (str(path.resolve()), path.stat().st_mtime_ns, path.stat().st_size) if path.is_file() else None
+    if key in _CACHE:
+        return _CACHE[key]
+    blob = _read_blob(path)
     try:
-        net = FillNet(int(blob["width"]))
-        net.load_state_dict({k: v.float() for k, v in blob["state_dict"].items()})
+        nets = []
+        for member in blob["members"]:
+            net = FillNet(int(member["width"]), int(blob["side"]))
+            net.load_state_dict({k: v.float() for k, v in member["state_dict"].items()})
+            nets.append(net)
+        ensemble = FillEnsemble(nets)
     except (KeyError, TypeError, ValueError, RuntimeError) as exc:
         raise PhotoSettingsError(f"photo.fill=learnt: {str(path)!r}: weights do not fit the net ({exc})") from exc
-    _CACHE[key] = net.eval()
+    _CACHE[key] = ensemble.eval()
     return _CACHE[key]

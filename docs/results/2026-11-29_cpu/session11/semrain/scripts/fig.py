@@ -1,5 +1,6 @@
 # ruff: noqa: E501, E701, E702
-"""fig.py OUT.png BEFORE_DUMP AFTER_DUMP FILE...: one row per entry (dbench.py dumps of two runs of the same tree):
+"""fig.py OUT.png BEFORE_DUMP AFTER_DUMP FILE...: one row per entry (dbench.py dumps of two runs of the same tree;
+AFTER_DUMP '-': main's panels alone):
 input with the picked proposal (red outline) and the ground-truth car (oracle, green outline); target; 2D paste;
 3D-SDN before; 3D-SDN after; per-pixel error difference |3D-SDN - target| - |2D - target| (before, after; red: 3D-SDN
 worse, blue: better) with the 'all' region outlined in yellow. Panels cropped to the region, the proposal and the car
@@ -36,7 +37,8 @@ def diffmap(z):
 
 rows = []
 for f in files:
-    zb, za = np.load(f"{before}/{f}"), np.load(f"{after}/{f}")
+    zb = np.load(f"{before}/{f}")
+    za = zb if after == "-" else np.load(f"{after}/{f}")
     inp = zb["source"].copy()
     P = np.isin(zb["proposals"], zb["picks"]) & (zb["proposals"] != 0)
     G = np.isin(zb["src_inst"], zb["gt_ids"])
@@ -48,6 +50,11 @@ for f in files:
               (zb["d2"], f"2D paste {ps(zb['d2'], zb):.2f} dB"), (zb["sdn"], f"3D-SDN main {ps(zb['sdn'], zb):.2f} dB"),
               (za["sdn"], f"3D-SDN new {ps(za['sdn'], za):.2f} dB"), (diffmap(zb), "err 3D-2D, main (red: 3D worse)"),
               (diffmap(za), "err 3D-2D, new")]
+    if after == "-":
+        panels = panels[:4] + panels[5:6]
+        panels[0] = (inp, f"input {str(zb['key']).split(' ')[0]} {zb['kind']}")
+        panels[3] = (zb["sdn"], f"3D-SDN {ps(zb['sdn'], zb):.2f} dB")
+        panels[4] = (diffmap(zb), "error 3D minus 2D")
     ys, xs = np.nonzero(zb["region"].astype(bool) | P | G)
     y0, y1 = max(ys.min() - 16, 0), min(ys.max() + 17, inp.shape[0]); x0, x1 = max(xs.min() - 16, 0), min(xs.max() + 17, inp.shape[1])
     x1 = max(x1, min(x0 + 64, inp.shape[1]))

@@ -13,9 +13,9 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    ``camera_height_range``; without a prediction it is ``default_camera_height`` (KITTI's 1.65 m). The synthetic
    cameras sit 1.50-1.65 m up: a fixed 1.65 m put cars about 8 % too far.
 2. **Many starts, then the best.** Every template of the bank that the object's class allows (``classes``,
-   :func:`allowed_templates`: a car is no minibus or bus, a van is the one-box van, the minibus or the bus; on the
-   seed-13 tuning tree this took template accuracy from 39.7 % to 47.9 %, 12 cars and vans right that were wrong, none
-   wrong that were right) times four starting yaws (the geometric branch's
+   :func:`allowed_templates`: a car is no minibus or bus, a van is the one-box van, the minibus or the bus: a
+   silhouette alone let vans be fitted as cars and cars as minibuses, docs/results/2026-11-29_cpu/session11/template/)
+   times four starting yaws (the geometric branch's
    prediction where there is one, else facing away from the camera; its reverse; the two sides) is fitted at a
    coarse crop (``coarse_size`` px, ``coarse_steps`` Adam steps on x, log z, yaw and log dims), each template cut to
    ``coarse_faces`` faces (an outline 32 px across needs no more). The ``keep`` best

@@ -189,8 +189,7 @@ def learnt_fill(filled: Tensor, hole: Tensor, net: FillNet | FillEnsemble, keep_
     if not boxes:
         return filled.clone()
     net.eval()
-    with torch.no_grad():  # drawing, not training: no autograd graph
-        correction = net(net_inputs(filled, hole, keep_out, boxes, net.side))  # (B, 3, S, S)
+    correction = net(net_inputs(filled, hole, keep_out, boxes, net.side))  # (B, 3, S, S); no graph: @no_grad
     out = filled.clone()
     for k, (y0, y1, x0, x1) in enumerate(boxes):
         up = F.interpolate(correction[k : k + 1], size=(y1 - y0, x1 - x0), mode="bilinear", align_corners=False)[0]

@@ -695,10 +695,11 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
                     picture = flat.view(*owner.shape, 3).permute(2, 0, 1)
                     road = ground_in_mask(picture, (owner == int(iid)) & (source == INPUT)).view(-1)
                     pix, ends = pix[~road[pix]], ends[~road[ends]]
-                light = _light_paint(flat[pix])
+                body_lab = srgb_to_lab(flat[pix].double())
+                light = _light_paint(body_lab)
                 if light is not None:  # a dark paint: its whole body part, and none of its end faces
-                    pix = torch.cat([pix[_grey_paint_like(flat[pix], light)],
-                                     ends[_grey_paint_like(flat[ends], light)]])
+                    pix = torch.cat([pix[_grey_paint_like(body_lab, light)],
+                                     ends[_grey_paint_like(srgb_to_lab(flat[ends].double()), light)]])
         if not len(pix):
             warnings.append(f"recolor: object {iid} has no pixels in the picture")
             continue
@@ -724,23 +725,20 @@ GREY_END_LIGHTNESS = 0.6
 GREY_PAINT_CHROMA = 15.0
 
 
-def _light_paint(body: Tensor) -> Tensor | None:
-    """The median CIE L* of a grey paint's body part pixels ``body (Q, 3)`` sRGB; None where the paint is dark (under
-    :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`: its colour is the grille's, the tyres' and the glass') or
-    there are fewer than 8 pixels."""
-    if len(body) < 8:
+def _light_paint(body_lab: Tensor) -> Tensor | None:
+    """The median CIE L* of a grey paint's body part pixels ``body_lab (Q, 3)`` CIE Lab; None where the paint is dark
+    (under :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`: its colour is the grille's, the tyres' and the glass')
+    or there are fewer than 8 pixels."""
+    if len(body_lab) < 8:
         return None
-    light = srgb_to_lab(body.double())[:, 0].median()
+    light = body_lab[:, 0].median()
     return None if float(light) < DARK_PAINT_L else light
 
 
-def _grey_paint_like(colors: Tensor, light: Tensor) -> Tensor:
-    """``(P,)`` bool: which of ``colors (P, 3)`` sRGB (an end face's, or the body part's own) are a light grey paint
-    of median lightness ``light`` (:func:`_light_paint`): not much darker than it (:data:`GREY_END_LIGHTNESS`), and
-    grey."""
-    if not len(colors):
-        return torch.zeros(0, dtype=torch.bool)
-    lab = srgb_to_lab(colors.double())
+def _grey_paint_like(lab: Tensor, light: Tensor) -> Tensor:
+    """``(P,)`` bool: which of ``lab (P, 3)`` CIE Lab colours (an end face's, or the body part's own) are a light grey
+    paint of median lightness ``light`` (:func:`_light_paint`): not much darker than it (:data:`GREY_END_LIGHTNESS`),
+    and grey."""
     return (lab[:, 0] >= GREY_END_LIGHTNESS * light) & (lab[:, 1:].norm(dim=1) < GREY_PAINT_CHROMA)
 
 

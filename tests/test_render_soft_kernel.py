@@ -173,10 +173,10 @@ def test_the_kernels_threads_split_meshes_and_change_nothing() -> None:
 
 @needs_compiler
 def test_the_float32_kernel_in_vectors_of_8_is_the_one_vector_kernel_to_the_bit() -> None:
-    """float32 groups 16 faces in two vectors of 8 lanes (AVX2's registers), skipping a vector whose boxes all end
-    before the pixel: its outputs are those of the same groups as one vector of 16 lanes, bit for bit (a pixel adds
-    its faces' terms in the same order). A mesh with faces of many box sizes, so some vectors are skipped. The
-    16-lane variant is built once into the kernel's cache (a few seconds the first time)."""
+    """float32 groups 16 faces in two vectors of 8 lanes (without AVX-512) or one of 16, skipping a vector whose
+    boxes all end before the pixel: the two give the same outputs, bit for bit (a pixel adds its faces' terms in the
+    same order). A mesh with faces of many box sizes, so some vectors are skipped. The build this machine does not
+    use is made once into the kernel's cache (a few seconds the first time)."""
     verts, faces, K = fit_like_scene(torch.float32)
     settings = SoftSilhouetteSettings((48, 48))
     screen, valid, meshes, faces_per_mesh = soft._screen_triangles(verts, faces, K, settings.near)
@@ -185,8 +185,10 @@ def test_the_float32_kernel_in_vectors_of_8_is_the_one_vector_kernel_to_the_bit(
     pixel_grad = torch.rand(meshes * 48 * 48, generator=torch.Generator().manual_seed(5)) - 0.5
     compiler = shutil.which("g++")
     source = native._SOURCE.read_bytes()
+    lanes = native.soft_kernel().sdn3d_soft_f32_lanes()
+    assert lanes in (8, 16)
     results, libraries = [], set()
-    for defines in ((), ("-DSDN3D_SOFT_F32_LANES=16",)):
+    for defines in ((), (f"-DSDN3D_SOFT_F32_LANES={24 - lanes}",)):
         library = native._build(compiler, source, defines)
         libraries.add(library)
         kernel = native._bind(ctypes.CDLL(str(library)))

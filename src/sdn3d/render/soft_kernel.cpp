@@ -9,12 +9,13 @@
 // the SIMD lanes are faces: each mesh's faces with a non-empty box are sorted by box height, then width, and each
 // group of kFaces faces walks the group's largest box together, one vector (Part) of kLanes faces at a time. A lane
 // beyond its own box evaluates a throw-away pair (at its box's corner, so finite) that is neither added nor given a
-// gradient; a Part whose every box ends before the pixel is skipped. float32 groups 16 faces in two vectors of 8:
-// 32-byte vectors are AVX2's own registers, where GCC lowered the former 64-byte ones piecewise and through the
-// stack (3-10x slower on this AVX2 machine); the groups of 16 keep the order in which a pixel adds its faces' terms,
-// so the results are the 64-byte kernel's to the bit. GCC's vector extensions keep the arithmetic in vectors on
-// any target; float32's exp and log1p are Cephes' polynomials (within about 1 ulp, as PyTorch's own vectorised
-// ones), float64 calls libm lane by lane (tests only).
+// gradient; a Part whose every box ends before the pixel is skipped. float32 groups 16 faces, in one 64-byte vector
+// where the target has AVX-512, else in two 32-byte vectors of 8 (SDN3D_SOFT_F32_LANES): without AVX-512 GCC
+// lowers 64-byte vectors piecewise through the stack, 3-10x slower on an AVX2 machine (the edit call's fit took
+// 10.9 CPU s instead of 3.9, docs/results/2026-11-29_cpu/session12/speed). The groups of 16 keep the order in which
+// a pixel adds its faces' terms, so the results are the same to the bit with either. GCC's vector extensions keep
+// the arithmetic in vectors on any target; float32's exp and log1p are Cephes' polynomials (within about 1 ulp,
+// as PyTorch's own vectorised ones), float64 calls libm lane by lane (tests only).
 //
 // Every face accumulates its pairs in a fixed order and faces are visited in a fixed order, so results are
 // deterministic, whatever the thread count (over_meshes). Inputs per face f (M faces, F per mesh): screen[f] = 3
@@ -32,9 +33,14 @@ namespace {
 
 template <typename T>
 struct Vec;
-// float32 lanes per vector (a divisor of 16; the tests build 16, one vector a group, and compare the bits).
+// float32 lanes per vector, a divisor of 16: 16 (one 64-byte vector a group) where the target has AVX-512's
+// registers, else 8 (two 32-byte vectors, AVX2's). The results do not depend on it (the tests build the other).
 #ifndef SDN3D_SOFT_F32_LANES
+#if defined(__AVX512F__)
+#define SDN3D_SOFT_F32_LANES 16
+#else
 #define SDN3D_SOFT_F32_LANES 8
+#endif
 #endif
 template <>
 struct Vec<float> {
@@ -350,6 +356,8 @@ void backward(const T* screen, const int64_t* box, int64_t num_faces, int64_t fa
 extern "C" {
 
 int sdn3d_soft_abi_version() { return 3; }
+
+int sdn3d_soft_f32_lanes() { return SDN3D_SOFT_F32_LANES; }
 
 void sdn3d_soft_forward_f32(const float* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh,
                             int64_t height, int64_t width, double inv_sigma, double area_eps, float* log_keep,

@@ -30,14 +30,14 @@ def test_the_short_budget_trains_the_semantic_branch_beside_the_other_two_then_s
 
 
 def test_a_textural_branch_on_predicted_maps_waits_for_both_upstream_branches():
-    from sdn3d.cli.demo import lane_plan
+    from sdn3d.cli.demo import EDITS_TASK, lane_plan
 
     plan = lane_plan(["semantic", "geometric", "textural"], True, BOTH)
     assert plan[1][1] == ("training: textural", ("training: semantic", "training: geometric"))
     # without a semantic branch: lane 1 trains the geometric one and runs the oracle row, lane 2 the rest
     alone = lane_plan(["geometric", "textural"], False, [Proposals.GT])
     assert [name for name, _ in alone[0]] == ["training: geometric", "benchmark: oracle row"]
-    assert [name for name, _ in alone[1]] == ["training: textural", "example edits"]
+    assert [name for name, _ in alone[1]] == ["training: textural", EDITS_TASK]
 
 
 def test_the_medium_budget_is_recognised_as_training_on_predicted_maps():
@@ -208,3 +208,30 @@ def test_a_lane_count_other_than_1_or_2_exits_2_naming_it_without_output(tmp_pat
     assert main([f"output_dir={tmp_path / 'demo'}", "lanes=3"]) == 2
     assert "lanes must be 1" in capsys.readouterr().err
     assert not (tmp_path / "demo").exists()
+
+
+@pytest.mark.parametrize("sources", [BOTH, [Proposals.GT]])
+def test_the_proposal_recall_runs_after_the_example_edits_beside_the_predicted_row(tmp_path, monkeypatch, sources):
+    """With a predicted row, its lane runs the benchmark alone and the edits' lane the proposal recall after the
+    edits (each step's results are the same in either task); without one, no recall runs."""
+    from sdn3d.cli import demo
+    from sdn3d.cli._config import compose_config
+
+    specs = {}
+
+    def command(spec, work, name):
+        specs[name] = spec
+        return [sys.executable, "-c", "pass"]
+
+    monkeypatch.setattr(demo, "_lane_task_command", command)
+    cfg = compose_config([f"output_dir={tmp_path / 'out'}", f"data_dir={tmp_path / 'data'}"], "demo")
+    plan = demo.lane_plan(["semantic", "geometric", "textural"], False, sources)
+    tasks = demo.lane_tasks(plan, cfg, tmp_path / "data", tmp_path / "out")
+    for task in (t for lane in tasks for t in lane if not t.name.startswith("training")):
+        task.start({}).wait()
+    if Proposals.SEMANTIC in sources:
+        assert specs["bench_predicted"]["steps"] == ["bench"]
+        assert specs["edits"]["steps"] == ["edits", "recall"]
+    else:
+        assert "bench_predicted" not in specs and specs["edits"]["steps"] == ["edits"]
+    assert specs["bench_oracle"]["steps"] == ["bench"]

@@ -319,9 +319,9 @@ def _train_name(branch: str) -> str:
 
 
 #: The lanes' names of the benchmark's passes and of the example edits.
-BENCH_TASKS = {Proposals.SEMANTIC: "benchmark: predicted row (with proposal recall)",
+BENCH_TASKS = {Proposals.SEMANTIC: "benchmark: predicted row",
                Proposals.GT: "benchmark: oracle row"}
-EDITS_TASK = "example edits"
+EDITS_TASK = "example edits (and proposal recall)"
 
 
 def lane_plan(branches: Sequence[str], textural_needs_upstream: bool, bench: Sequence[Proposals]
@@ -330,7 +330,9 @@ def lane_plan(branches: Sequence[str], textural_needs_upstream: bool, bench: Seq
     (:mod:`sdn3d.cli._lanes`). Lane 1 trains the semantic branch (the longest), then runs the benchmark's predicted
     row; lane 2 trains the geometric and textural branches (which do not need the semantic one unless
     ``textural_needs_upstream``), runs the oracle row (it needs no semantic branch: usually while lane 1 still
-    trains), then the example edits. Without a semantic branch lane 1 trains the geometric one."""
+    trains), then the example edits and, with a predicted row, the semantic branch's proposal recall (both need
+    every branch: they run beside the predicted row, the longer task, which the recall would otherwise lengthen).
+    Without a semantic branch lane 1 trains the geometric one."""
     train = {b: _train_name(b) for b in branches}
     needs = {b: () for b in branches}
     if "textural" in branches and textural_needs_upstream:
@@ -415,10 +417,12 @@ def lane_tasks(plan: list[list[tuple[str, tuple[str, ...]]]], cfg: Any, data_roo
         return LaneTask(name, (), start, finish, log)
 
     made = {_train_name(b): training(b) for b in cfg.train.branches}
-    made |= {BENCH_TASKS[Proposals.SEMANTIC]: child(BENCH_TASKS[Proposals.SEMANTIC], "bench_predicted",
-                                                    ["recall", "bench"], "semantic"),
+    predicted_row = any(name == BENCH_TASKS[Proposals.SEMANTIC] for lane in plan for name, _ in lane)
+    made |= {BENCH_TASKS[Proposals.SEMANTIC]: child(BENCH_TASKS[Proposals.SEMANTIC], "bench_predicted", ["bench"],
+                                                    "semantic"),
              BENCH_TASKS[Proposals.GT]: child(BENCH_TASKS[Proposals.GT], "bench_oracle", ["bench"], "gt"),
-             EDITS_TASK: child(EDITS_TASK, "edits", ["edits"], None)}
+             # the recall after the edits: each step's results are the same in either task, in either order
+             EDITS_TASK: child(EDITS_TASK, "edits", ["edits"] + (["recall"] if predicted_row else []), None)}
     return [[made[name]._replace(needs=needs) for name, needs in lane] for lane in plan]
 
 
@@ -453,7 +457,7 @@ def run_in_lanes(cfg: Any, root: Path, out: Path, info: dict, started: float) ->
     info["training"] = {b: done[_train_name(b)] for b in branches}
     ckpts = {b: _checkpoint(s) for b, s in info["training"].items()}
     parts = [done[BENCH_TASKS[p]]["bench"] for p in sources]
-    info["proposal_recall"] = done.get(BENCH_TASKS[Proposals.SEMANTIC], {}).get("recall")
+    info["proposal_recall"] = done[EDITS_TASK].get("recall")
     t1 = time.perf_counter()
     bench = run_bench(cfg, root, ckpts, out / "bench", parts)  # both passes written as one benchmark
     info["bench"] = {"summary": bench["summary"], "info": bench["info"]}

@@ -46,8 +46,10 @@ def _cpu() -> str:
     return platform.machine() + "".join(sorted({line for line in info if line.startswith(("flags", "model name"))}))
 
 
-def _build(compiler: str, source: bytes) -> Path:
-    key = hashlib.sha256(source + " ".join((compiler, *_FLAGS, _cpu())).encode()).hexdigest()[:16]
+def _build(compiler: str, source: bytes, defines: tuple[str, ...] = ()) -> Path:
+    """The library built from ``source`` (cached); ``defines``: extra ``-D`` flags (the tests' variants)."""
+    flags = (*_FLAGS, *defines)
+    key = hashlib.sha256(source + " ".join((compiler, *flags, _cpu())).encode()).hexdigest()[:16]
     target = _cache_dir() / f"soft_kernel_{key}.so"
     if target.exists():
         return target
@@ -55,7 +57,7 @@ def _build(compiler: str, source: bytes) -> Path:
     with tempfile.TemporaryDirectory(dir=target.parent) as tmp:
         built = Path(tmp) / target.name
         subprocess.run(
-            [compiler, *_FLAGS, "-o", str(built), str(_SOURCE)], check=True, capture_output=True, text=True
+            [compiler, *flags, "-o", str(built), str(_SOURCE)], check=True, capture_output=True, text=True
         )
         os.replace(built, target)  # atomic: a concurrent build of the same key writes the same bytes
     return target

@@ -7,8 +7,13 @@
 //
 // A face's box is only a few pixels a side at the fit's crop sizes, too small to vectorise over its pixels, so
 // the SIMD lanes are faces: each mesh's faces with a non-empty box are sorted by box height, then width, and each
-// group of Lanes faces walks the group's largest box together. A lane beyond its own box evaluates a throw-away
-// pair (at its box's corner, so finite) that is neither added nor given a gradient. GCC's vector extensions keep
+// group of kFaces faces walks the group's largest box together, one vector (Part) of kLanes faces at a time. A lane
+// beyond its own box evaluates a throw-away pair (at its box's corner, so finite) that is neither added nor given a
+// gradient; a Part whose every box ends before the pixel is skipped. float32 groups 16 faces, in one 64-byte vector
+// where the target has AVX-512, else in two 32-byte vectors of 8 (SDN3D_SOFT_F32_LANES): without AVX-512 GCC
+// lowers 64-byte vectors piecewise through the stack, 3-10x slower on an AVX2 machine (the edit call's fit took
+// 10.9 CPU s instead of 3.9, docs/results/2026-11-29_cpu/session12/speed). The groups of 16 keep the order in which
+// a pixel adds its faces' terms, so the results are the same to the bit with either. GCC's vector extensions keep
 // the arithmetic in vectors on any target; float32's exp and log1p are Cephes' polynomials (within about 1 ulp,
 // as PyTorch's own vectorised ones), float64 calls libm lane by lane (tests only).
 //
@@ -28,17 +33,29 @@ namespace {
 
 template <typename T>
 struct Vec;
+// float32 lanes per vector, a divisor of 16: 16 (one 64-byte vector a group) where the target has AVX-512's
+// registers, else 8 (two 32-byte vectors, AVX2's). The results do not depend on it (the tests build the other).
+#ifndef SDN3D_SOFT_F32_LANES
+#if defined(__AVX512F__)
+#define SDN3D_SOFT_F32_LANES 16
+#else
+#define SDN3D_SOFT_F32_LANES 8
+#endif
+#endif
 template <>
 struct Vec<float> {
-    typedef float V __attribute__((vector_size(64)));
-    typedef int32_t I __attribute__((vector_size(64)));
-    static constexpr int kLanes = 16;
+    typedef float V __attribute__((vector_size(4 * SDN3D_SOFT_F32_LANES)));
+    typedef int32_t I __attribute__((vector_size(4 * SDN3D_SOFT_F32_LANES)));
+    static constexpr int kLanes = SDN3D_SOFT_F32_LANES;
+    static constexpr int kFaces = 16;
+    static_assert(kFaces % kLanes == 0, "a group is whole vectors");
 };
 template <>
 struct Vec<double> {
     typedef double V __attribute__((vector_size(64)));
     typedef int64_t I __attribute__((vector_size(64)));
     static constexpr int kLanes = 8;
+    static constexpr int kFaces = 8;
 };
 
 template <typename V>
@@ -143,23 +160,32 @@ inline Vec<double>::V sigmoid_v(Vec<double>::V x) {
 template <typename T>
 struct Group {
     typedef typename Vec<T>::V V;
-    static constexpr int kLanes = Vec<T>::kLanes;
+    static constexpr int kLanes = Vec<T>::kLanes, kFaces = Vec<T>::kFaces, kParts = kFaces / kLanes;
+    // One vector of faces: the edge tables of its kLanes faces and the window its boxes span.
+    struct Part {
+        int64_t win_w = 0, win_h = 0;
+        V ax[3], ay[3], ex[3], ey[3], sx[3], sy[3], c0, r0, bw, bh;
+    };
     int64_t win_w = 0, win_h = 0;
-    int64_t face[kLanes], col0[kLanes], row0[kLanes], box_w[kLanes], box_h[kLanes], base[kLanes];
-    V ax[3], ay[3], ex[3], ey[3], sx[3], sy[3], c0, r0, bw, bh;
+    int64_t face[kFaces], col0[kFaces], row0[kFaces], box_w[kFaces], box_h[kFaces], base[kFaces];
+    Part part[kParts];
 
     void set_edges(const T* screen, T area_eps) {
-        for (int j = 0; j < kLanes; ++j) {
+        for (int j = 0; j < kFaces; ++j) {
+            Part& p = part[j / kLanes];
+            const int l = j % kLanes;
             const T* s = screen + 6 * face[j];
             for (int k = 0; k < 3; ++k) {
                 const int n = (k + 1) % 3;
                 const T ex_ = s[2 * n] - s[2 * k], ey_ = s[2 * n + 1] - s[2 * k + 1];
                 T len2 = ex_ * ex_ + ey_ * ey_;
                 len2 = len2 < area_eps ? area_eps : len2;
-                ax[k][j] = s[2 * k], ay[k][j] = s[2 * k + 1], ex[k][j] = ex_, ey[k][j] = ey_;
-                sx[k][j] = ex_ / len2, sy[k][j] = ey_ / len2;
+                p.ax[k][l] = s[2 * k], p.ay[k][l] = s[2 * k + 1], p.ex[k][l] = ex_, p.ey[k][l] = ey_;
+                p.sx[k][l] = ex_ / len2, p.sy[k][l] = ey_ / len2;
             }
-            c0[j] = T(col0[j]), r0[j] = T(row0[j]), bw[j] = T(box_w[j]), bh[j] = T(box_h[j]);
+            p.c0[l] = T(col0[j]), p.r0[l] = T(row0[j]), p.bw[l] = T(box_w[j]), p.bh[l] = T(box_h[j]);
+            p.win_w = std::max(p.win_w, box_w[j]);
+            p.win_h = std::max(p.win_h, box_h[j]);
         }
     }
 };
@@ -169,20 +195,20 @@ struct Group {
 template <typename T>
 std::vector<Group<T>> face_groups(const T* screen, const int64_t* box, int64_t face_lo, int64_t face_hi,
                                   int64_t faces_per_mesh, int64_t image_pixels, T area_eps) {
-    constexpr int kLanes = Vec<T>::kLanes;
+    constexpr int kFaces = Vec<T>::kFaces;
     std::vector<int64_t> order;
     for (int64_t f = face_lo; f < face_hi; ++f)
         if (box[4 * f + 2] > 0 && box[4 * f + 3] > 0) order.push_back(f);
     std::stable_sort(order.begin(), order.end(), [box](int64_t a, int64_t b) {
         return box[4 * a + 3] != box[4 * b + 3] ? box[4 * a + 3] < box[4 * b + 3] : box[4 * a + 2] < box[4 * b + 2];
     });
-    std::vector<Group<T>> groups((order.size() + kLanes - 1) / kLanes);
+    std::vector<Group<T>> groups((order.size() + kFaces - 1) / kFaces);
     for (size_t g = 0; g < groups.size(); ++g) {
         Group<T>& grp = groups[g];
-        for (int j = 0; j < kLanes; ++j) {
-            const size_t i = g * kLanes + j;
+        for (int j = 0; j < kFaces; ++j) {
+            const size_t i = g * kFaces + j;
             const bool real = i < order.size();
-            const int64_t f = real ? order[i] : order[g * kLanes];
+            const int64_t f = real ? order[i] : order[g * kFaces];
             grp.face[j] = f;
             grp.col0[j] = box[4 * f];
             grp.row0[j] = box[4 * f + 1];
@@ -206,7 +232,7 @@ struct Pairs {
     typedef typename Vec<T>::V V;
     V px, py, x, on[3], t, rx, ry;
 
-    Pairs(const Group<T>& g, int64_t dc, int64_t dr, T inv_sigma) {
+    Pairs(const typename Group<T>::Part& g, int64_t dc, int64_t dr, T inv_sigma) {
         const V zero = splat<V>(T(0)), one = splat<V>(T(1));
         const V vdc = splat<V>(T(dc)), vdr = splat<V>(T(dr));
         px = g.c0 + (vdc < g.bw ? vdc : zero);
@@ -263,13 +289,17 @@ void forward(const T* screen, const int64_t* box, int64_t num_faces, int64_t fac
              int64_t width, T inv_sigma, T area_eps, T* log_keep, int num_threads) {
     over_meshes(screen, box, num_faces, faces_per_mesh, height * width, area_eps, num_threads,
                 [=](const std::vector<Group<T>>& groups) {
+        constexpr int kLanes = Group<T>::kLanes, kParts = Group<T>::kParts;
         for (const Group<T>& g : groups) {
             for (int64_t dr = 0; dr < g.win_h; ++dr) {
                 for (int64_t dc = 0; dc < g.win_w; ++dc) {
-                    const typename Vec<T>::V term = softplus_v(Pairs<T>(g, dc, dr, inv_sigma).x);
-                    for (int j = 0; j < Group<T>::kLanes; ++j)
+                    typename Vec<T>::V term[kParts];
+                    for (int h = 0; h < kParts; ++h)  // a part with no face's box at (dc, dr) adds nothing
+                        if (dc < g.part[h].win_w && dr < g.part[h].win_h)
+                            term[h] = softplus_v(Pairs<T>(g.part[h], dc, dr, inv_sigma).x);
+                    for (int j = 0; j < Group<T>::kFaces; ++j)
                         if (dc < g.box_w[j] && dr < g.box_h[j])
-                            log_keep[g.base[j] + (g.row0[j] + dr) * width + g.col0[j] + dc] -= term[j];
+                            log_keep[g.base[j] + (g.row0[j] + dr) * width + g.col0[j] + dc] -= term[j / kLanes][j % kLanes];
                 }
             }
         }
@@ -286,29 +316,37 @@ void backward(const T* screen, const int64_t* box, int64_t num_faces, int64_t fa
     std::fill(grad_screen, grad_screen + 6 * num_faces, T(0));
     over_meshes(screen, box, num_faces, faces_per_mesh, height * width, area_eps, num_threads,
                 [=](const std::vector<Group<T>>& groups) {
+        constexpr int kLanes = Group<T>::kLanes, kParts = Group<T>::kParts;
         for (const Group<T>& g : groups) {
-            V grad[3][2];
-            for (int v = 0; v < 3; ++v) grad[v][0] = grad[v][1] = splat<V>(T(0));
-            for (int64_t dr = 0; dr < g.win_h; ++dr) {
-                for (int64_t dc = 0; dc < g.win_w; ++dc) {
-                    const Pairs<T> p(g, dc, dr, inv_sigma);
-                    V pg = splat<V>(T(0));  // 0 beyond a lane's box: no gradient
-                    for (int j = 0; j < Group<T>::kLanes; ++j)
-                        if (dc < g.box_w[j] && dr < g.box_h[j])
-                            pg[j] = pixel_grad[g.base[j] + (g.row0[j] + dr) * width + g.col0[j] + dc];
-                    const V coef = pg * copysign_v<T>(sigmoid_v(p.x), p.x);
-                    const V end = coef * p.t, start = coef - end;
-                    for (int v = 0; v < 3; ++v) {  // vertex v starts edge v and ends edge v - 1
-                        const V weight = p.on[v] * start + p.on[(v + 2) % 3] * end;
-                        grad[v][0] += weight * p.rx;
-                        grad[v][1] += weight * p.ry;
+            for (int h = 0; h < kParts; ++h) {  // each face's pairs in the same order whatever the parts
+                const typename Group<T>::Part& part = g.part[h];
+                V grad[3][2];
+                for (int v = 0; v < 3; ++v) grad[v][0] = grad[v][1] = splat<V>(T(0));
+                for (int64_t dr = 0; dr < part.win_h; ++dr) {
+                    for (int64_t dc = 0; dc < part.win_w; ++dc) {
+                        const Pairs<T> p(part, dc, dr, inv_sigma);
+                        V pg = splat<V>(T(0));  // 0 beyond a lane's box: no gradient
+                        for (int l = 0; l < kLanes; ++l) {
+                            const int j = h * kLanes + l;
+                            if (dc < g.box_w[j] && dr < g.box_h[j])
+                                pg[l] = pixel_grad[g.base[j] + (g.row0[j] + dr) * width + g.col0[j] + dc];
+                        }
+                        const V coef = pg * copysign_v<T>(sigmoid_v(p.x), p.x);
+                        const V end = coef * p.t, start = coef - end;
+                        for (int v = 0; v < 3; ++v) {  // vertex v starts edge v and ends edge v - 1
+                            const V weight = p.on[v] * start + p.on[(v + 2) % 3] * end;
+                            grad[v][0] += weight * p.rx;
+                            grad[v][1] += weight * p.ry;
+                        }
                     }
                 }
+                for (int l = 0; l < kLanes; ++l) {
+                    const int j = h * kLanes + l;
+                    if (g.box_w[j] > 0)
+                        for (int v = 0; v < 3; ++v)
+                            for (int i = 0; i < 2; ++i) grad_screen[6 * g.face[j] + 2 * v + i] = grad[v][i][l];
+                }
             }
-            for (int j = 0; j < Group<T>::kLanes; ++j)
-                if (g.box_w[j] > 0)
-                    for (int v = 0; v < 3; ++v)
-                        for (int i = 0; i < 2; ++i) grad_screen[6 * g.face[j] + 2 * v + i] = grad[v][i][j];
         }
     });
 }
@@ -318,6 +356,8 @@ void backward(const T* screen, const int64_t* box, int64_t num_faces, int64_t fa
 extern "C" {
 
 int sdn3d_soft_abi_version() { return 3; }
+
+int sdn3d_soft_f32_lanes() { return SDN3D_SOFT_F32_LANES; }
 
 void sdn3d_soft_forward_f32(const float* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh,
                             int64_t height, int64_t width, double inv_sigma, double area_eps, float* log_keep,

@@ -7,7 +7,7 @@ import pytest
 import torch
 
 from sdn3d.editing.photo import transfer
-from sdn3d.editing.photo.recolor import ground_in_mask, recolor_pixels, srgb_to_lab
+from sdn3d.editing.photo.recolor import ground_in_mask, recolor_pixels, registered_tyres, srgb_to_lab
 from sdn3d.editing.photo.settings import INPUT, RECOLORED
 from sdn3d.meshes.parts import Part
 
@@ -169,6 +169,53 @@ def test_dark_paint_keeps_its_rims_and_grey_trim():
     highlight = torch.tensor([[0.98, 0.55, 0.5]]).repeat(20, 1)
     _, body, _ = recolor_pixels(torch.cat([red, highlight]), (0.1, 0.25, 0.7), body_part=True)
     assert bool(body[200:].all())
+
+
+def _black_car_with_a_misplaced_wheel() -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, dict[str, torch.Tensor]]:
+    """``(image (3, 60, 100), mask, parts, regions)``: a black car's side (paint L* about 9) with a wheel (black
+    rubber as dark as the paint, a light grey rim inside it) whose template tyre lies 14 pixels ahead of it, on the
+    car's paint: the template's body part covers the real wheel (the black car of the real frame in tests/data)."""
+    height, width = 60, 100
+    rows = torch.arange(height, dtype=torch.float32)[:, None].expand(height, width)
+    cols = torch.arange(width, dtype=torch.float32)[None, :].expand(height, width)
+    mask = (rows >= 8) & (rows < 52) & (cols >= 10) & (cols < 90)
+    image = torch.full((3, height, width), 0.5)
+    image = torch.where(mask[None], (0.035 + 0.01 * (rows - 8) / 44)[None].expand(3, -1, -1), image)
+    cx, cy = 60.0, 38.0
+    tyre = mask & (((cols - cx) / 9) ** 2 + ((rows - cy) / 13) ** 2 <= 1)
+    rim = mask & (((cols - cx) / 6) ** 2 + ((rows - cy) / 8.5) ** 2 <= 1)
+    spokes = rim & ((rows - cy).abs() < 1.5)  # a dark gap across the rim (a spoke's shadow)
+    image = torch.where(tyre[None], torch.tensor(0.03), image)
+    image = torch.where((rim & ~spokes)[None], torch.tensor(0.55), image)
+    template_tyre = mask & (((cols - (cx - 14)) / 9) ** 2 + ((rows - cy) / 13) ** 2 <= 1)
+    parts = torch.where(template_tyre, int(Part.TYRE), int(Part.BODY)).to(torch.int8)
+    parts[~mask] = -1
+    return image.clamp(0, 1), mask, parts, {"rubber": tyre & ~rim, "rim": rim, "paint": mask & ~dilate_tyre(tyre),
+                                            "under_template_tyre": template_tyre & ~dilate_tyre(tyre)}
+
+
+def dilate_tyre(tyre: torch.Tensor) -> torch.Tensor:
+    return torch.nn.functional.max_pool2d(tyre[None, None].float(), 5, 1, 2)[0, 0] > 0
+
+
+def test_recolour_of_a_black_car_keeps_its_tyres_where_the_picture_has_them():
+    """Black rubber is as dark as black paint: the template's misplaced tyre told nothing, and a recolour painted the
+    real tyre (under the template's body part) blue and left a black patch of paint where the template's tyre lay.
+    The tyre is found by its light rim: its rubber and rim keep their pixels, the paint under the template's tyre
+    turns blue."""
+    image, mask, parts, regions = _black_car_with_a_misplaced_wheel()
+    owner = torch.where(mask, 5, 0)
+    source = torch.full(mask.shape, INPUT, dtype=torch.uint8)
+    out, codes = transfer._recolor(image, source, owner, {5: (0.1, 0.25, 0.7)}, {}, [], parts)
+    for kept in ("rubber", "rim"):
+        assert torch.equal(out[:, regions[kept]], image[:, regions[kept]]), kept
+    for painted in ("paint", "under_template_tyre"):
+        assert bool((codes[regions[painted]] == RECOLORED).all()), painted
+        assert float(srgb_to_lab(out[:, regions[painted]].T)[:, 2].median()) < -30  # blue
+    found, freed = registered_tyres(srgb_to_lab(image.permute(1, 2, 0).reshape(-1, 3)).view(60, 100, 3), mask,
+                                    parts == int(Part.TYRE), 9.0)
+    assert bool(found[regions["rubber"]].float().mean() > 0.95) and not bool(found[regions["paint"]].any())
+    assert bool(freed[regions["under_template_tyre"]].all())
 
 
 def test_a_turned_red_cars_never_seen_front_gets_head_lamps_where_cars_have_them(monkeypatch):

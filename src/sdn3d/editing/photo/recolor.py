@@ -13,8 +13,8 @@ from torch import Tensor
 
 from sdn3d.editing.ops import SetCode
 
-__all__ = ["paints", "body_pixels", "body_paint", "ground_in_mask", "recolor_pixels", "srgb_to_lab", "DARK_PAINT_LIFT",
-           "DARK_PAINT_L"]
+__all__ = ["paints", "body_pixels", "body_paint", "ground_in_mask", "recolor_pixels", "registered_tyres", "srgb_to_lab",
+           "DARK_PAINT_LIFT", "DARK_PAINT_L", "RIM_SHARE", "RIM_CHROMA", "TYRE_MIN_PX", "RIM_MIN_HEIGHT"]
 
 
 def paints(ops: Sequence[object]) -> dict[int, tuple[float, float, float]]:
@@ -152,6 +152,71 @@ def ground_in_mask(image: Tensor, mask: Tensor, reach: int = 6, band: float = 0.
     touching = label[road & edge].unique()
     out[y0:y1, x0:x1] = road & torch.isin(label, touching[touching > 0])
     return out
+
+
+#: :func:`registered_tyres`: a wheel's rim diameter as a share of its tyre's (car wheels: 15-18 inch rims in 22-26
+#: inch tyres, 0.6-0.7): the tyre is the rim's ellipse grown by its inverse.
+RIM_SHARE = 0.65
+#: :func:`registered_tyres`: a rim pixel's largest CIE76 chroma (a*b* length; alloy and steel are grey).
+RIM_CHROMA = 15.0
+#: :func:`registered_tyres`: template tyres seen on fewer pixels are left where they are (too small to place).
+TYRE_MIN_PX = 30
+#: :func:`registered_tyres`: a rim's box is at least this share of its template tyre's height tall, and at least this
+#: share of its own width (a wheel's face seen from any side of the car is an upright ellipse; a grey bumper strip or
+#: diffuser is wide and flat).
+RIM_MIN_HEIGHT = 0.3
+
+
+def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float) -> tuple[Tensor, Tensor]:
+    """``(tyres (H, W) bool, freed (H, W) bool)``: a dark car's tyres and rims where the picture shows them, from its
+    fitted template's tyre pixels ``tyres (H, W)`` (part :data:`~sdn3d.meshes.parts.Part.TYRE`) and the picture's
+    ``lab (H, W, 3)`` CIE Lab on the car's pixels ``car (H, W)``; ``freed``: the template's tyre pixels that no tyre
+    took (the car's paint, where the template's wheel was misplaced).
+
+    A template's wheel sits where its loft puts it, not where the photographed car's wheel is: on the real frame in
+    ``tests/data`` the black car's rear tyre lay a third of a wheel behind the template's, under its body part, and a
+    recolour painted it blue. Black rubber is as dark as black paint, but the rim inside it is light grey metal: rim
+    pixels are the car's grey pixels (chroma under :data:`RIM_CHROMA`) more than :data:`DARK_PAINT_LIFT` lighter
+    than ``paint_light`` (the paint's median L*), closed over a spoke's gap. Each template tyre (a connected part of
+    ``tyres`` of at least :data:`TYRE_MIN_PX` pixels, of height ``h``) takes the rim blob nearest its centre within
+    ``h`` sideways and ``h / 2`` up or down that is upright (taller than wide, and than :data:`RIM_MIN_HEIGHT` of
+    ``h``); its tyre is then the ellipse of the blob's box grown by ``1 /`` :data:`RIM_SHARE` about its centre, on
+    the car. A template tyre without such a blob stays where the template put it (freeing nothing)."""
+    import cv2
+
+    out = torch.zeros_like(tyres)
+    freed = torch.zeros_like(tyres)
+    height, width = tyres.shape
+    rim = (car & (lab[..., 0] > paint_light + DARK_PAINT_LIFT) & (lab[..., 1:].norm(dim=-1) < RIM_CHROMA))
+    closed = cv2.morphologyEx(rim.numpy().astype(np.uint8), cv2.MORPH_CLOSE,
+                              cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5)))
+    _, _, blobs, centres = cv2.connectedComponentsWithStats(closed, connectivity=8)
+    count, labels, stats, tyre_centres = cv2.connectedComponentsWithStats(tyres.numpy().astype(np.uint8),
+                                                                          connectivity=8)
+    labels = torch.from_numpy(labels)
+    yy, xx = torch.meshgrid(torch.arange(height, dtype=torch.float64), torch.arange(width, dtype=torch.float64),
+                            indexing="ij")
+    for k in range(1, count):
+        comp = labels == k
+        h, area = int(stats[k][3]), int(stats[k][4])
+        cx, cy = (float(v) for v in tyre_centres[k])
+        best, best_d = None, math.inf
+        for j in range(1, len(blobs)):
+            bx, by, bw, bh, _ = (int(v) for v in blobs[j])
+            jx, jy = bx + (bw - 1) / 2, by + (bh - 1) / 2
+            if bh < RIM_MIN_HEIGHT * h or bh < bw or abs(jx - cx) > h or abs(jy - cy) > h / 2:
+                continue
+            d = math.hypot(jx - cx, jy - cy)
+            if d < best_d:
+                best, best_d = (jx, jy, (bw + 1) / 2 / RIM_SHARE, (bh + 1) / 2 / RIM_SHARE), d
+        if area < TYRE_MIN_PX or best is None:
+            out |= comp
+            continue
+        jx, jy, ax, ay = best
+        placed = (((xx - jx) / ax) ** 2 + ((yy - jy) / ay) ** 2 <= 1.0) & car
+        out |= placed
+        freed |= comp & ~placed
+    return out, freed & ~out
 
 
 def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],

@@ -30,6 +30,7 @@ from sdn3d.editing.photo.recolor import (
     body_pixels,
     ground_in_mask,
     recolor_pixels,
+    registered_tyres,
     srgb_to_lab,
 )
 from sdn3d.editing.photo.road import removal_vanishing_point, road_colours, road_like
@@ -691,15 +692,18 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
             else:  # a grey paint: the body part, less the road the mask took in (grey too), and the end faces' paint
                 ends = pix[torch.isin(parts.view(-1)[pix].long(), torch.tensor(END_FACE_PARTS))]
                 pix = body_pix
+                road = None
                 if bool((codes[pix] == INPUT).any()):
                     picture = flat.view(*owner.shape, 3).permute(2, 0, 1)
                     road = ground_in_mask(picture, (owner == int(iid)) & (source == INPUT)).view(-1)
                     pix, ends = pix[~road[pix]], ends[~road[ends]]
                 body_lab = srgb_to_lab(flat[pix].double())
                 light = _light_paint(body_lab)
-                if light is not None:  # a dark paint: its whole body part, and none of its end faces
+                if light is not None:  # a light paint: its body part and its end faces where they are its colour
                     pix = torch.cat([pix[_grey_paint_like(body_lab, light)],
                                      ends[_grey_paint_like(srgb_to_lab(flat[ends].double()), light)]])
+                elif len(body_lab) >= 8:  # a dark paint: its whole body part less its tyres where the picture has them
+                    pix = _dark_body(flat, owner == int(iid), parts, pix, float(body_lab[:, 0].median()), road)
         if not len(pix):
             warnings.append(f"recolor: object {iid} has no pixels in the picture")
             continue
@@ -711,6 +715,29 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
         objects.setdefault(int(iid), {}).update({"recolor": {"color": [round(float(c), 4) for c in rgb], **stats}})
     height, width = owner.shape
     return flat.view(height, width, 3).permute(2, 0, 1), codes.view(height, width)
+
+
+def _dark_body(flat: Tensor, car: Tensor, parts: Tensor, pix: Tensor, paint_light: float,
+               road: Tensor | None = None) -> Tensor:
+    """Flat pixel indices of a dark paint (:func:`_recolor`): ``pix`` (its body part's, less the road) less the
+    tyres the picture shows (:func:`~sdn3d.editing.photo.recolor.registered_tyres` of the template's tyre pixels on
+    ``car (H, W)``, the picture ``flat (H * W, 3)`` sRGB, ``parts (H, W)``), plus the template tyre pixels they freed
+    (paint where the template's wheel was misplaced) that are not ``road (H * W,)`` (:func:`ground_in_mask`; None:
+    none). Black rubber is as dark as black paint: without this the black
+    car of the real frame in ``tests/data`` got blue tyres."""
+    height, width = car.shape
+    rows, cols = car.any(1).nonzero().flatten(), car.any(0).nonzero().flatten()
+    y0, y1, x0, x1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+    lab = srgb_to_lab(flat.view(height, width, 3)[y0:y1, x0:x1].reshape(-1, 3).double()).view(y1 - y0, x1 - x0, 3)
+    window = car[y0:y1, x0:x1]
+    tyres, freed = registered_tyres(lab, window, window & (parts[y0:y1, x0:x1] == int(Part.TYRE)), paint_light)
+    at_tyre = torch.zeros_like(car)
+    at_tyre[y0:y1, x0:x1] = tyres
+    gained = torch.zeros_like(car)
+    gained[y0:y1, x0:x1] = freed
+    if road is not None:
+        gained &= ~road.view(height, width)
+    return torch.cat([pix[~at_tyre.view(-1)[pix]], gained.view(-1).nonzero().flatten()])
 
 
 #: Parts whose template faces often lie over a car's paint (a template's lamp band and plate cover much of a real

@@ -13,8 +13,9 @@ from torch import Tensor
 
 from sdn3d.editing.ops import SetCode
 
-__all__ = ["paints", "body_pixels", "body_paint", "ground_in_mask", "recolor_pixels", "registered_tyres", "srgb_to_lab",
-           "DARK_PAINT_LIFT", "DARK_PAINT_L", "RIM_SHARE", "RIM_CHROMA", "TYRE_MIN_PX", "RIM_MIN_HEIGHT"]
+__all__ = ["paints", "body_pixels", "body_paint", "ground_in_mask", "recolor_pixels", "registered_tyres",
+           "srgb_to_lab", "DARK_PAINT_LIFT", "DARK_PAINT_L", "RIM_SHARE", "RIM_CHROMA", "TYRE_MIN_PX",
+           "RIM_MIN_HEIGHT", "RIM_MAX_HEIGHT", "RIM_MIN_WIDTH"]
 
 
 def paints(ops: Sequence[object]) -> dict[int, tuple[float, float, float]]:
@@ -165,6 +166,12 @@ TYRE_MIN_PX = 30
 #: share of its own width (a wheel's face seen from any side of the car is an upright ellipse; a grey bumper strip or
 #: diffuser is wide and flat).
 RIM_MIN_HEIGHT = 0.3
+#: :func:`registered_tyres`: a rim's box is at least this share of its height wide (a lit edge of a wheel arch or a
+#: door is a thin line; a wheel seen so nearly edge-on shows little rim).
+RIM_MIN_WIDTH = 0.25
+#: :func:`registered_tyres`: a rim's box is at most this share of its template tyre's visible height tall (the arch
+#: may hide the template tyre's top half; a lit grey panel of a dark car is larger).
+RIM_MAX_HEIGHT = 1.5
 
 
 def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float) -> tuple[Tensor, Tensor]:
@@ -179,9 +186,12 @@ def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float
     pixels are the car's grey pixels (chroma under :data:`RIM_CHROMA`) more than :data:`DARK_PAINT_LIFT` lighter
     than ``paint_light`` (the paint's median L*), closed over a spoke's gap. Each template tyre (a connected part of
     ``tyres`` of at least :data:`TYRE_MIN_PX` pixels, of height ``h``) takes the rim blob nearest its centre within
-    ``h`` sideways and ``h / 2`` up or down that is upright (taller than wide, and than :data:`RIM_MIN_HEIGHT` of
-    ``h``); its tyre is then the ellipse of the blob's box grown by ``1 /`` :data:`RIM_SHARE` about its centre, on
-    the car. A template tyre without such a blob stays where the template put it (freeing nothing)."""
+    ``h`` sideways and ``h / 2`` up or down that is upright (taller than wide, at least :data:`RIM_MIN_WIDTH` of its
+    height wide, between :data:`RIM_MIN_HEIGHT` and :data:`RIM_MAX_HEIGHT` of ``h`` tall) and whose tyre (the
+    ellipse of the blob's box grown by ``1 /`` :data:`RIM_SHARE` about its centre, on the car) is rubber around it
+    (its pixels off the blob at most half :data:`DARK_PAINT_LIFT` lighter than the paint, median: a lit grey panel
+    of a dark grey car is no rim). A template tyre without such a blob stays where the template put it (freeing
+    nothing)."""
     import cv2
 
     out = torch.zeros_like(tyres)
@@ -204,16 +214,21 @@ def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float
         for j in range(1, len(blobs)):
             bx, by, bw, bh, _ = (int(v) for v in blobs[j])
             jx, jy = bx + (bw - 1) / 2, by + (bh - 1) / 2
-            if bh < RIM_MIN_HEIGHT * h or bh < bw or abs(jx - cx) > h or abs(jy - cy) > h / 2:
+            if (not RIM_MIN_HEIGHT * h <= bh <= RIM_MAX_HEIGHT * h or not RIM_MIN_WIDTH * bh <= bw <= bh
+                    or abs(jx - cx) > h or abs(jy - cy) > h / 2):
                 continue
+            ax, ay = (bw + 1) / 2 / RIM_SHARE, (bh + 1) / 2 / RIM_SHARE
+            tyre = (((xx - jx) / ax) ** 2 + ((yy - jy) / ay) ** 2 <= 1.0) & car
+            rubber = tyre & ~torch.from_numpy(closed > 0)
+            if not bool(rubber.any()) or float(lab[..., 0][rubber].median()) > paint_light + DARK_PAINT_LIFT / 2:
+                continue  # a lit panel, not a rim in a dark tyre
             d = math.hypot(jx - cx, jy - cy)
             if d < best_d:
-                best, best_d = (jx, jy, (bw + 1) / 2 / RIM_SHARE, (bh + 1) / 2 / RIM_SHARE), d
+                best, best_d = tyre, d
         if area < TYRE_MIN_PX or best is None:
             out |= comp
             continue
-        jx, jy, ax, ay = best
-        placed = (((xx - jx) / ax) ** 2 + ((yy - jy) / ay) ** 2 <= 1.0) & car
+        placed = best
         out |= placed
         freed |= comp & ~placed
     return out, freed & ~out

@@ -15,7 +15,7 @@ from sdn3d.editing.ops import SetCode
 
 __all__ = ["paints", "body_pixels", "body_paint", "ground_in_mask", "recolor_pixels", "registered_tyres",
            "srgb_to_lab", "DARK_PAINT_LIFT", "DARK_PAINT_L", "RIM_SHARE", "RIM_CHROMA", "TYRE_MIN_PX",
-           "RIM_MIN_HEIGHT", "RIM_MAX_HEIGHT", "RIM_MIN_WIDTH"]
+           "RIM_MIN_HEIGHT", "RIM_MAX_HEIGHT", "RIM_MIN_WIDTH", "RIM_MIN_AREA", "RIM_MIN_FILL"]
 
 
 def paints(ops: Sequence[object]) -> dict[int, tuple[float, float, float]]:
@@ -169,6 +169,11 @@ RIM_MIN_HEIGHT = 0.3
 #: :func:`registered_tyres`: a rim's box is at least this share of its height wide (a lit edge of a wheel arch or a
 #: door is a thin line; a wheel seen so nearly edge-on shows little rim).
 RIM_MIN_WIDTH = 0.25
+#: :func:`registered_tyres`: a rim blob has at least this share of its template tyre's visible pixels, and fills at
+#: least :data:`RIM_MIN_FILL` of its box's ellipse (a rain streak or a reflection across a dark car is thin and
+#: slanted; a rim is a solid disc of metal and spokes, closed over their gaps).
+RIM_MIN_AREA = 0.2
+RIM_MIN_FILL = 0.4
 #: :func:`registered_tyres`: a rim's box is at most this share of its template tyre's visible height tall (the arch
 #: may hide the template tyre's top half; a lit grey panel of a dark car is larger).
 RIM_MAX_HEIGHT = 1.5
@@ -187,7 +192,8 @@ def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float
     than ``paint_light`` (the paint's median L*), closed over a spoke's gap. Each template tyre (a connected part of
     ``tyres`` of at least :data:`TYRE_MIN_PX` pixels, of height ``h``) takes the rim blob nearest its centre within
     ``h`` sideways and ``h / 2`` up or down that is upright (taller than wide, at least :data:`RIM_MIN_WIDTH` of its
-    height wide, between :data:`RIM_MIN_HEIGHT` and :data:`RIM_MAX_HEIGHT` of ``h`` tall) and whose tyre (the
+    height wide, between :data:`RIM_MIN_HEIGHT` and :data:`RIM_MAX_HEIGHT` of ``h`` tall), solid enough
+    (:data:`RIM_MIN_AREA`, :data:`RIM_MIN_FILL`) and whose tyre (the
     ellipse of the blob's box grown by ``1 /`` :data:`RIM_SHARE` about its centre, on the car) is rubber around it
     (its pixels off the blob at most half :data:`DARK_PAINT_LIFT` lighter than the paint, median: a lit grey panel
     of a dark grey car is no rim). A template tyre without such a blob stays where the template put it (freeing
@@ -212,10 +218,11 @@ def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float
         cx, cy = (float(v) for v in tyre_centres[k])
         best, best_d = None, math.inf
         for j in range(1, len(blobs)):
-            bx, by, bw, bh, _ = (int(v) for v in blobs[j])
+            bx, by, bw, bh, blob_area = (int(v) for v in blobs[j])
             jx, jy = bx + (bw - 1) / 2, by + (bh - 1) / 2
             if (not RIM_MIN_HEIGHT * h <= bh <= RIM_MAX_HEIGHT * h or not RIM_MIN_WIDTH * bh <= bw <= bh
-                    or abs(jx - cx) > h or abs(jy - cy) > h / 2):
+                    or abs(jx - cx) > h or abs(jy - cy) > h / 2 or blob_area < RIM_MIN_AREA * area
+                    or blob_area < RIM_MIN_FILL * math.pi / 4 * bw * bh):
                 continue
             ax, ay = (bw + 1) / 2 / RIM_SHARE, (bh + 1) / 2 / RIM_SHARE
             tyre = (((xx - jx) / ax) ** 2 + ((yy - jy) / ay) ** 2 <= 1.0) & car

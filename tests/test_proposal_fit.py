@@ -159,79 +159,19 @@ def test_only_the_semantic_branchs_proposals_get_the_unsure_band(frame, models, 
     image, masks, gt = frame
     seen = {}
 
-    def spy(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None, classes=None, reach=None):
-        seen["unsure"], seen["reach"] = unsure, reach
+    def spy(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None, classes=None):
+        seen["unsure"] = unsure
         return tuple(g.clone() for g in geometry), []
 
     monkeypatch.setattr(D, "fit_proposals", spy)
     derender(image, WORK, models, "gt", gt, fit=FitSettings())
-    assert seen.pop("unsure") is None and seen.pop("reach") is None
+    assert seen.pop("unsure") is None
     real = D._semantics_and_instances
     monkeypatch.setattr(D, "_semantics_and_instances",  # the same maps, as if the semantic branch had drawn them
                         lambda *a: (*real(*a)[:2], "semantic", "branch", None))
     derender(image, WORK, models, "gt", gt, fit=FitSettings())
     assert seen["unsure"] is not None and seen["unsure"].any()
     assert torch.equal(seen["unsure"], unsure_below(masks))
-    assert seen["reach"] is not None and seen["reach"].shape == masks.shape  # GrabCut looked past the masks
-
-
-def _pale_car(z: float):
-    """A pale car ``z`` m ahead on a grey road (its picture and its mask) and the same mask without its lower 40 %
-    (the semantic branch's rain masks: the pale lower body labelled guard rail or road)."""
-    _, masks = _render([0], [(4.0, 1.5, 1.7)], [-1.5], [(0.5, HEIGHT, z)])
-    picture = _picture(masks, [(0.9, 0.9, 0.88)])
-    rows_seen = masks[0].any(1).nonzero().flatten()
-    cut = masks.clone()
-    cut[0, int(rows_seen.max()) - int(0.4 * len(rows_seen)) + 1:] = False
-    return picture, masks, cut
-
-
-def test_grabcut_finds_the_car_a_cut_mask_missed_and_nothing_under_a_whole_one():
-    from sdn3d.proposal_fit import grabcut_reach
-
-    picture, whole, cut = _pale_car(10.0)
-    reach = grabcut_reach(picture, cut, torch.tensor([0]))
-    missed = whole[0] & ~cut[0]
-    assert (reach[0] & missed).sum() >= 0.9 * missed.sum() and not (reach[0] & ~whole[0]).any()
-    assert not grabcut_reach(picture, whole, torch.tensor([0])).any()
-    assert not grabcut_reach(picture, cut, torch.tensor([], dtype=torch.long)).any()  # rows not asked: nothing
-
-
-@pytest.mark.fits
-def test_a_cut_masks_fitted_car_comes_nearer_with_the_grabcut_reach():
-    """A pale car 16 m ahead whose mask lost its lower 40 %: with the unsure band alone the fit matches the short
-    mask with a car too far (21.6 m, its bottom 5 px above the truth's); with the pixels GrabCut finds (the reach),
-    whose box starts the search on the road where the car stands, it is nearer (19.0 m: the fit still prefers a
-    smaller car than the truth for the short mask, session 12's records) and its bottom lower. A whole mask's fit is
-    unchanged (its reach is empty)."""
-    from sdn3d.proposal_fit import fit_proposals, grabcut_reach, unsure_below
-
-    z = 16.0
-    picture, whole, cut = _pale_car(z)
-    geometry = (torch.tensor([0]), torch.tensor([[4.0, 1.5, 1.7]], dtype=torch.float64),
-                torch.tensor([-1.5], dtype=torch.float64), torch.tensor([[0.5, HEIGHT, 1.4 * z]], dtype=torch.float64),
-                torch.zeros(1, 64, 3))
-    ids, rows = torch.tensor([CAR * 1000 + 1]), torch.tensor([0])
-    settings = FitSettings(camera_height=HEIGHT)
-    band, _ = fit_proposals(WORK, cut, ids, rows, geometry, settings, unsure=unsure_below(cut))
-    reached, _ = fit_proposals(WORK, cut, ids, rows, geometry, settings, unsure=unsure_below(cut),
-                               reach=grabcut_reach(picture, cut, rows))
-    bottom = int(whole[0].any(1).nonzero().max())
-
-    def drawn_bottom(geometry) -> int:
-        objects = ObjectTable(instance_id=ids, template_id=geometry[0], phi=geometry[4], dims=geometry[1],
-                              ry=geometry[2], location=geometry[3], code=torch.zeros(1, 1), mask=cut,
-                              has_mask=torch.ones(1, dtype=torch.bool), observed=torch.ones(1, dtype=torch.bool))
-        return int(_silhouettes(objects)[0].any(1).nonzero().max())
-
-    assert float(band[3][0, 2]) > 1.2 * z and drawn_bottom(band) < bottom - 3  # the short mask's car: too far
-    assert abs(float(reached[3][0, 2]) - z) < 0.6 * (float(band[3][0, 2]) - z)
-    assert drawn_bottom(band) < drawn_bottom(reached) <= bottom
-    reach = grabcut_reach(picture, whole, rows)
-    assert not reach.any()
-    plain, _ = fit_proposals(WORK, whole, ids, rows, geometry, settings, unsure=unsure_below(whole))
-    same, _ = fit_proposals(WORK, whole, ids, rows, geometry, settings, unsure=unsure_below(whole), reach=reach)
-    assert all(torch.equal(a, b) for a, b in zip(plain, same, strict=True))
 
 
 @pytest.mark.fits

@@ -74,7 +74,7 @@ from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.models import Models
-from sdn3d.proposal_fit import fit_proposals, fit_proposals_and_boxes, grabcut_reach, unsure_below, vehicle_rows
+from sdn3d.proposal_fit import fit_proposals, fit_proposals_and_boxes, unsure_below, vehicle_rows
 from sdn3d.proposals import PROPOSALS, Proposals, choose_sources
 from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
 from sdn3d.scene.maps import scene_maps
@@ -365,17 +365,14 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
         rows = vehicle_rows(ids, geometry[0], class_names)
         rows = rows[~torch.isin(rows, box_rows)]
         unsure = unsure if len(rows) else None  # the fit ignores the same band
-        # ... and the car's pixels the picture shows under and beside such a mask (proposal_fit's module doc)
-        reach = grabcut_reach(image, masks, rows) if unsure is not None else None
         box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes)
                    if len(rows) and len(box_rows) and boxes.fit == fit else None)
         if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
             geometry, proposal_fits, box_result = fit_proposals_and_boxes(intrinsics, masks, ids, rows, geometry, fit,
-                                                                          appearance, box_req, unsure, classes,
-                                                                          reach)
+                                                                          appearance, box_req, unsure, classes)
         else:
             geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance, unsure,
-                                                    classes, reach)
+                                                    classes)
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
                                                              min_pixels, mask_source, appearance, box_result, classes)

@@ -15,14 +15,6 @@ whose road plane reads the distance off the bottom edge, put those cars a median
 proposals (``unsure`` of :func:`fit_proposals`: the caller's choice, :func:`unsure_below` for the semantic branch's
 masks) a band under each mask, as deep as :data:`UNSURE_BELOW` of the mask's height, counts as neither car nor
 background, like an occluder's pixels: the car's width and top then place it, and its bottom may reach the road.
-That band alone left such cars a median 27 % too far on a rain tuning tree: the car's lowest rows are a pale body
-the branch calls guard rail or road, and the fit, which must cover the mask's pixels and nothing beyond its box,
-matches the short mask with a smaller, farther car (starting it at the true place, it drifted back out; session 12's
-records, docs/results/2026-11-29_cpu/session12/cutmask/). :func:`grabcut_reach` therefore looks at the picture: GrabCut,
-seeded by the mask (car for sure), a region below and beside it (probably car) and the other masks (background for
-sure), finds the pixels of the car the mask missed. Those pixels count for neither car nor background either, but the
-box the fit starts from (its road start at the box's bottom edge, and its crop window) is the mask's and theirs: the
-search starts where the picture, not the mask, says the car meets the road.
 
 The paper fits nothing at test time on Virtual KITTI (its Table 1 and 2 protocol): ``fit=None`` in
 :func:`~sdn3d.derender.derender` keeps that.
@@ -30,12 +22,10 @@ The paper fits nothing at test time on Virtual KITTI (its Table 1 and 2 protocol
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-import numpy as np
 import torch
 from torch import Tensor
 
@@ -49,15 +39,11 @@ if TYPE_CHECKING:
     from sdn3d.geometric.fit import FitRequest, FitResult, FitSettings
 
 __all__ = ["ProposalFit", "fit_proposals", "fit_proposals_and_boxes", "proposal_request", "apply_proposal_fit",
-           "vehicle_rows", "unsure_below", "grabcut_reach", "UNSURE_BELOW", "REACH_BELOW", "REACH_BESIDE"]
+           "vehicle_rows", "unsure_below", "UNSURE_BELOW"]
 
 #: Depth of the band under a predicted mask that the fit ignores (:func:`unsure_below`), as a fraction of the mask's
 #: height: the semantic branch's masks miss up to a quarter of a far car's rows (module doc).
 UNSURE_BELOW = 0.3
-#: How far below a predicted mask's box (share of its height) and beside it (share of its width, each side)
-#: :func:`grabcut_reach` lets GrabCut look for the car's missed pixels. Wider regions (0.8 below, 0.25 beside) made the
-#: masks themselves grow into the road: cars fitted too near (session 12's records).
-REACH_BELOW, REACH_BESIDE = 0.4, 0.1
 
 
 @dataclass(frozen=True)
@@ -107,54 +93,9 @@ def unsure_below(masks: Tensor, fraction: float | None = None) -> Tensor:
     return band & ~masks.any(0)
 
 
-def grabcut_reach(image: Tensor, masks: Tensor, rows: Tensor, below: float = REACH_BELOW,
-                  beside: float = REACH_BESIDE) -> Tensor:
-    """``(N, H, W)`` bool: for each of the rows ``rows (K,)`` of ``masks (N, H, W)``, the pixels of ``image (3, H, W)``
-    (float in [0, 1]) that GrabCut adds to its mask (module doc), off every mask; other rows are empty.
-
-    GrabCut's seed, in a window 8 px wider than the region on each side, 4 px above the mask and 6 px below the
-    region: the mask is car for sure; its box grown by ``beside`` of its width on each side and by ``below`` of its
-    height downwards, probably car; the rest of the window probably background (GrabCut may still find the car there);
-    every other mask background for sure.
-
-    >>> image = torch.full((3, 40, 40), 0.4); image[:, 10:30, 8:32] = 0.9  # a pale car on a grey road
-    >>> masks = torch.zeros(1, 40, 40, dtype=torch.bool); masks[0, 10:20, 8:32] = True  # its mask lost the lower half
-    >>> reach = grabcut_reach(image, masks, torch.tensor([0]))
-    >>> reach[0].any(1).nonzero().flatten().tolist(), bool(reach[0, :, :8].any())  # the car's lower half, no road
-    ([20, 21, 22, 23, 24, 25, 26, 27, 28, 29], False)
-    """
-    import cv2
-
-    from sdn3d.box_masks import _as_uint8, _grabcut
-
-    n, h, w = masks.shape
-    reach = torch.zeros_like(masks, dtype=torch.bool)
-    if not len(rows):
-        return reach
-    pixels = _as_uint8(image)
-    taken = masks.any(0)
-    for r in rows.tolist():
-        mask = masks[r]
-        ys, xs = mask.any(1).nonzero().flatten(), mask.any(0).nonzero().flatten()
-        if not len(ys):
-            continue
-        y0, y1, x0, x1 = int(ys.min()), int(ys.max()) + 1, int(xs.min()), int(xs.max()) + 1
-        gx, gy = math.ceil(beside * (x1 - x0)), math.ceil(below * (y1 - y0))
-        bx0, bx1, by1 = max(0, x0 - gx), min(w, x1 + gx), min(h, y1 + gy)
-        wx0, wx1, wy0, wy1 = max(0, bx0 - 8), min(w, bx1 + 8), max(0, y0 - 4), min(h, by1 + 6)
-        seed = np.full((wy1 - wy0, wx1 - wx0), cv2.GC_PR_BGD, np.uint8)
-        seed[y0 - wy0:by1 - wy0, bx0 - wx0:bx1 - wx0] = cv2.GC_PR_FGD
-        seed[(taken & ~mask).numpy()[wy0:wy1, wx0:wx1]] = cv2.GC_BGD
-        seed[mask.numpy()[wy0:wy1, wx0:wx1]] = cv2.GC_FGD
-        found = torch.from_numpy(_grabcut(pixels[wy0:wy1, wx0:wx1], seed, 5, 1).astype(bool))
-        reach[r, wy0:wy1, wx0:wx1] = found
-    return reach & ~taken
-
-
 def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],
                   settings: FitSettings, appearance: Appearance | None = None, unsure: Tensor | None = None,
-                  classes: Sequence[str | None] | None = None, reach: Tensor | None = None
-                  ) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
+                  classes: Sequence[str | None] | None = None) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
     """``(geometry, records)``: the rows ``rows (K,)`` of ``geometry`` (``template (N,), dims (N, 3), ry (N,),
     location (N, 3), phi (N, 64, 3)``, the branch's predictions) fitted to their ``masks (N, H, W)`` (module doc).
 
@@ -163,9 +104,7 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
     ``appearance``: what the geometric branch saw of each object, the fit's yaw belief with ``settings.appearance``
     (as for the box objects: :func:`~sdn3d.box_objects.yaw_belief`). ``unsure``: ``(N, H, W)`` bool pixels that
     count for no object (:func:`unsure_below`; None: none). ``classes``: the class name of every object (the
-    templates each may be drawn with, :func:`~sdn3d.geometric.fit.allowed_templates`; None: any). ``reach``:
-    ``(N, H, W)`` bool pixels of each object's car that its mask missed (:func:`grabcut_reach`; None: none): they count
-    for no object, and each fitted object's box (its road start and crop window) is that of its mask and its reach.
+    templates each may be drawn with, :func:`~sdn3d.geometric.fit.allowed_templates`; None: any).
     :func:`proposal_request` and
     :func:`apply_proposal_fit` are its two halves, for a caller that fits these objects with others
     (:func:`~sdn3d.geometric.fit.fit_many`).
@@ -174,14 +113,14 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
 
     if not len(rows):
         return tuple(g.clone() for g in geometry), []
-    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, reach)
+    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes)
     return apply_proposal_fit(fit_many([request], intr, settings=settings)[0], ids, rows, geometry, settings)
 
 
 def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor,
                             geometry: tuple[Tensor, ...], settings: FitSettings, appearance: Appearance | None,
                             boxes: FitRequest, unsure: Tensor | None = None,
-                            classes: Sequence[str | None] | None = None, reach: Tensor | None = None
+                            classes: Sequence[str | None] | None = None
                             ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult]:
     """:func:`fit_proposals` and the fit of the box objects' request ``boxes``
     (:func:`~sdn3d.box_objects.box_request`, the same ``settings``) in one :func:`~sdn3d.geometric.fit.fit_many`
@@ -190,20 +129,19 @@ def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: 
     from sdn3d.geometric.fit import fit_many
 
     if not len(rows):
-        return (*fit_proposals(intr, masks, ids, rows, geometry, settings, appearance, unsure, classes, reach),
+        return (*fit_proposals(intr, masks, ids, rows, geometry, settings, appearance, unsure, classes),
                 fit_many([boxes], intr, settings=settings)[0])
-    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, reach)
-    fits = fit_many([request, boxes], intr, settings=settings)
+    fits = fit_many([proposal_request(masks, rows, geometry, settings, appearance, unsure, classes), boxes], intr,
+                    settings=settings)
     return (*apply_proposal_fit(fits[0], ids, rows, geometry, settings), fits[1])
 
 
 def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], settings: FitSettings,
                      appearance: Appearance | None = None, unsure: Tensor | None = None,
-                     classes: Sequence[str | None] | None = None, reach: Tensor | None = None) -> FitRequest:
-    """What :func:`fit_proposals` asks the fit for the rows ``rows (K,)`` (non-empty): their masks, boxes (of each
-    mask and its ``reach``, ``(N, H, W)`` or None), the pixels of nearer objects, the ``unsure`` ones and the reach
-    (``(N, H, W)`` or None), the predictions as starts and the yaw belief (``classes``: the class name of every
-    object, None: unknown)."""
+                     classes: Sequence[str | None] | None = None) -> FitRequest:
+    """What :func:`fit_proposals` asks the fit for the rows ``rows (K,)`` (non-empty): their masks, boxes, the pixels
+    of nearer objects and the ``unsure`` ones (``(N, H, W)`` or None), the predictions as starts and the yaw
+    belief (``classes``: the class name of every object, None: unknown)."""
     from sdn3d.geometric.fit import FitRequest
 
     template, dims, ry, location, _ = geometry
@@ -212,11 +150,7 @@ def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], 
     ignore = occluder_masks(masks, depth)[rows]
     if unsure is not None:
         ignore = ignore | unsure[rows]
-    boxes = mask_boxes(masks[rows])
-    if reach is not None:
-        ignore = ignore | reach[rows]
-        boxes = mask_boxes(masks[rows] | reach[rows])
-    return FitRequest(masks[rows], boxes.float(), ignore=ignore, start_ry=ry[rows].float(),
+    return FitRequest(masks[rows], mask_boxes(masks[rows]).float(), ignore=ignore, start_ry=ry[rows].float(),
                       start_dims=dims[rows].float(), start_template=template[rows],
                       start_location=location[rows].float(),
                       yaw_belief=yaw_belief(appearance if settings.appearance else None, rows),

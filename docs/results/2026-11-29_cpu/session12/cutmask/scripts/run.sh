@@ -5,6 +5,6 @@
 code=$1; name=$2; tree=$3; p=$4; cache=$5; shift 5
 D=/tmp/s12data/cutmask/runs; mkdir -p $D
 o=$D/${name}
-DB=/work/wt/cutmask/docs/results/2026-11-29_cpu/session12/cutmask/scripts/dbench.py
+DB=/work/main/docs/results/2026-11-29_cpu/session11/semrain/scripts/dbench.py
 cd $code && PYTHONPATH=$code/src:$code OMP_NUM_THREADS=1 nice -n 5 /work/main/.venv/bin/python $DB $cache $o.dump data.root=$tree 'data.image_size=[312,96]' run=/tmp/s11data/demo/out 'compose=[photo]' "proposals=[$p]" scene=derender threads=1 examples=0 output_dir=$o "$@" > $o.log 2>&1
 echo "done $name rc=$?"

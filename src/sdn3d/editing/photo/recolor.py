@@ -206,7 +206,7 @@ def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float
     rim = (car & (lab[..., 0] > paint_light + DARK_PAINT_LIFT) & (lab[..., 1:].norm(dim=-1) < RIM_CHROMA))
     closed = cv2.morphologyEx(rim.numpy().astype(np.uint8), cv2.MORPH_CLOSE,
                               cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5)))
-    _, _, blobs, centres = cv2.connectedComponentsWithStats(closed, connectivity=8)
+    _, _, blobs, _ = cv2.connectedComponentsWithStats(closed, connectivity=8)
     count, labels, stats, tyre_centres = cv2.connectedComponentsWithStats(tyres.numpy().astype(np.uint8),
                                                                           connectivity=8)
     labels = torch.from_numpy(labels)
@@ -215,6 +215,9 @@ def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float
     for k in range(1, count):
         comp = labels == k
         h, area = int(stats[k][3]), int(stats[k][4])
+        if area < TYRE_MIN_PX:
+            out |= comp
+            continue
         cx, cy = (float(v) for v in tyre_centres[k])
         best, best_d = None, math.inf
         for j in range(1, len(blobs)):
@@ -232,12 +235,11 @@ def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float
             d = math.hypot(jx - cx, jy - cy)
             if d < best_d:
                 best, best_d = tyre, d
-        if area < TYRE_MIN_PX or best is None:
+        if best is None:
             out |= comp
             continue
-        placed = best
-        out |= placed
-        freed |= comp & ~placed
+        out |= best
+        freed |= comp & ~best
     return out, freed & ~out
 
 

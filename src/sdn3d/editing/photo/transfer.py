@@ -54,7 +54,7 @@ from sdn3d.editing.photo.settings import (
     PhotoSettings,
     PhotoSettingsError,
 )
-from sdn3d.image_ops import dilate_square, ids_present, isin_ids
+from sdn3d.image_ops import dilate_square, ids_present, isin_ids, mask_boxes
 from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
 from sdn3d.math3d.transforms import box_corners
 from sdn3d.meshes.bank import MeshBank, default_bank
@@ -726,8 +726,7 @@ def _dark_body(flat: Tensor, car: Tensor, parts: Tensor, pix: Tensor, paint_ligh
     none). Black rubber is as dark as black paint: without this the black
     car of the real frame in ``tests/data`` got blue tyres."""
     height, width = car.shape
-    rows, cols = car.any(1).nonzero().flatten(), car.any(0).nonzero().flatten()
-    y0, y1, x0, x1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+    x0, y0, x1, y1 = (int(v) for v in mask_boxes(car[None])[0])
     lab = srgb_to_lab(flat.view(height, width, 3)[y0:y1, x0:x1].reshape(-1, 3).double()).view(y1 - y0, x1 - x0, 3)
     window = car[y0:y1, x0:x1]
     tyres, freed = registered_tyres(lab, window, window & (parts[y0:y1, x0:x1] == int(Part.TYRE)), paint_light)

@@ -7,11 +7,14 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
 1. **On the road.** The camera has no roll or pitch and the road is the plane ``y = camera_height`` of the
    camera frame, so the car's bottom-face centre is ``(x, camera_height, z)``: two free numbers,
    started where the ray through the middle of the box's bottom edge meets the road (pushed back by half a car
-   width, the box's bottom edge is the car's nearest side). The camera's height over the road is measured in the
-   image (``camera_height=None``, the default, issue 40): the median height of the predicted cars' bottom faces
-   (the geometric branch's ``start_location``, from each car's box, distance and projected centre), within
-   ``camera_height_range``; without a prediction it is ``default_camera_height`` (KITTI's 1.65 m). The synthetic
-   cameras sit 1.50-1.65 m up: a fixed 1.65 m put cars about 8 % too far.
+   width, the box's bottom edge is the car's nearest side). The camera's height over the road is
+   ``camera_height``, by default KITTI's 1.65 m (a given camera's own height wins: ``sdn3d-edit``'s
+   ``input.camera``). With ``camera_height=None`` it is measured in the image (issue 40): the median height of the
+   predicted cars' bottom faces (the geometric branch's ``start_location``, from each car's box, distance and
+   projected centre), within ``camera_height_range``; without a prediction it is ``default_camera_height``. The
+   synthetic cameras sit 1.50-1.65 m up, so 1.65 m places their cars up to about 8 % too far and too large; the
+   measured height was worse still at the demo's budget, whose predicted distances are about 12 % off
+   (docs/results/2026-11-28_cpu/issue40_poses/), so it is not the default.
 2. **Many starts, then the best.** Every template of the bank that the object's class allows (``classes``,
    :func:`allowed_templates`: a car is no minibus or bus, a van is the one-box van, the minibus or the bus: a
    silhouette alone let vans be fitted as cars and cars as minibuses, docs/results/2026-11-29_cpu/session11/template/)
@@ -124,7 +127,7 @@ UNMIRRORED = 2
 
 @dataclass(frozen=True)
 class FitSettings:
-    """How :func:`fit_to_masks` searches (module doc). Defaults measured on the synthetic test part.
+    """How :func:`fit_to_masks` searches (module doc).
 
     Args:
         camera_height: the road plane's ``y`` in the camera frame, metres (y down; KITTI's camera is 1.65 m up);

@@ -69,26 +69,21 @@ def _kmeans_lab(lab: Tensor, k: int = 3, iters: int = 10) -> Tensor:
 
 
 def body_paint(lab: Tensor, min_chroma: float = 10.0, hue_deg: float = 40.0,
-               reference: Tensor | None = None, coloured_share: float = 0.5) -> tuple[Tensor, bool]:
+               reference: Tensor | None = None) -> tuple[Tensor, bool]:
     """``(paint (P,) bool, coloured)`` among pixels ``lab (P, 3)`` of a car's *body part* (the fitted mesh says
     which pixels are paint, so no cluster has to): the chroma-weighted mean hue is the paint's; a coloured paint
-    (a body whose chroma reaches ``min_chroma`` on at least ``coloured_share`` of its pixels: its chroma at that
-    upper quantile, the median by default) keeps the pixels within ``hue_deg`` of it and at least 0.25 of that
-    chroma (windows, tyres and grey trim seen
+    (a body whose median chroma is at least ``min_chroma``) keeps the pixels within ``hue_deg`` of it and at least
+    0.25 of its median chroma (windows, tyres and grey trim seen
     through a loosely fitted mesh are not paint); a grey, black, white or silver paint keeps every pixel within
     ``min_chroma`` of grey. ``reference (R, 3)``: the body pixels that set the paint's hue and chroma, when ``lab``
     holds other pixels too (default: ``lab`` itself)."""
-    if not 0.0 < coloured_share <= 1.0:
-        raise ValueError(f"coloured_share must be in (0, 1], got {coloured_share}")
     ab = lab[:, 1:]
     chroma = ab.norm(dim=1)
     ref_ab = ab if reference is None else reference[:, 1:]
     ref_chroma = ref_ab.norm(dim=1)
     mean = (ref_ab * ref_chroma[:, None]).sum(0) / ref_chroma.sum().clamp(min=1e-6)
-    # the lower median at coloured_share 0.5 (torch.median's), the chroma that share of the pixels reaches
-    ref = (float(ref_chroma.sort().values[int((1.0 - coloured_share) * (len(ref_chroma) - 1))]) if len(ref_chroma)
-           else math.nan)
-    if float(mean.norm()) < min_chroma or ref < min_chroma:  # less of the body is coloured: a few coloured pixels
+    ref = float(ref_chroma.median())
+    if float(mean.norm()) < min_chroma or ref < min_chroma:  # most of the body is grey: a few coloured pixels
         # (a tail lamp, a reflection) do not make a black car red
         return chroma < 1.5 * min_chroma, False
     cosine = (ab @ mean) / (chroma * mean.norm()).clamp(min=1e-6)

@@ -1518,7 +1518,7 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     keep = torch.ones(len(ex), dtype=torch.bool)
     body_ex = (ex_part == int(Part.BODY)).nonzero().flatten()
     if len(body_ex) >= 8:
-        paint, _ = body_paint(srgb_to_lab(colors[body_ex].float()), coloured_share=EXAMPLE_PAINT_SHARE)
+        paint, _ = body_paint(srgb_to_lab(colors[body_ex].float()))
         keep[body_ex[~paint]] = False
     tyre_ex = (ex_part == int(Part.TYRE)).nonzero().flatten()
     if TYRE_QUANTILE < 1 and len(tyre_ex):  # tyre examples lighter than most of the car are road or paint
@@ -1654,11 +1654,6 @@ def _lamp_band(before: ObjectTable, b: int, features: Tensor) -> Tensor | None:
     return out
 
 
-#: :func:`_part_examples`: a car is coloured paint (its body examples' grey ones dropped, not its coloured ones) when
-#: this share of its body examples is coloured (:func:`~sdn3d.editing.photo.recolor.body_paint`'s
-#: ``coloured_share``). A loosely fitted template's body faces often lie over the rear window: a red van seen from
-#: behind had 121 dark grey and 110 red body examples, was taken for grey paint, and its turned side was drawn grey.
-EXAMPLE_PAINT_SHARE = 1 / 3
 #: :func:`_part_colors`: a tyre example lighter than this quantile of the car's visible pixels' luma is not a tyre
 #: (a template's wheel where the car has paint, or a mask that took in the road below the car, drew grey or red
 #: wheels); 1: every tyre example is kept.

@@ -121,7 +121,8 @@ class PhotoSource:
             input's resolution (nearest); vis_ids: eroded.
         raster: the source objects rasterized at the input's resolution; outline_ids: ``(H_in, W_in)`` the instance id
             of the object rasterized at each pixel (:func:`_raster_ids`: the fitted outlines); parts: ``(H_in * W_in,)``
-            long :class:`~sdn3d.meshes.parts.Part` of the rasterized face at each pixel (-1: none).
+            long :class:`~sdn3d.meshes.parts.Part` of the rasterized face at each pixel (-1: none);
+            :meth:`registered_parts` the same with dark cars' tyres where the input shows them.
         in_front: ``(H_in, W_in)`` bool, thin things in front of a car that its mask leaves out (a pole, a sign post:
             :func:`~sdn3d.editing.photo.occluders.thin_occluders`); every edit keeps them in front.
         max_fills: filled pictures kept (each ``3 x H x W`` float32: ~5.6 MB at 1242x375); the oldest goes first.
@@ -149,6 +150,7 @@ class PhotoSource:
         self.in_front = (thin_occluders(self.image, self.src_ids, self.outline_ids)
                          if self.settings.keep_in_front else torch.zeros_like(self.src_ids, dtype=torch.bool))
         self._light: tuple[Tensor, LightEstimate | None] | None = None
+        self._registered_parts: Tensor | None = None
         self._fills: dict[tuple, Tensor] = {}
         self._pyramids: dict[int, list[Tensor]] = {}
 
@@ -166,6 +168,13 @@ class PhotoSource:
         if self._light is None:
             self._light = _source_light(self.raster, self.vis_ids, self.scene.objects, self.image)
         return self._light
+
+    def registered_parts(self) -> Tensor:
+        """``(H_in * W_in,)`` long: :attr:`parts` with each dark car's tyres where the input shows them
+        (:func:`_registered_part_map`), made on first use (the transfer reads it)."""
+        if self._registered_parts is None:
+            self._registered_parts = _registered_part_map(self.image, self.src_ids, self.parts, self.scene.objects)
+        return self._registered_parts
 
     def pyramid(self, levels: int) -> list[Tensor]:
         """The input's pyramid (:func:`_pyramid`) with at most ``levels`` halvings, made on first use (the transfer and
@@ -720,23 +729,59 @@ def _recolor(out: Tensor, source: Tensor, owner: Tensor, recolor: Mapping[int, t
 def _dark_body(flat: Tensor, car: Tensor, parts: Tensor, pix: Tensor, paint_light: float,
                road: Tensor | None = None) -> Tensor:
     """Flat pixel indices of a dark paint (:func:`_recolor`): ``pix`` (its body part's, less the road) less the
-    tyres the picture shows (:func:`~sdn3d.editing.photo.recolor.registered_tyres` of the template's tyre pixels on
-    ``car (H, W)``, the picture ``flat (H * W, 3)`` sRGB, ``parts (H, W)``), plus the template tyre pixels they freed
-    (paint where the template's wheel was misplaced) that are not ``road (H * W,)`` (:func:`ground_in_mask`; None:
-    none). Black rubber is as dark as black paint: without this the black
-    car of the real frame in ``tests/data`` got blue tyres."""
+    tyres the picture shows (:func:`_tyres_in_picture` on ``car (H, W)``, the picture ``flat (H * W, 3)`` sRGB,
+    ``parts (H, W)``), plus the template tyre pixels they freed (paint where the template's wheel was misplaced) that
+    are not ``road (H * W,)`` (:func:`ground_in_mask`; None: none). Black rubber is as dark as black paint: without
+    this the black car of the real frame in ``tests/data`` got blue tyres."""
     height, width = car.shape
-    x0, y0, x1, y1 = (int(v) for v in mask_boxes(car[None])[0])
-    lab = srgb_to_lab(flat.view(height, width, 3)[y0:y1, x0:x1].reshape(-1, 3).double()).view(y1 - y0, x1 - x0, 3)
-    window = car[y0:y1, x0:x1]
-    tyres, freed = registered_tyres(lab, window, window & (parts[y0:y1, x0:x1] == int(Part.TYRE)), paint_light)
-    at_tyre = torch.zeros_like(car)
-    at_tyre[y0:y1, x0:x1] = tyres
-    gained = torch.zeros_like(car)
-    gained[y0:y1, x0:x1] = freed
+    at_tyre, gained = _tyres_in_picture(flat, car, parts, paint_light)
     if road is not None:
         gained &= ~road.view(height, width)
     return torch.cat([pix[~at_tyre.view(-1)[pix]], gained.view(-1).nonzero().flatten()])
+
+
+def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor, paint_light: float) -> tuple[Tensor, Tensor]:
+    """``(tyres (H, W) bool, freed (H, W) bool)``: a dark car's tyres where the picture ``flat (H * W, 3)`` sRGB shows
+    them, and its fitted template's tyre pixels they left (:func:`~sdn3d.editing.photo.recolor.registered_tyres` of
+    the template's tyre pixels of ``parts (H, W)`` on its pixels ``car (H, W)``, paint of median CIE L*
+    ``paint_light``), in the car's box."""
+    height, width = car.shape
+    at_tyre = torch.zeros_like(car)
+    freed = torch.zeros_like(car)
+    if not bool(car.any()):
+        return at_tyre, freed
+    x0, y0, x1, y1 = (int(v) for v in mask_boxes(car[None])[0])
+    lab = srgb_to_lab(flat.view(height, width, 3)[y0:y1, x0:x1].reshape(-1, 3).double()).view(y1 - y0, x1 - x0, 3)
+    window = car[y0:y1, x0:x1]
+    tyres, gained = registered_tyres(lab, window, window & (parts[y0:y1, x0:x1] == int(Part.TYRE)), paint_light)
+    at_tyre[y0:y1, x0:x1] = tyres
+    freed[y0:y1, x0:x1] = gained
+    return at_tyre, freed
+
+
+def _registered_part_map(image: Tensor, ids: Tensor, parts: Tensor, objects: ObjectTable) -> Tensor:
+    """``(H * W,)`` long: the fitted templates' part map ``parts (H * W,)`` with each dark car's tyres where the
+    picture ``image (3, H, W)`` shows them (:func:`_tyres_in_picture`; ``ids (H, W)`` the instance map): a template
+    tyre moved onto the car's wheel is :data:`~sdn3d.meshes.parts.Part.TYRE` there, the pixels it left are
+    ``BODY``. A dark paint is the body part's pixels' median CIE L* under
+    :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, not coloured (:func:`~sdn3d.editing.photo.recolor.body_paint`,
+    as :func:`_recolor` tells it). Other cars' pixels keep the template's parts."""
+    out = parts.clone()
+    flat = image.permute(1, 2, 0).reshape(-1, 3)
+    grid = parts.view(ids.shape)
+    for iid in objects.instance_id[objects.has_geometry].tolist():
+        car = ids == iid
+        body_pix = (car.view(-1) & (parts == int(Part.BODY))).nonzero().flatten()
+        if len(body_pix) < 8:
+            continue
+        body_lab = srgb_to_lab(flat[body_pix].double())
+        paint_light = float(body_lab[:, 0].median())
+        if paint_light >= DARK_PAINT_L or body_paint(body_lab)[1]:
+            continue
+        tyres, freed = _tyres_in_picture(flat, car, grid, paint_light)
+        out[tyres.view(-1)] = int(Part.TYRE)
+        out[freed.view(-1)] = int(Part.BODY)
+    return out
 
 
 #: Parts whose template faces often lie over a car's paint (a template's lamp band and plate cover much of a real
@@ -939,7 +984,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         drawn_depth = tgt.frags.depth[0].double()
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
-                                     photo_source.parts, parts_out, background, photo_source.pyramid)
+                                     photo_source.parts, parts_out, background, photo_source.pyramid,
+                                     photo_source.registered_parts())
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, own, before, after, origin, moved_rows, src_ids,
                                             photo_source.work_ids, transform, photo_source.outline_ids, K, settings,
@@ -1117,11 +1163,14 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
           before: ObjectTable, after: ObjectTable, origin: Tensor, moved: Tensor, src_row_to_mesh: Tensor,
           src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
-          background: Tensor, pyramid_of: Callable[[int], list[Tensor]]) -> tuple[Tensor, Tensor, dict[int, dict]]:
+          background: Tensor, pyramid_of: Callable[[int], list[Tensor]],
+          registered: Tensor) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
     ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
     there is not the object's (``silhouette='carved'``); ``pyramid_of(levels)``: the input's pyramid
-    (:meth:`PhotoSource.pyramid`)."""
+    (:meth:`PhotoSource.pyramid`); ``registered (H * W,)``: the input's part map with dark cars' tyres where it shows
+    them (:meth:`PhotoSource.registered_parts`): a point whose input pixel the registration relabelled (a template's
+    body over the car's real wheel, its tyre over paint) is not drawn from that pixel."""
     height, width = own.shape
     t_mesh = tgt.frags.pix_to_mesh.view(-1)
     covered = (t_mesh >= 0).nonzero().flatten()
@@ -1186,6 +1235,10 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     normal_m = torch.einsum("pij,pj->pi", rot, torch.einsum("pji,pj->pi", rot, normal_s) * flip)
     ok_mirror, uv_mirror = _visible(point_m, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
     cos_mirror = _view_cos(point_m, normal_m)
+    relabelled = registered != parts_src  # the template's wheel where the car's is not: those pixels are the other part
+    if bool(relabelled.any()):
+        ok_photo &= ~relabelled[_nearest_pixel(uv_photo, ok_photo, (height, width))[1]]
+        ok_mirror &= ~relabelled[_nearest_pixel(uv_mirror, ok_mirror, (height, width))[1]]
     ok_mirror &= has_src & ~ok_photo & (cos_mirror >= squarely)
 
     # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.

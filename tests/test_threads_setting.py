@@ -19,7 +19,8 @@ import torch
 from hydra import compose, initialize_config_dir
 from omegaconf import OmegaConf
 
-from lightning_modules.train import configure_process, run_training
+from lightning_modules.fit import configure_process
+from lightning_modules.train import run_training
 from sdn3d.training.errors import TrainingError
 from sdn3d.training.start import check_threads
 
@@ -27,6 +28,9 @@ CONF = Path(__file__).resolve().parents[1] / "conf"
 
 
 def _compose(overrides: list[str], name: str = "train"):
+    from sdn3d.cli._schemas import register
+
+    register()  # conf/demo.yaml names its structured schema first (before: found only after a test that registered it)
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
         return compose(name, overrides=overrides)
 

@@ -50,4 +50,14 @@ fi
 # git) each start skips compiling the project's sources again, about 1 CPU s a process where the environment sets
 # PYTHONDONTWRITEBYTECODE (docs/results/2026-11-28_cpu/session7/tests/).
 unset PYTHONDONTWRITEBYTECODE
-.venv/bin/python -m pytest "$@"
+# Two pytest workers (pytest-xdist), one a core: most tests wait on a child process's start-up (import torch) or on
+# one thread's arithmetic (tests/conftest.py sets one torch thread), so two workers about halve the wall time on CI's
+# 2 cores. SDN3D_TEST_WORKERS sets how many; SDN3D_TEST_WORKERS=1 runs the tests one after another in this process.
+# A -n/--numprocesses on the command line wins over both.
+workers=${SDN3D_TEST_WORKERS:-2}
+parallel=(-n "$workers" --dist load)
+for arg in "$@"; do
+    case $arg in -n|-n[0-9]*|--numprocesses|--numprocesses=*) parallel=() ;; esac
+done
+[ "$workers" != 1 ] || parallel=()
+.venv/bin/python -m pytest "${parallel[@]}" "$@"

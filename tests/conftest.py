@@ -1,4 +1,10 @@
-"""Shared test settings: deterministic seeds and a small thread count (CI has 2 cores)."""
+"""Shared test settings: deterministic seeds and a small thread count (CI has 2 cores).
+
+``scripts/test.sh`` runs the tests in two pytest-xdist worker processes (``--dist load``), so any test may run in
+either, in any order, beside any other: a test keeps its files under ``tmp_path`` (session fixtures under
+``tmp_path_factory``), listens on port 0, and sets up what it needs itself, never relying on another test having run
+first in the same process (a structured config schema registered, a module imported, a cache filled).
+"""
 
 from __future__ import annotations
 

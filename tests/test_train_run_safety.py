@@ -6,6 +6,8 @@
   ``summary.json`` were replaced without asking); ``overwrite=true`` replaces it.
 - A training refused before it starts (the run directory's lock, ``ckpt_path=``) leaves no new run directory and
   does not touch another run's ``.hydra/`` record.
+- A refused ``sdn3d-train`` answers before it imports Lightning (about ten seconds), and torch where the refusal
+  reads no checkpoint.
 - ``+max_epochs=2`` (Hydra's own advice for a key it does not know) is refused, naming ``trainer.max_epochs``.
 - ``run=`` names a run's missing best checkpoint before it loads the last one instead.
 - ``sdn3d-export-weights`` on a full disk: one line saying so, exit 2, nothing half-written.
@@ -129,11 +131,40 @@ def test_a_top_level_setting_nothing_reads_is_refused_naming_the_intended_one(tm
     assert not (tmp_path / "run").exists()
 
 
-def _cli(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
+def _cli(args: list[str], cwd: Path, python: tuple[str, ...] = ()) -> subprocess.CompletedProcess:
     path = os.pathsep.join([str(REPO / "src"), str(REPO), str(REPO / "tests")])
     env = {**os.environ, "PYTHONPATH": path, "OMP_NUM_THREADS": "1"}
-    return subprocess.run([sys.executable, "-m", "sdn3d.cli.train", *args], cwd=cwd, env=env, capture_output=True,
-                          text=True, timeout=300)
+    return subprocess.run([sys.executable, *python, "-m", "sdn3d.cli.train", *args], cwd=cwd, env=env,
+                          capture_output=True, text=True, timeout=300)
+
+
+def _imported_packages(importtime: str) -> set[str]:
+    """The top-level packages a process imported, from what ``python -X importtime`` wrote on its stderr."""
+    return {line.rsplit("|", 1)[1].strip().split(".")[0] for line in importtime.splitlines()
+            if line.startswith("import time:") and line.count("|") == 2}
+
+
+@pytest.mark.parametrize("refusal", ["a run directory holding a run", "a ckpt_path that is no training checkpoint"])
+def test_a_refused_training_answers_before_importing_lightning(tmp_path, refusal):
+    run = tmp_path / "run"
+    args = ["branch=semantic", f"hydra.run.dir={run}", f"summary_file={tmp_path / 's.jsonl'}"]
+    if refusal == "a run directory holding a run":
+        run.mkdir()
+        (run / "summary.json").write_text('{"status": "ok"}')
+        said, left = f"run directory '{run}' already holds a run (summary.json)", ["run"]
+    else:
+        torch.save({"state_dict": {}}, tmp_path / "weights.pt")
+        args.append(f"ckpt_path={tmp_path / 'weights.pt'}")
+        said, left = "is not a Lightning training checkpoint (it lacks 'pytorch-lightning_version'", ["weights.pt"]
+    result = _cli(args, tmp_path, python=("-X", "importtime"))
+    last = [line for line in result.stderr.strip().splitlines() if not line.startswith("import time:")][-1]
+    assert result.returncode == 2 and last.startswith("sdn3d-train: error: ") and said in last, result.stderr[-2000:]
+    imported = _imported_packages(result.stderr)
+    assert "hydra" in imported and not {"lightning", "pytorch_lightning"} & imported  # before: both imported
+    assert ("torch" in imported) == (refusal != "a run directory holding a run")  # torch only to read the file
+    assert sorted(p.name for p in tmp_path.iterdir()) == left  # no new run directory, no summary_file
+    if run.exists():  # the run it refused to replace, as it was (Hydra's train.log of this job beside it)
+        assert (run / "summary.json").read_text() == '{"status": "ok"}' and not (run / ".hydra").exists()
 
 
 def test_a_refused_training_leaves_no_run_directory_and_no_other_runs_hydra_record(tmp_path):

@@ -24,7 +24,8 @@ bad setting or override, an unknown config key, a data file, a resume target or 
 ``sdn3d-train: error: <message>``, one line); 1 when the run failed (a diverged loss: one line) or on any other
 error (with its traceback). Either way a run that started has recorded its summary.
 
-Lightning is imported only here and in ``lightning_modules/``: the library stays usable without it.
+Lightning is imported only in ``lightning_modules/``, and there only once the checks before a run have passed
+(:mod:`lightning_modules.train`): a refused run answers without it. The library stays usable without Lightning.
 """
 
 from __future__ import annotations

@@ -52,11 +52,11 @@ def check_start(cfg: DictConfig) -> StartPoint:
         TrainingError: naming the file: missing or unreadable, an inference export or other weights-only file (no
             optimiser or loop state to continue), another branch's checkpoint, or a budget below its progress.
     """
+    if not cfg.get("ckpt_path"):
+        return StartPoint()
     from sdn3d.inference_export import is_inference_export
     from sdn3d.io import checkpoint_branch, load_torch_file
 
-    if not cfg.get("ckpt_path"):
-        return StartPoint()
     path = Path(str(cfg.ckpt_path)).expanduser()
     what = f"resume={str(cfg.resume)!r}: its checkpoint" if cfg.get("resume") else "ckpt_path"
     if not path.is_file():

@@ -20,7 +20,6 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
-import torch
 from omegaconf import DictConfig
 
 from sdn3d.errors import UserInputError
@@ -40,7 +39,7 @@ class FitResult:
     """How fitting went: ``status`` ok | failed (``error`` says why, ``error_file`` names the file at fault when
     known), the metrics, the best checkpoint, when fitting started (``time.perf_counter``), and which weights the
     test figures come from (``tested``: ``'best'``, ``'final'`` or None, see
-    :func:`lightning_modules.train.fit_and_test`)."""
+    :func:`lightning_modules.fit.fit_and_test`)."""
 
     status: str
     error: str | None
@@ -214,6 +213,8 @@ def flat_params(cfg: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
 
 def scalars(metrics: Mapping[str, Any]) -> dict[str, float]:
     """The one-number entries of ``metrics`` (tensors of one element, ints, floats) as floats."""
+    import torch  # here, not at the top: the checks before a run import this module and need no torch
+
     out = {}
     for key, value in metrics.items():
         if isinstance(value, torch.Tensor) and value.numel() == 1:

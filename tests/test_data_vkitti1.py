@@ -308,14 +308,18 @@ def test_paper_split_first_or_last_80_percent_per_sequence(tmp_path):
         paper_split(frames, "val")
 
 
-def test_reader_is_fast_on_full_resolution(reference_tree):
-    import time
+def test_reader_decodes_a_full_resolution_frame_without_per_pixel_python(reference_tree):
+    """The instance decode is vectorised: the Python calls it makes on a 1242x375 frame (466k pixels) are counted
+    (cProfile), not timed, so the check does not depend on the machine or its load (its speed is a benchmark's)."""
+    import cProfile
+    import pstats
 
     root, _ = reference_tree
     (record,) = read_frames(root)
-    start = time.perf_counter()
-    load_instances(record)
-    assert time.perf_counter() - start < 1.0  # vectorised decode, no per-pixel Python
+    profiler = cProfile.Profile()
+    profiler.runcall(load_instances, record)
+    calls = pstats.Stats(profiler).total_calls
+    assert calls < 1242 * 375 // 100, calls
 
 
 def test_paths_follow_the_official_layout(reference_tree):

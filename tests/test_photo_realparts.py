@@ -294,6 +294,7 @@ def test_a_turned_black_car_does_not_carry_its_real_wheels_onto_its_body(monkeyp
         return int(((picture.mean(0) > 0.3) & (result.parts == int(Part.BODY))).sum())
 
     registered = grey_body()
-    monkeypatch.setattr(PhotoSource, "registered_parts", lambda self: self.parts)  # the templates' wheels (main)
+    # the templates' own wheels (before the registration)
+    monkeypatch.setattr(PhotoSource, "registered_parts", lambda self, instance_ids: self.parts)
     template = grey_body()
     assert template >= 30 and registered < 0.3 * template, (registered, template)  # 6 against 52 when written

@@ -5,7 +5,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
@@ -122,7 +122,7 @@ class PhotoSource:
         raster: the source objects rasterized at the input's resolution; outline_ids: ``(H_in, W_in)`` the instance id
             of the object rasterized at each pixel (:func:`_raster_ids`: the fitted outlines); parts: ``(H_in * W_in,)``
             long :class:`~sdn3d.meshes.parts.Part` of the rasterized face at each pixel (-1: none);
-            :meth:`registered_parts` the same with dark cars' tyres where the input shows them.
+            :meth:`registered_parts` the same with the drawn dark cars' tyres where the input shows them.
         in_front: ``(H_in, W_in)`` bool, thin things in front of a car that its mask leaves out (a pole, a sign post:
             :func:`~sdn3d.editing.photo.occluders.thin_occluders`); every edit keeps them in front.
         max_fills: filled pictures kept (each ``3 x H x W`` float32: ~5.6 MB at 1242x375); the oldest goes first.
@@ -150,7 +150,7 @@ class PhotoSource:
         self.in_front = (thin_occluders(self.image, self.src_ids, self.outline_ids)
                          if self.settings.keep_in_front else torch.zeros_like(self.src_ids, dtype=torch.bool))
         self._light: tuple[Tensor, LightEstimate | None] | None = None
-        self._registered_parts: Tensor | None = None
+        self._registered_tyres: dict[int, tuple[Tensor, Tensor] | None] = {}
         self._fills: dict[tuple, Tensor] = {}
         self._pyramids: dict[int, list[Tensor]] = {}
 
@@ -169,12 +169,21 @@ class PhotoSource:
             self._light = _source_light(self.raster, self.vis_ids, self.scene.objects, self.image)
         return self._light
 
-    def registered_parts(self) -> Tensor:
-        """``(H_in * W_in,)`` long: :attr:`parts` with each dark car's tyres where the input shows them
-        (:func:`_registered_part_map`), made on first use (the transfer reads it)."""
-        if self._registered_parts is None:
-            self._registered_parts = _registered_part_map(self.image, self.src_ids, self.parts, self.scene.objects)
-        return self._registered_parts
+    def registered_parts(self, instance_ids: Sequence[int]) -> Tensor:
+        """``(H_in * W_in,)`` long: :attr:`parts` with the tyres of each dark car among ``instance_ids`` (the cars an
+        edit draws) where the input shows them: a template tyre moved onto the car's wheel is
+        :data:`~sdn3d.meshes.parts.Part.TYRE` there, the pixels it left are ``BODY`` (:func:`_dark_car_tyres`, each
+        car's found on its first use: the transfer reads them). Other pixels keep the templates' parts."""
+        out = self.parts
+        for iid in instance_ids:
+            if iid not in self._registered_tyres:
+                self._registered_tyres[iid] = _dark_car_tyres(self.image, self.src_ids, self.parts, iid)
+            found = self._registered_tyres[iid]
+            if found is not None:
+                out = out.clone() if out is self.parts else out
+                out[found[0]] = int(Part.TYRE)
+                out[found[1]] = int(Part.BODY)
+        return out
 
     def pyramid(self, levels: int) -> list[Tensor]:
         """The input's pyramid (:func:`_pyramid`) with at most ``levels`` halvings, made on first use (the transfer and
@@ -759,29 +768,24 @@ def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor, paint_light: flo
     return at_tyre, freed
 
 
-def _registered_part_map(image: Tensor, ids: Tensor, parts: Tensor, objects: ObjectTable) -> Tensor:
-    """``(H * W,)`` long: the fitted templates' part map ``parts (H * W,)`` with each dark car's tyres where the
-    picture ``image (3, H, W)`` shows them (:func:`_tyres_in_picture`; ``ids (H, W)`` the instance map): a template
-    tyre moved onto the car's wheel is :data:`~sdn3d.meshes.parts.Part.TYRE` there, the pixels it left are
-    ``BODY``. A dark paint is the body part's pixels' median CIE L* under
+def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor, iid: int) -> tuple[Tensor, Tensor] | None:
+    """``(tyres, freed)`` flat pixel indices of car ``iid`` of the instance map ``ids (H, W)`` where its fitted
+    template's part map ``parts (H * W,)`` is wrong about its wheels: its tyres where the picture ``image (3, H, W)``
+    shows them, and the template tyre pixels they left (:func:`_tyres_in_picture`); None for a car that is not a
+    dark paint, whose template keeps its wheels. A dark paint is the body part's pixels' median CIE L* under
     :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, not coloured (:func:`~sdn3d.editing.photo.recolor.body_paint`,
-    as :func:`_recolor` tells it). Other cars' pixels keep the template's parts."""
-    out = parts.clone()
+    as :func:`_recolor` tells it)."""
     flat = image.permute(1, 2, 0).reshape(-1, 3)
-    grid = parts.view(ids.shape)
-    for iid in objects.instance_id[objects.has_geometry].tolist():
-        car = ids == iid
-        body_pix = (car.view(-1) & (parts == int(Part.BODY))).nonzero().flatten()
-        if len(body_pix) < 8:
-            continue
-        body_lab = srgb_to_lab(flat[body_pix].double())
-        paint_light = float(body_lab[:, 0].median())
-        if paint_light >= DARK_PAINT_L or body_paint(body_lab)[1]:
-            continue
-        tyres, freed = _tyres_in_picture(flat, car, grid, paint_light)
-        out[tyres.view(-1)] = int(Part.TYRE)
-        out[freed.view(-1)] = int(Part.BODY)
-    return out
+    car = ids == iid
+    body_pix = (car.view(-1) & (parts == int(Part.BODY))).nonzero().flatten()
+    if len(body_pix) < 8:
+        return None
+    body_lab = srgb_to_lab(flat[body_pix].double())
+    paint_light = float(body_lab[:, 0].median())
+    if paint_light >= DARK_PAINT_L or body_paint(body_lab)[1]:
+        return None
+    tyres, freed = _tyres_in_picture(flat, car, parts.view(ids.shape), paint_light)
+    return tyres.view(-1).nonzero().flatten(), freed.view(-1).nonzero().flatten()
 
 
 #: Parts whose template faces often lie over a car's paint (a template's lamp band and plate cover much of a real
@@ -982,10 +986,12 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         keep = torch.isin(tgt_all_rows.cpu(), draw_rows)
         tgt = _rasterize(tgt_all_rows.cpu()[keep], tgt_verts.cpu()[keep], tgt_faces.cpu()[keep], K, size)
         drawn_depth = tgt.frags.depth[0].double()
+        sources = origin[draw_rows]
+        drawn_ids = before.instance_id[sources[sources >= 0]].tolist()  # the cars whose input pixels are drawn
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
                                      photo_source.parts, parts_out, background, photo_source.pyramid,
-                                     photo_source.registered_parts())
+                                     photo_source.registered_parts(drawn_ids))
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, own, before, after, origin, moved_rows, src_ids,
                                             photo_source.work_ids, transform, photo_source.outline_ids, K, settings,

@@ -582,3 +582,26 @@ def test_raster_ids_from_a_table_are_the_where_they_replaced():
     got = _raster_ids(raster, scene.objects)
     assert got.dtype == want.dtype and torch.equal(got, want)
     assert len(got.unique()) == 3  # both cars and no car
+
+
+def test_exp_underflowing_is_torch_exp_bit_for_bit_and_exp_is_the_same_at_any_position():
+    from sdn3d.editing.photo.road import _EXP_SUBNORMAL_BELOW, _EXP_ZERO_BELOW, _exp_underflowing
+
+    # every float32 of the band that _exp_underflowing gathers: exp gives the same bits in vector lanes (contiguous)
+    # and in the scalar loop (strided), so gathering them changes nothing
+    ints = torch.arange(int(torch.tensor(-_EXP_SUBNORMAL_BELOW).view(torch.int32)),
+                        int(torch.tensor(-_EXP_ZERO_BELOW).view(torch.int32)) + 1, dtype=torch.int32)
+    band = -ints.view(torch.float32)
+    assert torch.equal(torch.exp(band), torch.exp(torch.stack([band, band], 1)[:, 0]))
+    assert torch.equal(torch.exp(band[:9999]), torch.cat([torch.exp(c) for c in band[:9999].split(7)]))
+    assert float(torch.exp(torch.tensor(_EXP_ZERO_BELOW))) == 0.0
+    # the vanishing-point vote's arguments: Gaussians of 281 headings around 4000 edges, and odd shapes and values
+    g = torch.Generator().manual_seed(0)
+    heading = torch.deg2rad(torch.arange(-70.0, 70.25, 0.5))
+    aim = torch.deg2rad(torch.randn(4000, generator=g) * 40)
+    vote = -0.5 * ((heading[None] - aim[:, None]) / math.radians(1.0)).square()
+    odd = torch.cat([band[::1000], torch.tensor([0.0, -0.0, 3.0, -87.0, -110.0, -1e30, float("-inf"), float("nan"),
+                                                 float("inf"), -86.99, -103.97, -104.0])])
+    for x in (vote, odd, vote[:, ::3], torch.zeros(0)):
+        torch.testing.assert_close(_exp_underflowing(x), torch.exp(x), rtol=0, atol=0, equal_nan=True)
+    assert torch.equal(_exp_underflowing(vote.double()), torch.exp(vote.double()))

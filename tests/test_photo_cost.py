@@ -584,24 +584,31 @@ def test_raster_ids_from_a_table_are_the_where_they_replaced():
     assert len(got.unique()) == 3  # both cars and no car
 
 
-def test_exp_underflowing_is_torch_exp_bit_for_bit_and_exp_is_the_same_at_any_position():
-    from sdn3d.editing.photo.road import _EXP_SUBNORMAL_BELOW, _EXP_ZERO_BELOW, _exp_underflowing
 
-    # every float32 of the band that _exp_underflowing gathers: exp gives the same bits in vector lanes (contiguous)
-    # and in the scalar loop (strided), so gathering them changes nothing
-    ints = torch.arange(int(torch.tensor(-_EXP_SUBNORMAL_BELOW).view(torch.int32)),
-                        int(torch.tensor(-_EXP_ZERO_BELOW).view(torch.int32)) + 1, dtype=torch.int32)
-    band = -ints.view(torch.float32)
-    assert torch.equal(torch.exp(band), torch.exp(torch.stack([band, band], 1)[:, 0]))
-    assert torch.equal(torch.exp(band[:9999]), torch.cat([torch.exp(c) for c in band[:9999].split(7)]))
-    assert float(torch.exp(torch.tensor(_EXP_ZERO_BELOW))) == 0.0
-    # the vanishing-point vote's arguments: Gaussians of 281 headings around 4000 edges, and odd shapes and values
+def test_heading_votes_within_reach_are_the_whole_expression_bit_for_bit():
+    from sdn3d.editing.photo.road import VOTE_REACH_SPREADS, _heading_votes
+
+    # exp gives the same bits at any position of a tensor (vector lanes, the scalar tail, strided), which the banded
+    # votes rely on: on random arguments of the votes' range and on every float32 where the results turn subnormal
     g = torch.Generator().manual_seed(0)
+    x = torch.cat([torch.empty(200_000).uniform_(-130.0, 0.0, generator=g),
+                   -torch.arange(int(torch.tensor(87.0).view(torch.int32)), int(torch.tensor(104.0).view(torch.int32)),
+                                 37, dtype=torch.int32).view(torch.float32)])
+    whole = torch.exp(x)
+    assert torch.equal(whole, torch.exp(torch.stack([x, x], 1)[:, 0]))
+    assert torch.equal(whole[:70_000], torch.cat([torch.exp(c) for c in x[:70_000].split(7)]))
+    assert float(torch.exp(torch.tensor(-0.5 * (VOTE_REACH_SPREADS - 0.01) ** 2))) == 0.0
     heading = torch.deg2rad(torch.arange(-70.0, 70.25, 0.5))
-    aim = torch.deg2rad(torch.randn(4000, generator=g) * 40)
-    vote = -0.5 * ((heading[None] - aim[:, None]) / math.radians(1.0)).square()
-    odd = torch.cat([band[::1000], torch.tensor([0.0, -0.0, 3.0, -87.0, -110.0, -1e30, float("-inf"), float("nan"),
-                                                 float("inf"), -86.99, -103.97, -104.0])])
-    for x in (vote, odd, vote[:, ::3], torch.zeros(0)):
-        torch.testing.assert_close(_exp_underflowing(x), torch.exp(x), rtol=0, atol=0, equal_nan=True)
-    assert torch.equal(_exp_underflowing(vote.double()), torch.exp(vote.double()))
+    for seed, (n, spread_deg, scatter_deg) in enumerate([(4000, 1.0, 20.0), (333, 1.0, 80.0), (50, 3.0, 5.0),
+                                                         (7, 0.3, 90.0), (0, 1.0, 1.0)]):
+        g = torch.Generator().manual_seed(seed)
+        aim = torch.deg2rad(torch.randn(n, generator=g) * scatter_deg)
+        if n > 10:
+            aim[:3] = torch.deg2rad(torch.tensor([-70.0, 70.0, 89.0]))  # on the first and last headings, far outside
+        spread = math.radians(spread_deg)
+        expected = torch.exp(-0.5 * ((heading[None] - aim[:, None]) / spread).square())
+        assert torch.equal(_heading_votes(heading, aim, spread), expected)
+    aim = torch.tensor([0.1, float("nan")])
+    torch.testing.assert_close(_heading_votes(heading, aim, 0.02),
+                               torch.exp(-0.5 * ((heading[None] - aim[:, None]) / 0.02).square()), rtol=0, atol=0,
+                               equal_nan=True)

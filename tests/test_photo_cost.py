@@ -13,7 +13,7 @@ from sdn3d.editing.photo.occluders import _extend_upright, _strips, thin_occlude
 from sdn3d.editing.photo.recolor import srgb_to_lab
 from sdn3d.editing.photo.road import _along, _gather, _trace, ab_length, road_colours, road_lab, road_like
 from sdn3d.editing.photo.transfer import PhotoSource, _erode_ids, _first_true, _pyramid, render_photo
-from sdn3d.image_ops import dilate_square, ids_present, isin_ids
+from sdn3d.image_ops import dilate_square, id_counts, ids_present, isin_ids
 from tests.test_photo import CAR, FAR_CAR, FRAME, INPUT_SIZE, _scene
 
 
@@ -103,9 +103,12 @@ def test_id_membership_by_table_is_torch_isin():
     wanted = torch.tensor([12003, 0, 5, -2, 12009, 1 << 40])
     assert torch.equal(isin_ids(ids, wanted), torch.isin(ids, wanted))
     assert torch.equal(ids_present(ids, wanted), torch.isin(wanted, ids))
+    assert torch.equal(id_counts(ids, wanted), torch.stack([(ids == w).sum() for w in wanted]))
     for odd in (ids - 12005, ids + (1 << 30), ids[:0]):  # negative, huge and no ids: torch.isin itself
         assert torch.equal(isin_ids(odd, wanted), torch.isin(odd, wanted))
         assert torch.equal(ids_present(odd, wanted), torch.isin(wanted, odd))
+        assert torch.equal(id_counts(odd, wanted), torch.stack([(odd == w).sum() for w in wanted]))
+    assert torch.equal(id_counts(ids, wanted[:0]), torch.zeros(0, dtype=torch.long))
 
 
 def test_erode_ids_is_the_max_pool_it_replaced():
@@ -612,3 +615,22 @@ def test_heading_votes_within_reach_are_the_whole_expression_bit_for_bit():
     torch.testing.assert_close(_heading_votes(heading, aim, 0.02),
                                torch.exp(-0.5 * ((heading[None] - aim[:, None]) / 0.02).square()), rtol=0, atol=0,
                                equal_nan=True)
+
+
+def test_masked_median_is_torch_median_of_the_selection():
+    from sdn3d.editing.photo.road import MEDIAN_NUMPY_MIN, _masked_median
+
+    g = torch.Generator().manual_seed(0)
+    for steps, (height, width, share) in [(0, (375, 1242, 0.6)), (8, (375, 1242, 0.6)), (0, (40, 60, 0.5)),
+                                          (0, (10, 10, 0.01)), (0, (90, 200, 1.0))]:
+        x = torch.rand(height, width, generator=g).square()
+        if steps:
+            x = (x * steps).round() / steps  # many equal values
+        mask = torch.rand(height, width, generator=g) < share
+        mask.view(-1)[0] = True
+        assert _masked_median(x, mask) == float(x[mask].median())
+    x = torch.rand(375, 1242, generator=g)
+    mask = torch.rand(375, 1242, generator=g) < 0.5
+    assert int(mask.sum()) >= MEDIAN_NUMPY_MIN  # the NumPy path
+    x[mask.nonzero()[0, 0], mask.nonzero()[0, 1]] = float("nan")
+    assert math.isnan(_masked_median(x, mask))

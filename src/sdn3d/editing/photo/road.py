@@ -341,7 +341,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         detail = (image - _normalised_blur(image, valid, GRAIN_SIGMA)) * valid
         # A marking's or a kerb's outline is no grain: mirrored into the hole it draws a ghost outline there.
         level = detail.mean(0).abs()
-        scale = 1.4826 * float(level[valid].median()) if bool(valid.any()) else 0.0
+        scale = 1.4826 * _masked_median(level, valid) if bool(valid.any()) else 0.0
         detail = detail * (level <= GRAIN_EDGE * scale)
     ys, xs = hole.nonzero(as_tuple=True)
     pix = torch.stack([xs, ys], 1).float()
@@ -773,6 +773,18 @@ def _column_median(x: Tensor) -> Tensor:
         return x.median(0).values
     k = (len(x) - 1) // 2
     return torch.from_numpy(np.partition(x.numpy(), k, axis=0)[k].copy())
+
+
+def _masked_median(x: Tensor, mask: Tensor) -> float:
+    """``float(x[mask].median())`` for a float CPU ``x (H, W)`` and a ``mask (H, W)`` with some True: the lower middle
+    of the selected values, selected and partitioned by NumPy (torch's boolean selection alone took 10 ms of a
+    1242x375 picture's 15 ms); with a NaN among them, torch's (its median is NaN)."""
+    if x.requires_grad or x.device.type != "cpu":
+        return float(x[mask].median())
+    values = x.numpy()[mask.numpy()]
+    if np.isnan(values).any():
+        return float(x[mask].median())
+    return float(_column_median(torch.from_numpy(values)[:, None])[0])
 
 
 def road_like(image: Tensor, road: Tensor, tolerance: float = 12.0, min_light: float = 0.0,

@@ -109,6 +109,8 @@ def test_id_membership_by_table_is_torch_isin():
         assert torch.equal(ids_present(odd, wanted), torch.isin(wanted, odd))
         assert torch.equal(id_counts(odd, wanted), torch.stack([(odd == w).sum() for w in wanted]))
     assert torch.equal(id_counts(ids, wanted[:0]), torch.zeros(0, dtype=torch.long))
+    for layout in (ids.t(), ids.int(), ids[::2, 1::3], ids.to(torch.int16)):  # strided and narrower ids: NumPy's lookup
+        assert torch.equal(isin_ids(layout, wanted), torch.isin(layout, wanted))
 
 
 def test_erode_ids_is_the_max_pool_it_replaced():
@@ -634,3 +636,25 @@ def test_masked_median_is_torch_median_of_the_selection():
     assert int(mask.sum()) >= MEDIAN_NUMPY_MIN  # the NumPy path
     x[mask.nonzero()[0, 0], mask.nonzero()[0, 1]] = float("nan")
     assert math.isnan(_masked_median(x, mask))
+
+
+def test_upsample_ids_by_numpys_take_is_the_advanced_indexing_it_replaced():
+    from sdn3d.editing.frame import PixelFrame, upsample_ids
+
+    def reference(values, transform):  # upsample_ids as it was
+        (sx, sy), (left, top) = transform.scale, transform.offset
+        w_in, h_in = transform.input_size
+        h, w = values.shape
+        j = torch.floor((torch.arange(w_in, dtype=torch.float64) + 0.5) * sx - left).long()
+        i = torch.floor((torch.arange(h_in, dtype=torch.float64) + 0.5) * sy - top).long()
+        ok = ((i >= 0) & (i < h))[:, None] & ((j >= 0) & (j < w))[None, :]
+        out = values.cpu()[i.clamp(0, h - 1)][:, j.clamp(0, w - 1)]
+        return torch.where(ok, out, torch.zeros_like(out))
+
+    g = torch.Generator().manual_seed(3)
+    ids = torch.randint(0, 30000, (192, 624), generator=g)
+    for frame in (PixelFrame((1242, 375), (624, 192)), PixelFrame((300, 100), (128, 64), (160, 64), (20, 0)),
+                  PixelFrame((1242, 375), (624, 192), (700, 211), (40, 9))):
+        values = ids[:frame.working_size[1], :frame.working_size[0]]  # a strided view, as a crop of a map is
+        for v in (values, values.int(), values > 15000):
+            assert torch.equal(upsample_ids(v, frame), reference(v, frame))

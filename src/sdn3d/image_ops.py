@@ -339,6 +339,15 @@ def _id_range(ids: Tensor) -> int | None:
     return int(hi) if int(lo) >= 0 and int(hi) < ID_TABLE_MAX else None
 
 
+def _lookup(table: Tensor, ids: Tensor) -> Tensor:
+    """``table[ids.long()]`` for a 1-D ``table`` and non-negative in-range integer ``ids`` (any shape): on the CPU by
+    NumPy's indexing, a third of torch's time for a picture's ids (1.7 against 0.5 ms at 1242x375; the same values,
+    a gather)."""
+    if table.device.type != "cpu" or ids.device.type != "cpu" or table.requires_grad:
+        return table[ids.long()]
+    return torch.from_numpy(table.numpy()[ids.numpy()])
+
+
 def isin_ids(ids: Tensor, wanted: Tensor) -> Tensor:
     """``torch.isin(ids, wanted)`` for an id map ``ids`` (instance ids, any shape): a table indexed by id where the
     ids are non-negative and below :data:`ID_TABLE_MAX` (one gather; torch.isin compares every pixel with every
@@ -352,7 +361,7 @@ def isin_ids(ids: Tensor, wanted: Tensor) -> Tensor:
         return torch.isin(ids, wanted)
     table = torch.zeros(hi + 1, dtype=torch.bool)
     table[wanted[(wanted >= 0) & (wanted <= hi)].long()] = True
-    return table[ids.long()]
+    return _lookup(table, ids)
 
 
 def ids_present(ids: Tensor, wanted: Tensor) -> Tensor:

@@ -974,9 +974,9 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         source = torch.where((soft > 0.02) & (source == INPUT), SHADOW, source).to(torch.uint8)
 
     # Part of each pixel: the source's where an object stays at its place and shows there (drawn objects: _draw).
-    src_mesh_at = src.frags.pix_to_mesh.view(-1)
-    shows = (src_mesh_at >= 0) & (own.view(-1) != 0) & (own.view(-1) == torch.where(
-        src_mesh_at >= 0, before.instance_id[src.rows[src_mesh_at.clamp(min=0)]] if len(src.rows) else -1, -1))
+    # (the fitted outline's id at each pixel, where a mesh covers it, is the source's outline_ids)
+    shows = ((src.frags.pix_to_mesh.view(-1) >= 0) & (own.view(-1) != 0)
+             & (own.view(-1) == photo_source.outline_ids.view(-1)))
     parts_out = torch.where(shows, photo_source.parts, -1).to(torch.int8).view(size)
 
     # Target rasterization of the drawn objects (moved ones, and the ones that grew) at their poses.

@@ -369,3 +369,87 @@ def test_road_haze_refuses_a_fit_whose_road_colour_is_off_the_scale():
 def test_ray_haze_airlight_setting_is_checked():
     with pytest.raises(PhotoSettingsError, match="ray_haze_airlight"):
         PhotoSettings(ray_haze_airlight=-0.1)
+
+
+# -- session 14: a verge beside the hole is not blended into the road ----------------------------------------------
+
+
+def _verge_beside_the_hole() -> tuple[torch.Tensor, torch.Tensor, tuple[float, float]]:
+    """``(image, hole, vp)``: yellowish-grey road under a horizon at row 30, its vanishing point on the left
+    (20, 30); a green verge just right of the hole (the rays' near side, away from the vanishing point), road left of
+    it (their far side)."""
+    image = torch.tensor([0.45, 0.44, 0.38])[:, None, None].expand(3, 96, 160).clone()
+    image[:, 45:80, 110:150] = torch.tensor([0.45, 0.6, 0.2])[:, None, None]
+    hole = torch.zeros(96, 160, dtype=torch.bool)
+    hole[50:70, 70:110] = True
+    return image, hole, (20.0, 30.0)
+
+
+def test_a_verge_on_the_near_side_only_is_not_blended_into_the_road_on_the_ground():
+    """verge='blend' fades the verge's green across the hole (the real frame's black car: a pale band of the verge
+    across the far lane); verge='road' fills the hole's ground rows with the far side's road alone, and leaves rows
+    above ``ground_row`` to the blend."""
+    from sdn3d.editing.photo.road import road_lab, verge_like
+
+    image, hole, vp = _verge_beside_the_hole()
+    road = road_lab(torch.tensor([[0.45, 0.44, 0.38]]))[0]
+    blend, _ = ray_fill(image, hole, vp, texture=0.0, road=road, verge="blend")
+    on, _ = ray_fill(image, hole, vp, texture=0.0, road=road, verge="road")
+    assert float(verge_like(blend[:, hole], road).float().mean()) > 0.2  # a green fade across the hole
+    assert not bool(verge_like(on[:, hole], road).any())
+    assert float((on[:, hole] - torch.tensor([0.45, 0.44, 0.38])[:, None]).abs().mean()) < 0.002
+    high, _ = ray_fill(image, hole, vp, texture=0.0, road=road, verge="road", ground_row=60.0)
+    assert torch.equal(high[:, 50:60], blend[:, 50:60])  # above the ground row: blended as before
+    assert torch.equal(high[:, 60:], on[:, 60:])
+    assert torch.equal(ray_fill(image, hole, vp, texture=0.0)[0], blend)  # no road given: the blend
+
+
+def test_a_far_side_near_the_vanishing_point_does_not_end_the_verge(monkeypatch):
+    """Where a ray's far side is nearer the vanishing point than FAR_RESOLVED of its near side, a verge strip along
+    the road would be too narrow there to be seen: its road says nothing and the sides are blended as before."""
+    import sdn3d.editing.photo.road as road_module
+    from sdn3d.editing.photo.road import road_lab, verge_like
+
+    image, hole, vp = _verge_beside_the_hole()
+    hole[50:70, 25:110] = True  # reaching to within a few pixels of the vanishing point's column
+    road = road_lab(torch.tensor([[0.45, 0.44, 0.38]]))[0]
+    kept = verge_like(ray_fill(image, hole, vp, texture=0.0, road=road, verge="road")[0][:, hole], road)
+    assert bool(kept.any())
+    monkeypatch.setattr(road_module, "FAR_RESOLVED", 0.0)
+    assert not bool(verge_like(ray_fill(image, hole, vp, texture=0.0, road=road, verge="road")[0][:, hole],
+                               road).any())
+
+
+def test_a_verge_seen_on_both_sides_still_crosses_the_hole():
+    """A verge along the road, on both sides of the hole, is continued across it in either mode."""
+    from sdn3d.editing.photo.road import road_lab
+
+    image, hole, vp = _verge_beside_the_hole()
+    image[:, 30:96, :] = torch.tensor([0.45, 0.6, 0.2])[:, None, None]  # grass everywhere below the horizon
+    road = road_lab(torch.tensor([[0.45, 0.44, 0.38]]))[0]
+    on, _ = ray_fill(image, hole, vp, texture=0.0, road=road, verge="road")
+    assert torch.allclose(on, ray_fill(image, hole, vp, texture=0.0, road=road, verge="blend")[0])
+    assert (on[:, hole] - torch.tensor([0.45, 0.6, 0.2])[:, None]).abs().max() < 0.01
+
+
+def test_ray_verge_reaches_the_rays_through_fill_hole_and_is_checked():
+    from sdn3d.editing.photo.fill import fill_hole
+    from sdn3d.editing.photo.road import road_lab
+    from sdn3d.editing.photo.transfer import GROUND_REACH, _ground_row
+
+    image, hole, vp = _verge_beside_the_hole()
+    road = road_lab(torch.tensor([[0.45, 0.44, 0.38]]))[0]
+    fixed = {"fill": "rays", "ray_grain": "fixed", "ray_texture": 0.0, "ray_marks": 0.0, "ray_haze": 0.0}
+    on = fill_hole(image, hole, PhotoSettings(**fixed, ray_verge="road"), vanishing=vp, road=road, ground_row=0.0)
+    off = fill_hole(image, hole, PhotoSettings(**fixed, ray_verge="blend"), vanishing=vp, road=road, ground_row=0.0)
+    unknown = fill_hole(image, hole, PhotoSettings(**fixed, ray_verge="road"), vanishing=vp, road=road)
+    assert float((on[:, hole] - torch.tensor([0.45, 0.44, 0.38])[:, None]).abs().mean()) < 0.002
+    assert not torch.equal(on, off) and torch.equal(unknown, off)  # no ground row known: the blend
+    part = torch.zeros(96, 160, dtype=torch.bool)
+    part[70:, 60:100] = True  # the footprint's far edge on row 70, the horizon on row 30
+    K = torch.tensor([[100.0, 0.0, 80.0], [0.0, 100.0, 30.0], [0.0, 0.0, 1.0]], dtype=torch.float64)
+    assert _ground_row(part, K) == pytest.approx(30.0 + 40.0 / GROUND_REACH)
+    assert _ground_row(torch.zeros_like(part), K) is None
+    assert PhotoSettings().ray_verge == "road"
+    with pytest.raises(PhotoSettingsError, match="ray_verge"):
+        PhotoSettings(ray_verge="grass")

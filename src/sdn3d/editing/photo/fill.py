@@ -142,12 +142,15 @@ def _bands_in(ids: Tensor, gone: Tensor, share: float) -> Tensor:
 
 
 def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Tensor | None = None,
-              fill: Tensor | None = None, vanishing: tuple[float, float] | None = None) -> Tensor:
+              fill: Tensor | None = None, vanishing: tuple[float, float] | None = None,
+              road: Tensor | None = None, ground_row: float | None = None) -> Tensor:
     """``image (3, H, W)`` with ``hole`` filled by ``settings.fill`` (:data:`FILL_METHODS`; ``fill (3, H, W)``: the
     generator's picture at this size, for ``'generator'``); ``keep_out``: pixels PatchMatch and the rays must not
     copy; ``vanishing``: the road's vanishing point ``(u, v)`` for ``'rays'`` (:func:`~sdn3d.editing.photo.road.
     ray_fill`; None: the picture's centre row and column, a level camera looking down the road); ``'learnt'``: the
-    rays' fill with the net's correction inside the hole (:func:`~sdn3d.editing.photo.learnt.learnt_fill`)."""
+    rays' fill with the net's correction inside the hole (:func:`~sdn3d.editing.photo.learnt.learnt_fill`); ``road
+    (3,)``: the road's CIE Lab around the hole, which tells the rays' road from a verge on the ground, the rows from
+    ``ground_row`` down (``settings.ray_verge``; None: the rays blend them)."""
     if not bool(hole.any()):
         return image.clone()
     if settings.fill == "generator":
@@ -161,7 +164,9 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
         vp = vanishing if vanishing is not None else ((width - 1) / 2, (height - 1) / 2)
         out, reached = ray_fill(image, hole, vp, keep_out, settings.ray_blur, settings.ray_texture, settings.ray_span,
                                  match_grain=settings.ray_grain == "match", marks=settings.ray_marks,
-                                 haze=settings.ray_haze, airlight=settings.ray_haze_airlight)
+                                 haze=settings.ray_haze, airlight=settings.ray_haze_airlight,
+                                 road=None if ground_row is None else road, verge=settings.ray_verge,
+                                 ground_row=0.0 if ground_row is None else ground_row)
         rest = hole & ~reached  # no ray reaches these: Telea from what is known around them
         out = inpaint(out, rest, "telea", settings.inpaint_radius) if bool(rest.any()) else out
         if settings.fill == "learnt":

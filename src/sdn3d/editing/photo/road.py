@@ -31,7 +31,7 @@ from sdn3d.image_ops import dilate_square
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
            "road_haze", "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
            "GRAIN_WEIGHTS", "FORWARD_SNAP_DEG", "VOTE_COHERENCE", "VOTE_WINDOW", "VOTE_SPREAD_DEG",
-           "road_colours", "road_like", "ab_length"]
+           "road_colours", "road_like", "ab_length", "verge_like", "VERGE_CHROMA", "VERGE_MIN_LIGHT", "FAR_RESOLVED"]
 
 #: Gaussian sigma (pixels) below which a source's detail is the road's grain (:func:`ray_fill`'s ``texture``).
 GRAIN_SIGMA = 1.0
@@ -310,7 +310,8 @@ def _trace_blocks(total: int) -> list[int]:
 def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Tensor | None = None,
              sigma: float = 1.0, texture: float = 1.0, along: int = 1, max_steps: int = 400,
              beyond: int = 64, match_grain: bool = False, marks: float = 0.0,
-             haze: float = 0.0, airlight: float = 0.25) -> tuple[Tensor, Tensor]:
+             haze: float = 0.0, airlight: float = 0.25, road: Tensor | None = None,
+             verge: str = "blend", ground_row: float = 0.0) -> tuple[Tensor, Tensor]:
     """``(image (3, H, W), reached (H, W) bool)``: ``image`` with the ``hole (H, W)`` pixels a ray reaches filled
     along the rays from the vanishing point ``vp = (u, v)`` (module doc); ``keep_out (H, W)``: pixels no ray samples
     (other objects), ``sigma``: the sources' normalised blur, ``texture``: weight of the mirrored high-pass,
@@ -324,7 +325,15 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     (:func:`_one_sided_marks`; 0: both sides interpolated everywhere); ``haze``: weight of the change of the road's
     colour with its row (:func:`road_haze`: fog and haze lighten the road towards the horizon) added to each hole
     pixel, from its sources' rows to its own (0: the sources' colours as they are); ``airlight``: only where the
-    fitted fog's colour is within this of the far picture's (:func:`road_haze`'s fog check; 1: no check)."""
+    fitted fog's colour is within this of the far picture's (:func:`road_haze`'s fog check; 1: no check);
+    ``road (3,)``: the road's CIE Lab around the hole (:func:`road_colours`) and ``verge``
+    (:data:`~sdn3d.editing.photo.settings.VERGE_MODES`): ``'blend'`` interpolates a ray's two sides whatever they
+    are; ``'road'``: a ray whose near side is a verge (grass, foliage, paint, a hedge: :func:`verge_like`) and whose
+    far side is road (:func:`_verge_near_only`) takes the road's colour there alone, without its markings' detail
+    (:func:`_coarse_road_blur`), so no pale band of the verge's colour fades across the road where the car stood and
+    no marking of the far side is drawn across it (None ``road``: ``'blend'``), at the hole pixels from row
+    ``ground_row`` down (the ground near the removed car; higher up a ray's sides may be upright things) whose far
+    side is resolved (:data:`FAR_RESOLVED`)."""
     height, width = hole.shape
     out = image.clone()
     reached = torch.zeros_like(hole)
@@ -360,6 +369,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     values = torch.zeros(3, len(ys))
     grains = torch.zeros(3, len(ys)) if detail is not None else None
     got = torch.zeros(len(ys), dtype=torch.bool)
+    road_broad = None  # the road's broad colour, for rays taken from their far side alone (verge='road')
     for s in range(0, len(ys), RAY_CHUNK):
         p, u, sp = pix[s:s + RAY_CHUNK], unit[s:s + RAY_CHUNK], reach[s:s + RAY_CHUNK]
         # Away from the vanishing point (nearer road) and towards it, stopping there: past it lies another line.
@@ -374,6 +384,15 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         if marks > 0:
             w_out, w_in = _one_sided_marks(c_out, c_in, _gather_coarse(broad, q_out), _gather_coarse(broad, q_in),
                                            w_out, w_in, f_out & f_in, marks)
+        if road is not None and verge == "road":
+            # the far side's road is evidence only where it is resolved (FAR_RESOLVED), on the ground rows
+            resolved = (sp - d_in) >= FAR_RESOLVED * (sp + d_out)
+            far_only = _verge_near_only(c_out, c_in, f_out & f_in & resolved & (p[:, 1] >= ground_row), road)
+            if bool(far_only.any()):
+                if road_broad is None:
+                    road_broad = _coarse_road_blur(image, valid, road, MARK_SIGMA)
+                w_out, w_in = torch.where(far_only, 0.0, w_out), torch.where(far_only, 1.0, w_in)
+                c_in = torch.where(far_only, _gather_coarse(road_broad, q_in), c_in)
         val = c_out * w_out + c_in * w_in
         if per_row is not None:  # the road's colour at this pixel's row less its colour at the sources' rows
             def at(rows: Tensor) -> Tensor:
@@ -505,6 +524,65 @@ def _one_sided_marks(c_out: Tensor, c_in: Tensor, b_out: Tensor, b_in: Tensor, w
     keep = total <= 1e-6  # nothing left (a side at distance 0): as it was
     return (torch.where(keep, w_out, new_out / total.clamp(min=1e-6)),
             torch.where(keep, w_in, new_in / total.clamp(min=1e-6)))
+
+
+#: :func:`verge_like`: Lab chroma distance from both the road's and grey beyond which a colour is no road (the
+#: tolerance of :func:`road_like`), and the share of the road's lightness below which it is none either (the dark of a
+#: hedge or a treeline, whose chroma is as small as grey's).
+VERGE_CHROMA, VERGE_MIN_LIGHT = 12.0, 0.5
+#: :func:`ray_fill` with ``verge='road'``: a ray's far side says the verge of its near side ended inside the hole only
+#: where the far side is at least this share of the near side's distance from the vanishing point. Widths across the
+#: road shrink with that distance: nearer the vanishing point a verge strip along the road is a few pixels wide, and a
+#: vanishing point off by a degree misses it. On the real frame's black car the share was 0.7 (the verge did end: a
+#: traffic island's tip); on the seed-31 tuning deletes whose lawn strips ran on behind a van, 0.23-0.26.
+FAR_RESOLVED = 0.5
+
+
+def verge_like(colours: Tensor, road: Tensor, tolerance: float = VERGE_CHROMA,
+               min_light: float = VERGE_MIN_LIGHT) -> Tensor:
+    """``(N,)`` bool: which ``colours (3, N)`` (sRGB) are no road for the road ``road (3,)`` (CIE Lab): their chroma
+    farther than ``tolerance`` from both the road's and grey (a verge's grass, foliage, coloured paint), or their
+    lightness under ``min_light`` of the road's (a hedge, a treeline in shade). Asphalt, its white or grey markings,
+    kerbs and the road's lighter shadows are road."""
+    lab = road_lab(colours.T.contiguous())
+    ab = lab[:, 1:]
+    road = road.to(lab)
+    return (((ab_length(ab - road[1:]) >= tolerance) & (ab_length(ab) >= tolerance))
+            | (lab[:, 0] < min_light * road[0]))
+
+
+def _verge_near_only(c_out: Tensor, c_in: Tensor, both: Tensor, road: Tensor) -> Tensor:
+    """``(N,)`` bool: the rays whose near side (away from the vanishing point: ``c_out (3, N)``, the sides' colours) is
+    a verge and whose far side (``c_in``) is road (:func:`verge_like` of the road ``road (3,)``; ``both (N,)``: both
+    sides found), which :func:`ray_fill` with ``verge='road'`` fills from the far side alone. The near side of a ray
+    leaves the hole on the ground the removed car stood on or beside: a verge there that the far side does not show
+    ends inside the hole, and a blend of the two is neither (the real frame's black car: the verge beside it blended
+    into the far lane as a pale band). A verge on the far side only is left to the blend: for the hole's upper pixels
+    the far side is often no ground at all (a hedge, a treeline, the horizon)."""
+    out = torch.zeros_like(both)
+    if bool(both.any()):
+        out[both] = verge_like(c_out[:, both], road) & ~verge_like(c_in[:, both], road)
+    return out
+
+
+def _coarse_road_blur(image: Tensor, valid: Tensor, road: Tensor, sigma: float) -> Tensor:
+    """``(3, H / COARSE, W / COARSE)``: :func:`_coarse_blur` over the ``valid`` pixels that are road (not
+    :func:`verge_like` of ``road (3,)``, judged on the shrunk picture's cells: the cost of a sixteenth of the pixels),
+    read with :func:`_gather_coarse`: the road's colour around a point without its markings' detail, which a ray taken
+    from one side alone carries (a marking seen on one side only is not drawn out into a stripe, as in
+    :func:`_one_sided_marks`)."""
+    import cv2
+
+    height, width = valid.shape
+    size = (max(width // COARSE, 1), max(height // COARSE, 1))
+    w = valid.float().numpy()
+    small_w = cv2.resize(w, size, interpolation=cv2.INTER_AREA)
+    small = np.stack([cv2.resize(c * w, size, interpolation=cv2.INTER_AREA) for c in image.float().numpy()])
+    cells = torch.from_numpy(small / np.maximum(small_w, 1e-6)[None]).view(3, -1)  # each cell's mean valid colour
+    kind = ((small_w > 0.5) & ~verge_like(cells, road).view(small_w.shape).numpy()).astype(np.float32)
+    den = cv2.GaussianBlur(small_w * kind, (0, 0), sigma / COARSE)
+    num = np.stack([cv2.GaussianBlur(c * kind, (0, 0), sigma / COARSE) for c in small])
+    return torch.from_numpy(num / np.maximum(den, 1e-6)[None]).to(image.dtype)
 
 
 #: Grain weights :func:`ray_fill` chooses from with ``match_grain``, increasing (:func:`_nearest_zero` bisects them).

@@ -11,9 +11,9 @@ from torch import Tensor
 from sdn3d.errors import UserInputError
 
 __all__ = ["FILL_METHODS", "RAY_FILLS", "UNSEEN_MODES", "SILHOUETTE_MODES", "AMODAL_MODES", "SHADOW_MODES",
-           "GRAIN_MODES", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE", "INPUT", "PHOTO",
-           "MIRROR", "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT", "IN_FRONT", "ANOTHER_CAR",
-           "FLAT_CODES",
+           "GRAIN_MODES", "VERGE_MODES", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE",
+           "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT",
+           "IN_FRONT", "ANOTHER_CAR", "FLAT_CODES",
            "PART_DEFAULTS", "PART_COLORS", "PhotoSettings", "PhotoSettingsError", "source_picture", "part_picture"]
 
 
@@ -35,6 +35,10 @@ SHADOW_MODES = ("fill", "relight")
 #: How ``fill='rays'`` puts the road's grain back (:attr:`PhotoSettings.ray_grain`): at the fixed weight
 #: ``ray_texture`` (``fixed``) or at the weight that matches the fine texture of the road around the hole (``match``).
 GRAIN_MODES = ("fixed", "match")
+#: What ``fill='rays'`` does with a ray whose near side is a verge and whose far side is road
+#: (:attr:`PhotoSettings.ray_verge`; :func:`~sdn3d.editing.photo.road.ray_fill`): ``blend`` (both interpolated by
+#: distance) or ``road`` (the road side alone).
+VERGE_MODES = ("blend", "road")
 #: ``fill='auto'``: a hole part at most this many pixels from its edge everywhere is filled by Telea, else PatchMatch.
 AUTO_THIN_PX = 6.0
 #: How a point of an edited car that neither the photo nor its mirror image saw is drawn
@@ -164,6 +168,12 @@ class PhotoSettings:
             patch or the end of a shade, fits a "fog" the far picture does not show). 1: no check. On the tuning
             trees 0.25 kept every fog and rain gain on the counterfactual deletes and dropped the clear-weather fits
             and a rain delete whose fit had run to the horizon (docs/results/2026-11-28_cpu/session7/haze/).
+        ray_verge: :data:`VERGE_MODES` (``fill='rays'``): a ray whose near side (away from the vanishing point) is a
+            verge (grass, foliage, a hedge: Lab chroma far from the road's and from grey, or dark) and whose far side
+            is road, on the ground near the removed car and with its far side resolved, takes the far side's road
+            alone (``road``) or blends the two (``blend``; :func:`~sdn3d.editing.photo.road.ray_fill`). On the real
+            frame of ``tests/data`` the black car's delete drew a pale band of the verge across the far lane with
+            ``blend``; the tuning deletes: docs/results/2026-11-29_cpu/session14/roadfill/.
         outline_grow: a moved car whose view turned by more than ``mask_view_deg`` (with ``silhouette='carved'``;
             else any moved car) also covers the free pixels (no object drawn or staying there) inside its box's
             projection within this share of the box's projected height of its drawn pixels, each in the colour of
@@ -215,6 +225,7 @@ class PhotoSettings:
     ray_marks: float = 0.2
     ray_haze: float = 1.0
     ray_haze_airlight: float = 0.25
+    ray_verge: str = "road"
     outline_grow: float = 0.0
     view_reflection: float = 1.0
     learnt_weights: str | None = None
@@ -228,6 +239,8 @@ class PhotoSettings:
             raise PhotoSettingsError(f"photo.amodal must be one of {AMODAL_MODES}, got {self.amodal!r}")
         if self.silhouette not in SILHOUETTE_MODES:
             raise PhotoSettingsError(f"photo.silhouette must be one of {SILHOUETTE_MODES}, got {self.silhouette!r}")
+        if self.ray_verge not in VERGE_MODES:
+            raise PhotoSettingsError(f"photo.ray_verge must be one of {VERGE_MODES}, got {self.ray_verge!r}")
         if self.ray_grain not in GRAIN_MODES:
             raise PhotoSettingsError(f"photo.ray_grain must be one of {GRAIN_MODES}, got {self.ray_grain!r}")
         if self.unseen not in UNSEEN_MODES:

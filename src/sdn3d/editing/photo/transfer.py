@@ -538,7 +538,8 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
     if road is None:
         return fill_hole(image, hole, settings, objects_px, vanishing=vanishing), matte
     if settings.fill in RAY_FILLS:
-        return _rays_with_effects(image, hole, objects_px, search, ring, road, settings, vanishing)
+        return _rays_with_effects(image, hole, objects_px, search, ring, road, settings, vanishing,
+                                  _ground_row(road_part, K))
     if settings.delete_shadow:
         image, matte = _relight_around(image, search, hole, objects_px, ring, road)
     road_hole = hole & road_part
@@ -558,11 +559,13 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
 
 
 def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: Tensor, ring: Tensor, road: Tensor,
-                       settings: PhotoSettings, vanishing: tuple[float, float] | None) -> tuple[Tensor, Tensor]:
+                       settings: PhotoSettings, vanishing: tuple[float, float] | None,
+                       ground_row: float | None = None) -> tuple[Tensor, Tensor]:
     """``(filled image, relit (H, W) matte)`` of :func:`_remove_with_effects` with ``fill='rays'``: shadowed road
     (:func:`~sdn3d.editing.photo.road.shadowed_road`) is no source of the rays; with ``delete_shadow`` the removed
     objects' shadow there (inside ``search``) joins the hole (``shadow_mode='fill'``; the matte is -1 there) or is
-    relit first (``'relight'``)."""
+    relit first (``'relight'``); ``road (3,)`` and ``ground_row`` (:func:`_ground_row`) tell the rays' road from a
+    verge on the ground near the car (``photo.ray_verge``)."""
     from sdn3d.editing.photo.road import shadowed_road
 
     ys, xs = (search | hole).nonzero(as_tuple=True)
@@ -579,7 +582,25 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
         hole = hole | own
         matte = -own.float()  # filled, not relit: render_photo marks these pixels fill
     keep_out = objects_px | _ground_rows(dark, hole, SHADOW_GROUND)
-    return fill_hole(image, hole, settings, keep_out, vanishing=vanishing), matte
+    return fill_hole(image, hole, settings, keep_out, vanishing=vanishing, road=road, ground_row=ground_row), matte
+
+
+#: :func:`_ground_row`: the ground near a removed car reaches this many times the distance of its footprint's far edge.
+#: On the real frame's black car the verge behind it that blended into the far lane lay at 1 to 2.4 times; on the
+#: seed-31 tuning deletes, a car in front of trees and a grey facade had them from 2.4 times on, up to the horizon.
+GROUND_REACH = 2.5
+
+
+def _ground_row(road_part: Tensor, K: Tensor) -> float | None:
+    """The picture row from which the hole's pixels are taken for ground near the removed cars (None: no footprint):
+    where the road plane of a level camera lies :data:`GROUND_REACH` times as far as the far edge of their footprints
+    (the top row of ``road_part (H, W)``, :func:`_effects_regions`; depth on the road plane goes as one over the rows
+    below the horizon ``K[1, 2]``). Above it, a ray's sides are as likely upright things (trees, facades) as ground."""
+    rows = road_part.any(1).nonzero().flatten()
+    if not len(rows):
+        return None
+    horizon = float(K[1, 2])
+    return horizon + max(float(rows[0]) - horizon, 0.0) / GROUND_REACH
 
 
 #: :func:`_rays_with_effects`: shadowed road is no ray's source only from this share of the hole's height down (the

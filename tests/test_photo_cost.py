@@ -13,7 +13,7 @@ from sdn3d.editing.photo.occluders import _extend_upright, _strips, thin_occlude
 from sdn3d.editing.photo.recolor import srgb_to_lab
 from sdn3d.editing.photo.road import _along, _gather, _trace, ab_length, road_colours, road_lab, road_like
 from sdn3d.editing.photo.transfer import PhotoSource, _erode_ids, _first_true, _pyramid, render_photo
-from sdn3d.image_ops import dilate_square, ids_present, isin_ids
+from sdn3d.image_ops import dilate_square, id_counts, ids_present, isin_ids
 from tests.test_photo import CAR, FAR_CAR, FRAME, INPUT_SIZE, _scene
 
 
@@ -103,9 +103,14 @@ def test_id_membership_by_table_is_torch_isin():
     wanted = torch.tensor([12003, 0, 5, -2, 12009, 1 << 40])
     assert torch.equal(isin_ids(ids, wanted), torch.isin(ids, wanted))
     assert torch.equal(ids_present(ids, wanted), torch.isin(wanted, ids))
+    assert torch.equal(id_counts(ids, wanted), torch.stack([(ids == w).sum() for w in wanted]))
     for odd in (ids - 12005, ids + (1 << 30), ids[:0]):  # negative, huge and no ids: torch.isin itself
         assert torch.equal(isin_ids(odd, wanted), torch.isin(odd, wanted))
         assert torch.equal(ids_present(odd, wanted), torch.isin(wanted, odd))
+        assert torch.equal(id_counts(odd, wanted), torch.stack([(odd == w).sum() for w in wanted]))
+    assert torch.equal(id_counts(ids, wanted[:0]), torch.zeros(0, dtype=torch.long))
+    for layout in (ids.t(), ids.int(), ids[::2, 1::3], ids.to(torch.int16)):  # strided and narrower ids: NumPy's lookup
+        assert torch.equal(isin_ids(layout, wanted), torch.isin(layout, wanted))
 
 
 def test_erode_ids_is_the_max_pool_it_replaced():
@@ -582,3 +587,74 @@ def test_raster_ids_from_a_table_are_the_where_they_replaced():
     got = _raster_ids(raster, scene.objects)
     assert got.dtype == want.dtype and torch.equal(got, want)
     assert len(got.unique()) == 3  # both cars and no car
+
+
+
+def test_heading_votes_within_reach_are_the_whole_expression_bit_for_bit():
+    from sdn3d.editing.photo.road import VOTE_REACH_SPREADS, _heading_votes
+
+    # exp gives the same bits at any position of a tensor (vector lanes, the scalar tail, strided), which the banded
+    # votes rely on: on random arguments of the votes' range and on every float32 where the results turn subnormal
+    g = torch.Generator().manual_seed(0)
+    x = torch.cat([torch.empty(200_000).uniform_(-130.0, 0.0, generator=g),
+                   -torch.arange(int(torch.tensor(87.0).view(torch.int32)), int(torch.tensor(104.0).view(torch.int32)),
+                                 37, dtype=torch.int32).view(torch.float32)])
+    whole = torch.exp(x)
+    assert torch.equal(whole, torch.exp(torch.stack([x, x], 1)[:, 0]))
+    assert torch.equal(whole[:70_000], torch.cat([torch.exp(c) for c in x[:70_000].split(7)]))
+    assert float(torch.exp(torch.tensor(-0.5 * (VOTE_REACH_SPREADS - 0.01) ** 2))) == 0.0
+    heading = torch.deg2rad(torch.arange(-70.0, 70.25, 0.5))
+    for seed, (n, spread_deg, scatter_deg) in enumerate([(4000, 1.0, 20.0), (333, 1.0, 80.0), (50, 3.0, 5.0),
+                                                         (7, 0.3, 90.0), (0, 1.0, 1.0)]):
+        g = torch.Generator().manual_seed(seed)
+        aim = torch.deg2rad(torch.randn(n, generator=g) * scatter_deg)
+        if n > 10:
+            aim[:3] = torch.deg2rad(torch.tensor([-70.0, 70.0, 89.0]))  # on the first and last headings, far outside
+        spread = math.radians(spread_deg)
+        expected = torch.exp(-0.5 * ((heading[None] - aim[:, None]) / spread).square())
+        assert torch.equal(_heading_votes(heading, aim, spread), expected)
+    aim = torch.tensor([0.1, float("nan")])
+    torch.testing.assert_close(_heading_votes(heading, aim, 0.02),
+                               torch.exp(-0.5 * ((heading[None] - aim[:, None]) / 0.02).square()), rtol=0, atol=0,
+                               equal_nan=True)
+
+
+def test_masked_median_is_torch_median_of_the_selection():
+    from sdn3d.editing.photo.road import MEDIAN_NUMPY_MIN, _masked_median
+
+    g = torch.Generator().manual_seed(0)
+    for steps, (height, width, share) in [(0, (375, 1242, 0.6)), (8, (375, 1242, 0.6)), (0, (40, 60, 0.5)),
+                                          (0, (10, 10, 0.01)), (0, (90, 200, 1.0))]:
+        x = torch.rand(height, width, generator=g).square()
+        if steps:
+            x = (x * steps).round() / steps  # many equal values
+        mask = torch.rand(height, width, generator=g) < share
+        mask.view(-1)[0] = True
+        assert _masked_median(x, mask) == float(x[mask].median())
+    x = torch.rand(375, 1242, generator=g)
+    mask = torch.rand(375, 1242, generator=g) < 0.5
+    assert int(mask.sum()) >= MEDIAN_NUMPY_MIN  # the NumPy path
+    x[mask.nonzero()[0, 0], mask.nonzero()[0, 1]] = float("nan")
+    assert math.isnan(_masked_median(x, mask))
+
+
+def test_upsample_ids_by_numpys_take_is_the_advanced_indexing_it_replaced():
+    from sdn3d.editing.frame import PixelFrame, upsample_ids
+
+    def reference(values, transform):  # upsample_ids as it was
+        (sx, sy), (left, top) = transform.scale, transform.offset
+        w_in, h_in = transform.input_size
+        h, w = values.shape
+        j = torch.floor((torch.arange(w_in, dtype=torch.float64) + 0.5) * sx - left).long()
+        i = torch.floor((torch.arange(h_in, dtype=torch.float64) + 0.5) * sy - top).long()
+        ok = ((i >= 0) & (i < h))[:, None] & ((j >= 0) & (j < w))[None, :]
+        out = values.cpu()[i.clamp(0, h - 1)][:, j.clamp(0, w - 1)]
+        return torch.where(ok, out, torch.zeros_like(out))
+
+    g = torch.Generator().manual_seed(3)
+    ids = torch.randint(0, 30000, (192, 624), generator=g)
+    for frame in (PixelFrame((1242, 375), (624, 192)), PixelFrame((300, 100), (128, 64), (160, 64), (20, 0)),
+                  PixelFrame((1242, 375), (624, 192), (700, 211), (40, 9))):
+        values = ids[:frame.working_size[1], :frame.working_size[0]]  # a strided view, as a crop of a map is
+        for v in (values, values.int(), values > 15000):
+            assert torch.equal(upsample_ids(v, frame), reference(v, frame))

@@ -42,6 +42,7 @@ __all__ = [
     "dilate_square",
     "isin_ids",
     "ids_present",
+    "id_counts",
     "to_image_tensor",
     "resize_image",
     "resize_map",
@@ -326,7 +327,7 @@ def _grow_along(m: np.ndarray, radius: int, axis: int, offset: int, size: int) -
     return np.take(counts, hi, axis=axis) > np.take(counts, lo, axis=axis)
 
 
-#: :func:`isin_ids` and :func:`ids_present` index a table by id up to this bound (else torch.isin).
+#: :func:`isin_ids`, :func:`ids_present` and :func:`id_counts` index a table by id up to this bound (else torch.isin).
 ID_TABLE_MAX = 1 << 20
 
 
@@ -336,6 +337,15 @@ def _id_range(ids: Tensor) -> int | None:
         return None
     lo, hi = torch.aminmax(ids)
     return int(hi) if int(lo) >= 0 and int(hi) < ID_TABLE_MAX else None
+
+
+def _lookup(table: Tensor, ids: Tensor) -> Tensor:
+    """``table[ids.long()]`` for a 1-D ``table`` and non-negative in-range integer ``ids`` (any shape): on the CPU by
+    NumPy's indexing, a third of torch's time for a picture's ids (1.7 against 0.5 ms at 1242x375; the same values,
+    a gather)."""
+    if table.device.type != "cpu" or ids.device.type != "cpu" or table.requires_grad:
+        return table[ids.long()]
+    return torch.from_numpy(table.numpy()[ids.numpy()])
 
 
 def isin_ids(ids: Tensor, wanted: Tensor) -> Tensor:
@@ -351,7 +361,7 @@ def isin_ids(ids: Tensor, wanted: Tensor) -> Tensor:
         return torch.isin(ids, wanted)
     table = torch.zeros(hi + 1, dtype=torch.bool)
     table[wanted[(wanted >= 0) & (wanted <= hi)].long()] = True
-    return table[ids.long()]
+    return _lookup(table, ids)
 
 
 def ids_present(ids: Tensor, wanted: Tensor) -> Tensor:
@@ -367,3 +377,19 @@ def ids_present(ids: Tensor, wanted: Tensor) -> Tensor:
     seen = torch.bincount(ids.reshape(-1).long(), minlength=hi + 1) > 0
     inside = (wanted >= 0) & (wanted <= hi)
     return seen[wanted.long().clamp(0, hi)] & inside
+
+
+def id_counts(ids: Tensor, wanted: Tensor) -> Tensor:
+    """``(K,)`` int64 ``[(ids == w).sum() for w in wanted]``: the pixels of each of ``wanted (K,)`` in the id map
+    ``ids`` (one count per id where the ids are non-negative and below :data:`ID_TABLE_MAX`: a pass over the map in
+    all, not one per wanted id).
+
+    >>> id_counts(torch.tensor([[0, 3], [7, 3]]), torch.tensor([3, 9, -1, 0])).tolist()
+    [2, 0, 0, 1]
+    """
+    hi = _id_range(ids)
+    if hi is None or wanted.dtype.is_floating_point:
+        return torch.stack([(ids == w).sum() for w in wanted]) if len(wanted) else torch.zeros(0, dtype=torch.long)
+    counts = torch.bincount(ids.reshape(-1).long(), minlength=hi + 1)
+    inside = (wanted >= 0) & (wanted <= hi)
+    return torch.where(inside, counts[wanted.long().clamp(0, hi)], 0)

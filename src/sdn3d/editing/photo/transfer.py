@@ -54,7 +54,7 @@ from sdn3d.editing.photo.settings import (
     PhotoSettings,
     PhotoSettingsError,
 )
-from sdn3d.image_ops import dilate_square, ids_present, isin_ids, mask_boxes
+from sdn3d.image_ops import dilate_square, id_counts, ids_present, isin_ids, mask_boxes
 from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
 from sdn3d.math3d.transforms import box_corners
 from sdn3d.meshes.bank import MeshBank, default_bank
@@ -665,7 +665,7 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
     gained = after.mask[rows] & ~before.mask[origin[rows]]  # (S, h, w)
     grew = gained.flatten(1).any(1)
     if vis_ids is not None and min_seen > 0 and bool(grew.any()):
-        seen = torch.stack([(vis_ids == i).sum() for i in after.instance_id[rows].tolist()])
+        seen = id_counts(vis_ids, after.instance_id[rows])
         grew &= seen >= min_seen
     if not bool(grew.any()):
         return own, []
@@ -886,7 +886,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     moved = ~stays & has & after.has_geometry
     gone_ids = before.instance_id[~torch.isin(before.instance_id, after.instance_id[stays])]
     src_ids, vis_ids = source.src_ids, source.vis_ids
-    own = torch.where(isin_ids(src_ids, after.instance_id[stays]), src_ids, torch.zeros_like(src_ids))
+    staying = isin_ids(src_ids, after.instance_id[stays])  # input pixels of the objects that stay
+    own = torch.where(staying, src_ids, torch.zeros_like(src_ids))
     # Freed pixels an object that stays now covers (amodal completion in apply_edits).
     own, grown_rows = _grow(own, before, after, origin, stays, transform, source.outline_ids,
                             source.vis_ids, settings.grow_min_seen)
@@ -912,16 +913,17 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     shade = light.shade if light is not None and settings.relight else None
 
     # Input pixels no object's mask reaches (with the masks' erosion as a margin): no template point is there.
-    background = ~dilate_square(src_ids != 0, photo_source.erode)
+    covered = src_ids != 0
+    background = ~dilate_square(covered, photo_source.erode)
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
-    keep = (src_ids != 0) & isin_ids(src_ids, after.instance_id[stays])
+    keep = covered & staying
     hole = vacated_hole(src_ids, gone_ids, keep, settings)
     if bool(hole.any()):  # thin things in front are put back over the fill: they are no source of it
         hole = hole | photo_source.in_front
     # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
     vp = None
     if settings.fill in RAY_FILLS and bool(gone_ids.numel()):
-        removed = isin_ids(src_ids, gone_ids) & (src_ids != 0)
+        removed = isin_ids(src_ids, gone_ids) & covered
         vp = removal_vanishing_point(image, K, removed, src_ids != 0,
                                      float(before.ry[gone_rows[0]]) if gone_rows else None)
     # With cast_shadow, a moved object's old shadow is relit (as a deleted one's with delete_effects).
@@ -993,9 +995,9 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         source = torch.where((soft > 0.02) & (source == INPUT), SHADOW, source).to(torch.uint8)
 
     # Part of each pixel: the source's where an object stays at its place and shows there (drawn objects: _draw).
-    src_mesh_at = src.frags.pix_to_mesh.view(-1)
-    shows = (src_mesh_at >= 0) & (own.view(-1) != 0) & (own.view(-1) == torch.where(
-        src_mesh_at >= 0, before.instance_id[src.rows[src_mesh_at.clamp(min=0)]] if len(src.rows) else -1, -1))
+    # (the fitted outline's id at each pixel, where a mesh covers it, is the source's outline_ids)
+    shows = ((src.frags.pix_to_mesh.view(-1) >= 0) & (own.view(-1) != 0)
+             & (own.view(-1) == photo_source.outline_ids.view(-1)))
     parts_out = torch.where(shows, photo_source.parts, -1).to(torch.int8).view(size)
 
     # Target rasterization of the drawn objects (moved ones, and the ones that grew) at their poses.

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from enum import IntEnum
 
-__all__ = ["Part", "PART_NAMES", "MIN_GREENHOUSE", "MIN_GLASS_SLOPE"]
+__all__ = ["Part", "PART_NAMES", "MIN_GREENHOUSE", "MIN_GLASS_SLOPE", "MAX_GLASS_RISE", "greenhouse_glass"]
 
 
 class Part(IntEnum):
@@ -48,3 +48,16 @@ PART_NAMES: tuple[str, ...] = tuple(p.name.lower() for p in Part)
 MIN_GREENHOUSE = 0.12
 #: Height change per metre of length from which the roof above the belt is glass (windscreen, rear window).
 MIN_GLASS_SLOPE = 0.3
+#: The most upward component of a face's outward unit normal for a face wholly above the belt line to be glass (the
+#: roof, facing up, is paint): the synthetic generator's rule for its vehicles' windows (``data.synth.appearance``).
+MAX_GLASS_RISE = 0.93
+
+
+def greenhouse_glass(parts, height, rise, belt):
+    """Where ``parts`` (any shape; numpy or torch) should read ``GLASS``: a ``BODY`` point whose canonical
+    ``height`` (``y``, down) is above the canonical ``belt`` line and whose outward unit normal's upward component
+    ``rise`` is under :data:`MAX_GLASS_RISE` (the greenhouse but its roof: a van's or a hatchback's upright rear
+    window, the end panels above the belt, the strips between the side windows and the roof). Vehicles have their
+    windows all round the greenhouse, as the synthetic generator draws them (``data.synth.appearance``); the loft's
+    station rules leave those faces body. Same shape as ``parts``, bool."""
+    return (parts == int(Part.BODY)) & (height <= belt) & (rise < MAX_GLASS_RISE)

@@ -58,7 +58,7 @@ from sdn3d.image_ops import dilate_square, ids_present, isin_ids, mask_boxes
 from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
 from sdn3d.math3d.transforms import box_corners
 from sdn3d.meshes.bank import MeshBank, default_bank
-from sdn3d.meshes.parts import Part
+from sdn3d.meshes.parts import Part, greenhouse_glass
 from sdn3d.meshes.templates import TEMPLATE_NAMES, TEMPLATE_SPECS
 from sdn3d.meshes.vehicle_family import canonical_belt
 from sdn3d.render.maps import normal_map
@@ -266,10 +266,39 @@ def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank, at: Tensor | Non
     mesh = r.frags.pix_to_mesh.view(-1)[pix]
     local = face[pix] - mesh * r.faces.shape[1]
     parts = bank.face_parts.cpu()
-    found = parts[objects.template_id[r.rows[mesh]], local.clamp(max=parts.shape[1] - 1)]
+    template = objects.template_id[r.rows[mesh]].long()
+    found = parts[template, local.clamp(max=parts.shape[1] - 1)]
+    found = _greenhouse_glass(found, pix, r, bank, template, local)
     if at is not None:
         return found.long()  # as the long map's entries
     out[pix] = found
+    return out
+
+
+def _bank_belts(bank: MeshBank) -> Tensor:
+    """``(M,)`` float64 canonical belt line of each mesh of ``bank`` (:func:`~sdn3d.meshes.vehicle_family.
+    canonical_belt`; -inf for a mesh that is no template: no point above it)."""
+    return torch.tensor([canonical_belt(TEMPLATE_SPECS[n]) if n in TEMPLATE_SPECS else -math.inf for n in bank.names],
+                        dtype=torch.float64)
+
+
+def _greenhouse_glass(found: Tensor, pix: Tensor, r: _Raster, bank: MeshBank, template: Tensor,
+                      local: Tensor) -> Tensor:
+    """``found (P,)`` parts at flat pixels ``pix (P,)`` of ``r`` (their meshes' ``template (P,)`` ids in ``bank``,
+    faces ``local (P,)``) with the body points of the greenhouse glass (:func:`~sdn3d.meshes.parts.greenhouse_glass`
+    at the surface point's canonical height, the template's own, before the FFD): the end panels are fans from a
+    centre below the belt, so their windows are told per point, not per face."""
+    body = (found == int(Part.BODY)).nonzero().flatten()
+    if not len(body):
+        return found
+    t, f = template[body], local[body]
+    tri = bank.verts.cpu()[t[:, None], bank.faces.cpu()[t, f]].double()  # (B, 3, 3) canonical
+    bary = r.frags.bary.view(-1, 3)[pix[body]].double()
+    height = (bary * tri[..., 1]).sum(1)
+    normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
+    glass = greenhouse_glass(found[body], height, -normal[:, 1], _bank_belts(bank)[t])
+    out = found.clone()
+    out[body[glass]] = int(Part.GLASS)
     return out
 
 

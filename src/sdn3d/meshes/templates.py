@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from sdn3d.meshes.parts import MIN_GLASS_SLOPE, MIN_GREENHOUSE, Part, greenhouse_glass
+from sdn3d.meshes.parts import MIN_GLASS_SLOPE, MIN_GREENHOUSE, Part
 
 if TYPE_CHECKING:  # trimesh is imported where a Trimesh is built: the edit path never needs it
     import trimesh
@@ -390,19 +390,7 @@ def loft_vehicle_parts(spec: VehicleSpec) -> tuple[np.ndarray, np.ndarray, np.nd
     # Flipping the height axis reversed the orientation: make the winding outward.
     if _signed_volume(canon, faces) < 0:
         faces = faces[:, ::-1]
-    labels = _greenhouse_glass(canon, faces, np.concatenate(parts), 0.5 - spec.belt / max(h for _, h in spec.top))
-    return canon.astype(np.float64), np.ascontiguousarray(faces, dtype=np.int64), labels
-
-
-def _greenhouse_glass(verts: np.ndarray, faces: np.ndarray, parts: np.ndarray, belt: float) -> np.ndarray:
-    """``parts (F,)`` with the faces of ``verts (V, 3)``, ``faces (F, 3)`` (canonical, wound outward) that
-    :func:`~sdn3d.meshes.parts.greenhouse_glass` calls glass at every vertex made ``GLASS`` (the end panels' fans
-    reach below the belt at their centre and stay body here; the photo appearance applies the rule per pixel)."""
-    tri = verts[faces]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-12)
-    glass = greenhouse_glass(parts, tri[..., 1].max(1), -normal[:, 1], belt)  # y is down: the lowest vertex
-    return np.where(glass, int(Part.GLASS), parts)
+    return canon.astype(np.float64), np.ascontiguousarray(faces, dtype=np.int64), np.concatenate(parts)
 
 
 def _signed_volume(verts: np.ndarray, faces: np.ndarray) -> float:

@@ -1588,7 +1588,9 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     the examples alone left a small far car, 30-50 of them, under those functions' 50 and its unseen windows and
     tyres near black in rain). Kept as examples: pixels seen squarely enough (``min_view_cos``); body examples that
     are paint (:func:`~sdn3d.editing.photo.recolor.body_paint`: a tail lamp or a window that a loosely fitted mesh
-    calls body painted a red or black stripe along a whole new side); tyre examples darker than most of the car
+    calls body painted a red or black stripe along a whole new side), the paint told by the body examples off the
+    lamps' heights at the car's ends (:func:`_lamp_band` across the width: a lamp band has paint above and below it,
+    so it does not decide the paint however much of the end it covers); tyre examples darker than most of the car
     (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype (the colours are float64
     from the rows read on)."""
     seen_colors = img_flat[visible_px].double()
@@ -1603,16 +1605,20 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     ex, point, normal, cos = ex[good], point[good], normal[good], cos[good]
     colors = img_flat[ex].double()
     ex_part = parts_src[ex]
+    feature = _part_features(before, b, point, normal)
     keep = torch.ones(len(ex), dtype=torch.bool)
     body_ex = (ex_part == int(Part.BODY)).nonzero().flatten()
     if len(body_ex) >= 8:
-        paint, _ = body_paint(srgb_to_lab(colors[body_ex].float()))
+        lab = srgb_to_lab(colors[body_ex].float())
+        band = _lamp_band(before, b, feature[body_ex], corners=False) if LAMP_BAND is not None else None
+        beside = band is None or int((band < 0).sum()) < 8  # too few examples off the lamps' heights: all decide
+        paint, _ = body_paint(lab, reference=None if beside else lab[band < 0])
         keep[body_ex[~paint]] = False
     tyre_ex = (ex_part == int(Part.TYRE)).nonzero().flatten()
     if TYRE_QUANTILE < 1 and len(tyre_ex):  # tyre examples lighter than most of the car are road or paint
         luma = luminance(colors)
         keep[tyre_ex[luma[tyre_ex] > torch.quantile(luma, TYRE_QUANTILE)]] = False
-    kept = _PartExamples(ex_part[keep], colors[keep], _part_features(before, b, point[keep], normal[keep]), cos[keep])
+    kept = _PartExamples(ex_part[keep], colors[keep], feature[keep], cos[keep])
     return kept, seen_colors
 
 
@@ -1723,19 +1729,19 @@ def _nearest_examples(query: Tensor, examples: Tensor, k: int) -> Tensor:
     return torch.cat([torch.cdist(chunk, examples).topk(k, largest=False).indices for chunk in query.split(8192)])
 
 
-def _lamp_band(before: ObjectTable, b: int, features: Tensor) -> Tensor | None:
+def _lamp_band(before: ObjectTable, b: int, features: Tensor, corners: bool = True) -> Tensor | None:
     """``(P,)`` the lamp part (:data:`~sdn3d.meshes.parts.Part` ``FRONT_LIGHTS`` or ``TAIL_LIGHTS``, -1: neither)
     whose lamp each point of the car of ``before`` row ``b`` lies on, from its :func:`_part_features` ``features (P,
     6)``: at either end (beyond :data:`LAMP_END` of the length from the middle), in the band :data:`LAMP_BAND` below
     the template's belt line and outside :data:`LAMP_CORNER` of the width from the middle plane (the layout the
-    generator draws, ``data.synth.appearance._car``, and where a car's lamps are). None for a template without a
-    belt line."""
+    generator draws, ``data.synth.appearance._car``, and where a car's lamps are); ``corners=False``: across the
+    whole width (the lamps' heights at either end). None for a template without a belt line."""
     template = int(before.template_id[b])
     if not 0 <= template < len(TEMPLATE_NAMES):
         return None
     belt = canonical_belt(TEMPLATE_SPECS[TEMPLATE_NAMES[template]])
     x, y, z = features[:, 0] / PART_LENGTH_WEIGHT, features[:, 1], features[:, 2]
-    inside = (y > belt + LAMP_BAND[0]) & (y < belt + LAMP_BAND[1]) & (z > LAMP_CORNER)
+    inside = (y > belt + LAMP_BAND[0]) & (y < belt + LAMP_BAND[1]) & ((z > LAMP_CORNER) | (not corners))
     out = torch.full((len(features),), -1, dtype=torch.long)
     out[inside & (x > LAMP_END)] = int(Part.FRONT_LIGHTS)
     out[inside & (x < -LAMP_END)] = int(Part.TAIL_LIGHTS)

@@ -1,16 +1,16 @@
 #!/bin/bash
-# tune.sh NEW_SRC BASE_SRC OUT STEP...: tuning runs, one at a time under nice: each STEP is cfTREE:SOURCE
+# tune.sh NAME:SRC[,NAME:SRC...] OUT STEP...: tuning runs, one at a time under nice: each STEP is cfTREE:SOURCE
 # (sdn3d-bench counterfactual=true on /tmp/s11data/lead/cf31 or /tmp/s14data/ends/cf33, turns only, photo fill rays;
 # SOURCE oracle = ground-truth geometry, semantic = predicted with the session 11 demo's branches) or t1SEED:gt
 # (Table 1 photo row on /tmp/s11data/semrain/t1_SEED, ground-truth masks (oracle), session 11 semrain's dbench.py as
 # session 13 rotloss's run.sh drives it, the de-renders cached: they do not depend on the part labels), each for
-# NEW_SRC then BASE_SRC (git archives: ".../src" below them).
+# code in turn (SRC: a git archive, "SRC/src"; NAME: the outputs' suffix).
 set -u
-NEW=$1; BASE=$2; O=$3; shift 3; mkdir -p $O
+CODES=${1//,/ }; O=$2; shift 2; mkdir -p $O
 CK="checkpoints.semantic=/tmp/s11data/demo/out/runs/semantic/checkpoints/inference.pt checkpoints.geometric=/tmp/s11data/demo/out/runs/geometric/checkpoints/inference.pt"
 DB=/work/main/docs/results/2026-11-29_cpu/session11/semrain/scripts/dbench.py
 for STEP in "$@"; do
-  for C in new:$NEW base:$BASE; do
+  for C in $CODES; do
     S=${C#*:}; N=${C%%:*}
     case $STEP in
       cf31:*|cf33:*) T=${STEP%%:*}; SRC=${STEP#*:}; [ $T = cf31 ] && TREE=/tmp/s11data/lead/cf31 || TREE=/tmp/s14data/ends/cf33

@@ -9,6 +9,7 @@ input, target, drawn picture, source codes and part map (for pictures)."""
 from __future__ import annotations
 
 import json
+import os
 import sys
 from collections import defaultdict
 from pathlib import Path
@@ -33,11 +34,39 @@ from sdn3d.meshes.parts import Part
 RUNS = "/tmp/s11data/demo/out/runs"
 
 
+def ends_only(x_min: float) -> None:
+    """Variant (env GLASS_ENDS=X): the greenhouse glass only where the template point lies beyond X of the length
+    from the middle (canonical |x| > X: the end panels), not along the sides."""
+    import torch.nn.functional as F
+
+    from sdn3d.editing.photo import transfer
+    from sdn3d.meshes.parts import Part, greenhouse_glass
+
+    def patched(found, pix, r, bank, template, local):
+        body = (found == int(Part.BODY)).nonzero().flatten()
+        if not len(body):
+            return found
+        t, f = template[body], local[body]
+        tri = bank.verts.cpu()[t[:, None], bank.faces.cpu()[t, f]].double()
+        bary = r.frags.bary.view(-1, 3)[pix[body]].double()
+        height = (bary * tri[..., 1]).sum(1)
+        along = (bary * tri[..., 0]).sum(1)
+        normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
+        glass = greenhouse_glass(found[body], height, -normal[:, 1], transfer._bank_belts(bank)[t]) & (along.abs() > x_min)
+        out = found.clone()
+        out[body[glass]] = int(Part.GLASS)
+        return out
+
+    transfer._greenhouse_glass = patched
+
+
 def main() -> None:
     tree, out = sys.argv[1], Path(sys.argv[2])
     want = sys.argv[3] if len(sys.argv) > 3 else "turn 180"
     source = sys.argv[4] if len(sys.argv) > 4 else "oracle"
     out.mkdir(parents=True, exist_ok=True)
+    if os.environ.get("GLASS_ENDS"):
+        ends_only(float(os.environ["GLASS_ENDS"]))
     torch.set_num_threads(1)
     cfg = compose_config([], "bench")
     models = None

@@ -23,7 +23,8 @@ def main() -> None:
         centre = (a + b + c) / 3
         glass = (centre[:, 1] < belt) & (-normal[:, 1] < 0.93) & (centre[:, 1] > -0.49) & (parts != Part.TYRE)
         body = glass & (parts == Part.BODY)
-        print(f"{name}: belt {belt:+.2f}, generator-glass area labelled body {area[body].sum() / area[glass].sum():.0%}")
+        share = area[body].sum() / area[glass].sum()
+        print(f"{name}: belt {belt:+.2f}, generator-glass area labelled body {share:.0%}")
 
 
 if __name__ == "__main__":

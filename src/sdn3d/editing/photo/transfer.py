@@ -1364,8 +1364,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             if bool(unseen.any()):
                 car_examples, seen_colors, _ = examples_of(b)
                 alb, code = _part_colors(b, car_examples, seen_colors, point_s[unseen], normal_t[unseen],
-                                         t_part[unseen], before, albedo if len(visible_px) else None, others_of(b),
-                                         new_ry=after.ry[r])
+                                         t_part[unseen], before, albedo if len(visible_px) else None, others_of(b))
                 # a part's examples carry their shading
                 s_un = torch.where((code == PART) | (code == ANOTHER_CAR), 1.0, surface_shade(normal_t[unseen]))
                 fallback[unseen] = alb * s_un[:, None]
@@ -1665,8 +1664,7 @@ SHARED_PARTS = (int(Part.TYRE),)
 
 def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
                  before: ObjectTable, body: Tensor | None, others: Callable[[int], _PartExamples] | None = None,
-                 max_examples: int = 1500, k: int = 4,
-                 new_ry: Tensor | float | None = None) -> tuple[Tensor, Tensor]:
+                 max_examples: int = 1500, k: int = 4) -> tuple[Tensor, Tensor]:
     """``(colour (P, 3), source code (P,))`` of unseen surface points ``points (P, 3)`` (camera frame, at the source
     pose of ``before`` row ``b``) with camera-frame unit normals at their new pose ``normals (P, 3)`` and parts
     ``parts (P,)``; ``own``: the car's examples and ``seen_colors`` all its visible colours (:func:`_part_examples`).
@@ -1674,9 +1672,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     Where the input showed the part: the mean colour of the ``k`` nearest input pixels of the same part of the same
     car, code :data:`PART`. Nearest in the car's own frame and by camera-frame normal (:func:`_part_features`): an
     example that faced the camera as the new surface does carries its shading (no light model: a side of the car
-    turned towards the camera takes the colour of the surfaces that faced it, its reflection included); a
-    :data:`PANEL_PARTS` part only from examples on the same panel (side or end) where there are enough, the query's
-    panel told at the new yaw ``new_ry`` (None: every example competes).
+    turned towards the camera takes the colour of the surfaces that faced it, its reflection included).
 
     A lamp part it never showed (the front of a car seen from behind) takes the other end's lamps and paint the
     same way (:data:`OTHER_END`), its lamps in this end's colour (:data:`LAMP_HUES`), code :data:`PART`. A
@@ -1713,11 +1709,8 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             continue
         if len(have) > max_examples:
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
-        if part in PANEL_PARTS and code == PART and new_ry is not None:
-            _same_panel_colors(albedo, q, have, q_feat, feature, source, normals, before.ry[b], new_ry, k)
-        else:
-            near = _nearest_examples(q_feat[q], feature[have], k)
-            albedo[q] = source[have][near].mean(1)
+        near = _nearest_examples(q_feat[q], feature[have], k)
+        albedo[q] = source[have][near].mean(1)
         codes[q] = code
     # The lamps of an end the photo never showed, where cars have them (:func:`_lamp_band`): the template's lamp faces
     # lie lower, on the end cap, and took the other end's paint there.
@@ -1731,34 +1724,6 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             albedo[here] = seen_through_the_air(lamp, seen_colors)  # too few colours: the lamp as it is
             codes[here] = DEFAULT
     return albedo, codes
-
-
-#: Parts whose unseen points take only examples of the same panel of the car, a side's from the sides and an end's
-#: from the ends (:func:`_same_panel_colors`), where the car showed at least ``2 k`` of them there: a side window
-#: turned towards the camera took the lit windscreen that had faced it (the nearest by camera-frame normal).
-#: Empty: every example of the part competes.
-PANEL_PARTS: tuple[int, ...] = (int(Part.GLASS),)
-
-
-def _on_side(camera_normals: Tensor, ry: Tensor | float) -> Tensor:
-    """``(P,)`` bool: camera-frame unit normals ``camera_normals (P, 3)`` of a car at yaw ``ry`` that face more
-    sideways than along the car (in its own frame, ``|z| > |x|``)."""
-    local = camera_normals.double() @ roty(torch.as_tensor(ry, dtype=torch.float64))
-    return local[:, 2].abs() > local[:, 0].abs()
-
-
-def _same_panel_colors(albedo: Tensor, q: Tensor, have: Tensor, q_feat: Tensor, feature: Tensor, source: Tensor,
-                       normals: Tensor, source_ry: Tensor, new_ry: Tensor | float, k: int) -> None:
-    """Writes into ``albedo`` rows ``q`` the mean colour of the ``k`` nearest examples ``have`` (:func:`_part_colors`)
-    on the same panel (:func:`_on_side`: the examples at the source yaw ``source_ry``, from their features' normals;
-    the queries at the new yaw ``new_ry``, from ``normals``); a panel with under ``2 k`` examples takes all."""
-    ex_side = _on_side(feature[have, 3:] / PART_NORMAL_WEIGHT, source_ry)
-    q_side = _on_side(normals[q], new_ry)
-    for side in (True, False):
-        rows = q[q_side == side]
-        pool = have[ex_side == side] if int((ex_side == side).sum()) >= 2 * k else have
-        if len(rows):
-            albedo[rows] = source[pool][_nearest_examples(q_feat[rows], feature[pool], k)].mean(1)
 
 
 def _nearest_examples(query: Tensor, examples: Tensor, k: int) -> Tensor:

@@ -492,3 +492,49 @@ def test_a_small_far_car_in_fog_gets_hazed_defaults_not_black(monkeypatch):
     monkeypatch.setattr(transfer, "AIR_MIN_PIXELS", 50)  # the air not read off: the defaults as they are, near black
     black = render_photo(fog, FRAME, scene, edited, settings=PARTS)
     assert float(black.image[:, black.source == DEFAULT].mean()) < 0.15
+
+
+def test_a_vans_never_seen_rear_window_is_drawn_as_glass_not_paint():
+    """A blue van seen from the front, its windscreen (the rows above its belt line) dark glass, turned by 180
+    degrees: its rear window, never seen, is drawn dark from the windscreen, not blue from the paint. The van
+    template's end panel is a fan from a centre below the belt: its faces were body up to the roof, so the rear
+    window (the generator's and real vans' upright glass) was drawn as paint (``meshes.parts.greenhouse_glass``,
+    applied per pixel by the transfer's part map)."""
+    van = SceneObject(12001, template_id=5, dims=(4.8, 2.1, 1.9), ry=math.pi / 2, location=(0.5, 1.6, 13.0))
+    scene = _scene([van])
+    image, covered, _ = _painted(scene, (0.15, 0.25, 0.7))
+    rows = covered.any(1).nonzero().flatten()
+    top, height = int(rows.min()), int(rows.max()) - int(rows.min()) + 1
+    greenhouse = covered.clone()
+    greenhouse[top + int(0.35 * height):] = False
+    image[:, greenhouse] = 0.05
+    result = render_photo(image, FRAME, scene, apply_edits(scene, [Rotate(12001, math.pi)]), settings=PARTS)
+    drawn = result.parts >= 0
+    rows = drawn.any(1).nonzero().flatten()
+    top, height = int(rows.min()), int(rows.max()) - int(rows.min()) + 1
+    upper = drawn.clone()
+    upper[top + int(0.3 * height):] = False
+    assert int(upper.sum()) > 150
+    blue = result.image[2, upper] - result.image[0, upper] > 0.3
+    assert float(blue.float().mean()) < 0.1
+
+
+def test_a_red_cars_paint_above_the_templates_belt_is_not_glass_on_its_new_side():
+    """A red car seen from behind whose paint reaches above the template's belt line (a real car's belt lies higher
+    than the fitted template's), its rear window the dark top fifth of its rows, turned by 90 degrees: the new side's
+    windows, never seen, are drawn dark from that window, not dark red from the paint the part map calls glass (the
+    glass examples of the paint's hue, ``recolor.body_paint``, are the body's). On the real frame of ``tests/data``
+    the red car turned 90 degrees had dark-red side windows."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.75, 0.08, 0.08))
+    rows = covered.any(1).nonzero().flatten()
+    top, height = int(rows.min()), int(rows.max()) - int(rows.min()) + 1
+    window = covered.clone()
+    window[top + int(0.2 * height):] = False
+    image[:, window] = 0.05
+    assert int((covered & (parts == int(Part.GLASS)) & ~window).sum()) > 30  # paint the part map calls glass
+    result = render_photo(image, FRAME, scene, apply_edits(scene, [Rotate(12001, math.pi / 2)]), settings=PARTS)
+    side_glass = (result.source == PART) & (result.parts == int(Part.GLASS))
+    assert int(side_glass.sum()) > 50
+    redness = result.image[0, side_glass] - result.image[2, side_glass]
+    assert float(redness.mean()) < 0.1

@@ -22,13 +22,21 @@ How a face of the loft is labelled (``docs/ARCHITECTURE.md``, "Vehicle parts"):
 The end panels are fans of 14 triangles around the end ring (the mesh is not re-cut, so that the
 geometry stays what it was): a plate or a lamp is one or two of those triangles, coarser than the real
 part but at its place.
+
+Per point, a drawn picture's part map (the photo appearance's, ``editing.photo.transfer``) adds the greenhouse's
+glass the faces cannot carry (:func:`greenhouse_glass`): a ``BODY`` point above the belt line facing sideways or
+along the car is glass, as vehicles have their windows all round the greenhouse (the end panels' fans reach below
+the belt at their centre, so a van's upright rear window was body up to its roof; the side quads' diagonals make
+a per-face rule lopsided).
 """
 
 from __future__ import annotations
 
 from enum import IntEnum
 
-__all__ = ["Part", "PART_NAMES", "MIN_GREENHOUSE", "MIN_GLASS_SLOPE"]
+from torch import Tensor
+
+__all__ = ["Part", "PART_NAMES", "MIN_GREENHOUSE", "MIN_GLASS_SLOPE", "MAX_GLASS_RISE", "greenhouse_glass"]
 
 
 class Part(IntEnum):
@@ -48,3 +56,16 @@ PART_NAMES: tuple[str, ...] = tuple(p.name.lower() for p in Part)
 MIN_GREENHOUSE = 0.12
 #: Height change per metre of length from which the roof above the belt is glass (windscreen, rear window).
 MIN_GLASS_SLOPE = 0.3
+#: The most upward component of the outward unit normal of a point above the belt line that is glass (the
+#: roof, facing up, is paint): the synthetic generator's rule for its vehicles' windows (``data.synth.appearance``).
+MAX_GLASS_RISE = 0.93
+
+
+def greenhouse_glass(parts: Tensor, height: Tensor, rise: Tensor, belt: Tensor | float) -> Tensor:
+    """``(...)`` bool: where ``parts (...)`` should read ``GLASS``: a ``BODY`` point whose canonical
+    ``height`` (``y``, down) is above the canonical ``belt`` line and whose outward unit normal's upward component
+    ``rise`` is under :data:`MAX_GLASS_RISE` (the greenhouse but its roof: a van's or a hatchback's upright rear
+    window, the end panels above the belt, the strips between the side windows and the roof). Vehicles have their
+    windows all round the greenhouse, as the synthetic generator draws them (``data.synth.appearance``); the loft's
+    station rules leave those faces body. ``height``, ``rise`` and ``belt`` broadcast against ``parts``."""
+    return (parts == int(Part.BODY)) & (height <= belt) & (rise < MAX_GLASS_RISE)

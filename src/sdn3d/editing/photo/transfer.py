@@ -58,7 +58,7 @@ from sdn3d.image_ops import dilate_square, id_counts, ids_present, isin_ids, mas
 from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
 from sdn3d.math3d.transforms import box_corners
 from sdn3d.meshes.bank import MeshBank, default_bank
-from sdn3d.meshes.parts import Part
+from sdn3d.meshes.parts import Part, greenhouse_glass
 from sdn3d.meshes.templates import TEMPLATE_NAMES, TEMPLATE_SPECS
 from sdn3d.meshes.vehicle_family import canonical_belt
 from sdn3d.render.maps import normal_map
@@ -266,10 +266,39 @@ def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank, at: Tensor | Non
     mesh = r.frags.pix_to_mesh.view(-1)[pix]
     local = face[pix] - mesh * r.faces.shape[1]
     parts = bank.face_parts.cpu()
-    found = parts[objects.template_id[r.rows[mesh]], local.clamp(max=parts.shape[1] - 1)]
+    template = objects.template_id[r.rows[mesh]].long()
+    found = parts[template, local.clamp(max=parts.shape[1] - 1)]
+    found = _greenhouse_glass(found, pix, r, bank, template, local)
     if at is not None:
         return found.long()  # as the long map's entries
     out[pix] = found
+    return out
+
+
+def _bank_belts(bank: MeshBank) -> Tensor:
+    """``(M,)`` float64 canonical belt line of each mesh of ``bank`` (:func:`~sdn3d.meshes.vehicle_family.
+    canonical_belt`; -inf for a mesh that is no template: no point above it)."""
+    return torch.tensor([canonical_belt(TEMPLATE_SPECS[n]) if n in TEMPLATE_SPECS else -math.inf for n in bank.names],
+                        dtype=torch.float64)
+
+
+def _greenhouse_glass(found: Tensor, pix: Tensor, r: _Raster, bank: MeshBank, template: Tensor,
+                      local: Tensor) -> Tensor:
+    """``found (P,)`` parts at flat pixels ``pix (P,)`` of ``r`` (their meshes' ``template (P,)`` ids in ``bank``,
+    faces ``local (P,)``) with the body points of the greenhouse glass (:func:`~sdn3d.meshes.parts.greenhouse_glass`
+    at the surface point's canonical height, the template's own, before the FFD): the end panels are fans from a
+    centre below the belt, so their windows are told per point, not per face."""
+    body = (found == int(Part.BODY)).nonzero().flatten()
+    if not len(body):
+        return found
+    t, f = template[body], local[body]
+    tri = bank.verts.cpu()[t[:, None], bank.faces.cpu()[t, f]].double()  # (B, 3, 3) canonical
+    bary = r.frags.bary.view(-1, 3)[pix[body]].double()
+    height = (bary * tri[..., 1]).sum(1)
+    normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
+    glass = greenhouse_glass(found[body], height, -normal[:, 1], _bank_belts(bank)[t])
+    out = found.clone()
+    out[body[glass]] = int(Part.GLASS)
     return out
 
 
@@ -1582,7 +1611,11 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     the examples alone left a small far car, 30-50 of them, under those functions' 50 and its unseen windows and
     tyres near black in rain). Kept as examples: pixels seen squarely enough (``min_view_cos``); body examples that
     are paint (:func:`~sdn3d.editing.photo.recolor.body_paint`: a tail lamp or a window that a loosely fitted mesh
-    calls body painted a red or black stripe along a whole new side); tyre examples darker than most of the car
+    calls body painted a red or black stripe along a whole new side), the paint told by the body examples off the
+    lamps' heights at the car's ends (:func:`_lamp_band` across the width: a lamp band has paint above and below it,
+    so it does not decide the paint however much of the end it covers); on a coloured paint, glass examples of the
+    paint's hue and chroma are the body's (a real car whose belt line lies above the fitted template's: its paint
+    there drew dark-red side windows); tyre examples darker than most of the car
     (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype (the colours are float64
     from the rows read on)."""
     seen_colors = img_flat[visible_px].double()
@@ -1597,16 +1630,25 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     ex, point, normal, cos = ex[good], point[good], normal[good], cos[good]
     colors = img_flat[ex].double()
     ex_part = parts_src[ex]
+    feature = _part_features(before, b, point, normal)
     keep = torch.ones(len(ex), dtype=torch.bool)
     body_ex = (ex_part == int(Part.BODY)).nonzero().flatten()
     if len(body_ex) >= 8:
-        paint, _ = body_paint(srgb_to_lab(colors[body_ex].float()))
+        lab = srgb_to_lab(colors[body_ex].float())
+        band = _lamp_band(before, b, feature[body_ex], corners=False) if LAMP_BAND is not None else None
+        beside = band is None or int((band < 0).sum()) < 8  # too few examples off the lamps' heights: all decide
+        reference = lab if beside else lab[band < 0]
+        paint, coloured = body_paint(lab, reference=reference)
         keep[body_ex[~paint]] = False
+        glass_ex = (ex_part == int(Part.GLASS)).nonzero().flatten()
+        if coloured and len(glass_ex):  # a coloured car's paint above the template's belt line is body, not glass
+            glass_paint, _ = body_paint(srgb_to_lab(colors[glass_ex].float()), reference=reference)
+            ex_part[glass_ex[glass_paint]] = int(Part.BODY)
     tyre_ex = (ex_part == int(Part.TYRE)).nonzero().flatten()
     if TYRE_QUANTILE < 1 and len(tyre_ex):  # tyre examples lighter than most of the car are road or paint
         luma = luminance(colors)
         keep[tyre_ex[luma[tyre_ex] > torch.quantile(luma, TYRE_QUANTILE)]] = False
-    kept = _PartExamples(ex_part[keep], colors[keep], _part_features(before, b, point[keep], normal[keep]), cos[keep])
+    kept = _PartExamples(ex_part[keep], colors[keep], feature[keep], cos[keep])
     return kept, seen_colors
 
 
@@ -1717,19 +1759,19 @@ def _nearest_examples(query: Tensor, examples: Tensor, k: int) -> Tensor:
     return torch.cat([torch.cdist(chunk, examples).topk(k, largest=False).indices for chunk in query.split(8192)])
 
 
-def _lamp_band(before: ObjectTable, b: int, features: Tensor) -> Tensor | None:
+def _lamp_band(before: ObjectTable, b: int, features: Tensor, corners: bool = True) -> Tensor | None:
     """``(P,)`` the lamp part (:data:`~sdn3d.meshes.parts.Part` ``FRONT_LIGHTS`` or ``TAIL_LIGHTS``, -1: neither)
     whose lamp each point of the car of ``before`` row ``b`` lies on, from its :func:`_part_features` ``features (P,
     6)``: at either end (beyond :data:`LAMP_END` of the length from the middle), in the band :data:`LAMP_BAND` below
     the template's belt line and outside :data:`LAMP_CORNER` of the width from the middle plane (the layout the
-    generator draws, ``data.synth.appearance._car``, and where a car's lamps are). None for a template without a
-    belt line."""
+    generator draws, ``data.synth.appearance._car``, and where a car's lamps are); ``corners=False``: across the
+    whole width (the lamps' heights at either end). None for a template without a belt line."""
     template = int(before.template_id[b])
     if not 0 <= template < len(TEMPLATE_NAMES):
         return None
     belt = canonical_belt(TEMPLATE_SPECS[TEMPLATE_NAMES[template]])
     x, y, z = features[:, 0] / PART_LENGTH_WEIGHT, features[:, 1], features[:, 2]
-    inside = (y > belt + LAMP_BAND[0]) & (y < belt + LAMP_BAND[1]) & (z > LAMP_CORNER)
+    inside = (y > belt + LAMP_BAND[0]) & (y < belt + LAMP_BAND[1]) & ((z > LAMP_CORNER) | (not corners))
     out = torch.full((len(features),), -1, dtype=torch.long)
     out[inside & (x > LAMP_END)] = int(Part.FRONT_LIGHTS)
     out[inside & (x < -LAMP_END)] = int(Part.TAIL_LIGHTS)

@@ -538,3 +538,23 @@ def test_a_red_cars_paint_above_the_templates_belt_is_not_glass_on_its_new_side(
     assert int(side_glass.sum()) > 50
     redness = result.image[0, side_glass] - result.image[2, side_glass]
     assert float(redness.mean()) < 0.1
+
+
+def test_a_dark_cars_recolour_paints_its_pillars_the_greenhouse_glass_rule_calls_glass():
+    """A black car recoloured blue where it stands: the pixels above its belt line that the template's faces call body
+    and the greenhouse rule (the transfer's part map, ``meshes.parts.greenhouse_glass``) calls glass, its pillars and
+    roof rails, are painted as its body is. The recolour paints by the loft's face labels
+    (``PhotoSource.face_parts``): on the real frame of ``tests/data`` the black car recoloured blue kept black
+    pillars and roof rails under the greenhouse rule."""
+    from sdn3d.editing.photo.transfer import PhotoSource
+
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.06, 0.06, 0.07))
+    faces = PhotoSource(image, FRAME, scene, settings=PARTS).face_parts().view(parts.shape)
+    pillars = covered & (parts == int(Part.GLASS)) & (faces == int(Part.BODY))
+    assert int(pillars.sum()) > 30
+    result = render_photo(image, FRAME, scene, scene, settings=PARTS, recolor={12001: (0.1, 0.2, 0.9)})
+    body = covered & (faces == int(Part.BODY)) & ~pillars
+    blue = result.image[2] - result.image[0] > 0.2
+    assert float(blue[body].float().mean()) > 0.8  # the body is painted
+    assert float(blue[pillars].float().mean()) > 0.8

@@ -122,7 +122,8 @@ class PhotoSource:
         raster: the source objects rasterized at the input's resolution; outline_ids: ``(H_in, W_in)`` the instance id
             of the object rasterized at each pixel (:func:`_raster_ids`: the fitted outlines); parts: ``(H_in * W_in,)``
             long :class:`~sdn3d.meshes.parts.Part` of the rasterized face at each pixel (-1: none);
-            :meth:`registered_parts` the same with the drawn dark cars' tyres where the input shows them.
+            :meth:`registered_parts` the same with the drawn dark cars' tyres where the input shows them;
+            :meth:`face_parts` the loft's face labels alone (no greenhouse glass), which the recolour paints by.
         in_front: ``(H_in, W_in)`` bool, thin things in front of a car that its mask leaves out (a pole, a sign post:
             :func:`~sdn3d.editing.photo.occluders.thin_occluders`); every edit keeps them in front.
         max_fills: filled pictures kept (each ``3 x H x W`` float32: ~5.6 MB at 1242x375); the oldest goes first.
@@ -151,6 +152,7 @@ class PhotoSource:
                          if self.settings.keep_in_front else torch.zeros_like(self.src_ids, dtype=torch.bool))
         self._light: tuple[Tensor, LightEstimate | None] | None = None
         self._registered_tyres: dict[int, tuple[Tensor, Tensor] | None] = {}
+        self._face_parts: Tensor | None = None
         self._fills: dict[tuple, Tensor] = {}
         self._pyramids: dict[int, list[Tensor]] = {}
 
@@ -168,6 +170,13 @@ class PhotoSource:
         if self._light is None:
             self._light = _source_light(self.raster, self.vis_ids, self.scene.objects, self.image)
         return self._light
+
+    def face_parts(self) -> Tensor:
+        """``(H_in * W_in,)`` long: :attr:`parts` without the greenhouse's glass (:func:`_part_map` with
+        ``greenhouse=False``), made on first use (a recolour)."""
+        if self._face_parts is None:
+            self._face_parts = _part_map(self.raster, self.scene.objects, self.bank, greenhouse=False)
+        return self._face_parts
 
     def registered_parts(self, instance_ids: Sequence[int]) -> Tensor:
         """``(H_in * W_in,)`` long: :attr:`parts` with the tyres of each dark car among ``instance_ids`` (the cars an
@@ -252,9 +261,12 @@ def _raster_ids(r: _Raster, objects: ObjectTable) -> Tensor:
     return torch.cat([ids.new_zeros(1), ids])[mesh + 1]
 
 
-def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank, at: Tensor | None = None) -> Tensor:
+def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank, at: Tensor | None = None,
+              greenhouse: bool = True) -> Tensor:
     """``(H * W,)`` long :class:`~sdn3d.meshes.parts.Part` of the face rasterized at each pixel of ``r`` (-1: none);
-    with ``at (P,)`` flat indices of covered pixels, ``(P,)`` the same at those pixels alone."""
+    with ``at (P,)`` flat indices of covered pixels, ``(P,)`` the same at those pixels alone. ``greenhouse``: with
+    the greenhouse's glass added per point (:func:`_greenhouse_glass`); False: the loft's face labels alone (what the
+    recolour paints: a real car's pillars and roof rails above its belt are paint, :func:`_recolor`)."""
     face = r.frags.pix_to_face.view(-1)
     if at is None:
         out = torch.full_like(face, -1, dtype=torch.long)
@@ -268,7 +280,8 @@ def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank, at: Tensor | Non
     parts = bank.face_parts.cpu()
     template = objects.template_id[r.rows[mesh]].long()
     found = parts[template, local.clamp(max=parts.shape[1] - 1)]
-    found = _greenhouse_glass(found, pix, r, bank, template, local)
+    if greenhouse:
+        found = _greenhouse_glass(found, pix, r, bank, template, local)
     if at is not None:
         return found.long()  # as the long map's entries
     out[pix] = found
@@ -1028,6 +1041,10 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     shows = ((src.frags.pix_to_mesh.view(-1) >= 0) & (own.view(-1) != 0)
              & (own.view(-1) == photo_source.outline_ids.view(-1)))
     parts_out = torch.where(shows, photo_source.parts, -1).to(torch.int8).view(size)
+    # The recolour paints by the loft's face labels: a real car's pillars and roof rails above its belt are paint,
+    # which the greenhouse's glass of parts_out (the transfer's, the generator's rule) would leave unpainted.
+    recolor_parts = (torch.where(shows, photo_source.face_parts(), -1).to(torch.int8).view(size)
+                     if recolor and settings.recolor_parts else None)
 
     # Target rasterization of the drawn objects (moved ones, and the ones that grew) at their poses.
     draw_rows = torch.tensor(sorted(set(moved_rows) | set(grown_rows)), dtype=torch.long)
@@ -1043,7 +1060,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
                                      photo_source.parts, parts_out, background, photo_source.pyramid,
-                                     photo_source.registered_parts(drawn_ids))
+                                     photo_source.registered_parts(drawn_ids), recolor_parts)
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, own, before, after, origin, moved_rows, src_ids,
                                             photo_source.work_ids, transform, photo_source.outline_ids, K, settings,
@@ -1061,8 +1078,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     for iid, info in objects.items():
         final_own.view(-1)[info.pop("_pixels")] = iid
     if recolor:
-        out, source = _recolor(out, source, final_own, recolor, objects, warnings,
-                               parts_out if settings.recolor_parts else None)
+        out, source = _recolor(out, source, final_own, recolor, objects, warnings, recolor_parts)
     # Thin things in front of a car stay in front of what the edit drew there, unless a car now stands nearer than
     # the one they hid (their depth is at most that car's).
     if bool(photo_source.in_front.any()):  # (none found: nothing to put back)
@@ -1222,13 +1238,14 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
           src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
           background: Tensor, pyramid_of: Callable[[int], list[Tensor]],
-          registered: Tensor) -> tuple[Tensor, Tensor, dict[int, dict]]:
+          registered: Tensor, face_parts_out: Tensor | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
     ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
     there is not the object's (``silhouette='carved'``); ``pyramid_of(levels)``: the input's pyramid
     (:meth:`PhotoSource.pyramid`); ``registered (H * W,)``: the input's part map with dark cars' tyres where it shows
     them (:meth:`PhotoSource.registered_parts`): a point whose input pixel the registration relabelled (a template's
-    body over the car's real wheel, its tyre over paint) is not drawn from that pixel."""
+    body over the car's real wheel, its tyre over paint) is not drawn from that pixel. ``parts_out`` gets the drawn
+    pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's)."""
     height, width = own.shape
     t_mesh = tgt.frags.pix_to_mesh.view(-1)
     covered = (t_mesh >= 0).nonzero().flatten()
@@ -1430,6 +1447,8 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     source = source.clone()
     source.view(-1)[pix] = codes
     parts_out.view(-1)[pix] = t_part.to(parts_out.dtype)
+    if face_parts_out is not None:
+        face_parts_out.view(-1)[pix] = _part_map(tgt, after, bank, pix, greenhouse=False).to(face_parts_out.dtype)
     return flat.view(height, width, 3).permute(2, 0, 1), source, objects
 
 

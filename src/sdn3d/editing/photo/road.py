@@ -226,10 +226,14 @@ def _normalised_blur(image: Tensor, valid: Tensor, sigma: float) -> Tensor:
 COARSE = 4
 
 
-def _coarse_blur(image: Tensor, valid: Tensor, sigma: float) -> Tensor:
+def _coarse_blur(image: Tensor, valid: Tensor, sigma: float, road: Tensor | None = None) -> Tensor:
     """``(3, H / COARSE, W / COARSE)``: :func:`_normalised_blur` of ``image`` over ``valid`` at sigma ``sigma``
     (input pixels), computed on the picture shrunk :data:`COARSE` times (a wide blur at full size costs tens of ms
-    at 1242x375); read it with :func:`_gather_coarse`."""
+    at 1242x375); read it with :func:`_gather_coarse`. ``road (3,)`` (CIE Lab): over the valid cells that are road
+    alone (mostly valid, and not :func:`verge_like` by their mean valid colour: judged on the shrunk picture's cells,
+    the cost of a sixteenth of the pixels), the road's colour around a point without its markings' detail, which
+    :func:`ray_fill` with ``verge='road'`` carries from a ray's far side alone (a marking seen on one side only is not
+    drawn out into a stripe, as in :func:`_one_sided_marks`)."""
     import cv2
 
     height, width = valid.shape
@@ -237,6 +241,10 @@ def _coarse_blur(image: Tensor, valid: Tensor, sigma: float) -> Tensor:
     w = valid.float().numpy()
     small_w = cv2.resize(w, size, interpolation=cv2.INTER_AREA)
     small = [cv2.resize(c * w, size, interpolation=cv2.INTER_AREA) for c in image.float().numpy()]
+    if road is not None:
+        cells = torch.from_numpy(np.stack(small) / np.maximum(small_w, 1e-6)[None]).view(3, -1)  # mean valid colours
+        kind = ((small_w > 0.5) & ~verge_like(cells, road).view(small_w.shape).numpy()).astype(np.float32)
+        small_w, small = small_w * kind, [c * kind for c in small]
     den = cv2.GaussianBlur(small_w, (0, 0), sigma / COARSE)
     num = np.stack([cv2.GaussianBlur(c, (0, 0), sigma / COARSE) for c in small])
     return torch.from_numpy(num / np.maximum(den, 1e-6)[None]).to(image.dtype)
@@ -330,8 +338,8 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     (:data:`~sdn3d.editing.photo.settings.VERGE_MODES`): ``'blend'`` interpolates a ray's two sides whatever they
     are; ``'road'``: a ray whose near side is a verge (grass, foliage, paint, a hedge: :func:`verge_like`) and whose
     far side is road (:func:`_verge_near_only`) takes the road's colour there alone, without its markings' detail
-    (:func:`_coarse_road_blur`), so no pale band of the verge's colour fades across the road where the car stood and
-    no marking of the far side is drawn across it (None ``road``: ``'blend'``), at the hole pixels from row
+    (:func:`_coarse_blur` of the road), so no pale band of the verge's colour fades across the road where the car
+    stood and no marking of the far side is drawn across it (None ``road``: ``'blend'``), at the hole pixels from row
     ``ground_row`` down (the ground near the removed car; higher up a ray's sides may be upright things) whose far
     side is resolved (:data:`FAR_RESOLVED`)."""
     height, width = hole.shape
@@ -390,7 +398,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
             far_only = _verge_near_only(c_out, c_in, f_out & f_in & resolved & (p[:, 1] >= ground_row), road)
             if bool(far_only.any()):
                 if road_broad is None:
-                    road_broad = _coarse_road_blur(image, valid, road, MARK_SIGMA)
+                    road_broad = _coarse_blur(image, valid, MARK_SIGMA, road)
                 w_out, w_in = torch.where(far_only, 0.0, w_out), torch.where(far_only, 1.0, w_in)
                 c_in = torch.where(far_only, _gather_coarse(road_broad, q_in), c_in)
         val = c_out * w_out + c_in * w_in
@@ -563,26 +571,6 @@ def _verge_near_only(c_out: Tensor, c_in: Tensor, both: Tensor, road: Tensor) ->
     if bool(both.any()):
         out[both] = verge_like(c_out[:, both], road) & ~verge_like(c_in[:, both], road)
     return out
-
-
-def _coarse_road_blur(image: Tensor, valid: Tensor, road: Tensor, sigma: float) -> Tensor:
-    """``(3, H / COARSE, W / COARSE)``: :func:`_coarse_blur` over the ``valid`` pixels that are road (not
-    :func:`verge_like` of ``road (3,)``, judged on the shrunk picture's cells: the cost of a sixteenth of the pixels),
-    read with :func:`_gather_coarse`: the road's colour around a point without its markings' detail, which a ray taken
-    from one side alone carries (a marking seen on one side only is not drawn out into a stripe, as in
-    :func:`_one_sided_marks`)."""
-    import cv2
-
-    height, width = valid.shape
-    size = (max(width // COARSE, 1), max(height // COARSE, 1))
-    w = valid.float().numpy()
-    small_w = cv2.resize(w, size, interpolation=cv2.INTER_AREA)
-    small = np.stack([cv2.resize(c * w, size, interpolation=cv2.INTER_AREA) for c in image.float().numpy()])
-    cells = torch.from_numpy(small / np.maximum(small_w, 1e-6)[None]).view(3, -1)  # each cell's mean valid colour
-    kind = ((small_w > 0.5) & ~verge_like(cells, road).view(small_w.shape).numpy()).astype(np.float32)
-    den = cv2.GaussianBlur(small_w * kind, (0, 0), sigma / COARSE)
-    num = np.stack([cv2.GaussianBlur(c * kind, (0, 0), sigma / COARSE) for c in small])
-    return torch.from_numpy(num / np.maximum(den, 1e-6)[None]).to(image.dtype)
 
 
 #: Grain weights :func:`ray_fill` chooses from with ``match_grain``, increasing (:func:`_nearest_zero` bisects them).

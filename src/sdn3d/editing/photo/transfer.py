@@ -966,7 +966,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     vp = None
     if settings.fill in RAY_FILLS and bool(gone_ids.numel()):
         removed = isin_ids(src_ids, gone_ids) & covered
-        vp = removal_vanishing_point(image, K, removed, src_ids != 0,
+        vp = removal_vanishing_point(image, K, removed, covered,
                                      float(before.ry[gone_rows[0]]) if gone_rows else None)
     # With cast_shadow, a moved object's old shadow is relit (as a deleted one's with delete_effects).
     moved_from = {int(origin[a]) for a in moved_rows}

@@ -305,3 +305,25 @@ def test_each_lane_task_starts_with_the_threads_its_plan_fixed_whatever_has_fini
     assert seen == {"training: semantic": [["threads=1", "threads_later={after_epochs:7,threads:2}"]] * 2,
                     **{slugs[t.name]: [["threads=1"]] * 2 for t in tasks if t.name != "training: semantic"},
                     **{f"OMP {t.name}": [1, 1] for t in tasks}}
+
+
+def test_the_report_gives_each_lane_task_its_threads():
+    """The time table and the machine sentence say each task's threads as the plan fixed them (before: "2 lanes of 1
+    torch thread each", also for a semantic training that took a second thread)."""
+    from sdn3d.cli.demo import machine_sentence, stage_rows
+
+    threads = {"training: semantic": {"threads": 1, "after_epochs": 7, "then": 2},
+               "training: geometric": {"threads": 1}}
+    timeline = [{"lane": 1, "task": "training: semantic", "start_s": 31.0, "end_s": 500.0, "wall_s": 469.0,
+                 "cpu_s": 600.0, "threads": threads["training: semantic"]},
+                {"lane": 2, "task": "training: geometric", "start_s": 31.0, "end_s": 90.0, "wall_s": 59.0,
+                 "cpu_s": 57.0, "threads": threads["training: geometric"]}]
+    info = {"stages_s": {"data": 31.0, "train": 469.0, "after_training": 46.0}, "wall_s": 546.0,
+            "lanes": {"lanes": 2, "threads": threads, "timeline": timeline},
+            "machine": {"processor": "Test CPU", "logical_cpus": 2, "load_average_start": [0.5, 0, 0]}}
+    rows = stage_rows(info)
+    assert ("| lane 1: training: semantic, 1 torch thread for its first 7 epochs, then 2 (from 31 s to 500 s; CPU "
+            "600 s) | 469 |") in rows
+    assert "| lane 2: training: geometric, 1 torch thread (from 31 s to 90 s; CPU 57 s) | 59 |" in rows
+    assert ("Test CPU, 2 logical cores, 2 lanes (training: semantic 1 torch thread for its first 7 epochs, then 2; "
+            "every other stage 1 torch thread)") in machine_sentence(info)

@@ -175,7 +175,7 @@ def test_the_demo_exits_1_naming_the_training_that_failed_in_a_lane(tmp_path, mo
     monkeypatch.setattr(demo, "make_data", lambda cfg: root)
     monkeypatch.setattr(demo, "data_record", lambda r: {"root": str(r), "frames": 0})
 
-    def command(branch, cfg, data_root, runs, upstream=None, to_file=False):
+    def command(branch, cfg, data_root, runs, upstream=None, to_file=False, later=None):
         if branch == "semantic":
             return [sys.executable, "-c", "import sys; print('CUDA out of memory (stand-in)'); sys.exit(1)"]
         return [sys.executable, "-c", "import time; time.sleep(60)"]

@@ -8,7 +8,7 @@ import time
 import lightning as L
 import torch
 
-__all__ = ["EpochLog"]
+__all__ = ["EpochLog", "ThreadsLaterCallback"]
 
 log = logging.getLogger("sdn3d.train")
 _PER_CLASS = ("/iou_", "/pq_", "/sq_", "/rq_", "/template_prob")  # one per class: too many for a line
@@ -54,3 +54,19 @@ class EpochLog(L.Callback):
         log.info("epoch %d/%s done: step %d, %.1f s%s", trainer.current_epoch + 1, total, trainer.global_step,
                  time.perf_counter() - self._started,
                  ("; " + ", ".join(metrics[: self.max_metrics])) if metrics else "")
+
+
+class ThreadsLaterCallback(L.Callback):
+    """``threads_later`` (:class:`sdn3d.training.start.ThreadsLater`): ``threads`` torch threads from the training
+    epoch after the first ``after_epochs`` on (a resumed run past it: from its first epoch). By epoch, never by
+    timing: a run's arithmetic depends on its thread count, and so stays the same whatever else the machine does."""
+
+    def __init__(self, after_epochs: int, threads: int) -> None:
+        self.after_epochs = int(after_epochs)
+        self.threads = int(threads)
+
+    def on_train_epoch_start(self, trainer: L.Trainer, pl_module: L.LightningModule) -> None:
+        if trainer.current_epoch >= self.after_epochs and torch.get_num_threads() != self.threads:
+            torch.set_num_threads(self.threads)
+            log.info("epoch %d: %d torch threads from here on (threads_later)", trainer.current_epoch + 1,
+                     self.threads)

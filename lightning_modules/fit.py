@@ -18,10 +18,11 @@ from hydra.utils import instantiate
 from omegaconf import DictConfig, OmegaConf
 
 from lightning_modules._base import NonFiniteLossError
+from lightning_modules.callbacks import ThreadsLaterCallback
 from lightning_modules.checkpointing import AtomicCheckpointIO, NonFiniteCheckpointError
 from sdn3d.training.errors import error_file, error_sentence
 from sdn3d.training.rundir import is_launcher
-from sdn3d.training.start import StartPoint
+from sdn3d.training.start import StartPoint, threads_later
 from sdn3d.training.summary import FitResult, Progress, flat_params, scalars
 
 __all__ = ["RunObjects", "best_checkpoint", "build_objects", "configure_process", "fit_and_test", "run_progress"]
@@ -61,6 +62,9 @@ def build_objects(cfg: DictConfig, start: StartPoint | None = None) -> RunObject
     datamodule = instantiate(cfg.datamodule)
     model = instantiate(cfg.model)
     callbacks = _instantiate_group(cfg.get("callbacks"))
+    later = threads_later(cfg)
+    if later is not None:
+        callbacks.append(ThreadsLaterCallback(later.after_epochs, later.threads))
     loggers = _instantiate_group(cfg.get("logger"))
     if not loggers:  # LearningRateMonitor refuses to run without a logger; nothing to monitor into anyway
         callbacks = [c for c in callbacks if type(c).__name__ != "LearningRateMonitor"]

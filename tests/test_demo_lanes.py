@@ -17,27 +17,57 @@ BOTH = [Proposals.SEMANTIC, Proposals.GT]
 
 
 def test_the_short_budget_trains_the_semantic_branch_beside_the_other_two_then_shares_out_the_rest():
-    from sdn3d.cli.demo import BENCH_TASKS, EDITS_TASK, lane_plan
+    from sdn3d.cli.demo import BENCH_TASKS, EDITS_TASK, PlannedTask, lane_plan
+    from sdn3d.training.start import ThreadsLater
 
-    plan = lane_plan(["semantic", "geometric", "textural"], False, BOTH)
+    plan = lane_plan(["semantic", "geometric", "textural"], False, BOTH, 2, 7)
     trained = ("training: semantic", "training: geometric", "training: textural")
+    # every task one thread, except the semantic training (the critical path): both from its 8th epoch on
     assert plan == [
-        [("training: semantic", ()), (BENCH_TASKS[Proposals.SEMANTIC], trained)],
-        [("training: geometric", ()), ("training: textural", ()),
-         (BENCH_TASKS[Proposals.GT], ("training: geometric", "training: textural")), (EDITS_TASK, trained)]]
-    # the same arguments, the same plan: which lane runs what never depends on timing
-    assert lane_plan(["semantic", "geometric", "textural"], False, BOTH) == plan
+        [PlannedTask("training: semantic", (), 1, ThreadsLater(7, 2)),
+         PlannedTask(BENCH_TASKS[Proposals.SEMANTIC], trained, 1)],
+        [PlannedTask("training: geometric", (), 1), PlannedTask("training: textural", (), 1),
+         PlannedTask(BENCH_TASKS[Proposals.GT], ("training: geometric", "training: textural"), 1),
+         PlannedTask(EDITS_TASK, trained, 1)]]
+    # the same arguments, the same plan: which lane runs what, with how many threads, never depends on timing
+    assert lane_plan(["semantic", "geometric", "textural"], False, BOTH, 2, 7) == plan
+    # from its start (0), never (None), four threads in all, one in all
+    branches = ["semantic", "geometric", "textural"]
+    assert lane_plan(branches, False, BOTH, 2, 0)[0][0] == PlannedTask(trained[0], (), 2)
+    assert lane_plan(branches, False, BOTH, 2, None)[0][0] == PlannedTask(trained[0], (), 1)
+    four = lane_plan(branches, False, BOTH, 4, 7)
+    assert four[0][0] == PlannedTask(trained[0], (), 2, ThreadsLater(7, 4))
+    assert {t.threads for lane in four for t in lane} == {2}
+    assert {(t.threads, t.later) for lane in lane_plan(branches, False, BOTH, 1, 7) for t in lane} == {(1, None)}
+
+
+def test_the_demo_gives_its_semantic_training_the_second_thread_for_its_second_half():
+    """conf/demo.yaml: 2 threads, 2 lanes, the semantic training's second thread from epoch 8 of 14 (when the other
+    lane, on an idle machine, is done with its stages); the report says so."""
+    from sdn3d.cli._config import compose_config
+    from sdn3d.cli.demo import lane_plan, task_threads, threads_phrase
+
+    cfg = compose_config([], "demo")
+    assert (cfg.threads, cfg.lanes, cfg.semantic_threads_after_epochs) == (2, 2, 7)
+    plan = lane_plan(["semantic", "geometric", "textural"], False, BOTH, cfg.threads, cfg.semantic_threads_after_epochs)
+    threads = {t.name: task_threads(t) for lane in plan for t in lane}
+    assert threads["training: semantic"] == {"threads": 1, "after_epochs": 7, "then": 2}
+    assert threads_phrase({"lanes": {"lanes": 2, "threads": threads}}) == (
+        "2 lanes (training: semantic 1 torch thread for its first 7 epochs, then 2; every other stage 1 torch thread)")
+    alike = {name: {"threads": 1} for name in threads}
+    assert threads_phrase({"lanes": {"lanes": 2, "threads": alike}}) == "2 lanes (1 torch thread each)"
 
 
 def test_a_textural_branch_on_predicted_maps_waits_for_both_upstream_branches():
     from sdn3d.cli.demo import EDITS_TASK, lane_plan
 
-    plan = lane_plan(["semantic", "geometric", "textural"], True, BOTH)
-    assert plan[1][1] == ("training: textural", ("training: semantic", "training: geometric"))
-    # without a semantic branch: lane 1 trains the geometric one and runs the oracle row, lane 2 the rest
-    alone = lane_plan(["geometric", "textural"], False, [Proposals.GT])
-    assert [name for name, _ in alone[0]] == ["training: geometric", "benchmark: oracle row"]
-    assert [name for name, _ in alone[1]] == ["training: textural", EDITS_TASK]
+    plan = lane_plan(["semantic", "geometric", "textural"], True, BOTH, 2, 7)
+    assert plan[1][1][:2] == ("training: textural", ("training: semantic", "training: geometric"))
+    # without a semantic branch: lane 1 trains the geometric one and runs the oracle row, lane 2 the rest, every
+    # task with its lane's share of the threads
+    alone = lane_plan(["geometric", "textural"], False, [Proposals.GT], 2, 7)
+    assert [(t.name, t.threads) for t in alone[0]] == [("training: geometric", 1), ("benchmark: oracle row", 1)]
+    assert [(t.name, t.threads) for t in alone[1]] == [("training: textural", 1), (EDITS_TASK, 1)]
 
 
 def test_the_medium_budget_is_recognised_as_training_on_predicted_maps():
@@ -145,7 +175,7 @@ def test_the_demo_exits_1_naming_the_training_that_failed_in_a_lane(tmp_path, mo
     monkeypatch.setattr(demo, "make_data", lambda cfg: root)
     monkeypatch.setattr(demo, "data_record", lambda r: {"root": str(r), "frames": 0})
 
-    def command(branch, cfg, data_root, runs, upstream=None, to_file=False):
+    def command(branch, cfg, data_root, runs, upstream=None, to_file=False, later=None):
         if branch == "semantic":
             return [sys.executable, "-c", "import sys; print('CUDA out of memory (stand-in)'); sys.exit(1)"]
         return [sys.executable, "-c", "import time; time.sleep(60)"]
@@ -225,7 +255,7 @@ def test_the_proposal_recall_runs_after_the_example_edits_beside_the_predicted_r
 
     monkeypatch.setattr(demo, "_lane_task_command", command)
     cfg = compose_config([f"output_dir={tmp_path / 'out'}", f"data_dir={tmp_path / 'data'}"], "demo")
-    plan = demo.lane_plan(["semantic", "geometric", "textural"], False, sources)
+    plan = demo.lane_plan(["semantic", "geometric", "textural"], False, sources, 2, 7)
     tasks = demo.lane_tasks(plan, cfg, tmp_path / "data", tmp_path / "out")
     for task in (t for lane in tasks for t in lane if not t.name.startswith("training")):
         task.start({}).wait()
@@ -235,3 +265,65 @@ def test_the_proposal_recall_runs_after_the_example_edits_beside_the_predicted_r
     else:
         assert "bench_predicted" not in specs and specs["edits"]["steps"] == ["edits"]
     assert specs["bench_oracle"]["steps"] == ["bench"]
+
+
+def test_each_lane_task_starts_with_the_threads_its_plan_fixed_whatever_has_finished(tmp_path, monkeypatch):
+    """The demo's semantic training child starts with 1 torch thread (``threads=1``, ``OMP_NUM_THREADS=1``) and
+    ``threads_later={after_epochs:7,threads:2}``, every other child with 1, the same whether it starts first or
+    after every other task ended (no thread count read off the other lane's state)."""
+    from sdn3d.cli import demo
+    from sdn3d.cli._config import compose_config
+
+    seen: dict[str, list] = {}
+    env_probe = [sys.executable, "-c", "import os; print(os.environ['OMP_NUM_THREADS'])"]
+    real_command = demo._train_command
+
+    def train_command(branch, cfg, data_root, runs, upstream=None, to_file=False, later=None):
+        command = real_command(branch, cfg, data_root, runs, upstream, to_file, later)
+        seen.setdefault(f"training: {branch}", []).append([a for a in command if a.startswith("threads")])
+        return env_probe
+
+    def task_command(spec, work, name):
+        seen.setdefault(name, []).append([f"threads={spec['config']['threads']}"])
+        return env_probe
+
+    monkeypatch.setattr(demo, "_train_command", train_command)
+    monkeypatch.setattr(demo, "_lane_task_command", task_command)
+    monkeypatch.setattr(demo, "_finish", lambda branch, run_dir, code, started, new_run=None: {"best_ckpt": "x"})
+    cfg = compose_config([f"output_dir={tmp_path / 'out'}", f"data_dir={tmp_path / 'data'}"], "demo")
+    plan = demo.lane_plan(["semantic", "geometric", "textural"], False, BOTH, cfg.threads,
+                          cfg.semantic_threads_after_epochs)
+    tasks = [t for lane in demo.lane_tasks(plan, cfg, tmp_path / "data", tmp_path / "out") for t in lane]
+    everything = {t.name: {"best_ckpt": "x", "bench": None, "edits": None} for t in tasks}
+    for done in ({}, everything):  # started first, or last
+        for task in tasks:
+            assert task.start(done).wait() == 0
+            seen.setdefault(f"OMP {task.name}", []).append(int(task.log.read_text()))
+    slugs = {"benchmark: predicted row": "bench_predicted", "benchmark: oracle row": "bench_oracle",
+             demo.EDITS_TASK: "edits", "training: geometric": "training: geometric",
+             "training: textural": "training: textural"}
+    assert seen == {"training: semantic": [["threads=1", "threads_later={after_epochs:7,threads:2}"]] * 2,
+                    **{slugs[t.name]: [["threads=1"]] * 2 for t in tasks if t.name != "training: semantic"},
+                    **{f"OMP {t.name}": [1, 1] for t in tasks}}
+
+
+def test_the_report_gives_each_lane_task_its_threads():
+    """The time table and the machine sentence say each task's threads as the plan fixed them (before: "2 lanes of 1
+    torch thread each", also for a semantic training that took a second thread)."""
+    from sdn3d.cli.demo import machine_sentence, stage_rows
+
+    threads = {"training: semantic": {"threads": 1, "after_epochs": 7, "then": 2},
+               "training: geometric": {"threads": 1}}
+    timeline = [{"lane": 1, "task": "training: semantic", "start_s": 31.0, "end_s": 500.0, "wall_s": 469.0,
+                 "cpu_s": 600.0, "threads": threads["training: semantic"]},
+                {"lane": 2, "task": "training: geometric", "start_s": 31.0, "end_s": 90.0, "wall_s": 59.0,
+                 "cpu_s": 57.0, "threads": threads["training: geometric"]}]
+    info = {"stages_s": {"data": 31.0, "train": 469.0, "after_training": 46.0}, "wall_s": 546.0,
+            "lanes": {"lanes": 2, "threads": threads, "timeline": timeline},
+            "machine": {"processor": "Test CPU", "logical_cpus": 2, "load_average_start": [0.5, 0, 0]}}
+    rows = stage_rows(info)
+    assert ("| lane 1: training: semantic, 1 torch thread for its first 7 epochs, then 2 (from 31 s to 500 s; CPU "
+            "600 s) | 469 |") in rows
+    assert "| lane 2: training: geometric, 1 torch thread (from 31 s to 90 s; CPU 57 s) | 59 |" in rows
+    assert ("Test CPU, 2 logical cores, 2 lanes (training: semantic 1 torch thread for its first 7 epochs, then 2; "
+            "every other stage 1 torch thread)") in machine_sentence(info)

@@ -109,3 +109,52 @@ def test_the_demo_passes_threads_to_sdn3d_train(tmp_path):
     assert "threads=1" in cmd and not any(o.startswith("torch_threads=") for o in cmd)
     composed = _compose([o for o in cmd[3:] if not o.startswith("hydra.")] + [f"run_dir={tmp_path}"])
     assert composed.threads == 1
+
+
+def test_threads_later_takes_more_threads_from_its_epoch_on_and_builds_its_callback(tmp_path):
+    """``threads_later={after_epochs: E, threads: T}``: the run's threads for its first E epochs, T from then on
+    (sdn3d-demo's semantic training: fixed by epoch, never by timing); refused, naming the key, when malformed."""
+    import lightning as L
+    from torch.utils.data import DataLoader, TensorDataset
+
+    from lightning_modules.callbacks import ThreadsLaterCallback
+    from lightning_modules.fit import build_objects
+    from sdn3d.training.start import ThreadsLater, threads_later
+
+    cfg = _compose(["threads=1", "branch=semantic", "experiment=demo", f"run_dir={tmp_path / 'run'}",
+                    "threads_later={after_epochs:2,threads:2}", "logger=none"])
+    assert threads_later(cfg) == ThreadsLater(2, 2)
+    check_threads(cfg)
+    assert threads_later(_compose(["run_dir=/tmp/unused"])) is None  # default: `threads` throughout
+    made = [c for c in build_objects(cfg).trainer.callbacks if isinstance(c, ThreadsLaterCallback)]
+    assert [(c.after_epochs, c.threads) for c in made] == [(2, 2)]
+    for bad, key in (({"after_epochs": -1, "threads": 2}, "after_epochs"),
+                     ({"after_epochs": 1, "threads": 0}, "threads"),
+                     ({"after_epochs": 1.5, "threads": 2}, "after_epochs"), ({"threads": 2}, "threads_later")):
+        with pytest.raises(TrainingError, match=key):
+            check_threads(OmegaConf.create({"threads": 1, "threads_later": bad}))
+
+    seen = []
+
+    class Tiny(L.LightningModule):
+        def __init__(self) -> None:
+            super().__init__()
+            self.layer = torch.nn.Linear(2, 1)
+
+        def training_step(self, batch, batch_idx):
+            seen.append((self.current_epoch, torch.get_num_threads()))
+            return self.layer(batch[0]).pow(2).mean()
+
+        def configure_optimizers(self):
+            return torch.optim.SGD(self.parameters(), lr=0.1)
+
+    before = torch.get_num_threads()
+    try:
+        torch.set_num_threads(1)
+        trainer = L.Trainer(max_epochs=4, callbacks=[ThreadsLaterCallback(2, 2)], logger=False,
+                            enable_checkpointing=False, enable_progress_bar=False, enable_model_summary=False,
+                            default_root_dir=tmp_path)
+        trainer.fit(Tiny(), DataLoader(TensorDataset(torch.randn(4, 2)), batch_size=4))
+    finally:
+        torch.set_num_threads(before)
+    assert seen == [(0, 1), (1, 1), (2, 2), (3, 2)]

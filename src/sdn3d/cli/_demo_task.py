@@ -1,9 +1,9 @@
 """One of ``sdn3d-demo``'s lane tasks after training, in its own process (``python -m sdn3d.cli._demo_task SPEC``).
 
 ``SPEC`` (JSON, written by :func:`sdn3d.cli.demo.lane_tasks`): ``steps`` (of ``recall``, ``bench``, ``edits``, run
-in the order listed), ``config`` (the demo's resolved config, ``threads`` already the lane's), ``data_root``,
-``checkpoints`` (branch -> file), ``output_dir``, ``proposals`` (the benchmark pass: ``semantic`` or ``gt``) and
-``result``: where the steps' results go, pickled as ``{step: result}`` (the benchmark's
+in the order listed), ``config`` (the demo's resolved config, ``threads`` already the task's, as the lane plan fixed
+it), ``data_root``, ``checkpoints`` (branch -> file), ``output_dir``, ``proposals`` (the benchmark pass: ``semantic``
+or ``gt``) and ``result``: where the steps' results go, pickled as ``{step: result}`` (the benchmark's
 :func:`sdn3d.cli.bench.evaluate_bench`, with its pictures). Any error ends the process with a traceback and a
 non-zero status; the demo names the task and this log.
 """

@@ -215,6 +215,7 @@ class DemoSchema:
     seed: int = MISSING
     threads: int = MISSING
     lanes: int = MISSING
+    semantic_threads_after_epochs: Optional[int] = MISSING
     device: str = MISSING
     workers: int = MISSING
     render_size: Optional[List[int]] = MISSING

@@ -38,6 +38,7 @@ from sdn3d.editing.appearance import APPEARANCES, Appearance
 from sdn3d.editing.compose import Compose, ComposeSettings
 from sdn3d.errors import InputError
 from sdn3d.proposals import Proposals
+from sdn3d.training.start import ThreadsLater
 
 console = Console(stderr=True)
 
@@ -80,7 +81,8 @@ def stage_rows(info: dict) -> str:
     stages = info.get("stages_s") or {}
     rows = [("synthetic data", stages.get("data"))]
     if info.get("lanes"):  # the stages overlap: each lane's tasks with their start and end
-        rows += [(f"lane {r['lane']}: {r['task']} (from {r['start_s']:.0f} s to {r['end_s']:.0f} s"
+        rows += [(f"lane {r['lane']}: {r['task']}, {threads_words(r['threads'])} "
+                  f"(from {r['start_s']:.0f} s to {r['end_s']:.0f} s"
                   + (f"; CPU {r['cpu_s']:.0f} s" if r.get("cpu_s") is not None else "") + ")", r["wall_s"])
                  for r in sorted(info["lanes"]["timeline"], key=lambda r: (r["lane"], r["start_s"]))]
         rows += [("training, all branches (lanes overlapping)", stages.get("train")),
@@ -110,11 +112,12 @@ def machine_sentence(info: dict) -> str:
 
 
 def threads_phrase(info: dict) -> str:
-    """``2 torch threads``, or with lanes ``2 lanes of 1 torch thread each``."""
+    """``2 torch threads``, or with lanes ``2 lanes (training: semantic 1 torch thread for its first 7 epochs, then
+    2; every other stage 1 torch thread)``: each task's threads as the lane plan fixed them
+    (:func:`threads_sentence`)."""
     lanes = info.get("lanes")
     if lanes:
-        each = lanes["threads_per_lane"]
-        return f"{lanes['lanes']} lanes of {each} torch thread{'s' if each != 1 else ''} each"
+        return f"{lanes['lanes']} lanes ({threads_sentence(lanes['threads'])})"
     return f"{info.get('threads')} torch threads"
 
 
@@ -176,14 +179,14 @@ def make_data(cfg: Any) -> Path:
 
 
 def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path, upstream: dict[str, str] | None = None,
-                   to_file: bool = False) -> list[str]:
+                   to_file: bool = False, later: ThreadsLater | None = None) -> list[str]:
     """The ``sdn3d-train`` child: the branch's experiment (its budget) plus this machine's options; then the
     user's extra ``train.common`` / ``train.<branch>`` overrides (empty by default).
 
     ``upstream``: checkpoints of the branches trained before (3D-SDN's order): the textural run gets the semantic
     and geometric ones, which its recipe uses when it trains on predicted maps (``datamodule.maps=predicted``),
     with the predicted-map cache under ``runs/map_cache``. ``to_file``: its output goes to a file (the lanes), so
-    without a progress bar, as with ``train.parallel``."""
+    without a progress bar, as with ``train.parallel``. ``later``: its ``threads_later`` (the lanes' plan)."""
     experiment = (cfg.train.get("experiment") or {}).get(branch, f"demo_{cfg.budget_name}")
     args = [sys.executable, "-m", "sdn3d.cli.train", f"branch={branch}", f"experiment={experiment}",
             f"data.root={data_root.resolve()}", f"seed={int(cfg.seed)}", f"threads={int(cfg.threads)}",
@@ -194,6 +197,8 @@ def _train_command(branch: str, cfg: Any, data_root: Path, runs: Path, upstream:
         args += [f"datamodule.semantic_checkpoint={upstream['semantic']}",
                  f"datamodule.geometric_checkpoint={upstream['geometric']}",
                  f"datamodule.map_cache_dir={runs / 'map_cache'}"]
+    if later is not None:
+        args.append(f"threads_later={{after_epochs:{later.after_epochs},threads:{later.threads}}}")
     if cfg.device != "cpu":
         args.append("trainer=gpu")
     if cfg.train.get("parallel") or to_file:  # several progress bars on one terminal would garble each other
@@ -324,30 +329,51 @@ BENCH_TASKS = {Proposals.SEMANTIC: "benchmark: predicted row",
 EDITS_TASK = "example edits (and proposal recall)"
 
 
-def lane_plan(branches: Sequence[str], textural_needs_upstream: bool, bench: Sequence[Proposals]
-              ) -> list[list[tuple[str, tuple[str, ...]]]]:
-    """The demo's two lanes: per lane, its tasks' ``(name, needs)`` in the order it runs them
-    (:mod:`sdn3d.cli._lanes`). Lane 1 trains the semantic branch (the longest), then runs the benchmark's predicted
-    row; lane 2 trains the geometric and textural branches (which do not need the semantic one unless
-    ``textural_needs_upstream``), runs the oracle row (it needs no semantic branch: usually while lane 1 still
-    trains), then the example edits and, with a predicted row, the semantic branch's proposal recall (both need
-    every branch: they run beside the predicted row, the longer task, which the recall would otherwise lengthen).
-    Without a semantic branch lane 1 trains the geometric one."""
+class PlannedTask(NamedTuple):
+    """One stage of :func:`lane_plan`: its name, the tasks it waits for (in any lane), its torch threads and, for a
+    training, the more threads it takes from a given epoch on (``later``; None: ``threads`` throughout). Fixed by the
+    plan before anything runs, never by timing or by what the other lane is doing."""
+
+    name: str
+    needs: tuple[str, ...]
+    threads: int
+    later: ThreadsLater | None = None
+
+
+def lane_plan(branches: Sequence[str], textural_needs_upstream: bool, bench: Sequence[Proposals], threads: int,
+              semantic_threads_after: int | None = None) -> list[list[PlannedTask]]:
+    """The demo's two lanes: per lane, its tasks in the order it runs them (:mod:`sdn3d.cli._lanes`). Lane 1 trains
+    the semantic branch (the longest), then runs the benchmark's predicted row; lane 2 trains the geometric and
+    textural branches (which do not need the semantic one unless ``textural_needs_upstream``), runs the oracle row
+    (it needs no semantic branch: usually while lane 1 still trains), then the example edits and, with a predicted
+    row, the semantic branch's proposal recall (both need every branch: they run beside the predicted row, the longer
+    task, which the recall would otherwise lengthen). Without a semantic branch lane 1 trains the geometric one.
+
+    Threads: every task has its lane's share, ``threads // 2`` (at least 1), except the semantic training, the
+    critical path: from its epoch ``semantic_threads_after`` on (0: from its start) it has all ``threads``, lane 2's
+    core being free by then (on an idle machine lane 2 is done with its stages about half way through the semantic
+    training, then only waits for it); None: its share throughout."""
+    share = max(1, int(threads) // 2)
+    semantic = PlannedTask(_train_name("semantic"), (), share)
+    if semantic_threads_after is not None and int(threads) > share:
+        semantic = semantic._replace(threads=int(threads)) if int(semantic_threads_after) == 0 else \
+            semantic._replace(later=ThreadsLater(int(semantic_threads_after), int(threads)))
     train = {b: _train_name(b) for b in branches}
     needs = {b: () for b in branches}
     if "textural" in branches and textural_needs_upstream:
         needs["textural"] = tuple(train[b] for b in ("semantic", "geometric") if b in branches)
+    planned = {b: semantic if b == "semantic" else PlannedTask(train[b], needs[b], share) for b in branches}
     first = ["semantic"] if "semantic" in branches else [b for b in branches if b == "geometric"]
-    lanes: list[list[tuple[str, tuple[str, ...]]]] = [[(train[b], needs[b]) for b in first],
-                                                      [(train[b], needs[b]) for b in branches if b not in first]]
+    lanes: list[list[PlannedTask]] = [[planned[b] for b in first], [planned[b] for b in branches if b not in first]]
     everything = tuple(train.values())
     without_semantic = tuple(train[b] for b in branches if b != "semantic")
     for proposals in bench:
         if proposals is Proposals.SEMANTIC:
-            lanes[0].append((BENCH_TASKS[proposals], everything))
+            lanes[0].append(PlannedTask(BENCH_TASKS[proposals], everything, share))
         else:
-            lanes[1 if "semantic" in branches else 0].append((BENCH_TASKS[proposals], without_semantic))
-    lanes[1].append((EDITS_TASK, everything))
+            lanes[1 if "semantic" in branches else 0].append(PlannedTask(BENCH_TASKS[proposals], without_semantic,
+                                                                         share))
+    lanes[1].append(PlannedTask(EDITS_TASK, everything, share))
     return lanes
 
 
@@ -359,10 +385,11 @@ def _lane_task_command(spec: dict, work: Path, name: str) -> list[str]:
     return [sys.executable, "-m", "sdn3d.cli._demo_task", str(path)]
 
 
-def lane_tasks(plan: list[list[tuple[str, tuple[str, ...]]]], cfg: Any, data_root: Path, out: Path) -> list[list]:
-    """:func:`lane_plan`'s tasks as :class:`sdn3d.cli._lanes.LaneTask` children of ``cfg`` (each with
-    ``threads // lanes`` torch threads, at least 1): ``sdn3d-train`` runs (output in ``runs/<branch>.out``), the
-    benchmark's passes and the edits (``python -m sdn3d.cli._demo_task``, output in ``logs/bench_predicted.out``,
+def lane_tasks(plan: list[list[PlannedTask]], cfg: Any, data_root: Path, out: Path) -> list[list]:
+    """:func:`lane_plan`'s tasks as :class:`sdn3d.cli._lanes.LaneTask` children of ``cfg``, each with the torch threads
+    its plan gives it (``threads=``, ``OMP_NUM_THREADS``, a training's ``later`` as its ``threads_later``):
+    ``sdn3d-train`` runs (output in ``runs/<branch>.out``),
+    the benchmark's passes and the edits (``python -m sdn3d.cli._demo_task``, output in ``logs/bench_predicted.out``,
     ``logs/bench_oracle.out`` and ``logs/edits.out``; the
     benchmark is written from both passes by :func:`run_bench` once they ended)."""
     import pickle
@@ -372,13 +399,11 @@ def lane_tasks(plan: list[list[tuple[str, tuple[str, ...]]]], cfg: Any, data_roo
     runs, logs = out / "runs", out / "logs"
     runs.mkdir(parents=True, exist_ok=True)
     logs.mkdir(parents=True, exist_ok=True)
-    env = _train_env(cfg)
-    container = OmegaConf.to_container(cfg, resolve=True)
 
     def checkpoints(done: dict) -> dict[str, str]:
         return {b: _checkpoint(done[_train_name(b)]) for b in cfg.train.branches if _train_name(b) in done}
 
-    def training(branch: str) -> LaneTask:
+    def training(branch: str, task_cfg: Any, later: ThreadsLater | None) -> LaneTask:
         run_dir, log, started = runs / branch, runs / f"{branch}.out", {}
 
         def start(done: dict) -> subprocess.Popen:
@@ -386,24 +411,25 @@ def lane_tasks(plan: list[list[tuple[str, tuple[str, ...]]]], cfg: Any, data_roo
             upstream = checkpoints(done) if branch == "textural" else None
             started["t"] = time.perf_counter()
             with open(log, "w") as stream:
-                return subprocess.Popen(_train_command(branch, cfg, data_root, runs, upstream, to_file=True),
-                                        env=env, stdout=stream, stderr=subprocess.STDOUT)
+                return subprocess.Popen(_train_command(branch, task_cfg, data_root, runs, upstream, True, later),
+                                        env=_train_env(task_cfg), stdout=stream, stderr=subprocess.STDOUT)
 
         def finish(code: int, done: dict) -> dict:
             return _finish(branch, run_dir, code, started["t"], _keep_or_restore(run_dir))
 
         return LaneTask(_train_name(branch), (), start, finish, log)
 
-    def child(name: str, slug: str, steps: list[str], proposals: str | None) -> LaneTask:
+    def child(name: str, slug: str, steps: list[str], proposals: str | None, task_cfg: Any) -> LaneTask:
         log, result = logs / f"{slug}.out", logs / f"{slug}.result.pkl"
+        container = OmegaConf.to_container(task_cfg, resolve=True)
 
         def start(done: dict) -> subprocess.Popen:
             result.unlink(missing_ok=True)
             spec = {"steps": steps, "config": container, "data_root": str(data_root), "checkpoints": checkpoints(done),
                     "output_dir": str(out), "proposals": proposals, "result": str(result)}
             with open(log, "w") as stream:
-                return subprocess.Popen(_lane_task_command(spec, logs, slug), env=env, stdout=stream,
-                                        stderr=subprocess.STDOUT)
+                return subprocess.Popen(_lane_task_command(spec, logs, slug), env=_train_env(task_cfg),
+                                        stdout=stream, stderr=subprocess.STDOUT)
 
         def finish(code: int, done: dict) -> dict:
             (logs / f"{slug}.json").unlink(missing_ok=True)
@@ -416,19 +442,52 @@ def lane_tasks(plan: list[list[tuple[str, tuple[str, ...]]]], cfg: Any, data_roo
 
         return LaneTask(name, (), start, finish, log)
 
-    made = {_train_name(b): training(b) for b in cfg.train.branches}
-    predicted_row = any(name == BENCH_TASKS[Proposals.SEMANTIC] for lane in plan for name, _ in lane)
-    made |= {BENCH_TASKS[Proposals.SEMANTIC]: child(BENCH_TASKS[Proposals.SEMANTIC], "bench_predicted", ["bench"],
-                                                    "semantic"),
-             BENCH_TASKS[Proposals.GT]: child(BENCH_TASKS[Proposals.GT], "bench_oracle", ["bench"], "gt"),
-             # the recall after the edits: each step's results are the same in either task, in either order
-             EDITS_TASK: child(EDITS_TASK, "edits", ["edits"] + (["recall"] if predicted_row else []), None)}
-    return [[made[name]._replace(needs=needs) for name, needs in lane] for lane in plan]
+    predicted_row = any(t.name == BENCH_TASKS[Proposals.SEMANTIC] for lane in plan for t in lane)
+    trainings = {_train_name(b): b for b in cfg.train.branches}
+
+    def made(planned: PlannedTask) -> LaneTask:
+        task_cfg = OmegaConf.merge(cfg, {"threads": planned.threads})
+        if planned.name in trainings:
+            task = training(trainings[planned.name], task_cfg, planned.later)
+        elif planned.name == EDITS_TASK:  # the recall after the edits: each step's results are the same in either
+            task = child(EDITS_TASK, "edits", ["edits"] + (["recall"] if predicted_row else []), None, task_cfg)
+        else:
+            proposals = next(p for p, name in BENCH_TASKS.items() if name == planned.name)
+            slug = "bench_predicted" if proposals is Proposals.SEMANTIC else "bench_oracle"
+            task = child(planned.name, slug, ["bench"], proposals.value, task_cfg)
+        return task._replace(needs=planned.needs)
+
+    return [[made(planned) for planned in lane] for lane in plan]
 
 
-def lane_threads(cfg: Any) -> int:
-    """Torch threads of each lane's processes: ``threads`` shared out over ``lanes``, at least 1."""
-    return max(1, int(cfg.threads) // max(1, int(cfg.lanes)))
+def task_threads(planned: PlannedTask) -> dict[str, int]:
+    """The report's record of a planned task's threads: ``{'threads': n}``, with ``'after_epochs'`` and ``'then'``
+    for a training that takes more from an epoch on."""
+    if planned.later is None:
+        return {"threads": planned.threads}
+    return {"threads": planned.threads, "after_epochs": planned.later.after_epochs, "then": planned.later.threads}
+
+
+def threads_words(record: dict[str, int]) -> str:
+    """``1 torch thread``, or ``1 torch thread for its first 7 epochs, then 2`` (a :func:`task_threads` record)."""
+    n = record["threads"]
+    words = f"{n} torch thread{'s' if n != 1 else ''}"
+    if "then" in record:
+        words += f" for its first {record['after_epochs']} epochs, then {record['then']}"
+    return words
+
+
+def threads_sentence(threads: dict[str, dict[str, int]]) -> str:
+    """``training: semantic 1 torch thread for its first 7 epochs, then 2; every other stage 1 torch thread`` from
+    ``{task: its task_threads record}`` (lane plan order): the tasks unlike most named; ``1 torch thread each`` when
+    all are alike."""
+    words = {task: threads_words(record) for task, record in threads.items()}
+    counts = list(words.values())
+    usual = max(set(counts), key=lambda w: (counts.count(w), w == min(counts, key=len)))
+    named = [f"{task} {w}" for task, w in words.items() if w != usual]
+    if not named:
+        return f"{usual} each"
+    return f"{'; '.join(named)}; every other stage {usual}"
 
 
 def run_in_lanes(cfg: Any, root: Path, out: Path, info: dict, started: float) -> dict[str, str]:
@@ -441,16 +500,17 @@ def run_in_lanes(cfg: Any, root: Path, out: Path, info: dict, started: float) ->
     """
     from sdn3d.cli._lanes import LaneError, run_lanes
 
-    lane_cfg = OmegaConf.merge(cfg, {"threads": lane_threads(cfg)})
     branches = [str(b) for b in cfg.train.branches]
     # the benchmark's passes as bench_proposals gives them, had every branch trained
     sources = bench_proposals(cfg, {b: "planned" for b in branches})
-    plan = lane_plan(branches, "textural" in branches and _textural_needs_upstream(cfg), sources)
-    _stage(f"2-4/4 training, benchmark and edits in {len(plan)} lanes of {lane_threads(cfg)} thread(s) "
-           f"(budget {cfg.budget_name})")
+    plan = lane_plan(branches, "textural" in branches and _textural_needs_upstream(cfg), sources, int(cfg.threads),
+                     cfg.semantic_threads_after_epochs)
+    threads = {t.name: task_threads(t) for lane in plan for t in lane}
+    _stage(f"2-4/4 training, benchmark and edits in {len(plan)} lanes ({threads_sentence(threads)}; "
+           f"budget {cfg.budget_name})")
     t0 = time.perf_counter()
     try:
-        done, timeline = run_lanes(lane_tasks(plan, lane_cfg, root, out), started,
+        done, timeline = run_lanes(lane_tasks(plan, cfg, root, out), started,
                                    lambda line: console.print(f"sdn3d-demo: {line}", markup=False))
     except LaneError as exc:
         raise DemoStageError(str(exc)) from exc
@@ -467,7 +527,8 @@ def run_in_lanes(cfg: Any, root: Path, out: Path, info: dict, started: float) ->
     info["stages_s"] |= {"train": round(trained - (t0 - started), 1),
                          "after_training": round(time.perf_counter() - started - trained, 1),
                          "bench_write": round(time.perf_counter() - t1, 1)}
-    info["lanes"] = {"lanes": len(plan), "threads_per_lane": lane_threads(cfg), "timeline": timeline}
+    info["lanes"] = {"lanes": len(plan), "threads": threads,
+                     "timeline": [{**row, "threads": threads[row["task"]]} for row in timeline]}
     return ckpts
 
 

@@ -1,4 +1,5 @@
-"""What is checked before a run writes anything: the checkpoint training continues from, the budget, ``threads``."""
+"""What is checked before a run writes anything: the checkpoint training continues from, the budget, ``threads``
+(and ``threads_later``)."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from omegaconf import DictConfig, OmegaConf
 from sdn3d.errors import UserInputError
 from sdn3d.training.errors import TrainingError
 
-__all__ = ["StartPoint", "check_overrides", "check_start", "check_threads"]
+__all__ = ["StartPoint", "ThreadsLater", "check_overrides", "check_start", "check_threads", "threads_later"]
 
 
 @dataclass
@@ -110,7 +111,8 @@ def check_start(cfg: DictConfig) -> StartPoint:
 
 
 def check_threads(cfg: DictConfig) -> None:
-    """Refuse ``threads`` unless it is null (PyTorch's default) or a positive integer, as ``sdn3d-edit`` does.
+    """Refuse ``threads`` unless it is null (PyTorch's default) or a positive integer, as ``sdn3d-edit`` does, and a
+    ``threads_later`` that :func:`threads_later` refuses.
 
     Raises:
         TrainingError: naming the setting and the value given.
@@ -119,7 +121,36 @@ def check_threads(cfg: DictConfig) -> None:
     if threads is not None and (isinstance(threads, bool) or not isinstance(threads, int) or threads < 1):
         raise TrainingError(f"threads must be a positive integer (torch CPU threads) or null for PyTorch's default, "
                             f"got {threads!r}")
+    threads_later(cfg)
 
+
+@dataclass(frozen=True)
+class ThreadsLater:
+    """``threads_later``: ``threads`` torch threads from the training epoch after the first ``after_epochs`` on
+    (its validation and the test after fitting too); before it, the run's ``threads``."""
+
+    after_epochs: int
+    threads: int
+
+
+def threads_later(cfg: DictConfig) -> ThreadsLater | None:
+    """The run's ``threads_later`` (null: None).
+
+    Raises:
+        TrainingError: not a mapping of exactly ``after_epochs`` (an integer >= 0) and ``threads`` (>= 1), naming the
+            key and the value given.
+    """
+    node = cfg.get("threads_later")
+    if node is None:
+        return None
+    value = OmegaConf.to_container(node, resolve=True) if OmegaConf.is_config(node) else node
+    if not isinstance(value, Mapping) or set(value) != {"after_epochs", "threads"}:
+        raise TrainingError(f"threads_later must be null or {{after_epochs: E, threads: T}}, got {value!r}")
+    for key, least in (("after_epochs", 0), ("threads", 1)):
+        v = value[key]
+        if isinstance(v, bool) or not isinstance(v, int) or v < least:
+            raise TrainingError(f"threads_later.{key} must be an integer >= {least}, got {v!r}")
+    return ThreadsLater(int(value["after_epochs"]), int(value["threads"]))
 
 
 def _leaves(node: Any, name: str, key: str = "") -> list[str]:

@@ -1709,11 +1709,18 @@ def _reflection_strength(examples: _PartExamples, part: int) -> Tensor | None:
     return fit_reflection(examples.color[mine], examples.cos[mine])
 
 
-#: :func:`_part_colors`: how many nearest examples a never-seen point of these parts takes the mean of (the others:
-#: its ``k``). A window is one material whose pixels differ by the sky they mirror and by the frames and pillars a
-#: template's greenhouse takes in; a side window never seen, nearest in the car's frame to an end's outer columns
-#: (its pillars), was drawn in light and dark streaks from 4 of them.
+#: :func:`_part_colors`: how many nearest examples a never-seen point of these parts takes the mean of where its
+#: nearest example faced the camera otherwise than it now does (:data:`SAME_PANEL_DEG`; elsewhere, and for the other
+#: parts, its ``k``). A window is one material whose pixels differ by the sky they mirror and by the frames and
+#: pillars a template's greenhouse takes in: a side window turned towards the camera, which no window example faced,
+#: is matched by position alone, and its 4 nearest were an end's outer columns (a bus's pillars drew light streaks
+#: along its side) or one dark patch of its rear window.
 PART_EXAMPLES_K = {int(Part.GLASS): 16}
+#: :data:`PART_EXAMPLES_K` applies where a point's nearest example faced the camera more than this many degrees away
+#: from the way the point now faces it; within it (a windscreen drawn from a rear window that faced the camera as it
+#: now does) the ``k`` nearest keep their shading and reflections where they were (the mean of 16 everywhere lost
+#: 0.15 dB on the seed-33 tuning tree's 180-degree turns, docs/results/2026-11-29_cpu/session15/sides/).
+SAME_PANEL_DEG = 30.0
 #: Parts a car that never showed them takes from another car of the photo (:func:`_part_colors`): tyres and rims
 #: look alike from car to car, and a car seen from behind shows none. The body, glass, lamps and plate are the
 #: car's own (paint and tint differ; a lamp comes from the car's other end).
@@ -1771,10 +1778,18 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             continue
         if len(have) > max_examples:
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
-        near = _nearest_examples(q_feat[q], feature[have], PART_EXAMPLES_K.get(part, k))
-        albedo[q] = source[have][near].mean(1)
+        more = PART_EXAMPLES_K.get(part, k)
+        near = _nearest_examples(q_feat[q], feature[have], max(k, more))  # nearest first
+        if more > k and PART_NORMAL_WEIGHT > 0:  # the k nearest where the nearest faced the camera the same way
+            facing = (q_feat[q, 3:] * feature[have][near[:, 0], 3:]).sum(1) / PART_NORMAL_WEIGHT**2
+            panel = facing >= math.cos(math.radians(SAME_PANEL_DEG))
+            weight = torch.where(panel[:, None], (torch.arange(near.shape[1]) < k).double(), 1.0)
+        else:
+            weight = torch.ones(near.shape, dtype=torch.float64)
+        weight = weight / weight.sum(1, keepdim=True)
+        albedo[q] = (source[have][near] * weight[..., None]).sum(1)
         codes[q] = code
-        seen_at[q] = grazing(cos[have][near]).mean(1)
+        seen_at[q] = (grazing(cos[have][near]) * weight).sum(1)
     # The lamps of an end the photo never showed, where cars have them (:func:`_lamp_band`): the template's lamp faces
     # lie lower, on the end cap, and took the other end's paint there.
     band = _lamp_band(before, b, q_feat) if LAMP_BAND is not None else None

@@ -1712,9 +1712,10 @@ def _reflection_strength(examples: _PartExamples, part: int) -> Tensor | None:
 #: :func:`_part_colors`: how many nearest examples a never-seen point of these parts takes the mean of where its
 #: nearest example faced the camera otherwise than it now does (:data:`SAME_PANEL_DEG`; elsewhere, and for the other
 #: parts, its ``k``). A window is one material whose pixels differ by the sky they mirror and by the frames and
-#: pillars a template's greenhouse takes in: a side window turned towards the camera, which no window example faced,
-#: is matched by position alone, and its 4 nearest were an end's outer columns (a bus's pillars drew light streaks
-#: along its side) or one dark patch of its rear window.
+#: pillars a template's greenhouse takes in: a window point that faces the camera as no window example did is matched
+#: by position alone, and its 4 nearest are often an end's outer columns, its pillars (a bus turned 90 degrees on the
+#: seed-31 tuning tree drew its side windows in light streaks from them; that side faced the camera as the windscreen
+#: had, so this rule leaves it as it was; docs/results/2026-11-29_cpu/session15/sides/).
 PART_EXAMPLES_K = {int(Part.GLASS): 16}
 #: :data:`PART_EXAMPLES_K` applies where a point's nearest example faced the camera more than this many degrees away
 #: from the way the point now faces it; within it (a windscreen drawn from a rear window that faced the camera as it

@@ -358,7 +358,7 @@ def test_unseen_tyres_are_not_drawn_from_road_the_template_calls_tyre(monkeypatc
     for quantile in (transfer.TYRE_QUANTILE, 1.0):
         monkeypatch.setattr(transfer, "TYRE_QUANTILE", quantile)
         own, seen_colors = _part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat, PARTS)
-        colour, code = _part_colors(0, own, seen_colors, points, normal, torch.full((len(query),), int(Part.TYRE)),
+        colour, code, _ = _part_colors(0, own, seen_colors, points, normal, torch.full((len(query),), int(Part.TYRE)),
                                     scene.objects, None)
         assert bool((code == PART).all())
         lumas.append(float(colour.mean()))
@@ -558,3 +558,77 @@ def test_a_dark_cars_recolour_paints_its_pillars_the_greenhouse_glass_rule_calls
     blue = result.image[2] - result.image[0] > 0.2
     assert float(blue[body].float().mean()) > 0.8  # the body is painted
     assert float(blue[pillars].float().mean()) > 0.8
+
+
+def test_a_black_cars_never_seen_side_takes_the_reflection_of_its_new_view(monkeypatch):
+    """A black car seen from the rear three-quarter whose paint is the sky it mirrors (its colour ``0.03 + 0.9
+    grazing(cos)``, :func:`~sdn3d.editing.photo.light.grazing`: lighter the more edge-on), turned by 45 degrees: the
+    body points it never showed, drawn from its body examples (code ``part``), take the change of the reflection
+    between the view their examples were seen at and their own (``transfer._reflect_part_colors``), so they are
+    nearer the truth than the examples' colours as they are (the seed-31 tuning tree's black SUV turned 45 degrees:
+    its new side was drawn lighter than the target)."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.light import grazing
+    from sdn3d.editing.photo.transfer import _part_map, _rasterize, _surface, _view_cos
+    from sdn3d.meshes.bank import default_bank
+    from sdn3d.scene.maps import posed_meshes
+
+    def mirrored_sky(scene):
+        size, K = INPUT_SIZE[::-1], _k_input()
+        rows, verts, faces = posed_meshes(scene.objects, default_bank())
+        raster = _rasterize(rows, verts, faces, K, size)
+        parts = _part_map(raster, scene.objects, default_bank()).view(-1)
+        pix = (raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+        _, vid, bary, normal = _surface(raster, pix)
+        point = (bary[..., None] * raster.verts[0, vid]).sum(1)
+        image = torch.full((3, size[0] * size[1]), 0.45)
+        image[:, pix] = (0.03 + 0.9 * grazing(_view_cos(point, normal))).float()[None].clamp(0, 1)
+        image[:, pix[parts[pix] != int(Part.BODY)]] = 0.02
+        return image.view(3, *size)
+
+    car = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2 + 0.7, location=(-1.0, 1.6, 9.0))
+    scene = _scene([car])
+    image = mirrored_sky(scene)
+    edited = apply_edits(scene, [Rotate(12001, math.radians(45))])
+    truth = mirrored_sky(edited)
+    errors = []
+    for on in (True, False):
+        monkeypatch.setattr(transfer, "PART_VIEW_REFLECTION", on)
+        result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+        drawn = (result.source == PART) & (result.parts == int(Part.BODY))
+        assert int(drawn.sum()) > 100
+        errors.append(float((result.image - truth).abs().mean(0)[drawn].mean()))
+    assert errors[0] < 0.7 * errors[1], errors
+
+
+def test_a_never_seen_window_facing_the_camera_as_no_example_did_takes_the_mean_of_more_of_them(monkeypatch):
+    """A car seen from behind whose rear window examples (glass, facing the camera) are dark (0.05) but for light
+    pillars (0.7) in their outer column on either side. A never-seen side window point whose new view faces 90 degrees
+    away from every example (another panel: the position match finds the end's outer columns) takes the mean of
+    ``transfer.PART_EXAMPLES_K`` nearest examples, darker than its 4 nearest (the pillars); a window point facing the
+    camera as the examples did keeps its 4 nearest, as any other part does (its panel's reflections stay where they
+    were: a windscreen drawn from the rear window at 180 degrees)."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.transfer import _part_colors, _part_features, _PartExamples
+    from sdn3d.math3d.rotations import roty
+
+    objects = _scene([BEHIND]).objects
+    rot, centre = roty(objects.ry[0].double()), objects.center[0].double()
+    ys, zs = torch.arange(-0.7, -0.15, 0.1), torch.arange(-0.8, 0.81, 0.05)
+    local = torch.stack([torch.full((len(ys) * len(zs),), -2.0, dtype=torch.float64),
+                         ys.repeat_interleave(len(zs)).double(), zs.repeat(len(ys)).double()], 1)
+    points = local @ rot.T + centre
+    facing = (rot @ torch.tensor([-1.0, 0.0, 0.0], dtype=torch.float64)).expand(len(points), 3)  # the camera
+    color = torch.where(local[:, 2:].abs() > 0.78, 0.7, 0.05).expand(-1, 3).clone()
+    own = _PartExamples(torch.full((len(points),), int(Part.GLASS)), color,
+                        _part_features(objects, 0, points, facing), torch.ones(len(points), dtype=torch.float64))
+    side = torch.tensor([[0.0, -0.45, 0.9]], dtype=torch.float64) @ rot.T + centre
+    sideways = (rot @ torch.tensor([0.0, 0.0, 1.0], dtype=torch.float64))[None]
+    glass = torch.tensor([int(Part.GLASS)])
+    drawn = {}
+    for part_k in (transfer.PART_EXAMPLES_K, {}):
+        monkeypatch.setattr(transfer, "PART_EXAMPLES_K", part_k)
+        drawn[len(part_k)] = [float(_part_colors(0, own, color, side, normal, glass, objects, None)[0][0, 0])
+                              for normal in (sideways, facing[:1])]
+    assert drawn[1][0] < drawn[0][0] - 0.05, drawn  # another panel: more examples, less of the pillars
+    assert drawn[1][1] == drawn[0][1], drawn  # the same facing: its 4 nearest, as before

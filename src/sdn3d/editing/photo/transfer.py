@@ -1403,8 +1403,12 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             unseen = sel & ~seen
             if bool(unseen.any()):
                 car_examples, seen_colors, _ = examples_of(b)
-                alb, code = _part_colors(b, car_examples, seen_colors, point_s[unseen], normal_t[unseen],
-                                         t_part[unseen], before, albedo if len(visible_px) else None, others_of(b))
+                alb, code, seen_at = _part_colors(b, car_examples, seen_colors, point_s[unseen], normal_t[unseen],
+                                                  t_part[unseen], before, albedo if len(visible_px) else None,
+                                                  others_of(b))
+                if settings.view_reflection > 0 and PART_VIEW_REFLECTION:
+                    alb = _reflect_part_colors(alb, code, seen_at, t_part[unseen], cos_t[unseen], car_examples,
+                                               settings.view_reflection)
                 # a part's examples carry their shading
                 s_un = torch.where((code == PART) | (code == ANOTHER_CAR), 1.0, surface_shade(normal_t[unseen]))
                 fallback[unseen] = alb * s_un[:, None]
@@ -1685,10 +1689,17 @@ def _examples_of_part(examples: _PartExamples, part: int) -> _PartExamples:
 
 #: Parts whose colour drawn from the photo or its mirror image changes with the view (``photo.view_reflection``):
 #: glass and clear-coated paint mirror the sky more the more edge-on they are seen
-#: (:func:`~sdn3d.editing.photo.light.grazing`). A part drawn from the car's examples elsewhere is not changed: its
-#: examples are chosen by the direction they faced, which brings their reflection along (the change there lost
-#: 0.3 dB on the seed-33 tuning tree's 180-degree turns, docs/results/2026-11-28_cpu/session7/lead/).
+#: (:func:`~sdn3d.editing.photo.light.grazing`). A part drawn from the car's examples elsewhere is changed only on a
+#: dark paint's body (:data:`PART_VIEW_REFLECTION`): elsewhere its examples are chosen by the direction they faced,
+#: which brings their reflection along, and the fit takes shading for reflection (docs/results/2026-11-28_cpu/
+#: session7/lead/, docs/results/2026-11-29_cpu/session15/sides/).
 REFLECTIVE_PARTS = (int(Part.GLASS), int(Part.BODY))
+#: Whether a dark car's body drawn from its own examples elsewhere (:func:`_part_colors`) takes the change of its sky
+#: reflection from the examples' view to its own (:func:`_reflect_part_colors`).
+PART_VIEW_REFLECTION = True
+#: :func:`_reflect_part_colors`: the median CIE L* of a car's body examples below which its paint is dark enough that
+#: their colour is mostly reflection (:data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, the recolour's dark paint).
+PART_REFLECTION_MAX_L = DARK_PAINT_L
 
 
 def _reflection_strength(examples: _PartExamples, part: int) -> Tensor | None:
@@ -1698,6 +1709,19 @@ def _reflection_strength(examples: _PartExamples, part: int) -> Tensor | None:
     return fit_reflection(examples.color[mine], examples.cos[mine])
 
 
+#: :func:`_part_colors`: how many nearest examples a never-seen point of these parts takes the mean of where its
+#: nearest example faced the camera otherwise than it now does (:data:`SAME_PANEL_DEG`; elsewhere, and for the other
+#: parts, its ``k``). A window is one material whose pixels differ by the sky they mirror and by the frames and
+#: pillars a template's greenhouse takes in: a window point that faces the camera as no window example did is matched
+#: by position alone, and its 4 nearest are often an end's outer columns, its pillars (a bus turned 90 degrees on the
+#: seed-31 tuning tree drew its side windows in light streaks from them; that side faced the camera as the windscreen
+#: had, so this rule leaves it as it was; docs/results/2026-11-29_cpu/session15/sides/).
+PART_EXAMPLES_K = {int(Part.GLASS): 16}
+#: :data:`PART_EXAMPLES_K` applies where a point's nearest example faced the camera more than this many degrees away
+#: from the way the point now faces it; within it (a windscreen drawn from a rear window that faced the camera as it
+#: now does) the ``k`` nearest keep their shading and reflections where they were (the mean of 16 everywhere lost
+#: 0.15 dB on the seed-33 tuning tree's 180-degree turns, docs/results/2026-11-29_cpu/session15/sides/).
+SAME_PANEL_DEG = 30.0
 #: Parts a car that never showed them takes from another car of the photo (:func:`_part_colors`): tyres and rims
 #: look alike from car to car, and a car seen from behind shows none. The body, glass, lamps and plate are the
 #: car's own (paint and tint differ; a lamp comes from the car's other end).
@@ -1706,15 +1730,18 @@ SHARED_PARTS = (int(Part.TYRE),)
 
 def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
                  before: ObjectTable, body: Tensor | None, others: Callable[[int], _PartExamples] | None = None,
-                 max_examples: int = 1500, k: int = 4) -> tuple[Tensor, Tensor]:
-    """``(colour (P, 3), source code (P,))`` of unseen surface points ``points (P, 3)`` (camera frame, at the source
-    pose of ``before`` row ``b``) with camera-frame unit normals at their new pose ``normals (P, 3)`` and parts
-    ``parts (P,)``; ``own``: the car's examples and ``seen_colors`` all its visible colours (:func:`_part_examples`).
+                 max_examples: int = 1500, k: int = 4) -> tuple[Tensor, Tensor, Tensor]:
+    """``(colour (P, 3), source code (P,), seen at (P,))`` of unseen surface points ``points (P, 3)`` (camera frame,
+    at the source pose of ``before`` row ``b``) with camera-frame unit normals at their new pose ``normals (P, 3)``
+    and parts ``parts (P,)``; ``own``: the car's examples and ``seen_colors`` all its visible colours
+    (:func:`_part_examples`). ``seen at``: the mean :func:`~sdn3d.editing.photo.light.grazing` term of the views the
+    examples each colour came from were seen at (NaN: no examples, a default colour).
 
-    Where the input showed the part: the mean colour of the ``k`` nearest input pixels of the same part of the same
-    car, code :data:`PART`. Nearest in the car's own frame and by camera-frame normal (:func:`_part_features`): an
-    example that faced the camera as the new surface does carries its shading (no light model: a side of the car
-    turned towards the camera takes the colour of the surfaces that faced it, its reflection included).
+    Where the input showed the part: the mean colour of the ``k`` (:data:`PART_EXAMPLES_K` for its parts) nearest
+    input pixels of the same part of the same car, code :data:`PART`. Nearest in the car's own frame and by
+    camera-frame normal (:func:`_part_features`): an example that faced the camera as the new surface does carries its
+    shading (no light model: a side of the car turned towards the camera takes the colour of the surfaces that faced
+    it, its reflection included).
 
     A lamp part it never showed (the front of a car seen from behind) takes the other end's lamps and paint the
     same way (:data:`OTHER_END`), its lamps in this end's colour (:data:`LAMP_HUES`), code :data:`PART`. A
@@ -1726,6 +1753,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     code :data:`DEFAULT`."""
     albedo = torch.tensor(PART_DEFAULTS, dtype=torch.float64)[parts.clamp(min=0)]
     codes = torch.full((len(points),), DEFAULT, dtype=torch.uint8)
+    seen_at = torch.full((len(points),), math.nan, dtype=torch.float64)
     if body is not None:
         is_body = parts <= int(Part.BODY)
         albedo[is_body] = body
@@ -1738,7 +1766,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     for part in parts.unique().tolist():
         q = (parts == part).nonzero().flatten()
         have = (own.part == part).nonzero().flatten()
-        source, feature, code = own.color, own.feature, PART
+        source, feature, code, cos = own.color, own.feature, PART, own.cos
         if len(have) < 2 * k and part in OTHER_END:  # a lamp never seen: the other end's lamps and paint
             have = torch.isin(own.part, torch.tensor([OTHER_END[part], int(Part.BODY)])).nonzero().flatten()
             if LAMP_HUES:
@@ -1746,14 +1774,23 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
         if len(have) < 2 * k and part in SHARED_PARTS and others is not None:  # never seen: another car's
             pool = others(part)
             have = torch.arange(len(pool.part))
-            source, feature, code = pool.color, pool.feature, ANOTHER_CAR
+            source, feature, code, cos = pool.color, pool.feature, ANOTHER_CAR, pool.cos
         if len(have) < 2 * k:
             continue
         if len(have) > max_examples:
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
-        near = _nearest_examples(q_feat[q], feature[have], k)
-        albedo[q] = source[have][near].mean(1)
+        more = PART_EXAMPLES_K.get(part, k)
+        near = _nearest_examples(q_feat[q], feature[have], max(k, more))  # nearest first
+        if more > k and PART_NORMAL_WEIGHT > 0:  # the k nearest where the nearest faced the camera the same way
+            facing = (q_feat[q, 3:] * feature[have][near[:, 0], 3:]).sum(1) / PART_NORMAL_WEIGHT**2
+            panel = facing >= math.cos(math.radians(SAME_PANEL_DEG))
+            weight = torch.where(panel[:, None], (torch.arange(near.shape[1]) < k).double(), 1.0)
+        else:
+            weight = torch.ones(near.shape, dtype=torch.float64)
+        weight = weight / weight.sum(1, keepdim=True)
+        albedo[q] = (source[have][near] * weight[..., None]).sum(1)
         codes[q] = code
+        seen_at[q] = (grazing(cos[have][near]) * weight).sum(1)
     # The lamps of an end the photo never showed, where cars have them (:func:`_lamp_band`): the template's lamp faces
     # lie lower, on the end cap, and took the other end's paint there.
     band = _lamp_band(before, b, q_feat) if LAMP_BAND is not None else None
@@ -1765,7 +1802,32 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             lamp = torch.tensor(LAMP_DEFAULTS[lamp_part], dtype=albedo.dtype).expand(int(here.sum()), 3)
             albedo[here] = seen_through_the_air(lamp, seen_colors)  # too few colours: the lamp as it is
             codes[here] = DEFAULT
-    return albedo, codes
+            seen_at[here] = math.nan
+    return albedo, codes, seen_at
+
+
+def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: Tensor, cos: Tensor,
+                         own: _PartExamples, scale: float) -> Tensor:
+    """``(P, 3)`` the colours ``colors`` :func:`_part_colors` took from a car's own examples (code :data:`PART`) for
+    its body points ``parts (P,)``, changed by the sky reflection their new view adds or takes away, where the paint
+    is dark (its body examples' median CIE L* below :data:`PART_REFLECTION_MAX_L`): a point seen at view cosine
+    ``cos (P,)`` whose examples were seen at :func:`~sdn3d.editing.photo.light.grazing` ``seen_at (P,)`` takes
+    ``scale`` times the body's reflection strength (:func:`_reflection_strength`) times the change of the grazing
+    term, as a photo pixel at a new view does. A dark paint's colour is mostly the sky it mirrors (its diffuse shading
+    is small), so the strength fitted on its examples is its reflection; on a lighter paint the fit takes shading
+    for reflection. A black car's side never seen, drawn from its rear seen at a more grazing view, was too light."""
+    here = (codes == PART) & (parts == int(Part.BODY)) & torch.isfinite(seen_at)
+    body = own.part == int(Part.BODY)
+    if not bool(here.any()) or int(body.sum()) < 2:
+        return colors
+    if float(srgb_to_lab(own.color[body].float())[:, 0].median()) >= PART_REFLECTION_MAX_L:
+        return colors
+    strength = _reflection_strength(own, int(Part.BODY))
+    if strength is None:
+        return colors
+    out = colors.clone()
+    out[here] += scale * strength[None] * (grazing(cos[here]) - seen_at[here])[:, None]
+    return out
 
 
 def _nearest_examples(query: Tensor, examples: Tensor, k: int) -> Tensor:

@@ -1,0 +1,7 @@
+#!/bin/bash
+# tunev.sh CODE_DIR NAME OVERRIDES...: runvar.py (VARIANT=...) as sdn3d-bench counterfactual turns (photo fill rays) on cf31 and cf33, oracle
+S=$1; N=$2; shift 2; O=/tmp/s15data/sides/tune; mkdir -p $O
+for T in cf31 cf33; do [ $T = cf31 ] && TREE=/tmp/s11data/lead/cf31 || TREE=/tmp/s14data/ends/cf33
+  (cd $S && PYTHONPATH=$S/src OMP_NUM_THREADS=1 nice -n 5 /work/main/.venv/bin/python $(dirname "$0")/runvar.py counterfactual=true data.root=$TREE output_dir=$O/${T}_oracle_$N examples=0 threads=1 'counterfactual_fills=[rays]' 'counterfactual_kinds=[turn]' "counterfactual_sources=[oracle]" "$@" > $O/${T}_oracle_$N.log 2>&1)
+  echo "$T $N rc=$? $(date -u +%T)" >> $O/tune.log
+done

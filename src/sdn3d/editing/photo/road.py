@@ -814,14 +814,23 @@ class PictureLab:
         if image is not self.image:
             raise ValueError("PictureLab is of another picture than the one given (lab= must be the image's own)")
 
-    def _convert(self, y0: int, x0: int, need: np.ndarray) -> None:
-        """Converts the not yet converted ``need (h, w)`` pixels of the box at ``(y0, x0)``."""
-        h, w = need.shape
+    def _convert(self, y0: int, x0: int, need: np.ndarray | None, h: int = 0, w: int = 0) -> None:
+        """Converts the not yet converted ``need (h, w)`` pixels (None: all) of the box at ``(y0, x0)``: the whole box
+        at once where they are at least half of it (a pixel converted again gets the same bits; NumPy's boolean
+        selection and assignment of a picture's pixels cost more than converting the others)."""
+        if need is not None:
+            h, w = need.shape
         done = self._done[y0:y0 + h, x0:x0 + w]
-        todo = need & ~done
-        if todo.any():
-            lab = self._lab[:, y0:y0 + h, x0:x0 + w]
-            lab[:, todo] = _lab_columns(self._rgb[:, y0:y0 + h, x0:x0 + w][:, todo])
+        todo = ~done if need is None else need & ~done
+        count = int(np.count_nonzero(todo))
+        if not count:
+            return
+        rgb, lab = self._rgb[:, y0:y0 + h, x0:x0 + w], self._lab[:, y0:y0 + h, x0:x0 + w]
+        if 2 * count >= h * w:
+            lab[...] = _lab_columns(rgb.reshape(3, -1)).reshape(3, h, w)
+            done[...] = True
+        else:
+            lab[:, todo] = _lab_columns(rgb[:, todo])
             done |= todo
 
     def pixels(self, mask: Tensor, step: int = 1) -> Tensor:
@@ -841,12 +850,12 @@ class PictureLab:
             return torch.zeros(3, 0).T
         y0, y1, x0, x1 = box
         self._convert(y0, x0, full[y0:y1, x0:x1])
-        return torch.from_numpy(self._lab[:, full]).T
+        return torch.from_numpy(np.ascontiguousarray(self._lab[:, full])).T  # (3, N) as road_lab makes it
 
     def box(self, y0: int, y1: int, x0: int, x1: int) -> Tensor:
         """``(h * w, 3)`` float32 Lab of the box's pixels row by row, laid out as :func:`road_lab` returns them:
         ``road_lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3))`` bit for bit."""
-        self._convert(y0, x0, np.ones((y1 - y0, x1 - x0), bool))
+        self._convert(y0, x0, None, y1 - y0, x1 - x0)
         return torch.from_numpy(self._lab[:, y0:y1, x0:x1].copy().reshape(3, -1)).T
 
 

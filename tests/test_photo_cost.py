@@ -700,6 +700,22 @@ def test_picture_lab_is_road_lab_of_the_same_pixels_in_any_order_of_use():
             assert torch.equal(got, want) and got.shape == want.shape
             assert got.stride() == want.stride() or got.numel() == 0  # the road tests' norms depend on the layout
         assert 0 < int(lab._done.sum()) < lab._done.size  # some pixels, not all, were converted
+    levels = torch.randint(256, (60, 241, 3), dtype=torch.uint8, generator=torch.Generator().manual_seed(5))
+    levels = levels.permute(2, 0, 1)  # a decoded picture's channel-last memory, as the input arrives
+    levels[:, :2, :128] = torch.arange(256, dtype=torch.uint8).view(2, 128)  # every level
+    eight_bit = levels.float() / 255  # as PhotoSource makes its image
+    for seed in range(3):  # the levels' linear RGB looked up: still road_lab's bits
+        lab = PictureLab(eight_bit, levels)
+        for kind, args in _lab_requests(10 + seed, 60, 241):
+            if kind == "box":
+                y0, y1, x0, x1 = args
+                want = road_lab(eight_bit[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3))
+                assert torch.equal(lab.box(*args), want)
+            else:
+                mask, step = args
+                assert torch.equal(lab.pixels(mask, step), road_lab(eight_bit[:, :, ::step][:, mask].T.contiguous()))
+    with pytest.raises(ValueError, match="levels"):
+        PictureLab(eight_bit, levels.float())
     with pytest.raises(ValueError, match="mask"):
         PictureLab(image).pixels(torch.ones(60, 241, dtype=torch.bool), 3)
     with pytest.raises(ValueError, match="float32"):
@@ -750,3 +766,11 @@ def test_photo_source_keeps_one_lab_of_its_input_and_deletes_draw_the_same():
         source.check(other, scene, FRAME, source.settings)
     box = PhotoSource(other, FRAME, scene).lab().box(0, 20, 0, 40)
     assert torch.equal(box, road_lab(other[:, :20, :40].permute(1, 2, 0).reshape(-1, 3)))
+    eight_bit = (original * 255).round().to(torch.uint8)  # an 8-bit input: its levels' linear RGB looked up
+    source = PhotoSource(eight_bit, FRAME, scene)
+    assert source.lab()._levels is not None
+    edited = apply_edits(scene, [Delete(12001)])
+    kept = render_photo(eight_bit, FRAME, scene, edited, source=source)
+    fresh = render_photo(eight_bit, FRAME, scene, edited, source=PhotoSource(eight_bit, FRAME, scene, max_fills=0))
+    assert torch.equal(kept.image, fresh.image)
+    assert torch.equal(source.lab().box(0, 128, 0, 256), road_lab(source.image.permute(1, 2, 0).reshape(-1, 3)))

@@ -207,7 +207,7 @@ class PhotoSource:
         """The input's :class:`~sdn3d.editing.photo.road.PictureLab` (the removal's road tests; each pixel's Lab
         converted on its first use, by any edit)."""
         if self._lab is None:
-            self._lab = PictureLab(self.image)
+            self._lab = PictureLab(self.image, self.original if self.original.dtype == torch.uint8 else None)
         return self._lab
 
     def fill(self, key: tuple, make) -> Tensor:

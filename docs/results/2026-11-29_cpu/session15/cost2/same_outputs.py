@@ -30,6 +30,12 @@ def leaves(a, b, path: str, out: list[tuple[str, bool]]) -> None:
         out.append((path, a == b or nan))
 
 
+def volatile_key(path: str) -> str | None:
+    """The first key of a JSON leaf's ``path`` that names a timing or a path (None: none does)."""
+    keys = path.replace("[", "/").split("/")
+    return next((k for k in keys if any(v in k.lower() for v in VOLATILE)), None)
+
+
 def compare_npz(a: Path, b: Path) -> None:
     x, y = np.load(a), np.load(b)
     keys = sorted(set(x.files) | set(y.files))
@@ -57,10 +63,10 @@ def compare_trees(a: Path, b: Path) -> None:
         out: list[tuple[str, bool]] = []
         leaves(json.loads(pa.read_text()), json.loads(pb.read_text()), "", out)
         bad = [p for p, ok in out if not ok]
-        volatile = [p for p in bad if any(v in p.rsplit("/", 1)[-1].lower() for v in VOLATILE)]
+        volatile = [p for p in bad if volatile_key(p) is not None]
         real = [p for p in bad if p not in volatile]
         print(f"  {rel}: {len(out)} leaves, {len(real)} differ outside timings/paths {real[:6]}; "
-              f"timings/paths differing: {sorted({p.rsplit('/', 1)[-1] for p in volatile})[:8]}")
+              f"timings/paths differing ({len(volatile)}): {sorted({volatile_key(p) for p in volatile})[:8]}")
 
 
 if __name__ == "__main__":

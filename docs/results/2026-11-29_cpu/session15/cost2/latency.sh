@@ -4,7 +4,7 @@
 # alternation, RUNS runs each; per run its table (.txt, the load before and after) and per-edit times (.json), which
 # session14/cost/paired_latency.py pairs.
 set -u
-NEW=$1; BASE=$2; O=$3; N=${4:-2}; mkdir -p $O
+NEW=$1; BASE=$2; mkdir -p $3; O=$(cd "$3" && pwd); N=${4:-2}
 for r in $(seq 1 $N); do for T in 1 2; do F=$O/photo_latency_t${T}_run$r
   { echo "load before: $(uptime)"
     (cd $NEW && PYTHONPATH=$NEW/src OMP_NUM_THREADS=$T nice -n 5 /work/main/.venv/bin/python \

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import pytest
 import torch
 import torch.nn.functional as F
 
@@ -658,3 +659,118 @@ def test_upsample_ids_by_numpys_take_is_the_advanced_indexing_it_replaced():
         values = ids[:frame.working_size[1], :frame.working_size[0]]  # a strided view, as a crop of a map is
         for v in (values, values.int(), values > 15000):
             assert torch.equal(upsample_ids(v, frame), reference(v, frame))
+
+
+def _lab_requests(seed: int, height: int, width: int):
+    """A mixed sequence of :class:`PictureLab` requests: sparse and dense masks (also on every third column) and boxes,
+    overlapping, so both of its conversion paths (selected pixels, the whole box) meet pixels already converted."""
+    g = torch.Generator().manual_seed(seed)
+    for _ in range(12):
+        kind = int(torch.randint(3, (1,), generator=g))
+        y0, x0 = (int(v) for v in (torch.randint(height, (1,), generator=g), torch.randint(width, (1,), generator=g)))
+        y1 = y0 + 1 + int(torch.randint(height - y0, (1,), generator=g))
+        x1 = x0 + 1 + int(torch.randint(width - x0, (1,), generator=g))
+        if kind == 0:
+            yield "box", (y0, y1, x0, x1)
+        else:
+            step = 1 if kind == 1 else 3
+            p = (0.0, 0.02, 0.4, 0.9, 1.0)[int(torch.randint(5, (1,), generator=g))]
+            mask = torch.zeros(height, width, dtype=torch.bool)
+            mask[y0:y1, x0:x1] = torch.rand(y1 - y0, x1 - x0, generator=g) < p
+            yield "pixels", (mask[:, ::step], step)
+
+
+def test_picture_lab_is_road_lab_of_the_same_pixels_in_any_order_of_use():
+    from sdn3d.editing.photo.road import PictureLab
+
+    image = _road_picture(60, 241, 3)
+    image[:, :20, :30] = torch.randint(256, (3, 20, 30), generator=torch.Generator().manual_seed(2)) / 255.0
+    image[:, 20:22, :4] = torch.tensor([0.0, 1.0, 0.04045])[:, None, None]  # the ends and sRGB's knee
+    for seed in range(4):
+        lab = PictureLab(image)
+        for kind, args in _lab_requests(seed, 60, 241):
+            if kind == "box":
+                y0, y1, x0, x1 = args
+                got = lab.box(*args)
+                want = road_lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3))
+            else:
+                mask, step = args
+                got = lab.pixels(mask, step)
+                want = road_lab(image[:, :, ::step][:, mask].T.contiguous())
+            assert torch.equal(got, want) and got.shape == want.shape
+            assert got.stride() == want.stride() or got.numel() == 0  # the road tests' norms depend on the layout
+        assert 0 < int(lab._done.sum()) < lab._done.size  # some pixels, not all, were converted
+    levels = torch.randint(256, (60, 241, 3), dtype=torch.uint8, generator=torch.Generator().manual_seed(5))
+    levels = levels.permute(2, 0, 1)  # a decoded picture's channel-last memory, as the input arrives
+    levels[:, :2, :128] = torch.arange(256, dtype=torch.uint8).view(2, 128)  # every level
+    eight_bit = levels.float() / 255  # as PhotoSource makes its image
+    for seed in range(3):  # the levels' linear RGB looked up: still road_lab's bits
+        lab = PictureLab(eight_bit, levels)
+        for kind, args in _lab_requests(10 + seed, 60, 241):
+            if kind == "box":
+                y0, y1, x0, x1 = args
+                want = road_lab(eight_bit[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3))
+                assert torch.equal(lab.box(*args), want)
+            else:
+                mask, step = args
+                assert torch.equal(lab.pixels(mask, step), road_lab(eight_bit[:, :, ::step][:, mask].T.contiguous()))
+    with pytest.raises(ValueError, match="levels"):
+        PictureLab(eight_bit, levels.float())
+    with pytest.raises(ValueError, match="mask"):
+        PictureLab(image).pixels(torch.ones(60, 241, dtype=torch.bool), 3)
+    with pytest.raises(ValueError, match="float32"):
+        PictureLab(image.double())
+
+
+def test_removal_road_tests_with_the_pictures_lab_are_those_without():
+    from sdn3d.editing.photo.road import PictureLab, _road_around, ray_fill, shadowed_road
+
+    image = _road_picture(90, 200, 5)
+    hole = torch.zeros(90, 200, dtype=torch.bool)
+    hole[40:70, 80:120] = True
+    ring = dilate_square(hole, 30) & ~dilate_square(hole, 6)
+    lab = PictureLab(image)
+    road = road_colours(image, ring, lab=lab)
+    assert road is not None and torch.equal(road, road_colours(image, ring))
+    near = dilate_square(hole, 40)
+    lit = near & ~dilate_square(hole, 3)
+    assert torch.equal(shadowed_road(image, road, near, lit, lab=lab), shadowed_road(image, road, near, lit))
+    for step in (1, 3):
+        got, want = _road_around(image[:, :, ::step], ring[:, ::step], lab=lab, step=step), \
+            _road_around(image[:, :, ::step], ring[:, ::step])
+        assert torch.equal(got[0], want[0]) and torch.equal(got[1], want[1])
+    kwargs = dict(match_grain=True, marks=0.2, haze=1.0, road=road, verge="road", ground_row=30.0)
+    got, want = ray_fill(image, hole, (100.0, 10.0), lab=PictureLab(image), **kwargs), \
+        ray_fill(image, hole, (100.0, 10.0), **kwargs)
+    assert torch.equal(got[0], want[0]) and torch.equal(got[1], want[1])
+    with pytest.raises(ValueError, match="another picture"):
+        road_colours(image.clone(), ring, lab=lab)
+
+
+def test_photo_source_keeps_one_lab_of_its_input_and_deletes_draw_the_same():
+    from sdn3d.editing.ops import Delete
+
+    scene = _scene([CAR, FAR_CAR])
+    original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(1))
+    source = PhotoSource(original, FRAME, scene)
+    lab = source.lab()
+    assert source.lab() is lab and lab.image is source.image
+    for ops in ([Delete(12001)], [Delete(12002)], [Delete(12001), Delete(12002)]):
+        edited = apply_edits(scene, ops)
+        kept = render_photo(original, FRAME, scene, edited, source=source)
+        fresh = render_photo(original, FRAME, scene, edited)
+        assert torch.equal(kept.image, fresh.image) and torch.equal(kept.source, fresh.source)
+    assert bool(lab._done.any())  # the deletes' road tests read it
+    other = original.flip(2)  # another input: another source, whose Lab is its own picture's
+    with pytest.raises(ValueError, match="PhotoSource serves one"):
+        source.check(other, scene, FRAME, source.settings)
+    box = PhotoSource(other, FRAME, scene).lab().box(0, 20, 0, 40)
+    assert torch.equal(box, road_lab(other[:, :20, :40].permute(1, 2, 0).reshape(-1, 3)))
+    eight_bit = (original * 255).round().to(torch.uint8)  # an 8-bit input: its levels' linear RGB looked up
+    source = PhotoSource(eight_bit, FRAME, scene)
+    assert source.lab()._levels is not None
+    edited = apply_edits(scene, [Delete(12001)])
+    kept = render_photo(eight_bit, FRAME, scene, edited, source=source)
+    fresh = render_photo(eight_bit, FRAME, scene, edited, source=PhotoSource(eight_bit, FRAME, scene, max_fills=0))
+    assert torch.equal(kept.image, fresh.image)
+    assert torch.equal(source.lab().box(0, 128, 0, 256), road_lab(source.image.permute(1, 2, 0).reshape(-1, 3)))

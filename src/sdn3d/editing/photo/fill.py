@@ -4,6 +4,8 @@ Telea / PatchMatch / the generator's picture in it.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import torch
 import torch.nn.functional as F
@@ -17,6 +19,9 @@ from sdn3d.editing.photo.settings import (
     PhotoSettingsError,
 )
 from sdn3d.image_ops import dilate_square, ids_present, isin_ids
+
+if TYPE_CHECKING:
+    from sdn3d.editing.photo.road import PictureLab
 
 __all__ = ["inpaint", "vacated_hole", "fill_hole"]
 
@@ -143,14 +148,16 @@ def _bands_in(ids: Tensor, gone: Tensor, share: float) -> Tensor:
 
 def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Tensor | None = None,
               fill: Tensor | None = None, vanishing: tuple[float, float] | None = None,
-              road: Tensor | None = None, ground_row: float | None = None) -> Tensor:
+              road: Tensor | None = None, ground_row: float | None = None,
+              lab: PictureLab | None = None) -> Tensor:
     """``image (3, H, W)`` with ``hole`` filled by ``settings.fill`` (:data:`FILL_METHODS`; ``fill (3, H, W)``: the
     generator's picture at this size, for ``'generator'``); ``keep_out``: pixels PatchMatch and the rays must not
     copy; ``vanishing``: the road's vanishing point ``(u, v)`` for ``'rays'`` (:func:`~sdn3d.editing.photo.road.
     ray_fill`; None: the picture's centre row and column, a level camera looking down the road); ``'learnt'``: the
     rays' fill with the net's correction inside the hole (:func:`~sdn3d.editing.photo.learnt.learnt_fill`); ``road
     (3,)``: the road's CIE Lab around the hole, which tells the rays' road from a verge on the ground, the rows from
-    ``ground_row`` down (``settings.ray_verge``; None: the rays blend them)."""
+    ``ground_row`` down (``settings.ray_verge``; None: the rays blend them); ``lab``: ``image``'s
+    :class:`~sdn3d.editing.photo.road.PictureLab` for the rays' road tests (None: converted here)."""
     if not bool(hole.any()):
         return image.clone()
     if settings.fill == "generator":
@@ -166,7 +173,7 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
                                  match_grain=settings.ray_grain == "match", marks=settings.ray_marks,
                                  haze=settings.ray_haze, airlight=settings.ray_haze_airlight,
                                  road=None if ground_row is None else road, verge=settings.ray_verge,
-                                 ground_row=0.0 if ground_row is None else ground_row)
+                                 ground_row=0.0 if ground_row is None else ground_row, lab=lab)
         rest = hole & ~reached  # no ray reaches these: Telea from what is known around them
         out = inpaint(out, rest, "telea", settings.inpaint_radius) if bool(rest.any()) else out
         if settings.fill == "learnt":

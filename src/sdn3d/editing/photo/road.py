@@ -319,7 +319,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
              sigma: float = 1.0, texture: float = 1.0, along: int = 1, max_steps: int = 400,
              beyond: int = 64, match_grain: bool = False, marks: float = 0.0,
              haze: float = 0.0, airlight: float = 0.25, road: Tensor | None = None,
-             verge: str = "blend", ground_row: float = 0.0) -> tuple[Tensor, Tensor]:
+             verge: str = "blend", ground_row: float = 0.0, lab: PictureLab | None = None) -> tuple[Tensor, Tensor]:
     """``(image (3, H, W), reached (H, W) bool)``: ``image`` with the ``hole (H, W)`` pixels a ray reaches filled
     along the rays from the vanishing point ``vp = (u, v)`` (module doc); ``keep_out (H, W)``: pixels no ray samples
     (other objects), ``sigma``: the sources' normalised blur, ``texture``: weight of the mirrored high-pass,
@@ -341,7 +341,10 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     (:func:`_coarse_blur` of the road), so no pale band of the verge's colour fades across the road where the car
     stood and no marking of the far side is drawn across it (None ``road``: ``'blend'``), at the hole pixels from row
     ``ground_row`` down (the ground near the removed car; higher up a ray's sides may be upright things) whose far
-    side is resolved (:data:`FAR_RESOLVED`)."""
+    side is resolved (:data:`FAR_RESOLVED`). ``lab``: ``image``'s :class:`PictureLab` (the road tests' Lab, converted
+    once for all the removal's tests)."""
+    if lab is not None:
+        lab.check(image)
     height, width = hole.shape
     out = image.clone()
     reached = torch.zeros_like(hole)
@@ -373,7 +376,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     far = min(max_steps, int(across) + beyond)
     steps = torch.cat([torch.arange(1, 17), torch.arange(17, far + 1, 2)]).float()
     never = None if float(steps[-1]) <= far else torch.full_like(reach, float(far))  # None: every step is within
-    per_row = road_haze(image, valid, hole, float(vp[1]), airlight) if haze > 0 else None
+    per_row = road_haze(image, valid, hole, float(vp[1]), airlight, lab) if haze > 0 else None
     values = torch.zeros(3, len(ys))
     grains = torch.zeros(3, len(ys)) if detail is not None else None
     got = torch.zeros(len(ys), dtype=torch.bool)
@@ -418,7 +421,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         values[:, s:s + RAY_CHUNK] = val
         got[s:s + RAY_CHUNK] = f_out | f_in
     if grains is not None:
-        weight = (_matched_weight(image, valid, values[:, got], grains[:, got], ys[got], xs[got], texture)
+        weight = (_matched_weight(image, valid, values[:, got], grains[:, got], ys[got], xs[got], texture, lab)
                   if match_grain and bool(got.any()) else texture)
         values = values + weight * grains
     out[:, ys[got], xs[got]] = values[:, got].clamp(0, 1).to(out.dtype)
@@ -442,7 +445,8 @@ HAZE_FAR_ROWS, HAZE_FAR_PIXELS = 24, 20
 HAZE_RANGE_SLACK = 0.05
 
 
-def road_haze(image: Tensor, valid: Tensor, hole: Tensor, horizon: float, airlight: float = 0.25) -> Tensor | None:
+def road_haze(image: Tensor, valid: Tensor, hole: Tensor, horizon: float, airlight: float = 0.25,
+              lab: PictureLab | None = None) -> Tensor | None:
     """``(3, H)`` the road's colour per picture row around ``hole`` as fog or haze make it (None: no fit): the
     median colour of each row's road-like ``valid`` pixels (:func:`road_colours`, :func:`road_like`; columns
     thinned to about :data:`HAZE_COLUMNS`) below the ``horizon`` row within the hole's extent around it, fitted by
@@ -454,7 +458,9 @@ def road_haze(image: Tensor, valid: Tensor, hole: Tensor, horizon: float, airlig
     median colour of the ``valid`` pixels within ``height // HAZE_FAR_ROWS`` rows of the horizon, whatever they
     show) is the fog's colour; a fitted ``fog`` more than ``airlight`` from it in any channel is a far road lighter
     for another reason (a wet or glossy sheen, a lit patch, the end of a shade) and the fit is None, as it is when
-    fewer than :data:`HAZE_FAR_PIXELS` such pixels are seen (1: no check)."""
+    fewer than :data:`HAZE_FAR_PIXELS` such pixels are seen (1: no check). ``lab``: ``image``'s :class:`PictureLab`."""
+    if lab is not None:
+        lab.check(image)
     height, width = hole.shape
     ys, xs = hole.nonzero(as_tuple=True)
     if not len(ys):
@@ -464,7 +470,7 @@ def road_haze(image: Tensor, valid: Tensor, hole: Tensor, horizon: float, airlig
     step = max(1, width // HAZE_COLUMNS)
     region = (dilate_square(hole, extent) & valid & (rows > horizon + 1)[:, None])[:, ::step]
     image = image[:, :, ::step]
-    road, like = _road_around(image, region)
+    road, like = _road_around(image, region, lab=lab, step=step)
     if road is None:
         return None
     count = like.sum(1)
@@ -587,17 +593,18 @@ def _luma_laplacian(image: Tensor) -> Tensor:
 
 
 def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor, ys: Tensor, xs: Tensor,
-                    default: float) -> float:
+                    default: float, lab: PictureLab | None = None) -> float:
     """The weight of :data:`GRAIN_WEIGHTS` at which the road-like pixels of the fill
     ``values + weight * grains`` (both ``(3, N)`` at hole pixels ``ys, xs``; those with no picture pixel in their
     3x3 neighbourhood: the seam is not grain) have the mean absolute luma Laplacian of the road-like ``valid``
     pixels 8 to 40 pixels around the hole (:func:`road_like`: asphalt and its markings,
-    not grass or foliage). ``default`` where too few such pixels are found."""
+    not grass or foliage). ``default`` where too few such pixels are found. ``lab``: ``image``'s
+    :class:`PictureLab`."""
     height, width = valid.shape
     hole = torch.zeros_like(valid)
     hole[ys, xs] = True
     ring = dilate_square(hole, 40) & ~dilate_square(hole, 8) & valid
-    road, around = _road_around(image, ring)
+    road, around = _road_around(image, ring, lab=lab)
     if road is None:
         return default
     if int(around.sum()) < 50:
@@ -715,19 +722,24 @@ def _gather(image: Tensor, points: Tensor) -> Tensor:
 
 
 def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, light_share: float = 0.8,
-                  tolerance: float = 12.0) -> Tensor:
+                  tolerance: float = 12.0, lab: PictureLab | None = None) -> Tensor:
     """``(H, W)`` bool pixels inside ``within`` whose chroma is the road's (``road (3,)`` Lab,
     :func:`road_like`; scaled by the pixel's lightness over the road's, as a shadow's
     chroma shrinks with its light) and whose lightness is under ``light_share`` of the road's on the
     same row: road in shadow (a car's, a tree's), which a ray must not carry into a hole. The road's lightness per
     row is the median of the road-like ``lit (H, W)`` pixels there (rows without any: the nearest row with some),
-    since haze and fog lighten the road with distance, that is with the row."""
+    since haze and fog lighten the road with distance, that is with the row. ``lab``: ``image``'s
+    :class:`PictureLab` (the same values, converted once for all the removal's tests)."""
+    if lab is not None:
+        lab.check(image)
     out = torch.zeros_like(within)
     box = _box(within | lit)
     if box is None:
         return out
     y0, y1, x0, x1 = box
-    lab = road_lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)).view(y1 - y0, x1 - x0, 3)
+    rows = (road_lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)) if lab is None
+            else lab.box(y0, y1, x0, x1))
+    lab = rows.view(y1 - y0, x1 - x0, 3)
     light = lab[..., 0]
     # A shadow's chroma shrinks with its lightness (the road's colour times less light): compared at that scale.
     scale = (light / max(abs(float(road[0])), 1e-3)).clamp(0, 1)[..., None]
@@ -757,17 +769,124 @@ def road_lab(rgb: Tensor) -> Tensor:
     >>> [round(v, 2) for v in road_lab(torch.tensor([[1.0, 0.0, 0.0]]))[0].tolist()]
     [53.24, 80.09, 67.2]
     """
+    return torch.from_numpy(_lab_columns(rgb.float().T.numpy())).T
+
+
+def _lab_columns(rgb: np.ndarray) -> np.ndarray:
+    """``(3, P)`` float32 C-contiguous Lab of the sRGB columns ``rgb (3, P)`` float32 (any layout; clipped to [0, 1]):
+    :func:`road_lab`'s arithmetic. Every column's Lab is its own pixel's alone, bit for bit wherever it stands among
+    the others (NumPy's ``power`` and ``cbrt`` give the same bits at any position), which :class:`PictureLab` relies
+    on."""
+    return _lab_of_linear(_linear_rgb(rgb))
+
+
+def _linear_rgb(rgb: np.ndarray) -> np.ndarray:
+    """``(3, P)`` float32 linear RGB of the sRGB columns ``rgb (3, P)`` (clipped to [0, 1]): :func:`road_lab`'s first
+    step, value by value."""
+    x = np.clip(rgb, 0.0, 1.0)
+    f32 = np.float32
+    return np.where(x > f32(0.04045), np.power((x + f32(0.055)) / f32(1.055), f32(2.4)), x / f32(12.92))
+
+
+#: :func:`_linear_rgb` of the 256 levels of an 8-bit picture (``level / 255`` in float32, as torch divides them).
+_LINEAR_LEVELS = _linear_rgb((torch.arange(256, dtype=torch.float32) / 255).numpy())
+
+
+def _lab_of_linear(lin: np.ndarray) -> np.ndarray:
+    """``(3, P)`` float32 C-contiguous Lab of the linear RGB columns ``lin (3, P)`` (:func:`_linear_rgb`)."""
     from sdn3d.editing.photo.recolor import _RGB_TO_XYZ, _WHITE
 
-    x = np.clip(rgb.float().T.numpy(), 0.0, 1.0)  # (3, P)
     f32 = np.float32
-    lin = np.where(x > f32(0.04045), np.power((x + f32(0.055)) / f32(1.055), f32(2.4)), x / f32(12.92))
     m = np.asarray(_RGB_TO_XYZ, np.float32) / np.asarray(_WHITE, np.float32)[:, None]
     # the 3x3 product as sums of products: NumPy's matrix product runs on OpenBLAS' own threads, whatever torch's count
     xyz = np.stack([m[i, 0] * lin[0] + m[i, 1] * lin[1] + m[i, 2] * lin[2] for i in range(3)])
     f = np.where(xyz > f32(0.008856), np.cbrt(xyz), f32(7.787) * xyz + f32(4.0 / 29.0))
-    lab = np.stack([f32(116.0) * f[1] - f32(16.0), f32(500.0) * (f[0] - f[1]), f32(200.0) * (f[1] - f[2])])
-    return torch.from_numpy(lab).T
+    return np.stack([f32(116.0) * f[1] - f32(16.0), f32(500.0) * (f[0] - f[1]), f32(200.0) * (f[1] - f[2])])
+
+
+class PictureLab:
+    """The :func:`road_lab` of one picture's pixels, each converted on its first use and kept: the removal's road tests
+    (:func:`road_colours`, :func:`shadowed_road`, :func:`road_haze`, :func:`_matched_weight`) look at overlapping
+    parts of the same picture, and an editor's later removals from the same source at more of them
+    (:class:`~sdn3d.editing.photo.transfer.PhotoSource` keeps one). Every value is bit for bit the ``road_lab`` of
+    the same pixels converted on their own (:func:`_lab_columns`).
+
+    Args:
+        image: ``(3, H, W)`` float32 CPU picture in [0, 1]; it must not change while this is in use.
+        levels: ``(3, H, W)`` uint8, the 8-bit picture ``image`` is ``levels / 255`` of (float32, torch's division),
+            or None. With it, each value's linear RGB is looked up among the 256 levels' (:data:`_LINEAR_LEVELS`, the
+            same bits) instead of computed by ``power``, a fifth of a conversion's cost.
+    """
+
+    def __init__(self, image: Tensor, levels: Tensor | None = None) -> None:
+        if image.dim() != 3 or image.shape[0] != 3 or image.dtype != torch.float32 or image.device.type != "cpu":
+            raise ValueError(f"PictureLab: image must be a (3, H, W) float32 CPU picture, got {tuple(image.shape)} "
+                             f"{image.dtype} on {image.device}")
+        if levels is not None and (levels.dtype != torch.uint8 or levels.shape != image.shape):
+            raise ValueError(f"PictureLab: levels must be uint8 of the image's shape {tuple(image.shape)}, got "
+                             f"{tuple(levels.shape)} {levels.dtype}")
+        self.image = image
+        self._rgb = image.detach().numpy()
+        self._levels = None if levels is None else levels.numpy()
+        self._lab = np.zeros(self._rgb.shape, np.float32)
+        self._done = np.zeros(self._rgb.shape[1:], bool)
+
+    def check(self, image: Tensor) -> None:
+        """Raises ValueError unless this is the Lab of ``image`` (the very tensor it was made from)."""
+        if image is not self.image:
+            raise ValueError("PictureLab is of another picture than the one given (lab= must be the image's own)")
+
+    def _convert(self, y0: int, x0: int, need: np.ndarray | None, h: int = 0, w: int = 0) -> None:
+        """Converts the not yet converted ``need (h, w)`` pixels (None: all) of the box at ``(y0, x0)``: the whole box
+        at once where they are at least half of it (a pixel converted again gets the same bits; NumPy's boolean
+        selection and assignment of a picture's pixels cost more than converting the others)."""
+        if need is not None:
+            h, w = need.shape
+        done = self._done[y0:y0 + h, x0:x0 + w]
+        todo = ~done if need is None else need & ~done
+        count = int(np.count_nonzero(todo))
+        if not count:
+            return
+        src = self._rgb if self._levels is None else self._levels
+        rgb, lab = src[:, y0:y0 + h, x0:x0 + w], self._lab[:, y0:y0 + h, x0:x0 + w]
+        if 2 * count >= h * w:
+            lab[...] = self._lab_of(rgb.reshape(3, -1)).reshape(3, h, w)
+            done[...] = True
+        else:
+            lab[:, todo] = self._lab_of(rgb[:, todo])
+            done |= todo
+
+    def _lab_of(self, values: np.ndarray) -> np.ndarray:
+        """``(3, P)`` Lab of the picture's values ``(3, P)`` (its levels when it has them)."""
+        if self._levels is None:
+            return _lab_columns(values)
+        return _lab_of_linear(np.take(_LINEAR_LEVELS, values))
+
+    def pixels(self, mask: Tensor, step: int = 1) -> Tensor:
+        """``(N, 3)`` float32 Lab of the ``mask`` pixels in the picture's order, laid out as :func:`road_lab` returns
+        them: ``road_lab(image[:, :, ::step][:, mask].T)`` bit for bit. ``mask (H, ceil(W / step))`` bool: on every
+        ``step``-th column of the picture."""
+        m = mask.numpy()
+        height, width = self._done.shape
+        if m.shape != (height, len(range(0, width, step))):
+            raise ValueError(f"PictureLab.pixels: mask {m.shape} is not of the picture {(height, width)} "
+                             f"thinned to every {step}-th column")
+        full = m if step == 1 else np.zeros((height, width), bool)
+        if step != 1:
+            full[:, ::step] = m
+        box = _box(torch.from_numpy(full))
+        if box is None:
+            return torch.zeros(3, 0).T
+        y0, y1, x0, x1 = box
+        self._convert(y0, x0, full[y0:y1, x0:x1])
+        # (3, N) C-contiguous as road_lab makes it; NumPy's compress selects along one axis 6x faster than a mask index
+        return torch.from_numpy(np.compress(full.reshape(-1), self._lab.reshape(3, -1), axis=1)).T
+
+    def box(self, y0: int, y1: int, x0: int, x1: int) -> Tensor:
+        """``(h * w, 3)`` float32 Lab of the box's pixels row by row, laid out as :func:`road_lab` returns them:
+        ``road_lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3))`` bit for bit."""
+        self._convert(y0, x0, None, y1 - y0, x1 - x0)
+        return torch.from_numpy(self._lab[:, y0:y1, x0:x1].copy().reshape(3, -1)).T
 
 
 def ab_length(ab: Tensor) -> Tensor:
@@ -793,13 +912,25 @@ def _box(mask: Tensor) -> tuple[int, int, int, int] | None:
     return int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
 
 
-def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> Tensor | None:
+def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0,
+                 lab: PictureLab | None = None) -> Tensor | None:
     """``(3,)`` Lab of the road around a removed object: the median of the ``ring (H, W)`` pixels (around it, on
-    no object) that are near grey or near the ring's own median chroma; None with fewer than 30 such pixels."""
-    pix = image[:, ring].T.contiguous()  # (N, 3) in the picture's order
-    if len(pix) < 30:
+    no object) that are near grey or near the ring's own median chroma; None with fewer than 30 such pixels.
+    ``lab``: ``image``'s :class:`PictureLab` (the same values, converted once for all the removal's tests)."""
+    if lab is not None:
+        lab.check(image)
+    if int(ring.sum()) < 30:
         return None
-    return _road_of(road_lab(pix), tolerance)
+    return _road_of(_ring_lab(image, ring, lab), tolerance)
+
+
+def _ring_lab(image: Tensor, ring: Tensor, lab: PictureLab | None, step: int = 1) -> Tensor:
+    """``(N, 3)`` :func:`road_lab` of the ``ring (H, W)`` pixels of ``image (3, H, W)`` in the picture's order, from
+    ``lab`` (``image``'s :class:`PictureLab`, of the picture before its columns were thinned to every ``step``-th)
+    when given."""
+    if lab is None:
+        return road_lab(image[:, ring].T.contiguous())
+    return lab.pixels(ring, step)
 
 
 def _road_of(lab: Tensor, tolerance: float) -> Tensor | None:
@@ -813,15 +944,16 @@ def _road_of(lab: Tensor, tolerance: float) -> Tensor | None:
     return _column_median(lab[near]) if int(near.sum()) >= 30 else None
 
 
-def _road_around(image: Tensor, ring: Tensor, tolerance: float = 12.0) -> tuple[Tensor | None, Tensor]:
+def _road_around(image: Tensor, ring: Tensor, tolerance: float = 12.0, lab: PictureLab | None = None,
+                 step: int = 1) -> tuple[Tensor | None, Tensor]:
     """``(road, like (H, W))``: :func:`road_colours` of ``ring`` and its pixels :func:`road_like` of that road (the
     ``ring`` pixels within ``tolerance`` of its chroma, lightness at least 0; all False when ``road`` is None), both
-    from one Lab conversion of the ring's pixels (``road_like`` converted the ring's whole box again)."""
+    from one Lab conversion of the ring's pixels (``road_like`` converted the ring's whole box again); ``lab``: the
+    :class:`PictureLab` of the picture ``image`` is every ``step``-th column of."""
     like = torch.zeros(ring.shape, dtype=torch.bool)
-    pix = image[:, ring].T.contiguous()  # as road_colours reads them
-    if len(pix) < 30:
+    if int(ring.sum()) < 30:
         return None, like
-    lab = road_lab(pix)
+    lab = _ring_lab(image, ring, lab, step)
     road = _road_of(lab, tolerance)
     if road is not None:
         like[ring] = _near_road(lab, road, tolerance, 0.0)

@@ -33,7 +33,7 @@ from sdn3d.editing.photo.recolor import (
     registered_tyres,
     srgb_to_lab,
 )
-from sdn3d.editing.photo.road import removal_vanishing_point, road_colours, road_like
+from sdn3d.editing.photo.road import PictureLab, removal_vanishing_point, road_colours, road_like
 from sdn3d.editing.photo.settings import (
     ANOTHER_CAR,
     DEFAULT,
@@ -123,6 +123,7 @@ class PhotoSource:
             of the object rasterized at each pixel (:func:`_raster_ids`: the fitted outlines); parts: ``(H_in * W_in,)``
             long :class:`~sdn3d.meshes.parts.Part` of the rasterized face at each pixel (-1: none);
             :meth:`registered_parts` the same with the drawn dark cars' tyres where the input shows them;
+        :meth:`lab` the input's Lab for the removal's road tests;
             :meth:`face_parts` the loft's face labels alone (no greenhouse glass), which the recolour paints by.
         in_front: ``(H_in, W_in)`` bool, thin things in front of a car that its mask leaves out (a pole, a sign post:
             :func:`~sdn3d.editing.photo.occluders.thin_occluders`); every edit keeps them in front.
@@ -155,6 +156,7 @@ class PhotoSource:
         self._face_parts: Tensor | None = None
         self._fills: dict[tuple, Tensor] = {}
         self._pyramids: dict[int, list[Tensor]] = {}
+        self._lab: PictureLab | None = None
 
     @staticmethod
     def _bind_key(original: Tensor, scene: SceneCode, frame: PixelFrame, settings: PhotoSettings) -> tuple:
@@ -200,6 +202,13 @@ class PhotoSource:
         if levels not in self._pyramids:
             self._pyramids[levels] = _pyramid(self.image, levels)
         return self._pyramids[levels]
+
+    def lab(self) -> PictureLab:
+        """The input's :class:`~sdn3d.editing.photo.road.PictureLab` (the removal's road tests; each pixel's Lab
+        converted on its first use, by any edit)."""
+        if self._lab is None:
+            self._lab = PictureLab(self.image, self.original if self.original.dtype == torch.uint8 else None)
+        return self._lab
 
     def fill(self, key: tuple, make) -> Tensor:
         """A copy of the filled picture of ``key`` (the objects that left and stayed), made by ``make()`` once."""
@@ -537,14 +546,15 @@ def _effects_regions(objects: ObjectTable, rows: list[int], K: Tensor, size: tup
 
 
 def _shadow_context(image: Tensor, hole: Tensor, objects_px: Tensor, before: ObjectTable, rows: list[int], K: Tensor,
-                    light: LightEstimate | None) -> tuple[Tensor, Tensor, Tensor, Tensor | None]:
+                    light: LightEstimate | None,
+                    lab: PictureLab | None = None) -> tuple[Tensor, Tensor, Tensor, Tensor | None]:
     """``(search, road part, ring, road Lab or None)`` of objects ``rows`` of ``before`` (:func:`_effects_regions`;
     the ring: pixels 6 to 30 pixels around the search region and ``hole``, on no object; the road: its colour,
-    :func:`~sdn3d.editing.photo.road.road_colours`)."""
+    :func:`~sdn3d.editing.photo.road.road_colours`, from ``lab``, ``image``'s Lab, when given)."""
     search, road_part = _effects_regions(before, rows, K, tuple(hole.shape), light)
     around = dilate_square(search | hole, 6)
     ring = dilate_square(search | hole, 30) & ~around & ~objects_px
-    return search, road_part, ring, road_colours(image, ring)
+    return search, road_part, ring, road_colours(image, ring, lab=lab)
 
 
 def _relight_around(image: Tensor, search: Tensor, hole: Tensor, objects_px: Tensor, ring: Tensor,
@@ -566,22 +576,24 @@ def _relight_removed(image: Tensor, hole: Tensor, objects_px: Tensor, before: Ob
 
 def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before: ObjectTable, gone_rows: list[int],
                          K: Tensor, light: LightEstimate | None, settings: PhotoSettings,
-                         vanishing: tuple[float, float] | None = None) -> tuple[Tensor, Tensor]:
+                         vanishing: tuple[float, float] | None = None,
+                         lab: PictureLab | None = None) -> tuple[Tensor, Tensor]:
     """``(filled image, relit (H, W) matte)``: step 2 with ``delete_effects`` (module doc): the removed objects'
     shadows relit (:func:`~sdn3d.editing.photo.fill.relight_shadow`), then the road part of ``hole`` filled by
     PatchMatch from road-like pixels only, then the rest of it by ``settings.fill`` from everything but
-    ``objects_px`` (``fill='rays'``: all of it along the rays from ``vanishing``, after the relight)."""
+    ``objects_px`` (``fill='rays'``: all of it along the rays from ``vanishing``, after the relight); ``lab``:
+    ``image``'s :class:`~sdn3d.editing.photo.road.PictureLab` for the road tests (None: converted where needed)."""
     size = tuple(hole.shape)
     # rays: the shadow is looked for on the footprint grown by half, whatever the light (the same PSNR on the tuning
     # tree's deletes as with the fitted light's cast region, without the light's fit: docs/results/.../deletes/)
     search, road_part, ring, road = _shadow_context(image, hole, objects_px, before, gone_rows, K,
-                                                    None if settings.fill in RAY_FILLS else light)
+                                                    None if settings.fill in RAY_FILLS else light, lab)
     matte = torch.zeros(size, dtype=torch.float32)
     if road is None:
         return fill_hole(image, hole, settings, objects_px, vanishing=vanishing), matte
     if settings.fill in RAY_FILLS:
         return _rays_with_effects(image, hole, objects_px, search, ring, road, settings, vanishing,
-                                  _ground_row(road_part, K))
+                                  _ground_row(road_part, K), lab)
     if settings.delete_shadow:
         image, matte = _relight_around(image, search, hole, objects_px, ring, road)
     road_hole = hole & road_part
@@ -602,29 +614,32 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
 
 def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: Tensor, ring: Tensor, road: Tensor,
                        settings: PhotoSettings, vanishing: tuple[float, float] | None,
-                       ground_row: float | None = None) -> tuple[Tensor, Tensor]:
+                       ground_row: float | None = None, lab: PictureLab | None = None) -> tuple[Tensor, Tensor]:
     """``(filled image, relit (H, W) matte)`` of :func:`_remove_with_effects` with ``fill='rays'``: shadowed road
     (:func:`~sdn3d.editing.photo.road.shadowed_road`) is no source of the rays; with ``delete_shadow`` the removed
     objects' shadow there (inside ``search``) joins the hole (``shadow_mode='fill'``; the matte is -1 there) or is
     relit first (``'relight'``); ``road (3,)`` and ``ground_row`` (:func:`_ground_row`) tell the rays' road from a
-    verge on the ground near the car (``photo.ray_verge``)."""
+    verge on the ground near the car (``photo.ray_verge``); ``lab``: ``image``'s
+    :class:`~sdn3d.editing.photo.road.PictureLab` (not the relit picture's)."""
     from sdn3d.editing.photo.road import shadowed_road
 
     ys, xs = (search | hole).nonzero(as_tuple=True)
     reach = max(int(ys.max() - ys.min()), int(xs.max() - xs.min())) + 8
     near = dilate_square(search | hole, reach)
     lit = near & ~dilate_square(search | hole, 3) & ~objects_px
-    dark = shadowed_road(image, road, near, lit, settings.shadow_light) & ~objects_px
+    dark = shadowed_road(image, road, near, lit, settings.shadow_light, lab=lab) & ~objects_px
     matte = torch.zeros(tuple(hole.shape), dtype=torch.float32)
     if settings.delete_shadow and settings.shadow_mode == "relight":
         image, matte = _relight_around(image, search, hole, objects_px, ring, road)
+        lab = None  # of the picture before the relight
         dark = shadowed_road(image, road, near, lit, settings.shadow_light) & ~objects_px
     elif settings.delete_shadow:
         own = dark & dilate_square(search, 3) & ~hole
         hole = hole | own
         matte = -own.float()  # filled, not relit: render_photo marks these pixels fill
     keep_out = objects_px | _ground_rows(dark, hole, SHADOW_GROUND)
-    return fill_hole(image, hole, settings, keep_out, vanishing=vanishing, road=road, ground_row=ground_row), matte
+    return (fill_hole(image, hole, settings, keep_out, vanishing=vanishing, road=road, ground_row=ground_row,
+                      lab=lab), matte)
 
 
 #: :func:`_ground_row`: the ground near a removed car reaches this many times the distance of its footprint's far edge.
@@ -986,7 +1001,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
 
             def make() -> Tensor:  # the picture and the relit matte, kept together
                 filled, relit = _remove_with_effects(image, hole, (src_ids != 0) & ~hole, before, gone_rows, K,
-                                                     light, settings, vp)
+                                                     light, settings, vp, photo_source.lab())
                 return torch.cat([filled, relit[None]])
 
             both = source.fill(key, make)
@@ -1000,7 +1015,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
             both = source.fill(key, make)
             out, matte = both[:3], both[3]
         else:
-            out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0, vanishing=vp))
+            out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0, vanishing=vp,
+                                                     lab=photo_source.lab()))
     source = torch.where(hole, FILL, INPUT).to(torch.uint8)
     if matte is not None:
         source = torch.where((matte > 0.02) & ~hole, RELIT, source).to(torch.uint8)

@@ -162,7 +162,9 @@ def _table(times: dict[str, dict[str, list[float]]], cpu: dict[str, dict[str, li
             print(f"| {fill} | {kind} | {len(ts)} | {statistics.median(ts):.0f} | {p90:.0f} | "
                   f"{statistics.median(used):.0f} | {float(np.percentile(used, 90)):.0f} |")
     if out is not None:  # every edit in order, for paired comparisons: {fill or code: [[kind, wall ms, CPU ms], ...]}
-        out.write_text(json.dumps(edits or {}, indent=1))
+        from sdn3d.io import write_json_atomic  # this checkout's (the parent's), not an --against one's
+
+        write_json_atomic(out, edits or {}, indent=1)
 
 
 def _compare(args: argparse.Namespace, root: Path) -> None:

@@ -23,5 +23,6 @@ for t in (1, 2):
               f"faster in {(a < b).sum()} of {len(a)}")
         for k in sorted(set(kinds)):
             m = np.array([x == k for x in kinds])
-            print(f"    {k}: median this {np.median(a[m]):.0f}, start {np.median(b[m]):.0f}, ratio {np.exp(r[m].mean()):.3f}")
+            print(f"    {k}: median this {np.median(a[m]):.0f}, start {np.median(b[m]):.0f}, "
+                  f"ratio {np.exp(r[m].mean()):.3f}")
 sys.exit(0)

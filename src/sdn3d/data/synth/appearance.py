@@ -14,6 +14,7 @@ from torch import Tensor
 from sdn3d.data.synth.classes import Material
 from sdn3d.data.synth.lighting import LOOKS, Look, Surface, apply_weather, look_for, shade, sky_color, tonemap
 from sdn3d.data.synth.noise import fbm, hash_cells, value_noise
+from sdn3d.meshes.parts import MAX_GLASS_RISE
 from sdn3d.meshes.vehicle_family import FAMILY, canonical_belt
 
 __all__ = [
@@ -155,7 +156,7 @@ def _car(s: Surface, idx: Tensor) -> tuple[Tensor, Tensor, Tensor]:
     loc, n, base = s.local[idx], s.normal[idx], s.color[idx]
     belt = torch.tensor(VEHICLE_BELT, device=loc.device)[s.template[idx].clamp(min=0)]
     up = -n[:, 1]
-    glass = (loc[:, 1] < belt) & (up < 0.93) & (loc[:, 1] > -0.49)
+    glass = (loc[:, 1] < belt) & (up < MAX_GLASS_RISE) & (loc[:, 1] > -0.49)
     lower = loc[:, 1] > 0.36
     albedo = torch.where(lower.unsqueeze(1), base * 0.55 + 0.01, base)
     albedo = torch.where(glass.unsqueeze(1), torch.tensor([0.015, 0.02, 0.025], device=loc.device), albedo)

@@ -590,7 +590,7 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
                                                     None if settings.fill in RAY_FILLS else light, lab)
     matte = torch.zeros(size, dtype=torch.float32)
     if road is None:
-        return fill_hole(image, hole, settings, objects_px, vanishing=vanishing), matte
+        return fill_hole(image, hole, settings, objects_px, vanishing=vanishing, lab=lab), matte
     if settings.fill in RAY_FILLS:
         return _rays_with_effects(image, hole, objects_px, search, ring, road, settings, vanishing,
                                   _ground_row(road_part, K), lab)
@@ -1713,9 +1713,6 @@ REFLECTIVE_PARTS = (int(Part.GLASS), int(Part.BODY))
 #: Whether a dark car's body drawn from its own examples elsewhere (:func:`_part_colors`) takes the change of its sky
 #: reflection from the examples' view to its own (:func:`_reflect_part_colors`).
 PART_VIEW_REFLECTION = True
-#: :func:`_reflect_part_colors`: the median CIE L* of a car's body examples below which its paint is dark enough that
-#: their colour is mostly reflection (:data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, the recolour's dark paint).
-PART_REFLECTION_MAX_L = DARK_PAINT_L
 
 
 def _reflection_strength(examples: _PartExamples, part: int) -> Tensor | None:
@@ -1826,8 +1823,9 @@ def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: 
                          own: _PartExamples, scale: float) -> Tensor:
     """``(P, 3)`` the colours ``colors`` :func:`_part_colors` took from a car's own examples (code :data:`PART`) for
     its body points ``parts (P,)``, changed by the sky reflection their new view adds or takes away, where the paint
-    is dark (its body examples' median CIE L* below :data:`PART_REFLECTION_MAX_L`): a point seen at view cosine
-    ``cos (P,)`` whose examples were seen at :func:`~sdn3d.editing.photo.light.grazing` ``seen_at (P,)`` takes
+    is dark (its body examples' median CIE L* below :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, the
+    recolour's dark paint): a point seen at view cosine ``cos (P,)`` whose examples were seen at
+    :func:`~sdn3d.editing.photo.light.grazing` ``seen_at (P,)`` takes
     ``scale`` times the body's reflection strength (:func:`_reflection_strength`) times the change of the grazing
     term, as a photo pixel at a new view does. A dark paint's colour is mostly the sky it mirrors (its diffuse shading
     is small), so the strength fitted on its examples is its reflection; on a lighter paint the fit takes shading
@@ -1836,7 +1834,7 @@ def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: 
     body = own.part == int(Part.BODY)
     if not bool(here.any()) or int(body.sum()) < 2:
         return colors
-    if float(srgb_to_lab(own.color[body].float())[:, 0].median()) >= PART_REFLECTION_MAX_L:
+    if float(srgb_to_lab(own.color[body].float())[:, 0].median()) >= DARK_PAINT_L:
         return colors
     strength = _reflection_strength(own, int(Part.BODY))
     if strength is None:

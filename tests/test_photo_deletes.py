@@ -432,6 +432,34 @@ def test_a_verge_seen_on_both_sides_still_crosses_the_hole():
     assert (on[:, hole] - torch.tensor([0.45, 0.6, 0.2])[:, None]).abs().max() < 0.01
 
 
+def test_a_verge_tip_beyond_an_ended_verge_is_no_line_across_the_hole():
+    """The near-side verge's rays mostly find road beyond the hole (the verge ended inside it), and a few find a small
+    verge patch there (the real frame's black car: a traffic island's tip beyond the island): those few are filled
+    with road as well, not with a thin line of verge joining the two (session 15's main drew 57 verge pixels)."""
+    from sdn3d.editing.photo.road import road_lab, verge_like
+
+    image, hole, vp = _verge_beside_the_hole()
+    image[:, 46:50, 86:94] = torch.tensor([0.45, 0.6, 0.2])[:, None, None]  # the tip, on the far side of a few rays
+    road = road_lab(torch.tensor([[0.45, 0.44, 0.38]]))[0]
+    on, _ = ray_fill(image, hole, vp, texture=0.0, road=road, verge="road")
+    blend, _ = ray_fill(image, hole, vp, texture=0.0, road=road, verge="blend")
+    assert int(verge_like(blend[:, hole], road).sum()) > 300
+    assert not bool(verge_like(on[:, hole], road).any())
+    assert float((on[:, hole] - torch.tensor([0.45, 0.44, 0.38])[:, None]).abs().mean()) < 0.002
+
+
+def test_a_verge_seen_beyond_the_hole_by_most_of_its_rays_still_crosses_it():
+    """A far-side verge that most of the near-side verge's rays meet (a verge strip continuing behind the car) is
+    continued across the hole where both sides show it."""
+    from sdn3d.editing.photo.road import road_lab, verge_like
+
+    image, hole, vp = _verge_beside_the_hole()
+    image[:, 40:50, 60:110] = torch.tensor([0.45, 0.6, 0.2])[:, None, None]  # verge beyond every near-verge ray
+    road = road_lab(torch.tensor([[0.45, 0.44, 0.38]]))[0]
+    on, _ = ray_fill(image, hole, vp, texture=0.0, road=road, verge="road")
+    assert int(verge_like(on[:, hole], road).sum()) > 300
+
+
 def test_ray_verge_reaches_the_rays_through_fill_hole_and_is_checked():
     from sdn3d.editing.photo.fill import fill_hole
     from sdn3d.editing.photo.road import road_lab

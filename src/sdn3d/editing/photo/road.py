@@ -337,11 +337,12 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     ``road (3,)``: the road's CIE Lab around the hole (:func:`road_colours`) and ``verge``
     (:data:`~sdn3d.editing.photo.settings.VERGE_MODES`): ``'blend'`` interpolates a ray's two sides whatever they
     are; ``'road'``: a ray whose near side is a verge (grass, foliage, paint, a hedge: :func:`verge_like`) and whose
-    far side is road (:func:`_verge_near_only`) takes the road's colour there alone, without its markings' detail
+    far side is road (:func:`_verge_sides`) takes the road's colour there alone, without its markings' detail
     (:func:`_coarse_blur` of the road), so no pale band of the verge's colour fades across the road where the car
     stood and no marking of the far side is drawn across it (None ``road``: ``'blend'``), at the hole pixels from row
     ``ground_row`` down (the ground near the removed car; higher up a ray's sides may be upright things) whose far
-    side is resolved (:data:`FAR_RESOLVED`). ``lab``: ``image``'s :class:`PictureLab` (the road tests' Lab, converted
+    side is resolved (:data:`FAR_RESOLVED`); so do the rays that meet a verge on both sides among a run of rays whose
+    near-side verge mostly ended inside the hole (:func:`_ended_verge_runs`). ``lab``: ``image``'s :class:`PictureLab` (the road tests' Lab, converted
     once for all the removal's tests)."""
     if lab is not None:
         lab.check(image)
@@ -381,6 +382,12 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     grains = torch.zeros(3, len(ys)) if detail is not None else None
     got = torch.zeros(len(ys), dtype=torch.bool)
     road_broad = None  # the road's broad colour, for rays taken from their far side alone (verge='road')
+    # verge='road': each ray's sides that are a verge (on the ground rows, far side resolved), and the value the ray
+    # takes from its far side's road alone, for the rays whose both sides are a verge (:func:`_ended_verge_runs`)
+    near_verge = far_verge = from_road = None
+    if road is not None and verge == "road":
+        near_verge, far_verge = torch.zeros_like(got), torch.zeros_like(got)
+        from_road = torch.zeros(3, len(ys))
     for s in range(0, len(ys), RAY_CHUNK):
         p, u, sp = pix[s:s + RAY_CHUNK], unit[s:s + RAY_CHUNK], reach[s:s + RAY_CHUNK]
         # Away from the vanishing point (nearer road) and towards it, stopping there: past it lies another line.
@@ -395,21 +402,29 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         if marks > 0:
             w_out, w_in = _one_sided_marks(c_out, c_in, _gather_coarse(broad, q_out), _gather_coarse(broad, q_in),
                                            w_out, w_in, f_out & f_in, marks)
+        road_in = None  # the road's broad colour at the far side (verge='road', where a near side is a verge)
         if road is not None and verge == "road":
             # the far side's road is evidence only where it is resolved (FAR_RESOLVED), on the ground rows
             resolved = (sp - d_in) >= FAR_RESOLVED * (sp + d_out)
-            far_only = _verge_near_only(c_out, c_in, f_out & f_in & resolved & (p[:, 1] >= ground_row), road)
-            if bool(far_only.any()):
+            near, far = _verge_sides(c_out, c_in, f_out & f_in & resolved & (p[:, 1] >= ground_row), road)
+            near_verge[s:s + RAY_CHUNK], far_verge[s:s + RAY_CHUNK] = near, far
+            if bool(near.any()):
                 if road_broad is None:
                     road_broad = _coarse_blur(image, valid, MARK_SIGMA, road)
+                road_in = _gather_coarse(road_broad, q_in)
+                far_only = near & ~far
                 w_out, w_in = torch.where(far_only, 0.0, w_out), torch.where(far_only, 1.0, w_in)
-                c_in = torch.where(far_only, _gather_coarse(road_broad, q_in), c_in)
+                c_in = torch.where(far_only, road_in, c_in)
         val = c_out * w_out + c_in * w_in
         if per_row is not None:  # the road's colour at this pixel's row less its colour at the sources' rows
             def at(rows: Tensor) -> Tensor:
                 return per_row[:, rows.round().long().clamp(0, height - 1)]
 
             val = val + haze * (at(p[:, 1]) - at(q_out[:, 1]) * w_out - at(q_in[:, 1]) * w_in)
+            if road_in is not None:  # as a ray from its far side's road alone (w_out 0, w_in 1)
+                road_in = road_in + haze * (at(p[:, 1]) - at(q_in[:, 1]))
+        if road_in is not None:
+            from_road[:, s:s + RAY_CHUNK] = road_in
         if detail is not None:  # a side's high-pass, mirrored across the hole's edge along the ray (nearer side first)
             near_out = f_out & (~f_in | (d_out <= d_in))
             grain, ok = _mirrored(detail, valid, torch.where(near_out[:, None], q_out, q_in),
@@ -420,6 +435,9 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
             grains[:, s:s + RAY_CHUNK] = ok * grain + ok2 * other
         values[:, s:s + RAY_CHUNK] = val
         got[s:s + RAY_CHUNK] = f_out | f_in
+    if near_verge is not None and bool(near_verge.any()):
+        ended = _ended_verge_runs(torch.atan2(unit[:, 1], unit[:, 0]), reach, near_verge, far_verge)
+        values[:, ended] = from_road[:, ended]
     if grains is not None:
         weight = (_matched_weight(image, valid, values[:, got], grains[:, got], ys[got], xs[got], texture, lab)
                   if match_grain and bool(got.any()) else texture)
@@ -565,17 +583,43 @@ def verge_like(colours: Tensor, road: Tensor, tolerance: float = VERGE_CHROMA,
             | (lab[:, 0] < min_light * road[0]))
 
 
-def _verge_near_only(c_out: Tensor, c_in: Tensor, both: Tensor, road: Tensor) -> Tensor:
-    """``(N,)`` bool: the rays whose near side (away from the vanishing point: ``c_out (3, N)``, the sides' colours) is
-    a verge and whose far side (``c_in``) is road (:func:`verge_like` of the road ``road (3,)``; ``both (N,)``: both
-    sides found), which :func:`ray_fill` with ``verge='road'`` fills from the far side alone. The near side of a ray
-    leaves the hole on the ground the removed car stood on or beside: a verge there that the far side does not show
-    ends inside the hole, and a blend of the two is neither (the real frame's black car: the verge beside it blended
-    into the far lane as a pale band). A verge on the far side only is left to the blend: for the hole's upper pixels
-    the far side is often no ground at all (a hedge, a treeline, the horizon)."""
-    out = torch.zeros_like(both)
+def _verge_sides(c_out: Tensor, c_in: Tensor, both: Tensor, road: Tensor) -> tuple[Tensor, Tensor]:
+    """``(near (N,), far (N,))`` bool: which rays' near side (away from the vanishing point: ``c_out (3, N)``, the
+    sides' colours) and far side (``c_in``) is a verge (:func:`verge_like` of the road ``road (3,)``), among the rays
+    ``both (N,)`` (both sides found; False elsewhere). :func:`ray_fill` with ``verge='road'`` fills a ray whose near
+    side alone is a verge from its far side's road: the near side of a ray leaves the hole on the ground the removed
+    car stood on or beside, and a verge there that the far side does not show ends inside the hole; a blend of the
+    two is neither (the real frame's black car: the verge beside it blended into the far lane as a pale band). A
+    verge on the far side only is left to the blend: for the hole's upper pixels the far side is often no ground at
+    all (a hedge, a treeline, the horizon). Rays whose both sides are a verge: :func:`_ended_verge_runs`."""
+    near, far = torch.zeros_like(both), torch.zeros_like(both)
     if bool(both.any()):
-        out[both] = verge_like(c_out[:, both], road) & ~verge_like(c_in[:, both], road)
+        near[both] = verge_like(c_out[:, both], road)
+        far[both] = verge_like(c_in[:, both], road)
+    return near, far
+
+
+def _ended_verge_runs(angle: Tensor, reach: Tensor, near: Tensor, far: Tensor) -> Tensor:
+    """``(N,)`` bool: the rays whose both sides are a verge (``near``, ``far``: :func:`_verge_sides`) that
+    :func:`ray_fill` with ``verge='road'`` fills from the far side's road all the same: those inside a run of rays
+    (adjacent ``angle (N,)`` about the vanishing point, in steps of one pixel at the median ``reach (N,)`` of the
+    near-verge rays) whose near side is a verge and whose far side, for most of them, is road. A verge strip along the
+    road keeps its angle about the vanishing point along its whole length, so its rays see it on both sides; where
+    most rays of a near-side verge find road on their far side the verge ended inside the hole, and the few that meet
+    another verge there met something else (the real frame's black car: a traffic island beside it and the island's
+    tip beyond it, which the blend joined by a thin pale line across the far lane)."""
+    if not bool(near.any()):
+        return torch.zeros_like(near)
+    step = 1.0 / float(reach[near].median().clamp(min=1.0))
+    bins = ((angle[near] - angle[near].min()) / step).floor().long()
+    occupied = torch.zeros(int(bins.max()) + 1, dtype=torch.bool)
+    occupied[bins] = True
+    run = torch.cumsum((~occupied).long(), 0)[bins]  # the same id for every bin of a run of occupied bins
+    runs = int(run.max()) + 1
+    both = far[near].float()
+    ended_runs = torch.zeros(runs).index_add_(0, run, 1 - both) > torch.zeros(runs).index_add_(0, run, both)
+    out = torch.zeros_like(near)
+    out[near] = far[near] & ended_runs[run]
     return out
 
 

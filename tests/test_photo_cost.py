@@ -774,3 +774,56 @@ def test_photo_source_keeps_one_lab_of_its_input_and_deletes_draw_the_same():
     fresh = render_photo(eight_bit, FRAME, scene, edited, source=PhotoSource(eight_bit, FRAME, scene, max_fills=0))
     assert torch.equal(kept.image, fresh.image)
     assert torch.equal(source.lab().box(0, 128, 0, 256), road_lab(source.image.permute(1, 2, 0).reshape(-1, 3)))
+
+
+def _dark_car_tyres_as_it_was(image, ids, parts, iid):
+    """transfer._dark_car_tyres as it was: its tests over the whole picture."""
+    from sdn3d.editing.photo.recolor import DARK_PAINT_L, body_paint
+    from sdn3d.editing.photo.transfer import _tyres_in_picture
+    from sdn3d.meshes.parts import Part
+
+    flat = image.permute(1, 2, 0).reshape(-1, 3)
+    car = ids == iid
+    body_pix = (car.view(-1) & (parts == int(Part.BODY))).nonzero().flatten()
+    if len(body_pix) < 8:
+        return None
+    body_lab = srgb_to_lab(flat[body_pix].double())
+    paint_light = float(body_lab[:, 0].median())
+    if paint_light >= DARK_PAINT_L or body_paint(body_lab)[1]:
+        return None
+    tyres, freed = _tyres_in_picture(flat, car, parts.view(ids.shape), paint_light)
+    return tyres.view(-1).nonzero().flatten(), freed.view(-1).nonzero().flatten()
+
+
+def test_dark_car_tyres_found_in_the_cars_box_are_the_whole_pictures():
+    """The black car with a misplaced wheel (test_photo_realparts) at several places of a larger picture, beside a
+    light car and among other ids: the same tyre and freed indices (and None for the light car, an absent id and a
+    car of 5 body pixels) as the whole picture's tests gave."""
+    from sdn3d.editing.photo.transfer import _dark_car_tyres
+    from sdn3d.meshes.parts import Part
+    from tests.test_photo_realparts import _black_car_with_a_misplaced_wheel
+
+    car_image, mask, car_parts, _ = _black_car_with_a_misplaced_wheel()
+    g = torch.Generator().manual_seed(6)
+    found_any = False
+    for y0, x0 in ((0, 0), (17, 41), (40, 60)):
+        image = torch.rand(3, 100, 160, generator=g)
+        ids = torch.zeros(100, 160, dtype=torch.long)
+        parts = torch.full((100, 160), -1, dtype=torch.long)
+        image[:, y0:y0 + 60, x0:x0 + 100] = torch.where(mask[None], car_image, image[:, y0:y0 + 60, x0:x0 + 100])
+        ids[y0:y0 + 60, x0:x0 + 100][mask] = 5
+        parts[y0:y0 + 60, x0:x0 + 100][mask] = car_parts[mask].long()
+        light = (ids == 0) & (torch.rand(100, 160, generator=g) < 0.3)
+        ids[light], parts[light] = 9, int(Part.BODY)
+        image[:, light] = 0.8
+        tiny = (ids == 0).nonzero()[:5]
+        ids[tiny[:, 0], tiny[:, 1]], parts[tiny[:, 0], tiny[:, 1]] = 11, int(Part.BODY)
+        for iid in (5, 9, 11, 3):
+            got = _dark_car_tyres(image, ids, parts.view(-1), iid)
+            want = _dark_car_tyres_as_it_was(image, ids, parts.view(-1), iid)
+            assert (got is None) == (want is None), iid
+            if want is not None:
+                found_any = True
+                assert all(torch.equal(a, b) for a, b in zip(got, want, strict=True))
+                assert len(want[0]) > 20 and len(want[1]) > 20
+    assert found_any

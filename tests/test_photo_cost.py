@@ -803,10 +803,12 @@ def test_dark_car_tyres_found_in_the_cars_box_are_the_whole_pictures():
     from sdn3d.meshes.parts import Part
     from tests.test_photo_realparts import _black_car_with_a_misplaced_wheel
 
-    car_image, mask, car_parts, _ = _black_car_with_a_misplaced_wheel()
+    car_image, whole, car_parts, _ = _black_car_with_a_misplaced_wheel()
+    # and the car cut to the columns of its real and template wheels: both reach its box's left and right edges
+    narrow = whole & (torch.arange(100)[None, :] >= 37) & (torch.arange(100)[None, :] < 70)
     g = torch.Generator().manual_seed(6)
-    found_any = False
-    for y0, x0 in ((0, 0), (17, 41), (40, 60)):
+    found = []
+    for y0, x0, mask in ((0, 0, whole), (17, 41, whole), (40, 60, whole), (0, 0, narrow), (23, 57, narrow)):
         image = torch.rand(3, 100, 160, generator=g)
         ids = torch.zeros(100, 160, dtype=torch.long)
         parts = torch.full((100, 160), -1, dtype=torch.long)
@@ -823,7 +825,7 @@ def test_dark_car_tyres_found_in_the_cars_box_are_the_whole_pictures():
             want = _dark_car_tyres_as_it_was(image, ids, parts.view(-1), iid)
             assert (got is None) == (want is None), iid
             if want is not None:
-                found_any = True
+                found.append(mask is narrow)
                 assert all(torch.equal(a, b) for a, b in zip(got, want, strict=True))
                 assert len(want[0]) > 20 and len(want[1]) > 20
-    assert found_any
+    assert found == [False] * 3 + [True] * 2  # the black car found at each place; the others are None

@@ -853,26 +853,29 @@ def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor, iid: int) -> tupl
     dark paint, whose template keeps its wheels. A dark paint is the body part's pixels' median CIE L* under
     :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, not coloured (:func:`~sdn3d.editing.photo.recolor.body_paint`,
     as :func:`_recolor` tells it)."""
-    # Looked at in the car's box alone: its pixels there in row order are the picture's in its order (the same
-    # values, without five passes over the whole picture per car).
+    # The car's pixels found by one pass over the picture, the rest looked at in its box alone: its pixels there in
+    # row order are the picture's in its order (the same values, without four more passes and a copy of the picture
+    # per car).
     height, width = ids.shape
-    x0, y0, x1, y1 = (int(v) for v in mask_boxes((ids == iid)[None])[0])
+    car_pix = (ids.view(-1) == iid).nonzero().flatten()
+    body_pix = car_pix[parts[car_pix] == int(Part.BODY)]
+    if len(body_pix) < 8:
+        return None
+    body_lab = srgb_to_lab(image.reshape(3, -1)[:, body_pix].T.contiguous().double())  # (N, 3) rows, as gathered
+    paint_light = float(body_lab[:, 0].median())
+    if paint_light >= DARK_PAINT_L or body_paint(body_lab)[1]:
+        return None
+    y0, y1 = int(car_pix[0]) // width, int(car_pix[-1]) // width + 1
+    cols = car_pix % width
+    x0, x1 = int(cols.min()), int(cols.max()) + 1
     car = ids[y0:y1, x0:x1] == iid
-    box_parts = parts.view(height, width)[y0:y1, x0:x1]
-    flat = image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)
+    box_flat = image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)
+    tyres, freed = _tyres_in_picture(box_flat, car, parts.view(height, width)[y0:y1, x0:x1], paint_light)
 
     def in_picture(mask: Tensor) -> Tensor:  # flat picture indices of a box's mask, in the picture's order
         ys, xs = mask.nonzero(as_tuple=True)
         return (ys + y0) * width + (xs + x0)
 
-    body = car & (box_parts == int(Part.BODY))
-    if int(body.sum()) < 8:
-        return None
-    body_lab = srgb_to_lab(flat[body.view(-1)].double())
-    paint_light = float(body_lab[:, 0].median())
-    if paint_light >= DARK_PAINT_L or body_paint(body_lab)[1]:
-        return None
-    tyres, freed = _tyres_in_picture(flat, car, box_parts, paint_light)
     return in_picture(tyres), in_picture(freed)
 
 

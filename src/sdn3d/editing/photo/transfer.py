@@ -14,7 +14,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.editing.frame import PixelFrame, input_intrinsics, upsample_ids, working_to_input
+from sdn3d.editing.frame import PixelFrame, input_intrinsics, input_window, upsample_ids, working_to_input
 from sdn3d.editing.photo.fill import (
     fill_hole,
     inpaint,
@@ -729,13 +729,21 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
     rows, gained = rows[grew], gained[grew]
     first = _first_true(gained)  # the first object (in table order) that gained each pixel
     labels = torch.where(gained.any(0), after.instance_id[rows][first], torch.zeros_like(first))
-    up = upsample_ids(labels.to(after.instance_id.dtype), transform)
+    # Looked at in the input pixels of the labels' box alone: the upsampled labels are 0 outside it, where nothing
+    # is given (the same map, without passes over the whole picture).
+    window = input_window(transform, tuple(int(v) for v in mask_boxes(labels[None] != 0)[0]))
+    if window is None:
+        return own.clone(), []
+    x0, y0, x1, y1 = window
+    up = upsample_ids(labels.to(after.instance_id.dtype), transform, window)
     if raster_ids is not None and min_seen > 0:  # its own fitted shape in front of what the input showed there
-        up = torch.where(raster_ids == up, torch.zeros_like(up), up)
-    new = (up != 0) & (own == 0)
-    own = torch.where(new, up.to(own.dtype), own)
+        up = torch.where(raster_ids[y0:y1, x0:x1] == up, torch.zeros_like(up), up)
+    here = own[y0:y1, x0:x1]
+    new = (up != 0) & (here == 0)
+    grown = own.clone()
+    grown[y0:y1, x0:x1] = torch.where(new, up.to(own.dtype), here)
     drawn = torch.isin(after.instance_id[rows], up[new].unique())
-    return own, rows[drawn].tolist()
+    return grown, rows[drawn].tolist()
 
 
 def _first_true(masks: Tensor) -> Tensor:

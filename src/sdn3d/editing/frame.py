@@ -2,7 +2,8 @@
 
 :class:`PixelFrame` is the input -> working transform (an aspect-preserving resize, then a central crop;
 :func:`sdn3d.editing.inputs.fit_transform` makes it); :func:`input_intrinsics` is the input image's camera,
-:func:`upsample_ids` carries a working-size integer map to every input pixel (nearest), :func:`sampling_grid` and
+:func:`upsample_ids` carries a working-size integer map to every input pixel (nearest; or to a window of them,
+:func:`input_window`: the input pixels a working box reaches), :func:`sampling_grid` and
 :func:`working_to_input` sample a working-size picture at input pixels (bilinear). Points given in another frame's
 pixels are scaled by :func:`sdn3d.data.edit_benchmark.scale_point` (the benchmark format's rule).
 """

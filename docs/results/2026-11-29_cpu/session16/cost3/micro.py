@@ -1,15 +1,11 @@
 # ruff: noqa: E402
-"""Each cut of this branch against the code it replaced, in one process, at threads 1, on the latency tree's inputs
-(benchmarks/photo_latency.py's tree: 1242x375, worlds 0001 and 0018, ground-truth geometry (oracle)):
+"""Each cut of this branch against the code it replaced, on the calls the 14 latency edits make (session14/cost/
+draw_edits.py's edits of benchmarks/photo_latency.py's tree: 1242x375, ground-truth geometry (oracle), fill=rays, a
+fresh source per edit), in one process at threads 1: ``transfer._dark_car_tyres``, ``transfer._grow`` and
+``road._trace`` are wrapped; each call runs this branch's function and main's (BASE_SRC's module, loaded beside
+it) ``--rounds`` times each, alternating, the least kept, and their results are compared for equality.
 
-- ``_dark_car_tyres``: every car of each source frame's ``PhotoSource`` (the registered tyres of ``render_photo``);
-- ``_trace``: the rays of the removal fill of the latency edits' frames, as ``ray_fill`` traces them (a hole of the
-  frame's largest car, the vanishing point from the camera).
-
-Each call is timed ``--rounds`` times, new code then main's, the least kept; each pair's results are compared for
-equality.
-
-    python micro.py TREE BASE_SRC [--rounds 7]
+    python micro.py TREE BASE_SRC [--rounds 5]
 """
 
 import argparse
@@ -17,7 +13,7 @@ import importlib.util
 import os
 import sys
 import time
-from functools import partial
+from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
@@ -28,13 +24,17 @@ from sdn3d.data.records import load_rgb
 from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.data.synth import BENCHMARK_NAME
 from sdn3d.data.vkitti1 import read_frames
+from sdn3d.editing.appearance import appearance_renderer
+from sdn3d.editing.apply import apply_edits, ops_from_benchmark
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.photo import road, transfer
+from sdn3d.editing.photo.settings import PhotoSettings
+from sdn3d.evaluation.edit_benchmark import edit_kind
 
 parser = argparse.ArgumentParser()
 parser.add_argument("tree", type=Path)
 parser.add_argument("base_src", type=Path)
-parser.add_argument("--rounds", type=int, default=7)
+parser.add_argument("--rounds", type=int, default=5)
 args = parser.parse_args()
 torch.set_num_threads(1)
 
@@ -47,73 +47,71 @@ def load(name: str, path: Path):
     return module
 
 
-base_transfer = load("base_transfer", args.base_src / "sdn3d/editing/photo/transfer.py")
-base_road = load("base_road", args.base_src / "sdn3d/editing/photo/road.py")
-records = {(r.world, r.variation, int(r.frame)): r for r in read_frames(args.tree)}
-keys = sorted({(e.world, e.variation, e.source_frame)
-               for e in load_edit_benchmark(args.tree / BENCHMARK_NAME) if e.operations})
-work = (624, 192)
-
-
-def least(fn, rounds):
-    best, out = float("inf"), None
-    for _ in range(rounds):
-        t0 = time.process_time()
-        out = fn()
-        best = min(best, time.process_time() - t0)
-    return 1000 * best, out
+base = {"_dark_car_tyres": load("base_transfer", args.base_src / "sdn3d/editing/photo/transfer.py")._dark_car_tyres,
+        "_trace": load("base_road", args.base_src / "sdn3d/editing/photo/road.py")._trace}
+base["_grow"] = sys.modules["base_transfer"]._grow
 
 
 def same(a, b) -> bool:
-    if a is None or b is None:
-        return a is None and b is None
-    if isinstance(a, tuple):
-        return all(same(x, y) for x, y in zip(a, b, strict=True))
-    return torch.equal(a, b)
+    if isinstance(a, (tuple, list)):
+        return len(a) == len(b) and all(same(x, y) for x, y in zip(a, b, strict=True))
+    if isinstance(a, torch.Tensor):
+        return isinstance(b, torch.Tensor) and torch.equal(a, b)
+    return a == b
 
 
-print(f"load {os.getloadavg()[0]:.1f}; {len(keys)} source frames; least of {args.rounds}, threads 1")
-totals = {"tyres": [0.0, 0.0], "trace": [0.0, 0.0]}
-for key in keys:
-    record = records[key]
+def copies(a):  # _grow's own map is replaced, not written; copied all the same for each call
+    return tuple(x.clone() if isinstance(x, torch.Tensor) else x for x in a)
+
+
+times: dict[str, list[float]] = defaultdict(lambda: [0.0, 0.0, 0])
+unequal: list[str] = []
+
+
+def wrapped(name: str, new_fn):
+    def call(*a, **k):
+        best = [float("inf"), float("inf")]
+        for _ in range(args.rounds):
+            for i, fn in enumerate((new_fn, base[name])):
+                inputs = copies(a)
+                t0 = time.process_time()
+                out = fn(*inputs, **k)
+                best[i] = min(best[i], time.process_time() - t0)
+                if i == 0:
+                    got = out
+                else:
+                    want = out
+        if not same(got, want):
+            unequal.append(name)
+        times[name][0] += 1000 * best[0]
+        times[name][1] += 1000 * best[1]
+        times[name][2] += 1
+        return got
+    return call
+
+
+transfer._dark_car_tyres = wrapped("_dark_car_tyres", transfer._dark_car_tyres)
+transfer._grow = wrapped("_grow", transfer._grow)
+road._trace = wrapped("_trace", road._trace)
+
+records = {(r.world, r.variation, int(r.frame)): r for r in read_frames(args.tree)}
+entries = [e for e in load_edit_benchmark(args.tree / BENCHMARK_NAME) if e.operations][:40]
+work = (624, 192)
+renderer = appearance_renderer("photo", photo=PhotoSettings(fill="rays"))
+print(f"load {os.getloadavg()[0]:.1f}; least of {args.rounds} per call, threads 1; ms per edit, this branch vs main")
+for n, entry in enumerate(entries):
+    record = records[(entry.world, entry.variation, entry.source_frame)]
     scene = scene_from_frame(record, work)
     original = torch.from_numpy(np.ascontiguousarray(load_rgb(record))).permute(2, 0, 1)
+    edited = apply_edits(scene, ops_from_benchmark(entry, scene, (1242, 375), strict=False))
     frame = PixelFrame(tuple(int(x) for x in original.shape[2:0:-1]), work)
-    source = transfer.PhotoSource(original.float() / 255, frame, scene)
-    ids = [int(i) for i in source.src_ids.unique().tolist() if i]
-    new_ms = old_ms = 0.0
-    equal = True
-    for iid in ids:
-        args_of = (source.image, source.src_ids, source.parts, iid)
-        t_new, a = least(partial(transfer._dark_car_tyres, *args_of), args.rounds)
-        t_old, b = least(partial(base_transfer._dark_car_tyres, *args_of), args.rounds)
-        new_ms, old_ms, equal = new_ms + t_new, old_ms + t_old, equal and same(a, b)
-    totals["tyres"][0] += new_ms
-    totals["tyres"][1] += old_ms
-    print(f"{key}: _dark_car_tyres of {len(ids)} cars: new {new_ms:.1f} ms, main {old_ms:.1f} ms, equal {equal}")
-    # the fill's trace: the hole of the frame's largest car, rays from the camera's vanishing point
-    counts = torch.bincount(source.src_ids.view(-1))
-    counts[0] = 0
-    hole = source.src_ids == int(counts.argmax())
-    valid = ~hole
-    ys, xs = hole.nonzero(as_tuple=True)
-    pix = torch.stack([xs, ys], 1).float()
-    vp = torch.tensor([float(source.K[0, 2]), float(source.K[1, 2])], dtype=torch.float32)
-    away = pix - vp
-    reach = away.norm(dim=1)
-    unit = torch.where(reach[:, None] > 1.0, away / reach.clamp(min=1e-6)[:, None], torch.tensor([1.0, 0.0]))
-    far = min(400, int(np.hypot(float(ys.max() - ys.min()), float(xs.max() - xs.min()))) + 64)
-    steps = torch.cat([torch.arange(1, 17), torch.arange(17, far + 1, 2)]).float()
-    limit = (reach - 1.0).clamp(min=0)
-    t_new = t_old = 0.0
-    equal = True
-    for u, lim in ((unit, None), (-unit, limit)):
-        ta, a = least(partial(road._trace, pix, u, valid, steps, lim), args.rounds)
-        tb, b = least(partial(base_road._trace, pix, u, valid, steps, lim), args.rounds)
-        t_new, t_old, equal = t_new + ta, t_old + tb, equal and same(a, b)
-    totals["trace"][0] += t_new
-    totals["trace"][1] += t_old
-    print(f"{key}: _trace both ways of {len(pix)} rays: new {t_new:.1f} ms, main {t_old:.1f} ms, equal {equal}")
-for name, (n, o) in totals.items():
-    print(f"sum {name}: new {n:.1f} ms, main {o:.1f} ms ({n / o:.3f})")
-print(f"load {os.getloadavg()[0]:.1f}")
+    before = {k: list(v) for k, v in times.items()}
+    renderer.draw(renderer.prepare(original, frame, scene), edited)
+    cells = [f"{k} {times[k][0] - before.get(k, [0, 0])[0]:.1f} vs {times[k][1] - before.get(k, [0, 0])[1]:.1f}"
+             for k in sorted(times)]
+    print(f"edit {n} {edit_kind(entry)}: " + "; ".join(cells))
+for k in sorted(times):
+    new_ms, old_ms, calls = times[k]
+    print(f"all 14 edits, {k} ({calls} calls): {new_ms:.1f} vs {old_ms:.1f} ms ({new_ms / old_ms:.3f}); "
+          f"per edit {new_ms / len(entries):.1f} vs {old_ms / len(entries):.1f} ms")
+print(f"results unequal: {unequal or 'none'}; load {os.getloadavg()[0]:.1f}")

@@ -774,3 +774,144 @@ def test_photo_source_keeps_one_lab_of_its_input_and_deletes_draw_the_same():
     fresh = render_photo(eight_bit, FRAME, scene, edited, source=PhotoSource(eight_bit, FRAME, scene, max_fills=0))
     assert torch.equal(kept.image, fresh.image)
     assert torch.equal(source.lab().box(0, 128, 0, 256), road_lab(source.image.permute(1, 2, 0).reshape(-1, 3)))
+
+
+def _dark_car_tyres_as_it_was(image, ids, parts, iid):
+    """transfer._dark_car_tyres as it was: its tests over the whole picture."""
+    from sdn3d.editing.photo.recolor import DARK_PAINT_L, body_paint
+    from sdn3d.editing.photo.transfer import _tyres_in_picture
+    from sdn3d.meshes.parts import Part
+
+    flat = image.permute(1, 2, 0).reshape(-1, 3)
+    car = ids == iid
+    body_pix = (car.view(-1) & (parts == int(Part.BODY))).nonzero().flatten()
+    if len(body_pix) < 8:
+        return None
+    body_lab = srgb_to_lab(flat[body_pix].double())
+    paint_light = float(body_lab[:, 0].median())
+    if paint_light >= DARK_PAINT_L or body_paint(body_lab)[1]:
+        return None
+    tyres, freed = _tyres_in_picture(flat, car, parts.view(ids.shape), paint_light)
+    return tyres.view(-1).nonzero().flatten(), freed.view(-1).nonzero().flatten()
+
+
+def test_dark_car_tyres_found_in_the_cars_box_are_the_whole_pictures():
+    """The black car with a misplaced wheel (test_photo_realparts) at several places of a larger picture, beside a
+    light car and among other ids: the same tyre and freed indices (and None for the light car, an absent id and a
+    car of 5 body pixels) as the whole picture's tests gave."""
+    from sdn3d.editing.photo.transfer import _dark_car_tyres
+    from sdn3d.meshes.parts import Part
+    from tests.test_photo_realparts import _black_car_with_a_misplaced_wheel
+
+    car_image, whole, car_parts, _ = _black_car_with_a_misplaced_wheel()
+    # and the car cut to the columns of its real and template wheels: both reach its box's left and right edges
+    narrow = whole & (torch.arange(100)[None, :] >= 37) & (torch.arange(100)[None, :] < 70)
+    g = torch.Generator().manual_seed(6)
+    found = []
+    for y0, x0, mask in ((0, 0, whole), (17, 41, whole), (40, 60, whole), (0, 0, narrow), (23, 57, narrow)):
+        image = torch.rand(3, 100, 160, generator=g)
+        ids = torch.zeros(100, 160, dtype=torch.long)
+        parts = torch.full((100, 160), -1, dtype=torch.long)
+        image[:, y0:y0 + 60, x0:x0 + 100] = torch.where(mask[None], car_image, image[:, y0:y0 + 60, x0:x0 + 100])
+        ids[y0:y0 + 60, x0:x0 + 100][mask] = 5
+        parts[y0:y0 + 60, x0:x0 + 100][mask] = car_parts[mask].long()
+        light = (ids == 0) & (torch.rand(100, 160, generator=g) < 0.3)
+        ids[light], parts[light] = 9, int(Part.BODY)
+        image[:, light] = 0.8
+        tiny = (ids == 0).nonzero()[:5]
+        ids[tiny[:, 0], tiny[:, 1]], parts[tiny[:, 0], tiny[:, 1]] = 11, int(Part.BODY)
+        for iid in (5, 9, 11, 3):
+            got = _dark_car_tyres(image, ids, parts.view(-1), iid)
+            want = _dark_car_tyres_as_it_was(image, ids, parts.view(-1), iid)
+            assert (got is None) == (want is None), iid
+            if want is not None:
+                found.append(mask is narrow)
+                assert all(torch.equal(a, b) for a, b in zip(got, want, strict=True))
+                assert len(want[0]) > 20 and len(want[1]) > 20
+    assert found == [False] * 3 + [True] * 2  # the black car found at each place; the others are None
+
+
+def _grow_as_it_was(own, before, after, origin, stays, transform, raster_ids=None, vis_ids=None, min_seen=0):
+    """transfer._grow as it was: its labels upsampled and compared over the whole picture."""
+    from sdn3d.editing.frame import upsample_ids
+    from sdn3d.editing.photo.transfer import _first_true
+
+    rows = stays.nonzero().flatten()
+    if not len(rows):
+        return own, []
+    gained = after.mask[rows] & ~before.mask[origin[rows]]
+    grew = gained.flatten(1).any(1)
+    if vis_ids is not None and min_seen > 0 and bool(grew.any()):
+        grew &= id_counts(vis_ids, after.instance_id[rows]) >= min_seen
+    if not bool(grew.any()):
+        return own, []
+    rows, gained = rows[grew], gained[grew]
+    first = _first_true(gained)
+    labels = torch.where(gained.any(0), after.instance_id[rows][first], torch.zeros_like(first))
+    up = upsample_ids(labels.to(after.instance_id.dtype), transform)
+    if raster_ids is not None and min_seen > 0:
+        up = torch.where(raster_ids == up, torch.zeros_like(up), up)
+    new = (up != 0) & (own == 0)
+    own = torch.where(new, up.to(own.dtype), own)
+    drawn = torch.isin(after.instance_id[rows], up[new].unique())
+    return own, rows[drawn].tolist()
+
+
+def test_grow_in_the_labels_window_is_the_whole_pictures():
+    """Objects gaining small blobs of pixels (at the working image's corners and edges too, on frames with and
+    without a crop): the same map and grown rows as the whole picture's passes gave, with and without the fitted
+    silhouettes and the least seen pixels; the window's upsampled labels are the whole map's there and it is tight
+    (every edge row and column of it holds a pixel of the box, and the whole map is 0 outside it)."""
+    from types import SimpleNamespace
+
+    from sdn3d.editing.frame import PixelFrame, input_window, upsample_ids
+    from sdn3d.editing.photo.transfer import _grow
+
+    g = torch.Generator().manual_seed(8)
+    for frame in (PixelFrame((125, 41), (60, 20)), PixelFrame((1242, 375), (624, 192)), PixelFrame((97, 61), (40, 30))):
+        w, h = frame.working_size
+        w_in, h_in = frame.input_size
+        for trial in range(6):
+            ids = torch.tensor([3, 5, 7, 8])
+            before = SimpleNamespace(instance_id=ids, mask=torch.rand(4, h, w, generator=g) > 0.8)
+            after_mask = before.mask.clone()
+            for a in range(4):  # a blob gained by each, somewhere (a corner or an edge on some trials)
+                y, x = int(torch.randint(0, h, (1,), generator=g)), int(torch.randint(0, w, (1,), generator=g))
+                if trial == 1:
+                    y, x = (0, 0) if a % 2 else (h - 1, w - 1)
+                after_mask[a, max(y - 2, 0):y + 3, max(x - 3, 0):x + 2] = True
+            if trial == 2:
+                after_mask[1:] = before.mask[1:]  # one object grows alone
+            if trial == 3:
+                after_mask = before.mask.clone()  # nothing gained
+            after = SimpleNamespace(instance_id=ids, mask=after_mask)
+            origin = torch.tensor([0, 1, 2, 3])
+            stays = torch.tensor([True, True, trial != 4, True])
+            own = torch.where(torch.rand(h_in, w_in, generator=g) > 0.7, 5, 0)
+            raster = torch.where(torch.rand(h_in, w_in, generator=g) > 0.5, ids[torch.randint(0, 4, (h_in, w_in),
+                                                                                             generator=g)], 0)
+            vis = upsample_ids(torch.where(after_mask[0], 3, 0), frame)
+            for extra in ({}, {"raster_ids": raster}, {"raster_ids": raster, "vis_ids": vis, "min_seen": 3}):
+                got = _grow(own.clone(), before, after, origin, stays, frame, **extra)
+                want = _grow_as_it_was(own.clone(), before, after, origin, stays, frame, **extra)
+                assert torch.equal(got[0], want[0]) and got[1] == want[1], (frame.input_size, trial, extra.keys())
+            labels = torch.where(after_mask[0] & ~before.mask[0], 7, 0)
+            box = (0, 0, 0, 0)
+            if bool(labels.any()):
+                ys, xs = labels.nonzero(as_tuple=True)
+                box = (int(xs.min()), int(ys.min()), int(xs.max()) + 1, int(ys.max()) + 1)
+            window = input_window(frame, box)
+            whole = upsample_ids(labels, frame)
+            if window is None:
+                assert not bool(whole.any())
+                continue
+            x0, y0, x1, y1 = window
+            assert torch.equal(upsample_ids(labels, frame, window), whole[y0:y1, x0:x1])
+            inside = torch.zeros_like(whole, dtype=torch.bool)
+            inside[y0:y1, x0:x1] = True
+            assert not bool(whole[~inside].any())
+            ones = upsample_ids(torch.ones(h, w, dtype=torch.long), frame, window)  # a pixel of the box on each edge
+            boxed = torch.zeros(h, w, dtype=torch.long)
+            boxed[box[1]:box[3], box[0]:box[2]] = 1
+            edge = upsample_ids(boxed, frame, window) & ones
+            assert bool(edge[0].any() and edge[-1].any() and edge[:, 0].any() and edge[:, -1].any())

@@ -267,9 +267,10 @@ def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tenso
     False (the outside counts as not valid), so the result is the same."""
     height, width = valid.shape
     margin = int(math.ceil(float(steps[-1]))) + 1 if len(steps) else 1
-    padded = F.pad(valid, (margin, margin, margin, margin)).reshape(-1)
+    # looked up by NumPy's take: a third of the cost of torch's indexing of a (A, B) block (the same booleans)
+    padded = F.pad(valid, (margin, margin, margin, margin)).reshape(-1).numpy()
     row = float(width + 2 * margin)
-    exact = padded.numel() < 2**24
+    exact = padded.size < 2**24
     distance = steps[:1].expand(len(pix)).clone()
     found = torch.zeros(len(pix), dtype=torch.bool)
     active = torch.arange(len(pix))
@@ -286,14 +287,16 @@ def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tenso
         x = (st * ux[active]).add_(px[active]).round_()
         y = (st * uy[active]).add_(py[active]).round_()
         if exact:  # integers below 2^24: the index is exact in float, whatever the order of its sums
-            ok = padded[y.mul_(row).add_(x).add_(margin * row + margin).long()]
+            index = y.mul_(row).add_(x).add_(margin * row + margin).long()
         else:
-            ok = padded[(y.long() + margin) * int(row) + (x.long() + margin)]
+            index = (y.long() + margin) * int(row) + (x.long() + margin)
+        ok = padded.take(index.numpy())
         if limit is not None:
-            ok &= st[None] <= limit[active, None]
+            ok &= (st[None] <= limit[active, None]).numpy()
         hit = ok.any(1)
-        if bool(hit.any()):
-            first = ok[hit].to(torch.uint8).argmax(1)  # the first True
+        if hit.any():
+            first = torch.from_numpy(ok[hit].argmax(1))  # the first True
+            hit = torch.from_numpy(hit)
             distance[active[hit]] = st[first]
             found[active[hit]] = True
             active = active[~hit]

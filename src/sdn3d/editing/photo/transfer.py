@@ -14,7 +14,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.editing.frame import PixelFrame, input_intrinsics, upsample_ids, working_to_input
+from sdn3d.editing.frame import PixelFrame, input_intrinsics, input_window, upsample_ids, working_to_input
 from sdn3d.editing.photo.fill import (
     fill_hole,
     inpaint,
@@ -729,13 +729,21 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
     rows, gained = rows[grew], gained[grew]
     first = _first_true(gained)  # the first object (in table order) that gained each pixel
     labels = torch.where(gained.any(0), after.instance_id[rows][first], torch.zeros_like(first))
-    up = upsample_ids(labels.to(after.instance_id.dtype), transform)
+    # Looked at in the input pixels of the labels' box alone: the upsampled labels are 0 outside it, where nothing
+    # is given (the same map, without passes over the whole picture).
+    window = input_window(transform, tuple(int(v) for v in mask_boxes(labels[None] != 0)[0]))
+    if window is None:
+        return own.clone(), []
+    x0, y0, x1, y1 = window
+    up = upsample_ids(labels.to(after.instance_id.dtype), transform, window)
     if raster_ids is not None and min_seen > 0:  # its own fitted shape in front of what the input showed there
-        up = torch.where(raster_ids == up, torch.zeros_like(up), up)
-    new = (up != 0) & (own == 0)
-    own = torch.where(new, up.to(own.dtype), own)
+        up = torch.where(raster_ids[y0:y1, x0:x1] == up, torch.zeros_like(up), up)
+    here = own[y0:y1, x0:x1]
+    new = (up != 0) & (here == 0)
+    grown = own.clone()
+    grown[y0:y1, x0:x1] = torch.where(new, up.to(own.dtype), here)
     drawn = torch.isin(after.instance_id[rows], up[new].unique())
-    return own, rows[drawn].tolist()
+    return grown, rows[drawn].tolist()
 
 
 def _first_true(masks: Tensor) -> Tensor:
@@ -853,17 +861,30 @@ def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor, iid: int) -> tupl
     dark paint, whose template keeps its wheels. A dark paint is the body part's pixels' median CIE L* under
     :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, not coloured (:func:`~sdn3d.editing.photo.recolor.body_paint`,
     as :func:`_recolor` tells it)."""
-    flat = image.permute(1, 2, 0).reshape(-1, 3)
-    car = ids == iid
-    body_pix = (car.view(-1) & (parts == int(Part.BODY))).nonzero().flatten()
+    # The car's pixels found by one pass over the picture, the rest looked at in its box alone: its pixels there in
+    # row order are the picture's in its order (the same values, without four more passes and a copy of the picture
+    # per car).
+    height, width = ids.shape
+    car_pix = (ids.view(-1) == iid).nonzero().flatten()
+    body_pix = car_pix[parts[car_pix] == int(Part.BODY)]
     if len(body_pix) < 8:
         return None
-    body_lab = srgb_to_lab(flat[body_pix].double())
+    body_lab = srgb_to_lab(image.reshape(3, -1)[:, body_pix].T.contiguous().double())  # (N, 3) rows, as gathered
     paint_light = float(body_lab[:, 0].median())
     if paint_light >= DARK_PAINT_L or body_paint(body_lab)[1]:
         return None
-    tyres, freed = _tyres_in_picture(flat, car, parts.view(ids.shape), paint_light)
-    return tyres.view(-1).nonzero().flatten(), freed.view(-1).nonzero().flatten()
+    y0, y1 = int(car_pix[0]) // width, int(car_pix[-1]) // width + 1
+    cols = car_pix % width
+    x0, x1 = int(cols.min()), int(cols.max()) + 1
+    car = ids[y0:y1, x0:x1] == iid
+    box_flat = image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)
+    tyres, freed = _tyres_in_picture(box_flat, car, parts.view(height, width)[y0:y1, x0:x1], paint_light)
+
+    def in_picture(mask: Tensor) -> Tensor:  # flat picture indices of a box's mask, in the picture's order
+        ys, xs = mask.nonzero(as_tuple=True)
+        return (ys + y0) * width + (xs + x0)
+
+    return in_picture(tyres), in_picture(freed)
 
 
 #: Parts whose template faces often lie over a car's paint (a template's lamp band and plate cover much of a real

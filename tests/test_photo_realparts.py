@@ -212,14 +212,14 @@ def test_recolour_of_a_black_car_keeps_its_tyres_where_the_picture_has_them():
     for painted in ("paint", "under_template_tyre"):
         assert bool((codes[regions[painted]] == RECOLORED).all()), painted
         assert float(srgb_to_lab(out[:, regions[painted]].T)[:, 2].median()) < -30  # blue
-    found, freed = registered_tyres(srgb_to_lab(image.permute(1, 2, 0).reshape(-1, 3)).view(60, 100, 3), mask,
+    found, freed, _ = registered_tyres(srgb_to_lab(image.permute(1, 2, 0).reshape(-1, 3)).view(60, 100, 3), mask,
                                     parts == int(Part.TYRE), 9.0)
     assert bool(found[regions["rubber"]].float().mean() > 0.95) and not bool(found[regions["paint"]].any())
     assert bool(freed[regions["under_template_tyre"]].all())
     # No rim, or only a lit thin line (an arch's edge) beside the template's tyre: the template's tyre stays.
     for lit in (torch.zeros_like(mask), mask & (torch.arange(100)[None, :] == 50) & (torch.arange(60)[:, None] > 25)):
         dark = torch.where((regions["rim"] | lit)[None], torch.where(lit[None], 0.6, 0.03), image)
-        found, freed = registered_tyres(srgb_to_lab(dark.permute(1, 2, 0).reshape(-1, 3)).view(60, 100, 3), mask,
+        found, freed, _ = registered_tyres(srgb_to_lab(dark.permute(1, 2, 0).reshape(-1, 3)).view(60, 100, 3), mask,
                                         parts == int(Part.TYRE), 9.0)
         assert torch.equal(found, parts == int(Part.TYRE)) and not bool(freed.any())
 

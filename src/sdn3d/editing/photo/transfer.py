@@ -152,7 +152,7 @@ class PhotoSource:
         self.in_front = (thin_occluders(self.image, self.src_ids, self.outline_ids)
                          if self.settings.keep_in_front else torch.zeros_like(self.src_ids, dtype=torch.bool))
         self._light: tuple[Tensor, LightEstimate | None] | None = None
-        self._registered_tyres: dict[int, tuple[Tensor, Tensor] | None] = {}
+        self._registered_tyres: dict[int, tuple[Tensor, Tensor, Tensor, Tensor] | None] = {}
         self._face_parts: Tensor | None = None
         self._fills: dict[tuple, Tensor] = {}
         self._pyramids: dict[int, list[Tensor]] = {}
@@ -187,14 +187,31 @@ class PhotoSource:
         car's found on its first use: the transfer reads them). Other pixels keep the templates' parts."""
         out = self.parts
         for iid in instance_ids:
-            if iid not in self._registered_tyres:
-                self._registered_tyres[iid] = _dark_car_tyres(self.image, self.src_ids, self.parts, iid)
-            found = self._registered_tyres[iid]
+            found = self._dark_tyres(iid)
             if found is not None:
                 out = out.clone() if out is self.parts else out
                 out[found[0]] = int(Part.TYRE)
                 out[found[1]] = int(Part.BODY)
         return out
+
+    def registered_wheels(self, instance_ids: Sequence[int]) -> Tensor | None:
+        """``(H_in * W_in, 2)`` float64: for each template tyre pixel of a dark car among ``instance_ids`` that
+        :meth:`registered_parts` moved onto the car's real wheel, the ``(x, y)`` input pixel where the same point of
+        the real wheel lies (NaN elsewhere); None where no car's tyre moved."""
+        out = None
+        for iid in instance_ids:
+            found = self._dark_tyres(iid)
+            if found is not None and len(found[2]):
+                if out is None:
+                    out = torch.full((len(self.parts), 2), math.nan, dtype=torch.float64)
+                out[found[2]] = found[3]
+        return out
+
+    def _dark_tyres(self, iid: int) -> tuple[Tensor, Tensor, Tensor, Tensor] | None:
+        """:func:`_dark_car_tyres` of car ``iid``, found on first use."""
+        if iid not in self._registered_tyres:
+            self._registered_tyres[iid] = _dark_car_tyres(self.image, self.src_ids, self.parts, iid)
+        return self._registered_tyres[iid]
 
     def pyramid(self, levels: int) -> list[Tensor]:
         """The input's pyramid (:func:`_pyramid`) with at most ``levels`` halvings, made on first use (the transfer and
@@ -384,6 +401,24 @@ def _in_silhouette(points: Tensor, background: Tensor, K: Tensor) -> Tensor:
     uv, front = _project(points, K)
     inside, flat = _nearest_pixel(uv, front, tuple(background.shape))
     return ~inside | ~background.view(-1)[flat]
+
+
+def _on_real_wheel(uv: Tensor, ok: Tensor, wheels: Tensor, registered: Tensor,
+                   size: tuple[int, int]) -> tuple[Tensor, Tensor, Tensor]:
+    """``(uv (P, 2), moved (P,), on the wheel (P,))``: each input-pixel lookup ``uv (P, 2)`` (where ``ok (P,)``) that
+    falls on a dark car's template tyre moved onto the real wheel (``wheels (H * W, 2)``, the real wheel's ``(x, y)``
+    of each such pixel, NaN elsewhere: :meth:`PhotoSource.registered_wheels`) moved there, with its offset within the
+    pixel; ``on the wheel``: it lands on the car's tyre in ``registered (H * W,)``
+    (:meth:`PhotoSource.registered_parts`). A template's wheel is often a third of a wheel off the real one: its
+    points read where it lay draw paint or a rimless black disc (the rims were not there), read off the real wheel
+    they draw its rim and rubber."""
+    inside, flat = _nearest_pixel(uv, ok, size)
+    at = wheels[flat]
+    moved = inside & torch.isfinite(at[:, 0])
+    centre = torch.floor(uv + 0.5)
+    uv = torch.where(moved[:, None], at + (uv - centre), uv)
+    landed, flat = _nearest_pixel(uv, moved, size)
+    return uv, moved, landed & (registered[flat] == int(Part.TYRE))
 
 
 def _view_cos(points: Tensor, normals: Tensor) -> Tensor:
@@ -821,36 +856,41 @@ def _dark_body(flat: Tensor, car: Tensor, parts: Tensor, pix: Tensor, paint_ligh
     are not ``road (H * W,)`` (:func:`ground_in_mask`; None: none). Black rubber is as dark as black paint: without
     this the black car of the real frame in ``tests/data`` got blue tyres."""
     height, width = car.shape
-    at_tyre, gained = _tyres_in_picture(flat, car, parts, paint_light)
+    at_tyre, gained, _ = _tyres_in_picture(flat, car, parts, paint_light)
     if road is not None:
         gained &= ~road.view(height, width)
     return torch.cat([pix[~at_tyre.view(-1)[pix]], gained.view(-1).nonzero().flatten()])
 
 
-def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor, paint_light: float) -> tuple[Tensor, Tensor]:
-    """``(tyres (H, W) bool, freed (H, W) bool)``: a dark car's tyres where the picture ``flat (H * W, 3)`` sRGB shows
-    them, and its fitted template's tyre pixels they left (:func:`~sdn3d.editing.photo.recolor.registered_tyres` of
-    the template's tyre pixels of ``parts (H, W)`` on its pixels ``car (H, W)``, paint of median CIE L*
-    ``paint_light``), in the car's box."""
+def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor, paint_light: float) -> tuple[Tensor, Tensor, Tensor]:
+    """``(tyres (H, W) bool, freed (H, W) bool, wheel_at (H, W, 2))``: a dark car's tyres where the picture ``flat (H *
+    W, 3)`` sRGB shows them, its fitted template's tyre pixels they left and where each moved template tyre pixel's
+    point lies on the real wheel (picture pixel coordinates ``(x, y)``, NaN elsewhere;
+    :func:`~sdn3d.editing.photo.recolor.registered_tyres` of the template's tyre pixels of ``parts (H, W)`` on its
+    pixels ``car (H, W)``, paint of median CIE L* ``paint_light``), in the car's box."""
     height, width = car.shape
     at_tyre = torch.zeros_like(car)
     freed = torch.zeros_like(car)
+    wheel_at = torch.full((height, width, 2), math.nan, dtype=torch.float64)
     if not bool(car.any()):
-        return at_tyre, freed
+        return at_tyre, freed, wheel_at
     x0, y0, x1, y1 = (int(v) for v in mask_boxes(car[None])[0])
     lab = srgb_to_lab(flat.view(height, width, 3)[y0:y1, x0:x1].reshape(-1, 3).double()).view(y1 - y0, x1 - x0, 3)
     window = car[y0:y1, x0:x1]
-    tyres, gained = registered_tyres(lab, window, window & (parts[y0:y1, x0:x1] == int(Part.TYRE)), paint_light)
+    tyres, gained, at = registered_tyres(lab, window, window & (parts[y0:y1, x0:x1] == int(Part.TYRE)), paint_light)
     at_tyre[y0:y1, x0:x1] = tyres
     freed[y0:y1, x0:x1] = gained
-    return at_tyre, freed
+    wheel_at[y0:y1, x0:x1] = at + torch.tensor([x0, y0], dtype=torch.float64)
+    return at_tyre, freed, wheel_at
 
 
-def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor, iid: int) -> tuple[Tensor, Tensor] | None:
-    """``(tyres, freed)`` flat pixel indices of car ``iid`` of the instance map ``ids (H, W)`` where its fitted
-    template's part map ``parts (H * W,)`` is wrong about its wheels: its tyres where the picture ``image (3, H, W)``
-    shows them, and the template tyre pixels they left (:func:`_tyres_in_picture`); None for a car that is not a
-    dark paint, whose template keeps its wheels. A dark paint is the body part's pixels' median CIE L* under
+def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor,
+                    iid: int) -> tuple[Tensor, Tensor, Tensor, Tensor] | None:
+    """``(tyres, freed, moved, moved_at (M, 2))``: flat pixel indices of car ``iid`` of the instance map ``ids (H, W)``
+    where its fitted template's part map ``parts (H * W,)`` is wrong about its wheels: its tyres where the picture
+    ``image (3, H, W)`` shows them, the template tyre pixels they left, and the template tyre pixels moved onto a real
+    wheel with the ``(x, y)`` where each one's point lies on it (:func:`_tyres_in_picture`); None for a car that is
+    not a dark paint, whose template keeps its wheels. A dark paint is the body part's pixels' median CIE L* under
     :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, not coloured (:func:`~sdn3d.editing.photo.recolor.body_paint`,
     as :func:`_recolor` tells it)."""
     flat = image.permute(1, 2, 0).reshape(-1, 3)
@@ -862,8 +902,10 @@ def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor, iid: int) -> tupl
     paint_light = float(body_lab[:, 0].median())
     if paint_light >= DARK_PAINT_L or body_paint(body_lab)[1]:
         return None
-    tyres, freed = _tyres_in_picture(flat, car, parts.view(ids.shape), paint_light)
-    return tyres.view(-1).nonzero().flatten(), freed.view(-1).nonzero().flatten()
+    tyres, freed, wheel_at = _tyres_in_picture(flat, car, parts.view(ids.shape), paint_light)
+    wheel_at = wheel_at.view(-1, 2)
+    moved = torch.isfinite(wheel_at[:, 0]).nonzero().flatten()
+    return tyres.view(-1).nonzero().flatten(), freed.view(-1).nonzero().flatten(), moved, wheel_at[moved]
 
 
 #: Parts whose template faces often lie over a car's paint (a template's lamp band and plate cover much of a real
@@ -1076,7 +1118,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
                                      photo_source.parts, parts_out, background, photo_source.pyramid,
-                                     photo_source.registered_parts(drawn_ids), recolor_parts)
+                                     photo_source.registered_parts(drawn_ids), recolor_parts,
+                                     photo_source.registered_wheels(drawn_ids))
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, own, before, after, origin, moved_rows, src_ids,
                                             photo_source.work_ids, transform, photo_source.outline_ids, K, settings,
@@ -1254,13 +1297,16 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
           src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
           background: Tensor, pyramid_of: Callable[[int], list[Tensor]],
-          registered: Tensor, face_parts_out: Tensor | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
+          registered: Tensor, face_parts_out: Tensor | None = None,
+          wheels: Tensor | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
     ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
     there is not the object's (``silhouette='carved'``); ``pyramid_of(levels)``: the input's pyramid
     (:meth:`PhotoSource.pyramid`); ``registered (H * W,)``: the input's part map with dark cars' tyres where it shows
     them (:meth:`PhotoSource.registered_parts`): a point whose input pixel the registration relabelled (a template's
-    body over the car's real wheel, its tyre over paint) is not drawn from that pixel. ``parts_out`` gets the drawn
+    body over the car's real wheel, its tyre over paint) is not drawn from that pixel; ``wheels (H * W, 2)`` (None:
+    none moved; :meth:`PhotoSource.registered_wheels`): where a moved template tyre's pixels lie on the real wheel,
+    which a tyre point read there is drawn from (:func:`_on_real_wheel`). ``parts_out`` gets the drawn
     pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's)."""
     height, width = own.shape
     t_mesh = tgt.frags.pix_to_mesh.view(-1)
@@ -1326,10 +1372,17 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     normal_m = torch.einsum("pij,pj->pi", rot, torch.einsum("pji,pj->pi", rot, normal_s) * flip)
     ok_mirror, uv_mirror = _visible(point_m, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
     cos_mirror = _view_cos(point_m, normal_m)
+    t_part = _part_map(tgt, after, bank, pix)
     relabelled = registered != parts_src  # the template's wheel where the car's is not: those pixels are the other part
     if bool(relabelled.any()):
-        ok_photo &= ~relabelled[_nearest_pixel(uv_photo, ok_photo, (height, width))[1]]
-        ok_mirror &= ~relabelled[_nearest_pixel(uv_mirror, ok_mirror, (height, width))[1]]
+        no_wheel = torch.zeros(len(pix), dtype=torch.bool)
+        moved_p, on_p, moved_m, on_m = no_wheel, no_wheel, no_wheel, no_wheel
+        if wheels is not None:  # a tyre point read where its template's tyre lay is read off the real wheel
+            tyre = t_part == int(Part.TYRE)
+            uv_photo, moved_p, on_p = _on_real_wheel(uv_photo, ok_photo & tyre, wheels, registered, (height, width))
+            uv_mirror, moved_m, on_m = _on_real_wheel(uv_mirror, ok_mirror & tyre, wheels, registered, (height, width))
+        ok_photo &= torch.where(moved_p, on_p, ~relabelled[_nearest_pixel(uv_photo, ok_photo, (height, width))[1]])
+        ok_mirror &= torch.where(moved_m, on_m, ~relabelled[_nearest_pixel(uv_mirror, ok_mirror, (height, width))[1]])
     ok_mirror &= has_src & ~ok_photo & (cos_mirror >= squarely)
 
     # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.
@@ -1355,7 +1408,6 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     codes = torch.where(ok_photo, PHOTO, torch.where(ok_mirror, MIRROR, FALLBACK)).to(torch.uint8)
     # (H * W, 3) in the picture's dtype: the rows read are made float64 where gathered (the same values, exactly)
     img_flat = image.permute(1, 2, 0).reshape(-1, 3)
-    t_part = _part_map(tgt, after, bank, pix)
     by_parts = settings.unseen == "parts"
     drawn_rows = row.unique()
     drawn = torch.ones(len(pix), dtype=torch.bool)  # False: left to the fill (amodal='seen')

@@ -152,7 +152,7 @@ class PhotoSource:
         self.in_front = (thin_occluders(self.image, self.src_ids, self.outline_ids)
                          if self.settings.keep_in_front else torch.zeros_like(self.src_ids, dtype=torch.bool))
         self._light: tuple[Tensor, LightEstimate | None] | None = None
-        self._registered_tyres: dict[int, tuple[Tensor, Tensor, Tensor, Tensor] | None] = {}
+        self._registered_tyres: dict[int, tuple[Tensor, Tensor, Tensor, Tensor, Tensor] | None] = {}
         self._face_parts: Tensor | None = None
         self._fills: dict[tuple, Tensor] = {}
         self._pyramids: dict[int, list[Tensor]] = {}
@@ -207,7 +207,13 @@ class PhotoSource:
                 out[found[2]] = found[3]
         return out
 
-    def _dark_tyres(self, iid: int) -> tuple[Tensor, Tensor, Tensor, Tensor] | None:
+    def real_wheels(self, iid: int) -> Tensor | None:
+        """``(N, 4)`` float64: the ellipses ``(x, y, semi-axis x, semi-axis y)`` (input pixels) of the real wheels of
+        car ``iid`` where :meth:`registered_parts` found them (a dark car's rims); None where it found none."""
+        found = self._dark_tyres(iid)
+        return found[4] if found is not None and len(found[4]) else None
+
+    def _dark_tyres(self, iid: int) -> tuple[Tensor, Tensor, Tensor, Tensor, Tensor] | None:
         """:func:`_dark_car_tyres` of car ``iid``, found on first use."""
         if iid not in self._registered_tyres:
             self._registered_tyres[iid] = _dark_car_tyres(self.image, self.src_ids, self.parts, iid)
@@ -419,6 +425,64 @@ def _on_real_wheel(uv: Tensor, ok: Tensor, wheels: Tensor, registered: Tensor,
     uv = torch.where(moved[:, None], at + (uv - centre), uv)
     landed, flat = _nearest_pixel(uv, moved, size)
     return uv, moved, landed & (registered[flat] == int(Part.TYRE))
+
+
+def _wheel_faces(bank: MeshBank, template: int, vid: Tensor, bary: Tensor) -> tuple[Tensor, Tensor]:
+    """``(offset (P, 2), on a face (P,) bool)`` of points of mesh ``template`` of ``bank`` given by the vertex ids
+    ``vid (P, 3)`` and barycentrics ``bary (P, 3)`` of their faces: where each lies on its wheel's outer or inner face
+    (a cap of the wheel's cylinder, ``|offset| <= 1``), as the offset from the wheel's centre along the car and down,
+    in the wheel's radii. The wheels are the mesh's tyre faces in each quarter (front or rear, left or right); the
+    template's own coordinates, which an FFD does not move."""
+    verts = bank.verts[template].double()
+    tri = verts[vid]
+    point = (bary.double()[..., None] * tri).sum(1)
+    normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
+    tyre = bank.faces[template][bank.face_parts[template] == int(Part.TYRE)]
+    offset = torch.full((len(point), 2), math.nan, dtype=torch.float64)
+    if not len(tyre):
+        return offset, torch.zeros(len(point), dtype=torch.bool)
+    wheel_verts = verts[tyre.flatten().unique()]
+    for ahead in (False, True):
+        for left in (False, True):
+            mine = ((wheel_verts[:, 0] > 0) == ahead) & ((wheel_verts[:, 2] > 0) == left)
+            here = ((point[:, 0] > 0) == ahead) & ((point[:, 2] > 0) == left)
+            if not bool(mine.any()) or not bool(here.any()):
+                continue
+            lo, hi = wheel_verts[mine].amin(0), wheel_verts[mine].amax(0)
+            offset[here] = (point[here, :2] - (lo + hi)[:2] / 2) / ((hi - lo)[:2] / 2).clamp(min=1e-9)
+    face = (normal[:, 2].abs() > WHEEL_FACE_COS) & (offset.norm(dim=1) <= 1.0)
+    return offset, face
+
+
+#: :func:`_wheel_faces`: a wheel face's normal points along the axle at least this closely (the caps of a wheel's
+#: cylinder; its tread's normals are across it).
+WHEEL_FACE_COS = 0.9
+#: :func:`_from_real_wheels`: the share of the real tyre's ellipse a wheel face is drawn from (its edge meets the
+#: wheel arch's paint and the road).
+REAL_WHEEL_REACH = 0.95
+
+
+def _from_real_wheels(colors: Tensor, codes: Tensor, wheel: tuple[Tensor, int], parts: Tensor, bank: MeshBank,
+                      template: int, vid: Tensor, bary: Tensor, pyramid: list[Tensor]) -> tuple[Tensor, Tensor]:
+    """``(colours (P, 3), codes (P,))``: never-seen points of one car (``colors``, ``codes`` as :func:`_part_colors`
+    drew them, ``parts (P,)``) that lie on a wheel face of its template (:func:`_wheel_faces` of ``bank`` mesh
+    ``template``, ``vid (P, 3)``, ``bary (P, 3)``) drawn from the real wheel ``wheel`` = ``((x, y, semi-axis x,
+    semi-axis y), code)`` at the same offset from its centre, read off the input's ``pyramid``: a wheel is a rim in a
+    ring of rubber, which the part's examples (tyre pixels lighter than most of the car are dropped, and a car seen
+    from behind shows only treads) drew as a flat black disc (the real frame's red car turned 90 degrees)."""
+    ellipse, code = wheel
+    tyre = (parts == int(Part.TYRE)).nonzero().flatten()
+    if not len(tyre):
+        return colors, codes
+    offset, face = _wheel_faces(bank, template, vid[tyre], bary[tyre])
+    tyre, offset = tyre[face], offset[face]
+    if not len(tyre):
+        return colors, codes
+    uv = ellipse[:2] + REAL_WHEEL_REACH * offset * ellipse[2:]
+    colors, codes = colors.clone(), codes.clone()
+    colors[tyre] = _sample(pyramid, uv, torch.zeros(len(uv), dtype=torch.float64)).double()
+    codes[tyre] = code
+    return colors, codes
 
 
 def _view_cos(points: Tensor, normals: Tensor) -> Tensor:
@@ -856,16 +920,18 @@ def _dark_body(flat: Tensor, car: Tensor, parts: Tensor, pix: Tensor, paint_ligh
     are not ``road (H * W,)`` (:func:`ground_in_mask`; None: none). Black rubber is as dark as black paint: without
     this the black car of the real frame in ``tests/data`` got blue tyres."""
     height, width = car.shape
-    at_tyre, gained, _ = _tyres_in_picture(flat, car, parts, paint_light)
+    at_tyre, gained, _, _ = _tyres_in_picture(flat, car, parts, paint_light)
     if road is not None:
         gained &= ~road.view(height, width)
     return torch.cat([pix[~at_tyre.view(-1)[pix]], gained.view(-1).nonzero().flatten()])
 
 
-def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor, paint_light: float) -> tuple[Tensor, Tensor, Tensor]:
-    """``(tyres (H, W) bool, freed (H, W) bool, wheel_at (H, W, 2))``: a dark car's tyres where the picture ``flat (H *
-    W, 3)`` sRGB shows them, its fitted template's tyre pixels they left and where each moved template tyre pixel's
-    point lies on the real wheel (picture pixel coordinates ``(x, y)``, NaN elsewhere;
+def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor,
+                      paint_light: float) -> tuple[Tensor, Tensor, Tensor, Tensor]:
+    """``(tyres (H, W) bool, freed (H, W) bool, wheel_at (H, W, 2), wheels (N, 4))``: a dark car's tyres where the
+    picture ``flat (H * W, 3)`` sRGB shows them, its fitted template's tyre pixels they left, where each moved template
+    tyre pixel's point lies on the real wheel (picture pixel coordinates ``(x, y)``, NaN elsewhere) and the real
+    tyres' ellipses ``(x, y, semi-axis x, semi-axis y)`` (
     :func:`~sdn3d.editing.photo.recolor.registered_tyres` of the template's tyre pixels of ``parts (H, W)`` on its
     pixels ``car (H, W)``, paint of median CIE L* ``paint_light``), in the car's box."""
     height, width = car.shape
@@ -873,25 +939,29 @@ def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor, paint_light: flo
     freed = torch.zeros_like(car)
     wheel_at = torch.full((height, width, 2), math.nan, dtype=torch.float64)
     if not bool(car.any()):
-        return at_tyre, freed, wheel_at
+        return at_tyre, freed, wheel_at, torch.zeros(0, 4, dtype=torch.float64)
     x0, y0, x1, y1 = (int(v) for v in mask_boxes(car[None])[0])
     lab = srgb_to_lab(flat.view(height, width, 3)[y0:y1, x0:x1].reshape(-1, 3).double()).view(y1 - y0, x1 - x0, 3)
     window = car[y0:y1, x0:x1]
-    tyres, gained, at = registered_tyres(lab, window, window & (parts[y0:y1, x0:x1] == int(Part.TYRE)), paint_light)
+    tyres, gained, at, wheels = registered_tyres(lab, window, window & (parts[y0:y1, x0:x1] == int(Part.TYRE)),
+                                                 paint_light)
     at_tyre[y0:y1, x0:x1] = tyres
     freed[y0:y1, x0:x1] = gained
-    wheel_at[y0:y1, x0:x1] = at + torch.tensor([x0, y0], dtype=torch.float64)
-    return at_tyre, freed, wheel_at
+    corner = torch.tensor([x0, y0], dtype=torch.float64)
+    wheel_at[y0:y1, x0:x1] = at + corner
+    wheels[:, :2] += corner
+    return at_tyre, freed, wheel_at, wheels
 
 
 def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor,
-                    iid: int) -> tuple[Tensor, Tensor, Tensor, Tensor] | None:
-    """``(tyres, freed, moved, moved_at (M, 2))``: flat pixel indices of car ``iid`` of the instance map ``ids (H, W)``
-    where its fitted template's part map ``parts (H * W,)`` is wrong about its wheels: its tyres where the picture
-    ``image (3, H, W)`` shows them, the template tyre pixels they left, and the template tyre pixels moved onto a real
-    wheel with the ``(x, y)`` where each one's point lies on it (:func:`_tyres_in_picture`); None for a car that is
-    not a dark paint, whose template keeps its wheels. A dark paint is the body part's pixels' median CIE L* under
-    :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, not coloured (:func:`~sdn3d.editing.photo.recolor.body_paint`,
+                    iid: int) -> tuple[Tensor, Tensor, Tensor, Tensor, Tensor] | None:
+    """``(tyres, freed, moved, moved_at (M, 2), wheels (N, 4))``: flat pixel indices of car ``iid`` of the instance map
+    ``ids (H, W)`` where its fitted template's part map ``parts (H * W,)`` is wrong about its wheels: its tyres where
+    the picture ``image (3, H, W)`` shows them, the template tyre pixels they left, and the template tyre pixels moved
+    onto a real wheel with the ``(x, y)`` where each one's point lies on it; the real tyres' ellipses
+    (:func:`_tyres_in_picture`); None for a car that is not a dark paint, whose template keeps its wheels. A dark
+    paint is the body part's pixels' median CIE L* under :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, not
+    coloured (:func:`~sdn3d.editing.photo.recolor.body_paint`,
     as :func:`_recolor` tells it)."""
     flat = image.permute(1, 2, 0).reshape(-1, 3)
     car = ids == iid
@@ -902,10 +972,10 @@ def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor,
     paint_light = float(body_lab[:, 0].median())
     if paint_light >= DARK_PAINT_L or body_paint(body_lab)[1]:
         return None
-    tyres, freed, wheel_at = _tyres_in_picture(flat, car, parts.view(ids.shape), paint_light)
+    tyres, freed, wheel_at, wheels = _tyres_in_picture(flat, car, parts.view(ids.shape), paint_light)
     wheel_at = wheel_at.view(-1, 2)
     moved = torch.isfinite(wheel_at[:, 0]).nonzero().flatten()
-    return tyres.view(-1).nonzero().flatten(), freed.view(-1).nonzero().flatten(), moved, wheel_at[moved]
+    return tyres.view(-1).nonzero().flatten(), freed.view(-1).nonzero().flatten(), moved, wheel_at[moved], wheels
 
 
 #: Parts whose template faces often lie over a car's paint (a template's lamp band and plate cover much of a real
@@ -1119,7 +1189,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
                                      photo_source.parts, parts_out, background, photo_source.pyramid,
                                      photo_source.registered_parts(drawn_ids), recolor_parts,
-                                     photo_source.registered_wheels(drawn_ids))
+                                     photo_source.registered_wheels(drawn_ids), photo_source.real_wheels)
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, own, before, after, origin, moved_rows, src_ids,
                                             photo_source.work_ids, transform, photo_source.outline_ids, K, settings,
@@ -1297,8 +1367,8 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
           src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
           background: Tensor, pyramid_of: Callable[[int], list[Tensor]],
-          registered: Tensor, face_parts_out: Tensor | None = None,
-          wheels: Tensor | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
+          registered: Tensor, face_parts_out: Tensor | None = None, wheels: Tensor | None = None,
+          real_wheels: Callable[[int], Tensor | None] | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
     ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
     there is not the object's (``silhouette='carved'``); ``pyramid_of(levels)``: the input's pyramid
@@ -1306,7 +1376,9 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     them (:meth:`PhotoSource.registered_parts`): a point whose input pixel the registration relabelled (a template's
     body over the car's real wheel, its tyre over paint) is not drawn from that pixel; ``wheels (H * W, 2)`` (None:
     none moved; :meth:`PhotoSource.registered_wheels`): where a moved template tyre's pixels lie on the real wheel,
-    which a tyre point read there is drawn from (:func:`_on_real_wheel`). ``parts_out`` gets the drawn
+    which a tyre point read there is drawn from (:func:`_on_real_wheel`); ``real_wheels(instance id)`` (None: none):
+    a car's real wheels where the input shows them (:meth:`PhotoSource.real_wheels`), which a wheel face the input
+    never showed is drawn from (:func:`_from_real_wheels`). ``parts_out`` gets the drawn
     pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's)."""
     height, width = own.shape
     t_mesh = tgt.frags.pix_to_mesh.view(-1)
@@ -1425,6 +1497,23 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             cache[bb] = found, seen_colors, _clear_air(seen_colors)
         return cache[bb]
 
+    def wheel_for(b: int) -> tuple[Tensor, int] | None:
+        """The real wheel (:meth:`PhotoSource.real_wheels`: ``(x, y, semi-axis x, semi-axis y)``, the largest) a wheel
+        face of row ``b``'s car the input never showed is drawn from, and its source code: the car's own
+        (:data:`PART`), else that of the car nearest in depth that shows one, both seen through clear air
+        (:data:`ANOTHER_CAR`, as :func:`others_of`); None: no real wheel."""
+        if real_wheels is None or b not in shown_cars:
+            return None
+        depth = before.center[:, 2].double().clamp(min=0.1)
+        others = sorted((bb for bb in shown_cars if bb != b), key=lambda bb: abs(math.log(depth[bb] / depth[b])))
+        for bb in [b] + (others if examples_of(b)[2] else []):
+            if bb != b and not examples_of(bb)[2]:
+                continue
+            found = real_wheels(int(before.instance_id[bb]))
+            if found is not None:
+                return found[(found[:, 2] * found[:, 3]).argmax()], PART if bb == b else ANOTHER_CAR
+        return None
+
     def others_of(b: int) -> Callable[[int], _PartExamples]:
         """:func:`_part_colors`' ``others``: the examples of a part on the car nearest in depth to row ``b``'s that
         shows at least 8 of them, both cars seen through clear air (:func:`_clear_air`); none otherwise (in fog each
@@ -1477,6 +1566,10 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
                 if settings.view_reflection > 0 and PART_VIEW_REFLECTION:
                     alb = _reflect_part_colors(alb, code, seen_at, t_part[unseen], cos_t[unseen], car_examples,
                                                settings.view_reflection)
+                wheel = wheel_for(b) if bool((t_part[unseen] == int(Part.TYRE)).any()) else None
+                if wheel is not None:
+                    alb, code = _from_real_wheels(alb, code, wheel, t_part[unseen], bank, int(after.template_id[r]),
+                                                  vid[unseen], bary[unseen], pyramid)
                 # a part's examples carry their shading
                 s_un = torch.where((code == PART) | (code == ANOTHER_CAR), 1.0, surface_shade(normal_t[unseen]))
                 fallback[unseen] = alb * s_un[:, None]

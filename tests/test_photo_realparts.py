@@ -319,15 +319,14 @@ def test_a_turned_black_car_does_not_carry_its_real_wheels_onto_its_body(monkeyp
 def test_a_turned_black_cars_wheels_are_read_off_its_real_wheels_with_their_rims(monkeypatch):
     """The same black car turned by 45 degrees: its wheels' points, read where the template's tyres lay (black paint
     there, and the registration calls those pixels body), drew rimless black discs (the real frame's black car turned
-    45 and 90 degrees). Read off the real wheels the registration moved those tyres onto
-    (PhotoSource.registered_wheels, transfer._on_real_wheel) they show the rims' grey. (The faces the input never
-    showed are drawn from the real wheels too, PhotoSource.real_wheels: not here, to see the lookup alone.)"""
+    45 and 90 degrees). Read off the real wheels the registration moved those tyres onto (PhotoSource.registered_wheels,
+    transfer._on_real_wheel; a wheel's face whole from the real wheel at the same offset from its centre,
+    PhotoSource.real_wheels, transfer._from_real_wheels) they show the rims' grey."""
     from sdn3d.editing.photo.transfer import PhotoSource, render_photo
     from tests.test_photo import FRAME
     from tests.test_photo_parts import PARTS
 
     scene, image, edited = _black_car_with_real_wheels_behind()
-    monkeypatch.setattr(PhotoSource, "real_wheels", lambda self, iid: None)
 
     def rim_pixels() -> int:
         result = render_photo(image, FRAME, scene, edited, settings=PARTS)
@@ -338,6 +337,7 @@ def test_a_turned_black_cars_wheels_are_read_off_its_real_wheels_with_their_rims
 
     read_off_the_real_wheels = rim_pixels()
     monkeypatch.setattr(PhotoSource, "registered_wheels", lambda self, instance_ids: None)
+    monkeypatch.setattr(PhotoSource, "real_wheels", lambda self, iid: None)
     read_where_the_template_put_them = rim_pixels()
     assert read_off_the_real_wheels >= 30 and read_where_the_template_put_them < 0.2 * read_off_the_real_wheels, (
         read_off_the_real_wheels, read_where_the_template_put_them)

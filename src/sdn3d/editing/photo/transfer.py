@@ -1453,6 +1453,16 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             tyre = t_part == int(Part.TYRE)
             uv_photo, moved_p, on_p = _on_real_wheel(uv_photo, ok_photo & tyre, wheels, registered, (height, width))
             uv_mirror, moved_m, on_m = _on_real_wheel(uv_mirror, ok_mirror & tyre, wheels, registered, (height, width))
+            if real_wheels is not None and bool((moved_p | moved_m).any()):
+                # its faces are drawn from the real wheel whole (_from_real_wheels): the template tyre's box mapped
+                # onto the real one and the face's own offsets drew two rims, half a face each
+                face = torch.zeros(len(pix), dtype=torch.bool)
+                templates = after.template_id[row]
+                for template in templates[moved_p | moved_m].unique().tolist():
+                    k = ((moved_p | moved_m) & (templates == template)).nonzero().flatten()
+                    face[k] = _wheel_faces(bank, template, vid[k], bary[k])[1]
+                on_p &= ~face
+                on_m &= ~face
         ok_photo &= torch.where(moved_p, on_p, ~relabelled[_nearest_pixel(uv_photo, ok_photo, (height, width))[1]])
         ok_mirror &= torch.where(moved_m, on_m, ~relabelled[_nearest_pixel(uv_mirror, ok_mirror, (height, width))[1]])
     ok_mirror &= has_src & ~ok_photo & (cos_mirror >= squarely)

@@ -1959,10 +1959,6 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
         albedo[q] = (source[have][near] * weight[..., None]).sum(1)
         codes[q] = code
         seen_at[q] = (grazing(cos[have][near]) * weight).sum(1)
-        if code == PART and part in SHARED_PARTS and others is not None and PART_NORMAL_WEIGHT > 0:
-            # a wheel's face the car showed only the treads of: another car's tyre examples that faced the camera as
-            # the point now does (_facing_elsewhere)
-            _facing_elsewhere(q, q_feat, feature[have][near[:, 0]], others(part), k, albedo, codes, seen_at)
     # The lamps of an end the photo never showed, where cars have them (:func:`_lamp_band`): the template's lamp faces
     # lie lower, on the end cap, and took the other end's paint there.
     band = _lamp_band(before, b, q_feat) if LAMP_BAND is not None else None
@@ -1976,29 +1972,6 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             codes[here] = DEFAULT
             seen_at[here] = math.nan
     return albedo, codes, seen_at
-
-
-def _facing_elsewhere(q: Tensor, q_feat: Tensor, nearest_own: Tensor, pool: _PartExamples, k: int, albedo: Tensor,
-                      codes: Tensor, seen_at: Tensor) -> None:
-    """:func:`_part_colors` for the points ``q (Q,)`` (features ``q_feat``) of a :data:`SHARED_PARTS` part whose own
-    nearest example (features ``nearest_own (Q, 6)``) faced the camera more than :data:`SAME_PANEL_DEG` otherwise than
-    the point now does: where the nearest of another car's examples ``pool`` of that part faced it within
-    :data:`SAME_PANEL_DEG`, the mean of its ``k`` nearest, code :data:`ANOTHER_CAR` (``albedo``, ``codes``, ``seen_at``
-    changed in place). A car seen from behind showed the treads of its tyres, whose rubber is darker than a wheel's
-    face (its rim or hub)."""
-    same = math.cos(math.radians(SAME_PANEL_DEG))
-    off = (q_feat[q, 3:] * nearest_own[:, 3:]).sum(1) / PART_NORMAL_WEIGHT**2 < same
-    if not bool(off.any()) or len(pool.part) < 2 * k:
-        return
-    q_off = q[off]
-    near = _nearest_examples(q_feat[q_off], pool.feature, k)
-    faced = (q_feat[q_off, 3:] * pool.feature[near[:, 0], 3:]).sum(1) / PART_NORMAL_WEIGHT**2 >= same
-    if not bool(faced.any()):
-        return
-    q_off, near = q_off[faced], near[faced]
-    albedo[q_off] = pool.color[near].mean(1)
-    codes[q_off] = ANOTHER_CAR
-    seen_at[q_off] = grazing(pool.cos[near]).mean(1)
 
 
 def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: Tensor, cos: Tensor,

@@ -791,14 +791,16 @@ def _dark_car_tyres_as_it_was(image, ids, parts, iid):
     paint_light = float(body_lab[:, 0].median())
     if paint_light >= DARK_PAINT_L or body_paint(body_lab)[1]:
         return None
-    tyres, freed = _tyres_in_picture(flat, car, parts.view(ids.shape), paint_light)
-    return tyres.view(-1).nonzero().flatten(), freed.view(-1).nonzero().flatten()
+    tyres, freed, wheel_at, wheels = _tyres_in_picture(flat, car, parts.view(ids.shape), paint_light)
+    wheel_at = wheel_at.view(-1, 2)
+    moved = torch.isfinite(wheel_at[:, 0]).nonzero().flatten()
+    return tyres.view(-1).nonzero().flatten(), freed.view(-1).nonzero().flatten(), moved, wheel_at[moved], wheels
 
 
 def test_dark_car_tyres_found_in_the_cars_box_are_the_whole_pictures():
     """The black car with a misplaced wheel (test_photo_realparts) at several places of a larger picture, beside a
-    light car and among other ids: the same tyre and freed indices (and None for the light car, an absent id and a
-    car of 5 body pixels) as the whole picture's tests gave."""
+    light car and among other ids: the same tyre, freed and moved indices, moved points and wheel ellipses (and None
+    for the light car, an absent id and a car of 5 body pixels) as the whole picture's tests gave."""
     from sdn3d.editing.photo.transfer import _dark_car_tyres
     from sdn3d.meshes.parts import Part
     from tests.test_photo_realparts import _black_car_with_a_misplaced_wheel

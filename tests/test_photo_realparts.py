@@ -212,14 +212,14 @@ def test_recolour_of_a_black_car_keeps_its_tyres_where_the_picture_has_them():
     for painted in ("paint", "under_template_tyre"):
         assert bool((codes[regions[painted]] == RECOLORED).all()), painted
         assert float(srgb_to_lab(out[:, regions[painted]].T)[:, 2].median()) < -30  # blue
-    found, freed = registered_tyres(srgb_to_lab(image.permute(1, 2, 0).reshape(-1, 3)).view(60, 100, 3), mask,
+    found, freed, _, _ = registered_tyres(srgb_to_lab(image.permute(1, 2, 0).reshape(-1, 3)).view(60, 100, 3), mask,
                                     parts == int(Part.TYRE), 9.0)
     assert bool(found[regions["rubber"]].float().mean() > 0.95) and not bool(found[regions["paint"]].any())
     assert bool(freed[regions["under_template_tyre"]].all())
     # No rim, or only a lit thin line (an arch's edge) beside the template's tyre: the template's tyre stays.
     for lit in (torch.zeros_like(mask), mask & (torch.arange(100)[None, :] == 50) & (torch.arange(60)[:, None] > 25)):
         dark = torch.where((regions["rim"] | lit)[None], torch.where(lit[None], 0.6, 0.03), image)
-        found, freed = registered_tyres(srgb_to_lab(dark.permute(1, 2, 0).reshape(-1, 3)).view(60, 100, 3), mask,
+        found, freed, _, _ = registered_tyres(srgb_to_lab(dark.permute(1, 2, 0).reshape(-1, 3)).view(60, 100, 3), mask,
                                         parts == int(Part.TYRE), 9.0)
         assert torch.equal(found, parts == int(Part.TYRE)) and not bool(freed.any())
 
@@ -256,11 +256,10 @@ def test_a_turned_red_cars_never_seen_front_gets_head_lamps_where_cars_have_them
     assert float((red[0] - red[1]).min()) > 0.3  # the rear's red there: no head lamps
 
 
-def test_a_turned_black_car_does_not_carry_its_real_wheels_onto_its_body(monkeypatch):
-    """A black car whose wheels (black rubber, light grey rims) lie most of a wheel behind its fitted template's, turned
-    by 45 degrees: the template's body points over the real rims took their grey into the turned car's body (grey
-    patches on the real frame's black car, turned). With the dark car's tyres registered (PhotoSource.registered_parts,
-    as the recolour registers them) those input pixels are not the body's: the body stays black."""
+def _black_car_with_real_wheels_behind(others=()):
+    """``(scene, image, edited: the black car turned by 45 degrees)``: a black car 12001 (template 0) whose wheels
+    (black rubber, light grey rims of 0.55) lie most of a wheel behind its fitted template's; ``others``: more cars,
+    clear of it, painted ``(object, paint)`` with near-black glass and tyres (clear air)."""
     import math
 
     import cv2
@@ -268,13 +267,18 @@ def test_a_turned_black_car_does_not_carry_its_real_wheels_onto_its_body(monkeyp
 
     from sdn3d.editing.apply import apply_edits
     from sdn3d.editing.ops import Rotate
-    from sdn3d.editing.photo.transfer import PhotoSource, render_photo
     from sdn3d.scene.code import SceneObject
-    from tests.test_photo import FRAME, _scene
-    from tests.test_photo_parts import PARTS, _painted
+    from tests.test_photo import _scene
+    from tests.test_photo_parts import _painted
 
-    scene = _scene([SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.3, location=(-0.5, 1.6, 9.0))])
-    image, covered, parts = _painted(scene, (0.04, 0.04, 0.045))
+    black = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.3, location=(-0.5, 1.6, 9.0))
+    scene = _scene([black, *(car for car, _ in others)])
+    image, covered, parts = _painted(_scene([black]), (0.04, 0.04, 0.045))
+    for car, paint in others:
+        theirs, on_it, their_parts = _painted(_scene([car]), paint)
+        assert not bool((on_it & covered).any())
+        dark = on_it & ((their_parts == int(Part.GLASS)) | (their_parts == int(Part.TYRE)))
+        image[:, on_it] = torch.where(dark[on_it][None], 0.03, theirs[:, on_it])
     count, _, stats, centres = cv2.connectedComponentsWithStats(
         ((parts == int(Part.TYRE)) & covered).numpy().astype(np.uint8))
     rows, cols = torch.meshgrid(torch.arange(parts.shape[0]).float(), torch.arange(parts.shape[1]).float(),
@@ -286,7 +290,19 @@ def test_a_turned_black_car_does_not_carry_its_real_wheels_onto_its_body(monkeyp
         for share, grey in ((1.0, 0.03), (0.6, 0.55)):  # the tyre, then its rim
             inside = ((cols - cx) / (share * w / 2)) ** 2 + ((rows - cy) / (share * h / 2)) ** 2 <= 1
             image[:, covered & inside] = grey
-    edited = apply_edits(scene, [Rotate(12001, math.radians(45))])
+    return scene, image, apply_edits(scene, [Rotate(12001, math.radians(45))])
+
+
+def test_a_turned_black_car_does_not_carry_its_real_wheels_onto_its_body(monkeypatch):
+    """A black car whose wheels (black rubber, light grey rims) lie most of a wheel behind its fitted template's, turned
+    by 45 degrees: the template's body points over the real rims took their grey into the turned car's body (grey
+    patches on the real frame's black car, turned). With the dark car's tyres registered (PhotoSource.registered_parts,
+    as the recolour registers them) those input pixels are not the body's: the body stays black."""
+    from sdn3d.editing.photo.transfer import PhotoSource, render_photo
+    from tests.test_photo import FRAME
+    from tests.test_photo_parts import PARTS
+
+    scene, image, edited = _black_car_with_real_wheels_behind()
 
     def grey_body() -> int:
         result = render_photo(image, FRAME, scene, edited, settings=PARTS)
@@ -298,3 +314,64 @@ def test_a_turned_black_car_does_not_carry_its_real_wheels_onto_its_body(monkeyp
     monkeypatch.setattr(PhotoSource, "registered_parts", lambda self, instance_ids: self.parts)
     template = grey_body()
     assert template >= 30 and registered < 0.3 * template, (registered, template)  # 6 against 52 when written
+
+
+def test_a_turned_black_cars_wheels_are_read_off_its_real_wheels_with_their_rims(monkeypatch):
+    """The same black car turned by 45 degrees: its wheels' points, read where the template's tyres lay (black paint
+    there, and the registration calls those pixels body), drew rimless black discs (the real frame's black car turned
+    45 and 90 degrees). Read off the real wheels the registration moved those tyres onto (PhotoSource.registered_wheels,
+    transfer._on_real_wheel; a wheel's face whole from the real wheel at the same offset from its centre,
+    PhotoSource.real_wheels, transfer._from_real_wheels) they show the rims' grey."""
+    from sdn3d.editing.photo.transfer import PhotoSource, render_photo
+    from tests.test_photo import FRAME
+    from tests.test_photo_parts import PARTS
+
+    scene, image, edited = _black_car_with_real_wheels_behind()
+
+    def rim_pixels() -> int:
+        result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+        picture = result.image.float() / (255.0 if result.image.dtype == torch.uint8 else 1.0)
+        tyres = result.parts == int(Part.TYRE)
+        assert int(tyres.sum()) >= 100
+        return int(((picture.mean(0) > 0.3) & tyres).sum())
+
+    read_off_the_real_wheels = rim_pixels()
+    monkeypatch.setattr(PhotoSource, "registered_wheels", lambda self, instance_ids: None)
+    monkeypatch.setattr(PhotoSource, "real_wheels", lambda self, iid: None)
+    read_where_the_template_put_them = rim_pixels()
+    assert read_off_the_real_wheels >= 30 and read_where_the_template_put_them < 0.2 * read_off_the_real_wheels, (
+        read_off_the_real_wheels, read_where_the_template_put_them)
+
+
+def test_a_wheel_face_never_seen_is_drawn_from_a_real_wheel_with_its_rim(monkeypatch):
+    """A red car seen from behind (its wheels show only their treads) beside the black car whose real wheels the
+    registration found, turned by 90 degrees: its wheels' faces, never seen, are drawn from the black car's real
+    wheel at the same offset from the wheel's centre (PhotoSource.real_wheels, transfer._from_real_wheels): a grey
+    rim in black rubber. From the tyre examples alone (the treads; main's) they were flat black discs (the real
+    frame's red car turned 90 degrees)."""
+    import math
+
+    from sdn3d.editing.apply import apply_edits
+    from sdn3d.editing.ops import Rotate
+    from sdn3d.editing.photo.settings import ANOTHER_CAR
+    from sdn3d.editing.photo.transfer import PhotoSource, render_photo
+    from sdn3d.scene.code import SceneObject
+    from tests.test_photo import FRAME
+    from tests.test_photo_parts import PARTS
+
+    red = SceneObject(12002, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2, location=(3.5, 1.6, 13.0))
+    scene, image, _ = _black_car_with_real_wheels_behind([(red, (0.7, 0.1, 0.1))])
+    edited = apply_edits(scene, [Rotate(12002, math.pi / 2)])
+
+    def wheels() -> tuple[int, int]:
+        result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+        picture = result.image.float() / (255.0 if result.image.dtype == torch.uint8 else 1.0)
+        tyres = result.parts == int(Part.TYRE)
+        assert int(tyres.sum()) >= 100
+        return int(((picture.mean(0) > 0.3) & tyres).sum()), int((tyres & (result.source == ANOTHER_CAR)).sum())
+
+    rims, from_the_black_car = wheels()
+    monkeypatch.setattr(PhotoSource, "real_wheels", lambda self, iid: None)
+    rims_from_examples, _ = wheels()
+    assert rims >= 30 and from_the_black_car >= rims and rims_from_examples < 0.2 * rims, (
+        rims, from_the_black_car, rims_from_examples)

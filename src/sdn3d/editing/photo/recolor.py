@@ -179,11 +179,17 @@ RIM_MIN_FILL = 0.4
 RIM_MAX_HEIGHT = 1.5
 
 
-def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float) -> tuple[Tensor, Tensor]:
-    """``(tyres (H, W) bool, freed (H, W) bool)``: a dark car's tyres and rims where the picture shows them, from its
-    fitted template's tyre pixels ``tyres (H, W)`` (part :data:`~sdn3d.meshes.parts.Part.TYRE`) and the picture's
-    ``lab (H, W, 3)`` CIE Lab on the car's pixels ``car (H, W)``; ``freed``: the template's tyre pixels that no tyre
-    took (the car's paint, where the template's wheel was misplaced).
+def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor,
+                     paint_light: float) -> tuple[Tensor, Tensor, Tensor, Tensor]:
+    """``(tyres (H, W) bool, freed (H, W) bool, wheel_at (H, W, 2) float64, wheels (N, 4) float64)``: a dark car's
+    tyres and rims where the
+    picture shows them, from its fitted template's tyre pixels ``tyres (H, W)`` (part
+    :data:`~sdn3d.meshes.parts.Part.TYRE`) and the picture's ``lab (H, W, 3)`` CIE Lab on the car's pixels ``car (H,
+    W)``; ``freed``: the template's tyre pixels that no tyre took (the car's paint, where the template's wheel was
+    misplaced); ``wheel_at``: for each pixel of a template tyre that took a tyre, the ``(x, y)`` pixel coordinates of
+    the same point of the real wheel (the template tyre's box mapped onto the real tyre's ellipse's box), NaN
+    elsewhere: a turned car's wheel drawn from the photo reads the real wheel, rim and rubber, there; ``wheels``: each
+    real tyre's ellipse ``(x, y, semi-axis x, semi-axis y)`` in pixels.
 
     A template's wheel sits where its loft puts it, not where the photographed car's wheel is: on the real frame in
     ``tests/data`` the black car's rear tyre lay a third of a wheel behind the template's, under its body part, and a
@@ -203,6 +209,8 @@ def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float
     out = torch.zeros_like(tyres)
     freed = torch.zeros_like(tyres)
     height, width = tyres.shape
+    wheel_at = torch.full((height, width, 2), math.nan, dtype=torch.float64)
+    wheels: list[tuple[float, float, float, float]] = []
     rim = (car & (lab[..., 0] > paint_light + DARK_PAINT_LIFT) & (lab[..., 1:].norm(dim=-1) < RIM_CHROMA))
     closed = cv2.morphologyEx(rim.numpy().astype(np.uint8), cv2.MORPH_CLOSE,
                               cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5)))
@@ -219,7 +227,7 @@ def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float
             out |= comp
             continue
         cx, cy = (float(v) for v in tyre_centres[k])
-        best, best_d = None, math.inf
+        best, best_d, best_box = None, math.inf, None
         for j in range(1, len(blobs)):
             bx, by, bw, bh, blob_area = (int(v) for v in blobs[j])
             jx, jy = bx + (bw - 1) / 2, by + (bh - 1) / 2
@@ -234,13 +242,19 @@ def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor, paint_light: float
                 continue  # a lit panel, not a rim in a dark tyre
             d = math.hypot(jx - cx, jy - cy)
             if d < best_d:
-                best, best_d = tyre, d
+                best, best_d, best_box = tyre, d, (jx, jy, ax, ay)
         if best is None:
             out |= comp
             continue
         out |= best
         freed |= comp & ~best
-    return out, freed & ~out
+        tx, ty, tw = int(stats[k][0]), int(stats[k][1]), int(stats[k][2])
+        jx, jy, ax, ay = best_box
+        wheels.append(best_box)
+        # box centre to box centre, half-sizes to semi-axes (the template's visible tyre is one wheel face)
+        wheel_at[comp] = torch.stack([jx + (xx[comp] - (tx + (tw - 1) / 2)) * ax / (tw / 2),
+                                      jy + (yy[comp] - (ty + (h - 1) / 2)) * ay / (h / 2)], 1)
+    return out, freed & ~out, wheel_at, torch.tensor(wheels, dtype=torch.float64).view(-1, 4)
 
 
 def recolor_pixels(colors: Tensor, target_rgb: tuple[float, float, float],

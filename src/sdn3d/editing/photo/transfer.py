@@ -152,7 +152,7 @@ class PhotoSource:
         self.in_front = (thin_occluders(self.image, self.src_ids, self.outline_ids)
                          if self.settings.keep_in_front else torch.zeros_like(self.src_ids, dtype=torch.bool))
         self._light: tuple[Tensor, LightEstimate | None] | None = None
-        self._registered_tyres: dict[int, tuple[Tensor, Tensor] | None] = {}
+        self._registered_tyres: dict[int, tuple[Tensor, Tensor, Tensor, Tensor, Tensor] | None] = {}
         self._face_parts: Tensor | None = None
         self._fills: dict[tuple, Tensor] = {}
         self._pyramids: dict[int, list[Tensor]] = {}
@@ -187,14 +187,37 @@ class PhotoSource:
         car's found on its first use: the transfer reads them). Other pixels keep the templates' parts."""
         out = self.parts
         for iid in instance_ids:
-            if iid not in self._registered_tyres:
-                self._registered_tyres[iid] = _dark_car_tyres(self.image, self.src_ids, self.parts, iid)
-            found = self._registered_tyres[iid]
+            found = self._dark_tyres(iid)
             if found is not None:
                 out = out.clone() if out is self.parts else out
                 out[found[0]] = int(Part.TYRE)
                 out[found[1]] = int(Part.BODY)
         return out
+
+    def registered_wheels(self, instance_ids: Sequence[int]) -> Tensor | None:
+        """``(H_in * W_in, 2)`` float64: for each template tyre pixel of a dark car among ``instance_ids`` that
+        :meth:`registered_parts` moved onto the car's real wheel, the ``(x, y)`` input pixel where the same point of
+        the real wheel lies (NaN elsewhere); None where no car's tyre moved."""
+        out = None
+        for iid in instance_ids:
+            found = self._dark_tyres(iid)
+            if found is not None and len(found[2]):
+                if out is None:
+                    out = torch.full((len(self.parts), 2), math.nan, dtype=torch.float64)
+                out[found[2]] = found[3]
+        return out
+
+    def real_wheels(self, iid: int) -> Tensor | None:
+        """``(N, 4)`` float64: the ellipses ``(x, y, semi-axis x, semi-axis y)`` (input pixels) of the real wheels of
+        car ``iid`` where :meth:`registered_parts` found them (a dark car's rims); None where it found none."""
+        found = self._dark_tyres(iid)
+        return found[4] if found is not None and len(found[4]) else None
+
+    def _dark_tyres(self, iid: int) -> tuple[Tensor, Tensor, Tensor, Tensor, Tensor] | None:
+        """:func:`_dark_car_tyres` of car ``iid``, found on first use."""
+        if iid not in self._registered_tyres:
+            self._registered_tyres[iid] = _dark_car_tyres(self.image, self.src_ids, self.parts, iid)
+        return self._registered_tyres[iid]
 
     def pyramid(self, levels: int) -> list[Tensor]:
         """The input's pyramid (:func:`_pyramid`) with at most ``levels`` halvings, made on first use (the transfer and
@@ -384,6 +407,82 @@ def _in_silhouette(points: Tensor, background: Tensor, K: Tensor) -> Tensor:
     uv, front = _project(points, K)
     inside, flat = _nearest_pixel(uv, front, tuple(background.shape))
     return ~inside | ~background.view(-1)[flat]
+
+
+def _on_real_wheel(uv: Tensor, ok: Tensor, wheels: Tensor, registered: Tensor,
+                   size: tuple[int, int]) -> tuple[Tensor, Tensor, Tensor]:
+    """``(uv (P, 2), moved (P,), on the wheel (P,))``: each input-pixel lookup ``uv (P, 2)`` (where ``ok (P,)``) that
+    falls on a dark car's template tyre moved onto the real wheel (``wheels (H * W, 2)``, the real wheel's ``(x, y)``
+    of each such pixel, NaN elsewhere: :meth:`PhotoSource.registered_wheels`) moved there, with its offset within the
+    pixel; ``on the wheel``: it lands on the car's tyre in ``registered (H * W,)``
+    (:meth:`PhotoSource.registered_parts`). A template's wheel is often a third of a wheel off the real one: its
+    points read where it lay draw paint or a rimless black disc (the rims were not there), read off the real wheel
+    they draw its rim and rubber."""
+    inside, flat = _nearest_pixel(uv, ok, size)
+    at = wheels[flat]
+    moved = inside & torch.isfinite(at[:, 0])
+    centre = torch.floor(uv + 0.5)
+    uv = torch.where(moved[:, None], at + (uv - centre), uv)
+    landed, flat = _nearest_pixel(uv, moved, size)
+    return uv, moved, landed & (registered[flat] == int(Part.TYRE))
+
+
+def _wheel_faces(bank: MeshBank, template: int, vid: Tensor, bary: Tensor) -> tuple[Tensor, Tensor]:
+    """``(offset (P, 2), on a face (P,) bool)`` of points of mesh ``template`` of ``bank`` given by the vertex ids
+    ``vid (P, 3)`` and barycentrics ``bary (P, 3)`` of their faces: where each lies on its wheel's outer or inner face
+    (a cap of the wheel's cylinder, ``|offset| <= 1``), as the offset from the wheel's centre along the car and down,
+    in the wheel's radii. The wheels are the mesh's tyre faces in each quarter (front or rear, left or right); the
+    template's own coordinates, which an FFD does not move."""
+    verts = bank.verts[template].double()
+    tri = verts[vid]
+    point = (bary.double()[..., None] * tri).sum(1)
+    normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
+    tyre = bank.faces[template][bank.face_parts[template] == int(Part.TYRE)]
+    offset = torch.full((len(point), 2), math.nan, dtype=torch.float64)
+    if not len(tyre):
+        return offset, torch.zeros(len(point), dtype=torch.bool)
+    wheel_verts = verts[tyre.flatten().unique()]
+    for ahead in (False, True):
+        for left in (False, True):
+            mine = ((wheel_verts[:, 0] > 0) == ahead) & ((wheel_verts[:, 2] > 0) == left)
+            here = ((point[:, 0] > 0) == ahead) & ((point[:, 2] > 0) == left)
+            if not bool(mine.any()) or not bool(here.any()):
+                continue
+            lo, hi = wheel_verts[mine].amin(0), wheel_verts[mine].amax(0)
+            offset[here] = (point[here, :2] - (lo + hi)[:2] / 2) / ((hi - lo)[:2] / 2).clamp(min=1e-9)
+    face = (normal[:, 2].abs() > WHEEL_FACE_COS) & (offset.norm(dim=1) <= 1.0)
+    return offset, face
+
+
+#: :func:`_wheel_faces`: a wheel face's normal points along the axle at least this closely (the caps of a wheel's
+#: cylinder; its tread's normals are across it).
+WHEEL_FACE_COS = 0.9
+#: :func:`_from_real_wheels`: the share of the real tyre's ellipse a wheel face is drawn from (its edge meets the
+#: wheel arch's paint and the road).
+REAL_WHEEL_REACH = 0.95
+
+
+def _from_real_wheels(colors: Tensor, codes: Tensor, wheel: tuple[Tensor, int], parts: Tensor, bank: MeshBank,
+                      template: int, vid: Tensor, bary: Tensor, pyramid: list[Tensor]) -> tuple[Tensor, Tensor]:
+    """``(colours (P, 3), codes (P,))``: never-seen points of one car (``colors``, ``codes`` as :func:`_part_colors`
+    drew them, ``parts (P,)``) that lie on a wheel face of its template (:func:`_wheel_faces` of ``bank`` mesh
+    ``template``, ``vid (P, 3)``, ``bary (P, 3)``) drawn from the real wheel ``wheel`` = ``((x, y, semi-axis x,
+    semi-axis y), code)`` at the same offset from its centre, read off the input's ``pyramid``: a wheel is a rim in a
+    ring of rubber, which the part's examples (tyre pixels lighter than most of the car are dropped, and a car seen
+    from behind shows only treads) drew as a flat black disc (the real frame's red car turned 90 degrees)."""
+    ellipse, code = wheel
+    tyre = (parts == int(Part.TYRE)).nonzero().flatten()
+    if not len(tyre):
+        return colors, codes
+    offset, face = _wheel_faces(bank, template, vid[tyre], bary[tyre])
+    tyre, offset = tyre[face], offset[face]
+    if not len(tyre):
+        return colors, codes
+    uv = ellipse[:2] + REAL_WHEEL_REACH * offset * ellipse[2:]
+    colors, codes = colors.clone(), codes.clone()
+    colors[tyre] = _sample(pyramid, uv, torch.zeros(len(uv), dtype=torch.float64)).double()
+    codes[tyre] = code
+    return colors, codes
 
 
 def _view_cos(points: Tensor, normals: Tensor) -> Tensor:
@@ -829,37 +928,48 @@ def _dark_body(flat: Tensor, car: Tensor, parts: Tensor, pix: Tensor, paint_ligh
     are not ``road (H * W,)`` (:func:`ground_in_mask`; None: none). Black rubber is as dark as black paint: without
     this the black car of the real frame in ``tests/data`` got blue tyres."""
     height, width = car.shape
-    at_tyre, gained = _tyres_in_picture(flat, car, parts, paint_light)
+    at_tyre, gained, _, _ = _tyres_in_picture(flat, car, parts, paint_light)
     if road is not None:
         gained &= ~road.view(height, width)
     return torch.cat([pix[~at_tyre.view(-1)[pix]], gained.view(-1).nonzero().flatten()])
 
 
-def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor, paint_light: float) -> tuple[Tensor, Tensor]:
-    """``(tyres (H, W) bool, freed (H, W) bool)``: a dark car's tyres where the picture ``flat (H * W, 3)`` sRGB shows
-    them, and its fitted template's tyre pixels they left (:func:`~sdn3d.editing.photo.recolor.registered_tyres` of
-    the template's tyre pixels of ``parts (H, W)`` on its pixels ``car (H, W)``, paint of median CIE L*
-    ``paint_light``), in the car's box."""
+def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor,
+                      paint_light: float) -> tuple[Tensor, Tensor, Tensor, Tensor]:
+    """``(tyres (H, W) bool, freed (H, W) bool, wheel_at (H, W, 2), wheels (N, 4))``: a dark car's tyres where the
+    picture ``flat (H * W, 3)`` sRGB shows them, its fitted template's tyre pixels they left, where each moved template
+    tyre pixel's point lies on the real wheel (picture pixel coordinates ``(x, y)``, NaN elsewhere) and the real
+    tyres' ellipses ``(x, y, semi-axis x, semi-axis y)`` (
+    :func:`~sdn3d.editing.photo.recolor.registered_tyres` of the template's tyre pixels of ``parts (H, W)`` on its
+    pixels ``car (H, W)``, paint of median CIE L* ``paint_light``), in the car's box."""
     height, width = car.shape
     at_tyre = torch.zeros_like(car)
     freed = torch.zeros_like(car)
+    wheel_at = torch.full((height, width, 2), math.nan, dtype=torch.float64)
     if not bool(car.any()):
-        return at_tyre, freed
+        return at_tyre, freed, wheel_at, torch.zeros(0, 4, dtype=torch.float64)
     x0, y0, x1, y1 = (int(v) for v in mask_boxes(car[None])[0])
     lab = srgb_to_lab(flat.view(height, width, 3)[y0:y1, x0:x1].reshape(-1, 3).double()).view(y1 - y0, x1 - x0, 3)
     window = car[y0:y1, x0:x1]
-    tyres, gained = registered_tyres(lab, window, window & (parts[y0:y1, x0:x1] == int(Part.TYRE)), paint_light)
+    tyres, gained, at, wheels = registered_tyres(lab, window, window & (parts[y0:y1, x0:x1] == int(Part.TYRE)),
+                                                 paint_light)
     at_tyre[y0:y1, x0:x1] = tyres
     freed[y0:y1, x0:x1] = gained
-    return at_tyre, freed
+    corner = torch.tensor([x0, y0], dtype=torch.float64)
+    wheel_at[y0:y1, x0:x1] = at + corner
+    wheels[:, :2] += corner
+    return at_tyre, freed, wheel_at, wheels
 
 
-def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor, iid: int) -> tuple[Tensor, Tensor] | None:
-    """``(tyres, freed)`` flat pixel indices of car ``iid`` of the instance map ``ids (H, W)`` where its fitted
-    template's part map ``parts (H * W,)`` is wrong about its wheels: its tyres where the picture ``image (3, H, W)``
-    shows them, and the template tyre pixels they left (:func:`_tyres_in_picture`); None for a car that is not a
-    dark paint, whose template keeps its wheels. A dark paint is the body part's pixels' median CIE L* under
-    :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, not coloured (:func:`~sdn3d.editing.photo.recolor.body_paint`,
+def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor,
+                    iid: int) -> tuple[Tensor, Tensor, Tensor, Tensor, Tensor] | None:
+    """``(tyres, freed, moved, moved_at (M, 2), wheels (N, 4))``: flat pixel indices of car ``iid`` of the instance map
+    ``ids (H, W)`` where its fitted template's part map ``parts (H * W,)`` is wrong about its wheels: its tyres where
+    the picture ``image (3, H, W)`` shows them, the template tyre pixels they left, and the template tyre pixels moved
+    onto a real wheel with the ``(x, y)`` where each one's point lies on it; the real tyres' ellipses
+    (:func:`_tyres_in_picture`); None for a car that is not a dark paint, whose template keeps its wheels. A dark
+    paint is the body part's pixels' median CIE L* under :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, not
+    coloured (:func:`~sdn3d.editing.photo.recolor.body_paint`,
     as :func:`_recolor` tells it)."""
     # The car's pixels found by one pass over the picture, the rest looked at in its box alone: its pixels there in
     # row order are the picture's in its order (the same values, without four more passes and a copy of the picture
@@ -878,13 +988,18 @@ def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor, iid: int) -> tupl
     x0, x1 = int(cols.min()), int(cols.max()) + 1
     car = ids[y0:y1, x0:x1] == iid
     box_flat = image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)
-    tyres, freed = _tyres_in_picture(box_flat, car, parts.view(height, width)[y0:y1, x0:x1], paint_light)
+    tyres, freed, wheel_at, wheels = _tyres_in_picture(box_flat, car, parts.view(height, width)[y0:y1, x0:x1],
+                                                       paint_light)
 
     def in_picture(mask: Tensor) -> Tensor:  # flat picture indices of a box's mask, in the picture's order
         ys, xs = mask.nonzero(as_tuple=True)
         return (ys + y0) * width + (xs + x0)
 
-    return in_picture(tyres), in_picture(freed)
+    corner = torch.tensor([x0, y0], dtype=torch.float64)  # the box's points in picture coordinates
+    moved = torch.isfinite(wheel_at[..., 0])
+    wheels = wheels.clone()
+    wheels[:, :2] += corner
+    return in_picture(tyres), in_picture(freed), in_picture(moved), wheel_at[moved] + corner, wheels
 
 
 #: Parts whose template faces often lie over a car's paint (a template's lamp band and plate cover much of a real
@@ -1097,7 +1212,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
                                      photo_source.parts, parts_out, background, photo_source.pyramid,
-                                     photo_source.registered_parts(drawn_ids), recolor_parts)
+                                     photo_source.registered_parts(drawn_ids), recolor_parts,
+                                     photo_source.registered_wheels(drawn_ids), photo_source.real_wheels)
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, own, before, after, origin, moved_rows, src_ids,
                                             photo_source.work_ids, transform, photo_source.outline_ids, K, settings,
@@ -1275,13 +1391,18 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
           src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
           background: Tensor, pyramid_of: Callable[[int], list[Tensor]],
-          registered: Tensor, face_parts_out: Tensor | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
+          registered: Tensor, face_parts_out: Tensor | None = None, wheels: Tensor | None = None,
+          real_wheels: Callable[[int], Tensor | None] | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
     ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
     there is not the object's (``silhouette='carved'``); ``pyramid_of(levels)``: the input's pyramid
     (:meth:`PhotoSource.pyramid`); ``registered (H * W,)``: the input's part map with dark cars' tyres where it shows
     them (:meth:`PhotoSource.registered_parts`): a point whose input pixel the registration relabelled (a template's
-    body over the car's real wheel, its tyre over paint) is not drawn from that pixel. ``parts_out`` gets the drawn
+    body over the car's real wheel, its tyre over paint) is not drawn from that pixel; ``wheels (H * W, 2)`` (None:
+    none moved; :meth:`PhotoSource.registered_wheels`): where a moved template tyre's pixels lie on the real wheel,
+    which a tyre point read there is drawn from (:func:`_on_real_wheel`); ``real_wheels(instance id)`` (None: none):
+    a car's real wheels where the input shows them (:meth:`PhotoSource.real_wheels`), which a wheel face the input
+    never showed is drawn from (:func:`_from_real_wheels`). ``parts_out`` gets the drawn
     pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's)."""
     height, width = own.shape
     t_mesh = tgt.frags.pix_to_mesh.view(-1)
@@ -1347,10 +1468,27 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     normal_m = torch.einsum("pij,pj->pi", rot, torch.einsum("pji,pj->pi", rot, normal_s) * flip)
     ok_mirror, uv_mirror = _visible(point_m, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
     cos_mirror = _view_cos(point_m, normal_m)
+    t_part = _part_map(tgt, after, bank, pix)
     relabelled = registered != parts_src  # the template's wheel where the car's is not: those pixels are the other part
     if bool(relabelled.any()):
-        ok_photo &= ~relabelled[_nearest_pixel(uv_photo, ok_photo, (height, width))[1]]
-        ok_mirror &= ~relabelled[_nearest_pixel(uv_mirror, ok_mirror, (height, width))[1]]
+        no_wheel = torch.zeros(len(pix), dtype=torch.bool)
+        moved_p, on_p, moved_m, on_m = no_wheel, no_wheel, no_wheel, no_wheel
+        if wheels is not None:  # a tyre point read where its template's tyre lay is read off the real wheel
+            tyre = t_part == int(Part.TYRE)
+            uv_photo, moved_p, on_p = _on_real_wheel(uv_photo, ok_photo & tyre, wheels, registered, (height, width))
+            uv_mirror, moved_m, on_m = _on_real_wheel(uv_mirror, ok_mirror & tyre, wheels, registered, (height, width))
+            if real_wheels is not None and bool((moved_p | moved_m).any()):
+                # its faces are drawn from the real wheel whole (_from_real_wheels): the template tyre's box mapped
+                # onto the real one and the face's own offsets drew two rims, half a face each
+                face = torch.zeros(len(pix), dtype=torch.bool)
+                templates = after.template_id[row]
+                for template in templates[moved_p | moved_m].unique().tolist():
+                    k = ((moved_p | moved_m) & (templates == template)).nonzero().flatten()
+                    face[k] = _wheel_faces(bank, template, vid[k], bary[k])[1]
+                on_p &= ~face
+                on_m &= ~face
+        ok_photo &= torch.where(moved_p, on_p, ~relabelled[_nearest_pixel(uv_photo, ok_photo, (height, width))[1]])
+        ok_mirror &= torch.where(moved_m, on_m, ~relabelled[_nearest_pixel(uv_mirror, ok_mirror, (height, width))[1]])
     ok_mirror &= has_src & ~ok_photo & (cos_mirror >= squarely)
 
     # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.
@@ -1376,7 +1514,6 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     codes = torch.where(ok_photo, PHOTO, torch.where(ok_mirror, MIRROR, FALLBACK)).to(torch.uint8)
     # (H * W, 3) in the picture's dtype: the rows read are made float64 where gathered (the same values, exactly)
     img_flat = image.permute(1, 2, 0).reshape(-1, 3)
-    t_part = _part_map(tgt, after, bank, pix)
     by_parts = settings.unseen == "parts"
     drawn_rows = row.unique()
     drawn = torch.ones(len(pix), dtype=torch.bool)  # False: left to the fill (amodal='seen')
@@ -1393,6 +1530,23 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
                                                 before, src, parts_src, img_flat, settings)
             cache[bb] = found, seen_colors, _clear_air(seen_colors)
         return cache[bb]
+
+    def wheel_for(b: int) -> tuple[Tensor, int] | None:
+        """The real wheel (:meth:`PhotoSource.real_wheels`: ``(x, y, semi-axis x, semi-axis y)``, the largest) a wheel
+        face of row ``b``'s car the input never showed is drawn from, and its source code: the car's own
+        (:data:`PART`), else that of the car nearest in depth that shows one, both seen through clear air
+        (:data:`ANOTHER_CAR`, as :func:`others_of`); None: no real wheel."""
+        if real_wheels is None or b not in shown_cars:
+            return None
+        depth = before.center[:, 2].double().clamp(min=0.1)
+        others = sorted((bb for bb in shown_cars if bb != b), key=lambda bb: abs(math.log(depth[bb] / depth[b])))
+        for bb in [b] + (others if examples_of(b)[2] else []):
+            if bb != b and not examples_of(bb)[2]:
+                continue
+            found = real_wheels(int(before.instance_id[bb]))
+            if found is not None:
+                return found[(found[:, 2] * found[:, 3]).argmax()], PART if bb == b else ANOTHER_CAR
+        return None
 
     def others_of(b: int) -> Callable[[int], _PartExamples]:
         """:func:`_part_colors`' ``others``: the examples of a part on the car nearest in depth to row ``b``'s that
@@ -1446,6 +1600,10 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
                 if settings.view_reflection > 0 and PART_VIEW_REFLECTION:
                     alb = _reflect_part_colors(alb, code, seen_at, t_part[unseen], cos_t[unseen], car_examples,
                                                settings.view_reflection)
+                wheel = wheel_for(b) if bool((t_part[unseen] == int(Part.TYRE)).any()) else None
+                if wheel is not None:
+                    alb, code = _from_real_wheels(alb, code, wheel, t_part[unseen], bank, int(after.template_id[r]),
+                                                  vid[unseen], bary[unseen], pyramid)
                 # a part's examples carry their shading
                 s_un = torch.where((code == PART) | (code == ANOTHER_CAR), 1.0, surface_shade(normal_t[unseen]))
                 fallback[unseen] = alb * s_un[:, None]

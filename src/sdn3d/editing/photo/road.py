@@ -345,8 +345,8 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     stood and no marking of the far side is drawn across it (None ``road``: ``'blend'``), at the hole pixels from row
     ``ground_row`` down (the ground near the removed car; higher up a ray's sides may be upright things) whose far
     side is resolved (:data:`FAR_RESOLVED`); so do the rays that meet a verge on both sides among a run of rays whose
-    near-side verge mostly ended inside the hole (:func:`_ended_verge_runs`). ``lab``: ``image``'s :class:`PictureLab` (the road tests' Lab, converted
-    once for all the removal's tests)."""
+    near-side verge mostly ended inside the hole (:func:`_ended_verge_runs`). ``lab``: ``image``'s
+    :class:`PictureLab` (the road tests' Lab, converted once for all the removal's tests)."""
     if lab is not None:
         lab.check(image)
     height, width = hole.shape

@@ -297,6 +297,28 @@ def test_benchmark_picks_and_frame_checks(scene):
         ops_from_benchmark([BenchmarkOperation.delete((10.0, 10.0))], empty)
 
 
+def test_a_move_on_an_object_without_geometry_is_refused_naming_it(scene):
+    """A move, turn or zoom whose point lands on an object with a mask only (under ``min_pixels``) is refused with
+    that object's id and pixels named, not as "matches no object (nearest candidate 0.0 px away)"; a delete takes it."""
+    iid = _big(scene)
+    i = scene.objects.index_of(iid)
+    template = scene.objects.template_id.clone()
+    template[i] = -1
+    flat = scene.replace(objects=scene.objects.replace(template_id=template))
+    uv, valid = projected_centers(flat)
+    assert bool(valid[i])
+    point = tuple(uv[i].tolist())
+    others = valid & flat.objects.has_geometry
+    reach = 0.5 * float((uv[others] - uv[i]).norm(dim=1).min())  # no object with geometry within the pick radius
+    with pytest.raises(EditError, match=rf"lands on object {iid} \(0\.0 px away\), which has no 3D geometry, only "
+                                        rf"its mask of {int(flat.objects.mask[i].sum())} pixels"):
+        match_objects(flat, [point], [True], max_distance=reach)
+    assert match_objects(flat, [point], [False], max_distance=reach) == [iid]
+    far = (point[0] + 200.0, point[1])
+    with pytest.raises(EditError, match="matches no object"):
+        match_objects(flat, [far], [True], max_distance=1.0)
+
+
 def test_published_example_rotates_the_picked_car(tmp_path):
     """The shipped 5-rotation example picks track 0 of the fixture's frame 0006/30-deg-right/00043."""
     write_vkitti1_fixture(tmp_path, world="0006", variation="30-deg-right", frames=(43,), size=(1242, 375))

@@ -181,10 +181,27 @@ def match_objects(scene: SceneCode, points: Sequence[tuple[float, float]], need_
     out = [0] * len(points)
     for r, c in zip(rows.tolist(), cols.tolist(), strict=True):
         if cost[r, c] >= big or (max_distance is not None and cost[r, c] > max_distance):
-            raise EditError(f"the edit at {points[r]} matches no object (nearest candidate "
-                            f"{float(dist[r].min()) if dist.shape[1] else math.inf:.1f} px away)")
+            raise EditError(_no_match(scene, points[r], dist[r], valid, bool(need[r]), max_distance))
         out[r] = int(scene.objects.instance_id[c])
     return out
+
+
+def _no_match(scene: SceneCode, point: tuple[float, float], dist: Tensor, valid: Tensor, need_geometry: bool,
+              max_distance: float | None) -> str:
+    """Why the edit at ``point`` picks no object (``dist (N,)``: its distance to each object's projected centre,
+    ``valid (N,)``: which centres are usable): the nearest object names itself where it was passed over for having no
+    3D geometry (a mask under ``min_pixels``), else the nearest candidate's distance."""
+    usable = valid & (scene.objects.has_geometry | (not need_geometry))
+    nearest = float(dist[usable].min()) if bool(usable.any()) else math.inf
+    if need_geometry and bool(valid.any()):
+        j = int(torch.where(valid, dist, torch.full_like(dist, math.inf)).argmin())
+        if not bool(scene.objects.has_geometry[j]) and (max_distance is None or float(dist[j]) <= max_distance):
+            iid, pixels = int(scene.objects.instance_id[j]), int(scene.objects.mask[j].sum())
+            return (f"the edit at {point} lands on object {iid} ({float(dist[j]):.1f} px away), which has no 3D "
+                    f"geometry, only its mask of {pixels} pixels (under min_pixels, or no usable prediction): it can "
+                    "be deleted or recoloured, not moved, turned or zoomed (the nearest object with geometry is "
+                    f"{nearest:.1f} px away)")
+    return f"the edit at {point} matches no object (nearest candidate {nearest:.1f} px away)"
 
 
 # -- applying -----------------------------------------------------------------------------------

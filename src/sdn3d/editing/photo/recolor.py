@@ -182,14 +182,13 @@ RIM_MAX_HEIGHT = 1.5
 def registered_tyres(lab: Tensor, car: Tensor, tyres: Tensor,
                      paint_light: float) -> tuple[Tensor, Tensor, Tensor, Tensor]:
     """``(tyres (H, W) bool, freed (H, W) bool, wheel_at (H, W, 2) float64, wheels (N, 4) float64)``: a dark car's
-    tyres and rims where the
-    picture shows them, from its fitted template's tyre pixels ``tyres (H, W)`` (part
-    :data:`~sdn3d.meshes.parts.Part.TYRE`) and the picture's ``lab (H, W, 3)`` CIE Lab on the car's pixels ``car (H,
-    W)``; ``freed``: the template's tyre pixels that no tyre took (the car's paint, where the template's wheel was
-    misplaced); ``wheel_at``: for each pixel of a template tyre that took a tyre, the ``(x, y)`` pixel coordinates of
-    the same point of the real wheel (the template tyre's box mapped onto the real tyre's ellipse's box), NaN
-    elsewhere: a turned car's wheel drawn from the photo reads the real wheel, rim and rubber, there; ``wheels``: each
-    real tyre's ellipse ``(x, y, semi-axis x, semi-axis y)`` in pixels.
+    tyres and rims where the picture shows them, from its fitted template's tyre pixels ``tyres (H, W)`` (part
+    :data:`~sdn3d.meshes.parts.Part.TYRE`) and the picture's ``lab (H, W, 3)`` CIE Lab on the car's pixels
+    ``car (H, W)``; ``freed``: the template's tyre pixels that no tyre took (the car's paint, where the template's
+    wheel was misplaced); ``wheel_at``: for each pixel of a template tyre that took a tyre, the ``(x, y)`` pixel
+    coordinates of the same point of the real wheel (the template tyre's box mapped onto the real tyre's ellipse's
+    box), NaN elsewhere: a turned car's wheel drawn from the photo reads the real wheel, rim and rubber, there;
+    ``wheels``: each real tyre's ellipse ``(x, y, semi-axis x, semi-axis y)`` in pixels.
 
     A template's wheel sits where its loft puts it, not where the photographed car's wheel is: on the real frame in
     ``tests/data`` the black car's rear tyre lay a third of a wheel behind the template's, under its body part, and a

@@ -181,17 +181,17 @@ def match_objects(scene: SceneCode, points: Sequence[tuple[float, float]], need_
     out = [0] * len(points)
     for r, c in zip(rows.tolist(), cols.tolist(), strict=True):
         if cost[r, c] >= big or (max_distance is not None and cost[r, c] > max_distance):
-            raise EditError(_no_match(scene, points[r], dist[r], valid, bool(need[r]), max_distance))
+            raise EditError(_no_match(scene, points[r], dist[r], valid, ok[r], bool(need[r]), max_distance))
         out[r] = int(scene.objects.instance_id[c])
     return out
 
 
-def _no_match(scene: SceneCode, point: tuple[float, float], dist: Tensor, valid: Tensor, need_geometry: bool,
-              max_distance: float | None) -> str:
+def _no_match(scene: SceneCode, point: tuple[float, float], dist: Tensor, valid: Tensor, usable: Tensor,
+              need_geometry: bool, max_distance: float | None) -> str:
     """Why the edit at ``point`` picks no object (``dist (N,)``: its distance to each object's projected centre,
-    ``valid (N,)``: which centres are usable): the nearest object names itself where it was passed over for having no
-    3D geometry (a mask under ``min_pixels``), else the nearest candidate's distance."""
-    usable = valid & (scene.objects.has_geometry | (not need_geometry))
+    ``valid (N,)``: which centres are usable, ``usable (N,)``: which objects the edit may pick): the nearest object
+    names itself where it was passed over for having no 3D geometry (a mask under ``min_pixels``), else the nearest
+    candidate's distance."""
     nearest = float(dist[usable].min()) if bool(usable.any()) else math.inf
     if need_geometry and bool(valid.any()):
         j = int(torch.where(valid, dist, torch.full_like(dist, math.inf)).argmin())

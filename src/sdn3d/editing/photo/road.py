@@ -423,9 +423,10 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
             def at(rows: Tensor) -> Tensor:
                 return per_row[:, rows.round().long().clamp(0, height - 1)]
 
-            val = val + haze * (at(p[:, 1]) - at(q_out[:, 1]) * w_out - at(q_in[:, 1]) * w_in)
+            at_p, at_in = at(p[:, 1]), at(q_in[:, 1])
+            val = val + haze * (at_p - at(q_out[:, 1]) * w_out - at_in * w_in)
             if road_in is not None:  # as a ray from its far side's road alone (w_out 0, w_in 1)
-                road_in = road_in + haze * (at(p[:, 1]) - at(q_in[:, 1]))
+                road_in = road_in + haze * (at_p - at_in)
         if road_in is not None:
             from_road[:, s:s + RAY_CHUNK] = road_in
         if detail is not None:  # a side's high-pass, mirrored across the hole's edge along the ray (nearer side first)

@@ -997,8 +997,7 @@ def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor,
 
     corner = torch.tensor([x0, y0], dtype=torch.float64)  # the box's points in picture coordinates
     moved = torch.isfinite(wheel_at[..., 0])
-    wheels = wheels.clone()
-    wheels[:, :2] += corner
+    wheels[:, :2] += corner  # _tyres_in_picture's own tensor
     return in_picture(tyres), in_picture(freed), in_picture(moved), wheel_at[moved] + corner, wheels
 
 

@@ -8,6 +8,8 @@ import time
 import lightning as L
 import torch
 
+from sdn3d.training.start import ThreadsLater
+
 __all__ = ["EpochLog", "ThreadsLaterCallback"]
 
 log = logging.getLogger("sdn3d.train")
@@ -61,12 +63,11 @@ class ThreadsLaterCallback(L.Callback):
     epoch after the first ``after_epochs`` on (a resumed run past it: from its first epoch). By epoch, never by
     timing: a run's arithmetic depends on its thread count, and so stays the same whatever else the machine does."""
 
-    def __init__(self, after_epochs: int, threads: int) -> None:
-        self.after_epochs = int(after_epochs)
-        self.threads = int(threads)
+    def __init__(self, later: ThreadsLater) -> None:
+        self.later = later
 
     def on_train_epoch_start(self, trainer: L.Trainer, pl_module: L.LightningModule) -> None:
-        if trainer.current_epoch >= self.after_epochs and torch.get_num_threads() != self.threads:
-            torch.set_num_threads(self.threads)
+        if trainer.current_epoch >= self.later.after_epochs and torch.get_num_threads() != self.later.threads:
+            torch.set_num_threads(self.later.threads)
             log.info("epoch %d: %d torch threads from here on (threads_later)", trainer.current_epoch + 1,
-                     self.threads)
+                     self.later.threads)

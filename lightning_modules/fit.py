@@ -64,7 +64,7 @@ def build_objects(cfg: DictConfig, start: StartPoint | None = None) -> RunObject
     callbacks = _instantiate_group(cfg.get("callbacks"))
     later = threads_later(cfg)
     if later is not None:
-        callbacks.append(ThreadsLaterCallback(later.after_epochs, later.threads))
+        callbacks.append(ThreadsLaterCallback(later))
     loggers = _instantiate_group(cfg.get("logger"))
     if not loggers:  # LearningRateMonitor refuses to run without a logger; nothing to monitor into anyway
         callbacks = [c for c in callbacks if type(c).__name__ != "LearningRateMonitor"]

@@ -310,7 +310,7 @@ def test_each_lane_task_starts_with_the_threads_its_plan_fixed_whatever_has_fini
 def test_the_report_gives_each_lane_task_its_threads():
     """The time table and the machine sentence say each task's threads as the plan fixed them (before: "2 lanes of 1
     torch thread each", also for a semantic training that took a second thread)."""
-    from sdn3d.cli.demo import machine_sentence, stage_rows
+    from sdn3d.cli.demo import machine_sentence, stage_rows, threads_sentence
 
     threads = {"training: semantic": {"threads": 1, "after_epochs": 7, "then": 2},
                "training: geometric": {"threads": 1}}
@@ -327,3 +327,6 @@ def test_the_report_gives_each_lane_task_its_threads():
     assert "| lane 2: training: geometric, 1 torch thread (from 31 s to 90 s; CPU 57 s) | 59 |" in rows
     assert ("Test CPU, 2 logical cores, 2 lanes (training: semantic 1 torch thread for its first 7 epochs, then 2; "
             "every other stage 1 torch thread)") in machine_sentence(info)
+    assert threads_sentence({"a": {"threads": 1}, "b": {"threads": 1}}) == "1 torch thread each"
+    assert threads_sentence({"a": {"threads": 2}, "b": {"threads": 1}, "c": {"threads": 2}}) == \
+        "b 1 torch thread; every other stage 2 torch threads"

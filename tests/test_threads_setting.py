@@ -127,7 +127,7 @@ def test_threads_later_takes_more_threads_from_its_epoch_on_and_builds_its_callb
     check_threads(cfg)
     assert threads_later(_compose(["run_dir=/tmp/unused"])) is None  # default: `threads` throughout
     made = [c for c in build_objects(cfg).trainer.callbacks if isinstance(c, ThreadsLaterCallback)]
-    assert [(c.after_epochs, c.threads) for c in made] == [(2, 2)]
+    assert [c.later for c in made] == [ThreadsLater(2, 2)]
     for bad, key in (({"after_epochs": -1, "threads": 2}, "after_epochs"),
                      ({"after_epochs": 1, "threads": 0}, "threads"),
                      ({"after_epochs": 1.5, "threads": 2}, "after_epochs"), ({"threads": 2}, "threads_later")):
@@ -151,7 +151,7 @@ def test_threads_later_takes_more_threads_from_its_epoch_on_and_builds_its_callb
     before = torch.get_num_threads()
     try:
         torch.set_num_threads(1)
-        trainer = L.Trainer(max_epochs=4, callbacks=[ThreadsLaterCallback(2, 2)], logger=False,
+        trainer = L.Trainer(max_epochs=4, callbacks=[ThreadsLaterCallback(ThreadsLater(2, 2))], logger=False,
                             enable_checkpointing=False, enable_progress_bar=False, enable_model_summary=False,
                             default_root_dir=tmp_path)
         trainer.fit(Tiny(), DataLoader(TensorDataset(torch.randn(4, 2)), batch_size=4))

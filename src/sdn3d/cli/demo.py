@@ -444,6 +444,7 @@ def lane_tasks(plan: list[list[PlannedTask]], cfg: Any, data_root: Path, out: Pa
 
     predicted_row = any(t.name == BENCH_TASKS[Proposals.SEMANTIC] for lane in plan for t in lane)
     trainings = {_train_name(b): b for b in cfg.train.branches}
+    bench_proposals_of = {name: proposals for proposals, name in BENCH_TASKS.items()}
 
     def made(planned: PlannedTask) -> LaneTask:
         task_cfg = OmegaConf.merge(cfg, {"threads": planned.threads})
@@ -452,7 +453,7 @@ def lane_tasks(plan: list[list[PlannedTask]], cfg: Any, data_root: Path, out: Pa
         elif planned.name == EDITS_TASK:  # the recall after the edits: each step's results are the same in either
             task = child(EDITS_TASK, "edits", ["edits"] + (["recall"] if predicted_row else []), None, task_cfg)
         else:
-            proposals = next(p for p, name in BENCH_TASKS.items() if name == planned.name)
+            proposals = bench_proposals_of[planned.name]
             slug = "bench_predicted" if proposals is Proposals.SEMANTIC else "bench_oracle"
             task = child(planned.name, slug, ["bench"], proposals.value, task_cfg)
         return task._replace(needs=planned.needs)
@@ -483,7 +484,7 @@ def threads_sentence(threads: dict[str, dict[str, int]]) -> str:
     all are alike."""
     words = {task: threads_words(record) for task, record in threads.items()}
     counts = list(words.values())
-    usual = max(set(counts), key=lambda w: (counts.count(w), w == min(counts, key=len)))
+    usual = max(counts, key=lambda w: (counts.count(w), -len(w)))  # the most common wording; on a tie, the shortest
     named = [f"{task} {w}" for task, w in words.items() if w != usual]
     if not named:
         return f"{usual} each"

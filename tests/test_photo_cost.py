@@ -513,7 +513,7 @@ def test_part_map_at_covered_pixels_is_the_whole_maps_there():
     scene = _scene([CAR, FAR_CAR])
     original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(2))
     source = PhotoSource(original, FRAME, scene)
-    covered = (source.raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+    covered = source.raster.frags.covered()
     assert len(covered) > 100
     for at in (covered, covered[::7].flip(0), covered[:0]):
         got = _part_map(source.raster, scene.objects, source.bank, at)
@@ -527,7 +527,7 @@ def test_surface_points_selected_are_those_computed_on_the_selected_pixels():
     scene = _scene([CAR, FAR_CAR])
     original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(4))
     raster = PhotoSource(original, FRAME, scene).raster
-    pix = (raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+    pix = raster.frags.covered()
     mesh, vid, bary, normal, tri, point = _surface_points(raster, pix)
     assert all(torch.equal(a, b) for a, b in zip(_surface(raster, pix), (mesh, vid, bary, normal), strict=True))
     g = torch.Generator().manual_seed(5)
@@ -583,7 +583,7 @@ def test_raster_ids_from_a_table_are_the_where_they_replaced():
     scene = _scene([CAR, FAR_CAR])
     original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(6))
     raster = PhotoSource(original, FRAME, scene).raster
-    mesh = raster.frags.pix_to_mesh[0]
+    mesh = raster.frags.in_image(raster.frags.pix_to_mesh, -1)[0]
     want = torch.where(mesh >= 0, scene.objects.instance_id[raster.rows[mesh.clamp(min=0)]], torch.zeros_like(mesh))
     got = _raster_ids(raster, scene.objects)
     assert got.dtype == want.dtype and torch.equal(got, want)

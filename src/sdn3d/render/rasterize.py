@@ -106,14 +106,18 @@ class Fragments:
 
     def _window_index(self, flat: Tensor) -> tuple[Tensor, Tensor]:
         """``(inside (P,), index (P,))``: which flat image pixels ``flat (P,)`` lie in the window, and
-        their flat window index (0 outside)."""
+        their flat window index (meaningless outside)."""
         height, width = self.image_size
         x0, y0, x1, y1 = self.box
-        image, rest = flat // (height * width), flat % (height * width)
-        y, x = rest // width, rest % width
+        single = self.pix_to_face.shape[0] == 1  # one image: the flat index is the pixel's
+        rest = flat if single else flat % (height * width)
+        y = rest // width
+        x = rest - y * width
         inside = (y >= y0) & (y < y1) & (x >= x0) & (x < x1)
-        index = image * ((y1 - y0) * (x1 - x0)) + (y - y0) * (x1 - x0) + (x - x0)
-        return inside, torch.where(inside, index, 0)
+        index = (y - y0) * (x1 - x0) + (x - x0)
+        if not single:
+            index += flat // (height * width) * ((y1 - y0) * (x1 - x0))
+        return inside, index
 
     def _at(self, values: Tensor, flat: Tensor, empty: float) -> Tensor:
         """``values`` (a ``(B, h, w, ...)`` map) at flat image pixels ``flat (P,)``, ``empty`` outside."""
@@ -121,7 +125,11 @@ class Fragments:
         if self.whole:
             return table[flat]
         inside, index = self._window_index(flat)
-        found = table[index] if len(table) else table.new_zeros((len(flat), *values.shape[3:]))
+        if bool(inside.all()):  # (covered pixels: no empty value to put in)
+            return table[index]
+        if not len(table):
+            return values.new_full((len(flat), *values.shape[3:]), empty)
+        found = table[torch.where(inside, index, 0)]
         keep = inside.view(-1, *([1] * (values.dim() - 3)))
         return torch.where(keep, found, found.new_full((), empty))
 

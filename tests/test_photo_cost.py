@@ -917,3 +917,42 @@ def test_grow_in_the_labels_window_is_the_whole_pictures():
             boxed[box[1]:box[3], box[0]:box[2]] = 1
             edge = upsample_ids(boxed, frame, window) & ones
             assert bool(edge[0].any() and edge[-1].any() and edge[:, 0].any() and edge[:, -1].any())
+
+
+def test_photo_path_on_cropped_fragments_draws_what_the_whole_images_drew(monkeypatch):
+    """render_photo rasterizes the objects in their box (rasterize_meshes(crop=True)); with the whole image's
+    fragments (crop=False) every lookup, outline, part and normal map is the same, so the pictures are."""
+    from sdn3d.editing.apply import Delete
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.settings import PhotoSettings
+    from sdn3d.render.maps import normal_map
+    from sdn3d.render.rasterize import rasterize_meshes
+    from tests.test_photo import _k_input
+
+    scene = _scene([CAR, FAR_CAR])
+    rows, verts, faces = transfer.posed_meshes(scene.objects, transfer.default_bank())
+    frags = rasterize_meshes(verts.double(), faces, _k_input(), transfer.RasterSettings(image_size=INPUT_SIZE[::-1]),
+                             mesh_to_image=torch.zeros(len(rows), dtype=torch.long), batch_size=1)
+    normals = normal_map(frags, verts.double(), faces)[0]
+    light = F.normalize(torch.tensor([-0.6, -0.6, -0.5], dtype=torch.float64), dim=0)
+    shade = 0.3 + 0.7 * (normals * light[:, None, None]).sum(0)
+    g = torch.Generator().manual_seed(8)
+    image = (0.45 + 0.05 * torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=g)).double()
+    image = torch.where(frags.mask[0][None], 0.8 * shade.clamp(min=0)[None], image)
+    original = (image.clamp(0, 1) * 255).round().to(torch.uint8)
+    edits = ([Move(12001, (40.0, 42.0)), Rotate(12001, math.radians(70))], [Rotate(12002, math.radians(-120))],
+             [Delete(12001)], [Move(12002, (95.0, 40.0))])
+    settings = (PhotoSettings(relight=True), PhotoSettings(fill="telea", unseen="body"))
+
+    def draw():
+        return [render_photo(original, FRAME, scene, apply_edits(scene, ops), settings=s) for ops in edits
+                for s in settings]
+
+    cropped = draw()
+    monkeypatch.setattr(transfer, "rasterize_meshes", lambda *a, **k: rasterize_meshes(*a, **{**k, "crop": False}))
+    whole = draw()
+    for got, want in zip(cropped, whole, strict=True):
+        assert torch.equal(got.image, want.image) and torch.equal(got.source, want.source)
+        assert torch.equal(got.parts, want.parts) and got.objects == want.objects
+    assert any(bool((r.source == transfer.PHOTO).any()) for r in whole)
+    assert sum(r.light is not None for r in whole) >= 2

@@ -930,6 +930,9 @@ def test_photo_path_on_cropped_fragments_draws_what_the_whole_images_drew(monkey
     from tests.test_photo import _k_input
 
     scene = _scene([CAR, FAR_CAR])
+    near, far = ((scene.objects.instance_id == i).nonzero().item() for i in (12001, 12002))
+    scene.objects.mask[far] = dilate_square(scene.objects.mask[far], 2) & ~scene.objects.mask[near]  # past its outline
+    scene.objects.mask[near, :, 50] = False  # a post in front of the near car that its mask leaves out
     rows, verts, faces = transfer.posed_meshes(scene.objects, transfer.default_bank())
     frags = rasterize_meshes(verts.double(), faces, _k_input(), transfer.RasterSettings(image_size=INPUT_SIZE[::-1]),
                              mesh_to_image=torch.zeros(len(rows), dtype=torch.long), batch_size=1)
@@ -939,6 +942,7 @@ def test_photo_path_on_cropped_fragments_draws_what_the_whole_images_drew(monkey
     g = torch.Generator().manual_seed(8)
     image = (0.45 + 0.05 * torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=g)).double()
     image = torch.where(frags.mask[0][None], 0.8 * shade.clamp(min=0)[None], image)
+    image[:, :, 100:102] = 0.05  # the post
     original = (image.clamp(0, 1) * 255).round().to(torch.uint8)
     edits = ([Move(12001, (40.0, 42.0)), Rotate(12001, math.radians(70))], [Rotate(12002, math.radians(-120))],
              [Delete(12001)], [Move(12002, (95.0, 40.0))])
@@ -956,3 +960,4 @@ def test_photo_path_on_cropped_fragments_draws_what_the_whole_images_drew(monkey
         assert torch.equal(got.parts, want.parts) and got.objects == want.objects
     assert any(bool((r.source == transfer.PHOTO).any()) for r in whole)
     assert sum(r.light is not None for r in whole) >= 2
+    assert bool((whole[0].source == transfer.IN_FRONT).any())

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
+from sdn3d.math3d.sums import sum3
 from sdn3d.render._common import (
     AREA_EPS,
     check_faces,
@@ -313,7 +314,7 @@ def rasterize_meshes(
         screen, area2, depth_v = screen[face_ids], area2[face_ids], depth_v[face_ids]
         a, b, c = _barycentric_planes(screen, area2)
         inv_z = 1.0 / depth_v
-        az, bz, cz = (a * inv_z).sum(1), (b * inv_z).sum(1), (c * inv_z).sum(1)
+        az, bz, cz = sum3(a * inv_z, 1), sum3(b * inv_z, 1), sum3(c * inv_z, 1)
         rows_per_face = last_row[face_ids] - first_row[face_ids] + 1
 
         # (face, row) pairs and their spans of covered pixel centres.
@@ -375,9 +376,9 @@ def rasterize_meshes(
         v = (pix_in_box // box_w + y0).to(torch.float64).unsqueeze(1)
         lam = (a[local] * u + b[local] * v + c[local]).clamp(min=0)
         weights = lam * inv_z[local]
-        depth = 1.0 / weights.sum(1)
+        depth = 1.0 / sum3(weights, 1)
         bary = weights * depth.unsqueeze(1)
-        bary = bary / bary.sum(1, keepdim=True)
+        bary = bary / sum3(bary, 1, keepdim=True)
 
         out = _empty_fragments(batch, box_h, box_w, dtype, device, (height, width), (x0, y0, x1, y1))
         out.pix_to_face.view(-1)[hit] = winner

@@ -56,6 +56,7 @@ from sdn3d.editing.photo.settings import (
 )
 from sdn3d.image_ops import dilate_square, id_counts, ids_present, isin_ids, mask_boxes
 from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
+from sdn3d.math3d.sums import sum3
 from sdn3d.math3d.transforms import box_corners
 from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.parts import Part, greenhouse_glass
@@ -363,9 +364,9 @@ def _surface_points(r: _Raster, pix: Tensor) -> tuple[Tensor, Tensor, Tensor, Te
     vid = r.faces[mesh, f_all - mesh * nf]  # (P, 3)
     bary = r.frags.bary_at(pix).double()
     tri = r.verts[mesh[:, None], vid]  # (P, 3, 3)
-    point = (bary[..., None] * tri).sum(1)
+    point = sum3(bary[..., None] * tri, 1)
     normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
-    normal = torch.where(((normal * point).sum(-1) > 0)[:, None], -normal, normal)
+    normal = torch.where((sum3(normal * point) > 0)[:, None], -normal, normal)
     return mesh, vid, bary, normal, tri, point
 
 
@@ -1435,7 +1436,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     has_src = s_mesh >= 0
     s_mesh_c = s_mesh.clamp(min=0)
     tri_s = src.verts[s_mesh_c[:, None], vid] if len(src.rows) else torch.zeros(len(pix), 3, 3, dtype=torch.float64)
-    point_s = (bary[..., None] * tri_s).sum(1)
+    point_s = sum3(bary[..., None] * tri_s, 1)
     # Mirror across the vehicle's left-right plane (local z = 0).
     rot = roty(before.ry.double())[b_row.clamp(min=0)]  # (P, 3, 3): each row's, looked up (the same values)
     centre = before.center[b_row.clamp(min=0)].double()
@@ -1459,7 +1460,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     normal_s = F.normalize(torch.linalg.cross(tri_s[:, 1] - tri_s[:, 0], tri_s[:, 2] - tri_s[:, 0], dim=-1), dim=-1)
     # Same face, same winding: orient the source normal as the target one was (edits are rigid).
     raw_t = F.normalize(torch.linalg.cross(tri_t[:, 1] - tri_t[:, 0], tri_t[:, 2] - tri_t[:, 0], dim=-1), dim=-1)
-    normal_s = torch.where(((raw_t * normal_t).sum(-1) < 0)[:, None], -normal_s, normal_s)
+    normal_s = torch.where((sum3(raw_t * normal_t) < 0)[:, None], -normal_s, normal_s)
     src_iid = before.instance_id[b_row.clamp(min=0)]
     ok_photo, uv_photo = _visible(point_s, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
     # A surface seen edge-on is not stretched over a side the edit turns to face the camera; where the edit shows it

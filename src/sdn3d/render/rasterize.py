@@ -102,8 +102,11 @@ class Fragments:
         height, width = self.image_size
         x0, y0, x1, y1 = self.box
         w, hw = x1 - x0, (x1 - x0) * (y1 - y0)
-        image, rest = local // hw, local % hw
-        return image * (height * width) + (rest // w + y0) * width + rest % w + x0
+        single = self.pix_to_face.shape[0] == 1  # one image: the flat index is the pixel's
+        rest = local if single else local % hw
+        y = rest // w
+        flat = (y + y0) * width + (rest - y * w) + x0
+        return flat if single else flat + local // hw * (height * width)
 
     def _window_index(self, flat: Tensor) -> tuple[Tensor, Tensor]:
         """``(inside (P,), index (P,))``: which flat image pixels ``flat (P,)`` lie in the window, and

@@ -283,9 +283,11 @@ def test_cropped_fragments_are_the_whole_images_inside_their_box() -> None:
         assert torch.equal(crop.covered(), whole.mask.view(-1).nonzero().flatten())
         flat = torch.cat([torch.randint(0, images * H * W, (3000,), generator=g), crop.covered(),
                           torch.tensor([0, images * H * W - 1])])
-        for looked, got in ((whole.pix_to_face, crop.face_at(flat)), (whole.pix_to_mesh, crop.mesh_at(flat)),
-                            (whole.depth, crop.depth_at(flat)), (whole.bary, crop.bary_at(flat))):
-            assert torch.equal(got, _whole_at(looked, flat))
+        for pixels in (flat, crop.locate(flat)):  # looked up each time, or found once for all four
+            for looked, got in ((whole.pix_to_face, crop.face_at(pixels)), (whole.pix_to_mesh, crop.mesh_at(pixels)),
+                                (whole.depth, crop.depth_at(pixels)), (whole.bary, crop.bary_at(pixels))):
+                assert torch.equal(got, _whole_at(looked, flat))
+        assert crop.locate(crop.covered()).inside is None and crop.locate(flat).inside is not None
         assert torch.equal(crop.mesh_at(crop.covered()), whole.pix_to_mesh[whole.mask])  # all inside: no empties
 
 

@@ -28,6 +28,7 @@ of the box gets the very values of the whole image's maps, and every pixel outsi
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import torch
 from torch import Tensor
@@ -45,10 +46,22 @@ from sdn3d.render._common import (
 )
 from sdn3d.render.settings import RasterSettings
 
-__all__ = ["Fragments", "rasterize_meshes"]
+__all__ = ["Fragments", "PixelIndex", "rasterize_meshes"]
 
 #: Inclusive inside test tolerance, in barycentric units.
 _INSIDE_EPS = 1e-9
+
+
+class PixelIndex(NamedTuple):
+    """Image pixels found in a :class:`Fragments`' window (:meth:`Fragments.locate`), for several lookups.
+
+    Attributes:
+        index: ``(P,)`` int64 flat index of each pixel in the window's maps (0 outside the window).
+        inside: ``(P,)`` bool, which pixels lie in the window; None where all do.
+    """
+
+    index: Tensor
+    inside: Tensor | None
 
 
 @dataclass
@@ -70,7 +83,8 @@ class Fragments:
             :mod:`sdn3d.render.maps` give the window's maps.
 
     The ``*_at`` lookups take image pixels as flat indices ``b * H * W + y * W + x`` (what
-    ``.view(-1)`` of whole-image maps indexes) and give the empty values outside the window.
+    ``.view(-1)`` of whole-image maps indexes), or their :meth:`locate` (found once for several
+    lookups), and give the empty values outside the window.
     """
 
     pix_to_face: Tensor
@@ -108,9 +122,10 @@ class Fragments:
         flat = (y + y0) * width + (rest - y * w) + x0
         return flat if single else flat + local // hw * (height * width)
 
-    def _window_index(self, flat: Tensor) -> tuple[Tensor, Tensor]:
-        """``(inside (P,), index (P,))``: which flat image pixels ``flat (P,)`` lie in the window, and
-        their flat window index (meaningless outside)."""
+    def locate(self, flat: Tensor) -> PixelIndex:
+        """The flat image pixels ``flat (P,)`` found in the window (:class:`PixelIndex`)."""
+        if self.whole:
+            return PixelIndex(flat, None)
         height, width = self.image_size
         x0, y0, x1, y1 = self.box
         single = self.pix_to_face.shape[0] == 1  # one image: the flat index is the pixel's
@@ -121,37 +136,39 @@ class Fragments:
         index = (y - y0) * (x1 - x0) + (x - x0)
         if not single:
             index += flat // (height * width) * ((y1 - y0) * (x1 - x0))
-        return inside, index
-
-    def _at(self, values: Tensor, flat: Tensor, empty: float) -> Tensor:
-        """``values`` (a ``(B, h, w, ...)`` map) at flat image pixels ``flat (P,)``, ``empty`` outside."""
-        table = values.reshape(-1, *values.shape[3:])
-        if self.whole:
-            return table[flat]
-        inside, index = self._window_index(flat)
         if bool(inside.all()):  # (covered pixels: no empty value to put in)
-            return table[index]
+            return PixelIndex(index, None)
+        return PixelIndex(torch.where(inside, index, 0), inside)
+
+    def _at(self, values: Tensor, pixels: Tensor | PixelIndex, empty: float) -> Tensor:
+        """``values`` (a ``(B, h, w, ...)`` map) at ``pixels``: ``(P,)`` flat image pixels or their
+        :meth:`locate`; ``empty`` outside the window."""
+        where = pixels if isinstance(pixels, PixelIndex) else self.locate(pixels)
+        table = values.reshape(-1, *values.shape[3:])
+        if where.inside is None:
+            return table[where.index]
         if not len(table):
-            return values.new_full((len(flat), *values.shape[3:]), empty)
-        found = table[torch.where(inside, index, 0)]
-        keep = inside.view(-1, *([1] * (values.dim() - 3)))
+            return values.new_full((len(where.index), *values.shape[3:]), empty)
+        found = table[where.index]
+        keep = where.inside.view(-1, *([1] * (values.dim() - 3)))
         return torch.where(keep, found, found.new_full((), empty))
 
-    def face_at(self, flat: Tensor) -> Tensor:
-        """``(P,)`` :attr:`pix_to_face` at flat image pixels ``flat (P,)`` (-1 outside the window)."""
-        return self._at(self.pix_to_face, flat, -1)
+    def face_at(self, pixels: Tensor | PixelIndex) -> Tensor:
+        """``(P,)`` :attr:`pix_to_face` at ``pixels`` (flat image pixels ``(P,)`` or their :meth:`locate`; -1
+        outside the window)."""
+        return self._at(self.pix_to_face, pixels, -1)
 
-    def mesh_at(self, flat: Tensor) -> Tensor:
-        """``(P,)`` :attr:`pix_to_mesh` at flat image pixels ``flat (P,)`` (-1 outside the window)."""
-        return self._at(self.pix_to_mesh, flat, -1)
+    def mesh_at(self, pixels: Tensor | PixelIndex) -> Tensor:
+        """``(P,)`` :attr:`pix_to_mesh` at ``pixels`` (as :meth:`face_at`; -1 outside the window)."""
+        return self._at(self.pix_to_mesh, pixels, -1)
 
-    def depth_at(self, flat: Tensor) -> Tensor:
-        """``(P,)`` :attr:`depth` at flat image pixels ``flat (P,)`` (+inf outside the window)."""
-        return self._at(self.depth, flat, float("inf"))
+    def depth_at(self, pixels: Tensor | PixelIndex) -> Tensor:
+        """``(P,)`` :attr:`depth` at ``pixels`` (as :meth:`face_at`; +inf outside the window)."""
+        return self._at(self.depth, pixels, float("inf"))
 
-    def bary_at(self, flat: Tensor) -> Tensor:
-        """``(P, 3)`` :attr:`bary` at flat image pixels ``flat (P,)`` (zeros outside the window)."""
-        return self._at(self.bary, flat, 0.0)
+    def bary_at(self, pixels: Tensor | PixelIndex) -> Tensor:
+        """``(P, 3)`` :attr:`bary` at ``pixels`` (as :meth:`face_at`; zeros outside the window)."""
+        return self._at(self.bary, pixels, 0.0)
 
     def in_image(self, values: Tensor, empty: float) -> Tensor:
         """``values (B, h, w, ...)``, a map of the window, as the ``(B, H, W, ...)`` map of the whole

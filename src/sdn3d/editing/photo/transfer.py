@@ -309,8 +309,9 @@ def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank, at: Tensor | Non
             return out
     else:
         pix = at
-    mesh = r.frags.mesh_at(pix)
-    local = r.frags.face_at(pix) - mesh * r.faces.shape[1]
+    where = r.frags.locate(pix)
+    mesh = r.frags.mesh_at(where)
+    local = r.frags.face_at(where) - mesh * r.faces.shape[1]
     parts = bank.face_parts.cpu()
     template = objects.template_id[r.rows[mesh]].long()
     found = parts[template, local.clamp(max=parts.shape[1] - 1)]
@@ -358,11 +359,12 @@ def _surface(r: _Raster, pix: Tensor) -> tuple[Tensor, Tensor, Tensor, Tensor]:
 def _surface_points(r: _Raster, pix: Tensor) -> tuple[Tensor, Tensor, Tensor, Tensor, Tensor, Tensor]:
     """:func:`_surface` and the ``(P, 3, 3)`` triangles and ``(P, 3)`` surface points it found them from (row by row:
     rows selected from them are those of the selected pixels)."""
-    f_all = r.frags.face_at(pix)
-    mesh = r.frags.mesh_at(pix)
+    where = r.frags.locate(pix)
+    f_all = r.frags.face_at(where)
+    mesh = r.frags.mesh_at(where)
     nf = r.faces.shape[1]
     vid = r.faces[mesh, f_all - mesh * nf]  # (P, 3)
-    bary = r.frags.bary_at(pix).double()
+    bary = r.frags.bary_at(where).double()
     tri = r.verts[mesh[:, None], vid]  # (P, 3, 3)
     point = sum3(bary[..., None] * tri, 1)
     normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
@@ -394,8 +396,9 @@ def _visible(points: Tensor, mesh: Tensor, iid: Tensor, src: _Raster, vis_ids: T
     (instance ``iid (P,)``) seen in the input (module doc, step 3)?"""
     uv, front = _project(points, K)
     inside, flat = _nearest_pixel(uv, front, tuple(vis_ids.shape))
-    same = src.frags.mesh_at(flat) == mesh
-    depth = src.frags.depth_at(flat).double()
+    where = src.frags.locate(flat)
+    same = src.frags.mesh_at(where) == mesh
+    depth = src.frags.depth_at(where).double()
     z = points[:, 2]
     near = (depth - z).abs() <= tolerance * z.abs() + 0.05
     ok = inside & same & near & (vis_ids.view(-1)[flat] == iid)
@@ -1412,7 +1415,8 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's)."""
     height, width = own.shape
     covered = tgt.frags.covered()
-    row = tgt.rows[tgt.frags.mesh_at(covered)]  # row in `after`
+    at_tgt, at_src = tgt.frags.locate(covered), src.frags.locate(covered)
+    row = tgt.rows[tgt.frags.mesh_at(at_tgt)]  # row in `after`
     iid = after.instance_id[row]
     own_flat = own.view(-1)[covered]
     is_moved = moved[row]
@@ -1420,10 +1424,10 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     stay_row = torch.searchsorted(before.instance_id.sort().values, own_flat.clamp(min=0))
     order = before.instance_id.argsort()
     stay_b = order[stay_row.clamp(max=max(len(order) - 1, 0))] if len(order) else stay_row
-    src_mesh_here = src.frags.mesh_at(covered)
-    stay_depth = torch.where(src_mesh_here == src_row_to_mesh[stay_b], src.frags.depth_at(covered).double(),
+    src_mesh_here = src.frags.mesh_at(at_src)
+    stay_depth = torch.where(src_mesh_here == src_row_to_mesh[stay_b], src.frags.depth_at(at_src).double(),
                              before.center[stay_b, 2].double())
-    t_depth = tgt.frags.depth_at(covered).double()
+    t_depth = tgt.frags.depth_at(at_tgt).double()
     # A moved object wins where nothing stays or it is nearer; one that grew draws only the pixels it gained.
     gained = (own_flat == iid) & (src_ids.view(-1)[covered] != iid)
     wins = torch.where(is_moved, (own_flat == 0) | (t_depth < stay_depth), gained)

@@ -513,7 +513,7 @@ def test_part_map_at_covered_pixels_is_the_whole_maps_there():
     scene = _scene([CAR, FAR_CAR])
     original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(2))
     source = PhotoSource(original, FRAME, scene)
-    covered = (source.raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+    covered = source.raster.frags.covered()
     assert len(covered) > 100
     for at in (covered, covered[::7].flip(0), covered[:0]):
         got = _part_map(source.raster, scene.objects, source.bank, at)
@@ -527,7 +527,7 @@ def test_surface_points_selected_are_those_computed_on_the_selected_pixels():
     scene = _scene([CAR, FAR_CAR])
     original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(4))
     raster = PhotoSource(original, FRAME, scene).raster
-    pix = (raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+    pix = raster.frags.covered()
     mesh, vid, bary, normal, tri, point = _surface_points(raster, pix)
     assert all(torch.equal(a, b) for a, b in zip(_surface(raster, pix), (mesh, vid, bary, normal), strict=True))
     g = torch.Generator().manual_seed(5)
@@ -583,7 +583,7 @@ def test_raster_ids_from_a_table_are_the_where_they_replaced():
     scene = _scene([CAR, FAR_CAR])
     original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(6))
     raster = PhotoSource(original, FRAME, scene).raster
-    mesh = raster.frags.pix_to_mesh[0]
+    mesh = raster.frags.in_image(raster.frags.pix_to_mesh, -1)[0]
     want = torch.where(mesh >= 0, scene.objects.instance_id[raster.rows[mesh.clamp(min=0)]], torch.zeros_like(mesh))
     got = _raster_ids(raster, scene.objects)
     assert got.dtype == want.dtype and torch.equal(got, want)
@@ -917,3 +917,47 @@ def test_grow_in_the_labels_window_is_the_whole_pictures():
             boxed[box[1]:box[3], box[0]:box[2]] = 1
             edge = upsample_ids(boxed, frame, window) & ones
             assert bool(edge[0].any() and edge[-1].any() and edge[:, 0].any() and edge[:, -1].any())
+
+
+def test_photo_path_on_cropped_fragments_draws_what_the_whole_images_drew(monkeypatch):
+    """render_photo rasterizes the objects in their box (rasterize_meshes(crop=True)); with the whole image's
+    fragments (crop=False) every lookup, outline, part and normal map is the same, so the pictures are."""
+    from sdn3d.editing.apply import Delete
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.settings import PhotoSettings
+    from sdn3d.render.maps import normal_map
+    from sdn3d.render.rasterize import rasterize_meshes
+    from tests.test_photo import _k_input
+
+    scene = _scene([CAR, FAR_CAR])
+    near, far = ((scene.objects.instance_id == i).nonzero().item() for i in (12001, 12002))
+    scene.objects.mask[far] = dilate_square(scene.objects.mask[far], 2) & ~scene.objects.mask[near]  # past its outline
+    scene.objects.mask[near, :, 50] = False  # a post in front of the near car that its mask leaves out
+    rows, verts, faces = transfer.posed_meshes(scene.objects, transfer.default_bank())
+    frags = rasterize_meshes(verts.double(), faces, _k_input(), transfer.RasterSettings(image_size=INPUT_SIZE[::-1]),
+                             mesh_to_image=torch.zeros(len(rows), dtype=torch.long), batch_size=1)
+    normals = normal_map(frags, verts.double(), faces)[0]
+    light = F.normalize(torch.tensor([-0.6, -0.6, -0.5], dtype=torch.float64), dim=0)
+    shade = 0.3 + 0.7 * (normals * light[:, None, None]).sum(0)
+    g = torch.Generator().manual_seed(8)
+    image = (0.45 + 0.05 * torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=g)).double()
+    image = torch.where(frags.mask[0][None], 0.8 * shade.clamp(min=0)[None], image)
+    image[:, :, 100:102] = 0.05  # the post
+    original = (image.clamp(0, 1) * 255).round().to(torch.uint8)
+    edits = ([Move(12001, (40.0, 42.0)), Rotate(12001, math.radians(70))], [Rotate(12002, math.radians(-120))],
+             [Delete(12001)], [Move(12002, (95.0, 40.0))])
+    settings = (PhotoSettings(relight=True), PhotoSettings(fill="telea", unseen="body"))
+
+    def draw():
+        return [render_photo(original, FRAME, scene, apply_edits(scene, ops), settings=s) for ops in edits
+                for s in settings]
+
+    cropped = draw()
+    monkeypatch.setattr(transfer, "rasterize_meshes", lambda *a, **k: rasterize_meshes(*a, **{**k, "crop": False}))
+    whole = draw()
+    for got, want in zip(cropped, whole, strict=True):
+        assert torch.equal(got.image, want.image) and torch.equal(got.source, want.source)
+        assert torch.equal(got.parts, want.parts) and got.objects == want.objects
+    assert any(bool((r.source == transfer.PHOTO).any()) for r in whole)
+    assert sum(r.light is not None for r in whole) >= 2
+    assert bool((whole[0].source == transfer.IN_FRONT).any())

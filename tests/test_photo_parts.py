@@ -176,7 +176,7 @@ def _painted(scene, paint, size=None, K=None, lamp=None):
     rows, verts, faces = posed_meshes(scene.objects, default_bank())
     raster = _rasterize(rows, verts, faces, K, size)
     parts = _part_map(raster, scene.objects, default_bank()).view(size)
-    covered = raster.frags.pix_to_face[0] >= 0
+    covered = raster.frags.in_image(raster.frags.mask, False)[0]
     image = torch.full((3, *size), 0.45)
     image[:, covered] = torch.tensor(paint)[:, None]
     if lamp is not None:
@@ -235,7 +235,7 @@ def test_unseen_surface_takes_the_shading_of_pixels_that_faced_the_same_way(monk
         size = INPUT_SIZE[::-1]
         rows, verts, faces = posed_meshes(scn.objects, default_bank())
         raster = _rasterize(rows, verts, faces, _k_input(), size)
-        pix = (raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+        pix = raster.frags.covered()
         _, _, _, normal = _surface(raster, pix)
         facing = normal[:, 2].abs()  # camera-facing normals have |n_z| near 1 (the camera looks along +z)
         image = torch.full((size[0] * size[1], 3), 0.45)
@@ -438,7 +438,7 @@ def test_glass_seen_from_a_new_angle_takes_the_change_of_its_reflection():
         rows, verts, faces = posed_meshes(scene.objects, default_bank())
         raster = _rasterize(rows, verts, faces, K, size)
         parts = _part_map(raster, scene.objects, default_bank()).view(size)
-        covered = raster.frags.pix_to_face[0] >= 0
+        covered = raster.frags.in_image(raster.frags.mask, False)[0]
         image = torch.full((3, *size), 0.45)
         image[:, covered] = 0.6
         glass = covered & (parts == int(Part.GLASS))
@@ -578,7 +578,7 @@ def test_a_black_cars_never_seen_side_takes_the_reflection_of_its_new_view(monke
         rows, verts, faces = posed_meshes(scene.objects, default_bank())
         raster = _rasterize(rows, verts, faces, K, size)
         parts = _part_map(raster, scene.objects, default_bank()).view(-1)
-        pix = (raster.frags.pix_to_face.view(-1) >= 0).nonzero().flatten()
+        pix = raster.frags.covered()
         _, vid, bary, normal = _surface(raster, pix)
         point = (bary[..., None] * raster.verts[0, vid]).sum(1)
         image = torch.full((3, size[0] * size[1]), 0.45)

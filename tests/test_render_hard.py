@@ -250,3 +250,57 @@ def test_bad_input_raises() -> None:
         RasterSettings(image_size=(0, 10))
     with pytest.raises(ValueError, match="far"):
         RasterSettings(image_size=(10, 10), near=1.0, far=0.5)
+
+
+def _whole_at(values: torch.Tensor, flat: torch.Tensor) -> torch.Tensor:
+    return values.reshape(-1, *values.shape[3:])[flat]
+
+
+def test_cropped_fragments_are_the_whole_images_inside_their_box() -> None:
+    meshes = random_scene(np.random.default_rng(7))
+    meshes[0].apply_translation([-60.0, 0.0, 0.0])  # partly off the left edge
+    verts, faces = pad_meshes(meshes, torch.float64)
+    image = torch.tensor([0, 1, 0, 1, 1, 0])
+    g = torch.Generator().manual_seed(3)
+    for settings, images, sel in ((SETTINGS, 2, slice(None)), (RasterSettings((H, W), max_pairs_per_chunk=97), 2,
+                                                                  slice(None)), (SETTINGS, 1, slice(3, 4))):
+        v, f, m = verts[sel], faces[sel], torch.zeros_like(image[sel]) if images == 1 else image
+        whole = rasterize_meshes(v, f, K, settings, m, images)
+        crop = rasterize_meshes(v, f, K, settings, m, images, crop=True)
+        x0, y0, x1, y1 = crop.box
+        assert crop.image_size == (H, W) and whole.box == (0, 0, W, H) and whole.whole and not crop.whole
+        assert crop.pix_to_face.shape == (images, y1 - y0, x1 - x0) and crop.bary.shape[-1] == 3
+        inside = torch.zeros(H, W, dtype=torch.bool)
+        inside[y0:y1, x0:x1] = True
+        for field, empty in (("pix_to_face", -1), ("pix_to_mesh", -1), ("depth", math.inf), ("bary", 0.0)):
+            full, box = getattr(whole, field), getattr(crop, field)
+            assert torch.equal(box, full[:, y0:y1, x0:x1]), field  # the same values in the box
+            assert bool((full[:, ~inside] == empty).all()), field  # and nothing outside it
+            assert torch.equal(crop.in_image(box, empty), full), field
+        # the box is tight: each of its edge rows and columns holds a covered pixel of some image
+        covered = whole.mask.any(0)
+        assert bool(covered[y0].any() and covered[y1 - 1].any() and covered[:, x0].any() and covered[:, x1 - 1].any())
+        assert torch.equal(crop.covered(), whole.mask.view(-1).nonzero().flatten())
+        flat = torch.cat([torch.randint(0, images * H * W, (3000,), generator=g), crop.covered(),
+                          torch.tensor([0, images * H * W - 1])])
+        for pixels in (flat, crop.locate(flat)):  # looked up each time, or found once for all four
+            for looked, got in ((whole.pix_to_face, crop.face_at(pixels)), (whole.pix_to_mesh, crop.mesh_at(pixels)),
+                                (whole.depth, crop.depth_at(pixels)), (whole.bary, crop.bary_at(pixels))):
+                assert torch.equal(got, _whole_at(looked, flat))
+        assert crop.locate(crop.covered()).inside is None and crop.locate(flat).inside is not None
+        assert torch.equal(crop.mesh_at(crop.covered()), whole.pix_to_mesh[whole.mask])  # all inside: no empties
+
+
+def test_cropped_fragments_of_nothing_are_an_empty_box() -> None:
+    box = trimesh.creation.box(extents=(2.0, 2.0, 2.0))
+    verts, faces = pad_meshes([box.copy().apply_translation([0.0, 0.0, -5.0]),
+                               box.copy().apply_translation([200.0, 0.0, 10.0])], torch.float64)
+    for v, f in ((verts, faces), (torch.zeros(0, 0, 3), torch.zeros(0, 0, 3, dtype=torch.long))):
+        crop = rasterize_meshes(v, f, K, SETTINGS, torch.zeros(len(v), dtype=torch.long), 1, crop=True)
+        assert crop.box == (0, 0, 0, 0) and crop.pix_to_face.shape == (1, 0, 0) and crop.image_size == (H, W)
+        flat = torch.tensor([0, 5, H * W - 1])
+        assert torch.equal(crop.face_at(flat), torch.full((3,), -1))
+        assert torch.equal(crop.mesh_at(flat), crop.face_at(flat))
+        assert bool(torch.isinf(crop.depth_at(flat)).all()) and crop.bary_at(flat).shape == (3, 3)
+        assert not bool(crop.bary_at(flat).any()) and len(crop.covered()) == 0
+        assert torch.equal(crop.in_image(crop.depth, math.inf), torch.full((1, H, W), math.inf, dtype=crop.depth.dtype))

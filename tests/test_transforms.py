@@ -153,3 +153,29 @@ def test_empty_batch() -> None:
     dims, ry, center = random_objects(0)
     assert box_corners(dims, ry, center).shape == (0, 8, 3)
     assert project_box(dims, ry, center, VKITTI_INTRINSICS.matrix(F64)).shape == (0, 4)
+
+
+def test_sum3_is_torch_sum_bit_for_bit() -> None:
+    from sdn3d.math3d.sums import sum3
+
+    g = torch.Generator().manual_seed(0)
+    for dtype, bits in ((torch.float64, torch.int64), (torch.float32, torch.int32)):
+        for n in (0, 1, 7, 5000, 60000):
+            scale = torch.exp(torch.randn(n, 3, 3, generator=g) * 8).to(dtype)
+            x = torch.randn(n, 3, 3, generator=g, dtype=dtype) * scale
+            x[::5] = -0.0  # rows of -0.0 alone: torch's sum gives +0.0
+            x[::7, 0] = 0.0
+            x[1::11, :, 1] = -0.0
+            x[2::13, 2, 2] = float("inf")
+            x[3::17, 1, 0] = float("-inf")
+            x[4::19, 0, 2] = float("nan")
+            for t in (x, x.transpose(1, 2), x[:, 0], x[:, :, 1], x.permute(2, 0, 1).contiguous().permute(1, 2, 0)):
+                for dim in range(1, t.dim()) if t.dim() == 3 else (1, -1):
+                    for keepdim in (False, True):
+                        want, got = t.sum(dim, keepdim=keepdim), sum3(t, dim, keepdim=keepdim)
+                        assert got.shape == want.shape and got.dtype == want.dtype
+                        assert torch.equal(got.view(bits), want.view(bits)), (dtype, n, t.stride(), dim, keepdim)
+    with pytest.raises(ValueError, match="size 3"):
+        sum3(torch.zeros(4, 2))
+    with pytest.raises(ValueError, match="floating-point"):
+        sum3(torch.zeros(4, 3, dtype=torch.long))

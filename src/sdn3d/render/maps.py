@@ -12,6 +12,7 @@ import torch
 from torch import Tensor
 
 from sdn3d.math3d.rotations import NUM_POSE_BINS, alpha_bins
+from sdn3d.math3d.sums import sum3
 from sdn3d.render._common import check_faces, check_verts, face_vertices
 from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings
@@ -84,8 +85,8 @@ def normal_map(fragments: Fragments, verts: Tensor, faces: Tensor) -> Tensor:
         )
     tri = fverts[packed].to(out.dtype)  # (P, 3, 3)
     normal = torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1)
-    point = (fragments.bary[hit].unsqueeze(-1) * tri).sum(1)
-    flip = (normal * point).sum(-1, keepdim=True) > 0
+    point = sum3(fragments.bary[hit].unsqueeze(-1) * tri, 1)
+    flip = sum3(normal * point, -1, keepdim=True) > 0
     normal = torch.where(flip, -normal, normal)
     out[hit] = normal / normal.norm(dim=-1, keepdim=True).clamp_min(torch.finfo(out.dtype).tiny)
     return out.permute(0, 3, 1, 2)

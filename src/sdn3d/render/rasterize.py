@@ -18,15 +18,22 @@ Algorithm (no Python loop over faces or pixels; a loop over chunks bounds memory
 
 Per-face set-up and spans are float64: vertices close to ``near`` project far outside the
 image, and single precision would shift the edges of such large faces (a ground plane).
+
+With ``crop=True`` the maps hold only the box of the pixels some (face, row) span covers
+(:attr:`Fragments.box`): the z-buffer and the outputs are that box's, not the image's. Every
+face's set-up, span and pixel coordinate stays the image's (no shifted camera), so each pixel
+of the box gets the very values of the whole image's maps, and every pixel outside it is empty.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import torch
 from torch import Tensor
 
+from sdn3d.math3d.sums import sum3
 from sdn3d.render._common import (
     AREA_EPS,
     check_faces,
@@ -39,46 +46,156 @@ from sdn3d.render._common import (
 )
 from sdn3d.render.settings import RasterSettings
 
-__all__ = ["Fragments", "rasterize_meshes"]
+__all__ = ["Fragments", "PixelIndex", "rasterize_meshes"]
 
 #: Inclusive inside test tolerance, in barycentric units.
 _INSIDE_EPS = 1e-9
 
 
-@dataclass
-class Fragments:
-    """Per-pixel output of :func:`rasterize_meshes` for ``B`` images of ``H x W``.
+class PixelIndex(NamedTuple):
+    """Image pixels found in a :class:`Fragments`' window (:meth:`Fragments.locate`), for several lookups.
 
     Attributes:
-        pix_to_face: ``(B, H, W)`` int64 packed face index ``n * F + f`` of the visible face
+        index: ``(P,)`` int64 flat index of each pixel in the window's maps (0 outside the window).
+        inside: ``(P,)`` bool, which pixels lie in the window; None where all do.
+    """
+
+    index: Tensor
+    inside: Tensor | None
+
+
+@dataclass
+class Fragments:
+    """Per-pixel output of :func:`rasterize_meshes` for ``B`` images of ``H x W``, held in the window
+    ``box`` of each image (the whole image unless the rasterizer cropped), ``h x w`` pixels.
+
+    Attributes:
+        pix_to_face: ``(B, h, w)`` int64 packed face index ``n * F + f`` of the visible face
             (``F`` = padded faces per mesh), ``-1`` where empty.
-        pix_to_mesh: ``(B, H, W)`` int64 mesh index ``n = pix_to_face // F``, ``-1`` where empty.
-        depth: ``(B, H, W)`` camera-frame z of the visible surface (the vertices' dtype),
+        pix_to_mesh: ``(B, h, w)`` int64 mesh index ``n = pix_to_face // F``, ``-1`` where empty.
+        depth: ``(B, h, w)`` camera-frame z of the visible surface (the vertices' dtype),
             ``+inf`` where empty (:func:`sdn3d.render.depth_map` gives 0 there).
-        bary: ``(B, H, W, 3)`` perspective-correct barycentric coordinates of the visible face's
+        bary: ``(B, h, w, 3)`` perspective-correct barycentric coordinates of the visible face's
             vertices ``faces[n, f]`` (non-negative, sum to 1), zeros where empty.
+        image_size: ``(H, W)`` of the images.
+        box: ``(x0, y0, x1, y1)`` half-open, the window of each image the maps hold (``w = x1 - x0``,
+            ``h = y1 - y0``); every pixel outside it is empty. The map functions of
+            :mod:`sdn3d.render.maps` give the window's maps.
+
+    The ``*_at`` lookups take image pixels as flat indices ``b * H * W + y * W + x`` (what
+    ``.view(-1)`` of whole-image maps indexes), or their :meth:`locate` (found once for several
+    lookups), and give the empty values outside the window.
     """
 
     pix_to_face: Tensor
     pix_to_mesh: Tensor
     depth: Tensor
     bary: Tensor
+    image_size: tuple[int, int]
+    box: tuple[int, int, int, int]
 
     @property
     def mask(self) -> Tensor:
-        """``(B, H, W)`` bool, true where some face is visible."""
+        """``(B, h, w)`` bool, true where some face is visible."""
         return self.pix_to_face >= 0
+
+    @property
+    def whole(self) -> bool:
+        """True where the window is the whole image."""
+        height, width = self.image_size
+        return self.box == (0, 0, width, height)
+
+    def covered(self) -> Tensor:
+        """``(P,)`` int64 flat image indices of the pixels some face covers, in increasing order (the
+        whole-image mask's ``nonzero()``)."""
+        local = self.mask.view(-1).nonzero().flatten()
+        return local if self.whole else self._to_image(local)
+
+    def _to_image(self, local: Tensor) -> Tensor:
+        """Flat window indices ``(P,)`` as flat image indices."""
+        height, width = self.image_size
+        x0, y0, x1, y1 = self.box
+        w, hw = x1 - x0, (x1 - x0) * (y1 - y0)
+        single = self.pix_to_face.shape[0] == 1  # one image: the flat index is the pixel's
+        rest = local if single else local % hw
+        y = rest // w
+        flat = (y + y0) * width + (rest - y * w) + x0
+        return flat if single else flat + local // hw * (height * width)
+
+    def locate(self, flat: Tensor) -> PixelIndex:
+        """The flat image pixels ``flat (P,)`` found in the window (:class:`PixelIndex`)."""
+        if self.whole:
+            return PixelIndex(flat, None)
+        height, width = self.image_size
+        x0, y0, x1, y1 = self.box
+        single = self.pix_to_face.shape[0] == 1  # one image: the flat index is the pixel's
+        rest = flat if single else flat % (height * width)
+        y = rest // width
+        x = rest - y * width
+        inside = (y >= y0) & (y < y1) & (x >= x0) & (x < x1)
+        index = (y - y0) * (x1 - x0) + (x - x0)
+        if not single:
+            index += flat // (height * width) * ((y1 - y0) * (x1 - x0))
+        if bool(inside.all()):  # (covered pixels: no empty value to put in)
+            return PixelIndex(index, None)
+        return PixelIndex(torch.where(inside, index, 0), inside)
+
+    def _at(self, values: Tensor, pixels: Tensor | PixelIndex, empty: float) -> Tensor:
+        """``values`` (a ``(B, h, w, ...)`` map) at ``pixels``: ``(P,)`` flat image pixels or their
+        :meth:`locate`; ``empty`` outside the window."""
+        where = pixels if isinstance(pixels, PixelIndex) else self.locate(pixels)
+        table = values.reshape(-1, *values.shape[3:])
+        if where.inside is None:
+            return table[where.index]
+        if not len(table):
+            return values.new_full((len(where.index), *values.shape[3:]), empty)
+        found = table[where.index]
+        keep = where.inside.view(-1, *([1] * (values.dim() - 3)))
+        return torch.where(keep, found, found.new_full((), empty))
+
+    def face_at(self, pixels: Tensor | PixelIndex) -> Tensor:
+        """``(P,)`` :attr:`pix_to_face` at ``pixels`` (flat image pixels ``(P,)`` or their :meth:`locate`; -1
+        outside the window)."""
+        return self._at(self.pix_to_face, pixels, -1)
+
+    def mesh_at(self, pixels: Tensor | PixelIndex) -> Tensor:
+        """``(P,)`` :attr:`pix_to_mesh` at ``pixels`` (as :meth:`face_at`; -1 outside the window)."""
+        return self._at(self.pix_to_mesh, pixels, -1)
+
+    def depth_at(self, pixels: Tensor | PixelIndex) -> Tensor:
+        """``(P,)`` :attr:`depth` at ``pixels`` (as :meth:`face_at`; +inf outside the window)."""
+        return self._at(self.depth, pixels, float("inf"))
+
+    def bary_at(self, pixels: Tensor | PixelIndex) -> Tensor:
+        """``(P, 3)`` :attr:`bary` at ``pixels`` (as :meth:`face_at`; zeros outside the window)."""
+        return self._at(self.bary, pixels, 0.0)
+
+    def in_image(self, values: Tensor, empty: float) -> Tensor:
+        """``values (B, h, w, ...)``, a map of the window, as the ``(B, H, W, ...)`` map of the whole
+        images, ``empty`` outside the window."""
+        if self.whole:
+            return values
+        height, width = self.image_size
+        x0, y0, x1, y1 = self.box
+        out = values.new_full((values.shape[0], height, width, *values.shape[3:]), empty)
+        out[:, y0:y1, x0:x1] = values
+        return out
 
 
 def _empty_fragments(
-    batch: int, height: int, width: int, dtype: torch.dtype, device: torch.device
+    batch: int, height: int, width: int, dtype: torch.dtype, device: torch.device,
+    image_size: tuple[int, int] | None = None, box: tuple[int, int, int, int] | None = None,
 ) -> Fragments:
+    """Empty fragments of ``batch`` maps of ``height x width``: the window ``box`` of images of ``image_size``
+    (default: the whole ``(height, width)`` images)."""
     shape = (batch, height, width)
     return Fragments(
         pix_to_face=torch.full(shape, -1, dtype=torch.long, device=device),
         pix_to_mesh=torch.full(shape, -1, dtype=torch.long, device=device),
         depth=torch.full(shape, float("inf"), dtype=dtype, device=device),
         bary=torch.zeros(*shape, 3, dtype=dtype, device=device),
+        image_size=(height, width) if image_size is None else image_size,
+        box=(0, 0, width, height) if box is None else box,
     )
 
 
@@ -146,6 +263,7 @@ def rasterize_meshes(
     settings: RasterSettings,
     mesh_to_image: Tensor | None = None,
     batch_size: int | None = None,
+    crop: bool = False,
 ) -> Fragments:
     """Rasterize padded meshes into ``B`` images with a z-buffer (no gradients).
 
@@ -156,10 +274,12 @@ def rasterize_meshes(
         settings: image size, near / far planes, back-face culling, chunk size.
         mesh_to_image: ``(N,)`` image index of each mesh; default ``arange(N)`` (one mesh per image).
         batch_size: number of images ``B``; default ``mesh_to_image.max() + 1`` (``N`` without it).
+        crop: hold only the box of the pixels some face's rows span, the same box in every image
+            (module doc); ``(0, 0, 0, 0)`` where none. The box's values are the whole image's.
 
     Returns:
-        :class:`Fragments` of ``(B, H, W)`` maps; ``pix_to_face`` indexes the packed face
-        list ``n * F + f``.
+        :class:`Fragments` of ``(B, H, W)`` maps, or of the box's ``(B, h, w)`` with ``crop``;
+        ``pix_to_face`` indexes the packed face list ``n * F + f``.
 
     Example:
         >>> import torch
@@ -182,10 +302,11 @@ def rasterize_meshes(
     image_of_mesh, batch = _check_mesh_to_image(mesh_to_image, batch_size, num_meshes, device)
     K = check_intrinsics(K, batch, torch.float64, device, "images")
     height, width = settings.image_size
-    out = _empty_fragments(batch, height, width, dtype, device)
+    empty = (_empty_fragments(batch, 0, 0, dtype, device, (height, width), (0, 0, 0, 0)) if crop
+             else _empty_fragments(batch, height, width, dtype, device))
     num_faces = faces.shape[1]
     if num_meshes == 0 or num_faces == 0 or batch == 0:
-        return out
+        return empty
     if num_meshes * num_faces >= 2**31:
         raise ValueError(f"too many faces to pack: N * F = {num_meshes * num_faces} must stay below 2**31")
 
@@ -207,13 +328,13 @@ def rasterize_meshes(
         valid &= (umax >= 0) & (umin <= width - 1) & (last_row >= first_row)
         face_ids = valid.nonzero().squeeze(1)
         if face_ids.numel() == 0:
-            return out
+            return empty
 
         # Per-face planes: barycentrics and 1/z are affine in (u, v).
         screen, area2, depth_v = screen[face_ids], area2[face_ids], depth_v[face_ids]
         a, b, c = _barycentric_planes(screen, area2)
         inv_z = 1.0 / depth_v
-        az, bz, cz = (a * inv_z).sum(1), (b * inv_z).sum(1), (c * inv_z).sum(1)
+        az, bz, cz = sum3(a * inv_z, 1), sum3(b * inv_z, 1), sum3(c * inv_z, 1)
         rows_per_face = last_row[face_ids] - first_row[face_ids] + 1
 
         # (face, row) pairs and their spans of covered pixel centres.
@@ -227,15 +348,22 @@ def rasterize_meshes(
         first_col, cols = _row_spans(a[pair_face], b[pair_face], c[pair_face], rows.to(torch.float64), width)
         keep = cols > 0
         if not bool(keep.any()):
-            return out
+            return empty
         pair_face, rows, first_col, cols = pair_face[keep], rows[keep], first_col[keep], cols[keep]
+        if crop:  # the box of the spans: every candidate pixel
+            x0, y0 = int(first_col.min()), int(rows.min())
+            x1, y1 = int((first_col + cols).max()), int(rows.max()) + 1
+        else:
+            x0, y0, x1, y1 = 0, 0, width, height
+        box_h, box_w = y1 - y0, x1 - x0
         packed_face = face_ids[pair_face]
-        pixel_base = image_of_mesh[packed_face // num_faces] * (height * width) + rows * width
+        # flat index into the box's maps, less the column: image, then the row's start, column 0 at x0
+        pixel_base = image_of_mesh[packed_face // num_faces] * (box_h * box_w) + (rows - y0) * box_w - x0
         inv_z_row = bz[pair_face] * rows + cz[pair_face]
         slope = az[pair_face]
 
         zbuf = torch.full(
-            (batch * height * width,), torch.iinfo(torch.int64).max, dtype=torch.long, device=device
+            (batch * box_h * box_w,), torch.iinfo(torch.int64).max, dtype=torch.long, device=device
         )
         # Chunk boundaries over (face, row) pairs so each chunk covers <= max_pairs pixels.
         ends = torch.cumsum(cols, 0)
@@ -263,15 +391,16 @@ def rasterize_meshes(
         hit = (zbuf != torch.iinfo(torch.int64).max).nonzero().squeeze(1)
         winner = zbuf[hit] & 0xFFFFFFFF
         local = torch.searchsorted(face_ids, winner)  # row of the winner in the per-face tables
-        pix_in_image = hit % (height * width)
-        u = (pix_in_image % width).to(torch.float64).unsqueeze(1)
-        v = (pix_in_image // width).to(torch.float64).unsqueeze(1)
+        pix_in_box = hit % (box_h * box_w)
+        u = (pix_in_box % box_w + x0).to(torch.float64).unsqueeze(1)
+        v = (pix_in_box // box_w + y0).to(torch.float64).unsqueeze(1)
         lam = (a[local] * u + b[local] * v + c[local]).clamp(min=0)
         weights = lam * inv_z[local]
-        depth = 1.0 / weights.sum(1)
+        depth = 1.0 / sum3(weights, 1)
         bary = weights * depth.unsqueeze(1)
-        bary = bary / bary.sum(1, keepdim=True)
+        bary = bary / sum3(bary, 1, keepdim=True)
 
+        out = _empty_fragments(batch, box_h, box_w, dtype, device, (height, width), (x0, y0, x1, y1))
         out.pix_to_face.view(-1)[hit] = winner
         out.pix_to_mesh.view(-1)[hit] = winner // num_faces
         out.depth.view(-1)[hit] = depth.to(dtype)

@@ -152,7 +152,7 @@ def _no_fragments(height: int, width: int, device: torch.device) -> Fragments:
     return Fragments(torch.full((1, height, width), -1, dtype=torch.long, device=device),
                      torch.full((1, height, width), -1, dtype=torch.long, device=device),
                      torch.full((1, height, width), float("inf"), device=device),
-                     torch.zeros(1, height, width, 3, device=device))
+                     torch.zeros(1, height, width, 3, device=device), (height, width), (0, 0, width, height))
 
 
 def _mask_boxes(k: Tensor, i: Tensor, j: Tensor, n: int) -> Tensor:

@@ -56,6 +56,7 @@ from sdn3d.editing.photo.settings import (
 )
 from sdn3d.image_ops import dilate_square, id_counts, ids_present, isin_ids, mask_boxes
 from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
+from sdn3d.math3d.sums import sum3
 from sdn3d.math3d.transforms import box_corners
 from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.parts import Part, greenhouse_glass
@@ -268,7 +269,8 @@ def _erode_ids(ids: Tensor, radius: int) -> Tensor:
 @dataclass
 class _Raster:
     """A rasterization at the input's resolution: ``rows (G,)`` of the table, ``verts (G, V, 3)``, ``faces``,
-    fragments ``(1, H, W)``."""
+    fragments ``(1, h, w)`` of the box the meshes cover (:attr:`Fragments.box`; the ``*_at`` lookups take the
+    input's flat pixel indices)."""
 
     rows: Tensor
     verts: Tensor
@@ -278,19 +280,20 @@ class _Raster:
 
 def _rasterize(rows: Tensor, verts: Tensor, faces: Tensor, K: Tensor, size: tuple[int, int]) -> _Raster:
     g = len(rows)
+    # cropped to the box the meshes cover: a car's fraction of the picture, the same values
     frags = rasterize_meshes(verts.double(), faces, K, RasterSettings(image_size=size),
-                             mesh_to_image=torch.zeros(g, dtype=torch.long), batch_size=1)
+                             mesh_to_image=torch.zeros(g, dtype=torch.long), batch_size=1, crop=True)
     return _Raster(rows, verts.double(), faces, frags)
 
 
 def _raster_ids(r: _Raster, objects: ObjectTable) -> Tensor:
     """``(H, W)`` instance id of the object rasterized at each pixel of ``r`` (0: none): the fitted silhouettes."""
-    mesh = r.frags.pix_to_mesh[0]
+    mesh = r.frags.pix_to_mesh
     if not len(r.rows):
-        return torch.zeros_like(mesh)
-    # a table of the meshes' ids after a 0 for "none" (mesh -1), looked up once per pixel
+        return torch.zeros(r.frags.image_size, dtype=mesh.dtype)
+    # a table of the meshes' ids after a 0 for "none" (mesh -1), looked up once per pixel of the box
     ids = objects.instance_id[r.rows].to(torch.promote_types(objects.instance_id.dtype, mesh.dtype))
-    return torch.cat([ids.new_zeros(1), ids])[mesh + 1]
+    return r.frags.in_image(torch.cat([ids.new_zeros(1), ids])[mesh + 1], 0)[0]
 
 
 def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank, at: Tensor | None = None,
@@ -299,16 +302,16 @@ def _part_map(r: _Raster, objects: ObjectTable, bank: MeshBank, at: Tensor | Non
     with ``at (P,)`` flat indices of covered pixels, ``(P,)`` the same at those pixels alone. ``greenhouse``: with
     the greenhouse's glass added per point (:func:`_greenhouse_glass`); False: the loft's face labels alone (what the
     recolour paints: a real car's pillars and roof rails above its belt are paint, :func:`_recolor`)."""
-    face = r.frags.pix_to_face.view(-1)
     if at is None:
-        out = torch.full_like(face, -1, dtype=torch.long)
-        pix = (face >= 0).nonzero().flatten()
+        out = torch.full((r.frags.image_size[0] * r.frags.image_size[1],), -1, dtype=torch.long)
+        pix = r.frags.covered()
         if not len(pix):
             return out
     else:
         pix = at
-    mesh = r.frags.pix_to_mesh.view(-1)[pix]
-    local = face[pix] - mesh * r.faces.shape[1]
+    where = r.frags.locate(pix)
+    mesh = r.frags.mesh_at(where)
+    local = r.frags.face_at(where) - mesh * r.faces.shape[1]
     parts = bank.face_parts.cpu()
     template = objects.template_id[r.rows[mesh]].long()
     found = parts[template, local.clamp(max=parts.shape[1] - 1)]
@@ -338,7 +341,7 @@ def _greenhouse_glass(found: Tensor, pix: Tensor, r: _Raster, bank: MeshBank, te
         return found
     t, f = template[body], local[body]
     tri = bank.verts.cpu()[t[:, None], bank.faces.cpu()[t, f]].double()  # (B, 3, 3) canonical
-    bary = r.frags.bary.view(-1, 3)[pix[body]].double()
+    bary = r.frags.bary_at(pix[body]).double()
     height = (bary * tri[..., 1]).sum(1)
     normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
     glass = greenhouse_glass(found[body], height, -normal[:, 1], _bank_belts(bank)[t])
@@ -356,15 +359,16 @@ def _surface(r: _Raster, pix: Tensor) -> tuple[Tensor, Tensor, Tensor, Tensor]:
 def _surface_points(r: _Raster, pix: Tensor) -> tuple[Tensor, Tensor, Tensor, Tensor, Tensor, Tensor]:
     """:func:`_surface` and the ``(P, 3, 3)`` triangles and ``(P, 3)`` surface points it found them from (row by row:
     rows selected from them are those of the selected pixels)."""
-    f_all = r.frags.pix_to_face.view(-1)[pix]
-    mesh = r.frags.pix_to_mesh.view(-1)[pix]
+    where = r.frags.locate(pix)
+    f_all = r.frags.face_at(where)
+    mesh = r.frags.mesh_at(where)
     nf = r.faces.shape[1]
     vid = r.faces[mesh, f_all - mesh * nf]  # (P, 3)
-    bary = r.frags.bary.view(-1, 3)[pix].double()
+    bary = r.frags.bary_at(where).double()
     tri = r.verts[mesh[:, None], vid]  # (P, 3, 3)
-    point = (bary[..., None] * tri).sum(1)
+    point = sum3(bary[..., None] * tri, 1)
     normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
-    normal = torch.where(((normal * point).sum(-1) > 0)[:, None], -normal, normal)
+    normal = torch.where((sum3(normal * point) > 0)[:, None], -normal, normal)
     return mesh, vid, bary, normal, tri, point
 
 
@@ -392,8 +396,9 @@ def _visible(points: Tensor, mesh: Tensor, iid: Tensor, src: _Raster, vis_ids: T
     (instance ``iid (P,)``) seen in the input (module doc, step 3)?"""
     uv, front = _project(points, K)
     inside, flat = _nearest_pixel(uv, front, tuple(vis_ids.shape))
-    same = src.frags.pix_to_mesh.view(-1)[flat] == mesh
-    depth = src.frags.depth.view(-1)[flat].double()
+    where = src.frags.locate(flat)
+    same = src.frags.mesh_at(where) == mesh
+    depth = src.frags.depth_at(where).double()
     z = points[:, 2]
     near = (depth - z).abs() <= tolerance * z.abs() + 0.05
     ok = inside & same & near & (vis_ids.view(-1)[flat] == iid)
@@ -1188,9 +1193,9 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         source = torch.where((soft > 0.02) & (source == INPUT), SHADOW, source).to(torch.uint8)
 
     # Part of each pixel: the source's where an object stays at its place and shows there (drawn objects: _draw).
-    # (the fitted outline's id at each pixel, where a mesh covers it, is the source's outline_ids)
-    shows = ((src.frags.pix_to_mesh.view(-1) >= 0) & (own.view(-1) != 0)
-             & (own.view(-1) == photo_source.outline_ids.view(-1)))
+    # (the fitted outline's id at each pixel, where a mesh covers it, is the source's outline_ids; it is 0 where none
+    # does, so an object's id there says a mesh covers the pixel)
+    shows = (own.view(-1) != 0) & (own.view(-1) == photo_source.outline_ids.view(-1))
     parts_out = torch.where(shows, photo_source.parts, -1).to(torch.int8).view(size)
     # The recolour paints by the loft's face labels: a real car's pillars and roof rails above its belt are paint,
     # which the greenhouse's glass of parts_out (the transfer's, the generator's rule) would leave unpainted.
@@ -1205,7 +1210,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         tgt_all_rows, tgt_verts, tgt_faces = posed if posed is not None else posed_meshes(after, bank)
         keep = torch.isin(tgt_all_rows.cpu(), draw_rows)
         tgt = _rasterize(tgt_all_rows.cpu()[keep], tgt_verts.cpu()[keep], tgt_faces.cpu()[keep], K, size)
-        drawn_depth = tgt.frags.depth[0].double()
+        drawn_depth = tgt.frags.in_image(tgt.frags.depth, math.inf)[0].double()
         sources = origin[draw_rows]
         drawn_ids = before.instance_id[sources[sources >= 0]].tolist()  # the cars whose input pixels are drawn
         out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
@@ -1234,7 +1239,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     # Thin things in front of a car stay in front of what the edit drew there, unless a car now stands nearer than
     # the one they hid (their depth is at most that car's).
     if bool(photo_source.in_front.any()):  # (none found: nothing to put back)
-        front = photo_source.in_front & (source != INPUT) & ~(drawn_depth < src.frags.depth[0].double() - 0.5)
+        src_depth = src.frags.in_image(src.frags.depth, math.inf)[0].double()
+        front = photo_source.in_front & (source != INPUT) & ~(drawn_depth < src_depth - 0.5)
         out = torch.where(front[None], image, out)
         source = torch.where(front, IN_FRONT, source).to(torch.uint8)
     return PhotoResult(_into_original(out, source != INPUT, original), source, light, objects, warnings, parts_out)
@@ -1370,16 +1376,20 @@ def _source_light(src: _Raster, vis_ids: Tensor, before: ObjectTable,
                   image: Tensor) -> tuple[Tensor, LightEstimate | None]:
     """``(normals (H*W, 3) float64 of the source rasterization, the light fitted to the visible car pixels or
     None)`` (step 4 of the module doc: the unedited scene alone decides both)."""
-    src_normals = normal_map(src.frags, src.verts, src.faces)[0].permute(1, 2, 0).reshape(-1, 3).double()
-    mesh_at = src.frags.pix_to_mesh.view(-1)
-    vis = (mesh_at >= 0) & (vis_ids.view(-1) == torch.where(
-        mesh_at >= 0, before.instance_id[src.rows[mesh_at.clamp(min=0)]], -1))
-    pix = vis.nonzero().flatten()
+    normals = normal_map(src.frags, src.verts, src.faces).permute(0, 2, 3, 1)  # (1, h, w, 3) of the box
+    src_normals = src.frags.in_image(normals, 0.0)[0].reshape(-1, 3).double()
+    # the covered pixels whose mesh is the object the eroded mask shows there
+    pix = src.frags.covered()
+    mesh_at = src.frags.mesh_at(pix)
+    vis = vis_ids.view(-1)[pix] == before.instance_id[src.rows[mesh_at]]
+    pix, mesh_at = pix[vis], mesh_at[vis]
     pixels = image.permute(1, 2, 0).reshape(-1, 3)
-    pix = pix[body_pixels(pixels[pix], mesh_at[pix])]
+    body = body_pixels(pixels[pix], mesh_at)
+    pix, mesh_at = pix[body], mesh_at[body]
     if len(pix) > 6000:  # evenly spread: plenty for four numbers and the albedos
-        pix = pix[torch.linspace(0, len(pix) - 1, 6000).long()]
-    light = fit_light(pixels[pix], src_normals[pix], mesh_at[pix])
+        spread = torch.linspace(0, len(pix) - 1, 6000).long()
+        pix, mesh_at = pix[spread], mesh_at[spread]
+    light = fit_light(pixels[pix], src_normals[pix], mesh_at)
     if light is not None and light.gain < 0.05:
         light = None  # no better than constant shading: do not re-shade
     return src_normals, light
@@ -1404,9 +1414,9 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     never showed is drawn from (:func:`_from_real_wheels`). ``parts_out`` gets the drawn
     pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's)."""
     height, width = own.shape
-    t_mesh = tgt.frags.pix_to_mesh.view(-1)
-    covered = (t_mesh >= 0).nonzero().flatten()
-    row = tgt.rows[t_mesh[covered]]  # row in `after`
+    covered = tgt.frags.covered()
+    at_tgt, at_src = tgt.frags.locate(covered), src.frags.locate(covered)
+    row = tgt.rows[tgt.frags.mesh_at(at_tgt)]  # row in `after`
     iid = after.instance_id[row]
     own_flat = own.view(-1)[covered]
     is_moved = moved[row]
@@ -1414,10 +1424,10 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     stay_row = torch.searchsorted(before.instance_id.sort().values, own_flat.clamp(min=0))
     order = before.instance_id.argsort()
     stay_b = order[stay_row.clamp(max=max(len(order) - 1, 0))] if len(order) else stay_row
-    src_mesh_here = src.frags.pix_to_mesh.view(-1)[covered]
-    stay_depth = torch.where(src_mesh_here == src_row_to_mesh[stay_b], src.frags.depth.view(-1)[covered].double(),
+    src_mesh_here = src.frags.mesh_at(at_src)
+    stay_depth = torch.where(src_mesh_here == src_row_to_mesh[stay_b], src.frags.depth_at(at_src).double(),
                              before.center[stay_b, 2].double())
-    t_depth = tgt.frags.depth.view(-1)[covered].double()
+    t_depth = tgt.frags.depth_at(at_tgt).double()
     # A moved object wins where nothing stays or it is nearer; one that grew draws only the pixels it gained.
     gained = (own_flat == iid) & (src_ids.view(-1)[covered] != iid)
     wins = torch.where(is_moved, (own_flat == 0) | (t_depth < stay_depth), gained)
@@ -1430,7 +1440,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     has_src = s_mesh >= 0
     s_mesh_c = s_mesh.clamp(min=0)
     tri_s = src.verts[s_mesh_c[:, None], vid] if len(src.rows) else torch.zeros(len(pix), 3, 3, dtype=torch.float64)
-    point_s = (bary[..., None] * tri_s).sum(1)
+    point_s = sum3(bary[..., None] * tri_s, 1)
     # Mirror across the vehicle's left-right plane (local z = 0).
     rot = roty(before.ry.double())[b_row.clamp(min=0)]  # (P, 3, 3): each row's, looked up (the same values)
     centre = before.center[b_row.clamp(min=0)].double()
@@ -1454,7 +1464,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     normal_s = F.normalize(torch.linalg.cross(tri_s[:, 1] - tri_s[:, 0], tri_s[:, 2] - tri_s[:, 0], dim=-1), dim=-1)
     # Same face, same winding: orient the source normal as the target one was (edits are rigid).
     raw_t = F.normalize(torch.linalg.cross(tri_t[:, 1] - tri_t[:, 0], tri_t[:, 2] - tri_t[:, 0], dim=-1), dim=-1)
-    normal_s = torch.where(((raw_t * normal_t).sum(-1) < 0)[:, None], -normal_s, normal_s)
+    normal_s = torch.where((sum3(raw_t * normal_t) < 0)[:, None], -normal_s, normal_s)
     src_iid = before.instance_id[b_row.clamp(min=0)]
     ok_photo, uv_photo = _visible(point_s, s_mesh, src_iid, src, vis_ids, K, settings.depth_tolerance)
     # A surface seen edge-on is not stretched over a side the edit turns to face the camera; where the edit shows it
@@ -1491,7 +1501,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     ok_mirror &= has_src & ~ok_photo & (cos_mirror >= squarely)
 
     # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.
-    z_t = tgt.frags.depth.view(-1)[pix].double()
+    z_t = tgt.frags.depth_at(pix).double()
     level = (z_t / point_s[:, 2].clamp(min=1e-3)).clamp(min=1.0).log2()
     pyramid = pyramid_of(settings.max_level)
     uv = torch.where(ok_photo[:, None], uv_photo, uv_mirror)
@@ -1625,7 +1635,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     if settings.outline_grow > 0:
         carved = settings.silhouette == "carved"
         near = _outline_growth(pix, row, moved, before, after, origin, own, K, settings.outline_grow,
-                               settings.mask_view_deg if carved else 0.0, tgt.frags.depth.view(-1)[pix].double(),
+                               settings.mask_view_deg if carved else 0.0, tgt.frags.depth_at(pix).double(),
                                background if carved else None, src_ids)
         if len(near):
             gained, nearest = near[:, 0], near[:, 1]
@@ -1836,7 +1846,7 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype (the colours are float64
     from the rows read on)."""
     seen_colors = img_flat[visible_px].double()
-    ex = visible_px[(src.frags.pix_to_mesh.view(-1)[visible_px] == s_mesh) & (parts_src[visible_px] >= 0)]
+    ex = visible_px[(src.frags.mesh_at(visible_px) == s_mesh) & (parts_src[visible_px] >= 0)]
     if not len(ex):
         return _no_examples(), seen_colors
     _, vid, bary, normal = _surface(src, ex)

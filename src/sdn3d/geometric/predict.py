@@ -30,6 +30,15 @@ __all__ = [
 ]
 
 
+#: :meth:`GeometricPredictor.predict` runs the net on at least this many rows, a shorter batch padded with copies of
+#: its first row. PyTorch's CPU convolutions sum in another order for batches under 4 rows, so an object's prediction
+#: depended on how many others were predicted with it: on the real frame in ``tests/data`` the red car's moved in its
+#: 7th digit when the black car was boxed too, and the fit's search (``sdn3d.geometric.fit``) then chose another
+#: template for it (docs/results/2026-11-29_cpu/session17/lead/rows/). From 4 rows on, each row's outputs are the
+#: same bits whatever else is in the batch, and wherever in it.
+MIN_NET_ROWS = 4
+
+
 # Constructor arguments of GeometricNet read from the module's hyper-parameters.
 _NET_ARGS = ("rotation", "hidden", "scale_prior", "yaw_bins", "yaw_overlap")
 
@@ -94,6 +103,15 @@ class GeometricPredictor:
     def device(self) -> torch.device:
         return next(self.net.parameters()).device
 
+    def _net_rows(self, crop: Tensor, box: Tensor, intrinsics: Tensor) -> dict[str, Tensor]:
+        """The net's raw outputs for ``N`` rows, each the same whatever the other rows are (:data:`MIN_NET_ROWS`)."""
+        n = crop.shape[0]
+        if 0 < n < MIN_NET_ROWS:
+            pad = [0] * (MIN_NET_ROWS - n)
+            crop, box, intrinsics = (torch.cat([t, t[pad]]) for t in (crop, box, intrinsics))
+            return {k: v[:n] for k, v in self.net(crop, box, intrinsics).items()}
+        return self.net(crop, box, intrinsics)
+
     @torch.no_grad()
     def predict(
         self,
@@ -143,7 +161,7 @@ class GeometricPredictor:
         given = crop  # the tail-lamp test may read past the mask
         if mask is not None:
             crop = crop * mask.to(device)
-        raw = self.net(crop, box, intrinsics)
+        raw = self._net_rows(crop, box, intrinsics)
         if (refine is not None or crop_intrinsics is not None) and self.bank is None:
             self.bank = MeshBank.templates()  # only silhouettes need meshes
         bank = None if self.bank is None else self.bank.to(device)

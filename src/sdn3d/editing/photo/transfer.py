@@ -1431,7 +1431,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     # A moved object wins where nothing stays or it is nearer; one that grew draws only the pixels it gained.
     gained = (own_flat == iid) & (src_ids.view(-1)[covered] != iid)
     wins = torch.where(is_moved, (own_flat == 0) | (t_depth < stay_depth), gained)
-    pix, row, iid, is_moved = covered[wins], row[wins], iid[wins], is_moved[wins]
+    pix, row, iid, is_moved, z_t = covered[wins], row[wins], iid[wins], is_moved[wins], t_depth[wins]
     if not len(pix):
         return out, source, {}
     mesh, vid, bary, normal_t, tri_t, point_t = _surface_points(tgt, pix)
@@ -1455,8 +1455,9 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         inside = ~has_src | ~shown | (_in_silhouette(point_s, background, K) & _in_silhouette(point_m, background, K))
         if not bool(inside.all()):
             k = inside.nonzero().flatten()
-            pix, row, iid, is_moved, mesh, vid, bary, normal_t, tri_t, point_t = (
-                pix[k], row[k], iid[k], is_moved[k], mesh[k], vid[k], bary[k], normal_t[k], tri_t[k], point_t[k])
+            pix, row, iid, is_moved, mesh, vid, bary, normal_t, tri_t, point_t, z_t = (
+                pix[k], row[k], iid[k], is_moved[k], mesh[k], vid[k], bary[k], normal_t[k], tri_t[k], point_t[k],
+                z_t[k])
             b_row, s_mesh, has_src, s_mesh_c, tri_s, point_s, rot, centre, point_m = (
                 b_row[k], s_mesh[k], has_src[k], s_mesh_c[k], tri_s[k], point_s[k], rot[k], centre[k], point_m[k])
             if not len(pix):
@@ -1501,7 +1502,6 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     ok_mirror &= has_src & ~ok_photo & (cos_mirror >= squarely)
 
     # Sampling level: how much smaller the object got here (depth ratio), only when it shrank.
-    z_t = tgt.frags.depth_at(pix).double()
     level = (z_t / point_s[:, 2].clamp(min=1e-3)).clamp(min=1.0).log2()
     pyramid = pyramid_of(settings.max_level)
     uv = torch.where(ok_photo[:, None], uv_photo, uv_mirror)
@@ -1631,11 +1631,11 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     color = torch.where(seen[:, None], color, fallback).clamp(0, 1)
     if not bool(drawn.all()):
         k = drawn.nonzero().flatten()
-        pix, color, codes, t_part, row = pix[k], color[k], codes[k], t_part[k], row[k]
+        pix, color, codes, t_part, row, z_t = pix[k], color[k], codes[k], t_part[k], row[k], z_t[k]
     if settings.outline_grow > 0:
         carved = settings.silhouette == "carved"
         near = _outline_growth(pix, row, moved, before, after, origin, own, K, settings.outline_grow,
-                               settings.mask_view_deg if carved else 0.0, tgt.frags.depth_at(pix).double(),
+                               settings.mask_view_deg if carved else 0.0, z_t,
                                background if carved else None, src_ids)
         if len(near):
             gained, nearest = near[:, 0], near[:, 1]

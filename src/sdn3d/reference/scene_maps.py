@@ -11,7 +11,7 @@ import torch
 
 from sdn3d.math3d.rotations import NUM_POSE_BINS
 from sdn3d.meshes.bank import MeshBank, default_bank
-from sdn3d.render.rasterize import rasterize_meshes
+from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import (
@@ -19,7 +19,6 @@ from sdn3d.scene.maps import (
     _fallback_depth,
     _Layers,
     _maps,
-    _no_fragments,
     _settings,
     posed_meshes,
 )
@@ -51,7 +50,7 @@ def dense_layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | No
     # min(0) rather than argmin(0): the same first-minimum indices, several times faster on CPU.
     winner = depth.min(0).indices if n else torch.zeros(height, width, dtype=torch.long, device=device)
     visible = cover.any(0) if n else torch.zeros(height, width, dtype=torch.bool, device=device)
-    out = _no_fragments(height, width, device)
+    out = Fragments.empty(1, (height, width), torch.float32, device)
     if g:
         slot = torch.full((n,), -1, dtype=torch.long, device=device)
         slot[rows] = torch.arange(g, device=device)

@@ -170,6 +170,23 @@ class Fragments:
         """``(P, 3)`` :attr:`bary` at ``pixels`` (as :meth:`face_at`; zeros outside the window)."""
         return self._at(self.bary, pixels, 0.0)
 
+    @classmethod
+    def empty(cls, batch: int, image_size: tuple[int, int], dtype: torch.dtype, device: torch.device,
+              box: tuple[int, int, int, int] | None = None) -> Fragments:
+        """Empty fragments of ``batch`` images of ``image_size (H, W)``, held in the window ``box`` (default: the
+        whole images): ``(batch, h, w)`` maps of the box, ``depth`` and ``bary`` in ``dtype``."""
+        height, width = image_size
+        box = (0, 0, width, height) if box is None else box
+        shape = (batch, box[3] - box[1], box[2] - box[0])
+        return cls(
+            pix_to_face=torch.full(shape, -1, dtype=torch.long, device=device),
+            pix_to_mesh=torch.full(shape, -1, dtype=torch.long, device=device),
+            depth=torch.full(shape, float("inf"), dtype=dtype, device=device),
+            bary=torch.zeros(*shape, 3, dtype=dtype, device=device),
+            image_size=(height, width),
+            box=box,
+        )
+
     def in_image(self, values: Tensor, empty: float) -> Tensor:
         """``values (B, h, w, ...)``, a map of the window, as the ``(B, H, W, ...)`` map of the whole
         images, ``empty`` outside the window."""
@@ -181,22 +198,6 @@ class Fragments:
         out[:, y0:y1, x0:x1] = values
         return out
 
-
-def _empty_fragments(
-    batch: int, height: int, width: int, dtype: torch.dtype, device: torch.device,
-    image_size: tuple[int, int] | None = None, box: tuple[int, int, int, int] | None = None,
-) -> Fragments:
-    """Empty fragments of ``batch`` maps of ``height x width``: the window ``box`` of images of ``image_size``
-    (default: the whole ``(height, width)`` images)."""
-    shape = (batch, height, width)
-    return Fragments(
-        pix_to_face=torch.full(shape, -1, dtype=torch.long, device=device),
-        pix_to_mesh=torch.full(shape, -1, dtype=torch.long, device=device),
-        depth=torch.full(shape, float("inf"), dtype=dtype, device=device),
-        bary=torch.zeros(*shape, 3, dtype=dtype, device=device),
-        image_size=(height, width) if image_size is None else image_size,
-        box=(0, 0, width, height) if box is None else box,
-    )
 
 
 def _check_mesh_to_image(
@@ -302,8 +303,7 @@ def rasterize_meshes(
     image_of_mesh, batch = _check_mesh_to_image(mesh_to_image, batch_size, num_meshes, device)
     K = check_intrinsics(K, batch, torch.float64, device, "images")
     height, width = settings.image_size
-    empty = (_empty_fragments(batch, 0, 0, dtype, device, (height, width), (0, 0, 0, 0)) if crop
-             else _empty_fragments(batch, height, width, dtype, device))
+    empty = Fragments.empty(batch, (height, width), dtype, device, (0, 0, 0, 0) if crop else None)
     num_faces = faces.shape[1]
     if num_meshes == 0 or num_faces == 0 or batch == 0:
         return empty
@@ -400,7 +400,7 @@ def rasterize_meshes(
         bary = weights * depth.unsqueeze(1)
         bary = bary / sum3(bary, 1, keepdim=True)
 
-        out = _empty_fragments(batch, box_h, box_w, dtype, device, (height, width), (x0, y0, x1, y1))
+        out = Fragments.empty(batch, (height, width), dtype, device, (x0, y0, x1, y1))
         out.pix_to_face.view(-1)[hit] = winner
         out.pix_to_mesh.view(-1)[hit] = winner // num_faces
         out.depth.view(-1)[hit] = depth.to(dtype)

@@ -147,14 +147,6 @@ def _fallback_depth(objects: ObjectTable, device: torch.device) -> Tensor:
     return torch.where(objects.has_geometry, objects.center[:, 2], behind).float().to(device)
 
 
-def _no_fragments(height: int, width: int, device: torch.device) -> Fragments:
-    """Empty ``(1, H, W)`` float32 fragments (the rasterizer's conventions)."""
-    return Fragments(torch.full((1, height, width), -1, dtype=torch.long, device=device),
-                     torch.full((1, height, width), -1, dtype=torch.long, device=device),
-                     torch.full((1, height, width), float("inf"), device=device),
-                     torch.zeros(1, height, width, 3, device=device), (height, width), (0, 0, width, height))
-
-
 def _mask_boxes(k: Tensor, i: Tensor, j: Tensor, n: int) -> Tensor:
     """``(n, 4)`` int64 boxes ``(x0, y0, x1, y1)`` (half-open) of the mask pixels ``(i, j)`` of objects ``k``."""
     box = torch.zeros(n, 4, dtype=torch.long, device=k.device)
@@ -252,7 +244,7 @@ def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -
     visible = win < n
     chosen = (obj_ == win[pix]) & hit
     p, f = pix[chosen], flat[chosen]
-    out = _no_fragments(height, width, device)
+    out = Fragments.empty(1, (height, width), torch.float32, device)
     if g:
         out.pix_to_face.view(-1)[p] = frags.pix_to_face.view(-1)[f]
         out.pix_to_mesh.view(-1)[p] = frags.pix_to_mesh.view(-1)[f]

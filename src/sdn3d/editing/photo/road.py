@@ -840,6 +840,17 @@ def _linear_rgb(rgb: np.ndarray) -> np.ndarray:
 _LINEAR_LEVELS = _linear_rgb((torch.arange(256, dtype=torch.float32) / 255).numpy())
 
 
+def _linear_of_levels(levels: np.ndarray) -> np.ndarray:
+    """``(3, P)`` float32 :data:`_LINEAR_LEVELS` of the 8-bit values ``levels (3, P)``: ``np.take(_LINEAR_LEVELS,
+    levels)``, the same table entries, looked up by OpenCV's ``LUT`` (a third of ``take``'s time, which first widens
+    every uint8 index to 64 bits)."""
+    if not levels.size:
+        return np.take(_LINEAR_LEVELS, levels)
+    import cv2
+
+    return cv2.LUT(levels, _LINEAR_LEVELS)
+
+
 def _lab_of_linear(lin: np.ndarray) -> np.ndarray:
     """``(3, P)`` float32 C-contiguous Lab of the linear RGB columns ``lin (3, P)`` (:func:`_linear_rgb`)."""
     from sdn3d.editing.photo.recolor import _RGB_TO_XYZ, _WHITE
@@ -908,7 +919,7 @@ class PictureLab:
         """``(3, P)`` Lab of the picture's values ``(3, P)`` (its levels when it has them)."""
         if self._levels is None:
             return _lab_columns(values)
-        return _lab_of_linear(np.take(_LINEAR_LEVELS, values))
+        return _lab_of_linear(_linear_of_levels(values))
 
     def pixels(self, mask: Tensor, step: int = 1) -> Tensor:
         """``(N, 3)`` float32 Lab of the ``mask`` pixels in the picture's order, laid out as :func:`road_lab` returns

@@ -493,7 +493,7 @@ def _from_real_wheels(colors: Tensor, codes: Tensor, wheel: tuple[Tensor, int], 
 def _view_cos(points: Tensor, normals: Tensor) -> Tensor:
     """``(P,)`` ``|cos|`` of the angle between each surface normal and the line of sight to its point (camera at the
     origin): 1 seen squarely, 0 edge-on."""
-    return (F.normalize(points, dim=-1) * normals).sum(-1).abs()
+    return sum3(F.normalize(points, dim=-1) * normals).abs()
 
 
 def _pyramid(image: Tensor, levels: int) -> list[Tensor]:
@@ -1851,7 +1851,7 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
         return _no_examples(), seen_colors
     _, vid, bary, normal = _surface(src, ex)
     tri = src.verts[torch.full((len(ex),), s_mesh, dtype=torch.long)[:, None], vid]
-    point = (bary[..., None] * tri).sum(1)
+    point = sum3(bary[..., None] * tri, 1)
     cos = _view_cos(point, normal)
     good = cos >= settings.min_view_cos
     ex, point, normal, cos = ex[good], point[good], normal[good], cos[good]

@@ -38,6 +38,8 @@ from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 
 __all__ = [
+    "any_set",
+    "any_along",
     "check_size",
     "dilate_square",
     "isin_ids",
@@ -288,6 +290,22 @@ def crop_intrinsics(intr: Intrinsics, windows: Tensor, size: int) -> Tensor:
 #: time does not grow with the radius; OpenCV's dilation, faster for small radii, took 17 ms at a radius of 1000
 #: on 1242x375.
 DILATE_COUNTS_MIN = 48
+
+
+def any_set(mask: Tensor) -> bool:
+    """``bool(mask.any())``: by NumPy for a bool CPU ``mask`` (torch's ``any`` reduces a bool picture with a scalar
+    loop: 0.45 ms at 1242x375, NumPy 0.02 ms), by torch otherwise."""
+    if mask.dtype != torch.bool or mask.device.type != "cpu":
+        return bool(mask.any())
+    return bool(mask.numpy().any())
+
+
+def any_along(mask: Tensor, dim: int) -> Tensor:
+    """``mask.any(dim)`` (bool): by NumPy for a bool CPU ``mask`` (torch took 0.5-0.7 ms on a 1242x375 picture's rows
+    or columns, NumPy 0.02 ms), by torch otherwise."""
+    if mask.dtype != torch.bool or mask.device.type != "cpu":
+        return mask.any(dim)
+    return torch.from_numpy(mask.numpy().any(dim))
 
 
 def dilate_square(mask: Tensor, radius: int) -> Tensor:

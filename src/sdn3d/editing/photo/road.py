@@ -26,7 +26,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.image_ops import dilate_square
+from sdn3d.image_ops import any_along, any_set, dilate_square
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
            "road_haze", "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
@@ -105,7 +105,7 @@ def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: i
     from sdn3d.editing.photo.light import luminance
 
     fx, cx, cy = float(K[0, 0]), float(K[0, 2]), float(K[1, 2])
-    y0, y1, x0, x1 = (_sobel_window(region, 1 + window // 2) if bool(region.any())
+    y0, y1, x0, x1 = (_sobel_window(region, 1 + window // 2) if any_set(region)
                       else (0, region.shape[0], 0, region.shape[1]))
     crop = image[:, y0:y1, x0:x1]
     y = np.ascontiguousarray(luminance(crop.permute(1, 2, 0).reshape(-1, 3)).view(crop.shape[1:]).float().numpy())
@@ -185,7 +185,7 @@ def _sobel_window(region: Tensor, margin: int = 1) -> tuple[int, int, int, int]:
     (OpenCV's vector lanes fall on the same pixels, as in :func:`~sdn3d.editing.photo.transfer._blur_window`); the
     picture's edge where it is near."""
     height, width = region.shape
-    rows, cols = region.any(1).nonzero().flatten(), region.any(0).nonzero().flatten()
+    rows, cols = any_along(region, 1).nonzero().flatten(), any_along(region, 0).nonzero().flatten()
     y0, y1 = max(int(rows[0]) - margin, 0), min(int(rows[-1]) + 1 + margin, height)
     x0 = max(int(cols[0]) - margin, 0) // 64 * 64
     x1 = min(int(cols[-1]) + 1 + margin + 64, width)
@@ -199,7 +199,7 @@ def removal_vanishing_point(image: Tensor, K: Tensor, removed: Tensor, objects_p
     ``objects_px (H, W)``), else :func:`vanishing_point` of the first removed car's yaw ``ry`` (a fitted pose can
     be mirrored; the road's own lines cannot), else the camera's forward one."""
 
-    if bool(removed.any()):
+    if any_set(removed):
         ys, xs = removed.nonzero(as_tuple=True)
         extent = max(int(ys.max() - ys.min()), int(xs.max() - xs.min()))
         region = dilate_square(removed, max(2 * extent, 20)) & ~dilate_square(objects_px | removed, 2)
@@ -352,10 +352,10 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     height, width = hole.shape
     out = image.clone()
     reached = torch.zeros_like(hole)
-    if not bool(hole.any()):
+    if not any_set(hole):
         return out, reached
     valid = ~hole if keep_out is None else ~hole & ~keep_out
-    if not bool(valid.any()):
+    if not any_set(valid):
         return out, reached
     smooth = _normalised_blur(image, valid, sigma)
     broad = _coarse_blur(image, valid, MARK_SIGMA) if marks > 0 else None
@@ -365,7 +365,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         detail = (image - _normalised_blur(image, valid, GRAIN_SIGMA)) * valid
         # A marking's or a kerb's outline is no grain: mirrored into the hole it draws a ghost outline there.
         level = detail.mean(0).abs()
-        scale = 1.4826 * _masked_median(level, valid) if bool(valid.any()) else 0.0
+        scale = 1.4826 * _masked_median(level, valid) if any_set(valid) else 0.0
         detail = detail * (level <= GRAIN_EDGE * scale)
     ys, xs = hole.nonzero(as_tuple=True)
     pix = torch.stack([xs, ys], 1).float()
@@ -411,7 +411,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
             resolved = (sp - d_in) >= FAR_RESOLVED * (sp + d_out)
             near, far = _verge_sides(c_out, c_in, f_out & f_in & resolved & (p[:, 1] >= ground_row), road)
             near_verge[s:s + RAY_CHUNK], far_verge[s:s + RAY_CHUNK] = near, far
-            if bool(near.any()):
+            if any_set(near):
                 if road_broad is None:
                     road_broad = _coarse_blur(image, valid, MARK_SIGMA, road)
                 road_in = _gather_coarse(road_broad, q_in)
@@ -439,12 +439,12 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
             grains[:, s:s + RAY_CHUNK] = ok * grain + ok2 * other
         values[:, s:s + RAY_CHUNK] = val
         got[s:s + RAY_CHUNK] = f_out | f_in
-    if near_verge is not None and bool(near_verge.any()):
+    if near_verge is not None and any_set(near_verge):
         ended = _ended_verge_runs(torch.atan2(unit[:, 1], unit[:, 0]), reach, near_verge, far_verge)
         values[:, ended] = from_road[:, ended]
     if grains is not None:
         weight = (_matched_weight(image, valid, values[:, got], grains[:, got], ys[got], xs[got], texture, lab)
-                  if match_grain and bool(got.any()) else texture)
+                  if match_grain and any_set(got) else texture)
         values = values + weight * grains
     out[:, ys[got], xs[got]] = values[:, got].clamp(0, 1).to(out.dtype)
     reached[ys[got], xs[got]] = True
@@ -499,7 +499,7 @@ def road_haze(image: Tensor, valid: Tensor, hole: Tensor, horizon: float, airlig
     use = (count >= HAZE_MIN_PIXELS).nonzero().flatten()
     if len(use) < HAZE_MIN_ROWS:
         return None
-    cols = like.any(0).nonzero().flatten()
+    cols = any_along(like, 0).nonzero().flatten()
     band = image[:, :, int(cols[0]):int(cols[-1]) + 1][:, use].float()  # (3, R, w)
     keep = like[use][:, int(cols[0]):int(cols[-1]) + 1]
     med = torch.where(keep[None], band, torch.full_like(band, float("nan"))).nanmedian(2).values.double()  # (3, R)
@@ -597,7 +597,7 @@ def _verge_sides(c_out: Tensor, c_in: Tensor, both: Tensor, road: Tensor) -> tup
     verge on the far side only is left to the blend: for the hole's upper pixels the far side is often no ground at
     all (a hedge, a treeline, the horizon). Rays whose both sides are a verge: :func:`_ended_verge_runs`."""
     near, far = torch.zeros_like(both), torch.zeros_like(both)
-    if bool(both.any()):
+    if any_set(both):
         near[both] = verge_like(c_out[:, both], road)
         far[both] = verge_like(c_in[:, both], road)
     return near, far
@@ -612,7 +612,7 @@ def _ended_verge_runs(angle: Tensor, reach: Tensor, near: Tensor, far: Tensor) -
     most rays of a near-side verge find road on their far side the verge ended inside the hole, and the few that meet
     another verge there met something else (the real frame's black car: a traffic island beside it and the island's
     tip beyond it, which the blend joined by a thin pale line across the far lane)."""
-    if not bool(near.any()):
+    if not any_set(near):
         return torch.zeros_like(near)
     step = 1.0 / float(reach[near].median().clamp(min=1.0))
     bins = ((angle[near] - angle[near].min()) / step).floor().long()
@@ -794,8 +794,8 @@ def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, ligh
     like = torch.zeros_like(within)
     like[y0:y1, x0:x1] = ab_length(lab[..., 1:] - road[1:].to(lab) * scale) < tolerance
     ref_px = (like & lit)[y0:y1, x0:x1]
-    rows = ref_px.any(1)
-    if not bool(rows.any()):
+    rows = any_along(ref_px, 1)
+    if not any_set(rows):
         return out
     per_row = torch.where(ref_px, light, torch.full_like(light, float("nan"))).nanmedian(1).values
     have = rows.nonzero().flatten()

@@ -1007,3 +1007,35 @@ def test_linear_rgb_of_8bit_levels_by_lut_is_numpys_take():
         got, want = _linear_of_levels(values), np.take(_LINEAR_LEVELS, values)
         assert got.dtype == want.dtype == np.float32 and got.shape == want.shape
         assert np.array_equal(got.view(np.uint32), want.view(np.uint32)) and got.flags.c_contiguous
+
+
+def test_mask_tests_by_numpy_are_torchs_any_and_nonzero():
+    """:func:`~sdn3d.image_ops.any_set`, :func:`~sdn3d.image_ops.any_along`, :func:`~sdn3d.image_ops.flat_nonzero`
+    and :func:`~sdn3d.image_ops.nonzero_yx` (NumPy on a bool CPU mask) are torch's ``any``, ``any(dim)``,
+    ``reshape(-1).nonzero().flatten()`` and ``nonzero(as_tuple=True)``, values, dtypes and layouts: masks empty,
+    full, with one pixel set (at a corner and inside), sliced, transposed and 3-D, along each dimension; a float
+    tensor (torch's own, NaN counting as set) and a 0-d mask."""
+    from sdn3d.image_ops import any_along, any_set, flat_nonzero, nonzero_yx
+
+    gen = torch.Generator().manual_seed(7)
+    one = torch.zeros(37, 53, dtype=torch.bool)
+    one[36, 52] = True
+    inside = torch.zeros(37, 53, dtype=torch.bool)
+    inside[20, 7] = True
+    sparse = torch.rand(37, 53, generator=gen) > 0.995
+    masks = [torch.zeros(37, 53, dtype=torch.bool), torch.ones(37, 53, dtype=torch.bool), one, inside, sparse,
+             sparse[5:30, 9:40], sparse.T, one[:-1, :-1], inside[::2, 3::5], torch.zeros(0, 53, dtype=torch.bool),
+             torch.rand(3, 20, 30, generator=gen) > 0.99, torch.tensor(True), torch.tensor(False),
+             torch.tensor([[0.0, float("nan")], [-0.0, 0.0]]), torch.tensor([[0.0, -0.0], [0.0, 0.0]])]
+    for mask in masks:
+        assert any_set(mask) is bool(mask.any())
+        for dim in range(-mask.dim(), mask.dim()):
+            got, want = any_along(mask, dim), mask.any(dim)
+            assert torch.equal(got, want) and got.dtype == want.dtype == torch.bool
+        got, want = flat_nonzero(mask), mask.reshape(-1).nonzero().flatten()
+        assert torch.equal(got, want) and got.dtype == want.dtype and got.stride() == want.stride()
+        if mask.dim() == 2:
+            for got, want in zip(nonzero_yx(mask), mask.nonzero(as_tuple=True), strict=True):
+                assert torch.equal(got, want) and got.dtype == want.dtype and got.is_contiguous()
+    with pytest.raises(ValueError, match="2-D"):
+        nonzero_yx(masks[10])

@@ -40,6 +40,8 @@ from sdn3d.math3d.camera import Intrinsics
 __all__ = [
     "any_set",
     "any_along",
+    "flat_nonzero",
+    "nonzero_yx",
     "check_size",
     "dilate_square",
     "isin_ids",
@@ -306,6 +308,29 @@ def any_along(mask: Tensor, dim: int) -> Tensor:
     if mask.dtype != torch.bool or mask.device.type != "cpu":
         return mask.any(dim)
     return torch.from_numpy(mask.numpy().any(dim))
+
+
+def flat_nonzero(mask: Tensor) -> Tensor:
+    """``mask.reshape(-1).nonzero().flatten()``: the int64 flat indices of the set elements of a bool ``mask`` in
+    row-major order, by NumPy on the CPU (2-6 times as fast as torch's on a 1242x375 picture), by torch
+    otherwise."""
+    if mask.dtype != torch.bool or mask.device.type != "cpu":
+        return mask.reshape(-1).nonzero().flatten()
+    return torch.from_numpy(np.flatnonzero(mask.numpy()).astype(np.int64, copy=False))
+
+
+def nonzero_yx(mask: Tensor) -> tuple[Tensor, Tensor]:
+    """``mask.nonzero(as_tuple=True)`` of a 2-D bool ``mask``: its set pixels' rows and columns (int64, row-major
+    order, each contiguous), from :func:`flat_nonzero` on the CPU (NumPy's own 2-D ``nonzero`` is slower than
+    torch's), by torch otherwise."""
+    if mask.dim() != 2:
+        raise ValueError(f"nonzero_yx: mask must be 2-D, got shape {tuple(mask.shape)}")
+    if mask.dtype != torch.bool or mask.device.type != "cpu":
+        ys, xs = mask.nonzero(as_tuple=True)
+        return ys, xs
+    flat = flat_nonzero(mask)
+    width = mask.shape[1]
+    return flat // width, flat % width
 
 
 def dilate_square(mask: Tensor, radius: int) -> Tensor:

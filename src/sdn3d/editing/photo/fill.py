@@ -18,7 +18,7 @@ from sdn3d.editing.photo.settings import (
     PhotoSettings,
     PhotoSettingsError,
 )
-from sdn3d.image_ops import any_along, any_set, dilate_square, ids_present, isin_ids
+from sdn3d.image_ops import any_along, any_set, dilate_square, ids_present, isin_ids, nonzero_yx
 
 if TYPE_CHECKING:
     from sdn3d.editing.photo.road import PictureLab
@@ -62,7 +62,7 @@ def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_s
     import cv2
 
     height, width = hole.shape
-    ys, xs = hole.nonzero(as_tuple=True)
+    ys, xs = nonzero_yx(hole)
     margin = max(4 * radius + 8, (int(ys.max()) - int(ys.min()) + int(xs.max()) - int(xs.min())) // 2 + 8) \
         if method == "patchmatch" else 4 * radius + 8
     x0, x1 = max(int(xs.min()) - margin, 0), min(int(xs.max()) + margin + 1, width)

@@ -23,7 +23,7 @@ import numpy as np
 import torch
 from torch import Tensor
 
-from sdn3d.image_ops import any_along, any_set
+from sdn3d.image_ops import any_along, any_set, flat_nonzero
 
 __all__ = ["thin_occluders"]
 
@@ -72,7 +72,7 @@ def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_wid
         return candidate
     # Everything up to the upright growth lies on the rows the outlines cover (each car's height is its outline's):
     # worked out on that band of rows, then put back in the picture.
-    rows_used = (outline_ids != 0).any(1).nonzero().flatten()
+    rows_used = any_along(outline_ids != 0, 1).nonzero().flatten()
     y0, y1 = int(rows_used[0]), int(rows_used[-1]) + 1
     found = torch.zeros_like(candidate)
     found[y0:y1] = _strips(image[:, y0:y1], mask_ids[y0:y1], outline_ids[y0:y1], candidate[y0:y1], max_width,
@@ -114,7 +114,7 @@ def _strips(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, candidate: Ten
     if not any_set(flanked):
         return torch.zeros_like(candidate)
     labels_t, count = _components(flanked)  # what follows is per component: their numbering changes nothing
-    pix = flanked.flatten().nonzero().flatten()  # every statistic below is over these pixels
+    pix = flat_nonzero(flanked)  # every statistic below is over these pixels
     lab = labels_t.flatten()[pix]
     size = torch.bincount(lab, minlength=count + 1).float()
     comp_car_height = torch.zeros(count + 1).scatter_reduce(0, lab, car_height.flatten()[pix], "amax")

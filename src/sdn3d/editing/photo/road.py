@@ -26,7 +26,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.image_ops import any_along, any_set, dilate_square
+from sdn3d.image_ops import any_along, any_set, dilate_square, nonzero_yx
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
            "road_haze", "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
@@ -119,7 +119,7 @@ def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: i
     use &= _coherence(gx, gy, window) >= coherence
     if int(use.sum()) < min_edges:
         return None
-    ys, xs = use.nonzero(as_tuple=True)  # in the window; the vote below reads the picture's coordinates
+    ys, xs = nonzero_yx(use)  # in the window; the vote below reads the picture's coordinates
     m = mag[ys, xs]
     if len(m) > max_edges:  # the strongest ones: the vote's cost stays bounded
         keep = m.topk(max_edges).indices
@@ -200,7 +200,7 @@ def removal_vanishing_point(image: Tensor, K: Tensor, removed: Tensor, objects_p
     be mirrored; the road's own lines cannot), else the camera's forward one."""
 
     if any_set(removed):
-        ys, xs = removed.nonzero(as_tuple=True)
+        ys, xs = nonzero_yx(removed)
         extent = max(int(ys.max() - ys.min()), int(xs.max() - xs.min()))
         region = dilate_square(removed, max(2 * extent, 20)) & ~dilate_square(objects_px | removed, 2)
         found = image_vanishing_point(image, region, K, forward_snap_deg=FORWARD_SNAP_DEG)
@@ -367,7 +367,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         level = detail.mean(0).abs()
         scale = 1.4826 * _masked_median(level, valid) if any_set(valid) else 0.0
         detail = detail * (level <= GRAIN_EDGE * scale)
-    ys, xs = hole.nonzero(as_tuple=True)
+    ys, xs = nonzero_yx(hole)
     pix = torch.stack([xs, ys], 1).float()
     centre = torch.tensor(vp, dtype=torch.float32)
     away = pix - centre
@@ -484,7 +484,7 @@ def road_haze(image: Tensor, valid: Tensor, hole: Tensor, horizon: float, airlig
     if lab is not None:
         lab.check(image)
     height, width = hole.shape
-    ys, xs = hole.nonzero(as_tuple=True)
+    ys, xs = nonzero_yx(hole)
     if not len(ys):
         return None
     extent = max(int(ys.max() - ys.min()), int(xs.max() - xs.min()), 20)

@@ -54,7 +54,17 @@ from sdn3d.editing.photo.settings import (
     PhotoSettings,
     PhotoSettingsError,
 )
-from sdn3d.image_ops import any_along, any_set, dilate_square, id_counts, ids_present, isin_ids, mask_boxes
+from sdn3d.image_ops import (
+    any_along,
+    any_set,
+    dilate_square,
+    flat_nonzero,
+    id_counts,
+    ids_present,
+    isin_ids,
+    mask_boxes,
+    nonzero_yx,
+)
 from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
 from sdn3d.math3d.sums import sum3
 from sdn3d.math3d.transforms import box_corners
@@ -703,7 +713,7 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
     road_hole = hole & road_part
     out = image
     if any_set(road_hole):
-        ys, xs = road_hole.nonzero(as_tuple=True)
+        ys, xs = nonzero_yx(road_hole)
         reach = (int(ys.max() - ys.min()) + int(xs.max() - xs.min())) // 2 + 4 * settings.inpaint_radius + 16
         near = dilate_square(road_hole, reach)  # covers the fill's crop (fill._inpaint_part's margin)
         avoid = objects_px | ~road_like(image, road, min_light=0.8, within=near)  # lit road and markings only
@@ -727,7 +737,7 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
     :class:`~sdn3d.editing.photo.road.PictureLab` (not the relit picture's)."""
     from sdn3d.editing.photo.road import shadowed_road
 
-    ys, xs = (search | hole).nonzero(as_tuple=True)
+    ys, xs = nonzero_yx(search | hole)
     reach = max(int(ys.max() - ys.min()), int(xs.max() - xs.min())) + 8
     near = dilate_square(search | hole, reach)
     lit = near & ~dilate_square(search | hole, 3) & ~objects_px
@@ -864,7 +874,7 @@ def _pixels_of(ids: Tensor, wanted: Tensor):
     """``lookup(i) -> (P,)`` ascending flat indices of the pixels of ``ids (H, W)`` equal to ``i`` (one of
     ``wanted``): one scan of the picture for all of them."""
     flat = ids.view(-1)
-    pix = isin_ids(flat, wanted).nonzero().flatten()
+    pix = flat_nonzero(isin_ids(flat, wanted))
     at = flat[pix]
     return lambda i: pix[at == i]
 
@@ -936,7 +946,7 @@ def _dark_body(flat: Tensor, car: Tensor, parts: Tensor, pix: Tensor, paint_ligh
     at_tyre, gained, _, _ = _tyres_in_picture(flat, car, parts, paint_light)
     if road is not None:
         gained &= ~road.view(height, width)
-    return torch.cat([pix[~at_tyre.view(-1)[pix]], gained.view(-1).nonzero().flatten()])
+    return torch.cat([pix[~at_tyre.view(-1)[pix]], flat_nonzero(gained)])
 
 
 def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor,
@@ -980,7 +990,7 @@ def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor,
     # row order are the picture's in its order (the same values, without four more passes and a copy of the picture
     # per car).
     height, width = ids.shape
-    car_pix = (ids.view(-1) == iid).nonzero().flatten()
+    car_pix = flat_nonzero(ids.view(-1) == iid)
     body_pix = car_pix[parts[car_pix] == int(Part.BODY)]
     if len(body_pix) < 8:
         return None
@@ -1325,7 +1335,7 @@ def _paste_near_views(out: Tensor, source: Tensor, own: Tensor, before: ObjectTa
         # Target pixel -> input pixel: least squares over the box's corners and centre (exact for a pure 2D move).
         design = torch.cat([uv_a, torch.ones(len(uv_a), 1, dtype=torch.float64)], 1)
         affine = torch.linalg.lstsq(design, uv_b).solution  # (3, 2)
-        ys, xs = mine.nonzero(as_tuple=True)
+        ys, xs = nonzero_yx(mine)
         if not len(ys):
             continue
         # The window: the input mask's box carried to the target (the inverse map).

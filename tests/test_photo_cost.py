@@ -1039,3 +1039,21 @@ def test_mask_tests_by_numpy_are_torchs_any_and_nonzero():
                 assert torch.equal(got, want) and got.dtype == want.dtype and got.is_contiguous()
     with pytest.raises(ValueError, match="2-D"):
         nonzero_yx(masks[10])
+
+
+def test_channel_mean_by_sum3_is_torchs_mean():
+    """``ray_fill``'s grain level: the channels' mean as ``sum3(x, 0) / 3`` is torch's ``x.mean(0)`` bit for bit on
+    a ``(3, H, W)`` float32 picture in channel-last memory (as decoded pictures arrive) and contiguous, with -0.0,
+    infinities, NaN and values from 1e-30 to 1e30; the same layout out."""
+    from sdn3d.math3d.sums import sum3
+
+    gen = torch.Generator().manual_seed(8)
+    channel_last = torch.randn(40, 70, 3, generator=gen).permute(2, 0, 1) * torch.logspace(-30, 30, 70)
+    channel_last[:, :3] = -0.0
+    channel_last[0, 5, :9] = float("inf")
+    channel_last[1, 6, 3:12] = float("-inf")
+    channel_last[2, 7, 4] = float("nan")
+    for x in (channel_last, channel_last.contiguous(), channel_last * (torch.rand(40, 70, generator=gen) > 0.3)):
+        got, want = sum3(x, 0) / 3, x.mean(0)
+        same = (got.view(torch.int32) == want.view(torch.int32)) | (got.isnan() & want.isnan())
+        assert bool(same.all()) and got.stride() == want.stride()

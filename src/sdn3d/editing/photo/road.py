@@ -27,6 +27,7 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.image_ops import any_along, any_set, dilate_square, nonzero_yx
+from sdn3d.math3d.sums import sum3
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
            "road_haze", "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
@@ -364,7 +365,9 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     if texture > 0 or match_grain:
         detail = (image - _normalised_blur(image, valid, GRAIN_SIGMA)) * valid
         # A marking's or a kerb's outline is no grain: mirrored into the hole it draws a ghost outline there.
-        level = detail.mean(0).abs()
+        # the channels' mean as torch's mean computes it (their sum, then / 3), without its reduction's scalar loop
+        # over the three adjacent values of a channel-last picture (a third of the time)
+        level = (sum3(detail, 0) / 3).abs()
         scale = 1.4826 * _masked_median(level, valid) if any_set(valid) else 0.0
         detail = detail * (level <= GRAIN_EDGE * scale)
     ys, xs = nonzero_yx(hole)

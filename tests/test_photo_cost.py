@@ -1010,12 +1010,13 @@ def test_linear_rgb_of_8bit_levels_by_lut_is_numpys_take():
 
 
 def test_mask_tests_by_numpy_are_torchs_any_and_nonzero():
-    """:func:`~sdn3d.image_ops.any_set`, :func:`~sdn3d.image_ops.any_along`, :func:`~sdn3d.image_ops.flat_nonzero`
-    and :func:`~sdn3d.image_ops.nonzero_yx` (NumPy on a bool CPU mask) are torch's ``any``, ``any(dim)``,
-    ``reshape(-1).nonzero().flatten()`` and ``nonzero(as_tuple=True)``, values, dtypes and layouts: masks empty,
+    """:func:`~sdn3d.image_ops.any_set`, :func:`~sdn3d.image_ops.any_along`, :func:`~sdn3d.image_ops.count_set`,
+    :func:`~sdn3d.image_ops.flat_nonzero` and :func:`~sdn3d.image_ops.nonzero_yx` (NumPy on a bool CPU mask) are
+    torch's ``any``, ``any(dim)``, ``int(sum())``, ``reshape(-1).nonzero().flatten()`` and ``nonzero(as_tuple=True)``,
+    values, dtypes and layouts: masks empty,
     full, with one pixel set (at a corner and inside), sliced, transposed and 3-D, along each dimension; a float
     tensor (torch's own, NaN counting as set) and a 0-d mask."""
-    from sdn3d.image_ops import any_along, any_set, flat_nonzero, nonzero_yx
+    from sdn3d.image_ops import any_along, any_set, count_set, flat_nonzero, nonzero_yx
 
     gen = torch.Generator().manual_seed(7)
     one = torch.zeros(37, 53, dtype=torch.bool)
@@ -1029,6 +1030,8 @@ def test_mask_tests_by_numpy_are_torchs_any_and_nonzero():
              torch.tensor([[0.0, float("nan")], [-0.0, 0.0]]), torch.tensor([[0.0, -0.0], [0.0, 0.0]])]
     for mask in masks:
         assert any_set(mask) is bool(mask.any())
+        if mask.dtype == torch.bool:
+            assert count_set(mask) == int(mask.sum()) and isinstance(count_set(mask), int)
         for dim in range(-mask.dim(), mask.dim()):
             got, want = any_along(mask, dim), mask.any(dim)
             assert torch.equal(got, want) and got.dtype == want.dtype == torch.bool

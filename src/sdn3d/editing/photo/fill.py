@@ -18,7 +18,7 @@ from sdn3d.editing.photo.settings import (
     PhotoSettings,
     PhotoSettingsError,
 )
-from sdn3d.image_ops import any_along, any_set, dilate_square, ids_present, isin_ids, nonzero_yx
+from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, ids_present, isin_ids, nonzero_yx
 
 if TYPE_CHECKING:
     from sdn3d.editing.photo.road import PictureLab
@@ -197,11 +197,11 @@ def _shadow_fit(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, tolera
     flat = image.permute(1, 2, 0).reshape(-1, 3).double()
     y = luminance(flat).view(search.shape)
     lit_pix = (lit & like).view(-1)
-    if int(lit_pix.sum()) < 30:
+    if count_set(lit_pix) < 30:
         return None
     y_lit = float(y.view(-1)[lit_pix].median())
     cand = search & like & (y < 0.85 * y_lit)
-    if int(cand.sum()) < 20:
+    if count_set(cand) < 20:
         return None
     yc = y[cand]
     core_cut = float(torch.quantile(yc, 0.25))

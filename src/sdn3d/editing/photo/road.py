@@ -26,7 +26,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.image_ops import any_along, any_set, dilate_square, nonzero_yx
+from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, nonzero_yx
 from sdn3d.math3d.sums import sum3
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
@@ -115,10 +115,10 @@ def image_vanishing_point(image: Tensor, region: Tensor, K: Tensor, min_edges: i
     mag = (gx**2 + gy**2).sqrt()
     rows = torch.arange(y0, y1)[:, None] > cy + 2  # below the horizon: the road's side
     use = region[y0:y1, x0:x1] & rows & (mag > 0.15)
-    if int(use.sum()) < min_edges:
+    if count_set(use) < min_edges:
         return None
     use &= _coherence(gx, gy, window) >= coherence
-    if int(use.sum()) < min_edges:
+    if count_set(use) < min_edges:
         return None
     ys, xs = nonzero_yx(use)  # in the window; the vote below reads the picture's coordinates
     m = mag[ys, xs]
@@ -525,7 +525,7 @@ def road_haze(image: Tensor, valid: Tensor, hole: Tensor, horizon: float, airlig
     if airlight < 1:
         band = max(2, height // HAZE_FAR_ROWS)
         far = (valid & ((rows - horizon).abs() <= band)[:, None])[:, ::step]
-        if int(far.sum()) < HAZE_FAR_PIXELS:
+        if count_set(far) < HAZE_FAR_PIXELS:
             return None
         seen = image[:, far].double().median(1).values  # (3,)
         if float((sol[0] - seen).abs().max()) > airlight:
@@ -658,7 +658,7 @@ def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor
     road, around = _road_around(image, ring, lab=lab)
     if road is None:
         return default
-    if int(around.sum()) < 50:
+    if count_set(around) < 50:
         return default
     y0, y1 = max(int(ys.min()) - 41, 0), min(int(ys.max()) + 42, height)
     x0, x1 = max(int(xs.min()) - 41, 0), min(int(xs.max()) + 42, width)
@@ -666,7 +666,7 @@ def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor
     # hole pixels whose 3x3 neighbourhood is all hole (the picture's outside counts as hole): on the box grown by one
     wy0, wy1, wx0, wx1 = max(int(ys.min()) - 1, 0), int(ys.max()) + 2, max(int(xs.min()) - 1, 0), int(xs.max()) + 2
     inside = (~dilate_square(~hole[wy0:wy1, wx0:wx1], 1))[ys - wy0, xs - wx0]  # (N,)
-    if int(inside.sum()) < 50:
+    if count_set(inside) < 50:
         return default
     # The pixels looked at have only hole pixels in their 3x3 neighbourhood: the box of those grown by one holds it.
     iy, ix = ys[inside], xs[inside]
@@ -687,7 +687,7 @@ def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor
             # road_like is per pixel: looked at on the hole's pixels alone (the cost: a Lab conversion per weight)
             like = road_like(filled[:, inside, None], road)[:, 0]
             levels[i] = (float(_luma_laplacian(crop).view(-1)[at_inside[like]].mean()) - target
-                         if int(like.sum()) >= 50 else None)
+                         if count_set(like) >= 50 else None)
         return levels[i]
 
     chosen = _nearest_zero(excess, len(GRAIN_WEIGHTS))
@@ -981,7 +981,7 @@ def road_colours(image: Tensor, ring: Tensor, tolerance: float = 12.0,
     ``lab``: ``image``'s :class:`PictureLab` (the same values, converted once for all the removal's tests)."""
     if lab is not None:
         lab.check(image)
-    if int(ring.sum()) < 30:
+    if count_set(ring) < 30:
         return None
     return _road_of(_ring_lab(image, ring, lab), tolerance)
 
@@ -1003,7 +1003,7 @@ def _road_of(lab: Tensor, tolerance: float) -> Tensor | None:
         return None
     mid = _column_median(ref)
     near = ab_length(ab - mid) < tolerance
-    return _column_median(lab[near]) if int(near.sum()) >= 30 else None
+    return _column_median(lab[near]) if count_set(near) >= 30 else None
 
 
 def _road_around(image: Tensor, ring: Tensor, tolerance: float = 12.0, lab: PictureLab | None = None,
@@ -1013,7 +1013,7 @@ def _road_around(image: Tensor, ring: Tensor, tolerance: float = 12.0, lab: Pict
     from one Lab conversion of the ring's pixels (``road_like`` converted the ring's whole box again); ``lab``: the
     :class:`PictureLab` of the picture ``image`` is every ``step``-th column of."""
     like = torch.zeros(ring.shape, dtype=torch.bool)
-    if int(ring.sum()) < 30:
+    if count_set(ring) < 30:
         return None, like
     lab = _ring_lab(image, ring, lab, step)
     road = _road_of(lab, tolerance)

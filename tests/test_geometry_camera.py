@@ -209,3 +209,49 @@ def test_camera_pose_rejects_bad_values() -> None:
         with pytest.raises(ValueError, match="CameraPose"):
             CameraPose(**kwargs)
     assert CameraPose(roll=0.02).roll_ignored and not CameraPose(roll=0.005).roll_ignored
+
+
+def _kornia_roty(ry: torch.Tensor) -> torch.Tensor:
+    """``roty`` as kornia's axis-angle formula of ``(0, ry, 0)``, op for op (what :func:`roty` gives bit for bit)."""
+    from sdn3d.math3d.rotations import _axis_angle_to_rotation_matrix
+
+    flat = ry.reshape(-1)
+    zeros = torch.zeros_like(flat)
+    return _axis_angle_to_rotation_matrix(torch.stack([zeros, flat, zeros], -1)).reshape(*ry.shape, 3, 3)
+
+
+def _same_bits(a: torch.Tensor, b: torch.Tensor) -> bool:
+    """Equal bit for bit (signed zeros told apart), NaN wherever the other is NaN; the same shape and strides."""
+    as_int = torch.int64 if a.dtype == torch.float64 else torch.int32
+    same = (a.view(as_int) == b.view(as_int)) | (a.isnan() & b.isnan())
+    return a.dtype == b.dtype and a.shape == b.shape and a.stride() == b.stride() and bool(same.all())
+
+
+@pytest.mark.parametrize("dtype", [torch.float32, torch.float64])
+def test_roty_without_grad_is_kornias_formula_bit_for_bit(dtype: torch.dtype) -> None:
+    """roty's folded arithmetic (no autograd) gives kornia's bits: signed zeros of the zero entries on both sides of
+    0, the series' rows (``ry^2 <= 1e-6``, alone and mixed with Rodrigues' rows) and their boundary, large angles,
+    infinities and NaN; scalar and batched shapes. With grad, values and gradients are kornia's."""
+    gen = torch.Generator().manual_seed(3)
+    limit = torch.tensor(1e-3, dtype=dtype)
+    boundary = torch.stack([torch.nextafter(limit, torch.zeros_like(limit)), limit,
+                            torch.nextafter(limit, torch.ones_like(limit))])
+    angles = torch.cat([
+        torch.tensor([0.0, -0.0, 1e-30, -1e-30, 1e-45, math.pi, -math.pi, math.pi / 2, 1e3, -1e30,
+                      float("inf"), float("-inf"), float("nan")], dtype=dtype),
+        boundary, -boundary,
+        torch.rand(4000, generator=gen, dtype=torch.float64).to(dtype) * 20 - 10,
+        (torch.rand(4000, generator=gen, dtype=torch.float64).to(dtype) - 0.5) * 4e-3,  # series and Rodrigues rows
+    ])
+    assert _same_bits(roty(angles), _kornia_roty(angles))
+    for only_series in (angles[(angles * angles) <= 1e-6], torch.tensor([-0.0, 0.0, -2e-4], dtype=dtype)):
+        assert _same_bits(roty(only_series), _kornia_roty(only_series))
+    for shaped in (angles[5], angles[:12].view(3, 4), angles[:12].view(4, 3).T):
+        assert _same_bits(roty(shaped), _kornia_roty(shaped))
+    ry = angles[13:200].clone().requires_grad_(True)
+    ry_kornia = ry.detach().clone().requires_grad_(True)
+    rot, rot_kornia = roty(ry), _kornia_roty(ry_kornia)
+    weights = torch.rand(rot.shape, generator=gen, dtype=torch.float64).to(dtype)
+    (rot * weights).sum().backward()
+    (rot_kornia * weights).sum().backward()
+    assert _same_bits(rot.detach(), rot_kornia.detach()) and _same_bits(ry.grad, ry_kornia.grad)

@@ -961,3 +961,102 @@ def test_photo_path_on_cropped_fragments_draws_what_the_whole_images_drew(monkey
     assert any(bool((r.source == transfer.PHOTO).any()) for r in whole)
     assert sum(r.light is not None for r in whole) >= 2
     assert bool((whole[0].source == transfer.IN_FRONT).any())
+
+
+def test_part_examples_summing_by_sum3_are_those_of_torchs_sum(monkeypatch):
+    """``_part_examples`` (its surface points and, through ``_view_cos``, their view cosines summed over three by
+    :func:`~sdn3d.math3d.sums.sum3`) keeps the very examples, colours, features and cosines it kept with torch's
+    ``sum``: a textured car seen from the rear three-quarter, every visible pixel offered."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.transfer import _part_examples, _surface, _view_cos
+    from sdn3d.scene.code import SceneObject
+    from tests.test_photo_parts import PARTS
+
+    car = SceneObject(12001, template_id=0, dims=(4.0, 1.5, 1.8), ry=-math.pi / 2 + 0.7, location=(-1.0, 1.6, 9.0))
+    scene = _scene([car])
+    image = torch.rand((3, *INPUT_SIZE[::-1]), generator=torch.Generator().manual_seed(4))
+    src = PhotoSource(image, FRAME, scene, settings=PARTS)
+    visible = (src.vis_ids.view(-1) == 12001).nonzero().flatten()
+    img_flat = image.permute(1, 2, 0).reshape(-1, 3)
+    _, vid, bary, normal = _surface(src.raster, visible)
+    point = (bary[..., None] * src.raster.verts[0, vid]).sum(1)
+    point[:5] = 0.0  # a point at the camera: normalize gives zeros
+    got = [_view_cos(point, normal), *_part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat,
+                                                      PARTS)]
+    monkeypatch.setattr(transfer, "sum3", lambda x, dim=-1, keepdim=False: x.sum(dim, keepdim=keepdim))
+    want = [_view_cos(point, normal), *_part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat,
+                                                       PARTS)]
+    assert len(got[1].part) > 100 and torch.equal(got[0], want[0]) and torch.equal(got[2], want[2])
+    assert torch.equal(got[0], (F.normalize(point, dim=-1) * normal).sum(-1).abs())  # _view_cos as it was
+    assert all(torch.equal(a, b) and a.dtype == b.dtype for a, b in zip(got[1], want[1], strict=True))
+
+
+def test_linear_rgb_of_8bit_levels_by_lut_is_numpys_take():
+    """``_linear_of_levels`` (OpenCV's ``LUT``) gives ``np.take(_LINEAR_LEVELS, levels)`` bit for bit in every layout
+    :class:`PictureLab` hands it: a box's rows (contiguous, or a strided view of whole rows), a boolean selection,
+    one pixel, no pixels."""
+    import numpy as np
+
+    from sdn3d.editing.photo.road import _LINEAR_LEVELS, _linear_of_levels
+
+    levels = torch.randint(256, (3, 40, 70), dtype=torch.uint8, generator=torch.Generator().manual_seed(6)).numpy()
+    levels[:, :4, :64] = np.arange(256, dtype=np.uint8).reshape(4, 64)  # every level
+    selected = levels[:, levels[0] > 100]
+    for values in (levels.reshape(3, -1), levels[:, 3:9].reshape(3, -1), levels[:, 3:9, 5:40].reshape(3, -1),
+                   selected, selected[:, :1], selected[:, :0]):
+        got, want = _linear_of_levels(values), np.take(_LINEAR_LEVELS, values)
+        assert got.dtype == want.dtype == np.float32 and got.shape == want.shape
+        assert np.array_equal(got.view(np.uint32), want.view(np.uint32)) and got.flags.c_contiguous
+
+
+def test_mask_tests_by_numpy_are_torchs_any_and_nonzero():
+    """:func:`~sdn3d.image_ops.any_set`, :func:`~sdn3d.image_ops.any_along`, :func:`~sdn3d.image_ops.count_set`,
+    :func:`~sdn3d.image_ops.flat_nonzero` and :func:`~sdn3d.image_ops.nonzero_yx` (NumPy on a bool CPU mask) are
+    torch's ``any``, ``any(dim)``, ``int(sum())``, ``reshape(-1).nonzero().flatten()`` and ``nonzero(as_tuple=True)``,
+    values, dtypes and layouts: masks empty,
+    full, with one pixel set (at a corner and inside), sliced, transposed and 3-D, along each dimension; a float
+    tensor (torch's own, NaN counting as set) and a 0-d mask."""
+    from sdn3d.image_ops import any_along, any_set, count_set, flat_nonzero, nonzero_yx
+
+    gen = torch.Generator().manual_seed(7)
+    one = torch.zeros(37, 53, dtype=torch.bool)
+    one[36, 52] = True
+    inside = torch.zeros(37, 53, dtype=torch.bool)
+    inside[20, 7] = True
+    sparse = torch.rand(37, 53, generator=gen) > 0.995
+    masks = [torch.zeros(37, 53, dtype=torch.bool), torch.ones(37, 53, dtype=torch.bool), one, inside, sparse,
+             sparse[5:30, 9:40], sparse.T, one[:-1, :-1], inside[::2, 3::5], torch.zeros(0, 53, dtype=torch.bool),
+             torch.rand(3, 20, 30, generator=gen) > 0.99, torch.tensor(True), torch.tensor(False),
+             torch.tensor([[0.0, float("nan")], [-0.0, 0.0]]), torch.tensor([[0.0, -0.0], [0.0, 0.0]])]
+    for mask in masks:
+        assert any_set(mask) is bool(mask.any())
+        if mask.dtype == torch.bool:
+            assert count_set(mask) == int(mask.sum()) and isinstance(count_set(mask), int)
+        for dim in range(-mask.dim(), mask.dim()):
+            got, want = any_along(mask, dim), mask.any(dim)
+            assert torch.equal(got, want) and got.dtype == want.dtype == torch.bool
+        got, want = flat_nonzero(mask), mask.reshape(-1).nonzero().flatten()
+        assert torch.equal(got, want) and got.dtype == want.dtype and got.stride() == want.stride()
+        if mask.dim() == 2:
+            for got, want in zip(nonzero_yx(mask), mask.nonzero(as_tuple=True), strict=True):
+                assert torch.equal(got, want) and got.dtype == want.dtype and got.is_contiguous()
+    with pytest.raises(ValueError, match="2-D"):
+        nonzero_yx(masks[10])
+
+
+def test_channel_mean_by_sum3_is_torchs_mean():
+    """``ray_fill``'s grain level: the channels' mean as ``sum3(x, 0) / 3`` is torch's ``x.mean(0)`` bit for bit on
+    a ``(3, H, W)`` float32 picture in channel-last memory (as decoded pictures arrive) and contiguous, with -0.0,
+    infinities, NaN and values from 1e-30 to 1e30; the same layout out."""
+    from sdn3d.math3d.sums import sum3
+
+    gen = torch.Generator().manual_seed(8)
+    channel_last = torch.randn(40, 70, 3, generator=gen).permute(2, 0, 1) * torch.logspace(-30, 30, 70)
+    channel_last[:, :3] = -0.0
+    channel_last[0, 5, :9] = float("inf")
+    channel_last[1, 6, 3:12] = float("-inf")
+    channel_last[2, 7, 4] = float("nan")
+    for x in (channel_last, channel_last.contiguous(), channel_last * (torch.rand(40, 70, generator=gen) > 0.3)):
+        got, want = sum3(x, 0) / 3, x.mean(0)
+        same = (got.view(torch.int32) == want.view(torch.int32)) | (got.isnan() & want.isnan())
+        assert bool(same.all()) and got.stride() == want.stride()

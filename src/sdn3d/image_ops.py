@@ -38,6 +38,11 @@ from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 
 __all__ = [
+    "any_set",
+    "any_along",
+    "count_set",
+    "flat_nonzero",
+    "nonzero_yx",
     "check_size",
     "dilate_square",
     "isin_ids",
@@ -288,6 +293,53 @@ def crop_intrinsics(intr: Intrinsics, windows: Tensor, size: int) -> Tensor:
 #: time does not grow with the radius; OpenCV's dilation, faster for small radii, took 17 ms at a radius of 1000
 #: on 1242x375.
 DILATE_COUNTS_MIN = 48
+
+
+def any_set(mask: Tensor) -> bool:
+    """``bool(mask.any())``: by NumPy for a bool CPU ``mask`` (torch's ``any`` reduces a bool picture with a scalar
+    loop: 0.45 ms at 1242x375, NumPy 0.02 ms), by torch otherwise."""
+    if mask.dtype != torch.bool or mask.device.type != "cpu":
+        return bool(mask.any())
+    return bool(mask.numpy().any())
+
+
+def any_along(mask: Tensor, dim: int) -> Tensor:
+    """``mask.any(dim)`` (bool): by NumPy for a bool CPU ``mask`` (torch took 0.5-0.7 ms on a 1242x375 picture's rows
+    or columns, NumPy 0.02 ms), by torch otherwise."""
+    if mask.dtype != torch.bool or mask.device.type != "cpu":
+        return mask.any(dim)
+    return torch.from_numpy(mask.numpy().any(dim))
+
+
+def count_set(mask: Tensor) -> int:
+    """``int(mask.sum())``: how many elements of a bool ``mask`` are set, by NumPy on the CPU (torch's sum of a bool
+    1242x375 picture took 0.2 ms, NumPy's ``count_nonzero`` 0.03 ms), by torch otherwise."""
+    if mask.dtype != torch.bool or mask.device.type != "cpu":
+        return int(mask.sum())
+    return int(np.count_nonzero(mask.numpy()))
+
+
+def flat_nonzero(mask: Tensor) -> Tensor:
+    """``mask.reshape(-1).nonzero().flatten()``: the int64 flat indices of the set elements of a bool ``mask`` in
+    row-major order, by NumPy on the CPU (2-6 times as fast as torch's on a 1242x375 picture), by torch
+    otherwise."""
+    if mask.dtype != torch.bool or mask.device.type != "cpu":
+        return mask.reshape(-1).nonzero().flatten()
+    return torch.from_numpy(np.flatnonzero(mask.numpy()).astype(np.int64, copy=False))
+
+
+def nonzero_yx(mask: Tensor) -> tuple[Tensor, Tensor]:
+    """``mask.nonzero(as_tuple=True)`` of a 2-D bool ``mask``: its set pixels' rows and columns (int64, row-major
+    order, each contiguous), from :func:`flat_nonzero` on the CPU (NumPy's own 2-D ``nonzero`` is slower than
+    torch's), by torch otherwise."""
+    if mask.dim() != 2:
+        raise ValueError(f"nonzero_yx: mask must be 2-D, got shape {tuple(mask.shape)}")
+    if mask.dtype != torch.bool or mask.device.type != "cpu":
+        ys, xs = mask.nonzero(as_tuple=True)
+        return ys, xs
+    flat = flat_nonzero(mask)
+    width = mask.shape[1]
+    return flat // width, flat % width
 
 
 def dilate_square(mask: Tensor, radius: int) -> Tensor:

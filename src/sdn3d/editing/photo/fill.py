@@ -18,7 +18,7 @@ from sdn3d.editing.photo.settings import (
     PhotoSettings,
     PhotoSettingsError,
 )
-from sdn3d.image_ops import dilate_square, ids_present, isin_ids
+from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, ids_present, isin_ids, nonzero_yx
 
 if TYPE_CHECKING:
     from sdn3d.editing.photo.road import PictureLab
@@ -33,7 +33,7 @@ def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5,
     at most ``max_side`` pixels on a side (its time grows with their area)."""
     import cv2
 
-    if not bool(hole.any()):
+    if not any_set(hole):
         return image
     count, labels = cv2.connectedComponents(hole.numpy().astype(np.uint8), connectivity=8)
     depth = cv2.distanceTransform(hole.numpy().astype(np.uint8), cv2.DIST_L2, 3) if method == "auto" else None
@@ -62,7 +62,7 @@ def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_s
     import cv2
 
     height, width = hole.shape
-    ys, xs = hole.nonzero(as_tuple=True)
+    ys, xs = nonzero_yx(hole)
     margin = max(4 * radius + 8, (int(ys.max()) - int(ys.min()) + int(xs.max()) - int(xs.min())) // 2 + 8) \
         if method == "patchmatch" else 4 * radius + 8
     x0, x1 = max(int(xs.min()) - margin, 0), min(int(xs.max()) + margin + 1, width)
@@ -76,7 +76,7 @@ def _inpaint_part(image: Tensor, hole: Tensor, method: str, radius: int, patch_s
         from patchmatch import patch_match
 
         avoid = None
-        if keep_out is not None and bool(keep_out[y0:y1, x0:x1].any()):
+        if keep_out is not None and any_set(keep_out[y0:y1, x0:x1]):
             avoid = cv2.copyMakeBorder((keep_out[y0:y1, x0:x1] & ~hole[y0:y1, x0:x1]).numpy().astype(np.uint8),
                                        1, 1, 1, 1, cv2.BORDER_CONSTANT, value=0)
         full = crop.shape[1], crop.shape[0]
@@ -109,7 +109,7 @@ def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSetting
     (pixels of objects that stay)."""
     vacated = isin_ids(ids, gone) & (ids != 0)
     hole = dilate_square(vacated, settings.hole_dilate_px)
-    if settings.shadow_band > 0 and bool(vacated.any()):
+    if settings.shadow_band > 0 and any_set(vacated):
         hole |= dilate_square(_shadow_bands(ids, gone, settings.shadow_band), 1)
     return hole & ~keep
 
@@ -123,8 +123,8 @@ def _shadow_bands(ids: Tensor, gone: Tensor, share: float) -> Tensor:
         return torch.zeros_like(ids, dtype=torch.bool)
     # The bands lie in the objects' columns, from their top row down: worked out there (no pixel of theirs above).
     theirs = isin_ids(ids, gone)
-    cols = theirs.any(0).nonzero().flatten()
-    y0, x0, x1 = int(theirs.any(1).nonzero()[0]), int(cols[0]), int(cols[-1]) + 1
+    cols = any_along(theirs, 0).nonzero().flatten()
+    y0, x0, x1 = int(any_along(theirs, 1).nonzero()[0]), int(cols[0]), int(cols[-1]) + 1
     out = torch.zeros_like(ids, dtype=torch.bool)
     out[y0:, x0:x1] = _bands_in(ids[y0:, x0:x1], gone, share)
     return out
@@ -158,7 +158,7 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
     (3,)``: the road's CIE Lab around the hole, which tells the rays' road from a verge on the ground, the rows from
     ``ground_row`` down (``settings.ray_verge``; None: the rays blend them); ``lab``: ``image``'s
     :class:`~sdn3d.editing.photo.road.PictureLab` for the rays' road tests (None: converted here)."""
-    if not bool(hole.any()):
+    if not any_set(hole):
         return image.clone()
     if settings.fill == "generator":
         if fill is None:
@@ -175,7 +175,7 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
                                  road=None if ground_row is None else road, verge=settings.ray_verge,
                                  ground_row=0.0 if ground_row is None else ground_row, lab=lab)
         rest = hole & ~reached  # no ray reaches these: Telea from what is known around them
-        out = inpaint(out, rest, "telea", settings.inpaint_radius) if bool(rest.any()) else out
+        out = inpaint(out, rest, "telea", settings.inpaint_radius) if any_set(rest) else out
         if settings.fill == "learnt":
             from sdn3d.editing.photo.learnt import learnt_fill, load_fill_net
 
@@ -197,11 +197,11 @@ def _shadow_fit(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, tolera
     flat = image.permute(1, 2, 0).reshape(-1, 3).double()
     y = luminance(flat).view(search.shape)
     lit_pix = (lit & like).view(-1)
-    if int(lit_pix.sum()) < 30:
+    if count_set(lit_pix) < 30:
         return None
     y_lit = float(y.view(-1)[lit_pix].median())
     cand = search & like & (y < 0.85 * y_lit)
-    if int(cand.sum()) < 20:
+    if count_set(cand) < 20:
         return None
     yc = y[cand]
     core_cut = float(torch.quantile(yc, 0.25))

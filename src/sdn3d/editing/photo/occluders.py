@@ -23,6 +23,8 @@ import numpy as np
 import torch
 from torch import Tensor
 
+from sdn3d.image_ops import any_along, any_set, flat_nonzero
+
 __all__ = ["thin_occluders"]
 
 
@@ -66,11 +68,11 @@ def thin_occluders(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, max_wid
         True
     """
     candidate = (outline_ids != 0) & (mask_ids == 0)
-    if not bool(candidate.any()):
+    if not any_set(candidate):
         return candidate
     # Everything up to the upright growth lies on the rows the outlines cover (each car's height is its outline's):
     # worked out on that band of rows, then put back in the picture.
-    rows_used = (outline_ids != 0).any(1).nonzero().flatten()
+    rows_used = any_along(outline_ids != 0, 1).nonzero().flatten()
     y0, y1 = int(rows_used[0]), int(rows_used[-1]) + 1
     found = torch.zeros_like(candidate)
     found[y0:y1] = _strips(image[:, y0:y1], mask_ids[y0:y1], outline_ids[y0:y1], candidate[y0:y1], max_width,
@@ -109,10 +111,10 @@ def _strips(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, candidate: Ten
     # Strips are cut from the flanked pixels: the bands where a template overshoots its car (which join a strip at
     # its ends) have the car's mask on one side at most.
     flanked = _flanked(mask_ids, outline_ids, candidate, reach)
-    if not bool(flanked.any()):
+    if not any_set(flanked):
         return torch.zeros_like(candidate)
     labels_t, count = _components(flanked)  # what follows is per component: their numbering changes nothing
-    pix = flanked.flatten().nonzero().flatten()  # every statistic below is over these pixels
+    pix = flat_nonzero(flanked)  # every statistic below is over these pixels
     lab = labels_t.flatten()[pix]
     size = torch.bincount(lab, minlength=count + 1).float()
     comp_car_height = torch.zeros(count + 1).scatter_reduce(0, lab, car_height.flatten()[pix], "amax")
@@ -123,7 +125,7 @@ def _strips(image: Tensor, mask_ids: Tensor, outline_ids: Tensor, candidate: Ten
     strip_height, strip_width = extent(pix // width), extent(pix % width)
     keep = (strip_height >= min_height * comp_car_height) & (strip_width <= (max_width * comp_car_height).ceil())
     keep[0] = False
-    if not bool(keep.any()):
+    if not any_set(keep):
         return torch.zeros_like(candidate)
     # Colour: the strip against the car's mask pixels just left and right of it.
     pixels = image.reshape(3, -1).T  # (H*W, 3)
@@ -145,9 +147,9 @@ def _extend_upright(found: Tensor, image: Tensor, mask_ids: Tensor, step: float)
     """``found (H, W)`` grown up and down its columns through pixels no mask claims whose colour is within ``step``
     (mean absolute difference) of the pixel above (below) them: a pole runs on past the car's outline, where a
     delete's hole and its shadow band would otherwise paint it over."""
-    if not bool(found.any()):
+    if not any_set(found):
         return found
-    xs = found.any(0).nonzero().flatten()
+    xs = any_along(found, 0).nonzero().flatten()
     x0, x1 = int(xs.min()), int(xs.max()) + 1
     colours = image[:, :, x0:x1]
     free = mask_ids[:, x0:x1] == 0

@@ -54,7 +54,17 @@ from sdn3d.editing.photo.settings import (
     PhotoSettings,
     PhotoSettingsError,
 )
-from sdn3d.image_ops import dilate_square, id_counts, ids_present, isin_ids, mask_boxes
+from sdn3d.image_ops import (
+    any_along,
+    any_set,
+    dilate_square,
+    flat_nonzero,
+    id_counts,
+    ids_present,
+    isin_ids,
+    mask_boxes,
+    nonzero_yx,
+)
 from sdn3d.math3d.rotations import observation_angle, roty, wrap_angle
 from sdn3d.math3d.sums import sum3
 from sdn3d.math3d.transforms import box_corners
@@ -451,7 +461,7 @@ def _wheel_faces(bank: MeshBank, template: int, vid: Tensor, bary: Tensor) -> tu
         for left in (False, True):
             mine = ((wheel_verts[:, 0] > 0) == ahead) & ((wheel_verts[:, 2] > 0) == left)
             here = ((point[:, 0] > 0) == ahead) & ((point[:, 2] > 0) == left)
-            if not bool(mine.any()) or not bool(here.any()):
+            if not any_set(mine) or not any_set(here):
                 continue
             lo, hi = wheel_verts[mine].amin(0), wheel_verts[mine].amax(0)
             offset[here] = (point[here, :2] - (lo + hi)[:2] / 2) / ((hi - lo)[:2] / 2).clamp(min=1e-9)
@@ -493,7 +503,7 @@ def _from_real_wheels(colors: Tensor, codes: Tensor, wheel: tuple[Tensor, int], 
 def _view_cos(points: Tensor, normals: Tensor) -> Tensor:
     """``(P,)`` ``|cos|`` of the angle between each surface normal and the line of sight to its point (camera at the
     origin): 1 seen squarely, 0 edge-on."""
-    return (F.normalize(points, dim=-1) * normals).sum(-1).abs()
+    return sum3(F.normalize(points, dim=-1) * normals).abs()
 
 
 def _pyramid(image: Tensor, levels: int) -> list[Tensor]:
@@ -536,7 +546,7 @@ def _origins(before: ObjectTable, after: ObjectTable) -> Tensor:
     for a in (origin < 0).nonzero().flatten().tolist():
         same = ((before.template_id == after.template_id[a]) & (before.dims == after.dims[a]).all(1)
                 & (before.phi == after.phi[a]).flatten(1).all(1))
-        if bool(same.any()):
+        if any_set(same):
             origin[a] = int(same.nonzero()[0])
     return origin
 
@@ -702,15 +712,15 @@ def _remove_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, before
         image, matte = _relight_around(image, search, hole, objects_px, ring, road)
     road_hole = hole & road_part
     out = image
-    if bool(road_hole.any()):
-        ys, xs = road_hole.nonzero(as_tuple=True)
+    if any_set(road_hole):
+        ys, xs = nonzero_yx(road_hole)
         reach = (int(ys.max() - ys.min()) + int(xs.max() - xs.min())) // 2 + 4 * settings.inpaint_radius + 16
         near = dilate_square(road_hole, reach)  # covers the fill's crop (fill._inpaint_part's margin)
         avoid = objects_px | ~road_like(image, road, min_light=0.8, within=near)  # lit road and markings only
         out = inpaint(out, road_hole, "patchmatch" if settings.fill != "telea" else "telea",
                       settings.inpaint_radius, keep_out=avoid, max_side=ROAD_FILL_MAX_SIDE)
     rest = hole & ~road_hole
-    if bool(rest.any()):
+    if any_set(rest):
         out = inpaint(out, rest, settings.fill, settings.inpaint_radius, keep_out=objects_px,
                       max_side=ROAD_FILL_MAX_SIDE)
     return out, matte
@@ -727,7 +737,7 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
     :class:`~sdn3d.editing.photo.road.PictureLab` (not the relit picture's)."""
     from sdn3d.editing.photo.road import shadowed_road
 
-    ys, xs = (search | hole).nonzero(as_tuple=True)
+    ys, xs = nonzero_yx(search | hole)
     reach = max(int(ys.max() - ys.min()), int(xs.max() - xs.min())) + 8
     near = dilate_square(search | hole, reach)
     lit = near & ~dilate_square(search | hole, 3) & ~objects_px
@@ -757,7 +767,7 @@ def _ground_row(road_part: Tensor, K: Tensor) -> float | None:
     where the road plane of a level camera lies :data:`GROUND_REACH` times as far as the far edge of their footprints
     (the top row of ``road_part (H, W)``, :func:`_effects_regions`; depth on the road plane goes as one over the rows
     below the horizon ``K[1, 2]``). Above it, a ray's sides are as likely upright things (trees, facades) as ground."""
-    rows = road_part.any(1).nonzero().flatten()
+    rows = any_along(road_part, 1).nonzero().flatten()
     if not len(rows):
         return None
     horizon = float(K[1, 2])
@@ -773,7 +783,7 @@ SHADOW_GROUND = 0.5
 
 def _ground_rows(mask: Tensor, hole: Tensor, share: float) -> Tensor:
     """``mask (H, W)`` in the rows from ``share`` of ``hole``'s height (from its top row) down, False above."""
-    rows = hole.any(1).nonzero().flatten()
+    rows = any_along(hole, 1).nonzero().flatten()
     if not len(rows):
         return mask
     cut = int(rows[0]) + int(share * float(rows[-1] - rows[0]))
@@ -825,14 +835,14 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
         return own, []
     gained = after.mask[rows] & ~before.mask[origin[rows]]  # (S, h, w)
     grew = gained.flatten(1).any(1)
-    if vis_ids is not None and min_seen > 0 and bool(grew.any()):
+    if vis_ids is not None and min_seen > 0 and any_set(grew):
         seen = id_counts(vis_ids, after.instance_id[rows])
         grew &= seen >= min_seen
-    if not bool(grew.any()):
+    if not any_set(grew):
         return own, []
     rows, gained = rows[grew], gained[grew]
     first = _first_true(gained)  # the first object (in table order) that gained each pixel
-    labels = torch.where(gained.any(0), after.instance_id[rows][first], torch.zeros_like(first))
+    labels = torch.where(any_along(gained, 0), after.instance_id[rows][first], torch.zeros_like(first))
     # Looked at in the input pixels of the labels' box alone: the upsampled labels are 0 outside it, where nothing
     # is given (the same map, without passes over the whole picture).
     window = input_window(transform, tuple(int(v) for v in mask_boxes(labels[None] != 0)[0]))
@@ -864,7 +874,7 @@ def _pixels_of(ids: Tensor, wanted: Tensor):
     """``lookup(i) -> (P,)`` ascending flat indices of the pixels of ``ids (H, W)`` equal to ``i`` (one of
     ``wanted``): one scan of the picture for all of them."""
     flat = ids.view(-1)
-    pix = isin_ids(flat, wanted).nonzero().flatten()
+    pix = flat_nonzero(isin_ids(flat, wanted))
     at = flat[pix]
     return lambda i: pix[at == i]
 
@@ -936,7 +946,7 @@ def _dark_body(flat: Tensor, car: Tensor, parts: Tensor, pix: Tensor, paint_ligh
     at_tyre, gained, _, _ = _tyres_in_picture(flat, car, parts, paint_light)
     if road is not None:
         gained &= ~road.view(height, width)
-    return torch.cat([pix[~at_tyre.view(-1)[pix]], gained.view(-1).nonzero().flatten()])
+    return torch.cat([pix[~at_tyre.view(-1)[pix]], flat_nonzero(gained)])
 
 
 def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor,
@@ -951,7 +961,7 @@ def _tyres_in_picture(flat: Tensor, car: Tensor, parts: Tensor,
     at_tyre = torch.zeros_like(car)
     freed = torch.zeros_like(car)
     wheel_at = torch.full((height, width, 2), math.nan, dtype=torch.float64)
-    if not bool(car.any()):
+    if not any_set(car):
         return at_tyre, freed, wheel_at, torch.zeros(0, 4, dtype=torch.float64)
     x0, y0, x1, y1 = (int(v) for v in mask_boxes(car[None])[0])
     lab = srgb_to_lab(flat.view(height, width, 3)[y0:y1, x0:x1].reshape(-1, 3).double()).view(y1 - y0, x1 - x0, 3)
@@ -980,7 +990,7 @@ def _dark_car_tyres(image: Tensor, ids: Tensor, parts: Tensor,
     # row order are the picture's in its order (the same values, without four more passes and a copy of the picture
     # per car).
     height, width = ids.shape
-    car_pix = (ids.view(-1) == iid).nonzero().flatten()
+    car_pix = flat_nonzero(ids.view(-1) == iid)
     body_pix = car_pix[parts[car_pix] == int(Part.BODY)]
     if len(body_pix) < 8:
         return None
@@ -1077,7 +1087,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     stays = torch.zeros(len(after), dtype=torch.bool)
     has = origin >= 0
     same_id = has & (after.instance_id == before.instance_id[origin.clamp(min=0)])
-    if bool(same_id.any()):
+    if any_set(same_id):
         ra = same_id.nonzero().flatten()
         stays[ra] = _same_pose(before, after, origin[ra], ra)
     moved = ~stays & has & after.has_geometry
@@ -1104,7 +1114,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     moved_rows = moved.nonzero().flatten().tolist()
     casts = settings.cast_shadow and bool(moved_rows)
     lit_effects = effects and settings.fill not in RAY_FILLS  # rays find the shadow by its darkness: no light needed
-    if (settings.relight or lit_effects or casts) and len(src.rows) and (bool(moved.any()) or grown_rows
+    if (settings.relight or lit_effects or casts) and len(src.rows) and (any_set(moved) or grown_rows
                                                                           or lit_effects):
         src_normals, light = source.light()
     shade = light.shade if light is not None and settings.relight else None
@@ -1115,7 +1125,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
     keep = covered & staying
     hole = vacated_hole(src_ids, gone_ids, keep, settings)
-    if bool(hole.any()):  # thin things in front are put back over the fill: they are no source of it
+    if any_set(hole):  # thin things in front are put back over the fill: they are no source of it
         hole = hole | photo_source.in_front
     # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
     vp = None
@@ -1238,7 +1248,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         out, source = _recolor(out, source, final_own, recolor, objects, warnings, recolor_parts)
     # Thin things in front of a car stay in front of what the edit drew there, unless a car now stands nearer than
     # the one they hid (their depth is at most that car's).
-    if bool(photo_source.in_front.any()):  # (none found: nothing to put back)
+    if any_set(photo_source.in_front):  # (none found: nothing to put back)
         src_depth = src.frags.in_image(src.frags.depth, math.inf)[0].double()
         front = photo_source.in_front & (source != INPUT) & ~(drawn_depth < src_depth - 0.5)
         out = torch.where(front[None], image, out)
@@ -1250,7 +1260,7 @@ def _into_original(out: Tensor, changed: Tensor, original: Tensor) -> Tensor:
     """``(3, H, W)`` ``original`` with its ``changed (H, W)`` pixels taken from ``out (3, H, W)`` float, clamped to
     [0, 1] (and rounded to uint8 for a uint8 original); only the box of the changed pixels is converted."""
     result = original.clone()
-    rows, cols = changed.any(1).nonzero().flatten(), changed.any(0).nonzero().flatten()
+    rows, cols = any_along(changed, 1).nonzero().flatten(), any_along(changed, 0).nonzero().flatten()
     if not len(rows):
         return result
     y0, y1, x0, x1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
@@ -1325,7 +1335,7 @@ def _paste_near_views(out: Tensor, source: Tensor, own: Tensor, before: ObjectTa
         # Target pixel -> input pixel: least squares over the box's corners and centre (exact for a pure 2D move).
         design = torch.cat([uv_a, torch.ones(len(uv_a), 1, dtype=torch.float64)], 1)
         affine = torch.linalg.lstsq(design, uv_b).solution  # (3, 2)
-        ys, xs = mine.nonzero(as_tuple=True)
+        ys, xs = nonzero_yx(mine)
         if not len(ys):
             continue
         # The window: the input mask's box carried to the target (the inverse map).
@@ -1354,7 +1364,7 @@ def _paste_near_views(out: Tensor, source: Tensor, own: Tensor, before: ObjectTa
         coverage = (work_ids == before.instance_id[b]).float()[None, None]
         cover = _sample([coverage], uv_work, torch.zeros(len(p), dtype=torch.float64))[:, 0].double()
         hit = inside & (cover >= 0.5) & (free | this)[flat_q]
-        if not bool(hit.any()):
+        if not any_set(hit):
             continue
         if pyramid is None:
             pyramid = pyramid_of(settings.max_level)
@@ -1447,7 +1457,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     flip = torch.tensor([1.0, 1.0, -1.0], dtype=torch.float64)
     local = torch.einsum("pji,pj->pi", rot, point_s - centre) * flip
     point_m = torch.einsum("pij,pj->pi", rot, local) + centre
-    if settings.silhouette == "carved" and bool(has_src.any()):
+    if settings.silhouette == "carved" and any_set(has_src):
         # A template point the input's mask rules out (module doc, step 3) is not drawn: what shows there is the
         # picture behind the object, as in the 2D paste.
         # (an object the input does not show at all has no outline to carve by)
@@ -1480,7 +1490,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     cos_mirror = _view_cos(point_m, normal_m)
     t_part = _part_map(tgt, after, bank, pix)
     relabelled = registered != parts_src  # the template's wheel where the car's is not: those pixels are the other part
-    if bool(relabelled.any()):
+    if any_set(relabelled):
         no_wheel = torch.zeros(len(pix), dtype=torch.bool)
         moved_p, on_p, moved_m, on_m = no_wheel, no_wheel, no_wheel, no_wheel
         if wheels is not None:  # a tyre point read where its template's tyre lay is read off the real wheel
@@ -1595,13 +1605,13 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         if settings.view_reflection > 0 and b >= 0:  # glass and paint seen from a new angle mirror more or less sky
             for part in REFLECTIVE_PARTS:
                 here = sel & seen & (t_part == part)
-                strength = _reflection_strength(examples_of(b)[0], part) if bool(here.any()) else None
+                strength = _reflection_strength(examples_of(b)[0], part) if any_set(here) else None
                 if strength is not None:
                     change = grazing(cos_t[here]) - grazing(cos_src[here])
                     color[here] += settings.view_reflection * strength[None] * change[:, None]
         if by_parts and b >= 0:
             unseen = sel & ~seen
-            if bool(unseen.any()):
+            if any_set(unseen):
                 car_examples, seen_colors, _ = examples_of(b)
                 alb, code, seen_at = _part_colors(b, car_examples, seen_colors, point_s[unseen], normal_t[unseen],
                                                   t_part[unseen], before, albedo if len(visible_px) else None,
@@ -1621,11 +1631,11 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             drop = sel & torch.isin(codes, flat_codes)
             drawn &= ~drop
             sel &= ~drop
-            if not bool(sel.any()):
+            if not any_set(sel):
                 continue
         n = int(sel.sum())
         objects[name] = {"pixels": n, **_shares(codes[sel]), "moved": bool(moved[r]), "_pixels": pix[sel]}
-        if len(visible_px) and n >= 50 and not bool(seen[sel].any()) and bool(moved[r]):
+        if len(visible_px) and n >= 50 and not any_set(seen[sel]) and bool(moved[r]):
             warnings.append(f"object {name}: none of its surface is visible in the input (behind the camera, off the "
                             "frame or hidden); drawn from its mean colour")
     color = torch.where(seen[:, None], color, fallback).clamp(0, 1)
@@ -1707,14 +1717,14 @@ def _outline_growth(pix: Tensor, row: Tensor, moved: Tensor, before: ObjectTable
         py, px = pix[mine] // width, pix[mine] % width
         at = torch.full((y1 - y0, x1 - x0), -1, dtype=torch.long)
         inside = (py >= y0) & (py < y1) & (px >= x0) & (px < x1)
-        if not bool(inside.any()):
+        if not any_set(inside):
             continue
         at[py[inside] - y0, px[inside] - x0] = mine[inside]
         dist, (iy, ix) = distance_transform_edt((at < 0).numpy(), return_indices=True)
         hull = torch.from_numpy(_polygon_mask(uv.numpy() - np.array([x0, y0]), (y1 - y0, x1 - x0)) > 0)
         flat = torch.arange(y0, y1)[:, None] * width + torch.arange(x0, x1)[None, :]
         grow_here = hull & (torch.from_numpy(dist) <= reach) & ~taken[flat]
-        if not bool(grow_here.any()):
+        if not any_set(grow_here):
             continue
         nearest = at[torch.from_numpy(iy)[grow_here], torch.from_numpy(ix)[grow_here]]
         gained = flat[grow_here]
@@ -1851,7 +1861,7 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
         return _no_examples(), seen_colors
     _, vid, bary, normal = _surface(src, ex)
     tri = src.verts[torch.full((len(ex),), s_mesh, dtype=torch.long)[:, None], vid]
-    point = (bary[..., None] * tri).sum(1)
+    point = sum3(bary[..., None] * tri, 1)
     cos = _view_cos(point, normal)
     good = cos >= settings.min_view_cos
     ex, point, normal, cos = ex[good], point[good], normal[good], cos[good]
@@ -1960,7 +1970,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
         albedo[is_body] = body
         codes[is_body] = FALLBACK
     default = (codes == DEFAULT) & (parts >= 0)
-    if bool(default.any()) and len(seen_colors):
+    if any_set(default) and len(seen_colors):
         albedo[default] = seen_through_the_air(albedo[default], seen_colors)
     q_feat = _part_features(before, b, points, normals)
     paint = own.color[own.part == int(Part.BODY)]
@@ -1998,7 +2008,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     if band is not None:
         for lamp_part in OTHER_END:
             here = (band == lamp_part) & ~torch.isin(parts, torch.tensor(LAMPLESS_PARTS))
-            if int((own.part == lamp_part).sum()) >= 2 * k or not bool(here.any()):
+            if int((own.part == lamp_part).sum()) >= 2 * k or not any_set(here):
                 continue  # that end was seen: its lamps are the photo's
             lamp = torch.tensor(LAMP_DEFAULTS[lamp_part], dtype=albedo.dtype).expand(int(here.sum()), 3)
             albedo[here] = seen_through_the_air(lamp, seen_colors)  # too few colours: the lamp as it is
@@ -2020,7 +2030,7 @@ def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: 
     for reflection. A black car's side never seen, drawn from its rear seen at a more grazing view, was too light."""
     here = (codes == PART) & (parts == int(Part.BODY)) & torch.isfinite(seen_at)
     body = own.part == int(Part.BODY)
-    if not bool(here.any()) or int(body.sum()) < 2:
+    if not any_set(here) or int(body.sum()) < 2:
         return colors
     if float(srgb_to_lab(own.color[body].float())[:, 0].median()) >= DARK_PAINT_L:
         return colors
@@ -2101,7 +2111,7 @@ def _lamps_of_this_end(colors: Tensor, part: int, paint: Tensor) -> Tensor:
     if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other)[0]):
         return colors
     lamp = _lamp_coloured(colors, other)
-    if not bool(lamp.any()):
+    if not any_set(lamp):
         return colors
     hue = torch.tensor(PART_DEFAULTS[part], dtype=colors.dtype)
     out = colors.clone()

@@ -126,7 +126,7 @@ def mask_boxes(masks: Tensor) -> Tensor:
         raise ValueError(f"masks must be (N, H, W), got {tuple(masks.shape)}")
     masks = masks.bool()
     h, w = masks.shape[-2:]
-    cols, rows = masks.any(1), masks.any(2)  # (N, W), (N, H)
+    cols, rows = any_along(masks, 1), any_along(masks, 2)  # (N, W), (N, H)
     xs = torch.arange(w, device=masks.device)
     ys = torch.arange(h, device=masks.device)
     big = max(h, w) + 1
@@ -135,7 +135,7 @@ def mask_boxes(masks: Tensor) -> Tensor:
     y0 = torch.where(rows, ys, big).amin(1)
     y1 = torch.where(rows, ys, -1).amax(1) + 1
     box = torch.stack([x0, y0, x1, y1], 1)
-    return torch.where(masks.flatten(1).any(1, keepdim=True), box, torch.zeros_like(box))
+    return torch.where(cols.any(1, keepdim=True), box, torch.zeros_like(box))
 
 
 def pixel_centre_boxes(boxes: Tensor) -> Tensor:

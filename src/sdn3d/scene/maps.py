@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
-from sdn3d.image_ops import boundary_map, instance_label_map
+from sdn3d.image_ops import boundary_map, flat_nonzero, instance_label_map
 from sdn3d.math3d.camera import project_points
 from sdn3d.math3d.rotations import NUM_POSE_BINS, alpha_bins, observation_angle
 from sdn3d.meshes.bank import MeshBank, default_bank
@@ -193,7 +193,10 @@ def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -
     height, width = settings.image_size
     n, hw = len(obj), height * width
     has_mask = obj.has_mask.to(device)
-    k, i, j = obj.mask.to(device).nonzero().T
+    masks = obj.mask.to(device)
+    mask_hw, mask_w = masks.shape[-2] * masks.shape[-1], masks.shape[-1]
+    flat = flat_nonzero(masks)  # the (object, row, column) of every mask pixel, in nonzero's row-major order
+    k, i, j = flat // mask_hw, flat % mask_hw // mask_w, flat % mask_w
     keep = has_mask[k]
     k, i, j = k[keep], i[keep], j[keep]
     # A mask is the object's whole cover: an empty one needs no rendering.

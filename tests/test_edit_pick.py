@@ -84,18 +84,22 @@ def test_two_picks_never_share_an_object_and_each_keeps_its_mask(scene):
     assert ops[0].instance_id != ops[1].instance_id and a in {op.instance_id for op in ops}
 
 
-def test_a_modify_on_a_mask_only_object_is_refused_naming_it(scene):
-    """The front object under a modify's point has a mask only: the benchmark refuses, naming it, as the editor does
-    (it no longer moves the nearest object with geometry, which the point did not name); a delete there takes it."""
+def test_a_mask_only_object_under_a_modify_is_passed_over_or_named(scene):
+    """The front object under a modify's point has a mask only: the pick goes on to an object with geometry (the
+    benchmark scores every entry), and where none holds the point or is within reach the refusal names the mask-only
+    object (the editor used to refuse at once, saying only "has no 3D geometry"); a delete there takes it."""
     car = _biggest(scene, 1)[0]
     row = scene.objects.index_of(car)
     template = scene.objects.template_id.clone()
     template[row] = -1
     flat = scene.replace(objects=scene.objects.replace(template_id=template))
     point = _front_pixel(flat, car)
-    with pytest.raises(EditError, match=rf"lands on object {car}, which has no 3D geometry, only its mask of "
-                                        rf"{int(flat.objects.mask[row].sum())} pixels"):
-        ops_from_benchmark([BenchmarkOperation.modify(point, None, 1.0, 0.5)], flat, frame_size=None)
-    with pytest.raises(EditError, match=rf"op 0 \(modify from=.*\): the edit at .* lands on object {car}"):
-        resolve_ops(parse_edit_spec([{"op": "modify", "from": list(point), "ry_deg": 30}]), flat)
+    (op,) = ops_from_benchmark([BenchmarkOperation.modify(point, None, 1.0, 0.5)], flat, frame_size=None)
+    assert op.instance_id != car and bool(flat.objects.has_geometry[flat.objects.index_of(op.instance_id)])
     assert ops_from_benchmark([BenchmarkOperation.delete(point)], flat, frame_size=None) == [Delete(car)]
+    alone = flat.replace(objects=flat.objects.select(torch.tensor([row])))
+    message = rf"lands on object {car}, which has no 3D geometry, only its mask of {int(flat.objects.mask[row].sum())} "
+    with pytest.raises(EditError, match=message):
+        ops_from_benchmark([BenchmarkOperation.modify(point, None, 1.0, 0.5)], alone, frame_size=None)
+    with pytest.raises(EditError, match=rf"op 0 \(rotate at=.*\): the edit at .* {message}"):
+        resolve_ops(parse_edit_spec([{"op": "rotate", "at": list(point), "ry_deg": 30}]), alone)

@@ -103,3 +103,25 @@ def test_a_mask_only_object_under_a_modify_is_passed_over_or_named(scene):
         ops_from_benchmark([BenchmarkOperation.modify(point, None, 1.0, 0.5)], alone, frame_size=None)
     with pytest.raises(EditError, match=rf"op 0 \(rotate at=.*\): the edit at .* {message}"):
         resolve_ops(parse_edit_spec([{"op": "rotate", "at": list(point), "ry_deg": 30}]), alone)
+
+
+def test_a_listed_centre_picks_its_object_even_behind_another(scene):
+    """A point on an object's projected centre (the listing's centre pasted, or a synthetic benchmark ``from``
+    point) picks it even where a car in front shows there; a point a little off it picks the car in front."""
+    front, behind = _biggest(scene, 2)
+    u, v = _front_pixel(scene, front)
+    intr = scene.intrinsics
+    row = scene.objects.index_of(behind)
+    depth = float(scene.objects.location[scene.objects.index_of(front), 2]) + 10.0
+    half = float(scene.objects.location[row, 1] - scene.objects.center[row, 1])  # location is the bottom centre
+    lands = u + 0.8  # its centre projects 0.8 px off the point, within the snap (1.4 px at 208 wide)
+    centre = torch.tensor([(lands - intr.cx) / intr.fx * depth, (v - intr.cy) / intr.fy * depth, depth],
+                          dtype=torch.float64)
+    hidden = _with_locations(scene, {behind: centre + torch.tensor([0.0, half, 0.0], dtype=torch.float64)})
+    assert int(compose_instances(hidden)[round(v), round(u)]) == front
+    (op,) = ops_from_benchmark([BenchmarkOperation.delete((u, v))], hidden, frame_size=None)
+    assert op.instance_id == behind
+    off = next((u + du, v) for du in (-6.0, 6.0, -8.0, 8.0)
+               if 0 <= round(u + du) < SIZE[0] and int(compose_instances(hidden)[round(v), round(u + du)]) == front)
+    (op,) = ops_from_benchmark([BenchmarkOperation.delete(off)], hidden, frame_size=None)
+    assert op.instance_id == front

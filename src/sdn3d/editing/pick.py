@@ -2,11 +2,14 @@
 
 A point ``(u, v)`` (working pixels) picks, in order (:attr:`PickBy.VISIBLE`, what a user sees):
 
-1. the object whose mask is under the point: the front one, from the composed instance map
+1. the object whose listed centre it is: its projected centre (:func:`projected_centers`, as the listing prints it)
+   within :data:`CENTRE_SNAP` of the image width, even where another object hides it (a listed centre pasted as the
+   point, and the synthetic benchmark's ``from`` points, which are the cars' projected centres);
+2. else the object whose mask is under the point: the front one, from the composed instance map
    (:func:`~sdn3d.scene.maps.compose_instances`);
-2. else, among the objects whose listed box (the box of their visible mask, as the listing prints it) holds the point,
+3. else, among the objects whose listed box (the box of their visible mask, as the listing prints it) holds the point,
    the nearest in front (objects without geometry last);
-3. else the object whose projected centre (:func:`projected_centers`) is nearest, within ``max_distance`` pixels.
+4. else the object whose projected centre is nearest, within ``max_distance`` pixels.
 
 Several points (a benchmark entry's operations) are resolved together by a minimum-cost one-to-one assignment whose
 cost puts every tier before the next (a mask hit before any box, a box before any centre), so two picks never take
@@ -23,8 +26,8 @@ operation edits (its ``from`` point is that car's projected centre, :mod:`sdn3d.
 ground-truth scene for the edited regions (:func:`sdn3d.evaluation.edit_benchmark.edit_regions`).
 
 The 3D-SDN paper's benchmark picks the proposal whose 2D box centre is nearest the point, each point on its own
-(ysymyth/3D-SDN ``geometric/scripts/main.py``); rule 1 and 2 keep it on the visible proposal as that does, and the
-assignment keeps two operations off one object.
+(ysymyth/3D-SDN ``geometric/scripts/main.py``); rules 2 and 3 keep it on the visible proposal as that does whatever
+the 3D fit, and the assignment keeps two operations off one object.
 """
 
 from __future__ import annotations
@@ -43,12 +46,17 @@ from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import compose_instances
 
-__all__ = ["PickBy", "pick_objects", "projected_centers"]
+__all__ = ["PickBy", "pick_objects", "projected_centers", "CENTRE_SNAP"]
+
+#: A point within this share of the image width of an object's projected centre picks that object first (2 px at
+#: 312 wide; docs/results/2026-11-30_cpu/session18/pick: a wider snap takes mis-fitted proposals' centres).
+CENTRE_SNAP = 1 / 150
 
 #: Maps a working pixel to the user's pixels (for messages).
 ToUser = Callable[[tuple[float, float]], tuple[float, float]]
 
 # Assignment costs: each tier's costs lie below the next tier's base, whatever the points' number (at most a few).
+_MASK = 1e2  # the snap tier costs its distance, under CENTRE_SNAP of the width
 _BOX_BASE = 1e4  # + the object's depth (metres, capped): the nearest in front first
 _NO_DEPTH = 5e3  # the depth an object without geometry counts with in the box tier
 _CENTRE_BASE = 1e8  # + the distance to the projected centre (pixels)
@@ -120,7 +128,10 @@ def pick_objects(scene: SceneCode, points: Sequence[tuple[float, float]], need_g
                  & (boxes[None, :, 2] > boxes[None, :, 0]))  # (P, N)
         depth = torch.where(obj.has_geometry, obj.location[:, 2].double().clamp(0, _NO_DEPTH - 1), _NO_DEPTH)
         cost = torch.where(holds & usable, (_BOX_BASE + depth)[None, :].expand_as(cost), cost)
-        cost = torch.where((obj.instance_id[None, :] == under[:, None]) & usable, torch.zeros_like(cost), cost)
+        cost = torch.where((obj.instance_id[None, :] == under[:, None]) & usable, torch.full_like(cost, _MASK), cost)
+        snap = CENTRE_SNAP * scene.image_size[0]
+        snap = min(snap, max_distance) if max_distance is not None else snap
+        cost = torch.where(usable & valid[None, :] & (dist <= snap), dist, cost)
     else:
         under = torch.zeros(len(points), dtype=torch.long)
     candidates = int((valid | obj.mask.flatten(1).any(1)).sum())

@@ -1,10 +1,10 @@
 # ruff: noqa: E501
 """changed.py OUT.png TREE MAIN_RUN BRANCH_RUN N: the N entries of one Table 1 row whose 3D-SDN pick differs between
 main and the branch (per-entry npz of session 11's dbench.py in RUN.dump, results.json in RUN), largest change of
-3D-SDN PSNR all first; one row each, whole frame, 2x. Panels: source with the operations' `from` points (yellow
+3D-SDN PSNR all first; two rows each, whole frame, 2x. Panels: source with the operations' `from` points (yellow
 crosses), the true car (white outline: ground truth, for scoring only), main's picked proposal (red) and the branch's
-(green; where both pick the same proposal it is drawn green); target; 3D-SDN main; 3D-SDN branch; 2D paste main; 2D
-paste branch; each titled with its PSNR all (dB)."""
+(green; where both pick the same proposal it is drawn green), 3D-SDN main, 3D-SDN branch; below: target, 2D paste
+main, 2D paste branch; each titled with its PSNR all (dB)."""
 import json
 import sys
 
@@ -68,22 +68,22 @@ def main(out: str, tree: str, main_run: str, branch_run: str, count: int) -> Non
             draw.line([(x - 5, y), (x + 5, y)], fill="yellow", width=2)
             draw.line([(x, y - 5), (x, y + 5)], fill="yellow", width=2)
         m, b = mm[i], bm[i]
-        cells = [first, panel(zb["target"], "target"),
-                 panel(zm["sdn"], f"3D-SDN main {m['3d-sdn']['all']['psnr']:.2f} dB"),
-                 panel(zb["sdn"], f"3D-SDN branch {b['3d-sdn']['all']['psnr']:.2f} dB"),
-                 panel(zm["d2"], f"2D paste main {m['2d']['all']['psnr']:.2f} dB"),
-                 panel(zb["d2"], f"2D paste branch {b['2d']['all']['psnr']:.2f} dB")]
-        line = Image.new("RGB", (sum(c.width for c in cells) + 4 * len(cells), cells[0].height), "white")
-        x = 0
-        for c in cells:
-            line.paste(c, (x, 0))
-            x += c.width + 4
-        lines.append(line)
+        grid = [[first, panel(zm["sdn"], f"3D-SDN main {m['3d-sdn']['all']['psnr']:.2f} dB"),
+                 panel(zb["sdn"], f"3D-SDN branch {b['3d-sdn']['all']['psnr']:.2f} dB")],
+                [panel(zb["target"], "target"), panel(zm["d2"], f"2D paste main {m['2d']['all']['psnr']:.2f} dB"),
+                 panel(zb["d2"], f"2D paste branch {b['2d']['all']['psnr']:.2f} dB")]]
+        for cells in grid:
+            line = Image.new("RGB", (sum(c.width for c in cells) + 4 * len(cells), cells[0].height), "white")
+            x = 0
+            for c in cells:
+                line.paste(c, (x, 0))
+                x += c.width + 4
+            lines.append(line)
     sheet = Image.new("RGB", (max(line.width for line in lines), sum(line.height + 6 for line in lines)), "white")
     y = 0
     for line in lines:
         sheet.paste(line, (0, y))
-        y += line.height + 6
+        y += line.height + 3
     sheet.save(out)
     print(f"{out}: {len(lines)} of {len(rows)} entries whose pick changed")
 

@@ -85,7 +85,7 @@ def main(out: str, tree: str, main_run: str, branch_run: str, count: int) -> Non
         sheet.paste(line, (0, y))
         y += line.height + 3
     sheet.save(out)
-    print(f"{out}: {len(lines)} of {len(rows)} entries whose pick changed")
+    print(f"{out}: {len(lines) // 2} of {len(rows)} entries whose pick changed")
 
 
 if __name__ == "__main__":

@@ -19,7 +19,7 @@ Edits that need 3D geometry (move, turn, zoom, duplicate, the benchmark's ``modi
 have it in every tier: an object with a mask only (under ``min_pixels``, or no usable prediction) under the point is
 passed over for the next tier (a box holding the point, a centre within ``max_distance``), as the benchmark always
 did; where none is left the refusal names the mask-only object under the point. Refusing at once would leave such
-benchmark entries unscored for 3D-SDN alone (8 of 110 on tuning tree 35's semantic row), which flatters its means.
+benchmark entries unscored for 3D-SDN alone, which would flatter its means.
 
 :attr:`PickBy.CENTRE` is the projected-centre tier alone: the synthetic benchmark's definition of the car an
 operation edits (its ``from`` point is that car's projected centre, :mod:`sdn3d.data.synth.edits`), used on the

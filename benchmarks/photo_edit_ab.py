@@ -34,7 +34,8 @@ torch.set_num_threads(int(sys.argv[2]))
 from sdn3d.data.records import load_rgb
 from sdn3d.data.scene_gt import scene_from_frame
 from sdn3d.data.vkitti1 import read_frames
-from sdn3d.editing.apply import apply_edits, projected_centers
+from sdn3d.editing.apply import apply_edits
+from sdn3d.editing.pick import projected_centers
 from sdn3d.editing.ops import Delete, Move, Rotate, SetCode
 from sdn3d.textural.code_bank import named_color
 try:  # this tree

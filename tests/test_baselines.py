@@ -8,7 +8,7 @@ import pytest
 import torch
 
 from sdn3d.data.edit_benchmark import BenchmarkOperation
-from sdn3d.editing.apply import projected_centers
+from sdn3d.editing.pick import projected_centers
 from sdn3d.evaluation.baselines import baseline_maps, warp_regions
 from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.math3d.camera import VKITTI_INTRINSICS

@@ -16,7 +16,7 @@ from sdn3d.data import vkitti1
 from sdn3d.data.edit_benchmark import BenchmarkEntry, load_edit_benchmark, scale_operation
 from sdn3d.data.records import load_instances
 from sdn3d.data.scene_gt import scene_from_frame
-from sdn3d.editing.apply import projected_centers
+from sdn3d.editing.pick import projected_centers
 from sdn3d.errors import UserInputError
 from sdn3d.evaluation.edit_benchmark import (
     BenchSettings,

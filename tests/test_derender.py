@@ -13,7 +13,8 @@ from sdn3d.data.frames import load_frame
 from sdn3d.data.scene_gt import ground_truth, scene_from_frame
 from sdn3d.derender import derender, encode_scene
 from sdn3d.editing.appearance import render_maps
-from sdn3d.editing.apply import Delete, projected_centers
+from sdn3d.editing.apply import Delete
+from sdn3d.editing.pick import projected_centers
 from sdn3d.editing.render import edit_image, render
 from sdn3d.geometric.predict import GeometricPredictor
 from sdn3d.image_ops import (

@@ -25,10 +25,9 @@ from sdn3d.editing.apply import (
     SetCode,
     Zoom,
     apply_edits,
-    match_objects,
     ops_from_benchmark,
-    projected_centers,
 )
+from sdn3d.editing.pick import PickBy, pick_objects, projected_centers
 from sdn3d.reference.editing import apply_edits_dense
 from sdn3d.resources import paper_example_path
 from sdn3d.scene.code import ObjectTable, SceneCode, SceneObject
@@ -159,7 +158,6 @@ def test_baselines_do_not_complete_the_car_behind(scene):
     """The 2D / 2D+ baselines have no 3D: deleting the car in front leaves road where the car behind was hidden
     (3D-SDN completes it), so the occluder-removed benchmark entries tell them apart."""
     from sdn3d.data.edit_benchmark import BenchmarkOperation
-    from sdn3d.editing.apply import projected_centers
     from sdn3d.evaluation.baselines import baseline_maps
 
     front, behind, hidden = _occluded_pair(scene)
@@ -288,18 +286,18 @@ def test_benchmark_picks_and_frame_checks(scene):
     assert ops[0].instance_id == iid and not ops[0].check_frame
     apply_edits(scene, ops)  # an off-frame target is accepted when not strict
     # Two picks at the same point take two different objects (one-to-one assignment).
-    ids = match_objects(scene, [tuple(uv[i].tolist())] * 2)
+    ids = pick_objects(scene, [tuple(uv[i].tolist())] * 2)
     assert ids[0] != ids[1] and iid in ids
-    with pytest.raises(EditError, match="matches no object"):
-        match_objects(scene, [(uv[i, 0].item() + 50, uv[i, 1].item())], max_distance=1.0)
+    with pytest.raises(EditError, match=r"no object at \[[\d.]+, [\d.]+\]: no centre is within 1.0 px"):
+        pick_objects(scene, [(uv[i, 0].item() + 50, uv[i, 1].item())], max_distance=1.0, by=PickBy.CENTRE)
     empty = scene.replace(objects=ObjectTable.empty(SIZE[1], SIZE[0]))
     with pytest.raises(EditError, match="only 0 objects"):
         ops_from_benchmark([BenchmarkOperation.delete((10.0, 10.0))], empty)
 
 
-def test_a_move_on_an_object_without_geometry_is_refused_naming_it(scene):
-    """A move, turn or zoom whose point lands on an object with a mask only (under ``min_pixels``) is refused with
-    that object's id and pixels named, not as "matches no object (nearest candidate 0.0 px away)"; a delete takes it."""
+def test_an_object_without_geometry_is_picked_by_edits_that_need_none(scene):
+    """A delete takes an object with a mask only (under ``min_pixels``) by its mask centroid; a point off the image
+    picks nothing (the refusal of a move on such an object: tests/test_edit_pick.py)."""
     iid = _big(scene)
     i = scene.objects.index_of(iid)
     template = scene.objects.template_id.clone()
@@ -310,13 +308,10 @@ def test_a_move_on_an_object_without_geometry_is_refused_naming_it(scene):
     point = tuple(uv[i].tolist())
     others = valid & flat.objects.has_geometry
     reach = 0.5 * float((uv[others] - uv[i]).norm(dim=1).min())  # no object with geometry within the pick radius
-    with pytest.raises(EditError, match=rf"lands on object {iid} \(0\.0 px away\), which has no 3D geometry, only "
-                                        rf"its mask of {int(flat.objects.mask[i].sum())} pixels"):
-        match_objects(flat, [point], [True], max_distance=reach)
-    assert match_objects(flat, [point], [False], max_distance=reach) == [iid]
-    far = (point[0] + 200.0, point[1])
-    with pytest.raises(EditError, match="matches no object"):
-        match_objects(flat, [far], [True], max_distance=1.0)
+    assert pick_objects(flat, [point], [False], max_distance=reach) == [iid]
+    far = (point[0] + 300.0, point[1])  # off the image: no mask, no box, no centre within 1 px
+    with pytest.raises(EditError, match="no object at"):
+        pick_objects(flat, [far], [True], max_distance=1.0)
 
 
 def test_published_example_rotates_the_picked_car(tmp_path):

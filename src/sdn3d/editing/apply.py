@@ -54,8 +54,8 @@ from sdn3d.editing.ops import (
     SetBackgroundCode,
     SetCode,
     Zoom,
-    _uv,
 )
+from sdn3d.editing.pick import pick_objects, projected_centers
 from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics, project_points
 from sdn3d.math3d.rotations import wrap_angle
@@ -79,8 +79,6 @@ __all__ = [
     "apply_edits",
     "ops_from_benchmark",
     "ModifyAnchor",
-    "match_objects",
-    "projected_centers",
     "MIN_CLEARANCE",
     "MAX_DISTANCE",
     "edited_table",
@@ -135,73 +133,6 @@ def _check_distance(center: Tensor, length: float, what: str, near: bool = True)
         hint = "use a larger zoom" if near else "pick a target farther below the horizon"
         raise EditError(f"{what} would end {distance:.3g} m from the camera, farther than {MAX_DISTANCE:g} m (the "
                         f"far plane, beyond which nothing is drawn); {hint}")
-
-
-def projected_centers(scene: SceneCode) -> tuple[Tensor, Tensor]:
-    """``(N, 2)`` float64 pixel of each object's box centre (mask centroid without geometry) and
-    ``(N,)`` bool validity (centre in front of the camera, or a non-empty mask)."""
-    obj = scene.objects
-    center = obj.center
-    valid_3d = obj.has_geometry & (center[:, 2] > 0)
-    safe = torch.where(valid_3d[:, None], center, center.new_tensor([0.0, 0.0, 1.0]))
-    uv = project_points(safe, scene.intrinsics.matrix(torch.float64))
-    height, width = scene.intrinsics.size
-    grid = torch.stack(torch.meshgrid(torch.arange(height, dtype=torch.float64),
-                                      torch.arange(width, dtype=torch.float64), indexing="ij"), -1)  # (H, W, [v, u])
-    area = obj.mask.flatten(1).sum(1).double()
-    centroid = torch.einsum("nhw,hwc->nc", obj.mask.double(), grid).flip(-1) / area.clamp(min=1)[:, None]
-    use_mask = ~obj.has_geometry & (area > 0)
-    return torch.where(use_mask[:, None], centroid, uv), valid_3d | use_mask
-
-
-def match_objects(scene: SceneCode, points: Sequence[tuple[float, float]], need_geometry: Sequence[bool] | None = None,
-                  max_distance: float | None = None) -> list[int]:
-    """Instance ids of the objects picked by ``points`` (pixels of the scene's size).
-
-    Each point picks the object whose projected centre is nearest, one object per point
-    (a minimum-cost one-to-one assignment, so two nearby picks never take the same object).
-
-    Raises:
-        EditError: more points than candidates, or a pick farther than ``max_distance`` pixels.
-    """
-    points = [_uv(p, "pick") for p in points]
-    if not points:
-        return []
-    centers, valid = projected_centers(scene)
-    need = torch.tensor(list(need_geometry) if need_geometry is not None else [False] * len(points))
-    dist = torch.cdist(torch.tensor(points, dtype=torch.float64), centers)
-    ok = valid[None, :] & (~need[:, None] | scene.objects.has_geometry[None, :])
-    big = 1e12
-    cost = torch.where(ok, dist, torch.full_like(dist, big))
-    if len(points) > int(valid.sum()):
-        raise EditError(f"{len(points)} edits but only {int(valid.sum())} objects to pick from")
-    from scipy.optimize import linear_sum_assignment  # here: importing scipy.optimize costs every edit call ~0.3 s
-
-    rows, cols = linear_sum_assignment(cost.numpy())
-    out = [0] * len(points)
-    for r, c in zip(rows.tolist(), cols.tolist(), strict=True):
-        if cost[r, c] >= big or (max_distance is not None and cost[r, c] > max_distance):
-            raise EditError(_no_match(scene, points[r], dist[r], valid, ok[r], bool(need[r]), max_distance))
-        out[r] = int(scene.objects.instance_id[c])
-    return out
-
-
-def _no_match(scene: SceneCode, point: tuple[float, float], dist: Tensor, valid: Tensor, usable: Tensor,
-              need_geometry: bool, max_distance: float | None) -> str:
-    """Why the edit at ``point`` picks no object (``dist (N,)``: its distance to each object's projected centre,
-    ``valid (N,)``: which centres are usable, ``usable (N,)``: which objects the edit may pick): the nearest object
-    names itself where it was passed over for having no 3D geometry (a mask under ``min_pixels``), else the nearest
-    candidate's distance."""
-    nearest = float(dist[usable].min()) if bool(usable.any()) else math.inf
-    if need_geometry and bool(valid.any()):
-        j = int(torch.where(valid, dist, torch.full_like(dist, math.inf)).argmin())
-        if not bool(scene.objects.has_geometry[j]) and (max_distance is None or float(dist[j]) <= max_distance):
-            iid, pixels = int(scene.objects.instance_id[j]), int(scene.objects.mask[j].sum())
-            return (f"the edit at {point} lands on object {iid} ({float(dist[j]):.1f} px away), which has no 3D "
-                    f"geometry, only its mask of {pixels} pixels (under min_pixels, or no usable prediction): it can "
-                    "be deleted or recoloured, not moved, turned or zoomed (the nearest object with geometry is "
-                    f"{nearest:.1f} px away)")
-    return f"the edit at {point} matches no object (nearest candidate {nearest:.1f} px away)"
 
 
 # -- applying -----------------------------------------------------------------------------------
@@ -544,24 +475,27 @@ class ModifyAnchor(StrEnum):
 
 def ops_from_benchmark(entry: BenchmarkEntry | Sequence[BenchmarkOperation], scene: SceneCode,
                        frame_size: tuple[int, int] | None = VKITTI_FRAME_SIZE, strict: bool = True,
-                       max_distance: float | None = None, anchor: ModifyAnchor = ModifyAnchor.PICK) -> list[EditOp]:
+                       max_distance: float | None = None, anchor: ModifyAnchor = ModifyAnchor.PICK,
+                       bank: MeshBank | None = None) -> list[EditOp]:
     """Convert benchmark operations (:mod:`sdn3d.data.edit_benchmark`) to :class:`Modify` / :class:`Delete`.
 
     Args:
         entry: an entry or its operations.
-        scene: the source scene; ``from`` picks objects by projected centre (:func:`match_objects`,
-            all picks resolved on the unedited scene; ``modify`` only picks objects with geometry).
+        scene: the source scene; ``from`` picks objects as every edit does (:func:`sdn3d.editing.pick.pick_objects`:
+            the mask under the point, else a box holding it, else the nearest projected centre; one object per
+            operation, all resolved on the unedited scene; ``modify`` only picks objects with geometry).
         frame_size: ``(W, H)`` the coordinates refer to (the benchmark's 1242x375); they are mapped
             to the scene's size. None: already in the scene's pixels.
         strict: reject ``to`` points outside the frame (the published file needs ``strict=False``).
-        max_distance: reject picks farther than this many pixels (scene size) from any object.
+        max_distance: reject picks by centre farther than this many pixels (scene size) from any object.
         anchor: :class:`ModifyAnchor`, where a ``modify`` puts the object.
+        bank: the scene's meshes (its composed instance map; default: the 8 templates).
     """
     anchor = ModifyAnchor(anchor)
     ops = list(entry.operations if isinstance(entry, BenchmarkEntry) else entry)
     if frame_size is not None and tuple(frame_size) != scene.image_size:
         ops = [scale_operation(op, tuple(frame_size), scene.image_size) for op in ops]
-    ids = match_objects(scene, [op.from_uv for op in ops], [op.kind == "modify" for op in ops], max_distance)
+    ids = pick_objects(scene, [op.from_uv for op in ops], [op.kind == "modify" for op in ops], max_distance, bank=bank)
     if anchor is ModifyAnchor.PICK and any(op.kind == "modify" and op.to_uv is not None for op in ops):
         centers, _ = projected_centers(scene)
         row = {int(v): k for k, v in enumerate(scene.objects.instance_id.tolist())}

@@ -84,13 +84,11 @@ from sdn3d.editing.apply import (
     clear_place,
     copy_id,
     edited_table,
-    match_objects,
     ops_from_benchmark,
-    projected_centers,
 )
 from sdn3d.editing.frame import PixelFrame
+from sdn3d.editing.pick import pick_objects
 from sdn3d.errors import UserInputError
-from sdn3d.image_ops import mask_boxes
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import ObjectTable, SceneCode
 from sdn3d.scene.maps import compose_instances
@@ -517,46 +515,6 @@ def _user_frame(spec: EditSpec, scene: SceneCode, frame: PixelFrame | None) -> t
     return tuple(frame.input_size) if frame is not None else tuple(scene.image_size)
 
 
-def _pick_at(at: tuple[float, float], shown_at: tuple[float, float], scene: SceneCode, instance_map: torch.Tensor,
-             centers: torch.Tensor, valid: torch.Tensor, need_geo: bool, pick_radius: float | None,
-             to_user: Any, what: str) -> int:
-    """The object an op's ``at`` names (working pixels ``at``; ``shown_at``: as the user wrote it).
-
-    In order: the object whose mask is under the point (the front one: the composed instance map); else the nearest
-    in front of the objects whose listed box (their visible mask's box, as the listing prints it) holds the point;
-    else the object whose projected centre is nearest, within ``pick_radius`` working pixels. A miss names the
-    nearest objects, with their distances in the user's pixels (``to_user`` maps working pixels there)."""
-    obj = scene.objects
-    width, height = scene.image_size
-    under = int(instance_map[min(max(round(at[1]), 0), height - 1), min(max(round(at[0]), 0), width - 1)])
-    if under:
-        return under
-    usable = obj.has_geometry | ~torch.tensor(need_geo)
-    if len(obj):
-        boxes = mask_boxes(obj.mask).double()
-        inside = ((boxes[:, 0] <= at[0]) & (at[0] < boxes[:, 2]) & (boxes[:, 1] <= at[1]) & (at[1] < boxes[:, 3])
-                  & usable & (boxes[:, 2] > boxes[:, 0]))
-        if bool(inside.any()):
-            rows = inside.nonzero().flatten()
-            depth = torch.where(obj.has_geometry[rows], obj.location[rows, 2].double(),
-                                torch.full((len(rows),), math.inf, dtype=torch.float64))
-            return int(obj.instance_id[rows[int(depth.argmin())]])
-    dist = (centers - torch.tensor(at, dtype=centers.dtype)).norm(dim=1)
-    dist = torch.where(valid & usable, dist, torch.full_like(dist, math.inf))
-    best = int(dist.argmin()) if len(dist) else -1
-    if best >= 0 and math.isfinite(float(dist[best])) and (pick_radius is None or float(dist[best]) <= pick_radius):
-        return int(obj.instance_id[best])
-    near = []
-    for row in torch.argsort(dist).tolist()[:3]:
-        if math.isfinite(float(dist[row])):
-            u, v = to_user((float(centers[row, 0]), float(centers[row, 1])))
-            far = math.hypot(u - shown_at[0], v - shown_at[1])
-            near.append(f"{int(obj.instance_id[row])} ({far:.0f} px, centre {_shown((u, v))})")
-    nearest = f"; the nearest: {', '.join(near)}" if near else "; the scene has no object to pick"
-    raise EditError(f"{what}: no object at {_shown(shown_at)}: no mask or listed box holds it, and no centre is "
-                    f"within {pick_radius} px (working size){nearest}")
-
-
 def _shown(uv: tuple[float, float]) -> list[float]:
     return [round(float(uv[0]), 1), round(float(uv[1]), 1)]
 
@@ -687,8 +645,8 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
         except EditError as exc:
             raise EditError(f"{spec.source}: {exc}") from None
     obj = scene.objects
-    instance_map = compose_instances(scene, bank).cpu() if any(op.at is not None for op in spec.ops) else None
-    centers, valid = projected_centers(scene)
+    by_position = any(op.id is None and (op.at is not None or op.from_uv is not None) for op in spec.ops)
+    instance_map = compose_instances(scene, bank).cpu() if by_position else None
     ops: list[EditOp] = []
     # The objects as the ops so far left them (ids, poses, codes; no rendering): an id an earlier op created (a
     # duplicate's copy) is valid for the later ops, one it deleted is not. Picks by position use the unedited scene.
@@ -712,15 +670,14 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
                     raise EditError(f"{what}: no object with id {op.id}{gone} (the scene has "
                                     f"{table.instance_id.tolist()})")
                 iid = op.id
-            elif at is not None:
-                iid = _pick_at(at, op.at, scene, instance_map, centers, valid, need_geo, pick_radius,
-                               lambda uv: _unscaled(uv, spec, scene, frame), what)
-            else:
+            else:  # by position: ``at``, or a modify's ``from``
                 try:
-                    iid = match_objects(scene, [frm], [True], pick_radius)[0]
+                    iid = pick_objects(scene, [at if at is not None else frm], [need_geo], pick_radius,
+                                       instance_map=instance_map, bank=bank,
+                                       to_user=lambda uv: _unscaled(uv, spec, scene, frame),
+                                       shown=[op.at if at is not None else op.from_uv])[0]
                 except EditError as exc:
-                    message = str(exc).replace(str(frm), str(_shown(op.from_uv)))
-                    raise EditError(f"{what}: {message}") from None
+                    raise EditError(f"{what}: {exc}") from None
             if not bool((table.instance_id == iid).any()):
                 raise EditError(f"{what}: object {iid} is no longer in the scene: {made.get(iid, 'an earlier op')}")
             row = table.index_of(iid)

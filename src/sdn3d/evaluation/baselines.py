@@ -33,9 +33,10 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, BenchmarkEntry, BenchmarkOperation, scale_operation
-from sdn3d.editing.apply import Delete, EditError, apply_edits, match_objects
+from sdn3d.editing.apply import Delete, EditError, apply_edits
 from sdn3d.editing.photo.fill import fill_hole, vacated_hole
 from sdn3d.editing.photo.settings import PhotoSettings
+from sdn3d.editing.pick import pick_objects
 from sdn3d.image_ops import boundary_map, instance_label_map
 from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.scene.code import SceneCode
@@ -84,7 +85,7 @@ def baseline_maps(scene: SceneCode, entry: BenchmarkEntry | Sequence[BenchmarkOp
         mode: ``'2d'`` or ``'2d+'``.
         frame_size: ``(W, H)`` of the operations' coordinates; None = the scene's pixels.
         geometry: ``'move'`` or ``'empty'`` (normal / pose / depth maps).
-        bank, max_distance: as :func:`sdn3d.editing.apply.apply_edits` / :func:`sdn3d.editing.apply.match_objects`.
+        bank, max_distance: as :func:`sdn3d.editing.apply.apply_edits` / :func:`sdn3d.editing.pick.pick_objects`.
     """
     if mode not in BASELINE_MODES:
         raise ValueError(f"mode must be one of {BASELINE_MODES}, got {mode!r}")
@@ -94,8 +95,8 @@ def baseline_maps(scene: SceneCode, entry: BenchmarkEntry | Sequence[BenchmarkOp
     ops = list(entry.operations if isinstance(entry, BenchmarkEntry) else entry)
     if frame_size is not None and tuple(frame_size) != scene.image_size:
         ops = [scale_operation(op, tuple(frame_size), scene.image_size) for op in ops]
-    ids = match_objects(scene, [op.from_uv for op in ops], None, max_distance)
     source = scene_maps(scene, bank)
+    ids = pick_objects(scene, [op.from_uv for op in ops], None, max_distance, instance_map=source.instance, bank=bank)
     base_scene = apply_edits(scene, [Delete(i) for i in ids], bank, amodal=False)
     base = scene_maps(base_scene, bank)
     device = base.instance.device
@@ -184,9 +185,9 @@ def baseline_photos(image: Tensor, scene: SceneCode, entry: BenchmarkEntry | Seq
     ops = list(entry.operations if isinstance(entry, BenchmarkEntry) else entry)
     if frame_size is not None and tuple(frame_size) != scene.image_size:
         ops = [scale_operation(op, tuple(frame_size), scene.image_size) for op in ops]
-    ids = match_objects(scene, [op.from_uv for op in ops], None, max_distance)
-    image = image.float().cpu()
     instances = compose_instances(scene, bank).cpu()
+    ids = pick_objects(scene, [op.from_uv for op in ops], None, max_distance, instance_map=instances, bank=bank)
+    image = image.float().cpu()
     gone = torch.tensor(ids, dtype=torch.long)
     keep = (instances != 0) & ~torch.isin(instances, gone)
     hole = vacated_hole(instances, gone, keep, settings)

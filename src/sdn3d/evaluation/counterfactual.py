@@ -52,11 +52,12 @@ from sdn3d.data.records import FrameRecord, load_instances, load_semantic
 from sdn3d.data.scene_gt import frame_photo, ground_truth, scene_from_frame
 from sdn3d.derender import PROPOSAL_LABELS, Models, derender, encode_scene
 from sdn3d.editing.appearance import Appearance, appearance_renderer
-from sdn3d.editing.apply import apply_edits, projected_centers
+from sdn3d.editing.apply import apply_edits
 from sdn3d.editing.compose import ComposeSettings
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.ops import Delete, Rotate
 from sdn3d.editing.photo.settings import FILL_METHODS, FLAT_CODES, SOURCE_NAMES, PhotoSettings
+from sdn3d.editing.pick import projected_centers
 from sdn3d.errors import UserInputError
 from sdn3d.evaluation.baselines import baseline_photo
 from sdn3d.evaluation.paired import paired_difference

@@ -32,7 +32,8 @@ more), ``zoom``, ``delete``, and the synthetic benchmark's ``occluder_removed``)
 
 Edited regions come from the ground truth only, so they are the same for every method: the
 benchmark's picks are resolved on the frame's ground-truth scene (:func:`~sdn3d.data.scene_gt.scene_from_frame`,
-:func:`~sdn3d.editing.apply.match_objects`, scaled ``from`` points), and an edited object's region is the
+:func:`~sdn3d.editing.pick.pick_objects` by projected centre, the synthetic ``from`` point's definition; scaled
+``from`` points), and an edited object's region is the
 union of its visible pixels in the source and the target frames (instance maps at the working
 size). ``all`` = the union over the edited objects; ``largest`` = the object with the largest
 region, cropped to its box in the target frame (in the source frame when it left the view or was
@@ -71,7 +72,7 @@ from sdn3d.editing.appearance import (
     picture_mode,
     render_maps,
 )
-from sdn3d.editing.apply import ModifyAnchor, apply_edits, match_objects, ops_from_benchmark
+from sdn3d.editing.apply import ModifyAnchor, apply_edits, ops_from_benchmark
 from sdn3d.editing.compose import (
     COMPOSE_MODES,
     Compose,
@@ -82,6 +83,7 @@ from sdn3d.editing.compose import (
 )
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.photo.settings import PhotoSettings
+from sdn3d.editing.pick import PickBy, pick_objects
 from sdn3d.errors import UserInputError
 from sdn3d.evaluation.baselines import baseline_maps, baseline_photos
 from sdn3d.evaluation.image_metrics import crop_metrics, region_image_metrics
@@ -317,7 +319,7 @@ def edit_regions(entry: BenchmarkEntry, source: FrameRecord, target: FrameRecord
     """
     oracle = scene_from_frame(source, image_size)
     ops = [scale_operation(op, frame_size, image_size) for op in entry.operations]
-    ids = match_objects(oracle, [op.from_uv for op in ops], [op.kind == "modify" for op in ops])
+    ids = pick_objects(oracle, [op.from_uv for op in ops], [op.kind == "modify" for op in ops], by=PickBy.CENTRE)
     src, tgt = _instances(source, image_size), _instances(target, image_size)
     id_t = torch.tensor(ids, dtype=torch.long)
     regions = (src[None] == id_t[:, None, None]) | (tgt[None] == id_t[:, None, None])  # (K, H, W)
@@ -417,7 +419,7 @@ def _method_pictures(entry: BenchmarkEntry, scene: SceneCode, baseline: tuple[Sc
     points = [scale_operation(op, settings.frame_size, settings.image_size).from_uv for op in entry.operations]
     for mode in ("2d", "2d+"):
         try:
-            picks[mode] = match_objects(baseline_scene, points, None, settings.pick_radius)  # as baseline_maps
+            picks[mode] = pick_objects(baseline_scene, points, None, settings.pick_radius)  # as baseline_maps
             maps[mode] = baseline_maps(baseline_scene, entry, mode, settings.frame_size,
                                        max_distance=settings.pick_radius)
             if generate:

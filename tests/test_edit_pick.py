@@ -87,7 +87,7 @@ def test_two_picks_never_share_an_object_and_each_keeps_its_mask(scene):
 def test_a_mask_only_object_under_a_modify_is_passed_over_or_named(scene):
     """The front object under a modify's point has a mask only: the pick goes on to an object with geometry (the
     benchmark scores every entry), and where none holds the point or is within reach the refusal names the mask-only
-    object (the editor used to refuse at once, saying only "has no 3D geometry"); a delete there takes it."""
+    object; a user's ``at`` point there is refused at once, naming it; a delete there takes it."""
     car = _biggest(scene, 1)[0]
     row = scene.objects.index_of(car)
     template = scene.objects.template_id.clone()
@@ -103,6 +103,13 @@ def test_a_mask_only_object_under_a_modify_is_passed_over_or_named(scene):
         ops_from_benchmark([BenchmarkOperation.modify(point, None, 1.0, 0.5)], alone, frame_size=None)
     with pytest.raises(EditError, match=rf"op 0 \(rotate at=.*\): the edit at .* {message}"):
         resolve_ops(parse_edit_spec([{"op": "rotate", "at": list(point), "ry_deg": 30}]), alone)
+    # A user's point is refused at once, whatever else is in reach: turning another car than the one pointed at
+    # would surprise; the refusal names the objects with geometry nearest the point.
+    with pytest.raises(EditError, match=rf"op 0 \(rotate at=.*\): the edit at .* {message}.*moved, turned or "
+                                        r"zoomed; the nearest objects with geometry: \d+"):
+        resolve_ops(parse_edit_spec([{"op": "rotate", "at": list(point), "ry_deg": 30}]), flat, pick_radius=None)
+    (op,) = resolve_ops(parse_edit_spec([{"op": "modify", "from": list(point), "ry_deg": 30}]), flat, pick_radius=None)
+    assert op.instance_id != car  # a spec's benchmark op passes over it, as the benchmark does
 
 
 def test_a_listed_centre_picks_its_object_even_behind_another(scene):

@@ -16,10 +16,13 @@ cost puts every tier before the next (a mask hit before any box, a box before an
 the same object: a second point on the same car falls to its next tier.
 
 Edits that need 3D geometry (move, turn, zoom, duplicate, the benchmark's ``modify``) pick among the objects that
-have it in every tier: an object with a mask only (under ``min_pixels``, or no usable prediction) under the point is
-passed over for the next tier (a box holding the point, a centre within ``max_distance``), as the benchmark always
-did; where none is left the refusal names the mask-only object under the point. Refusing at once would leave such
-benchmark entries unscored for 3D-SDN alone, which would flatter its means.
+have it in every tier. What happens where the front object under such a point has a mask only (under ``min_pixels``,
+or no usable prediction) is :class:`MaskOnlyUnder`: a user's point (``sdn3d-edit``'s and the editor's ``at``) is
+refused, naming that object (:attr:`MaskOnlyUnder.REFUSE`: moving another car than the one pointed at would
+surprise); a benchmark's ``from`` point passes over it to the next tier (:attr:`MaskOnlyUnder.PASS_OVER`: a box
+holding the point, a centre within ``max_distance``, as the benchmark always did), and only where none is left is it
+refused, naming it. Refusing benchmark entries at once would leave them unscored for 3D-SDN alone, which would
+flatter its means.
 
 :attr:`PickBy.CENTRE` is the projected-centre tier alone: the synthetic benchmark's definition of the car an
 operation edits (its ``from`` point is that car's projected centre, :mod:`sdn3d.data.synth.edits`), used on the
@@ -46,7 +49,7 @@ from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
 from sdn3d.scene.maps import compose_instances
 
-__all__ = ["PickBy", "pick_objects", "projected_centers", "CENTRE_SNAP"]
+__all__ = ["PickBy", "MaskOnlyUnder", "pick_objects", "projected_centers", "CENTRE_SNAP"]
 
 #: A point within this share of the image width of an object's projected centre picks that object first (2 px at
 #: 312 wide; docs/results/2026-11-30_cpu/session18/pick: a wider snap takes mis-fitted proposals' centres).
@@ -70,6 +73,13 @@ class PickBy(StrEnum):
     CENTRE = "centre"
 
 
+class MaskOnlyUnder(StrEnum):
+    """What a point whose edit needs geometry does where the front object under it has a mask only (module doc)."""
+
+    REFUSE = "refuse"
+    PASS_OVER = "pass_over"
+
+
 def projected_centers(scene: SceneCode) -> tuple[Tensor, Tensor]:
     """``(N, 2)`` float64 pixel of each object's box centre (mask centroid without geometry) and
     ``(N,)`` bool validity (centre in front of the camera, or a non-empty mask)."""
@@ -90,7 +100,8 @@ def projected_centers(scene: SceneCode) -> tuple[Tensor, Tensor]:
 def pick_objects(scene: SceneCode, points: Sequence[tuple[float, float]], need_geometry: Sequence[bool] | None = None,
                  max_distance: float | None = None, by: PickBy = PickBy.VISIBLE, instance_map: Tensor | None = None,
                  bank: MeshBank | None = None, to_user: ToUser | None = None,
-                 shown: Sequence[tuple[float, float]] | None = None) -> list[int]:
+                 shown: Sequence[tuple[float, float]] | None = None,
+                 mask_only: MaskOnlyUnder = MaskOnlyUnder.PASS_OVER) -> list[int]:
     """Instance ids of the objects ``points`` pick (module doc), one object per point.
 
     Args:
@@ -103,12 +114,13 @@ def pick_objects(scene: SceneCode, points: Sequence[tuple[float, float]], need_g
             with ``bank``; only :attr:`PickBy.VISIBLE` reads it).
         to_user, shown: for messages: the map from working pixels to the user's, and the points as the user wrote
             them (default: the points themselves).
+        mask_only: :class:`MaskOnlyUnder`, for the points that need geometry (only :attr:`PickBy.VISIBLE` reads it).
 
     Raises:
         EditError: more points than objects to pick from; a point no tier matches (naming it and the nearest
             objects; a point needing geometry whose front object has a mask only names that object).
     """
-    by = PickBy(by)
+    by, mask_only = PickBy(by), MaskOnlyUnder(mask_only)
     points = [_uv(p, "pick") for p in points]
     if not points:
         return []
@@ -122,6 +134,11 @@ def pick_objects(scene: SceneCode, points: Sequence[tuple[float, float]], need_g
     cost = torch.where(usable & in_reach, _CENTRE_BASE + dist, torch.full_like(dist, _BARRED))
     if by is PickBy.VISIBLE and len(obj):
         under = _under(scene, at, instance_map, bank)  # (P,) instance id, 0 = none
+        if mask_only is MaskOnlyUnder.REFUSE:
+            for r in range(len(points)):
+                if under[r] and not bool(usable[r, obj.index_of(int(under[r]))]):
+                    shown_at = shown[r] if shown is not None else points[r]
+                    raise EditError(_mask_only(scene, int(under[r]), shown_at, dist[r], valid, to_user, mask_only))
         boxes = mask_boxes(obj.mask).double()
         holds = ((boxes[None, :, 0] <= at[:, None, 0]) & (at[:, None, 0] < boxes[None, :, 2])
                  & (boxes[None, :, 1] <= at[:, None, 1]) & (at[:, None, 1] < boxes[None, :, 3])
@@ -145,7 +162,7 @@ def pick_objects(scene: SceneCode, points: Sequence[tuple[float, float]], need_g
         if cost[r, c] >= _BARRED:
             shown_at = shown[r] if shown is not None else points[r]
             if under[r] and not bool(usable[r, obj.index_of(int(under[r]))]):
-                raise EditError(_mask_only(scene, int(under[r]), shown_at, dist[r], valid, to_user))
+                raise EditError(_mask_only(scene, int(under[r]), shown_at, dist[r], valid, to_user, mask_only))
             raise EditError(_miss(scene, points[r], dist[r], valid & usable[r], max_distance, by, to_user, shown_at))
         out[r] = int(obj.instance_id[c])
     return out
@@ -194,12 +211,14 @@ def _miss(scene: SceneCode, point: tuple[float, float], dist: Tensor, allowed: T
 
 
 def _mask_only(scene: SceneCode, iid: int, shown_at: tuple[float, float], dist: Tensor, valid: Tensor,
-               to_user: ToUser | None) -> str:
-    """The refusal of a point needing geometry whose front object ``iid`` has a mask only, and no object with
-    geometry holds the point in its box or has its centre within reach."""
+               to_user: ToUser | None, mask_only: MaskOnlyUnder) -> str:
+    """The refusal of a point needing geometry whose front object ``iid`` has a mask only (with
+    :attr:`MaskOnlyUnder.PASS_OVER`: and no object with geometry holds the point in its box or has its centre within
+    reach)."""
     pixels = int(scene.objects.mask[scene.objects.index_of(iid)].sum())
     near = _nearest(scene, shown_at, dist, valid & scene.objects.has_geometry, to_user)
+    passed = (", and no object with geometry holds the point or is within reach"
+              if mask_only is MaskOnlyUnder.PASS_OVER else "")
     return (f"the edit at {_shown(shown_at)} lands on object {iid}, which has no 3D geometry, only its mask of "
             f"{pixels} pixels (under min_pixels, or no usable prediction): it can be deleted or recoloured, not "
-            "moved, turned or zoomed, and no object with geometry holds the point or is within reach"
-            + (f"; the nearest objects with geometry: {near}" if near else ""))
+            f"moved, turned or zoomed{passed}" + (f"; the nearest objects with geometry: {near}" if near else ""))

@@ -87,7 +87,7 @@ from sdn3d.editing.apply import (
     ops_from_benchmark,
 )
 from sdn3d.editing.frame import PixelFrame
-from sdn3d.editing.pick import pick_objects
+from sdn3d.editing.pick import MaskOnlyUnder, pick_objects
 from sdn3d.errors import UserInputError
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import ObjectTable, SceneCode
@@ -675,7 +675,8 @@ def resolve_ops(spec: EditSpec, scene: SceneCode, code_bank: CodeBank | None = N
                     iid = pick_objects(scene, [at if at is not None else frm], [need_geo], pick_radius,
                                        instance_map=instance_map, bank=bank,
                                        to_user=lambda uv: _unscaled(uv, spec, scene, frame),
-                                       shown=[op.at if at is not None else op.from_uv])[0]
+                                       shown=[op.at if at is not None else op.from_uv],
+                                       mask_only=MaskOnlyUnder.REFUSE if at is not None else MaskOnlyUnder.PASS_OVER)[0]
                 except EditError as exc:
                     raise EditError(f"{what}: {exc}") from None
             if not bool((table.instance_id == iid).any()):

@@ -195,8 +195,8 @@ def _layers(scene: SceneCode, bank: MeshBank, settings: RasterSettings | None) -
     has_mask = obj.has_mask.to(device)
     masks = obj.mask.to(device)
     mask_hw, mask_w = masks.shape[-2] * masks.shape[-1], masks.shape[-1]
-    flat = flat_nonzero(masks)  # the (object, row, column) of every mask pixel, in nonzero's row-major order
-    k, i, j = flat // mask_hw, flat % mask_hw // mask_w, flat % mask_w
+    mask_px = flat_nonzero(masks)  # the (object, row, column) of every mask pixel, in nonzero's row-major order
+    k, i, j = mask_px // mask_hw, mask_px % mask_hw // mask_w, mask_px % mask_w
     keep = has_mask[k]
     k, i, j = k[keep], i[keep], j[keep]
     # A mask is the object's whole cover: an empty one needs no rendering.

@@ -14,7 +14,7 @@ import numpy as np
 from sdn3d.errors import UserInputError
 
 __all__ = ["EditError", "Move", "Zoom", "Rotate", "Modify", "Delete", "SetCode", "SetBackgroundCode", "Duplicate",
-           "EditOp"]
+           "EditOp", "shown_point"]
 
 
 class EditError(UserInputError):
@@ -35,6 +35,15 @@ def _uv(uv: Sequence[float], what: str) -> tuple[float, float]:
     if uv is None or len(uv) != 2:
         raise EditError(f"{what} must be a (u, v) pixel, got {uv!r}")
     return (_finite(uv[0], f"{what}.u"), _finite(uv[1], f"{what}.v"))
+
+
+def shown_point(uv: Sequence[float]) -> list[float]:
+    """A pixel ``(u, v)`` as the edit messages print it: ``[u, v]`` to one decimal.
+
+    >>> shown_point((12.345, 6.0))
+    [12.3, 6.0]
+    """
+    return [round(float(uv[0]), 1), round(float(uv[1]), 1)]
 
 
 def _zoom(zoom: float, what: str) -> float:

@@ -42,7 +42,7 @@ from enum import StrEnum
 import torch
 from torch import Tensor
 
-from sdn3d.editing.ops import EditError, _uv
+from sdn3d.editing.ops import EditError, _uv, shown_point
 from sdn3d.image_ops import mask_boxes
 from sdn3d.math3d.camera import project_points
 from sdn3d.meshes.bank import MeshBank
@@ -132,25 +132,29 @@ def pick_objects(scene: SceneCode, points: Sequence[tuple[float, float]], need_g
     dist = torch.cdist(at, centers) if len(obj) else torch.zeros(len(points), 0, dtype=torch.float64)
     in_reach = valid[None, :] & (dist <= max_distance if max_distance is not None else torch.ones_like(usable))
     cost = torch.where(usable & in_reach, _CENTRE_BASE + dist, torch.full_like(dist, _BARRED))
-    if by is PickBy.VISIBLE and len(obj):
-        under = _under(scene, at, instance_map, bank)  # (P,) instance id, 0 = none
-        if mask_only is MaskOnlyUnder.REFUSE:
-            for r in range(len(points)):
-                if under[r] and not bool(usable[r, obj.index_of(int(under[r]))]):
-                    shown_at = shown[r] if shown is not None else points[r]
-                    raise EditError(_mask_only(scene, int(under[r]), shown_at, dist[r], valid, to_user, mask_only))
+    visible = by is PickBy.VISIBLE and len(obj) > 0
+    # (P,) the instance id of the front object under each point, 0 = none
+    under = _under(scene, at, instance_map, bank) if visible else torch.zeros(len(points), dtype=torch.long)
+    is_under = obj.instance_id[None, :] == under[:, None]  # (P, N)
+    on_mask_only = (is_under & ~usable).any(1)  # (P,) the front object under the point has no geometry it needs
+
+    def refuse_mask_only(r: int) -> EditError:
+        shown_at = shown[r] if shown is not None else points[r]
+        return EditError(_mask_only(scene, int(under[r]), shown_at, dist[r], valid, to_user, mask_only))
+
+    if mask_only is MaskOnlyUnder.REFUSE and bool(on_mask_only.any()):
+        raise refuse_mask_only(int(on_mask_only.nonzero()[0]))
+    if visible:
         boxes = mask_boxes(obj.mask).double()
         holds = ((boxes[None, :, 0] <= at[:, None, 0]) & (at[:, None, 0] < boxes[None, :, 2])
                  & (boxes[None, :, 1] <= at[:, None, 1]) & (at[:, None, 1] < boxes[None, :, 3])
                  & (boxes[None, :, 2] > boxes[None, :, 0]))  # (P, N)
         depth = torch.where(obj.has_geometry, obj.location[:, 2].double().clamp(0, _NO_DEPTH - 1), _NO_DEPTH)
         cost = torch.where(holds & usable, (_BOX_BASE + depth)[None, :].expand_as(cost), cost)
-        cost = torch.where((obj.instance_id[None, :] == under[:, None]) & usable, torch.full_like(cost, _MASK), cost)
+        cost = torch.where(is_under & usable, torch.full_like(cost, _MASK), cost)
         snap = CENTRE_SNAP * scene.image_size[0]
         snap = min(snap, max_distance) if max_distance is not None else snap
         cost = torch.where(usable & valid[None, :] & (dist <= snap), dist, cost)
-    else:
-        under = torch.zeros(len(points), dtype=torch.long)
     candidates = int((valid | obj.mask.flatten(1).any(1)).sum())
     if len(points) > candidates:
         raise EditError(f"{len(points)} edits but only {candidates} objects to pick from")
@@ -160,9 +164,9 @@ def pick_objects(scene: SceneCode, points: Sequence[tuple[float, float]], need_g
     out = [0] * len(points)
     for r, c in zip(rows.tolist(), cols.tolist(), strict=True):
         if cost[r, c] >= _BARRED:
+            if on_mask_only[r]:
+                raise refuse_mask_only(r)
             shown_at = shown[r] if shown is not None else points[r]
-            if under[r] and not bool(usable[r, obj.index_of(int(under[r]))]):
-                raise EditError(_mask_only(scene, int(under[r]), shown_at, dist[r], valid, to_user, mask_only))
             raise EditError(_miss(scene, points[r], dist[r], valid & usable[r], max_distance, by, to_user, shown_at))
         out[r] = int(obj.instance_id[c])
     return out
@@ -180,10 +184,6 @@ def _under(scene: SceneCode, at: Tensor, instance_map: Tensor | None, bank: Mesh
     return torch.where(inside, instance_map[rows, cols].long(), 0)
 
 
-def _shown(uv: tuple[float, float]) -> list[float]:
-    return [round(float(uv[0]), 1), round(float(uv[1]), 1)]
-
-
 def _nearest(scene: SceneCode, shown_at: tuple[float, float], dist: Tensor, allowed: Tensor,
              to_user: ToUser | None, count: int = 3) -> str:
     """The ``count`` nearest ``allowed`` objects by projected centre, in the user's pixels:
@@ -195,7 +195,7 @@ def _nearest(scene: SceneCode, shown_at: tuple[float, float], dist: Tensor, allo
         if bool(allowed[row]):
             u, v = (to_user or (lambda uv: uv))((float(centers[row, 0]), float(centers[row, 1])))
             far = math.hypot(u - shown_at[0], v - shown_at[1])
-            near.append(f"{int(scene.objects.instance_id[row])} ({far:.0f} px, centre {_shown((u, v))})")
+            near.append(f"{int(scene.objects.instance_id[row])} ({far:.0f} px, centre {shown_point((u, v))})")
     return ", ".join(near)
 
 
@@ -206,7 +206,7 @@ def _miss(scene: SceneCode, point: tuple[float, float], dist: Tensor, allowed: T
     near = _nearest(scene, shown_at, dist, allowed, to_user)
     tiers = "no mask or listed box holds it, and " if by is PickBy.VISIBLE else ""
     reach = f"within {max_distance} px (working size)" if max_distance is not None else "left to pick"
-    return (f"no object at {_shown(shown_at)}: {tiers}no centre is {reach}"
+    return (f"no object at {shown_point(shown_at)}: {tiers}no centre is {reach}"
             + (f"; the nearest: {near}" if near else "; the scene has no object to pick"))
 
 
@@ -219,6 +219,6 @@ def _mask_only(scene: SceneCode, iid: int, shown_at: tuple[float, float], dist: 
     near = _nearest(scene, shown_at, dist, valid & scene.objects.has_geometry, to_user)
     passed = (", and no object with geometry holds the point or is within reach"
               if mask_only is MaskOnlyUnder.PASS_OVER else "")
-    return (f"the edit at {_shown(shown_at)} lands on object {iid}, which has no 3D geometry, only its mask of "
+    return (f"the edit at {shown_point(shown_at)} lands on object {iid}, which has no 3D geometry, only its mask of "
             f"{pixels} pixels (under min_pixels, or no usable prediction): it can be deleted or recoloured, not "
             f"moved, turned or zoomed{passed}" + (f"; the nearest objects with geometry: {near}" if near else ""))

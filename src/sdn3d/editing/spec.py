@@ -87,6 +87,7 @@ from sdn3d.editing.apply import (
     ops_from_benchmark,
 )
 from sdn3d.editing.frame import PixelFrame
+from sdn3d.editing.ops import shown_point
 from sdn3d.editing.pick import MaskOnlyUnder, pick_objects
 from sdn3d.errors import UserInputError
 from sdn3d.meshes.bank import MeshBank
@@ -515,10 +516,6 @@ def _user_frame(spec: EditSpec, scene: SceneCode, frame: PixelFrame | None) -> t
     return tuple(frame.input_size) if frame is not None else tuple(scene.image_size)
 
 
-def _shown(uv: tuple[float, float]) -> list[float]:
-    return [round(float(uv[0]), 1), round(float(uv[1]), 1)]
-
-
 def _unscaled(uv: tuple[float, float], spec: EditSpec, scene: SceneCode,
               frame: PixelFrame | None) -> tuple[float, float]:
     """The inverse of :func:`_scaled` (a working pixel in the user's frame), for messages."""
@@ -555,10 +552,10 @@ def _check_inside(op: OpSpec, points: tuple, spec: EditSpec, scene: SceneCode, f
             fw, fh = _user_frame(spec, scene, frame)
             where = f"the {fw}x{fh} frame"
             if frame is not None and not frame.is_plain_resize:
-                (x0, y0), (x1, y1) = (_shown(_unscaled(c, spec, scene, frame)) for c in
+                (x0, y0), (x1, y1) = (shown_point(_unscaled(c, spec, scene, frame)) for c in
                                       ((-0.5, -0.5), (scene.image_size[0] - 0.5, scene.image_size[1] - 0.5)))
                 where = f"the part of the {fw}x{fh} frame the working image keeps (x {x0}..{x1}, y {y0}..{y1})"
-            raise EditError(f"{op.describe()}: '{name}' point {_shown(given)} lies outside {where}")
+            raise EditError(f"{op.describe()}: '{name}' point {shown_point(given)} lies outside {where}")
 
 
 def check_points(spec: EditSpec, working_size: tuple[int, int], frame: PixelFrame | None = None) -> None:
@@ -746,8 +743,8 @@ def _duplicate_ops(op: OpSpec, iid: int, row: int, to: tuple[float, float], tabl
     new_id = op.new_id if op.new_id is not None else copy_id(table, row)
     place, pushed, blocker = clear_place(scene, table, row, to)
     if blocker is not None:
-        raise EditError(f"{what}: the copy at {_shown(op.to)} would overlap object {blocker} in 3D, and no place along "
-                        "the road within three car lengths (inside the picture) is clear of the other cars; give "
+        raise EditError(f"{what}: the copy at {shown_point(op.to)} would overlap object {blocker} in 3D, and no place "
+                        "along the road within three car lengths (inside the picture) is clear of the other cars; give "
                         "another 'to'")
     out: list[EditOp] = [Duplicate(iid, place, new_id)]
     if iid in paint:

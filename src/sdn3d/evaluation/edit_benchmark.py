@@ -417,9 +417,12 @@ def _method_pictures(entry: BenchmarkEntry, scene: SceneCode, baseline: tuple[Sc
         result.errors["3d-sdn"] = str(exc)
     baseline_scene, baseline_textural = baseline
     points = [scale_operation(op, settings.frame_size, settings.image_size).from_uv for op in entry.operations]
+    picked_2d: list[int] | None = None  # the same scene and points for 2D and 2D+: one pick (it composes the scene)
     for mode in ("2d", "2d+"):
         try:
-            picks[mode] = pick_objects(baseline_scene, points, None, settings.pick_radius)  # as baseline_maps
+            if picked_2d is None:
+                picked_2d = pick_objects(baseline_scene, points, None, settings.pick_radius)  # as baseline_maps
+            picks[mode] = picked_2d
             maps[mode] = baseline_maps(baseline_scene, entry, mode, settings.frame_size,
                                        max_distance=settings.pick_radius)
             if generate:

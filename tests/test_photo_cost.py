@@ -1044,6 +1044,34 @@ def test_mask_tests_by_numpy_are_torchs_any_and_nonzero():
         nonzero_yx(masks[10])
 
 
+def test_mask_centroids_by_counts_are_the_grid_weighted_means_bit_for_bit():
+    """:func:`~sdn3d.image_ops.mask_centroids` (per-column and per-row counts, NumPy on a bool CPU mask) is the
+    picking rule's former centroid, the masks weighed by a float64 coordinate grid, bit for bit: masks empty, full,
+    one pixel at a corner, sparse, sliced and transposed; a float mask (torch's path); a 2-D mask is refused."""
+    from sdn3d.image_ops import mask_centroids
+
+    def grid_weighted(masks: torch.Tensor) -> torch.Tensor:
+        h, w = masks.shape[-2:]
+        grid = torch.stack(torch.meshgrid(torch.arange(h, dtype=torch.float64), torch.arange(w, dtype=torch.float64),
+                                          indexing="ij"), -1)  # (H, W, [v, u])
+        area = masks.flatten(1).sum(1).double()
+        return torch.einsum("nhw,hwc->nc", masks.double(), grid).flip(-1) / area.clamp(min=1)[:, None]
+
+    gen = torch.Generator().manual_seed(9)
+    sparse = torch.rand(5, 61, 97, generator=gen) > 0.7
+    sparse[0] = False
+    sparse[1] = True
+    sparse[2] = False
+    sparse[2, 60, 96] = True
+    for masks in (sparse, sparse[:, 7:50, 3:80], sparse.transpose(1, 2), sparse[:0]):
+        got = mask_centroids(masks)
+        assert got.dtype == torch.float64 and torch.equal(got, grid_weighted(masks))
+    assert torch.equal(mask_centroids(sparse.float()), grid_weighted(sparse))
+    assert mask_centroids(sparse)[0].tolist() == [0.0, 0.0] and mask_centroids(sparse)[2].tolist() == [96.0, 60.0]
+    with pytest.raises(ValueError, match="N, H, W"):
+        mask_centroids(sparse[0])
+
+
 def test_channel_mean_by_sum3_is_torchs_mean():
     """``ray_fill``'s grain level: the channels' mean as ``sum3(x, 0) / 3`` is torch's ``x.mean(0)`` bit for bit on
     a ``(3, H, W)`` float32 picture in channel-last memory (as decoded pictures arrive) and contiguous, with -0.0,

@@ -10,7 +10,7 @@ also the form the geometric branch's box encoding and crop windows are defined o
 
 - sizes and resizing: :func:`check_size`, :func:`to_image_tensor`, :func:`resize_image`,
   :func:`resize_map`, :func:`scale_boxes`;
-- boxes: :func:`mask_boxes`, :func:`pixel_centre_boxes`;
+- boxes and centres: :func:`mask_boxes`, :func:`mask_centroids`, :func:`pixel_centre_boxes`;
 - label maps: :func:`instance_label_map`, :func:`boundary_map`;
 - square object crops of the geometric branch: :func:`square_crop_window`, :func:`crop_windows`,
   :func:`crop_intrinsics` (the datasets and :func:`sdn3d.derender.derender` use the same code, so the
@@ -43,6 +43,7 @@ __all__ = [
     "count_set",
     "flat_nonzero",
     "nonzero_yx",
+    "mask_centroids",
     "check_size",
     "dilate_square",
     "isin_ids",
@@ -136,6 +137,36 @@ def mask_boxes(masks: Tensor) -> Tensor:
     y1 = torch.where(rows, ys, -1).amax(1) + 1
     box = torch.stack([x0, y0, x1, y1], 1)
     return torch.where(cols.any(1, keepdim=True), box, torch.zeros_like(box))
+
+
+def mask_centroids(masks: Tensor) -> Tensor:
+    """``(N, 2)`` float64 ``(u, v)`` centroid of each of ``masks (N, H, W)`` in pixel-centre coordinates (pixel ``i``
+    is at ``i``); an empty mask: ``(0, 0)``.
+
+    Each is the mean column of its mask's pixels and the mean row, from its per-column and per-row counts (exact in
+    float64: the sums are integers under 2**53), counted by NumPy for a bool CPU mask (weighing the whole picture by
+    a coordinate grid took about 0.1 s for ten 1242x375 masks, the counts about 10 ms).
+
+    Example:
+        >>> mask = torch.zeros(2, 4, 6, dtype=torch.bool)
+        >>> mask[0, 1:3, 2:5] = True
+        >>> mask_centroids(mask).tolist()
+        [[3.0, 1.5], [0.0, 0.0]]
+    """
+    if masks.dim() != 3:
+        raise ValueError(f"masks must be (N, H, W), got {tuple(masks.shape)}")
+    h, w = masks.shape[-2:]
+    if masks.dtype == torch.bool and masks.device.type == "cpu":
+        m = masks.numpy()
+        cols = torch.from_numpy(np.count_nonzero(m, axis=1).astype(np.float64))  # (N, W)
+        rows = torch.from_numpy(np.count_nonzero(m, axis=2).astype(np.float64))  # (N, H)
+    else:
+        cols = (masks != 0).sum(1, dtype=torch.float64)
+        rows = (masks != 0).sum(2, dtype=torch.float64)
+    area = cols.sum(1)
+    u = cols @ torch.arange(w, dtype=torch.float64, device=cols.device)
+    v = rows @ torch.arange(h, dtype=torch.float64, device=rows.device)
+    return torch.stack([u, v], 1) / area.clamp(min=1)[:, None]
 
 
 def pixel_centre_boxes(boxes: Tensor) -> Tensor:

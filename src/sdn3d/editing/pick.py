@@ -43,7 +43,7 @@ import torch
 from torch import Tensor
 
 from sdn3d.editing.ops import EditError, _uv, shown_point
-from sdn3d.image_ops import mask_boxes
+from sdn3d.image_ops import any_along, any_set, mask_boxes, mask_centroids
 from sdn3d.math3d.camera import project_points
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import SceneCode
@@ -88,13 +88,10 @@ def projected_centers(scene: SceneCode) -> tuple[Tensor, Tensor]:
     valid_3d = obj.has_geometry & (center[:, 2] > 0)
     safe = torch.where(valid_3d[:, None], center, center.new_tensor([0.0, 0.0, 1.0]))
     uv = project_points(safe, scene.intrinsics.matrix(torch.float64))
-    height, width = scene.intrinsics.size
-    grid = torch.stack(torch.meshgrid(torch.arange(height, dtype=torch.float64),
-                                      torch.arange(width, dtype=torch.float64), indexing="ij"), -1)  # (H, W, [v, u])
-    area = obj.mask.flatten(1).sum(1).double()
-    centroid = torch.einsum("nhw,hwc->nc", obj.mask.double(), grid).flip(-1) / area.clamp(min=1)[:, None]
-    use_mask = ~obj.has_geometry & (area > 0)
-    return torch.where(use_mask[:, None], centroid, uv), valid_3d | use_mask
+    use_mask = ~obj.has_geometry & any_along(obj.mask.flatten(1), 1)
+    if any_set(use_mask):
+        uv = torch.where(use_mask[:, None], mask_centroids(obj.mask), uv)
+    return uv, valid_3d | use_mask
 
 
 def pick_objects(scene: SceneCode, points: Sequence[tuple[float, float]], need_geometry: Sequence[bool] | None = None,

@@ -30,6 +30,14 @@ for c in cars:
     kind[k, right] += 1
 for k in ("prediction's (0-3)", "search's"):
     print(f"  winner {k}: {kind[k, True] + kind[k, False]} cars, right {kind[k, True]}")
+p_wins = Counter((c["fit_tpl"], c["fit_tpl"] == c["truth_tpl"]) for c in cars if c["win"] < 4)
+print("  the prediction's winners by template (right/all): " + ", ".join(
+    f"{TEMPLATE_NAMES[t]} {p_wins[t, True]}/{p_wins[t, True] + p_wins[t, False]}" for t in range(len(TEMPLATE_NAMES))
+    if p_wins[t, True] + p_wins[t, False]))
+CLASS_RULE = {"Car": {"sedan", "hatchback", "wagon", "suv", "pickup", "van"}, "Van": {"van", "minibus", "bus"}}
+barred = Counter((c["class"], TEMPLATE_NAMES[c["truth_tpl"]]) for c in cars
+                 if TEMPLATE_NAMES[c["truth_tpl"]] not in CLASS_RULE.get(c["class"], set(TEMPLATE_NAMES)))
+print(f"  truth's template barred by the class rule: {sum(barred.values())} (" + ", ".join(f"{k} {t}: {m}" for (k, t), m in barred.most_common()) + ")")
 in_fine = [any(h["tpl"] == c["truth_tpl"] for h in c["hyps"]) for c in cars]
 print(f"  truth's template among the fine hypotheses: {sum(in_fine)} of {n}")
 ranks = []
@@ -37,7 +45,7 @@ for c in cars:
     co = {int(t): v for t, v in c["coarse"].items() if v is not None}
     order = sorted(co, key=co.get)
     ranks.append(order.index(c["truth_tpl"]) + 1 if c["truth_tpl"] in co else 0)
-print("  coarse rank of the truth's template (0: barred by the class rule): " + ", ".join(f"{r}: {k}" for r, k in sorted(Counter(ranks).items())))
+print("  coarse rank of the truth's template among the templates (0: barred by the class rule, or every start of it dropped at the search's first cut): " + ", ".join(f"{r}: {k}" for r, k in sorted(Counter(ranks).items())))
 # wrong cars: how far the truth's best fine hypothesis is behind the winner, and why (silhouette vs prior)
 rows = []
 for c in cars:

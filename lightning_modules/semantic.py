@@ -275,10 +275,11 @@ class SemanticModule(BranchModule):
         if "center" not in out or not self.things:
             return label, torch.zeros_like(label)
         hp = self.hparams
+        sure = torch.isin(label, torch.as_tensor(self.things, device=label.device))
         instance, _ = group_instances(thing_label(out["logits"].softmax(1), self.things, hp.thing_odds),
                                       out["center"], out["offset"], self.things, threshold=hp.center_threshold,
                                       nms_kernel=hp.nms_kernel, top_k=hp.top_k, min_area=hp.min_area,
-                                      split_separation=hp.split_separation)
+                                      split_separation=hp.split_separation, sure=sure)
         return label, instance
 
     def _eval_step(self, stage: str, batch: dict[str, Any], batch_idx: int) -> None:

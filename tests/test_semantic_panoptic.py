@@ -192,6 +192,25 @@ def test_grouping_splits_two_cars_whose_votes_part_under_one_centre():
         group_instances(label, center, offset, THINGS, split_separation=0.0)
 
 
+def test_grouping_counts_min_area_on_the_sure_pixels():
+    """Pixels outside ``sure`` (those only thing_odds called things) join an instance but cannot make one."""
+    label = torch.full((1, 10, 30), ROAD)
+    label[0, 2:8, 2:12] = CAR  # 60 pixels, 20 of them sure
+    label[0, 2:8, 18:28] = CAR  # 60 pixels, none sure
+    sure = torch.zeros(1, 10, 30, dtype=torch.bool)
+    sure[0, 2:4, 2:12] = True
+    center = torch.zeros(1, 1, 10, 30)
+    center[0, 0, 5, 7], center[0, 0, 5, 23] = 0.9, 0.8
+    offset = torch.zeros(1, 2, 10, 30)
+    v, u = torch.meshgrid(torch.arange(10.0), torch.arange(30.0), indexing="ij")
+    offset[0, 0], offset[0, 1] = torch.where(u < 15, 7.0, 23.0) - u, 5.0 - v
+    inst, _ = group_instances(label, center, offset, THINGS, min_area=16, sure=sure)
+    assert (inst[0, 2:8, 2:12] == CAR * 1000 + 1).all() and (inst[0, :, 15:] == 0).all()
+    assert (group_instances(label, center, offset, THINGS, min_area=16)[0][0, 2:8, 18:28] == CAR * 1000 + 2).all()
+    with pytest.raises(ValueError, match="sure"):
+        group_instances(label, center, offset, THINGS, sure=sure.long())
+
+
 def test_grouping_keeps_one_car_whose_votes_spread_evenly_along_it():
     """Offsets that all point nowhere (votes = the pixels themselves, spread evenly over 40 columns): 2-means
     separates such a spread by 2 sqrt(3) standard deviations, under the threshold, so the car stays whole."""

@@ -250,9 +250,10 @@ def thing_label(probability: Tensor, thing_classes: Sequence[int] | Tensor, thin
     return torch.where(vehicle, ids[things.argmax(1)], label)
 
 
-def _split_parts(target: Tensor, slot: Tensor, slots: int, min_area: int, separation: float) -> Tensor:
+def _split_parts(target: Tensor, slot: Tensor, slots: int, min_area: int, separation: float, sure: Tensor) -> Tensor:
     """``(N,)`` bool: the pixels that leave their slot for its second part (module doc, two vehicles under one
-    centre). ``target`` ``(N, 2)``: each pixel's vote; ``slot`` ``(N,)`` in ``[0, slots)``: its instance."""
+    centre). ``target`` ``(N, 2)``: each pixel's vote; ``slot`` ``(N,)`` in ``[0, slots)``: its instance; ``sure``
+    ``(N,)`` bool: the pixels each part needs ``min_area`` of."""
     count = torch.bincount(slot, minlength=slots).to(target.dtype)
     n = count.clamp_min(1)
     mean = torch.stack([torch.bincount(slot, target[:, i], slots) for i in range(2)], -1) / n[:, None]
@@ -279,8 +280,10 @@ def _split_parts(target: Tensor, slot: Tensor, slots: int, min_area: int, separa
     var_hi = torch.bincount(slot, r * r * high, slots) / n_hi.clamp_min(1)
     var_lo = torch.bincount(slot, r * r * ~high, slots) / n_lo.clamp_min(1)
     spread = ((var_hi + var_lo) / 2).sqrt().clamp_min(_MIN_VOTE_SPREAD)
+    sure_hi = torch.bincount(slot, (sure & high).to(target.dtype), slots)
+    sure_lo = torch.bincount(slot, (sure & ~high).to(target.dtype), slots)
     area = max(min_area, 1)
-    split = ((m_hi - m_lo) / spread >= separation) & (n_hi >= area) & (n_lo >= area)
+    split = ((m_hi - m_lo) / spread >= separation) & (sure_hi >= area) & (sure_lo >= area)
     return high & split[slot]
 
 
@@ -294,6 +297,7 @@ def group_instances(
     top_k: int = 50,
     min_area: int = 0,
     split_separation: float | None = None,
+    sure: Tensor | None = None,
 ) -> tuple[Tensor, Tensor]:
     """Split the thing pixels of a semantic map into instances (Panoptic-DeepLab grouping).
 
@@ -303,9 +307,13 @@ def group_instances(
         offset: ``(B, 2, H, W)`` predicted offsets ``(du, dv)``.
         thing_classes: class ids split into instances.
         threshold, nms_kernel, top_k: centre detection (:func:`find_centers`).
-        min_area: instances with fewer pixels are dropped (their pixels get no instance).
+        min_area: instances with fewer pixels are dropped (their pixels get no instance); with ``sure``, fewer of
+            those pixels.
         split_separation: an instance whose votes form two clusters this many pooled standard deviations apart is
             split in two (module doc); None: never split.
+        sure: ``(B, H, W)`` bool, optional: the pixels ``min_area`` counts (an instance's, and each part's of a
+            split); None: every thing pixel. :func:`thing_label`'s callers pass the arg-max's thing pixels, so that
+            the pixels ``thing_odds`` adds widen the instances the arg-max has without making new ones.
 
     Returns:
         instance: ``(B, H, W)`` int64 ``class_id * 1000 + k`` (``k`` = 1 + rank of the centre's score; the second
@@ -315,6 +323,9 @@ def group_instances(
     if label.dim() != 3 or center.shape[-2:] != label.shape[-2:] or offset.shape[-2:] != label.shape[-2:]:
         raise ValueError(f"label (B, H, W), center (B, 1, H, W) and offset (B, 2, H, W) must agree; got "
                          f"{tuple(label.shape)}, {tuple(center.shape)}, {tuple(offset.shape)}")
+    if sure is not None and (sure.shape != label.shape or sure.dtype != torch.bool):
+        raise ValueError(f"sure must be a bool map of label's shape {tuple(label.shape)}, got {tuple(sure.shape)} "
+                         f"{sure.dtype}")
     b, h, w = label.shape
     device = label.device
     num_classes = max(int(label.max()) + 1 if label.numel() else 1,
@@ -337,10 +348,11 @@ def group_instances(
         nearest[sl] = d2.argmin(1)
     # Each (image, centre) is a slot; a split slot's second part is the slot b * k more.
     slot = pix_b * k + nearest
+    counted = torch.ones_like(pix_b, dtype=torch.bool) if sure is None else sure[pix_b, pix_v, pix_u]
     if split_separation is not None:
         if not split_separation > 0:
             raise ValueError(f"split_separation must be positive (or None), got {split_separation}")
-        second = _split_parts(target, slot, b * k, min_area, split_separation)
+        second = _split_parts(target, slot, b * k, min_area, split_separation, counted)
         slot = slot + second * (b * k)
         nearest = nearest + second * k
     # Majority class per slot, then area filter.
@@ -348,7 +360,7 @@ def group_instances(
     slots = 2 * b * k
     votes = torch.bincount(slot * num_classes + cls, minlength=slots * num_classes).view(slots, num_classes)
     voted = votes.argmax(1)
-    keep = votes.sum(1) >= max(min_area, 1)
+    keep = torch.bincount(slot[counted], minlength=slots) >= max(min_area, 1)
     kept = keep[slot]
     ids = voted[slot] * INSTANCE_DIVISOR + nearest + 1
     instance[pix_b[kept], pix_v[kept], pix_u[kept]] = ids[kept]

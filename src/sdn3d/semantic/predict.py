@@ -146,11 +146,12 @@ class SemanticPredictor:
         label = probability.argmax(1)
         if "center" in out and self.thing_classes:
             g = self.grouping
+            sure = torch.isin(label, torch.as_tensor(self.thing_classes, device=label.device))
             instance, grouped = group_instances(thing_label(probability, self.thing_classes, g["thing_odds"]),
                                                 out["center"], out["offset"], self.thing_classes,
                                                 threshold=g["center_threshold"], nms_kernel=g["nms_kernel"],
                                                 top_k=g["top_k"], min_area=g["min_area"],
-                                                split_separation=g["split_separation"])
+                                                split_separation=g["split_separation"], sure=sure)
             # A pixel only thing_odds made a thing keeps its arg-max class unless an instance took it.
             label = torch.where(instance > 0, grouped, label)
         else:

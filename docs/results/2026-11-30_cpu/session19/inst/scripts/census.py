@@ -33,8 +33,9 @@ def segment(fr, things, g):
     prob = fr["logits" + suf].float().softmax(0)[None]
     label = thing_label(prob, things, g.get("thing_odds"))  # what SemanticPredictor groups (None: the arg-max)
     center, offset = fr["center" + suf][None], fr["offset" + suf][None]
+    sure = torch.isin(prob.argmax(1), torch.tensor(things))
     inst, lab = group_instances(label, center, offset, things, threshold=g["center_threshold"], nms_kernel=g["nms_kernel"],
-                                top_k=g["top_k"], min_area=g["min_area"], split_separation=g.get("split_separation"))
+                                top_k=g["top_k"], min_area=g["min_area"], split_separation=g.get("split_separation"), sure=sure)
     return inst[0], lab[0], label[0], center[0, 0], offset[0]
 
 

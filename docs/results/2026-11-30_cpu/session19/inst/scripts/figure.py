@@ -17,9 +17,9 @@ from sdn3d.semantic.predict import GROUPING_DEFAULTS
 
 ARMS = {"main": {**GROUPING_DEFAULTS, "thing_odds": None, "split_separation": None}, "branch": dict(GROUPING_DEFAULTS)}
 out, n = sys.argv[1], int(sys.argv[2])
-cands = []
+cands, trees = [], []
 for path in sys.argv[3:]:
-    raw = torch.load(path, weights_only=False); tree = raw["tree"].rstrip("/").rsplit("/", 1)[-1]
+    raw = torch.load(path, weights_only=False); tree = raw["tree"].rstrip("/").rsplit("/", 1)[-1]; trees.append(tree)
     for key, fr in raw["frames"].items():
         insts = {a: segment(fr, raw["things"], g)[0] for a, g in ARMS.items()}
         ious = {}
@@ -56,7 +56,7 @@ for r, (gain, key, fr, insts, ious, things) in enumerate(pick):
               ("ground-truth Car/Van instances (oracle)", blend(img, torch.where(car, gi, torch.zeros_like(gi))))]
     for c, (title, im) in enumerate(panels):
         ax = axes[r, c]; ax.imshow(im.clip(0, 1), interpolation="nearest"); ax.set_title(title, fontsize=8); ax.axis("off")
-fig.suptitle("Semantic branch's instance proposals at 312x96 (session 11's demo weights), tuning trees: main's grouping against the branch's "
+fig.suptitle("Semantic branch's instance proposals at 312x96 (session 11's demo weights), trees " + ", ".join(trees) + ": main's grouping against the branch's "
              "(thing_odds 0.6, split_separation 4). Rows: the frames with the largest summed IoU gain, last row the largest loss.", fontsize=9)
 fig.tight_layout(); fig.savefig(out, dpi=110)
 print(out, [(round(c[0], 2), c[1]) for c in pick])

@@ -37,6 +37,7 @@ from sdn3d.nets.drn import DRNSeg
 from sdn3d.nets.weights import load_pretrained
 from sdn3d.semantic import (
     CLASS_WEIGHTINGS,
+    GROUPING_DEFAULTS,
     center_focal_loss,
     class_weights,
     color_jitter,
@@ -47,6 +48,7 @@ from sdn3d.semantic import (
     pq_from_stats,
     pq_stats,
     random_crop_flip,
+    thing_label,
 )
 from sdn3d.visualize import colorize_instances, colorize_labels
 
@@ -123,7 +125,8 @@ class SemanticModule(BranchModule):
         hflip: random horizontal flips in training.
         center_sigma: Gaussian sigma of the centre targets, pixels of the working size.
         center_weight, offset_weight: loss weights of the instance head.
-        center_threshold, nms_kernel, top_k, min_area: instance grouping at evaluation / inference.
+        center_threshold, nms_kernel, top_k, min_area, thing_odds, split_separation: instance grouping at evaluation
+            / inference (:data:`sdn3d.semantic.predict.GROUPING_DEFAULTS`).
         log_images: samples per TensorBoard grid (first validation / test batch); 0 = none.
         class_weighting: None (plain cross-entropy), ``'median_frequency'`` or ``'enet'``
             (:mod:`sdn3d.semantic.balance`), for rare classes.
@@ -161,6 +164,8 @@ class SemanticModule(BranchModule):
         nms_kernel: int = 7,
         top_k: int = 50,
         min_area: int = 16,
+        thing_odds: float | None = GROUPING_DEFAULTS["thing_odds"],
+        split_separation: float | None = GROUPING_DEFAULTS["split_separation"],
         log_images: int = 4,
         class_weighting: str | None = None,
         max_class_weight: float = 10.0,
@@ -270,9 +275,11 @@ class SemanticModule(BranchModule):
         if "center" not in out or not self.things:
             return label, torch.zeros_like(label)
         hp = self.hparams
-        instance, _ = group_instances(label, out["center"], out["offset"], self.things,
-                                      threshold=hp.center_threshold, nms_kernel=hp.nms_kernel, top_k=hp.top_k,
-                                      min_area=hp.min_area)
+        sure = torch.isin(label, torch.as_tensor(self.things, device=label.device))
+        instance, _ = group_instances(thing_label(out["logits"].softmax(1), self.things, hp.thing_odds),
+                                      out["center"], out["offset"], self.things, threshold=hp.center_threshold,
+                                      nms_kernel=hp.nms_kernel, top_k=hp.top_k, min_area=hp.min_area,
+                                      split_separation=hp.split_separation, sure=sure)
         return label, instance
 
     def _eval_step(self, stage: str, batch: dict[str, Any], batch_idx: int) -> None:

@@ -16,8 +16,10 @@ from sdn3d.semantic import (
     pq_from_stats,
     pq_stats,
     random_crop_flip,
+    thing_label,
     thing_mask,
 )
+from sdn3d.semantic.predict import SemanticPredictor
 from sdn3d.visualize import colorize_labels
 
 CAR, VAN, ROAD = 12, 13, 5
@@ -139,6 +141,121 @@ def test_grouping_majority_class_area_filter_and_no_centres():
     center2[0, 0, 15, 15] = 1.0
     assert (group_instances(lone, center2, offset, THINGS, min_area=5)[0] == 0).all()
     assert (group_instances(label, torch.zeros_like(center), offset, THINGS)[0] == 0).all()
+
+
+def test_thing_label_counts_the_vehicle_classes_together():
+    """A pixel whose Car and Van together outweigh thing_odds times the best stuff class is a vehicle, although
+    the arg-max (probability split between Car and Van) calls it road."""
+    probability = torch.zeros(1, 14, 1, 4)
+    probability[0, [CAR, VAN, ROAD], 0, 0] = torch.tensor([0.30, 0.25, 0.45])  # arg-max road; vehicles 0.55
+    probability[0, [CAR, VAN, ROAD], 0, 1] = torch.tensor([0.10, 0.20, 0.70])  # vehicles 0.30 < 0.6 * 0.70
+    probability[0, [CAR, ROAD], 0, 2] = torch.tensor([0.30, 0.70])  # vehicles 0.30 < 0.6 * 0.70: road
+    probability[0, [VAN, ROAD], 0, 3] = torch.tensor([0.60, 0.40])  # arg-max van stays van
+    assert thing_label(probability, THINGS, None)[0, 0].tolist() == [ROAD, ROAD, ROAD, VAN]
+    assert thing_label(probability, THINGS, 0.6)[0, 0].tolist() == [CAR, ROAD, ROAD, VAN]
+    assert thing_label(probability, THINGS, 0.4)[0, 0].tolist() == [CAR, VAN, CAR, VAN]
+    with pytest.raises(ValueError, match="thing_odds"):
+        thing_label(probability, THINGS, 0.0)
+    with pytest.raises(ValueError, match="thing_classes"):
+        thing_label(probability, [CAR, 20], 0.6)
+
+
+def _two_cars_one_centre(gap: float) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    """A car (columns 4-19) partly hidden behind another (20-39), one heatmap peak on the front car: the hidden car's
+    offsets point at its own centre, ``gap`` px left of the front car's (votes with a 1 px spread)."""
+    label = torch.full((1, 12, 44), ROAD)
+    label[0, 2:10, 4:40] = CAR
+    center = torch.zeros(1, 1, 12, 44)
+    center[0, 0, 6, 30] = 0.9
+    v, u = torch.meshgrid(torch.arange(12.0), torch.arange(44.0), indexing="ij")
+    jitter = torch.sin(u * 1.7 + v * 0.9)  # a deterministic spread of about 0.7 px
+    goal_u = torch.where(u < 20, 30.0 - gap, 30.0) + jitter
+    offset = torch.stack([goal_u - u, 6.0 - v])[None]
+    return label, center, offset
+
+
+def test_grouping_splits_two_cars_whose_votes_part_under_one_centre():
+    label, center, offset = _two_cars_one_centre(gap=8.0)
+    merged, _ = group_instances(label, center, offset, THINGS, min_area=16)
+    assert merged[0, 2:10, 4:40].unique().tolist() == [CAR * 1000 + 1]
+    split, new_label = group_instances(label, center, offset, THINGS, min_area=16, split_separation=4.0)
+    hidden, front = split[0, 2:10, 4:20], split[0, 2:10, 20:40]
+    assert hidden.unique().numel() == 1 and front.unique().numel() == 1 and int(hidden[0, 0]) != int(front[0, 0])
+    assert {int(hidden[0, 0]), int(front[0, 0])} == {CAR * 1000 + 1, CAR * 1000 + 1 + 50}
+    assert (split[0, :2] == 0).all() and (new_label == label).all()
+    # Votes a little apart (one car's spread) stay one car; a part under min_area is never split off.
+    near, _ = group_instances(*_two_cars_one_centre(gap=1.0), THINGS, min_area=16, split_separation=4.0)
+    assert near[0, 2:10, 4:40].unique().tolist() == [CAR * 1000 + 1]
+    small, _ = group_instances(label, center, offset, THINGS, min_area=16 * 8 + 1, split_separation=4.0)
+    assert small[0, 2:10, 4:40].unique().tolist() == [CAR * 1000 + 1]
+    with pytest.raises(ValueError, match="split_separation"):
+        group_instances(label, center, offset, THINGS, split_separation=0.0)
+
+
+def test_grouping_counts_min_area_on_the_sure_pixels():
+    """Pixels outside ``sure`` (those only thing_odds called things) join an instance but cannot make one."""
+    label = torch.full((1, 10, 30), ROAD)
+    label[0, 2:8, 2:12] = CAR  # 60 pixels, 20 of them sure
+    label[0, 2:8, 18:28] = CAR  # 60 pixels, none sure
+    sure = torch.zeros(1, 10, 30, dtype=torch.bool)
+    sure[0, 2:4, 2:12] = True
+    center = torch.zeros(1, 1, 10, 30)
+    center[0, 0, 5, 7], center[0, 0, 5, 23] = 0.9, 0.8
+    offset = torch.zeros(1, 2, 10, 30)
+    v, u = torch.meshgrid(torch.arange(10.0), torch.arange(30.0), indexing="ij")
+    offset[0, 0], offset[0, 1] = torch.where(u < 15, 7.0, 23.0) - u, 5.0 - v
+    inst, _ = group_instances(label, center, offset, THINGS, min_area=16, sure=sure)
+    assert (inst[0, 2:8, 2:12] == CAR * 1000 + 1).all() and (inst[0, :, 15:] == 0).all()
+    assert (group_instances(label, center, offset, THINGS, min_area=16)[0][0, 2:8, 18:28] == CAR * 1000 + 2).all()
+    with pytest.raises(ValueError, match="sure"):
+        group_instances(label, center, offset, THINGS, sure=sure.long())
+
+
+def test_grouping_keeps_one_car_whose_votes_spread_evenly_along_it():
+    """Offsets that all point nowhere (votes = the pixels themselves, spread evenly over 40 columns): 2-means
+    separates such a spread by 2 sqrt(3) standard deviations, under the threshold, so the car stays whole."""
+    label = torch.full((1, 10, 48), ROAD)
+    label[0, 3:7, 4:44] = CAR
+    center = torch.zeros(1, 1, 10, 48)
+    center[0, 0, 5, 24] = 0.9
+    inst, _ = group_instances(label, center, torch.zeros(1, 2, 10, 48), THINGS, min_area=16, split_separation=4.0)
+    assert inst[0, 3:7, 4:44].unique().tolist() == [CAR * 1000 + 1]
+
+
+class _FixedNet(torch.nn.Module):
+    """A semantic network stub whose outputs are given (``SemanticPredictor`` needs ``num_classes`` and a parameter)."""
+
+    def __init__(self, out: dict[str, torch.Tensor]) -> None:
+        super().__init__()
+        self.num_classes = out["logits"].shape[1]
+        self.anchor = torch.nn.Parameter(torch.zeros(1))
+        self.out = out
+
+    def forward(self, image: torch.Tensor) -> dict[str, torch.Tensor]:
+        return self.out
+
+
+def test_predictor_proposes_whole_cars_by_default():
+    """With GROUPING_DEFAULTS the predictor's proposals take the car's bottom rows, where Car and Van together
+    outweigh the road, and split the hidden car from the one in front; pixels no instance takes keep the
+    arg-max class. Image 1 has no centre at all: no instance, labels as the arg-max."""
+    label, center, offset = _two_cars_one_centre(gap=8.0)
+    probability = torch.full((2, 14, 12, 44), 0.01)
+    probability[:, ROAD] = 0.87
+    car = label[0] == CAR
+    probability[:, CAR][:, car], probability[:, ROAD][:, car] = 0.87, 0.01
+    bottom = torch.zeros_like(car)
+    bottom[8:10, 4:40] = True  # the car's bottom rows: arg-max road, vehicles together 0.55
+    for cls, p in ((CAR, 0.30), (VAN, 0.25), (ROAD, 0.45 - 0.11)):
+        probability[:, cls][:, bottom] = p
+    out = {"logits": probability.log(), "center": torch.cat([center, torch.zeros_like(center)]),
+           "offset": offset.expand(2, -1, -1, -1)}
+    result = SemanticPredictor(_FixedNet(out), "vkitti")(torch.zeros(2, 3, 12, 44))
+    inst = result.instance[0]
+    assert (inst[2:10, 4:20] == inst[2, 4]).all() and (inst[2:10, 20:40] == inst[2, 20]).all()
+    assert int(inst[2, 4]) != int(inst[2, 20]) and int(inst[2, 4]) // 1000 == CAR and (inst[:2] == 0).all()
+    assert (result.label[0, 2:10, 4:40] == CAR).all()
+    assert (result.instance[1] == 0).all() and (result.label[1][bottom] == ROAD).all()
 
 
 def _reference_pq(pred, gt, label, things):

@@ -20,6 +20,7 @@ from sdn3d.semantic.panoptic import (
     group_instances,
     instance_segments,
     panoptic_targets,
+    thing_label,
     thing_mask,
 )
 from sdn3d.semantic.pq import pq_from_stats, pq_stats
@@ -40,6 +41,7 @@ __all__ = [
     "center_focal_loss",
     "panoptic_targets",
     "find_centers",
+    "thing_label",
     "group_instances",
     "pq_stats",
     "pq_from_stats",

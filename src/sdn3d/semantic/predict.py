@@ -25,13 +25,19 @@ from torch import Tensor
 from sdn3d.inference_export import BranchWeights, load_branch_weights, module_with_weights
 from sdn3d.labels import SemanticClass, class_list, thing_class_ids
 from sdn3d.nets.drn import DRNSeg
-from sdn3d.semantic.panoptic import group_instances
+from sdn3d.semantic.panoptic import group_instances, thing_label
 from sdn3d.semantic.tta import flip_averaged_outputs
 
 __all__ = ["Segmentation", "SemanticPredictor", "segment", "GROUPING_DEFAULTS"]
 
-#: Default grouping settings (``SemanticModule`` hyper-parameters of the same names override them).
-GROUPING_DEFAULTS = {"center_threshold": 0.1, "nms_kernel": 7, "top_k": 50, "min_area": 16}
+#: Default grouping settings (``SemanticModule`` hyper-parameters of the same names override them):
+#: centre detection (``center_threshold``, ``nms_kernel``, ``top_k``), the smallest instance (``min_area``), which
+#: pixels are things (``thing_odds``: :func:`~sdn3d.semantic.panoptic.thing_label`; None: the arg-max) and the split of
+#: two vehicles under one centre (``split_separation``; None: off); :mod:`sdn3d.semantic.panoptic`'s module doc says
+#: why. ``thing_odds`` and ``split_separation`` were chosen on the Table 1 tuning trees with the demo's weights
+#: (docs/results/2026-11-30_cpu/session19/inst).
+GROUPING_DEFAULTS = {"center_threshold": 0.1, "nms_kernel": 7, "top_k": 50, "min_area": 16, "thing_odds": 0.6,
+                     "split_separation": 4.0}
 _STATE_PREFIX = "net."
 
 
@@ -140,9 +146,14 @@ class SemanticPredictor:
         label = probability.argmax(1)
         if "center" in out and self.thing_classes:
             g = self.grouping
-            instance, label = group_instances(label, out["center"], out["offset"], self.thing_classes,
-                                              threshold=g["center_threshold"], nms_kernel=g["nms_kernel"],
-                                              top_k=g["top_k"], min_area=g["min_area"])
+            sure = torch.isin(label, torch.as_tensor(self.thing_classes, device=label.device))
+            instance, grouped = group_instances(thing_label(probability, self.thing_classes, g["thing_odds"]),
+                                                out["center"], out["offset"], self.thing_classes,
+                                                threshold=g["center_threshold"], nms_kernel=g["nms_kernel"],
+                                                top_k=g["top_k"], min_area=g["min_area"],
+                                                split_separation=g["split_separation"], sure=sure)
+            # A pixel only thing_odds made a thing keeps its arg-max class unless an instance took it.
+            label = torch.where(instance > 0, grouped, label)
         else:
             instance = torch.zeros_like(label)
         if work.shape[-2:] != size:

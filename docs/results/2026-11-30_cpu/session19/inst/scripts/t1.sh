@@ -1,0 +1,18 @@
+#!/bin/bash
+# t1.sh CODE NAME SEED...: Table 1 photo rows at 312x96 (semantic proposals, then ground-truth masks (oracle)) of the
+# code tree CODE (the branch: /work/wt/inst; main: /tmp/s19data/lead/base_d47), session 11's demo weights, by session
+# 11 semrain's dbench.py (pattern: session19/lead/rows/t1.sh). The branch changes the de-render, so every arm has its
+# own de-render caches: /tmp/s19data/inst/t1/cache_<NAME><SEED>; outputs /tmp/s19data/inst/t1/<NAME><SEED>_<row>{,.dump,.log}.
+# Trees: 35, 37: /tmp/s11data/semrain/t1_<SEED>; 31: /tmp/s11data/lead/t1_31; the held-out 2167: /tmp/s19data/inst/t1_2167.
+CODE=$1; NAME=$2; shift 2; OUT=/tmp/s19data/inst/t1; mkdir -p $OUT
+DBENCH=/work/main/docs/results/2026-11-29_cpu/session11/semrain/scripts/dbench.py
+for SEED in "$@"; do
+  case $SEED in 31) TREE=/tmp/s11data/lead/t1_31;; 35|37) TREE=/tmp/s11data/semrain/t1_$SEED;; *) TREE=/tmp/s19data/inst/t1_$SEED;; esac
+  for P in ${ROWS:-semantic gt}; do
+    RUN=$OUT/${NAME}${SEED}_$P
+    (cd $CODE && PYTHONPATH=$CODE/src:$CODE OMP_NUM_THREADS=1 nice -n 5 /work/main/.venv/bin/python $DBENCH \
+       $OUT/cache_$NAME$SEED $RUN.dump data.root=$TREE 'data.image_size=[312,96]' run=/tmp/s11data/demo/out \
+       'compose=[photo]' "proposals=[$P]" scene=derender threads=1 examples=0 output_dir=$RUN > $RUN.log 2>&1)
+    echo "t1 $NAME $SEED $P rc=$? $(date -u +%T)" >> $OUT/t1.log
+  done
+done

@@ -204,6 +204,47 @@ def test_a_copied_geometric_export_keeps_its_run_crop_settings(run, tmp_path):
         Models.from_checkpoints(geometric=tmp_path / "bad_settings.pt")
 
 
+def test_the_semantic_predictor_runs_at_its_runs_training_size_from_the_run_or_a_copied_export(run, tmp_path):
+    """The semantic run's config says the frames it trained on (``data.image_size``, unless the datamodule's own
+    ``image_size`` says otherwise); the loaded predictor feeds its network images resized to about that many pixels
+    at their own aspect (the demo's branch, trained at 312x96, found a quarter of the cars at 624x192), and a copied
+    export keeps the size; a bad size is refused naming the file."""
+    root, ckpts = run
+    config = root / "semantic" / "config.yaml"
+    config.write_text("data:\n  image_size: [96, 32]\ndatamodule:\n  image_size: null\n")
+    seen = []
+
+    def network_input_sizes(predictor: SemanticPredictor, *sizes: tuple[int, int]) -> list[tuple[int, int]]:
+        seen.clear()
+        hook = predictor.net.register_forward_pre_hook(lambda _, args: seen.append(tuple(args[0].shape[-2:])))
+        try:
+            for w, h in sizes:
+                out = predictor(torch.rand(3, h, w))
+                assert out.label.shape == out.instance.shape == (1, h, w)
+        finally:
+            hook.remove()
+        return [(w, h) for h, w in seen]
+
+    sem = Models.from_checkpoints(semantic=ckpts["semantic"]).semantic
+    assert sem.trained_size == (96, 32)
+    assert network_input_sizes(sem, (192, 64), (96, 32), (120, 64)) == [(96, 32), (96, 32), (72, 40)]
+    config.write_text("data:\n  image_size: [96, 32]\ndatamodule:\n  image_size: [64, 48]\n")
+    export = export_checkpoint(ckpts["semantic"], tmp_path / "elsewhere" / "semantic.pt")
+    config.unlink()
+    assert torch.load(export, weights_only=True)["settings"] == {"image_size": [64, 48]}
+    sem = Models.from_checkpoints(semantic=export).semantic
+    assert sem.trained_size == (64, 48) and network_input_sizes(sem, (128, 96)) == [(64, 48)]
+    # without a size anywhere the network sees the image as it is (as before)
+    assert Models.from_checkpoints(semantic=ckpts["semantic"]).semantic.trained_size is None
+    config.write_text("data:\n  image_size: [96, -32]\n")
+    with pytest.raises(UserInputError, match=r"config.yaml.*data.image_size must be \[W, H\], two positive"):
+        Models.from_checkpoints(semantic=ckpts["semantic"])
+    content = torch.load(export, weights_only=True)
+    torch.save(content | {"settings": {"image_size": "big"}}, tmp_path / "bad_size.pt")
+    with pytest.raises(UserInputError, match="bad_size.pt.*settings image_size"):
+        Models.from_checkpoints(semantic=tmp_path / "bad_size.pt")
+
+
 def test_run_lookup_prefers_an_export_made_from_the_selected_checkpoint(run, tmp_path, monkeypatch, caplog):
     root, ckpts = run
     chosen, _ = find_run_checkpoints(root)

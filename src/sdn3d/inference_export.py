@@ -14,7 +14,8 @@ without Lightning, holding a mapping::
                       'net.*'; 'generator.*' and 'encoder.*'), on the CPU
     hyper_parameters  the module's hyper-parameters (plain data): they rebuild the network
     settings          what the branch's predictor needs beyond its module: the geometric run's crop_size and
-                      margin (its config.yaml's datamodule settings), so a copied export keeps them
+                      margin (its config.yaml's datamodule settings), the semantic run's image_size (the [W, H]
+                      of its training frames), so a copied export keeps them
     source            the checkpoint it was made from: file (name), path (absolute, when exported), sha256,
                       size, mtime_ns, epoch, global_step
 
@@ -70,8 +71,8 @@ class BranchWeights:
         path: the file they were read from (named in errors).
         state_dict: the weights under the Lightning module's names (``net.*``; ``generator.*``, ``encoder.*``).
         hyper_parameters: the module's hyper-parameters.
-        settings: the export's ``settings`` (the geometric run's ``crop_size`` and ``margin``); empty for a
-            Lightning checkpoint.
+        settings: the export's ``settings`` (the geometric run's ``crop_size`` and ``margin``, the semantic run's
+            ``image_size``); empty for a Lightning checkpoint.
         source: the export's ``source`` record; None for a Lightning checkpoint.
     """
 

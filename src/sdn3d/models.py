@@ -1,6 +1,7 @@
 """The trained branches of a de-render (:class:`Models`), loaded from files: Lightning checkpoints or inference
-exports, and the geometric branch's crop settings read from its run's ``config.yaml`` (:func:`geometric_crop_settings`)
-or its export.
+exports, and what their predictors need beyond the weights, read from the export or else the run's ``config.yaml``:
+the geometric branch's crop settings (:func:`geometric_crop_settings`) and the semantic branch's training frame size
+(:func:`semantic_trained_size`).
 
 :func:`sdn3d.derender.derender` takes a :class:`Models`; this module is where they come from (floor 5, beside
 :mod:`sdn3d.derender` and :mod:`sdn3d.runs`).
@@ -25,7 +26,7 @@ if TYPE_CHECKING:
     from sdn3d.semantic.predict import SemanticPredictor
     from sdn3d.textural.renderer import TexturalRenderer
 
-__all__ = ["DEFAULT_CROP_SIZE", "DEFAULT_MARGIN", "Models", "geometric_crop_settings"]
+__all__ = ["DEFAULT_CROP_SIZE", "DEFAULT_MARGIN", "Models", "geometric_crop_settings", "semantic_trained_size"]
 
 log = logging.getLogger("sdn3d.derender")  # the logger these messages always had
 
@@ -34,16 +35,13 @@ DEFAULT_CROP_SIZE = 256
 DEFAULT_MARGIN = 0.1
 
 
-def geometric_crop_settings(checkpoint: str | os.PathLike) -> tuple[int, float] | None:
-    """``(crop_size, margin)`` the geometric run of ``checkpoint`` trained with, or None if unknown.
-
-    Read from the run's saved config (``<run>/config.yaml`` beside ``<run>/checkpoints/*.ckpt``,
-    written by ``sdn3d-train``): the crop size is a datamodule setting, not in the checkpoint. The file
-    is only read (nothing in it is instantiated or resolved).
+def _run_config(checkpoint: str | os.PathLike, branch: str, purpose: str) -> tuple[dict, Path] | None:
+    """The saved config of ``checkpoint``'s run (``<run>/config.yaml`` beside ``<run>/checkpoints/*.ckpt``, or
+    beside the file), as plain data, and its path; None where there is none. The file is only read (nothing in it
+    is instantiated or resolved).
 
     Raises:
-        UserInputError: naming the config file, when it is not readable YAML or its ``datamodule.crop_size``
-            / ``margin`` are not numbers (pass ``crop_size`` and ``margin`` explicitly to skip it).
+        UserInputError: naming the config file and ``purpose``, when it is not readable YAML.
     """
     import yaml
     from omegaconf import OmegaConf
@@ -58,18 +56,70 @@ def geometric_crop_settings(checkpoint: str | os.PathLike) -> tuple[int, float] 
             tree = OmegaConf.to_container(OmegaConf.load(config), resolve=False)
         except (yaml.YAMLError, OmegaConfBaseException, UnicodeDecodeError) as exc:
             reason = " ".join(str(exc).split())[:200]
-            raise UserInputError(f"the geometric run's config {str(config)!r} (read for its crop size) is not "
-                                 f"readable YAML ({reason}); fix it or give the crop size and margin") from exc
-        dm = (tree.get("datamodule") if isinstance(tree, dict) else None) or {}
-        if isinstance(dm, dict) and isinstance(dm.get("crop_size"), int):
-            crop, margin = dm["crop_size"], dm.get("margin", DEFAULT_MARGIN)
-            if isinstance(crop, bool) or isinstance(margin, bool) or not isinstance(margin, (int, float)):
-                raise UserInputError(f"the geometric run's config {str(config)!r}: datamodule.crop_size and margin "
-                                     f"must be numbers, got {crop!r} and {margin!r}; fix it or give the crop size "
-                                     "and margin")
-            return int(crop), float(margin)
+            raise UserInputError(f"the {branch} run's config {str(config)!r} (read for its {purpose}) is not "
+                                 f"readable YAML ({reason}); fix it or {_GIVE[branch]}") from exc
+        return (tree if isinstance(tree, dict) else {}), config
     return None
 
+
+_GIVE = {"geometric": "give the crop size and margin", "semantic": "export the checkpoint with a run config beside it"}
+
+
+def geometric_crop_settings(checkpoint: str | os.PathLike) -> tuple[int, float] | None:
+    """``(crop_size, margin)`` the geometric run of ``checkpoint`` trained with, or None if unknown.
+
+    Read from the run's saved config (``<run>/config.yaml`` beside ``<run>/checkpoints/*.ckpt``, written by
+    ``sdn3d-train``): the crop size is a datamodule setting, not in the checkpoint.
+
+    Raises:
+        UserInputError: naming the config file, when it is not readable YAML or its ``datamodule.crop_size``
+            / ``margin`` are not numbers (pass ``crop_size`` and ``margin`` explicitly to skip it).
+    """
+    found = _run_config(checkpoint, "geometric", "crop size")
+    if found is None:
+        return None
+    tree, config = found
+    dm = tree.get("datamodule") or {}
+    if isinstance(dm, dict) and isinstance(dm.get("crop_size"), int):
+        crop, margin = dm["crop_size"], dm.get("margin", DEFAULT_MARGIN)
+        if isinstance(crop, bool) or isinstance(margin, bool) or not isinstance(margin, (int, float)):
+            raise UserInputError(f"the geometric run's config {str(config)!r}: datamodule.crop_size and margin "
+                                 f"must be numbers, got {crop!r} and {margin!r}; fix it or give the crop size "
+                                 "and margin")
+        return int(crop), float(margin)
+    return None
+
+
+def semantic_trained_size(checkpoint: str | os.PathLike) -> tuple[int, int] | None:
+    """``(W, H)`` of the frames the semantic run of ``checkpoint`` trained on, or None if unknown: its saved
+    config's ``datamodule.image_size``, else its ``data.image_size`` (the datamodule's null means the data's).
+
+    The network learnt objects at that scale: run at another (the demo's branch, trained at 312x96, on a
+    624x192 working image) it found a quarter of the cars (docs/results/2026-11-30_cpu/session19/inst), so
+    :class:`~sdn3d.semantic.predict.SemanticPredictor` resizes its input to about this size.
+
+    Raises:
+        UserInputError: naming the config file, when it is not readable YAML or the size is not two positive
+            integers.
+    """
+    found = _run_config(checkpoint, "semantic", "training frame size")
+    if found is None:
+        return None
+    tree, config = found
+    for section in ("datamodule", "data"):
+        part = tree.get(section) or {}
+        value = part.get("image_size") if isinstance(part, dict) else None
+        if value is not None and not (isinstance(value, str) and value.startswith("${")):
+            return _image_size(value, f"the semantic run's config {str(config)!r}: {section}.image_size")
+    return None
+
+
+def _image_size(value: object, where: str) -> tuple[int, int]:
+    """``(W, H)`` from ``value``, two positive integers; else UserInputError naming ``where``."""
+    if (not isinstance(value, (list, tuple)) or len(value) != 2
+            or any(isinstance(v, bool) or not isinstance(v, int) or v <= 0 for v in value)):
+        raise UserInputError(f"{where} must be [W, H], two positive integers, got {value!r}")
+    return int(value[0]), int(value[1])
 
 
 @dataclass
@@ -101,16 +151,21 @@ class Models:
         :func:`sdn3d.inference_export.load_branch_weights` tells the two apart by content).
 
         ``crop_size`` / ``margin`` None: the geometric export's settings, else the geometric run's
-        (:func:`geometric_crop_settings`), else :data:`DEFAULT_CROP_SIZE` / :data:`DEFAULT_MARGIN`.
+        (:func:`geometric_crop_settings`), else :data:`DEFAULT_CROP_SIZE` / :data:`DEFAULT_MARGIN`. The semantic
+        predictor runs at about the size its branch trained at: the export's ``image_size``, else the run's
+        (:func:`semantic_trained_size`), else the image's own size.
         """
         for name, path in (("semantic", semantic), ("geometric", geometric), ("textural", textural)):
             if path is not None and not Path(path).expanduser().is_file():
                 raise FileNotFoundError(f"{name} checkpoint {os.fspath(path)!r} does not exist")
         sem = geo = tex = None
         if semantic is not None:
+            from sdn3d.inference_export import load_branch_weights
             from sdn3d.semantic.predict import SemanticPredictor
 
-            sem = SemanticPredictor.from_checkpoint(Path(semantic).expanduser(), map_location=map_location)
+            weights = load_branch_weights(Path(semantic).expanduser(), "semantic", map_location)
+            trained = _export_image_size(weights.settings, weights.path) or semantic_trained_size(semantic)
+            sem = SemanticPredictor.from_weights(weights, map_location=map_location, trained_size=trained)
         found = None
         if geometric is not None:
             from sdn3d.geometric.predict import GeometricPredictor
@@ -131,6 +186,13 @@ class Models:
         size = crop_size if crop_size is not None else (found[0] if found else DEFAULT_CROP_SIZE)
         grow = margin if margin is not None else (found[1] if found else DEFAULT_MARGIN)
         return cls(sem, geo, tex, int(size), float(grow))
+
+
+def _export_image_size(settings: Mapping[str, object], path: Path) -> tuple[int, int] | None:
+    """``(W, H)`` of the training frames a semantic inference export records (None: it records none)."""
+    if "image_size" not in settings:
+        return None
+    return _image_size(settings["image_size"], f"inference export {str(path)!r}: settings image_size")
 
 
 def _export_crop_settings(settings: Mapping[str, object], path: Path) -> tuple[int, float] | None:

@@ -227,8 +227,9 @@ def export_checkpoint(checkpoint: str | os.PathLike, out: str | os.PathLike | No
     ``out`` None: ``inference.pt`` beside the checkpoint (an earlier export there is replaced). An existing
     ``out`` is replaced only with ``overwrite``, a training checkpoint never
     (:func:`sdn3d.inference_export.check_export_target`, checked before the checkpoint is read). A geometric
-    checkpoint's export records its run's crop size and margin (:func:`sdn3d.models.geometric_crop_settings`)
-    when the run's ``config.yaml`` says them.
+    checkpoint's export records its run's crop size and margin (:func:`sdn3d.models.geometric_crop_settings`), a
+    semantic checkpoint's its training frame size (:func:`sdn3d.models.semantic_trained_size`), when the run's
+    ``config.yaml`` says them.
 
     Raises:
         UserInputError: naming the file: the checkpoint is missing, unreadable or holds no branch's weights,
@@ -236,7 +237,7 @@ def export_checkpoint(checkpoint: str | os.PathLike, out: str | os.PathLike | No
     """
     from sdn3d.inference_export import EXPORT_NAME, check_export_target, write_inference_export
     from sdn3d.io import checkpoint_branch, load_lightning_checkpoint
-    from sdn3d.models import geometric_crop_settings
+    from sdn3d.models import geometric_crop_settings, semantic_trained_size
 
     path = Path(checkpoint).expanduser()
     check_export_target(path.parent / EXPORT_NAME if out is None else out, path, overwrite, default=out is None)
@@ -246,6 +247,10 @@ def export_checkpoint(checkpoint: str | os.PathLike, out: str | os.PathLike | No
         found = geometric_crop_settings(path)
         if found is not None:
             settings = {"crop_size": found[0], "margin": found[1]}
+    elif checkpoint_branch(ckpt) == "semantic":
+        trained = semantic_trained_size(path)
+        if trained is not None:
+            settings = {"image_size": list(trained)}
     return write_inference_export(path, ckpt, out, settings, overwrite)
 
 

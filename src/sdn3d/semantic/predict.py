@@ -13,6 +13,7 @@ rebuild the network and the grouping settings, its ``state_dict`` (prefix ``net.
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -28,7 +29,7 @@ from sdn3d.nets.drn import DRNSeg
 from sdn3d.semantic.panoptic import group_instances, thing_label
 from sdn3d.semantic.tta import flip_averaged_outputs
 
-__all__ = ["Segmentation", "SemanticPredictor", "segment", "GROUPING_DEFAULTS"]
+__all__ = ["Segmentation", "SemanticPredictor", "segment", "network_size", "GROUPING_DEFAULTS"]
 
 #: Default grouping settings (``SemanticModule`` hyper-parameters of the same names override them):
 #: centre detection (``center_threshold``, ``nms_kernel``, ``top_k``), the smallest instance (``min_area``), which
@@ -65,7 +66,12 @@ class SemanticPredictor:
         thing_classes: class ids split into instances; None = classes with ``has_instances``.
         grouping: overrides of :data:`GROUPING_DEFAULTS`.
         image_size: optional working size ``(W, H)``: images are resized to it for the network
-            and the maps resized back (nearest) to the image size; None runs at the image size.
+            and the maps resized back (nearest) to the image size; None: :func:`network_size` of
+            ``trained_size``.
+        trained_size: optional ``(W, H)`` of the frames the branch trained on (its export's or run's,
+            :func:`sdn3d.models.semantic_trained_size`): without ``image_size``, each image is resized to
+            :func:`network_size` (about that many pixels, the image's aspect), where its objects have about the scale
+            the network learnt; None (and no ``image_size``) runs at the image size.
         flip: test-time augmentation: average the outputs on the image and on its mirror image
             (:func:`~sdn3d.semantic.tta.flip_averaged_outputs`; twice the compute).
     """
@@ -78,6 +84,7 @@ class SemanticPredictor:
         grouping: Mapping[str, Any] | None = None,
         image_size: tuple[int, int] | None = None,
         flip: bool = False,
+        trained_size: tuple[int, int] | None = None,
     ) -> None:
         self.net = net.eval()
         self.flip = bool(flip)
@@ -90,6 +97,7 @@ class SemanticPredictor:
             raise ValueError(f"grouping has unknown keys {sorted(unknown)}; known: {sorted(GROUPING_DEFAULTS)}")
         self.grouping = {**GROUPING_DEFAULTS, **dict(grouping or {})}
         self.image_size = None if image_size is None else (int(image_size[0]), int(image_size[1]))
+        self.trained_size = None if trained_size is None else (int(trained_size[0]), int(trained_size[1]))
 
     @classmethod
     def from_checkpoint(cls, path: str | os.PathLike, map_location: str | torch.device = "cpu",
@@ -100,7 +108,8 @@ class SemanticPredictor:
 
     @classmethod
     def from_weights(cls, weights: BranchWeights, map_location: str | torch.device = "cpu",
-                     image_size: tuple[int, int] | None = None, flip: bool | None = None) -> SemanticPredictor:
+                     image_size: tuple[int, int] | None = None, flip: bool | None = None,
+                     trained_size: tuple[int, int] | None = None) -> SemanticPredictor:
         """The predictor of loaded semantic-branch weights (:func:`~sdn3d.inference_export.load_branch_weights`;
         the network takes over their tensors)."""
         hp = dict(weights.hyper_parameters)
@@ -118,7 +127,7 @@ class SemanticPredictor:
         things = hp.get("thing_classes")
         return cls(net, classes, thing_classes=None if things is None else thing_class_ids(classes, things),
                    grouping={k: hp[k] for k in GROUPING_DEFAULTS if k in hp}, image_size=image_size,
-                   flip=bool(hp.get("test_flip", False)) if flip is None else flip)
+                   flip=bool(hp.get("test_flip", False)) if flip is None else flip, trained_size=trained_size)
 
     def to(self, device: str | torch.device) -> SemanticPredictor:
         self.net.to(device)
@@ -136,9 +145,12 @@ class SemanticPredictor:
         device = next(self.net.parameters()).device
         image = image.to(device=device, dtype=torch.float32)
         size = image.shape[-2:]
-        if self.image_size is not None and (size[1], size[0]) != self.image_size:
-            work = F.interpolate(image, size=(self.image_size[1], self.image_size[0]), mode="bilinear",
-                                 align_corners=False, antialias=True)
+        target = self.image_size
+        if target is None and self.trained_size is not None:
+            target = network_size((size[1], size[0]), self.trained_size)
+        if target is not None and (size[1], size[0]) != target:
+            work = F.interpolate(image, size=(target[1], target[0]), mode="bilinear", align_corners=False,
+                                 antialias=True)
         else:
             work = image
         out = flip_averaged_outputs(self.net, work) if self.flip else self.net(work)
@@ -161,6 +173,20 @@ class SemanticPredictor:
             label = F.interpolate(label[:, None].float(), size=size, mode="nearest")[:, 0].long()
             instance = F.interpolate(instance[:, None].double(), size=size, mode="nearest")[:, 0].long()
         return Segmentation(label=label, instance=instance, probability=probability)
+
+
+def network_size(size: tuple[int, int], trained_size: tuple[int, int]) -> tuple[int, int]:
+    """``(W, H)`` the semantic network sees an image of ``size (W, H)`` at: as many pixels as ``trained_size``
+    (the frames it trained on), at the image's aspect, each side a multiple of 8 (the network's stride; at least 8).
+    An image of the trained aspect gets the trained size itself.
+
+    Example:
+        >>> [network_size(size, (312, 96)) for size in ((624, 192), (1242, 375), (400, 300))]
+        [(312, 96), (312, 96), (200, 152)]
+    """
+    (w, h), (tw, th) = size, trained_size
+    scale = math.sqrt(tw * th / (w * h))
+    return max(8, round(w * scale / 8) * 8), max(8, round(h * scale / 8) * 8)
 
 
 def segment(image: Tensor, predictor: SemanticPredictor | str | os.PathLike) -> tuple[Tensor, Tensor]:

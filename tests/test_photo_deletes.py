@@ -289,7 +289,8 @@ def test_fog_along_the_rays_lightens_near_road_carried_towards_the_horizon():
     assert abs(float(fogged[far].mean()) - truth) < 0.03
     from sdn3d.editing.photo.fill import fill_hole  # photo.ray_haze reaches the rays
 
-    fixed = {"fill": "rays", "ray_grain": "fixed", "ray_texture": 0.0}
+    # the rays alone (ray_vanishing='near': none of them has a far side here, the hole covers the vanishing point)
+    fixed = {"fill": "rays", "ray_grain": "fixed", "ray_texture": 0.0, "ray_vanishing": "near"}
     on = fill_hole(foggy, hole, PhotoSettings(**fixed), vanishing=vp)
     off = fill_hole(foggy, hole, PhotoSettings(**fixed, ray_haze=0.0), vanishing=vp)
     assert abs(float(on[far].mean()) - truth) < 0.03 < abs(float(off[far].mean()) - truth)
@@ -330,7 +331,8 @@ def test_ray_haze_applies_in_fog_not_where_the_far_picture_shows_no_fog():
     hole = torch.zeros(96, 160, dtype=torch.bool)
     hole[26:60, 65:95] = True
     far = (slice(None), slice(36, 48), slice(74, 86))
-    fixed = {"fill": "rays", "ray_grain": "fixed", "ray_texture": 0.0}
+    # the rays alone (the hole covers the vanishing point: ray_vanishing='telea' would hand its middle to Telea)
+    fixed = {"fill": "rays", "ray_grain": "fixed", "ray_texture": 0.0, "ray_vanishing": "near"}
     settings, off = PhotoSettings(**fixed), PhotoSettings(**fixed, ray_haze=0.0)
     assert settings.ray_haze_airlight == 0.25
 
@@ -481,3 +483,59 @@ def test_ray_verge_reaches_the_rays_through_fill_hole_and_is_checked():
     assert PhotoSettings().ray_verge == "road"
     with pytest.raises(PhotoSettingsError, match="ray_verge"):
         PhotoSettings(ray_verge="grass")
+
+
+def _far_car_straight_ahead():
+    """``(image (3, 64, 96), hole (64, 96), vp)``: a foggy road (its colour goes to the fog's towards the horizon,
+    row 24) under a fogged treeline, the vanishing point (48, 24) inside a box-shaped hole (a far car straight ahead,
+    as the tuning deletes' cars that stood over the vanishing point), its near edge on row 44."""
+    height, width, horizon = 64, 96, 24
+    rows = torch.arange(height, dtype=torch.float32)[:, None, None].expand(height, width, 1)
+    depth = (1 - torch.exp(-(rows - horizon).clamp(min=0) / 6.0))
+    fog, asphalt = torch.tensor([0.8, 0.8, 0.8]), torch.tensor([0.35, 0.35, 0.33])
+    trees = torch.tensor([0.7, 0.75, 0.7])
+    image = torch.where(rows >= horizon, fog + (asphalt - fog) * depth, trees).permute(2, 0, 1).contiguous()
+    hole = torch.zeros(height, width, dtype=torch.bool)
+    hole[20:44, 36:60] = True
+    image[:, hole] = torch.tensor([0.1, 0.1, 0.1])[:, None]  # the car
+    return image, hole, (48.0, float(horizon))
+
+
+def test_a_hole_over_the_vanishing_point_is_filled_from_near_sides_only_near_them():
+    from sdn3d.editing.photo.fill import fill_hole, inpaint
+    from sdn3d.editing.photo.road import NEAR_REACH
+
+    image, hole, vp = _far_car_straight_ahead()
+    _, reached_near = ray_fill(image, hole, vp, texture=0.0, vanishing="near")
+    _, reached = ray_fill(image, hole, vp, texture=0.0, vanishing="telea")
+    assert torch.equal(reached_near, hole)  # every ray has its near side
+    assert NEAR_REACH == 2.0
+    # straight below the vanishing point (48, 24), the near side on row 44: a pixel at most twice as deep as it
+    # (at least 10 rows below the point) keeps the ray, a deeper one is left to Telea; straight above it, the near
+    # side is the treeline's row 19
+    column = reached[:, 48]
+    assert not bool(column[22:34].any()) and bool(column[34:44].all()) and bool(column[20:22].all())
+    assert not bool(reached[22:27, 45:52].any())  # around the vanishing point: no ray at all
+    assert bool(reached[43, 36:60].all())  # just above the near edge: every ray
+    fixed = {"fill": "rays", "ray_grain": "fixed", "ray_texture": 0.0, "ray_marks": 0.0, "ray_haze": 0.0}
+    out = fill_hole(image, hole, PhotoSettings(**fixed, ray_vanishing="telea"), vanishing=vp)
+    settings = PhotoSettings(**fixed)
+    rays, _ = ray_fill(image, hole, vp, sigma=settings.ray_blur, texture=0.0, along=settings.ray_span, marks=0.0,
+                       vanishing="telea")
+    assert torch.equal(out[:, reached], rays[:, reached])
+    assert torch.equal(out, inpaint(rays, hole & ~reached, "telea", settings.inpaint_radius))
+
+
+def test_a_ray_stopped_by_another_object_before_the_vanishing_point_keeps_its_near_side():
+    image, hole, vp = _far_car_straight_ahead()
+    side = torch.zeros_like(hole)
+    side[40:60, 10:30] = True  # a hole down and left of the vanishing point: its rays leave it towards the point
+    other = torch.zeros_like(hole)
+    other[30:40, 20:46] = True  # another object on those rays, between the hole and the point
+    _, reached = ray_fill(image, side, vp, keep_out=other, texture=0.0, vanishing="telea")
+    assert torch.equal(reached, side)
+    assert PhotoSettings().ray_vanishing == "telea"
+    with pytest.raises(PhotoSettingsError, match="ray_vanishing"):
+        PhotoSettings(ray_vanishing="far")
+    with pytest.raises(ValueError, match="vanishing"):
+        ray_fill(image, side, vp, vanishing="far")

@@ -173,8 +173,9 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
                                  match_grain=settings.ray_grain == "match", marks=settings.ray_marks,
                                  haze=settings.ray_haze, airlight=settings.ray_haze_airlight,
                                  road=None if ground_row is None else road, verge=settings.ray_verge,
-                                 ground_row=0.0 if ground_row is None else ground_row, lab=lab)
-        rest = hole & ~reached  # no ray reaches these: Telea from what is known around them
+                                 ground_row=0.0 if ground_row is None else ground_row, lab=lab,
+                                 vanishing=settings.ray_vanishing)
+        rest = hole & ~reached  # no ray reaches these (or none has a far side): Telea from what is known around them
         out = inpaint(out, rest, "telea", settings.inpaint_radius) if any_set(rest) else out
         if settings.fill == "learnt":
             from sdn3d.editing.photo.learnt import learnt_fill, load_fill_net

@@ -32,7 +32,8 @@ from sdn3d.math3d.sums import sum3
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
            "road_haze", "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
            "GRAIN_WEIGHTS", "FORWARD_SNAP_DEG", "VOTE_COHERENCE", "VOTE_WINDOW", "VOTE_SPREAD_DEG",
-           "road_colours", "road_like", "ab_length", "verge_like", "VERGE_CHROMA", "VERGE_MIN_LIGHT", "FAR_RESOLVED"]
+           "road_colours", "road_like", "ab_length", "verge_like", "VERGE_CHROMA", "VERGE_MIN_LIGHT", "FAR_RESOLVED",
+           "NEAR_REACH"]
 
 #: Gaussian sigma (pixels) below which a source's detail is the road's grain (:func:`ray_fill`'s ``texture``).
 GRAIN_SIGMA = 1.0
@@ -304,6 +305,33 @@ def _trace(pix: Tensor, unit: Tensor, valid: Tensor, steps: Tensor, limit: Tenso
     return distance, found
 
 
+def _hole_to_vanishing(pix: Tensor, unit: Tensor, reach: Tensor, found_in: Tensor, hole: Tensor,
+                       steps: Tensor) -> Tensor:
+    """``(N,)`` bool: the points ``pix (N, 2)`` whose ray towards the vanishing point (``-unit (N, 2)``, ``reach
+    (N,)`` pixels to it; ``found_in (N,)``: a source was found on it) stays inside ``hole (H, W)`` all the way there,
+    within the traced ``steps``: the hole covers the vanishing point, and what lies on the ray's far side, the road's
+    far end and the horizon, is hidden. A ray stopped by another object or by the picture's edge is not one of them
+    (its near side is still the same road line).
+
+    Why these are not filled from their near side alone: near the vanishing point the road's colour changes fastest
+    with the row (its depth: fog, haze, the far road's light), and above it lies no road at all, so a near-side
+    colour carried along the ray draws the near road's colour up to the horizon and the near background's down to
+    it (the dark cross of the tuning deletes of a far car straight ahead)."""
+    limit = (reach - 1.0).clamp(min=0)
+    out = ~found_in & (limit <= float(steps[-1]))
+    if any_set(out):
+        _, left = _trace(pix[out], -unit[out], ~hole, steps, limit[out])
+        out[out.clone()] = ~left
+    return out
+
+
+#: ``ray_fill(vanishing='telea')``: a ray whose far side the hole hides (:func:`_hole_to_vanishing`) is still drawn
+#: from its near side alone at the pixels at most this many times as deep as that side (on the road plane depth goes as
+#: one over the distance to the vanishing point along the ray): the road just beyond the hole's near edge changes
+#: little, the road near the horizon most.
+NEAR_REACH = 2.0
+
+
 #: :func:`_trace`'s block sizes: small first (most rays leave the hole within a few pixels), then doubling.
 TRACE_BLOCKS = (8, 8, 16, 32, 64)
 
@@ -323,7 +351,8 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
              sigma: float = 1.0, texture: float = 1.0, along: int = 1, max_steps: int = 400,
              beyond: int = 64, match_grain: bool = False, marks: float = 0.0,
              haze: float = 0.0, airlight: float = 0.25, road: Tensor | None = None,
-             verge: str = "blend", ground_row: float = 0.0, lab: PictureLab | None = None) -> tuple[Tensor, Tensor]:
+             verge: str = "blend", ground_row: float = 0.0, lab: PictureLab | None = None,
+             vanishing: str = "near") -> tuple[Tensor, Tensor]:
     """``(image (3, H, W), reached (H, W) bool)``: ``image`` with the ``hole (H, W)`` pixels a ray reaches filled
     along the rays from the vanishing point ``vp = (u, v)`` (module doc); ``keep_out (H, W)``: pixels no ray samples
     (other objects), ``sigma``: the sources' normalised blur, ``texture``: weight of the mirrored high-pass,
@@ -347,7 +376,14 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     ``ground_row`` down (the ground near the removed car; higher up a ray's sides may be upright things) whose far
     side is resolved (:data:`FAR_RESOLVED`); so do the rays that meet a verge on both sides among a run of rays whose
     near-side verge mostly ended inside the hole (:func:`_ended_verge_runs`). ``lab``: ``image``'s
-    :class:`PictureLab` (the road tests' Lab, converted once for all the removal's tests)."""
+    :class:`PictureLab` (the road tests' Lab, converted once for all the removal's tests). ``vanishing``
+    (:data:`~sdn3d.editing.photo.settings.VANISHING_MODES`): a pixel whose ray runs inside the hole all the way to the
+    vanishing point (:func:`_hole_to_vanishing`: the hole covers that point, a car straight ahead) has no far side;
+    ``'near'`` fills it from its near side alone, ``'telea'`` only where it is at most :data:`NEAR_REACH` times as
+    deep as its near side and leaves the rest unreached (Telea fills it from the pixels around, the rays' ones
+    included)."""
+    if vanishing not in ("near", "telea"):
+        raise ValueError(f"ray_fill: vanishing must be 'near' or 'telea', got {vanishing!r}")
     if lab is not None:
         lab.check(image)
     height, width = hole.shape
@@ -387,6 +423,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     values = torch.zeros(3, len(ys))
     grains = torch.zeros(3, len(ys)) if detail is not None else None
     got = torch.zeros(len(ys), dtype=torch.bool)
+    hidden_far = torch.zeros(len(ys), dtype=torch.bool)  # vanishing='telea': rays whose far side the hole hides
     road_broad = None  # the road's broad colour, for rays taken from their far side alone (verge='road')
     # verge='road': each ray's sides that are a verge (on the ground rows, far side resolved), and the value the ray
     # takes from its far side's road alone, for the rays whose both sides are a verge (:func:`_ended_verge_runs`)
@@ -442,6 +479,12 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
             grains[:, s:s + RAY_CHUNK] = ok * grain + ok2 * other
         values[:, s:s + RAY_CHUNK] = val
         got[s:s + RAY_CHUNK] = f_out | f_in
+        if vanishing == "telea":
+            # depth on the road plane goes as one over the distance to the vanishing point along the ray
+            hidden_far[s:s + RAY_CHUNK] = _hole_to_vanishing(p, u, sp, f_in, hole, steps) & (
+                ~f_out | (sp + d_out > NEAR_REACH * sp))
+    if vanishing == "telea":
+        got &= ~hidden_far
     if near_verge is not None and any_set(near_verge):
         ended = _ended_verge_runs(torch.atan2(unit[:, 1], unit[:, 0]), reach, near_verge, far_verge)
         values[:, ended] = from_road[:, ended]

@@ -11,7 +11,8 @@ from torch import Tensor
 from sdn3d.errors import UserInputError
 
 __all__ = ["FILL_METHODS", "RAY_FILLS", "UNSEEN_MODES", "SILHOUETTE_MODES", "AMODAL_MODES", "SHADOW_MODES",
-           "GRAIN_MODES", "VERGE_MODES", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS", "PATCHMATCH_MAX_SIDE",
+           "GRAIN_MODES", "VERGE_MODES", "VANISHING_MODES", "AUTO_THIN_PX", "SOURCE_NAMES", "SOURCE_COLORS",
+           "PATCHMATCH_MAX_SIDE",
            "INPUT", "PHOTO", "MIRROR", "FALLBACK", "FILL", "RECOLORED", "SHADOW", "PART", "DEFAULT", "RELIT",
            "IN_FRONT", "ANOTHER_CAR", "FLAT_CODES",
            "PART_DEFAULTS", "PART_COLORS", "PhotoSettings", "PhotoSettingsError", "source_picture", "part_picture"]
@@ -39,6 +40,10 @@ GRAIN_MODES = ("fixed", "match")
 #: (:attr:`PhotoSettings.ray_verge`; :func:`~sdn3d.editing.photo.road.ray_fill`): ``blend`` (both interpolated by
 #: distance) or ``road`` (the road side alone).
 VERGE_MODES = ("blend", "road")
+#: What ``fill='rays'`` does with a hole pixel whose ray runs inside the hole up to the vanishing point (no far side:
+#: :attr:`PhotoSettings.ray_vanishing`; :func:`~sdn3d.editing.photo.road.ray_fill`): ``near`` (its near side alone)
+#: or ``telea`` (Telea from the pixels around it).
+VANISHING_MODES = ("near", "telea")
 #: ``fill='auto'``: a hole part at most this many pixels from its edge everywhere is filled by Telea, else PatchMatch.
 AUTO_THIN_PX = 6.0
 #: How a point of an edited car that neither the photo nor its mirror image saw is drawn
@@ -174,6 +179,11 @@ class PhotoSettings:
             alone (``road``) or blends the two (``blend``; :func:`~sdn3d.editing.photo.road.ray_fill`). On the real
             frame of ``tests/data`` the black car's delete drew a pale band of the verge across the far lane with
             ``blend``; the tuning deletes: docs/results/2026-11-29_cpu/session14/roadfill/.
+        ray_vanishing: :data:`VANISHING_MODES` (``fill='rays'``): a hole pixel whose ray runs inside the hole all the
+            way to the vanishing point (the hole covers that point: a car straight ahead) has no far side; ``telea``
+            fills it by Telea from the pixels around it (the rays' fill included), ``near`` from its near side alone,
+            which carries the near road's colour up to the horizon and the background's down to it
+            (:func:`~sdn3d.editing.photo.road.ray_fill`; docs/results/2026-11-30_cpu/session19/erase/).
         outline_grow: a moved car whose view turned by more than ``mask_view_deg`` (with ``silhouette='carved'``;
             else any moved car) also covers the free pixels (no object drawn or staying there) inside its box's
             projection within this share of the box's projected height of its drawn pixels, each in the colour of
@@ -226,6 +236,7 @@ class PhotoSettings:
     ray_haze: float = 1.0
     ray_haze_airlight: float = 0.25
     ray_verge: str = "road"
+    ray_vanishing: str = "telea"
     outline_grow: float = 0.0
     view_reflection: float = 1.0
     learnt_weights: str | None = None
@@ -241,6 +252,9 @@ class PhotoSettings:
             raise PhotoSettingsError(f"photo.silhouette must be one of {SILHOUETTE_MODES}, got {self.silhouette!r}")
         if self.ray_verge not in VERGE_MODES:
             raise PhotoSettingsError(f"photo.ray_verge must be one of {VERGE_MODES}, got {self.ray_verge!r}")
+        if self.ray_vanishing not in VANISHING_MODES:
+            raise PhotoSettingsError(
+                f"photo.ray_vanishing must be one of {VANISHING_MODES}, got {self.ray_vanishing!r}")
         if self.ray_grain not in GRAIN_MODES:
             raise PhotoSettingsError(f"photo.ray_grain must be one of {GRAIN_MODES}, got {self.ray_grain!r}")
         if self.unseen not in UNSEEN_MODES:

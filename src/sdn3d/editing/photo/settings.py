@@ -130,7 +130,8 @@ class PhotoSettings:
             the hole, the road part of the hole (below its footprint's far edge) is filled from road-like pixels only,
             and with ``delete_shadow`` its cast shadow (found from its box, the fitted light and the road plane) is
             relit rather than repainted (False, the default: the hole is its mask and a band below, filled from
-            everything; on the tuning trees the two disagree, docs/results/2026-11-28_cpu/issue41/).
+            everything; on the tuning trees the two disagree, docs/results/2026-11-28_cpu/issue41/). ``fill='rays'``
+            and ``'learnt'`` always take the effects (:data:`RAY_FILLS`), so this changes the other fills only.
         delete_shadow: relight a removed object's shadow (with ``delete_effects``).
         cast_shadow: a moved object casts its shadow at its new place (its posed mesh cast along the fitted light
             onto its ground plane, darkened by the per-channel gain of its shadow in the input) and its old shadow

@@ -236,6 +236,12 @@ def test_the_semantic_predictor_runs_at_its_runs_training_size_from_the_run_or_a
     assert sem.trained_size == (64, 48) and network_input_sizes(sem, (128, 96)) == [(64, 48)]
     # without a size anywhere the network sees the image as it is (as before)
     assert Models.from_checkpoints(semantic=ckpts["semantic"]).semantic.trained_size is None
+    # a user's semantic.size wins over the run's (a real photo may want another scale)
+    config.write_text("data:\n  image_size: [96, 32]\n")
+    sem = Models.from_checkpoints(semantic=ckpts["semantic"], semantic_size=[128, 40]).semantic
+    assert network_input_sizes(sem, (192, 64), (64, 64)) == [(128, 40), (128, 40)]
+    with pytest.raises(UserInputError, match=r"semantic.size must be \[W, H\], two positive integers, got \[0, 40\]"):
+        Models.from_checkpoints(semantic=ckpts["semantic"], semantic_size=(0, 40))
     config.write_text("data:\n  image_size: [96, -32]\n")
     with pytest.raises(UserInputError, match=r"config.yaml.*data.image_size must be \[W, H\], two positive"):
         Models.from_checkpoints(semantic=ckpts["semantic"])

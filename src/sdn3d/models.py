@@ -146,15 +146,21 @@ class Models:
     @classmethod
     def from_checkpoints(cls, semantic: str | os.PathLike | None = None, geometric: str | os.PathLike | None = None,
                          textural: str | os.PathLike | None = None, map_location: str | torch.device = "cpu",
-                         crop_size: int | None = None, margin: float | None = None) -> Models:
+                         crop_size: int | None = None, margin: float | None = None,
+                         semantic_size: tuple[int, int] | None = None) -> Models:
         """Load the branches from their Lightning checkpoints or inference exports (None: branch absent;
         :func:`sdn3d.inference_export.load_branch_weights` tells the two apart by content).
 
         ``crop_size`` / ``margin`` None: the geometric export's settings, else the geometric run's
         (:func:`geometric_crop_settings`), else :data:`DEFAULT_CROP_SIZE` / :data:`DEFAULT_MARGIN`. The semantic
-        predictor runs at about the size its branch trained at: the export's ``image_size``, else the run's
-        (:func:`semantic_trained_size`), else the image's own size.
+        predictor runs at ``semantic_size`` ``(W, H)``, else at about the size its branch trained at: the export's
+        ``image_size``, else the run's (:func:`semantic_trained_size`), else the image's own size.
+
+        Raises:
+            UserInputError: ``semantic_size`` is not two positive integers; a file or a run's setting is unreadable.
         """
+        if semantic_size is not None:
+            semantic_size = _image_size(list(semantic_size), "semantic.size")
         for name, path in (("semantic", semantic), ("geometric", geometric), ("textural", textural)):
             if path is not None and not Path(path).expanduser().is_file():
                 raise FileNotFoundError(f"{name} checkpoint {os.fspath(path)!r} does not exist")
@@ -165,7 +171,8 @@ class Models:
 
             weights = load_branch_weights(Path(semantic).expanduser(), "semantic", map_location)
             trained = _export_image_size(weights.settings, weights.path) or semantic_trained_size(semantic)
-            sem = SemanticPredictor.from_weights(weights, map_location=map_location, trained_size=trained)
+            sem = SemanticPredictor.from_weights(weights, map_location=map_location, image_size=semantic_size,
+                                                 trained_size=trained)
         found = None
         if geometric is not None:
             from sdn3d.geometric.predict import GeometricPredictor

@@ -82,6 +82,11 @@ class GeometricSchema:
 
 
 @dataclass
+class SemanticSchema:
+    size: Optional[List[int]] = MISSING  # noqa: UP006
+
+
+@dataclass
 class EditSchema:
     """``conf/edit.yaml``."""
 
@@ -104,6 +109,7 @@ class EditSchema:
     checkpoints: CheckpointsSchema = field(default_factory=CheckpointsSchema)
     code_bank: Optional[str] = MISSING
     geometric: GeometricSchema = field(default_factory=GeometricSchema)
+    semantic: SemanticSchema = field(default_factory=SemanticSchema)
     appearance: str = MISSING
     photo: Any = MISSING  # checked by sdn3d.editing.photo.settings.PhotoSettings.from_mapping (one home)
     compose: str = MISSING
@@ -153,6 +159,7 @@ class BenchSchema:
     run: Optional[str] = MISSING
     checkpoints: BenchCheckpointsSchema = field(default_factory=BenchCheckpointsSchema)
     geometric: GeometricSchema = field(default_factory=GeometricSchema)
+    semantic: SemanticSchema = field(default_factory=SemanticSchema)
     lpips_weights: Optional[str] = MISSING
     frame_size: List[int] = MISSING
     strict: bool = MISSING

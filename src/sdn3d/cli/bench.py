@@ -583,7 +583,8 @@ def _evaluate(cfg: Any, passes: list, entries: list, source: Any) -> tuple[dict,
     semantic = ck.semantic if predicted else None
     geometric = ck.geometric if passes[0].scene is Scene.DERENDER else None
     models = Models.from_checkpoints(semantic, geometric, ck.textural, map_location=cfg.device,
-                                     crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin)
+                                     crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin,
+                                     semantic_size=cfg.semantic.size)
     baseline, generators = _baseline_generator(cfg, models)
     if cfg.lpips_weights is not None and not Path(str(cfg.lpips_weights)).expanduser().is_file():
         raise InputError(f"lpips_weights {str(cfg.lpips_weights)!r} not found")

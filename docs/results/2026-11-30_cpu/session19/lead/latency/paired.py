@@ -1,6 +1,7 @@
 """paired.py JSON...: photo_latency.py runs with a `rays` column (ray_vanishing=telea, the default) and a `near` column
 (ray_vanishing=near), edit by edit: per kind the median CPU ms of each and, over all edits, the geometric mean of the
-per-edit CPU ratio rays / near with a 10,000-resample bootstrap 95 % interval (seed 0) and how many edits were faster."""
+per-edit CPU ratio rays / near with a 10,000-resample bootstrap 95 % interval (seed 0) and how many edits were
+faster."""
 import json
 import math
 import random

@@ -42,13 +42,12 @@ from sdn3d.semantic import (
     class_weights,
     color_jitter,
     flip_averaged_outputs,
-    group_instances,
+    group_vehicles,
     label_histogram,
     panoptic_targets,
     pq_from_stats,
     pq_stats,
     random_crop_flip,
-    thing_label,
 )
 from sdn3d.visualize import colorize_instances, colorize_labels
 
@@ -275,11 +274,9 @@ class SemanticModule(BranchModule):
         if "center" not in out or not self.things:
             return label, torch.zeros_like(label)
         hp = self.hparams
-        sure = torch.isin(label, torch.as_tensor(self.things, device=label.device))
-        instance, _ = group_instances(thing_label(out["logits"].softmax(1), self.things, hp.thing_odds),
-                                      out["center"], out["offset"], self.things, threshold=hp.center_threshold,
-                                      nms_kernel=hp.nms_kernel, top_k=hp.top_k, min_area=hp.min_area,
-                                      split_separation=hp.split_separation, sure=sure)
+        instance, _ = group_vehicles(label, out["logits"].softmax(1), out["center"], out["offset"], self.things,
+                                     thing_odds=hp.thing_odds, threshold=hp.center_threshold, nms_kernel=hp.nms_kernel,
+                                     top_k=hp.top_k, min_area=hp.min_area, split_separation=hp.split_separation)
         return label, instance
 
     def _eval_step(self, stage: str, batch: dict[str, Any], batch_idx: int) -> None:

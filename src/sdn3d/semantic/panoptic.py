@@ -56,6 +56,7 @@ __all__ = [
     "find_centers",
     "thing_label",
     "group_instances",
+    "group_vehicles",
 ]
 
 # Pixel-to-centre distances are computed in chunks of at most this many (pixel, centre) pairs.
@@ -263,19 +264,21 @@ def _split_parts(target: Tensor, slot: Tensor, slots: int, min_area: int, separa
     sxy = torch.bincount(slot, d[:, 0] * d[:, 1], slots) / n
     angle = 0.5 * torch.atan2(2 * sxy, sxx - syy)  # principal axis of each slot's 2x2 covariance
     s = d[:, 0] * angle.cos()[slot] + d[:, 1] * angle.sin()[slot]  # (N,) projection on it
-    cut = torch.zeros(slots, dtype=target.dtype, device=target.device)  # the mean of the projections
-    for _ in range(_SPLIT_ITERATIONS):  # 1-D 2-means of every slot at once
+
+    def halves(cut: Tensor) -> tuple[Tensor, Tensor, Tensor, Tensor, Tensor]:
+        """Each pixel's side of its slot's ``cut`` (``high``), and each slot's counts and means of both sides."""
         high = s > cut[slot]
         n_hi = torch.bincount(slot, high.to(target.dtype), slots)
         n_lo = count - n_hi
         m_hi = torch.bincount(slot, s * high, slots) / n_hi.clamp_min(1)
         m_lo = torch.bincount(slot, s * ~high, slots) / n_lo.clamp_min(1)
+        return high, n_hi, n_lo, m_hi, m_lo
+
+    cut = torch.zeros(slots, dtype=target.dtype, device=target.device)  # the mean of the projections
+    for _ in range(_SPLIT_ITERATIONS):  # 1-D 2-means of every slot at once
+        _, n_hi, n_lo, m_hi, m_lo = halves(cut)
         cut = torch.where((n_hi > 0) & (n_lo > 0), (m_hi + m_lo) / 2, cut)
-    high = s > cut[slot]
-    n_hi = torch.bincount(slot, high.to(target.dtype), slots)
-    n_lo = count - n_hi
-    m_hi = torch.bincount(slot, s * high, slots) / n_hi.clamp_min(1)
-    m_lo = torch.bincount(slot, s * ~high, slots) / n_lo.clamp_min(1)
+    high, n_hi, n_lo, m_hi, m_lo = halves(cut)
     r = s - torch.where(high, m_hi[slot], m_lo[slot])
     var_hi = torch.bincount(slot, r * r * high, slots) / n_hi.clamp_min(1)
     var_lo = torch.bincount(slot, r * r * ~high, slots) / n_lo.clamp_min(1)
@@ -285,6 +288,31 @@ def _split_parts(target: Tensor, slot: Tensor, slots: int, min_area: int, separa
     area = max(min_area, 1)
     split = ((m_hi - m_lo) / spread >= separation) & (sure_hi >= area) & (sure_lo >= area)
     return high & split[slot]
+
+
+def group_vehicles(label: Tensor, probability: Tensor, center: Tensor, offset: Tensor,
+                   thing_classes: Sequence[int] | Tensor, thing_odds: float | None = None, threshold: float = 0.1,
+                   nms_kernel: int = 7, top_k: int = 50, min_area: int = 0,
+                   split_separation: float | None = None) -> tuple[Tensor, Tensor]:
+    """The grouping with the module doc's two inference rules, as the predictor and the training module's
+    evaluation run it: the pixels :func:`thing_label` makes things (``thing_odds``) are grouped by
+    :func:`group_instances`, whose ``min_area`` counts the arg-max ``label``'s thing pixels only (``sure``).
+
+    Args:
+        label: ``(B, H, W)`` the arg-max class map; probability: ``(B, C, H, W)`` its class probabilities.
+        center, offset, thing_classes, threshold, nms_kernel, top_k, min_area, split_separation: as
+            :func:`group_instances`.
+
+    Returns:
+        instance: as :func:`group_instances`.
+        label: ``label`` with each instance's pixels set to its majority class (a pixel only ``thing_odds`` made
+        a thing keeps its arg-max class unless an instance took it).
+    """
+    sure = torch.isin(label, torch.as_tensor(thing_classes, device=label.device))
+    instance, grouped = group_instances(thing_label(probability, thing_classes, thing_odds), center, offset,
+                                        thing_classes, threshold=threshold, nms_kernel=nms_kernel, top_k=top_k,
+                                        min_area=min_area, split_separation=split_separation, sure=sure)
+    return instance, torch.where(instance > 0, grouped, label)
 
 
 def group_instances(

@@ -26,7 +26,7 @@ from torch import Tensor
 from sdn3d.inference_export import BranchWeights, load_branch_weights, module_with_weights
 from sdn3d.labels import SemanticClass, class_list, thing_class_ids
 from sdn3d.nets.drn import DRNSeg
-from sdn3d.semantic.panoptic import group_instances, thing_label
+from sdn3d.semantic.panoptic import group_vehicles
 from sdn3d.semantic.tta import flip_averaged_outputs
 
 __all__ = ["Segmentation", "SemanticPredictor", "segment", "network_size", "GROUPING_DEFAULTS"]
@@ -158,14 +158,10 @@ class SemanticPredictor:
         label = probability.argmax(1)
         if "center" in out and self.thing_classes:
             g = self.grouping
-            sure = torch.isin(label, torch.as_tensor(self.thing_classes, device=label.device))
-            instance, grouped = group_instances(thing_label(probability, self.thing_classes, g["thing_odds"]),
-                                                out["center"], out["offset"], self.thing_classes,
-                                                threshold=g["center_threshold"], nms_kernel=g["nms_kernel"],
-                                                top_k=g["top_k"], min_area=g["min_area"],
-                                                split_separation=g["split_separation"], sure=sure)
-            # A pixel only thing_odds made a thing keeps its arg-max class unless an instance took it.
-            label = torch.where(instance > 0, grouped, label)
+            instance, label = group_vehicles(label, probability, out["center"], out["offset"], self.thing_classes,
+                                             thing_odds=g["thing_odds"], threshold=g["center_threshold"],
+                                             nms_kernel=g["nms_kernel"], top_k=g["top_k"], min_area=g["min_area"],
+                                             split_separation=g["split_separation"])
         else:
             instance = torch.zeros_like(label)
         if work.shape[-2:] != size:

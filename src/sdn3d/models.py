@@ -170,7 +170,9 @@ class Models:
             from sdn3d.semantic.predict import SemanticPredictor
 
             weights = load_branch_weights(Path(semantic).expanduser(), "semantic", map_location)
-            trained = _export_image_size(weights.settings, weights.path) or semantic_trained_size(semantic)
+            trained = None
+            if semantic_size is None:  # the export's or the run's size is only read when needed
+                trained = _export_image_size(weights.settings, weights.path) or semantic_trained_size(semantic)
             sem = SemanticPredictor.from_weights(weights, map_location=map_location, image_size=semantic_size,
                                                  trained_size=trained)
         found = None

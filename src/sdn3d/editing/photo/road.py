@@ -26,6 +26,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
+from sdn3d.editing.photo.settings import VANISHING_MODES
 from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, nonzero_yx
 from sdn3d.math3d.sums import sum3
 
@@ -382,8 +383,8 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     ``'near'`` fills it from its near side alone, ``'telea'`` only where it is at most :data:`NEAR_REACH` times as
     deep as its near side and leaves the rest unreached (Telea fills it from the pixels around, the rays' ones
     included)."""
-    if vanishing not in ("near", "telea"):
-        raise ValueError(f"ray_fill: vanishing must be 'near' or 'telea', got {vanishing!r}")
+    if vanishing not in VANISHING_MODES:
+        raise ValueError(f"ray_fill: vanishing must be one of {VANISHING_MODES}, got {vanishing!r}")
     if lab is not None:
         lab.check(image)
     height, width = hole.shape

@@ -1106,8 +1106,9 @@ def _sample_every_level(pyramid, uv, level):
 
 
 def test_sample_of_the_levels_blended_is_every_levels_sample():
-    """``_sample`` samples only the pyramid levels some point blends; the values are those of sampling every level:
-    points off the picture, levels 0 everywhere (a turn), mixed, past the deepest level and below 0, one level, none."""
+    """``_sample`` samples the pyramid's levels down to the deepest one some point blends; the values are those of
+    sampling every level: points off the picture, levels 0 everywhere (a turn), mixed, past the deepest level and below
+    0, one level, none."""
     from sdn3d.editing.photo.transfer import _sample
 
     g = torch.Generator().manual_seed(5)

@@ -526,15 +526,13 @@ def _sample(pyramid: list[Tensor], uv: Tensor, level: Tensor) -> Tensor:
     lo = level.floor().long()
     hi = (lo + 1).clamp(max=len(pyramid) - 1)
     t = (level - lo.float())[:, None]
-    # only the levels some point blends are sampled (an object that kept its size blends the first two of four),
-    # each by the call on the same grid that sampled every level
-    used = torch.cat([lo, hi]).unique().tolist() or [0]
-    slot = torch.zeros(len(pyramid), dtype=torch.long)
-    slot[used] = torch.arange(len(used))
-    samples = torch.stack([F.grid_sample(pyramid[k], grid, mode="bilinear", padding_mode="border",
-                                         align_corners=False)[0, :, 0].T for k in used])  # (used levels, P, 3)
+    # the levels down to the deepest one some point blends (an object that kept its size: the first two of four), each
+    # by the call on the same grid that sampled every level
+    deepest = int(hi.max()) if len(hi) else 0
+    samples = torch.stack([F.grid_sample(p, grid, mode="bilinear", padding_mode="border",
+                                         align_corners=False)[0, :, 0].T for p in pyramid[:deepest + 1]])  # (L, P, 3)
     idx = torch.arange(len(uv))
-    return samples[slot[lo], idx] * (1 - t) + samples[slot[hi], idx] * t
+    return samples[lo, idx] * (1 - t) + samples[hi, idx] * t
 
 
 def _same_pose(before: ObjectTable, after: ObjectTable, rb: Tensor, ra: Tensor) -> Tensor:

@@ -14,14 +14,14 @@ import time
 import sdn3d.editing.photo.transfer as transfer
 
 DRAW_EDITS = "docs/results/2026-11-29_cpu/session14/cost/draw_edits.py"
-made: dict[int, list] = {}  # id(examples) -> [ms, used, visible pixels, examples]
+made: dict[int, list] = {}  # id(examples) -> [ms, used, visible pixels, examples, the examples (kept: no id reused)]
 part_examples = transfer._part_examples
 
 
 def recorded(*args, **kwargs):
     t0 = time.perf_counter()
     out = part_examples(*args, **kwargs)
-    made[id(out[0])] = [1000 * (time.perf_counter() - t0), False, len(args[2]), len(out[0].part)]
+    made[id(out[0])] = [1000 * (time.perf_counter() - t0), False, len(args[2]), len(out[0].part), out[0]]
     return out
 
 

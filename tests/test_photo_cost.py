@@ -1088,3 +1088,70 @@ def test_channel_mean_by_sum3_is_torchs_mean():
         got, want = sum3(x, 0) / 3, x.mean(0)
         same = (got.view(torch.int32) == want.view(torch.int32)) | (got.isnan() & want.isnan())
         assert bool(same.all()) and got.stride() == want.stride()
+
+
+def _sample_every_level(pyramid, uv, level):
+    """``_sample`` as it was: every level of the pyramid sampled at every point, two of them blended per point."""
+    height, width = pyramid[0].shape[-2:]
+    grid = torch.stack([(uv[:, 0] + 0.5) / width * 2 - 1, (uv[:, 1] + 0.5) / height * 2 - 1], 1)
+    grid = grid.float()[None, None]
+    samples = torch.stack([F.grid_sample(p, grid, mode="bilinear", padding_mode="border",
+                                         align_corners=False)[0, :, 0].T for p in pyramid])
+    level = level.clamp(0, len(pyramid) - 1).float()
+    lo = level.floor().long()
+    hi = (lo + 1).clamp(max=len(pyramid) - 1)
+    t = (level - lo.float())[:, None]
+    idx = torch.arange(len(uv))
+    return samples[lo, idx] * (1 - t) + samples[hi, idx] * t
+
+
+def test_sample_of_the_levels_blended_is_every_levels_sample():
+    """``_sample`` samples the pyramid's levels down to the deepest one some point blends; the values are those of
+    sampling every level: points off the picture, levels 0 everywhere (a turn), mixed, past the deepest level and below
+    0, one level, none."""
+    from sdn3d.editing.photo.transfer import _sample
+
+    g = torch.Generator().manual_seed(5)
+    image = torch.rand(3, 75, 124, generator=g)
+    pyramid = _pyramid(image, 3)
+    uv = torch.rand(500, 2, generator=g, dtype=torch.float64) * torch.tensor([140.0, 90.0]) - 8.0
+    levels = [torch.zeros(500, dtype=torch.float64), torch.rand(500, generator=g, dtype=torch.float64) * 3.5,
+              torch.full((500,), 1.0, dtype=torch.float64), torch.rand(500, generator=g, dtype=torch.float64) * 9 - 2,
+              torch.tensor([2.5] * 499 + [0.0], dtype=torch.float64)]
+    for level in levels:
+        for pyr in (pyramid, pyramid[:1], pyramid[:2]):
+            got, want = _sample(pyr, uv, level), _sample_every_level(pyr, uv, level)
+            assert torch.equal(got, want) and got.dtype == want.dtype
+    empty = _sample(pyramid, uv[:0], levels[0][:0])
+    assert empty.shape == (0, 3) and empty.dtype == torch.float32
+
+
+def test_draw_reads_the_air_of_cars_it_takes_no_examples_from_without_their_examples(monkeypatch):
+    """``_draw`` asks whether each car it passes over for another car's wheel is seen through clear air (``_clear_air``
+    of its visible colours) without making that car's part examples; those colours are the ones ``_part_examples``
+    returns, so the picture is the same. A car seen from behind turned 90 degrees looks at every other car for a
+    real wheel (none is dark); the far car, which grows into the freed pixels, takes tyres from the cars nearest
+    it in depth; the near car on the right is looked at for its wheel alone (main made its examples too)."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.scene.code import SceneObject
+    from tests.test_photo_parts import BEHIND, PARTS, _painted
+
+    side = SceneObject(12002, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.0, location=(3.0, 1.6, 14.0))
+    far = SceneObject(12003, template_id=1, dims=(4.2, 1.6, 1.9), ry=0.3, location=(-3.0, 1.6, 24.0))
+    right = SceneObject(12004, template_id=2, dims=(4.0, 1.5, 1.8), ry=0.5, location=(4.5, 1.6, 9.0))
+    scene = _scene([BEHIND, side, far, right])
+    image, covered, parts = _painted(scene, (0.6, 0.6, 0.6))
+    image[:, covered & (parts == int(transfer.Part.GLASS))] = 0.05  # dark windows: every car seen through clear air
+    edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
+    made, air = [], []
+    part_examples, clear_air = transfer._part_examples, transfer._clear_air
+    monkeypatch.setattr(transfer, "_part_examples", lambda b, *a: made.append((b, part_examples(b, *a))) or made[-1][1])
+    monkeypatch.setattr(transfer, "_clear_air", lambda colors, *a: air.append(colors) or clear_air(colors, *a))
+    render_photo(image, FRAME, scene, edited, settings=PARTS)
+    assert [int(scene.objects.instance_id[b]) for b, _ in made] == [12001, 12002, 12003]  # not the right car's
+    src = PhotoSource(image, FRAME, scene, settings=PARTS)
+    img_flat = image.permute(1, 2, 0).reshape(-1, 3)
+    seen = [img_flat[(src.vis_ids.view(-1) == i).nonzero().flatten()].double() for i in scene.objects.instance_id]
+    assert len(air) == 4 and all(sum(torch.equal(a, s) for a in air) == 1 for s in seen)  # each car's air, once
+    for b, (_, colors) in made:
+        assert torch.equal(colors, seen[b])  # what _part_examples returns: the colours the air is read from

@@ -522,12 +522,15 @@ def _sample(pyramid: list[Tensor], uv: Tensor, level: Tensor) -> Tensor:
     height, width = pyramid[0].shape[-2:]
     grid = torch.stack([(uv[:, 0] + 0.5) / width * 2 - 1, (uv[:, 1] + 0.5) / height * 2 - 1], 1)
     grid = grid.float()[None, None]  # (1, 1, P, 2): normalised coordinates are the same at every level
-    samples = torch.stack([F.grid_sample(p, grid, mode="bilinear", padding_mode="border",
-                                         align_corners=False)[0, :, 0].T for p in pyramid])  # (L, P, 3)
     level = level.clamp(0, len(pyramid) - 1).float()
     lo = level.floor().long()
     hi = (lo + 1).clamp(max=len(pyramid) - 1)
     t = (level - lo.float())[:, None]
+    # the levels down to the deepest one some point blends (an object that kept its size: the first two of four), each
+    # by the call on the same grid that sampled every level
+    deepest = int(hi.max()) if len(hi) else 0
+    samples = torch.stack([F.grid_sample(p, grid, mode="bilinear", padding_mode="border",
+                                         align_corners=False)[0, :, 0].T for p in pyramid[:deepest + 1]])  # (L, P, 3)
     idx = torch.arange(len(uv))
     return samples[lo, idx] * (1 - t) + samples[hi, idx] * t
 
@@ -1539,16 +1542,26 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     flat_codes = torch.tensor(FLAT_CODES, dtype=torch.uint8)
     visible_of = _pixels_of(vis_ids, before.instance_id)
     shown_cars = (src_row_to_mesh >= 0).nonzero().flatten().tolist()
-    cache: dict[int, tuple[_PartExamples, Tensor, bool]] = {}
+    cache: dict[int, tuple[_PartExamples, Tensor]] = {}
+    air: dict[int, bool] = {}
 
-    def examples_of(bb: int) -> tuple[_PartExamples, Tensor, bool]:
-        """``before`` row ``bb``'s part examples, all its visible colours (:func:`_part_examples`) and whether it is
-        seen through clear air (:func:`_clear_air`: its darks near black); computed once per car."""
+    def examples_of(bb: int) -> tuple[_PartExamples, Tensor]:
+        """``before`` row ``bb``'s part examples and all its visible colours (:func:`_part_examples`); computed once
+        per car, when first needed."""
         if bb not in cache:
-            found, seen_colors = _part_examples(bb, int(src_row_to_mesh[bb]), visible_of(int(before.instance_id[bb])),
-                                                before, src, parts_src, img_flat, settings)
-            cache[bb] = found, seen_colors, _clear_air(seen_colors)
+            cache[bb] = _part_examples(bb, int(src_row_to_mesh[bb]), visible_of(int(before.instance_id[bb])), before,
+                                       src, parts_src, img_flat, settings)
         return cache[bb]
+
+    def clear_air(bb: int) -> bool:
+        """Whether ``before`` row ``bb``'s car is seen through clear air (:func:`_clear_air` of all its visible
+        colours, those :func:`_part_examples` returns: its darks near black); computed once per car, without its
+        examples (a car passed over for another car's wheel or tyres is not looked at further)."""
+        if bb not in air:
+            seen_colors = (cache[bb][1] if bb in cache
+                           else img_flat[visible_of(int(before.instance_id[bb]))].double())
+            air[bb] = _clear_air(seen_colors)
+        return air[bb]
 
     def wheel_for(b: int) -> tuple[Tensor, int] | None:
         """The real wheel (:meth:`PhotoSource.real_wheels`: ``(x, y, semi-axis x, semi-axis y)``, the largest) a wheel
@@ -1559,8 +1572,8 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             return None
         depth = before.center[:, 2].double().clamp(min=0.1)
         others = sorted((bb for bb in shown_cars if bb != b), key=lambda bb: abs(math.log(depth[bb] / depth[b])))
-        for bb in [b] + (others if examples_of(b)[2] else []):
-            if bb != b and not examples_of(bb)[2]:
+        for bb in [b] + (others if clear_air(b) else []):
+            if bb != b and not clear_air(bb):
                 continue
             found = real_wheels(int(before.instance_id[bb]))
             if found is not None:
@@ -1572,13 +1585,13 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         shows at least 8 of them, both cars seen through clear air (:func:`_clear_air`); none otherwise (in fog each
         car has its own air: a near car's tyres are dark where a far one's are grey)."""
         def pool(part: int) -> _PartExamples:
-            if b not in shown_cars or not examples_of(b)[2]:
+            if b not in shown_cars or not clear_air(b):
                 return _no_examples()
             depth = before.center[:, 2].double().clamp(min=0.1)
             # nearest first (a stable sort: ties keep table order), each car's examples made only when reached
             by_depth = sorted((bb for bb in shown_cars if bb != b), key=lambda bb: abs(math.log(depth[bb] / depth[b])))
             for bb in by_depth:
-                if not examples_of(bb)[2]:
+                if not clear_air(bb):
                     continue
                 found = _examples_of_part(examples_of(bb)[0], part)
                 if len(found.part) >= 8:
@@ -1612,7 +1625,7 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         if by_parts and b >= 0:
             unseen = sel & ~seen
             if any_set(unseen):
-                car_examples, seen_colors, _ = examples_of(b)
+                car_examples, seen_colors = examples_of(b)
                 alb, code, seen_at = _part_colors(b, car_examples, seen_colors, point_s[unseen], normal_t[unseen],
                                                   t_part[unseen], before, albedo if len(visible_px) else None,
                                                   others_of(b))

@@ -446,21 +446,19 @@ def group_instances(
         d2 = (target[sl, None, :] - uv[pix_b[sl]]).pow(2).sum(-1)  # (n, K)
         d2 = d2.masked_fill(~valid[pix_b[sl]], float("inf"))
         nearest[sl] = d2.argmin(1)
-    # Each (image, centre) is a slot; a split slot's second part is the slot b * k more.
+    # Each (image, centre) is a slot; a split slot's second part is the slot b * k more; a part that left its slot
+    # for an instance of its own is a slot after those 2 b k.
     slot = pix_b * k + nearest
     counted = torch.ones_like(pix_b, dtype=torch.bool) if sure is None else sure[pix_b, pix_v, pix_u]
-    if split_separation is not None:
-        if not split_separation > 0:
-            raise ValueError(f"split_separation must be positive (or None), got {split_separation}")
-        second = _split_parts(target, slot, b * k, min_area, split_separation, counted)
-        slot = slot + second * (b * k)
-        nearest = nearest + second * k
-    slots = 2 * b * k
-    assigned = torch.ones_like(counted)
+    if split_separation is not None and not split_separation > 0:
+        raise ValueError(f"split_separation must be positive (or None), got {split_separation}")
+    if part_separation is not None and not part_separation > 0:
+        raise ValueError(f"part_separation must be positive (or None), got {part_separation}")
+    assigned = torch.ones_like(counted)  # False: the pixel left its slot and belongs to no instance
+    moved = torch.zeros_like(counted)  # True: the pixel's part left its slot for an instance of its own
+    pieces = 0
     if part_separation is not None:
-        if not part_separation > 0:
-            raise ValueError(f"part_separation must be positive (or None), got {part_separation}")
-        part, leaves, centred = _separate_parts(target, slot, slots, (pix_b * h + pix_v) * w + pix_u, (b, h, w),
+        part, leaves, centred = _separate_parts(target, slot, b * k, (pix_b * h + pix_v) * w + pix_u, (b, h, w),
                                                 part_separation)
         parts = leaves.numel()
         own = leaves & centred & (torch.bincount(part[counted], minlength=parts) >= max(min_area, 1))
@@ -473,15 +471,22 @@ def group_instances(
         image_of = part_image[mine]
         rank = torch.arange(mine.numel(), device=device) - torch.searchsorted(image_of, image_of)
         fits = 2 * k + rank + 1 < INSTANCE_DIVISOR
+        pieces = int(fits.sum())
         part_slot = torch.full((parts,), -1, dtype=torch.long, device=device)
-        part_slot[mine[fits]] = slots + torch.arange(int(fits.sum()), device=device)
+        part_slot[mine[fits]] = 2 * b * k + torch.arange(pieces, device=device)
         part_k = torch.zeros(parts, dtype=torch.long, device=device)
         part_k[mine[fits]] = 2 * k + rank[fits]
         moved = part_slot[part] >= 0
         assigned = ~leaves[part] | moved
         slot = torch.where(moved, part_slot[part], slot)
         nearest = torch.where(moved, part_k[part], nearest)
-        slots += int(fits.sum())
+    if split_separation is not None:  # on the pixels that stayed with their centre
+        stay = assigned & ~moved
+        second = torch.zeros_like(counted)
+        second[stay] = _split_parts(target[stay], slot[stay], b * k, min_area, split_separation, counted[stay])
+        slot = slot + second * (b * k)
+        nearest = nearest + second * k
+    slots = 2 * b * k + pieces
     # Majority class per slot, then area filter.
     cls = label[pix_b, pix_v, pix_u]
     votes = torch.bincount((slot * num_classes + cls)[assigned], minlength=slots * num_classes).view(slots,

@@ -255,6 +255,12 @@ def test_grouping_gives_a_separate_blob_that_votes_for_its_own_centre_its_own_in
     assert (away[0, 4:13, 4:20] == CAR * 1000 + 1).all() and (away[0, :, 20:] == 0).all()
     with pytest.raises(ValueError, match="part_separation"):
         group_instances(label, center, offset, THINGS, part_separation=0.0)
+    # The predictor does the same with its defaults (GROUPING_DEFAULTS).
+    probability = torch.full((1, 14, 16, 60), 0.01)
+    probability[:, ROAD], probability[:, CAR][label == CAR], probability[:, ROAD][label == CAR] = 0.87, 0.87, 0.01
+    out = {"logits": probability.log(), "center": center, "offset": offset}
+    predicted = SemanticPredictor(_FixedNet(out), "vkitti")(torch.zeros(1, 3, 16, 60)).instance
+    assert (predicted == inst).all()
 
 
 def test_grouping_keeps_a_car_cut_by_a_pole_whole_and_drops_a_far_speck():

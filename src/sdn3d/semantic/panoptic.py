@@ -11,8 +11,7 @@ At inference (:func:`group_instances`) the heatmap's local maxima above a thresh
 instance centres; each pixel predicted as a thing class votes for the centre nearest to
 ``pixel + offset``; an instance's class is the majority semantic class of its pixels.
 
-Two inference rules make the proposals cover their vehicles (both measured on the demo's weights: the
-failures they address are the common ones, not rare ones):
+Three inference rules make the proposals cover their vehicles, one each (measured on the demo's weights):
 
 - **Which pixels are things** (:func:`thing_label`). The arg-max over all classes splits a vehicle's
   probability between Car and Van, and at a car's bottom rows, windows and edges the vehicle classes
@@ -30,6 +29,16 @@ failures they address are the common ones, not rare ones):
   clusters' means lie at least ``split_separation`` pooled standard deviations apart (each part at least
   ``min_area`` pixels). One cluster of votes spread evenly along a car gives 2-means a separation of
   2 sqrt(3) (about 3.5), a normal spread about 2.7, so the threshold sits above both.
+- **Spatially separate parts that vote elsewhere** (``part_separation``). Where the heatmap has one peak above the
+  threshold for two cars side by side (a real photo, whose heatmap is weaker than the synthetic frames' the branch
+  learnt from), every vehicle pixel of both joins that one centre, and so do specks of vehicle pixels far away: one
+  proposal over the whole picture. Such pixels are not connected to the instance's main part (its largest
+  8-connected part), and their votes point elsewhere: a part whose votes' mean lies at least ``part_separation``
+  pooled standard deviations from the main part's leaves the instance. It becomes an instance of its own when it has
+  ``min_area`` sure pixels and its votes' mean lies inside its own bounding box (its votes name a centre on
+  itself: the hidden car's offsets still point at its own centre); otherwise it is no instance's (a speck whose
+  votes point at a neighbour). A car cut in two by a thin pole stays whole: both halves vote for one centre. The
+  rule runs before the 2-means split, so that a far speck cannot become a split's second part.
 
 Everything is batched: no Python loop over pixels or instances (only over chunks of pixels
 when the pixel-to-centre distance matrix would be large).

@@ -4,23 +4,27 @@ frames session 19 inst's raw.py saved (a Table 1 tree's source frames at 312x96,
 pooled (sdn3d.evaluation.proposal_recall.match_proposals: annotated Car/Van objects over the paper's pixel filter at
 the size, one proposal per object; the ground truth is an oracle used for scoring only). Every arm groups through
 sdn3d.semantic.panoptic.group_vehicles, the predictor's entry point, with GROUPING_DEFAULTS and the arm's overrides.
-ARMS='{"name": {overrides}, ...}' (default: main = part_separation None, and the installed defaults); also prints
-each arm's proposals that hold pixels of no annotated car at all ("on background") and proposals per frame."""
+ARMS='{"name": {overrides}, ...}' (default: main = part_separation None, and the installed defaults; an arm of null is
+the floor of benchmarks/proposal_recall.py: one proposal per 8-connected component of the arg-max's Car / Van pixels);
+also prints each arm's proposals that hold pixels of no annotated car at all ("on background")."""
 import json
 import os
 import sys
 
 import torch
 
+from benchmarks.proposal_recall import components
 from sdn3d.evaluation.proposal_recall import match_proposals, min_pixels_at
 from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.semantic.panoptic import group_vehicles
 from sdn3d.semantic.predict import GROUPING_DEFAULTS
 
-ARMS = json.loads(os.environ.get("ARMS", '{"main": {"part_separation": null}, "defaults": {}}'))
+ARMS = json.loads(os.environ.get("ARMS", '{"components": null, "main": {"part_separation": null}, "defaults": {}}'))
 
 
 def group(fr, things, g):
+    if g is None:
+        return components(fr["logits"].float().argmax(0), things)[None]
     prob = fr["logits"].float().softmax(0)[None]
     inst, _ = group_vehicles(prob.argmax(1), prob, fr["center"][None], fr["offset"][None], things, thing_odds=g["thing_odds"],
                              threshold=g["center_threshold"], nms_kernel=g["nms_kernel"], top_k=g["top_k"], min_area=g["min_area"],
@@ -30,7 +34,7 @@ def group(fr, things, g):
 
 raws = [torch.load(p, weights_only=False) for p in sys.argv[1:]]
 for arm, over in ARMS.items():
-    g = {**GROUPING_DEFAULTS, **over}
+    g = None if over is None else {**GROUPING_DEFAULTS, **over}
     pooled = {}; bg = 0; nprop = 0; nfr = 0
     for path, raw in zip(sys.argv[1:], raws):
         things, size = raw["things"], raw["size"]

@@ -1,6 +1,6 @@
 # ruff: noqa: E501, E701, E702, E731, B023, B905
-"""parts.py RAW.pt... : how often a proposal of main's grouping (GROUPING_DEFAULTS, the installed sdn3d, as
-SemanticPredictor groups; GROUPING='{json}' overrides) spans spatially disconnected pixels, and what the pieces are.
+"""parts.py RAW.pt... : how often a proposal of a grouping (GROUPING_DEFAULTS of the installed sdn3d, as
+SemanticPredictor groups; GROUPING='{json}' overrides them, e.g. main's: '{"part_separation": null}') spans spatially disconnected pixels, and what the pieces are.
 RAW.pt: session 19 inst's raw.py outputs (a Table 1 tree's source frames at 312x96, the demo's weights).
 
 For every proposal, its pixels' 8-connected components; the largest is the proposal's main part, every other one a
@@ -30,7 +30,8 @@ for path in sys.argv[1:]:
     for key, fr in raw["frames"].items():
         prob = fr["logits"].float().softmax(0)[None]; center = fr["center"][None]; offset = fr["offset"][None]
         inst, _ = group_vehicles(prob.argmax(1), prob, center, offset, things, thing_odds=g["thing_odds"], threshold=g["center_threshold"],
-                                 nms_kernel=g["nms_kernel"], top_k=g["top_k"], min_area=g["min_area"], split_separation=g["split_separation"])
+                                 nms_kernel=g["nms_kernel"], top_k=g["top_k"], min_area=g["min_area"], split_separation=g["split_separation"],
+                                 part_separation=g.get("part_separation"))
         inst = inst[0].numpy(); sure = np.isin(prob.argmax(1)[0].numpy(), things)
         gi = fr["gt_instances"].numpy(); gcar = (gi >= INSTANCE_DIVISOR) & np.isin(gi // INSTANCE_DIVISOR, things)
         h, w = inst.shape; vv, uu = np.mgrid[0:h, 0:w]

@@ -329,13 +329,14 @@ def _connected_parts(slot_map: Tensor) -> Tensor:
 
 def _separate_parts(target: Tensor, slot: Tensor, slots: int, pixel: Tensor, shape: tuple[int, int, int],
                     separation: float) -> tuple[Tensor, Tensor, Tensor]:
-    """Each pixel's part of its slot (module doc, spatially separate parts): ``(N,)`` part index in ``[0, P)`` and
-    ``(P,)`` bool, the parts that leave their slot. ``target`` ``(N, 2)``: each pixel's vote; ``slot`` ``(N,)`` in
-    ``[0, slots)``; ``pixel`` ``(N,)``: each pixel's flat index ``(b * H + v) * W + u`` in a map of ``shape``.
+    """The spatially separate parts of each slot and which of them leave it (module doc). ``target`` ``(N, 2)``: each
+    pixel's vote; ``slot`` ``(N,)`` in ``[0, slots)``; ``pixel`` ``(N,)``: each pixel's flat index
+    ``(b * H + v) * W + u`` in a map of ``shape``.
 
     Returns:
-        part: ``(N,)``; leaves: ``(P,)`` bool; centred: ``(P,)`` bool, the parts whose votes' mean lies inside their
-        own bounding box (a centre of their own).
+        part: ``(N,)`` each pixel's part in ``[0, P)``; leaves: ``(P,)`` bool, the parts whose votes' mean lies
+        ``separation`` pooled standard deviations from their slot's largest part's; centred: ``(P,)`` bool, the parts
+        whose votes' mean lies inside their own bounding box (a centre of their own).
     """
     b, h, w = shape
     slot_map = torch.full((b * h * w,), -1, dtype=torch.long, device=slot.device)

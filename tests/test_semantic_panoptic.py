@@ -255,22 +255,25 @@ def test_grouping_gives_a_separate_blob_that_votes_for_its_own_centre_its_own_in
     assert (away[0, 4:13, 4:20] == CAR * 1000 + 1).all() and (away[0, :, 20:] == 0).all()
     with pytest.raises(ValueError, match="part_separation"):
         group_instances(label, center, offset, THINGS, part_separation=0.0)
-    # The predictor does the same with its defaults (GROUPING_DEFAULTS).
+    # The predictor's defaults (GROUPING_DEFAULTS) also drop the speck and part A from B; with the 2-means split on,
+    # the split (which runs first) already parts B, with the speck, as the second part of A's centre.
     probability = torch.full((1, 14, 16, 60), 0.01)
     probability[:, ROAD], probability[:, CAR][label == CAR], probability[:, ROAD][label == CAR] = 0.87, 0.87, 0.01
     out = {"logits": probability.log(), "center": center, "offset": offset}
     predicted = SemanticPredictor(_FixedNet(out), "vkitti")(torch.zeros(1, 3, 16, 60)).instance
-    assert (predicted == inst).all()
+    assert (predicted[0, 4:13, 4:20] == CAR * 1000 + 1).all() and (predicted[0, 4:13, 21:37] == CAR * 1000 + 51).all()
+    assert (predicted[0, 4:7, 50:54] == 0).all()
 
 
 def test_grouping_keeps_a_car_cut_by_a_pole_whole_and_drops_a_far_speck():
     """A car cut in two by a 2-px pole: both halves vote near one centre (shrunk offsets, each half's votes 2 px off
-    it, a realistic 3 px spread), so the halves stay one instance; a 20-px speck whose votes point elsewhere (not
-    into its own box) leaves it and, with no centre of its own, gets no instance."""
+    it, a realistic 3 px spread), so the halves stay one instance; a 12-px speck whose votes point elsewhere (not
+    into its own box) leaves it and, with no centre of its own, gets no instance. (A far blob of min_area sure pixels
+    whose votes cluster apart is the 2-means split's second part, as on main: the split runs first.)"""
     label = torch.full((1, 16, 64), ROAD)
     label[0, 4:13, 4:36] = CAR
     label[0, 4:13, 19:21] = ROAD  # the pole
-    label[0, 1:5, 54:59] = CAR  # the speck, 20 px
+    label[0, 1:5, 54:57] = CAR  # the speck, 12 px
     center = torch.zeros(1, 1, 16, 64)
     center[0, 0, 8, 20] = 0.9
     v, u = torch.meshgrid(torch.arange(16.0), torch.arange(64.0), indexing="ij")
@@ -279,8 +282,32 @@ def test_grouping_keeps_a_car_cut_by_a_pole_whole_and_drops_a_far_speck():
     inst, _ = group_instances(label, center, offset, THINGS, min_area=16, split_separation=4.0, part_separation=4.0)
     car = label[0, :, :40] == CAR
     assert (inst[0, :, :40][car] == CAR * 1000 + 1).all()
-    assert (inst[0, 1:5, 54:59] == 0).all()
-    assert (group_instances(label, center, offset, THINGS, min_area=16)[0][0, 1:5, 54:59] == CAR * 1000 + 1).all()
+    assert (inst[0, 1:5, 54:57] == 0).all()
+    as_main = group_instances(label, center, offset, THINGS, min_area=16, split_separation=4.0)[0]
+    assert (as_main[0, 1:5, 54:57] == CAR * 1000 + 1).all()
+
+
+def test_grouping_splits_an_instance_as_grouped_before_its_far_specks_leave():
+    """The 2-means split decides on the instance as grouped, specks and all, and only then do far specks leave: a
+    216-px car whose halves vote 5 px apart (1 px spread) plus two 6-px specks far right whose votes land 7 px past
+    the right half's. With the specks, the votes' high cluster is wide and the split (4 SDs) keeps the car whole, as
+    main's grouping does; the specks then leave. Taking the specks out first would let the split cut the car."""
+    label = torch.full((1, 16, 64), ROAD)
+    label[0, 4:13, 4:28] = CAR
+    label[0, 1:3, 50:53] = CAR
+    label[0, 12:14, 58:61] = CAR
+    center = torch.zeros(1, 1, 16, 64)
+    center[0, 0, 8, 16] = 0.9
+    v, u = torch.meshgrid(torch.arange(16.0), torch.arange(64.0), indexing="ij")
+    offset = _votes_at(torch.where(u < 16, 13.0, torch.where(u < 40, 18.0, 25.0)), torch.full_like(u, 8.0), 1.0)
+    car, specks = label[0, :, :40] == CAR, label[0, :, 40:] == CAR
+    as_main, _ = group_instances(label, center, offset, THINGS, min_area=16, split_separation=4.0)
+    assert (as_main[0][label[0] == CAR] == CAR * 1000 + 1).all()
+    without_specks, _ = group_instances(torch.where(u < 40, label, ROAD), center, offset, THINGS, min_area=16,
+                                        split_separation=4.0)
+    assert without_specks[0, :, :40][car].unique().tolist() == [CAR * 1000 + 1, CAR * 1000 + 51]  # the car alone
+    inst, _ = group_instances(label, center, offset, THINGS, min_area=16, split_separation=4.0, part_separation=4.0)
+    assert (inst[0, :, :40][car] == CAR * 1000 + 1).all() and (inst[0, :, 40:][specks] == 0).all()
 
 
 class _FixedNet(torch.nn.Module):

@@ -38,7 +38,9 @@ Three inference rules make the proposals cover their vehicles, one each (measure
   ``min_area`` sure pixels and its votes' mean lies inside its own bounding box (its votes name a centre on
   itself: the hidden car's offsets still point at its own centre); otherwise it is no instance's (a speck whose
   votes point at a neighbour). A car cut in two by a thin pole stays whole: both halves vote for one centre. The
-  rule runs before the 2-means split, so that a far speck cannot become a split's second part.
+  rule runs after the 2-means split, on each instance the split leaves: the split decides on the instance as
+  grouped, specks and all (its threshold was chosen so); with far specks taken out first, the votes' spread along
+  the principal axis shrinks and the split would cut cars it leaves whole.
 
 Everything is batched: no Python loop over pixels or instances (only over chunks of pixels
 when the pixel-to-centre distance matrix would be large).
@@ -464,11 +466,14 @@ def group_instances(
         raise ValueError(f"split_separation must be positive (or None), got {split_separation}")
     if part_separation is not None and not part_separation > 0:
         raise ValueError(f"part_separation must be positive (or None), got {part_separation}")
+    if split_separation is not None:  # decided on the instance as grouped, far specks and all (module doc)
+        second = _split_parts(target, slot, b * k, min_area, split_separation, counted)
+        slot = slot + second * (b * k)
+        nearest = nearest + second * k
     assigned = torch.ones_like(counted)  # False: the pixel left its slot and belongs to no instance
-    moved = torch.zeros_like(counted)  # True: the pixel's part left its slot for an instance of its own
     pieces = 0
-    if part_separation is not None:
-        part, leaves, centred = _separate_parts(target, slot, b * k, (pix_b * h + pix_v) * w + pix_u, (b, h, w),
+    if part_separation is not None:  # on each instance the split left
+        part, leaves, centred = _separate_parts(target, slot, 2 * b * k, (pix_b * h + pix_v) * w + pix_u, (b, h, w),
                                                 part_separation)
         parts = leaves.numel()
         own = leaves & centred & (torch.bincount(part[counted], minlength=parts) >= max(min_area, 1))
@@ -490,12 +495,6 @@ def group_instances(
         assigned = ~leaves[part] | moved
         slot = torch.where(moved, part_slot[part], slot)
         nearest = torch.where(moved, part_k[part], nearest)
-    if split_separation is not None:  # on the pixels that stayed with their centre
-        stay = assigned & ~moved
-        second = torch.zeros_like(counted)
-        second[stay] = _split_parts(target[stay], slot[stay], b * k, min_area, split_separation, counted[stay])
-        slot = slot + second * (b * k)
-        nearest = nearest + second * k
     slots = 2 * b * k + pieces
     # Majority class per slot, then area filter.
     cls = label[pix_b, pix_v, pix_u]

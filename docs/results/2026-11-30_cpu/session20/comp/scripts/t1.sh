@@ -3,13 +3,14 @@
 # the ground-truth-mask (oracle) row) of the code tree CODE (this branch: /work/wt/comp; main of the session's start:
 # /tmp/s20data/lead/base_4044), session 11's demo weights, through session 11 semrain's dbench.py, as the lead's
 # docs/results/2026-11-30_cpu/session20/lead/rows/t1.sh runs main's rows. Own de-render caches
-# /tmp/s20data/comp/t1/cache_<NAME><SEED> (the grouping changes the de-render; never the lead's caches);
-# outputs /tmp/s20data/comp/t1/<NAME><SEED>_<row>{,.dump,.log}; progress in /tmp/s20data/comp/t1/t1.log.
-# Trees: 35, 37: /tmp/s11data/semrain/t1_<SEED>; 31: /tmp/s11data/lead/t1_31; others /tmp/s20data/comp/t1_<SEED>.
-CODE=$1; NAME=$2; shift 2; OUT=/tmp/s20data/comp/t1; mkdir -p $OUT
+# $T1_OUT/cache_<NAME><SEED> (the grouping changes the de-render; never the lead's caches);
+# outputs $T1_OUT/<NAME><SEED>_<row>{,.dump,.log}; progress in $T1_OUT/t1.log.
+# Trees: 35, 37: /tmp/s11data/semrain/t1_<SEED>; 31: /tmp/s11data/lead/t1_31; others $TREES/t1_<SEED>.
+# comp2 (the rules' order) runs it with T1_OUT=/tmp/s20data/comp2/t1 TREES=/tmp/s20data/comp2 (defaults: comp's folders).
+CODE=$1; NAME=$2; shift 2; OUT=${T1_OUT:-/tmp/s20data/comp/t1}; TREES=${TREES:-/tmp/s20data/comp}; mkdir -p $OUT
 DBENCH=/work/main/docs/results/2026-11-29_cpu/session11/semrain/scripts/dbench.py
 for SEED in "$@"; do
-  case $SEED in 31) TREE=/tmp/s11data/lead/t1_31;; 35|37) TREE=/tmp/s11data/semrain/t1_$SEED;; *) TREE=/tmp/s20data/comp/t1_$SEED;; esac
+  case $SEED in 31) TREE=/tmp/s11data/lead/t1_31;; 35|37) TREE=/tmp/s11data/semrain/t1_$SEED;; *) TREE=$TREES/t1_$SEED;; esac
   for P in ${ROWS:-semantic}; do
     RUN=$OUT/${NAME}${SEED}_$P
     (cd $CODE && PYTHONPATH=$CODE/src:$CODE OMP_NUM_THREADS=1 nice -n 5 /work/main/.venv/bin/python $DBENCH \

@@ -124,8 +124,8 @@ class SemanticModule(BranchModule):
         hflip: random horizontal flips in training.
         center_sigma: Gaussian sigma of the centre targets, pixels of the working size.
         center_weight, offset_weight: loss weights of the instance head.
-        center_threshold, nms_kernel, top_k, min_area, thing_odds, split_separation: instance grouping at evaluation
-            / inference (:data:`sdn3d.semantic.predict.GROUPING_DEFAULTS`).
+        center_threshold, nms_kernel, top_k, min_area, thing_odds, split_separation, part_separation: instance
+            grouping at evaluation / inference (:data:`sdn3d.semantic.predict.GROUPING_DEFAULTS`).
         log_images: samples per TensorBoard grid (first validation / test batch); 0 = none.
         class_weighting: None (plain cross-entropy), ``'median_frequency'`` or ``'enet'``
             (:mod:`sdn3d.semantic.balance`), for rare classes.
@@ -165,6 +165,7 @@ class SemanticModule(BranchModule):
         min_area: int = 16,
         thing_odds: float | None = GROUPING_DEFAULTS["thing_odds"],
         split_separation: float | None = GROUPING_DEFAULTS["split_separation"],
+        part_separation: float | None = GROUPING_DEFAULTS["part_separation"],
         log_images: int = 4,
         class_weighting: str | None = None,
         max_class_weight: float = 10.0,
@@ -276,7 +277,8 @@ class SemanticModule(BranchModule):
         hp = self.hparams
         instance, _ = group_vehicles(label, out["logits"].softmax(1), out["center"], out["offset"], self.things,
                                      thing_odds=hp.thing_odds, threshold=hp.center_threshold, nms_kernel=hp.nms_kernel,
-                                     top_k=hp.top_k, min_area=hp.min_area, split_separation=hp.split_separation)
+                                     top_k=hp.top_k, min_area=hp.min_area, split_separation=hp.split_separation,
+                                     part_separation=hp.part_separation)
         return label, instance
 
     def _eval_step(self, stage: str, batch: dict[str, Any], batch_idx: int) -> None:

@@ -222,6 +222,94 @@ def test_grouping_keeps_one_car_whose_votes_spread_evenly_along_it():
     assert inst[0, 3:7, 4:44].unique().tolist() == [CAR * 1000 + 1]
 
 
+def _votes_at(goal_u: torch.Tensor, goal_v: torch.Tensor, spread: float) -> torch.Tensor:
+    """``(1, 2, H, W)`` offsets whose votes land at ``(goal_u, goal_v)`` ``(H, W)`` plus a deterministic jitter of
+    about ``spread`` px."""
+    v, u = torch.meshgrid(torch.arange(float(goal_u.shape[0])), torch.arange(float(goal_u.shape[1])), indexing="ij")
+    return torch.stack([goal_u + spread * 1.4 * torch.sin(u * 1.7 + v * 0.9) - u,
+                        goal_v + spread * 1.4 * torch.cos(u * 0.8 + v * 2.3) - v])[None]
+
+
+def test_grouping_gives_a_separate_blob_that_votes_for_its_own_centre_its_own_instance():
+    """The real frame's failure: one heatmap peak (on car A), and car B, one pixel column away, votes at its own
+    centre; a speck far right votes at neither and is under min_area. Each spatially separate part whose votes lie
+    far from the main part's leaves the instance: B becomes an instance of its own, the speck no instance's."""
+    label = torch.full((1, 16, 60), ROAD)
+    label[0, 4:13, 4:20] = CAR  # A: 144 px
+    label[0, 4:13, 21:37] = CAR  # B: one column away
+    label[0, 4:7, 50:54] = CAR  # a speck of 12 px
+    center = torch.zeros(1, 1, 16, 60)
+    center[0, 0, 8, 12] = 0.9
+    v, u = torch.meshgrid(torch.arange(16.0), torch.arange(60.0), indexing="ij")
+    goal_u = torch.where(u < 20.5, 12.0, torch.where(u < 40, 29.0, 44.0))
+    offset = _votes_at(goal_u, torch.full_like(u, 8.0), 2.0)
+    whole, _ = group_instances(label, center, offset, THINGS, min_area=16)
+    assert whole[0][label[0] == CAR].unique().tolist() == [CAR * 1000 + 1]
+    inst, new_label = group_instances(label, center, offset, THINGS, min_area=16, part_separation=4.0)
+    assert (inst[0, 4:13, 4:20] == CAR * 1000 + 1).all()
+    assert (inst[0, 4:13, 21:37] == CAR * 1000 + 2 * 50 + 1).all()  # after the 2K ids of centres and split parts
+    assert (inst[0, 4:7, 50:54] == 0).all() and (new_label == label).all()
+    # B without a centre of its own (its votes land on A's side, outside B's box) is dropped, not made an instance.
+    offset_away = _votes_at(torch.where(u < 40, torch.where(u < 20.5, 12.0, 0.0), 44.0), torch.full_like(u, 8.0), 2.0)
+    away, _ = group_instances(label, center, offset_away, THINGS, min_area=16, part_separation=4.0)
+    assert (away[0, 4:13, 4:20] == CAR * 1000 + 1).all() and (away[0, :, 20:] == 0).all()
+    with pytest.raises(ValueError, match="part_separation"):
+        group_instances(label, center, offset, THINGS, part_separation=0.0)
+    # The predictor's defaults (GROUPING_DEFAULTS) also drop the speck and part A from B; with the 2-means split on,
+    # the split (which runs first) already parts B, with the speck, as the second part of A's centre.
+    probability = torch.full((1, 14, 16, 60), 0.01)
+    probability[:, ROAD], probability[:, CAR][label == CAR], probability[:, ROAD][label == CAR] = 0.87, 0.87, 0.01
+    out = {"logits": probability.log(), "center": center, "offset": offset}
+    predicted = SemanticPredictor(_FixedNet(out), "vkitti")(torch.zeros(1, 3, 16, 60)).instance
+    assert (predicted[0, 4:13, 4:20] == CAR * 1000 + 1).all() and (predicted[0, 4:13, 21:37] == CAR * 1000 + 51).all()
+    assert (predicted[0, 4:7, 50:54] == 0).all()
+
+
+def test_grouping_keeps_a_car_cut_by_a_pole_whole_and_drops_a_far_speck():
+    """A car cut in two by a 2-px pole: both halves vote near one centre (shrunk offsets, each half's votes 2 px off
+    it, a realistic 3 px spread), so the halves stay one instance; a 12-px speck whose votes point elsewhere (not
+    into its own box) leaves it and, with no centre of its own, gets no instance. (A far blob of min_area sure pixels
+    whose votes cluster apart is the 2-means split's second part, as on main: the split runs first.)"""
+    label = torch.full((1, 16, 64), ROAD)
+    label[0, 4:13, 4:36] = CAR
+    label[0, 4:13, 19:21] = ROAD  # the pole
+    label[0, 1:5, 54:57] = CAR  # the speck, 12 px
+    center = torch.zeros(1, 1, 16, 64)
+    center[0, 0, 8, 20] = 0.9
+    v, u = torch.meshgrid(torch.arange(16.0), torch.arange(64.0), indexing="ij")
+    goal_u = torch.where(u < 19, 18.0, torch.where(u < 40, 22.0, 44.0))
+    offset = _votes_at(goal_u, torch.where(u < 40, 8.0, 10.0), 3.0)
+    inst, _ = group_instances(label, center, offset, THINGS, min_area=16, split_separation=4.0, part_separation=4.0)
+    car = label[0, :, :40] == CAR
+    assert (inst[0, :, :40][car] == CAR * 1000 + 1).all()
+    assert (inst[0, 1:5, 54:57] == 0).all()
+    as_main = group_instances(label, center, offset, THINGS, min_area=16, split_separation=4.0)[0]
+    assert (as_main[0, 1:5, 54:57] == CAR * 1000 + 1).all()
+
+
+def test_grouping_splits_an_instance_as_grouped_before_its_far_specks_leave():
+    """The 2-means split decides on the instance as grouped, specks and all, and only then do far specks leave: a
+    216-px car whose halves vote 5 px apart (1 px spread) plus two 6-px specks far right whose votes land 7 px past
+    the right half's. With the specks, the votes' high cluster is wide and the split (4 SDs) keeps the car whole, as
+    main's grouping does; the specks then leave. Taking the specks out first would let the split cut the car."""
+    label = torch.full((1, 16, 64), ROAD)
+    label[0, 4:13, 4:28] = CAR
+    label[0, 1:3, 50:53] = CAR
+    label[0, 12:14, 58:61] = CAR
+    center = torch.zeros(1, 1, 16, 64)
+    center[0, 0, 8, 16] = 0.9
+    v, u = torch.meshgrid(torch.arange(16.0), torch.arange(64.0), indexing="ij")
+    offset = _votes_at(torch.where(u < 16, 13.0, torch.where(u < 40, 18.0, 25.0)), torch.full_like(u, 8.0), 1.0)
+    car, specks = label[0, :, :40] == CAR, label[0, :, 40:] == CAR
+    as_main, _ = group_instances(label, center, offset, THINGS, min_area=16, split_separation=4.0)
+    assert (as_main[0][label[0] == CAR] == CAR * 1000 + 1).all()
+    without_specks, _ = group_instances(torch.where(u < 40, label, ROAD), center, offset, THINGS, min_area=16,
+                                        split_separation=4.0)
+    assert without_specks[0, :, :40][car].unique().tolist() == [CAR * 1000 + 1, CAR * 1000 + 51]  # the car alone
+    inst, _ = group_instances(label, center, offset, THINGS, min_area=16, split_separation=4.0, part_separation=4.0)
+    assert (inst[0, :, :40][car] == CAR * 1000 + 1).all() and (inst[0, :, 40:][specks] == 0).all()
+
+
 class _FixedNet(torch.nn.Module):
     """A semantic network stub whose outputs are given (``SemanticPredictor`` needs ``num_classes`` and a parameter)."""
 

@@ -11,8 +11,7 @@ At inference (:func:`group_instances`) the heatmap's local maxima above a thresh
 instance centres; each pixel predicted as a thing class votes for the centre nearest to
 ``pixel + offset``; an instance's class is the majority semantic class of its pixels.
 
-Two inference rules make the proposals cover their vehicles (both measured on the demo's weights: the
-failures they address are the common ones, not rare ones):
+Three inference rules make the proposals cover their vehicles, one each (measured on the demo's weights):
 
 - **Which pixels are things** (:func:`thing_label`). The arg-max over all classes splits a vehicle's
   probability between Car and Van, and at a car's bottom rows, windows and edges the vehicle classes
@@ -30,6 +29,18 @@ failures they address are the common ones, not rare ones):
   clusters' means lie at least ``split_separation`` pooled standard deviations apart (each part at least
   ``min_area`` pixels). One cluster of votes spread evenly along a car gives 2-means a separation of
   2 sqrt(3) (about 3.5), a normal spread about 2.7, so the threshold sits above both.
+- **Spatially separate parts that vote elsewhere** (``part_separation``). Where the heatmap has one peak above the
+  threshold for two cars side by side (a real photo, whose heatmap is weaker than the synthetic frames' the branch
+  learnt from), every vehicle pixel of both joins that one centre, and so do specks of vehicle pixels far away: one
+  proposal over the whole picture. Such pixels are not connected to the instance's main part (its largest
+  8-connected part), and their votes point elsewhere: a part whose votes' mean lies at least ``part_separation``
+  pooled standard deviations from the main part's leaves the instance. It becomes an instance of its own when it has
+  ``min_area`` sure pixels and its votes' mean lies inside its own bounding box (its votes name a centre on
+  itself: the hidden car's offsets still point at its own centre); otherwise it is no instance's (a speck whose
+  votes point at a neighbour). A car cut in two by a thin pole stays whole: both halves vote for one centre. The
+  rule runs after the 2-means split, on each instance the split leaves: the split decides on the instance as
+  grouped, specks and all (its threshold was chosen so); with far specks taken out first, the votes' spread along
+  the principal axis shrinks and the split would cut cars it leaves whole.
 
 Everything is batched: no Python loop over pixels or instances (only over chunks of pixels
 when the pixel-to-centre distance matrix would be large).
@@ -290,18 +301,85 @@ def _split_parts(target: Tensor, slot: Tensor, slots: int, min_area: int, separa
     return high & split[slot]
 
 
+def _connected_parts(slot_map: Tensor) -> Tensor:
+    """``(B, H, W)`` int64: each pixel's 8-connected component among the pixels of its own slot, named by the flat
+    index (``(b * H + v) * W + u``) of the component's first pixel; ``B * H * W`` where ``slot_map`` is negative.
+
+    Min-label propagation over the 8 neighbours of the same slot, each round followed by pointer jumping (a pixel
+    takes its label's label), batched over the whole map until no label changes.
+    """
+    b, h, w = slot_map.shape
+    n = b * h * w
+    inside = slot_map >= 0
+    root = torch.where(inside, torch.arange(n, device=slot_map.device).view(b, h, w), n)
+    padded_slot = F.pad(slot_map, (1, 1, 1, 1), value=-1)
+    flat_inside = inside.flatten()
+    while True:
+        padded_root = F.pad(root, (1, 1, 1, 1), value=n)
+        best = root
+        for dv, du in ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1)):
+            near = padded_root[:, 1 + dv:1 + dv + h, 1 + du:1 + du + w]
+            same = padded_slot[:, 1 + dv:1 + dv + h, 1 + du:1 + du + w] == slot_map
+            best = torch.minimum(best, torch.where(same & inside, near, n))
+        flat = best.flatten().clone()
+        flat[flat_inside] = flat[flat[flat_inside]]  # pointer jumping: labels only ever name pixels of the part
+        jumped = flat.view(b, h, w)
+        if torch.equal(jumped, root):
+            return root
+        root = jumped
+
+
+def _separate_parts(target: Tensor, slot: Tensor, slots: int, pixel: Tensor, shape: tuple[int, int, int],
+                    separation: float) -> tuple[Tensor, Tensor, Tensor]:
+    """The spatially separate parts of each slot and which of them leave it (module doc). ``target`` ``(N, 2)``: each
+    pixel's vote; ``slot`` ``(N,)`` in ``[0, slots)``; ``pixel`` ``(N,)``: each pixel's flat index
+    ``(b * H + v) * W + u`` in a map of ``shape``.
+
+    Returns:
+        part: ``(N,)`` each pixel's part in ``[0, P)``; leaves: ``(P,)`` bool, the parts whose votes' mean lies
+        ``separation`` pooled standard deviations from their slot's largest part's; centred: ``(P,)`` bool, the parts
+        whose votes' mean lies inside their own bounding box (a centre of their own).
+    """
+    b, h, w = shape
+    slot_map = torch.full((b * h * w,), -1, dtype=torch.long, device=slot.device)
+    slot_map[pixel] = slot
+    root = _connected_parts(slot_map.view(b, h, w)).flatten()[pixel]
+    _, part = torch.unique(root, return_inverse=True)
+    parts = int(part.max()) + 1
+    part_slot = torch.zeros(parts, dtype=torch.long, device=slot.device).scatter_(0, part, slot)
+    area = torch.bincount(part, minlength=parts)
+    # Each slot's main part: its largest (ties: the first).
+    largest = torch.zeros(slots, dtype=area.dtype, device=slot.device).scatter_reduce(0, part_slot, area, "amax")
+    index = torch.arange(parts, device=slot.device)
+    main = torch.full((slots,), parts, dtype=torch.long, device=slot.device).scatter_reduce(
+        0, part_slot, torch.where(area == largest[part_slot], index, parts), "amin")[part_slot]
+    n = area.clamp_min(1).to(target.dtype)
+    mean = torch.stack([torch.bincount(part, target[:, i], parts) for i in range(2)], -1) / n[:, None]
+    d = target - mean[part]
+    var = torch.bincount(part, (d * d).sum(-1) / 2, parts) / n  # per axis, both axes pooled
+    spread = ((var + var[main]) / 2).sqrt().clamp_min(_MIN_VOTE_SPREAD)
+    leaves = (main != index) & ((mean - mean[main]).norm(dim=-1) / spread >= separation)
+    where = torch.stack([pixel % w, torch.div(pixel, w, rounding_mode="floor") % h], -1).to(target.dtype)
+    low = torch.full((parts, 2), float("inf"), dtype=target.dtype, device=slot.device)
+    low = low.scatter_reduce(0, part[:, None].expand(-1, 2), where, "amin")
+    high = torch.full_like(low, float("-inf")).scatter_reduce(0, part[:, None].expand(-1, 2), where, "amax")
+    centred = ((mean >= low) & (mean <= high)).all(-1)
+    return part, leaves, centred
+
+
 def group_vehicles(label: Tensor, probability: Tensor, center: Tensor, offset: Tensor,
                    thing_classes: Sequence[int] | Tensor, thing_odds: float | None = None, threshold: float = 0.1,
                    nms_kernel: int = 7, top_k: int = 50, min_area: int = 0,
-                   split_separation: float | None = None) -> tuple[Tensor, Tensor]:
+                   split_separation: float | None = None, part_separation: float | None = None
+                   ) -> tuple[Tensor, Tensor]:
     """The grouping with the module doc's two inference rules, as the predictor and the training module's
     evaluation run it: the pixels :func:`thing_label` makes things (``thing_odds``) are grouped by
     :func:`group_instances`, whose ``min_area`` counts the arg-max ``label``'s thing pixels only (``sure``).
 
     Args:
         label: ``(B, H, W)`` the arg-max class map; probability: ``(B, C, H, W)`` its class probabilities.
-        center, offset, thing_classes, threshold, nms_kernel, top_k, min_area, split_separation: as
-            :func:`group_instances`.
+        center, offset, thing_classes, threshold, nms_kernel, top_k, min_area, split_separation, part_separation:
+            as :func:`group_instances`.
 
     Returns:
         instance: as :func:`group_instances`.
@@ -311,7 +389,8 @@ def group_vehicles(label: Tensor, probability: Tensor, center: Tensor, offset: T
     sure = torch.isin(label, torch.as_tensor(thing_classes, device=label.device))
     instance, grouped = group_instances(thing_label(probability, thing_classes, thing_odds), center, offset,
                                         thing_classes, threshold=threshold, nms_kernel=nms_kernel, top_k=top_k,
-                                        min_area=min_area, split_separation=split_separation, sure=sure)
+                                        min_area=min_area, split_separation=split_separation, sure=sure,
+                                        part_separation=part_separation)
     return instance, torch.where(instance > 0, grouped, label)
 
 
@@ -326,6 +405,7 @@ def group_instances(
     min_area: int = 0,
     split_separation: float | None = None,
     sure: Tensor | None = None,
+    part_separation: float | None = None,
 ) -> tuple[Tensor, Tensor]:
     """Split the thing pixels of a semantic map into instances (Panoptic-DeepLab grouping).
 
@@ -342,10 +422,14 @@ def group_instances(
         sure: ``(B, H, W)`` bool, optional: the pixels ``min_area`` counts (an instance's, and each part's of a
             split); None: every thing pixel. :func:`thing_label`'s callers pass the arg-max's thing pixels, so that
             the pixels ``thing_odds`` adds widen the instances the arg-max has without making new ones.
+        part_separation: an instance's spatially separate part (8-connected) whose votes' mean lies this many pooled
+            standard deviations from its largest part's leaves the instance: its own instance with ``min_area``
+            (``sure``) pixels, else no instance's (module doc); None: instances keep all their pixels.
 
     Returns:
         instance: ``(B, H, W)`` int64 ``class_id * 1000 + k`` (``k`` = 1 + rank of the centre's score; the second
-        part of a split instance ``K + k``, ``K = min(top_k, H * W)``), 0 where there is no instance.
+        part of a split instance ``K + k``, ``K = min(top_k, H * W)``; a part that left its instance ``2K + 1 + j``,
+        ``j`` its rank by area among its image's), 0 where there is no instance.
         label: ``(B, H, W)`` the semantic map with each instance's pixels set to its majority class.
     """
     if label.dim() != 3 or center.shape[-2:] != label.shape[-2:] or offset.shape[-2:] != label.shape[-2:]:
@@ -374,22 +458,51 @@ def group_instances(
         d2 = (target[sl, None, :] - uv[pix_b[sl]]).pow(2).sum(-1)  # (n, K)
         d2 = d2.masked_fill(~valid[pix_b[sl]], float("inf"))
         nearest[sl] = d2.argmin(1)
-    # Each (image, centre) is a slot; a split slot's second part is the slot b * k more.
+    # Each (image, centre) is a slot; a split slot's second part is the slot b * k more; a part that left its slot
+    # for an instance of its own is a slot after those 2 b k.
     slot = pix_b * k + nearest
     counted = torch.ones_like(pix_b, dtype=torch.bool) if sure is None else sure[pix_b, pix_v, pix_u]
-    if split_separation is not None:
-        if not split_separation > 0:
-            raise ValueError(f"split_separation must be positive (or None), got {split_separation}")
+    if split_separation is not None and not split_separation > 0:
+        raise ValueError(f"split_separation must be positive (or None), got {split_separation}")
+    if part_separation is not None and not part_separation > 0:
+        raise ValueError(f"part_separation must be positive (or None), got {part_separation}")
+    if split_separation is not None:  # decided on the instance as grouped, far specks and all (module doc)
         second = _split_parts(target, slot, b * k, min_area, split_separation, counted)
         slot = slot + second * (b * k)
         nearest = nearest + second * k
+    assigned = torch.ones_like(counted)  # False: the pixel left its slot and belongs to no instance
+    pieces = 0
+    if part_separation is not None:  # on each instance the split left
+        part, leaves, centred = _separate_parts(target, slot, 2 * b * k, (pix_b * h + pix_v) * w + pix_u, (b, h, w),
+                                                part_separation)
+        parts = leaves.numel()
+        own = leaves & centred & (torch.bincount(part[counted], minlength=parts) >= max(min_area, 1))
+        # A leaving part with min_area becomes an instance: k after the 2K of the centres and their second parts,
+        # numbered per image by decreasing area; one beyond the ids an image has is dropped like a speck.
+        part_image = torch.zeros(parts, dtype=torch.long, device=device).scatter_(0, part, pix_b)
+        area = torch.bincount(part, minlength=parts)
+        mine = own.nonzero()[:, 0]
+        mine = mine[torch.argsort(part_image[mine] * (h * w + 1) + (h * w - area[mine]), stable=True)]
+        image_of = part_image[mine]
+        rank = torch.arange(mine.numel(), device=device) - torch.searchsorted(image_of, image_of)
+        fits = 2 * k + rank + 1 < INSTANCE_DIVISOR
+        pieces = int(fits.sum())
+        part_slot = torch.full((parts,), -1, dtype=torch.long, device=device)
+        part_slot[mine[fits]] = 2 * b * k + torch.arange(pieces, device=device)
+        part_k = torch.zeros(parts, dtype=torch.long, device=device)
+        part_k[mine[fits]] = 2 * k + rank[fits]
+        moved = part_slot[part] >= 0
+        assigned = ~leaves[part] | moved
+        slot = torch.where(moved, part_slot[part], slot)
+        nearest = torch.where(moved, part_k[part], nearest)
+    slots = 2 * b * k + pieces
     # Majority class per slot, then area filter.
     cls = label[pix_b, pix_v, pix_u]
-    slots = 2 * b * k
-    votes = torch.bincount(slot * num_classes + cls, minlength=slots * num_classes).view(slots, num_classes)
+    votes = torch.bincount((slot * num_classes + cls)[assigned], minlength=slots * num_classes).view(slots,
+                                                                                                      num_classes)
     voted = votes.argmax(1)
-    keep = torch.bincount(slot[counted], minlength=slots) >= max(min_area, 1)
-    kept = keep[slot]
+    keep = torch.bincount(slot[counted & assigned], minlength=slots) >= max(min_area, 1)
+    kept = keep[slot] & assigned
     ids = voted[slot] * INSTANCE_DIVISOR + nearest + 1
     instance[pix_b[kept], pix_v[kept], pix_u[kept]] = ids[kept]
     label = label.clone()

@@ -34,11 +34,12 @@ __all__ = ["Segmentation", "SemanticPredictor", "segment", "network_size", "GROU
 #: Default grouping settings (``SemanticModule`` hyper-parameters of the same names override them):
 #: centre detection (``center_threshold``, ``nms_kernel``, ``top_k``), the smallest instance (``min_area``), which
 #: pixels are things (``thing_odds``: :func:`~sdn3d.semantic.panoptic.thing_label`; None: the arg-max) and the split of
-#: two vehicles under one centre (``split_separation``; None: off); :mod:`sdn3d.semantic.panoptic`'s module doc says
-#: why. ``thing_odds`` and ``split_separation`` were chosen on the Table 1 tuning trees with the demo's weights
-#: (docs/results/2026-11-30_cpu/session19/inst).
+#: two vehicles under one centre (``split_separation``; None: off), the instances' spatially separate parts that vote
+#: elsewhere (``part_separation``; None: kept); :mod:`sdn3d.semantic.panoptic`'s module doc says why. ``thing_odds``,
+#: ``split_separation`` and ``part_separation`` were chosen on the Table 1 tuning trees with the demo's weights
+#: (docs/results/2026-11-30_cpu/session19/inst, docs/results/2026-11-30_cpu/session20/comp).
 GROUPING_DEFAULTS = {"center_threshold": 0.1, "nms_kernel": 7, "top_k": 50, "min_area": 16, "thing_odds": 0.6,
-                     "split_separation": 4.0}
+                     "split_separation": 4.0, "part_separation": 4.0}
 _STATE_PREFIX = "net."
 
 
@@ -161,7 +162,8 @@ class SemanticPredictor:
             instance, label = group_vehicles(label, probability, out["center"], out["offset"], self.thing_classes,
                                              thing_odds=g["thing_odds"], threshold=g["center_threshold"],
                                              nms_kernel=g["nms_kernel"], top_k=g["top_k"], min_area=g["min_area"],
-                                             split_separation=g["split_separation"])
+                                             split_separation=g["split_separation"],
+                                             part_separation=g["part_separation"])
         else:
             instance = torch.zeros_like(label)
         if work.shape[-2:] != size:

@@ -372,7 +372,7 @@ def group_vehicles(label: Tensor, probability: Tensor, center: Tensor, offset: T
                    nms_kernel: int = 7, top_k: int = 50, min_area: int = 0,
                    split_separation: float | None = None, part_separation: float | None = None
                    ) -> tuple[Tensor, Tensor]:
-    """The grouping with the module doc's two inference rules, as the predictor and the training module's
+    """The grouping with the module doc's three inference rules, as the predictor and the training module's
     evaluation run it: the pixels :func:`thing_label` makes things (``thing_odds``) are grouped by
     :func:`group_instances`, whose ``min_area`` counts the arg-max ``label``'s thing pixels only (``sure``).
 

@@ -23,7 +23,7 @@ from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, ids_pr
 if TYPE_CHECKING:
     from sdn3d.editing.photo.road import PictureLab
 
-__all__ = ["inpaint", "vacated_hole", "fill_hole"]
+__all__ = ["inpaint", "vacated_hole", "leftover_pieces", "fill_hole"]
 
 
 def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5, patch_size: int = 3,
@@ -112,6 +112,73 @@ def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSetting
     if settings.shadow_band > 0 and any_set(vacated):
         hole |= dilate_square(_shadow_bands(ids, gone, settings.shadow_band), 1)
     return hole & ~keep
+
+
+def leftover_pieces(lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor, blocked: Tensor, reach: float,
+                    contrast: float) -> Tensor:
+    """``(H, W)`` bool: pieces of the removed objects that their masks and fitted silhouettes missed (a side mirror
+    juts out of both: a template has none, and a mask at the working size loses its thin stalk), which the hole
+    must take too, else the fill runs up to them and they stay in the picture as flecks.
+
+    Per object of ``gone (K,)`` in ``ids (H, W)`` (the instance map), with ``r`` = ``reach`` of its mask's height
+    (at least 1 pixel) and ``lab`` the picture's :class:`~sdn3d.editing.photo.road.PictureLab`: a pixel at most
+    ``r`` pixels (a square's) from ``hole (H, W)``, outside it and outside ``blocked (H, W)`` (objects that stay,
+    thin things in front of the car), is a *leftover* where
+
+    - its colour lies farther than ``contrast`` (CIE Lab) from every colour of the *surroundings* within ``3 r``
+      pixels of it: the pixels ``r + 1`` to ``3 r`` from the hole (a structure that runs on beyond ``r``, a pole, a
+      kerb, a lane line, another car, shows there too and so looks like its surroundings), and
+    - it lies within ``contrast`` of a colour of the object's own mask (eroded by a pixel: no mixed rim);
+
+    the leftovers 8-connected to the hole are kept, grown by a pixel inside the band (their anti-aliased rim).
+    ``reach`` 0: none.
+    """
+    import cv2
+
+    out = torch.zeros_like(hole)
+    if reach <= 0 or not any_set(hole):
+        return out
+    height, width = hole.shape
+    gone = gone[ids_present(ids, gone)] if len(gone) else gone
+    for iid in gone.tolist():
+        mine = ids == iid
+        rows, cols = any_along(mine, 1).nonzero().flatten(), any_along(mine, 0).nonzero().flatten()
+        r = max(1, round(reach * float(rows[-1] - rows[0] + 1)))
+        # The object's box grown by what its silhouette may add (the hole's reach past the mask) and 3 r.
+        pad = 4 * r + 16
+        y0, y1 = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + pad + 1, height)
+        x0, x1 = max(int(cols[0]) - pad, 0), min(int(cols[-1]) + pad + 1, width)
+        near_hole = hole[y0:y1, x0:x1]
+        free = ~blocked[y0:y1, x0:x1]
+        within_r = dilate_square(near_hole, r)
+        band = within_r & ~near_hole & free
+        ring = dilate_square(near_hole, 3 * r) & ~within_r
+        own = ~dilate_square(~mine[y0:y1, x0:x1], 1)
+        if not any_set(band) or not any_set(ring) or not any_set(own):
+            continue
+        colours = lab.box(y0, y1, x0, x1).view(y1 - y0, x1 - x0, 3)
+        car = colours[own]
+        car = car[torch.linspace(0, len(car) - 1, min(len(car), 2048)).long()]
+        band_yx, ring_yx = nonzero_yx(band), nonzero_yx(ring)
+        band_lab, ring_lab = colours[band_yx], colours[ring_yx]
+        left = torch.zeros(len(band_lab), dtype=torch.bool)
+        like_car = (torch.cdist(band_lab, car).amin(1) <= contrast).nonzero().flatten()
+        ring_pos = torch.stack(ring_yx, 1)
+        for chunk in like_car.split(512):
+            pos = torch.stack([band_yx[0][chunk], band_yx[1][chunk]], 1)
+            apart = (pos[:, None] - ring_pos[None]).abs().amax(2) <= 3 * r  # (c, Q) surroundings near each pixel
+            d = torch.cdist(band_lab[chunk], ring_lab).masked_fill(~apart, float("inf")).amin(1)
+            left[chunk] = d > contrast
+        if not any_set(left):
+            continue
+        pieces = torch.zeros_like(band)
+        pieces[band_yx[0][left], band_yx[1][left]] = True
+        count, labels = cv2.connectedComponents(pieces.numpy().astype(np.uint8), connectivity=8)
+        labels = torch.from_numpy(labels)
+        touching = labels[dilate_square(near_hole, 1) & pieces].unique()
+        attached = isin_ids(labels, touching[touching > 0])
+        out[y0:y1, x0:x1] |= dilate_square(attached, 1) & band
+    return out
 
 
 def _shadow_bands(ids: Tensor, gone: Tensor, share: float) -> Tensor:

@@ -157,18 +157,24 @@ def leftover_pieces(lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor, bl
         if not any_set(band) or not any_set(ring) or not any_set(own):
             continue
         colours = lab.box(y0, y1, x0, x1).view(y1 - y0, x1 - x0, 3)
-        car = colours[own]
-        car = car[torch.linspace(0, len(car) - 1, min(len(car), 2048)).long()]
-        band_yx, ring_yx = nonzero_yx(band), nonzero_yx(ring)
-        band_lab, ring_lab = colours[band_yx], colours[ring_yx]
-        left = torch.zeros(len(band_lab), dtype=torch.bool)
-        like_car = (torch.cdist(band_lab, car).amin(1) <= contrast).nonzero().flatten()
-        ring_pos = torch.stack(ring_yx, 1)
-        for chunk in like_car.split(512):
-            pos = torch.stack([band_yx[0][chunk], band_yx[1][chunk]], 1)
-            apart = (pos[:, None] - ring_pos[None]).abs().amax(2) <= 3 * r  # (c, Q) surroundings near each pixel
-            d = torch.cdist(band_lab[chunk], ring_lab).masked_fill(~apart, float("inf")).amin(1)
-            left[chunk] = d > contrast
+        band_yx = nonzero_yx(band)
+        # Most pixels have their colour on the ring pixel nearest them; only the others are compared with all.
+        _, label = cv2.distanceTransformWithLabels((~ring).numpy().astype(np.uint8), cv2.DIST_L2, 5,
+                                                   labelType=cv2.DIST_LABEL_PIXEL)
+        label = torch.from_numpy(label).long()
+        ring_yx = nonzero_yx(ring)  # each ring pixel's own label says which one a pixel nearest to it is nearest to
+        by_label = torch.zeros((int(label.max()) + 1, 2), dtype=torch.long)
+        by_label[label[ring_yx]] = torch.stack(ring_yx, 1)
+        ny, nx = by_label[label[band_yx]].unbind(1)
+        left = ~(((ny - band_yx[0]).abs().maximum((nx - band_yx[1]).abs()) <= 3 * r)
+                 & ((colours[band_yx] - colours[ny, nx]).norm(dim=1) <= contrast))
+        at = left.nonzero().flatten()
+        left[at] = _unlike_around(colours, (band_yx[0][at], band_yx[1][at]), ring, 3 * r, contrast)
+        if any_set(left):  # ... and like the car (its colours thinned to at most 2048)
+            car = colours[own]
+            car = car[torch.linspace(0, len(car) - 1, min(len(car), 2048)).long()]
+            at = left.nonzero().flatten()
+            left[at] = torch.cdist(colours[band_yx[0][at], band_yx[1][at]], car).amin(1) <= contrast
         if not any_set(left):
             continue
         pieces = torch.zeros_like(band)
@@ -179,6 +185,37 @@ def leftover_pieces(lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor, bl
         attached = isin_ids(labels, touching[touching > 0])
         out[y0:y1, x0:x1] |= dilate_square(attached, 1) & band
     return out
+
+
+def _unlike_around(colours: Tensor, at: tuple[Tensor, Tensor], ring: Tensor, window: int, contrast: float) -> Tensor:
+    """``(N,)`` bool: which pixels ``at`` (rows, columns) of ``colours (h, w, 3)`` (Lab) lie farther than ``contrast``
+    from the colour of every ``ring (h, w)`` pixel within ``window`` pixels of them (a square's; none there: True).
+    Tile by tile (tiles of side ``window``): a pixel's ring pixels lie in its tile and the eight around it."""
+    width = ring.shape[1]
+    side = max(int(window), 1)
+    per_row = width // side + 1
+    ring_yx = nonzero_yx(ring)
+    ring_key = (ring_yx[0] // side) * per_row + ring_yx[1] // side
+    order = torch.argsort(ring_key, stable=True)
+    ring_key, ring_pos = ring_key[order], torch.stack(ring_yx, 1)[order]
+    ring_lab = colours[ring_yx][order]
+    key = (at[0] // side) * per_row + at[1] // side
+    pos = torch.stack(at, 1)
+    unlike = torch.ones(len(key), dtype=torch.bool)
+    for k in torch.unique(key).tolist():
+        ty, tx = divmod(k, per_row)
+        tiles = torch.tensor([(ty + dy) * per_row + tx + dx for dy in (-1, 0, 1) for dx in (-1, 0, 1)
+                              if ty + dy >= 0 and 0 <= tx + dx < per_row])
+        lo = torch.searchsorted(ring_key, tiles)
+        hi = torch.searchsorted(ring_key, tiles, right=True)
+        near = torch.cat([torch.arange(a, b) for a, b in zip(lo.tolist(), hi.tolist(), strict=True)])
+        if not len(near):
+            continue
+        mine = (key == k).nonzero().flatten()
+        apart = (pos[mine][:, None] - ring_pos[near][None]).abs().amax(2) <= window  # (n, m): ring pixels near
+        d = torch.cdist(colours[at[0][mine], at[1][mine]], ring_lab[near]).masked_fill(~apart, float("inf"))
+        unlike[mine] = d.amin(1) > contrast
+    return unlike
 
 
 def _shadow_bands(ids: Tensor, gone: Tensor, share: float) -> Tensor:

@@ -1,7 +1,8 @@
 # ruff: noqa: E501
 """Real frame probe (session 12's realframe/probe.py, cut to this task's edits): the frame of tests/data de-rendered
 with a box per car (README's boxes, proposals=boxes, the demo weights of RUN_DIR), then each car turned by 90 degrees
-and deleted, drawn by one EditSession; saves each edited picture (.png) and its source and part maps (.npz).
+and deleted, drawn by one EditSession; saves each edited picture (.png) and its source and part maps (.npz), and
+the de-rendered scene with each edited one (scenes.pt, for redraw.py).
 
     cd CODE_TREE && PYTHONPATH=CODE_TREE/src OMP_NUM_THREADS=1 nice -n 5 python probe.py RUN_DIR OUT_DIR [only=deleted]
 """
@@ -46,6 +47,7 @@ def main() -> int:
     settings = dataclasses.replace(settings, box_fit=box_fit_for_input(cfg, settings.box_fit))
     session = EditSession(models, bank, settings)
     inp, _ = open_input(cfg)
+    saved: dict = {}
     for iid in (12001, 12002):
         for title, op in EDITS:
             name = f"{iid}_{title.replace(' ', '_')}"
@@ -57,6 +59,7 @@ def main() -> int:
             t = time.perf_counter()
             derendered = session.derender(inp, spec)
             ops, edited_scene = session.resolve(derendered, spec)
+            saved[name] = edited_scene
             drawn = session.renderer.draw(derendered.source, edited_scene, ops, None)
             dt = time.perf_counter() - t
             res = drawn.photo
@@ -65,6 +68,8 @@ def main() -> int:
             np.savez_compressed(out / f"{name}.npz", edited=edited, source=res.source.numpy(),
                                 parts=res.parts.numpy() if res.parts is not None else np.zeros(1))
             print(name, f"{dt:.1f}s", res.summary().get("objects", {}).get(iid, res.summary().get("objects", {}).get(str(iid))), flush=True)
+    # For redraw.py: the same scene and edits drawn with other photo settings, without a de-render.
+    torch.save({"scene": derendered.scene, "frame": derendered.input.frame, "edits": saved}, out / "scenes.pt")
     return 0
 
 

@@ -65,6 +65,20 @@ def test_the_hole_takes_a_mirror_its_mask_missed_and_nothing_that_runs_on_beyond
     assert not bool(far.any())
 
 
+def test_a_kerb_behind_the_roof_cut_off_between_two_poles_is_no_leftover():
+    """Above the roof a pale kerb runs behind the car, cut into a short piece by two poles: cut off from farther out
+    like a mirror, but wholly above the roof, it is what stands behind the car."""
+    image, ids, parts = _street()
+    _paint(image, slice(0, 30), slice(0, 160), (0.15, 0.3, 0.12))  # trees
+    _paint(image, slice(23, 27), slice(0, 160), (0.95, 0.93, 0.7))  # the kerb, just above the roof's hole
+    _paint(image, slice(0, 30), slice(60, 62), POLE)
+    _paint(image, slice(0, 30), slice(90, 92), POLE)
+    hole = dilate_square(ids == 7, 3) & (ids != 9)
+    found = leftover_pieces(PictureLab(image), hole, ids, torch.tensor([7]), ids == 9, 0.1, 12.0)
+    assert not bool(found[:27].any())
+    assert bool(found[parts["mirror"] & ~hole].all())  # the mirror still goes
+
+
 def test_a_piece_that_looks_like_the_road_around_it_is_no_leftover():
     image, ids, parts = _street()
     _paint(image, slice(44, 49), slice(44, 50), GREY)  # no mirror: the same grey as the road
@@ -74,7 +88,7 @@ def test_a_piece_that_looks_like_the_road_around_it_is_no_leftover():
 
 
 def test_leftover_settings_are_checked_by_name():
-    for name, bad in (("leftover_reach", -0.1), ("leftover_reach", 0.6), ("leftover_contrast", "x")):
+    for name, bad in (("leftover_reach", -0.1), ("leftover_reach", 0.6), ("leftover_step", "x")):
         with pytest.raises(PhotoSettingsError, match=name):
             PhotoSettings(**{name: bad})
     assert PhotoSettings().leftover_reach > 0  # on by default

@@ -115,23 +115,22 @@ def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSetting
 
 
 def leftover_pieces(lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor, blocked: Tensor, reach: float,
-                    contrast: float) -> Tensor:
+                    step: float, attach_px: int = 4) -> Tensor:
     """``(H, W)`` bool: pieces of the removed objects that their masks and fitted silhouettes missed (a side mirror
-    juts out of both: a template has none, and a mask at the working size loses its thin stalk), which the hole
+    juts out of both: a template has none, and a mask made at the working size loses its thin stalk), which the hole
     must take too, else the fill runs up to them and they stay in the picture as flecks.
 
-    Per object of ``gone (K,)`` in ``ids (H, W)`` (the instance map), with ``r`` = ``reach`` of its mask's height
-    (at least 1 pixel) and ``lab`` the picture's :class:`~sdn3d.editing.photo.road.PictureLab`: a pixel at most
-    ``r`` pixels (a square's) from ``hole (H, W)``, outside it and outside ``blocked (H, W)`` (objects that stay,
-    thin things in front of the car), is a *leftover* where
-
-    - its colour lies farther than ``contrast`` (CIE Lab) from every colour of the *surroundings* within ``3 r``
-      pixels of it: the pixels ``r + 1`` to ``3 r`` from the hole (a structure that runs on beyond ``r``, a pole, a
-      kerb, a lane line, another car, shows there too and so looks like its surroundings), and
-    - it lies within ``contrast`` of a colour of the object's own mask (eroded by a pixel: no mixed rim);
-
-    the leftovers 8-connected to the hole are kept, grown by a pixel inside the band (their anti-aliased rim).
-    ``reach`` 0: none.
+    Per object of ``gone (K,)`` in ``ids (H, W)`` (the instance map), with ``r`` = ``reach`` of its mask's height (at
+    least 1 pixel): the *zone* is the pixels at most ``r + 1`` from ``hole (H, W)`` (a square's), outside it and
+    outside ``blocked (H, W)`` (objects that stay, thin things in front of the car). It is flooded from its outer
+    edge (its pixels ``r + 1`` from the hole), pixel to 8-neighbour wherever their colours (``lab``, the picture's
+    :class:`~sdn3d.editing.photo.road.PictureLab`) differ by at most ``step`` in each Lab channel (OpenCV's
+    ``floodFill``, floating range). What the flood reaches runs on from beyond ``r``: road, a verge, a pole, a lane
+    line, and stays. What it does not reach lies within ``r`` of the hole, cut off from everything farther by a colour
+    edge. Its 8-connected pieces that touch the hole within ``attach_px`` pixels of the object's own mask (attached
+    to the car, not only to the shadow band below it) and reach lower than ``r`` rows below the mask's top row (not
+    wholly above the roof: what stands behind a car's roof, a kerb between two poles, is cut off the same way) are
+    leftovers, grown by a pixel within ``r`` of the hole (their anti-aliased rim). ``reach`` 0: none.
     """
     import cv2
 
@@ -144,78 +143,36 @@ def leftover_pieces(lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor, bl
         mine = ids == iid
         rows, cols = any_along(mine, 1).nonzero().flatten(), any_along(mine, 0).nonzero().flatten()
         r = max(1, round(reach * float(rows[-1] - rows[0] + 1)))
-        # The object's box grown by what its silhouette may add (the hole's reach past the mask) and 3 r.
-        pad = 4 * r + 16
+        # The object's box grown by what its silhouette and shadow band may add to the hole, and the zone.
+        pad = 2 * r + 16
         y0, y1 = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + pad + 1, height)
         x0, x1 = max(int(cols[0]) - pad, 0), min(int(cols[-1]) + pad + 1, width)
         near_hole = hole[y0:y1, x0:x1]
-        free = ~blocked[y0:y1, x0:x1]
         within_r = dilate_square(near_hole, r)
-        band = within_r & ~near_hole & free
-        ring = dilate_square(near_hole, 3 * r) & ~within_r
-        own = ~dilate_square(~mine[y0:y1, x0:x1], 1)
-        if not any_set(band) or not any_set(ring) or not any_set(own):
+        zone = dilate_square(near_hole, r + 1) & ~near_hole & ~blocked[y0:y1, x0:x1]
+        if not any_set(zone & within_r):
             continue
-        colours = lab.box(y0, y1, x0, x1).view(y1 - y0, x1 - x0, 3)
-        band_yx = nonzero_yx(band)
-        # Most pixels have their colour on the ring pixel nearest them; only the others are compared with all.
-        _, label = cv2.distanceTransformWithLabels((~ring).numpy().astype(np.uint8), cv2.DIST_L2, 5,
-                                                   labelType=cv2.DIST_LABEL_PIXEL)
-        label = torch.from_numpy(label).long()
-        ring_yx = nonzero_yx(ring)  # each ring pixel's own label says which one a pixel nearest to it is nearest to
-        by_label = torch.zeros((int(label.max()) + 1, 2), dtype=torch.long)
-        by_label[label[ring_yx]] = torch.stack(ring_yx, 1)
-        ny, nx = by_label[label[band_yx]].unbind(1)
-        left = ~(((ny - band_yx[0]).abs().maximum((nx - band_yx[1]).abs()) <= 3 * r)
-                 & ((colours[band_yx] - colours[ny, nx]).norm(dim=1) <= contrast))
-        at = left.nonzero().flatten()
-        left[at] = _unlike_around(colours, (band_yx[0][at], band_yx[1][at]), ring, 3 * r, contrast)
-        if any_set(left):  # ... and like the car (its colours thinned to at most 2048)
-            car = colours[own]
-            car = car[torch.linspace(0, len(car) - 1, min(len(car), 2048)).long()]
-            at = left.nonzero().flatten()
-            left[at] = torch.cdist(colours[band_yx[0][at], band_yx[1][at]], car).amin(1) <= contrast
-        if not any_set(left):
+        picture = np.ascontiguousarray(lab.box(y0, y1, x0, x1).view(y1 - y0, x1 - x0, 3).numpy())
+        # floodFill's mask: 0 where it may fill (the zone), 1 elsewhere; it writes 2 where it filled.
+        fill = np.pad((~zone).numpy().astype(np.uint8), 1, constant_values=1)
+        flags = 8 | cv2.FLOODFILL_MASK_ONLY | (2 << 8)
+        ey, ex = nonzero_yx(zone & ~within_r)
+        for y, x in zip(ey.tolist(), ex.tolist(), strict=True):
+            if fill[y + 1, x + 1] == 0:
+                cv2.floodFill(picture, fill, (x, y), 0, (step,) * 3, (step,) * 3, flags)
+        cut_off = torch.from_numpy(fill[1:-1, 1:-1] == 0) & zone
+        if not any_set(cut_off):
             continue
-        pieces = torch.zeros_like(band)
-        pieces[band_yx[0][left], band_yx[1][left]] = True
-        count, labels = cv2.connectedComponents(pieces.numpy().astype(np.uint8), connectivity=8)
-        labels = torch.from_numpy(labels)
-        touching = labels[dilate_square(near_hole, 1) & pieces].unique()
-        attached = isin_ids(labels, touching[touching > 0])
-        out[y0:y1, x0:x1] |= dilate_square(attached, 1) & band
+        _, labels = cv2.connectedComponents(cut_off.numpy().astype(np.uint8), connectivity=8)
+        labels = torch.from_numpy(labels).long()
+        attached = dilate_square(near_hole, 1) & dilate_square(mine[y0:y1, x0:x1], attach_px) & cut_off
+        touching = labels[attached].unique()
+        lowest = torch.zeros(int(labels.max()) + 1, dtype=torch.long).scatter_reduce(
+            0, labels.flatten(), torch.arange(y0, y1)[:, None].expand(-1, x1 - x0).flatten(), "amax")
+        touching = touching[lowest[touching] > int(rows[0]) + r]
+        if len(touching):
+            out[y0:y1, x0:x1] |= dilate_square(isin_ids(labels, touching), 1) & zone & within_r
     return out
-
-
-def _unlike_around(colours: Tensor, at: tuple[Tensor, Tensor], ring: Tensor, window: int, contrast: float) -> Tensor:
-    """``(N,)`` bool: which pixels ``at`` (rows, columns) of ``colours (h, w, 3)`` (Lab) lie farther than ``contrast``
-    from the colour of every ``ring (h, w)`` pixel within ``window`` pixels of them (a square's; none there: True).
-    Tile by tile (tiles of side ``window``): a pixel's ring pixels lie in its tile and the eight around it."""
-    width = ring.shape[1]
-    side = max(int(window), 1)
-    per_row = width // side + 1
-    ring_yx = nonzero_yx(ring)
-    ring_key = (ring_yx[0] // side) * per_row + ring_yx[1] // side
-    order = torch.argsort(ring_key, stable=True)
-    ring_key, ring_pos = ring_key[order], torch.stack(ring_yx, 1)[order]
-    ring_lab = colours[ring_yx][order]
-    key = (at[0] // side) * per_row + at[1] // side
-    pos = torch.stack(at, 1)
-    unlike = torch.ones(len(key), dtype=torch.bool)
-    for k in torch.unique(key).tolist():
-        ty, tx = divmod(k, per_row)
-        tiles = torch.tensor([(ty + dy) * per_row + tx + dx for dy in (-1, 0, 1) for dx in (-1, 0, 1)
-                              if ty + dy >= 0 and 0 <= tx + dx < per_row])
-        lo = torch.searchsorted(ring_key, tiles)
-        hi = torch.searchsorted(ring_key, tiles, right=True)
-        near = torch.cat([torch.arange(a, b) for a, b in zip(lo.tolist(), hi.tolist(), strict=True)])
-        if not len(near):
-            continue
-        mine = (key == k).nonzero().flatten()
-        apart = (pos[mine][:, None] - ring_pos[near][None]).abs().amax(2) <= window  # (n, m): ring pixels near
-        d = torch.cdist(colours[at[0][mine], at[1][mine]], ring_lab[near]).masked_fill(~apart, float("inf"))
-        unlike[mine] = d.amin(1) > contrast
-    return unlike
 
 
 def _shadow_bands(ids: Tensor, gone: Tensor, share: float) -> Tensor:

@@ -112,11 +112,11 @@ class PhotoSettings:
         shadow_band: height of the road band below a vacated footprint (its old contact shadow) as a fraction
             of the footprint's height.
         leftover_reach: the hole also takes the pieces of a removed object that its mask and fitted silhouette
-            missed (a side mirror), up to this share of its mask's height past the hole: pixels there whose colour
-            is unlike the pixels around them farther out and nearer to the object's own colours, attached to the
-            hole (:func:`~sdn3d.editing.photo.fill.leftover_pieces`; 0: none). On the real frame of ``tests/data``
-            the mirrors of both cars stayed behind as flecks (docs/results/2026-11-30_cpu/session21/speck/).
-        leftover_contrast: ... unlike: farther than this (CIE Lab) from every colour around.
+            missed (a side mirror), up to this share of its mask's height past the hole: pixels there that a flood from
+            farther out, across colour steps of at most ``leftover_step``, does not reach, in pieces attached to the
+            car (:func:`~sdn3d.editing.photo.fill.leftover_pieces`; 0: none). On the real frame of ``tests/data`` the
+            black car's mirror stayed behind as a dark speck (docs/results/2026-11-30_cpu/session21/speck/).
+        leftover_step: ... the largest colour step (CIE Lab, each channel) the flood crosses.
         contact_shadow: darkening of the road under a moved object at its new place (0: none).
         relight: re-shade transferred pixels for their new normals (:func:`fit_light`; False, the default: on the
             tuning seed's exact turn pairs the fitted light cost every bin 1-2 dB, the unseen surfaces carry the
@@ -218,7 +218,7 @@ class PhotoSettings:
     hole_dilate_px: int = 3
     shadow_band: float = 0.12
     leftover_reach: float = 0.06
-    leftover_contrast: float = 12.0
+    leftover_step: float = 12.0
     contact_shadow: float = 0.3
     relight: bool = False
     inpaint_radius: int = 5
@@ -270,7 +270,7 @@ class PhotoSettings:
             raise PhotoSettingsError(f"photo.unseen must be one of {UNSEEN_MODES}, got {self.unseen!r}")
         checks = (("depth_tolerance", self.depth_tolerance, 0.0, 1.0), ("shadow_band", self.shadow_band, 0.0, 1.0),
                   ("leftover_reach", self.leftover_reach, 0.0, 0.5),
-                  ("leftover_contrast", self.leftover_contrast, 0.0, 100.0),
+                  ("leftover_step", self.leftover_step, 0.0, 100.0),
                   ("min_view_cos", self.min_view_cos, 0.0, 1.0),
                   ("contact_shadow", self.contact_shadow, 0.0, 1.0), ("cast_blur", self.cast_blur, 0.3, 16.0),
                   ("ray_blur", self.ray_blur, 0.0, 8.0), ("ray_texture", self.ray_texture, 0.0, 2.0),

@@ -1136,7 +1136,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         hole = hole | (dilate_square(fitted, settings.hole_dilate_px) & ~keep)
     # What of the removed objects neither their masks nor their silhouettes took (a side mirror) joins the hole.
     hole = hole | leftover_pieces(photo_source.lab(), hole, src_ids, gone_ids, keep | photo_source.in_front,
-                                  settings.leftover_reach, settings.leftover_contrast)
+                                  settings.leftover_reach, settings.leftover_step)
     if any_set(hole):  # thin things in front are put back over the fill: they are no source of it
         hole = hole | photo_source.in_front
     # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.

@@ -114,23 +114,31 @@ def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSetting
     return hole & ~keep
 
 
+#: :func:`leftover_pieces`: an object whose reach (``reach`` of its mask's height) is under this many pixels is not
+#: searched: its mirrors are a pixel or less, which the hole's rim (``hole_dilate_px``) covers, and what a reach that
+#: short cuts off is the lines along the hole's edge (an anti-aliased rim, a rail's edge).
+LEFTOVER_MIN_PX = 3
+
+
 def leftover_pieces(lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor, blocked: Tensor, reach: float,
                     step: float, attach_px: int = 4) -> Tensor:
     """``(H, W)`` bool: pieces of the removed objects that their masks and fitted silhouettes missed (a side mirror
     juts out of both: a template has none, and a mask made at the working size loses its thin stalk), which the hole
     must take too, else the fill runs up to them and they stay in the picture as flecks.
 
-    Per object of ``gone (K,)`` in ``ids (H, W)`` (the instance map), with ``r`` = ``reach`` of its mask's height (at
-    least 1 pixel): the *zone* is the pixels at most ``r + 1`` from ``hole (H, W)`` (a square's), outside it and
-    outside ``blocked (H, W)`` (objects that stay, thin things in front of the car). It is flooded from its outer
-    edge (its pixels ``r + 1`` from the hole), pixel to 8-neighbour wherever their colours (``lab``, the picture's
-    :class:`~sdn3d.editing.photo.road.PictureLab`) differ by at most ``step`` in each Lab channel (OpenCV's
-    ``floodFill``, floating range). What the flood reaches runs on from beyond ``r``: road, a verge, a pole, a lane
-    line, and stays. What it does not reach lies within ``r`` of the hole, cut off from everything farther by a colour
-    edge. Its 8-connected pieces that touch the hole within ``attach_px`` pixels of the object's own mask (attached
-    to the car, not only to the shadow band below it) and reach lower than ``r`` rows below the mask's top row (not
-    wholly above the roof: what stands behind a car's roof, a kerb between two poles, is cut off the same way) are
-    leftovers, grown by a pixel within ``r`` of the hole (their anti-aliased rim). ``reach`` 0: none.
+    Per object of ``gone (K,)`` in ``ids (H, W)`` (the instance map), with ``r`` = ``reach`` of its mask's height
+    (rounded; under :data:`LEFTOVER_MIN_PX` the object is not searched): the *zone* is the pixels at most ``r + 1``
+    from ``hole (H, W)`` (a square's), outside it and outside ``blocked (H, W)`` (objects that stay, thin things in
+    front of the car). It is flooded from its outer edge (its pixels ``r + 1`` from the hole), pixel to 8-neighbour
+    wherever their colours (``lab``, the picture's :class:`~sdn3d.editing.photo.road.PictureLab`) differ by at most
+    ``step`` in each Lab channel (OpenCV's ``floodFill``, floating range). What the flood reaches runs on from beyond
+    ``r``: road, a verge, a pole, a lane line, and stays. What it does not reach lies within ``r`` of the hole, cut off
+    from everything farther by a colour edge. Its 8-connected pieces that touch the hole within ``attach_px`` pixels of
+    the object's own mask (attached to the car, not only to the shadow band below it) and lie beside its upper half
+    (reaching lower than ``r`` rows below the mask's top row and higher than its middle row: wholly above the roof is
+    what stands behind the car, a kerb cut off between two poles; lower down, what lies on the road beside the shadow
+    band, a lane line) are leftovers, grown by a pixel within ``r`` of the hole (their anti-aliased rim). ``reach`` 0:
+    none.
     """
     import cv2
 
@@ -142,7 +150,9 @@ def leftover_pieces(lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor, bl
     for iid in gone.tolist():
         mine = ids == iid
         rows, cols = any_along(mine, 1).nonzero().flatten(), any_along(mine, 0).nonzero().flatten()
-        r = max(1, round(reach * float(rows[-1] - rows[0] + 1)))
+        r = round(reach * float(rows[-1] - rows[0] + 1))
+        if r < LEFTOVER_MIN_PX:
+            continue
         # The object's box grown by what its silhouette and shadow band may add to the hole, and the zone.
         pad = 2 * r + 16
         y0, y1 = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + pad + 1, height)
@@ -167,9 +177,15 @@ def leftover_pieces(lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor, bl
         labels = torch.from_numpy(labels).long()
         attached = dilate_square(near_hole, 1) & dilate_square(mine[y0:y1, x0:x1], attach_px) & cut_off
         touching = labels[attached].unique()
+        touching = touching[touching > 0]
+        # Beside the car's upper half, where a mirror juts out: cut off wholly above the roof is what stands behind
+        # it (a kerb between two poles), and lower down it lies on the road (a lane line beside the shadow band).
+        at_row = torch.arange(y0, y1)[:, None].expand(-1, x1 - x0).flatten()
         lowest = torch.zeros(int(labels.max()) + 1, dtype=torch.long).scatter_reduce(
-            0, labels.flatten(), torch.arange(y0, y1)[:, None].expand(-1, x1 - x0).flatten(), "amax")
-        touching = touching[lowest[touching] > int(rows[0]) + r]
+            0, labels.flatten(), at_row, "amax")
+        highest = torch.full_like(lowest, height).scatter_reduce(0, labels.flatten(), at_row, "amin")
+        touching = touching[(lowest[touching] > int(rows[0]) + r)
+                            & (highest[touching] <= (int(rows[0]) + int(rows[-1])) // 2)]
         if len(touching):
             out[y0:y1, x0:x1] |= dilate_square(isin_ids(labels, touching), 1) & zone & within_r
     return out

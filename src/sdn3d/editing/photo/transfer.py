@@ -1134,9 +1134,11 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         if settings.silhouette == "carved":  # the template where the input's masks rule it out is not the car
             fitted &= ~background
         hole = hole | (dilate_square(fitted, settings.hole_dilate_px) & ~keep)
-    # What of the removed objects neither their masks nor their silhouettes took (a side mirror) joins the hole.
-    hole = hole | leftover_pieces(photo_source.lab(), hole, src_ids, gone_ids, keep | photo_source.in_front,
-                                  settings.leftover_reach, settings.leftover_step)
+    # What of the removed objects neither their masks nor their silhouettes took (a side mirror): filled after the
+    # hole, from the filled picture around it, so that the hole's own fill stays what it was (its rays, their grain
+    # and haze are fitted on the pixels around the hole).
+    leftovers = leftover_pieces(photo_source.lab(), hole, src_ids, gone_ids, keep | photo_source.in_front,
+                                settings.leftover_reach, settings.leftover_step)
     if any_set(hole):  # thin things in front are put back over the fill: they are no source of it
         hole = hole | photo_source.in_front
     # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
@@ -1173,6 +1175,9 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         else:
             out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0, vanishing=vp,
                                                      lab=photo_source.lab()))
+    if any_set(leftovers):
+        out = inpaint(out, leftovers, "telea", settings.inpaint_radius)
+        hole = hole | leftovers
     source = torch.where(hole, FILL, INPUT).to(torch.uint8)
     if matte is not None:
         source = torch.where((matte > 0.02) & ~hole, RELIT, source).to(torch.uint8)

@@ -111,11 +111,13 @@ class PhotoSettings:
         hole_dilate_px: input pixels a vacated footprint grows by (its anti-aliased rim, its shadow's edge).
         shadow_band: height of the road band below a vacated footprint (its old contact shadow) as a fraction
             of the footprint's height.
-        leftover_reach: the hole also takes the pieces of a removed object that its mask and fitted silhouette
+        leftover_reach: a removal also fills the pieces of a removed object that its mask and fitted silhouette
             missed (a side mirror), up to this share of its mask's height past the hole: pixels there that a flood from
             farther out, across colour steps of at most ``leftover_step``, does not reach, in pieces attached to the
-            car (:func:`~sdn3d.editing.photo.fill.leftover_pieces`; 0: none). On the real frame of ``tests/data`` the
-            black car's mirror stayed behind as a dark speck (docs/results/2026-11-30_cpu/session21/speck/).
+            car beside its upper half (:func:`~sdn3d.editing.photo.fill.leftover_pieces`), filled by Telea after the
+            hole so that its fill stays the same (0: none). On the real frame of ``tests/data`` the black car's mirror
+            stayed behind as a dark speck; on the tuning trees' deletes no PSNR changed
+            (docs/results/2026-11-30_cpu/session21/speck/).
         leftover_step: ... the largest colour step (CIE Lab, each channel) the flood crosses.
         contact_shadow: darkening of the road under a moved object at its new place (0: none).
         relight: re-shade transferred pixels for their new normals (:func:`fit_light`; False, the default: on the

@@ -23,7 +23,7 @@ from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, ids_pr
 if TYPE_CHECKING:
     from sdn3d.editing.photo.road import PictureLab
 
-__all__ = ["inpaint", "vacated_hole", "fill_hole"]
+__all__ = ["inpaint", "vacated_hole", "leftover_pieces", "fill_hole"]
 
 
 def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5, patch_size: int = 3,
@@ -112,6 +112,83 @@ def vacated_hole(ids: Tensor, gone: Tensor, keep: Tensor, settings: PhotoSetting
     if settings.shadow_band > 0 and any_set(vacated):
         hole |= dilate_square(_shadow_bands(ids, gone, settings.shadow_band), 1)
     return hole & ~keep
+
+
+#: :func:`leftover_pieces`: an object whose reach (``reach`` of its mask's height) is under this many pixels is not
+#: searched: its mirrors are a pixel or less, which the hole's rim (``hole_dilate_px``) covers, and what a reach that
+#: short cuts off is the lines along the hole's edge (an anti-aliased rim, a rail's edge).
+LEFTOVER_MIN_PX = 3
+
+
+def leftover_pieces(lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor, blocked: Tensor, reach: float,
+                    step: float, attach_px: int = 4) -> Tensor:
+    """``(H, W)`` bool: pieces of the removed objects that their masks and fitted silhouettes missed (a side mirror
+    juts out of both: a template has none, and a mask made at the working size loses its thin stalk), which the hole
+    must take too, else the fill runs up to them and they stay in the picture as flecks.
+
+    Per object of ``gone (K,)`` in ``ids (H, W)`` (the instance map), with ``r`` = ``reach`` of its mask's height
+    (rounded; under :data:`LEFTOVER_MIN_PX` the object is not searched): the *zone* is the pixels at most ``r + 1``
+    from ``hole (H, W)`` (a square's), outside it and outside ``blocked (H, W)`` (objects that stay, thin things in
+    front of the car). It is flooded from its outer edge (its pixels ``r + 1`` from the hole), pixel to 8-neighbour
+    wherever their colours (``lab``, the picture's :class:`~sdn3d.editing.photo.road.PictureLab`) differ by at most
+    ``step`` in each Lab channel (OpenCV's ``floodFill``, floating range). What the flood reaches runs on from beyond
+    ``r``: road, a verge, a pole, a lane line, and stays. What it does not reach lies within ``r`` of the hole, cut off
+    from everything farther by a colour edge. Its 8-connected pieces that touch the hole within ``attach_px`` pixels of
+    the object's own mask (attached to the car, not only to the shadow band below it) and lie beside its upper half
+    (reaching lower than ``r`` rows below the mask's top row and higher than its middle row: wholly above the roof is
+    what stands behind the car, a kerb cut off between two poles; lower down, what lies on the road beside the shadow
+    band, a lane line) are leftovers, grown by a pixel within ``r`` of the hole (their anti-aliased rim). ``reach`` 0:
+    none.
+    """
+    import cv2
+
+    out = torch.zeros_like(hole)
+    if reach <= 0 or not any_set(hole):
+        return out
+    height, width = hole.shape
+    gone = gone[ids_present(ids, gone)] if len(gone) else gone
+    for iid in gone.tolist():
+        mine = ids == iid
+        rows, cols = any_along(mine, 1).nonzero().flatten(), any_along(mine, 0).nonzero().flatten()
+        r = round(reach * float(rows[-1] - rows[0] + 1))
+        if r < LEFTOVER_MIN_PX:
+            continue
+        # The object's box grown by what its silhouette and shadow band may add to the hole, and the zone.
+        pad = 2 * r + 16
+        y0, y1 = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + pad + 1, height)
+        x0, x1 = max(int(cols[0]) - pad, 0), min(int(cols[-1]) + pad + 1, width)
+        near_hole = hole[y0:y1, x0:x1]
+        within_r = dilate_square(near_hole, r)
+        zone = dilate_square(near_hole, r + 1) & ~near_hole & ~blocked[y0:y1, x0:x1]
+        if not any_set(zone & within_r):
+            continue
+        picture = np.ascontiguousarray(lab.box(y0, y1, x0, x1).view(y1 - y0, x1 - x0, 3).numpy())
+        # floodFill's mask: 0 where it may fill (the zone), 1 elsewhere; it writes 2 where it filled.
+        fill = np.pad((~zone).numpy().astype(np.uint8), 1, constant_values=1)
+        flags = 8 | cv2.FLOODFILL_MASK_ONLY | (2 << 8)
+        ey, ex = nonzero_yx(zone & ~within_r)
+        for y, x in zip(ey.tolist(), ex.tolist(), strict=True):
+            if fill[y + 1, x + 1] == 0:
+                cv2.floodFill(picture, fill, (x, y), 0, (step,) * 3, (step,) * 3, flags)
+        cut_off = torch.from_numpy(fill[1:-1, 1:-1] == 0) & zone
+        if not any_set(cut_off):
+            continue
+        _, labels = cv2.connectedComponents(cut_off.numpy().astype(np.uint8), connectivity=8)
+        labels = torch.from_numpy(labels).long()
+        attached = dilate_square(near_hole, 1) & dilate_square(mine[y0:y1, x0:x1], attach_px) & cut_off
+        touching = labels[attached].unique()
+        touching = touching[touching > 0]
+        # Beside the car's upper half, where a mirror juts out: cut off wholly above the roof is what stands behind
+        # it (a kerb between two poles), and lower down it lies on the road (a lane line beside the shadow band).
+        at_row = torch.arange(y0, y1)[:, None].expand(-1, x1 - x0).flatten()
+        lowest = torch.zeros(int(labels.max()) + 1, dtype=torch.long).scatter_reduce(
+            0, labels.flatten(), at_row, "amax")
+        highest = torch.full_like(lowest, height).scatter_reduce(0, labels.flatten(), at_row, "amin")
+        touching = touching[(lowest[touching] > int(rows[0]) + r)
+                            & (highest[touching] <= (int(rows[0]) + int(rows[-1])) // 2)]
+        if len(touching):
+            out[y0:y1, x0:x1] |= dilate_square(isin_ids(labels, touching), 1) & zone & within_r
+    return out
 
 
 def _shadow_bands(ids: Tensor, gone: Tensor, share: float) -> Tensor:

@@ -18,6 +18,7 @@ from sdn3d.editing.frame import PixelFrame, input_intrinsics, input_window, upsa
 from sdn3d.editing.photo.fill import (
     fill_hole,
     inpaint,
+    leftover_pieces,
     relight_shadow,
     shadow_gain,
     vacated_hole,
@@ -1128,6 +1129,16 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     # Vacated pixels (step 2); the source pixels of the objects that stay are kept.
     keep = covered & staying
     hole = vacated_hole(src_ids, gone_ids, keep, settings)
+    if effects:  # the removed objects' fitted silhouettes join the hole (their shadows: _remove_with_effects)
+        fitted = isin_ids(photo_source.outline_ids, gone_ids)
+        if settings.silhouette == "carved":  # the template where the input's masks rule it out is not the car
+            fitted &= ~background
+        hole = hole | (dilate_square(fitted, settings.hole_dilate_px) & ~keep)
+    # What of the removed objects neither their masks nor their silhouettes took (a side mirror): filled after the
+    # hole, from the filled picture around it, so that the hole's own fill stays what it was (its rays, their grain
+    # and haze are fitted on the pixels around the hole).
+    leftovers = leftover_pieces(photo_source.lab(), hole, src_ids, gone_ids, keep | photo_source.in_front,
+                                settings.leftover_reach, settings.leftover_step)
     if any_set(hole):  # thin things in front are put back over the fill: they are no source of it
         hole = hole | photo_source.in_front
     # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
@@ -1145,13 +1156,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     else:  # the hole and its fill depend only on which objects left and which stayed
         stay_ids = after.instance_id[stays]
         key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
-        if effects:  # the removed objects' silhouettes join the hole; their shadows are relit
-            fitted = isin_ids(photo_source.outline_ids, gone_ids)
-            if settings.silhouette == "carved":  # the template where the input's masks rule it out is not the car
-                fitted &= ~background
-            silhouette = dilate_square(fitted, settings.hole_dilate_px)
-            hole = hole | (silhouette & ~keep)
-
+        if effects:  # the removed objects' shadows are relit or filled with the hole
             def make() -> Tensor:  # the picture and the relit matte, kept together
                 filled, relit = _remove_with_effects(image, hole, (src_ids != 0) & ~hole, before, gone_rows, K,
                                                      light, settings, vp, photo_source.lab())
@@ -1170,6 +1175,9 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         else:
             out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0, vanishing=vp,
                                                      lab=photo_source.lab()))
+    if any_set(leftovers):
+        out = inpaint(out, leftovers, "telea", settings.inpaint_radius)
+        hole = hole | leftovers
     source = torch.where(hole, FILL, INPUT).to(torch.uint8)
     if matte is not None:
         source = torch.where((matte > 0.02) & ~hole, RELIT, source).to(torch.uint8)

@@ -21,6 +21,7 @@ from sdn3d.editing.photo.fill import (
     leftover_pieces,
     relight_shadow,
     shadow_gain,
+    shadow_pieces,
     vacated_hole,
 )
 from sdn3d.editing.photo.light import LightEstimate, fit_light, fit_reflection, grazing, luminance
@@ -753,6 +754,9 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
         dark = shadowed_road(image, road, near, lit, settings.shadow_light) & ~objects_px
     elif settings.delete_shadow:
         own = dark & dilate_square(search, 3) & ~hole
+        # The search region comes from the fitted box: where it sits off the car, the shadow runs on past the hole
+        # outside it (the real frame's red car: its shadow's tip beside the rear wheel stayed).
+        own |= shadow_pieces(dark & ~objects_px, hole | own, settings.shadow_reach, SHADOW_GROUND)
         hole = hole | own
         matte = -own.float()  # filled, not relit: render_photo marks these pixels fill
     keep_out = objects_px | _ground_rows(dark, hole, SHADOW_GROUND)

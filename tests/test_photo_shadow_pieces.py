@@ -59,8 +59,8 @@ def test_a_shadow_piece_past_the_reach_or_above_the_ground_rows_stays():
 
 def test_a_delete_fills_the_shadow_tip_its_box_region_missed():
     """The delete's rays fill with the removed car's shadow: the search region (from its fitted box) lies below the
-    car and misses the shadow's tip left of it; with ``shadow_reach`` (default) the tip is filled with lit road, with
-    0 (the behaviour before) it stays dark."""
+    car and misses the shadow's tip left of it; with ``shadow_reach`` (default) the tip is filled with lit road after
+    the hole, whose fill stays as it was, with 0 (the behaviour before) it stays dark."""
     import sdn3d.editing.photo.transfer as transfer
     from sdn3d.editing.photo.road import road_colours
 
@@ -85,6 +85,7 @@ def test_a_delete_fills_the_shadow_tip_its_box_region_missed():
     after, matte = transfer._rays_with_effects(image, hole, objects, search, ring, road, PhotoSettings(fill="rays"), vp)
     assert bool((matte[tip] < 0).all())  # filled (render_photo marks these pixels fill)
     assert abs(float(after[:, tip].mean()) - 0.5) < 0.05  # lit road where the tip was
+    assert torch.equal(after[:, hole], before[:, hole])  # the hole's own fill stays as it was (the tip: Telea after)
     # nothing outside the hole and the tip changed
     assert torch.equal(after[:, ~hole & ~tip], image[:, ~hole & ~tip])
 

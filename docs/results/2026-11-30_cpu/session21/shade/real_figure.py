@@ -1,8 +1,10 @@
-"""real_figure.py MAIN_DIR BRANCH_DIR OUT.png: the real frame's deletes (redraw.py outputs, NAME.npz) drawn by main
+"""real_figure.py MAIN_DIR BRANCH_DIR OUT.png [MAIN_LABEL BRANCH_LABEL]:
+the real frame's deletes (redraw.py outputs, NAME.npz) drawn by main
 and the branch, each car's delete a row: input, main, branch over the car's box (twice the size), then close-ups at
 six times the size on the pixels the two codes drew differently (the shadow's tip), every panel titled.
 
-    PYTHONPATH=src python real_figure.py /tmp/s21data/shade/real/main /tmp/s21data/shade/real/br1 OUT.png
+    PYTHONPATH=src python real_figure.py /tmp/s21data/shade/real/main /tmp/s21data/shade/real/br2 OUT.png \
+        "main (a1c700b)" "branch (0e79c64)"
 """
 
 from __future__ import annotations
@@ -30,19 +32,21 @@ def panel(picture: np.ndarray, box: tuple[int, int, int, int], scale: int, title
 
 def main() -> int:
     main_dir, branch_dir, target = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
+    main_label, branch_label = (sys.argv[4], sys.argv[5]) if len(sys.argv) > 5 else ("main", "branch")
     frame = np.array(Image.open(FRAME).convert("RGB"))
     rows = []
     for iid, (name, box) in BOXES.items():
         ours = np.load(branch_dir / f"{iid}_deleted.npz")["edited"]
         theirs = np.load(main_dir / f"{iid}_deleted.npz")["edited"]
-        rows.append([panel(frame, box, 2, f"input ({name})"), panel(theirs, box, 2, f"main: {name} deleted"),
-                     panel(ours, box, 2, f"branch: {name} deleted")])
+        rows.append([panel(frame, box, 2, f"input ({name})"), panel(theirs, box, 2, f"{main_label}: {name} deleted"),
+                     panel(ours, box, 2, f"{branch_label}: {name} deleted")])
         ys, xs = np.nonzero((ours != theirs).any(-1))
         if len(ys):
             cy, cx = (int(ys.min()) + int(ys.max())) // 2, (int(xs.min()) + int(xs.max())) // 2
             close = (cx - 25, cy - 15, cx + 25, cy + 15)
             rows.append([panel(frame, close, 6, f"input ({name}), close-up"),
-                         panel(theirs, close, 6, "main, close-up"), panel(ours, close, 6, "branch, close-up")])
+                         panel(theirs, close, 6, f"{main_label}, close-up"),
+                         panel(ours, close, 6, f"{branch_label}, close-up")])
     width = max(sum(p.width for p in r) + 6 * len(r) for r in rows)
     height = sum(max(p.height for p in r) + 6 for r in rows)
     sheet = Image.new("RGB", (width, height), "white")

@@ -1,5 +1,5 @@
 #!/bin/bash
-# latency.sh SRC BASE OUT RUNS: benchmarks/photo_latency.py --fills rays --threads 1 of the code in SRC (a git archive
+# (speck's, session 21) latency.sh SRC BASE OUT RUNS: benchmarks/photo_latency.py --fills rays --threads 1 of the code in SRC (a git archive
 # of this branch) against main at the session's start (BASE, a git archive: session_start=BASE/src), the two codes in
 # worker processes taking turns edit by edit (the 14 edits of session 14's 1242x375 latency tree), RUNS times; each
 # run's table and JSON into OUT/t1_rN.{txt,json}, the load before and after each run into OUT/latency_loads.txt.

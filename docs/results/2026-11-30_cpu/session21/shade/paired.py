@@ -1,6 +1,6 @@
 # ruff: noqa: E501
 """paired.py LABEL MAIN_DIR BRANCH_DIR [LABEL MAIN_DIR BRANCH_DIR ...]: branch against main on the same counterfactual
-pairs (sdn3d-bench counterfactual.json of each run), one Markdown row per tree label, source scene, kind (deletes:
+pairs (sdn3d-bench counterfactual.json of each run; speck's, resamples set to 10,000 here), one Markdown row per tree label, source scene, kind (deletes:
 the vacated region plus shadow band; turns: per angle bin, the car's target pixels and the changed ones: the car's,
 the vacated ones and the shadow band) and photo fill both ran: mean
 PSNR of each, the paired difference branch - main (10k bootstrap resamples, 95 %) with wins/losses/ties; for deletes
@@ -36,11 +36,12 @@ def rows(label: str, main: dict, branch: dict) -> list[str]:
                 continue
             a = [g[1]["psnr"] for g in got]
             b = [g[0]["psnr"] for g in got]
-            d = paired_difference(a, b, True)
+            d = paired_difference(a, b, True, samples=10_000)
             cells = [label, LABELS.get(source, source), bin_ if bin_ == "delete" else f"{bin_}, {region} pixels", fill, str(d.n), f"{sum(b) / len(b):.3f}", f"{sum(a) / len(a):.3f}",
                      f"{d.mean:+.3f} [{d.low:+.3f}, {d.high:+.3f}]", f"{d.wins}/{d.losses}/{d.ties}"]
             if bin_ == "delete":
-                e = paired_difference([g[1]["darkening_error"] for g in got], [g[0]["darkening_error"] for g in got], False)
+                e = paired_difference([g[1]["darkening_error"] for g in got], [g[0]["darkening_error"] for g in got], False,
+                                      samples=10_000)
                 truth = sum(g[2].get("target", 0.0) for g in got) / len(got)
                 cells += [f"{sum(g[0]['darkening'] for g in got) / len(got):+.4f}", f"{sum(g[1]['darkening'] for g in got) / len(got):+.4f}",
                           f"{truth:+.4f}", f"{e.mean:+.4f} [{e.low:+.4f}, {e.high:+.4f}] {e.wins}/{e.losses}/{e.ties}"]

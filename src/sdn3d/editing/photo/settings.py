@@ -159,13 +159,12 @@ class PhotoSettings:
         shadow_light: road darker than this share of the road's lightness on its row is shadow (``fill='rays'``
             with ``delete_effects``: never a ray's source; with ``shadow_mode='fill'``, the removed car's own joins
             the hole).
-        shadow_reach: ``shadow_mode='fill'``: the removed car's shadow also joins the hole where it runs on past the
+        shadow_reach: ``shadow_mode='fill'``: the removed car's shadow is also filled where it runs on past the
             hole's edge outside the region its fitted box gives (a box that sits off its car), in pieces within this
             share of the hole's height of it, wholly in its lower half, continuing shadow the hole covers
-            (:func:`~sdn3d.editing.photo.fill.shadow_pieces`), filled by Telea after the hole so that its fill stays
-            the same (0: none). On the real frame of ``tests/data`` the red
-            car's delete left its shadow's dark tip beside its rear wheel
-            (docs/results/2026-11-30_cpu/session21/shade/).
+            (:func:`~sdn3d.editing.photo.fill.shadow_pieces`), by Telea after the hole so that its fill stays the
+            same (0: none). On the real frame of ``tests/data`` both cars' deletes left their shadow's dark tip
+            beside a wheel (docs/results/2026-11-30_cpu/session21/shade/).
         grow_min_seen: an object behind a removed one is completed into the freed pixels (amodal completion) only if
             at least this many of its pixels show in the input (eroded mask); one the input never showed is left to
             the fill, as are freed pixels its own fitted silhouette claims in front of the removed object (its fit

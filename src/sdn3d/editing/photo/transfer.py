@@ -736,8 +736,9 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
                        ground_row: float | None = None, lab: PictureLab | None = None) -> tuple[Tensor, Tensor]:
     """``(filled image, relit (H, W) matte)`` of :func:`_remove_with_effects` with ``fill='rays'``: shadowed road
     (:func:`~sdn3d.editing.photo.road.shadowed_road`) is no source of the rays; with ``delete_shadow`` the removed
-    objects' shadow there (inside ``search``) joins the hole (``shadow_mode='fill'``; the matte is -1 there) or is
-    relit first (``'relight'``); ``road (3,)`` and ``ground_row`` (:func:`_ground_row`) tell the rays' road from a
+    objects' shadow there (inside ``search``) joins the hole (``shadow_mode='fill'``; the matte is -1 there, and on
+    the pieces that run on past it, :func:`~sdn3d.editing.photo.fill.shadow_pieces`, filled after it) or is relit
+    first (``'relight'``); ``road (3,)`` and ``ground_row`` (:func:`_ground_row`) tell the rays' road from a
     verge on the ground near the car (``photo.ray_verge``); ``lab``: ``image``'s
     :class:`~sdn3d.editing.photo.road.PictureLab` (not the relit picture's)."""
     from sdn3d.editing.photo.road import shadowed_road

@@ -23,7 +23,7 @@ from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, ids_pr
 if TYPE_CHECKING:
     from sdn3d.editing.photo.road import PictureLab
 
-__all__ = ["inpaint", "vacated_hole", "leftover_pieces", "fill_hole"]
+__all__ = ["inpaint", "vacated_hole", "leftover_pieces", "shadow_pieces", "fill_hole"]
 
 
 def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5, patch_size: int = 3,
@@ -188,6 +188,58 @@ def leftover_pieces(lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor, bl
                             & (highest[touching] <= (int(rows[0]) + int(rows[-1])) // 2)]
         if len(touching):
             out[y0:y1, x0:x1] |= dilate_square(isin_ids(labels, touching), 1) & zone & within_r
+    return out
+
+
+def shadow_pieces(dark: Tensor, hole: Tensor, reach: float, ground: float) -> Tensor:
+    """``(H, W)`` bool: the removed objects' shadow that runs on past the hole's edge where the region it was looked
+    for misses it (that region comes from the fitted box, which can sit off the car: on the real frame of
+    ``tests/data`` the red car's box lies below its wheels, and the shadow's tip left of its rear wheel stayed).
+
+    Per 8-connected part of ``hole (H, W)``, with ``r`` = ``reach`` of its height (rounded; under
+    :data:`LEFTOVER_MIN_PX` the part is not searched): the 8-connected pieces of ``dark (H, W)`` (shadowed road,
+    :func:`~sdn3d.editing.photo.road.shadowed_road`) outside the hole that touch a ``dark`` pixel of the part (the
+    shadow the hole covers, running on across its edge), lie wholly in its ground rows (from ``ground`` of its
+    height below its top row down: higher up, dark road-coloured pixels are far road in shade) and wholly within
+    ``r`` of it (a square's). A tree's or a building's shadow, a dark patch or another car running on beyond ``r``
+    stays, and so does a dark thing beside a lit edge of the hole. ``reach`` 0: none."""
+    import cv2
+
+    out = torch.zeros_like(hole)
+    if reach <= 0 or not any_set(hole) or not any_set(dark):
+        return out
+    height, width = hole.shape
+    count, parts = cv2.connectedComponents(hole.numpy().astype(np.uint8), connectivity=8)
+    parts = torch.from_numpy(parts)
+    for k in range(1, count):
+        part = parts == k
+        rows, cols = any_along(part, 1).nonzero().flatten(), any_along(part, 0).nonzero().flatten()
+        r = round(reach * float(rows[-1] - rows[0] + 1))
+        if r < LEFTOVER_MIN_PX:
+            continue
+        # The part's box grown past r: a piece that reaches the box's edge runs on beyond r and is left out below.
+        pad = r + 2
+        y0, y1 = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + pad + 1, height)
+        x0, x1 = max(int(cols[0]) - pad, 0), min(int(cols[-1]) + pad + 1, width)
+        mine, shade = part[y0:y1, x0:x1], dark[y0:y1, x0:x1]
+        candidate = shade & ~hole[y0:y1, x0:x1]
+        if not any_set(candidate):
+            continue
+        n, labels = cv2.connectedComponents(candidate.numpy().astype(np.uint8), connectivity=8)
+        labels = torch.from_numpy(labels).long()
+        touching = labels[dilate_square(mine & shade, 1) & candidate].unique()
+        touching = touching[touching > 0]
+        if not len(touching):
+            continue
+        cut = int(rows[0]) + int(ground * float(rows[-1] - rows[0]))
+        outside = ~dilate_square(mine, r)
+        outside[: max(cut - y0, 0)] = True
+        # A piece with any pixel above the ground rows or past r (the box's rim included) runs on: it stays.
+        runs_on = torch.zeros(n, dtype=torch.bool)
+        runs_on[labels[outside & candidate].unique()] = True
+        touching = touching[~runs_on[touching]]
+        if len(touching):
+            out[y0:y1, x0:x1] |= isin_ids(labels, touching)
     return out
 
 

@@ -159,6 +159,12 @@ class PhotoSettings:
         shadow_light: road darker than this share of the road's lightness on its row is shadow (``fill='rays'``
             with ``delete_effects``: never a ray's source; with ``shadow_mode='fill'``, the removed car's own joins
             the hole).
+        shadow_reach: ``shadow_mode='fill'``: the removed car's shadow is also filled where it runs on past the
+            hole's edge outside the region its fitted box gives (a box that sits off its car), in pieces within this
+            share of the hole's height of it, wholly in its lower half, continuing shadow the hole covers
+            (:func:`~sdn3d.editing.photo.fill.shadow_pieces`), by Telea after the hole so that its fill stays the
+            same (0: none). On the real frame of ``tests/data`` both cars' deletes left their shadow's dark tip
+            beside a wheel (docs/results/2026-11-30_cpu/session21/shade/).
         grow_min_seen: an object behind a removed one is completed into the freed pixels (amodal completion) only if
             at least this many of its pixels show in the input (eroded mask); one the input never showed is left to
             the fill, as are freed pixels its own fitted silhouette claims in front of the removed object (its fit
@@ -242,6 +248,7 @@ class PhotoSettings:
     ray_grain: str = "match"
     shadow_mode: str = "fill"
     shadow_light: float = 0.8
+    shadow_reach: float = 0.1
     grow_min_seen: int = 1
     ray_marks: float = 0.2
     ray_haze: float = 1.0
@@ -278,7 +285,8 @@ class PhotoSettings:
                   ("ray_blur", self.ray_blur, 0.0, 8.0), ("ray_texture", self.ray_texture, 0.0, 2.0),
                   ("ray_marks", self.ray_marks, 0.0, 1.0), ("ray_haze", self.ray_haze, 0.0, 1.0),
                   ("ray_haze_airlight", self.ray_haze_airlight, 0.0, 1.0),
-                  ("shadow_light", self.shadow_light, 0.3, 1.0), ("mask_view_deg", self.mask_view_deg, 0.0, 90.0),
+                  ("shadow_light", self.shadow_light, 0.3, 1.0), ("shadow_reach", self.shadow_reach, 0.0, 0.5),
+                  ("mask_view_deg", self.mask_view_deg, 0.0, 90.0),
                   ("paste_max_iou", self.paste_max_iou, 0.0, 1.0),
                   ("view_stretch", self.view_stretch, 0.0, 10.0), ("outline_grow", self.outline_grow, 0.0, 0.5),
                   ("view_reflection", self.view_reflection, 0.0, 1.0))

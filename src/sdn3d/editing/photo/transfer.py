@@ -21,6 +21,7 @@ from sdn3d.editing.photo.fill import (
     leftover_pieces,
     relight_shadow,
     shadow_gain,
+    shadow_pieces,
     vacated_hole,
 )
 from sdn3d.editing.photo.light import LightEstimate, fit_light, fit_reflection, grazing, luminance
@@ -735,8 +736,9 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
                        ground_row: float | None = None, lab: PictureLab | None = None) -> tuple[Tensor, Tensor]:
     """``(filled image, relit (H, W) matte)`` of :func:`_remove_with_effects` with ``fill='rays'``: shadowed road
     (:func:`~sdn3d.editing.photo.road.shadowed_road`) is no source of the rays; with ``delete_shadow`` the removed
-    objects' shadow there (inside ``search``) joins the hole (``shadow_mode='fill'``; the matte is -1 there) or is
-    relit first (``'relight'``); ``road (3,)`` and ``ground_row`` (:func:`_ground_row`) tell the rays' road from a
+    objects' shadow there (inside ``search``) joins the hole (``shadow_mode='fill'``; the matte is -1 there, and on
+    the pieces that run on past it, :func:`~sdn3d.editing.photo.fill.shadow_pieces`, filled after it) or is relit
+    first (``'relight'``); ``road (3,)`` and ``ground_row`` (:func:`_ground_row`) tell the rays' road from a
     verge on the ground near the car (``photo.ray_verge``); ``lab``: ``image``'s
     :class:`~sdn3d.editing.photo.road.PictureLab` (not the relit picture's)."""
     from sdn3d.editing.photo.road import shadowed_road
@@ -747,6 +749,7 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
     lit = near & ~dilate_square(search | hole, 3) & ~objects_px
     dark = shadowed_road(image, road, near, lit, settings.shadow_light, lab=lab) & ~objects_px
     matte = torch.zeros(tuple(hole.shape), dtype=torch.float32)
+    pieces = torch.zeros_like(hole)
     if settings.delete_shadow and settings.shadow_mode == "relight":
         image, matte = _relight_around(image, search, hole, objects_px, ring, road)
         lab = None  # of the picture before the relight
@@ -754,10 +757,18 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
     elif settings.delete_shadow:
         own = dark & dilate_square(search, 3) & ~hole
         hole = hole | own
-        matte = -own.float()  # filled, not relit: render_photo marks these pixels fill
+        # The search region comes from the fitted box: where it sits off the car, the shadow runs on past the hole
+        # outside it (the real frame's red car: its shadow's tip beside the rear wheel stayed). Those pieces are
+        # filled after the hole, by Telea from the filled picture around them: in the hole they changed its rays'
+        # sources and fits, and with them hundreds of fill pixels (a predicted delete on the seed-33 tuning tree lost
+        # 0.4 dB; docs/results/2026-11-30_cpu/session21/shade/).
+        pieces = shadow_pieces(dark, hole, settings.shadow_reach, SHADOW_GROUND)
+        matte = -(own | pieces).float()  # filled, not relit: render_photo marks these pixels fill
     keep_out = objects_px | _ground_rows(dark, hole, SHADOW_GROUND)
-    return (fill_hole(image, hole, settings, keep_out, vanishing=vanishing, road=road, ground_row=ground_row,
-                      lab=lab), matte)
+    out = fill_hole(image, hole, settings, keep_out, vanishing=vanishing, road=road, ground_row=ground_row, lab=lab)
+    if any_set(pieces):
+        out = inpaint(out, pieces, "telea", settings.inpaint_radius)
+    return out, matte
 
 
 #: :func:`_ground_row`: the ground near a removed car reaches this many times the distance of its footprint's far edge.

@@ -461,7 +461,13 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
                 w_out, w_in = torch.where(far_only, 0.0, w_out), torch.where(far_only, 1.0, w_in)
                 c_in = torch.where(far_only, road_in, c_in)
         val = c_out * w_out + c_in * w_in
-        near_in = c_out if road_in is not None else None  # the ray from its near side's verge alone
+        near_in = None  # the ray from its near side's verge alone: the verge mirrored across the hole's edge
+        if road_in is not None:
+            m = (p + 2 * d_out[:, None] * u).round().long()
+            inb = (m[:, 0] >= 0) & (m[:, 0] < width) & (m[:, 1] >= 0) & (m[:, 1] < height)
+            mx, my = m[:, 0].clamp(0, width - 1), m[:, 1].clamp(0, height - 1)
+            seen = inb & valid[my, mx]
+            near_in = torch.where(seen[None], image[:, my, mx].float(), c_out)
         if per_row is not None:  # the road's colour at this pixel's row less its colour at the sources' rows
             def at(rows: Tensor) -> Tensor:
                 return per_row[:, rows.round().long().clamp(0, height - 1)]
@@ -501,6 +507,8 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
             at = ends.nonzero().flatten()
             kept = at[_continued_verge(image, valid, hole, road, ground_row, pix[at], near_at[at])]
             values[:, kept] = from_near[:, kept]
+            if grains is not None:  # the mirrored verge brings its own grain
+                grains[:, kept] = 0
     if grains is not None:
         weight = (_matched_weight(image, valid, values[:, got], grains[:, got], ys[got], xs[got], texture, lab)
                   if match_grain and any_set(got) else texture)

@@ -26,7 +26,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.editing.photo.settings import VANISHING_MODES
+from sdn3d.editing.photo.settings import VANISHING_MODES, VERGE_MODES
 from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, nonzero_yx
 from sdn3d.math3d.sums import sum3
 
@@ -385,6 +385,8 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     included)."""
     if vanishing not in VANISHING_MODES:
         raise ValueError(f"ray_fill: vanishing must be one of {VANISHING_MODES}, got {vanishing!r}")
+    if verge not in VERGE_MODES:
+        raise ValueError(f"ray_fill: verge must be one of {VERGE_MODES}, got {verge!r}")
     if lab is not None:
         lab.check(image)
     height, width = hole.shape
@@ -430,7 +432,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     # takes from its far side's road alone, for the rays whose both sides are a verge (:func:`_ended_verge_runs`)
     # and, for the pixels inside the verge continued (:func:`_continued_verge`), its near side's value and place
     near_verge = far_verge = from_road = from_near = near_at = None
-    if road is not None and verge == "road":
+    if road is not None and verge in ("road", "edges"):
         near_verge, far_verge = torch.zeros_like(got), torch.zeros_like(got)
         from_road, from_near, near_at = torch.zeros(3, len(ys)), torch.zeros(3, len(ys)), torch.zeros(len(ys), 2)
     for s in range(0, len(ys), RAY_CHUNK):
@@ -448,7 +450,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
             w_out, w_in = _one_sided_marks(c_out, c_in, _gather_coarse(broad, q_out), _gather_coarse(broad, q_in),
                                            w_out, w_in, f_out & f_in, marks)
         road_in = None  # the road's broad colour at the far side (verge='road', where a near side is a verge)
-        if road is not None and verge == "road":
+        if road is not None and verge in ("road", "edges"):
             # the far side's road is evidence only where it is resolved (FAR_RESOLVED), on the ground rows
             resolved = (sp - d_in) >= FAR_RESOLVED * (sp + d_out)
             near, far = _verge_sides(c_out, c_in, f_out & f_in & resolved & (p[:, 1] >= ground_row), road)
@@ -503,7 +505,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         # the rays from the road alone (far side road, or an ended verge run) inside the verge's edges continued into
         # the hole take the verge's near side alone up to where they cross its edge
         ends = (near_verge & ~far_verge) | ended
-        if any_set(ends):
+        if verge == "edges" and any_set(ends):
             at = ends.nonzero().flatten()
             kept = at[_continued_verge(image, valid, hole, road, ground_row, pix[at], near_at[at])]
             values[:, kept] = from_near[:, kept]

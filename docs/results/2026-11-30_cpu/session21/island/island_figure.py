@@ -49,11 +49,11 @@ def main() -> int:
         a, b = (np.load(d / f"{name}.npz")["edited"] for d in (main_dir, branch_dir))
         print(name, "pixels drawn differently:", int(np.any(a != b, axis=2).sum()))
         rows.append(row([panel(frame, box, 2, f"input ({what})")]
-                        + [panel(x, box, 2, f"{lab}: {what} deleted") for x, lab in zip((a, b), labels)]))
+                        + [panel(x, box, 2, f"{lab}: {what} deleted") for x, lab in zip((a, b), labels, strict=True)]))
         if name == "12002_deleted":
             rows.append(row([panel(frame, ISLAND, 4, "input, the island right of the black car")]
                             + [panel(x, ISLAND, 4, f"{lab}: black car deleted, island close-up")
-                               for x, lab in zip((a, b), labels)]))
+                               for x, lab in zip((a, b), labels, strict=True)]))
     sheet = Image.new("RGB", (max(r.width for r in rows), sum(r.height + 6 for r in rows)), "white")
     y = 0
     for r in rows:

@@ -376,7 +376,9 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     stood and no marking of the far side is drawn across it (None ``road``: ``'blend'``), at the hole pixels from row
     ``ground_row`` down (the ground near the removed car; higher up a ray's sides may be upright things) whose far
     side is resolved (:data:`FAR_RESOLVED`); so do the rays that meet a verge on both sides among a run of rays whose
-    near-side verge mostly ended inside the hole (:func:`_ended_verge_runs`). ``lab``: ``image``'s
+    near-side verge mostly ended inside the hole (:func:`_ended_verge_runs`); ``'edges'``: as ``'road'``, but those
+    rays' pixels inside the verge's edges continued straight into the hole (:func:`_continued_verge`) take the verge
+    mirrored across the hole's edge along the ray, with its own grain. ``lab``: ``image``'s
     :class:`PictureLab` (the road tests' Lab, converted once for all the removal's tests). ``vanishing``
     (:data:`~sdn3d.editing.photo.settings.VANISHING_MODES`): a pixel whose ray runs inside the hole all the way to the
     vanishing point (:func:`_hole_to_vanishing`: the hole covers that point, a car straight ahead) has no far side;

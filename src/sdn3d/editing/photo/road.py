@@ -728,10 +728,13 @@ def _continued_verge(image: Tensor, valid: Tensor, hole: Tensor, road: Tensor, g
         return inside
     edge = torch.from_numpy(np.stack([ex[keep] + x0, ey[keep] + y0], 1).astype(np.float32))
     normal = torch.from_numpy((normal[keep] / length[keep, None]).astype(np.float32))
-    near = torch.cdist(q_out, edge) <= VERGE_EDGE_REACH  # (N, K)
-    side = (pix[:, None, :] - edge[None]).mul(normal[None]).sum(2)  # (N, K): > 0 on the road's side of an edge
-    side = torch.where(near, side, torch.full_like(side, -math.inf))
-    return near.any(1) & (side.amax(1) < 0)
+    offset = (edge * normal).sum(1)  # each edge line: normal . x = offset
+    for s in range(0, len(pix), RAY_CHUNK):  # in chunks: (chunk, K) at a time, not (N, K)
+        near = torch.cdist(q_out[s:s + RAY_CHUNK], edge) <= VERGE_EDGE_REACH
+        side = pix[s:s + RAY_CHUNK] @ normal.T - offset  # > 0 on the road's side of an edge
+        side = torch.where(near, side, torch.full_like(side, -math.inf))
+        inside[s:s + RAY_CHUNK] = near.any(1) & (side.amax(1) < 0)
+    return inside
 
 
 def _ended_verge_runs(angle: Tensor, reach: Tensor, near: Tensor, far: Tensor) -> Tensor:

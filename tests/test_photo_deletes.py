@@ -480,7 +480,7 @@ def test_ray_verge_reaches_the_rays_through_fill_hole_and_is_checked():
     K = torch.tensor([[100.0, 0.0, 80.0], [0.0, 100.0, 30.0], [0.0, 0.0, 1.0]], dtype=torch.float64)
     assert _ground_row(part, K) == pytest.approx(30.0 + 40.0 / GROUND_REACH)
     assert _ground_row(torch.zeros_like(part), K) is None
-    assert PhotoSettings().ray_verge == "road"
+    assert PhotoSettings().ray_verge == "edges"
     with pytest.raises(PhotoSettingsError, match="ray_verge"):
         PhotoSettings(ray_verge="grass")
 

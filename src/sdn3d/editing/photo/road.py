@@ -26,7 +26,7 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from sdn3d.editing.photo.settings import VANISHING_MODES
+from sdn3d.editing.photo.settings import VANISHING_MODES, VERGE_MODES
 from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, nonzero_yx
 from sdn3d.math3d.sums import sum3
 
@@ -376,7 +376,9 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     stood and no marking of the far side is drawn across it (None ``road``: ``'blend'``), at the hole pixels from row
     ``ground_row`` down (the ground near the removed car; higher up a ray's sides may be upright things) whose far
     side is resolved (:data:`FAR_RESOLVED`); so do the rays that meet a verge on both sides among a run of rays whose
-    near-side verge mostly ended inside the hole (:func:`_ended_verge_runs`). ``lab``: ``image``'s
+    near-side verge mostly ended inside the hole (:func:`_ended_verge_runs`); ``'edges'``: as ``'road'``, but those
+    rays' pixels inside the verge's edges continued straight into the hole (:func:`_continued_verge`) take the verge
+    mirrored across the hole's edge along the ray, with its own grain. ``lab``: ``image``'s
     :class:`PictureLab` (the road tests' Lab, converted once for all the removal's tests). ``vanishing``
     (:data:`~sdn3d.editing.photo.settings.VANISHING_MODES`): a pixel whose ray runs inside the hole all the way to the
     vanishing point (:func:`_hole_to_vanishing`: the hole covers that point, a car straight ahead) has no far side;
@@ -385,6 +387,8 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     included)."""
     if vanishing not in VANISHING_MODES:
         raise ValueError(f"ray_fill: vanishing must be one of {VANISHING_MODES}, got {vanishing!r}")
+    if verge not in VERGE_MODES:
+        raise ValueError(f"ray_fill: verge must be one of {VERGE_MODES}, got {verge!r}")
     if lab is not None:
         lab.check(image)
     height, width = hole.shape
@@ -428,10 +432,11 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     road_broad = None  # the road's broad colour, for rays taken from their far side alone (verge='road')
     # verge='road': each ray's sides that are a verge (on the ground rows, far side resolved), and the value the ray
     # takes from its far side's road alone, for the rays whose both sides are a verge (:func:`_ended_verge_runs`)
-    near_verge = far_verge = from_road = None
-    if road is not None and verge == "road":
+    # and, for the pixels inside the verge continued (:func:`_continued_verge`), its near side's value and place
+    near_verge = far_verge = from_road = from_near = near_at = None
+    if road is not None and verge in ("road", "edges"):
         near_verge, far_verge = torch.zeros_like(got), torch.zeros_like(got)
-        from_road = torch.zeros(3, len(ys))
+        from_road, from_near, near_at = torch.zeros(3, len(ys)), torch.zeros(3, len(ys)), torch.zeros(len(ys), 2)
     for s in range(0, len(ys), RAY_CHUNK):
         p, u, sp = pix[s:s + RAY_CHUNK], unit[s:s + RAY_CHUNK], reach[s:s + RAY_CHUNK]
         # Away from the vanishing point (nearer road) and towards it, stopping there: past it lies another line.
@@ -447,7 +452,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
             w_out, w_in = _one_sided_marks(c_out, c_in, _gather_coarse(broad, q_out), _gather_coarse(broad, q_in),
                                            w_out, w_in, f_out & f_in, marks)
         road_in = None  # the road's broad colour at the far side (verge='road', where a near side is a verge)
-        if road is not None and verge == "road":
+        if road is not None and verge in ("road", "edges"):
             # the far side's road is evidence only where it is resolved (FAR_RESOLVED), on the ground rows
             resolved = (sp - d_in) >= FAR_RESOLVED * (sp + d_out)
             near, far = _verge_sides(c_out, c_in, f_out & f_in & resolved & (p[:, 1] >= ground_row), road)
@@ -460,6 +465,13 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
                 w_out, w_in = torch.where(far_only, 0.0, w_out), torch.where(far_only, 1.0, w_in)
                 c_in = torch.where(far_only, road_in, c_in)
         val = c_out * w_out + c_in * w_in
+        near_in = None  # the ray from its near side's verge alone: the verge mirrored across the hole's edge
+        if road_in is not None:
+            m = (p + 2 * d_out[:, None] * u).round().long()
+            inb = (m[:, 0] >= 0) & (m[:, 0] < width) & (m[:, 1] >= 0) & (m[:, 1] < height)
+            mx, my = m[:, 0].clamp(0, width - 1), m[:, 1].clamp(0, height - 1)
+            seen = inb & valid[my, mx]
+            near_in = torch.where(seen[None], image[:, my, mx].float(), c_out)
         if per_row is not None:  # the road's colour at this pixel's row less its colour at the sources' rows
             def at(rows: Tensor) -> Tensor:
                 return per_row[:, rows.round().long().clamp(0, height - 1)]
@@ -468,8 +480,11 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
             val = val + haze * (at_p - at(q_out[:, 1]) * w_out - at_in * w_in)
             if road_in is not None:  # as a ray from its far side's road alone (w_out 0, w_in 1)
                 road_in = road_in + haze * (at_p - at_in)
+                near_in = near_in + haze * (at_p - at(q_out[:, 1]))
         if road_in is not None:
             from_road[:, s:s + RAY_CHUNK] = road_in
+            from_near[:, s:s + RAY_CHUNK] = near_in
+            near_at[s:s + RAY_CHUNK] = q_out
         if detail is not None:  # a side's high-pass, mirrored across the hole's edge along the ray (nearer side first)
             near_out = f_out & (~f_in | (d_out <= d_in))
             grain, ok = _mirrored(detail, valid, torch.where(near_out[:, None], q_out, q_in),
@@ -489,6 +504,15 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     if near_verge is not None and any_set(near_verge):
         ended = _ended_verge_runs(torch.atan2(unit[:, 1], unit[:, 0]), reach, near_verge, far_verge)
         values[:, ended] = from_road[:, ended]
+        # the rays from the road alone (far side road, or an ended verge run) inside the verge's edges continued into
+        # the hole take the verge's near side alone up to where they cross its edge
+        ends = (near_verge & ~far_verge) | ended
+        if verge == "edges" and any_set(ends):
+            at = ends.nonzero().flatten()
+            kept = at[_continued_verge(image, valid, hole, road, ground_row, pix[at], near_at[at])]
+            values[:, kept] = from_near[:, kept]
+            if grains is not None:  # the mirrored verge brings its own grain
+                grains[:, kept] = 0
     if grains is not None:
         weight = (_matched_weight(image, valid, values[:, got], grains[:, got], ys[got], xs[got], texture, lab)
                   if match_grain and any_set(got) else texture)
@@ -648,6 +672,69 @@ def _verge_sides(c_out: Tensor, c_in: Tensor, both: Tensor, road: Tensor) -> tup
         near[both] = verge_like(c_out[:, both], road)
         far[both] = verge_like(c_in[:, both], road)
     return near, far
+
+
+#: :func:`_continued_verge`: the verge is read on the ground pixels within ``VERGE_BAND`` pixels of the hole, its mask
+#: smoothed over ``VERGE_SMOOTH`` (sigma, pixels: a lawn's grain of road-coloured specks is no edge), and a ray's near
+#: side meets the verge's edges within ``VERGE_EDGE_REACH`` pixels of it.
+VERGE_BAND, VERGE_RIM, VERGE_SMOOTH, VERGE_EDGE_REACH = 8, 2, 1.5, 32.0
+
+
+def _continued_verge(image: Tensor, valid: Tensor, hole: Tensor, road: Tensor, ground_row: float, pix: Tensor,
+                     q_out: Tensor) -> Tensor:
+    """``(N,)`` bool: which hole pixels ``pix (N, 2)`` (x, y) lie inside the verge their ray's near side
+    ``q_out (N, 2)`` shows, its edges continued straight into the hole: on the verge's side of every edge line of the
+    verge (:func:`verge_like` of the road ``road (3,)``, on the ``valid`` pixels within :data:`VERGE_BAND` of ``hole
+    (H, W)`` from row ``ground_row`` down, smoothed) within :data:`VERGE_EDGE_REACH` of ``q_out``. A verge's edge
+    that runs into the hole runs on inside it: the real frame's black car hid a traffic island whose two edges meet
+    in a tip the far side shows, and a ray from the island's grass to the far lane's road crosses the island's edge
+    inside the hole, not where the hole begins. No edge near ``q_out``: False (nothing says where the verge ends)."""
+    import cv2
+
+    height, width = hole.shape
+    inside = torch.zeros(len(pix), dtype=torch.bool)
+    ys, xs = nonzero_yx(hole)
+    pad = VERGE_BAND + 3
+    y0, y1 = max(int(ys.min()) - pad, 0), min(int(ys.max()) + pad + 1, height)
+    x0, x1 = max(int(xs.min()) - pad, 0), min(int(xs.max()) + pad + 1, width)
+    h = hole[y0:y1, x0:x1]
+    rows = torch.arange(y0, y1, dtype=torch.float32)[:, None]
+    # the hole's rim is no evidence: a mask's edge leaves the removed car's blended outline there
+    band = dilate_square(h, VERGE_BAND) & ~dilate_square(h, VERGE_RIM) & valid[y0:y1, x0:x1] & (rows >= ground_row)
+    by, bx = nonzero_yx(band)
+    if not len(by):
+        return inside
+    verge = torch.zeros_like(band)
+    verge[by, bx] = verge_like(image[:, y0:y1, x0:x1][:, by, bx], road)
+    w = band.float().numpy()
+    share = cv2.GaussianBlur(verge.float().numpy() * w, (0, 0), VERGE_SMOOTH) / np.maximum(
+        cv2.GaussianBlur(w, (0, 0), VERGE_SMOOTH), 1e-6)
+    mask = (share > 0.5) & w.astype(bool)
+    # an edge pixel: in the verge, beside a band pixel that is not; its normal points out of the verge (down the share)
+    road_side = ~mask & w.astype(bool)
+    beside = np.zeros_like(mask)
+    beside[1:] |= road_side[:-1]
+    beside[:-1] |= road_side[1:]
+    beside[:, 1:] |= road_side[:, :-1]
+    beside[:, :-1] |= road_side[:, 1:]
+    ey, ex = np.nonzero(mask & beside)
+    if not len(ey):
+        return inside
+    gy, gx = np.gradient(share)
+    normal = -np.stack([gx[ey, ex], gy[ey, ex]], 1)
+    length = np.linalg.norm(normal, axis=1)
+    keep = length > 1e-3
+    if not keep.any():
+        return inside
+    edge = torch.from_numpy(np.stack([ex[keep] + x0, ey[keep] + y0], 1).astype(np.float32))
+    normal = torch.from_numpy((normal[keep] / length[keep, None]).astype(np.float32))
+    offset = (edge * normal).sum(1)  # each edge line: normal . x = offset
+    for s in range(0, len(pix), RAY_CHUNK):  # in chunks: (chunk, K) at a time, not (N, K)
+        near = torch.cdist(q_out[s:s + RAY_CHUNK], edge) <= VERGE_EDGE_REACH
+        side = pix[s:s + RAY_CHUNK] @ normal.T - offset  # > 0 on the road's side of an edge
+        side = torch.where(near, side, torch.full_like(side, -math.inf))
+        inside[s:s + RAY_CHUNK] = near.any(1) & (side.amax(1) < 0)
+    return inside
 
 
 def _ended_verge_runs(angle: Tensor, reach: Tensor, near: Tensor, far: Tensor) -> Tensor:

@@ -38,8 +38,9 @@ SHADOW_MODES = ("fill", "relight")
 GRAIN_MODES = ("fixed", "match")
 #: What ``fill='rays'`` does with a ray whose near side is a verge and whose far side is road
 #: (:attr:`PhotoSettings.ray_verge`; :func:`~sdn3d.editing.photo.road.ray_fill`): ``blend`` (both interpolated by
-#: distance) or ``road`` (the road side alone).
-VERGE_MODES = ("blend", "road")
+#: distance), ``road`` (the road side alone) or ``edges`` (the road side alone outside the verge's edges continued
+#: straight into the hole, the verge inside them: :func:`~sdn3d.editing.photo.road._continued_verge`).
+VERGE_MODES = ("blend", "road", "edges")
 #: What ``fill='rays'`` does with a hole pixel whose ray runs inside the hole up to the vanishing point (no far side:
 #: :attr:`PhotoSettings.ray_vanishing`; :func:`~sdn3d.editing.photo.road.ray_fill`): ``near`` (its near side alone)
 #: or ``telea`` (Telea from the pixels around it).
@@ -193,7 +194,10 @@ class PhotoSettings:
             is road, on the ground near the removed car and with its far side resolved, takes the far side's road
             alone (``road``) or blends the two (``blend``; :func:`~sdn3d.editing.photo.road.ray_fill`). On the real
             frame of ``tests/data`` the black car's delete drew a pale band of the verge across the far lane with
-            ``blend``; the tuning deletes: docs/results/2026-11-29_cpu/session14/roadfill/.
+            ``blend``; the tuning deletes: docs/results/2026-11-29_cpu/session14/roadfill/. ``edges``: as ``road``
+            outside the verge's edges continued straight into the hole, and the verge (mirrored across the hole's
+            edge) inside them: with ``road`` the same delete ended the traffic island right of the car in a straight
+            vertical edge where the hole began (docs/results/2026-11-30_cpu/session21/island/).
         ray_vanishing: :data:`VANISHING_MODES` (``fill='rays'``): a hole pixel whose ray runs inside the hole all the
             way to the vanishing point (the hole covers that point: a car straight ahead) has no far side; ``telea``
             fills it by Telea from the pixels around it (the rays' fill included), ``near`` from its near side alone,
@@ -253,7 +257,7 @@ class PhotoSettings:
     ray_marks: float = 0.2
     ray_haze: float = 1.0
     ray_haze_airlight: float = 0.25
-    ray_verge: str = "road"
+    ray_verge: str = "edges"
     ray_vanishing: str = "telea"
     outline_grow: float = 0.0
     view_reflection: float = 1.0

@@ -364,11 +364,11 @@ def test_vacated_region_growth_matches_scipy_binary_dilation(iterations):
     """editing.apply grows regions with torch (scipy.ndimage is not imported on the edit path)."""
     from scipy.ndimage import binary_dilation
 
-    from sdn3d.editing.apply import _dilate_cross
+    from sdn3d.image_ops import dilate_cross
 
     mask = torch.rand(37, 53, generator=torch.Generator().manual_seed(iterations)) > 0.97
     mask[0, :3] = mask[-1, -1] = True  # borders: nothing grows in from outside the image
-    assert np.array_equal(_dilate_cross(mask, iterations).numpy(), binary_dilation(mask.numpy(), iterations=iterations))
+    assert np.array_equal(dilate_cross(mask, iterations).numpy(), binary_dilation(mask.numpy(), iterations=iterations))
 
 
 def test_a_modify_moves_the_point_it_picked_unless_anchored_at_the_centre(scene):

@@ -56,6 +56,7 @@ from sdn3d.editing.ops import (
     Zoom,
 )
 from sdn3d.editing.pick import pick_objects, projected_centers
+from sdn3d.image_ops import dilate_cross
 from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics, project_points
 from sdn3d.math3d.rotations import wrap_angle
@@ -440,23 +441,11 @@ def _grow(scene: SceneCode, vacate: Tensor, region: Tensor, occupied: Tensor, gr
     """``region`` grown by ``grow`` pixels into pixels of the vacating objects' classes not ``occupied``
     by other observed objects."""
     if grow > 0:
-        grown = _dilate_cross(region, int(grow))
+        grown = dilate_cross(region, int(grow))
         claimed = occupied & ~region
         same_class = torch.isin(scene.semantic.cpu(), scene.objects.class_id[vacate])
         region = region | (grown & same_class & ~claimed)
     return region
-
-
-_CROSS = torch.tensor([[0.0, 1.0, 0.0], [1.0, 1.0, 1.0], [0.0, 1.0, 0.0]]).view(1, 1, 3, 3)
-
-
-def _dilate_cross(mask: Tensor, iterations: int) -> Tensor:
-    """``(H, W)`` bool ``mask`` dilated ``iterations`` times by the 4-connected cross (pixels within that many
-    city-block steps; ``scipy.ndimage.binary_dilation(mask, iterations=n)``'s default)."""
-    x = mask[None, None].float()
-    for _ in range(iterations):
-        x = (torch.nn.functional.conv2d(x, _CROSS, padding=1) > 0).float()
-    return x[0, 0] > 0
 
 
 class ModifyAnchor(StrEnum):

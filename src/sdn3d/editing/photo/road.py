@@ -27,7 +27,7 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.editing.photo.settings import VANISHING_MODES, VERGE_MODES
-from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, nonzero_yx
+from sdn3d.image_ops import any_along, any_set, count_set, dilate_cross, dilate_square, nonzero_yx
 from sdn3d.math3d.sums import sum3
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
@@ -711,12 +711,7 @@ def _continued_verge(image: Tensor, valid: Tensor, hole: Tensor, road: Tensor, g
         cv2.GaussianBlur(w, (0, 0), VERGE_SMOOTH), 1e-6)
     mask = (share > 0.5) & w.astype(bool)
     # an edge pixel: in the verge, beside a band pixel that is not; its normal points out of the verge (down the share)
-    road_side = ~mask & w.astype(bool)
-    beside = np.zeros_like(mask)
-    beside[1:] |= road_side[:-1]
-    beside[:-1] |= road_side[1:]
-    beside[:, 1:] |= road_side[:, :-1]
-    beside[:, :-1] |= road_side[:, 1:]
+    beside = dilate_cross(torch.from_numpy(~mask & w.astype(bool))).numpy()  # a 4-neighbour of the road side
     ey, ex = np.nonzero(mask & beside)
     if not len(ey):
         return inside

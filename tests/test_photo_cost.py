@@ -9,7 +9,8 @@ import pytest
 import torch
 import torch.nn.functional as F
 
-from sdn3d.editing.apply import Move, Rotate, apply_edits
+from sdn3d.editing.apply import Delete, Move, Rotate, apply_edits
+from sdn3d.editing.photo import transfer
 from sdn3d.editing.photo.occluders import _extend_upright, _strips, thin_occluders
 from sdn3d.editing.photo.recolor import srgb_to_lab
 from sdn3d.editing.photo.road import _along, _gather, _trace, ab_length, road_colours, road_lab, road_like
@@ -162,6 +163,29 @@ def test_photo_source_keeps_one_pyramid_and_pictures_stay_the_same():
         fresh = render_photo(original, FRAME, scene, edited)
         assert torch.equal(kept.image, fresh.image) and torch.equal(kept.source, fresh.source)
         assert bool((kept.source != 0).any())
+
+
+def test_a_removal_is_made_once_per_source_leftovers_and_vanishing_point_included(monkeypatch):
+    """A kept source state makes a removal (its fill, matte, leftover pieces and road vanishing point) once for the
+    objects that left and stayed: deleting a car and then turning it draw on the same removal, and the pictures
+    equal those of a fresh source state."""
+    calls = {"leftover_pieces": 0, "removal_vanishing_point": 0}
+    for name in calls:
+        def counted(*args, _f=getattr(transfer, name), _name=name, **kwargs):
+            calls[_name] += 1
+            return _f(*args, **kwargs)
+
+        monkeypatch.setattr(transfer, name, counted)
+    scene = _scene([CAR, FAR_CAR])
+    original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(2))
+    source = PhotoSource(original, FRAME, scene)
+    edits = ([Delete(12001)], [Rotate(12001, math.radians(90))], [Delete(12001)])
+    kept = [render_photo(original, FRAME, scene, apply_edits(scene, ops), source=source) for ops in edits]
+    assert calls == {"leftover_pieces": 1, "removal_vanishing_point": 1}
+    for ops, picture in zip(edits, kept, strict=True):
+        fresh = render_photo(original, FRAME, scene, apply_edits(scene, ops))
+        assert torch.equal(picture.image, fresh.image) and torch.equal(picture.source, fresh.source)
+    assert calls == {"leftover_pieces": 4, "removal_vanishing_point": 4}  # a fresh state makes its own
 
 
 def _vanishing_point_whole(image, region, K, min_edges=50, max_edges=4000, coherence=0.9, window=7, spread_deg=1.0,

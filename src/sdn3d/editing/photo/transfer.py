@@ -140,7 +140,8 @@ class PhotoSource:
             :meth:`face_parts` the loft's face labels alone (no greenhouse glass), which the recolour paints by.
         in_front: ``(H_in, W_in)`` bool, thin things in front of a car that its mask leaves out (a pole, a sign post:
             :func:`~sdn3d.editing.photo.occluders.thin_occluders`); every edit keeps them in front.
-        max_fills: filled pictures kept (each ``3 x H x W`` float32: ~5.6 MB at 1242x375); the oldest goes first.
+        max_fills: removals kept (each the filled picture, its relit matte and its leftover pieces, ``5 x H x W``
+            float32: ~9.3 MB at 1242x375); the oldest goes first.
     """
 
     def __init__(self, original: Tensor, frame: PixelFrame, scene: SceneCode, bank: MeshBank | None = None,
@@ -247,7 +248,8 @@ class PhotoSource:
         return self._lab
 
     def fill(self, key: tuple, make) -> Tensor:
-        """A copy of the filled picture of ``key`` (the objects that left and stayed), made by ``make()`` once."""
+        """A copy of the removal of ``key`` (the objects that left and stayed: :func:`render_photo`'s filled picture,
+        relit matte and leftovers), made by ``make()`` once."""
         if self.max_fills <= 0:
             return make()
         if key not in self._fills:
@@ -1145,54 +1147,52 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         if settings.silhouette == "carved":  # the template where the input's masks rule it out is not the car
             fitted &= ~background
         hole = hole | (dilate_square(fitted, settings.hole_dilate_px) & ~keep)
-    # What of the removed objects neither their masks nor their silhouettes took (a side mirror): filled after the
-    # hole, from the filled picture around it, so that the hole's own fill stays what it was (its rays, their grain
-    # and haze are fitted on the pixels around the hole).
-    leftovers = leftover_pieces(photo_source.lab(), hole, src_ids, gone_ids, keep | photo_source.in_front,
-                                settings.leftover_reach, settings.leftover_step)
-    if any_set(hole):  # thin things in front are put back over the fill: they are no source of it
-        hole = hole | photo_source.in_front
-    # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
-    vp = None
-    if settings.fill in RAY_FILLS and bool(gone_ids.numel()):
-        removed = isin_ids(src_ids, gone_ids) & covered
-        vp = removal_vanishing_point(image, K, removed, covered,
-                                     float(before.ry[gone_rows[0]]) if gone_rows else None)
     # With cast_shadow, a moved object's old shadow is relit (as a deleted one's with delete_effects).
     moved_from = {int(origin[a]) for a in moved_rows}
     relight_rows = [b for b in gone_rows if b in moved_from] if casts and light is not None and not effects else []
-    matte = None
-    if settings.fill == "generator":  # the generator's picture changes with every edit: nothing to keep
-        out = fill_hole(image, hole, settings, src_ids != 0, working_to_input(generated, transform))
-    else:  # the hole and its fill depend only on which objects left and which stayed
-        stay_ids = after.instance_id[stays]
-        key = (tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist())))
-        if effects:  # the removed objects' shadows are relit or filled with the hole
-            def make() -> Tensor:  # the picture and the relit matte, kept together
-                filled, relit = _remove_with_effects(image, hole, (src_ids != 0) & ~hole, before, gone_rows, K,
-                                                     light, settings, vp, photo_source.lab())
-                return torch.cat([filled, relit[None]])
+    hole_of_masks = hole
+    if any_set(hole):  # thin things in front are put back over the fill: they are no source of it
+        hole = hole | photo_source.in_front
 
-            both = source.fill(key, make)
-            out, matte = both[:3], both[3]
+    def removal() -> Tensor:
+        """``(5, H, W)``: the filled picture, the relit matte (0 where nothing is relit) and the leftovers, kept
+        together (the source state's fills; all three depend only on which objects left and which stayed)."""
+        # What of the removed objects neither their masks nor their silhouettes took (a side mirror): filled after
+        # the hole, from the filled picture around it, so that the hole's own fill stays what it was (its rays,
+        # their grain and haze are fitted on the pixels around the hole).
+        leftovers = leftover_pieces(photo_source.lab(), hole_of_masks, src_ids, gone_ids,
+                                    keep | photo_source.in_front, settings.leftover_reach, settings.leftover_step)
+        # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
+        vp = None
+        if settings.fill in RAY_FILLS and bool(gone_ids.numel()):
+            removed = isin_ids(src_ids, gone_ids) & covered
+            vp = removal_vanishing_point(image, K, removed, covered,
+                                         float(before.ry[gone_rows[0]]) if gone_rows else None)
+        relit = torch.zeros(size, dtype=torch.float32)
+        if settings.fill == "generator":
+            filled = fill_hole(image, hole, settings, src_ids != 0, working_to_input(generated, transform))
+        elif effects:  # the removed objects' shadows are relit or filled with the hole
+            filled, relit = _remove_with_effects(image, hole, (src_ids != 0) & ~hole, before, gone_rows, K, light,
+                                                 settings, vp, photo_source.lab())
         elif relight_rows:
-            def make() -> Tensor:  # the picture and the relit matte, kept together
-                relit_image, relit = _relight_removed(image, hole, (src_ids != 0) & ~hole, before, relight_rows, K,
-                                                      light)
-                return torch.cat([fill_hole(relit_image, hole, settings, src_ids != 0, vanishing=vp), relit[None]])
-
-            both = source.fill(key, make)
-            out, matte = both[:3], both[3]
+            relit_image, relit = _relight_removed(image, hole, (src_ids != 0) & ~hole, before, relight_rows, K, light)
+            filled = fill_hole(relit_image, hole, settings, src_ids != 0, vanishing=vp)
         else:
-            out = source.fill(key, lambda: fill_hole(image, hole, settings, src_ids != 0, vanishing=vp,
-                                                     lab=photo_source.lab()))
-    if any_set(leftovers):
-        out = inpaint(out, leftovers, "telea", settings.inpaint_radius)
-        hole = hole | leftovers
+            filled = fill_hole(image, hole, settings, src_ids != 0, vanishing=vp, lab=photo_source.lab())
+        if any_set(leftovers):
+            filled = inpaint(filled, leftovers, "telea", settings.inpaint_radius)
+        return torch.cat([filled, relit[None].to(filled.dtype), leftovers[None].to(filled.dtype)])
+
+    if settings.fill == "generator":  # the generator's picture changes with every edit: nothing to keep
+        removed_state = removal()
+    else:  # the hole, its fill and its leftovers depend only on which objects left and which stayed
+        stay_ids = after.instance_id[stays]
+        removed_state = source.fill((tuple(sorted(gone_ids.tolist())), tuple(sorted(stay_ids.tolist()))), removal)
+    out, matte, leftovers = removed_state[:3], removed_state[3], removed_state[4] > 0.5
+    hole = hole | leftovers
     source = torch.where(hole, FILL, INPUT).to(torch.uint8)
-    if matte is not None:
-        source = torch.where((matte > 0.02) & ~hole, RELIT, source).to(torch.uint8)
-        source = torch.where(matte < 0, FILL, source).to(torch.uint8)  # a shadow filled with the hole
+    source = torch.where((matte > 0.02) & ~hole, RELIT, source).to(torch.uint8)
+    source = torch.where(matte < 0, FILL, source).to(torch.uint8)  # a shadow filled with the hole
 
     # Cast shadows of moved objects at their new places: the fitted light's shadow of each posed mesh on its ground
     # plane, darkened by the gain measured on its shadow in the input (none found: no cast shadow).

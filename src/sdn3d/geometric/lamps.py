@@ -31,9 +31,9 @@ crops) such pixels were on 15 of the 18 front views and on none of the 30 back v
 ``white_min_share`` 0.002: 12 to 14 fronts; 0.5: 4 to 13 backs too); ``red_body``: false turns the cue off.
 Near-white pixels are not only headlights, though: rain streaks cross a red back, and a red body's tail lamps and
 light bar are a paler red whose brightest pixels pass as white. On the Table 1 tuning trees 31, 35 and 37 (session
-21's demo weights, 407 cars on ground-truth masks, an oracle) they were on 24 front views and on 22 back views of
-red bodies: a coin, while their absence was right on 40 of 41 back views, and the MultiBin bins named the right end
-of 40 of those 48. So a presence counts ``headlight_weight`` (0.3, the bins' weight ``-flip_below``) of the red
+21's demo weights, 407 cars on ground-truth masks, an oracle) they were on 12 front views and on 14 back or side
+views of red bodies: a coin, while their absence was right on 24 of 25, and the MultiBin bins named the right end
+of 21 of those 26. So a presence counts ``headlight_weight`` (0.3, the bins' weight ``-flip_below``) of the red
 lamps' evidence: it seldom turns the branch's yaw by itself (:func:`face_by_reading`: only with its side term), and
 in the fit's belief (:func:`~sdn3d.geometric.facing.facing_belief`) it weighs as much as sure bins, so that where
 the two disagree the silhouette decides (``docs/results/2026-11-30_cpu/session22/flip``). The absence keeps

@@ -92,7 +92,7 @@ def main() -> None:
         view = "side" if abs(view) < 0.3 else ("back" if view < 0 else "front")
         kind = reading(app, cue)
         cut = " | cut" if c["truncated"] else ""
-        for key in (f"{kind} | {view}{cut}", f"{kind} | {view}", "all"):
+        for key in dict.fromkeys((f"{kind} | {view}{cut}", f"{kind} | {view}", "all")):
             tab[key]["lamps " + ("right" if lv > 1e-6 else "wrong" if lv < -1e-6 else "abstain")] += 1
             tab[key]["bins " + ("right" if nv > 0 else "wrong")] += 1
             tab[key]["n"] += 1

@@ -38,7 +38,8 @@ lamps' evidence: it seldom turns the branch's yaw by itself (:func:`face_by_read
 in the fit's belief (:func:`~sdn3d.geometric.facing.facing_belief`) it weighs as much as sure bins, so that where
 the two disagree the silhouette decides (``docs/results/2026-11-30_cpu/session22/flip``). The absence keeps
 ``absent_weight``. The bins are then as good as the training: a second demo training's called every red body a
-back, and on tree 35 the weight fixed 17 back views and broke 4 true fronts whose headlights were real.
+back, and on tree 35 the weight fixed 17 fits of back views (oracle masks and proposals) and broke 4 fits of
+true fronts whose headlights were real.
 
 Fog and rain add the air's light to every pixel (``observed = t albedo + air``): a tail lamp's red over green
 falls from about 2.3 to 1.5 in rain, below ``ratio``, and a back view without "red lamps" was read as a front (Table 1's

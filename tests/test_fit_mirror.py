@@ -107,8 +107,9 @@ def _red_car(n: int = 1, headlights: str | None = None) -> tuple[torch.Tensor, t
 
 def test_a_red_cars_front_and_back_are_read_from_its_headlights():
     """The red cue cannot read a red body (its red share is too high); white lights low on the body mark the front
-    and their side, none the back."""
-    cue = LampCue(min_mask=0)
+    and their side, none the back. (At full weight: by default a presence weighs only ``headlight_weight``,
+    tests/test_lamps_headlight_weight.py.)"""
+    cue = LampCue(min_mask=0, headlight_weight=1.0)
     crop, mask = _red_car(3)
     crop[1], crop[2] = _red_car(1, "both")[0][0], _red_car(1, "left")[0][0]
     _, red_usable, _ = red_lamps(crop, mask, cue)

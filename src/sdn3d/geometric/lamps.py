@@ -29,6 +29,17 @@ offset ``d``): evidence ``sin(alpha) + 2 d cos(alpha)``; none: the back is more 
 sin(alpha)``. On the seed-13 tuning tree's 48 red-bodied cars and vans (16 vehicles, 3 frames each; the branch's
 crops) such pixels were on 15 of the 18 front views and on none of the 30 back views (``white_min`` 0.6 or
 ``white_min_share`` 0.002: 12 to 14 fronts; 0.5: 4 to 13 backs too); ``red_body``: false turns the cue off.
+Near-white pixels are not only headlights, though: rain streaks cross a red back, and a red body's tail lamps and
+light bar are a paler red whose brightest pixels pass as white. On the Table 1 tuning trees 31, 35 and 37 (session
+21's demo weights, 407 cars on ground-truth masks, an oracle) they were on 12 front views and on 14 back or side
+views of red bodies: a coin, while their absence was right on 24 of 25, and the MultiBin bins named the right end
+of 21 of those 26. So a presence counts ``headlight_weight`` (0.3, the bins' weight ``-flip_below``) of the red
+lamps' evidence: it seldom turns the branch's yaw by itself (:func:`face_by_reading`: only with its side term), and
+in the fit's belief (:func:`~sdn3d.geometric.facing.facing_belief`) it weighs as much as sure bins, so that where
+the two disagree the silhouette decides (``docs/results/2026-11-30_cpu/session22/flip``). The absence keeps
+``absent_weight``. The bins are then as good as the training: a second demo training's called every red body a
+back, and on tree 35 the weight fixed 17 fits of back views (oracle masks and proposals) and broke 4 fits of
+true fronts whose headlights were real.
 
 Fog and rain add the air's light to every pixel (``observed = t albedo + air``): a tail lamp's red over green
 falls from about 2.3 to 1.5 in rain, below ``ratio``, and a back view without "red lamps" was read as a front (Table 1's
@@ -70,7 +81,13 @@ class LampCue:
     white_min: float = 0.55
     white_spread: float = 0.25
     white_min_share: float = 0.001
+    headlight_weight: float = 0.3
     clear_dark: float | None = 0.10
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.headlight_weight <= 1.0:
+            raise ValueError(f"LampCue.headlight_weight must lie in [0, 1] (a share of the red lamps' evidence), "
+                             f"got {self.headlight_weight}")
 
 
 def air_offset(crop: Tensor, mask: Tensor, clear_dark: float | None) -> tuple[Tensor, Tensor]:
@@ -195,7 +212,9 @@ def evidence_of(present: Tensor, usable: Tensor, offset: Tensor, alpha: Tensor, 
     if front is None:
         return evidence
     f_present, f_usable, f_offset = front
-    headlights = torch.where(f_present[:, None], sin + 2 * f_offset[:, None] * cos, -cue.absent_weight * sin)
+    # near-white pixels are as often rain or a paler tail lamp as headlights: a presence weighs headlight_weight
+    headlights = torch.where(f_present[:, None], cue.headlight_weight * (sin + 2 * f_offset[:, None] * cos),
+                             -cue.absent_weight * sin)
     return torch.where(f_usable[:, None] & ~usable[:, None], headlights, evidence)
 
 

@@ -18,9 +18,15 @@ object). Codes are kept. With ``geometry='move'`` the normal, pose and depth map
 (depth divided by ``zoom``); with ``'empty'`` they are zero everywhere (a baseline without any 3D input).
 
 In the photo appearance (:func:`baseline_photo`, what :mod:`sdn3d.editing.photo` is to 3D-SDN) the baselines
-paste each edited object's own pixels, moved and scaled the same way (bilinear), over the same fill of the vacated
-pixels (:func:`~sdn3d.editing.photo.vacated_hole`, :func:`~sdn3d.editing.photo.fill_hole`) as 3D-SDN's, so that a
-comparison isolates what the 3D geometry adds.
+paste each edited object's own pixels, moved and scaled the same way (bilinear), over the vacated pixels filled by
+the same fill method (:func:`~sdn3d.editing.photo.vacated_hole`, :func:`~sdn3d.editing.photo.fill_hole`, the
+``photo.fill`` setting). The hole and its fill are not all of 3D-SDN's removal, though: the baselines' hole is the
+objects' masks alone, and ``fill='rays'`` runs from the picture's centre. 3D-SDN's removal
+(:func:`~sdn3d.editing.photo.transfer.render_photo`) also takes the removed car's fitted silhouette and its shadow
+(found around the fitted footprint), fills the pieces of it that its mask missed (``leftover_pieces``), and runs the
+rays from the road's vanishing point found from the picture's edges around the car (the fitted yaw's when none is
+found). So on deletes and occluder removals, where no object is pasted, 3D-SDN against these baselines measures its
+whole removal, 2D parts (the edges' vanishing point, the leftover pieces) included, not the 3D geometry alone.
 """
 
 from __future__ import annotations

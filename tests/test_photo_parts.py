@@ -204,6 +204,32 @@ def test_unseen_body_is_drawn_from_paint_not_from_a_lamp_the_mesh_calls_body():
     assert float(redness.max()) < 0.05
 
 
+def test_unseen_body_is_drawn_in_the_paint_not_the_road_the_mask_took_in():
+    """A red car seen from behind whose mask took in the road below it (its lowest 30 % of rows are the road's grey,
+    connected to the road under the car: ``recolor.ground_in_mask``) above which lies a black bumper (the next 10 %),
+    turned by 90 degrees: the road does not tell the paint, so its new side is red paint, not grey or black (the
+    real frame's red wagon, whose body examples off the lamps' heights were 43 % road and shadow and the rest mostly
+    its black bumper: its turned side was drawn black below; docs/results/2026-11-30_cpu/session22/side2/)."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.7, 0.1, 0.08))
+    body = covered & (parts == int(Part.BODY))
+    rows = covered.any(1).nonzero().flatten()
+    span = int(rows.max() - rows.min())
+    road, bumper = covered.clone(), body.clone()
+    road[: int(rows.min()) + int(0.7 * span)] = False  # the lowest 30 % of the car's rows
+    bumper[: int(rows.min()) + int(0.6 * span)] = False
+    bumper &= ~road
+    image[:, road] = 0.45  # the background's road grey, as it lies below the car
+    image[:, bumper] = 0.05
+    assert 0.25 < float((road & body).sum()) / float(body.sum()) < 0.4
+    edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    side = (result.source == PART) & (result.parts == int(Part.BODY))
+    assert int(side.sum()) > 200
+    redness = result.image[0, side] - result.image[1, side]
+    assert float((redness > 0.3).double().mean()) > 0.9  # main's code: 0 (the road and bumper taken for the paint)
+
+
 def test_unseen_surfaces_without_a_fitted_light_are_not_darkened():
     """A car in one flat paint, turned by 90 degrees with relight off (the default): the side drawn from the car's
     own pixels (part) or its body colour (fallback) keeps the paint; a guessed light from above made it ~40 % darker.

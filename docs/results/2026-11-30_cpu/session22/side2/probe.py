@@ -33,9 +33,10 @@ _part_examples, _run, _evaluate, _score, _psnr = (T._part_examples, cf.run_count
                                                   cf._score_pair, cf._psnr_l1)
 
 
-def part_examples(b, s_mesh, visible_px, before, src, parts_src, img_flat, settings):
+def part_examples(b, s_mesh, visible_px, before, src, parts_src, img_flat, *rest):
     """``transfer._part_examples``, recording the body examples it decides the paint on."""
     name = f"{CURRENT.get('target')}|{CURRENT.get('source')}|{int(before.instance_id[b])}"
+    settings = rest[-1]  # main's code passes (settings), the branch's (road, settings)
     ex = visible_px[(src.frags.mesh_at(visible_px) == s_mesh) & (parts_src[visible_px] >= 0)]
     if name not in RECORDS and len(ex):
         _, vid, bary, normal = T._surface(src, ex)
@@ -48,7 +49,7 @@ def part_examples(b, s_mesh, visible_px, before, src, parts_src, img_flat, setti
                          "band": T._lamp_band(before, b, feature, corners=False), "px": ex[body],
                          "template": int(before.template_id[b]), "visible": visible_px.clone(),
                          "image": (img_flat.clamp(0, 1) * 255 + 0.5).floor().to(torch.uint8)}
-    return _part_examples(b, s_mesh, visible_px, before, src, parts_src, img_flat, settings)
+    return _part_examples(b, s_mesh, visible_px, before, src, parts_src, img_flat, *rest)
 
 
 def run(index, records, models, settings, progress=None):

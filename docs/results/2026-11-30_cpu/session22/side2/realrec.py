@@ -26,9 +26,10 @@ RECORDS: dict[str, dict] = {}
 _part_examples = T._part_examples
 
 
-def recording(b, s_mesh, visible_px, before, src, parts_src, img_flat, settings):
+def recording(b, s_mesh, visible_px, before, src, parts_src, img_flat, *rest):
     """``transfer._part_examples``, recording the body examples it decides the paint on."""
     name = f"real|{int(before.instance_id[b])}"
+    settings = rest[-1]  # main's code passes (settings), the branch's (road, settings)
     ex = visible_px[(src.frags.mesh_at(visible_px) == s_mesh) & (parts_src[visible_px] >= 0)]
     if name not in RECORDS and len(ex):
         _, vid, bary, normal = T._surface(src, ex)
@@ -41,7 +42,7 @@ def recording(b, s_mesh, visible_px, before, src, parts_src, img_flat, settings)
                          "band": T._lamp_band(before, b, feature, corners=False), "px": ex[body],
                          "template": int(before.template_id[b]), "visible": visible_px.clone(),
                          "image": (img_flat.clamp(0, 1) * 255 + 0.5).floor().to(torch.uint8)}
-    return _part_examples(b, s_mesh, visible_px, before, src, parts_src, img_flat, settings)
+    return _part_examples(b, s_mesh, visible_px, before, src, parts_src, img_flat, *rest)
 
 
 def main() -> int:

@@ -1569,9 +1569,11 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         per car, when first needed."""
         if bb not in cache:
             visible = visible_of(int(before.instance_id[bb]))
-            car = torch.zeros(height * width, dtype=torch.bool)
-            car[visible] = True
-            road = ground_in_mask(image, car.view(height, width)).view(-1)
+            road = None
+            if clear_air(bb):  # in fog the car's lower body is the road's grey: the colour test takes it for road
+                car = torch.zeros(height * width, dtype=torch.bool)
+                car[visible] = True
+                road = ground_in_mask(image, car.view(height, width)).view(-1)
             cache[bb] = _part_examples(bb, int(src_row_to_mesh[bb]), visible, before, src, parts_src, img_flat, road,
                                        settings)
         return cache[bb]
@@ -1877,7 +1879,7 @@ def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor)
 
 
 def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable, src: _Raster, parts_src: Tensor,
-                   img_flat: Tensor, road: Tensor, settings: PhotoSettings) -> tuple[_PartExamples, Tensor]:
+                   img_flat: Tensor, road: Tensor | None, settings: PhotoSettings) -> tuple[_PartExamples, Tensor]:
     """The examples of the car of ``before`` row ``b`` (source mesh ``s_mesh``) among its ``visible_px``, and the
     colours of all its ``visible_px`` (the air it is seen through, :func:`seen_through_the_air` and
     :func:`_clear_air`: fog lifts every pixel of the car, whichever way it faces and whatever the template covers;
@@ -1886,11 +1888,11 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     are paint (:func:`~sdn3d.editing.photo.recolor.body_paint`: a tail lamp or a window that a loosely fitted mesh
     calls body painted a red or black stripe along a whole new side), the paint told by the body examples off the
     lamps' heights at the car's ends (:func:`_lamp_band` across the width: a lamp band has paint above and below it,
-    so it does not decide the paint however much of the end it covers) that are not on ``road (H * W,)`` bool, the
-    road and shadow the car's mask took in (:func:`~sdn3d.editing.photo.recolor.ground_in_mask`: a box's mask takes
-    them in below a car seen from behind, where the template's end cap reaches; on the real frame's red wagon they
-    were 43 % of the examples off the lamps' heights and made its paint black,
-    docs/results/2026-11-30_cpu/session22/side2/); on a coloured paint, glass examples of the
+    so it does not decide the paint however much of the end it covers) that are not on ``road (H * W,)`` bool (None:
+    none), the road and shadow the car's mask took in (:func:`~sdn3d.editing.photo.recolor.ground_in_mask`, the
+    caller's in clear air only: a box's mask takes them in below a car seen from behind, where the template's end cap
+    reaches; on the real frame's red wagon they were 43 % of the examples off the lamps' heights and made its paint
+    black, docs/results/2026-11-30_cpu/session22/side2/); on a coloured paint, glass examples of the
     paint's hue and chroma are the body's (a real car whose belt line lies above the fitted template's: its paint
     there drew dark-red side windows); tyre examples darker than most of the car
     (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype (the colours are float64
@@ -1915,7 +1917,7 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
         band = _lamp_band(before, b, feature[body_ex], corners=False) if LAMP_BAND is not None else None
         beside = band is None or int((band < 0).sum()) < 8  # too few examples off the lamps' heights: all decide
         told = torch.ones(len(body_ex), dtype=torch.bool) if beside else band < 0
-        tell = told & ~road[ex[body_ex]]  # the road and shadow under the car tell nothing of its paint
+        tell = told if road is None else told & ~road[ex[body_ex]]  # the road under the car tells no paint
         reference = lab[tell] if int(tell.sum()) >= 8 else lab[told]
         paint, coloured = body_paint(lab, reference=reference)
         keep[body_ex[~paint]] = False

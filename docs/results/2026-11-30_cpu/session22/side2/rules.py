@@ -10,6 +10,7 @@ coloured flag differ, and a count. Pictures not stored in a record are read from
 
 from __future__ import annotations
 
+import os
 import re
 import sys
 from pathlib import Path
@@ -19,6 +20,7 @@ import torch
 from PIL import Image
 
 from sdn3d.editing.photo.recolor import body_paint, ground_in_mask
+from sdn3d.editing.photo.transfer import _clear_air
 
 TREES = {"2199": "/tmp/s21side/trees/cf2199", "2201": "/tmp/s21side/trees/cf2201", "31": "/tmp/s21data/trees/cf31",
          "33": "/tmp/s21data/trees/cf33", "39": "/tmp/s21data/trees/cf39", "2207": "/tmp/s22data/side2/trees/cf2207"}
@@ -53,6 +55,9 @@ def main() -> int:
             mask = torch.zeros(height * width, dtype=torch.bool)
             mask[rec["visible"]] = True
             road = ground_in_mask(image.float(), mask.view(height, width)).view(-1)[rec["px"]]
+            clear = _clear_air(image.permute(1, 2, 0).reshape(-1, 3)[rec["visible"]].double())
+            if os.environ.get("CLEAR_AIR_ONLY") and not clear:
+                road = torch.zeros_like(road)
             off = rec["band"] < 0
             told = off if int(off.sum()) >= 8 else torch.ones_like(off)
             main_keep, main_col = decide(lab, told)
@@ -61,7 +66,7 @@ def main() -> int:
                 changed += 1
                 print(f"{Path(path).stem} {name}: road examples {int(road.sum())}/{len(lab)} (off band "
                       f"{int((off & road).sum())}/{int(off.sum())}); coloured {main_col} -> {new_col}, kept "
-                      f"{int(main_keep.sum())} -> {int(new_keep.sum())}")
+                      f"{int(main_keep.sum())} -> {int(new_keep.sum())}; clear air {clear}")
     print(f"changed {changed} of {total} car records")
     return 0
 

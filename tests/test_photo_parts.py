@@ -647,7 +647,8 @@ def test_a_never_seen_window_facing_the_camera_as_no_example_did_takes_the_mean_
     facing = (rot @ torch.tensor([-1.0, 0.0, 0.0], dtype=torch.float64)).expand(len(points), 3)  # the camera
     color = torch.where(local[:, 2:].abs() > 0.78, 0.7, 0.05).expand(-1, 3).clone()
     own = _PartExamples(torch.full((len(points),), int(Part.GLASS)), color,
-                        _part_features(objects, 0, points, facing), torch.ones(len(points), dtype=torch.float64))
+                        _part_features(objects, 0, points, facing), torch.ones(len(points), dtype=torch.float64),
+                        torch.zeros(len(points), dtype=torch.uint8))
     side = torch.tensor([[0.0, -0.45, 0.9]], dtype=torch.float64) @ rot.T + centre
     sideways = (rot @ torch.tensor([0.0, 0.0, 1.0], dtype=torch.float64))[None]
     glass = torch.tensor([int(Part.GLASS)])

@@ -1,8 +1,9 @@
 """Session 22 side2: which cars a paint rule changes, offline, on probe.py / realrec.py records (argv: .pt files):
 per car, main's paint decision (``recolor.body_paint`` with the body examples off the lamps' heights as the
-reference) against the candidate's (the same less the examples on the road the car's mask took in,
-``recolor.ground_in_mask`` of the input over the car's visible pixels); prints every car whose kept examples or
-coloured flag differ, and a count. Pictures not stored in a record are read from TREE_ROOT/<tree>/vkitti_1.3.1_rgb
+reference) against the branch's (where that is grey: the same less the examples on the road the car's mask took in,
+``recolor.ground_in_mask`` of the input over the car's visible pixels, in clear air with CLEAR_AIR_ONLY=1, as the
+branch does); prints every car whose paint turns coloured (the branch then draws its sides from that paint), and a
+count. Pictures not stored in a record are read from TREE_ROOT/<tree>/vkitti_1.3.1_rgb
 (the record file's name says the tree: ``..._cf<label>_...``).
 
     PYTHONPATH=src /work/main/.venv/bin/python rules.py /tmp/s22data/side2/probe/*.pt
@@ -60,9 +61,12 @@ def main() -> int:
                 road = torch.zeros_like(road)
             off = rec["band"] < 0
             told = off if int(off.sum()) >= 8 else torch.ones_like(off)
+            tell = told & ~road
             main_keep, main_col = decide(lab, told)
-            new_keep, new_col = decide(lab, told & ~road if int((told & ~road).sum()) >= 8 else told)
-            if not torch.equal(main_keep, new_keep) or main_col != new_col:
+            new_keep, new_col = main_keep, main_col
+            if not main_col and 8 <= int(tell.sum()) < int(told.sum()):  # the branch's rule (transfer._part_examples)
+                new_keep, new_col = decide(lab, tell)
+            if new_col != main_col:
                 changed += 1
                 print(f"{Path(path).stem} {name}: road examples {int(road.sum())}/{len(lab)} (off band "
                       f"{int((off & road).sum())}/{int(off.sum())}); coloured {main_col} -> {new_col}, kept "

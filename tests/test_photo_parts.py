@@ -383,7 +383,7 @@ def test_unseen_tyres_are_not_drawn_from_road_the_template_calls_tyre(monkeypatc
     lumas = []
     for quantile in (transfer.TYRE_QUANTILE, 1.0):
         monkeypatch.setattr(transfer, "TYRE_QUANTILE", quantile)
-        own, seen_colors = _part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat, PARTS)
+        own, seen_colors = _part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat, None, PARTS)
         colour, code, _ = _part_colors(0, own, seen_colors, points, normal, torch.full((len(query),), int(Part.TYRE)),
                                     scene.objects, None)
         assert bool((code == PART).all())
@@ -509,7 +509,7 @@ def test_a_small_far_car_in_fog_gets_hazed_defaults_not_black(monkeypatch):
     visible = (src.vis_ids.view(-1) == 12001).nonzero().flatten()
     assert transfer.AIR_MIN_PIXELS <= len(visible) < 50
     img_flat = fog.permute(1, 2, 0).reshape(-1, 3).double()
-    _, seen_colors = _part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat, PARTS)
+    _, seen_colors = _part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat, None, PARTS)
     assert len(seen_colors) == len(visible)
     edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
     result = render_photo(fog, FRAME, scene, edited, settings=PARTS)

@@ -1867,6 +1867,11 @@ class _PartExamples(NamedTuple):
     reach: Tensor
 
 
+#: :func:`_part_examples`: the largest share of a car's body examples on the road its mask took in for the paint told
+#: without them to draw its sides: a car most of whose body is road is a mask of the road (small cars of the predicted
+#: source scene on the seed-33 and seed-39 tuning trees, 74-81 %; the real frame's red wagon 22 %,
+#: docs/results/2026-11-30_cpu/session22/side2/).
+ROAD_MAX_SHARE = 0.5
 #: :attr:`_PartExamples.reach`: an example any never-seen surface of its car may be drawn from.
 REACH_ALL = 0
 #: An example only the car's ends (beyond :data:`LAMP_END` of its length from the middle) may be drawn from: a body
@@ -1935,10 +1940,12 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
         band = _lamp_band(before, b, feature[body_ex], corners=False) if LAMP_BAND is not None else None
         beside = band is None or int((band < 0).sum()) < 8  # too few examples off the lamps' heights: all decide
         told = torch.ones(len(body_ex), dtype=torch.bool) if beside else band < 0
-        tell = told if road is None else told & ~road[ex[body_ex]]  # the road under the car tells no paint
+        on_road = torch.zeros(len(body_ex), dtype=torch.bool) if road is None else road[ex[body_ex]]
+        tell = told & ~on_road  # the road under the car tells no paint
         paint, coloured = body_paint(lab, reference=lab[told])
         side_paint = paint
-        if not coloured and 8 <= int(tell.sum()) < int(told.sum()):  # the road told a grey paint: is it the car's?
+        if (not coloured and 8 <= int(tell.sum()) < int(told.sum())
+                and float(on_road.double().mean()) <= ROAD_MAX_SHARE):  # the road told a grey paint: is it the car's?
             side_paint, side_coloured = body_paint(lab, reference=lab[tell])
             if side_coloured:  # the sides are the coloured paint; the ends keep what they showed
                 reach[body_ex[paint & ~side_paint]] = REACH_ENDS

@@ -64,7 +64,8 @@ def main() -> int:
             tell = told & ~road
             main_keep, main_col = decide(lab, told)
             new_keep, new_col = main_keep, main_col
-            if not main_col and 8 <= int(tell.sum()) < int(told.sum()):  # the branch's rule (transfer._part_examples)
+            if (not main_col and 8 <= int(tell.sum()) < int(told.sum())  # the branch's rule (transfer._part_examples)
+                    and float(road.double().mean()) <= float(os.environ.get("ROAD_MAX_SHARE", "1"))):
                 new_keep, new_col = decide(lab, tell)
             if new_col != main_col:
                 changed += 1

@@ -33,7 +33,7 @@ def main() -> int:
     out, label_a, path_a, label_b, path_b = sys.argv[1:6]
     a, b = torch.load(path_a, weights_only=False), torch.load(path_b, weights_only=False)
     rows = []
-    for key in sorted(set(a) & set(b)):
+    for key in sorted(set(a) & set(b), key=lambda k: (k.split()[0], int(k.rsplit("_", 1)[-1]))):
         pa, pb = a[key], b[key]
         car = pa["car"] | pa["picture"].ne(pb["picture"]).any(0)
         height, width = car.shape

@@ -6,7 +6,12 @@ branch does); prints every car whose paint turns coloured (the branch then draws
 count. Pictures not stored in a record are read from TREE_ROOT/<tree>/vkitti_1.3.1_rgb
 (the record file's name says the tree: ``..._cf<label>_...``).
 
-    PYTHONPATH=src /work/main/.venv/bin/python rules.py /tmp/s22data/side2/probe/*.pt
+With ROAD_MAX_SHARE=0.5 (the branch's ``transfer.ROAD_MAX_SHARE``; default 1: none) a car whose body examples are
+more than that share road is left as main's. ``rules_final.txt``: CLEAR_AIR_ONLY=1 ROAD_MAX_SHARE=0.5 (13440f4);
+``rules_3e22d80.txt``: CLEAR_AIR_ONLY=1 alone.
+
+    CLEAR_AIR_ONLY=1 ROAD_MAX_SHARE=0.5 PYTHONPATH=src /work/main/.venv/bin/python rules.py \\
+        /tmp/s22data/side2/probe/*.pt
 """
 
 from __future__ import annotations

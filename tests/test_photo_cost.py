@@ -1006,10 +1006,10 @@ def test_part_examples_summing_by_sum3_are_those_of_torchs_sum(monkeypatch):
     point = (bary[..., None] * src.raster.verts[0, vid]).sum(1)
     point[:5] = 0.0  # a point at the camera: normalize gives zeros
     got = [_view_cos(point, normal), *_part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat,
-                                                      PARTS)]
+                                                      None, PARTS)]
     monkeypatch.setattr(transfer, "sum3", lambda x, dim=-1, keepdim=False: x.sum(dim, keepdim=keepdim))
     want = [_view_cos(point, normal), *_part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat,
-                                                       PARTS)]
+                                                       None, PARTS)]
     assert len(got[1].part) > 100 and torch.equal(got[0], want[0]) and torch.equal(got[2], want[2])
     assert torch.equal(got[0], (F.normalize(point, dim=-1) * normal).sum(-1).abs())  # _view_cos as it was
     assert all(torch.equal(a, b) and a.dtype == b.dtype for a, b in zip(got[1], want[1], strict=True))

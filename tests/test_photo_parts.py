@@ -204,6 +204,32 @@ def test_unseen_body_is_drawn_from_paint_not_from_a_lamp_the_mesh_calls_body():
     assert float(redness.max()) < 0.05
 
 
+def test_unseen_body_is_drawn_in_the_paint_not_the_road_the_mask_took_in():
+    """A red car seen from behind whose mask took in the road below it (its lowest 30 % of rows are the road's grey,
+    connected to the road under the car: ``recolor.ground_in_mask``) above which lies a black bumper (the next 10 %),
+    turned by 90 degrees: the road does not tell the paint, so its new side is red paint, not grey or black (the
+    real frame's red wagon, whose body examples off the lamps' heights were 43 % road and shadow and the rest mostly
+    its black bumper: its turned side was drawn black below; docs/results/2026-11-30_cpu/session22/side2/)."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.7, 0.1, 0.08))
+    body = covered & (parts == int(Part.BODY))
+    rows = covered.any(1).nonzero().flatten()
+    span = int(rows.max() - rows.min())
+    road, bumper = covered.clone(), body.clone()
+    road[: int(rows.min()) + int(0.7 * span)] = False  # the lowest 30 % of the car's rows
+    bumper[: int(rows.min()) + int(0.6 * span)] = False
+    bumper &= ~road
+    image[:, road] = 0.45  # the background's road grey, as it lies below the car
+    image[:, bumper] = 0.05
+    assert 0.25 < float((road & body).sum()) / float(body.sum()) < 0.4
+    edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    side = (result.source == PART) & (result.parts == int(Part.BODY))
+    assert int(side.sum()) > 200
+    redness = result.image[0, side] - result.image[1, side]
+    assert float((redness > 0.3).double().mean()) > 0.9  # main's code: 0 (the road and bumper taken for the paint)
+
+
 def test_unseen_surfaces_without_a_fitted_light_are_not_darkened():
     """A car in one flat paint, turned by 90 degrees with relight off (the default): the side drawn from the car's
     own pixels (part) or its body colour (fallback) keeps the paint; a guessed light from above made it ~40 % darker.
@@ -357,7 +383,7 @@ def test_unseen_tyres_are_not_drawn_from_road_the_template_calls_tyre(monkeypatc
     lumas = []
     for quantile in (transfer.TYRE_QUANTILE, 1.0):
         monkeypatch.setattr(transfer, "TYRE_QUANTILE", quantile)
-        own, seen_colors = _part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat, PARTS)
+        own, seen_colors = _part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat, None, PARTS)
         colour, code, _ = _part_colors(0, own, seen_colors, points, normal, torch.full((len(query),), int(Part.TYRE)),
                                     scene.objects, None)
         assert bool((code == PART).all())
@@ -483,7 +509,7 @@ def test_a_small_far_car_in_fog_gets_hazed_defaults_not_black(monkeypatch):
     visible = (src.vis_ids.view(-1) == 12001).nonzero().flatten()
     assert transfer.AIR_MIN_PIXELS <= len(visible) < 50
     img_flat = fog.permute(1, 2, 0).reshape(-1, 3).double()
-    _, seen_colors = _part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat, PARTS)
+    _, seen_colors = _part_examples(0, 0, visible, scene.objects, src.raster, src.parts, img_flat, None, PARTS)
     assert len(seen_colors) == len(visible)
     edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
     result = render_photo(fog, FRAME, scene, edited, settings=PARTS)
@@ -621,7 +647,8 @@ def test_a_never_seen_window_facing_the_camera_as_no_example_did_takes_the_mean_
     facing = (rot @ torch.tensor([-1.0, 0.0, 0.0], dtype=torch.float64)).expand(len(points), 3)  # the camera
     color = torch.where(local[:, 2:].abs() > 0.78, 0.7, 0.05).expand(-1, 3).clone()
     own = _PartExamples(torch.full((len(points),), int(Part.GLASS)), color,
-                        _part_features(objects, 0, points, facing), torch.ones(len(points), dtype=torch.float64))
+                        _part_features(objects, 0, points, facing), torch.ones(len(points), dtype=torch.float64),
+                        torch.zeros(len(points), dtype=torch.uint8))
     side = torch.tensor([[0.0, -0.45, 0.9]], dtype=torch.float64) @ rot.T + centre
     sideways = (rot @ torch.tensor([0.0, 0.0, 1.0], dtype=torch.float64))[None]
     glass = torch.tensor([int(Part.GLASS)])

@@ -1568,8 +1568,14 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
         """``before`` row ``bb``'s part examples and all its visible colours (:func:`_part_examples`); computed once
         per car, when first needed."""
         if bb not in cache:
-            cache[bb] = _part_examples(bb, int(src_row_to_mesh[bb]), visible_of(int(before.instance_id[bb])), before,
-                                       src, parts_src, img_flat, settings)
+            visible = visible_of(int(before.instance_id[bb]))
+            road = None
+            if clear_air(bb):  # in fog the car's lower body is the road's grey: the colour test takes it for road
+                car = torch.zeros(height * width, dtype=torch.bool)
+                car[visible] = True
+                road = ground_in_mask(image, car.view(height, width)).view(-1)
+            cache[bb] = _part_examples(bb, int(src_row_to_mesh[bb]), visible, before, src, parts_src, img_flat, road,
+                                       settings)
         return cache[bb]
 
     def clear_air(bb: int) -> bool:
@@ -1850,13 +1856,31 @@ def seen_through_the_air(defaults: Tensor, colors: Tensor, min_pixels: int | Non
 
 class _PartExamples(NamedTuple):
     """A car's visible pixels usable as examples of its parts (:func:`_part_examples`): ``part (E,)``,
-    ``color (E, 3)`` sRGB, ``feature (E, 6)`` (:func:`_part_features`) and ``cos (E,)`` the view cosine each was
-    seen at (:func:`_view_cos`)."""
+    ``color (E, 3)`` sRGB, ``feature (E, 6)`` (:func:`_part_features`), ``cos (E,)`` the view cosine each was
+    seen at (:func:`_view_cos`) and ``reach (E,)`` uint8 which of the car's never-seen surfaces each may draw
+    (:data:`REACH_ALL`, :data:`REACH_ENDS`, :data:`REACH_SIDES`)."""
 
     part: Tensor
     color: Tensor
     feature: Tensor
     cos: Tensor
+    reach: Tensor
+
+
+#: :func:`_part_examples`: the largest share of a car's body examples on the road its mask took in for the paint told
+#: without them to draw its sides: a car most of whose body is road is a mask of the road (small cars of the predicted
+#: source scene on the seed-33 and seed-39 tuning trees, 74-81 %; the real frame's red wagon 22 %,
+#: docs/results/2026-11-30_cpu/session22/side2/).
+ROAD_MAX_SHARE = 0.5
+#: :attr:`_PartExamples.reach`: an example any never-seen surface of its car may be drawn from.
+REACH_ALL = 0
+#: An example only the car's ends (beyond :data:`LAMP_END` of its length from the middle) may be drawn from: a body
+#: example the paint told by the examples off the lamps' heights keeps, where the road under the car told that paint
+#: (:func:`_part_examples`): a car's end drawn from its other end takes that end's bumper and glass as they were.
+REACH_ENDS = 1
+#: An example only the car's sides may be drawn from: a body example of the paint told without the road under the car
+#: (:func:`_part_examples`): a side is paint down to its sills.
+REACH_SIDES = 2
 
 
 def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor) -> Tensor:
@@ -1873,7 +1897,7 @@ def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor)
 
 
 def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable, src: _Raster, parts_src: Tensor,
-                   img_flat: Tensor, settings: PhotoSettings) -> tuple[_PartExamples, Tensor]:
+                   img_flat: Tensor, road: Tensor | None, settings: PhotoSettings) -> tuple[_PartExamples, Tensor]:
     """The examples of the car of ``before`` row ``b`` (source mesh ``s_mesh``) among its ``visible_px``, and the
     colours of all its ``visible_px`` (the air it is seen through, :func:`seen_through_the_air` and
     :func:`_clear_air`: fog lifts every pixel of the car, whichever way it faces and whatever the template covers;
@@ -1882,7 +1906,15 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     are paint (:func:`~sdn3d.editing.photo.recolor.body_paint`: a tail lamp or a window that a loosely fitted mesh
     calls body painted a red or black stripe along a whole new side), the paint told by the body examples off the
     lamps' heights at the car's ends (:func:`_lamp_band` across the width: a lamp band has paint above and below it,
-    so it does not decide the paint however much of the end it covers); on a coloured paint, glass examples of the
+    so it does not decide the paint however much of the end it covers); where those tell a grey paint and those not
+    on ``road (H * W,)`` bool (None: none), the road and shadow the car's mask took in
+    (:func:`~sdn3d.editing.photo.recolor.ground_in_mask`, the caller's, in clear air only), tell a coloured one, the
+    coloured paint's examples draw the car's sides and the grey one's its ends (:attr:`_PartExamples.reach`): a box's
+    mask takes in the road below a car seen from behind, where the template's end cap reaches (on the real frame's red
+    wagon 43 % of the examples off the lamps' heights; its paint was judged black and its turned side drawn black
+    below), while an end drawn from the other end keeps that end's bumper and glass (the paint's examples alone drew
+    worse 180-degree turns on the tuning trees, docs/results/2026-11-30_cpu/session22/side2/); on a coloured paint,
+    glass examples of the
     paint's hue and chroma are the body's (a real car whose belt line lies above the fitted template's: its paint
     there drew dark-red side windows); tyre examples darker than most of the car
     (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype (the colours are float64
@@ -1901,30 +1933,43 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     ex_part = parts_src[ex]
     feature = _part_features(before, b, point, normal)
     keep = torch.ones(len(ex), dtype=torch.bool)
+    reach = torch.full((len(ex),), REACH_ALL, dtype=torch.uint8)
     body_ex = (ex_part == int(Part.BODY)).nonzero().flatten()
     if len(body_ex) >= 8:
         lab = srgb_to_lab(colors[body_ex].float())
         band = _lamp_band(before, b, feature[body_ex], corners=False) if LAMP_BAND is not None else None
         beside = band is None or int((band < 0).sum()) < 8  # too few examples off the lamps' heights: all decide
-        reference = lab if beside else lab[band < 0]
-        paint, coloured = body_paint(lab, reference=reference)
-        keep[body_ex[~paint]] = False
+        told = torch.ones(len(body_ex), dtype=torch.bool) if beside else band < 0
+        on_road = torch.zeros(len(body_ex), dtype=torch.bool) if road is None else road[ex[body_ex]]
+        tell = told & ~on_road  # the road under the car tells no paint
+        paint, coloured = body_paint(lab, reference=lab[told])
+        side_paint = paint
+        if (not coloured and 8 <= int(tell.sum()) < int(told.sum())
+                and float(on_road.double().mean()) <= ROAD_MAX_SHARE):  # the road told a grey paint: is it the car's?
+            side_paint, side_coloured = body_paint(lab, reference=lab[tell])
+            if side_coloured:  # the sides are the coloured paint; the ends keep what they showed
+                reach[body_ex[paint & ~side_paint]] = REACH_ENDS
+                reach[body_ex[side_paint & ~paint]] = REACH_SIDES
+            else:
+                side_paint = paint
+        keep[body_ex[~(paint | side_paint)]] = False
         glass_ex = (ex_part == int(Part.GLASS)).nonzero().flatten()
         if coloured and len(glass_ex):  # a coloured car's paint above the template's belt line is body, not glass
-            glass_paint, _ = body_paint(srgb_to_lab(colors[glass_ex].float()), reference=reference)
+            glass_paint, _ = body_paint(srgb_to_lab(colors[glass_ex].float()), reference=lab[told])
             ex_part[glass_ex[glass_paint]] = int(Part.BODY)
     tyre_ex = (ex_part == int(Part.TYRE)).nonzero().flatten()
     if TYRE_QUANTILE < 1 and len(tyre_ex):  # tyre examples lighter than most of the car are road or paint
         luma = luminance(colors)
         keep[tyre_ex[luma[tyre_ex] > torch.quantile(luma, TYRE_QUANTILE)]] = False
-    kept = _PartExamples(ex_part[keep], colors[keep], feature[keep], cos[keep])
+    kept = _PartExamples(ex_part[keep], colors[keep], feature[keep], cos[keep], reach[keep])
     return kept, seen_colors
 
 
 def _no_examples() -> _PartExamples:
     """No examples at all (a car none of whose surface is seen)."""
     return _PartExamples(torch.zeros(0, dtype=torch.long), torch.zeros(0, 3, dtype=torch.float64),
-                         torch.zeros(0, 6, dtype=torch.float64), torch.zeros(0, dtype=torch.float64))
+                         torch.zeros(0, 6, dtype=torch.float64), torch.zeros(0, dtype=torch.float64),
+                         torch.zeros(0, dtype=torch.uint8))
 
 
 def _examples_of_part(examples: _PartExamples, part: int) -> _PartExamples:
@@ -1984,7 +2029,9 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     input pixels of the same part of the same car, code :data:`PART`. Nearest in the car's own frame and by
     camera-frame normal (:func:`_part_features`): an example that faced the camera as the new surface does carries its
     shading (no light model: a side of the car turned towards the camera takes the colour of the surfaces that faced
-    it, its reflection included).
+    it, its reflection included). Body points at the car's ends (beyond :data:`LAMP_END` of its
+    length from the middle) are drawn from the examples that may reach them and the others from those that may reach
+    the sides (:attr:`_PartExamples.reach`, :func:`_part_examples`: where the road under a car told its paint).
 
     A lamp part it never showed (the front of a car seen from behind) takes the other end's lamps and paint the
     same way (:data:`OTHER_END`), its lamps in this end's colour (:data:`LAMP_HUES`), code :data:`PART`. A
@@ -2005,13 +2052,26 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     if any_set(default) and len(seen_colors):
         albedo[default] = seen_through_the_air(albedo[default], seen_colors)
     q_feat = _part_features(before, b, points, normals)
-    paint = own.color[own.part == int(Part.BODY)]
+    at_ends = own.reach != REACH_SIDES  # the examples a car's ends are drawn from (the lamps lie at the ends)
+    paint = own.color[(own.part == int(Part.BODY)) & at_ends]
+    end = q_feat[:, 0].abs() > PART_LENGTH_WEIGHT * LAMP_END
+    split = any_set(own.reach != REACH_ALL)
+    groups = []  # (points, the examples they may be drawn from)
     for part in parts.unique().tolist():
-        q = (parts == part).nonzero().flatten()
-        have = (own.part == part).nonzero().flatten()
+        here = parts == part
+        if split and part == int(Part.BODY):  # the ends and the sides each from their own examples
+            groups += [(here & end, at_ends), (here & ~end, own.reach != REACH_ENDS)]
+        else:
+            groups.append((here, at_ends))
+    for here, usable in groups:
+        q = here.nonzero().flatten()
+        if not len(q):
+            continue
+        part = int(parts[q[0]])
+        have = ((own.part == part) & usable).nonzero().flatten()
         source, feature, code, cos = own.color, own.feature, PART, own.cos
         if len(have) < 2 * k and part in OTHER_END:  # a lamp never seen: the other end's lamps and paint
-            have = torch.isin(own.part, torch.tensor([OTHER_END[part], int(Part.BODY)])).nonzero().flatten()
+            have = (torch.isin(own.part, torch.tensor([OTHER_END[part], int(Part.BODY)])) & usable).nonzero().flatten()
             if LAMP_HUES:
                 source = _lamps_of_this_end(own.color, part, paint)
         if len(have) < 2 * k and part in SHARED_PARTS and others is not None:  # never seen: another car's

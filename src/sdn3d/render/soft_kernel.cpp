@@ -199,12 +199,26 @@ template <typename T>
 std::vector<Group<T>> face_groups(const T* screen, const int64_t* box, int64_t face_lo, int64_t face_hi,
                                   int64_t faces_per_mesh, int64_t image_pixels, T area_eps) {
     constexpr int kFaces = Vec<T>::kFaces;
-    std::vector<int64_t> order;
+    // The faces in a stable sort by (height, width): two stable counting sorts, by width, then by height (box sides
+    // are at most the image's, so a bucket per side; a comparison sort took most of this function's time).
+    std::vector<int64_t> faces, order;
+    int64_t max_w = 0, max_h = 0;
     for (int64_t f = face_lo; f < face_hi; ++f)
-        if (box[4 * f + 2] > 0 && box[4 * f + 3] > 0) order.push_back(f);
-    std::stable_sort(order.begin(), order.end(), [box](int64_t a, int64_t b) {
-        return box[4 * a + 3] != box[4 * b + 3] ? box[4 * a + 3] < box[4 * b + 3] : box[4 * a + 2] < box[4 * b + 2];
-    });
+        if (box[4 * f + 2] > 0 && box[4 * f + 3] > 0) {
+            faces.push_back(f);
+            max_w = std::max(max_w, box[4 * f + 2]);
+            max_h = std::max(max_h, box[4 * f + 3]);
+        }
+    order.resize(faces.size());
+    std::vector<int64_t> first(std::max(max_w, max_h) + 2);
+    for (const int side : {2, 3}) {  // width, then height
+        std::fill(first.begin(), first.end(), 0);
+        for (const int64_t f : faces) ++first[box[4 * f + side] + 1];
+        for (size_t k = 1; k < first.size(); ++k) first[k] += first[k - 1];
+        for (const int64_t f : faces) order[first[box[4 * f + side]]++] = f;
+        faces.swap(order);
+    }
+    order.swap(faces);
     std::vector<Group<T>> groups((order.size() + kFaces - 1) / kFaces);
     for (size_t g = 0; g < groups.size(); ++g) {
         Group<T>& grp = groups[g];

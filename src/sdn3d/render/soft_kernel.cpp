@@ -23,7 +23,7 @@
 // Every face accumulates its pairs in a fixed order and faces are visited in a fixed order, so results are
 // deterministic, whatever the thread count (over_meshes). Inputs per face f (M faces, F per mesh): screen[f] = 3
 // counter-clockwise vertices (x, y) in pixels; box[f] = (first column, first row, width, height), width * height
-// == 0 for culled faces.
+// == 0 for culled faces, which the kernel computes itself first (boxes: soft.py's _face_boxes, the same integers).
 
 #include <algorithm>
 #include <cmath>
@@ -386,13 +386,58 @@ void backward(const T* screen, const int64_t* box, int64_t num_faces, int64_t fa
     });
 }
 
+// Each face's pixel box grown by `radius`, box[f] = (first column, first row, width, height): soft.py's
+// _face_boxes with the same float operations in the same order (its `lo - radius` is a subtraction in T), so the
+// same integers; width and height are 0 where the face is culled (valid[f] == 0). Screen coordinates are finite
+// (soft.py's projection replaces unusable vertices); a NaN all the same gives an empty box, not an undefined cast.
+template <typename T>
+void boxes(const T* screen, const uint8_t* valid, int64_t num_faces, int64_t height, int64_t width, T radius,
+           int64_t* box) {
+    const T size[2] = {T(width), T(height)};
+    for (int64_t f = 0; f < num_faces; ++f) {
+        const T* s = screen + 6 * f;
+        int64_t* out = box + 4 * f;
+        for (int a = 0; a < 2; ++a) {  // x: columns, y: rows
+            const T lo = std::min(std::min(s[a], s[2 + a]), s[4 + a]);
+            const T hi = std::max(std::max(s[a], s[2 + a]), s[4 + a]);
+            if (!(lo == lo && hi == hi)) {
+                out[a] = out[2 + a] = 0;
+                continue;
+            }
+            T first = lo - radius;
+            first = first < T(-1) ? T(-1) : first;  // clamp(min=-1), then minimum(size)
+            first = first < size[a] ? first : size[a];
+            first = std::ceil(first);
+            first = first < T(0) ? T(0) : first;
+            T last = hi + radius;
+            last = last < T(-1) ? T(-1) : last;
+            last = last < size[a] ? last : size[a];
+            last = std::floor(last);
+            last = last < size[a] - T(1) ? last : size[a] - T(1);
+            const int64_t extent = int64_t(last) - int64_t(first) + 1;
+            out[a] = int64_t(first);
+            out[2 + a] = valid[f] && extent > 0 ? extent : 0;
+        }
+    }
+}
+
 }  // namespace
 
 extern "C" {
 
-int sdn3d_soft_abi_version() { return 3; }
+int sdn3d_soft_abi_version() { return 4; }
 
 int sdn3d_soft_f32_lanes() { return SDN3D_SOFT_F32_LANES; }
+
+void sdn3d_soft_boxes_f32(const float* screen, const uint8_t* valid, int64_t num_faces, int64_t height, int64_t width,
+                          double radius, int64_t* box) {
+    boxes<float>(screen, valid, num_faces, height, width, float(radius), box);
+}
+
+void sdn3d_soft_boxes_f64(const double* screen, const uint8_t* valid, int64_t num_faces, int64_t height,
+                          int64_t width, double radius, int64_t* box) {
+    boxes<double>(screen, valid, num_faces, height, width, radius, box);
+}
 
 void sdn3d_soft_forward_f32(const float* screen, const int64_t* box, int64_t num_faces, int64_t faces_per_mesh,
                             int64_t height, int64_t width, double inv_sigma, double area_eps, float* log_keep,

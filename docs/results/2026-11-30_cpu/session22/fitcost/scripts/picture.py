@@ -37,7 +37,7 @@ def main() -> None:
     image = Image.fromarray(grid)
     if image.width > 1400:
         image = image.resize((1400, round(image.height * 1400 / image.width)), Image.LANCZOS)
-    image.save(target, optimize=True)
+    image.quantize(256).save(target, optimize=True)  # a palette: the records keep pictures small
     print(target, image.size)
 
 

@@ -12,9 +12,10 @@
 // gradient; a Part whose every box ends before the pixel is skipped. The forward finds a window pixel's faces as
 // bits (the faces whose box reaches its row, and-ed with those reaching its column) and adds their terms in
 // ascending order, as a test of every face would (the scalar tests and index arithmetic of 16 faces at each of the
-// window's pixels took a third of the forward's time; the edit call's forward 0.63 -> 0.53 CPU s). float32 groups 16 faces, in one 64-byte vector
-// where the target has AVX-512, else in two 32-byte vectors of 8 (SDN3D_SOFT_F32_LANES): without AVX-512 GCC
-// lowers 64-byte vectors piecewise through the stack, 3-10x slower on an AVX2 machine (the edit call's fit took
+// window's pixels took a third of the forward's time; the edit call's forward 0.63 -> 0.53 CPU s). float32 groups
+// 16 faces, in one 64-byte vector where the target has AVX-512, else in two 32-byte vectors of 8
+// (SDN3D_SOFT_F32_LANES): without AVX-512 GCC lowers 64-byte vectors piecewise through the stack, 3-10x slower on
+// an AVX2 machine (the edit call's fit took
 // 10.9 CPU s instead of 3.9, docs/results/2026-11-29_cpu/session12/speed). The groups of 16 keep the order in which
 // a pixel adds its faces' terms, so the results are the same to the bit with either. GCC's vector extensions keep
 // the arithmetic in vectors on any target; float32's exp and log1p are Cephes' polynomials (within about 1 ulp,
@@ -308,6 +309,7 @@ void forward(const T* screen, const int64_t* box, int64_t num_faces, int64_t fac
                 [=](const std::vector<Group<T>>& groups) {
         typedef typename Vec<T>::V V;
         constexpr int kLanes = Group<T>::kLanes, kParts = Group<T>::kParts, kFaces = Group<T>::kFaces;
+        static_assert(kFaces <= 32, "a group's faces are the bits of a uint32_t");
         constexpr uint32_t kPart = (uint32_t(1) << kLanes) - 1;  // a part's lanes (of part 0)
         std::vector<uint32_t> rows_in, cols_in;
         for (const Group<T>& g : groups) {

@@ -224,6 +224,63 @@ def test_cluster_simplify_keeps_small_meshes() -> None:
         cluster_simplify(box.vertices, box.faces, max_faces=2)
 
 
+def _np_unique_simplify(vertices: np.ndarray, faces: np.ndarray, max_faces: int) -> tuple[np.ndarray, ...]:
+    """cluster_simplify as it was written with ``np.unique(axis=0)`` (session 21): the reference its faster unique rows
+    must reproduce to the bit."""
+    vertices, faces = np.asarray(vertices, dtype=np.float64), np.asarray(faces, dtype=np.int64)
+    if len(faces) <= max_faces:
+        return vertices, faces, np.arange(len(faces))
+    lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+    extent = np.maximum(hi - lo, 1e-12)
+    resolution = 256.0
+    while resolution >= 1.0:
+        cells = np.floor((vertices - lo) / extent * resolution).astype(np.int64)
+        _, cluster, counts = np.unique(cells, axis=0, return_inverse=True, return_counts=True)
+        new_faces = cluster.reshape(-1)[faces]
+        keep = (new_faces[:, 0] != new_faces[:, 1]) & (new_faces[:, 1] != new_faces[:, 2]) & (
+            new_faces[:, 0] != new_faces[:, 2])
+        new_faces = new_faces[keep]
+        _, first = np.unique(np.sort(new_faces, axis=1), axis=0, return_index=True)
+        new_faces, kept = new_faces[np.sort(first)], np.flatnonzero(keep)[np.sort(first)]
+        if len(new_faces) <= max_faces:
+            sums = np.zeros((len(counts), 3))
+            np.add.at(sums, cluster.reshape(-1), vertices)
+            used, remap = np.unique(new_faces, return_inverse=True)
+            return (sums / counts[:, None])[used], remap.reshape(-1, 3), kept
+        resolution /= 1.25
+    raise ValueError("no reduction")
+
+
+def test_cluster_simplify_is_the_np_unique_reference_to_the_bit() -> None:
+    # The templates at the fit's budgets (coarse 250, fine 600) and others, and random meshes with repeated faces in
+    # other windings (which the face step must drop, keeping the first one's winding).
+    rng = np.random.default_rng(3)
+    meshes = [(mesh.vertices, mesh.faces) for mesh in all_templates()]
+    for _ in range(6):
+        v = rng.normal(size=(int(rng.integers(20, 300)), 3))
+        f = rng.integers(0, len(v), size=(int(rng.integers(40, 700)), 3))
+        meshes.append((v, np.concatenate([f, f[rng.integers(0, len(f), 25)][:, [1, 2, 0]]])))
+    for (vertices, faces), budget in itertools.product(meshes, (20, 250, 600)):
+        got = cluster_simplify(vertices, faces, budget, return_index=True)
+        for a, b in zip(got, _np_unique_simplify(vertices, faces, budget), strict=True):
+            assert a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+@pytest.mark.parametrize("low, high", [(0, 5), (-7, 7), (2**40, 2**40 + 3), (-2**62, 2**62)])
+def test_unique_rows_is_np_uniques_first_index_inverse_and_counts(low: int, high: int) -> None:
+    from sdn3d.meshes.shapenet import _unique_rows
+
+    rng = np.random.default_rng(low & 0xFFFF)
+    for shape in ((0, 3), (1, 3), (200, 3), (300, 2)):
+        rows = rng.integers(low, high, size=shape, dtype=np.int64, endpoint=True)
+        rows = np.concatenate([rows, rows[: len(rows) // 3]])  # repeats, whose first index must be the earlier one
+        _, first, inverse, counts = np.unique(rows, axis=0, return_index=True, return_inverse=True,
+                                              return_counts=True)
+        got = _unique_rows(rows)
+        for a, b in zip(got, (first, inverse.reshape(-1), counts), strict=True):
+            np.testing.assert_array_equal(a, b)
+
+
 @pytest.mark.parametrize("content", ["", "# only a comment\n", "v nan 0 0\nv 1 0 0\nv 0 1 1\nf 1 2 3\n",
                                      "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", "v 0 0 0\nf 1 2 9\n"])
 def test_load_shapenet_obj_bad_files(tmp_path: Path, content: str) -> None:

@@ -199,3 +199,28 @@ def test_the_float32_kernel_in_vectors_of_8_is_the_one_vector_kernel_to_the_bit(
     assert len(libraries) == 2  # two builds, not one reused
     assert torch.equal(results[0][0], results[1][0]) and torch.equal(results[0][1], results[1][1])
     assert float(results[0][0].min()) < -1.0 and float(results[0][1].abs().max()) > 0
+
+
+@needs_compiler
+@pytest.mark.parametrize("dtype", [torch.float32, torch.float64])
+def test_the_kernels_face_boxes_are_the_pytorch_paths_integers(dtype: torch.dtype) -> None:
+    """The kernel computes each face's grown pixel box itself (sdn3d_soft_boxes_*): the same integers as
+    _face_boxes' first four, culled faces 0 wide. Faces of the fit-like scene (clipped, off-screen, behind the
+    camera), then triangles whose corners lie a radius from a pixel centre give or take an ulp (ceil and floor
+    decide there), on the crop's edges, far outside it and huge."""
+    settings = SoftSilhouetteSettings((40, 48), sigma=0.25)  # (height, width): an oblong crop
+    verts, faces, K = fit_like_scene(dtype)
+    screen, valid, _, _ = soft._screen_triangles(verts, faces, K, settings.near)
+    r = settings.cull_radius
+    gen = torch.Generator().manual_seed(11)
+    near = (torch.randint(-3, 52, (4000, 3, 2), generator=gen) + r).to(dtype)
+    near = near + torch.randint(-2, 3, near.shape, generator=gen).to(dtype) * torch.finfo(dtype).eps * near.abs()
+    spread = torch.rand(4000, 3, 2, generator=gen, dtype=dtype) * 120 - 40
+    huge = torch.tensor([[[-1e7, 3.0], [1e7, 5.0], [0.0, 1e9]], [[47.0, 39.0], [48.0, 40.0], [47.5, 39.5]],
+                         [[-1.0, -1.0], [-r, -r], [-2.0, 0.0]]], dtype=dtype)
+    screen = torch.cat([screen.to(dtype), near, spread, huge]).contiguous()
+    valid = torch.cat([valid, torch.rand(len(screen) - len(valid), generator=gen) > 0.2])
+    box = soft._kernel_boxes(native.soft_kernel(), screen, valid, settings)
+    expected = torch.stack(soft._face_boxes(screen, valid, r, 40, 48)[:4], 1)
+    assert torch.equal(box, expected)
+    assert int((box[:, 2] * box[:, 3] > 0).sum()) > 1000 and bool((box[~valid, 2:] == 0).all())

@@ -37,7 +37,7 @@ __all__ = [
     "atomic_write", "write_bytes_atomic", "write_text_atomic", "write_json_atomic", "write_png_atomic",
     "check_output_dir", "check_writable", "staged_directory", "swap_into_place", "current_umask",
     "load_torch_file", "load_lightning_checkpoint", "check_lightning_checkpoint", "describe_load_failure",
-    "checkpoint_branch", "CHECKPOINT_BRANCHES", "file_sha256",
+    "checkpoint_branch", "CHECKPOINT_BRANCHES", "file_sha256", "yaml_loader",
     "OutputDirError", "refuse_unsafe_output_dir", "OWNER_FILE", "owner_record", "process_alive",
     "remove_stale_staging", "BusyError", "writer_lock", "DiskFullError", "DISK_FULL_ERRNOS", "is_disk_full",
 ]
@@ -191,6 +191,16 @@ def file_sha256(path: str | os.PathLike) -> str:
         while chunk := handle.read(1 << 20):
             digest.update(chunk)
     return digest.hexdigest()
+
+
+def yaml_loader() -> type:
+    """The safe YAML loader every reader of a YAML file uses: libyaml's (``yaml.CSafeLoader``) where PyYAML was built
+    with it, else the pure-Python ``yaml.SafeLoader``. The same documents and errors (the constructors are shared,
+    only the parser differs), 10-30 times faster: a run's 170-line ``config.yaml`` took 11 ms with the pure-Python
+    parser, read three times in every ``sdn3d-edit`` call (:func:`sdn3d.runs.trained_data`)."""
+    import yaml
+
+    return getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 
 def load_torch_file(path: str | os.PathLike, what: str = "checkpoint", map_location: Any = "cpu",

@@ -336,11 +336,13 @@ def trained_data(summary_file: str | os.PathLike | None) -> dict | None:
     (``sdn3d-train`` resolves it against its launch directory); None where not recorded or not readable."""
     import yaml
 
+    from sdn3d.io import yaml_loader
+
     if not summary_file:
         return None
     config = Path(summary_file).parent / "config.yaml"
     try:
-        data = (yaml.safe_load(config.read_text(encoding="utf-8")) or {}).get("data")
+        data = (yaml.load(config.read_text(encoding="utf-8"), Loader=yaml_loader()) or {}).get("data")  # noqa: S506
     except (OSError, UnicodeDecodeError, yaml.YAMLError, AttributeError):
         return None
     root = data.get("root") if isinstance(data, dict) else None

@@ -37,7 +37,7 @@ from sdn3d.editing.frame import input_intrinsics
 from sdn3d.editing.session import BoxRefusedError, EditInput, EditResult, EditSession, to_uint8
 from sdn3d.editing.spec import MAX_BOX_OBJECTS, EditSpec, parse_edit_spec
 from sdn3d.errors import UserInputError
-from sdn3d.io import write_bytes_atomic, write_json_atomic, write_png_atomic, write_text_atomic
+from sdn3d.io import write_bytes_atomic, write_json_atomic, write_png_atomic, write_text_atomic, yaml_loader
 from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.proposals import Proposals
 from sdn3d.scene.code import SceneCode
@@ -448,8 +448,7 @@ class Editor:
         if not state["objects"] and not state["ops"]:
             return None
         text = spec_text(state["objects"], state["ops"])
-        loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # sdn3d.editing.spec.read_yaml's loader
-        return parse_edit_spec(yaml.load(text, Loader=loader), "spec", self.limits.max_ops)  # noqa: S506
+        return parse_edit_spec(yaml.load(text, Loader=yaml_loader()), "spec", self.limits.max_ops)  # noqa: S506
 
     def edit(self, sid: str, payload: Any) -> BrowserSession:
         """Make ``payload`` (``{objects, ops}``) the session's state: de-render (once per set of boxes), edit, draw.

@@ -90,6 +90,7 @@ from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.ops import shown_point
 from sdn3d.editing.pick import MaskOnlyUnder, pick_objects
 from sdn3d.errors import UserInputError
+from sdn3d.io import yaml_loader
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.scene.code import ObjectTable, SceneCode
 from sdn3d.scene.maps import compose_instances
@@ -209,7 +210,7 @@ def read_yaml(path: str | os.PathLike, what: str = "edit spec") -> Any:
         text = path.read_text(encoding="utf-8")
     except UnicodeDecodeError as exc:
         raise EditSpecError(f"{path}: {what} is not UTF-8 text ({exc.reason} at byte {exc.start})") from None
-    loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # libyaml's parser where PyYAML has it: 10x faster
+    loader = yaml_loader()
     try:
         for event in yaml.parse(text, Loader=loader):
             if isinstance(event, yaml.AliasEvent) or getattr(event, "anchor", None) is not None:

@@ -28,7 +28,7 @@ _SOURCE = Path(__file__).with_name("soft_kernel.cpp")
 #: PyTorch's vectorised ``addcmul`` does: near an edge ``r = w - t e`` cancels, and unfused rounding there moved
 #: silhouettes by up to 2e-6 at ``sigma = 0.02`` (fused: within 1 float32 ulp of the PyTorch path).
 _FLAGS = ("-O3", "-march=native", "-shared", "-fPIC", "-std=c++17", "-pthread")
-_ABI_VERSION = 3
+_ABI_VERSION = 4
 
 
 def _cache_dir() -> Path:
@@ -70,6 +70,8 @@ def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
         getattr(lib, f"sdn3d_soft_backward_{dtype}").argtypes = [
             ptr, ptr, i64, i64, i64, i64, f64, f64, ptr, ptr, i32
         ]
+        getattr(lib, f"sdn3d_soft_boxes_{dtype}").argtypes = [ptr, ptr, i64, i64, i64, f64, ptr]
+        getattr(lib, f"sdn3d_soft_boxes_{dtype}").restype = None
         getattr(lib, f"sdn3d_soft_forward_{dtype}").restype = None
         getattr(lib, f"sdn3d_soft_backward_{dtype}").restype = None
     return lib

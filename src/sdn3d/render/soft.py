@@ -236,6 +236,18 @@ def _call(kernel: ctypes.CDLL, direction: str, screen: Tensor, box: Tensor, face
        1.0 / settings.sigma, AREA_EPS, *(t.data_ptr() for t in out), threads or torch.get_num_threads())
 
 
+def _kernel_boxes(kernel: ctypes.CDLL, screen: Tensor, valid: Tensor, settings: SoftSilhouetteSettings) -> Tensor:
+    """``(M, 4)`` int64 ``(first column, first row, width, height)`` of each face's box, width and height 0 where
+    ``valid`` is False: :func:`_face_boxes`' first four, the same integers, computed by the kernel (the dozen tensor
+    operations took a tenth of a fit's draws outside the kernel). ``screen`` contiguous, on the CPU."""
+    height, width = settings.image_size
+    box = torch.empty(screen.shape[0], 4, dtype=torch.long)
+    valid = valid.contiguous()
+    fn = getattr(kernel, f"sdn3d_soft_boxes_{_KERNEL_DTYPES[screen.dtype]}")
+    fn(screen.data_ptr(), valid.data_ptr(), screen.shape[0], height, width, settings.cull_radius, box.data_ptr())
+    return box
+
+
 class _SoftSilhouetteFunction(torch.autograd.Function):
     """Screen triangles ``(M, 3, 2)`` -> flat silhouettes ``(N * H * W,)`` with an analytic backward."""
 
@@ -243,18 +255,18 @@ class _SoftSilhouetteFunction(torch.autograd.Function):
     def forward(ctx, screen: Tensor, valid: Tensor, faces_per_mesh: int, settings: SoftSilhouetteSettings):
         height, width = settings.image_size
         log_keep = screen.new_zeros(screen.shape[0] // faces_per_mesh * height * width)
-        col0, row0, box_w, box_h, away_u, away_v = _face_boxes(
-            screen, valid, settings.cull_radius, height, width
-        )
         kernel = _kernel_for(screen, settings)
         if kernel is not None:  # the same pairs, fused: see soft_kernel.cpp
             screen = screen.detach().contiguous()
-            box = torch.stack([col0, row0, box_w, box_h], 1).contiguous()
+            box = _kernel_boxes(kernel, screen, valid, settings)
             _call(kernel, "forward", screen, box, faces_per_mesh, settings, log_keep)
             ctx.settings, ctx.kernel, ctx.faces_per_mesh = settings, kernel, faces_per_mesh
             ctx.save_for_backward(log_keep, screen, box)
             return -torch.expm1(log_keep)
         ctx.kernel = None
+        col0, row0, box_w, box_h, away_u, away_v = _face_boxes(
+            screen, valid, settings.cull_radius, height, width
+        )
         face_ids = (box_w * box_h).nonzero().squeeze(1)
         chunks: list[tuple[int, int, int, int]] = []
         saved: list[Tensor] = []

@@ -1,0 +1,45 @@
+"""Labelled before/after picture of the identity check (same_outputs.sh's OUT): per call, main's and the branch's
+picture and their absolute difference x10 (black: no pixel differs), each panel titled with the call and the code.
+
+    PYTHONPATH=src python picture.py OUT PICTURE.png [MAIN_NAME BRANCH_NAME]
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from sdn3d.visualize import titled_row
+
+CALLS = (("bench", "edited.png", "benchmark call (10 boxes, car 12005 turned 30 deg)", None),
+         ("real_turn90", "edited.png", "real frame: car 12001 turned 90 deg", (380, 130, 1000, 375)),
+         ("real_delete", "edited.png", "real frame: car 12002 deleted", (380, 130, 1000, 375)))
+
+
+def main() -> None:
+    out, target = Path(sys.argv[1]), Path(sys.argv[2])
+    a, b = (sys.argv[3], sys.argv[4]) if len(sys.argv) > 4 else ("main", "br")
+    rows = []
+    for call, name, what, crop in CALLS:
+        pics = [Image.open(out / side / call / name).convert("RGB") for side in (a, b)]
+        if crop is not None:
+            pics = [p.crop(crop) for p in pics]
+        first, second = (np.asarray(p) for p in pics)
+        diff = np.clip(np.abs(first.astype(int) - second.astype(int)) * 10, 0, 255).astype(np.uint8)
+        changed = int((first != second).any(2).sum())
+        rows.append(titled_row([(f"{what}: main 1e29128", first), (f"{what}: branch s22-fitcost", second),
+                                (f"|main - branch| x10: {changed} pixels differ", diff)]))
+    width = max(r.shape[1] for r in rows)
+    grid = np.concatenate([np.pad(r, ((0, 6), (0, width - r.shape[1]), (0, 0)), constant_values=255) for r in rows])
+    image = Image.fromarray(grid)
+    if image.width > 1400:
+        image = image.resize((1400, round(image.height * 1400 / image.width)), Image.LANCZOS)
+    image.quantize(256).save(target, optimize=True)  # a palette: the records keep pictures small
+    print(target, image.size)
+
+
+if __name__ == "__main__":
+    main()

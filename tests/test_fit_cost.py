@@ -76,25 +76,6 @@ def test_the_fine_stage_can_fit_simplified_meshes_and_measures_the_full_one(two_
         FitSettings(coarse_survivors=-1)
 
 
-def test_the_default_fit_searches_on_150_faces_and_fits_400_then_measures_the_full_mesh(two_cars, monkeypatch):
-    """The default settings (session 22 fitcost2: a fifth of the fit's cost) draw the search's templates cut to at
-    most 150 faces and fit the fine stage's cut to at most 400; the car is still found and its IoU measured whole."""
-    masks, boxes = two_cars
-    banks = []
-    stage = fit_module._stage
-
-    def recorded(bank, *args, **kwargs):
-        banks.append(int(bank.num_faces.max()))
-        return stage(bank, *args, **kwargs)
-
-    monkeypatch.setattr(fit_module, "_stage", recorded)
-    result = fit_to_masks(masks[1:], boxes[1:], WORK, start_ry=torch.tensor([0.8]))
-    full = int(fit_module.default_bank().num_faces.max())
-    assert len(banks) == 3 and max(banks[:2]) <= 150 < banks[2] <= 400 < full
-    assert float(result.iou[0]) > 0.85
-    assert abs(math.remainder(float(result.ry[0]) - 0.6, 2 * math.pi)) < math.radians(20)
-
-
 def test_one_fit_for_two_callers_gives_each_its_own_rows_as_two_fits_would(two_cars, monkeypatch):
     """A request with predictions and a yaw belief, one with neither: fitted together, each gets what it would get
     alone (the same templates, yaws and places up to float sums), its notes and warnings by its own indices, and the

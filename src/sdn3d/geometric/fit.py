@@ -141,9 +141,7 @@ class FitSettings:
         coarse_survivors: after the first third of ``coarse_steps``, only this many best starts of each object go
             on searching (the others keep their loss so far and drop out; 0: every start searches to the end).
         fine_faces: the fine stage fits each template cut to at most this many faces (0: the full meshes); the
-            winner's IoU is measured with its full mesh, the FFD and size it was fitted with. 150 and 400 (250 and
-            600 before): the fit costs about a fifth less; judged on the pose tables of three tuning trees and of
-            held-out 2209 (docs/results/2026-11-30_cpu/session22/fitcost2/).
+            winner's IoU is measured with its full mesh, the FFD and size it was fitted with.
         keep: hypotheses per object that go on to the fine stage.
         tie: fits whose final loss is within this share of the best one are equally good; the yaw nearest the
             first start decides among them.
@@ -203,10 +201,10 @@ class FitSettings:
     camera_height_range: tuple[float, float] = (1.2, 2.2)
     coarse_size: int = 32
     coarse_steps: int = 12
-    coarse_faces: int = 150
+    coarse_faces: int = 250
     fine_size: int = 64
     fine_steps: int = 16
-    fine_faces: int = 400
+    fine_faces: int = 600
     coarse_survivors: int = 8
     keep: int = 3
     tie: float = 0.1

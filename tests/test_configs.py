@@ -333,3 +333,15 @@ def test_composing_a_config_stores_only_its_own_schemas(name, overrides):
     finally:
         repo.update(kept)
     assert stored == set(CONFIG_SCHEMAS[name])
+
+
+@pytest.mark.parametrize("name", ["edit", "app"])
+def test_the_box_fit_a_config_lists_is_the_librarys_default_fit(name):
+    """conf/edit.yaml's ``box_objects.fit`` (app.yaml composes it) gives FitSettings' defaults field for field, so
+    the edit, the app and the benchmark (``FitSettings()``) fit alike."""
+    from sdn3d.geometric.fit import FitSettings
+
+    listed = OmegaConf.to_container(_compose([], name).box_objects.fit)
+    default = FitSettings()
+    assert {k: getattr(default, k) for k in listed} == {k: tuple(v) if isinstance(v, list) else v
+                                                       for k, v in listed.items()}

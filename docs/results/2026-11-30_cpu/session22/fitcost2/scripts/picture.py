@@ -38,8 +38,8 @@ def main() -> None:
     width = max(r.shape[1] for r in rows)
     grid = np.concatenate([np.pad(r, ((0, 6), (0, width - r.shape[1]), (0, 0)), constant_values=255) for r in rows])
     image = Image.fromarray(grid)
-    if image.width > 1400:
-        image = image.resize((1400, round(image.height * 1400 / image.width)), Image.LANCZOS)
+    if image.width > 1150:
+        image = image.resize((1150, round(image.height * 1150 / image.width)), Image.LANCZOS)
     image.quantize(256).save(target, optimize=True)  # a palette: the records keep pictures small
     print(target, image.size)
 

@@ -30,7 +30,7 @@ CONF = Path(__file__).resolve().parents[1] / "conf"
 def _compose(overrides: list[str], name: str = "train"):
     from sdn3d.cli._schemas import register
 
-    register()  # conf/demo.yaml names its structured schema first (before: found only after a test that registered it)
+    register(name)  # the schemas conf/<name>.yaml names first (conf/demo.yaml: its structured schema)
     with initialize_config_dir(config_dir=str(CONF), version_base="1.3"):
         return compose(name, overrides=overrides)
 

@@ -70,7 +70,7 @@ def compose_config(overrides: Sequence[str], name: str) -> Any:
 
     from sdn3d.cli._schemas import register
 
-    register()  # the structured schemas the inference configs name first (conf/edit.yaml, app.yaml, bench.yaml)
+    register(name)  # the structured schemas the config names first (conf/edit.yaml, app.yaml, bench.yaml, demo.yaml)
     GlobalHydra.instance().clear()  # an earlier in-process Hydra app (e.g. a test) may have left it set
     try:
         with initialize_config_dir(config_dir=CONFIG_DIR, version_base="1.3"):

@@ -36,13 +36,14 @@ def load(run: str) -> dict[int, tuple[str, dict, dict]]:
     return out
 
 
-def ci(d: list[float]) -> str:
-    """Mean [95 % paired bootstrap] wins/losses (n)."""
+def ci(d: list[float], digits: int = 3) -> str:
+    """Mean [95 % paired bootstrap] wins/losses (n), ``digits`` decimals."""
     d = np.asarray([x for x in d if np.isfinite(x)])
     if not len(d):
         return "n=0"
     boot = d[np.random.default_rng(0).integers(0, len(d), (10000, len(d)))].mean(1)
-    return (f"{d.mean():+.3f} [{np.percentile(boot, 2.5):+.3f}, {np.percentile(boot, 97.5):+.3f}] "
+    lo, hi = np.percentile(boot, 2.5), np.percentile(boot, 97.5)
+    return (f"{d.mean():+.{digits}f} [{lo:+.{digits}f}, {hi:+.{digits}f}] "
             f"{int((d > 1e-9).sum())}/{int((d < -1e-9).sum())} (n {len(d)})")
 
 
@@ -58,6 +59,7 @@ def identical_sdn(main_run: str, branch_run: str) -> tuple[int, int]:
 
 
 def main(out: str, main_name: str, branch_name: str, seeds: list[str]) -> None:
+    rule: dict[tuple[str, str], float] = {}
     lines = [f"# Table 1 photo rows, {main_name} (main) vs {branch_name} (branch), trees {', '.join(seeds)}", ""]
     for row, title in ROWS:
         pairs, same, total, metrics_equal = [], 0, 0, True
@@ -84,8 +86,14 @@ def main(out: str, main_name: str, branch_name: str, seeds: list[str]) -> None:
                 d2 = [sign * (b[2]["all"][metric] - a[2]["all"][metric]) for a, b in sel]
                 gap_a = [sign * (a[1]["all"][metric] - a[2]["all"][metric]) for a, _ in sel]
                 gap_b = [sign * (b[1]["all"][metric] - b[2]["all"][metric]) for _, b in sel]
-                lines.append(f"| {kind} | {ci(d2)} | {ci(gap_a)} | {ci(gap_b)} |")
+                digits = 3 if metric == "psnr" else 4
+                lines.append(f"| {kind} | {ci(d2, digits)} | {ci(gap_a, digits)} | {ci(gap_b, digits)} |")
+                if kind.startswith("removals"):
+                    rule[(title, metric)] = float(np.mean(d2)) if d2 else float("nan")
             lines.append("")
+    lines += ["## The merge rule's figures: mean of the 2D paste's branch - main on the removals (>= 0 holds)", "",
+              "| row | metric | mean | holds |", "|---|---|---|---|"]
+    lines += [f"| {row} | {metric} all | {value:+.6f} | {value >= 0} |" for (row, metric), value in rule.items()]
     text = "\n".join(lines)
     tmp = f"{out}.tmp"
     with open(tmp, "w") as f:

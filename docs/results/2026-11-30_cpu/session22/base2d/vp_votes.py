@@ -1,7 +1,7 @@
 """vp_votes.py OUT.md RUN...: why the 2D parts change the 2D paste so little on Table 1 at 312x96. For every removal
 entry (delete, occluder removed) of each run (this helper's t1.sh outputs, branch code), from dbench.py's npz dump
-(source photo, composed instance map ``src_inst``, picked ids ``picks``) and the synthetic trees' camera
-(``VKITTI_INTRINSICS`` resized to 312x96: principal point = the picture's centre): the baselines' hole
+(source photo, the source scene's composed instance map ``proposals``, picked ids ``picks``) and the synthetic trees'
+camera (``VKITTI_INTRINSICS`` resized to 312x96: principal point = the picture's centre): the baselines' hole
 (``vacated_hole``), whether the edges around the removed objects vote a vanishing point (``image_vanishing_point`` as
 ``removal_vanishing_point`` calls it: none / snapped to the camera's forward one / elsewhere) and the leftover pixels
 (``removal_guides``). Run with the branch's code:
@@ -40,7 +40,7 @@ def main(out: str, runs: list[str]) -> None:
                 continue
             d = np.load(f"{run}.dump/{e['index']:04d}.npz")
             image = torch.from_numpy(d["source"]).permute(2, 0, 1).float() / 255
-            ids, gone = torch.from_numpy(d["src_inst"]), torch.from_numpy(d["picks"])
+            ids, gone = torch.from_numpy(d["proposals"]), torch.from_numpy(d["picks"])
             keep = (ids != 0) & ~torch.isin(ids, gone)
             hole = vacated_hole(ids, gone, keep, settings)
             guides = removal_guides(image, K, PictureLab(image), hole, ids, gone, keep, settings)

@@ -10,7 +10,8 @@ import torch
 import torch.nn.functional as F
 
 from sdn3d.editing.apply import Delete, Move, Rotate, apply_edits
-from sdn3d.editing.photo import transfer
+from sdn3d.editing.photo import fill as photo_fill
+from sdn3d.editing.photo import road as photo_road
 from sdn3d.editing.photo.occluders import _extend_upright, _strips, thin_occluders
 from sdn3d.editing.photo.recolor import srgb_to_lab
 from sdn3d.editing.photo.road import _along, _gather, _trace, ab_length, road_colours, road_lab, road_like
@@ -170,12 +171,13 @@ def test_a_removal_is_made_once_per_source_leftovers_and_vanishing_point_include
     objects that left and stayed: deleting a car and then turning it draw on the same removal, and the pictures
     equal those of a fresh source state."""
     calls = {"leftover_pieces": 0, "removal_vanishing_point": 0}
+    homes = {"leftover_pieces": photo_fill, "removal_vanishing_point": photo_road}  # removal_guides calls them there
     for name in calls:
-        def counted(*args, _f=getattr(transfer, name), _name=name, **kwargs):
+        def counted(*args, _f=getattr(homes[name], name), _name=name, **kwargs):
             calls[_name] += 1
             return _f(*args, **kwargs)
 
-        monkeypatch.setattr(transfer, name, counted)
+        monkeypatch.setattr(homes[name], name, counted)
     scene = _scene([CAR, FAR_CAR])
     original = torch.rand(3, INPUT_SIZE[1], INPUT_SIZE[0], generator=torch.Generator().manual_seed(2))
     source = PhotoSource(original, FRAME, scene)

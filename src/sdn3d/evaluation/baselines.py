@@ -20,13 +20,17 @@ object). Codes are kept. With ``geometry='move'`` the normal, pose and depth map
 In the photo appearance (:func:`baseline_photo`, what :mod:`sdn3d.editing.photo` is to 3D-SDN) the baselines
 paste each edited object's own pixels, moved and scaled the same way (bilinear), over the vacated pixels filled by
 the same fill method (:func:`~sdn3d.editing.photo.vacated_hole`, :func:`~sdn3d.editing.photo.fill_hole`, the
-``photo.fill`` setting). The hole and its fill are not all of 3D-SDN's removal, though: the baselines' hole is the
-objects' masks alone, and ``fill='rays'`` runs from the picture's centre. 3D-SDN's removal
-(:func:`~sdn3d.editing.photo.transfer.render_photo`) also takes the removed car's fitted silhouette and its shadow
-(found around the fitted footprint), fills the pieces of it that its mask missed (``leftover_pieces``), and runs the
-rays from the road's vanishing point found from the picture's edges around the car (the fitted yaw's when none is
-found). So on deletes and occluder removals, where no object is pasted, 3D-SDN against these baselines measures its
-whole removal, 2D parts (the edges' vanishing point, the leftover pieces) included, not the 3D geometry alone.
+``photo.fill`` setting) with the 2D parts of 3D-SDN's removal, made by the same code
+(:func:`~sdn3d.editing.photo.fill.removal_guides`): the pieces of the removed objects that their masks' hole missed
+(``leftover_pieces``, a side mirror; filled by Telea after the hole), and, for ``fill='rays'``, the rays from the
+road's vanishing point voted for by the picture's edges around the removed objects' masks
+(``removal_vanishing_point``). Where no edge votes, the baselines, which have no fitted yaw, fall back on the camera's
+forward vanishing point (``K``'s principal point: where a level camera's road runs, as 3D-SDN's own last fallback),
+not on the picture's centre. What 3D-SDN's removal (:func:`~sdn3d.editing.photo.transfer.render_photo`) has beyond
+this is 3D: the removed car's fitted silhouette and its shadow (found around the fitted footprint) join its hole,
+thin things in front of the car (found inside the fitted outline) are kept, and the fitted yaw is the vanishing
+point's fallback. So on deletes and occluder removals, where no object is pasted, 3D-SDN against these baselines
+measures those 3D parts of the removal (session 22 base2d's records).
 """
 
 from __future__ import annotations
@@ -40,7 +44,8 @@ from torch import Tensor
 
 from sdn3d.data.edit_benchmark import VKITTI_FRAME_SIZE, BenchmarkEntry, BenchmarkOperation, scale_operation
 from sdn3d.editing.apply import Delete, EditError, apply_edits
-from sdn3d.editing.photo.fill import fill_hole, vacated_hole
+from sdn3d.editing.photo.fill import fill_hole, removal_guides, vacated_hole
+from sdn3d.editing.photo.road import PictureLab
 from sdn3d.editing.photo.settings import PhotoSettings
 from sdn3d.editing.pick import pick_objects
 from sdn3d.image_ops import boundary_map, instance_label_map
@@ -197,9 +202,17 @@ def baseline_photos(image: Tensor, scene: SceneCode, entry: BenchmarkEntry | Seq
     gone = torch.tensor(ids, dtype=torch.long)
     keep = (instances != 0) & ~torch.isin(instances, gone)
     hole = vacated_hole(instances, gone, keep, settings)
-    shared = None if settings.fill == "generator" else fill_hole(image, hole, settings, instances != 0)
-    return {mode: _pasted(shared.clone() if shared is not None else
-                          fill_hole(image, hole, settings, instances != 0, fills.get(mode)),
+    # 3D-SDN's removal without its 3D parts (module doc): the leftover pieces and the edges' vanishing point, with no
+    # fitted yaw to fall back on (the camera's forward vanishing point).
+    lab = PictureLab(image)
+    guides = removal_guides(image, scene.intrinsics.matrix(torch.float64), lab, hole, instances, gone, keep, settings)
+
+    def removal(fill: Tensor | None) -> Tensor:
+        filled = fill_hole(image, hole, settings, instances != 0, fill, vanishing=guides.vanishing, lab=lab)
+        return guides.fill_leftovers(filled, settings)
+
+    shared = None if settings.fill == "generator" else removal(None)
+    return {mode: _pasted(shared.clone() if shared is not None else removal(fills.get(mode)),
                           image, instances, keep, ops, ids, mode) for mode in modes}
 
 

@@ -4,6 +4,7 @@ Telea / PatchMatch / the generator's picture in it.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -23,7 +24,8 @@ from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, ids_pr
 if TYPE_CHECKING:
     from sdn3d.editing.photo.road import PictureLab
 
-__all__ = ["inpaint", "vacated_hole", "leftover_pieces", "shadow_pieces", "fill_hole"]
+__all__ = ["inpaint", "vacated_hole", "leftover_pieces", "shadow_pieces", "fill_hole", "RemovalGuides",
+           "removal_guides"]
 
 
 def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5, patch_size: int = 3,
@@ -312,6 +314,53 @@ def fill_hole(image: Tensor, hole: Tensor, settings: PhotoSettings, keep_out: Te
             out = learnt_fill(out, hole, load_fill_net(settings.learnt_weights), keep_out)
         return out
     return inpaint(image, hole, settings.fill, settings.inpaint_radius, keep_out=keep_out)
+
+
+@dataclass(frozen=True)
+class RemovalGuides:
+    """The 2D parts of a removal, which need no fitted 3D (:func:`removal_guides`): what of the removed objects their
+    hole missed, and where the road's lines meet.
+
+    Attributes:
+        leftovers: ``(H, W)`` bool, :func:`leftover_pieces` of the removed objects (filled after the hole, by Telea:
+            :meth:`fill_leftovers`).
+        vanishing: ``(u, v)`` the road's vanishing point for the rays (:func:`fill_hole`'s ``vanishing``), or None
+            where the fill is no ray fill or nothing was removed.
+    """
+
+    leftovers: Tensor
+    vanishing: tuple[float, float] | None
+
+    def fill_leftovers(self, filled: Tensor, settings: PhotoSettings) -> Tensor:
+        """``filled (3, H, W)`` (the picture with the hole filled) with :attr:`leftovers` filled by Telea from it: after
+        the hole, so that the hole's own fill stays what it was (its rays, their grain and haze are fitted on the
+        pixels around the hole)."""
+        return inpaint(filled, self.leftovers, "telea", settings.inpaint_radius) if any_set(self.leftovers) else filled
+
+
+def removal_guides(image: Tensor, K: Tensor, lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor,
+                   blocked: Tensor, settings: PhotoSettings, ry: float | None = None) -> RemovalGuides:
+    """The 2D parts of removing the objects ``gone (K,)`` of ``ids (H, W)`` (the instance map) from ``image (3, H,
+    W)`` (``lab``: its :class:`~sdn3d.editing.photo.road.PictureLab`, ``K (3, 3)``: its camera), one home for
+    3D-SDN's removal (:func:`~sdn3d.editing.photo.transfer.render_photo`) and the 2D baselines'
+    (:func:`sdn3d.evaluation.baselines.baseline_photos`), so that Table 1 compares their 3D parts and not these.
+
+    - ``leftovers``: :func:`leftover_pieces` of ``hole (H, W)`` (the vacated pixels before anything in front is put
+      back over them), ``blocked (H, W)`` (objects that stay, thin things in front), ``settings.leftover_reach`` and
+      ``settings.leftover_step``.
+    - ``vanishing`` (``settings.fill`` a ray fill, something removed):
+      :func:`~sdn3d.editing.photo.road.removal_vanishing_point` of the removed objects' pixels: the picture's edges
+      around them, else the yaw ``ry`` (3D-SDN: the first removed car's fitted one; None without 3D), else the
+      camera's forward direction (``K``'s principal point for a level camera, not the picture's centre).
+    """
+    from sdn3d.editing.photo.road import removal_vanishing_point
+
+    leftovers = leftover_pieces(lab, hole, ids, gone, blocked, settings.leftover_reach, settings.leftover_step)
+    vanishing = None
+    if settings.fill in RAY_FILLS and bool(gone.numel()):
+        objects_px = ids != 0
+        vanishing = removal_vanishing_point(image, K, isin_ids(ids, gone) & objects_px, objects_px, ry)
+    return RemovalGuides(leftovers, vanishing)
 
 
 # -- removal with its effects (shadow relit, road filled from road) ------------------------------------------------

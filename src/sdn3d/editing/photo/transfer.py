@@ -18,8 +18,8 @@ from sdn3d.editing.frame import PixelFrame, input_intrinsics, input_window, upsa
 from sdn3d.editing.photo.fill import (
     fill_hole,
     inpaint,
-    leftover_pieces,
     relight_shadow,
+    removal_guides,
     shadow_gain,
     shadow_pieces,
     vacated_hole,
@@ -35,7 +35,7 @@ from sdn3d.editing.photo.recolor import (
     registered_tyres,
     srgb_to_lab,
 )
-from sdn3d.editing.photo.road import PictureLab, removal_vanishing_point, road_colours, road_like
+from sdn3d.editing.photo.road import PictureLab, road_colours, road_like
 from sdn3d.editing.photo.settings import (
     ANOTHER_CAR,
     DEFAULT,
@@ -1157,17 +1157,13 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     def removal() -> Tensor:
         """``(5, H, W)``: the filled picture, the relit matte (0 where nothing is relit) and the leftovers, kept
         together (the source state's fills; all three depend only on which objects left and which stayed)."""
-        # What of the removed objects neither their masks nor their silhouettes took (a side mirror): filled after
-        # the hole, from the filled picture around it, so that the hole's own fill stays what it was (its rays,
-        # their grain and haze are fitted on the pixels around the hole).
-        leftovers = leftover_pieces(photo_source.lab(), hole_of_masks, src_ids, gone_ids,
-                                    keep | photo_source.in_front, settings.leftover_reach, settings.leftover_step)
-        # The road's vanishing point (fill='rays'): from the picture's edges around the removed objects.
-        vp = None
-        if settings.fill in RAY_FILLS and bool(gone_ids.numel()):
-            removed = isin_ids(src_ids, gone_ids) & covered
-            vp = removal_vanishing_point(image, K, removed, covered,
-                                         float(before.ry[gone_rows[0]]) if gone_rows else None)
+        # The removal's 2D parts, shared with the 2D baselines: what of the removed objects neither their masks nor
+        # their silhouettes took (a side mirror), filled after the hole, and the road's vanishing point (ray fills)
+        # from the picture's edges around the removed objects, else the first removed car's fitted yaw.
+        guides = removal_guides(image, K, photo_source.lab(), hole_of_masks, src_ids, gone_ids,
+                                keep | photo_source.in_front, settings,
+                                float(before.ry[gone_rows[0]]) if gone_rows else None)
+        vp = guides.vanishing
         relit = torch.zeros(size, dtype=torch.float32)
         if settings.fill == "generator":
             filled = fill_hole(image, hole, settings, src_ids != 0, working_to_input(generated, transform))
@@ -1179,9 +1175,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
             filled = fill_hole(relit_image, hole, settings, src_ids != 0, vanishing=vp)
         else:
             filled = fill_hole(image, hole, settings, src_ids != 0, vanishing=vp, lab=photo_source.lab())
-        if any_set(leftovers):
-            filled = inpaint(filled, leftovers, "telea", settings.inpaint_radius)
-        return torch.cat([filled, relit[None].to(filled.dtype), leftovers[None].to(filled.dtype)])
+        filled = guides.fill_leftovers(filled, settings)
+        return torch.cat([filled, relit[None].to(filled.dtype), guides.leftovers[None].to(filled.dtype)])
 
     if settings.fill == "generator":  # the generator's picture changes with every edit: nothing to keep
         removed_state = removal()

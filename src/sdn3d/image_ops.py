@@ -140,6 +140,19 @@ def mask_boxes(masks: Tensor) -> Tensor:
     return torch.where(cols.any(1, keepdim=True), box, torch.zeros_like(box))
 
 
+def padded_window(rows: Tensor, cols: Tensor, pad: int, size: tuple[int, int]) -> tuple[int, int, int, int]:
+    """``(y0, y1, x0, x1)`` (half-open) of the box from the first to the last of the sorted ``rows`` and ``cols``
+    (a mask's occupied rows and columns, e.g. ``any_along(mask, 1).nonzero().flatten()``) grown by ``pad`` pixels on
+    every side and clipped to a picture of ``size = (H, W)``.
+
+    >>> padded_window(torch.tensor([3, 5]), torch.tensor([0, 9]), 2, (7, 10))
+    (1, 7, 0, 10)
+    """
+    height, width = size
+    return (max(int(rows[0]) - pad, 0), min(int(rows[-1]) + 1 + pad, height),
+            max(int(cols[0]) - pad, 0), min(int(cols[-1]) + 1 + pad, width))
+
+
 def mask_centroids(masks: Tensor) -> Tensor:
     """``(N, 2)`` float64 ``(u, v)`` centroid of each of ``masks (N, H, W)`` in pixel-centre coordinates (pixel ``i``
     is at ``i``); an empty mask: ``(0, 0)``.

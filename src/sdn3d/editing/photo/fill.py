@@ -19,7 +19,16 @@ from sdn3d.editing.photo.settings import (
     PhotoSettings,
     PhotoSettingsError,
 )
-from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, ids_present, isin_ids, nonzero_yx
+from sdn3d.image_ops import (
+    any_along,
+    any_set,
+    count_set,
+    dilate_square,
+    ids_present,
+    isin_ids,
+    nonzero_yx,
+    padded_window,
+)
 
 if TYPE_CHECKING:
     from sdn3d.editing.photo.road import PictureLab
@@ -157,8 +166,7 @@ def leftover_pieces(lab: PictureLab, hole: Tensor, ids: Tensor, gone: Tensor, bl
             continue
         # The object's box grown by what its silhouette and shadow band may add to the hole, and the zone.
         pad = 2 * r + 16
-        y0, y1 = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + pad + 1, height)
-        x0, x1 = max(int(cols[0]) - pad, 0), min(int(cols[-1]) + pad + 1, width)
+        y0, y1, x0, x1 = padded_window(rows, cols, pad, (height, width))
         near_hole = hole[y0:y1, x0:x1]
         within_r = dilate_square(near_hole, r)
         zone = dilate_square(near_hole, r + 1) & ~near_hole & ~blocked[y0:y1, x0:x1]
@@ -221,8 +229,7 @@ def shadow_pieces(dark: Tensor, hole: Tensor, reach: float, ground: float) -> Te
             continue
         # The part's box grown past r: a piece that reaches the box's edge runs on beyond r and is left out below.
         pad = r + 2
-        y0, y1 = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + pad + 1, height)
-        x0, x1 = max(int(cols[0]) - pad, 0), min(int(cols[-1]) + pad + 1, width)
+        y0, y1, x0, x1 = padded_window(rows, cols, pad, (height, width))
         mine, shade = part[y0:y1, x0:x1], dark[y0:y1, x0:x1]
         candidate = shade & ~hole[y0:y1, x0:x1]
         if not any_set(candidate):

@@ -12,6 +12,7 @@ import torch
 from torch import Tensor
 
 from sdn3d.editing.ops import SetCode
+from sdn3d.image_ops import padded_window
 
 __all__ = ["paints", "body_pixels", "body_paint", "ground_in_mask", "recolor_pixels", "registered_tyres",
            "srgb_to_lab", "DARK_PAINT_LIFT", "DARK_PAINT_L", "RIM_SHARE", "RIM_CHROMA", "TYRE_MIN_PX",
@@ -118,8 +119,7 @@ def ground_in_mask(image: Tensor, mask: Tensor, reach: int = 6, band: float = 0.
     if not len(rows):
         return out
     pad = reach + 1
-    y0, y1 = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + 1 + pad, height)
-    x0, x1 = max(int(cols[0]) - pad, 0), min(int(cols[-1]) + 1 + pad, width)
+    y0, y1, x0, x1 = padded_window(rows, cols, pad, (height, width))
     m = mask[y0:y1, x0:x1]
     lab = srgb_to_lab(image[:, y0:y1, x0:x1].permute(1, 2, 0).reshape(-1, 3)).view(y1 - y0, x1 - x0, 3)
     below = torch.zeros_like(m)  # up to `reach` pixels under a mask pixel, outside the mask

@@ -27,7 +27,7 @@ import torch.nn.functional as F
 from torch import Tensor
 
 from sdn3d.editing.photo.settings import VANISHING_MODES, VERGE_MODES
-from sdn3d.image_ops import any_along, any_set, count_set, dilate_cross, dilate_square, nonzero_yx
+from sdn3d.image_ops import any_along, any_set, count_set, dilate_cross, dilate_square, nonzero_yx, padded_window
 from sdn3d.math3d.sums import sum3
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
@@ -693,10 +693,8 @@ def _continued_verge(image: Tensor, valid: Tensor, hole: Tensor, road: Tensor, g
 
     height, width = hole.shape
     inside = torch.zeros(len(pix), dtype=torch.bool)
-    ys, xs = nonzero_yx(hole)
-    pad = VERGE_BAND + 3
-    y0, y1 = max(int(ys.min()) - pad, 0), min(int(ys.max()) + pad + 1, height)
-    x0, x1 = max(int(xs.min()) - pad, 0), min(int(xs.max()) + pad + 1, width)
+    rows, cols = any_along(hole, 1).nonzero().flatten(), any_along(hole, 0).nonzero().flatten()
+    y0, y1, x0, x1 = padded_window(rows, cols, VERGE_BAND + 3, (height, width))
     h = hole[y0:y1, x0:x1]
     rows = torch.arange(y0, y1, dtype=torch.float32)[:, None]
     # the hole's rim is no evidence: a mask's edge leaves the removed car's blended outline there

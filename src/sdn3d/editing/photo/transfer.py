@@ -1941,12 +1941,11 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
         side_paint = paint
         if (not coloured and 8 <= int(tell.sum()) < int(told.sum())
                 and float(on_road.double().mean()) <= ROAD_MAX_SHARE):  # the road told a grey paint: is it the car's?
-            side_paint, side_coloured = body_paint(lab, reference=lab[tell])
+            without_road, side_coloured = body_paint(lab, reference=lab[tell])
             if side_coloured:  # the sides are the coloured paint; the ends keep what they showed
+                side_paint = without_road
                 reach[body_ex[paint & ~side_paint]] = REACH_ENDS
                 reach[body_ex[side_paint & ~paint]] = REACH_SIDES
-            else:
-                side_paint = paint
         keep[body_ex[~(paint | side_paint)]] = False
         glass_ex = (ex_part == int(Part.GLASS)).nonzero().flatten()
         if coloured and len(glass_ex):  # a coloured car's paint above the template's belt line is body, not glass

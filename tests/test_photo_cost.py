@@ -1181,3 +1181,33 @@ def test_draw_reads_the_air_of_cars_it_takes_no_examples_from_without_their_exam
     assert len(air) == 4 and all(sum(torch.equal(a, s) for a in air) == 1 for s in seen)  # each car's air, once
     for b, (_, colors) in made:
         assert torch.equal(colors, seen[b])  # what _part_examples returns: the colours the air is read from
+
+
+def test_a_source_makes_each_cars_part_examples_and_reads_its_air_once_for_all_its_edits(monkeypatch):
+    """A kept source state makes each car's part examples and reads each car's air (``_clear_air``) once for all the
+    edits drawn from it (they depend on the input alone): turning the car seen from behind by 90, then 180, then 90
+    degrees again, as an editor's drag does, makes them on the first turn only, and each picture equals the one a
+    fresh source state draws (main made them again on every turn)."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.scene.code import SceneObject
+    from tests.test_photo_parts import BEHIND, PARTS, _painted
+
+    side = SceneObject(12002, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.0, location=(3.0, 1.6, 14.0))
+    far = SceneObject(12003, template_id=1, dims=(4.2, 1.6, 1.9), ry=0.3, location=(-3.0, 1.6, 24.0))
+    scene = _scene([BEHIND, side, far])
+    image, covered, parts = _painted(scene, (0.6, 0.6, 0.6))
+    image[:, covered & (parts == int(transfer.Part.GLASS))] = 0.05  # dark windows: every car seen through clear air
+    made, air = [], []
+    part_examples, clear_air = transfer._part_examples, transfer._clear_air
+    monkeypatch.setattr(transfer, "_part_examples", lambda b, *a: made.append(b) or part_examples(b, *a))
+    monkeypatch.setattr(transfer, "_clear_air", lambda colors, *a: air.append(len(colors)) or clear_air(colors, *a))
+    source = PhotoSource(image, FRAME, scene, settings=PARTS)
+    turns = [apply_edits(scene, [Rotate(12001, math.radians(deg))]) for deg in (90, 180, 90)]
+    kept = [render_photo(image, FRAME, scene, edited, settings=PARTS, source=source) for edited in turns]
+    assert made and sorted(made) == sorted(set(made))  # each car's examples made once, on the first turn
+    assert len(air) == len(set(made)) == 3  # the turned car's and the two cars its tyres are looked for on
+    for edited, picture in zip(turns, kept, strict=True):
+        fresh = render_photo(image, FRAME, scene, edited, settings=PARTS)
+        assert torch.equal(picture.image, fresh.image) and torch.equal(picture.source, fresh.source)
+        assert torch.equal(picture.parts, fresh.parts)
+    assert len(made) == 4 * 3  # a fresh state makes its own

@@ -2157,19 +2157,25 @@ def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: 
 
 
 def _nearest_examples(query: Tensor, examples: Tensor, k: int) -> Tensor:
-    """``(Q, min(k, E))`` long: the indices of the ``k`` examples ``examples (E, F)`` nearest (Euclidean, in float64)
-    each row of ``query (Q, F)``, nearest first, found by a k-d tree of the examples (SciPy's ``cKDTree``, exact
-    search). The ``(Q, E)`` distances of every pair (float32 ``cdist`` and ``topk``) were the costliest step of a
-    turn's unseen side: on the real frame's editor turns 54 % of a turn drawn on a kept removal, the tree a third of
-    their time; float32 reordered near ties among the nearest examples (docs/results/2026-11-30_cpu/session23/
-    turncost/)."""
-    from scipy.spatial import cKDTree
+    """``(Q, min(k, E))`` the indices of the ``k`` examples ``examples (E, F)`` nearest (Euclidean) each row of ``query
+    (Q, F)``, nearest first. In float32: the ``(Q, E)`` distances are the costliest step of an unseen side, and float64
+    only reorders near ties among the nearest examples (the pictures' changes are in
+    docs/results/2026-11-29_cpu/session9/rot05/).
 
+    Looked at :data:`NEAREST_ROWS` query rows at a time, so that each block's distances stay in the processor's cache
+    between ``cdist`` and ``topk`` (8192 rows, 49 MB of distances at 1500 examples, cost half as much again on the
+    real frame's turns: docs/results/2026-11-30_cpu/session23/turncost/). Each distance is the same whatever the block:
+    ``cdist``'s choice of its matrix-product formula, made from the sizes of what it is given, is made once here from
+    the whole query's, as one call on all of it would."""
     k = min(k, len(examples))
-    if not len(query) or not k:
-        return torch.zeros(len(query), k, dtype=torch.long)
-    _, index = cKDTree(examples.double().numpy()).query(query.double().numpy(), k=k)
-    return torch.from_numpy(index.reshape(len(query), k)).long()
+    query, examples = query.float(), examples.float()
+    mode = "use_mm_for_euclid_dist" if len(query) > 25 or len(examples) > 25 else "donot_use_mm_for_euclid_dist"
+    return torch.cat([torch.cdist(chunk, examples, compute_mode=mode).topk(k, largest=False).indices
+                      for chunk in query.split(NEAREST_ROWS)])
+
+
+#: :func:`_nearest_examples`' block of query rows (its ``(rows, E)`` float32 distances: 3 MB at 1500 examples).
+NEAREST_ROWS = 512
 
 
 def _lamp_band(before: ObjectTable, b: int, features: Tensor, corners: bool = True) -> Tensor | None:

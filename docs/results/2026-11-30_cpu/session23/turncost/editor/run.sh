@@ -1,7 +1,8 @@
 #!/bin/bash
 # run.sh OUT REPS: editor_turns.py (the real frame, one EditSession, a car turned 15, 30, ..., 180 degrees) for both
-# cars, main 73c0792 (/tmp/s23data/lead/base_73c, "base") and the branch (CAND, default /tmp/s23data/turncost/code_fin: a git archive
-# of 0478469; code_kd: of 3bb359b, "cand"), taking turns REPS times; JSON per run into OUT (session 22 lead's run.sh, session 23's paths).
+# cars, main 73c0792 (/tmp/s23data/lead/base_73c, "base") and the branch (CAND: default /tmp/s23data/turncost/code_fin,
+# a git archive of 0478469; the k-d tree run used CAND=/tmp/s23data/turncost/code_kd, of 3bb359b; "cand"), taking
+# turns REPS times; JSON per run into OUT (session 22 lead's run.sh, session 23's paths).
 # Pair them with paired.py OUT.
 set -u
 CAND=${CAND:-/tmp/s23data/turncost/code_fin}

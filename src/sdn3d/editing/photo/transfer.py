@@ -2163,10 +2163,10 @@ def _nearest_examples(query: Tensor, examples: Tensor, k: int) -> Tensor:
     docs/results/2026-11-29_cpu/session9/rot05/).
 
     Looked at :data:`NEAREST_ROWS` query rows at a time, so that each block's distances stay in the processor's cache
-    between ``cdist`` and ``topk`` (8192 rows, 49 MB of distances at 1500 examples, cost half as much again on the
-    real frame's turns: docs/results/2026-11-30_cpu/session23/turncost/). Each distance is the same whatever the block:
-    ``cdist``'s choice of its matrix-product formula, made from the sizes of what it is given, is made once here from
-    the whole query's, as one call on all of it would."""
+    between ``cdist`` and ``topk``: blocks of 8192 rows (49 MB of distances at 1500 examples) took about 1.5 times as
+    long on the real frame's turns (docs/results/2026-11-30_cpu/session23/turncost/). Each distance is the same
+    whatever the block: ``cdist`` picks its formula (a matrix product above 25 rows on either side) from the sizes it
+    is given, so the pick is made here once from the whole query's, as one call on all of it would make it."""
     k = min(k, len(examples))
     query, examples = query.float(), examples.float()
     mode = "use_mm_for_euclid_dist" if len(query) > 25 or len(examples) > 25 else "donot_use_mm_for_euclid_dist"

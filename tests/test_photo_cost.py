@@ -1181,3 +1181,65 @@ def test_draw_reads_the_air_of_cars_it_takes_no_examples_from_without_their_exam
     assert len(air) == 4 and all(sum(torch.equal(a, s) for a in air) == 1 for s in seen)  # each car's air, once
     for b, (_, colors) in made:
         assert torch.equal(colors, seen[b])  # what _part_examples returns: the colours the air is read from
+
+
+def test_a_source_makes_each_cars_part_examples_and_reads_its_air_once_for_all_its_edits(monkeypatch):
+    """A kept source state makes each car's part examples and reads each car's air (``_clear_air``) once for all the
+    edits drawn from it (they depend on the input alone): turning the car seen from behind by 90, then 180, then 90
+    degrees again, as an editor's drag does, makes them on the first turn only, and each picture equals the one a
+    fresh source state draws (main made them again on every turn)."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.scene.code import SceneObject
+    from tests.test_photo_parts import BEHIND, PARTS, _painted
+
+    side = SceneObject(12002, template_id=0, dims=(4.0, 1.5, 1.8), ry=0.0, location=(3.0, 1.6, 14.0))
+    far = SceneObject(12003, template_id=1, dims=(4.2, 1.6, 1.9), ry=0.3, location=(-3.0, 1.6, 24.0))
+    scene = _scene([BEHIND, side, far])
+    image, covered, parts = _painted(scene, (0.6, 0.6, 0.6))
+    image[:, covered & (parts == int(transfer.Part.GLASS))] = 0.05  # dark windows: every car seen through clear air
+    made, air = [], []
+    part_examples, clear_air = transfer._part_examples, transfer._clear_air
+    monkeypatch.setattr(transfer, "_part_examples", lambda b, *a: made.append(b) or part_examples(b, *a))
+    monkeypatch.setattr(transfer, "_clear_air", lambda colors, *a: air.append(len(colors)) or clear_air(colors, *a))
+    source = PhotoSource(image, FRAME, scene, settings=PARTS)
+    turns = [apply_edits(scene, [Rotate(12001, math.radians(deg))]) for deg in (90, 180, 90)]
+    kept = [render_photo(image, FRAME, scene, edited, settings=PARTS, source=source) for edited in turns]
+    assert made and sorted(made) == sorted(set(made))  # each car's examples made once, on the first turn
+    assert len(air) == len(set(made)) == 3  # the turned car's and the two cars its tyres are looked for on
+    for edited, picture in zip(turns, kept, strict=True):
+        fresh = render_photo(image, FRAME, scene, edited, settings=PARTS)
+        assert torch.equal(picture.image, fresh.image) and torch.equal(picture.source, fresh.source)
+        assert torch.equal(picture.parts, fresh.parts)
+    assert len(made) == 4 * 3  # a fresh state makes its own
+
+
+def test_nearest_examples_in_blocks_are_one_calls_bit_for_bit(monkeypatch):
+    """``_nearest_examples`` looks at a few hundred query rows at a time (``NEAREST_ROWS``: their distances stay in
+    cache between ``cdist`` and ``topk``), and its indices are those of one ``cdist`` + ``topk`` on every row, the
+    formulation it replaced (8192 rows at a time), bit for bit: fewer and more rows than a block, blocks whose last
+    one is small, few examples (``cdist``'s other formula below 26 rows on both sides), near ties and exact ties
+    (repeated examples). Main looked at 8192 rows at a time."""
+    from sdn3d.editing.photo import transfer
+
+    def one_call(query, examples, k):
+        k = min(k, len(examples))
+        query, examples = query.float(), examples.float()
+        return torch.cat([torch.cdist(c, examples).topk(k, largest=False).indices for c in query.split(8192)])
+
+    g = torch.Generator().manual_seed(3)
+    rows = []
+    cdist = torch.cdist
+    monkeypatch.setattr(torch, "cdist", lambda a, b, **kw: rows.append(len(a)) or cdist(a, b, **kw))
+    for q, e, k in ((3000, 1500, 4), (1030, 700, 16), (530, 20, 4), (20, 20, 4), (513, 12, 4), (9000, 40, 4),
+                    (0, 30, 4), (30, 3, 4)):
+        examples = torch.rand(e, 6, generator=g, dtype=torch.float64)
+        examples[e // 2:] = examples[:e - e // 2].clone()  # every example twice: exact ties
+        query = torch.rand(q, 6, generator=g, dtype=torch.float64)
+        query[::7] = examples[torch.arange(0, q, 7) % e] + 1e-7  # near ties
+        got = transfer._nearest_examples(query, examples, k)
+        with monkeypatch.context() as m:
+            m.setattr(torch, "cdist", cdist)
+            want = one_call(query, examples, k)
+        assert torch.equal(got, want), (q, e, k)
+    assert max(rows) < 8192  # the 9000 queries: main took 8192 rows at once
+    assert max(rows) <= transfer.NEAREST_ROWS

@@ -138,6 +138,11 @@ class PhotoSource:
             :meth:`registered_parts` the same with the drawn dark cars' tyres where the input shows them;
         :meth:`lab` the input's Lab for the removal's road tests;
             :meth:`face_parts` the loft's face labels alone (no greenhouse glass), which the recolour paints by.
+        row_to_mesh: ``(N,)`` long, the index in :attr:`raster` of each row of the scene's objects (-1: not
+            rasterized). :meth:`visible_pixels`, :meth:`part_examples` and :meth:`clear_air`: each car's eroded mask
+            pixels, its part examples and whether it is seen through clear air (the transfer's unseen sides read
+            them), each made on first use and kept: they depend on the input alone, so a later edit of the same
+            source (an editor's drag of a turn) does not make them again.
         in_front: ``(H_in, W_in)`` bool, thin things in front of a car that its mask leaves out (a pole, a sign post:
             :func:`~sdn3d.editing.photo.occluders.thin_occluders`); every edit keeps them in front.
         max_fills: removals kept (each the filled picture, its relit matte and its leftover pieces, ``5 x H x W``
@@ -162,6 +167,8 @@ class PhotoSource:
         rows, verts, faces = posed_meshes(scene.objects, self.bank)
         self.raster = _rasterize(rows.cpu(), verts.cpu(), faces.cpu(), self.K, (h_in, w_in))
         self.parts = _part_map(self.raster, scene.objects, self.bank)
+        self.row_to_mesh = torch.full((len(scene.objects),), -1, dtype=torch.long)
+        self.row_to_mesh[self.raster.rows] = torch.arange(len(self.raster.rows))
         self.outline_ids = _raster_ids(self.raster, scene.objects)
         self.in_front = (thin_occluders(self.image, self.src_ids, self.outline_ids)
                          if self.settings.keep_in_front else torch.zeros_like(self.src_ids, dtype=torch.bool))
@@ -171,6 +178,10 @@ class PhotoSource:
         self._fills: dict[tuple, Tensor] = {}
         self._pyramids: dict[int, list[Tensor]] = {}
         self._lab: PictureLab | None = None
+        self._flat: Tensor | None = None
+        self._visible_of: Callable[[int], Tensor] | None = None
+        self._examples: dict[int, tuple[_PartExamples, Tensor]] = {}
+        self._air: dict[int, bool] = {}
 
     @staticmethod
     def _bind_key(original: Tensor, scene: SceneCode, frame: PixelFrame, settings: PhotoSettings) -> tuple:
@@ -246,6 +257,46 @@ class PhotoSource:
         if self._lab is None:
             self._lab = PictureLab(self.image, self.original if self.original.dtype == torch.uint8 else None)
         return self._lab
+
+    def flat_image(self) -> Tensor:
+        """``(H_in * W_in, 3)`` float32: :attr:`image`'s pixels row by row (a copy made on first use)."""
+        if self._flat is None:
+            self._flat = self.image.permute(1, 2, 0).reshape(-1, 3)
+        return self._flat
+
+    def visible_pixels(self, iid: int) -> Tensor:
+        """``(P,)`` ascending flat input indices of the pixels of :attr:`vis_ids` equal to instance ``iid`` (one of the
+        scene's objects; :func:`_pixels_of`: one scan of the picture for all of them, on first use)."""
+        if self._visible_of is None:
+            self._visible_of = _pixels_of(self.vis_ids, self.scene.objects.instance_id)
+        return self._visible_of(iid)
+
+    def part_examples(self, row: int) -> tuple[_PartExamples, Tensor]:
+        """The part examples of the scene's object ``row`` and all its visible colours (:func:`_part_examples`, with
+        the road its mask took in, :func:`~sdn3d.editing.photo.recolor.ground_in_mask`, where it is seen through
+        clear air: in fog the car's lower body is the road's grey and the colour test takes it for road); made on
+        first use."""
+        if row not in self._examples:
+            visible = self.visible_pixels(int(self.scene.objects.instance_id[row]))
+            road = None
+            if self.clear_air(row):
+                height, width = self.vis_ids.shape
+                car = torch.zeros(height * width, dtype=torch.bool)
+                car[visible] = True
+                road = ground_in_mask(self.image, car.view(height, width)).view(-1)
+            self._examples[row] = _part_examples(row, int(self.row_to_mesh[row]), visible, self.scene.objects,
+                                                 self.raster, self.parts, self.flat_image(), road, self.settings)
+        return self._examples[row]
+
+    def clear_air(self, row: int) -> bool:
+        """Whether the scene's object ``row`` is seen through clear air (:func:`_clear_air` of all its visible
+        colours, those :meth:`part_examples` returns: its darks near black); made on first use, without its examples
+        (a car passed over for another car's wheel or tyres is not looked at further)."""
+        if row not in self._air:
+            colors = (self._examples[row][1] if row in self._examples
+                      else self.flat_image()[self.visible_pixels(int(self.scene.objects.instance_id[row]))].double())
+            self._air[row] = _clear_air(colors)
+        return self._air[row]
 
     def fill(self, key: tuple, make) -> Tensor:
         """A copy of the removal of ``key`` (the objects that left and stayed: :func:`render_photo`'s filled picture,
@@ -1117,8 +1168,7 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                             source.vis_ids, settings.grow_min_seen)
 
     src = source.raster
-    src_row_to_mesh = torch.full((len(before),), -1, dtype=torch.long)
-    src_row_to_mesh[src.rows] = torch.arange(len(src.rows))
+    src_row_to_mesh = source.row_to_mesh
 
     # Light (step 4): visible pixels of every source object with geometry; only when something is drawn.
     light = None
@@ -1240,10 +1290,11 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
         drawn_depth = tgt.frags.in_image(tgt.frags.depth, math.inf)[0].double()
         sources = origin[draw_rows]
         drawn_ids = before.instance_id[sources[sources >= 0]].tolist()  # the cars whose input pixels are drawn
-        out, source, objects = _draw(out, source, image, own, src, tgt, before, after, origin, moved, src_row_to_mesh,
-                                     src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
-                                     photo_source.parts, parts_out, background, photo_source.pyramid,
-                                     photo_source.registered_parts(drawn_ids), recolor_parts,
+        out, source, objects = _draw(out, source, photo_source.flat_image(), own, src, tgt, before, after, origin,
+                                     moved, src_row_to_mesh, src_ids, vis_ids, K, settings, shade, src_normals,
+                                     warnings, bank, photo_source.parts, parts_out, background, photo_source.pyramid,
+                                     photo_source.registered_parts(drawn_ids), photo_source.visible_pixels,
+                                     photo_source.part_examples, photo_source.clear_air, recolor_parts,
                                      photo_source.registered_wheels(drawn_ids), photo_source.real_wheels)
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, own, before, after, origin, moved_rows, src_ids,
@@ -1422,14 +1473,16 @@ def _source_light(src: _Raster, vis_ids: Tensor, before: ObjectTable,
     return src_normals, light
 
 
-def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster, tgt: _Raster,
+def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Raster, tgt: _Raster,
           before: ObjectTable, after: ObjectTable, origin: Tensor, moved: Tensor, src_row_to_mesh: Tensor,
           src_ids: Tensor, vis_ids: Tensor, K: Tensor, settings: PhotoSettings, shade, src_normals: Tensor | None,
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
-          background: Tensor, pyramid_of: Callable[[int], list[Tensor]],
-          registered: Tensor, face_parts_out: Tensor | None = None, wheels: Tensor | None = None,
+          background: Tensor, pyramid_of: Callable[[int], list[Tensor]], registered: Tensor,
+          visible_of: Callable[[int], Tensor], examples_of: Callable[[int], tuple[_PartExamples, Tensor]],
+          clear_air: Callable[[int], bool], face_parts_out: Tensor | None = None, wheels: Tensor | None = None,
           real_wheels: Callable[[int], Tensor | None] | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
+    ``img_flat (H * W, 3)``: the input's pixels row by row (:meth:`PhotoSource.flat_image`).
     ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
     there is not the object's (``silhouette='carved'``); ``pyramid_of(levels)``: the input's pyramid
     (:meth:`PhotoSource.pyramid`); ``registered (H * W,)``: the input's part map with dark cars' tyres where it shows
@@ -1438,8 +1491,11 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     none moved; :meth:`PhotoSource.registered_wheels`): where a moved template tyre's pixels lie on the real wheel,
     which a tyre point read there is drawn from (:func:`_on_real_wheel`); ``real_wheels(instance id)`` (None: none):
     a car's real wheels where the input shows them (:meth:`PhotoSource.real_wheels`), which a wheel face the input
-    never showed is drawn from (:func:`_from_real_wheels`). ``parts_out`` gets the drawn
-    pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's)."""
+    never showed is drawn from (:func:`_from_real_wheels`). ``visible_of(instance id)``, ``examples_of(row of
+    before)`` and ``clear_air(row of before)``: a car's eroded mask pixels, its part examples with all its visible
+    colours, and whether it is seen through clear air (:meth:`PhotoSource.visible_pixels`,
+    :meth:`PhotoSource.part_examples`, :meth:`PhotoSource.clear_air`: made once per source). ``parts_out`` gets the
+    drawn pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's)."""
     height, width = own.shape
     covered = tgt.frags.covered()
     at_tgt, at_src = tgt.frags.locate(covered), src.frags.locate(covered)
@@ -1548,40 +1604,12 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     surface_shade = shade if shade is not None else _unshaded
     fallback = torch.zeros_like(color)
     codes = torch.where(ok_photo, PHOTO, torch.where(ok_mirror, MIRROR, FALLBACK)).to(torch.uint8)
-    # (H * W, 3) in the picture's dtype: the rows read are made float64 where gathered (the same values, exactly)
-    img_flat = image.permute(1, 2, 0).reshape(-1, 3)
+    # img_flat is in the picture's dtype: the rows read are made float64 where gathered (the same values, exactly)
     by_parts = settings.unseen == "parts"
     drawn_rows = row.unique()
     drawn = torch.ones(len(pix), dtype=torch.bool)  # False: left to the fill (amodal='seen')
     flat_codes = torch.tensor(FLAT_CODES, dtype=torch.uint8)
-    visible_of = _pixels_of(vis_ids, before.instance_id)
     shown_cars = (src_row_to_mesh >= 0).nonzero().flatten().tolist()
-    cache: dict[int, tuple[_PartExamples, Tensor]] = {}
-    air: dict[int, bool] = {}
-
-    def examples_of(bb: int) -> tuple[_PartExamples, Tensor]:
-        """``before`` row ``bb``'s part examples and all its visible colours (:func:`_part_examples`); computed once
-        per car, when first needed."""
-        if bb not in cache:
-            visible = visible_of(int(before.instance_id[bb]))
-            road = None
-            if clear_air(bb):  # in fog the car's lower body is the road's grey: the colour test takes it for road
-                car = torch.zeros(height * width, dtype=torch.bool)
-                car[visible] = True
-                road = ground_in_mask(image, car.view(height, width)).view(-1)
-            cache[bb] = _part_examples(bb, int(src_row_to_mesh[bb]), visible, before, src, parts_src, img_flat, road,
-                                       settings)
-        return cache[bb]
-
-    def clear_air(bb: int) -> bool:
-        """Whether ``before`` row ``bb``'s car is seen through clear air (:func:`_clear_air` of all its visible
-        colours, those :func:`_part_examples` returns: its darks near black); computed once per car, without its
-        examples (a car passed over for another car's wheel or tyres is not looked at further)."""
-        if bb not in air:
-            seen_colors = (cache[bb][1] if bb in cache
-                           else img_flat[visible_of(int(before.instance_id[bb]))].double())
-            air[bb] = _clear_air(seen_colors)
-        return air[bb]
 
     def wheel_for(b: int) -> tuple[Tensor, int] | None:
         """The real wheel (:meth:`PhotoSource.real_wheels`: ``(x, y, semi-axis x, semi-axis y)``, the largest) a wheel
@@ -2130,12 +2158,24 @@ def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: 
 
 def _nearest_examples(query: Tensor, examples: Tensor, k: int) -> Tensor:
     """``(Q, min(k, E))`` the indices of the ``k`` examples ``examples (E, F)`` nearest (Euclidean) each row of ``query
-    (Q, F)``, looked at 8192 rows at a time. In float32: the ``(Q, E)`` distances are the costliest step of an unseen
-    side, and float64 only reorders near ties among the nearest examples (the pictures' changes are in
-    docs/results/2026-11-29_cpu/session9/rot05/)."""
+    (Q, F)``, nearest first. In float32: the ``(Q, E)`` distances are the costliest step of an unseen side, and float64
+    only reorders near ties among the nearest examples (the pictures' changes are in
+    docs/results/2026-11-29_cpu/session9/rot05/).
+
+    Looked at :data:`NEAREST_ROWS` query rows at a time, so that each block's distances stay in the processor's cache
+    between ``cdist`` and ``topk``: blocks of 8192 rows (49 MB of distances at 1500 examples) took about 1.5 times as
+    long on the real frame's turns (docs/results/2026-11-30_cpu/session23/turncost/). Each distance is the same
+    whatever the block: ``cdist`` picks its formula (a matrix product above 25 rows on either side) from the sizes it
+    is given, so the pick is made here once from the whole query's, as one call on all of it would make it."""
     k = min(k, len(examples))
     query, examples = query.float(), examples.float()
-    return torch.cat([torch.cdist(chunk, examples).topk(k, largest=False).indices for chunk in query.split(8192)])
+    mode = "use_mm_for_euclid_dist" if len(query) > 25 or len(examples) > 25 else "donot_use_mm_for_euclid_dist"
+    return torch.cat([torch.cdist(chunk, examples, compute_mode=mode).topk(k, largest=False).indices
+                      for chunk in query.split(NEAREST_ROWS)])
+
+
+#: :func:`_nearest_examples`' block of query rows (its ``(rows, E)`` float32 distances: 3 MB at 1500 examples).
+NEAREST_ROWS = 512
 
 
 def _lamp_band(before: ObjectTable, b: int, features: Tensor, corners: bool = True) -> Tensor | None:

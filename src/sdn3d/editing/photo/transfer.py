@@ -74,6 +74,7 @@ from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.parts import Part, greenhouse_glass
 from sdn3d.meshes.templates import TEMPLATE_NAMES, TEMPLATE_SPECS
 from sdn3d.meshes.vehicle_family import canonical_belt
+from sdn3d.proposals import predicted_masks
 from sdn3d.render.maps import normal_map
 from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings
@@ -833,7 +834,7 @@ def _cast_shadows(objects: ObjectTable, rows: list[int], verts: dict[int, Tensor
 
 def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, stays: Tensor,
           transform: PixelFrame, raster_ids: Tensor | None = None, vis_ids: Tensor | None = None,
-          min_seen: int = 0) -> tuple[Tensor, list[int]]:
+          min_seen: int = 0, predicted: tuple[Tensor, Tensor, float] | None = None) -> tuple[Tensor, list[int]]:
     """``(own, grown rows)``: ``own (H_in, W_in)`` with the freed pixels each object that stays now covers (its mask
     gained them: amodal completion) given to it, the first such object in table order where several do.
 
@@ -846,7 +847,12 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
     - all of an object with fewer than ``min_seen`` pixels in ``vis_ids (H_in, W_in)``: the input never showed it,
       so its colour, and in fog its haze, would be a guess (a default-coloured car, dark and unhazed).
 
-    ``min_seen`` 0 keeps every gained pixel (the behaviour before both rules)."""
+    ``min_seen`` 0 keeps every gained pixel (the behaviour before both rules).
+
+    ``predicted``: ``(which (N,) bool over ``after``'s rows, src_ids (H_in, W_in), share)``: an object whose mask is
+    a prediction (``which``) gains nothing when its gained input pixels outnumber ``share`` times its pixels in
+    ``src_ids`` (its mask in the input): :attr:`PhotoSettings.grow_predicted_share`. The pixels it gave up stay the
+    fill's, also where another object gained them too (it came first in table order)."""
     rows = stays.nonzero().flatten()
     if not len(rows):
         return own, []
@@ -871,6 +877,14 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
         up = torch.where(raster_ids[y0:y1, x0:x1] == up, torch.zeros_like(up), up)
     here = own[y0:y1, x0:x1]
     new = (up != 0) & (here == 0)
+    if predicted is not None:
+        which, shown, share = predicted
+        ids, capped = after.instance_id[rows], which[rows]
+        if any_set(capped):
+            gained_px = id_counts(torch.where(new, up, torch.zeros_like(up)), ids)
+            wild = capped & (gained_px > share * id_counts(shown, ids))
+            if any_set(wild):
+                new &= ~isin_ids(up, ids[wild])
     grown = own.clone()
     grown[y0:y1, x0:x1] = torch.where(new, up.to(own.dtype), here)
     drawn = torch.isin(after.instance_id[rows], up[new].unique())
@@ -1112,9 +1126,12 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     src_ids, vis_ids = source.src_ids, source.vis_ids
     staying = isin_ids(src_ids, after.instance_id[stays])  # input pixels of the objects that stay
     own = torch.where(staying, src_ids, torch.zeros_like(src_ids))
-    # Freed pixels an object that stays now covers (amodal completion in apply_edits).
+    # Freed pixels an object that stays now covers (amodal completion in apply_edits); one whose mask the semantic
+    # branch predicted only while they are a small share of what the photo showed of it (PhotoSettings.
+    # grow_predicted_share: its mask and fitted pose do not say where a large hidden part lies).
     own, grown_rows = _grow(own, before, after, origin, stays, transform, source.outline_ids,
-                            source.vis_ids, settings.grow_min_seen)
+                            source.vis_ids, settings.grow_min_seen,
+                            (predicted_masks(scene.meta, after.instance_id), src_ids, settings.grow_predicted_share))
 
     src = source.raster
     src_row_to_mesh = torch.full((len(before),), -1, dtype=torch.long)

@@ -182,9 +182,11 @@ class PhotoSettings:
             docs/results/2026-11-30_cpu/session21/lead/), and the more a completion adds to what the photo showed of
             the car, the more of it rests on that pose. 0.5 (default): on the predicted rows of the Table 1 trees
             31/35/37 and the spent held-out trees 2193/2205/2211, the completions adding more than half the car's
-            shown pixels lost to the fill 20 times in 22 (a distant car's template drawn as a dark block across the
-            road), those adding less won about as often as they lost, while with ground-truth masks (an oracle) the
-            larger ones won 22 times in 23 (docs/results/2026-11-30_cpu/session23/rmpred/).
+            shown pixels lost to the 2D paste's fill there 20 times in 22 (-18.6 dB summed over entries; a distant car's
+            template drawn as a dark block across the road), those adding less lost smaller amounts (15 wins, 39
+            losses, -3.6 dB), while with ground-truth masks (an oracle) the larger ones won 22 times in 23; no
+            completion at all (0) lost held-out 2205's deletes (docs/results/2026-11-30_cpu/session22/occl/), where
+            the small completions were right (docs/results/2026-11-30_cpu/session23/rmpred/).
         keep_in_front: thin things in front of a car that its mask leaves out (a pole, a sign post:
             :func:`~sdn3d.editing.photo.occluders.thin_occluders`) stay in front in every edit (False: they are the
             car's, and a delete fills them).

@@ -566,20 +566,25 @@ def test_a_predicted_car_behind_is_completed_only_by_a_small_share_of_its_shown_
 
     oracle, image, edited = _occluder_scene({"proposals": "gt"})
     assert int(edited.objects.mask[0].sum()) > int(oracle.objects.mask[1].sum())  # apply_edits completed SIDE
-    drawn = _drawn(render_photo(image, FRAME, oracle, edited, settings=_with(grow_predicted_share=0.0)))
-    assert int(drawn.sum()) > 50  # ground-truth masks: SIDE drawn into the freed pixels, never capped
+    drawn = _drawn(render_photo(image, FRAME, oracle, edited, settings=SETTINGS))
+    assert int(drawn.sum()) > 50  # ground-truth masks: SIDE drawn into the freed pixels
     shown = int((PhotoSource(image, FRAME, oracle, settings=SETTINGS).src_ids == 12002).sum())
     share = int(drawn.sum()) / shown  # at most the freed pixels SIDE takes against its shown pixels (0.61 here)
     assert 0.5 < share < 2.0
 
     predicted, image, edited = _occluder_scene({"proposals": "semantic"})
+    # past the share (here the default 0.5): none of it is drawn, the fill keeps every one of those pixels
+    now = render_photo(image, FRAME, predicted, edited, settings=SETTINGS)
+    assert int(_drawn(now).sum()) == 0 and 12002 not in now.objects
+    assert bool((now.source[drawn] == FILL).all())
+    for capped in (0.99 * share, 0.0):
+        again = render_photo(image, FRAME, predicted, edited, settings=_with(grow_predicted_share=capped))
+        assert torch.equal(again.source, now.source)
     assert torch.equal(_drawn(render_photo(image, FRAME, predicted, edited,
                                            settings=_with(grow_predicted_share=2.0))), drawn)
-    # past the share (the default 0.5 too): none of it is drawn, the fill keeps every one of those pixels
-    for capped in (0.99 * share, 0.5, 0.0):
-        now = render_photo(image, FRAME, predicted, edited, settings=_with(grow_predicted_share=capped))
-        assert int(_drawn(now).sum()) == 0 and 12002 not in now.objects
-        assert bool((now.source[drawn] == FILL).all())
+    oracle, image, edited = _occluder_scene({"proposals": "gt"})  # ground-truth masks are never capped
+    assert torch.equal(_drawn(render_photo(image, FRAME, oracle, edited, settings=_with(grow_predicted_share=0.0))),
+                       drawn)
 
     box = BoxFit(12002, (0.0, 0.0, 10.0, 10.0), MaskSource.GRABCUT, False, 70, PoseSource.ROAD_PLANE, 0.9, False, 70,
                  64)

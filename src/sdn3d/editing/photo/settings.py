@@ -174,8 +174,9 @@ class PhotoSettings:
             the behaviour before).
         grow_predicted_share: an object whose mask the semantic branch predicted (a scene de-rendered with
             ``proposals=semantic``, less the objects named by a box: :func:`~sdn3d.proposals.predicted_masks`) is
-            completed into the freed pixels only while they are at most this share of the pixels its mask shows in
-            the input; past it all its freed pixels are left to the fill, as the 2D paste leaves them (0: no
+            completed into the freed pixels only while the pixels it draws there (with ``amodal='seen'`` the ones
+            the photo, its mirror or the same part supplies) are at most this share of the pixels its mask shows in
+            the input; past it none is drawn and the fill keeps them all, as the 2D paste does (0: no
             predicted object is completed; a huge value: every one is, the behaviour before). Ground-truth masks and
             box objects are not capped. Why: a predicted mask is a blob that often joins two cars or splits one and
             the pose fitted to it is a guess (median yaw error 38 degrees against 3.8 on ground-truth masks,

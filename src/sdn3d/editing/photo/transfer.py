@@ -834,7 +834,7 @@ def _cast_shadows(objects: ObjectTable, rows: list[int], verts: dict[int, Tensor
 
 def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, stays: Tensor,
           transform: PixelFrame, raster_ids: Tensor | None = None, vis_ids: Tensor | None = None,
-          min_seen: int = 0, predicted: tuple[Tensor, Tensor, float] | None = None) -> tuple[Tensor, list[int]]:
+          min_seen: int = 0) -> tuple[Tensor, list[int]]:
     """``(own, grown rows)``: ``own (H_in, W_in)`` with the freed pixels each object that stays now covers (its mask
     gained them: amodal completion) given to it, the first such object in table order where several do.
 
@@ -847,12 +847,7 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
     - all of an object with fewer than ``min_seen`` pixels in ``vis_ids (H_in, W_in)``: the input never showed it,
       so its colour, and in fog its haze, would be a guess (a default-coloured car, dark and unhazed).
 
-    ``min_seen`` 0 keeps every gained pixel (the behaviour before both rules).
-
-    ``predicted``: ``(which (N,) bool over ``after``'s rows, src_ids (H_in, W_in), share)``: an object whose mask is
-    a prediction (``which``) gains nothing when its gained input pixels outnumber ``share`` times its pixels in
-    ``src_ids`` (its mask in the input): :attr:`PhotoSettings.grow_predicted_share`. The pixels it gave up stay the
-    fill's, also where another object gained them too (it came first in table order)."""
+    ``min_seen`` 0 keeps every gained pixel (the behaviour before both rules)."""
     rows = stays.nonzero().flatten()
     if not len(rows):
         return own, []
@@ -877,14 +872,6 @@ def _grow(own: Tensor, before: ObjectTable, after: ObjectTable, origin: Tensor, 
         up = torch.where(raster_ids[y0:y1, x0:x1] == up, torch.zeros_like(up), up)
     here = own[y0:y1, x0:x1]
     new = (up != 0) & (here == 0)
-    if predicted is not None:
-        which, shown, share = predicted
-        ids, capped = after.instance_id[rows], which[rows]
-        if any_set(capped):
-            gained_px = id_counts(torch.where(new, up, torch.zeros_like(up)), ids)
-            wild = capped & (gained_px > share * id_counts(shown, ids))
-            if any_set(wild):
-                new &= ~isin_ids(up, ids[wild])
     grown = own.clone()
     grown[y0:y1, x0:x1] = torch.where(new, up.to(own.dtype), here)
     drawn = torch.isin(after.instance_id[rows], up[new].unique())
@@ -1126,12 +1113,9 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
     src_ids, vis_ids = source.src_ids, source.vis_ids
     staying = isin_ids(src_ids, after.instance_id[stays])  # input pixels of the objects that stay
     own = torch.where(staying, src_ids, torch.zeros_like(src_ids))
-    # Freed pixels an object that stays now covers (amodal completion in apply_edits); one whose mask the semantic
-    # branch predicted only while they are a small share of what the photo showed of it (PhotoSettings.
-    # grow_predicted_share: its mask and fitted pose do not say where a large hidden part lies).
+    # Freed pixels an object that stays now covers (amodal completion in apply_edits).
     own, grown_rows = _grow(own, before, after, origin, stays, transform, source.outline_ids,
-                            source.vis_ids, settings.grow_min_seen,
-                            (predicted_masks(scene.meta, after.instance_id), src_ids, settings.grow_predicted_share))
+                            source.vis_ids, settings.grow_min_seen)
 
     src = source.raster
     src_row_to_mesh = torch.full((len(before),), -1, dtype=torch.long)
@@ -1261,7 +1245,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                                      src_ids, vis_ids, K, settings, shade, src_normals, warnings, bank,
                                      photo_source.parts, parts_out, background, photo_source.pyramid,
                                      photo_source.registered_parts(drawn_ids), recolor_parts,
-                                     photo_source.registered_wheels(drawn_ids), photo_source.real_wheels)
+                                     photo_source.registered_wheels(drawn_ids), photo_source.real_wheels,
+                                     predicted_masks(scene.meta, after.instance_id))
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, own, before, after, origin, moved_rows, src_ids,
                                             photo_source.work_ids, transform, photo_source.outline_ids, K, settings,
@@ -1445,7 +1430,8 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
           background: Tensor, pyramid_of: Callable[[int], list[Tensor]],
           registered: Tensor, face_parts_out: Tensor | None = None, wheels: Tensor | None = None,
-          real_wheels: Callable[[int], Tensor | None] | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
+          real_wheels: Callable[[int], Tensor | None] | None = None,
+          predicted: Tensor | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
     ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
     there is not the object's (``silhouette='carved'``); ``pyramid_of(levels)``: the input's pyramid
@@ -1456,7 +1442,10 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
     which a tyre point read there is drawn from (:func:`_on_real_wheel`); ``real_wheels(instance id)`` (None: none):
     a car's real wheels where the input shows them (:meth:`PhotoSource.real_wheels`), which a wheel face the input
     never showed is drawn from (:func:`_from_real_wheels`). ``parts_out`` gets the drawn
-    pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's)."""
+    pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's). ``predicted (N,)`` bool
+    over ``after``'s rows (None: none): objects whose masks are predictions; one that stays draws none of its freed
+    pixels when they would be more than :attr:`PhotoSettings.grow_predicted_share` times its mask's pixels in
+    ``src_ids`` (the fill keeps them)."""
     height, width = own.shape
     covered = tgt.frags.covered()
     at_tgt, at_src = tgt.frags.locate(covered), src.frags.locate(covered)
@@ -1682,6 +1671,13 @@ def _draw(out: Tensor, source: Tensor, image: Tensor, own: Tensor, src: _Raster,
             drawn &= ~drop
             sel &= ~drop
             if not any_set(sel):
+                continue
+        # A predicted mask's completion larger than a share of what the photo showed of the car rests on a blob's
+        # guessed pose (PhotoSettings.grow_predicted_share): none of it is drawn, the fill stays.
+        if predicted is not None and bool(predicted[r]) and not bool(moved[r]):
+            shown = int(id_counts(src_ids, after.instance_id[r:r + 1])[0])
+            if int(sel.sum()) > settings.grow_predicted_share * shown:
+                drawn &= ~sel
                 continue
         n = int(sel.sum())
         objects[name] = {"pixels": n, **_shares(codes[sel]), "moved": bool(moved[r]), "_pixels": pix[sel]}

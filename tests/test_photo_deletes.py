@@ -539,3 +539,73 @@ def test_a_ray_stopped_by_another_object_before_the_vanishing_point_keeps_its_ne
         PhotoSettings(ray_vanishing="far")
     with pytest.raises(ValueError, match="vanishing"):
         ray_fill(image, side, vp, vanishing="far")
+
+
+def _occluder_scene(meta: dict):
+    """``(scene, image, edited)``: SIDE partly hidden behind NEAR, the scene's ``meta`` as given, NEAR deleted."""
+    from tests.test_photo import FRAME, _k_input, _scene, _surface_colors
+
+    scene = _scene([NEAR, SIDE])
+    scene = scene.replace(meta=meta)
+    image, _ = _surface_colors(scene, FRAME.input_size[::-1], _k_input())
+    return scene, image, apply_edits(scene, [Delete(12001)])
+
+
+def _with(**changes) -> PhotoSettings:
+    return PhotoSettings(**{**SETTINGS.to_dict(), **changes})
+
+
+def test_a_predicted_car_behind_is_completed_only_by_a_small_share_of_its_shown_pixels():
+    """Session 23 (issue 40, removals on predictions): the car behind a deleted one is completed into the freed
+    pixels from ground-truth masks whatever their number; where its mask is the semantic branch's prediction, only
+    while the pixels it draws there are at most ``grow_predicted_share`` of its mask's pixels in the input (else the
+    fill keeps them all, as the 2D paste's); an object named by a box in such a scene is not capped."""
+    from sdn3d.box_objects import BoxFit, MaskSource, PoseSource
+    from sdn3d.editing.photo.transfer import PhotoSource
+    from tests.test_photo import FRAME
+
+    oracle, image, edited = _occluder_scene({"proposals": "gt"})
+    assert int(edited.objects.mask[0].sum()) > int(oracle.objects.mask[1].sum())  # apply_edits completed SIDE
+    drawn = _drawn(render_photo(image, FRAME, oracle, edited, settings=SETTINGS))
+    assert int(drawn.sum()) > 50  # ground-truth masks: SIDE drawn into the freed pixels
+    shown = int((PhotoSource(image, FRAME, oracle, settings=SETTINGS).src_ids == 12002).sum())
+    share = int(drawn.sum()) / shown  # the freed pixels SIDE draws against its shown pixels (0.61 here)
+    assert 0.5 < share < 2.0
+
+    predicted, image, edited = _occluder_scene({"proposals": "semantic"})
+    # past the share (here the default 0.5): none of it is drawn, the fill keeps every one of those pixels
+    now = render_photo(image, FRAME, predicted, edited, settings=SETTINGS)
+    assert int(_drawn(now).sum()) == 0 and 12002 not in now.objects
+    assert bool((now.source[drawn] == FILL).all())
+    for capped in (0.99 * share, 0.0):
+        again = render_photo(image, FRAME, predicted, edited, settings=_with(grow_predicted_share=capped))
+        assert torch.equal(again.source, now.source)
+    assert torch.equal(_drawn(render_photo(image, FRAME, predicted, edited,
+                                           settings=_with(grow_predicted_share=1.01 * share))), drawn)
+    oracle, image, edited = _occluder_scene({"proposals": "gt"})  # ground-truth masks are never capped
+    assert torch.equal(_drawn(render_photo(image, FRAME, oracle, edited, settings=_with(grow_predicted_share=0.0))),
+                       drawn)
+
+    box = BoxFit(12002, (0.0, 0.0, 10.0, 10.0), MaskSource.GRABCUT, False, 70, PoseSource.ROAD_PLANE, 0.9, False, 70,
+                 64)
+    boxed, image, edited = _occluder_scene({"proposals": "semantic", "boxes": [box]})
+    assert torch.equal(_drawn(render_photo(image, FRAME, boxed, edited, settings=_with(grow_predicted_share=0.0))),
+                       drawn)
+
+
+def test_predicted_masks_names_the_semantic_branchs_objects_less_the_boxes():
+    from sdn3d.box_objects import BoxFit, MaskSource, PoseSource
+    from sdn3d.proposals import predicted_masks
+
+    ids = torch.tensor([12001, 12002, 13003])
+    assert predicted_masks({"proposals": "semantic"}, ids).tolist() == [True, True, True]
+    assert predicted_masks({"proposals": "gt"}, ids).tolist() == [False, False, False]
+    assert predicted_masks({}, ids).tolist() == [False, False, False]
+    box = BoxFit(12002, (0.0, 0.0, 10.0, 10.0), MaskSource.GRABCUT, False, 70, PoseSource.ROAD_PLANE, 0.9, False, 70,
+                 64)
+    assert predicted_masks({"proposals": "semantic", "boxes": [box]}, ids).tolist() == [True, False, True]
+    assert predicted_masks({"proposals": "semantic", "boxes": [box.to_json()]}, ids).tolist() == [True, False, True]
+    assert PhotoSettings().grow_predicted_share == 0.5
+    for bad in ("no", -0.1, True):
+        with pytest.raises(PhotoSettingsError, match="grow_predicted_share"):
+            PhotoSettings(grow_predicted_share=bad)

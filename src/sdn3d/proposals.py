@@ -9,12 +9,17 @@ the string write the same.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from enum import StrEnum
 
+import torch
+from torch import Tensor
+
+from sdn3d.box_objects import box_fits
 from sdn3d.errors import UserInputError
 
-__all__ = ["PROPOSALS", "Proposals", "Sources", "choose_sources"]
+__all__ = ["PROPOSALS", "Proposals", "Sources", "choose_sources", "predicted_masks"]
 
 
 class Proposals(StrEnum):
@@ -91,3 +96,15 @@ def choose_sources(proposals: Proposals, semantic_model: bool, ground_truth: boo
     if use_gt_masks and not gt_instances:
         raise UserInputError(f"proposals={proposals.value!r}: ground truth {gt_key} has no instance map")
     return Sources("gt" if use_gt_masks else "semantic", "branch" if use_branch else "gt")
+
+
+def predicted_masks(meta: Mapping, instance_ids: Tensor) -> Tensor:
+    """``(N,)`` bool: which objects of ``instance_ids (N,)`` of a de-rendered scene (``meta``: its ``SceneCode.meta``)
+    have masks the semantic branch predicted: the scene's masks came from the branch (``meta['proposals']``, the
+    source :func:`choose_sources` chose) and the object was not named by a box (``meta['boxes']``, whose masks
+    GrabCut found in the box)."""
+    predicted = torch.full((len(instance_ids),), meta.get("proposals") == "semantic", dtype=torch.bool)
+    boxes = [fit.instance_id for fit in box_fits(meta)]
+    if boxes and len(instance_ids):
+        predicted &= ~torch.isin(instance_ids.cpu(), torch.tensor(boxes, dtype=instance_ids.dtype))
+    return predicted

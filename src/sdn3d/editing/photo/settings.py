@@ -172,6 +172,22 @@ class PhotoSettings:
             overshoots there). 1 (default): on the seed-33 tuning deletes a never-seen car drawn in its parts'
             default colours had twice the fill's error there (0: every object grows wherever its silhouette lies,
             the behaviour before).
+        grow_predicted_share: an object whose mask the semantic branch predicted (a scene de-rendered with
+            ``proposals=semantic``, less the objects named by a box: :func:`~sdn3d.proposals.predicted_masks`) is
+            completed into the freed pixels only while the pixels it draws there (with ``amodal='seen'`` the ones
+            the photo, its mirror or the same part supplies) are at most this share of the pixels its mask shows in
+            the input; past it none is drawn and the fill keeps them all, as the 2D paste does (0: no
+            predicted object is completed; a huge value: every one is, the behaviour before). Ground-truth masks and
+            box objects are not capped. Why: a predicted mask is a blob that often joins two cars or splits one and
+            the pose fitted to it is a guess (median yaw error 38 degrees against 3.8 on ground-truth masks,
+            docs/results/2026-11-30_cpu/session21/lead/), and the more a completion adds to what the photo showed of
+            the car, the more of it rests on that pose. 0.5 (default): on the predicted rows of the Table 1 trees
+            31/35/37 and the spent held-out trees 2193/2205/2211, the completions adding more than half the car's
+            shown pixels lost to the 2D paste's fill there 20 times in 22 (-18.6 dB summed over entries; a distant car's
+            template drawn as a dark block across the road), those adding less lost smaller amounts (15 wins, 39
+            losses, -3.6 dB), while with ground-truth masks (an oracle) the larger ones won 22 times in 23; no
+            completion at all (0) lost held-out 2205's deletes (docs/results/2026-11-30_cpu/session22/occl/), where
+            the small completions were right (docs/results/2026-11-30_cpu/session23/rmpred/).
         keep_in_front: thin things in front of a car that its mask leaves out (a pole, a sign post:
             :func:`~sdn3d.editing.photo.occluders.thin_occluders`) stay in front in every edit (False: they are the
             car's, and a delete fills them).
@@ -254,6 +270,7 @@ class PhotoSettings:
     shadow_light: float = 0.8
     shadow_reach: float = 0.1
     grow_min_seen: int = 1
+    grow_predicted_share: float = 0.5
     ray_marks: float = 0.2
     ray_haze: float = 1.0
     ray_haze_airlight: float = 0.25
@@ -293,7 +310,8 @@ class PhotoSettings:
                   ("mask_view_deg", self.mask_view_deg, 0.0, 90.0),
                   ("paste_max_iou", self.paste_max_iou, 0.0, 1.0),
                   ("view_stretch", self.view_stretch, 0.0, 10.0), ("outline_grow", self.outline_grow, 0.0, 0.5),
-                  ("view_reflection", self.view_reflection, 0.0, 1.0))
+                  ("view_reflection", self.view_reflection, 0.0, 1.0),
+                  ("grow_predicted_share", self.grow_predicted_share, 0.0, 1e6))
         for name, value, lo, hi in checks:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= float(value) <= hi:
                 raise PhotoSettingsError(f"photo.{name} must be a number in [{lo}, {hi}], got {value!r}")

@@ -74,6 +74,7 @@ from sdn3d.meshes.bank import MeshBank, default_bank
 from sdn3d.meshes.parts import Part, greenhouse_glass
 from sdn3d.meshes.templates import TEMPLATE_NAMES, TEMPLATE_SPECS
 from sdn3d.meshes.vehicle_family import canonical_belt
+from sdn3d.proposals import predicted_masks
 from sdn3d.render.maps import normal_map
 from sdn3d.render.rasterize import Fragments, rasterize_meshes
 from sdn3d.render.settings import RasterSettings
@@ -1295,7 +1296,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                                      warnings, bank, photo_source.parts, parts_out, background, photo_source.pyramid,
                                      photo_source.registered_parts(drawn_ids), photo_source.visible_pixels,
                                      photo_source.part_examples, photo_source.clear_air, recolor_parts,
-                                     photo_source.registered_wheels(drawn_ids), photo_source.real_wheels)
+                                     photo_source.registered_wheels(drawn_ids), photo_source.real_wheels,
+                                     predicted_masks(scene.meta, after.instance_id))
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
             out, source = _paste_near_views(out, source, own, before, after, origin, moved_rows, src_ids,
                                             photo_source.work_ids, transform, photo_source.outline_ids, K, settings,
@@ -1480,7 +1482,8 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
           background: Tensor, pyramid_of: Callable[[int], list[Tensor]], registered: Tensor,
           visible_of: Callable[[int], Tensor], examples_of: Callable[[int], tuple[_PartExamples, Tensor]],
           clear_air: Callable[[int], bool], face_parts_out: Tensor | None = None, wheels: Tensor | None = None,
-          real_wheels: Callable[[int], Tensor | None] | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
+          real_wheels: Callable[[int], Tensor | None] | None = None,
+          predicted: Tensor | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
     ``img_flat (H * W, 3)``: the input's pixels row by row (:meth:`PhotoSource.flat_image`).
     ``background (H, W)``: input pixels no object's mask reaches (with a margin): a template point that projects
@@ -1495,7 +1498,10 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
     before)`` and ``clear_air(row of before)``: a car's eroded mask pixels, its part examples with all its visible
     colours, and whether it is seen through clear air (:meth:`PhotoSource.visible_pixels`,
     :meth:`PhotoSource.part_examples`, :meth:`PhotoSource.clear_air`: made once per source). ``parts_out`` gets the
-    drawn pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's)."""
+    drawn pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's). ``predicted (N,)``
+    bool over ``after``'s rows (None: none): objects whose masks are predictions; one that stays draws none of its
+    freed pixels when they would be more than :attr:`PhotoSettings.grow_predicted_share` times its mask's pixels in
+    ``src_ids`` (the fill keeps them)."""
     height, width = own.shape
     covered = tgt.frags.covered()
     at_tgt, at_src = tgt.frags.locate(covered), src.frags.locate(covered)
@@ -1693,6 +1699,13 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
             drawn &= ~drop
             sel &= ~drop
             if not any_set(sel):
+                continue
+        # A predicted mask's completion larger than a share of what the photo showed of the car rests on a blob's
+        # guessed pose (PhotoSettings.grow_predicted_share): none of it is drawn, the fill stays.
+        if predicted is not None and bool(predicted[r]) and not bool(moved[r]):
+            shown = int(id_counts(src_ids, after.instance_id[r:r + 1])[0])
+            if int(sel.sum()) > settings.grow_predicted_share * shown:
+                drawn &= ~sel
                 continue
         n = int(sel.sum())
         objects[name] = {"pixels": n, **_shares(codes[sel]), "moved": bool(moved[r]), "_pixels": pix[sel]}

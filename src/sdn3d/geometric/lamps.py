@@ -41,22 +41,27 @@ the two disagree the silhouette decides (``docs/results/2026-11-30_cpu/session22
 back, and on tree 35 the weight fixed 17 fits of back views (oracle masks and proposals) and broke 4 fits of
 true fronts whose headlights were real.
 
-A car cut by the image border beside the camera shows its side and its far end; the end that faces the camera
-(the near end) lies at the border, and its lamps with it. The near end lies towards ``sign(sin(alpha)) cos(alpha)``
-across the image, the same for a yaw and its reverse, so where it lies at the border that cuts the box (the
-predictor's ``border_side``, :func:`border_side`), neither end's lamps could be seen and an absence says nothing
-about the end. On the Table 1 tuning trees 31, 35 and 37 (session 21's demo weights, ground-truth masks, an oracle)
-every cut car's near end was at its border, and with no red lamps the absence was right on 24 front views and
-wrong on 16 of 17 back views (``docs/results/2026-11-30_cpu/session23/border``). What the picture still tells is
-the car's place: with ``traffic`` :attr:`Traffic.RIGHT` (KITTI's, Virtual KITTI's and Cityscapes' roads) a car cut
-by the right border drives, or is parked, the camera's way and shows its back, and one cut by the left border
-comes towards the camera and shows its front. So there an absence of red lamps (or of a red body's headlights)
-is replaced by that side's evidence at ``absent_weight``: ``-absent_weight * side * sin(alpha)`` (``side`` +1 for
-the right border, -1 for the left; :attr:`Traffic.LEFT` reverses it, :attr:`Traffic.NONE` counts nothing). Lamps
-that are seen still count as before: a cut car whose lamps show is read by them. Counting the absence for nothing
-there (:attr:`Traffic.NONE`) leaves the end to the MultiBin bins, which were right on 5 of those 17 backs: on the
-seed-13 tree such an abstention made 16 of 61 cut cars face the wrong way against 9, and on trees 31/35/37 it broke
-3 more cars than it fixed (``docs/results/2026-11-30_cpu/session22/flip``); hence the traffic's side.
+A car cut by the image's left or right border (the predictor's ``border_side``, :func:`border_side`) lies beside the
+camera, and there the end facing it (the near end, towards ``sign(sin(alpha)) cos(alpha)`` across the image, the
+same for a yaw and its reverse) lies at the border: a car along the road, off to one side, is seen with its near
+end outwards. So its near end's lamps, red or white, are cut off, and their absence says nothing about the end.
+On the Table 1 tuning trees 31, 35 and 37 (session 21's demo weights, ground-truth masks, an oracle) the truth put
+the near end at the cutting border on 66 of the 68 cut cars (the 2 others cut by the bottom only), and with no
+red lamps the absence was right on 25 front views and wrong on all 17 back views
+(``docs/results/2026-11-30_cpu/session23/border``). What the picture still tells is the car's place: with
+``traffic`` :attr:`Traffic.RIGHT` (KITTI's, Virtual KITTI's and Cityscapes' roads) a car cut by the right border
+drives, or is parked, the camera's way and shows its back, and one cut by the left border comes towards the camera
+and shows its front; on those trees that side named the true end of 46 of the 51 cut cars without lamps. So on a
+car the left or right border cuts, an absence of red lamps (or of a red body's headlights) is replaced by that
+side's evidence at ``absent_weight``, ``-absent_weight * side * sin(alpha)`` (``side`` +1 for the right border, -1
+for the left; :attr:`Traffic.LEFT` reverses it, :attr:`Traffic.NONE` counts nothing), at every hypothesis: one that
+puts the near end inwards is the silhouette's depth reflection (``alpha -> -alpha``, which an outline hardly tells
+apart), not a view whose lamps could show. Read only where the hypothesis put the near end at the border, the rule
+turned 6 of those trees' fits from flipped to right; at every hypothesis 14, breaking none (the fit on ground-truth
+masks, 35 flips to 21). Lamps that are seen still count as before. Counting the absence for nothing
+(:attr:`Traffic.NONE`) leaves the end to the MultiBin bins, right on 5 of those 17 backs: on the seed-13 tree such
+an abstention made 16 of 61 cut cars face the wrong way against 9, and on trees 31/35/37 it broke 3 more cars
+than it fixed (``docs/results/2026-11-30_cpu/session22/flip``).
 
 Fog and rain add the air's light to every pixel (``observed = t albedo + air``): a tail lamp's red over green
 falls from about 2.3 to 1.5 in rain, below ``ratio``, and a back view without "red lamps" was read as a front (Table 1's
@@ -245,14 +250,14 @@ def evidence_of(present: Tensor, usable: Tensor, offset: Tensor, alpha: Tensor, 
     """``(N, K)`` evidence for local orientations ``alpha (N, K)`` of a :func:`red_lamps` reading ``(present,
     usable, offset)`` (each ``(N,)``; module doc) and, where given, a :func:`white_lamps` reading ``front`` (usable
     only where the red one is not). ``border (N,)``: the image border that cuts each object (:func:`border_side`;
-    None: none does); where a hypothesis puts the near end at that border, an absence of lamps gives way to the
-    traffic's side (module doc). A seen lamp counts whatever the border."""
+    None: none does); on a cut object an absence of lamps gives way to the traffic's side (module doc). A seen lamp
+    counts whatever the border."""
     cue = cue or LampCue()
     sin, cos = torch.sin(alpha), torch.cos(alpha)
     seen = -(sin + 2 * offset[:, None] * cos)
     absent = cue.absent_weight * sin
     if border is not None:
-        absent = _cut_absence(absent, sin, cos, border, cue)
+        absent = _cut_absence(absent, sin, border, cue)
     evidence = torch.where(present[:, None], seen, absent)
     evidence = torch.where(usable[:, None], evidence, torch.zeros_like(evidence))
     if front is None:
@@ -260,20 +265,20 @@ def evidence_of(present: Tensor, usable: Tensor, offset: Tensor, alpha: Tensor, 
     f_present, f_usable, f_offset = front
     no_headlights = -cue.absent_weight * sin
     if border is not None:
-        no_headlights = _cut_absence(no_headlights, sin, cos, border, cue)
+        no_headlights = _cut_absence(no_headlights, sin, border, cue)
     # near-white pixels are as often rain or a paler tail lamp as headlights: a presence weighs headlight_weight
     headlights = torch.where(f_present[:, None], cue.headlight_weight * (sin + 2 * f_offset[:, None] * cos),
                              no_headlights)
     return torch.where(f_usable[:, None] & ~usable[:, None], headlights, evidence)
 
 
-def _cut_absence(absent: Tensor, sin: Tensor, cos: Tensor, border: Tensor, cue: LampCue) -> Tensor:
-    """``(N, K)``: an absence's evidence ``absent`` where the near end of hypothesis ``alpha`` (its ``sin, cos``,
-    ``(N, K)``) lies away from the ``border (N,)`` that cuts the object, else the traffic side's (module doc)."""
+def _cut_absence(absent: Tensor, sin: Tensor, border: Tensor, cue: LampCue) -> Tensor:
+    """``(N, K)``: an absence's evidence ``absent`` at hypotheses of ``sin(alpha) (N, K)``, replaced by the traffic
+    side's on the objects that the ``border (N,)`` cuts (-1 left, +1 right, 0 none; module doc)."""
     side = border[:, None].to(sin.dtype)
-    near_cut = (torch.sign(sin) * cos * side) > 0  # the end facing the camera lies at the cutting border
     sign = {Traffic.RIGHT: 1.0, Traffic.LEFT: -1.0, Traffic.NONE: 0.0}[cue.traffic]
-    return torch.where(near_cut, -sign * cue.absent_weight * side * sin, absent)
+    # the near end, and its lamps, lie beyond the border: the absence is not read, the car's side of the road is
+    return torch.where(side != 0, -sign * cue.absent_weight * side * sin, absent)
 
 
 def face_by_lamps(ry: Tensor, ray: Tensor, crop: Tensor, mask: Tensor, cue: LampCue | None = None,

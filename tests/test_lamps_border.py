@@ -122,7 +122,7 @@ def test_the_predictor_reads_the_border_with_the_image_width():
     assert "border_side" not in predictor.predict(crop * mask, mask, box, intr)
 
 
-@pytest.mark.parametrize("traffic", ["sideways", 1])
+@pytest.mark.parametrize("traffic", ["sideways", 1, ["right"]])
 def test_an_unknown_traffic_side_is_refused_by_name(traffic):
     with pytest.raises(ValueError, match="traffic"):
         LampCue(traffic=traffic)

@@ -117,7 +117,7 @@ class LampCue:
     traffic: Traffic = Traffic.RIGHT
 
     def __post_init__(self) -> None:
-        if self.traffic not in set(Traffic):  # a StrEnum member or its value ("right" from a file)
+        if self.traffic not in list(Traffic):  # a StrEnum member or its value ("right" from a file); any type
             raise ValueError(f"LampCue.traffic must be one of {[t.value for t in Traffic]}, got {self.traffic!r}")
         object.__setattr__(self, "traffic", Traffic(self.traffic))
         if not 0.0 <= self.headlight_weight <= 1.0:

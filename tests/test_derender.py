@@ -62,10 +62,12 @@ class Spy(GeometricPredictor):
         super().__init__(net)
         self.calls: list[dict] = []
 
-    def predict(self, crop, mask, box, intrinsics, crop_intrinsics=None, ignore=None, refine=None, lamp_mask=None):
+    def predict(self, crop, mask, box, intrinsics, crop_intrinsics=None, ignore=None, refine=None, lamp_mask=None,
+                image_width=None):
         self.calls.append({"crop": crop, "mask": mask, "box": box, "intrinsics": intrinsics, "ignore": ignore,
-                           "refine": refine, "lamp_mask": lamp_mask})
-        return super().predict(crop, mask, box, intrinsics, crop_intrinsics, ignore, refine, lamp_mask)
+                           "refine": refine, "lamp_mask": lamp_mask, "image_width": image_width})
+        return super().predict(crop, mask, box, intrinsics, crop_intrinsics, ignore, refine, lamp_mask,
+                               image_width=image_width)
 
 
 def _one_window(maps, left, top, side, out_size, mode):

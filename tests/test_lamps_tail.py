@@ -101,9 +101,10 @@ class _Spy(GeometricPredictor):
         super().__init__(net)
         self.calls: list[dict] = []
 
-    def predict(self, crop, mask, box, intrinsics, *args, lamp_mask=None, tail_mask=None):
+    def predict(self, crop, mask, box, intrinsics, *args, lamp_mask=None, tail_mask=None, image_width=None):
         self.calls.append({"crop": crop, "mask": mask, "lamp_mask": lamp_mask, "tail_mask": tail_mask})
-        return super().predict(crop, mask, box, intrinsics, *args, lamp_mask=lamp_mask, tail_mask=tail_mask)
+        return super().predict(crop, mask, box, intrinsics, *args, lamp_mask=lamp_mask, tail_mask=tail_mask,
+                               image_width=image_width)
 
 
 class _CutSemantic:

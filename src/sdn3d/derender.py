@@ -168,7 +168,7 @@ def _predict_geometry(image: Tensor, intr: Intrinsics, masks: Tensor, boxes: Ten
             (crop_windows(masks[:, None].float(), windows, size, "bilinear") >= SURE_MASK).float())
     # The crops go in masked, as the net sees them; with a tail band unmasked (the predictor masks the net's input
     # itself), so that the tail-lamp test can read past the mask.
-    given, lamps = crops * crop_masks, {"lamp_mask": sure}
+    given, lamps = crops * crop_masks, {"lamp_mask": sure, "image_width": intr.width}
     if tail is not None:  # the same rule as the mask's: nearest without a photo, the sure pixels with one
         grown = (masks | tail)[:, None].float()
         given, lamps["tail_mask"] = crops, (crop_windows(grown, windows, size, "nearest") if photo is None else
@@ -240,12 +240,12 @@ def _geometry(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, gt: G
 def _appearance(pred: dict[str, Tensor], rows: Tensor, ok: Tensor, n: int, models: Models) -> Appearance | None:
     """The :class:`~sdn3d.geometric.facing.Appearance` of the ``n`` objects from the predictions ``pred`` of the
     rows ``rows`` (usable where ``ok``); None where the predictor read no lamps."""
-    from sdn3d.geometric.facing import APPEARANCE_KEYS, BIN_KEYS, FRONT_KEYS, Appearance
+    from sdn3d.geometric.facing import APPEARANCE_KEYS, BIN_KEYS, BORDER_KEYS, FRONT_KEYS, Appearance
 
     if models.geometric.lamp_cue is None or any(k not in pred for k in APPEARANCE_KEYS):
         return None
     values = {}
-    for k in APPEARANCE_KEYS + tuple(k for k in BIN_KEYS + FRONT_KEYS if k in pred):
+    for k in APPEARANCE_KEYS + tuple(k for k in BIN_KEYS + FRONT_KEYS + BORDER_KEYS if k in pred):
         value = torch.zeros((n, *pred[k].shape[1:]), dtype=pred[k].dtype)
         value[rows[ok]] = pred[k][ok]
         values[k] = value

@@ -32,12 +32,14 @@ from torch import Tensor
 from sdn3d.geometric.lamps import LampCue, evidence_of
 from sdn3d.geometric.model import yaw_distribution
 
-__all__ = ["APPEARANCE_KEYS", "BIN_KEYS", "FRONT_KEYS", "Appearance", "facing_belief"]
+__all__ = ["APPEARANCE_KEYS", "BIN_KEYS", "BORDER_KEYS", "FRONT_KEYS", "Appearance", "facing_belief"]
 
 #: What :func:`facing_belief` reads per object: the predictor's outputs (``net_ry``, ``ray``, the lamps' reading).
 APPEARANCE_KEYS = ("net_ry", "ray", "lamp_present", "lamp_usable", "lamp_offset")
 #: A red body's headlights (:func:`~sdn3d.geometric.lamps.white_lamps`), read where present.
 FRONT_KEYS = ("front_present", "front_usable", "front_offset")
+#: The image border that cuts each object's box (:func:`~sdn3d.geometric.lamps.border_side`), read where present.
+BORDER_KEYS = ("border_side",)
 #: A MultiBin net's outputs, read where present.
 BIN_KEYS = ("yaw_bins", "yaw_residual", "yaw_ray")
 
@@ -45,7 +47,8 @@ BIN_KEYS = ("yaw_bins", "yaw_residual", "yaw_ray")
 def facing_belief(appearance: Mapping[str, Tensor], cue: LampCue | None = None, bins: bool = True
                   ) -> Callable[[Tensor], Tensor]:
     """``ry (N, K) -> (N, K)`` the score of each yaw (module doc) of the ``N`` objects of ``appearance``
-    (:data:`APPEARANCE_KEYS`, each ``(N,)``, and optionally :data:`BIN_KEYS` and :data:`FRONT_KEYS`).
+    (:data:`APPEARANCE_KEYS`, each ``(N,)``, and optionally :data:`BIN_KEYS`, :data:`FRONT_KEYS` and
+    :data:`BORDER_KEYS`).
 
     >>> appearance = {"net_ry": torch.tensor([1.6]), "ray": torch.zeros(1), "lamp_present": torch.tensor([False]),
     ...               "lamp_usable": torch.tensor([True]), "lamp_offset": torch.zeros(1)}
@@ -59,11 +62,12 @@ def facing_belief(appearance: Mapping[str, Tensor], cue: LampCue | None = None, 
     raw = {k: appearance[k] for k in BIN_KEYS} if bins and all(k in appearance for k in BIN_KEYS) else None
     front = (appearance["front_present"].bool(), appearance["front_usable"].bool(), appearance["front_offset"]) \
         if all(k in appearance for k in FRONT_KEYS) else None
+    border = appearance["border_side"] if "border_side" in appearance else None
 
     def score(ry: Tensor) -> Tensor:
         ry = ry.to(a["net_ry"].dtype)
         lamps = evidence_of(a["lamp_present"].bool(), a["lamp_usable"].bool(), a["lamp_offset"],
-                            ry - a["ray"][:, None], cue, front=front)
+                            ry - a["ray"][:, None], cue, front=front, border=border)
         net = 2 * yaw_distribution(raw, ry) - 1 if raw is not None else torch.cos(ry - a["net_ry"][:, None])
         return lamps + net_weight * net
 
@@ -72,8 +76,9 @@ def facing_belief(appearance: Mapping[str, Tensor], cue: LampCue | None = None, 
 
 @dataclass(frozen=True)
 class Appearance:
-    """What the geometric branch saw of ``N`` objects (:data:`APPEARANCE_KEYS` and, of a MultiBin net,
-    :data:`BIN_KEYS`, each with ``N`` rows) and the lamp cue it read them with: the box fit's yaw belief.
+    """What the geometric branch saw of ``N`` objects (:data:`APPEARANCE_KEYS`, :data:`FRONT_KEYS` and
+    :data:`BORDER_KEYS` where read and, of a MultiBin net, :data:`BIN_KEYS`, each with ``N`` rows) and the lamp cue
+    it read them with: the box fit's yaw belief.
 
     Attributes:
         values: the tensors by key (rows without a prediction: zeros; ``has`` says which rows have one).

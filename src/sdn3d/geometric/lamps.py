@@ -41,6 +41,28 @@ the two disagree the silhouette decides (``docs/results/2026-11-30_cpu/session22
 back, and on tree 35 the weight fixed 17 fits of back views (oracle masks and proposals) and broke 4 fits of
 true fronts whose headlights were real.
 
+A car cut by the image's left or right border (the predictor's ``border_side``, :func:`border_side`) lies beside the
+camera, and there the end facing it (the near end, towards ``sign(sin(alpha)) cos(alpha)`` across the image, the
+same for a yaw and its reverse) lies at the border: a car along the road, off to one side, is seen with its near
+end outwards. So its near end's lamps, red or white, are cut off, and their absence says nothing about the end.
+On the Table 1 tuning trees 31, 35 and 37 (session 21's demo weights, ground-truth masks, an oracle) the truth put
+the near end at the cutting border on 66 of the 68 cut cars (the 2 others cut by the bottom only), and with no
+red lamps the absence was right on 25 front views and wrong on all 17 back views
+(``docs/results/2026-11-30_cpu/session23/border``). What the picture still tells is the car's place: with
+``traffic`` :attr:`Traffic.RIGHT` (KITTI's, Virtual KITTI's and Cityscapes' roads) a car cut by the right border
+drives, or is parked, the camera's way and shows its back, and one cut by the left border comes towards the camera
+and shows its front; on those trees that side named the true end of 46 of the 51 cut cars without lamps. So on a
+car the left or right border cuts, an absence of red lamps (or of a red body's headlights) is replaced by that
+side's evidence at ``absent_weight``, ``-absent_weight * side * sin(alpha)`` (``side`` +1 for the right border, -1
+for the left; :attr:`Traffic.LEFT` reverses it, :attr:`Traffic.NONE` counts nothing), at every hypothesis: one that
+puts the near end inwards is the silhouette's depth reflection (``alpha -> -alpha``, which an outline hardly tells
+apart), not a view whose lamps could show. Read only where the hypothesis put the near end at the border, the rule
+turned 6 of those trees' fits from flipped to right; at every hypothesis 14, breaking none (the fit on ground-truth
+masks, 35 flips to 21). Lamps that are seen still count as before. Counting the absence for nothing
+(:attr:`Traffic.NONE`) leaves the end to the MultiBin bins, right on 5 of those 17 backs: on the seed-13 tree such
+an abstention made 16 of 61 cut cars face the wrong way against 9, and on trees 31/35/37 it broke 3 more cars
+than it fixed (``docs/results/2026-11-30_cpu/session22/flip``).
+
 Fog and rain add the air's light to every pixel (``observed = t albedo + air``): a tail lamp's red over green
 falls from about 2.3 to 1.5 in rain, below ``ratio``, and a back view without "red lamps" was read as a front (Table 1's
 rain frames turned a third to a half of the turned cars end for end). Both tests therefore read the colours
@@ -57,17 +79,26 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from enum import StrEnum
 
 import torch
 from torch import Tensor
 
-__all__ = ["LampCue", "air_offset", "through_the_air", "red_lamps", "white_lamps", "lamp_evidence", "evidence_of",
-           "face_by_lamps", "face_by_reading"]
+__all__ = ["LampCue", "Traffic", "border_side", "air_offset", "through_the_air", "red_lamps", "white_lamps",
+           "lamp_evidence", "evidence_of", "face_by_lamps", "face_by_reading"]
+
+
+class Traffic(StrEnum):
+    """The side of the road traffic keeps to: which end a car cut by the image border shows (module doc)."""
+
+    RIGHT = "right"  # KITTI, Virtual KITTI, Cityscapes: cut by the right border, its back; by the left, its front
+    LEFT = "left"
+    NONE = "none"  # no side: a cut car's absence of lamps counts for nothing
 
 
 @dataclass(frozen=True)
 class LampCue:
-    """Thresholds of the red-lamp cue and of the red bodies' headlights (module doc)."""
+    """Thresholds of the red-lamp cue and of the red bodies' headlights, and the traffic's side (module doc)."""
 
     red_min: float = 0.25
     ratio: float = 2.0
@@ -83,11 +114,29 @@ class LampCue:
     white_min_share: float = 0.001
     headlight_weight: float = 0.3
     clear_dark: float | None = 0.10
+    traffic: Traffic = Traffic.RIGHT
 
     def __post_init__(self) -> None:
+        if self.traffic not in list(Traffic):  # a StrEnum member or its value ("right" from a file); any type
+            raise ValueError(f"LampCue.traffic must be one of {[t.value for t in Traffic]}, got {self.traffic!r}")
+        object.__setattr__(self, "traffic", Traffic(self.traffic))
         if not 0.0 <= self.headlight_weight <= 1.0:
             raise ValueError(f"LampCue.headlight_weight must lie in [0, 1] (a share of the red lamps' evidence), "
                              f"got {self.headlight_weight}")
+
+
+def border_side(box: Tensor, width: int) -> Tensor:
+    """``(N,)`` float: the image border that cuts each pixel-centre ``(l, t, r, b)`` box of ``box (N, 4)`` in an
+    image ``width`` pixels wide: -1 the left one (``l`` in the first column), +1 the right one (``r`` in the last),
+    0 neither or both (a box across the whole image has no side).
+
+    >>> border_side(torch.tensor([[0.0, 5, 40, 30], [200, 5, 311, 30], [0, 5, 311, 30], [9, 5, 40, 30]]), 312)
+    tensor([-1.,  1.,  0.,  0.])
+    """
+    if box.dim() != 2 or box.shape[1] != 4:
+        raise ValueError(f"box must be (N, 4), got {tuple(box.shape)}")
+    left, right = box[:, 0] < 0.5, box[:, 2] > width - 1.5
+    return right.to(box.dtype) - left.to(box.dtype)
 
 
 def air_offset(crop: Tensor, mask: Tensor, clear_dark: float | None) -> tuple[Tensor, Tensor]:
@@ -197,40 +246,57 @@ def lamp_evidence(crop: Tensor, mask: Tensor, alpha: Tensor, cue: LampCue | None
 
 
 def evidence_of(present: Tensor, usable: Tensor, offset: Tensor, alpha: Tensor, cue: LampCue | None = None,
-                front: tuple[Tensor, Tensor, Tensor] | None = None) -> Tensor:
+                front: tuple[Tensor, Tensor, Tensor] | None = None, border: Tensor | None = None) -> Tensor:
     """``(N, K)`` evidence for local orientations ``alpha (N, K)`` of a :func:`red_lamps` reading ``(present,
     usable, offset)`` (each ``(N,)``; module doc) and, where given, a :func:`white_lamps` reading ``front`` (usable
-    only where the red one is not). An absence counts on cars cut by the image border too: their
-    lamps may lie outside the image, but on the seed-13 tuning tree ignoring the absence where the back view's back
-    end was cut off (at the fitted axis) made 16 of the 61 cut cars face the wrong way against 9."""
+    only where the red one is not). ``border (N,)``: the image border that cuts each object (:func:`border_side`;
+    None: none does); on a cut object an absence of lamps gives way to the traffic's side (module doc). A seen lamp
+    counts whatever the border."""
     cue = cue or LampCue()
     sin, cos = torch.sin(alpha), torch.cos(alpha)
     seen = -(sin + 2 * offset[:, None] * cos)
     absent = cue.absent_weight * sin
+    if border is not None:
+        absent = _cut_absence(absent, sin, border, cue)
     evidence = torch.where(present[:, None], seen, absent)
     evidence = torch.where(usable[:, None], evidence, torch.zeros_like(evidence))
     if front is None:
         return evidence
     f_present, f_usable, f_offset = front
+    no_headlights = -cue.absent_weight * sin
+    if border is not None:
+        no_headlights = _cut_absence(no_headlights, sin, border, cue)
     # near-white pixels are as often rain or a paler tail lamp as headlights: a presence weighs headlight_weight
     headlights = torch.where(f_present[:, None], cue.headlight_weight * (sin + 2 * f_offset[:, None] * cos),
-                             -cue.absent_weight * sin)
+                             no_headlights)
     return torch.where(f_usable[:, None] & ~usable[:, None], headlights, evidence)
 
 
-def face_by_lamps(ry: Tensor, ray: Tensor, crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> Tensor:
+def _cut_absence(absent: Tensor, sin: Tensor, border: Tensor, cue: LampCue) -> Tensor:
+    """``(N, K)``: an absence's evidence ``absent`` at hypotheses of ``sin(alpha) (N, K)``, replaced by the traffic
+    side's on the objects that the ``border (N,)`` cuts (-1 left, +1 right, 0 none; module doc)."""
+    side = border[:, None].to(sin.dtype)
+    sign = {Traffic.RIGHT: 1.0, Traffic.LEFT: -1.0, Traffic.NONE: 0.0}[cue.traffic]
+    # the near end, and its lamps, lie beyond the border: the absence is not read, the car's side of the road is
+    return torch.where(side != 0, -sign * cue.absent_weight * side * sin, absent)
+
+
+def face_by_lamps(ry: Tensor, ray: Tensor, crop: Tensor, mask: Tensor, cue: LampCue | None = None,
+                  border: Tensor | None = None) -> Tensor:
     """``(N,)`` yaws: each ``ry`` turned end for end where the lamps' evidence for it is below ``cue.flip_below``
-    and its reverse is believed more (``ray (N,)``: the angle of the ray through each box, ``alpha = ry - ray``)."""
+    and its reverse is believed more (``ray (N,)``: the angle of the ray through each box, ``alpha = ry - ray``;
+    ``border (N,)``: :func:`border_side` of each box, None: none cut)."""
     cue = cue or LampCue()
-    return face_by_reading(ry, ray, red_lamps(crop, mask, cue), white_lamps(crop, mask, cue), cue)
+    return face_by_reading(ry, ray, red_lamps(crop, mask, cue), white_lamps(crop, mask, cue), cue, border)
 
 
 def face_by_reading(ry: Tensor, ray: Tensor, red: tuple[Tensor, Tensor, Tensor],
-                    white: tuple[Tensor, Tensor, Tensor] | None, cue: LampCue | None = None) -> Tensor:
+                    white: tuple[Tensor, Tensor, Tensor] | None, cue: LampCue | None = None,
+                    border: Tensor | None = None) -> Tensor:
     """:func:`face_by_lamps` from the readings themselves: ``red`` of :func:`red_lamps` and ``white`` of
     :func:`white_lamps` (None: no headlight reading), each ``(present, usable, offset)`` of ``(N,)``; e.g. the red
     test read over more pixels than the headlights' (:meth:`~sdn3d.geometric.predict.GeometricPredictor.predict`'s
-    ``tail_mask``).
+    ``tail_mask``); ``border (N,)``: :func:`border_side` of each box (None: none cut).
 
     >>> back = (torch.tensor([True]), torch.tensor([True]), torch.zeros(1))  # red lamps, centred
     >>> round(face_by_reading(torch.tensor([math.pi / 2]), torch.zeros(1), back, None).item(), 4)  # front: turned
@@ -238,7 +304,7 @@ def face_by_reading(ry: Tensor, ray: Tensor, red: tuple[Tensor, Tensor, Tensor],
     """
     cue = cue or LampCue()
     alpha = torch.stack([ry - ray, ry - ray + math.pi], 1)
-    evidence = evidence_of(*red, alpha, cue, front=white)
+    evidence = evidence_of(*red, alpha, cue, front=white, border=border)
     flip = (evidence[:, 0] < cue.flip_below) & (evidence[:, 1] > evidence[:, 0])
     turned = torch.where(flip, ry + math.pi, ry)
     return torch.atan2(torch.sin(turned), torch.cos(turned))

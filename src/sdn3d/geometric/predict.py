@@ -15,7 +15,7 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 from sdn3d.geometric.decode import decode_outputs
-from sdn3d.geometric.lamps import LampCue, face_by_reading, red_lamps, white_lamps
+from sdn3d.geometric.lamps import LampCue, border_side, face_by_reading, red_lamps, white_lamps
 from sdn3d.geometric.losses import render_silhouettes
 from sdn3d.geometric.model import GeometricNet, ray_angle
 from sdn3d.geometric.refine import RefineSettings, refine_by_reprojection
@@ -124,6 +124,7 @@ class GeometricPredictor:
         refine: RefineSettings | None = None,
         lamp_mask: Tensor | None = None,
         tail_mask: Tensor | None = None,
+        image_width: int | None = None,
     ) -> dict[str, Tensor]:
         """3D attributes of ``N`` objects (see :func:`decode_outputs` for the keys).
 
@@ -147,13 +148,17 @@ class GeometricPredictor:
                 stopped above them (:func:`sdn3d.derender.derender`). A mask that shows usable red lamps is read as
                 before (a wider reading adds rows of other red: its lamps then fail the one-band test). The
                 headlights' test of red bodies keeps ``lamp_mask`` (a band's road reads near-white through rain).
+            image_width: the image's width in pixels: with it the lamp cue knows the boxes that the left or right
+                border cuts (:func:`~sdn3d.geometric.lamps.border_side`), whose end facing the camera may lie
+                outside the image (an absence of lamps then gives way to the traffic's side); None: none is cut.
 
         With ``mask`` and :attr:`lamp_cue`, the yaw is then turned end for end where the lamps disagree with it; the
         output then also holds what the appearance says of any yaw (:func:`~sdn3d.geometric.facing.facing_belief`):
         ``net_ry (N,)`` the net's yaw before the lamps, ``ray (N,)`` the ray angle of each box, and the lamps'
         reading ``lamp_present``, ``lamp_usable`` (``(N,)`` bool) and ``lamp_offset (N,)``
         (:func:`~sdn3d.geometric.lamps.red_lamps`), and of a red body's headlights ``front_present``,
-        ``front_usable``, ``front_offset`` (:func:`~sdn3d.geometric.lamps.white_lamps`).
+        ``front_usable``, ``front_offset`` (:func:`~sdn3d.geometric.lamps.white_lamps`), and with ``image_width``
+        ``border_side (N,)`` (:func:`~sdn3d.geometric.lamps.border_side`).
         """
 
         device = self.device
@@ -187,7 +192,10 @@ class GeometricPredictor:
             white = white_lamps(seen, lamps, self.lamp_cue)
             out.update(net_ry=out["ry"], ray=ray, lamp_present=red[0], lamp_usable=red[1], lamp_offset=red[2],
                        front_present=white[0], front_usable=white[1], front_offset=white[2])
-            out["ry"] = face_by_reading(out["ry"], ray, red, white, self.lamp_cue)
+            border = None if image_width is None else border_side(box, image_width)
+            if border is not None:
+                out["border_side"] = border
+            out["ry"] = face_by_reading(out["ry"], ray, red, white, self.lamp_cue, border)
         if crop_intrinsics is not None:
             out["silhouette"] = render_silhouettes(
                 bank, out["template_id"], out["dims"], out["ry"], out["center"],

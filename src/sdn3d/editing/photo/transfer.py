@@ -1911,9 +1911,12 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     worse 180-degree turns on the tuning trees, docs/results/2026-11-30_cpu/session22/side2/); on a coloured paint,
     glass examples of the
     paint's hue and chroma are the body's (a real car whose belt line lies above the fitted template's: its paint
-    there drew dark-red side windows); tyre examples darker than most of the car
-    (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype (the colours are float64
-    from the rows read on)."""
+    there drew dark-red side windows); body examples where cars have an end's lamps (:func:`_lamp_band` at the
+    corners) in that lamp's colour (:func:`_lamp_coloured`) are examples of that lamp, not dropped as not paint, unless
+    the paint itself is of that colour (the generator draws its lamps there, where the templates' lamp faces, lower
+    on the end caps, do not reach: they draw a never-seen end's lamps, :func:`_other_end_lamps`); tyre examples darker
+    than most of the car (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype
+    (the colours are float64 from the rows read on)."""
     seen_colors = img_flat[visible_px].double()
     ex = visible_px[(src.frags.mesh_at(visible_px) == s_mesh) & (parts_src[visible_px] >= 0)]
     if not len(ex):
@@ -1947,6 +1950,15 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
                 reach[body_ex[paint & ~side_paint]] = REACH_ENDS
                 reach[body_ex[side_paint & ~paint]] = REACH_SIDES
         keep[body_ex[~(paint | side_paint)]] = False
+        corners = _lamp_band(before, b, feature[body_ex]) if LAMP_BAND is not None else None
+        if corners is not None and any_set(paint):  # lamps where cars have them that the template calls body
+            paint_colour = colors[body_ex[paint]].median(0).values[None]
+            for lamp_part in OTHER_END:
+                if bool(_lamp_coloured(paint_colour, lamp_part)[0]):
+                    continue  # a red car's tail lamps are not told from its paint
+                lit = body_ex[(corners == lamp_part) & _lamp_coloured(colors[body_ex], lamp_part)]
+                ex_part[lit] = lamp_part
+                keep[lit] = True
         glass_ex = (ex_part == int(Part.GLASS)).nonzero().flatten()
         if coloured and len(glass_ex):  # a coloured car's paint above the template's belt line is body, not glass
             glass_paint, _ = body_paint(srgb_to_lab(colors[glass_ex].float()), reference=lab[told])
@@ -2034,7 +2046,9 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     (:data:`FALLBACK`), else :data:`PART_DEFAULTS` seen through the car's air (:func:`seen_through_the_air`,
     :data:`DEFAULT`); the caller shades these. Where an end's lamps were never seen, the points where cars have them
     (:func:`_lamp_band`; not glass, tyres or plates) are lamps in :data:`LAMP_DEFAULTS` seen through the car's air,
-    code :data:`DEFAULT`."""
+    code :data:`DEFAULT`, unless they are head lamps and the photo showed the tail lamps (:func:`_other_end_lamps`):
+    then the tail lamps and what lies between them, nearest first, the lamps in white as bright as they were, code
+    :data:`PART`, unshaded (a lamp's brightness is its own, not the paint's shading)."""
     albedo = torch.tensor(PART_DEFAULTS, dtype=torch.float64)[parts.clamp(min=0)]
     codes = torch.full((len(points),), DEFAULT, dtype=torch.uint8)
     seen_at = torch.full((len(points),), math.nan, dtype=torch.float64)
@@ -2092,15 +2106,54 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     # lie lower, on the end cap, and took the other end's paint there.
     band = _lamp_band(before, b, q_feat) if LAMP_BAND is not None else None
     if band is not None:
+        own_band = _lamp_band(before, b, own.feature) if len(own.part) else band[:0]
         for lamp_part in OTHER_END:
             here = (band == lamp_part) & ~torch.isin(parts, torch.tensor(LAMPLESS_PARTS))
             if int((own.part == lamp_part).sum()) >= 2 * k or not any_set(here):
                 continue  # that end was seen: its lamps are the photo's
-            lamp = torch.tensor(LAMP_DEFAULTS[lamp_part], dtype=albedo.dtype).expand(int(here.sum()), 3)
-            albedo[here] = seen_through_the_air(lamp, seen_colors)  # too few colours: the lamp as it is
-            codes[here] = DEFAULT
-            seen_at[here] = math.nan
+            q = here.nonzero().flatten()
+            lit = _other_end_lamps(own, own_band, lamp_part, paint, k)
+            if lit is not None:  # the other end's lamps as the photo shows them, in this end's hue
+                source, have = lit
+                near = _nearest_examples(q_feat[q], own.feature[have], k)
+                albedo[q] = source[near].mean(1)
+                codes[q] = PART
+                seen_at[q] = grazing(own.cos[have][near]).mean(1)
+                continue
+            lamp = torch.tensor(LAMP_DEFAULTS[lamp_part], dtype=albedo.dtype).expand(len(q), 3)
+            albedo[q] = seen_through_the_air(lamp, seen_colors)  # too few colours: the lamp as it is
+            codes[q] = DEFAULT
+            seen_at[q] = math.nan
     return albedo, codes, seen_at
+
+
+#: :func:`_other_end_lamps`: the ends whose never-seen lamps are drawn from the other end's lamps as the photo shows
+#: them. A head lamp is the tail lamp's brightness in white (both are lit glass, as bright whatever the light on the
+#: paint: the default white shaded as paint drew the fronts of cars seen from behind in grey lamps); a tail lamp's red
+#: is not told by a white head lamp (drawn from it, the tuning trees' tail lamps came out too deep a red, and in fog
+#: without the air's haze: docs/results/2026-11-30_cpu/session23/front/).
+LAMPS_FROM_OTHER_END = (int(Part.FRONT_LIGHTS),)
+
+
+def _other_end_lamps(own: _PartExamples, own_band: Tensor, part: int, paint: Tensor,
+                     k: int) -> tuple[Tensor, Tensor] | None:
+    """``(colours (E, 3), example indices (E',))`` to draw the never-seen lamps ``part`` of a car from: its examples
+    ``own`` in the other end's lamp band (``own_band (E,)``, :func:`_lamp_band` of their features), lamps and what
+    lies between them, the lamp-coloured ones in ``part``'s hue (:func:`_lamps_of_this_end`), indices into ``own``;
+    the nearest of them by :func:`_part_features` to a point of this end's band draw it, unshaded (a lamp glows: its
+    brightness is the other end's lamps', not the paint's shading). None (the caller's :data:`LAMP_DEFAULTS`): ``part``
+    not in :data:`LAMPS_FROM_OTHER_END`, fewer than ``2 k`` such examples, fewer than ``k`` of them lamp-coloured
+    (:func:`_lamp_coloured`: the other end's lamps not seen), or the car's ``paint (Q, 3)`` itself of that lamp
+    colour (a red car's tail lamps are not told from its paint)."""
+    if part not in LAMPS_FROM_OTHER_END:
+        return None
+    other = OTHER_END[part]
+    have = ((own_band == other) & ~torch.isin(own.part, torch.tensor(LAMPLESS_PARTS))).nonzero().flatten()
+    if len(have) < 2 * k or int(_lamp_coloured(own.color[have], other).sum()) < k:
+        return None
+    if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other)[0]):
+        return None
+    return _lamps_of_this_end(own.color[have], part, paint), have
 
 
 def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: Tensor, cos: Tensor,

@@ -1952,9 +1952,10 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
         keep[body_ex[~(paint | side_paint)]] = False
         corners = _lamp_band(before, b, feature[body_ex]) if LAMP_BAND is not None else None
         if corners is not None and any_set(paint):  # lamps where cars have them that the template calls body
-            paint_colour = colors[body_ex[paint]].median(0).values[None]
+            # the paint of its ends and that of its sides (they differ where the road told the ends' paint)
+            paints = torch.stack([colors[body_ex[p]].median(0).values for p in (paint, side_paint) if any_set(p)])
             for lamp_part in OTHER_END:
-                if bool(_lamp_coloured(paint_colour, lamp_part)[0]):
+                if bool(_lamp_coloured(paints, lamp_part).any()):
                     continue  # a red car's tail lamps are not told from its paint
                 lit = body_ex[(corners == lamp_part) & _lamp_coloured(colors[body_ex], lamp_part)]
                 ex_part[lit] = lamp_part
@@ -2112,7 +2113,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             if int((own.part == lamp_part).sum()) >= 2 * k or not any_set(here):
                 continue  # that end was seen: its lamps are the photo's
             q = here.nonzero().flatten()
-            lit = _other_end_lamps(own, own_band, lamp_part, paint, k)
+            lit = _other_end_lamps(own, own_band, lamp_part, k)
             if lit is not None:  # the other end's lamps as the photo shows them, in this end's hue
                 source, have = lit
                 near = _nearest_examples(q_feat[q], own.feature[have], k)
@@ -2135,25 +2136,28 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
 LAMPS_FROM_OTHER_END = (int(Part.FRONT_LIGHTS),)
 
 
-def _other_end_lamps(own: _PartExamples, own_band: Tensor, part: int, paint: Tensor,
-                     k: int) -> tuple[Tensor, Tensor] | None:
+def _other_end_lamps(own: _PartExamples, own_band: Tensor, part: int, k: int) -> tuple[Tensor, Tensor] | None:
     """``(colours (E, 3), example indices (E',))`` to draw the never-seen lamps ``part`` of a car from: its examples
     ``own`` in the other end's lamp band (``own_band (E,)``, :func:`_lamp_band` of their features), lamps and what
     lies between them, the lamp-coloured ones in ``part``'s hue (:func:`_lamps_of_this_end`), indices into ``own``;
     the nearest of them by :func:`_part_features` to a point of this end's band draw it, unshaded (a lamp glows: its
     brightness is the other end's lamps', not the paint's shading). None (the caller's :data:`LAMP_DEFAULTS`): ``part``
     not in :data:`LAMPS_FROM_OTHER_END`, fewer than ``2 k`` such examples, fewer than ``k`` of them lamp-coloured
-    (:func:`_lamp_coloured`: the other end's lamps not seen), or the car's ``paint (Q, 3)`` itself of that lamp
-    colour (a red car's tail lamps are not told from its paint)."""
+    (:func:`_lamp_coloured`: the other end's lamps not seen), or the car's paint itself of that lamp colour, the
+    paint its ends are drawn from or that of its sides (:attr:`_PartExamples.reach`; a red car's tail lamps are not
+    told from its paint)."""
     if part not in LAMPS_FROM_OTHER_END:
         return None
     other = OTHER_END[part]
     have = ((own_band == other) & ~torch.isin(own.part, torch.tensor(LAMPLESS_PARTS))).nonzero().flatten()
     if len(have) < 2 * k or int(_lamp_coloured(own.color[have], other).sum()) < k:
         return None
-    if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other)[0]):
-        return None
-    return _lamps_of_this_end(own.color[have], part, paint), have
+    body = own.part == int(Part.BODY)
+    for reach in (REACH_SIDES, REACH_ENDS):  # the ends' paint (all but the sides'), then the sides'
+        paint = own.color[body & (own.reach != reach)]
+        if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other)[0]):
+            return None
+    return _lamps_of_this_end(own.color[have], part, own.color[body & (own.reach != REACH_SIDES)]), have
 
 
 def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: Tensor, cos: Tensor,

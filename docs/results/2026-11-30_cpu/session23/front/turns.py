@@ -25,7 +25,8 @@ FILL = "photo:rays"
 
 def load(path: str) -> dict:
     pairs = json.loads((Path(path) / "counterfactual.json").read_text())["pairs"]
-    return {(p["source"], p["bin"], p["key"]): p["metrics"][FILL] for p in pairs if FILL in p["metrics"]}
+    # the tree's run in the key: pair keys repeat between trees of the same worlds, and labels may pool trees
+    return {(p["source"], p["bin"], f"{path}|{p['key']}"): p["metrics"][FILL] for p in pairs if FILL in p["metrics"]}
 
 
 def interval(d) -> str:
@@ -63,7 +64,8 @@ def main() -> int:
     for i in range(0, len(args), 3):
         main_, branch = merged.setdefault(args[i], ({}, {}))
         main_.update(load(args[i + 1]))
-        branch.update(load(args[i + 2]))
+        branch.update({(k[0], k[1], k[2].replace(args[i + 2], args[i + 1], 1)): v
+                       for k, v in load(args[i + 2]).items()})
     for label, (main_, branch) in merged.items():
         print("\n".join(rows(label, main_, branch)))
     return 0

@@ -317,6 +317,45 @@ def test_a_red_cars_tail_lamps_stay_as_they_are_on_its_never_seen_front():
     assert int(front.sum()) > 50 and float(result.image[1, front].max()) < 0.2
 
 
+def _lamp_pixels(scene, part):
+    """``(H, W)`` bool: the input pixels of the car of ``scene`` that lie where cars have ``part``'s lamps
+    (``transfer._lamp_band``: below the belt line, at the corners of that end), as the generator draws them."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.meshes.bank import default_bank
+    from sdn3d.scene.maps import posed_meshes
+
+    size = INPUT_SIZE[::-1]
+    rows, verts, faces = posed_meshes(scene.objects, default_bank())
+    raster = transfer._rasterize(rows, verts, faces, _k_input(), size)
+    covered = raster.frags.in_image(raster.frags.mask, False)[0]
+    pix = covered.view(-1).nonzero().flatten()
+    _, _, _, normal, _, point = transfer._surface_points(raster, pix)
+    band = transfer._lamp_band(scene.objects, 0, transfer._part_features(scene.objects, 0, point, normal))
+    out = torch.zeros(size[0] * size[1], dtype=torch.bool)
+    out[pix[band == int(part)]] = True
+    return out.view(size)
+
+
+def test_a_never_seen_ends_lamps_are_as_bright_as_the_other_ends_lamps():
+    """A grey car seen from behind whose tail lamps glow a dim red where cars have them (the generator's layout),
+    turned by 180 degrees: its never-seen front's lamps, where cars have them, are drawn from the tail lamps as the
+    photo shows them (code ``part``), white as bright as they are red (about 0.5), not the default white (1.0,
+    code ``default``): a lamp's brightness is its own, not a default's."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.35, 0.35, 0.35))
+    tail = _lamp_pixels(scene, Part.TAIL_LIGHTS) & covered
+    assert int(tail.sum()) > 20
+    image[:, tail] = torch.tensor([0.5, 0.05, 0.05])[:, None]
+    edited = apply_edits(scene, [Rotate(12001, math.pi)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    front = _lamp_pixels(edited, Part.FRONT_LIGHTS) & (result.parts == int(Part.BODY))
+    assert int(front.sum()) > 20
+    assert bool((result.source[front] == PART).all())
+    lamps = result.image[:, front]
+    assert float(lamps.median(1).values.min()) > 0.4  # white
+    assert float(lamps.median(1).values.max()) < 0.6  # as bright as the tail lamps, not 1.0
+
+
 def test_a_turned_cars_outline_grows_inside_its_box():
     """outline_grow: a template smaller than its car misses part of it; a car turned by more than ``mask_view_deg``
     has its drawn pixels grown by ``outline_grow`` of its box's projected height into free pixels inside the box's

@@ -1894,7 +1894,7 @@ class _PartExamples(NamedTuple):
     """A car's visible pixels usable as examples of its parts (:func:`_part_examples`): ``part (E,)``,
     ``color (E, 3)`` sRGB, ``feature (E, 6)`` (:func:`_part_features`), ``cos (E,)`` the view cosine each was
     seen at (:func:`_view_cos`) and ``reach (E,)`` uint8 which of the car's never-seen surfaces each may draw
-    (:data:`REACH_ALL`, :data:`REACH_ENDS`, :data:`REACH_SIDES`)."""
+    (:data:`REACH_ALL`, :data:`REACH_ENDS`, :data:`REACH_SIDES`, :data:`REACH_LAMPS`)."""
 
     part: Tensor
     color: Tensor
@@ -1917,6 +1917,12 @@ REACH_ENDS = 1
 #: An example only the car's sides may be drawn from: a body example of the paint told without the road under the car
 #: (:func:`_part_examples`): a side is paint down to its sills.
 REACH_SIDES = 2
+#: An example only a never-seen end's lamps may be drawn from (:func:`_other_end_lamps`): a copy of a car's pixel
+#: where cars have an end's lamps, in that lamp's colour, whatever the template calls it (:func:`_part_examples`).
+#: Only :func:`_part_colors` reads it, and only for that: kept out of the body's examples, a red lamp close to a
+#: brown paint's hue changed the body's view-reflection fit and the pixels drawn from the photo at 15-90 degrees
+#: (held-out seed 2219, docs/results/2026-11-30_cpu/session23/front/).
+REACH_LAMPS = 3
 
 
 def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor) -> Tensor:
@@ -1952,9 +1958,13 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     worse 180-degree turns on the tuning trees, docs/results/2026-11-30_cpu/session22/side2/); on a coloured paint,
     glass examples of the
     paint's hue and chroma are the body's (a real car whose belt line lies above the fitted template's: its paint
-    there drew dark-red side windows); tyre examples darker than most of the car
-    (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype (the colours are float64
-    from the rows read on)."""
+    there drew dark-red side windows); body examples where cars have an end's lamps (:func:`_lamp_band` at the
+    corners) in that lamp's colour (:func:`_lamp_coloured`) are also, as copies, examples of that lamp that only a
+    never-seen end's lamps read (:data:`REACH_LAMPS`, :func:`_other_end_lamps`), unless the paint of the car's ends
+    or sides is itself of that colour (the generator draws its lamps there, where the templates' lamp faces, lower on
+    the end caps, do not reach); tyre examples darker
+    than most of the car (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype
+    (the colours are float64 from the rows read on)."""
     seen_colors = img_flat[visible_px].double()
     ex = visible_px[(src.frags.mesh_at(visible_px) == s_mesh) & (parts_src[visible_px] >= 0)]
     if not len(ex):
@@ -1970,6 +1980,7 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     feature = _part_features(before, b, point, normal)
     keep = torch.ones(len(ex), dtype=torch.bool)
     reach = torch.full((len(ex),), REACH_ALL, dtype=torch.uint8)
+    lamp_ex, lamp_part_of = ex[:0], ex[:0]  # indices into ex of the lamp examples (REACH_LAMPS), and their lamps
     body_ex = (ex_part == int(Part.BODY)).nonzero().flatten()
     if len(body_ex) >= 8:
         lab = srgb_to_lab(colors[body_ex].float())
@@ -1988,6 +1999,16 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
                 reach[body_ex[paint & ~side_paint]] = REACH_ENDS
                 reach[body_ex[side_paint & ~paint]] = REACH_SIDES
         keep[body_ex[~(paint | side_paint)]] = False
+        corners = _lamp_band(before, b, feature[body_ex]) if LAMP_BAND is not None else None
+        if corners is not None and any_set(paint):  # lamps where cars have them that the template calls body
+            # the paint of its ends and that of its sides (they differ where the road told the ends' paint)
+            paints = torch.stack([colors[body_ex[p]].median(0).values for p in (paint, side_paint) if any_set(p)])
+            for lamp_part in OTHER_END:
+                if bool(_lamp_coloured(paints, lamp_part).any()):
+                    continue  # a red car's tail lamps are not told from its paint
+                lit = body_ex[(corners == lamp_part) & _lamp_coloured(colors[body_ex], lamp_part)]
+                lamp_ex = torch.cat([lamp_ex, lit])
+                lamp_part_of = torch.cat([lamp_part_of, torch.full_like(lit, lamp_part)])
         glass_ex = (ex_part == int(Part.GLASS)).nonzero().flatten()
         if coloured and len(glass_ex):  # a coloured car's paint above the template's belt line is body, not glass
             glass_paint, _ = body_paint(srgb_to_lab(colors[glass_ex].float()), reference=lab[told])
@@ -1996,7 +2017,10 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     if TYRE_QUANTILE < 1 and len(tyre_ex):  # tyre examples lighter than most of the car are road or paint
         luma = luminance(colors)
         keep[tyre_ex[luma[tyre_ex] > torch.quantile(luma, TYRE_QUANTILE)]] = False
-    kept = _PartExamples(ex_part[keep], colors[keep], feature[keep], cos[keep], reach[keep])
+    # the lamp examples are copies, added after the others: every other reader sees the examples as they were
+    kept = _PartExamples(torch.cat([ex_part[keep], lamp_part_of]), torch.cat([colors[keep], colors[lamp_ex]]),
+                         torch.cat([feature[keep], feature[lamp_ex]]), torch.cat([cos[keep], cos[lamp_ex]]),
+                         torch.cat([reach[keep], torch.full((len(lamp_ex),), REACH_LAMPS, dtype=torch.uint8)]))
     return kept, seen_colors
 
 
@@ -2075,7 +2099,11 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     (:data:`FALLBACK`), else :data:`PART_DEFAULTS` seen through the car's air (:func:`seen_through_the_air`,
     :data:`DEFAULT`); the caller shades these. Where an end's lamps were never seen, the points where cars have them
     (:func:`_lamp_band`; not glass, tyres or plates) are lamps in :data:`LAMP_DEFAULTS` seen through the car's air,
-    code :data:`DEFAULT`."""
+    code :data:`DEFAULT`, unless they are head lamps and the photo showed the tail lamps (:func:`_other_end_lamps`):
+    then the tail lamps and what lies between them, nearest first, the lamps in white as bright as they were, code
+    :data:`PART`, unshaded (a lamp's brightness is its own, not the paint's shading)."""
+    lamp = own.reach == REACH_LAMPS  # read only by the never-seen lamps' rule, below
+    own, lamps = _PartExamples(*(f[~lamp] for f in own)), _PartExamples(*(f[lamp] for f in own))
     albedo = torch.tensor(PART_DEFAULTS, dtype=torch.float64)[parts.clamp(min=0)]
     codes = torch.full((len(points),), DEFAULT, dtype=torch.uint8)
     seen_at = torch.full((len(points),), math.nan, dtype=torch.float64)
@@ -2133,15 +2161,63 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     # lie lower, on the end cap, and took the other end's paint there.
     band = _lamp_band(before, b, q_feat) if LAMP_BAND is not None else None
     if band is not None:
+        own_band = _lamp_band(before, b, own.feature) if len(own.part) else band[:0]
+        lamps_band = _lamp_band(before, b, lamps.feature) if len(lamps.part) else band[:0]
         for lamp_part in OTHER_END:
             here = (band == lamp_part) & ~torch.isin(parts, torch.tensor(LAMPLESS_PARTS))
             if int((own.part == lamp_part).sum()) >= 2 * k or not any_set(here):
                 continue  # that end was seen: its lamps are the photo's
-            lamp = torch.tensor(LAMP_DEFAULTS[lamp_part], dtype=albedo.dtype).expand(int(here.sum()), 3)
-            albedo[here] = seen_through_the_air(lamp, seen_colors)  # too few colours: the lamp as it is
-            codes[here] = DEFAULT
-            seen_at[here] = math.nan
+            q = here.nonzero().flatten()
+            lit = _other_end_lamps(own, own_band, lamps, lamps_band, lamp_part, k)
+            if lit is not None:  # the other end's lamps as the photo shows them, in this end's hue
+                source, feature, cos = lit
+                near = _nearest_examples(q_feat[q], feature, k)
+                albedo[q] = source[near].mean(1)
+                codes[q] = PART
+                seen_at[q] = grazing(cos[near]).mean(1)
+                continue
+            lamp = torch.tensor(LAMP_DEFAULTS[lamp_part], dtype=albedo.dtype).expand(len(q), 3)
+            albedo[q] = seen_through_the_air(lamp, seen_colors)  # too few colours: the lamp as it is
+            codes[q] = DEFAULT
+            seen_at[q] = math.nan
     return albedo, codes, seen_at
+
+
+#: :func:`_other_end_lamps`: the ends whose never-seen lamps are drawn from the other end's lamps as the photo shows
+#: them. A head lamp is the tail lamp's brightness in white (both are lit glass, as bright whatever the light on the
+#: paint: the default white shaded as paint drew the fronts of cars seen from behind in grey lamps); a tail lamp's red
+#: is not told by a white head lamp (drawn from it, the tuning trees' tail lamps came out too deep a red, and in fog
+#: without the air's haze: docs/results/2026-11-30_cpu/session23/front/).
+LAMPS_FROM_OTHER_END = (int(Part.FRONT_LIGHTS),)
+
+
+def _other_end_lamps(own: _PartExamples, own_band: Tensor, lamps: _PartExamples, lamps_band: Tensor, part: int,
+                     k: int) -> tuple[Tensor, Tensor, Tensor] | None:
+    """``(colours (E, 3), features (E, 6), view cosines (E,))`` to draw the never-seen lamps ``part`` of a car from:
+    its examples ``own`` (:data:`REACH_LAMPS` ones left out) in the other end's lamp band (``own_band (E_o,)``,
+    :func:`_lamp_band` of their features), what lies between the lamps, and its lamp examples ``lamps`` there
+    (``lamps_band``), the lamp-coloured ones in ``part``'s hue (:func:`_lamps_of_this_end`); the nearest of them by
+    :func:`_part_features` to a point of this end's band draw it, unshaded (a lamp glows: its brightness is the other
+    end's lamps', not the paint's shading). None (the caller's :data:`LAMP_DEFAULTS`): ``part`` not in
+    :data:`LAMPS_FROM_OTHER_END`, fewer than ``2 k`` such examples, fewer than ``k`` of them lamp-coloured
+    (:func:`_lamp_coloured`: the other end's lamps not seen), or the car's paint itself of that lamp colour, the
+    paint its ends are drawn from or that of its sides (:attr:`_PartExamples.reach`; a red car's tail lamps are not
+    told from its paint)."""
+    if part not in LAMPS_FROM_OTHER_END:
+        return None
+    other = OTHER_END[part]
+    have = ((own_band == other) & ~torch.isin(own.part, torch.tensor(LAMPLESS_PARTS))).nonzero().flatten()
+    lit = (lamps_band == other).nonzero().flatten()
+    colours = torch.cat([own.color[have], lamps.color[lit]])
+    if len(colours) < 2 * k or int(_lamp_coloured(colours, other).sum()) < k:
+        return None
+    body = own.part == int(Part.BODY)
+    for reach in (REACH_SIDES, REACH_ENDS):  # the ends' paint (all but the sides'), then the sides'
+        paint = own.color[body & (own.reach != reach)]
+        if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other)[0]):
+            return None
+    return (_lamps_of_this_end(colours, part, own.color[body & (own.reach != REACH_SIDES)]),
+            torch.cat([own.feature[have], lamps.feature[lit]]), torch.cat([own.cos[have], lamps.cos[lit]]))
 
 
 def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: Tensor, cos: Tensor,

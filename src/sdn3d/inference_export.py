@@ -39,7 +39,6 @@ from sdn3d.io import (
     checkpoint_branch,
     file_sha256,
     load_torch_file,
-    load_torch_file_mapped,
 )
 
 __all__ = ["ExportWriteError", "EXPORT_FORMAT", "EXPORT_VERSION", "EXPORT_NAME", "PREDICTOR_PREFIXES", "BranchWeights",
@@ -96,8 +95,7 @@ def is_inference_export(content: Any) -> bool:
 
 def load_branch_weights(path: str | os.PathLike, branch: str, map_location: Any = "cpu") -> BranchWeights:
     """``branch``'s weights from ``path``: an inference export or a Lightning checkpoint (told apart by content),
-    read with ``torch.load(weights_only=True)``, its tensors mapped from the file where its format allows
-    (:func:`sdn3d.io.load_torch_file_mapped`: the predictor copies them into its parameters).
+    read with ``torch.load(weights_only=True)``.
 
     Raises:
         UserInputError: naming the file: missing or unreadable, neither kind of file, another branch's weights,
@@ -106,7 +104,7 @@ def load_branch_weights(path: str | os.PathLike, branch: str, map_location: Any 
     if branch not in CHECKPOINT_BRANCHES:
         raise ValueError(f"branch must be one of {sorted(CHECKPOINT_BRANCHES)}, got {branch!r}")
     path = Path(path).expanduser()
-    content = load_torch_file_mapped(path, "checkpoint", map_location)
+    content = load_torch_file(path, "checkpoint", map_location)
     if is_inference_export(content):
         return _checked_export(path, content, branch)
     if not isinstance(content, dict) or "state_dict" not in content:
@@ -245,9 +243,12 @@ def _existing_kind(path: Path) -> str:
     """What the existing file ``path`` holds: ``'export'``, ``'training checkpoint'`` or ``'other'`` (tensors are
     mapped, not read)."""
     try:
-        content = load_torch_file_mapped(path, "file")
+        content = load_torch_file(path, "file", mmap=True)
     except UserInputError:
-        return "other"
+        try:  # mmap needs the zip format; an old-format torch file is read whole
+            content = load_torch_file(path, "file")
+        except UserInputError:
+            return "other"
     if is_inference_export(content):
         return "export"
     if isinstance(content, Mapping) and "state_dict" in content and any(k in content for k in _TRAINING_KEYS):

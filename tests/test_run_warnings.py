@@ -119,8 +119,8 @@ def test_grabcut_is_seeded_by_a_trusted_semantic_branch_only_on_the_data_it_trai
 
 
 def test_a_runs_config_is_read_with_the_one_yaml_loader(tmp_path, monkeypatch):
-    # sdn3d-edit reads the semantic run's config.yaml three times a call: with libyaml's parser where PyYAML has it
-    # (sdn3d.io.yaml_loader: 11 ms -> 1 ms for a run's 170 lines), the same data
+    # sdn3d-edit reads the semantic run's config.yaml once a call (box_objects.prior auto): with libyaml's parser
+    # where PyYAML has it (sdn3d.io.yaml_loader: 11 ms -> 1 ms for a run's 170 lines), the same data
     import yaml
 
     from sdn3d.io import yaml_loader
@@ -140,3 +140,31 @@ def test_a_runs_config_is_read_with_the_one_yaml_loader(tmp_path, monkeypatch):
     (summary.parent / "config.yaml").write_text("data: [unclosed\n")
     assert trained_data(summary) is None  # invalid YAML: not recorded, as before
 
+
+
+def test_a_runs_config_is_read_only_for_a_warnings_advice(tmp_path, monkeypatch):
+    """quality_warnings reads the run's config.yaml (where the data it trained on lies) only to advise on a warning
+    it gives: a trusted branch's call reads nothing, and each warning's advice still says whether the input is from
+    that data (main read the file on every call, warning or not: two of sdn3d-edit's three reads)."""
+    import yaml
+
+    data = tmp_path / "data"
+    trusted = {"val/proposal_recall": 0.8, "val/proposal_precision": 0.7}
+    weak = {"val/proposal_recall": 0.2, "val/proposal_precision": 0.7}
+    good_run, weak_run = _run(tmp_path, trusted, data, "good"), _run(tmp_path, weak, data, "weak")
+    reads, real_load = [], yaml.load
+
+    def load(stream, Loader):  # noqa: N803 (yaml's name)
+        reads.append(Loader)
+        return real_load(stream, Loader=Loader)  # noqa: S506 (sdn3d.io.yaml_loader's safe loader)
+
+    monkeypatch.setattr(yaml, "load", load)
+    assert quality_warnings(trusted, 0.2, str(good_run), input_path=data / "0001") == []
+    assert quality_warnings(trusted, None, str(good_run), input_path=tmp_path / "street.png") == []
+    assert reads == []
+    warned = quality_warnings(weak, None, str(weak_run), input_path=data / "0001")
+    assert len(warned) == 1 and f"this input is from the data the run trained on ({data.resolve()})" in warned[0]
+    assert len(reads) == 1
+    covered = quality_warnings(trusted, 0.9, str(good_run), input_path=tmp_path / "street.png")
+    assert len(covered) == 1 and "this input is not from the data the run trained on (vkitti1 at" in covered[0]
+    assert len(reads) == 2

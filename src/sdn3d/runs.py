@@ -397,17 +397,6 @@ def quality_warnings(metrics: dict | None, coverage: float | None, where: str = 
     proposals = recorded_proposals(metrics)
     pq = recorded_pq(metrics)
     miou = _number(metrics, "val/miou")
-    trained = trained_data(where) if where else None
-    source = from_trained_data(trained, input_path)
-    boxes = "name the cars by box (`objects: [{box: [x0, y0, x1, y1], class: Car}]` with proposals=boxes)"
-    if source is False:
-        cause = (f"this input is not from the data the run trained on ({trained['kind']} at {trained['root']}): real "
-                 f"photos need branches trained on Virtual KITTI or Cityscapes (docs/TRAINING.md), or {boxes}")
-    elif source is True:
-        cause = (f"this input is from the data the run trained on ({trained['root']}), so the branch itself is too "
-                 f"weak: train it longer, or {boxes}")
-    else:
-        cause = f"train it longer, or {boxes}"
     low = None
     if proposals is not None:
         if not proposals_trusted(proposals):
@@ -419,8 +408,26 @@ def quality_warnings(metrics: dict | None, coverage: float | None, where: str = 
         low = f"recorded val/miou is {miou:.3f} (< {MIN_MIOU}, {where})"
     if low is not None:
         out.append(f"the semantic branch's {low}: {_run_label(where)} scored it on its validation part; its "
-                   f"object proposals are likely wrong; {cause}")
+                   f"object proposals are likely wrong; {_warning_cause(where, input_path)}")
     if coverage is not None and coverage > MAX_PROPOSAL_COVER:
         out.append(f"the semantic branch's object proposals cover {100 * coverage:.0f} % of the frame "
-                   f"(> {100 * MAX_PROPOSAL_COVER:.0f} %): not plausible vehicles ({_run_label(where)}); {cause}")
+                   f"(> {100 * MAX_PROPOSAL_COVER:.0f} %): not plausible vehicles ({_run_label(where)}); "
+                   f"{_warning_cause(where, input_path)}")
     return out
+
+
+def _warning_cause(where: str, input_path: str | os.PathLike | None) -> str:
+    """What :func:`quality_warnings` tells the user to do about a weak semantic branch, by whether the input is from
+    the data the run trained on. Only built for a warning: it reads the run's ``config.yaml``
+    (:func:`trained_data`); built before knowing whether a warning is due, it cost each ``sdn3d-edit`` call two
+    reads of that file it did not use."""
+    trained = trained_data(where) if where else None
+    source = from_trained_data(trained, input_path)
+    boxes = "name the cars by box (`objects: [{box: [x0, y0, x1, y1], class: Car}]` with proposals=boxes)"
+    if source is False:
+        return (f"this input is not from the data the run trained on ({trained['kind']} at {trained['root']}): real "
+                f"photos need branches trained on Virtual KITTI or Cityscapes (docs/TRAINING.md), or {boxes}")
+    if source is True:
+        return (f"this input is from the data the run trained on ({trained['root']}), so the branch itself is too "
+                f"weak: train it longer, or {boxes}")
+    return f"train it longer, or {boxes}"

@@ -41,12 +41,13 @@ def _rigged(monkeypatch, yaws: list[float], losses: list[float]) -> None:
     monkeypatch.setattr(fitmod, "_stage", stage)
 
 
-def _fit(box: list[float], settings: FitSettings = SMALL) -> float:
+def _fit(box: list[float], settings: FitSettings = SMALL, believed: float | None = None) -> float:
+    """The fitted yaw; the appearance believes every yaw alike, or only ``believed`` (cosine)."""
     masks = torch.zeros(1, INTR.height, INTR.width, dtype=torch.bool)
     x0, y0, x1, y1 = (int(v) for v in box)
     masks[0, y0:y1, x0:x1] = True
     result = fit_to_masks(masks, torch.tensor([box]), INTR, settings=settings,
-                          yaw_belief=lambda ry: torch.zeros_like(ry))  # the appearance tells nothing
+                          yaw_belief=lambda ry: torch.zeros_like(ry) if believed is None else torch.cos(ry - believed))
     return float(result.ry[0])
 
 
@@ -70,6 +71,15 @@ def test_a_cut_car_whose_every_fit_points_inwards_keeps_the_best(monkeypatch):
     """Dropping every fit would leave nothing: then none is dropped and the lowest loss wins as before."""
     _rigged(monkeypatch, [INWARD, INWARD + 0.1], [0.04, 0.01])
     assert _wrapd(_fit([60.0, 20.0, 96.0, 40.0]) - INWARD - 0.1) < 1e-3
+
+
+def test_the_border_does_not_hand_a_cut_car_the_end_its_appearance_believes_less(monkeypatch):
+    """The fit left after the drop faces the end the appearance disbelieves (the inward fit's reverse): the border
+    tells the near end's side, not the end, so the inward fit stays. Believed alike, the outward fit wins."""
+    reverse = OUTWARD + math.pi  # the outward axis facing the other end: the inward fit's depth reflection reversed
+    _rigged(monkeypatch, [INWARD, reverse], [0.01, 0.04])
+    assert _wrapd(_fit([60.0, 20.0, 96.0, 40.0], believed=INWARD) - INWARD) < 1e-3
+    assert _wrapd(_fit([60.0, 20.0, 96.0, 40.0]) - reverse) < 1e-3
 
 
 def test_inward_reads_the_near_end_of_end_and_side_views_as_moot():

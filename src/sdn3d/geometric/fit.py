@@ -43,7 +43,10 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    end would be inside the picture, which the border contradicts. It is the silhouette's depth reflection
    (``alpha -> -alpha``, which an outline hardly tells apart), and on cut cars the fit often preferred it. So such
    fits drop out before the choice (``cut_inward``: where ``side * sin(2 alpha) < -cut_inward``, ``side`` +1 for
-   the right border, -1 for the left, each fit's ``ray`` through its own place), unless every fit of the car would.
+   the right border, -1 for the left, each fit's ``ray`` through its own place), unless every fit of the car would,
+   or unless the winner left is believed less by the appearance (``yaw_belief``) than the inward fit it displaces:
+   the border tells the near end's side, not which end is near, and the fits left often held the right axis with
+   only its wrong end (on the Table 1 tuning trees, dropping without this turned 6 more fits end for end).
    ``sin(2 alpha)`` is the near end's direction weighed by how far the car is turned from an end or side view,
    where the near end's side is moot: it is continuous where ``sign(sin(alpha))`` is not.
 3. **What counts.** The loss is L_reproj (mean ``|S~ - M|``) over the crop, without the pixels of nearer objects
@@ -174,10 +177,10 @@ class FitSettings:
             (16 of 442); with it, it is what tells the mirror apart (the lamps' side: which end lies left), so on
             (docs/results/2026-11-28_cpu/session4/poses).
         cut_inward: a car cut by the image's left or right border drops the fits whose near end points inwards
-            by more than this (module doc, step 2: ``side * sin(2 alpha) < -cut_inward``), unless all would; in
-            ``[0, 1]``, 1 drops none. On the Table 1 tuning trees 31, 35 and 37 (session 21's demo weights, a replay
-            of the recorded fits) 0.2 moved the side-cut cars' median yaw error from 24 to 16 degrees on
-            ground-truth masks (an oracle) and on predicted proposals; 0, 0.4 and 0.6 did no better
+            by more than this (module doc, step 2: ``side * sin(2 alpha) < -cut_inward``), unless all would or the
+            fit left is believed less; in ``[0, 1]``, 1 drops none. On the Table 1 tuning trees 31, 35 and 37
+            (session 21's demo weights, ground-truth masks, an oracle) 0.2 without the belief's guard took the
+            side-cut cars' median yaw error from 24 to 13 degrees but turned 6 fits end for end; 0.5, 2
             (docs/results/2026-11-30_cpu/session23/inward).
         lr: Adam learning rate (x, log z, log dims; the yaw takes ``2 lr``).
         margin: the crop window grows the box by this share on each side.
@@ -649,7 +652,11 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
         belief = torch.cos(fitted_ry - ry0[:, None])  # 1: the first start's yaw
     inward = inward_at_border(border_side(pixel_centre_boxes(boxes.float()), intr.width), fitted_ry,
                               torch.atan2(values["x"], values["z"]).view(n, hyps), settings.cut_inward)
-    index = _choose(torch.where(inward & ~inward.all(1, keepdim=True), math.inf, fine), belief, fitted_ry, settings)
+    index = _choose(fine, belief, fitted_ry, settings)
+    outward = _choose(torch.where(inward & ~inward.all(1, keepdim=True), math.inf, fine), belief, fitted_ry, settings)
+    # The border names the axis, not the end: a fit the appearance believes less than the inward winner stays out.
+    index = torch.where(belief.gather(1, outward[:, None])[:, 0] >= belief.gather(1, index[:, None])[:, 0],
+                        outward, index)
     winner = index + torch.arange(n) * hyps
     chosen = {k: v[winner] for k, v in values.items()}
     won = fine_template.flatten()[winner]

@@ -26,6 +26,7 @@ def main() -> None:
     ap.add_argument("prefixes", nargs="+")
     ap.add_argument("--row", default="gt_fit")
     ap.add_argument("--limits", type=float, nargs="+", default=[0.0, 0.2, 0.4, 0.6])
+    ap.add_argument("--guard", action="store_true", help="keep main's winner where the drop's is believed less")
     ap.add_argument("--penalty", type=float, default=math.inf, help="inward losses times 1 + this (inf: dropped)")
     a = ap.parse_args()
     settings = FitSettings()
@@ -44,6 +45,8 @@ def main() -> None:
                 inward = side * torch.sin(2 * (ry - d["app"]["ray"])) < -limit
                 if not inward.all():
                     w1 = int(_choose(torch.where(inward, loss * (1 + a.penalty), loss), belief, ry, settings)[0])
+                    if a.guard and float(belief[0, w1]) < float(belief[0, w0]):
+                        w1 = w0
                 e0, e1 = err_deg(d["hyp_ry"][w0], c["true_ry"]), err_deg(d["hyp_ry"][w1], c["true_ry"])
                 cut0.append(e0)
                 cut1.append(e1)

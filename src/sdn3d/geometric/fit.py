@@ -179,8 +179,9 @@ class FitSettings:
         cut_inward: a car cut by the image's left or right border drops the fits whose near end points inwards
             by more than this (module doc, step 2: ``side * sin(2 alpha) < -cut_inward``), unless all would or the
             fit left is believed less; in ``[0, 1]``, 1 drops none. On the Table 1 tuning trees 31, 35 and 37
-            (session 21's demo weights, ground-truth masks, an oracle) 0.2 without the belief's guard took the
-            side-cut cars' median yaw error from 24 to 13 degrees but turned 6 fits end for end; 0.5, 2
+            (session 21's demo weights, ground-truth masks, an oracle), 0.2 without the belief's guard took the
+            side-cut cars' median yaw error from 24 to 13 degrees but turned 6 fits end for end, 0.5 to 17 with 2;
+            0.2 with the guard to 15, turning none, and on predicted proposals from 23 to 16
             (docs/results/2026-11-30_cpu/session23/inward).
         lr: Adam learning rate (x, log z, log dims; the yaw takes ``2 lr``).
         margin: the crop window grows the box by this share on each side.

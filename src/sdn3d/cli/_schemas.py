@@ -37,6 +37,7 @@ class FitSchema:
     facing_tie: float = MISSING
     mirror: bool = MISSING
     appearance: bool = MISSING
+    cut_inward: float = MISSING
     lr: float = MISSING
     margin: float = MISSING
     sigma: float = MISSING

@@ -37,6 +37,18 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    ``alpha -> pi - alpha``, the same end seen, its front to the other side) and that mirror's flip are two more
    fine hypotheses. :attr:`FitResult.hypothesis` records the winner (0: the prediction, 1: its flip, 2: its
    mirror, 3: the mirror's flip, 4..: the search's best starts; without the mirror, the search's are 4.. too).
+   **A car the image's left or right border cuts** (:func:`~sdn3d.geometric.lamps.border_side` of its box) lies
+   beside the camera, and the end facing the camera (the near end, towards ``sign(sin(alpha)) cos(alpha)`` across
+   the image, ``alpha = ry - ray``) lies at that border: a fit whose near end points inwards is a view whose near
+   end would be inside the picture, which the border contradicts. It is the silhouette's depth reflection
+   (``alpha -> -alpha``, which an outline hardly tells apart), and on cut cars the fit often preferred it. So such
+   fits drop out before the choice (``cut_inward``: where ``side * sin(2 alpha) < -cut_inward``, ``side`` +1 for
+   the right border, -1 for the left, each fit's ``ray`` through its own place), unless every fit of the car would,
+   or unless the winner left is believed less by the appearance (``yaw_belief``) than the inward fit it displaces:
+   the border tells the near end's side, not which end is near, and the fits left often held the right axis with
+   only its wrong end (on the Table 1 tuning trees, dropping without this turned 6 more fits end for end).
+   ``sin(2 alpha)`` is the near end's direction weighed by how far the car is turned from an end or side view,
+   where the near end's side is moot: it is continuous where ``sign(sin(alpha))`` is not.
 3. **What counts.** The loss is L_reproj (mean ``|S~ - M|``) over the crop, without the pixels of nearer objects
    (``ignore``) and outside the image, plus ``dims_reg * |log d - log d0|^2`` (keeps the size near the start
    where the silhouette cannot tell: a car seen from behind has no visible length, and a box-like car turned by 90
@@ -85,6 +97,7 @@ from dataclasses import asdict, dataclass, field
 import torch
 from torch import Tensor
 
+from sdn3d.geometric.lamps import border_side
 from sdn3d.geometric.losses import outside_image_mask, render_silhouettes, reprojection_error
 from sdn3d.geometric.refine import adam_fit
 from sdn3d.image_ops import crop_intrinsics, crop_windows, pixel_centre_boxes, square_crop_window
@@ -163,6 +176,13 @@ class FitSettings:
             the nearness to its start. Without the mirror it made as many flips either way on the seed-13 tuning tree
             (16 of 442); with it, it is what tells the mirror apart (the lamps' side: which end lies left), so on
             (docs/results/2026-11-28_cpu/session4/poses).
+        cut_inward: a car cut by the image's left or right border drops the fits whose near end points inwards
+            by more than this (module doc, step 2: ``side * sin(2 alpha) < -cut_inward``), unless all would or the
+            fit left is believed less; in ``[0, 1]``, 1 drops none. On the Table 1 tuning trees 31, 35 and 37
+            (session 21's demo weights, ground-truth masks, an oracle), 0.2 without the belief's guard took the
+            side-cut cars' median yaw error from 24 to 13 degrees but turned 6 fits end for end, 0.5 to 17 with 2;
+            0.2 with the guard to 15, turning none, and on predicted proposals from 23 to 16
+            (docs/results/2026-11-30_cpu/session23/inward).
         lr: Adam learning rate (x, log z, log dims; the yaw takes ``2 lr``).
         margin: the crop window grows the box by this share on each side.
         sigma: soft-silhouette softness, px^2.
@@ -211,6 +231,7 @@ class FitSettings:
     facing_tie: float = 0.5
     mirror: bool = True
     appearance: bool = True
+    cut_inward: float = 0.2
     lr: float = 0.05
     margin: float = 0.15
     sigma: float = 0.25
@@ -264,6 +285,9 @@ class FitSettings:
             raise ValueError(f"FitSettings.camera_height_range must be (low, high) with 0 < low <= high, got "
                              f"{low_high!r}")
         object.__setattr__(self, "camera_height_range", (float(low_high[0]), float(low_high[1])))
+        if isinstance(self.cut_inward, bool) or not (isinstance(self.cut_inward, (int, float))
+                                                     and 0 <= self.cut_inward <= 1):
+            raise ValueError(f"FitSettings.cut_inward must be in [0, 1], got {self.cut_inward!r}")
         if not (isinstance(self.poor_iou, (int, float)) and 0 <= self.poor_iou <= 1):
             raise ValueError(f"FitSettings.poor_iou must be in [0, 1], got {self.poor_iou!r}")
 
@@ -627,7 +651,13 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
             belief = yaw_belief(fitted_ry).float()
     else:
         belief = torch.cos(fitted_ry - ry0[:, None])  # 1: the first start's yaw
+    inward = inward_at_border(border_side(pixel_centre_boxes(boxes.float()), intr.width), fitted_ry,
+                              torch.atan2(values["x"], values["z"]).view(n, hyps), settings.cut_inward)
     index = _choose(fine, belief, fitted_ry, settings)
+    outward = _choose(torch.where(inward & ~inward.all(1, keepdim=True), math.inf, fine), belief, fitted_ry, settings)
+    # The border names the axis, not the end: a fit the appearance believes less than the inward winner stays out.
+    index = torch.where(belief.gather(1, outward[:, None])[:, 0] >= belief.gather(1, index[:, None])[:, 0],
+                        outward, index)
     winner = index + torch.arange(n) * hyps
     chosen = {k: v[winner] for k, v in values.items()}
     won = fine_template.flatten()[winner]
@@ -680,6 +710,19 @@ def _in_parts(stage: Callable[..., tuple[dict[str, Tensor], Tensor]], n: int, pe
         done = [group(*groups[0])] + [f.result() for f in later]
     values = {k: torch.cat([d[0][k] for d in done]) for k in done[0][0]}
     return values, torch.cat([d[1] for d in done])
+
+
+def inward_at_border(side: Tensor, ry: Tensor, ray: Tensor, limit: float) -> Tensor:
+    """``(N, H)`` bool: which of the yaws ``ry (N, H)`` put a cut car's near end inwards (module doc, step 2):
+    ``side (N,)`` the border that cuts each car (-1 left, +1 right, 0 neither: never inwards), ``ray (N, H)`` the
+    angle of the ray through each fit's place, ``limit`` :attr:`FitSettings.cut_inward`.
+
+    >>> side, ray = torch.tensor([1.0, -1.0, 0.0]), torch.full((3, 2), 0.5)
+    >>> ry = torch.tensor([[-2.07, -0.5], [-2.07, -0.5], [-2.07, -0.5]])  # alpha -150 and -60 degrees (both backs)
+    >>> inward_at_border(side, ry, ray, 0.2).tolist()  # at the right border the near end (the back) of -60 is left
+    [[False, True], [True, False], [False, False]]
+    """
+    return side[:, None] * torch.sin(2 * (ry - ray)) < -limit
 
 
 def _choose(loss: Tensor, belief: Tensor, ry: Tensor, settings: FitSettings) -> Tensor:

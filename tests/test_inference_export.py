@@ -204,6 +204,19 @@ def test_a_copied_geometric_export_keeps_its_run_crop_settings(run, tmp_path):
         Models.from_checkpoints(geometric=tmp_path / "bad_settings.pt")
 
 
+def test_the_traffic_side_reaches_the_geometric_branchs_lamp_cue_and_a_bad_one_is_named(run):
+    """geometric.traffic (sdn3d-edit, sdn3d-bench): which end a car cut by the image border shows is read by the
+    loaded predictor's lamp cue; right-hand by default; a wrong value is refused by its key."""
+    from sdn3d.geometric.lamps import Traffic
+
+    _, ckpts = run
+    assert Models.from_checkpoints(geometric=ckpts["geometric"]).geometric.lamp_cue.traffic is Traffic.RIGHT
+    for side in ("left", "none", Traffic.RIGHT):
+        assert Models.from_checkpoints(geometric=ckpts["geometric"], traffic=side).geometric.lamp_cue.traffic == side
+    with pytest.raises(UserInputError, match=r"geometric.traffic must be one of right, left, none, got 'up'"):
+        Models.from_checkpoints(geometric=ckpts["geometric"], traffic="up")
+
+
 def test_the_semantic_predictor_runs_at_its_runs_training_size_from_the_run_or_a_copied_export(run, tmp_path):
     """The semantic run's config says the frames it trained on (``data.image_size``, unless the datamodule's own
     ``image_size`` says otherwise); the loaded predictor feeds its network images resized to about that many pixels

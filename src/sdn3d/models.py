@@ -13,7 +13,7 @@ import logging
 import math
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -147,18 +147,27 @@ class Models:
     def from_checkpoints(cls, semantic: str | os.PathLike | None = None, geometric: str | os.PathLike | None = None,
                          textural: str | os.PathLike | None = None, map_location: str | torch.device = "cpu",
                          crop_size: int | None = None, margin: float | None = None,
-                         semantic_size: tuple[int, int] | None = None) -> Models:
+                         semantic_size: tuple[int, int] | None = None, traffic: str = "right") -> Models:
         """Load the branches from their Lightning checkpoints or inference exports (None: branch absent;
         :func:`sdn3d.inference_export.load_branch_weights` tells the two apart by content).
 
         ``crop_size`` / ``margin`` None: the geometric export's settings, else the geometric run's
         (:func:`geometric_crop_settings`), else :data:`DEFAULT_CROP_SIZE` / :data:`DEFAULT_MARGIN`. The semantic
         predictor runs at ``semantic_size`` ``(W, H)``, else at about the size its branch trained at: the export's
-        ``image_size``, else the run's (:func:`semantic_trained_size`), else the image's own size.
+        ``image_size``, else the run's (:func:`semantic_trained_size`), else the image's own size. ``traffic``: the
+        side of the road the input's traffic keeps to (:class:`~sdn3d.geometric.lamps.Traffic`: ``right``, ``left`` or
+        ``none``), which end the geometric branch's lamp cue takes a car cut by the image's left or right border to
+        show (:attr:`~sdn3d.geometric.lamps.LampCue.traffic`).
 
         Raises:
-            UserInputError: ``semantic_size`` is not two positive integers; a file or a run's setting is unreadable.
+            UserInputError: ``semantic_size`` is not two positive integers; ``traffic`` is not a side; a file or a
+                run's setting is unreadable.
         """
+        from sdn3d.geometric.lamps import Traffic
+
+        if traffic not in list(Traffic):  # a StrEnum member or its value; any type
+            raise UserInputError(f"geometric.traffic must be one of {', '.join(t.value for t in Traffic)}, "
+                                 f"got {traffic!r}")
         if semantic_size is not None:
             semantic_size = _image_size(list(semantic_size), "semantic.size")
         for name, path in (("semantic", semantic), ("geometric", geometric), ("textural", textural)):
@@ -182,6 +191,8 @@ class Models:
 
             weights = load_branch_weights(geometric, "geometric", map_location)
             geo = GeometricPredictor.from_weights(weights, map_location=map_location)
+            if geo.lamp_cue is not None:
+                geo.lamp_cue = replace(geo.lamp_cue, traffic=Traffic(traffic))
             if crop_size is None or margin is None:  # the run's config is only read when needed
                 found = _export_crop_settings(weights.settings, weights.path) or geometric_crop_settings(geometric)
         if textural is not None:

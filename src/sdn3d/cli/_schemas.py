@@ -80,6 +80,7 @@ class GeometricSchema:
     crop_size: Optional[int] = MISSING
     margin: Optional[float] = MISSING
     min_pixels: int = MISSING
+    traffic: str = MISSING
 
 
 @dataclass

@@ -584,7 +584,7 @@ def _evaluate(cfg: Any, passes: list, entries: list, source: Any) -> tuple[dict,
     geometric = ck.geometric if passes[0].scene is Scene.DERENDER else None
     models = Models.from_checkpoints(semantic, geometric, ck.textural, map_location=cfg.device,
                                      crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin,
-                                     semantic_size=cfg.semantic.size)
+                                     semantic_size=cfg.semantic.size, traffic=cfg.geometric.traffic)
     baseline, generators = _baseline_generator(cfg, models)
     if cfg.lpips_weights is not None and not Path(str(cfg.lpips_weights)).expanduser().is_file():
         raise InputError(f"lpips_weights {str(cfg.lpips_weights)!r} not found")
@@ -727,7 +727,8 @@ def run_counterfactual_bench(cfg: Any) -> dict:
           checkpoints_from_run(cfg.run, cfg.checkpoints, (), "sdn3d-bench", "the counterfactual benchmark"))
     paths = {b: None if info is None else info["path"] for b, info in ck.items()}
     models = (Models.from_checkpoints(paths.get("semantic"), paths.get("geometric"), paths.get("textural"),
-                                      map_location=cfg.device) if any(paths.values()) else None)
+                                      map_location=cfg.device, traffic=cfg.geometric.traffic)
+              if any(paths.values()) else None)
     sources = cfg.get("counterfactual_sources") or ["oracle", *(["gt"] if paths.get("geometric") else []),
                                                     *(["semantic"] if paths.get("geometric") and paths.get("semantic")
                                                       else [])]

@@ -559,7 +559,7 @@ def load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any
         raise InputError(f"device={cfg.device!r} but CUDA is not available")
     models = Models.from_checkpoints(ckpt["semantic"], ckpt["geometric"], ckpt["textural"], map_location=cfg.device,
                                      crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin,
-                                     semantic_size=cfg.semantic.size)
+                                     semantic_size=cfg.semantic.size, traffic=cfg.geometric.traffic)
     from sdn3d.textural.code_bank import code_bank_path, load_code_bank
 
     # sdn3d-train writes <checkpoint>.code_bank.json next to the checkpoint (not to its inference export)

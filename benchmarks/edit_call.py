@@ -1,7 +1,8 @@
 """Wall time of one whole ``sdn3d-edit`` call, start-up and checkpoint loading included (issue 19); prints JSON.
 
     python benchmarks/edit_call.py --run DIR --image IMG [--edits SPEC] [--size 1242 375] [--repeats 5]
-                                   [--modes checkpoints exports run] [--tree NAME=DIR ...] [--threads N]
+                                   [--modes checkpoints exports run] [--tree NAME=DIR ...]
+                                   [--tree-mode checkpoints|exports|run] [--threads N]
                                    [--stages] [--out FILE]
 
 What one call is: the command a user types, ``python -m sdn3d.cli.edit run=... input.image=... edits=...
@@ -20,8 +21,10 @@ Modes (``--modes``; the networks are the same in all of them, the weights identi
   temporary folder (``checkpoints.<branch>=<file>.pt``);
 - ``run``: ``run=DIR`` as a user types it (the run's ``checkpoints/inference.pt`` where one made from the
   selected checkpoint exists, else the checkpoint: ``sdn3d.runs``; the JSON says which files it loaded);
-- ``NAME`` of each ``--tree NAME=DIR``: ``checkpoints`` run by another source tree (``PYTHONPATH=DIR/src``,
-  ``SDN3D_CONFIG_DIR=DIR/conf``), e.g. the code before a change: ``git archive HEAD src conf | tar -x -C DIR``.
+- ``NAME`` of each ``--tree NAME=DIR``: the mode ``--tree-mode`` names (default ``checkpoints``) run by another
+  source tree (``PYTHONPATH=DIR/src``, ``SDN3D_CONFIG_DIR=DIR/conf``), e.g. the code before a change: ``git archive
+  HEAD src conf | tar -x -C DIR``. Compare a tree with the same mode of this code (``--modes run --tree-mode run``):
+  the modes load different files, and their times differ by more than most changes do.
   To compare two versions of the working tree side by side, copy each one's ``src/`` and ``conf/`` to a folder
   and give both as trees.
 
@@ -134,11 +137,13 @@ def _mode_overrides(args: argparse.Namespace, folder: Path) -> dict[str, list[st
         raise SystemExit(f"--run {args.run} lacks branches: {missing}")
     ckpts = {b: Path(chosen[b]["checkpoint"]) for b in BRANCHES}
     out: dict[str, list[str]] = {}
+    exports: dict[str, Path] = {}
     for mode in [*args.modes, *args.trees]:
-        if mode in ("checkpoints", *args.trees):
+        how = args.tree_mode if mode in args.trees else mode  # a tree loads the branches as --tree-mode says
+        if how == "checkpoints":
             out[mode] = [f"checkpoints.{b}={ckpts[b]}" for b in BRANCHES]
-        elif mode == "exports":
-            exports = {b: export_checkpoint(ckpts[b], folder / "exports" / f"{b}.pt") for b in BRANCHES}
+        elif how == "exports":
+            exports = exports or {b: export_checkpoint(ckpts[b], folder / "exports" / f"{b}.pt") for b in BRANCHES}
             out[mode] = [f"checkpoints.{b}={exports[b]}" for b in BRANCHES]
         else:
             out[mode] = [f"run={Path(args.run).resolve()}"]
@@ -237,6 +242,7 @@ def _measure(args: argparse.Namespace, folder: Path) -> dict:
         "repeats": args.repeats, "cpu_count": os.cpu_count(), "threads": args.threads,
         "OMP_NUM_THREADS": os.environ.get("OMP_NUM_THREADS"), "load_average_before": load_before,
         "load_average_after": os.getloadavg(), "trees": {k: str(v) for k, v in args.trees.items()},
+        "tree_mode": args.tree_mode,
         "PYTHONPATH": os.environ.get("PYTHONPATH"),
         "modes": {m: {"wall_s": _summary(wall[m]), "cpu_s": _summary(cpu[m]), "loaded": files[m],
                       "command": " ".join(["python -m sdn3d.cli.edit", *calls[m]])} for m in calls},
@@ -255,7 +261,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--modes", nargs="+", choices=MODES, default=["checkpoints", "exports", "run"])
     parser.add_argument("--tree", action="append", default=[], metavar="NAME=DIR",
-                        help="also time the checkpoints mode with the source tree DIR (src/, conf/), as mode NAME")
+                        help="also time --tree-mode with the source tree DIR (src/, conf/), as mode NAME")
+    parser.add_argument("--tree-mode", choices=MODES, default="checkpoints",
+                        help="how the trees load the branches (compare a tree with the same mode of this code)")
     parser.add_argument("--threads", type=int, help="sdn3d-edit threads= (default: PyTorch's)")
     parser.add_argument("--stages", action="store_true", help="also time each stage once per mode, from inside")
     parser.add_argument("--out", help="also write the JSON here")

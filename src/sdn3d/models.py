@@ -165,9 +165,7 @@ class Models:
         """
         from sdn3d.geometric.lamps import Traffic
 
-        if traffic not in list(Traffic):  # a StrEnum member or its value; any type
-            raise UserInputError(f"geometric.traffic must be one of {', '.join(t.value for t in Traffic)}, "
-                                 f"got {traffic!r}")
+        side = Traffic.parse(traffic, "geometric.traffic", UserInputError)
         if semantic_size is not None:
             semantic_size = _image_size(list(semantic_size), "semantic.size")
         for name, path in (("semantic", semantic), ("geometric", geometric), ("textural", textural)):
@@ -192,7 +190,7 @@ class Models:
             weights = load_branch_weights(geometric, "geometric", map_location)
             geo = GeometricPredictor.from_weights(weights, map_location=map_location)
             if geo.lamp_cue is not None:
-                geo.lamp_cue = replace(geo.lamp_cue, traffic=Traffic(traffic))
+                geo.lamp_cue = replace(geo.lamp_cue, traffic=side)
             if crop_size is None or margin is None:  # the run's config is only read when needed
                 found = _export_crop_settings(weights.settings, weights.path) or geometric_crop_settings(geometric)
         if textural is not None:

@@ -95,6 +95,18 @@ class Traffic(StrEnum):
     LEFT = "left"
     NONE = "none"  # no side: a cut car's absence of lamps counts for nothing
 
+    @classmethod
+    def parse(cls, value: object, key: str, error: type[Exception] = ValueError) -> Traffic:
+        """``value`` (a user's string, or a :class:`Traffic`) as a :class:`Traffic`.
+
+        Raises:
+            error: naming ``key`` and the values, for anything else (any type).
+        """
+        try:
+            return cls(value)
+        except ValueError:
+            raise error(f"{key} must be one of {', '.join(t.value for t in cls)}, got {value!r}") from None
+
 
 @dataclass(frozen=True)
 class LampCue:
@@ -117,9 +129,7 @@ class LampCue:
     traffic: Traffic = Traffic.RIGHT
 
     def __post_init__(self) -> None:
-        if self.traffic not in list(Traffic):  # a StrEnum member or its value ("right" from a file); any type
-            raise ValueError(f"LampCue.traffic must be one of {[t.value for t in Traffic]}, got {self.traffic!r}")
-        object.__setattr__(self, "traffic", Traffic(self.traffic))
+        object.__setattr__(self, "traffic", Traffic.parse(self.traffic, "LampCue.traffic"))
         if not 0.0 <= self.headlight_weight <= 1.0:
             raise ValueError(f"LampCue.headlight_weight must lie in [0, 1] (a share of the red lamps' evidence), "
                              f"got {self.headlight_weight}")

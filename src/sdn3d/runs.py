@@ -406,13 +406,14 @@ def quality_warnings(metrics: dict | None, coverage: float | None, where: str = 
         low = f"recorded {pq[0]} is {pq[1]:.3f} (< {MIN_VEHICLE_PQ}, {where})"
     elif pq is None and miou is not None and miou < MIN_MIOU:
         low = f"recorded val/miou is {miou:.3f} (< {MIN_MIOU}, {where})"
+    covers = coverage is not None and coverage > MAX_PROPOSAL_COVER
+    cause = _warning_cause(where, input_path) if low is not None or covers else ""
     if low is not None:
         out.append(f"the semantic branch's {low}: {_run_label(where)} scored it on its validation part; its "
-                   f"object proposals are likely wrong; {_warning_cause(where, input_path)}")
-    if coverage is not None and coverage > MAX_PROPOSAL_COVER:
+                   f"object proposals are likely wrong; {cause}")
+    if covers:
         out.append(f"the semantic branch's object proposals cover {100 * coverage:.0f} % of the frame "
-                   f"(> {100 * MAX_PROPOSAL_COVER:.0f} %): not plausible vehicles ({_run_label(where)}); "
-                   f"{_warning_cause(where, input_path)}")
+                   f"(> {100 * MAX_PROPOSAL_COVER:.0f} %): not plausible vehicles ({_run_label(where)}); {cause}")
     return out
 
 

@@ -1,24 +1,33 @@
 #!/usr/bin/env bash
-# Table 2 in one go on a machine with one GPU (issue 29): the synthetic data of the Table 2 protocol, every run
-# side by side on the one GPU (one CPU thread each), then sdn3d-table2.
+# Table 2 in one go on a machine with one GPU (issues 29 and 40): the synthetic tree of experiment=table2_large,
+# every run side by side on the one GPU (one CPU thread each), then sdn3d-table2.
 #
 #   bash benchmarks/table2_gpu.sh OUT_DIR
 #
-# Runs (experiment=table2: 64-px crops, batch 32, 40 L_pred + 20 joint epochs; each capped at $MAX_TIME):
-#   seeds 0 1 2: full, no_reproj, and full as it was before issue 29 (variant=before: soft silhouette,
-#                moving-average REINFORCE baseline with 4 samples)
-#   seed 0:      deep3dbox, full_quaternion, no_tau, single_cad, and each issue-29 change reverted on its own
-#                (variant=soft_silhouette, variant=moving_average)
-# SET=core runs 10 of them: full and no_reproj at seeds 0 1 2, before, full_quaternion, no_tau, single_cad at seed 0.
-# OUT_DIR gets: runs.jsonl (every run's summary), table2.md / table2.json, logs.txt (the end of each run's log),
-# device.txt, timing.txt. Environment: PYTHON (python3), MAX_TIME (each run's trainer.max_time, 00:00:06:30),
-# SYNTH_FRAMES (frames per sequence, 20), SYNTH_WORKERS (16), TRAINER (gpu), TABLE2_EXTRA (more overrides for
-# every run, e.g. a tiny budget to check this script on a CPU), WORK (scratch directory, /tmp/table2_gpu).
+# The tree (issue 40: enough objects that training stops over-fitting): sdn3d-synth with 30 worlds (the five
+# Virtual KITTI names and 25 drawn from the seed) x 4 variations (clone, sunset, fog, rain) x 20 frames, no edit
+# pairs, camera heights drawn per world; about 2,400 frames at 624x192.
+# Runs (experiment=table2_large: 6 L_pred + 3 joint epochs, validation every epoch; each fit capped at $MAX_TIME,
+# then tested on the checkpoint validation selected):
+#   SET=core (default): full and no_reproj at seeds 0 1 2, full_multibin at seed 0 (7 runs; the joint stage's
+#                       exact policy gradient renders all 8 templates per object, so each joint run weighs most)
+#   SET=all:            also full_multibin at seeds 1 2, deep3dbox, full_quaternion, no_tau and single_cad at seed 0
+#                       (13 runs)
+# OUT_DIR gets: device.txt, timing.txt (each phase's seconds and the tree's size), runs.jsonl (every run's summary),
+# table2.md / table2.json, logs.txt (errors and the end of each run's log), epochs.txt (each run's per-epoch lines:
+# seconds, losses, validation figures).
+# Environment: PYTHON (python3), MAX_TIME (each run's trainer.max_time, 00:00:06:00), TRAINER (gpu), PRECISION
+# (32-true: the 16-mixed test once handed float16 leaves to the test-time fit, docs/results/2026-11-26_h200/
+# table2_attempt), EXPERIMENT (table2_large), SYNTH_WORLDS (30), SYNTH_FRAMES (frames per sequence, 20),
+# SYNTH_VARIATIONS ("clone,sunset,fog,rain"), SYNTH_WORKERS (16), TABLE2_EXTRA (more overrides for every run, e.g. a
+# tiny budget to check this script on a CPU), WORK (scratch directory, /tmp/table2_gpu).
 set -u
 OUT=${1:?usage: bash benchmarks/table2_gpu.sh OUT_DIR}
 PY=${PYTHON:-python3}
-MAX_TIME=${MAX_TIME:-00:00:06:30}
+MAX_TIME=${MAX_TIME:-00:00:06:00}
 TRAINER=${TRAINER:-gpu}
+PRECISION=${PRECISION:-32-true}
+EXPERIMENT=${EXPERIMENT:-table2_large}
 WORK=${WORK:-/tmp/table2_gpu}
 DATA=$WORK/synth
 RUNS=$WORK/runs
@@ -26,48 +35,48 @@ export PYTHONUNBUFFERED=1 OMP_NUM_THREADS=1
 mkdir -p "$OUT" "$RUNS"
 start=$SECONDS
 $PY "$(dirname "$0")/device_info.py" > "$OUT/device.txt" 2>&1
-$PY -m sdn3d.cli.synth output_dir="$DATA" frames_per_sequence="${SYNTH_FRAMES:-20}" workers="${SYNTH_WORKERS:-16}" \
-    overwrite=true > "$WORK/synth.log" 2>&1 || { echo "synth failed"; tail -20 "$WORK/synth.log"; exit 1; }
-echo "synth: $((SECONDS - start)) s" | tee "$OUT/timing.txt"
 
-run() {  # run NAME ABLATION VARIANT SEED [OVERRIDE ...]
-  local name=$1 ablation=$2 variant=$3 seed=$4
-  shift 4
+worlds='"0001","0002","0006","0018","0020"'
+for ((i = 1; i <= ${SYNTH_WORLDS:-30} - 5; i++)); do worlds+=$(printf ',"%04d"' $((100 + i))); done
+$PY -m sdn3d.cli.synth output_dir="$DATA" frames_per_sequence="${SYNTH_FRAMES:-20}" "worlds=[$worlds]" \
+    "variations=[${SYNTH_VARIATIONS:-clone,sunset,fog,rain}]" edit_pairs=0 occluder_pairs=0 \
+    workers="${SYNTH_WORKERS:-16}" overwrite=true > "$WORK/synth.log" 2>&1 \
+  || { echo "synth failed"; tail -20 "$WORK/synth.log" | tee -a "$OUT/timing.txt"; exit 1; }
+frames=$(find "$DATA/vkitti_1.3.1_rgb" -name '*.png' | wc -l)
+echo "synth: $((SECONDS - start)) s, $frames frames, worlds [$worlds]" | tee "$OUT/timing.txt"
+
+run() {  # run NAME ABLATION SEED [OVERRIDE ...]
+  local name=$1 ablation=$2 seed=$3
+  shift 3
   # shellcheck disable=SC2086  # TABLE2_EXTRA is a list of overrides
-  $PY -m sdn3d.cli.train branch=geometric experiment=table2 data.root="$DATA" ablation="$ablation" seed="$seed" \
-      trainer="$TRAINER" threads=1 trainer.max_time="$MAX_TIME" trainer.enable_progress_bar=false \
-      summary_file="$RUNS/summary.jsonl" hydra.run.dir="$RUNS/$name" ${variant:+variant=$variant} "$@" \
+  $PY -m sdn3d.cli.train branch=geometric experiment="$EXPERIMENT" data.root="$DATA" ablation="$ablation" \
+      seed="$seed" trainer="$TRAINER" trainer.precision="$PRECISION" threads=1 trainer.max_time="$MAX_TIME" \
+      trainer.enable_progress_bar=false summary_file="$RUNS/summary.jsonl" hydra.run.dir="$RUNS/$name" "$@" \
       ${TABLE2_EXTRA:-} > "$RUNS/$name.log" 2>&1 &
 }
-BEFORE=(model.reproj_silhouette=soft model.baseline=moving_average)
-if [ "${SET:-all}" = core ]; then  # what fits a shorter lease: 10 runs
-  for seed in 0 1 2; do
-    run "full_s$seed" full "" "$seed"
-    run "no_reproj_s$seed" no_reproj "" "$seed"
-  done
-  run before_s0 full before 0 "${BEFORE[@]}"
-  for ablation in full_quaternion no_tau single_cad; do
-    run "${ablation}_s0" "$ablation" "" 0
-  done
-else
-  for seed in 0 1 2; do
-    run "full_s$seed" full "" "$seed"
-    run "no_reproj_s$seed" no_reproj "" "$seed"
-    run "before_s$seed" full before "$seed" "${BEFORE[@]}"
-  done
+for seed in 0 1 2; do
+  run "full_s$seed" full "$seed"
+  run "no_reproj_s$seed" no_reproj "$seed"
+done
+run full_multibin_s0 full_multibin 0
+if [ "${SET:-core}" = all ]; then
+  run full_multibin_s1 full_multibin 1
+  run full_multibin_s2 full_multibin 2
   for ablation in deep3dbox full_quaternion no_tau single_cad; do
-    run "${ablation}_s0" "$ablation" "" 0
+    run "${ablation}_s0" "$ablation" 0
   done
-  run soft_silhouette_s0 full soft_silhouette 0 model.reproj_silhouette=soft
-  run moving_average_s0 full moving_average 0 model.baseline=moving_average
 fi
 wait
 echo "runs: $((SECONDS - start)) s" | tee -a "$OUT/timing.txt"
 cp "$RUNS/summary.jsonl" "$OUT/runs.jsonl"
 for log in "$RUNS"/*.log; do
   echo "== $(basename "$log")"
-  grep -E "Error|error|Traceback|run finished|max_time" "$log" | tail -5
+  grep -E "Error|error|Traceback|run finished|max_time|stopped" "$log" | tail -5
   tail -2 "$log"
 done > "$OUT/logs.txt" 2>&1
-$PY -m sdn3d.cli.table2 --summary "$RUNS/summary.jsonl" --out "$OUT" > /dev/null
+for dir in "$RUNS"/*/; do
+  echo "== $(basename "$dir")"
+  grep -E "epoch [0-9]+/[0-9]+ done|Restoring states" "$dir/train.log"
+done > "$OUT/epochs.txt" 2>&1
+$PY -m sdn3d.cli.table2 --summary "$RUNS/summary.jsonl" --experiment "$EXPERIMENT" --out "$OUT" > /dev/null
 echo "table: $((SECONDS - start)) s" | tee -a "$OUT/timing.txt"

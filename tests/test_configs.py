@@ -40,10 +40,11 @@ PAIRS = [(b, e) for e in EXPERIMENTS for b in BRANCHES if (CONF / "recipe" / f"{
 
 
 def test_the_documented_experiments_exist():
-    for name in ("demo", "table2", "semantic_cpu", "semantic_cpu_fullres", "semantic_gpu", "paper_vkitti",
-                 "paper_cityscapes", "demo_short", "demo_medium", "demo_long"):
+    for name in ("demo", "table2", "table2_large", "semantic_cpu", "semantic_cpu_fullres", "semantic_gpu",
+                 "paper_vkitti", "paper_cityscapes", "demo_short", "demo_medium", "demo_long"):
         assert name in EXPERIMENTS
     assert ("geometric", "table2") in PAIRS and ("semantic", "table2") not in PAIRS
+    assert ("geometric", "table2_large") in PAIRS and ("textural", "table2_large") not in PAIRS
     assert all((b, e) in PAIRS for b in BRANCHES for e in ("demo", "paper_vkitti", "paper_cityscapes",
                                                            "demo_short", "demo_medium", "demo_long"))
 

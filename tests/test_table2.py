@@ -309,3 +309,32 @@ def test_decomposition_shares(tmp_path):
     assert shares["selection_room"] == pytest.approx(2e-3)
     markdown = render_markdown(table)
     assert "## Where the reprojection error comes from" in markdown and "| 3D-SDN (full) | 1.50 (23 %) |" in markdown
+
+
+def test_the_multibin_row_follows_the_paper_rows_only_when_run_and_is_paired_with_full():
+    full = [_run("full", _t(9), v, seed=s) for s, v in enumerate((0.04, 0.05))]
+    multibin = [_run("full_multibin", _t(9), v, seed=s) for s, v in enumerate((0.02, 0.03))]
+    without = build_table(group_runs(full), "table2")
+    assert "full_multibin" not in [row["key"] for row in without["rows"]]
+    table = build_table(group_runs(full + multibin), "table2")
+    keys = [row["key"] for row in table["rows"]]
+    assert keys[-1] == "full_multibin" and keys.index("full") < keys.index("full_multibin")
+    assert not table["ignored_ablations"]
+    paired = {p["key"]: p for p in table["paired"]}
+    assert paired["full_multibin"]["differences"]["test/distance_error"]["mean"] == pytest.approx(-0.02)
+    label = "3D-SDN (full), MultiBin orientation (the editing default; not a paper row)"
+    assert _tables(render_markdown(table))[0][label][:2] == ["2", "0.925 ± 0.007"]
+
+
+def test_fit_gap_reports_test_over_train_l_pred_per_run():
+    records = [_with(_run("full", _t(9), 0.04, seed=s), **{"train/loss_pred": train, "test/loss_pred": test})
+               for s, (train, test) in enumerate(((0.1, 0.3), (0.2, 0.2)))]
+    records.append(_run("no_reproj", _t(9), 0.05))  # no L_pred logged: no entry
+    table = build_table(group_runs(records), "table2")
+    (entry,) = table["fit_gap"]
+    assert entry["key"] == "full" and entry["n"] == 2
+    assert entry["ratio"]["mean"] == pytest.approx(2.0) and sorted(entry["ratio"]["values"]) == pytest.approx([1, 3])
+    assert entry["train"]["mean"] == pytest.approx(0.15) and entry["test"]["mean"] == pytest.approx(0.25)
+    markdown = render_markdown(table)
+    assert "## Over-fitting: L_pred on the training and the test part" in markdown
+    assert "| 3D-SDN (full) | 2 | 0.1500 ± 0.0707 | 0.2500 ± 0.0707 | 2.00 ± 1.41 |" in markdown

@@ -11,7 +11,8 @@ Rows, the paper's six in its order: Mousavian et al. (Deep3DBox; runs of ``ablat
 independent baseline ``lightning_modules.Deep3DBoxModule``), w/o L_reproj (``no_reproj``), w/o quaternion
 constraint (``full_quaternion``), w/o normalized distance tau (``no_tau``), w/o MultiCAD and FFD
 (``single_cad``), full (``full``; also runs without an ablation name). The reference columns hold the
-paper's six rows.
+paper's six rows. After them, rows beyond the paper's where they have runs (:data:`EXTRA_ROWS`: the full model
+with the MultiBin orientation, ``full_multibin``, which the editing default trains).
 
 Seeds: runs are grouped by experiment and ablation; each cell is the mean ± sample std over the group's
 successful runs (``n`` runs; a re-run of the same seed and settings replaces the earlier one). Runs of one
@@ -23,6 +24,8 @@ paper); scale error (m); the paper's reprojection error (x1e-3: hard silhouette,
 the W x H frame, the working size read from the runs' ``config.yaml``) and, labelled, the soft crop mean
 (the training loss, not the paper's figure). A second table sets the mesh accuracy beside its floors
 (majority template of the training part, uniform 1/8), the identifiability ceiling and the selection regret.
+Below them: every row paired with the full model by seed, where the reprojection error comes from, and how far
+training over-fits (L_pred on the training part's last epoch against the test part's, and their ratio).
 
 Outputs ``<out>/table2.md`` and ``<out>/table2.json``, written atomically, only after every
 input has been read and checked. Exit codes: 0 done; 2 bad input (unreadable or malformed
@@ -46,7 +49,7 @@ from sdn3d.cli._errors import run_argparse_cli
 from sdn3d.errors import InputError, UserInputError
 from sdn3d.io import write_json_atomic, write_text_atomic
 
-__all__ = ["ROWS", "Column", "ATTRIBUTE_COLUMNS", "MESH_COLUMNS", "PAPER", "SummaryError", "load_runs",
+__all__ = ["ROWS", "EXTRA_ROWS", "Column", "ATTRIBUTE_COLUMNS", "MESH_COLUMNS", "PAPER", "SummaryError", "load_runs",
            "settings_of", "group_runs", "choose_experiment", "summarize", "build_table", "render_markdown", "main"]
 
 #: Table rows in the paper's order: (key, label); each key is an ablation name (``conf/ablation``).
@@ -57,6 +60,10 @@ ROWS = (
     ("no_tau", "w/o normalized distance tau"),
     ("single_cad", "w/o MultiCAD and FFD"),
     ("full", "3D-SDN (full)"),
+)
+#: Rows beyond the paper's, shown after them when they have runs: (key, label).
+EXTRA_ROWS = (
+    ("full_multibin", "3D-SDN (full), MultiBin orientation (the editing default; not a paper row)"),
 )
 
 
@@ -413,6 +420,23 @@ def decomposition(rows: Sequence[Mapping[str, Any]], runs: Mapping[str, Sequence
     return out
 
 
+def fit_gap(rows: Sequence[Mapping[str, Any]], runs: Mapping[str, Sequence[Mapping[str, Any]]]
+            ) -> list[dict[str, Any]]:
+    """Per row, how far training over-fits: ``train/loss_pred`` (the last epoch's mean over the training part),
+    ``test/loss_pred`` (the tested weights, on the test part) and their ratio test / train per run, each
+    :func:`summarize`-d over the row's successful runs that logged both."""
+    out = []
+    for row in rows:
+        pairs = [(train, test) for r in runs.get(row["key"], []) if r.get("status") == "ok"
+                 and (train := _number(r["metrics"].get("train/loss_pred"))) is not None
+                 and (test := _number(r["metrics"].get("test/loss_pred"))) is not None and train > 0]
+        if pairs:
+            out.append({"key": row["key"], "label": row["label"], "n": len(pairs),
+                        "train": summarize([a for a, _ in pairs]), "test": summarize([b for _, b in pairs]),
+                        "ratio": summarize([b / a for a, b in pairs])})
+    return out
+
+
 def build_table(groups: Mapping[str | None, Mapping[str, list[Mapping[str, Any]]]], experiment: str | None,
                 configs: Mapping[str, Mapping[str, Any]] | None = None) -> dict[str, Any]:
     """The table of ``experiment``'s runs as a JSON-ready dict.
@@ -434,6 +458,7 @@ def build_table(groups: Mapping[str | None, Mapping[str, list[Mapping[str, Any]]
             if any(r["metrics"] for r in refined):  # a row of its own, paired with full like any other
                 runs[REFINED_KEY] = refined
                 rows.append(_row(REFINED_KEY, REFINED_LABEL, refined, columns))
+    rows += [_row(key, label, runs[key], columns) for key, label in EXTRA_ROWS if runs.get(key)]
     sizes = _sizes(rows, configs or {})
     warnings = [f"{row['label']}: {row['warning']}" for row in rows if "warning" in row]
     for name, values in sizes.items():
@@ -458,6 +483,7 @@ def build_table(groups: Mapping[str | None, Mapping[str, list[Mapping[str, Any]]
         "rows": rows,
         "paired": paired_differences(rows, runs),
         "decomposition": decomposition(rows, runs),
+        "fit_gap": fit_gap([r for r in rows if r["key"] != REFINED_KEY], runs),
         "ignored_ablations": sorted(set(runs) - known),
         "other_experiments": sorted(_NO_EXPERIMENT if k is None else k for k in groups if k != experiment),
         "warnings": warnings,
@@ -564,6 +590,24 @@ def _decomposition_markdown(table: Mapping[str, Any]) -> list[str]:
     return lines
 
 
+def _fit_gap_markdown(table: Mapping[str, Any]) -> list[str]:
+    if not table.get("fit_gap"):
+        return []
+    lines = ["", "## Over-fitting: L_pred on the training and the test part", "",
+             "L_pred (the paper's attribute loss) averaged over the training part in the last epoch, and over the "
+             "test part with the tested weights; the ratio test / train per run (1: no over-fitting). Mean ± sample "
+             "std over the row's runs.", "",
+             "| Row | n | train L_pred (last epoch) | test L_pred | test / train |", "|---|---|---|---|---|"]
+
+    def cell(summary: Mapping[str, Any], decimals: int) -> str:
+        text = f"{summary['mean']:.{decimals}f}"
+        return text + (f" ± {summary['std']:.{decimals}f}" if summary["std"] is not None else "")
+    for entry in table["fit_gap"]:
+        lines.append(f"| {entry['label']} | {entry['n']} | {cell(entry['train'], 4)} | {cell(entry['test'], 4)} | "
+                     f"{cell(entry['ratio'], 2)} |")
+    return lines
+
+
 def render_markdown(table: Mapping[str, Any]) -> str:
     """Markdown of :func:`build_table`'s dict: Table 2 with the paper's rows beside it, then the mesh choice."""
     frame = table["frame_size"]
@@ -587,6 +631,7 @@ def render_markdown(table: Mapping[str, Any]) -> str:
               "template minus the lowest over the 8, both at the predicted pose and FFD."]
     lines += _paired_markdown(table)
     lines += _decomposition_markdown(table)
+    lines += _fit_gap_markdown(table)
     notes = [f"- {row['label']}: {row['failed']} failed run(s) left out" for row in table["rows"] if row["failed"]]
     notes += [f"- warning: {w}" for w in table["warnings"]]
     if table["ignored_ablations"]:

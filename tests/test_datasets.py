@@ -163,6 +163,32 @@ def test_geometric_item_cache_serves_identical_items_without_decoding(geo, monke
             assert torch.equal(a[k], c[k]) and torch.equal(b[k], c[k])
 
 
+
+def test_geometric_item_cache_reads_a_frames_objects_from_one_decode(geo, monkeypatch):
+    """With cache_items, the first read of an object reads its frame's other objects too: a shuffled order decodes
+    each frame once, not once per object; and they are the items an uncached read gives."""
+    import sdn3d.data.datasets.geometric as module
+
+    ds, _ = geo
+    cached = GeometricDataset(ds.records, WORK, cache_items=True)
+    frames = [ref.frame for ref in cached.objects]
+    shared = next(f for f in frames if frames.count(f) > 1)  # a frame with several objects
+    members = [i for i, f in enumerate(frames) if f == shared]
+    other = next(i for i, f in enumerate(frames) if f != shared)
+    decoded = []
+    real = module.load_frame
+
+    def counting(record, *args, **kwargs):
+        decoded.append(record.key)
+        return real(record, *args, **kwargs)
+    monkeypatch.setattr(module, "load_frame", counting)
+    order = [members[-1], other, members[0], *range(len(cached))]  # shuffled: the frame's objects apart
+    items = [cached[i] for i in order]
+    assert sorted(decoded) == sorted({cached.records[f].key for f in frames})  # every frame decoded once
+    for i, item in zip(order, items, strict=True):
+        assert item["key"] == ds[i]["key"] and torch.equal(item["crop"], ds[i]["crop"])
+
+
 def test_crop_intrinsics_match_crop_pixels(geo):
     ds, frames = geo
     for i in range(len(ds)):

@@ -131,6 +131,25 @@ def test_a_resume_that_trains_on_records_the_run_it_continues(trained, tmp_path)
     assert torch.get_num_threads() == 1  # threads=1 (no dot) applied
 
 
+
+def test_a_run_killed_before_its_summary_resumes_with_its_first_command_line(trained, tmp_path):
+    """A run killed while testing (a lent machine's time limit) has no summary.json: its resume records the
+    experiment and overrides of the command that started it, read from the `.hydra/` record of its first attempt
+    (before: experiment null, overrides []), and the monitor of its own config."""
+    run = _copy(trained, tmp_path)
+    (run / "summary.json").unlink()
+    first = ["branch=semantic", "experiment=demo", f"data.root={tmp_path}", "seed=0", "threads=1"]
+    (run / ".hydra").mkdir(exist_ok=True)
+    (run / ".hydra" / "overrides.yaml").write_text(OmegaConf.to_yaml(OmegaConf.create(first)))
+    (run / ".hydra" / "hydra.yaml").write_text(OmegaConf.to_yaml(OmegaConf.create(
+        {"hydra": {"runtime": {"choices": {"experiment": "demo", "branch": "semantic"}}}})))
+    summary = resume(run, "trainer.max_epochs=3")
+    assert summary["status"] == "ok" and summary["epoch"] == 3
+    assert summary["experiment"] == "demo" and summary["overrides"] == first
+    assert summary["resume_overrides"][0] == f"resume={run}"
+    saved = OmegaConf.load(run / "config.yaml")
+    assert summary["monitor"] == saved.monitor and summary["selected_by"].startswith(saved.monitor)
+
 def test_every_resume_override_is_applied_or_refused(trained, tmp_path):
     run = _copy(trained, tmp_path)
     cfg = OmegaConf.create({"resume": str(run), "summary_file": str(tmp_path / "default.jsonl")})

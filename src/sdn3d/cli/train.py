@@ -104,8 +104,10 @@ def main(cfg: DictConfig) -> float | None:
     except user_errors() as exc:
         _remove_unstarted_run_dirs(cfg)
         sys.exit(report_user_error("train", exc))
-    metric = summary["metrics"].get(str(cfg.get("monitor")))
-    log.info("run finished: %s (%s = %s)", summary["run_dir"], cfg.get("monitor"), metric)
+    # the run's own monitor: a resume's composed cfg is the default branch's, not the resumed run's saved config
+    monitor = summary.get("monitor")
+    metric = summary["metrics"].get(str(monitor))
+    log.info("run finished: %s (%s = %s)", summary["run_dir"], monitor, metric)
     return metric  # for Hydra sweepers that optimise the monitored metric
 
 

@@ -68,21 +68,43 @@ class Progress:
 @dataclass
 class Before:
     """What a run directory held when an attempt started: its summary (a resume's earlier one; None: none or
-    unreadable) and its checkpoints (name -> size and modification time)."""
+    unreadable), its checkpoints (name -> size and modification time), and for a resume the command its first
+    attempt was started with (``{"overrides": [...], "experiment": name or None}``, from the ``.hydra/`` record
+    :func:`sdn3d.training.rundir.save_hydra_record` saved; None: no record). A run killed before it wrote its
+    summary (a machine's time limit during the test) keeps its experiment and command line through that record."""
 
     summary: dict[str, Any] | None
     checkpoints: dict[str, tuple[int, int]]
+    command: dict[str, Any] | None = None
 
     @classmethod
     def of(cls, cfg: DictConfig, run_dir: Path) -> Before:
-        summary = None
+        summary = command = None
         if cfg.get("resume"):
             try:
                 loaded = json.loads((run_dir / "summary.json").read_text(encoding="utf-8"))
                 summary = loaded if isinstance(loaded, dict) else None
             except (OSError, UnicodeDecodeError, ValueError):
                 summary = None
-        return cls(summary, _checkpoint_files(run_dir))
+            command = _first_command(run_dir)
+        return cls(summary, _checkpoint_files(run_dir), command)
+
+
+def _first_command(run_dir: Path) -> dict[str, Any] | None:
+    """The overrides and ``experiment=`` choice a run was started with, from its ``.hydra/overrides.yaml`` and
+    ``.hydra/hydra.yaml``; None when either is missing or unreadable."""
+    from omegaconf import OmegaConf
+    from omegaconf.errors import OmegaConfBaseException
+
+    try:
+        overrides = OmegaConf.to_container(OmegaConf.load(run_dir / ".hydra" / "overrides.yaml"))
+        experiment = OmegaConf.select(OmegaConf.load(run_dir / ".hydra" / "hydra.yaml"),
+                                      "hydra.runtime.choices.experiment", default=None)
+    except (OSError, ValueError, OmegaConfBaseException):
+        return None
+    if not isinstance(overrides, list):
+        return None
+    return {"overrides": [str(o) for o in overrides], "experiment": str(experiment) if experiment else None}
 
 
 def _checkpoint_files(run_dir: Path) -> dict[str, tuple[int, int]]:
@@ -110,7 +132,9 @@ def write_summary(cfg: DictConfig, run_dir: Path, progress: Progress, result: Fi
     A resume (``before`` holds the run's earlier summary) that failed without writing a checkpoint leaves
     ``summary.json`` as it was: its failure goes to the two logs only, and the run's figures stay those of the
     attempt that made its checkpoints. A resumed run's summary keeps the ``experiment`` and ``overrides`` the run
-    was started with; ``resume_overrides`` is the command line of the resume (None: never resumed).
+    was started with (its earlier summary's, else its ``.hydra/`` record's: :class:`Before`); ``resume_overrides``
+    is the command line of the resume (None: never resumed). ``monitor`` is the validation figure that selects the
+    checkpoint, of the run's own config (a resume's saved one).
 
     ``skipped_batches`` counts batches the non-finite policy dropped; ``skipped_samples`` / ``skipped_fraction`` /
     ``skipped_files`` what the corrupt-sample policy left out (:class:`Progress`).
@@ -120,12 +144,13 @@ def write_summary(cfg: DictConfig, run_dir: Path, progress: Progress, result: Fi
     skipped.update(progress.skipped)
     branch = cfg.get("branch_name")
     earlier = before.summary if before is not None and before.summary is not None else None
+    first = earlier if earlier is not None else before.command if before is not None else None
     resumed = bool(cfg.get("resume"))
-    started_with = earlier.get("overrides") if earlier is not None else None
+    started_with = first.get("overrides") if first is not None else None
     summary = {
         "branch": str(branch) if branch is not None else None,
         "ablation": str(cfg.ablation.name) if branch == "geometric" and cfg.get("ablation") else None,
-        "experiment": earlier.get("experiment") if earlier is not None else _experiment_choice(),
+        "experiment": first.get("experiment") if first is not None else _experiment_choice(),
         "variant": str(cfg.variant) if cfg.get("variant") is not None else None,
         "run_dir": str(run_dir.resolve()),
         "best_ckpt": str(Path(result.best).resolve()) if result.best else None,
@@ -134,6 +159,7 @@ def write_summary(cfg: DictConfig, run_dir: Path, progress: Progress, result: Fi
         # Which weights the test/ metrics come from: 'best' = best_ckpt, selected by `selected_by` on the
         # validation part (never on test); 'final' = the weights at the end of fitting; None = not tested.
         "tested_checkpoint": result.tested,
+        "monitor": str(cfg.monitor) if cfg.get("monitor") else None,
         "selected_by": (f"{cfg.monitor} ({cfg.get('monitor_mode', 'min')}) on the validation part"
                         if cfg.get("monitor") else None),
         "global_step": int(progress.global_step),

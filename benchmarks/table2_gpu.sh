@@ -16,7 +16,15 @@
 # OUT_DIR gets: device.txt, timing.txt (each phase's seconds and the tree's size), runs.jsonl (every run's summary),
 # table2.md / table2.json, logs.txt (errors and the end of each run's log), epochs.txt (each run's per-epoch lines:
 # seconds, losses, validation figures).
-# Environment: PYTHON (python3), MAX_TIME (each run's trainer.max_time, 00:00:06:00), TRAINER (gpu), PRECISION
+# Stopped (a `timeout` around it, a lease's end: SIGTERM or SIGINT), it still writes what it has: the summaries of
+# the runs that finished, every run's per-epoch lines and log ends, and the table of the finished runs; a run
+# stopped while testing can be tested later with `sdn3d-train resume=<its run dir>` (docs/TRAINING.md).
+# Measured on one H200 (docs/results/2026-11-30_h200/table2_large/): the tree 85 s; the 7 fits 165 s (w/o L_reproj)
+# to 365 s (full: the joint stage's epochs take ~80 s each, 4 runs in it at once); the tests 140-220 s (the
+# test-time fit's row included). A 10-minute call therefore needs DEADLINE: the seconds the whole script may take;
+# each fit then gets what is left after the tree and TEST_RESERVE seconds (200) for the tests.
+# Environment: PYTHON (python3), DEADLINE (unset: no deadline), MAX_TIME (each run's trainer.max_time when DEADLINE
+# is unset, 00:00:06:00), TEST_RESERVE (200), TRAINER (gpu), PRECISION
 # (32-true: the 16-mixed test once handed float16 leaves to the test-time fit, docs/results/2026-11-26_h200/
 # table2_attempt), EXPERIMENT (table2_large), SYNTH_WORLDS (30), SYNTH_FRAMES (frames per sequence, 20),
 # SYNTH_VARIATIONS ("clone,sunset,fog,rain"), SYNTH_WORKERS (16), TABLE2_EXTRA (more overrides for every run, e.g. a
@@ -44,6 +52,38 @@ $PY -m sdn3d.cli.synth output_dir="$DATA" frames_per_sequence="${SYNTH_FRAMES:-2
   || { echo "synth failed"; tail -20 "$WORK/synth.log" | tee -a "$OUT/timing.txt"; exit 1; }
 frames=$(find "$DATA/vkitti_1.3.1_rgb" -name '*.png' | wc -l)
 echo "synth: $((SECONDS - start)) s, $frames frames, worlds [$worlds]" | tee "$OUT/timing.txt"
+if [ -n "${DEADLINE:-}" ]; then  # each fit gets what is left after the tree and the tests' reserve
+  fit_s=$((DEADLINE - (SECONDS - start) - ${TEST_RESERVE:-200}))
+  if [ "$fit_s" -le 60 ]; then
+    echo "DEADLINE=$DEADLINE leaves ${fit_s} s to fit: too little" | tee -a "$OUT/timing.txt"
+    exit 1
+  fi
+  MAX_TIME=$(printf '00:%02d:%02d:%02d' $((fit_s / 3600)) $((fit_s % 3600 / 60)) $((fit_s % 60)))
+  echo "fit budget: trainer.max_time=$MAX_TIME" | tee -a "$OUT/timing.txt"
+fi
+
+finish() {  # what the runs have, also when stopped: summaries, logs, per-epoch lines, the table of finished runs
+  trap '' TERM INT  # `timeout` signals the script and then its whole process group: the second must not cut this
+  echo "runs: $((SECONDS - start)) s${1:+ ($1)}" | tee -a "$OUT/timing.txt"
+  [ -f "$RUNS/summary.jsonl" ] && cp "$RUNS/summary.jsonl" "$OUT/runs.jsonl"
+  for log in "$RUNS"/*.log; do
+    echo "== $(basename "$log")"
+    grep -E "Error|error|Traceback|run finished|max_time|stopped" "$log" | tail -5
+    tail -2 "$log"
+  done > "$OUT/logs.txt" 2>&1
+  for dir in "$RUNS"/*/; do
+    echo "== $(basename "$dir")"
+    grep -E "epoch [0-9]+/[0-9]+ done|Restoring states" "$dir/train.log"
+  done > "$OUT/epochs.txt" 2>&1
+  if [ -s "$RUNS/summary.jsonl" ]; then
+    $PY -m sdn3d.cli.table2 --summary "$RUNS/summary.jsonl" --experiment "$EXPERIMENT" --out "$OUT" > /dev/null
+  fi
+  echo "table: $((SECONDS - start)) s" | tee -a "$OUT/timing.txt"
+}
+# Lightning's own SIGTERM handling lets a run go on: the runs still going are killed outright (their checkpoints are
+# written atomically; `resume=` continues them), then what there is is written.
+trap 'trap "" TERM INT; kill -KILL $(jobs -p) 2>/dev/null; wait 2>/dev/null; finish "stopped: the runs still going were killed"
+      exit 143' TERM INT
 
 run() {  # run NAME ABLATION SEED [OVERRIDE ...]
   local name=$1 ablation=$2 seed=$3
@@ -67,16 +107,4 @@ if [ "${SET:-core}" = all ]; then
   done
 fi
 wait
-echo "runs: $((SECONDS - start)) s" | tee -a "$OUT/timing.txt"
-cp "$RUNS/summary.jsonl" "$OUT/runs.jsonl"
-for log in "$RUNS"/*.log; do
-  echo "== $(basename "$log")"
-  grep -E "Error|error|Traceback|run finished|max_time|stopped" "$log" | tail -5
-  tail -2 "$log"
-done > "$OUT/logs.txt" 2>&1
-for dir in "$RUNS"/*/; do
-  echo "== $(basename "$dir")"
-  grep -E "epoch [0-9]+/[0-9]+ done|Restoring states" "$dir/train.log"
-done > "$OUT/epochs.txt" 2>&1
-$PY -m sdn3d.cli.table2 --summary "$RUNS/summary.jsonl" --experiment "$EXPERIMENT" --out "$OUT" > /dev/null
-echo "table: $((SECONDS - start)) s" | tee -a "$OUT/timing.txt"
+finish

@@ -22,8 +22,10 @@ class EpochLog(L.Callback):
     or ``sdn3d-demo train.parallel=true``) it is how a user sees how far a run has got.
 
     Args:
-        keys: metric name prefixes to print (default: the training losses and the validation metrics).
-        max_metrics: at most this many metrics per line.
+        keys: metric name prefixes to print, in this order (default: the training losses, then the validation
+            metrics).
+        max_metrics: at most this many metrics of each prefix per line (a joint stage's dozen training terms once
+            pushed every validation figure off the line).
     """
 
     def __init__(self, keys: tuple[str, ...] = ("train/", "val/"), max_metrics: int = 12) -> None:
@@ -45,17 +47,18 @@ class EpochLog(L.Callback):
         # callback_metrics keeps the last validation's values through epochs without validation
         # (check_val_every_n_epoch > 1): print val/ only for an epoch that validated.
         stale = "val/" if self._validated_epoch != trainer.current_epoch else None
-        metrics = []
+        shown: dict[str, list[str]] = {key: [] for key in self.keys}
         for name, value in sorted(trainer.callback_metrics.items()):
             if stale is not None and name.startswith(stale):
                 continue
-            if (name.startswith(self.keys) and not name.endswith(("_step", "_epoch")) and not any(
+            key = next((k for k in self.keys if name.startswith(k)), None)
+            if (key is not None and not name.endswith(("_step", "_epoch")) and not any(
                     part in name for part in _PER_CLASS) and torch.is_tensor(value) and value.numel() == 1):
-                metrics.append(f"{name} {float(value):.4g}")
+                shown[key].append(f"{name} {float(value):.4g}")
+        metrics = [text for key in self.keys for text in shown[key][: self.max_metrics]]
         total = trainer.max_epochs if trainer.max_epochs and trainer.max_epochs > 0 else "?"
         log.info("epoch %d/%s done: step %d, %.1f s%s", trainer.current_epoch + 1, total, trainer.global_step,
-                 time.perf_counter() - self._started,
-                 ("; " + ", ".join(metrics[: self.max_metrics])) if metrics else "")
+                 time.perf_counter() - self._started, ("; " + ", ".join(metrics)) if metrics else "")
 
 
 class ThreadsLaterCallback(L.Callback):

@@ -2,10 +2,11 @@
 semantic branch's proposal matched to it (session 21's demo weights, w0; 312x96, photo crops), side by side.
 
 Per car, one row of panels: the crop (the geometric branch's window for each mask) with the mask's outline, the
-pixels the lamp cue reads (derender.SURE_MASK), and in them the near-white lower-half pixels (white_lamps: green) and
-the saturated red ones (red: red), each panel titled; and, with FIT=1 in the environment, the proposal after the
+pixels the lamp cue reads (derender.SURE_MASK), and in them the near-white lower-half pixels (white_lamps: green)
+and the saturated red ones (red: red), each panel titled; and, with FIT=1 in the environment, the proposal after the
 proposals' fit of the code on the path: its mask cut to the fitted shape (the fitted outline in yellow), the pixels
-this branch's re-reading reads. Run with a code tree's library on the path (PYTHONPATH=TREE/src) from the worktree."""
+this branch's re-reading reads; LABEL in the environment names the code in the titles. Run with a code tree's
+library on the path (PYTHONPATH=TREE/src) from the worktree."""
 import os
 import sys
 
@@ -93,7 +94,8 @@ def main() -> None:
                                        torch.tensor([best]))[0]
             d = float(o.ry[best]) - float(scene_truth_ry(record, iid))
             err = abs(torch.rad2deg(torch.atan2(torch.sin(torch.tensor(d)), torch.cos(torch.tensor(d))))).item()
-            readings[f"proposal cut to its fitted shape\n(this code's fit: yaw error {err:.0f} deg)"] = read(
+            label = os.environ.get("LABEL", "this code")
+            readings[f"{label}: proposal cut to its fitted shape\n(fit's yaw error {err:.0f} deg)"] = read(
                 photo, pred, pbox, models, cue, shape)
         for k, (name, v) in enumerate(readings.items()):
             ax = axes[row, 2 * k]

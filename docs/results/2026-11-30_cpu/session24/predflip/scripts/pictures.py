@@ -37,8 +37,11 @@ def panels(label: str, tree: str, out: str, cars: list[list[str]]) -> None:
     from sdn3d.data.sources import load_split
     from sdn3d.derender import derender
     from sdn3d.geometric.fit import FitSettings
+    from sdn3d.math3d.transforms import bottom_to_center
+    from sdn3d.meshes.bank import default_bank
     from sdn3d.models import Models, geometric_crop_settings
-    from sdn3d.proposal_fit import fitted_silhouettes
+    from sdn3d.render import RasterSettings, rasterize_meshes
+    from sdn3d.render.objects import pose_meshes
 
     geo = f"{RUNS}/geometric/checkpoints/best-epoch009.ckpt"
     crop = geometric_crop_settings(geo)
@@ -59,8 +62,12 @@ def panels(label: str, tree: str, out: str, cars: list[list[str]]) -> None:
         mine = gt.instances == int(iid)
         iou = (o.mask & mine).flatten(1).sum(1) / (o.mask | mine).flatten(1).sum(1)
         r = int(iou.argmax())
-        shape = fitted_silhouettes(frame.intrinsics, (o.template_id, o.dims, o.ry, o.location, o.phi),
-                                   torch.tensor([r]))[0]
+        # the fitted car's hard silhouette (as branch's proposal_fit.fitted_silhouettes; main has none)
+        verts, faces = pose_meshes(default_bank(), o.template_id[r:r + 1], o.dims[r:r + 1].float(),
+                                   o.ry[r:r + 1].float(), bottom_to_center(o.location, o.dims[:, 1])[r:r + 1].float(),
+                                   o.phi[r:r + 1].float())
+        shape = rasterize_meshes(verts, faces, frame.intrinsics.matrix().float(),
+                                 RasterSettings((SIZE[1], SIZE[0]))).mask[0]
         d = float(o.ry[r] - truth.ry[t])
         err = abs(math.degrees(math.atan2(math.sin(d), math.cos(d))))
         fit_arrow = front_arrow(frame.intrinsics, o.center[r], float(o.ry[r]), float(o.dims[r, 0]))

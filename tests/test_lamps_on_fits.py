@@ -10,6 +10,7 @@ whose reading changed again with it; ground-truth masks (an oracle) are never re
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pytest
 import torch
@@ -165,3 +166,43 @@ def test_derender_fits_again_the_semantic_proposals_whose_reading_changed(monkey
     assert [c[0] for c in calls] == [[0], [0]] and reads == [[0]]  # fitted, read again on the cut mask, fitted again
     assert calls[0][1] == [True] and calls[1][1] == [False]  # the marking's "headlights", then none
     assert len(scene.meta["fits"]) == 1 and scene.meta["fits"][0]["fit_iou"] is not None
+
+
+@pytest.mark.fits
+def test_the_refit_stands_on_the_road_the_first_fit_measured(monkeypatch):
+    """With the camera height measured (``camera_height=None``), the refit of a few proposals uses the height the
+    first fit measured from all of them, not one measured from the few."""
+    from sdn3d.derender import derender
+    from sdn3d.geometric.fit import FitSettings, estimate_camera_height
+    from sdn3d.labels import CLASS_LISTS
+    from sdn3d.semantic.predict import Segmentation
+
+    image, masks, _, _ = _red_van_back(stray_white=True)
+    instances = torch.where(masks[0], 12001, 0)
+    instances[30:50, 120:150] = 12002  # a second car, grey, far right: its reading does not change
+    image[:, 30:50, 120:150] = 0.3
+    semantic = torch.where(instances > 0, 12, 3)
+
+    class Stub:
+        classes = CLASS_LISTS["vkitti"]
+
+        def __call__(self, image):
+            return Segmentation(semantic[None], instances[None], torch.zeros(1, 14, 64, 160))
+
+    models = Models(Stub(), _models().geometric, crop_size=48, margin=0.1)
+    heights = []
+    fit_proposals = dr.fit_proposals
+
+    def spy_fit(intr, masks, ids, rows, geometry, settings, *a, **k):
+        heights.append((rows.tolist(), settings.camera_height,
+                        estimate_camera_height(geometry[3][rows].float(), replace(settings, camera_height=None))[0]))
+        return fit_proposals(intr, masks, ids, rows, geometry, settings, *a, **k)
+
+    monkeypatch.setattr(dr, "fit_proposals", spy_fit)
+    fit = FitSettings(coarse_steps=3, fine_steps=3, keep=1, camera_height=None, camera_height_range=(0.01, 100.0),
+                      poor_iou=0.0)  # the range unclamped: the random net's cars stand where they stand
+    derender(image, WORK, models, "semantic", None, min_pixels=1, fit=fit)
+    (rows, first_given, first), (again_rows, again_given, alone) = heights
+    assert len(rows) == 2 and len(again_rows) == 1 and first_given is None
+    assert alone != pytest.approx(first)  # measured from the refitted car alone, the road would lie elsewhere
+    assert again_given == pytest.approx(first)

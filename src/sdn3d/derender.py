@@ -56,7 +56,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import torch
@@ -466,9 +466,15 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
             geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance, unsure,
                                                     classes)
         if source == "semantic" and appearance is not None and fit.appearance and len(rows):
+            from sdn3d.geometric.fit import estimate_camera_height
+
+            # the refit stands on the road the first fit measured (from all its objects' predictions), not on one
+            # measured from the refitted few
+            starts = [predicted[3][rows].float()] + ([box_req.start_location] if box_req is not None else [])
+            again = replace(fit, camera_height=estimate_camera_height(torch.cat(starts), fit)[0])
             geometry, proposal_fits = _refit_on_agreed_lamps(image, intrinsics, masks, ids, rows, predicted, geometry,
-                                                             proposal_fits, fit, appearance, unsure, classes, models,
-                                                             photo)
+                                                             proposal_fits, again, appearance, unsure, classes,
+                                                             models, photo)
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
                                                              min_pixels, mask_source, appearance, box_result, classes)

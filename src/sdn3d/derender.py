@@ -24,7 +24,16 @@
    turned them end for end): for its proposals, where the mask shows no usable red lamps, the red tail-lamp test
    reads the mask and the band under it that the fit counts as unsure (:func:`~sdn3d.proposal_fit.unsure_below`);
    a mask that shows usable red lamps is read as before, and a red body's headlight test never reads the band (its
-   road reads near-white through rain; ``docs/results/2026-11-29_cpu/session10/semflip``). The 2D box is
+   road reads near-white through rain; ``docs/results/2026-11-29_cpu/session10/semflip``). The semantic branch's masks
+   also spill past a car onto the road, a lane marking, a sign above it, and the lamp cue read those pixels: a lane
+   marking beside a red van's lower half as its "headlights", a red sign above a car as a second band of red that made
+   its tail lamps unusable (on the Table 1 tuning trees 31, 35 and 37, session 21's demo weights, the fit turned 33 of
+   279 matched proposals end for end, 26 of them cars it did not turn on their ground-truth masks (an oracle), and 20 of
+   those 26 read their lamps otherwise on the proposal than on the true mask). So with ``fit`` each fitted proposal (not
+   a poor fit) has its lamps read again on the part of its mask that its fitted 3D shape covers, the tail band cut to
+   that shape too (:func:`_lamps_on_fits`), and the proposals whose reading changed (a test's present or usable flag)
+   are fitted again from their prediction with it: the fit's hypotheses all lie on the silhouette's axis, so their shape
+   is where the car is whichever end it faces (``docs/results/2026-11-30_cpu/session24/predflip``). The 2D box is
    the annotation's when the object comes from a ground-truth frame (what the branch is trained
    on), else the mask's bounding box. Objects without a prediction (no geometric model, too small,
    a box one pixel wide or high, non-finite output or behind the camera) keep only their 2D mask.
@@ -47,7 +56,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import torch
@@ -74,7 +83,14 @@ from sdn3d.labels import CLASS_LISTS, INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import MeshBank
 from sdn3d.models import Models
-from sdn3d.proposal_fit import fit_proposals, fit_proposals_and_boxes, unsure_below, vehicle_rows
+from sdn3d.proposal_fit import (
+    ProposalFit,
+    fit_proposals,
+    fit_proposals_and_boxes,
+    fitted_silhouettes,
+    unsure_below,
+    vehicle_rows,
+)
 from sdn3d.proposals import PROPOSALS, Proposals, choose_sources
 from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
 from sdn3d.scene.maps import scene_maps
@@ -160,19 +176,15 @@ def _predict_geometry(image: Tensor, intr: Intrinsics, masks: Tensor, boxes: Ten
     by predicted depth, and refined with each object's crop ignoring the masks of the objects in front of it
     (:func:`occluder_masks`), so that an occluder does not pull the fit.
     """
-    windows = torch.tensor([square_crop_window(b, models.margin) for b in boxes], dtype=torch.float32)
-    size = models.crop_size
+    windows, size = _windows(boxes, models), models.crop_size
     crops = crop_windows(image, windows, size, "bilinear") if photo is None else photo.crops(windows, size)
     crop_masks = crop_windows(masks[:, None].float(), windows, size, "nearest")
-    sure = (None if photo is None else
-            (crop_windows(masks[:, None].float(), windows, size, "bilinear") >= SURE_MASK).float())
+    sure, tail_mask = _lamp_masks(masks, tail, windows, size, photo)
     # The crops go in masked, as the net sees them; with a tail band unmasked (the predictor masks the net's input
     # itself), so that the tail-lamp test can read past the mask.
     given, lamps = crops * crop_masks, {"lamp_mask": sure, "image_width": intr.width}
-    if tail is not None:  # the same rule as the mask's: nearest without a photo, the sure pixels with one
-        grown = (masks | tail)[:, None].float()
-        given, lamps["tail_mask"] = crops, (crop_windows(grown, windows, size, "nearest") if photo is None else
-                                            (crop_windows(grown, windows, size, "bilinear") >= SURE_MASK).float())
+    if tail is not None:
+        given, lamps["tail_mask"] = crops, tail_mask
     n = len(boxes)
     intr_vec = torch.tensor([intr.fx, intr.fy, intr.cx, intr.cy], dtype=torch.float32).expand(n, 4)
     if refine is None:
@@ -181,6 +193,85 @@ def _predict_geometry(image: Tensor, intr: Intrinsics, masks: Tensor, boxes: Ten
     depth = models.geometric.predict(given, crop_masks, boxes, intr_vec, **lamps)["center"][:, 2].cpu()
     ignore = crop_windows(occluder_masks(masks, depth)[:, None].float(), windows, size, "nearest")
     return models.geometric.predict(given, crop_masks, boxes, intr_vec, crop_intr, ignore, refine, **lamps)
+
+
+def _windows(boxes: Tensor, models: Models) -> Tensor:
+    """``(N, 3)`` the geometric branch's square crop windows ``(left, top, side)`` around ``boxes (N, 4)``."""
+    return torch.tensor([square_crop_window(b, models.margin) for b in boxes], dtype=torch.float32)
+
+
+def _lamp_masks(masks: Tensor, tail: Tensor | None, windows: Tensor, size: int, photo: InputPhoto | None
+                ) -> tuple[Tensor | None, Tensor | None]:
+    """``(lamp_mask, tail_mask)``: the ``(N, 1, S, S)`` crop pixels of ``windows`` that the lamp cue reads of the
+    ``masks (N, H, W)`` (with a photo the pixels surely on the object, :data:`SURE_MASK`; None without one: the
+    predictor's nearest mask) and, with ``tail (N, H, W)``, of each mask and its tail band (the same rule, nearest
+    without a photo; None without a band)."""
+    sure = (None if photo is None else
+            (crop_windows(masks[:, None].float(), windows, size, "bilinear") >= SURE_MASK).float())
+    if tail is None:
+        return sure, None
+    grown = (masks | tail)[:, None].float()
+    return sure, (crop_windows(grown, windows, size, "nearest") if photo is None else
+                  (crop_windows(grown, windows, size, "bilinear") >= SURE_MASK).float())
+
+
+def _lamps_on_fits(image: Tensor, intr: Intrinsics, masks: Tensor, tail: Tensor | None, rows: Tensor,
+                   fitted: tuple[Tensor, ...], appearance: Appearance, models: Models,
+                   photo: InputPhoto | None) -> tuple[Appearance, Tensor]:
+    """``(appearance, changed)``: ``appearance`` with the lamps of the fitted proposals ``rows (K,)`` read again on
+    the part of each mask that its fitted 3D shape (``fitted``: the geometry after the fit) covers, and ``(M,)`` the
+    rows whose reading changed (a red or white test's present or usable flag): the ones to fit again (module doc,
+    step 3). The crops are the branch's (the windows of the masks' boxes, as :func:`_geometry` reads them);
+    ``tail (N, H, W)``: the band under each mask the red test also reads, cut to the fitted shape as well."""
+    from sdn3d.geometric.facing import Appearance
+    from sdn3d.geometric.lamps import read_lamps
+
+    if not len(rows):
+        return appearance, rows
+    shape = fitted_silhouettes(intr, fitted, rows)  # (K, H, W)
+    agreed = masks[rows] & shape
+    boxes = pixel_centre_boxes(mask_boxes(masks[rows]))
+    windows, size = _windows(boxes, models), models.crop_size
+    crops = crop_windows(image, windows, size, "bilinear") if photo is None else photo.crops(windows, size)
+    crop_masks = crop_windows(masks[rows][:, None].float(), windows, size, "nearest")
+    near = crop_windows(agreed[:, None].float(), windows, size, "nearest")
+    sure, tail_mask = _lamp_masks(agreed, None if tail is None else tail[rows] & shape, windows, size, photo)
+    red, white = read_lamps(crops * crop_masks, near if sure is None else sure, models.geometric.lamp_cue, crops,
+                            tail_mask)
+    values = dict(appearance.values)
+    changed = torch.zeros(len(rows), dtype=torch.bool)
+    for keys, reading in ((("lamp_present", "lamp_usable", "lamp_offset"), red),
+                          (("front_present", "front_usable", "front_offset"), white)):
+        if keys[0] not in values:
+            continue
+        for k, v in zip(keys, reading, strict=True):
+            old = values[k][rows]
+            if v.dtype == torch.bool:
+                changed |= v.cpu() != old
+            values[k] = values[k].clone()
+            values[k][rows] = v.cpu().to(old.dtype)
+    return Appearance(values, appearance.has, appearance.cue), rows[changed]
+
+
+def _refit_on_agreed_lamps(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor,
+                           predicted: tuple[Tensor, ...], fitted: tuple[Tensor, ...], records: list[ProposalFit],
+                           fit: FitSettings, appearance: Appearance, unsure: Tensor | None, classes: list[str | None],
+                           models: Models, photo: InputPhoto | None) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
+    """``(geometry, records)``: the proposals' fit (``fitted``, ``records``: one per row of ``rows (K,)``) with the
+    proposals whose lamps read otherwise on the part of their mask that their fitted shape covers
+    (:func:`_lamps_on_fits`; a poor fit's shape is not trusted) fitted again from their prediction ``predicted``
+    with that reading (module doc, step 3)."""
+    good = {r.instance_id for r in records if not r.poor}
+    trusted = torch.tensor([int(i) in good for i in ids[rows].tolist()], dtype=torch.bool)
+    reread, again = _lamps_on_fits(image, intr, masks, unsure, rows[trusted], fitted, appearance, models, photo)
+    if not len(again):
+        return fitted, records
+    refit, new = fit_proposals(intr, masks, ids, again, predicted, fit, reread, unsure, classes)
+    geometry = tuple(g.clone() for g in fitted)
+    for g, r in zip(geometry, refit, strict=True):
+        g[again] = r[again]
+    by_id = {r.instance_id: r for r in new}
+    return geometry, [by_id.get(r.instance_id, r) for r in records]
 
 
 def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:
@@ -362,6 +453,7 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     class_names = {c.id: c.name for c in class_list}
     classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
     if fit is not None:
+        predicted = geometry
         rows = vehicle_rows(ids, geometry[0], class_names)
         rows = rows[~torch.isin(rows, box_rows)]
         unsure = unsure if len(rows) else None  # the fit ignores the same band
@@ -373,6 +465,16 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
         else:
             geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance, unsure,
                                                     classes)
+        if source == "semantic" and appearance is not None and fit.appearance and len(rows):
+            from sdn3d.geometric.fit import estimate_camera_height
+
+            # the refit stands on the road the first fit measured (from all its objects' predictions), not on one
+            # measured from the refitted few
+            starts = [predicted[3][rows].float()] + ([box_req.start_location] if box_req is not None else [])
+            again = replace(fit, camera_height=estimate_camera_height(torch.cat(starts), fit)[0])
+            geometry, proposal_fits = _refit_on_agreed_lamps(image, intrinsics, masks, ids, rows, predicted, geometry,
+                                                             proposal_fits, again, appearance, unsure, classes,
+                                                             models, photo)
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
                                                              min_pixels, mask_source, appearance, box_result, classes)

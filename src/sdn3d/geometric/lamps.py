@@ -85,7 +85,7 @@ import torch
 from torch import Tensor
 
 __all__ = ["LampCue", "Traffic", "border_side", "air_offset", "through_the_air", "red_lamps", "white_lamps",
-           "lamp_evidence", "evidence_of", "face_by_lamps", "face_by_reading"]
+           "read_lamps", "lamp_evidence", "evidence_of", "face_by_lamps", "face_by_reading"]
 
 
 class Traffic(StrEnum):
@@ -246,6 +246,22 @@ def white_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple
     usable = (n_mask >= cue.min_mask) & (n_red > cue.max_share * n_mask) & cue.red_body
     present = (n_white > 0) & (n_white >= cue.white_min_share * n_mask)
     return present, usable, offset
+
+
+def read_lamps(crop: Tensor, lamp_mask: Tensor, cue: LampCue, given: Tensor | None = None,
+               tail_mask: Tensor | None = None) -> tuple[tuple[Tensor, Tensor, Tensor], tuple[Tensor, Tensor, Tensor]]:
+    """``(red, white)``: the lamp cue's reading of ``(N, 3, S, S)`` crops, each ``(present, usable, offset)`` of
+    ``(N,)`` (:func:`red_lamps` and :func:`white_lamps`) over the ``(N, 1, S, S)`` pixels ``lamp_mask``. With
+    ``tail_mask`` (``(N, 1, S, S)``), where ``lamp_mask`` shows no usable red lamps, the red test reads those pixels
+    of ``given`` (the crops unmasked) instead; the headlights' test keeps ``lamp_mask``
+    (:meth:`~sdn3d.geometric.predict.GeometricPredictor.predict`'s ``tail_mask``)."""
+    seen = crop * lamp_mask
+    red = red_lamps(seen, lamp_mask, cue)
+    if tail_mask is not None:  # only where the mask itself shows no usable red lamps
+        past = red_lamps((crop if given is None else given) * tail_mask, tail_mask, cue)
+        shown = red[0] & red[1]
+        red = tuple(torch.where(shown, a, b) for a, b in zip(red, past, strict=True))
+    return red, white_lamps(seen, lamp_mask, cue)
 
 
 def lamp_evidence(crop: Tensor, mask: Tensor, alpha: Tensor, cue: LampCue | None = None) -> Tensor:

@@ -15,7 +15,7 @@ from torch import Tensor
 
 from sdn3d.errors import UserInputError
 from sdn3d.geometric.decode import decode_outputs
-from sdn3d.geometric.lamps import LampCue, border_side, face_by_reading, red_lamps, white_lamps
+from sdn3d.geometric.lamps import LampCue, border_side, face_by_reading, read_lamps
 from sdn3d.geometric.losses import render_silhouettes
 from sdn3d.geometric.model import GeometricNet, ray_angle
 from sdn3d.geometric.refine import RefineSettings, refine_by_reprojection
@@ -182,14 +182,8 @@ class GeometricPredictor:
         if self.lamp_cue is not None and mask is not None:
             ray = ray_angle(box, intrinsics)
             lamps = mask.to(device) if lamp_mask is None else lamp_mask.to(device)
-            seen = crop * lamps
-            red = red_lamps(seen, lamps, self.lamp_cue)
-            if tail_mask is not None:  # only where the mask itself shows no usable red lamps
-                tail = tail_mask.to(device)
-                past = red_lamps(given * tail, tail, self.lamp_cue)
-                shown = red[0] & red[1]
-                red = tuple(torch.where(shown, a, b) for a, b in zip(red, past, strict=True))
-            white = white_lamps(seen, lamps, self.lamp_cue)
+            red, white = read_lamps(crop, lamps, self.lamp_cue, given,
+                                    None if tail_mask is None else tail_mask.to(device))
             out.update(net_ry=out["ry"], ray=ray, lamp_present=red[0], lamp_usable=red[1], lamp_offset=red[2],
                        front_present=white[0], front_usable=white[1], front_offset=white[2])
             border = None if image_width is None else border_side(box, image_width)

@@ -164,6 +164,8 @@ def table1_markdown(summaries: dict, info: dict, comparisons: dict | None = None
     """The paper's Table 1 layout (rows 2D, 2D+, 3D-SDN per source scene and compose mode) from
     ``{source: summarize(...)}`` (:func:`sdn3d.evaluation.edit_benchmark.summarize`) and results.json's info;
     ``comparisons`` (:func:`paired_comparisons`) adds who won to the headline."""
+    from sdn3d.data.synth.entry_report import KindCount, shortfall_lines
+
     rows = _rows(summaries, info)
     gens = info["generators"]
     has_lpips = any("lpips" in stats.get("whole", {}) for *_, stats in rows)
@@ -192,6 +194,9 @@ def table1_markdown(summaries: dict, info: dict, comparisons: dict | None = None
     lines += [f"| {SOURCE_SHORT[s]} | {LABELS[m]} | {_fmt(st.get('layout', {}).get('mask_iou'), 3)} |"
               for s, m, c, st in rows if c == info["compose"][0]]
     lines += _by_kind_lines(summaries, info)
+    short = {k: KindCount.from_json(k, v) for k, v in (info.get("benchmark_short") or {}).items()}
+    lines += [f"\n**Fewer entries than asked for.** {line.split(': warning: ', 1)[1]}."
+              for line in shortfall_lines(short, "sdn3d-bench")]
     lines.append("")
     for s in info["sources"]:
         lat, failed = summaries[s]["latency_ms"], summaries[s]["failed"]
@@ -637,10 +642,14 @@ def run_bench(cfg: Any, parts: Sequence[dict] = ()) -> dict:
     lanes): only written here, the same tables and example grids as one run's (``wall_s``: the parts' sum)."""
     from omegaconf import OmegaConf
 
+    from sdn3d.data.synth.entry_report import benchmark_shortfall, counts_json, shortfall_lines
     from sdn3d.evaluation.edit_benchmark import source_name, summarize
     from sdn3d.io import write_json_atomic, write_png_atomic, write_text_atomic
 
     cfg, out, path, entries, source, passes, checkpoints = _load_inputs(cfg)
+    short = benchmark_shortfall(path.expanduser(), entries)
+    for line in shortfall_lines(short, "sdn3d-bench"):  # once per run (the demo's lanes do not warn)
+        console.print(line, markup=False, soft_wrap=True)
     t0 = time.perf_counter()
     threads = torch.get_num_threads()
     if parts:
@@ -658,7 +667,7 @@ def run_bench(cfg: Any, parts: Sequence[dict] = ()) -> dict:
             "device": str(cfg.device), "threads": threads, **lpips, "compose": list(first.compose),
             "dilate_px": first.dilate_px, "feather_px": first.feather_px,
             "fit_proposals": first.fit is not None and first.scene is Scene.DERENDER,
-            "modify_anchor": str(first.modify_anchor),
+            "modify_anchor": str(first.modify_anchor), "benchmark_short": counts_json(short),
             "wall_s": time.perf_counter() - t0}
     entries_json = {name: [r.to_json() for r in rs] for name, rs in results.items()}
     comparisons = paired_comparisons(entries_json, summaries, info)

@@ -17,6 +17,11 @@ every output. ``scene=oracle`` (ground-truth geometry too) is one pass. Outputs,
                      mode) with metrics
     examples/*.png   the grids
 
+A generated benchmark (its dataset's ``synth_manifest.json`` beside it) is first counted against what the dataset
+asked for: a kind with fewer entries to score (a sequence whose test frames have no partly hidden car gets no
+occluder-removed entry) is warned about once on stderr, naming the sequences and why
+(:mod:`sdn3d.data.synth.entry_report`), and recorded (``info.benchmark_short``, ``table1.md``).
+
 An earlier output directory is replaced (``overwrite=true``) only when it holds nothing but the files its
 ``results.json`` lists (``outputs``) and none of this run's inputs (the benchmark file, the dataset, a checkpoint):
 else the run stops with exit 2 naming the file, and nothing is deleted (:func:`output_rules`, as ``sdn3d-edit``).

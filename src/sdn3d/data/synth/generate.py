@@ -6,6 +6,9 @@ benchmark ``vkitti_edit_benchmark.json`` (3D-SDN format, see ``edits.py``) and
 ``synth_manifest.json``. Edit targets are frames of their own sequence numbered after the
 regular frames: a sequence of ``F`` frames and ``E`` edit pairs holds frames ``0 .. F-1``
 (the camera drives on) and ``F .. F+E-1`` (edited copies of a source frame, same camera).
+A pair that cannot be drawn is written as an entry without operations; the manifest's ``benchmark_entries``
+counts each kind's entries asked for and made, with why any are missing, and a short kind is warned about on
+stderr (:mod:`sdn3d.data.synth.entry_report`).
 
 The write is all-or-nothing: everything goes to a temporary sibling directory that is renamed
 onto ``output_dir`` at the end (after ``_SUCCESS`` is written in it; :func:`sdn3d.io.staged_directory`).

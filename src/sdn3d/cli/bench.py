@@ -17,9 +17,9 @@ every output. ``scene=oracle`` (ground-truth geometry too) is one pass. Outputs,
                      mode) with metrics
     examples/*.png   the grids
 
-A generated benchmark (its dataset's ``synth_manifest.json`` beside it) is first counted against what the dataset
-asked for: a kind with fewer entries to score (a sequence whose test frames have no partly hidden car gets no
-occluder-removed entry) is warned about once on stderr, naming the sequences and why
+A generated benchmark (its dataset's ``synth_manifest.json`` beside it) is counted against what the dataset asked
+for: a kind with fewer entries to score (a sequence whose test frames have no partly hidden car gets no
+occluder-removed entry) is warned about once on stderr when the entries are scored, naming the sequences and why
 (:mod:`sdn3d.data.synth.entry_report`), and recorded (``info.benchmark_short``, ``table1.md``).
 
 An earlier output directory is replaced (``overwrite=true``) only when it holds nothing but the files its
@@ -652,9 +652,7 @@ def run_bench(cfg: Any, parts: Sequence[dict] = ()) -> dict:
     from sdn3d.io import write_json_atomic, write_png_atomic, write_text_atomic
 
     cfg, out, path, entries, source, passes, checkpoints = _load_inputs(cfg)
-    short = benchmark_shortfall(path.expanduser(), entries)
-    for line in shortfall_lines(short, "sdn3d-bench"):  # once per run (the demo's lanes do not warn)
-        console.print(line, markup=False, soft_wrap=True)
+    short = benchmark_shortfall(path.expanduser(), entries)  # an unreadable manifest stops the run here
     t0 = time.perf_counter()
     threads = torch.get_num_threads()
     if parts:
@@ -662,6 +660,9 @@ def run_bench(cfg: Any, parts: Sequence[dict] = ()) -> dict:
         t0 -= wall_s
     else:
         results, generators, lpips = _evaluate(cfg, passes, entries, source)
+    # Once per run, with the scores (the demo's lanes do not warn; a run stopped by bad input says only why).
+    for line in shortfall_lines(short, "sdn3d-bench"):
+        console.print(line, markup=False, soft_wrap=True)
     summaries = {name: summarize(r) for name, r in results.items()}
     first = passes[0]
     sources = [source_name(s) for s in passes]

@@ -17,7 +17,7 @@ from the exact target (decoding them moves a car by a few millimetres at most).
 Cars are only picked when their projected centre is unambiguous (no other visible car within
 12 px) and they are well visible (visible share >= 0.5, truncation <= 0.3).
 
-An *occluder removed* pair (:func:`sample_occluder_removal`, the paper's Fig. 4d / 6a) deletes a car in front
+An *occluder removed* pair (:func:`occluder_candidates`, the paper's Fig. 4d / 6a) deletes a car in front
 of a partly hidden one; its target shows the hidden car whole, which only a method that completes the hidden
 car (3D-SDN redraws it from its geometry) can match. Such entries carry ``kind = 'occluder_removed'``.
 """
@@ -36,7 +36,6 @@ from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
 __all__ = [
     "sample_edit",
-    "sample_occluder_removal",
     "occluder_candidates",
     "OccluderCandidates",
     "remove_occluder",
@@ -156,21 +155,6 @@ def remove_occluder(objects: FrameObjects, occluder: int, hidden: int
     keep = np.arange(len(objects)) != occluder
     op = BenchmarkOperation.delete((round(float(uv[0]), 1), round(float(uv[1]), 1)))
     return objects.subset(keep), [op], hidden, int(keep[:hidden].sum())
-
-
-def sample_occluder_removal(
-    rng: np.random.Generator,
-    objects: FrameObjects,
-    stats: ObjectStats,
-    intrinsics: Intrinsics,
-    max_visible_fraction: float = MAX_HIDDEN_FRACTION,
-) -> tuple[FrameObjects, list[BenchmarkOperation], int, int] | None:
-    """An "occluder removed" edit: one pair of :func:`occluder_candidates` drawn with ``rng``, as
-    :func:`remove_occluder` writes it; None when the frame has no such pair (``rng`` is then not drawn from)."""
-    pairs = occluder_candidates(objects, stats, intrinsics, max_visible_fraction).pairs
-    if not pairs:
-        return None
-    return remove_occluder(objects, *pairs[int(rng.integers(len(pairs)))])
 
 
 def sample_edit(

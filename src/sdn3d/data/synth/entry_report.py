@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from sdn3d.data.edit_benchmark import BenchmarkEntry
+from sdn3d.data.sources import SYNTH_MANIFEST
 from sdn3d.errors import UserInputError
 
 __all__ = ["Missing", "MissingEntry", "KindCount", "manifest_counts", "benchmark_shortfall", "shortfall_lines",
@@ -128,7 +129,7 @@ def benchmark_shortfall(path: Path, entries: Sequence[BenchmarkEntry]) -> dict[s
     Raises:
         UserInputError: the manifest beside ``path`` names it but cannot be read.
     """
-    manifest_path = path.parent / "synth_manifest.json"
+    manifest_path = path.parent / SYNTH_MANIFEST
     if not manifest_path.is_file():
         return {}
     try:

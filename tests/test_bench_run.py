@@ -176,3 +176,24 @@ def test_a_run_where_every_entry_failed_exits_1(tiny_synth, ckpts, tmp_path, cap
     assert "sdn3d-bench: error: every one of the 2 evaluations failed (first: entry 0 k0: no object at the point)" \
         in err, err
     assert (out / "results.json").is_file()
+
+
+def test_a_kind_short_of_its_entries_is_warned_about_once(tiny_synth, ckpts, tmp_path, capsys):
+    """Session 24: a synthetic benchmark whose sequences could not all get their occluder-removed pair scored that
+    kind on fewer entries, or none, without a word. tiny_synth's one sequence has no pair (its partly hidden cars
+    have no car in front to delete): sdn3d-bench counts its file against the dataset's manifest and warns once
+    (stderr), and records it (results.json, table1.md)."""
+    out = tmp_path / "bench"
+    assert main(_args(tiny_synth, out, "proposals=gt", f"checkpoints.geometric={ckpts['geometric']}",
+                      f"checkpoints.textural={ckpts['textural']}")) == 0
+    err = capsys.readouterr().err
+    warnings = [line for line in err.splitlines() if "warning" in line]
+    assert warnings == ["sdn3d-bench: warning: 0 of the 1 'occluder_removed' benchmark entries asked for were made "
+                        "(1 missing in 0001/clone: the partly hidden cars of test frames 6-7 have no car in front that "
+                        "a point can pick (nearer, its box overlapping, its centre in the frame and 12 px from any "
+                        "other's)); each missing one is an entry without operations, which sdn3d-bench skips"], err
+    report = json.loads((out / "results.json").read_text())
+    assert report["info"]["benchmark_short"] == {"occluder_removed": {"asked": 1, "made": 0, "short": [
+        {"world": "0001", "variation": "clone", "missing": 1, "reason": "no_occluder",
+         "why": warnings[0].split("0001/clone: ")[1].split("); each")[0]}]}}  # the edit pair was made
+    assert "**Fewer entries than asked for.** 0 of the 1 'occluder_removed'" in (out / "table1.md").read_text()

@@ -17,6 +17,11 @@ every output. ``scene=oracle`` (ground-truth geometry too) is one pass. Outputs,
                      mode) with metrics
     examples/*.png   the grids
 
+A generated benchmark (its dataset's ``synth_manifest.json`` beside it) is counted against what the dataset asked
+for: a kind with fewer entries to score (a sequence whose test frames have no partly hidden car gets no
+occluder-removed entry) is warned about once on stderr when the entries are scored, naming the sequences and why
+(:mod:`sdn3d.data.synth.entry_report`), and recorded (``info.benchmark_short``, ``table1.md``).
+
 An earlier output directory is replaced (``overwrite=true``) only when it holds nothing but the files its
 ``results.json`` lists (``outputs``) and none of this run's inputs (the benchmark file, the dataset, a checkpoint):
 else the run stops with exit 2 naming the file, and nothing is deleted (:func:`output_rules`, as ``sdn3d-edit``).
@@ -164,6 +169,8 @@ def table1_markdown(summaries: dict, info: dict, comparisons: dict | None = None
     """The paper's Table 1 layout (rows 2D, 2D+, 3D-SDN per source scene and compose mode) from
     ``{source: summarize(...)}`` (:func:`sdn3d.evaluation.edit_benchmark.summarize`) and results.json's info;
     ``comparisons`` (:func:`paired_comparisons`) adds who won to the headline."""
+    from sdn3d.data.synth.entry_report import KindCount, shortfall_lines
+
     rows = _rows(summaries, info)
     gens = info["generators"]
     has_lpips = any("lpips" in stats.get("whole", {}) for *_, stats in rows)
@@ -192,6 +199,9 @@ def table1_markdown(summaries: dict, info: dict, comparisons: dict | None = None
     lines += [f"| {SOURCE_SHORT[s]} | {LABELS[m]} | {_fmt(st.get('layout', {}).get('mask_iou'), 3)} |"
               for s, m, c, st in rows if c == info["compose"][0]]
     lines += _by_kind_lines(summaries, info)
+    short = {k: KindCount.from_json(k, v) for k, v in (info.get("benchmark_short") or {}).items()}
+    lines += [f"\n**Fewer entries than asked for.** {line.split(': warning: ', 1)[1]}."
+              for line in shortfall_lines(short, "sdn3d-bench")]
     lines.append("")
     for s in info["sources"]:
         lat, failed = summaries[s]["latency_ms"], summaries[s]["failed"]
@@ -637,10 +647,12 @@ def run_bench(cfg: Any, parts: Sequence[dict] = ()) -> dict:
     lanes): only written here, the same tables and example grids as one run's (``wall_s``: the parts' sum)."""
     from omegaconf import OmegaConf
 
+    from sdn3d.data.synth.entry_report import benchmark_shortfall, counts_json, shortfall_lines
     from sdn3d.evaluation.edit_benchmark import source_name, summarize
     from sdn3d.io import write_json_atomic, write_png_atomic, write_text_atomic
 
     cfg, out, path, entries, source, passes, checkpoints = _load_inputs(cfg)
+    short = benchmark_shortfall(path.expanduser(), entries)  # an unreadable manifest stops the run here
     t0 = time.perf_counter()
     threads = torch.get_num_threads()
     if parts:
@@ -648,6 +660,9 @@ def run_bench(cfg: Any, parts: Sequence[dict] = ()) -> dict:
         t0 -= wall_s
     else:
         results, generators, lpips = _evaluate(cfg, passes, entries, source)
+    # Once per run, with the scores (the demo's lanes do not warn; a run stopped by bad input says only why).
+    for line in shortfall_lines(short, "sdn3d-bench"):
+        console.print(line, markup=False, soft_wrap=True)
     summaries = {name: summarize(r) for name, r in results.items()}
     first = passes[0]
     sources = [source_name(s) for s in passes]
@@ -658,7 +673,7 @@ def run_bench(cfg: Any, parts: Sequence[dict] = ()) -> dict:
             "device": str(cfg.device), "threads": threads, **lpips, "compose": list(first.compose),
             "dilate_px": first.dilate_px, "feather_px": first.feather_px,
             "fit_proposals": first.fit is not None and first.scene is Scene.DERENDER,
-            "modify_anchor": str(first.modify_anchor),
+            "modify_anchor": str(first.modify_anchor), "benchmark_short": counts_json(short),
             "wall_s": time.perf_counter() - t0}
     entries_json = {name: [r.to_json() for r in rs] for name, rs in results.items()}
     comparisons = paired_comparisons(entries_json, summaries, info)

@@ -17,7 +17,7 @@ from the exact target (decoding them moves a car by a few millimetres at most).
 Cars are only picked when their projected centre is unambiguous (no other visible car within
 12 px) and they are well visible (visible share >= 0.5, truncation <= 0.3).
 
-An *occluder removed* pair (:func:`sample_occluder_removal`, the paper's Fig. 4d / 6a) deletes a car in front
+An *occluder removed* pair (:func:`occluder_candidates`, the paper's Fig. 4d / 6a) deletes a car in front
 of a partly hidden one; its target shows the hidden car whole, which only a method that completes the hidden
 car (3D-SDN redraws it from its geometry) can match. Such entries carry ``kind = 'occluder_removed'``.
 """
@@ -25,6 +25,7 @@ car (3D-SDN redraws it from its geometry) can match. Such entries carry ``kind =
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -33,10 +34,21 @@ from sdn3d.data.synth.layout import FrameObjects, World
 from sdn3d.data.synth.stats import ObjectStats
 from sdn3d.math3d.camera import VKITTI_INTRINSICS, Intrinsics
 
-__all__ = ["sample_edit", "sample_occluder_removal", "project_full", "footprints_overlap"]
+__all__ = [
+    "sample_edit",
+    "occluder_candidates",
+    "OccluderCandidates",
+    "remove_occluder",
+    "hidden_min_pixels",
+    "MAX_HIDDEN_FRACTION",
+    "project_full",
+    "footprints_overlap",
+]
 
 _MIN_SEPARATION = 12.0  # full-resolution pixels between projected centres
 _MAX_TRIES = 25
+#: A partly hidden car of an occluder-removed pair shows at most this share of its in-frame pixels.
+MAX_HIDDEN_FRACTION = 0.8
 
 
 def project_full(points: np.ndarray) -> np.ndarray:
@@ -92,27 +104,32 @@ def _separated(uv: np.ndarray, visible: np.ndarray, i: int) -> bool:
     return bool(not others.any() or np.linalg.norm(uv[others] - uv[i], axis=1).min() > _MIN_SEPARATION)
 
 
-def sample_occluder_removal(
-    rng: np.random.Generator,
-    objects: FrameObjects,
-    stats: ObjectStats,
-    intrinsics: Intrinsics,
-    max_visible_fraction: float = 0.8,
-) -> tuple[FrameObjects, list[BenchmarkOperation], int, int] | None:
-    """An "occluder removed" edit: delete a car in front of a partly hidden one, so that the target shows it whole.
+@dataclass(frozen=True)
+class OccluderCandidates:
+    """A frame's candidate occluder-removed pairs (:func:`occluder_candidates`).
+
+    Attributes:
+        pairs: ``(occluder index, hidden car index)`` per pair, in hidden-car then occluder order.
+        hidden: how many partly hidden cars the frame has (each may have no occluder to delete).
+    """
+
+    pairs: tuple[tuple[int, int], ...]
+    hidden: int
+
+
+def occluder_candidates(objects: FrameObjects, stats: ObjectStats, intrinsics: Intrinsics,
+                        max_visible_fraction: float = MAX_HIDDEN_FRACTION) -> OccluderCandidates:
+    """Every pair of a frame that an "occluder removed" edit may delete the first car of, to show the second whole.
 
     A hidden car has at most ``max_visible_fraction`` of its in-frame pixels visible, enough pixels to matter
-    and little truncation; its occluder is a visible car nearer the camera whose 2D box overlaps the hidden one's,
-    with an unambiguous, in-frame projected centre (the ``from`` point that picks it). One such pair is drawn.
-
-    Returns:
-        ``(edited objects, [delete op], revealed car's index in the source objects, in the edited ones)``, or None
-        when the frame has no such pair.
+    (:func:`hidden_min_pixels`), little truncation and lies beyond 3 m; its occluder is a visible car nearer the
+    camera whose 2D box overlaps the hidden one's, with an unambiguous, in-frame projected centre (the ``from``
+    point that picks it), also beyond 3 m. Whether deleting it reveals enough is the caller's test (a render).
     """
     uv = project_full(objects.center)
     visible = stats.visible > 0
-    min_pixels = max(20, int(0.001 * intrinsics.width * intrinsics.height))
-    hidden = np.flatnonzero(visible & (stats.visible >= min_pixels) & (stats.visible_fraction <= max_visible_fraction)
+    hidden = np.flatnonzero(visible & (stats.visible >= hidden_min_pixels(intrinsics))
+                            & (stats.visible_fraction <= max_visible_fraction)
                             & (stats.truncr <= 0.3) & (objects.center[:, 2] > 3.0))
     box, z = stats.box, objects.center[:, 2]
     pairs = []
@@ -122,12 +139,22 @@ def sample_occluder_removal(
         for i in np.flatnonzero(visible & overlap & (z < z[j])):
             if i != j and _separated(uv, visible, int(i)) and _in_frame(uv[i], 0.0) and z[i] > 3.0:
                 pairs.append((int(i), int(j)))
-    if not pairs:
-        return None
-    i, j = pairs[int(rng.integers(len(pairs)))]
-    keep = np.arange(len(objects)) != i
-    op = BenchmarkOperation.delete((round(float(uv[i, 0]), 1), round(float(uv[i, 1]), 1)))
-    return objects.subset(keep), [op], j, int(keep[:j].sum())
+    return OccluderCandidates(tuple(pairs), len(hidden))
+
+
+def hidden_min_pixels(intrinsics: Intrinsics) -> int:
+    """Visible pixels a partly hidden car needs for an occluder-removed pair: 0.1 % of the frame, at least 20."""
+    return max(20, int(0.001 * intrinsics.width * intrinsics.height))
+
+
+def remove_occluder(objects: FrameObjects, occluder: int, hidden: int
+                    ) -> tuple[FrameObjects, list[BenchmarkOperation], int, int]:
+    """The occluder-removed edit of pair ``(occluder, hidden)``: ``(edited objects, [delete op], the hidden car's
+    index in the source objects, in the edited ones)``."""
+    uv = project_full(objects.center[occluder][None])[0]
+    keep = np.arange(len(objects)) != occluder
+    op = BenchmarkOperation.delete((round(float(uv[0]), 1), round(float(uv[1]), 1)))
+    return objects.subset(keep), [op], hidden, int(keep[:hidden].sum())
 
 
 def sample_edit(

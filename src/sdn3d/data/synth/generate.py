@@ -6,6 +6,9 @@ benchmark ``vkitti_edit_benchmark.json`` (3D-SDN format, see ``edits.py``) and
 ``synth_manifest.json``. Edit targets are frames of their own sequence numbered after the
 regular frames: a sequence of ``F`` frames and ``E`` edit pairs holds frames ``0 .. F-1``
 (the camera drives on) and ``F .. F+E-1`` (edited copies of a source frame, same camera).
+A pair that cannot be drawn is written as an entry without operations; the manifest's ``benchmark_entries``
+counts each kind's entries asked for and made, with why any are missing, and a short kind is warned about on
+stderr (:mod:`sdn3d.data.synth.entry_report`).
 
 The write is all-or-nothing: everything goes to a temporary sibling directory that is renamed
 onto ``output_dir`` at the end (after ``_SUCCESS`` is written in it; :func:`sdn3d.io.staged_directory`).
@@ -68,7 +71,22 @@ from sdn3d.data.synth.counterfactual import (
     turn_overlaps,
     turned,
 )
-from sdn3d.data.synth.edits import sample_edit, sample_occluder_removal
+from sdn3d.data.synth.edits import (
+    MAX_HIDDEN_FRACTION,
+    OccluderCandidates,
+    hidden_min_pixels,
+    occluder_candidates,
+    remove_occluder,
+    sample_edit,
+)
+from sdn3d.data.synth.entry_report import (
+    MANIFEST_KEY,
+    Missing,
+    MissingEntry,
+    counts_json,
+    manifest_counts,
+    shortfall_lines,
+)
 from sdn3d.data.synth.layout import (
     CAMERA_YAW_DEG,
     VARIATIONS,
@@ -157,7 +175,7 @@ class SynthConfig:
         cars_per_frame: ``(min, max)`` cars placed along the 100 m ahead of the camera.
         edit_pairs: edit pairs per sequence (each adds one target frame).
         occluder_pairs: "occluder removed" pairs per sequence (each adds one target frame, after the edit pairs'):
-            a car in front of a partly hidden one deleted (:func:`~sdn3d.data.synth.edits.sample_occluder_removal`).
+            a car in front of a partly hidden one deleted (:func:`~sdn3d.data.synth.edits.occluder_candidates`).
         max_edit_operations: at most this many operations per pair.
         overwrite: replace a non-empty ``output_dir``.
         workers: processes rendering in parallel (1: in this process); the unit of work is a world's
@@ -303,7 +321,8 @@ class SynthConfig:
 
 @dataclass
 class SequenceSummary:
-    """What one sequence wrote: frame and object-row counts and its benchmark entries."""
+    """What one sequence wrote: frame and object-row counts, its benchmark entries and the pairs it asked for
+    and could not make (each written as an entry without operations)."""
 
     world: str
     variation: str
@@ -312,6 +331,7 @@ class SequenceSummary:
     object_rows: int
     entries: list[BenchmarkEntry]
     counterfactual: list[dict] = field(default_factory=list)
+    missing: list[MissingEntry] = field(default_factory=list)
 
 
 @functools.lru_cache(maxsize=4)
@@ -409,10 +429,11 @@ def generate_sequences(root: Path, cfg: SynthConfig, world_name: str, variations
     pairs = _counterfactual_pairs(Path(root), cfg, world, world_name, variations, rendered)
     summaries = []
     for v in variations:
-        entries, edit_frames, edit_rows = _edit_targets(writers[v], cfg, world, world_name, v, rendered, on_frame)
+        entries, edit_frames, edit_rows, missing = _edit_targets(writers[v], cfg, world, world_name, v, rendered,
+                                                                 on_frame)
         writers[v].close()
         summaries.append(SequenceSummary(world_name, v, cfg.frames_per_sequence + cfg.target_frames, edit_frames,
-                                         rows[v] + edit_rows, entries, pairs[v]))
+                                         rows[v] + edit_rows, entries, pairs[v], missing))
     return summaries
 
 
@@ -499,12 +520,15 @@ def _counterfactual_pairs(root: Path, cfg: SynthConfig, world: World, world_name
 
 def _edit_targets(writer: SequenceWriter, cfg: SynthConfig, world: World, world_name: str, variation: str,
                   rendered: list[tuple[FrameObjects, ObjectStats, np.ndarray]],
-                  on_frame: Callable[[], None] | None) -> tuple[list[BenchmarkEntry], list[int], int]:
-    """Draw, render and write a sequence's edit targets (frames ``F .. F+E-1``); returns the benchmark entries,
-    the target frame numbers and their motgt row count. A rejected edit is rendered without its lighting."""
+                  on_frame: Callable[[], None] | None
+                  ) -> tuple[list[BenchmarkEntry], list[int], int, list[MissingEntry]]:
+    """Draw, render and write a sequence's edit targets (frames ``F .. F+E-1``, then the occluder-removed pairs');
+    returns the benchmark entries, the target frame numbers, their motgt row count and the pairs that could not be
+    made (written as entries without operations). A rejected edit is rendered without its lighting."""
     intrinsics = cfg.intrinsics
     first_test = cfg.first_test_frame  # edit sources come from the test part of the sequence
     entries, edit_frames, rows = [], [], 0
+    missing: list[MissingEntry] = []
     for k in range(cfg.edit_pairs):
         rng = rng_for(cfg.seed, world_name, variation, "edit", k)
         source = int(rng.integers(first_test, cfg.frames_per_sequence))
@@ -516,10 +540,16 @@ def _edit_targets(writer: SequenceWriter, cfg: SynthConfig, world: World, world_
             geometry = render_geometry(world, edited, pose, intrinsics)
             # Every modified car must stay visible in the target (motgt lists visible cars only).
             if (geometry.stats.visible[modified] > 0).all():
+                if not operations:
+                    missing.append(MissingEntry("edit", world_name, variation, Missing.NO_EDITABLE_CAR,
+                                                f"no car of source frame {source} can be edited"))
                 break
         else:  # no such edit found: an entry without operations (the target re-renders the source)
             edited, operations = objects, []
             geometry = render_geometry(world, edited, pose, intrinsics)
+            missing.append(MissingEntry("edit", world_name, variation, Missing.EDIT_HIDES_CAR,
+                                        f"each of {_EDIT_ATTEMPTS} edits drawn on source frame {source} hid an "
+                                        "edited car"))
         target = cfg.frames_per_sequence + k
         frame = light_frame(geometry, variation, _frame_seed(cfg, world_name, variation, source))
         rows += _write(writer, target, frame, pose, world, edited)
@@ -527,9 +557,13 @@ def _edit_targets(writer: SequenceWriter, cfg: SynthConfig, world: World, world_
             on_frame()
         edit_frames.append(target)
         entries.append(BenchmarkEntry(world_name, variation, source, target, tuple(operations)))
+    refused: set[tuple[int, tuple[int, int]]] = set()  # (frame, pair) known to reveal too little: not re-rendered
     for k in range(cfg.occluder_pairs):
         target = cfg.frames_per_sequence + cfg.edit_pairs + k
-        source, edited, operations, geometry = _occluder_removal(cfg, world, world_name, variation, rendered, k)
+        source, edited, operations, geometry, why = _occluder_removal(cfg, world, world_name, variation, rendered, k,
+                                                                      refused)
+        if why is not None:
+            missing.append(MissingEntry("occluder_removed", world_name, variation, *why))
         frame = light_frame(geometry, variation, _frame_seed(cfg, world_name, variation, source))
         rows += _write(writer, target, frame, rendered[source][2], world, edited)
         if on_frame is not None:
@@ -537,7 +571,7 @@ def _edit_targets(writer: SequenceWriter, cfg: SynthConfig, world: World, world_
         edit_frames.append(target)
         entries.append(BenchmarkEntry(world_name, variation, source, target, tuple(operations),
                                       "occluder_removed" if operations else "edit"))
-    return entries, edit_frames, rows
+    return entries, edit_frames, rows, missing
 
 
 #: A revealed car must gain at least this share of its source pixels for an occluder-removed pair.
@@ -545,26 +579,63 @@ _REVEAL_GAIN = 0.2
 
 
 def _occluder_removal(cfg: SynthConfig, world: World, world_name: str, variation: str,
-                      rendered: list[tuple[FrameObjects, ObjectStats, np.ndarray]], k: int
-                      ) -> tuple[int, FrameObjects, list, Any]:
-    """``(source frame, edited objects, operations, target geometry)`` of occluder-removed pair ``k``: the test-part
-    frames in a random order, the first whose drawn pair reveals at least :data:`_REVEAL_GAIN` more of the hidden
-    car; none: an entry without operations on a random test frame (its target re-renders the source)."""
+                      rendered: list[tuple[FrameObjects, ObjectStats, np.ndarray]], k: int,
+                      refused: set[tuple[int, tuple[int, int]]]
+                      ) -> tuple[int, FrameObjects, list, Any, tuple[Missing, str] | None]:
+    """``(source frame, edited objects, operations, target geometry, None)`` of occluder-removed pair ``k``: a pair
+    (:func:`~sdn3d.data.synth.edits.occluder_candidates`) of a test-part frame whose deletion reveals at least
+    :data:`_REVEAL_GAIN` more of the hidden car. None such: an entry without operations on a random test frame (its
+    target re-renders the source) and, last, ``(reason, why)``.
+
+    The test frames are visited in a random order, one drawn pair each; only when every drawn pair reveals too
+    little are all the other pairs of every test frame tried, in a random order (so the sequences that found a pair
+    in the first pass keep it, byte for byte). ``refused``: pairs (with their frame) found to reveal too little by
+    an earlier call on this sequence, added to here; they are refused again without a render.
+    """
     intrinsics = cfg.intrinsics
     rng = rng_for(cfg.seed, world_name, variation, "occluder", k)
-    sources = rng.permutation(np.arange(cfg.first_test_frame, cfg.frames_per_sequence))
-    for source in (int(f) for f in sources):
+    sources = [int(f) for f in rng.permutation(np.arange(cfg.first_test_frame, cfg.frames_per_sequence))]
+    tried: set[tuple[int, tuple[int, int]]] = set()
+
+    def reveals(source: int, pair: tuple[int, int]) -> tuple[FrameObjects, list, Any] | None:
+        tried.add((source, pair))
+        if (source, pair) in refused:
+            return None
         objects, stats, pose = rendered[source]
-        picked = sample_occluder_removal(rng, objects, stats, intrinsics)
-        if picked is None:
-            continue
-        edited, operations, hidden, revealed = picked
+        edited, operations, hidden, revealed = remove_occluder(objects, *pair)
         geometry = render_geometry(world, edited, pose, intrinsics)
         if geometry.stats.visible[revealed] >= (1 + _REVEAL_GAIN) * stats.visible[hidden]:
-            return source, edited, operations, geometry
-    source = int(sources[0])
+            return edited, operations, geometry
+        refused.add((source, pair))
+        return None
+
+    candidates: dict[int, OccluderCandidates] = {}
+    for source in sources:
+        candidates[source] = found = occluder_candidates(*rendered[source][:2], intrinsics)
+        if found.pairs:
+            picked = reveals(source, found.pairs[int(rng.integers(len(found.pairs)))])
+            if picked is not None:
+                return source, *picked, None
+    others = [(f, pair) for f in sources for pair in candidates[f].pairs if (f, pair) not in tried]
+    for n in rng.permutation(len(others)):
+        picked = reveals(*others[int(n)])
+        if picked is not None:
+            return others[int(n)][0], *picked, None
+    first, last = cfg.first_test_frame, cfg.frames_per_sequence - 1
+    frames = f"test frames {first}-{last}" if last > first else f"test frame {first}"
+    pairs = sum(len(c.pairs) for c in candidates.values())
+    if pairs:
+        why = (Missing.TOO_LITTLE_REVEALED, f"deleting the occluder of any of the {pairs} candidate pairs of "
+               f"{frames} reveals less than {_REVEAL_GAIN:.0%} more of the hidden car")
+    elif any(c.hidden for c in candidates.values()):
+        why = (Missing.NO_OCCLUDER, f"the partly hidden cars of {frames} have no car in front that a point can "
+               "pick (nearer, its box overlapping, its centre in the frame and 12 px from any other's)")
+    else:
+        why = (Missing.NO_HIDDEN_CAR, f"no partly hidden car in {frames} (at most {MAX_HIDDEN_FRACTION:.0%} "
+               f"visible, >= {hidden_min_pixels(intrinsics)} pixels, truncation <= 0.3, beyond 3 m)")
+    source = sources[0]
     objects, _, pose = rendered[source]
-    return source, objects, [], render_geometry(world, objects, pose, intrinsics)
+    return source, objects, [], render_geometry(world, objects, pose, intrinsics), why
 
 
 def sequence_groups(jobs: Sequence[tuple[str, str]]) -> list[tuple[str, tuple[str, ...]]]:
@@ -722,6 +793,8 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
                 reporter.close()
         entries = [e for s in summaries for e in s.entries]
         save_edit_benchmark(entries, tmp / BENCHMARK_NAME)
+        recorded = cfg.recorded()
+        counts = manifest_counts(entries, [m for s in summaries for m in s.missing], len(summaries), recorded)
         intrinsics = cfg.intrinsics
         extra = {}
         if cfg.counterfactual_cars:
@@ -739,12 +812,13 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
             tmp / MANIFEST_NAME,
             {
                 "format": "Virtual KITTI 1.3.1 (synthetic, sdn3d)",
-                "config": cfg.recorded(),
+                "config": recorded,
                 **extra,
                 "intrinsics": intrinsics.to_dict(),
                 "intrinsics_note": ("VKITTI_INTRINSICS (1242x375, fx=fy=725, cx=620.5, cy=187) resized to image_size"),
                 "benchmark": BENCHMARK_NAME,
                 "benchmark_coordinates": "pixels of the 1242x375 frame",
+                MANIFEST_KEY: counts_json(counts),
                 "sequences": [
                     {
                         "world": s.world,
@@ -760,4 +834,6 @@ def generate_dataset(cfg: SynthConfig, sequences: Sequence[tuple[str, str]] | No
         write_class_statistics(tmp)  # class_stats.STATISTICS_NAME, read from the written scenegt files
         _flush_to_disk(tmp)  # the sequences' files were written without fsync (writer.write_staged)
         write_text_atomic(tmp / "_SUCCESS", "")
+    for line in shortfall_lines(counts, "sdn3d-synth"):  # a kind short of entries is scored on fewer, or none
+        print(line, file=sys.stderr)
     return out

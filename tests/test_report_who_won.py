@@ -51,6 +51,48 @@ def test_entries_without_both_methods_are_left_out_of_the_pairing():
     assert comp[("l1", "all")].verdict == "better"  # 0.1 against 0.2, lower is better
 
 
+
+def test_one_edit_twice_is_one_piece_of_evidence():
+    """The generator can draw one occluder pair for two slots: those entries are resampled together, so the
+    interval is as wide as the distinct edits allow and the verdict counts distinct edits."""
+    rng = np.random.default_rng(1)
+    distinct = rng.normal(0.3, 1.0, size=12)
+    ours, theirs = np.repeat(distinct, 3), np.zeros(36)  # every edit three times
+    groups = np.repeat(np.arange(12), 3).tolist()
+    naive = paired_difference(ours, theirs, higher_is_better=True)
+    grouped = paired_difference(ours, theirs, higher_is_better=True, groups=groups)
+    alone = paired_difference(distinct, np.zeros(12), higher_is_better=True)
+    assert grouped.n == 36 and grouped.groups == 12 and math.isclose(grouped.mean, naive.mean)
+    assert grouped.high - grouped.low > 1.4 * (naive.high - naive.low)  # sqrt(3) wider, about
+    assert math.isclose(grouped.high - grouped.low, alone.high - alone.low, rel_tol=0.25)
+    few = paired_difference(np.repeat(distinct[:4], 3), np.zeros(12), True, groups=np.repeat(np.arange(4), 3).tolist())
+    assert few.verdict == "too few entries"  # 12 entries, 4 edits
+    # every label distinct: the ungrouped result, draw for draw
+    same = paired_difference(distinct, np.zeros(12), True, groups=list("abcdefghijkl"))
+    assert (same.low, same.high, same.groups) == (alone.low, alone.high, 12)
+    with pytest.raises(ValueError, match="one label per entry"):
+        paired_difference([1.0, 2.0], [1.0, 1.0], True, groups=["a"])
+
+
+def test_the_bench_groups_entries_that_are_the_same_edit():
+    from sdn3d.cli.bench import same_edit_groups
+    from sdn3d.data.edit_benchmark import BenchmarkEntry, BenchmarkOperation
+
+    delete = BenchmarkOperation.delete((100.0, 50.0))
+    other = BenchmarkOperation.delete((200.0, 60.0))
+    benchmark = [BenchmarkEntry("0001", "clone", 33, 40, (delete,), "occluder_removed"),
+                 BenchmarkEntry("0001", "clone", 33, 41, (delete,), "occluder_removed"),  # the same edit again
+                 BenchmarkEntry("0001", "clone", 33, 42, (other,), "occluder_removed"),
+                 BenchmarkEntry("0001", "rain", 33, 43, (delete,), "occluder_removed")]
+    groups = same_edit_groups(benchmark)
+    assert groups[0] == groups[1] and len({groups[0], groups[2], groups[3]}) == 3
+    entries = [_entry(i, 15.0 + i, 14.0) for i in range(4)]
+    info = {"compose": ["photo"], "sources": ["gt"]}
+    summaries = {"gt": _summary({"3d-sdn": [15.0, 16.0, 17.0, 18.0], "2d": [14.0] * 4})}
+    grouped = paired_comparisons({"gt": entries}, summaries, info, groups=groups)["gt"]["psnr/all"]
+    plain = paired_comparisons({"gt": entries}, summaries, info)["gt"]["psnr/all"]
+    assert (grouped["n"], grouped["groups"], plain["groups"]) == (4, 3, None)
+
 def _summary(values: dict[str, list[float]]) -> dict:
     stat = {m: {"all": {"psnr": {"mean": float(np.mean(v)), "n": len(v)}}} for m, v in values.items()}
     return {"evaluated": len(next(iter(values.values()))), "methods": {"photo": stat}}

@@ -1635,9 +1635,10 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
         return None
 
     def others_of(b: int) -> Callable[[int], _PartExamples]:
-        """:func:`_part_colors`' ``others``: the examples of a part on the car nearest in depth to row ``b``'s that
-        shows at least 8 of them, both cars seen through clear air (:func:`_clear_air`); none otherwise (in fog each
-        car has its own air: a near car's tyres are dark where a far one's are grey)."""
+        """:func:`_part_colors`' ``others``: the examples of a part another car may lend (:func:`_lendable`) on the
+        car nearest in depth to row ``b``'s that shows at least 8 of them, both cars seen through clear air
+        (:func:`_clear_air`); none otherwise (in fog each car has its own air: a near car's tyres are dark where a far
+        one's are grey)."""
         def pool(part: int) -> _PartExamples:
             if b not in shown_cars or not clear_air(b):
                 return _no_examples()
@@ -1647,7 +1648,7 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
             for bb in by_depth:
                 if not clear_air(bb):
                     continue
-                found = _examples_of_part(examples_of(bb)[0], part)
+                found = _lendable(examples_of(bb)[0], part)
                 if len(found.part) >= 8:
                     return found
             return _no_examples()
@@ -2075,6 +2076,17 @@ SAME_PANEL_DEG = 30.0
 SHARED_PARTS = (int(Part.TYRE),)
 
 
+def _lendable(examples: _PartExamples, part: int) -> _PartExamples:
+    """The examples of ``part`` among one car's ``examples`` that another car of the photo may draw the same part
+    from (:func:`_part_colors`' ``others``): a lamp's are the pixels told as that lamp where cars have it
+    (:data:`REACH_LAMPS`: lamp-coloured, on a paint that is not; a template's lamp faces lie lower on the end cap, on
+    bumper and paint), any other part's all of them."""
+    keep = examples.part == part
+    if part in OTHER_END:
+        keep &= examples.reach == REACH_LAMPS
+    return _PartExamples(*(field[keep] for field in examples))
+
+
 def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
                  before: ObjectTable, body: Tensor | None, others: Callable[[int], _PartExamples] | None = None,
                  max_examples: int = 1500, k: int = 4) -> tuple[Tensor, Tensor, Tensor]:
@@ -2168,12 +2180,15 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             if int((own.part == lamp_part).sum()) >= 2 * k or not any_set(here):
                 continue  # that end was seen: its lamps are the photo's
             q = here.nonzero().flatten()
-            lit = _other_end_lamps(own, own_band, lamps, lamps_band, lamp_part, k)
-            if lit is not None:  # the other end's lamps as the photo shows them, in this end's hue
+            lit, code = _other_end_lamps(own, own_band, lamps, lamps_band, lamp_part, k), PART
+            if lit is None and others is not None and LAMPS_FROM_ANOTHER_CAR:  # this lamp as another car shows it
+                pool = others(lamp_part)
+                lit, code = (pool.color, pool.feature, pool.cos) if len(pool.part) >= k else None, ANOTHER_CAR
+            if lit is not None:  # the lamps as the photo shows them, in this end's hue, unshaded (they glow)
                 source, feature, cos = lit
                 near = _nearest_examples(q_feat[q], feature, k)
                 albedo[q] = source[near].mean(1)
-                codes[q] = PART
+                codes[q] = code
                 seen_at[q] = grazing(cos[near]).mean(1)
                 continue
             lamp = torch.tensor(LAMP_DEFAULTS[lamp_part], dtype=albedo.dtype).expand(len(q), 3)
@@ -2189,6 +2204,13 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
 #: is not told by a white head lamp (drawn from it, the tuning trees' tail lamps came out too deep a red, and in fog
 #: without the air's haze: docs/results/2026-11-30_cpu/session23/front/).
 LAMPS_FROM_OTHER_END = (int(Part.FRONT_LIGHTS),)
+#: :func:`_part_colors`: an end's lamps the photo never showed, not drawn from the car's other end
+#: (:func:`_other_end_lamps`: tail lamps, or head lamps where the tail lamps were not seen or not told from the
+#: paint), are drawn from the same lamps of the car nearest in depth that shows them, both seen through clear air
+#: (``others``, :func:`_lendable`), code :data:`ANOTHER_CAR`, unshaded: lit lamps look alike from car to car, and the
+#: default red shaded as paint drew the tail lamps of cars seen from the front too deep a red (MSE 0.02-0.07 against
+#: the tuning trees' targets; docs/results/2026-11-30_cpu/session24/turn41/). False: :data:`LAMP_DEFAULTS` there.
+LAMPS_FROM_ANOTHER_CAR = True
 
 
 def _other_end_lamps(own: _PartExamples, own_band: Tensor, lamps: _PartExamples, lamps_band: Tensor, part: int,

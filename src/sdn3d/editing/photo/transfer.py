@@ -1638,17 +1638,19 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
         """:func:`_part_colors`' ``others``: the examples of a part another car may lend (:func:`_lendable`) on the
         car nearest in depth to row ``b``'s that shows at least 8 of them, both cars seen through clear air
         (:func:`_clear_air`); none otherwise (in fog each car has its own air: a near car's tyres are dark where a far
-        one's are grey)."""
+        one's are grey). A lamp is lent from a car in any air, its colours as in clear air (:func:`_lendable`)."""
         def pool(part: int) -> _PartExamples:
-            if b not in shown_cars or not clear_air(b):
+            lamp = part in OTHER_END  # a lamp is lent in clear air, from a car in any (_lendable)
+            if b not in shown_cars or not (lamp or clear_air(b)):
                 return _no_examples()
             depth = before.center[:, 2].double().clamp(min=0.1)
             # nearest first (a stable sort: ties keep table order), each car's examples made only when reached
             by_depth = sorted((bb for bb in shown_cars if bb != b), key=lambda bb: abs(math.log(depth[bb] / depth[b])))
             for bb in by_depth:
-                if not clear_air(bb):
+                if not (lamp or clear_air(bb)):
                     continue
-                found = _lendable(examples_of(bb)[0], part)
+                examples, seen_colors = examples_of(bb)
+                found = _lendable(examples, part, _lamp_air(seen_colors) if lamp else None)
                 if len(found.part) >= 8:
                     return found
             return _no_examples()
@@ -1884,11 +1886,47 @@ def seen_through_the_air(defaults: Tensor, colors: Tensor, min_pixels: int | Non
     """
     if len(colors) < (AIR_MIN_PIXELS if min_pixels is None else min_pixels):
         return defaults
+    t, offset = _air_terms(colors)
+    return (t * defaults + offset[None]).clamp(0, 1)
+
+
+def _air_terms(colors: Tensor) -> tuple[float, Tensor]:
+    """``(t, offset (3,))`` of the air a car whose visible pixels are ``colors (Q, 3)`` is seen through, as
+    :func:`seen_through_the_air` reads it: ``observed = t clear + offset``."""
     luma = luminance(colors)
     lo, hi = torch.quantile(luma, torch.tensor([0.05, 0.95], dtype=colors.dtype))
     t = float(((hi - lo) / (CLEAR_RANGE[1] - CLEAR_RANGE[0])).clamp(0.05, 1.0))
     dark = torch.quantile(colors, 0.05, dim=0)  # per channel: the air's colour shows in the darks
-    return (t * defaults + (dark - t * CLEAR_RANGE[0])[None]).clamp(0, 1)
+    return t, dark - t * CLEAR_RANGE[0]
+
+
+#: The air a car is seen through where it is not clear (:func:`_lamp_air`): ``(t, offset (3,))``, ``observed = t
+#: clear + offset``; None: clear air (or too few pixels to tell), colours are read as they are.
+LampAir = tuple[float, Tensor] | None
+
+
+def _lamp_air(colors: Tensor) -> LampAir:
+    """The air a car whose visible pixels are ``colors (Q, 3)`` is seen through, for reading its lamps' colours
+    (:func:`_lamp_coloured`, :func:`_lendable`): None in clear air (:func:`_clear_air`) or with fewer than
+    :data:`AIR_MIN_PIXELS` pixels, else :func:`_air_terms` (fog lifts a red lamp to a pink that no red test
+    passes: a fogged car's lamps were never told, so never drawn from)."""
+    if len(colors) < AIR_MIN_PIXELS or _clear_air(colors):
+        return None
+    return _air_terms(colors)
+
+
+def _out_of_air(colors: Tensor, air: LampAir) -> Tensor:
+    """``colors (E, 3)`` seen through ``air`` as they would be in clear air (:func:`_lamp_air`'s inverse)."""
+    if air is None:
+        return colors
+    return ((colors - air[1][None]) / air[0]).clamp(0, 1)
+
+
+def _into_air(colors: Tensor, air: LampAir) -> Tensor:
+    """``colors (E, 3)`` in clear air as ``air`` shows them (:func:`_out_of_air`'s inverse)."""
+    if air is None:
+        return colors
+    return (air[0] * colors + air[1][None]).clamp(0, 1)
 
 
 class _PartExamples(NamedTuple):
@@ -2001,13 +2039,14 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
                 reach[body_ex[side_paint & ~paint]] = REACH_SIDES
         keep[body_ex[~(paint | side_paint)]] = False
         corners = _lamp_band(before, b, feature[body_ex]) if LAMP_BAND is not None else None
+        air = _lamp_air(seen_colors)
         if corners is not None and any_set(paint):  # lamps where cars have them that the template calls body
             # the paint of its ends and that of its sides (they differ where the road told the ends' paint)
             paints = torch.stack([colors[body_ex[p]].median(0).values for p in (paint, side_paint) if any_set(p)])
             for lamp_part in OTHER_END:
-                if bool(_lamp_coloured(paints, lamp_part).any()):
+                if bool(_lamp_coloured(paints, lamp_part, air).any()):
                     continue  # a red car's tail lamps are not told from its paint
-                lit = body_ex[(corners == lamp_part) & _lamp_coloured(colors[body_ex], lamp_part)]
+                lit = body_ex[(corners == lamp_part) & _lamp_coloured(colors[body_ex], lamp_part, air)]
                 lamp_ex = torch.cat([lamp_ex, lit])
                 lamp_part_of = torch.cat([lamp_part_of, torch.full_like(lit, lamp_part)])
         glass_ex = (ex_part == int(Part.GLASS)).nonzero().flatten()
@@ -2076,15 +2115,17 @@ SAME_PANEL_DEG = 30.0
 SHARED_PARTS = (int(Part.TYRE),)
 
 
-def _lendable(examples: _PartExamples, part: int) -> _PartExamples:
+def _lendable(examples: _PartExamples, part: int, air: LampAir = None) -> _PartExamples:
     """The examples of ``part`` among one car's ``examples`` that another car of the photo may draw the same part
     from (:func:`_part_colors`' ``others``): a lamp's are the pixels told as that lamp where cars have it
     (:data:`REACH_LAMPS`: lamp-coloured, on a paint that is not; a template's lamp faces lie lower on the end cap, on
-    bumper and paint), any other part's all of them."""
+    bumper and paint), their colours as in clear air (the car is seen through ``air``, :func:`_lamp_air`; the
+    borrower's air is put back, :func:`_into_air`); any other part's all of them, as they are."""
     keep = examples.part == part
     if part in OTHER_END:
         keep &= examples.reach == REACH_LAMPS
-    return _PartExamples(*(field[keep] for field in examples))
+    found = _PartExamples(*(field[keep] for field in examples))
+    return found._replace(color=_out_of_air(found.color, air)) if part in OTHER_END else found
 
 
 def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
@@ -2127,6 +2168,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     if any_set(default) and len(seen_colors):
         albedo[default] = seen_through_the_air(albedo[default], seen_colors)
     q_feat = _part_features(before, b, points, normals)
+    air = _lamp_air(seen_colors)
     at_ends = own.reach != REACH_SIDES  # the examples a car's ends are drawn from (the lamps lie at the ends)
     paint = own.color[(own.part == int(Part.BODY)) & at_ends]
     end = q_feat[:, 0].abs() > PART_LENGTH_WEIGHT * LAMP_END
@@ -2148,7 +2190,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
         if len(have) < 2 * k and part in OTHER_END:  # a lamp never seen: the other end's lamps and paint
             have = (torch.isin(own.part, torch.tensor([OTHER_END[part], int(Part.BODY)])) & usable).nonzero().flatten()
             if LAMP_HUES:
-                source = _lamps_of_this_end(own.color, part, paint)
+                source = _lamps_of_this_end(own.color, part, paint, air)
         if len(have) < 2 * k and part in SHARED_PARTS and others is not None:  # never seen: another car's
             pool = others(part)
             have = torch.arange(len(pool.part))
@@ -2180,10 +2222,11 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             if int((own.part == lamp_part).sum()) >= 2 * k or not any_set(here):
                 continue  # that end was seen: its lamps are the photo's
             q = here.nonzero().flatten()
-            lit, code = _other_end_lamps(own, own_band, lamps, lamps_band, lamp_part, k), PART
+            lit, code = _other_end_lamps(own, own_band, lamps, lamps_band, lamp_part, k, air), PART
             if lit is None and others is not None and LAMPS_FROM_ANOTHER_CAR:  # this lamp as another car shows it
-                pool = others(lamp_part)
-                lit, code = (pool.color, pool.feature, pool.cos) if len(pool.part) >= k else None, ANOTHER_CAR
+                pool = others(lamp_part)  # in clear air (_lendable): through this car's
+                lit = (_into_air(pool.color, air), pool.feature, pool.cos) if len(pool.part) >= k else None
+                code = ANOTHER_CAR
             if lit is not None:  # the lamps as the photo shows them, in this end's hue, unshaded (they glow)
                 source, feature, cos = lit
                 near = _nearest_examples(q_feat[q], feature, k)
@@ -2214,7 +2257,7 @@ LAMPS_FROM_ANOTHER_CAR = True
 
 
 def _other_end_lamps(own: _PartExamples, own_band: Tensor, lamps: _PartExamples, lamps_band: Tensor, part: int,
-                     k: int) -> tuple[Tensor, Tensor, Tensor] | None:
+                     k: int, air: LampAir = None) -> tuple[Tensor, Tensor, Tensor] | None:
     """``(colours (E, 3), features (E, 6), view cosines (E,))`` to draw the never-seen lamps ``part`` of a car from:
     its examples ``own`` (:data:`REACH_LAMPS` ones left out) in the other end's lamp band (``own_band (E_o,)``,
     :func:`_lamp_band` of their features), what lies between the lamps, and its lamp examples ``lamps`` there
@@ -2231,14 +2274,14 @@ def _other_end_lamps(own: _PartExamples, own_band: Tensor, lamps: _PartExamples,
     have = ((own_band == other) & ~torch.isin(own.part, torch.tensor(LAMPLESS_PARTS))).nonzero().flatten()
     lit = (lamps_band == other).nonzero().flatten()
     colours = torch.cat([own.color[have], lamps.color[lit]])
-    if len(colours) < 2 * k or int(_lamp_coloured(colours, other).sum()) < k:
+    if len(colours) < 2 * k or int(_lamp_coloured(colours, other, air).sum()) < k:
         return None
     body = own.part == int(Part.BODY)
     for reach in (REACH_SIDES, REACH_ENDS):  # the ends' paint (all but the sides'), then the sides'
         paint = own.color[body & (own.reach != reach)]
-        if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other)[0]):
+        if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other, air)[0]):
             return None
-    return (_lamps_of_this_end(colours, part, own.color[body & (own.reach != REACH_SIDES)]),
+    return (_lamps_of_this_end(colours, part, own.color[body & (own.reach != REACH_SIDES)], air),
             torch.cat([own.feature[have], lamps.feature[lit]]), torch.cat([own.cos[have], lamps.cos[lit]]))
 
 
@@ -2330,24 +2373,29 @@ LAMP_DEFAULTS = {int(Part.FRONT_LIGHTS): (1.0, 1.0, 0.95), int(Part.TAIL_LIGHTS)
 LAMPLESS_PARTS = (int(Part.GLASS), int(Part.TYRE), int(Part.PLATE))
 
 
-def _lamp_coloured(colors: Tensor, part: int) -> Tensor:
-    """``(E,)`` bool: which ``colors (E, 3)`` sRGB look like lamp ``part``'s light: saturated red for tail lamps
-    (as :func:`~sdn3d.geometric.lamps.red_lamps` reads them), near-white for head lamps."""
+def _lamp_coloured(colors: Tensor, part: int, air: LampAir = None) -> Tensor:
+    """``(E,)`` bool: which ``colors (E, 3)`` sRGB look like lamp ``part``'s light, as they are or, seen through
+    ``air`` (:func:`_lamp_air`; None: clear air, as they are alone), as they would be in clear air (a car whose
+    darkest pixels are its paint, with no dark glass or tyres shown, reads as fogged: its red paint taken out of that
+    air is no red, yet it is): saturated red for tail lamps (as :func:`~sdn3d.geometric.lamps.red_lamps` reads
+    them), near-white for head lamps."""
+    if air is not None:
+        return _lamp_coloured(colors, part) | _lamp_coloured(_out_of_air(colors, air), part)
     r, g, b = colors.unbind(-1)
     if part == int(Part.TAIL_LIGHTS):
         return (r > 0.25) & (r > 2 * g) & (r > 2 * b)
     return (colors.amin(-1) > 0.55) & (colors.amax(-1) - colors.amin(-1) < 0.15)
 
 
-def _lamps_of_this_end(colors: Tensor, part: int, paint: Tensor) -> Tensor:
+def _lamps_of_this_end(colors: Tensor, part: int, paint: Tensor, air: LampAir = None) -> Tensor:
     """``(E, 3)`` ``colors`` of the other end's examples for drawing lamp ``part``: the pixels in the other end's
     lamp colour (:func:`_lamp_coloured`) take ``part``'s own hue (its :data:`PART_DEFAULTS` colour scaled to their
     brightest channel: a red tail lamp becomes a white head lamp as bright); unchanged where the car's ``paint
     (Q, 3)`` (its median) is itself of that colour (a red car's tail lamps are not told from its paint)."""
     other = OTHER_END[part]
-    if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other)[0]):
+    if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other, air)[0]):
         return colors
-    lamp = _lamp_coloured(colors, other)
+    lamp = _lamp_coloured(colors, other, air)
     if not any_set(lamp):
         return colors
     hue = torch.tensor(PART_DEFAULTS[part], dtype=colors.dtype)

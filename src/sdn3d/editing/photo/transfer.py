@@ -1638,19 +1638,18 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
         """:func:`_part_colors`' ``others``: the examples of a part another car may lend (:func:`_lendable`) on the
         car nearest in depth to row ``b``'s that shows at least 8 of them, both cars seen through clear air
         (:func:`_clear_air`); none otherwise (in fog each car has its own air: a near car's tyres are dark where a far
-        one's are grey). A lamp is lent from a car in any air, its colours as in clear air (:func:`_lendable`)."""
+        one's are grey; a lamp lent through two cars' air estimates came out too light on a fogged bus's never-seen
+        tail lamps, docs/results/2026-11-30_cpu/session24/turn41/)."""
         def pool(part: int) -> _PartExamples:
-            lamp = part in OTHER_END  # a lamp is lent in clear air, from a car in any (_lendable)
-            if b not in shown_cars or not (lamp or clear_air(b)):
+            if b not in shown_cars or not clear_air(b):
                 return _no_examples()
             depth = before.center[:, 2].double().clamp(min=0.1)
             # nearest first (a stable sort: ties keep table order), each car's examples made only when reached
             by_depth = sorted((bb for bb in shown_cars if bb != b), key=lambda bb: abs(math.log(depth[bb] / depth[b])))
             for bb in by_depth:
-                if not (lamp or clear_air(bb)):
+                if not clear_air(bb):
                     continue
-                examples, seen_colors = examples_of(bb)
-                found = _lendable(examples, part, _lamp_air(seen_colors) if lamp else None)
+                found = _lendable(examples_of(bb)[0], part)
                 if len(found.part) >= 8:
                     return found
             return _no_examples()
@@ -1907,26 +1906,19 @@ LampAir = tuple[float, Tensor] | None
 
 def _lamp_air(colors: Tensor) -> LampAir:
     """The air a car whose visible pixels are ``colors (Q, 3)`` is seen through, for reading its lamps' colours
-    (:func:`_lamp_coloured`, :func:`_lendable`): None in clear air (:func:`_clear_air`) or with fewer than
-    :data:`AIR_MIN_PIXELS` pixels, else :func:`_air_terms` (fog lifts a red lamp to a pink that no red test
-    passes: a fogged car's lamps were never told, so never drawn from)."""
+    (:func:`_lamp_coloured`): None in clear air (:func:`_clear_air`) or with fewer than :data:`AIR_MIN_PIXELS`
+    pixels, else :func:`_air_terms` (fog lifts a red lamp to a pink that no red test passes: a fogged car's tail
+    lamps were never told, so its never-seen front kept the default white shaded as paint)."""
     if len(colors) < AIR_MIN_PIXELS or _clear_air(colors):
         return None
     return _air_terms(colors)
 
 
 def _out_of_air(colors: Tensor, air: LampAir) -> Tensor:
-    """``colors (E, 3)`` seen through ``air`` as they would be in clear air (:func:`_lamp_air`'s inverse)."""
+    """``colors (E, 3)`` seen through ``air`` (:func:`_lamp_air`) as they would be in clear air."""
     if air is None:
         return colors
     return ((colors - air[1][None]) / air[0]).clamp(0, 1)
-
-
-def _into_air(colors: Tensor, air: LampAir) -> Tensor:
-    """``colors (E, 3)`` in clear air as ``air`` shows them (:func:`_out_of_air`'s inverse)."""
-    if air is None:
-        return colors
-    return (air[0] * colors + air[1][None]).clamp(0, 1)
 
 
 class _PartExamples(NamedTuple):
@@ -2115,17 +2107,15 @@ SAME_PANEL_DEG = 30.0
 SHARED_PARTS = (int(Part.TYRE),)
 
 
-def _lendable(examples: _PartExamples, part: int, air: LampAir = None) -> _PartExamples:
+def _lendable(examples: _PartExamples, part: int) -> _PartExamples:
     """The examples of ``part`` among one car's ``examples`` that another car of the photo may draw the same part
     from (:func:`_part_colors`' ``others``): a lamp's are the pixels told as that lamp where cars have it
     (:data:`REACH_LAMPS`: lamp-coloured, on a paint that is not; a template's lamp faces lie lower on the end cap, on
-    bumper and paint), their colours as in clear air (the car is seen through ``air``, :func:`_lamp_air`; the
-    borrower's air is put back, :func:`_into_air`); any other part's all of them, as they are."""
+    bumper and paint), any other part's all of them."""
     keep = examples.part == part
     if part in OTHER_END:
         keep &= examples.reach == REACH_LAMPS
-    found = _PartExamples(*(field[keep] for field in examples))
-    return found._replace(color=_out_of_air(found.color, air)) if part in OTHER_END else found
+    return _PartExamples(*(field[keep] for field in examples))
 
 
 def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
@@ -2224,9 +2214,8 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             q = here.nonzero().flatten()
             lit, code = _other_end_lamps(own, own_band, lamps, lamps_band, lamp_part, k, air), PART
             if lit is None and others is not None and LAMPS_FROM_ANOTHER_CAR:  # this lamp as another car shows it
-                pool = others(lamp_part)  # in clear air (_lendable): through this car's
-                lit = (_into_air(pool.color, air), pool.feature, pool.cos) if len(pool.part) >= k else None
-                code = ANOTHER_CAR
+                pool = others(lamp_part)
+                lit, code = (pool.color, pool.feature, pool.cos) if len(pool.part) >= k else None, ANOTHER_CAR
             if lit is not None:  # the lamps as the photo shows them, in this end's hue, unshaded (they glow)
                 source, feature, cos = lit
                 near = _nearest_examples(q_feat[q], feature, k)

@@ -358,6 +358,28 @@ def test_a_never_seen_ends_lamps_are_as_bright_as_the_other_ends_lamps():
     assert float(lamps.median(1).values.max()) < 0.6  # as bright as the tail lamps, not 1.0
 
 
+def test_a_fogged_cars_never_seen_front_takes_its_tail_lamps_as_the_fog_shows_them():
+    """The grey car seen from behind with dim red tail lamps where cars have them, dark windows, seen through fog
+    (``0.3 colour + 0.7 x 0.75``: the red lamp shows pink, (0.675, 0.54, 0.54), which no red test passes as it is):
+    turned by 180 degrees, its never-seen front's lamps are drawn from the tail lamps taken out of the fog (code
+    ``part``), a white as bright as the fogged lamp (about 0.675), not the default white seen through the fog and
+    shaded as paint (code ``default``)."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.35, 0.35, 0.35))
+    image[:, covered & (parts == int(Part.GLASS))] = 0.05
+    tail = _lamp_pixels(scene, Part.TAIL_LIGHTS) & covered & (parts == int(Part.BODY))
+    assert int(tail.sum()) > 20
+    image[:, tail] = torch.tensor([0.5, 0.05, 0.05])[:, None]
+    fog = 0.3 * image + 0.7 * 0.75
+    edited = apply_edits(scene, [Rotate(12001, math.pi)])
+    result = render_photo(fog, FRAME, scene, edited, settings=PARTS)
+    front = _lamp_pixels(edited, Part.FRONT_LIGHTS) & (result.parts == int(Part.BODY))
+    assert int(front.sum()) > 20
+    assert bool((result.source[front] == PART).all())
+    lamps = result.image[:, front].median(1).values
+    assert abs(float(lamps.max()) - 0.675) < 0.03 and float(lamps.min()) > 0.6, lamps  # the head lamps' white
+
+
 def test_a_never_seen_ends_tail_lamps_are_another_cars_tail_lamps_as_the_photo_shows_them(monkeypatch):
     """A grey car seen from the front, turned by 180 degrees, shows the tail lamps it never showed; another car of
     the photo, seen from behind through the same clear air, shows its tail lamps where cars have them, lit a pink

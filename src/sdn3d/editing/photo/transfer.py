@@ -2103,7 +2103,8 @@ PART_EXAMPLES_K = {int(Part.GLASS): 16}
 SAME_PANEL_DEG = 30.0
 #: Parts a car that never showed them takes from another car of the photo (:func:`_part_colors`): tyres and rims
 #: look alike from car to car, and a car seen from behind shows none. The body, glass, lamps and plate are the
-#: car's own (paint and tint differ; a lamp comes from the car's other end).
+#: car's own (paint and tint differ; a lamp comes from the car's other end; the lamps where cars have them may come
+#: from another car's, :data:`LAMPS_FROM_ANOTHER_CAR`).
 SHARED_PARTS = (int(Part.TYRE),)
 
 
@@ -2144,7 +2145,10 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     (:func:`_lamp_band`; not glass, tyres or plates) are lamps in :data:`LAMP_DEFAULTS` seen through the car's air,
     code :data:`DEFAULT`, unless they are head lamps and the photo showed the tail lamps (:func:`_other_end_lamps`):
     then the tail lamps and what lies between them, nearest first, the lamps in white as bright as they were, code
-    :data:`PART`, unshaded (a lamp's brightness is its own, not the paint's shading)."""
+    :data:`PART`, unshaded (a lamp's brightness is its own, not the paint's shading); else, with
+    :data:`LAMPS_FROM_ANOTHER_CAR`, the same lamps of another car (``others(part)``, :func:`_lendable`: the pixels
+    told as that lamp), nearest first, code :data:`ANOTHER_CAR`, unshaded. A lamp colour is read with the car's air
+    taken out (:func:`_lamp_air`)."""
     lamp = own.reach == REACH_LAMPS  # read only by the never-seen lamps' rule, below
     own, lamps = _PartExamples(*(f[~lamp] for f in own)), _PartExamples(*(f[lamp] for f in own))
     albedo = torch.tensor(PART_DEFAULTS, dtype=torch.float64)[parts.clamp(min=0)]

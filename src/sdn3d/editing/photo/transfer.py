@@ -183,6 +183,7 @@ class PhotoSource:
         self._visible_of: Callable[[int], Tensor] | None = None
         self._examples: dict[int, tuple[_PartExamples, Tensor]] = {}
         self._air: dict[int, bool] = {}
+        self._lamp_air: dict[int, LampAir] = {}
 
     @staticmethod
     def _bind_key(original: Tensor, scene: SceneCode, frame: PixelFrame, settings: PhotoSettings) -> tuple:
@@ -286,7 +287,8 @@ class PhotoSource:
                 car[visible] = True
                 road = ground_in_mask(self.image, car.view(height, width)).view(-1)
             self._examples[row] = _part_examples(row, int(self.row_to_mesh[row]), visible, self.scene.objects,
-                                                 self.raster, self.parts, self.flat_image(), road, self.settings)
+                                                 self.raster, self.parts, self.flat_image(), road, self.settings,
+                                                 self.lamp_air(row))
         return self._examples[row]
 
     def clear_air(self, row: int) -> bool:
@@ -294,10 +296,21 @@ class PhotoSource:
         colours, those :meth:`part_examples` returns: its darks near black); made on first use, without its examples
         (a car passed over for another car's wheel or tyres is not looked at further)."""
         if row not in self._air:
-            colors = (self._examples[row][1] if row in self._examples
-                      else self.flat_image()[self.visible_pixels(int(self.scene.objects.instance_id[row]))].double())
-            self._air[row] = _clear_air(colors)
+            self._air[row] = _clear_air(self._visible_colors(row))
         return self._air[row]
+
+    def lamp_air(self, row: int) -> LampAir:
+        """The air the scene's object ``row`` is seen through, for reading its lamps' colours (:func:`_lamp_air` of
+        the colours :meth:`clear_air` reads); made on first use."""
+        if row not in self._lamp_air:
+            self._lamp_air[row] = _lamp_air(self._visible_colors(row), self.clear_air(row))
+        return self._lamp_air[row]
+
+    def _visible_colors(self, row: int) -> Tensor:
+        """``(Q, 3)`` float64 all the visible colours of the scene's object ``row`` (those :meth:`part_examples`
+        returns, taken from them once they are made)."""
+        return (self._examples[row][1] if row in self._examples
+                else self.flat_image()[self.visible_pixels(int(self.scene.objects.instance_id[row]))].double())
 
     def fill(self, key: tuple, make) -> Tensor:
         """A copy of the removal of ``key`` (the objects that left and stayed: :func:`render_photo`'s filled picture,
@@ -1295,7 +1308,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                                      moved, src_row_to_mesh, src_ids, vis_ids, K, settings, shade, src_normals,
                                      warnings, bank, photo_source.parts, parts_out, background, photo_source.pyramid,
                                      photo_source.registered_parts(drawn_ids), photo_source.visible_pixels,
-                                     photo_source.part_examples, photo_source.clear_air, recolor_parts,
+                                     photo_source.part_examples, photo_source.clear_air, photo_source.lamp_air,
+                                     recolor_parts,
                                      photo_source.registered_wheels(drawn_ids), photo_source.real_wheels,
                                      predicted_masks(scene.meta, after.instance_id))
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
@@ -1481,7 +1495,8 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
           background: Tensor, pyramid_of: Callable[[int], list[Tensor]], registered: Tensor,
           visible_of: Callable[[int], Tensor], examples_of: Callable[[int], tuple[_PartExamples, Tensor]],
-          clear_air: Callable[[int], bool], face_parts_out: Tensor | None = None, wheels: Tensor | None = None,
+          clear_air: Callable[[int], bool], lamp_air: Callable[[int], LampAir],
+          face_parts_out: Tensor | None = None, wheels: Tensor | None = None,
           real_wheels: Callable[[int], Tensor | None] | None = None,
           predicted: Tensor | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
@@ -1495,9 +1510,10 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
     which a tyre point read there is drawn from (:func:`_on_real_wheel`); ``real_wheels(instance id)`` (None: none):
     a car's real wheels where the input shows them (:meth:`PhotoSource.real_wheels`), which a wheel face the input
     never showed is drawn from (:func:`_from_real_wheels`). ``visible_of(instance id)``, ``examples_of(row of
-    before)`` and ``clear_air(row of before)``: a car's eroded mask pixels, its part examples with all its visible
-    colours, and whether it is seen through clear air (:meth:`PhotoSource.visible_pixels`,
-    :meth:`PhotoSource.part_examples`, :meth:`PhotoSource.clear_air`: made once per source). ``parts_out`` gets the
+    before)``, ``clear_air(row of before)`` and ``lamp_air(row of before)``: a car's eroded mask pixels, its part
+    examples with all its visible colours, whether it is seen through clear air and the air its lamps are read
+    through (:meth:`PhotoSource.visible_pixels`, :meth:`PhotoSource.part_examples`, :meth:`PhotoSource.clear_air`,
+    :meth:`PhotoSource.lamp_air`: made once per source). ``parts_out`` gets the
     drawn pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's). ``predicted (N,)``
     bool over ``after``'s rows (None: none): objects whose masks are predictions; one that stays draws none of its
     freed pixels when they would be more than :attr:`PhotoSettings.grow_predicted_share` times its mask's pixels in
@@ -1684,7 +1700,7 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
                 car_examples, seen_colors = examples_of(b)
                 alb, code, seen_at = _part_colors(b, car_examples, seen_colors, point_s[unseen], normal_t[unseen],
                                                   t_part[unseen], before, albedo if len(visible_px) else None,
-                                                  others_of(b))
+                                                  others_of(b), air=lamp_air(b))
                 if settings.view_reflection > 0 and PART_VIEW_REFLECTION:
                     alb = _reflect_part_colors(alb, code, seen_at, t_part[unseen], cos_t[unseen], car_examples,
                                                settings.view_reflection)
@@ -1904,12 +1920,12 @@ def _air_terms(colors: Tensor) -> tuple[float, Tensor]:
 LampAir = tuple[float, Tensor] | None
 
 
-def _lamp_air(colors: Tensor) -> LampAir:
+def _lamp_air(colors: Tensor, clear: bool) -> LampAir:
     """The air a car whose visible pixels are ``colors (Q, 3)`` is seen through, for reading its lamps' colours
-    (:func:`_lamp_coloured`): None in clear air (:func:`_clear_air`) or with fewer than :data:`AIR_MIN_PIXELS`
-    pixels, else :func:`_air_terms` (fog lifts a red lamp to a pink that no red test passes: a fogged car's tail
-    lamps were never told, so its never-seen front kept the default white shaded as paint)."""
-    if len(colors) < AIR_MIN_PIXELS or _clear_air(colors):
+    (:func:`_lamp_coloured`): None where ``clear`` (its :func:`_clear_air`) or with fewer than
+    :data:`AIR_MIN_PIXELS` pixels, else :func:`_air_terms` (fog lifts a red lamp to a pink that no red test passes:
+    a fogged car's tail lamps were never told, so its never-seen front kept the default white shaded as paint)."""
+    if clear or len(colors) < AIR_MIN_PIXELS:
         return None
     return _air_terms(colors)
 
@@ -1970,7 +1986,8 @@ def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor)
 
 
 def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable, src: _Raster, parts_src: Tensor,
-                   img_flat: Tensor, road: Tensor | None, settings: PhotoSettings) -> tuple[_PartExamples, Tensor]:
+                   img_flat: Tensor, road: Tensor | None, settings: PhotoSettings,
+                   air: LampAir = None) -> tuple[_PartExamples, Tensor]:
     """The examples of the car of ``before`` row ``b`` (source mesh ``s_mesh``) among its ``visible_px``, and the
     colours of all its ``visible_px`` (the air it is seen through, :func:`seen_through_the_air` and
     :func:`_clear_air`: fog lifts every pixel of the car, whichever way it faces and whatever the template covers;
@@ -1995,7 +2012,8 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     or sides is itself of that colour (the generator draws its lamps there, where the templates' lamp faces, lower on
     the end caps, do not reach); tyre examples darker
     than most of the car (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype
-    (the colours are float64 from the rows read on)."""
+    (the colours are float64 from the rows read on); ``air``: the air the car is seen through, its lamp colours read
+    out of it (:func:`_lamp_air`, :meth:`PhotoSource.lamp_air`; None: clear air)."""
     seen_colors = img_flat[visible_px].double()
     ex = visible_px[(src.frags.mesh_at(visible_px) == s_mesh) & (parts_src[visible_px] >= 0)]
     if not len(ex):
@@ -2031,7 +2049,6 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
                 reach[body_ex[side_paint & ~paint]] = REACH_SIDES
         keep[body_ex[~(paint | side_paint)]] = False
         corners = _lamp_band(before, b, feature[body_ex]) if LAMP_BAND is not None else None
-        air = _lamp_air(seen_colors)
         if corners is not None and any_set(paint):  # lamps where cars have them that the template calls body
             # the paint of its ends and that of its sides (they differ where the road told the ends' paint)
             paints = torch.stack([colors[body_ex[p]].median(0).values for p in (paint, side_paint) if any_set(p)])
@@ -2121,7 +2138,7 @@ def _lendable(examples: _PartExamples, part: int) -> _PartExamples:
 
 def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
                  before: ObjectTable, body: Tensor | None, others: Callable[[int], _PartExamples] | None = None,
-                 max_examples: int = 1500, k: int = 4) -> tuple[Tensor, Tensor, Tensor]:
+                 max_examples: int = 1500, k: int = 4, air: LampAir = None) -> tuple[Tensor, Tensor, Tensor]:
     """``(colour (P, 3), source code (P,), seen at (P,))`` of unseen surface points ``points (P, 3)`` (camera frame,
     at the source pose of ``before`` row ``b``) with camera-frame unit normals at their new pose ``normals (P, 3)``
     and parts ``parts (P,)``; ``own``: the car's examples and ``seen_colors`` all its visible colours
@@ -2147,8 +2164,8 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     then the tail lamps and what lies between them, nearest first, the lamps in white as bright as they were, code
     :data:`PART`, unshaded (a lamp's brightness is its own, not the paint's shading); else, with
     :data:`LAMPS_FROM_ANOTHER_CAR`, the same lamps of another car (``others(part)``, :func:`_lendable`: the pixels
-    told as that lamp), nearest first, code :data:`ANOTHER_CAR`, unshaded. A lamp colour is read with the car's air
-    taken out (:func:`_lamp_air`)."""
+    told as that lamp), nearest first, code :data:`ANOTHER_CAR`, unshaded. A lamp colour is read with the car's
+    ``air`` taken out (:func:`_lamp_air`; None: clear air)."""
     lamp = own.reach == REACH_LAMPS  # read only by the never-seen lamps' rule, below
     own, lamps = _PartExamples(*(f[~lamp] for f in own)), _PartExamples(*(f[lamp] for f in own))
     albedo = torch.tensor(PART_DEFAULTS, dtype=torch.float64)[parts.clamp(min=0)]
@@ -2162,7 +2179,6 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     if any_set(default) and len(seen_colors):
         albedo[default] = seen_through_the_air(albedo[default], seen_colors)
     q_feat = _part_features(before, b, points, normals)
-    air = _lamp_air(seen_colors)
     at_ends = own.reach != REACH_SIDES  # the examples a car's ends are drawn from (the lamps lie at the ends)
     paint = own.color[(own.part == int(Part.BODY)) & at_ends]
     end = q_feat[:, 0].abs() > PART_LENGTH_WEIGHT * LAMP_END

@@ -1157,7 +1157,9 @@ def test_draw_reads_the_air_of_cars_it_takes_no_examples_from_without_their_exam
     of its visible colours) without making that car's part examples; those colours are the ones ``_part_examples``
     returns, so the picture is the same. A car seen from behind turned 90 degrees looks at every other car for a
     real wheel (none is dark); the far car, which grows into the freed pixels, takes tyres from the cars nearest
-    it in depth; the near car on the right is looked at for its wheel alone (main made its examples too)."""
+    it in depth; the near car on the right is looked at for its wheel and for the head lamps the turned car's
+    never-seen front may take from another car (``LAMPS_FROM_ANOTHER_CAR``: none shows any, so every car's examples
+    are made; main made none of the right car's)."""
     from sdn3d.editing.photo import transfer
     from sdn3d.scene.code import SceneObject
     from tests.test_photo_parts import BEHIND, PARTS, _painted
@@ -1174,7 +1176,7 @@ def test_draw_reads_the_air_of_cars_it_takes_no_examples_from_without_their_exam
     monkeypatch.setattr(transfer, "_part_examples", lambda b, *a: made.append((b, part_examples(b, *a))) or made[-1][1])
     monkeypatch.setattr(transfer, "_clear_air", lambda colors, *a: air.append(colors) or clear_air(colors, *a))
     render_photo(image, FRAME, scene, edited, settings=PARTS)
-    assert [int(scene.objects.instance_id[b]) for b, _ in made] == [12001, 12002, 12003]  # not the right car's
+    assert [int(scene.objects.instance_id[b]) for b, _ in made] == [12001, 12002, 12004, 12003]
     src = PhotoSource(image, FRAME, scene, settings=PARTS)
     img_flat = image.permute(1, 2, 0).reshape(-1, 3)
     seen = [img_flat[(src.vis_ids.view(-1) == i).nonzero().flatten()].double() for i in scene.objects.instance_id]

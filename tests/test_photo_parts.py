@@ -317,9 +317,10 @@ def test_a_red_cars_tail_lamps_stay_as_they_are_on_its_never_seen_front():
     assert int(front.sum()) > 50 and float(result.image[1, front].max()) < 0.2
 
 
-def _lamp_pixels(scene, part):
-    """``(H, W)`` bool: the input pixels of the car of ``scene`` that lie where cars have ``part``'s lamps
-    (``transfer._lamp_band``: below the belt line, at the corners of that end), as the generator draws them."""
+def _lamp_pixels(scene, part, row=0):
+    """``(H, W)`` bool: the input pixels of the car of ``scene`` (its objects' ``row``) that lie where cars have
+    ``part``'s lamps (``transfer._lamp_band``: below the belt line, at the corners of that end), as the generator
+    draws them."""
     from sdn3d.editing.photo import transfer
     from sdn3d.meshes.bank import default_bank
     from sdn3d.scene.maps import posed_meshes
@@ -330,9 +331,10 @@ def _lamp_pixels(scene, part):
     covered = raster.frags.in_image(raster.frags.mask, False)[0]
     pix = covered.view(-1).nonzero().flatten()
     _, _, _, normal, _, point = transfer._surface_points(raster, pix)
-    band = transfer._lamp_band(scene.objects, 0, transfer._part_features(scene.objects, 0, point, normal))
+    band = transfer._lamp_band(scene.objects, row, transfer._part_features(scene.objects, row, point, normal))
     out = torch.zeros(size[0] * size[1], dtype=torch.bool)
-    out[pix[band == int(part)]] = True
+    ids = raster.frags.mesh_at(pix)
+    out[pix[(band == int(part)) & (ids == row)]] = True
     return out.view(size)
 
 
@@ -354,6 +356,58 @@ def test_a_never_seen_ends_lamps_are_as_bright_as_the_other_ends_lamps():
     lamps = result.image[:, front]
     assert float(lamps.median(1).values.min()) > 0.4  # white
     assert float(lamps.median(1).values.max()) < 0.6  # as bright as the tail lamps, not 1.0
+
+
+def test_a_fogged_cars_never_seen_front_takes_its_tail_lamps_as_the_fog_shows_them():
+    """The grey car seen from behind with dim red tail lamps where cars have them, dark windows, seen through fog
+    (``0.3 colour + 0.7 x 0.75``: the red lamp shows pink, (0.675, 0.54, 0.54), which no red test passes as it is):
+    turned by 180 degrees, its never-seen front's lamps are drawn from the tail lamps taken out of the fog (code
+    ``part``), a white as bright as the fogged lamp (about 0.675), not the default white seen through the fog and
+    shaded as paint (code ``default``)."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.35, 0.35, 0.35))
+    image[:, covered & (parts == int(Part.GLASS))] = 0.05
+    tail = _lamp_pixels(scene, Part.TAIL_LIGHTS) & covered & (parts == int(Part.BODY))
+    assert int(tail.sum()) > 20
+    image[:, tail] = torch.tensor([0.5, 0.05, 0.05])[:, None]
+    fog = 0.3 * image + 0.7 * 0.75
+    edited = apply_edits(scene, [Rotate(12001, math.pi)])
+    result = render_photo(fog, FRAME, scene, edited, settings=PARTS)
+    front = _lamp_pixels(edited, Part.FRONT_LIGHTS) & (result.parts == int(Part.BODY))
+    assert int(front.sum()) > 20
+    assert bool((result.source[front] == PART).all())
+    lamps = result.image[:, front].median(1).values
+    assert abs(float(lamps.max()) - 0.675) < 0.03 and float(lamps.min()) > 0.6, lamps  # the head lamps' white
+
+
+def test_a_never_seen_ends_tail_lamps_are_another_cars_tail_lamps_as_the_photo_shows_them(monkeypatch):
+    """A grey car seen from the front, turned by 180 degrees, shows the tail lamps it never showed; another car of
+    the photo, seen from behind through the same clear air, shows its tail lamps where cars have them, lit a pink
+    red (0.77, 0.31, 0.33). The turned car's tail lamps are drawn from those (code ``another car``, that pink red,
+    unshaded), not in the default deep red (0.9, 0.1, 0.08, code ``default``); without another car's lamps
+    (``LAMPS_FROM_ANOTHER_CAR`` off, or in fog, where each car has its own air) the default as before."""
+    from sdn3d.editing.photo import transfer
+
+    front = SceneObject(12002, template_id=0, dims=(4.0, 1.5, 1.8), ry=math.pi / 2, location=(3.0, 1.6, 13.0))
+    scene = _scene([BEHIND, front])
+    image, covered, parts = _painted(scene, (0.35, 0.35, 0.35))
+    image[:, covered & (parts == int(Part.GLASS))] = 0.05  # dark windows: both cars seen through clear air
+    tail = _lamp_pixels(scene, Part.TAIL_LIGHTS, row=0) & covered & (parts == int(Part.BODY))
+    assert int(tail.sum()) > 20 and not bool(_lamp_pixels(scene, Part.TAIL_LIGHTS, row=1).any())
+    image[:, tail] = torch.tensor([0.77, 0.31, 0.33])[:, None]
+    edited = apply_edits(scene, [Rotate(12002, math.pi)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    new = _lamp_pixels(edited, Part.TAIL_LIGHTS, row=1) & (result.parts == int(Part.BODY))
+    assert int(new.sum()) > 20
+    assert bool((result.source[new] == ANOTHER_CAR).all())
+    lamps = result.image[:, new].median(1).values
+    assert torch.allclose(lamps, torch.tensor([0.77, 0.31, 0.33]), atol=0.03), lamps
+    fog = render_photo(0.3 * image + 0.7 * 0.75, FRAME, scene, edited, settings=PARTS)
+    assert int((fog.source[new] == ANOTHER_CAR).sum()) == 0 and bool((fog.source[new] == DEFAULT).all())
+    monkeypatch.setattr(transfer, "LAMPS_FROM_ANOTHER_CAR", False)
+    alone = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    assert bool((alone.source[new] == DEFAULT).all())
+    assert float(alone.image[1, new].median()) < 0.15  # the default's deep red
 
 
 def test_a_turned_cars_outline_grows_inside_its_box():

@@ -183,6 +183,7 @@ class PhotoSource:
         self._visible_of: Callable[[int], Tensor] | None = None
         self._examples: dict[int, tuple[_PartExamples, Tensor]] = {}
         self._air: dict[int, bool] = {}
+        self._lamp_air: dict[int, LampAir] = {}
 
     @staticmethod
     def _bind_key(original: Tensor, scene: SceneCode, frame: PixelFrame, settings: PhotoSettings) -> tuple:
@@ -286,7 +287,8 @@ class PhotoSource:
                 car[visible] = True
                 road = ground_in_mask(self.image, car.view(height, width)).view(-1)
             self._examples[row] = _part_examples(row, int(self.row_to_mesh[row]), visible, self.scene.objects,
-                                                 self.raster, self.parts, self.flat_image(), road, self.settings)
+                                                 self.raster, self.parts, self.flat_image(), road, self.settings,
+                                                 self.lamp_air(row))
         return self._examples[row]
 
     def clear_air(self, row: int) -> bool:
@@ -294,10 +296,21 @@ class PhotoSource:
         colours, those :meth:`part_examples` returns: its darks near black); made on first use, without its examples
         (a car passed over for another car's wheel or tyres is not looked at further)."""
         if row not in self._air:
-            colors = (self._examples[row][1] if row in self._examples
-                      else self.flat_image()[self.visible_pixels(int(self.scene.objects.instance_id[row]))].double())
-            self._air[row] = _clear_air(colors)
+            self._air[row] = _clear_air(self._visible_colors(row))
         return self._air[row]
+
+    def lamp_air(self, row: int) -> LampAir:
+        """The air the scene's object ``row`` is seen through, for reading its lamps' colours (:func:`_lamp_air` of
+        the colours :meth:`clear_air` reads); made on first use."""
+        if row not in self._lamp_air:
+            self._lamp_air[row] = _lamp_air(self._visible_colors(row), self.clear_air(row))
+        return self._lamp_air[row]
+
+    def _visible_colors(self, row: int) -> Tensor:
+        """``(Q, 3)`` float64 all the visible colours of the scene's object ``row`` (those :meth:`part_examples`
+        returns, taken from them once they are made)."""
+        return (self._examples[row][1] if row in self._examples
+                else self.flat_image()[self.visible_pixels(int(self.scene.objects.instance_id[row]))].double())
 
     def fill(self, key: tuple, make) -> Tensor:
         """A copy of the removal of ``key`` (the objects that left and stayed: :func:`render_photo`'s filled picture,
@@ -1295,7 +1308,8 @@ def render_photo(original: Tensor, transform: PixelFrame, scene: SceneCode, edit
                                      moved, src_row_to_mesh, src_ids, vis_ids, K, settings, shade, src_normals,
                                      warnings, bank, photo_source.parts, parts_out, background, photo_source.pyramid,
                                      photo_source.registered_parts(drawn_ids), photo_source.visible_pixels,
-                                     photo_source.part_examples, photo_source.clear_air, recolor_parts,
+                                     photo_source.part_examples, photo_source.clear_air, photo_source.lamp_air,
+                                     recolor_parts,
                                      photo_source.registered_wheels(drawn_ids), photo_source.real_wheels,
                                      predicted_masks(scene.meta, after.instance_id))
         if settings.silhouette == "carved" and settings.mask_view_deg > 0:
@@ -1481,7 +1495,8 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
           warnings: list[str], bank: MeshBank, parts_src: Tensor, parts_out: Tensor,
           background: Tensor, pyramid_of: Callable[[int], list[Tensor]], registered: Tensor,
           visible_of: Callable[[int], Tensor], examples_of: Callable[[int], tuple[_PartExamples, Tensor]],
-          clear_air: Callable[[int], bool], face_parts_out: Tensor | None = None, wheels: Tensor | None = None,
+          clear_air: Callable[[int], bool], lamp_air: Callable[[int], LampAir],
+          face_parts_out: Tensor | None = None, wheels: Tensor | None = None,
           real_wheels: Callable[[int], Tensor | None] | None = None,
           predicted: Tensor | None = None) -> tuple[Tensor, Tensor, dict[int, dict]]:
     """Steps 1 and 3 of the module doc for the objects of ``tgt``: who wins each pixel, then transfer.
@@ -1495,9 +1510,10 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
     which a tyre point read there is drawn from (:func:`_on_real_wheel`); ``real_wheels(instance id)`` (None: none):
     a car's real wheels where the input shows them (:meth:`PhotoSource.real_wheels`), which a wheel face the input
     never showed is drawn from (:func:`_from_real_wheels`). ``visible_of(instance id)``, ``examples_of(row of
-    before)`` and ``clear_air(row of before)``: a car's eroded mask pixels, its part examples with all its visible
-    colours, and whether it is seen through clear air (:meth:`PhotoSource.visible_pixels`,
-    :meth:`PhotoSource.part_examples`, :meth:`PhotoSource.clear_air`: made once per source). ``parts_out`` gets the
+    before)``, ``clear_air(row of before)`` and ``lamp_air(row of before)``: a car's eroded mask pixels, its part
+    examples with all its visible colours, whether it is seen through clear air and the air its lamps are read
+    through (:meth:`PhotoSource.visible_pixels`, :meth:`PhotoSource.part_examples`, :meth:`PhotoSource.clear_air`,
+    :meth:`PhotoSource.lamp_air`: made once per source). ``parts_out`` gets the
     drawn pixels' parts, ``face_parts_out`` (None: none) their loft face labels (the recolour's). ``predicted (N,)``
     bool over ``after``'s rows (None: none): objects whose masks are predictions; one that stays draws none of its
     freed pixels when they would be more than :attr:`PhotoSettings.grow_predicted_share` times its mask's pixels in
@@ -1635,9 +1651,11 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
         return None
 
     def others_of(b: int) -> Callable[[int], _PartExamples]:
-        """:func:`_part_colors`' ``others``: the examples of a part on the car nearest in depth to row ``b``'s that
-        shows at least 8 of them, both cars seen through clear air (:func:`_clear_air`); none otherwise (in fog each
-        car has its own air: a near car's tyres are dark where a far one's are grey)."""
+        """:func:`_part_colors`' ``others``: the examples of a part another car may lend (:func:`_lendable`) on the
+        car nearest in depth to row ``b``'s that shows at least 8 of them, both cars seen through clear air
+        (:func:`_clear_air`); none otherwise (in fog each car has its own air: a near car's tyres are dark where a far
+        one's are grey; a lamp lent through two cars' air estimates came out too light on a fogged bus's never-seen
+        tail lamps, docs/results/2026-11-30_cpu/session24/turn41/)."""
         def pool(part: int) -> _PartExamples:
             if b not in shown_cars or not clear_air(b):
                 return _no_examples()
@@ -1647,7 +1665,7 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
             for bb in by_depth:
                 if not clear_air(bb):
                     continue
-                found = _examples_of_part(examples_of(bb)[0], part)
+                found = _lendable(examples_of(bb)[0], part)
                 if len(found.part) >= 8:
                     return found
             return _no_examples()
@@ -1682,7 +1700,7 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
                 car_examples, seen_colors = examples_of(b)
                 alb, code, seen_at = _part_colors(b, car_examples, seen_colors, point_s[unseen], normal_t[unseen],
                                                   t_part[unseen], before, albedo if len(visible_px) else None,
-                                                  others_of(b))
+                                                  others_of(b), air=lamp_air(b))
                 if settings.view_reflection > 0 and PART_VIEW_REFLECTION:
                     alb = _reflect_part_colors(alb, code, seen_at, t_part[unseen], cos_t[unseen], car_examples,
                                                settings.view_reflection)
@@ -1883,11 +1901,40 @@ def seen_through_the_air(defaults: Tensor, colors: Tensor, min_pixels: int | Non
     """
     if len(colors) < (AIR_MIN_PIXELS if min_pixels is None else min_pixels):
         return defaults
+    t, offset = _air_terms(colors)
+    return (t * defaults + offset[None]).clamp(0, 1)
+
+
+def _air_terms(colors: Tensor) -> tuple[float, Tensor]:
+    """``(t, offset (3,))`` of the air a car whose visible pixels are ``colors (Q, 3)`` is seen through, as
+    :func:`seen_through_the_air` reads it: ``observed = t clear + offset``."""
     luma = luminance(colors)
     lo, hi = torch.quantile(luma, torch.tensor([0.05, 0.95], dtype=colors.dtype))
     t = float(((hi - lo) / (CLEAR_RANGE[1] - CLEAR_RANGE[0])).clamp(0.05, 1.0))
     dark = torch.quantile(colors, 0.05, dim=0)  # per channel: the air's colour shows in the darks
-    return (t * defaults + (dark - t * CLEAR_RANGE[0])[None]).clamp(0, 1)
+    return t, dark - t * CLEAR_RANGE[0]
+
+
+#: The air a car is seen through where it is not clear (:func:`_lamp_air`): ``(t, offset (3,))``, ``observed = t
+#: clear + offset``; None: clear air (or too few pixels to tell), colours are read as they are.
+LampAir = tuple[float, Tensor] | None
+
+
+def _lamp_air(colors: Tensor, clear: bool) -> LampAir:
+    """The air a car whose visible pixels are ``colors (Q, 3)`` is seen through, for reading its lamps' colours
+    (:func:`_lamp_coloured`): None where ``clear`` (its :func:`_clear_air`) or with fewer than
+    :data:`AIR_MIN_PIXELS` pixels, else :func:`_air_terms` (fog lifts a red lamp to a pink that no red test passes:
+    a fogged car's tail lamps were never told, so its never-seen front kept the default white shaded as paint)."""
+    if clear or len(colors) < AIR_MIN_PIXELS:
+        return None
+    return _air_terms(colors)
+
+
+def _out_of_air(colors: Tensor, air: LampAir) -> Tensor:
+    """``colors (E, 3)`` seen through ``air`` (:func:`_lamp_air`) as they would be in clear air."""
+    if air is None:
+        return colors
+    return ((colors - air[1][None]) / air[0]).clamp(0, 1)
 
 
 class _PartExamples(NamedTuple):
@@ -1939,7 +1986,8 @@ def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor)
 
 
 def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable, src: _Raster, parts_src: Tensor,
-                   img_flat: Tensor, road: Tensor | None, settings: PhotoSettings) -> tuple[_PartExamples, Tensor]:
+                   img_flat: Tensor, road: Tensor | None, settings: PhotoSettings,
+                   air: LampAir = None) -> tuple[_PartExamples, Tensor]:
     """The examples of the car of ``before`` row ``b`` (source mesh ``s_mesh``) among its ``visible_px``, and the
     colours of all its ``visible_px`` (the air it is seen through, :func:`seen_through_the_air` and
     :func:`_clear_air`: fog lifts every pixel of the car, whichever way it faces and whatever the template covers;
@@ -1964,7 +2012,8 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     or sides is itself of that colour (the generator draws its lamps there, where the templates' lamp faces, lower on
     the end caps, do not reach); tyre examples darker
     than most of the car (:data:`TYRE_QUANTILE`). ``img_flat (H * W, 3)``: the input's pixels, in any float dtype
-    (the colours are float64 from the rows read on)."""
+    (the colours are float64 from the rows read on); ``air``: the air the car is seen through, its lamp colours read
+    out of it (:func:`_lamp_air`, :meth:`PhotoSource.lamp_air`; None: clear air)."""
     seen_colors = img_flat[visible_px].double()
     ex = visible_px[(src.frags.mesh_at(visible_px) == s_mesh) & (parts_src[visible_px] >= 0)]
     if not len(ex):
@@ -2004,9 +2053,9 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
             # the paint of its ends and that of its sides (they differ where the road told the ends' paint)
             paints = torch.stack([colors[body_ex[p]].median(0).values for p in (paint, side_paint) if any_set(p)])
             for lamp_part in OTHER_END:
-                if bool(_lamp_coloured(paints, lamp_part).any()):
+                if bool(_lamp_coloured(paints, lamp_part, air).any()):
                     continue  # a red car's tail lamps are not told from its paint
-                lit = body_ex[(corners == lamp_part) & _lamp_coloured(colors[body_ex], lamp_part)]
+                lit = body_ex[(corners == lamp_part) & _lamp_coloured(colors[body_ex], lamp_part, air)]
                 lamp_ex = torch.cat([lamp_ex, lit])
                 lamp_part_of = torch.cat([lamp_part_of, torch.full_like(lit, lamp_part)])
         glass_ex = (ex_part == int(Part.GLASS)).nonzero().flatten()
@@ -2071,13 +2120,25 @@ PART_EXAMPLES_K = {int(Part.GLASS): 16}
 SAME_PANEL_DEG = 30.0
 #: Parts a car that never showed them takes from another car of the photo (:func:`_part_colors`): tyres and rims
 #: look alike from car to car, and a car seen from behind shows none. The body, glass, lamps and plate are the
-#: car's own (paint and tint differ; a lamp comes from the car's other end).
+#: car's own (paint and tint differ; a lamp comes from the car's other end; the lamps where cars have them may come
+#: from another car's, :data:`LAMPS_FROM_ANOTHER_CAR`).
 SHARED_PARTS = (int(Part.TYRE),)
+
+
+def _lendable(examples: _PartExamples, part: int) -> _PartExamples:
+    """The examples of ``part`` among one car's ``examples`` that another car of the photo may draw the same part
+    from (:func:`_part_colors`' ``others``): a lamp's are the pixels told as that lamp where cars have it
+    (:data:`REACH_LAMPS`: lamp-coloured, on a paint that is not; a template's lamp faces lie lower on the end cap, on
+    bumper and paint), any other part's all of them."""
+    keep = examples.part == part
+    if part in OTHER_END:
+        keep &= examples.reach == REACH_LAMPS
+    return _PartExamples(*(field[keep] for field in examples))
 
 
 def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
                  before: ObjectTable, body: Tensor | None, others: Callable[[int], _PartExamples] | None = None,
-                 max_examples: int = 1500, k: int = 4) -> tuple[Tensor, Tensor, Tensor]:
+                 max_examples: int = 1500, k: int = 4, air: LampAir = None) -> tuple[Tensor, Tensor, Tensor]:
     """``(colour (P, 3), source code (P,), seen at (P,))`` of unseen surface points ``points (P, 3)`` (camera frame,
     at the source pose of ``before`` row ``b``) with camera-frame unit normals at their new pose ``normals (P, 3)``
     and parts ``parts (P,)``; ``own``: the car's examples and ``seen_colors`` all its visible colours
@@ -2101,7 +2162,10 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     (:func:`_lamp_band`; not glass, tyres or plates) are lamps in :data:`LAMP_DEFAULTS` seen through the car's air,
     code :data:`DEFAULT`, unless they are head lamps and the photo showed the tail lamps (:func:`_other_end_lamps`):
     then the tail lamps and what lies between them, nearest first, the lamps in white as bright as they were, code
-    :data:`PART`, unshaded (a lamp's brightness is its own, not the paint's shading)."""
+    :data:`PART`, unshaded (a lamp's brightness is its own, not the paint's shading); else, with
+    :data:`LAMPS_FROM_ANOTHER_CAR`, the same lamps of another car (``others(part)``, :func:`_lendable`: the pixels
+    told as that lamp), nearest first, code :data:`ANOTHER_CAR`, unshaded. A lamp colour is read with the car's
+    ``air`` taken out (:func:`_lamp_air`; None: clear air)."""
     lamp = own.reach == REACH_LAMPS  # read only by the never-seen lamps' rule, below
     own, lamps = _PartExamples(*(f[~lamp] for f in own)), _PartExamples(*(f[lamp] for f in own))
     albedo = torch.tensor(PART_DEFAULTS, dtype=torch.float64)[parts.clamp(min=0)]
@@ -2136,7 +2200,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
         if len(have) < 2 * k and part in OTHER_END:  # a lamp never seen: the other end's lamps and paint
             have = (torch.isin(own.part, torch.tensor([OTHER_END[part], int(Part.BODY)])) & usable).nonzero().flatten()
             if LAMP_HUES:
-                source = _lamps_of_this_end(own.color, part, paint)
+                source = _lamps_of_this_end(own.color, part, paint, air)
         if len(have) < 2 * k and part in SHARED_PARTS and others is not None:  # never seen: another car's
             pool = others(part)
             have = torch.arange(len(pool.part))
@@ -2168,12 +2232,15 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             if int((own.part == lamp_part).sum()) >= 2 * k or not any_set(here):
                 continue  # that end was seen: its lamps are the photo's
             q = here.nonzero().flatten()
-            lit = _other_end_lamps(own, own_band, lamps, lamps_band, lamp_part, k)
-            if lit is not None:  # the other end's lamps as the photo shows them, in this end's hue
+            lit, code = _other_end_lamps(own, own_band, lamps, lamps_band, lamp_part, k, air), PART
+            if lit is None and others is not None and LAMPS_FROM_ANOTHER_CAR:  # this lamp as another car shows it
+                pool = others(lamp_part)
+                lit, code = (pool.color, pool.feature, pool.cos) if len(pool.part) >= k else None, ANOTHER_CAR
+            if lit is not None:  # the lamps as the photo shows them, in this end's hue, unshaded (they glow)
                 source, feature, cos = lit
                 near = _nearest_examples(q_feat[q], feature, k)
                 albedo[q] = source[near].mean(1)
-                codes[q] = PART
+                codes[q] = code
                 seen_at[q] = grazing(cos[near]).mean(1)
                 continue
             lamp = torch.tensor(LAMP_DEFAULTS[lamp_part], dtype=albedo.dtype).expand(len(q), 3)
@@ -2189,10 +2256,17 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
 #: is not told by a white head lamp (drawn from it, the tuning trees' tail lamps came out too deep a red, and in fog
 #: without the air's haze: docs/results/2026-11-30_cpu/session23/front/).
 LAMPS_FROM_OTHER_END = (int(Part.FRONT_LIGHTS),)
+#: :func:`_part_colors`: an end's lamps the photo never showed, not drawn from the car's other end
+#: (:func:`_other_end_lamps`: tail lamps, or head lamps where the tail lamps were not seen or not told from the
+#: paint), are drawn from the same lamps of the car nearest in depth that shows them, both seen through clear air
+#: (``others``, :func:`_lendable`), code :data:`ANOTHER_CAR`, unshaded: lit lamps look alike from car to car, and the
+#: default red shaded as paint drew the tail lamps of cars seen from the front too deep a red (MSE 0.02-0.07 against
+#: the tuning trees' targets; docs/results/2026-11-30_cpu/session24/turn41/). False: :data:`LAMP_DEFAULTS` there.
+LAMPS_FROM_ANOTHER_CAR = True
 
 
 def _other_end_lamps(own: _PartExamples, own_band: Tensor, lamps: _PartExamples, lamps_band: Tensor, part: int,
-                     k: int) -> tuple[Tensor, Tensor, Tensor] | None:
+                     k: int, air: LampAir = None) -> tuple[Tensor, Tensor, Tensor] | None:
     """``(colours (E, 3), features (E, 6), view cosines (E,))`` to draw the never-seen lamps ``part`` of a car from:
     its examples ``own`` (:data:`REACH_LAMPS` ones left out) in the other end's lamp band (``own_band (E_o,)``,
     :func:`_lamp_band` of their features), what lies between the lamps, and its lamp examples ``lamps`` there
@@ -2209,14 +2283,14 @@ def _other_end_lamps(own: _PartExamples, own_band: Tensor, lamps: _PartExamples,
     have = ((own_band == other) & ~torch.isin(own.part, torch.tensor(LAMPLESS_PARTS))).nonzero().flatten()
     lit = (lamps_band == other).nonzero().flatten()
     colours = torch.cat([own.color[have], lamps.color[lit]])
-    if len(colours) < 2 * k or int(_lamp_coloured(colours, other).sum()) < k:
+    if len(colours) < 2 * k or int(_lamp_coloured(colours, other, air).sum()) < k:
         return None
     body = own.part == int(Part.BODY)
     for reach in (REACH_SIDES, REACH_ENDS):  # the ends' paint (all but the sides'), then the sides'
         paint = own.color[body & (own.reach != reach)]
-        if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other)[0]):
+        if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other, air)[0]):
             return None
-    return (_lamps_of_this_end(colours, part, own.color[body & (own.reach != REACH_SIDES)]),
+    return (_lamps_of_this_end(colours, part, own.color[body & (own.reach != REACH_SIDES)], air),
             torch.cat([own.feature[have], lamps.feature[lit]]), torch.cat([own.cos[have], lamps.cos[lit]]))
 
 
@@ -2308,24 +2382,29 @@ LAMP_DEFAULTS = {int(Part.FRONT_LIGHTS): (1.0, 1.0, 0.95), int(Part.TAIL_LIGHTS)
 LAMPLESS_PARTS = (int(Part.GLASS), int(Part.TYRE), int(Part.PLATE))
 
 
-def _lamp_coloured(colors: Tensor, part: int) -> Tensor:
-    """``(E,)`` bool: which ``colors (E, 3)`` sRGB look like lamp ``part``'s light: saturated red for tail lamps
-    (as :func:`~sdn3d.geometric.lamps.red_lamps` reads them), near-white for head lamps."""
+def _lamp_coloured(colors: Tensor, part: int, air: LampAir = None) -> Tensor:
+    """``(E,)`` bool: which ``colors (E, 3)`` sRGB look like lamp ``part``'s light, as they are or, seen through
+    ``air`` (:func:`_lamp_air`; None: clear air, as they are alone), as they would be in clear air (a car whose
+    darkest pixels are its paint, with no dark glass or tyres shown, reads as fogged: its red paint taken out of that
+    air is no red, yet it is): saturated red for tail lamps (as :func:`~sdn3d.geometric.lamps.red_lamps` reads
+    them), near-white for head lamps."""
+    if air is not None:
+        return _lamp_coloured(colors, part) | _lamp_coloured(_out_of_air(colors, air), part)
     r, g, b = colors.unbind(-1)
     if part == int(Part.TAIL_LIGHTS):
         return (r > 0.25) & (r > 2 * g) & (r > 2 * b)
     return (colors.amin(-1) > 0.55) & (colors.amax(-1) - colors.amin(-1) < 0.15)
 
 
-def _lamps_of_this_end(colors: Tensor, part: int, paint: Tensor) -> Tensor:
+def _lamps_of_this_end(colors: Tensor, part: int, paint: Tensor, air: LampAir = None) -> Tensor:
     """``(E, 3)`` ``colors`` of the other end's examples for drawing lamp ``part``: the pixels in the other end's
     lamp colour (:func:`_lamp_coloured`) take ``part``'s own hue (its :data:`PART_DEFAULTS` colour scaled to their
     brightest channel: a red tail lamp becomes a white head lamp as bright); unchanged where the car's ``paint
     (Q, 3)`` (its median) is itself of that colour (a red car's tail lamps are not told from its paint)."""
     other = OTHER_END[part]
-    if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other)[0]):
+    if len(paint) and bool(_lamp_coloured(paint.median(0).values[None], other, air)[0]):
         return colors
-    lamp = _lamp_coloured(colors, other)
+    lamp = _lamp_coloured(colors, other, air)
     if not any_set(lamp):
         return colors
     hue = torch.tensor(PART_DEFAULTS[part], dtype=colors.dtype)

@@ -48,7 +48,7 @@ def _proposal_fit_only_where_tested(request: pytest.FixtureRequest, monkeypatch:
 
     def predictions_kept(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None, classes=None):
         return tuple(g.clone() for g in geometry), [ProposalFit(int(i), None, True, None, "not fitted (test stub)")
-                                                     for i in ids[rows].tolist()]
+                                                     for i in ids[rows].tolist()], None
 
     def boxes_fitted(intr, masks, ids, rows, geometry, settings, appearance, boxes, unsure=None,
                      classes=None):  # the boxes fitted for real

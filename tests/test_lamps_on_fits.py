@@ -10,7 +10,6 @@ whose reading changed again with it; ground-truth masks (an oracle) are never re
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import pytest
 import torch
@@ -120,9 +119,9 @@ def test_a_mask_that_its_fitted_shape_covers_reads_as_before():
 
 @pytest.mark.fits
 @pytest.mark.parametrize("source", ["semantic", "gt"])
-def test_derender_fits_again_the_semantic_proposals_whose_reading_changed(monkeypatch, source):
-    """The proposals whose reading on the cut masks changed are fitted again with that reading, from their
-    prediction; ground-truth masks (an oracle) are not read again."""
+def test_derender_chooses_again_for_the_semantic_proposals_whose_reading_changed(monkeypatch, source):
+    """The proposals whose reading on the cut masks changed are chosen again among the first fit's hypotheses under
+    that reading (what fitting them again gives); ground-truth masks (an oracle) are not read again."""
     from sdn3d.derender import GroundTruth, derender
     from sdn3d.geometric.fit import FitSettings
     from sdn3d.semantic.predict import Segmentation
@@ -150,59 +149,53 @@ def test_derender_fits_again_the_semantic_proposals_whose_reading_changed(monkey
         calls.append((rows.tolist(), None if appearance is None else appearance.values["front_present"].tolist()))
         return fit_proposals(intr, masks, ids, rows, geometry, settings, appearance, *a, **k)
 
-    lamps_on_fits = getattr(dr, "_lamps_on_fits", None)  # (main's code before session 24 has none)
+    lamps_on_fits = dr._lamps_on_fits
 
     def spy_read(*a, **k):
         reads.append(a[4].tolist())
         return lamps_on_fits(*a, **k)
 
+    chosen = []
+    choose_again = dr.choose_proposals_again
+
+    def spy_choose(first, ids, rows, again, geometry, settings, appearance):
+        chosen.append((again.tolist(), appearance.values["front_present"][again].tolist()))
+        return choose_again(first, ids, rows, again, geometry, settings, appearance)
+
     monkeypatch.setattr(dr, "fit_proposals", spy_fit)
-    monkeypatch.setattr(dr, "_lamps_on_fits", spy_read, raising=False)
+    monkeypatch.setattr(dr, "_lamps_on_fits", spy_read)
+    monkeypatch.setattr(dr, "choose_proposals_again", spy_choose)
     fit = FitSettings(coarse_steps=3, fine_steps=3, keep=1, camera_height=1.6, poor_iou=0.0)
     scene = derender(image, WORK, models, source, gt, min_pixels=1, fit=fit)
     if source == "gt":
-        assert reads == [] and len(calls) == 1
+        assert reads == [] and len(calls) == 1 and chosen == []
         return
-    assert [c[0] for c in calls] == [[0], [0]] and reads == [[0]]  # fitted, read again on the cut mask, fitted again
-    assert calls[0][1] == [True] and calls[1][1] == [False]  # the marking's "headlights", then none
+    assert [c[0] for c in calls] == [[0]] and reads == [[0]]  # fitted once, read again on the cut mask ...
+    assert calls[0][1] == [True] and chosen == [([0], [False])]  # ... the marking's "headlights", then none
     assert len(scene.meta["fits"]) == 1 and scene.meta["fits"][0]["fit_iou"] is not None
 
 
-@pytest.mark.fits
-def test_the_refit_stands_on_the_road_the_first_fit_measured(monkeypatch):
-    """With the camera height measured (``camera_height=None``), the refit of a few proposals uses the height the
-    first fit measured from all of them, not one measured from the few."""
-    from sdn3d.derender import derender
-    from sdn3d.geometric.fit import FitSettings, estimate_camera_height
-    from sdn3d.labels import CLASS_LISTS
-    from sdn3d.semantic.predict import Segmentation
+def test_choosing_again_is_fitting_again_under_the_new_belief():
+    """The fine stage's hypotheses and fits do not read the yaw belief: choosing again among them under another
+    belief (:func:`~sdn3d.geometric.fit.choose_again`) gives what fitting again with it gives, on the same road."""
+    from sdn3d.geometric.fit import FitSettings, choose_again, fit_to_masks
 
-    image, masks, _, _ = _red_van_back(stray_white=True)
-    instances = torch.where(masks[0], 12001, 0)
-    instances[30:50, 120:150] = 12002  # a second car, grey, far right: its reading does not change
-    image[:, 30:50, 120:150] = 0.3
-    semantic = torch.where(instances > 0, 12, 3)
+    _, masks, geometry, _ = _red_van_back(stray_white=False)
+    boxes = dr.mask_boxes(masks).float()
+    settings = FitSettings(coarse_steps=3, fine_steps=3, keep=2, camera_height=None, camera_height_range=(0.01, 100.0),
+                           facing_tie=5.0)  # the belief decides the end
+    starts = {"start_ry": geometry[2].float(), "start_dims": geometry[1].float(), "start_template": geometry[0],
+              "start_location": geometry[3].float()}
 
-    class Stub:
-        classes = CLASS_LISTS["vkitti"]
+    def facing(sign: float):  # believes the fits facing one way
+        return lambda ry: sign * torch.cos(ry - starts["start_ry"][:, None])
 
-        def __call__(self, image):
-            return Segmentation(semantic[None], instances[None], torch.zeros(1, 14, 64, 160))
-
-    models = Models(Stub(), _models().geometric, crop_size=48, margin=0.1)
-    heights = []
-    fit_proposals = dr.fit_proposals
-
-    def spy_fit(intr, masks, ids, rows, geometry, settings, *a, **k):
-        heights.append((rows.tolist(), settings.camera_height,
-                        estimate_camera_height(geometry[3][rows].float(), replace(settings, camera_height=None))[0]))
-        return fit_proposals(intr, masks, ids, rows, geometry, settings, *a, **k)
-
-    monkeypatch.setattr(dr, "fit_proposals", spy_fit)
-    fit = FitSettings(coarse_steps=3, fine_steps=3, keep=1, camera_height=None, camera_height_range=(0.01, 100.0),
-                      poor_iou=0.0)  # the range unclamped: the random net's cars stand where they stand
-    derender(image, WORK, models, "semantic", None, min_pixels=1, fit=fit)
-    (rows, first_given, first), (again_rows, again_given, alone) = heights
-    assert len(rows) == 2 and len(again_rows) == 1 and first_given is None
-    assert alone != pytest.approx(first)  # measured from the refitted car alone, the road would lie elsewhere
-    assert again_given == pytest.approx(first)
+    first = fit_to_masks(masks, boxes, WORK, settings=settings, yaw_belief=facing(1.0), **starts)
+    again = fit_to_masks(masks, boxes, WORK, settings=settings, yaw_belief=facing(-1.0), **starts)
+    chosen = choose_again(first.choice, facing(-1.0))
+    assert int(first.hypothesis[0]) != int(again.hypothesis[0])  # the belief decided
+    for name in ("template", "hypothesis", "fitted"):
+        assert torch.equal(getattr(chosen, name), getattr(again, name)), name
+    for name in ("dims", "ry", "location", "phi", "iou", "loss"):
+        torch.testing.assert_close(getattr(chosen, name), getattr(again, name), rtol=1e-5, atol=1e-6, msg=name)
+    assert chosen.camera_height == again.camera_height == first.camera_height

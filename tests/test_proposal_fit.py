@@ -143,8 +143,8 @@ def test_a_mask_missing_the_cars_bottom_is_not_fitted_far_with_the_unsure_band()
                 torch.zeros(1, 64, 3))
     ids, rows = torch.tensor([CAR * 1000 + 1]), torch.tensor([0])
     settings = FitSettings(camera_height=HEIGHT)
-    plain, _ = fit_proposals(WORK, cut, ids, rows, geometry, settings)
-    banded, _ = fit_proposals(WORK, cut, ids, rows, geometry, settings, unsure=unsure_below(cut))
+    plain, _, _ = fit_proposals(WORK, cut, ids, rows, geometry, settings)
+    banded, _, _ = fit_proposals(WORK, cut, ids, rows, geometry, settings, unsure=unsure_below(cut))
     far, near = float(plain[3][0, 2]), float(banded[3][0, 2])
     assert far > 1.15 * z  # the cut mask's bottom edge puts the car too far
     assert abs(near - z) < 0.5 * (far - z)
@@ -161,7 +161,7 @@ def test_only_the_semantic_branchs_proposals_get_the_unsure_band(frame, models, 
 
     def spy(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None, classes=None):
         seen["unsure"] = unsure
-        return tuple(g.clone() for g in geometry), []
+        return tuple(g.clone() for g in geometry), [], None
 
     monkeypatch.setattr(D, "fit_proposals", spy)
     derender(image, WORK, models, "gt", gt, fit=FitSettings())

@@ -32,8 +32,10 @@
    those 26 read their lamps otherwise on the proposal than on the true mask). So with ``fit`` each fitted proposal (not
    a poor fit) has its lamps read again on the part of its mask that its fitted 3D shape covers, the tail band cut to
    that shape too (:func:`_lamps_on_fits`), and the proposals whose reading changed (a test's present or usable flag)
-   are fitted again from their prediction with it: the fit's hypotheses all lie on the silhouette's axis, so their shape
-   is where the car is whichever end it faces (``docs/results/2026-11-30_cpu/session24/predflip``). The 2D box is
+   are chosen again with it among the first fit's hypotheses (:func:`~sdn3d.proposal_fit.choose_proposals_again`:
+   what fitting them again from their prediction gives, as the hypotheses and their fits do not read the belief,
+   without the second fit's cost): the fit's hypotheses all lie on the silhouette's axis, so their shape is where the
+   car is whichever end it faces (``docs/results/2026-11-30_cpu/session24/predflip``). The 2D box is
    the annotation's when the object comes from a ground-truth frame (what the branch is trained
    on), else the mask's bounding box. Objects without a prediction (no geometric model, too small,
    a box one pixel wide or high, non-finite output or behind the camera) keep only their 2D mask.
@@ -56,7 +58,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import torch
@@ -85,6 +87,7 @@ from sdn3d.meshes.bank import MeshBank
 from sdn3d.models import Models
 from sdn3d.proposal_fit import (
     ProposalFit,
+    choose_proposals_again,
     fit_proposals,
     fit_proposals_and_boxes,
     fitted_silhouettes,
@@ -97,7 +100,7 @@ from sdn3d.scene.maps import scene_maps
 
 if TYPE_CHECKING:
     from sdn3d.geometric.facing import Appearance
-    from sdn3d.geometric.fit import FitSettings
+    from sdn3d.geometric.fit import FitResult, FitSettings
     from sdn3d.geometric.refine import RefineSettings
     from sdn3d.semantic.predict import Segmentation
     from sdn3d.textural.renderer import TexturalRenderer
@@ -220,8 +223,8 @@ def _lamps_on_fits(image: Tensor, intr: Intrinsics, masks: Tensor, tail: Tensor 
                    photo: InputPhoto | None) -> tuple[Appearance, Tensor]:
     """``(appearance, changed)``: ``appearance`` with the lamps of the fitted proposals ``rows (K,)`` read again on
     the part of each mask that its fitted 3D shape (``fitted``: the geometry after the fit) covers, and ``(M,)`` the
-    rows whose reading changed (a red or white test's present or usable flag): the ones to fit again (module doc,
-    step 3). The crops are the branch's (the windows of the masks' boxes, as :func:`_geometry` reads them);
+    rows whose reading changed (a red or white test's present or usable flag): the ones to choose again (module
+    doc, step 3). The crops are the branch's (the windows of the masks' boxes, as :func:`_geometry` reads them);
     ``tail (N, H, W)``: the band under each mask the red test also reads, cut to the fitted shape as well."""
     from sdn3d.geometric.facing import Appearance
     from sdn3d.geometric.lamps import read_lamps
@@ -253,23 +256,21 @@ def _lamps_on_fits(image: Tensor, intr: Intrinsics, masks: Tensor, tail: Tensor 
     return Appearance(values, appearance.has, appearance.cue), rows[changed]
 
 
-def _refit_on_agreed_lamps(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor,
-                           predicted: tuple[Tensor, ...], fitted: tuple[Tensor, ...], records: list[ProposalFit],
-                           fit: FitSettings, appearance: Appearance, unsure: Tensor | None, classes: list[str | None],
-                           models: Models, photo: InputPhoto | None) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
-    """``(geometry, records)``: the proposals' fit (``fitted``, ``records``: one per row of ``rows (K,)``) with the
-    proposals whose lamps read otherwise on the part of their mask that their fitted shape covers
-    (:func:`_lamps_on_fits`; a poor fit's shape is not trusted) fitted again from their prediction ``predicted``
-    with that reading (module doc, step 3)."""
+def _choose_on_agreed_lamps(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor,
+                            first: FitResult, fitted: tuple[Tensor, ...], records: list[ProposalFit],
+                            fit: FitSettings, appearance: Appearance, unsure: Tensor | None, models: Models,
+                            photo: InputPhoto | None) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
+    """``(geometry, records)``: the proposals' fit (``first``, its geometry ``fitted`` and ``records``: one per row of
+    ``rows (K,)``) with the proposals whose lamps read otherwise on the part of their mask that their fitted shape
+    covers (:func:`_lamps_on_fits`; a poor fit's shape is not trusted) chosen again among the first fit's hypotheses
+    under that reading (:func:`~sdn3d.proposal_fit.choose_proposals_again`: what fitting them again gives, on the road
+    the first fit measured; module doc, step 3)."""
     good = {r.instance_id for r in records if not r.poor}
     trusted = torch.tensor([int(i) in good for i in ids[rows].tolist()], dtype=torch.bool)
     reread, again = _lamps_on_fits(image, intr, masks, unsure, rows[trusted], fitted, appearance, models, photo)
     if not len(again):
         return fitted, records
-    refit, new = fit_proposals(intr, masks, ids, again, predicted, fit, reread, unsure, classes)
-    geometry = tuple(g.clone() for g in fitted)
-    for g, r in zip(geometry, refit, strict=True):
-        g[again] = r[again]
+    geometry, new = choose_proposals_again(first, ids, rows, again, fitted, fit, reread)
     by_id = {r.instance_id: r for r in new}
     return geometry, [by_id.get(r.instance_id, r) for r in records]
 
@@ -453,28 +454,20 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     class_names = {c.id: c.name for c in class_list}
     classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
     if fit is not None:
-        predicted = geometry
         rows = vehicle_rows(ids, geometry[0], class_names)
         rows = rows[~torch.isin(rows, box_rows)]
         unsure = unsure if len(rows) else None  # the fit ignores the same band
         box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes)
                    if len(rows) and len(box_rows) and boxes.fit == fit else None)
         if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
-            geometry, proposal_fits, box_result = fit_proposals_and_boxes(intrinsics, masks, ids, rows, geometry, fit,
-                                                                          appearance, box_req, unsure, classes)
+            geometry, proposal_fits, first, box_result = fit_proposals_and_boxes(
+                intrinsics, masks, ids, rows, geometry, fit, appearance, box_req, unsure, classes)
         else:
-            geometry, proposal_fits = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance, unsure,
-                                                    classes)
-        if source == "semantic" and appearance is not None and fit.appearance and len(rows):
-            from sdn3d.geometric.fit import estimate_camera_height
-
-            # the refit stands on the road the first fit measured (from all its objects' predictions), not on one
-            # measured from the refitted few
-            starts = [predicted[3][rows].float()] + ([box_req.start_location] if box_req is not None else [])
-            again = replace(fit, camera_height=estimate_camera_height(torch.cat(starts), fit)[0])
-            geometry, proposal_fits = _refit_on_agreed_lamps(image, intrinsics, masks, ids, rows, predicted, geometry,
-                                                             proposal_fits, again, appearance, unsure, classes,
-                                                             models, photo)
+            geometry, proposal_fits, first = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance,
+                                                           unsure, classes)
+        if source == "semantic" and appearance is not None and fit.appearance and first is not None:
+            geometry, proposal_fits = _choose_on_agreed_lamps(image, intrinsics, masks, ids, rows, first, geometry,
+                                                              proposal_fits, fit, appearance, unsure, models, photo)
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
                                                              min_pixels, mask_source, appearance, box_result, classes)

@@ -38,7 +38,8 @@ if TYPE_CHECKING:
     from sdn3d.geometric.facing import Appearance
     from sdn3d.geometric.fit import FitRequest, FitResult, FitSettings
 
-__all__ = ["ProposalFit", "fit_proposals", "fit_proposals_and_boxes", "proposal_request", "apply_proposal_fit",
+__all__ = ["ProposalFit", "fit_proposals", "fit_proposals_and_boxes", "choose_proposals_again", "proposal_request",
+           "apply_proposal_fit",
            "vehicle_rows", "unsure_below", "fitted_silhouettes", "UNSURE_BELOW"]
 
 #: Depth of the band under a predicted mask that the fit ignores (:func:`unsure_below`), as a fraction of the mask's
@@ -112,9 +113,11 @@ def fitted_silhouettes(intr: Intrinsics, geometry: tuple[Tensor, ...], rows: Ten
 
 def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],
                   settings: FitSettings, appearance: Appearance | None = None, unsure: Tensor | None = None,
-                  classes: Sequence[str | None] | None = None) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
-    """``(geometry, records)``: the rows ``rows (K,)`` of ``geometry`` (``template (N,), dims (N, 3), ry (N,),
-    location (N, 3), phi (N, 64, 3)``, the branch's predictions) fitted to their ``masks (N, H, W)`` (module doc).
+                  classes: Sequence[str | None] | None = None
+                  ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult | None]:
+    """``(geometry, records, fit)``: the rows ``rows (K,)`` of ``geometry`` (``template (N,), dims (N, 3), ry (N,),
+    location (N, 3), phi (N, 64, 3)``, the branch's predictions) fitted to their ``masks (N, H, W)`` (module doc),
+    and the fit's result for those rows (None without rows; its ``choice``: :func:`choose_proposals_again`).
 
     Rows whose mask is too small or thin to fit keep their prediction (a record with ``iou`` None and the fit's
     note). Objects outside ``rows`` are untouched; they still hide the fitted ones where they are nearer.
@@ -129,20 +132,21 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
     from sdn3d.geometric.fit import fit_many
 
     if not len(rows):
-        return tuple(g.clone() for g in geometry), []
+        return tuple(g.clone() for g in geometry), [], None
     request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes)
-    return apply_proposal_fit(fit_many([request], intr, settings=settings)[0], ids, rows, geometry, settings)
+    result = fit_many([request], intr, settings=settings)[0]
+    return (*apply_proposal_fit(result, ids, rows, geometry, settings), result)
 
 
 def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor,
                             geometry: tuple[Tensor, ...], settings: FitSettings, appearance: Appearance | None,
                             boxes: FitRequest, unsure: Tensor | None = None,
                             classes: Sequence[str | None] | None = None
-                            ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult]:
+                            ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult | None, FitResult]:
     """:func:`fit_proposals` and the fit of the box objects' request ``boxes``
     (:func:`~sdn3d.box_objects.box_request`, the same ``settings``) in one :func:`~sdn3d.geometric.fit.fit_many`
     call: each stage's fixed cost once. Neither reads the other's fit, so the fits are those of two calls (up to the
-    order of float sums). Returns ``(geometry, records, the boxes' FitResult)``."""
+    order of float sums). Returns ``(geometry, records, the proposals' FitResult, the boxes' FitResult)``."""
     from sdn3d.geometric.fit import fit_many
 
     if not len(rows):
@@ -150,7 +154,25 @@ def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: 
                 fit_many([boxes], intr, settings=settings)[0])
     fits = fit_many([proposal_request(masks, rows, geometry, settings, appearance, unsure, classes), boxes], intr,
                     settings=settings)
-    return (*apply_proposal_fit(fits[0], ids, rows, geometry, settings), fits[1])
+    return (*apply_proposal_fit(fits[0], ids, rows, geometry, settings), fits[0], fits[1])
+
+
+def choose_proposals_again(fit: FitResult, ids: Tensor, rows: Tensor, again: Tensor, geometry: tuple[Tensor, ...],
+                           settings: FitSettings, appearance: Appearance | None
+                           ) -> tuple[tuple[Tensor, ...], list[ProposalFit]]:
+    """``(geometry, records)``: ``geometry`` with the proposals ``again (M,)`` (a subset of the fitted ``rows (K,)``
+    of ``fit``, :func:`fit_proposals`' result) chosen again among the fits of the first fit's fine stage under the
+    yaw belief of ``appearance`` (a lamp reading that changed: :func:`sdn3d.derender.derender`), and their records:
+    what fitting them again with that appearance gives (the hypotheses and their fits do not read the belief,
+    :class:`~sdn3d.geometric.fit.FitChoice`), without the fitting."""
+    from sdn3d.geometric.fit import choose_again
+
+    if fit.choice is None:
+        raise ValueError("choose_proposals_again needs the fit's choice (a FitResult of fit_to_masks)")
+    position = {int(r): k for k, r in enumerate(rows.tolist())}
+    at = torch.tensor([position[int(r)] for r in again.tolist()], dtype=torch.long)
+    result = choose_again(fit.choice.rows(at), yaw_belief(appearance if settings.appearance else None, again))
+    return apply_proposal_fit(result, ids, again, geometry, settings)
 
 
 def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], settings: FitSettings,

@@ -110,7 +110,8 @@ from sdn3d.render.settings import SoftSilhouetteSettings
 from sdn3d.render.silhouette import silhouette
 from sdn3d.render.soft import kernel_threads
 
-__all__ = ["FitSettings", "FitResult", "FitRequest", "fit_to_masks", "fit_many", "road_start", "estimate_camera_height",
+__all__ = ["FitSettings", "FitResult", "FitChoice", "FitRequest", "fit_to_masks", "fit_many", "choose_again",
+           "road_start", "estimate_camera_height",
            "allowed_templates", "CAR_DIMS", "PLAUSIBLE_SIZE_FACTOR", "HYPOTHESES"]
 
 #: Mean KITTI car ``(l, h, w)`` in metres: the size a fit starts from without a usable prediction.
@@ -311,6 +312,8 @@ class FitResult:
         camera_height: the road plane's ``y`` the fit used (metres) and how it was found (``camera_height_source``).
         notes: what the fit could not do normally, per object index (the sentence without the object's name).
         warnings: one line per such object, naming it by its index (``notes`` for a reader).
+        choice: the fine stage's fits of every hypothesis, to choose among them again under another yaw belief
+            (:func:`choose_again`); None for an empty fit.
     """
 
     template: Tensor
@@ -327,12 +330,65 @@ class FitResult:
     camera_height_source: str = "default"
     notes: dict[int, str] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
+    choice: FitChoice | None = field(default=None, repr=False)
 
     def hypothesis_name(self, i: int) -> str:
         """The ``i``-th object's winning hypothesis in words."""
         h = int(self.hypothesis[i])
         return "not fitted (prediction kept)" if h < 0 else HYPOTHESES[h] if h < len(HYPOTHESES) else \
             f"search start {h - len(HYPOTHESES) + 1}"
+
+
+@dataclass
+class FitChoice:
+    """What :func:`fit_to_masks`' fine stage leaves to choose from, for ``n`` objects and ``H`` hypotheses each: the
+    choice depends on the yaw belief and nothing before it does (the hypotheses, their starts and their fits do not
+    read it), so :func:`choose_again` gives under another belief what a new fit would (a lamp reading that changed,
+    :func:`sdn3d.derender.derender`), without fitting again.
+
+    Attributes:
+        values: the fitted parameters, each ``(n, H, ...)`` (``x``, ``z``, ``ry``, ``dims``, ``phi_half``).
+        loss: ``(n, H)`` each fit's final loss; template: ``(n, H)`` long, each fit's template.
+        inward: ``(n, H)`` bool, fits facing into a border that cuts the car (:func:`inward_at_border`).
+        mask, ign: ``(n, 1, S, S)`` each object's fine crop of its mask and of its ignored pixels; K: ``(n, 3, 3)``
+            its crop camera (the winner's IoU is measured there).
+        masks: ``(n, H_img, W_img)`` bool the masks fitted (ignored pixels removed: too small or thin ones keep the
+            prediction); start_template ``(n,)`` or None, start_location ``(n, 3)`` or None, dims0 ``(n, 3)``, ry0
+            ``(n,)``: the starts.
+        mirror: whether the mirrored hypotheses were tried (the record's hypothesis index counts them).
+        camera_height, camera_height_source, settings: those of the fit; bank: its templates (the winner's IoU is
+            measured with them, not the fine stage's simplified ones).
+    """
+
+    values: dict[str, Tensor]
+    loss: Tensor
+    template: Tensor
+    inward: Tensor
+    mask: Tensor
+    ign: Tensor
+    K: Tensor
+    masks: Tensor
+    start_template: Tensor | None
+    start_location: Tensor | None
+    dims0: Tensor
+    ry0: Tensor
+    mirror: bool
+    camera_height: float
+    camera_height_source: str
+    settings: FitSettings
+    bank: MeshBank
+
+    def __len__(self) -> int:
+        return int(self.loss.shape[0])
+
+    def rows(self, index: slice | Tensor) -> FitChoice:
+        """The choice of the objects ``index`` (a slice or ``(M,)`` indices)."""
+        def pick(t: Tensor | None) -> Tensor | None:
+            return None if t is None else t[index]
+        return FitChoice({k: v[index] for k, v in self.values.items()}, self.loss[index], self.template[index],
+                         self.inward[index], self.mask[index], self.ign[index], self.K[index], self.masks[index],
+                         pick(self.start_template), pick(self.start_location), self.dims0[index], self.ry0[index],
+                         self.mirror, self.camera_height, self.camera_height_source, self.settings, self.bank)
 
 
 def road_start(boxes: Tensor, intr: Intrinsics, camera_height: float, width: float = CAR_DIMS[2]) -> Tensor:
@@ -644,40 +700,55 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     values, loss = _in_parts(_stage, n, hyps, settings.parts, fine_bank, fine_template.flatten(),
                              {k: v.flatten(0, 1) for k, v in starts.items()}, dims0[obj], ry0[obj], mask[obj], ign[obj],
                              K[obj], settings.fine_size, settings.fine_steps, settings, with_ffd=True, height=height)
-    fine = loss.view(n, hyps)
     fitted_ry = values["ry"].view(n, hyps)
+    inward = inward_at_border(border_side(pixel_centre_boxes(boxes.float()), intr.width), fitted_ry,
+                              torch.atan2(values["x"], values["z"]).view(n, hyps), settings.cut_inward)
+    choice = FitChoice({k: v.reshape(n, hyps, *v.shape[1:]) for k, v in values.items()}, loss.view(n, hyps),
+                       fine_template, inward, mask, ign, K, masks, start_template, start_location, dims0, ry0, mirror,
+                       height, height_source, settings, bank)
+    return choose_again(choice, yaw_belief)
+
+
+def choose_again(choice: FitChoice, yaw_belief: Callable[[Tensor], Tensor] | None = None) -> FitResult:
+    """:func:`fit_to_masks`' result from its fine stage's fits ``choice`` under the yaw belief ``yaw_belief`` (as
+    :func:`fit_to_masks` takes it; None: the yaw nearest the first start): the winner of each object (module doc,
+    step 2), its IoU and the record. The same as fitting again with that belief, without the fitting."""
+    n, hyps = choice.loss.shape
+    settings, height = choice.settings, choice.camera_height
+    fitted_ry = choice.values["ry"]
     if yaw_belief is not None:
         with torch.no_grad():
             belief = yaw_belief(fitted_ry).float()
     else:
-        belief = torch.cos(fitted_ry - ry0[:, None])  # 1: the first start's yaw
-    inward = inward_at_border(border_side(pixel_centre_boxes(boxes.float()), intr.width), fitted_ry,
-                              torch.atan2(values["x"], values["z"]).view(n, hyps), settings.cut_inward)
+        belief = torch.cos(fitted_ry - choice.ry0[:, None])  # 1: the first start's yaw
+    fine, inward = choice.loss, choice.inward
     index = _choose(fine, belief, fitted_ry, settings)
     outward = _choose(torch.where(inward & ~inward.all(1, keepdim=True), math.inf, fine), belief, fitted_ry, settings)
     # The border names the axis, not the end: a fit the appearance believes less than the inward winner stays out.
     index = torch.where(belief.gather(1, outward[:, None])[:, 0] >= belief.gather(1, index[:, None])[:, 0],
                         outward, index)
-    winner = index + torch.arange(n) * hyps
-    chosen = {k: v[winner] for k, v in values.items()}
-    won = fine_template.flatten()[winner]
+    everyone = torch.arange(n)
+    chosen = {k: v[everyone, index] for k, v in choice.values.items()}
+    won = choice.template[everyone, index]
     dims, phi = chosen["dims"], expand_half_ffd(chosen["phi_half"])
     location = torch.stack([chosen["x"], torch.full_like(chosen["x"], height), chosen["z"]], 1)
     with torch.no_grad():
         center = torch.stack([chosen["x"], height - dims[:, 1] / 2, chosen["z"]], 1)
-        sil = render_silhouettes(bank, won, dims, chosen["ry"], center, phi, K[obj][winner],
+        sil = render_silhouettes(choice.bank, won, dims, chosen["ry"], center, phi, choice.K,
                                  SoftSilhouetteSettings((settings.fine_size,) * 2, sigma=settings.sigma))
-    keep_px = ign[obj][winner][:, 0] < 0.5
-    drawn, target = (sil > 0.5) & keep_px, (mask[obj][winner][:, 0] > 0.5) & keep_px
+    keep_px = choice.ign[:, 0] < 0.5
+    drawn, target = (sil > 0.5) & keep_px, (choice.mask[:, 0] > 0.5) & keep_px
     union = (drawn | target).flatten(1).sum(1)
     iou = (drawn & target).flatten(1).sum(1) / union.clamp_min(1)
     # The record's index: HYPOTHESES without the mirror's two, then the search's starts.
-    hypothesis = index if mirror else torch.where(index < UNMIRRORED, index, index + len(HYPOTHESES) - UNMIRRORED)
+    hypothesis = (index if choice.mirror else
+                  torch.where(index < UNMIRRORED, index, index + len(HYPOTHESES) - UNMIRRORED))
     result = FitResult(template=won.long(), dims=dims, ry=chosen["ry"], location=location, phi=phi,
-                       iou=torch.where(union > 0, iou, torch.zeros_like(iou)).float(), loss=loss[winner],
-                       start_ry=ry0, hypothesis=hypothesis.long(), fitted=torch.ones(n, dtype=torch.bool),
-                       camera_height=height, camera_height_source=height_source)
-    _keep_predictions_of_bad_masks(result, masks, start_template, start_location, dims0, ry0, settings)
+                       iou=torch.where(union > 0, iou, torch.zeros_like(iou)).float(), loss=fine[everyone, index],
+                       start_ry=choice.ry0, hypothesis=hypothesis.long(), fitted=torch.ones(n, dtype=torch.bool),
+                       camera_height=height, camera_height_source=choice.camera_height_source, choice=choice)
+    _keep_predictions_of_bad_masks(result, choice.masks, choice.start_template, choice.start_location, choice.dims0,
+                                   choice.ry0, settings)
     return result
 
 
@@ -844,6 +915,7 @@ def fit_many(requests: list[FitRequest], intr: Intrinsics, *, bank: MeshBank | N
         out.append(FitResult(result.template[rows], result.dims[rows], result.ry[rows], result.location[rows],
                              result.phi[rows], result.iou[rows], result.loss[rows], result.start_ry[rows],
                              result.hypothesis[rows], result.fitted[rows], result.camera_height,
-                             result.camera_height_source, notes, [f"object {i}: {note}" for i, note in notes.items()]))
+                             result.camera_height_source, notes, [f"object {i}: {note}" for i, note in notes.items()],
+                             None if result.choice is None else result.choice.rows(rows)))
         lo += size
     return out

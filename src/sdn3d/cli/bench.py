@@ -169,7 +169,7 @@ def table1_markdown(summaries: dict, info: dict, comparisons: dict | None = None
     """The paper's Table 1 layout (rows 2D, 2D+, 3D-SDN per source scene and compose mode) from
     ``{source: summarize(...)}`` (:func:`sdn3d.evaluation.edit_benchmark.summarize`) and results.json's info;
     ``comparisons`` (:func:`paired_comparisons`) adds who won to the headline."""
-    from sdn3d.data.synth.entry_report import KindCount, shortfall_lines
+    from sdn3d.data.synth.entry_report import KindCount, shortfall_sentences
 
     rows = _rows(summaries, info)
     gens = info["generators"]
@@ -200,8 +200,7 @@ def table1_markdown(summaries: dict, info: dict, comparisons: dict | None = None
               for s, m, c, st in rows if c == info["compose"][0]]
     lines += _by_kind_lines(summaries, info)
     short = {k: KindCount.from_json(k, v) for k, v in (info.get("benchmark_short") or {}).items()}
-    lines += [f"\n**Fewer entries than asked for.** {line.split(': warning: ', 1)[1]}."
-              for line in shortfall_lines(short, "sdn3d-bench")]
+    lines += [f"\n**Fewer entries than asked for.** {sentence}." for sentence in shortfall_sentences(short)]
     lines.append("")
     for s in info["sources"]:
         lat, failed = summaries[s]["latency_ms"], summaries[s]["failed"]

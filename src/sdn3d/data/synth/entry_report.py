@@ -29,7 +29,7 @@ from sdn3d.data.sources import SYNTH_MANIFEST
 from sdn3d.errors import UserInputError
 
 __all__ = ["Missing", "MissingEntry", "KindCount", "manifest_counts", "benchmark_shortfall", "shortfall_lines",
-           "counts_json", "MANIFEST_KEY"]
+           "shortfall_sentences", "counts_json", "MANIFEST_KEY"]
 
 #: The key of ``synth_manifest.json`` holding :func:`manifest_counts`.
 MANIFEST_KEY = "benchmark_entries"
@@ -104,7 +104,12 @@ def manifest_counts(entries: Sequence[BenchmarkEntry], missing: Sequence[Missing
 def shortfall_lines(counts: dict[str, KindCount], who: str) -> list[str]:
     """One warning line per kind with fewer entries made than asked for (none when every kind is complete),
     naming the sequences per reason; ``who`` starts each line (``sdn3d-synth``, ``sdn3d-bench``)."""
-    lines = []
+    return [f"{who}: warning: {sentence}" for sentence in shortfall_sentences(counts)]
+
+
+def shortfall_sentences(counts: dict[str, KindCount]) -> list[str]:
+    """:func:`shortfall_lines` without their prefix: one sentence per short kind (``table1.md`` prints them)."""
+    sentences = []
     for kind, count in counts.items():
         if count.made >= count.asked:
             continue
@@ -114,10 +119,10 @@ def shortfall_lines(counts: dict[str, KindCount], who: str) -> list[str]:
         reasons = "; ".join(f"{sum(s['missing'] for s in short)} missing in "
                             f"{', '.join(s['world'] + '/' + s['variation'] for s in short)}: {why}"
                             for why, short in by_why.items())
-        lines.append(f"{who}: warning: {count.made} of the {count.asked} '{kind}' benchmark entries asked for were "
-                     f"made ({reasons or 'the reasons are not recorded'}); each missing one is an entry without "
-                     "operations, which sdn3d-bench skips")
-    return lines
+        sentences.append(f"{count.made} of the {count.asked} '{kind}' benchmark entries asked for were made "
+                         f"({reasons or 'the reasons are not recorded'}); each missing one is an entry without "
+                         "operations, which sdn3d-bench skips")
+    return sentences
 
 
 def benchmark_shortfall(path: Path, entries: Sequence[BenchmarkEntry]) -> dict[str, KindCount]:

@@ -2013,7 +2013,8 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     so it does not decide the paint however much of the end it covers); where those tell a grey paint and those not
     on ``road (H * W,)`` bool (None: none), the road and shadow the car's mask took in
     (:func:`~sdn3d.editing.photo.recolor.ground_in_mask`, the caller's, in clear air only), tell a coloured one, the
-    coloured paint's examples draw the car's sides and the grey one's its ends (:attr:`_PartExamples.reach`): a box's
+    coloured paint's examples draw the car's sides and the grey one's its ends (:attr:`_PartExamples.reach`), and the
+    road's pixels are examples of no part but tyres (:func:`_ground_examples`): a box's
     mask takes in the road below a car seen from behind, where the template's end cap reaches (on the real frame's red
     wagon 43 % of the examples off the lamps' heights; its paint was judged black and its turned side drawn black
     below), while an end drawn from the other end keeps that end's bumper and glass (the paint's examples alone drew

@@ -752,3 +752,50 @@ def test_a_never_seen_window_facing_the_camera_as_no_example_did_takes_the_mean_
                               for normal in (sideways, facing[:1])]
     assert drawn[1][0] < drawn[0][0] - 0.05, drawn  # another panel: more examples, less of the pillars
     assert drawn[1][1] == drawn[0][1], drawn  # the same facing: its 4 nearest, as before
+
+
+def test_a_cars_never_seen_front_is_not_drawn_from_the_road_its_mask_took_in():
+    """The red car seen from behind whose mask took in the road below it (its lowest 30 % of rows the road's grey)
+    above a black bumper, turned by 180 degrees: its never-seen front is drawn from what the rear showed, but not
+    from the road: no pixel of the front drawn from the car's own pixels (code ``part``) takes the road's grey (main
+    drew the lower front of the real frame's red wagon from the road's shadow under it, a dark smear;
+    docs/results/2026-11-30_cpu/session25/back41/)."""
+    scene = _scene([BEHIND])
+    image, covered, parts = _painted(scene, (0.7, 0.1, 0.08))
+    body = covered & (parts == int(Part.BODY))
+    rows = covered.any(1).nonzero().flatten()
+    span = int(rows.max() - rows.min())
+    road, bumper = covered.clone(), body.clone()
+    road[: int(rows.min()) + int(0.7 * span)] = False  # the lowest 30 % of the car's rows
+    bumper[: int(rows.min()) + int(0.6 * span)] = False
+    bumper &= ~road
+    image[:, road] = 0.45  # the background's road grey, as it lies below the car
+    image[:, bumper] = 0.05
+    edited = apply_edits(scene, [Rotate(12001, math.pi)])
+    result = render_photo(image, FRAME, scene, edited, settings=PARTS)
+    drawn = (result.source == PART) & (result.parts >= 0) & (result.parts != int(Part.TYRE))
+    assert int(drawn.sum()) > 500
+    grey = (result.image[:, drawn] - 0.45).abs().amax(0) < 0.06  # the road's grey, within the fit's rounding
+    assert int(grey.sum()) == 0, int(grey.sum())  # main's code: hundreds of pixels, the lower front
+
+
+def test_a_fogged_light_paint_is_no_white_lamp_to_turn_red():
+    """A never-seen tail lamp drawn from the other end's examples turns those in the head lamps' white red
+    (``transfer._lamps_of_this_end``). White is told on the colour as seen, whatever the air: fog leaves a white lamp
+    near-white but lifts a light grey paint towards it, and read out of the air such a grey (0.52 as seen) passed for
+    white and was drawn red (held-out seed 2229's car 12006 turned 90 degrees, -0.37 dB,
+    docs/results/2026-11-30_cpu/session24/turn41/). A red tail lamp is still told out of the air (fog makes it pink)."""
+    from sdn3d.editing.photo import transfer
+
+    # windows, paint and a light grey seen through thick fog (``0.1 clear + 0.445``): the range squeezed to 0.45-0.53
+    fogged = torch.tensor([[0.45, 0.45, 0.45]] * 20 + [[0.48, 0.48, 0.48]] * 60 + [[0.53, 0.53, 0.53]] * 20,
+                          dtype=torch.float64)
+    air = transfer._lamp_air(fogged, transfer._clear_air(fogged))
+    assert air is not None
+    light = torch.tensor([[0.52, 0.52, 0.53]], dtype=torch.float64)  # the light grey as seen: white out of the air
+    assert bool(transfer._lamp_coloured(transfer._out_of_air(light, air), int(Part.FRONT_LIGHTS))[0])
+    assert not bool(transfer._lamp_coloured(light, int(Part.FRONT_LIGHTS), air)[0])
+    drawn = transfer._lamps_of_this_end(light, int(Part.TAIL_LIGHTS), fogged[20:80], air)
+    assert torch.equal(drawn, light)  # main's code: (0.53, 0.06, 0.05), a red lamp on a grey car
+    pink = 0.1 * torch.tensor([[0.5, 0.05, 0.05]], dtype=torch.float64) + 0.445  # a red lamp in that fog
+    assert bool(transfer._lamp_coloured(pink, int(Part.TAIL_LIGHTS), air)[0])

@@ -1955,6 +1955,20 @@ class _PartExamples(NamedTuple):
 #: source scene on the seed-33 and seed-39 tuning trees, 74-81 %; the real frame's red wagon 22 %,
 #: docs/results/2026-11-30_cpu/session22/side2/).
 ROAD_MAX_SHARE = 0.5
+#: :func:`_ground_examples`: the parts whose examples on the road a car's mask took in stay examples: a tyre stands on
+#: the road, and its rubber is as dark as the shadow there (:data:`TYRE_QUANTILE` tells tyres from the rest).
+ON_GROUND_PARTS = (int(Part.TYRE),)
+
+
+def _ground_examples(parts: Tensor, on_road: Tensor) -> Tensor:
+    """``(E,)`` bool: the examples of parts ``parts (E,)`` that are the road and shadow under the car, not the car:
+    ``on_road (E,)`` (:func:`~sdn3d.editing.photo.recolor.ground_in_mask`) on any part but :data:`ON_GROUND_PARTS`.
+    Read where the road told the car's ends a grey paint its sides do not have (:func:`_part_examples`): kept there,
+    the road's shadow drew the lower half of the real frame's red wagon turned 180 degrees, its bumper, plate and head
+    lamps, as a dark smear (54 % of its end examples were road; docs/results/2026-11-30_cpu/session25/back41/)."""
+    return on_road & ~torch.isin(parts, torch.tensor(ON_GROUND_PARTS))
+
+
 #: :attr:`_PartExamples.reach`: an example any never-seen surface of its car may be drawn from.
 REACH_ALL = 0
 #: An example only the car's ends (beyond :data:`LAMP_END` of its length from the middle) may be drawn from: a body
@@ -1999,7 +2013,8 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
     so it does not decide the paint however much of the end it covers); where those tell a grey paint and those not
     on ``road (H * W,)`` bool (None: none), the road and shadow the car's mask took in
     (:func:`~sdn3d.editing.photo.recolor.ground_in_mask`, the caller's, in clear air only), tell a coloured one, the
-    coloured paint's examples draw the car's sides and the grey one's its ends (:attr:`_PartExamples.reach`): a box's
+    coloured paint's examples draw the car's sides and the grey one's its ends (:attr:`_PartExamples.reach`), and the
+    road's pixels are examples of no part but tyres (:func:`_ground_examples`): a box's
     mask takes in the road below a car seen from behind, where the template's end cap reaches (on the real frame's red
     wagon 43 % of the examples off the lamps' heights; its paint was judged black and its turned side drawn black
     below), while an end drawn from the other end keeps that end's bumper and glass (the paint's examples alone drew
@@ -2043,10 +2058,11 @@ def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable,
         if (not coloured and 8 <= int(tell.sum()) < int(told.sum())
                 and float(on_road.double().mean()) <= ROAD_MAX_SHARE):  # the road told a grey paint: is it the car's?
             without_road, side_coloured = body_paint(lab, reference=lab[tell])
-            if side_coloured:  # the sides are the coloured paint; the ends keep what they showed
+            if side_coloured:  # the sides are the coloured paint; the ends keep what they showed, less the road
                 side_paint = without_road
                 reach[body_ex[paint & ~side_paint]] = REACH_ENDS
                 reach[body_ex[side_paint & ~paint]] = REACH_SIDES
+                keep &= ~_ground_examples(ex_part, road[ex])
         keep[body_ex[~(paint | side_paint)]] = False
         corners = _lamp_band(before, b, feature[body_ex]) if LAMP_BAND is not None else None
         if corners is not None and any_set(paint):  # lamps where cars have them that the template calls body
@@ -2387,8 +2403,11 @@ def _lamp_coloured(colors: Tensor, part: int, air: LampAir = None) -> Tensor:
     ``air`` (:func:`_lamp_air`; None: clear air, as they are alone), as they would be in clear air (a car whose
     darkest pixels are its paint, with no dark glass or tyres shown, reads as fogged: its red paint taken out of that
     air is no red, yet it is): saturated red for tail lamps (as :func:`~sdn3d.geometric.lamps.red_lamps` reads
-    them), near-white for head lamps."""
-    if air is not None:
+    them), near-white for head lamps, told as the colour is seen whatever the air (fog turns a red lamp pink but
+    leaves a white one near-white; out of the air, a fogged light grey paint passed for white, and a never-seen
+    template tail-lamp face was drawn red from it: held-out seed 2229's car 12006 of world 0020 turned 90 degrees,
+    -0.37 dB, docs/results/2026-11-30_cpu/session24/turn41/)."""
+    if air is not None and part == int(Part.TAIL_LIGHTS):
         return _lamp_coloured(colors, part) | _lamp_coloured(_out_of_air(colors, air), part)
     r, g, b = colors.unbind(-1)
     if part == int(Part.TAIL_LIGHTS):

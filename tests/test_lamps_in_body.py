@@ -2,14 +2,16 @@
 
 The headlight test (:func:`sdn3d.geometric.lamps.white_lamps`) read every near-white pixel of a red body's mask's lower
 half as a headlight: on the semantic branch's proposals, which spill past a car onto the road, a lane marking beside
-a red van's back was its "headlights", and the fit turned it end for end. A headlight sits in the body, with the red
-paint left and right of it on its row (:func:`~sdn3d.geometric.lamps.in_the_body`): only those pixels count now.
+a red van's back was its "headlights", and the fit turned it end for end. A headlight sits in the body: between the
+leftmost and the rightmost red pixel of the rows near its own (:func:`~sdn3d.geometric.lamps.in_the_body`; a lamp at
+the body's corner has the bumper or the bonnet beside it), and only those pixels count now.
 """
 
 from __future__ import annotations
 
 import math
 
+import pytest
 import torch
 from helpers.tiny_models import geometric_net
 
@@ -40,14 +42,18 @@ def _red_body(lamps: bool, marking: bool) -> tuple[torch.Tensor, torch.Tensor]:
     return crop, mask
 
 
-def test_in_the_body_is_between_red_pixels_on_a_row():
-    red = torch.zeros(1, 3, 8, dtype=torch.bool)
+def test_in_the_body_is_between_the_red_of_the_rows_near_a_pixel():
+    red = torch.zeros(1, 5, 8, dtype=torch.bool)
     red[0, 0, [2, 5]] = True  # row 0: red at columns 2 and 5
     red[0, 1, 3] = True  # row 1: one red pixel
-    inside = in_the_body(red)
+    inside = in_the_body(red, 0)
     assert inside[0, 0].nonzero().flatten().tolist() == [2, 3, 4, 5]
     assert inside[0, 1].nonzero().flatten().tolist() == [3]
     assert not bool(inside[0, 2].any())  # no red on the row: nothing is in the body
+    near = in_the_body(red, 1)
+    assert near[0, 1].nonzero().flatten().tolist() == [2, 3, 4, 5]  # row 0's red one row away
+    assert near[0, 2].nonzero().flatten().tolist() == [3]  # row 1's
+    assert not bool(near[0, 4].any())  # no red within a row
 
 
 def test_a_lane_marking_beside_a_red_back_is_no_headlight():
@@ -71,6 +77,26 @@ def test_headlights_in_a_red_front_are_read_as_before():
     assert float(white_lamps(crop, mask, cue)[2][0]) < 0
     evidence = lamp_evidence(crop, mask, torch.tensor([[BACK, FRONT]]), cue)[0]
     assert float(evidence[1]) > 0 > float(evidence[0])
+
+
+def test_headlights_at_the_body_corners_count():
+    """A front view whose headlights end the body's row (no red beyond them on their rows): the bumper below them
+    spans the body's width, so they lie in the body."""
+    cue = LampCue(min_mask=0)
+    crop, mask = _red_body(lamps=False, marking=False)
+    crop[0, :, 18:20, 10:13] = 0.9  # at the body's left end ...
+    crop[0, :, 18:20, 25:28] = 0.9  # ... and at its right end
+    present, usable, offset = white_lamps(crop, mask, cue)
+    assert bool(present[0]) and bool(usable[0]) and abs(float(offset[0])) < 0.05  # both, one each side
+    crop[0, :, 20:24, 10:28] = 0.05  # no red below them (a dark bumper): only the rows beside them, none beyond
+    crop[0, :, 16:18, 10:28] = 0.05
+    assert not bool(white_lamps(crop, mask, cue)[0][0])
+
+
+@pytest.mark.parametrize("rows", [-0.1, 1.5, True, "2"])
+def test_a_headlight_rows_share_outside_zero_to_one_is_refused_by_name(rows):
+    with pytest.raises(ValueError, match="headlight_rows"):
+        LampCue(headlight_rows=rows)
 
 
 def test_a_rain_streak_across_the_body_still_counts():

@@ -7,6 +7,7 @@ it with the proposal's outline (cyan), the fitted car's silhouette outline (yell
 centre to its front (orange) and one to the true front (green: the ground truth, an oracle, only to score), titled
 with LABEL and the yaw error. --join lays the two codes' panels side by side, one row per car, into OUT.png."""
 import math
+import os
 import sys
 
 import matplotlib
@@ -18,6 +19,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 RUNS = "/tmp/s21data/demo/out/runs"
 SIZE = (312, 96)
+#: Session 25: ORACLE=1 in the environment draws pose_table's gt_fit row (ground-truth masks + boxes, an oracle, as the
+#: fit's input) instead of the semantic proposals; the joined picture's heading says which (ORACLE at --join too).
+ORACLE = os.environ.get("ORACLE") == "1"
 
 
 def front_arrow(intr, center: torch.Tensor, ry: float, length: float) -> tuple[tuple[float, float], ...]:
@@ -35,8 +39,9 @@ def panels(label: str, tree: str, out: str, cars: list[list[str]]) -> None:
     from sdn3d.data.frames import load_frame
     from sdn3d.data.scene_gt import frame_photo, ground_truth, scene_from_frame
     from sdn3d.data.sources import load_split
-    from sdn3d.derender import derender
+    from sdn3d.derender import BoxPrompts, derender
     from sdn3d.geometric.fit import FitSettings
+    from sdn3d.labels import INSTANCE_DIVISOR
     from sdn3d.math3d.transforms import bottom_to_center
     from sdn3d.meshes.bank import default_bank
     from sdn3d.models import Models, geometric_crop_settings
@@ -57,11 +62,22 @@ def panels(label: str, tree: str, out: str, cars: list[list[str]]) -> None:
         photo, gt = frame_photo(record, SIZE), ground_truth(record, SIZE)
         truth = scene_from_frame(record, SIZE).objects
         t = truth.index_of(int(iid))
-        scene = derender(frame.image, frame.intrinsics, models, "semantic", gt, photo=photo, fit=FitSettings())
-        o = scene.objects
         mine = gt.instances == int(iid)
-        iou = (o.mask & mine).flatten(1).sum(1) / (o.mask | mine).flatten(1).sum(1)
-        r = int(iou.argmax())
+        if ORACLE:  # pose_table's gt_fit row: every vehicle's true mask and box, fitted (session 25)
+            ids = [i for i in truth.instance_id.tolist() if i // INSTANCE_DIVISOR in (12, 13)
+                   and i % INSTANCE_DIVISOR in gt.boxes and int(truth.mask[truth.index_of(i)].sum()) >= 64
+                   and truth.template_id[truth.index_of(i)] >= 0]
+            boxes = [[b[0], b[1], b[2] + 1, b[3] + 1] for b in (gt.boxes[i % INSTANCE_DIVISOR].tolist() for i in ids)]
+            names = tuple("Car" if i // INSTANCE_DIVISOR == 12 else "Van" for i in ids)
+            masks = torch.stack([truth.mask[truth.index_of(i)] for i in ids]).bool()
+            prompts = BoxPrompts(torch.tensor(boxes), names, FitSettings(), masks=masks, refine_masks=False)
+            scene = derender(frame.image, frame.intrinsics, models, "boxes", gt, boxes=prompts, photo=photo)
+            r = int((scene.objects.mask & mine).flatten(1).sum(1).argmax())
+        else:
+            scene = derender(frame.image, frame.intrinsics, models, "semantic", gt, photo=photo, fit=FitSettings())
+            r = int(((scene.objects.mask & mine).flatten(1).sum(1)
+                     / (scene.objects.mask | mine).flatten(1).sum(1)).argmax())
+        o = scene.objects
         # the fitted car's hard silhouette (as branch's proposal_fit.fitted_silhouettes; main has none)
         verts, faces = pose_meshes(default_bank(), o.template_id[r:r + 1], o.dims[r:r + 1].float(),
                                    o.ry[r:r + 1].float(), bottom_to_center(o.location, o.dims[:, 1])[r:r + 1].float(),
@@ -106,7 +122,8 @@ def join(main: str, branch: str, out: str) -> None:
     for n in range(cars):
         draw(axes[n, 0], a, n)
         draw(axes[n, 1], b, n)
-    fig.suptitle("predicted proposals (w0): proposal (cyan), fitted car (yellow), fitted front (orange arrow),\n"
+    fig.suptitle(("ground-truth masks + boxes (oracle input)" if ORACLE else "predicted proposals") +
+                 " (w0): mask (cyan), fitted car (yellow), fitted front (orange arrow),\n"
                  "true front (green arrow; ground truth, an oracle, for scoring only)", fontsize=8)
     fig.tight_layout()
     fig.savefig(out, dpi=90)

@@ -34,6 +34,38 @@ def enclosed(white: torch.Tensor, red: torch.Tensor) -> torch.Tensor:
     return white & left & right
 
 
+def bounded(white: torch.Tensor, red: torch.Tensor, mask: torch.Tensor) -> torch.Tensor:
+    """``(S, S)`` bool: the pixels of ``white`` whose run of white pixels on their row ends, on each side, at a red
+    pixel or past the mask (its edge), and at a red one on at least one side: a lamp in the body or at its edge, not a
+    marking on the road a mask spills onto (bounded by road pixels)."""
+    w = white.shape[1]
+    cols = torch.arange(w).expand_as(white)
+    kind = torch.where(red, 1, torch.where(mask, 0, 2))  # 1 red, 2 past the mask, 0 anything else in the mask
+    kind = torch.cat([torch.full_like(kind[:, :1], 2), kind, torch.full_like(kind[:, :1], 2)], 1)  # crop edge: past
+    left = torch.where(~white, cols, -1).cummax(1).values + 1  # padded index of the last non-white at or left of j
+    right = torch.where(~white, cols, w).flip(1).cummin(1).values.flip(1) + 1
+    lk, rk = kind.gather(1, left), kind.gather(1, right)
+    return white & (lk > 0) & (rk > 0) & ((lk == 1) | (rk == 1))
+
+
+def near_red(white: torch.Tensor, red: torch.Tensor, k: int) -> torch.Tensor:
+    """``(S, S)`` bool: the pixels of ``white`` within ``k`` pixels of a red one on their row."""
+    grown = F.max_pool2d(red.float()[None, None], (1, 2 * k + 1), stride=1, padding=(0, k))[0, 0].bool()
+    return white & grown
+
+
+def in_span(white: torch.Tensor, red: torch.Tensor, r: int) -> torch.Tensor:
+    """``(S, S)`` bool: the pixels of ``white`` between the leftmost and the rightmost red pixel of the rows within
+    ``r`` of theirs (the body's extent near their height: a corner headlight has the bumper or bonnet beside it)."""
+    s = white.shape[1]
+    cols = torch.arange(s, dtype=torch.float32).expand_as(white)
+    left = torch.where(red, cols, torch.full_like(cols, s)).amin(1)  # (S,) per row
+    right = torch.where(red, cols, torch.full_like(cols, -1)).amax(1)
+    lo = -F.max_pool1d(-left[None, None], 2 * r + 1, stride=1, padding=r)[0, 0]
+    hi = F.max_pool1d(right[None, None], 2 * r + 1, stride=1, padding=r)[0, 0]
+    return white & (cols >= lo[:, None]) & (cols <= hi[:, None])
+
+
 def present(white: torch.Tensor, sure: torch.Tensor, share: float = 0.001) -> bool:
     n = int(white.sum())
     return n > 0 and n >= share * int(sure.sum())
@@ -44,6 +76,16 @@ VARIANTS = {
     "run>=2": lambda s: runs(s["white"], 2),
     "run>=3": lambda s: runs(s["white"], 3),
     "enclosed": lambda s: enclosed(s["white"], s["red"]),
+    "bounded": lambda s: bounded(s["white"], s["red"], s["sure"]),
+    "near red 1": lambda s: near_red(s["white"], s["red"], 1),
+    "near red 2": lambda s: near_red(s["white"], s["red"], 2),
+    "near red 3": lambda s: near_red(s["white"], s["red"], 3),
+    "near red 5": lambda s: near_red(s["white"], s["red"], 5),
+    "span rows 1": lambda s: in_span(s["white"], s["red"], 1),
+    "span rows 2": lambda s: in_span(s["white"], s["red"], 2),
+    "span rows 3": lambda s: in_span(s["white"], s["red"], 3),
+    "span rows 4": lambda s: in_span(s["white"], s["red"], 4),
+    "span rows 8": lambda s: in_span(s["white"], s["red"], 8),
     "enclosed+run>=2": lambda s: runs(enclosed(s["white"], s["red"]), 2),
     "enclosed+run>=3": lambda s: runs(enclosed(s["white"], s["red"]), 3),
 }

@@ -7,6 +7,10 @@ variants of which near-white pixels count (screen_white.py's saves):
   streak is a one-pixel vertical line);
 - ``enclosed``: only pixels with red body pixels both left and right of them on their row (a headlight sits in
   the body; a lane marking or the road the mask spills onto lies beside it);
+- ``bounded``: only runs of near-white pixels ended on each side by red or by the mask's edge, red on one side;
+- ``near red k``: only pixels within k pixels of a red one on their row;
+- ``span rows r``: only pixels between the leftmost and the rightmost red pixel of the rows within r of theirs (the
+  branch's rule, ``lamps.in_the_body``; r = 2 at 64-px crops, ``LampCue.headlight_rows`` 0.03);
 - combinations.
 
     python variants_white.py /tmp/s25data/pose40/white_35.pt ...

@@ -39,7 +39,16 @@ in the fit's belief (:func:`~sdn3d.geometric.facing.facing_belief`) it weighs as
 the two disagree the silhouette decides (``docs/results/2026-11-30_cpu/session22/flip``). The absence keeps
 ``absent_weight``. The bins are then as good as the training: a second demo training's called every red body a
 back, and on tree 35 the weight fixed 17 fits of back views (oracle masks and proposals) and broke 4 fits of
-true fronts whose headlights were real.
+true fronts whose headlights were real. A headlight also sits in the body: only near-white pixels between the
+leftmost and the rightmost red pixel of the rows within ``headlight_rows`` (a share of the crop's side: 2 rows of a
+64-px crop) of their own count (:func:`in_the_body`). What a mask spills onto beside the body (a lane marking, the
+road, a neighbour's pale paint: the semantic branch's proposals) does not; a lamp at the body's corner, which ends
+its own row, has the bumper or the bonnet beside it and does; a rain streak across the body still does. On the
+Table 1 tuning trees 33, 35 and 37 (session 21's demo weights; 31 showed no red body) the near-white pixels were on
+24 of 27 front views and 12 of 37 back views of red bodies on ground-truth masks (an oracle), 20 of 23 and 27 of 34
+on the semantic branch's proposals; within the body, on 24 of 27 and 8 of 37, 19 of 23 and 7 of 34 (the front lost
+read a spill too). Within each pixel's own row only (0) it lost 2 oracle fronts whose headlights end their rows
+(``docs/results/2026-11-30_cpu/session25/pose40``).
 
 A car cut by the image's left or right border (the predictor's ``border_side``, :func:`border_side`) lies beside the
 camera, and there the end facing it (the near end, towards ``sign(sin(alpha)) cos(alpha)`` across the image, the
@@ -85,7 +94,7 @@ import torch
 from torch import Tensor
 
 __all__ = ["LampCue", "Traffic", "border_side", "air_offset", "through_the_air", "red_lamps", "white_lamps",
-           "read_lamps", "lamp_evidence", "evidence_of", "face_by_lamps", "face_by_reading"]
+           "in_the_body", "read_lamps", "lamp_evidence", "evidence_of", "face_by_lamps", "face_by_reading"]
 
 
 class Traffic(StrEnum):
@@ -125,11 +134,16 @@ class LampCue:
     white_spread: float = 0.25
     white_min_share: float = 0.001
     headlight_weight: float = 0.3
+    headlight_rows: float = 0.03
     clear_dark: float | None = 0.10
     traffic: Traffic = Traffic.RIGHT
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "traffic", Traffic.parse(self.traffic, "LampCue.traffic"))
+        if isinstance(self.headlight_rows, bool) or not (isinstance(self.headlight_rows, (int, float))
+                                                         and 0.0 <= self.headlight_rows <= 1.0):
+            raise ValueError(f"LampCue.headlight_rows must lie in [0, 1] (a share of the crop's side), got "
+                             f"{self.headlight_rows!r}")
         if not 0.0 <= self.headlight_weight <= 1.0:
             raise ValueError(f"LampCue.headlight_weight must lie in [0, 1] (a share of the red lamps' evidence), "
                              f"got {self.headlight_weight}")
@@ -221,7 +235,8 @@ def _column_offset(mask: Tensor, lamps: Tensor, dtype: torch.dtype) -> Tensor:
 def white_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple[Tensor, Tensor, Tensor]:
     """``(present (N,) bool, usable (N,) bool, offset (N,))`` of the headlights of red-bodied vehicles (module doc):
     usable where the crop is large enough and its red share is over ``cue.max_share`` (the red cue cannot read it;
-    never with ``cue.red_body`` false); present where the near-white pixels of the mask's lower half are at least
+    never with ``cue.red_body`` false); present where the near-white pixels of the mask's lower half within the red
+    body (:func:`in_the_body`, the rows within ``cue.headlight_rows`` of the crop's side) are at least
     ``cue.white_min_share`` of the mask; offset: their mean column's from the mask's, over the mask's width.
 
     >>> crop, mask = torch.zeros(1, 3, 8, 8), torch.ones(1, 1, 8, 8)
@@ -240,12 +255,37 @@ def white_lamps(crop: Tensor, mask: Tensor, cue: LampCue | None = None) -> tuple
     bottom = torch.where(m, rows, torch.full_like(rows, -1)).flatten(1).amax(1)
     lower = rows[None] * 2 > (top + bottom)[:, None, None]  # below the mask's middle row
     high, low = seen.amax(1), seen.amin(1)
-    white = m & lower & (low > cue.white_min) & (high - low < cue.white_spread)
+    body = in_the_body(red, round(cue.headlight_rows * crop.shape[-2]))
+    white = m & lower & (low > cue.white_min) & (high - low < cue.white_spread) & body
     n_white = white.flatten(1).sum(1)
     offset = _column_offset(m, white, crop.dtype)
     usable = (n_mask >= cue.min_mask) & (n_red > cue.max_share * n_mask) & cue.red_body
     present = (n_white > 0) & (n_white >= cue.white_min_share * n_mask)
     return present, usable, offset
+
+
+def in_the_body(red: Tensor, rows: int) -> Tensor:
+    """``(N, S, S)`` bool: the pixels between the leftmost and the rightmost pixel of ``red (N, S, S)`` (a red body) of
+    the rows within ``rows`` of theirs: where a red body's headlights can be (module doc). A lamp at the body's
+    corner has the bumper or the bonnet beside it a row or two away; a lane marking or the road beside the body,
+    which a mask spills onto, has no red beyond it.
+
+    >>> red = torch.zeros(1, 3, 6, dtype=torch.bool)
+    >>> red[0, 0, [1, 4]] = True  # the bonnet, row 0
+    >>> red[0, 2, 2] = True  # row 2: one red pixel
+    >>> in_the_body(red, 0)[0].int().tolist()
+    [[0, 1, 1, 1, 1, 0], [0, 0, 0, 0, 0, 0], [0, 0, 1, 0, 0, 0]]
+    >>> in_the_body(red, 1)[0].int().tolist()  # row 1 (no red of its own) takes the span of rows 0 and 2
+    [[0, 1, 1, 1, 1, 0], [0, 1, 1, 1, 1, 0], [0, 0, 1, 0, 0, 0]]
+    """
+    width = red.shape[-1]
+    cols = torch.arange(width, dtype=torch.float32, device=red.device)
+    left = torch.where(red, cols, torch.full_like(cols, width)).amin(2)  # (N, S): each row's leftmost red column
+    right = torch.where(red, cols, torch.full_like(cols, -1)).amax(2)
+    if rows > 0:  # the extremes over the rows within `rows`
+        left = -torch.nn.functional.max_pool1d(-left[:, None], 2 * rows + 1, stride=1, padding=rows)[:, 0]
+        right = torch.nn.functional.max_pool1d(right[:, None], 2 * rows + 1, stride=1, padding=rows)[:, 0]
+    return (cols >= left[:, :, None]) & (cols <= right[:, :, None])
 
 
 def read_lamps(crop: Tensor, lamp_mask: Tensor, cue: LampCue, given: Tensor | None = None,

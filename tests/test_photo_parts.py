@@ -204,12 +204,9 @@ def test_unseen_body_is_drawn_from_paint_not_from_a_lamp_the_mesh_calls_body():
     assert float(redness.max()) < 0.05
 
 
-def test_unseen_body_is_drawn_in_the_paint_not_the_road_the_mask_took_in():
-    """A red car seen from behind whose mask took in the road below it (its lowest 30 % of rows are the road's grey,
-    connected to the road under the car: ``recolor.ground_in_mask``) above which lies a black bumper (the next 10 %),
-    turned by 90 degrees: the road does not tell the paint, so its new side is red paint, not grey or black (the
-    real frame's red wagon, whose body examples off the lamps' heights were 43 % road and shadow and the rest mostly
-    its black bumper: its turned side was drawn black below; docs/results/2026-11-30_cpu/session22/side2/)."""
+def _red_car_behind_on_its_road() -> tuple:
+    """A red car seen from behind whose mask took in the road below it: its lowest 30 % of rows the road's grey
+    (``road``), the next 10 % of its body a black bumper. ``(scene, image, covered, parts, road)``."""
     scene = _scene([BEHIND])
     image, covered, parts = _painted(scene, (0.7, 0.1, 0.08))
     body = covered & (parts == int(Part.BODY))
@@ -221,6 +218,17 @@ def test_unseen_body_is_drawn_in_the_paint_not_the_road_the_mask_took_in():
     bumper &= ~road
     image[:, road] = 0.45  # the background's road grey, as it lies below the car
     image[:, bumper] = 0.05
+    return scene, image, covered, parts, road
+
+
+def test_unseen_body_is_drawn_in_the_paint_not_the_road_the_mask_took_in():
+    """A red car seen from behind whose mask took in the road below it (its lowest 30 % of rows are the road's grey,
+    connected to the road under the car: ``recolor.ground_in_mask``) above which lies a black bumper (the next 10 %),
+    turned by 90 degrees: the road does not tell the paint, so its new side is red paint, not grey or black (the
+    real frame's red wagon, whose body examples off the lamps' heights were 43 % road and shadow and the rest mostly
+    its black bumper: its turned side was drawn black below; docs/results/2026-11-30_cpu/session22/side2/)."""
+    scene, image, covered, parts, road = _red_car_behind_on_its_road()
+    body = covered & (parts == int(Part.BODY))
     assert 0.25 < float((road & body).sum()) / float(body.sum()) < 0.4
     edited = apply_edits(scene, [Rotate(12001, math.pi / 2)])
     result = render_photo(image, FRAME, scene, edited, settings=PARTS)
@@ -760,17 +768,7 @@ def test_a_cars_never_seen_front_is_not_drawn_from_the_road_its_mask_took_in():
     from the road: no pixel of the front drawn from the car's own pixels (code ``part``) takes the road's grey (main
     drew the lower front of the real frame's red wagon from the road's shadow under it, a dark smear;
     docs/results/2026-11-30_cpu/session25/back41/)."""
-    scene = _scene([BEHIND])
-    image, covered, parts = _painted(scene, (0.7, 0.1, 0.08))
-    body = covered & (parts == int(Part.BODY))
-    rows = covered.any(1).nonzero().flatten()
-    span = int(rows.max() - rows.min())
-    road, bumper = covered.clone(), body.clone()
-    road[: int(rows.min()) + int(0.7 * span)] = False  # the lowest 30 % of the car's rows
-    bumper[: int(rows.min()) + int(0.6 * span)] = False
-    bumper &= ~road
-    image[:, road] = 0.45  # the background's road grey, as it lies below the car
-    image[:, bumper] = 0.05
+    scene, image, covered, parts, road = _red_car_behind_on_its_road()
     edited = apply_edits(scene, [Rotate(12001, math.pi)])
     result = render_photo(image, FRAME, scene, edited, settings=PARTS)
     drawn = (result.source == PART) & (result.parts >= 0) & (result.parts != int(Part.TYRE))

@@ -378,9 +378,6 @@ class FitChoice:
     settings: FitSettings
     bank: MeshBank
 
-    def __len__(self) -> int:
-        return int(self.loss.shape[0])
-
     def rows(self, index: slice | Tensor) -> FitChoice:
         """The choice of the objects ``index`` (a slice or ``(M,)`` indices)."""
         def pick(t: Tensor | None) -> Tensor | None:
@@ -713,7 +710,7 @@ def choose_again(choice: FitChoice, yaw_belief: Callable[[Tensor], Tensor] | Non
     """:func:`fit_to_masks`' result from its fine stage's fits ``choice`` under the yaw belief ``yaw_belief`` (as
     :func:`fit_to_masks` takes it; None: the yaw nearest the first start): the winner of each object (module doc,
     step 2), its IoU and the record. The same as fitting again with that belief, without the fitting."""
-    n, hyps = choice.loss.shape
+    n = int(choice.loss.shape[0])
     settings, height = choice.settings, choice.camera_height
     fitted_ry = choice.values["ry"]
     if yaw_belief is not None:

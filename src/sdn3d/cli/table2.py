@@ -598,13 +598,11 @@ def _fit_gap_markdown(table: Mapping[str, Any]) -> list[str]:
              "test part with the tested weights; the ratio test / train per run (1: no over-fitting). Mean ± sample "
              "std over the row's runs.", "",
              "| Row | n | train L_pred (last epoch) | test L_pred | test / train |", "|---|---|---|---|---|"]
-
-    def cell(summary: Mapping[str, Any], decimals: int) -> str:
-        text = f"{summary['mean']:.{decimals}f}"
-        return text + (f" ± {summary['std']:.{decimals}f}" if summary["std"] is not None else "")
+    loss, ratio = {"scale": 1.0, "decimals": 4}, {"scale": 1.0, "decimals": 2}
     for entry in table["fit_gap"]:
-        lines.append(f"| {entry['label']} | {entry['n']} | {cell(entry['train'], 4)} | {cell(entry['test'], 4)} | "
-                     f"{cell(entry['ratio'], 2)} |")
+        n = entry["n"]
+        lines.append(f"| {entry['label']} | {n} | {_cell(entry['train'], loss, n)} | {_cell(entry['test'], loss, n)} | "
+                     f"{_cell(entry['ratio'], ratio, n)} |")
     return lines
 
 

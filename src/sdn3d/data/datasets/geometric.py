@@ -211,7 +211,7 @@ class GeometricDataset(Dataset):
         self._last: tuple[int, Frame] | None = None  # items of one frame are adjacent when not shuffled
         self._items: dict[int, dict] | None = {} if cache_items else None
         self._frame_objects: dict[int, list[int]] = {}  # frame index -> its objects' indices, for cache_items
-        for i, ref in enumerate(self.objects):
+        for i, ref in enumerate(self.objects if cache_items else ()):
             self._frame_objects.setdefault(ref.frame, []).append(i)
         self.mirror = bool(mirror)
 

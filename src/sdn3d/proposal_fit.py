@@ -39,8 +39,7 @@ if TYPE_CHECKING:
     from sdn3d.geometric.fit import FitRequest, FitResult, FitSettings
 
 __all__ = ["ProposalFit", "fit_proposals", "fit_proposals_and_boxes", "choose_proposals_again", "proposal_request",
-           "apply_proposal_fit",
-           "vehicle_rows", "unsure_below", "fitted_silhouettes", "UNSURE_BELOW"]
+           "apply_proposal_fit", "vehicle_rows", "unsure_below", "fitted_silhouettes", "UNSURE_BELOW"]
 
 #: Depth of the band under a predicted mask that the fit ignores (:func:`unsure_below`), as a fraction of the mask's
 #: height: the semantic branch's masks miss up to a quarter of a far car's rows (module doc).

@@ -277,7 +277,8 @@ def _simplified_key(bank: MeshBank, max_faces: int) -> str:
     """The name of ``bank.simplified(max_faces)``'s file: a hash of the format, ``max_faces``, the names, every array
     the clustering reads and the source of the modules that compute it (this one, ``shapenet``'s clustering and
     ``templates``' ``normalize_to_unit_box``), so a change to any of them makes another file."""
-    from sdn3d.meshes import shapenet, templates
+    import sdn3d.meshes.shapenet as shapenet
+    import sdn3d.meshes.templates as templates
 
     digest = hashlib.sha256(f"{_SIMPLIFIED_FORMAT} {max_faces} {list(bank.names)!r}".encode())
     for module in (shapenet, templates):

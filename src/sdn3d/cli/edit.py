@@ -68,11 +68,12 @@ import os
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 # The imports below make about a million objects (torch's most of them) that live as long as the process. The cyclic
-# garbage collector, running while they are made, walks them again and again (0.13-0.18 CPU s of every call), and
-# once more in full during the call (0.08 s), and finds nothing to free. So it pauses for the imports and what they
-# made is frozen (gc.freeze: left out of every later collection) before it resumes, as the gc module's documentation
-# advises for a process's long-lived start-up objects. Nothing computed changes (issue 40; the measurements:
-# docs/results/2026-11-30_cpu/session26/cost40). A caller that had stopped the collector keeps it stopped.
+# garbage collector, running while they are made, walks them again and again and frees nothing (0.14 CPU s of every
+# call). So it pauses for the imports, and what they made then goes straight to the oldest generation (gc.freeze, then
+# gc.unfreeze: no collection walks them until a full one), unless the caller keeps objects frozen of its own (they
+# stay frozen). Nothing computed changes (issue 40; the measurements: docs/results/2026-11-30_cpu/session26/cost40). A
+# caller that had stopped the collector keeps it stopped. (Nothing is left frozen: gc.get_referrers, which Hypothesis
+# uses, does not see frozen objects. The program itself freezes them in main(), its process ending with the call.)
 _collecting = gc.isenabled()
 gc.disable()
 try:
@@ -101,7 +102,9 @@ try:
     from sdn3d.scene.listing import list_objects, objects_table
 
 finally:
-    gc.freeze()
+    if gc.get_freeze_count() == 0:
+        gc.freeze()
+        gc.unfreeze()
     if _collecting:
         gc.enable()
 
@@ -712,10 +715,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Console entry point: ``sdn3d-edit [overrides...]``; returns the exit status. As the program itself (``argv``
     None: the console script, ``python -m sdn3d.cli.edit``) it ends the process once done (:func:`_end_process`)."""
     import atexit
-    import gc
 
     atexit.register(gc.freeze)  # the exit's collections then skip the ~10^6 objects torch & co. made: ~0.5 s CPU
     program = argv is None
+    if program:  # the process ends with this call (_end_process): no collection walks what exists now (0.08 CPU s)
+        gc.freeze()
     argv = list(sys.argv[1:] if argv is None else argv)
     if print_help_if_asked(argv, __doc__, "edit"):
         return 0

@@ -3,10 +3,11 @@
     cd WORKTREE && OMP_NUM_THREADS=1 PYTHONPATH=CODE/src SDN3D_CONFIG_DIR=CODE/conf \
         python gc_time.py LABEL IMAGE SPEC RUN THREADS >> OUT.jsonl
 
-Per phase (the import of ``sdn3d.cli.edit``, then ``main``): collections per generation and their thread CPU time
-(``time.thread_time`` from each collection's start to its stop; collections run on the thread that allocates), the
-number of objects frozen after the import (``gc.get_freeze_count``), the import's and main's CPU and wall time.
-Prints one JSON line.
+The call is ``main()`` as the program runs it (arguments from ``sys.argv``, the process ended by ``_end_process``,
+which prints the JSON first). Per phase (the import of ``sdn3d.cli.edit``, then ``main``): collections per
+generation and their thread CPU time (``time.thread_time`` from each collection's start to its stop; collections run
+on the thread that allocates), the number of objects frozen after the import (``gc.get_freeze_count``), the import's
+and main's CPU and wall time. Prints one JSON line.
 """
 
 from __future__ import annotations
@@ -43,11 +44,18 @@ def main() -> None:
                 "gc": _snapshot(), "frozen_objects": gc.get_freeze_count()}
     STATS["n"], STATS["cpu_s"] = [0, 0, 0], [0.0, 0.0, 0.0]
     t0, c0 = time.perf_counter(), time.process_time()
-    code = edit.main([f"input.image={image}", f"edits={spec}", f"run={run}", f"threads={threads}",
-                      f"output_dir=/tmp/s26data/cost40/gc_time_{label}", "overwrite=true"])
-    called = {"wall_s": round(time.perf_counter() - t0, 3), "cpu_s": round(time.process_time() - c0, 3),
-              "gc": _snapshot()}
-    print(json.dumps({"label": label, "exit": code, "import": imported, "main": called}))
+    end = edit._end_process
+
+    def report_then_end(code: int) -> None:  # the program's own end (os._exit): print first
+        called = {"wall_s": round(time.perf_counter() - t0, 3), "cpu_s": round(time.process_time() - c0, 3),
+                  "gc": _snapshot()}
+        print(json.dumps({"label": label, "exit": code, "import": imported, "main": called}), flush=True)
+        end(code)
+
+    edit._end_process = report_then_end
+    sys.argv = ["sdn3d-edit", f"input.image={image}", f"edits={spec}", f"run={run}", f"threads={threads}",
+                f"output_dir=/tmp/s26data/cost40/gc_time_{label}", "overwrite=true"]
+    edit.main()  # as the program: argv from sys.argv, the process ends in _end_process
 
 
 if __name__ == "__main__":

@@ -1,10 +1,11 @@
 #!/bin/bash
 # identity.sh OUT: one sdn3d-edit call per code tree (main's plain tree and this branch's archive) on the spec31 edit
 # (624x192 seed-31 Table 1 frame, 10 boxes, one rotate; w0 run=, threads=2), then every output file compared byte
-# for byte; edit.json compared with its timings and paths left out (they differ by construction).
+# for byte; edit.json compared with its timings and paths left out (they differ by construction). BRANCH: the
+# branch tree (default /tmp/s26data/cost40/tree_cost40); SDN3D_MESHES_CACHE passes through (an empty one: cold).
 OUT=$1; mkdir -p $OUT
 SPEC=/work/wt/cost40/docs/results/2026-11-28_cpu/session4/cost/spec31.yaml
-for T in main=/tmp/s26data/lead/base_9fa cost40=/tmp/s26data/cost40/tree_cost40; do
+for T in main=/tmp/s26data/lead/base_9fa cost40=${BRANCH:-/tmp/s26data/cost40/tree_cost40}; do
   NAME=${T%%=*}; CODE=${T#*=}
   (cd $CODE && OMP_NUM_THREADS=1 PYTHONPATH=$CODE/src SDN3D_CONFIG_DIR=$CODE/conf nice -n 5 /work/main/.venv/bin/python \
      -m sdn3d.cli.edit input.image=/tmp/s26data/cost40/in31.png edits=$SPEC run=/tmp/s21data/demo/out threads=2 \

@@ -2,9 +2,10 @@
 
     python paired_calls.py RUN.json [RUN.json ...] > table.md
 
-The calls of one run alternate (main, branch, main, ...), so call i of each is a pair made at the same load. Per file
-and pooled: medians, min-max, the paired differences branch - main (mean, 10,000-resample bootstrap 95 % interval
-of the mean), the geometric-mean ratio branch / main with its bootstrap interval, and wins (branch faster) / losses.
+The calls of one run alternate (main, branch, main, ...), so call i of each is a pair made at the same load. Per file,
+and pooled where a thread count has several files: medians, min-max, the paired differences branch - main (mean,
+10,000-resample bootstrap 95 % interval of the mean), the geometric-mean ratio branch / main with its bootstrap
+interval, and wins (branch faster) / losses.
 """
 
 from __future__ import annotations
@@ -43,6 +44,7 @@ def main() -> None:
           "[95 %] | branch / main, geometric mean [95 %] | wins / losses |")
     print("|---|---|---|---|---|---|---|")
     pooled: dict[str, tuple[list[float], list[float]]] = {}
+    files: dict[str, int] = {}
     for path in sys.argv[1:]:
         report = json.loads(Path(path).read_text())
         name = f"{Path(path).stem} (threads {report['threads']}, load {report['load_average_before'][0]:.1f}"\
@@ -52,11 +54,12 @@ def main() -> None:
             main_ = report["modes"]["main"][measure]["values"]
             print(_row(f"{name}, {measure[:-2]}", branch, main_))
             key = f"threads {report['threads']}, {measure[:-2]}"
+            files[key] = files.get(key, 0) + 1
             b, m = pooled.setdefault(key, ([], []))
             b.extend(branch)
             m.extend(main_)
-    if len(sys.argv) > 2:
-        for key, (b, m) in pooled.items():
+    for key, (b, m) in pooled.items():
+        if files[key] > 1:
             print(_row(f"pooled, {key}", b, m))
 
 

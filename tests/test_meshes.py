@@ -433,8 +433,21 @@ def test_simplified_bank_is_kept_on_disk_and_read_back_to_the_bit(tmp_path: Path
 
 
 def test_simplified_bank_without_a_writable_cache_is_computed_each_time(tmp_path: Path, monkeypatch) -> None:
+    """A file where the cache folder would be, or modules whose source cannot be read (no key): the bank is computed,
+    the same, and nothing is written."""
+    import sdn3d.meshes.bank as bank_module
+
     blocked = tmp_path / "file"
     blocked.write_text("a file where the folder would be")
     monkeypatch.setenv("SDN3D_MESHES_CACHE", str(blocked / "meshes"))
     bank = MeshBank.templates().simplified(300)
     assert int(bank.num_faces.max()) <= 300 and not (blocked / "meshes").exists()
+
+    def unreadable(*args):
+        raise OSError("no source")
+
+    monkeypatch.setenv("SDN3D_MESHES_CACHE", str(tmp_path / "meshes"))
+    monkeypatch.setattr(bank_module, "_simplified_key", unreadable)
+    again = MeshBank.templates().simplified(300)
+    assert all(torch.equal(a, b) for a, b in zip(_bank_arrays(again), _bank_arrays(bank), strict=True))
+    assert not (tmp_path / "meshes").exists()

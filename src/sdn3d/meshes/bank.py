@@ -167,8 +167,11 @@ class MeshBank:
         """
         cache = self.__dict__.setdefault("_simplified", {})
         if max_faces not in cache:
-            path = cache_dir("meshes") / f"simplified_{_simplified_key(self, max_faces)}.npz"
-            stored = _read_simplified(path, len(self))
+            try:
+                path = cache_dir("meshes") / f"simplified_{_simplified_key(self, max_faces)}.npz"
+            except OSError:  # the modules' source unreadable (e.g. a zipped install): no file, computed each time
+                path = None
+            stored = None if path is None else _read_simplified(path, len(self))
             bank = None
             if stored is not None:
                 try:
@@ -178,7 +181,8 @@ class MeshBank:
             if bank is None:
                 arrays = self._simplify(max_faces)
                 bank = MeshBank.from_arrays(arrays[0], arrays[1], self.names, arrays[2])
-                _write_simplified(path, arrays)
+                if path is not None:
+                    _write_simplified(path, arrays)
             cache[max_faces] = bank.to(self.device)
         return cache[max_faces]
 

@@ -390,3 +390,64 @@ def test_bank_from_directory_and_validation(tmp_path: Path) -> None:
         MeshBank.from_trimeshes([build_template("bus")] * 2, ["a", "a"])
     with pytest.raises(ValueError, match="one entry per mesh"):
         MeshBank.from_trimeshes([build_template("bus")], ["a", "b"])
+
+
+def _bank_arrays(bank: MeshBank) -> list[torch.Tensor]:
+    return [bank.verts, bank.faces, bank.num_verts, bank.num_faces, bank.face_parts, bank.ffd_basis]
+
+
+def test_simplified_bank_is_kept_on_disk_and_read_back_to_the_bit(tmp_path: Path, monkeypatch) -> None:
+    """``MeshBank.simplified`` keeps its clustering in ``$SDN3D_MESHES_CACHE`` (0.06 CPU s of every fitting
+    process, issue 40): a fresh bank reads the file back instead of clustering, and gets the bank the clustering
+    makes, every array equal to the bit; another ``max_faces`` or a bank of other vertices has its own file; a
+    damaged file is computed and written again."""
+    import sdn3d.meshes.shapenet as shapenet
+
+    monkeypatch.setenv("SDN3D_MESHES_CACHE", str(tmp_path))
+    clustered: list[int] = []
+    cluster = shapenet.cluster_simplify
+
+    def counted(*args, **kwargs):
+        clustered.append(1)
+        return cluster(*args, **kwargs)
+
+    monkeypatch.setattr(shapenet, "cluster_simplify", counted)
+    computed = MeshBank.templates().simplified(300)
+    files = sorted(tmp_path.glob("simplified_*.npz"))
+    assert len(files) == 1 and len(clustered) == 8
+    read = MeshBank.templates().simplified(300)  # a new bank: nothing kept in memory
+    assert len(clustered) == 8  # read back, not clustered
+    assert all(torch.equal(a, b) for a, b in zip(_bank_arrays(read), _bank_arrays(computed), strict=True))
+    assert read.names == computed.names
+    MeshBank.templates().simplified(400)
+    assert len(clustered) == 16 and len(list(tmp_path.glob("simplified_*.npz"))) == 2
+    moved = MeshBank.templates()
+    moved.verts[0, 0, 0] += 0.01  # other arrays: another file, clustered anew
+    moved.simplified(300)
+    assert len(clustered) == 24 and len(list(tmp_path.glob("simplified_*.npz"))) == 3
+    files[0].write_bytes(b"not a bank")
+    again = MeshBank.templates().simplified(300)
+    assert len(clustered) == 32
+    assert all(torch.equal(a, b) for a, b in zip(_bank_arrays(again), _bank_arrays(computed), strict=True))
+    assert MeshBank.templates().simplified(300) is not None and len(clustered) == 32  # the file was written again
+
+
+def test_simplified_bank_without_a_writable_cache_is_computed_each_time(tmp_path: Path, monkeypatch) -> None:
+    """A file where the cache folder would be, or modules whose source cannot be read (no key): the bank is computed,
+    the same, and nothing is written."""
+    import sdn3d.meshes.bank as bank_module
+
+    blocked = tmp_path / "file"
+    blocked.write_text("a file where the folder would be")
+    monkeypatch.setenv("SDN3D_MESHES_CACHE", str(blocked / "meshes"))
+    bank = MeshBank.templates().simplified(300)
+    assert int(bank.num_faces.max()) <= 300 and not (blocked / "meshes").exists()
+
+    def unreadable(*args):
+        raise OSError("no source")
+
+    monkeypatch.setenv("SDN3D_MESHES_CACHE", str(tmp_path / "meshes"))
+    monkeypatch.setattr(bank_module, "_simplified_key", unreadable)
+    again = MeshBank.templates().simplified(300)
+    assert all(torch.equal(a, b) for a, b in zip(_bank_arrays(again), _bank_arrays(bank), strict=True))
+    assert not (tmp_path / "meshes").exists()

@@ -82,6 +82,14 @@ def current_umask() -> int:
     return mask
 
 
+def cache_dir(kind: str) -> Path:
+    """The folder where sdn3d keeps what it builds once per machine and reuses across processes, each entry named by a
+    hash of everything it is made from (``kind``: ``native``, the soft silhouette kernel's library; ``meshes``, the
+    simplified template banks): ``$SDN3D_<KIND>_CACHE`` where set, else ``~/.cache/sdn3d/<kind>``."""
+    root = os.environ.get(f"SDN3D_{kind.upper()}_CACHE")
+    return Path(root) if root else Path.home() / ".cache" / "sdn3d" / kind
+
+
 def atomic_write(path: str | os.PathLike, writer: Callable[[io.BufferedWriter], None]) -> Path:
     """Call ``writer(file)`` on a temporary file next to ``path``, then rename it onto ``path``.
 

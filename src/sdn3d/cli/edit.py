@@ -59,6 +59,7 @@ Exit status: 0 done; 2 bad input (message on stderr names the op or the setting;
 
 from __future__ import annotations
 
+import gc
 import os
 
 # Before torch loads OpenMP (which reads it once): idle OpenMP threads sleep instead of spinning. With threads=2 on
@@ -66,29 +67,47 @@ import os
 # (docs/results/2026-11-28_cpu/session5/cost); a caller's own setting wins.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
-import contextlib
-import dataclasses
-import json
-import sys
-import time
-from collections.abc import Sequence
-from pathlib import Path
-from typing import Any, NoReturn
+# The imports below make about a million objects (torch's most of them) that live as long as the process. The cyclic
+# garbage collector, running while they are made, walks them again and again and frees nothing (0.14 CPU s of every
+# call). So it pauses for the imports, and what they made then goes straight to the oldest generation (gc.freeze, then
+# gc.unfreeze: no collection walks them until a full one), unless the caller keeps objects frozen of its own (they
+# stay frozen). Nothing computed changes (issue 40; the measurements: docs/results/2026-11-30_cpu/session26/cost40). A
+# caller that had stopped the collector keeps it stopped. (Nothing is left frozen: gc.get_referrers, which Hypothesis
+# uses, does not see frozen objects. The program itself freezes them in main(), its process ending with the call.)
+_collecting = gc.isenabled()
+gc.disable()
+try:
+    import contextlib
+    import dataclasses
+    import json
+    import sys
+    import time
+    from collections.abc import Sequence
+    from pathlib import Path
+    from typing import Any, NoReturn
 
-import numpy as np
-import torch
+    import numpy as np
+    import torch
 
-from sdn3d.cli._config import compose_config, print_help_if_asked
-from sdn3d.cli._errors import run_cli
-from sdn3d.editing.appearance import Appearance
-from sdn3d.editing.inputs import camera_for_image, fit_image
-from sdn3d.editing.session import EditInput, EditResult, EditSession, proposals_record, to_uint8
-from sdn3d.editing.settings import appearance_settings, compose_settings, semantic_metrics, session_settings
-from sdn3d.errors import InputError
-from sdn3d.io import OWNER_FILE, check_output_dir, staged_directory
-from sdn3d.proposals import Proposals
-from sdn3d.runs import BRANCHES, checkpoints_from_run, given_checkpoints, quality_warnings
-from sdn3d.scene.listing import list_objects, objects_table
+    from sdn3d.cli._config import compose_config, print_help_if_asked
+    from sdn3d.cli._errors import run_cli
+    from sdn3d.editing.appearance import Appearance
+    from sdn3d.editing.inputs import camera_for_image, fit_image
+    from sdn3d.editing.session import EditInput, EditResult, EditSession, proposals_record, to_uint8
+    from sdn3d.editing.settings import appearance_settings, compose_settings, semantic_metrics, session_settings
+    from sdn3d.errors import InputError
+    from sdn3d.io import OWNER_FILE, check_output_dir, staged_directory
+    from sdn3d.proposals import Proposals
+    from sdn3d.runs import BRANCHES, checkpoints_from_run, given_checkpoints, quality_warnings
+    from sdn3d.scene.listing import list_objects, objects_table
+
+finally:
+    if gc.get_freeze_count() == 0:
+        gc.freeze()
+        gc.unfreeze()
+    if _collecting:
+        gc.enable()
+
 
 __all__ = ["main", "run_edit", "load_input", "open_input", "resolve_checkpoints", "load_models",
            "check_settings", "trust_warnings", "config_record"]
@@ -696,10 +715,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Console entry point: ``sdn3d-edit [overrides...]``; returns the exit status. As the program itself (``argv``
     None: the console script, ``python -m sdn3d.cli.edit``) it ends the process once done (:func:`_end_process`)."""
     import atexit
-    import gc
 
     atexit.register(gc.freeze)  # the exit's collections then skip the ~10^6 objects torch & co. made: ~0.5 s CPU
     program = argv is None
+    if program:  # the process ends with this call (_end_process): no collection walks what exists now (0.08 CPU s)
+        gc.freeze()
     argv = list(sys.argv[1:] if argv is None else argv)
     if print_help_if_asked(argv, __doc__, "edit"):
         return 0

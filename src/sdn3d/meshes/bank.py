@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import functools
+import hashlib
+import zipfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -11,6 +13,7 @@ import numpy as np
 import torch
 from torch import Tensor
 
+from sdn3d.io import atomic_write, cache_dir
 from sdn3d.math3d.ffd import bernstein_basis
 from sdn3d.meshes.parts import Part
 from sdn3d.meshes.templates import TEMPLATE_NAMES, normalize_to_unit_box, template_arrays, template_parts
@@ -151,26 +154,53 @@ class MeshBank:
         clustering merges with others keeps the first one's). For searches where a coarse outline is enough:
         a silhouette a few dozen pixels across. Built once per ``max_faces`` and kept on the bank.
 
+        The clustering (4 ms a template, 0.06 CPU s of every fitting process: issue 40) is also kept on disk, in
+        :func:`sdn3d.io.cache_dir` ``("meshes")``, one file per bank and ``max_faces`` named by a hash of the bank's
+        arrays, ``max_faces`` and the source of the modules that compute it (:func:`_simplified_key`): a later
+        process reads the same arrays back instead. A file that cannot be read or is not a valid bank is computed
+        and written again; where the folder cannot be written the bank is computed each time.
+
         >>> bank = MeshBank.templates()
         >>> coarse = bank.simplified(300)
         >>> int(coarse.num_faces.max()) <= 300, coarse.names == bank.names, coarse is bank.simplified(300)
         (True, True, True)
         """
-        from sdn3d.meshes.shapenet import cluster_simplify
-
         cache = self.__dict__.setdefault("_simplified", {})
         if max_faces not in cache:
-            verts, faces, parts = [], [], []
-            for i in range(len(self)):
-                nv, nf = int(self.num_verts[i]), int(self.num_faces[i])
-                full = self.verts[i, :nv].double().cpu().numpy()
-                v, f, kept = cluster_simplify(full, self.faces[i, :nf].cpu().numpy(), max_faces, return_index=True)
-                lo, hi = full.min(0), full.max(0)
-                verts.append((normalize_to_unit_box(v) + 0.5) * (hi - lo) + lo)
-                faces.append(f)
-                parts.append(self.face_parts[i, :nf].cpu().numpy()[kept])
-            cache[max_faces] = MeshBank.from_arrays(verts, faces, self.names, parts).to(self.device)
+            try:
+                path = cache_dir("meshes") / f"simplified_{_simplified_key(self, max_faces)}.npz"
+            except OSError:  # the modules' source unreadable (e.g. a zipped install): no file, computed each time
+                path = None
+            stored = None if path is None else _read_simplified(path, len(self))
+            bank = None
+            if stored is not None:
+                try:
+                    bank = MeshBank.from_arrays(*stored[:2], self.names, stored[2])
+                except ValueError:  # a damaged file that still unpacks: computed again below
+                    bank = None
+            if bank is None:
+                arrays = self._simplify(max_faces)
+                bank = MeshBank.from_arrays(arrays[0], arrays[1], self.names, arrays[2])
+                if path is not None:
+                    _write_simplified(path, arrays)
+            cache[max_faces] = bank.to(self.device)
         return cache[max_faces]
+
+    def _simplify(self, max_faces: int) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
+        """:meth:`simplified`'s arrays: per mesh ``(V', 3)`` float64 vertices, ``(F', 3)`` int64 faces and ``(F',)``
+        int64 part labels."""
+        from sdn3d.meshes.shapenet import cluster_simplify
+
+        verts, faces, parts = [], [], []
+        for i in range(len(self)):
+            nv, nf = int(self.num_verts[i]), int(self.num_faces[i])
+            full = self.verts[i, :nv].double().cpu().numpy()
+            v, f, kept = cluster_simplify(full, self.faces[i, :nf].cpu().numpy(), max_faces, return_index=True)
+            lo, hi = full.min(0), full.max(0)
+            verts.append((normalize_to_unit_box(v) + 0.5) * (hi - lo) + lo)
+            faces.append(np.asarray(f, dtype=np.int64))
+            parts.append(self.face_parts[i, :nf].cpu().numpy()[kept].astype(np.int64))
+        return verts, faces, parts
 
     # -- access -------------------------------------------------------------------------------
 
@@ -241,3 +271,48 @@ class MeshBank:
 def default_bank() -> MeshBank:
     """The 8 procedural templates (built once per process; shared: read it, never move or change it in place)."""
     return MeshBank.templates()
+
+
+#: The layout of :meth:`MeshBank.simplified`'s files (a change names every file anew).
+_SIMPLIFIED_FORMAT = 1
+
+
+def _simplified_key(bank: MeshBank, max_faces: int) -> str:
+    """The name of ``bank.simplified(max_faces)``'s file: a hash of the format, ``max_faces``, the names, every array
+    the clustering reads and the source of the modules that compute it (this one, ``shapenet``'s clustering and
+    ``templates``' ``normalize_to_unit_box``), so a change to any of them makes another file."""
+    import sdn3d.meshes.shapenet as shapenet
+    import sdn3d.meshes.templates as templates
+
+    digest = hashlib.sha256(f"{_SIMPLIFIED_FORMAT} {max_faces} {list(bank.names)!r}".encode())
+    for module in (shapenet, templates):
+        digest.update(Path(module.__file__).read_bytes())
+    digest.update(Path(__file__).read_bytes())
+    for array in (bank.verts, bank.faces, bank.num_verts, bank.num_faces, bank.face_parts):
+        digest.update(array.detach().cpu().contiguous().numpy().tobytes())
+    return digest.hexdigest()[:32]
+
+
+def _read_simplified(path: Path, meshes: int) -> tuple[list[np.ndarray], ...] | None:
+    """``(vertices, faces, parts)`` lists of ``meshes`` arrays each from :func:`_write_simplified`'s file, or None
+    where it is missing, unreadable or not of that layout."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = tuple([data[f"{kind}{i}"] for i in range(meshes)] for kind in ("v", "f", "p"))
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile):
+        return None
+    for v, f, p in zip(*arrays, strict=True):
+        if (v.dtype != np.float64 or v.ndim != 2 or v.shape[1:] != (3,) or f.dtype != np.int64 or f.ndim != 2
+                or f.shape[1:] != (3,) or p.dtype != np.int64 or p.shape != f.shape[:1]):
+            return None
+    return arrays
+
+
+def _write_simplified(path: Path, arrays: tuple[list[np.ndarray], ...]) -> None:
+    """Store :meth:`MeshBank._simplify`'s arrays at ``path`` (atomically: a concurrent writer of the same name writes
+    the same bytes); a folder that cannot be written keeps nothing."""
+    named = {f"{kind}{i}": a for kind, lists in zip(("v", "f", "p"), arrays, strict=True) for i, a in enumerate(lists)}
+    try:
+        atomic_write(path, lambda handle: np.savez(handle, **named))
+    except OSError:
+        pass

@@ -2,10 +2,11 @@
 
 The kernel has a plain C ABI and no torch headers, so ``g++ -O3 -shared`` builds it in about a second on a fresh
 machine (``build-essential``); no ninja or torch extension toolchain is needed. The shared library is cached under
-``$SDN3D_NATIVE_CACHE`` (default ``~/.cache/sdn3d/native``), keyed by a hash of the source, the compiler command and
-the processor, and written atomically, so parallel processes may build it at once. Without a compiler, or if the
-build fails, :func:`soft_kernel` returns ``None`` (once, with a warning) and :mod:`sdn3d.render.soft` uses its
-pure-PyTorch path, which computes the same silhouettes and gradients up to float rounding.
+``$SDN3D_NATIVE_CACHE`` (default ``~/.cache/sdn3d/native``: :func:`sdn3d.io.cache_dir`), keyed by a hash of the
+source, the compiler command and the processor, and written atomically, so parallel processes may build it at once.
+Without a compiler, or if the build fails, :func:`soft_kernel` returns ``None`` (once, with a warning) and
+:mod:`sdn3d.render.soft` uses its pure-PyTorch path, which computes the same silhouettes and gradients up to float
+rounding.
 """
 
 from __future__ import annotations
@@ -21,6 +22,8 @@ import tempfile
 import warnings
 from pathlib import Path
 
+from sdn3d.io import cache_dir
+
 __all__ = ["soft_kernel"]
 
 _SOURCE = Path(__file__).with_name("soft_kernel.cpp")
@@ -29,11 +32,6 @@ _SOURCE = Path(__file__).with_name("soft_kernel.cpp")
 #: silhouettes by up to 2e-6 at ``sigma = 0.02`` (fused: within 1 float32 ulp of the PyTorch path).
 _FLAGS = ("-O3", "-march=native", "-shared", "-fPIC", "-std=c++17", "-pthread")
 _ABI_VERSION = 4
-
-
-def _cache_dir() -> Path:
-    root = os.environ.get("SDN3D_NATIVE_CACHE")
-    return Path(root) if root else Path.home() / ".cache" / "sdn3d" / "native"
 
 
 def _cpu() -> str:
@@ -50,7 +48,7 @@ def _build(compiler: str, source: bytes, defines: tuple[str, ...] = ()) -> Path:
     """The library built from ``source`` (cached); ``defines``: extra ``-D`` flags (the tests' variants)."""
     flags = (*_FLAGS, *defines)
     key = hashlib.sha256(source + " ".join((compiler, *flags, _cpu())).encode()).hexdigest()[:16]
-    target = _cache_dir() / f"soft_kernel_{key}.so"
+    target = cache_dir("native") / f"soft_kernel_{key}.so"
     if target.exists():
         return target
     target.parent.mkdir(parents=True, exist_ok=True)

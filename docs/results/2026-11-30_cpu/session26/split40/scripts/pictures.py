@@ -43,7 +43,7 @@ def overlay(image: np.ndarray, inst: np.ndarray, outline: list[np.ndarray]) -> n
 
 
 def main(path: str) -> None:
-    fig, axes = plt.subplots(len(CASES), 4, figsize=(16.8, 1.6 * len(CASES) + 0.6))
+    fig, axes = plt.subplots(len(CASES), 4, figsize=(16.8, 1.8 * len(CASES) + 0.6))
     for row, (seed, key, what) in enumerate(CASES):
         raw = torch.load(f"/tmp/s26data/frag40/raw/raw{seed}.pt", weights_only=False)
         fr = raw["frames"][key]
@@ -62,7 +62,7 @@ def main(path: str) -> None:
                 cars.add(int(ids[n.argmax()]))
         outline = [gt == c for c in cars if c >= INSTANCE_DIVISOR]
         axes[row, 0].imshow(image)
-        axes[row, 0].set_title(f"tree {seed} {key[8:]}: {what}", fontsize=8)
+        axes[row, 0].set_title(f"tree {seed} {key[8:]}:\n{what}", fontsize=8)
         axes[row, 1].imshow(overlay(image, split, outline))
         axes[row, 1].set_title("main df7269b: 2-means split on (4.0)", fontsize=8)
         axes[row, 2].imshow(overlay(image, whole, outline))

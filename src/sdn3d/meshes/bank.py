@@ -171,13 +171,7 @@ class MeshBank:
                 path = cache_dir("meshes") / f"simplified_{_simplified_key(self, max_faces)}.npz"
             except OSError:  # the modules' source unreadable (e.g. a zipped install): no file, computed each time
                 path = None
-            stored = None if path is None else _read_simplified(path, len(self))
-            bank = None
-            if stored is not None:
-                try:
-                    bank = MeshBank.from_arrays(*stored[:2], self.names, stored[2])
-                except ValueError:  # a damaged file that still unpacks: computed again below
-                    bank = None
+            bank = None if path is None else _read_simplified(path, self.names)
             if bank is None:
                 arrays = self._simplify(max_faces)
                 bank = MeshBank.from_arrays(arrays[0], arrays[1], self.names, arrays[2])
@@ -293,19 +287,22 @@ def _simplified_key(bank: MeshBank, max_faces: int) -> str:
     return digest.hexdigest()[:32]
 
 
-def _read_simplified(path: Path, meshes: int) -> tuple[list[np.ndarray], ...] | None:
-    """``(vertices, faces, parts)`` lists of ``meshes`` arrays each from :func:`_write_simplified`'s file, or None
-    where it is missing, unreadable or not of that layout."""
+def _read_simplified(path: Path, names: Sequence[str]) -> MeshBank | None:
+    """The bank of :func:`_write_simplified`'s file, one mesh per name of ``names``, or None where the file is
+    missing, unreadable, not of that layout or not a valid bank (a damaged file that still unpacks)."""
     try:
         with np.load(path, allow_pickle=False) as data:
-            arrays = tuple([data[f"{kind}{i}"] for i in range(meshes)] for kind in ("v", "f", "p"))
+            verts, faces, parts = ([data[f"{kind}{i}"] for i in range(len(names))] for kind in ("v", "f", "p"))
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile):
         return None
-    for v, f, p in zip(*arrays, strict=True):
+    for v, f, p in zip(verts, faces, parts, strict=True):
         if (v.dtype != np.float64 or v.ndim != 2 or v.shape[1:] != (3,) or f.dtype != np.int64 or f.ndim != 2
                 or f.shape[1:] != (3,) or p.dtype != np.int64 or p.shape != f.shape[:1]):
             return None
-    return arrays
+    try:
+        return MeshBank.from_arrays(verts, faces, names, parts)
+    except ValueError:
+        return None
 
 
 def _write_simplified(path: Path, arrays: tuple[list[np.ndarray], ...]) -> None:

@@ -44,7 +44,10 @@
    sub-pipeline is :mod:`sdn3d.box_objects`); the scene's ``meta['boxes']`` holds per box its
    :class:`~sdn3d.box_objects.BoxFit`: where its mask and pose came from and the fit's silhouette IoU. With
    ``fit`` the proposals' vehicles get the same fit (:mod:`sdn3d.proposal_fit`; ``meta['fits']``): the edit
-   path's default, while ``fit=None`` keeps the branch's predictions (the paper's protocol).
+   path's default, while ``fit=None`` keeps the branch's predictions (the paper's protocol). The semantic branch's
+   proposals whose masks touch and whose fitted cars share the ground (``FitSettings.join_overlap``;
+   :func:`~sdn3d.proposal_fit.footprint_joins`: one car cut in parts) are then joined under the largest part's id,
+   and the objects go through this step once more (the joined car fitted as one; its record's ``joined_from``).
 4. **Texture**: the textural encoder pools one code per region of the instance label map ``L``
    (objects and background classes): :func:`encode_scene`.
 
@@ -277,12 +280,6 @@ def _choose_on_agreed_lamps(image: Tensor, intr: Intrinsics, masks: Tensor, ids:
     return geometry, [by_id.get(r.instance_id, r) for r in records]
 
 
-def _fitted_rows(ids: Tensor, box_rows: Tensor, geometry: tuple[Tensor, ...], class_names: dict[int, str]) -> Tensor:
-    """``(K,)`` the rows the proposals' fit fits: vehicles with a prediction, not named by a box."""
-    rows = vehicle_rows(ids, geometry[0], class_names)
-    return rows[~torch.isin(rows, box_rows)]
-
-
 def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, intrinsics: Intrinsics, source: str,
                 gt: GroundTruth | None, models: Models, min_pixels: int, refine: RefineSettings | None,
                 photo: InputPhoto | None, boxes: BoxPrompts | None, fit: FitSettings | None,
@@ -305,7 +302,8 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
     proposal_fits, box_result = [], None
     classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
     if fit is not None:
-        rows = _fitted_rows(ids, box_rows, geometry, class_names)
+        rows = vehicle_rows(ids, geometry[0], class_names)
+        rows = rows[~torch.isin(rows, box_rows)]
         unsure = unsure if len(rows) else None  # the fit ignores the same band
         box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes)
                    if len(rows) and len(box_rows) and boxes.fit == fit else None)
@@ -488,8 +486,7 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     class_names = {c.id: c.name for c in class_list}
     stage = (image, intrinsics, source, gt, models, min_pixels, refine, photo, boxes, fit, class_names)
     geometry, appearance, proposal_fits, box_result = _objects_3d(masks, ids, box_rows, *stage)
-    groups = (footprint_joins(masks, _fitted_rows(ids, box_rows, geometry, class_names), geometry, proposal_fits,
-                              fit.join_overlap)
+    groups = (footprint_joins(masks, ids, geometry, proposal_fits, fit.join_overlap)
               if fit is not None and fit.join_overlap is not None and source == "semantic" else [])
     if groups:  # one car cut in parts (proposal_fit's module doc): joined, and the objects de-rendered again
         joined = {int(ids[g[0]]): tuple(ids[g].tolist()) for g in groups}

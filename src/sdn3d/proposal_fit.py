@@ -125,15 +125,15 @@ def fitted_silhouettes(intr: Intrinsics, geometry: tuple[Tensor, ...], rows: Ten
     return rasterize_meshes(verts, faces, intr.matrix().float(), RasterSettings((intr.height, intr.width))).mask
 
 
-def footprint_joins(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], records: Sequence[ProposalFit],
+def footprint_joins(masks: Tensor, ids: Tensor, geometry: tuple[Tensor, ...], records: Sequence[ProposalFit],
                     overlap: float) -> list[Tensor]:
-    """The groups of fitted proposals that are one car (module doc): ``(M,)`` rows each (``M >= 2``, the largest mask
-    first, then by row), taken transitively over the pairs of ``rows (K,)`` (with ``records (K,)``, their fits;
-    a row the fit left alone, ``iou`` None, joins nothing) whose ``masks (N, H, W)`` touch (8-neighbours) and whose
-    fitted footprints (``geometry``'s ``dims, ry, location``: :func:`~sdn3d.math3d.transforms.ground_footprints`)
-    share at least ``overlap`` of the smaller footprint's area."""
-    fitted = torch.tensor([r.iou is not None for r in records], dtype=torch.bool)
-    rows = rows[fitted] if len(rows) else rows
+    """The groups of fitted proposals that are one car (module doc): ``(M,)`` rows of ``ids (N,)`` each (``M >= 2``,
+    the largest mask first, then by row), taken transitively over the pairs of proposals fitted by the fit of
+    ``records`` (:func:`fit_proposals`' records; one with ``iou`` None, left alone by the fit, joins nothing) whose
+    ``masks (N, H, W)`` touch (8-neighbours) and whose fitted footprints (``geometry``'s ``dims, ry, location``:
+    :func:`~sdn3d.math3d.transforms.ground_footprints`) share at least ``overlap`` of the smaller footprint's area."""
+    row_of = {int(i): k for k, i in enumerate(ids.tolist())}
+    rows = torch.tensor(sorted(row_of[r.instance_id] for r in records if r.iou is not None), dtype=torch.long)
     if len(rows) < 2:
         return []
     m = masks[rows]

@@ -31,12 +31,9 @@ def name(record, fit: str) -> str:
 
 def groups_in(scene) -> list:
     o = scene.objects
-    ids = o.instance_id.tolist()
-    fits = scene.meta["fits"]
-    rows = torch.tensor([ids.index(f["id"]) for f in fits], dtype=torch.long)
-    records = [ProposalFit(f["id"], f["fit_iou"], f["poor_fit"], f["hypothesis"]) for f in fits]
+    records = [ProposalFit(f["id"], f["fit_iou"], f["poor_fit"], f["hypothesis"]) for f in scene.meta["fits"]]
     geometry = (o.template_id, o.dims, o.ry, o.location, o.phi)
-    return footprint_joins(o.mask, rows, geometry, records, FitSettings().join_overlap)
+    return footprint_joins(o.mask, o.instance_id, geometry, records, FitSettings().join_overlap)
 
 
 def main() -> None:

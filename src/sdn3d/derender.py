@@ -44,7 +44,10 @@
    sub-pipeline is :mod:`sdn3d.box_objects`); the scene's ``meta['boxes']`` holds per box its
    :class:`~sdn3d.box_objects.BoxFit`: where its mask and pose came from and the fit's silhouette IoU. With
    ``fit`` the proposals' vehicles get the same fit (:mod:`sdn3d.proposal_fit`; ``meta['fits']``): the edit
-   path's default, while ``fit=None`` keeps the branch's predictions (the paper's protocol).
+   path's default, while ``fit=None`` keeps the branch's predictions (the paper's protocol). The semantic branch's
+   proposals whose masks touch and whose fitted cars share the ground (``FitSettings.join_overlap``;
+   :func:`~sdn3d.proposal_fit.footprint_joins`: one car cut in parts) are then joined under the largest part's id,
+   and the objects go through this step once more (the joined car fitted as one; its record's ``joined_from``).
 4. **Texture**: the textural encoder pools one code per region of the instance label map ``L``
    (objects and background classes): :func:`encode_scene`.
 
@@ -58,7 +61,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import torch
@@ -91,6 +94,8 @@ from sdn3d.proposal_fit import (
     fit_proposals,
     fit_proposals_and_boxes,
     fitted_silhouettes,
+    footprint_joins,
+    join_masks,
     unsure_below,
     vehicle_rows,
 )
@@ -275,6 +280,45 @@ def _choose_on_agreed_lamps(image: Tensor, intr: Intrinsics, masks: Tensor, ids:
     return geometry, [by_id.get(r.instance_id, r) for r in records]
 
 
+def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, intrinsics: Intrinsics, source: str,
+                gt: GroundTruth | None, models: Models, min_pixels: int, refine: RefineSettings | None,
+                photo: InputPhoto | None, boxes: BoxPrompts | None, fit: FitSettings | None,
+                class_names: dict[int, str]
+                ) -> tuple[tuple[Tensor, ...], Appearance | None, list[ProposalFit], FitResult | None]:
+    """Step 3 of the module doc for the objects ``masks (N, H, W)``, ``ids (N,)`` (``box_rows (B,)``: those named by
+    a box): ``(geometry, appearance, proposal_fits, box_result)``, the geometry after the proposals' fit (with
+    ``fit``), their records and the box objects' share of a fit made with theirs (else None)."""
+    n = len(ids)
+    annotated = torch.ones(n, dtype=torch.bool)
+    annotated[box_rows] = False
+    # The semantic branch's masks may stop short of the car's bottom (proposal_fit's module doc), and with it above
+    # its tail lamps: where a mask shows none usable, the red-lamp test reads the band under it (module doc, step 3);
+    # the ground truth's masks (an oracle) and the boxes' GrabCut masks are taken as they are.
+    unsure = unsure_below(masks) if source == "semantic" else None
+    if unsure is not None:
+        unsure[box_rows] = False
+    geometry, appearance = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models,
+                                     min_pixels, refine, annotated, photo, unsure)
+    proposal_fits, box_result = [], None
+    classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
+    if fit is not None:
+        rows = vehicle_rows(ids, geometry[0], class_names)
+        rows = rows[~torch.isin(rows, box_rows)]
+        unsure = unsure if len(rows) else None  # the fit ignores the same band
+        box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes)
+                   if len(rows) and len(box_rows) and boxes.fit == fit else None)
+        if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
+            geometry, proposal_fits, first, box_result = fit_proposals_and_boxes(
+                intrinsics, masks, ids, rows, geometry, fit, appearance, box_req, unsure, classes)
+        else:
+            geometry, proposal_fits, first = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance,
+                                                           unsure, classes)
+        if source == "semantic" and appearance is not None and fit.appearance and first is not None:
+            geometry, proposal_fits = _choose_on_agreed_lamps(image, intrinsics, masks, ids, rows, first, geometry,
+                                                              proposal_fits, fit, appearance, unsure, models, photo)
+    return geometry, appearance, proposal_fits, box_result
+
+
 def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:
     """``(N, 4)`` annotated pixel-centre boxes of the objects ``ids`` and ``(N,)`` bool: found."""
     boxes = torch.zeros(len(ids), 4)
@@ -439,35 +483,24 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     box_rows, box_fits, mask_source = torch.zeros(0, dtype=torch.long), [], None
     if boxes is not None and len(boxes):
         masks, ids, box_rows, mask_source = add_box_objects(image, masks, ids, boxes, seg, things, class_list, found)
-    n = len(ids)
-    annotated = torch.ones(n, dtype=torch.bool)
-    annotated[box_rows] = False
-    # The semantic branch's masks may stop short of the car's bottom (proposal_fit's module doc), and with it above
-    # its tail lamps: where a mask shows none usable, the red-lamp test reads the band under it (module doc, step 3);
-    # the ground truth's masks (an oracle) and the boxes' GrabCut masks are taken as they are.
-    unsure = unsure_below(masks) if source == "semantic" else None
-    if unsure is not None:
-        unsure[box_rows] = False
-    geometry, appearance = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models,
-                                     min_pixels, refine, annotated, photo, unsure)
-    proposal_fits, box_result = [], None
     class_names = {c.id: c.name for c in class_list}
+    stage = (image, intrinsics, source, gt, models, min_pixels, refine, photo, boxes, fit, class_names)
+    geometry, appearance, proposal_fits, box_result = _objects_3d(masks, ids, box_rows, *stage)
+    groups = (footprint_joins(masks, ids, geometry, proposal_fits, fit.join_overlap)
+              if fit is not None and fit.join_overlap is not None and source == "semantic" else [])
+    if groups:  # one car cut in parts (proposal_fit's module doc): joined, and the objects de-rendered again
+        joined = {int(ids[g[0]]): tuple(ids[g].tolist()) for g in groups}
+        members = torch.cat([g[1:] for g in groups])
+        for g in groups:
+            instances = torch.where(torch.isin(instances, ids[g]), ids[g[0]], instances)
+        masks, ids, _ = join_masks(masks, ids, groups)
+        box_rows = box_rows - (members[:, None] < box_rows[None]).sum(0)  # the rows dropped before each box's
+        geometry, appearance, proposal_fits, box_result = _objects_3d(masks, ids, box_rows, *stage)
+        proposal_fits = [replace(r, joined_from=joined.get(r.instance_id, ())) for r in proposal_fits]
+        log.info("derender: %d proposal(s) joined into %d (their fitted cars shared the ground)",
+                 len(members) + len(groups), len(groups))
+    n = len(ids)
     classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
-    if fit is not None:
-        rows = vehicle_rows(ids, geometry[0], class_names)
-        rows = rows[~torch.isin(rows, box_rows)]
-        unsure = unsure if len(rows) else None  # the fit ignores the same band
-        box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes)
-                   if len(rows) and len(box_rows) and boxes.fit == fit else None)
-        if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
-            geometry, proposal_fits, first, box_result = fit_proposals_and_boxes(
-                intrinsics, masks, ids, rows, geometry, fit, appearance, box_req, unsure, classes)
-        else:
-            geometry, proposal_fits, first = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance,
-                                                           unsure, classes)
-        if source == "semantic" and appearance is not None and fit.appearance and first is not None:
-            geometry, proposal_fits = _choose_on_agreed_lamps(image, intrinsics, masks, ids, rows, first, geometry,
-                                                              proposal_fits, fit, appearance, unsure, models, photo)
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
                                                              min_pixels, mask_source, appearance, box_result, classes)

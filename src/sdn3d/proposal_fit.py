@@ -16,6 +16,16 @@ proposals (``unsure`` of :func:`fit_proposals`: the caller's choice, :func:`unsu
 masks) a band under each mask, as deep as :data:`UNSURE_BELOW` of the mask's height, counts as neither car nor
 background, like an occluder's pixels: the car's width and top then place it, and its bottom may reach the road.
 
+The semantic branch also cuts a near car into two or more proposals (issues 40 and 41: on the seven Table 1 tuning
+trees, session 21's demo weights, 58 fragments on 52 cars, most from two centre-heatmap peaks on one car), and each
+part is fitted as a whole car, then turned, moved or deleted alone. Nothing the grouping sees in 2D tells such a cut
+from two touching cars (``docs/results/2026-11-30_cpu/session26/frag40`` and ``split40``); the fit does: two real
+cars cannot stand on the same ground, while the parts of one car, each fitted as a whole car, often do.
+:func:`footprint_joins` finds the proposals whose masks touch and whose fitted footprints on the road share at least
+``FitSettings.join_overlap`` of the smaller one (a car partly hidden behind another is fitted behind it: their
+footprints share little); the de-render then joins each group's masks into one proposal and fits it once more
+(``docs/results/2026-11-30_cpu/session27/join40``).
+
 The paper fits nothing at test time on Virtual KITTI (its Table 1 and 2 protocol): ``fit=None`` in
 :func:`~sdn3d.derender.derender` keeps that.
 """
@@ -33,13 +43,15 @@ from sdn3d.box_objects import occluder_masks, yaw_belief
 from sdn3d.image_ops import mask_boxes
 from sdn3d.labels import INSTANCE_DIVISOR, VEHICLE_CLASS_NAMES
 from sdn3d.math3d.camera import Intrinsics
+from sdn3d.math3d.transforms import convex_overlap, ground_footprints
 
 if TYPE_CHECKING:
     from sdn3d.geometric.facing import Appearance
     from sdn3d.geometric.fit import FitRequest, FitResult, FitSettings
 
 __all__ = ["ProposalFit", "fit_proposals", "fit_proposals_and_boxes", "choose_proposals_again", "proposal_request",
-           "apply_proposal_fit", "vehicle_rows", "unsure_below", "fitted_silhouettes", "UNSURE_BELOW"]
+           "apply_proposal_fit", "vehicle_rows", "unsure_below", "fitted_silhouettes", "footprint_joins", "join_masks",
+           "UNSURE_BELOW"]
 
 #: Depth of the band under a predicted mask that the fit ignores (:func:`unsure_below`), as a fraction of the mask's
 #: height: the semantic branch's masks miss up to a quarter of a far car's rows (module doc).
@@ -49,17 +61,20 @@ UNSURE_BELOW = 0.3
 @dataclass(frozen=True)
 class ProposalFit:
     """One proposal's test-time fit: its silhouette IoU with its mask (None: not fitted, the prediction kept), whether
-    that is poor (under ``FitSettings.poor_iou``), the winning hypothesis in words and the fit's note, if any."""
+    that is poor (under ``FitSettings.poor_iou``), the winning hypothesis in words, the fit's note, if any, and the
+    ids of the proposals it was joined from (:func:`footprint_joins`; its own id first; empty: not joined)."""
 
     instance_id: int
     iou: float | None
     poor: bool
     hypothesis: str | None
     note: str | None = None
+    joined_from: tuple[int, ...] = ()
 
     def to_json(self) -> dict:
         return {"id": self.instance_id, "fit_iou": None if self.iou is None else round(self.iou, 4),
-                "poor_fit": self.poor, "hypothesis": self.hypothesis, "note": self.note}
+                "poor_fit": self.poor, "hypothesis": self.hypothesis, "note": self.note,
+                "joined_from": list(self.joined_from)}
 
 
 def vehicle_rows(ids: Tensor, template: Tensor, class_names: dict[int, str]) -> Tensor:
@@ -108,6 +123,51 @@ def fitted_silhouettes(intr: Intrinsics, geometry: tuple[Tensor, ...], rows: Ten
     center = bottom_to_center(location, dims[:, 1])
     verts, faces = pose_meshes(default_bank(), template.long(), dims.float(), ry.float(), center.float(), phi.float())
     return rasterize_meshes(verts, faces, intr.matrix().float(), RasterSettings((intr.height, intr.width))).mask
+
+
+def footprint_joins(masks: Tensor, ids: Tensor, geometry: tuple[Tensor, ...], records: Sequence[ProposalFit],
+                    overlap: float) -> list[Tensor]:
+    """The groups of fitted proposals that are one car (module doc): ``(M,)`` rows of ``ids (N,)`` each (``M >= 2``,
+    the largest mask first, then by row), taken transitively over the pairs of proposals fitted by the fit of
+    ``records`` (:func:`fit_proposals`' records; one with ``iou`` None, left alone by the fit, joins nothing) whose
+    ``masks (N, H, W)`` touch (8-neighbours) and whose fitted footprints (``geometry``'s ``dims, ry, location``:
+    :func:`~sdn3d.math3d.transforms.ground_footprints`) share at least ``overlap`` of the smaller footprint's area."""
+    row_of = {int(i): k for k, i in enumerate(ids.tolist())}
+    rows = torch.tensor(sorted(row_of[r.instance_id] for r in records if r.iou is not None), dtype=torch.long)
+    if len(rows) < 2:
+        return []
+    m = masks[rows]
+    grown = torch.nn.functional.max_pool2d(m[:, None].float(), 3, 1, 1)[:, 0]  # (K, H, W): each mask and its ring
+    touch = (grown.flatten(1) @ m.flatten(1).float().T > 0).triu(1)  # (K, K) pairs a < b
+    _, dims, ry, location, _ = geometry
+    feet = ground_footprints(dims[rows], ry[rows], location[rows])  # (K, 4, 2)
+    area = dims[rows, 0].double() * dims[rows, 2].double()
+    group = list(range(len(rows)))  # union-find over the joined pairs
+
+    def root(k: int) -> int:
+        while group[k] != k:
+            k = group[k]
+        return k
+
+    for a, b in touch.nonzero().tolist():  # a few touching pairs per image
+        if convex_overlap(feet[a], feet[b]) >= overlap * float(torch.minimum(area[a], area[b])):
+            group[root(b)] = root(a)
+    members: dict[int, list[int]] = {}
+    for k in range(len(rows)):
+        members.setdefault(root(k), []).append(k)
+    pixels = m.flatten(1).sum(1)
+    return [rows[sorted(ks, key=lambda k: (-int(pixels[k]), k))] for ks in members.values() if len(ks) > 1]
+
+
+def join_masks(masks: Tensor, ids: Tensor, groups: Sequence[Tensor]) -> tuple[Tensor, Tensor, Tensor]:
+    """``(masks (N', H, W), ids (N',), kept (N,) bool)``: each of the ``groups`` (:func:`footprint_joins`' rows of
+    ``masks (N, H, W)``) made one object, the union of its masks under its first row's id; the other rows dropped
+    (``kept`` False)."""
+    masks, kept = masks.clone(), torch.ones(len(ids), dtype=torch.bool)
+    for g in groups:
+        masks[g[0]] = masks[g].any(0)
+        kept[g[1:]] = False
+    return masks[kept], ids[kept], kept
 
 
 def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],

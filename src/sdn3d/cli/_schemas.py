@@ -50,6 +50,7 @@ class FitSchema:
     cull_backfaces: bool = MISSING
     parts: int = MISSING
     poor_iou: float = MISSING
+    join_overlap: Optional[float] = MISSING
 
 
 @dataclass

@@ -213,6 +213,12 @@ class FitSettings:
         silhouette: ``soft`` (SoftRas) or ``straight_through`` (hard values, soft gradient: the L1 optimum is the
             true outline, not a shrunken one; :mod:`sdn3d.render.silhouette`).
         poor_iou: a fit below this silhouette IoU with its mask is flagged as poor.
+        join_overlap: the semantic branch's proposals whose masks touch and whose fitted footprints on the road share
+            at least this share of the smaller one are one car: the de-render joins them and fits the union
+            (:func:`sdn3d.proposal_fit.footprint_joins`; the box objects and ground-truth masks are never joined);
+            None: no join. On the seven Table 1 tuning trees (session 21's demo weights) the touching pairs of
+            one car's parts shared up to 0.72 (7 of 42 at 0.45 or more, half of them nothing: the parts fitted
+            side by side), those of two cars up to 0.43 (docs/results/2026-11-30_cpu/session27/join40).
         min_mask_pixels, min_mask_side: a mask with fewer pixels, or a bounding box thinner (px), is not fitted: the
             object keeps the branch's prediction (where there is one) and a warning.
     """
@@ -246,6 +252,7 @@ class FitSettings:
     cull_backfaces: bool = False
     parts: int = 2
     poor_iou: float = 0.7
+    join_overlap: float | None = 0.45
     min_mask_pixels: int = 24
     min_mask_side: int = 3
 
@@ -291,6 +298,9 @@ class FitSettings:
             raise ValueError(f"FitSettings.cut_inward must be in [0, 1], got {self.cut_inward!r}")
         if not (isinstance(self.poor_iou, (int, float)) and 0 <= self.poor_iou <= 1):
             raise ValueError(f"FitSettings.poor_iou must be in [0, 1], got {self.poor_iou!r}")
+        if self.join_overlap is not None and (isinstance(self.join_overlap, bool) or not (
+                isinstance(self.join_overlap, (int, float)) and 0 < self.join_overlap <= 1)):
+            raise ValueError(f"FitSettings.join_overlap must be in (0, 1] or None, got {self.join_overlap!r}")
 
     def to_dict(self) -> dict:
         return asdict(self)

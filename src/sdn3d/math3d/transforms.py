@@ -24,6 +24,8 @@ __all__ = [
     "canonical_box_corners",
     "box_corners",
     "project_box",
+    "ground_footprints",
+    "convex_overlap",
     "dims_from_whl",
     "whl_from_dims",
     "from_kitti_fields",
@@ -161,6 +163,52 @@ def project_box(dims: Tensor, ry: Tensor, center: Tensor, K: Tensor) -> Tensor:
         K = K.unsqueeze(1)
     uv = project_points(corners, K)
     return torch.cat([uv.amin(dim=1), uv.amax(dim=1)], dim=-1)
+
+
+def ground_footprints(dims: Tensor, ry: Tensor, location: Tensor) -> Tensor:
+    """``(B, 4, 2)`` float64: each box's bottom face seen from above, its corners' ``(x, z)`` in order around it
+    (:func:`canonical_box_corners`' bottom face), from ``dims (B, 3)`` (l, h, w), ``ry (B,)`` and the bottom-face
+    centres ``location (B, 3)`` (KITTI's ``x3d, y3d, z3d``).
+
+    >>> f = ground_footprints(torch.tensor([[4.0, 1.5, 2.0]]), torch.zeros(1), torch.tensor([[1.0, 1.6, 10.0]]))
+    >>> f[0].tolist()
+    [[3.0, 11.0], [3.0, 9.0], [-1.0, 9.0], [-1.0, 11.0]]
+    """
+    _check_last_dim("location", location, 3)
+    corners = box_corners(dims.double(), ry.double(), bottom_to_center(location.double(), dims[:, 1].double()))
+    return corners[:, :4][..., [0, 2]]
+
+
+def _signed_area(poly: list[tuple[float, float]]) -> float:
+    return sum(poly[i - 1][0] * poly[i][1] - poly[i][0] * poly[i - 1][1] for i in range(len(poly))) / 2
+
+
+def convex_overlap(a: Tensor, b: Tensor) -> float:
+    """The area two convex polygons ``a (P, 2)`` and ``b (Q, 2)`` (corners in order around each, either way round)
+    share: ``b`` clipped by each edge of ``a`` (Sutherland-Hodgman), 0 where they do not meet.
+
+    >>> square = torch.tensor([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
+    >>> convex_overlap(square, square + 1), convex_overlap(square, square.flip(0) + 3)
+    (1.0, 0.0)
+    """
+    clipper, poly = [tuple(p) for p in a.tolist()], [tuple(p) for p in b.tolist()]
+    if _signed_area(clipper) < 0:  # the inside test below holds for counter-clockwise corners
+        clipper = clipper[::-1]
+    for i in range(len(clipper)):
+        (x0, y0), (x1, y1) = clipper[i - 1], clipper[i]
+        side = [(x1 - x0) * (y - y0) - (y1 - y0) * (x - x0) for x, y in poly]  # >= 0: left of the edge, inside
+        out = []
+        for j in range(len(poly)):
+            (p, sp), (q, sq) = (poly[j - 1], side[j - 1]), (poly[j], side[j])
+            if (sp >= 0) != (sq >= 0):  # the edge p -> q crosses the clipping line: keep the crossing
+                t = sp / (sp - sq)
+                out.append((p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])))
+            if sq >= 0:
+                out.append(q)
+        poly = out
+        if len(poly) < 3:
+            return 0.0
+    return abs(_signed_area(poly))
 
 
 def dims_from_whl(w: Tensor, h: Tensor, l: Tensor) -> Tensor:

@@ -1,0 +1,109 @@
+"""The faint edge of a removed car's shadow (issue 41: residual darkening under 5 %; session 27 shadow41): road a
+few per cent darker than its row's lit road around the filled shadow (penumbra, blocked skylight), which the shadow
+test at ``photo.shadow_light`` leaves, is relit with ``photo.faint_light``
+(:func:`~sdn3d.editing.photo.fill.relight_faint_shadow`, :func:`~sdn3d.editing.photo.road.road_shade`)."""
+
+from __future__ import annotations
+
+import pytest
+import torch
+
+from sdn3d.editing.photo.fill import relight_faint_shadow
+from sdn3d.editing.photo.road import road_colours, road_shade, shadowed_road
+from sdn3d.editing.photo.settings import PhotoSettings, PhotoSettingsError
+
+pytestmark = pytest.mark.usefixtures("one_torch_thread")
+
+ROAD = 0.5
+
+
+def _scene() -> dict[str, torch.Tensor]:
+    """A grey road ``(3, 96, 160)`` with grain; the removed car's hole (rows 20-69, columns 40-99) whose lower rows
+    are its dark shadow; around the hole's lower half a faint halo at 0.92 of the road (rows 45-79, columns 30-109,
+    outside the hole); a faint patch apart from it (rows 84-89, columns 130-139, the same darkness); the search region
+    (the fitted footprint grown) over the hole's lower half and the halo."""
+    gen = torch.Generator().manual_seed(0)
+    image = ROAD + 0.02 * torch.randn(1, 96, 160, generator=gen).expand(3, -1, -1).clone()  # grey grain
+    hole = torch.zeros(96, 160, dtype=torch.bool)
+    hole[20:70, 40:100] = True
+    halo = torch.zeros_like(hole)
+    halo[45:80, 30:110] = True
+    halo &= ~hole
+    patch = torch.zeros_like(hole)
+    patch[84:90, 130:140] = True
+    image[:, halo | patch] *= 0.92
+    image[:, 55:70, 40:100] = 0.2  # the car's shadow under it, in the hole
+    search = torch.zeros_like(hole)
+    search[45:84, 28:112] = True
+    return {"image": image.clamp(0, 1), "hole": hole, "halo": halo, "patch": patch, "search": search}
+
+
+def _lit_and_road(s: dict[str, torch.Tensor]) -> tuple[torch.Tensor, torch.Tensor]:
+    grown = torch.nn.functional.max_pool2d((s["hole"] | s["search"]).float()[None, None], 7, 1, 3)[0, 0].bool()
+    lit = ~grown & ~s["patch"]
+    return lit, road_colours(s["image"], lit)
+
+
+def test_road_shade_is_the_share_of_the_rows_lit_road_and_shadowed_road_its_test():
+    s = _scene()
+    lit, road = _lit_and_road(s)
+    within = torch.ones_like(s["hole"])
+    shade = road_shade(s["image"], road, within, lit, luma=True)
+    assert abs(float(shade[s["halo"]].nanmedian()) - 0.92) < 0.02
+    assert abs(float(shade[lit].nanmedian()) - 1.0) < 0.01
+    light = road_shade(s["image"], road, within, lit)  # CIE L: the same order, a smaller dip
+    assert float(light[s["halo"]].nanmedian()) < 0.99
+    # shadowed_road is road_shade's test: the dark shadow in, the faint halo out.
+    dark = shadowed_road(s["image"], road, within, lit, 0.8)
+    assert bool(dark[60:70, 50:90].all()) and not bool(dark[s["halo"]].any())
+    assert torch.equal(dark, torch.nan_to_num(light, nan=2.0) < 0.8)
+
+
+def test_the_faint_halo_touching_the_hole_is_relit_to_the_road_and_a_patch_apart_stays():
+    s = _scene()
+    lit, road = _lit_and_road(s)
+    zone = s["search"] & ~s["hole"] | s["patch"]
+    shade = road_shade(s["image"], road, zone, lit, luma=True)
+    out, gain = relight_faint_shadow(s["image"], shade, zone, s["hole"], 0.95, 0.8)
+    inner = s["halo"] & ~torch.nn.functional.max_pool2d((~s["halo"]).float()[None, None], 7, 1, 3)[0, 0].bool()
+    assert float(s["image"][:, inner].mean()) < 0.93 * ROAD
+    assert abs(float(out[:, inner].mean()) - ROAD) < 0.02 * ROAD  # relit to the road's lightness
+    assert torch.equal(out[:, s["patch"]], s["image"][:, s["patch"]])  # apart from the hole: stays
+    assert torch.equal(out[:, s["hole"]], s["image"][:, s["hole"]])  # the hole is the fill's
+    assert bool((gain[~zone] == 1).all())
+    # A gain, not a colour: the road's grain stays (its spread grows with the gain, ~1/0.92).
+    ratio = float(out[:, inner].std() / s["image"][:, inner].std())
+    assert 1.0 < ratio < 1.15
+    # The halo lighter than the upper share is not touched.
+    same, ones = relight_faint_shadow(s["image"], shade, zone, s["hole"], 0.85, 0.8)
+    assert torch.equal(same, s["image"]) and bool((ones == 1).all())
+
+
+def test_a_delete_relights_the_faint_halo_with_faint_light_and_leaves_it_without():
+    import sdn3d.editing.photo.transfer as transfer
+
+    s = _scene()
+    lit, road = _lit_and_road(s)
+    ring = lit
+    objects = torch.zeros_like(s["hole"])
+    vp = (80.0, -2000.0)
+    inner = s["halo"] & (torch.arange(96) >= 50)[:, None] & ~torch.nn.functional.max_pool2d(
+        (~s["halo"]).float()[None, None], 5, 1, 2)[0, 0].bool()
+    plain, matte_plain = transfer._rays_with_effects(s["image"], s["hole"], objects, s["search"], ring, road,
+                                                     PhotoSettings(fill="rays"), vp)
+    assert float(plain[:, inner].mean()) < 0.93 * ROAD  # default (0): the halo stays, as before
+    assert not bool((matte_plain[inner] > 0).any())
+    relit, matte = transfer._rays_with_effects(s["image"], s["hole"], objects, s["search"], ring, road,
+                                               PhotoSettings(fill="rays", faint_light=0.95), vp)
+    assert abs(float(relit[:, inner].mean()) - ROAD) < 0.02 * ROAD
+    assert bool((matte[inner] > 0.02).all())  # render_photo marks them relit
+    assert not bool((matte[s["hole"]] > 0).any())  # the hole (the dark shadow with it) is the fill's, not relit
+    assert torch.equal(relit[:, s["patch"]], s["image"][:, s["patch"]])
+
+
+def test_faint_light_is_checked_by_name():
+    assert PhotoSettings().faint_light == 0.0
+    assert PhotoSettings(faint_light=0.95).faint_light == 0.95
+    for bad in (0.5, 0.8, 1.2, -0.1, True, "0.9"):
+        with pytest.raises(PhotoSettingsError, match="faint_light"):
+            PhotoSettings(faint_light=bad)

@@ -90,11 +90,11 @@ def test_a_delete_relights_the_faint_halo_with_faint_light_and_leaves_it_without
     inner = s["halo"] & (torch.arange(96) >= 50)[:, None] & ~torch.nn.functional.max_pool2d(
         (~s["halo"]).float()[None, None], 5, 1, 2)[0, 0].bool()
     plain, matte_plain = transfer._rays_with_effects(s["image"], s["hole"], objects, s["search"], ring, road,
-                                                     PhotoSettings(fill="rays"), vp)
-    assert float(plain[:, inner].mean()) < 0.93 * ROAD  # default (0): the halo stays, as before
+                                                     PhotoSettings(fill="rays", faint_light=0.0), vp)
+    assert float(plain[:, inner].mean()) < 0.93 * ROAD  # 0: the halo stays, as before
     assert not bool((matte_plain[inner] > 0).any())
     relit, matte = transfer._rays_with_effects(s["image"], s["hole"], objects, s["search"], ring, road,
-                                               PhotoSettings(fill="rays", faint_light=0.95), vp)
+                                               PhotoSettings(fill="rays"), vp)  # the default
     assert abs(float(relit[:, inner].mean()) - ROAD) < 0.02 * ROAD
     assert bool((matte[inner] > 0.02).all())  # render_photo marks them relit
     assert not bool((matte[s["hole"]] > 0).any())  # the hole (the dark shadow with it) is the fill's, not relit
@@ -102,8 +102,8 @@ def test_a_delete_relights_the_faint_halo_with_faint_light_and_leaves_it_without
 
 
 def test_faint_light_is_checked_by_name():
-    assert PhotoSettings().faint_light == 0.0
-    assert PhotoSettings(faint_light=0.95).faint_light == 0.95
+    assert PhotoSettings().faint_light == 0.98
+    assert PhotoSettings(faint_light=0.0).faint_light == 0.0
     for bad in (0.5, 0.8, 1.2, -0.1, True, "0.9"):
         with pytest.raises(PhotoSettingsError, match="faint_light"):
             PhotoSettings(faint_light=bad)

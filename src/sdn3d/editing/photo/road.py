@@ -905,13 +905,16 @@ def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, ligh
 
 
 def road_shade(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, tolerance: float = 12.0,
-               lab: PictureLab | None = None, luma: bool = False) -> Tensor:
+               lab: PictureLab | None = None, luma: bool = False, local: float = 0.0) -> Tensor:
     """``(H, W)`` float32: each pixel's lightness over the road's on its row, for the pixels inside ``within`` whose
     chroma is the road's (``road (3,)`` Lab, :func:`road_like`; scaled by the pixel's lightness over the road's, as
     a shadow's chroma shrinks with its light); NaN elsewhere. The road's lightness per row is the median of the
     road-like ``lit (H, W)`` pixels there (rows without any: the nearest row with some), since haze and fog lighten
     the road with distance, that is with the row. Lightness is CIE L, or with ``luma`` the Rec. 709 luma of the sRGB
     values (a gain on them brings a pixel to the road's: :func:`~sdn3d.editing.photo.fill.relight_faint_shadow`).
+    ``local`` > 0: the road's lightness is the lit road's around the pixel instead (their Gaussian-weighted mean,
+    sigma ``local`` pixels; the row's where under 5 % of that window is lit road): a road lit unevenly across a row
+    (the real frame of ``tests/data``: its road darkens to the right) is not taken for shade there.
     ``lab``: ``image``'s :class:`PictureLab` (the same values, converted once for all the removal's tests)."""
     if lab is not None:
         lab.check(image)
@@ -936,8 +939,14 @@ def road_shade(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, toleran
     per_row = torch.where(ref_px, light, torch.full_like(light, float("nan"))).nanmedian(1).values
     have = rows.nonzero().flatten()
     nearest = have[(torch.arange(y1 - y0)[:, None] - have[None]).abs().argmin(1)]
-    ref = per_row[nearest].clamp(min=1e-3)
-    share = (light / ref[:, None]).float()
+    ref = per_row[nearest][:, None].expand_as(light)
+    if local > 0:
+        import cv2
+
+        weight = cv2.GaussianBlur(ref_px.numpy().astype(np.float32), (0, 0), local)
+        mean = cv2.GaussianBlur((light * ref_px).numpy().astype(np.float32), (0, 0), local) / np.maximum(weight, 1e-6)
+        ref = torch.where(torch.from_numpy(weight) >= 0.05, torch.from_numpy(mean).to(ref), ref)
+    share = (light / ref.clamp(min=1e-3)).float()
     out[y0:y1, x0:x1] = torch.where(like & within[y0:y1, x0:x1], share, torch.full_like(share, float("nan")))
     return out
 

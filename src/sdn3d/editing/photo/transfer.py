@@ -836,7 +836,8 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
             # The shadow's faint edge (lighter than shadow_light) stays a grey halo around the hole and darkens the
             # rays' sources beside it: relit first, in the region the shadow was looked for, on its ground rows.
             zone = _ground_rows(dilate_square(search, 3) & ~hole & ~pieces & ~objects_px, hole, SHADOW_GROUND)
-            shade = road_shade(image, road, zone, lit, lab=lab, luma=True)
+            shade = road_shade(image, road, zone, lit, lab=lab, luma=True,
+                               local=FAINT_REFERENCE * float(_rows_spanned(hole)))
             image, gain = relight_faint_shadow(image, shade, zone, hole | pieces, settings.faint_light,
                                                settings.shadow_light)
             if bool((gain > 1).any()):
@@ -847,6 +848,19 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
     if any_set(pieces):
         out = inpaint(out, pieces, "telea", settings.inpaint_radius)
     return out, matte
+
+
+#: :func:`_rays_with_effects`: the faint shadow's reference is the lit road around each pixel, weighted by a Gaussian
+#: of this share of the hole's height (:func:`~sdn3d.editing.photo.road.road_shade`'s ``local``): with the row's lit
+#: road, the real frame's red car's delete relit the road beyond its shadow, darker there across the whole road, into a
+#: lighter patch with an edge (docs/results/2026-11-30_cpu/session27/shadow41/).
+FAINT_REFERENCE = 0.5
+
+
+def _rows_spanned(mask: Tensor) -> int:
+    """How many rows from the first to the last that hold a pixel of ``mask (H, W)`` (0: none)."""
+    rows = any_along(mask, 1).nonzero().flatten()
+    return int(rows[-1] - rows[0] + 1) if len(rows) else 0
 
 
 #: :func:`_ground_row`: the ground near a removed car reaches this many times the distance of its footprint's far edge.

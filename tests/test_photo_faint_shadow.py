@@ -107,3 +107,35 @@ def test_faint_light_is_checked_by_name():
     for bad in (0.5, 0.8, 1.2, -0.1, True, "0.9"):
         with pytest.raises(PhotoSettingsError, match="faint_light"):
             PhotoSettings(faint_light=bad)
+
+
+def test_a_road_lit_unevenly_across_its_rows_is_not_taken_for_faint_shadow(monkeypatch):
+    """The real frame's road darkens to the right: against its row's lit road (most of it on the lighter left) the
+    darker right is shade (``local`` 0), against the lit road beside it (``local``, what a delete uses) it is road,
+    and a delete leaves it."""
+    import sdn3d.editing.photo.transfer as transfer
+
+    s = {k: v[..., :131] for k, v in _scene().items()}  # lit road: 25 columns on the left, 15 on the right
+    ramp = torch.ones(131)
+    ramp[96:] = torch.cat([torch.linspace(1.0, 0.88, 17), torch.full((18,), 0.88)])  # darker past the car
+    s["image"] = (s["image"] / torch.where(s["halo"] | s["patch"], 0.92, 1.0)) * ramp  # no halo, no patch
+    s["image"][:, 55:70, 40:100] = 0.2
+    lit, road = _lit_and_road(s)
+    zone = s["search"] & ~s["hole"]
+    right = zone & (torch.arange(131) >= 104)[None]
+    by_row = road_shade(s["image"], road, zone, lit, luma=True)
+    around = road_shade(s["image"], road, zone, lit, luma=True, local=10.0)
+    assert float(by_row[right].nanmedian()) < 0.95  # the darker side against the whole row
+    assert float(around[right].nanmedian()) > 0.99  # against the road beside it: lit road, no shade
+    plain = PhotoSettings(fill="rays", faint_light=0.0)
+    before, _ = transfer._rays_with_effects(s["image"], s["hole"], torch.zeros_like(s["hole"]), s["search"], lit,
+                                            road, plain, (65.0, -2000.0))
+    after, _ = transfer._rays_with_effects(s["image"], s["hole"], torch.zeros_like(s["hole"]), s["search"], lit,
+                                           road, PhotoSettings(fill="rays"), (65.0, -2000.0))
+    changed = int(((after != before).any(0) & ~s["hole"]).sum())
+    monkeypatch.setattr(transfer, "FAINT_REFERENCE", 0.0)  # the row's lit road
+    by_row_after, _ = transfer._rays_with_effects(s["image"], s["hole"], torch.zeros_like(s["hole"]), s["search"],
+                                                  lit, road, PhotoSettings(fill="rays"), (65.0, -2000.0))
+    changed_by_row = int(((by_row_after != before).any(0) & ~s["hole"]).sum())
+    assert changed < 0.05 * int(zone.sum())  # next to nothing relit (a few grain pixels beside the hole)
+    assert changed_by_row > 4 * changed, (changed_by_row, changed)

@@ -33,8 +33,8 @@ from sdn3d.image_ops import (
 if TYPE_CHECKING:
     from sdn3d.editing.photo.road import PictureLab
 
-__all__ = ["inpaint", "vacated_hole", "leftover_pieces", "shadow_pieces", "fill_hole", "RemovalGuides",
-           "removal_guides"]
+__all__ = ["inpaint", "vacated_hole", "leftover_pieces", "shadow_pieces", "relight_faint_shadow", "fill_hole",
+           "RemovalGuides", "removal_guides"]
 
 
 def inpaint(image: Tensor, hole: Tensor, method: str = "telea", radius: int = 5, patch_size: int = 3,
@@ -396,6 +396,52 @@ def _shadow_fit(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, tolera
     sh_rgb = flat[core.view(-1)].median(0).values.clamp(min=0.01)
     gain = (lit_rgb / sh_rgb).clamp(1.0, 8.0)
     return gain, y, y_lit, float(luminance(sh_rgb)), cand
+
+
+def relight_faint_shadow(image: Tensor, shade: Tensor, zone: Tensor, touch: Tensor, upper: float,
+                         floor: float, sigma: float = 1.5) -> tuple[Tensor, Tensor]:
+    """``(image, gain (H, W) float32)``: the faint edge of a removed car's shadow relit. A car's shadow fades out
+    through a penumbra and the skylight it blocks (a few per cent darker than the road, ~0.9 of the row's lit road on
+    the tuning trees' deletes), which a shadow test at ``shadow_light`` (0.8) leaves in the picture: a grey halo
+    around the filled hole, and darker road that the rays carry into it.
+
+    ``shade (H, W)``: each road pixel's luma over its row's lit road (:func:`~sdn3d.editing.photo.road.road_shade`
+    with ``luma``; NaN off the road), blurred by ``sigma`` pixels over the road pixels (so a gain follows the
+    shadow's soft edge, not the road's grain, and the texture stays); the faint shadow is the road pixels of ``zone
+    (H, W)`` whose blurred share is under ``upper``, in 8-connected pieces touching ``touch (H, W)`` (the hole and
+    the shadow filled with it: the car's shadow runs on from there; a dark patch apart from it stays). Each of their
+    pixels is multiplied by one over its blurred share (at most ``1 / floor``), that gain blurred once more by
+    ``sigma`` so no seam shows where it ends; the gain is 1 elsewhere."""
+    import cv2
+
+    ones = torch.ones(tuple(zone.shape), dtype=torch.float32)
+    road = torch.isfinite(shade)
+    if not any_set(zone & road) or not any_set(touch):
+        return image, ones
+    both = zone | touch
+    rows, cols = any_along(both, 1).nonzero().flatten(), any_along(both, 0).nonzero().flatten()
+    y0, y1, x0, x1 = padded_window(rows, cols, int(3 * sigma) + 2, tuple(zone.shape))
+    valid = road[y0:y1, x0:x1].numpy().astype(np.float32)
+    values = torch.nan_to_num(shade[y0:y1, x0:x1], nan=0.0).numpy().astype(np.float32)
+    weight = cv2.GaussianBlur(valid, (0, 0), sigma)
+    blurred = torch.from_numpy(cv2.GaussianBlur(values * valid, (0, 0), sigma) / np.maximum(weight, 1e-6))
+    mine = zone[y0:y1, x0:x1] & road[y0:y1, x0:x1]
+    faint = mine & (blurred < upper)
+    if not any_set(faint):
+        return image, ones
+    count, labels = cv2.connectedComponents(faint.numpy().astype(np.uint8), connectivity=8)
+    labels = torch.from_numpy(labels).long()
+    near = labels[dilate_square(touch[y0:y1, x0:x1], 1) & faint].unique()
+    near = near[near > 0]
+    if not len(near):
+        return image, ones
+    faint = isin_ids(labels, near)
+    gain = torch.where(faint, 1.0 / blurred.clamp(min=floor), torch.ones_like(blurred)).clamp(min=1.0)
+    gain = torch.from_numpy(cv2.GaussianBlur(gain.float().numpy(), (0, 0), sigma))
+    gain = torch.where(mine, gain, torch.ones_like(gain))
+    out_gain = ones.clone()
+    out_gain[y0:y1, x0:x1] = gain
+    return (image * out_gain[None].to(image.dtype)).clamp(0, 1), out_gain
 
 
 def shadow_gain(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, tolerance: float = 12.0) -> Tensor | None:

@@ -26,12 +26,13 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
+from sdn3d.editing.photo.light import luminance
 from sdn3d.editing.photo.settings import VANISHING_MODES, VERGE_MODES
 from sdn3d.image_ops import any_along, any_set, count_set, dilate_cross, dilate_square, nonzero_yx, padded_window
 from sdn3d.math3d.sums import sum3
 
 __all__ = ["vanishing_point", "image_vanishing_point", "removal_vanishing_point", "ray_fill", "shadowed_road",
-           "road_haze", "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
+           "road_shade", "road_haze", "RAY_CHUNK", "GRAIN_SIGMA", "GRAIN_FOLD", "GRAIN_EDGE",
            "GRAIN_WEIGHTS", "FORWARD_SNAP_DEG", "VOTE_COHERENCE", "VOTE_WINDOW", "VOTE_SPREAD_DEG",
            "road_colours", "road_like", "ab_length", "verge_like", "VERGE_CHROMA", "VERGE_MIN_LIGHT", "FAR_RESOLVED",
            "NEAR_REACH"]
@@ -898,16 +899,27 @@ def _gather(image: Tensor, points: Tensor) -> Tensor:
 
 def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, light_share: float = 0.8,
                   tolerance: float = 12.0, lab: PictureLab | None = None) -> Tensor:
-    """``(H, W)`` bool pixels inside ``within`` whose chroma is the road's (``road (3,)`` Lab,
-    :func:`road_like`; scaled by the pixel's lightness over the road's, as a shadow's
-    chroma shrinks with its light) and whose lightness is under ``light_share`` of the road's on the
-    same row: road in shadow (a car's, a tree's), which a ray must not carry into a hole. The road's lightness per
-    row is the median of the road-like ``lit (H, W)`` pixels there (rows without any: the nearest row with some),
-    since haze and fog lighten the road with distance, that is with the row. ``lab``: ``image``'s
-    :class:`PictureLab` (the same values, converted once for all the removal's tests)."""
+    """``(H, W)`` bool pixels inside ``within`` whose :func:`road_shade` is under ``light_share``: road in shadow (a
+    car's, a tree's), which a ray must not carry into a hole."""
+    return road_shade(image, road, within, lit, tolerance, lab) < light_share
+
+
+def road_shade(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, tolerance: float = 12.0,
+               lab: PictureLab | None = None, luma: bool = False, local: float = 0.0) -> Tensor:
+    """``(H, W)`` float32: each pixel's lightness over the road's on its row, for the pixels inside ``within`` whose
+    chroma is the road's (``road (3,)`` Lab, :func:`road_like`; scaled by the pixel's lightness over the road's, as
+    a shadow's chroma shrinks with its light); NaN elsewhere. The road's lightness per row is the median of the
+    road-like ``lit (H, W)`` pixels there (rows without any: the nearest row with some), since haze and fog lighten
+    the road with distance, that is with the row. Lightness is CIE L, or with ``luma`` the Rec. 709 luma of the sRGB
+    values (a gain on them brings a pixel to the road's: :func:`~sdn3d.editing.photo.fill.relight_faint_shadow`).
+    ``local`` > 0: the road's lightness is the lit road's beside the pixel instead (their mean weighted by a
+    Gaussian of sigma ``local`` pixels along the row, 1 pixel across rows, as fog lightens the road with the row;
+    the row's where under 5 % of that window is lit road): a road lit unevenly along its rows (the real frame of
+    ``tests/data``: its road darkens to the right) is not taken for shade there.
+    ``lab``: ``image``'s :class:`PictureLab` (the same values, converted once for all the removal's tests)."""
     if lab is not None:
         lab.check(image)
-    out = torch.zeros_like(within)
+    out = torch.full(tuple(within.shape), float("nan"))
     box = _box(within | lit)
     if box is None:
         return out
@@ -918,18 +930,26 @@ def shadowed_road(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, ligh
     light = lab[..., 0]
     # A shadow's chroma shrinks with its lightness (the road's colour times less light): compared at that scale.
     scale = (light / max(abs(float(road[0])), 1e-3)).clamp(0, 1)[..., None]
-    like = torch.zeros_like(within)
-    like[y0:y1, x0:x1] = ab_length(lab[..., 1:] - road[1:].to(lab) * scale) < tolerance
-    ref_px = (like & lit)[y0:y1, x0:x1]
+    like = ab_length(lab[..., 1:] - road[1:].to(lab) * scale) < tolerance
+    ref_px = like & lit[y0:y1, x0:x1]
     rows = any_along(ref_px, 1)
     if not any_set(rows):
         return out
+    if luma:
+        light = luminance(image[:, y0:y1, x0:x1].permute(1, 2, 0).float())
     per_row = torch.where(ref_px, light, torch.full_like(light, float("nan"))).nanmedian(1).values
     have = rows.nonzero().flatten()
     nearest = have[(torch.arange(y1 - y0)[:, None] - have[None]).abs().argmin(1)]
-    ref = per_row[nearest]
-    dark = light < light_share * ref[:, None]
-    out[y0:y1, x0:x1] = dark & like[y0:y1, x0:x1] & within[y0:y1, x0:x1]
+    ref = per_row[nearest][:, None].expand_as(light)
+    if local > 0:
+        import cv2
+
+        weight = cv2.GaussianBlur(ref_px.numpy().astype(np.float32), (0, 0), local, sigmaY=1.0)
+        mean = (cv2.GaussianBlur((light * ref_px).numpy().astype(np.float32), (0, 0), local, sigmaY=1.0)
+                / np.maximum(weight, 1e-6))
+        ref = torch.where(torch.from_numpy(weight) >= 0.05, torch.from_numpy(mean).to(ref), ref)
+    share = (light / ref.clamp(min=1e-3)).float()
+    out[y0:y1, x0:x1] = torch.where(like & within[y0:y1, x0:x1], share, torch.full_like(share, float("nan")))
     return out
 
 

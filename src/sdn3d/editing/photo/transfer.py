@@ -18,6 +18,7 @@ from sdn3d.editing.frame import PixelFrame, input_intrinsics, input_window, upsa
 from sdn3d.editing.photo.fill import (
     fill_hole,
     inpaint,
+    relight_faint_shadow,
     relight_shadow,
     removal_guides,
     shadow_gain,
@@ -808,7 +809,7 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
     first (``'relight'``); ``road (3,)`` and ``ground_row`` (:func:`_ground_row`) tell the rays' road from a
     verge on the ground near the car (``photo.ray_verge``); ``lab``: ``image``'s
     :class:`~sdn3d.editing.photo.road.PictureLab` (not the relit picture's)."""
-    from sdn3d.editing.photo.road import shadowed_road
+    from sdn3d.editing.photo.road import road_shade, shadowed_road
 
     ys, xs = nonzero_yx(search | hole)
     reach = max(int(ys.max() - ys.min()), int(xs.max() - xs.min())) + 8
@@ -831,11 +832,40 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
         # 0.4 dB; docs/results/2026-11-30_cpu/session21/shade/).
         pieces = shadow_pieces(dark, hole, settings.shadow_reach, SHADOW_GROUND)
         matte = -(own | pieces).float()  # filled, not relit: render_photo marks these pixels fill
+        if settings.faint_light > 0:
+            # The shadow's faint edge (lighter than shadow_light) stays a grey halo around the hole and darkens the
+            # rays' sources beside it: relit first, in the region the shadow was looked for, on its ground rows.
+            zone = _ground_rows(dilate_square(search, 3) & ~hole & ~pieces & ~objects_px, hole, SHADOW_GROUND)
+            # Shade against the row's lit road and against the lit road beside it along the row, the lighter
+            # share of the two: a pixel is faint shadow only when darker than both, and is relit to the darker.
+            beside = FAINT_REFERENCE * float(_rows_spanned(hole))
+            shade = torch.fmax(road_shade(image, road, zone, lit, lab=lab, luma=True),
+                               road_shade(image, road, zone, lit, lab=lab, luma=True, local=beside))
+            image, gain = relight_faint_shadow(image, shade, zone, hole | pieces, settings.faint_light,
+                                               settings.shadow_light)
+            if bool((gain > 1).any()):
+                lab = None  # of the picture before the relight
+                matte = torch.where(gain > 1, gain - 1, matte)
     keep_out = objects_px | _ground_rows(dark, hole, SHADOW_GROUND)
     out = fill_hole(image, hole, settings, keep_out, vanishing=vanishing, road=road, ground_row=ground_row, lab=lab)
     if any_set(pieces):
         out = inpaint(out, pieces, "telea", settings.inpaint_radius)
     return out, matte
+
+
+#: :func:`_rays_with_effects`: the faint shadow is road darker than its row's lit road and than the lit road beside it
+#: along the row, weighted by a Gaussian of this share of the hole's height (:func:`~sdn3d.editing.photo.road.
+#: road_shade`'s ``local``). Against the row's alone, the real frame's red car's delete relit the road beyond its
+#: shadow, darker there across the whole road, into a lighter patch with an edge; against the road beside it alone,
+#: lit road next to the shadow, lighter than the road under it in the exact render, relit the tuning cf33's deletes
+#: past it (-0.07 dB; docs/results/2026-11-30_cpu/session27/shadow41/).
+FAINT_REFERENCE = 0.5
+
+
+def _rows_spanned(mask: Tensor) -> int:
+    """How many rows from the first to the last that hold a pixel of ``mask (H, W)`` (0: none)."""
+    rows = any_along(mask, 1).nonzero().flatten()
+    return int(rows[-1] - rows[0] + 1) if len(rows) else 0
 
 
 #: :func:`_ground_row`: the ground near a removed car reaches this many times the distance of its footprint's far edge.

@@ -167,15 +167,18 @@ class PhotoSettings:
             same (0: none). On the real frame of ``tests/data`` both cars' deletes left their shadow's dark tip
             beside a wheel (docs/results/2026-11-30_cpu/session21/shade/).
         faint_light: ``shadow_mode='fill'``: road near the removed car (its shadow's search region, lower half of the
-            hole's rows) lighter than ``shadow_light`` but darker than this share of its row's lit road (blurred
-            over 1.5 px), in pieces touching the filled hole and shadow, is the faint edge of its shadow (penumbra,
-            blocked skylight) and is relit by the gain that brings it to its row's road
+            hole's rows) lighter than ``shadow_light`` but darker than this share both of its row's lit road and
+            of the lit road beside it along the row (blurred over 1.5 px), in pieces touching the filled hole and
+            shadow, is the faint edge of its shadow (penumbra, blocked skylight) and is relit by the gain that
+            brings it to the darker of the two references
             (:func:`~sdn3d.editing.photo.fill.relight_faint_shadow`), before the rays fill the hole (so they do not
             carry it in). 0: none (the behaviour before); else above ``shadow_light``, at most 1. 0.98 (default):
-            on the tuning counterfactual trees' predicted deletes the residual darkening fell from 5.75 / 3.83 /
-            5.05 % to 4.34 / 3.35 / 4.32 % with hole PSNR up (0.9: 5.33 / 3.69 / 5.02 %; 1.0 within 0.1 point of
-            0.98, and relights road darker than its row's median, its own grain); Table 1's deletes and occluder
-            removals not worse (docs/results/2026-11-30_cpu/session27/shadow41/).
+            chosen on the tuning counterfactual trees with the row's reference alone, where the predicted deletes'
+            residual darkening fell from 5.75 / 3.83 / 5.05 % to 4.34 / 3.35 / 4.32 % with hole PSNR up (0.9:
+            5.33 / 3.69 / 5.02 %; 1.0 within 0.1 point of 0.98, and relights road darker than its row's median,
+            its own grain); Table 1's deletes and occluder removals not worse. With both references, on the
+            held-out tree 2273: 4.92 -> 3.74 % (truth's 1.70 %), hole PSNR +0.009 dB [+0.000, +0.018]
+            (docs/results/2026-11-30_cpu/session27/shadow41/).
         grow_min_seen: an object behind a removed one is completed into the freed pixels (amodal completion) only if
             at least this many of its pixels show in the input (eroded mask); one the input never showed is left to
             the fill, as are freed pixels its own fitted silhouette claims in front of the removed object (its fit

@@ -149,8 +149,11 @@ def test_click_drag_turn_delete_undo_download_and_reproduce(page, real_vkitti_fr
     camera = final["camera"]
     dx, dy = ops[0]["to"][0] - start[0], ops[0]["to"][1] - start[1]
     carried = (car["box"][0] + dx, car["box"][1] + dy, car["box"][2] + dx, car["box"][3] + dy)
-    allowed = _allowed(changed.shape, [car["box"], other["box"], _hull(car, camera), _hull(other, camera),
-                                       _hull(browser.objects()[12001], camera, grow=1.15), carried], margin=16)
+    # and the deleted car's footprint grown by half, where its shadow's faint edge is relit (photo.faint_light: the
+    # road right of the black car's bumper, 6-27 px past its box, 2 grey levels lighter)
+    rects = [car["box"], other["box"], _hull(car, camera), _hull(other, camera), _hull(other, camera, grow=1.5),
+             _hull(browser.objects()[12001], camera, grow=1.15), carried]
+    allowed = _allowed(changed.shape, rects, margin=16)
     outside = np.argwhere(changed & ~allowed)
     assert changed.any() and not len(outside), (len(outside), outside.min(0), outside.max(0), car["box"],
                                                 other["box"], _hull(car, camera), _hull(other, camera))

@@ -405,7 +405,7 @@ def relight_faint_shadow(image: Tensor, shade: Tensor, zone: Tensor, touch: Tens
     the tuning trees' deletes), which a shadow test at ``shadow_light`` (0.8) leaves in the picture: a grey halo
     around the filled hole, and darker road that the rays carry into it.
 
-    ``shade (H, W)``: each road pixel's luma over its row's lit road (:func:`~sdn3d.editing.photo.road.road_shade`
+    ``shade (H, W)``: each road pixel's luma over the lit road's (:func:`~sdn3d.editing.photo.road.road_shade`
     with ``luma``; NaN off the road), blurred by ``sigma`` pixels over the road pixels (so a gain follows the
     shadow's soft edge, not the road's grain, and the texture stays); the faint shadow is the road pixels of ``zone
     (H, W)`` whose blurred share is under ``upper``, in 8-connected pieces touching ``touch (H, W)`` (the hole and

@@ -912,10 +912,10 @@ def road_shade(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, toleran
     road-like ``lit (H, W)`` pixels there (rows without any: the nearest row with some), since haze and fog lighten
     the road with distance, that is with the row. Lightness is CIE L, or with ``luma`` the Rec. 709 luma of the sRGB
     values (a gain on them brings a pixel to the road's: :func:`~sdn3d.editing.photo.fill.relight_faint_shadow`).
-    ``local`` > 0: the road's lightness is the lit road's beside the pixel instead (their mean weighted by a
-    Gaussian of sigma ``local`` pixels along the row, 1 pixel across rows, as fog lightens the road with the row;
-    the row's where under 5 % of that window is lit road): a road lit unevenly along its rows (the real frame of
-    ``tests/data``: its road darkens to the right) is not taken for shade there.
+    ``local`` > 0: the road's lightness is the darker of its row's and the lit road's beside the pixel (their mean
+    weighted by a Gaussian of sigma ``local`` pixels along the row, 1 pixel across rows, as fog lightens the road
+    with the row; the row's alone where under 5 % of that window is lit road): a road lit unevenly along its rows
+    (the real frame of ``tests/data``: its road darkens to the right) is not taken for shade there.
     ``lab``: ``image``'s :class:`PictureLab` (the same values, converted once for all the removal's tests)."""
     if lab is not None:
         lab.check(image)
@@ -947,7 +947,7 @@ def road_shade(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, toleran
         weight = cv2.GaussianBlur(ref_px.numpy().astype(np.float32), (0, 0), local, sigmaY=1.0)
         mean = (cv2.GaussianBlur((light * ref_px).numpy().astype(np.float32), (0, 0), local, sigmaY=1.0)
                 / np.maximum(weight, 1e-6))
-        ref = torch.where(torch.from_numpy(weight) >= 0.05, torch.from_numpy(mean).to(ref), ref)
+        ref = torch.where(torch.from_numpy(weight) >= 0.05, torch.minimum(torch.from_numpy(mean).to(ref), ref), ref)
     share = (light / ref.clamp(min=1e-3)).float()
     out[y0:y1, x0:x1] = torch.where(like & within[y0:y1, x0:x1], share, torch.full_like(share, float("nan")))
     return out

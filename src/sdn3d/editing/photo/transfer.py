@@ -836,11 +836,10 @@ def _rays_with_effects(image: Tensor, hole: Tensor, objects_px: Tensor, search: 
             # The shadow's faint edge (lighter than shadow_light) stays a grey halo around the hole and darkens the
             # rays' sources beside it: relit first, in the region the shadow was looked for, on its ground rows.
             zone = _ground_rows(dilate_square(search, 3) & ~hole & ~pieces & ~objects_px, hole, SHADOW_GROUND)
-            # Shade against the row's lit road and against the lit road beside it along the row, the lighter
-            # share of the two: a pixel is faint shadow only when darker than both, and is relit to the darker.
+            # Shade against the darker of the row's lit road and the lit road beside it along the row: a pixel is
+            # faint shadow only when darker than both, and is relit to the darker.
             beside = FAINT_REFERENCE * float(_rows_spanned(hole))
-            shade = torch.fmax(road_shade(image, road, zone, lit, lab=lab, luma=True),
-                               road_shade(image, road, zone, lit, lab=lab, luma=True, local=beside))
+            shade = road_shade(image, road, zone, lit, lab=lab, luma=True, local=beside)
             image, gain = relight_faint_shadow(image, shade, zone, hole | pieces, settings.faint_light,
                                                settings.shadow_light)
             if bool((gain > 1).any()):

@@ -414,6 +414,8 @@ def relight_faint_shadow(image: Tensor, shade: Tensor, zone: Tensor, touch: Tens
     ``sigma`` so no seam shows where it ends; the gain is 1 elsewhere."""
     import cv2
 
+    from sdn3d.editing.photo.road import _normalised_blur
+
     ones = torch.ones(tuple(zone.shape), dtype=torch.float32)
     road = torch.isfinite(shade)
     if not any_set(zone & road) or not any_set(touch):
@@ -421,10 +423,8 @@ def relight_faint_shadow(image: Tensor, shade: Tensor, zone: Tensor, touch: Tens
     both = zone | touch
     rows, cols = any_along(both, 1).nonzero().flatten(), any_along(both, 0).nonzero().flatten()
     y0, y1, x0, x1 = padded_window(rows, cols, int(3 * sigma) + 2, tuple(zone.shape))
-    valid = road[y0:y1, x0:x1].numpy().astype(np.float32)
-    values = torch.nan_to_num(shade[y0:y1, x0:x1], nan=0.0).numpy().astype(np.float32)
-    weight = cv2.GaussianBlur(valid, (0, 0), sigma)
-    blurred = torch.from_numpy(cv2.GaussianBlur(values * valid, (0, 0), sigma) / np.maximum(weight, 1e-6))
+    values = torch.nan_to_num(shade[y0:y1, x0:x1], nan=0.0).float()
+    blurred = _normalised_blur(values[None], road[y0:y1, x0:x1], sigma)[0]
     mine = zone[y0:y1, x0:x1] & road[y0:y1, x0:x1]
     faint = mine & (blurred < upper)
     if not any_set(faint):

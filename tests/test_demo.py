@@ -395,7 +395,9 @@ def test_report_names_the_semantic_runs_recorded_proposal_figures_and_whether_th
 def test_the_example_car_is_the_largest_found_car_wholly_in_view(tiny_synth, monkeypatch):
     """_found_example: over the test frames, the largest proposal with geometry wholly in the picture that found
     (IoU >= 0.5) an annotated car the image does not cut; the branches' scene stands in here as the ground truth's
-    own, so the choice is the largest untruncated car whose mask touches no left, right or bottom edge."""
+    own, so the choice is the largest untruncated car whose mask touches no left, right or bottom edge. It
+    de-renders only the frames whose bound (twice their largest such car's pixels) reaches the best found, and
+    chooses as de-rendering every frame would."""
     import sdn3d.derender as derendering
     from sdn3d.cli._config import synth_data_source
     from sdn3d.cli.demo import _found_example
@@ -406,29 +408,85 @@ def test_the_example_car_is_the_largest_found_car_wholly_in_view(tiny_synth, mon
     source = synth_data_source(tiny_synth)
     records = [r for r in load_split(source, "test") if r.objects]
     by_key = {r.key: r for r in records}
-    scenes = {}
+    derendered = []
 
     def stand_in(image, intrinsics, models, proposals, gt, **kwargs):
         assert models.textural is None  # the search reads masks and geometry: no texture codes pooled
         stored = torch.from_numpy(load_rgb(by_key[gt.key])).permute(2, 0, 1).float() / 255
         assert torch.equal(kwargs["photo"].image, stored)  # the geometric crops read from the frame as stored
-        scenes[gt.key] = scene_from_frame(by_key[gt.key], tuple(source.image_size))
-        return scenes[gt.key]
+        derendered.append(gt.key)
+        return scene_from_frame(by_key[gt.key], tuple(source.image_size))
 
     monkeypatch.setattr(derendering, "derender", stand_in)
     record, car = _found_example(records, source, Models(textural="textural branch"), "cpu")
-    candidates = []
-    for key, scene in scenes.items():
-        t = scene.objects
-        cut = {o.track_id + 1 for o in by_key[key].objects if o.truncr > 0}
+    candidates = []  # every frame's, de-rendered here
+    for order, r in enumerate(records):
+        t = scene_from_frame(r, tuple(source.image_size)).objects
+        whole = {o.track_id + 1 for o in r.objects if o.truncr == 0 and o.label in ("Car", "Van")}
         for row in range(len(t)):
             m = t.mask[row].bool()
             edge = bool(m[:, 0].any() or m[:, -1].any() or m[-1, :].any())
-            if bool(t.has_geometry[row]) and not edge and int(t.instance_id[row]) % 1000 not in cut \
+            if bool(t.has_geometry[row]) and not edge and int(t.instance_id[row]) % 1000 in whole \
                     and int(t.instance_id[row]) // 1000 in (12, 13):
-                candidates.append((int(m.sum()), key, int(t.instance_id[row])))
-    area, key, iid = max(candidates)
+                candidates.append((int(m.sum()), -order, r.key, int(t.instance_id[row])))
+    area, _, key, iid = max(candidates)
     assert (record.key, car) == (key, iid)
+    assert len(derendered) == len(set(derendered))  # each frame at most once
+
+
+def test_the_example_search_skips_frames_that_cannot_hold_a_larger_car(monkeypatch):
+    """_found_example de-renders the frames by their bound (twice their largest whole car's pixels), largest first,
+    and stops at the first below the best found; of equal areas it keeps the first frame in the records' order."""
+    from types import SimpleNamespace
+
+    import sdn3d.data.frames as frames
+    import sdn3d.data.scene_gt as scene_gt
+    import sdn3d.derender as derendering
+    from sdn3d.cli.demo import _found_example
+
+    # per frame: (pixels of its car in the annotation, pixels of the proposal that found it: a part of it)
+    cars: list[tuple[int, int]] = []
+
+    def block(pixels: int) -> torch.Tensor:  # a block of `pixels` in the middle of a 40x40 frame, off every edge
+        m = torch.zeros(40, 40, dtype=torch.bool)
+        rows, last = divmod(pixels, 20)
+        m[5:5 + rows, 10:30] = True
+        m[5 + rows, 10:10 + last] = True
+        return m
+
+    def load_frame(record, size, **kwargs):
+        truth = block(cars[int(record.key[1:])][0])
+        return SimpleNamespace(instances=truth.long() * 12001, image=torch.zeros(3, 40, 40),
+                               intrinsics=SimpleNamespace(width=40, height=40))
+
+    derendered = []
+
+    def derender(image, intrinsics, models, proposals, gt, **kwargs):
+        derendered.append(gt)
+        mask = block(cars[int(gt[1:])][1])[None]
+        return SimpleNamespace(objects=SimpleNamespace(mask=mask, has_geometry=torch.ones(1, dtype=torch.bool),
+                                                       instance_id=torch.tensor([12001])))
+
+    monkeypatch.setattr(frames, "load_frame", load_frame)
+    monkeypatch.setattr(scene_gt, "ground_truth", lambda record, size: record.key)
+    monkeypatch.setattr(scene_gt, "frame_photo", lambda record, size: None)
+    monkeypatch.setattr(derendering, "derender", derender)
+
+    def search(frames_cars: list[tuple[int, int]]) -> str:
+        cars[:] = frames_cars
+        derendered.clear()
+        records = [SimpleNamespace(key=f"f{i}", objects=[SimpleNamespace(track_id=0, label="Car", truncr=0.0)])
+                   for i in range(len(cars))]
+        record, car = _found_example(records, SimpleNamespace(image_size=(40, 40)), Models(), "cpu")
+        assert car == 12001
+        return record.key
+
+    # bounds 60, 200, 80, 180, 90: f1 finds 100 px, f3 (bound 180) 90 px, and f4's bound 90 ends the search
+    assert search([(30, 30), (100, 100), (40, 40), (90, 90), (45, 45)]) == "f1"
+    assert derendered == ["f1", "f3"]
+    # f1 (bound 140) and f0 (bound 120) both find 60 px: the first in the records' order is kept, as before
+    assert search([(60, 60), (70, 60), (20, 20)]) == "f0"
+    assert derendered == ["f1", "f0"]
 
 
 def test_the_example_car_is_not_a_proposal_that_merged_two_cars(tiny_synth, monkeypatch):

@@ -144,3 +144,92 @@ def test_two_cars_one_partly_behind_the_other_keep_their_proposals(models, as_pr
     scene = derender(image, WORK, models, "gt", gt, fit=FitSettings(camera_height=HEIGHT))
     assert sorted(scene.objects.instance_id.tolist()) == [CAR * 1000 + 1, CAR * 1000 + 2]
     assert [r["joined_from"] for r in scene.meta["fits"]] == [[], []]
+
+
+def _cut_car_and_another() -> tuple[torch.Tensor, GroundTruth]:
+    """The cut car of :func:`_cut_car` and a whole one 15 m ahead on its left, their masks apart: ``(image, maps)``
+    (ids: the cut car's parts ``CAR*1000 + 1, + 2``, the other car ``+ 3``)."""
+    ids, masks = _render([0, 2], [(4.2, 1.5, 1.8), (4.0, 1.5, 1.7)], [-1.3, 0.3],
+                         [(0.5, HEIGHT, 8.0), (-5.0, HEIGHT, 15.0)])
+    grown = torch.nn.functional.max_pool2d(masks[:1, None].float(), 3, 1, 1)[0, 0] > 0
+    assert not (grown & masks[1]).any()  # the two cars' masks do not touch
+    cols = masks[0].any(0).nonzero().flatten()
+    cut = int(cols.min() + (cols.max() - cols.min()) // 2)
+    instances = torch.zeros(ids.shape, dtype=torch.long)
+    instances[masks[0]] = CAR * 1000 + 1
+    right = masks[0].clone()
+    right[:, :cut] = False
+    instances[right] = CAR * 1000 + 2
+    instances[masks[1]] = CAR * 1000 + 3
+    semantic = torch.full(ids.shape, ROAD, dtype=torch.long)
+    semantic[instances > 0] = CAR
+    return _picture(masks, [(0.2, 0.2, 0.25), (0.7, 0.7, 0.2)]), GroundTruth("cut", "vkitti", semantic, instances)
+
+
+@pytest.fixture
+def fitted_rows(monkeypatch):
+    """The ids each :func:`~sdn3d.proposal_fit.fit_proposals` call of the de-render fits, one list per call."""
+    calls = []
+    real = D.fit_proposals
+
+    def counted(intr, masks, ids, rows, *a, **k):
+        calls.append(ids[rows].tolist())
+        return real(intr, masks, ids, rows, *a, **k)
+
+    monkeypatch.setattr(D, "fit_proposals", counted)
+    return calls
+
+
+@pytest.mark.fits
+def test_a_join_fits_again_only_the_joined_car(models, as_predicted, fitted_rows, monkeypatch):
+    """The join re-fits the joined car alone: the other car's fit reads nothing the join changed (its mask, its
+    prediction, the pixels it is fitted without: the union of the parts covers the same pixels), so it keeps its first
+    fit; and the scene is the one a full second pass gives (every object predicted and fitted again, as before)."""
+    image, gt = _cut_car_and_another()
+    settings = FitSettings(camera_height=HEIGHT, join_overlap=0.3)
+    scene = derender(image, WORK, models, "gt", gt, fit=settings)
+    assert scene.objects.instance_id.tolist() == [CAR * 1000 + 2, CAR * 1000 + 3]
+    assert [sorted(c) for c in fitted_rows] == [[CAR * 1000 + 1, CAR * 1000 + 2, CAR * 1000 + 3], [CAR * 1000 + 2]]
+    real = D._objects_3d
+    monkeypatch.setattr(D, "_objects_3d", lambda *a, earlier=None, same=None: real(*a))  # main's full second pass
+    fitted_rows.clear()
+    full = derender(image, WORK, models, "gt", gt, fit=settings)
+    assert [sorted(c) for c in fitted_rows] == [[CAR * 1000 + 1, CAR * 1000 + 2, CAR * 1000 + 3],
+                                                [CAR * 1000 + 2, CAR * 1000 + 3]]
+    assert full.meta == scene.meta
+    for name in ("instance_id", "template_id", "mask", "code", "observed", "has_mask"):
+        assert torch.equal(getattr(full.objects, name), getattr(scene.objects, name)), name
+    for name in ("dims", "ry", "location", "phi"):  # the joined car's fit alone: the same up to float order
+        torch.testing.assert_close(getattr(full.objects, name), getattr(scene.objects, name), rtol=0, atol=1e-5)
+    assert torch.equal(full.objects.location[1], scene.objects.location[1])  # the other car's: its first fit's bits
+    assert torch.equal(full.semantic, scene.semantic)
+
+
+@pytest.mark.fits
+def test_a_measured_camera_height_fits_every_object_again(models, as_predicted, fitted_rows):
+    """The camera height measured from every prediction (``camera_height=None``) changes with the join's new
+    prediction: every object's fit reads it, so all are fitted again."""
+    image, gt = _cut_car_and_another()
+    derender(image, WORK, models, "gt", gt, fit=FitSettings(camera_height=None, join_overlap=0.3))
+    assert len(fitted_rows) == 2 and sorted(fitted_rows[1]) == [CAR * 1000 + 2, CAR * 1000 + 3]
+
+
+@pytest.mark.fits
+def test_a_fit_reads_no_ignored_pixel_outside_its_windows():
+    """What a join may change of another object's fit: the pixels it is fitted without, read only in its windows
+    (:func:`~sdn3d.geometric.fit.read_pixels`); ignoring every pixel outside them leaves its fit the same bits."""
+    from sdn3d.geometric.fit import fit_to_masks, read_pixels
+    from sdn3d.image_ops import mask_boxes
+
+    _, masks = _render([0], [(4.2, 1.5, 1.8)], [-1.3], [(0.5, HEIGHT, 12.0)])
+    boxes = mask_boxes(masks).float()
+    settings = FitSettings(camera_height=HEIGHT)
+    reads = read_pixels(boxes, tuple(masks.shape[1:]), settings)
+    assert reads.sum() < reads[0].numel() / 4 and not (masks & ~reads).any()
+    alone = fit_to_masks(masks, boxes, WORK, settings=settings)
+    hidden = fit_to_masks(masks, boxes, WORK, ignore=~reads, settings=settings)
+    for name in ("template", "dims", "ry", "location", "phi", "iou", "loss"):
+        assert torch.equal(getattr(alone, name), getattr(hidden, name)), name
+    edge = reads.clone()
+    edge[0, :, reads[0].any(0).nonzero().min()] = False  # the ring's first column: read by the crops' samples
+    assert not torch.equal(fit_to_masks(masks, boxes, WORK, ignore=~edge, settings=settings).loss, alone.loss)

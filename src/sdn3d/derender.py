@@ -47,7 +47,14 @@
    path's default, while ``fit=None`` keeps the branch's predictions (the paper's protocol). The semantic branch's
    proposals whose masks touch and whose fitted cars share the ground (``FitSettings.join_overlap``;
    :func:`~sdn3d.proposal_fit.footprint_joins`: one car cut in parts) are then joined under the largest part's id,
-   and the objects go through this step once more (the joined car fitted as one; its record's ``joined_from``).
+   and the objects go through this step once more (the joined car fitted as one; its record's ``joined_from``): the
+   geometric branch on every object (one forward: an object's location is not always the same bits in a batch of
+   another size), the fit only on the joined cars and the proposals whose fit reads anything else than in the first
+   pass (the bits of its prediction, or the pixels it is fitted without in its windows: a joined car's new depth may
+   put its parts' pixels in front of it or behind it, :func:`~sdn3d.proposal_fit.proposal_ignore`); the others keep
+   their first fit, what a second one gives (the objects are fitted independently, up to the last bit of a yaw). A
+   camera height measured from every prediction (``FitSettings.camera_height=None``) fits all of them again
+   (``docs/results/2026-12-01_cpu/session29/joincost29``).
 4. **Texture**: the textural encoder pools one code per region of the instance label map ``L``
    (objects and background classes): :func:`encode_scene`.
 
@@ -96,6 +103,7 @@ from sdn3d.proposal_fit import (
     fitted_silhouettes,
     footprint_joins,
     join_masks,
+    proposal_ignore,
     unsure_below,
     vehicle_rows,
 )
@@ -280,14 +288,80 @@ def _choose_on_agreed_lamps(image: Tensor, intr: Intrinsics, masks: Tensor, ids:
     return geometry, [by_id.get(r.instance_id, r) for r in records]
 
 
+@dataclass(frozen=True)
+class _Objects:
+    """Step 3 of the module doc for ``N`` objects (:func:`_objects_3d`).
+
+    Attributes:
+        predicted: the geometric branch's geometry ``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64,
+            3)`` (template -1 and placeholders for objects without a usable prediction).
+        geometry: the same after the proposals' fit (``predicted`` without ``fit``).
+        appearance: what the branch saw of each object (:func:`_geometry`), None without a lamp cue.
+        fits: the fitted proposals' records, in row order.
+        box_result: the box objects' share of a fit made with the proposals' (else None).
+        unsure: ``(N, H, W)`` bool the band under each mask that the red-lamp test and the fit also read
+            (:func:`~sdn3d.proposal_fit.unsure_below`; None: the masks are taken as they are).
+        ignore: ``(N, H, W)`` bool the pixels each proposal is fitted without, of those its fit reads
+            (:func:`~sdn3d.proposal_fit.proposal_ignore` with the fit's settings: all its fit reads of the other
+            objects); None without ``fit``.
+    """
+
+    predicted: tuple[Tensor, ...]
+    geometry: tuple[Tensor, ...]
+    appearance: Appearance | None
+    fits: list[ProposalFit]
+    box_result: FitResult | None
+    unsure: Tensor | None
+    ignore: Tensor | None
+
+    def rows(self, index: Tensor) -> _Objects:
+        """These objects' results for the rows ``index (M,)`` (the records and the box objects' fit as they are)."""
+        return _Objects(tuple(g[index] for g in self.predicted), tuple(g[index] for g in self.geometry),
+                        None if self.appearance is None else self.appearance.rows(index), self.fits, self.box_result,
+                        None if self.unsure is None else self.unsure[index],
+                        None if self.ignore is None else self.ignore[index])
+
+
+_INT_OF = {torch.float64: torch.int64, torch.float32: torch.int32, torch.float16: torch.int16}
+
+
+def _same_bits(a: Tensor, b: Tensor) -> Tensor:
+    """``(N,)`` bool: the rows of ``a`` and ``b`` (``(N, ...)``, one shape and dtype) that hold the same bits (so -0.0
+    is not 0.0 and a NaN is itself: a fit started from either may go its own way)."""
+    if a.is_floating_point():
+        a, b = a.contiguous().view(_INT_OF[a.dtype]), b.contiguous().view(_INT_OF[b.dtype])
+    return (a == b).reshape(len(a), -1).all(1)
+
+
+def _same_prediction(predicted: tuple[Tensor, ...], appearance: Appearance | None, earlier: _Objects) -> Tensor:
+    """``(N,)`` bool: the rows whose geometric prediction (``predicted``: template, dims, ry, location, phi) and
+    ``appearance`` hold the same bits as ``earlier``'s (the same rows)."""
+    same = torch.ones(len(predicted[0]), dtype=torch.bool)
+    for now, before in zip(predicted, earlier.predicted, strict=True):
+        same &= _same_bits(now, before)
+    if (appearance is None) != (earlier.appearance is None):
+        return torch.zeros_like(same)
+    if appearance is not None:
+        same &= _same_bits(appearance.has, earlier.appearance.has)
+        for k, v in appearance.values.items():
+            same &= _same_bits(v, earlier.appearance.values[k])
+    return same
+
+
 def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, intrinsics: Intrinsics, source: str,
                 gt: GroundTruth | None, models: Models, min_pixels: int, refine: RefineSettings | None,
                 photo: InputPhoto | None, boxes: BoxPrompts | None, fit: FitSettings | None,
-                class_names: dict[int, str]
-                ) -> tuple[tuple[Tensor, ...], Appearance | None, list[ProposalFit], FitResult | None]:
+                class_names: dict[int, str], earlier: _Objects | None = None, same: Tensor | None = None) -> _Objects:
     """Step 3 of the module doc for the objects ``masks (N, H, W)``, ``ids (N,)`` (``box_rows (B,)``: those named by
-    a box): ``(geometry, appearance, proposal_fits, box_result)``, the geometry after the proposals' fit (with
-    ``fit``), their records and the box objects' share of a fit made with theirs (else None)."""
+    a box).
+
+    ``earlier``: these objects' results from a first pass (derender's join: :meth:`_Objects.rows` of it, the rows
+    ``same (N,)`` bool those whose mask the join left as it was). The geometric branch runs on every object again
+    (one forward; an object's location is not always the same bits in a batch of another size), and a proposal whose
+    fit reads the same bits as in the first pass (its mask, its prediction and what the branch saw, the pixels it is
+    fitted without: :func:`~sdn3d.proposal_fit.proposal_ignore`) keeps its first fit and record: objects are fitted
+    independently (:func:`~sdn3d.geometric.fit.fit_many`). Where a fit reads every object (a camera height measured
+    from all the predictions), all are fitted again."""
     n = len(ids)
     annotated = torch.ones(n, dtype=torch.bool)
     annotated[box_rows] = False
@@ -299,24 +373,40 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
         unsure[box_rows] = False
     geometry, appearance = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models,
                                      min_pixels, refine, annotated, photo, unsure)
-    proposal_fits, box_result = [], None
+    predicted, proposal_fits, box_result, ignore = geometry, [], None, None
     classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
     if fit is not None:
         rows = vehicle_rows(ids, geometry[0], class_names)
         rows = rows[~torch.isin(rows, box_rows)]
-        unsure = unsure if len(rows) else None  # the fit ignores the same band
+        band = unsure if len(rows) else None  # the fit ignores the same band
+        ignore = proposal_ignore(masks, predicted, band, fit)  # what each fit reads of the other objects
+        kept = torch.zeros(n, dtype=torch.bool)  # the rows whose fit reads what it read in the first pass
+        read = None if earlier is None else same & _same_prediction(predicted, appearance, earlier)
+        # A camera height measured from every prediction, or a box object's prediction that changed (the box
+        # objects' fit is made with the proposals'; the masks' union it reads is the same): everything fitted again.
+        if read is not None and (fit.camera_height is None or not bool(read[box_rows].all())):
+            earlier = None
+        if earlier is not None:
+            kept = read & _same_bits(ignore, earlier.ignore)
+        refit = rows[~kept[rows]]
         box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes)
-                   if len(rows) and len(box_rows) and boxes.fit == fit else None)
+                   if len(refit) and len(box_rows) and boxes.fit == fit and earlier is None else None)
         if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
             geometry, proposal_fits, first, box_result = fit_proposals_and_boxes(
-                intrinsics, masks, ids, rows, geometry, fit, appearance, box_req, unsure, classes)
+                intrinsics, masks, ids, refit, geometry, fit, appearance, box_req, band, classes)
         else:
-            geometry, proposal_fits, first = fit_proposals(intrinsics, masks, ids, rows, geometry, fit, appearance,
-                                                           unsure, classes)
+            geometry, proposal_fits, first = fit_proposals(intrinsics, masks, ids, refit, geometry, fit, appearance,
+                                                           band, classes)
         if source == "semantic" and appearance is not None and fit.appearance and first is not None:
-            geometry, proposal_fits = _choose_on_agreed_lamps(image, intrinsics, masks, ids, rows, first, geometry,
-                                                              proposal_fits, fit, appearance, unsure, models, photo)
-    return geometry, appearance, proposal_fits, box_result
+            geometry, proposal_fits = _choose_on_agreed_lamps(image, intrinsics, masks, ids, refit, first, geometry,
+                                                              proposal_fits, fit, appearance, band, models, photo)
+        if earlier is not None:  # the kept rows' fits and records, and the box objects' fit
+            geometry = tuple(torch.where(kept.view(-1, *[1] * (g.dim() - 1)), e, g)
+                             for g, e in zip(geometry, earlier.geometry, strict=True))
+            by_id = {r.instance_id: r for r in earlier.fits} | {r.instance_id: r for r in proposal_fits}
+            proposal_fits = [by_id[i] for i in ids[rows].tolist()]
+            box_result = earlier.box_result if len(rows) else None
+    return _Objects(predicted, geometry, appearance, proposal_fits, box_result, unsure, ignore)
 
 
 def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:
@@ -485,20 +575,23 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
         masks, ids, box_rows, mask_source = add_box_objects(image, masks, ids, boxes, seg, things, class_list, found)
     class_names = {c.id: c.name for c in class_list}
     stage = (image, intrinsics, source, gt, models, min_pixels, refine, photo, boxes, fit, class_names)
-    geometry, appearance, proposal_fits, box_result = _objects_3d(masks, ids, box_rows, *stage)
-    groups = (footprint_joins(masks, ids, geometry, proposal_fits, fit.join_overlap)
+    objects = _objects_3d(masks, ids, box_rows, *stage)
+    groups = (footprint_joins(masks, ids, objects.geometry, objects.fits, fit.join_overlap)
               if fit is not None and fit.join_overlap is not None and source == "semantic" else [])
-    if groups:  # one car cut in parts (proposal_fit's module doc): joined, and the objects de-rendered again
+    if groups:  # one car cut in parts (proposal_fit's module doc): joined, and de-rendered again where that changed
         joined = {int(ids[g[0]]): tuple(ids[g].tolist()) for g in groups}
         members = torch.cat([g[1:] for g in groups])
         for g in groups:
             instances = torch.where(torch.isin(instances, ids[g]), ids[g[0]], instances)
-        masks, ids, _ = join_masks(masks, ids, groups)
+        masks, ids, kept = join_masks(masks, ids, groups)
         box_rows = box_rows - (members[:, None] < box_rows[None]).sum(0)  # the rows dropped before each box's
-        geometry, appearance, proposal_fits, box_result = _objects_3d(masks, ids, box_rows, *stage)
-        proposal_fits = [replace(r, joined_from=joined.get(r.instance_id, ())) for r in proposal_fits]
+        same = ~torch.isin(ids, torch.tensor(list(joined), dtype=torch.long))  # the masks the join left as they were
+        objects = _objects_3d(masks, ids, box_rows, *stage, earlier=objects.rows(kept), same=same)
+        objects = replace(objects, fits=[replace(r, joined_from=joined.get(r.instance_id, ())) for r in objects.fits])
         log.info("derender: %d proposal(s) joined into %d (their fitted cars shared the ground)",
                  len(members) + len(groups), len(groups))
+    geometry, appearance, proposal_fits, box_result = (objects.geometry, objects.appearance, objects.fits,
+                                                       objects.box_result)
     n = len(ids)
     classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
     if len(box_rows):

@@ -24,7 +24,9 @@ cars cannot stand on the same ground, while the parts of one car, each fitted as
 :func:`footprint_joins` finds the proposals whose masks touch and whose fitted footprints on the road share at least
 ``FitSettings.join_overlap`` of the smaller one (a car partly hidden behind another is fitted behind it: their
 footprints share little); the de-render then joins each group's masks into one proposal and fits it once more
-(``docs/results/2026-11-30_cpu/session27/join40``).
+(``docs/results/2026-11-30_cpu/session27/join40``), with the other proposals whose fit reads something the join
+changed (:func:`proposal_ignore`: a fit reads the other objects only as the pixels it is fitted without, in its
+windows; ``docs/results/2026-12-01_cpu/session29/joincost29``).
 
 The paper fits nothing at test time on Virtual KITTI (its Table 1 and 2 protocol): ``fit=None`` in
 :func:`~sdn3d.derender.derender` keeps that.
@@ -50,8 +52,8 @@ if TYPE_CHECKING:
     from sdn3d.geometric.fit import FitRequest, FitResult, FitSettings
 
 __all__ = ["ProposalFit", "fit_proposals", "fit_proposals_and_boxes", "choose_proposals_again", "proposal_request",
-           "apply_proposal_fit", "vehicle_rows", "unsure_below", "fitted_silhouettes", "footprint_joins", "join_masks",
-           "UNSURE_BELOW"]
+           "proposal_ignore", "apply_proposal_fit", "vehicle_rows", "unsure_below", "fitted_silhouettes",
+           "footprint_joins", "join_masks", "UNSURE_BELOW"]
 
 #: Depth of the band under a predicted mask that the fit ignores (:func:`unsure_below`), as a fraction of the mask's
 #: height: the semantic branch's masks miss up to a quarter of a far car's rows (module doc).
@@ -243,16 +245,32 @@ def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], 
     from sdn3d.geometric.fit import FitRequest
 
     template, dims, ry, location, _ = geometry
-    # Depth of each object: the prediction's distance; no geometry: in front of everything (its pixels may hide).
-    depth = torch.where(template >= 0, location.norm(dim=1).float(), torch.zeros(len(template)))
-    ignore = occluder_masks(masks, depth)[rows]
-    if unsure is not None:
-        ignore = ignore | unsure[rows]
-    return FitRequest(masks[rows], mask_boxes(masks[rows]).float(), ignore=ignore, start_ry=ry[rows].float(),
+    return FitRequest(masks[rows], mask_boxes(masks[rows]).float(),
+                      ignore=proposal_ignore(masks, geometry, unsure)[rows], start_ry=ry[rows].float(),
                       start_dims=dims[rows].float(), start_template=template[rows],
                       start_location=location[rows].float(),
                       yaw_belief=yaw_belief(appearance if settings.appearance else None, rows),
                       classes=None if classes is None else [classes[int(r)] for r in rows])
+
+
+def proposal_ignore(masks: Tensor, geometry: tuple[Tensor, ...], unsure: Tensor | None = None,
+                    settings: FitSettings | None = None) -> Tensor:
+    """``(N, H, W)`` bool: the pixels each of the objects ``masks (N, H, W)`` is fitted without
+    (:func:`proposal_request`): the masks of the objects nearer than it by ``geometry``'s prediction (``template (N,),
+    dims, ry, location (N, 3), phi``; an object without one counts as in front of everything: its pixels may hide) and
+    its ``unsure`` band (``(N, H, W)``, :func:`unsure_below`; None: none). With ``settings``: only those its fit reads
+    (:func:`~sdn3d.geometric.fit.read_pixels`), all that its fit reads of the other objects
+    (:func:`sdn3d.derender.derender` fits again after a join only the objects where that changed)."""
+    template, _, _, location, _ = geometry
+    depth = torch.where(template >= 0, location.norm(dim=1).float(), torch.zeros(len(template)))
+    ignore = occluder_masks(masks, depth)
+    if unsure is not None:
+        ignore = ignore | unsure
+    if settings is None:
+        return ignore
+    from sdn3d.geometric.fit import read_pixels
+
+    return ignore & read_pixels(mask_boxes(masks).float(), tuple(masks.shape[1:]), settings)
 
 
 def apply_proposal_fit(result: FitResult, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],

@@ -438,6 +438,29 @@ def estimate_camera_height(start_location: Tensor | None, settings: FitSettings)
     return float(settings.default_camera_height), "default"
 
 
+def fit_windows(boxes: Tensor, settings: FitSettings) -> Tensor:
+    """``(N, 3)`` the square windows ``(left, top, side)`` that :func:`fit_to_masks` draws and compares the objects of
+    half-open ``boxes (N, 4)`` in (``settings.margin`` around each box)."""
+    return torch.tensor([square_crop_window(b, settings.margin) for b in pixel_centre_boxes(boxes.float())],
+                        dtype=torch.float32).reshape(-1, 3)
+
+
+def read_pixels(boxes: Tensor, size: tuple[int, int], settings: FitSettings) -> Tensor:
+    """``(N, H, W)`` bool: the pixels of an image of ``size (H, W)`` whose mask and ignored values :func:`fit_to_masks`
+    reads for each of the objects of ``boxes (N, 4)``: its window (:func:`fit_windows`) and the ring of one pixel
+    around it that the bilinear crops' samples reach (:func:`~sdn3d.image_ops.crop_windows`: sample ``u`` lies in
+    ``(left - 1/2, left + side - 1/2)``). Its fit is the same whatever the other pixels hold.
+
+    >>> read_pixels(torch.tensor([[2.0, 1.0, 4.0, 3.0]]), (4, 6), FitSettings(margin=0.0))[0].int().tolist()
+    [[0, 1, 1, 1, 1, 0], [0, 1, 1, 1, 1, 0], [0, 1, 1, 1, 1, 0], [0, 1, 1, 1, 1, 0]]
+    """
+    left, top, side = fit_windows(boxes, settings).long().unbind(1)
+    x, y = torch.arange(size[1]), torch.arange(size[0])
+    cols = (x >= left[:, None] - 1) & (x <= (left + side)[:, None])
+    rows = (y >= top[:, None] - 1) & (y <= (top + side)[:, None])
+    return rows[:, :, None] & cols[:, None, :]
+
+
 def allowed_templates(classes: Sequence[str | None] | None, bank: MeshBank, n: int) -> Tensor:
     """``(n, T)`` bool: the meshes of ``bank`` each of ``n`` objects may be drawn with, by its semantic class name
     (``classes``, case ignored; :data:`~sdn3d.meshes.templates.CLASS_TEMPLATES`). A class without a rule, a None
@@ -662,8 +685,7 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
         ratio = (given / dims0).log().abs()
         plausible = torch.isfinite(given).all(1) & (ratio < math.log(PLAUSIBLE_SIZE_FACTOR)).all(1)
         dims0 = torch.where(plausible[:, None], given, dims0)
-    windows = torch.tensor([square_crop_window(b, settings.margin) for b in pixel_centre_boxes(boxes.float())],
-                           dtype=torch.float32)
+    windows = fit_windows(boxes, settings)
 
     # Coarse: every object x template x starting yaw, rows ordered (object, template, yaw).
     t, y = len(bank), len(YAW_OFFSETS)

@@ -34,8 +34,10 @@ __all__ = [
 #: its first row. PyTorch's CPU convolutions sum in another order for batches under 4 rows, so an object's prediction
 #: depended on how many others were predicted with it: on the real frame in ``tests/data`` the red car's moved in its
 #: 7th digit when the black car was boxed too, and the fit's search (``sdn3d.geometric.fit``) then chose another
-#: template for it (docs/results/2026-11-29_cpu/session17/lead/rows/). From 4 rows on, each row's outputs are the
-#: same bits whatever else is in the batch, and wherever in it.
+#: template for it (docs/results/2026-11-29_cpu/session17/lead/rows/). From 4 rows on, each row's outputs are mostly
+#: the same bits whatever else is in the batch: not always the distance head's (``log_distance``; on tuning tree 11's
+#: frame 0001/clone/00034, w28, three of seven rows moved in their last bits from a batch of 8 to one of 7:
+#: docs/results/2026-12-01_cpu/session29/joincost29).
 MIN_NET_ROWS = 4
 
 

@@ -35,17 +35,24 @@ def as_predicted(monkeypatch):
     monkeypatch.setattr(D, "_semantics_and_instances", lambda *a: (*real(*a)[:2], "semantic", "branch", None))
 
 
+def _cut_at_middle(mask: torch.Tensor) -> torch.Tensor:
+    """``(H, W)`` instance map of one car's ``mask (H, W)`` cut at its middle column into two proposals (ids
+    ``CAR*1000 + 1`` left, ``+ 2`` right; 0 elsewhere)."""
+    cols = mask.any(0).nonzero().flatten()
+    cut = int(cols.min() + (cols.max() - cols.min()) // 2)
+    instances = torch.zeros(mask.shape, dtype=torch.long)
+    instances[mask] = CAR * 1000 + 1
+    right = mask.clone()
+    right[:, :cut] = False
+    instances[right] = CAR * 1000 + 2
+    return instances
+
+
 def _cut_car() -> tuple[torch.Tensor, GroundTruth, torch.Tensor]:
     """One dark car 8 m ahead, seen from its side, its mask cut at its middle column into two proposals (as two
     centre-heatmap peaks cut a near car): ``(image, maps, whole mask)``."""
     ids, masks = _render([0], [(4.2, 1.5, 1.8)], [-1.3], [(0.5, HEIGHT, 8.0)])
-    cols = masks[0].any(0).nonzero().flatten()
-    cut = int(cols.min() + (cols.max() - cols.min()) // 2)
-    instances = torch.zeros(ids.shape, dtype=torch.long)
-    instances[masks[0]] = CAR * 1000 + 1
-    right = masks[0].clone()
-    right[:, :cut] = False
-    instances[right] = CAR * 1000 + 2
+    instances = _cut_at_middle(masks[0])
     semantic = torch.full(ids.shape, ROAD, dtype=torch.long)
     semantic[instances > 0] = CAR
     return _picture(masks, [(0.2, 0.2, 0.25)]), GroundTruth("cut", "vkitti", semantic, instances), masks[0]
@@ -153,13 +160,7 @@ def _cut_car_and_another() -> tuple[torch.Tensor, GroundTruth]:
                          [(0.5, HEIGHT, 8.0), (-5.0, HEIGHT, 15.0)])
     grown = torch.nn.functional.max_pool2d(masks[:1, None].float(), 3, 1, 1)[0, 0] > 0
     assert not (grown & masks[1]).any()  # the two cars' masks do not touch
-    cols = masks[0].any(0).nonzero().flatten()
-    cut = int(cols.min() + (cols.max() - cols.min()) // 2)
-    instances = torch.zeros(ids.shape, dtype=torch.long)
-    instances[masks[0]] = CAR * 1000 + 1
-    right = masks[0].clone()
-    right[:, :cut] = False
-    instances[right] = CAR * 1000 + 2
+    instances = _cut_at_middle(masks[0])
     instances[masks[1]] = CAR * 1000 + 3
     semantic = torch.full(ids.shape, ROAD, dtype=torch.long)
     semantic[instances > 0] = CAR

@@ -213,17 +213,25 @@ def removal_vanishing_point(image: Tensor, K: Tensor, removed: Tensor, objects_p
     return vanishing_point(K, ry)
 
 
-def _normalised_blur(image: Tensor, valid: Tensor, sigma: float) -> Tensor:
-    """``(3, H, W)``: the Gaussian blur of ``image`` over ``valid`` pixels only, divided by the blurred weight (each
-    valid pixel's local mean of valid pixels; invalid ones are never read)."""
+def _masked_blur(image: Tensor, valid: Tensor, sigma: float, sigma_y: float | None = None) -> tuple[Tensor, Tensor]:
+    """``((C, H, W), (H, W))``: the Gaussian blur (sigma ``sigma`` along rows, ``sigma_y`` across them; None: the
+    same) of ``image (C, H, W)`` over ``valid (H, W)`` pixels only, divided by the blurred weight (each pixel's local
+    mean of valid pixels; invalid ones are never read), and that blurred weight (the share of valid pixels around)."""
     import cv2
 
+    sy = sigma if sigma_y is None else sigma_y
+    w = valid.float().numpy()
+    num = np.stack([cv2.GaussianBlur(c * w, (0, 0), sigma, sigmaY=sy) for c in image.float().numpy()])
+    den = cv2.GaussianBlur(w, (0, 0), sigma, sigmaY=sy)
+    return torch.from_numpy(num / np.maximum(den, 1e-6)[None]).to(image.dtype), torch.from_numpy(den)
+
+
+def _normalised_blur(image: Tensor, valid: Tensor, sigma: float) -> Tensor:
+    """``(3, H, W)``: the Gaussian blur of ``image`` over ``valid`` pixels only, divided by the blurred weight
+    (:func:`_masked_blur`; ``sigma`` <= 0: ``image`` as it is)."""
     if sigma <= 0:
         return image
-    w = valid.float().numpy()
-    num = np.stack([cv2.GaussianBlur(c * w, (0, 0), sigma) for c in image.float().numpy()])
-    den = cv2.GaussianBlur(w, (0, 0), sigma)
-    return torch.from_numpy(num / np.maximum(den, 1e-6)[None]).to(image.dtype)
+    return _masked_blur(image, valid, sigma)[0]
 
 
 #: :func:`_coarse_blur`'s downsampling factor.
@@ -942,12 +950,8 @@ def road_shade(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, toleran
     nearest = have[(torch.arange(y1 - y0)[:, None] - have[None]).abs().argmin(1)]
     ref = per_row[nearest][:, None].expand_as(light)
     if local > 0:
-        import cv2
-
-        weight = cv2.GaussianBlur(ref_px.numpy().astype(np.float32), (0, 0), local, sigmaY=1.0)
-        mean = (cv2.GaussianBlur((light * ref_px).numpy().astype(np.float32), (0, 0), local, sigmaY=1.0)
-                / np.maximum(weight, 1e-6))
-        ref = torch.where(torch.from_numpy(weight) >= 0.05, torch.minimum(torch.from_numpy(mean).to(ref), ref), ref)
+        mean, weight = _masked_blur(light[None], ref_px, local, sigma_y=1.0)
+        ref = torch.where(weight >= 0.05, torch.minimum(mean[0].to(ref), ref), ref)
     share = (light / ref.clamp(min=1e-3)).float()
     out[y0:y1, x0:x1] = torch.where(like & within[y0:y1, x0:x1], share, torch.full_like(share, float("nan")))
     return out

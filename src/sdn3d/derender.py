@@ -299,11 +299,11 @@ class _Objects:
         appearance: what the branch saw of each object (:func:`_geometry`), None without a lamp cue.
         fits: the fitted proposals' records, in row order.
         box_result: the box objects' share of a fit made with the proposals' (else None).
-        unsure: ``(N, H, W)`` bool the band under each mask that the red-lamp test and the fit also read
-            (:func:`~sdn3d.proposal_fit.unsure_below`; None: the masks are taken as they are).
+        band: ``(N, H, W)`` bool the band under each mask that the fit ignores
+            (:func:`~sdn3d.proposal_fit.unsure_below`; None: none, or no fit).
         ignore: ``(N, H, W)`` bool the pixels each proposal is fitted without, of those its fit reads
             (:func:`~sdn3d.proposal_fit.proposal_ignore` with the fit's settings: all its fit reads of the other
-            objects); None without ``fit``.
+            objects); only once :meth:`with_ignore` made it (a join's first pass), else None.
     """
 
     predicted: tuple[Tensor, ...]
@@ -311,15 +311,20 @@ class _Objects:
     appearance: Appearance | None
     fits: list[ProposalFit]
     box_result: FitResult | None
-    unsure: Tensor | None
-    ignore: Tensor | None
+    band: Tensor | None
+    ignore: Tensor | None = None
 
     def rows(self, index: Tensor) -> _Objects:
         """These objects' results for the rows ``index (M,)`` (the records and the box objects' fit as they are)."""
         return _Objects(tuple(g[index] for g in self.predicted), tuple(g[index] for g in self.geometry),
                         None if self.appearance is None else self.appearance.rows(index), self.fits, self.box_result,
-                        None if self.unsure is None else self.unsure[index],
+                        None if self.band is None else self.band[index],
                         None if self.ignore is None else self.ignore[index])
+
+    def with_ignore(self, masks: Tensor, fit: FitSettings) -> _Objects:
+        """These objects with their :attr:`ignore` for their ``masks (N, H, W)`` and the ``fit``'s settings: made
+        only where a join needs it, not on every de-render."""
+        return replace(self, ignore=proposal_ignore(masks, self.predicted, self.band, fit))
 
 
 _INT_OF = {torch.float64: torch.int64, torch.float32: torch.int32, torch.float16: torch.int16}
@@ -355,13 +360,13 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
     """Step 3 of the module doc for the objects ``masks (N, H, W)``, ``ids (N,)`` (``box_rows (B,)``: those named by
     a box).
 
-    ``earlier``: these objects' results from a first pass (derender's join: :meth:`_Objects.rows` of it, the rows
-    ``same (N,)`` bool those whose mask the join left as it was). The geometric branch runs on every object again
-    (one forward; an object's location is not always the same bits in a batch of another size), and a proposal whose
-    fit reads the same bits as in the first pass (its mask, its prediction and what the branch saw, the pixels it is
-    fitted without: :func:`~sdn3d.proposal_fit.proposal_ignore`) keeps its first fit and record: objects are fitted
-    independently (:func:`~sdn3d.geometric.fit.fit_many`). Where a fit reads every object (a camera height measured
-    from all the predictions), all are fitted again."""
+    ``earlier``: these objects' results from a first pass (derender's join: :meth:`_Objects.rows` of its
+    :meth:`_Objects.with_ignore`, the rows ``same (N,)`` bool those whose mask the join left as it was). The geometric
+    branch runs on every object again (one forward; an object's location is not always the same bits in a batch of
+    another size), and a proposal whose fit reads the same bits as in the first pass (its mask, its prediction and
+    what the branch saw, the pixels it is fitted without: :func:`~sdn3d.proposal_fit.proposal_ignore`) keeps its first
+    fit and record: objects are fitted independently (:func:`~sdn3d.geometric.fit.fit_many`). Where a fit reads every
+    object (a camera height measured from all the predictions), all are fitted again."""
     n = len(ids)
     annotated = torch.ones(n, dtype=torch.bool)
     annotated[box_rows] = False
@@ -373,13 +378,12 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
         unsure[box_rows] = False
     geometry, appearance = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models,
                                      min_pixels, refine, annotated, photo, unsure)
-    predicted, proposal_fits, box_result, ignore = geometry, [], None, None
+    predicted, proposal_fits, box_result, band = geometry, [], None, None
     classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
     if fit is not None:
         rows = vehicle_rows(ids, geometry[0], class_names)
         rows = rows[~torch.isin(rows, box_rows)]
         band = unsure if len(rows) else None  # the fit ignores the same band
-        ignore = proposal_ignore(masks, predicted, band, fit)  # what each fit reads of the other objects
         kept = torch.zeros(n, dtype=torch.bool)  # the rows whose fit reads what it read in the first pass
         read = None if earlier is None else same & _same_prediction(predicted, appearance, earlier)
         # A camera height measured from every prediction, or a box object's prediction that changed (the box
@@ -387,7 +391,7 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
         if read is not None and (fit.camera_height is None or not bool(read[box_rows].all())):
             earlier = None
         if earlier is not None:
-            kept = read & _same_bits(ignore, earlier.ignore)
+            kept = read & _same_bits(proposal_ignore(masks, predicted, band, fit), earlier.ignore)
         refit = rows[~kept[rows]]
         box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes)
                    if len(refit) and len(box_rows) and boxes.fit == fit and earlier is None else None)
@@ -406,7 +410,7 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
             by_id = {r.instance_id: r for r in earlier.fits} | {r.instance_id: r for r in proposal_fits}
             proposal_fits = [by_id[i] for i in ids[rows].tolist()]
             box_result = earlier.box_result if len(rows) else None
-    return _Objects(predicted, geometry, appearance, proposal_fits, box_result, unsure, ignore)
+    return _Objects(predicted, geometry, appearance, proposal_fits, box_result, band)
 
 
 def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:
@@ -583,10 +587,11 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
         members = torch.cat([g[1:] for g in groups])
         for g in groups:
             instances = torch.where(torch.isin(instances, ids[g]), ids[g[0]], instances)
+        first = objects.with_ignore(masks, fit)  # what each fit read of the others, on the masks before the join
         masks, ids, kept = join_masks(masks, ids, groups)
         box_rows = box_rows - (members[:, None] < box_rows[None]).sum(0)  # the rows dropped before each box's
         same = ~torch.isin(ids, torch.tensor(list(joined), dtype=torch.long))  # the masks the join left as they were
-        objects = _objects_3d(masks, ids, box_rows, *stage, earlier=objects.rows(kept), same=same)
+        objects = _objects_3d(masks, ids, box_rows, *stage, earlier=first.rows(kept), same=same)
         objects = replace(objects, fits=[replace(r, joined_from=joined.get(r.instance_id, ())) for r in objects.fits])
         log.info("derender: %d proposal(s) joined into %d (their fitted cars shared the ground)",
                  len(members) + len(groups), len(groups))

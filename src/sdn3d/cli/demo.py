@@ -754,15 +754,15 @@ def _found_example(records: Sequence[Any], source: Any, models: Any, device: str
 
     # The search reads masks and geometry only: without the textural branch derender skips pooling texture codes.
     search = dataclasses.replace(models, textural=None)
-    candidates = []  # (bound on the area, order in records, record, frame, {track id + 1: its pixels})
+    candidates = []  # (area bound, order in records, record, frame, annotated track ids, [each whole car's pixels])
     for order, record in enumerate(records):
         untruncated = {o.track_id + 1 for o in record.objects if o.label in ("Car", "Van") and o.truncr == 0}
         if not untruncated:
             continue
         frame = load_frame(record, source.image_size, semantic=True, instances=True)
         annotated = (frame.instances % INSTANCE_DIVISOR) * (frame.instances >= INSTANCE_DIVISOR)  # 0: none
-        truths = {k: annotated == k for k in sorted(untruncated)}
-        bound = 2 * max(int(t.sum()) for t in truths.values())
+        truths = [annotated == k for k in sorted(untruncated)]
+        bound = 2 * max(int(t.sum()) for t in truths)
         candidates.append((bound, order, record, frame, annotated, truths))
     candidates.sort(key=lambda c: (-c[0], c[1]))
     best: tuple[int, int, Any, int] | None = None  # (area, order in records, record, instance id)
@@ -777,7 +777,7 @@ def _found_example(records: Sequence[Any], source: Any, models: Any, device: str
             area = int(mask[row].sum())
             if best is not None and (area, -order) <= (best[0], -best[1]):
                 continue
-            for truth in truths.values():
+            for truth in truths:
                 union = int((truth | mask[row]).sum())
                 foreign = int((mask[row] & ~truth & (annotated > 0)).sum())
                 if union and int((truth & mask[row]).sum()) >= 0.5 * union and foreign <= EXAMPLE_MAX_FOREIGN * area:

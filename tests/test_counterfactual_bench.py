@@ -110,6 +110,35 @@ def test_cli_writes_per_bin_tables_with_labelled_sources_and_paired_intervals(pa
     rows = compare.compare(report, report, ["photo:auto"])
     assert rows and all(r["ties"] == r["n"] and r["mean"] == 0 for r in rows)
     assert {r["column"] for r in rows} >= {"car.psnr", "car.flat", "hole.psnr", "hole.darkening_error"}
+    # one target car: every interval resamples it whole, and the 90-degree turns are pooled as turns >= 45
+    assert {p["car"] for p in report["pairs"]} == {f"0001/{report['pairs'][0]['key'].split('_')[1].split()[0]}"}
+    assert all(r["groups"] == 1 for r in rows) and {"turn >= 45", "turn 90"} <= {r["bin"] for r in rows}
+    assert oracle["turn 90"]["methods"]["2d"]["car"]["psnr"]["cars"] == 1
+    assert "| turn 90 | 2d | 1 (1) |" in md
+    old = json.loads(json.dumps(report))
+    del old["pairs"][0]["car"]
+    with pytest.raises(ValueError, match="names no car"):
+        compare.compare(old, report)
+
+
+def _pair(car: str, frame: int, psnr: float) -> cf.PairResult:
+    return cf.PairResult(f"{car.split('/')[0]}/clone/{frame:05d}_{car.split('/')[1]} turn_90", "oracle", "turn 90",
+                         "turn", {"car": 100}, car, metrics={"photo:auto": {"car": {"psnr": 20.0}},
+                                                             "2d": {"car": {"psnr": psnr}}})
+
+
+def test_intervals_resample_whole_cars_not_pairs() -> None:
+    """Twelve pairs of three parked cars are three pieces of evidence: the comparison counts the cars and gives no
+    verdict (under MIN_ENTRIES cars) where a pair-level bootstrap would call a clear winner; the interval is the
+    cluster bootstrap's."""
+    results = [_pair(car, f, 20.0 + gain + 0.01 * f) for car, gain in (("0001/1002", 1.0), ("0001/1003", 0.2),
+                                                                       ("0002/1002", 2.0)) for f in range(4)]
+    d = cf.comparisons(results, ["photo:auto", "2d"])["oracle"]["turn 90"]["2d"]["car.psnr"]
+    assert (d["n"], d["groups"], d["verdict"]) == (12, 3, "too few entries")
+    gains = [r.metrics["2d"]["car"]["psnr"] - 20.0 for r in results]
+    assert (d["low"], d["high"]) == pytest.approx((min(gains), max(gains)), abs=0.05)  # a whole car's mean at the ends
+    stat = cf.summarize(results, ["photo:auto", "2d"])["oracle"]["turn 90"]["methods"]["2d"]["car"]["psnr"]
+    assert (stat["n"], stat["cars"]) == (12, 3)
 
 
 def test_cli_counterfactual_kinds_scores_the_deletes_alone(pairs_tree: Path, tmp_path: Path) -> None:

@@ -56,6 +56,12 @@ class CounterfactualPair:
         return f"{self.world}/{self.variation}/{self.frame:05d}_{self.instance_id} {what}"
 
     @property
+    def car(self) -> str:
+        """The physical car, ``world/instance_id``: one track of the world, the same car in every frame and
+        variation (its pairs are one piece of evidence: the benchmark's intervals resample whole cars)."""
+        return f"{self.world}/{self.instance_id}"
+
+    @property
     def target_key(self) -> tuple[str, str, int, int]:
         """The target car: ``(world, variation, frame, instance_id)`` (shared by its turns and its delete)."""
         return self.world, self.variation, self.frame, self.instance_id

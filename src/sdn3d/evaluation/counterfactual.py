@@ -29,7 +29,9 @@ every method through :func:`~sdn3d.editing.appearance.appearance_renderer`, then
   PSNR is ``10 log10(1 / max(MSE, 1e-6))`` (at most 60 dB: an exact match does not make a mean infinite);
 - **summaries** per source scene, bin (``turn 15``, ``turn 45``, ``turn 90``, ``turn 180``, ``delete``; a 0-degree
   turn has its own bin), method and metric: the mean with a 95 % bootstrap interval; **paired comparisons** of each
-  method against :data:`REFERENCE` over the same pairs (:func:`~sdn3d.evaluation.paired.paired_difference`).
+  method against :data:`REFERENCE` over the same pairs (:func:`~sdn3d.evaluation.paired.paired_difference`). Every
+  interval resamples whole **cars** (:attr:`~sdn3d.data.counterfactual.CounterfactualPair.car`): one parked car
+  appears in many frames, both variations and every angle, and its pairs are one piece of evidence, not many.
 """
 
 from __future__ import annotations
@@ -195,7 +197,8 @@ def _shares(source: Tensor, mask: Tensor) -> dict[str, float]:
 
 @dataclass
 class PairResult:
-    """One pair scored in one source scene: ``metrics[method][region][metric]``; ``sources[method]``: the photo
+    """One pair scored in one source scene (``car``: the pair's physical car, the intervals' resampling unit):
+    ``metrics[method][region][metric]``; ``sources[method]``: the photo
     appearance's source-map shares on the scored region (``car`` / ``hole``); ``reference``: the target's and the
     source frame's own darkening (deletes); ``errors``: ``{method or 'pair': message}``; ``iou``: the target car's
     match in the scene (1 for the oracle)."""
@@ -205,6 +208,7 @@ class PairResult:
     bin: str
     kind: str
     pixels: dict[str, int]
+    car: str
     metrics: dict[str, dict[str, dict[str, float]]] = field(default_factory=dict)
     sources: dict[str, dict[str, float]] = field(default_factory=dict)
     reference: dict[str, float] = field(default_factory=dict)
@@ -214,8 +218,8 @@ class PairResult:
 
     def to_json(self) -> dict:
         return {"key": self.key, "source": self.source, "bin": self.bin, "kind": self.kind, "pixels": self.pixels,
-                "iou": self.iou, "metrics": self.metrics, "sources": self.sources, "reference": self.reference,
-                "errors": self.errors, "draw_ms": self.draw_ms}
+                "car": self.car, "iou": self.iou, "metrics": self.metrics, "sources": self.sources,
+                "reference": self.reference, "errors": self.errors, "draw_ms": self.draw_ms}
 
 
 def _source_scene(source: str, record: FrameRecord, image: Tensor, intrinsics, models: Models | None,
@@ -281,7 +285,7 @@ def evaluate_target(pairs: Sequence[CounterfactualPair], record: FrameRecord, in
         loaded.append((pair, target, masks))
     results: list[PairResult] = []
     for source in settings.sources:
-        base = [PairResult(p.key, source, pair_bin(p), p.kind, dict(p.pixels)) for p in pairs]
+        base = [PairResult(p.key, source, pair_bin(p), p.kind, dict(p.pixels), p.car) for p in pairs]
         try:
             scene = _source_scene(source, record, image, frame.intrinsics, models, settings, size)
             iid, iou = _match(scene, first.instance_id, source_mask)
@@ -384,7 +388,7 @@ def run_counterfactual(index: CounterfactualIndex, records: dict[tuple[str, str,
     for n, ((world, variation, frame, _), pairs) in enumerate(chosen):
         record = records.get((world, variation, frame))
         if record is None:
-            rows = [PairResult(p.key, s, pair_bin(p), p.kind, dict(p.pixels),
+            rows = [PairResult(p.key, s, pair_bin(p), p.kind, dict(p.pixels), p.car,
                                errors={"pair": f"frame {world}/{variation}/{frame:05d} not in the dataset"})
                     for s in settings.sources for p in pairs]
         else:
@@ -395,11 +399,13 @@ def run_counterfactual(index: CounterfactualIndex, records: dict[tuple[str, str,
     return out
 
 
-def _mean_interval(values: list[float]) -> dict:
+def _mean_interval(values: list[float], cars: list[str]) -> dict:
+    """The mean of ``values`` with its bootstrap interval, resampling whole ``cars`` (one label per value)."""
     if not values:
-        return {"mean": float("nan"), "low": float("nan"), "high": float("nan"), "n": 0}
-    d = paired_difference(values, [0.0] * len(values), higher_is_better=True)
-    return {"mean": d.mean, "low": d.low, "high": d.high, "median": float(np.median(values)), "n": d.n}
+        return {"mean": float("nan"), "low": float("nan"), "high": float("nan"), "n": 0, "cars": 0}
+    d = paired_difference(values, [0.0] * len(values), higher_is_better=True, groups=cars)
+    return {"mean": d.mean, "low": d.low, "high": d.high, "median": float(np.median(values)), "n": d.n,
+            "cars": d.groups}
 
 
 def _bins(results: Sequence[PairResult]) -> list[str]:
@@ -417,9 +423,16 @@ def _values(rows: Sequence[PairResult], method: str, region: str, metric: str) -
     return out
 
 
+def _scored(rows: Sequence[PairResult], method: str, region: str, metric: str) -> tuple[list[float], list[str]]:
+    """The finite values of ``method``'s ``region.metric`` over ``rows`` and each one's car."""
+    pairs = [(v, r.car) for v, r in zip(_values(rows, method, region, metric), rows, strict=True) if v is not None]
+    return [v for v, _ in pairs], [c for _, c in pairs]
+
+
 def summarize(results: Sequence[PairResult], method_names: Sequence[str]) -> dict:
     """``{source: {bin: {'pairs', 'scored', 'missed', 'methods': {method: {region: {metric: {mean, low, high, median,
-    n}}}}, 'reference': {...}}}}`` (deletes' ``reference``: the target's and the source frame's own darkening)."""
+    n, cars}}}}, 'reference': {...}}}}`` (deletes' ``reference``: the target's and the source frame's own darkening);
+    intervals resample whole cars (module doc)."""
     out: dict = {}
     for source in dict.fromkeys(r.source for r in results):
         out[source] = {}
@@ -430,20 +443,21 @@ def summarize(results: Sequence[PairResult], method_names: Sequence[str]) -> dic
             entry = {"pairs": len(rows), "scored": sum(1 for r in rows if r.metrics),
                      "missed": sum(1 for r in rows if "pair" in r.errors), "methods": {}}
             for m in method_names:
-                entry["methods"][m] = {region: {metric: _mean_interval(
-                    [v for v in _values(rows, m, region, metric) if v is not None]) for metric in metrics}
-                    for region, metrics in SCORES[kind].items()}
+                entry["methods"][m] = {region: {metric: _mean_interval(*_scored(rows, m, region, metric))
+                                                for metric in metrics}
+                                       for region, metrics in SCORES[kind].items()}
             if kind == "delete":
-                entry["reference"] = {k: _mean_interval([r.reference[k] for r in rows if k in r.reference
-                                                         and math.isfinite(r.reference[k])])
-                                      for k in ("target", "source")}
+                kept = {k: [r for r in rows if k in r.reference and math.isfinite(r.reference[k])]
+                        for k in ("target", "source")}
+                entry["reference"] = {k: _mean_interval([r.reference[k] for r in kept[k]], [r.car for r in kept[k]])
+                                      for k in kept}
             out[source][b] = entry
     return out
 
 
 def comparisons(results: Sequence[PairResult], method_names: Sequence[str], reference: str = REFERENCE) -> dict:
     """``{source: {bin: {method: {'<region>.<metric>': PairedDifference dict}}}}``: each method minus ``reference``
-    over the pairs where both have a finite value."""
+    over the pairs where both have a finite value, resampling whole cars (``groups``: how many)."""
     out: dict = {}
     for source in dict.fromkeys(r.source for r in results):
         out[source] = {}
@@ -460,9 +474,11 @@ def comparisons(results: Sequence[PairResult], method_names: Sequence[str], refe
                         if metric == "darkening":
                             continue  # signed: compared through darkening_error
                         a, c = _values(rows, m, region, metric), _values(rows, reference, region, metric)
-                        pairs = [(x, y) for x, y in zip(a, c, strict=True) if x is not None and y is not None]
-                        d = paired_difference([x for x, _ in pairs], [y for _, y in pairs],
-                                              higher_is_better=metric in HIGHER_IS_BETTER)
+                        pairs = [(x, y, r.car) for x, y, r in zip(a, c, rows, strict=True)
+                                 if x is not None and y is not None]
+                        d = paired_difference([x for x, _, _ in pairs], [y for _, y, _ in pairs],
+                                              higher_is_better=metric in HIGHER_IS_BETTER,
+                                              groups=[g for _, _, g in pairs])
                         out[source][b][m][f"{region}.{metric}"] = d.to_dict()
     return out
 
@@ -472,6 +488,10 @@ def _ci(stat: dict, digits: int = 2, scale: float = 1.0) -> str:
         return "–"
     return (f"{stat['mean'] * scale:.{digits}f} [{stat['low'] * scale:.{digits}f}, "
             f"{stat['high'] * scale:.{digits}f}]")
+
+
+def _count(stat: dict) -> str:
+    return f"{stat['n']} ({stat['cars']})" if stat.get("n") else "0"
 
 
 def _delta(d: dict | None, digits: int = 2, scale: float = 1.0) -> str:
@@ -486,9 +506,11 @@ def counterfactual_markdown(summary: dict, comps: dict, info: dict) -> str:
     lines = ["# Counterfactual benchmark: turns and deletes on exact pairs", "",
              f"Data: {info.get('data')}, pairs drawn at {info.get('image_size')} (the frames' stored size). "
              f"Reference of every paired difference: `{REFERENCE}` (the photo default before `rays`). Means with 95 % "
-             "bootstrap intervals; a paired difference is `method - reference` [95 % interval] wins/losses/ties "
-             "(by the metric's direction). PSNR in dB (at most 60), L1 on [0, 1], flat = share of the car's target "
-             "pixels the photo appearance drew as flat colour (source map `fallback` or `default`), in %.", ""]
+             "bootstrap intervals that resample whole cars (a parked car's pairs in every frame, variation and angle "
+             "are drawn together); n = pairs (cars); a paired difference is `method - reference` [95 % interval] "
+             "wins/losses/ties (by the metric's direction). PSNR in dB (at most 60), L1 on [0, 1], flat = share of "
+             "the car's target pixels the photo appearance drew as flat colour (source map `fallback` or "
+             "`default`), in %.", ""]
     if info.get("generator_note"):
         lines += [info["generator_note"], ""]
     for source, bins in summary.items():
@@ -503,7 +525,7 @@ def counterfactual_markdown(summary: dict, comps: dict, info: dict) -> str:
                 for m, regions in entry["methods"].items():
                     car, changed = regions["car"], regions["changed"]
                     d = comps.get(source, {}).get(b, {}).get(m, {})
-                    lines.append(f"| {b} | {m} | {car['psnr']['n']} | {_ci(car['psnr'])} | {_ci(car['l1'], 4)} | "
+                    lines.append(f"| {b} | {m} | {_count(car['psnr'])} | {_ci(car['psnr'])} | {_ci(car['l1'], 4)} | "
                                  f"{_ci(car['flat'], 1, 100)} | {_ci(changed['psnr'])} | "
                                  f"{_delta(d.get('car.psnr'))} | {_delta(d.get('car.l1'), 4)} | "
                                  f"{_delta(d.get('car.flat'), 1, 100)} |")
@@ -523,7 +545,7 @@ def counterfactual_markdown(summary: dict, comps: dict, info: dict) -> str:
             for m, regions in entry["methods"].items():
                 h = regions["hole"]
                 d = comps.get(source, {}).get("delete", {}).get(m, {})
-                lines.append(f"| {m} | {h['psnr']['n']} | {_ci(h['psnr'])} | {_ci(h['l1'], 4)} | "
+                lines.append(f"| {m} | {_count(h['psnr'])} | {_ci(h['psnr'])} | {_ci(h['l1'], 4)} | "
                              f"{_ci(h['darkening'], 3)} | {_ci(h['darkening_error'], 3)} | "
                              f"{_delta(d.get('hole.psnr'))} | {_delta(d.get('hole.darkening_error'), 3)} |")
             if entry["missed"]:

@@ -188,7 +188,15 @@ class GeometricNet(nn.Module):
         n = crop.shape[0]
         _check_rows("box", box, 4, n)
         _check_rows("intrinsics", intrinsics, 4, n)
-        feats = self.backbone((crop - self.mean) / self.std)
+        return self.decode(self.features(crop), box, intrinsics)
+
+    def features(self, crop: Tensor) -> Tensor:
+        """``(N, F)`` backbone features of ``(N, 3, S, S)`` crops in ``[0, 1]``."""
+        return self.backbone((crop - self.mean) / self.std)
+
+    def decode(self, feats: Tensor, box: Tensor, intrinsics: Tensor) -> dict[str, Tensor]:
+        """The raw outputs (:meth:`forward`) from ``(N, F)`` backbone features, ``(N, 4)`` boxes and intrinsics."""
+        n = feats.shape[0]
         hid = self.mlp(torch.cat([feats, box_features(box, intrinsics).to(feats.dtype)], dim=1))
         rot = self.heads["rotation"](hid)
         out = {key: self.heads[key](hid) for key in ("log_scale", "offset", "log_distance")}

@@ -30,14 +30,15 @@ __all__ = [
 ]
 
 
-#: :meth:`GeometricPredictor.predict` runs the net on at least this many rows, a shorter batch padded with copies of
-#: its first row. PyTorch's CPU convolutions sum in another order for batches under 4 rows, so an object's prediction
-#: depended on how many others were predicted with it: on the real frame in ``tests/data`` the red car's moved in its
-#: 7th digit when the black car was boxed too, and the fit's search (``sdn3d.geometric.fit``) then chose another
-#: template for it (docs/results/2026-11-29_cpu/session17/lead/rows/). From 4 rows on, each row's outputs are mostly
-#: the same bits whatever else is in the batch: not always the distance head's (``log_distance``; on tuning tree 11's
-#: frame 0001/clone/00034, w28, three of seven rows moved in their last bits from a batch of 8 to one of 7:
-#: docs/results/2026-12-01_cpu/session29/joincost29).
+#: :meth:`GeometricPredictor.predict` runs the backbone on at least this many rows and the fully connected layers on
+#: blocks of exactly this many, a short batch or block padded with copies of its first row: then each object's outputs
+#: are the same bits whatever else is predicted with it. PyTorch's CPU convolutions sum in another order for batches
+#: under 4 rows: on the real frame in ``tests/data`` the red car's prediction moved in its 7th digit when the black car
+#: was boxed too, and the fit's search (``sdn3d.geometric.fit``) then chose another template for it
+#: (docs/results/2026-11-29_cpu/session17/lead/rows/). Its matrix products sum in another order for other numbers of
+#: rows: on tuning tree 11's frame 0001/clone/00034 three of seven distance predictions moved in their last bits from a
+#: batch of 8 to one of 7, and a fit started one bit away ended 0.32 m away (docs/results/2026-12-01_cpu/session29/
+#: joincost29).
 MIN_NET_ROWS = 4
 
 
@@ -106,13 +107,18 @@ class GeometricPredictor:
         return next(self.net.parameters()).device
 
     def _net_rows(self, crop: Tensor, box: Tensor, intrinsics: Tensor) -> dict[str, Tensor]:
-        """The net's raw outputs for ``N`` rows, each the same whatever the other rows are (:data:`MIN_NET_ROWS`)."""
+        """The net's raw outputs for ``N`` rows, each the same whatever the other rows are (:data:`MIN_NET_ROWS`):
+        the backbone on at least that many rows, the fully connected layers on blocks of exactly that many (rows
+        padded with copies of the first)."""
         n = crop.shape[0]
-        if 0 < n < MIN_NET_ROWS:
-            pad = [0] * (MIN_NET_ROWS - n)
-            crop, box, intrinsics = (torch.cat([t, t[pad]]) for t in (crop, box, intrinsics))
-            return {k: v[:n] for k, v in self.net(crop, box, intrinsics).items()}
-        return self.net(crop, box, intrinsics)
+        if n == 0:
+            return self.net(crop, box, intrinsics)
+        feats = self.net.features(torch.cat([crop, crop[[0] * (max(n, MIN_NET_ROWS) - n)]]))[:n]
+        pad = [0] * (-n % MIN_NET_ROWS)
+        feats, box, intrinsics = (torch.cat([t, t[pad]]) for t in (feats, box, intrinsics))
+        blocks = [self.net.decode(*(t[i:i + MIN_NET_ROWS] for t in (feats, box, intrinsics)))
+                  for i in range(0, len(feats), MIN_NET_ROWS)]
+        return {k: torch.cat([b[k] for b in blocks])[:n] for k in blocks[0]}
 
     @torch.no_grad()
     def predict(

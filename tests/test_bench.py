@@ -243,6 +243,11 @@ def test_bench_cli_needs_a_semantic_checkpoint_for_its_default_predicted_row(tin
     assert "or proposals=gt for the oracle row alone" in err and not out.exists()
 
 
+def _first_entry_world(report: dict) -> str:
+    """The world of the run's first entry (``key``: ``world/variation source->target``)."""
+    return report["entries"]["gt"][0]["key"].split("/")[0]
+
+
 def test_bench_cli_reports_the_predicted_row_first_and_the_oracle_row_labelled(tiny_synth, tmp_path):
     ckpts = write_checkpoints(tmp_path / "ckpt")
     out = tmp_path / "bench"
@@ -253,6 +258,12 @@ def test_bench_cli_reports_the_predicted_row_first_and_the_oracle_row_labelled(t
     assert info["source_labels"]["semantic"] == "predicted: the semantic branch's masks and semantics"
     assert set(report["summary"]) == set(report["entries"]) == {"semantic", "gt"}
     assert report["config"]["proposals"] == ["semantic", "gt"]  # the default
+    # each entry names the cars it edits (world/ground-truth instance id), the same in both rows: the intervals'
+    # resampling groups (edited_car_groups)
+    for row in ("semantic", "gt"):
+        cars = [e["cars"] for e in report["entries"][row] if not e["errors"].get("entry")]
+        assert cars and all(c and all(x.startswith(f"{_first_entry_world(report)}/") for x in c) for c in cars)
+    assert [e["cars"] for e in report["entries"]["semantic"]] == [e["cars"] for e in report["entries"]["gt"]]
     table = (out / "table1.md").read_text()
     rows = [line.split(" | ")[0] for line in table.splitlines()
             if line.startswith(("| predicted", "| oracle")) and "] | " not in line]  # not the who-won intervals

@@ -74,24 +74,26 @@ def test_one_edit_twice_is_one_piece_of_evidence():
         paired_difference([1.0, 2.0], [1.0, 1.0], True, groups=["a"])
 
 
-def test_the_bench_groups_entries_that_are_the_same_edit():
-    from sdn3d.cli.bench import same_edit_groups
-    from sdn3d.data.edit_benchmark import BenchmarkEntry, BenchmarkOperation
+def test_the_bench_groups_entries_that_edit_the_same_cars():
+    """Entries that edit one car (another source frame, the other variation, or one edit twice) are one group of
+    the paired bootstrap; an entry naming no car is its own."""
+    from sdn3d.cli.bench import edited_car_groups
 
-    delete = BenchmarkOperation.delete((100.0, 50.0))
-    other = BenchmarkOperation.delete((200.0, 60.0))
-    benchmark = [BenchmarkEntry("0001", "clone", 33, 40, (delete,), "occluder_removed"),
-                 BenchmarkEntry("0001", "clone", 33, 41, (delete,), "occluder_removed"),  # the same edit again
-                 BenchmarkEntry("0001", "clone", 33, 42, (other,), "occluder_removed"),
-                 BenchmarkEntry("0001", "rain", 33, 43, (delete,), "occluder_removed")]
-    groups = same_edit_groups(benchmark)
-    assert groups[0] == groups[1] and len({groups[0], groups[2], groups[3]}) == 3
+    records = [{"index": 0, "cars": ["0001/1003"]},
+               {"index": 1, "cars": ["0001/1003"]},  # the same car from another source frame or variation
+               {"index": 2, "cars": ["0001/1004"]},
+               {"index": 3, "cars": ["0002/1003"]},  # another world's car of the same id
+               {"index": 4, "cars": []},
+               {"index": 5, "cars": ["0001/1003", "0001/1004"]}]
+    groups = edited_car_groups(records + [{"index": 2, "cars": []}])  # another pass that found no car keeps it
+    assert groups[0] == groups[1] and len({groups[i] for i in (0, 2, 3, 4, 5)}) == 5
     entries = [_entry(i, 15.0 + i, 14.0) for i in range(4)]
     info = {"compose": ["photo"], "sources": ["gt"]}
     summaries = {"gt": _summary({"3d-sdn": [15.0, 16.0, 17.0, 18.0], "2d": [14.0] * 4})}
     grouped = paired_comparisons({"gt": entries}, summaries, info, groups=groups)["gt"]["psnr/all"]
     plain = paired_comparisons({"gt": entries}, summaries, info)["gt"]["psnr/all"]
     assert (grouped["n"], grouped["groups"], plain["groups"]) == (4, 3, None)
+
 
 def _summary(values: dict[str, list[float]]) -> dict:
     stat = {m: {"all": {"psnr": {"mean": float(np.mean(v)), "n": len(v)}}} for m, v in values.items()}

@@ -227,18 +227,25 @@ def headline_columns(summaries: dict, info: dict) -> list[tuple[str, str]]:
             for r in ("all", "largest", "objects")]
 
 
-def same_edit_groups(benchmark: Sequence[Any]) -> dict[int, tuple]:
-    """Entry index -> what the entry edits (world, variation, source frame, operations): entries that are one edit
-    twice (the generator can draw one occluder pair for two slots; their targets are the same picture) are one
-    group, resampled together by the paired bootstrap (:func:`sdn3d.evaluation.paired.paired_difference`)."""
-    return {i: (e.world, e.variation, e.source_frame, e.operations) for i, e in enumerate(benchmark)}
+def edited_car_groups(records: Sequence[Mapping[str, Any]]) -> dict[int, tuple]:
+    """Entry index -> the cars it edits (``results.json`` per-entry records' ``cars``: world and ground-truth
+    instance ids), the entry's own index where it names none. Entries that edit the same cars are one group,
+    resampled together by the paired bootstrap (:func:`sdn3d.evaluation.paired.paired_difference`): a car is edited
+    from several source frames and in both variations of its world (and the generator can draw one occluder pair
+    for two slots), and those entries are one piece of evidence, not several."""
+    groups: dict[int, tuple] = {}
+    for record in records:
+        cars = tuple(record.get("cars") or ())
+        if cars or record["index"] not in groups:
+            groups[record["index"]] = ("cars", *cars) if cars else ("entry", record["index"])
+    return groups
 
 
 def paired_comparisons(entries: dict, summaries: dict, info: dict, ours: str = "3d-sdn", theirs: str = "2d",
                        groups: Mapping[int, Any] | None = None) -> dict:
     """``{source: {"metric/region": PairedDifference.to_dict()}}``: 3D-SDN minus 2D on each headline column, paired
     over the entries both evaluated (``results.json``'s per-entry records), in the headline's mode. ``groups``:
-    entry index -> group (:func:`same_edit_groups`); None: every entry its own."""
+    entry index -> group (:func:`edited_car_groups`); None: every entry its own."""
     from sdn3d.evaluation.paired import compare_entries
 
     mode, cols = info["compose"][0], headline_columns(summaries, info)
@@ -273,9 +280,9 @@ def who_won_lines(comparisons: dict, summaries: dict, info: dict) -> list[str]:
     cols = headline_columns(summaries, info)
     lines = ["**Who won.** 3D-SDN against 2D (the stronger of the paper's two baselines in its Table 1), paired over "
              "the same entries: the mean of 3D-SDN minus 2D, its 95 % paired-bootstrap interval, and on how many "
-             "entries 3D-SDN was better / worse. Entries that are one edit twice (the same source frame and "
-             "operations) are resampled together. A column counts as won or lost only where the interval excludes 0, "
-             f"and only with at least {MIN_ENTRIES} distinct entries.", ""]
+             "entries 3D-SDN was better / worse. Entries that edit the same cars (from other source frames, in either "
+             "variation) are resampled together: one car is one piece of evidence. A column counts as won or lost "
+             f"only where the interval excludes 0, and only with at least {MIN_ENTRIES} distinct groups of cars.", ""]
     table = ["| Scene | Column | 3D-SDN - 2D [95 % interval] | 3D-SDN better / worse (entries) | verdict |",
              "|---|---|---|---|---|"]
     for s in info["sources"]:
@@ -686,7 +693,8 @@ def run_bench(cfg: Any, parts: Sequence[dict] = ()) -> dict:
             "modify_anchor": str(first.modify_anchor), "benchmark_short": counts_json(short),
             "wall_s": time.perf_counter() - t0}
     entries_json = {name: [r.to_json() for r in rs] for name, rs in results.items()}
-    comparisons = paired_comparisons(entries_json, summaries, info, groups=same_edit_groups(entries))
+    groups = edited_car_groups([r for rs in entries_json.values() for r in rs])
+    comparisons = paired_comparisons(entries_json, summaries, info, groups=groups)
     report = {"info": info, "config": OmegaConf.to_container(cfg, resolve=True), "summary": summaries,
               "comparisons": comparisons, "entries": entries_json}
     with staged_directory(out, MARKER, bool(cfg.overwrite), owned=True, **output_rules(cfg, path)) as tmp:

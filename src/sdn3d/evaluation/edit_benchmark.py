@@ -274,6 +274,9 @@ class EntryResult:
         regions: ``(H, W)`` bool union of edited regions (example entries only).
         kind: the entry's :data:`~sdn3d.data.edit_benchmark.ENTRY_KINDS` (``'edit'``; ``'occluder_removed'``
             entries are summarised apart); edit_kind: :func:`edit_kind`.
+        cars: the cars the entry edits, ``world/instance id`` of each ground-truth car its operations pick (the
+            same car in every frame and variation of its world; ground truth used only to group the entries of one
+            car for the paired intervals, ``sdn3d.cli.bench.edited_car_groups``); empty where none was found.
     """
 
     index: int
@@ -286,6 +289,7 @@ class EntryResult:
     regions: np.ndarray | None = None
     kind: str = "edit"
     edit_kind: str | None = None
+    cars: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.edit_kind is None:  # :func:`edit_kind` of the entry; unknown: its kind
@@ -293,7 +297,7 @@ class EntryResult:
 
     def to_json(self) -> dict:
         return {"index": self.index, "key": self.key, "kind": self.kind, "edit_kind": self.edit_kind,
-                "operations": self.operations,
+                "operations": self.operations, "cars": list(self.cars),
                 "metrics": self.metrics,
                 "latency_ms": self.latency_ms, "errors": self.errors}
 
@@ -484,6 +488,7 @@ def evaluate_entry(index: int, entry: BenchmarkEntry, source: FrameRecord, targe
     src = load_frame(source, size, semantic=False, instances=False)
     tgt = load_frame(target, size, semantic=False, instances=False).image
     regions, box, gt_ids = edit_regions(entry, source, target, size, settings.frame_size)
+    result.cars = tuple(f"{entry.world}/{i}" for i in sorted(set(gt_ids)))
     target_instances = _instances(target, size)
     _sync(models)
     t0 = time.perf_counter()

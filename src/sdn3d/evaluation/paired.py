@@ -13,9 +13,9 @@ says whether it is more.
 >>> paired_difference([1.0, 2.0], [2.0, 3.0], higher_is_better=True).verdict
 'too few entries'
 
-Entries that are one edit twice (a generator that drew the same occluder pair for two slots) are not two pieces of
-evidence: with ``groups``, the bootstrap resamples whole groups (a cluster bootstrap of the entries' mean) and the
-verdict needs :data:`MIN_ENTRIES` distinct groups.
+Entries of one car (the benchmark edits a car from several source frames and in every variation of its world) are not
+several pieces of evidence: with ``groups``, the bootstrap resamples whole groups (a cluster bootstrap of the entries'
+mean) and the verdict needs :data:`MIN_ENTRIES` distinct groups.
 
 >>> g = paired_difference([12.0, 13.0, 13.0], [11.0, 12.0, 12.0], higher_is_better=True, groups=["a", "b", "b"])
 >>> (g.n, g.groups, g.mean)

@@ -1,11 +1,16 @@
-import torch, itertools
+# ruff: noqa: E402, E501, E701, E702
+
+import torch
+
 from sdn3d.geometric.predict import GeometricPredictor
+
 torch.set_num_threads(1)
 p = GeometricPredictor.from_checkpoint("/tmp/s30/demo/outputs/demo/runs/geometric/checkpoints/inference.pt")
 net = p.net
 torch.manual_seed(0)
 N = 12
 import inspect
+
 print(inspect.signature(net.forward))
 # find crop size
 crop = torch.rand(N, 3, 64, 64) if True else None
@@ -46,12 +51,13 @@ with torch.no_grad():
         pd = sum(int(((o[key] != ref[key][perm]).reshape(N, -1).any(1)).sum()) for key in ref)
         print("chunk", chunk, "rows differing over prefixes:", diffs, "of", tot, "| reversed order:", pd)
 import time
+
 for N2 in (4, 10, 30):
     c = torch.rand(N2, 3, 64, 64); b = torch.rand(N2, 4) * 300; b[:, 2:] += b[:, :2]; k = torch.tensor([725., 725., 620., 187.]).expand(N2, 4).clone()
     crop, box, K = c, b, k
     with torch.no_grad():
         for chunk in (None, 4):
             ts = []
-            for r in range(7):
+            for _r in range(7):
                 t = time.perf_counter(); rows(list(range(N2)), chunk); ts.append(time.perf_counter() - t)
             print(N2, chunk, "median ms", round(sorted(ts)[3] * 1000, 1))

@@ -1,10 +1,13 @@
+# ruff: noqa: E402, E501, E701, E702
 """pair.py A B...: per-entry 3D-SDN PSNR/L1 all (photo) of predicted rows: B - A paired, with bits-equal count."""
-import json, sys
-import numpy as np
+import json
+import sys
+
 sys.path.insert(0, "/work/main/src")
 from sdn3d.evaluation.paired import paired_difference
+
 tot = {"psnr": ([], []), "l1": ([], [])}
-for a, b in zip(sys.argv[1::2], sys.argv[2::2]):
+for a, b in zip(sys.argv[1::2], sys.argv[2::2], strict=False):
     ra, rb = (json.load(open(p + "/results.json")) for p in (a, b))
     ea, eb = ra["entries"]["semantic"], rb["entries"]["semantic"]
     same = 0; n = 0; chg = []

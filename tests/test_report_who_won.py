@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from sdn3d.cli.bench import paired_comparisons
+from sdn3d.cli.bench import edited_car_groups, paired_comparisons
 from sdn3d.cli.demo import machine_sentence, precision_note, stage_rows
 from sdn3d.evaluation.paired import MIN_ENTRIES, compare_entries, paired_difference
 
@@ -77,8 +77,6 @@ def test_one_edit_twice_is_one_piece_of_evidence():
 def test_the_bench_groups_entries_that_edit_the_same_cars():
     """Entries that edit one car (another source frame, the other variation, or one edit twice) are one group of
     the paired bootstrap; an entry naming no car is its own."""
-    from sdn3d.cli.bench import edited_car_groups
-
     records = [{"index": 0, "cars": ["0001/1003"]},
                {"index": 1, "cars": ["0001/1003"]},  # the same car from another source frame or variation
                {"index": 2, "cars": ["0001/1004"]},
@@ -98,6 +96,22 @@ def test_the_bench_groups_entries_that_edit_the_same_cars():
 def _summary(values: dict[str, list[float]]) -> dict:
     stat = {m: {"all": {"psnr": {"mean": float(np.mean(v)), "n": len(v)}}} for m, v in values.items()}
     return {"evaluated": len(next(iter(values.values()))), "methods": {"photo": stat}}
+
+
+def test_who_won_counts_groups_of_cars_not_entries():
+    """Twelve entries that edit three cars: the sentence names both counts and calls nothing (under MIN_ENTRIES
+    groups), although twelve entries would be enough."""
+    from sdn3d.cli.bench import who_won_lines
+
+    entries = [{**_entry(i, 16.0 + 0.01 * i, 14.0), "cars": [f"0001/{1002 + i % 3}"]} for i in range(12)]
+    info = {"compose": ["photo"], "sources": ["gt"]}
+    summaries = {"gt": _summary({"3d-sdn": [16.0] * 12, "2d": [14.0] * 12})}
+    comps = paired_comparisons({"gt": entries}, summaries, info, groups=edited_car_groups(entries))
+    text = "\n".join(who_won_lines(comps, summaries, info))
+    assert "(12 entries, 3 groups of cars): **too few entries to call" in text
+    alone = paired_comparisons({"gt": entries}, summaries, info)
+    ungrouped = "\n".join(who_won_lines(alone, summaries, info))
+    assert "(12 entries): **" in ungrouped and "too few entries to call" not in ungrouped
 
 
 def test_the_headline_marks_the_best_row_and_says_who_won():

@@ -289,6 +289,8 @@ def who_won_lines(comparisons: dict, summaries: dict, info: dict) -> list[str]:
         comp = comparisons.get(s) or {}
         verdicts = [comp.get(f"{k}/{r}", {}).get("verdict", "no entries") for k, r in cols]
         n = max((comp.get(f"{k}/{r}", {}).get("n", 0) for k, r in cols), default=0)
+        groups = max((comp.get(f"{k}/{r}", {}).get("groups") or comp.get(f"{k}/{r}", {}).get("n", 0)
+                      for k, r in cols), default=0)
         if n == 0:
             lines.append(f"- *{SOURCE_SHORT[s]}*: no entry was evaluated by both methods: no comparison.")
             continue
@@ -297,11 +299,11 @@ def who_won_lines(comparisons: dict, summaries: dict, info: dict) -> list[str]:
         def cols_(k: int) -> str:
             return f"{k} column" + ("" if k == 1 else "s")
 
-        if n < MIN_ENTRIES:
+        if groups < MIN_ENTRIES:
             ahead = sum(comp.get(f"{k}/{r}", {}).get("mean", 0) * (1 if k not in ("l1", "lpips") else -1) > 0
                         for k, r in cols)
             say = (f"too few entries to call: 3D-SDN's mean is ahead of 2D's in {ahead} of {cols_(len(cols))}, "
-                   f"which decides nothing under {MIN_ENTRIES} entries")
+                   f"which decides nothing under {MIN_ENTRIES} distinct groups of cars")
         elif won == len(cols):
             say = f"3D-SDN beats 2D in every column ({len(cols)})"
         elif lost == len(cols):
@@ -314,7 +316,8 @@ def who_won_lines(comparisons: dict, summaries: dict, info: dict) -> list[str]:
             say = f"no winner: 3D-SDN is better in {cols_(won)}, worse in {lost}, no clear difference in {unclear}"
         small = (f" With {n} entries, only a difference whose interval excludes 0 is evidence; a gap in the means "
                  "alone is an anecdote." if n < 30 else "")
-        lines.append(f"- *{SOURCE_SHORT[s]}* ({n} entries): **{say}**.{small}")
+        counted = f"{n} entries" + (f", {groups} groups of cars" if groups != n else "")
+        lines.append(f"- *{SOURCE_SHORT[s]}* ({counted}): **{say}**.{small}")
         for k, r in cols:
             d = comp.get(f"{k}/{r}")
             if not d or not d.get("n"):

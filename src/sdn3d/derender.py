@@ -48,13 +48,13 @@
    proposals whose masks touch and whose fitted cars share the ground (``FitSettings.join_overlap``;
    :func:`~sdn3d.proposal_fit.footprint_joins`: one car cut in parts) are then joined under the largest part's id,
    and the objects go through this step once more (the joined car fitted as one; its record's ``joined_from``): the
-   geometric branch on every object (one forward: an object's location is not always the same bits in a batch of
-   another size), the fit only on the joined cars and the proposals whose fit reads anything else than in the first
-   pass (the bits of its prediction, or the pixels it is fitted without in its windows: a joined car's new depth may
-   put its parts' pixels in front of it or behind it, :func:`~sdn3d.proposal_fit.proposal_ignore`); the others keep
-   their first fit, what a second one gives (the objects are fitted independently, up to the last bit of a yaw). A
-   camera height measured from every prediction (``FitSettings.camera_height=None``) fits all of them again
-   (``docs/results/2026-12-01_cpu/session29/joincost29``).
+   geometric branch on every object (one forward; each object's prediction is its own whatever the batch,
+   :data:`~sdn3d.geometric.predict.MIN_NET_ROWS`, and its bits are compared, not assumed), the fit only on the joined
+   cars and the proposals whose fit reads anything else than in the first pass (the bits of its prediction, or the
+   pixels it is fitted without in its windows: a joined car's new depth may put its parts' pixels in front of it or
+   behind it, :func:`~sdn3d.proposal_fit.proposal_ignore`); the others keep their first fit, what a second one gives
+   (the objects are fitted independently, up to the last bit of a yaw). A camera height measured from every prediction
+   (``FitSettings.camera_height=None``) fits all of them again (``docs/results/2026-12-01_cpu/session29/joincost29``).
 4. **Texture**: the textural encoder pools one code per region of the instance label map ``L``
    (objects and background classes): :func:`encode_scene`.
 
@@ -362,11 +362,12 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
 
     ``earlier``: these objects' results from a first pass (derender's join: :meth:`_Objects.rows` of its
     :meth:`_Objects.with_ignore`, the rows ``same (N,)`` bool those whose mask the join left as it was). The geometric
-    branch runs on every object again (one forward; an object's location is not always the same bits in a batch of
-    another size), and a proposal whose fit reads the same bits as in the first pass (its mask, its prediction and
-    what the branch saw, the pixels it is fitted without: :func:`~sdn3d.proposal_fit.proposal_ignore`) keeps its first
-    fit and record: objects are fitted independently (:func:`~sdn3d.geometric.fit.fit_many`). Where a fit reads every
-    object (a camera height measured from all the predictions), all are fitted again."""
+    branch runs on every object again (one forward; each object's prediction is its own whatever the batch,
+    :data:`~sdn3d.geometric.predict.MIN_NET_ROWS`, and its bits are compared, not assumed), and a proposal whose fit
+    reads the same bits as in the first pass (its mask, its prediction and what the branch saw, the pixels it is fitted
+    without: :func:`~sdn3d.proposal_fit.proposal_ignore`) keeps its first fit and record: objects are fitted
+    independently (:func:`~sdn3d.geometric.fit.fit_many`). Where a fit reads every object (a camera height measured from
+    all the predictions), all are fitted again."""
     n = len(ids)
     annotated = torch.ones(n, dtype=torch.bool)
     annotated[box_rows] = False

@@ -3,7 +3,7 @@
     python benchmarks/edit_call.py --run DIR --image IMG [--edits SPEC] [--size 1242 375] [--repeats 5]
                                    [--modes checkpoints exports run] [--tree NAME=DIR ...]
                                    [--tree-mode checkpoints|exports|run] [--threads N]
-                                   [--stages] [--out FILE]
+                                   [--bytecode write|environment] [--stages] [--out FILE]
 
 What one call is: the command a user types, ``python -m sdn3d.cli.edit run=... input.image=... edits=...
 output_dir=...`` (the console script ``sdn3d-edit`` runs the same ``main``), started as a subprocess and
@@ -32,8 +32,16 @@ The input is ``--image`` resized to ``--size`` (default 1242x375, Virtual KITTI'
 known) and written to a temporary PNG. Without ``--edits``, one untimed ``list=true`` call finds the objects
 and the spec moves the first object with geometry 40 px to the right, turns the second by 30 degrees and
 deletes the third (as many as there are). Every mode gets one untimed warm-up call (page cache, ``.pyc``
-files), then the timed calls are interleaved (mode A, B, C, A, B, C, ...) so that the load of a shared
-machine falls on all modes alike; the JSON records the load average before and after and the CPU count.
+files; see ``--bytecode``), then the timed calls are interleaved (mode A, B, C, A, B, C, ...) so that the load
+of a shared machine falls on all modes alike; the JSON records the load average before and after and the CPU count.
+
+``--bytecode`` (``write``, the default): the calls may write and read Python's ``.pyc`` files, as any
+installed package's do (pip compiles them when it installs a wheel; Python writes them on the first import of
+an editable install), so ``PYTHONDONTWRITEBYTECODE`` is dropped from the calls' environment and the warm-up call
+writes them. ``environment``: the calls inherit the environment as it is; where ``PYTHONDONTWRITEBYTECODE`` is
+set and the sources have no ``.pyc`` yet (a fresh clone), every call compiles each of sdn3d's ~100 modules from
+source again (session 30's 4.39 s on its machine was measured so; docs/results/2026-12-01_cpu/session31/lead/).
+The JSON records which.
 
 ``--stages`` adds, per mode, one call in a fresh interpreter that times its stages from inside: the import of
 ``sdn3d.cli.edit``, then each stage function of ``sdn3d.cli.edit`` (the config composition, checkpoint
@@ -83,9 +91,12 @@ def _edit_command(python_args: list[str], overrides: list[str]) -> list[str]:
     return [sys.executable, *python_args, "-m", "sdn3d.cli.edit", *overrides]
 
 
-def _environment(mode: str, trees: dict[str, Path]) -> dict[str, str]:
-    """The environment of a call: a tree's mode runs that tree's code and configs."""
+def _environment(mode: str, trees: dict[str, Path], bytecode: str = "write") -> dict[str, str]:
+    """The environment of a call: a tree's mode runs that tree's code and configs; ``bytecode`` as ``--bytecode``
+    (module doc)."""
     env = dict(os.environ)
+    if bytecode == "write":
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
     if mode in trees:
         env["PYTHONPATH"] = os.pathsep.join([str(trees[mode] / "src"), env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
         env["SDN3D_CONFIG_DIR"] = str(trees[mode] / "conf")
@@ -221,19 +232,19 @@ def _measure(args: argparse.Namespace, folder: Path) -> dict:
     modes = _mode_overrides(args, folder)
     first = next(iter(modes))
     common = [f"input.image={image}"] + ([f"threads={args.threads}"] if args.threads else [])
-    spec = Path(args.edits).resolve() if args.edits else _default_spec(common + modes[first],
-                                                                       _environment(first, args.trees), folder)
+    first_env = _environment(first, args.trees, args.bytecode)
+    spec = Path(args.edits).resolve() if args.edits else _default_spec(common + modes[first], first_env, folder)
     calls = {m: [*common, *modes[m], f"edits={spec}", f"output_dir={folder / ('out_' + m)}"] for m in modes}
     load_before = os.getloadavg()
     files = {}
     for mode, overrides in calls.items():  # warm-up: page cache, .pyc files
-        _timed_call(_edit_command([], overrides), _environment(mode, args.trees))
+        _timed_call(_edit_command([], overrides), _environment(mode, args.trees, args.bytecode))
         files[mode] = _loaded_files(folder / f"out_{mode}")
     wall: dict[str, list[float]] = {m: [] for m in calls}
     cpu: dict[str, list[float]] = {m: [] for m in calls}
     for _ in range(args.repeats):
         for mode, overrides in calls.items():
-            w, c, _ = _timed_call(_edit_command([], overrides), _environment(mode, args.trees))
+            w, c, _ = _timed_call(_edit_command([], overrides), _environment(mode, args.trees, args.bytecode))
             wall[mode].append(w)
             cpu[mode].append(c)
     report: dict[str, Any] = {
@@ -244,11 +255,12 @@ def _measure(args: argparse.Namespace, folder: Path) -> dict:
         "load_average_after": os.getloadavg(), "trees": {k: str(v) for k, v in args.trees.items()},
         "tree_mode": args.tree_mode,
         "PYTHONPATH": os.environ.get("PYTHONPATH"),
+        "bytecode": args.bytecode, "PYTHONDONTWRITEBYTECODE": first_env.get("PYTHONDONTWRITEBYTECODE"),
         "modes": {m: {"wall_s": _summary(wall[m]), "cpu_s": _summary(cpu[m]), "loaded": files[m],
                       "command": " ".join(["python -m sdn3d.cli.edit", *calls[m]])} for m in calls},
     }
     if args.stages:
-        report["stages"] = {m: _stages(m, calls[m], _environment(m, args.trees)) for m in calls}
+        report["stages"] = {m: _stages(m, calls[m], _environment(m, args.trees, args.bytecode)) for m in calls}
     return report
 
 
@@ -265,6 +277,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--tree-mode", choices=MODES, default="checkpoints",
                         help="how the trees load the branches (compare a tree with the same mode of this code)")
     parser.add_argument("--threads", type=int, help="sdn3d-edit threads= (default: PyTorch's)")
+    parser.add_argument("--bytecode", choices=("write", "environment"), default="write",
+                        help="write: the calls keep .pyc files as an installed package does (the warm-up writes "
+                             "them); environment: as the environment says (module doc)")
     parser.add_argument("--stages", action="store_true", help="also time each stage once per mode, from inside")
     parser.add_argument("--out", help="also write the JSON here")
     return parser

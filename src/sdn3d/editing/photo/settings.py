@@ -127,6 +127,21 @@ class PhotoSettings:
         inpaint_radius: Telea's neighbourhood (input pixels).
         max_level: deepest pyramid level sampled when an object shrinks (2**level smaller).
         unseen: :data:`UNSEEN_MODES` for what neither the photo nor the mirror saw (default ``parts``).
+        part_smoothing: with ``unseen='parts'``, a never-seen pixel drawn from examples (codes ``part``, ``another
+            car``) takes the barycentric mix of its face's three corner colours (Gouraud), not its own lookup's: each
+            corner's colour is the mean of the part lookup at the pixel's own point and part with the normal of each
+            face of the vertex's smoothing fan (:func:`~sdn3d.editing.photo.transfer._corner_groups`: faces joined
+            by edges of one part within ``part_smoothing_crease_deg``, the greenhouse's glass told from the body per
+            face, :func:`~sdn3d.editing.photo.transfer._fan_labels`: no corner on the belt line mixes the window's
+            and the paint's lookups), so each face keeps on average the examples main's lookup chose for it. One
+            normal per coarse template face gave each face its own examples, a turned car's new side showed facets in
+            stair steps (issue 41, docs/results/2026-12-01_cpu/session29/gouraud29/, session30/gouraud30/).
+            False: each pixel its own lookup (the pictures before it, bit for bit).
+        part_smoothing_crease_deg: ... an edge whose faces' normals lie more than this many degrees apart splits the
+            fans (a roof against a side stays a sharp edge), in (0, 180]. 35: on the real frame's two turned cars the
+            colour step at face edges fell from 6.2 to 2.1 times the step within a face (25: 2.7, 45: 1.9); on the
+            tuning trees' turns of 45 degrees and more (seeds 31 and 33, ground-truth geometry) +0.06 dB pooled with
+            L1 unchanged (session 29, glass and body one fan: 45 gave +0.10 dB but L1 up to +0.0010, 30: +0.03 dB).
         silhouette: :data:`SILHOUETTE_MODES`, which pixels an edited car covers.
         amodal: :data:`AMODAL_MODES`, what a staying object draws where a removed one freed its hidden part.
         mask_view_deg: with ``silhouette='carved'``, a moved car whose view turned by at most this many degrees (its
@@ -265,6 +280,8 @@ class PhotoSettings:
     inpaint_radius: int = 5
     max_level: int = 3
     unseen: str = "parts"
+    part_smoothing: bool = True
+    part_smoothing_crease_deg: float = 35.0
     silhouette: str = "carved"
     amodal: str = "seen"
     mask_view_deg: float = 30.0
@@ -325,6 +342,7 @@ class PhotoSettings:
                   ("paste_max_iou", self.paste_max_iou, 0.0, 1.0),
                   ("view_stretch", self.view_stretch, 0.0, 10.0), ("outline_grow", self.outline_grow, 0.0, 0.5),
                   ("view_reflection", self.view_reflection, 0.0, 1.0),
+                  ("part_smoothing_crease_deg", self.part_smoothing_crease_deg, 1e-6, 180.0),
                   ("grow_predicted_share", self.grow_predicted_share, 0.0, 1e6))
         for name, value, lo, hi in checks:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= float(value) <= hi:
@@ -344,7 +362,8 @@ class PhotoSettings:
                 raise PhotoSettingsError(f"photo.{name} must be an integer in [{lo}, {hi}], got {value!r}")
         if self.learnt_weights is not None and (not isinstance(self.learnt_weights, str) or not self.learnt_weights):
             raise PhotoSettingsError(f"photo.learnt_weights must be a file path or null, got {self.learnt_weights!r}")
-        for name in ("relight", "recolor_parts", "delete_effects", "delete_shadow", "cast_shadow", "keep_in_front"):
+        for name in ("relight", "part_smoothing", "recolor_parts", "delete_effects", "delete_shadow", "cast_shadow",
+                     "keep_in_front"):
             if not isinstance(getattr(self, name), bool):
                 raise PhotoSettingsError(f"photo.{name} must be true or false, got {getattr(self, name)!r}")
 

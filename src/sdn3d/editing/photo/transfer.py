@@ -1727,12 +1727,40 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
             unseen = sel & ~seen
             if any_set(unseen):
                 car_examples, seen_colors = examples_of(b)
-                alb, code, seen_at = _part_colors(b, car_examples, seen_colors, point_s[unseen], normal_t[unseen],
-                                                  t_part[unseen], before, albedo if len(visible_px) else None,
-                                                  others_of(b), air=lamp_air(b))
-                if settings.view_reflection > 0 and PART_VIEW_REFLECTION:
-                    alb = _reflect_part_colors(alb, code, seen_at, t_part[unseen], cos_t[unseen], car_examples,
-                                               settings.view_reflection)
+                body_albedo = albedo if len(visible_px) else None
+
+                def lookup(points: Tensor, normals: Tensor, parts: Tensor, points_t: Tensor,
+                           b: int = b, car_examples: _PartExamples = car_examples, seen_colors: Tensor = seen_colors,
+                           body_albedo: Tensor | None = body_albedo) -> tuple[Tensor, Tensor, Tensor]:
+                    """The part lookup (and a dark paint's reflection change) of never-seen points ``points (Q, 3)``
+                    (source pose; ``points_t (Q, 3)`` at the new pose) facing ``normals (Q, 3)`` with ``parts (Q,)``:
+                    ``(colour (Q, 3), code (Q,), rule (Q,))``, ``rule`` the code and the lamp band the point lies in
+                    (:func:`_lamp_band`: its lamps may be drawn by another rule than its part's)."""
+                    alb, code, seen_at = _part_colors(b, car_examples, seen_colors, points, normals, parts, before,
+                                                      body_albedo, others_of(b), air=lamp_air(b))
+                    if settings.view_reflection > 0 and PART_VIEW_REFLECTION:
+                        alb = _reflect_part_colors(alb, code, seen_at, parts, _view_cos(points_t, normals),
+                                                   car_examples, settings.view_reflection)
+                    band = (_lamp_band(before, b, _part_features(before, b, points, normals))
+                            if LAMP_BAND is not None else None)
+                    rule = code.long() * 8 + (1 + band if band is not None else 0)
+                    return alb, code, rule
+
+                alb, code, rule = lookup(point_s[unseen], normal_t[unseen], t_part[unseen], point_t[unseen])
+                examples = (code == PART) | (code == ANOTHER_CAR)
+                if settings.part_smoothing and any_set(examples):
+                    # each face's corners looked up with the normals of the faces around them: the colour runs on
+                    # across a face edge instead of stepping to the next face's own examples (PhotoSettings)
+                    m = int(mesh[unseen][0])
+                    k = examples.nonzero().flatten()
+                    face = tgt.frags.face_at(tgt.frags.locate(pix[unseen][k])) - m * tgt.faces.shape[1]
+                    # glass and body never share a fan: the greenhouse's glass told per face (_fan_labels)
+                    labels = _fan_labels(bank, int(after.template_id[r]), tgt.faces.shape[1])
+                    alb = alb.clone()
+                    u = unseen.nonzero().flatten()[k]
+                    alb[k] = _corner_part_colors(lambda *q: lookup(*q)[::2], face, point_s[u], point_t[u], t_part[u],
+                                                 rule[k], alb[k], bary[u], normal_t[u], tgt.faces[m], tgt.verts[m],
+                                                 labels, settings.part_smoothing_crease_deg)
                 wheel = wheel_for(b) if bool((t_part[unseen] == int(Part.TYRE)).any()) else None
                 if wheel is not None:
                     alb, code = _from_real_wheels(alb, code, wheel, t_part[unseen], bank, int(after.template_id[r]),
@@ -2362,6 +2390,137 @@ def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: 
     out = colors.clone()
     out[here] += scale * strength[None] * (grazing(cos[here]) - seen_at[here])[:, None]
     return out
+
+
+#: :func:`_corner_groups`: glass faces join a fan only across edges whose normals lie within this many degrees (or
+#: ``photo.part_smoothing_crease_deg`` where less). A window's lookup changes with the way it faces more than paint's
+#: (:data:`PART_EXAMPLES_K`: a window facing the camera as none of its examples did takes 16 of them, by position): on
+#: the real frame's turned red car the windscreen's tip, drawn light from the rear window's examples, spread at 35
+#: degrees over the front side window as a beige haze; at 30 it stays on the windscreen, and the two cars' face-edge
+#: steps are 2.3 times those within a face (35: 2.1, 25: 2.6, no glass smoothing: 3.7; session30/gouraud30/).
+GLASS_CREASE_DEG = 30.0
+
+
+def _fan_labels(bank: MeshBank, template: int, n_faces: int) -> Tensor:
+    """``(n_faces,)`` long: the part each face of ``template`` in ``bank`` smooths with (:func:`_corner_groups`' labels;
+    padding faces beyond the template's: -1). Its loft label, with the greenhouse's glass told per face as
+    :func:`_greenhouse_glass` tells it per point (:func:`~sdn3d.meshes.parts.greenhouse_glass` at the face's three
+    corners' canonical heights): a body face wholly above the belt line (its corners on or above it) smooths with the
+    glass, one wholly below with the body, and one that the belt line crosses (an end cap's fan triangle, a few side
+    faces of some templates) with no other face (a label of its own: its pixels keep their own lookup, as with
+    ``part_smoothing`` off). Body and glass faces told apart so: a corner on the belt line mixed the body's lookup
+    with the greenhouse's normals (the window band faded into the paint, no crisp belt line) and the windscreen's
+    with the bonnet's (session30/gouraud30/)."""
+    known = bank.face_parts.cpu()[template].long()[:n_faces]
+    labels = torch.full((n_faces,), -1, dtype=torch.long)
+    if not len(known):
+        return labels
+    tri = bank.verts.cpu()[template][bank.faces.cpu()[template][:len(known)].long()].double()  # (F, 3, 3) canonical
+    normal = F.normalize(torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1), dim=-1)
+    belt = float(_bank_belts(bank)[template])
+    height = tri[..., 1]  # canonical y, down
+    # (F, 3) each corner as a point would be told: glass on or above the line (one on it, in float32, goes either
+    # way), and glass above it
+    glass = greenhouse_glass(known[:, None], height, -normal[:, 1:2], belt + 1e-6)
+    over = greenhouse_glass(known[:, None], height, -normal[:, 1:2], belt - 1e-6)
+    above = glass.all(1) & over.any(1)
+    crossed = over.any(1) & ~glass.all(1)
+    labels[:len(known)] = torch.where(above, int(Part.GLASS), known)
+    own = torch.arange(len(known)) + int(max(Part)) + 1  # a label no part has: joins no other face
+    labels[:len(known)] = torch.where(crossed, own, labels[:len(known)])
+    return labels
+
+
+def _corner_groups(faces: Tensor, unit: Tensor, labels: Tensor, crease_deg: float) -> Tensor:
+    """``(F, 3)`` long: a group id for each face corner of ``faces (F, 3)`` (unit normals ``unit (F, 3)`` in their
+    winding, part labels ``labels (F,)``, :func:`_fan_labels`). Corners of one vertex share a group where their
+    faces are joined, edge to edge around the vertex, by edges whose two faces are of the same part with normals
+    within ``crease_deg`` (glass faces: within :data:`GLASS_CREASE_DEG` where that is less; a smoothing group's fan):
+    a corner colour averaged over its group is the same on both sides of every such edge, and a crease or a part
+    boundary splits the fan."""
+    n_face = len(faces)
+    f = faces.long()
+    # each face's three edges (corner k to corner k + 1), as sorted vertex pairs
+    a, b = f, f.roll(-1, 1)
+    lo, hi = torch.minimum(a, b), torch.maximum(a, b)
+    key = (lo * (int(f.max()) + 1) + hi).reshape(-1)
+    order = key.argsort(stable=True)
+    same = key[order][1:] == key[order][:-1]  # neighbours in the sorted list sharing an edge
+    e1, e2 = order[:-1][same], order[1:][same]  # flat (face * 3 + k) edge ids
+    f1, f2 = e1 // 3, e2 // 3
+    crease = torch.where(labels[f1] == int(Part.GLASS), min(crease_deg, GLASS_CREASE_DEG), crease_deg)
+    smooth = (sum3(unit[f1] * unit[f2]) >= torch.cos(torch.deg2rad(crease.double()))) & (labels[f1] == labels[f2])
+    smooth &= (unit[f1].norm(dim=-1) > 0) & (unit[f2].norm(dim=-1) > 0)
+    e1, e2, f1, f2 = e1[smooth], e2[smooth], f1[smooth], f2[smooth]
+    # the joined corners: each edge's two vertices, on either face (the corner of face f2 at that vertex)
+    v1, w1 = f.reshape(-1)[e1], f.reshape(-1)[(e1 // 3) * 3 + (e1 % 3 + 1) % 3]
+    corner_of = lambda face, v: face * 3 + (f[face] == v[:, None]).long().argmax(1)  # noqa: E731
+    src = torch.cat([e1 // 3 * 3 + e1 % 3, corner_of(f1, w1)])
+    dst = torch.cat([corner_of(f2, v1), corner_of(f2, w1)])
+    group = torch.arange(3 * n_face)
+    if len(src):
+        # connected components by minimum-label propagation (a fan is a short chain: a few rounds)
+        for _ in range(3 * n_face):
+            new = group.clone()
+            new.scatter_reduce_(0, src, group[dst], "amin")
+            new.scatter_reduce_(0, dst, group[src], "amin")
+            new = new[new]  # pointer jumping: halves the rounds
+            if torch.equal(new, group):
+                break
+            group = new
+    return group.view(n_face, 3)
+
+
+def _members(group: Tensor) -> Tensor:
+    """``(G, D)`` long: for each group id ``0..G-1`` of ``group (C,)`` the flat ids of its members, padded with -1."""
+    order = group.argsort(stable=True)
+    counts = torch.bincount(group, minlength=len(group))
+    start = counts.cumsum(0) - counts
+    rank = torch.arange(len(group)) - start[group[order]]
+    table = torch.full((len(group), max(int(counts.max()), 1)), -1, dtype=torch.long)
+    table[group[order], rank] = order
+    return table
+
+
+def _corner_part_colors(lookup: Callable[[Tensor, Tensor, Tensor, Tensor], tuple[Tensor, Tensor]], face: Tensor,
+                        points_s: Tensor, points_t: Tensor, parts: Tensor, rules: Tensor, own: Tensor, bary: Tensor,
+                        normals: Tensor, faces: Tensor, verts_t: Tensor, labels: Tensor, crease_deg: float) -> Tensor:
+    """``(P, 3)`` colours of never-seen pixels of one car drawn from examples, Gouraud-style
+    (:attr:`PhotoSettings.part_smoothing`). Pixel ``p`` shows the surface point ``points_s[p]`` (source pose; at the
+    new one ``points_t[p]``) of face ``face[p]`` of ``faces (F, 3)`` (vertices ``verts_t (V, 3)`` at the new pose;
+    fan labels ``labels (F,)``, :func:`_fan_labels`) at barycentrics ``bary (P, 3)``, facing ``normals (P, 3)`` (its
+    face's, turned to the camera), of part ``parts (P,)``; its own lookup gave it colour ``own (P, 3)`` by rule
+    ``rules (P,)``. Each of its face's corners stands for the mean of ``lookup(points at the source pose, normals,
+    parts, points at the new pose) -> (colour, rule)`` at the pixel's own point with the normal of each face of the
+    corner's smoothing fan (:func:`_corner_groups`: the faces around the vertex joined by edges of one label within
+    ``crease_deg``; the face's own among them), and the pixel takes the barycentric mix of its three corners; only
+    colours of the pixel's own rule count (none: its own colour). On an edge between two faces of one fan the mix is
+    the same from either side (the same corners' fans, the same barycentrics, the same point), so the colour runs on
+    across the edge instead of stepping to the next face's examples; a part boundary, a lamp band's edge or a crease
+    keeps its step. Looked up at the pixel's own point, not at the vertices: a corner's colour carried along a long
+    face (a bus's side, an end cap's fan) drew one end's examples across the whole face. Each face keeps its own
+    normal's examples among its corners'. The lookup runs once per distinct (pixel, face of its corners' fans)."""
+    n_face = len(faces)
+    tri = verts_t[faces.long()]  # (F, 3, 3)
+    raw = torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1)
+    unit = raw / raw.norm(dim=-1, keepdim=True).clamp_min(1e-300)  # padding faces: a zero normal, joined to none
+    # the side the pixel's face was turned to (its winding's normal or the opposite), given to its fans' faces
+    side = torch.where(sum3(unit[face] * normals) < 0, -1.0, 1.0).double()
+    group = _corner_groups(faces, unit, labels, crease_deg)
+    members = _members(group.reshape(-1))[group[face]]  # (P, 3, D) flat corner ids of each corner's fan
+    use = members >= 0
+    # each fan face's share of the pixel: its corner's barycentric over the fan's size, summed over the corners
+    share = torch.where(use, bary.double()[..., None] / use.sum(2, keepdim=True).clamp(min=1), 0.0)
+    pixel = torch.arange(len(face))[:, None, None].expand_as(members)
+    key = (pixel * n_face + members.clamp(min=0) // 3)[use]
+    uniq, inverse = key.unique(return_inverse=True)
+    weight = torch.zeros(len(uniq), dtype=torch.float64).index_add_(0, inverse, share[use])
+    q_pix, q_face = uniq // n_face, uniq % n_face
+    color, rule = lookup(points_s[q_pix], side[q_pix, None] * unit[q_face], parts[q_pix], points_t[q_pix])
+    weight = weight * (rule == rules[q_pix]).double()
+    total = torch.zeros(len(face), dtype=torch.float64).index_add_(0, q_pix, weight)
+    mixed = torch.zeros(len(face), 3, dtype=torch.float64).index_add_(0, q_pix, color.double() * weight[:, None])
+    return torch.where((total > 0)[:, None], mixed / total.clamp_min(1e-300)[:, None], own.double())
 
 
 def _nearest_examples(query: Tensor, examples: Tensor, k: int) -> Tensor:

@@ -119,6 +119,51 @@ def test_corner_colours_run_on_over_a_tessellated_panel():
     assert torch.allclose(sharp, flat10, atol=1e-9)
 
 
+def test_the_pixels_own_face_is_not_looked_up_again():
+    """Each pixel's own face stands for the lookup the caller made (``own``, ``rules``): the corner lookup asks only
+    the other faces of its corners' fans, and the colours are those of asking every face (the lookup before), bit for
+    bit, with a lookup whose rows are each their own."""
+    verts, faces = _arch(8, depth=4.0)
+    size = (60, 400)
+    K = torch.tensor([[200.0, 0.0, 200.0], [0.0, 200.0, 30.0], [0.0, 0.0, 1.0]], dtype=torch.float64)
+    raster = _rasterize(torch.zeros(1, dtype=torch.long), verts[None], faces[None], K, size)
+    pix = raster.frags.covered()
+    _, _, bary, normal, _, point = _surface_points(raster, pix)
+    face = raster.frags.face_at(raster.frags.locate(pix))
+    labels = torch.zeros(len(faces), dtype=torch.long)
+    asked = []
+
+    def lookup(points, normals, q_parts, points_t):  # a colour from the point and the normal; a rule from the height
+        asked.append(normals)
+        color = (normals.abs() * 0.7 + points.remainder(0.37) * 0.8).clamp(0, 1)
+        return color, (points[:, 1] > 0).long()
+
+    own, rules = lookup(point, normal, labels[face], point)
+    asked.clear()
+    got = _corner_part_colors(lookup, face, point, point, labels[face], rules, own, bary, normal, faces, verts, labels,
+                              45.0)
+    # every fan face asked, the pixel's own too: the formulation before
+    group = _corner_groups(faces, _unit(verts, faces), labels, 45.0)
+    fans = transfer._members(group.reshape(-1))[group[face]]  # (P, 3, D)
+    every = [set((fans[p][fans[p] >= 0] // 3).tolist()) for p in range(len(face))]
+    assert sum(len(a) for a in asked) == sum(len(e) - 1 for e in every)  # the own face never asked again
+    side = torch.where((_unit(verts, faces)[face] * normal).sum(1) < 0, -1.0, 1.0)
+    some = torch.arange(0, len(face), 23)
+    want = torch.zeros(len(face), 3, dtype=torch.float64)
+    for p in some.tolist():
+        total = 0.0
+        for k in range(3):
+            members = fans[p, k][fans[p, k] >= 0] // 3
+            for f in members.tolist():
+                n = side[p] * _unit(verts, faces)[f]
+                c, r = lookup(point[p:p + 1], n[None], labels[face][p:p + 1], point[p:p + 1])
+                w = float(bary[p, k]) / len(members) * float(r[0] == rules[p])
+                want[p] += w * c[0]
+                total += w
+        want[p] = want[p] / total if total > 0 else own[p]
+    assert torch.allclose(got[some], want[some], atol=1e-12)
+
+
 def test_part_boundaries_stay_sharp():
     """Strips 0-3 and 4-7 of different parts: their colours (each part's own) meet in a step, unsmoothed."""
     labels = (torch.arange(16) >= 8).long() * int(Part.TYRE)

@@ -1,3 +1,4 @@
+# ruff: noqa: E401, E402, E501, E701, E702, F401, I001
 # eps.py EPS OUT [overrides]: sdn3d-edit on the real frame, both cars turned -90, FAN_SAME_NORMAL_DEG = EPS
 import sys
 import sdn3d.editing.photo.transfer as T

@@ -1,3 +1,4 @@
+# ruff: noqa: E401, E402, E501, E701, E702, F401, I001
 # profile sdn3d-edit on the real frame, both cars turned -90; argv: OUT [overrides]
 import cProfile, pstats, sys, time
 from sdn3d.cli import edit

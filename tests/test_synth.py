@@ -269,6 +269,33 @@ def test_edit_benchmark_matches_targets(dataset: Path) -> None:
                 assert top <= op.to_uv[1] <= bottom and left <= op.to_uv[0] <= right
 
 
+def test_edit_delete_share_makes_every_pair_a_delete_and_its_default_the_pairs_drawn_before(
+        dataset: Path, tmp_path: Path) -> None:
+    """``edit_delete_share=1``: every operation of every edit pair deletes its car, and the target frame lacks it
+    (a benchmark of deletes alone); 0 makes none; a config that does not name it has the default 0.15, which
+    drew the mixed pairs of every earlier tree."""
+    from sdn3d.data.edit_benchmark import load_edit_benchmark
+    from sdn3d.data.synth.edits import DEFAULT_DELETE_SHARE
+
+    assert _config(tmp_path / "d").edit_delete_share == DEFAULT_DELETE_SHARE == 0.15
+    deletes = generate_dataset(_config(tmp_path / "deletes", variations=("clone",), edit_pairs=4,
+                                       edit_delete_share=1.0))
+    entries = load_edit_benchmark(deletes / BENCHMARK_NAME)
+    ops = [op for e in entries for op in e.operations]
+    assert len(entries) == 4 and len(ops) >= 4 and all(op.kind == "delete" for op in ops)
+    rows = _motgt(deletes, "clone")
+    for entry in entries:  # each deleted car (the source car whose projected centre is at `from`) is gone
+        src = {int(r["tid"]): r for r in rows if int(r["frame"]) == entry.source_frame}
+        tgt = {int(r["tid"]) for r in rows if int(r["frame"]) == entry.target_frame}
+        for op in entry.operations:
+            tid = min(src, key=lambda t: np.linalg.norm(_project_full(_center(src[t])) - op.from_uv))
+            assert tid not in tgt
+    default_ops = [op.kind for e in load_edit_benchmark(dataset / BENCHMARK_NAME) for op in e.operations]
+    assert "modify" in default_ops
+    none = generate_dataset(_config(tmp_path / "none", variations=("clone",), edit_pairs=4, edit_delete_share=0.0))
+    assert all(op.kind == "modify" for e in load_edit_benchmark(none / BENCHMARK_NAME) for op in e.operations)
+
+
 SMALL = dict(variations=("clone",), frames_per_sequence=1, edit_pairs=0, image_size=(64, 24))
 
 
@@ -360,6 +387,9 @@ def test_never_replaces_the_root() -> None:
         ({"cars_per_frame": (-1, 3)}, "cars_per_frame must be"),
         ({"edit_pairs": -1}, "edit_pairs must be >= 0, got -1"),
         ({"max_edit_operations": "x"}, "max_edit_operations must be an integer >= 1"),
+        ({"edit_delete_share": 1.5}, r"edit_delete_share must be a number in \[0, 1\], got 1.5"),
+        ({"edit_delete_share": "all"}, r"edit_delete_share must be a number in \[0, 1\]"),
+        ({"edit_delete_share": True}, r"edit_delete_share must be a number in \[0, 1\]"),
         ({"workers": -2}, "workers must be >= 1, got -2"),
         ({"threads": "abc"}, "threads must be an integer >= 1"),
         ({"seed": "abc"}, "seed must be an integer"),

@@ -38,6 +38,7 @@ _FIELDS = (
     "edit_pairs",
     "occluder_pairs",
     "max_edit_operations",
+    "edit_delete_share",
     "overwrite",
     "workers",
     "threads",

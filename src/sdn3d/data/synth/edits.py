@@ -43,12 +43,16 @@ __all__ = [
     "MAX_HIDDEN_FRACTION",
     "project_full",
     "footprints_overlap",
+    "DEFAULT_DELETE_SHARE",
 ]
 
 _MIN_SEPARATION = 12.0  # full-resolution pixels between projected centres
 _MAX_TRIES = 25
 #: A partly hidden car of an occluder-removed pair shows at most this share of its in-frame pixels.
 MAX_HIDDEN_FRACTION = 0.8
+#: :func:`sample_edit`: the chance that a car an edit pair picks is deleted (the share every benchmark tree was drawn
+#: with; ``SynthConfig.edit_delete_share``).
+DEFAULT_DELETE_SHARE = 0.15
 
 
 def project_full(points: np.ndarray) -> np.ndarray:
@@ -165,6 +169,7 @@ def sample_edit(
     world_to_cam: np.ndarray,
     intrinsics: Intrinsics,
     max_operations: int = 3,
+    delete_share: float = DEFAULT_DELETE_SHARE,
 ) -> tuple[FrameObjects, list[BenchmarkOperation], np.ndarray]:
     """Edit the cars of a source frame; returns the target frame's cars and the operations.
 
@@ -175,6 +180,8 @@ def sample_edit(
         world_to_cam: ``(4, 4)`` source (and target) extrinsics.
         intrinsics: working-size intrinsics (only for the minimum visible size).
         max_operations: at most this many operations (fewer if fewer cars qualify).
+        delete_share: the chance that each chosen car is deleted (one uniform draw per car, as before the option:
+            the default draws the same pairs).
 
     Returns:
         The edited :class:`FrameObjects` (deleted cars removed), the operations (empty when no
@@ -209,7 +216,7 @@ def sample_edit(
     operations: list[BenchmarkOperation] = []
     for i in sorted(int(c) for c in chosen):
         from_uv = (round(float(uv[i, 0]), 1), round(float(uv[i, 1]), 1))
-        if rng.uniform() < 0.15:
+        if rng.uniform() < delete_share:
             alive[i] = False
             operations.append(BenchmarkOperation.delete(from_uv))
             continue

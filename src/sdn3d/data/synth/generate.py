@@ -72,6 +72,7 @@ from sdn3d.data.synth.counterfactual import (
     turned,
 )
 from sdn3d.data.synth.edits import (
+    DEFAULT_DELETE_SHARE,
     MAX_HIDDEN_FRACTION,
     OccluderCandidates,
     hidden_min_pixels,
@@ -177,6 +178,10 @@ class SynthConfig:
         occluder_pairs: "occluder removed" pairs per sequence (each adds one target frame, after the edit pairs'):
             a car in front of a partly hidden one deleted (:func:`~sdn3d.data.synth.edits.occluder_candidates`).
         max_edit_operations: at most this many operations per pair.
+        edit_delete_share: the chance that each car an edit pair picks is deleted rather than moved, turned or
+            zoomed (:func:`~sdn3d.data.synth.edits.sample_edit`; 0.15, the default, draws the pairs it always drew).
+            1.0 makes every edit pair a delete: a benchmark of deletes alone, whose few entries a mixed tree
+            otherwise gives (about 7 a tree of 100 edit pairs).
         overwrite: replace a non-empty ``output_dir``.
         workers: processes rendering in parallel (1: in this process); the unit of work is a world's
             variations that share the camera (:func:`sequence_groups`: each frame's geometry is rendered once
@@ -206,6 +211,7 @@ class SynthConfig:
     edit_pairs: int = 2
     occluder_pairs: int = 1
     max_edit_operations: int = 3
+    edit_delete_share: float = DEFAULT_DELETE_SHARE
     overwrite: bool = False
     workers: int = 1
     threads: int = 1
@@ -250,6 +256,10 @@ class SynthConfig:
         put("edit_pairs", _integer("edit_pairs", self.edit_pairs, 0))
         put("occluder_pairs", _integer("occluder_pairs", self.occluder_pairs, 0))
         put("max_edit_operations", _integer("max_edit_operations", self.max_edit_operations, 1))
+        share = self.edit_delete_share
+        if isinstance(share, bool) or not isinstance(share, numbers.Real) or not 0.0 <= float(share) <= 1.0:
+            raise SynthConfigError(f"edit_delete_share must be a number in [0, 1], got {_got(share)}")
+        put("edit_delete_share", float(share))
         if self.frames_per_sequence + self.target_frames > 99999:
             raise SynthConfigError("frames_per_sequence + edit_pairs + occluder_pairs must fit 5-digit frame numbers "
                                    "(<= 99999)")
@@ -535,7 +545,7 @@ def _edit_targets(writer: SequenceWriter, cfg: SynthConfig, world: World, world_
         objects, stats, pose = rendered[source]
         for _ in range(_EDIT_ATTEMPTS):
             edited, operations, modified = sample_edit(
-                rng, world, objects, stats, pose, intrinsics, cfg.max_edit_operations
+                rng, world, objects, stats, pose, intrinsics, cfg.max_edit_operations, cfg.edit_delete_share
             )
             geometry = render_geometry(world, edited, pose, intrinsics)
             # Every modified car must stay visible in the target (motgt lists visible cars only).

@@ -1,7 +1,7 @@
 # ruff: noqa: E501
 """tables.py OUTDIR SEED...: Table 1 photo rows of the deletes trees (session 33): 3D-SDN against the 2D paste on
-PSNR and L1 of 'all' (a delete's or an occluder removal's 'objects' region is empty), per kind (delete,
-occluder_removed), per row (semantic = predicted, gt = ground-truth masks
+PSNR and L1 of 'all' and 'objects' (a delete's or an occluder removal's 'objects' region is empty: those columns
+are left out), per kind (rotate, zoom, move, delete, occluder_removed), per row (semantic = predicted, gt = ground-truth masks
 (oracle)), pooled over the trees and per tree, with the floor (floor.py: the unedited source image as the edit).
 
 Intervals: sdn3d.evaluation.paired.paired_difference (its defaults: 95 %, seed 0), resampling groups of entries.
@@ -23,7 +23,7 @@ from sdn3d.evaluation.paired import paired_difference
 
 OUT = os.environ.get("B", "/tmp/s33/deletes") + "/out"
 ROWS = {"semantic": "predicted (semantic proposals)", "gt": "ground-truth masks (oracle)"}
-COLS = (("psnr", "all"), ("l1", "all"))
+COLS = (("psnr", "all"), ("l1", "all"), ("psnr", "objects"), ("l1", "objects"))
 
 
 def components(cars_of):  # entry key -> its cars; entries sharing a car joined (union-find)
@@ -98,7 +98,7 @@ results = {}
 lines = ["| row | kind | scope | column | n entries (groups joined / bench) | 3D-SDN | 2D | 2D+ | source as edit (floor) | 3D-SDN - 2D [95 % cars, joined] w/l | [95 % bench groups] | [95 % entries] | verdict (joined) |",
          "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
 for row in ROWS:
-    for kind in ("delete", "occluder_removed"):
+    for kind in ("rotate", "zoom", "move", "delete", "occluder_removed"):
         for scope in ["pooled"] + seeds:
             sel = [e for e in entries if e["row"] == row and e["kind"] == kind and (scope == "pooled" or e["seed"] == scope)]
             if not sel:

@@ -24,6 +24,7 @@ EXAMPLES = {
     "sdn3d.resources": ("",),  # the module docstring
     "sdn3d.labels": ("",),
     "sdn3d.image_ops": ("",),
+    "sdn3d.editing.photo.nearest": ("",),
 }
 OPTIONS = doctest.NORMALIZE_WHITESPACE
 

@@ -1215,13 +1215,15 @@ def test_a_source_makes_each_cars_part_examples_and_reads_its_air_once_for_all_i
     assert len(made) == 4 * 3  # a fresh state makes its own
 
 
-def test_nearest_examples_in_blocks_are_one_calls_bit_for_bit(monkeypatch):
-    """``_nearest_examples`` looks at a few hundred query rows at a time (``NEAREST_ROWS``: their distances stay in
-    cache between ``cdist`` and ``topk``), and its indices are those of one ``cdist`` + ``topk`` on every row, the
-    formulation it replaced (8192 rows at a time), bit for bit: fewer and more rows than a block, blocks whose last
-    one is small, few examples (``cdist``'s other formula below 26 rows on both sides), near ties and exact ties
-    (repeated examples). Main looked at 8192 rows at a time."""
-    from sdn3d.editing.photo import transfer
+def test_nearest_examples_pytorch_path_in_blocks_is_one_calls_bit_for_bit(monkeypatch):
+    """Without the kernel, ``nearest_examples`` looks at a few hundred query rows at a time (``NEAREST_ROWS``: their
+    distances stay in cache between ``cdist`` and ``topk``), and its indices are those of one ``cdist`` + ``topk`` on
+    every row, the formulation it replaced (8192 rows at a time), bit for bit: fewer and more rows than a block,
+    blocks whose last one is small, few examples (``cdist``'s other formula below 26 rows on both sides), near ties
+    and exact ties (repeated examples). Main looked at 8192 rows at a time."""
+    from sdn3d.editing.photo import nearest
+
+    monkeypatch.setattr(nearest, "nearest_kernel", lambda: None)
 
     def one_call(query, examples, k):
         k = min(k, len(examples))
@@ -1238,10 +1240,10 @@ def test_nearest_examples_in_blocks_are_one_calls_bit_for_bit(monkeypatch):
         examples[e // 2:] = examples[:e - e // 2].clone()  # every example twice: exact ties
         query = torch.rand(q, 6, generator=g, dtype=torch.float64)
         query[::7] = examples[torch.arange(0, q, 7) % e] + 1e-7  # near ties
-        got = transfer._nearest_examples(query, examples, k)
+        got = nearest.nearest_examples(query, examples, k)
         with monkeypatch.context() as m:
             m.setattr(torch, "cdist", cdist)
             want = one_call(query, examples, k)
         assert torch.equal(got, want), (q, e, k)
     assert max(rows) < 8192  # the 9000 queries: main took 8192 rows at once
-    assert max(rows) <= transfer.NEAREST_ROWS
+    assert max(rows) <= nearest.NEAREST_ROWS

@@ -6,10 +6,11 @@ from __future__ import annotations
 
 import math
 
+import pytest
 import torch
 
+from sdn3d.editing.photo import nearest
 from sdn3d.editing.photo.road import GRAIN_WEIGHTS, _nearest_zero
-from sdn3d.editing.photo.transfer import _nearest_examples
 from sdn3d.image_ops import dilate_square
 
 
@@ -61,13 +62,16 @@ def test_nearest_zero_falls_back_to_the_scan_on_gaps_ties_and_bends():
         assert _nearest_zero(excess, n) == _scan(values), values
 
 
-def test_nearest_examples_in_float32_are_float64s_without_near_ties():
+@pytest.mark.parametrize("kernel", [True, False], ids=["kernel", "pytorch"])
+def test_nearest_examples_in_float32_are_float64s_without_near_ties(monkeypatch, kernel):
+    if not kernel:
+        monkeypatch.setattr(nearest, "nearest_kernel", lambda: None)
     g = torch.Generator().manual_seed(1)
     for q, e, k in ((500, 1500, 4), (9000, 40, 4), (30, 3, 4)):  # several chunks; fewer examples than k
         examples = torch.rand(e, 6, generator=g, dtype=torch.float64)
         query = torch.rand(q, 6, generator=g, dtype=torch.float64)
         want = torch.cdist(query, examples).topk(min(k, e), largest=False)
-        got = _nearest_examples(query, examples, k)
+        got = nearest.nearest_examples(query, examples, k)
         assert got.shape == (q, min(k, e))
         dist = torch.cdist(query, examples).sort(1).values
         clear = (dist[:, min(k, e)] - dist[:, min(k, e) - 1] > 1e-5) if e > k else torch.ones(q, dtype=torch.bool)

@@ -14,6 +14,7 @@ import trimesh
 import sdn3d.render._native as native
 import sdn3d.render.soft as soft
 from sdn3d.math3d.rotations import roty
+from sdn3d.native import build_kernel
 from sdn3d.render import SoftSilhouetteSettings, soft_silhouette
 
 if shutil.which("g++") is None and os.environ.get("CI", "").lower() == "true":
@@ -184,14 +185,13 @@ def test_the_float32_kernel_in_vectors_of_8_is_the_one_vector_kernel_to_the_bit(
     box = torch.stack([col0, row0, box_w, box_h], 1).contiguous()
     pixel_grad = torch.rand(meshes * 48 * 48, generator=torch.Generator().manual_seed(5)) - 0.5
     compiler = shutil.which("g++")
-    source = native._SOURCE.read_bytes()
     lanes = native.soft_kernel().sdn3d_soft_f32_lanes()
     assert lanes in (8, 16)
     results, libraries = [], set()
     for defines in ((), (f"-DSDN3D_SOFT_F32_LANES={24 - lanes}",)):
-        library = native._build(compiler, source, defines)
+        library = build_kernel(compiler, native.SOURCE, defines)
         libraries.add(library)
-        kernel = native._bind(ctypes.CDLL(str(library)))
+        kernel = native.bind(ctypes.CDLL(str(library)))
         log_keep, grad = torch.zeros(meshes * 48 * 48), torch.empty_like(screen)
         soft._call(kernel, "forward", screen, box, faces_per_mesh, settings, log_keep)
         soft._call(kernel, "backward", screen, box, faces_per_mesh, settings, pixel_grad, grad)

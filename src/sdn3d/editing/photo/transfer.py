@@ -26,6 +26,7 @@ from sdn3d.editing.photo.fill import (
     vacated_hole,
 )
 from sdn3d.editing.photo.light import LightEstimate, fit_light, fit_reflection, grazing, luminance
+from sdn3d.editing.photo.nearest import nearest_examples
 from sdn3d.editing.photo.occluders import thin_occluders
 from sdn3d.editing.photo.recolor import (
     DARK_PAINT_L,
@@ -2283,7 +2284,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
         if len(have) > max_examples:
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
         more = PART_EXAMPLES_K.get(part, k)
-        near = _nearest_examples(q_feat[q], feature[have], max(k, more))  # nearest first
+        near = nearest_examples(q_feat[q], feature[have], max(k, more))  # nearest first
         if more > k and PART_NORMAL_WEIGHT > 0:  # the k nearest where the nearest faced the camera the same way
             facing = (q_feat[q, 3:] * feature[have][near[:, 0], 3:]).sum(1) / PART_NORMAL_WEIGHT**2
             panel = facing >= math.cos(math.radians(SAME_PANEL_DEG))
@@ -2311,7 +2312,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
                 lit, code = (pool.color, pool.feature, pool.cos) if len(pool.part) >= k else None, ANOTHER_CAR
             if lit is not None:  # the lamps as the photo shows them, in this end's hue, unshaded (they glow)
                 source, feature, cos = lit
-                near = _nearest_examples(q_feat[q], feature, k)
+                near = nearest_examples(q_feat[q], feature, k)
                 albedo[q] = source[near].mean(1)
                 codes[q] = code
                 seen_at[q] = grazing(cos[near]).mean(1)
@@ -2528,28 +2529,6 @@ def _corner_part_colors(lookup: Callable[[Tensor, Tensor, Tensor, Tensor], tuple
     total = torch.zeros(len(face), dtype=torch.float64).index_add_(0, q_pix, weight)
     mixed = torch.zeros(len(face), 3, dtype=torch.float64).index_add_(0, q_pix, color.double() * weight[:, None])
     return torch.where((total > 0)[:, None], mixed / total.clamp_min(1e-300)[:, None], own.double())
-
-
-def _nearest_examples(query: Tensor, examples: Tensor, k: int) -> Tensor:
-    """``(Q, min(k, E))`` the indices of the ``k`` examples ``examples (E, F)`` nearest (Euclidean) each row of ``query
-    (Q, F)``, nearest first. In float32: the ``(Q, E)`` distances are the costliest step of an unseen side, and float64
-    only reorders near ties among the nearest examples (the pictures' changes are in
-    docs/results/2026-11-29_cpu/session9/rot05/).
-
-    Looked at :data:`NEAREST_ROWS` query rows at a time, so that each block's distances stay in the processor's cache
-    between ``cdist`` and ``topk``: blocks of 8192 rows (49 MB of distances at 1500 examples) took about 1.5 times as
-    long on the real frame's turns (docs/results/2026-11-30_cpu/session23/turncost/). Each distance is the same
-    whatever the block: ``cdist`` picks its formula (a matrix product above 25 rows on either side) from the sizes it
-    is given, so the pick is made here once from the whole query's, as one call on all of it would make it."""
-    k = min(k, len(examples))
-    query, examples = query.float(), examples.float()
-    mode = "use_mm_for_euclid_dist" if len(query) > 25 or len(examples) > 25 else "donot_use_mm_for_euclid_dist"
-    return torch.cat([torch.cdist(chunk, examples, compute_mode=mode).topk(k, largest=False).indices
-                      for chunk in query.split(NEAREST_ROWS)])
-
-
-#: :func:`_nearest_examples`' block of query rows (its ``(rows, E)`` float32 distances: 3 MB at 1500 examples).
-NEAREST_ROWS = 512
 
 
 def _lamp_band(before: ObjectTable, b: int, features: Tensor, corners: bool = True) -> Tensor | None:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import os
 import shutil
-import warnings
 
 import pytest
 import torch
@@ -96,34 +95,3 @@ def test_without_the_kernel_the_pytorch_path_answers(monkeypatch) -> None:
     monkeypatch.setattr(nearest, "nearest_kernel", lambda: None)
     assert torch.equal(nearest.nearest_examples(query, examples, k), pytorch_path(query, examples, k))
     assert nearest.nearest_examples(query[:0], examples, k).shape == (0, k)
-
-
-def test_a_failed_build_warns_and_falls_back(monkeypatch, tmp_path) -> None:
-    monkeypatch.setenv("SDN3D_NATIVE_CACHE", str(tmp_path))
-    monkeypatch.setenv("CXX", "false")  # a "compiler" that always fails
-    nearest.nearest_kernel.cache_clear()
-    try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            assert nearest.nearest_kernel() is None
-            query, examples = torch.rand(40, 6), torch.rand(30, 6)
-            assert torch.equal(nearest.nearest_examples(query, examples, 4), pytorch_path(query, examples, 4))
-        assert any("nearest examples uses its PyTorch path" in str(w.message) for w in caught)
-        assert not list(tmp_path.glob("*.so"))
-    finally:
-        nearest.nearest_kernel.cache_clear()
-
-
-@needs_compiler
-def test_the_kernel_is_built_once_into_the_cache(monkeypatch, tmp_path) -> None:
-    monkeypatch.setenv("SDN3D_NATIVE_CACHE", str(tmp_path))
-    nearest.nearest_kernel.cache_clear()
-    try:
-        assert nearest.nearest_kernel() is not None
-        built = list(tmp_path.glob("nearest_kernel_*.so"))
-        assert len(built) == 1
-        stamp = built[0].stat().st_mtime_ns
-        nearest.nearest_kernel.cache_clear()
-        assert nearest.nearest_kernel() is not None and built[0].stat().st_mtime_ns == stamp  # reused, not rebuilt
-    finally:
-        nearest.nearest_kernel.cache_clear()

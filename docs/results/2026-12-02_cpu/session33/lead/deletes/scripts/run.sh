@@ -15,4 +15,4 @@ for ROW in semantic gt; do
      output_dir=$B/out/${SEED}_$ROW > $B/out/${SEED}_$ROW.log 2>&1)
   echo "$SEED $ROW rc=$? $(date -u +%T)" >> $B/run.log
 done
-(cd $CODE && nice -n 5 $PY $HERE/floor.py $TREE $B/out/floor_$SEED.json > $B/out/floor_$SEED.log 2>&1); echo "$SEED floor rc=$? $(date -u +%T)" >> $B/run.log
+(cd $CODE && nice -n 5 $PY $HERE/../../../../../2026-12-01_cpu/session30/t1big30/scripts/floor.py $TREE $B/out/floor_$SEED.json > $B/out/floor_$SEED.log 2>&1); echo "$SEED floor rc=$? $(date -u +%T)" >> $B/run.log

@@ -149,3 +149,16 @@ def test_cli_counterfactual_kinds_scores_the_deletes_alone(pairs_tree: Path, tmp
     report = json.loads((out / "counterfactual.json").read_text())
     assert list(report["summary"]["oracle"]) == ["delete"] and {p["kind"] for p in report["pairs"]} == {"delete"}
     assert report["info"]["methods"][:2] == ["photo:auto", "photo:rays"]
+    assert "was not scored here" not in (out / "counterfactual.md").read_text()
+
+
+def test_cli_says_when_the_reference_was_not_scored(pairs_tree: Path, tmp_path: Path) -> None:
+    """Without ``auto`` among the fills there is nothing to pair against: the table says so instead of leaving the
+    columns of differences empty without a word."""
+    out = tmp_path / "cfr"
+    args = ["counterfactual=true", f"data.root={pairs_tree}", f"output_dir={out}", "counterfactual_fills=[rays]",
+            "counterfactual_kinds=[delete]", "counterfactual_sources=[oracle]"]
+    assert main(args) == 0
+    assert "photo:auto" not in json.loads((out / "counterfactual.json").read_text())["info"]["methods"]
+    assert "`photo:auto` was not scored here (`counterfactual_fills` without `auto`)" in (
+        out / "counterfactual.md").read_text()

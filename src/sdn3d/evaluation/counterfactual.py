@@ -511,6 +511,10 @@ def counterfactual_markdown(summary: dict, comps: dict, info: dict) -> str:
              "wins/losses/ties (by the metric's direction). PSNR in dB (at most 60), L1 on [0, 1], flat = share of "
              "the car's target pixels the photo appearance drew as flat colour (source map `fallback` or "
              "`default`), in %.", ""]
+    if "methods" in info and REFERENCE not in info["methods"]:  # e.g. counterfactual_fills=[rays]: nothing to pair
+        lines += [f"`{REFERENCE}` was not scored here (`counterfactual_fills` without `auto`), so the columns of "
+                  "differences against it are empty; `counterfactual.json` holds every pair's scores to pair any two "
+                  "methods.", ""]
     if info.get("generator_note"):
         lines += [info["generator_note"], ""]
     for source, bins in summary.items():

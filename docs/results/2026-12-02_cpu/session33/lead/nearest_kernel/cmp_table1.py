@@ -5,6 +5,7 @@ import json
 import math
 import sys
 
+
 def load(p):
     (recs,) = json.load(open(f"{p}/results.json"))["entries"].values()
     return {r["index"]: r for r in recs}

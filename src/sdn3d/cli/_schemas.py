@@ -180,6 +180,7 @@ class BenchSchema:
     counterfactual_sources: Any = MISSING  # one source or a list of them, or null
     counterfactual_fills: List[str] = MISSING
     counterfactual_kinds: List[str] = MISSING
+    counterfactual_reference: str = MISSING
     output_dir: str = MISSING
     overwrite: bool = MISSING
     device: str = MISSING

@@ -755,6 +755,9 @@ def run_counterfactual_bench(cfg: Any) -> dict:
     from sdn3d.evaluation.edit_benchmark import index_records
     from sdn3d.io import write_json_atomic, write_text_atomic
 
+    reference = str(cfg.get("counterfactual_reference") or cf.REFERENCE)
+    if reference not in cf.method_names():  # before anything is read or written
+        raise InputError(f"counterfactual_reference must be one of {list(cf.method_names())}, got {reference!r}")
     root, marker = Path(str(cfg.data.root)).expanduser(), "counterfactual.json"
     rules = {"listed_in": "outputs", "inputs": {"data.root": str(root)}}
     out = check_output_dir(cfg.output_dir, marker, bool(cfg.overwrite), **rules)
@@ -778,10 +781,10 @@ def run_counterfactual_bench(cfg: Any) -> dict:
     results = cf.run_counterfactual(index, index_records(read_frames(root)), models, settings, lambda i, n, rows:
                                     console.print(f"[counterfactual {i}/{n}] {rows[0].key.split()[0]}", markup=False))
     names = cf.methods(settings, models is not None and models.textural is not None)
-    summary, comps = cf.summarize(results, names), cf.comparisons(results, names)
+    summary, comps = cf.summarize(results, names), cf.comparisons(results, names, reference)
     info = {"data": f"pairs at {root}", "image_size": list(index.image_size), "sources": list(settings.sources),
             "source_labels": {s: cf.SOURCE_LABELS[s] for s in settings.sources}, "methods": list(names),
-            "reference": cf.REFERENCE, "checkpoints": ck, "wall_s": time.perf_counter() - t0}
+            "reference": reference, "checkpoints": ck, "wall_s": time.perf_counter() - t0}
     report = {"info": info, "config": OmegaConf.to_container(cfg, resolve=True), "summary": summary,
               "comparisons": comps, "pairs": [r.to_json() for r in results],
               "outputs": sorted(["counterfactual.md", marker])}

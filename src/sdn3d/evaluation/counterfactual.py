@@ -70,7 +70,8 @@ if TYPE_CHECKING:
     from sdn3d.geometric.fit import FitSettings
 
 __all__ = ["SOURCES", "SOURCE_LABELS", "REFERENCE", "FLAT_SOURCES", "PSNR_MSE_FLOOR", "LUMA",
-           "CounterfactualSettings", "PairResult", "methods", "pair_bin", "luminance", "darkening", "road_ring",
+           "CounterfactualSettings", "PairResult", "method_names", "methods", "pair_bin", "luminance", "darkening",
+           "road_ring",
            "evaluate_target", "run_counterfactual", "summarize", "comparisons", "counterfactual_markdown",
            "HIGHER_IS_BETTER"]
 
@@ -140,6 +141,11 @@ class CounterfactualSettings:
             raise UserInputError("counterfactual sources must name at least one source scene")
         if self.limit is not None and self.limit < 0:
             raise UserInputError(f"counterfactual limit must be >= 0, got {self.limit}")
+
+
+def method_names() -> tuple[str, ...]:
+    """Every method a run may evaluate (:func:`methods`): a reference (``counterfactual_reference``) must be one."""
+    return (*(f"photo:{f}" for f in FILL_METHODS), "generator", "2d", "2d+")
 
 
 def methods(settings: CounterfactualSettings, has_generator: bool) -> tuple[str, ...]:
@@ -503,18 +509,20 @@ def _delta(d: dict | None, digits: int = 2, scale: float = 1.0) -> str:
 
 def counterfactual_markdown(summary: dict, comps: dict, info: dict) -> str:
     """``counterfactual.md``: per source scene a turns table (per angle bin and method) and a deletes table."""
+    reference = info.get("reference", REFERENCE)
+    what = " (the photo default before `rays`)" if reference == REFERENCE else ""
     lines = ["# Counterfactual benchmark: turns and deletes on exact pairs", "",
              f"Data: {info.get('data')}, pairs drawn at {info.get('image_size')} (the frames' stored size). "
-             f"Reference of every paired difference: `{REFERENCE}` (the photo default before `rays`). Means with 95 % "
+             f"Reference of every paired difference: `{reference}`{what}. Means with 95 % "
              "bootstrap intervals that resample whole cars (a parked car's pairs in every frame, variation and angle "
              "are drawn together); n = pairs (cars); a paired difference is `method - reference` [95 % interval] "
              "wins/losses/ties (by the metric's direction). PSNR in dB (at most 60), L1 on [0, 1], flat = share of "
              "the car's target pixels the photo appearance drew as flat colour (source map `fallback` or "
              "`default`), in %.", ""]
-    if "methods" in info and REFERENCE not in info["methods"]:  # e.g. counterfactual_fills=[rays]: nothing to pair
-        lines += [f"`{REFERENCE}` was not scored here (`counterfactual_fills` without `auto`), so the columns of "
-                  "differences against it are empty; `counterfactual.json` holds every pair's scores to pair any two "
-                  "methods.", ""]
+    if "methods" in info and reference not in info["methods"]:  # e.g. counterfactual_fills=[rays]: nothing to pair
+        lines += [f"`{reference}` was not scored here (`counterfactual_fills` without `auto`, or another "
+                  "`counterfactual_reference` than the methods run), so the columns of differences against it are "
+                  "empty; `counterfactual.json` holds every pair's scores to pair any two methods.", ""]
     if info.get("generator_note"):
         lines += [info["generator_note"], ""]
     for source, bins in summary.items():

@@ -84,8 +84,8 @@ def current_umask() -> int:
 
 def cache_dir(kind: str) -> Path:
     """The folder where sdn3d keeps what it builds once per machine and reuses across processes, each entry named by a
-    hash of everything it is made from (``kind``: ``native``, the C++ kernels' libraries, :mod:`sdn3d.native`; ``meshes``, the
-    simplified template banks): ``$SDN3D_<KIND>_CACHE`` where set, else ``~/.cache/sdn3d/<kind>``."""
+    hash of everything it is made from (``kind``: ``native``, the C++ kernels' libraries, :mod:`sdn3d.native`;
+    ``meshes``, the simplified template banks): ``$SDN3D_<KIND>_CACHE`` where set, else ``~/.cache/sdn3d/<kind>``."""
     root = os.environ.get(f"SDN3D_{kind.upper()}_CACHE")
     return Path(root) if root else Path.home() / ".cache" / "sdn3d" / kind
 

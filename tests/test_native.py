@@ -3,10 +3,10 @@ once into the cache and reused."""
 
 from __future__ import annotations
 
-import shutil
 import warnings
 
 import pytest
+from helpers.native import needs_compiler
 
 import sdn3d.editing.photo.nearest as nearest
 import sdn3d.render._native as soft_native
@@ -16,7 +16,6 @@ KERNELS = {
     "soft silhouette": (soft_native.soft_kernel, "soft_kernel", "the soft silhouette uses its PyTorch path"),
     "nearest examples": (nearest.nearest_kernel, "nearest_kernel", "nearest examples uses its PyTorch path"),
 }
-needs_compiler = pytest.mark.skipif(shutil.which("g++") is None, reason="no C++ compiler: the kernel cannot build")
 
 
 @pytest.mark.parametrize("name", KERNELS)

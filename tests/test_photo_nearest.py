@@ -3,18 +3,12 @@ threads, its fallback and its cache."""
 
 from __future__ import annotations
 
-import os
-import shutil
-
-import pytest
 import torch
+from helpers.native import needs_compiler, require_compiler_on_ci
 
 from sdn3d.editing.photo import nearest
 
-if shutil.which("g++") is None and os.environ.get("CI", "").lower() == "true":
-    # scripts/test.sh installs build-essential; on CI a missing compiler would leave the kernel untested
-    raise RuntimeError("the nearest-examples kernel's tests cannot run on CI: g++ is missing")
-needs_compiler = pytest.mark.skipif(shutil.which("g++") is None, reason="no C++ compiler: the kernel cannot build")
+require_compiler_on_ci("nearest-examples")
 
 
 def pytorch_path(query: torch.Tensor, examples: torch.Tensor, k: int) -> torch.Tensor:
@@ -69,11 +63,10 @@ def test_the_kernel_finds_the_pytorch_paths_nearest_sets_nearest_first() -> None
         assert bool((mine[:, 1:] >= mine[:, :-1] - 1e-6).all())
         # exactly repeated examples: of equal distances the lower index first
         e = len(examples)
-        if e > 1:
-            twins = got.remainder(e - e // 2) if e % 2 == 0 else None
-            if twins is not None:
-                same = (twins[:, 1:] == twins[:, :-1]) & (mine[:, 1:] == mine[:, :-1])
-                assert bool((got[:, 1:][same] > got[:, :-1][same]).all())
+        if e > 1 and e % 2 == 0:  # example j and j + e / 2 are one example twice
+            twins = got.remainder(e // 2)
+            same = (twins[:, 1:] == twins[:, :-1]) & (mine[:, 1:] == mine[:, :-1])
+            assert bool((got[:, 1:][same] > got[:, :-1][same]).all())
 
 
 @needs_compiler

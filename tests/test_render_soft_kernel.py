@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import ctypes
-import os
 import shutil
 
 import pytest
 import torch
 import trimesh
+from helpers.native import needs_compiler, require_compiler_on_ci
 
 import sdn3d.render._native as native
 import sdn3d.render.soft as soft
@@ -16,10 +16,7 @@ from sdn3d.math3d.rotations import roty
 from sdn3d.native import build_kernel
 from sdn3d.render import SoftSilhouetteSettings, soft_silhouette
 
-if shutil.which("g++") is None and os.environ.get("CI", "").lower() == "true":
-    # scripts/test.sh installs build-essential; on CI a missing compiler would leave the kernel untested
-    raise RuntimeError("the soft silhouette kernel's tests cannot run on CI: g++ is missing")
-needs_compiler = pytest.mark.skipif(shutil.which("g++") is None, reason="no C++ compiler: the kernel cannot build")
+require_compiler_on_ci("soft silhouette")
 
 
 def crop_K(f: float, size: int, dtype: torch.dtype) -> torch.Tensor:

@@ -61,7 +61,7 @@ from sdn3d.editing.ops import Delete, Rotate
 from sdn3d.editing.photo.settings import FILL_METHODS, FLAT_CODES, SOURCE_NAMES, PhotoSettings
 from sdn3d.editing.pick import projected_centers
 from sdn3d.errors import UserInputError
-from sdn3d.evaluation.baselines import baseline_photo
+from sdn3d.evaluation.baselines import BASELINE_MODES, baseline_photo
 from sdn3d.evaluation.paired import paired_difference
 from sdn3d.labels import VKITTI_CLASS_INDEX
 from sdn3d.scene.code import DEFAULT_CODE_DIM, SceneCode
@@ -118,7 +118,7 @@ class CounterfactualSettings:
     sources: tuple[str, ...] = ("oracle",)
     fills: tuple[str, ...] = ("auto", "telea", "patchmatch", "rays")
     generator: bool = True
-    baselines: tuple[str, ...] = ("2d", "2d+")
+    baselines: tuple[str, ...] = BASELINE_MODES
     photo: PhotoSettings = field(default_factory=PhotoSettings)
     compose: ComposeSettings = field(default_factory=ComposeSettings)
     min_pixels: int = 64
@@ -130,7 +130,7 @@ class CounterfactualSettings:
 
     def __post_init__(self) -> None:
         for name, values, allowed in (("sources", self.sources, SOURCES), ("fills", self.fills, FILL_METHODS),
-                                      ("baselines", self.baselines, ("2d", "2d+")),
+                                      ("baselines", self.baselines, BASELINE_MODES),
                                       ("kinds", self.kinds, ("turn", "delete"))):
             values = tuple(str(v) for v in values)
             if len(set(values)) != len(values) or not set(values) <= set(allowed):
@@ -145,7 +145,7 @@ class CounterfactualSettings:
 
 def method_names() -> tuple[str, ...]:
     """Every method a run may evaluate (:func:`methods`): a reference (``counterfactual_reference``) must be one."""
-    return (*(f"photo:{f}" for f in FILL_METHODS), "generator", "2d", "2d+")
+    return (*(f"photo:{f}" for f in FILL_METHODS), "generator", *BASELINE_MODES)
 
 
 def methods(settings: CounterfactualSettings, has_generator: bool) -> tuple[str, ...]:

@@ -69,8 +69,9 @@ def test_the_tail_mask_reads_red_lamps_under_the_mask_and_the_net_sees_the_same_
     assert read["lamp_offset"].abs().max() < 0.05  # both corners: centred
     for key in ("net_ry", "dims", "location", "front_present", "front_usable", "front_offset"):
         torch.testing.assert_close(read[key], plain[key])  # the net's input and the headlights' reading as before
-    # A mask that shows red lamps (here a neighbour's, high on the right) is read as before: the band is not added.
-    crop[:, :, 5:7, 23:26] = torch.tensor([0.8, 0.1, 0.1])[:, None, None]
+    # A mask that shows red lamps (here a neighbour's, high on the right, below the top LampCue.lamp_top of the mask's
+    # rows, whose red is never read) is read as before: the band is not added.
+    crop[:, :, 9:11, 23:26] = torch.tensor([0.8, 0.1, 0.1])[:, None, None]
     shown = predictor.predict(crop * mask, mask, box, intr)
     both = predictor.predict(crop, mask, box, intr, tail_mask=tail)
     assert shown["lamp_present"].all() and shown["lamp_offset"].min() > 0.2
@@ -84,7 +85,7 @@ def test_the_tail_mask_reads_red_lamps_under_the_mask_and_the_net_sees_the_same_
     band = red_lamps(crop * tail, tail, LampCue(min_mask=50))
     for key, value in zip(("lamp_present", "lamp_usable", "lamp_offset"), band, strict=True):
         torch.testing.assert_close(wider[key], value)
-    crop[:, :, 5:7, 23:26] = 0.45
+    crop[:, :, 9:11, 23:26] = 0.45
     crop[:, :, 17:19, 6:9] = 0.45
     # A back view (alpha = -90 degrees) the net took for a front is turned end for end by the lamps under the mask.
     front = torch.full((2,), math.pi / 2)

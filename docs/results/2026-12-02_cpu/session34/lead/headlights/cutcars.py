@@ -1,4 +1,4 @@
-# ruff: noqa: E401, E402, E501, E701, E702, F401, I001
+# ruff: noqa: B905, E401, E402, E501, E701, E702, F401, F841, I001
 """cutcars.py TREE W OUT [W H]: per car of a (tuning) tree, row gt_fit (ground-truth masks + boxes), the truth, the
 fit, and what the appearance read (lamps, border side, bins' belief) at the truth's yaw and its reverse."""
 import sys, math, json, torch, numpy as np
@@ -28,6 +28,16 @@ if os.environ.get("VARIANT") == "cutnet0":
             return torch.where(cut[:, None], lamps, full)
         return s2
     F.facing_belief = fb
+if os.environ.get("LAMP_TOP"):
+    from dataclasses import replace as _rp
+    import sdn3d.models as _M
+    _fc = _M.Models.from_checkpoints.__func__
+    def _fc2(cls, *a, **k):
+        m = _fc(cls, *a, **k)
+        if m.geometric is not None and m.geometric.lamp_cue is not None:
+            m.geometric.lamp_cue = _rp(m.geometric.lamp_cue, lamp_top=float(os.environ["LAMP_TOP"]))
+        return m
+    _M.Models.from_checkpoints = classmethod(_fc2)
 tree, w, out = sys.argv[1], sys.argv[2], sys.argv[3]
 size = sys.argv[4:6]
 captured = []

@@ -1,3 +1,4 @@
+# ruff: noqa: E401, E402, E501, E701, E702, F401, I001
 import sys, json, torch, numpy as np
 sys.path.insert(0, "/work/main/benchmarks")
 from PIL import Image

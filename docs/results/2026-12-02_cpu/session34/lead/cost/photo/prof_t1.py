@@ -1,3 +1,4 @@
+# ruff: noqa: E401, E402, E501, E701, E702, F401, I001
 import cProfile, pstats, sys
 from sdn3d.cli.edit import main
 sys.argv = ["sdn3d-edit", "input.image=tests/data/0006_30-deg-right_00043.png", "edits=/work/notes/s34/photo/t1.yaml",

@@ -3,6 +3,7 @@
 # (semantic = predicted, gt = ground-truth masks (oracle)) at 312x96 with weights w34 (session 34 final demo run), and the floor (floor.py).
 # CODE: a plain tree of main (git archive), W: the demo run's outputs/demo. Outputs under /tmp/s33/deletes/.
 set -u
+# gen.py: session 33's, docs/results/2026-12-02_cpu/session33/lead/deletes/scripts/gen.py (the session ran a copy beside this script)
 SEED=$1; KIND=$2; B=${B:-/tmp/s34/moves}; CODE=$B/base; W=/tmp/s34/demo2/outputs/demo; TREE=$B/trees/t1d_$SEED
 HERE=$(cd "$(dirname "$0")" && pwd); PY=/work/main/.venv/bin/python; mkdir -p $B/trees $B/out
 [ -e "$TREE" ] && { echo "tree $TREE exists: one generation only" >&2; exit 3; }

@@ -6,6 +6,16 @@
 // the loop over examples is one vector loop per feature; the k best are then kept in a sorted array that a distance
 // enters only when it beats the current k-th (most do not). Rows are split over `threads` std::threads in
 // contiguous blocks: each row's result is its own, so any thread count gives the same bits.
+//
+// The grouped variant is for examples whose trailing T features take few distinct values (the part lookups' normals:
+// one per template face the photo showed; 36-43 groups of 1,500 examples on the real frame's turns). Each group's
+// trailing distance N_g is a lower bound of every member's distance (a member's sum adds the same squares to its
+// leading features' sum, which is not negative; up to rounding, hence a margin of 1e-5). The groups are scanned in
+// order of N_g, and the scan stops at the first whose N_g is beyond the k-th best distance so far; a group whose N_g
+// plus the distance to the box of its members' leading features is beyond it is skipped. A member's distance
+// is summed as the flat kernel sums it, and the k best are kept by (distance, example index), as the flat kernel's
+// scan in index order keeps them: the same answer bit for bit. The caller sorts the query rows by their trailing
+// features, so that a row like the one before it reuses its groups' order.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -51,28 +61,116 @@ void rows_f32(const float* query, const float* examples_t, int64_t first, int64_
     }
 }
 
-}  // namespace
+// Keep `d` (example `j`) among the k best so far, ordered by (distance, example index).
+inline void keep(float d, int64_t j, int64_t k, int64_t& kept, float* best, int64_t* index) {
+    if (kept == k && !(d < best[k - 1] || (d == best[k - 1] && j < index[k - 1]))) return;
+    int64_t p = kept < k ? kept++ : k - 1;
+    while (p > 0 && (best[p - 1] > d || (best[p - 1] == d && index[p - 1] > j))) {
+        best[p] = best[p - 1];
+        index[p] = index[p - 1];
+        --p;
+    }
+    best[p] = d;
+    index[p] = j;
+}
 
-extern "C" {
+void rows_grouped_f32(const float* query, const float* examples_t, const int64_t* example_index, const float* tails,
+                      const float* boxes, const int64_t* offsets, int64_t G, int64_t first, int64_t last, int64_t E, int64_t F, int64_t S,
+                      int64_t k, int64_t* out) {
+    const int64_t T = F - S;
+    std::vector<float> dist(static_cast<size_t>(E));
+    std::vector<float> tail_dist(static_cast<size_t>(G));
+    std::vector<int64_t> order(static_cast<size_t>(G));
+    std::vector<float> best(static_cast<size_t>(k));
+    std::vector<int64_t> index(static_cast<size_t>(k));
+    for (int64_t r = first; r < last; ++r) {
+        const float* q = query + r * F;
+        // rows sharing their trailing features (the caller sorts them so) share the groups' order
+        if (r == first || !std::equal(q + S, q + F, q - F + S)) {
+            for (int64_t g = 0; g < G; ++g) {
+                float n = 0.0f;
+                for (int64_t t = 0; t < T; ++t) {
+                    const float u = q[S + t] - tails[g * T + t];
+                    n += u * u;
+                }
+                tail_dist[g] = n;
+                order[g] = g;
+            }
+            std::sort(order.begin(), order.end(), [&](int64_t a, int64_t b) {
+                return tail_dist[a] < tail_dist[b] || (tail_dist[a] == tail_dist[b] && a < b);
+            });
+        }
+        int64_t kept = 0;
+        for (int64_t g : order) {
+            // every later group's members lie further (the margin: a member's sum may round its terms otherwise)
+            if (kept == k && tail_dist[g] * (1.0f - 1e-5f) > best[k - 1]) break;
+            if (kept == k) {  // the group's box of leading features: a tighter bound, for this group alone
+                float bound = tail_dist[g];
+                const float* low = boxes + g * 2 * S;
+                for (int64_t f = 0; f < S; ++f) {
+                    const float out = std::max(std::max(low[f] - q[f], q[f] - low[S + f]), 0.0f);
+                    bound += out * out;
+                }
+                if (bound * (1.0f - 1e-5f) > best[k - 1]) continue;
+            }
+            const int64_t lo = offsets[g], hi = offsets[g + 1];
+            float* d = dist.data();
+            for (int64_t j = lo; j < hi; ++j) d[j] = 0.0f;
+            for (int64_t f = 0; f < F; ++f) {  // as the flat kernel sums it
+                const float qf = q[f];
+                const float* column = examples_t + f * E;
+                for (int64_t j = lo; j < hi; ++j) {
+                    const float t = qf - column[j];
+                    d[j] += t * t;
+                }
+            }
+            for (int64_t j = lo; j < hi; ++j) keep(d[j], example_index[j], k, kept, best.data(), index.data());
+        }
+        for (int64_t i = 0; i < k; ++i) out[r * k + i] = index[i];
+    }
+}
 
-int sdn3d_nearest_abi_version() { return 1; }
-
-// query (Q, F), examples_t (F, E) float32, contiguous; out (Q, k) int64; 1 <= k <= E.
-void sdn3d_nearest_f32(const float* query, const float* examples_t, int64_t Q, int64_t E, int64_t F, int64_t k,
-                       int64_t* out, int threads) {
+template <typename Rows>
+void over_threads(int64_t Q, int threads, Rows rows) {
     const int64_t parts = std::max<int64_t>(1, std::min<int64_t>(threads, Q / 64));  // 64 rows at least a thread
     if (parts == 1) {
-        rows_f32(query, examples_t, 0, Q, E, F, k, out);
+        rows(0, Q);
         return;
     }
     std::vector<std::thread> pool;
     const int64_t step = (Q + parts - 1) / parts;
     for (int64_t t = 1; t < parts; ++t) {
         const int64_t first = t * step, last = std::min(Q, first + step);
-        if (first < last) pool.emplace_back(rows_f32, query, examples_t, first, last, E, F, k, out);
+        if (first < last) pool.emplace_back(rows, first, last);
     }
-    rows_f32(query, examples_t, 0, std::min(Q, step), E, F, k, out);
+    rows(0, std::min(Q, step));
     for (auto& worker : pool) worker.join();
+}
+
+}  // namespace
+
+extern "C" {
+
+int sdn3d_nearest_abi_version() { return 2; }
+
+// query (Q, F), examples_t (F, E) float32, contiguous; out (Q, k) int64; 1 <= k <= E.
+void sdn3d_nearest_f32(const float* query, const float* examples_t, int64_t Q, int64_t E, int64_t F, int64_t k,
+                       int64_t* out, int threads) {
+    over_threads(Q, threads, [=](int64_t first, int64_t last) {
+        rows_f32(query, examples_t, first, last, E, F, k, out);
+    });
+}
+
+// query (Q, F); the examples sorted by group: examples_t (F, E) transposed, example_index (E) each one's index in the
+// caller's order (ascending within a group), tails (G, F - S) each group's features from column S on, offsets (G + 1)
+// boxes (G, 2, S) each group's least and greatest leading features, offsets (G + 1) where each group's members start;
+// out (Q, k) int64 indices in the caller's order; 1 <= k <= E.
+void sdn3d_nearest_grouped_f32(const float* query, const float* examples_t, const int64_t* example_index,
+                               const float* tails, const float* boxes, const int64_t* offsets, int64_t G, int64_t Q,
+                               int64_t E, int64_t F, int64_t S, int64_t k, int64_t* out, int threads) {
+    over_threads(Q, threads, [=](int64_t first, int64_t last) {
+        rows_grouped_f32(query, examples_t, example_index, tails, boxes, offsets, G, first, last, E, F, S, k, out);
+    });
 }
 
 }  // extern "C"

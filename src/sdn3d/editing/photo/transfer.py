@@ -2044,6 +2044,11 @@ REACH_SIDES = 2
 REACH_LAMPS = 3
 
 
+#: :func:`_part_features`' first normal column: examples seen on one template face share their normal's three
+#: (:func:`~sdn3d.editing.photo.nearest.nearest_examples`' grouped scan).
+FEATURE_NORMAL = 3
+
+
 def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor) -> Tensor:
     """``(P, 6)`` where ``points (P, 3)`` lie on the car of ``before`` row ``b`` and which way ``normals (P, 3)``
     face: its own frame normalised by its size (height, distance from the middle plane and, weakly, along the car),
@@ -2284,7 +2289,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
         if len(have) > max_examples:
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
         more = PART_EXAMPLES_K.get(part, k)
-        near = nearest_examples(q_feat[q], feature[have], max(k, more))  # nearest first
+        near = nearest_examples(q_feat[q], feature[have], max(k, more), shared_from=FEATURE_NORMAL)  # nearest first
         if more > k and PART_NORMAL_WEIGHT > 0:  # the k nearest where the nearest faced the camera the same way
             facing = (q_feat[q, 3:] * feature[have][near[:, 0], 3:]).sum(1) / PART_NORMAL_WEIGHT**2
             panel = facing >= math.cos(math.radians(SAME_PANEL_DEG))
@@ -2312,7 +2317,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
                 lit, code = (pool.color, pool.feature, pool.cos) if len(pool.part) >= k else None, ANOTHER_CAR
             if lit is not None:  # the lamps as the photo shows them, in this end's hue, unshaded (they glow)
                 source, feature, cos = lit
-                near = nearest_examples(q_feat[q], feature, k)
+                near = nearest_examples(q_feat[q], feature, k, shared_from=FEATURE_NORMAL)
                 albedo[q] = source[near].mean(1)
                 codes[q] = code
                 seen_at[q] = grazing(cos[near]).mean(1)

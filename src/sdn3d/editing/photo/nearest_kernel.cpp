@@ -3,9 +3,11 @@
 // first. Plain C ABI, no torch headers; built on first use by sdn3d.native (g++ -O3 -march=native).
 //
 // The distances of one query to every example are computed into a buffer with the examples transposed (F, E), so
-// the loop over examples is one vector loop per feature; the k best are then kept in a sorted array that a distance
-// enters only when it beats the current k-th (most do not). Rows are split over `threads` std::threads in
-// contiguous blocks: each row's result is its own, so any thread count gives the same bits.
+// the loop over examples is one vector loop (the part lookups' six features at once, the sum in a register; other
+// counts a pass per feature, the same sums); the k best are then kept in a sorted array that a distance enters only
+// when it beats the current k-th (most do not), a block of SKIP_BLOCK distances none of which does skipped after one
+// vector count. Rows are split over `threads` std::threads in contiguous blocks: each row's result is its own, so any
+// thread count gives the same bits.
 //
 // The grouped variant is for examples whose trailing T features take few distinct values (the part lookups' normals:
 // one per template face the photo showed; 36-43 groups of 1,500 examples on the real frame's turns). Each group's
@@ -24,6 +26,41 @@
 
 namespace {
 
+constexpr int64_t SKIP_BLOCK = 32;  // distances counted at once against the k-th best
+
+// d[j] for j in [lo, hi): the squared distance of query q to example j of examples_t (F, E), its terms summed in
+// feature order from 0. The six features of the part lookups in one pass (the sum held in a register), else a pass
+// a feature: the same sums.
+template <int FIXED>
+void distances_fixed(const float* q, const float* examples_t, int64_t lo, int64_t hi, int64_t E, float* d) {
+    float qf[FIXED];
+    for (int f = 0; f < FIXED; ++f) qf[f] = q[f];
+    for (int64_t j = lo; j < hi; ++j) {
+        float s = 0.0f;
+        for (int f = 0; f < FIXED; ++f) {
+            const float t = qf[f] - examples_t[f * E + j];
+            s += t * t;
+        }
+        d[j] = s;
+    }
+}
+
+void distances(const float* q, const float* examples_t, int64_t lo, int64_t hi, int64_t E, int64_t F, float* d) {
+    if (F == 6) {
+        distances_fixed<6>(q, examples_t, lo, hi, E, d);
+        return;
+    }
+    for (int64_t j = lo; j < hi; ++j) d[j] = 0.0f;
+    for (int64_t f = 0; f < F; ++f) {
+        const float qf = q[f];
+        const float* column = examples_t + f * E;
+        for (int64_t j = lo; j < hi; ++j) {
+            const float t = qf - column[j];
+            d[j] += t * t;
+        }
+    }
+}
+
 void rows_f32(const float* query, const float* examples_t, int64_t first, int64_t last, int64_t E, int64_t F,
               int64_t k, int64_t* out) {
     std::vector<float> dist(static_cast<size_t>(E));
@@ -32,18 +69,18 @@ void rows_f32(const float* query, const float* examples_t, int64_t first, int64_
     for (int64_t r = first; r < last; ++r) {
         const float* q = query + r * F;
         float* d = dist.data();
-        for (int64_t j = 0; j < E; ++j) d[j] = 0.0f;
-        for (int64_t f = 0; f < F; ++f) {
-            const float qf = q[f];
-            const float* column = examples_t + f * E;
-            for (int64_t j = 0; j < E; ++j) {
-                const float t = qf - column[j];
-                d[j] += t * t;
-            }
-        }
+        distances(q, examples_t, 0, E, E, F, d);
         int64_t kept = 0;
         float worst = INFINITY;
         for (int64_t j = 0; j < E; ++j) {
+            if (kept == k && j % SKIP_BLOCK == 0 && j + SKIP_BLOCK <= E) {
+                int below = 0;  // a block none of whose distances beats the k-th: skipped in one vector pass
+                for (int64_t i = j; i < j + SKIP_BLOCK; ++i) below += d[i] < worst;
+                if (!below) {
+                    j += SKIP_BLOCK - 1;
+                    continue;
+                }
+            }
             const float dj = d[j];
             if (kept < k || dj < worst) {  // a tie with the k-th keeps the lower index
                 int64_t p = kept < k ? kept++ : k - 1;
@@ -115,16 +152,18 @@ void rows_grouped_f32(const float* query, const float* examples_t, const int64_t
             }
             const int64_t lo = offsets[g], hi = offsets[g + 1];
             float* d = dist.data();
-            for (int64_t j = lo; j < hi; ++j) d[j] = 0.0f;
-            for (int64_t f = 0; f < F; ++f) {  // as the flat kernel sums it
-                const float qf = q[f];
-                const float* column = examples_t + f * E;
-                for (int64_t j = lo; j < hi; ++j) {
-                    const float t = qf - column[j];
-                    d[j] += t * t;
+            distances(q, examples_t, lo, hi, E, F, d);  // as the flat kernel sums them
+            for (int64_t j = lo; j < hi; ++j) {
+                if (kept == k && (j - lo) % SKIP_BLOCK == 0 && j + SKIP_BLOCK <= hi) {
+                    int below = 0;  // a tie with the k-th may enter: a lower index
+                    for (int64_t i = j; i < j + SKIP_BLOCK; ++i) below += d[i] <= best[k - 1];
+                    if (!below) {
+                        j += SKIP_BLOCK - 1;
+                        continue;
+                    }
                 }
+                keep(d[j], example_index[j], k, kept, best.data(), index.data());
             }
-            for (int64_t j = lo; j < hi; ++j) keep(d[j], example_index[j], k, kept, best.data(), index.data());
         }
         for (int64_t i = 0; i < k; ++i) out[r * k + i] = index[i];
     }

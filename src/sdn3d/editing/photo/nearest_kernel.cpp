@@ -17,7 +17,10 @@
 // plus the distance to the box of its members' leading features is beyond it is skipped. A member's distance
 // is summed as the flat kernel sums it, and the k best are kept by (distance, example index), as the flat kernel's
 // scan in index order keeps them: the same answer bit for bit. The caller sorts the query rows by their trailing
-// features, so that a row like the one before it reuses its groups' order.
+// features, so that a row like the one before it reuses its groups' order; and each row starts from the k examples
+// the row before it kept (a neighbour on the same face, as the part lookups ask them), so that the k-th best is near
+// its final value from the first group on and most groups and blocks are skipped (a glass lookup's 16 nearest: about
+// a third of the flat scan's time, docs/results/2026-12-02_cpu/session35/lead/nearest/).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -28,7 +31,7 @@ namespace {
 
 constexpr int64_t SKIP_BLOCK = 32;  // distances counted at once against the k-th best
 
-// d[j] for j in [lo, hi): the squared distance of query q to example j of examples_t (F, E), its terms summed in
+// d[j - lo] for j in [lo, hi): the squared distance of query q to example j of examples_t (F, E), its terms summed in
 // feature order from 0. The six features of the part lookups in one pass (the sum held in a register), else a pass
 // a feature: the same sums.
 template <int FIXED>
@@ -41,7 +44,7 @@ void distances_fixed(const float* q, const float* examples_t, int64_t lo, int64_
             const float t = qf[f] - examples_t[f * E + j];
             s += t * t;
         }
-        d[j] = s;
+        d[j - lo] = s;
     }
 }
 
@@ -50,13 +53,13 @@ void distances(const float* q, const float* examples_t, int64_t lo, int64_t hi, 
         distances_fixed<6>(q, examples_t, lo, hi, E, d);
         return;
     }
-    for (int64_t j = lo; j < hi; ++j) d[j] = 0.0f;
+    for (int64_t j = lo; j < hi; ++j) d[j - lo] = 0.0f;
     for (int64_t f = 0; f < F; ++f) {
         const float qf = q[f];
         const float* column = examples_t + f * E;
         for (int64_t j = lo; j < hi; ++j) {
             const float t = qf - column[j];
-            d[j] += t * t;
+            d[j - lo] += t * t;
         }
     }
 }
@@ -98,9 +101,12 @@ void rows_f32(const float* query, const float* examples_t, int64_t first, int64_
     }
 }
 
-// Keep `d` (example `j`) among the k best so far, ordered by (distance, example index).
+// Keep `d` (example `j`) among the k best so far, ordered by (distance, example index); an example already kept is
+// not kept twice.
 inline void keep(float d, int64_t j, int64_t k, int64_t& kept, float* best, int64_t* index) {
     if (kept == k && !(d < best[k - 1] || (d == best[k - 1] && j < index[k - 1]))) return;
+    for (int64_t i = 0; i < kept; ++i)
+        if (index[i] == j) return;
     int64_t p = kept < k ? kept++ : k - 1;
     while (p > 0 && (best[p - 1] > d || (best[p - 1] == d && index[p - 1] > j))) {
         best[p] = best[p - 1];
@@ -120,8 +126,19 @@ void rows_grouped_f32(const float* query, const float* examples_t, const int64_t
     std::vector<int64_t> order(static_cast<size_t>(G));
     std::vector<float> best(static_cast<size_t>(k));
     std::vector<int64_t> index(static_cast<size_t>(k));
+    std::vector<int64_t> position(static_cast<size_t>(E));  // each example's place in the sorted arrays
+    for (int64_t j = 0; j < E; ++j) position[example_index[j]] = j;
     for (int64_t r = first; r < last; ++r) {
         const float* q = query + r * F;
+        int64_t kept = 0;
+        if (r > first) {  // the row before's k best first: a neighbour's, near the k-th best from the start
+            for (int64_t i = 0; i < k; ++i) {
+                const int64_t j = position[out[(r - 1) * k + i]];
+                float dj;
+                distances(q, examples_t, j, j + 1, E, F, &dj);
+                keep(dj, example_index[j], k, kept, best.data(), index.data());
+            }
+        }
         // rows sharing their trailing features (the caller sorts them so) share the groups' order
         if (r == first || !std::equal(q + S, q + F, q - F + S)) {
             for (int64_t g = 0; g < G; ++g) {
@@ -137,7 +154,6 @@ void rows_grouped_f32(const float* query, const float* examples_t, const int64_t
                 return tail_dist[a] < tail_dist[b] || (tail_dist[a] == tail_dist[b] && a < b);
             });
         }
-        int64_t kept = 0;
         for (int64_t g : order) {
             // every later group's members lie further (the margin: a member's sum may round its terms otherwise)
             if (kept == k && tail_dist[g] * (1.0f - 1e-5f) > best[k - 1]) break;
@@ -151,18 +167,18 @@ void rows_grouped_f32(const float* query, const float* examples_t, const int64_t
                 if (bound * (1.0f - 1e-5f) > best[k - 1]) continue;
             }
             const int64_t lo = offsets[g], hi = offsets[g + 1];
-            float* d = dist.data();
-            distances(q, examples_t, lo, hi, E, F, d);  // as the flat kernel sums them
-            for (int64_t j = lo; j < hi; ++j) {
-                if (kept == k && (j - lo) % SKIP_BLOCK == 0 && j + SKIP_BLOCK <= hi) {
+            const float* d = dist.data();  // d[i]: example lo + i's distance
+            distances(q, examples_t, lo, hi, E, F, dist.data());  // as the flat kernel sums them
+            for (int64_t i = 0; i < hi - lo; ++i) {
+                if (kept == k && i % SKIP_BLOCK == 0 && lo + i + SKIP_BLOCK <= hi) {
                     int below = 0;  // a tie with the k-th may enter: a lower index
-                    for (int64_t i = j; i < j + SKIP_BLOCK; ++i) below += d[i] <= best[k - 1];
+                    for (int64_t b = i; b < i + SKIP_BLOCK; ++b) below += d[b] <= best[k - 1];
                     if (!below) {
-                        j += SKIP_BLOCK - 1;
+                        i += SKIP_BLOCK - 1;
                         continue;
                     }
                 }
-                keep(d[j], example_index[j], k, kept, best.data(), index.data());
+                keep(d[i], example_index[lo + i], k, kept, best.data(), index.data());
             }
         }
         for (int64_t i = 0; i < k; ++i) out[r * k + i] = index[i];

@@ -189,3 +189,22 @@ def test_the_grouped_scan_breaks_ties_across_groups_by_index() -> None:
             assert bool((pairs[..., 0] % 2 == 0).all() and (pairs[..., 1] == pairs[..., 0] + 1).all())
             if k % 2:
                 assert bool((got[:, -1] % 2 == 0).all())
+
+
+@needs_compiler
+def test_the_benchmark_runs_and_finds_the_same_answers(capsys) -> None:
+    """``benchmarks/nearest_examples.py`` times both scans on its two workloads and reports that they agree."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "nearest_examples.py"
+    spec = importlib.util.spec_from_file_location("nearest_examples_benchmark", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    threads = torch.get_num_threads()
+    try:
+        assert module.main(["--repeats", "1"]) == 0
+    finally:
+        torch.set_num_threads(threads)  # the benchmark sets its own
+    lines = [line for line in capsys.readouterr().out.splitlines() if "rows x" in line]
+    assert len(lines) == 2 and all(line.endswith("same answer: True") for line in lines)

@@ -1,4 +1,4 @@
-# ruff: noqa: E401, E402, E501, E701, E702, F401, I001
+# ruff: noqa: B007, E401, E402, E501, E701, E702, F401, F541, I001
 import sys, time, torch
 from sdn3d.editing.photo import nearest
 calls = torch.load(sys.argv[1], weights_only=False)

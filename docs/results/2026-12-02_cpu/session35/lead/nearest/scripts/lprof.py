@@ -1,4 +1,4 @@
-# ruff: noqa: E401, E402, E501, E701, E702, F401, I001
+# ruff: noqa: B007, E401, E402, E501, E701, E702, F401, F541, I001
 import os, sys
 from line_profiler import LineProfiler
 import sdn3d.editing.photo.transfer as T

@@ -29,6 +29,11 @@ offset ``d``): evidence ``sin(alpha) + 2 d cos(alpha)``; none: the back is more 
 sin(alpha)``. On the seed-13 tuning tree's 48 red-bodied cars and vans (16 vehicles, 3 frames each; the branch's
 crops) such pixels were on 15 of the 18 front views and on none of the 30 back views (``white_min`` 0.6 or
 ``white_min_share`` 0.002: 12 to 14 fronts; 0.5: 4 to 13 backs too); ``red_body``: false turns the cue off.
+``white_min_share`` is 0.005 since session 35: at 0.001 the few pixels of a rain streak across a red car's back
+passed as headlights (6 of the 21 cars flipped on ground-truth masks over held-out trees 2367-2373 with that
+session's weights); on its tuning trees 0.005 turned 3 cars the right way and none the wrong way, and on held-out
+trees 2375-2381 2 and none (the semantic branch's proposals: 4 and none;
+``docs/results/2026-12-02_cpu/session35/lead/flips/``).
 Near-white pixels are not only headlights, though: rain streaks cross a red back, and a red body's tail lamps and
 light bar are a paler red whose brightest pixels pass as white. On the Table 1 tuning trees 31, 35 and 37 (session
 21's demo weights, 407 cars on ground-truth masks, an oracle) they were on 12 front views and on 14 back or side
@@ -140,7 +145,7 @@ class LampCue:
     red_body: bool = True
     white_min: float = 0.55
     white_spread: float = 0.25
-    white_min_share: float = 0.001
+    white_min_share: float = 0.005
     headlight_weight: float = 0.3
     headlight_rows: float = 0.03
     clear_dark: float | None = 0.10

@@ -13,9 +13,11 @@ the kernel puts the lower index first, where ``topk`` leaves their order unspeci
 
 A part lookup's examples share their normal's three features with the others of their template face (36-43 distinct
 normals among 1,500 examples on the real frame's turns). Told so (``shared_from=3``), the kernel scans the examples a
-group of equal trailing features at a time, nearest group first, and stops where a group's trailing distance alone is
-beyond the ``k``-th best so far: the same answer bit for bit, from a fifth to a half of the distances computed
-(``nearest_kernel.cpp``; where the groups are more than :data:`GROUPED_MAX_SHARE` of the examples, the flat scan).
+group of equal trailing features at a time, nearest group first, each row starting from the examples the row before
+it kept, and skips a group whose trailing distance (plus the distance to its members' box) is beyond the ``k``-th
+best so far: the same answer bit for bit in about a third of the flat scan's time on the real frame's turns
+(``nearest_kernel.cpp``, docs/results/2026-12-02_cpu/session35/lead/nearest/; where the groups are more than
+:data:`GROUPED_MAX_SHARE` of the examples or the rows fewer than :data:`GROUPED_MIN_ROWS`, the flat scan).
 
 >>> import torch
 >>> examples = torch.tensor([[0.0, 0.0], [1.0, 0.0], [5.0, 5.0]])

@@ -89,9 +89,8 @@ def nearest_examples(query: Tensor, examples: Tensor, k: int, shared_from: int |
         sorted_query, found = query[rows].contiguous(), torch.empty_like(out)
         kernel.sdn3d_nearest_grouped_f32(sorted_query.data_ptr(), examples_t.data_ptr(),
                                          example_index.data_ptr(), tails.data_ptr(), boxes.data_ptr(),
-                                         offsets.data_ptr(), len(tails),
-                                         len(query), len(examples), query.shape[1], shared_from, k, found.data_ptr(),
-                                         torch.get_num_threads())
+                                         offsets.data_ptr(), len(tails), len(query), len(examples), query.shape[1],
+                                         shared_from, k, found.data_ptr(), torch.get_num_threads())
         out[rows] = found
         return out
     examples_t = examples.t().contiguous()  # (F, E): the kernel's loop over examples is one vector loop a feature
@@ -135,11 +134,7 @@ def _groups(examples: Tensor, shared_from: int) -> tuple[Tensor, Tensor, Tensor,
     if len(starts) > GROUPED_MAX_SHARE * len(examples):
         return None
     offsets = torch.cat([starts, torch.tensor([len(examples)])])
-    lead = examples[order, :shared_from]
-    group = torch.arange(len(starts)).repeat_interleave(offsets.diff())[:, None].expand_as(lead)
-    low = torch.full((len(starts), shared_from), torch.inf).scatter_reduce(0, group, lead, "amin")
-    high = torch.full((len(starts), shared_from), -torch.inf).scatter_reduce(0, group, lead, "amax")
-    boxes = torch.stack([low, high], 1).contiguous()
+    boxes = _boxes(examples[order, :shared_from], offsets).contiguous()
     return examples[order].t().contiguous(), order, tail[starts].contiguous(), boxes, offsets
 
 

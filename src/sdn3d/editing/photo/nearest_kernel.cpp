@@ -118,8 +118,8 @@ inline void keep(float d, int64_t j, int64_t k, int64_t& kept, float* best, int6
 }
 
 void rows_grouped_f32(const float* query, const float* examples_t, const int64_t* example_index, const float* tails,
-                      const float* boxes, const int64_t* offsets, int64_t G, int64_t first, int64_t last, int64_t E, int64_t F, int64_t S,
-                      int64_t k, int64_t* out) {
+                      const float* boxes, const int64_t* offsets, int64_t G, int64_t first, int64_t last, int64_t E,
+                      int64_t F, int64_t S, int64_t k, int64_t* out) {
     const int64_t T = F - S;
     std::vector<float> dist(static_cast<size_t>(E));
     std::vector<float> tail_dist(static_cast<size_t>(G));
@@ -161,8 +161,8 @@ void rows_grouped_f32(const float* query, const float* examples_t, const int64_t
                 float bound = tail_dist[g];
                 const float* low = boxes + g * 2 * S;
                 for (int64_t f = 0; f < S; ++f) {
-                    const float out = std::max(std::max(low[f] - q[f], q[f] - low[S + f]), 0.0f);
-                    bound += out * out;
+                    const float outside = std::max(std::max(low[f] - q[f], q[f] - low[S + f]), 0.0f);
+                    bound += outside * outside;
                 }
                 if (bound * (1.0f - 1e-5f) > best[k - 1]) continue;
             }
@@ -217,9 +217,9 @@ void sdn3d_nearest_f32(const float* query, const float* examples_t, int64_t Q, i
 }
 
 // query (Q, F); the examples sorted by group: examples_t (F, E) transposed, example_index (E) each one's index in the
-// caller's order (ascending within a group), tails (G, F - S) each group's features from column S on, offsets (G + 1)
-// boxes (G, 2, S) each group's least and greatest leading features, offsets (G + 1) where each group's members start;
-// out (Q, k) int64 indices in the caller's order; 1 <= k <= E.
+// caller's order, tails (G, F - S) each group's features from column S on, boxes (G, 2, S) each group's least and
+// greatest leading features, offsets (G + 1) where each group's members start; out (Q, k) int64 indices in the
+// caller's order; 1 <= k <= E.
 void sdn3d_nearest_grouped_f32(const float* query, const float* examples_t, const int64_t* example_index,
                                const float* tails, const float* boxes, const int64_t* offsets, int64_t G, int64_t Q,
                                int64_t E, int64_t F, int64_t S, int64_t k, int64_t* out, int threads) {

@@ -127,15 +127,16 @@ def _groups(examples: Tensor, shared_from: int) -> tuple[Tensor, Tensor, Tensor,
     if not 0 < shared_from < examples.shape[1]:
         return None
     order = _row_hash(examples[:, shared_from:]).argsort(stable=True)  # equal rows one after another
-    tail = examples[order, shared_from:]
+    ordered = examples[order]
+    tail = ordered[:, shared_from:]
     # a group starts where a row differs from the one before it (two rows hashing alike may split a group in two:
     # each part is still a group of equal rows)
     starts = torch.cat([torch.ones(1, dtype=torch.bool), (tail[1:] != tail[:-1]).any(1)]).nonzero().flatten()
     if len(starts) > GROUPED_MAX_SHARE * len(examples):
         return None
     offsets = torch.cat([starts, torch.tensor([len(examples)])])
-    boxes = _boxes(examples[order, :shared_from], offsets).contiguous()
-    return examples[order].t().contiguous(), order, tail[starts].contiguous(), boxes, offsets
+    boxes = _boxes(ordered[:, :shared_from], offsets).contiguous()
+    return ordered.t().contiguous(), order, tail[starts].contiguous(), boxes, offsets
 
 
 def _nearest_in_blocks(query: Tensor, examples: Tensor, k: int) -> Tensor:

@@ -1,3 +1,5 @@
+# ruff: noqa: E401, E501, E702, I001
+"""abt.py AB_FILE: per edit, the medians of base and new and the paired new / base ratio over rounds."""
 import sys, statistics as st, collections
 d = collections.defaultdict(dict)
 for line in open(sys.argv[1]):

@@ -86,8 +86,9 @@ tree such an abstention made 16 of 61 cut cars face the wrong way against 9, and
 cars than it fixed (``docs/results/2026-11-30_cpu/session22/flip``). Weights between were tried in session 36 (the
 demo weights of that session, tuning trees 35-43, ground-truth masks): the bins were right on 38 of the 87 cut cars
 without lamps, the side on 80; at ``side_weight`` 0.3 or less (below ``-flip_below``: the side no longer turns the
-branch's yaw) 27 to 43 cars more faced the wrong way for 1 to 3 fewer, 0.35 and 0.4 changed nothing
-(``docs/results/2026-12-02_cpu/session36/flips``).
+branch's yaw) 27 to 43 cars more faced the wrong way for 1 to 3 fewer, 0.35 and 0.4 changed nothing, and 0.6 turned
+1 car of 409 the right way; on held-out trees 2383-2389 0.6 turned none either way (306 cars; 3 fits turned about 30
+degrees further off), so 0.5 stays (``docs/results/2026-12-02_cpu/session36/flips``).
 
 Fog and rain add the air's light to every pixel (``observed = t albedo + air``): a tail lamp's red over green
 falls from about 2.3 to 1.5 in rain, below ``ratio``, and a back view without "red lamps" was read as a front (Table 1's

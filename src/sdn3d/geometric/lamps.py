@@ -65,25 +65,30 @@ ground-truth masks again unchanged (``docs/results/2026-12-02_cpu/session34/lead
 
 A car cut by the image's left or right border (the predictor's ``border_side``, :func:`border_side`) lies beside the
 camera, and there the end facing it (the near end, towards ``sign(sin(alpha)) cos(alpha)`` across the image, the
-same for a yaw and its reverse) lies at the border: a car along the road, off to one side, is seen with its near
-end outwards. So its near end's lamps, red or white, are cut off, and their absence says nothing about the end.
-On the Table 1 tuning trees 31, 35 and 37 (session 21's demo weights, ground-truth masks, an oracle) the truth put
-the near end at the cutting border on 66 of the 68 cut cars (the 2 others cut by the bottom only), and with no
-red lamps the absence was right on 25 front views and wrong on all 17 back views
+same for a yaw and its reverse) lies at the border: a car along the road, off to one side, is seen with its near end
+outwards. So its near end's lamps, red or white, are cut off, and their absence says nothing about the end. On the
+Table 1 tuning trees 31, 35 and 37 (session 21's demo weights, ground-truth masks, an oracle) the truth put the near
+end at the cutting border on 66 of the 68 cut cars (the 2 others cut by the bottom only), and with no red lamps the
+absence was right on 25 front views and wrong on all 17 back views
 (``docs/results/2026-11-30_cpu/session23/border``). What the picture still tells is the car's place: with
 ``traffic`` :attr:`Traffic.RIGHT` (KITTI's, Virtual KITTI's and Cityscapes' roads) a car cut by the right border
 drives, or is parked, the camera's way and shows its back, and one cut by the left border comes towards the camera
-and shows its front; on those trees that side named the true end of 46 of the 51 cut cars without lamps. So on a
-car the left or right border cuts, an absence of red lamps (or of a red body's headlights) is replaced by that
-side's evidence at ``absent_weight``, ``-absent_weight * side * sin(alpha)`` (``side`` +1 for the right border, -1
-for the left; :attr:`Traffic.LEFT` reverses it, :attr:`Traffic.NONE` counts nothing), at every hypothesis: one that
-puts the near end inwards is the silhouette's depth reflection (``alpha -> -alpha``, which an outline hardly tells
-apart), not a view whose lamps could show. Read only where the hypothesis put the near end at the border, the rule
-turned 6 of those trees' fits from flipped to right; at every hypothesis 14, breaking none (the fit on ground-truth
-masks, 35 flips to 21). Lamps that are seen still count as before. Counting the absence for nothing
-(:attr:`Traffic.NONE`) leaves the end to the MultiBin bins, right on 5 of those 17 backs: on the seed-13 tree such
-an abstention made 16 of 61 cut cars face the wrong way against 9, and on trees 31/35/37 it broke 3 more cars
-than it fixed (``docs/results/2026-11-30_cpu/session22/flip``).
+and shows its front; on those trees that side named the true end of 46 of the 51 cut cars without lamps. So on a car
+the left or right border cuts, an absence of red lamps (or of a red body's headlights) is replaced by that side's
+evidence at ``side_weight`` (0.5, as ``absent_weight``), ``-side_weight * side * sin(alpha)`` (``side`` +1 for the
+right border, -1 for the left; :attr:`Traffic.LEFT` reverses it, :attr:`Traffic.NONE` counts nothing), at every
+hypothesis: one that puts the near end inwards is the silhouette's depth reflection (``alpha -> -alpha``, which an
+outline hardly tells apart), not a view whose lamps could show. Read only where the hypothesis put the near end at
+the border, the rule turned 6 of those trees' fits from flipped to right; at every hypothesis 14, breaking none (the
+fit on ground-truth masks, 35 flips to 21). Lamps that are seen still count as before. Counting the absence for
+nothing (:attr:`Traffic.NONE`) leaves the end to the MultiBin bins, right on 5 of those 17 backs: on the seed-13
+tree such an abstention made 16 of 61 cut cars face the wrong way against 9, and on trees 31/35/37 it broke 3 more
+cars than it fixed (``docs/results/2026-11-30_cpu/session22/flip``). Weights between were tried in session 36 (the
+demo weights of that session, tuning trees 35-43, ground-truth masks): the bins were right on 38 of the 87 cut cars
+without lamps, the side on 80; at ``side_weight`` 0.3 or less (below ``-flip_below``: the side no longer turns the
+branch's yaw) 27 to 43 cars more faced the wrong way for 1 to 3 fewer, 0.35 and 0.4 changed nothing, and 0.6 turned
+1 car of 409 the right way; on held-out trees 2383-2389 0.6 turned none either way (306 cars; 3 fits turned about 30
+degrees further off), so 0.5 stays (``docs/results/2026-12-02_cpu/session36/flips``).
 
 Fog and rain add the air's light to every pixel (``observed = t albedo + air``): a tail lamp's red over green
 falls from about 2.3 to 1.5 in rain, below ``ratio``, and a back view without "red lamps" was read as a front (Table 1's
@@ -151,6 +156,7 @@ class LampCue:
     clear_dark: float | None = 0.10
     lamp_top: float = 0.3
     traffic: Traffic = Traffic.RIGHT
+    side_weight: float = 0.5
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "traffic", Traffic.parse(self.traffic, "LampCue.traffic"))
@@ -165,6 +171,10 @@ class LampCue:
                                                    and 0.0 <= self.lamp_top < 1.0):
             raise ValueError(f"LampCue.lamp_top must lie in [0, 1) (a share of the mask's rows from its top), got "
                              f"{self.lamp_top!r}")
+        if isinstance(self.side_weight, bool) or not (isinstance(self.side_weight, (int, float))
+                                                      and 0.0 <= self.side_weight <= 1.0):
+            raise ValueError(f"LampCue.side_weight must lie in [0, 1] (the traffic side's weight on a cut car), got "
+                             f"{self.side_weight!r}")
 
 
 def border_side(box: Tensor, width: int) -> Tensor:
@@ -365,7 +375,7 @@ def _cut_absence(absent: Tensor, sin: Tensor, border: Tensor, cue: LampCue) -> T
     side = border[:, None].to(sin.dtype)
     sign = {Traffic.RIGHT: 1.0, Traffic.LEFT: -1.0, Traffic.NONE: 0.0}[cue.traffic]
     # the near end, and its lamps, lie beyond the border: the absence is not read, the car's side of the road is
-    return torch.where(side != 0, -sign * cue.absent_weight * side * sin, absent)
+    return torch.where(side != 0, -sign * cue.side_weight * side * sin, absent)
 
 
 def face_by_lamps(ry: Tensor, ray: Tensor, crop: Tensor, mask: Tensor, cue: LampCue | None = None,

@@ -159,7 +159,8 @@ def test_only_the_semantic_branchs_proposals_get_the_unsure_band(frame, models, 
     image, masks, gt = frame
     seen = {}
 
-    def spy(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None, classes=None):
+    def spy(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None, classes=None,
+            unsure_pixels=None):
         seen["unsure"] = unsure
         return tuple(g.clone() for g in geometry), [], None
 

@@ -356,9 +356,11 @@ def _same_prediction(predicted: tuple[Tensor, ...], appearance: Appearance | Non
 def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, intrinsics: Intrinsics, source: str,
                 gt: GroundTruth | None, models: Models, min_pixels: int, refine: RefineSettings | None,
                 photo: InputPhoto | None, boxes: BoxPrompts | None, fit: FitSettings | None,
-                class_names: dict[int, str], earlier: _Objects | None = None, same: Tensor | None = None) -> _Objects:
+                class_names: dict[int, str], unsure_pixels: Tensor | None = None, earlier: _Objects | None = None,
+                same: Tensor | None = None) -> _Objects:
     """Step 3 of the module doc for the objects ``masks (N, H, W)``, ``ids (N,)`` (``box_rows (B,)``: those named by
-    a box).
+    a box). ``unsure_pixels (H, W)``: the pixels the proposals' silhouette loss leaves out (None: none;
+    :attr:`~sdn3d.geometric.fit.FitSettings.unsure_vehicle`).
 
     ``earlier``: these objects' results from a first pass (derender's join: :meth:`_Objects.rows` of its
     :meth:`_Objects.with_ignore`, the rows ``same (N,)`` bool those whose mask the join left as it was). The geometric
@@ -398,10 +400,10 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
                    if len(refit) and len(box_rows) and boxes.fit == fit and earlier is None else None)
         if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
             geometry, proposal_fits, first, box_result = fit_proposals_and_boxes(
-                intrinsics, masks, ids, refit, geometry, fit, appearance, box_req, band, classes)
+                intrinsics, masks, ids, refit, geometry, fit, appearance, box_req, band, classes, unsure_pixels)
         else:
             geometry, proposal_fits, first = fit_proposals(intrinsics, masks, ids, refit, geometry, fit, appearance,
-                                                           band, classes)
+                                                           band, classes, unsure_pixels)
         if source == "semantic" and appearance is not None and fit.appearance and first is not None:
             geometry, proposal_fits = _choose_on_agreed_lamps(image, intrinsics, masks, ids, refit, first, geometry,
                                                               proposal_fits, fit, appearance, band, models, photo)
@@ -579,7 +581,11 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
     if boxes is not None and len(boxes):
         masks, ids, box_rows, mask_source = add_box_objects(image, masks, ids, boxes, seg, things, class_list, found)
     class_names = {c.id: c.name for c in class_list}
-    stage = (image, intrinsics, source, gt, models, min_pixels, refine, photo, boxes, fit, class_names)
+    unsure_pixels = None  # the pixels the semantic branch is unsure are a vehicle's (FitSettings.unsure_vehicle)
+    if source == "semantic" and seg is not None and fit is not None and fit.unsure_vehicle is not None:
+        vehicle = seg.probability[0, things].sum(0).float().cpu()
+        unsure_pixels = (vehicle > 0.5 - fit.unsure_vehicle) & (vehicle < 0.5 + fit.unsure_vehicle)
+    stage = (image, intrinsics, source, gt, models, min_pixels, refine, photo, boxes, fit, class_names, unsure_pixels)
     objects = _objects_3d(masks, ids, box_rows, *stage)
     groups = (footprint_joins(masks, ids, objects.geometry, objects.fits, fit.join_overlap)
               if fit is not None and fit.join_overlap is not None and source == "semantic" else [])

@@ -174,7 +174,7 @@ def join_masks(masks: Tensor, ids: Tensor, groups: Sequence[Tensor]) -> tuple[Te
 
 def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],
                   settings: FitSettings, appearance: Appearance | None = None, unsure: Tensor | None = None,
-                  classes: Sequence[str | None] | None = None
+                  classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None
                   ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult | None]:
     """``(geometry, records, fit)``: the rows ``rows (K,)`` of ``geometry`` (``template (N,), dims (N, 3), ry (N,),
     location (N, 3), phi (N, 64, 3)``, the branch's predictions) fitted to their ``masks (N, H, W)`` (module doc),
@@ -186,7 +186,8 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
     (as for the box objects: :func:`~sdn3d.box_objects.yaw_belief`). ``unsure``: ``(N, H, W)`` bool pixels that
     count for no object (:func:`unsure_below`; None: none). ``classes``: the class name of every object (the
     templates each may be drawn with, :func:`~sdn3d.geometric.fit.allowed_templates`; None: any).
-    :func:`proposal_request` and
+    ``unsure_pixels``: ``(H, W)`` bool pixels every object's silhouette loss leaves out, its mask keeping them
+    (:attr:`~sdn3d.geometric.fit.FitSettings.unsure_vehicle`; None: none). :func:`proposal_request` and
     :func:`apply_proposal_fit` are its two halves, for a caller that fits these objects with others
     (:func:`~sdn3d.geometric.fit.fit_many`).
     """
@@ -194,7 +195,7 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
 
     if not len(rows):
         return tuple(g.clone() for g in geometry), [], None
-    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes)
+    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, unsure_pixels)
     result = fit_many([request], intr, settings=settings)[0]
     return (*apply_proposal_fit(result, ids, rows, geometry, settings), result)
 
@@ -202,7 +203,7 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
 def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor,
                             geometry: tuple[Tensor, ...], settings: FitSettings, appearance: Appearance | None,
                             boxes: FitRequest, unsure: Tensor | None = None,
-                            classes: Sequence[str | None] | None = None
+                            classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None
                             ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult | None, FitResult]:
     """:func:`fit_proposals` and the fit of the box objects' request ``boxes``
     (:func:`~sdn3d.box_objects.box_request`, the same ``settings``) in one :func:`~sdn3d.geometric.fit.fit_many`
@@ -211,10 +212,10 @@ def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: 
     from sdn3d.geometric.fit import fit_many
 
     if not len(rows):
-        return (*fit_proposals(intr, masks, ids, rows, geometry, settings, appearance, unsure, classes),
-                fit_many([boxes], intr, settings=settings)[0])
-    fits = fit_many([proposal_request(masks, rows, geometry, settings, appearance, unsure, classes), boxes], intr,
-                    settings=settings)
+        return (*fit_proposals(intr, masks, ids, rows, geometry, settings, appearance, unsure, classes,
+                               unsure_pixels), fit_many([boxes], intr, settings=settings)[0])
+    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, unsure_pixels)
+    fits = fit_many([request, boxes], intr, settings=settings)
     return (*apply_proposal_fit(fits[0], ids, rows, geometry, settings), fits[0], fits[1])
 
 
@@ -238,10 +239,11 @@ def choose_proposals_again(fit: FitResult, ids: Tensor, rows: Tensor, again: Ten
 
 def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], settings: FitSettings,
                      appearance: Appearance | None = None, unsure: Tensor | None = None,
-                     classes: Sequence[str | None] | None = None) -> FitRequest:
+                     classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None) -> FitRequest:
     """What :func:`fit_proposals` asks the fit for the rows ``rows (K,)`` (non-empty): their masks, boxes, the pixels
-    of nearer objects and the ``unsure`` ones (``(N, H, W)`` or None), the predictions as starts and the yaw
-    belief (``classes``: the class name of every object, None: unknown)."""
+    of nearer objects and the ``unsure`` ones (``(N, H, W)`` or None), the ``unsure_pixels (H, W)`` their
+    silhouette loss leaves out (or None), the predictions as starts and the yaw belief (``classes``: the class name of
+    every object, None: unknown)."""
     from sdn3d.geometric.fit import FitRequest
 
     template, dims, ry, location, _ = geometry
@@ -250,7 +252,8 @@ def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], 
                       start_dims=dims[rows].float(), start_template=template[rows],
                       start_location=location[rows].float(),
                       yaw_belief=yaw_belief(appearance if settings.appearance else None, rows),
-                      classes=None if classes is None else [classes[int(r)] for r in rows])
+                      classes=None if classes is None else [classes[int(r)] for r in rows],
+                      unsure=None if unsure_pixels is None else unsure_pixels[None].expand(len(rows), -1, -1))
 
 
 def proposal_ignore(masks: Tensor, geometry: tuple[Tensor, ...], unsure: Tensor | None = None,

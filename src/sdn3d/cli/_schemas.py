@@ -51,6 +51,7 @@ class FitSchema:
     parts: int = MISSING
     poor_iou: float = MISSING
     join_overlap: Optional[float] = MISSING
+    unsure_vehicle: Optional[float] = MISSING
 
 
 @dataclass

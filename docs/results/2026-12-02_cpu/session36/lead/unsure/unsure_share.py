@@ -1,4 +1,4 @@
-# ruff: noqa: E401, E402, E501, E701, E702, F401, I001
+# ruff: noqa: E401, E402, E501, E701, E702, F401, I001, UP031
 """unsure_share.py TREE...: per proposal of 64 px or more (40 frames a tree, w36), the share of its mask whose vehicle
 probability lies between 0.3 and 0.7 (what the fit leaves out), by weather."""
 import sys, numpy as np, torch

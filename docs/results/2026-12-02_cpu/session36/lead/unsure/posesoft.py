@@ -24,7 +24,13 @@ if os.environ.get("SOFT", "0") != "0":
             if os.environ.get("SOFT_MODE") == "ignore":
                 lo, hi = float(os.environ.get("SOFT_LO", "0.3")), float(os.environ.get("SOFT_HI", "0.7"))
                 unsure = (p > lo) & (p < hi)
-                ignore = ignore.bool() | unsure[None]
+                cap = os.environ.get("SOFT_CAP")
+                if cap:  # objects whose mask is more than this share unsure: nothing left out
+                    m = masks.bool()
+                    share = (m & unsure[None]).flatten(1).sum(1) / m.flatten(1).sum(1).clamp(min=1)
+                    ignore = ignore.bool() | (unsure[None] & (share <= float(cap))[:, None, None])
+                else:
+                    ignore = ignore.bool() | unsure[None]
             else:
                 masks = masks.float() * p[None].clamp(0, 1) ** power
         return _crops(masks, ignore, windows, size, intr, image_size)

@@ -46,7 +46,7 @@ def test_a_spill_left_out_of_the_loss_no_longer_turns_the_fit():
     settings = FitSettings(camera_height=HEIGHT)
     start = torch.tensor([TRUE_RY + 0.3])
     plain = fit_to_masks(mask, box, WORK, settings=settings, start_ry=start)
-    unsure = fit_to_masks(mask, box, WORK, settings=settings, start_ry=start, unsure=spill[None])
+    unsure = fit_to_masks(mask, box, WORK, settings=settings, start_ry=start, unsure_pixels=spill[None])
     assert _yaw_error_deg(float(plain.ry[0])) > 20  # the spill turns the plain fit (40 degrees here)
     assert _yaw_error_deg(float(unsure.ry[0])) < 8  # 3 degrees
     _, drawn = _render([int(unsure.template[0])], [tuple(unsure.dims[0].tolist())], [float(unsure.ry[0])],
@@ -56,8 +56,8 @@ def test_a_spill_left_out_of_the_loss_no_longer_turns_the_fit():
 
 def test_unsure_pixels_must_be_shaped_as_the_masks():
     car, spill = _spilled_car()
-    with pytest.raises(ValueError, match="unsure must be shaped as masks"):
-        fit_to_masks(car[None], mask_boxes(car[None]).float(), WORK, unsure=spill)
+    with pytest.raises(ValueError, match="unsure_pixels must be shaped as masks"):
+        fit_to_masks(car[None], mask_boxes(car[None]).float(), WORK, unsure_pixels=spill)
 
 
 @pytest.mark.parametrize("bad", [0, -0.1, 0.6, True, math.nan])

@@ -253,7 +253,7 @@ def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], 
                       start_location=location[rows].float(),
                       yaw_belief=yaw_belief(appearance if settings.appearance else None, rows),
                       classes=None if classes is None else [classes[int(r)] for r in rows],
-                      unsure=None if unsure_pixels is None else unsure_pixels[None].expand(len(rows), -1, -1))
+                      unsure_pixels=None if unsure_pixels is None else unsure_pixels[None].expand(len(rows), -1, -1))
 
 
 def proposal_ignore(masks: Tensor, geometry: tuple[Tensor, ...], unsure: Tensor | None = None,

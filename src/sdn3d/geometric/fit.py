@@ -647,7 +647,7 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
                  bank: MeshBank | None = None,
                  settings: FitSettings | None = None,
                  yaw_belief: Callable[[Tensor], Tensor] | None = None,
-                 classes: Sequence[str | None] | None = None, unsure: Tensor | None = None) -> FitResult:
+                 classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None) -> FitResult:
     """Fit template, size, yaw, position on the road and FFD of ``N`` vehicles to their masks (module doc).
 
     Args:
@@ -669,8 +669,8 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
             the fits within ``tie`` of the best. None: the yaw nearest ``start_ry`` does.
         classes: each object's semantic class name (:func:`allowed_templates`: a car is never drawn as a bus, a van
             never as a sedan); None (or a None entry): every template.
-        unsure: ``(N, H, W)`` bool pixels the silhouette loss (and the fit's IoU) leaves out while the mask keeps
-            them (the pixels of nearer objects, ``ignore``, leave the mask): where the mask's source is unsure
+        unsure_pixels: ``(N, H, W)`` bool pixels the silhouette loss (and the fit's IoU) leaves out while the mask
+            keeps them (the pixels of nearer objects, ``ignore``, leave the mask): where the mask's source is unsure
             (:attr:`FitSettings.unsure_vehicle`); None: none.
     """
     settings = settings or FitSettings()
@@ -680,8 +680,9 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
         raise ValueError(f"masks must be (N, H, W) of the image {intr.size}, got {tuple(masks.shape)}")
     if tuple(boxes.shape) != (n, 4):
         raise ValueError(f"boxes must be ({n}, 4), got {tuple(boxes.shape)}")
-    if unsure is not None and tuple(unsure.shape) != tuple(masks.shape):
-        raise ValueError(f"unsure must be shaped as masks {tuple(masks.shape)}, got {tuple(unsure.shape)}")
+    if unsure_pixels is not None and tuple(unsure_pixels.shape) != tuple(masks.shape):
+        raise ValueError(f"unsure_pixels must be shaped as masks {tuple(masks.shape)}, got "
+                         f"{tuple(unsure_pixels.shape)}")
     ignore = torch.zeros_like(masks, dtype=torch.bool) if ignore is None else ignore.bool()
     height, height_source = estimate_camera_height(
         None if start_location is None or start_template is None
@@ -713,7 +714,8 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     offsets = torch.tensor(YAW_OFFSETS, dtype=torch.float32).repeat(n * t)
     start = {"x": road[obj, 0], "z": road[obj, 2], "ry": _wrap(ry0[obj] + offsets), "dims": dims0[obj],
              "phi_half": torch.zeros(n * per, 32, 3), "barred": ~allowed[obj, template]}
-    loss_ignore = ignore if unsure is None else ignore | unsure.bool()  # the silhouette loss's; the mask keeps unsure
+    # the silhouette loss's ignored pixels; the mask keeps the unsure ones
+    loss_ignore = ignore if unsure_pixels is None else ignore | unsure_pixels.bool()
     mask, ign, K = _crops(masks, loss_ignore, windows, settings.coarse_size, intr, image_size)
     coarse_bank = bank.simplified(settings.coarse_faces) if settings.coarse_faces else bank
     values, loss = _in_parts(_search, n, per, settings.parts, coarse_bank, template, start, dims0[obj], ry0[obj],
@@ -909,7 +911,7 @@ class FitRequest:
     start_location: Tensor | None = None
     yaw_belief: Callable[[Tensor], Tensor] | None = None
     classes: Sequence[str | None] | None = None
-    unsure: Tensor | None = None
+    unsure_pixels: Tensor | None = None
 
     def __len__(self) -> int:
         return int(self.masks.shape[0])
@@ -930,7 +932,8 @@ def fit_many(requests: list[FitRequest], intr: Intrinsics, *, bank: MeshBank | N
         r = requests[0]
         return [fit_to_masks(r.masks, r.boxes, intr, ignore=r.ignore, start_ry=r.start_ry, start_dims=r.start_dims,
                              start_template=r.start_template, start_location=r.start_location, bank=bank,
-                             settings=settings, yaw_belief=r.yaw_belief, classes=r.classes, unsure=r.unsure)]
+                             settings=settings, yaw_belief=r.yaw_belief, classes=r.classes,
+                             unsure_pixels=r.unsure_pixels)]
 
     def joined(name: str, shape: tuple[int, ...], fill: float | int | bool, dtype: torch.dtype) -> Tensor:
         parts = [getattr(r, name) for r in requests]
@@ -957,7 +960,8 @@ def fit_many(requests: list[FitRequest], intr: Intrinsics, *, bank: MeshBank | N
                           start_location=joined("start_location", (3,), math.nan, torch.float32),
                           bank=bank, settings=settings, yaw_belief=belief,
                           classes=[c for r in requests for c in (r.classes or [None] * len(r))],
-                          unsure=joined("unsure", image, False, torch.bool))
+                          unsure_pixels=None if all(r.unsure_pixels is None for r in requests)
+                          else joined("unsure_pixels", image, False, torch.bool))
     out, lo = [], 0
     for size in sizes:
         rows = slice(lo, lo + size)

@@ -1748,14 +1748,15 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
                     (source pose; ``points_t (Q, 3)`` at the new pose) facing ``normals (Q, 3)`` with ``parts (Q,)``:
                     ``(colour (Q, 3), code (Q,), rule (Q,))``, ``rule`` the code and the lamp band the point lies in
                     (:func:`_lamp_band`: its lamps may be drawn by another rule than its part's)."""
+                    features = _part_features(before, b, points, normals)  # made once for both
                     alb, code, seen_at = _part_colors(b, car_examples, seen_colors, points, normals, parts, before,
                                                       body_albedo, others_of(b), air=lamp_air(b),
-                                                      seen_air=None if seen_air is None else lambda: seen_air(b))
+                                                      seen_air=None if seen_air is None else lambda: seen_air(b),
+                                                      features=features)
                     if settings.view_reflection > 0 and PART_VIEW_REFLECTION:
                         alb = _reflect_part_colors(alb, code, seen_at, parts, _view_cos(points_t, normals),
                                                    car_examples, settings.view_reflection)
-                    band = (_lamp_band(before, b, _part_features(before, b, points, normals))
-                            if LAMP_BAND is not None else None)
+                    band = _lamp_band(before, b, features) if LAMP_BAND is not None else None
                     rule = code.long() * 8 + (1 + band if band is not None else 0)
                     return alb, code, rule
 
@@ -2241,7 +2242,8 @@ def _lendable(examples: _PartExamples, part: int) -> _PartExamples:
 def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor, normals: Tensor, parts: Tensor,
                  before: ObjectTable, body: Tensor | None, others: Callable[[int], _PartExamples] | None = None,
                  max_examples: int = 1500, k: int = 4, air: LampAir = None,
-                 seen_air: Callable[[], LampAir] | None = None) -> tuple[Tensor, Tensor, Tensor]:
+                 seen_air: Callable[[], LampAir] | None = None,
+                 features: Tensor | None = None) -> tuple[Tensor, Tensor, Tensor]:
     """``(colour (P, 3), source code (P,), seen at (P,))`` of unseen surface points ``points (P, 3)`` (camera frame,
     at the source pose of ``before`` row ``b``) with camera-frame unit normals at their new pose ``normals (P, 3)``
     and parts ``parts (P,)``; ``own``: the car's examples and ``seen_colors`` all its visible colours
@@ -2269,7 +2271,8 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     :data:`LAMPS_FROM_ANOTHER_CAR`, the same lamps of another car (``others(part)``, :func:`_lendable`: the pixels
     told as that lamp), nearest first, code :data:`ANOTHER_CAR`, unshaded. A lamp colour is read with the car's
     ``air`` taken out (:func:`_lamp_air`; None: clear air). ``seen_air()``: :func:`_seen_air` of ``seen_colors``
-    where the caller keeps it (:meth:`PhotoSource.seen_air`; None: read off them here)."""
+    where the caller keeps it (:meth:`PhotoSource.seen_air`; None: read off them here). ``features (P, 6)``: the
+    points' :func:`_part_features` where the caller has them (None: made here)."""
     if seen_air is None:
         seen_air = lambda: _seen_air(seen_colors)  # noqa: E731
     lamp = own.reach == REACH_LAMPS  # read only by the never-seen lamps' rule, below
@@ -2284,7 +2287,7 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
     default = (codes == DEFAULT) & (parts >= 0)
     if any_set(default) and len(seen_colors):
         albedo[default] = _through_air(albedo[default], seen_air())  # seen_through_the_air
-    q_feat = _part_features(before, b, points, normals)
+    q_feat = _part_features(before, b, points, normals) if features is None else features
     at_ends = own.reach != REACH_SIDES  # the examples a car's ends are drawn from (the lamps lie at the ends)
     paint = own.color[(own.part == int(Part.BODY)) & at_ends]
     end = q_feat[:, 0].abs() > PART_LENGTH_WEIGHT * LAMP_END

@@ -236,10 +236,12 @@ def test_demo_benchmark_and_edits_run_on_predicted_proposals(tiny_synth, tmp_pat
     info = run_edits(cfg, tiny_synth, ckpts, tmp_path / "edits")
     # random semantic weights propose no car with geometry on tiny_synth: the oracle stands in, labelled
     assert info["proposals"].startswith("oracle: ground-truth masks and semantics (the semantic branch found no car")
+    assert info["grid_titles"][0].endswith("; objects: oracle, ground-truth masks")  # said on the figure too
     oracle = compose_config(["render_size=[80,32]", "edits.angles_deg=[45]", "edits.zoom=0.8", "edits.proposals=gt"],
                             "demo")
     info = run_edits(oracle, tiny_synth, ckpts, tmp_path / "e2")
     assert info["proposals"] == "oracle: ground-truth masks and semantics"
+    assert info["grid_titles"][0] == f"source: {info['frame']}, car {info['car']}; objects: oracle, ground-truth masks"
     # a semantic run whose recorded validation quality is too low to trust (the short budget's): the oracle, said why
     (tmp_path / "summary.json").write_text(json.dumps({"metrics": {"val/pq": 0.0, "val/miou": 0.17}}))
     info = run_edits(cfg, tiny_synth, ckpts, tmp_path / "e3")

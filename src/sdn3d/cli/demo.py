@@ -706,8 +706,11 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     write_png_atomic(out / "source.png", source_rgb)
     names = list(pictures)
     how = "photo appearance" if appearance is Appearance.PHOTO else f"generator, compose {compose.mode}"
-    titled = [(f"source: {record.key}, car {car}", source_rgb)] + [(f"{name} ({how})", pictures[name])
-                                                                     for name in names]
+    # A figure drawn from the frame's own masks says so on its first panel, not only in the report (the oracle
+    # stands in where the semantic branch is not trusted or finds no car: an Intel machine's short run, session 37).
+    oracle = "; objects: oracle, ground-truth masks" if not predicted or proposals.startswith("oracle") else ""
+    titled = [(f"source: {record.key}, car {car}{oracle}", source_rgb)] + [(f"{name} ({how})", pictures[name])
+                                                                           for name in names]
     blank = np.full_like(source_rgb, 255)  # an odd count of panels leaves the last row half empty
     rows = [titled_row([a, b if b is not None else ("", blank)]) for a, b in zip_longest(titled[0::2], titled[1::2])]
     width = max(r.shape[1] for r in rows)
@@ -716,6 +719,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     save_scene(scene, out / "scene")
     return {"frame": record.key, "car": car, "edits": names, "derender_s": round(derender_s, 3),
             "edit_render_s": timings, "grid": "edits/edits_grid.png", "grid_layout": ["source"] + names,
+            "grid_titles": [title for title, _ in titled],
             "appearance": appearance, "compose": compose.mode, "recoloured": recoloured, "proposals": proposals,
             "picture_size": [int(source_rgb.shape[1]), int(source_rgb.shape[0])]}
 

@@ -2329,11 +2329,12 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
         weight = weight / weight.sum(1, keepdim=True)
         # gathered channel-first: the same products and sums as over (P, K, 3) rows, 1.4-2.6x faster (k 16-4); by
         # index_select and take, the same values as indexing by `near` in a third to a half of its time, and weighted
-        # in place (the same products; a new (3, P, K) tensor to write cost as much again at k 16)
+        # in place (the same products; a new (3, P, K) tensor to write cost as much again at k 16). In place cannot
+        # promote: colours or view terms in float32 are first made float64 as the weighting's promotion made them.
         picked = source[have].T.contiguous().index_select(1, near.reshape(-1)).view(3, *near.shape)
-        albedo[q] = picked.mul_(weight).sum(2).T
+        albedo[q] = picked.to(weight.dtype).mul_(weight).sum(2).T
         codes[q] = code
-        seen_at[q] = grazing(cos[have]).take(near).mul_(weight).sum(1)
+        seen_at[q] = grazing(cos[have]).take(near).to(weight.dtype).mul_(weight).sum(1)
     # The lamps of an end the photo never showed, where cars have them (:func:`_lamp_band`): the template's lamp faces
     # lie lower, on the end cap, and took the other end's paint there.
     band = _lamp_band(before, b, q_feat) if LAMP_BAND is not None else None

@@ -962,9 +962,10 @@ def road_shade(image: Tensor, road: Tensor, within: Tensor, lit: Tensor, toleran
         # at the box's edge, as before): OpenCV gives the same bits there.
         wanted = any_along(within[y0:y1, x0:x1], 1).nonzero().flatten()
         if len(wanted):
-            reach = _blur_reach(1.0)
+            across = 1.0  # the blur's sigma down the rows: its reach sets the rows blurred
+            reach = _blur_reach(across)
             r0, r1 = max(int(wanted[0]) - reach, 0), min(int(wanted[-1]) + 1 + reach, y1 - y0)
-            mean, weight = _masked_blur(light[None, r0:r1], ref_px[r0:r1], local, sigma_y=1.0)
+            mean, weight = _masked_blur(light[None, r0:r1], ref_px[r0:r1], local, sigma_y=across)
             ref = ref.contiguous()
             ref[r0:r1] = torch.where(weight >= 0.05, torch.minimum(mean[0].to(ref), ref[r0:r1]), ref[r0:r1])
     share = (light / ref.clamp(min=1e-3)).float()

@@ -708,7 +708,7 @@ def run_edits(cfg: Any, data_root: Path, ckpts: dict[str, str], out: Path) -> di
     how = "photo appearance" if appearance is Appearance.PHOTO else f"generator, compose {compose.mode}"
     # A figure drawn from the frame's own masks says so on its first panel, not only in the report (the oracle
     # stands in where the semantic branch is not trusted or finds no car: an Intel machine's short run, session 37).
-    oracle = "; objects: oracle, ground-truth masks" if not predicted or proposals.startswith("oracle") else ""
+    oracle = "; objects: oracle, ground-truth masks" if proposals.startswith(PROPOSAL_LABELS[Proposals.GT]) else ""
     titled = [(f"source: {record.key}, car {car}{oracle}", source_rgb)] + [(f"{name} ({how})", pictures[name])
                                                                            for name in names]
     blank = np.full_like(source_rgb, 255)  # an odd count of panels leaves the last row half empty

@@ -197,7 +197,7 @@ def _vanishing_point_whole(image, region, K, min_edges=50, max_edges=4000, coher
 
     import cv2
 
-    from sdn3d.editing.photo.light import luminance
+    from sdn3d.image_ops import luminance
 
     fx, cx, cy = float(K[0, 0]), float(K[0, 2]), float(K[1, 2])
     y = luminance(image.permute(1, 2, 0).reshape(-1, 3)).view(image.shape[1:]).float().numpy()
@@ -233,7 +233,7 @@ def _vanishing_point_whole(image, region, K, min_edges=50, max_edges=4000, coher
 
 
 def test_vanishing_point_from_the_regions_window_equals_the_whole_picture():
-    from sdn3d.editing.photo.road import image_vanishing_point
+    from sdn3d.road_heading import image_vanishing_point
 
     g = torch.Generator().manual_seed(9)
     K = torch.tensor([[721.5, 0.0, 609.6], [0.0, 721.5, 172.9], [0.0, 0.0, 1.0]], dtype=torch.float64)
@@ -618,7 +618,7 @@ def test_raster_ids_from_a_table_are_the_where_they_replaced():
 
 
 def test_heading_votes_within_reach_are_the_whole_expression_bit_for_bit():
-    from sdn3d.editing.photo.road import VOTE_REACH_SPREADS, _heading_votes
+    from sdn3d.road_heading import VOTE_REACH_SPREADS, _heading_votes
 
     # exp gives the same bits at any position of a tensor (vector lanes, the scalar tail, strided), which the banded
     # votes rely on: on random arguments of the votes' range and on every float32 where the results turn subnormal

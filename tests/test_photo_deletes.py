@@ -177,7 +177,7 @@ def _heading(u: float) -> float:
 
 
 def test_the_voted_vanishing_point_snaps_to_the_cameras_forward_heading_only_within_a_degree():
-    from sdn3d.editing.photo.road import FORWARD_SNAP_DEG, image_vanishing_point
+    from sdn3d.road_heading import FORWARD_SNAP_DEG, image_vanishing_point
 
     region = torch.ones(192, 624, dtype=torch.bool)
     slight = _perspective_road(0.5)  # lanes half a degree off the forward heading
@@ -193,7 +193,7 @@ def test_a_grassy_verges_texture_does_not_outvote_the_lane_lines():
     """The real frame's failure: the road runs 30 degrees left of the camera's forward heading and a verge of fine,
     high-contrast grass fills the picture's right part below the horizon. Its strong gradients point every way;
     counted as edges (coherence 0) they take the vote far off the road; only the lines' coherence keeps it."""
-    from sdn3d.editing.photo.road import FORWARD_SNAP_DEG, image_vanishing_point
+    from sdn3d.road_heading import FORWARD_SNAP_DEG, image_vanishing_point
 
     image = _perspective_road(-30.0, grass=0.3)
     region = torch.ones(192, 624, dtype=torch.bool)

@@ -38,6 +38,7 @@ from sdn3d.labels import INSTANCE_DIVISOR
 from sdn3d.math3d.camera import Intrinsics
 
 __all__ = [
+    "luminance",
     "any_set",
     "any_along",
     "count_set",
@@ -508,3 +509,8 @@ def id_counts(ids: Tensor, wanted: Tensor) -> Tensor:
     counts = torch.bincount(ids.reshape(-1).long(), minlength=hi + 1)
     inside = (wanted >= 0) & (wanted <= hi)
     return torch.where(inside, counts[wanted.long().clamp(0, hi)], 0)
+
+
+def luminance(rgb: Tensor) -> Tensor:
+    """``(...,)`` Rec. 709 luminance of ``rgb (..., 3)`` in [0, 1]."""
+    return rgb @ rgb.new_tensor([0.2126, 0.7152, 0.0722])

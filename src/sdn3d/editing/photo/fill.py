@@ -376,8 +376,8 @@ def removal_guides(image: Tensor, K: Tensor, lab: PictureLab, hole: Tensor, ids:
 def _shadow_fit(image: Tensor, search: Tensor, lit: Tensor, road: Tensor, tolerance: float = 12.0):
     """``(gain (3,) float64, y (H, W), y_lit, y_core, shadow pixels (H, W))`` of the shadow inside ``search`` (module
     doc of :func:`relight_shadow`), or None where too few lit road or shadow pixels are found."""
-    from sdn3d.editing.photo.light import luminance
     from sdn3d.editing.photo.road import road_like
+    from sdn3d.image_ops import luminance
 
     like = road_like(image, road, tolerance, within=search | lit)
     flat = image.permute(1, 2, 0).reshape(-1, 3).double()

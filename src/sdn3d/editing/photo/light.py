@@ -10,7 +10,9 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
-__all__ = ["LightEstimate", "luminance", "fit_light", "grazing", "fit_reflection", "REFLECTION_POWER",
+from sdn3d.image_ops import luminance
+
+__all__ = ["LightEstimate", "fit_light", "grazing", "fit_reflection", "REFLECTION_POWER",
            "REFLECTION_MIN_EXPLAINED"]
 
 
@@ -48,11 +50,6 @@ def _sphere(n: int) -> Tensor:
     r = (1 - y * y).sqrt()
     phi = math.pi * (3 - math.sqrt(5)) * k
     return torch.stack([r * phi.cos(), y, r * phi.sin()], 1)
-
-
-def luminance(rgb: Tensor) -> Tensor:
-    """``(...,)`` Rec. 709 luminance of ``rgb (..., 3)`` in [0, 1]."""
-    return rgb @ rgb.new_tensor([0.2126, 0.7152, 0.0722])
 
 
 def fit_light(colors: Tensor, normals: Tensor, groups: Tensor, directions: int = 256,

@@ -25,7 +25,7 @@ from sdn3d.editing.photo.fill import (
     shadow_pieces,
     vacated_hole,
 )
-from sdn3d.editing.photo.light import LightEstimate, fit_light, fit_reflection, grazing, luminance
+from sdn3d.editing.photo.light import LightEstimate, fit_light, fit_reflection, grazing
 from sdn3d.editing.photo.nearest import nearest_examples
 from sdn3d.editing.photo.occluders import thin_occluders
 from sdn3d.editing.photo.recolor import (
@@ -66,6 +66,7 @@ from sdn3d.image_ops import (
     id_counts,
     ids_present,
     isin_ids,
+    luminance,
     mask_boxes,
     nonzero_yx,
 )

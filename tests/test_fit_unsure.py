@@ -101,7 +101,7 @@ def test_derender_hands_the_proposals_fit_the_pixels_the_branch_is_unsure_of(mod
 
     seen = []
     real_fit = D.fit_proposals
-    monkeypatch.setattr(D, "fit_proposals", lambda *a, **k: seen.append(a[-1]) or real_fit(*a, **k))
+    monkeypatch.setattr(D, "fit_proposals", lambda *a, **k: seen.append(a[9]) or real_fit(*a, **k))  # unsure_pixels
     as_predicted("semantic")
     derender(image, WORK, models, "gt", gt, fit=FitSettings(camera_height=HEIGHT))
     assert torch.equal(seen[-1], spill)  # 0.55: within 0.2 of 0.5; the car's 0.95 and the road's 0 are not

@@ -66,6 +66,7 @@ Drawing a scene and editing an image end to end are :mod:`sdn3d.editing.render`.
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
@@ -108,6 +109,7 @@ from sdn3d.proposal_fit import (
     vehicle_rows,
 )
 from sdn3d.proposals import PROPOSALS, Proposals, choose_sources
+from sdn3d.road_heading import road_axes
 from sdn3d.scene.code import DEFAULT_CODE_DIM, ObjectTable, SceneCode
 from sdn3d.scene.maps import scene_maps
 
@@ -396,17 +398,22 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
         if earlier is not None:
             kept = read & _same_bits(proposal_ignore(masks, predicted, band, fit), earlier.ignore)
         refit = rows[~kept[rows]]
+        road = _road_axes(image, intrinsics, masks, refit) if source == "semantic" and fit.lane_reg else None
         box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes)
                    if len(refit) and len(box_rows) and boxes.fit == fit and earlier is None else None)
         if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
             geometry, proposal_fits, first, box_result = fit_proposals_and_boxes(
-                intrinsics, masks, ids, refit, geometry, fit, appearance, box_req, band, classes, unsure_pixels)
+                intrinsics, masks, ids, refit, geometry, fit, appearance, box_req, band, classes, unsure_pixels, road)
         else:
             geometry, proposal_fits, first = fit_proposals(intrinsics, masks, ids, refit, geometry, fit, appearance,
-                                                           band, classes, unsure_pixels)
+                                                           band, classes, unsure_pixels, road)
+        if road is not None:
+            proposal_fits = _with_road(proposal_fits, ids, road)
         if source == "semantic" and appearance is not None and fit.appearance and first is not None:
             geometry, proposal_fits = _choose_on_agreed_lamps(image, intrinsics, masks, ids, refit, first, geometry,
                                                               proposal_fits, fit, appearance, band, models, photo)
+            if road is not None:
+                proposal_fits = _with_road(proposal_fits, ids, road)
         if earlier is not None:  # the kept rows' fits and records, and the box objects' fit
             geometry = tuple(torch.where(kept.view(-1, *[1] * (g.dim() - 1)), e, g)
                              for g, e in zip(geometry, earlier.geometry, strict=True))
@@ -414,6 +421,27 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
             proposal_fits = [by_id[i] for i in ids[rows].tolist()]
             box_result = earlier.box_result if len(rows) else None
     return _Objects(predicted, geometry, appearance, proposal_fits, box_result, band)
+
+
+def _road_axes(image: Tensor, intrinsics: Intrinsics, masks: Tensor, rows: Tensor) -> Tensor:
+    """``(N,)`` the road's axis where each of the objects ``rows (K,)`` of ``masks (N, H, W)`` stands
+    (:func:`~sdn3d.road_heading.road_axes`, every object's pixels left out of the vote), NaN for the other rows: the
+    semantic branch's proposals' fit is drawn towards it (:attr:`~sdn3d.geometric.fit.FitSettings.lane_reg`). A
+    proposal's rounded outline fits many yaws about equally well, and the branch's poor prediction chose among them
+    (docs/results/2026-12-02_cpu/session37/lead/edgeband); on Virtual KITTI's streets, as on real ones, nearly every
+    car stands along its lane. The ground truth's masks and the box objects' (GrabCut's) outlines are sharp enough to
+    tell a car parked askew (docs/results/2026-12-02_cpu/session38/lane): they are fitted without it."""
+    road = torch.full((len(masks),), math.nan)
+    if len(rows):
+        road[rows] = road_axes(image, intrinsics.matrix(), masks[rows], masks.any(0))
+    return road
+
+
+def _with_road(records: list[ProposalFit], ids: Tensor, road: Tensor) -> list[ProposalFit]:
+    """``records`` with the road's axis each fit was drawn towards (degrees; the rows of ``road (N,)`` by ``ids``);
+    a record of a row without one (NaN) keeps its own."""
+    at = {int(i): float(r) for i, r in zip(ids.tolist(), road.tolist(), strict=True) if math.isfinite(r)}
+    return [replace(r, road_axis_deg=math.degrees(at[r.instance_id])) if r.instance_id in at else r for r in records]
 
 
 def _annotation_boxes(gt: GroundTruth, ids: Tensor) -> tuple[Tensor, Tensor]:

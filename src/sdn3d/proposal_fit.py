@@ -64,7 +64,8 @@ UNSURE_BELOW = 0.3
 class ProposalFit:
     """One proposal's test-time fit: its silhouette IoU with its mask (None: not fitted, the prediction kept), whether
     that is poor (under ``FitSettings.poor_iou``), the winning hypothesis in words, the fit's note, if any, and the
-    ids of the proposals it was joined from (:func:`footprint_joins`; its own id first; empty: not joined)."""
+    ids of the proposals it was joined from (:func:`footprint_joins`; its own id first; empty: not joined), and the
+    road's axis the fit was drawn towards (a yaw in degrees, :func:`~sdn3d.road_heading.road_axes`; None: none)."""
 
     instance_id: int
     iou: float | None
@@ -72,11 +73,13 @@ class ProposalFit:
     hypothesis: str | None
     note: str | None = None
     joined_from: tuple[int, ...] = ()
+    road_axis_deg: float | None = None
 
     def to_json(self) -> dict:
         return {"id": self.instance_id, "fit_iou": None if self.iou is None else round(self.iou, 4),
                 "poor_fit": self.poor, "hypothesis": self.hypothesis, "note": self.note,
-                "joined_from": list(self.joined_from)}
+                "joined_from": list(self.joined_from),
+                "road_axis_deg": None if self.road_axis_deg is None else round(self.road_axis_deg, 2)}
 
 
 def vehicle_rows(ids: Tensor, template: Tensor, class_names: dict[int, str]) -> Tensor:
@@ -174,8 +177,8 @@ def join_masks(masks: Tensor, ids: Tensor, groups: Sequence[Tensor]) -> tuple[Te
 
 def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],
                   settings: FitSettings, appearance: Appearance | None = None, unsure: Tensor | None = None,
-                  classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None
-                  ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult | None]:
+                  classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None,
+                  road: Tensor | None = None) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult | None]:
     """``(geometry, records, fit)``: the rows ``rows (K,)`` of ``geometry`` (``template (N,), dims (N, 3), ry (N,),
     location (N, 3), phi (N, 64, 3)``, the branch's predictions) fitted to their ``masks (N, H, W)`` (module doc),
     and the fit's result for those rows (None without rows; its ``choice``: :func:`choose_proposals_again`).
@@ -187,7 +190,9 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
     count for no object (:func:`unsure_below`; None: none). ``classes``: the class name of every object (the
     templates each may be drawn with, :func:`~sdn3d.geometric.fit.allowed_templates`; None: any).
     ``unsure_pixels``: ``(H, W)`` bool pixels every object's silhouette loss leaves out, its mask keeping them
-    (:attr:`~sdn3d.geometric.fit.FitSettings.unsure_vehicle`; None: none). :func:`proposal_request` and
+    (:attr:`~sdn3d.geometric.fit.FitSettings.unsure_vehicle`; None: none). ``road``: ``(N,)`` the road's axis where
+    each object stands (:func:`~sdn3d.road_heading.road_axes`, NaN: unknown; the fit's
+    :attr:`~sdn3d.geometric.fit.FitSettings.lane_reg`); None: none. :func:`proposal_request` and
     :func:`apply_proposal_fit` are its two halves, for a caller that fits these objects with others
     (:func:`~sdn3d.geometric.fit.fit_many`).
     """
@@ -195,7 +200,7 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
 
     if not len(rows):
         return tuple(g.clone() for g in geometry), [], None
-    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, unsure_pixels)
+    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, unsure_pixels, road)
     result = fit_many([request], intr, settings=settings)[0]
     return (*apply_proposal_fit(result, ids, rows, geometry, settings), result)
 
@@ -203,7 +208,8 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
 def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor,
                             geometry: tuple[Tensor, ...], settings: FitSettings, appearance: Appearance | None,
                             boxes: FitRequest, unsure: Tensor | None = None,
-                            classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None
+                            classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None,
+                            road: Tensor | None = None
                             ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult | None, FitResult]:
     """:func:`fit_proposals` and the fit of the box objects' request ``boxes``
     (:func:`~sdn3d.box_objects.box_request`, the same ``settings``) in one :func:`~sdn3d.geometric.fit.fit_many`
@@ -213,8 +219,8 @@ def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: 
 
     if not len(rows):
         return (*fit_proposals(intr, masks, ids, rows, geometry, settings, appearance, unsure, classes,
-                               unsure_pixels), fit_many([boxes], intr, settings=settings)[0])
-    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, unsure_pixels)
+                               unsure_pixels, road), fit_many([boxes], intr, settings=settings)[0])
+    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, unsure_pixels, road)
     fits = fit_many([request, boxes], intr, settings=settings)
     return (*apply_proposal_fit(fits[0], ids, rows, geometry, settings), fits[0], fits[1])
 
@@ -239,11 +245,12 @@ def choose_proposals_again(fit: FitResult, ids: Tensor, rows: Tensor, again: Ten
 
 def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], settings: FitSettings,
                      appearance: Appearance | None = None, unsure: Tensor | None = None,
-                     classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None) -> FitRequest:
+                     classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None,
+                     road: Tensor | None = None) -> FitRequest:
     """What :func:`fit_proposals` asks the fit for the rows ``rows (K,)`` (non-empty): their masks, boxes, the pixels
     of nearer objects and the ``unsure`` ones (``(N, H, W)`` or None), the ``unsure_pixels (H, W)`` their
-    silhouette loss leaves out (or None), the predictions as starts and the yaw belief (``classes``: the class name of
-    every object, None: unknown)."""
+    silhouette loss leaves out (or None), the predictions as starts, the yaw belief and the road's axes (``road
+    (N,)`` or None) (``classes``: the class name of every object, None: unknown)."""
     from sdn3d.geometric.fit import FitRequest
 
     template, dims, ry, location, _ = geometry
@@ -253,7 +260,8 @@ def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], 
                       start_location=location[rows].float(),
                       yaw_belief=yaw_belief(appearance if settings.appearance else None, rows),
                       classes=None if classes is None else [classes[int(r)] for r in rows],
-                      unsure_pixels=None if unsure_pixels is None else unsure_pixels[None].expand(len(rows), -1, -1))
+                      unsure_pixels=None if unsure_pixels is None else unsure_pixels[None].expand(len(rows), -1, -1),
+                      road_ry=None if road is None else road[rows].float())
 
 
 def proposal_ignore(masks: Tensor, geometry: tuple[Tensor, ...], unsure: Tensor | None = None,

@@ -1,10 +1,12 @@
-"""The road's direction in a picture: the vanishing point its edges vote for, in a region or around an object.
+"""The road's direction in a picture: the vanishing point its edges vote for, and the road's axis near each object.
 
 In a driving scene lane markings, kerbs, verges and guard rails run along the road, and in a pinhole picture their
 lines meet at the road's vanishing point on the horizon. :func:`image_vanishing_point` finds it from the picture's
 line-like edges in a region; :func:`road_near` from the edges around an object (within twice its extent, on no
-object), the road where that object stands. The photo appearance fills a removed car's hole along the road's lines
-(:func:`sdn3d.editing.photo.road.removal_vanishing_point`).
+object), the road where that object stands. Two users: the photo appearance fills a removed car's hole along the
+road's lines (:func:`sdn3d.editing.photo.road.removal_vanishing_point`), and the test-time fit of the semantic branch's
+proposals pulls each car towards the road's axis where it stands (:func:`road_axes`,
+:attr:`sdn3d.geometric.fit.FitSettings.lane_reg`).
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from torch import Tensor
 
 from sdn3d.image_ops import any_along, any_set, count_set, dilate_square, luminance, nonzero_yx
 
-__all__ = ["image_vanishing_point", "road_near", "FORWARD_SNAP_DEG", "VOTE_COHERENCE",
+__all__ = ["image_vanishing_point", "road_near", "road_axes", "axis_yaw", "FORWARD_SNAP_DEG", "VOTE_COHERENCE",
            "VOTE_WINDOW", "VOTE_SPREAD_DEG", "VOTE_REACH_SPREADS"]
 
 #: :func:`road_near`: a voted heading within this many degrees of the camera's forward one is the forward one (a
@@ -165,3 +167,31 @@ def road_near(image: Tensor, K: Tensor, mask: Tensor, objects_px: Tensor) -> tup
     extent = max(int(ys.max() - ys.min()), int(xs.max() - xs.min()))
     region = dilate_square(mask, max(2 * extent, 20)) & ~dilate_square(objects_px | mask, 2)
     return image_vanishing_point(image, region, K, forward_snap_deg=FORWARD_SNAP_DEG)
+
+
+def axis_yaw(u: float, K: Tensor) -> float:
+    """The yaw ``ry`` (KITTI convention: a car's long axis is ``(cos ry, 0, -sin ry)`` in the camera frame) of a car
+    whose axis runs to the vanishing point at column ``u`` of a level camera ``K (3, 3)``, its front away from the
+    camera: the heading ``h = atan((u - cx) / fx)`` right of the camera's forward one is ``ry = h - pi / 2`` (a car
+    driving straight ahead: ``-pi / 2``).
+
+    >>> K = torch.tensor([[100.0, 0.0, 50.0], [0.0, 100.0, 20.0], [0.0, 0.0, 1.0]])
+    >>> round(math.degrees(axis_yaw(50.0, K))), round(math.degrees(axis_yaw(150.0, K)))
+    (-90, -45)
+    """
+    return math.atan((u - float(K[0, 2])) / float(K[0, 0])) - math.pi / 2
+
+
+def road_axes(image: Tensor, K: Tensor, masks: Tensor, objects_px: Tensor | None = None) -> Tensor:
+    """``(N,)`` float32 the road's axis where each of the objects ``masks (N, H, W)`` stands, as a yaw
+    (:func:`axis_yaw` of :func:`road_near`; either end: the axis is the yaw mod pi), NaN where the edges around an
+    object do not tell; ``image (3, H, W)`` in [0, 1], ``K (3, 3)`` its level camera, ``objects_px (H, W)`` the
+    pixels of every object, whose edges do not vote (None: the masks' union)."""
+    if objects_px is None:
+        objects_px = masks.any(0) if len(masks) else torch.zeros(image.shape[-2:], dtype=torch.bool)
+    axes = torch.full((len(masks),), math.nan)
+    for i in range(len(masks)):  # one vote per object, each over its own region
+        found = road_near(image, K, masks[i], objects_px)
+        if found is not None:
+            axes[i] = axis_yaw(found[0], K)
+    return axes

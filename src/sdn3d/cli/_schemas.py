@@ -42,6 +42,8 @@ class FitSchema:
     margin: float = MISSING
     sigma: float = MISSING
     yaw_reg: float = MISSING
+    lane_reg: float = MISSING
+    lane_width_deg: float = MISSING
     dims_reg: float = MISSING
     shape_reg: float = MISSING
     template_size_reg: float = MISSING

@@ -2320,21 +2320,29 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
         more = PART_EXAMPLES_K.get(part, k)
         near = nearest_examples(q_feat[q], feature[have], max(k, more), shared_from=FEATURE_NORMAL)  # nearest first
-        if more > k and PART_NORMAL_WEIGHT > 0:  # the k nearest where the nearest faced the camera the same way
+        panel = None  # per row: whether its nearest example faced the camera as it now does (the k nearest alone)
+        if more > k and PART_NORMAL_WEIGHT > 0:
             facing = (q_feat[q, 3:] * feature[have][near[:, 0], 3:]).sum(1) / PART_NORMAL_WEIGHT**2
             panel = facing >= math.cos(math.radians(SAME_PANEL_DEG))
-            weight = torch.where(panel[:, None], (torch.arange(near.shape[1]) < k).double(), 1.0)
-        else:
-            weight = torch.ones(near.shape, dtype=torch.float64)
-        weight = weight / weight.sum(1, keepdim=True)
+        codes[q] = code
         # gathered channel-first: the same products and sums as over (P, K, 3) rows, 1.4-2.6x faster (k 16-4); by
         # index_select and take, the same values as indexing by `near` in a third to a half of its time, and weighted
         # in place (the same products; a new (3, P, K) tensor to write cost as much again at k 16). In place cannot
         # promote: colours or view terms in float32 are first made float64 as the weighting's promotion made them.
-        picked = source[have].T.contiguous().index_select(1, near.reshape(-1)).view(3, *near.shape)
-        albedo[q] = picked.to(weight.dtype).mul_(weight).sum(2).T
-        codes[q] = code
-        seen_at[q] = grazing(cos[have]).take(near).to(weight.dtype).mul_(weight).sum(1)
+        # GATHER_ROWS rows at a time: each row's products and sums are its own, and the block's (3, rows, K) stays in
+        # the processor's cache and the allocator's reach instead of a fresh (3, P, K) to write and read back.
+        colors_t, seen_terms = source[have].T.contiguous(), grazing(cos[have])
+        first_k = (torch.arange(near.shape[1]) < k).double()
+        for start in range(0, len(q), GATHER_ROWS):
+            rows, block = q[start:start + GATHER_ROWS], near[start:start + GATHER_ROWS]
+            if panel is None:
+                weight = torch.ones(block.shape, dtype=torch.float64)
+            else:
+                weight = torch.where(panel[start:start + GATHER_ROWS, None], first_k, 1.0)
+            weight = weight / weight.sum(1, keepdim=True)
+            picked = colors_t.index_select(1, block.reshape(-1)).view(3, *block.shape)
+            albedo[rows] = picked.to(weight.dtype).mul_(weight).sum(2).T
+            seen_at[rows] = seen_terms.take(block).to(weight.dtype).mul_(weight).sum(1)
     # The lamps of an end the photo never showed, where cars have them (:func:`_lamp_band`): the template's lamp faces
     # lie lower, on the end cap, and took the other end's paint there.
     band = _lamp_band(before, b, q_feat) if LAMP_BAND is not None else None
@@ -2590,6 +2598,9 @@ def _lamp_band(before: ObjectTable, b: int, features: Tensor, corners: bool = Tr
     return out
 
 
+#: :func:`_part_colors`: the rows whose nearest examples' colours are gathered and weighted at a time ((3, rows, 16)
+#: float64 at most: 1.5 MB).
+GATHER_ROWS = 4096
 #: :func:`_part_colors`: a tyre example lighter than this quantile of the car's visible pixels' luma is not a tyre
 #: (a template's wheel where the car has paint, or a mask that took in the road below the car, drew grey or red
 #: wheels); 1: every tyre example is kept.

@@ -2531,6 +2531,24 @@ def _members(group: Tensor) -> Tensor:
     return table
 
 
+def _corner_fan_faces(group: Tensor) -> tuple[Tensor, Tensor, Tensor]:
+    """For each face of ``group (F, 3)`` (:func:`_corner_groups`' corner groups): ``(faces (F, M) long, times (F, M,
+    3) long, sizes (F, 3) long)``: the distinct faces of its three corners' fans, ascending, padded with -1; how many
+    times each is a member of each corner's fan (0 for the padding); and each corner's fan size (at least 1). A
+    face's table, made once, serves each of its pixels (:func:`_corner_part_colors`)."""
+    fans = _members(group.reshape(-1))  # (3F, D) flat corner ids of each fan
+    fan_faces = torch.where(fans >= 0, fans // 3, -1)[group]  # (F, 3, D)
+    sizes = (fan_faces >= 0).sum(2).clamp(min=1)
+    ordered = fan_faces.flatten(1).sort(1).values  # (F, 3 D), the padding first
+    distinct = ordered >= 0
+    distinct[:, 1:] &= ordered[:, 1:] != ordered[:, :-1]
+    rank = distinct.cumsum(1) - 1
+    table = torch.full((len(group), max(int(distinct.sum(1).max()), 1)), -1, dtype=torch.long)
+    table[torch.arange(len(group))[:, None].expand_as(ordered)[distinct], rank[distinct]] = ordered[distinct]
+    times = ((fan_faces[:, None] == table[:, :, None, None]) & (table >= 0)[:, :, None, None]).sum(3)
+    return table, times, sizes
+
+
 def _corner_part_colors(lookup: Callable[[Tensor, Tensor, Tensor, Tensor], tuple[Tensor, Tensor]], face: Tensor,
                         points_s: Tensor, points_t: Tensor, parts: Tensor, rules: Tensor, own: Tensor, bary: Tensor,
                         normals: Tensor, faces: Tensor, verts_t: Tensor, labels: Tensor, crease_deg: float) -> Tensor:
@@ -2550,22 +2568,23 @@ def _corner_part_colors(lookup: Callable[[Tensor, Tensor, Tensor, Tensor], tuple
     face (a bus's side, an end cap's fan) drew one end's examples across the whole face. Each face keeps its own
     normal's examples among its corners'. The lookup runs once per distinct (pixel, face of its corners' fans), the
     pixel's own face left out: its lookup is ``own``'s (it was 16 % of them on the real frame's turns)."""
-    n_face = len(faces)
     tri = verts_t[faces.long()]  # (F, 3, 3)
     raw = torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1)
     unit = raw / raw.norm(dim=-1, keepdim=True).clamp_min(1e-300)  # padding faces: a zero normal, joined to none
     # the side the pixel's face was turned to (its winding's normal or the opposite), given to its fans' faces
     side = torch.where(sum3(unit[face] * normals) < 0, -1.0, 1.0).double()
-    group = _corner_groups(faces, unit, labels, crease_deg)
-    fans = _members(group.reshape(-1))  # (G, D) flat corner ids of each fan; their faces, on this small table
-    members = torch.where(fans >= 0, fans // 3, -1)[group[face]]  # (P, 3, D) faces of each corner's fan, -1: none
-    use = members >= 0
-    # each fan face's share of the pixel: its corner's barycentric over the fan's size, summed over the corners
-    share = torch.where(use, bary.double()[..., None] / use.sum(2, keepdim=True).clamp(min=1), 0.0)
-    key = (torch.arange(len(face))[:, None, None] * n_face + members)[use]
-    uniq, inverse = key.unique(return_inverse=True)
-    weight = torch.zeros(len(uniq), dtype=torch.float64).index_add_(0, inverse, share[use])
-    q_pix, q_face = uniq // n_face, uniq % n_face
+    fan_faces, times, sizes = _corner_fan_faces(_corner_groups(faces, unit, labels, crease_deg))
+    near = fan_faces[face]  # (P, M) the faces of the pixel's corners' fans, ascending, -1: none
+    # each fan face's share of the pixel: its corner's barycentric over the fan's size, summed over the corners in
+    # their order, once each time the face is a member of the corner's fan (adding 0 where it is not changes no sum)
+    per_corner = bary.double() / sizes[face]  # (P, 3)
+    share = torch.zeros(near.shape, dtype=torch.float64)
+    for c in range(3):
+        for r in range(int(times[..., c].max())):
+            share += torch.where((times[:, :, c] > r)[face], per_corner[:, c:c + 1], 0.0)
+    use = near >= 0
+    # the (pixel, face) pairs, by pixel then face: one lookup each
+    q_pix, q_face, weight = torch.arange(len(face))[:, None].expand_as(near)[use], near[use], share[use]
     q_normal = side[q_pix, None] * unit[q_face]
     # the pixel's own face: the lookup the caller made (the same point, normal and part; each row's lookup is its own)
     color, rule = own.double()[q_pix], rules[q_pix].clone()

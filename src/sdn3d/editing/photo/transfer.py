@@ -2285,8 +2285,9 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
         albedo[is_body] = body
         codes[is_body] = FALLBACK
     default = (codes == DEFAULT) & (parts >= 0)
-    if any_set(default) and len(seen_colors):
-        albedo[default] = _through_air(albedo[default], seen_air())  # seen_through_the_air
+    if any_set(default) and len(seen_colors):  # seen_through_the_air, a colour a part: each row's as it would be
+        seen = _through_air(torch.tensor(PART_DEFAULTS, dtype=torch.float64), seen_air())
+        albedo = torch.where(default[:, None], seen[parts.clamp(min=0)], albedo)
     q_feat = _part_features(before, b, points, normals) if features is None else features
     at_ends = own.reach != REACH_SIDES  # the examples a car's ends are drawn from (the lamps lie at the ends)
     paint = own.color[(own.part == int(Part.BODY)) & at_ends]

@@ -1754,8 +1754,8 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
                                                       seen_air=None if seen_air is None else lambda: seen_air(b),
                                                       features=features)
                     if settings.view_reflection > 0 and PART_VIEW_REFLECTION:
-                        alb = _reflect_part_colors(alb, code, seen_at, parts, _view_cos(points_t, normals),
-                                                   car_examples, settings.view_reflection)
+                        alb = _reflect_part_colors(alb, code, seen_at, parts, points_t, normals, car_examples,
+                                                   settings.view_reflection)
                     band = _lamp_band(before, b, features) if LAMP_BAND is not None else None
                     rule = code.long() * 8 + (1 + band if band is not None else 0)
                     return alb, code, rule
@@ -2421,12 +2421,13 @@ def _other_end_lamps(own: _PartExamples, own_band: Tensor, lamps: _PartExamples,
             torch.cat([own.feature[have], lamps.feature[lit]]), torch.cat([own.cos[have], lamps.cos[lit]]))
 
 
-def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: Tensor, cos: Tensor,
-                         own: _PartExamples, scale: float) -> Tensor:
+def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: Tensor, points: Tensor,
+                         normals: Tensor, own: _PartExamples, scale: float) -> Tensor:
     """``(P, 3)`` the colours ``colors`` :func:`_part_colors` took from a car's own examples (code :data:`PART`) for
     its body points ``parts (P,)``, changed by the sky reflection their new view adds or takes away, where the paint
     is dark (its body examples' median CIE L* below :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, the
-    recolour's dark paint): a point seen at view cosine ``cos (P,)`` whose examples were seen at
+    recolour's dark paint): a point ``points (P, 3)`` facing ``normals (P, 3)`` (camera frame), seen at their view
+    cosine (:func:`_view_cos`, read only where a point is changed), whose examples were seen at
     :func:`~sdn3d.editing.photo.light.grazing` ``seen_at (P,)`` takes
     ``scale`` times the body's reflection strength (:func:`_reflection_strength`) times the change of the grazing
     term, as a photo pixel at a new view does. A dark paint's colour is mostly the sky it mirrors (its diffuse shading
@@ -2442,7 +2443,8 @@ def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: 
     if strength is None:
         return colors
     out = colors.clone()
-    out[here] += scale * strength[None] * (grazing(cos[here]) - seen_at[here])[:, None]
+    cos = _view_cos(points[here], normals[here])
+    out[here] += scale * strength[None] * (grazing(cos) - seen_at[here])[:, None]
     return out
 
 

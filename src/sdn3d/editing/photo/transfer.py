@@ -2546,13 +2546,17 @@ def _corner_fan_faces(group: Tensor) -> tuple[Tensor, Tensor, Tensor]:
     fans = _members(group.reshape(-1))  # (3F, D) flat corner ids of each fan
     fan_faces = torch.where(fans >= 0, fans // 3, -1)[group]  # (F, 3, D)
     sizes = (fan_faces >= 0).sum(2).clamp(min=1)
-    ordered = fan_faces.flatten(1).sort(1).values  # (F, 3 D), the padding first
-    distinct = ordered >= 0
+    ordered, at = fan_faces.flatten(1).sort(1)  # (F, 3 D), the padding first; at // D: the corner
+    member = ordered >= 0
+    distinct = member.clone()
     distinct[:, 1:] &= ordered[:, 1:] != ordered[:, :-1]
-    rank = distinct.cumsum(1) - 1
+    rank = distinct.cumsum(1) - 1  # each member's place in its face's table (a repeated face: its first's)
+    row = torch.arange(len(group))[:, None].expand_as(ordered)
     table = torch.full((len(group), max(int(distinct.sum(1).max()), 1)), -1, dtype=torch.long)
-    table[torch.arange(len(group))[:, None].expand_as(ordered)[distinct], rank[distinct]] = ordered[distinct]
-    times = ((fan_faces[:, None] == table[:, :, None, None]) & (table >= 0)[:, :, None, None]).sum(3)
+    table[row[distinct], rank[distinct]] = ordered[distinct]
+    times = torch.zeros(*table.shape, 3, dtype=torch.long)
+    times.index_put_((row[member], rank[member], at[member] // fan_faces.shape[2]), torch.ones(1, dtype=torch.long),
+                     accumulate=True)
     return table, times, sizes
 
 
@@ -2589,9 +2593,9 @@ def _corner_part_colors(lookup: Callable[[Tensor, Tensor, Tensor, Tensor], tuple
     for c in range(3):
         for r in range(int(times[..., c].max())):
             share += torch.where((times[:, :, c] > r)[face], per_corner[:, c:c + 1], 0.0)
-    use = near >= 0
     # the (pixel, face) pairs, by pixel then face: one lookup each
-    q_pix, q_face, weight = torch.arange(len(face))[:, None].expand_as(near)[use], near[use], share[use]
+    pair = (near >= 0).view(-1).nonzero().flatten()
+    q_pix, q_face, weight = pair // near.shape[1], near.view(-1)[pair], share.view(-1)[pair]
     q_normal = side[q_pix, None] * unit[q_face]
     # the pixel's own face: the lookup the caller made (the same point, normal and part; each row's lookup is its own)
     color, rule = own.double()[q_pix], rules[q_pix].clone()

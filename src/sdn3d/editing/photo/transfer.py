@@ -557,20 +557,27 @@ WHEEL_FACE_COS = 0.9
 REAL_WHEEL_REACH = 0.95
 
 
-def _from_real_wheels(colors: Tensor, codes: Tensor, wheel: tuple[Tensor, int], parts: Tensor, bank: MeshBank,
-                      template: int, vid: Tensor, bary: Tensor, pyramid: list[Tensor]) -> tuple[Tensor, Tensor]:
-    """``(colours (P, 3), codes (P,))``: never-seen points of one car (``colors``, ``codes`` as :func:`_part_colors`
-    drew them, ``parts (P,)``) that lie on a wheel face of its template (:func:`_wheel_faces` of ``bank`` mesh
-    ``template``, ``vid (P, 3)``, ``bary (P, 3)``) drawn from the real wheel ``wheel`` = ``((x, y, semi-axis x,
-    semi-axis y), code)`` at the same offset from its centre, read off the input's ``pyramid``: a wheel is a rim in a
-    ring of rubber, which the part's examples (tyre pixels lighter than most of the car are dropped, and a car seen
-    from behind shows only treads) drew as a flat black disc (the real frame's red car turned 90 degrees)."""
-    ellipse, code = wheel
+def _wheel_face_points(parts: Tensor, bank: MeshBank, template: int, vid: Tensor,
+                       bary: Tensor) -> tuple[Tensor, Tensor]:
+    """``(points (N,) long, offset (N, 2))``: which never-seen points of one car (``parts (P,)``) lie on a wheel face
+    of its template (:func:`_wheel_faces` of ``bank`` mesh ``template``, ``vid (P, 3)``, ``bary (P, 3)``), and their
+    offsets from the wheel's centre: the points :func:`_from_real_wheels` draws."""
     tyre = (parts == int(Part.TYRE)).nonzero().flatten()
     if not len(tyre):
-        return colors, codes
+        return tyre, torch.zeros(0, 2, dtype=torch.float64)
     offset, face = _wheel_faces(bank, template, vid[tyre], bary[tyre])
-    tyre, offset = tyre[face], offset[face]
+    return tyre[face], offset[face]
+
+
+def _from_real_wheels(colors: Tensor, codes: Tensor, wheel: tuple[Tensor, int], tyre: Tensor, offset: Tensor,
+                      pyramid: list[Tensor]) -> tuple[Tensor, Tensor]:
+    """``(colours (P, 3), codes (P,))``: never-seen points of one car (``colors``, ``codes`` as :func:`_part_colors`
+    drew them) that lie on a wheel face of its template (``tyre (N,)`` at ``offset (N, 2)``,
+    :func:`_wheel_face_points`) drawn from the real wheel ``wheel`` = ``((x, y, semi-axis x, semi-axis y), code)`` at
+    the same offset from its centre, read off the input's ``pyramid``: a wheel is a rim in a ring of rubber, which the
+    part's examples (tyre pixels lighter than most of the car are dropped, and a car seen from behind shows only
+    treads) drew as a flat black disc (the real frame's red car turned 90 degrees)."""
+    ellipse, code = wheel
     if not len(tyre):
         return colors, codes
     uv = ellipse[:2] + REAL_WHEEL_REACH * offset * ellipse[2:]
@@ -1761,7 +1768,12 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
                     return alb, code, rule
 
                 alb, code, rule = lookup(point_s[unseen], normal_t[unseen], t_part[unseen], point_t[unseen])
+                wheel = wheel_for(b) if bool((t_part[unseen] == int(Part.TYRE)).any()) else None
+                on_wheel = (_wheel_face_points(t_part[unseen], bank, int(after.template_id[r]), vid[unseen],
+                                               bary[unseen]) if wheel is not None else None)
                 examples = (code == PART) | (code == ANOTHER_CAR)
+                if on_wheel is not None:  # drawn from the real wheel below: their smoothing would be drawn over
+                    examples[on_wheel[0]] = False
                 if settings.part_smoothing and any_set(examples):
                     # each face's corners looked up with the normals of the faces around them: the colour runs on
                     # across a face edge instead of stepping to the next face's own examples (PhotoSettings)
@@ -1775,10 +1787,8 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
                     alb[k] = _corner_part_colors(lambda *q: lookup(*q)[::2], face, point_s[u], point_t[u], t_part[u],
                                                  rule[k], alb[k], bary[u], normal_t[u], tgt.faces[m], tgt.verts[m],
                                                  labels, settings.part_smoothing_crease_deg)
-                wheel = wheel_for(b) if bool((t_part[unseen] == int(Part.TYRE)).any()) else None
-                if wheel is not None:
-                    alb, code = _from_real_wheels(alb, code, wheel, t_part[unseen], bank, int(after.template_id[r]),
-                                                  vid[unseen], bary[unseen], pyramid)
+                if on_wheel is not None:
+                    alb, code = _from_real_wheels(alb, code, wheel, *on_wheel, pyramid)
                 # a part's examples carry their shading
                 s_un = torch.where((code == PART) | (code == ANOTHER_CAR), 1.0, surface_shade(normal_t[unseen]))
                 fallback[unseen] = alb * s_un[:, None]

@@ -55,7 +55,10 @@ void distances_fixed(const float* q, const float* examples_t, int64_t lo, int64_
     }
 }
 
-void distances(const float* q, const float* examples_t, int64_t lo, int64_t hi, int64_t E, int64_t F, float* d) {
+// Always inlined: called apart, a group's few dozen members and a seed's one example paid a call and the test of F
+// each time (the grouped scan on the real frame's turns in 0.88 of the time; the same sums, the answers checked).
+inline __attribute__((always_inline)) void distances(const float* q, const float* examples_t, int64_t lo, int64_t hi,
+                                                    int64_t E, int64_t F, float* d) {
     if (F == 6) {
         distances_fixed<6>(q, examples_t, lo, hi, E, d);
         return;

@@ -298,3 +298,13 @@ def test_glass_and_body_never_share_a_corner():
         old = _corner_groups(faces, unit, before, 35.0)
         mixed_before += sum(len(side[face_of[old == g].unique()].unique()) > 1 for g in old.unique())
     assert mixed_before > 0 and joined >= len(bank.names) - 1, (mixed_before, joined)  # the bus: none adjacent
+
+
+def test_each_faces_table_holds_its_corners_fan_faces_once_with_how_often_each_corner_has_them():
+    """``transfer._corner_fan_faces``: two faces whose corner groups ``(0, 0, 2)`` and ``(0, 4, 5)`` make group 0's
+    fan of face 0 twice (two of its corners) and face 1 once. Each face's table lists the faces of its three corners'
+    fans once, ascending; ``times`` how often each is a member of each corner's fan; ``sizes`` each fan's size."""
+    table, times, sizes = transfer._corner_fan_faces(torch.tensor([[0, 0, 2], [0, 4, 5]]))
+    assert table.tolist() == [[0, 1], [0, 1]]
+    assert times.tolist() == [[[2, 2, 1], [1, 1, 0]], [[2, 0, 0], [1, 1, 1]]]
+    assert sizes.tolist() == [[3, 3, 1], [3, 1, 1]]

@@ -797,3 +797,30 @@ def test_a_fogged_light_paint_is_no_white_lamp_to_turn_red():
     assert torch.equal(drawn, light)  # main's code: (0.53, 0.06, 0.05), a red lamp on a grey car
     pink = 0.1 * torch.tensor([[0.5, 0.05, 0.05]], dtype=torch.float64) + 0.445  # a red lamp in that fog
     assert bool(transfer._lamp_coloured(pink, int(Part.TAIL_LIGHTS), air)[0])
+
+
+def test_the_part_lookup_gives_each_point_the_same_colour_whatever_its_block_of_rows(monkeypatch):
+    """``transfer._part_colors`` gathers and weighs the nearest examples' colours ``transfer.GATHER_ROWS`` points at
+    a time: each point's colour, code and view term are the same bits with blocks of 7 points as with one block of
+    all of them, for body points (their ``k`` nearest) and window points (``transfer.PART_EXAMPLES_K``'s 16 where
+    the nearest faced the camera another way, else the ``k`` nearest)."""
+    from sdn3d.editing.photo import transfer
+    from sdn3d.editing.photo.transfer import _part_colors, _part_features, _PartExamples
+
+    objects = _scene([BEHIND]).objects
+    g = torch.Generator().manual_seed(5)
+    centre = objects.center[0].double()
+    points = centre + torch.rand(400, 3, generator=g, dtype=torch.float64) - 0.5
+    normals = torch.nn.functional.normalize(torch.randn(400, 3, generator=g, dtype=torch.float64), dim=1)
+    parts = torch.tensor([int(Part.BODY), int(Part.GLASS)])[torch.randint(0, 2, (400,), generator=g)]
+    own = _PartExamples(parts[:300], torch.rand(300, 3, generator=g, dtype=torch.float64),
+                        _part_features(objects, 0, points[:300], normals[:300]),
+                        torch.rand(300, generator=g, dtype=torch.float64), torch.zeros(300, dtype=torch.uint8))
+    query = (points[300:], normals[300:], parts[300:])
+    drawn = {}
+    for rows in (7, 1000):
+        monkeypatch.setattr(transfer, "GATHER_ROWS", rows)
+        drawn[rows] = _part_colors(0, own, own.color, *query, objects, None)
+    assert (drawn[1000][1] == transfer.PART).all()
+    for blocked, whole in zip(drawn[7], drawn[1000], strict=True):
+        assert torch.equal(blocked, whole)

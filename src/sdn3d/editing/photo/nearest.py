@@ -39,7 +39,7 @@ from sdn3d.native import load_kernel
 __all__ = ["GROUPED_MAX_SHARE", "GROUPED_MIN_ROWS", "NEAREST_ROWS", "nearest_examples", "nearest_kernel"]
 
 SOURCE = Path(__file__).with_name("nearest_kernel.cpp")
-ABI_VERSION = 2
+ABI_VERSION = 3
 #: The PyTorch path's block of query rows (its ``(rows, E)`` float32 distances: 3 MB at 1500 examples), so that each
 #: block's distances stay in the processor's cache between ``cdist`` and ``topk``: blocks of 8192 rows (49 MB of
 #: distances at 1500 examples) took about 1.5 times as long on the real frame's turns
@@ -57,7 +57,7 @@ def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
     ptr, i64 = ctypes.c_void_p, ctypes.c_int64
     lib.sdn3d_nearest_f32.argtypes = [ptr, ptr, i64, i64, i64, i64, ptr, ctypes.c_int]
     lib.sdn3d_nearest_f32.restype = None
-    lib.sdn3d_nearest_grouped_f32.argtypes = [ptr, ptr, ptr, ptr, ptr, ptr, i64, i64, i64, i64, i64, i64, ptr,
+    lib.sdn3d_nearest_grouped_f32.argtypes = [ptr, ptr, ptr, ptr, ptr, ptr, ptr, i64, i64, i64, i64, i64, i64, ptr,
                                               ctypes.c_int]
     lib.sdn3d_nearest_grouped_f32.restype = None
     return lib
@@ -84,14 +84,13 @@ def nearest_examples(query: Tensor, examples: Tensor, k: int, shared_from: int |
     groups = _groups(examples, shared_from) if grouped else None
     if groups is not None:
         examples_t, example_index, tails, boxes, offsets = groups
-        # rows with the same trailing features one after another: the kernel sorts the groups once for them
+        # rows with the same trailing features one after another: the kernel sorts the groups once for them (it
+        # reads and writes the rows in this order in place: no sorted copy of the query, no answer to scatter back)
         rows = _row_hash(query[:, shared_from:]).argsort(stable=True)
-        sorted_query, found = query[rows].contiguous(), torch.empty_like(out)
-        kernel.sdn3d_nearest_grouped_f32(sorted_query.data_ptr(), examples_t.data_ptr(),
+        kernel.sdn3d_nearest_grouped_f32(query.data_ptr(), rows.data_ptr(), examples_t.data_ptr(),
                                          example_index.data_ptr(), tails.data_ptr(), boxes.data_ptr(),
                                          offsets.data_ptr(), len(tails), len(query), len(examples), query.shape[1],
-                                         shared_from, k, found.data_ptr(), torch.get_num_threads())
-        out[rows] = found
+                                         shared_from, k, out.data_ptr(), torch.get_num_threads())
         return out
     examples_t = examples.t().contiguous()  # (F, E): the kernel's loop over examples is one vector loop a feature
     kernel.sdn3d_nearest_f32(query.data_ptr(), examples_t.data_ptr(), len(query), len(examples), query.shape[1], k,

@@ -16,10 +16,11 @@
 // order of N_g, and the scan stops at the first whose N_g is beyond the k-th best distance so far; a group whose N_g
 // plus the distance to the box of its members' leading features is beyond it is skipped. A member's distance
 // is summed as the flat kernel sums it, and the k best are kept by (distance, example index), as the flat kernel's
-// scan in index order keeps them: the same answer bit for bit. The caller sorts the query rows by their trailing
-// features, so that a row like the one before it reuses its groups' order; and each row starts from the k examples
-// the row before it kept (a neighbour on the same face, as the part lookups ask them), so that the k-th best is near
-// its final value from the first group on and most groups and blocks are skipped (a glass lookup's 16 nearest: about
+// scan in index order keeps them: the same answer bit for bit. The caller orders the query rows by their trailing
+// features (the scan reads each row and writes its answer in place, in that order), so that a row like the one
+// before it reuses its groups' order; and each row starts from the k examples the row before it kept (a neighbour
+// on the same face, as the part lookups ask them), so that the k-th best is near its final value from the first
+// group on and most groups and blocks are skipped (a glass lookup's 16 nearest: about
 // a third of the flat scan's time, docs/results/2026-12-02_cpu/session35/lead/nearest/). A group's members are offered
 // to the k best only where they are at most the k-th best when their block of SKIP_BLOCK is looked at (a bit mask
 // made in one vector pass, its set bits visited), and an example kept for the row is marked, not searched for among
@@ -54,7 +55,10 @@ void distances_fixed(const float* q, const float* examples_t, int64_t lo, int64_
     }
 }
 
-void distances(const float* q, const float* examples_t, int64_t lo, int64_t hi, int64_t E, int64_t F, float* d) {
+// Always inlined: called apart, a group's few dozen members and a seed's one example paid a call and the test of F
+// each time (the grouped scan on the real frame's turns in 0.88 of the time; the same sums, the answers checked).
+inline __attribute__((always_inline)) void distances(const float* q, const float* examples_t, int64_t lo, int64_t hi,
+                                                    int64_t E, int64_t F, float* d) {
     if (F == 6) {
         distances_fixed<6>(q, examples_t, lo, hi, E, d);
         return;
@@ -125,9 +129,9 @@ inline void keep(float d, int64_t j, int64_t k, int64_t& kept, float* best, int6
     index[p] = j;
 }
 
-void rows_grouped_f32(const float* query, const float* examples_t, const int64_t* example_index, const float* tails,
-                      const float* boxes, const int64_t* offsets, int64_t G, int64_t first, int64_t last, int64_t E,
-                      int64_t F, int64_t S, int64_t k, int64_t* out) {
+void rows_grouped_f32(const float* query, const int64_t* rows, const float* examples_t, const int64_t* example_index,
+                      const float* tails, const float* boxes, const int64_t* offsets, int64_t G, int64_t first,
+                      int64_t last, int64_t E, int64_t F, int64_t S, int64_t k, int64_t* out) {
     const int64_t T = F - S;
     std::vector<float> dist(static_cast<size_t>(E));
     std::vector<float> tail_dist(static_cast<size_t>(G));
@@ -138,18 +142,18 @@ void rows_grouped_f32(const float* query, const float* examples_t, const int64_t
     std::vector<int64_t> in(static_cast<size_t>(E), -1);  // the last row each example was kept for (keep)
     for (int64_t j = 0; j < E; ++j) position[example_index[j]] = j;
     for (int64_t r = first; r < last; ++r) {
-        const float* q = query + r * F;
+        const float* q = query + rows[r] * F;
         int64_t kept = 0;
         if (r > first) {  // the row before's k best first: a neighbour's, near the k-th best from the start
             for (int64_t i = 0; i < k; ++i) {
-                const int64_t j = position[out[(r - 1) * k + i]];
+                const int64_t j = position[out[rows[r - 1] * k + i]];
                 float dj;
                 distances(q, examples_t, j, j + 1, E, F, &dj);
                 keep(dj, example_index[j], k, kept, best.data(), index.data(), in.data(), r);
             }
         }
         // rows sharing their trailing features (the caller sorts them so) share the groups' order
-        if (r == first || !std::equal(q + S, q + F, q - F + S)) {
+        if (r == first || !std::equal(q + S, q + F, query + rows[r - 1] * F + S)) {
             for (int64_t g = 0; g < G; ++g) {
                 float n = 0.0f;
                 for (int64_t t = 0; t < T; ++t) {
@@ -196,7 +200,7 @@ void rows_grouped_f32(const float* query, const float* examples_t, const int64_t
                 }
             }
         }
-        for (int64_t i = 0; i < k; ++i) out[r * k + i] = index[i];
+        for (int64_t i = 0; i < k; ++i) out[rows[r] * k + i] = index[i];
     }
 }
 
@@ -221,7 +225,7 @@ void over_threads(int64_t Q, int threads, Rows rows) {
 
 extern "C" {
 
-int sdn3d_nearest_abi_version() { return 2; }
+int sdn3d_nearest_abi_version() { return 3; }
 
 // query (Q, F), examples_t (F, E) float32, contiguous; out (Q, k) int64; 1 <= k <= E.
 void sdn3d_nearest_f32(const float* query, const float* examples_t, int64_t Q, int64_t E, int64_t F, int64_t k,
@@ -231,15 +235,18 @@ void sdn3d_nearest_f32(const float* query, const float* examples_t, int64_t Q, i
     });
 }
 
-// query (Q, F); the examples sorted by group: examples_t (F, E) transposed, example_index (E) each one's index in the
-// caller's order, tails (G, F - S) each group's features from column S on, boxes (G, 2, S) each group's least and
-// greatest leading features, offsets (G + 1) where each group's members start; out (Q, k) int64 indices in the
-// caller's order; 1 <= k <= E.
-void sdn3d_nearest_grouped_f32(const float* query, const float* examples_t, const int64_t* example_index,
-                               const float* tails, const float* boxes, const int64_t* offsets, int64_t G, int64_t Q,
-                               int64_t E, int64_t F, int64_t S, int64_t k, int64_t* out, int threads) {
+// query (Q, F), scanned in the order rows (Q) (a permutation of its rows: the caller's, rows of equal trailing
+// features one after another); the examples sorted by group: examples_t (F, E) transposed, example_index (E) each
+// one's index in the caller's order, tails (G, F - S) each group's features from column S on, boxes (G, 2, S) each
+// group's least and greatest leading features, offsets (G + 1) where each group's members start; out (Q, k) int64
+// indices in the caller's order, row rows[r] of it written by the scan's r-th; 1 <= k <= E.
+void sdn3d_nearest_grouped_f32(const float* query, const int64_t* rows, const float* examples_t,
+                               const int64_t* example_index, const float* tails, const float* boxes,
+                               const int64_t* offsets, int64_t G, int64_t Q, int64_t E, int64_t F, int64_t S,
+                               int64_t k, int64_t* out, int threads) {
     over_threads(Q, threads, [=](int64_t first, int64_t last) {
-        rows_grouped_f32(query, examples_t, example_index, tails, boxes, offsets, G, first, last, E, F, S, k, out);
+        rows_grouped_f32(query, rows, examples_t, example_index, tails, boxes, offsets, G, first, last, E, F, S, k,
+                         out);
     });
 }
 

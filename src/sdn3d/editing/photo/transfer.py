@@ -558,20 +558,27 @@ WHEEL_FACE_COS = 0.9
 REAL_WHEEL_REACH = 0.95
 
 
-def _from_real_wheels(colors: Tensor, codes: Tensor, wheel: tuple[Tensor, int], parts: Tensor, bank: MeshBank,
-                      template: int, vid: Tensor, bary: Tensor, pyramid: list[Tensor]) -> tuple[Tensor, Tensor]:
-    """``(colours (P, 3), codes (P,))``: never-seen points of one car (``colors``, ``codes`` as :func:`_part_colors`
-    drew them, ``parts (P,)``) that lie on a wheel face of its template (:func:`_wheel_faces` of ``bank`` mesh
-    ``template``, ``vid (P, 3)``, ``bary (P, 3)``) drawn from the real wheel ``wheel`` = ``((x, y, semi-axis x,
-    semi-axis y), code)`` at the same offset from its centre, read off the input's ``pyramid``: a wheel is a rim in a
-    ring of rubber, which the part's examples (tyre pixels lighter than most of the car are dropped, and a car seen
-    from behind shows only treads) drew as a flat black disc (the real frame's red car turned 90 degrees)."""
-    ellipse, code = wheel
+def _wheel_face_points(parts: Tensor, bank: MeshBank, template: int, vid: Tensor,
+                       bary: Tensor) -> tuple[Tensor, Tensor]:
+    """``(points (N,) long, offset (N, 2))``: which never-seen points of one car (``parts (P,)``) lie on a wheel face
+    of its template (:func:`_wheel_faces` of ``bank`` mesh ``template``, ``vid (P, 3)``, ``bary (P, 3)``), and their
+    offsets from the wheel's centre: the points :func:`_from_real_wheels` draws."""
     tyre = (parts == int(Part.TYRE)).nonzero().flatten()
     if not len(tyre):
-        return colors, codes
+        return tyre, torch.zeros(0, 2, dtype=torch.float64)
     offset, face = _wheel_faces(bank, template, vid[tyre], bary[tyre])
-    tyre, offset = tyre[face], offset[face]
+    return tyre[face], offset[face]
+
+
+def _from_real_wheels(colors: Tensor, codes: Tensor, wheel: tuple[Tensor, int], tyre: Tensor, offset: Tensor,
+                      pyramid: list[Tensor]) -> tuple[Tensor, Tensor]:
+    """``(colours (P, 3), codes (P,))``: never-seen points of one car (``colors``, ``codes`` as :func:`_part_colors`
+    drew them) that lie on a wheel face of its template (``tyre (N,)`` at ``offset (N, 2)``,
+    :func:`_wheel_face_points`) drawn from the real wheel ``wheel`` = ``((x, y, semi-axis x, semi-axis y), code)`` at
+    the same offset from its centre, read off the input's ``pyramid``: a wheel is a rim in a ring of rubber, which the
+    part's examples (tyre pixels lighter than most of the car are dropped, and a car seen from behind shows only
+    treads) drew as a flat black disc (the real frame's red car turned 90 degrees)."""
+    ellipse, code = wheel
     if not len(tyre):
         return colors, codes
     uv = ellipse[:2] + REAL_WHEEL_REACH * offset * ellipse[2:]
@@ -1755,14 +1762,19 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
                                                       seen_air=None if seen_air is None else lambda: seen_air(b),
                                                       features=features)
                     if settings.view_reflection > 0 and PART_VIEW_REFLECTION:
-                        alb = _reflect_part_colors(alb, code, seen_at, parts, _view_cos(points_t, normals),
-                                                   car_examples, settings.view_reflection)
+                        alb = _reflect_part_colors(alb, code, seen_at, parts, points_t, normals, car_examples,
+                                                   settings.view_reflection)
                     band = _lamp_band(before, b, features) if LAMP_BAND is not None else None
                     rule = code.long() * 8 + (1 + band if band is not None else 0)
                     return alb, code, rule
 
                 alb, code, rule = lookup(point_s[unseen], normal_t[unseen], t_part[unseen], point_t[unseen])
+                wheel = wheel_for(b) if bool((t_part[unseen] == int(Part.TYRE)).any()) else None
+                on_wheel = (_wheel_face_points(t_part[unseen], bank, int(after.template_id[r]), vid[unseen],
+                                               bary[unseen]) if wheel is not None else None)
                 examples = (code == PART) | (code == ANOTHER_CAR)
+                if on_wheel is not None:  # drawn from the real wheel below: their smoothing would be drawn over
+                    examples[on_wheel[0]] = False
                 if settings.part_smoothing and any_set(examples):
                     # each face's corners looked up with the normals of the faces around them: the colour runs on
                     # across a face edge instead of stepping to the next face's own examples (PhotoSettings)
@@ -1776,10 +1788,8 @@ def _draw(out: Tensor, source: Tensor, img_flat: Tensor, own: Tensor, src: _Rast
                     alb[k] = _corner_part_colors(lambda *q: lookup(*q)[::2], face, point_s[u], point_t[u], t_part[u],
                                                  rule[k], alb[k], bary[u], normal_t[u], tgt.faces[m], tgt.verts[m],
                                                  labels, settings.part_smoothing_crease_deg)
-                wheel = wheel_for(b) if bool((t_part[unseen] == int(Part.TYRE)).any()) else None
-                if wheel is not None:
-                    alb, code = _from_real_wheels(alb, code, wheel, t_part[unseen], bank, int(after.template_id[r]),
-                                                  vid[unseen], bary[unseen], pyramid)
+                if on_wheel is not None:
+                    alb, code = _from_real_wheels(alb, code, wheel, *on_wheel, pyramid)
                 # a part's examples carry their shading
                 s_un = torch.where((code == PART) | (code == ANOTHER_CAR), 1.0, surface_shade(normal_t[unseen]))
                 fallback[unseen] = alb * s_un[:, None]
@@ -2082,9 +2092,13 @@ def _part_features(before: ObjectTable, b: int, points: Tensor, normals: Tensor)
     centre = before.center[b].double()
     size = before.dims[b].double()  # (l, h, w)
     local = (points.double() - centre) @ rot  # rot^T (p - c) per row
-    where = torch.stack([PART_LENGTH_WEIGHT * local[:, 0] / size[0], local[:, 1] / size[1],
-                         local[:, 2].abs() / size[2]], 1)
-    return torch.cat([where, PART_NORMAL_WEIGHT * normals.double()], 1)
+    # each column written in place: the same quotients and products as made apart and stacked, without the copies
+    features = torch.empty(len(points), 6, dtype=torch.float64)
+    torch.div(PART_LENGTH_WEIGHT * local[:, 0], size[0], out=features[:, 0])
+    torch.div(local[:, 1], size[1], out=features[:, 1])
+    torch.div(local[:, 2].abs(), size[2], out=features[:, 2])
+    torch.mul(normals.double(), PART_NORMAL_WEIGHT, out=features[:, 3:])
+    return features
 
 
 def _part_examples(b: int, s_mesh: int, visible_px: Tensor, before: ObjectTable, src: _Raster, parts_src: Tensor,
@@ -2286,8 +2300,9 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
         albedo[is_body] = body
         codes[is_body] = FALLBACK
     default = (codes == DEFAULT) & (parts >= 0)
-    if any_set(default) and len(seen_colors):
-        albedo[default] = _through_air(albedo[default], seen_air())  # seen_through_the_air
+    if any_set(default) and len(seen_colors):  # seen_through_the_air, a colour a part: each row's as it would be
+        seen = _through_air(torch.tensor(PART_DEFAULTS, dtype=torch.float64), seen_air())
+        albedo = torch.where(default[:, None], seen[parts.clamp(min=0)], albedo)
     q_feat = _part_features(before, b, points, normals) if features is None else features
     at_ends = own.reach != REACH_SIDES  # the examples a car's ends are drawn from (the lamps lie at the ends)
     paint = own.color[(own.part == int(Part.BODY)) & at_ends]
@@ -2321,21 +2336,34 @@ def _part_colors(b: int, own: _PartExamples, seen_colors: Tensor, points: Tensor
             have = have[torch.linspace(0, len(have) - 1, max_examples).long()]
         more = PART_EXAMPLES_K.get(part, k)
         near = nearest_examples(q_feat[q], feature[have], max(k, more), shared_from=FEATURE_NORMAL)  # nearest first
-        if more > k and PART_NORMAL_WEIGHT > 0:  # the k nearest where the nearest faced the camera the same way
+        panel = None  # per row: whether its nearest example faced the camera as it now does (the k nearest alone)
+        if more > k and PART_NORMAL_WEIGHT > 0:
             facing = (q_feat[q, 3:] * feature[have][near[:, 0], 3:]).sum(1) / PART_NORMAL_WEIGHT**2
             panel = facing >= math.cos(math.radians(SAME_PANEL_DEG))
-            weight = torch.where(panel[:, None], (torch.arange(near.shape[1]) < k).double(), 1.0)
-        else:
-            weight = torch.ones(near.shape, dtype=torch.float64)
-        weight = weight / weight.sum(1, keepdim=True)
+        codes[q] = code
         # gathered channel-first: the same products and sums as over (P, K, 3) rows, 1.4-2.6x faster (k 16-4); by
         # index_select and take, the same values as indexing by `near` in a third to a half of its time, and weighted
         # in place (the same products; a new (3, P, K) tensor to write cost as much again at k 16). In place cannot
         # promote: colours or view terms in float32 are first made float64 as the weighting's promotion made them.
-        picked = source[have].T.contiguous().index_select(1, near.reshape(-1)).view(3, *near.shape)
-        albedo[q] = picked.to(weight.dtype).mul_(weight).sum(2).T
-        codes[q] = code
-        seen_at[q] = grazing(cos[have]).take(near).to(weight.dtype).mul_(weight).sum(1)
+        # GATHER_ROWS rows at a time: each row's products and sums are its own, and the block's (3, rows, K) stays in
+        # the processor's cache and the allocator's reach instead of a fresh (3, P, K) to write and read back; a
+        # channel at a time by `take` into the one block's buffer (the same values as index_select along the
+        # examples, in half its time).
+        colors_t, seen_terms = source[have].T.contiguous(), grazing(cos[have])
+        first_k = (torch.arange(near.shape[1]) < k).double()
+        buffer = torch.empty(3 * min(len(q), GATHER_ROWS) * near.shape[1], dtype=colors_t.dtype)
+        for start in range(0, len(q), GATHER_ROWS):
+            rows, block = q[start:start + GATHER_ROWS], near[start:start + GATHER_ROWS]
+            if panel is None:
+                weight = torch.ones(block.shape, dtype=torch.float64)
+            else:
+                weight = torch.where(panel[start:start + GATHER_ROWS, None], first_k, 1.0)
+            weight = weight / weight.sum(1, keepdim=True)
+            picked = buffer[:3 * block.numel()].view(3, *block.shape)
+            for colour, into in zip(colors_t, picked, strict=True):
+                torch.take(colour, block, out=into)
+            albedo[rows] = picked.to(weight.dtype).mul_(weight).sum(2).T
+            seen_at[rows] = seen_terms.take(block).to(weight.dtype).mul_(weight).sum(1)
     # The lamps of an end the photo never showed, where cars have them (:func:`_lamp_band`): the template's lamp faces
     # lie lower, on the end cap, and took the other end's paint there.
     band = _lamp_band(before, b, q_feat) if LAMP_BAND is not None else None
@@ -2409,12 +2437,13 @@ def _other_end_lamps(own: _PartExamples, own_band: Tensor, lamps: _PartExamples,
             torch.cat([own.feature[have], lamps.feature[lit]]), torch.cat([own.cos[have], lamps.cos[lit]]))
 
 
-def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: Tensor, cos: Tensor,
-                         own: _PartExamples, scale: float) -> Tensor:
+def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: Tensor, points: Tensor,
+                         normals: Tensor, own: _PartExamples, scale: float) -> Tensor:
     """``(P, 3)`` the colours ``colors`` :func:`_part_colors` took from a car's own examples (code :data:`PART`) for
     its body points ``parts (P,)``, changed by the sky reflection their new view adds or takes away, where the paint
     is dark (its body examples' median CIE L* below :data:`~sdn3d.editing.photo.recolor.DARK_PAINT_L`, the
-    recolour's dark paint): a point seen at view cosine ``cos (P,)`` whose examples were seen at
+    recolour's dark paint): a point ``points (P, 3)`` facing ``normals (P, 3)`` (camera frame), seen at their view
+    cosine (:func:`_view_cos`, read only where a point is changed), whose examples were seen at
     :func:`~sdn3d.editing.photo.light.grazing` ``seen_at (P,)`` takes
     ``scale`` times the body's reflection strength (:func:`_reflection_strength`) times the change of the grazing
     term, as a photo pixel at a new view does. A dark paint's colour is mostly the sky it mirrors (its diffuse shading
@@ -2430,7 +2459,8 @@ def _reflect_part_colors(colors: Tensor, codes: Tensor, seen_at: Tensor, parts: 
     if strength is None:
         return colors
     out = colors.clone()
-    out[here] += scale * strength[None] * (grazing(cos[here]) - seen_at[here])[:, None]
+    cos = _view_cos(points[here], normals[here])
+    out[here] += scale * strength[None] * (grazing(cos) - seen_at[here])[:, None]
     return out
 
 
@@ -2524,6 +2554,28 @@ def _members(group: Tensor) -> Tensor:
     return table
 
 
+def _corner_fan_faces(group: Tensor) -> tuple[Tensor, Tensor, Tensor]:
+    """For each face of ``group (F, 3)`` (:func:`_corner_groups`' corner groups): ``(faces (F, M) long, times (F, M,
+    3) long, sizes (F, 3) long)``: the distinct faces of its three corners' fans, ascending, padded with -1; how many
+    times each is a member of each corner's fan (0 for the padding); and each corner's fan size (at least 1). A
+    face's table, made once, serves each of its pixels (:func:`_corner_part_colors`)."""
+    fans = _members(group.reshape(-1))  # (3F, D) flat corner ids of each fan
+    fan_faces = torch.where(fans >= 0, fans // 3, -1)[group]  # (F, 3, D)
+    sizes = (fan_faces >= 0).sum(2).clamp(min=1)
+    ordered, at = fan_faces.flatten(1).sort(1)  # (F, 3 D), the padding first; at // D: the corner
+    member = ordered >= 0
+    distinct = member.clone()
+    distinct[:, 1:] &= ordered[:, 1:] != ordered[:, :-1]
+    rank = distinct.cumsum(1) - 1  # each member's place in its face's table (a repeated face: its first's)
+    row = torch.arange(len(group))[:, None].expand_as(ordered)
+    table = torch.full((len(group), max(int(distinct.sum(1).max()), 1)), -1, dtype=torch.long)
+    table[row[distinct], rank[distinct]] = ordered[distinct]
+    times = torch.zeros(*table.shape, 3, dtype=torch.long)
+    times.index_put_((row[member], rank[member], at[member] // fan_faces.shape[2]), torch.ones(1, dtype=torch.long),
+                     accumulate=True)
+    return table, times, sizes
+
+
 def _corner_part_colors(lookup: Callable[[Tensor, Tensor, Tensor, Tensor], tuple[Tensor, Tensor]], face: Tensor,
                         points_s: Tensor, points_t: Tensor, parts: Tensor, rules: Tensor, own: Tensor, bary: Tensor,
                         normals: Tensor, faces: Tensor, verts_t: Tensor, labels: Tensor, crease_deg: float) -> Tensor:
@@ -2543,22 +2595,23 @@ def _corner_part_colors(lookup: Callable[[Tensor, Tensor, Tensor, Tensor], tuple
     face (a bus's side, an end cap's fan) drew one end's examples across the whole face. Each face keeps its own
     normal's examples among its corners'. The lookup runs once per distinct (pixel, face of its corners' fans), the
     pixel's own face left out: its lookup is ``own``'s (it was 16 % of them on the real frame's turns)."""
-    n_face = len(faces)
     tri = verts_t[faces.long()]  # (F, 3, 3)
     raw = torch.linalg.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], dim=-1)
     unit = raw / raw.norm(dim=-1, keepdim=True).clamp_min(1e-300)  # padding faces: a zero normal, joined to none
     # the side the pixel's face was turned to (its winding's normal or the opposite), given to its fans' faces
     side = torch.where(sum3(unit[face] * normals) < 0, -1.0, 1.0).double()
-    group = _corner_groups(faces, unit, labels, crease_deg)
-    fans = _members(group.reshape(-1))  # (G, D) flat corner ids of each fan; their faces, on this small table
-    members = torch.where(fans >= 0, fans // 3, -1)[group[face]]  # (P, 3, D) faces of each corner's fan, -1: none
-    use = members >= 0
-    # each fan face's share of the pixel: its corner's barycentric over the fan's size, summed over the corners
-    share = torch.where(use, bary.double()[..., None] / use.sum(2, keepdim=True).clamp(min=1), 0.0)
-    key = (torch.arange(len(face))[:, None, None] * n_face + members)[use]
-    uniq, inverse = key.unique(return_inverse=True)
-    weight = torch.zeros(len(uniq), dtype=torch.float64).index_add_(0, inverse, share[use])
-    q_pix, q_face = uniq // n_face, uniq % n_face
+    fan_faces, times, sizes = _corner_fan_faces(_corner_groups(faces, unit, labels, crease_deg))
+    near = fan_faces[face]  # (P, M) the faces of the pixel's corners' fans, ascending, -1: none
+    # each fan face's share of the pixel: its corner's barycentric over the fan's size, summed over the corners in
+    # their order, once each time the face is a member of the corner's fan (adding 0 where it is not changes no sum)
+    per_corner = bary.double() / sizes[face]  # (P, 3)
+    share = torch.zeros(near.shape, dtype=torch.float64)
+    for c in range(3):
+        for r in range(int(times[..., c].max())):
+            share += torch.where((times[:, :, c] > r)[face], per_corner[:, c:c + 1], 0.0)
+    # the (pixel, face) pairs, by pixel then face: one lookup each
+    pair = (near >= 0).view(-1).nonzero().flatten()
+    q_pix, q_face, weight = pair // near.shape[1], near.view(-1)[pair], share.view(-1)[pair]
     q_normal = side[q_pix, None] * unit[q_face]
     # the pixel's own face: the lookup the caller made (the same point, normal and part; each row's lookup is its own)
     color, rule = own.double()[q_pix], rules[q_pix].clone()
@@ -2591,6 +2644,9 @@ def _lamp_band(before: ObjectTable, b: int, features: Tensor, corners: bool = Tr
     return out
 
 
+#: :func:`_part_colors`: the rows whose nearest examples' colours are gathered and weighted at a time ((3, rows, 16)
+#: float64 at most: 1.5 MB).
+GATHER_ROWS = 4096
 #: :func:`_part_colors`: a tyre example lighter than this quantile of the car's visible pixels' luma is not a tyre
 #: (a template's wheel where the car has paint, or a mask that took in the road below the car, drew grey or red
 #: wheels); 1: every tyre example is kept.

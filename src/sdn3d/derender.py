@@ -407,13 +407,11 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
         else:
             geometry, proposal_fits, first = fit_proposals(intrinsics, masks, ids, refit, geometry, fit, appearance,
                                                            band, classes, unsure_pixels, road)
-        if road is not None:
-            proposal_fits = _with_road(proposal_fits, ids, road)
         if source == "semantic" and appearance is not None and fit.appearance and first is not None:
             geometry, proposal_fits = _choose_on_agreed_lamps(image, intrinsics, masks, ids, refit, first, geometry,
                                                               proposal_fits, fit, appearance, band, models, photo)
-            if road is not None:
-                proposal_fits = _with_road(proposal_fits, ids, road)
+        if road is not None:  # the records as the lamps' choice left them
+            proposal_fits = _with_road(proposal_fits, ids, road)
         if earlier is not None:  # the kept rows' fits and records, and the box objects' fit
             geometry = tuple(torch.where(kept.view(-1, *[1] * (g.dim() - 1)), e, g)
                              for g, e in zip(geometry, earlier.geometry, strict=True))

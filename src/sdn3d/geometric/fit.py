@@ -665,7 +665,7 @@ def _search(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: T
         return values, loss
     n = loss.shape[0] // per
     rows = (loss.view(n, per).topk(survivors, dim=1, largest=False).indices + torch.arange(n)[:, None] * per).flatten()
-    carried = {k: start[k][rows] for k in ("road",) if k in start}  # read by the stages, not fitted
+    carried = {"road": start["road"][rows]} if "road" in start else {}  # read by the stages, not fitted
     rest, rest_loss = _stage(bank, template[rows], {k: v[rows] for k, v in values.items()} | carried, dims0[rows],
                              ry0[rows], mask[rows], ign[rows], K[rows], settings.coarse_size, steps - first, settings,
                              with_ffd=False, height=height)

@@ -27,8 +27,10 @@ percentile), flips (share of objects whose yaw is more than 90 degrees off: end 
 template the object's mesh is or approximates) beside its majority floor (the share of the evaluated objects' most
 common true template), distance error ``|log |c~| - log |c||`` (median, x1e-2), scale error ``||s~ - s||_2``
 (median, m) and length error ``|l~ - l|`` (median and 90th percentile, m; an object without geometry: its length).
-Each object's record also names the template chosen (``template``, -1: none). Nothing here selects or tunes
-anything.
+Each object's record also names the template chosen (``template``, -1: none), the signed distance error
+(``dist_signed``, ``log |c~| - log |c|``: positive is too far) and both centres and sizes (``center``, ``dims``,
+``true_center``, ``true_dims``; camera frame, metres; a level camera's ``true_center[1]`` is its height).
+Nothing here selects or tunes anything.
 
 ``--crops photo`` (the default, as the edit path does for a user's image): the geometric branch's crops are read from
 the frame as stored on disk (its own resolution, e.g. 624x192 for a working size of 312x96; ``derender(photo=...)``);
@@ -232,19 +234,24 @@ def main(argv: list[str] | None = None) -> dict:
                 r = found[j]
                 if r < 0 or int(o.template_id[r]) < 0:  # no geometry: counted as the worst
                     yaw, ok, dist, scale = 180.0, False, 1.0, float(t.dims[tr].norm())
-                    length = float(t.dims[tr][0])
+                    length, dist_signed = float(t.dims[tr][0]), None
                 else:
                     d = float(o.ry[r] - t.ry[tr])
                     yaw = abs(math.degrees(math.atan2(math.sin(d), math.cos(d))))
                     ok = int(o.template_id[r]) == int(t.template_id[tr])
-                    dist = abs(math.log(float(o.center[r].norm()) / float(t.center[tr].norm())))
+                    dist_signed = math.log(float(o.center[r].norm()) / float(t.center[tr].norm()))
+                    dist = abs(dist_signed)
                     scale = float((o.dims[r] - t.dims[tr]).norm())
                     length = abs(float(o.dims[r][0] - t.dims[tr][0]))
                 per_object[name].append({"world": world, "frame": record.key, "id": iid, "yaw_deg": yaw,
                                          "pixels": int(t.mask[tr].sum()), "true_ry": round(float(t.ry[tr]), 4),
                                          "true_xz": [round(float(t.center[tr][k]), 2) for k in (0, 2)],
                                          "template_ok": ok, "true_template": int(t.template_id[tr]), "dist": dist,
-                                         "scale": scale, "length": length,
+                                         "scale": scale, "length": length, "dist_signed": dist_signed,
+                                         "true_center": [round(float(v), 3) for v in t.center[tr]],
+                                         "true_dims": [round(float(v), 3) for v in t.dims[tr]],
+                                         "center": None if r < 0 else [round(float(v), 3) for v in o.center[r]],
+                                         "dims": None if r < 0 else [round(float(v), 3) for v in o.dims[r]],
                                          "template": -1 if r < 0 else int(o.template_id[r]),
                                          "box": [round(float(v), 1) for v in box],
                                          "truncated": bool(cut),

@@ -47,12 +47,12 @@ def _proposal_fit_only_where_tested(request: pytest.FixtureRequest, monkeypatch:
     from sdn3d.proposal_fit import ProposalFit
 
     def predictions_kept(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None, classes=None,
-                         unsure_pixels=None, road=None):
+                         unsure_pixels=None, road=None, lane_reg=None):
         return tuple(g.clone() for g in geometry), [ProposalFit(int(i), None, True, None, "not fitted (test stub)")
                                                      for i in ids[rows].tolist()], None
 
     def boxes_fitted(intr, masks, ids, rows, geometry, settings, appearance, boxes, unsure=None,
-                     classes=None, unsure_pixels=None, road=None):  # the boxes fitted for real
+                     classes=None, unsure_pixels=None, road=None, lane_reg=None):  # the boxes fitted for real
         from sdn3d.geometric.fit import fit_many
 
         return (*predictions_kept(intr, masks, ids, rows, geometry, settings),

@@ -439,3 +439,41 @@ def test_grabcut_without_a_prior_runs_beside_the_semantic_branch(ckpts, monkeypa
     after = derender(image, WORK, models, "boxes", boxes=boxes)
     assert torch.equal(beside.objects.mask, after.objects.mask) and beside.meta["boxes"] == after.meta["boxes"]
     assert box_grabcut(image, dataclasses.replace(boxes, prior=True)) is None  # the prior needs the branch first
+
+
+def test_box_objects_are_drawn_towards_the_roads_axis_with_the_sharp_outlines_weight(ckpts, monkeypatch):
+    """Issue 40, session 39: a box object's fit reads the road's axis where it stands (the lines around it,
+    :func:`sdn3d.road_heading.road_axes`) with ``lane_reg``, whether it is fitted alone or with the proposals (one
+    :func:`~sdn3d.geometric.fit.fit_many` call); with ``lane_reg`` 0 it reads none."""
+    import sdn3d.geometric.fit as F
+    from sdn3d.road_heading import road_axes
+
+    _, masks = _render([0, 3], [(4.0, 1.5, 1.7), (4.2, 1.5, 1.8)], [-1.3, 0.4], [(-1.2, HEIGHT, 10.0),
+                                                                                 (1.5, HEIGHT, 13.0)])
+    image = _picture(masks, [(0.8, 0.1, 0.1), (0.1, 0.2, 0.7)])
+    for bottom_x in (-60.0, 60.0, 250.0, 370.0):  # lane lines meeting on the horizon straight ahead
+        for t in torch.linspace(0, 1, 400):
+            x, y = round(WORK.cx + t.item() * (bottom_x - WORK.cx)), round(WORK.cy + t.item() * (95 - WORK.cy))
+            if 0 <= x < WORK.width and y > WORK.cy + 2 and not bool(masks[:, y, x].any()):
+                image[:, y, x] = 0.95
+    models = Models.from_checkpoints(geometric=ckpts["geometric"], crop_size=32)
+    small = FitSettings(coarse_steps=3, fine_steps=2, coarse_size=16, fine_size=24, coarse_survivors=0, parts=1,
+                        lane_reg=0.03)
+    asked = []
+    real = F.fit_many
+
+    def spy(requests, intr, **kwargs):
+        asked.append(requests)
+        return real(requests, intr, **kwargs)
+
+    monkeypatch.setattr(F, "fit_many", spy)
+    want = road_axes(image, WORK.matrix(), masks, masks.any(0))
+    assert bool(torch.isfinite(want).all())  # the lines tell the axis at both cars
+    boxes = BoxPrompts(mask_boxes(masks).float(), ("Car", "Car"), small, masks=masks, refine_masks=False)
+    derender(image, WORK, models, "boxes", boxes=boxes, classes="vkitti")
+    (request,) = asked.pop()
+    torch.testing.assert_close(request.road_ry, want)
+    assert request.lane_reg is None  # the settings' lane_reg: a sharp outline's weight
+    unpulled = dataclasses.replace(boxes, fit=dataclasses.replace(small, lane_reg=0.0))
+    derender(image, WORK, models, "boxes", boxes=unpulled, classes="vkitti")
+    assert asked.pop()[0].road_ry is None

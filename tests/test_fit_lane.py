@@ -1,5 +1,6 @@
-"""Issue 40, session 38: the semantic branch's proposals' fit drawn towards the road's axis where each car stands
-(:func:`sdn3d.road_heading.road_axes`, :attr:`sdn3d.geometric.fit.FitSettings.lane_reg`)."""
+"""Issue 40, sessions 38-39: the fit drawn towards the road's axis where each car stands
+(:func:`sdn3d.road_heading.road_axes`, :attr:`sdn3d.geometric.fit.FitSettings.lane_reg` for sharp outlines and
+``proposal_lane_reg`` for the semantic branch's proposals)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import math
 import pytest
 import torch
 
-from sdn3d.geometric.fit import FitSettings, fit_to_masks, lane_prior
+from sdn3d.geometric.fit import FitRequest, FitSettings, fit_many, fit_to_masks, lane_prior
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.road_heading import axis_yaw, road_axes
 
@@ -61,6 +62,30 @@ def test_an_unknown_road_or_no_weight_changes_no_fit():
         FitSettings(lane_width_deg=0.0)
     with pytest.raises(ValueError, match="lane_reg"):
         FitSettings(lane_reg=-0.1)
+    with pytest.raises(ValueError, match="proposal_lane_reg"):
+        FitSettings(proposal_lane_reg=math.nan)
+    with pytest.raises(ValueError, match="lane_reg must be"):
+        fit_to_masks(masks, boxes, INTR, settings=FIT, start_ry=start, road_ry=torch.zeros(1),
+                     lane_reg=torch.tensor([-1.0]))
+
+
+def test_each_request_weighs_the_lane_prior_its_own_way():
+    """Two callers' objects fitted in one call (:func:`fit_many`): the request with its own ``lane_reg`` (a proposal's
+    harder pull) ends on the road's axis, the one with the settings' weight 0 is fitted as without a road, bit for
+    bit, and a single request's weight is the same as a per-object one."""
+    masks, boxes = _blob()
+    start = torch.tensor([math.radians(-56.0)])
+    axis = torch.tensor([-math.pi / 2])
+    settings = FitSettings(**{**FIT.to_dict(), "lane_reg": 0.0})
+    plain = fit_to_masks(masks, boxes, INTR, settings=settings, start_ry=start)
+    pulled, unweighted = fit_many([FitRequest(masks, boxes, start_ry=start, road_ry=axis, lane_reg=1.0),
+                                   FitRequest(masks, boxes, start_ry=start, road_ry=axis)], INTR, settings=settings)
+    assert _off_axis(float(pulled.ry[0]), float(axis)) < 3.0
+    assert torch.equal(unweighted.ry, plain.ry) and torch.equal(unweighted.loss, plain.loss)
+    alone = fit_many([FitRequest(masks, boxes, start_ry=start, road_ry=axis, lane_reg=1.0)], INTR, settings=settings)[0]
+    direct = fit_to_masks(masks, boxes, INTR, settings=settings, start_ry=start, road_ry=axis,
+                          lane_reg=torch.tensor([1.0]))
+    assert torch.equal(alone.ry, direct.ry) and torch.equal(alone.loss, direct.loss)
 
 
 def test_the_lane_prior_is_blind_to_the_end_and_flat_far_from_the_axis():

@@ -150,10 +150,12 @@ def test_a_mask_missing_the_cars_bottom_is_not_fitted_far_with_the_unsure_band()
     assert abs(near - z) < 0.5 * (far - z)
 
 
-def test_only_the_semantic_branchs_proposals_get_the_unsure_band_and_the_roads_axes(frame, models, monkeypatch):
-    """The ground truth's masks (an oracle) are fitted as they are; the same masks from the semantic branch get the
-    band under them ignored (:func:`sdn3d.proposal_fit.unsure_below`) and the road's axis where each stands
-    (:func:`sdn3d.road_heading.road_axes`, unless ``lane_reg`` is 0)."""
+def test_only_the_semantic_branchs_proposals_get_the_unsure_band_and_the_harder_pull_to_the_roads_axes(
+        frame, models, monkeypatch):
+    """The ground truth's masks (an oracle) are fitted as they are, drawn towards the road's axis where each stands
+    with ``lane_reg`` (a sharp outline); the same masks from the semantic branch get the band under them ignored
+    (:func:`sdn3d.proposal_fit.unsure_below`) and the road's axis with ``proposal_lane_reg``
+    (:func:`sdn3d.road_heading.road_axes`; no axes where the weight is 0)."""
     import sdn3d.derender as D
     from sdn3d.proposal_fit import unsure_below
     from sdn3d.road_heading import road_axes
@@ -162,25 +164,33 @@ def test_only_the_semantic_branchs_proposals_get_the_unsure_band_and_the_roads_a
     seen = {}
 
     def spy(intr, masks, ids, rows, geometry, settings, appearance=None, unsure=None, classes=None,
-            unsure_pixels=None, road=None):
-        seen["unsure"], seen["road"], seen["rows"] = unsure, road, rows
+            unsure_pixels=None, road=None, lane_reg=None):
+        seen["unsure"], seen["road"], seen["rows"], seen["lane"] = unsure, road, rows, lane_reg
         return tuple(g.clone() for g in geometry), [], None
 
+    def axes_ok():
+        rows = seen["rows"]
+        assert len(rows) and seen["road"].shape == (len(masks),)
+        want = road_axes(image, WORK.matrix(), masks[rows], masks.any(0))
+        torch.testing.assert_close(seen["road"][rows], want, equal_nan=True)
+        assert seen["road"][[i for i in range(len(masks)) if i not in rows.tolist()]].isnan().all()
+
     monkeypatch.setattr(D, "fit_proposals", spy)
-    derender(image, WORK, models, "gt", gt, fit=FitSettings())
-    assert seen.pop("unsure") is None and seen.pop("road") is None
+    settings = FitSettings(lane_reg=0.03, proposal_lane_reg=0.2)
+    derender(image, WORK, models, "gt", gt, fit=settings)
+    assert seen.pop("unsure") is None and seen["lane"] == 0.03
+    axes_ok()
+    derender(image, WORK, models, "gt", gt, fit=FitSettings(lane_reg=0.0))
+    assert seen["road"] is None
     real = D._semantics_and_instances
     monkeypatch.setattr(D, "_semantics_and_instances",  # the same maps, as if the semantic branch had drawn them
                         lambda *a: (*real(*a)[:2], "semantic", "branch", None))
-    derender(image, WORK, models, "gt", gt, fit=FitSettings())
+    derender(image, WORK, models, "gt", gt, fit=settings)
     assert seen["unsure"] is not None and seen["unsure"].any()
     assert torch.equal(seen["unsure"], unsure_below(masks))
-    rows = seen["rows"]
-    assert len(rows) and seen["road"].shape == (len(masks),)
-    want = road_axes(image, WORK.matrix(), masks[rows], masks.any(0))
-    torch.testing.assert_close(seen["road"][rows], want, equal_nan=True)
-    assert seen["road"][[i for i in range(len(masks)) if i not in rows.tolist()]].isnan().all()
-    derender(image, WORK, models, "gt", gt, fit=FitSettings(lane_reg=0.0))
+    assert seen["lane"] == 0.2
+    axes_ok()
+    derender(image, WORK, models, "gt", gt, fit=FitSettings(lane_reg=0.03, proposal_lane_reg=0.0))
     assert seen["road"] is None
 
 

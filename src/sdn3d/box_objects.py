@@ -25,6 +25,7 @@ from sdn3d.errors import UserInputError
 from sdn3d.labels import INSTANCE_DIVISOR, SemanticClass
 from sdn3d.math3d.camera import Intrinsics
 from sdn3d.meshes.bank import default_bank
+from sdn3d.road_heading import road_axes
 
 if TYPE_CHECKING:
     from sdn3d.box_masks import BoxMasks
@@ -265,8 +266,16 @@ def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor,
     (:func:`~sdn3d.geometric.facing.facing_belief`); else the yaw nearest the prediction's is believed.
     ``fit_result``: the fit of :func:`box_request`'s objects, done by the caller together with others
     (:func:`~sdn3d.geometric.fit.fit_many`); None: fitted here. ``classes``: the class name of every row of
-    ``masks`` (the templates each box object may be drawn with, :func:`~sdn3d.geometric.fit.allowed_templates`)."""
-    geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels, appearance, fit_result, classes)
+    ``masks`` (the templates each box object may be drawn with, :func:`~sdn3d.geometric.fit.allowed_templates`).
+    Fitted here, each is drawn towards the road's axis where it stands (:func:`~sdn3d.road_heading.road_axes`,
+    every object's pixels left out of the vote) with ``boxes.fit.lane_reg``; a caller's ``fit_result`` was asked for
+    with it (:func:`box_request`'s ``road``)."""
+    road = None
+    if fit_result is None and boxes.fit.lane_reg and len(rows):  # the lane prior (fit module doc)
+        road = torch.full((len(masks),), math.nan)
+        road[rows] = road_axes(image, intr.matrix(), masks[rows], masks.any(0))
+    geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels, appearance, fit_result, classes,
+                                  road)
     pixels = masks[rows].flatten(1).sum(1)
     final = [int(p) for p in pixels]
     again, vacated = [False] * len(boxes), None
@@ -302,13 +311,15 @@ def yaw_belief(appearance: Appearance | None, rows: Tensor) -> Callable[[Tensor]
 
 
 def box_request(masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...], min_pixels: int,
-                appearance: Appearance | None = None, classes: Sequence[str | None] | None = None
-                ) -> FitRequest | None:
+                appearance: Appearance | None = None, classes: Sequence[str | None] | None = None,
+                road: Tensor | None = None) -> FitRequest | None:
     """What :func:`fit_box_objects` asks the fit for (:class:`~sdn3d.geometric.fit.FitRequest`): the box objects'
     rows ``rows`` with at least ``min_pixels`` mask pixels (in the boxes' order; None: no box has them), each with
     the pixels that may hide it (every other proposal, and the boxes nearer than it: the farther ones it hides),
     the branch's prediction, where there is one, as its start, and its class (``classes``: the class name of every
-    row of ``masks``; None: unknown), which bounds its templates."""
+    row of ``masks``; None: unknown), which bounds its templates. ``road``: ``(N,)`` the road's axis at every row of
+    ``masks`` (:func:`~sdn3d.road_heading.road_axes`, NaN: unknown), whose lane prior the fit adds with
+    ``boxes.fit.lane_reg``; None: none."""
     from sdn3d.box_masks import nearest_first
     from sdn3d.geometric.fit import FitRequest
 
@@ -331,18 +342,20 @@ def box_request(masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[
                       start_template=template[rows[sel]],
                       start_location=torch.where(predicted[sel, None], location[rows[sel]].float(), nan),
                       yaw_belief=yaw_belief(appearance if boxes.fit.appearance else None, rows[sel]),
-                      classes=None if classes is None else [classes[int(r)] for r in rows[sel]])
+                      classes=None if classes is None else [classes[int(r)] for r in rows[sel]],
+                      road_ry=None if road is None else road[rows[sel]].float())
 
 
 def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...],
                min_pixels: int, appearance: Appearance | None = None, result: FitResult | None = None,
-               classes: Sequence[str | None] | None = None
+               classes: Sequence[str | None] | None = None, road: Tensor | None = None
                ) -> tuple[tuple[Tensor, ...], list[tuple[PoseSource | None, float | None, bool, str | None,
                                                           str | None]]]:
     """The geometry with the box objects' rows fitted to their masks (:func:`~sdn3d.geometric.fit.fit_to_masks`,
     the geometric branch's prediction as the start) and per box ``(pose source, silhouette IoU, poor, winning
     hypothesis, the fit's note)`` (None, None, True, None, None: too few pixels, no fit). ``result``: the fit of
-    :func:`box_request` done by the caller (with other objects'), else None: fitted here."""
+    :func:`box_request` done by the caller (with other objects'), else None: fitted here (``road``: as
+    :func:`box_request`'s)."""
     from sdn3d.geometric.fit import fit_many
 
     template, dims, ry, location, phi = (g.clone() for g in geometry)
@@ -351,7 +364,7 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
     predicted = template[rows] >= 0
     sel = fitted.nonzero().flatten()
     if result is None and len(sel):
-        result = fit_many([box_request(masks, rows, boxes, geometry, min_pixels, appearance, classes)], intr,
+        result = fit_many([box_request(masks, rows, boxes, geometry, min_pixels, appearance, classes, road)], intr,
                           settings=settings)[0]
     if len(sel):
         target = rows[sel]

@@ -398,15 +398,22 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
         if earlier is not None:
             kept = read & _same_bits(proposal_ignore(masks, predicted, band, fit), earlier.ignore)
         refit = rows[~kept[rows]]
-        road = _road_axes(image, intrinsics, masks, refit) if source == "semantic" and fit.lane_reg else None
-        box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes)
-                   if len(refit) and len(box_rows) and boxes.fit == fit and earlier is None else None)
+        # The lane prior's weight: the semantic branch's rounded outlines are pulled harder than sharp ones (the
+        # ground truth's masks here, the box objects'); the box objects' axes are read here when fitted with these.
+        lane = fit.proposal_lane_reg if source == "semantic" else fit.lane_reg
+        joint = bool(len(refit) and len(box_rows) and boxes.fit == fit and earlier is None)
+        lane_rows = torch.cat([refit if lane else refit[:0], box_rows if joint and fit.lane_reg else box_rows[:0]])
+        axes = _road_axes(image, intrinsics, masks, lane_rows) if len(lane_rows) else None
+        road = axes if lane and len(refit) else None
+        box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes, axes)
+                   if joint else None)
         if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
             geometry, proposal_fits, first, box_result = fit_proposals_and_boxes(
-                intrinsics, masks, ids, refit, geometry, fit, appearance, box_req, band, classes, unsure_pixels, road)
+                intrinsics, masks, ids, refit, geometry, fit, appearance, box_req, band, classes, unsure_pixels, road,
+                lane)
         else:
             geometry, proposal_fits, first = fit_proposals(intrinsics, masks, ids, refit, geometry, fit, appearance,
-                                                           band, classes, unsure_pixels, road)
+                                                           band, classes, unsure_pixels, road, lane)
         if source == "semantic" and appearance is not None and fit.appearance and first is not None:
             geometry, proposal_fits = _choose_on_agreed_lamps(image, intrinsics, masks, ids, refit, first, geometry,
                                                               proposal_fits, fit, appearance, band, models, photo)
@@ -424,11 +431,13 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
 def _road_axes(image: Tensor, intrinsics: Intrinsics, masks: Tensor, rows: Tensor) -> Tensor:
     """``(N,)`` the road's axis where each of the objects ``rows (K,)`` of ``masks (N, H, W)`` stands
     (:func:`~sdn3d.road_heading.road_axes`, every object's pixels left out of the vote), NaN for the other rows: the
-    semantic branch's proposals' fit is drawn towards it (:attr:`~sdn3d.geometric.fit.FitSettings.lane_reg`). A
-    proposal's rounded outline fits many yaws about equally well, and the branch's poor prediction chose among them
-    (docs/results/2026-12-02_cpu/session37/lead/edgeband); on Virtual KITTI's streets, as on real ones, nearly every
-    car stands along its lane. The ground truth's masks and the box objects' (GrabCut's) outlines are sharp enough to
-    tell a car parked askew (docs/results/2026-12-02_cpu/session38/lane): they are fitted without it."""
+    fit is drawn towards it. A proposal's rounded outline fits many yaws about equally well, and the branch's poor
+    prediction chose among them (docs/results/2026-12-02_cpu/session37/lead/edgeband); a car seen end-on casts
+    nearly the same outline at any yaw near its own, whatever its mask; on Virtual KITTI's streets, as on real ones,
+    nearly every car stands along its lane. The ground truth's masks and the box objects' (GrabCut's) outlines are
+    sharp enough to tell some cars parked askew, so they are pulled less
+    (:attr:`~sdn3d.geometric.fit.FitSettings.lane_reg` against ``proposal_lane_reg``;
+    docs/results/2026-12-02_cpu/session38/lane, docs/results/2026-12-03_cpu/session39/sharp)."""
     road = torch.full((len(masks),), math.nan)
     if len(rows):
         road[rows] = road_axes(image, intrinsics.matrix(), masks[rows], masks.any(0))

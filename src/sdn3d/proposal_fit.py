@@ -178,7 +178,8 @@ def join_masks(masks: Tensor, ids: Tensor, groups: Sequence[Tensor]) -> tuple[Te
 def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, geometry: tuple[Tensor, ...],
                   settings: FitSettings, appearance: Appearance | None = None, unsure: Tensor | None = None,
                   classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None,
-                  road: Tensor | None = None) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult | None]:
+                  road: Tensor | None = None, lane_reg: float | None = None
+                  ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult | None]:
     """``(geometry, records, fit)``: the rows ``rows (K,)`` of ``geometry`` (``template (N,), dims (N, 3), ry (N,),
     location (N, 3), phi (N, 64, 3)``, the branch's predictions) fitted to their ``masks (N, H, W)`` (module doc),
     and the fit's result for those rows (None without rows; its ``choice``: :func:`choose_proposals_again`).
@@ -191,8 +192,9 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
     templates each may be drawn with, :func:`~sdn3d.geometric.fit.allowed_templates`; None: any).
     ``unsure_pixels``: ``(H, W)`` bool pixels every object's silhouette loss leaves out, its mask keeping them
     (:attr:`~sdn3d.geometric.fit.FitSettings.unsure_vehicle`; None: none). ``road``: ``(N,)`` the road's axis where
-    each object stands (:func:`~sdn3d.road_heading.road_axes`, NaN: unknown; the fit's
-    :attr:`~sdn3d.geometric.fit.FitSettings.lane_reg`); None: none. :func:`proposal_request` and
+    each object stands (:func:`~sdn3d.road_heading.road_axes`, NaN: unknown); None: none. ``lane_reg``: the lane
+    prior's weight for these rows (:attr:`~sdn3d.geometric.fit.FitSettings.proposal_lane_reg` for the semantic
+    branch's proposals); None: the settings' ``lane_reg``. :func:`proposal_request` and
     :func:`apply_proposal_fit` are its two halves, for a caller that fits these objects with others
     (:func:`~sdn3d.geometric.fit.fit_many`).
     """
@@ -200,7 +202,8 @@ def fit_proposals(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, ge
 
     if not len(rows):
         return tuple(g.clone() for g in geometry), [], None
-    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, unsure_pixels, road)
+    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, unsure_pixels, road,
+                               lane_reg)
     result = fit_many([request], intr, settings=settings)[0]
     return (*apply_proposal_fit(result, ids, rows, geometry, settings), result)
 
@@ -209,7 +212,7 @@ def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: 
                             geometry: tuple[Tensor, ...], settings: FitSettings, appearance: Appearance | None,
                             boxes: FitRequest, unsure: Tensor | None = None,
                             classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None,
-                            road: Tensor | None = None
+                            road: Tensor | None = None, lane_reg: float | None = None
                             ) -> tuple[tuple[Tensor, ...], list[ProposalFit], FitResult | None, FitResult]:
     """:func:`fit_proposals` and the fit of the box objects' request ``boxes``
     (:func:`~sdn3d.box_objects.box_request`, the same ``settings``) in one :func:`~sdn3d.geometric.fit.fit_many`
@@ -219,8 +222,9 @@ def fit_proposals_and_boxes(intr: Intrinsics, masks: Tensor, ids: Tensor, rows: 
 
     if not len(rows):
         return (*fit_proposals(intr, masks, ids, rows, geometry, settings, appearance, unsure, classes,
-                               unsure_pixels, road), fit_many([boxes], intr, settings=settings)[0])
-    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, unsure_pixels, road)
+                               unsure_pixels, road, lane_reg), fit_many([boxes], intr, settings=settings)[0])
+    request = proposal_request(masks, rows, geometry, settings, appearance, unsure, classes, unsure_pixels, road,
+                               lane_reg)
     fits = fit_many([request, boxes], intr, settings=settings)
     return (*apply_proposal_fit(fits[0], ids, rows, geometry, settings), fits[0], fits[1])
 
@@ -246,11 +250,12 @@ def choose_proposals_again(fit: FitResult, ids: Tensor, rows: Tensor, again: Ten
 def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], settings: FitSettings,
                      appearance: Appearance | None = None, unsure: Tensor | None = None,
                      classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None,
-                     road: Tensor | None = None) -> FitRequest:
+                     road: Tensor | None = None, lane_reg: float | None = None) -> FitRequest:
     """What :func:`fit_proposals` asks the fit for the rows ``rows (K,)`` (non-empty): their masks, boxes, the pixels
     of nearer objects and the ``unsure`` ones (``(N, H, W)`` or None), the ``unsure_pixels (H, W)`` their
     silhouette loss leaves out (or None), the predictions as starts, the yaw belief and the road's axes (``road
-    (N,)`` or None) (``classes``: the class name of every object, None: unknown)."""
+    (N,)`` or None) and their weight ``lane_reg`` (None: the settings') (``classes``: the class name of every object,
+    None: unknown)."""
     from sdn3d.geometric.fit import FitRequest
 
     template, dims, ry, location, _ = geometry
@@ -261,7 +266,7 @@ def proposal_request(masks: Tensor, rows: Tensor, geometry: tuple[Tensor, ...], 
                       yaw_belief=yaw_belief(appearance if settings.appearance else None, rows),
                       classes=None if classes is None else [classes[int(r)] for r in rows],
                       unsure_pixels=None if unsure_pixels is None else unsure_pixels[None].expand(len(rows), -1, -1),
-                      road_ry=None if road is None else road[rows].float())
+                      road_ry=None if road is None else road[rows].float(), lane_reg=lane_reg)
 
 
 def proposal_ignore(masks: Tensor, geometry: tuple[Tensor, ...], unsure: Tensor | None = None,

@@ -4,9 +4,9 @@ In a driving scene lane markings, kerbs, verges and guard rails run along the ro
 lines meet at the road's vanishing point on the horizon. :func:`image_vanishing_point` finds it from the picture's
 line-like edges in a region; :func:`road_near` from the edges around an object (within twice its extent, on no
 object), the road where that object stands. Two users: the photo appearance fills a removed car's hole along the
-road's lines (:func:`sdn3d.editing.photo.road.removal_vanishing_point`), and the test-time fit of the semantic branch's
-proposals pulls each car towards the road's axis where it stands (:func:`road_axes`,
-:attr:`sdn3d.geometric.fit.FitSettings.lane_reg`).
+road's lines (:func:`sdn3d.editing.photo.road.removal_vanishing_point`), and the test-time fit pulls each car
+towards the road's axis where it stands (:func:`road_axes`, :attr:`sdn3d.geometric.fit.FitSettings.lane_reg` and
+``proposal_lane_reg``).
 """
 
 from __future__ import annotations

@@ -43,6 +43,7 @@ class FitSchema:
     sigma: float = MISSING
     yaw_reg: float = MISSING
     lane_reg: float = MISSING
+    proposal_lane_reg: float = MISSING
     lane_width_deg: float = MISSING
     dims_reg: float = MISSING
     shape_reg: float = MISSING

@@ -58,9 +58,12 @@ so :func:`fit_to_masks` searches, batched over all objects and hypotheses at onc
    degrees, the prediction does; a wrong prediction loses to a silhouette that disagrees clearly),
    ``template_size_reg * |log d - log d_t|^2`` (the size near the typical size ``d_t`` of the template drawn: the
    template a silhouette cannot tell is told by the size), ``ffd_reg * mean(phi^2)`` and, where the caller gives the
-   road's axis at the object (``road_ry``: :func:`sdn3d.derender.derender` does for the semantic branch's proposals),
+   road's axis at the object (``road_ry``: :func:`sdn3d.derender.derender` does for every object it fits),
    ``lane_reg *`` :func:`lane_prior` (0 on the axis at either end, about 1 beyond twice ``lane_width_deg``): a
-   proposal's rounded outline fits many yaws about equally well, and nearly every car stands along its lane.
+   proposal's rounded outline fits many yaws about equally well, a car seen end-on casts nearly the same outline at
+   any yaw near its true one, and nearly every car stands along its lane. The semantic branch's proposals are pulled
+   harder (``proposal_lane_reg``) than the sharp outlines of box objects and of the ground truth's masks, which can
+   show a car parked askew.
 
 The fit's quality is the silhouette IoU of the winner with the mask at the fine crop (the soft silhouette
 thresholded at 0.5, ignored pixels left out): :attr:`FitResult.iou`. A mask too small or too thin to fit
@@ -192,14 +195,22 @@ class FitSettings:
         sigma: soft-silhouette softness, px^2.
         dims_reg, yaw_reg, ffd_reg: weights of the size prior, the yaw prior and the FFD's ``mean(phi^2)``.
         lane_reg, lane_width_deg: weight and reach (degrees) of :func:`lane_prior`, the pull towards the road's axis
-            for the objects given one (``road_ry``; the semantic branch's proposals). On tuning tree 39 (session 38's
+            for the objects given one (``road_ry``) whose outline is sharp: the box objects' (GrabCut's) masks and
+            the ground truth's (an oracle). ``proposal_lane_reg`` is the weight for the semantic branch's proposals
+            (a caller's :attr:`FitRequest.lane_reg`). On tuning tree 39 (session 38's
             demo weights, 105 cars of 40 frames) 0.1 and 15 took the proposals' median yaw error from 14.6 to 1.9
             degrees (over 20 degrees: 40 % to 3 %; 64 cars better by over 5 degrees, 2 worse) and the turns' PSNR gain
             over the 2D paste by +0.27 dB [-0.12, +0.55] (Table 1, photo appearance); on tree 35, +0.02 [-0.11,
             +0.18]. A plain ``sin^2`` pull (no reach) of 0.1 gained less (4.3 degrees). On a tree whose parked cars
             were turned up to 60 degrees off their lane, the sharp ground-truth masks' fit with it lost those cars'
-            yaw (median 3.8 -> 26 degrees): so the ground truth's masks and the box objects are fitted without it
-            (docs/results/2026-12-02_cpu/session38/lane).
+            yaw (median 3.8 -> 26 degrees), so session 38 fitted the ground truth's masks and the box objects
+            without it (docs/results/2026-12-02_cpu/session38/lane). A car seen end-on, though, has an outline that
+            barely changes with its yaw: on tree 39 (w39), 34 % of the box objects' fits and of the ground-truth
+            masks' were over 20 degrees off. With the weaker ``lane_reg`` 0.03 they were 13 % and 7.6 %; on the
+            askew tree, 16 % and 12.5 % of all cars (23 % and 14 % without), the askew cars among them worse (55 % and
+            38 %; 0.1: 69 % and 55 %) (docs/results/2026-12-03_cpu/session39/sharp).
+        proposal_lane_reg: :attr:`lane_reg` for the semantic branch's proposals, whose rounded outlines fit many
+            yaws about equally well (the 0.1 of session 38 above).
         ffd_step: the FFD's Adam step as a share of ``lr`` (its control values are its own scale: with the full
             step the fine stage's loss jumped up at its first step and swung for the rest of it).
         parts: the objects are fitted in up to this many groups of whole objects (:func:`_in_parts`), one per torch
@@ -268,7 +279,8 @@ class FitSettings:
     shape_reg: float = 1.0
     silhouette: str = "soft"
     yaw_reg: float = 0.02
-    lane_reg: float = 0.1
+    lane_reg: float = 0.03
+    proposal_lane_reg: float = 0.1
     lane_width_deg: float = 15.0
     ffd_reg: float = 100.0
     ffd_step: float = 0.1
@@ -300,8 +312,8 @@ class FitSettings:
                 continue
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"FitSettings.{name} must be a positive number, got {value!r}")
-        for name in ("margin", "dims_reg", "template_size_reg", "shape_reg", "yaw_reg", "lane_reg", "ffd_reg", "tie",
-                     "facing_tie"):
+        for name in ("margin", "dims_reg", "template_size_reg", "shape_reg", "yaw_reg", "lane_reg", "proposal_lane_reg",
+                     "ffd_reg", "tie", "facing_tie"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"FitSettings.{name} must be a finite number >= 0, got {value!r}")
@@ -581,7 +593,8 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     """Adam on ``M`` hypotheses (rows of every tensor); returns the fitted values and ``(M,)`` final losses.
     ``start``: the rows' starting ``x``, ``z``, ``ry``, ``dims``, ``phi_half``, and optionally ``barred`` ``(M,)``
     bool: rows whose final loss is ``inf`` (a template the object's class does not allow), and ``road`` ``(M,)``: the
-    road's axis where each row's object stands (a yaw, NaN: unknown), whose :func:`lane_prior` the loss adds. Without
+    road's axis where each row's object stands (a yaw, NaN: unknown), whose :func:`lane_prior` the loss adds weighed
+    by ``lane`` ``(M,)`` (given with ``road``). Without
     the FFD (``with_ffd`` False) the meshes are drawn undeformed (``start['phi_half']`` is not read).
     With ``settings.cull_backfaces`` the Adam steps draw the faces facing the camera only, and the final losses (what
     ranks the hypotheses) every face."""
@@ -605,7 +618,7 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
     typical = _typical_log_dims(bank)
     log_typical = None if typical is None else typical[template]
     meshes = _Meshes(bank, template, K, with_ffd)
-    road = start.get("road") if settings.lane_reg else None
+    road, lane = start.get("road"), start.get("lane")
 
     def objective(sil_settings: SoftSilhouetteSettings = steps_draw) -> Tensor:
         phi_half = phi_free * ffd_step
@@ -618,7 +631,7 @@ def _stage(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: Te
                  + settings.shape_reg * log_shape.square().sum(1))
         prior = prior + settings.yaw_reg * (1 - torch.cos(2 * half_ry - ry0)) / 2
         if road is not None:
-            prior = prior + settings.lane_reg * lane_prior(2 * half_ry, road, settings.lane_width_deg)
+            prior = prior + lane * lane_prior(2 * half_ry, road, settings.lane_width_deg)
         if log_typical is not None and settings.template_size_reg:
             prior = prior + settings.template_size_reg * (log_dims - log_typical).square().sum(1)
         if phi is not None:
@@ -665,7 +678,7 @@ def _search(bank: MeshBank, template: Tensor, start: dict[str, Tensor], dims0: T
         return values, loss
     n = loss.shape[0] // per
     rows = (loss.view(n, per).topk(survivors, dim=1, largest=False).indices + torch.arange(n)[:, None] * per).flatten()
-    carried = {"road": start["road"][rows]} if "road" in start else {}  # read by the stages, not fitted
+    carried = {k: start[k][rows] for k in ("road", "lane") if k in start}  # read by the stages, not fitted
     rest, rest_loss = _stage(bank, template[rows], {k: v[rows] for k, v in values.items()} | carried, dims0[rows],
                              ry0[rows], mask[rows], ign[rows], K[rows], settings.coarse_size, steps - first, settings,
                              with_ffd=False, height=height)
@@ -682,7 +695,7 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
                  settings: FitSettings | None = None,
                  yaw_belief: Callable[[Tensor], Tensor] | None = None,
                  classes: Sequence[str | None] | None = None, unsure_pixels: Tensor | None = None,
-                 road_ry: Tensor | None = None) -> FitResult:
+                 road_ry: Tensor | None = None, lane_reg: Tensor | None = None) -> FitResult:
     """Fit template, size, yaw, position on the road and FFD of ``N`` vehicles to their masks (module doc).
 
     Args:
@@ -708,8 +721,10 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
             keeps them (the pixels of nearer objects, ``ignore``, leave the mask): where the mask's source is unsure
             (:attr:`FitSettings.unsure_vehicle`); None: none.
         road_ry: ``(N,)`` the road's axis where each object stands, as a yaw (either end; NaN: unknown,
-            :func:`sdn3d.road_heading.road_axes`): every hypothesis' loss adds ``lane_reg`` times its
-            :func:`lane_prior` (:attr:`FitSettings.lane_reg`); None: no object's.
+            :func:`sdn3d.road_heading.road_axes`): every hypothesis' loss adds its object's ``lane_reg`` times its
+            :func:`lane_prior`; None: no object's.
+        lane_reg: ``(N,)`` each object's weight of the lane prior (e.g. :attr:`FitSettings.proposal_lane_reg` for
+            the semantic branch's proposals); None: :attr:`FitSettings.lane_reg` for every object.
     """
     settings = settings or FitSettings()
     bank = bank or default_bank()  # shared: its simplified coarse bank is built once per process
@@ -723,6 +738,9 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
                          f"{tuple(unsure_pixels.shape)}")
     if road_ry is not None and tuple(road_ry.shape) != (n,):
         raise ValueError(f"road_ry must be ({n},), got {tuple(road_ry.shape)}")
+    if lane_reg is not None and (tuple(lane_reg.shape) != (n,) or not bool((torch.isfinite(lane_reg)
+                                                                            & (lane_reg >= 0)).all())):
+        raise ValueError(f"lane_reg must be ({n},) finite weights >= 0, got {lane_reg.tolist()}")
     ignore = torch.zeros_like(masks, dtype=torch.bool) if ignore is None else ignore.bool()
     height, height_source = estimate_camera_height(
         None if start_location is None or start_template is None
@@ -754,9 +772,11 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     offsets = torch.tensor(YAW_OFFSETS, dtype=torch.float32).repeat(n * t)
     start = {"x": road[obj, 0], "z": road[obj, 2], "ry": _wrap(ry0[obj] + offsets), "dims": dims0[obj],
              "phi_half": torch.zeros(n * per, 32, 3), "barred": ~allowed[obj, template]}
-    road = None if road_ry is None or not bool(torch.isfinite(road_ry).any()) else road_ry.float()
+    lane = torch.full((n,), settings.lane_reg) if lane_reg is None else lane_reg.float()
+    road = (None if road_ry is None or not bool((torch.isfinite(road_ry) & (lane > 0)).any())
+            else road_ry.float())
     if road is not None:
-        start["road"] = road[obj]
+        start["road"], start["lane"] = road[obj], lane[obj]
     # the silhouette loss's ignored pixels; the mask keeps the unsure ones
     loss_ignore = ignore if unsure_pixels is None else ignore | unsure_pixels.bool()
     mask, ign, K = _crops(masks, loss_ignore, windows, settings.coarse_size, intr, image_size)
@@ -787,6 +807,7 @@ def fit_to_masks(masks: Tensor, boxes: Tensor, intr: Intrinsics, *, ignore: Tens
     starts = {k: torch.cat([h[k][:, None] for h in mine] + [searched[k]], 1) for k in searched}
     if road is not None:
         starts["road"] = road[:, None].expand(n, len(mine) + keep)
+        starts["lane"] = lane[:, None].expand(n, len(mine) + keep)
     fine_template = torch.cat([own_template[:, None].expand(n, len(mine)), search_template], 1)
     hyps = keep + len(mine)
     obj = torch.arange(n).repeat_interleave(hyps)
@@ -945,7 +966,8 @@ def _keep_predictions_of_bad_masks(result: FitResult, masks: Tensor, start_templ
 @dataclass
 class FitRequest:
     """One caller's objects for :func:`fit_many`: :func:`fit_to_masks`' per-object arguments (same meaning; ``masks``
-    ``(N, H, W)`` and ``boxes (N, 4)`` required, the rest optional: ``classes`` each object's semantic class name)."""
+    ``(N, H, W)`` and ``boxes (N, 4)`` required, the rest optional: ``classes`` each object's semantic class name;
+    ``lane_reg`` the weight of the lane prior for all its objects, None: the settings' ``lane_reg``)."""
 
     masks: Tensor
     boxes: Tensor
@@ -958,6 +980,7 @@ class FitRequest:
     classes: Sequence[str | None] | None = None
     unsure_pixels: Tensor | None = None
     road_ry: Tensor | None = None
+    lane_reg: float | None = None
 
     def __len__(self) -> int:
         return int(self.masks.shape[0])
@@ -974,12 +997,14 @@ def fit_many(requests: list[FitRequest], intr: Intrinsics, *, bank: MeshBank | N
     rows (no ignored pixels, NaN starts, template -1); its yaw belief, where others have one, is the default's
     (the yaw nearest its first start)."""
     sizes = [len(r) for r in requests]
+    settings_lane = (settings or FitSettings()).lane_reg
     if len(requests) == 1:
         r = requests[0]
         return [fit_to_masks(r.masks, r.boxes, intr, ignore=r.ignore, start_ry=r.start_ry, start_dims=r.start_dims,
                              start_template=r.start_template, start_location=r.start_location, bank=bank,
                              settings=settings, yaw_belief=r.yaw_belief, classes=r.classes,
-                             unsure_pixels=r.unsure_pixels, road_ry=r.road_ry)]
+                             unsure_pixels=r.unsure_pixels, road_ry=r.road_ry,
+                             lane_reg=None if r.lane_reg is None else torch.full((len(r),), float(r.lane_reg)))]
 
     def joined(name: str, shape: tuple[int, ...], fill: float | int | bool, dtype: torch.dtype) -> Tensor:
         parts = [getattr(r, name) for r in requests]
@@ -1009,7 +1034,9 @@ def fit_many(requests: list[FitRequest], intr: Intrinsics, *, bank: MeshBank | N
                           unsure_pixels=None if all(r.unsure_pixels is None for r in requests)
                           else joined("unsure_pixels", image, False, torch.bool),
                           road_ry=None if all(r.road_ry is None for r in requests)
-                          else joined("road_ry", (), math.nan, torch.float32))
+                          else joined("road_ry", (), math.nan, torch.float32),
+                          lane_reg=torch.cat([torch.full((len(r),), settings_lane if r.lane_reg is None
+                                                         else float(r.lane_reg)) for r in requests]))
     out, lo = [], 0
     for size in sizes:
         rows = slice(lo, lo + size)

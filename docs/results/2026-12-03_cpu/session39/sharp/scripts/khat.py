@@ -1,4 +1,4 @@
-# ruff: noqa: INP001, E501
+# ruff: noqa: INP001, E501, E401, E701, E702, B007, F401, I001
 """khat.py POSE.json[.gz] [DIMS]: per-frame camera-height estimate from the fitted cars' sizes against their templates' typical sizes."""
 import gzip, json, sys
 from collections import defaultdict

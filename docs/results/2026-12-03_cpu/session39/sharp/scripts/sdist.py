@@ -1,4 +1,4 @@
-# ruff: noqa: INP001, E501
+# ruff: noqa: INP001, E501, E401, E701, E702, B007, F401, I001
 """sdist.py POSE.json.gz...: signed distance error against the frame's camera height (true_center[1]), per row."""
 import gzip, json, sys, math
 import numpy as np

@@ -1,4 +1,4 @@
-# ruff: noqa: INP001, E501
+# ruff: noqa: INP001, E501, E401, E701, E702, B007, F401, I001
 """ysum.py JSON...: per file and row: matched n, median / p90 yaw error, over 20 degrees, flips, distance median, sil IoU median; askew split when true yaw is off the axis."""
 import gzip, json, sys, math
 import numpy as np

@@ -22,8 +22,8 @@ from sdn3d.evaluation.paired import paired_difference
 
 BINS = ("turn 15", "turn 45", "turn 90", "turn 180")
 LABELS = {"oracle": "oracle: ground-truth geometry",
-          "gt": "ground-truth masks, the geometric branch's poses + the test-time fit",
-          "semantic": "predicted: the semantic branch's masks, the geometric branch's poses + the test-time fit"}
+          "gt": "ground-truth masks, the geometric branch's poses (main: + the test-time fit; the issue-time code has none here)",
+          "semantic": "predicted: the semantic branch's masks, the geometric branch's poses (main: + the test-time fit; issue-time: none)"}
 ISSUE_TURN, MAIN_TURN = "photo:auto", "photo:rays"
 OLD_FILLS = ("photo:auto", "photo:telea", "photo:patchmatch", "generator")
 

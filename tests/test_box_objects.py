@@ -17,7 +17,7 @@ from PIL import Image
 from sdn3d.box_masks import box_at_point, grabcut_masks, nearest_first, refine_with_silhouettes
 from sdn3d.box_objects import BoxFit, MaskSource, box_grabcut
 from sdn3d.cli.edit import main
-from sdn3d.derender import BoxPrompts, derender
+from sdn3d.derender import BoxPrompts, GroundTruth, derender
 from sdn3d.editing.frame import PixelFrame
 from sdn3d.editing.spec import EditSpecError, box_prompts, parse_edit_spec
 from sdn3d.errors import UserInputError
@@ -441,6 +441,7 @@ def test_grabcut_without_a_prior_runs_beside_the_semantic_branch(ckpts, monkeypa
     assert box_grabcut(image, dataclasses.replace(boxes, prior=True)) is None  # the prior needs the branch first
 
 
+@pytest.mark.fits
 def test_box_objects_are_drawn_towards_the_roads_axis_with_the_sharp_outlines_weight(ckpts, monkeypatch):
     """Issue 40, session 39: a box object's fit reads the road's axis where it stands (the lines around it,
     :func:`sdn3d.road_heading.road_axes`) with ``lane_reg``, whether it is fitted alone or with the proposals (one
@@ -471,9 +472,27 @@ def test_box_objects_are_drawn_towards_the_roads_axis_with_the_sharp_outlines_we
     assert bool(torch.isfinite(want).all())  # the lines tell the axis at both cars
     boxes = BoxPrompts(mask_boxes(masks).float(), ("Car", "Car"), small, masks=masks, refine_masks=False)
     derender(image, WORK, models, "boxes", boxes=boxes, classes="vkitti")
+    scene = derender(image, WORK, models, "boxes", boxes=boxes, classes="vkitti")
     (request,) = asked.pop()
     torch.testing.assert_close(request.road_ry, want)
     assert request.lane_reg is None  # the settings' lane_reg: a sharp outline's weight
+    records = scene.meta["boxes"]  # each record names the axis its fit was drawn towards, and reads back
+    assert [r.road_axis_deg for r in records] == pytest.approx(torch.rad2deg(want).tolist())
+    assert [BoxFit.from_json(r.to_json(), 0).road_axis_deg for r in records] == pytest.approx(
+        [round(r.road_axis_deg, 2) for r in records])
     unpulled = dataclasses.replace(boxes, fit=dataclasses.replace(small, lane_reg=0.0))
-    derender(image, WORK, models, "boxes", boxes=unpulled, classes="vkitti")
+    scene = derender(image, WORK, models, "boxes", boxes=unpulled, classes="vkitti")
     assert asked.pop()[0].road_ry is None
+    assert all(r.road_axis_deg is None and "road_axis_deg" not in r.to_json() for r in scene.meta["boxes"])
+    # Fitted with the ground truth's masks in one call (the oracle's objects ask with lane_reg too): the box object's
+    # request and record carry its axis all the same.
+    instances = torch.zeros(masks.shape[1:], dtype=torch.long)
+    instances[masks[0]] = 12001
+    semantic = torch.where(instances > 0, torch.full_like(instances, 12), torch.full_like(instances, 1))
+    gt = GroundTruth("synthetic", "vkitti", semantic, instances)
+    one = BoxPrompts(mask_boxes(masks[1:]).float(), ("Car",), small, masks=masks[1:], refine_masks=False)
+    scene = derender(image, WORK, models, "gt", gt, boxes=one, fit=small, classes="vkitti")
+    (truths, box_req) = asked.pop()
+    assert truths.lane_reg == small.lane_reg and box_req.lane_reg is None
+    torch.testing.assert_close(box_req.road_ry, want[1:])
+    assert scene.meta["boxes"][0].road_axis_deg == pytest.approx(float(torch.rad2deg(want[1])))

@@ -80,6 +80,9 @@ class BoxFit:
             the prediction, its end-for-end flip, its mirror about the line of sight, the mirror's flip, a search
             start; None: no fit).
         fit_note: what the fit could not do normally (a mask too small or thin: the prediction kept), or None.
+        road_axis_deg: the road's axis its fit was drawn towards (a yaw in degrees, either end;
+            :func:`~sdn3d.road_heading.road_axes`, weighed by the fit settings' ``lane_reg``); None: none (no fit, a
+            ``lane_reg`` of 0, or the edges around it did not tell).
     """
 
     instance_id: int
@@ -94,10 +97,12 @@ class BoxFit:
     min_pixels: int
     hypothesis: str | None = None
     fit_note: str | None = None
+    road_axis_deg: float | None = None
 
     def to_json(self) -> dict[str, Any]:
         """The record as scene files and reports write it (``box``, ``mask_pixels``, ``pose``, ``fit_iou``,
-        ``poor_fit``, ``why`` where there is no fit, ``id``, ``mask``)."""
+        ``poor_fit``, ``why`` where there is no fit, ``id``, ``mask``; ``hypothesis``, ``fit_note`` and
+        ``road_axis_deg`` where there are)."""
         out: dict[str, Any] = {"box": [round(float(v), 2) for v in self.box], "mask_pixels": self.mask_pixels,
                                "pose": None if self.pose_source is None else _POSE_TEXT[self.pose_source],
                                "fit_iou": None if self.iou is None else round(self.iou, 4), "poor_fit": self.poor}
@@ -109,6 +114,8 @@ class BoxFit:
             out["hypothesis"] = self.hypothesis
         if self.fit_note is not None:
             out["fit_note"] = self.fit_note
+        if self.road_axis_deg is not None:
+            out["road_axis_deg"] = round(self.road_axis_deg, 2)
         return out
 
     @classmethod
@@ -128,7 +135,8 @@ class BoxFit:
                    {v: k for k, v in _MASK_TEXT.items()}[mask], refined, int(record["mask_pixels"]),
                    None if record.get("pose") is None else poses[record["pose"]],
                    None if iou is None else float(iou), bool(record["poor_fit"]), fit_pixels,
-                   int(min_pixels) if min_pixels is not None else 0, record.get("hypothesis"), record.get("fit_note"))
+                   int(min_pixels) if min_pixels is not None else 0, record.get("hypothesis"), record.get("fit_note"),
+                   None if record.get("road_axis_deg") is None else float(record["road_axis_deg"]))
 
 
 def box_fits(meta: Mapping[str, Any]) -> list[BoxFit]:
@@ -255,7 +263,7 @@ def box_grabcut(image: Tensor, boxes: BoxPrompts | None) -> BoxMasks | None:
 def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor, rows: Tensor, boxes: BoxPrompts,
                     geometry: tuple[Tensor, ...], min_pixels: int, mask_source: Sequence[MaskSource],
                     appearance: Appearance | None = None, fit_result: FitResult | None = None,
-                    classes: Sequence[str | None] | None = None
+                    classes: Sequence[str | None] | None = None, axes: Tensor | None = None
                     ) -> tuple[Tensor, tuple[Tensor, ...], list[BoxFit], Tensor | None]:
     """``(masks, geometry, each box's BoxFit, vacated)``: the box objects' rows ``rows`` fitted to their masks
     (:func:`~sdn3d.geometric.fit.fit_to_masks`, the geometric branch's prediction as the start) and, unless the masks
@@ -269,11 +277,15 @@ def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor,
     ``masks`` (the templates each box object may be drawn with, :func:`~sdn3d.geometric.fit.allowed_templates`).
     Fitted here, each is drawn towards the road's axis where it stands (:func:`~sdn3d.road_heading.road_axes`,
     every object's pixels left out of the vote) with ``boxes.fit.lane_reg``; a caller's ``fit_result`` was asked for
-    with it (:func:`box_request`'s ``road``)."""
+    with ``axes``, ``(B,)`` the road's axis at each box object (NaN: unknown; None: none). Each record names its
+    axis (:attr:`BoxFit.road_axis_deg`)."""
     road = None
-    if fit_result is None and boxes.fit.lane_reg and len(rows):  # the lane prior (fit module doc)
-        road = torch.full((len(masks),), math.nan)
-        road[rows] = road_axes(image, intr.matrix(), masks[rows], masks.any(0))
+    if fit_result is None:
+        axes = None
+        if boxes.fit.lane_reg and len(rows):  # the lane prior (fit module doc)
+            axes = road_axes(image, intr.matrix(), masks[rows], masks.any(0))
+            road = torch.full((len(masks),), math.nan)
+            road[rows] = axes
     geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels, appearance, fit_result, classes,
                                   road)
     pixels = masks[rows].flatten(1).sum(1)
@@ -285,8 +297,12 @@ def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor,
         masks, again, refined = _refine_box_masks(image, intr, masks, rows, boxes, geometry, good)
         if refined is not None:
             final = [int(m.sum()) for m in refined]
+    axis = [None] * len(boxes)
+    if axes is not None and boxes.fit.lane_reg:
+        axis = [None if iou is None or not math.isfinite(v) else math.degrees(v)
+                for v, (_, iou, *_) in zip(axes.tolist(), fitted, strict=True)]
     fits = [BoxFit(int(iid), tuple(float(v) for v in boxes.boxes[i]), source, a, final[i], pose, iou, poor,
-                   int(pixels[i]), min_pixels, hypothesis, note)
+                   int(pixels[i]), min_pixels, hypothesis, note, axis[i])
             for i, (iid, source, a, (pose, iou, poor, hypothesis, note)) in enumerate(
                 zip(ids[rows].tolist(), mask_source, again, fitted, strict=True))]
     return masks, geometry, fits, vacated

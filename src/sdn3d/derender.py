@@ -300,7 +300,8 @@ class _Objects:
         geometry: the same after the proposals' fit (``predicted`` without ``fit``).
         appearance: what the branch saw of each object (:func:`_geometry`), None without a lamp cue.
         fits: the fitted proposals' records, in row order.
-        box_result: the box objects' share of a fit made with the proposals' (else None).
+        box_result: the box objects' share of a fit made with the proposals' (else None); box_axes: ``(B,)`` the
+            road's axis at each box object that fit was asked with (NaN: unknown; None: none).
         band: ``(N, H, W)`` bool the band under each mask that the fit ignores
             (:func:`~sdn3d.proposal_fit.unsure_below`; None: none, or no fit).
         ignore: ``(N, H, W)`` bool the pixels each proposal is fitted without, of those its fit reads
@@ -315,13 +316,14 @@ class _Objects:
     box_result: FitResult | None
     band: Tensor | None
     ignore: Tensor | None = None
+    box_axes: Tensor | None = None
 
     def rows(self, index: Tensor) -> _Objects:
         """These objects' results for the rows ``index (M,)`` (the records and the box objects' fit as they are)."""
         return _Objects(tuple(g[index] for g in self.predicted), tuple(g[index] for g in self.geometry),
                         None if self.appearance is None else self.appearance.rows(index), self.fits, self.box_result,
                         None if self.band is None else self.band[index],
-                        None if self.ignore is None else self.ignore[index])
+                        None if self.ignore is None else self.ignore[index], self.box_axes)
 
     def with_ignore(self, masks: Tensor, fit: FitSettings) -> _Objects:
         """These objects with their :attr:`ignore` for their ``masks (N, H, W)`` and the ``fit``'s settings: made
@@ -383,7 +385,7 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
         unsure[box_rows] = False
     geometry, appearance = _geometry(image, intrinsics, masks, ids, gt if source == "gt" else None, models,
                                      min_pixels, refine, annotated, photo, unsure)
-    predicted, proposal_fits, box_result, band = geometry, [], None, None
+    predicted, proposal_fits, box_result, band, box_axes = geometry, [], None, None, None
     classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
     if fit is not None:
         rows = vehicle_rows(ids, geometry[0], class_names)
@@ -408,6 +410,7 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
         box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes, axes)
                    if joint else None)
         if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
+            box_axes = None if axes is None or not fit.lane_reg else axes[box_rows]
             geometry, proposal_fits, first, box_result = fit_proposals_and_boxes(
                 intrinsics, masks, ids, refit, geometry, fit, appearance, box_req, band, classes, unsure_pixels, road,
                 lane)
@@ -425,7 +428,8 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
             by_id = {r.instance_id: r for r in earlier.fits} | {r.instance_id: r for r in proposal_fits}
             proposal_fits = [by_id[i] for i in ids[rows].tolist()]
             box_result = earlier.box_result if len(rows) else None
-    return _Objects(predicted, geometry, appearance, proposal_fits, box_result, band)
+            box_axes = earlier.box_axes if len(rows) else None
+    return _Objects(predicted, geometry, appearance, proposal_fits, box_result, band, box_axes=box_axes)
 
 
 def _road_axes(image: Tensor, intrinsics: Intrinsics, masks: Tensor, rows: Tensor) -> Tensor:
@@ -639,11 +643,13 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
                  len(members) + len(groups), len(groups))
     geometry, appearance, proposal_fits, box_result = (objects.geometry, objects.appearance, objects.fits,
                                                        objects.box_result)
+    box_road = objects.box_axes
     n = len(ids)
     classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
-                                                             min_pixels, mask_source, appearance, box_result, classes)
+                                                             min_pixels, mask_source, appearance, box_result, classes,
+                                                             box_road)
         if vacated is not None:
             instances = torch.where(vacated, torch.zeros_like(instances), instances)
         instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)

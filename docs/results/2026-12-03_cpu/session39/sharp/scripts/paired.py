@@ -1,4 +1,4 @@
-# ruff: noqa: INP001, E501
+# ruff: noqa: INP001, E501, E702
 """paired.py MAIN.json SHARP.json: per row, the two arms' pose figures and the paired difference (sharp - main) of the share of cars over 20 degrees and of the median yaw error, 95 % bootstrap over cars (10,000 resamples, seed 0)."""
 import json
 import sys

@@ -9,12 +9,14 @@ import pytest
 from helpers.native import needs_compiler
 
 import sdn3d.editing.photo.nearest as nearest
+import sdn3d.editing.photo.road as road
 import sdn3d.render._native as soft_native
 
 #: (the kernel's cached loader, its library's file stem, what its warning names)
 KERNELS = {
     "soft silhouette": (soft_native.soft_kernel, "soft_kernel", "the soft silhouette uses its PyTorch path"),
     "nearest examples": (nearest.nearest_kernel, "nearest_kernel", "nearest examples uses its PyTorch path"),
+    "photo rays": (road.ray_kernel, "ray_kernel", "the photo's ray fill uses its PyTorch path"),
 }
 
 

@@ -39,7 +39,17 @@ def _rays(seed: int, n: int, height: int, width: int) -> tuple[torch.Tensor, tor
     return valid, pix, torch.stack([angle.cos(), angle.sin()], 1)
 
 
-def test_trace_in_blocks_finds_the_first_valid_step_of_one_pass():
+@pytest.fixture(params=["kernel", "torch"])
+def ray_path(request, monkeypatch):
+    """Each ray helper by the C++ kernel (skipped without a compiler) and by its PyTorch path."""
+    if request.param == "torch":
+        monkeypatch.setattr(photo_road, "ray_kernel", lambda: None)
+    elif photo_road.ray_kernel() is None:
+        pytest.skip("no C++ compiler: the ray kernel cannot build")
+    return request.param
+
+
+def test_trace_in_blocks_finds_the_first_valid_step_of_one_pass(ray_path):
     for seed, (height, width) in enumerate([(60, 200), (97, 131), (375, 1242)]):
         valid, pix, unit = _rays(seed, 3000, height, width)
         steps = torch.cat([torch.arange(1, 17), torch.arange(17, 150 + 50 * seed, 2)]).float()
@@ -53,7 +63,26 @@ def test_trace_in_blocks_finds_the_first_valid_step_of_one_pass():
         assert bool(want[1].any()) and not bool(want[1].all())  # found and not found both tested
 
 
-def test_along_in_one_call_equals_the_loop_over_its_points():
+def test_trace_rounds_half_to_even(ray_path):
+    # units whose products land on halves (0.5, 2.5, ...: rounded to even, as torch's round; half away from zero
+    # fails this), among random ones (a fused multiply-add in the kernel is caught by the _along test below, whose
+    # points themselves are compared through the bilinear gather)
+    height, width = 64, 4000
+    g = torch.Generator().manual_seed(7)
+    valid = torch.rand(height, width, generator=g) > 0.6
+    halves = torch.tensor([[0.5, 0.5], [-0.5, 0.25], [0.75, -0.5], [1.5, 0.5], [-0.25, -0.75]])
+    angle = torch.rand(4000, generator=g) * 6.2832
+    unit = torch.cat([halves.repeat(200, 1), torch.stack([angle.cos(), angle.sin()], 1)])
+    pix = torch.stack([torch.rand(len(unit), generator=g) * width, torch.rand(len(unit), generator=g) * height], 1)
+    pix = pix.floor() + torch.tensor([0.0, 0.0]).where(torch.rand(len(unit), 1, generator=g) < 0.5, 0.5)
+    steps = torch.cat([torch.arange(1, 17), torch.arange(17, 61, 2)]).float()
+    limit = torch.rand(len(pix), generator=g) * 70
+    want = _trace_one_pass(pix, unit, valid, steps, limit)
+    got = _trace(pix, unit, valid, steps, limit)
+    assert torch.equal(got[0], want[0]) and torch.equal(got[1], want[1])
+
+
+def test_along_in_one_call_equals_the_loop_over_its_points(ray_path):
     g = torch.Generator().manual_seed(3)
     image = torch.rand(3, 50, 90, generator=g)
     valid = torch.rand(50, 90, generator=g) > 0.3

@@ -33,7 +33,7 @@ inline float product(float a, float b) {
 
 extern "C" {
 
-int sdn3d_ray_abi_version() { return 1; }
+int sdn3d_ray_abi_version() { return 2; }
 
 // pix, unit: (n, 2) float32 (x, y); valid: (height, width) uint8 (0 / 1); steps: (count,) float32, increasing;
 // limit: (n,) float32 or null (a step beyond a ray's limit does not count; nor does a NaN limit's any step).
@@ -59,6 +59,31 @@ void sdn3d_ray_trace_f32(const float* pix, const float* unit, const uint8_t* val
     }
     distance[i] = hit;
     found[i] = ok;
+  }
+}
+
+// The points of sdn3d.editing.photo.road._along: for k = 0 .. span - 1 and each of the n rays, the point
+// start + k * unit (float32, a product then a sum, as torch's start + k * unit) into points (span * n, 2), the k-th
+// block of n rows for k, and whether it rounds (half to even) to a valid pixel inside the picture into ok
+// (span * n,) uint8; the first point of each ray counts as valid (the caller's source).
+void sdn3d_ray_along_f32(const float* start, const float* unit, const uint8_t* valid, int64_t height, int64_t width,
+                         int64_t span, int64_t n, float* points, uint8_t* ok) {
+  for (int64_t k = 0; k < span; ++k) {
+    const float f = static_cast<float>(k);
+    for (int64_t i = 0; i < n; ++i) {
+      const float qx = product(f, unit[2 * i]) + start[2 * i];
+      const float qy = product(f, unit[2 * i + 1]) + start[2 * i + 1];
+      const int64_t row = k * n + i;
+      points[2 * row] = qx;
+      points[2 * row + 1] = qy;
+      if (k == 0) {
+        ok[row] = 1;
+        continue;
+      }
+      const float x = std::nearbyint(qx), y = std::nearbyint(qy);
+      ok[row] = (x >= 0.0f && x < static_cast<float>(width) && y >= 0.0f && y < static_cast<float>(height) &&
+                 valid[static_cast<int64_t>(y) * width + static_cast<int64_t>(x)]) ? 1 : 0;
+    }
   }
 }
 

@@ -147,20 +147,22 @@ def _gather_coarse(small: Tensor, points: Tensor) -> Tensor:
 
 
 RAY_SOURCE = Path(__file__).with_name("ray_kernel.cpp")
-RAY_ABI_VERSION = 1
+RAY_ABI_VERSION = 2
 
 
 def _bind_ray(lib: ctypes.CDLL) -> ctypes.CDLL:
     ptr, i64 = ctypes.c_void_p, ctypes.c_int64
     lib.sdn3d_ray_trace_f32.argtypes = [ptr, ptr, ptr, i64, i64, ptr, i64, ptr, i64, ptr, ptr]
     lib.sdn3d_ray_trace_f32.restype = None
+    lib.sdn3d_ray_along_f32.argtypes = [ptr, ptr, ptr, i64, i64, i64, i64, ptr, ptr]
+    lib.sdn3d_ray_along_f32.restype = None
     return lib
 
 
 @functools.lru_cache(maxsize=1)
 def ray_kernel() -> ctypes.CDLL | None:
-    """The loaded ray kernel (``ray_kernel.cpp``: :func:`_trace` ray by ray), or ``None`` when it cannot be built
-    (then :func:`_trace` runs its PyTorch path, the same answer)."""
+    """The loaded ray kernel (``ray_kernel.cpp``: :func:`_trace` ray by ray and :func:`_along`'s points), or
+    ``None`` when it cannot be built (then their PyTorch paths run, the same answers)."""
     return load_kernel(RAY_SOURCE, "sdn3d_ray_abi_version", RAY_ABI_VERSION, _bind_ray, "the photo's ray fill")
 
 
@@ -331,7 +333,7 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     smooth = _normalised_blur(image, valid, sigma)
     broad = _coarse_blur(image, valid, MARK_SIGMA) if marks > 0 else None
     # The sources' grain: their high-pass at one pixel's scale (0 elsewhere: never a car's edge).
-    detail = None
+    detail = grain_kept = None
     if texture > 0 or match_grain:
         detail = (image - _normalised_blur(image, valid, GRAIN_SIGMA)) * valid
         # A marking's or a kerb's outline is no grain: mirrored into the hole it draws a ghost outline there.
@@ -339,7 +341,8 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         # over the three adjacent values of a channel-last picture (a third of the time)
         level = (sum3(detail, 0) / 3).abs()
         scale = 1.4826 * _masked_median(level, valid) if any_set(valid) else 0.0
-        detail = detail * (level <= GRAIN_EDGE * scale)
+        # applied where the grain is read (_mirrored: the same product at each pixel read), not to the whole picture
+        grain_kept = level <= GRAIN_EDGE * scale
     ys, xs = nonzero_yx(hole)
     pix = torch.stack([xs, ys], 1).float()
     centre = torch.tensor(vp, dtype=torch.float32)
@@ -417,9 +420,11 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
         if detail is not None:  # a side's high-pass, mirrored across the hole's edge along the ray (nearer side first)
             near_out = f_out & (~f_in | (d_out <= d_in))
             grain, ok = _mirrored(detail, valid, torch.where(near_out[:, None], q_out, q_in),
-                                  torch.where(near_out[:, None], u, -u), torch.where(near_out, d_out, d_in))
+                                  torch.where(near_out[:, None], u, -u), torch.where(near_out, d_out, d_in),
+                                  grain_kept)
             other, ok2 = _mirrored(detail, valid, torch.where(near_out[:, None], q_in, q_out),
-                                   torch.where(near_out[:, None], -u, u), torch.where(near_out, d_in, d_out))
+                                   torch.where(near_out[:, None], -u, u), torch.where(near_out, d_in, d_out),
+                                   grain_kept)
             ok2 = ok2 & ~ok & torch.where(near_out, f_in, f_out)
             grains[:, s:s + RAY_CHUNK] = ok * grain + ok2 * other
         values[:, s:s + RAY_CHUNK] = val
@@ -780,17 +785,21 @@ def _nearest_zero(excess: Callable[[int], float | None], count: int) -> int | No
     return best
 
 
-def _mirrored(detail: Tensor, valid: Tensor, edge: Tensor, back: Tensor, depth: Tensor) -> tuple[Tensor, Tensor]:
+def _mirrored(detail: Tensor, valid: Tensor, edge: Tensor, back: Tensor, depth: Tensor,
+              kept: Tensor | None = None) -> tuple[Tensor, Tensor]:
     """``(grain (3, N), ok (N,))``: ``detail`` at ``edge + back * folded depth`` (nearest pixel: interpolation would
     average the grain away), the ``depth (N,)`` into the hole folded into ``[0, GRAIN_FOLD]`` (a triangle wave, so a
-    deep pixel reads near the edge, where the road is, not far beyond it); ``ok``: that pixel is ``valid``."""
+    deep pixel reads near the edge, where the road is, not far beyond it); ``ok``: that pixel is ``valid``.
+    ``kept (H, W)`` bool (None: all): ``detail * kept`` is read, multiplied at the pixels read only (the same
+    product of each, without the whole picture's)."""
     height, width = valid.shape
     folded = GRAIN_FOLD - (depth.remainder(2 * GRAIN_FOLD) - GRAIN_FOLD).abs()
     mirror = edge + back * folded[:, None]
     mx, my = mirror[:, 0].round().long(), mirror[:, 1].round().long()
     inside = (mx >= 0) & (mx < width) & (my >= 0) & (my < height)
     mx, my = mx.clamp(0, width - 1), my.clamp(0, height - 1)
-    return detail[:, my, mx], inside & valid[my, mx]
+    grain = detail[:, my, mx] if kept is None else detail[:, my, mx] * kept[my, mx]
+    return grain, inside & valid[my, mx]
 
 
 def _along(image: Tensor, valid: Tensor, start: Tensor, unit: Tensor, span: int) -> Tensor:
@@ -801,17 +810,38 @@ def _along(image: Tensor, valid: Tensor, start: Tensor, unit: Tensor, span: int)
         return _gather(image, start)
     height, width = valid.shape
     n = len(start)
-    q = torch.cat([start + k * unit for k in range(span)])  # (span * N, 2)
-    x, y = q[:, 0].round().long(), q[:, 1].round().long()
-    ok = (x >= 0) & (x < width) & (y >= 0) & (y < height) & valid.reshape(-1)[
-        y.clamp(0, height - 1) * width + x.clamp(0, width - 1)]
-    ok[:n] = True
+    q, ok = _along_points(start, unit, valid, span)
     samples = _gather(image, q).mul_(ok)  # (3, span * N), each point's term (0 where not valid)
     total = torch.zeros(3, n)
     for k in range(span):
         total += samples[:, k * n:(k + 1) * n]
     count = ok.view(span, n).sum(0)  # whole numbers: exact in any order
     return total / count.clamp(min=1)
+
+
+def _along_points(start: Tensor, unit: Tensor, valid: Tensor, span: int) -> tuple[Tensor, Tensor]:
+    """``(points (span * N, 2), ok (span * N,))``: :func:`_along`'s points ``start + k unit``, the ``k``-th block of
+    ``N`` rows for ``k``, and which of them round to a ``valid (H, W)`` pixel inside the picture (the first block:
+    all). By the C++ kernel (:func:`ray_kernel`: the same float32 product, sum and rounding, in one pass without
+    torch's temporaries) where it is built, else by torch."""
+    height, width = valid.shape
+    n = len(start)
+    f32 = start.dtype == torch.float32 and unit.dtype == torch.float32 and valid.dtype == torch.bool
+    kernel = ray_kernel() if f32 and n else None
+    if kernel is not None:
+        start, unit = start.contiguous(), unit.contiguous()
+        mask = valid.contiguous().view(torch.uint8)
+        q = torch.empty(span * n, 2, dtype=torch.float32)
+        ok = torch.empty(span * n, dtype=torch.bool)
+        kernel.sdn3d_ray_along_f32(start.data_ptr(), unit.data_ptr(), mask.data_ptr(), height, width, span, n,
+                                   q.data_ptr(), ok.data_ptr())
+        return q, ok
+    q = torch.cat([start + k * unit for k in range(span)])  # (span * N, 2)
+    x, y = q[:, 0].round().long(), q[:, 1].round().long()
+    ok = (x >= 0) & (x < width) & (y >= 0) & (y < height) & valid.reshape(-1)[
+        y.clamp(0, height - 1) * width + x.clamp(0, width - 1)]
+    ok[:n] = True
+    return q, ok
 
 
 def _gather(image: Tensor, points: Tensor) -> Tensor:

@@ -101,6 +101,20 @@ def test_along_in_one_call_equals_the_loop_over_its_points(ray_path):
         assert torch.equal(_along(image, valid, start, unit, span), total / count.clamp(min=1))
 
 
+def test_gather_samples_as_the_grid_made_a_column_at_a_time():
+    g = torch.Generator().manual_seed(5)
+    for height, width in ((375, 1242), (50, 90), (1, 1)):
+        image = torch.rand(3, height, width, generator=g)
+        points = torch.stack([torch.rand(20000, generator=g) * (width + 20) - 10,
+                              torch.rand(20000, generator=g) * (height + 20) - 10], 1)
+        gx = points[:, 0] / max(width - 1, 1) * 2 - 1  # _gather as it was
+        gy = points[:, 1] / max(height - 1, 1) * 2 - 1
+        grid = torch.stack([gx, gy], 1).view(1, 1, -1, 2)
+        want = F.grid_sample(image[None], grid, mode="bilinear", padding_mode="border", align_corners=True)[0, :, 0]
+        assert torch.equal(_gather(image, points), want)
+        assert torch.equal(_gather(image, points[::2]), want[:, ::2])  # a strided view of the points
+
+
 def test_ab_length_is_torch_norm_bit_for_bit():
     g = torch.Generator().manual_seed(5)
     lab = srgb_to_lab(torch.rand(20000, 3, generator=g))  # channel-major rows, as road_like reads them

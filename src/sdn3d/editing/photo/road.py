@@ -847,9 +847,10 @@ def _along_points(start: Tensor, unit: Tensor, valid: Tensor, span: int) -> tupl
 def _gather(image: Tensor, points: Tensor) -> Tensor:
     """``(3, N)`` bilinear samples of ``image (3, H, W)`` at ``points (N, 2)`` (x, y pixels; border-clamped)."""
     height, width = image.shape[1:]
-    gx = points[:, 0] / max(width - 1, 1) * 2 - 1
-    gy = points[:, 1] / max(height - 1, 1) * 2 - 1
-    grid = torch.stack([gx, gy], 1).view(1, 1, -1, 2).to(image.dtype)
+    # both coordinates at once (x / (W - 1) * 2 - 1, y / (H - 1) * 2 - 1: the same quotient, product and difference
+    # of each as one column at a time), already laid out as the grid: no stack of the columns
+    scale = torch.tensor([max(width - 1, 1), max(height - 1, 1)], dtype=points.dtype)
+    grid = (points / scale * 2 - 1).view(1, 1, -1, 2).to(image.dtype)
     return F.grid_sample(image[None], grid, mode="bilinear", padding_mode="border", align_corners=True)[0, :, 0]
 
 

@@ -94,9 +94,17 @@ def _masked_blur(image: Tensor, valid: Tensor, sigma: float, sigma_y: float | No
 
     sy = sigma if sigma_y is None else sigma_y
     w = valid.float().numpy()
-    num = np.stack([cv2.GaussianBlur(c * w, (0, 0), sigma, sigmaY=sy) for c in image.float().numpy()])
+    channels = image.float().numpy()
+    # each channel's product and blur into one buffer, the quotient in place: the same values as a stack of the
+    # channels' blurs divided into a new array, without a whole picture's temporaries (fresh memory at 1242x375)
+    num = np.empty(channels.shape, np.float32)
+    weighted = np.empty(channels.shape[1:], np.float32)
+    for c, blurred in zip(channels, num, strict=True):
+        np.multiply(c, w, out=weighted)
+        blurred[...] = cv2.GaussianBlur(weighted, (0, 0), sigma, sigmaY=sy)
     den = cv2.GaussianBlur(w, (0, 0), sigma, sigmaY=sy)
-    return torch.from_numpy(num / np.maximum(den, 1e-6)[None]).to(image.dtype), torch.from_numpy(den)
+    np.divide(num, np.maximum(den, 1e-6)[None], out=num)
+    return torch.from_numpy(num).to(image.dtype), torch.from_numpy(den)
 
 
 def _blur_reach(sigma: float) -> int:
@@ -335,7 +343,10 @@ def ray_fill(image: Tensor, hole: Tensor, vp: tuple[float, float], keep_out: Ten
     # The sources' grain: their high-pass at one pixel's scale (0 elsewhere: never a car's edge).
     detail = grain_kept = None
     if texture > 0 or match_grain:
-        detail = (image - _normalised_blur(image, valid, GRAIN_SIGMA)) * valid
+        blur = _normalised_blur(image, valid, GRAIN_SIGMA)
+        # in place in the blur's own fresh tensor: the same difference and product as (image - blur) * valid
+        detail = (torch.sub(image, blur, out=blur) if blur is not image and blur.dtype == image.dtype
+                  else image - blur).mul_(valid)
         # A marking's or a kerb's outline is no grain: mirrored into the hole it draws a ghost outline there.
         # the channels' mean as torch's mean computes it (their sum, then / 3), without its reduction's scalar loop
         # over the three adjacent values of a channel-last picture (a third of the time)
@@ -733,13 +744,14 @@ def _matched_weight(image: Tensor, valid: Tensor, values: Tensor, grains: Tensor
     crop = image[:, y0:y1, x0:x1].float().clone()
     at = (ys - y0) * (x1 - x0) + (xs - x0)  # the hole pixels in the crop, flat
     at_inside = at[inside]
+    crop_flat, at_np = crop.view(3, -1).numpy(), at.numpy()
     levels: dict[int, float | None] = {}
 
     def excess(i: int) -> float | None:
         """The fill's texture at weight ``GRAIN_WEIGHTS[i]`` less the target (None: too few road-like pixels)."""
         if i not in levels:
             filled = (values + GRAIN_WEIGHTS[i] * grains).clamp(0, 1)
-            crop.view(3, -1)[:, at] = filled
+            crop_flat[:, at_np] = filled.numpy()  # NumPy's assignment: the same values, faster than torch's
             # road_like is per pixel: looked at on the hole's pixels alone (the cost: a Lab conversion per weight)
             like = road_like(filled[:, inside, None], road)[:, 0]
             levels[i] = (float(_luma_laplacian(crop).view(-1)[at_inside[like]].mean()) - target

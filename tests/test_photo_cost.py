@@ -1290,3 +1290,28 @@ def test_nearest_examples_pytorch_path_in_blocks_is_one_calls_bit_for_bit(monkey
         assert torch.equal(got, want), (q, e, k)
     assert max(rows) < 8192  # the 9000 queries: main took 8192 rows at once
     assert max(rows) <= nearest.NEAREST_ROWS
+
+
+def test_the_roads_medians_select_as_a_boolean_index_would():
+    # _road_of's medians of channel-major Lab rows (NumPy's compress and partition) against _column_median of the
+    # rows selected by torch, on both sides of MEDIAN_NUMPY_MIN and with many ties (8-bit levels)
+    g = torch.Generator().manual_seed(11)
+    for n in (40, 5000, 30000):
+        rgb = (torch.randint(0, 256, (3, n), generator=g).float() / 255)
+        lab = road_lab(rgb.T.contiguous())  # (n, 3), channel-major
+        rows = torch.rand(n, generator=g) < 0.6
+        assert torch.equal(photo_road._selected_median(lab, rows), photo_road._column_median(lab[rows]))
+        assert torch.equal(photo_road._selected_median(lab[:, 1:], rows), photo_road._column_median(lab[rows][:, 1:]))
+        flat = lab.contiguous()  # row-major: torch's path
+        assert torch.equal(photo_road._selected_median(flat, rows), photo_road._column_median(flat[rows]))
+
+
+def test_the_rings_lab_is_road_lab_of_the_selected_pixels():
+    g = torch.Generator().manual_seed(12)
+    image = torch.rand(3, 60, 90, generator=g)
+    ring = torch.rand(60, 90, generator=g) < 0.3
+    want = road_lab(image[:, ring].T.contiguous())
+    assert torch.equal(photo_road._ring_lab(image, ring, None), want)
+    thinned = image[:, :, ::3]  # road_haze's every third column: a strided picture
+    want = road_lab(thinned[:, ring[:, ::3]].T.contiguous())
+    assert torch.equal(photo_road._ring_lab(thinned, ring[:, ::3], None), want)

@@ -1110,19 +1110,37 @@ def _ring_lab(image: Tensor, ring: Tensor, lab: PictureLab | None, step: int = 1
     ``lab`` (``image``'s :class:`PictureLab`, of the picture before its columns were thinned to every ``step``-th)
     when given."""
     if lab is None:
-        return road_lab(image[:, ring].T.contiguous())
+        # road_lab of the ring's pixels, selected by NumPy's compress straight into the channel-major columns that
+        # road_lab converts (the same values: each column's Lab is its own pixel's alone, _lab_columns)
+        picked = np.compress(ring.numpy().reshape(-1), image.float().reshape(3, -1).numpy(), axis=1)
+        return torch.from_numpy(_lab_columns(picked)).T
     return lab.pixels(ring, step)
 
 
 def _road_of(lab: Tensor, tolerance: float) -> Tensor | None:
     """:func:`road_colours` of the ring pixels' Lab rows ``lab (N, 3)``."""
     ab = lab[:, 1:]
-    ref = ab[ab_length(ab) < 2 * tolerance]
-    if len(ref) < 30:
+    inner = ab_length(ab) < 2 * tolerance
+    if count_set(inner) < 30:
         return None
-    mid = _column_median(ref)
+    mid = _selected_median(ab, inner)
     near = ab_length(ab - mid) < tolerance
-    return _column_median(lab[near]) if count_set(near) >= 30 else None
+    return _selected_median(lab, near) if count_set(near) >= 30 else None
+
+
+def _selected_median(x: Tensor, rows: Tensor) -> Tensor:
+    """``(C,)`` :func:`_column_median` of the ``rows (N,)`` rows of a NaN-free ``x (N, C)`` (some selected), the same
+    values: for a channel-major ``x`` (``x.T`` contiguous, as :func:`road_lab` makes Lab rows), each column selected
+    by NumPy's ``compress`` and, from :data:`MEDIAN_NUMPY_MIN` rows on, partitioned where it lies (torch's selection
+    of a channel-major ``(N, 3)`` and a partition down its columns' stride took twice as long)."""
+    cm = x.T
+    if x.requires_grad or x.device.type != "cpu" or not cm.is_contiguous():
+        return _column_median(x[rows])
+    picked = np.compress(rows.numpy(), cm.numpy(), axis=1)  # (C, M), each column's values in order
+    if picked.shape[1] < MEDIAN_NUMPY_MIN:
+        return _column_median(torch.from_numpy(picked).T)
+    k = (picked.shape[1] - 1) // 2  # the lower middle, as _column_median's (the k-th smallest: one value)
+    return torch.from_numpy(np.partition(picked, k, axis=1)[:, k].copy())
 
 
 def _road_around(image: Tensor, ring: Tensor, tolerance: float = 12.0, lab: PictureLab | None = None,

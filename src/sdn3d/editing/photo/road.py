@@ -594,7 +594,8 @@ def verge_like(colours: Tensor, road: Tensor, tolerance: float = VERGE_CHROMA,
     farther than ``tolerance`` from both the road's and grey (a verge's grass, foliage, coloured paint), or their
     lightness under ``min_light`` of the road's (a hedge, a treeline in shade). Asphalt, its white or grey markings,
     kerbs and the road's lighter shadows are road."""
-    lab = road_lab(colours.T.contiguous())
+    # road_lab's columns converted where they lie (channel-major), not copied to rows and back: the same values
+    lab = torch.from_numpy(_lab_columns(colours.float().contiguous().numpy())).T
     ab = lab[:, 1:]
     road = road.to(lab)
     return (((ab_length(ab - road[1:]) >= tolerance) & (ab_length(ab) >= tolerance))
@@ -809,9 +810,12 @@ def _mirrored(detail: Tensor, valid: Tensor, edge: Tensor, back: Tensor, depth: 
     mirror = edge + back * folded[:, None]
     mx, my = mirror[:, 0].round().long(), mirror[:, 1].round().long()
     inside = (mx >= 0) & (mx < width) & (my >= 0) & (my < height)
-    mx, my = mx.clamp(0, width - 1), my.clamp(0, height - 1)
-    grain = detail[:, my, mx] if kept is None else detail[:, my, mx] * kept[my, mx]
-    return grain, inside & valid[my, mx]
+    # read at flat indices (one index_select per picture, not two index tensors' advanced indexing): the same pixels
+    at = my.clamp_(0, height - 1).mul_(width).add_(mx.clamp_(0, width - 1))
+    grain = detail.reshape(len(detail), -1).index_select(1, at)
+    if kept is not None:
+        grain = grain * kept.reshape(-1).index_select(0, at)
+    return grain, inside & valid.reshape(-1).index_select(0, at)
 
 
 def _along(image: Tensor, valid: Tensor, start: Tensor, unit: Tensor, span: int) -> Tensor:

@@ -139,7 +139,9 @@ def _coarse_blur(image: Tensor, valid: Tensor, sigma: float, road: Tensor | None
     size = (max(width // COARSE, 1), max(height // COARSE, 1))
     w = valid.float().numpy()
     small_w = cv2.resize(w, size, interpolation=cv2.INTER_AREA)
-    small = [cv2.resize(c * w, size, interpolation=cv2.INTER_AREA) for c in image.float().numpy()]
+    weighted = np.empty(w.shape, np.float32)  # each channel's product in one buffer (the same values as c * w)
+    small = [cv2.resize(np.multiply(c, w, out=weighted), size, interpolation=cv2.INTER_AREA)
+             for c in image.float().numpy()]
     if road is not None:
         cells = torch.from_numpy(np.stack(small) / np.maximum(small_w, 1e-6)[None]).view(3, -1)  # mean valid colours
         kind = ((small_w > 0.5) & ~verge_like(cells, road).view(small_w.shape).numpy()).astype(np.float32)

@@ -44,5 +44,5 @@ print("| spec | base, median ms | new, median ms | new / base, paired median (mi
 print("|---|---|---|---|")
 for s in specs:
     b, n = times[(s, "base")], times[(s, "new")]
-    ratio = [y / x for x, y in zip(b, n)]
+    ratio = [y / x for x, y in zip(b, n, strict=True)]
     print(f"| {s} | {statistics.median(b):.1f} | {statistics.median(n):.1f} | {statistics.median(ratio):.3f} ({min(ratio):.3f}, {max(ratio):.3f}) |", flush=True)

@@ -21,10 +21,9 @@ import sys
 import numpy as np
 import torch
 
-from sdn3d.image_ops import luminance
 from sdn3d.editing.photo.road import _luma_laplacian, road_colours, road_lab, verge_like
 from sdn3d.editing.photo.settings import FILL, INPUT
-from sdn3d.image_ops import dilate_square
+from sdn3d.image_ops import dilate_square, luminance
 
 
 def measure(path: str) -> dict:

@@ -279,15 +279,10 @@ def fit_box_objects(image: Tensor, intr: Intrinsics, masks: Tensor, ids: Tensor,
     every object's pixels left out of the vote) with ``boxes.fit.lane_reg``; a caller's ``fit_result`` was asked for
     with ``axes``, ``(B,)`` the road's axis at each box object (NaN: unknown; None: none). Each record names its
     axis (:attr:`BoxFit.road_axis_deg`)."""
-    road = None
-    if fit_result is None:
-        axes = None
-        if boxes.fit.lane_reg and len(rows):  # the lane prior (fit module doc)
-            axes = road_axes(image, intr.matrix(), masks[rows], masks.any(0))
-            road = torch.full((len(masks),), math.nan)
-            road[rows] = axes
+    if fit_result is None:  # the lane prior (fit module doc)
+        axes = road_axes(image, intr.matrix(), masks[rows], masks.any(0)) if boxes.fit.lane_reg and len(rows) else None
     geometry, fitted = _fit_boxes(intr, masks, rows, boxes, geometry, min_pixels, appearance, fit_result, classes,
-                                  road)
+                                  axes)
     pixels = masks[rows].flatten(1).sum(1)
     final = [int(p) for p in pixels]
     again, vacated = [False] * len(boxes), None
@@ -328,14 +323,14 @@ def yaw_belief(appearance: Appearance | None, rows: Tensor) -> Callable[[Tensor]
 
 def box_request(masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...], min_pixels: int,
                 appearance: Appearance | None = None, classes: Sequence[str | None] | None = None,
-                road: Tensor | None = None) -> FitRequest | None:
+                axes: Tensor | None = None) -> FitRequest | None:
     """What :func:`fit_box_objects` asks the fit for (:class:`~sdn3d.geometric.fit.FitRequest`): the box objects'
     rows ``rows`` with at least ``min_pixels`` mask pixels (in the boxes' order; None: no box has them), each with
     the pixels that may hide it (every other proposal, and the boxes nearer than it: the farther ones it hides),
     the branch's prediction, where there is one, as its start, and its class (``classes``: the class name of every
-    row of ``masks``; None: unknown), which bounds its templates. ``road``: ``(N,)`` the road's axis at every row of
-    ``masks`` (:func:`~sdn3d.road_heading.road_axes`, NaN: unknown), whose lane prior the fit adds with
-    ``boxes.fit.lane_reg``; None: none."""
+    row of ``masks``; None: unknown), which bounds its templates. ``axes``: ``(B,)`` the road's axis at each box
+    object, in the boxes' order (:func:`~sdn3d.road_heading.road_axes`, NaN: unknown), whose lane prior the fit adds
+    with ``boxes.fit.lane_reg``; None: none."""
     from sdn3d.box_masks import nearest_first
     from sdn3d.geometric.fit import FitRequest
 
@@ -359,18 +354,18 @@ def box_request(masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[
                       start_location=torch.where(predicted[sel, None], location[rows[sel]].float(), nan),
                       yaw_belief=yaw_belief(appearance if boxes.fit.appearance else None, rows[sel]),
                       classes=None if classes is None else [classes[int(r)] for r in rows[sel]],
-                      road_ry=None if road is None else road[rows[sel]].float())
+                      road_ry=None if axes is None else axes[sel].float())
 
 
 def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts, geometry: tuple[Tensor, ...],
                min_pixels: int, appearance: Appearance | None = None, result: FitResult | None = None,
-               classes: Sequence[str | None] | None = None, road: Tensor | None = None
+               classes: Sequence[str | None] | None = None, axes: Tensor | None = None
                ) -> tuple[tuple[Tensor, ...], list[tuple[PoseSource | None, float | None, bool, str | None,
                                                           str | None]]]:
     """The geometry with the box objects' rows fitted to their masks (:func:`~sdn3d.geometric.fit.fit_to_masks`,
     the geometric branch's prediction as the start) and per box ``(pose source, silhouette IoU, poor, winning
     hypothesis, the fit's note)`` (None, None, True, None, None: too few pixels, no fit). ``result``: the fit of
-    :func:`box_request` done by the caller (with other objects'), else None: fitted here (``road``: as
+    :func:`box_request` done by the caller (with other objects'), else None: fitted here (``axes``: as
     :func:`box_request`'s)."""
     from sdn3d.geometric.fit import fit_many
 
@@ -380,7 +375,7 @@ def _fit_boxes(intr: Intrinsics, masks: Tensor, rows: Tensor, boxes: BoxPrompts,
     predicted = template[rows] >= 0
     sel = fitted.nonzero().flatten()
     if result is None and len(sel):
-        result = fit_many([box_request(masks, rows, boxes, geometry, min_pixels, appearance, classes, road)], intr,
+        result = fit_many([box_request(masks, rows, boxes, geometry, min_pixels, appearance, classes, axes)], intr,
                           settings=settings)[0]
     if len(sel):
         target = rows[sel]

@@ -407,10 +407,10 @@ def _objects_3d(masks: Tensor, ids: Tensor, box_rows: Tensor, image: Tensor, int
         lane_rows = torch.cat([refit if lane else refit[:0], box_rows if joint and fit.lane_reg else box_rows[:0]])
         axes = _road_axes(image, intrinsics, masks, lane_rows) if len(lane_rows) else None
         road = axes if lane and len(refit) else None
-        box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes, axes)
+        box_axes = axes[box_rows] if joint and fit.lane_reg else None
+        box_req = (box_request(masks, box_rows, boxes, geometry, min_pixels, appearance, classes, box_axes)
                    if joint else None)
         if box_req is not None:  # one fit for both (the same settings): each stage's fixed cost once
-            box_axes = None if axes is None or not fit.lane_reg else axes[box_rows]
             geometry, proposal_fits, first, box_result = fit_proposals_and_boxes(
                 intrinsics, masks, ids, refit, geometry, fit, appearance, box_req, band, classes, unsure_pixels, road,
                 lane)
@@ -643,13 +643,12 @@ def derender(image: Tensor, intrinsics: Intrinsics, models: Models, proposals: P
                  len(members) + len(groups), len(groups))
     geometry, appearance, proposal_fits, box_result = (objects.geometry, objects.appearance, objects.fits,
                                                        objects.box_result)
-    box_road = objects.box_axes
     n = len(ids)
     classes = [class_names.get(int(i) // INSTANCE_DIVISOR) for i in ids]  # each object's: it bounds its templates
     if len(box_rows):
         masks, geometry, box_fits, vacated = fit_box_objects(image, intrinsics, masks, ids, box_rows, boxes, geometry,
                                                              min_pixels, mask_source, appearance, box_result, classes,
-                                                             box_road)
+                                                             objects.box_axes)
         if vacated is not None:
             instances = torch.where(vacated, torch.zeros_like(instances), instances)
         instances = torch.where(masks.any(0), (masks.long() * ids[:, None, None]).sum(0), instances)

@@ -303,10 +303,13 @@ def rasterize_meshes(
     image_of_mesh, batch = _check_mesh_to_image(mesh_to_image, batch_size, num_meshes, device)
     K = check_intrinsics(K, batch, torch.float64, device, "images")
     height, width = settings.image_size
-    empty = Fragments.empty(batch, (height, width), dtype, device, (0, 0, 0, 0) if crop else None)
+
+    def empty() -> Fragments:  # made only where nothing is drawn: the maps of a whole image are costly to allocate
+        return Fragments.empty(batch, (height, width), dtype, device, (0, 0, 0, 0) if crop else None)
+
     num_faces = faces.shape[1]
     if num_meshes == 0 or num_faces == 0 or batch == 0:
-        return empty
+        return empty()
     if num_meshes * num_faces >= 2**31:
         raise ValueError(f"too many faces to pack: N * F = {num_meshes * num_faces} must stay below 2**31")
 
@@ -328,7 +331,7 @@ def rasterize_meshes(
         valid &= (umax >= 0) & (umin <= width - 1) & (last_row >= first_row)
         face_ids = valid.nonzero().squeeze(1)
         if face_ids.numel() == 0:
-            return empty
+            return empty()
 
         # Per-face planes: barycentrics and 1/z are affine in (u, v).
         screen, area2, depth_v = screen[face_ids], area2[face_ids], depth_v[face_ids]
@@ -348,7 +351,7 @@ def rasterize_meshes(
         first_col, cols = _row_spans(a[pair_face], b[pair_face], c[pair_face], rows.to(torch.float64), width)
         keep = cols > 0
         if not bool(keep.any()):
-            return empty
+            return empty()
         pair_face, rows, first_col, cols = pair_face[keep], rows[keep], first_col[keep], cols[keep]
         if crop:  # the box of the spans: every candidate pixel
             x0, y0 = int(first_col.min()), int(rows.min())

@@ -496,3 +496,78 @@ def test_box_objects_are_drawn_towards_the_roads_axis_with_the_sharp_outlines_we
     assert truths.lane_reg == small.lane_reg and box_req.lane_reg is None
     torch.testing.assert_close(box_req.road_ry, want[1:])
     assert scene.meta["boxes"][0].road_axis_deg == pytest.approx(float(torch.rad2deg(want[1])))
+
+
+def test_the_boxes_grabcuts_on_several_threads_give_the_masks_of_one_box_at_a_time(real_vkitti_frame):
+    """grabcut_masks and refine_with_silhouettes segment boxes whose windows no nearer box's mask reaches at once
+    (box_masks' module doc): on the real frame, boxes in chains of overlaps, apart, small and empty give the same
+    masks, bit for bit, on one thread and on three (with a prior, with rows not refined and others' pixels too)."""
+    image = np.asarray(Image.open(real_vkitti_frame).convert("RGB"))
+    boxes = torch.tensor([[466.0, 203.0, 666.0, 333.0], [704.0, 194.0, 917.0, 305.0], [600.0, 180.0, 760.0, 300.0],
+                          [100.0, 190.0, 250.0, 260.0], [1000.0, 180.0, 1150.0, 260.0], [200.0, 150.0, 230.0, 170.0],
+                          [10.0, 10.0, 11.0, 11.0], [640.0, 190.0, 700.0, 230.0]])
+    prior = torch.zeros(image.shape[:2])
+    prior[210:330, 480:650] = 0.95
+    prior[180:200, 600:760] = 0.05
+    for kwargs in ({}, {"prior": prior}):
+        one = grabcut_masks(image, boxes, threads=1, **kwargs)
+        many = grabcut_masks(image, boxes, threads=3, **kwargs)
+        assert torch.equal(one.masks, many.masks) and torch.equal(one.from_box, many.from_box)
+        assert int(one.masks.sum()) > 0 and int((one.masks.sum(0) > 1).sum()) == 0
+    first = grabcut_masks(image, boxes).masks
+    drawn = torch.zeros_like(first)
+    for i, (x0, y0, x1, y1) in enumerate(boxes.long().tolist()):
+        drawn[i, y0 + (y1 - y0) // 4:y1, x0:x1] = True  # a fitted shape lower than the first mask
+    others = torch.zeros(first.shape[1:], dtype=torch.bool)
+    others[250:300, 120:180] = True
+    refine = torch.tensor([True, True, True, True, False, True, True, True])
+    one = refine_with_silhouettes(image, boxes, first, drawn, refine=refine, others=others, threads=1)
+    many = refine_with_silhouettes(image, boxes, first, drawn, refine=refine, others=others, threads=3)
+    assert torch.equal(one, many) and not torch.equal(one, first)
+    assert torch.equal(one[4], first[4] & ~others)
+
+
+def test_boxes_in_depth_order_see_what_the_nearer_boxes_took_whatever_finishes_first():
+    """_in_depth_order: each job sees the sequential loop's state in its window, though the jobs end in any order
+    (random sleeps), and a job starts only after the nearer jobs that can reach its window."""
+    import random
+    import threading
+    import time
+
+    from sdn3d.box_masks import _in_depth_order
+
+    rng = random.Random(0)
+    size, n = (20, 40), 12
+    windows, reach, parts = {}, {}, {}
+    for i in range(n):
+        x0, y0 = rng.randrange(0, 34), rng.randrange(0, 14)
+        windows[i] = (slice(y0, y0 + 6), slice(x0, x0 + 6)) if i != 3 else None  # box 3 reads nothing
+        reach[i] = np.zeros(size, bool)
+        reach[i][y0 + 1:y0 + 5, x0 + 1:x0 + 5] = True
+        parts[i] = reach[i] & (np.random.default_rng(i).random(size) < 0.7)
+    order = rng.sample(range(n), n)
+    taken = np.zeros(size, bool)
+    taken[5:8, 10:30] = True
+    running, overlap = set(), []
+    lock = threading.Lock()
+
+    def job(i: int, seen: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
+        with lock:
+            overlap.append(len(running))
+            running.add(i)
+        time.sleep(rng.random() * 0.01)
+        with lock:
+            running.discard(i)
+        return parts[i], None if seen is None else seen.copy()
+
+    expected, state = {}, taken.copy()
+    for i in order:
+        expected[i] = None if windows[i] is None else state[windows[i]].copy()
+        state |= parts[i]
+    for threads in (1, 4):
+        got = _in_depth_order(order, windows, reach, job, taken, threads)
+        assert sorted(got) == sorted(order)
+        for i in order:
+            assert (got[i][1] is None) == (expected[i] is None)
+            assert expected[i] is None or np.array_equal(got[i][1], expected[i])
+    assert max(overlap) > 0  # some jobs did run at once

@@ -720,6 +720,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     program = argv is None
     if program:  # the process ends with this call (_end_process): no collection walks what exists now (0.08 CPU s)
         gc.freeze()
+        _keep_freed_memory()
     argv = list(sys.argv[1:] if argv is None else argv)
     if print_help_if_asked(argv, __doc__, "edit"):
         return 0
@@ -727,6 +728,28 @@ def main(argv: Sequence[str] | None = None) -> int:
     if program:
         _end_process(code)
     return code
+
+
+def _keep_freed_memory() -> None:
+    """Have glibc's malloc keep the memory the call frees for its next allocations, instead of giving it back to the
+    system and faulting it in again, page by page (issue 40: 0.1 CPU s of system time of a 624x192 call with 10
+    boxes, a fifth of its page faults). By default every block over a threshold that adapts up to the largest one
+    freed (a picture's maps, a batch of crops) is a fresh mapping, unmapped when freed, and the top of the heap is
+    trimmed; here blocks up to 32 MB (glibc's limit) come from the heap, which is not trimmed. The process ends with
+    the call (:func:`_end_process`). Nothing computed changes: torch aligns every tensor itself."""
+    import ctypes
+
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        libc = ctypes.CDLL("libc.so.6")
+    except OSError:
+        return
+    if not hasattr(libc, "gnu_get_libc_version"):  # not glibc: its malloc has other settings
+        return
+    m_trim_threshold, m_mmap_threshold = -1, -3  # malloc.h
+    libc.mallopt(m_mmap_threshold, 32 * 2**20)
+    libc.mallopt(m_trim_threshold, 2**31 - 1)
 
 
 def _end_process(code: int) -> NoReturn:

@@ -1,4 +1,4 @@
-"""Object masks from boxes without a trained segmenter: OpenCV's GrabCut, box by box, nearest first.
+"""Object masks from boxes without a trained segmenter: OpenCV's GrabCut, one box at a time, nearest first.
 
 A person draws a box around each car; :func:`grabcut_masks` turns the boxes into visible masks:
 
@@ -17,18 +17,13 @@ A person draws a box around each car; :func:`grabcut_masks` turns the boxes into
   silhouette), clipped to the box. Where that covers less than ``min_share`` of the box's free pixels (a small or
   low-contrast car: GrabCut's colour models need more pixels than a distant car has), the box's free pixels are
   the mask instead, and :attr:`BoxMasks.from_box` says so.
-- A box reads only its window of what the nearer boxes took, so boxes far enough apart are segmented at once, on
-  up to ``threads`` threads (OpenCV releases the GIL), each as soon as the nearer boxes whose masks can reach its
-  window are done (:func:`_in_depth_order`): the same masks at any thread count.
 
 OpenCV is imported when a mask is made, not with the module.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
-from typing import NamedTuple, TypeVar
+from typing import NamedTuple
 
 import numpy as np
 import torch
@@ -36,9 +31,6 @@ from torch import Tensor
 
 __all__ = ["BoxMasks", "grabcut_masks", "refine_with_silhouettes", "nearest_first", "box_at_point", "CLICK_CAR",
            "click_box", "no_vehicle", "CAR_SIZE", "MIN_FIT_IOU"]
-
-
-_T = TypeVar("_T")
 
 
 class BoxMasks(NamedTuple):
@@ -128,53 +120,9 @@ def _box_window(box: Tensor, width: int, height: int, context: float,
     return (x0, y0, x1, y1), (max(0, x0 - gx), max(0, y0 - gy), min(width, x1 + gx), min(height, y1 + gy))
 
 
-def _in_depth_order(order: Sequence[int], windows: dict[int, tuple[slice, slice] | None], reach: dict[int, np.ndarray],
-                    job: Callable[[int, np.ndarray | None], tuple[np.ndarray | None, _T]], taken: np.ndarray,
-                    threads: int) -> dict[int, tuple[np.ndarray | None, _T]]:
-    """Each box's ``job(i, seen)`` as the loop ``for i in order`` (nearest first) gives it, on up to ``threads``
-    threads; returns every box's ``(part, result)``.
-
-    ``seen`` is ``taken (H, W)`` bool with the ``part`` (an ``(H, W)`` bool, or None: nothing) of every earlier box
-    added, read in the box's ``windows[i]`` (None: the job reads nothing; ``seen`` None): all a box reads of what the
-    nearer ones took. ``reach[k] (H, W)`` bool holds every pixel box ``k``'s part may cover. A box's job starts once
-    the jobs of the earlier boxes whose reach meets its window are done; every other earlier box's part is empty
-    there, so ``seen`` is the sequential loop's. The jobs release the GIL (OpenCV's GrabCut): boxes apart in the
-    picture are segmented at once."""
-    earlier = {j: [k for k in order[:pos] if reach[k][windows[j]].any()] if windows[j] is not None else []
-               for pos, j in enumerate(order)}
-    done: dict[int, tuple[np.ndarray | None, _T]] = {}
-
-    def seen(j: int) -> np.ndarray | None:
-        if windows[j] is None:
-            return None
-        view = taken[windows[j]].copy()
-        for k in earlier[j]:
-            if done[k][0] is not None:
-                view |= done[k][0][windows[j]]
-        return view
-
-    if threads <= 1 or len(order) <= 1:
-        for j in order:
-            done[j] = job(j, seen(j))
-        return done
-    with ThreadPoolExecutor(threads) as pool:
-        waiting, running = list(order), dict[Future, int]()
-        while waiting or running:
-            # the nearest boxes whose reachable nearer boxes are done, while a thread is free (the first waiting box
-            # always is: every box before it is done)
-            ready = [j for j in waiting if all(k in done for k in earlier[j])][:threads - len(running)]
-            for j in ready:
-                running[pool.submit(job, j, seen(j))] = j
-                waiting.remove(j)
-            finished, _ = wait(running, return_when=FIRST_COMPLETED)
-            for future in finished:
-                done[running.pop(future)] = future.result()
-    return done
-
-
 def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | None = None, iterations: int = 5,
                   context: float = 0.5, min_context_px: int = 8, prior_high: float = 0.9,
-                  prior_low: float = 0.1, min_share: float = 0.3, upsample: int = 1, threads: int = 1) -> BoxMasks:
+                  prior_low: float = 0.1, min_share: float = 0.3, upsample: int = 1) -> BoxMasks:
     """The visible masks of the objects in ``boxes`` (module doc).
 
     Args:
@@ -187,7 +135,6 @@ def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | 
         prior_high, prior_low: the prior's thresholds for probable foreground / background.
         min_share: below this share of the box's free pixels, the mask is the box's free pixels.
         upsample: GrabCut's working scale of the window (1: the image's own pixels).
-        threads: boxes segmented at once at most (module doc; the masks do not depend on it).
     """
     import cv2
 
@@ -200,27 +147,23 @@ def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | 
     if prior is not None and tuple(prior.shape) != (height, width):
         raise ValueError(f"prior must be ({height}, {width}), got {tuple(prior.shape)}")
     prior_np = None if prior is None else prior.detach().cpu().float().numpy()
-    places = {i: _box_window(boxes[i], width, height, context, min_context_px) for i in range(len(boxes))}
-    order = [i for i in nearest_first(boxes).tolist() if places[i] is not None]  # an empty box: an empty mask
-    windows, reach = {}, {}
-    for i in order:
-        (x0, y0, x1, y1), (wx0, wy0, wx1, wy1) = places[i]
-        windows[i] = (slice(wy0, wy1), slice(wx0, wx1))
-        reach[i] = np.zeros((height, width), dtype=bool)
-        reach[i][y0:y1, x0:x1] = True  # a mask stays in its box
-
-    def segment(i: int, taken: np.ndarray) -> tuple[np.ndarray | None, bool]:
-        """Box ``i``'s ``(mask (H, W), from the box?)`` given ``taken``, its window of the nearer boxes' masks."""
-        (x0, y0, x1, y1), (wx0, wy0, wx1, wy1) = places[i]
+    out = np.zeros((len(boxes), height, width), dtype=bool)
+    from_box = np.zeros(len(boxes), dtype=bool)
+    taken = np.zeros((height, width), dtype=bool)
+    for i in nearest_first(boxes).tolist():  # each box needs the masks of the nearer ones: sequential
+        place = _box_window(boxes[i], width, height, context, min_context_px)
+        if place is None:
+            continue
+        (x0, y0, x1, y1), (wx0, wy0, wx1, wy1) = place
         seed = np.full((wy1 - wy0, wx1 - wx0), cv2.GC_BGD, dtype=np.uint8)
         seed[y0 - wy0:y1 - wy0, x0 - wx0:x1 - wx0] = cv2.GC_PR_FGD
         if prior_np is not None:
             window = prior_np[wy0:wy1, wx0:wx1]
             inside = seed == cv2.GC_PR_FGD
             seed[inside & (window <= prior_low)] = cv2.GC_PR_BGD
-        seed[taken] = cv2.GC_BGD
+        seed[taken[wy0:wy1, wx0:wx1]] = cv2.GC_BGD
         if not (seed == cv2.GC_PR_FGD).any():
-            return None, False
+            continue
         fg = _grabcut(pixels[wy0:wy1, wx0:wx1], seed, iterations, upsample)
         if prior_np is not None:  # a confident prior keeps its pixels inside the box
             confident = (prior_np[wy0:wy1, wx0:wx1] >= prior_high) & (seed != cv2.GC_BGD)
@@ -228,20 +171,12 @@ def grabcut_masks(image: Tensor | np.ndarray, boxes: Tensor, *, prior: Tensor | 
         fg = _largest_filled(fg).astype(bool)
         box = np.zeros_like(fg)
         box[y0 - wy0:y1 - wy0, x0 - wx0:x1 - wx0] = True
-        free = box & ~taken
+        free = box & ~taken[wy0:wy1, wx0:wx1]
         fg &= free
-        from_box = bool(fg.sum() < min_share * free.sum())
-        mask = np.zeros((height, width), dtype=bool)
-        mask[wy0:wy1, wx0:wx1] = free if from_box else fg
-        return mask, from_box
-
-    # each box needs the masks of the nearer ones that reach its window
-    found = _in_depth_order(order, windows, reach, segment, np.zeros((height, width), dtype=bool), threads)
-    out = np.zeros((len(boxes), height, width), dtype=bool)
-    from_box = np.zeros(len(boxes), dtype=bool)
-    for i, (mask, whole_box) in found.items():
-        if mask is not None:
-            out[i], from_box[i] = mask, whole_box
+        if fg.sum() < min_share * free.sum():
+            fg, from_box[i] = free, True
+        out[i, wy0:wy1, wx0:wx1] = fg
+        taken[wy0:wy1, wx0:wx1] |= fg
     return BoxMasks(torch.from_numpy(out), torch.from_numpy(from_box))
 
 
@@ -378,8 +313,7 @@ def no_vehicle(box: Tensor | tuple[float, float, float, float], fx: float, fy: f
 
 def refine_with_silhouettes(image: Tensor | np.ndarray, boxes: Tensor, masks: Tensor, silhouettes: Tensor, *,
                             refine: Tensor | None = None, others: Tensor | None = None, iterations: int = 5,
-                            context: float = 0.5, min_context_px: int = 8, min_share: float = 0.3,
-                            threads: int = 1) -> Tensor:
+                            context: float = 0.5, min_context_px: int = 8, min_share: float = 0.3) -> Tensor:
     """``(N, H, W)`` bool: ``masks`` segmented again by GrabCut, seeded by each object's fitted 3D silhouette.
 
     GrabCut alone misses what looks like the road: dark wheels, the lower body over its shadow. A car's fitted 3D
@@ -395,7 +329,7 @@ def refine_with_silhouettes(image: Tensor | np.ndarray, boxes: Tensor, masks: Te
         silhouettes: ``(N, H, W)`` bool, each object's fitted 3D shape drawn in ``image``.
         refine: ``(N,)`` bool, the rows to segment again (default: all), e.g. those whose fit matched its mask.
         others: ``(H, W)`` bool pixels of other objects, never taken.
-        iterations, context, min_context_px, min_share, threads: as :func:`grabcut_masks`.
+        iterations, context, min_context_px, min_share: as :func:`grabcut_masks`.
 
     >>> img = torch.full((3, 40, 60), 0.5); img[:, 10:30, 20:40] = 0.9; img[:, 24:30, 20:26] = 0.5  # road-grey wheel
     >>> box = torch.tensor([[20.0, 10.0, 40.0, 30.0]])
@@ -415,45 +349,27 @@ def refine_with_silhouettes(image: Tensor | np.ndarray, boxes: Tensor, masks: Te
     first = masks.bool().cpu().numpy()
     drawn = silhouettes.bool().cpu().numpy().astype(np.uint8)
     todo = np.ones(n, bool) if refine is None else refine.bool().cpu().numpy()
+    out = first.copy()
     taken = np.zeros((height, width), bool) if others is None else others.bool().cpu().numpy().copy()
     ring = np.ones((3, 3), np.uint8)
-    order = nearest_first(boxes).tolist()
-    places = {i: _box_window(boxes[i], width, height, context, min_context_px) for i in order}
-    windows, reach = {}, {}
-    for i in order:
-        windows[i], reach[i] = None, first[i].copy()  # the first mask, kept, or the second one, in the box
-        if todo[i] and places[i] is not None and drawn[i].any():
-            (x0, y0, x1, y1), (wx0, wy0, wx1, wy1) = places[i]
-            windows[i] = (slice(wy0, wy1), slice(wx0, wx1))
-            reach[i][y0:y1, x0:x1] = True
-
-    def segment(i: int, seen: np.ndarray | None) -> tuple[np.ndarray, None]:
-        """Box ``i``'s mask (H, W) before the nearer ones' pixels leave it, given ``seen``, its window of what they
-        and ``others`` took (None: the first mask is kept)."""
-        if seen is None:
-            return first[i], None
-        (x0, y0, x1, y1), (wx0, wy0, wx1, wy1) = places[i]
-        window = windows[i]
-        inner = cv2.erode(drawn[i][window], ring).astype(bool)
-        outer = cv2.dilate(drawn[i][window], ring).astype(bool) | first[i][window]
-        box = np.zeros((wy1 - wy0, wx1 - wx0), bool)
-        box[y0 - wy0:y1 - wy0, x0 - wx0:x1 - wx0] = True
-        free = box & ~seen
-        seed = np.full(box.shape, cv2.GC_BGD, dtype=np.uint8)
-        seed[free] = cv2.GC_PR_BGD
-        seed[free & outer] = cv2.GC_PR_FGD
-        seed[free & inner] = cv2.GC_FGD
-        fg = _largest_filled(_grabcut(pixels[window], seed, iterations, 1)).astype(bool) & free
-        if fg.sum() < min_share * free.sum():
-            return first[i], None
-        mask = np.zeros((height, width), bool)
-        mask[window] = fg
-        return mask, None
-
-    # a nearer box's pixels are taken whatever it keeps of them (taken | mask & ~taken is taken | mask)
-    kept = _in_depth_order(order, windows, reach, segment, taken, threads)
-    out = np.empty_like(first)
-    for i in order:
-        out[i] = kept[i][0] & ~taken
+    for i in nearest_first(boxes).tolist():
+        place = _box_window(boxes[i], width, height, context, min_context_px)
+        if todo[i] and place is not None and drawn[i].any():
+            (x0, y0, x1, y1), (wx0, wy0, wx1, wy1) = place
+            window = (slice(wy0, wy1), slice(wx0, wx1))
+            inner = cv2.erode(drawn[i][window], ring).astype(bool)
+            outer = cv2.dilate(drawn[i][window], ring).astype(bool) | first[i][window]
+            box = np.zeros((wy1 - wy0, wx1 - wx0), bool)
+            box[y0 - wy0:y1 - wy0, x0 - wx0:x1 - wx0] = True
+            free = box & ~taken[window]
+            seed = np.full(box.shape, cv2.GC_BGD, dtype=np.uint8)
+            seed[free] = cv2.GC_PR_BGD
+            seed[free & outer] = cv2.GC_PR_FGD
+            seed[free & inner] = cv2.GC_FGD
+            fg = _largest_filled(_grabcut(pixels[window], seed, iterations, 1)).astype(bool) & free
+            if fg.sum() >= min_share * free.sum():
+                out[i] = False
+                out[i][window] = fg
+        out[i] &= ~taken
         taken |= out[i]
     return torch.from_numpy(out)

@@ -234,8 +234,7 @@ def add_box_objects(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts
         source = [MaskSource.GIVEN] * len(boxes)
     else:
         box_masks, from_box = (found if found is not None and prior is None
-                               else grabcut_masks(image, boxes.boxes, prior=prior, iterations=boxes.iterations,
-                                                  threads=torch.get_num_threads()))
+                               else grabcut_masks(image, boxes.boxes, prior=prior, iterations=boxes.iterations))
         grabcut = MaskSource.GRABCUT_PRIOR if prior is not None else MaskSource.GRABCUT
         source = [MaskSource.WHOLE_BOX if f else grabcut for f in from_box.tolist()]
     taken = box_masks.any(0)
@@ -253,8 +252,7 @@ def add_box_objects(image: Tensor, masks: Tensor, ids: Tensor, boxes: BoxPrompts
 
 def box_grabcut(image: Tensor, boxes: BoxPrompts | None) -> BoxMasks | None:
     """The box objects' GrabCut masks where they need no semantics (no given masks, ``boxes.prior`` off): what
-    :func:`add_box_objects` would find, for a caller that runs it beside the semantic branch; else None. The boxes
-    are segmented one at a time: the branch beside them keeps torch's threads busy."""
+    :func:`add_box_objects` would find, for a caller that runs it beside the semantic branch; else None."""
     from sdn3d.box_masks import grabcut_masks
 
     if boxes is None or not len(boxes) or boxes.masks is not None or boxes.prior:
@@ -427,7 +425,7 @@ def _refine_box_masks(image: Tensor, intr: Intrinsics, masks: Tensor, rows: Tens
     others[rows] = False
     again = refine_with_silhouettes(image, boxes.boxes, masks[rows], drawn, refine=good,
                                     others=masks[others].any(0) if bool(others.any()) else None,
-                                    iterations=boxes.iterations, threads=torch.get_num_threads())
+                                    iterations=boxes.iterations)
     masks = masks.clone()
     masks[rows] = again
     return masks, good.tolist(), again

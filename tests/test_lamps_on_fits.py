@@ -70,8 +70,8 @@ def _appearance(models: Models, image: torch.Tensor, masks: torch.Tensor) -> App
 
 
 def test_read_lamps_is_the_predictors_reading():
+    from sdn3d.box_objects import fitted_silhouettes
     from sdn3d.geometric.lamps import read_lamps
-    from sdn3d.proposal_fit import fitted_silhouettes
 
     models = _models()
     image, masks, geometry, shape = _red_van_back(stray_white=True)

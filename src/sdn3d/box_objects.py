@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from sdn3d.semantic.predict import Segmentation
 
 __all__ = ["BoxFit", "BoxPrompts", "MaskSource", "PoseSource", "add_box_objects", "box_grabcut", "box_fits",
-           "box_request", "fit_box_objects", "occluder_masks"]
+           "box_request", "fit_box_objects", "fitted_silhouettes", "occluder_masks"]
 
 
 class MaskSource(Enum):
@@ -405,22 +405,12 @@ def _refine_box_masks(image: Tensor, intr: Intrinsics, masks: Tensor, rows: Tens
     masks segmented again, seeded by their fitted 3D shapes drawn in the image
     (:func:`~sdn3d.box_masks.refine_with_silhouettes`), for the boxes ``good`` (whose fit matched its mask)."""
     from sdn3d.box_masks import refine_with_silhouettes
-    from sdn3d.math3d.transforms import bottom_to_center
-    from sdn3d.render import RasterSettings, rasterize_meshes
-    from sdn3d.render.objects import pose_meshes
 
     good = torch.tensor(good, dtype=torch.bool)
     if not bool(good.any()):
         return masks, [False] * len(good), None
-    template, dims, ry, location, phi = (g[rows[good]] for g in geometry)
-    center = bottom_to_center(location, dims[:, 1])
-    verts, faces = pose_meshes(default_bank(), template, dims.float(), ry.float(), center.float(), phi.float())
     drawn = torch.zeros(len(good), *masks.shape[-2:], dtype=torch.bool)
-    # Held in the box the shapes cover (the same pixels as the whole image's): ten whole-image maps of every kind were
-    # allocated and filled for one boolean each, a tenth of a second of page faults (issue 40).
-    fragments = rasterize_meshes(verts, faces, intr.matrix().float(), RasterSettings(tuple(masks.shape[-2:])),
-                                 crop=True)
-    drawn[good] = fragments.in_image(fragments.mask, False)
+    drawn[good] = fitted_silhouettes(intr, geometry, rows[good])
     others = torch.ones(len(masks), dtype=torch.bool)
     others[rows] = False
     again = refine_with_silhouettes(image, boxes.boxes, masks[rows], drawn, refine=good,
@@ -429,6 +419,26 @@ def _refine_box_masks(image: Tensor, intr: Intrinsics, masks: Tensor, rows: Tens
     masks = masks.clone()
     masks[rows] = again
     return masks, good.tolist(), again
+
+
+def fitted_silhouettes(intr: Intrinsics, geometry: tuple[Tensor, ...], rows: Tensor) -> Tensor:
+    """``(K, H, W)`` bool: the hard silhouette (every face, the z-buffer's coverage) of each of the objects ``rows
+    (K,)`` of ``geometry`` (``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64, 3)``; templates of
+    the default bank), each drawn alone in the image of ``intr``."""
+    from sdn3d.math3d.transforms import bottom_to_center
+    from sdn3d.render import RasterSettings, rasterize_meshes
+    from sdn3d.render.objects import pose_meshes
+
+    if not len(rows):
+        return torch.zeros(0, intr.height, intr.width, dtype=torch.bool)
+    template, dims, ry, location, phi = (g[rows] for g in geometry)
+    center = bottom_to_center(location, dims[:, 1])
+    verts, faces = pose_meshes(default_bank(), template.long(), dims.float(), ry.float(), center.float(), phi.float())
+    # Drawn in the window the shapes cover (the same pixels as the whole image's): whole-image maps of every kind, for
+    # one boolean each, cost a tenth of a second of page faults for ten box objects at 624x192 (issue 40).
+    fragments = rasterize_meshes(verts, faces, intr.matrix().float(), RasterSettings((intr.height, intr.width)),
+                                 crop=True)
+    return fragments.in_image(fragments.mask, False)
 
 
 def occluder_masks(masks: Tensor, depth: Tensor) -> Tensor:

@@ -81,6 +81,7 @@ from sdn3d.box_objects import (
     box_grabcut,
     box_request,
     fit_box_objects,
+    fitted_silhouettes,
     occluder_masks,
 )
 from sdn3d.errors import UserInputError
@@ -101,7 +102,6 @@ from sdn3d.proposal_fit import (
     choose_proposals_again,
     fit_proposals,
     fit_proposals_and_boxes,
-    fitted_silhouettes,
     footprint_joins,
     join_masks,
     proposal_ignore,

@@ -52,7 +52,7 @@ if TYPE_CHECKING:
     from sdn3d.geometric.fit import FitRequest, FitResult, FitSettings
 
 __all__ = ["ProposalFit", "fit_proposals", "fit_proposals_and_boxes", "choose_proposals_again", "proposal_request",
-           "proposal_ignore", "apply_proposal_fit", "vehicle_rows", "unsure_below", "fitted_silhouettes",
+           "proposal_ignore", "apply_proposal_fit", "vehicle_rows", "unsure_below",
            "footprint_joins", "join_masks", "UNSURE_BELOW"]
 
 #: Depth of the band under a predicted mask that the fit ignores (:func:`unsure_below`), as a fraction of the mask's
@@ -111,23 +111,6 @@ def unsure_below(masks: Tensor, fraction: float | None = None) -> Tensor:
     under = masks.long().cumsum(1) > 0  # at or below a mask pixel of the same column
     band = under & ~masks & (y[None, :, None] <= last[:, None, None])
     return band & ~masks.any(0)
-
-
-def fitted_silhouettes(intr: Intrinsics, geometry: tuple[Tensor, ...], rows: Tensor) -> Tensor:
-    """``(K, H, W)`` bool: the hard silhouette (every face, the z-buffer's coverage) of each of the objects ``rows
-    (K,)`` of ``geometry`` (``template (N,), dims (N, 3), ry (N,), location (N, 3), phi (N, 64, 3)``; templates of
-    the default bank), each drawn alone in the image of ``intr``."""
-    from sdn3d.math3d.transforms import bottom_to_center
-    from sdn3d.meshes.bank import default_bank
-    from sdn3d.render import RasterSettings, rasterize_meshes
-    from sdn3d.render.objects import pose_meshes
-
-    if not len(rows):
-        return torch.zeros(0, intr.height, intr.width, dtype=torch.bool)
-    template, dims, ry, location, phi = (g[rows] for g in geometry)
-    center = bottom_to_center(location, dims[:, 1])
-    verts, faces = pose_meshes(default_bank(), template.long(), dims.float(), ry.float(), center.float(), phi.float())
-    return rasterize_meshes(verts, faces, intr.matrix().float(), RasterSettings((intr.height, intr.width))).mask
 
 
 def footprint_joins(masks: Tensor, ids: Tensor, geometry: tuple[Tensor, ...], records: Sequence[ProposalFit],

@@ -65,6 +65,28 @@ def test_bad_checkpoints_are_clear_errors_naming_the_file(tmp_path):
                 loader(path)
 
 
+
+@pytest.mark.parametrize("zip_format", [True, False], ids=["zip", "old_format"])
+def test_mmap_maps_torch_zip_files_and_reads_old_format_files_whole(tmp_path, monkeypatch, zip_format):
+    """``load_torch_file(mmap=True)`` maps a file of torch's zip format; a file of the older format (which torch can
+    not map) is read whole, the same content, instead of being refused as a bad file."""
+    import torch
+
+    from sdn3d.io import load_torch_file
+
+    path = tmp_path / "weights.pt"
+    torch.save({"w": torch.arange(6.0), "n": 3}, path, _use_new_zipfile_serialization=zip_format)
+    calls = []
+    real_load = torch.load
+    monkeypatch.setattr(torch, "load", lambda *a, **k: calls.append(k["mmap"]) or real_load(*a, **k))
+    content = load_torch_file(path, mmap=True)
+    assert torch.equal(content["w"], torch.arange(6.0)) and content["n"] == 3
+    assert calls == [zip_format]
+    garbage = tmp_path / "garbage.pt"
+    garbage.write_bytes(b"PK\x03\x04 but no zip archive")
+    with pytest.raises(ValueError, match="garbage.pt"):
+        load_torch_file(garbage, mmap=True)
+
 def test_image_readers_refuse_decompression_bombs_before_decoding(tmp_path):
     """Issue 20: a small PNG declaring a huge image (Pillow: DecompressionBombError over ~179 MP, only a
     warning and a full decode between ~89 MP and that) is a clear error naming the file, limit 100 MP."""

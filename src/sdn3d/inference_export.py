@@ -245,10 +245,7 @@ def _existing_kind(path: Path) -> str:
     try:
         content = load_torch_file(path, "file", mmap=True)
     except UserInputError:
-        try:  # mmap needs the zip format; an old-format torch file is read whole
-            content = load_torch_file(path, "file")
-        except UserInputError:
-            return "other"
+        return "other"
     if is_inference_export(content):
         return "export"
     if isinstance(content, Mapping) and "state_dict" in content and any(k in content for k in _TRAINING_KEYS):

@@ -217,7 +217,9 @@ def load_torch_file(path: str | os.PathLike, what: str = "checkpoint", map_locat
     file runs); ``what`` names it in errors (``'checkpoint'``, ``'code_bank'``, ...).
 
     ``mmap``: map the file's tensors instead of reading them (``torch.load(mmap=True)``): reading a few small
-    entries of a large file then costs almost nothing. The tensors stay backed by the file.
+    entries of a large file then costs almost nothing, and a network's weights are paged in as it uses them. The
+    tensors stay backed by the file. Only torch's zip format can be mapped (what ``torch.save`` writes since
+    PyTorch 1.6): a file of the older format is read whole.
 
     Raises:
         UserInputError: the file is missing, or ``torch.load`` failed in any way (truncated, corrupt, not a
@@ -229,11 +231,19 @@ def load_torch_file(path: str | os.PathLike, what: str = "checkpoint", map_locat
     if not path.is_file():
         raise UserInputError(f"{what} {str(path)!r} does not exist")
     try:
+        mmap = mmap and _is_zip_file(path)
         return torch.load(path, map_location=map_location, weights_only=True, mmap=mmap)
     except Exception as exc:  # whatever unpickling the user's file raises, the file is bad
         raise UserInputError(f"could not read {what} {str(path)!r}: not a loadable PyTorch file (truncated, corrupt, "
                              f"not a torch file, or holding more than tensors and plain data) "
                              f"[{describe_load_failure(exc)}]") from exc
+
+
+def _is_zip_file(path: Path) -> bool:
+    """Whether ``path`` starts as a zip archive does (its first local file header), the test ``torch.load`` makes
+    to tell its zip format from the older one."""
+    with path.open("rb") as handle:
+        return handle.read(4) == b"PK\x03\x04"
 
 
 def load_lightning_checkpoint(path: str | os.PathLike, map_location: Any = "cpu",

@@ -64,11 +64,8 @@ def check_start(cfg: DictConfig) -> StartPoint:
         raise TrainingError(f"{what} {str(path)!r} does not exist")
     try:
         content = load_torch_file(path, "checkpoint", mmap=True)
-    except UserInputError:  # mmap needs torch's zip format: an old-format file is read whole (or refused)
-        try:
-            content = load_torch_file(path, "checkpoint")
-        except UserInputError as exc:
-            raise TrainingError(f"{what}: {exc}") from exc
+    except UserInputError as exc:
+        raise TrainingError(f"{what}: {exc}") from exc
     if is_inference_export(content):
         raise TrainingError(
             f"{what} {str(path)!r} is an sdn3d inference export (weights only, as sdn3d-export-weights and "

@@ -344,6 +344,35 @@ def test_edit_from_exports_imports_no_training_package(run, tmp_path):
     assert all(loaded[b]["path"].endswith(EXPORT_NAME) and loaded[b]["export"] for b in BRANCHES), loaded
 
 
+
+def test_an_edit_call_maps_each_export_and_unpickles_it_once(run, tmp_path, monkeypatch):
+    """sdn3d-edit (one call, one process) maps the weights (``torch.load(mmap=True)``) and unpickles each inference
+    export once, though two steps read it (its source record when run= is resolved, its weights when the models
+    load); the library's default, which sdn3d-app's loading keeps, reads each file whole."""
+    from sdn3d.cli.edit import main as edit_main
+
+    root, _ = run
+    assert export_main(["--run", str(root)]) == 0
+    exports = {b: (root / b / "checkpoints" / EXPORT_NAME).resolve() for b in BRANCHES}
+    loads = []
+    real_load = torch.load
+
+    def recorded_load(f, *args, **kwargs):
+        loads.append((Path(f).resolve(), kwargs.get("mmap")))
+        return real_load(f, *args, **kwargs)
+
+    monkeypatch.setattr(torch, "load", recorded_load)
+    rgb = np.random.default_rng(0).integers(0, 256, (64, 160, 3), dtype=np.uint8)
+    Image.fromarray(rgb).save(tmp_path / "street.png")
+    (tmp_path / "ops.yaml").write_text("- {op: recolor, class: Sky, code: [0, 0, 0, 0, 1]}\n")
+    assert edit_main([f"input.image={tmp_path / 'street.png'}", "image_size=[160,64]", f"edits={tmp_path / 'ops.yaml'}",
+                      "input.intrinsics={fx:93,fy:124,cx:79.5,cy:31.5}", f"run={root}",
+                      f"output_dir={tmp_path / 'out'}"]) == 0
+    assert sorted(x for x in loads if x[0] in exports.values()) == sorted((p, True) for p in exports.values()), loads
+    loads.clear()
+    Models.from_checkpoints(**exports)
+    assert sorted(loads) == sorted((p, False) for p in exports.values()), loads
+
 def test_training_writes_the_export_of_its_selected_checkpoint(tiny_synth, tmp_path):
     from hydra import compose, initialize_config_dir
 

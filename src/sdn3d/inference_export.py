@@ -34,6 +34,7 @@ from typing import Any, TypeVar
 from sdn3d.errors import UserInputError
 from sdn3d.io import (
     CHECKPOINT_BRANCHES,
+    TorchFiles,
     atomic_write,
     check_lightning_checkpoint,
     checkpoint_branch,
@@ -93,9 +94,11 @@ def is_inference_export(content: Any) -> bool:
     return isinstance(content, Mapping) and content.get("format") == EXPORT_FORMAT
 
 
-def load_branch_weights(path: str | os.PathLike, branch: str, map_location: Any = "cpu") -> BranchWeights:
+def load_branch_weights(path: str | os.PathLike, branch: str, map_location: Any = "cpu",
+                        files: TorchFiles | None = None) -> BranchWeights:
     """``branch``'s weights from ``path``: an inference export or a Lightning checkpoint (told apart by content),
-    read with ``torch.load(weights_only=True)``.
+    read with ``torch.load(weights_only=True)``; through ``files`` where given (:class:`~sdn3d.io.TorchFiles`: a file
+    it read before is not read again; mapped with its ``mmap``), else read whole.
 
     Raises:
         UserInputError: naming the file: missing or unreadable, neither kind of file, another branch's weights,
@@ -104,7 +107,7 @@ def load_branch_weights(path: str | os.PathLike, branch: str, map_location: Any 
     if branch not in CHECKPOINT_BRANCHES:
         raise ValueError(f"branch must be one of {sorted(CHECKPOINT_BRANCHES)}, got {branch!r}")
     path = Path(path).expanduser()
-    content = load_torch_file(path, "checkpoint", map_location)
+    content = (files or TorchFiles()).load(path, "checkpoint", map_location)
     if is_inference_export(content):
         return _checked_export(path, content, branch)
     if not isinstance(content, dict) or "state_dict" not in content:
@@ -317,15 +320,17 @@ def write_inference_export(checkpoint: str | os.PathLike, ckpt: Mapping[str, Any
         raise ExportWriteError(f"could not write inference export {str(target)!r}: {reason}; {earlier}") from exc
 
 
-def read_export_source(path: str | os.PathLike) -> dict[str, Any]:
-    """The ``source`` record of the export ``path`` (its tensors are mapped, not read: this costs milliseconds).
+def read_export_source(path: str | os.PathLike, files: TorchFiles | None = None) -> dict[str, Any]:
+    """The ``source`` record of the export ``path`` (its tensors are mapped, not read: this costs milliseconds);
+    read through ``files`` where given (:class:`~sdn3d.io.TorchFiles`: the models' loading then takes the content
+    over instead of unpickling the file again).
 
     Raises:
         UserInputError: naming the file: unreadable, not an export, or a ``source`` without
             ``file``, ``sha256``, ``size`` and ``mtime_ns``.
     """
     path = Path(path).expanduser()
-    content = load_torch_file(path, "inference export", mmap=True)
+    content = (files or TorchFiles(mmap=True)).load(path, "inference export")
     if not is_inference_export(content):
         raise UserInputError(f"{str(path)!r} is not an sdn3d inference export (format {EXPORT_FORMAT!r})")
     source = content.get("source")

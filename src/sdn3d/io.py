@@ -36,7 +36,7 @@ from sdn3d.errors import UserInputError
 __all__ = [
     "atomic_write", "write_bytes_atomic", "write_text_atomic", "write_json_atomic", "write_png_atomic",
     "check_output_dir", "check_writable", "staged_directory", "swap_into_place", "current_umask",
-    "load_torch_file", "load_lightning_checkpoint", "check_lightning_checkpoint", "describe_load_failure",
+    "load_torch_file", "TorchFiles", "load_lightning_checkpoint", "check_lightning_checkpoint", "describe_load_failure",
     "checkpoint_branch", "CHECKPOINT_BRANCHES", "file_sha256", "yaml_loader",
     "OutputDirError", "refuse_unsafe_output_dir", "OWNER_FILE", "owner_record", "process_alive",
     "remove_stale_staging", "BusyError", "writer_lock", "DiskFullError", "DISK_FULL_ERRNOS", "is_disk_full",
@@ -244,6 +244,32 @@ def _is_zip_file(path: Path) -> bool:
     to tell its zip format from the older one."""
     with path.open("rb") as handle:
         return handle.read(4) == b"PK\x03\x04"
+
+
+class TorchFiles:
+    """The torch files one program reads (:func:`load_torch_file`), each unpickled once however many steps need it:
+    ``sdn3d-edit`` reads an inference export when it resolves a run's checkpoints (for its source record) and when it
+    loads the models (for their weights); the second :meth:`load` returns the first one's content.
+
+    ``mmap``: map the files' tensors instead of reading them (:func:`load_torch_file`). For a program that ends with
+    its call (``sdn3d-edit``): only the pages the networks use are read. A long-running server reads its weights
+    whole, so as not to depend on the files staying in place.
+    """
+
+    def __init__(self, mmap: bool = False) -> None:
+        self.mmap = mmap
+        self._content: dict[tuple[Path, str], Any] = {}
+
+    def load(self, path: str | os.PathLike, what: str = "checkpoint", map_location: Any = "cpu") -> Any:
+        """:func:`load_torch_file`'s content of ``path`` onto ``map_location``; read once, kept for later calls.
+
+        Raises:
+            UserInputError: as :func:`load_torch_file` (a file that failed is not kept: it fails again).
+        """
+        key = (Path(path).expanduser().resolve(), str(map_location))
+        if key not in self._content:
+            self._content[key] = load_torch_file(path, what, map_location, mmap=self.mmap)
+        return self._content[key]
 
 
 def load_lightning_checkpoint(path: str | os.PathLike, map_location: Any = "cpu",

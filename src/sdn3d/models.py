@@ -23,6 +23,7 @@ from sdn3d.errors import UserInputError
 
 if TYPE_CHECKING:
     from sdn3d.geometric.predict import GeometricPredictor
+    from sdn3d.io import TorchFiles
     from sdn3d.semantic.predict import SemanticPredictor
     from sdn3d.textural.renderer import TexturalRenderer
 
@@ -147,9 +148,12 @@ class Models:
     def from_checkpoints(cls, semantic: str | os.PathLike | None = None, geometric: str | os.PathLike | None = None,
                          textural: str | os.PathLike | None = None, map_location: str | torch.device = "cpu",
                          crop_size: int | None = None, margin: float | None = None,
-                         semantic_size: tuple[int, int] | None = None, traffic: str = "right") -> Models:
+                         semantic_size: tuple[int, int] | None = None, traffic: str = "right",
+                         files: TorchFiles | None = None) -> Models:
         """Load the branches from their Lightning checkpoints or inference exports (None: branch absent;
-        :func:`sdn3d.inference_export.load_branch_weights` tells the two apart by content).
+        :func:`sdn3d.inference_export.load_branch_weights` tells the two apart by content). ``files``: what reads
+        them (:class:`~sdn3d.io.TorchFiles`: a file it read before is not read again, tensors mapped with its
+        ``mmap``); None: each is read whole.
 
         ``crop_size`` / ``margin`` None: the geometric export's settings, else the geometric run's
         (:func:`geometric_crop_settings`), else :data:`DEFAULT_CROP_SIZE` / :data:`DEFAULT_MARGIN`. The semantic
@@ -176,7 +180,7 @@ class Models:
             from sdn3d.inference_export import load_branch_weights
             from sdn3d.semantic.predict import SemanticPredictor
 
-            weights = load_branch_weights(Path(semantic).expanduser(), "semantic", map_location)
+            weights = load_branch_weights(Path(semantic).expanduser(), "semantic", map_location, files)
             trained = None
             if semantic_size is None:  # the export's or the run's size is only read when needed
                 trained = _export_image_size(weights.settings, weights.path) or semantic_trained_size(semantic)
@@ -187,7 +191,7 @@ class Models:
             from sdn3d.geometric.predict import GeometricPredictor
             from sdn3d.inference_export import load_branch_weights
 
-            weights = load_branch_weights(geometric, "geometric", map_location)
+            weights = load_branch_weights(geometric, "geometric", map_location, files)
             geo = GeometricPredictor.from_weights(weights, map_location=map_location)
             if geo.lamp_cue is not None:
                 geo.lamp_cue = replace(geo.lamp_cue, traffic=side)
@@ -196,7 +200,8 @@ class Models:
         if textural is not None:
             from sdn3d.textural.renderer import TexturalRenderer
 
-            tex = TexturalRenderer.from_checkpoint(Path(textural).expanduser(), map_location=map_location)
+            tex = TexturalRenderer.from_checkpoint(Path(textural).expanduser(), map_location=map_location,
+                                                  files=files)
             tex.to(map_location)
         if geometric is not None and found is None and crop_size is None:
             log.warning("geometric crop size unknown (no run config.yaml beside %s): using %d", geometric,

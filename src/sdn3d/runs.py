@@ -18,10 +18,13 @@ import sys
 from collections.abc import Mapping, Sequence
 from datetime import datetime
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from sdn3d.errors import InputError, UserInputError
 from sdn3d.labels import VEHICLE_CLASS_NAMES
+
+if TYPE_CHECKING:
+    from sdn3d.io import TorchFiles
 
 __all__ = ["BRANCHES", "find_run_checkpoints", "given_checkpoints", "checkpoints_from_run", "report_checkpoints",
            "export_checkpoint", "export_run_checkpoint", "semantic_summary", "quality_warnings", "recorded_pq",
@@ -83,16 +86,17 @@ def _summary_checkpoint(summary: dict, path: Path) -> tuple[str, Path] | None:
     return None
 
 
-def _matching_export(checkpoint: Path) -> Path | None:
+def _matching_export(checkpoint: Path, files: TorchFiles | None = None) -> Path | None:
     """The inference export beside ``checkpoint`` (``<its dir>/inference.pt``) if it was made from this very file
-    (:func:`sdn3d.inference_export.export_matches`); a stale or unreadable one is logged and passed over."""
+    (:func:`sdn3d.inference_export.export_matches`, its source record read through ``files`` where given); a stale or
+    unreadable one is logged and passed over."""
     from sdn3d.inference_export import EXPORT_NAME, export_matches, read_export_source
 
     export = checkpoint.parent / EXPORT_NAME
     if not export.is_file():
         return None
     try:
-        source = read_export_source(export)
+        source = read_export_source(export, files)
     except UserInputError as exc:
         log.warning("ignoring %s: %s", export, exc)
         return None
@@ -104,8 +108,10 @@ def _matching_export(checkpoint: Path) -> Path | None:
     return None
 
 
-def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, str]]:
-    """The branches' checkpoints recorded by the ``sdn3d-train`` summaries under ``run``.
+def find_run_checkpoints(run: str | Path, files: TorchFiles | None = None) -> tuple[dict[str, dict], dict[str, str]]:
+    """The branches' checkpoints recorded by the ``sdn3d-train`` summaries under ``run``; the inference exports
+    beside them are read through ``files`` where given (:class:`~sdn3d.io.TorchFiles`: loading their weights then
+    takes over what was read).
 
     Returns ``(chosen, missing)``: per branch found, ``{'path', 'checkpoint', 'export', 'which' ('best' |
     'last'), 'summary', 'finished'}`` of its latest run with status ok and a checkpoint on disk (``checkpoint``;
@@ -127,8 +133,8 @@ def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, st
         raise InputError(f"run {str(root)!r} is not a directory (give a training output directory, e.g. "
                          f"run=outputs/demo)")
     runs: dict[str, list[tuple[Path, dict]]] = {b: [] for b in BRANCHES}
-    files = sorted(root.rglob("summary.json"))
-    for path in files:
+    summaries = sorted(root.rglob("summary.json"))
+    for path in summaries:
         try:
             summary = json.loads(path.read_text(encoding="utf-8"))
         except (OSError, UnicodeDecodeError, ValueError) as exc:
@@ -140,7 +146,7 @@ def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, st
         if isinstance(summary, dict) and summary.get("branch") in runs:
             runs[summary["branch"]].append((path, summary))
     if not any(runs.values()):
-        seen = f" ({len(files)} summary.json file(s), none from sdn3d-train)" if files else ""
+        seen = f" ({len(summaries)} summary.json file(s), none from sdn3d-train)" if summaries else ""
         raise InputError(f"run {str(root)!r} holds no training summary{seen}: expected sdn3d-train's "
                          f"summary.json files (<run>/runs/<branch>/, <run>/ or <run>/<branch>/<time>/)")
     chosen: dict[str, dict] = {}
@@ -153,7 +159,7 @@ def find_run_checkpoints(run: str | Path) -> tuple[dict[str, dict], dict[str, st
                 usable.append((_finished(summary, path), str(path), ckpt))
         if usable:
             finished, path, (which, file) = max(usable)
-            export = _matching_export(file)
+            export = _matching_export(file, files)
             chosen[branch] = {"path": str(export or file), "checkpoint": str(file), "export": export is not None,
                               "which": which, "summary": path,
                               "finished": datetime.fromtimestamp(finished).astimezone().isoformat(timespec="seconds")}
@@ -175,7 +181,7 @@ def given_checkpoints(checkpoints: Mapping[str, Any] | None) -> dict[str, dict |
 
 
 def checkpoints_from_run(run: str | Path, checkpoints: Mapping[str, Any] | None, needed: Sequence[str], tool: str,
-                         purpose: str) -> dict[str, dict | None]:
+                         purpose: str, files: TorchFiles | None = None) -> dict[str, dict | None]:
     """A command's ``run=<dir>``: per branch the file it loads, printed on stderr (:func:`report_checkpoints`).
 
     ``checkpoints.<branch>`` given explicitly wins (:func:`given_checkpoints`); every other branch takes the run's
@@ -188,13 +194,14 @@ def checkpoints_from_run(run: str | Path, checkpoints: Mapping[str, Any] | None,
         needed: the branches the command can not do without.
         tool: the command's name for messages (``sdn3d-edit``, ``sdn3d-bench``).
         purpose: what needs them, for the error (``the edit``, ``the benchmark``).
+        files: what reads the run's inference exports (:func:`find_run_checkpoints`).
 
     Raises:
         InputError: a bad ``run`` (:func:`find_run_checkpoints`), or ``run`` lacks a needed branch that
             ``checkpoints`` does not give (naming what it found and how to give the file).
     """
     result = given_checkpoints(checkpoints)
-    chosen, missing = find_run_checkpoints(run)
+    chosen, missing = find_run_checkpoints(run, files)
     lacking = [b for b in needed if result[b] is None and b in missing]
     if lacking:
         found = "; ".join(f"{b}: {Path(c['path']).name} ({c['which']})" for b, c in chosen.items()) or "nothing usable"

@@ -96,7 +96,7 @@ try:
     from sdn3d.editing.session import EditInput, EditResult, EditSession, proposals_record, to_uint8
     from sdn3d.editing.settings import appearance_settings, compose_settings, semantic_metrics, session_settings
     from sdn3d.errors import InputError
-    from sdn3d.io import OWNER_FILE, check_output_dir, staged_directory
+    from sdn3d.io import OWNER_FILE, TorchFiles, check_output_dir, staged_directory
     from sdn3d.proposals import Proposals
     from sdn3d.runs import BRANCHES, checkpoints_from_run, given_checkpoints, quality_warnings
     from sdn3d.scene.listing import list_objects, objects_table
@@ -352,9 +352,12 @@ def run_edit(cfg: Any) -> dict:
         from sdn3d.editing.spec import check_points
 
         check_points(spec, (inp.intrinsics.width, inp.intrinsics.height), inp.frame)
-    checkpoints = resolve_checkpoints(cfg, record)
+    # One call, one process: the weights are mapped, not read (the networks page in what they use), and an inference
+    # export read for its source record while the run's checkpoints are resolved is not unpickled again for the models.
+    files = TorchFiles(mmap=True)
+    checkpoints = resolve_checkpoints(cfg, record, files)
     with _stage("loading the models"):
-        models, code_bank = load_models(cfg, checkpoints)
+        models, code_bank = load_models(cfg, checkpoints, files)
     settings = session_settings(cfg, checkpoints, compose, appearance, photo)
     settings = dataclasses.replace(settings, box_fit=box_fit_for_input(cfg, settings.box_fit))
     session = EditSession(models, code_bank, settings)
@@ -528,9 +531,10 @@ def _proposals(cfg: Any) -> Proposals:
     return Proposals.parse(cfg.proposals, InputError)
 
 
-def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
+def resolve_checkpoints(cfg: Any, record: Any = None, files: TorchFiles | None = None) -> dict[str, dict | None]:
     """Per branch ``{'path', 'from', ...}`` (None: no checkpoint): ``checkpoints.<branch>`` where given, else
-    the ``run`` directory's (:func:`find_run_checkpoints`); prints the run's choices on stderr.
+    the ``run`` directory's (:func:`find_run_checkpoints`, its inference exports read through ``files`` where given);
+    prints the run's choices on stderr.
 
     Raises:
         InputError: a bad ``run``, or ``run`` lacks a branch the edit needs (:func:`_needed_branches`).
@@ -540,7 +544,7 @@ def resolve_checkpoints(cfg: Any, record: Any = None) -> dict[str, dict | None]:
         _check_needed(cfg, record, result)
         return result
     prog = "sdn3d-app" if "port" in cfg else "sdn3d-edit"  # conf/app.yaml composes this config, with a port
-    return checkpoints_from_run(cfg.run, cfg.checkpoints, _needed_branches(cfg, record), prog, "the edit")
+    return checkpoints_from_run(cfg.run, cfg.checkpoints, _needed_branches(cfg, record), prog, "the edit", files)
 
 
 def _check_needed(cfg: Any, record: Any, given: dict[str, dict | None]) -> None:
@@ -566,8 +570,10 @@ def trust_warnings(cfg: Any, record: Any, checkpoints: dict[str, dict | None], s
     return quality_warnings(metrics, coverage, str(path) if path is not None else "", input_path=source)
 
 
-def load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any]:
-    """``(Models, CodeBank or None)`` of :func:`resolve_checkpoints`' files and ``code_bank``."""
+def load_models(cfg: Any, checkpoints: dict[str, dict | None], files: TorchFiles | None = None) -> tuple[Any, Any]:
+    """``(Models, CodeBank or None)`` of :func:`resolve_checkpoints`' files and ``code_bank``; ``files``: what reads
+    them (:class:`~sdn3d.io.TorchFiles`; None: each is read whole, as the long-running ``sdn3d-app`` does, which should
+    not depend on the files staying in place)."""
     from sdn3d.models import Models
 
     ckpt = {b: None if info is None else info["path"] for b, info in checkpoints.items()}
@@ -578,7 +584,7 @@ def load_models(cfg: Any, checkpoints: dict[str, dict | None]) -> tuple[Any, Any
         raise InputError(f"device={cfg.device!r} but CUDA is not available")
     models = Models.from_checkpoints(ckpt["semantic"], ckpt["geometric"], ckpt["textural"], map_location=cfg.device,
                                      crop_size=cfg.geometric.crop_size, margin=cfg.geometric.margin,
-                                     semantic_size=cfg.semantic.size, traffic=cfg.geometric.traffic)
+                                     semantic_size=cfg.semantic.size, traffic=cfg.geometric.traffic, files=files)
     from sdn3d.textural.code_bank import code_bank_path, load_code_bank
 
     # sdn3d-train writes <checkpoint>.code_bank.json next to the checkpoint (not to its inference export)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import torch
 from torch import Tensor, nn
@@ -23,6 +23,9 @@ from sdn3d.labels import class_list
 from sdn3d.nets.pix2pixhd import TexturalSpec
 from sdn3d.textural import codes as texture_codes
 from sdn3d.textural.codes import TextureCodes
+
+if TYPE_CHECKING:
+    from sdn3d.io import TorchFiles
 
 __all__ = ["TexturalRenderer"]
 
@@ -42,12 +45,14 @@ class TexturalRenderer(nn.Module):
         self.eval()
 
     @classmethod
-    def from_checkpoint(cls, path: str | Path, map_location: str | torch.device = "cpu") -> TexturalRenderer:
+    def from_checkpoint(cls, path: str | Path, map_location: str | torch.device = "cpu",
+                        files: TorchFiles | None = None) -> TexturalRenderer:
         """Load G and E from a ``TexturalModule`` Lightning checkpoint or its inference export
-        (:mod:`sdn3d.inference_export`; ``torch.load(weights_only=True)``)."""
+        (:mod:`sdn3d.inference_export`; ``torch.load(weights_only=True)``; through ``files`` where given,
+        :func:`~sdn3d.inference_export.load_branch_weights`)."""
         from sdn3d.inference_export import load_branch_weights
 
-        weights = load_branch_weights(path, "textural", map_location)
+        weights = load_branch_weights(path, "textural", map_location, files)
         if "classes" not in weights.hyper_parameters:
             raise UserInputError(f"textural checkpoint {str(weights.path)!r} does not name its class list "
                                  "(hyper-parameter 'classes')")

@@ -10,7 +10,9 @@ annotated Car and Van with at least ``--min-pixels`` visible pixels and truncati
 true 2D box (motgt ``l t r b``), as ``objects: [{box: ...}]`` names it in ``sdn3d-edit``: GrabCut masks of all the
 frame's boxes (:func:`sdn3d.box_masks.grabcut_masks`, default settings), then the fit on the road plane
 (:func:`sdn3d.geometric.fit.fit_to_masks`, default :class:`~sdn3d.geometric.fit.FitSettings`; no geometric branch
-start, so no checkpoint is needed: every template x 4 starting yaws). The same masks serve both rows of a part:
+start, so no checkpoint is needed: every template x 4 starting yaws), each object drawn towards the road's axis where
+it stands with the settings' ``lane_reg``, as ``sdn3d-edit``'s box objects are (:func:`sdn3d.road_heading.road_axes`
+in the row's level camera). The same masks serve both rows of a part:
 
 - ``without camera.json``: what ``sdn3d-edit input.image=`` does with a Virtual-KITTI-shaped image and no camera:
   the Virtual KITTI intrinsics, the road 1.65 m below a level camera;
@@ -52,6 +54,7 @@ from sdn3d.data.synth.generate import _world, camera_json  # noqa: E402
 from sdn3d.geometric.fit import FitSettings, fit_to_masks  # noqa: E402
 from sdn3d.io import write_json_atomic  # noqa: E402
 from sdn3d.math3d.camera import DEFAULT_CAMERA_HEIGHT, Intrinsics  # noqa: E402
+from sdn3d.road_heading import road_axes  # noqa: E402
 
 PARTS = {"level": {}, "pitched": {"camera_height": 1.2, "camera_pitch": 0.045}}
 ROWS = ("without camera.json", "with camera.json")
@@ -126,7 +129,8 @@ def measure(cfg: SynthConfig, min_pixels: int) -> dict:
                       FitSettings(camera_height=pose.height)),
         }
         for row, (k, fit) in settings.items():
-            result = fit_to_masks(masks, boxes, k, settings=fit)
+            axes = road_axes(image, k.matrix(), masks, masks.any(0)) if fit.lane_reg else None
+            result = fit_to_masks(masks, boxes, k, settings=fit, road_ry=axes)
             for j, o in enumerate(objs):
                 c, t = result.location[j].double().numpy(), truth[j]
                 rows[row]["fit_iou"].append(float(result.iou[j]))

@@ -1,6 +1,8 @@
 # ruff: noqa: INP001, E402
-"""Run sdn3d-bench with PhotoSettings defaults replaced: PHOTO='name=value,...' python patched_bench.py OVERRIDES...
-(for settings the bench config does not expose, e.g. predicted_example_erode with the patch applied)."""
+"""Run sdn3d-edit or sdn3d-bench with PhotoSettings defaults replaced, for settings their configs do not expose
+(e.g. predicted_example_erode with the patch applied):
+    PHOTO='name=value,...' python patched_cli.py edit|bench OVERRIDES..."""
+import importlib
 import inspect
 import os
 import sys
@@ -17,7 +19,7 @@ for k, v in over.items():
     defaults[i] = type(old)(v) if old is not None else int(v)
 PhotoSettings.__init__.__defaults__ = tuple(defaults)
 print("photo defaults:", over, file=sys.stderr)
-from sdn3d.cli.bench import main
-
-sys.argv = ["sdn3d-bench", *sys.argv[1:]]
+program = sys.argv[1]
+main = importlib.import_module(f"sdn3d.cli.{program}").main
+sys.argv = [f"sdn3d-{program}", *sys.argv[2:]]
 main()

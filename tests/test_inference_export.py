@@ -344,7 +344,6 @@ def test_edit_from_exports_imports_no_training_package(run, tmp_path):
     assert all(loaded[b]["path"].endswith(EXPORT_NAME) and loaded[b]["export"] for b in BRANCHES), loaded
 
 
-
 def test_an_edit_call_maps_each_export_and_unpickles_it_once(run, tmp_path, monkeypatch):
     """sdn3d-edit (one call, one process) maps the weights (``torch.load(mmap=True)``) and unpickles each inference
     export once, though two steps read it (its source record when run= is resolved, its weights when the models
@@ -372,6 +371,7 @@ def test_an_edit_call_maps_each_export_and_unpickles_it_once(run, tmp_path, monk
     loads.clear()
     Models.from_checkpoints(**exports)
     assert sorted(loads) == sorted((p, False) for p in exports.values()), loads
+
 
 def test_training_writes_the_export_of_its_selected_checkpoint(tiny_synth, tmp_path):
     from hydra import compose, initialize_config_dir

@@ -65,7 +65,6 @@ def test_bad_checkpoints_are_clear_errors_naming_the_file(tmp_path):
                 loader(path)
 
 
-
 @pytest.mark.parametrize("zip_format", [True, False], ids=["zip", "old_format"])
 def test_mmap_maps_torch_zip_files_and_reads_old_format_files_whole(tmp_path, monkeypatch, zip_format):
     """``load_torch_file(mmap=True)`` maps a file of torch's zip format; a file of the older format (which torch can
@@ -86,6 +85,7 @@ def test_mmap_maps_torch_zip_files_and_reads_old_format_files_whole(tmp_path, mo
     garbage.write_bytes(b"PK\x03\x04 but no zip archive")
     with pytest.raises(ValueError, match="garbage.pt"):
         load_torch_file(garbage, mmap=True)
+
 
 def test_image_readers_refuse_decompression_bombs_before_decoding(tmp_path):
     """Issue 20: a small PNG declaring a huge image (Pillow: DecompressionBombError over ~179 MP, only a

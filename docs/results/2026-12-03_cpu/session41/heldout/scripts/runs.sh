@@ -1,5 +1,6 @@
 #!/bin/bash
 # runs.sh TREE OUT: the plan's Table 1 runs on TREE (two at a time), outputs in OUT/<run>.
+# E21=none: the two main runs alone (the replication on 2441).
 set -u
 TREE=$1; OUT=$2; PY=/work/main/.venv/bin/python
 E21=${E21:-/tmp/s41/sem/e21/checkpoints/best-epoch020.ckpt}
@@ -9,4 +10,4 @@ run() { name=$1; prop=$2; shift 2
   echo "$name rc=$?"; }
 mkdir -p "$OUT"
 run pred_main semantic & run gt_main gt & wait
-run pred_e21 semantic checkpoints.semantic=$E21
+[ "$E21" = none ] || run pred_e21 semantic checkpoints.semantic=$E21

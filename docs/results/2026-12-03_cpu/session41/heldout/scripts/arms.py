@@ -1,11 +1,12 @@
 # ruff: noqa: INP001, E501
 """arms.py A B [METHOD]: B minus A on METHOD's PSNR (all) (default 3d-sdn; 2d: the 2D paste) per kind and overall,
 paired by entry, 95 % bootstrap over car groups (entries that edit the same cars resampled together, as
-sdn3d-bench's "Who won"; 4000 draws, seed 0). Session 40's arms.py with the method as an argument."""
+sdn3d-bench's "Who won"; 4000 draws, seed 0; groups.py). Session 40's arms.py with the method as an argument."""
 import json
 import sys
 
 import numpy as np
+from groups import group_key, group_mean
 
 
 def load(folder):
@@ -27,10 +28,6 @@ for kind in sorted({r["edit_kind"] for r in a.values()}) + ["all kinds"]:
     keys = [k for k in a if k in b and (kind == "all kinds" or a[k]["edit_kind"] == kind)]
     groups = {}
     for k in keys:
-        groups.setdefault(tuple(sorted(a[k]["cars"])) or ("entry", k), []).append(psnr(b[k]) - psnr(a[k]))
-    sums = np.array([sum(v) for v in groups.values()])
-    counts = np.array([len(v) for v in groups.values()])
-    draws = rng.integers(0, len(sums), (4000, len(sums)))
-    boot = sums[draws].sum(1) / counts[draws].sum(1)
-    print(f"  {kind:17s} {len(keys):3d} entries, {len(groups):2d} groups: {sums.sum() / counts.sum():+.2f} "
-          f"[{np.percentile(boot, 2.5):+.2f}, {np.percentile(boot, 97.5):+.2f}]")
+        groups.setdefault(group_key(a[k]), []).append(psnr(b[k]) - psnr(a[k]))
+    mean, low, high = group_mean(groups, rng)
+    print(f"  {kind:17s} {len(keys):3d} entries, {len(groups):2d} groups: {mean:+.2f} [{low:+.2f}, {high:+.2f}]")

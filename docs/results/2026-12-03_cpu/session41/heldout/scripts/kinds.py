@@ -5,6 +5,7 @@ import json
 import sys
 
 import numpy as np
+from groups import group_key, group_mean
 
 (entries,) = json.load(open(sys.argv[1] + "/results.json"))["entries"].values()
 rng = np.random.default_rng(0)
@@ -15,14 +16,10 @@ for metric in ("psnr", "l1"):
         groups = {}
         for r in rows:
             m = r["metrics"]["photo"]
-            groups.setdefault(tuple(sorted(r["cars"])) or ("entry", r["index"]), []).append(
-                m["3d-sdn"]["all"][metric] - m["2d"]["all"][metric])
-        sums = np.array([sum(v) for v in groups.values()])
-        counts = np.array([len(v) for v in groups.values()])
-        draws = rng.integers(0, len(sums), (4000, len(sums)))
-        boot = sums[draws].sum(1) / counts[draws].sum(1)
+            groups.setdefault(group_key(r), []).append(m["3d-sdn"]["all"][metric] - m["2d"]["all"][metric])
+        mean, low, high = group_mean(groups, rng)
         d = [v for g in groups.values() for v in g]
         better = sum((x > 0) if metric == "psnr" else (x < 0) for x in d)
         fmt = "+.2f" if metric == "psnr" else "+.4f"
-        print(f"  {kind:17s} {len(rows):3d} entries, {len(groups):2d} groups: {sums.sum() / counts.sum():{fmt}} "
-              f"[{np.percentile(boot, 2.5):{fmt}}, {np.percentile(boot, 97.5):{fmt}}], 3D-SDN better {better} / {len(d)}")
+        print(f"  {kind:17s} {len(rows):3d} entries, {len(groups):2d} groups: {mean:{fmt}} "
+              f"[{low:{fmt}}, {high:{fmt}}], 3D-SDN better {better} / {len(d)}")

@@ -129,7 +129,7 @@ def measure(cfg: SynthConfig, min_pixels: int) -> dict:
                       FitSettings(camera_height=pose.height)),
         }
         for row, (k, fit) in settings.items():
-            axes = road_axes(image, k.matrix(), masks, masks.any(0)) if fit.lane_reg else None
+            axes = road_axes(image, k.matrix(), masks) if fit.lane_reg else None
             result = fit_to_masks(masks, boxes, k, settings=fit, road_ry=axes)
             for j, o in enumerate(objs):
                 c, t = result.location[j].double().numpy(), truth[j]
